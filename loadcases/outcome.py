@@ -1,0 +1,29 @@
+"""The outcome of one run of a case: its name, provenance and the mechlib solution."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from mechlib.solution import Solution
+
+__all__ = ["RunOutcome"]
+
+
+@dataclass
+class RunOutcome:
+    """One solved run.
+
+    `name` is the case name (a `/` in it makes sub-folders of the output directory);
+    `column_units` maps each result column (`REQUEST.COMPONENT`) to its SI unit text
+    (`N`, `N*m`, `rad/s` ...); `input_sha256` hashes the case, its mechanism file and the
+    parameters of the run; `warnings` are non-fatal notes for the summary.
+    """
+
+    name: str
+    case_file: Path
+    analysis: str
+    solution: Solution
+    input_sha256: str
+    column_units: dict[str, str] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+    parameters: dict[str, float] = field(default_factory=dict)
