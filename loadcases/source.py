@@ -1,0 +1,190 @@
+"""Safe YAML reading that keeps the 1-based line and column of every key and item.
+
+Scalars follow the YAML 1.2 core schema (`true`/`false` only are booleans, `1.0e7` and `2e6`
+are numbers, dates stay text), so that `on`, `no` or `2024-01-01` never change type behind an
+engineer's back. Anchors, aliases and `<<` merge keys work; tags other than the core ones
+are refused by the safe loader.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
+
+from loadcases.diagnostics import Diagnostic, InputError
+
+__all__ = ["SourceTree", "KeyPath", "load_yaml", "parse_yaml", "format_key"]
+
+KeyPath = tuple[str | int, ...]
+_MERGE_TAG = "tag:yaml.org,2002:merge"
+_QUOTES = ("'", '"')
+
+
+class _CoreLoader(yaml.SafeLoader):
+    """SafeLoader with YAML 1.2 core-schema booleans and floats, no timestamps."""
+
+
+_CoreLoader.yaml_implicit_resolvers = {
+    first: [(tag, rx) for tag, rx in resolvers
+            if tag.rsplit(":", 1)[-1] not in ("bool", "float", "timestamp")]
+    for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
+}
+_CoreLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:bool", re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"),
+    list("tTfF"))
+_CoreLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:float",
+    re.compile(r"""^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?
+                   |[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$""", re.X),
+    list("-+0123456789."))
+
+
+def format_key(path: KeyPath) -> str:
+    """Dotted text of a key path: `('joints', 'hinge', 'bodies', 1)` -> `joints.hinge.bodies[1]`."""
+    text = ""
+    for part in path:
+        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
+    return text
+
+
+@dataclass
+class SourceTree:
+    """A YAML document as plain Python data, with the position of every key and item.
+
+    `data` holds dict/list/str/int/float/bool/None; `diagnostics` holds non-fatal problems
+    found while reading (duplicate keys).
+    """
+
+    file: str
+    data: Any
+    keys: dict[KeyPath, tuple[int, int]] = field(default_factory=dict)
+    values: dict[KeyPath, tuple[int, int]] = field(default_factory=dict)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    def position(self, path: KeyPath) -> tuple[int, int]:
+        """(line, col) of the key or item at `path`, else of its nearest known ancestor."""
+        for end in range(len(path), -1, -1):
+            found = self.keys.get(tuple(path[:end]))
+            if found is not None:
+                return found
+        return (1, 1)
+
+    def value_position(self, path: KeyPath) -> tuple[int, int]:
+        """(line, col) of the first character of the value at `path` (inside any quotes)."""
+        found = self.values.get(tuple(path))
+        return found if found is not None else self.position(path)
+
+
+class _Builder:
+    """Turns composed nodes into plain data, recording positions and duplicate keys."""
+
+    def __init__(self, tree: SourceTree) -> None:
+        self.tree = tree
+        self.constructor = _CoreLoader("")
+        self.stack: set[int] = set()
+
+    def build(self, node: Node, path: KeyPath) -> Any:
+        if id(node) in self.stack:
+            raise yaml.MarkedYAMLError(problem="an alias refers to itself",
+                                       problem_mark=node.start_mark)
+        self.stack.add(id(node))
+        try:
+            return self._build(node, path)
+        finally:
+            self.stack.discard(id(node))
+
+    def _build(self, node: Node, path: KeyPath) -> Any:
+        line, col = node.start_mark.line + 1, node.start_mark.column + 1
+        if isinstance(node, ScalarNode) and node.style in _QUOTES and \
+                node.start_mark.line == node.end_mark.line:
+            col += 1
+        self.tree.values.setdefault(path, (line, col))
+        if isinstance(node, MappingNode):
+            return self._mapping(node, path)
+        if isinstance(node, SequenceNode):
+            items = []
+            for index, item in enumerate(node.value):
+                sub = (*path, index)
+                self.tree.keys[sub] = (item.start_mark.line + 1, item.start_mark.column + 1)
+                items.append(self.build(item, sub))
+            return items
+        return self.constructor.construct_object(node, deep=True)
+
+    def _pairs(self, node: MappingNode) -> list[tuple[Node, Node, bool]]:
+        """Own key/value pairs first, then those merged in by `<<` (flagged True)."""
+        own, merged = [], []
+        for key, value in node.value:
+            if key.tag == _MERGE_TAG:
+                sources = value.value if isinstance(value, SequenceNode) else [value]
+                for source in sources:
+                    if isinstance(source, MappingNode):
+                        merged.extend((k, v, True) for k, v, _ in self._pairs(source))
+            else:
+                own.append((key, value, False))
+        return own + merged
+
+    def _mapping(self, node: MappingNode, path: KeyPath) -> dict[Any, Any]:
+        result: dict[Any, Any] = {}
+        first: dict[Any, int] = {}
+        for key_node, value_node, merged in self._pairs(node):
+            key = self.constructor.construct_object(key_node, deep=True)
+            key = key if isinstance(key, str) else str(key)
+            line, col = key_node.start_mark.line + 1, key_node.start_mark.column + 1
+            if key in result:
+                if not merged:
+                    self._duplicate(path, key, line, col, first[key])
+                continue
+            first[key] = line
+            sub = (*path, key)
+            self.tree.keys[sub] = (line, col)
+            result[key] = self.build(value_node, sub)
+        return result
+
+    def _duplicate(self, path: KeyPath, key: str, line: int, col: int, first: int) -> None:
+        self.tree.diagnostics.append(Diagnostic(
+            self.tree.file, line, col, format_key((*path, key)),
+            f"duplicate key (first given on line {first})",
+            hint="remove one of them: YAML keeps only one value per key"))
+
+
+def parse_yaml(text: str, file: str) -> SourceTree:
+    """Parse YAML `text` (reported as `file`); raises InputError on a syntax error."""
+    tree = SourceTree(file=file, data=None)
+    try:
+        node = yaml.compose(text, Loader=_CoreLoader)
+        tree.data = _Builder(tree).build(node, ()) if node is not None else None
+    except yaml.MarkedYAMLError as error:
+        mark = error.problem_mark or error.context_mark
+        line, col = (mark.line + 1, mark.column + 1) if mark is not None else (0, 0)
+        problem = error.problem or error.context or "invalid YAML"
+        if error.context and error.problem:
+            problem = f"{error.problem} ({error.context})"
+        raise InputError([Diagnostic(file, line, col, "", f"YAML syntax error: {problem}",
+                                     hint=_syntax_hint(problem))]) from None
+    except yaml.YAMLError as error:
+        raise InputError([Diagnostic(file, 0, 0, "", f"YAML error: {error}")]) from None
+    return tree
+
+
+def _syntax_hint(problem: str) -> str | None:
+    """A fix suggestion for the commonest YAML slips."""
+    if "tab" in problem:
+        return "indent with spaces, not tabs"
+    if "mapping values are not allowed" in problem:
+        return "quote text that contains ': ' or put a space after each ':'"
+    return None
+
+
+def load_yaml(path: str | Path) -> SourceTree:
+    """Read the YAML file at `path`; raises InputError if it cannot be read or parsed."""
+    file = str(path)
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        reason = error.strerror if isinstance(error, OSError) and error.strerror else str(error)
+        raise InputError([Diagnostic(file, 0, 0, "", f"cannot read file: {reason}")]) from None
+    return parse_yaml(text, file)

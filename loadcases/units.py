@@ -1,0 +1,218 @@
+"""Quantities with units -> SI floats (m, kg, s, N, rad, N*m, Pa).
+
+Angles are a dimension of their own here: pint's definitions are loaded with `radian` as the
+base unit of `[angle]`, so `"3 m"` where an angle is expected is an error and `"35 deg"` is
+0.6109 rad. Where an angle is part of a compound dimension (angular velocity, torsional
+stiffness) a value without it is taken per radian: `"50 N*m"` is accepted as 50 N*m/rad.
+
+Bare numbers: for the five file-unit kinds (length, angle, mass, time, force) a bare number is
+in the file's unit (`units: {length: mm}`); for every other dimension a bare number is SI.
+"""
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Mapping, Sequence
+from functools import lru_cache
+from typing import Any
+
+__all__ = [
+    "DIMENSIONS", "FILE_UNIT_KINDS", "RESERVED_NAMES", "UnitError",
+    "to_si", "vector_to_si", "unit_constant", "check_unit_name",
+]
+
+# Expected dimensionality of each dimension name, as {base dimension: exponent}.
+_L, _M, _T, _A = "[length]", "[mass]", "[time]", "[angle]"
+DIMENSIONS: dict[str, dict[str, int]] = {
+    "length": {_L: 1}, "angle": {_A: 1}, "mass": {_M: 1}, "time": {_T: 1},
+    "force": {_M: 1, _L: 1, _T: -2}, "torque": {_M: 1, _L: 2, _T: -2},
+    "inertia": {_M: 1, _L: 2}, "velocity": {_L: 1, _T: -1},
+    "angular_velocity": {_A: 1, _T: -1}, "acceleration": {_L: 1, _T: -2},
+    "angular_acceleration": {_A: 1, _T: -2},
+    "stiffness": {_M: 1, _T: -2}, "torsional_stiffness": {_M: 1, _L: 2, _T: -2, _A: -1},
+    "damping": {_M: 1, _T: -1}, "torsional_damping": {_M: 1, _L: 2, _T: -1, _A: -1},
+    "pressure": {_M: 1, _L: -1, _T: -2}, "area": {_L: 2}, "volume": {_L: 3},
+    "frequency": {_T: -1}, "dimensionless": {},
+}
+FILE_UNIT_KINDS = ("length", "angle", "mass", "time", "force")
+# Identifiers of the expression language that are never unit constants (`t` is not tonne).
+RESERVED_NAMES = frozenset({
+    "t", "pi", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "abs", "min",
+    "max", "sign", "exp", "log", "step", "table", "angle", "omega", "travel", "speed", "dist",
+    "x", "y", "z",
+})
+_NUMBER = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*$")
+_LEADING_NUMBER = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+_VECTOR = re.compile(r"^\s*\[(?P<items>[^\]]*)\]\s*(?P<unit>.*?)\s*$")
+_IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+
+
+class UnitError(ValueError):
+    """A value that is not a quantity of the expected dimension; `str()` says why."""
+
+
+@lru_cache(maxsize=1)
+def _registry() -> Any:
+    """The shared pint registry with `[angle]` as a base dimension (built once, lazily)."""
+    import importlib.resources
+
+    import pint
+
+    files = importlib.resources.files("pint")
+    text = files.joinpath("default_en.txt").read_text(encoding="utf-8")
+    constants = files.joinpath("constants_en.txt").read_text(encoding="utf-8")
+    text = text.replace("radian = [] = rad", "radian = [angle] = rad")
+    text = text.replace("@import constants_en.txt", constants)
+    registry = pint.UnitRegistry(None, autoconvert_offset_to_baseunit=False)
+    registry.load_definitions(text.splitlines())
+    registry.default_system = "mks"
+    return registry
+
+
+def _describe(dimensionality: Mapping[str, float], units: Any = None) -> str:
+    """Engineer's name of a dimensionality: `a mass`, or `units of kg*m/s**2/rad`."""
+    wanted = {k: v for k, v in dimensionality.items() if v}
+    for name, dims in DIMENSIONS.items():
+        if dims == wanted:
+            return "a dimensionless number" if name == "dimensionless" else \
+                f"an {name}" if name[0] in "aeiou" else f"a {name}"
+    if units is not None:
+        return f"units of {units:~C}"
+    return "dimension " + " ".join(f"{k}^{v:g}" if v != 1 else k for k, v in wanted.items())
+
+
+def _matches(got: Mapping[str, float], dimension: str) -> bool:
+    """True if `got` is `dimension`, or is it without its angle (taken per radian)."""
+    want = DIMENSIONS[dimension]
+    got = {k: v for k, v in got.items() if v}
+    if got == want:
+        return True
+    return dimension != "angle" and _A in want and _A not in got and \
+        got == {k: v for k, v in want.items() if k != _A}
+
+
+def _quantity(text: str) -> Any:
+    """Parse `text` ("110 mm") into a pint quantity; raises UnitError if it is not one."""
+    if not _LEADING_NUMBER.match(text):
+        raise UnitError(f"cannot read '{text}': expected a number with a unit, like '110 mm'")
+    registry = _registry()
+    import pint
+
+    try:
+        quantity = registry.Quantity(text)
+    # pint's expression parser raises AssertionError on some malformed texts ("1 m/").
+    except (pint.errors.PintError, ValueError, TypeError, SyntaxError, AttributeError,
+            KeyError, ZeroDivisionError, OverflowError, AssertionError) as error:
+        reason = f"unknown unit '{error.unit_names[0]}'" if isinstance(
+            error, pint.errors.UndefinedUnitError) and error.unit_names else "not a quantity"
+        raise UnitError(f"cannot read '{text}': {reason}") from None
+    if not isinstance(quantity, registry.Quantity) or isinstance(quantity.magnitude, complex):
+        raise UnitError(f"cannot read '{text}': not a quantity")
+    return quantity
+
+
+def _file_unit(dimension: str, file_units: Mapping[str, str] | None) -> str | None:
+    """The unit of bare numbers of `dimension` in a file with header `units:`."""
+    if file_units and dimension in FILE_UNIT_KINDS:
+        return file_units.get(dimension)
+    return None
+
+
+def to_si(value: Any, dimension: str, file_units: Mapping[str, str] | None = None) -> float:
+    """SI magnitude of a number or quantity text of the given dimension name.
+
+    `dimension` is a key of DIMENSIONS or "any" (any dimension, returns the SI magnitude).
+    Raises UnitError with a message such as "expected a length, got '12 kg' (a mass)".
+    """
+    if dimension != "any" and dimension not in DIMENSIONS:
+        raise KeyError(f"unknown dimension name {dimension!r}")
+    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
+        raise UnitError(f"expected a number or a quantity text, got {_show(value)}")
+    if isinstance(value, str) and _NUMBER.match(value):
+        value = float(value)
+    if not isinstance(value, str):
+        unit = _file_unit(dimension, file_units)
+        if unit is None:
+            return float(value)
+        return float(_registry().Quantity(float(value), unit).to_base_units().magnitude)
+    quantity = _quantity(value)
+    base = quantity.to_base_units()
+    if dimension != "any" and not _matches(base.dimensionality, dimension):
+        raise UnitError(f"expected {_describe(DIMENSIONS[dimension])}, got '{value}' "
+                        f"({_describe(base.dimensionality, base.units)})")
+    return float(base.magnitude)
+
+
+def _show(value: Any) -> str:
+    """Short text of a wrong-typed value for messages."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, (list, tuple)):
+        return f"a list of {len(value)} values"
+    if isinstance(value, dict):
+        return "a mapping"
+    return "nothing" if value is None else repr(value)
+
+
+def vector_to_si(value: Any, dimension: str, file_units: Mapping[str, str] | None = None,
+                 size: int | None = 3) -> tuple[float, ...]:
+    """SI components of a list of numbers/quantities or a text like "[0, 0, 1500] mm".
+
+    `size=None` accepts any length; otherwise a different length raises UnitError
+    ("expected 3 values, got 2").
+    """
+    unit = ""
+    if isinstance(value, str):
+        match = _VECTOR.match(value)
+        if match is None:
+            raise UnitError(f"expected a list of values or a text like '[0, 0, 1] mm', "
+                            f"got '{value}'")
+        items: Sequence[Any] = [s.strip() for s in match["items"].split(",") if s.strip()]
+        unit = match["unit"]
+    elif isinstance(value, (list, tuple)):
+        items = value
+    else:
+        raise UnitError(f"expected a list of values, got {_show(value)}")
+    if size is not None and len(items) != size:
+        raise UnitError(f"expected {size} values, got {len(items)}")
+    result = []
+    for index, item in enumerate(items):
+        if unit and isinstance(item, str):
+            item = f"{item} {unit}" if _NUMBER.match(item) else item
+        try:
+            result.append(to_si(item, dimension, file_units))
+        except UnitError as error:
+            raise UnitError(f"item {index + 1}: {error}") from None
+    return tuple(result)
+
+
+@lru_cache(maxsize=512)
+def unit_constant(name: str) -> float | None:
+    """SI magnitude of unit `name` used as a constant in expressions (deg -> pi/180).
+
+    None if `name` is not a unit, is an offset unit (degC), or is an identifier of the
+    expression language (`t`, `x`, `min` ... see RESERVED_NAMES).
+    """
+    if name in RESERVED_NAMES or not _IDENTIFIER.match(name):
+        return None
+    registry = _registry()
+    import pint
+
+    try:
+        unit = registry.Unit(name)
+        magnitude = registry.Quantity(1.0, unit).to_base_units().magnitude
+        offset = registry.Quantity(0.0, unit).to_base_units().magnitude
+    except (pint.errors.PintError, ValueError, TypeError, AttributeError, KeyError):
+        return None
+    return float(magnitude) if math.isfinite(magnitude) and offset == 0 else None
+
+
+def check_unit_name(unit: Any, kind: str) -> str:
+    """Validate the unit name of a `units:` header entry of `kind`; raises UnitError."""
+    if not isinstance(unit, str) or not unit.strip():
+        raise UnitError(f"expected a unit name such as 'mm', got {_show(unit)}")
+    try:
+        to_si(f"1 {unit}", kind)
+    except UnitError as error:
+        raise UnitError(f"'{unit}' is not a unit of {kind}: {error}") from None
+    return unit.strip()
