@@ -15,9 +15,9 @@ from typing import Any
 import yaml
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
-from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.diagnostics import Diagnostic, InputError, Severity
 
-__all__ = ["SourceTree", "KeyPath", "load_yaml", "parse_yaml", "format_key"]
+__all__ = ["SourceTree", "KeyPath", "Locator", "load_yaml", "parse_yaml", "format_key"]
 
 KeyPath = tuple[str | int, ...]
 _MERGE_TAG = "tag:yaml.org,2002:merge"
@@ -77,6 +77,37 @@ class SourceTree:
         """(line, col) of the first character of the value at `path` (inside any quotes)."""
         found = self.values.get(tuple(path))
         return found if found is not None else self.position(path)
+
+
+@dataclass(frozen=True)
+class Locator:
+    """Positions and diagnostics for keys of one model inside a tree (`prefix` for an inline
+    mechanism: `("mechanism",)`)."""
+
+    tree: SourceTree
+    prefix: KeyPath = ()
+
+    @property
+    def data(self) -> Any:
+        """The plain data at `prefix`."""
+        data = self.tree.data
+        for part in self.prefix:
+            data = data[part]
+        return data
+
+    def where(self, path: KeyPath) -> tuple[str, int, int]:
+        """(file, line, col) of the key at `path` (relative to `prefix`)."""
+        return (self.tree.file, *self.tree.position((*self.prefix, *path)))
+
+    def diagnostic(self, path: KeyPath, message: str, *, hint: str | None = None,
+                   severity: Severity = "error", offset: int | None = None) -> Diagnostic:
+        """A diagnostic at the key `path`; with `offset`, at that character of its value."""
+        full = (*self.prefix, *path)
+        line, col = self.tree.position(full)
+        if offset is not None and full in self.tree.values:
+            line, col = self.tree.values[full]
+            col += offset
+        return Diagnostic(self.tree.file, line, col, format_key(full), message, severity, hint)
 
 
 class _Builder:

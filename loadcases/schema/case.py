@@ -1,0 +1,160 @@
+"""Pydantic models of a case file (`*.case.yaml`, SPEC 1.3): values in SI floats."""
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+from pydantic import BeforeValidator, Discriminator, Field, Tag
+from pydantic_core import PydanticCustomError
+
+from loadcases.schema.mechanism import FileUnits
+from loadcases.schema.types import (
+    AnySI, Dimensionless, Expression, Name, RawQuantity, Strict, describe, quantity, vector,
+)
+
+__all__ = [
+    "Motion", "Initial", "Analysis", "JointRequest", "MotionRequest", "PointRequest",
+    "ElementRequest", "ContactRequest", "ExpressionRequest", "Request", "CaseModel",
+    "ANALYSIS_TYPES", "KNOWN_EFFECTS", "REQUEST_KINDS",
+]
+
+ANALYSIS_TYPES = ("kinematic", "static", "quasi-static", "dynamic", "modes")
+KNOWN_EFFECTS = ("gravity", "friction", "contact", "flexibility", "aero", "hydraulics",
+                 "damping")
+_FRAME = "frame of the components: ground (default), a body or a named frame"
+
+
+class Motion(Strict):
+    """A joint coordinate driven as a function of time."""
+
+    joint: Name = Field(description="revolute, screw, cylindrical (angle) or prismatic joint")
+    value: Expression = Field(description="coordinate expression of t, SI (rad or m), e.g. "
+                              "'crank_speed * t' or 'step(t, 0, 0, 2, 90*deg)'")
+
+
+class Initial(Strict):
+    """Initial state of a joint (`value`, `rate`) or of a body (`omega`, `velocity`).
+
+    `value` and `rate` are SI floats after loading (rad, rad/s for angular joints; m, m/s
+    for prismatic ones); in the file they may carry units (`10 deg`, `2 rad/s`).
+    """
+
+    value: RawQuantity | None = Field(None, description="joint coordinate [angle or length]")
+    rate: RawQuantity | None = Field(None, description="joint coordinate rate [angular "
+                                     "velocity or velocity, bare numbers SI]")
+    omega: vector("angular_velocity") | None = Field(  # type: ignore[valid-type]
+        None, description=describe("body angular velocity, global axes", "angular_velocity"))
+    velocity: vector("velocity") | None = Field(  # type: ignore[valid-type]
+        None, description=describe("body cm velocity, global axes", "velocity"))
+
+
+_TIME = quantity("time")
+
+
+def _mechanism_ref(value: Any) -> Any:
+    if not isinstance(value, (str, dict)) or (isinstance(value, str) and not value.strip()):
+        raise PydanticCustomError("mechanism", "expected a mechanism file name (relative to "
+                                  "this file) or the mechanism as a mapping")
+    return value
+
+
+MechanismRef = Annotated[str | dict[str, Any], BeforeValidator(_mechanism_ref)]
+
+
+class Analysis(Strict):
+    """What to solve and for how long."""
+
+    type: Literal["kinematic", "static", "quasi-static", "dynamic", "modes"]
+    end: _TIME | None = Field(None, description=describe("end time", "time"))  # type: ignore
+    step: _TIME | None = Field(None, description=describe("output interval",  # type: ignore
+                                                          "time"))
+    tolerance: Dimensionless | None = Field(None, description="dynamic: local error tolerance")
+    integrator: str | None = Field(None, description="dynamic: e.g. generalized-alpha, radau")
+    max_step: _TIME | None = Field(None, description=describe(  # type: ignore[valid-type]
+        "dynamic: largest integrator step", "time"))
+    redundant: Literal["error", "drop"] = Field(
+        "error", description="redundant constraint equations: error (default) or drop them")
+
+
+class JointRequest(Strict):
+    """A joint's reaction (`force`: fx fy fz tx ty tz f t) or coordinate (`value`)."""
+
+    joint: Name
+    quantity: Literal["force", "angle", "omega", "alpha", "travel", "speed"]
+    frame: Name = Field("ground", description=_FRAME)
+
+
+class MotionRequest(Strict):
+    """The effort a motion needs along its joint coordinate (`value`)."""
+
+    motion: Name
+    quantity: Literal["torque", "force"]
+
+
+class PointRequest(Strict):
+    """Position, velocity or acceleration of a point (`x y z`)."""
+
+    point: Name
+    quantity: Literal["position", "velocity", "acceleration"]
+    frame: Name = Field("ground", description=_FRAME)
+
+
+class ElementRequest(Strict):
+    """Force of a force element (`value` for scalar elements, or `fx..tz`)."""
+
+    force: Name
+    quantity: Literal["force"] = "force"
+    frame: Name = Field("ground", description=_FRAME)
+
+
+class ContactRequest(Strict):
+    """Contact `force` (normal, friction, fx fy fz on body 1) or `penetration` (value)."""
+
+    contact: Name
+    quantity: Literal["force", "penetration"]
+    frame: Name = Field("ground", description=_FRAME)
+
+
+class ExpressionRequest(Strict):
+    """Any expression of the state (`value`)."""
+
+    expression: Expression
+
+
+REQUEST_KINDS = ("joint", "motion", "point", "force", "contact", "expression")
+
+
+def _request_kind(value: Any) -> str | None:
+    """The request kind: the first of REQUEST_KINDS given as a key."""
+    if isinstance(value, dict):
+        return next((kind for kind in REQUEST_KINDS if kind in value), None)
+    return next((kind for kind in REQUEST_KINDS if hasattr(value, kind)), None)
+
+
+Request = Annotated[
+    Annotated[JointRequest, Tag("joint")] | Annotated[MotionRequest, Tag("motion")]
+    | Annotated[PointRequest, Tag("point")] | Annotated[ElementRequest, Tag("force")]
+    | Annotated[ContactRequest, Tag("contact")]
+    | Annotated[ExpressionRequest, Tag("expression")],
+    Discriminator(_request_kind, custom_error_type="request_kind",
+                  custom_error_message="a request needs one of the keys joint, motion, point, "
+                  "force, contact or expression")]
+
+
+class CaseModel(Strict):
+    """A load case: what happens to a mechanism."""
+
+    case: str = Field(min_length=1, description="case name; '/' makes sub-folders of results")
+    units: FileUnits = Field(default_factory=FileUnits)
+    mechanism: MechanismRef = Field(description="mechanism file relative to this "
+                                            "file, or the mechanism inline")
+    parameters: dict[str, AnySI] = Field(default_factory=dict, description="overrides of the "
+                                         "mechanism's parameters [SI]")
+    motions: dict[str, Motion] = Field(default_factory=dict)
+    effects: dict[str, bool] = Field(default_factory=dict, description="switch effects on/off: "
+                                     + ", ".join(KNOWN_EFFECTS))
+    loads: list[Name] | None = Field(None, description="active force elements by name; "
+                                     "absent: all")
+    initial: dict[str, Initial] = Field(default_factory=dict, description="by joint or body")
+    analysis: Analysis
+    requests: dict[str, Request] = Field(default_factory=dict)
+    abscissa: Expression | None = Field(None, description="x-axis expression for envelopes")

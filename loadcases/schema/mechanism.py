@@ -1,0 +1,205 @@
+"""Pydantic models of a mechanism file (`*.mech.yaml`, SPEC 1.2): values in SI floats."""
+from __future__ import annotations
+
+from typing import Annotated, Any, Literal
+
+from pydantic import BeforeValidator, Field, model_validator
+from pydantic_core import PydanticCustomError
+
+from loadcases.schema.types import (
+    AnySI, Direction, Expression, Inertia, Length, Mass, Name, NamePair, Position, Strict,
+    describe, vector,
+)
+from loadcases.schema.elements import Contact, ForceElement, Table
+from loadcases.units import FILE_UNIT_KINDS, UnitError, check_unit_name, vector_to_si
+
+__all__ = [
+    "FileUnits", "Body", "Point", "Frame", "Joint", "Fixed", "Spherical", "Orientation",
+    "AxisJoint", "Screw", "AxesJoint", "NormalJoint", "Coupler", "PointOnCurve", "EventAction", "Event", "MechanismModel",
+    "JOINT_TYPES", "COORDINATE_DIMENSION",
+]
+
+
+def _unit_name(kind: str) -> Any:
+    def check(value: Any) -> str:
+        try:
+            return check_unit_name(value, kind)
+        except UnitError as error:
+            raise PydanticCustomError("unit", str(error)) from None
+    return Annotated[str | None, BeforeValidator(check), Field(
+        default=None, description=f"unit of bare {kind} numbers in this file, e.g. "
+        + {"length": "mm", "angle": "deg", "mass": "g", "time": "ms", "force": "kN"}[kind])]
+
+
+class FileUnits(Strict):
+    """`units:` header: the unit of bare numbers of each kind in this file (default SI)."""
+
+    length: _unit_name("length")  # type: ignore[valid-type]
+    angle: _unit_name("angle")  # type: ignore[valid-type]
+    mass: _unit_name("mass")  # type: ignore[valid-type]
+    time: _unit_name("time")  # type: ignore[valid-type]
+    force: _unit_name("force")  # type: ignore[valid-type]
+
+    def as_dict(self) -> dict[str, str]:
+        """{kind: unit} of the kinds that are set."""
+        return {k: getattr(self, k) for k in FILE_UNIT_KINDS if getattr(self, k)}
+
+
+class Body(Strict):
+    """A rigid body; `cm` and `inertia` in global axes at the design position."""
+
+    mass: Mass = Field(description=describe("mass", "mass"))
+    cm: Position = Field(description=describe("centre of mass, global frame", "length"))
+    inertia: Inertia = Field(description="about the cm, global axes: [Ixx, Iyy, Izz] or "
+                             "[Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (Ixy = -integral of x*y dm) "
+                             "[inertia: kg*m^2, bare numbers always SI]")
+
+
+class Point(Strict):
+    """A named point fixed on `body`, given at its design position."""
+
+    body: Name = Field(description="body carrying the point (or ground)")
+    at: Position = Field(description=describe("position, global frame", "length"))
+
+
+class Frame(Strict):
+    """A named frame fixed on `body`: origin `at`, axes `x` and `y` (z = x cross y)."""
+
+    body: Name = Field(description="body carrying the frame (or ground)")
+    at: Position = Field((0.0, 0.0, 0.0), description=describe("origin", "length"))
+    x: Direction = Field((1.0, 0.0, 0.0), description="x axis, global frame [dimensionless]")
+    y: Direction = Field((0.0, 1.0, 0.0), description="y axis, global frame [dimensionless]")
+
+
+_AT = describe("joint point, global frame at design", "length")
+_AXIS = "unit direction, global frame (normalised on use) [dimensionless]"
+
+
+class _TwoBody(Strict):
+    bodies: NamePair = Field(description="[body 1, body 2]: coordinates are body 1 "
+                             "relative to body 2; reactions act on body 1 from body 2")
+
+
+class Fixed(_TwoBody):
+    type: Literal["fixed"]
+    at: Position = Field(description=_AT)
+
+
+class Spherical(_TwoBody):
+    type: Literal["spherical"]
+    at: Position = Field(description=_AT)
+
+
+class Orientation(_TwoBody):
+    type: Literal["orientation"]
+    at: Position | None = Field(None, description=_AT + " (where reactions are reported)")
+
+
+class AxisJoint(_TwoBody):
+    type: Literal["revolute", "cylindrical", "prismatic", "inline", "parallel"]
+    at: Position = Field(description=_AT)
+    axis: Direction = Field(description="axis " + _AXIS)
+
+
+class Screw(_TwoBody):
+    type: Literal["screw"]
+    at: Position = Field(description=_AT)
+    axis: Direction = Field(description="axis " + _AXIS)
+    pitch: Length = Field(description=describe("travel per revolution", "length"))
+
+
+class AxesJoint(_TwoBody):
+    type: Literal["universal", "perpendicular"]
+    at: Position = Field(description=_AT)
+    axes: tuple[Direction, Direction] = Field(description="[a1 fixed in body 1, a2 fixed in "
+                                              "body 2] " + _AXIS)
+
+
+class NormalJoint(_TwoBody):
+    type: Literal["planar", "inplane"]
+    at: Position = Field(description=_AT)
+    normal: Direction = Field(description="plane normal " + _AXIS)
+
+
+class Coupler(Strict):
+    type: Literal["coupler", "gear"]
+    joints: NamePair = Field(description="[j1, j2]: coordinate of j2 = ratio * coordinate of j1")
+    ratio: AnySI = Field(description="coordinate ratio [SI: rad/rad, m/rad, rad/m or m/m]")
+
+
+class PointOnCurve(_TwoBody):
+    """Point `at` of body 1 stays on a curve fixed in body 2 (a table of points)."""
+
+    type: Literal["point_on_curve"]
+    at: Position = Field(description=_AT)
+    curve: list[Position] = Field(min_length=2, description=describe(
+        "points [x, y, z] of the curve in body 2, global frame at design", "length"))
+    interpolation: Literal["akima", "linear", "cubic"] = "cubic"
+
+
+Joint = Annotated[
+    Fixed | Spherical | Orientation | AxisJoint | Screw | AxesJoint | NormalJoint | Coupler
+    | PointOnCurve, Field(discriminator="type")]
+JOINT_TYPES = ("fixed", "revolute", "spherical", "cylindrical", "prismatic", "universal",
+               "planar", "screw", "inline", "inplane", "parallel", "perpendicular",
+               "orientation", "coupler", "gear", "point_on_curve")
+# Dimension of the single coordinate of a joint type (motions, `initial:` values).
+COORDINATE_DIMENSION = {"revolute": "angle", "screw": "angle", "cylindrical": "angle",
+                        "prismatic": "length"}
+
+_ACTIONS = ("activate", "deactivate", "release", "lock", "stop")
+
+
+class EventAction(Strict):
+    """One action of an event: `action` on `target` (None for `stop`)."""
+
+    action: Literal["activate", "deactivate", "release", "lock", "stop"]
+    target: str | None = None
+
+    @model_validator(mode="before")
+    @classmethod
+    def _from_yaml(cls, value: Any) -> Any:
+        """Accept `stop` or `{activate: latch}` as written in YAML."""
+        if isinstance(value, str):
+            value = {value: None}
+        if not isinstance(value, dict) or len(value) != 1:
+            raise PydanticCustomError("action", "expected an action such as 'stop' or "
+                                      "'{activate: NAME}'")
+        (action, target), = value.items()
+        if action not in _ACTIONS:
+            raise PydanticCustomError("action", "unknown action '{a}': use activate, "
+                                      "deactivate, release, lock or stop", {"a": action})
+        if (target is None) != (action == "stop") or (target is not None
+                                                      and not isinstance(target, str)):
+            what = "takes no name" if action == "stop" else "needs the name of what it acts on"
+            raise PydanticCustomError("action", "action '{a}' {w}", {"a": action, "w": what})
+        return {"action": action, "target": target}
+
+
+class Event(Strict):
+    """`when` a condition on the state becomes true, do `then`."""
+
+    when: Expression = Field(description="condition expression, e.g. 'angle(hl2) >= 90*deg'")
+    then: list[EventAction] = Field(min_length=1, description="actions: stop, {activate: "
+                                    "NAME}, {deactivate: NAME}, {release: JOINT}, {lock: JOINT}")
+
+
+class MechanismModel(Strict):
+    """A mechanism: what exists. Positions and axes in the global frame at design."""
+
+    name: str | None = None
+    units: FileUnits = Field(default_factory=FileUnits)
+    gravity: vector("acceleration") = Field(  # type: ignore[valid-type]
+        (0.0, 0.0, 0.0), description="gravity vector [acceleration: m/s^2, always SI]; "
+        "absent: no gravity")
+    parameters: dict[str, AnySI] = Field(default_factory=dict, description="named values "
+                                         "for expressions [any dimension, SI; bare numbers SI]")
+    bodies: dict[str, Body] = Field(default_factory=dict)
+    points: dict[str, Point] = Field(default_factory=dict)
+    frames: dict[str, Frame] = Field(default_factory=dict)
+    joints: dict[str, Joint] = Field(default_factory=dict)
+    forces: dict[str, ForceElement] = Field(default_factory=dict)
+    contacts: dict[str, Contact] = Field(default_factory=dict)
+    tables: dict[str, Table] = Field(default_factory=dict)
+    events: dict[str, Event] = Field(default_factory=dict)
+
