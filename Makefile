@@ -1,0 +1,37 @@
+# Developer entry points. Needs only Python 3.11 (`python3`) on a fresh machine.
+#   make demo   install into .venv (if needed) and run the slider-crank verification case
+#   make test   install with the test extra (if needed) and run the test suite
+PYTHON ?= python3
+VENV := .venv
+BIN := $(VENV)/bin
+# Stamps: reinstall only when pyproject.toml changes.
+STAMP := $(VENV)/.installed
+TEST_STAMP := $(VENV)/.installed-test
+DEMO_CASE ?= loadcases/library/verification/slider_crank.case.yaml
+DEMO_OUT ?= results
+PYTEST_ARGS ?= -n 2
+
+.PHONY: demo test install clean
+
+demo: $(STAMP)
+	$(BIN)/loads run $(DEMO_CASE) -o $(DEMO_OUT) --xlsx
+	@echo "results are in $(abspath $(DEMO_OUT))/"
+
+test: $(TEST_STAMP)
+	$(BIN)/python -m pytest $(PYTEST_ARGS)
+
+install: $(STAMP)
+
+$(BIN)/python:
+	$(PYTHON) -m venv $(VENV)
+
+$(STAMP): pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e .
+	@touch $@
+
+$(TEST_STAMP): pyproject.toml | $(BIN)/python
+	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test]'
+	@touch $@ $(STAMP)
+
+clean:
+	rm -rf $(VENV) build *.egg-info .pytest_cache

@@ -1,0 +1,194 @@
+"""The `loads` command line (SPEC section 2): run, validate, envelope, schema, bench.
+
+Exit status: 0 success; 1 a solver failure (results up to the failure are written) or an
+internal error; 2 invalid input or usage. Set `LOADS_DEBUG=1` to see tracebacks of
+internal errors.
+"""
+import functools
+import json
+import os
+import runpy
+import sys
+from collections.abc import Callable
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+from cli.render import ProgressBar, error_line, fail, print_diagnostics, status_line
+
+__all__ = ["app", "main"]
+
+EXIT_OK, EXIT_FAILED, EXIT_INPUT = 0, 1, 2
+DEBUG_ENV = "LOADS_DEBUG"
+
+app = typer.Typer(
+    name="loads", add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+    help="Mechanism load cases from YAML: multibody reactions, envelopes and sizing workbooks.",
+)
+
+
+def guarded(command: Callable[..., int]) -> Callable[..., None]:
+    """Turn a command's return value into its exit status and an unexpected exception
+    into a one-line `internal error` (exit 1); `LOADS_DEBUG=1` lets the traceback through."""
+
+    @functools.wraps(command)
+    def wrapper(*args: Any, **kwargs: Any) -> None:
+        try:
+            code = command(*args, **kwargs)
+        except (typer.Exit, typer.Abort):
+            raise
+        except Exception as exc:  # any bug: short message, not a traceback
+            if os.environ.get(DEBUG_ENV) == "1":
+                raise
+            typer.echo(_internal_error_text(exc), err=True)
+            raise typer.Exit(EXIT_FAILED) from exc
+        raise typer.Exit(code)
+
+    return wrapper
+
+
+def _internal_error_text(exc: BaseException) -> str:
+    return (f"loads: internal error: {type(exc).__name__}: {exc} (this is a bug in loads; "
+            f"please report it with the input files; {DEBUG_ENV}=1 shows the traceback)")
+
+
+def _require_files(paths: list[Path]) -> None:
+    """Exit 2 with one line per missing input file."""
+    missing = [path for path in paths if not path.is_file()]
+    for path in missing:
+        typer.echo(error_line(f"{path}: no such file"), err=True)
+    if missing:
+        raise typer.Exit(EXIT_INPUT)
+
+
+@app.command()
+@guarded
+def run(
+    files: Annotated[list[Path], typer.Argument(help="Case (*.case.yaml) or set (*.set.yaml) files.")],
+    output: Annotated[Path, typer.Option("-o", "--output", help="Results folder.")] = Path("results"),
+    xlsx: Annotated[bool, typer.Option("--xlsx", help="Also write NAME.xlsx per run.")] = False,
+    jobs: Annotated[int, typer.Option("--jobs", "-j", min=1, help="Files run in parallel.")] = 1,
+) -> int:
+    """Run case or set files and write their results (NAME.csv, NAME.summary.json)."""
+    from cli.runner import run_all
+
+    _require_files(files)
+    show_progress = jobs == 1 and sys.stderr.isatty()
+    code = EXIT_OK
+    for report in run_all(files, output_dir=output, xlsx=xlsx, jobs=jobs,
+                          progress_for=lambda path: ProgressBar(path.name) if show_progress else None):
+        if report.diagnostics:
+            print_diagnostics(report.diagnostics, err=True)
+            code = EXIT_INPUT
+        for line in report.runs:
+            typer.echo(status_line(line.name, line.status, line.steps, line.cpu_seconds, line.where))
+            if line.status != "ok":
+                typer.echo(f"  {line.message}")
+        if report.failed and code == EXIT_OK:
+            code = EXIT_FAILED
+    return code
+
+
+@app.command()
+@guarded
+def validate(
+    files: Annotated[list[Path], typer.Argument(help="Mechanism, case or set files.")],
+) -> int:
+    """Check files without solving; print `file:line:col: error: key: message` per problem."""
+    _require_files(files)
+    from loadcases.loader import validate_files
+
+    found, ok_files = [], []
+    for path in files:
+        diagnostics = validate_files([path])
+        found.extend(diagnostics)
+        if not any(d.severity == "error" for d in diagnostics):
+            ok_files.append(path)
+    print_diagnostics(found, err=False)
+    for path in ok_files:
+        typer.echo(f"{path}: ok")
+    return EXIT_OK if len(ok_files) == len(files) else EXIT_INPUT
+
+
+@app.command()
+@guarded
+def schema() -> int:
+    """Print the JSON Schema of the mechanism, case and set files."""
+    from loadcases.schema import json_schema
+
+    typer.echo(json.dumps(json_schema(), indent=2))
+    return EXIT_OK
+
+
+@app.command()
+@guarded
+def envelope(
+    dirs: Annotated[list[Path], typer.Argument(help="Folders of saved results (searched recursively).")],
+    output: Annotated[Path | None, typer.Option("-o", "--output", help="FILE.xlsx or FILE.csv (default: CSV on stdout).")] = None,
+) -> int:
+    """Envelope (max/min, run and time) of every result column across saved results."""
+    from loadcases import envelope as env
+
+    if output is not None and output.suffix.lower() not in (".xlsx", ".csv"):
+        raise fail(f"{output}: output must end in .xlsx or .csv")
+    for directory in dirs:
+        if not directory.is_dir():
+            raise fail(f"{directory}: no such folder")
+    files = env.find_result_files(dirs)
+    if not files:
+        raise fail("no results (NAME.csv with a 'time' column) under " + ", ".join(map(str, dirs)))
+    rows = env.extract_envelope(env.load_saved_runs(files))
+    if output is None:
+        typer.echo(env.envelope_csv_text(rows), nl=False)
+        return EXIT_OK
+    if output.suffix.lower() == ".xlsx":
+        env.write_envelope_xlsx(rows, output, sources=[str(path) for _, path in files])
+    else:
+        env.write_envelope_csv(rows, output)
+    typer.echo(f"envelope of {len(files)} runs, {len(rows)} columns -> {output}")
+    return EXIT_OK
+
+
+@app.command()
+@guarded
+def bench(
+    quick: Annotated[bool, typer.Option("--quick", help="A short subset of the suite.")] = False,
+) -> int:
+    """Run the benchmark suite (benchmarks/suite.py of a source checkout)."""
+    suite = _find_bench_suite()
+    if suite is None:
+        raise fail("benchmarks/suite.py not found: `loads bench` needs a source checkout "
+                   "(run it from the repository root)")
+    sys.path.insert(0, str(suite.parent))
+    try:
+        namespace = runpy.run_path(str(suite), run_name="loads_bench_suite")
+    finally:
+        sys.path.remove(str(suite.parent))
+    entry = namespace.get("main")
+    if not callable(entry):
+        raise fail(f"{suite}: no main(argv) function")
+    result = entry(["--quick"] if quick else [])
+    return int(result or 0)
+
+
+def _find_bench_suite() -> Path | None:
+    """benchmarks/suite.py next to this package (editable install) or in the current folder."""
+    candidates = (Path(__file__).resolve().parents[1], Path.cwd())
+    return next((c / "benchmarks" / "suite.py" for c in candidates
+                 if (c / "benchmarks" / "suite.py").is_file()), None)
+
+
+def main() -> None:
+    """Console entry point `loads`."""
+    try:
+        app()
+    except Exception as exc:  # failures outside any command (e.g. while importing)
+        if os.environ.get(DEBUG_ENV) == "1":
+            raise
+        print(_internal_error_text(exc), file=sys.stderr)
+        sys.exit(EXIT_FAILED)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,69 @@
+"""Text the `loads` command prints: diagnostics, run status lines, a progress bar, errors."""
+from __future__ import annotations
+
+import sys
+import time
+from collections.abc import Iterable
+from pathlib import Path
+from typing import TextIO
+
+import typer
+
+from loadcases.diagnostics import Diagnostic, sort_diagnostics
+
+__all__ = ["print_diagnostics", "status_line", "ProgressBar", "fail", "error_line"]
+
+PROGRESS_WIDTH = 30        # characters of the bar itself
+PROGRESS_INTERVAL = 0.1    # s between redraws: keeps a fast solver from waiting on the terminal
+
+
+def error_line(message: str) -> str:
+    """One-line error text, as every `loads` error starts."""
+    return f"loads: error: {message}"
+
+
+def fail(message: str, code: int = 2) -> typer.Exit:
+    """Print a one-line error on stderr and return the `typer.Exit` to raise."""
+    typer.echo(error_line(message), err=True)
+    return typer.Exit(code)
+
+
+def print_diagnostics(diagnostics: Iterable[Diagnostic], *, err: bool) -> None:
+    """Print diagnostics gcc style, sorted by file, line and column, duplicates once."""
+    for diagnostic in sort_diagnostics(list(dict.fromkeys(diagnostics))):
+        typer.echo(diagnostic.format(), err=err)
+
+
+def status_line(name: str, status: str, steps: int, cpu_seconds: float, where: Path) -> str:
+    """`NAME: ok, 1001 steps, cpu 0.52 s -> results/NAME.csv`."""
+    return f"{name}: {status}, {steps} steps, cpu {cpu_seconds:.3g} s -> {where}"
+
+
+class ProgressBar:
+    """A one-line progress bar on a terminal, fed by `run_file(progress=...)` as (t, t_end)."""
+
+    def __init__(self, label: str, stream: TextIO | None = None) -> None:
+        self._label = label
+        self._stream = stream if stream is not None else sys.stderr
+        self._last_draw = float("-inf")
+        self._width_drawn = 0
+
+    def __call__(self, t_current: float, t_end: float) -> None:
+        now = time.monotonic()
+        if now - self._last_draw < PROGRESS_INTERVAL and t_current < t_end:
+            return
+        self._last_draw = now
+        fraction = min(max(t_current / t_end, 0.0), 1.0) if t_end > 0 else 1.0
+        filled = int(round(fraction * PROGRESS_WIDTH))
+        bar = "#" * filled + "." * (PROGRESS_WIDTH - filled)
+        text = f"{self._label} [{bar}] {fraction:4.0%}  t = {t_current:.4g} / {t_end:.4g} s"
+        self._stream.write("\r" + text.ljust(self._width_drawn))
+        self._stream.flush()
+        self._width_drawn = max(self._width_drawn, len(text))
+
+    def close(self) -> None:
+        """Erase the bar so that the status lines that follow start on a clean line."""
+        if self._width_drawn:
+            self._stream.write("\r" + " " * self._width_drawn + "\r")
+            self._stream.flush()
+            self._width_drawn = 0

@@ -1,0 +1,86 @@
+"""`loads run`: run case/set files one after another or in a process pool, and report each."""
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.results import result_base
+
+__all__ = ["RunLine", "FileReport", "run_one", "run_all"]
+
+Progress = Callable[[float, float], None]
+
+
+@dataclass(frozen=True)
+class RunLine:
+    """What `loads run` prints for one run (small and picklable, unlike a Solution)."""
+
+    name: str
+    status: str
+    message: str
+    steps: int
+    cpu_seconds: float
+    where: Path
+
+
+@dataclass
+class FileReport:
+    """The runs of one input file, or the diagnostics that stopped it."""
+
+    file: Path
+    runs: list[RunLine] = field(default_factory=list)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+
+    @property
+    def failed(self) -> bool:
+        return any(run.status != "ok" for run in self.runs)
+
+
+def run_one(path: Path, *, output_dir: Path, xlsx: bool,
+            progress: Progress | None = None) -> FileReport:
+    """Run one file with `loadcases.run.run_file` (which writes the results)."""
+    from loadcases.run import run_file  # the solver stack is imported only to run
+
+    try:
+        outcomes = run_file(path, output_dir=output_dir, xlsx=xlsx, progress=progress)
+    except InputError as error:
+        return FileReport(path, diagnostics=list(error.diagnostics))
+    lines = []
+    for outcome in outcomes:
+        solution = outcome.solution
+        lines.append(RunLine(outcome.name, solution.status, solution.message,
+                             int(solution.stats.steps), float(solution.stats.cpu_seconds),
+                             _where(output_dir, outcome.name)))
+    return FileReport(path, runs=lines)
+
+
+def run_all(paths: list[Path], *, output_dir: Path, xlsx: bool, jobs: int,
+            progress_for: Callable[[Path], Progress | None]) -> Iterator[FileReport]:
+    """Reports in input order; files in parallel processes when `jobs > 1`.
+
+    `progress_for(path)` gives the progress callback of a file run in this process
+    (worker processes run without one).
+    """
+    workers = min(jobs, len(paths))
+    if workers <= 1:
+        for path in paths:
+            yield run_one(path, output_dir=output_dir, xlsx=xlsx, progress=progress_for(path))
+        return
+    task = functools.partial(run_one, output_dir=output_dir, xlsx=xlsx)
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        yield from pool.map(task, paths)
+
+
+def _where(output_dir: Path, name: str) -> Path:
+    """The CSV of a run if it is where section 3 puts it, else the output folder."""
+    try:
+        csv_path = result_base(output_dir, name)
+    except ValueError:
+        return output_dir
+    csv_path = csv_path.with_name(csv_path.name + ".csv")
+    return csv_path if csv_path.is_file() else output_dir
+

@@ -1,0 +1,240 @@
+"""Result files of one run (SPEC section 3): `NAME.csv`, `NAME.summary.json`, `NAME.xlsx`.
+
+`NAME.csv` has a `time` column (s) then one column per request component, in the order of
+`Solution.channels`, every value written at full precision (shortest round-trip `repr`; NaN
+as `nan`). `NAME.summary.json` holds status, statistics and per-column extremes; numbers
+that are not finite are written as `null` so the file is strict JSON. Every file is written
+atomically (see `loadcases.atomic`); the summary is written last.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from loadcases.atomic import atomic_path, atomic_write_text
+from loadcases.outcome import RunOutcome
+from mechlib.solution import Solution
+
+__all__ = [
+    "write_results", "read_results", "result_base", "summary_of", "column_extremes",
+    "json_safe", "package_version", "TIME_COLUMN", "SUMMARY_SUFFIX",
+]
+
+TIME_COLUMN = "time"
+SUMMARY_SUFFIX = ".summary.json"
+EXCEL_MAX_ROWS = 1_048_576  # rows per worksheet in Excel 2007 and later
+
+
+def package_version() -> str:
+    """Installed version of the `loads` distribution (`0+unknown` when not installed)."""
+    try:
+        return metadata.version("loads")
+    except metadata.PackageNotFoundError:
+        return "0+unknown"
+
+
+def result_base(output_dir: Path, name: str) -> Path:
+    """Path of a run's results without suffix: `output_dir/NAME` (`/` in NAME = sub-folders).
+
+    Raises ValueError for a name that would leave `output_dir` (absolute, `..`) or is empty.
+    """
+    parts = [part for part in name.split("/") if part not in ("", ".")]
+    if not parts or ".." in parts or name.startswith("/"):
+        raise ValueError(f"run name {name!r} cannot be used as a result path")
+    return Path(output_dir).joinpath(*parts)
+
+
+def write_results(outcome: RunOutcome, output_dir: Path, *, xlsx: bool = False,
+                  version: str | None = None) -> list[Path]:
+    """Write the result files of one run into `output_dir`; return their paths.
+
+    `version` is the engine version recorded in the summary (default: the installed one).
+    Files: `NAME.csv`, then `NAME.xlsx` if `xlsx`, then `NAME.summary.json`.
+    """
+    solution = outcome.solution
+    time, channels = _checked_arrays(solution)
+    base = result_base(output_dir, outcome.name)
+    summary = summary_of(outcome, version=version or package_version())
+    written = [atomic_write_text(_with_suffix(base, ".csv"), _csv_text(time, channels))]
+    if xlsx:
+        written.append(_write_workbook(_with_suffix(base, ".xlsx"), time, channels,
+                                       summary, outcome.column_units))
+    text = json.dumps(json_safe(summary), indent=2, allow_nan=False) + "\n"
+    written.append(atomic_write_text(_with_suffix(base, SUMMARY_SUFFIX), text))
+    return written
+
+
+def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
+    """The summary of one run as a dict (the content of `NAME.summary.json`)."""
+    solution = outcome.solution
+    time, channels = _checked_arrays(solution)
+    return {
+        "case": outcome.name,
+        "status": solution.status,
+        "analysis": outcome.analysis,
+        "message": solution.message,
+        "stats": _stats(solution),
+        "extremes": {name: column_extremes(time, values) for name, values in channels.items()},
+        "input_sha256": outcome.input_sha256,
+        "version": version,
+        "case_file": str(outcome.case_file),
+        "rows": int(time.size),
+        "units": {TIME_COLUMN: "s", **outcome.column_units},
+        "warnings": [*outcome.warnings, *solution.warnings],
+        "events": [{"name": e.name, "time": e.time, "actions": list(e.actions)}
+                   for e in solution.events],
+        "parameters": dict(outcome.parameters),
+    }
+
+
+def column_extremes(time: np.ndarray, values: np.ndarray) -> dict[str, float | None]:
+    """Max and min of one column over its finite values, with the time of the first hit.
+
+    NaN and infinite values are skipped; a column without finite values gives `None`s.
+    """
+    finite = np.isfinite(values)
+    if not finite.any():
+        return {"max": None, "time_of_max": None, "min": None, "time_of_min": None}
+    i_max = int(np.argmax(np.where(finite, values, -np.inf)))
+    i_min = int(np.argmin(np.where(finite, values, np.inf)))
+    return {"max": float(values[i_max]), "time_of_max": float(time[i_max]),
+            "min": float(values[i_min]), "time_of_min": float(time[i_min])}
+
+
+def json_safe(value: Any) -> Any:
+    """`value` with NumPy scalars/arrays made plain and non-finite floats made `None`."""
+    if isinstance(value, dict):
+        return {str(key): json_safe(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple, np.ndarray)):
+        return [json_safe(item) for item in value]
+    if isinstance(value, (bool, np.bool_)):
+        return bool(value)
+    if isinstance(value, (int, np.integer)):
+        return int(value)
+    if isinstance(value, (float, np.floating)):
+        return float(value) if math.isfinite(value) else None
+    if isinstance(value, Path):
+        return str(value)
+    return value
+
+
+def read_results(csv_path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Read a `NAME.csv` back: `(time (n,), {column: values (n,)})`, in file order.
+
+    Raises ValueError if the file is empty or its first column is not `time`.
+    """
+    with open(csv_path, newline="", encoding="utf-8") as stream:
+        rows = list(csv.reader(stream))
+    if not rows or not rows[0] or rows[0][0] != TIME_COLUMN:
+        raise ValueError(f"{csv_path}: not a results file (first column must be '{TIME_COLUMN}')")
+    header, body = rows[0], [row for row in rows[1:] if row]
+    data = np.array(body, dtype=float).reshape(len(body), len(header))
+    return data[:, 0].copy(), {name: data[:, k].copy() for k, name in enumerate(header) if k}
+
+
+def _with_suffix(base: Path, suffix: str) -> Path:
+    # Not Path.with_suffix: run names such as `case[p=0.5]` contain dots.
+    return base.with_name(base.name + suffix)
+
+
+def _stats(solution: Solution) -> dict[str, int | float]:
+    stats = solution.stats
+    return {"steps": int(stats.steps), "rejected_steps": int(stats.rejected_steps),
+            "newton_iterations": int(stats.newton_iterations),
+            "cpu_seconds": float(stats.cpu_seconds)}
+
+
+def _checked_arrays(solution: Solution) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Time and channels as 1-D float arrays of one length (ValueError otherwise)."""
+    time = np.asarray(solution.time, dtype=float).reshape(-1)
+    channels: dict[str, np.ndarray] = {}
+    for name, values in solution.channels.items():
+        array = np.asarray(values, dtype=float).reshape(-1)
+        if array.shape != time.shape:
+            raise ValueError(f"channel {name!r} has {array.size} values for {time.size} times")
+        if name == TIME_COLUMN:
+            raise ValueError(f"channel name {TIME_COLUMN!r} is reserved for the time column")
+        channels[name] = array
+    return time, channels
+
+
+def _csv_text(time: np.ndarray, channels: dict[str, np.ndarray]) -> str:
+    """CSV text: header then one row per time; floats via `repr` (exact round trip)."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow([TIME_COLUMN, *channels])
+    matrix = np.column_stack([time, *channels.values()]) if time.size else np.empty((0, 1))
+    writer.writerows(matrix.tolist())
+    return buffer.getvalue()
+
+
+def _header(name: str, units: dict[str, str]) -> str:
+    """Column title with its unit: `pivot_force.fx [N]` (`[-]` if dimensionless)."""
+    if name not in units:
+        return name
+    return f"{name} [{units[name] if units[name] not in ('', '1') else '-'}]"
+
+
+def _cell(value: float) -> float | None:
+    # Excel has no NaN or infinity: such values become empty cells.
+    return value if math.isfinite(value) else None
+
+
+def _write_workbook(path: Path, time: np.ndarray, channels: dict[str, np.ndarray],
+                    summary: dict[str, Any], units: dict[str, str]) -> Path:
+    """`NAME.xlsx`: sheet `Time histories` (frozen header with units) and sheet `Summary`."""
+    # Imported here: openpyxl is only needed when a workbook is asked for.
+    from openpyxl import Workbook
+    from openpyxl.cell import WriteOnlyCell
+    from openpyxl.styles import Font
+
+    workbook = Workbook(write_only=True)
+    sheet = workbook.create_sheet("Time histories")
+    sheet.freeze_panes = "A2"
+    bold = Font(bold=True)
+    titles = [_header(name, {TIME_COLUMN: "s", **units}) for name in (TIME_COLUMN, *channels)]
+    sheet.append([_styled(WriteOnlyCell(sheet, value=title), bold) for title in titles])
+    rows = min(time.size, EXCEL_MAX_ROWS - 1)
+    matrix = np.column_stack([time[:rows], *(v[:rows] for v in channels.values())])
+    for row in matrix.tolist():
+        sheet.append([_cell(value) for value in row])
+    notes = [] if rows == time.size else [
+        f"time histories truncated to the first {rows} of {time.size} rows "
+        "(Excel sheet limit); the CSV file holds every row"]
+    _summary_sheet(workbook.create_sheet("Summary"), summary, units, notes)
+    with atomic_path(path) as tmp:
+        workbook.save(tmp)
+    return path
+
+
+def _styled(cell: Any, font: Any) -> Any:
+    cell.font = font
+    return cell
+
+
+def _summary_sheet(sheet: Any, summary: dict[str, Any], units: dict[str, str],
+                   notes: list[str]) -> None:
+    """Key/value lines, statistics, extremes table, events, warnings and notes."""
+    for key in ("case", "status", "analysis", "message", "input_sha256", "version", "case_file"):
+        sheet.append([key, str(summary[key])])
+    for key, value in summary["stats"].items():
+        sheet.append([key, value])
+    for key, value in summary["parameters"].items():
+        sheet.append([f"parameter {key}", _cell(float(value))])
+    sheet.append([])
+    sheet.append(["column", "unit", "max", "time_of_max", "min", "time_of_min"])
+    for name, ext in summary["extremes"].items():
+        values = [ext[k] for k in ("max", "time_of_max", "min", "time_of_min")]
+        sheet.append([name, units.get(name, ""), *values])
+    sheet.append([])
+    for event in summary["events"]:
+        sheet.append(["event", event["name"], _cell(event["time"]), ", ".join(event["actions"])])
+    for text in [*summary["warnings"], *notes]:
+        sheet.append(["warning", text])

@@ -1,0 +1,212 @@
+"""Result files (SPEC section 3): CSV by value, summary.json, workbook, atomic writes."""
+from __future__ import annotations
+
+import json
+import math
+import os
+from pathlib import Path
+
+import numpy as np
+import openpyxl
+import pandas as pd
+import pytest
+
+import loadcases.atomic as atomic
+from loadcases.atomic import atomic_path, atomic_write_text
+from loadcases.envelope import (ENVELOPE_COLUMNS, envelope_csv_text, extract_envelope,
+                                find_result_files, load_saved_runs)
+from loadcases.outcome import RunOutcome
+from loadcases.results import read_results, result_base, write_results
+from mechlib.solution import EventRecord, Solution, SolverStats
+
+TIME = np.array([0.0, 0.1, 0.2, 0.3, 0.4])
+# Values chosen to need all 17 significant digits, plus a NaN and a negative extreme.
+FX = np.array([1.0 / 3.0, 2.5e-17, -7.123456789012345e5, np.nan, 12.0])
+TZ = np.array([0.1, 0.2, 0.30000000000000004, -0.4, 0.4])
+
+
+def make_outcome(name: str = "slider/crank[w=6.28319]", status: str = "ok",
+                 fx: np.ndarray = FX) -> RunOutcome:
+    """A hand-made outcome with two channels, one event, one warning."""
+    solution = Solution(
+        status=status, message="done" if status == "ok" else "Newton failed at t = 0.3 s: hinge",
+        analysis="dynamic", time=TIME.copy(),
+        channels={"pivot_force.fx": fx.copy(), "pivot_force.tz": TZ.copy()},
+        stats=SolverStats(steps=42, rejected_steps=3, newton_iterations=97, cpu_seconds=0.25),
+        warnings=["tolerance loose"], events=[EventRecord("lock", 0.2, ("activate latch",))])
+    return RunOutcome(name=name, case_file=Path("slider.case.yaml"), analysis="dynamic",
+                      solution=solution, input_sha256="ab" * 32,
+                      column_units={"pivot_force.fx": "N", "pivot_force.tz": "N*m"},
+                      warnings=["initial pivot rate changed"], parameters={"w": 6.28319})
+
+
+def leftovers(directory: Path) -> list[str]:
+    """Temporary files left behind by atomic writes."""
+    return [p.name for p in directory.rglob("*") if p.name.endswith(".tmp")]
+
+
+def test_csv_reads_back_by_value(tmp_path: Path) -> None:
+    paths = write_results(make_outcome(), tmp_path, version="1.2.3")
+    csv_path = tmp_path / "slider" / "crank[w=6.28319].csv"
+    assert paths == [csv_path, tmp_path / "slider" / "crank[w=6.28319].summary.json"]
+    frame = pd.read_csv(csv_path)
+    assert list(frame.columns) == ["time", "pivot_force.fx", "pivot_force.tz"]
+    np.testing.assert_array_equal(frame["time"].to_numpy(), TIME)
+    np.testing.assert_array_equal(frame["pivot_force.fx"].to_numpy(), FX)  # NaN == NaN here
+    np.testing.assert_array_equal(frame["pivot_force.tz"].to_numpy(), TZ)
+    time, channels = read_results(csv_path)
+    np.testing.assert_array_equal(time, TIME)
+    assert list(channels) == ["pivot_force.fx", "pivot_force.tz"]
+    assert channels["pivot_force.fx"][2] == FX[2] and math.isnan(channels["pivot_force.fx"][3])
+
+
+def test_summary_json(tmp_path: Path) -> None:
+    write_results(make_outcome(), tmp_path, version="1.2.3")
+    text = (tmp_path / "slider" / "crank[w=6.28319].summary.json").read_text()
+    assert "NaN" not in text and "Infinity" not in text
+    summary = json.loads(text)
+    assert {"case", "status", "analysis", "message", "stats", "extremes", "input_sha256",
+            "version"} <= summary.keys()
+    assert summary["case"] == "slider/crank[w=6.28319]"
+    assert (summary["status"], summary["analysis"], summary["version"]) == ("ok", "dynamic", "1.2.3")
+    assert summary["stats"] == {"steps": 42, "rejected_steps": 3, "newton_iterations": 97,
+                                "cpu_seconds": 0.25}
+    assert summary["input_sha256"] == "ab" * 32
+    assert summary["extremes"]["pivot_force.fx"] == {
+        "max": 12.0, "time_of_max": 0.4, "min": FX[2], "time_of_min": 0.2}
+    assert summary["extremes"]["pivot_force.tz"] == {
+        "max": 0.4, "time_of_max": 0.4, "min": -0.4, "time_of_min": 0.3}
+    assert "time" not in summary["extremes"]
+    assert summary["events"] == [{"name": "lock", "time": 0.2, "actions": ["activate latch"]}]
+    assert summary["warnings"] == ["initial pivot rate changed", "tolerance loose"]
+    assert summary["parameters"] == {"w": 6.28319}
+
+
+def test_all_nan_column_gives_nulls_and_valid_json(tmp_path: Path) -> None:
+    write_results(make_outcome(name="c", fx=np.full(5, np.nan)), tmp_path, version="0")
+    summary = json.loads((tmp_path / "c.summary.json").read_text())
+    assert summary["extremes"]["pivot_force.fx"] == {
+        "max": None, "time_of_max": None, "min": None, "time_of_min": None}
+
+
+def test_failed_run_is_written_with_status_and_message(tmp_path: Path) -> None:
+    write_results(make_outcome(name="c", status="failed"), tmp_path, version="0")
+    summary = json.loads((tmp_path / "c.summary.json").read_text())
+    assert summary["status"] == "failed"
+    assert summary["message"] == "Newton failed at t = 0.3 s: hinge"
+    assert len(pd.read_csv(tmp_path / "c.csv")) == len(TIME)
+
+
+def test_empty_solution_writes_header_only(tmp_path: Path) -> None:
+    outcome = make_outcome(name="c", status="failed")
+    outcome.solution.time = np.empty(0)
+    outcome.solution.channels = {k: np.empty(0) for k in outcome.solution.channels}
+    write_results(outcome, tmp_path, version="0")
+    assert (tmp_path / "c.csv").read_text() == "time,pivot_force.fx,pivot_force.tz\n"
+    time, channels = read_results(tmp_path / "c.csv")
+    assert time.shape == (0,) and channels["pivot_force.fx"].shape == (0,)
+
+
+def test_workbook_has_units_frozen_header_and_summary(tmp_path: Path) -> None:
+    paths = write_results(make_outcome(name="c"), tmp_path, xlsx=True, version="0")
+    assert tmp_path / "c.xlsx" in paths
+    book = openpyxl.load_workbook(tmp_path / "c.xlsx")
+    assert book.sheetnames == ["Time histories", "Summary"]
+    sheet = book["Time histories"]
+    assert sheet.freeze_panes == "A2"
+    rows = list(sheet.iter_rows(values_only=True))
+    assert rows[0] == ("time [s]", "pivot_force.fx [N]", "pivot_force.tz [N*m]")
+    assert [r[0] for r in rows[1:]] == list(TIME)
+    assert [r[1] for r in rows[1:]] == [FX[0], FX[1], FX[2], None, FX[4]]
+    summary = {r[0]: r[1] for r in book["Summary"].iter_rows(values_only=True) if r}
+    assert summary["status"] == "ok" and summary["steps"] == 42
+
+
+def test_bad_names_and_shapes_are_refused(tmp_path: Path) -> None:
+    assert result_base(tmp_path, "a/b") == tmp_path / "a" / "b"
+    for name in ("", "../x", "/abs"):
+        with pytest.raises(ValueError):
+            result_base(tmp_path, name)
+    outcome = make_outcome(name="c")
+    outcome.solution.channels["short.value"] = np.zeros(2)
+    with pytest.raises(ValueError, match="short.value"):
+        write_results(outcome, tmp_path, version="0")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_atomic_write_failure_leaves_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    target = tmp_path / "sub" / "x.csv"
+
+    def broken_fsync(fd: int) -> None:
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(atomic.os, "fsync", broken_fsync)
+    with pytest.raises(OSError):
+        atomic_write_text(target, "time\n" * 1000)
+    assert not target.exists() and leftovers(tmp_path) == []
+
+
+def test_atomic_write_failure_keeps_previous_file(tmp_path: Path) -> None:
+    target = tmp_path / "x.xlsx"
+    target.write_text("old")
+    with pytest.raises(RuntimeError):
+        with atomic_path(target) as tmp:
+            tmp.write_text("half a work")
+            raise RuntimeError("crash while saving")
+    assert target.read_text() == "old" and leftovers(tmp_path) == []
+    atomic_write_text(target, "new")
+    assert target.read_text() == "new"
+    umask = os.umask(0o022)
+    os.umask(umask)
+    assert target.stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's private 0o600
+
+
+def test_write_results_failure_midway(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """The CSV is complete, the summary (written last) fails: no partial summary remains."""
+    calls = []
+    real_fsync = os.fsync
+
+    def fsync_failing_second(fd: int) -> None:
+        calls.append(fd)
+        if len(calls) == 2:
+            raise OSError(5, "I/O error")
+        real_fsync(fd)
+
+    monkeypatch.setattr(atomic.os, "fsync", fsync_failing_second)
+    with pytest.raises(OSError):
+        write_results(make_outcome(name="c"), tmp_path, version="0")
+    assert (tmp_path / "c.csv").is_file()
+    assert not (tmp_path / "c.summary.json").exists() and leftovers(tmp_path) == []
+
+
+def test_workbook_save_failure_leaves_no_workbook(tmp_path: Path,
+                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+    real_save = openpyxl.Workbook.save
+
+    def broken_save(self: openpyxl.Workbook, filename: str) -> None:
+        real_save(self, filename)
+        with open(filename, "r+b") as stream:  # the disk filled up half way
+            stream.truncate(os.path.getsize(filename) // 2)
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(openpyxl.Workbook, "save", broken_save)
+    with pytest.raises(OSError):
+        write_results(make_outcome(name="c"), tmp_path, xlsx=True, version="0")
+    assert not (tmp_path / "c.xlsx").exists() and leftovers(tmp_path) == []
+
+
+def test_envelope_across_saved_runs(tmp_path: Path) -> None:
+    write_results(make_outcome(name="a"), tmp_path, version="0")
+    write_results(make_outcome(name="b", fx=FX * 2.0), tmp_path / "more", version="0")
+    (tmp_path / "envelope.csv").write_text("column,max\nx,1\n")  # not a result: skipped
+    files = find_result_files([tmp_path])
+    assert [p.name for _, p in files] == ["a.csv", "b.csv"]
+    rows = {row.column: row for row in extract_envelope(load_saved_runs(files))}
+    fx = rows["pivot_force.fx"]
+    assert (fx.max, fx.max_run, fx.max_time) == (24.0, "b", 0.4)
+    assert (fx.min, fx.min_run, fx.min_time) == (2.0 * FX[2], "b", 0.2)
+    tz = rows["pivot_force.tz"]  # equal in both runs: the first run is kept
+    assert (tz.max_run, tz.min_run, tz.min_time) == ("a", "a", 0.3)
+    lines = envelope_csv_text(list(rows.values())).splitlines()
+    assert lines[0] == ",".join(ENVELOPE_COLUMNS)
+    assert lines[1] == f"pivot_force.fx,24.0,b,0.4,{float(2.0 * FX[2])!r},b,0.2"
