@@ -15,6 +15,7 @@ from typing import Annotated, Any
 
 import typer
 
+from cli.runner import FileReport, run_all
 from cli.render import ProgressBar, error_line, fail, print_diagnostics, status_line
 
 __all__ = ["app", "main"]
@@ -49,7 +50,8 @@ def guarded(command: Callable[..., int]) -> Callable[..., None]:
 
 
 def _internal_error_text(exc: BaseException) -> str:
-    return (f"loads: internal error: {type(exc).__name__}: {exc} (this is a bug in loads; "
+    first_line = next(iter(str(exc).splitlines()), "")
+    return (f"loads: internal error: {type(exc).__name__}: {first_line} (this is a bug in loads; "
             f"please report it with the input files; {DEBUG_ENV}=1 shows the traceback)")
 
 
@@ -71,23 +73,29 @@ def run(
     jobs: Annotated[int, typer.Option("--jobs", "-j", min=1, help="Files run in parallel.")] = 1,
 ) -> int:
     """Run case or set files and write their results (NAME.csv, NAME.summary.json)."""
-    from cli.runner import run_all
-
     _require_files(files)
+    bars: dict[Path, ProgressBar] = {}
     show_progress = jobs == 1 and sys.stderr.isatty()
     code = EXIT_OK
     for report in run_all(files, output_dir=output, xlsx=xlsx, jobs=jobs,
-                          progress_for=lambda path: ProgressBar(path.name) if show_progress else None):
-        if report.diagnostics:
-            print_diagnostics(report.diagnostics, err=True)
-            code = EXIT_INPUT
-        for line in report.runs:
-            typer.echo(status_line(line.name, line.status, line.steps, line.cpu_seconds, line.where))
-            if line.status != "ok":
-                typer.echo(f"  {line.message}")
-        if report.failed and code == EXIT_OK:
-            code = EXIT_FAILED
+                          progress_for=lambda path: bars.setdefault(path, ProgressBar(path.name))
+                          if show_progress else None):
+        if report.file in bars:
+            bars.pop(report.file).close()
+        code = max(code, _print_report(report))
     return code
+
+
+def _print_report(report: FileReport) -> int:
+    """Print the status lines (or diagnostics) of one file; return its exit status."""
+    if report.diagnostics:
+        print_diagnostics(report.diagnostics, err=True)
+        return EXIT_INPUT
+    for line in report.runs:
+        typer.echo(status_line(line.name, line.status, line.steps, line.cpu_seconds, line.where))
+        if line.status != "ok":
+            typer.echo(f"  {line.message}")
+    return EXIT_FAILED if report.failed else EXIT_OK
 
 
 @app.command()
@@ -160,16 +168,26 @@ def bench(
     if suite is None:
         raise fail("benchmarks/suite.py not found: `loads bench` needs a source checkout "
                    "(run it from the repository root)")
-    sys.path.insert(0, str(suite.parent))
-    try:
-        namespace = runpy.run_path(str(suite), run_name="loads_bench_suite")
-    finally:
-        sys.path.remove(str(suite.parent))
+    namespace = _load_suite(suite)
     entry = namespace.get("main")
     if not callable(entry):
         raise fail(f"{suite}: no main(argv) function")
     result = entry(["--quick"] if quick else [])
     return int(result or 0)
+
+
+def _load_suite(suite: Path) -> dict[str, Any]:
+    """Execute the suite's module; as `benchmarks.suite` when `benchmarks/` is a package
+    (so its relative imports work), with the checkout root first on `sys.path`."""
+    added = [str(suite.parent.parent), str(suite.parent)]
+    sys.path[:0] = added
+    try:
+        if (suite.parent / "__init__.py").is_file():
+            return runpy.run_module(f"{suite.parent.name}.suite", run_name="loads_bench_suite")
+        return runpy.run_path(str(suite), run_name="loads_bench_suite")
+    finally:
+        for entry in added:
+            sys.path.remove(entry)
 
 
 def _find_bench_suite() -> Path | None:

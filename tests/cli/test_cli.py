@@ -209,6 +209,25 @@ def test_bench_runs_suite_main_or_reports_missing(tmp_path: Path,
     assert result.exit_code == 0 and "suite ['--quick']" in result.stdout
 
 
+def test_bench_suite_in_a_package_may_use_relative_imports(tmp_path: Path,
+                                                           monkeypatch: pytest.MonkeyPatch) -> None:
+    package = tmp_path / "benchmarks"
+    package.mkdir()
+    (package / "__init__.py").write_text("")
+    (package / "models.py").write_text("CODE = 3\n")
+    (package / "suite.py").write_text("from .models import CODE\n\ndef main(argv):\n    return CODE\n")
+    for name in [n for n in sys.modules if n == "benchmarks" or n.startswith("benchmarks.")]:
+        monkeypatch.delitem(sys.modules, name)
+    monkeypatch.setattr(cli_app, "_find_bench_suite", lambda: package / "suite.py")
+    try:
+        result = runner.invoke(app, ["bench"])
+    finally:
+        for name in [n for n in sys.modules if n == "benchmarks" or n.startswith("benchmarks.")]:
+            del sys.modules[name]
+    assert result.exit_code == 3, result.output
+    assert str(tmp_path) not in sys.path
+
+
 def test_console_entry_point_is_main() -> None:
     module = importlib.import_module("cli.app")
     assert callable(module.main) and module.app is app
