@@ -1,0 +1,149 @@
+"""Semantic checks of a validated case against its mechanism; joint coordinates to SI."""
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from loadcases.checks.common import GROUND, Names, check_expressions, unknown
+from loadcases.checks.mechanism import mechanism_names
+from loadcases.diagnostics import Diagnostic
+from loadcases.schema import COORDINATE_DIMENSION, KNOWN_EFFECTS, CaseModel, MechanismModel
+from loadcases.schema.errors import did_you_mean
+from loadcases.source import Locator
+from loadcases.units import UnitError, to_si
+
+__all__ = ["check_case", "resolve_initial"]
+
+_RATE = {"angle": "angular_velocity", "length": "velocity"}
+_TIME_ANALYSES = ("kinematic", "quasi-static", "dynamic")
+
+
+def resolve_initial(case: CaseModel, mechanism: MechanismModel, at: Locator,
+                    units: Mapping[str, str]) -> tuple[CaseModel, list[Diagnostic]]:
+    """The case with `initial` joint `value`/`rate` in SI (rad, rad/s or m, m/s by joint type).
+
+    Entries naming no single-coordinate joint are left as written (check_case reports them).
+    """
+    found: list[Diagnostic] = []
+    initial = dict(case.initial)
+    for name, entry in case.initial.items():
+        joint = mechanism.joints.get(name)
+        dimension = COORDINATE_DIMENSION.get(joint.type) if joint is not None else None
+        if dimension is None:
+            continue
+        update = {}
+        for key, dim in (("value", dimension), ("rate", _RATE[dimension])):
+            raw = getattr(entry, key)
+            if raw is None:
+                continue
+            try:
+                update[key] = to_si(raw, dim, units)
+            except UnitError as error:
+                found.append(at.diagnostic(("initial", name, key), f"{error} for a "
+                                           f"{joint.type} joint"))
+        initial[name] = entry.model_copy(update=update)
+    return case.model_copy(update={"initial": initial}), found
+
+
+def _motions(case: CaseModel, mechanism: MechanismModel, at: Locator,
+             names: Names) -> list[Diagnostic]:
+    found, driven = [], {}
+    for name, motion in case.motions.items():
+        path = ("motions", name, "joint")
+        joint = mechanism.joints.get(motion.joint)
+        if joint is None:
+            found.append(unknown(at, path, "joint", motion.joint, names.get("joints")))
+        elif joint.type not in COORDINATE_DIMENSION:
+            found.append(at.diagnostic(path, f"joint '{motion.joint}' is {joint.type}: a "
+                                       "motion needs a revolute, screw, cylindrical or "
+                                       "prismatic joint"))
+        elif motion.joint in driven:
+            found.append(at.diagnostic(path, f"joint '{motion.joint}' is already driven by "
+                                       f"motion '{driven[motion.joint]}'"))
+        else:
+            driven[motion.joint] = name
+    return found
+
+
+def _initial(case: CaseModel, mechanism: MechanismModel, at: Locator,
+             names: Names) -> list[Diagnostic]:
+    found = []
+    for name, entry in case.initial.items():
+        joint, body = mechanism.joints.get(name), mechanism.bodies.get(name)
+        given = [k for k in ("value", "rate", "omega", "velocity") if getattr(entry, k) is not None]
+        if joint is None and body is None:
+            found.append(unknown(at, ("initial", name), "joint or body", name,
+                                 names.get("joints") | (names.get("bodies") - {GROUND})))
+        elif joint is not None and {"omega", "velocity"} & set(given):
+            found.append(at.diagnostic(("initial", name), f"'{name}' is a joint: give "
+                                       "'value' and/or 'rate'"))
+        elif joint is not None and joint.type not in COORDINATE_DIMENSION:
+            found.append(at.diagnostic(("initial", name), f"joint '{name}' is {joint.type}: it "
+                                       "has no single coordinate to set"))
+        elif body is not None and {"value", "rate"} & set(given):
+            found.append(at.diagnostic(("initial", name), f"'{name}' is a body: give 'omega' "
+                                       "and/or 'velocity'"))
+    return found
+
+
+def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
+    analysis, found = case.analysis, []
+    kind = analysis.type
+    if kind in _TIME_ANALYSES:
+        for key in ("end", "step"):
+            value = getattr(analysis, key)
+            if value is None:
+                found.append(at.diagnostic(("analysis", key), f"a {kind} analysis needs "
+                                           f"'{key}' (s)"))
+            elif value <= 0.0:
+                found.append(at.diagnostic(("analysis", key), "must be positive"))
+        if analysis.end and analysis.step and analysis.step > analysis.end:
+            found.append(at.diagnostic(("analysis", "step"), "step is longer than end"))
+    else:
+        found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",
+                                severity="warning") for key in ("end", "step")
+                  if getattr(analysis, key) is not None]
+    if kind != "dynamic":
+        found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",
+                                severity="warning") for key in ("tolerance", "integrator",
+                                                                "max_step")
+                  if getattr(analysis, key) is not None]
+    return found
+
+
+def _effects_and_loads(case: CaseModel, at: Locator, names: Names) -> list[Diagnostic]:
+    found = [unknown(at, ("effects", name), "effect", name, KNOWN_EFFECTS, severity="warning")
+             for name in case.effects if name not in KNOWN_EFFECTS]
+    elements = names.get("forces") | names.get("contacts")
+    found += [unknown(at, ("loads", i), "force element", name, elements)
+              for i, name in enumerate(case.loads or ()) if name not in elements]
+    return found
+
+
+def _parameters(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[Diagnostic]:
+    """A case parameter close to, but not, a mechanism parameter is probably a typo."""
+    found = []
+    for name in case.parameters:
+        hint = did_you_mean(name, mechanism.parameters) if name not in mechanism.parameters \
+            else None
+        if hint:
+            found.append(at.diagnostic(("parameters", name), f"'{name}' is not a parameter of "
+                                       "the mechanism (a new one is defined)", hint=hint,
+                                       severity="warning"))
+    return found
+
+
+def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[Diagnostic]:
+    """All semantic problems of a case against its (valid) mechanism."""
+    from loadcases.checks.requests import check_requests
+
+    names = mechanism_names(mechanism)
+    parameters = {*mechanism.parameters, *case.parameters}
+    found = _motions(case, mechanism, at, names) + _initial(case, mechanism, at, names)
+    found += _analysis(case, at) + _effects_and_loads(case, at, names)
+    found += _parameters(case, mechanism, at) + check_requests(case, mechanism, at, names)
+    expressions = [(("motions", n, "value"), m.value) for n, m in case.motions.items()]
+    expressions += [(("requests", n, "expression"), r.expression)
+                    for n, r in case.requests.items() if hasattr(r, "expression")]
+    if case.abscissa is not None:
+        expressions.append((("abscissa",), case.abscissa))
+    return found + check_expressions(at, expressions, names, parameters)

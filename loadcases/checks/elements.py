@@ -1,0 +1,85 @@
+"""Semantic checks of force elements, contacts, couplers and tables of a mechanism."""
+from __future__ import annotations
+
+import numpy as np
+
+from loadcases.diagnostics import Diagnostic
+from loadcases.schema import MechanismModel
+from loadcases.source import Locator
+
+__all__ = ["check_elements"]
+
+_PIN_JOINTS = ("revolute", "cylindrical", "spherical")
+_ROTARY_JOINTS = ("revolute", "cylindrical", "screw")
+
+
+def _joint_elements(model: MechanismModel, at: Locator) -> list[Diagnostic]:
+    """torsion springs on rotary joints; joint friction with or without pin radius."""
+    found = []
+    for name, force in model.forces.items():
+        joint = model.joints.get(getattr(force, "joint", None) or "")
+        if joint is None:
+            continue
+        path = ("forces", name, "joint")
+        if force.type == "torsion_spring" and joint.type not in _ROTARY_JOINTS:
+            found.append(at.diagnostic(path, f"a torsion spring needs a revolute, cylindrical "
+                                       f"or screw joint, '{force.joint}' is {joint.type}"))
+        if force.type != "joint_friction":
+            continue
+        if joint.type not in (*_PIN_JOINTS, "prismatic"):
+            found.append(at.diagnostic(path, "joint friction needs a revolute, cylindrical, "
+                                       f"spherical or prismatic joint, '{force.joint}' is "
+                                       f"{joint.type}"))
+        elif joint.type == "prismatic" and force.pin_radius is not None:
+            found.append(at.diagnostic(("forces", name, "pin_radius"), "a prismatic joint "
+                                       "has no pin radius", hint="remove pin_radius"))
+        elif joint.type != "prismatic" and force.pin_radius is None:
+            found.append(at.diagnostic(("forces", name), f"joint friction on a {joint.type} "
+                                       "joint needs 'pin_radius'"))
+    return found
+
+
+def _contacts(model: MechanismModel, at: Locator) -> list[Diagnostic]:
+    """Positive radii, damping needs a depth."""
+    found = []
+    for name, contact in model.contacts.items():
+        geometry = contact.geometry
+        if geometry.radius <= 0.0:
+            found.append(at.diagnostic(("contacts", name, "geometry", "radius"),
+                                       "radius must be positive"))
+        if getattr(geometry, "clearance", 0.0) < 0.0:
+            found.append(at.diagnostic(("contacts", name, "geometry", "clearance"),
+                                       "clearance must not be negative"))
+        if contact.type == "impact" and contact.damping > 0.0 and not contact.depth:
+            found.append(at.diagnostic(("contacts", name), "impact damping needs 'depth' "
+                                       "(the penetration of full damping)"))
+    return found
+
+
+def _couplers(model: MechanismModel, at: Locator) -> list[Diagnostic]:
+    return [at.diagnostic(("joints", name, "joints"), f"a {joint.type} needs two different "
+                          "joints") for name, joint in model.joints.items()
+            if joint.type in ("coupler", "gear") and joint.joints[0] == joint.joints[1]]
+
+
+def _tables(model: MechanismModel, at: Locator) -> list[Diagnostic]:
+    """x and y of equal length (>= 2), x strictly increasing."""
+    found = []
+    for name, table in model.tables.items():
+        if len(table.x) != len(table.y):
+            found.append(at.diagnostic(("tables", name, "y"), f"expected {len(table.x)} "
+                                       f"values (as many as x), got {len(table.y)}"))
+        if len(table.x) < 2:
+            found.append(at.diagnostic(("tables", name, "x"), "expected at least 2 values, "
+                                       f"got {len(table.x)}"))
+        elif np.any(np.diff(table.x) <= 0.0):
+            index = int(np.argmax(np.diff(table.x) <= 0.0)) + 1
+            found.append(at.diagnostic(("tables", name, "x"), "values must be strictly "
+                                       f"increasing (item {index + 1} is not)"))
+    return found
+
+
+def check_elements(model: MechanismModel, at: Locator) -> list[Diagnostic]:
+    """All element, contact, coupler and table problems of a mechanism."""
+    return _joint_elements(model, at) + _contacts(model, at) + _couplers(model, at) + \
+        _tables(model, at)

@@ -1,0 +1,45 @@
+"""Semantic checks of a validated set: sweeps, zips, allowables, report; parameter names."""
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from loadcases.checks.common import unknown
+from loadcases.diagnostics import Diagnostic
+from loadcases.schema import SetModel
+from loadcases.source import Locator
+
+__all__ = ["check_set", "check_set_cases"]
+
+
+def check_set(model: SetModel, at: Locator) -> list[Diagnostic]:
+    """Problems of a set file on its own."""
+    found = [at.diagnostic(("sweep", n), "expected at least 1 value")
+             for n, values in model.sweep.items() if not values]
+    found += [at.diagnostic(("zip", n), "a parameter cannot be in both sweep and zip")
+              for n in model.zip if n in model.sweep]
+    lengths = {len(v) for v in model.zip.values()}
+    if len(lengths) > 1:
+        found.append(at.diagnostic(("zip",), "zip lists must have equal lengths, got "
+                                   + ", ".join(str(len(v)) for v in model.zip.values())))
+    for name, limits in model.allowables.items():
+        if limits.max is not None and limits.min is not None and limits.max < limits.min:
+            found.append(at.diagnostic(("allowables", name), "max is below min"))
+    found += [at.diagnostic(("factors", n), "factor must be positive")
+              for n, f in model.factors.items() if f <= 0.0]
+    if model.report is not None and not model.report.output.lower().endswith(".xlsx"):
+        found.append(at.diagnostic(("report", "output"), "expected an .xlsx file name"))
+    return found
+
+
+def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:
+    """Sweep, zip and parameter names must be parameters of at least one of the `cases`
+    (loaded CaseFile objects with `.parameters`)."""
+    if not cases:
+        return []
+    known = {name for case in cases for name in case.parameters}
+    found = []
+    for section in ("parameters", "sweep", "zip"):
+        found += [unknown(at, (section, name), "parameter", name, known)
+                  for name in getattr(model, section) if name not in known]
+    return found

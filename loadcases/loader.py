@@ -1,0 +1,299 @@
+"""Input files -> validated models in SI floats, with every problem reported at once.
+
+`load_case`, `load_mechanism` and `load_set` raise InputError carrying all diagnostics
+(errors and warnings); on success the warnings are kept on the returned object.
+"""
+from __future__ import annotations
+
+import glob
+import hashlib
+import os
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from pydantic import BaseModel, ValidationError
+
+from loadcases.checks import (
+    check_case, check_mechanism, check_set, check_set_cases, resolve_initial,
+)
+from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
+from loadcases.schema.errors import did_you_mean, validation_diagnostics
+from loadcases.source import KeyPath, Locator, SourceTree, load_yaml
+
+__all__ = ["CaseFile", "MechanismFile", "SetFile", "load_case", "load_mechanism", "load_set",
+           "validate_files", "file_kind", "parse_key_path"]
+
+_SUFFIXES = {".mech.yaml": "mechanism", ".case.yaml": "case", ".set.yaml": "set",
+             ".mech.yml": "mechanism", ".case.yml": "case", ".set.yml": "set"}
+_KEY_PART = re.compile(r"([^.\[\]]+)|\[(\d+)\]")
+
+
+def parse_key_path(key: str | KeyPath) -> KeyPath:
+    """`"joints.hinge.bodies[1]"` -> `("joints", "hinge", "bodies", 1)` (tuples pass through)."""
+    if not isinstance(key, str):
+        return tuple(key)
+    return tuple(int(index) if index else name for name, index in _KEY_PART.findall(key))
+
+
+@dataclass(frozen=True)
+class MechanismFile:
+    """A validated mechanism file."""
+
+    path: str
+    model: MechanismModel
+    input_sha256: str
+    locator: Locator
+    warnings: tuple[Diagnostic, ...] = ()
+
+    def where(self, key_path: str | KeyPath) -> tuple[str, int, int]:
+        """(file, line, col) of a key such as `"joints.hinge"`."""
+        return self.locator.where(parse_key_path(key_path))
+
+
+@dataclass(frozen=True)
+class CaseFile:
+    """A validated case with its mechanism (inline or from `mechanism_path`).
+
+    `parameters` are the mechanism's parameters overridden by the case's (SI floats);
+    `input_sha256` hashes the case file bytes then the mechanism file bytes.
+    """
+
+    path: str
+    case: CaseModel
+    mechanism: MechanismModel
+    mechanism_path: str | None
+    parameters: dict[str, float]
+    input_sha256: str
+    locators: dict[str, Locator] = field(repr=False)
+    warnings: tuple[Diagnostic, ...] = ()
+
+    def where(self, kind: str, key_path: str | KeyPath) -> tuple[str, int, int]:
+        """(file, line, col) of a key of the `"case"` or the `"mechanism"` (for messages)."""
+        return self.locators[kind].where(parse_key_path(key_path))
+
+
+@dataclass(frozen=True)
+class SetFile:
+    """A validated set; `case_paths` are its case files, globs expanded, in order."""
+
+    path: str
+    model: SetModel
+    case_paths: tuple[str, ...]
+    locator: Locator
+    warnings: tuple[Diagnostic, ...] = ()
+
+    def where(self, key_path: str | KeyPath) -> tuple[str, int, int]:
+        """(file, line, col) of a key such as `"sweep.clearance"`."""
+        return self.locator.where(parse_key_path(key_path))
+
+
+def file_kind(path: str | Path, data: Any = None) -> str | None:
+    """"mechanism", "case" or "set" from the suffix, else from the top-level keys."""
+    name = str(path).lower()
+    for suffix, kind in _SUFFIXES.items():
+        if name.endswith(suffix):
+            return kind
+    if isinstance(data, dict):
+        if "case" in data:
+            return "case"
+        if "set" in data:
+            return "set"
+        if {"bodies", "joints", "points", "forces"} & set(data):
+            return "mechanism"
+    return None
+
+
+def _mapping_check(tree: SourceTree) -> list[Diagnostic]:
+    if isinstance(tree.data, dict):
+        return []
+    return [Diagnostic(tree.file, 1, 1, "", "expected a mapping of keys at the top of the file")]
+
+
+def _file_units(locator: Locator, inherited: dict[str, str]) -> tuple[dict[str, str],
+                                                                       list[Diagnostic]]:
+    """Units of bare numbers: the `units:` header over `inherited` (SI where unset)."""
+    raw = locator.data.get("units", {}) if isinstance(locator.data, dict) else {}
+    try:
+        header = FileUnits.model_validate(raw if raw is not None else {})
+    except ValidationError as error:
+        wrapper = Locator(locator.tree, (*locator.prefix, "units"))
+        return dict(inherited), validation_diagnostics(error, FileUnits, wrapper)
+    return {**inherited, **header.as_dict()}, []
+
+
+def _validate(model: type[BaseModel], locator: Locator, units: dict[str, str]
+              ) -> tuple[Any, list[Diagnostic]]:
+    """The validated model (None if invalid) and the diagnostics of validating it."""
+    try:
+        return model.model_validate(locator.data, context={"units": units}), []
+    except ValidationError as error:
+        found = validation_diagnostics(error, model, locator)
+        # A bad `units:` header is reported once by _file_units.
+        units_key = ".".join(str(p) for p in (*locator.prefix, "units"))
+        return None, [d for d in found if not d.key.startswith(units_key)]
+
+
+def _sha256(*contents: bytes) -> str:
+    digest = hashlib.sha256()
+    for content in contents:
+        digest.update(content)
+    return digest.hexdigest()
+
+
+def _raise_on_errors(diagnostics: list[Diagnostic]) -> None:
+    if any(d.severity == "error" for d in diagnostics):
+        raise InputError(diagnostics)
+
+
+def _read_tree(path: str | Path) -> tuple[SourceTree, list[Diagnostic]]:
+    """Parsed tree of `path` with its reading diagnostics; raises InputError if unreadable."""
+    tree = load_yaml(path)
+    diagnostics = [*tree.diagnostics, *_mapping_check(tree)]
+    if not isinstance(tree.data, dict):
+        raise InputError(diagnostics)
+    return tree, diagnostics
+
+
+def load_mechanism(path: str | Path) -> MechanismFile:
+    """Validated mechanism file; raises InputError with every problem found."""
+    tree, diagnostics = _read_tree(path)
+    locator = Locator(tree)
+    units, found = _file_units(locator, {})
+    model, more = _validate(MechanismModel, locator, units)
+    diagnostics += found + more
+    if model is not None:
+        diagnostics += check_mechanism(model, locator)
+    _raise_on_errors(diagnostics)
+    return MechanismFile(str(path), model, _sha256(Path(path).read_bytes()), locator,
+                         tuple(diagnostics))
+
+
+def _mechanism_source(case_locator: Locator, case_units: dict[str, str]
+                      ) -> tuple[Locator | None, str | None, dict[str, str], list[Diagnostic]]:
+    """Locator of the case's mechanism (inline or file), its path and inherited units."""
+    raw = case_locator.data.get("mechanism")
+    if isinstance(raw, dict):
+        return Locator(case_locator.tree, ("mechanism",)), None, case_units, []
+    if not isinstance(raw, str) or not raw.strip():
+        return None, None, {}, []
+    path = os.path.normpath(os.path.join(os.path.dirname(case_locator.tree.file), raw.strip()))
+    if not Path(path).is_file():
+        folder = Path(path).parent
+        names = [p.name for p in folder.glob("*.y*ml")] if folder.is_dir() else []
+        return None, path, {}, [case_locator.diagnostic(
+            ("mechanism",), f"mechanism file not found: {path}",
+            hint=did_you_mean(Path(path).name, names))]
+    try:
+        tree, diagnostics = _read_tree(path)
+    except InputError as error:
+        return None, path, {}, list(error.diagnostics)
+    return Locator(tree), path, {}, diagnostics
+
+
+def _raw_keys(data: dict[str, Any], *sections: str) -> list[list[str]]:
+    """Names defined in `sections` of raw data (known even if the model is invalid)."""
+    return [list(data[s]) if isinstance(data.get(s), dict) else [] for s in sections]
+
+
+def load_case(path: str | Path) -> CaseFile:
+    """Validated case with its mechanism merged; raises InputError with every problem found."""
+    tree, diagnostics = _read_tree(path)
+    case_locator = Locator(tree)
+    case_units, found = _file_units(case_locator, {})
+    case, more = _validate(CaseModel, case_locator, case_units)
+    diagnostics += found + more
+    mech_locator, mech_path, inherited, found = _mechanism_source(case_locator, case_units)
+    diagnostics += found
+    mechanism = None
+    if mech_locator is not None:
+        mech_units, found = _file_units(mech_locator, inherited)
+        mechanism, more = _validate(MechanismModel, mech_locator, mech_units)
+        diagnostics += found + more
+        if mechanism is not None:
+            motions, parameters = _raw_keys(case_locator.data, "motions", "parameters")
+            diagnostics += check_mechanism(mechanism, mech_locator, motions, parameters)
+    if case is not None and mechanism is not None:
+        case, found = resolve_initial(case, mechanism, case_locator, case_units)
+        diagnostics += found + check_case(case, mechanism, case_locator)
+    _raise_on_errors(diagnostics)
+    contents = [Path(path).read_bytes()] + ([Path(mech_path).read_bytes()] if mech_path else [])
+    return CaseFile(
+        path=str(path), case=case, mechanism=mechanism, mechanism_path=mech_path,
+        parameters={**mechanism.parameters, **case.parameters},
+        input_sha256=_sha256(*contents),
+        locators={"case": case_locator, "mechanism": mech_locator},
+        warnings=tuple(diagnostics))
+
+
+def _expand_cases(model: SetModel, locator: Locator) -> tuple[list[str], list[Diagnostic]]:
+    """Case files of the set's `cases` patterns (relative to the set file), in order."""
+    folder = os.path.dirname(locator.tree.file)
+    paths: list[str] = []
+    diagnostics: list[Diagnostic] = []
+    for index, pattern in enumerate(model.cases):
+        matches = sorted(glob.glob(os.path.join(folder, pattern), recursive=True))
+        if not matches:
+            diagnostics.append(locator.diagnostic(("cases", index),
+                                                  f"no case file matches '{pattern}'"))
+        paths += [os.path.normpath(m) for m in matches if os.path.normpath(m) not in paths]
+    return paths, diagnostics
+
+
+def load_set(path: str | Path) -> SetFile:
+    """Validated set file with its case patterns expanded; raises InputError on problems."""
+    tree, diagnostics = _read_tree(path)
+    locator = Locator(tree)
+    units, found = _file_units(locator, {})
+    model, more = _validate(SetModel, locator, units)
+    diagnostics += found + more
+    case_paths: list[str] = []
+    if model is not None:
+        case_paths, found = _expand_cases(model, locator)
+        diagnostics += found + check_set(model, locator)
+    _raise_on_errors(diagnostics)
+    return SetFile(str(path), model, tuple(case_paths), locator, tuple(diagnostics))
+
+
+def _validate_one(path: str, kind: str | None, done: set[str]) -> list[Diagnostic]:
+    """Diagnostics of one file of `kind`; a set's cases are validated too (once each)."""
+    if kind is None:
+        tree = load_yaml(path)
+        kind = file_kind(path, tree.data)
+        if kind is None:
+            return [Diagnostic(path, 1, 1, "", "cannot tell the file kind", hint="name it "
+                               "*.mech.yaml, *.case.yaml or *.set.yaml")]
+    if kind == "mechanism":
+        return list(load_mechanism(path).warnings)
+    if kind == "case":
+        return list(load_case(path).warnings)
+    set_file = load_set(path)
+    result = list(set_file.warnings)
+    cases: list[CaseFile] = []
+    for case_path in set_file.case_paths:
+        if case_path not in done:
+            done.add(case_path)
+            try:
+                cases.append(load_case(case_path))
+                result += cases[-1].warnings
+            except InputError as error:
+                result += error.diagnostics
+    return result + check_set_cases(set_file.model, set_file.locator, cases)
+
+
+def validate_files(paths: list[str | Path]) -> list[Diagnostic]:
+    """Every diagnostic (errors and warnings) of the given files of any kind, no duplicates."""
+    found: list[Diagnostic] = []
+    done: set[str] = set()
+    for path in paths:
+        name = str(path)
+        if os.path.normpath(name) in done:
+            continue
+        done.add(os.path.normpath(name))
+        try:
+            found += _validate_one(name, file_kind(name), done)
+        except InputError as error:
+            found += error.diagnostics
+    return list(dict.fromkeys(found))
