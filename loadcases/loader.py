@@ -16,7 +16,7 @@ from typing import Any
 from pydantic import BaseModel, ValidationError
 
 from loadcases.checks import (
-    check_case, check_mechanism, check_set, check_set_cases, resolve_initial,
+    check_case, check_case_alone, check_mechanism, check_set, check_set_cases, resolve_initial,
 )
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
@@ -218,6 +218,8 @@ def load_case(path: str | Path) -> CaseFile:
     if case is not None and mechanism is not None:
         case, found = resolve_initial(case, mechanism, case_locator, case_units)
         diagnostics += found + check_case(case, mechanism, case_locator)
+    elif case is not None:
+        diagnostics += check_case_alone(case, case_locator)
     _raise_on_errors(diagnostics)
     contents = [Path(path).read_bytes()] + ([Path(mech_path).read_bytes()] if mech_path else [])
     return CaseFile(

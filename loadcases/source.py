@@ -22,6 +22,8 @@ __all__ = ["SourceTree", "KeyPath", "Locator", "load_yaml", "parse_yaml", "forma
 KeyPath = tuple[str | int, ...]
 _MERGE_TAG = "tag:yaml.org,2002:merge"
 _QUOTES = ("'", '"')
+_CORE_TAGS = frozenset(f"tag:yaml.org,2002:{name}"
+                       for name in ("str", "int", "float", "bool", "null", "seq", "map"))
 
 
 class _CoreLoader(yaml.SafeLoader):
@@ -129,6 +131,9 @@ class _Builder:
             self.stack.discard(id(node))
 
     def _build(self, node: Node, path: KeyPath) -> Any:
+        if node.tag not in _CORE_TAGS:
+            raise yaml.MarkedYAMLError(problem=f"tag {node.tag} is not allowed",
+                                       problem_mark=node.start_mark)
         line, col = node.start_mark.line + 1, node.start_mark.column + 1
         if isinstance(node, ScalarNode) and node.style in _QUOTES and \
                 node.start_mark.line == node.end_mark.line:

@@ -74,6 +74,7 @@ def _describe(dimensionality: Mapping[str, float], units: Any = None) -> str:
     wanted = {k: v for k, v in dimensionality.items() if v}
     for name, dims in DIMENSIONS.items():
         if dims == wanted:
+            name = name.replace("_", " ")
             return "a dimensionless number" if name == "dimensionless" else \
                 f"an {name}" if name[0] in "aeiou" else f"a {name}"
     if units is not None:
@@ -214,5 +215,7 @@ def check_unit_name(unit: Any, kind: str) -> str:
     try:
         to_si(f"1 {unit}", kind)
     except UnitError as error:
-        raise UnitError(f"'{unit}' is not a unit of {kind}: {error}") from None
+        if "cannot read" in str(error):
+            raise UnitError(f"unknown unit '{unit}'") from None
+        raise UnitError(f"'{unit}' is not a unit of {kind}") from None
     return unit.strip()

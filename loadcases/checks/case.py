@@ -11,7 +11,7 @@ from loadcases.schema.errors import did_you_mean
 from loadcases.source import Locator
 from loadcases.units import UnitError, to_si
 
-__all__ = ["check_case", "resolve_initial"]
+__all__ = ["check_case", "check_case_alone", "resolve_initial"]
 
 _RATE = {"angle": "angular_velocity", "length": "velocity"}
 _TIME_ANALYSES = ("kinematic", "quasi-static", "dynamic")
@@ -110,11 +110,9 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
     return found
 
 
-def _effects_and_loads(case: CaseModel, at: Locator, names: Names) -> list[Diagnostic]:
-    found = [unknown(at, ("effects", name), "effect", name, KNOWN_EFFECTS, severity="warning")
-             for name in case.effects if name not in KNOWN_EFFECTS]
+def _loads(case: CaseModel, at: Locator, names: Names) -> list[Diagnostic]:
     elements = names.get("forces") | names.get("contacts")
-    found += [unknown(at, ("loads", i), "force element", name, elements)
+    found = [unknown(at, ("loads", i), "force element", name, elements)
               for i, name in enumerate(case.loads or ()) if name not in elements]
     return found
 
@@ -132,6 +130,13 @@ def _parameters(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list
     return found
 
 
+def check_case_alone(case: CaseModel, at: Locator) -> list[Diagnostic]:
+    """The problems of a case that do not need its mechanism (analysis, effects)."""
+    return _analysis(case, at) + [
+        unknown(at, ("effects", name), "effect", name, KNOWN_EFFECTS, severity="warning")
+        for name in case.effects if name not in KNOWN_EFFECTS]
+
+
 def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[Diagnostic]:
     """All semantic problems of a case against its (valid) mechanism."""
     from loadcases.checks.requests import check_requests
@@ -139,7 +144,7 @@ def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[
     names = mechanism_names(mechanism)
     parameters = {*mechanism.parameters, *case.parameters}
     found = _motions(case, mechanism, at, names) + _initial(case, mechanism, at, names)
-    found += _analysis(case, at) + _effects_and_loads(case, at, names)
+    found += check_case_alone(case, at) + _loads(case, at, names)
     found += _parameters(case, mechanism, at) + check_requests(case, mechanism, at, names)
     expressions = [(("motions", n, "value"), m.value) for n, m in case.motions.items()]
     expressions += [(("requests", n, "expression"), r.expression)

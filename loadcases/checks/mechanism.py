@@ -9,11 +9,11 @@ from loadcases.checks.common import GROUND, Names, check_expressions, unknown
 from loadcases.diagnostics import Diagnostic
 from loadcases.schema import MechanismModel
 from loadcases.source import KeyPath, Locator
-from loadcases.units import RESERVED_NAMES
 
 __all__ = ["mechanism_names", "check_mechanism"]
 
 _SECTIONS = ("bodies", "points", "frames", "joints", "forces", "contacts", "tables", "events")
+_RESERVED_PARAMETERS = ("t", "pi")  # bare names the expression language defines itself
 _TINY = 1.0e-12          # |vector| below this is a zero vector
 _PARALLEL = 1.0e-6       # |sin(angle)| below this: parallel axes
 _INERTIA_TOL = 1.0e-9    # relative tolerance of positivity and triangle inequality
@@ -42,7 +42,7 @@ def _unique(model: MechanismModel, at: Locator) -> list[Diagnostic]:
             else:
                 first[name] = section
     for name in model.parameters:
-        if name in RESERVED_NAMES:
+        if name in _RESERVED_PARAMETERS:
             found.append(at.diagnostic(("parameters", name), f"'{name}' is a reserved name of "
                                        "expressions", hint="rename the parameter"))
     return found
