@@ -20,6 +20,8 @@ __all__ = [
 
 _ACTIVE = "false: the element starts switched off (an event may activate it)"
 _ZERO3 = (0.0, 0.0, 0.0)
+_F = expression("force")   # a force component expression, N
+_T = expression("torque")  # a torque component expression, N*m
 
 
 def _at_most_one(model: Strict, first: str, second: str) -> None:
@@ -94,7 +96,7 @@ class PointForce(Strict):
     body: Name | None = None
     point: Name | None = None
     at: Position | None = Field(None, description=describe("point of application", "length"))
-    value: tuple[expression("force"), expression("force"), expression("force")] = Field(  # type: ignore
+    value: tuple[_F, _F, _F] = Field(  # type: ignore[valid-type]
         description="[ex, ey, ez] expressions in N (numbers SI) along the axes of `frame`")
     frame: Name = Field("ground", description="ground, a body (axes turn with it) or a frame")
     active: bool = Field(True, description=_ACTIVE)
@@ -112,7 +114,7 @@ class BodyTorque(Strict):
 
     type: Literal["torque"]
     body: Name
-    value: tuple[expression("torque"), expression("torque"), expression("torque")] = Field(  # type: ignore
+    value: tuple[_T, _T, _T] = Field(  # type: ignore[valid-type]
         description="[ex, ey, ez] expressions in N*m (numbers SI) along the axes of `frame`")
     frame: Name = Field("ground", description="ground, a body (axes turn with it) or a frame")
     active: bool = Field(True, description=_ACTIVE)

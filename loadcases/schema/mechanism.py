@@ -15,7 +15,8 @@ from loadcases.units import FILE_UNIT_KINDS, UnitError, check_unit_name, vector_
 
 __all__ = [
     "FileUnits", "Body", "Point", "Frame", "Joint", "Fixed", "Spherical", "Orientation",
-    "AxisJoint", "Screw", "AxesJoint", "NormalJoint", "Coupler", "PointOnCurve", "EventAction", "Event", "MechanismModel",
+    "AxisJoint", "Screw", "AxesJoint", "NormalJoint", "Coupler", "PointOnCurve",
+    "EventAction", "Event", "MechanismModel",
     "JOINT_TYPES", "COORDINATE_DIMENSION",
 ]
 

@@ -82,7 +82,8 @@ def _force_or_torque(value: Any) -> float:
 
 def quantity(dimension: str) -> Any:
     """Annotated float type: a number or quantity text of `dimension`, validated to SI."""
-    return Annotated[float, BeforeValidator(_scalar(dimension), json_schema_input_type=float | str)]
+    return Annotated[float, BeforeValidator(_scalar(dimension),
+                                            json_schema_input_type=float | str)]
 
 
 def vector(dimension: str, size: int | None = 3) -> Any:
@@ -93,7 +94,8 @@ def vector(dimension: str, size: int | None = 3) -> Any:
         except UnitError as error:
             raise _fail(error) from None
     inner = tuple[float, float, float] if size == 3 else tuple[float, ...]
-    return Annotated[inner, BeforeValidator(convert, json_schema_input_type=list[float | str] | str)]
+    return Annotated[inner, BeforeValidator(convert,
+                                            json_schema_input_type=list[float | str] | str)]
 
 
 def _inertia(value: Any, info: ValidationInfo) -> tuple[float, ...]:
