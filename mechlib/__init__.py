@@ -1,0 +1,22 @@
+"""mechlib: rigid multibody mechanics in absolute coordinates (NumPy/SciPy, SI units).
+
+Build a `Mechanism`, pick an analysis, name the requests, and call `solve`.
+"""
+from mechlib.analysis import Dynamic, Kinematic, QuasiStatic, Static
+from mechlib.assembly import InitialBodyVelocity, InitialValue
+from mechlib.check import ModelError
+from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
+from mechlib.model import GROUND, Mechanism
+from mechlib.requests import (ElementOutput, ExpressionOutput, JointCoordinate, JointReaction,
+                              MotionEffort, PointKinematics)
+from mechlib.solution import Solution, SolverFailure, SolverStats
+from mechlib.solve import check_model, solve
+from mechlib.system import System
+from mechlib.view import StateView
+
+__all__ = ["Mechanism", "GROUND", "System", "StateView", "solve", "check_model",
+           "Kinematic", "Static", "QuasiStatic", "Dynamic", "InitialValue",
+           "InitialBodyVelocity", "PointForce", "PointTorque", "Spring", "TorsionSpring",
+           "JointReaction", "MotionEffort", "PointKinematics", "JointCoordinate",
+           "ElementOutput", "ExpressionOutput", "Solution", "SolverFailure", "SolverStats",
+           "ModelError"]

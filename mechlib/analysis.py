@@ -1,0 +1,91 @@
+"""Analysis settings (what to compute) and the trajectory an analysis records."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["Kinematic", "Static", "QuasiStatic", "Dynamic", "Trajectory", "output_times",
+           "DEFAULT_TOLERANCE"]
+
+DEFAULT_TOLERANCE = 1e-5
+
+
+@dataclass(frozen=True)
+class Kinematic:
+    """Motions fix every degree of freedom; output every `step` s from `start` to `end`."""
+
+    end: float
+    step: float
+    start: float = 0.0
+    name = "kinematic"
+
+
+@dataclass(frozen=True)
+class Static:
+    """One equilibrium at `time` (s), motions held at their value, inertia ignored."""
+
+    time: float = 0.0
+    name = "static"
+
+
+@dataclass(frozen=True)
+class QuasiStatic:
+    """A sequence of static equilibria along the motions, every `step` s to `end`."""
+
+    end: float
+    step: float
+    start: float = 0.0
+    name = "quasi-static"
+
+
+@dataclass(frozen=True)
+class Dynamic:
+    """Equations of motion integrated in time.
+
+    `tolerance`: relative local error per step (absolute parts scaled by the mechanism's
+    size); `integrator`: `generalized-alpha` (index-3, Arnold & Bruls 2007) or `radau`
+    (scipy Radau IIA on the index-1 form with projection, for cross-checks); `max_step` (s);
+    `rho_inf`: spectral radius at infinity of generalized-alpha (numerical damping);
+    `fixed_step`: take exactly `step` per step, no error control (for convergence studies).
+    """
+
+    end: float
+    step: float
+    start: float = 0.0
+    tolerance: float = DEFAULT_TOLERANCE
+    integrator: str = "generalized-alpha"
+    max_step: float | None = None
+    rho_inf: float = 0.9
+    fixed_step: bool = False
+    name = "dynamic"
+
+
+def output_times(start: float, end: float, step: float) -> np.ndarray:
+    """Output grid start, start+step, ..., end (end always included)."""
+    n = int(np.floor((end - start) / step + 1e-9))
+    times = start + step * np.arange(n + 1)
+    if end - times[-1] > 1e-9 * max(step, 1.0):
+        times = np.append(times, end)
+    return times
+
+
+@dataclass
+class Trajectory:
+    """States recorded at output times: q, qd, qdd (n, nq) and multipliers lam (n, m)."""
+
+    time: list = field(default_factory=list)
+    q: list = field(default_factory=list)
+    qd: list = field(default_factory=list)
+    qdd: list = field(default_factory=list)
+    lam: list = field(default_factory=list)
+
+    def record(self, t: float, q, qd, qdd, lam) -> None:
+        self.time.append(float(t))
+        self.q.append(np.array(q, dtype=float))
+        self.qd.append(np.array(qd, dtype=float))
+        self.qdd.append(np.array(qdd, dtype=float))
+        self.lam.append(np.array(lam, dtype=float))
+
+    def __len__(self) -> int:
+        return len(self.time)

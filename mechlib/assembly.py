@@ -1,0 +1,176 @@
+"""Assembly: positions on the constraints (Newton), consistent velocities and accelerations.
+
+Given initial values that the constraints contradict are projected onto them (least
+squares, smallest change from the design position) and reported.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from mechlib.kin import Kin
+from mechlib.rotation import e_matrix
+from mechlib.solution import SolverFailure
+from mechlib.system import System
+
+__all__ = ["InitialValue", "InitialBodyVelocity", "solve_positions", "solve_velocities",
+           "solve_accelerations", "assemble", "POSITION_TOLERANCE"]
+
+POSITION_TOLERANCE = 1e-10
+_MAX_NEWTON = 50
+_REPORT_CHANGE = 1e-8
+
+
+@dataclass(frozen=True)
+class InitialValue:
+    """A joint coordinate (rad or m) and/or its rate given for the start of an analysis."""
+
+    joint: str
+    value: float | None = None
+    rate: float | None = None
+    coordinate: str | None = None
+
+
+@dataclass(frozen=True)
+class InitialBodyVelocity:
+    """A body's angular velocity (rad/s) and/or cm velocity (m/s), global axes."""
+
+    body: str
+    omega: Sequence[float] | None = None
+    velocity: Sequence[float] | None = None
+
+
+@dataclass
+class Assembled:
+    """Initial state and the notes on given values that had to change."""
+
+    q: np.ndarray
+    qd: np.ndarray
+    newton_iterations: int
+    notes: list[str] = field(default_factory=list)
+
+
+def _newton(residual, jacobian, q: np.ndarray, tol: float) -> tuple[np.ndarray, int, float]:
+    """Minimum-norm Newton (Gauss-Newton when over-determined); returns q, iterations, |res|."""
+    res = residual(q)
+    for it in range(1, _MAX_NEWTON + 1):
+        step, *_ = np.linalg.lstsq(jacobian(q), -res, rcond=None)
+        q = q + step
+        res = residual(q)
+        if np.abs(step).max(initial=0.0) < tol and np.abs(res).max(initial=0.0) < tol:
+            return q, it, float(np.abs(res).max(initial=0.0))
+    return q, _MAX_NEWTON, float(np.abs(res).max(initial=0.0))
+
+
+def solve_positions(system: System, q: np.ndarray, t: float, *, tol: float = POSITION_TOLERANCE
+                    ) -> tuple[np.ndarray, int]:
+    """q with phi(q, t) = 0 from the guess q; raises SolverFailure naming the worst rows."""
+    q, its, worst = _newton(lambda x: system.phi(system.kin(x, None, t)),
+                            lambda x: system.phi_q(system.kin(x, None, t)), q, tol)
+    if worst > 1e3 * tol:
+        res = system.phi(system.kin(q, None, t))
+        rows = np.argsort(-np.abs(res))[:3]
+        where = tuple(system.labels[i] for i in rows)
+        raise SolverFailure(f"position analysis did not converge at t = {t:.6g} s "
+                            f"(largest residuals: {'; '.join(where)}): the mechanism cannot "
+                            "be assembled there (out of reach, or a motion beyond a toggle)",
+                            time=t, where=where)
+    return q, its
+
+
+def solve_velocities(system: System, k: Kin) -> np.ndarray:
+    """qd with phi_q qd = nu (minimum norm when degrees of freedom remain)."""
+    qd, *_ = np.linalg.lstsq(system.phi_q(k), system.nu(k), rcond=None)
+    return qd
+
+
+def solve_accelerations(system: System, k: Kin) -> np.ndarray:
+    """qdd with phi_q qdd = gamma (minimum norm when degrees of freedom remain)."""
+    qdd, *_ = np.linalg.lstsq(system.phi_q(k), system.gamma(k), rcond=None)
+    return qdd
+
+
+def _given_positions(system: System, initial) -> list[tuple]:
+    out = []
+    for item in initial:
+        if isinstance(item, InitialValue) and item.value is not None:
+            out.append((item, system._coordinate_of(item.joint, item.coordinate)))
+    return out
+
+
+def _position_notes(system: System, k: Kin, given) -> list[str]:
+    notes = []
+    for item, m in given:
+        actual = m.value(k)
+        if abs(actual - item.value) > _REPORT_CHANGE * max(1.0, abs(item.value)):
+            notes.append(f"initial {m.kind} of joint '{item.joint}' changed from "
+                         f"{item.value:.6g} to {actual:.6g} to satisfy the constraints")
+    return notes
+
+
+def assemble(system: System, t: float, initial: Sequence = ()) -> Assembled:
+    """Initial q, qd: design position moved onto the constraints and the given values."""
+    given = _given_positions(system, initial)
+    q = system.design_q()
+    its = 0
+    if given:
+        def residual(x):
+            k = system.kin(x, None, t)
+            extra = [m.value(k) - item.value for item, m in given]
+            return np.concatenate([system.phi(k), extra])
+
+        def jacobian(x):
+            k = system.kin(x, None, t)
+            extra = [m.gradient(k)[:system.nq] for _, m in given]
+            return np.vstack([system.phi_q(k)] + extra)
+        q, its, _ = _newton(residual, jacobian, q, POSITION_TOLERANCE)
+    q, its2 = solve_positions(system, q, t)
+    k = system.kin(q, None, t)
+    system.commit(k)
+    notes = _position_notes(system, k, given)
+    qd, vnotes = _initial_velocities(system, q, t, initial)
+    return Assembled(q, qd, its + its2, notes + vnotes)
+
+
+def _velocity_rows(system: System, k: Kin, initial) -> tuple[list, list, list]:
+    rows, rhs, names = [], [], []
+    for item in initial:
+        if isinstance(item, InitialValue) and item.rate is not None:
+            m = system._coordinate_of(item.joint, item.coordinate)
+            rows.append(m.gradient(k)[:system.nq])
+            rhs.append(item.rate)
+            names.append((f"rate of joint '{item.joint}'", rows[-1][None, :], [item.rate]))
+        elif isinstance(item, InitialBodyVelocity):
+            b = system.body_index(item.body)
+            block = np.zeros((6, system.nq))
+            block[:3, 7 * b:7 * b + 3] = np.eye(3)
+            block[3:, 7 * b + 3:7 * b + 7] = 2.0 * e_matrix(k.p[b])
+            for sl, vec, what in ((slice(0, 3), item.velocity, "velocity"),
+                                  (slice(3, 6), item.omega, "omega")):
+                if vec is not None:
+                    rows.extend(block[sl])
+                    rhs.extend(vec)
+                    names.append((f"{what} of body '{item.body}'", block[sl], list(vec)))
+    return rows, rhs, names
+
+
+def _initial_velocities(system: System, q: np.ndarray, t: float, initial):
+    k = system.kin(q, None, t)
+    phi_q, nu = system.phi_q(k), system.nu(k)
+    rows, rhs, names = _velocity_rows(system, k, initial)
+    if rows:
+        qd, *_ = np.linalg.lstsq(np.vstack([phi_q, np.array(rows)]),
+                                 np.concatenate([nu, rhs]), rcond=None)
+    else:
+        qd = np.zeros(system.nq)
+    fix, *_ = np.linalg.lstsq(phi_q, nu - phi_q @ qd, rcond=None)
+    qd = qd + fix
+    notes = []
+    for what, block, wanted in names:
+        actual = block @ qd
+        if np.abs(actual - wanted).max() > _REPORT_CHANGE * max(1.0, np.abs(wanted).max()):
+            notes.append(f"initial {what} changed from {np.round(wanted, 9).tolist()} to "
+                         f"{np.round(actual, 9).tolist()} to satisfy the constraints")
+    return qd, notes

@@ -1,0 +1,85 @@
+"""Well-posedness before numerics: degrees of freedom and redundant equations, by name.
+
+Rows are examined in the order the mechanism defines them (normalisation, joints, then
+couplers and motions); a row whose gradient lies in the span of the rows before it is
+redundant, and the rows it depends on are found by least squares, so the report reads
+"C: rotation about x, dependent on A, B, D".
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["ModelError", "Redundancy", "find_redundant", "degrees_of_freedom", "RANK_TOLERANCE"]
+
+RANK_TOLERANCE = 1e-8
+_COEFFICIENT_FLOOR = 1e-6
+
+
+class ModelError(Exception):
+    """The model is not well posed (redundant equations, wrong degrees of freedom).
+
+    `problems` holds (owner, message) pairs: the joint or motion to point at, and the text.
+    """
+
+    def __init__(self, problems: list[tuple[str, str]]):
+        super().__init__("; ".join(m for _, m in problems))
+        self.problems = problems
+
+
+@dataclass(frozen=True)
+class Redundancy:
+    """A dependent equation: its row index, label, owner and the owners it depends on."""
+
+    row: int
+    label: str
+    owner: str
+    depends_on: tuple[str, ...]
+
+    def describe(self) -> str:
+        others = ", ".join(self.depends_on) if self.depends_on else "itself"
+        return f"{self.label}, dependent on {others}"
+
+
+def _independent_rows(phi_q: np.ndarray, tol: float) -> tuple[list[int], list[int]]:
+    basis: list[np.ndarray] = []
+    independent, dependent = [], []
+    scale = max(np.abs(phi_q).max(initial=0.0), 1.0)
+    for i, row in enumerate(phi_q):
+        v = row.copy()
+        if basis:
+            b = np.array(basis)
+            v -= b.T @ (b @ v)
+            v -= b.T @ (b @ v)  # second pass: Gram-Schmidt loses orthogonality otherwise
+        norm = np.linalg.norm(v)
+        if norm <= tol * max(np.linalg.norm(row), scale):
+            dependent.append(i)
+        else:
+            basis.append(v / norm)
+            independent.append(i)
+    return independent, dependent
+
+
+def find_redundant(phi_q: np.ndarray, labels: list[str], owners: list[str],
+                   body_names: set[str] = frozenset(), tol: float = RANK_TOLERANCE
+                   ) -> list[Redundancy]:
+    """Dependent rows of `phi_q`, each with the joints/motions it depends on."""
+    independent, dependent = _independent_rows(phi_q, tol)
+    found = []
+    for i in dependent:
+        coef, *_ = np.linalg.lstsq(phi_q[independent].T, phi_q[i], rcond=None)
+        big = np.abs(coef) > _COEFFICIENT_FLOOR * max(np.abs(coef).max(initial=0.0), 1e-300)
+        names = []
+        for j in np.asarray(independent)[big]:
+            owner = owners[j]
+            if owner not in names and owner != owners[i] and owner not in body_names:
+                names.append(owner)
+        found.append(Redundancy(i, labels[i], owners[i], tuple(names)))
+    return found
+
+
+def degrees_of_freedom(phi_q: np.ndarray, tol: float = RANK_TOLERANCE) -> int:
+    """nq - rank(phi_q): the number of independent motions the constraints allow."""
+    independent, _ = _independent_rows(phi_q, tol)
+    return phi_q.shape[1] - len(independent)

@@ -1,0 +1,168 @@
+"""Force elements: applied forces and torques, springs, torsion springs (SI units).
+
+Each element is bound to a compiled `System` once (names -> body indices, body-fixed
+vectors) and then adds its wrench to per-body accumulators: `F` (nb+1, 3) forces through
+the centres of mass and `N` (nb+1, 3) torques, both global axes. `output` gives the values
+a request reports. `effect` names the effect the element belongs to, so that a case that
+switches the effect off gets a model without it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Callable, Sequence
+
+import numpy as np
+
+from mechlib.rotation import cross
+from mechlib.view import StateView
+
+__all__ = ["PointForce", "PointTorque", "Spring", "TorsionSpring"]
+
+VectorFunction = Callable[[float, StateView], Sequence[float]]
+
+
+def _frame_axes(view: StateView, frame: int | None) -> np.ndarray:
+    return np.eye(3) if frame is None else view.rotation(frame)
+
+
+@dataclass
+class PointForce:
+    """Force `value(t, view)` (N, 3 components in `frame` axes) at point `at` of `body`."""
+
+    name: str
+    body: str
+    at: Sequence[float]
+    value: VectorFunction
+    frame: str = "ground"
+    effect: str = "loads"
+    output_units = {"fx": "N", "fy": "N", "fz": "N"}
+
+    def bind(self, system) -> None:
+        self._b, self._s = system.body_point(self.body, self.at)
+        self._frame = system.frame_index(self.frame)
+
+    def _force(self, view: StateView) -> np.ndarray:
+        return _frame_axes(view, self._frame) @ np.asarray(self.value(view.t, view), float)
+
+    def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        force = self._force(view)
+        arm = view.point_position(self._b, self._s) - view.kin.r[self._b]
+        F[self._b] += force
+        N[self._b] += cross(arm, force)
+
+    def output(self, view: StateView) -> dict[str, float]:
+        fx, fy, fz = self._force(view)
+        return {"fx": fx, "fy": fy, "fz": fz}
+
+
+@dataclass
+class PointTorque:
+    """Torque `value(t, view)` (N*m, components in `frame` axes) on `body`."""
+
+    name: str
+    body: str
+    value: VectorFunction
+    frame: str = "ground"
+    effect: str = "loads"
+    output_units = {"tx": "N*m", "ty": "N*m", "tz": "N*m"}
+
+    def bind(self, system) -> None:
+        self._b = system.body_index(self.body)
+        self._frame = system.frame_index(self.frame)
+
+    def _torque(self, view: StateView) -> np.ndarray:
+        return _frame_axes(view, self._frame) @ np.asarray(self.value(view.t, view), float)
+
+    def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        N[self._b] += self._torque(view)
+
+    def output(self, view: StateView) -> dict[str, float]:
+        tx, ty, tz = self._torque(view)
+        return {"tx": tx, "ty": ty, "tz": tz}
+
+
+@dataclass
+class Spring:
+    """Translational spring-damper between two points (tension positive, N).
+
+    tension = stiffness (N/m) * (L - free_length) + damping (N*s/m) * dL/dt + preload (N);
+    without `free_length` the design length is the free length. `tension_only`: a wire or
+    rope, no force while slack (L < free length).
+    """
+
+    name: str
+    points: tuple[tuple[str, Sequence[float]], tuple[str, Sequence[float]]]
+    stiffness: float = 0.0
+    damping: float = 0.0
+    free_length: float | None = None
+    preload: float = 0.0
+    tension_only: bool = False
+    effect: str = "springs"
+    output_units = {"value": "N", "length": "m"}
+    _geometry: tuple = field(default=(), repr=False)
+
+    def bind(self, system) -> None:
+        (b1, at1), (b2, at2) = self.points
+        self._geometry = (*system.body_point(b1, at1), *system.body_point(b2, at2))
+        if self.free_length is None:
+            self.free_length = float(np.linalg.norm(np.subtract(at1, at2)))
+
+    def _state(self, view: StateView):
+        b1, s1, b2, s2 = self._geometry
+        d = view.point_position(b1, s1) - view.point_position(b2, s2)
+        length = float(np.linalg.norm(d))
+        u = d / length if length > 0.0 else np.zeros(3)
+        rate = float(u @ (view.point_velocity(b1, s1) - view.point_velocity(b2, s2)))
+        stretch = length - self.free_length
+        tension = self.stiffness * stretch + self.damping * rate + self.preload
+        if self.tension_only and stretch < 0.0:
+            tension = 0.0
+        return tension, length, u
+
+    def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        b1, s1, b2, s2 = self._geometry
+        tension, _, u = self._state(view)
+        for body, s, sign in ((b1, s1, -1.0), (b2, s2, 1.0)):
+            force = sign * tension * u
+            F[body] += force
+            N[body] += cross(view.point_position(body, s) - view.kin.r[body], force)
+
+    def output(self, view: StateView) -> dict[str, float]:
+        tension, length, _ = self._state(view)
+        return {"value": tension, "length": length}
+
+
+@dataclass
+class TorsionSpring:
+    """Rotational spring-damper on a revolute joint; moment (N*m) resisting positive angle.
+
+    moment = stiffness (N*m/rad) * (angle - angle0) + damping (N*m*s/rad) * omega + preload;
+    body 1 of the joint receives -moment about the joint axis, body 2 +moment.
+    """
+
+    name: str
+    joint: str
+    stiffness: float = 0.0
+    damping: float = 0.0
+    angle0: float = 0.0
+    preload: float = 0.0
+    effect: str = "springs"
+    output_units = {"value": "N*m", "angle": "rad"}
+
+    def bind(self, system) -> None:
+        self._m = system.measure(self.joint, "angle")
+
+    def _moment(self, view: StateView) -> tuple[float, float]:
+        angle = self._m.value(view.kin)
+        rate = self._m.rate(view.kin)
+        return self.stiffness * (angle - self.angle0) + self.damping * rate + self.preload, angle
+
+    def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        moment, _ = self._moment(view)
+        axis = view.rotation(self._m.bj) @ self._m.axis_local
+        N[self._m.bi] -= moment * axis
+        N[self._m.bj] += moment * axis
+
+    def output(self, view: StateView) -> dict[str, float]:
+        moment, angle = self._moment(view)
+        return {"value": moment, "angle": angle}

@@ -1,0 +1,258 @@
+"""Generalized-alpha for the index-3 equations of motion (Arnold & Bruls 2007).
+
+    M(q) qdd + phi_q^T lam = Q(q, qd, t),  phi(q, t) = 0
+    (1 - alpha_m) a_{n+1} + alpha_m a_n = (1 - alpha_f) qdd_{n+1} + alpha_f qdd_n
+    q_{n+1}  = q_n + h qd_n + h^2 ((1/2 - beta) a_n + beta a_{n+1})
+    qd_{n+1} = qd_n + h ((1 - gamma) a_n + gamma a_{n+1})
+
+Newton on (q, lam) with the scaled iteration matrix [[M + (C gamma' + K)/beta', phi_q^T],
+[phi_q, 0]] (beta' = (1-alpha_m)/(h^2 beta (1-alpha_f)), gamma' = gamma/(h beta)), kept
+across iterations and steps while it converges (modified Newton). Local error estimate
+e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading term of the position update,
+h^3/12 q''' for the trapezoidal case), steps controlled on it and landing on output times.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from mechlib.analysis import Dynamic, Trajectory, output_times
+from mechlib.linalg import factor, singular_failure, solve_factored
+from mechlib.solution import SolverFailure, SolverStats
+from mechlib.system import System
+
+__all__ = ["Coefficients", "run_generalized_alpha", "consistent_accelerations",
+           "consistent_state"]
+
+_MAX_ITER = 8
+_SAFETY = 0.9
+_GROW, _SHRINK = 4.0, 0.2
+_REGROW = 1.5  # grow the step only when it can grow by this much (each change costs)
+_MAX_STEPS = 2_000_000
+
+
+@dataclass(frozen=True)
+class Coefficients:
+    """alpha_m, alpha_f, beta, gamma of generalized-alpha for a spectral radius rho_inf."""
+
+    alpha_m: float
+    alpha_f: float
+    beta: float
+    gamma: float
+
+    @classmethod
+    def from_rho(cls, rho: float) -> "Coefficients":
+        am = (2.0 * rho - 1.0) / (rho + 1.0)
+        af = rho / (rho + 1.0)
+        g = 0.5 + af - am
+        return cls(am, af, 0.25 * (g + 0.5) ** 2, g)
+
+    @property
+    def error_constant(self) -> float:
+        return abs(self.beta - 0.5 * self.gamma + 1.0 / 12.0)
+
+
+def consistent_state(system: System, q, qd, t: float):
+    """(qd, qdd, lam): qd projected onto phi_q qd = nu (mass-weighted), then qdd and lam
+    from [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma]: the reactions of the
+    equations of motion at that state, free of integrator transients."""
+    k = system.kin(q, qd, t)
+    jac = system.phi_q(k)
+    m = jac.shape[0]
+    lu = factor(np.block([[system.mass(k), jac.T], [jac, np.zeros((m, m))]]))
+    if lu is None:
+        raise singular_failure(system, jac, t, "dynamic analysis failed")
+    drift = system.nu(k) - jac @ qd
+    if np.abs(drift).max(initial=0.0) > 0.0:
+        qd = qd + solve_factored(lu, np.concatenate([np.zeros(system.nq), drift]))[:system.nq]
+        k = system.kin(q, qd, t)
+    sol = solve_factored(lu, np.concatenate([system.forces(k), system.gamma(k)]))
+    return qd, sol[:system.nq], sol[system.nq:]
+
+
+def consistent_accelerations(system: System, q, qd, t: float):
+    """(qdd, lam) at the state (q, qd) without touching qd (see `consistent_state`)."""
+    k = system.kin(q, qd, t)
+    jac = system.phi_q(k)
+    m = jac.shape[0]
+    lu = factor(np.block([[system.mass(k), jac.T], [jac, np.zeros((m, m))]]))
+    if lu is None:
+        raise singular_failure(system, jac, t, "initial accelerations failed")
+    sol = solve_factored(lu, np.concatenate([system.forces(k), system.gamma(k)]))
+    return sol[:system.nq], sol[system.nq:]
+
+
+class _Scales:
+    """Error weights: absolute parts from the mechanism's size, relative part = tolerance."""
+
+    def __init__(self, system: System, q0: np.ndarray, tol: float):
+        cm = system.cm[:-1]
+        size = float(np.ptp(np.vstack([cm, np.zeros((1, 3))]), axis=0).max(initial=0.0))
+        length = max(size, 1e-3)
+        self.tol = tol
+        self.q_abs = np.tile(np.r_[np.full(3, length), np.ones(4)], system.nb) * tol
+        self.v_ref = np.tile(np.r_[np.full(3, length), np.ones(4)], system.nb)
+
+    def update(self, qd: np.ndarray) -> None:
+        self.v_ref = np.maximum(self.v_ref, np.abs(qd))
+
+    def norm_q(self, e: np.ndarray, q: np.ndarray) -> float:
+        return float(np.sqrt(np.mean((e / (self.q_abs + self.tol * np.abs(q))) ** 2)))
+
+    def norm_v(self, e: np.ndarray) -> float:
+        return float(np.sqrt(np.mean((e / (self.tol * self.v_ref)) ** 2)))
+
+
+class _Integrator:
+    def __init__(self, system: System, spec: Dynamic, stats: SolverStats):
+        self.system, self.spec, self.stats = system, spec, stats
+        self.c = Coefficients.from_rho(spec.rho_inf)
+        self.lu = None
+        self.lu_h = 0.0
+        self.stiff = bool(system.elements)
+
+    def _iteration_matrix(self, k, h: float):
+        c, sys = self.c, self.system
+        bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
+        jac = sys.phi_q(k)
+        m = jac.shape[0]
+        top = sys.mass(k)
+        if self.stiff:
+            top = top + self._tangent(k, h) / bp
+        lu = factor(np.block([[top, jac.T], [jac, np.zeros((m, m))]]))
+        if lu is None:
+            raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
+        self.lu, self.lu_h = lu, h
+
+    def _tangent(self, k, h: float) -> np.ndarray:
+        """K + gamma' C of the applied forces, by forward differences."""
+        sys, c = self.system, self.c
+        gp = c.gamma / (h * c.beta)
+        q = np.concatenate([k.r[:-1], k.p[:-1]], axis=1).ravel()
+        qd = np.concatenate([k.rd[:-1], k.pd[:-1]], axis=1).ravel()
+        base = sys.forces(k)
+        out = np.empty((sys.nq, sys.nq))
+        for j in range(sys.nq):
+            eps = 1e-7 * max(1.0, abs(q[j]))
+            dq = np.zeros(sys.nq)
+            dq[j] = eps
+            out[:, j] = -(sys.forces(sys.kin(q + dq, qd + gp * dq, k.t)) - base) / eps
+        return out
+
+    def step(self, t, h, q, qd, qdd, a, lam):
+        """One step; returns the new state or None when Newton does not converge."""
+        c, sys = self.c, self.system
+        bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
+        gp = c.gamma / (h * c.beta)
+        qdd1 = qdd.copy()
+        a1 = (qdd - c.alpha_m * a) / (1.0 - c.alpha_m)
+        q1 = q + h * qd + h * h * ((0.5 - c.beta) * a + c.beta * a1)
+        qd1 = qd + h * ((1.0 - c.gamma) * a + c.gamma * a1)
+        lam1 = lam.copy()
+        t1 = t + h
+        rebuild = self.lu is None or abs(h / self.lu_h - 1.0) > 0.25
+        rebuilt, prev, it = False, math.inf, 0
+        while it < _MAX_ITER:
+            k = sys.kin(q1, qd1, t1)
+            if rebuild:
+                self._iteration_matrix(k, h)
+                rebuild, rebuilt, prev = False, True, math.inf
+            jac = sys.phi_q(k)
+            res = np.concatenate([(sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k)) / bp,
+                                  sys.phi(k)])
+            dx = solve_factored(self.lu, -res)
+            dq = dx[:sys.nq]
+            q1 += dq
+            qd1 += gp * dq
+            qdd1 += bp * dq
+            lam1 += bp * dx[sys.nq:]
+            self.stats.newton_iterations += 1
+            it += 1
+            # velocity-level size too: a position increment small for q can still be
+            # large for qd (x 1/h) and qdd (x 1/h^2)
+            size = max(self.scales.norm_q(dq, q1), self.scales.norm_v(gp * dq))
+            if size < 1e-3 or (prev < math.inf and size < 1e-2 and size < 0.1 * prev):
+                a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (1.0 - c.alpha_m)
+                return q1, qd1, qdd1, a1, lam1
+            if size > 0.5 * prev or it == _MAX_ITER:
+                if rebuilt:
+                    break
+                rebuild, it = True, 0  # an old iteration matrix: refresh it once, go on
+            prev = size
+        self.lu = None
+        return None
+
+    def error(self, h, q1, a, a1) -> float:
+        """Scaled norm of the local position error estimate (accept when <= 1)."""
+        return self.scales.norm_q(self.c.error_constant * h * h * (a1 - a), q1)
+
+
+def _substeps(interval: float, h: float) -> tuple[int, float]:
+    """Equal sub-steps landing on the output time: (count, size)."""
+    n = max(1, math.ceil(interval / h * (1.0 - 1e-9)))
+    return n, interval / n
+
+
+def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Trajectory,
+                          stats: SolverStats, progress: Callable | None = None) -> None:
+    """Integrate from spec.start to spec.end, recording at the output times.
+
+    The step size changes only when the error estimate asks for it (shrink, or growth by
+    more than _REGROW); at each change the pseudo-acceleration restarts from the consistent
+    acceleration, because generalized-alpha's `a` is tied to the step it was made with.
+    Outputs carry consistent velocities, accelerations and reactions (`consistent_state`).
+    """
+    integ = _Integrator(system, spec, stats)
+    integ.scales = _Scales(system, q0, spec.tolerance)
+    t, q, qd = spec.start, q0.copy(), qd0.copy()
+    qdd, lam = consistent_accelerations(system, q, qd, t)
+    a = qdd.copy()
+    trajectory.record(t, q, qd, qdd, lam)
+    max_step = min(spec.max_step or spec.step, spec.step)
+    h = max_step if spec.fixed_step else min(max_step, 1e-3 * (spec.end - spec.start) or 1e-3)
+    h_min = 1e-12 * max(1.0, abs(spec.end))
+    h_used = 0.0
+    for t_out in output_times(spec.start, spec.end, spec.step)[1:]:
+        while t_out - t > 1e-12 * max(1.0, abs(t_out)):
+            if stats.steps + stats.rejected_steps > _MAX_STEPS:
+                raise SolverFailure(f"dynamic analysis stopped at t = {t:.6g} s after "
+                                    f"{_MAX_STEPS} steps", time=t)
+            _, h_try = _substeps(t_out - t, h)
+            if h_used and abs(h_try / h_used - 1.0) > 1e-9:
+                qdd, lam = consistent_accelerations(system, q, qd, t)
+                a = qdd.copy()
+            new = integ.step(t, h_try, q, qd, qdd, a, lam)
+            err = 0.0 if new is None or spec.fixed_step else integ.error(h_try, new[0], a, new[3])
+            if new is None or err > 1.0:
+                if spec.fixed_step:
+                    raise _newton_failure(system, t, h_try)
+                stats.rejected_steps += 1
+                h = h_try * (0.25 if new is None else max(_SHRINK, _SAFETY * err ** (-1 / 3)))
+                h_used = h_try
+                if h < h_min:
+                    raise _newton_failure(system, t, h)
+                continue
+            q, qd, qdd, a, lam = new
+            t += h_try
+            h_used = h_try
+            stats.steps += 1
+            system.commit(system.kin(q, None, t))
+            integ.scales.update(qd)
+            if not spec.fixed_step:
+                grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
+                if grow > _REGROW:
+                    h = min(max_step, h_try * grow)
+        qd_out, qdd_out, lam_out = consistent_state(system, q, qd, t)
+        trajectory.record(t, q, qd_out, qdd_out, lam_out)
+        if progress:
+            progress(t, spec.end)
+
+
+def _newton_failure(system: System, t: float, h: float) -> SolverFailure:
+    return SolverFailure(f"dynamic analysis failed at t = {t:.6g} s: Newton iterations did not "
+                         f"converge even with a step of {h:.3g} s (an impact or a stiffness "
+                         "too large for the step, a toggle position, or a load discontinuity)",
+                         time=t)

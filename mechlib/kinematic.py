@@ -1,0 +1,56 @@
+"""Kinematic analysis: motions fix every degree of freedom.
+
+Positions by Newton on phi(q, t) = 0, velocities from phi_q qd = nu, accelerations from
+phi_q qdd = gamma, and reactions from the equations of motion with inertia:
+phi_q^T lam = Q - M qdd.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from mechlib.analysis import Kinematic, Trajectory, output_times
+from mechlib.assembly import solve_positions
+from mechlib.linalg import factor, singular_failure, solve_factored
+from mechlib.solution import SolverStats
+from mechlib.system import System
+
+__all__ = ["run_kinematic", "kinematic_state"]
+
+
+def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: SolverStats,
+                    *, inertia: bool = True):
+    """(q, qd, qdd, lam) at time t from a position guess; raises SolverFailure by name."""
+    q, its = solve_positions(system, q_guess, t)
+    stats.newton_iterations += its
+    k = system.kin(q, None, t)
+    system.commit(k)
+    jac = system.phi_q(k)
+    lu = factor(jac) if jac.shape[0] == jac.shape[1] else None
+    if lu is None:
+        raise singular_failure(system, jac, t, "kinematic analysis failed")
+    qd = solve_factored(lu, system.nu(k))
+    k = system.kin(q, qd, t)
+    qdd = solve_factored(lu, system.gamma(k))
+    rhs = system.forces(k, inertia=inertia)
+    if inertia:
+        rhs = rhs - system.mass(k) @ qdd
+    lam = solve_factored(lu, rhs, transpose=True)
+    return q, qd, qdd, lam
+
+
+def run_kinematic(system: System, spec: Kinematic, q0: np.ndarray, qd0: np.ndarray,
+                  trajectory: Trajectory, stats: SolverStats,
+                  progress: Callable[[float, float], None] | None = None) -> None:
+    """Fill `trajectory` at the output times; SolverFailure leaves what was computed."""
+    q, qd, qdd = q0, qd0, np.zeros_like(q0)
+    t_prev = spec.start
+    for t in output_times(spec.start, spec.end, spec.step):
+        h = t - t_prev
+        q, qd, qdd, lam = kinematic_state(system, q + h * qd + 0.5 * h * h * qdd, t, stats)
+        trajectory.record(t, q, qd, qdd, lam)
+        stats.steps += 1
+        t_prev = t
+        if progress:
+            progress(t, spec.end)

@@ -1,0 +1,162 @@
+"""Mechanism definitions: bodies, points, joints, motions and force elements (all SI).
+
+Everything is given in the global frame at the design (assembly) position, as CAD gives it;
+body axes coincide with global axes there. ``ground`` is the fixed body and is implicit.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable, Protocol
+
+import numpy as np
+
+__all__ = ["Body", "Point", "Joint", "Motion", "TimeFunction", "Mechanism", "GROUND",
+           "JOINT_TYPES"]
+
+GROUND = "ground"
+JOINT_TYPES = ("fixed", "revolute", "spherical", "cylindrical", "prismatic", "universal",
+               "planar", "screw", "inline", "inplane", "parallel", "perpendicular",
+               "orientation", "coupler", "gear")
+
+
+class TimeFunction(Protocol):
+    """A prescribed coordinate f(t) with its exact rates (SI units of the coordinate)."""
+
+    def value(self, t: float) -> float: ...
+    def rate(self, t: float) -> float: ...
+    def accel(self, t: float) -> float: ...
+
+
+@dataclass(frozen=True)
+class Body:
+    """A rigid body: mass (kg), centre of mass (m) and inertia about it (kg*m^2, global axes)."""
+
+    name: str
+    mass: float
+    cm: tuple[float, float, float]
+    inertia: np.ndarray  # (3, 3)
+
+
+@dataclass(frozen=True)
+class Point:
+    """A named point fixed on a body, at `at` (m, global, design position)."""
+
+    name: str
+    body: str
+    at: tuple[float, float, float]
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint between `body1` and `body2` (reactions are on body1 from body2).
+
+    `axis`: revolute/cylindrical/prismatic/screw/inline/parallel; `axes`: universal
+    (a1 on body1, a2 on body2) and perpendicular; `normal`: planar/inplane; `pitch` (m per
+    revolution): screw; `joints` + `ratio`: coupler/gear (coordinate1 = ratio * coordinate2).
+    """
+
+    name: str
+    type: str
+    body1: str = GROUND
+    body2: str = GROUND
+    at: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    axis: tuple[float, float, float] | None = None
+    axes: tuple[tuple[float, float, float], tuple[float, float, float]] | None = None
+    normal: tuple[float, float, float] | None = None
+    pitch: float | None = None
+    joints: tuple[str, str] | None = None
+    ratio: float = 1.0
+
+
+@dataclass(frozen=True)
+class Motion:
+    """A joint coordinate prescribed in time: `coordinate` is `angle` (rad) or `travel` (m)."""
+
+    name: str
+    joint: str
+    function: TimeFunction
+    coordinate: str | None = None
+
+
+@dataclass
+class Mechanism:
+    """A mechanism under construction; `mechlib.solve` compiles and solves it."""
+
+    name: str = "mechanism"
+    gravity: tuple[float, float, float] = (0.0, 0.0, 0.0)
+    bodies: dict[str, Body] = field(default_factory=dict)
+    points: dict[str, Point] = field(default_factory=dict)
+    joints: dict[str, Joint] = field(default_factory=dict)
+    motions: dict[str, Motion] = field(default_factory=dict)
+    forces: dict[str, Any] = field(default_factory=dict)
+
+    def add_body(self, name: str, *, mass: float, cm, inertia) -> Body:
+        """Add a body; `inertia` is [Ixx, Iyy, Izz], 6 entries (+ Ixy, Ixz, Iyz) or 3x3."""
+        body = Body(name, float(mass), _vec(cm), inertia_matrix(inertia))
+        self.bodies[name] = body
+        return body
+
+    def add_point(self, name: str, *, body: str, at) -> Point:
+        point = Point(name, body, _vec(at))
+        self.points[name] = point
+        return point
+
+    def add_joint(self, name: str, type: str, *, bodies: tuple[str, str], **keys) -> Joint:
+        """Add a joint of one of JOINT_TYPES; vectors are normalised here."""
+        if type not in JOINT_TYPES:
+            raise ValueError(f"unknown joint type '{type}'")
+        for key in ("axis", "normal"):
+            if keys.get(key) is not None:
+                keys[key] = _unit(keys[key])
+        if keys.get("axes") is not None:
+            keys["axes"] = tuple(_unit(a) for a in keys["axes"])
+        if keys.get("at") is not None:
+            keys["at"] = _vec(keys["at"])
+        if keys.get("joints") is not None:
+            keys["joints"] = tuple(keys["joints"])
+        joint = Joint(name, type, bodies[0], bodies[1], **keys)
+        self.joints[name] = joint
+        return joint
+
+    def add_motion(self, name: str, *, joint: str, function: TimeFunction,
+                   coordinate: str | None = None) -> Motion:
+        motion = Motion(name, joint, function, coordinate)
+        self.motions[name] = motion
+        return motion
+
+    def add_force(self, element: Any) -> Any:
+        """Add a force element (see mechlib.forces); it carries its own `name`."""
+        self.forces[element.name] = element
+        return element
+
+
+def inertia_matrix(values) -> np.ndarray:
+    """3x3 inertia tensor (kg*m^2) from 3 principal-axis entries, 6 entries or a 3x3 array.
+
+    Six entries are [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] with Ixy the tensor entry
+    (= -integral of x*y dm), as SPEC 1.2 defines.
+    """
+    arr = np.asarray(values, dtype=float)
+    if arr.shape == (3, 3):
+        return arr.copy()
+    if arr.shape == (3,):
+        return np.diag(arr)
+    if arr.shape == (6,):
+        ixx, iyy, izz, ixy, ixz, iyz = arr
+        return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
+    raise ValueError(f"inertia needs 3, 6 or 3x3 values, got shape {arr.shape}")
+
+
+def _vec(v) -> tuple[float, float, float]:
+    arr = np.asarray(v, dtype=float).reshape(3)
+    return (float(arr[0]), float(arr[1]), float(arr[2]))
+
+
+def _unit(v) -> tuple[float, float, float]:
+    arr = np.asarray(v, dtype=float).reshape(3)
+    n = np.linalg.norm(arr)
+    if n == 0.0:
+        raise ValueError("zero-length axis")
+    return _vec(arr / n)
+
+

@@ -1,0 +1,97 @@
+"""One entry point: `solve(mechanism, analysis, *, requests, ...) -> Solution`."""
+from __future__ import annotations
+
+import time as _time
+from typing import Callable, Sequence
+
+import numpy as np
+
+from mechlib.analysis import Dynamic, Kinematic, QuasiStatic, Static, Trajectory
+from mechlib.assembly import assemble
+from mechlib.check import ModelError, degrees_of_freedom, find_redundant
+from mechlib.genalpha import run_generalized_alpha
+from mechlib.kinematic import run_kinematic
+from mechlib.model import Mechanism
+from mechlib.radau import run_radau
+from mechlib.requests import evaluate_requests
+from mechlib.solution import Solution, SolverFailure, SolverStats
+from mechlib.static import run_quasi_static, run_static
+from mechlib.system import System
+
+__all__ = ["solve", "check_model"]
+
+Analysis = Kinematic | Static | QuasiStatic | Dynamic
+
+
+def check_model(system: System, analysis: Analysis, *, redundant: str = "error") -> list[str]:
+    """Redundant equations and degrees of freedom, before any solving.
+
+    Raises ModelError naming joints and directions; with redundant="drop" removes the
+    dependent rows instead and returns warnings saying those reactions are not unique.
+    """
+    k = system.kin(system.design_q(), None, getattr(analysis, "start", 0.0))
+    jac = system.phi_q(k)
+    found = find_redundant(jac, system.labels, system.owners, set(system.body_names))
+    warnings = []
+    if found and redundant != "drop":
+        raise ModelError([(r.owner, "redundant constraint: " + r.describe()) for r in found])
+    if found:
+        system.drop_rows([r.row for r in found])
+        warnings = [f"redundant constraint dropped: {r.describe()}; the reactions of "
+                    f"{', '.join((r.owner,) + r.depends_on)} are not unique" for r in found]
+    if isinstance(analysis, Kinematic):
+        dof = degrees_of_freedom(system.phi_q(k))
+        if dof != 0:
+            motions = ", ".join(system.mechanism.motions) or "none"
+            raise ModelError([("", f"kinematic analysis needs 0 degrees of freedom after the "
+                                   f"motions ({motions}), but the mechanism has {dof}: add "
+                                   "motions or use a dynamic or quasi-static analysis"
+                               if dof > 0 else "")])
+    return warnings
+
+
+def _run(system: System, analysis: Analysis, q0, qd0, trajectory, stats, progress) -> None:
+    if isinstance(analysis, Kinematic):
+        run_kinematic(system, analysis, q0, qd0, trajectory, stats, progress)
+    elif isinstance(analysis, Static):
+        run_static(system, analysis, q0, trajectory, stats, progress)
+    elif isinstance(analysis, QuasiStatic):
+        run_quasi_static(system, analysis, q0, trajectory, stats, progress)
+    elif analysis.integrator == "radau":
+        run_radau(system, analysis, q0, qd0, trajectory, stats, progress)
+    else:
+        run_generalized_alpha(system, analysis, q0, qd0, trajectory, stats, progress)
+
+
+def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
+          initial: Sequence = (), redundant: str = "error", throw: bool = True,
+          progress: Callable[[float, float], None] | None = None) -> Solution:
+    """Check, assemble and solve; channels `REQUEST.COMPONENT` at the output times.
+
+    Raises ModelError for an ill-posed model (always). A numerical failure raises
+    SolverFailure when `throw`, else returns a failed Solution holding what was computed.
+    """
+    cpu0 = _time.process_time()
+    system = System(mechanism)
+    warnings = check_model(system, analysis, redundant=redundant)
+    stats, trajectory = SolverStats(), Trajectory()
+    status, message = "ok", "finished"
+    start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
+    try:
+        assembled = assemble(system, start, initial)
+        warnings += assembled.notes
+        stats.newton_iterations += assembled.newton_iterations
+        references = system.references()
+        _run(system, analysis, assembled.q, assembled.qd, trajectory, stats, progress)
+    except SolverFailure as failure:
+        if throw:
+            raise
+        status, message = "failed", str(failure)
+        references = system.references()
+    system.restore(references)
+    channels = evaluate_requests(system, trajectory, requests) if len(trajectory) else {}
+    if not channels and requests and len(trajectory) == 0:
+        channels = {}
+    stats.cpu_seconds = _time.process_time() - cpu0
+    return Solution(status, message, analysis.name, np.array(trajectory.time), channels,
+                    stats, warnings)

@@ -1,0 +1,244 @@
+"""A mechanism compiled to arrays: constraint equations, mass matrix, applied forces.
+
+Symbols (7 coordinates per moving body, ground excluded): ``phi`` (m,) residuals,
+``phi_q`` (m, nq) Jacobian, ``nu`` right side of ``phi_q qd = nu``, ``gamma`` right side of
+``phi_q qdd = gamma``, ``M`` (nq, nq), ``Q`` (nq,) generalised applied forces, and the
+equations of motion ``M qdd + phi_q^T lam = Q``. Row `i` of every constraint array is
+labelled ``labels[i]`` and belongs to joint or motion ``owners[i]``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
+from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
+from mechlib.joints import ROTATIONAL, TRANSLATIONAL, expand_joint, joint_frame
+from mechlib.kin import Kin
+from mechlib.model import GROUND, Mechanism
+from mechlib.rotation import e_matrix, g_matrix
+from mechlib.view import StateView
+
+__all__ = ["System"]
+
+_KINDS = {"spherical": Spherical, "dot1": Dot1, "dot2": Dot2}
+
+
+class System:
+    """The numerical form of a `Mechanism` (see module docstring for the symbols)."""
+
+    def __init__(self, mechanism: Mechanism):
+        self.mechanism = mechanism
+        self.body_names = list(mechanism.bodies)
+        self.nb = len(self.body_names)
+        self.nq = 7 * self.nb
+        self._index = {name: i for i, name in enumerate(self.body_names)}
+        self._index[GROUND] = self.nb
+        bodies = [mechanism.bodies[n] for n in self.body_names]
+        self.cm = np.vstack([np.array([b.cm for b in bodies]).reshape(-1, 3), np.zeros((1, 3))])
+        self.masses = np.array([b.mass for b in bodies])
+        self.inertia = np.array([b.inertia for b in bodies]).reshape(-1, 3, 3)
+        self.gravity = np.asarray(mechanism.gravity, dtype=float)
+        self.measures: dict[tuple[str, str], AngleMeasure | TravelMeasure] = {}
+        self._build_constraints()
+        self.elements = list(mechanism.forces.values())
+        for element in self.elements:
+            element.bind(self)
+        self.active = np.arange(len(self._all_labels))
+
+    # ---- names -> indices -------------------------------------------------------------
+    def body_index(self, name: str) -> int:
+        return self._index[name]
+
+    def frame_index(self, name: str) -> int | None:
+        """None for ground axes, else the body whose axes a vector follows."""
+        return None if name == GROUND else self._index[name]
+
+    def body_point(self, body: str, at) -> tuple[int, np.ndarray]:
+        """(body index, body-fixed vector from its centre of mass) of a design point."""
+        b = self._index[body]
+        return b, np.asarray(at, dtype=float) - self.cm[b]
+
+    def point(self, name: str) -> tuple[int, np.ndarray]:
+        p = self.mechanism.points[name]
+        return self.body_point(p.body, p.at)
+
+    def measure(self, joint: str, kind: str) -> AngleMeasure | TravelMeasure:
+        try:
+            return self.measures[(joint, kind)]
+        except KeyError:
+            raise KeyError(f"joint '{joint}' has no {kind} coordinate") from None
+
+    # ---- construction -----------------------------------------------------------------
+    def _build_constraints(self) -> None:
+        rows: dict[str, list] = {k: [] for k in _KINDS}
+        for joint in self.mechanism.joints.values():
+            b1, s1 = self.body_point(joint.body1, joint.at)
+            b2, s2 = self.body_point(joint.body2, joint.at)
+            for row in expand_joint(joint, s1, s2):
+                rows[row.kind].append((b1, b2, row.data, row.label, joint.name))
+            if joint.type in ROTATIONAL + TRANSLATIONAL:
+                fr = joint_frame(joint.axis)
+                if joint.type in ROTATIONAL:
+                    self.measures[(joint.name, "angle")] = AngleMeasure(b1, b2, fr.f, fr.g, fr.h)
+                if joint.type in TRANSLATIONAL:
+                    self.measures[(joint.name, "travel")] = TravelMeasure(b1, b2, fr.h, s1, s2)
+        self.norm = Normalization(self.nb)
+        labels = [f"{n}: normalisation" for n in self.body_names]
+        owners = [n for n in self.body_names]
+        self.groups = [self.norm]
+        for kind, items in rows.items():
+            if not items:
+                continue
+            bi, bj, data, lab, own = zip(*items)
+            self.groups.append(_KINDS[kind](bi, bj, *map(np.array, zip(*data))))
+            reps = 3 if kind == "spherical" else 1
+            suffix = (" x", " y", " z") if reps == 3 else ("",)
+            labels += [l + s for l in lab for s in suffix]
+            owners += [o for o in own for _ in range(reps)]
+        self.coordinates = self._coordinate_equations()
+        labels += [c.label for c in self.coordinates]
+        owners += [c.owner for c in self.coordinates]
+        self._all_labels, self._all_owners = labels, owners
+        self.n_geometric = len(labels) - len(self.coordinates)
+
+    def _coordinate_of(self, joint: str, coordinate: str | None = None):
+        if coordinate is not None:
+            return self.measure(joint, coordinate)
+        kind = "angle" if (joint, "angle") in self.measures else "travel"
+        return self.measure(joint, kind)
+
+    def _coordinate_equations(self) -> list[CoordinateEquation]:
+        eqs = []
+        for j in self.mechanism.joints.values():
+            if j.type == "screw":
+                terms = [(1.0, self.measure(j.name, "travel")),
+                         (-j.pitch / (2.0 * np.pi), self.measure(j.name, "angle"))]
+                eqs.append(CoordinateEquation(terms, f"{j.name}: screw travel-angle", j.name))
+            elif j.type in ("coupler", "gear"):
+                a, b = j.joints
+                terms = [(1.0, self._coordinate_of(a)), (-j.ratio, self._coordinate_of(b))]
+                eqs.append(CoordinateEquation(terms, f"{j.name}: coupling {a}-{b}", j.name))
+        for m in self.mechanism.motions.values():
+            measure = self._coordinate_of(m.joint, m.coordinate)
+            label = f"{m.name}: {measure.kind} of {m.joint}"
+            eqs.append(CoordinateEquation([(1.0, measure)], label, m.name, m.function))
+        return eqs
+
+    # ---- row selection ----------------------------------------------------------------
+    @property
+    def labels(self) -> list[str]:
+        return [self._all_labels[i] for i in self.active]
+
+    @property
+    def owners(self) -> list[str]:
+        return [self._all_owners[i] for i in self.active]
+
+    def drop_rows(self, rows) -> None:
+        """Remove equations (indices into the current rows), e.g. redundant ones."""
+        self.active = np.delete(self.active, np.asarray(rows, dtype=int))
+
+    # ---- evaluation ---------------------------------------------------------------------
+    def kin(self, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:
+        return Kin.from_state(q, qd, t)
+
+    def view(self, k: Kin) -> StateView:
+        return StateView(self, k)
+
+    def design_q(self) -> np.ndarray:
+        q = np.zeros((self.nb, 7))
+        q[:, :3] = self.cm[:-1]
+        q[:, 3] = 1.0
+        return q.ravel()
+
+    def phi(self, k: Kin) -> np.ndarray:
+        parts = [g.phi(k) for g in self.groups] + [np.array([c.phi(k) for c in self.coordinates])]
+        return np.concatenate(parts)[self.active]
+
+    def phi_q(self, k: Kin) -> np.ndarray:
+        out = np.zeros((len(self._all_labels), k.ncol))
+        row = 0
+        for g in self.groups:
+            g.jacobian(k, out[row:row + g.size])
+            row += g.size
+        for c in self.coordinates:
+            out[row] = c.gradient(k)
+            row += 1
+        return out[self.active, :self.nq]
+
+    def nu(self, k: Kin) -> np.ndarray:
+        out = np.zeros(len(self._all_labels))
+        if self.coordinates:
+            out[self.n_geometric:] = [c.nu(k.t) for c in self.coordinates]
+        return out[self.active]
+
+    def gamma(self, k: Kin) -> np.ndarray:
+        parts = [g.gamma(k) for g in self.groups]
+        parts.append(np.array([c.gamma(k) for c in self.coordinates]))
+        return np.concatenate(parts)[self.active]
+
+    def commit(self, k: Kin) -> None:
+        """Accept a state: joint angles unwrap against it from now on."""
+        for m in self.measures.values():
+            m.commit(k)
+
+    def references(self) -> dict:
+        """Unwrapping references of the joint angles, to restore with `restore`."""
+        return {key: getattr(m, "reference", 0.0) for key, m in self.measures.items()}
+
+    def restore(self, references: dict) -> None:
+        for key, value in references.items():
+            if hasattr(self.measures[key], "reference"):
+                self.measures[key].reference = value
+
+    def mass(self, k: Kin) -> np.ndarray:
+        """Mass matrix M (nq, nq): m I for r; 4 G^T J' G (+ a p p^T term fixing |p|) for p."""
+        p = k.p[:-1]
+        g = g_matrix(p)
+        mp = 4.0 * np.einsum("bji,bjk,bkl->bil", g, self.inertia, g)
+        scale = 4.0 * np.trace(self.inertia, axis1=1, axis2=2) / 3.0
+        mp += scale[:, None, None] * p[:, :, None] * p[:, None, :]
+        blocks = np.zeros((self.nb, 7, 7))
+        blocks[:, :3, :3] = self.masses[:, None, None] * np.eye(3)
+        blocks[:, 3:, 3:] = mp
+        out = np.zeros((self.nq, self.nq))
+        for b in range(self.nb):
+            out[7 * b:7 * b + 7, 7 * b:7 * b + 7] = blocks[b]
+        return out
+
+    def mass_times(self, k: Kin, x: np.ndarray) -> np.ndarray:
+        """M(q) x without forming M (nq,)."""
+        p = k.p[:-1]
+        xb = x.reshape(self.nb, 7)
+        out = np.empty((self.nb, 7))
+        out[:, :3] = self.masses[:, None] * xb[:, :3]
+        g = g_matrix(p)
+        w = np.einsum("bij,bj->bi", g, xb[:, 3:])
+        out[:, 3:] = 4.0 * np.einsum("bji,bj->bi", g, np.einsum("bij,bj->bi", self.inertia, w))
+        scale = 4.0 * np.trace(self.inertia, axis1=1, axis2=2) / 3.0
+        out[:, 3:] += (scale * np.einsum("bi,bi->b", p, xb[:, 3:]))[:, None] * p
+        return out.ravel()
+
+    def wrenches(self, k: Kin, view: StateView | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Applied forces F and torques N (nb+1, 3), global axes, through the cm."""
+        F = np.zeros((self.nb + 1, 3))
+        N = np.zeros((self.nb + 1, 3))
+        F[:-1] += self.masses[:, None] * self.gravity
+        if self.elements:
+            view = view or self.view(k)
+            for element in self.elements:
+                element.apply(view, F, N)
+        return F, N
+
+    def forces(self, k: Kin, *, inertia: bool = True) -> np.ndarray:
+        """Q (nq,): applied forces and, with `inertia`, the quadratic velocity terms."""
+        F, N = self.wrenches(k)
+        p = k.p[:-1]
+        out = np.zeros((self.nb, 7))
+        out[:, :3] = F[:-1]
+        out[:, 3:] = 2.0 * np.einsum("bij,bi->bj", e_matrix(p), N[:-1])
+        if inertia:
+            pd = k.pd[:-1]
+            w_body = 2.0 * np.einsum("bij,bj->bi", g_matrix(p), pd)
+            jw = np.einsum("bij,bj->bi", self.inertia, w_body)
+            out[:, 3:] -= 4.0 * np.einsum("bij,bi->bj", g_matrix(pd), jw)
+        return out.ravel()

@@ -1,0 +1,70 @@
+"""A read-only view of one mechanism state, as expressions and force elements see it."""
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mechlib.kin import Kin
+from mechlib.rotation import d_rotate, rotate, rotation_matrix
+
+if TYPE_CHECKING:
+    from mechlib.system import System
+
+__all__ = ["StateView"]
+
+
+class StateView:
+    """State measures in SI: joint angle (rad) / travel (m) and rates, point positions (m)."""
+
+    def __init__(self, system: "System", kin: Kin):
+        self.system = system
+        self.kin = kin
+        self._rot: np.ndarray | None = None
+
+    @property
+    def t(self) -> float:
+        return self.kin.t
+
+    def rotation(self, body: int) -> np.ndarray:
+        """Rotation matrix of body index `body` (ground = nb)."""
+        if self._rot is None:
+            self._rot = rotation_matrix(self.kin.p)
+        return self._rot[body]
+
+    def point_position(self, body: int, s: np.ndarray) -> np.ndarray:
+        return self.kin.r[body] + rotate(self.kin.p[body], s)
+
+    def point_velocity(self, body: int, s: np.ndarray) -> np.ndarray:
+        return self.kin.rd[body] + d_rotate(self.kin.p[body], s) @ self.kin.pd[body]
+
+    def _measure(self, joint: str, kind: str):
+        return self.system.measure(joint, kind)
+
+    def angle(self, joint: str) -> float:
+        return self._measure(joint, "angle").value(self.kin)
+
+    def omega(self, joint: str) -> float:
+        return self._measure(joint, "angle").rate(self.kin)
+
+    def travel(self, joint: str) -> float:
+        return self._measure(joint, "travel").value(self.kin)
+
+    def speed(self, joint: str) -> float:
+        return self._measure(joint, "travel").rate(self.kin)
+
+    def position(self, point: str) -> np.ndarray:
+        body, s = self.system.point(point)
+        return self.point_position(body, s)
+
+    def dist(self, p1: str, p2: str) -> float:
+        return float(np.linalg.norm(self.position(p1) - self.position(p2)))
+
+    def x(self, point: str) -> float:
+        return float(self.position(point)[0])
+
+    def y(self, point: str) -> float:
+        return float(self.position(point)[1])
+
+    def z(self, point: str) -> float:
+        return float(self.position(point)[2])
