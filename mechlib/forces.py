@@ -21,10 +21,6 @@ __all__ = ["PointForce", "PointTorque", "Spring", "TorsionSpring"]
 VectorFunction = Callable[[float, StateView], Sequence[float]]
 
 
-def _frame_axes(view: StateView, frame: int | None) -> np.ndarray:
-    return np.eye(3) if frame is None else view.rotation(frame)
-
-
 @dataclass
 class PointForce:
     """Force `value(t, view)` (N, 3 components in `frame` axes) at point `at` of `body`."""
@@ -39,10 +35,9 @@ class PointForce:
 
     def bind(self, system) -> None:
         self._b, self._s = system.body_point(self.body, self.at)
-        self._frame = system.frame_index(self.frame)
 
     def _force(self, view: StateView) -> np.ndarray:
-        return _frame_axes(view, self._frame) @ np.asarray(self.value(view.t, view), float)
+        return view.system.frame_axes(self.frame, view.kin) @ np.asarray(self.value(view.t, view), float)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         force = self._force(view)
@@ -68,10 +63,9 @@ class PointTorque:
 
     def bind(self, system) -> None:
         self._b = system.body_index(self.body)
-        self._frame = system.frame_index(self.frame)
 
     def _torque(self, view: StateView) -> np.ndarray:
-        return _frame_axes(view, self._frame) @ np.asarray(self.value(view.t, view), float)
+        return view.system.frame_axes(self.frame, view.kin) @ np.asarray(self.value(view.t, view), float)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         N[self._b] += self._torque(view)

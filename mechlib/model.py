@@ -52,7 +52,7 @@ class Joint:
 
     `axis`: revolute/cylindrical/prismatic/screw/inline/parallel; `axes`: universal
     (a1 on body1, a2 on body2) and perpendicular; `normal`: planar/inplane; `pitch` (m per
-    revolution): screw; `joints` + `ratio`: coupler/gear (coordinate1 = ratio * coordinate2).
+    revolution): screw; `joints` + `ratio`: coupler/gear (coordinate of joints[1] = ratio * coordinate of joints[0]).
     """
 
     name: str
@@ -89,6 +89,7 @@ class Mechanism:
     joints: dict[str, Joint] = field(default_factory=dict)
     motions: dict[str, Motion] = field(default_factory=dict)
     forces: dict[str, Any] = field(default_factory=dict)
+    frames: dict[str, tuple[str, np.ndarray]] = field(default_factory=dict)
 
     def add_body(self, name: str, *, mass: float, cm, inertia) -> Body:
         """Add a body; `inertia` is [Ixx, Iyy, Izz], 6 entries (+ Ixy, Ixz, Iyz) or 3x3."""
@@ -117,6 +118,13 @@ class Mechanism:
         joint = Joint(name, type, bodies[0], bodies[1], **keys)
         self.joints[name] = joint
         return joint
+
+    def add_frame(self, name: str, *, body: str, x, y) -> None:
+        """A named frame on `body` with axes x, y (z = x cross y) given at design."""
+        ex = np.asarray(_unit(x))
+        ey = np.asarray(y, dtype=float) - (np.asarray(y, dtype=float) @ ex) * ex
+        ey = np.asarray(_unit(ey))
+        self.frames[name] = (body, np.column_stack([ex, ey, np.cross(ex, ey)]))
 
     def add_motion(self, name: str, *, joint: str, function: TimeFunction,
                    coordinate: str | None = None) -> Motion:

@@ -108,8 +108,7 @@ def joint_wrench(system: System, k, lam_all: np.ndarray, jac: np.ndarray, joint:
 
 
 def _frame_matrix(system: System, k, frame: str) -> np.ndarray:
-    b = system.frame_index(frame)
-    return np.eye(3) if b is None else rotation_matrix(k.p[b])
+    return system.frame_axes(frame, k)
 
 
 def _motions_on(system: System, joint: str) -> set[str]:

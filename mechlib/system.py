@@ -15,7 +15,7 @@ from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL, expand_joint, joint_frame
 from mechlib.kin import Kin
 from mechlib.model import GROUND, Mechanism
-from mechlib.rotation import e_matrix, g_matrix
+from mechlib.rotation import e_matrix, g_matrix, rotation_matrix
 from mechlib.view import StateView
 
 __all__ = ["System"]
@@ -51,7 +51,15 @@ class System:
 
     def frame_index(self, name: str) -> int | None:
         """None for ground axes, else the body whose axes a vector follows."""
+        if name in self.mechanism.frames:
+            name = self.mechanism.frames[name][0]
         return None if name == GROUND else self._index[name]
+
+    def frame_axes(self, name: str, k: Kin) -> np.ndarray:
+        """Columns: the axes of frame `name` (ground, a body or a named frame), global."""
+        body, local = self.mechanism.frames.get(name, (name, np.eye(3)))
+        b = self._index[body]
+        return local if b == self.nb else rotation_matrix(k.p[b]) @ local
 
     def body_point(self, body: str, at) -> tuple[int, np.ndarray]:
         """(body index, body-fixed vector from its centre of mass) of a design point."""
@@ -116,7 +124,7 @@ class System:
                 eqs.append(CoordinateEquation(terms, f"{j.name}: screw travel-angle", j.name))
             elif j.type in ("coupler", "gear"):
                 a, b = j.joints
-                terms = [(1.0, self._coordinate_of(a)), (-j.ratio, self._coordinate_of(b))]
+                terms = [(-j.ratio, self._coordinate_of(a)), (1.0, self._coordinate_of(b))]
                 eqs.append(CoordinateEquation(terms, f"{j.name}: coupling {a}-{b}", j.name))
         for m in self.mechanism.motions.values():
             measure = self._coordinate_of(m.joint, m.coordinate)

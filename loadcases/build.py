@@ -1,0 +1,261 @@
+"""Build a `mechlib` model from a validated case: only the elements and effects it calls for.
+
+Everything here is already validated (schema and checks); what the engine cannot simulate
+yet is reported as a diagnostic at its key, never ignored.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+import mechlib as ml
+from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.expressions import ExpressionError, parse
+from loadcases.loader import CaseFile
+from mechlib.tables import Table, TableRangeError
+
+__all__ = ["BuiltRun", "build_run", "ExpressionMotion"]
+
+NOT_YET = "is not simulated by this version of loads yet"
+_JOINT_KEYS = ("at", "axis", "axes", "normal", "pitch", "joints", "ratio")
+
+
+@dataclass
+class BuiltRun:
+    """A mechlib model ready for `mechlib.solve`, with the case's requests and settings."""
+
+    mechanism: ml.Mechanism
+    analysis: Any
+    requests: list
+    initial: list
+    redundant: str
+    column_units: dict[str, str] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+
+
+class ExpressionMotion:
+    """A motion's coordinate f(t) (rad or m) with exact d/dt and d2/dt2 of its expression."""
+
+    def __init__(self, compiled):
+        self._f = compiled
+        self._d1 = compiled.derivative()
+        self._d2 = self._d1.derivative()
+
+    def value(self, t: float) -> float:
+        return self._f(t)
+
+    def rate(self, t: float) -> float:
+        return self._d1(t)
+
+    def accel(self, t: float) -> float:
+        return self._d2(t)
+
+
+class _Builder:
+    def __init__(self, cf: CaseFile):
+        self.cf, self.case, self.mech = cf, cf.case, cf.mechanism
+        self.problems: list[Diagnostic] = []
+        self.effects = {"gravity": True, "damping": True} | dict(self.case.effects)
+        self.tables = {n: Table(n, t.x, t.y, t.interpolation, t.extrapolate)
+                       for n, t in self.mech.tables.items()}
+
+    def error(self, kind: str, key: str, message: str) -> None:
+        file, line, col = self.cf.where(kind, key)
+        self.problems.append(Diagnostic(file, line, col, key, message))
+
+    def compile(self, text: str, what: str) -> Callable:
+        compiled = parse(text).compile(self.cf.parameters, self.tables)
+
+        def evaluate(t: float, state=None) -> float:
+            try:
+                return compiled(t, state)
+            except (ExpressionError, TableRangeError, ZeroDivisionError) as exc:
+                raise ml.SolverFailure(f"{what}: {exc} at t = {t:.6g} s", time=t,
+                                       where=(what,)) from None
+        evaluate.compiled = compiled
+        return evaluate
+
+    # ---- mechanism --------------------------------------------------------------------
+    def mechanism(self) -> ml.Mechanism:
+        gravity = self.mech.gravity if self.effects.get("gravity", True) else (0.0, 0.0, 0.0)
+        m = ml.Mechanism(name=self.mech.name or self.case.case, gravity=gravity)
+        for name, b in self.mech.bodies.items():
+            m.add_body(name, mass=b.mass, cm=b.cm, inertia=b.inertia)
+        for name, p in self.mech.points.items():
+            m.add_point(name, body=p.body, at=p.at)
+        for name, f in self.mech.frames.items():
+            m.add_frame(name, body=f.body, x=f.x, y=f.y)
+        for name, j in self.mech.joints.items():
+            self._joint(m, name, j)
+        self._forces(m)
+        for name in self.mech.contacts:
+            self.error("mechanism", f"contacts.{name}", f"contact elements {NOT_YET}")
+        for name in self.mech.events:
+            self.error("mechanism", f"events.{name}", f"events {NOT_YET}")
+        for name, motion in self.case.motions.items():
+            fn = parse(motion.value).compile(self.cf.parameters, self.tables)
+            if not fn.time_only:
+                self.error("case", f"motions.{name}.value", "a motion must be a function of "
+                           "time only (use a force element for state-dependent loads)")
+                continue
+            m.add_motion(name, joint=motion.joint, function=ExpressionMotion(fn))
+        return m
+
+    def _joint(self, m: ml.Mechanism, name: str, j) -> None:
+        if j.type == "point_on_curve":
+            self.error("mechanism", f"joints.{name}", f"point_on_curve joints {NOT_YET}")
+            return
+        keys = {k: getattr(j, k) for k in _JOINT_KEYS if getattr(j, k, None) is not None}
+        bodies = tuple(getattr(j, "bodies", (ml.GROUND, ml.GROUND)))
+        if j.type == "orientation" and keys.get("at") is None:
+            keys.pop("at", None)
+        m.add_joint(name, j.type, bodies=bodies, **keys)
+
+    def _forces(self, m: ml.Mechanism) -> None:
+        chosen = self.case.loads
+        for name, f in self.mech.forces.items():
+            if chosen is not None and name not in chosen:
+                continue
+            if not f.active:
+                continue
+            element = self._element(name, f)
+            if element is not None:
+                m.add_force(element)
+
+    def _element(self, name: str, f):
+        damping = self.effects.get("damping", True)
+        if getattr(f, "law", None):
+            self.error("mechanism", f"forces.{name}.law", f"tabulated spring laws {NOT_YET}")
+            return None
+        if f.type == "spring":
+            pts = tuple((self.mech.points[p].body, self.mech.points[p].at) for p in f.points)
+            return ml.Spring(name, pts, f.stiffness, f.damping if damping else 0.0,
+                             f.free_length, f.preload or 0.0, f.tension_only)
+        if f.type == "torsion_spring":
+            return ml.TorsionSpring(name, f.joint, f.stiffness, f.damping if damping else 0.0,
+                                    f.angle0 or 0.0, f.preload or 0.0)
+        if f.type in ("force", "torque"):
+            parts = [self.compile(str(v), f"forces.{name}.value") for v in f.value]
+
+            def value(t: float, view, parts=parts) -> tuple[float, float, float]:
+                return (parts[0](t, view), parts[1](t, view), parts[2](t, view))
+            if f.type == "torque":
+                return ml.PointTorque(name, f.body, value, f.frame)
+            body, at = self._application(f)
+            return ml.PointForce(name, body, at, value, f.frame)
+        self.error("mechanism", f"forces.{name}", f"{f.type} elements {NOT_YET}")
+        return None
+
+    def _application(self, f) -> tuple[str, tuple]:
+        if f.point is not None:
+            p = self.mech.points[f.point]
+            return p.body, p.at
+        if f.at is not None:
+            return f.body, f.at
+        body = self.mech.bodies.get(f.body)
+        return f.body, body.cm if body is not None else (0.0, 0.0, 0.0)
+
+    # ---- case -------------------------------------------------------------------------
+    def analysis(self):
+        a = self.case.analysis
+        if a.type == "modes":
+            self.error("case", "analysis.type", f"modes analysis {NOT_YET}")
+            return None
+        if a.type == "static":
+            return ml.Static(time=a.end or 0.0)
+        if a.end is None or a.step is None or a.step <= 0.0 or a.end <= 0.0:
+            self.error("case", "analysis", f"a {a.type} analysis needs 'end' and 'step' > 0 "
+                       "(seconds)")
+            return None
+        if a.type == "kinematic":
+            return ml.Kinematic(end=a.end, step=a.step)
+        if a.type == "quasi-static":
+            return ml.QuasiStatic(end=a.end, step=a.step)
+        integrator = a.integrator or "generalized-alpha"
+        if integrator not in ("generalized-alpha", "radau"):
+            self.error("case", "analysis.integrator", f"unknown integrator '{integrator}': "
+                       "use generalized-alpha or radau")
+        options = {"tolerance": a.tolerance} if a.tolerance is not None else {}
+        return ml.Dynamic(end=a.end, step=a.step, integrator=integrator,
+                          max_step=a.max_step, **options)
+
+    def requests(self) -> tuple[list, dict[str, str]]:
+        out, units = [], {}
+        for name, r in self.case.requests.items():
+            req = self._request(name, r)
+            if req is None:
+                continue
+            out.append(req)
+            for comp, unit in _units_of(req, self).items():
+                units[f"{name}.{comp}"] = unit
+        return out, units
+
+    def _request(self, name: str, r):
+        kind = type(r).__name__
+        if kind == "JointRequest":
+            if r.quantity == "force":
+                return ml.JointReaction(name, r.joint, r.frame)
+            return ml.JointCoordinate(name, r.joint, r.quantity)
+        if kind == "MotionRequest":
+            return ml.MotionEffort(name, r.motion)
+        if kind == "PointRequest":
+            return ml.PointKinematics(name, r.point, r.quantity, r.frame)
+        if kind == "ElementRequest":
+            if r.force not in self.mech.forces or (self.case.loads is not None
+                                                     and r.force not in self.case.loads):
+                self.error("case", f"requests.{name}.force",
+                           f"force element '{r.force}' is not active in this case")
+                return None
+            return ml.ElementOutput(name, r.force)
+        if kind == "ExpressionRequest":
+            return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}"))
+        self.error("case", f"requests.{name}", f"contact requests {NOT_YET}")
+        return None
+
+    def initial(self) -> list:
+        out = []
+        for name, v in self.case.initial.items():
+            if name in self.mech.joints:
+                out.append(ml.InitialValue(name, v.value, v.rate))
+            else:
+                out.append(ml.InitialBodyVelocity(name, v.omega, v.velocity))
+        return out
+
+
+_COORDINATE_UNITS = {"angle": "rad", "omega": "rad/s", "alpha": "rad/s^2", "travel": "m",
+                     "speed": "m/s", "accel": "m/s^2"}
+_POINT_UNITS = {"position": "m", "velocity": "m/s", "acceleration": "m/s^2"}
+
+
+def _units_of(req, builder: _Builder) -> dict[str, str]:
+    if isinstance(req, ml.JointReaction):
+        return dict(req.units)
+    if isinstance(req, ml.JointCoordinate):
+        return {"value": _COORDINATE_UNITS[req.quantity]}
+    if isinstance(req, ml.PointKinematics):
+        return dict.fromkeys("xyz", _POINT_UNITS[req.quantity])
+    if isinstance(req, ml.MotionEffort):
+        joint = builder.mech.joints[builder.case.motions[req.motion].joint]
+        return {"value": "N" if joint.type == "prismatic" else "N*m"}
+    if isinstance(req, ml.ElementOutput):
+        f = builder.mech.forces[req.element]
+        return {"spring": {"value": "N", "length": "m"},
+                "torsion_spring": {"value": "N*m", "angle": "rad"},
+                "force": dict.fromkeys(("fx", "fy", "fz"), "N"),
+                "torque": dict.fromkeys(("tx", "ty", "tz"), "N*m")}.get(f.type, {})
+    return {"value": ""}
+
+
+def build_run(cf: CaseFile) -> BuiltRun:
+    """The mechlib model, analysis, requests and initial values of a case; InputError lists
+    everything the engine cannot build."""
+    b = _Builder(cf)
+    mechanism = b.mechanism()
+    analysis = b.analysis()
+    requests, units = b.requests()
+    initial = b.initial()
+    if b.problems:
+        raise InputError(b.problems)
+    return BuiltRun(mechanism, analysis, requests, initial, cf.case.analysis.redundant, units)

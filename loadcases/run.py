@@ -1,0 +1,59 @@
+"""Run case files end to end: load, build, check, solve, write results."""
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Callable
+
+import mechlib as ml
+from loadcases.build import build_run
+from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.loader import CaseFile, load_case
+from loadcases.outcome import RunOutcome
+from loadcases.results import write_results
+
+__all__ = ["run_case", "run_file"]
+
+Progress = Callable[[float, float], None]
+
+
+def _model_diagnostics(cf: CaseFile, error: ml.ModelError) -> list[Diagnostic]:
+    """Place each well-posedness problem at the joint or motion it names."""
+    out = []
+    for owner, message in error.problems:
+        if owner in cf.mechanism.joints:
+            kind, key = "mechanism", f"joints.{owner}"
+        elif owner in cf.case.motions:
+            kind, key = "case", f"motions.{owner}"
+        else:
+            kind, key = "case", "analysis"
+        file, line, col = cf.where(kind, key)
+        out.append(Diagnostic(file, line, col, key, message))
+    return out
+
+
+def run_case(cf: CaseFile, *, progress: Progress | None = None) -> RunOutcome:
+    """Solve one loaded case; a solver failure gives a failed outcome with what was computed.
+
+    Raises InputError for what cannot be built or is not well posed (redundant joints,
+    wrong degrees of freedom), with the joints named.
+    """
+    built = build_run(cf)
+    try:
+        solution = ml.solve(built.mechanism, built.analysis, requests=built.requests,
+                            initial=built.initial, redundant=built.redundant, throw=False,
+                            progress=progress)
+    except ml.ModelError as error:
+        raise InputError(_model_diagnostics(cf, error)) from None
+    return RunOutcome(name=cf.case.case, case_file=Path(cf.path), analysis=built.analysis.name,
+                      solution=solution, input_sha256=cf.input_sha256,
+                      column_units=built.column_units, warnings=built.warnings,
+                      parameters=dict(cf.parameters))
+
+
+def run_file(path: Path | str, *, output_dir: Path | str, xlsx: bool = False,
+             progress: Progress | None = None) -> list[RunOutcome]:
+    """Run a case file and write its results into `output_dir` (SPEC section 3)."""
+    cf = load_case(path)
+    outcome = run_case(cf, progress=progress)
+    write_results(outcome, Path(output_dir), xlsx=xlsx)
+    return [outcome]

@@ -1,0 +1,71 @@
+"""Tabulated functions y(x): akima, cubic or linear interpolation, explicit extrapolation."""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+from scipy.interpolate import Akima1DInterpolator, CubicSpline
+
+__all__ = ["Table", "TableRangeError"]
+
+
+class TableRangeError(ValueError):
+    """x outside the data of a table that does not extrapolate."""
+
+
+class Table:
+    """y(x) from data (SI); `interpolation` akima|cubic|linear; `extrapolate`
+    error|hold|linear outside [x_min, x_max]. `derivative()` gives dy/dx as a Table-like
+    callable (used for exact time derivatives of expressions)."""
+
+    def __init__(self, name: str, x, y, interpolation: str = "akima",
+                 extrapolate: str = "error", _order: int = 0):
+        self.name, self.interpolation, self.extrapolate = name, interpolation, extrapolate
+        self.x, self.y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        if self.x.ndim != 1 or self.x.shape != self.y.shape or len(self.x) < 2:
+            raise ValueError(f"table '{name}' needs x and y of equal length >= 2")
+        if np.any(np.diff(self.x) <= 0.0):
+            raise ValueError(f"table '{name}': x must increase strictly")
+        self._order = _order
+        self._f = self._interpolant()
+
+    def _interpolant(self) -> Callable:
+        x, y = self.x, self.y
+        if self.interpolation == "linear":
+            slopes = np.diff(y) / np.diff(x)
+            if self._order == 0:
+                return lambda v: np.interp(v, x, y)
+            if self._order == 1:
+                return lambda v: slopes[np.clip(np.searchsorted(x, v, "right") - 1, 0, len(slopes) - 1)]
+            return lambda v: np.zeros_like(np.asarray(v, float))
+        if self.interpolation == "cubic":
+            base = CubicSpline(x, y, bc_type="not-a-knot" if len(x) > 3 else "natural")
+        elif len(x) < 3:
+            base = CubicSpline(x, y, bc_type="natural")
+        else:
+            base = Akima1DInterpolator(x, y)
+        return base.derivative(self._order) if self._order else base
+
+    def __call__(self, v: float) -> float:
+        lo, hi = self.x[0], self.x[-1]
+        if lo <= v <= hi:
+            return float(self._f(v))
+        if self.extrapolate == "error":
+            raise TableRangeError(f"table '{self.name}': x = {v:.6g} is outside its data "
+                                  f"[{lo:.6g}, {hi:.6g}] (set extrapolate: hold or linear)")
+        end = lo if v < lo else hi
+        if self.extrapolate == "hold":
+            return float(self._f(end)) if self._order == 0 else 0.0
+        slope = float(self._slope_at(end))
+        if self._order == 0:
+            return float(self._f(end)) + slope * (v - end)
+        return slope if self._order == 1 else 0.0
+
+    def _slope_at(self, end: float) -> float:
+        d = Table(self.name, self.x, self.y, self.interpolation, "hold", self._order + 1)
+        return d._f(end) if self._order == 0 else (d._f(end) if self._order == 1 else 0.0)
+
+    def derivative(self) -> "Table":
+        """dy/dx with the same extrapolation rule (held value -> zero slope)."""
+        return Table(self.name, self.x, self.y, self.interpolation, self.extrapolate,
+                     self._order + 1)
