@@ -1,0 +1,1 @@
+"""Speed and accuracy benchmarks of `loads` against Exudyn (see README.md)."""

@@ -1,0 +1,342 @@
+"""The benchmark models in Exudyn, built from the shared `benchmarks.models` specs.
+
+Each body is an Exudyn `ObjectRigidBody` on a `NodeRigidBodyEP` node (Euler parameters, like
+`loads`), its reference point at the centre of mass and its frame equal to the global frame at
+the design position, so the inertia tensor of the spec is used as given. Joints:
+
+| spec        | Exudyn                                                                |
+|-------------|-----------------------------------------------------------------------|
+| revolute    | `CreateRevoluteJoint` (ObjectJointRevoluteZ, 5 equations)             |
+| spherical   | `CreateSphericalJoint` (ObjectJointSpherical, 3 equations)            |
+| universal   | `CreateGenericJoint`, constrainedAxes [1,1,1,1,0,0] (4 equations:     |
+|             | the joint-0 y axis stays perpendicular to the joint-1 z axis)         |
+| prismatic   | `CreatePrismaticJoint` (ObjectJointPrismaticX, 5 equations)           |
+
+The joint's marker 0 is on body 2 of the spec (the ground for ground joints) and marker 1 on
+body 1, so joint outputs are in body-2 axes and joint rotations are those of body 1 relative to
+body 2, as in SPEC 1.3.
+
+Time integration: Exudyn's implicit generalized-alpha (index 3, Euler-parameter nodes),
+fixed steps `numberOfSteps = round(end / h)`, spectral radius 0.9 (Exudyn's default), modified
+Newton with Exudyn's default tolerances, no solution file, sensors stored in memory.
+
+`exudyn` is imported on first use only; `ExudynMissing` says how to install it.
+"""
+from __future__ import annotations
+
+import importlib
+import sys
+import time
+from dataclasses import dataclass, field
+from types import ModuleType
+from typing import Any, Literal
+
+import numpy as np
+
+from benchmarks.models import ModelSpec, consistent_velocities
+
+__all__ = [
+    "ExudynMissing", "import_exudyn", "exudyn_version", "ExudynOptions", "ExudynRun",
+    "build_system", "run_exudyn", "REACTION_SIGN",
+]
+
+LinearSolver = Literal["dense", "sparse"]
+
+#: Exudyn's revolute-joint `ForceLocal` output (marker 0 on body 2, turned to ground axes with
+#: the marker-0 rotation) is the force on body 2 from body 1 (checked against a hanging pendulum in tests/benchmarks/test_models.py); SPEC 1.3
+#: reports the reaction on body 1 from body 2, hence the sign.
+REACTION_SIGN = -1.0
+
+
+class ExudynMissing(ImportError):
+    """Exudyn is not installed in this Python environment."""
+
+
+_EXUDYN: ModuleType | None = None
+
+
+def import_exudyn(fast: bool = True) -> ModuleType:
+    """Import `exudyn` once and return it.
+
+    `fast=True` asks for Exudyn's `exudynCPPfast` module (no range checks, AVX2; Exudyn falls
+    back to the regular module where the CPU lacks AVX2). Only the first call decides.
+    Raises ExudynMissing with the install command when the package is absent.
+    """
+    global _EXUDYN
+    if _EXUDYN is not None:
+        return _EXUDYN
+    if fast and not hasattr(sys, "exudynFast"):
+        sys.exudynFast = True  # type: ignore[attr-defined]
+    try:
+        import io
+        from contextlib import redirect_stdout
+        with redirect_stdout(io.StringIO()):  # Exudyn prints a note when it loads the fast module
+            module = importlib.import_module("exudyn")
+            importlib.import_module("exudyn.utilities")
+    except ImportError as exc:  # pragma: no cover - depends on the environment
+        raise ExudynMissing(
+            "the benchmark needs Exudyn, which is not installed: run "
+            "`.venv/bin/pip install -e '.[bench]'` (or `.venv/bin/pip install exudyn`)"
+        ) from exc
+    _EXUDYN = module
+    return module
+
+
+def exudyn_version() -> str | None:
+    """The installed Exudyn version, or None when Exudyn is missing (does not import it)."""
+    try:
+        from importlib.metadata import PackageNotFoundError, version
+        return version("exudyn")
+    except PackageNotFoundError:
+        return None
+
+
+def exudyn_module_name() -> str:
+    """Which compiled Exudyn module was loaded (`exudynCPPfast` or `exudynCPP`)."""
+    exu = import_exudyn()
+    return str(getattr(exu, "_compiledModuleName", "exudynCPP"))
+
+
+@dataclass(frozen=True)
+class ExudynOptions:
+    """Solver settings of one Exudyn run.
+
+    `step` (s) is the fixed time step; `end` (s) the end time; `output_step` (s) the interval
+    at which sensors are stored (None: every step); `spectral_radius` the generalized-alpha
+    rho_infinity; `linear_solver` Exudyn's dense (EXUdense) or sparse (EigenSparse) solver;
+    `check` adds sensors for energy and joint-point gaps (verification runs only, slower).
+    """
+
+    step: float
+    end: float
+    output_step: float | None = None
+    spectral_radius: float = 0.9
+    linear_solver: LinearSolver = "dense"
+    check: bool = False
+
+
+@dataclass
+class ExudynRun:
+    """What one Exudyn run produced.
+
+    `time` (s) and `channels` (`REQUEST.COMPONENT` -> array, SI, `loads` conventions);
+    `build_seconds` (wall, s) for creating the system and `Assemble`; `solve_seconds` (wall, s)
+    for `SolveDynamic`; `steps` the number of time steps; `energy` (J, total mechanical energy
+    at the stored times) and `joint_gap` (m, largest distance between the two bodies' copies
+    of any joint point at the stored times) when `check` was set.
+    """
+
+    model: str
+    options: ExudynOptions
+    time: np.ndarray
+    channels: dict[str, np.ndarray]
+    build_seconds: float
+    solve_seconds: float
+    steps: int
+    energy: np.ndarray | None = None
+    joint_gap: np.ndarray | None = None
+    info: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass
+class _Built:
+    sc: Any
+    mbs: Any
+    settings: Any
+    channel_sensors: dict[str, tuple[int, int, float, np.ndarray | None]]
+    body_sensors: dict[str, tuple[int, int, int, int]]
+    joint_point_sensors: list[tuple[str, int | None, int | None, np.ndarray, np.ndarray | None]]
+
+
+def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
+    """Create the Exudyn system of `model` with the sensors its outputs need, and assemble it."""
+    exu = import_exudyn()
+    from exudyn.utilities import (  # type: ignore[import-not-found]
+        ObjectGround, RigidBodyInertia, SensorBody, SensorObject,
+    )
+
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    ground = mbs.AddObject(ObjectGround())
+    velocities, omegas = consistent_velocities(model)
+    bodies: dict[str, Any] = {"ground": ground}
+    for i, b in enumerate(model.bodies):
+        inertia = RigidBodyInertia(mass=b.mass, inertiaTensor=b.inertia_matrix, com=np.zeros(3),
+                                   inertiaTensorAtCOM=True)
+        bodies[b.name] = mbs.CreateRigidBody(
+            name=b.name, referencePosition=list(b.cm), inertia=inertia,
+            initialVelocity=[float(c) for c in velocities[i]],
+            initialAngularVelocity=[float(c) for c in omegas[i]],
+            gravity=list(model.gravity), nodeType=exu.NodeType.RotationEulerParameters,
+            graphicsDataList=[], show=False)
+
+    joints: dict[str, Any] = {}
+    for j in model.joints:
+        items = [bodies[j.bodies[1]], bodies[j.bodies[0]]]  # marker 0: body 2, marker 1: body 1
+        at = [float(c) for c in j.at]
+        if j.type == "revolute":
+            joints[j.name] = mbs.CreateRevoluteJoint(name=j.name, itemNumbers=items, position=at,
+                                                     axis=list(j.axis), show=False)
+        elif j.type == "spherical":
+            joints[j.name] = mbs.CreateSphericalJoint(name=j.name, itemNumbers=items, position=at,
+                                                      show=False)
+        elif j.type == "prismatic":
+            joints[j.name] = mbs.CreatePrismaticJoint(name=j.name, itemNumbers=items, position=at,
+                                                      axis=list(j.axis), show=False)
+        elif j.type == "universal":
+            a1 = np.array(j.axes[0], dtype=float)  # fixed in body 1 = marker 1 (joint-1 z axis)
+            a2 = np.array(j.axes[1], dtype=float)  # fixed in body 2 = marker 0 (joint-0 y axis)
+            a1 /= np.linalg.norm(a1)
+            a2 /= np.linalg.norm(a2)
+            rot = np.column_stack([np.cross(a2, a1), a2, a1])
+            joints[j.name] = mbs.CreateGenericJoint(name=j.name, itemNumbers=items, position=at,
+                                                    rotationMatrixAxes=rot,
+                                                    constrainedAxes=[1, 1, 1, 1, 0, 0], show=False)
+        else:  # pragma: no cover - JointSpec.type is a Literal
+            raise ValueError(f"unsupported joint type {j.type}")
+
+    record_every_step = options.output_step is None
+    channel_sensors: dict[str, tuple[int, int, float, np.ndarray | None]] = {}
+    axis_index = {"x": 0, "y": 1, "z": 2, "fx": 0, "fy": 1, "fz": 2}
+    for out in model.outputs:
+        if out.kind == "point_position":
+            p = model.point(out.target)
+            body = model.body(p.body)
+            local = (np.array(p.at) - np.array(body.cm)).tolist()
+            s = mbs.AddSensor(SensorBody(bodyNumber=bodies[p.body], localPosition=local,
+                                         outputVariableType=exu.OutputVariableType.Position,
+                                         storeInternal=True, writeToFile=False))
+            channel_sensors[out.column] = (int(s), axis_index[out.component], 1.0, None)
+        elif out.kind == "joint_force":
+            joint = model.joint(out.target)
+            if joint.bodies[1] != "ground":
+                raise ValueError(f"{model.name}: a joint_force output needs a ground joint "
+                                 f"(its marker 0 frame is then fixed), {joint.name} is not one")
+            marker0 = mbs.GetObject(joints[out.target])["markerNumbers"][0]
+            rot = np.array(mbs.GetMarker(marker0)["localHT"], dtype=float)[:3, :3]
+            s = mbs.AddSensor(SensorObject(objectNumber=joints[out.target],
+                                           outputVariableType=exu.OutputVariableType.ForceLocal,
+                                           storeInternal=True, writeToFile=False))
+            channel_sensors[out.column] = (int(s), axis_index[out.component], REACTION_SIGN, rot)
+        elif out.kind == "joint_angle":
+            s = mbs.AddSensor(SensorObject(objectNumber=joints[out.target],
+                                           outputVariableType=exu.OutputVariableType.Rotation,
+                                           storeInternal=True, writeToFile=False))
+            channel_sensors[out.column] = (int(s), 2, 1.0, None)
+
+    body_sensors: dict[str, tuple[int, int, int, int]] = {}
+    joint_point_sensors: list[tuple[str, int | None, int | None, np.ndarray, np.ndarray | None]] = []
+    if options.check:
+        ovt = exu.OutputVariableType
+        for b in model.bodies:
+            ids = tuple(int(mbs.AddSensor(SensorBody(bodyNumber=bodies[b.name], outputVariableType=v,
+                                                     storeInternal=True, writeToFile=False)))
+                        for v in (ovt.Position, ovt.Velocity, ovt.AngularVelocity, ovt.RotationMatrix))
+            body_sensors[b.name] = ids  # type: ignore[assignment]
+        for j in model.joints:
+            ids: list[int | None] = []
+            for name in j.bodies:
+                if name == "ground":
+                    ids.append(None)
+                    continue
+                local = (np.array(j.at) - np.array(model.body(name).cm)).tolist()
+                ids.append(int(mbs.AddSensor(SensorBody(bodyNumber=bodies[name], localPosition=local,
+                                                        outputVariableType=ovt.Position,
+                                                        storeInternal=True, writeToFile=False))))
+            slide = None
+            if j.type == "prismatic":
+                if j.bodies[1] != "ground":
+                    raise ValueError(f"{model.name}: the gap check of {j.name} needs body 2 = ground")
+                slide = np.array(j.axis, dtype=float) / np.linalg.norm(j.axis)
+            joint_point_sensors.append((j.name, ids[0], ids[1], np.array(j.at, dtype=float), slide))
+
+    mbs.Assemble()
+
+    settings = exu.SimulationSettings()
+    ti = settings.timeIntegration
+    ti.numberOfSteps = int(round(options.end / options.step))
+    ti.endTime = options.end
+    ti.verboseMode = 0
+    ti.generalizedAlpha.spectralRadius = options.spectral_radius
+    ti.generalizedAlpha.computeInitialAccelerations = True
+    settings.solution.file.write = False
+    settings.solution.sensors.writePeriod = options.step if record_every_step else options.output_step
+    settings.show.statistics = False
+    settings.show.computationTime = False
+    settings.linearSolver.solverType = (exu.LinearSolverType.EXUdense if options.linear_solver == "dense"
+                                        else exu.LinearSolverType.EigenSparse)
+    return _Built(sc, mbs, settings, channel_sensors, body_sensors, joint_point_sensors)
+
+
+def _energy(model: ModelSpec, built: _Built) -> np.ndarray:
+    """Total mechanical energy (J) at the stored sensor times."""
+    total = None
+    g = np.array(model.gravity)
+    for b in model.bodies:
+        sp, sv, sw, sr = built.body_sensors[b.name]
+        pos = built.mbs.GetSensorStoredData(sp)[:, 1:4]
+        vel = built.mbs.GetSensorStoredData(sv)[:, 1:4]
+        omg = built.mbs.GetSensorStoredData(sw)[:, 1:4]
+        rot = built.mbs.GetSensorStoredData(sr)[:, 1:10].reshape(-1, 3, 3)
+        inertia = np.einsum("nij,jk,nlk->nil", rot, b.inertia_matrix, rot)
+        kinetic = 0.5 * b.mass * np.sum(vel * vel, axis=1) + 0.5 * np.einsum("ni,nij,nj->n", omg, inertia, omg)
+        potential = -b.mass * pos @ g
+        e = kinetic + potential
+        total = e if total is None else total + e
+    assert total is not None
+    return total
+
+
+def _joint_gap(built: _Built) -> np.ndarray:
+    """Largest joint-point gap (m) over all joints, at the stored sensor times.
+
+    For a prismatic joint (body 2 = ground) only the gap across the sliding axis counts.
+    """
+    gap = None
+    for _name, s1, s2, at, slide in built.joint_point_sensors:
+        p1 = built.mbs.GetSensorStoredData(s1)[:, 1:4] if s1 is not None else at[None, :]
+        p2 = built.mbs.GetSensorStoredData(s2)[:, 1:4] if s2 is not None else at[None, :]
+        diff = p1 - p2
+        if slide is not None:
+            diff = diff - np.outer(diff @ slide, slide)
+        d = np.linalg.norm(diff, axis=1)
+        gap = d if gap is None else np.maximum(gap, d)
+    assert gap is not None
+    return gap
+
+
+def run_exudyn(model: ModelSpec, options: ExudynOptions) -> ExudynRun:
+    """Build and solve `model` with `options`; wall times measured with time.perf_counter.
+
+    `build_seconds` covers creating the items and `Assemble`; `solve_seconds` covers
+    `SolveDynamic` alone (initial accelerations included). Channels follow `loads`
+    conventions (joint reactions on body 1 from body 2, ground axes).
+    """
+    exu = import_exudyn()
+    t0 = time.perf_counter()
+    built = build_system(model, options)
+    t1 = time.perf_counter()
+    ok = built.mbs.SolveDynamic(built.settings)
+    t2 = time.perf_counter()
+    if ok is False:
+        raise RuntimeError(f"Exudyn failed to solve {model.name} with step {options.step} s")
+    channels: dict[str, np.ndarray] = {}
+    times: np.ndarray | None = None
+    for column, (sensor, component, sign, rot) in built.channel_sensors.items():
+        data = np.asarray(built.mbs.GetSensorStoredData(sensor))
+        if times is None:
+            times = data[:, 0].copy()
+        values = data[:, 1:4] @ rot.T if rot is not None else data[:, 1:]
+        channels[column] = sign * values[:, component]
+    assert times is not None
+    run = ExudynRun(model=model.name, options=options, time=times, channels=channels,
+                    build_seconds=t1 - t0, solve_seconds=t2 - t1,
+                    steps=int(built.settings.timeIntegration.numberOfSteps))
+    stats = built.mbs.sys.get("dynamicSolver") if hasattr(built.mbs, "sys") else None
+    if stats is not None and hasattr(stats, "it"):
+        run.info["newton_iterations"] = int(stats.it.newtonStepsCount)
+    if options.check:
+        run.energy = _energy(model, built)
+        run.joint_gap = _joint_gap(built)
+    run.info["exudyn_module"] = str(getattr(exu, "_compiledModuleName", "exudynCPP"))
+    return run

@@ -1,0 +1,559 @@
+"""Side-by-side speed benchmark of `loads` and Exudyn at equal accuracy.
+
+For each model of `benchmarks.models` (slider_crank, chain20, fourbar10):
+
+1. Reference: Exudyn's solution with a very fine fixed step (`REFERENCE_STEP`, 10x to 100x
+   below the step the benchmark ends up using), stored in `benchmarks/reference/<model>.npz`
+   with an estimate of its own error (the difference to the run at twice that step, / 3 for
+   a second-order method). `--make-reference` recomputes the files.
+2. Accuracy: error = max over the output times of |y - y_ref| (Euclidean norm over the
+   model's main columns), divided by the largest range (max - min) of those columns in the
+   reference. Both codes must reach `--tol` (default 1e-4).
+3. Exudyn: generalized-alpha with a fixed step, the step halved from `EXUDYN_START_STEP`
+   until the error is within `--tol`; then that run is timed `--repeat` times (best kept).
+4. `loads`: `loadcases.run.run_file` on a copy of `benchmarks/models/<model>.case.yaml` with
+   `analysis.tolerance` tightened from 1e-3 by decades until the error is within `--tol`;
+   then timed likewise.
+
+Wall times (time.perf_counter): Exudyn `solve` = `SolveDynamic` only; `total` = building
+the system (items + Assemble) + solve. `loads` runs the stages of `run_file` one by one:
+`solve` = `run_case` (building the mechlib model from the parsed case, and solving it);
+`total` = parse + solve + writing the results. The engine's own `stats.cpu_seconds`
+(process CPU time, which counts every BLAS thread) goes to the JSON. Imports are never
+timed. The ratio is loads / Exudyn.
+
+Run: `.venv/bin/python -m benchmarks.suite [--quick] [--json FILE]`.
+"""
+from __future__ import annotations
+
+import argparse
+import gc
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass, field
+from datetime import datetime, timezone
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from benchmarks.cases import case_path
+from benchmarks.models import ModelSpec, all_models, model_by_name
+
+__all__ = [
+    "REFERENCE_DIR", "REFERENCE_STEP", "EXUDYN_START_STEP", "LOADS_TOLERANCES",
+    "Reference", "load_reference", "make_reference", "relative_error", "machine_info", "main",
+]
+
+REFERENCE_DIR = Path(__file__).resolve().parent / "reference"
+
+#: Fixed step (s) of the stored Exudyn reference solution of each model.
+REFERENCE_STEP: dict[str, float] = {"slider_crank": 1e-5, "chain20": 2.5e-5, "fourbar10": 2.5e-5}
+
+#: Largest Exudyn step (s) tried; the suite halves it until the accuracy target is met.
+EXUDYN_START_STEP: dict[str, float] = {"slider_crank": 2e-3, "chain20": 2e-3, "fourbar10": 1e-2}
+
+#: Exudyn's sparse solver (EigenSparse) is its faster one here: 4x to 6x on chain20 and
+#: fourbar10, equal on slider_crank (measured with this suite's models).
+EXUDYN_SOLVER = "sparse"
+
+#: `analysis.tolerance` values tried for `loads`, loosest first.
+LOADS_TOLERANCES: tuple[float, ...] = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
+
+MAX_HALVINGS = 10
+
+
+# --------------------------------------------------------------------------------------
+# reference solutions
+# --------------------------------------------------------------------------------------
+@dataclass
+class Reference:
+    """A stored reference solution: `time` (s), `channels` (SI) at the model's output step,
+    and `meta` (Exudyn version, step, end, self-error estimate ...)."""
+
+    model: str
+    time: np.ndarray
+    channels: dict[str, np.ndarray]
+    meta: dict[str, Any]
+
+    def until(self, end: float) -> "Reference":
+        """The part with time <= end (s)."""
+        keep = self.time <= end + 1e-9
+        return Reference(self.model, self.time[keep], {k: v[keep] for k, v in self.channels.items()},
+                         self.meta)
+
+
+def reference_path(model: ModelSpec) -> Path:
+    """The file of the stored reference of `model`."""
+    return REFERENCE_DIR / f"{model.name}.npz"
+
+
+def load_reference(model: ModelSpec) -> Reference | None:
+    """The stored reference of `model`, or None when there is none."""
+    path = reference_path(model)
+    if not path.exists():
+        return None
+    with np.load(path, allow_pickle=False) as data:
+        columns = [str(c) for c in data["columns"]]
+        values = data["values"]
+        meta = json.loads(str(data["meta"]))
+        return Reference(model.name, data["time"].copy(),
+                         {c: values[:, i].copy() for i, c in enumerate(columns)}, meta)
+
+
+def relative_error(time: np.ndarray, channels: dict[str, np.ndarray], reference: Reference,
+                   columns: tuple[str, ...] | list[str]) -> float:
+    """Largest deviation from the reference, relative to the reference's range.
+
+    At each time of `time` within the reference's span, the Euclidean norm over `columns` of
+    (value - reference interpolated linearly to that time); the largest of these, divided by
+    the largest (max - min) of the columns in the reference. Dimensionless.
+    """
+    t = np.asarray(time, dtype=float)
+    inside = (t >= reference.time[0] - 1e-12) & (t <= reference.time[-1] + 1e-9)
+    if not np.any(inside):
+        raise ValueError(f"{reference.model}: no output time inside the reference")
+    sq = np.zeros(int(inside.sum()))
+    scale = 0.0
+    for c in columns:
+        ref = reference.channels[c]
+        scale = max(scale, float(ref.max() - ref.min()))
+        diff = np.asarray(channels[c], dtype=float)[inside] - np.interp(t[inside], reference.time, ref)
+        sq += diff * diff
+    if scale == 0.0:
+        raise ValueError(f"{reference.model}: the reference of {columns} is constant")
+    return float(np.sqrt(sq.max()) / scale)
+
+
+def make_reference(model: ModelSpec, log: Callable[[str], None] = print) -> Reference:
+    """Compute and store the Exudyn reference of `model` (full end time) at REFERENCE_STEP,
+    with a self-error estimate from a second run at twice that step."""
+    from benchmarks.exudyn_models import ExudynOptions, exudyn_version, run_exudyn
+
+    step = REFERENCE_STEP[model.name]
+    runs = {}
+    for h in (2.0 * step, step):
+        log(f"  reference {model.name}: Exudyn step {h:g} s, {int(round(model.end / h))} steps")
+        runs[h] = run_exudyn(model, ExudynOptions(step=h, end=model.end, output_step=model.output_step,
+                                                  linear_solver=EXUDYN_SOLVER))
+    fine, coarse = runs[step], runs[2.0 * step]
+    columns = [o.column for o in model.outputs]
+    ref = Reference(model.name, fine.time, dict(fine.channels), {})
+    self_error = relative_error(coarse.time, coarse.channels, ref, model.main) / 3.0
+    meta = {
+        "model": model.name, "code": "exudyn", "exudyn": exudyn_version(),
+        "exudyn_module": fine.info.get("exudyn_module"), "step": step, "end": model.end,
+        "output_step": model.output_step, "integrator": "generalized-alpha, index 3",
+        "spectral_radius": fine.options.spectral_radius, "linear_solver": EXUDYN_SOLVER,
+        "self_error": self_error,
+        "self_error_method": "error of the run at 2*step against this one, / 3 (second order)",
+        "solve_seconds": fine.solve_seconds,
+        "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+    }
+    ref.meta = meta
+    REFERENCE_DIR.mkdir(parents=True, exist_ok=True)
+    values = np.column_stack([fine.channels[c] for c in columns])
+    np.savez_compressed(reference_path(model), time=fine.time, values=values,
+                        columns=np.array(columns), meta=np.array(json.dumps(meta)))
+    log(f"  reference {model.name}: stored, estimated error {self_error:.1e}")
+    return ref
+
+
+# --------------------------------------------------------------------------------------
+# the two codes
+# --------------------------------------------------------------------------------------
+@dataclass
+class CodeResult:
+    """The figures of one code on one model (times in s, errors dimensionless)."""
+
+    status: str = "not run"
+    setting: str = ""
+    error: float | None = None
+    secondary_errors: dict[str, float] = field(default_factory=dict)
+    solve_seconds: float | None = None
+    total_seconds: float | None = None
+    build_seconds: float | None = None
+    steps: int | None = None
+    calibration: list[tuple[float, float | None]] = field(default_factory=list)
+    message: str = ""
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def as_dict(self) -> dict[str, Any]:
+        """JSON-ready form."""
+        return {k: v for k, v in self.__dict__.items()}
+
+
+def _secondary(model: ModelSpec, time_: np.ndarray, channels: dict[str, np.ndarray],
+               ref: Reference) -> dict[str, float]:
+    return {c: relative_error(time_, channels, ref, (c,)) for c in model.secondary
+            if c in channels and c in ref.channels}
+
+
+def bench_exudyn(model: ModelSpec, end: float, ref: Reference, tol: float, repeat: int,
+                 log: Callable[[str], None]) -> CodeResult:
+    """Calibrate Exudyn's fixed step to `tol`, then time it `repeat` times (best kept)."""
+    from benchmarks.exudyn_models import ExudynOptions, run_exudyn
+
+    res = CodeResult()
+    step = EXUDYN_START_STEP[model.name]
+    chosen = None
+    for _ in range(MAX_HALVINGS + 1):
+        opts = ExudynOptions(step=step, end=end, output_step=model.output_step, linear_solver=EXUDYN_SOLVER)
+        try:
+            run = run_exudyn(model, opts)
+            err = relative_error(run.time, run.channels, ref, model.main)
+        except RuntimeError as exc:
+            res.calibration.append((step, None))
+            log(f"  exudyn  step {step:.3g} s: failed ({exc})")
+            step /= 2.0
+            continue
+        res.calibration.append((step, err))
+        log(f"  exudyn  step {step:.3g} s: error {err:.2e}")
+        if err <= tol:
+            chosen = opts
+            break
+        step /= 2.0
+    if chosen is None:
+        res.status = "failed"
+        res.message = f"no step down to {step * 2:.3g} s reached the error target {tol:g}"
+        return res
+    best_solve = best_total = best_build = float("inf")
+    for _ in range(repeat):
+        gc.collect()
+        run = run_exudyn(model, chosen)
+        best_solve = min(best_solve, run.solve_seconds)
+        best_build = min(best_build, run.build_seconds)
+        best_total = min(best_total, run.build_seconds + run.solve_seconds)
+    res.status = "ok"
+    res.setting = f"h = {chosen.step:.4g} s"
+    res.error = relative_error(run.time, run.channels, ref, model.main)
+    res.secondary_errors = _secondary(model, run.time, run.channels, ref)
+    res.solve_seconds, res.build_seconds, res.total_seconds = best_solve, best_build, best_total
+    res.steps = run.steps
+    res.extra = {"step": chosen.step, "spectral_radius": chosen.spectral_radius,
+                 "linear_solver": chosen.linear_solver, "exudyn_module": run.info.get("exudyn_module"),
+                 "newton_iterations": run.info.get("newton_iterations")}
+    return res
+
+
+def _case_copy(model: ModelSpec, end: float, tolerance: float, directory: Path) -> Path:
+    """A copy of the committed case file with `analysis.end` and `analysis.tolerance` set."""
+    import yaml
+
+    data = yaml.safe_load(case_path(model).read_text(encoding="utf-8"))
+    data["analysis"]["end"] = float(end)
+    data["analysis"]["tolerance"] = float(tolerance)
+    path = directory / f"{model.name}.case.yaml"
+    path.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
+    return path
+
+
+def _loads_api() -> tuple[Callable[..., Any], Callable[..., Any] | None]:
+    """`run_file`, and a timed runner that splits it into its stages when the engine has them.
+
+    The runner returns `(outcome, parse_s, solve_s, write_s)`: wall times (s) of
+    `loader.load_case`, `run.run_case` (building the mechlib model from the case and solving
+    it) and `results.write_results` -- the three stages `run_file` is made of.
+    """
+    from loadcases.run import run_file  # type: ignore[import-not-found]
+
+    try:
+        from loadcases.loader import load_case  # type: ignore[import-not-found]
+        from loadcases.results import write_results  # type: ignore[import-not-found]
+        from loadcases.run import run_case  # type: ignore[import-not-found]
+    except ImportError:
+        return run_file, None
+
+    def staged(path: Path, output_dir: Path) -> tuple[Any, float, float, float]:
+        t0 = time.perf_counter()
+        cf = load_case(path)
+        t1 = time.perf_counter()
+        outcome = run_case(cf)
+        t2 = time.perf_counter()
+        write_results(outcome, output_dir)
+        t3 = time.perf_counter()
+        return outcome, t1 - t0, t2 - t1, t3 - t2
+
+    return run_file, staged
+
+
+def bench_loads(model: ModelSpec, end: float, ref: Reference, tol: float, repeat: int,
+                log: Callable[[str], None]) -> CodeResult:
+    """Calibrate `loads`'s `analysis.tolerance` to `tol`, then time it `repeat` times.
+
+    Calibration calls `run_file`. The timed runs call the stages of `run_file` one by one
+    (when the engine exposes them): *solve* is the wall time of `run_case` (model build from
+    the parsed case + `mechlib.solve`), *total* the sum of parse, solve and write. Without the
+    stages, *total* is the wall time of `run_file` and *solve* the engine's cpu_seconds.
+    """
+    res = CodeResult()
+    try:
+        run_file, staged = _loads_api()
+    except ImportError as exc:
+        res.status = "unavailable"
+        res.message = f"loadcases.run cannot be imported yet ({exc})"
+        return res
+
+    with tempfile.TemporaryDirectory(prefix=f"bench-{model.name}-") as tmp:
+        work = Path(tmp)
+        chosen = None
+        for tolerance in LOADS_TOLERANCES:
+            case = _case_copy(model, end, tolerance, work)
+            try:
+                outcome = run_file(case, output_dir=work / "out")[0]
+            except Exception as exc:  # the engine's own errors are reported, not raised
+                res.status = "failed"
+                res.message = f"run_file raised {type(exc).__name__}: {exc}"
+                return res
+            sol = outcome.solution
+            if not sol.ok:
+                res.calibration.append((tolerance, None))
+                log(f"  loads   tolerance {tolerance:.0e}: failed ({sol.message})")
+                continue
+            missing = [c for c in model.main if c not in sol.channels]
+            if missing:
+                res.status = "failed"
+                res.message = f"result columns {missing} missing; got {sorted(sol.channels)}"
+                return res
+            err = relative_error(sol.time, sol.channels, ref, model.main)
+            res.calibration.append((tolerance, err))
+            log(f"  loads   tolerance {tolerance:.0e}: error {err:.2e}")
+            if err <= tol:
+                chosen = tolerance
+                break
+        if chosen is None:
+            res.status = "failed"
+            res.message = (f"no tolerance down to {LOADS_TOLERANCES[-1]:g} reached the error target "
+                           f"{tol:g} (best {min((e for _, e in res.calibration if e is not None), default=float('nan')):.2e})")
+            return res
+        case = _case_copy(model, end, chosen, work)
+        best = {"solve": float("inf"), "total": float("inf"), "parse": float("inf"),
+                "write": float("inf"), "cpu": float("inf")}
+        for _ in range(repeat):
+            gc.collect()
+            if staged is not None:
+                outcome, parse_s, solve_s, write_s = staged(case, work / "out")
+                total_s = parse_s + solve_s + write_s
+            else:
+                t0 = time.perf_counter()
+                outcome = run_file(case, output_dir=work / "out")[0]
+                total_s = time.perf_counter() - t0
+                parse_s = write_s = float("nan")
+                solve_s = float(outcome.solution.stats.cpu_seconds)
+            for key, value in (("solve", solve_s), ("total", total_s), ("parse", parse_s),
+                               ("write", write_s), ("cpu", float(outcome.solution.stats.cpu_seconds))):
+                best[key] = min(best[key], value)
+        sol = outcome.solution
+        res.status = "ok"
+        res.setting = f"tol = {chosen:.0e}"
+        res.error = relative_error(sol.time, sol.channels, ref, model.main)
+        res.secondary_errors = _secondary(model, sol.time, sol.channels, ref)
+        res.solve_seconds, res.total_seconds = best["solve"], best["total"]
+        res.steps = int(sol.stats.steps)
+        res.extra = {"tolerance": chosen, "stats": sol.stats.as_dict(),
+                     "solve_timing": "wall of run_case" if staged is not None else "engine cpu_seconds",
+                     "parse_seconds": best["parse"], "write_seconds": best["write"],
+                     "engine_cpu_seconds": best["cpu"]}
+    return res
+
+
+# --------------------------------------------------------------------------------------
+# machine information and report
+# --------------------------------------------------------------------------------------
+def _cpu_model() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text(encoding="utf-8").splitlines():
+            if line.lower().startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or "unknown"
+
+
+def _git(*args: str) -> str | None:
+    try:
+        out = subprocess.run(["git", *args], cwd=Path(__file__).resolve().parent,
+                             capture_output=True, text=True, timeout=10, check=False)
+    except (OSError, subprocess.SubprocessError):
+        return None
+    return out.stdout.strip() if out.returncode == 0 else None
+
+
+def _git_commit() -> str | None:
+    """The checkout's commit, with `+dirty` when mechlib/ or loadcases/ have local changes."""
+    commit = _git("rev-parse", "--short", "HEAD")
+    if commit is None:
+        return None
+    changes = _git("status", "--porcelain", "--", "mechlib", "loadcases")
+    return commit + ("+dirty" if changes else "")
+
+
+def machine_info() -> dict[str, Any]:
+    """Platform, CPU model, cores, Python / numpy / Exudyn / loads versions, date."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    from benchmarks.exudyn_models import exudyn_version
+
+    try:
+        loads_version: str | None = version("loads")
+    except PackageNotFoundError:
+        loads_version = None
+    try:
+        usable = len(os.sched_getaffinity(0))
+    except AttributeError:
+        usable = os.cpu_count() or 1
+    return {
+        "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "platform": platform.platform(), "machine": platform.machine(), "cpu": _cpu_model(),
+        "cores": os.cpu_count(), "usable_cores": usable,
+        "python": platform.python_version(), "numpy": np.__version__,
+        "exudyn": exudyn_version(), "loads": loads_version, "git_commit": _git_commit(),
+    }
+
+
+def _fmt(x: float | None, spec: str) -> str:
+    return "-" if x is None else format(x, spec)
+
+
+def format_table(rows: list[dict[str, Any]], tol: float) -> str:
+    """The results as a fixed-width text table."""
+    head = (f"{'model':<13} {'end s':>5} | {'exudyn':<12} {'error':>8} {'solve s':>8} {'total s':>8} | "
+            f"{'loads':<11} {'error':>8} {'solve s':>8} {'total s':>8} | {'ratio solve':>11} {'total':>7}")
+    lines = [f"accuracy target: error <= {tol:g} of the output's range (vs Exudyn reference)", head,
+             "-" * len(head)]
+    for r in rows:
+        ex: CodeResult = r["exudyn"]
+        lo: CodeResult = r["loads"]
+        ratio_s = ratio_t = None
+        if ex.status == "ok" and lo.status == "ok":
+            ratio_s = lo.solve_seconds / ex.solve_seconds
+            ratio_t = lo.total_seconds / ex.total_seconds
+        lines.append(
+            f"{r['model']:<13} {r['end']:>5g} | {ex.setting or ex.status:<12} {_fmt(ex.error, '.1e'):>8} "
+            f"{_fmt(ex.solve_seconds, '.3f'):>8} {_fmt(ex.total_seconds, '.3f'):>8} | "
+            f"{lo.setting or lo.status:<11} {_fmt(lo.error, '.1e'):>8} {_fmt(lo.solve_seconds, '.3f'):>8} "
+            f"{_fmt(lo.total_seconds, '.3f'):>8} | {_fmt(ratio_s, '.1f'):>11} {_fmt(ratio_t, '.1f'):>7}")
+    notes = [f"  {r['model']}: loads {r['loads'].status}: {r['loads'].message}"
+             for r in rows if r["loads"].message]
+    notes += [f"  {r['model']}: exudyn {r['exudyn'].status}: {r['exudyn'].message}"
+              for r in rows if r["exudyn"].message]
+    if notes:
+        lines += ["notes:"] + notes
+    return "\n".join(lines)
+
+
+def run_checks(models: list[ModelSpec], quick: bool, log: Callable[[str], None]) -> list[dict[str, Any]]:
+    """Physics sanity of the Exudyn models at their start step / 4: energy drift (J, and
+    relative to the largest kinetic-plus-potential swing) and the largest joint-point gap (m)."""
+    from benchmarks.exudyn_models import ExudynOptions, run_exudyn
+
+    out = []
+    for model in models:
+        end = model.quick_end if quick else model.end
+        step = EXUDYN_START_STEP[model.name] / 4.0
+        run = run_exudyn(model, ExudynOptions(step=step, end=end, output_step=model.output_step,
+                                              linear_solver=EXUDYN_SOLVER, check=True))
+        assert run.energy is not None and run.joint_gap is not None
+        drift = float(np.max(np.abs(run.energy - run.energy[0])))
+        entry = {"model": model.name, "step": step, "end": end, "energy_initial": float(run.energy[0]),
+                 "energy_drift": drift, "energy_final_change": float(run.energy[-1] - run.energy[0]),
+                 "joint_gap_max": float(run.joint_gap.max()), "solve_seconds": run.solve_seconds}
+        log(f"  check {model.name}: step {step:g} s, energy E0 = {entry['energy_initial']:.6g} J, "
+            f"max |E - E0| = {drift:.3g} J, E(end) - E0 = {entry['energy_final_change']:.3g} J, "
+            f"largest joint gap {entry['joint_gap_max']:.2g} m")
+        out.append(entry)
+    return out
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Command line of the benchmark suite; returns the process exit code.
+
+    0: done (a `loads` engine that cannot be imported yet is reported, not an error);
+    1: a code failed on a model or missed the accuracy target; 2: Exudyn is missing.
+    """
+    parser = argparse.ArgumentParser(prog="loads bench", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--quick", action="store_true", help="shorter end times, one timed repeat")
+    parser.add_argument("--json", type=Path, metavar="FILE", help="write the figures and machine info here")
+    parser.add_argument("--models", default=",".join(m.name for m in all_models()),
+                        help="comma-separated model names (default: all)")
+    parser.add_argument("--tol", type=float, default=1e-4,
+                        help="error target relative to the output's range (default 1e-4)")
+    parser.add_argument("--repeat", type=int, default=None, help="timed repeats, best kept (default 3, quick 1)")
+    parser.add_argument("--exudyn-only", action="store_true", help="skip the loads side")
+    parser.add_argument("--check", action="store_true",
+                        help="also check Exudyn energy conservation and joint gaps")
+    parser.add_argument("--make-reference", action="store_true",
+                        help="recompute the stored Exudyn reference solutions first")
+    args = parser.parse_args(argv)
+    log = lambda text: print(text, flush=True)  # noqa: E731
+
+    try:
+        models = [model_by_name(n.strip()) for n in args.models.split(",") if n.strip()]
+    except KeyError as exc:
+        print(f"error: {exc.args[0]}", file=sys.stderr)
+        return 2
+    repeat = args.repeat if args.repeat is not None else (1 if args.quick else 3)
+
+    from benchmarks.exudyn_models import ExudynMissing, exudyn_module_name, import_exudyn
+    try:
+        import_exudyn()
+    except ExudynMissing as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+
+    info = machine_info()
+    info["exudyn_module"] = exudyn_module_name()
+    log(f"machine: {info['cpu']}, {info['cores']} cores, Python {info['python']}, numpy {info['numpy']}, "
+        f"Exudyn {info['exudyn']} ({info['exudyn_module']}), loads {info['loads']}")
+
+    checks = run_checks(models, args.quick, log) if args.check else []
+    rows: list[dict[str, Any]] = []
+    exit_code = 0
+    for model in models:
+        end = model.quick_end if args.quick else model.end
+        log(f"{model.name}: {model.title}; simulated {end:g} s")
+        ref = None if args.make_reference else load_reference(model)
+        if ref is None or ref.meta.get("end", 0.0) < end - 1e-9:
+            ref = make_reference(model, log)
+        ref = ref.until(end)
+        ex = bench_exudyn(model, end, ref, args.tol, repeat, log)
+        lo = CodeResult(status="skipped") if args.exudyn_only else bench_loads(model, end, ref, args.tol, repeat, log)
+        if ex.status != "ok" or lo.status == "failed":
+            exit_code = 1
+        row: dict[str, Any] = {"model": model.name, "title": model.title, "end": end,
+                               "main": list(model.main), "exudyn": ex, "loads": lo,
+                               "reference": {k: ref.meta.get(k) for k in
+                                             ("code", "exudyn", "step", "self_error", "integrator")}}
+        if ex.status == "ok" and lo.status == "ok":
+            row["ratio"] = {"solve": lo.solve_seconds / ex.solve_seconds,
+                            "total": lo.total_seconds / ex.total_seconds}
+        rows.append(row)
+
+    print()
+    print(format_table(rows, args.tol))
+    if args.json:
+        payload = {
+            "machine": info,
+            "settings": {"tol": args.tol, "quick": args.quick, "repeat": repeat,
+                         "exudyn": {"integrator": "generalized-alpha (index 3), fixed step",
+                                    "spectral_radius": 0.9, "linear_solver": EXUDYN_SOLVER,
+                                    "newton": "Exudyn default (modified Newton, rel. tol 1e-8)"},
+                         "error": "max_t |y - y_ref| (norm over main columns) / range of y_ref"},
+            "checks": checks,
+            "models": [{**{k: v for k, v in r.items() if k not in ("exudyn", "loads")},
+                        "exudyn": r["exudyn"].as_dict(), "loads": r["loads"].as_dict()} for r in rows],
+        }
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(payload, indent=2), encoding="utf-8")
+        log(f"figures written to {args.json}")
+    return exit_code
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
