@@ -8,7 +8,7 @@ import numpy as np
 __all__ = ["Kinematic", "Static", "QuasiStatic", "Dynamic", "Trajectory", "output_times",
            "DEFAULT_TOLERANCE"]
 
-DEFAULT_TOLERANCE = 1e-5
+DEFAULT_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)

@@ -20,7 +20,7 @@ from typing import Callable
 import numpy as np
 
 from mechlib.analysis import Dynamic, Trajectory, output_times
-from mechlib.linalg import factor, singular_failure, solve_factored
+from mechlib.linalg import augmented, factor, singular_failure, solve_factored
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
@@ -30,7 +30,10 @@ __all__ = ["Coefficients", "run_generalized_alpha", "consistent_accelerations",
 _MAX_ITER = 8
 _SAFETY = 0.9
 _GROW, _SHRINK = 4.0, 0.2
-_REGROW = 1.5  # grow the step only when it can grow by this much (each change costs)
+_REGROW = 1.5
+_NEWTON_KAPPA = 0.05
+_ETA_MIN = 1e-3
+_SLOW_ITERATIONS = 2  # grow the step only when it can grow by this much (each change costs)
 _MAX_STEPS = 2_000_000
 
 
@@ -61,8 +64,7 @@ def consistent_state(system: System, q, qd, t: float):
     equations of motion at that state, free of integrator transients."""
     k = system.kin(q, qd, t)
     jac = system.phi_q(k)
-    m = jac.shape[0]
-    lu = factor(np.block([[system.mass(k), jac.T], [jac, np.zeros((m, m))]]))
+    lu = factor(augmented(system.mass(k), jac))
     if lu is None:
         raise singular_failure(system, jac, t, "dynamic analysis failed")
     drift = system.nu(k) - jac @ qd
@@ -77,8 +79,7 @@ def consistent_accelerations(system: System, q, qd, t: float):
     """(qdd, lam) at the state (q, qd) without touching qd (see `consistent_state`)."""
     k = system.kin(q, qd, t)
     jac = system.phi_q(k)
-    m = jac.shape[0]
-    lu = factor(np.block([[system.mass(k), jac.T], [jac, np.zeros((m, m))]]))
+    lu = factor(augmented(system.mass(k), jac))
     if lu is None:
         raise singular_failure(system, jac, t, "initial accelerations failed")
     sol = solve_factored(lu, np.concatenate([system.forces(k), system.gamma(k)]))
@@ -94,16 +95,22 @@ class _Scales:
         length = max(size, 1e-3)
         self.tol = tol
         self.q_abs = np.tile(np.r_[np.full(3, length), np.ones(4)], system.nb) * tol
-        self.v_ref = np.tile(np.r_[np.full(3, length), np.ones(4)], system.nb)
+        g = max(float(np.linalg.norm(system.gravity)), 1.0)
+        self.a_ref = np.tile(np.r_[np.full(3, g), np.full(4, g / length)], system.nb)
 
-    def update(self, qd: np.ndarray) -> None:
-        self.v_ref = np.maximum(self.v_ref, np.abs(qd))
+    def update(self, qdd: np.ndarray) -> None:
+        """Raise the acceleration reference to the largest accelerations seen."""
+        np.maximum(self.a_ref, np.abs(qdd), out=self.a_ref)
+
+    def norm_a(self, e: np.ndarray, qdd: np.ndarray) -> float:
+        """RMS of an acceleration error weighted by tol (a_ref + |qdd|)."""
+        w = e / (self.tol * (self.a_ref + np.abs(qdd)))
+        return math.sqrt(w @ w / w.size)
 
     def norm_q(self, e: np.ndarray, q: np.ndarray) -> float:
-        return float(np.sqrt(np.mean((e / (self.q_abs + self.tol * np.abs(q))) ** 2)))
-
-    def norm_v(self, e: np.ndarray) -> float:
-        return float(np.sqrt(np.mean((e / (self.tol * self.v_ref)) ** 2)))
+        """RMS of e weighted by atol + tol |q|."""
+        w = e / (self.q_abs + self.tol * np.abs(q))
+        return math.sqrt(w @ w / w.size)
 
 
 class _Integrator:
@@ -112,17 +119,18 @@ class _Integrator:
         self.c = Coefficients.from_rho(spec.rho_inf)
         self.lu = None
         self.lu_h = 0.0
+        self.stale = False
         self.stiff = bool(system.elements)
+        self.eta = 1.0
 
     def _iteration_matrix(self, k, h: float):
         c, sys = self.c, self.system
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
         jac = sys.phi_q(k)
-        m = jac.shape[0]
         top = sys.mass(k)
         if self.stiff:
             top = top + self._tangent(k, h) / bp
-        lu = factor(np.block([[top, jac.T], [jac, np.zeros((m, m))]]))
+        lu = factor(augmented(top, jac))
         if lu is None:
             raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
         self.lu, self.lu_h = lu, h
@@ -131,8 +139,7 @@ class _Integrator:
         """K + gamma' C of the applied forces, by forward differences."""
         sys, c = self.system, self.c
         gp = c.gamma / (h * c.beta)
-        q = np.concatenate([k.r[:-1], k.p[:-1]], axis=1).ravel()
-        qd = np.concatenate([k.rd[:-1], k.pd[:-1]], axis=1).ravel()
+        q, qd = k.x[:-1].ravel(), k.xd[:-1].ravel()
         base = sys.forces(k)
         out = np.empty((sys.nq, sys.nq))
         for j in range(sys.nq):
@@ -153,8 +160,10 @@ class _Integrator:
         qd1 = qd + h * ((1.0 - c.gamma) * a + c.gamma * a1)
         lam1 = lam.copy()
         t1 = t + h
-        rebuild = self.lu is None or abs(h / self.lu_h - 1.0) > 0.25
+        rebuild = self.lu is None or self.stale or abs(h / self.lu_h - 1.0) > 0.25
+        self.stale = False
         rebuilt, prev, it = False, math.inf, 0
+        eta = self.eta
         while it < _MAX_ITER:
             k = sys.kin(q1, qd1, t1)
             if rebuild:
@@ -171,23 +180,46 @@ class _Integrator:
             lam1 += bp * dx[sys.nq:]
             self.stats.newton_iterations += 1
             it += 1
-            # velocity-level size too: a position increment small for q can still be
-            # large for qd (x 1/h) and qdd (x 1/h^2)
-            size = max(self.scales.norm_q(dq, q1), self.scales.norm_v(gp * dq))
-            if size < 1e-3 or (prev < math.inf and size < 1e-2 and size < 0.1 * prev):
+            # acceleration level: a position increment small against the position tolerance
+            # is still large for qdd (x 1/(beta h^2)), i.e. for the forces and the energy
+            size = max(self.scales.norm_q(dq, q1), self.scales.norm_a(bp * dq, qdd1))
+            if prev < math.inf:
+                theta = size / prev
+                eta = theta / (1.0 - theta) if theta < 1.0 else math.inf
+            # Newton error estimate eta*|dq| against a fraction of the local error tolerance
+            # (Hairer & Wanner, Solving ODEs II, IV.8); positions only, as the error test
+            if (eta * size <= _NEWTON_KAPPA and size < 1.0) or size < 1e-10:
+                self.eta = max(eta, _ETA_MIN) ** 0.8
+                if it > _SLOW_ITERATIONS:
+                    self.stale = True  # converging slowly: a fresh matrix for the next step
                 a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (1.0 - c.alpha_m)
-                return q1, qd1, qdd1, a1, lam1
-            if size > 0.5 * prev or it == _MAX_ITER:
+                acc = self._true_acceleration(q1, qd1, t1, qdd1, lam1)
+                return q1, qd1, qdd1, a1, lam1, acc
+            if (prev < math.inf and size > 0.9 * prev) or it == _MAX_ITER:
                 if rebuilt:
                     break
                 rebuild, it = True, 0  # an old iteration matrix: refresh it once, go on
             prev = size
         self.lu = None
+        self.eta = 1.0
         return None
 
-    def error(self, h, q1, a, a1) -> float:
-        """Scaled norm of the local position error estimate (accept when <= 1)."""
-        return self.scales.norm_q(self.c.error_constant * h * h * (a1 - a), q1)
+    def _true_acceleration(self, q1, qd1, t1, qdd1, lam1) -> np.ndarray:
+        """qdd meeting the acceleration-level constraints too (one correction with the
+        iteration matrix): free of the index-3 transients that gen-alpha's qdd carries,
+        so the error estimate sees the solution, not the transients."""
+        sys = self.system
+        k = sys.kin(q1, qd1, t1)
+        jac = sys.phi_q(k)
+        res = np.concatenate([sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k),
+                              jac @ qdd1 - sys.gamma(k)])
+        return qdd1 - solve_factored(self.lu, res)[:sys.nq]
+
+    def error(self, h, q1, acc0, acc1) -> float:
+        """Scaled norm of the local position error c h^2 (qdd_{n+1} - qdd_n), about
+        c h^3 d3q/dt3, from the true accelerations at both ends (accept when <= 1)."""
+        e = self.c.error_constant * h * h * (acc1 - acc0)
+        return float(np.abs(e / (self.scales.q_abs + self.scales.tol * np.abs(q1))).max())
 
 
 def _substeps(interval: float, h: float) -> tuple[int, float]:
@@ -209,7 +241,7 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
     integ.scales = _Scales(system, q0, spec.tolerance)
     t, q, qd = spec.start, q0.copy(), qd0.copy()
     qdd, lam = consistent_accelerations(system, q, qd, t)
-    a = qdd.copy()
+    a, acc = qdd.copy(), qdd.copy()
     trajectory.record(t, q, qd, qdd, lam)
     max_step = min(spec.max_step or spec.step, spec.step)
     h = max_step if spec.fixed_step else min(max_step, 1e-3 * (spec.end - spec.start) or 1e-3)
@@ -223,9 +255,9 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
             _, h_try = _substeps(t_out - t, h)
             if h_used and abs(h_try / h_used - 1.0) > 1e-9:
                 qdd, lam = consistent_accelerations(system, q, qd, t)
-                a = qdd.copy()
+                a, acc = qdd.copy(), qdd.copy()
             new = integ.step(t, h_try, q, qd, qdd, a, lam)
-            err = 0.0 if new is None or spec.fixed_step else integ.error(h_try, new[0], a, new[3])
+            err = 0.0 if new is None or spec.fixed_step else integ.error(h_try, new[0], acc, new[5])
             if new is None or err > 1.0:
                 if spec.fixed_step:
                     raise _newton_failure(system, t, h_try)
@@ -235,12 +267,12 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
                 if h < h_min:
                     raise _newton_failure(system, t, h)
                 continue
-            q, qd, qdd, a, lam = new
+            q, qd, qdd, a, lam, acc = new
+            integ.scales.update(acc)
             t += h_try
             h_used = h_try
             stats.steps += 1
             system.commit(system.kin(q, None, t))
-            integ.scales.update(qd)
             if not spec.fixed_step:
                 grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
                 if grow > _REGROW:

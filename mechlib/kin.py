@@ -6,8 +6,6 @@ in the Jacobians that leave this module (its 7 columns are sliced off).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 __all__ = ["Kin", "GROUND_Q"]
@@ -15,32 +13,37 @@ __all__ = ["Kin", "GROUND_Q"]
 GROUND_Q = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
 
 
-@dataclass
 class Kin:
-    """Positions ``r`` (nb+1, 3), Euler parameters ``p`` (nb+1, 4) and their rates."""
+    """`x` (nb+1, 7) rows [r, p] and `xd` their rates; r, p, rd, pd are views of them."""
 
-    r: np.ndarray
-    p: np.ndarray
-    rd: np.ndarray
-    pd: np.ndarray
-    t: float = 0.0
+    __slots__ = ("x", "xd", "t")
+
+    def __init__(self, x: np.ndarray, xd: np.ndarray, t: float = 0.0):
+        self.x, self.xd, self.t = x, xd, t
+
+    r = property(lambda self: self.x[:, :3])
+    p = property(lambda self: self.x[:, 3:])
+    rd = property(lambda self: self.xd[:, :3])
+    pd = property(lambda self: self.xd[:, 3:])
 
     @property
     def nb(self) -> int:
         """Number of moving bodies."""
-        return self.r.shape[0] - 1
+        return self.x.shape[0] - 1
 
     @property
     def ncol(self) -> int:
         """Columns of the working Jacobian (ground included)."""
-        return 7 * (self.nb + 1)
+        return 7 * self.x.shape[0]
 
     @classmethod
     def from_state(cls, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> "Kin":
-        """Split the stacked state (7 nb,) into per-body arrays with ground appended."""
-        full = np.concatenate([q, GROUND_Q]).reshape(-1, 7)
-        if qd is None:
-            fulld = np.zeros_like(full)
-        else:
-            fulld = np.concatenate([qd, np.zeros(7)]).reshape(-1, 7)
-        return cls(full[:, :3], full[:, 3:], fulld[:, :3], fulld[:, 3:], t)
+        """Split the stacked state (7 nb,) into per-body rows with ground appended."""
+        n = q.shape[0]
+        x = np.empty(n + 7)
+        x[:n] = q
+        x[n:] = GROUND_Q
+        xd = np.zeros(n + 7)
+        if qd is not None:
+            xd[:n] = qd
+        return cls(x.reshape(-1, 7), xd.reshape(-1, 7), t)

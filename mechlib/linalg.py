@@ -2,19 +2,29 @@
 from __future__ import annotations
 
 import numpy as np
-import scipy.linalg as sla
+from scipy.linalg.lapack import dgetrf as _getrf, dgetrs as _getrs
 
 from mechlib.check import find_redundant
 from mechlib.solution import SolverFailure
 
-__all__ = ["factor", "solve_factored", "singular_failure", "SINGULAR_RATIO"]
+__all__ = ["augmented", "factor", "solve_factored", "singular_failure", "SINGULAR_RATIO"]
 
 SINGULAR_RATIO = 1e-13
 
 
+def augmented(top: np.ndarray, jac: np.ndarray) -> np.ndarray:
+    """[[top, jac^T], [jac, 0]]: the saddle-point matrix of constrained equations."""
+    n, m = top.shape[0], jac.shape[0]
+    out = np.zeros((n + m, n + m))
+    out[:n, :n] = top
+    out[:n, n:] = jac.T
+    out[n:, :n] = jac
+    return out
+
+
 def factor(matrix: np.ndarray):
     """LU factors of a square matrix, or None when it is numerically singular."""
-    lu, piv = sla.lu_factor(matrix, check_finite=False)
+    lu, piv, _ = _getrf(matrix, overwrite_a=True)
     diag = np.abs(np.diag(lu))
     if diag.size and (diag.min() <= SINGULAR_RATIO * diag.max() or not np.isfinite(diag).all()):
         return None
@@ -23,7 +33,8 @@ def factor(matrix: np.ndarray):
 
 def solve_factored(lu, rhs: np.ndarray, *, transpose: bool = False) -> np.ndarray:
     """Solve with LU factors; `transpose` solves with the transposed matrix."""
-    return sla.lu_solve(lu, rhs, trans=1 if transpose else 0, check_finite=False)
+    x, info = _getrs(lu[0], lu[1], rhs, trans=1 if transpose else 0)
+    return x
 
 
 def singular_failure(system, phi_q: np.ndarray, t: float, what: str) -> SolverFailure:

@@ -14,6 +14,7 @@ from scipy.integrate import solve_ivp
 from mechlib.analysis import Dynamic, Trajectory, output_times
 from mechlib.assembly import solve_positions
 from mechlib.genalpha import consistent_accelerations
+from mechlib.linalg import augmented
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
@@ -29,11 +30,9 @@ def _rhs(system: System):
         q, qd = y[:nq], y[nq:]
         k = system.kin(q, qd, t)
         jac = system.phi_q(k)
-        m = jac.shape[0]
         drift = jac @ qd - system.nu(k)
         g = system.gamma(k) - 2.0 * _BAUMGARTE * drift - _BAUMGARTE ** 2 * system.phi(k)
-        matrix = np.block([[system.mass(k), jac.T], [jac, np.zeros((m, m))]])
-        sol = np.linalg.solve(matrix, np.concatenate([system.forces(k), g]))
+        sol = np.linalg.solve(augmented(system.mass(k), jac), np.concatenate([system.forces(k), g]))
         return np.concatenate([qd, sol[:nq]])
     return f
 

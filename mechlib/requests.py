@@ -138,19 +138,6 @@ def _effort(system, k, lam, jac, req: MotionEffort, view) -> dict[str, float]:
     return {"value": float((torque if measure.kind == "angle" else force) @ axis)}
 
 
-def _point(system, k, lam, jac, req: PointKinematics, view, qdd=None) -> dict[str, float]:
-    b, s = system.point(req.point)
-    if req.quantity == "position":
-        v = k.r[b] + rotate(k.p[b], s)
-    elif req.quantity == "velocity":
-        v = k.rd[b] + d_rotate(k.p[b], s) @ k.pd[b]
-    else:
-        acc = np.zeros(3) if b == system.nb else qdd[7 * b:7 * b + 7]
-        v = acc[:3] + d_rotate(k.p[b], s) @ acc[3:] + 2.0 * rotate(k.pd[b], s) if b != system.nb else np.zeros(3)
-    v = _frame_matrix(system, k, req.frame).T @ v
-    return dict(zip("xyz", v))
-
-
 _ANGULAR = {"angle": "angle", "omega": "angle", "alpha": "angle",
             "travel": "travel", "speed": "travel", "accel": "travel"}
 
@@ -164,23 +151,53 @@ def _coordinate(system, k, req: JointCoordinate, qdd) -> float:
     return float(m.gradient(k)[:system.nq] @ qdd + m.quad(k))
 
 
+def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str, np.ndarray]:
+    """Point kinematics at all recorded times at once (ground axes), then into `frame`."""
+    b, s = system.point(req.point)
+    n = len(trajectory)
+    if b == system.nb:
+        v = np.tile(s, (n, 1)) if req.quantity == "position" else np.zeros((n, 3))
+    else:
+        sl = slice(7 * b, 7 * b + 7)
+        x = np.array([q[sl] for q in trajectory.q])
+        xd = np.array([q[sl] for q in trajectory.qd])
+        if req.quantity == "position":
+            v = x[:, :3] + rotate(x[:, 3:], s)
+        elif req.quantity == "velocity":
+            v = xd[:, :3] + np.einsum("nij,nj->ni", d_rotate(x[:, 3:], s), xd[:, 3:])
+        else:
+            xdd = np.array([q[sl] for q in trajectory.qdd])
+            v = (xdd[:, :3] + np.einsum("nij,nj->ni", d_rotate(x[:, 3:], s), xdd[:, 3:])
+                 + 2.0 * rotate(xd[:, 3:], s))
+    if req.frame != "ground":
+        axes = [system.frame_axes(req.frame, system.kin(q, None, t))
+                for q, t in zip(trajectory.q, trajectory.time)]
+        v = np.einsum("nji,nj->ni", np.array(axes), v)
+    return dict(zip("xyz", v.T))
+
+
 def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndarray]:
     """Columns `REQUEST.COMPONENT` (SI) at the recorded times, in request order.
 
     Joint-angle references must hold the initial state's values (see `System.references`).
     """
-    rows: dict[str, list[float]] = {}
-    for i, t in enumerate(trajectory.time):
+    per_request: dict[str, dict[str, list]] = {r.name: {} for r in requests}
+    stepwise = [r for r in requests if not isinstance(r, PointKinematics)]
+    need_jac = any(isinstance(r, (JointReaction, MotionEffort)) for r in stepwise)
+    for i, t in enumerate(trajectory.time if stepwise else ()):
         k = system.kin(trajectory.q[i], trajectory.qd[i], t)
         qdd, lam = trajectory.qdd[i], trajectory.lam[i]
-        need_jac = any(isinstance(r, (JointReaction, MotionEffort)) for r in requests)
         jac = system.phi_q(k) if need_jac else None
         view = system.view(k)
-        for req in requests:
+        for req in stepwise:
             for comp, value in _evaluate(system, k, lam, jac, req, view, qdd).items():
-                rows.setdefault(f"{req.name}.{comp}", []).append(float(value))
+                per_request[req.name].setdefault(comp, []).append(float(value))
         system.commit(k)  # angles unwrap continuously along the trajectory
-    return {name: np.array(v) for name, v in rows.items()}
+    for req in requests:
+        if isinstance(req, PointKinematics):
+            per_request[req.name] = _point_series(system, trajectory, req)
+    return {f"{name}.{comp}": np.asarray(values, dtype=float)
+            for name, comps in per_request.items() for comp, values in comps.items()}
 
 
 def _evaluate(system, k, lam, jac, req, view, qdd) -> dict[str, float]:
@@ -188,8 +205,6 @@ def _evaluate(system, k, lam, jac, req, view, qdd) -> dict[str, float]:
         return _reaction(system, k, lam, jac, req, view)
     if isinstance(req, MotionEffort):
         return _effort(system, k, lam, jac, req, view)
-    if isinstance(req, PointKinematics):
-        return _point(system, k, lam, jac, req, view, qdd)
     if isinstance(req, JointCoordinate):
         return {"value": _coordinate(system, k, req, qdd)}
     if isinstance(req, ElementOutput):

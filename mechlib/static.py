@@ -13,7 +13,7 @@ import numpy as np
 
 from mechlib.analysis import QuasiStatic, Static, Trajectory, output_times
 from mechlib.assembly import solve_accelerations, solve_positions, solve_velocities
-from mechlib.linalg import factor, singular_failure, solve_factored
+from mechlib.linalg import augmented, factor, singular_failure, solve_factored
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
@@ -59,9 +59,7 @@ def equilibrium(system: System, q: np.ndarray, lam: np.ndarray | None, t: float,
     scale = _scales(system, system.forces(system.kin(q, None, t), inertia=False))
     for _ in range(_MAX_NEWTON):
         stats.newton_iterations += 1
-        matrix = np.block([[_stiffness(system, q, lam, t, force), jac.T],
-                           [jac, np.zeros((m, m))]])
-        lu = factor(matrix)
+        lu = factor(augmented(_stiffness(system, q, lam, t, force), jac))
         if lu is None:
             raise singular_failure(system, jac, t, "static equilibrium failed")
         step = solve_factored(lu, -res)

@@ -15,7 +15,8 @@ from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL, expand_joint, joint_frame
 from mechlib.kin import Kin
 from mechlib.model import GROUND, Mechanism
-from mechlib.rotation import e_matrix, g_matrix, rotation_matrix
+from mechlib import kernels
+from mechlib.rotation import rotation_matrix
 from mechlib.view import StateView
 
 __all__ = ["System"]
@@ -36,8 +37,10 @@ class System:
         bodies = [mechanism.bodies[n] for n in self.body_names]
         self.cm = np.vstack([np.array([b.cm for b in bodies]).reshape(-1, 3), np.zeros((1, 3))])
         self.masses = np.array([b.mass for b in bodies])
-        self.inertia = np.array([b.inertia for b in bodies]).reshape(-1, 3, 3)
+        self.inertia = np.ascontiguousarray(np.array([b.inertia for b in bodies],
+                                                     dtype=float).reshape(-1, 3, 3))
         self.gravity = np.asarray(mechanism.gravity, dtype=float)
+        self._pscale = 4.0 * np.trace(self.inertia, axis1=1, axis2=2) / 3.0
         self.measures: dict[tuple[str, str], AngleMeasure | TravelMeasure] = {}
         self._build_constraints()
         self.elements = list(mechanism.forces.values())
@@ -200,37 +203,20 @@ class System:
 
     def mass(self, k: Kin) -> np.ndarray:
         """Mass matrix M (nq, nq): m I for r; 4 G^T J' G (+ a p p^T term fixing |p|) for p."""
-        p = k.p[:-1]
-        g = g_matrix(p)
-        mp = 4.0 * np.einsum("bji,bjk,bkl->bil", g, self.inertia, g)
-        scale = 4.0 * np.trace(self.inertia, axis1=1, axis2=2) / 3.0
-        mp += scale[:, None, None] * p[:, :, None] * p[:, None, :]
-        blocks = np.zeros((self.nb, 7, 7))
-        blocks[:, :3, :3] = self.masses[:, None, None] * np.eye(3)
-        blocks[:, 3:, 3:] = mp
         out = np.zeros((self.nq, self.nq))
-        for b in range(self.nb):
-            out[7 * b:7 * b + 7, 7 * b:7 * b + 7] = blocks[b]
+        kernels.mass_matrix(k.x, self.masses, self.inertia, self._pscale, out)
         return out
 
     def mass_times(self, k: Kin, x: np.ndarray) -> np.ndarray:
         """M(q) x without forming M (nq,)."""
-        p = k.p[:-1]
-        xb = x.reshape(self.nb, 7)
-        out = np.empty((self.nb, 7))
-        out[:, :3] = self.masses[:, None] * xb[:, :3]
-        g = g_matrix(p)
-        w = np.einsum("bij,bj->bi", g, xb[:, 3:])
-        out[:, 3:] = 4.0 * np.einsum("bji,bj->bi", g, np.einsum("bij,bj->bi", self.inertia, w))
-        scale = 4.0 * np.trace(self.inertia, axis1=1, axis2=2) / 3.0
-        out[:, 3:] += (scale * np.einsum("bi,bi->b", p, xb[:, 3:]))[:, None] * p
-        return out.ravel()
+        out = np.empty(self.nq)
+        kernels.mass_times(k.x, self.masses, self.inertia, self._pscale, x, out)
+        return out
 
     def wrenches(self, k: Kin, view: StateView | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Applied forces F and torques N (nb+1, 3), global axes, through the cm."""
+        """Forces F and torques N (nb+1, 3) of the force elements, global axes, through the cm."""
         F = np.zeros((self.nb + 1, 3))
         N = np.zeros((self.nb + 1, 3))
-        F[:-1] += self.masses[:, None] * self.gravity
         if self.elements:
             view = view or self.view(k)
             for element in self.elements:
@@ -238,15 +224,9 @@ class System:
         return F, N
 
     def forces(self, k: Kin, *, inertia: bool = True) -> np.ndarray:
-        """Q (nq,): applied forces and, with `inertia`, the quadratic velocity terms."""
+        """Q (nq,): gravity, elements and, with `inertia`, the quadratic velocity terms."""
         F, N = self.wrenches(k)
-        p = k.p[:-1]
-        out = np.zeros((self.nb, 7))
-        out[:, :3] = F[:-1]
-        out[:, 3:] = 2.0 * np.einsum("bij,bi->bj", e_matrix(p), N[:-1])
-        if inertia:
-            pd = k.pd[:-1]
-            w_body = 2.0 * np.einsum("bij,bj->bi", g_matrix(p), pd)
-            jw = np.einsum("bij,bj->bi", self.inertia, w_body)
-            out[:, 3:] -= 4.0 * np.einsum("bij,bi->bj", g_matrix(pd), jw)
-        return out.ravel()
+        out = np.empty(self.nq)
+        kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N,
+                            inertia, out)
+        return out

@@ -1,0 +1,335 @@
+"""Compiled (numba) kernels of the constraint primitives and the rigid-body mass terms.
+
+Layout: `x` (nb+1, 7) rows [r, p] per body, ground last; `xd` their rates; Jacobian rows have
+7 (nb+1) columns. Rotation of a body-fixed vector s: the homogeneous form
+A(p) s = (e0^2 - e.e) s + 2 e (e.s) + 2 e0 (e x s); its polarisation b(p, w) s gives
+B(p, s) w = d(A(p) s)/dp w = 2 b(p, w) s. Formulas: Haug (1989) ch. 9-11; G, E as in
+Nikravesh (1988): omega' = 2 G pd (body axes), omega = 2 E pd (global axes).
+numba replaces per-row Python loops that cost ~100x more in the interpreter.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["sph_phi", "sph_jac", "sph_gamma", "dot1_phi", "dot1_jac", "dot1_gamma",
+           "dot1_rate", "dot2_phi", "dot2_jac", "dot2_gamma", "dot2_rate", "norm_phi",
+           "norm_jac", "norm_gamma", "mass_times", "mass_matrix", "body_forces"]
+
+_JIT = dict(cache=True, nogil=True, fastmath=False)
+
+
+@njit(**_JIT)
+def _rot(p, s, out):
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    es = e1 * s[0] + e2 * s[1] + e3 * s[2]
+    c = e0 * e0 - (e1 * e1 + e2 * e2 + e3 * e3)
+    out[0] = c * s[0] + 2.0 * e1 * es + 2.0 * e0 * (e2 * s[2] - e3 * s[1])
+    out[1] = c * s[1] + 2.0 * e2 * es + 2.0 * e0 * (e3 * s[0] - e1 * s[2])
+    out[2] = c * s[2] + 2.0 * e3 * es + 2.0 * e0 * (e1 * s[1] - e2 * s[0])
+
+
+@njit(**_JIT)
+def _brot(p, w, s, out):
+    """out = B(p, s) w = 2 b(p, w) s (the rate of A(p) s for pd = w)."""
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    w0, f1, f2, f3 = w[0], w[1], w[2], w[3]
+    c = e0 * w0 - (e1 * f1 + e2 * f2 + e3 * f3)
+    fs = f1 * s[0] + f2 * s[1] + f3 * s[2]
+    es = e1 * s[0] + e2 * s[1] + e3 * s[2]
+    out[0] = 2.0 * (c * s[0] + e1 * fs + f1 * es + e0 * (f2 * s[2] - f3 * s[1])
+                    + w0 * (e2 * s[2] - e3 * s[1]))
+    out[1] = 2.0 * (c * s[1] + e2 * fs + f2 * es + e0 * (f3 * s[0] - f1 * s[2])
+                    + w0 * (e3 * s[0] - e1 * s[2]))
+    out[2] = 2.0 * (c * s[2] + e3 * fs + f3 * es + e0 * (f1 * s[1] - f2 * s[0])
+                    + w0 * (e1 * s[1] - e2 * s[0]))
+
+
+@njit(**_JIT)
+def _bmat(p, s, out):
+    """out (3, 4) = B(p, s) = d(A(p) s)/dp."""
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    s0, s1, s2 = s[0], s[1], s[2]
+    es = e1 * s0 + e2 * s1 + e3 * s2
+    out[0, 0] = 2.0 * (e0 * s0 + e2 * s2 - e3 * s1)
+    out[1, 0] = 2.0 * (e0 * s1 + e3 * s0 - e1 * s2)
+    out[2, 0] = 2.0 * (e0 * s2 + e1 * s1 - e2 * s0)
+    e = (e1, e2, e3)
+    sv = (s0, s1, s2)
+    for a in range(3):
+        for b in range(3):
+            v = e[a] * sv[b] - sv[a] * e[b]
+            if a == b:
+                v += es
+            out[a, 1 + b] = 2.0 * v
+    # - e0 [s]x
+    out[0, 2] += 2.0 * e0 * s2
+    out[0, 3] -= 2.0 * e0 * s1
+    out[1, 1] -= 2.0 * e0 * s2
+    out[1, 3] += 2.0 * e0 * s0
+    out[2, 1] += 2.0 * e0 * s1
+    out[2, 2] -= 2.0 * e0 * s0
+
+
+@njit(**_JIT)
+def sph_phi(x, bi, bj, si, sj, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    for k in range(bi.shape[0]):
+        _rot(x[bi[k], 3:], si[k], a)
+        _rot(x[bj[k], 3:], sj[k], b)
+        for c in range(3):
+            out[3 * k + c] = x[bi[k], c] + a[c] - x[bj[k], c] - b[c]
+
+
+@njit(**_JIT)
+def sph_jac(x, bi, bj, si, sj, out):
+    m = np.empty((3, 4))
+    for k in range(bi.shape[0]):
+        ci, cj = 7 * bi[k], 7 * bj[k]
+        for c in range(3):
+            out[3 * k + c, ci + c] += 1.0
+            out[3 * k + c, cj + c] -= 1.0
+        _bmat(x[bi[k], 3:], si[k], m)
+        for c in range(3):
+            for d in range(4):
+                out[3 * k + c, ci + 3 + d] += m[c, d]
+        _bmat(x[bj[k], 3:], sj[k], m)
+        for c in range(3):
+            for d in range(4):
+                out[3 * k + c, cj + 3 + d] -= m[c, d]
+
+
+@njit(**_JIT)
+def sph_gamma(x, xd, bi, bj, si, sj, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    for k in range(bi.shape[0]):
+        _rot(xd[bi[k], 3:], si[k], a)
+        _rot(xd[bj[k], 3:], sj[k], b)
+        for c in range(3):
+            out[3 * k + c] = -2.0 * (a[c] - b[c])
+
+
+@njit(**_JIT)
+def dot1_phi(x, bi, bj, u, v, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    for k in range(bi.shape[0]):
+        _rot(x[bi[k], 3:], u[k], a)
+        _rot(x[bj[k], 3:], v[k], b)
+        out[k] = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(**_JIT)
+def dot1_jac(x, bi, bj, u, v, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    m = np.empty((3, 4))
+    for k in range(bi.shape[0]):
+        _rot(x[bi[k], 3:], u[k], a)
+        _rot(x[bj[k], 3:], v[k], b)
+        _bmat(x[bi[k], 3:], u[k], m)
+        for d in range(4):
+            out[k, 7 * bi[k] + 3 + d] += b[0] * m[0, d] + b[1] * m[1, d] + b[2] * m[2, d]
+        _bmat(x[bj[k], 3:], v[k], m)
+        for d in range(4):
+            out[k, 7 * bj[k] + 3 + d] += a[0] * m[0, d] + a[1] * m[1, d] + a[2] * m[2, d]
+
+
+@njit(**_JIT)
+def dot1_rate(x, xd, bi, bj, u, v, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    ad = np.empty(3)
+    bd = np.empty(3)
+    for k in range(bi.shape[0]):
+        _rot(x[bi[k], 3:], u[k], a)
+        _rot(x[bj[k], 3:], v[k], b)
+        _brot(x[bi[k], 3:], xd[bi[k], 3:], u[k], ad)
+        _brot(x[bj[k], 3:], xd[bj[k], 3:], v[k], bd)
+        out[k] = np.dot(ad, b) + np.dot(a, bd)
+
+
+@njit(**_JIT)
+def dot1_gamma(x, xd, bi, bj, u, v, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    ad = np.empty(3)
+    bd = np.empty(3)
+    add = np.empty(3)
+    bdd = np.empty(3)
+    for k in range(bi.shape[0]):
+        pi, pj, wi, wj = x[bi[k], 3:], x[bj[k], 3:], xd[bi[k], 3:], xd[bj[k], 3:]
+        _rot(pi, u[k], a)
+        _rot(pj, v[k], b)
+        _brot(pi, wi, u[k], ad)
+        _brot(pj, wj, v[k], bd)
+        _rot(wi, u[k], add)
+        _rot(wj, v[k], bdd)
+        out[k] = -(2.0 * np.dot(add, b) + 2.0 * np.dot(ad, bd) + 2.0 * np.dot(a, bdd))
+
+
+@njit(**_JIT)
+def _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, rates):
+    pi, pj = x[bi[k], 3:], x[bj[k], 3:]
+    tmp = np.empty(3)
+    _rot(pj, v[k], b)
+    _rot(pi, si[k], d)
+    _rot(pj, sj[k], tmp)
+    for c in range(3):
+        d[c] += x[bi[k], c] - x[bj[k], c] - tmp[c]
+    if rates:
+        _brot(pj, xd[bj[k], 3:], v[k], bd)
+        _brot(pi, xd[bi[k], 3:], si[k], dd)
+        _brot(pj, xd[bj[k], 3:], sj[k], tmp)
+        for c in range(3):
+            dd[c] += xd[bi[k], c] - xd[bj[k], c] - tmp[c]
+
+
+@njit(**_JIT)
+def dot2_phi(x, bi, bj, v, si, sj, out):
+    b, d, bd, dd = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    for k in range(bi.shape[0]):
+        _dot2_parts(x, x, k, bi, bj, v, si, sj, b, d, bd, dd, False)
+        out[k] = np.dot(b, d)
+
+
+@njit(**_JIT)
+def dot2_jac(x, bi, bj, v, si, sj, out):
+    b, d, bd, dd = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    m = np.empty((3, 4))
+    for k in range(bi.shape[0]):
+        _dot2_parts(x, x, k, bi, bj, v, si, sj, b, d, bd, dd, False)
+        ci, cj = 7 * bi[k], 7 * bj[k]
+        for c in range(3):
+            out[k, ci + c] += b[c]
+            out[k, cj + c] -= b[c]
+        _bmat(x[bi[k], 3:], si[k], m)
+        for e in range(4):
+            out[k, ci + 3 + e] += b[0] * m[0, e] + b[1] * m[1, e] + b[2] * m[2, e]
+        _bmat(x[bj[k], 3:], v[k], m)
+        for e in range(4):
+            out[k, cj + 3 + e] += d[0] * m[0, e] + d[1] * m[1, e] + d[2] * m[2, e]
+        _bmat(x[bj[k], 3:], sj[k], m)
+        for e in range(4):
+            out[k, cj + 3 + e] -= b[0] * m[0, e] + b[1] * m[1, e] + b[2] * m[2, e]
+
+
+@njit(**_JIT)
+def dot2_rate(x, xd, bi, bj, v, si, sj, out):
+    b, d, bd, dd = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    for k in range(bi.shape[0]):
+        _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, True)
+        out[k] = np.dot(bd, d) + np.dot(b, dd)
+
+
+@njit(**_JIT)
+def dot2_gamma(x, xd, bi, bj, v, si, sj, out):
+    b, d, bd, dd = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    bdd, t1, t2 = np.empty(3), np.empty(3), np.empty(3)
+    for k in range(bi.shape[0]):
+        _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, True)
+        _rot(xd[bj[k], 3:], v[k], bdd)
+        _rot(xd[bi[k], 3:], si[k], t1)
+        _rot(xd[bj[k], 3:], sj[k], t2)
+        ddd = 2.0 * (np.dot(b, t1) - np.dot(b, t2))
+        out[k] = -(2.0 * np.dot(bdd, d) + 2.0 * np.dot(bd, dd) + ddd)
+
+
+@njit(**_JIT)
+def norm_phi(x, nb, out):
+    for k in range(nb):
+        out[k] = x[k, 3] ** 2 + x[k, 4] ** 2 + x[k, 5] ** 2 + x[k, 6] ** 2 - 1.0
+
+
+@njit(**_JIT)
+def norm_jac(x, nb, out):
+    for k in range(nb):
+        for d in range(4):
+            out[k, 7 * k + 3 + d] += 2.0 * x[k, 3 + d]
+
+
+@njit(**_JIT)
+def norm_gamma(xd, nb, out):
+    for k in range(nb):
+        out[k] = -2.0 * (xd[k, 3] ** 2 + xd[k, 4] ** 2 + xd[k, 5] ** 2 + xd[k, 6] ** 2)
+
+
+@njit(**_JIT)
+def _g_times(p, w, out):
+    """out (3) = G(p) w."""
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    out[0] = -w[0] * e1 + e0 * w[1] - (e2 * w[3] - e3 * w[2])
+    out[1] = -w[0] * e2 + e0 * w[2] - (e3 * w[1] - e1 * w[3])
+    out[2] = -w[0] * e3 + e0 * w[3] - (e1 * w[2] - e2 * w[1])
+
+
+@njit(**_JIT)
+def _gt_times(p, y, sign, out):
+    """out (4) = G(p)^T y (sign = +1) or E(p)^T y (sign = -1)."""
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    out[0] = -(e1 * y[0] + e2 * y[1] + e3 * y[2])
+    out[1] = sign * (e2 * y[2] - e3 * y[1]) + e0 * y[0]
+    out[2] = sign * (e3 * y[0] - e1 * y[2]) + e0 * y[1]
+    out[3] = sign * (e1 * y[1] - e2 * y[0]) + e0 * y[2]
+
+
+@njit(**_JIT)
+def mass_times(x, masses, inertia, scale, vec, out):
+    """out = M(q) vec; M_p = 4 G^T J' G + scale p p^T (the last term only fixes |p|)."""
+    w = np.empty(3)
+    g4 = np.empty(4)
+    for b in range(masses.shape[0]):
+        o = 7 * b
+        for c in range(3):
+            out[o + c] = masses[b] * vec[o + c]
+        p = x[b, 3:]
+        _g_times(p, vec[o + 3:o + 7], w)
+        jw = inertia[b] @ w
+        _gt_times(p, jw, 1.0, g4)
+        pv = p[0] * vec[o + 3] + p[1] * vec[o + 4] + p[2] * vec[o + 5] + p[3] * vec[o + 6]
+        for d in range(4):
+            out[o + 3 + d] = 4.0 * g4[d] + scale[b] * p[d] * pv
+
+
+@njit(**_JIT)
+def mass_matrix(x, masses, inertia, scale, out):
+    """Dense M(q) (nq, nq), block diagonal."""
+    unit = np.zeros(4)
+    w = np.empty(3)
+    g4 = np.empty(4)
+    for b in range(masses.shape[0]):
+        o = 7 * b
+        for c in range(3):
+            out[o + c, o + c] = masses[b]
+        p = x[b, 3:]
+        for d in range(4):
+            unit[:] = 0.0
+            unit[d] = 1.0
+            _g_times(p, unit, w)
+            _gt_times(p, inertia[b] @ w, 1.0, g4)
+            for e in range(4):
+                out[o + 3 + e, o + 3 + d] = 4.0 * g4[e] + scale[b] * p[e] * p[d]
+
+
+@njit(**_JIT)
+def body_forces(x, xd, masses, inertia, gravity, F, N, with_inertia, out):
+    """Q (nq): forces F and torques N (global, through the cm, gravity added here) and, with
+    `with_inertia`, the quadratic velocity term -8 G(pd)^T J' G(p) pd."""
+    w = np.empty(3)
+    g4 = np.empty(4)
+    for b in range(masses.shape[0]):
+        o = 7 * b
+        for c in range(3):
+            out[o + c] = F[b, c] + masses[b] * gravity[c]
+        p, pd = x[b, 3:], xd[b, 3:]
+        _gt_times(p, N[b], -1.0, g4)
+        for d in range(4):
+            out[o + 3 + d] = 2.0 * g4[d]
+        if with_inertia:
+            _g_times(p, pd, w)
+            jw = inertia[b] @ (2.0 * w)
+            _gt_times(pd, jw, 1.0, g4)
+            for d in range(4):
+                out[o + 3 + d] -= 4.0 * g4[d]
