@@ -91,6 +91,8 @@ def _print_report(report: FileReport) -> int:
     if report.diagnostics:
         print_diagnostics(report.diagnostics, err=True)
         return EXIT_INPUT
+    for note in report.notes:
+        typer.echo(note)
     for line in report.runs:
         typer.echo(status_line(line.name, line.status, line.steps, line.cpu_seconds, line.where))
         if line.status != "ok":

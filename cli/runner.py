@@ -34,6 +34,7 @@ class FileReport:
     file: Path
     runs: list[RunLine] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
 
     @property
     def failed(self) -> bool:
@@ -43,9 +44,12 @@ class FileReport:
 def run_one(path: Path, *, output_dir: Path, xlsx: bool,
             progress: Progress | None = None) -> FileReport:
     """Run one file with `loadcases.run.run_file` (which writes the results)."""
-    from loadcases.run import run_file  # the solver stack is imported only to run
+    from loadcases.loader import file_kind
+    from loadcases.run import check_mechanism_file, run_file  # imported only to run
 
     try:
+        if file_kind(path) == "mechanism":
+            return FileReport(path, notes=check_mechanism_file(path))
         outcomes = run_file(path, output_dir=output_dir, xlsx=xlsx, progress=progress)
     except InputError as error:
         return FileReport(path, diagnostics=list(error.diagnostics))

@@ -16,7 +16,7 @@ from loadcases.expressions import ExpressionError, parse
 from loadcases.loader import CaseFile
 from mechlib.tables import Table, TableRangeError
 
-__all__ = ["BuiltRun", "build_run", "ExpressionMotion"]
+__all__ = ["BuiltRun", "build_run", "build_mechanism", "ExpressionMotion"]
 
 NOT_YET = "is not simulated by this version of loads yet"
 _JOINT_KEYS = ("at", "axis", "axes", "normal", "pitch", "joints", "ratio")
@@ -54,19 +54,24 @@ class ExpressionMotion:
 
 
 class _Builder:
-    def __init__(self, cf: CaseFile):
-        self.cf, self.case, self.mech = cf, cf.case, cf.mechanism
+    """Builds from a mechanism model and, when given, the case that uses it."""
+
+    def __init__(self, mechanism, parameters: dict[str, float], where: Callable,
+                 case=None):
+        self.case, self.mech, self.parameters, self.where = case, mechanism, parameters, where
         self.problems: list[Diagnostic] = []
-        self.effects = {"gravity": True, "damping": True} | dict(self.case.effects)
+        effects = dict(case.effects) if case is not None else {}
+        self.effects = {"gravity": True, "damping": True} | effects
+        self.loads = case.loads if case is not None else None
         self.tables = {n: Table(n, t.x, t.y, t.interpolation, t.extrapolate)
                        for n, t in self.mech.tables.items()}
 
     def error(self, kind: str, key: str, message: str) -> None:
-        file, line, col = self.cf.where(kind, key)
+        file, line, col = self.where(kind, key)
         self.problems.append(Diagnostic(file, line, col, key, message))
 
     def compile(self, text: str, what: str) -> Callable:
-        compiled = parse(text).compile(self.cf.parameters, self.tables)
+        compiled = parse(text).compile(self.parameters, self.tables)
 
         def evaluate(t: float, state=None) -> float:
             try:
@@ -80,7 +85,7 @@ class _Builder:
     # ---- mechanism --------------------------------------------------------------------
     def mechanism(self) -> ml.Mechanism:
         gravity = self.mech.gravity if self.effects.get("gravity", True) else (0.0, 0.0, 0.0)
-        m = ml.Mechanism(name=self.mech.name or self.case.case, gravity=gravity)
+        m = ml.Mechanism(name=self.mech.name or "mechanism", gravity=gravity)
         for name, b in self.mech.bodies.items():
             m.add_body(name, mass=b.mass, cm=b.cm, inertia=b.inertia)
         for name, p in self.mech.points.items():
@@ -94,8 +99,8 @@ class _Builder:
             self.error("mechanism", f"contacts.{name}", f"contact elements {NOT_YET}")
         for name in self.mech.events:
             self.error("mechanism", f"events.{name}", f"events {NOT_YET}")
-        for name, motion in self.case.motions.items():
-            fn = parse(motion.value).compile(self.cf.parameters, self.tables)
+        for name, motion in (self.case.motions if self.case else {}).items():
+            fn = parse(motion.value).compile(self.parameters, self.tables)
             if not fn.time_only:
                 self.error("case", f"motions.{name}.value", "a motion must be a function of "
                            "time only (use a force element for state-dependent loads)")
@@ -114,7 +119,7 @@ class _Builder:
         m.add_joint(name, j.type, bodies=bodies, **keys)
 
     def _forces(self, m: ml.Mechanism) -> None:
-        chosen = self.case.loads
+        chosen = self.loads
         for name, f in self.mech.forces.items():
             if chosen is not None and name not in chosen:
                 continue
@@ -203,8 +208,8 @@ class _Builder:
         if kind == "PointRequest":
             return ml.PointKinematics(name, r.point, r.quantity, r.frame)
         if kind == "ElementRequest":
-            if r.force not in self.mech.forces or (self.case.loads is not None
-                                                     and r.force not in self.case.loads):
+            if r.force not in self.mech.forces or (self.loads is not None
+                                                     and r.force not in self.loads):
                 self.error("case", f"requests.{name}.force",
                            f"force element '{r.force}' is not active in this case")
                 return None
@@ -248,10 +253,19 @@ def _units_of(req, builder: _Builder) -> dict[str, str]:
     return {"value": ""}
 
 
+def build_mechanism(mf) -> ml.Mechanism:
+    """The mechlib model of a mechanism file alone (no motions, all elements active)."""
+    b = _Builder(mf.model, dict(mf.model.parameters), lambda kind, key: mf.where(key))
+    mechanism = b.mechanism()
+    if b.problems:
+        raise InputError(b.problems)
+    return mechanism
+
+
 def build_run(cf: CaseFile) -> BuiltRun:
     """The mechlib model, analysis, requests and initial values of a case; InputError lists
     everything the engine cannot build."""
-    b = _Builder(cf)
+    b = _Builder(cf.mechanism, cf.parameters, cf.where, cf.case)
     mechanism = b.mechanism()
     analysis = b.analysis()
     requests, units = b.requests()

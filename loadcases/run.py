@@ -5,13 +5,13 @@ from pathlib import Path
 from typing import Callable
 
 import mechlib as ml
-from loadcases.build import build_run
+from loadcases.build import build_mechanism, build_run
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.loader import CaseFile, load_case
+from loadcases.loader import CaseFile, file_kind, load_case, load_mechanism
 from loadcases.outcome import RunOutcome
 from loadcases.results import write_results
 
-__all__ = ["run_case", "run_file"]
+__all__ = ["run_case", "run_file", "check_mechanism_file"]
 
 Progress = Callable[[float, float], None]
 
@@ -53,7 +53,24 @@ def run_case(cf: CaseFile, *, progress: Progress | None = None) -> RunOutcome:
 def run_file(path: Path | str, *, output_dir: Path | str, xlsx: bool = False,
              progress: Progress | None = None) -> list[RunOutcome]:
     """Run a case file and write its results into `output_dir` (SPEC section 3)."""
+    if file_kind(path) == "mechanism":
+        raise ValueError(f"{path} is a mechanism file: use check_mechanism_file")
     cf = load_case(path)
     outcome = run_case(cf, progress=progress)
     write_results(outcome, Path(output_dir), xlsx=xlsx)
     return [outcome]
+
+
+def check_mechanism_file(path: Path | str) -> list[str]:
+    """Lines describing a mechanism file: bodies, equations, degrees of freedom, redundancy
+    (`loads run` on a mechanism checks it; a mechanism alone is not a load case)."""
+    mf = load_mechanism(path)
+    check = ml.inspect_mechanism(build_mechanism(mf))
+    lines = [f"{Path(path).name}: mechanism with {check.bodies} bodies, {check.equations} "
+             f"constraint equations, {check.degrees_of_freedom} degrees of freedom"]
+    if not check.assembled:
+        lines.append("  the design position does not satisfy every joint (assembly will move "
+                     "the bodies)")
+    lines += [f"  redundant: {r} (a case must drop them: analysis.redundant: drop)"
+              for r in check.redundant]
+    return lines

@@ -10,7 +10,7 @@ from mechlib.model import GROUND, Mechanism
 from mechlib.requests import (ElementOutput, ExpressionOutput, JointCoordinate, JointReaction,
                               MotionEffort, PointKinematics)
 from mechlib.solution import Solution, SolverFailure, SolverStats
-from mechlib.solve import check_model, solve
+from mechlib.solve import MechanismCheck, check_model, inspect_mechanism, solve
 from mechlib.system import System
 from mechlib.view import StateView
 
@@ -19,4 +19,4 @@ __all__ = ["Mechanism", "GROUND", "System", "StateView", "solve", "check_model",
            "InitialBodyVelocity", "PointForce", "PointTorque", "Spring", "TorsionSpring",
            "JointReaction", "MotionEffort", "PointKinematics", "JointCoordinate",
            "ElementOutput", "ExpressionOutput", "Solution", "SolverFailure", "SolverStats",
-           "ModelError"]
+           "ModelError", "MechanismCheck", "inspect_mechanism"]

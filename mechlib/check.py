@@ -42,11 +42,12 @@ class Redundancy:
         return f"{self.label}, dependent on {others}"
 
 
-def _independent_rows(phi_q: np.ndarray, tol: float) -> tuple[list[int], list[int]]:
+def _independent_rows(phi_q: np.ndarray, tol: float, order=None) -> tuple[list[int], list[int]]:
     basis: list[np.ndarray] = []
     independent, dependent = [], []
     scale = max(np.abs(phi_q).max(initial=0.0), 1.0)
-    for i, row in enumerate(phi_q):
+    for i in (range(phi_q.shape[0]) if order is None else order):
+        row = phi_q[i]
         v = row.copy()
         if basis:
             b = np.array(basis)
@@ -62,10 +63,18 @@ def _independent_rows(phi_q: np.ndarray, tol: float) -> tuple[list[int], list[in
 
 
 def find_redundant(phi_q: np.ndarray, labels: list[str], owners: list[str],
-                   body_names: set[str] = frozenset(), tol: float = RANK_TOLERANCE
-                   ) -> list[Redundancy]:
-    """Dependent rows of `phi_q`, each with the joints/motions it depends on."""
-    independent, dependent = _independent_rows(phi_q, tol)
+                   body_names: set[str] = frozenset(), tol: float = RANK_TOLERANCE,
+                   owner_rank: dict[str, int] | None = None) -> list[Redundancy]:
+    """Dependent rows of `phi_q`, each with the joints/motions it depends on.
+
+    Rows are taken owner by owner in `owner_rank` order (default: first appearance), so
+    that the later joint of a loop is the one named.
+    """
+    rank = dict(owner_rank or {})
+    for o in owners:
+        rank.setdefault(o, len(rank) + 10**6)
+    order = sorted(range(len(owners)), key=lambda i: (rank[owners[i]], i))
+    independent, dependent = _independent_rows(phi_q, tol, order)
     found = []
     for i in dependent:
         coef, *_ = np.linalg.lstsq(phi_q[independent].T, phi_q[i], rcond=None)

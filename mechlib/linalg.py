@@ -39,7 +39,8 @@ def solve_factored(lu, rhs: np.ndarray, *, transpose: bool = False) -> np.ndarra
 
 def singular_failure(system, phi_q: np.ndarray, t: float, what: str) -> SolverFailure:
     """A failure naming the dependent equations of phi_q at time t (toggle positions)."""
-    found = find_redundant(phi_q, system.labels, system.owners, set(system.body_names))
+    found = find_redundant(phi_q, system.labels, system.owners, set(system.body_names),
+                           owner_rank=system.owner_rank)
     if found:
         detail = "; ".join(r.describe() for r in found[:4])
         where = tuple(r.owner for r in found)

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import time as _time
+from dataclasses import dataclass
 from typing import Callable, Sequence
 
 import numpy as np
@@ -18,7 +19,7 @@ from mechlib.solution import Solution, SolverFailure, SolverStats
 from mechlib.static import run_quasi_static, run_static
 from mechlib.system import System
 
-__all__ = ["solve", "check_model"]
+__all__ = ["solve", "check_model", "MechanismCheck", "inspect_mechanism"]
 
 Analysis = Kinematic | Static | QuasiStatic | Dynamic
 
@@ -31,7 +32,8 @@ def check_model(system: System, analysis: Analysis, *, redundant: str = "error")
     """
     k = system.kin(system.design_q(), None, getattr(analysis, "start", 0.0))
     jac = system.phi_q(k)
-    found = find_redundant(jac, system.labels, system.owners, set(system.body_names))
+    found = find_redundant(jac, system.labels, system.owners, set(system.body_names),
+                           owner_rank=system.owner_rank)
     warnings = []
     if found and redundant != "drop":
         raise ModelError([(r.owner, "redundant constraint: " + r.describe()) for r in found])
@@ -48,6 +50,29 @@ def check_model(system: System, analysis: Analysis, *, redundant: str = "error")
                                    "motions or use a dynamic or quasi-static analysis"
                                if dof > 0 else "")])
     return warnings
+
+
+@dataclass(frozen=True)
+class MechanismCheck:
+    """What a mechanism is at its design position: sizes, mobility and redundancy."""
+
+    bodies: int
+    equations: int
+    degrees_of_freedom: int
+    redundant: tuple[str, ...]
+    assembled: bool
+
+
+def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
+    """Degrees of freedom and redundant equations (by joint and direction) at design."""
+    system = System(mechanism)
+    k = system.kin(system.design_q(), None, 0.0)
+    jac = system.phi_q(k)
+    found = find_redundant(jac, system.labels, system.owners, set(system.body_names),
+                           owner_rank=system.owner_rank)
+    assembled = bool(np.abs(system.phi(k)).max(initial=0.0) < 1e-9)
+    return MechanismCheck(system.nb, len(system.labels) - system.nb,
+                          degrees_of_freedom(jac), tuple(r.describe() for r in found), assembled)
 
 
 def _run(system: System, analysis: Analysis, q0, qd0, trajectory, stats, progress) -> None:

@@ -110,6 +110,8 @@ class System:
         labels += [c.label for c in self.coordinates]
         owners += [c.owner for c in self.coordinates]
         self._all_labels, self._all_owners = labels, owners
+        order = self.body_names + list(self.mechanism.joints) + list(self.mechanism.motions)
+        self.owner_rank = {name: i for i, name in enumerate(order)}
         self.n_geometric = len(labels) - len(self.coordinates)
 
     def _coordinate_of(self, joint: str, coordinate: str | None = None):

@@ -9,6 +9,8 @@ same with `redundant: drop`: runs and warns). References: references.fourbar_dri
 """
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -83,7 +85,7 @@ def test_joint_reactions(outcome, joint: str) -> None:
         assert np.max(np.abs(values)) <= PEAK_FRACTION * peak * 0.1, f"{request}.{moment}"
 
 
-def test_redundant_fourbar_is_refused(library, tmp_path) -> None:
+def test_redundant_fourbar_is_refused(tmp_path) -> None:
     """Four revolutes in a planar loop: 20 equations, 18 coordinates, 1 degree of freedom,
     so 3 equations are redundant (translation along z, rotations about x and y). The run is
     refused with an input error that names them by joint and direction (SPEC 1.2)."""
@@ -91,7 +93,7 @@ def test_redundant_fourbar_is_refused(library, tmp_path) -> None:
     from loadcases.run import run_file
 
     with pytest.raises(InputError) as caught:
-        run_file(library / "fourbar_redundant.case.yaml", output_dir=tmp_path)
+        run_file(CASES / "fourbar_redundant.case.yaml", output_dir=tmp_path)
     diagnostics = caught.value.diagnostics
     assert diagnostics, "InputError without diagnostics"
     text = "\n".join(f"{d.key}: {d.message}" for d in diagnostics)
@@ -100,6 +102,16 @@ def test_redundant_fourbar_is_refused(library, tmp_path) -> None:
     assert "rotation about" in text, text
     named = [joint for joint in LOOP_JOINTS if joint in text]
     assert named, f"no joint of the loop named in: {text}"
+    # rows are examined joint by joint in definition order: the last joint of the loop is
+    # the one whose equations repeat the others (thesis: "C: rotation about x, ...")
+    messages = sorted(d.message for d in diagnostics)
+    assert messages == sorted(
+        f"redundant constraint: rocker_pivot: {direction}, dependent on crank_pivot, pin_b, pin_c"
+        for direction in ("translation z", "rotation about x", "rotation about y")), messages
+    assert not list(tmp_path.iterdir()), "a refused run writes no result"
+
+
+CASES = Path(__file__).resolve().parent / "cases"
 
 
 def test_redundant_drop_runs_and_warns(run_case) -> None:
