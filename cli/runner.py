@@ -44,13 +44,13 @@ class FileReport:
 def run_one(path: Path, *, output_dir: Path, xlsx: bool,
             progress: Progress | None = None) -> FileReport:
     """Run one file with `loadcases.run.run_file` (which writes the results)."""
+    from loadcases import run as runner  # the solver stack is imported only to run
     from loadcases.loader import file_kind
-    from loadcases.run import check_mechanism_file, run_file  # imported only to run
 
     try:
         if file_kind(path) == "mechanism":
-            return FileReport(path, notes=check_mechanism_file(path))
-        outcomes = run_file(path, output_dir=output_dir, xlsx=xlsx, progress=progress)
+            return FileReport(path, notes=runner.check_mechanism_file(path))
+        outcomes = runner.run_file(path, output_dir=output_dir, xlsx=xlsx, progress=progress)
     except InputError as error:
         return FileReport(path, diagnostics=list(error.diagnostics))
     lines = []

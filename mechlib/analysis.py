@@ -12,12 +12,18 @@ DEFAULT_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
-class Kinematic:
-    """Motions fix every degree of freedom; output every `step` s from `start` to `end`."""
+class _Timed:
+    """Output every `step` s from `start` to `end` (s)."""
 
     end: float
     step: float
     start: float = 0.0
+
+
+@dataclass(frozen=True)
+class Kinematic(_Timed):
+    """Motions fix every degree of freedom; output every `step` s from `start` to `end`."""
+
     name = "kinematic"
 
 
@@ -30,17 +36,14 @@ class Static:
 
 
 @dataclass(frozen=True)
-class QuasiStatic:
+class QuasiStatic(_Timed):
     """A sequence of static equilibria along the motions, every `step` s to `end`."""
 
-    end: float
-    step: float
-    start: float = 0.0
     name = "quasi-static"
 
 
 @dataclass(frozen=True)
-class Dynamic:
+class Dynamic(_Timed):
     """Equations of motion integrated in time.
 
     `tolerance`: relative local error per step (absolute parts scaled by the mechanism's
@@ -50,9 +53,6 @@ class Dynamic:
     `fixed_step`: take exactly `step` per step, no error control (for convergence studies).
     """
 
-    end: float
-    step: float
-    start: float = 0.0
     tolerance: float = DEFAULT_TOLERANCE
     integrator: str = "generalized-alpha"
     max_step: float | None = None

@@ -25,78 +25,63 @@ def _vecs(a) -> np.ndarray:
     return np.ascontiguousarray(np.asarray(a, dtype=float).reshape(-1, 3))
 
 
-class Spherical:
-    """Point s_i of body i coincides with point s_j of body j: 3 equations per pair."""
+class _Group:
+    """k equations of one primitive type; subclasses name their kernels and rows per item."""
 
-    def __init__(self, bi, bj, si, sj):
-        self.args = (_ints(bi), _ints(bj), _vecs(si), _vecs(sj))
-        self.size = 3 * len(self.args[0])
+    rows_per_item = 1
+    kernels: tuple = ()
+
+    def __init__(self, args: tuple):
+        self.args = args
+        self.size = self.rows_per_item * len(args[0])
 
     def phi(self, k: Kin) -> np.ndarray:
         out = np.empty(self.size)
-        kr.sph_phi(k.x, *self.args, out)
+        self.kernels[0](k.x, *self.args, out)
         return out
 
     def jacobian(self, k: Kin, out: np.ndarray) -> None:
-        kr.sph_jac(k.x, *self.args, out)
+        """Add the rows into `out` (k, 7 (nb+1))."""
+        self.kernels[1](k.x, *self.args, out)
 
     def gamma(self, k: Kin) -> np.ndarray:
         out = np.empty(self.size)
-        kr.sph_gamma(k.x, k.xd, *self.args, out)
+        self.kernels[2](k.x, k.xd, *self.args, out)
         return out
-
-
-class Dot1:
-    """Body-fixed vector u of body i stays perpendicular to vector v of body j: a_i . a_j."""
-
-    def __init__(self, bi, bj, u, v):
-        self.args = (_ints(bi), _ints(bj), _vecs(u), _vecs(v))
-        self.size = len(self.args[0])
-
-    def phi(self, k: Kin) -> np.ndarray:
-        out = np.empty(self.size)
-        kr.dot1_phi(k.x, *self.args, out)
-        return out
-
-    def jacobian(self, k: Kin, out: np.ndarray) -> None:
-        kr.dot1_jac(k.x, *self.args, out)
 
     def rate(self, k: Kin) -> np.ndarray:
         """d(phi)/dt (k,)."""
         out = np.empty(self.size)
-        kr.dot1_rate(k.x, k.xd, *self.args, out)
-        return out
-
-    def gamma(self, k: Kin) -> np.ndarray:
-        out = np.empty(self.size)
-        kr.dot1_gamma(k.x, k.xd, *self.args, out)
+        self.kernels[3](k.x, k.xd, *self.args, out)
         return out
 
 
-class Dot2:
+class Spherical(_Group):
+    """Point s_i of body i coincides with point s_j of body j: 3 equations per pair."""
+
+    rows_per_item = 3
+    kernels = (kr.sph_phi, kr.sph_jac, kr.sph_gamma)
+
+    def __init__(self, bi, bj, si, sj):
+        super().__init__((_ints(bi), _ints(bj), _vecs(si), _vecs(sj)))
+
+
+class Dot1(_Group):
+    """Body-fixed vector u of body i stays perpendicular to vector v of body j: a_i . a_j."""
+
+    kernels = (kr.dot1_phi, kr.dot1_jac, kr.dot1_gamma, kr.dot1_rate)
+
+    def __init__(self, bi, bj, u, v):
+        super().__init__((_ints(bi), _ints(bj), _vecs(u), _vecs(v)))
+
+
+class Dot2(_Group):
     """Vector v of body j stays perpendicular to d = P_i - P_j (points s_i on i, s_j on j)."""
 
+    kernels = (kr.dot2_phi, kr.dot2_jac, kr.dot2_gamma, kr.dot2_rate)
+
     def __init__(self, bi, bj, v, si, sj):
-        self.args = (_ints(bi), _ints(bj), _vecs(v), _vecs(si), _vecs(sj))
-        self.size = len(self.args[0])
-
-    def phi(self, k: Kin) -> np.ndarray:
-        out = np.empty(self.size)
-        kr.dot2_phi(k.x, *self.args, out)
-        return out
-
-    def jacobian(self, k: Kin, out: np.ndarray) -> None:
-        kr.dot2_jac(k.x, *self.args, out)
-
-    def rate(self, k: Kin) -> np.ndarray:
-        out = np.empty(self.size)
-        kr.dot2_rate(k.x, k.xd, *self.args, out)
-        return out
-
-    def gamma(self, k: Kin) -> np.ndarray:
-        out = np.empty(self.size)
-        kr.dot2_gamma(k.x, k.xd, *self.args, out)
-        return out
+        super().__init__((_ints(bi), _ints(bj), _vecs(v), _vecs(si), _vecs(sj)))
 
 
 class Normalization:
