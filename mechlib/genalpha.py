@@ -20,7 +20,7 @@ from typing import Callable
 import numpy as np
 
 from mechlib.analysis import Dynamic, Trajectory, output_times
-from mechlib.linalg import augmented, factor, singular_failure, solve_factored
+from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
@@ -33,7 +33,7 @@ _GROW, _SHRINK = 4.0, 0.2
 _REGROW = 1.5
 _NEWTON_KAPPA = 0.05
 _ETA_MIN = 1e-3
-_SLOW_ITERATIONS = 2  # grow the step only when it can grow by this much (each change costs)
+_SLOW_ITERATIONS = 3
 _MAX_STEPS = 2_000_000
 
 
@@ -64,7 +64,7 @@ def consistent_state(system: System, q, qd, t: float):
     equations of motion at that state, free of integrator transients."""
     k = system.kin(q, qd, t)
     jac = system.phi_q(k)
-    lu = factor(augmented(system.mass(k), jac))
+    lu = factor_saddle(system.mass(k), jac, system.saddle_pattern())
     if lu is None:
         raise singular_failure(system, jac, t, "dynamic analysis failed")
     drift = system.nu(k) - jac @ qd
@@ -79,7 +79,7 @@ def consistent_accelerations(system: System, q, qd, t: float):
     """(qdd, lam) at the state (q, qd) without touching qd (see `consistent_state`)."""
     k = system.kin(q, qd, t)
     jac = system.phi_q(k)
-    lu = factor(augmented(system.mass(k), jac))
+    lu = factor_saddle(system.mass(k), jac, system.saddle_pattern())
     if lu is None:
         raise singular_failure(system, jac, t, "initial accelerations failed")
     sol = solve_factored(lu, np.concatenate([system.forces(k), system.gamma(k)]))
@@ -130,7 +130,7 @@ class _Integrator:
         top = sys.mass(k)
         if self.stiff:
             top = top + self._tangent(k, h) / bp
-        lu = factor(augmented(top, jac))
+        lu = factor_saddle(top, jac, None if self.stiff else sys.saddle_pattern())
         if lu is None:
             raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
         self.lu, self.lu_h = lu, h
@@ -193,8 +193,7 @@ class _Integrator:
                 if it > _SLOW_ITERATIONS:
                     self.stale = True  # converging slowly: a fresh matrix for the next step
                 a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (1.0 - c.alpha_m)
-                acc = self._true_acceleration(q1, qd1, t1, qdd1, lam1)
-                return q1, qd1, qdd1, a1, lam1, acc
+                return q1, qd1, qdd1, a1, lam1, self._true_acceleration(q1, qd1, t1, qdd1, lam1)
             if (prev < math.inf and size > 0.9 * prev) or it == _MAX_ITER:
                 if rebuilt:
                     break
@@ -204,16 +203,23 @@ class _Integrator:
         self.eta = 1.0
         return None
 
-    def _true_acceleration(self, q1, qd1, t1, qdd1, lam1) -> np.ndarray:
-        """qdd meeting the acceleration-level constraints too (one correction with the
-        iteration matrix): free of the index-3 transients that gen-alpha's qdd carries,
-        so the error estimate sees the solution, not the transients."""
+    def _true_acceleration(self, q1, qd1, t1, qdd1, lam1):
+        """The state on all three constraint levels, by corrections with the iteration
+        matrix: qd projected onto phi_q qd = nu (mass-weighted), then (qdd, lam) meeting
+        phi_q qdd = gamma too. Index-3 generalized-alpha leaves O(h) transients in its qdd
+        and lam and O(h^2) velocity-constraint errors; the error estimate and the outputs
+        (reactions) use these corrected values. Returns (qd, qdd, lam)."""
         sys = self.system
         k = sys.kin(q1, qd1, t1)
         jac = sys.phi_q(k)
+        nq = sys.nq
+        drift = sys.nu(k) - jac @ qd1
+        qd = qd1 + solve_factored(self.lu, np.concatenate([np.zeros(nq), drift]))[:nq]
+        k = sys.kin(q1, qd, t1)
         res = np.concatenate([sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k),
                               jac @ qdd1 - sys.gamma(k)])
-        return qdd1 - solve_factored(self.lu, res)[:sys.nq]
+        fix = solve_factored(self.lu, res)
+        return qd, qdd1 - fix[:nq], lam1 - fix[nq:]
 
     def error(self, h, q1, acc0, acc1) -> float:
         """Scaled norm of the local position error c h^2 (qdd_{n+1} - qdd_n), about
@@ -241,7 +247,7 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
     integ.scales = _Scales(system, q0, spec.tolerance)
     t, q, qd = spec.start, q0.copy(), qd0.copy()
     qdd, lam = consistent_accelerations(system, q, qd, t)
-    a, acc = qdd.copy(), qdd.copy()
+    a, consistent = qdd.copy(), (qd, qdd, lam)
     trajectory.record(t, q, qd, qdd, lam)
     max_step = min(spec.max_step or spec.step, spec.step)
     h = max_step if spec.fixed_step else min(max_step, 1e-3 * (spec.end - spec.start) or 1e-3)
@@ -255,9 +261,9 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
             _, h_try = _substeps(t_out - t, h)
             if h_used and abs(h_try / h_used - 1.0) > 1e-9:
                 qdd, lam = consistent_accelerations(system, q, qd, t)
-                a, acc = qdd.copy(), qdd.copy()
+                a, consistent = qdd.copy(), (qd, qdd, lam)
             new = integ.step(t, h_try, q, qd, qdd, a, lam)
-            err = 0.0 if new is None or spec.fixed_step else integ.error(h_try, new[0], acc, new[5])
+            err = 0.0 if new is None or spec.fixed_step else integ.error(h_try, new[0], consistent[1], new[5][1])
             if new is None or err > 1.0:
                 if spec.fixed_step:
                     raise _newton_failure(system, t, h_try)
@@ -267,8 +273,8 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
                 if h < h_min:
                     raise _newton_failure(system, t, h)
                 continue
-            q, qd, qdd, a, lam, acc = new
-            integ.scales.update(acc)
+            q, qd, qdd, a, lam, consistent = new
+            integ.scales.update(consistent[1])
             t += h_try
             h_used = h_try
             stats.steps += 1
@@ -277,8 +283,7 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
                 grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
                 if grow > _REGROW:
                     h = min(max_step, h_try * grow)
-        qd_out, qdd_out, lam_out = consistent_state(system, q, qd, t)
-        trajectory.record(t, q, qd_out, qdd_out, lam_out)
+        trajectory.record(t, q, *consistent)
         if progress:
             progress(t, spec.end)
 

@@ -1,15 +1,65 @@
-"""Dense linear solves that report singularity by name instead of returning garbage."""
+"""Linear solves that report singularity by name instead of returning garbage.
+
+Saddle-point matrices [[top, phi_q^T], [phi_q, 0]] of more than SPARSE_FROM rows are
+factored by SuperLU on their fixed sparsity pattern (a body couples only to its joints),
+smaller ones by dense LAPACK, which is faster there.
+"""
 from __future__ import annotations
 
 import numpy as np
+import scipy.sparse as sp
 from scipy.linalg.lapack import dgetrf as _getrf, dgetrs as _getrs
+from scipy.sparse.linalg import splu
 
 from mechlib.check import find_redundant
 from mechlib.solution import SolverFailure
 
-__all__ = ["augmented", "factor", "solve_factored", "singular_failure", "SINGULAR_RATIO"]
+__all__ = ["augmented", "factor", "factor_saddle", "SaddlePattern", "solve_factored",
+           "singular_failure", "SINGULAR_RATIO", "SPARSE_FROM"]
 
 SINGULAR_RATIO = 1e-13
+SPARSE_FROM = 100
+
+
+class SaddlePattern:
+    """Structural nonzeros of a saddle matrix in CSC order, found once."""
+
+    def __init__(self, top: np.ndarray, jac: np.ndarray):
+        n = top.shape[0] + jac.shape[0]
+        mask = augmented(top != 0.0, jac != 0.0).astype(bool)
+        cols, rows = np.nonzero(mask.T)  # column-major order = CSC order
+        self.rows, self.cols, self.shape = rows, cols, (n, n)
+        self.indptr = np.searchsorted(cols, np.arange(n + 1)).astype(np.int32)
+        self.indices = rows.astype(np.int32)
+
+    def csc(self, dense: np.ndarray) -> sp.csc_matrix:
+        return sp.csc_matrix((dense[self.rows, self.cols], self.indices, self.indptr),
+                             shape=self.shape)
+
+
+class _Sparse:
+    """SuperLU factors with the dense-LU solve interface."""
+
+    def __init__(self, lu):
+        self.lu = lu
+
+    def solve(self, rhs: np.ndarray, transpose: bool = False) -> np.ndarray:
+        return self.lu.solve(rhs, trans="T" if transpose else "N")
+
+
+def factor_saddle(top: np.ndarray, jac: np.ndarray, pattern: SaddlePattern | None = None):
+    """Factors of [[top, jac^T], [jac, 0]] (None when singular). `pattern` must cover
+    the nonzeros of every matrix given with it; large systems then use sparse LU."""
+    matrix = augmented(top, jac)
+    if pattern is not None and matrix.shape[0] >= SPARSE_FROM:
+        try:
+            factors = splu(pattern.csc(matrix), permc_spec="COLAMD")
+        except RuntimeError:  # exactly singular: the dense path names the culprits
+            return factor(matrix)
+        diag = np.abs(factors.U.diagonal())
+        if diag.min() > SINGULAR_RATIO * diag.max() and np.isfinite(diag).all():
+            return _Sparse(factors)
+    return factor(matrix)
 
 
 def augmented(top: np.ndarray, jac: np.ndarray) -> np.ndarray:
@@ -33,6 +83,8 @@ def factor(matrix: np.ndarray):
 
 def solve_factored(lu, rhs: np.ndarray, *, transpose: bool = False) -> np.ndarray:
     """Solve with LU factors; `transpose` solves with the transposed matrix."""
+    if isinstance(lu, _Sparse):
+        return lu.solve(rhs, transpose)
     x, info = _getrs(lu[0], lu[1], rhs, trans=1 if transpose else 0)
     return x
 

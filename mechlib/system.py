@@ -149,6 +149,7 @@ class System:
     def drop_rows(self, rows) -> None:
         """Remove equations (indices into the current rows), e.g. redundant ones."""
         self.active = np.delete(self.active, np.asarray(rows, dtype=int))
+        self._pattern = None
 
     # ---- evaluation ---------------------------------------------------------------------
     def kin(self, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:
@@ -193,6 +194,16 @@ class System:
         """Accept a state: joint angles unwrap against it from now on."""
         for m in self.measures.values():
             m.commit(k)
+
+    def saddle_pattern(self):
+        """Sparsity of [[M, phi_q^T], [phi_q, 0]], from a generic state (found once)."""
+        if getattr(self, "_pattern", None) is None:
+            from mechlib.linalg import SaddlePattern
+            rng = np.random.default_rng(7)
+            q = self.design_q() + 0.1 * rng.standard_normal(self.nq)
+            k = self.kin(q, rng.standard_normal(self.nq), 0.0)
+            self._pattern = SaddlePattern(self.mass(k), self.phi_q(k))
+        return self._pattern
 
     def references(self) -> dict:
         """Unwrapping references of the joint angles, to restore with `restore`."""
