@@ -1,0 +1,1 @@
+"""Unit and verification tests of mechlib (closed-form references, stated tolerances)."""

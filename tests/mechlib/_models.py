@@ -1,0 +1,119 @@
+"""Small mechanisms and time functions shared by the mechlib tests (SI units throughout).
+
+The models are planar where a hand calculation is the reference: gravity along -y, joint
+axes along +z, so that a positive joint angle lifts a bar lying along +x.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+import mechlib
+
+G = 9.81
+"""Gravitational acceleration used by the models (m/s^2)."""
+
+
+@dataclass(frozen=True)
+class Ramp:
+    """f(t) = start + slope * t (rad or m) with its exact rates."""
+
+    start: float
+    slope: float
+
+    def value(self, t: float) -> float:
+        return self.start + self.slope * t
+
+    def rate(self, t: float) -> float:
+        return self.slope
+
+    def accel(self, t: float) -> float:
+        return 0.0
+
+
+@dataclass(frozen=True)
+class Sine:
+    """f(t) = mean + amplitude * sin(omega t) (rad or m) with its exact rates."""
+
+    mean: float
+    amplitude: float
+    omega: float
+
+    def value(self, t: float) -> float:
+        return self.mean + self.amplitude * math.sin(self.omega * t)
+
+    def rate(self, t: float) -> float:
+        return self.amplitude * self.omega * math.cos(self.omega * t)
+
+    def accel(self, t: float) -> float:
+        return -self.amplitude * self.omega ** 2 * math.sin(self.omega * t)
+
+
+@dataclass(frozen=True)
+class Bar:
+    """A uniform slender bar of `mass` (kg) and `length` (m) hinged at one end."""
+
+    mass: float = 2.0
+    length: float = 1.0
+
+    @property
+    def i_cm(self) -> float:
+        """Moment of inertia about the centre of mass, perpendicular to the bar (kg*m^2)."""
+        return self.mass * self.length ** 2 / 12.0
+
+    @property
+    def i_end(self) -> float:
+        """Moment of inertia about the hinged end, m L^2 / 3 (kg*m^2)."""
+        return self.mass * self.length ** 2 / 3.0
+
+    @property
+    def weight_moment(self) -> float:
+        """m g L / 2 (N*m): the gravity moment about the hinge with the bar horizontal."""
+        return self.mass * G * self.length / 2.0
+
+
+def hinged_bar(bar: Bar = Bar(), *, hinge_at: tuple[float, float, float] = (0.0, 0.0, 0.0),
+               joint_type: str = "revolute", reversed_bodies: bool = False,
+               gravity: float = G) -> mechlib.Mechanism:
+    """Bar `bar` lying along +x from `hinge_at`, joined to ground by `hinge` (axis +z).
+
+    Gravity is (0, -gravity, 0). The bar's body axes are its principal axes: a small
+    polar inertia about x keeps the mass matrix regular.
+    """
+    mech = mechlib.Mechanism(name="bar", gravity=(0.0, -gravity, 0.0))
+    x0, y0, z0 = hinge_at
+    mech.add_body("bar", mass=bar.mass, cm=(x0 + bar.length / 2.0, y0, z0),
+                  inertia=[1e-4, bar.i_cm, bar.i_cm])
+    mech.add_point("tip", body="bar", at=(x0 + bar.length, y0, z0))
+    bodies = ("ground", "bar") if reversed_bodies else ("bar", "ground")
+    mech.add_joint("hinge", joint_type, bodies=bodies, at=hinge_at, axis=(0.0, 0.0, 1.0))
+    return mech
+
+
+def slider_crank(crank: float = 0.1, rod: float = 0.3) -> tuple[mechlib.Mechanism, float]:
+    """A slider-crank at crank angle 90 deg: crank A (revolute, z) at the origin, rod from
+    the crank pin (spherical B) to the slider (universal C), slider on prismatic D along x.
+
+    Returns the mechanism (1 degree of freedom, no redundant equation) and the design
+    slider position x_s = sqrt(rod^2 - crank^2) (m).
+    """
+    xs = math.sqrt(rod ** 2 - crank ** 2)
+    mech = mechlib.Mechanism(name="slider_crank")
+    mech.add_body("crank", mass=1.0, cm=(0.0, crank / 2, 0.0), inertia=[1e-3] * 3)
+    mech.add_body("rod", mass=1.0, cm=(xs / 2, crank / 2, 0.0), inertia=[1e-2] * 3)
+    mech.add_body("slider", mass=1.0, cm=(xs, 0.0, 0.0), inertia=[1e-3] * 3)
+    mech.add_joint("A", "revolute", bodies=("crank", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
+    mech.add_joint("B", "spherical", bodies=("rod", "crank"), at=(0.0, crank, 0.0))
+    mech.add_joint("C", "universal", bodies=("rod", "slider"), at=(xs, 0.0, 0.0),
+                   axes=((0, 0, 1), (0, 1, 0)))
+    mech.add_joint("D", "prismatic", bodies=("slider", "ground"), at=(xs, 0.0, 0.0),
+                   axis=(1, 0, 0))
+    return mech, xs
+
+
+def rz(angle: float) -> np.ndarray:
+    """Rotation matrix about +z by `angle` (rad)."""
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
