@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Callable
 
 import numpy as np
 
@@ -72,15 +73,22 @@ def output_times(start: float, end: float, step: float) -> np.ndarray:
 
 @dataclass
 class Trajectory:
-    """States recorded at output times: q, qd, qdd (n, nq) and multipliers lam (n, m)."""
+    """States recorded at output times: q, qd, qdd (n, nq) and multipliers lam (n, m).
 
+    `snapshot()` (e.g. `System.references`) is stored with each row, so that outputs read
+    joint angles unwrapped as the solver tracked them, however far they turn between rows.
+    """
+
+    snapshot: Callable[[], dict] | None = None
     time: list = field(default_factory=list)
     q: list = field(default_factory=list)
     qd: list = field(default_factory=list)
     qdd: list = field(default_factory=list)
     lam: list = field(default_factory=list)
+    references: list = field(default_factory=list)
 
     def record(self, t: float, q, qd, qdd, lam) -> None:
+        self.references.append(self.snapshot() if self.snapshot else {})
         self.time.append(float(t))
         self.q.append(np.array(q, dtype=float))
         self.qd.append(np.array(qd, dtype=float))

@@ -13,10 +13,12 @@ import numpy as np
 from mechlib.analysis import Kinematic, Trajectory, output_times
 from mechlib.assembly import solve_positions
 from mechlib.linalg import factor, singular_failure, solve_factored
-from mechlib.solution import SolverStats
+from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
 __all__ = ["run_kinematic", "kinematic_state"]
+
+_MAX_SUBDIVISIONS = 10
 
 
 def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: SolverStats,
@@ -44,13 +46,29 @@ def run_kinematic(system: System, spec: Kinematic, q0: np.ndarray, qd0: np.ndarr
                   trajectory: Trajectory, stats: SolverStats,
                   progress: Callable[[float, float], None] | None = None) -> None:
     """Fill `trajectory` at the output times; SolverFailure leaves what was computed."""
-    q, qd, qdd = q0, qd0, np.zeros_like(q0)
+    state = (q0, qd0, np.zeros_like(q0))
     t_prev = spec.start
     for t in output_times(spec.start, spec.end, spec.step):
-        h = t - t_prev
-        q, qd, qdd, lam = kinematic_state(system, q + h * qd + 0.5 * h * h * qdd, t, stats)
-        trajectory.record(t, q, qd, qdd, lam)
+        state, lam = _advance(system, state, t_prev, t, stats)
+        trajectory.record(t, *state, lam)
         stats.steps += 1
         t_prev = t
         if progress:
             progress(t, spec.end)
+
+
+def _advance(system: System, state, t0: float, t1: float, stats: SolverStats, depth: int = 0):
+    """State at t1 from the state at t0; a step Newton cannot take is halved (10 times at
+    most), since the position guess extrapolates Euler parameters linearly."""
+    q, qd, qdd = state
+    h = t1 - t0
+    try:
+        q1, qd1, qdd1, lam = kinematic_state(system, q + h * qd + 0.5 * h * h * qdd, t1, stats)
+        return (q1, qd1, qdd1), lam
+    except SolverFailure:
+        if depth >= _MAX_SUBDIVISIONS or h <= 0.0:
+            raise
+    stats.rejected_steps += 1
+    mid = 0.5 * (t0 + t1)
+    half, _ = _advance(system, state, t0, mid, stats, depth + 1)
+    return _advance(system, half, mid, t1, stats, depth + 1)

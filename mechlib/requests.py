@@ -102,9 +102,12 @@ def joint_wrench(system: System, k, lam_all: np.ndarray, jac: np.ndarray, joint:
     j = system.mechanism.joints[joint]
     b1, s1 = system.body_point(j.body1, j.at)
     rows = _rows_of(system, {joint} | set(extra_owners))
+    sign = 1.0
+    if b1 == system.nb:  # ground is body 1: minus what body 2 receives (action-reaction)
+        (b1, s1), sign = system.body_point(j.body2, j.at), -1.0
     force, torque_cm = _body_wrench(system, k, jac[rows], lam_all[rows], b1)
     arm = rotate(k.p[b1], s1)
-    return force, torque_cm - cross(arm, force)
+    return sign * force, sign * (torque_cm - cross(arm, force))
 
 
 def _frame_matrix(system: System, k, frame: str) -> np.ndarray:
@@ -177,14 +180,12 @@ def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str,
 
 
 def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndarray]:
-    """Columns `REQUEST.COMPONENT` (SI) at the recorded times, in request order.
-
-    Joint-angle references must hold the initial state's values (see `System.references`).
-    """
+    """Columns `REQUEST.COMPONENT` (SI) at the recorded times, in request order."""
     per_request: dict[str, dict[str, list]] = {r.name: {} for r in requests}
     stepwise = [r for r in requests if not isinstance(r, PointKinematics)]
     need_jac = any(isinstance(r, (JointReaction, MotionEffort)) for r in stepwise)
     for i, t in enumerate(trajectory.time if stepwise else ()):
+        system.restore(trajectory.references[i])  # angles as the solver unwrapped them
         k = system.kin(trajectory.q[i], trajectory.qd[i], t)
         qdd, lam = trajectory.qdd[i], trajectory.lam[i]
         jac = system.phi_q(k) if need_jac else None
@@ -192,7 +193,6 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
         for req in stepwise:
             for comp, value in _evaluate(system, k, lam, jac, req, view, qdd).items():
                 per_request[req.name].setdefault(comp, []).append(float(value))
-        system.commit(k)  # angles unwrap continuously along the trajectory
     for req in requests:
         if isinstance(req, PointKinematics):
             per_request[req.name] = _point_series(system, trajectory, req)

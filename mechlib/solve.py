@@ -99,21 +99,18 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     cpu0 = _time.process_time()
     system = System(mechanism)
     warnings = check_model(system, analysis, redundant=redundant)
-    stats, trajectory = SolverStats(), Trajectory()
+    stats, trajectory = SolverStats(), Trajectory(snapshot=system.references)
     status, message = "ok", "finished"
     start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
     try:
         assembled = assemble(system, start, initial)
         warnings += assembled.notes
         stats.newton_iterations += assembled.newton_iterations
-        references = system.references()
         _run(system, analysis, assembled.q, assembled.qd, trajectory, stats, progress)
     except SolverFailure as failure:
         if throw:
             raise
         status, message = "failed", str(failure)
-        references = system.references()
-    system.restore(references)
     channels = evaluate_requests(system, trajectory, requests) if len(trajectory) else {}
     if not channels and requests and len(trajectory) == 0:
         channels = {}

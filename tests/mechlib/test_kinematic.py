@@ -11,6 +11,7 @@ Model: uniform bar (m = 2 kg, L = 1 m) hinged at its end at the origin, axis +z,
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -110,9 +111,10 @@ def _pushed_slider_crank() -> tuple[mechlib.Mechanism, float]:
 
 
 def test_driving_past_the_dead_point_fails_by_time() -> None:
-    """Pushing the slider past the reach: the solution fails (status 'failed') at the first
-    output time after t* = 0.781 s, with a message saying it did not converge (or is
-    singular) and when; the outputs up to then are kept."""
+    """Pushing the slider past the reach: the solution fails (status 'failed') between t* =
+    0.781 s and the next output time (steps Newton cannot take are halved, which locates
+    the failure), with a message saying it did not converge (or is singular) and when; the
+    outputs up to then are kept."""
     mech, t_star = _pushed_slider_crank()
     step = 0.01
     sol = mechlib.solve(mech, mechlib.Kinematic(1.0, step), throw=False,
@@ -120,7 +122,8 @@ def test_driving_past_the_dead_point_fails_by_time() -> None:
     assert sol.status == "failed"
     assert "did not converge" in sol.message or "singular" in sol.message
     t_fail = math.ceil(t_star / step) * step
-    assert f"t = {t_fail:.6g} s" in sol.message
+    times = [float(m) for m in re.findall(r"t = ([0-9.]+) s", sol.message)]
+    assert times and t_star <= times[0] <= t_fail, sol.message
     assert sol.time[-1] == pytest.approx(t_fail - step, abs=1e-12)
     assert sol.channels["x.value"][-1] == pytest.approx(SLIDER_SPEED * sol.time[-1], abs=1e-10)
 
@@ -130,15 +133,10 @@ def test_dead_point_failure_raises_with_time_when_throwing() -> None:
     mech, t_star = _pushed_slider_crank()
     with pytest.raises(mechlib.SolverFailure) as info:
         mechlib.solve(mech, mechlib.Kinematic(1.0, 0.01))
-    assert info.value.time == pytest.approx(0.79, abs=1e-12)
-    assert t_star < info.value.time < t_star + 0.01
+    assert t_star < info.value.time < t_star + 0.01  # located within the output step
+    assert f"t = {info.value.time:.6g} s" in str(info.value)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "kinematic analysis does not subdivide output steps: a driven revolute that turns by "
-    "more than pi between two outputs cannot meet its driver, whose angle is unwrapped "
-    "within +-pi of the previous output, and the run fails with 'position analysis did not "
-    "converge ... out of reach, or a motion beyond a toggle' for a simple crank"))
 def test_coarse_output_step_on_a_fast_crank() -> None:
     """A crank at 2 rev/s for 1.2 s sampled every 0.3 s (3.8 rad per output) is a valid
     kinematic run: the final angle is 4.8 pi (1e-9 rad)."""

@@ -96,11 +96,6 @@ def test_reactions_along_a_two_bar_cantilever(order: tuple[str, str]) -> None:
     assert np.abs(weld - sign * np.array([0.0, G, 0.0, 0.0, 0.0, 0.5 * G])).max() < tol
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "a joint whose body 1 is the ground reports an all-zero reaction: "
-    "requests._body_wrench returns zeros for the ground body instead of minus the "
-    "wrench on body 2 (moved to the joint point), so a cantilever declared "
-    "bodies=('ground', 'bar') silently reports no load"))
 def test_reaction_on_ground_as_body_1() -> None:
     """Cantilever declared with the ground first: the reaction on the ground from the bar
     is the opposite of the one on the bar, F = (0, -m g, 0), tz = -m g L/2 (1e-8)."""
@@ -176,11 +171,6 @@ def test_point_velocity_in_a_body_frame() -> None:
     assert np.abs(v - [0.0, 3.0 * BAR.length, 0.0]).max() < 1e-9 * 3.0 * BAR.length
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "requests unwrap joint angles only between recorded outputs: a wheel turning 0.75 rev "
-    "between outputs (more than pi) gets an angle channel running backwards "
-    "(0, -1.571, -3.142, -4.713 rad instead of 0, 4.712, 9.425, 14.137 rad) although the "
-    "integrator tracked every turn (omega channel stays +47.12 rad/s)"))
 def test_angle_channel_of_a_fast_wheel() -> None:
     """A free wheel (no gravity) spinning at 7.5 rev/s, outputs every 0.1 s: its angle
     channel is omega t (gen-alpha accuracy at default tolerance: 1e-3 rad)."""

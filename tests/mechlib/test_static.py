@@ -93,11 +93,6 @@ def test_point_force_frame_in_static_balance(frame: str) -> None:
     assert sol.channels["angle.value"][0] == pytest.approx(expected, abs=1e-8)
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "requests unwrap joint angles only between recorded outputs (evaluate_requests commits "
-    "per output row after System.restore to the initial references): a joint that turns by "
-    "more than pi between two outputs loses whole turns in its angle channel, although the "
-    "solver met the motion (6 rad reported as 6 - 2 pi = -0.283 rad)"))
 def test_angle_channel_keeps_turns_of_a_subdivided_step() -> None:
     """Quasi-static sweep of 6 rad in one output step (solved by subdivision): the angle
     channel reports the prescribed 6 rad (1e-10), as the motion equation demands."""
