@@ -66,10 +66,12 @@ class JointCoordinate:
 
 @dataclass(frozen=True)
 class ElementOutput:
-    """What a force element reports (`value` tension or moment, or components)."""
+    """What a force element reports: `value` (tension or moment) or its force/torque
+    components, given in `frame` axes (default ground)."""
 
     name: str
     element: str
+    frame: str = "ground"
 
 
 @dataclass(frozen=True)
@@ -141,6 +143,18 @@ def _effort(system, k, lam, jac, req: MotionEffort, view) -> dict[str, float]:
     return {"value": float((torque if measure.kind == "angle" else force) @ axis)}
 
 
+def _in_frame(system, k, values: dict[str, float], frame: str) -> dict[str, float]:
+    """Vector components (fx fy fz, tx ty tz) of an element output turned into `frame`."""
+    if frame == "ground":
+        return values
+    axes = _frame_matrix(system, k, frame).T
+    out = dict(values)
+    for names in (_FORCE, _TORQUE):
+        if all(n in values for n in names):
+            out.update(zip(names, axes @ np.array([values[n] for n in names])))
+    return out
+
+
 _ANGULAR = {"angle": "angle", "omega": "angle", "alpha": "angle",
             "travel": "travel", "speed": "travel", "accel": "travel"}
 
@@ -208,5 +222,5 @@ def _evaluate(system, k, lam, jac, req, view, qdd) -> dict[str, float]:
     if isinstance(req, JointCoordinate):
         return {"value": _coordinate(system, k, req, qdd)}
     if isinstance(req, ElementOutput):
-        return system.mechanism.forces[req.element].output(view)
+        return _in_frame(system, k, system.mechanism.forces[req.element].output(view), req.frame)
     return {"value": req.function(k.t, view)}
