@@ -377,7 +377,7 @@ def _cpu_model() -> str:
 
 def _git(*args: str) -> str | None:
     try:
-        out = subprocess.run(["git", *args], cwd=Path(__file__).resolve().parent,
+        out = subprocess.run(["git", *args], cwd=Path(__file__).resolve().parent.parent,
                              capture_output=True, text=True, timeout=10, check=False)
     except (OSError, subprocess.SubprocessError):
         return None
@@ -422,7 +422,7 @@ def _fmt(x: float | None, spec: str) -> str:
 
 def format_table(rows: list[dict[str, Any]], tol: float) -> str:
     """The results as a fixed-width text table."""
-    head = (f"{'model':<13} {'end s':>5} | {'exudyn':<12} {'error':>8} {'solve s':>8} {'total s':>8} | "
+    head = (f"{'model':<13} {'end s':>5} | {'exudyn':<15} {'error':>8} {'solve s':>8} {'total s':>8} | "
             f"{'loads':<11} {'error':>8} {'solve s':>8} {'total s':>8} | {'ratio solve':>11} {'total':>7}")
     lines = [f"accuracy target: error <= {tol:g} of the output's range (vs Exudyn reference)", head,
              "-" * len(head)]
@@ -434,7 +434,7 @@ def format_table(rows: list[dict[str, Any]], tol: float) -> str:
             ratio_s = lo.solve_seconds / ex.solve_seconds
             ratio_t = lo.total_seconds / ex.total_seconds
         lines.append(
-            f"{r['model']:<13} {r['end']:>5g} | {ex.setting or ex.status:<12} {_fmt(ex.error, '.1e'):>8} "
+            f"{r['model']:<13} {r['end']:>5g} | {ex.setting or ex.status:<15} {_fmt(ex.error, '.1e'):>8} "
             f"{_fmt(ex.solve_seconds, '.3f'):>8} {_fmt(ex.total_seconds, '.3f'):>8} | "
             f"{lo.setting or lo.status:<11} {_fmt(lo.error, '.1e'):>8} {_fmt(lo.solve_seconds, '.3f'):>8} "
             f"{_fmt(lo.total_seconds, '.3f'):>8} | {_fmt(ratio_s, '.1f'):>11} {_fmt(ratio_t, '.1f'):>7}")

@@ -4,6 +4,7 @@ No test here measures time. The Exudyn tests are skipped when Exudyn is not inst
 """
 from __future__ import annotations
 
+import importlib.util
 import math
 
 import numpy as np
@@ -11,6 +12,7 @@ import pytest
 import yaml
 
 from benchmarks.cases import case_path, case_yaml
+from benchmarks.exudyn_models import ExudynOptions, run_exudyn
 from benchmarks.models import (
     BodySpec, JointSpec, ModelSpec, OutputSpec, all_models, consistent_velocities,
     constraint_velocity_jacobian, degrees_of_freedom, model_by_name,
@@ -111,9 +113,8 @@ def test_relative_error_is_norm_over_columns_per_range() -> None:
 # --------------------------------------------------------------------------------------
 # Exudyn side
 # --------------------------------------------------------------------------------------
-exudyn = pytest.importorskip("exudyn", reason="Exudyn not installed (pip install exudyn)")
-
-from benchmarks.exudyn_models import ExudynOptions, run_exudyn  # noqa: E402
+needs_exudyn = pytest.mark.skipif(importlib.util.find_spec("exudyn") is None,
+                                  reason="Exudyn not installed (pip install -e '.[bench]')")
 
 
 def _pendulum(rate: float | None) -> ModelSpec:
@@ -127,12 +128,14 @@ def _pendulum(rate: float | None) -> ModelSpec:
         main=("a.value",), initial_rate=("pin", rate) if rate is not None else None)
 
 
+@needs_exudyn
 def test_exudyn_reaction_is_on_body_1_from_body_2_in_ground_axes() -> None:
     run = run_exudyn(_pendulum(None), ExudynOptions(step=1e-3, end=0.05))
     assert run.channels["f.fy"][-1] == pytest.approx(2.0 * 9.81, rel=1e-9)  # the pin holds the bob up
     assert run.channels["f.fx"][-1] == pytest.approx(0.0, abs=1e-9)
 
 
+@needs_exudyn
 def test_exudyn_joint_angle_follows_the_right_hand_rule() -> None:
     run = run_exudyn(_pendulum(1.0), ExudynOptions(step=1e-4, end=0.05))
     assert run.channels["a.value"][-1] == pytest.approx(0.05, rel=0.02)
@@ -142,6 +145,7 @@ def test_exudyn_joint_angle_follows_the_right_hand_rule() -> None:
     assert run.channels["f.fy"][-1] > 2.0 * 9.81
 
 
+@needs_exudyn
 @pytest.mark.parametrize("name, step, end", [("slider_crank", 2.5e-4, 0.3), ("fourbar10", 1e-3, 0.3),
                                              ("chain20", 5e-4, 0.3)])
 def test_exudyn_model_conserves_energy_and_keeps_its_joints(name: str, step: float, end: float) -> None:
@@ -154,6 +158,7 @@ def test_exudyn_model_conserves_energy_and_keeps_its_joints(name: str, step: flo
     assert run.joint_gap.max() < 1e-8
 
 
+@needs_exudyn
 def test_exudyn_slider_stays_between_the_dead_centres() -> None:
     """The slider starts at the outer dead centre (0.4 m) and never passes the inner one (0.2 m)."""
     model = model_by_name("slider_crank")
