@@ -35,13 +35,16 @@ import subprocess
 import sys
 import tempfile
 import time
-from dataclasses import dataclass, field
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
+from benchmarks.accuracy import (
+    EXUDYN_SOLVER, REFERENCE_DIR, REFERENCE_STEP, CodeResult, Reference, load_reference,
+    make_reference, relative_error,
+)
 from benchmarks.cases import case_path
 from benchmarks.models import ModelSpec, all_models, model_by_name
 
@@ -50,17 +53,8 @@ __all__ = [
     "Reference", "load_reference", "make_reference", "relative_error", "machine_info", "main",
 ]
 
-REFERENCE_DIR = Path(__file__).resolve().parent / "reference"
-
-#: Fixed step (s) of the stored Exudyn reference solution of each model.
-REFERENCE_STEP: dict[str, float] = {"slider_crank": 1e-5, "chain20": 2.5e-5, "fourbar10": 2.5e-5}
-
 #: Largest Exudyn step (s) tried; the suite halves it until the accuracy target is met.
 EXUDYN_START_STEP: dict[str, float] = {"slider_crank": 2e-3, "chain20": 2e-3, "fourbar10": 1e-2}
-
-#: Exudyn's sparse solver (EigenSparse) is its faster one here: 4x to 6x on chain20 and
-#: fourbar10, equal on slider_crank (measured with this suite's models).
-EXUDYN_SOLVER = "sparse"
 
 #: `analysis.tolerance` values tried for `loads`, loosest first.
 LOADS_TOLERANCES: tuple[float, ...] = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
@@ -69,125 +63,8 @@ MAX_HALVINGS = 10
 
 
 # --------------------------------------------------------------------------------------
-# reference solutions
-# --------------------------------------------------------------------------------------
-@dataclass
-class Reference:
-    """A stored reference solution: `time` (s), `channels` (SI) at the model's output step,
-    and `meta` (Exudyn version, step, end, self-error estimate ...)."""
-
-    model: str
-    time: np.ndarray
-    channels: dict[str, np.ndarray]
-    meta: dict[str, Any]
-
-    def until(self, end: float) -> "Reference":
-        """The part with time <= end (s)."""
-        keep = self.time <= end + 1e-9
-        return Reference(self.model, self.time[keep], {k: v[keep] for k, v in self.channels.items()},
-                         self.meta)
-
-
-def reference_path(model: ModelSpec) -> Path:
-    """The file of the stored reference of `model`."""
-    return REFERENCE_DIR / f"{model.name}.npz"
-
-
-def load_reference(model: ModelSpec) -> Reference | None:
-    """The stored reference of `model`, or None when there is none."""
-    path = reference_path(model)
-    if not path.exists():
-        return None
-    with np.load(path, allow_pickle=False) as data:
-        columns = [str(c) for c in data["columns"]]
-        values = data["values"]
-        meta = json.loads(str(data["meta"]))
-        return Reference(model.name, data["time"].copy(),
-                         {c: values[:, i].copy() for i, c in enumerate(columns)}, meta)
-
-
-def relative_error(time: np.ndarray, channels: dict[str, np.ndarray], reference: Reference,
-                   columns: tuple[str, ...] | list[str]) -> float:
-    """Largest deviation from the reference, relative to the reference's range.
-
-    At each time of `time` within the reference's span, the Euclidean norm over `columns` of
-    (value - reference interpolated linearly to that time); the largest of these, divided by
-    the largest (max - min) of the columns in the reference. Dimensionless.
-    """
-    t = np.asarray(time, dtype=float)
-    inside = (t >= reference.time[0] - 1e-12) & (t <= reference.time[-1] + 1e-9)
-    if not np.any(inside):
-        raise ValueError(f"{reference.model}: no output time inside the reference")
-    sq = np.zeros(int(inside.sum()))
-    scale = 0.0
-    for c in columns:
-        ref = reference.channels[c]
-        scale = max(scale, float(ref.max() - ref.min()))
-        diff = np.asarray(channels[c], dtype=float)[inside] - np.interp(t[inside], reference.time, ref)
-        sq += diff * diff
-    if scale == 0.0:
-        raise ValueError(f"{reference.model}: the reference of {columns} is constant")
-    return float(np.sqrt(sq.max()) / scale)
-
-
-def make_reference(model: ModelSpec, log: Callable[[str], None] = print) -> Reference:
-    """Compute and store the Exudyn reference of `model` (full end time) at REFERENCE_STEP,
-    with a self-error estimate from a second run at twice that step."""
-    from benchmarks.exudyn_models import ExudynOptions, exudyn_version, run_exudyn
-
-    step = REFERENCE_STEP[model.name]
-    runs = {}
-    for h in (2.0 * step, step):
-        log(f"  reference {model.name}: Exudyn step {h:g} s, {int(round(model.end / h))} steps")
-        runs[h] = run_exudyn(model, ExudynOptions(step=h, end=model.end, output_step=model.output_step,
-                                                  linear_solver=EXUDYN_SOLVER))
-    fine, coarse = runs[step], runs[2.0 * step]
-    columns = [o.column for o in model.outputs]
-    ref = Reference(model.name, fine.time, dict(fine.channels), {})
-    self_error = relative_error(coarse.time, coarse.channels, ref, model.main) / 3.0
-    meta = {
-        "model": model.name, "code": "exudyn", "exudyn": exudyn_version(),
-        "exudyn_module": fine.info.get("exudyn_module"), "step": step, "end": model.end,
-        "output_step": model.output_step, "integrator": "generalized-alpha, index 3",
-        "spectral_radius": fine.options.spectral_radius, "linear_solver": EXUDYN_SOLVER,
-        "self_error": self_error,
-        "self_error_method": "error of the run at 2*step against this one, / 3 (second order)",
-        "solve_seconds": fine.solve_seconds,
-        "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
-    }
-    ref.meta = meta
-    REFERENCE_DIR.mkdir(parents=True, exist_ok=True)
-    values = np.column_stack([fine.channels[c] for c in columns])
-    np.savez_compressed(reference_path(model), time=fine.time, values=values,
-                        columns=np.array(columns), meta=np.array(json.dumps(meta)))
-    log(f"  reference {model.name}: stored, estimated error {self_error:.1e}")
-    return ref
-
-
-# --------------------------------------------------------------------------------------
 # the two codes
 # --------------------------------------------------------------------------------------
-@dataclass
-class CodeResult:
-    """The figures of one code on one model (times in s, errors dimensionless)."""
-
-    status: str = "not run"
-    setting: str = ""
-    error: float | None = None
-    secondary_errors: dict[str, float] = field(default_factory=dict)
-    solve_seconds: float | None = None
-    total_seconds: float | None = None
-    build_seconds: float | None = None
-    steps: int | None = None
-    calibration: list[tuple[float, float | None]] = field(default_factory=list)
-    message: str = ""
-    extra: dict[str, Any] = field(default_factory=dict)
-
-    def as_dict(self) -> dict[str, Any]:
-        """JSON-ready form."""
-        return {k: v for k, v in self.__dict__.items()}
-
-
 def _secondary(model: ModelSpec, time_: np.ndarray, channels: dict[str, np.ndarray],
                ref: Reference) -> dict[str, float]:
     return {c: relative_error(time_, channels, ref, (c,)) for c in model.secondary

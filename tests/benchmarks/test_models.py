@@ -17,7 +17,7 @@ from benchmarks.models import (
     BodySpec, JointSpec, ModelSpec, OutputSpec, all_models, consistent_velocities,
     constraint_velocity_jacobian, degrees_of_freedom, model_by_name,
 )
-from benchmarks.suite import Reference, relative_error
+from benchmarks.accuracy import Reference, relative_error
 
 MODELS = [m.name for m in all_models()]
 
