@@ -5,6 +5,7 @@ yet is reported as a diagnostic at its key, never ignored.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
@@ -16,9 +17,18 @@ from loadcases.expressions import ExpressionError, parse
 from loadcases.loader import CaseFile
 from mechlib.tables import Table, TableRangeError
 
-__all__ = ["BuiltRun", "build_run", "build_mechanism", "ExpressionMotion"]
+__all__ = ["BuiltRun", "build_run", "build_mechanism", "ExpressionMotion", "ABSCISSA_REQUEST",
+           "ABSCISSA_COLUMN"]
 
 NOT_YET = "is not simulated by this version of loads yet"
+# A run of a set records the case's `abscissa:` expression as one more result column, so
+# envelopes and curves over it can be made from the saved results alone.
+ABSCISSA_REQUEST = "abscissa"
+ABSCISSA_COLUMN = f"{ABSCISSA_REQUEST}.value"
+# Unit of an abscissa that is one state measure, e.g. `angle(hinge)` -> rad.
+_MEASURE_UNITS = {"angle": "rad", "omega": "rad/s", "travel": "m", "speed": "m/s", "dist": "m",
+                  "x": "m", "y": "m", "z": "m", "t": "s"}
+_MEASURE = re.compile(r"^\s*(\w+)\s*(\(\s*\w+\s*(,\s*\w+\s*)?\))?\s*$")
 _JOINT_KEYS = ("at", "axis", "axes", "normal", "pitch", "joints", "ratio")
 
 
@@ -213,7 +223,7 @@ class _Builder:
                 self.error("case", f"requests.{name}.force",
                            f"force element '{r.force}' is not active in this case")
                 return None
-            return ml.ElementOutput(name, r.force)
+            return ml.ElementOutput(name, r.force, r.frame)
         if kind == "ExpressionRequest":
             return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}"))
         self.error("case", f"requests.{name}", f"contact requests {NOT_YET}")
@@ -262,13 +272,37 @@ def build_mechanism(mf) -> ml.Mechanism:
     return mechanism
 
 
-def build_run(cf: CaseFile) -> BuiltRun:
+def abscissa_unit(text: str) -> str:
+    """SI unit of an abscissa expression that is a single state measure, else `""`."""
+    match = _MEASURE.match(text)
+    if match is None or (match.group(1) != "t" and match.group(2) is None):
+        return ""
+    return _MEASURE_UNITS.get(match.group(1), "")
+
+
+def _abscissa_request(b: _Builder, requests: list, units: dict[str, str]) -> None:
+    """Append the case's abscissa as request `abscissa` (column `abscissa.value`)."""
+    text = b.case.abscissa
+    if text is None:
+        return
+    if ABSCISSA_REQUEST in b.case.requests:
+        b.error("case", f"requests.{ABSCISSA_REQUEST}", f"the request name "
+                f"'{ABSCISSA_REQUEST}' is reserved for the case's abscissa in a set; rename it")
+        return
+    requests.append(ml.ExpressionOutput(ABSCISSA_REQUEST, b.compile(text, "abscissa")))
+    units[ABSCISSA_COLUMN] = abscissa_unit(text)
+
+
+def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     """The mechlib model, analysis, requests and initial values of a case; InputError lists
-    everything the engine cannot build."""
+    everything the engine cannot build. With `abscissa`, the case's `abscissa:` expression
+    (if any) becomes one more request, column `abscissa.value`."""
     b = _Builder(cf.mechanism, cf.parameters, cf.where, cf.case)
     mechanism = b.mechanism()
     analysis = b.analysis()
     requests, units = b.requests()
+    if abscissa:
+        _abscissa_request(b, requests, units)
     initial = b.initial()
     if b.problems:
         raise InputError(b.problems)

@@ -1,15 +1,21 @@
 """Envelopes across runs: per result column, the max and min over all runs and where they occur.
 
-Used by `loads envelope DIR...` on saved results (`NAME.csv` files, see `loadcases.results`).
 An envelope table has one row per result column (except `time`), with the columns
-`column, max, max_run, max_time, min, min_run, min_time` (SPEC section 3). NaN and infinite
-values are skipped; ties keep the first run in the given order and the earliest time.
+`column, max, max_run, max_time, min, min_run, min_time` (SPEC section 3), then:
+`unit` (SI), `max_abscissa`, `min_abscissa` (the run's `abscissa.value` at that row),
+`abs_max` (max(|max|, |min|)), the factor and ultimate loads, allowables and margins (see
+`loadcases.margins`), and `max_concurrent`, `min_concurrent`: the other components of the
+same request at that instant of that run, as `fy=...; fz=...`.
+
+Rules: NaN and infinite values are skipped (a failed run's missing rows never govern);
+ties keep the first run in the given order and, within a run, the earliest row. Runs whose
+status is not `ok` are left out by the callers (`loadcases.campaign`, `loads envelope`):
+values just before a solver failure are often numerical, not loads.
 """
 from __future__ import annotations
 
 import csv
 import io
-import json
 from collections.abc import Iterable
 from dataclasses import astuple, dataclass, fields
 from pathlib import Path
@@ -17,7 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from loadcases.atomic import atomic_path, atomic_write_text
-from loadcases.results import SUMMARY_SUFFIX, TIME_COLUMN, column_extremes, read_results
+from loadcases.build import ABSCISSA_COLUMN
+from loadcases.saved import SavedRun, find_result_files, load_saved_run
 
 __all__ = [
     "EnvelopeRow", "ENVELOPE_COLUMNS", "extract_envelope", "find_result_files",
@@ -29,7 +36,7 @@ Run = tuple[str, np.ndarray, dict[str, np.ndarray]]
 
 @dataclass
 class EnvelopeRow:
-    """Extremes of one column over all runs (values SI; `None` when no finite value)."""
+    """Extremes of one column over all runs (values SI; `None` when there is none)."""
 
     column: str
     max: float | None = None
@@ -38,46 +45,86 @@ class EnvelopeRow:
     min: float | None = None
     min_run: str | None = None
     min_time: float | None = None
+    unit: str | None = None
+    max_abscissa: float | None = None
+    min_abscissa: float | None = None
+    abs_max: float | None = None
+    factor: float | None = None
+    ultimate_max: float | None = None
+    ultimate_min: float | None = None
+    allowable_max: float | None = None
+    allowable_min: float | None = None
+    ms_max: float | None = None
+    ms_min: float | None = None
+    max_concurrent: str | None = None
+    min_concurrent: str | None = None
 
 
 ENVELOPE_COLUMNS = tuple(f.name for f in fields(EnvelopeRow))
 
 
-def extract_envelope(runs: Iterable[Run]) -> list[EnvelopeRow]:
-    """Envelope of `(run_name, time, channels)` runs; rows in first-seen column order."""
+def _as_saved(run: SavedRun | Run) -> SavedRun:
+    if isinstance(run, SavedRun):
+        return run
+    name, time, channels = run
+    return SavedRun(name, np.asarray(time, dtype=float), dict(channels))
+
+
+def _extreme_row(values: np.ndarray, sign: float) -> int | None:
+    """Row of the first largest (`sign` 1) or smallest (-1) finite value, None if none."""
+    finite = np.isfinite(values)
+    if not finite.any():
+        return None
+    return int(np.argmax(np.where(finite, sign * values, -np.inf)))
+
+
+def _concurrent(run: SavedRun, column: str, row: int) -> str:
+    """`fy=...; fz=...`: the other components of `column`'s request at `row`."""
+    request = column.rsplit(".", 1)[0]
+    parts = [f"{name[len(request) + 1:]}={float(values[row])!r}"
+             for name, values in run.channels.items()
+             if name != column and name.rsplit(".", 1)[0] == request]
+    return "; ".join(parts)
+
+
+def _fill(row: EnvelopeRow, side: str, run: SavedRun, index: int) -> None:
+    """Set the `side` ("max" or "min") fields of `row` from `run` at row `index`."""
+    values = run.channels[row.column]
+    abscissa = run.channels.get(ABSCISSA_COLUMN)
+    setattr(row, side, float(values[index]))
+    setattr(row, f"{side}_run", run.name)
+    setattr(row, f"{side}_time", float(run.time[index]))
+    if abscissa is not None and np.isfinite(abscissa[index]):
+        setattr(row, f"{side}_abscissa", float(abscissa[index]))
+    setattr(row, f"{side}_concurrent", _concurrent(run, row.column, index))
+
+
+def extract_envelope(runs: Iterable[SavedRun | Run]) -> list[EnvelopeRow]:
+    """Envelope of runs (`SavedRun` or `(name, time, channels)`), rows in first-seen column
+    order; factors and margins are added by `loadcases.margins.apply_margins`."""
     rows: dict[str, EnvelopeRow] = {}
-    for run, time, channels in runs:
-        for column, values in channels.items():
+    for run in map(_as_saved, runs):
+        for column, values in run.channels.items():
             row = rows.setdefault(column, EnvelopeRow(column))
-            ext = column_extremes(time, values)
-            if ext["max"] is not None and (row.max is None or ext["max"] > row.max):
-                row.max, row.max_run, row.max_time = ext["max"], run, ext["time_of_max"]
-            if ext["min"] is not None and (row.min is None or ext["min"] < row.min):
-                row.min, row.min_run, row.min_time = ext["min"], run, ext["time_of_min"]
+            row.unit = row.unit or run.units.get(column)
+            i_max, i_min = _extreme_row(values, 1.0), _extreme_row(values, -1.0)
+            if i_max is not None and (row.max is None or values[i_max] > row.max):
+                _fill(row, "max", run, i_max)
+            if i_min is not None and (row.min is None or values[i_min] < row.min):
+                _fill(row, "min", run, i_min)
+    for row in rows.values():
+        if row.max is not None:
+            row.abs_max = max(abs(row.max), abs(row.min))
     return list(rows.values())
 
 
-def find_result_files(directories: Iterable[Path]) -> list[tuple[Path, Path]]:
-    """`(directory, csv_path)` of every results CSV below the directories (recursive, sorted).
-
-    A results CSV is one whose first header cell is `time`; others (such as an
-    `envelope.csv`) are not results and are left out.
-    """
-    found = []
-    for directory in directories:
-        for path in sorted(Path(directory).rglob("*.csv")):
-            if path.is_file() and _first_header_cell(path) == TIME_COLUMN:
-                found.append((Path(directory), path))
-    return found
-
-
-def load_saved_runs(files: Iterable[tuple[Path, Path]]) -> list[Run]:
+def load_saved_runs(files: Iterable[tuple[Path, Path]]) -> list[SavedRun]:
     """Read result files; each run is named by its summary's `case`, else its relative path."""
-    runs = []
-    for directory, path in files:
-        time, channels = read_results(path)
-        runs.append((_run_name(directory, path), time, channels))
-    return runs
+    return [load_saved_run(path, directory) for directory, path in files]
+
+
+def _text(value: object) -> object:
+    return "" if value is None else value
 
 
 def envelope_csv_text(rows: list[EnvelopeRow]) -> str:
@@ -85,7 +132,7 @@ def envelope_csv_text(rows: list[EnvelopeRow]) -> str:
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(ENVELOPE_COLUMNS)
-    writer.writerows(["" if value is None else value for value in astuple(row)] for row in rows)
+    writer.writerows([_text(value) for value in astuple(row)] for row in rows)
     return buffer.getvalue()
 
 
@@ -94,8 +141,10 @@ def write_envelope_csv(rows: list[EnvelopeRow], path: Path) -> Path:
     return atomic_write_text(path, envelope_csv_text(rows))
 
 
-def write_envelope_xlsx(rows: list[EnvelopeRow], path: Path, *, sources: Iterable[str] = ()) -> Path:
-    """Write a workbook with sheet `Envelope` (frozen header) and sheet `Runs` (the sources)."""
+def write_envelope_xlsx(rows: list[EnvelopeRow], path: Path, *,
+                        sources: Iterable[str] = ()) -> Path:
+    """A bare workbook: sheet `Envelope` (frozen header) and sheet `Runs` (the sources).
+    The full sizing workbook is `loadcases.workbook.write_workbook`."""
     from openpyxl import Workbook  # only needed for workbooks
 
     workbook = Workbook(write_only=True)
@@ -111,18 +160,3 @@ def write_envelope_xlsx(rows: list[EnvelopeRow], path: Path, *, sources: Iterabl
     with atomic_path(path) as tmp:
         workbook.save(tmp)
     return path
-
-
-def _first_header_cell(path: Path) -> str | None:
-    with open(path, newline="", encoding="utf-8", errors="replace") as stream:
-        header = next(csv.reader(stream), None)
-    return header[0] if header else None
-
-
-def _run_name(directory: Path, csv_path: Path) -> str:
-    summary = csv_path.with_name(csv_path.name[: -len(".csv")] + SUMMARY_SUFFIX)
-    if summary.is_file():
-        case = json.loads(summary.read_text(encoding="utf-8")).get("case")
-        if isinstance(case, str) and case:
-            return case
-    return csv_path.relative_to(directory).as_posix()[: -len(".csv")]

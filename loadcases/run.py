@@ -31,20 +31,23 @@ def _model_diagnostics(cf: CaseFile, error: ml.ModelError) -> list[Diagnostic]:
     return out
 
 
-def run_case(cf: CaseFile, *, progress: Progress | None = None) -> RunOutcome:
+def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool = False,
+             name: str | None = None) -> RunOutcome:
     """Solve one loaded case; a solver failure gives a failed outcome with what was computed.
 
-    Raises InputError for what cannot be built or is not well posed (redundant joints,
-    wrong degrees of freedom), with the joints named.
+    `abscissa` adds the case's `abscissa:` expression as column `abscissa.value` (runs of a
+    set); `name` names the run (default: the case name). Raises InputError for what cannot
+    be built or is not well posed (redundant joints, wrong degrees of freedom), with the
+    joints named.
     """
-    built = build_run(cf)
+    built = build_run(cf, abscissa=abscissa)
     try:
         solution = ml.solve(built.mechanism, built.analysis, requests=built.requests,
                             initial=built.initial, redundant=built.redundant, throw=False,
                             progress=progress)
     except ml.ModelError as error:
         raise InputError(_model_diagnostics(cf, error)) from None
-    return RunOutcome(name=cf.case.case, case_file=Path(cf.path), analysis=built.analysis.name,
+    return RunOutcome(name=name or cf.case.case, case_file=Path(cf.path), analysis=built.analysis.name,
                       solution=solution, input_sha256=cf.input_sha256,
                       column_units=built.column_units, warnings=built.warnings,
                       parameters=dict(cf.parameters))

@@ -32,9 +32,14 @@ def check_set(model: SetModel, at: Locator) -> list[Diagnostic]:
     return found
 
 
+ULTIMATE = "ultimate"   # the key of the ultimate factor in `factors:`
+ABSCISSA = "abscissa"   # the request name of a case's abscissa in the results of a set
+
+
 def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:
     """Sweep, zip and parameter names must be parameters of at least one of the `cases`
-    (loaded CaseFile objects with `.parameters`)."""
+    (loaded CaseFile objects with `.parameters`); factor and allowable keys must name a
+    request (`REQUEST` or `REQUEST.COMPONENT`) of one of them; case names are unique."""
     if not cases:
         return []
     known = {name for case in cases for name in case.parameters}
@@ -42,4 +47,23 @@ def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[
     for section in ("parameters", "sweep", "zip"):
         found += [unknown(at, (section, name), "parameter", name, known)
                   for name in getattr(model, section) if name not in known]
+    requests = {name for case in cases for name in case.case.requests} | {ABSCISSA}
+    for section in ("factors", "allowables"):
+        found += [unknown(at, (section, key), "request", key.split(".")[0], requests)
+                  for key in getattr(model, section)
+                  if key != ULTIMATE and key.split(".")[0] not in requests]
+    return found + _duplicate_names(at, cases)
+
+
+def _duplicate_names(at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:
+    """Two case files with one `case:` name would write the same result files."""
+    first: dict[str, str] = {}
+    found = []
+    for case in cases:
+        name = case.case.case
+        if name in first and first[name] != case.path:
+            found.append(at.diagnostic(("cases",), f"case name '{name}' is used by both "
+                                       f"{first[name]} and {case.path}",
+                                       hint="give each case file its own `case:` name"))
+        first.setdefault(name, case.path)
     return found

@@ -1,0 +1,193 @@
+"""Run a load-case set: compile, solve every run (reusing unchanged ones), write its reports.
+
+`run_set` writes into `DIR/SET/` (SPEC section 3): each run's `NAME.csv` and
+`NAME.summary.json` (`/` in NAME makes sub-folders), `envelope.csv`, the workbook
+(`report.output`, default `envelope.xlsx`) and, when `loadcases.plots` provides it, the
+envelope plots. A run whose summary in `DIR/SET/` has status `ok` and the run's input hash
+(case and mechanism bytes, parameters, engine version; see `loadcases.sets`) is reused,
+not solved again, unless `force`. Failed runs are solved again (the failure may have been
+fixed elsewhere, e.g. in the engine). One failing run never stops the set: it is recorded
+with its message and left out of the envelope.
+"""
+from __future__ import annotations
+
+import dataclasses
+import time as clock
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from loadcases.curves import EnvelopeCurve, envelope_curves, plot_curves
+from loadcases.diagnostics import InputError
+from loadcases.envelope import EnvelopeRow, extract_envelope, write_envelope_csv
+from loadcases.executors import Executor, SerialExecutor
+from loadcases.margins import apply_margins
+from loadcases.outcome import RunOutcome
+from loadcases.results import result_base, write_results
+from loadcases.saved import (RunRecord, SavedRun, load_saved_run, read_summary,
+                             record_from_summary, summary_path)
+from loadcases.sets import CompiledSet, RunSpec, load_and_compile_set
+from mechlib.solution import Solution
+
+__all__ = ["SetResult", "run_set", "solve_spec", "ENVELOPE_FILE", "DEFAULT_WORKBOOK"]
+
+ENVELOPE_FILE = "envelope.csv"
+DEFAULT_WORKBOOK = "envelope.xlsx"   # when the set has no `report:`
+
+OnRecord = Callable[[RunRecord, int, int], None]   # (record, runs done, runs in total)
+
+
+@dataclass
+class SetResult:
+    """What `run_set` did: one record per run (in run order), envelope, curves, files."""
+
+    compiled: CompiledSet
+    directory: Path
+    records: list[RunRecord]
+    envelope: list[EnvelopeRow] = field(default_factory=list)
+    curves: list[EnvelopeCurve] = field(default_factory=list)
+    files: list[Path] = field(default_factory=list)
+
+    @property
+    def failed(self) -> list[RunRecord]:
+        """The runs that did not finish (`status != "ok"`)."""
+        return [record for record in self.records if not record.ok]
+
+
+def _failed_outcome(spec: RunSpec, analysis: str, message: str) -> RunOutcome:
+    """An outcome without rows for a run that could not be solved at all."""
+    solution = Solution(status="failed", message=message, analysis=analysis,
+                        time=np.empty(0), channels={})
+    return RunOutcome(spec.name, Path(spec.case_path), analysis, solution, spec.input_sha256,
+                      parameters=dict(spec.parameters))
+
+
+def solve_spec(spec: RunSpec) -> RunOutcome:
+    """Solve one run (in any process); never raises: a problem is a failed outcome."""
+    from loadcases.loader import load_case
+    from loadcases.run import run_case
+
+    analysis = "unknown"
+    try:
+        cf = load_case(spec.case_path)
+        analysis = cf.case.analysis.type
+        cf = dataclasses.replace(cf, parameters=dict(spec.parameters),
+                                 input_sha256=spec.input_sha256)
+        return run_case(cf, abscissa=True, name=spec.name)
+    except InputError as error:
+        return _failed_outcome(spec, analysis, str(error))
+    except Exception as error:  # a bug must not stop the other runs; it is reported
+        return _failed_outcome(spec, analysis, f"internal error: {type(error).__name__}: "
+                               f"{error}")
+
+
+def _csv_path(directory: Path, name: str) -> Path:
+    base = result_base(directory, name)
+    return base.with_name(base.name + ".csv")
+
+
+def _reusable(directory: Path, spec: RunSpec) -> RunRecord | None:
+    """The saved record of `spec` if its results are complete, ok and of the same input."""
+    csv_path = _csv_path(directory, spec.name)
+    summary = read_summary(summary_path(csv_path))
+    if (summary is None or not csv_path.is_file() or summary.get("status") != "ok"
+            or summary.get("input_sha256") != spec.input_sha256):
+        return None
+    return record_from_summary(summary, csv_path, reused=True)
+
+
+def _record(outcome: RunOutcome, spec: RunSpec, csv_path: Path) -> RunRecord:
+    solution = outcome.solution
+    return RunRecord(name=spec.name, family=spec.family, case_file=spec.case_path,
+                     parameters=dict(spec.parameters), analysis=outcome.analysis,
+                     status=solution.status, message=solution.message,
+                     steps=int(solution.stats.steps),
+                     cpu_seconds=float(solution.stats.cpu_seconds),
+                     input_sha256=spec.input_sha256, csv_path=csv_path)
+
+
+def _solve_all(compiled: CompiledSet, directory: Path, executor: Executor, force: bool,
+               on_record: OnRecord | None) -> list[RunRecord]:
+    """Records in run order; solved runs' results are written here as they arrive."""
+    specs = list(compiled.runs)
+    records: list[RunRecord | None] = [None if force else _reusable(directory, s)
+                                       for s in specs]
+    done = 0
+    for record in records:
+        if record is not None:
+            done += 1
+            if on_record is not None:
+                on_record(record, done, len(specs))
+    todo = [k for k, record in enumerate(records) if record is None]
+    for index, outcome in executor.map_unordered(solve_spec, [specs[k] for k in todo]):
+        spec = specs[todo[index]]
+        write_results(outcome, directory, version=compiled.version)
+        records[todo[index]] = _record(outcome, spec, _csv_path(directory, spec.name))
+        done += 1
+        if on_record is not None:
+            on_record(records[todo[index]], done, len(specs))
+    return [record for record in records if record is not None]
+
+
+def _prebuild(compiled: CompiledSet) -> None:
+    """Build every case once before solving: what cannot be built is invalid input."""
+    from loadcases.build import build_run
+
+    problems = []
+    for cf in compiled.cases:
+        try:
+            build_run(cf, abscissa=True)
+        except InputError as error:
+            problems += error.diagnostics
+    if problems:
+        raise InputError(problems)
+
+
+def _report_files(result: SetResult, runs: list[SavedRun], options: dict[str, str]
+                  ) -> list[Path]:
+    """envelope.csv, the workbook and (if available) the plots of a set."""
+    from loadcases.workbook import WorkbookData, write_workbook
+
+    model = result.compiled.set_file.model
+    files = [write_envelope_csv(result.envelope, result.directory / ENVELOPE_FILE)]
+    output = model.report.output if model.report is not None else DEFAULT_WORKBOOK
+    template = None
+    if model.report is not None and model.report.template:
+        template = Path(result.compiled.set_file.path).parent / model.report.template
+    data = WorkbookData.from_set(result, runs, options)
+    files.append(write_workbook(data, result.directory / output, template=template))
+    files += _plots(result.curves, result.directory)
+    return files
+
+
+def _plots(curves: list[EnvelopeCurve], directory: Path) -> list[Path]:
+    """PNG envelope plots of each family's main columns next to the workbook."""
+    from loadcases.plots import write_envelope_plots  # matplotlib: imported only here
+
+    return list(write_envelope_plots(plot_curves(curves), directory))
+
+
+def run_set(path: str | Path, *, output_dir: str | Path, executor: Executor | None = None,
+            force: bool = False, on_record: OnRecord | None = None,
+            options: dict[str, str] | None = None) -> SetResult:
+    """Run a set file into `output_dir/SET/`; InputError (nothing run) for invalid input.
+
+    `on_record(record, done, total)` is called as each run is reused or finishes;
+    `options` (e.g. jobs, scheduler) are recorded on the workbook's Provenance sheet.
+    """
+    started = clock.time()
+    compiled = load_and_compile_set(path)
+    _prebuild(compiled)
+    directory = result_base(Path(output_dir), compiled.name)
+    records = _solve_all(compiled, directory, executor or SerialExecutor(), force, on_record)
+    runs = [load_saved_run(r.csv_path) for r in records if r.ok]
+    model = compiled.set_file.model
+    result = SetResult(compiled, directory, records,
+                       apply_margins(extract_envelope(runs), model.factors, model.allowables),
+                       envelope_curves(runs))
+    info = {"force": str(force), "wall seconds": f"{clock.time() - started:.3g}",
+            **(options or {})}
+    result.files = _report_files(result, runs, info)
+    return result

@@ -1,0 +1,139 @@
+"""Envelope curves: the upper and lower envelope of each column over an abscissa, per family.
+
+A family is the runs of one case file (one case name) across the set's sweeps. Its
+abscissa is `abscissa.value` (the case's `abscissa:` expression, recorded by a set run)
+when every run of the family has it, else `time`.
+
+The common grid is the sorted union of the abscissa values of all the family's runs
+(thinned to `MAX_GRID_POINTS` evenly spaced points over the same range when larger). Each
+run is interpolated linearly onto the grid points inside its own range, segment by segment
+between consecutive output rows, so an abscissa that goes back and forth (a swinging
+pendulum's angle) contributes every branch; outside a run's range it contributes nothing.
+At each grid point the upper (lower) envelope is the max (min) over the runs covering it;
+points covered by no run are NaN. Rows with a NaN abscissa or value are skipped.
+"""
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from loadcases.build import ABSCISSA_COLUMN
+from loadcases.results import TIME_COLUMN
+from loadcases.saved import SavedRun
+
+__all__ = ["EnvelopeCurve", "envelope_curves", "envelope_on_grid", "main_columns",
+           "plot_curves", "MAX_GRID_POINTS", "MAIN_COLUMNS"]
+
+MAX_GRID_POINTS = 20_000   # more would only slow the workbook charts down
+MAIN_COLUMNS = 4           # columns charted and plotted per family
+LOAD_UNITS = frozenset({"N", "N*m"})
+
+
+@dataclass
+class EnvelopeCurve:
+    """Upper/lower envelopes of one family: `x` (m,) on `abscissa`; {column: (m,)} in SI."""
+
+    family: str
+    abscissa: str
+    abscissa_unit: str
+    x: np.ndarray
+    upper: dict[str, np.ndarray] = field(default_factory=dict)
+    lower: dict[str, np.ndarray] = field(default_factory=dict)
+    runs: tuple[str, ...] = ()
+    units: dict[str, str] = field(default_factory=dict)
+
+
+def _grid(xs: list[np.ndarray]) -> np.ndarray:
+    values = np.concatenate([x[np.isfinite(x)] for x in xs]) if xs else np.empty(0)
+    grid = np.unique(values)
+    if grid.size > MAX_GRID_POINTS:
+        grid = np.linspace(grid[0], grid[-1], MAX_GRID_POINTS)
+    return grid
+
+
+def _accumulate(grid: np.ndarray, x: np.ndarray, y: np.ndarray,
+                upper: np.ndarray, lower: np.ndarray) -> None:
+    """Fold one run (x, y) into upper/lower on `grid` (segments between rows)."""
+    ok = np.isfinite(x) & np.isfinite(y)
+    if x.size == 1 or ok.sum() == 1:   # a single row (static analysis) is a point
+        keep = np.flatnonzero(ok)
+        at = np.searchsorted(grid, x[keep])
+        hit = (at < grid.size) & (grid[np.minimum(at, grid.size - 1)] == x[keep])
+        np.maximum.at(upper, at[hit], y[keep][hit])
+        np.minimum.at(lower, at[hit], y[keep][hit])
+        return
+    seg = np.flatnonzero(ok[:-1] & ok[1:])
+    x0, x1, y0, y1 = x[seg], x[seg + 1], y[seg], y[seg + 1]
+    first = np.searchsorted(grid, np.minimum(x0, x1), side="left")
+    last = np.searchsorted(grid, np.maximum(x0, x1), side="right")
+    counts = np.maximum(last - first, 0)
+    owner = np.repeat(np.arange(seg.size), counts)
+    index = first[owner] + (np.arange(owner.size) - np.repeat(np.cumsum(counts) - counts,
+                                                               counts))
+    dx = (x1 - x0)[owner]
+    s = np.divide(grid[index] - x0[owner], dx, out=np.zeros(owner.size), where=dx != 0.0)
+    ya, yb = y0[owner], y1[owner]
+    values = ya + s * (yb - ya)
+    np.maximum.at(upper, index, np.where(dx == 0.0, np.maximum(ya, yb), values))
+    np.minimum.at(lower, index, np.where(dx == 0.0, np.minimum(ya, yb), values))
+
+
+def envelope_on_grid(pairs: Iterable[tuple[np.ndarray, np.ndarray]], grid: np.ndarray
+                     ) -> tuple[np.ndarray, np.ndarray]:
+    """(upper, lower) on `grid` (sorted) of curves `(x, y)`; NaN where no curve covers."""
+    upper = np.full(grid.size, -np.inf)
+    lower = np.full(grid.size, np.inf)
+    for x, y in pairs:
+        _accumulate(grid, np.asarray(x, dtype=float), np.asarray(y, dtype=float), upper, lower)
+    upper[~np.isfinite(upper)] = np.nan
+    lower[~np.isfinite(lower)] = np.nan
+    return upper, lower
+
+
+def _family_curve(family: str, runs: list[SavedRun]) -> EnvelopeCurve:
+    use_abscissa = all(ABSCISSA_COLUMN in run.channels for run in runs)
+    name = ABSCISSA_COLUMN if use_abscissa else TIME_COLUMN
+    xs = [run.channels[name] if use_abscissa else run.time for run in runs]
+    units = {k: v for run in runs for k, v in run.units.items()}
+    grid = _grid(xs)
+    curve = EnvelopeCurve(family, name, units.get(name, "s" if name == TIME_COLUMN else ""),
+                          grid, runs=tuple(run.name for run in runs), units=units)
+    columns = dict.fromkeys(c for run in runs for c in run.channels if c != ABSCISSA_COLUMN)
+    for column in columns:
+        pairs = [(x, run.channels[column]) for x, run in zip(xs, runs) if column in run.channels]
+        curve.upper[column], curve.lower[column] = envelope_on_grid(pairs, grid)
+    return curve
+
+
+def envelope_curves(runs: Iterable[SavedRun]) -> list[EnvelopeCurve]:
+    """One curve set per family, families in first-seen order (give only `ok` runs);
+    a family whose runs cover a single abscissa value (static runs) has none."""
+    families: dict[str, list[SavedRun]] = {}
+    for run in runs:
+        families.setdefault(run.family, []).append(run)
+    curves = [_family_curve(family, members) for family, members in families.items()]
+    return [curve for curve in curves if curve.x.size >= 2]   # one point is no curve
+
+
+def main_columns(curve: EnvelopeCurve) -> list[str]:
+    """The columns charted and plotted for a family: its load columns (unit N or N*m; all
+    columns if it has none) ranked by their largest |envelope| value, the first
+    `MAIN_COLUMNS`."""
+    loads = [c for c in curve.upper if curve.units.get(c) in LOAD_UNITS] or list(curve.upper)
+
+    def peak(column: str) -> float:
+        values = np.concatenate([curve.upper[column], curve.lower[column]])
+        finite = np.abs(values[np.isfinite(values)])
+        return float(finite.max()) if finite.size else -1.0
+    return sorted(loads, key=peak, reverse=True)[:MAIN_COLUMNS]
+
+
+def plot_curves(curves: Iterable[EnvelopeCurve]) -> list[dict[str, object]]:
+    """One mapping per main column of each family, as `loadcases.plots` draws them:
+    family, column, unit, abscissa_name, abscissa_unit, x, upper, lower."""
+    return [{"family": c.family, "column": column, "unit": c.units.get(column, ""),
+             "abscissa_name": c.abscissa, "abscissa_unit": c.abscissa_unit, "x": c.x,
+             "upper": c.upper[column], "lower": c.lower[column]}
+            for c in curves for column in main_columns(c)]

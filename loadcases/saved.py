@@ -1,0 +1,129 @@
+"""Saved results of runs (SPEC section 3) read back: `NAME.csv` with its `NAME.summary.json`.
+
+A run's family is the case it comes from: its name without the `[p=v,...]` of a sweep.
+Used by envelopes and workbooks, whether the runs were just solved or saved long ago.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import re
+from collections.abc import Iterable
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from loadcases.results import SUMMARY_SUFFIX, TIME_COLUMN, read_results
+
+__all__ = ["SavedRun", "RunRecord", "family_of", "find_result_files", "load_saved_run",
+           "record_from_summary", "read_summary", "summary_path"]
+
+_SWEEP_SUFFIX = re.compile(r"\[[^\[\]]*\]$")
+
+
+def family_of(run_name: str) -> str:
+    """`door[clearance=0.0001]` -> `door` (the case name of a run)."""
+    return _SWEEP_SUFFIX.sub("", run_name)
+
+
+@dataclass
+class SavedRun:
+    """The time histories of one run: `time` (n,) s and `channels` {column: (n,)} in SI."""
+
+    name: str
+    time: np.ndarray
+    channels: dict[str, np.ndarray]
+    units: dict[str, str] = field(default_factory=dict)
+    family: str = ""
+    status: str = "ok"
+
+    def __post_init__(self) -> None:
+        self.family = self.family or family_of(self.name)
+
+
+@dataclass(frozen=True)
+class RunRecord:
+    """What a set report says of one run (small and picklable): provenance and status."""
+
+    name: str
+    family: str
+    case_file: str
+    parameters: dict[str, float]
+    analysis: str
+    status: str
+    message: str
+    steps: int
+    cpu_seconds: float
+    input_sha256: str
+    csv_path: Path
+    reused: bool = False
+
+    @property
+    def ok(self) -> bool:
+        return self.status == "ok"
+
+
+def summary_path(csv_path: Path) -> Path:
+    """`NAME.summary.json` next to `NAME.csv`."""
+    return csv_path.with_name(csv_path.name[: -len(".csv")] + SUMMARY_SUFFIX)
+
+
+def read_summary(path: Path) -> dict[str, Any] | None:
+    """A summary as a dict, or None if missing or unreadable (then it is not reusable)."""
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    return data if isinstance(data, dict) else None
+
+
+def record_from_summary(summary: dict[str, Any], csv_path: Path, *,
+                        reused: bool = False) -> RunRecord:
+    """The record of a run from its saved summary."""
+    stats = summary.get("stats") or {}
+    name = str(summary.get("case") or csv_path.stem)
+    return RunRecord(name=name, family=family_of(name),
+                     case_file=str(summary.get("case_file", "")),
+                     parameters={k: float(v) for k, v in (summary.get("parameters") or {}
+                                                          ).items() if v is not None},
+                     analysis=str(summary.get("analysis", "")),
+                     status=str(summary.get("status", "failed")),
+                     message=str(summary.get("message", "")),
+                     steps=int(stats.get("steps") or 0),
+                     cpu_seconds=float(stats.get("cpu_seconds") or 0.0),
+                     input_sha256=str(summary.get("input_sha256", "")),
+                     csv_path=csv_path, reused=reused)
+
+
+def load_saved_run(csv_path: Path, directory: Path | None = None) -> SavedRun:
+    """Read one run back; named by its summary's `case`, else its path below `directory`."""
+    time, channels = read_results(csv_path)
+    summary = read_summary(summary_path(csv_path)) or {}
+    name = summary.get("case")
+    if not isinstance(name, str) or not name:
+        base = csv_path.relative_to(directory) if directory is not None else Path(csv_path.name)
+        name = base.as_posix()[: -len(".csv")]
+    units = {str(k): str(v) for k, v in (summary.get("units") or {}).items()}
+    return SavedRun(name, time, channels, units, status=str(summary.get("status", "ok")))
+
+
+def find_result_files(directories: Iterable[Path]) -> list[tuple[Path, Path]]:
+    """`(directory, csv_path)` of every results CSV below the directories (recursive, sorted).
+
+    A results CSV is one whose first header cell is `time`; others (such as an
+    `envelope.csv`) are not results and are left out.
+    """
+    found = []
+    for directory in directories:
+        for path in sorted(Path(directory).rglob("*.csv")):
+            if path.is_file() and _first_header_cell(path) == TIME_COLUMN:
+                found.append((Path(directory), path))
+    return found
+
+
+def _first_header_cell(path: Path) -> str | None:
+    with open(path, newline="", encoding="utf-8", errors="replace") as stream:
+        header = next(csv.reader(stream), None)
+    return header[0] if header else None

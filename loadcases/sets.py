@@ -1,0 +1,186 @@
+"""Compile a load-case set (`*.set.yaml`, SPEC 1.4) into frozen run specifications.
+
+Rules (also in README "Load-case sets"):
+- The runs of one case file are the combinations of the set's `sweep:` lists (cartesian
+  product, first listed parameter varying slowest) times the rows of its `zip:` lists
+  (varied together), restricted to the parameters the case uses: those named in an
+  expression of the case or of its mechanism. A case that uses no swept parameter runs
+  once, under its own name: it would give the same numbers for every value, so running it
+  again would only add identical copies to the envelope.
+- Set `parameters:` override the case's for every run of a case that has them.
+- A run is named `CASE[p1=v1,p2=v2]`: the swept parameters in the order the set file lists
+  them (sweep and zip together), values in SI formatted `%g`; a run with no swept
+  parameter is named `CASE`.
+- The input hash of a run covers the case and mechanism file bytes, every parameter value
+  of the run and the engine version: a run is reused only when all of them are unchanged.
+"""
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from loadcases.checks.sets import check_set_cases
+from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.expressions import ExpressionError, parse
+from loadcases.loader import CaseFile, SetFile, load_case, load_set
+from loadcases.results import package_version
+
+__all__ = ["RunSpec", "CompiledSet", "compile_set", "load_and_compile_set", "run_name",
+           "run_hash", "swept_order", "used_parameters"]
+
+Pairs = tuple[tuple[str, float], ...]
+
+
+@dataclass(frozen=True)
+class RunSpec:
+    """One run of a set, ready to be solved anywhere (picklable, no solver objects).
+
+    `parameters` are every parameter value of the run (SI); `swept` the ones that name it.
+    """
+
+    name: str
+    family: str
+    case_path: str
+    parameters: Pairs
+    swept: Pairs
+    input_sha256: str
+
+
+@dataclass(frozen=True)
+class CompiledSet:
+    """A set with its runs, in order (case files as listed, then sweep order)."""
+
+    set_file: SetFile
+    cases: tuple[CaseFile, ...]
+    runs: tuple[RunSpec, ...]
+    version: str
+
+    @property
+    def name(self) -> str:
+        """The set name (results go to DIR/SET/)."""
+        return self.set_file.model.set
+
+
+def run_name(family: str, swept: Pairs) -> str:
+    """`CASE[p1=v1,p2=v2]` with values `%g` (SI), or `CASE` when nothing is swept."""
+    if not swept:
+        return family
+    return f"{family}[{','.join(f'{name}={value:g}' for name, value in swept)}]"
+
+
+def run_hash(case_sha256: str, parameters: Pairs, version: str) -> str:
+    """SHA-256 over the case/mechanism hash, the run's parameters and the engine version."""
+    text = json.dumps({"input": case_sha256, "version": version,
+                       "parameters": {name: repr(float(v)) for name, v in sorted(parameters)}},
+                      sort_keys=True)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def swept_order(set_file: SetFile) -> list[str]:
+    """Names of swept parameters (sweep and zip) in the order the file lists them."""
+    model = set_file.model
+    names = [("sweep", n) for n in model.sweep] + [("zip", n) for n in model.zip]
+    return [name for _, name in sorted(names, key=lambda k: set_file.where(k)[1:])]
+
+
+def _combinations(set_file: SetFile) -> Iterator[dict[str, float]]:
+    """Every combination of the full sweep x zip, as {parameter: value}."""
+    model = set_file.model
+    sweep_names, zip_names = list(model.sweep), list(model.zip)
+    zip_rows = list(zip(*model.zip.values())) if zip_names else [()]
+    for values in itertools.product(*model.sweep.values()):
+        for row in zip_rows:
+            yield {**dict(zip(sweep_names, values)), **dict(zip(zip_names, row))}
+
+
+def _strings(value: Any) -> Iterator[str]:
+    """Every string inside nested dicts, lists and tuples."""
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, dict):
+        for item in value.values():
+            yield from _strings(item)
+    elif isinstance(value, (list, tuple)):
+        for item in value:
+            yield from _strings(item)
+
+
+def used_parameters(cf: CaseFile) -> set[str]:
+    """Parameters of a case named in an expression of the case or of its mechanism."""
+    names: set[str] = set()
+    for text in _strings([cf.case.model_dump(), cf.mechanism.model_dump()]):
+        try:
+            names |= parse(text).names()
+        except ExpressionError:   # a plain name or text, not an expression
+            continue
+    return names & set(cf.parameters)
+
+
+def _case_runs(set_file: SetFile, cf: CaseFile, order: list[str],
+               version: str) -> list[RunSpec]:
+    """The runs of one case: combinations restricted to the parameters it uses."""
+    fixed = {n: v for n, v in set_file.model.parameters.items() if n in cf.parameters}
+    used = used_parameters(cf)
+    mine = [name for name in order if name in used]
+    seen: dict[Pairs, None] = {}
+    for combination in _combinations(set_file):
+        seen.setdefault(tuple((n, float(combination[n])) for n in mine), None)
+    runs = []
+    for swept in seen:
+        parameters = tuple({**cf.parameters, **fixed, **dict(swept)}.items())
+        runs.append(RunSpec(run_name(cf.case.case, swept), cf.case.case,
+                            str(Path(cf.path).resolve()), parameters, swept,
+                            run_hash(cf.input_sha256, parameters, version)))
+    return runs
+
+
+def _name_clashes(set_file: SetFile, runs: list[RunSpec]) -> list[Diagnostic]:
+    """Distinct values that print alike under `%g` would overwrite each other's results."""
+    found, seen = [], set()
+    for spec in runs:
+        if spec.name in seen:
+            names = [name for name, _ in spec.swept] or ["cases"]
+            section = "sweep" if names[0] in set_file.model.sweep else "zip"
+            found.append(Diagnostic(*set_file.where((section, names[0])), f"{section}."
+                                    f"{names[0]}", f"two runs are both named '{spec.name}'",
+                                    hint="values that differ only beyond 6 significant "
+                                    "digits print alike in run names (%g); space them wider"))
+        seen.add(spec.name)
+    return found
+
+
+def compile_set(set_file: SetFile, cases: list[CaseFile], *,
+                version: str | None = None) -> CompiledSet:
+    """Runs of a loaded set whose case files are loaded; InputError lists every problem
+    (unknown parameter, request or duplicate names, with file:line:col and a hint)."""
+    found = [d for d in check_set_cases(set_file.model, set_file.locator, cases)
+             if d.severity == "error"]
+    if found:
+        raise InputError(found)
+    version = version or package_version()
+    order = swept_order(set_file)
+    runs = [spec for cf in cases for spec in _case_runs(set_file, cf, order, version)]
+    found = _name_clashes(set_file, runs)
+    if found:
+        raise InputError(found)
+    return CompiledSet(set_file, tuple(cases), tuple(runs), version)
+
+
+def load_and_compile_set(path: str | Path, *, version: str | None = None) -> CompiledSet:
+    """Load a set file and all its cases, then compile; InputError with every problem of
+    the set and of its case files at once."""
+    set_file = load_set(path)
+    cases, found = [], []
+    for case_path in set_file.case_paths:
+        try:
+            cases.append(load_case(case_path))
+        except InputError as error:
+            found += [d for d in error.diagnostics if d.severity == "error"]
+    if found:
+        raise InputError(found)
+    return compile_set(set_file, cases, version=version)

@@ -1,0 +1,179 @@
+"""The sizing workbook of a set (openpyxl), built on a template (`templates/envelope.xlsx`).
+
+Sheets, in order: the template's `Cover` (filled in), `Cases` (every run), `Envelope` (the
+table of `envelope.csv`, same header and values), `Charts` (native line charts: per family
+the envelope curves of its main request columns and those columns against time for each
+run), one `Curves FAMILY` sheet per family (the envelope curves' numbers), the time
+histories, `Provenance`.
+
+Time histories: one sheet per run when the set has at most `MAX_RUN_SHEETS` runs, else one
+sheet per family with the runs stacked (first column `run`). Headers carry SI units
+(`pivot_force.fx [N]`); values are the CSV's exactly (NaN becomes an empty cell: Excel has
+no NaN). The workbook is written atomically.
+"""
+from __future__ import annotations
+
+import datetime as dt
+import hashlib
+import platform
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from loadcases.atomic import atomic_path
+from loadcases.curves import EnvelopeCurve
+from loadcases.envelope import EnvelopeRow
+from loadcases.saved import RunRecord, SavedRun, family_of
+from loadcases.workbook_template import COVER_FIELDS, COVER_SHEET, build_template, ensure_styles
+
+__all__ = ["WorkbookData", "write_workbook", "sheet_title", "file_sha256", "MAX_RUN_SHEETS",
+           "DEFAULT_TEMPLATE"]
+
+MAX_RUN_SHEETS = 40   # more runs: one time-history sheet per family
+SHEET_TITLE_LENGTH = 31   # Excel's limit
+DEFAULT_TEMPLATE = Path(__file__).resolve().parents[1] / "templates" / "envelope.xlsx"
+_FORBIDDEN = re.compile(r"[\[\]:*?/\\]")
+
+
+@dataclass
+class WorkbookData:
+    """Everything a workbook shows; `runs` are the runs with time histories (status ok)."""
+
+    title: str
+    records: list[RunRecord]
+    runs: list[SavedRun]
+    rows: list[EnvelopeRow]
+    curves: list[EnvelopeCurve]
+    inputs: list[tuple[str, str]] = field(default_factory=list)   # (file, sha256)
+    settings: list[tuple[str, str]] = field(default_factory=list)  # (key, value)
+    version: str = ""
+    source: str = ""
+
+    @classmethod
+    def from_set(cls, result: Any, runs: list[SavedRun], options: dict[str, str]
+                 ) -> "WorkbookData":
+        """From a `loadcases.campaign.SetResult` and its loaded ok runs."""
+        compiled = result.compiled
+        files = [compiled.set_file.path]
+        for cf in compiled.cases:
+            files += [cf.path] + ([cf.mechanism_path] if cf.mechanism_path else [])
+        settings = [(f"analysis of {cf.case.case}", _analysis_text(cf.case.analysis))
+                    for cf in compiled.cases]
+        model = compiled.set_file.model
+        settings += [(f"factor {k}", repr(v)) for k, v in model.factors.items()]
+        settings += [(f"allowable {k}", f"max {a.max!r}, min {a.min!r}")
+                     for k, a in model.allowables.items()]
+        settings += [(key, value) for key, value in options.items()]
+        return cls(compiled.name, result.records, runs, result.envelope, result.curves,
+                   [(str(p), file_sha256(p)) for p in dict.fromkeys(files)], settings,
+                   compiled.version, str(compiled.set_file.path))
+
+
+def _analysis_text(analysis: Any) -> str:
+    values = analysis.model_dump(exclude_none=True) if hasattr(analysis, "model_dump") else {}
+    return ", ".join(f"{k}={v}" for k, v in values.items())
+
+
+def file_sha256(path: str | Path) -> str:
+    """SHA-256 of a file's bytes (empty if it cannot be read)."""
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except OSError:
+        return ""
+
+
+def sheet_title(text: str, used: set[str]) -> str:
+    """A valid, unused Excel sheet title from `text` (`[]` -> `()`, `:*?/\\` -> `_`)."""
+    clean = _FORBIDDEN.sub(lambda m: {"[": "(", "]": ")"}.get(m.group(), "_"), text).strip("'")
+    clean = clean or "sheet"
+    title, k = clean[:SHEET_TITLE_LENGTH], 1
+    while title.lower() in {u.lower() for u in used}:
+        k += 1
+        suffix = f" ({k})"
+        title = clean[: SHEET_TITLE_LENGTH - len(suffix)] + suffix
+    used.add(title)
+    return title
+
+
+def _load_template(template: Path | None) -> Any:
+    """The template workbook: the given file, the repository's, or a built one."""
+    from openpyxl import load_workbook
+
+    path = template if template is not None else DEFAULT_TEMPLATE
+    if template is not None or path.is_file():
+        workbook = load_workbook(path)
+    else:
+        workbook = build_template()
+    ensure_styles(workbook)
+    return workbook
+
+
+def _fill_cover(workbook: Any, data: WorkbookData) -> None:
+    if COVER_SHEET not in workbook.sheetnames:
+        return
+    values = dict(zip(COVER_FIELDS, (
+        data.title, data.source, dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M:%S"),
+        data.version, len(data.records), sum(not r.ok for r in data.records),
+        sum(r.reused for r in data.records))))
+    sheet = workbook[COVER_SHEET]
+    for row in range(1, sheet.max_row + 1):
+        label = sheet.cell(row=row, column=1).value
+        if label in values:
+            sheet.cell(row=row, column=2, value=values[label])
+
+
+def write_workbook(data: WorkbookData, path: Path, *, template: Path | None = None) -> Path:
+    """Write the workbook to `path` atomically; return `path`."""
+    from loadcases import workbook_charts as charts
+    from loadcases import workbook_sheets as sheets
+
+    workbook = _load_template(template)
+    _fill_cover(workbook, data)
+    used = set(workbook.sheetnames)
+    per_run = len(data.runs) <= MAX_RUN_SHEETS
+    groups = ([(run.name, [run]) for run in data.runs] if per_run else
+              list(_families(data.runs).items()))
+    titles = {name: sheet_title(_short(name, k), used) for k, (name, _) in
+              enumerate(groups, start=1)}
+    run_sheets = {run.name: titles[run.name if per_run else run.family] for run in data.runs}
+    sheets.cases_sheet(workbook.create_sheet(sheet_title("Cases", used)), data.records,
+                       run_sheets)
+    sheets.envelope_sheet(workbook.create_sheet(sheet_title("Envelope", used)), data.rows,
+                          run_sheets)
+    chart_sheet = workbook.create_sheet(sheet_title("Charts", used)) if data.curves else None
+    curve_sheets = [workbook.create_sheet(sheet_title(f"Curves {c.family}", used))
+                    for c in data.curves]
+    wheres = [charts.curves_sheet(sheet, curve) for sheet, curve in zip(curve_sheets,
+                                                                       data.curves)]
+    blocks = {}
+    for name, runs in groups:
+        blocks.update(sheets.history_sheet(workbook.create_sheet(titles[name]), runs,
+                                           stacked=not per_run))
+    if chart_sheet is not None:
+        charts.charts_sheet(chart_sheet, data.curves, curve_sheets, wheres, blocks)
+    sheets.provenance_sheet(workbook.create_sheet(sheet_title("Provenance", used)), data,
+                            platform.python_version())
+    with atomic_path(Path(path)) as tmp:
+        workbook.save(tmp)
+    return Path(path)
+
+
+def _short(run: str, number: int) -> str:
+    """`press-stroke[crank_speed=3.14159,press_force=500]` -> `press-stroke(3.14159,500)`,
+    the family cut to fit Excel's 31 characters; `run N` if the values alone do not fit."""
+    family = family_of(run)
+    if family == run:
+        return run
+    values = ",".join(part.split("=", 1)[-1] for part in run[len(family) + 1:-1].split(","))
+    room = SHEET_TITLE_LENGTH - len(values) - 2
+    if room < 6:
+        return f"run {number}"
+    return f"{family[:room]}({values})"
+
+
+def _families(runs: list[SavedRun]) -> dict[str, list[SavedRun]]:
+    out: dict[str, list[SavedRun]] = {}
+    for run in runs:
+        out.setdefault(run.family, []).append(run)
+    return out

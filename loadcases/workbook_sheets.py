@@ -1,0 +1,163 @@
+"""The table sheets of the sizing workbook: Cases, Envelope, time histories, Provenance.
+
+Styles are the template's named styles (`loads header`, `loads number` ...; see
+`loadcases.workbook_template`). Values are written as they are (SI floats); NaN and
+infinities become empty cells because Excel has no such numbers.
+"""
+from __future__ import annotations
+
+import datetime as dt
+import math
+from dataclasses import astuple, dataclass
+from typing import Any
+
+from openpyxl.comments import Comment
+from openpyxl.formatting.rule import CellIsRule
+from openpyxl.styles import PatternFill
+from openpyxl.utils import get_column_letter
+
+from loadcases.envelope import ENVELOPE_COLUMNS, EnvelopeRow
+from loadcases.results import EXCEL_MAX_ROWS, TIME_COLUMN
+from loadcases.saved import RunRecord, SavedRun
+
+__all__ = ["Block", "cases_sheet", "envelope_sheet", "history_sheet", "provenance_sheet",
+           "header_text", "CASES_COLUMNS"]
+
+CASES_COLUMNS = ("run", "case", "file", "parameters", "analysis", "status", "message",
+                 "CPU time [s]", "steps", "reused", "input_sha256", "sheet")
+_NEGATIVE_FILL = PatternFill("solid", start_color="FF9999", end_color="FF9999")
+_NUMBER_COLUMNS = {"max", "min", "max_abscissa", "min_abscissa", "abs_max", "ultimate_max",
+                   "ultimate_min", "allowable_max", "allowable_min"}
+_TIME_COLUMNS = {"max_time", "min_time"}
+_MARGIN_COLUMNS = {"factor", "ms_max", "ms_min"}
+_HEADER_NOTES = {
+    "unit": "SI unit of the row's values (max, min, ultimate, allowables, concurrent values)",
+    "max_time": "s", "min_time": "s", "factor": "-: ultimate x fitting factor",
+    "ms_max": "-: allowable_max / (factor x max) - 1", "ms_min": "-: allowable_min / "
+    "(factor x min) - 1", "max_abscissa": "unit of the case's abscissa (column "
+    "abscissa.value)", "min_abscissa": "unit of the case's abscissa (column abscissa.value)"}
+
+
+@dataclass(frozen=True)
+class Block:
+    """Where a run's time histories are: sheet, first/last data row, column of each name."""
+
+    sheet: str
+    first_row: int
+    last_row: int
+    columns: dict[str, int]
+
+
+def _cell(value: Any) -> Any:
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def header_text(name: str, unit: str | None) -> str:
+    """`pivot_force.fx [N]`; `[-]` for a dimensionless or unknown unit."""
+    return f"{name} [{unit if unit not in (None, '', '1') else '-'}]"
+
+
+def _header(sheet: Any, titles: list[str], row: int = 1) -> None:
+    for column, title in enumerate(titles, start=1):
+        sheet.cell(row=row, column=column, value=title).style = "loads header"
+
+
+def _link(cell: Any, sheet_name: str | None) -> None:
+    if sheet_name:
+        cell.hyperlink = f"#'{sheet_name}'!A1"
+        cell.style = "Hyperlink"
+
+
+def cases_sheet(sheet: Any, records: list[RunRecord], run_sheets: dict[str, str]) -> None:
+    """One row per run: case, file, parameters, analysis, status, message, CPU time, hash."""
+    _header(sheet, list(CASES_COLUMNS))
+    for row, r in enumerate(records, start=2):
+        parameters = ", ".join(f"{k}={v:g}" for k, v in r.parameters.items())
+        values = (r.name, r.family, r.case_file, parameters, r.analysis, r.status, r.message,
+                  r.cpu_seconds, r.steps, "yes" if r.reused else "no", r.input_sha256,
+                  run_sheets.get(r.name, ""))
+        for column, value in enumerate(values, start=1):
+            sheet.cell(row=row, column=column, value=value)
+        _link(sheet.cell(row=row, column=1), run_sheets.get(r.name))
+        if not r.ok:
+            for column in (6, 7):
+                sheet.cell(row=row, column=column).style = "loads failed"
+    sheet.freeze_panes = "B2"
+    for column, width in zip("ABCDEFG", (36, 24, 40, 30, 12, 8, 60)):
+        sheet.column_dimensions[column].width = width
+
+
+def envelope_sheet(sheet: Any, rows: list[EnvelopeRow], run_sheets: dict[str, str]) -> None:
+    """The envelope table: header = `envelope.csv`'s, frozen, formatted, margins flagged."""
+    _header(sheet, list(ENVELOPE_COLUMNS))
+    for column, name in enumerate(ENVELOPE_COLUMNS, start=1):
+        note = _HEADER_NOTES.get(name, "unit: see column 'unit'" if name in _NUMBER_COLUMNS
+                                 else None)
+        if note:
+            sheet.cell(row=1, column=column).comment = Comment(note, "loads")
+    index = {name: k for k, name in enumerate(ENVELOPE_COLUMNS, start=1)}
+    for r, row in enumerate(rows, start=2):
+        for name, value in zip(ENVELOPE_COLUMNS, astuple(row)):
+            cell = sheet.cell(row=r, column=index[name], value=_cell(value))
+            if name in _NUMBER_COLUMNS:
+                cell.style = "loads number"
+            elif name in _TIME_COLUMNS:
+                cell.style = "loads time"
+            elif name in _MARGIN_COLUMNS:
+                cell.style = "loads margin"
+        _link(sheet.cell(row=r, column=index["max_run"]), run_sheets.get(row.max_run or ""))
+        _link(sheet.cell(row=r, column=index["min_run"]), run_sheets.get(row.min_run or ""))
+    last = max(len(rows) + 1, 2)
+    for name in ("ms_max", "ms_min"):
+        letter = get_column_letter(index[name])
+        sheet.conditional_formatting.add(f"{letter}2:{letter}{last}", CellIsRule(
+            operator="lessThan", formula=["0"], fill=_NEGATIVE_FILL))
+    sheet.freeze_panes = "B2"
+    sheet.column_dimensions["A"].width = 28
+    for name in ("max_run", "min_run", "max_concurrent", "min_concurrent"):
+        sheet.column_dimensions[get_column_letter(index[name])].width = 30
+
+
+def history_sheet(sheet: Any, runs: list[SavedRun], *, stacked: bool) -> dict[str, Block]:
+    """Time histories of one run (or, `stacked`, of a family's runs one under the other,
+    first column `run`); returns where each run's rows are."""
+    columns = list(dict.fromkeys(c for run in runs for c in run.channels))
+    units = {TIME_COLUMN: "s", **{k: v for run in runs for k, v in run.units.items()}}
+    names = ["run"] * stacked + [TIME_COLUMN, *columns]
+    _header(sheet, [n if n == "run" else header_text(n, units.get(n)) for n in names])
+    sheet.freeze_panes = "C2" if stacked else "B2"
+    blocks, row = {}, 2
+    for run in runs:
+        count = min(run.time.size, EXCEL_MAX_ROWS - row + 1)
+        data = [run.time[:count]] + [run.channels[c][:count] if c in run.channels else
+                                     [math.nan] * count for c in columns]
+        for k, values in enumerate(zip(*data)):
+            sheet.append(([run.name] if stacked else []) + [_cell(float(v)) for v in values])
+        blocks[run.name] = Block(sheet.title, row, row + count - 1,
+                                 {n: k for k, n in enumerate(names, start=1)})
+        row += count
+        if count < run.time.size:
+            sheet.cell(row=1, column=len(names) + 2, value=(
+                f"rows truncated to Excel's limit; {run.name}.csv holds every row")
+                       ).style = "loads note"
+            break
+    return blocks
+
+
+def provenance_sheet(sheet: Any, data: Any, python_version: str) -> None:
+    """Engine version, date, inputs with SHA-256, solver settings and options."""
+    now = dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
+    lines = [("engine", "loads"), ("engine version", data.version), ("date", now),
+             ("python", python_version), ("set", data.title), ("set file", data.source)]
+    _header(sheet, ["item", "value", "sha256"])
+    for key, value in lines:
+        sheet.append([key, value])
+    for path, sha in data.inputs:
+        sheet.append(["input file", path, sha])
+    for key, value in data.settings:
+        sheet.append([key, value])
+    sheet.column_dimensions["A"].width = 32
+    sheet.column_dimensions["B"].width = 70
+    sheet.column_dimensions["C"].width = 66
