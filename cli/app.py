@@ -70,10 +70,53 @@ def run(
     files: Annotated[list[Path], typer.Argument(help="Case (*.case.yaml) or set (*.set.yaml) files.")],
     output: Annotated[Path, typer.Option("-o", "--output", help="Results folder.")] = Path("results"),
     xlsx: Annotated[bool, typer.Option("--xlsx", help="Also write NAME.xlsx per run.")] = False,
-    jobs: Annotated[int, typer.Option("--jobs", "-j", min=1, help="Files run in parallel.")] = 1,
+    jobs: Annotated[int | None, typer.Option("--jobs", "-j", min=1, help="Case files run in "
+                    "parallel (default 1); runs of a set in parallel (default: the number of "
+                    "cores).")] = None,
+    scheduler: Annotated[str | None, typer.Option("--scheduler", help="Run the runs of sets "
+                         "on a Dask cluster: scheduler ADDRESS, or 'local' for a "
+                         "LocalCluster.")] = None,
+    force: Annotated[bool, typer.Option("--force", help="Solve every run of a set again, "
+                     "even if its saved results are of the same input.")] = False,
 ) -> int:
-    """Run case or set files and write their results (NAME.csv, NAME.summary.json)."""
+    """Run case or set files and write their results (NAME.csv, NAME.summary.json; for a
+    set SET also DIR/SET/envelope.csv and the workbook)."""
     _require_files(files)
+    from loadcases.loader import file_kind
+
+    code = EXIT_OK
+    for chunk, is_set in _chunks(files, lambda path: file_kind(path) == "set"):
+        if is_set:
+            for path in chunk:
+                code = max(code, _print_report(_run_set(path, output, xlsx, jobs, scheduler,
+                                                        force)))
+        else:
+            code = max(code, _run_cases(chunk, output, xlsx, jobs or 1))
+    return code
+
+
+def _chunks(files: list[Path], is_set: Callable[[Path], bool]) -> list[tuple[list[Path], bool]]:
+    """Consecutive files of one kind (sets / other files), in input order."""
+    chunks: list[tuple[list[Path], bool]] = []
+    for path in files:
+        kind = is_set(path)
+        if chunks and chunks[-1][1] == kind:
+            chunks[-1][0].append(path)
+        else:
+            chunks.append(([path], kind))
+    return chunks
+
+
+def _run_set(path: Path, output: Path, xlsx: bool, jobs: int | None, scheduler: str | None,
+             force: bool) -> FileReport:
+    from cli.set_runner import run_set_file
+
+    return run_set_file(path, output_dir=output, xlsx=xlsx, jobs=jobs, scheduler=scheduler,
+                        force=force, show_progress=sys.stderr.isatty())
+
+
+def _run_cases(files: list[Path], output: Path, xlsx: bool, jobs: int) -> int:
+    """Case and mechanism files, as `loads run` always ran them; the worst exit status."""
     bars: dict[Path, ProgressBar] = {}
     show_progress = jobs == 1 and sys.stderr.isatty()
     code = EXIT_OK
@@ -97,6 +140,8 @@ def _print_report(report: FileReport) -> int:
         typer.echo(status_line(line.name, line.status, line.steps, line.cpu_seconds, line.where))
         if line.status != "ok":
             typer.echo(f"  {line.message}")
+    for line in report.footer:
+        typer.echo(line)
     return EXIT_FAILED if report.failed else EXIT_OK
 
 
@@ -135,28 +180,38 @@ def schema() -> int:
 @guarded
 def envelope(
     dirs: Annotated[list[Path], typer.Argument(help="Folders of saved results (searched recursively).")],
-    output: Annotated[Path | None, typer.Option("-o", "--output", help="FILE.xlsx or FILE.csv (default: CSV on stdout).")] = None,
+    output: Annotated[Path | None, typer.Option("-o", "--output", help="FILE.xlsx (the sizing workbook) or FILE.csv (default: CSV on stdout).")] = None,
+    set_file: Annotated[Path | None, typer.Option("--set", help="Take factors and allowables from this set file.")] = None,
 ) -> int:
-    """Envelope (max/min, run and time) of every result column across saved results."""
+    """Envelope (max/min, run, time, abscissa, concurrent values, margins) of every result
+    column across saved results; failed runs are left out."""
     from loadcases import envelope as env
+    from loadcases.saved_report import saved_report
 
     if output is not None and output.suffix.lower() not in (".xlsx", ".csv"):
         raise fail(f"{output}: output must end in .xlsx or .csv")
     for directory in dirs:
         if not directory.is_dir():
             raise fail(f"{directory}: no such folder")
-    files = env.find_result_files(dirs)
-    if not files:
+    if set_file is not None:
+        _require_files([set_file])
+    report = saved_report(dirs, set_path=set_file)
+    if not report.records:
         raise fail("no results (NAME.csv with a 'time' column) under " + ", ".join(map(str, dirs)))
-    rows = env.extract_envelope(env.load_saved_runs(files))
+    for record in report.records:
+        if not record.ok:
+            typer.echo(f"loads: note: {record.name} failed; left out of the envelope", err=True)
     if output is None:
-        typer.echo(env.envelope_csv_text(rows), nl=False)
+        typer.echo(env.envelope_csv_text(report.rows), nl=False)
         return EXIT_OK
     if output.suffix.lower() == ".xlsx":
-        env.write_envelope_xlsx(rows, output, sources=[str(path) for _, path in files])
+        from loadcases.workbook import write_workbook
+
+        title = set_file.stem if set_file else ", ".join(map(str, dirs))
+        write_workbook(report.workbook_data(title, set_file), output)
     else:
-        env.write_envelope_csv(rows, output)
-    typer.echo(f"envelope of {len(files)} runs, {len(rows)} columns -> {output}")
+        env.write_envelope_csv(report.rows, output)
+    typer.echo(f"envelope of {len(report.runs)} runs, {len(report.rows)} columns -> {output}")
     return EXIT_OK
 
 

@@ -35,6 +35,7 @@ class FileReport:
     runs: list[RunLine] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    footer: list[str] = field(default_factory=list)   # printed after the run lines
 
     @property
     def failed(self) -> bool:

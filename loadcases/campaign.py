@@ -109,7 +109,7 @@ def _record(outcome: RunOutcome, spec: RunSpec, csv_path: Path) -> RunRecord:
 
 
 def _solve_all(compiled: CompiledSet, directory: Path, executor: Executor, force: bool,
-               on_record: OnRecord | None) -> list[RunRecord]:
+               on_record: OnRecord | None, xlsx: bool = False) -> list[RunRecord]:
     """Records in run order; solved runs' results are written here as they arrive."""
     specs = list(compiled.runs)
     records: list[RunRecord | None] = [None if force else _reusable(directory, s)
@@ -123,7 +123,7 @@ def _solve_all(compiled: CompiledSet, directory: Path, executor: Executor, force
     todo = [k for k, record in enumerate(records) if record is None]
     for index, outcome in executor.map_unordered(solve_spec, [specs[k] for k in todo]):
         spec = specs[todo[index]]
-        write_results(outcome, directory, version=compiled.version)
+        write_results(outcome, directory, version=compiled.version, xlsx=xlsx)
         records[todo[index]] = _record(outcome, spec, _csv_path(directory, spec.name))
         done += 1
         if on_record is not None:
@@ -171,17 +171,19 @@ def _plots(curves: list[EnvelopeCurve], directory: Path) -> list[Path]:
 
 def run_set(path: str | Path, *, output_dir: str | Path, executor: Executor | None = None,
             force: bool = False, on_record: OnRecord | None = None,
-            options: dict[str, str] | None = None) -> SetResult:
+            options: dict[str, str] | None = None, xlsx: bool = False) -> SetResult:
     """Run a set file into `output_dir/SET/`; InputError (nothing run) for invalid input.
 
     `on_record(record, done, total)` is called as each run is reused or finishes;
-    `options` (e.g. jobs, scheduler) are recorded on the workbook's Provenance sheet.
+    `options` (e.g. jobs, scheduler) are recorded on the workbook's Provenance sheet;
+    `xlsx` also writes each solved run's `NAME.xlsx`.
     """
     started = clock.time()
     compiled = load_and_compile_set(path)
     _prebuild(compiled)
     directory = result_base(Path(output_dir), compiled.name)
-    records = _solve_all(compiled, directory, executor or SerialExecutor(), force, on_record)
+    records = _solve_all(compiled, directory, executor or SerialExecutor(), force, on_record,
+                         xlsx)
     runs = [load_saved_run(r.csv_path) for r in records if r.ok]
     model = compiled.set_file.model
     result = SetResult(compiled, directory, records,

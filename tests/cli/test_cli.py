@@ -180,13 +180,14 @@ def test_envelope_to_stdout_and_workbook(tmp_path: Path) -> None:
     write_results(outcome("sub/b", scale=3.0), tmp_path / "r", version="0")
     result = runner.invoke(app, ["envelope", str(tmp_path / "r")])
     assert result.exit_code == 0, result.output
-    assert result.stdout.splitlines() == ["column,max,max_run,max_time,min,min_run,min_time",
-                                          "pivot_force.fx,3.0,sub/b,0.0,-6.0,sub/b,0.1"]
+    lines = [line.split(",")[:7] for line in result.stdout.splitlines()]
+    assert lines == [["column", "max", "max_run", "max_time", "min", "min_run", "min_time"],
+                     ["pivot_force.fx", "3.0", "sub/b", "0.0", "-6.0", "sub/b", "0.1"]]
     book_path = tmp_path / "env.xlsx"
     result = runner.invoke(app, ["envelope", str(tmp_path / "r"), "-o", str(book_path)])
     assert result.exit_code == 0, result.output
     rows = list(openpyxl.load_workbook(book_path)["Envelope"].iter_rows(values_only=True))
-    assert rows[1] == ("pivot_force.fx", 3.0, "sub/b", 0.0, -6.0, "sub/b", 0.1)
+    assert rows[1][:7] == ("pivot_force.fx", 3.0, "sub/b", 0.0, -6.0, "sub/b", 0.1)
 
 
 def test_envelope_errors_exit_2(tmp_path: Path) -> None:

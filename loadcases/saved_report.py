@@ -1,0 +1,66 @@
+"""`loads envelope DIR...`: the envelope, curves and workbook data of saved results.
+
+Runs are the results CSVs below the folders (sorted by path); runs whose summary says they
+failed are listed but left out of the envelope, as in a set run. Factors and allowables
+come from a set file when one is given.
+"""
+from __future__ import annotations
+
+from collections.abc import Iterable
+from dataclasses import dataclass
+from pathlib import Path
+
+from loadcases.curves import EnvelopeCurve, envelope_curves
+from loadcases.envelope import EnvelopeRow, extract_envelope
+from loadcases.margins import apply_margins
+from loadcases.results import package_version
+from loadcases.saved import (RunRecord, SavedRun, find_result_files, load_saved_run,
+                             read_summary, record_from_summary, summary_path)
+
+__all__ = ["SavedReport", "saved_report"]
+
+
+@dataclass
+class SavedReport:
+    """Every saved run (`records`), the ok runs, their envelope and curves."""
+
+    records: list[RunRecord]
+    runs: list[SavedRun]
+    rows: list[EnvelopeRow]
+    curves: list[EnvelopeCurve]
+    sources: list[Path]
+
+    def workbook_data(self, title: str, set_path: Path | None = None):  # -> WorkbookData
+        """The workbook of these results (Provenance lists each CSV with its hash)."""
+        from loadcases.workbook import WorkbookData, file_sha256
+
+        inputs = [(str(p), file_sha256(p)) for p in ([set_path] if set_path else [])]
+        inputs += [(str(p), file_sha256(p)) for p in self.sources]
+        return WorkbookData(title, self.records, self.runs, self.rows, self.curves, inputs,
+                            [("made by", "loads envelope")], package_version(),
+                            str(set_path or ""))
+
+
+def _record(directory: Path, csv_path: Path, run: SavedRun) -> RunRecord:
+    summary = read_summary(summary_path(csv_path)) or {"case": run.name, "status": "ok"}
+    return record_from_summary({**summary, "case": run.name}, csv_path)
+
+
+def saved_report(directories: Iterable[Path], *, set_path: Path | None = None
+                 ) -> SavedReport:
+    """Read every run below `directories`; factors/allowables from `set_path` if given."""
+    files = find_result_files(directories)
+    records, runs = [], []
+    for directory, csv_path in files:
+        run = load_saved_run(csv_path, directory)
+        records.append(_record(directory, csv_path, run))
+        if records[-1].ok:
+            runs.append(run)
+    factors, allowables = {}, {}
+    if set_path is not None:
+        from loadcases.loader import load_set
+
+        model = load_set(set_path).model
+        factors, allowables = model.factors, model.allowables
+    rows = apply_margins(extract_envelope(runs), factors, allowables)
+    return SavedReport(records, runs, rows, envelope_curves(runs), [p for _, p in files])
