@@ -65,7 +65,8 @@ class Dynamic(_Timed):
 def output_times(start: float, end: float, step: float) -> np.ndarray:
     """Output grid start, start+step, ..., end (end always included)."""
     n = int(np.floor((end - start) / step + 1e-9))
-    times = start + step * np.arange(n + 1)
+    # rounded to 12 significant digits: 0.6, not 0.6000000000000001, in the results
+    times = np.array([float(f"{start + step * i:.12g}") for i in range(n + 1)])
     if end - times[-1] > 1e-9 * max(step, 1.0):
         times = np.append(times, end)
     return times

@@ -109,8 +109,8 @@ class Spring:
         rate = float(u @ (view.point_velocity(b1, s1) - view.point_velocity(b2, s2)))
         stretch = length - self.free_length
         tension = self.stiffness * stretch + self.damping * rate + self.preload
-        if self.tension_only and stretch < 0.0:
-            tension = 0.0
+        if self.tension_only and (stretch < 0.0 or tension < 0.0):
+            tension = 0.0  # a slack wire pushes nowhere, nor does its damping when taut
         return tension, length, u
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:

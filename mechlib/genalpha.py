@@ -33,6 +33,7 @@ _GROW, _SHRINK = 4.0, 0.2
 _REGROW = 1.5
 _NEWTON_KAPPA = 0.05
 _ETA_MIN = 1e-3
+_ROUNDOFF = 1e3 * np.finfo(float).eps
 _SLOW_ITERATIONS = 3
 _MAX_STEPS = 2_000_000
 
@@ -102,9 +103,11 @@ class _Scales:
         """Raise the acceleration reference to the largest accelerations seen."""
         np.maximum(self.a_ref, np.abs(qdd), out=self.a_ref)
 
-    def norm_a(self, e: np.ndarray, qdd: np.ndarray) -> float:
-        """RMS of an acceleration error weighted by tol (a_ref + |qdd|)."""
-        w = e / (self.tol * (self.a_ref + np.abs(qdd)))
+    def norm_a(self, e: np.ndarray, qdd: np.ndarray, q: np.ndarray, bp: float) -> float:
+        """RMS of an acceleration error weighted by tol (a_ref + |qdd|), floored at what
+        round-off in q allows (bp eps |q|): below it Newton cannot go, whatever tol asks."""
+        floor = _ROUNDOFF * bp * (self.q_abs / self.tol + np.abs(q))
+        w = e / (self.tol * (self.a_ref + np.abs(qdd)) + floor)
         return math.sqrt(w @ w / w.size)
 
     def norm_q(self, e: np.ndarray, q: np.ndarray) -> float:
@@ -182,7 +185,7 @@ class _Integrator:
             it += 1
             # acceleration level: a position increment small against the position tolerance
             # is still large for qdd (x 1/(beta h^2)), i.e. for the forces and the energy
-            size = max(self.scales.norm_q(dq, q1), self.scales.norm_a(bp * dq, qdd1))
+            size = max(self.scales.norm_q(dq, q1), self.scales.norm_a(bp * dq, qdd1, q1, bp))
             if prev < math.inf:
                 theta = size / prev
                 eta = theta / (1.0 - theta) if theta < 1.0 else math.inf

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg.lapack import dgetrf as _getrf, dgetrs as _getrs
+from scipy.linalg.lapack import dgecon as _gecon, dgetrf as _getrf, dgetrs as _getrs
 from scipy.sparse.linalg import splu
 
 from mechlib.check import find_redundant
@@ -17,7 +17,7 @@ from mechlib.solution import SolverFailure
 __all__ = ["augmented", "factor", "factor_saddle", "SaddlePattern", "solve_factored",
            "singular_failure", "SINGULAR_RATIO", "SPARSE_FROM"]
 
-SINGULAR_RATIO = 1e-13
+SINGULAR_RATIO = 1e-14
 SPARSE_FROM = 100
 
 
@@ -73,12 +73,16 @@ def augmented(top: np.ndarray, jac: np.ndarray) -> np.ndarray:
 
 
 def factor(matrix: np.ndarray):
-    """LU factors of a square matrix, or None when it is numerically singular."""
-    lu, piv, _ = _getrf(matrix, overwrite_a=True)
-    diag = np.abs(np.diag(lu))
-    if diag.size and (diag.min() <= SINGULAR_RATIO * diag.max() or not np.isfinite(diag).all()):
+    """LU factors of a square matrix, or None when it is numerically singular: reciprocal
+    condition number (LAPACK dgecon, 1-norm) below SINGULAR_RATIO."""
+    if matrix.size == 0:
+        return matrix, np.zeros(0, dtype=np.int32)
+    norm = float(np.abs(matrix).sum(axis=0).max())
+    lu, piv, info = _getrf(matrix, overwrite_a=True)
+    if info > 0 or not np.isfinite(lu).all():
         return None
-    return lu, piv
+    rcond, _ = _gecon(lu, norm)
+    return None if rcond <= SINGULAR_RATIO else (lu, piv)
 
 
 def solve_factored(lu, rhs: np.ndarray, *, transpose: bool = False) -> np.ndarray:

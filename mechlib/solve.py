@@ -47,8 +47,7 @@ def check_model(system: System, analysis: Analysis, *, redundant: str = "error")
             motions = ", ".join(system.mechanism.motions) or "none"
             raise ModelError([("", f"kinematic analysis needs 0 degrees of freedom after the "
                                    f"motions ({motions}), but the mechanism has {dof}: add "
-                                   "motions or use a dynamic or quasi-static analysis"
-                               if dof > 0 else "")])
+                                   "motions or use a dynamic or quasi-static analysis")])
     return warnings
 
 
@@ -111,9 +110,12 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
         if throw:
             raise
         status, message = "failed", str(failure)
-    channels = evaluate_requests(system, trajectory, requests) if len(trajectory) else {}
-    if not channels and requests and len(trajectory) == 0:
-        channels = {}
+    try:
+        channels = evaluate_requests(system, trajectory, requests) if len(trajectory) else {}
+    except SolverFailure as failure:  # a request that cannot be evaluated (expression error)
+        if throw:
+            raise
+        status, message, channels = "failed", f"requests: {failure}", {}
     stats.cpu_seconds = _time.process_time() - cpu0
     return Solution(status, message, analysis.name, np.array(trajectory.time), channels,
                     stats, warnings)
