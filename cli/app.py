@@ -254,6 +254,12 @@ def _find_bench_suite() -> Path | None:
                  if (c / "benchmarks" / "suite.py").is_file()), None)
 
 
+from cli import plot_cmd  # noqa: E402  (plot and new: registered through `guarded`)
+
+app.command("plot")(guarded(plot_cmd.plot))
+app.command("new")(guarded(plot_cmd.new))
+
+
 def main() -> None:
     """Console entry point `loads`."""
     try:

@@ -1,0 +1,305 @@
+"""PNG plots of result columns (vs time or vs another column) and of envelope curves.
+
+One PNG per request: with one run, the request's components are lines grouped in one panel
+per unit (`fx fy fz f` in N, `tx ty tz t` in N*m); with several runs, one panel per
+component and one line per run (legend = run name). Values are plotted in SI, as in the
+CSV files; axis labels carry the unit (from the run's `units` map in `NAME.summary.json`,
+else guessed from the column name, see `column_unit`). Matplotlib's Agg canvas is used
+directly (no pyplot, no global backend switch), and every file is written atomically.
+
+Figure size: `FIG_WIDTH_IN` x `figure_height_in(panels)` inches at `DPI`, i.e. 1000 px
+wide and 100 * (1.6 + 2.4 * panels) px high (at least 400 px).
+"""
+from __future__ import annotations
+
+import fnmatch
+import json
+import re
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
+
+from loadcases.atomic import atomic_path
+from loadcases.results import SUMMARY_SUFFIX, TIME_COLUMN, read_results
+
+__all__ = [
+    "SavedRun", "load_saved_run", "find_result_csvs", "select_columns", "column_unit",
+    "request_of", "plot_runs", "write_envelope_plots", "figure_height_in", "plot_file_name",
+    "FIG_WIDTH_IN", "DPI",
+]
+
+Run = tuple[str, np.ndarray, dict[str, np.ndarray]]
+
+FIG_WIDTH_IN = 10.0         # inches
+DPI = 100                   # pixels per inch
+PANEL_HEIGHT_IN = 2.4       # inches per panel
+TITLE_HEIGHT_IN = 1.6       # inches for the title and the x label
+MIN_HEIGHT_IN = 4.0         # inches
+LEGEND_ROWS = 24            # legend entries per legend column
+ZERO_FLOOR = 1e-9           # SI; a panel whose values all stay below it shows -1..1, not noise
+
+# Units of components whatever the request (SPEC 1.3).
+_COMPONENT_UNITS = {"fx": "N", "fy": "N", "fz": "N", "f": "N", "normal": "N", "friction": "N",
+                    "tx": "N*m", "ty": "N*m", "tz": "N*m", "t": "N*m"}
+# Words in a request name that tell the unit of its `value` / `x y z` (first match wins).
+_NAME_UNITS = (("alpha", "rad/s^2"), ("omega", "rad/s"), ("rate", "rad/s"),
+               ("angle", "rad"), ("rotation", "rad"), ("torque", "N*m"), ("moment", "N*m"),
+               ("acc", "m/s^2"), ("vel", "m/s"), ("speed", "m/s"), ("force", "N"),
+               ("load", "N"), ("tension", "N"), ("pos", "m"), ("travel", "m"),
+               ("stroke", "m"), ("length", "m"), ("penetration", "m"))
+
+
+@dataclass
+class SavedRun:
+    """One run read back from disk: name, time (n,) s, channels {column: (n,)} SI, units."""
+
+    name: str
+    time: np.ndarray
+    channels: dict[str, np.ndarray]
+    units: dict[str, str] = field(default_factory=dict)
+    status: str = "ok"
+
+    def as_run(self) -> Run:
+        """`(name, time, channels)` as `plot_runs` takes it (` (failed)` appended if so)."""
+        label = self.name if self.status == "ok" else f"{self.name} ({self.status})"
+        return label, self.time, self.channels
+
+
+def load_saved_run(path: Path) -> SavedRun:
+    """Read `NAME.csv` (or its `NAME.summary.json`) with the summary's name, units, status.
+
+    Raises ValueError if the CSV is missing or not a results file.
+    """
+    path = Path(path)
+    if path.name.endswith(SUMMARY_SUFFIX):
+        path = path.with_name(path.name[: -len(SUMMARY_SUFFIX)] + ".csv")
+    if not path.is_file():
+        raise ValueError(f"{path}: no such results file")
+    time, channels = read_results(path)
+    summary = _read_summary(path.with_name(path.name[: -len(".csv")] + SUMMARY_SUFFIX))
+    units = summary.get("units")
+    return SavedRun(name=str(summary.get("case") or path.name[: -len(".csv")]), time=time,
+                    channels=channels, units=dict(units) if isinstance(units, dict) else {},
+                    status=str(summary.get("status") or "ok"))
+
+
+def _read_summary(path: Path) -> dict[str, Any]:
+    """The summary dict, or {} when absent or not a JSON object."""
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return {}
+    return data if isinstance(data, dict) else {}
+
+
+def find_result_csvs(paths: Iterable[Path]) -> list[Path]:
+    """Result CSVs named by `paths`: files as given (a summary names its CSV), folders
+    searched recursively for `NAME.csv` files next to a `NAME.summary.json`; sorted per
+    folder, duplicates once."""
+    found: list[Path] = []
+    for path in map(Path, paths):
+        if path.is_dir():
+            found += sorted(p for p in path.rglob("*.csv")
+                            if p.with_name(p.name[:-4] + SUMMARY_SUFFIX).is_file())
+        else:
+            found.append(path)
+    return list(dict.fromkeys(found))
+
+
+def request_of(column: str) -> str:
+    """The request name of a `REQUEST.COMPONENT` column (the column itself if no dot)."""
+    return column.rsplit(".", 1)[0] if "." in column else column
+
+
+def select_columns(available: Sequence[str], patterns: Sequence[str] | None) -> list[str]:
+    """Columns matching any pattern (fnmatch), in `available` order; none given: all.
+
+    A pattern without a dot or wildcard names a request (all its components): `hinge_force`
+    is `hinge_force.*`. Raises ValueError naming the patterns that match nothing.
+    """
+    if not patterns:
+        return list(available)
+    globs = [p if ("." in p or any(c in p for c in "*?[")) else p + ".*" for p in patterns]
+    unmatched = [p for p, g in zip(patterns, globs) if not fnmatch.filter(available, g)]
+    if unmatched:
+        requests = ", ".join(dict.fromkeys(request_of(c) for c in available))
+        raise ValueError(f"no column matches {', '.join(unmatched)} (requests: {requests})")
+    return [c for c in available if any(fnmatch.fnmatchcase(c, g) for g in globs)]
+
+
+def column_unit(column: str, units: Mapping[str, str] | None = None) -> str:
+    """SI unit text of a column: from `units` when there, else from the component name
+    (`fx` N, `tx` N*m) or words of the request name (`..angle..` rad); '' if unknown."""
+    if units and units.get(column) is not None:
+        return str(units[column])
+    if column == TIME_COLUMN:
+        return "s"
+    request, _, component = column.rpartition(".") if "." in column else (column, "", "")
+    if component in _COMPONENT_UNITS:
+        return _COMPONENT_UNITS[component]
+    lowered = request.lower()
+    return next((unit for word, unit in _NAME_UNITS if word in lowered), "")
+
+
+def _label(name: str, unit: str) -> str:
+    return f"{name} [{unit}]" if unit else name
+
+
+def figure_height_in(panels: int) -> float:
+    """Figure height (inches) for a number of stacked panels."""
+    return max(MIN_HEIGHT_IN, TITLE_HEIGHT_IN + PANEL_HEIGHT_IN * panels)
+
+
+def plot_file_name(stem: str) -> str:
+    """A safe PNG file name: characters other than letters, digits, `_ . - = ,` become `_`."""
+    return re.sub(r"[^A-Za-z0-9_.=,-]+", "_", stem).strip("_") + ".png"
+
+
+def _all_below(panel: "_Panel", floor: float) -> bool:
+    """True if every finite value of the panel's lines is within +-floor."""
+    peaks = [np.nanmax(np.abs(y)) for _, _, y in panel.lines if np.isfinite(y).any()]
+    return bool(peaks) and max(peaks) <= floor
+
+
+@dataclass
+class _Panel:
+    ylabel: str
+    lines: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
+
+
+def _draw(panels: list[_Panel], *, title: str, xlabel: str, target: Path,
+          band: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+          legend_per_panel: bool = False, colors: Mapping[str, str] | None = None) -> Path:
+    """Draw stacked panels sharing x, legends outside on the right (one per panel, or one
+    for the figure when every panel has the same lines); save `target` atomically."""
+    fig = Figure(figsize=(FIG_WIDTH_IN, figure_height_in(len(panels))), dpi=DPI,
+                 layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
+    labels_seen: dict[str, Any] = {}
+    for ax, panel in zip(axes, panels):
+        if band is not None:
+            ax.fill_between(band[0], band[2], band[1], color="0.5", alpha=0.15,
+                            linewidth=0, label="envelope")
+        for label, x, y in panel.lines:
+            (line,) = ax.plot(x, y, linewidth=1.2, label=label,
+                              color=(colors or {}).get(label))
+            labels_seen.setdefault(label, line)
+        ax.set_ylabel(panel.ylabel)
+        ax.grid(True, which="major", alpha=0.5)
+        ax.minorticks_on()
+        ax.grid(True, which="minor", alpha=0.15)
+        ax.axhline(0.0, color="0.3", linewidth=0.6)
+        if _all_below(panel, ZERO_FLOOR):
+            ax.set_ylim(-1.0, 1.0)
+        if legend_per_panel:
+            ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
+    axes[-1].set_xlabel(xlabel)
+    fig.suptitle(title)
+    if labels_seen and not legend_per_panel:
+        ncols = 1 + (len(labels_seen) - 1) // LEGEND_ROWS
+        fig.legend(list(labels_seen.values()), list(labels_seen), loc="outside right upper",
+                   fontsize="small", ncols=ncols)
+    with atomic_path(target) as tmp:
+        fig.savefig(tmp, format="png", dpi=DPI)
+    return target
+
+
+def _request_panels(request: str, columns: list[str], runs: list[Run], x: str,
+                    units: Mapping[str, str]) -> list[_Panel]:
+    """Panels of one request: by unit for a single run, by component for several."""
+    panels: dict[str, _Panel] = {}
+    for column in columns:
+        unit = column_unit(column, units)
+        component = column[len(request) + 1:] or column
+        for run_name, time, channels in runs:
+            if column not in channels:
+                continue
+            xs = time if x == TIME_COLUMN else channels.get(x)
+            if xs is None:
+                continue
+            if len(runs) == 1:
+                key, label = unit, component
+                ylabel = _label(request, unit)
+            else:
+                key, label, ylabel = column, run_name, _label(column, unit)
+            panels.setdefault(key, _Panel(ylabel)).lines.append((label, xs, channels[column]))
+    return list(panels.values())
+
+
+def plot_runs(runs: list[Run], columns: Sequence[str] | None = None, *, x: str = TIME_COLUMN,
+              units: Mapping[str, str] | None = None, out_dir: Path) -> list[Path]:
+    """Write one PNG per request of `runs` into `out_dir`; return the paths written.
+
+    runs: `(run_name, time (n,) s, {column: values (n,) SI})`, overlaid in the given order.
+    columns: patterns of the columns to plot (see `select_columns`; None: all).
+    x: `time` or a column present in the runs (e.g. `crank_angle.value`), excluded from
+    the plotted columns. units: `{column: unit}` for labels (else guessed from names).
+    Files: `REQUEST.png` vs time, `REQUEST-vs-XCOLUMN.png` otherwise.
+    Raises ValueError for no runs, a missing x column, or patterns that match nothing.
+    """
+    if not runs:
+        raise ValueError("no runs to plot")
+    available = list(dict.fromkeys(c for _, _, ch in runs for c in ch))
+    if x != TIME_COLUMN and not any(x in ch for _, _, ch in runs):
+        raise ValueError(f"x column '{x}' is in none of the runs (columns: "
+                         f"{', '.join(available)})")
+    chosen = [c for c in select_columns(available, columns) if c != x]
+    by_request: dict[str, list[str]] = {}
+    for column in chosen:
+        by_request.setdefault(request_of(column), []).append(column)
+    units = dict(units or {})
+    xlabel = _label(x, column_unit(x, units))
+    names = [name for name, _, _ in runs]
+    subtitle = names[0] if len(runs) == 1 else f"{len(runs)} runs"
+    written = []
+    for request, columns_of in by_request.items():
+        panels = _request_panels(request, columns_of, runs, x, units)
+        if not panels:
+            continue
+        stem = request if x == TIME_COLUMN else f"{request}-vs-{x}"
+        title = f"{request} vs {x} - {subtitle}"
+        written.append(_draw(panels, title=title, xlabel=xlabel,
+                             target=Path(out_dir) / plot_file_name(stem),
+                             legend_per_panel=len(runs) == 1))
+    return written
+
+
+def _field(curve: Any, name: str, default: Any = None) -> Any:
+    if isinstance(curve, Mapping):
+        return curve.get(name, default)
+    return getattr(curve, name, default)
+
+
+def write_envelope_plots(curves: Iterable[Any], out_dir: Path) -> list[Path]:
+    """Write one PNG per envelope curve into `out_dir`; return the paths written.
+
+    Each curve is a mapping or an object with `column` (str), `abscissa_name` (str),
+    `x` (m,) abscissa values, `upper` and `lower` (m,) envelope values (SI, NaN = gap),
+    `family` (str) and `unit` (str, unit of the column); optional `abscissa_unit`
+    (else guessed from `abscissa_name`, e.g. `angle(hinge)` -> rad).
+    File: `envelope-FAMILY-COLUMN.png` (unsafe characters replaced by `_`).
+    """
+    written = []
+    for curve in curves:
+        column, family = str(_field(curve, "column")), str(_field(curve, "family", ""))
+        xs = np.asarray(_field(curve, "x"), dtype=float)
+        upper = np.asarray(_field(curve, "upper"), dtype=float)
+        lower = np.asarray(_field(curve, "lower"), dtype=float)
+        abscissa = str(_field(curve, "abscissa_name", "x"))
+        x_unit = _field(curve, "abscissa_unit")
+        if x_unit is None:
+            x_unit = column_unit(abscissa.replace("(", "_").replace(")", ""))
+        unit = _field(curve, "unit") or column_unit(column)
+        panel = _Panel(_label(column, unit), [("upper", xs, upper), ("lower", xs, lower)])
+        title = f"envelope of {column} vs {abscissa} - family {family}"
+        target = Path(out_dir) / plot_file_name(f"envelope-{family}-{column}")
+        written.append(_draw([panel], title=title, xlabel=_label(abscissa, x_unit),
+                             target=target, band=(xs, upper, lower),
+                             colors={"upper": "tab:red", "lower": "tab:blue"}))
+    return written
