@@ -209,7 +209,9 @@ def _write_workbook(path: Path, time: np.ndarray, channels: dict[str, np.ndarray
         f"time histories truncated to the first {rows} of {time.size} rows "
         "(Excel sheet limit); the CSV file holds every row"]
     _summary_sheet(workbook.create_sheet("Summary"), summary, units, notes)
-    with atomic_path(path) as tmp:
+    from loadcases.xlsx_floats import exact_floats  # 17 significant digits, as the CSV
+
+    with atomic_path(path) as tmp, exact_floats():
         workbook.save(tmp)
     return path
 

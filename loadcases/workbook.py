@@ -25,6 +25,7 @@ from loadcases.atomic import atomic_path
 from loadcases.curves import EnvelopeCurve
 from loadcases.envelope import EnvelopeRow
 from loadcases.saved import RunRecord, SavedRun, family_of
+from loadcases.xlsx_floats import exact_floats
 from loadcases.workbook_template import COVER_FIELDS, COVER_SHEET, build_template, ensure_styles
 
 __all__ = ["WorkbookData", "write_workbook", "sheet_title", "file_sha256", "MAX_RUN_SHEETS",
@@ -154,7 +155,7 @@ def write_workbook(data: WorkbookData, path: Path, *, template: Path | None = No
         charts.charts_sheet(chart_sheet, data.curves, curve_sheets, wheres, blocks)
     sheets.provenance_sheet(workbook.create_sheet(sheet_title("Provenance", used)), data,
                             platform.python_version())
-    with atomic_path(Path(path)) as tmp:
+    with atomic_path(Path(path)) as tmp, exact_floats():
         workbook.save(tmp)
     return Path(path)
 

@@ -15,6 +15,7 @@ from openpyxl.comments import Comment
 from openpyxl.formatting.rule import CellIsRule
 from openpyxl.styles import PatternFill
 from openpyxl.utils import get_column_letter
+from openpyxl.worksheet.hyperlink import Hyperlink
 
 from loadcases.envelope import ENVELOPE_COLUMNS, EnvelopeRow
 from loadcases.results import EXCEL_MAX_ROWS, TIME_COLUMN
@@ -66,7 +67,8 @@ def _header(sheet: Any, titles: list[str], row: int = 1) -> None:
 
 def _link(cell: Any, sheet_name: str | None) -> None:
     if sheet_name:
-        cell.hyperlink = f"#'{sheet_name}'!A1"
+        # An internal link (a location, not a `#` URL) opens the sheet in any viewer.
+        cell.hyperlink = Hyperlink(ref=cell.coordinate, location=f"'{sheet_name}'!A1")
         cell.style = "Hyperlink"
 
 

@@ -1,0 +1,74 @@
+"""The sizing workbook read back by value (pandas, openpyxl): sheets, numbers, links, charts."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import openpyxl
+import pandas as pd
+import pytest
+
+import loadcases.workbook as workbook_module
+from loadcases.campaign import run_set
+from loadcases.results import read_results
+from loadcases.workbook import sheet_title
+from tests.loadcases.set_fixtures import write_inputs
+
+
+@pytest.fixture(scope="module")
+def crank_set(tmp_path_factory: pytest.TempPathFactory):
+    folder = write_inputs(tmp_path_factory.mktemp("wb"))
+    return run_set(folder / "crank.set.yaml", output_dir=folder / "out")
+
+
+def test_sheets_and_envelope_sheet_equal_envelope_csv(crank_set) -> None:
+    path = crank_set.directory / "crank-envelope.xlsx"
+    book = openpyxl.load_workbook(path)
+    for name in ("Cover", "Cases", "Envelope", "Charts", "Curves crank-turn", "Provenance"):
+        assert name in book.sheetnames
+    from_csv = pd.read_csv(crank_set.directory / "envelope.csv")
+    from_book = pd.read_excel(path, sheet_name="Envelope")
+    assert list(from_book.columns) == list(from_csv.columns)
+    assert list(from_csv.columns[:7]) == ["column", "max", "max_run", "max_time", "min",
+                                          "min_run", "min_time"]
+    pd.testing.assert_frame_equal(from_book, from_csv, check_dtype=False)
+    sheet = book["Envelope"]
+    assert sheet.freeze_panes == "B2"
+    assert sheet["C2"].hyperlink is not None and sheet["C2"].hyperlink.location
+    assert sheet.conditional_formatting   # negative margins highlighted
+    assert len(book["Charts"]._charts) >= 2
+
+
+def test_time_histories_equal_the_csv_results_by_value(crank_set) -> None:
+    path = crank_set.directory / "crank-envelope.xlsx"
+    cases = pd.read_excel(path, sheet_name="Cases")
+    assert list(cases["status"]) == ["ok"] * 6
+    assert cases["run"].tolist() == [r.name for r in crank_set.records]
+    for record, sheet in zip(crank_set.records, cases["sheet"]):
+        time, channels = read_results(record.csv_path)
+        frame = pd.read_excel(path, sheet_name=sheet)
+        assert frame.columns[0] == "time [s]"
+        np.testing.assert_array_equal(frame.iloc[:, 0].to_numpy(), time)
+        for k, (column, values) in enumerate(channels.items(), start=1):
+            assert frame.columns[k].startswith(column + " [")
+            np.testing.assert_array_equal(frame.iloc[:, k].to_numpy(dtype=float), values)
+
+
+def test_many_runs_stack_per_family(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(workbook_module, "MAX_RUN_SHEETS", 2)
+    folder = write_inputs(tmp_path)
+    result = run_set(folder / "crank.set.yaml", output_dir=folder / "out")
+    frame = pd.read_excel(result.directory / "crank-envelope.xlsx", sheet_name="crank-turn")
+    assert frame["run"].drop_duplicates().tolist() == [r.name for r in result.records]
+    last = result.records[-1]
+    time, channels = read_results(last.csv_path)
+    block = frame[frame["run"] == last.name]
+    np.testing.assert_array_equal(block["time [s]"].to_numpy(), time)
+
+
+def test_sheet_titles_are_valid_and_unique() -> None:
+    used: set[str] = set()
+    assert sheet_title("a[b=1]/c", used) == "a(b=1)_c"
+    long = "x" * 40
+    assert sheet_title(long, used) == "x" * 31
+    assert sheet_title(long, used) == "x" * 27 + " (2)"
