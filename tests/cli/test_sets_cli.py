@@ -1,0 +1,70 @@
+"""`loads run SET.yaml` and `loads envelope` on set results: files, exit status, messages."""
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import openpyxl
+from typer.testing import CliRunner
+
+from cli.app import app
+from tests.loadcases.set_fixtures import write_inputs
+
+runner = CliRunner()
+
+
+def test_run_set_writes_runs_envelope_and_workbook(tmp_path: Path) -> None:
+    folder = write_inputs(tmp_path)
+    out = tmp_path / "res"
+    result = runner.invoke(app, ["run", str(folder / "crank.set.yaml"), "-o", str(out),
+                                 "--jobs", "1"])
+    assert result.exit_code == 0, result.output
+    set_dir = out / "crank-set"
+    assert (set_dir / "crank-turn[speed=2,load=20].csv").is_file()
+    with open(set_dir / "envelope.csv", newline="") as stream:
+        header = next(csv.reader(stream))
+    assert header[:7] == ["column", "max", "max_run", "max_time", "min", "min_run", "min_time"]
+    book = openpyxl.load_workbook(set_dir / "crank-envelope.xlsx")
+    assert {"Cases", "Envelope", "Provenance"} <= set(book.sheetnames)
+    assert "crank-set: 6 runs, 0 failed, 0 reused" in result.stdout
+    again = runner.invoke(app, ["run", str(folder / "crank.set.yaml"), "-o", str(out)])
+    assert again.exit_code == 0 and "6 reused" in again.stdout
+
+
+def test_failing_run_gives_exit_1_and_is_listed(tmp_path: Path) -> None:
+    folder = write_inputs(tmp_path)
+    result = runner.invoke(app, ["run", str(folder / "slider.set.yaml"), "-o",
+                                 str(tmp_path / "res"), "--jobs", "1"])
+    assert result.exit_code == 1
+    assert "failed runs (1):" in result.stdout
+    assert "slider-push[stroke=0.2]: position analysis did not converge" in result.stdout
+    cases = openpyxl.load_workbook(tmp_path / "res" / "slider-set" / "slider.xlsx")["Cases"]
+    statuses = [row[5] for row in cases.iter_rows(min_row=2, values_only=True)]
+    assert statuses == ["ok", "failed", "ok"]
+
+
+def test_invalid_set_exits_2_with_position(tmp_path: Path) -> None:
+    folder = write_inputs(tmp_path)
+    (folder / "bad.set.yaml").write_text("set: bad\ncases: [crank.case.yaml]\n"
+                                         "sweep: {lod: [1, 2]}\n", encoding="utf-8")
+    result = runner.invoke(app, ["run", str(folder / "bad.set.yaml"), "-o", str(tmp_path)])
+    assert result.exit_code == 2
+    assert "bad.set.yaml:3:9: error: sweep.lod: unknown parameter 'lod'" in result.stderr
+
+
+def test_envelope_of_saved_set_results_with_set_margins(tmp_path: Path) -> None:
+    folder = write_inputs(tmp_path)
+    runner.invoke(app, ["run", str(folder / "crank.set.yaml"), "-o", str(tmp_path / "res"),
+                        "--jobs", "1"])
+    book = tmp_path / "env.xlsx"
+    result = runner.invoke(app, ["envelope", str(tmp_path / "res"), "-o", str(book), "--set",
+                                 str(folder / "crank.set.yaml")])
+    assert result.exit_code == 0, result.output
+    saved = list(csv.DictReader(open(tmp_path / "res" / "crank-set" / "envelope.csv")))
+    sheet = openpyxl.load_workbook(book)["Envelope"]
+    header = [c.value for c in sheet[1]]
+    rows = [dict(zip(header, r)) for r in sheet.iter_rows(min_row=2, values_only=True)]
+    torque = next(r for r in rows if r["column"] == "drive_torque.value")
+    expected = next(r for r in saved if r["column"] == "drive_torque.value")
+    assert torque["ms_max"] == float(expected["ms_max"])
+    assert torque["max_run"] == expected["max_run"]
