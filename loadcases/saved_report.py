@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Iterable
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from loadcases.curves import EnvelopeCurve, envelope_curves
 from loadcases.envelope import EnvelopeRow, extract_envelope
@@ -16,6 +17,9 @@ from loadcases.margins import apply_margins
 from loadcases.results import package_version
 from loadcases.saved import (RunRecord, SavedRun, find_result_files, load_saved_run,
                              read_summary, record_from_summary, summary_path)
+
+if TYPE_CHECKING:
+    from loadcases.workbook import WorkbookData
 
 __all__ = ["SavedReport", "saved_report"]
 
@@ -30,7 +34,7 @@ class SavedReport:
     curves: list[EnvelopeCurve]
     sources: list[Path]
 
-    def workbook_data(self, title: str, set_path: Path | None = None):  # -> WorkbookData
+    def workbook_data(self, title: str, set_path: Path | None = None) -> "WorkbookData":
         """The workbook of these results (Provenance lists each CSV with its hash)."""
         from loadcases.workbook import WorkbookData, file_sha256
 
@@ -41,7 +45,7 @@ class SavedReport:
                             str(set_path or ""))
 
 
-def _record(directory: Path, csv_path: Path, run: SavedRun) -> RunRecord:
+def _record(csv_path: Path, run: SavedRun) -> RunRecord:
     summary = read_summary(summary_path(csv_path)) or {"case": run.name, "status": "ok"}
     return record_from_summary({**summary, "case": run.name}, csv_path)
 
@@ -53,7 +57,7 @@ def saved_report(directories: Iterable[Path], *, set_path: Path | None = None
     records, runs = [], []
     for directory, csv_path in files:
         run = load_saved_run(csv_path, directory)
-        records.append(_record(directory, csv_path, run))
+        records.append(_record(csv_path, run))
         if records[-1].ok:
             runs.append(run)
     factors, allowables = {}, {}
