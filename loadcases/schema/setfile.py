@@ -42,7 +42,10 @@ class SetModel(Strict):
     zip: dict[str, list[AnySI]] = Field(default_factory=dict, description="parameters "
                                         "varied together (lists of equal length) [SI]")
     factors: dict[str, Dimensionless] = Field(default_factory=dict,
-                                              description="e.g. {ultimate: 1.5}")
+                                              description="ultimate: factor on every load column (N, N*m); "
+                                              "any other key: fitting factor of a request "
+                                              "REQ or a column REQ.COMP, multiplied in; "
+                                              "e.g. {ultimate: 1.5, rod_end: 1.15}")
     allowables: dict[str, Allowable] = Field(default_factory=dict, description="by result "
                                              "column REQUEST.COMPONENT")
     report: Report | None = None
