@@ -140,6 +140,8 @@ def _print_report(report: FileReport) -> int:
         typer.echo(status_line(line.name, line.status, line.steps, line.cpu_seconds, line.where))
         if line.status != "ok":
             typer.echo(f"  {line.message}")
+        for warning in line.warnings:
+            typer.echo(f"  warning: {warning}")
     for line in report.footer:
         typer.echo(line)
     return EXIT_FAILED if report.failed else EXIT_OK
@@ -152,11 +154,14 @@ def validate(
 ) -> int:
     """Check files without solving; print `file:line:col: error: key: message` per problem."""
     _require_files(files)
-    from loadcases.loader import validate_files
+    from loadcases.loader import file_kind, validate_files
 
     found, ok_files = [], []
     for path in files:
         diagnostics = validate_files([path])
+        if file_kind(path) == "case" and not any(d.severity == "error" for d in diagnostics):
+            from loadcases.run import check_case_file  # builds the model: slower import
+            diagnostics += check_case_file(path)
         found.extend(diagnostics)
         if not any(d.severity == "error" for d in diagnostics):
             ok_files.append(path)

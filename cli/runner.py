@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import functools
+import importlib
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
@@ -25,6 +26,7 @@ class RunLine:
     steps: int
     cpu_seconds: float
     where: Path
+    warnings: tuple[str, ...] = ()
 
 
 @dataclass
@@ -45,8 +47,9 @@ class FileReport:
 def run_one(path: Path, *, output_dir: Path, xlsx: bool,
             progress: Progress | None = None) -> FileReport:
     """Run one file with `loadcases.run.run_file` (which writes the results)."""
-    from loadcases import run as runner  # the solver stack is imported only to run
     from loadcases.loader import file_kind
+
+    runner = importlib.import_module("loadcases.run")  # the solver stack: only to run
 
     try:
         if file_kind(path) == "mechanism":
@@ -59,7 +62,8 @@ def run_one(path: Path, *, output_dir: Path, xlsx: bool,
         solution = outcome.solution
         lines.append(RunLine(outcome.name, solution.status, solution.message,
                              int(solution.stats.steps), float(solution.stats.cpu_seconds),
-                             _where(output_dir, outcome.name)))
+                             _where(output_dir, outcome.name),
+                             tuple(outcome.warnings) + tuple(solution.warnings)))
     return FileReport(path, runs=lines)
 
 

@@ -21,6 +21,11 @@ __all__ = ["BuiltRun", "build_run", "build_mechanism", "ExpressionMotion", "ABSC
            "ABSCISSA_COLUMN"]
 
 NOT_YET = "is not simulated by this version of loads yet"
+_EFFECT_OF = {"joint_friction": "friction"}  # force element type -> effect switching it
+_MEASURE_JOINTS = {"angle": ("revolute", "cylindrical", "screw"),
+                   "omega": ("revolute", "cylindrical", "screw"),
+                   "travel": ("prismatic", "cylindrical", "screw"),
+                   "speed": ("prismatic", "cylindrical", "screw")}
 # A run of a set records the case's `abscissa:` expression as one more result column, so
 # envelopes and curves over it can be made from the saved results alone.
 ABSCISSA_REQUEST = "abscissa"
@@ -45,13 +50,26 @@ class BuiltRun:
     warnings: list[str] = field(default_factory=list)
 
 
+def guarded(compiled, what: str) -> Callable:
+    """The compiled expression, its run-time errors (math, table range) turned into a
+    solver failure that says which input and when."""
+    def evaluate(t: float, state=None) -> float:
+        try:
+            return compiled(t, state)
+        except (ExpressionError, TableRangeError, ZeroDivisionError, OverflowError) as exc:
+            raise ml.SolverFailure(f"{what}: {exc} at t = {t:.6g} s", time=t,
+                                   where=(what,)) from None
+    evaluate.compiled = compiled
+    return evaluate
+
+
 class ExpressionMotion:
     """A motion's coordinate f(t) (rad or m) with exact d/dt and d2/dt2 of its expression."""
 
-    def __init__(self, compiled):
-        self._f = compiled
-        self._d1 = compiled.derivative()
-        self._d2 = self._d1.derivative()
+    def __init__(self, compiled, what: str = "motion"):
+        self._f = guarded(compiled, what)
+        self._d1 = guarded(compiled.derivative(), what)
+        self._d2 = guarded(compiled.derivative().derivative(), what)
 
     def value(self, t: float) -> float:
         return self._f(t)
@@ -80,17 +98,19 @@ class _Builder:
         file, line, col = self.where(kind, key)
         self.problems.append(Diagnostic(file, line, col, key, message))
 
-    def compile(self, text: str, what: str) -> Callable:
-        compiled = parse(text).compile(self.parameters, self.tables)
+    def compile(self, text: str, what: str, kind: str = "mechanism") -> Callable:
+        expression = parse(text)
+        self._check_measures(expression, what, kind)
+        return guarded(expression.compile(self.parameters, self.tables), what)
 
-        def evaluate(t: float, state=None) -> float:
-            try:
-                return compiled(t, state)
-            except (ExpressionError, TableRangeError, ZeroDivisionError) as exc:
-                raise ml.SolverFailure(f"{what}: {exc} at t = {t:.6g} s", time=t,
-                                       where=(what,)) from None
-        evaluate.compiled = compiled
-        return evaluate
+    def _check_measures(self, expression, what: str, kind: str) -> None:
+        """angle/omega need a rotational joint, travel/speed a translational one."""
+        for measure, args in expression.measures():
+            types = _MEASURE_JOINTS.get(measure)
+            joint = self.mech.joints.get(args[0]) if types else None
+            if joint is not None and joint.type not in types:
+                self.error(kind, what, f"{measure}({args[0]}): joint '{args[0]}' is "
+                           f"{joint.type}; {measure} needs a {' or '.join(types)} joint")
 
     # ---- mechanism --------------------------------------------------------------------
     def mechanism(self) -> ml.Mechanism:
@@ -101,11 +121,11 @@ class _Builder:
         for name, p in self.mech.points.items():
             m.add_point(name, body=p.body, at=p.at)
         for name, f in self.mech.frames.items():
-            m.add_frame(name, body=f.body, x=f.x, y=f.y)
+            m.add_frame(name, body=f.body, x=f.x, y=f.y, at=f.at)
         for name, j in self.mech.joints.items():
             self._joint(m, name, j)
         self._forces(m)
-        for name in self.mech.contacts:
+        for name in self.mech.contacts if self.effects.get("contact", True) else ():
             self.error("mechanism", f"contacts.{name}", f"contact elements {NOT_YET}")
         for name in self.mech.events:
             self.error("mechanism", f"events.{name}", f"events {NOT_YET}")
@@ -115,7 +135,8 @@ class _Builder:
                 self.error("case", f"motions.{name}.value", "a motion must be a function of "
                            "time only (use a force element for state-dependent loads)")
                 continue
-            m.add_motion(name, joint=motion.joint, function=ExpressionMotion(fn))
+            m.add_motion(name, joint=motion.joint,
+                         function=ExpressionMotion(fn, f"motions.{name}.value"))
         return m
 
     def _joint(self, m: ml.Mechanism, name: str, j) -> None:
@@ -133,8 +154,8 @@ class _Builder:
         for name, f in self.mech.forces.items():
             if chosen is not None and name not in chosen:
                 continue
-            if not f.active:
-                continue
+            if not f.active or not self.effects.get(_EFFECT_OF.get(f.type, ""), True):
+                continue  # switched off, or its effect is: not simulated at all
             element = self._element(name, f)
             if element is not None:
                 m.add_force(element)
@@ -179,7 +200,7 @@ class _Builder:
             self.error("case", "analysis.type", f"modes analysis {NOT_YET}")
             return None
         if a.type == "static":
-            return ml.Static(time=a.end or 0.0)
+            return ml.Static(time=0.0)
         if a.end is None or a.step is None or a.step <= 0.0 or a.end <= 0.0:
             self.error("case", "analysis", f"a {a.type} analysis needs 'end' and 'step' > 0 "
                        "(seconds)")
@@ -218,14 +239,16 @@ class _Builder:
         if kind == "PointRequest":
             return ml.PointKinematics(name, r.point, r.quantity, r.frame)
         if kind == "ElementRequest":
-            if r.force not in self.mech.forces or (self.loads is not None
-                                                     and r.force not in self.loads):
+            f = self.mech.forces.get(r.force)
+            if f is None or not f.active or (self.loads is not None and r.force not in self.loads) \
+                    or not self.effects.get(_EFFECT_OF.get(f.type, ""), True):
                 self.error("case", f"requests.{name}.force",
                            f"force element '{r.force}' is not active in this case")
                 return None
             return ml.ElementOutput(name, r.force, r.frame)
         if kind == "ExpressionRequest":
-            return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}"))
+            return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}",
+                                                          "case"))
         self.error("case", f"requests.{name}", f"contact requests {NOT_YET}")
         return None
 
@@ -289,7 +312,7 @@ def _abscissa_request(b: _Builder, requests: list, units: dict[str, str]) -> Non
         b.error("case", f"requests.{ABSCISSA_REQUEST}", f"the request name "
                 f"'{ABSCISSA_REQUEST}' is reserved for the case's abscissa in a set; rename it")
         return
-    requests.append(ml.ExpressionOutput(ABSCISSA_REQUEST, b.compile(text, "abscissa")))
+    requests.append(ml.ExpressionOutput(ABSCISSA_REQUEST, b.compile(text, "abscissa", "case")))
     units[ABSCISSA_COLUMN] = abscissa_unit(text)
 
 
@@ -306,4 +329,6 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     initial = b.initial()
     if b.problems:
         raise InputError(b.problems)
-    return BuiltRun(mechanism, analysis, requests, initial, cf.case.analysis.redundant, units)
+    notes = [f"{d.key}: {d.message}" for d in cf.warnings]  # validation warnings travel along
+    return BuiltRun(mechanism, analysis, requests, initial, cf.case.analysis.redundant, units,
+                    notes)

@@ -11,7 +11,7 @@ from loadcases.loader import CaseFile, file_kind, load_case, load_mechanism
 from loadcases.outcome import RunOutcome
 from loadcases.results import write_results
 
-__all__ = ["run_case", "run_file", "check_mechanism_file"]
+__all__ = ["run_case", "run_file", "check_mechanism_file", "check_case_file"]
 
 Progress = Callable[[float, float], None]
 
@@ -47,7 +47,8 @@ def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool =
                             progress=progress)
     except ml.ModelError as error:
         raise InputError(_model_diagnostics(cf, error)) from None
-    return RunOutcome(name=name or cf.case.case, case_file=Path(cf.path), analysis=built.analysis.name,
+    return RunOutcome(name=name or cf.case.case, case_file=Path(cf.path),
+                      analysis=built.analysis.name,
                       solution=solution, input_sha256=cf.input_sha256,
                       column_units=built.column_units, warnings=built.warnings,
                       parameters=dict(cf.parameters))
@@ -77,3 +78,17 @@ def check_mechanism_file(path: Path | str) -> list[str]:
     lines += [f"  redundant: {r} (a case must drop them: analysis.redundant: drop)"
               for r in check.redundant]
     return lines
+
+
+def check_case_file(path: Path | str) -> list[Diagnostic]:
+    """Everything `loads run` would refuse, without solving: the model is built and its
+    degrees of freedom and redundant equations are checked (`loads validate` on a case)."""
+    try:
+        cf = load_case(path)
+        built = build_run(cf)
+        ml.check_model(ml.System(built.mechanism), built.analysis, redundant=built.redundant)
+    except InputError as error:
+        return list(error.diagnostics)
+    except ml.ModelError as error:
+        return _model_diagnostics(cf, error)
+    return []

@@ -89,7 +89,7 @@ class Mechanism:
     joints: dict[str, Joint] = field(default_factory=dict)
     motions: dict[str, Motion] = field(default_factory=dict)
     forces: dict[str, Any] = field(default_factory=dict)
-    frames: dict[str, tuple[str, np.ndarray]] = field(default_factory=dict)
+    frames: dict[str, tuple[str, np.ndarray, tuple]] = field(default_factory=dict)
 
     def add_body(self, name: str, *, mass: float, cm, inertia) -> Body:
         """Add a body; `inertia` is [Ixx, Iyy, Izz], 6 entries (+ Ixy, Ixz, Iyz) or 3x3."""
@@ -119,12 +119,12 @@ class Mechanism:
         self.joints[name] = joint
         return joint
 
-    def add_frame(self, name: str, *, body: str, x, y) -> None:
-        """A named frame on `body` with axes x, y (z = x cross y) given at design."""
+    def add_frame(self, name: str, *, body: str, x, y, at=(0.0, 0.0, 0.0)) -> None:
+        """A named frame on `body`: origin `at` (m), axes x, y (z = x cross y) at design."""
         ex = np.asarray(_unit(x))
         ey = np.asarray(y, dtype=float) - (np.asarray(y, dtype=float) @ ex) * ex
         ey = np.asarray(_unit(ey))
-        self.frames[name] = (body, np.column_stack([ex, ey, np.cross(ex, ey)]))
+        self.frames[name] = (body, np.column_stack([ex, ey, np.cross(ex, ey)]), _vec(at))
 
     def add_motion(self, name: str, *, joint: str, function: TimeFunction,
                    coordinate: str | None = None) -> Motion:

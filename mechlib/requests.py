@@ -45,7 +45,9 @@ class MotionEffort:
 
 @dataclass(frozen=True)
 class PointKinematics:
-    """Position (m), velocity (m/s) or acceleration (m/s^2) of a point: x y z, in `frame`."""
+    """Position (m), velocity (m/s) or acceleration (m/s^2) of a point: x y z, components in
+    `frame` axes; a position is measured from the frame's origin. Velocity and acceleration
+    are those seen from ground, not relative to the frame."""
 
     name: str
     point: str
@@ -187,9 +189,11 @@ def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str,
             v = (xdd[:, :3] + np.einsum("nij,nj->ni", d_rotate(x[:, 3:], s), xdd[:, 3:])
                  + 2.0 * rotate(xd[:, 3:], s))
     if req.frame != "ground":
-        axes = [system.frame_axes(req.frame, system.kin(q, None, t))
-                for q, t in zip(trajectory.q, trajectory.time)]
-        v = np.einsum("nji,nj->ni", np.array(axes), v)
+        kins = [system.kin(q, None, t) for q, t in zip(trajectory.q, trajectory.time)]
+        if req.quantity == "position":  # measured from the frame's origin
+            v = v - np.array([system.frame_origin(req.frame, k) for k in kins])
+        axes = np.array([system.frame_axes(req.frame, k) for k in kins])
+        v = np.einsum("nji,nj->ni", axes, v)
     return dict(zip("xyz", v.T))
 
 

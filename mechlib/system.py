@@ -60,9 +60,16 @@ class System:
 
     def frame_axes(self, name: str, k: Kin) -> np.ndarray:
         """Columns: the axes of frame `name` (ground, a body or a named frame), global."""
-        body, local = self.mechanism.frames.get(name, (name, np.eye(3)))
+        body, local, _ = self.mechanism.frames.get(name, (name, np.eye(3), None))
         b = self._index[body]
         return local if b == self.nb else rotation_matrix(k.p[b]) @ local
+
+    def frame_origin(self, name: str, k: Kin) -> np.ndarray:
+        """Origin (m, global) of frame `name`: a named frame's `at`; a body's frame is the
+        body-fixed point that was at the global origin at design (CAD axes moving along)."""
+        body, _, at = self.mechanism.frames.get(name, (name, None, (0.0, 0.0, 0.0)))
+        b, s = self.body_point(body, at)
+        return self.view(k).point_position(b, s)
 
     def body_point(self, body: str, at) -> tuple[int, np.ndarray]:
         """(body index, body-fixed vector from its centre of mass) of a design point."""

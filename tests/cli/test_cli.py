@@ -140,7 +140,11 @@ def test_validate_prints_diagnostics_sorted_and_ok(tmp_path: Path,
              good: [Diagnostic("good.case.yaml", 2, 1, "loads", "no loads listed", severity="warning")]}
     module = types.ModuleType("loadcases.loader")
     module.validate_files = lambda paths: found[str(paths[0])]
+    module.file_kind = lambda path: "case"
+    run_module = types.ModuleType("loadcases.run")  # the deeper check (build, DOF) is clean
+    run_module.check_case_file = lambda path: []
     monkeypatch.setitem(sys.modules, "loadcases.loader", module)
+    monkeypatch.setitem(sys.modules, "loadcases.run", run_module)
     result = runner.invoke(app, ["validate", good, bad])
     assert result.exit_code == 2
     assert result.stdout.splitlines() == [
