@@ -33,6 +33,9 @@ SI_UNITS: dict[str, str] = {
 }
 _FILE_KINDS = ("length", "angle", "mass", "time", "force")
 _QUANTITY_TEXT = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*[A-Za-z°%µ]")
+# In an expression field a quantity text needs a space before its unit ("100 N"): "2t"
+# is then a malformed expression, not 2 tonnes.
+_EXPRESSION_QUANTITY = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s+[A-Za-z°%µ]")
 
 
 class Strict(BaseModel):
@@ -119,7 +122,7 @@ def expression(dimension: str = "any") -> Any:
             return repr(float(value))
         if not value.strip():
             raise PydanticCustomError("expression", "empty expression")
-        if _QUANTITY_TEXT.match(value):
+        if _EXPRESSION_QUANTITY.match(value):
             try:
                 return repr(to_si(value, dimension))
             except UnitError as error:
