@@ -50,6 +50,9 @@ def fake_run_module(monkeypatch: pytest.MonkeyPatch, behaviour: dict[str, object
     module = types.ModuleType("loadcases.run")
     module.run_file = run_file
     monkeypatch.setitem(sys.modules, "loadcases.run", module)
+    # `from loadcases import run` prefers the package attribute once the real module was
+    # imported (e.g. by set tests in the same worker): replace it too.
+    monkeypatch.setattr(importlib.import_module("loadcases"), "run", module, raising=False)
 
 
 def case_files(tmp_path: Path, *names: str) -> list[str]:
