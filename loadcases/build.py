@@ -9,7 +9,6 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
-import numpy as np
 
 import mechlib as ml
 from loadcases.diagnostics import Diagnostic, InputError

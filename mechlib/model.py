@@ -6,7 +6,7 @@ body axes coincide with global axes there. ``ground`` is the fixed body and is i
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable, Protocol
+from typing import Any, Protocol
 
 import numpy as np
 

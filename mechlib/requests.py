@@ -13,7 +13,8 @@ from typing import Callable
 
 import numpy as np
 
-from mechlib.rotation import cross, d_rotate, e_matrix, rotate, rotation_matrix
+from mechlib.reactions import Gatherer, effort_series, reaction_series
+from mechlib.rotation import d_rotate, rotate
 from mechlib.system import System
 from mechlib.view import StateView
 
@@ -88,61 +89,44 @@ class ExpressionOutput:
 Request = JointReaction | MotionEffort | PointKinematics | JointCoordinate | ElementOutput | ExpressionOutput
 
 
-def _rows_of(system: System, owners: set[str]) -> np.ndarray:
-    return np.array([i for i, o in enumerate(system.owners) if o in owners], dtype=int)
-
-
-def _body_wrench(system: System, k, jac_rows: np.ndarray, lam: np.ndarray, body: int):
-    """Force (global) and torque about the cm of body `body` from constraint rows."""
-    if body == system.nb or len(lam) == 0:
-        return np.zeros(3), np.zeros(3)
-    gen = -(jac_rows[:, 7 * body:7 * body + 7].T @ lam)
-    return gen[:3], 0.5 * e_matrix(k.p[body]) @ gen[3:]
-
-
-def joint_wrench(system: System, k, lam_all: np.ndarray, jac: np.ndarray, joint: str,
-                 extra_owners: set[str] = frozenset()):
-    """(force, torque about the joint point) on body 1 of `joint`, global axes."""
-    j = system.mechanism.joints[joint]
-    b1, s1 = system.body_point(j.body1, j.at)
-    rows = _rows_of(system, {joint} | set(extra_owners))
-    sign = 1.0
-    if b1 == system.nb:  # ground is body 1: minus what body 2 receives (action-reaction)
-        (b1, s1), sign = system.body_point(j.body2, j.at), -1.0
-    force, torque_cm = _body_wrench(system, k, jac[rows], lam_all[rows], b1)
-    arm = rotate(k.p[b1], s1)
-    return sign * force, sign * (torque_cm - cross(arm, force))
-
-
 def _frame_matrix(system: System, k, frame: str) -> np.ndarray:
     return system.frame_axes(frame, k)
 
 
-def _motions_on(system: System, joint: str) -> set[str]:
-    return {m.name for m in system.mechanism.motions.values() if m.joint == joint}
+def _frame_series(system: System, trajectory, frame: str) -> np.ndarray | None:
+    if frame == "ground":
+        return None
+    return np.array([system.frame_axes(frame, system.kin(q, None, t))
+                     for q, t in zip(trajectory.q, trajectory.time)])
 
 
-def _reaction(system, k, lam, jac, req: JointReaction, view) -> dict[str, float]:
-    force, torque = joint_wrench(system, k, lam, jac, req.joint, _motions_on(system, req.joint))
-    axes = _frame_matrix(system, k, req.frame).T
-    f, t = axes @ force, axes @ torque
-    out = dict(zip(_FORCE, f)) | dict(zip(_TORQUE, t))
-    out["f"], out["t"] = float(np.linalg.norm(f)), float(np.linalg.norm(t))
-    return out
+def _gatherer(system: System, req) -> tuple[Gatherer, float]:
+    """Rows of a joint (with the motions driving it) or of a motion, on body 1 (or minus
+    on body 2 when body 1 is ground: action and reaction)."""
+    if isinstance(req, JointReaction):
+        j = system.mechanism.joints[req.joint]
+        owners = {req.joint} | {m.name for m in system.mechanism.motions.values()
+                                if m.joint == req.joint}
+        body, other = system.body_index(j.body1), system.body_index(j.body2)
+    else:
+        measure = next(c for c in system.coordinates if c.owner == req.motion).terms[0][1]
+        owners, body, other = {req.motion}, measure.bi, measure.bj
+    if body == system.nb:
+        return Gatherer(system, owners, other), -1.0
+    return Gatherer(system, owners, body), 1.0
 
 
-def _effort(system, k, lam, jac, req: MotionEffort, view) -> dict[str, float]:
-    motion = system.mechanism.motions[req.motion]
-    eq = next(c for c in system.coordinates if c.owner == req.motion)
-    measure = eq.terms[0][1]
-    rows = _rows_of(system, {req.motion})
-    force, torque = _body_wrench(system, k, jac[rows], lam[rows], measure.bi)
-    if measure.bi == system.nb:  # body 1 is ground: the effort on body 1 is minus body 2's
-        force, torque = _body_wrench(system, k, jac[rows], lam[rows], measure.bj)
-        force, torque = -force, -torque
-    axis = rotation_matrix(k.p[measure.bj]) @ measure.axis_local
-    del motion
-    return {"value": float((torque if measure.kind == "angle" else force) @ axis)}
+def _reaction_columns(system, trajectory, req: JointReaction, gatherer, sign):
+    j = system.mechanism.joints[req.joint]
+    body = j.body2 if sign < 0 else j.body1
+    _, local = system.body_point(body, j.at)
+    return reaction_series(system, trajectory, gatherer, local, sign,
+                           _frame_series(system, trajectory, req.frame))
+
+
+def _effort_columns(system, trajectory, req: MotionEffort, gatherer, sign):
+    measure = next(c for c in system.coordinates if c.owner == req.motion).terms[0][1]
+    return effort_series(system, trajectory, gatherer, measure, sign)
 
 
 def _in_frame(system, k, values: dict[str, float], frame: str) -> dict[str, float]:
@@ -200,29 +184,33 @@ def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str,
 def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndarray]:
     """Columns `REQUEST.COMPONENT` (SI) at the recorded times, in request order."""
     per_request: dict[str, dict[str, list]] = {r.name: {} for r in requests}
-    stepwise = [r for r in requests if not isinstance(r, PointKinematics)]
-    need_jac = any(isinstance(r, (JointReaction, MotionEffort)) for r in stepwise)
-    for i, t in enumerate(trajectory.time if stepwise else ()):
+    loads = {r.name: _gatherer(system, r) for r in requests
+             if isinstance(r, (JointReaction, MotionEffort))}
+    stepwise = [r for r in requests if isinstance(r, (JointCoordinate, ElementOutput,
+                                                      ExpressionOutput))]
+    for i, t in enumerate(trajectory.time if stepwise or loads else ()):
         system.restore(trajectory.references[i])  # angles as the solver unwrapped them
         k = system.kin(trajectory.q[i], trajectory.qd[i], t)
-        qdd, lam = trajectory.qdd[i], trajectory.lam[i]
-        jac = system.phi_q(k) if need_jac else None
+        if loads:
+            jac = system.phi_q(k)
+            for gatherer, _ in loads.values():
+                gatherer.gather(jac, trajectory.lam[i])
         view = system.view(k)
         for req in stepwise:
-            for comp, value in _evaluate(system, k, lam, jac, req, view, qdd).items():
+            for comp, value in _evaluate(system, k, req, view, trajectory.qdd[i]).items():
                 per_request[req.name].setdefault(comp, []).append(float(value))
     for req in requests:
         if isinstance(req, PointKinematics):
             per_request[req.name] = _point_series(system, trajectory, req)
+        elif isinstance(req, JointReaction):
+            per_request[req.name] = _reaction_columns(system, trajectory, req, *loads[req.name])
+        elif isinstance(req, MotionEffort):
+            per_request[req.name] = _effort_columns(system, trajectory, req, *loads[req.name])
     return {f"{name}.{comp}": np.asarray(values, dtype=float)
             for name, comps in per_request.items() for comp, values in comps.items()}
 
 
-def _evaluate(system, k, lam, jac, req, view, qdd) -> dict[str, float]:
-    if isinstance(req, JointReaction):
-        return _reaction(system, k, lam, jac, req, view)
-    if isinstance(req, MotionEffort):
-        return _effort(system, k, lam, jac, req, view)
+def _evaluate(system, k, req, view, qdd) -> dict[str, float]:
     if isinstance(req, JointCoordinate):
         return {"value": _coordinate(system, k, req, qdd)}
     if isinstance(req, ElementOutput):

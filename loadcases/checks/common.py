@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import re
-from collections.abc import Collection, Iterable, Mapping
+from collections.abc import Collection, Iterable
 
 from loadcases.diagnostics import Diagnostic
 from loadcases.expressions import ExpressionError, parse

@@ -11,7 +11,7 @@ from loadcases.schema.types import (
     describe, vector,
 )
 from loadcases.schema.elements import Contact, ForceElement, Table
-from loadcases.units import FILE_UNIT_KINDS, UnitError, check_unit_name, vector_to_si
+from loadcases.units import FILE_UNIT_KINDS, UnitError, check_unit_name
 
 __all__ = [
     "FileUnits", "Body", "Point", "Frame", "Joint", "Fixed", "Spherical", "Orientation",

@@ -1,0 +1,70 @@
+"""Joint reactions and motion efforts from the Lagrange multipliers, for all outputs at once.
+
+The generalised force that the rows of a joint (or motion) put on a body is
+-phi_q[rows, body]^T lam[rows]: its first three entries are the force (N, global), the last
+four map to the torque about the centre of mass by n = E(p) Q_p / 2 (N*m, global).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from mechlib.rotation import cross, e_matrix, rotate, rotation_matrix
+
+__all__ = ["Gatherer", "reaction_series", "effort_series"]
+
+_FORCE = ("fx", "fy", "fz")
+_TORQUE = ("tx", "ty", "tz")
+
+
+class Gatherer:
+    """Collects, output by output, the generalised force of some rows on one body."""
+
+    def __init__(self, system, owners: set[str], body: int):
+        self.rows = np.array([i for i, o in enumerate(system.owners) if o in owners], dtype=int)
+        self.body = body
+        self.values: list[np.ndarray] = []
+
+    def gather(self, jac: np.ndarray, lam: np.ndarray) -> None:
+        if self.body < 0 or len(self.rows) == 0:
+            self.values.append(np.zeros(7))
+            return
+        block = jac[self.rows, 7 * self.body:7 * self.body + 7]
+        self.values.append(-(block.T @ lam[self.rows]))
+
+    def wrench(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Force and torque about the cm (n, 3) given the body's Euler parameters (n, 4)."""
+        g = np.array(self.values).reshape(-1, 7)
+        return g[:, :3], 0.5 * np.einsum("nij,nj->ni", e_matrix(p), g[:, 3:])
+
+
+def _body_states(trajectory, body: int, nb: int) -> np.ndarray:
+    if body == nb or body < 0:
+        return np.tile([1.0, 0.0, 0.0, 0.0], (len(trajectory), 1))
+    return np.array([q[7 * body + 3:7 * body + 7] for q in trajectory.q])
+
+
+def reaction_series(system, trajectory, gatherer: Gatherer, point_local: np.ndarray,
+                    sign: float, axes: np.ndarray | None) -> dict[str, np.ndarray]:
+    """fx fy fz tx ty tz f t of a joint reaction (torque about the joint point) in `axes`
+    (n, 3, 3) columns, or ground axes when None."""
+    p = _body_states(trajectory, gatherer.body, system.nb)
+    force, torque_cm = gatherer.wrench(p)
+    torque = sign * (torque_cm - cross(rotate(p, point_local), force))
+    force = sign * force
+    if axes is not None:
+        force = np.einsum("nji,nj->ni", axes, force)
+        torque = np.einsum("nji,nj->ni", axes, torque)
+    out = dict(zip(_FORCE, force.T)) | dict(zip(_TORQUE, torque.T))
+    out["f"], out["t"] = np.linalg.norm(force, axis=1), np.linalg.norm(torque, axis=1)
+    return out
+
+
+def effort_series(system, trajectory, gatherer: Gatherer, measure, sign: float
+                  ) -> dict[str, np.ndarray]:
+    """Torque (angle) or force (travel) along the joint axis fixed in body 2."""
+    p = _body_states(trajectory, gatherer.body, system.nb)
+    force, torque = gatherer.wrench(p)
+    p2 = _body_states(trajectory, measure.bj, system.nb)
+    axis = np.einsum("nij,j->ni", rotation_matrix(p2), measure.axis_local)
+    along = torque if measure.kind == "angle" else force
+    return {"value": sign * np.einsum("ni,ni->n", along, axis)}
