@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
+from numba import njit
 
 from mechlib.analysis import Dynamic, Trajectory, output_times
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
@@ -103,12 +104,11 @@ class _Scales:
         """Raise the acceleration reference to the largest accelerations seen."""
         np.maximum(self.a_ref, np.abs(qdd), out=self.a_ref)
 
-    def norm_a(self, e: np.ndarray, qdd: np.ndarray, q: np.ndarray, bp: float) -> float:
-        """RMS of an acceleration error weighted by tol (a_ref + |qdd|), floored at what
-        round-off in q allows (bp eps |q|): below it Newton cannot go, whatever tol asks."""
-        floor = _ROUNDOFF * bp * (self.q_abs / self.tol + np.abs(q))
-        w = e / (self.tol * (self.a_ref + np.abs(qdd)) + floor)
-        return math.sqrt(w @ w / w.size)
+    def newton_size(self, dq: np.ndarray, q: np.ndarray, qdd: np.ndarray, bp: float) -> float:
+        """Size of a Newton increment: the larger of its RMS against the position weights
+        and of bp dq against tol (a_ref + |qdd|), the latter floored at what round-off in q
+        allows (bp eps |q|): below it Newton cannot go, whatever tol asks."""
+        return _newton_size(dq, q, qdd, bp, self.q_abs, self.a_ref, self.tol, _ROUNDOFF)
 
     def norm_q(self, e: np.ndarray, q: np.ndarray) -> float:
         """RMS of e weighted by atol + tol |q|."""
@@ -157,10 +157,7 @@ class _Integrator:
         c, sys = self.c, self.system
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
         gp = c.gamma / (h * c.beta)
-        qdd1 = qdd.copy()
-        a1 = (qdd - c.alpha_m * a) / (1.0 - c.alpha_m)
-        q1 = q + h * qd + h * h * ((0.5 - c.beta) * a + c.beta * a1)
-        qd1 = qd + h * ((1.0 - c.gamma) * a + c.gamma * a1)
+        q1, qd1, qdd1 = _predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
         lam1 = lam.copy()
         t1 = t + h
         rebuild = self.lu is None or self.stale or abs(h / self.lu_h - 1.0) > 0.25
@@ -172,20 +169,17 @@ class _Integrator:
             if rebuild:
                 self._iteration_matrix(k, h)
                 rebuild, rebuilt, prev = False, True, math.inf
-            jac = sys.phi_q(k)
+            phi, jac = sys.phi_and_jacobian(k)
             res = np.concatenate([(sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k)) / bp,
-                                  sys.phi(k)])
+                                  phi])
             dx = solve_factored(self.lu, -res)
             dq = dx[:sys.nq]
-            q1 += dq
-            qd1 += gp * dq
-            qdd1 += bp * dq
-            lam1 += bp * dx[sys.nq:]
+            _correct(q1, qd1, qdd1, lam1, dx, gp, bp)
             self.stats.newton_iterations += 1
             it += 1
             # acceleration level: a position increment small against the position tolerance
             # is still large for qdd (x 1/(beta h^2)), i.e. for the forces and the energy
-            size = max(self.scales.norm_q(dq, q1), self.scales.norm_a(bp * dq, qdd1, q1, bp))
+            size = self.scales.newton_size(dq, q1, qdd1, bp)
             if prev < math.inf:
                 theta = size / prev
                 eta = theta / (1.0 - theta) if theta < 1.0 else math.inf
@@ -196,7 +190,8 @@ class _Integrator:
                 if it > _SLOW_ITERATIONS:
                     self.stale = True  # converging slowly: a fresh matrix for the next step
                 a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (1.0 - c.alpha_m)
-                return q1, qd1, qdd1, a1, lam1, self._true_acceleration(q1, qd1, t1, qdd1, lam1)
+                return q1, qd1, qdd1, a1, lam1, self._true_acceleration(q1, qd1, t1, qdd1, lam1,
+                                                                       jac)
             if (prev < math.inf and size > 0.9 * prev) or it == _MAX_ITER:
                 if rebuilt:
                     break
@@ -206,15 +201,15 @@ class _Integrator:
         self.eta = 1.0
         return None
 
-    def _true_acceleration(self, q1, qd1, t1, qdd1, lam1):
+    def _true_acceleration(self, q1, qd1, t1, qdd1, lam1, jac):
         """The state on all three constraint levels, by corrections with the iteration
         matrix: qd projected onto phi_q qd = nu (mass-weighted), then (qdd, lam) meeting
         phi_q qdd = gamma too. Index-3 generalized-alpha leaves O(h) transients in its qdd
         and lam and O(h^2) velocity-constraint errors; the error estimate and the outputs
-        (reactions) use these corrected values. Returns (qd, qdd, lam)."""
+        (reactions) use these corrected values. `jac` is phi_q of the last Newton iterate
+        (one small increment away: good enough for corrections). Returns (qd, qdd, lam)."""
         sys = self.system
         k = sys.kin(q1, qd1, t1)
-        jac = sys.phi_q(k)
         nq = sys.nq
         drift = sys.nu(k) - jac @ qd1
         qd = qd1 + solve_factored(self.lu, np.concatenate([np.zeros(nq), drift]))[:nq]
@@ -229,6 +224,39 @@ class _Integrator:
         c h^3 d3q/dt3, from the true accelerations at both ends (accept when <= 1)."""
         e = self.c.error_constant * h * h * (acc1 - acc0)
         return float(np.abs(e / (self.scales.q_abs + self.scales.tol * np.abs(q1))).max())
+
+
+@njit(cache=True)
+def _predict(q, qd, qdd, a, h, alpha_m, beta, gamma):
+    """Predictor with qdd_{n+1} = qdd_n: (q, qd, qdd) at t + h."""
+    a1 = (qdd - alpha_m * a) / (1.0 - alpha_m)
+    q1 = q + h * qd + h * h * ((0.5 - beta) * a + beta * a1)
+    qd1 = qd + h * ((1.0 - gamma) * a + gamma * a1)
+    return q1, qd1, qdd.copy()
+
+
+@njit(cache=True)
+def _correct(q1, qd1, qdd1, lam1, dx, gp, bp):
+    """Newton correction in place: dq into q, gamma' dq into qd, beta' dq into qdd."""
+    nq = q1.shape[0]
+    for i in range(nq):
+        q1[i] += dx[i]
+        qd1[i] += gp * dx[i]
+        qdd1[i] += bp * dx[i]
+    for i in range(lam1.shape[0]):
+        lam1[i] += bp * dx[nq + i]
+
+
+@njit(cache=True)
+def _newton_size(dq, q, qdd, bp, q_abs, a_ref, tol, roundoff):  # see _Scales.newton_size
+    sq = sa = 0.0
+    for i in range(dq.shape[0]):
+        wq = dq[i] / (q_abs[i] + tol * abs(q[i]))
+        wa = bp * dq[i] / (tol * (a_ref[i] + abs(qdd[i])) + roundoff * bp * (q_abs[i] / tol
+                                                                            + abs(q[i])))
+        sq += wq * wq
+        sa += wa * wa
+    return math.sqrt(max(sq, sa) / dq.shape[0])
 
 
 def _substeps(interval: float, h: float) -> tuple[int, float]:

@@ -44,6 +44,8 @@ class System:
         self.measures: dict[tuple[str, str], AngleMeasure | TravelMeasure] = {}
         self._build_constraints()
         self.elements = list(mechanism.forces.values())
+        self._no_wrench = np.zeros((self.nb + 1, 3))
+        self._no_wrench.flags.writeable = False
         for element in self.elements:
             element.bind(self)
         self.active = np.arange(len(self._all_labels))
@@ -100,6 +102,7 @@ class System:
                     self.measures[(joint.name, "angle")] = AngleMeasure(b1, b2, fr.f, fr.g, fr.h)
                 if joint.type in TRANSLATIONAL:
                     self.measures[(joint.name, "travel")] = TravelMeasure(b1, b2, fr.h, s1, s2)
+        self._angles = [m for m in self.measures.values() if isinstance(m, AngleMeasure)]
         self.norm = Normalization(self.nb)
         labels = [f"{n}: normalisation" for n in self.body_names]
         owners = [n for n in self.body_names]
@@ -171,9 +174,27 @@ class System:
         q[:, 3] = 1.0
         return q.ravel()
 
+    def _select(self, rows: np.ndarray) -> np.ndarray:
+        """The active rows (all of them, without a copy, unless some were dropped)."""
+        return rows if self.active.size == len(self._all_labels) else rows[self.active]
+
     def phi(self, k: Kin) -> np.ndarray:
         parts = [g.phi(k) for g in self.groups] + [np.array([c.phi(k) for c in self.coordinates])]
-        return np.concatenate(parts)[self.active]
+        return self._select(np.concatenate(parts))
+
+    def phi_and_jacobian(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
+        """(phi, phi_q) in one pass over the primitive groups."""
+        out = np.zeros((len(self._all_labels), k.ncol))
+        parts, row = [], 0
+        for g in self.groups:
+            parts.append(g.phi(k))
+            g.jacobian(k, out[row:row + g.size])
+            row += g.size
+        for c in self.coordinates:
+            parts.append(np.array([c.phi(k)]))
+            out[row] = c.gradient(k)
+            row += 1
+        return self._select(np.concatenate(parts)), self._select(out)[:, :self.nq]
 
     def phi_q(self, k: Kin) -> np.ndarray:
         out = np.zeros((len(self._all_labels), k.ncol))
@@ -184,22 +205,22 @@ class System:
         for c in self.coordinates:
             out[row] = c.gradient(k)
             row += 1
-        return out[self.active, :self.nq]
+        return self._select(out)[:, :self.nq]
 
     def nu(self, k: Kin) -> np.ndarray:
         out = np.zeros(len(self._all_labels))
         if self.coordinates:
             out[self.n_geometric:] = [c.nu(k.t) for c in self.coordinates]
-        return out[self.active]
+        return self._select(out)
 
     def gamma(self, k: Kin) -> np.ndarray:
         parts = [g.gamma(k) for g in self.groups]
         parts.append(np.array([c.gamma(k) for c in self.coordinates]))
-        return np.concatenate(parts)[self.active]
+        return self._select(np.concatenate(parts))
 
     def commit(self, k: Kin) -> None:
         """Accept a state: joint angles unwrap against it from now on."""
-        for m in self.measures.values():
+        for m in self._angles:
             m.commit(k)
 
     def saddle_pattern(self):
@@ -235,12 +256,13 @@ class System:
 
     def wrenches(self, k: Kin, view: StateView | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Forces F and torques N (nb+1, 3) of the force elements, global axes, through the cm."""
+        if not self.elements:
+            return self._no_wrench, self._no_wrench
         F = np.zeros((self.nb + 1, 3))
         N = np.zeros((self.nb + 1, 3))
-        if self.elements:
-            view = view or self.view(k)
-            for element in self.elements:
-                element.apply(view, F, N)
+        view = view or self.view(k)
+        for element in self.elements:
+            element.apply(view, F, N)
         return F, N
 
     def forces(self, k: Kin, *, inertia: bool = True) -> np.ndarray:
