@@ -18,6 +18,9 @@ from mechlib.view import StateView
 
 __all__ = ["PointForce", "PointTorque", "Spring", "TorsionSpring"]
 
+# Every element has `active` (an event may switch it; an inactive element applies and
+# reports nothing) and `effect` (the case switch that removes it from the model).
+
 VectorFunction = Callable[[float, StateView], Sequence[float]]
 
 
@@ -31,6 +34,7 @@ class PointForce:
     value: VectorFunction
     frame: str = "ground"
     effect: str = "loads"
+    active: bool = True
     output_units = {"fx": "N", "fy": "N", "fz": "N"}
 
     def bind(self, system) -> None:
@@ -59,6 +63,7 @@ class PointTorque:
     value: VectorFunction
     frame: str = "ground"
     effect: str = "loads"
+    active: bool = True
     output_units = {"tx": "N*m", "ty": "N*m", "tz": "N*m"}
 
     def bind(self, system) -> None:
@@ -92,6 +97,7 @@ class Spring:
     preload: float = 0.0
     tension_only: bool = False
     effect: str = "springs"
+    active: bool = True
     output_units = {"value": "N", "length": "m"}
     _geometry: tuple = field(default=(), repr=False)
 
@@ -141,6 +147,7 @@ class TorsionSpring:
     angle0: float = 0.0
     preload: float = 0.0
     effect: str = "springs"
+    active: bool = True
     output_units = {"value": "N*m", "angle": "rad"}
 
     def bind(self, system) -> None:

@@ -170,7 +170,8 @@ class _Integrator:
                 self._iteration_matrix(k, h)
                 rebuild, rebuilt, prev = False, True, math.inf
             phi, jac = sys.phi_and_jacobian(k)
-            res = np.concatenate([(sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k)) / bp,
+            res = np.concatenate([(sys.mass_times(k, qdd1) + jac.T @ lam1
+                                   - sys.forces(k, lam=lam1)) / bp,
                                   phi])
             dx = solve_factored(self.lu, -res)
             dq = dx[:sys.nq]
@@ -214,7 +215,7 @@ class _Integrator:
         drift = sys.nu(k) - jac @ qd1
         qd = qd1 + solve_factored(self.lu, np.concatenate([np.zeros(nq), drift]))[:nq]
         k = sys.kin(q1, qd, t1)
-        res = np.concatenate([sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k),
+        res = np.concatenate([sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k, lam=lam1),
                               jac @ qdd1 - sys.gamma(k)])
         fix = solve_factored(self.lu, res)
         return qd, qdd1 - fix[:nq], lam1 - fix[nq:]

@@ -19,6 +19,7 @@ from mechlib.system import System
 __all__ = ["run_kinematic", "kinematic_state"]
 
 _MAX_SUBDIVISIONS = 10
+_MAX_REACTION_ITERATIONS = 50
 
 
 def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: SolverStats,
@@ -35,10 +36,16 @@ def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: Solver
     qd = solve_factored(lu, system.nu(k))
     k = system.kin(q, qd, t)
     qdd = solve_factored(lu, system.gamma(k))
-    rhs = system.forces(k, inertia=inertia)
-    if inertia:
-        rhs = rhs - system.mass(k) @ qdd
-    lam = solve_factored(lu, rhs, transpose=True)
+    inertial = system.mass(k) @ qdd if inertia else 0.0
+    lam = solve_factored(lu, system.forces(k, inertia=inertia) - inertial, transpose=True)
+    if system.reaction_dependent:  # joint friction: loads that depend on the reactions
+        for _ in range(_MAX_REACTION_ITERATIONS):
+            new = solve_factored(lu, system.forces(k, inertia=inertia, lam=lam) - inertial,
+                                 transpose=True)
+            converged = np.abs(new - lam).max(initial=0.0) <= 1e-10 * (1.0 + np.abs(new).max())
+            lam = new
+            if converged:
+                break
     return q, qd, qdd, lam
 
 

@@ -10,7 +10,7 @@ import numpy as np
 
 from mechlib.rotation import cross, e_matrix, rotate, rotation_matrix
 
-__all__ = ["Gatherer", "reaction_series", "effort_series"]
+__all__ = ["Gatherer", "reaction_series", "effort_series", "joint_wrench"]
 
 _FORCE = ("fx", "fy", "fz")
 _TORQUE = ("tx", "ty", "tz")
@@ -68,3 +68,18 @@ def effort_series(system, trajectory, gatherer: Gatherer, measure, sign: float
     axis = np.einsum("nij,j->ni", rotation_matrix(p2), measure.axis_local)
     along = torque if measure.kind == "angle" else force
     return {"value": sign * np.einsum("ni,ni->n", along, axis)}
+
+
+def joint_wrench(system, k, jac: np.ndarray, lam: np.ndarray, joint: str
+                 ) -> tuple[np.ndarray, np.ndarray]:
+    """Force and torque about the joint point on body 1 of `joint` (its own rows only),
+    global axes, at one state: what elements that load a joint by its reaction use."""
+    j = system.mechanism.joints[joint]
+    sign, body_name = (1.0, j.body1) if j.body1 != "ground" else (-1.0, j.body2)
+    b, local = system.body_point(body_name, j.at)
+    gatherer = Gatherer(system, {joint}, b)
+    gatherer.gather(jac, lam)
+    p = k.p[b][None, :]
+    force, torque_cm = gatherer.wrench(p)
+    torque = torque_cm - cross(rotate(p, local), force)
+    return sign * force[0], sign * torque[0]

@@ -214,5 +214,9 @@ def _evaluate(system, k, req, view, qdd) -> dict[str, float]:
     if isinstance(req, JointCoordinate):
         return {"value": _coordinate(system, k, req, qdd)}
     if isinstance(req, ElementOutput):
-        return _in_frame(system, k, system.mechanism.forces[req.element].output(view), req.frame)
+        element = system.mechanism.forces[req.element]
+        values = element.output(view)
+        if not element.active:  # switched off (by an event): it carries nothing
+            values = dict.fromkeys(values, 0.0)
+        return _in_frame(system, k, values, req.frame)
     return {"value": req.function(k.t, view)}

@@ -27,7 +27,7 @@ _FD_STEP = 1e-7
 def _residual(system: System, q: np.ndarray, lam: np.ndarray, t: float):
     k = system.kin(q, None, t)
     jac = system.phi_q(k)
-    force = jac.T @ lam - system.forces(k, inertia=False)
+    force = jac.T @ lam - system.forces(k, inertia=False, lam=lam)
     return np.concatenate([force, system.phi(k)]), jac, force
 
 
@@ -39,7 +39,8 @@ def _stiffness(system: System, q: np.ndarray, lam: np.ndarray, t: float,
         dq = np.zeros(system.nq)
         dq[j] = _FD_STEP * max(1.0, abs(q[j]))
         k = system.kin(q + dq, None, t)
-        out[:, j] = (system.phi_q(k).T @ lam - system.forces(k, inertia=False) - force) / dq[j]
+        out[:, j] = (system.phi_q(k).T @ lam - system.forces(k, inertia=False, lam=lam)
+                     - force) / dq[j]
     return out
 
 

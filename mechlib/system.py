@@ -44,6 +44,8 @@ class System:
         self.measures: dict[tuple[str, str], AngleMeasure | TravelMeasure] = {}
         self._build_constraints()
         self.elements = list(mechanism.forces.values())
+        self.reaction_dependent = any(getattr(e, "uses_reactions", False)
+                                      for e in self.elements)
         self._no_wrench = np.zeros((self.nb + 1, 3))
         self._no_wrench.flags.writeable = False
         for element in self.elements:
@@ -165,8 +167,8 @@ class System:
     def kin(self, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:
         return Kin.from_state(q, qd, t)
 
-    def view(self, k: Kin) -> StateView:
-        return StateView(self, k)
+    def view(self, k: Kin, lam: np.ndarray | None = None) -> StateView:
+        return StateView(self, k, lam)
 
     def design_q(self) -> np.ndarray:
         q = np.zeros((self.nb, 7))
@@ -254,20 +256,24 @@ class System:
         kernels.mass_times(k.x, self.masses, self.inertia, self._pscale, x, out)
         return out
 
-    def wrenches(self, k: Kin, view: StateView | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Forces F and torques N (nb+1, 3) of the force elements, global axes, through the cm."""
+    def wrenches(self, k: Kin, lam: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+        """Forces F and torques N (nb+1, 3) of the active force elements, global axes,
+        through the cm; `lam` (the multipliers of the iterate) for elements that depend on
+        joint reactions (joint friction)."""
         if not self.elements:
             return self._no_wrench, self._no_wrench
         F = np.zeros((self.nb + 1, 3))
         N = np.zeros((self.nb + 1, 3))
-        view = view or self.view(k)
+        view = self.view(k, lam)
         for element in self.elements:
-            element.apply(view, F, N)
+            if element.active:
+                element.apply(view, F, N)
         return F, N
 
-    def forces(self, k: Kin, *, inertia: bool = True) -> np.ndarray:
+    def forces(self, k: Kin, *, inertia: bool = True, lam: np.ndarray | None = None
+               ) -> np.ndarray:
         """Q (nq,): gravity, elements and, with `inertia`, the quadratic velocity terms."""
-        F, N = self.wrenches(k)
+        F, N = self.wrenches(k, lam)
         out = np.empty(self.nq)
         kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N,
                             inertia, out)

@@ -17,10 +17,12 @@ __all__ = ["StateView"]
 class StateView:
     """State measures in SI: joint angle (rad) / travel (m) and rates, point positions (m)."""
 
-    def __init__(self, system: "System", kin: Kin):
+    def __init__(self, system: "System", kin: Kin, lam: np.ndarray | None = None):
         self.system = system
         self.kin = kin
+        self.lam = lam
         self._rot: np.ndarray | None = None
+        self._jac: np.ndarray | None = None
 
     @property
     def t(self) -> float:
@@ -37,6 +39,16 @@ class StateView:
 
     def point_velocity(self, body: int, s: np.ndarray) -> np.ndarray:
         return self.kin.rd[body] + d_rotate(self.kin.p[body], s) @ self.kin.pd[body]
+
+    def reaction(self, joint: str) -> tuple[np.ndarray, np.ndarray]:
+        """Force (N) and torque about the joint point (N*m) on body 1 of `joint` from body 2,
+        global axes, from the multipliers of this state (zero when none are known yet)."""
+        if self.lam is None or len(self.lam) == 0:
+            return np.zeros(3), np.zeros(3)
+        from mechlib.reactions import joint_wrench
+        if self._jac is None:
+            self._jac = self.system.phi_q(self.kin)
+        return joint_wrench(self.system, self.kin, self._jac, self.lam, joint)
 
     def _measure(self, joint: str, kind: str):
         return self.system.measure(joint, kind)
