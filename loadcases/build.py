@@ -11,6 +11,8 @@ from typing import Any, Callable
 
 
 import mechlib as ml
+from loadcases.build_contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
+from loadcases.build_elements import ELEMENT_MAKERS
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
 from loadcases.loader import CaseFile
@@ -115,6 +117,7 @@ class _Builder:
     def mechanism(self) -> ml.Mechanism:
         gravity = self.mech.gravity if self.effects.get("gravity", True) else (0.0, 0.0, 0.0)
         m = ml.Mechanism(name=self.mech.name or "mechanism", gravity=gravity)
+        self.built = m
         for name, b in self.mech.bodies.items():
             m.add_body(name, mass=b.mass, cm=b.cm, inertia=b.inertia)
         for name, p in self.mech.points.items():
@@ -124,8 +127,15 @@ class _Builder:
         for name, j in self.mech.joints.items():
             self._joint(m, name, j)
         self._forces(m)
-        for name in self.mech.contacts if self.effects.get("contact", True) else ():
-            self.error("mechanism", f"contacts.{name}", f"contact elements {NOT_YET}")
+        for name, c in self.mech.contacts.items() if self.effects.get("contact", True) else ():
+            if not c.active:
+                continue
+            maker = CONTACT_MAKERS.get(c.type)
+            element = maker(self, name, c) if maker else None
+            if maker is None:
+                self.error("mechanism", f"contacts.{name}", f"{c.type} contacts {NOT_YET}")
+            elif element is not None:
+                m.add_force(element)
         for name in self.mech.events:
             self.error("mechanism", f"events.{name}", f"events {NOT_YET}")
         for name, motion in (self.case.motions if self.case else {}).items():
@@ -180,6 +190,9 @@ class _Builder:
                 return ml.PointTorque(name, f.body, value, f.frame)
             body, at = self._application(f)
             return ml.PointForce(name, body, at, value, f.frame)
+        maker = ELEMENT_MAKERS.get(f.type)
+        if maker is not None:
+            return maker(self, name, f)
         self.error("mechanism", f"forces.{name}", f"{f.type} elements {NOT_YET}")
         return None
 
@@ -248,7 +261,11 @@ class _Builder:
         if kind == "ExpressionRequest":
             return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}",
                                                           "case"))
-        self.error("case", f"requests.{name}", f"contact requests {NOT_YET}")
+        components = CONTACT_COMPONENTS.get(r.quantity)
+        if r.contact in self.mech.contacts and components and self.effects.get("contact", True):
+            return ml.ElementOutput(name, r.contact, r.frame, components)
+        self.error("case", f"requests.{name}", f"contact '{r.contact}' is not simulated in this "
+                   "case (switched off, or its quantity is not available)")
         return None
 
     def initial(self) -> list:
@@ -276,12 +293,10 @@ def _units_of(req, builder: _Builder) -> dict[str, str]:
     if isinstance(req, ml.MotionEffort):
         joint = builder.mech.joints[builder.case.motions[req.motion].joint]
         return {"value": "N" if joint.type == "prismatic" else "N*m"}
+    if isinstance(req, ml.ElementOutput) and req.components is not None:
+        return {column: CONTACT_UNITS.get(key, "") for column, key in req.components}
     if isinstance(req, ml.ElementOutput):
-        f = builder.mech.forces[req.element]
-        return {"spring": {"value": "N", "length": "m"},
-                "torsion_spring": {"value": "N*m", "angle": "rad"},
-                "force": dict.fromkeys(("fx", "fy", "fz"), "N"),
-                "torque": dict.fromkeys(("tx", "ty", "tz"), "N*m")}.get(f.type, {})
+        return dict(getattr(builder.built.forces[req.element], "output_units", {}))
     return {"value": ""}
 
 

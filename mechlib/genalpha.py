@@ -310,7 +310,7 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
             t += h_try
             h_used = h_try
             stats.steps += 1
-            system.commit(system.kin(q, None, t))
+            system.commit(system.kin(q, qd, t))
             if not spec.fixed_step:
                 grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
                 if grow > _REGROW:

@@ -75,6 +75,7 @@ class ElementOutput:
     name: str
     element: str
     frame: str = "ground"
+    components: tuple[tuple[str, str], ...] | None = None  # (column, element key) to keep
 
 
 @dataclass(frozen=True)
@@ -215,8 +216,10 @@ def _evaluate(system, k, req, view, qdd) -> dict[str, float]:
         return {"value": _coordinate(system, k, req, qdd)}
     if isinstance(req, ElementOutput):
         element = system.mechanism.forces[req.element]
-        values = element.output(view)
+        values = _in_frame(system, k, element.output(view), req.frame)
+        if req.components is not None:
+            values = {column: values[key] for column, key in req.components}
         if not element.active:  # switched off (by an event): it carries nothing
             values = dict.fromkeys(values, 0.0)
-        return _in_frame(system, k, values, req.frame)
+        return values
     return {"value": req.function(k.t, view)}

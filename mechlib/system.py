@@ -44,6 +44,7 @@ class System:
         self.measures: dict[tuple[str, str], AngleMeasure | TravelMeasure] = {}
         self._build_constraints()
         self.elements = list(mechanism.forces.values())
+        self._remembering = [e for e in self.elements if hasattr(e, "commit")]
         self.reaction_dependent = any(getattr(e, "uses_reactions", False)
                                       for e in self.elements)
         self._no_wrench = np.zeros((self.nb + 1, 3))
@@ -221,9 +222,14 @@ class System:
         return self._select(np.concatenate(parts))
 
     def commit(self, k: Kin) -> None:
-        """Accept a state: joint angles unwrap against it from now on."""
+        """Accept a state: joint angles unwrap against it from now on, and elements with a
+        memory (`commit(view)`: a contact's approach speed, a stick point) update it."""
         for m in self._angles:
             m.commit(k)
+        if self._remembering:
+            view = self.view(k)
+            for element in self._remembering:
+                element.commit(view)
 
     def saddle_pattern(self):
         """Sparsity of [[M, phi_q^T], [phi_q, 0]], from a generic state (found once)."""
