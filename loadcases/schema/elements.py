@@ -133,8 +133,11 @@ class JointFriction(Strict):
     active: bool = Field(True, description=_ACTIVE)
 
 
+from loadcases.schema.forces_more import CableLoop, Damper, Seal  # noqa: E402
+
 ForceElement = Annotated[Spring | TorsionSpring | Bushing | PointForce | BodyTorque
-                         | JointFriction, Field(discriminator="type")]
+                         | JointFriction | Seal | Damper | CableLoop,
+                         Field(discriminator="type")]
 
 
 class SpherePlane(Strict):
