@@ -6,6 +6,7 @@ from mechlib.analysis import Dynamic, Kinematic, QuasiStatic, Static
 from mechlib.assembly import InitialBodyVelocity, InitialValue
 from mechlib.check import ModelError
 from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
+from mechlib.elements import CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
 from mechlib.model import GROUND, Mechanism
 from mechlib.requests import (ElementOutput, ExpressionOutput, JointCoordinate, JointReaction,
                               MotionEffort, PointKinematics)
@@ -19,4 +20,5 @@ __all__ = ["Mechanism", "GROUND", "System", "StateView", "solve", "check_model",
            "InitialBodyVelocity", "PointForce", "PointTorque", "Spring", "TorsionSpring",
            "JointReaction", "MotionEffort", "PointKinematics", "JointCoordinate",
            "ElementOutput", "ExpressionOutput", "Solution", "SolverFailure", "SolverStats",
-           "ModelError", "MechanismCheck", "inspect_mechanism"]
+           "ModelError", "MechanismCheck", "inspect_mechanism", "CableLoop", "JointFriction",
+           "RotationalDamper", "Seal", "TableLaw"]

@@ -86,7 +86,8 @@ class Spring:
 
     tension = stiffness (N/m) * (L - free_length) + damping (N*s/m) * dL/dt + preload (N);
     without `free_length` the design length is the free length. `tension_only`: a wire or
-    rope, no force while slack (L < free length).
+    rope, no force while slack (L < free length). `law`: a tabulated force (N) vs deflection
+    L - free_length (m) replacing the linear term stiffness * (L - free_length).
     """
 
     name: str
@@ -96,6 +97,7 @@ class Spring:
     free_length: float | None = None
     preload: float = 0.0
     tension_only: bool = False
+    law: Callable[[float], float] | None = None
     effect: str = "springs"
     active: bool = True
     output_units = {"value": "N", "length": "m"}
@@ -114,7 +116,8 @@ class Spring:
         u = d / length if length > 0.0 else np.zeros(3)
         rate = float(u @ (view.point_velocity(b1, s1) - view.point_velocity(b2, s2)))
         stretch = length - self.free_length
-        tension = self.stiffness * stretch + self.damping * rate + self.preload
+        elastic = self.law(stretch) if self.law is not None else self.stiffness * stretch
+        tension = elastic + self.damping * rate + self.preload
         if self.tension_only and (stretch < 0.0 or tension < 0.0):
             tension = 0.0  # a slack wire pushes nowhere, nor does its damping when taut
         return tension, length, u
@@ -137,7 +140,8 @@ class TorsionSpring:
     """Rotational spring-damper on a revolute joint; moment (N*m) resisting positive angle.
 
     moment = stiffness (N*m/rad) * (angle - angle0) + damping (N*m*s/rad) * omega + preload;
-    body 1 of the joint receives -moment about the joint axis, body 2 +moment.
+    body 1 of the joint receives -moment about the joint axis, body 2 +moment. `law`: a
+    tabulated moment (N*m) vs angle - angle0 (rad) replacing stiffness * (angle - angle0).
     """
 
     name: str
@@ -146,6 +150,7 @@ class TorsionSpring:
     damping: float = 0.0
     angle0: float = 0.0
     preload: float = 0.0
+    law: Callable[[float], float] | None = None
     effect: str = "springs"
     active: bool = True
     output_units = {"value": "N*m", "angle": "rad"}
@@ -156,7 +161,9 @@ class TorsionSpring:
     def _moment(self, view: StateView) -> tuple[float, float]:
         angle = self._m.value(view.kin)
         rate = self._m.rate(view.kin)
-        return self.stiffness * (angle - self.angle0) + self.damping * rate + self.preload, angle
+        turn = angle - self.angle0
+        elastic = self.law(turn) if self.law is not None else self.stiffness * turn
+        return elastic + self.damping * rate + self.preload, angle
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         moment, _ = self._moment(view)

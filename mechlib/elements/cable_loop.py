@@ -1,0 +1,109 @@
+"""Closed cable loop (CCL) synchronising two hinges (seed 003 section 2.2.5, eqs. 2.3-2.6).
+
+Pulley 1 (radius r1) is fixed to the body of joint 1 that joint 2 does not share, coaxial with
+joint 1 at its point A; pulley 2 (r2) likewise on joint 2 at B; the shared body (the yoke)
+carries both hinge points. Two strands a and b, each of stiffness k (N/m) and pretension T0
+(N), tension-only:
+    e_a = +(r1 theta1 - r2 theta2) + g(D) - g(D0),   e_b = -(r1 theta1 - r2 theta2) + g(D) - g(D0)
+    F_a = max(0, T0 + k e_a),   F_b = max(0, T0 + k e_b)
+with theta the joint angles (body 1 relative to body 2 of each joint), D = |AB| and
+g(D) = L + (r1 - r2) asin((r1 - r2) / D), L = sqrt(D^2 - (r1 - r2)^2) the free strand length
+(dg/dD = L / D). The loads are those of the seed, work-consistent with these elongations:
+    T1 = r1 (F_b - F_a)  on theta1 (2.3),   T2 = r2 (F_a - F_b)  on theta2 (2.4),
+    F_ax = (F_a + F_b) L / D   pulling A and B together (2.5),
+    F_lat = (F_a - F_b) (r1 - r2) / D   normal to AB, a couple on the pulleys (2.6).
+The cable is massless: the loads on the two pulley bodies are in equilibrium, the yoke gets
+none (the lateral couple carries what the torques T1 + T2 leave unbalanced).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechlib.rotation import cross
+from mechlib.view import StateView
+
+__all__ = ["CableLoop"]
+
+
+@dataclass
+class CableLoop:
+    """Cable loop over joints `joints` (revolute) with pulley `radii` (m), strand
+    `stiffness` (N/m) and `pretension` (N)."""
+
+    name: str
+    joints: tuple[str, str]
+    radii: tuple[float, float]
+    stiffness: float
+    pretension: float = 0.0
+    effect: str = "springs"
+    active: bool = True
+    output_units = {"t1": "N*m", "t2": "N*m", "f_axial": "N", "f_lateral": "N",
+                    "tension_a": "N", "tension_b": "N"}
+
+    def bind(self, system) -> None:
+        joints = [system.mechanism.joints[j] for j in self.joints]
+        shared = {joints[0].body1, joints[0].body2} & {joints[1].body1, joints[1].body2}
+        if len(shared) != 1:
+            raise ValueError(f"cable_loop '{self.name}': joints {self.joints[0]} and "
+                             f"{self.joints[1]} must share exactly one body (the yoke)")
+        self._m = [system.measure(j, "angle") for j in self.joints]
+        self._ends = []  # (pulley body index, body-fixed vector of the hinge point)
+        for j in joints:
+            pulley = j.body1 if j.body2 in shared else j.body2
+            self._ends.append(system.body_point(pulley, j.at))
+        self._g0 = self._g(float(np.linalg.norm(np.subtract(joints[1].at, joints[0].at))))
+
+    def _g(self, d: float) -> float:
+        dr = self.radii[0] - self.radii[1]
+        if d <= abs(dr):
+            raise ValueError(f"cable_loop '{self.name}': hinge distance {d:.6g} m must exceed "
+                             f"|r1 - r2| = {abs(dr):.6g} m")
+        return math.sqrt(d * d - dr * dr) + dr * math.asin(dr / d)
+
+    def _state(self, view: StateView) -> dict:
+        (b1, s1), (b2, s2) = self._ends
+        a, b = view.point_position(b1, s1), view.point_position(b2, s2)
+        d = float(np.linalg.norm(b - a))
+        r1, r2 = self.radii
+        wrap = r1 * self._m[0].value(view.kin) - r2 * self._m[1].value(view.kin)
+        common = self._g(d) - self._g0
+        fa = max(0.0, self.pretension + self.stiffness * (wrap + common))
+        fb = max(0.0, self.pretension + self.stiffness * (-wrap + common))
+        length = math.sqrt(d * d - (r1 - r2) ** 2)
+        return {"t1": r1 * (fb - fa), "t2": r2 * (fa - fb), "f_axial": (fa + fb) * length / d,
+                "f_lateral": (fa - fb) * (r1 - r2) / d, "tension_a": fa, "tension_b": fb,
+                "a": a, "b": b, "d": d}
+
+    def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        st = self._state(view)
+        (b1, _), (b2, _) = self._ends
+        yoke = self._m[0].bj if self._m[0].bi == b1 else self._m[0].bi
+        carrier = np.zeros(3)  # what the joint-pair torques would put on the yoke
+        for m, torque in zip(self._m, (st["t1"], st["t2"])):
+            pair = torque * (view.rotation(m.bj) @ m.axis_local)  # on body 1 of the joint
+            N[m.bi] += pair
+            N[m.bj] -= pair
+            carrier += pair if m.bi == yoke else -pair
+        # The yoke's share moves to a couple of forces at A and B on the pulleys (the same
+        # virtual work: A and B are points of the yoke); a part along AB stays a torque.
+        u = (st["b"] - st["a"]) / st["d"]
+        along = (carrier @ u) * u
+        N[yoke] += along - carrier
+        on_b = cross(carrier - along, u) / st["d"]  # (B - A) x on_b = carrier - along
+        self._force(view, F, N, b1, st["a"], st["f_axial"] * u - on_b)
+        self._force(view, F, N, b2, st["b"], -st["f_axial"] * u + on_b)
+
+    @staticmethod
+    def _force(view: StateView, F: np.ndarray, N: np.ndarray, body: int, at: np.ndarray,
+               force: np.ndarray) -> None:
+        F[body] += force
+        N[body] += cross(at - view.kin.r[body], force)
+
+    def output(self, view: StateView) -> dict[str, float]:
+        """t1, t2 (N*m, eqs. 2.3-2.4), f_axial, f_lateral (N, eqs. 2.5-2.6), strand
+        tensions tension_a, tension_b (N)."""
+        st = self._state(view)
+        return {k: st[k] for k in self.output_units}

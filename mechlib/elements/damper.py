@@ -1,0 +1,42 @@
+"""Rotational (eddy-current) damper on a joint: torque = -c * omega (seed 003 2.2.6, 4.2.4)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechlib.view import StateView
+
+__all__ = ["RotationalDamper"]
+
+
+@dataclass
+class RotationalDamper:
+    """Damper on revolute/cylindrical joint `joint`: moment = damping (N*m*s/rad) * omega
+    (rad/s), resisting the rotation of body 1 relative to body 2 (body 1 gets -moment about
+    the joint axis, body 2 +moment)."""
+
+    name: str
+    joint: str
+    damping: float
+    effect: str = "damping"
+    active: bool = True
+    output_units = {"value": "N*m", "omega": "rad/s"}
+
+    def bind(self, system) -> None:
+        self._m = system.measure(self.joint, "angle")
+
+    def _moment(self, view: StateView) -> tuple[float, float]:
+        omega = self._m.rate(view.kin)
+        return self.damping * omega, omega
+
+    def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        moment, _ = self._moment(view)
+        axis = view.rotation(self._m.bj) @ self._m.axis_local
+        N[self._m.bi] -= moment * axis
+        N[self._m.bj] += moment * axis
+
+    def output(self, view: StateView) -> dict[str, float]:
+        """value: the resisting moment c * omega (N*m); omega (rad/s)."""
+        moment, omega = self._moment(view)
+        return {"value": moment, "omega": omega}

@@ -1,0 +1,128 @@
+"""Coulomb friction in a joint, loaded by the joint's own reaction (seed 003 eq. 2.2).
+
+Revolute, cylindrical, spherical: torque T = mu * pin_radius * F_r + preload (N*m), F_r the
+reaction force normal to the joint axis (the whole force for a spherical joint, pin_radius
+then the ball radius). Prismatic: force F = mu * F_n + preload (N), F_n the reaction force
+normal to the axis. The friction opposes the relative motion of body 1 against body 2 through
+the regularised law of `mechlib.elements.regularize`: the velocity in dynamic and kinematic
+states, the displacement since the last accepted state in static and quasi-static ones.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechlib.elements.regularize import (at_rest, coulomb_factor, coulomb_vector,
+                                         rotation_increment)
+from mechlib.rotation import cross, omega_global
+from mechlib.view import StateView
+
+__all__ = ["JointFriction", "FRICTION_JOINTS"]
+
+FRICTION_JOINTS = ("revolute", "cylindrical", "spherical", "prismatic")
+
+
+@dataclass
+class JointFriction:
+    """Friction of joint `joint`: `mu` (-), `pin_radius` (m; not for prismatic joints),
+    `preload` (N*m, or N on a prismatic joint), `v_threshold` (rad/s or m/s: full friction
+    from this relative speed on), `slip_threshold` (rad or m: the same for the displacement
+    between two static states)."""
+
+    name: str
+    joint: str
+    mu: float
+    pin_radius: float = 0.0
+    preload: float = 0.0
+    v_threshold: float = 1.0e-3
+    slip_threshold: float = 1.0e-6
+    effect: str = "friction"
+    active: bool = True
+    uses_reactions = True
+
+    @property
+    def output_units(self) -> dict[str, str]:
+        unit = "N" if self._type == "prismatic" else "N*m"
+        return {"value": unit, "capacity": unit, "normal": "N"}
+
+    def bind(self, system) -> None:
+        j = system.mechanism.joints[self.joint]
+        if j.type not in FRICTION_JOINTS:
+            raise ValueError(f"joint_friction '{self.name}': joint '{self.joint}' is {j.type}; "
+                             f"friction needs a {', '.join(FRICTION_JOINTS)} joint")
+        self._type = j.type
+        self._bi, self._si = system.body_point(j.body1, j.at)
+        self._bj, _ = system.body_point(j.body2, j.at)
+        self._m = None
+        if j.type != "spherical":
+            self._m = system.measure(self.joint, "travel" if j.type == "prismatic" else "angle")
+        self._anchor = 0.0 if self._m is not None else np.eye(3)
+
+    # ---- kinematics of the slip -------------------------------------------------------
+    def _relative_rotation(self, view: StateView) -> np.ndarray:
+        return view.rotation(self._bi) @ view.rotation(self._bj).T
+
+    def _direction(self, view: StateView) -> np.ndarray:
+        """Signed, regularised unit vector (global) of body 1's slip against body 2."""
+        if self._m is not None:
+            axis = view.rotation(self._m.bj) @ self._m.axis_local
+            if at_rest(view):
+                factor = coulomb_factor(self._m.value(view.kin) - self._anchor,
+                                        self.slip_threshold)
+            else:
+                factor = coulomb_factor(self._m.rate(view.kin), self.v_threshold)
+            return factor * axis
+        if at_rest(view):
+            return coulomb_vector(rotation_increment(self._relative_rotation(view),
+                                                     self._anchor), self.slip_threshold)
+        k = view.kin
+        w = omega_global(k.p[self._bi], k.pd[self._bi]) - omega_global(k.p[self._bj],
+                                                                       k.pd[self._bj])
+        return coulomb_vector(w, self.v_threshold)
+
+    def _normal(self, view: StateView) -> float:
+        """Reaction force (N) normal to the axis (all of it for a spherical joint)."""
+        force, _ = view.reaction(self.joint)
+        if self._m is None:
+            return float(np.linalg.norm(force))
+        axis = view.rotation(self._m.bj) @ self._m.axis_local
+        return float(np.linalg.norm(force - (force @ axis) * axis))
+
+    def _capacity(self, view: StateView) -> tuple[float, float]:
+        normal = self._normal(view)
+        arm = 1.0 if self._type == "prismatic" else self.pin_radius
+        return self.mu * arm * normal + self.preload, normal
+
+    # ---- element protocol -------------------------------------------------------------
+    def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        capacity, _ = self._capacity(view)
+        load = -capacity * self._direction(view)  # on body 1, opposing its slip
+        if self._type != "prismatic":
+            N[self._bi] += load
+            N[self._bj] -= load
+            return
+        at = view.point_position(self._bi, self._si)
+        F[self._bi] += load
+        N[self._bi] += cross(at - view.kin.r[self._bi], load)
+        F[self._bj] -= load
+        N[self._bj] -= cross(at - view.kin.r[self._bj], load)
+
+    def commit(self, view: StateView) -> None:
+        """Accepted state: the anchor from which static slips are measured."""
+        if self._m is not None:
+            self._anchor = self._m.value(view.kin)
+        else:
+            self._anchor = self._relative_rotation(view).copy()
+
+    def output(self, view: StateView) -> dict[str, float]:
+        """value: friction resisting body 1's motion (signed along the axis; magnitude for
+        a spherical joint); capacity: mu r F_r + preload; normal: F_r."""
+        capacity, normal = self._capacity(view)
+        direction = self._direction(view)
+        if self._m is not None:
+            axis = view.rotation(self._m.bj) @ self._m.axis_local
+            value = capacity * float(direction @ axis)
+        else:
+            value = capacity * float(np.linalg.norm(direction))
+        return {"value": value, "capacity": capacity, "normal": normal}

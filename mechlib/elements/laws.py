@@ -1,0 +1,25 @@
+"""Tabulated element laws: force (N) vs deflection (m), torque (N*m) vs angle (rad).
+
+`TableLaw` wraps a `mechlib.tables.Table` for `Spring.law` / `TorsionSpring.law`: a value
+outside a table that does not extrapolate becomes a `SolverFailure` naming the element.
+"""
+from __future__ import annotations
+
+from mechlib.solution import SolverFailure
+from mechlib.tables import Table, TableRangeError
+
+__all__ = ["TableLaw"]
+
+
+class TableLaw:
+    """law(x) = table(x) for element `element` (x and the result in the table's SI units)."""
+
+    def __init__(self, table: Table, element: str):
+        self.table, self.element = table, element
+
+    def __call__(self, x: float) -> float:
+        try:
+            return self.table(x)
+        except TableRangeError as exc:
+            raise SolverFailure(f"force element '{self.element}': {exc}",
+                                where=(self.element,)) from None
