@@ -13,6 +13,7 @@ from typing import Any, Callable
 import mechlib as ml
 from loadcases.build_contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
 from loadcases.build_elements import ELEMENT_MAKERS
+from loadcases.build_events import build_events
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
 from loadcases.loader import CaseFile
@@ -49,6 +50,7 @@ class BuiltRun:
     redundant: str
     column_units: dict[str, str] = field(default_factory=dict)
     warnings: list[str] = field(default_factory=list)
+    events: list = field(default_factory=list)
 
 
 def guarded(compiled, what: str) -> Callable:
@@ -100,7 +102,10 @@ class _Builder:
         self.problems.append(Diagnostic(file, line, col, key, message))
 
     def compile(self, text: str, what: str, kind: str = "mechanism") -> Callable:
-        expression = parse(text)
+        return self.compile_tree(parse(text), what, kind)
+
+    def compile_tree(self, expression, what: str, kind: str = "mechanism") -> Callable:
+        """A parsed expression (or part of one) compiled and guarded."""
         self._check_measures(expression, what, kind)
         return guarded(expression.compile(self.parameters, self.tables), what)
 
@@ -136,8 +141,6 @@ class _Builder:
                 self.error("mechanism", f"contacts.{name}", f"{c.type} contacts {NOT_YET}")
             elif element is not None:
                 m.add_force(element)
-        for name in self.mech.events:
-            self.error("mechanism", f"events.{name}", f"events {NOT_YET}")
         for name, motion in (self.case.motions if self.case else {}).items():
             fn = parse(motion.value).compile(self.parameters, self.tables)
             if not fn.time_only:
@@ -343,6 +346,9 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     initial = b.initial()
     if b.problems:
         raise InputError(b.problems)
+    events = build_events(b)
+    if b.problems:
+        raise InputError(b.problems)
     notes = [f"{d.key}: {d.message}" for d in cf.warnings]  # validation warnings travel along
     return BuiltRun(mechanism, analysis, requests, initial, cf.case.analysis.redundant, units,
-                    notes)
+                    notes, events)

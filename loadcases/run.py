@@ -44,7 +44,7 @@ def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool =
     try:
         solution = ml.solve(built.mechanism, built.analysis, requests=built.requests,
                             initial=built.initial, redundant=built.redundant, throw=False,
-                            progress=progress)
+                            events=built.events, progress=progress)
     except ml.ModelError as error:
         raise InputError(_model_diagnostics(cf, error)) from None
     return RunOutcome(name=name or cf.case.case, case_file=Path(cf.path),

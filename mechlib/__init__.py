@@ -5,6 +5,7 @@ Build a `Mechanism`, pick an analysis, name the requests, and call `solve`.
 from mechlib.analysis import Dynamic, Kinematic, QuasiStatic, Static
 from mechlib.assembly import InitialBodyVelocity, InitialValue
 from mechlib.check import ModelError
+from mechlib.events import Action, Event
 from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
 from mechlib.elements import CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
 from mechlib.model import GROUND, Mechanism
@@ -21,4 +22,4 @@ __all__ = ["Mechanism", "GROUND", "System", "StateView", "solve", "check_model",
            "JointReaction", "MotionEffort", "PointKinematics", "JointCoordinate",
            "ElementOutput", "ExpressionOutput", "Solution", "SolverFailure", "SolverStats",
            "ModelError", "MechanismCheck", "inspect_mechanism", "CableLoop", "JointFriction",
-           "RotationalDamper", "Seal", "TableLaw"]
+           "RotationalDamper", "Seal", "TableLaw", "Event", "Action"]

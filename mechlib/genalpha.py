@@ -21,6 +21,7 @@ import numpy as np
 from numba import njit
 
 from mechlib.analysis import Dynamic, Trajectory, output_times
+from mechlib.events import EVENT_TIME_TOLERANCE, EventMonitor, apply_actions, locate
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
@@ -266,58 +267,145 @@ def _substeps(interval: float, h: float) -> tuple[int, float]:
     return n, interval / n
 
 
+@dataclass
+class _State:
+    """An accepted state: time (s), q, qd, qdd, gen-alpha's a, lam, and the consistent
+    (qd, qdd, lam) that outputs and the error estimate use."""
+
+    t: float
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    a: np.ndarray
+    lam: np.ndarray
+    consistent: tuple
+
+
+class _Run:
+    """Step-size control, event handling and restarts around `_Integrator.step`."""
+
+    def __init__(self, system: System, spec: Dynamic, stats: SolverStats, events):
+        self.system, self.spec, self.stats = system, spec, stats
+        self.integ = _Integrator(system, spec, stats)
+        self.monitor = EventMonitor(events)
+        self.log: list = []
+        self.stopped = False
+        self.max_step = min(spec.max_step or spec.step, spec.step)
+        span = spec.end - spec.start
+        self.h = self.max_step if spec.fixed_step else min(self.max_step, 1e-3 * span or 1e-3)
+        self.h_min = 1e-12 * max(1.0, abs(spec.end))
+        self.h_used = 0.0
+
+    def restart(self, t: float, q: np.ndarray, qd: np.ndarray) -> _State:
+        """Consistent accelerations (and velocities: a latch engaging is a plastic impact,
+        the mass-weighted projection) at t; the pseudo-acceleration starts from them."""
+        qd, qdd, lam = consistent_state(self.system, q, qd, t)
+        self.integ.lu, self.integ.eta = None, 1.0
+        self.monitor.arm(t, self.system.view(self.system.kin(q, qd, t)))
+        return _State(t, q, qd, qdd, qdd.copy(), lam, (qd, qdd, lam))
+
+    def attempt(self, s: _State, t_out: float) -> _State | None:
+        """One step towards t_out; None when rejected (the step size is then reduced)."""
+        spec, stats = self.spec, self.stats
+        if stats.steps + stats.rejected_steps > _MAX_STEPS:
+            raise SolverFailure(f"dynamic analysis stopped at t = {s.t:.6g} s after "
+                                f"{_MAX_STEPS} steps", time=s.t)
+        _, h_try = _substeps(t_out - s.t, self.h)
+        if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
+            qdd, lam = consistent_accelerations(self.system, s.q, s.qd, s.t)
+            s.qdd, s.a, s.lam, s.consistent = qdd, qdd.copy(), lam, (s.qd, qdd, lam)
+        self.h_used = h_try
+        new = self.integ.step(s.t, h_try, s.q, s.qd, s.qdd, s.a, s.lam)
+        err = 0.0 if new is None or spec.fixed_step else self.integ.error(
+            h_try, new[0], s.consistent[1], new[5][1])
+        if new is None or err > 1.0:
+            if spec.fixed_step:
+                raise _newton_failure(self.system, s.t, h_try)
+            stats.rejected_steps += 1
+            self.h = h_try * (0.25 if new is None else max(_SHRINK, _SAFETY * err ** (-1 / 3)))
+            if self.h < self.h_min:
+                raise _newton_failure(self.system, s.t, self.h)
+            return None
+        if not spec.fixed_step:
+            grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
+            if grow > _REGROW:
+                self.h = min(self.max_step, h_try * grow)
+        return _State(s.t + h_try, *new)
+
+    def accept(self, s: _State) -> None:
+        self.stats.steps += 1
+        self.integ.scales.update(s.consistent[1])
+        self.system.commit(self.system.kin(s.q, s.qd, s.t))
+
+    def _to(self, s: _State, t: float) -> _State:
+        new = self.integ.step(s.t, t - s.t, s.q, s.qd, s.qdd, s.a, s.lam)
+        if new is None:
+            raise _newton_failure(self.system, s.t, t - s.t)
+        return _State(t, *new)
+
+    def events(self, s: _State, new: _State, trajectory: Trajectory) -> _State | None:
+        """If events fire during the step s -> new: the state at the first one, recorded,
+        with the actions done and the integration restarted; else None."""
+        sys = self.system
+        fired = self.monitor.crossed(new.t, sys.view(sys.kin(new.q, new.qd, new.t)))
+        if not fired:
+            return None
+        first = {}
+        for e in fired:
+            def g_at(t, e=e):
+                x = self._to(s, t)
+                return float(e.condition(t, sys.view(sys.kin(x.q, x.qd, t))))
+            g1 = float(e.condition(new.t, sys.view(sys.kin(new.q, new.qd, new.t))))
+            first[e.name] = locate(self.monitor.values[e.name], g1, s.t, new.t, g_at)
+        t_e = min(first.values())
+        now = [e for e in fired if first[e.name] - t_e <= EVENT_TIME_TOLERANCE]
+        at = self._to(s, t_e)
+        self.accept(at)
+        trajectory.record(t_e, at.q, *at.consistent)
+        k = sys.kin(at.q, at.qd, t_e)
+        for e in now:
+            record, stop = apply_actions(sys, e, k)
+            self.log.append(record)
+            self.stopped = self.stopped or stop
+        self.monitor.fired(now)
+        return self.restart(t_e, at.q, at.qd)
+
+
 def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Trajectory,
-                          stats: SolverStats, progress: Callable | None = None) -> None:
-    """Integrate from spec.start to spec.end, recording at the output times.
+                          stats: SolverStats, progress: Callable | None = None,
+                          events=(), event_log: list | None = None) -> None:
+    """Integrate from spec.start to spec.end, recording at the output times (and at the
+    events, whose records go to `event_log`).
 
     The step size changes only when the error estimate asks for it (shrink, or growth by
     more than _REGROW); at each change the pseudo-acceleration restarts from the consistent
     acceleration, because generalized-alpha's `a` is tied to the step it was made with.
-    Outputs carry consistent velocities, accelerations and reactions (`consistent_state`).
+    Outputs carry consistent velocities, accelerations and reactions.
     """
-    integ = _Integrator(system, spec, stats)
-    integ.scales = _Scales(system, q0, spec.tolerance)
-    t, q, qd = spec.start, q0.copy(), qd0.copy()
-    qdd, lam = consistent_accelerations(system, q, qd, t)
-    a, consistent = qdd.copy(), (qd, qdd, lam)
-    trajectory.record(t, q, qd, qdd, lam)
-    max_step = min(spec.max_step or spec.step, spec.step)
-    h = max_step if spec.fixed_step else min(max_step, 1e-3 * (spec.end - spec.start) or 1e-3)
-    h_min = 1e-12 * max(1.0, abs(spec.end))
-    h_used = 0.0
-    for t_out in output_times(spec.start, spec.end, spec.step)[1:]:
-        while t_out - t > 1e-12 * max(1.0, abs(t_out)):
-            if stats.steps + stats.rejected_steps > _MAX_STEPS:
-                raise SolverFailure(f"dynamic analysis stopped at t = {t:.6g} s after "
-                                    f"{_MAX_STEPS} steps", time=t)
-            _, h_try = _substeps(t_out - t, h)
-            if h_used and abs(h_try / h_used - 1.0) > 1e-9:
-                qdd, lam = consistent_accelerations(system, q, qd, t)
-                a, consistent = qdd.copy(), (qd, qdd, lam)
-            new = integ.step(t, h_try, q, qd, qdd, a, lam)
-            err = 0.0 if new is None or spec.fixed_step else integ.error(h_try, new[0], consistent[1], new[5][1])
-            if new is None or err > 1.0:
-                if spec.fixed_step:
-                    raise _newton_failure(system, t, h_try)
-                stats.rejected_steps += 1
-                h = h_try * (0.25 if new is None else max(_SHRINK, _SAFETY * err ** (-1 / 3)))
-                h_used = h_try
-                if h < h_min:
-                    raise _newton_failure(system, t, h)
-                continue
-            q, qd, qdd, a, lam, consistent = new
-            integ.scales.update(consistent[1])
-            t += h_try
-            h_used = h_try
-            stats.steps += 1
-            system.commit(system.kin(q, qd, t))
-            if not spec.fixed_step:
-                grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
-                if grow > _REGROW:
-                    h = min(max_step, h_try * grow)
-        trajectory.record(t, q, *consistent)
-        if progress:
-            progress(t, spec.end)
+    run = _Run(system, spec, stats, events)
+    run.integ.scales = _Scales(system, q0, spec.tolerance)
+    s = run.restart(spec.start, q0.copy(), qd0.copy())
+    trajectory.record(s.t, s.q, *s.consistent)
+    try:
+        for t_out in output_times(spec.start, spec.end, spec.step)[1:]:
+            while t_out - s.t > 1e-12 * max(1.0, abs(t_out)) and not run.stopped:
+                new = run.attempt(s, t_out)
+                if new is None:
+                    continue
+                after = run.events(s, new, trajectory) if run.monitor.armed else None
+                if after is None:
+                    run.accept(new)
+                    if run.monitor.armed:
+                        run.monitor.arm(new.t, system.view(system.kin(new.q, new.qd, new.t)))
+                s = new if after is None else after
+            if run.stopped:
+                break
+            trajectory.record(s.t, s.q, *s.consistent)
+            if progress:
+                progress(s.t, spec.end)
+    finally:
+        if event_log is not None:
+            event_log.extend(run.log)
 
 
 def _newton_failure(system: System, t: float, h: float) -> SolverFailure:

@@ -20,16 +20,26 @@ class Gatherer:
     """Collects, output by output, the generalised force of some rows on one body."""
 
     def __init__(self, system, owners: set[str], body: int):
-        self.rows = np.array([i for i, o in enumerate(system.owners) if o in owners], dtype=int)
-        self.body = body
+        self.system, self.owners, self.body = system, owners, body
         self.values: list[np.ndarray] = []
+        self._rows: tuple[int, np.ndarray] | None = None
+
+    def _current_rows(self) -> np.ndarray:
+        """Rows of the owners among the active equations (events change them)."""
+        active = self.system.active
+        if self._rows is None or self._rows[0] != id(active):
+            owners = self.system.owners
+            self._rows = (id(active), np.array([i for i, o in enumerate(owners)
+                                                if o in self.owners], dtype=int))
+        return self._rows[1]
 
     def gather(self, jac: np.ndarray, lam: np.ndarray) -> None:
-        if self.body < 0 or len(self.rows) == 0:
+        rows = self._current_rows()
+        if self.body < 0 or len(rows) == 0:
             self.values.append(np.zeros(7))
             return
-        block = jac[self.rows, 7 * self.body:7 * self.body + 7]
-        self.values.append(-(block.T @ lam[self.rows]))
+        block = jac[rows, 7 * self.body:7 * self.body + 7]
+        self.values.append(-(block.T @ lam[rows]))
 
     def wrench(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Force and torque about the cm (n, 3) given the body's Euler parameters (n, 4)."""

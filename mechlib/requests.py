@@ -190,7 +190,7 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
     stepwise = [r for r in requests if isinstance(r, (JointCoordinate, ElementOutput,
                                                       ExpressionOutput))]
     for i, t in enumerate(trajectory.time if stepwise or loads else ()):
-        system.restore(trajectory.references[i])  # angles as the solver unwrapped them
+        system.restore_snapshot(trajectory.references[i])  # as the solver had it then
         k = system.kin(trajectory.q[i], trajectory.qd[i], t)
         if loads:
             jac = system.phi_q(k)

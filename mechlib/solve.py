@@ -74,7 +74,8 @@ def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
                           degrees_of_freedom(jac), tuple(r.describe() for r in found), assembled)
 
 
-def _run(system: System, analysis: Analysis, q0, qd0, trajectory, stats, progress) -> None:
+def _run(system: System, analysis: Analysis, q0, qd0, trajectory, stats, progress,
+         events=(), event_log=None) -> None:
     if isinstance(analysis, Kinematic):
         run_kinematic(system, analysis, q0, qd0, trajectory, stats, progress)
     elif isinstance(analysis, Static):
@@ -84,11 +85,13 @@ def _run(system: System, analysis: Analysis, q0, qd0, trajectory, stats, progres
     elif analysis.integrator == "radau":
         run_radau(system, analysis, q0, qd0, trajectory, stats, progress)
     else:
-        run_generalized_alpha(system, analysis, q0, qd0, trajectory, stats, progress)
+        run_generalized_alpha(system, analysis, q0, qd0, trajectory, stats, progress,
+                              events, event_log)
 
 
 def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
           initial: Sequence = (), redundant: str = "error", throw: bool = True,
+          events: Sequence = (),
           progress: Callable[[float, float], None] | None = None) -> Solution:
     """Check, assemble and solve; channels `REQUEST.COMPONENT` at the output times.
 
@@ -98,14 +101,18 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     cpu0 = _time.process_time()
     system = System(mechanism)
     warnings = check_model(system, analysis, redundant=redundant)
-    stats, trajectory = SolverStats(), Trajectory(snapshot=system.references)
+    stats, trajectory = SolverStats(), Trajectory(snapshot=system.snapshot)
+    event_log: list = []
     status, message = "ok", "finished"
     start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
     try:
         assembled = assemble(system, start, initial)
         warnings += assembled.notes
         stats.newton_iterations += assembled.newton_iterations
-        _run(system, analysis, assembled.q, assembled.qd, trajectory, stats, progress)
+        if events and not isinstance(analysis, Dynamic):
+            raise ModelError([("", "events are simulated in dynamic analyses only (for now)")])
+        _run(system, analysis, assembled.q, assembled.qd, trajectory, stats, progress,
+             events, event_log)
     except SolverFailure as failure:
         if throw:
             raise
@@ -117,5 +124,8 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
             raise
         status, message, channels = "failed", f"requests: {failure}", {}
     stats.cpu_seconds = _time.process_time() - cpu0
+    if event_log:
+        message = message + "; events: " + ", ".join(f"{e.name} at t = {e.time:.6g} s"
+                                                      for e in event_log)
     return Solution(status, message, analysis.name, np.array(trajectory.time), channels,
-                    stats, warnings)
+                    stats, warnings, event_log)

@@ -24,6 +24,22 @@ __all__ = ["System"]
 _KINDS = {"spherical": Spherical, "dot1": Dot1, "dot2": Dot2}
 
 
+class _Held:
+    """A coordinate held at a constant value (rad or m): the function of a lock."""
+
+    def __init__(self, value: float):
+        self._value = value
+
+    def value(self, t: float) -> float:
+        return self._value
+
+    def rate(self, t: float) -> float:
+        return 0.0
+
+    def accel(self, t: float) -> float:
+        return 0.0
+
+
 class System:
     """The numerical form of a `Mechanism` (see module docstring for the symbols)."""
 
@@ -163,6 +179,49 @@ class System:
         """Remove equations (indices into the current rows), e.g. redundant ones."""
         self.active = np.delete(self.active, np.asarray(rows, dtype=int))
         self._pattern = None
+
+    # ---- model changes by events --------------------------------------------------------
+    def _rows_owned(self, owner: str) -> np.ndarray:
+        return np.array([i for i, o in enumerate(self._all_owners) if o == owner], dtype=int)
+
+    def set_active(self, name: str, active: bool) -> None:
+        """Switch a force element (contacts included) or a motion on or off."""
+        if name in self.mechanism.forces:
+            self.mechanism.forces[name].active = active
+            return
+        rows = self._rows_owned(name)
+        kept = np.setdiff1d(self.active, rows)
+        self.active = np.union1d(kept, rows) if active else kept
+        self._pattern = None
+
+    def release(self, joint: str) -> None:
+        """Remove a joint: its equations (and a lock of it) go; its reaction is zero."""
+        self.active = np.setdiff1d(self.active, self._rows_owned(joint))
+        self._pattern = None
+
+    def lock(self, joint: str, k: Kin) -> None:
+        """Freeze a joint's coordinate at its value in state `k` (a latch engaging)."""
+        measure = self._coordinate_of(joint)
+        value = measure.value(k)
+        eq = CoordinateEquation([(1.0, measure)], f"{joint}: locked {measure.kind}", joint,
+                                _Held(value))
+        self.coordinates.append(eq)
+        self._all_labels.append(eq.label)
+        self._all_owners.append(joint)
+        self.active = np.append(self.active, len(self._all_labels) - 1)
+        self._pattern = None
+
+    def snapshot(self) -> dict:
+        """What outputs need to read a recorded state as it was: angle references, active
+        equations and elements."""
+        return {"angles": self.references(), "active": self.active,
+                "elements": {n: e.active for n, e in self.mechanism.forces.items()}}
+
+    def restore_snapshot(self, snap: dict) -> None:
+        self.restore(snap["angles"])
+        self.active = snap["active"]
+        for name, flag in snap["elements"].items():
+            self.mechanism.forces[name].active = flag
 
     # ---- evaluation ---------------------------------------------------------------------
     def kin(self, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:
