@@ -12,7 +12,7 @@ from typing import Any, Callable
 
 import mechlib as ml
 from loadcases.build_contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
-from loadcases.build_elements import ELEMENT_MAKERS
+from loadcases.build_elements import ELEMENT_EFFECTS, ELEMENT_MAKERS
 from loadcases.build_events import build_events
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
@@ -23,7 +23,7 @@ __all__ = ["BuiltRun", "build_run", "build_mechanism", "ExpressionMotion", "ABSC
            "ABSCISSA_COLUMN"]
 
 NOT_YET = "is not simulated by this version of loads yet"
-_EFFECT_OF = {"joint_friction": "friction"}  # force element type -> effect switching it
+_EFFECT_OF = ELEMENT_EFFECTS  # force element type -> effect switching it
 _MEASURE_JOINTS = {"angle": ("revolute", "cylindrical", "screw"),
                    "omega": ("revolute", "cylindrical", "screw"),
                    "travel": ("prismatic", "cylindrical", "screw"),
@@ -174,16 +174,20 @@ class _Builder:
 
     def _element(self, name: str, f):
         damping = self.effects.get("damping", True)
-        if getattr(f, "law", None):
-            self.error("mechanism", f"forces.{name}.law", f"tabulated spring laws {NOT_YET}")
-            return None
+        law = None
+        if f.type in ("spring", "torsion_spring") and f.law is not None:
+            if f.stiffness:  # the table replaces the linear term: both would be ambiguous
+                self.error("mechanism", f"forces.{name}.law", "give 'stiffness' or 'law', "
+                           "not both")
+                return None
+            law = ml.TableLaw(self.tables[f.law], name)
         if f.type == "spring":
             pts = tuple((self.mech.points[p].body, self.mech.points[p].at) for p in f.points)
             return ml.Spring(name, pts, f.stiffness, f.damping if damping else 0.0,
-                             f.free_length, f.preload or 0.0, f.tension_only)
+                             f.free_length, f.preload or 0.0, f.tension_only, law)
         if f.type == "torsion_spring":
             return ml.TorsionSpring(name, f.joint, f.stiffness, f.damping if damping else 0.0,
-                                    f.angle0 or 0.0, f.preload or 0.0)
+                                    f.angle0 or 0.0, f.preload or 0.0, law)
         if f.type in ("force", "torque"):
             parts = [self.compile(str(v), f"forces.{name}.value") for v in f.value]
 

@@ -8,6 +8,74 @@ from __future__ import annotations
 
 from typing import Any, Callable
 
-__all__ = ["ELEMENT_MAKERS"]
+import mechlib as ml
 
-ELEMENT_MAKERS: dict[str, Callable[[Any, str, Any], Any]] = {}
+__all__ = ["ELEMENT_MAKERS", "ELEMENT_EFFECTS"]
+
+# force element type -> the effect (case `effects:` switch) it belongs to
+ELEMENT_EFFECTS = {"joint_friction": "friction", "damper": "damping", "seal": "contact",
+                   "cable_loop": "springs"}
+_ROTARY = ("revolute", "cylindrical")
+
+
+def _joint(builder, name: str, key: str, joint: str, types: tuple[str, ...]):
+    """The joint model, or None after a diagnostic (unknown, or of the wrong type)."""
+    j = builder.mech.joints.get(joint)
+    if j is None:
+        builder.error("mechanism", f"forces.{name}.{key}", f"unknown joint '{joint}'")
+    elif j.type not in types:
+        builder.error("mechanism", f"forces.{name}.{key}", f"joint '{joint}' is {j.type}; "
+                      f"this element needs a {' or '.join(types)} joint")
+    else:
+        return j
+    return None
+
+
+def _joint_friction(builder, name: str, f) -> Any:
+    from mechlib.elements.friction import FRICTION_JOINTS
+    j = _joint(builder, name, "joint", f.joint, FRICTION_JOINTS)
+    if j is None:
+        return None
+    radius = 0.0 if j.type == "prismatic" else (f.pin_radius or 0.0)
+    return ml.JointFriction(name, f.joint, f.mu, radius, f.preload)
+
+
+def _damper(builder, name: str, f) -> Any:
+    if _joint(builder, name, "joint", f.joint, _ROTARY) is None:
+        return None
+    return ml.RotationalDamper(name, f.joint, f.damping)
+
+
+def _cable_loop(builder, name: str, f) -> Any:
+    joints = [_joint(builder, name, f"joints[{i}]", j, ("revolute",))
+              for i, j in enumerate(f.joints)]
+    if None in joints:
+        return None
+    shared = set(joints[0].bodies) & set(joints[1].bodies)
+    if len(shared) != 1 or f.radii[0] <= 0.0 or f.radii[1] <= 0.0:
+        builder.error("mechanism", f"forces.{name}", "a cable loop needs two revolute joints "
+                      "sharing exactly one body (the yoke) and positive radii")
+        return None
+    return ml.CableLoop(name, tuple(f.joints), tuple(f.radii), f.stiffness, f.pretension)
+
+
+def _seal(builder, name: str, f) -> Any:
+    law = None
+    if f.law is not None:
+        if f.stiffness:
+            builder.error("mechanism", f"forces.{name}.law", "give 'stiffness' or 'law', "
+                          "not both")
+            return None
+        law = ml.TableLaw(builder.tables[f.law], name)
+    elif f.stiffness <= 0.0:
+        builder.error("mechanism", f"forces.{name}", "a seal needs 'stiffness' > 0 or 'law'")
+        return None
+    return ml.Seal(name, tuple(f.bodies), f.start, f.end, f.normal, count=f.springs,
+                   stiffness=f.stiffness, exponent=f.exponent, law=law, gap=f.gap, mu=f.mu,
+                   v_threshold=f.v_threshold)
+
+
+ELEMENT_MAKERS: dict[str, Callable[[Any, str, Any], Any]] = {
+    "joint_friction": _joint_friction, "damper": _damper, "cable_loop": _cable_loop,
+    "seal": _seal,
+}
