@@ -167,6 +167,8 @@ class _Integrator:
         eta = self.eta
         while it < _MAX_ITER:
             k = sys.kin(q1, qd1, t1)
+            if sys.states:
+                sys.states.advance(sys.view(k), h)
             if rebuild:
                 self._iteration_matrix(k, h)
                 rebuild, rebuilt, prev = False, True, math.inf
@@ -201,6 +203,7 @@ class _Integrator:
             prev = size
         self.lu = None
         self.eta = 1.0
+        sys.states.reject()
         return None
 
     def _true_acceleration(self, q1, qd1, t1, qdd1, lam1, jac):
@@ -299,6 +302,8 @@ class _Run:
     def restart(self, t: float, q: np.ndarray, qd: np.ndarray) -> _State:
         """Consistent accelerations (and velocities: a latch engaging is a plastic impact,
         the mass-weighted projection) at t; the pseudo-acceleration starts from them."""
+        if self.system.states:
+            self.system.states.start(self.system.view(self.system.kin(q, qd, t)))
         qd, qdd, lam = consistent_state(self.system, q, qd, t)
         self.integ.lu, self.integ.eta = None, 1.0
         self.monitor.arm(t, self.system.view(self.system.kin(q, qd, t)))
@@ -319,6 +324,7 @@ class _Run:
         err = 0.0 if new is None or spec.fixed_step else self.integ.error(
             h_try, new[0], s.consistent[1], new[5][1])
         if new is None or err > 1.0:
+            self.system.states.reject()
             if spec.fixed_step:
                 raise _newton_failure(self.system, s.t, h_try)
             stats.rejected_steps += 1
@@ -335,7 +341,10 @@ class _Run:
     def accept(self, s: _State) -> None:
         self.stats.steps += 1
         self.integ.scales.update(s.consistent[1])
-        self.system.commit(self.system.kin(s.q, s.qd, s.t))
+        k = self.system.kin(s.q, s.qd, s.t)
+        if self.system.states:
+            self.system.states.accept(self.system.view(k))
+        self.system.commit(k)
 
     def _to(self, s: _State, t: float) -> _State:
         new = self.integ.step(s.t, t - s.t, s.q, s.qd, s.qdd, s.a, s.lam)

@@ -14,6 +14,7 @@ from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL, expand_joint, joint_frame
 from mechlib.kin import Kin
+from mechlib.states import ElementStates
 from mechlib.model import GROUND, Mechanism
 from mechlib import kernels
 from mechlib.rotation import rotation_matrix
@@ -61,6 +62,7 @@ class System:
         self._build_constraints()
         self.elements = list(mechanism.forces.values())
         self._remembering = [e for e in self.elements if hasattr(e, "commit")]
+        self.states = ElementStates(self.elements)
         self.reaction_dependent = any(getattr(e, "uses_reactions", False)
                                       for e in self.elements)
         self._no_wrench = np.zeros((self.nb + 1, 3))
@@ -215,13 +217,15 @@ class System:
         """What outputs need to read a recorded state as it was: angle references, active
         equations and elements."""
         return {"angles": self.references(), "active": self.active,
-                "elements": {n: e.active for n, e in self.mechanism.forces.items()}}
+                "elements": {n: e.active for n, e in self.mechanism.forces.items()},
+                "states": self.states.z.copy()}
 
     def restore_snapshot(self, snap: dict) -> None:
         self.restore(snap["angles"])
         self.active = snap["active"]
         for name, flag in snap["elements"].items():
             self.mechanism.forces[name].active = flag
+        self.states.trial = snap["states"]
 
     # ---- evaluation ---------------------------------------------------------------------
     def kin(self, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:

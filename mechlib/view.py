@@ -40,6 +40,10 @@ class StateView:
     def point_velocity(self, body: int, s: np.ndarray) -> np.ndarray:
         return self.kin.rd[body] + d_rotate(self.kin.p[body], s) @ self.kin.pd[body]
 
+    def states(self, element) -> np.ndarray:
+        """The internal states of an element with states (see mechlib.states)."""
+        return self.system.states.of(element)
+
     def reaction(self, joint: str) -> tuple[np.ndarray, np.ndarray]:
         """Force (N) and torque about the joint point (N*m) on body 1 of `joint` from body 2,
         global axes, from the multipliers of this state (zero when none are known yet)."""
