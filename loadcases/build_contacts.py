@@ -2,21 +2,103 @@
 
 `CONTACT_MAKERS[type](builder, name, model) -> mechlib element or None` (None after the
 builder recorded a diagnostic). `loadcases.build` adds the element as a force element of
-the contact's effect (`contact`), so that `effects: {contact: false}` removes it.
+the contact's effect (`contact`), so that `effects: {contact: false}` removes it; a case
+with `effects: {friction: false}` gets its contacts without friction. `sphere_in_sphere` and
+`cylinder_in_cylinder` geometries make clearance joints (they report an eccentricity).
 """
 from __future__ import annotations
 
 from typing import Any, Callable
 
-__all__ = ["CONTACT_MAKERS", "CONTACT_COMPONENTS", "CONTACT_UNITS"]
+from mechlib import contact as mc
 
-CONTACT_MAKERS: dict[str, Callable[[Any, str, Any], Any]] = {}
+__all__ = ["CONTACT_MAKERS", "CONTACT_COMPONENTS", "CONTACT_UNITS", "CLEARANCE_SHAPES"]
+
+CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
+"""Geometries that make a clearance joint (with the `eccentricity` request)."""
 
 # Request quantity -> (column component, key of the element's output), SPEC 1.2.1.
 CONTACT_COMPONENTS: dict[str, tuple[tuple[str, str], ...]] = {
     "force": (("normal", "normal"), ("friction", "friction"), ("fx", "fx"), ("fy", "fy"),
               ("fz", "fz")),
     "penetration": (("value", "penetration"),),
+    "point": (("x", "px"), ("y", "py"), ("z", "pz")),
+    "sliding_speed": (("value", "sliding_speed"),),
+    "wear": (("value", "wear"),),
+    "eccentricity": (("ex", "ex"), ("ey", "ey"), ("ez", "ez"), ("value", "eccentricity"),
+                     ("angle", "angle")),
 }
+# Unit of each element output key.
 CONTACT_UNITS: dict[str, str] = {"normal": "N", "friction": "N", "fx": "N", "fy": "N",
-                                 "fz": "N", "penetration": "m"}
+                                 "fz": "N", "penetration": "m", "px": "m", "py": "m",
+                                 "pz": "m", "sliding_speed": "m/s", "wear": "W", "ex": "m",
+                                 "ey": "m", "ez": "m", "eccentricity": "m", "angle": "rad"}
+
+DEFAULT_PENALTY = 1.0e8
+"""N/m^n: penalty stiffness of a `restitution` contact that gives none."""
+
+
+def _geometry(g) -> Any:
+    """The mechlib geometry of a schema geometry (SI values)."""
+    if g.shape == "sphere_plane":
+        return mc.SpherePlane(g.center, g.radius, g.plane_point, g.normal)
+    if g.shape == "sphere_in_sphere":
+        return mc.SphereInSphere(g.center, g.radius, g.clearance)
+    if g.shape == "cylinder_in_cylinder":
+        return mc.CylinderInCylinder(g.center, g.axis, g.radius, g.clearance)
+    return mc.CircleProfile(g.center, g.radius, g.points, g.plane_normal)
+
+
+def effective_radius(g) -> float:
+    """Hertz effective radius (m): R for a sphere or roller on a plane or profile (the
+    profile's own curvature ignored), R (R + c) / c for a ball or pin in its socket or hole."""
+    if g.shape in CLEARANCE_SHAPES:
+        return g.radius * (g.radius + g.clearance) / max(g.clearance, 1e-12)
+    return g.radius
+
+
+def _friction(builder, model) -> Any:
+    f = model.friction
+    if f is None or not builder.effects.get("friction", True):
+        return None
+    if f.model == "coulomb":
+        return mc.CoulombFriction(f.mu_dynamic, f.v_static)
+    mu_static = f.mu_dynamic if f.mu_static is None else f.mu_static
+    return mc.StribeckFriction(mu_static, f.mu_dynamic, f.v_static, f.v_dynamic, f.viscous)
+
+
+def _element(builder, name: str, model, law) -> Any:
+    """A Contact, or a ClearanceJoint for a ball in a socket or a pin in a hole."""
+    geometry, friction = _geometry(model.geometry), _friction(builder, model)
+    if model.geometry.shape in CLEARANCE_SHAPES:
+        axis = getattr(model.geometry, "polar_axis", (0.0, 0.0, 1.0))
+        return mc.ClearanceJoint(name, tuple(model.bodies), geometry, law, friction,
+                                 polar_axis=axis)
+    return mc.Contact(name, tuple(model.bodies), geometry, law, friction)
+
+
+def _impact(builder, name: str, model) -> Any:
+    depth = model.depth if model.depth else 1.0e-4
+    law = mc.ImpactLaw(model.stiffness, model.exponent, model.damping, depth)
+    return _element(builder, name, model, law)
+
+
+def _hertz(builder, name: str, model) -> Any:
+    stiffness = model.stiffness
+    if stiffness is None:
+        m = model.materials
+        stiffness = mc.hertz_stiffness(m.E[0], m.nu[0], m.E[1], m.nu[1],
+                                       effective_radius(model.geometry))
+    law = mc.HertzLaw(stiffness, model.exponent, model.restitution)
+    return _element(builder, name, model, law)
+
+
+def _restitution(builder, name: str, model) -> Any:
+    stiffness = DEFAULT_PENALTY if model.stiffness is None else model.stiffness
+    law = mc.RestitutionLaw(model.restitution, stiffness, model.exponent)
+    return _element(builder, name, model, law)
+
+
+CONTACT_MAKERS: dict[str, Callable[[Any, str, Any], Any]] = {
+    "impact": _impact, "hertz": _hertz, "restitution": _restitution,
+}

@@ -53,6 +53,25 @@ def _contacts(model: MechanismModel, at: Locator) -> list[Diagnostic]:
         if contact.type == "impact" and contact.damping > 0.0 and not contact.depth:
             found.append(at.diagnostic(("contacts", name), "impact damping needs 'depth' "
                                        "(the penetration of full damping)"))
+        found += _contact_laws(name, contact, at)
+    return found
+
+
+def _contact_laws(name: str, contact, at: Locator) -> list[Diagnostic]:
+    """A profile of >= 2 points, a restitution in (0, 1], friction speeds in order."""
+    found = []
+    points = getattr(contact.geometry, "points", None)
+    if points is not None and len(points) < 2:
+        found.append(at.diagnostic(("contacts", name, "geometry", "points"), "a profile "
+                                   f"needs at least 2 points, got {len(points)}"))
+    e = getattr(contact, "restitution", None)
+    if e is not None and not 0.0 < e <= 1.0:
+        found.append(at.diagnostic(("contacts", name, "restitution"), "restitution must be "
+                                   f"in (0, 1], got {e:g}"))
+    f = contact.friction
+    if f is not None and f.model == "stribeck" and not 0.0 < f.v_static < f.v_dynamic:
+        found.append(at.diagnostic(("contacts", name, "friction"), "expected 0 < v_static "
+                                   f"< v_dynamic, got {f.v_static:g} and {f.v_dynamic:g} m/s"))
     return found
 
 

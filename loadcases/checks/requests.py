@@ -12,6 +12,7 @@ _ANGLE_QUANTITIES = ("angle", "omega", "alpha")
 _TRAVEL_QUANTITIES = ("travel", "speed")
 _ANGLE_JOINTS = ("revolute", "cylindrical", "screw")
 _TRAVEL_JOINTS = ("prismatic", "cylindrical", "screw")
+_CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
 _TARGETS = {"joint": "joints", "motion": "motions", "point": "points", "force": "forces",
             "contact": "contacts"}
 
@@ -34,6 +35,12 @@ def _quantity_fits(case: CaseModel, mechanism: MechanismModel, at: Locator, name
         if wanted and quantity != wanted:
             return [at.diagnostic(path, f"motion '{request.motion}' drives a {joint.type} "
                                   f"joint: request its {wanted}", hint=f"quantity: {wanted}")]
+    contact = mechanism.contacts.get(getattr(request, "contact", None) or "")
+    if quantity == "eccentricity" and contact is not None and \
+            contact.geometry.shape not in _CLEARANCE_SHAPES:
+        return [at.diagnostic(path, f"contact '{request.contact}' is a "
+                              f"{contact.geometry.shape}, not a clearance joint: it has no "
+                              "eccentricity", hint="sphere_in_sphere or cylinder_in_cylinder")]
     return []
 
 

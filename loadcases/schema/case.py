@@ -107,10 +107,13 @@ class ElementRequest(Strict):
 
 
 class ContactRequest(Strict):
-    """Contact `force` (normal, friction, fx fy fz on body 1) or `penetration` (value)."""
+    """Contact `force` (normal, friction, fx fy fz on body 1), `penetration` (value, m),
+    `point` (x y z, m, ground axes), `sliding_speed` (value, m/s), `wear` (F_N * v_rel,
+    value, W) or, of a clearance joint, `eccentricity` (ex ey ez in ground axes, value, m,
+    and its polar angle, rad)."""
 
     contact: Name
-    quantity: Literal["force", "penetration"]
+    quantity: Literal["force", "penetration", "point", "sliding_speed", "wear", "eccentricity"]
     frame: Name = Field("ground", description=_FRAME)
 
 

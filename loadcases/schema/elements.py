@@ -7,16 +7,22 @@ from pydantic import Field, model_validator
 from pydantic_core import PydanticCustomError
 
 from loadcases.schema.types import (
-    AnySI, Damping, Dimensionless, Direction, ForceOrTorque, Length, Name, NamePair, Position,
-    Stiffness, Strict, TorsionalDamping, TorsionalStiffness, Values, Velocity, describe,
-    expression, quantity, vector,
+    Damping, Dimensionless, ForceOrTorque, Length, Name, NamePair, Position, Stiffness, Strict,
+    TorsionalDamping, TorsionalStiffness, Values, describe, expression, quantity, vector,
 )
 
 __all__ = [
     "Spring", "TorsionSpring", "Bushing", "PointForce", "BodyTorque", "JointFriction",
-    "ForceElement", "SpherePlane", "SphereInSphere", "ContactFriction", "Materials",
+    "ForceElement", "SpherePlane", "SphereInSphere", "CylinderInCylinder", "CircleVsProfile",
+    "ContactFriction", "Materials",
     "ImpactContact", "HertzContact", "RestitutionContact", "Contact", "Table",
 ]
+
+# contacts live in their own module; re-exported here for the existing imports
+from loadcases.schema.contacts import (  # noqa: E402
+    CircleVsProfile, Contact, ContactFriction, CylinderInCylinder, HertzContact,
+    ImpactContact, Materials, RestitutionContact, SphereInSphere, SpherePlane,
+)
 
 _ACTIVE = "false: the element starts switched off (an event may activate it)"
 _ZERO3 = (0.0, 0.0, 0.0)
@@ -138,91 +144,6 @@ from loadcases.schema.forces_more import CableLoop, Damper, Seal  # noqa: E402
 ForceElement = Annotated[Spring | TorsionSpring | Bushing | PointForce | BodyTorque
                          | JointFriction | Seal | Damper | CableLoop,
                          Field(discriminator="type")]
-
-
-class SpherePlane(Strict):
-    """Sphere on body 1 against a plane on body 2 (normal from body 2 towards body 1)."""
-
-    shape: Literal["sphere_plane"]
-    center: Position = Field(description=describe("sphere centre", "length"))
-    radius: Length = Field(description=describe("sphere radius", "length"))
-    plane_point: Position = Field(description=describe("a point of the plane", "length"))
-    normal: Direction = Field(description="plane normal, from body 2 to body 1")
-
-
-class SphereInSphere(Strict):
-    """Ball on body 1 inside the socket of body 2; centres coincide at design."""
-
-    shape: Literal["sphere_in_sphere"]
-    center: Position = Field(description=describe("common centre at design", "length"))
-    radius: Length = Field(description=describe("ball radius", "length"))
-    clearance: Length = Field(description=describe("radial clearance", "length"))
-
-
-class ContactFriction(Strict):
-    """Stribeck-type friction law of a contact."""
-
-    mu_static: Dimensionless
-    mu_dynamic: Dimensionless
-    v_static: Velocity = Field(1.0e-3, description=describe("stiction speed", "velocity"))
-    v_dynamic: Velocity = Field(1.0e-2, description=describe("full sliding speed", "velocity"))
-
-
-class Materials(Strict):
-    """Elastic materials of the two bodies (Hertz stiffness from E and nu)."""
-
-    E: tuple[quantity("pressure"), quantity("pressure")]  # type: ignore[valid-type]
-    nu: tuple[Dimensionless, Dimensionless]
-
-
-Geometry = Annotated[SpherePlane | SphereInSphere, Field(discriminator="shape")]
-_K = "contact stiffness k in F = k * x^exponent [N/m^exponent, SI]"
-
-
-class _Contact(Strict):
-    bodies: NamePair = Field(description="[body 1 (sphere), body 2 (plane or socket)]")
-    geometry: Geometry
-    exponent: Dimensionless = Field(1.5, description="force exponent [dimensionless]")
-    friction: ContactFriction | None = None
-    active: bool = Field(True, description=_ACTIVE)
-
-
-class ImpactContact(_Contact):
-    """F = k x^e + step(x, 0, 0, depth, c_max) * x_dot."""
-
-    type: Literal["impact"]
-    stiffness: AnySI = Field(description=_K)
-    damping: Damping = Field(0.0, description=describe("c_max reached at depth", "damping"))
-    depth: Length | None = Field(None, description=describe("penetration of full damping",
-                                                            "length"))
-
-
-class HertzContact(_Contact):
-    """Hertz force with Lankarani-Nikravesh hysteresis damping from `restitution`."""
-
-    type: Literal["hertz"]
-    stiffness: AnySI | None = Field(None, description=_K)
-    materials: Materials | None = None
-    restitution: Dimensionless | None = Field(None, description="coefficient of restitution")
-
-    @model_validator(mode="after")
-    def _stiffness(self) -> "HertzContact":
-        _at_most_one(self, "stiffness", "materials")
-        if self.stiffness is None and self.materials is None:
-            raise PydanticCustomError("stiffness", "give 'stiffness' or 'materials'")
-        return self
-
-
-class RestitutionContact(_Contact):
-    """Contact by coefficient of restitution (stiffness optional)."""
-
-    type: Literal["restitution"]
-    restitution: Dimensionless = Field(description="coefficient of restitution")
-    stiffness: AnySI | None = Field(None, description=_K)
-
-
-Contact = Annotated[ImpactContact | HertzContact | RestitutionContact,
-                    Field(discriminator="type")]
 
 
 class Table(Strict):

@@ -1,0 +1,78 @@
+"""Clearance joints as force elements: a ball in a socket, a pin in a hole (seed 004 ch. 3).
+
+A clearance joint is a `Contact` whose geometry is `SphereInSphere` (spherical clearance
+joint) or `CylinderInCylinder` (revolute clearance joint). Besides the contact outputs it
+reports the eccentricity e = centre 1 - centre 2 (m, global axes: `ex ey ez`, magnitude
+`eccentricity`) and its polar angle `angle` (rad, in (-pi, pi]) about a body-2-fixed axis (the
+hole's axis, or `polar_axis` for a ball), measured from a body-2-fixed reference direction
+normal to it (global x at design, or global y when the axis is along x).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+
+from mechlib.contact.element import Contact
+from mechlib.contact.geometry import CylinderInCylinder, SphereInSphere, unit
+from mechlib.view import StateView
+
+__all__ = ["ClearanceJoint", "spherical_clearance", "revolute_clearance", "polar_reference"]
+
+_ECCENTRICITY_UNITS = {"ex": "m", "ey": "m", "ez": "m", "eccentricity": "m", "angle": "rad"}
+
+
+def polar_reference(axis: np.ndarray) -> np.ndarray:
+    """Unit reference direction normal to `axis`: global x projected, else global y."""
+    for candidate in (np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0])):
+        r = candidate - (candidate @ axis) * axis
+        if np.linalg.norm(r) > 0.5:
+            return unit(r)
+    raise ValueError("no reference direction")  # unreachable for a unit axis
+
+
+@dataclass
+class ClearanceJoint(Contact):
+    """A contact between a ball and its socket or a pin and its hole, with eccentricity."""
+
+    polar_axis: Sequence[float] = (0.0, 0.0, 1.0)
+    _polar: tuple = field(default=(), repr=False)
+
+    def __post_init__(self) -> None:
+        self.output_units = {**Contact.output_units, **_ECCENTRICITY_UNITS}
+
+    def bind(self, system) -> None:
+        super().bind(system)
+        axis = unit(getattr(self.geometry, "axis", self.polar_axis))
+        self._polar = (axis, polar_reference(axis))   # body-2 axes = global at design
+
+    def eccentricity(self, view: StateView) -> tuple[np.ndarray, float]:
+        """Eccentricity vector (m, global) and its polar angle (rad) about the body-2 axis."""
+        e = self.geometry.gap(view).eccentricity
+        rot2 = view.rotation(self._b2)
+        axis, ref = rot2 @ self._polar[0], rot2 @ self._polar[1]
+        angle = math.atan2(float(np.cross(ref, e) @ axis), float(ref @ e))
+        return e, angle
+
+    def output(self, view: StateView) -> dict[str, float]:
+        out = super().output(view)
+        e, angle = self.eccentricity(view)
+        out.update(ex=e[0], ey=e[1], ez=e[2], eccentricity=float(np.linalg.norm(e)), angle=angle)
+        return out
+
+
+def spherical_clearance(name: str, bodies: tuple[str, str], *, center, radius: float,
+                        clearance: float, law, friction=None,
+                        polar_axis=(0.0, 0.0, 1.0)) -> ClearanceJoint:
+    """Ball (radius, m) of body 1 in the socket (radius + clearance) of body 2 at `center`."""
+    return ClearanceJoint(name, bodies, SphereInSphere(center, radius, clearance), law,
+                          friction, polar_axis=polar_axis)
+
+
+def revolute_clearance(name: str, bodies: tuple[str, str], *, center, axis, radius: float,
+                       clearance: float, law, friction=None) -> ClearanceJoint:
+    """Pin (radius, m) of body 1 in the hole (radius + clearance) of body 2, along `axis`."""
+    return ClearanceJoint(name, bodies, CylinderInCylinder(center, axis, radius, clearance),
+                          law, friction)

@@ -1,0 +1,120 @@
+"""The contact force element: a geometry, a normal-force law and an optional friction law.
+
+Force on body 1 at the contact point: F_N * normal + friction, with
+friction = -mu(|v_t|) * F_N * v_t / |v_t| (v_t the tangential relative velocity); body 2
+gets the opposite force at the same point. The element remembers (`commit`, on accepted
+states) the approach speed at the start of each contact, which the hysteresis damping of
+`hertz` and `restitution` divide by.
+"""
+from __future__ import annotations
+
+from bisect import bisect_left
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from mechlib.contact.geometry import Gap
+from mechlib.rotation import cross
+from mechlib.view import StateView
+
+__all__ = ["Contact", "ContactForces"]
+
+_CONTACT_UNITS = {"normal": "N", "friction": "N", "fx": "N", "fy": "N", "fz": "N",
+                  "penetration": "m", "px": "m", "py": "m", "pz": "m",
+                  "sliding_speed": "m/s", "wear": "W"}
+
+
+@dataclass(frozen=True)
+class ContactForces:
+    """Normal force (N, >= 0), friction force magnitude (N), force on body 1 (N, global),
+    tangential sliding speed (m/s) and the gap they come from."""
+
+    normal: float
+    friction: float
+    force: np.ndarray
+    sliding_speed: float
+    gap: Gap
+
+
+@dataclass
+class Contact:
+    """Contact between `bodies` (body 1 carries the sphere/ball/pin/roller) with `geometry`
+    (mechlib.contact.geometry / profile), `law` (mechlib.contact.laws) and optional
+    `friction` (mechlib.contact.friction)."""
+
+    name: str
+    bodies: tuple[str, str]
+    geometry: Any
+    law: Any
+    friction: Any = None
+    effect: str = "contact"
+    active: bool = True
+    output_units = _CONTACT_UNITS
+    approach: float = 0.0          # m/s, penetration rate when the current contact began
+    _memory: tuple = field(default=(False, 0.0, 0.0), repr=False)  # in contact, x, xd
+    # (time, approach) at every accepted state: outputs are read after the solve, and a
+    # recorded state must see the approach speed the integrator used for it
+    _history: tuple[list, list] = field(default_factory=lambda: ([], []), repr=False)
+
+    def bind(self, system) -> None:
+        self._b1, self._b2 = self.geometry.bind(system, *self.bodies)
+
+    def forces(self, view: StateView, approach: float | None = None) -> ContactForces:
+        """The contact's forces in state `view` (`approach`: m/s, default the current one)."""
+        gap = self.geometry.gap(view)
+        approach = self.approach if approach is None else approach
+        # beyond the radius (no state a step accepts comes near) the force stops growing,
+        # so that a wild Newton iterate does not make the iteration matrix singular
+        x = min(gap.penetration, self.geometry.radius)
+        normal = self.law.force(x, gap.rate, approach)
+        force = normal * gap.normal
+        v_t = gap.sliding
+        speed = float(np.linalg.norm(v_t))
+        friction = 0.0
+        if self.friction is not None and normal > 0.0 and speed > 0.0:
+            friction = self.friction.coefficient(speed) * normal
+            force = force - (friction / speed) * v_t
+        return ContactForces(normal, abs(friction), force, speed, gap)
+
+    def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        f = self.forces(view)
+        p = f.gap.point
+        for body, sign in ((self._b1, 1.0), (self._b2, -1.0)):
+            F[body] += sign * f.force
+            N[body] += cross(p - view.kin.r[body], sign * f.force)
+
+    def commit(self, view: StateView) -> None:
+        """Remember the approach speed when a contact begins: while apart, the rate of the
+        latest state; at the first state in contact, the rate interpolated to x = 0 between
+        that state and the last one apart (the step across the impact is not resolved)."""
+        if not self.law.remembers:
+            return
+        gap = self.geometry.gap(view)
+        x, xd = gap.penetration, gap.rate
+        was_in, x0, xd0 = self._memory
+        if x <= 0.0:
+            self.approach = xd
+        elif not was_in and x0 < 0.0:
+            self.approach = xd0 + (xd - xd0) * (-x0) / (x - x0)
+        self._memory = (x > 0.0, x, xd)
+        times, values = self._history
+        del values[bisect_left(times, view.t):]   # a restart from an earlier time
+        del times[bisect_left(times, view.t):]
+        times.append(view.t)
+        values.append(self.approach)
+
+    def approach_at(self, t: float) -> float:
+        """Approach speed (m/s) the integrator used for a state at time t (s): the one
+        committed last before t."""
+        times, values = self._history
+        i = bisect_left(times, t)
+        return values[i - 1] if i > 0 else (values[0] if values else self.approach)
+
+    def output(self, view: StateView) -> dict[str, float]:
+        f = self.forces(view, self.approach_at(view.t) if self.law.remembers else None)
+        px, py, pz = f.gap.point
+        fx, fy, fz = f.force
+        return {"normal": f.normal, "friction": f.friction, "fx": fx, "fy": fy, "fz": fz,
+                "penetration": max(f.gap.penetration, 0.0), "px": px, "py": py, "pz": pz,
+                "sliding_speed": f.sliding_speed, "wear": f.normal * f.sliding_speed}

@@ -1,0 +1,87 @@
+"""A roller circle on body 1 against a planar profile curve of body 2 (a cam, a guide).
+
+The profile is a table of points (global, design position, m) in the plane through them with
+normal `plane_normal`; a cubic spline through them, parameterised by chord length, is the
+curve. The roller is the circle (centre, radius) in that plane. The contact normal is the
+curve's in-plane normal at the point nearest the roller centre, on the side where the roller
+centre lies at the design position; penetration = radius - signed distance of the centre.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Sequence
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from mechlib.contact.geometry import Gap, relative_velocity, unit
+
+__all__ = ["CircleProfile"]
+
+_SAMPLES_PER_SEGMENT = 40   # coarse search grid for the nearest point
+_NEWTON_ITERATIONS = 6      # refinements of the curve parameter (quadratic convergence)
+
+
+@dataclass
+class CircleProfile:
+    """Roller (centre, radius, m) on body 1; profile `points` (n, 3, m) of body 2."""
+
+    center: Sequence[float]
+    radius: float
+    points: Sequence[Sequence[float]]
+    plane_normal: Sequence[float]
+    _bound: tuple = field(default=(), repr=False)
+
+    def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
+        pts = np.asarray(self.points, float)
+        if len(pts) < 2:
+            raise ValueError("a profile needs at least 2 points")
+        m = unit(self.plane_normal)
+        origin = pts[0]
+        e1 = unit((pts[-1] - origin) - ((pts[-1] - origin) @ m) * m)
+        e2 = np.cross(m, e1)
+        uv = np.column_stack(((pts - origin) @ e1, (pts - origin) @ e2))
+        chord = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(uv, axis=0), axis=1))))
+        spline = CubicSpline(chord, uv, bc_type="natural" if len(pts) > 2 else "not-a-knot")
+        grid = np.linspace(0.0, chord[-1], _SAMPLES_PER_SEGMENT * (len(pts) - 1) + 1)
+        b1, s1 = system.body_point(body1, self.center)
+        b2, s0 = system.body_point(body2, origin)   # body-2 axes = global axes at design
+        self._bound = (b1, s1, b2, s0, np.column_stack((e1, e2)), m, spline, grid,
+                       spline(grid), 1.0)
+        side = self._signed(np.asarray(self.center, float) - origin)[0]
+        self._bound = self._bound[:-1] + (1.0 if side >= 0.0 else -1.0,)
+        return b1, b2
+
+    def _nearest(self, w: np.ndarray) -> float:
+        """Curve parameter (m of chord) of the point nearest the in-plane point w (2,)."""
+        spline, grid, samples = self._bound[6], self._bound[7], self._bound[8]
+        u = grid[int(np.argmin(np.sum((samples - w) ** 2, axis=1)))]
+        d1, d2 = spline.derivative(1), spline.derivative(2)
+        for _ in range(_NEWTON_ITERATIONS):
+            r, t, c = spline(u) - w, d1(u), d2(u)
+            slope = t @ t + r @ c
+            if slope <= 0.0:
+                break
+            u = float(np.clip(u - (r @ t) / slope, grid[0], grid[-1]))
+        return u
+
+    def _signed(self, local: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+        """Signed distance (m) of a point (relative to the profile origin, body-2 axes) from
+        the curve, the in-plane unit normal and the nearest curve point (body-2 axes)."""
+        basis, m, spline = self._bound[4], self._bound[5], self._bound[6]
+        w = basis.T @ local
+        u = self._nearest(w)
+        tangent = basis @ spline.derivative(1)(u)
+        normal = unit(np.cross(m, tangent)) * (self._bound[9] if len(self._bound) > 9 else 1.0)
+        foot = basis @ spline(u)
+        return float((local - foot) @ normal), normal, foot
+
+    def gap(self, view) -> Gap:
+        b1, s1, b2, s0 = self._bound[:4]
+        rot2 = view.rotation(b2)
+        origin = view.point_position(b2, s0)
+        c = view.point_position(b1, s1)
+        d, n_local, foot = self._signed(rot2.T @ (c - origin))
+        n = rot2 @ n_local
+        point = origin + rot2 @ foot + 0.5 * (d - self.radius) * n
+        return Gap(self.radius - d, n, point, relative_velocity(view, b1, b2, point))
