@@ -3,13 +3,14 @@
 Pulley 1 (radius r1) is fixed to the body of joint 1 that joint 2 does not share, coaxial with
 joint 1 at its point A; pulley 2 (r2) likewise on joint 2 at B; the shared body (the yoke)
 carries both hinge points. Two strands a and b, each of stiffness k (N/m) and pretension T0
-(N), tension-only:
-    e_a = +(r1 theta1 - r2 theta2) + g(D) - g(D0),   e_b = -(r1 theta1 - r2 theta2) + g(D) - g(D0)
+(N), tension-only, an open loop (the strands do not cross):
+    e_a = +(r1 phi1 - r2 phi2) + g(D) - g(D0),   e_b = -(r1 phi1 - r2 phi2) + g(D) - g(D0)
     F_a = max(0, T0 + k e_a),   F_b = max(0, T0 + k e_b)
-with theta the joint angles (body 1 relative to body 2 of each joint), D = |AB| and
+with phi_k the rotation of pulley k relative to the yoke about joint 1's axis (+-theta_k of
+the joint, by which body carries the pulley and the sense of the joint axes), D = |AB| and
 g(D) = L + (r1 - r2) asin((r1 - r2) / D), L = sqrt(D^2 - (r1 - r2)^2) the free strand length
 (dg/dD = L / D). The loads are those of the seed, work-consistent with these elongations:
-    T1 = r1 (F_b - F_a)  on theta1 (2.3),   T2 = r2 (F_a - F_b)  on theta2 (2.4),
+    T1 = r1 (F_b - F_a)  on pulley 1 (2.3),   T2 = r2 (F_a - F_b)  on pulley 2 (2.4),
     F_ax = (F_a + F_b) L / D   pulling A and B together (2.5),
     F_lat = (F_a - F_b) (r1 - r2) / D   normal to AB, a couple on the pulleys (2.6).
 The cable is massless: the loads on the two pulley bodies are in equilibrium, the yoke gets
@@ -54,6 +55,13 @@ class CableLoop:
         for j in joints:
             pulley = j.body1 if j.body2 in shared else j.body2
             self._ends.append(system.body_point(pulley, j.at))
+        along = float(self._m[0].axis_local @ self._m[1].axis_local)
+        if abs(abs(along) - 1.0) > 1e-6:
+            raise ValueError(f"cable_loop '{self.name}': the joint axes must be parallel")
+        # phi_k = sense_k * theta_k: + when the pulley is body 1 of its joint, and joint 2's
+        # rotation counted about joint 1's axis
+        self._sense = [1.0 if m.bi == b else -1.0 for m, (b, _) in zip(self._m, self._ends)]
+        self._sense[1] *= 1.0 if along > 0.0 else -1.0
         self._g0 = self._g(float(np.linalg.norm(np.subtract(joints[1].at, joints[0].at))))
 
     def _g(self, d: float) -> float:
@@ -68,7 +76,8 @@ class CableLoop:
         a, b = view.point_position(b1, s1), view.point_position(b2, s2)
         d = float(np.linalg.norm(b - a))
         r1, r2 = self.radii
-        wrap = r1 * self._m[0].value(view.kin) - r2 * self._m[1].value(view.kin)
+        phi1, phi2 = (c * m.value(view.kin) for c, m in zip(self._sense, self._m))
+        wrap = r1 * phi1 - r2 * phi2
         common = self._g(d) - self._g0
         fa = max(0.0, self.pretension + self.stiffness * (wrap + common))
         fb = max(0.0, self.pretension + self.stiffness * (-wrap + common))
@@ -82,8 +91,9 @@ class CableLoop:
         (b1, _), (b2, _) = self._ends
         yoke = self._m[0].bj if self._m[0].bi == b1 else self._m[0].bi
         carrier = np.zeros(3)  # what the joint-pair torques would put on the yoke
-        for m, torque in zip(self._m, (st["t1"], st["t2"])):
-            pair = torque * (view.rotation(m.bj) @ m.axis_local)  # on body 1 of the joint
+        for m, sense, torque in zip(self._m, self._sense, (st["t1"], st["t2"])):
+            # generalised torque sense * T on theta: the pair on body 1 / body 2 of the joint
+            pair = sense * torque * (view.rotation(m.bj) @ m.axis_local)
             N[m.bi] += pair
             N[m.bj] -= pair
             carrier += pair if m.bi == yoke else -pair

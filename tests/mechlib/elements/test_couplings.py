@@ -1,0 +1,132 @@
+"""Cable loop (seed 003 eqs. 2.3-2.6), eddy-current damper, gear coupler, seal springs."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import mechlib
+
+from .._models import Ramp
+
+R1, R2, K, T0 = 0.05, 0.04, 1.0e4, 200.0   # m, m, N/m per strand, N (both strands taut)
+TH1, TH2 = math.radians(10.0), math.radians(5.0)
+
+
+def _held(value: float) -> Ramp:
+    return Ramp(value, 0.0)
+
+
+def _ccl() -> mechlib.Mechanism:
+    """Yoke hinged to ground at A = 0, panel hinged to the yoke at B = (1, 0, 0); pulley 1
+    (r1) on ground at A, pulley 2 (r2) on the panel at B; both joints held by motions."""
+    mech = mechlib.Mechanism(name="ccl", gravity=(0.0, 0.0, 0.0))
+    mech.add_body("yoke", mass=1.0, cm=(0.5, 0.0, 0.0), inertia=[0.01, 0.1, 0.1])
+    mech.add_body("panel", mass=1.0, cm=(1.5, 0.0, 0.0), inertia=[0.01, 0.1, 0.1])
+    mech.add_joint("hl1", "revolute", bodies=("yoke", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
+    mech.add_joint("hl2", "revolute", bodies=("panel", "yoke"), at=(1, 0, 0), axis=(0, 0, 1))
+    mech.add_force(mechlib.CableLoop("ccl", ("hl1", "hl2"), (R1, R2), K, T0))
+    mech.add_motion("m1", joint="hl1", function=_held(TH1))
+    mech.add_motion("m2", joint="hl2", function=_held(TH2))
+    return mech
+
+
+def test_cable_loop_loads_by_hand() -> None:
+    """Pulley rotations relative to the yoke: phi1 = -th1 (pulley 1 is on ground, body 2
+    of hl1), phi2 = +th2 (pulley 2 is the panel, body 1 of hl2); e = r1 phi1 - r2 phi2;
+    F_a = T0 + k e, F_b = T0 - k e (the hinge distance D = 1 m is fixed by the yoke);
+    T1 = r1 (F_b - F_a), T2 = r2 (F_a - F_b), F_ax = (F_a + F_b) L / D,
+    F_lat = (F_a - F_b)(r1 - r2)/D with L = sqrt(D^2 - (r1 - r2)^2). The motions hold the
+    loop (no gravity): their efforts are +T1 (on th1 = -phi1) and -T2; the panel's hinge
+    carries the cable's pull on pulley 2, F_ax along B->A and |F_lat| across.
+    Tolerance 1e-9 relative."""
+    e = R1 * (-TH1) - R2 * TH2
+    fa, fb = T0 + K * e, T0 - K * e
+    d = 1.0
+    length = math.sqrt(d * d - (R1 - R2) ** 2)
+    sol = mechlib.solve(_ccl(), mechlib.Static(), requests=[
+        mechlib.ElementOutput("ccl", "ccl"), mechlib.MotionEffort("m1", "m1"),
+        mechlib.MotionEffort("m2", "m2"), mechlib.JointReaction("hl2", "hl2")])
+    assert sol.ok, sol.message
+    c = {k: v[0] for k, v in sol.channels.items()}
+    expected = {"t1": R1 * (fb - fa), "t2": R2 * (fa - fb), "f_axial": (fa + fb) * length / d,
+                "f_lateral": (fa - fb) * (R1 - R2) / d, "tension_a": fa, "tension_b": fb}
+    for key, value in expected.items():
+        assert c[f"ccl.{key}"] == pytest.approx(value, rel=1e-9)
+    assert c["m1.value"] == pytest.approx(expected["t1"], rel=1e-9)
+    assert c["m2.value"] == pytest.approx(-expected["t2"], rel=1e-9)
+    # reaction on the panel from the yoke balances the cable's force on pulley 2
+    u = np.array([math.cos(TH1), math.sin(TH1), 0.0])    # A -> B
+    force = np.array([c["hl2.fx"], c["hl2.fy"], c["hl2.fz"]])
+    assert force @ u == pytest.approx(expected["f_axial"], rel=1e-9)
+    assert abs(np.cross(u, force)[2]) == pytest.approx(abs(expected["f_lateral"]), rel=1e-9)
+
+
+def test_damper_decays_a_free_rotor() -> None:
+    """A rotor (I = 0.1 kg m^2, no gravity) spun at 2 rad/s with c = 0.05 N*m*s/rad:
+    omega = 2 exp(-c t / I). Tolerance 1e-3 relative (integrator at its default tolerance;
+    3.3e-4 measured)."""
+    mech = mechlib.Mechanism(name="rotor", gravity=(0.0, 0.0, 0.0))
+    mech.add_body("rotor", mass=1.0, cm=(0, 0, 0), inertia=[0.05, 0.05, 0.1])
+    mech.add_joint("axle", "revolute", bodies=("rotor", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
+    mech.add_force(mechlib.RotationalDamper("eddy", "axle", 0.05))
+    sol = mechlib.solve(mech, mechlib.Dynamic(end=2.0, step=0.1),
+                        initial=[mechlib.InitialBodyVelocity("rotor", omega=(0, 0, 2.0))],
+                        requests=[mechlib.ElementOutput("eddy", "eddy")])
+    assert sol.ok, sol.message
+    expected = 2.0 * np.exp(-0.05 * sol.time / 0.1)
+    np.testing.assert_allclose(sol.channels["eddy.omega"], expected, rtol=1e-3)
+    np.testing.assert_allclose(sol.channels["eddy.value"], 0.05 * expected, rtol=1e-3)
+
+
+def test_gear_ratio_transmits_angle_and_torque() -> None:
+    """Gear th2 = 3 th1 between two shafts on ground; a torsion spring k = 4 N*m/rad on
+    shaft 2; driving shaft 1 to 0.1 rad quasi-statically: th2 = 0.3 rad and, by virtual
+    work, the drive torque = ratio * k th2 = 3.6 N*m. Tolerance 1e-9."""
+    mech = mechlib.Mechanism(name="gear", gravity=(0.0, 0.0, 0.0))
+    for name, x in (("s1", 0.0), ("s2", 0.2)):
+        mech.add_body(name, mass=1.0, cm=(x, 0, 0), inertia=[0.01] * 3)
+        mech.add_joint(f"j{name[1]}", "revolute", bodies=(name, "ground"), at=(x, 0, 0),
+                       axis=(0, 0, 1))
+    mech.add_joint("g", "gear", bodies=("ground", "ground"), joints=("j1", "j2"), ratio=3.0)
+    mech.add_force(mechlib.TorsionSpring("k", "j2", stiffness=4.0))
+    mech.add_motion("drive", joint="j1", function=Ramp(0.0, 0.1))
+    sol = mechlib.solve(mech, mechlib.QuasiStatic(end=1.0, step=0.5), requests=[
+        mechlib.JointCoordinate("a2", "j2"), mechlib.MotionEffort("drive", "drive")])
+    assert sol.ok, sol.message
+    assert sol.channels["a2.value"][-1] == pytest.approx(0.3, abs=1e-9)
+    assert sol.channels["drive.value"][-1] == pytest.approx(3.6, abs=1e-9)
+
+
+def _seal_force(count: int, exponent: float) -> float:
+    """Total seal force (N) on a door hinged on ground about z at the origin, its knife
+    along x from 0.2 m to 1.0 m on a seal of normal +y; turned by -0.01 rad the door
+    presses in: penetration x(s) = s sin(0.01) at distance s from the hinge."""
+    mech = mechlib.Mechanism(name="door", gravity=(0.0, 0.0, 0.0))
+    mech.add_body("door", mass=5.0, cm=(0.5, 0.0, 0.0), inertia=[0.1, 0.5, 0.5])
+    mech.add_joint("hinge", "revolute", bodies=("door", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
+    mech.add_force(mechlib.Seal("seal", ("door", "ground"), (0.2, 0, 0), (1.0, 0, 0),
+                                (0, 1, 0), count=count, stiffness=2.0e5, exponent=exponent))
+    mech.add_motion("close", joint="hinge", function=_held(-0.01))
+    sol = mechlib.solve(mech, mechlib.Static(), requests=[
+        mechlib.ElementOutput("seal", "seal"), mechlib.MotionEffort("close", "close")])
+    assert sol.ok, sol.message
+    return sol.channels["seal.normal"][0]
+
+
+@pytest.mark.parametrize("exponent", [1.0, 1.5])
+def test_seal_force_3_vs_7_springs(exponent: float) -> None:
+    """Exact line integral F = int_a^b k (g s)^e ds, g = sin(0.01); the N springs are the
+    midpoint rule with spacing h = (b - a)/N, error <= (b - a) h^2 max|f''| / 24 with
+    f'' = k e (e - 1) g^2 (g s)^(e - 2) (zero for e = 1: exact, tolerance 1e-9 relative).
+    3 and 7 springs agree within the sum of their two bounds."""
+    a, b, k, g = 0.2, 1.0, 2.0e5, math.sin(0.01)
+    exact = k * g ** exponent * (b ** (exponent + 1) - a ** (exponent + 1)) / (exponent + 1)
+    f2 = k * exponent * (exponent - 1) * g ** 2 * (g * a) ** (exponent - 2) if exponent != 1 \
+        else 0.0   # |f''| is largest at s = a for 1 < e < 2
+    bound = {n: (b - a) * ((b - a) / n) ** 2 * abs(f2) / 24 + 1e-9 * exact for n in (3, 7)}
+    forces = {n: _seal_force(n, exponent) for n in (3, 7)}
+    for n, force in forces.items():
+        assert abs(force - exact) <= bound[n]
+    assert abs(forces[3] - forces[7]) <= bound[3] + bound[7]
