@@ -133,10 +133,10 @@ class _Builder:
             self._joint(m, name, j)
         self._forces(m)
         for name, c in self.mech.contacts.items() if self.effects.get("contact", True) else ():
-            if not c.active:
-                continue
             maker = CONTACT_MAKERS.get(c.type)
             element = maker(self, name, c) if maker else None
+            if element is not None:
+                element.active = c.active  # `active: false`: built, switched on by an event
             if maker is None:
                 self.error("mechanism", f"contacts.{name}", f"{c.type} contacts {NOT_YET}")
             elif element is not None:
@@ -166,10 +166,11 @@ class _Builder:
         for name, f in self.mech.forces.items():
             if chosen is not None and name not in chosen:
                 continue
-            if not f.active or not self.effects.get(_EFFECT_OF.get(f.type, ""), True):
-                continue  # switched off, or its effect is: not simulated at all
+            if not self.effects.get(_EFFECT_OF.get(f.type, ""), True):
+                continue  # its effect is switched off: not simulated at all
             element = self._element(name, f)
             if element is not None:
+                element.active = f.active  # `active: false`: built, switched on by an event
                 m.add_force(element)
 
     def _element(self, name: str, f):
@@ -259,7 +260,7 @@ class _Builder:
             return ml.PointKinematics(name, r.point, r.quantity, r.frame)
         if kind == "ElementRequest":
             f = self.mech.forces.get(r.force)
-            if f is None or not f.active or (self.loads is not None and r.force not in self.loads) \
+            if f is None or (self.loads is not None and r.force not in self.loads) \
                     or not self.effects.get(_EFFECT_OF.get(f.type, ""), True):
                 self.error("case", f"requests.{name}.force",
                            f"force element '{r.force}' is not active in this case")

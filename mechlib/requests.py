@@ -196,7 +196,7 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
             jac = system.phi_q(k)
             for gatherer, _ in loads.values():
                 gatherer.gather(jac, trajectory.lam[i])
-        view = system.view(k)
+        view = system.view(k, trajectory.lam[i])  # elements reading reactions see them
         for req in stepwise:
             for comp, value in _evaluate(system, k, req, view, trajectory.qdd[i]).items():
                 per_request[req.name].setdefault(comp, []).append(float(value))
