@@ -264,6 +264,10 @@ from cli import plot_cmd  # noqa: E402  (plot and new: registered through `guard
 app.command("plot")(guarded(plot_cmd.plot))
 app.command("new")(guarded(plot_cmd.new))
 
+from cli import draw_cmd  # noqa: E402  (draw: pictures of a run, registered through `guarded`)
+
+app.command("draw")(guarded(draw_cmd.draw))
+
 
 def main() -> None:
     """Console entry point `loads`."""

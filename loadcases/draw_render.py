@@ -1,0 +1,216 @@
+"""Pictures of a mechanism trajectory (`loads draw`): PNG at chosen times, GIF animation.
+
+Projection onto a plane: `xy`, `yz`, `xz` (global axes) or `auto`: the plane of the two
+largest principal spreads of all marker positions over the run (snapped to the nearest
+global plane when its normal is within 15 degrees of a global axis, so that CAD-aligned
+mechanisms keep their axes). Bodies are outlines through their joint and point markers,
+joints are circles with their names, points small dots, springs zigzags, wires dashed,
+seals thick translucent lines, contacts a circle (roller, sphere) with the plane or profile
+it runs on; a contact's name is printed next to its roller.
+"""
+from __future__ import annotations
+
+import io
+import re
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from loadcases.atomic import atomic_path, atomic_write_bytes
+from loadcases.draw import Trajectory
+
+__all__ = ["VIEWS", "projection", "write_pngs", "write_animation", "FIGURE_SIZE", "DPI"]
+
+FIGURE_SIZE = (8.0, 6.0)
+"""inch: figure size; with DPI the PNG is 800 x 600 pixels."""
+DPI = 100
+VIEWS = ("auto", "xy", "yz", "xz")
+_AXES = {"xy": (0, 1), "yz": (1, 2), "xz": (0, 2)}
+_SNAP_COS = np.cos(np.radians(15.0))
+_ZIGZAG_TEETH = 8
+_MAX_FRAMES = 60
+_GIF_FPS = 12
+_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown",
+            "tab:pink", "tab:olive", "tab:cyan")
+
+
+def projection(traj: Trajectory, view: str) -> tuple[np.ndarray, tuple[str, str]]:
+    """(2 x 3 matrix projecting global positions onto the picture, axis labels)."""
+    if view in _AXES:
+        i, j = _AXES[view]
+        basis = np.eye(3)[[i, j]]
+        return basis, (f"{'xyz'[i]} [m]", f"{'xyz'[j]} [m]")
+    if view != "auto":
+        raise ValueError(f"unknown view '{view}': use one of {', '.join(VIEWS)}")
+    cloud = np.concatenate([p for p in traj.positions.values() if len(p)] or [np.zeros((1, 3))])
+    _, _, vt = np.linalg.svd(cloud - cloud.mean(axis=0), full_matrices=False)
+    normal = vt[-1] if vt.shape[0] == 3 else np.array([0.0, 0.0, 1.0])
+    axis = int(np.argmax(np.abs(normal)))
+    if abs(normal[axis]) >= _SNAP_COS:
+        return projection(traj, {2: "xy", 0: "yz", 1: "xz"}[axis])
+    return vt[:2], ("u [m] (principal)", "v [m] (principal)")
+
+
+def _zigzag(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Points of a zigzag from a to b (2D), teeth a tenth of the length wide."""
+    d = b - a
+    length = float(np.hypot(*d))
+    if length < 1e-9:
+        return np.array([a, b])
+    normal = np.array([-d[1], d[0]]) / length * 0.05 * length
+    s = np.linspace(0.15, 0.85, 2 * _ZIGZAG_TEETH + 1)
+    side = np.where(np.arange(s.size) % 2 == 1, 1.0, -1.0)
+    side[0] = side[-1] = 0.0
+    middle = a + np.outer(s, d) + np.outer(side, normal)
+    return np.vstack([a, middle, b])
+
+
+def _outline(pts: np.ndarray) -> np.ndarray:
+    """The body's markers in order round their centre (a closed outline), 2D."""
+    unique = np.unique(np.round(pts, 9), axis=0)
+    if len(unique) <= 2:
+        return unique
+    centre = unique.mean(axis=0)
+    order = np.argsort(np.arctan2(*(unique - centre).T[::-1]))
+    ring = unique[order]
+    return np.vstack([ring, ring[:1]])
+
+
+def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> None:
+    """Draw the mechanism at output index k on the axes."""
+    from matplotlib.patches import Circle
+
+    sk = traj.skeleton
+    at = {m: basis @ traj.positions[m][k] for m in sk.markers}
+    for n, (body, markers) in enumerate(sk.bodies.items()):
+        if body == "ground":
+            continue
+        ring = _outline(np.array([at[m] for m in markers]))
+        colour = _COLOURS[n % len(_COLOURS)]
+        ax.plot(ring[:, 0], ring[:, 1], "-", color=colour, lw=2.0, alpha=0.85)
+        ax.fill(ring[:, 0], ring[:, 1], color=colour, alpha=0.08)
+        c = np.array([at[m] for m in markers]).mean(axis=0)
+        ax.annotate(body, c, fontsize=7, color=colour, ha="center", style="italic")
+    for name, kind, a, b in sk.links:
+        pa, pb = at[a], at[b]
+        if kind == "spring":
+            z = _zigzag(pa, pb)
+            ax.plot(z[:, 0], z[:, 1], "-", color="tab:green", lw=1.2)
+        elif kind == "wire":
+            ax.plot([pa[0], pb[0]], [pa[1], pb[1]], "--", color="black", lw=1.2)
+        else:
+            ax.plot([pa[0], pb[0]], [pa[1], pb[1]], "-", color="dimgray", lw=5, alpha=0.35)
+        ax.annotate(name, (pa + pb) / 2, fontsize=7, color="darkgreen")
+    for name, kind, markers, radius in sk.contacts:
+        pts = np.array([at[m] for m in markers])
+        if kind == "circle":
+            ax.add_patch(Circle(pts[0], radius, fill=False, color="crimson", lw=1.2))
+            ax.annotate(name, pts[0], xytext=(4, -9), textcoords="offset points",
+                        fontsize=7, color="crimson")
+        else:
+            closed = np.vstack([pts, pts[:1]]) if kind == "plane" else pts
+            ax.plot(closed[:, 0], closed[:, 1], "-", color="crimson", lw=1.5)
+    for name, marker in sk.points.items():
+        ax.plot(*at[marker], ".", color="gray", ms=4)
+    labels: dict[tuple[float, float], list[str]] = {}  # coincident joints share one label
+    for name, marker in sk.joints.items():
+        ax.plot(*at[marker], "o", mfc="white", mec="black", ms=6)
+        labels.setdefault(tuple(np.round(at[marker], 4)), []).append(name)
+    for place, names in labels.items():
+        ax.annotate(", ".join(names), place, xytext=(4, 4), textcoords="offset points",
+                    fontsize=8)
+
+
+def _limits(traj: Trajectory, basis: np.ndarray) -> tuple[tuple[float, float], tuple[float, float]]:
+    """Axis limits holding every marker over the whole run, with a margin."""
+    cloud = np.concatenate([p @ basis.T for p in traj.positions.values() if len(p)])
+    low, high = cloud.min(axis=0), cloud.max(axis=0)
+    pad = 0.08 * max(float(np.max(high - low)), 1e-3)
+    return (low[0] - pad, high[0] + pad), (low[1] - pad, high[1] + pad)
+
+
+def _figure(traj: Trajectory, view: str):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    basis, labels = projection(traj, view)
+    fig, ax = plt.subplots(figsize=FIGURE_SIZE, dpi=DPI)
+    xlim, ylim = _limits(traj, basis)
+
+    def render(k: int) -> None:
+        ax.clear()
+        _draw_frame(ax, traj, k, basis)
+        ax.set_xlim(*xlim)
+        ax.set_ylim(*ylim)
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_xlabel(labels[0])
+        ax.set_ylabel(labels[1])
+        ax.grid(True, lw=0.3, alpha=0.5)
+        ax.set_title(f"{traj.case}   t = {traj.time[k]:.4g} s", fontsize=10)
+    return fig, render
+
+
+def _slug(text: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_.=\-]+", "_", text)
+
+
+def write_pngs(traj: Trajectory, times: list[float], out_dir: Path, *,
+               view: str = "auto") -> list[Path]:
+    """One PNG (800 x 600 px) per requested time (s; nearest output time), written
+    atomically as `CASE-t<time>.png` in `out_dir`; returns the files."""
+    import matplotlib.pyplot as plt
+
+    if len(traj.time) == 0:
+        raise ValueError(f"{traj.case}: the run produced no output time ({traj.message})")
+    fig, render = _figure(traj, view)
+    written = []
+    try:
+        for t in times:
+            k = traj.index_at(t)
+            render(k)
+            target = Path(out_dir) / f"{_slug(traj.case)}-t{traj.time[k]:.4f}.png"
+            with atomic_path(target) as tmp:
+                fig.savefig(tmp, format="png", dpi=DPI)
+            written.append(target)
+    finally:
+        plt.close(fig)
+    return written
+
+
+def _frame_indices(traj: Trajectory) -> list[int]:
+    n = len(traj.time)
+    return sorted(set(np.linspace(0, n - 1, min(n, _MAX_FRAMES)).round().astype(int).tolist()))
+
+
+def write_animation(traj: Trajectory, out_dir: Path, *, view: str = "auto") -> tuple[list[Path], str]:
+    """Animate the run (at most 60 frames) as `CASE.gif` (Pillow), or, without Pillow,
+    as numbered PNG frames `CASE-frame-NNN.png`; returns (files, what was written)."""
+    import matplotlib.pyplot as plt
+    from matplotlib import animation
+
+    if len(traj.time) == 0:
+        raise ValueError(f"{traj.case}: the run produced no output time ({traj.message})")
+    fig, render = _figure(traj, view)
+    frames = _frame_indices(traj)
+    try:
+        if animation.PillowWriter.isAvailable():
+            anim = animation.FuncAnimation(fig, render, frames=frames, blit=False)
+            with tempfile.TemporaryDirectory() as tmp:
+                gif = Path(tmp) / "animation.gif"
+                anim.save(gif, writer=animation.PillowWriter(fps=_GIF_FPS), dpi=DPI)
+                target = Path(out_dir) / f"{_slug(traj.case)}.gif"
+                atomic_write_bytes(target, gif.read_bytes())
+            return [target], f"GIF of {len(frames)} frames"
+        written = []
+        for i, k in enumerate(frames):
+            render(k)
+            target = Path(out_dir) / f"{_slug(traj.case)}-frame-{i:03d}.png"
+            buffer = io.BytesIO()
+            fig.savefig(buffer, format="png", dpi=DPI)
+            atomic_write_bytes(target, buffer.getvalue())
+            written.append(target)
+        return written, f"{len(frames)} numbered PNG frames (Pillow is not installed: no GIF)"
+    finally:
+        plt.close(fig)

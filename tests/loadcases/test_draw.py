@@ -1,0 +1,51 @@
+"""`loads draw`: marker trajectories follow the solved mechanism; one PNG per time, of the
+documented size; the GIF (or the frames without Pillow) is written."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from loadcases.draw import trajectory_of_file
+from loadcases.draw_render import DPI, FIGURE_SIZE, projection, write_animation, write_pngs
+
+LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library"
+FOURBAR = LIBRARY / "verification" / "fourbar_quasistatic.case.yaml"
+
+
+@pytest.fixture(scope="module")
+def fourbar():
+    return trajectory_of_file(FOURBAR)
+
+
+def test_markers_keep_body_distances(fourbar):
+    """Two markers of one rigid body keep their design distance at every time (1e-9 m)."""
+    sk = fourbar.skeleton
+    body, markers = next((b, m) for b, m in sk.bodies.items() if b != "ground" and len(m) >= 2)
+    a, b = fourbar.positions[markers[0]], fourbar.positions[markers[1]]
+    design = np.linalg.norm(np.subtract(sk.markers[markers[0]][1], sk.markers[markers[1]][1]))
+    assert np.allclose(np.linalg.norm(a - b, axis=1), design, atol=1e-9)
+    assert np.ptp(a, axis=0).max() + np.ptp(b, axis=0).max() > 1e-3  # the body does move
+
+
+def test_pngs_one_per_time_of_documented_size(fourbar, tmp_path):
+    times = [0.0, float(fourbar.time[-1])]
+    files = write_pngs(fourbar, times, tmp_path, view="xy")
+    assert len(files) == 2 and all(f.is_file() for f in files)
+    expected = (int(FIGURE_SIZE[0] * DPI), int(FIGURE_SIZE[1] * DPI))
+    for f in files:
+        with Image.open(f) as image:
+            assert image.size == expected
+
+
+def test_auto_view_of_planar_mechanism_is_its_plane(fourbar):
+    basis, labels = projection(fourbar, "auto")
+    assert labels == ("x [m]", "y [m]")
+
+
+def test_animation_written(fourbar, tmp_path):
+    files, what = write_animation(fourbar, tmp_path)
+    assert files and all(f.is_file() and f.stat().st_size > 0 for f in files)
+    assert "GIF" in what or "frames" in what
