@@ -13,7 +13,6 @@ wide and 100 * (1.6 + 2.4 * panels) px high (at least 400 px).
 from __future__ import annotations
 
 import fnmatch
-import json
 import re
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -25,7 +24,9 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from loadcases.atomic import atomic_path
-from loadcases.results import SUMMARY_SUFFIX, TIME_COLUMN, read_results
+from loadcases import saved
+from loadcases.results import SUMMARY_SUFFIX, TIME_COLUMN
+from loadcases.saved import SavedRun
 
 __all__ = [
     "SavedRun", "load_saved_run", "find_result_csvs", "select_columns", "column_unit",
@@ -54,47 +55,15 @@ _NAME_UNITS = (("alpha", "rad/s^2"), ("omega", "rad/s"), ("rate", "rad/s"),
                ("stroke", "m"), ("length", "m"), ("penetration", "m"))
 
 
-@dataclass
-class SavedRun:
-    """One run read back from disk: name, time (n,) s, channels {column: (n,)} SI, units."""
-
-    name: str
-    time: np.ndarray
-    channels: dict[str, np.ndarray]
-    units: dict[str, str] = field(default_factory=dict)
-    status: str = "ok"
-
-    def as_run(self) -> Run:
-        """`(name, time, channels)` as `plot_runs` takes it (` (failed)` appended if so)."""
-        label = self.name if self.status == "ok" else f"{self.name} ({self.status})"
-        return label, self.time, self.channels
-
-
 def load_saved_run(path: Path) -> SavedRun:
-    """Read `NAME.csv` (or its `NAME.summary.json`) with the summary's name, units, status.
-
-    Raises ValueError if the CSV is missing or not a results file.
-    """
+    """Read `NAME.csv` (or the CSV its `NAME.summary.json` names) with the summary's name,
+    units and status. Raises ValueError if the CSV is missing."""
     path = Path(path)
     if path.name.endswith(SUMMARY_SUFFIX):
         path = path.with_name(path.name[: -len(SUMMARY_SUFFIX)] + ".csv")
     if not path.is_file():
         raise ValueError(f"{path}: no such results file")
-    time, channels = read_results(path)
-    summary = _read_summary(path.with_name(path.name[: -len(".csv")] + SUMMARY_SUFFIX))
-    units = summary.get("units")
-    return SavedRun(name=str(summary.get("case") or path.name[: -len(".csv")]), time=time,
-                    channels=channels, units=dict(units) if isinstance(units, dict) else {},
-                    status=str(summary.get("status") or "ok"))
-
-
-def _read_summary(path: Path) -> dict[str, Any]:
-    """The summary dict, or {} when absent or not a JSON object."""
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return {}
-    return data if isinstance(data, dict) else {}
+    return saved.load_saved_run(path)
 
 
 def find_result_csvs(paths: Iterable[Path]) -> list[Path]:

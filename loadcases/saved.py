@@ -42,6 +42,11 @@ class SavedRun:
     def __post_init__(self) -> None:
         self.family = self.family or family_of(self.name)
 
+    def as_run(self) -> tuple[str, np.ndarray, dict[str, np.ndarray]]:
+        """`(name, time, channels)` as plots take it (` (failed)` appended if so)."""
+        label = self.name if self.status == "ok" else f"{self.name} ({self.status})"
+        return label, self.time, self.channels
+
 
 @dataclass(frozen=True)
 class RunRecord:

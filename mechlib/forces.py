@@ -16,12 +16,20 @@ import numpy as np
 from mechlib.rotation import cross
 from mechlib.view import StateView
 
-__all__ = ["PointForce", "PointTorque", "Spring", "TorsionSpring"]
+__all__ = ["PointForce", "PointTorque", "Spring", "TorsionSpring", "resist_rotation"]
 
 # Every element has `active` (an event may switch it; an inactive element applies and
 # reports nothing) and `effect` (the case switch that removes it from the model).
 
 VectorFunction = Callable[[float, StateView], Sequence[float]]
+
+
+def resist_rotation(view: StateView, measure, moment: float, N: np.ndarray) -> None:
+    """A moment (N*m) resisting positive rotation of a joint: -moment about the joint axis
+    on body 1, +moment on body 2 (`measure`: the joint's AngleMeasure)."""
+    axis = view.rotation(measure.bj) @ measure.axis_local
+    N[measure.bi] -= moment * axis
+    N[measure.bj] += moment * axis
 
 
 @dataclass
@@ -166,10 +174,7 @@ class TorsionSpring:
         return elastic + self.damping * rate + self.preload, angle
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        moment, _ = self._moment(view)
-        axis = view.rotation(self._m.bj) @ self._m.axis_local
-        N[self._m.bi] -= moment * axis
-        N[self._m.bj] += moment * axis
+        resist_rotation(view, self._m, self._moment(view)[0], N)
 
     def output(self, view: StateView) -> dict[str, float]:
         moment, angle = self._moment(view)

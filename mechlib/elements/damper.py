@@ -5,6 +5,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mechlib.forces import resist_rotation
 from mechlib.view import StateView
 
 __all__ = ["RotationalDamper"]
@@ -31,10 +32,7 @@ class RotationalDamper:
         return self.damping * omega, omega
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        moment, _ = self._moment(view)
-        axis = view.rotation(self._m.bj) @ self._m.axis_local
-        N[self._m.bi] -= moment * axis
-        N[self._m.bj] += moment * axis
+        resist_rotation(view, self._m, self._moment(view)[0], N)
 
     def output(self, view: StateView) -> dict[str, float]:
         """value: the resisting moment c * omega (N*m); omega (rad/s)."""
