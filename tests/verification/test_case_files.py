@@ -34,6 +34,7 @@ MOBILITY = {
     "fourbar_redundant_drop.case.yaml": (-2, 1),
     "latch_spring.case.yaml": (1, 0),
     "ball_in_socket.case.yaml": (6, 0),   # a free ball held by its contact only
+    "ln_restitution.case.yaml": (6, 0),   # a free ball bouncing on a plane
 }
 CASE_FILES = sorted(MOBILITY)
 
