@@ -126,6 +126,7 @@ class _Integrator:
         self.stale = False
         self.stiff = bool(system.elements)
         self.eta = 1.0
+        self.singular: SolverFailure | None = None  # the last singular iteration matrix
 
     def _iteration_matrix(self, k, h: float):
         c, sys = self.c, self.system
@@ -170,7 +171,11 @@ class _Integrator:
             if sys.states:
                 sys.states.advance(sys.view(k), h)
             if rebuild:
-                self._iteration_matrix(k, h)
+                try:
+                    self._iteration_matrix(k, h)
+                except SolverFailure as failure:  # singular here: reject, try a smaller step
+                    self.singular = failure
+                    break
                 rebuild, rebuilt, prev = False, True, math.inf
             phi, jac = sys.phi_and_jacobian(k)
             res = np.concatenate([(sys.mass_times(k, qdd1) + jac.T @ lam1
@@ -329,8 +334,8 @@ class _Run:
                 raise _newton_failure(self.system, s.t, h_try)
             stats.rejected_steps += 1
             self.h = h_try * (0.25 if new is None else max(_SHRINK, _SAFETY * err ** (-1 / 3)))
-            if self.h < self.h_min:
-                raise _newton_failure(self.system, s.t, self.h)
+            if self.h < self.h_min:  # a singular matrix says more than "no convergence"
+                raise self.integ.singular or _newton_failure(self.system, s.t, self.h)
             return None
         if not spec.fixed_step:
             grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))

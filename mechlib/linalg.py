@@ -73,23 +73,34 @@ def augmented(top: np.ndarray, jac: np.ndarray) -> np.ndarray:
 
 
 def factor(matrix: np.ndarray):
-    """LU factors of a square matrix, or None when it is numerically singular: reciprocal
-    condition number (LAPACK dgecon, 1-norm) below SINGULAR_RATIO."""
+    """LU factors of a square matrix, rows equilibrated (each scaled by 1/max|row|, so that
+    a quaternion row of mass 1e-5 beside contact stiffnesses of 1e10 is not taken for a
+    singularity), or None when it is numerically singular: reciprocal condition number
+    (LAPACK dgecon, 1-norm) of the equilibrated matrix below SINGULAR_RATIO."""
     if matrix.size == 0:
-        return matrix, np.zeros(0, dtype=np.int32)
-    norm = float(np.abs(matrix).sum(axis=0).max())
-    lu, piv, info = _getrf(matrix, overwrite_a=True)
+        return matrix, np.zeros(0, dtype=np.int32), np.ones(0)
+    big = np.abs(matrix).max(axis=1)
+    if not np.all(big > 0.0) or not np.isfinite(big).all():
+        return None
+    rows = 1.0 / big
+    scaled = matrix * rows[:, None]
+    norm = float(np.abs(scaled).sum(axis=0).max())
+    lu, piv, info = _getrf(scaled, overwrite_a=True)
     if info > 0 or not np.isfinite(lu).all():
         return None
     rcond, _ = _gecon(lu, norm)
-    return None if rcond <= SINGULAR_RATIO else (lu, piv)
+    return None if rcond <= SINGULAR_RATIO else (lu, piv, rows)
 
 
 def solve_factored(lu, rhs: np.ndarray, *, transpose: bool = False) -> np.ndarray:
     """Solve with LU factors; `transpose` solves with the transposed matrix."""
     if isinstance(lu, _Sparse):
         return lu.solve(rhs, transpose)
-    x, info = _getrs(lu[0], lu[1], rhs, trans=1 if transpose else 0)
+    factors, piv, rows = lu
+    if transpose:  # A^T x = b with (R A)^T = A^T R: solve for y = R^-1 x
+        y, _ = _getrs(factors, piv, rhs, trans=1)
+        return rows * y
+    x, _ = _getrs(factors, piv, rows * rhs, trans=0)
     return x
 
 
