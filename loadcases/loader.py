@@ -157,13 +157,18 @@ def _read_tree(path: str | Path) -> tuple[SourceTree, list[Diagnostic]]:
     return tree, diagnostics
 
 
-def load_mechanism(path: str | Path) -> MechanismFile:
-    """Validated mechanism file; raises InputError with every problem found."""
+def _read_model(path: str | Path, model_class):
+    """(model or None, locator, file units, diagnostics) of one file of a kind."""
     tree, diagnostics = _read_tree(path)
     locator = Locator(tree)
     units, found = _file_units(locator, {})
-    model, more = _validate(MechanismModel, locator, units)
-    diagnostics += found + more
+    model, more = _validate(model_class, locator, units)
+    return model, locator, units, diagnostics + found + more
+
+
+def load_mechanism(path: str | Path) -> MechanismFile:
+    """Validated mechanism file; raises InputError with every problem found."""
+    model, locator, _, diagnostics = _read_model(path, MechanismModel)
     if model is not None:
         diagnostics += check_mechanism(model, locator)
     _raise_on_errors(diagnostics)
@@ -200,11 +205,7 @@ def _raw_keys(data: dict[str, Any], *sections: str) -> list[list[str]]:
 
 def load_case(path: str | Path) -> CaseFile:
     """Validated case with its mechanism merged; raises InputError with every problem found."""
-    tree, diagnostics = _read_tree(path)
-    case_locator = Locator(tree)
-    case_units, found = _file_units(case_locator, {})
-    case, more = _validate(CaseModel, case_locator, case_units)
-    diagnostics += found + more
+    case, case_locator, case_units, diagnostics = _read_model(path, CaseModel)
     mech_locator, mech_path, inherited, found = _mechanism_source(case_locator, case_units)
     diagnostics += found
     mechanism = None
@@ -246,11 +247,7 @@ def _expand_cases(model: SetModel, locator: Locator) -> tuple[list[str], list[Di
 
 def load_set(path: str | Path) -> SetFile:
     """Validated set file with its case patterns expanded; raises InputError on problems."""
-    tree, diagnostics = _read_tree(path)
-    locator = Locator(tree)
-    units, found = _file_units(locator, {})
-    model, more = _validate(SetModel, locator, units)
-    diagnostics += found + more
+    model, locator, units, diagnostics = _read_model(path, SetModel)
     case_paths: list[str] = []
     if model is not None:
         case_paths, found = _expand_cases(model, locator)
