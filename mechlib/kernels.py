@@ -14,7 +14,8 @@ from numba import njit
 
 __all__ = ["sph_phi", "sph_jac", "sph_gamma", "dot1_phi", "dot1_jac", "dot1_gamma",
            "dot1_rate", "dot2_phi", "dot2_jac", "dot2_gamma", "dot2_rate", "norm_phi",
-           "norm_jac", "norm_gamma", "mass_times", "mass_matrix", "body_forces"]
+           "norm_jac", "norm_gamma", "mass_times", "mass_matrix", "body_forces", "point_position",
+           "point_velocity", "cross3", "rotation_matrix"]
 
 _JIT = dict(cache=True, nogil=True, fastmath=False)
 
@@ -333,3 +334,47 @@ def body_forces(x, xd, masses, inertia, gravity, F, N, with_inertia, out):
             _gt_times(pd, jw, 1.0, g4)
             for d in range(4):
                 out[o + 3 + d] -= 4.0 * g4[d]
+
+
+@njit(**_JIT)
+def point_position(x, b, s):
+    """Global position (m) of the body-fixed vector s of body b: r_b + A(p_b) s."""
+    out = np.empty(3)
+    _rot(x[b, 3:], s, out)
+    for c in range(3):
+        out[c] += x[b, c]
+    return out
+
+
+@njit(**_JIT)
+def point_velocity(x, xd, b, s):
+    """Global velocity (m/s) of the body-fixed point s of body b: rd_b + B(p_b, s) pd_b."""
+    out = np.empty(3)
+    _brot(x[b, 3:], xd[b, 3:], s, out)
+    for c in range(3):
+        out[c] += xd[b, c]
+    return out
+
+
+@njit(**_JIT)
+def cross3(a, b):
+    """a x b of two 3-vectors."""
+    out = np.empty(3)
+    out[0] = a[1] * b[2] - a[2] * b[1]
+    out[1] = a[2] * b[0] - a[0] * b[2]
+    out[2] = a[0] * b[1] - a[1] * b[0]
+    return out
+
+
+@njit(**_JIT)
+def rotation_matrix(p):
+    """A(p) (3, 3) of one set of Euler parameters (homogeneous form)."""
+    out = np.empty((3, 3))
+    unit = np.zeros(3)
+    col = np.empty(3)
+    for j in range(3):
+        unit[:] = 0.0
+        unit[j] = 1.0
+        _rot(p, unit, col)
+        out[:, j] = col
+    return out

@@ -6,7 +6,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mechlib.kin import Kin
-from mechlib.rotation import d_rotate, rotate, rotation_matrix
+from mechlib import kernels
 
 if TYPE_CHECKING:
     from mechlib.system import System
@@ -21,7 +21,6 @@ class StateView:
         self.system = system
         self.kin = kin
         self.lam = lam
-        self._rot: np.ndarray | None = None
         self._jac: np.ndarray | None = None
 
     @property
@@ -30,15 +29,15 @@ class StateView:
 
     def rotation(self, body: int) -> np.ndarray:
         """Rotation matrix of body index `body` (ground = nb)."""
-        if self._rot is None:
-            self._rot = rotation_matrix(self.kin.p)
-        return self._rot[body]
+        return kernels.rotation_matrix(self.kin.x[body, 3:])
 
     def point_position(self, body: int, s: np.ndarray) -> np.ndarray:
-        return self.kin.r[body] + rotate(self.kin.p[body], s)
+        """Global position (m) of the body-fixed vector s (m) of body index `body`."""
+        return kernels.point_position(self.kin.x, body, np.asarray(s, dtype=float))
 
     def point_velocity(self, body: int, s: np.ndarray) -> np.ndarray:
-        return self.kin.rd[body] + d_rotate(self.kin.p[body], s) @ self.kin.pd[body]
+        """Global velocity (m/s) of that point."""
+        return kernels.point_velocity(self.kin.x, self.kin.xd, body, np.asarray(s, dtype=float))
 
     def states(self, element) -> np.ndarray:
         """The internal states of an element with states (see mechlib.states)."""
