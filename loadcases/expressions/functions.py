@@ -15,6 +15,8 @@ from functools import reduce
 
 import numpy as np
 
+from mechlib.smooth import step  # the one cubic step of loads (seed 004 eq. 3.10)
+
 __all__ = [
     "FunctionSpec", "FUNCTIONS", "INTERNAL", "MEASURES", "step", "smooth", "dsmooth",
     "d2smooth", "d3smooth", "minsel", "maxsel", "sign",
@@ -43,16 +45,6 @@ class FunctionSpec:
 def sign(x: float) -> float:
     """-1, 0 or 1."""
     return 1.0 if x > 0.0 else (-1.0 if x < 0.0 else 0.0)
-
-
-def step(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
-    """The cubic step (never divides: x <= x0 or x >= x1 is checked first)."""
-    if x <= x0:
-        return h0
-    if x >= x1:
-        return h1
-    s = (x - x0) / (x1 - x0)
-    return h0 + (h1 - h0) * s * s * (3.0 - 2.0 * s)
 
 
 def smooth(s: float) -> float:

@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from mechlib.smooth import step
+
 __all__ = ["step", "ImpactLaw", "HertzLaw", "RestitutionLaw", "hertz_stiffness",
            "MIN_APPROACH_SPEED", "RATE_RATIO_CAP"]
 
@@ -26,16 +28,6 @@ there, so that a wild Newton iterate cannot make the damping term explode."""
 def _rate_ratio(xd: float, approach: float) -> float:
     ratio = xd / max(approach, MIN_APPROACH_SPEED)
     return min(max(ratio, -RATE_RATIO_CAP), RATE_RATIO_CAP)
-
-
-def step(x: float, x0: float, f0: float, x1: float, f1: float) -> float:
-    """Cubic step (seed 004 eq. 3.10): f0 for x <= x0, f1 for x >= x1, 3s^2 - 2s^3 between."""
-    if x <= x0:
-        return f0
-    if x >= x1:
-        return f1
-    s = (x - x0) / (x1 - x0)
-    return f0 + (f1 - f0) * s * s * (3.0 - 2.0 * s)
 
 
 def hertz_stiffness(E1: float, nu1: float, E2: float, nu2: float, radius: float) -> float:
