@@ -355,5 +355,10 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     if b.problems:
         raise InputError(b.problems)
     notes = [f"{d.key}: {d.message}" for d in cf.warnings]  # validation warnings travel along
+    if events and not isinstance(analysis, ml.Dynamic):
+        # a mechanism serves static and dynamic cases alike: its events wait for a dynamic one
+        notes.append(f"events ({', '.join(e.name for e in events)}) are simulated in dynamic "
+                     f"analyses only: not active in this {analysis.name} analysis")
+        events = []
     return BuiltRun(mechanism, analysis, requests, initial, cf.case.analysis.redundant, units,
                     notes, events)

@@ -5,57 +5,72 @@ from __future__ import annotations
 from typing import Any, Callable
 
 import mechlib as ml
-from loadcases.expressions import Expression, parse
+from loadcases.expressions import Expression, ExpressionError, parse
 
 __all__ = ["build_events"]
 
 _COORDINATE_JOINTS = ("revolute", "prismatic", "cylindrical", "screw")
 
 
-def _condition(builder, text: str, what: str) -> Callable[[float, Any], float]:
+def _condition(builder, text: str, what: str, kind: str = "mechanism"
+               ) -> Callable[[float, Any], float]:
     """g(t, state): lhs - rhs for `lhs >= rhs` (rhs - lhs for <=), so that a located zero
     is the event time; any other condition gives -1 (false) / +1 (true), located by
     bisection."""
     expression = parse(text)
     tree = expression.tree
     if getattr(tree, "op", None) in (">=", ">", "<=", "<", "=="):
-        lhs, rhs = (builder.compile_tree(Expression(text, node), what) for node in tree.args)
+        lhs, rhs = (builder.compile_tree(Expression(text, node), what, kind)
+                    for node in tree.args)
         sign = -1.0 if tree.op in ("<=", "<") else 1.0
         return lambda t, view: sign * (lhs(t, view) - rhs(t, view))
-    truth = builder.compile(text, what)
+    truth = builder.compile(text, what, kind)
     return lambda t, view: 1.0 if truth(t, view) else -1.0
 
 
-def _check_action(builder, name: str, i: int, action) -> bool:
+def _check_action(builder, kind: str, name: str, i: int, action) -> bool:
     key = f"events.{name}.then[{i}]"
     mech, case = builder.mech, builder.case
     target = action.target
     if action.action in ("activate", "deactivate"):
         known = set(mech.forces) | set(mech.contacts) | set(case.motions if case else ())
         if target not in known:
-            builder.error("mechanism", key, f"'{target}' is not a force element, contact or "
+            builder.error(kind, key, f"'{target}' is not a force element, contact or "
                           "motion of this case")
             return False
     elif action.action in ("release", "lock"):
         joint = mech.joints.get(target)
         if joint is None:
-            builder.error("mechanism", key, f"unknown joint '{target}'")
+            builder.error(kind, key, f"unknown joint '{target}'")
             return False
         if action.action == "lock" and joint.type not in _COORDINATE_JOINTS:
-            builder.error("mechanism", key, f"lock needs a joint with a coordinate "
+            builder.error(kind, key, f"lock needs a joint with a coordinate "
                           f"({', '.join(_COORDINATE_JOINTS)}); '{target}' is {joint.type}")
             return False
     return True
 
 
 def build_events(builder) -> list[ml.Event]:
-    """mechlib events of the mechanism; problems go to the builder's diagnostics."""
+    """mechlib events of the mechanism and of the case; problems go to the builder's
+    diagnostics (at the file and key of each event)."""
+    sources = [("mechanism", builder.mech.events)]
+    if builder.case is not None:
+        sources.append(("case", builder.case.events))
     events = []
-    for name, e in builder.mech.events.items():
-        ok = all(_check_action(builder, name, i, a) for i, a in enumerate(e.then))
-        if not ok:
-            continue
-        actions = tuple(ml.Action(a.action, a.target) for a in e.then)
-        events.append(ml.Event(name, _condition(builder, e.when, f"events.{name}.when"),
-                               actions))
+    for kind, found in sources:
+        for name, e in found.items():
+            if kind == "case" and name in builder.mech.events:
+                builder.error("case", f"events.{name}", f"event '{name}' is also an event of "
+                              "the mechanism: names must be unique")
+                continue
+            checked = [_check_action(builder, kind, name, i, a) for i, a in enumerate(e.then)]
+            try:
+                condition = _condition(builder, e.when, f"events.{name}.when", kind)
+            except ExpressionError as error:
+                builder.error(kind, f"events.{name}.when", f"invalid condition: {error.message}")
+                continue
+            if not all(checked):
+                continue
+            actions = tuple(ml.Action(a.action, a.target) for a in e.then)
+            events.append(ml.Event(name, condition, actions))
     return events

@@ -5,6 +5,7 @@ squares, smallest change from the design position) and reported.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Sequence
 
@@ -21,6 +22,7 @@ __all__ = ["InitialValue", "InitialBodyVelocity", "solve_positions", "solve_velo
 POSITION_TOLERANCE = 1e-10
 _MAX_NEWTON = 50
 _REPORT_CHANGE = 1e-8
+_STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
 
 
 @dataclass(frozen=True)
@@ -110,22 +112,41 @@ def _position_notes(system: System, k: Kin, given) -> list[str]:
     return notes
 
 
+def _given_residual(system: System, given, targets, t: float):
+    def residual(x):
+        k = system.kin(x, None, t)
+        extra = [m.value(k) - target for (_, m), target in zip(given, targets)]
+        return np.concatenate([system.phi(k), extra])
+    return residual
+
+
+def _given_jacobian(system: System, given, t: float):
+    def jacobian(x):
+        k = system.kin(x, None, t)
+        extra = [m.gradient(k)[:system.nq] for _, m in given]
+        return np.vstack([system.phi_q(k)] + extra)
+    return jacobian
+
+
 def assemble(system: System, t: float, initial: Sequence = ()) -> Assembled:
     """Initial q, qd: design position moved onto the constraints and the given values."""
     given = _given_positions(system, initial)
     q = system.design_q()
     its = 0
     if given:
-        def residual(x):
-            k = system.kin(x, None, t)
-            extra = [m.value(k) - item.value for item, m in given]
-            return np.concatenate([system.phi(k), extra])
-
-        def jacobian(x):
-            k = system.kin(x, None, t)
-            extra = [m.gradient(k)[:system.nq] for _, m in given]
-            return np.vstack([system.phi_q(k)] + extra)
-        q, its, _ = _newton(residual, jacobian, q, POSITION_TOLERANCE)
+        # approach large given angles in stages of at most _STAGE rad, committing the
+        # unwrapping references between stages: one Newton jump of 170 deg would wrap
+        k0 = system.kin(q, None, t)
+        start = [m.value(k0) for _, m in given]
+        span = max(abs(item.value - v) for (item, _), v in zip(given, start))
+        stages = max(1, math.ceil(span / _STAGE))
+        for stage in range(1, stages + 1):
+            targets = [v + (item.value - v) * stage / stages
+                       for (item, _), v in zip(given, start)]
+            q, n, _ = _newton(_given_residual(system, given, targets, t),
+                              _given_jacobian(system, given, t), q, POSITION_TOLERANCE)
+            its += n
+            system.commit(system.kin(q, None, t))
     q, its2 = solve_positions(system, q, t)
     k = system.kin(q, None, t)
     system.commit(k)

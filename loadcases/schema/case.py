@@ -6,7 +6,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BeforeValidator, Discriminator, Field, Tag
 from pydantic_core import PydanticCustomError
 
-from loadcases.schema.mechanism import FileUnits
+from loadcases.schema.mechanism import Event, FileUnits
 from loadcases.schema.types import (
     AnySI, Dimensionless, Expression, Name, RawQuantity, Strict, describe, quantity, vector,
 )
@@ -161,3 +161,6 @@ class CaseModel(Strict):
     analysis: Analysis
     requests: dict[str, Request] = Field(default_factory=dict)
     abscissa: Expression | None = Field(None, description="x-axis expression for envelopes")
+    events: dict[str, Event] = Field(default_factory=dict, description="events of this case "
+                                     "(dynamic analyses), added to the mechanism's; names "
+                                     "unique across both")

@@ -178,3 +178,21 @@ def test_revolute_angle_unwraps_past_pi() -> None:
     assert angle[-1] == pytest.approx(4.0 * math.pi, abs=1e-9)
     assert np.all(np.diff(angle) > 0.0)
     assert np.abs(angle - 4.0 * math.pi * sol.time).max() < 1e-9
+
+
+def test_large_initial_angle_assembles_without_wrapping() -> None:
+    """An initial hinge angle of 170 deg (and -170 deg) is reached as given, not wrapped to
+    the other side: assembly approaches it in stages (regression: it landed at -164.5 deg)."""
+    import math
+
+    for degrees in (170.0, -170.0, 300.0):
+        mech = mechlib.Mechanism()
+        mech.add_body("bar", mass=1.0, cm=(0.5, 0.0, 0.0), inertia=[0.01, 0.1, 0.1])
+        mech.add_joint("hinge", "revolute", bodies=("bar", "ground"), at=(0, 0, 0),
+                       axis=(0, 0, 1))
+        value = math.radians(degrees)
+        sol = mechlib.solve(mech, mechlib.Dynamic(end=0.01, step=0.01),
+                            initial=[mechlib.InitialValue("hinge", value)],
+                            requests=[mechlib.JointCoordinate("a", "hinge", "angle")])
+        assert not sol.warnings
+        assert sol.channels["a.value"][0] == pytest.approx(value, abs=1e-9)
