@@ -131,14 +131,19 @@ def _effort_columns(system, trajectory, req: MotionEffort, gatherer, sign):
 
 
 def _in_frame(system, k, values: dict[str, float], frame: str) -> dict[str, float]:
-    """Vector components (fx fy fz, tx ty tz) of an element output turned into `frame`."""
+    """Vector outputs of an element turned into `frame` axes: forces and torques (fx fy fz,
+    tx ty tz), eccentricities (ex ey ez) by their components; contact points (px py pz)
+    measured from the frame's origin too."""
     if frame == "ground":
         return values
     axes = _frame_matrix(system, k, frame).T
     out = dict(values)
-    for names in (_FORCE, _TORQUE):
+    for names in (_FORCE, _TORQUE, ("ex", "ey", "ez"), ("px", "py", "pz")):
         if all(n in values for n in names):
-            out.update(zip(names, axes @ np.array([values[n] for n in names])))
+            v = np.array([values[n] for n in names])
+            if names[0] == "px":
+                v = v - system.frame_origin(frame, k)
+            out.update(zip(names, axes @ v))
     return out
 
 
