@@ -22,13 +22,6 @@ def _run(name: str):
     return outcome.solution.channels
 
 
-def test_jettison_copy_is_the_door_plus_events():
-    """door_jettison.mech.yaml = door.mech.yaml + events (events are dynamic-only)."""
-    base = (DOOR / "door.mech.yaml").read_text()
-    copy = (DOOR / "door_jettison.mech.yaml").read_text()
-    assert base in copy and "events:" in copy.split(base)[1]
-
-
 def test_jammed_rod_p2p6_is_the_lever_ratio():
     """No gravity: rod force = F r_handle / (moment arm of the rod line about the inner
     handle pivot), at every latch angle; source: statics of the handle; tolerance 0.1 %."""
