@@ -41,7 +41,7 @@ DEFAULT_PENALTY = 1.0e8
 def _geometry(g) -> Any:
     """The mechlib geometry of a schema geometry (SI values)."""
     if g.shape == "sphere_plane":
-        return mc.SpherePlane(g.center, g.radius, g.plane_point, g.normal)
+        return mc.SpherePlane(g.center, g.radius, g.plane_point, g.normal, g.extent)
     if g.shape == "sphere_in_sphere":
         return mc.SphereInSphere(g.center, g.radius, g.clearance)
     if g.shape == "cylinder_in_cylinder":

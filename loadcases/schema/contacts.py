@@ -37,6 +37,8 @@ class SpherePlane(Strict):
     radius: Length = Field(description=describe("sphere radius", "length"))
     plane_point: Position = Field(description=describe("a point of the plane", "length"))
     normal: Direction = Field(description="plane normal, from body 2 to body 1")
+    extent: Length | None = Field(None, description=describe(
+        "radius of the plane's pad about plane_point (absent: an unbounded plane)", "length"))
 
 
 class SphereInSphere(Strict):

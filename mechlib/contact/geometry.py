@@ -72,12 +72,17 @@ def relative_velocity(view, b1: int, b2: int, point: np.ndarray) -> np.ndarray:
 
 @dataclass
 class SpherePlane:
-    """Sphere (centre, radius, m) on body 1 against a plane (point, normal) of body 2."""
+    """Sphere (centre, radius, m) on body 1 against a plane (point, normal) of body 2.
+
+    `extent` (m), when given, bounds the plane to a disc of that radius about
+    `plane_point` (a stop pad): a sphere whose centre lies outside it touches nothing.
+    """
 
     center: Sequence[float]
     radius: float
     plane_point: Sequence[float]
     normal: Sequence[float]
+    extent: float | None = None
     _bound: tuple = field(default=(), repr=False)
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
@@ -91,8 +96,13 @@ class SpherePlane:
         b1, sc, b2, sp, n_local = self._bound
         n = view.rotation(b2) @ n_local
         c = view.point_position(b1, sc)
-        d = float((c - view.point_position(b2, sp)) @ n)   # centre height over the plane
+        offset = c - view.point_position(b2, sp)
+        d = float(offset @ n)   # centre height over the plane
         point = c - 0.5 * (self.radius + d) * n
+        if self.extent is not None:
+            across = offset - d * n
+            if float(across @ across) > self.extent ** 2:
+                d = max(d, self.radius)  # off the pad: no penetration
         return Gap(self.radius - d, n, point, relative_velocity(view, b1, b2, point))
 
 
