@@ -110,8 +110,12 @@ class _Builder:
         return guarded(expression.compile(self.parameters, self.tables), what)
 
     def _check_measures(self, expression, what: str, kind: str) -> None:
-        """angle/omega need a rotational joint, travel/speed a translational one."""
+        """angle/omega need a rotational joint, travel/speed a translational one, effort a
+        motion of the case."""
         for measure, args in expression.measures():
+            if measure == "effort" and args[0] not in (self.case.motions if self.case else {}):
+                self.error(kind, what, f"effort({args[0]}): no motion '{args[0]}' in this case")
+                continue
             types = _MEASURE_JOINTS.get(measure)
             joint = self.mech.joints.get(args[0]) if types else None
             if joint is not None and joint.type not in types:

@@ -289,6 +289,13 @@ class _State:
     consistent: tuple
 
 
+def _view(system: System, s: "_State"):
+    """The state view of an accepted state, with its consistent velocities and multipliers
+    (so that event conditions can read motion efforts and reactions)."""
+    qd, _, lam = s.consistent
+    return system.view(system.kin(s.q, qd, s.t), lam)
+
+
 class _Run:
     """Step-size control, event handling and restarts around `_Integrator.step`."""
 
@@ -311,8 +318,9 @@ class _Run:
             self.system.states.start(self.system.view(self.system.kin(q, qd, t)))
         qd, qdd, lam = consistent_state(self.system, q, qd, t)
         self.integ.lu, self.integ.eta = None, 1.0
-        self.monitor.arm(t, self.system.view(self.system.kin(q, qd, t)))
-        return _State(t, q, qd, qdd, qdd.copy(), lam, (qd, qdd, lam))
+        state = _State(t, q, qd, qdd, qdd.copy(), lam, (qd, qdd, lam))
+        self.monitor.arm(t, _view(self.system, state))
+        return state
 
     def attempt(self, s: _State, t_out: float) -> _State | None:
         """One step towards t_out; None when rejected (the step size is then reduced)."""
@@ -361,15 +369,14 @@ class _Run:
         """If events fire during the step s -> new: the state at the first one, recorded,
         with the actions done and the integration restarted; else None."""
         sys = self.system
-        fired = self.monitor.crossed(new.t, sys.view(sys.kin(new.q, new.qd, new.t)))
+        fired = self.monitor.crossed(new.t, _view(sys, new))
         if not fired:
             return None
         first = {}
         for e in fired:
             def g_at(t, e=e):
-                x = self._to(s, t)
-                return float(e.condition(t, sys.view(sys.kin(x.q, x.qd, t))))
-            g1 = float(e.condition(new.t, sys.view(sys.kin(new.q, new.qd, new.t))))
+                return float(e.condition(t, _view(sys, self._to(s, t))))
+            g1 = float(e.condition(new.t, _view(sys, new)))
             first[e.name] = locate(self.monitor.values[e.name], g1, s.t, new.t, g_at)
         t_e = min(first.values())
         now = [e for e in fired if first[e.name] - t_e <= EVENT_TIME_TOLERANCE]
@@ -410,7 +417,7 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
                 if after is None:
                     run.accept(new)
                     if run.monitor.armed:
-                        run.monitor.arm(new.t, system.view(system.kin(new.q, new.qd, new.t)))
+                        run.monitor.arm(new.t, _view(system, new))
                 s = new if after is None else after
             if run.stopped:
                 break

@@ -10,7 +10,7 @@ import numpy as np
 
 from mechlib.rotation import cross, e_matrix, rotate, rotation_matrix
 
-__all__ = ["Gatherer", "reaction_series", "effort_series", "joint_wrench"]
+__all__ = ["Gatherer", "reaction_series", "effort_series", "joint_wrench", "motion_effort"]
 
 _FORCE = ("fx", "fy", "fz")
 _TORQUE = ("tx", "ty", "tz")
@@ -93,3 +93,16 @@ def joint_wrench(system, k, jac: np.ndarray, lam: np.ndarray, joint: str
     force, torque_cm = gatherer.wrench(p)
     torque = torque_cm - cross(rotate(p, local), force)
     return sign * force[0], sign * torque[0]
+
+
+def motion_effort(system, k, jac: np.ndarray, lam: np.ndarray, motion: str) -> float:
+    """The torque (N*m) or force (N) a motion applies to body 1 of its joint along the
+    joint coordinate, at one state (what `effort(motion)` in expressions reads)."""
+    measure = next(c for c in system.coordinates if c.owner == motion).terms[0][1]
+    body, sign = (measure.bi, 1.0) if measure.bi != system.nb else (measure.bj, -1.0)
+    gatherer = Gatherer(system, {motion}, body)
+    gatherer.gather(jac, lam)
+    force, torque = gatherer.wrench(k.p[body][None, :])
+    axis = rotation_matrix(k.p[measure.bj]) @ measure.axis_local
+    along = torque if measure.kind == "angle" else force
+    return float(sign * along[0] @ axis)

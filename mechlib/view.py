@@ -53,6 +53,16 @@ class StateView:
             self._jac = self.system.phi_q(self.kin)
         return joint_wrench(self.system, self.kin, self._jac, self.lam, joint)
 
+    def effort(self, motion: str) -> float:
+        """Torque (N*m) or force (N) that `motion` applies along its joint coordinate, from
+        the multipliers of this state (0 while none are known)."""
+        if self.lam is None or len(self.lam) == 0:
+            return 0.0
+        from mechlib.reactions import motion_effort
+        if self._jac is None:
+            self._jac = self.system.phi_q(self.kin)
+        return motion_effort(self.system, self.kin, self._jac, self.lam, motion)
+
     def _measure(self, joint: str, kind: str):
         return self.system.measure(joint, kind)
 
