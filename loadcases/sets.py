@@ -24,6 +24,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from loadcases.build_elements import ELEMENT_EFFECTS
 from loadcases.checks.sets import check_set_cases
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
@@ -110,10 +111,24 @@ def _strings(value: Any) -> Iterator[str]:
             yield from _strings(item)
 
 
+def _mechanism_in_use(cf: CaseFile) -> dict:
+    """The mechanism as the case uses it: force elements outside its `loads:` list and
+    elements of switched-off effects left out (their parameters do not change the run)."""
+    mech = cf.mechanism.model_dump()
+    effects = dict(cf.case.effects)
+    mech["forces"] = {name: f for name, f in mech.get("forces", {}).items()
+                      if (cf.case.loads is None or name in cf.case.loads)
+                      and effects.get(ELEMENT_EFFECTS.get(f.get("type", ""), ""), True)}
+    if not effects.get("contact", True):
+        mech["contacts"] = {}
+    return mech
+
+
 def used_parameters(cf: CaseFile) -> set[str]:
-    """Parameters of a case named in an expression of the case or of its mechanism."""
+    """Parameters of a case named in an expression of the case or of the part of its
+    mechanism the case uses (`loads:`, `effects:`)."""
     names: set[str] = set()
-    for text in _strings([cf.case.model_dump(), cf.mechanism.model_dump()]):
+    for text in _strings([cf.case.model_dump(), _mechanism_in_use(cf)]):
         try:
             names |= parse(text).names()
         except ExpressionError:   # a plain name or text, not an expression
