@@ -71,7 +71,8 @@ def check_mechanism_file(path: Path | str) -> list[str]:
     mf = load_mechanism(path)
     check = ml.inspect_mechanism(build_mechanism(mf))
     lines = [f"{Path(path).name}: mechanism with {check.bodies} bodies, {check.equations} "
-             f"constraint equations, {check.degrees_of_freedom} degrees of freedom"]
+             f"constraint equations, {check.degrees_of_freedom} "
+             f"degree{'' if check.degrees_of_freedom == 1 else 's'} of freedom"]
     if not check.assembled:
         lines.append("  the design position does not satisfy every joint (assembly will move "
                      "the bodies)")
