@@ -96,3 +96,5 @@ def test_lifting_handle_work_is_the_lift_of_the_door():
     inner = slice(5, -5)
     expected = 124.0 * G * np.gradient(z, theta)
     assert np.allclose(ch["handle_torque.value"][inner], expected[inner], rtol=0.03)
+    # the handle force request: effort(handle) / 0.2 m grip radius
+    assert np.allclose(ch["handle_force.value"], ch["handle_torque.value"] / 0.2, rtol=1e-9)
