@@ -71,10 +71,9 @@ def solve_spec(spec: RunSpec) -> RunOutcome:
 
     analysis = "unknown"
     try:
-        cf = load_case(spec.case_path)
+        cf = load_case(spec.case_path, overrides=dict(spec.parameters))
         analysis = cf.case.analysis.type
-        cf = dataclasses.replace(cf, parameters=dict(spec.parameters),
-                                 input_sha256=spec.input_sha256)
+        cf = dataclasses.replace(cf, input_sha256=spec.input_sha256)
         return run_case(cf, abscissa=True, name=spec.name)
     except InputError as error:
         return _failed_outcome(spec, analysis, str(error))

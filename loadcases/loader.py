@@ -11,6 +11,7 @@ import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
+from collections.abc import Mapping
 from typing import Any
 
 from pydantic import BaseModel, ValidationError
@@ -19,6 +20,7 @@ from loadcases.checks import (
     check_case, check_case_alone, check_mechanism, check_set, check_set_cases, resolve_initial,
 )
 from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.parameter_refs import parameter_values, put_parameters
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import did_you_mean, validation_diagnostics
 from loadcases.source import KeyPath, Locator, SourceTree, load_yaml
@@ -69,6 +71,7 @@ class CaseFile:
     input_sha256: str
     locators: dict[str, Locator] = field(repr=False)
     warnings: tuple[Diagnostic, ...] = ()
+    parameter_refs: frozenset[str] = frozenset()  # parameters named in numeric fields
 
     def where(self, kind: str, key_path: str | KeyPath) -> tuple[str, int, int]:
         """(file, line, col) of a key of the `"case"` or the `"mechanism"` (for messages)."""
@@ -203,16 +206,28 @@ def _raw_keys(data: dict[str, Any], *sections: str) -> list[list[str]]:
     return [list(data[s]) if isinstance(data.get(s), dict) else [] for s in sections]
 
 
-def load_case(path: str | Path) -> CaseFile:
-    """Validated case with its mechanism merged; raises InputError with every problem found."""
-    case, case_locator, case_units, diagnostics = _read_model(path, CaseModel)
-    mech_locator, mech_path, inherited, found = _mechanism_source(case_locator, case_units)
+def load_case(path: str | Path, overrides: Mapping[str, float] | None = None) -> CaseFile:
+    """Validated case with its mechanism merged; raises InputError with every problem found.
+
+    `overrides` (SI) replace parameter values (a set's sweep); parameters named in numeric
+    fields are put in place before validation (loadcases.parameter_refs).
+    """
+    tree, diagnostics = _read_tree(path)
+    case_locator = Locator(tree)
+    case_units, found = _file_units(case_locator, {})
+    mech_locator, mech_path, inherited, more = _mechanism_source(case_locator, case_units)
+    diagnostics += found + more
+    mech_units: dict[str, str] = {}
+    if mech_locator is not None:
+        mech_units, found = _file_units(mech_locator, inherited)
+        diagnostics += found
+    refs = _put_parameters(case_locator, mech_locator, case_units, mech_units, overrides)
+    case, found = _validate(CaseModel, case_locator, case_units)
     diagnostics += found
     mechanism = None
     if mech_locator is not None:
-        mech_units, found = _file_units(mech_locator, inherited)
         mechanism, more = _validate(MechanismModel, mech_locator, mech_units)
-        diagnostics += found + more
+        diagnostics += more
         if mechanism is not None:
             motions, parameters = _raw_keys(case_locator.data, "motions", "parameters")
             diagnostics += check_mechanism(mechanism, mech_locator, motions, parameters)
@@ -225,10 +240,25 @@ def load_case(path: str | Path) -> CaseFile:
     contents = [Path(path).read_bytes()] + ([Path(mech_path).read_bytes()] if mech_path else [])
     return CaseFile(
         path=str(path), case=case, mechanism=mechanism, mechanism_path=mech_path,
-        parameters={**mechanism.parameters, **case.parameters},
+        parameters={**mechanism.parameters, **case.parameters, **(overrides or {})},
         input_sha256=_sha256(*contents),
         locators={"case": case_locator, "mechanism": mech_locator},
-        warnings=tuple(diagnostics))
+        warnings=tuple(diagnostics), parameter_refs=frozenset(refs))
+
+
+def _put_parameters(case_locator: Locator, mech_locator: Locator | None,
+                    case_units: dict, mech_units: dict, overrides) -> set[str]:
+    """Parameter values (mechanism, then case, then overrides) put where a numeric field
+    names a parameter, in both raw trees; returns the names so used."""
+    mech_data = mech_locator.data if mech_locator is not None else {}
+    values = parameter_values(mech_data.get("parameters") if isinstance(mech_data, dict)
+                              else None, file_units=mech_units)
+    values.update(parameter_values(case_locator.data.get("parameters"), file_units=case_units,
+                                   overrides=overrides))
+    used = put_parameters(case_locator.data, values)
+    if mech_locator is not None and mech_locator.data is not case_locator.data.get("mechanism"):
+        used |= put_parameters(mech_locator.data, values)
+    return used
 
 
 def _expand_cases(model: SetModel, locator: Locator) -> tuple[list[str], list[Diagnostic]]:

@@ -133,7 +133,7 @@ def used_parameters(cf: CaseFile) -> set[str]:
             names |= parse(text).names()
         except ExpressionError:   # a plain name or text, not an expression
             continue
-    return names & set(cf.parameters)
+    return (names | set(cf.parameter_refs)) & set(cf.parameters)
 
 
 def _case_runs(set_file: SetFile, cf: CaseFile, order: list[str],

@@ -16,7 +16,7 @@ from collections.abc import Mapping, Sequence
 from functools import lru_cache
 from typing import Any
 
-__all__ = [
+__all__ = ["SIValue", 
     "DIMENSIONS", "FILE_UNIT_KINDS", "RESERVED_NAMES", "UnitError",
     "to_si", "vector_to_si", "unit_constant", "check_unit_name",
 ]
@@ -119,6 +119,10 @@ def _file_unit(dimension: str, file_units: Mapping[str, str] | None) -> str | No
     return None
 
 
+class SIValue(float):
+    """A value already in SI (a parameter put in place of its name): no file unit applies."""
+
+
 def to_si(value: Any, dimension: str, file_units: Mapping[str, str] | None = None) -> float:
     """SI magnitude of a number or quantity text of the given dimension name.
 
@@ -129,6 +133,8 @@ def to_si(value: Any, dimension: str, file_units: Mapping[str, str] | None = Non
         raise KeyError(f"unknown dimension name {dimension!r}")
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         raise UnitError(f"expected a number or a quantity text, got {_show(value)}")
+    if isinstance(value, SIValue):
+        return float(value)
     if isinstance(value, str) and _NUMBER.match(value):
         value = float(value)
     if not isinstance(value, str):
