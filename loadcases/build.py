@@ -221,8 +221,7 @@ class _Builder:
     def analysis(self):
         a = self.case.analysis
         if a.type == "modes":
-            self.error("case", "analysis.type", f"modes analysis {NOT_YET}")
-            return None
+            return ml.Modes(time=0.0)
         if a.type == "static":
             return ml.Static(time=0.0)
         if a.end is None or a.step is None or a.step <= 0.0 or a.end <= 0.0:
@@ -342,6 +341,19 @@ def _abscissa_request(b: _Builder, requests: list, units: dict[str, str]) -> Non
     units[ABSCISSA_COLUMN] = abscissa_unit(text)
 
 
+def _modal_requests(requests: list, units: dict[str, str]):
+    """The requests a modes analysis reports (points, joint coordinates), their units (per
+    unit modal amplitude), the mode number and frequency columns, and the names dropped."""
+    kept = [r for r in requests if isinstance(r, (ml.PointKinematics, ml.JointCoordinate))]
+    dropped = [r.name for r in requests if r not in kept]
+    names = {r.name for r in kept}
+    units = {"mode.number": "", "mode.frequency": "Hz"} | {
+        c: ("m" if isinstance(next(r for r in kept if r.name == c.split(".")[0]),
+                              ml.PointKinematics) else u)
+        for c, u in units.items() if c.split(".")[0] in names}
+    return kept, units, dropped
+
+
 def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     """The mechlib model, analysis, requests and initial values of a case; InputError lists
     everything the engine cannot build. With `abscissa`, the case's `abscissa:` expression
@@ -359,6 +371,11 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     if b.problems:
         raise InputError(b.problems)
     notes = [f"{d.key}: {d.message}" for d in cf.warnings]  # validation warnings travel along
+    if isinstance(analysis, ml.Modes):
+        requests, units, dropped = _modal_requests(requests, units)
+        notes += [f"requests.{name}: no modal meaning (a modes analysis reports point "
+                  "displacements and joint coordinates of each mode): not reported"
+                  for name in dropped]
     if events and not isinstance(analysis, ml.Dynamic):
         # a mechanism serves static and dynamic cases alike: its events wait for a dynamic one
         notes.append(f"events ({', '.join(e.name for e in events)}) are simulated in dynamic "

@@ -9,6 +9,7 @@ from mechlib.events import Action, Event
 from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
 from mechlib.elements import CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
 from mechlib.model import GROUND, Mechanism
+from mechlib.modes import Modes
 from mechlib.requests import (ElementOutput, ExpressionOutput, JointCoordinate, JointReaction,
                               MotionEffort, PointKinematics)
 from mechlib.solution import Solution, SolverFailure, SolverStats

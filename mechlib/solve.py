@@ -12,6 +12,7 @@ from mechlib.assembly import assemble
 from mechlib.check import ModelError, degrees_of_freedom, find_redundant
 from mechlib.genalpha import run_generalized_alpha
 from mechlib.kinematic import run_kinematic
+from mechlib.modes import Modes, modal_channels, normal_modes
 from mechlib.model import Mechanism
 from mechlib.radau import run_radau
 from mechlib.requests import evaluate_requests
@@ -21,7 +22,7 @@ from mechlib.system import System
 
 __all__ = ["solve", "check_model", "MechanismCheck", "inspect_mechanism"]
 
-Analysis = Kinematic | Static | QuasiStatic | Dynamic
+Analysis = Kinematic | Static | QuasiStatic | Dynamic | Modes
 
 
 def check_model(system: System, analysis: Analysis, *, redundant: str = "error") -> list[str]:
@@ -74,9 +75,23 @@ def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
                           degrees_of_freedom(jac), tuple(r.describe() for r in found), assembled)
 
 
+def _run_modes(system: System, analysis: Modes, q0, trajectory, stats) -> None:
+    """One row per mode at the equilibrium time; the shapes go to `trajectory.modes`."""
+    q, freq, shapes = normal_modes(system, q0, analysis.time, stats)
+    count = len(freq) if analysis.count is None else min(analysis.count, len(freq))
+    zeros = np.zeros(len(system.labels))
+    system.commit(system.kin(q, None, analysis.time))
+    for _ in range(count):
+        trajectory.record(analysis.time, q, np.zeros_like(q), np.zeros_like(q), zeros)
+    stats.steps += 1
+    trajectory.modes = (q, freq[:count], shapes[:count])
+
+
 def _run(system: System, analysis: Analysis, q0, qd0, trajectory, stats, progress,
          events=(), event_log=None) -> None:
-    if isinstance(analysis, Kinematic):
+    if isinstance(analysis, Modes):
+        _run_modes(system, analysis, q0, trajectory, stats)
+    elif isinstance(analysis, Kinematic):
         run_kinematic(system, analysis, q0, qd0, trajectory, stats, progress)
     elif isinstance(analysis, Static):
         run_static(system, analysis, q0, trajectory, stats, progress)
@@ -105,6 +120,8 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     event_log: list = []
     status, message = "ok", "finished"
     start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
+    if isinstance(analysis, Modes) and events:
+        events = ()  # nothing moves: events have nothing to watch
     try:
         assembled = assemble(system, start, initial)
         warnings += assembled.notes
@@ -118,7 +135,11 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
             raise
         status, message = "failed", str(failure)
     try:
-        channels = evaluate_requests(system, trajectory, requests) if len(trajectory) else {}
+        if isinstance(analysis, Modes) and len(trajectory):
+            channels = modal_channels(system, *trajectory.modes[:1], analysis.time,
+                                      *trajectory.modes[1:], requests)
+        else:
+            channels = evaluate_requests(system, trajectory, requests) if len(trajectory) else {}
     except SolverFailure as failure:  # a request that cannot be evaluated (expression error)
         if throw:
             raise

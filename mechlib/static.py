@@ -55,7 +55,12 @@ def equilibrium(system: System, q: np.ndarray, lam: np.ndarray | None, t: float,
     q, its = solve_positions(system, q, t)
     stats.newton_iterations += its
     m = len(system.labels)
-    lam = np.zeros(m) if lam is None or len(lam) != m else lam
+    if lam is None or len(lam) != m:
+        # multipliers balancing the loads at the guess (least squares): the constraint
+        # forces then carry their geometric stiffness (a hanging pendulum) from the start
+        k = system.kin(q, None, t)
+        lam, *_ = np.linalg.lstsq(system.phi_q(k).T, system.forces(k, inertia=False),
+                                  rcond=None)
     res, jac, force = _residual(system, q, lam, t)
     scale = _scales(system, system.forces(system.kin(q, None, t), inertia=False))
     for _ in range(_MAX_NEWTON):
