@@ -1,6 +1,7 @@
 # Developer entry points. Needs only Python 3.11 (`python3`) on a fresh machine.
 #   make demo   install into .venv (if needed) and run the slider-crank verification case
 #   make test   install with the test extra (if needed) and run the test suite
+#   make bench  the speed comparison with Exudyn (the test extra installs Exudyn)
 PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
@@ -11,7 +12,7 @@ DEMO_CASE ?= loadcases/library/verification/slider_crank.case.yaml
 DEMO_OUT ?= results
 PYTEST_ARGS ?= -n 2
 
-.PHONY: demo test install clean
+.PHONY: demo test bench install clean
 
 demo: $(STAMP)
 	$(BIN)/loads run $(DEMO_CASE) -o $(DEMO_OUT) --xlsx
@@ -19,6 +20,9 @@ demo: $(STAMP)
 
 test: $(TEST_STAMP)
 	$(BIN)/python -m pytest $(PYTEST_ARGS)
+
+bench: $(TEST_STAMP)
+	$(BIN)/loads bench
 
 install: $(STAMP)
 
