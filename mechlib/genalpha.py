@@ -61,17 +61,17 @@ class Coefficients:
         return abs(self.beta - 0.5 * self.gamma + 1.0 / 12.0)
 
 
-def consistent_state(system: System, q, qd, t: float):
-    """(qd, qdd, lam): qd projected onto phi_q qd = nu (mass-weighted), then qdd and lam
-    from [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma]: the reactions of the
-    equations of motion at that state, free of integrator transients."""
+def consistent_state(system: System, q, qd, t: float, *, project: bool = True):
+    """(qd, qdd, lam): with `project`, qd projected onto phi_q qd = nu (mass-weighted);
+    then qdd and lam from [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma]: the
+    reactions of the equations of motion at that state, free of integrator transients."""
     k = system.kin(q, qd, t)
     jac = system.phi_q(k)
     lu = factor_saddle(system.mass(k), jac, system.saddle_pattern())
     if lu is None:
         raise singular_failure(system, jac, t, "dynamic analysis failed")
     drift = system.nu(k) - jac @ qd
-    if np.abs(drift).max(initial=0.0) > 0.0:
+    if project and np.abs(drift).max(initial=0.0) > 0.0:
         qd = qd + solve_factored(lu, np.concatenate([np.zeros(system.nq), drift]))[:system.nq]
         k = system.kin(q, qd, t)
     sol = solve_factored(lu, np.concatenate([system.forces(k), system.gamma(k)]))
@@ -80,13 +80,8 @@ def consistent_state(system: System, q, qd, t: float):
 
 def consistent_accelerations(system: System, q, qd, t: float):
     """(qdd, lam) at the state (q, qd) without touching qd (see `consistent_state`)."""
-    k = system.kin(q, qd, t)
-    jac = system.phi_q(k)
-    lu = factor_saddle(system.mass(k), jac, system.saddle_pattern())
-    if lu is None:
-        raise singular_failure(system, jac, t, "initial accelerations failed")
-    sol = solve_factored(lu, np.concatenate([system.forces(k), system.gamma(k)]))
-    return sol[:system.nq], sol[system.nq:]
+    _, qdd, lam = consistent_state(system, q, qd, t, project=False)
+    return qdd, lam
 
 
 class _Scales:
