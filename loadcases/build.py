@@ -376,10 +376,10 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
         notes += [f"requests.{name}: no modal meaning (a modes analysis reports point "
                   "displacements and joint coordinates of each mode): not reported"
                   for name in dropped]
-    if events and not isinstance(analysis, ml.Dynamic):
-        # a mechanism serves static and dynamic cases alike: its events wait for a dynamic one
-        notes.append(f"events ({', '.join(e.name for e in events)}) are simulated in dynamic "
-                     f"analyses only: not active in this {analysis.name} analysis")
+    if events and isinstance(analysis, (ml.Static, ml.Modes)):
+        # a mechanism serves static and dynamic cases alike: its events wait for one in time
+        notes.append(f"events ({', '.join(e.name for e in events)}) need an analysis in "
+                     f"time: not active in this {analysis.name} analysis")
         events = []
     return BuiltRun(mechanism, analysis, requests, initial, cf.case.analysis.redundant, units,
                     notes, events)

@@ -16,7 +16,7 @@ from typing import Callable
 from mechlib.solution import EventRecord
 from mechlib.view import StateView
 
-__all__ = ["Action", "Event", "EventMonitor", "locate", "apply_actions",
+__all__ = ["Action", "Event", "EventMonitor", "locate", "first_events", "fire", "apply_actions",
            "EVENT_TIME_TOLERANCE"]
 
 EVENT_TIME_TOLERANCE = 1e-9  # s
@@ -88,6 +88,23 @@ def locate(g0: float, g1: float, t0: float, t1: float, g_at: Callable[[float], f
     return hi
 
 
+def first_events(monitor: EventMonitor, t0: float, t1: float, view1: StateView,
+                 view_at: Callable[[float], StateView]) -> tuple[float, list[Event]] | None:
+    """The earliest of the armed events that fire over the step t0 -> t1 and their time, or
+    None; `view1` is the state at t1 and `view_at(t)` re-solves the step to end at t."""
+    fired = monitor.crossed(t1, view1)
+    if not fired:
+        return None
+    first = {}
+    for e in fired:
+        def g_at(t, e=e):
+            return float(e.condition(t, view_at(t)))
+        first[e.name] = locate(monitor.values[e.name], float(e.condition(t1, view1)), t0, t1,
+                               g_at)
+    t_e = min(first.values())
+    return t_e, [e for e in fired if first[e.name] - t_e <= EVENT_TIME_TOLERANCE]
+
+
 def apply_actions(system, event: Event, k) -> tuple[EventRecord, bool]:
     """Carry out an event's actions on the compiled system at the state `k` (its time is
     the event's); returns (record, stop requested)."""
@@ -102,3 +119,16 @@ def apply_actions(system, event: Event, k) -> tuple[EventRecord, bool]:
         elif action.kind == "lock":
             system.lock(action.target, k)
     return EventRecord(event.name, k.t, tuple(a.describe() for a in event.actions)), stop
+
+
+def fire(system, monitor: EventMonitor, events: list[Event], k, log: list | None) -> bool:
+    """Carry out `events` (fired together at state `k`), log them, disarm them; True when
+    one of them stops the analysis."""
+    stop = False
+    for e in events:
+        record, stops = apply_actions(system, e, k)
+        if log is not None:
+            log.append(record)
+        stop = stop or stops
+    monitor.fired(events)
+    return stop

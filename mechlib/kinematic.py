@@ -12,6 +12,7 @@ import numpy as np
 
 from mechlib.analysis import Kinematic, Trajectory, output_times
 from mechlib.assembly import solve_positions
+from mechlib.events import EventMonitor, fire, first_events
 from mechlib.linalg import factor, singular_failure, solve_factored
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
@@ -51,17 +52,43 @@ def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: Solver
 
 def run_kinematic(system: System, spec: Kinematic, q0: np.ndarray, qd0: np.ndarray,
                   trajectory: Trajectory, stats: SolverStats,
-                  progress: Callable[[float, float], None] | None = None) -> None:
-    """Fill `trajectory` at the output times; SolverFailure leaves what was computed."""
+                  progress: Callable[[float, float], None] | None = None,
+                  events=(), event_log: list | None = None) -> None:
+    """Fill `trajectory` at the output times (and at the events, located between them and
+    logged in `event_log`); SolverFailure leaves what was computed."""
+    monitor = EventMonitor(events)
     state = (q0, qd0, np.zeros_like(q0))
     t_prev = spec.start
     for t in output_times(spec.start, spec.end, spec.step):
-        state, lam = _advance(system, state, t_prev, t, stats)
+        new, lam = _advance(system, state, t_prev, t, stats)
+        while monitor.armed and t > t_prev:
+            hit = first_events(monitor, t_prev, t, _view(system, t, new, lam),
+                               lambda tt: _view(system, tt,
+                                                *_advance(system, state, t_prev, tt, stats)))
+            if hit is None:
+                break
+            t_e, fired = hit
+            at, lam_e = _advance(system, state, t_prev, t_e, stats)
+            trajectory.record(t_e, *at, lam_e)
+            if fire(system, monitor, fired, system.kin(at[0], at[1], t_e), event_log):
+                return
+            at, lam_e = _advance(system, at, t_e, t_e, stats)  # the changed model at t_e
+            monitor.arm(t_e, _view(system, t_e, at, lam_e))
+            state, t_prev = at, t_e
+            new, lam = _advance(system, state, t_prev, t, stats)
+        state = new
         trajectory.record(t, *state, lam)
+        if monitor.armed:
+            monitor.arm(t, _view(system, t, state, lam))
         stats.steps += 1
         t_prev = t
         if progress:
             progress(t, spec.end)
+
+
+def _view(system: System, t: float, state, lam: np.ndarray):
+    q, qd, _ = state
+    return system.view(system.kin(q, qd, t), lam)
 
 
 def _advance(system: System, state, t0: float, t1: float, stats: SolverStats, depth: int = 0):

@@ -92,11 +92,13 @@ def _run(system: System, analysis: Analysis, q0, qd0, trajectory, stats, progres
     if isinstance(analysis, Modes):
         _run_modes(system, analysis, q0, trajectory, stats)
     elif isinstance(analysis, Kinematic):
-        run_kinematic(system, analysis, q0, qd0, trajectory, stats, progress)
+        run_kinematic(system, analysis, q0, qd0, trajectory, stats, progress, events,
+                      event_log)
     elif isinstance(analysis, Static):
         run_static(system, analysis, q0, trajectory, stats, progress)
     elif isinstance(analysis, QuasiStatic):
-        run_quasi_static(system, analysis, q0, trajectory, stats, progress)
+        run_quasi_static(system, analysis, q0, trajectory, stats, progress, events,
+                         event_log)
     elif analysis.integrator == "radau":
         run_radau(system, analysis, q0, qd0, trajectory, stats, progress)
     else:
@@ -126,8 +128,12 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
         assembled = assemble(system, start, initial)
         warnings += assembled.notes
         stats.newton_iterations += assembled.newton_iterations
-        if events and not isinstance(analysis, Dynamic):
-            raise ModelError([("", "events are simulated in dynamic analyses only (for now)")])
+        if events and isinstance(analysis, Static):
+            raise ModelError([("", "events need an analysis in time (a static analysis "
+                                   "solves one instant)")])
+        if events and isinstance(analysis, Dynamic) and analysis.integrator == "radau":
+            raise ModelError([("", "events are located by the generalized-alpha integrator: "
+                                   "drop 'integrator: radau' or the events")])
         _run(system, analysis, assembled.q, assembled.qd, trajectory, stats, progress,
              events, event_log)
     except SolverFailure as failure:

@@ -13,6 +13,7 @@ import numpy as np
 
 from mechlib.analysis import QuasiStatic, Static, Trajectory, output_times
 from mechlib.assembly import solve_accelerations, solve_positions, solve_velocities
+from mechlib.events import EventMonitor, fire, first_events
 from mechlib.linalg import augmented, factor, singular_failure, solve_factored
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
@@ -111,18 +112,45 @@ def run_static(system: System, spec: Static, q0: np.ndarray, trajectory: Traject
 
 def run_quasi_static(system: System, spec: QuasiStatic, q0: np.ndarray,
                      trajectory: Trajectory, stats: SolverStats,
-                     progress: Callable | None = None) -> None:
-    """Equilibria at the output times; a failed step is retried in up to 2^10 sub-steps."""
+                     progress: Callable | None = None, events=(),
+                     event_log: list | None = None) -> None:
+    """Equilibria at the output times (and at the events, located between them and logged
+    in `event_log`); a failed step is retried in up to 2^10 sub-steps."""
+    monitor = EventMonitor(events)
     q, lam, t_prev = q0, None, spec.start
     q_prev = q0
     for t in output_times(spec.start, spec.end, spec.step):
-        q_new, lam = _continue(system, q, q_prev, lam, t_prev, t, stats)
-        q_prev, q = q, q_new
+        q_new, lam_new = _continue(system, q, q_prev, lam, t_prev, t, stats)
+        while monitor.armed and t > t_prev:
+            hit = first_events(monitor, t_prev, t, _view(system, q_new, lam_new, t),
+                               lambda tt: _view(system, *_continue(system, q, q, lam, t_prev,
+                                                                   tt, stats), tt))
+            if hit is None:
+                break
+            t_e, fired = hit
+            q_e, lam_e = _continue(system, q, q, lam, t_prev, t_e, stats)
+            _record(system, trajectory, q_e, lam_e, t_e)
+            if fire(system, monitor, fired, system.kin(q_e, None, t_e), event_log):
+                return
+            # the changed model has other multipliers: they restart from the loads
+            q_e, lam_e = equilibrium(system, q_e, None, t_e, stats)
+            monitor.arm(t_e, _view(system, q_e, lam_e, t_e))
+            q_prev, q, lam, t_prev = q_e, q_e, lam_e, t_e
+            q_new, lam_new = _continue(system, q, q_prev, lam, t_prev, t, stats)
+        q_prev, q, lam = q, q_new, lam_new
         _record(system, trajectory, q, lam, t)
+        if monitor.armed:
+            monitor.arm(t, _view(system, q, lam, t))
         stats.steps += 1
         t_prev = t
         if progress:
             progress(t, spec.end)
+
+
+def _view(system: System, q: np.ndarray, lam: np.ndarray, t: float):
+    """The state view of an equilibrium (velocities from the motions)."""
+    k = system.kin(q, None, t)
+    return system.view(system.kin(q, solve_velocities(system, k), t), lam)
 
 
 def _continue(system, q, q_prev, lam, t0: float, t1: float, stats: SolverStats, depth: int = 0):

@@ -1,5 +1,5 @@
 """Events from YAML: in the mechanism or in the case, refused targets named at their key,
-and a mechanism's events waiting (with a warning) in non-dynamic analyses."""
+and a mechanism's events waiting (with a warning) in static analyses."""
 from __future__ import annotations
 
 import math
@@ -72,4 +72,4 @@ def test_mechanism_events_wait_in_a_static_case(tmp_path: Path) -> None:
     outcome, = run_file(path, output_dir=tmp_path / "out")
     assert outcome.solution.ok
     assert outcome.solution.channels["angle.value"][0] == pytest.approx(math.pi, abs=1e-8)
-    assert any("simulated in dynamic analyses only" in w for w in outcome.warnings)
+    assert any("need an analysis in time" in w for w in outcome.warnings)

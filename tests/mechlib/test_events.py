@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 import mechlib as ml
+from tests.mechlib._models import Ramp
 
 I_HINGE = 0.5  # kg*m^2 about the hinge axis
 
@@ -104,9 +105,45 @@ def test_deactivated_force_reports_zero_and_stop_ends_the_run() -> None:
     assert sol.channels["w.value"][-1] == pytest.approx(0.2 / I_HINGE, rel=1e-6)
 
 
-def test_events_outside_dynamic_analyses_are_refused() -> None:
-    """Events are simulated in dynamic analyses; elsewhere the model is refused by name."""
+def test_events_in_a_static_analysis_are_refused() -> None:
+    """A static analysis solves one instant: an event there is refused by name."""
     mech = _panel()
     ev = ml.Event("e", lambda t, view: t - 0.1, (ml.Action("stop"),))
-    with pytest.raises(ml.ModelError, match="events are simulated in dynamic"):
+    with pytest.raises(ml.ModelError, match="events need an analysis in time"):
         ml.solve(mech, ml.Static(), events=[ev])
+
+
+def _driven_latch(rate: float = 1.0, k: float = 3.0) -> ml.Mechanism:
+    """The panel turned at `rate` (rad/s) by a motion; a latch spring (k N*m/rad about
+    0.55 rad) off at the start."""
+    mech = _panel()
+    mech.add_motion("drive", joint="hinge", function=Ramp(0.0, rate))
+    mech.add_force(ml.TorsionSpring("latch", "hinge", stiffness=k, angle0=0.55, active=False))
+    return mech
+
+
+@pytest.mark.parametrize("analysis", [ml.QuasiStatic(end=1.5, step=0.1),
+                                      ml.Kinematic(end=1.5, step=0.1)],
+                         ids=["quasi-static", "kinematic"])
+def test_events_between_output_times(analysis) -> None:
+    """Quasi-static and kinematic analyses locate an event between two output times (here
+    at the exact time 0.55 s, between 0.5 and 0.6) within 1e-6 s, record the state there,
+    and carry on with the changed model: the drive torque is 0 before the latch spring is
+    switched on and k (angle - 0.55) = 3 (t - 0.55) N*m after (exact; quasi-static has no
+    inertia, the kinematic panel turns at constant rate); a stop at t = 1.234 s ends the
+    run there."""
+    on = ml.Event("latch", lambda t, view: view.angle("hinge") - 0.55,
+                  (ml.Action("activate", "latch"),))
+    stop = ml.Event("end", lambda t, view: t - 1.234, (ml.Action("stop"),))
+    sol = ml.solve(_driven_latch(), analysis, events=[on, stop],
+                   requests=[ml.MotionEffort("m", "drive")])
+    assert sol.ok
+    assert [e.name for e in sol.events] == ["latch", "end"]
+    assert abs(sol.events[0].time - 0.55) < 1e-6
+    assert np.any(np.abs(sol.time - 0.55) < 1e-6)  # recorded at the event
+    assert sol.time[-1] == pytest.approx(1.234, abs=1e-6)
+    torque = sol.channels["m.value"]
+    before, after = sol.time < 0.55 - 1e-6, sol.time > 0.55 + 1e-6
+    assert np.allclose(torque[before], 0.0, atol=1e-9)
+    # the motion holds the spring: its effort is the spring moment (sign of the reaction)
+    assert np.allclose(np.abs(torque[after]), 3.0 * (sol.time[after] - 0.55), atol=1e-7)
