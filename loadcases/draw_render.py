@@ -31,6 +31,7 @@ _SNAP_COS = np.cos(np.radians(15.0))
 _ZIGZAG_TEETH = 8
 _MAX_FRAMES = 60
 _GIF_FPS = 12
+_LABEL_ITERATIONS = 200  # adjustText passes per picture (a count, not a time: reproducible)
 _COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown",
             "tab:pink", "tab:olive", "tab:cyan")
 
@@ -77,11 +78,12 @@ def _outline(pts: np.ndarray) -> np.ndarray:
     return np.vstack([ring, ring[:1]])
 
 
-def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> None:
-    """Draw the mechanism at output index k on the axes."""
+def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> list:
+    """Draw the mechanism at output index k on the axes; returns the name labels."""
     from matplotlib.patches import Circle
 
     sk = traj.skeleton
+    texts = []
     at = {m: basis @ traj.positions[m][k] for m in sk.markers}
     for n, (body, markers) in enumerate(sk.bodies.items()):
         if body == "ground":
@@ -91,7 +93,7 @@ def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> None:
         ax.plot(ring[:, 0], ring[:, 1], "-", color=colour, lw=2.0, alpha=0.85)
         ax.fill(ring[:, 0], ring[:, 1], color=colour, alpha=0.08)
         c = np.array([at[m] for m in markers]).mean(axis=0)
-        ax.annotate(body, c, fontsize=7, color=colour, ha="center", style="italic")
+        texts.append(ax.text(*c, body, fontsize=7, color=colour, ha="center", style="italic"))
     for name, kind, a, b in sk.links:
         pa, pb = at[a], at[b]
         if kind == "spring":
@@ -101,13 +103,12 @@ def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> None:
             ax.plot([pa[0], pb[0]], [pa[1], pb[1]], "--", color="black", lw=1.2)
         else:
             ax.plot([pa[0], pb[0]], [pa[1], pb[1]], "-", color="dimgray", lw=5, alpha=0.35)
-        ax.annotate(name, (pa + pb) / 2, fontsize=7, color="darkgreen")
+        texts.append(ax.text(*((pa + pb) / 2), name, fontsize=7, color="darkgreen"))
     for name, kind, markers, radius in sk.contacts:
         pts = np.array([at[m] for m in markers])
         if kind == "circle":
             ax.add_patch(Circle(pts[0], radius, fill=False, color="crimson", lw=1.2))
-            ax.annotate(name, pts[0], xytext=(4, -9), textcoords="offset points",
-                        fontsize=7, color="crimson")
+            texts.append(ax.text(*pts[0], name, fontsize=7, color="crimson"))
         else:
             closed = np.vstack([pts, pts[:1]]) if kind == "plane" else pts
             ax.plot(closed[:, 0], closed[:, 1], "-", color="crimson", lw=1.5)
@@ -118,16 +119,33 @@ def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> None:
         ax.plot(*at[marker], "o", mfc="white", mec="black", ms=6)
         labels.setdefault(tuple(np.round(at[marker], 4)), []).append(name)
     for place, names in labels.items():
-        ax.annotate(", ".join(names), place, xytext=(4, 4), textcoords="offset points",
-                    fontsize=8)
+        texts.append(ax.text(*place, ", ".join(names), fontsize=8))
+    return texts
+
+
+def _spread_labels(ax, texts: list) -> None:
+    """Move the name labels apart so that none hides another (adjustText), each joined to
+    its anchor by a thin line when moved."""
+    from adjustText import adjust_text
+
+    if len(texts) > 1:
+        adjust_text(texts, ax=ax, iter_lim=_LABEL_ITERATIONS, ensure_inside_axes=True,
+                    prevent_crossings=False,
+                    arrowprops={"arrowstyle": "-", "color": "gray", "lw": 0.4})
 
 
 def _limits(traj: Trajectory, basis: np.ndarray) -> tuple[tuple[float, float], tuple[float, float]]:
-    """Axis limits holding every marker over the whole run, with a margin."""
+    """Axis limits holding every marker over the whole run, with a margin, widened to the
+    shape of the picture (room for the labels of a slender mechanism)."""
     cloud = np.concatenate([p @ basis.T for p in traj.positions.values() if len(p)])
     low, high = cloud.min(axis=0), cloud.max(axis=0)
     pad = 0.08 * max(float(np.max(high - low)), 1e-3)
-    return (low[0] - pad, high[0] + pad), (low[1] - pad, high[1] + pad)
+    low, high = low - pad, high + pad
+    span, centre = high - low, (low + high) / 2
+    shape = FIGURE_SIZE[0] / FIGURE_SIZE[1]  # width / height of the picture
+    span = np.maximum(span, [span[1] * shape, span[0] / shape])
+    return ((centre[0] - span[0] / 2, centre[0] + span[0] / 2),
+            (centre[1] - span[1] / 2, centre[1] + span[1] / 2))
 
 
 def _figure(traj: Trajectory, view: str):
@@ -141,14 +159,15 @@ def _figure(traj: Trajectory, view: str):
 
     def render(k: int) -> None:
         ax.clear()
-        _draw_frame(ax, traj, k, basis)
         ax.set_xlim(*xlim)
         ax.set_ylim(*ylim)
         ax.set_aspect("equal", adjustable="box")
+        texts = _draw_frame(ax, traj, k, basis)
         ax.set_xlabel(labels[0])
         ax.set_ylabel(labels[1])
         ax.grid(True, lw=0.3, alpha=0.5)
         ax.set_title(f"{traj.case}   t = {traj.time[k]:.4g} s", fontsize=10)
+        _spread_labels(ax, texts)
     return fig, render
 
 
