@@ -224,29 +224,33 @@ def envelope(
 @guarded
 def bench(
     quick: Annotated[bool, typer.Option("--quick", help="A short subset of the suite.")] = False,
+    door: Annotated[bool, typer.Option("--door", help="Time the door's whole load-case set "
+                                       "instead (benchmarks/door_set.py).")] = False,
 ) -> int:
-    """Run the benchmark suite (benchmarks/suite.py of a source checkout)."""
+    """Run the benchmark suite against Exudyn (benchmarks/suite.py of a source checkout), or
+    with --door the door set's wall time."""
     suite = _find_bench_suite()
     if suite is None:
         raise fail("benchmarks/suite.py not found: `loads bench` needs a source checkout "
                    "(run it from the repository root)")
-    namespace = _load_suite(suite)
+    module = "door_set" if door else "suite"
+    namespace = _load_bench_module(suite.with_name(f"{module}.py"))
     entry = namespace.get("main")
     if not callable(entry):
-        raise fail(f"{suite}: no main(argv) function")
-    result = entry(["--quick"] if quick else [])
+        raise fail(f"{suite.with_name(module + '.py')}: no main(argv) function")
+    result = entry(["--quick"] if quick and not door else [])
     return int(result or 0)
 
 
-def _load_suite(suite: Path) -> dict[str, Any]:
-    """Execute the suite's module; as `benchmarks.suite` when `benchmarks/` is a package
+def _load_bench_module(path: Path) -> dict[str, Any]:
+    """Execute a benchmark module; as `benchmarks.<name>` when `benchmarks/` is a package
     (so its relative imports work), with the checkout root first on `sys.path`."""
-    added = [str(suite.parent.parent), str(suite.parent)]
+    added = [str(path.parent.parent), str(path.parent)]
     sys.path[:0] = added
     try:
-        if (suite.parent / "__init__.py").is_file():
-            return runpy.run_module(f"{suite.parent.name}.suite", run_name="loads_bench_suite")
-        return runpy.run_path(str(suite), run_name="loads_bench_suite")
+        if (path.parent / "__init__.py").is_file():
+            return runpy.run_module(f"{path.parent.name}.{path.stem}", run_name="loads_bench")
+        return runpy.run_path(str(path), run_name="loads_bench")
     finally:
         for entry in added:
             sys.path.remove(entry)

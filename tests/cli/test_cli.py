@@ -215,6 +215,10 @@ def test_bench_runs_suite_main_or_reports_missing(tmp_path: Path,
     monkeypatch.setattr(cli_app, "_find_bench_suite", lambda: suite)
     result = runner.invoke(app, ["bench", "--quick"])
     assert result.exit_code == 0 and "suite ['--quick']" in result.stdout
+    (suite.parent / "door_set.py").write_text("def main(argv):\n    print('door', argv)\n"
+                                              "    return 1\n")
+    result = runner.invoke(app, ["bench", "--door"])
+    assert result.exit_code == 1 and "door []" in result.stdout
 
 
 def test_bench_suite_in_a_package_may_use_relative_imports(tmp_path: Path,

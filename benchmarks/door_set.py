@@ -1,0 +1,66 @@
+"""Speed of the door's whole load-case set (issue 5: under one minute on 2 cores).
+
+Runs `loads run loadcases/library/door/door.set.yaml --jobs N --force` in a fresh output
+folder, twice: `cold` (numba compiles in every worker unless its disk cache is warm) and
+`warm`; reports wall seconds, the runs, their solver CPU seconds (from the summaries) and the
+machine. No peer comparison: Exudyn has no load-case sets, envelopes or workbooks.
+
+    python -m benchmarks.door_set [--jobs 2] [--json FILE]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+DOOR_SET = ROOT / "loadcases" / "library" / "door" / "door.set.yaml"
+LIMIT = 60.0  # s: the issue's target for the whole set on 2 cores
+
+
+def run_set(jobs: int) -> dict[str, Any]:
+    """One run of the door set: wall s, runs, failures, solver CPU s per run."""
+    loads = Path(sys.executable).with_name("loads")
+    with tempfile.TemporaryDirectory() as out:
+        start = time.perf_counter()
+        done = subprocess.run([str(loads), "run", str(DOOR_SET), "--jobs", str(jobs),
+                               "--force", "-o", out], capture_output=True, text=True)
+        wall = time.perf_counter() - start
+        summaries = sorted(Path(out).rglob("*.summary.json"))
+        cpu = {}
+        for path in summaries:
+            summary = json.loads(path.read_text(encoding="utf-8"))
+            cpu[summary.get("case", path.stem)] = summary.get("stats", {}).get("cpu_seconds")
+        return {"wall_s": round(wall, 2), "exit": done.returncode, "runs": len(summaries),
+                "cpu_s": cpu, "workbook": any(Path(out).rglob("*.xlsx")),
+                "stderr_tail": done.stderr.strip().splitlines()[-3:]}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--json", type=Path, default=None)
+    args = parser.parse_args(argv)
+    from benchmarks.suite import machine_info
+
+    result = {"machine": machine_info(), "jobs": args.jobs,
+              "cold": run_set(args.jobs), "warm": run_set(args.jobs), "limit_s": LIMIT}
+    for label in ("cold", "warm"):
+        r = result[label]
+        print(f"door set, {label}: {r['wall_s']:.1f} s wall for {r['runs']} runs "
+              f"(--jobs {args.jobs}), exit {r['exit']}, workbook {'yes' if r['workbook'] else 'no'}")
+    slowest = sorted(result["warm"]["cpu_s"].items(), key=lambda kv: -(kv[1] or 0.0))[:5]
+    print("slowest runs (solver cpu s):", ", ".join(f"{k} {v:.1f}" for k, v in slowest if v))
+    if args.json:
+        args.json.write_text(json.dumps(result, indent=2), encoding="utf-8")
+    ok = all(result[k]["exit"] == 0 for k in ("cold", "warm"))
+    return 0 if ok and result["warm"]["wall_s"] <= LIMIT else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
