@@ -17,6 +17,7 @@ from loadcases.build_events import build_events
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
 from loadcases.loader import CaseFile
+from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 from mechlib.tables import Table, TableRangeError
 
 __all__ = ["BuiltRun", "build_run", "build_mechanism", "ExpressionMotion", "ABSCISSA_REQUEST",
@@ -24,10 +25,8 @@ __all__ = ["BuiltRun", "build_run", "build_mechanism", "ExpressionMotion", "ABSC
 
 NOT_YET = "is not simulated by this version of loads yet"
 _EFFECT_OF = ELEMENT_EFFECTS  # force element type -> effect switching it
-_MEASURE_JOINTS = {"angle": ("revolute", "cylindrical", "screw"),
-                   "omega": ("revolute", "cylindrical", "screw"),
-                   "travel": ("prismatic", "cylindrical", "screw"),
-                   "speed": ("prismatic", "cylindrical", "screw")}
+_MEASURE_JOINTS = {"angle": ROTATIONAL, "omega": ROTATIONAL,
+                   "travel": TRANSLATIONAL, "speed": TRANSLATIONAL}
 # A run of a set records the case's `abscissa:` expression as one more result column, so
 # envelopes and curves over it can be made from the saved results alone.
 ABSCISSA_REQUEST = "abscissa"

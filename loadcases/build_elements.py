@@ -15,7 +15,7 @@ __all__ = ["ELEMENT_MAKERS", "ELEMENT_EFFECTS"]
 # force element type -> the effect (case `effects:` switch) it belongs to
 ELEMENT_EFFECTS = {"joint_friction": "friction", "damper": "damping", "seal": "contact",
                    "cable_loop": "springs"}
-_ROTARY = ("revolute", "cylindrical")
+_ROTARY = ("revolute", "cylindrical", "inline")  # dampers: joints with an angle, screw aside
 
 
 def _joint(builder, name: str, key: str, joint: str, types: tuple[str, ...]):

@@ -15,8 +15,12 @@ from mechlib.model import Joint
 __all__ = ["Row", "JointFrame", "joint_frame", "expand_joint", "direction_name",
            "ROTATIONAL", "TRANSLATIONAL"]
 
-ROTATIONAL = ("revolute", "cylindrical", "screw")
-TRANSLATIONAL = ("prismatic", "cylindrical", "screw")
+# joints with an angle / a travel coordinate about / along their axis. An inline joint
+# (point on a line) leaves 3 rotations and the slide free: its angle is the rotation about
+# its axis, exact when its bodies turn about that axis only (a hinge line built from
+# spherical + inline), else the projected angle of body 1's joint triad
+ROTATIONAL = ("revolute", "cylindrical", "screw", "inline")
+TRANSLATIONAL = ("prismatic", "cylindrical", "screw", "inline")
 _ALIGNED = 1.0 - 1e-9
 
 

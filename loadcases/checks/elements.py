@@ -6,11 +6,12 @@ import numpy as np
 from loadcases.diagnostics import Diagnostic
 from loadcases.schema import MechanismModel
 from loadcases.source import Locator
+from mechlib.joints import ROTATIONAL
 
 __all__ = ["check_elements"]
 
 _PIN_JOINTS = ("revolute", "cylindrical", "spherical")
-_ROTARY_JOINTS = ("revolute", "cylindrical", "screw")
+_ROTARY_JOINTS = ROTATIONAL
 
 
 def _joint_elements(model: MechanismModel, at: Locator) -> list[Diagnostic]:

@@ -5,13 +5,13 @@ from loadcases.checks.common import Names, unknown
 from loadcases.diagnostics import Diagnostic
 from loadcases.schema import COORDINATE_DIMENSION, CaseModel, MechanismModel
 from loadcases.source import Locator
+from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 
 __all__ = ["check_requests"]
 
 _ANGLE_QUANTITIES = ("angle", "omega", "alpha")
 _TRAVEL_QUANTITIES = ("travel", "speed")
-_ANGLE_JOINTS = ("revolute", "cylindrical", "screw")
-_TRAVEL_JOINTS = ("prismatic", "cylindrical", "screw")
+_ANGLE_JOINTS, _TRAVEL_JOINTS = ROTATIONAL, TRANSLATIONAL
 _CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
 _TARGETS = {"joint": "joints", "motion": "motions", "point": "points", "force": "forces",
             "contact": "contacts"}

@@ -146,7 +146,7 @@ JOINT_TYPES = ("fixed", "revolute", "spherical", "cylindrical", "prismatic", "un
                "orientation", "coupler", "gear", "point_on_curve")
 # Dimension of the single coordinate of a joint type (motions, `initial:` values).
 COORDINATE_DIMENSION = {"revolute": "angle", "screw": "angle", "cylindrical": "angle",
-                        "prismatic": "length"}
+                        "inline": "angle", "prismatic": "length"}
 
 _ACTIONS = ("activate", "deactivate", "release", "lock", "stop")
 

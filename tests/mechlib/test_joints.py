@@ -196,3 +196,36 @@ def test_large_initial_angle_assembles_without_wrapping() -> None:
                             requests=[mechlib.JointCoordinate("a", "hinge", "angle")])
         assert not sol.warnings
         assert sol.channels["a.value"][0] == pytest.approx(value, abs=1e-9)
+
+
+def test_hinge_line_of_spherical_and_inline_has_the_revolute_angle() -> None:
+    """A bar hinged by a spherical joint at one end of its hinge line and an inline joint
+    (axis along the line) at the other swings exactly as on one revolute: the inline's
+    angle, omega and alpha equal the revolute's (1e-7 rad, rad/s, rad/s^2 over 1 s of a
+    pendulum swing from 60 deg; same integrator, same tolerance), and its travel stays 0."""
+    def bar(hinge: str) -> mechlib.Mechanism:
+        mech = mechlib.Mechanism(gravity=(0.0, 0.0, -9.81))
+        mech.add_body("bar", mass=2.0, cm=(0.0, 0.3, 0.0), inertia=[0.06, 0.01, 0.06])
+        if hinge == "revolute":
+            mech.add_joint("H", "revolute", bodies=("bar", "ground"), at=(-0.2, 0, 0),
+                           axis=(1, 0, 0))
+        else:
+            mech.add_joint("S", "spherical", bodies=("bar", "ground"), at=(0.2, 0, 0))
+            mech.add_joint("H", "inline", bodies=("bar", "ground"), at=(-0.2, 0, 0),
+                           axis=(1, 0, 0))
+        return mech
+
+    requests = [mechlib.JointCoordinate(q, "H", q) for q in ("angle", "omega", "alpha")]
+    runs = {}
+    for hinge in ("revolute", "inline"):
+        extra = [mechlib.JointCoordinate("travel", "H", "travel")] if hinge == "inline" else []
+        runs[hinge] = mechlib.solve(bar(hinge), mechlib.Dynamic(end=1.0, step=0.01,
+                                                                tolerance=1e-8),
+                                    initial=[mechlib.InitialValue("H", math.radians(60.0))],
+                                    requests=requests + extra)
+    rev, inl = runs["revolute"], runs["inline"]
+    assert rev.ok and inl.ok
+    assert np.ptp(rev.channels["angle.value"]) > 1.0  # it does swing
+    for q in ("angle", "omega", "alpha"):
+        assert np.allclose(inl.channels[f"{q}.value"], rev.channels[f"{q}.value"], atol=1e-7)
+    assert np.abs(inl.channels["travel.value"]).max() < 1e-12

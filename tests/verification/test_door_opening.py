@@ -29,6 +29,7 @@ def _opening(tmp_path: Path, analysis: dict, open_time: float, name: str):
     case["requests"].update({"door_cm": {"point": "door_cm", "quantity": "position"},
                              "cb_door_point": {"point": "cb_door_pt", "quantity": "position"},
                              "wire": {"force": "wire"},
+                             "hinge_joint": {"joint": "hinge_aft", "quantity": "angle"},
                              "wire_door": {"point": "wire_door", "quantity": "position"}})
     path = tmp_path / f"{name}.case.yaml"
     path.write_text(yaml.safe_dump(case), encoding="utf-8")
@@ -79,6 +80,8 @@ def test_quasi_static_cb_rod_balances_the_door_weight(tmp_path: Path) -> None:
     ch = _opening(tmp_path, {"type": "quasi-static", "end": 4.8, "step": 0.6}, 4.8, "qs")
     theta = np.degrees(ch["hinge_angle.value"])
     assert theta[0] == pytest.approx(0.0, abs=2.0) and theta[-1] == pytest.approx(102.0, abs=1.5)
+    # the inline hinge's own angle (about +x) is the hinge rotation read from the yoke top
+    assert np.allclose(-ch["hinge_joint.value"], ch["hinge_angle.value"], atol=1e-9)
     gravity, rod = _gravity_moment(ch), _rod_moment(ch) + _wire_moment(ch)
     assert np.abs(gravity).max() > 500.0  # the check has something to balance
     assert np.abs(gravity + rod).max() <= 0.02 * np.abs(gravity).max()
