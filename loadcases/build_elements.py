@@ -75,7 +75,15 @@ def _seal(builder, name: str, f) -> Any:
                    v_threshold=f.v_threshold)
 
 
+def _bushing(builder, name: str, f) -> Any:
+    damping = builder.effects.get("damping", True)  # off: the bushing is a pure spring
+    zero = (0.0, 0.0, 0.0)
+    return ml.Bushing(name, tuple(f.bodies), tuple(f.at), tuple(f.stiffness),
+                      tuple(f.torsional_stiffness), tuple(f.damping) if damping else zero,
+                      tuple(f.torsional_damping) if damping else zero)
+
+
 ELEMENT_MAKERS: dict[str, Callable[[Any, str, Any], Any]] = {
     "joint_friction": _joint_friction, "damper": _damper, "cable_loop": _cable_loop,
-    "seal": _seal,
+    "seal": _seal, "bushing": _bushing,
 }

@@ -7,7 +7,7 @@ from mechlib.assembly import InitialBodyVelocity, InitialValue
 from mechlib.check import ModelError
 from mechlib.events import Action, Event
 from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
-from mechlib.elements import CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
+from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
 from mechlib.model import GROUND, Mechanism
 from mechlib.modes import Modes
 from mechlib.requests import (ElementOutput, ExpressionOutput, JointCoordinate, JointReaction,
@@ -23,4 +23,4 @@ __all__ = ["Mechanism", "GROUND", "System", "StateView", "solve", "check_model",
            "JointReaction", "MotionEffort", "PointKinematics", "JointCoordinate",
            "ElementOutput", "ExpressionOutput", "Solution", "SolverFailure", "SolverStats",
            "ModelError", "MechanismCheck", "inspect_mechanism", "CableLoop", "JointFriction",
-           "RotationalDamper", "Seal", "TableLaw", "Event", "Action"]
+           "RotationalDamper", "Seal", "TableLaw", "Event", "Action", "Bushing"]

@@ -1,9 +1,10 @@
 """Domain force elements of the source documents: joint friction, seals, dampers, cable loops,
-and table-driven spring laws (SI units; see docs/elements.md for the equations)."""
+bushings and table-driven spring laws (SI units; see docs/elements.md for the equations)."""
+from mechlib.elements.bushing import Bushing
 from mechlib.elements.cable_loop import CableLoop
 from mechlib.elements.damper import RotationalDamper
 from mechlib.elements.friction import JointFriction
 from mechlib.elements.laws import TableLaw
 from mechlib.elements.seal import Seal
 
-__all__ = ["CableLoop", "JointFriction", "RotationalDamper", "Seal", "TableLaw"]
+__all__ = ["Bushing", "CableLoop", "JointFriction", "RotationalDamper", "Seal", "TableLaw"]
