@@ -156,7 +156,8 @@ class _Builder:
 
     def _joint(self, m: ml.Mechanism, name: str, j) -> None:
         if j.type == "point_on_curve":
-            self.error("mechanism", f"joints.{name}", f"point_on_curve joints {NOT_YET}")
+            m.add_joint(name, j.type, bodies=tuple(j.bodies), at=j.at, curve=j.curve,
+                        interpolation=j.interpolation)
             return
         keys = {k: getattr(j, k) for k in _JOINT_KEYS if getattr(j, k, None) is not None}
         bodies = tuple(getattr(j, "bodies", (ml.GROUND, ml.GROUND)))

@@ -85,11 +85,12 @@ def expand_joint(joint: Joint, s1: np.ndarray, s2: np.ndarray) -> list[Row]:
     """Primitive rows of a geometric joint; s1, s2: the joint point in body1/body2 axes (m).
 
     Coupler, gear and the screw's travel-angle relation are coordinate equations, built
-    by `mechlib.coordinates`; this returns their geometric part only (none for couplers).
+    by `mechlib.coordinates`, and a point on a curve has its own (`mechlib.curve_joint`);
+    this returns their geometric part only (none for couplers and curves).
     """
     n = joint.name
     t = joint.type
-    if t in ("coupler", "gear"):
+    if t in ("coupler", "gear", "point_on_curve"):
         return []
     if t == "spherical":
         return [_sph(n, s1, s2)]

@@ -16,7 +16,7 @@ __all__ = ["Body", "Point", "Joint", "Motion", "TimeFunction", "Mechanism", "GRO
 GROUND = "ground"
 JOINT_TYPES = ("fixed", "revolute", "spherical", "cylindrical", "prismatic", "universal",
                "planar", "screw", "inline", "inplane", "parallel", "perpendicular",
-               "orientation", "coupler", "gear")
+               "orientation", "coupler", "gear", "point_on_curve")
 
 
 class TimeFunction(Protocol):
@@ -52,7 +52,8 @@ class Joint:
 
     `axis`: revolute/cylindrical/prismatic/screw/inline/parallel; `axes`: universal
     (a1 on body1, a2 on body2) and perpendicular; `normal`: planar/inplane; `pitch` (m per
-    revolution): screw; `joints` + `ratio`: coupler/gear (coordinate of joints[1] = ratio * coordinate of joints[0]).
+    revolution): screw; `joints` + `ratio`: coupler/gear (coordinate of joints[1] = ratio * coordinate of joints[0]);
+    `curve` (points, global at design, m) + `interpolation`: point_on_curve.
     """
 
     name: str
@@ -66,6 +67,8 @@ class Joint:
     pitch: float | None = None
     joints: tuple[str, str] | None = None
     ratio: float = 1.0
+    curve: tuple[tuple[float, float, float], ...] | None = None
+    interpolation: str = "cubic"
 
 
 @dataclass(frozen=True)
@@ -115,6 +118,8 @@ class Mechanism:
             keys["at"] = _vec(keys["at"])
         if keys.get("joints") is not None:
             keys["joints"] = tuple(keys["joints"])
+        if keys.get("curve") is not None:
+            keys["curve"] = tuple(_vec(p) for p in keys["curve"])
         joint = Joint(name, type, bodies[0], bodies[1], **keys)
         self.joints[name] = joint
         return joint

@@ -12,6 +12,8 @@ import numpy as np
 
 from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
+from mechlib.curve_joint import CurveEquation, CurvePoint
+from mechlib.curves import Curve
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL, expand_joint, joint_frame
 from mechlib.kin import Kin
 from mechlib.states import ElementStates
@@ -162,11 +164,22 @@ class System:
                 a, b = j.joints
                 terms = [(-j.ratio, self._coordinate_of(a)), (1.0, self._coordinate_of(b))]
                 eqs.append(CoordinateEquation(terms, f"{j.name}: coupling {a}-{b}", j.name))
+            elif j.type == "point_on_curve":
+                eqs += self._curve_equations(j)
         for m in self.mechanism.motions.values():
             measure = self._coordinate_of(m.joint, m.coordinate)
             label = f"{m.name}: {measure.kind} of {m.joint}"
             eqs.append(CoordinateEquation([(1.0, measure)], label, m.name, m.function))
         return eqs
+
+    def _curve_equations(self, j) -> list[CurveEquation]:
+        """The two equations keeping joint point `at` of body 1 on the curve of body 2."""
+        bi, si = self.body_point(j.body1, j.at)
+        bj = self._index[j.body2]
+        curve = Curve([self.body_point(j.body2, p)[1] for p in j.curve], j.interpolation)
+        point = CurvePoint(bi, bj, si, curve)
+        return [CurveEquation(point, 0, f"{j.name}: off the curve, in its plane", j.name),
+                CurveEquation(point, 1, f"{j.name}: off the curve, across its plane", j.name)]
 
     # ---- row selection ----------------------------------------------------------------
     @property

@@ -29,7 +29,15 @@ PITCH = 0.01                                      # screw lead (m per revolution
 
 CONSTRAINTS = {"fixed": 6, "revolute": 5, "spherical": 3, "cylindrical": 4, "prismatic": 5,
                "universal": 4, "planar": 3, "screw": 5, "inline": 2, "inplane": 1,
-               "parallel": 2, "perpendicular": 1, "orientation": 3}
+               "parallel": 2, "perpendicular": 1, "orientation": 3, "point_on_curve": 2}
+BEND = np.cross(AXIS, OTHER)                      # the curve of point_on_curve bends this way
+CURVE_RADIUS = 0.5                                # m
+
+
+def _arc(angle: float) -> np.ndarray:
+    """Point of the circular arc through AT (tangent OTHER, centre AT + R BEND) at angle."""
+    return (np.asarray(AT) + CURVE_RADIUS * math.sin(angle) * OTHER
+            + CURVE_RADIUS * (1.0 - math.cos(angle)) * BEND)
 
 KEYS = {
     "fixed": {}, "spherical": {}, "orientation": {"axis": AXIS},
@@ -37,6 +45,7 @@ KEYS = {
     "screw": {"axis": AXIS, "pitch": PITCH}, "inline": {"axis": AXIS},
     "parallel": {"axis": AXIS}, "planar": {"normal": AXIS}, "inplane": {"normal": AXIS},
     "universal": {"axes": (AXIS, OTHER)}, "perpendicular": {"axes": (AXIS, OTHER)},
+    "point_on_curve": {"curve": [_arc(a) for a in np.linspace(-1.0, 1.0, 21)]},
 }
 
 
@@ -229,3 +238,26 @@ def test_hinge_line_of_spherical_and_inline_has_the_revolute_angle() -> None:
     for q in ("angle", "omega", "alpha"):
         assert np.allclose(inl.channels[f"{q}.value"], rev.channels[f"{q}.value"], atol=1e-7)
     assert np.abs(inl.channels["travel.value"]).max() < 1e-12
+
+
+def test_point_on_curve_gradient_is_exact_on_the_curve() -> None:
+    """Body 1 turned by 0.4 rad about OTHER and moved so that its joint point sits on the
+    arc at 0.3 rad: the two equations vanish (1e-9 m, the spline of the arc) and their
+    gradient equals central differences of phi (1e-6 relative): holding the nearest-point
+    parameter does not change the gradient on the curve."""
+    system = System(_one_body("point_on_curve"))
+    q = system.design_q().reshape(-1, 7)
+    b = system.body_index("body")
+    p = quaternion_from_rotvec(0.4 * OTHER)
+    q[b, :3] = _arc(0.3) + rotate(p, np.asarray(CM) - np.asarray(AT))
+    q[b, 3:] = p
+    q = q.ravel()
+    phi = system.phi(system.kin(q))
+    assert np.abs(phi[-2:]).max() < 1e-9
+    grad = system.phi_q(system.kin(q))[-2:]
+    fd = np.empty_like(grad)
+    for j in range(system.nq):
+        dq = np.zeros(system.nq)
+        dq[j] = 1e-6
+        fd[:, j] = (system.phi(system.kin(q + dq))[-2:] - system.phi(system.kin(q - dq))[-2:]) / 2e-6
+    assert np.abs(grad - fd).max() < 1e-6 * np.abs(grad).max()
