@@ -117,6 +117,9 @@ def _vector_checks(model: MechanismModel, at: Locator) -> list[Diagnostic]:
         axes = getattr(joint, "axes", None)
         if axes is not None:
             found += _axes_checks(at, ("joints", name, "axes"), joint.type, *axes)
+        curve = getattr(joint, "curve", None)
+        if curve is not None:
+            found += _curve_checks(at, ("joints", name, "curve"), curve)
         bodies = getattr(joint, "bodies", None)
         if bodies is not None and bodies[0] == bodies[1]:
             found.append(at.diagnostic(("joints", name, "bodies"),
@@ -132,6 +135,14 @@ def _vector_checks(model: MechanismModel, at: Locator) -> list[Diagnostic]:
             found.append(at.diagnostic(("contacts", name, "bodies"),
                                        f"contact joins body '{contact.bodies[0]}' to itself"))
     return found
+
+
+def _curve_checks(at: Locator, path: KeyPath, curve) -> list[Diagnostic]:
+    """A curve's points follow one another at non-zero distances."""
+    steps = np.linalg.norm(np.diff(np.asarray(curve, dtype=float), axis=0), axis=1)
+    return [at.diagnostic((*path, i + 1), f"point {i + 1} repeats point {i}: the curve "
+                          "needs distinct consecutive points")
+            for i in np.flatnonzero(steps < _TINY)]
 
 
 def _axes_checks(at: Locator, path: KeyPath, kind: str, a1: tuple[float, ...],

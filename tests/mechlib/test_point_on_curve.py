@@ -121,3 +121,24 @@ requests:
     assert np.ptp(energy) < 1e-4 * MASS * G * R
     power = sum(ch[f"wire.f{c}"] * ch[f"v.{c}"] for c in "xyz")
     assert np.abs(power).max() < 1e-6
+
+
+def test_repeated_curve_point_is_an_input_error(tmp_path):
+    """Two equal consecutive points: an input error at the second (file:line:col, exit 2
+    from the command line), not an internal error."""
+    from loadcases.run import check_case_file
+
+    case = tmp_path / "bad.case.yaml"
+    case.write_text("""\
+case: bad-curve
+mechanism:
+  bodies:
+    bead: {mass: 1, cm: [0, 0, 0], inertia: [1, 1, 1]}
+  joints:
+    wire: {type: point_on_curve, bodies: [bead, ground], at: [0, 0, 0],
+           curve: [[0, 0, 0], [0, 0, 0], [1, 0, 0]]}
+analysis: {type: static}
+""", encoding="utf-8")
+    found = check_case_file(case)
+    assert [(d.message, d.line) for d in found] == [
+        ("point 1 repeats point 0: the curve needs distinct consecutive points", 7)]
