@@ -140,7 +140,7 @@ def _vector_checks(model: MechanismModel, at: Locator) -> list[Diagnostic]:
 def _curve_checks(at: Locator, path: KeyPath, curve) -> list[Diagnostic]:
     """A curve's points follow one another at non-zero distances."""
     steps = np.linalg.norm(np.diff(np.asarray(curve, dtype=float), axis=0), axis=1)
-    return [at.diagnostic((*path, i + 1), f"point {i + 1} repeats point {i}: the curve "
+    return [at.diagnostic((*path, int(i) + 1), f"point {i + 1} repeats point {i}: the curve "
                           "needs distinct consecutive points")
             for i in np.flatnonzero(steps < _TINY)]
 

@@ -142,3 +142,4 @@ analysis: {type: static}
     found = check_case_file(case)
     assert [(d.message, d.line) for d in found] == [
         ("point 1 repeats point 0: the curve needs distinct consecutive points", 7)]
+    assert found[0].key.endswith("curve[1]")
