@@ -254,6 +254,8 @@ class _Builder:
     def _request(self, name: str, r):
         kind = type(r).__name__
         if kind == "JointRequest":
+            if r.quantity == "force" and self.mech.joints[r.joint].type in ("coupler", "gear"):
+                return ml.CouplerEffort(name, r.joint)
             if r.quantity == "force":
                 return ml.JointReaction(name, r.joint, r.frame)
             return ml.JointCoordinate(name, r.joint, r.quantity)
@@ -304,6 +306,10 @@ def _units_of(req, builder: _Builder) -> dict[str, str]:
     if isinstance(req, ml.MotionEffort):
         joint = builder.mech.joints[builder.case.motions[req.motion].joint]
         return {"value": "N" if joint.type == "prismatic" else "N*m"}
+    if isinstance(req, ml.CouplerEffort):
+        ends = builder.mech.joints[req.joint].joints
+        return {column: "N" if builder.mech.joints[j].type == "prismatic" else "N*m"
+                for column, j in zip(("input", "output"), ends)}
     if isinstance(req, ml.ElementOutput) and req.components is not None:
         return {column: CONTACT_UNITS.get(key, "") for column, key in req.components}
     if isinstance(req, ml.ElementOutput):

@@ -10,8 +10,8 @@ from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
 from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
 from mechlib.model import GROUND, Mechanism
 from mechlib.modes import Modes
-from mechlib.requests import (ElementOutput, ExpressionOutput, JointCoordinate, JointReaction,
-                              MotionEffort, PointKinematics)
+from mechlib.requests import (CouplerEffort, ElementOutput, ExpressionOutput, JointCoordinate,
+                              JointReaction, MotionEffort, PointKinematics)
 from mechlib.solution import Solution, SolverFailure, SolverStats
 from mechlib.solve import MechanismCheck, check_model, inspect_mechanism, solve
 from mechlib.system import System
@@ -23,4 +23,4 @@ __all__ = ["Mechanism", "GROUND", "System", "StateView", "solve", "check_model",
            "JointReaction", "MotionEffort", "PointKinematics", "JointCoordinate",
            "ElementOutput", "ExpressionOutput", "Solution", "SolverFailure", "SolverStats",
            "ModelError", "MechanismCheck", "inspect_mechanism", "CableLoop", "JointFriction",
-           "RotationalDamper", "Seal", "TableLaw", "Event", "Action", "Bushing"]
+           "RotationalDamper", "Seal", "TableLaw", "Event", "Action", "Bushing", "CouplerEffort"]

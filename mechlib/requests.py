@@ -18,8 +18,8 @@ from mechlib.rotation import d_rotate, rotate
 from mechlib.system import System
 from mechlib.view import StateView
 
-__all__ = ["evaluate_requests", "JointReaction", "MotionEffort", "PointKinematics", "JointCoordinate",
-           "ElementOutput", "ExpressionOutput", "Request"]
+__all__ = ["evaluate_requests", "JointReaction", "MotionEffort", "CouplerEffort",
+           "PointKinematics", "JointCoordinate", "ElementOutput", "ExpressionOutput", "Request"]
 
 _FORCE = ("fx", "fy", "fz")
 _TORQUE = ("tx", "ty", "tz")
@@ -42,6 +42,17 @@ class MotionEffort:
     name: str
     motion: str
     units = {"value": "N*m or N"}
+
+
+@dataclass(frozen=True)
+class CouplerEffort:
+    """Torque (N*m) or force (N) a coupler or gear applies along the coordinates of its two
+    joints, each on the joint's body 1: `input` (joints[0]) and `output` (joints[1]); an
+    ideal coupler balances power: input = -ratio * output."""
+
+    name: str
+    joint: str
+    units = {"input": "N*m or N", "output": "N*m or N"}
 
 
 @dataclass(frozen=True)
@@ -87,7 +98,8 @@ class ExpressionOutput:
     unit: str = ""
 
 
-Request = JointReaction | MotionEffort | PointKinematics | JointCoordinate | ElementOutput | ExpressionOutput
+Request = (JointReaction | MotionEffort | CouplerEffort | PointKinematics | JointCoordinate
+           | ElementOutput | ExpressionOutput)
 
 
 def _frame_matrix(system: System, k, frame: str) -> np.ndarray:
@@ -112,6 +124,10 @@ def _gatherer(system: System, req) -> tuple[Gatherer, float]:
     else:
         measure = next(c for c in system.coordinates if c.owner == req.motion).terms[0][1]
         owners, body, other = {req.motion}, measure.bi, measure.bj
+    return _on_body1(system, owners, body, other)
+
+
+def _on_body1(system: System, owners: set[str], body: int, other: int) -> tuple[Gatherer, float]:
     if body == system.nb:
         return Gatherer(system, owners, other), -1.0
     return Gatherer(system, owners, body), 1.0
@@ -128,6 +144,21 @@ def _reaction_columns(system, trajectory, req: JointReaction, gatherer, sign):
 def _effort_columns(system, trajectory, req: MotionEffort, gatherer, sign):
     measure = next(c for c in system.coordinates if c.owner == req.motion).terms[0][1]
     return effort_series(system, trajectory, gatherer, measure, sign)
+
+
+def _coupler_terms(system: System, joint: str) -> list[tuple[str, object]]:
+    """(column, measure) of a coupler's input and output joint coordinates."""
+    equation = next(c for c in system.coordinates if c.owner == joint)
+    return [("input", equation.terms[0][1]), ("output", equation.terms[1][1])]
+
+
+def _coupler_gatherers(system: System, req: CouplerEffort) -> list[tuple[Gatherer, float]]:
+    return [_on_body1(system, {req.joint}, m.bi, m.bj) for _, m in _coupler_terms(system, req.joint)]
+
+
+def _coupler_columns(system, trajectory, req: CouplerEffort, gatherers) -> dict[str, np.ndarray]:
+    return {column: effort_series(system, trajectory, g, m, sign)["value"]
+            for (column, m), (g, sign) in zip(_coupler_terms(system, req.joint), gatherers)}
 
 
 def _in_frame(system, k, values: dict[str, float], frame: str) -> dict[str, float]:
@@ -190,8 +221,10 @@ def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str,
 def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndarray]:
     """Columns `REQUEST.COMPONENT` (SI) at the recorded times, in request order."""
     per_request: dict[str, dict[str, list]] = {r.name: {} for r in requests}
-    loads = {r.name: _gatherer(system, r) for r in requests
+    loads = {r.name: [_gatherer(system, r)] for r in requests
              if isinstance(r, (JointReaction, MotionEffort))}
+    loads |= {r.name: _coupler_gatherers(system, r) for r in requests
+              if isinstance(r, CouplerEffort)}
     stepwise = [r for r in requests if isinstance(r, (JointCoordinate, ElementOutput,
                                                       ExpressionOutput))]
     for i, t in enumerate(trajectory.time if stepwise or loads else ()):
@@ -199,8 +232,9 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
         k = system.kin(trajectory.q[i], trajectory.qd[i], t)
         if loads:
             jac = system.phi_q(k)
-            for gatherer, _ in loads.values():
-                gatherer.gather(jac, trajectory.lam[i])
+            for gatherers in loads.values():
+                for gatherer, _ in gatherers:
+                    gatherer.gather(jac, trajectory.lam[i])
         view = system.view(k, trajectory.lam[i])  # elements reading reactions see them
         for req in stepwise:
             for comp, value in _evaluate(system, k, req, view, trajectory.qdd[i]).items():
@@ -209,9 +243,12 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
         if isinstance(req, PointKinematics):
             per_request[req.name] = _point_series(system, trajectory, req)
         elif isinstance(req, JointReaction):
-            per_request[req.name] = _reaction_columns(system, trajectory, req, *loads[req.name])
+            per_request[req.name] = _reaction_columns(system, trajectory, req,
+                                                      *loads[req.name][0])
         elif isinstance(req, MotionEffort):
-            per_request[req.name] = _effort_columns(system, trajectory, req, *loads[req.name])
+            per_request[req.name] = _effort_columns(system, trajectory, req, *loads[req.name][0])
+        elif isinstance(req, CouplerEffort):
+            per_request[req.name] = _coupler_columns(system, trajectory, req, loads[req.name])
     return {f"{name}.{comp}": np.asarray(values, dtype=float)
             for name, comps in per_request.items() for comp, values in comps.items()}
 

@@ -83,7 +83,8 @@ def test_damper_decays_a_free_rotor() -> None:
 def test_gear_ratio_transmits_angle_and_torque() -> None:
     """Gear th2 = 3 th1 between two shafts on ground; a torsion spring k = 4 N*m/rad on
     shaft 2; driving shaft 1 to 0.1 rad quasi-statically: th2 = 0.3 rad and, by virtual
-    work, the drive torque = ratio * k th2 = 3.6 N*m. Tolerance 1e-9."""
+    work, the drive torque = ratio * k th2 = 3.6 N*m; the gear's own effort (the mesh torque
+    on each shaft) by statics of each shaft. Tolerance 1e-9."""
     mech = mechlib.Mechanism(name="gear", gravity=(0.0, 0.0, 0.0))
     for name, x in (("s1", 0.0), ("s2", 0.2)):
         mech.add_body(name, mass=1.0, cm=(x, 0, 0), inertia=[0.01] * 3)
@@ -93,10 +94,15 @@ def test_gear_ratio_transmits_angle_and_torque() -> None:
     mech.add_force(mechlib.TorsionSpring("k", "j2", stiffness=4.0))
     mech.add_motion("drive", joint="j1", function=Ramp(0.0, 0.1))
     sol = mechlib.solve(mech, mechlib.QuasiStatic(end=1.0, step=0.5), requests=[
-        mechlib.JointCoordinate("a2", "j2"), mechlib.MotionEffort("drive", "drive")])
+        mechlib.JointCoordinate("a2", "j2"), mechlib.MotionEffort("drive", "drive"),
+        mechlib.CouplerEffort("mesh", "g")])
     assert sol.ok, sol.message
     assert sol.channels["a2.value"][-1] == pytest.approx(0.3, abs=1e-9)
     assert sol.channels["drive.value"][-1] == pytest.approx(3.6, abs=1e-9)
+    # the gear holds the spring on shaft 2 (k th2 = 1.2 N*m) and takes ratio times that
+    # from shaft 1, against the drive: output = +1.2, input = -3.6 = -ratio * output
+    assert sol.channels["mesh.output"][-1] == pytest.approx(1.2, abs=1e-9)
+    assert sol.channels["mesh.input"][-1] == pytest.approx(-3.6, abs=1e-9)
 
 
 def _seal_force(count: int, exponent: float) -> float:
@@ -130,3 +136,36 @@ def test_seal_force_3_vs_7_springs(exponent: float) -> None:
     for n, force in forces.items():
         assert abs(force - exact) <= bound[n]
     assert abs(forces[3] - forces[7]) <= bound[3] + bound[7]
+
+
+def test_gear_effort_from_yaml(tmp_path) -> None:
+    """`{joint: g, quantity: force}` on a gear gives its input / output efforts in N*m
+    (same model as above, from a case file)."""
+    from loadcases.run import run_file
+
+    case = tmp_path / "gear.case.yaml"
+    case.write_text("""\
+case: gear-mesh
+mechanism:
+  gravity: [0, 0, 0]
+  bodies:
+    s1: {mass: 1, cm: [0, 0, 0], inertia: [0.01, 0.01, 0.01]}
+    s2: {mass: 1, cm: [0.2, 0, 0], inertia: [0.01, 0.01, 0.01]}
+  joints:
+    j1: {type: revolute, bodies: [s1, ground], at: [0, 0, 0], axis: [0, 0, 1]}
+    j2: {type: revolute, bodies: [s2, ground], at: [0.2, 0, 0], axis: [0, 0, 1]}
+    g: {type: gear, joints: [j1, j2], ratio: 3}
+  forces:
+    k: {type: torsion_spring, joint: j2, stiffness: 4}
+motions:
+  drive: {joint: j1, value: "0.1 * t"}
+analysis: {type: quasi-static, end: 1.0, step: 0.5}
+requests:
+  mesh: {joint: g, quantity: force}
+""", encoding="utf-8")
+    outcome, = run_file(case, output_dir=tmp_path / "out")
+    ch = outcome.solution.channels
+    assert ch["mesh.output"][-1] == pytest.approx(1.2, abs=1e-9)
+    assert ch["mesh.input"][-1] == pytest.approx(-3.6, abs=1e-9)
+    header = (tmp_path / "out" / "gear-mesh.csv").read_text().splitlines()[0]
+    assert header.split(",")[1:] == ["mesh.input", "mesh.output"]
