@@ -52,6 +52,17 @@ class BuiltRun:
     events: list = field(default_factory=list)
 
 
+def _named_elsewhere(mechanism, case) -> set[str]:
+    """Force elements a request or an event names: built even when their load is zero."""
+    events = list(mechanism.events.values())
+    if case is not None:
+        events += list(case.events.values())
+    names = {a.target for e in events for a in e.then if a.target}
+    if case is not None:
+        names |= {getattr(r, "force", None) for r in case.requests.values()}
+    return names
+
+
 def guarded(compiled, what: str) -> Callable:
     """The compiled expression, its run-time errors (math, table range) turned into a
     solver failure that says which input and when."""
@@ -95,6 +106,7 @@ class _Builder:
         self.loads = case.loads if case is not None else None
         self.tables = {n: Table(n, t.x, t.y, t.interpolation, t.extrapolate)
                        for n, t in self.mech.tables.items()}
+        self.kept = _named_elsewhere(mechanism, case)
 
     def error(self, kind: str, key: str, message: str) -> None:
         file, line, col = self.where(kind, key)
@@ -195,9 +207,16 @@ class _Builder:
                                     f.angle0 or 0.0, f.preload or 0.0, law)
         if f.type in ("force", "torque"):
             parts = [self.compile(str(v), f"forces.{name}.value") for v in f.value]
+            if all(p.compiled.is_constant for p in parts):
+                constant = tuple(p.compiled.value for p in parts)
+                if not any(constant) and name not in self.kept:
+                    return None  # zero throughout (a load switched off by its parameters)
 
-            def value(t: float, view, parts=parts) -> tuple[float, float, float]:
-                return (parts[0](t, view), parts[1](t, view), parts[2](t, view))
+                def value(t: float, view, constant=constant) -> tuple[float, float, float]:
+                    return constant
+            else:
+                def value(t: float, view, parts=parts) -> tuple[float, float, float]:
+                    return (parts[0](t, view), parts[1](t, view), parts[2](t, view))
             if f.type == "torque":
                 return ml.PointTorque(name, f.body, value, f.frame)
             body, at = self._application(f)

@@ -77,12 +77,17 @@ def _suggest(word: str, choices: list[str]) -> str | None:
 
 
 def fold(node: Node) -> Node:
-    """The tree with every constant operation or function replaced by its value."""
+    """The tree with every constant operation or function replaced by its value; a product
+    with a constant factor 0 is 0 whatever the other factor (a switch parameter set to 0
+    turns a load off entirely: `pressure_on * ...`)."""
     node = with_children(node, tuple(fold(child) for child in children(node)))
     if isinstance(node, Call) and node.func == "step":
         _check_step(node)
     if isinstance(node, (Op, Call)) and all(isinstance(a, Num) for a in node.args):
         return Num(build_scalar(node)(0.0, None), node.offset)
+    if isinstance(node, Op) and node.op == "*" and any(
+            isinstance(a, Num) and a.value == 0.0 for a in node.args):
+        return Num(0.0, node.offset)
     return node
 
 
