@@ -85,7 +85,8 @@ class Contact:
         approach = self.approach if approach is None else approach
         out = np.empty(6)
         packed = np.concatenate([[gap.penetration], gap.normal, gap.point, gap.velocity])
-        kernels.contact_force(*self._laws, self.geometry.radius, packed, approach, out)
+        kernels.contact_force(*self._laws, float(self.geometry.radius), packed,
+                              float(approach), out)
         return ContactForces(float(out[0]), float(out[1]), out[2:5], float(out[5]), gap)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:

@@ -53,8 +53,8 @@ class StribeckFriction:
     viscous: float = 0.0
 
     def coefficient(self, v: float) -> float:
-        return stribeck(self.mu_static, self.mu_dynamic, self.v_static, self.v_dynamic,
-                        self.viscous, v)
+        return stribeck(*map(float, (self.mu_static, self.mu_dynamic, self.v_static,
+                                     self.v_dynamic, self.viscous, v)))
 
     def kernel(self) -> tuple[int, np.ndarray]:
         return STRIBECK, np.array([self.mu_static, self.mu_dynamic, self.v_static,
@@ -70,7 +70,7 @@ class CoulombFriction:
     v_static: float = 1.0e-3
 
     def coefficient(self, v: float) -> float:
-        return coulomb(self.mu_dynamic, self.v_static, v)
+        return coulomb(float(self.mu_dynamic), float(self.v_static), float(v))
 
     def kernel(self) -> tuple[int, np.ndarray]:
         return COULOMB, np.array([self.mu_dynamic, self.v_static], float)

@@ -10,7 +10,7 @@ unbounded). A gap `out` (13,) holds [penetration, normal (3), point (3), velocit
 eccentricity (3)] (see mechlib.contact.geometry for their meaning).
 
 The tangent is a forward difference of the compiled generalized force over the two bodies'
-coordinates, with increments sized for contact (1e-8 of the ball radius on positions, 1e-6
+coordinates, with increments sized for contact (1e-9 of the ball radius on positions, 1e-6
 of the friction's static speed on rates): the integrator's global difference (1e-7 m, and
 a rate increment of gamma' times that, mm/s) would step over a Hertz deflection of a
 fraction of a micrometre and over the whole Stribeck regularisation.
@@ -33,7 +33,7 @@ __all__ = ["SPHERE_PLANE", "SPHERE_IN_SPHERE", "CYLINDER_IN_CYLINDER", "GAP_SIZE
 SPHERE_PLANE, SPHERE_IN_SPHERE, CYLINDER_IN_CYLINDER = 0, 1, 2
 GAP_SIZE = 13
 _TINY = 1.0e-15  # m, below this the eccentricity has no direction (the force is zero there)
-_FD = 1.0e-8
+_FD = 1.0e-9
 _JIT = dict(cache=True, nogil=True)
 
 

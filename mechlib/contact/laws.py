@@ -97,7 +97,8 @@ class ImpactLaw:
     remembers = False
 
     def force(self, x: float, xd: float, approach: float = 0.0) -> float:
-        return impact_force(self.stiffness, self.exponent, self.damping, self.depth, x, xd)
+        return impact_force(*map(float, (self.stiffness, self.exponent, self.damping,
+                                         self.depth, x, xd)))
 
     def kernel(self) -> tuple[int, np.ndarray]:
         return IMPACT, np.array([self.stiffness, self.exponent, self.damping, self.depth],
@@ -117,7 +118,8 @@ class HertzLaw:
     remembers = True
 
     def force(self, x: float, xd: float, approach: float = 0.0) -> float:
-        return hertz_force(*self.kernel()[1], x, xd, approach)
+        e = math.nan if self.restitution is None else self.restitution
+        return hertz_force(*map(float, (self.stiffness, self.exponent, e, x, xd, approach)))
 
     def kernel(self) -> tuple[int, np.ndarray]:
         e = math.nan if self.restitution is None else self.restitution
@@ -137,8 +139,8 @@ class RestitutionLaw:
     remembers = True
 
     def force(self, x: float, xd: float, approach: float = 0.0) -> float:
-        return restitution_force(self.restitution, self.stiffness, self.exponent, x, xd,
-                                 approach)
+        return restitution_force(*map(float, (self.restitution, self.stiffness,
+                                              self.exponent, x, xd, approach)))
 
     def kernel(self) -> tuple[int, np.ndarray]:
         return RESTITUTION, np.array([self.restitution, self.stiffness, self.exponent], float)
