@@ -13,6 +13,8 @@ from typing import Callable, Sequence
 
 import numpy as np
 
+from mechlib import kernels
+from mechlib.model import GROUND
 from mechlib.rotation import cross
 from mechlib.view import StateView
 
@@ -49,13 +51,13 @@ class PointForce:
         self._b, self._s = system.body_point(self.body, self.at)
 
     def _force(self, view: StateView) -> np.ndarray:
-        return view.system.frame_axes(self.frame, view.kin) @ np.asarray(self.value(view.t, view), float)
+        value = np.asarray(self.value(view.t, view), float)
+        if self.frame == GROUND:
+            return value
+        return view.system.frame_axes(self.frame, view.kin) @ value
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        force = self._force(view)
-        arm = view.point_position(self._b, self._s) - view.kin.r[self._b]
-        F[self._b] += force
-        N[self._b] += cross(arm, force)
+        kernels.point_force(view.kin.x, self._b, self._s, self._force(view), F, N)
 
     def output(self, view: StateView) -> dict[str, float]:
         fx, fy, fz = self._force(view)

@@ -7,9 +7,13 @@
 
 Newton on (q, lam) with the scaled iteration matrix [[M + (C gamma' + K)/beta', phi_q^T],
 [phi_q, 0]] (beta' = (1-alpha_m)/(h^2 beta (1-alpha_f)), gamma' = gamma/(h beta)), kept
-across iterations and steps while it converges (modified Newton). Local error estimate
-e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading term of the position update,
-h^3/12 q''' for the trapezoidal case), steps controlled on it and landing on output times.
+across iterations and steps while it converges (modified Newton). K = -dQ/dq and
+C = -dQ/dqd are kept apart, so that a new step size only refactors; elements that give their
+own tangent (compiled contacts) have it re-evaluated at every step, the rest of K and C
+(forward differences, 2 nq force evaluations) only after slow or failed convergence.
+Local error estimate e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading term of the
+position update, h^3/12 q''' for the trapezoidal case), steps controlled on it and landing
+on output times.
 """
 from __future__ import annotations
 
@@ -118,36 +122,56 @@ class _Integrator:
         self.c = Coefficients.from_rho(spec.rho_inf)
         self.lu = None
         self.lu_h = 0.0
+        self.tangent: tuple[np.ndarray, np.ndarray] | None = None
         self.stale = False
         self.stiff = bool(system.elements)
         self.eta = 1.0
         self.singular: SolverFailure | None = None  # the last singular iteration matrix
 
-    def _iteration_matrix(self, k, h: float):
+    def _iteration_matrix(self, k, h: float, fresh: bool):
+        """Factor the iteration matrix at step h and state k: the elements' own tangents
+        (compiled contacts, cheap) always at k; the finite-difference part re-evaluated
+        when `fresh`, else the last one reused."""
         c, sys = self.c, self.system
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
         jac = sys.phi_q(k)
         top = sys.mass(k)
         if self.stiff:
-            top = top + self._tangent(k, h) / bp
+            own = self.own
+            if fresh or self.tangent is None:
+                self.tangent = self._differenced_tangent(k, own)
+            stiffness, damping = (m.copy() for m in self.tangent) if own else self.tangent
+            if own:
+                view = sys.view(k)
+                for element in own:
+                    element.tangent(view, stiffness, damping)
+            top = top + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
         lu = factor_saddle(top, jac, None if self.stiff else sys.saddle_pattern())
         if lu is None:
             raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
         self.lu, self.lu_h = lu, h
 
-    def _tangent(self, k, h: float) -> np.ndarray:
-        """K + gamma' C of the applied forces, by forward differences."""
-        sys, c = self.system, self.c
-        gp = c.gamma / (h * c.beta)
+    @property
+    def own(self) -> list:
+        """The active elements that give their own tangent (`has_tangent`)."""
+        return [e for e in self.system.elements
+                if e.active and getattr(e, "has_tangent", False)]
+
+    def _differenced_tangent(self, k, own: list) -> tuple[np.ndarray, np.ndarray]:
+        """(K, C) = (-dQ/dq, -dQ/dqd) of the applied forces but the elements with their
+        own tangent (`own`), by forward differences."""
+        sys = self.system
+        skip = {id(e) for e in own}
         q, qd = k.x[:-1].ravel(), k.xd[:-1].ravel()
-        base = sys.forces(k)
-        out = np.empty((sys.nq, sys.nq))
+        base = sys.forces(k, skip=skip)
+        stiffness, damping = np.empty((sys.nq, sys.nq)), np.empty((sys.nq, sys.nq))
         for j in range(sys.nq):
-            eps = 1e-7 * max(1.0, abs(q[j]))
             dq = np.zeros(sys.nq)
-            dq[j] = eps
-            out[:, j] = -(sys.forces(sys.kin(q + dq, qd + gp * dq, k.t)) - base) / eps
-        return out
+            dq[j] = eps = 1e-7 * max(1.0, abs(q[j]))
+            stiffness[:, j] = -(sys.forces(sys.kin(q + dq, qd, k.t), skip=skip) - base) / eps
+            dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
+            damping[:, j] = -(sys.forces(sys.kin(q, qd + dq, k.t), skip=skip) - base) / eps
+        return stiffness, damping
 
     def step(self, t, h, q, qd, qdd, a, lam):
         """One step; returns the new state or None when Newton does not converge."""
@@ -157,9 +181,13 @@ class _Integrator:
         q1, qd1, qdd1 = _predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
         lam1 = lam.copy()
         t1 = t + h
-        rebuild = self.lu is None or self.stale or abs(h / self.lu_h - 1.0) > 0.25
+        # a new differenced tangent after a failure or slow convergence; a step-size change
+        # refactors; elements with their own tangent (contacts: stiffness and friction slope
+        # change from step to step) have it re-evaluated at every step
+        fresh = self.lu is None or self.stale
+        rebuild = fresh or abs(h / self.lu_h - 1.0) > 0.25 or bool(self.own)
         self.stale = False
-        rebuilt, prev, it = False, math.inf, 0
+        refreshed, prev, it = False, math.inf, 0
         eta = self.eta
         while it < _MAX_ITER:
             k = sys.kin(q1, qd1, t1)
@@ -167,11 +195,12 @@ class _Integrator:
                 sys.states.advance(sys.view(k), h)
             if rebuild:
                 try:
-                    self._iteration_matrix(k, h)
+                    self._iteration_matrix(k, h, fresh)
                 except SolverFailure as failure:  # singular here: reject, try a smaller step
                     self.singular = failure
                     break
-                rebuild, rebuilt, prev = False, True, math.inf
+                refreshed = refreshed or fresh or not self.stiff
+                rebuild, prev = False, math.inf
             phi, jac = sys.phi_and_jacobian(k)
             res = np.concatenate([(sys.mass_times(k, qdd1) + jac.T @ lam1
                                    - sys.forces(k, lam=lam1)) / bp,
@@ -197,9 +226,10 @@ class _Integrator:
                 return q1, qd1, qdd1, a1, lam1, self._true_acceleration(q1, qd1, t1, qdd1, lam1,
                                                                        jac)
             if (prev < math.inf and size > 0.9 * prev) or it == _MAX_ITER:
-                if rebuilt:
+                if refreshed:
                     break
-                rebuild, it = True, 0  # an old iteration matrix: refresh it once, go on
+                rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
+                it = 0
             prev = size
         self.lu = None
         self.eta = 1.0

@@ -15,7 +15,7 @@ from numba import njit
 __all__ = ["sph_phi", "sph_jac", "sph_gamma", "dot1_phi", "dot1_jac", "dot1_gamma",
            "dot1_rate", "dot2_phi", "dot2_jac", "dot2_gamma", "dot2_rate", "norm_phi",
            "norm_jac", "norm_gamma", "mass_times", "mass_matrix", "body_forces", "point_position",
-           "point_velocity", "cross3", "rotation_matrix"]
+           "point_velocity", "cross3", "rotation_matrix", "point_force"]
 
 _JIT = dict(cache=True, nogil=True, fastmath=False)
 
@@ -378,3 +378,16 @@ def rotation_matrix(p):
         _rot(p, unit, col)
         out[:, j] = col
     return out
+
+
+@njit(**_JIT)
+def point_force(x, b, s, force, F, N):
+    """Add a force (N, global) at the body-fixed point s of body b to F[b] and its moment
+    about the cm, A(p_b) s x force, to N[b]."""
+    arm = np.empty(3)
+    _rot(x[b, 3:], s, arm)
+    for c in range(3):
+        F[b, c] += force[c]
+    N[b, 0] += arm[1] * force[2] - arm[2] * force[1]
+    N[b, 1] += arm[2] * force[0] - arm[0] * force[2]
+    N[b, 2] += arm[0] * force[1] - arm[1] * force[0]

@@ -1,7 +1,9 @@
 """The cubic step of MSC Adams (seed 004 eq. 3.10): smooth switches for laws and inputs."""
 from __future__ import annotations
 
-__all__ = ["step"]
+from numba import njit
+
+__all__ = ["step", "compiled_step"]
 
 
 def step(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
@@ -13,3 +15,7 @@ def step(x: float, x0: float, h0: float, x1: float, h1: float) -> float:
         return h1
     s = (x - x0) / (x1 - x0)
     return h0 + (h1 - h0) * s * s * (3.0 - 2.0 * s)
+
+
+compiled_step = njit(cache=True, nogil=True)(step)
+"""The same step for compiled kernels (contact laws, friction)."""

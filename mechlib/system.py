@@ -25,6 +25,8 @@ from mechlib.view import StateView
 __all__ = ["System"]
 
 _KINDS = {"spherical": Spherical, "dot1": Dot1, "dot2": Dot2}
+_IDENTITY = np.eye(3)
+_IDENTITY.flags.writeable = False
 
 
 class _Held:
@@ -85,7 +87,7 @@ class System:
 
     def frame_axes(self, name: str, k: Kin) -> np.ndarray:
         """Columns: the axes of frame `name` (ground, a body or a named frame), global."""
-        body, local, _ = self.mechanism.frames.get(name, (name, np.eye(3), None))
+        body, local, _ = self.mechanism.frames.get(name, (name, _IDENTITY, None))
         b = self._index[body]
         return local if b == self.nb else rotation_matrix(k.p[b]) @ local
 
@@ -338,24 +340,26 @@ class System:
         kernels.mass_times(k.x, self.masses, self.inertia, self._pscale, x, out)
         return out
 
-    def wrenches(self, k: Kin, lam: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """Forces F and torques N (nb+1, 3) of the active force elements, global axes,
-        through the cm; `lam` (the multipliers of the iterate) for elements that depend on
-        joint reactions (joint friction)."""
+    def wrenches(self, k: Kin, lam: np.ndarray | None = None, skip=()
+                 ) -> tuple[np.ndarray, np.ndarray]:
+        """Forces F and torques N (nb+1, 3) of the active force elements (but those whose
+        id is in `skip`), global axes, through the cm; `lam` (the multipliers of the
+        iterate) for elements that depend on joint reactions (joint friction)."""
         if not self.elements:
             return self._no_wrench, self._no_wrench
         F = np.zeros((self.nb + 1, 3))
         N = np.zeros((self.nb + 1, 3))
         view = self.view(k, lam)
         for element in self.elements:
-            if element.active:
+            if element.active and not (skip and id(element) in skip):
                 element.apply(view, F, N)
         return F, N
 
-    def forces(self, k: Kin, *, inertia: bool = True, lam: np.ndarray | None = None
-               ) -> np.ndarray:
-        """Q (nq,): gravity, elements and, with `inertia`, the quadratic velocity terms."""
-        F, N = self.wrenches(k, lam)
+    def forces(self, k: Kin, *, inertia: bool = True, lam: np.ndarray | None = None,
+               skip=()) -> np.ndarray:
+        """Q (nq,): gravity, elements (but those whose id is in `skip`) and, with
+        `inertia`, the quadratic velocity terms."""
+        F, N = self.wrenches(k, lam, skip)
         out = np.empty(self.nq)
         kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N,
                             inertia, out)

@@ -4,7 +4,9 @@ Force on body 1 at the contact point: F_N * normal + friction, with
 friction = -mu(|v_t|) * F_N * v_t / |v_t| (v_t the tangential relative velocity); body 2
 gets the opposite force at the same point. The element remembers (`commit`, on accepted
 states) the approach speed at the start of each contact, which the hysteresis damping of
-`hertz` and `restitution` divide by.
+`hertz` and `restitution` divide by. The force and, for the primitive geometries, the
+wrench and its tangent are compiled (mechlib.contact.kernels); a profile contact computes
+its gap in Python and its force with the same kernel.
 """
 from __future__ import annotations
 
@@ -14,6 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from mechlib.contact import kernels
+from mechlib.contact.friction import NO_FRICTION
 from mechlib.contact.geometry import Gap
 from mechlib.rotation import cross
 from mechlib.view import StateView
@@ -59,30 +63,47 @@ class Contact:
 
     def bind(self, system) -> None:
         self._b1, self._b2 = self.geometry.bind(system, *self.bodies)
+        law = self.law.kernel()
+        friction = (NO_FRICTION, np.zeros(5)) if self.friction is None else \
+            self.friction.kernel()
+        self._laws = (*law, *friction)
+        self._nb = system.nb
+        # the primitives: (kind, b1, b2, g, law, law parameters, friction, its parameters)
+        self._kernel = None
+        if hasattr(self.geometry, "kernel"):
+            b1, b2, kind, g = self.geometry.kernel()
+            self._kernel = (kind, b1, b2, g, *self._laws)
+
+    @property
+    def has_tangent(self) -> bool:
+        """True when `tangent` gives the stiffness and damping (compiled primitives)."""
+        return self._kernel is not None
 
     def forces(self, view: StateView, approach: float | None = None) -> ContactForces:
         """The contact's forces in state `view` (`approach`: m/s, default the current one)."""
         gap = self.geometry.gap(view)
         approach = self.approach if approach is None else approach
-        # beyond the radius (no state a step accepts comes near) the force stops growing,
-        # so that a wild Newton iterate does not make the iteration matrix singular
-        x = min(gap.penetration, self.geometry.radius)
-        normal = self.law.force(x, gap.rate, approach)
-        force = normal * gap.normal
-        v_t = gap.sliding
-        speed = float(np.linalg.norm(v_t))
-        friction = 0.0
-        if self.friction is not None and normal > 0.0 and speed > 0.0:
-            friction = self.friction.coefficient(speed) * normal
-            force = force - (friction / speed) * v_t
-        return ContactForces(normal, abs(friction), force, speed, gap)
+        out = np.empty(6)
+        packed = np.concatenate([[gap.penetration], gap.normal, gap.point, gap.velocity])
+        kernels.contact_force(*self._laws, float(self.geometry.radius), packed,
+                              float(approach), out)
+        return ContactForces(float(out[0]), float(out[1]), out[2:5], float(out[5]), gap)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        if self._kernel is not None:
+            kernels.contact_wrench(*self._kernel, self.approach, view.kin.x, view.kin.xd, F, N)
+            return
         f = self.forces(view)
         p = f.gap.point
         for body, sign in ((self._b1, 1.0), (self._b2, -1.0)):
             F[body] += sign * f.force
             N[body] += cross(p - view.kin.r[body], sign * f.force)
+
+    def tangent(self, view: StateView, K: np.ndarray, C: np.ndarray) -> None:
+        """Add the stiffness -dQ/dq and damping -dQ/dqd (nq, nq) of the contact's
+        generalized forces (only when `has_tangent`)."""
+        kernels.contact_tangent(*self._kernel, self.approach, view.kin.x, view.kin.xd,
+                                self._nb, K, C)
 
     def commit(self, view: StateView) -> None:
         """Remember the approach speed when a contact begins: while apart, the rate of the

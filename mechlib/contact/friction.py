@@ -3,15 +3,39 @@
 The coefficient rises smoothly from 0 at rest (no jump: the integrator's Jacobian sees a
 steep but finite slope, so stick-slip does not chatter) to `mu_static` at `v_static` and
 settles at `mu_dynamic` from `v_dynamic` on. Friction force = mu(|v_t|) * F_N, opposite the
-tangential relative velocity v_t.
+tangential relative velocity v_t. The formulas are compiled (numba: `stribeck`, `coulomb`)
+for the contact kernels; `kernel()` gives a law's code and parameters.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from mechlib.contact.laws import step
+import numpy as np
+from numba import njit
 
-__all__ = ["StribeckFriction", "CoulombFriction"]
+from mechlib.smooth import compiled_step as step
+
+__all__ = ["StribeckFriction", "CoulombFriction", "NO_FRICTION", "STRIBECK", "COULOMB",
+           "stribeck", "coulomb"]
+
+NO_FRICTION, STRIBECK, COULOMB = 0, 1, 2
+"""Friction codes of the compiled kernels."""
+
+
+@njit(cache=True, nogil=True)
+def stribeck(mu_static: float, mu_dynamic: float, v_static: float, v_dynamic: float,
+             viscous: float, v: float) -> float:
+    """`StribeckFriction` coefficient at sliding speed v (m/s)."""
+    top = mu_static - viscous * v_static
+    if v <= v_static:
+        return step(v, -v_static, -top, v_static, top) + viscous * v
+    return step(v, v_static, top, v_dynamic, mu_dynamic - viscous * v_dynamic) + viscous * v
+
+
+@njit(cache=True, nogil=True)
+def coulomb(mu_dynamic: float, v_static: float, v: float) -> float:
+    """`CoulombFriction` coefficient at sliding speed v (m/s)."""
+    return mu_dynamic * step(v, -v_static, -1.0, v_static, 1.0)
 
 
 @dataclass(frozen=True)
@@ -29,11 +53,12 @@ class StribeckFriction:
     viscous: float = 0.0
 
     def coefficient(self, v: float) -> float:
-        mv, vs, vd = self.viscous, self.v_static, self.v_dynamic
-        top = self.mu_static - mv * vs
-        if v <= vs:
-            return step(v, -vs, -top, vs, top) + mv * v
-        return step(v, vs, top, vd, self.mu_dynamic - mv * vd) + mv * v
+        return stribeck(*map(float, (self.mu_static, self.mu_dynamic, self.v_static,
+                                     self.v_dynamic, self.viscous, v)))
+
+    def kernel(self) -> tuple[int, np.ndarray]:
+        return STRIBECK, np.array([self.mu_static, self.mu_dynamic, self.v_static,
+                                   self.v_dynamic, self.viscous], float)
 
 
 @dataclass(frozen=True)
@@ -45,4 +70,7 @@ class CoulombFriction:
     v_static: float = 1.0e-3
 
     def coefficient(self, v: float) -> float:
-        return self.mu_dynamic * step(v, -self.v_static, -1.0, self.v_static, 1.0)
+        return coulomb(float(self.mu_dynamic), float(self.v_static), float(v))
+
+    def kernel(self) -> tuple[int, np.ndarray]:
+        return COULOMB, np.array([self.mu_dynamic, self.v_static], float)

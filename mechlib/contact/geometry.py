@@ -6,7 +6,9 @@ state: `penetration` (m, > 0 in contact, the negative gap otherwise), the unit `
 from body 2 towards body 1: the normal force on body 1 is +F_N * normal), the contact `point`
 (global, m, midway between the two surfaces) and `velocity`, the velocity of body 1's material
 point there minus body 2's (m/s). Conventions follow SPEC 1.2.1: body 1 carries the sphere,
-ball, pin or roller; body 2 the plane, socket, hole or profile.
+ball, pin or roller; body 2 the plane, socket, hole or profile. The primitives compute
+their gap in compiled code (mechlib.contact.kernels.gap); `kernel()` gives the geometry's
+code and parameters for it.
 """
 from __future__ import annotations
 
@@ -15,10 +17,10 @@ from typing import Sequence
 
 import numpy as np
 
-__all__ = ["Gap", "SpherePlane", "SphereInSphere", "CylinderInCylinder", "material_velocity",
-           "unit", "radial"]
+from mechlib.contact import kernels
 
-_TINY = 1.0e-15  # m, below this the eccentricity has no direction (the force is zero there)
+__all__ = ["Gap", "SpherePlane", "SphereInSphere", "CylinderInCylinder", "material_velocity",
+           "relative_velocity", "unit"]
 
 
 @dataclass(frozen=True)
@@ -51,14 +53,6 @@ def unit(v: Sequence[float]) -> np.ndarray:
     return v / n
 
 
-def radial(e: np.ndarray) -> tuple[float, np.ndarray]:
-    """Length (m) and direction of an eccentricity; +x when it has none (no force then)."""
-    length = float(np.linalg.norm(e))
-    if length < _TINY:
-        return length, np.array([1.0, 0.0, 0.0])
-    return length, e / length
-
-
 def material_velocity(view, body: int, point: np.ndarray) -> np.ndarray:
     """Velocity (m/s, global) of the material point of `body` now at `point` (global, m)."""
     s = view.rotation(body).T @ (point - view.kin.r[body])
@@ -70,12 +64,36 @@ def relative_velocity(view, b1: int, b2: int, point: np.ndarray) -> np.ndarray:
     return material_velocity(view, b1, point) - material_velocity(view, b2, point)
 
 
+class _Compiled:
+    """A primitive whose gap the compiled kernel computes: `_bound` = (b1, b2, kind, g)."""
+
+    _bound: tuple
+    eccentric = True
+
+    def kernel(self) -> tuple[int, int, int, np.ndarray]:
+        """(body 1, body 2, geometry code, parameters) for mechlib.contact.kernels."""
+        return self._bound
+
+    def gap(self, view) -> Gap:
+        b1, b2, kind, g = self._bound
+        out = np.empty(kernels.GAP_SIZE)
+        kernels.gap(kind, view.kin.x, view.kin.xd, b1, b2, g, out)
+        return Gap(float(out[0]), out[1:4], out[4:7], out[7:10],
+                   out[10:13] if self.eccentric else None)
+
+
+def _parameters(s1, s2, direction, radius: float, extra: float) -> np.ndarray:
+    return np.concatenate([s1, s2, direction, [radius, extra]]).astype(float)
+
+
 @dataclass
-class SpherePlane:
+class SpherePlane(_Compiled):
     """Sphere (centre, radius, m) on body 1 against a plane (point, normal) of body 2.
 
     `extent` (m), when given, bounds the plane to a disc of that radius about
     `plane_point` (a stop pad): a sphere whose centre lies outside it touches nothing.
+    Penetration = radius - height of the centre over the plane; contact point midway in
+    the overlap along the normal.
     """
 
     center: Sequence[float]
@@ -84,32 +102,23 @@ class SpherePlane:
     normal: Sequence[float]
     extent: float | None = None
     _bound: tuple = field(default=(), repr=False)
+    eccentric = False
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
         b1, sc = system.body_point(body1, self.center)
         b2, sp = system.body_point(body2, self.plane_point)
         # body axes coincide with the global axes at design: the normal is body-fixed as given
-        self._bound = (b1, sc, b2, sp, unit(self.normal))
+        extent = -1.0 if self.extent is None else float(self.extent)
+        self._bound = (b1, b2, kernels.SPHERE_PLANE,
+                       _parameters(sc, sp, unit(self.normal), self.radius, extent))
         return b1, b2
-
-    def gap(self, view) -> Gap:
-        b1, sc, b2, sp, n_local = self._bound
-        n = view.rotation(b2) @ n_local
-        c = view.point_position(b1, sc)
-        offset = c - view.point_position(b2, sp)
-        d = float(offset @ n)   # centre height over the plane
-        point = c - 0.5 * (self.radius + d) * n
-        if self.extent is not None:
-            across = offset - d * n
-            if float(across @ across) > self.extent ** 2:
-                d = max(d, self.radius)  # off the pad: no penetration
-        return Gap(self.radius - d, n, point, relative_velocity(view, b1, b2, point))
 
 
 @dataclass
-class SphereInSphere:
+class SphereInSphere(_Compiled):
     """Ball (radius, m) on body 1 in a socket of radius + clearance on body 2; the centres
-    coincide at the design position. Penetration = |eccentricity| - clearance."""
+    coincide at the design position. Penetration = |eccentricity| - clearance; the contact
+    point midway between the ball surface and the socket wall along the eccentricity."""
 
     center: Sequence[float]
     radius: float
@@ -117,27 +126,15 @@ class SphereInSphere:
     _bound: tuple = field(default=(), repr=False)
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
-        self._bound = (*system.body_point(body1, self.center),
-                       *system.body_point(body2, self.center))
-        return self._bound[0], self._bound[2]
-
-    def centres(self, view) -> tuple[np.ndarray, np.ndarray]:
-        b1, s1, b2, s2 = self._bound
-        return view.point_position(b1, s1), view.point_position(b2, s2)
-
-    def gap(self, view) -> Gap:
-        b1, _, b2, _ = self._bound
-        c1, c2 = self.centres(view)
-        e = c1 - c2
-        length, u = radial(e)
-        # ball surface c1 + R u, socket wall c2 + (R + clearance) u: the midpoint
-        point = 0.5 * (c1 + c2) + (self.radius + 0.5 * self.clearance) * u
-        return Gap(length - self.clearance, -u, point, relative_velocity(view, b1, b2, point),
-                   e)
+        b1, s1 = system.body_point(body1, self.center)
+        b2, s2 = system.body_point(body2, self.center)
+        self._bound = (b1, b2, kernels.SPHERE_IN_SPHERE,
+                       _parameters(s1, s2, np.zeros(3), self.radius, self.clearance))
+        return b1, b2
 
 
 @dataclass
-class CylinderInCylinder:
+class CylinderInCylinder(_Compiled):
     """Pin (radius, m) on body 1 in a hole of radius + clearance on body 2, common axis at
     design. The eccentricity is measured normal to the hole's axis (body 2) at the pin's
     centre; a tilt of the pin within the hole is not modelled (its joints carry it)."""
@@ -151,21 +148,12 @@ class CylinderInCylinder:
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
         b1, s1 = system.body_point(body1, self.center)
         b2, s2 = system.body_point(body2, self.center)
-        self._bound = (b1, s1, b2, s2, unit(self.axis))   # body 2 axes = global at design
+        # body 2 axes = global at design
+        self._bound = (b1, b2, kernels.CYLINDER_IN_CYLINDER,
+                       _parameters(s1, s2, unit(self.axis), self.radius, self.clearance))
         return b1, b2
 
     def axis_now(self, view) -> np.ndarray:
         """Hole axis (unit, global) in the current state."""
-        return view.rotation(self._bound[2]) @ self._bound[4]
-
-    def gap(self, view) -> Gap:
-        b1, s1, b2, s2, _ = self._bound
-        a = self.axis_now(view)
-        c1 = view.point_position(b1, s1)
-        e = c1 - view.point_position(b2, s2)
-        e = e - (e @ a) * a
-        length, u = radial(e)
-        point = c1 - 0.5 * e + (self.radius + 0.5 * self.clearance) * u
-        return Gap(length - self.clearance, -u, point, relative_velocity(view, b1, b2, point),
-                   e)
-
+        b2, g = self._bound[1], self._bound[3]
+        return view.rotation(b2) @ g[6:9]

@@ -4,17 +4,27 @@ Each law gives the normal force F_N (N, >= 0) from the penetration x (m, > 0 in 
 its rate xd (m/s, > 0 approaching) and `approach`, the penetration rate stored when the
 contact began (m/s, the element's memory; only the laws with `remembers` use it). The
 force is continuous in x and xd (a kink at most), which keeps stiff contact stable under
-the integrator's finite-difference Jacobian.
+the integrator's Jacobian. The formulas are compiled (numba: `impact_force`, `hertz_force`,
+`restitution_force`, called by the laws' `force` and by the contact kernels); `kernel()`
+gives a law's code and parameters for mechlib.contact.kernels.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
 
-from mechlib.smooth import step
+import numpy as np
+from numba import njit
+
+from mechlib.smooth import compiled_step, step
 
 __all__ = ["step", "ImpactLaw", "HertzLaw", "RestitutionLaw", "hertz_stiffness",
-           "MIN_APPROACH_SPEED", "RATE_RATIO_CAP"]
+           "MIN_APPROACH_SPEED", "RATE_RATIO_CAP", "IMPACT", "HERTZ", "RESTITUTION",
+           "impact_force", "hertz_force", "restitution_force"]
+
+IMPACT, HERTZ, RESTITUTION = 0, 1, 2
+"""Law codes of the compiled kernels."""
+_JIT = dict(cache=True, nogil=True)
 
 MIN_APPROACH_SPEED = 1.0e-3
 """m/s: floor of the stored approach speed (a contact that starts at rest would otherwise
@@ -25,9 +35,44 @@ RATE_RATIO_CAP = 10.0
 there, so that a wild Newton iterate cannot make the damping term explode."""
 
 
+@njit(**_JIT)
 def _rate_ratio(xd: float, approach: float) -> float:
     ratio = xd / max(approach, MIN_APPROACH_SPEED)
     return min(max(ratio, -RATE_RATIO_CAP), RATE_RATIO_CAP)
+
+
+@njit(**_JIT)
+def impact_force(k: float, exponent: float, damping: float, depth: float, x: float,
+                 xd: float) -> float:
+    """`ImpactLaw` force (N)."""
+    if x <= 0.0:
+        return 0.0
+    c = compiled_step(x, 0.0, 0.0, depth, damping) if damping != 0.0 else 0.0
+    return max(k * x ** exponent + c * xd, 0.0)
+
+
+@njit(**_JIT)
+def hertz_force(k: float, exponent: float, restitution: float, x: float, xd: float,
+                approach: float) -> float:
+    """`HertzLaw` force (N); restitution NaN: purely elastic."""
+    if x <= 0.0:
+        return 0.0
+    elastic = k * x ** exponent
+    if math.isnan(restitution):
+        return elastic
+    e = restitution
+    return max(elastic * (1.0 + 0.75 * (1.0 - e * e) * _rate_ratio(xd, approach)), 0.0)
+
+
+@njit(**_JIT)
+def restitution_force(restitution: float, k: float, exponent: float, x: float, xd: float,
+                      approach: float) -> float:
+    """`RestitutionLaw` force (N)."""
+    if x <= 0.0:
+        return 0.0
+    e = restitution
+    factor = 8.0 * (1.0 - e) / (5.0 * e)
+    return max(k * x ** exponent * (1.0 + factor * _rate_ratio(xd, approach)), 0.0)
 
 
 def hertz_stiffness(E1: float, nu1: float, E2: float, nu2: float, radius: float) -> float:
@@ -52,10 +97,12 @@ class ImpactLaw:
     remembers = False
 
     def force(self, x: float, xd: float, approach: float = 0.0) -> float:
-        if x <= 0.0:
-            return 0.0
-        damping = step(x, 0.0, 0.0, self.depth, self.damping) if self.damping else 0.0
-        return max(self.stiffness * x ** self.exponent + damping * xd, 0.0)
+        return impact_force(*map(float, (self.stiffness, self.exponent, self.damping,
+                                         self.depth, x, xd)))
+
+    def kernel(self) -> tuple[int, np.ndarray]:
+        return IMPACT, np.array([self.stiffness, self.exponent, self.damping, self.depth],
+                                float)
 
 
 @dataclass(frozen=True)
@@ -71,14 +118,12 @@ class HertzLaw:
     remembers = True
 
     def force(self, x: float, xd: float, approach: float = 0.0) -> float:
-        if x <= 0.0:
-            return 0.0
-        elastic = self.stiffness * x ** self.exponent
-        if self.restitution is None:
-            return elastic
-        e = self.restitution
-        ratio = _rate_ratio(xd, approach)
-        return max(elastic * (1.0 + 0.75 * (1.0 - e * e) * ratio), 0.0)
+        e = math.nan if self.restitution is None else self.restitution
+        return hertz_force(*map(float, (self.stiffness, self.exponent, e, x, xd, approach)))
+
+    def kernel(self) -> tuple[int, np.ndarray]:
+        e = math.nan if self.restitution is None else self.restitution
+        return HERTZ, np.array([self.stiffness, self.exponent, e], float)
 
 
 @dataclass(frozen=True)
@@ -94,9 +139,8 @@ class RestitutionLaw:
     remembers = True
 
     def force(self, x: float, xd: float, approach: float = 0.0) -> float:
-        if x <= 0.0:
-            return 0.0
-        e = self.restitution
-        factor = 8.0 * (1.0 - e) / (5.0 * e)
-        ratio = _rate_ratio(xd, approach)
-        return max(self.stiffness * x ** self.exponent * (1.0 + factor * ratio), 0.0)
+        return restitution_force(*map(float, (self.restitution, self.stiffness,
+                                              self.exponent, x, xd, approach)))
+
+    def kernel(self) -> tuple[int, np.ndarray]:
+        return RESTITUTION, np.array([self.restitution, self.stiffness, self.exponent], float)

@@ -1,0 +1,252 @@
+"""Compiled (numba) contact kernels: the gap of the primitive geometries, the contact force
+from a gap, the wrench on both bodies and its tangent (stiffness K = -dQ/dq, damping
+C = -dQ/dqd) for the integrator's iteration matrix.
+
+Layout as in mechlib.kernels: `x`, `xd` (nb+1, 7) rows [r, p] per body, ground last.
+Geometry parameters `g` (11,): [s1 (3), s2 (3), direction (3), radius, extra] with s1, s2
+body-fixed vectors from the centres of mass (m), direction the body-2-fixed plane normal or
+hole axis, extra the clearance (m) or, for a sphere on a plane, the pad radius (m, < 0:
+unbounded). A gap `out` (13,) holds [penetration, normal (3), point (3), velocity (3),
+eccentricity (3)] (see mechlib.contact.geometry for their meaning).
+
+The tangent is a forward difference of the compiled generalized force over the two bodies'
+coordinates, with increments sized for contact (1e-9 of the ball radius on positions, 1e-6
+of the friction's static speed on rates): the integrator's global difference (1e-7 m, and
+a rate increment of gamma' times that, mm/s) would step over a Hertz deflection of a
+fraction of a micrometre and over the whole Stribeck regularisation.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from mechlib.contact.friction import COULOMB, STRIBECK, coulomb, stribeck
+from mechlib.contact.laws import (HERTZ, IMPACT, MIN_APPROACH_SPEED, hertz_force,
+                                  impact_force, restitution_force)
+from mechlib.kernels import _brot, _gt_times, _rot
+
+__all__ = ["SPHERE_PLANE", "SPHERE_IN_SPHERE", "CYLINDER_IN_CYLINDER", "GAP_SIZE", "gap",
+           "contact_force", "contact_wrench", "contact_tangent"]
+
+SPHERE_PLANE, SPHERE_IN_SPHERE, CYLINDER_IN_CYLINDER = 0, 1, 2
+GAP_SIZE = 13
+_TINY = 1.0e-15  # m, below this the eccentricity has no direction (the force is zero there)
+_FD = 1.0e-9
+_JIT = dict(cache=True, nogil=True)
+
+
+@njit(**_JIT)
+def _material_velocity(x, xd, b, point, out):
+    """Velocity (m/s, global) of the material point of body b now at `point` (global, m):
+    rd + B(p, s) pd with s = A(p)^T (point - r) (A(p)^T = A of the conjugate)."""
+    d = np.empty(3)
+    conj = np.empty(4)
+    s = np.empty(3)
+    for c in range(3):
+        d[c] = point[c] - x[b, c]
+    conj[0] = x[b, 3]
+    for c in range(3):
+        conj[1 + c] = -x[b, 4 + c]
+    _rot(conj, d, s)
+    _brot(x[b, 3:], xd[b, 3:], s, out)
+    for c in range(3):
+        out[c] += xd[b, c]
+
+
+@njit(**_JIT)
+def _position(x, b, s, out):
+    _rot(x[b, 3:], s, out)
+    for c in range(3):
+        out[c] += x[b, c]
+
+
+@njit(**_JIT)
+def gap(kind, x, xd, b1, b2, g, out):
+    """The gap (layout in the module docstring) of geometry `kind` between b1 and b2."""
+    c1 = np.empty(3)
+    c2 = np.empty(3)
+    e = np.empty(3)
+    u = np.empty(3)
+    point = np.empty(3)
+    radius, extra = g[9], g[10]
+    _position(x, b1, g[0:3], c1)
+    _position(x, b2, g[3:6], c2)
+    for c in range(3):
+        e[c] = c1[c] - c2[c]
+    if kind == SPHERE_PLANE:
+        _rot(x[b2, 3:], g[6:9], u)   # the plane normal
+        d = e[0] * u[0] + e[1] * u[1] + e[2] * u[2]   # centre height over the plane
+        for c in range(3):
+            point[c] = c1[c] - 0.5 * (radius + d) * u[c]
+        if extra >= 0.0:
+            across = 0.0
+            for c in range(3):
+                across += (e[c] - d * u[c]) ** 2
+            if across > extra * extra:
+                d = max(d, radius)  # off the pad: no penetration
+        out[0] = radius - d
+        for c in range(3):
+            out[1 + c] = u[c]
+            out[10 + c] = 0.0
+    else:
+        if kind == CYLINDER_IN_CYLINDER:
+            axis = np.empty(3)
+            _rot(x[b2, 3:], g[6:9], axis)
+            along = e[0] * axis[0] + e[1] * axis[1] + e[2] * axis[2]
+            for c in range(3):
+                e[c] -= along * axis[c]
+        length = math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+        if length < _TINY:
+            u[0], u[1], u[2] = 1.0, 0.0, 0.0
+        else:
+            for c in range(3):
+                u[c] = e[c] / length
+        half = radius + 0.5 * extra
+        for c in range(3):
+            if kind == CYLINDER_IN_CYLINDER:
+                point[c] = c1[c] - 0.5 * e[c] + half * u[c]
+            else:  # ball surface c1 + R u, socket wall c2 + (R + clearance) u: the midpoint
+                point[c] = 0.5 * (c1[c] + c2[c]) + half * u[c]
+        out[0] = length - extra
+        for c in range(3):
+            out[1 + c] = -u[c]
+            out[10 + c] = e[c]
+    v1 = np.empty(3)
+    v2 = np.empty(3)
+    _material_velocity(x, xd, b1, point, v1)
+    _material_velocity(x, xd, b2, point, v2)
+    for c in range(3):
+        out[4 + c] = point[c]
+        out[7 + c] = v1[c] - v2[c]
+
+
+@njit(**_JIT)
+def _normal_force(law, lp, x, xd, approach):
+    if law == IMPACT:
+        return impact_force(lp[0], lp[1], lp[2], lp[3], x, xd)
+    if law == HERTZ:
+        return hertz_force(lp[0], lp[1], lp[2], x, xd, approach)
+    return restitution_force(lp[0], lp[1], lp[2], x, xd, approach)
+
+
+@njit(**_JIT)
+def _coefficient(friction, fp, v):
+    if friction == STRIBECK:
+        return stribeck(fp[0], fp[1], fp[2], fp[3], fp[4], v)
+    if friction == COULOMB:
+        return coulomb(fp[0], fp[1], v)
+    return 0.0
+
+
+@njit(**_JIT)
+def contact_force(law, lp, friction, fp, radius, gp, approach, out):
+    """out (6,) = [normal force (N, >= 0), friction force magnitude (N), force on body 1
+    (3, N, global), sliding speed (m/s)] from the gap `gp`: F_N n - mu(|v_t|) F_N v_t/|v_t|.
+    Beyond the radius (no state a step accepts comes near) the force stops growing, so that
+    a wild Newton iterate does not make the iteration matrix singular."""
+    x = min(gp[0], radius)
+    rate = -(gp[7] * gp[1] + gp[8] * gp[2] + gp[9] * gp[3])   # > 0 approaching
+    normal = _normal_force(law, lp, x, rate, approach)
+    vt = np.empty(3)
+    for c in range(3):
+        vt[c] = gp[7 + c] + rate * gp[1 + c]
+        out[2 + c] = normal * gp[1 + c]
+    speed = math.sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2])
+    slip = 0.0
+    if friction != 0 and normal > 0.0 and speed > 0.0:
+        slip = _coefficient(friction, fp, speed) * normal
+        for c in range(3):
+            out[2 + c] -= slip / speed * vt[c]
+    out[0] = normal
+    out[1] = abs(slip)
+    out[5] = speed
+
+
+@njit(**_JIT)
+def _wrench(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, force, arm1, arm2):
+    """Force on body 1 (N, global) and the arms (m) from each body's cm to the point."""
+    gp = np.empty(GAP_SIZE)
+    cf = np.empty(6)
+    gap(kind, x, xd, b1, b2, g, gp)
+    contact_force(law, lp, friction, fp, g[9], gp, approach, cf)
+    for c in range(3):
+        force[c] = cf[2 + c]
+        arm1[c] = gp[4 + c] - x[b1, c]
+        arm2[c] = gp[4 + c] - x[b2, c]
+
+
+@njit(**_JIT)
+def _cross_add(a, f, sign, out):
+    out[0] += sign * (a[1] * f[2] - a[2] * f[1])
+    out[1] += sign * (a[2] * f[0] - a[0] * f[2])
+    out[2] += sign * (a[0] * f[1] - a[1] * f[0])
+
+
+@njit(**_JIT)
+def contact_wrench(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, F, N):
+    """Add the contact force to F (nb+1, 3) and its moments about the cms to N: +force on
+    body 1 at the contact point, -force on body 2 at the same point."""
+    f, a1, a2 = np.empty(3), np.empty(3), np.empty(3)
+    _wrench(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, f, a1, a2)
+    for c in range(3):
+        F[b1, c] += f[c]
+        F[b2, c] -= f[c]
+    _cross_add(a1, f, 1.0, N[b1])
+    _cross_add(a2, f, -1.0, N[b2])
+
+
+@njit(**_JIT)
+def _generalized(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, out):
+    """out (14,): the contact's generalized force on body 1 [F, 2 E(p)^T N] then body 2."""
+    f, a1, a2 = np.empty(3), np.empty(3), np.empty(3)
+    torque = np.empty(3)
+    g4 = np.empty(4)
+    _wrench(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, f, a1, a2)
+    for k in range(2):
+        b, arm, sign = (b1, a1, 1.0) if k == 0 else (b2, a2, -1.0)
+        torque[:] = 0.0
+        _cross_add(arm, f, sign, torque)
+        _gt_times(x[b, 3:], torque, -1.0, g4)
+        for c in range(3):
+            out[7 * k + c] = sign * f[c]
+        for c in range(4):
+            out[7 * k + 3 + c] = 2.0 * g4[c]
+
+
+@njit(**_JIT)
+def contact_tangent(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, nb, K, C):
+    """Add -dQ/dq to K and -dQ/dqd to C (nq, nq) for the contact's generalized force Q
+    (forward differences, increments in the module docstring); ground (b = nb) has no
+    columns."""
+    v_ref = fp[2] if friction == STRIBECK else (fp[1] if friction == COULOMB
+                                                 else MIN_APPROACH_SPEED)
+    radius = g[9]
+    base = np.empty(14)
+    moved = np.empty(14)
+    _generalized(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, base)
+    xw, xdw = x.copy(), xd.copy()
+    bodies = (b1, b2)
+    for level in range(2):
+        out = K if level == 0 else C
+        w = xw if level == 0 else xdw
+        for bc in bodies:
+            if bc >= nb:
+                continue
+            for j in range(7):
+                old = w[bc, j]
+                if level == 0:
+                    h = _FD * (abs(old) + (radius if j < 3 else 1.0))
+                else:
+                    h = _FD * abs(old) + 1e-6 * (v_ref if j < 3 else v_ref / radius)
+                w[bc, j] = old + h
+                _generalized(kind, b1, b2, g, law, lp, friction, fp, approach, xw, xdw, moved)
+                w[bc, j] = old
+                col = 7 * bc + j
+                for k in range(2):
+                    br = bodies[k]
+                    if br >= nb:
+                        continue
+                    for i in range(7):
+                        out[7 * br + i, col] -= (moved[7 * k + i] - base[7 * k + i]) / h
