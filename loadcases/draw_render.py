@@ -123,15 +123,29 @@ def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> list:
     return texts
 
 
-def _spread_labels(ax, texts: list) -> None:
+def _spread_labels(ax, texts: list, offsets: dict[str, np.ndarray] | None = None) -> None:
     """Move the name labels apart so that none hides another (adjustText), each joined to
-    its anchor by a thin line when moved."""
+    its anchor by a thin line when moved. With `offsets` (label -> data offset from its
+    anchor): labels already spread on an earlier frame keep their offset (an animation's
+    labels travel with their anchors instead of jumping), new ones are spread and added."""
     from adjustText import adjust_text
 
-    if len(texts) > 1:
-        adjust_text(texts, ax=ax, iter_lim=_LABEL_ITERATIONS, ensure_inside_axes=True,
-                    prevent_crossings=False,
+    anchors = {id(t): np.array(t.get_position(), float) for t in texts}
+    fresh = [t for t in texts if offsets is None or t.get_text() not in offsets]
+    for t in texts:
+        if t not in fresh:
+            moved = anchors[id(t)] + offsets[t.get_text()]
+            t.set_position(moved)
+            if np.any(offsets[t.get_text()]):
+                ax.plot(*np.column_stack([anchors[id(t)], moved]), "-", color="gray", lw=0.4)
+    placed = [t for t in texts if t not in fresh]
+    if len(fresh) > 1 or (fresh and placed):
+        adjust_text(fresh, ax=ax, iter_lim=_LABEL_ITERATIONS, ensure_inside_axes=True,
+                    prevent_crossings=False, objects=placed or None,
                     arrowprops={"arrowstyle": "-", "color": "gray", "lw": 0.4})
+    if offsets is not None:
+        offsets.update({t.get_text(): np.array(t.get_position(), float) - anchors[id(t)]
+                        for t in fresh})
 
 
 def _limits(traj: Trajectory, basis: np.ndarray) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -148,7 +162,7 @@ def _limits(traj: Trajectory, basis: np.ndarray) -> tuple[tuple[float, float], t
             (centre[1] - span[1] / 2, centre[1] + span[1] / 2))
 
 
-def _figure(traj: Trajectory, view: str):
+def _figure(traj: Trajectory, view: str, *, steady_labels: bool = False):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -156,6 +170,7 @@ def _figure(traj: Trajectory, view: str):
     basis, labels = projection(traj, view)
     fig, ax = plt.subplots(figsize=FIGURE_SIZE, dpi=DPI)
     xlim, ylim = _limits(traj, basis)
+    offsets: dict[str, np.ndarray] | None = {} if steady_labels else None
 
     def render(k: int) -> None:
         ax.clear()
@@ -167,7 +182,7 @@ def _figure(traj: Trajectory, view: str):
         ax.set_ylabel(labels[1])
         ax.grid(True, lw=0.3, alpha=0.5)
         ax.set_title(f"{traj.case}   t = {traj.time[k]:.4g} s", fontsize=10)
-        _spread_labels(ax, texts)
+        _spread_labels(ax, texts, offsets)
     return fig, render
 
 
@@ -211,7 +226,7 @@ def write_animation(traj: Trajectory, out_dir: Path, *, view: str = "auto") -> t
 
     if len(traj.time) == 0:
         raise ValueError(f"{traj.case}: the run produced no output time ({traj.message})")
-    fig, render = _figure(traj, view)
+    fig, render = _figure(traj, view, steady_labels=True)
     frames = _frame_indices(traj)
     try:
         if animation.PillowWriter.isAvailable():

@@ -71,7 +71,7 @@ def test_labels_of_a_crowded_mechanism_are_spread(monkeypatch):
     counts = []
     for spread in (False, True, True):
         if not spread:
-            monkeypatch.setattr(render_module, "_spread_labels", lambda ax, texts: None)
+            monkeypatch.setattr(render_module, "_spread_labels", lambda ax, texts, offsets=None: None)
         else:
             monkeypatch.undo()
         fig, render = _figure(door, "yz")
