@@ -15,6 +15,7 @@ from typing import Any
 import numpy as np
 
 from mechlib.contact.geometry import Gap
+from mechlib.elements.regularize import at_rest, coulomb_vector
 from mechlib.rotation import cross
 from mechlib.view import StateView
 
@@ -56,6 +57,10 @@ class Contact:
     # (time, approach) at every accepted state: outputs are read after the solve, and a
     # recorded state must see the approach speed the integrator used for it
     _history: tuple[list, list] = field(default_factory=lambda: ([], []), repr=False)
+    # poses (r, R) of bodies 1 and 2 at the last accepted state: the slip of a static
+    # (quasi-static) evaluation is measured from there
+    _poses: tuple | None = field(default=None, repr=False)
+    slip_threshold: float = 1.0e-6  # m: static slip of full friction
 
     def bind(self, system) -> None:
         self._b1, self._b2 = self.geometry.bind(system, *self.bodies)
@@ -72,7 +77,12 @@ class Contact:
         v_t = gap.sliding
         speed = float(np.linalg.norm(v_t))
         friction = 0.0
-        if self.friction is not None and normal > 0.0 and speed > 0.0:
+        if self.friction is not None and normal > 0.0 and at_rest(view):
+            slip = self._static_slip(view, gap)
+            direction = coulomb_vector(slip, self.slip_threshold)
+            friction = self.friction.mu_dynamic * normal * float(np.linalg.norm(direction))
+            force = force - self.friction.mu_dynamic * normal * direction
+        elif self.friction is not None and normal > 0.0 and speed > 0.0:
             friction = self.friction.coefficient(speed) * normal
             force = force - (friction / speed) * v_t
         return ContactForces(normal, abs(friction), force, speed, gap)
@@ -84,10 +94,28 @@ class Contact:
             F[body] += sign * f.force
             N[body] += cross(p - view.kin.r[body], sign * f.force)
 
+    def _static_slip(self, view: StateView, gap: Gap) -> np.ndarray:
+        """Tangential slip (m, global) of body 1 on body 2 at the contact point since the last
+        accepted state: static and quasi-static analyses have no velocities, so their
+        friction opposes the travel between consecutive equilibria (as joint_friction and
+        seal do). Zero before the first accepted state."""
+        if self._poses is None:
+            return np.zeros(3)
+        then = []
+        for b, (r0, rot0) in zip((self._b1, self._b2), self._poses):
+            local = view.rotation(b).T @ (gap.point - view.kin.r[b])
+            then.append(r0 + rot0 @ local)
+        slip = then[1] - then[0]  # (p - then_1) - (p - then_2)
+        return slip - (slip @ gap.normal) * gap.normal
+
     def commit(self, view: StateView) -> None:
-        """Remember the approach speed when a contact begins: while apart, the rate of the
-        latest state; at the first state in contact, the rate interpolated to x = 0 between
-        that state and the last one apart (the step across the impact is not resolved)."""
+        """Remember the poses of the two bodies (static slip) and the approach speed when a
+        contact begins: while apart, the rate of the latest state; at the first state in
+        contact, the rate interpolated to x = 0 between that state and the last one apart
+        (the step across the impact is not resolved)."""
+        if self.friction is not None:
+            self._poses = tuple((view.kin.r[b].copy(), view.rotation(b).copy())
+                                for b in (self._b1, self._b2))
         if not self.law.remembers:
             return
         gap = self.geometry.gap(view)
