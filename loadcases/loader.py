@@ -170,8 +170,16 @@ def _read_model(path: str | Path, model_class):
 
 
 def load_mechanism(path: str | Path) -> MechanismFile:
-    """Validated mechanism file; raises InputError with every problem found."""
-    model, locator, _, diagnostics = _read_model(path, MechanismModel)
+    """Validated mechanism file; raises InputError with every problem found. Its own
+    parameters named in numeric fields are put in place first (as a case does)."""
+    tree, diagnostics = _read_tree(path)
+    locator = Locator(tree)
+    units, found = _file_units(locator, {})
+    if isinstance(locator.data, dict):
+        put_parameters(locator.data, parameter_values(locator.data.get("parameters"),
+                                                      file_units=units))
+    model, more = _validate(MechanismModel, locator, units)
+    diagnostics += found + more
     if model is not None:
         diagnostics += check_mechanism(model, locator)
     _raise_on_errors(diagnostics)

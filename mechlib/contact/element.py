@@ -19,6 +19,7 @@ import numpy as np
 from mechlib.contact import kernels
 from mechlib.contact.friction import NO_FRICTION
 from mechlib.contact.geometry import Gap
+from mechlib.elements.regularize import at_rest, coulomb_vector
 from mechlib.rotation import cross
 from mechlib.view import StateView
 
@@ -60,6 +61,10 @@ class Contact:
     # (time, approach) at every accepted state: outputs are read after the solve, and a
     # recorded state must see the approach speed the integrator used for it
     _history: tuple[list, list] = field(default_factory=lambda: ([], []), repr=False)
+    # poses (r, R) of bodies 1 and 2 at the last accepted state: the slip of a static
+    # (quasi-static) evaluation is measured from there
+    _poses: tuple | None = field(default=None, repr=False)
+    slip_threshold: float = 1.0e-6  # m: static slip of full friction
 
     def bind(self, system) -> None:
         self._b1, self._b2 = self.geometry.bind(system, *self.bodies)
@@ -87,10 +92,16 @@ class Contact:
         packed = np.concatenate([[gap.penetration], gap.normal, gap.point, gap.velocity])
         kernels.contact_force(*self._laws, float(self.geometry.radius), packed,
                               float(approach), out)
-        return ContactForces(float(out[0]), float(out[1]), out[2:5], float(out[5]), gap)
+        normal = float(out[0])
+        if self.friction is not None and normal > 0.0 and at_rest(view):
+            direction = coulomb_vector(self._static_slip(view, gap), self.slip_threshold)
+            friction = self.friction.mu_dynamic * normal * direction
+            return ContactForces(normal, float(np.linalg.norm(friction)),
+                                 normal * gap.normal - friction, 0.0, gap)
+        return ContactForces(normal, float(out[1]), out[2:5], float(out[5]), gap)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        if self._kernel is not None:
+        if self._kernel is not None and not (self.friction is not None and at_rest(view)):
             kernels.contact_wrench(*self._kernel, self.approach, view.kin.x, view.kin.xd, F, N)
             return
         f = self.forces(view)
@@ -105,10 +116,28 @@ class Contact:
         kernels.contact_tangent(*self._kernel, self.approach, view.kin.x, view.kin.xd,
                                 self._nb, K, C)
 
+    def _static_slip(self, view: StateView, gap: Gap) -> np.ndarray:
+        """Tangential slip (m, global) of body 1 on body 2 at the contact point since the last
+        accepted state: static and quasi-static analyses have no velocities, so their
+        friction opposes the travel between consecutive equilibria (as joint_friction and
+        seal do). Zero before the first accepted state."""
+        if self._poses is None:
+            return np.zeros(3)
+        then = []
+        for b, (r0, rot0) in zip((self._b1, self._b2), self._poses):
+            local = view.rotation(b).T @ (gap.point - view.kin.r[b])
+            then.append(r0 + rot0 @ local)
+        slip = then[1] - then[0]  # (p - then_1) - (p - then_2)
+        return slip - (slip @ gap.normal) * gap.normal
+
     def commit(self, view: StateView) -> None:
-        """Remember the approach speed when a contact begins: while apart, the rate of the
-        latest state; at the first state in contact, the rate interpolated to x = 0 between
-        that state and the last one apart (the step across the impact is not resolved)."""
+        """Remember the poses of the two bodies (static slip) and the approach speed when a
+        contact begins: while apart, the rate of the latest state; at the first state in
+        contact, the rate interpolated to x = 0 between that state and the last one apart
+        (the step across the impact is not resolved)."""
+        if self.friction is not None:
+            self._poses = tuple((view.kin.r[b].copy(), view.rotation(b).copy())
+                                for b in (self._b1, self._b2))
         if not self.law.remembers:
             return
         gap = self.geometry.gap(view)

@@ -31,6 +31,7 @@ class CircleProfile:
     points: Sequence[Sequence[float]]
     plane_normal: Sequence[float]
     _bound: tuple = field(default=(), repr=False)
+    _derivatives: tuple = field(default=(), repr=False)  # spline', spline'' (built once)
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
         pts = np.asarray(self.points, float)
@@ -43,6 +44,7 @@ class CircleProfile:
         uv = np.column_stack(((pts - origin) @ e1, (pts - origin) @ e2))
         chord = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(uv, axis=0), axis=1))))
         spline = CubicSpline(chord, uv, bc_type="natural" if len(pts) > 2 else "not-a-knot")
+        self._derivatives = (spline.derivative(1), spline.derivative(2))
         grid = np.linspace(0.0, chord[-1], _SAMPLES_PER_SEGMENT * (len(pts) - 1) + 1)
         b1, s1 = system.body_point(body1, self.center)
         b2, s0 = system.body_point(body2, origin)   # body-2 axes = global axes at design
@@ -56,13 +58,16 @@ class CircleProfile:
         """Curve parameter (m of chord) of the point nearest the in-plane point w (2,)."""
         spline, grid, samples = self._bound[6], self._bound[7], self._bound[8]
         u = grid[int(np.argmin(np.sum((samples - w) ** 2, axis=1)))]
-        d1, d2 = spline.derivative(1), spline.derivative(2)
+        d1, d2 = self._derivatives
         for _ in range(_NEWTON_ITERATIONS):
             r, t, c = spline(u) - w, d1(u), d2(u)
             slope = t @ t + r @ c
             if slope <= 0.0:
                 break
-            u = float(np.clip(u - (r @ t) / slope, grid[0], grid[-1]))
+            step = (r @ t) / slope
+            u = float(np.clip(u - step, grid[0], grid[-1]))
+            if abs(step) < 1e-13:  # m of chord: converged to round-off
+                break
         return u
 
     def _signed(self, local: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
@@ -71,7 +76,7 @@ class CircleProfile:
         basis, m, spline = self._bound[4], self._bound[5], self._bound[6]
         w = basis.T @ local
         u = self._nearest(w)
-        tangent = basis @ spline.derivative(1)(u)
+        tangent = basis @ self._derivatives[0](u)
         normal = unit(np.cross(m, tangent)) * (self._bound[9] if len(self._bound) > 9 else 1.0)
         foot = basis @ spline(u)
         return float((local - foot) @ normal), normal, foot

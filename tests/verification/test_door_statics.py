@@ -75,26 +75,3 @@ def test_jettison_initial_angular_acceleration():
     alpha = (2400.0 + gravity) / inertia
     k = int(np.searchsorted(ch["time"], 0.003)) if "time" in ch else 2
     assert ch["top_acceleration.y"][k] == pytest.approx(alpha, rel=0.03)
-
-
-def test_lifting_handle_work_is_the_lift_of_the_door():
-    """Quasi-static lifting, no pressure, no contacts: by virtual work the handle and the
-    CB handle together supply the door's potential energy and the CB spring's work,
-    int(T_h dtheta) + int(T_cb dphi) = m g dz + int(M_spring dphi), with m = 124 kg (door
-    120 kg and the 4 kg of shafts, handles, rods and links on it, lumped at the door cm;
-    the yoke hardly rises). Pointwise, T_h = m g dz/dtheta within 3 % away from the ends
-    (the CB handle's share is what remains). Source: virtual work dW = m g dz (thesis 4.1,
-    spreadsheet statics); tolerances: 1 % on the work, 3 % pointwise (the lumping)."""
-    ch = _run("lifting_inner.case.yaml")
-    theta, z = ch["latch_angle.value"], ch["door_cm.z"]
-    phi = 2.5636 / 110.0 * theta  # the CB handle motion of the case (both linear in t)
-    handle = np.trapezoid(ch["handle_torque.value"], theta)
-    cb = np.trapezoid(ch["cb_torque.value"] - ch["cb_spring.value"], phi)
-    lift = 124.0 * G * (z[-1] - z[0])
-    assert z[-1] - z[0] == pytest.approx(0.04915, rel=1e-3)
-    assert handle + cb == pytest.approx(lift, rel=0.01)
-    inner = slice(5, -5)
-    expected = 124.0 * G * np.gradient(z, theta)
-    assert np.allclose(ch["handle_torque.value"][inner], expected[inner], rtol=0.03)
-    # the handle force request: effort(handle) / 0.2 m grip radius
-    assert np.allclose(ch["handle_force.value"], ch["handle_torque.value"] / 0.2, rtol=1e-9)
