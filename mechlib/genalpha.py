@@ -25,7 +25,7 @@ import numpy as np
 from numba import njit
 
 from mechlib.analysis import Dynamic, Trajectory, output_times
-from mechlib.events import EVENT_TIME_TOLERANCE, EventMonitor, apply_actions, locate
+from mechlib.events import EventMonitor, fire, first_events
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
@@ -394,26 +394,16 @@ class _Run:
         """If events fire during the step s -> new: the state at the first one, recorded,
         with the actions done and the integration restarted; else None."""
         sys = self.system
-        fired = self.monitor.crossed(new.t, _view(sys, new))
-        if not fired:
+        hit = first_events(self.monitor, s.t, new.t, _view(sys, new),
+                           lambda t: _view(sys, self._to(s, t)))
+        if hit is None:
             return None
-        first = {}
-        for e in fired:
-            def g_at(t, e=e):
-                return float(e.condition(t, _view(sys, self._to(s, t))))
-            g1 = float(e.condition(new.t, _view(sys, new)))
-            first[e.name] = locate(self.monitor.values[e.name], g1, s.t, new.t, g_at)
-        t_e = min(first.values())
-        now = [e for e in fired if first[e.name] - t_e <= EVENT_TIME_TOLERANCE]
+        t_e, now = hit
         at = self._to(s, t_e)
         self.accept(at)
         trajectory.record(t_e, at.q, *at.consistent)
-        k = sys.kin(at.q, at.qd, t_e)
-        for e in now:
-            record, stop = apply_actions(sys, e, k)
-            self.log.append(record)
-            self.stopped = self.stopped or stop
-        self.monitor.fired(now)
+        if fire(sys, self.monitor, now, sys.kin(at.q, at.qd, t_e), self.log):
+            self.stopped = True
         return self.restart(t_e, at.q, at.qd)
 
 
