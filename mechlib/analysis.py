@@ -78,9 +78,13 @@ class Trajectory:
 
     `snapshot()` (e.g. `System.references`) is stored with each row, so that outputs read
     joint angles unwrapped as the solver tracked them, however far they turn between rows.
+    `at_rest`: the states are equilibria (static, quasi-static): force elements were
+    evaluated without velocities, and their outputs must be too; qd holds the rates the
+    motions prescribe, for the kinematic outputs.
     """
 
     snapshot: Callable[[], dict] | None = None
+    at_rest: bool = False
     time: list = field(default_factory=list)
     q: list = field(default_factory=list)
     qd: list = field(default_factory=list)

@@ -236,8 +236,12 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
                 for gatherer, _ in gatherers:
                     gatherer.gather(jac, trajectory.lam[i])
         view = system.view(k, trajectory.lam[i])  # elements reading reactions see them
+        # equilibria: force elements report what the solver used, without velocities
+        rest = system.view(system.kin(trajectory.q[i], np.zeros_like(trajectory.qd[i]), t),
+                           trajectory.lam[i]) if trajectory.at_rest else view
         for req in stepwise:
-            for comp, value in _evaluate(system, k, req, view, trajectory.qdd[i]).items():
+            seen = rest if isinstance(req, ElementOutput) else view
+            for comp, value in _evaluate(system, k, req, seen, trajectory.qdd[i]).items():
                 per_request[req.name].setdefault(comp, []).append(float(value))
     for req in requests:
         if isinstance(req, PointKinematics):

@@ -96,15 +96,18 @@ def _weights(res: np.ndarray, nq: int, scale: float) -> np.ndarray:
 
 
 def _record(system: System, trajectory: Trajectory, q, lam, t: float) -> None:
+    """Record an equilibrium, then accept it; recorded before: its outputs see the slip
+    anchors the solver measured from (the previous equilibrium)."""
     k = system.kin(q, None, t)
-    system.commit(k)
     qd = solve_velocities(system, k)
     qdd = solve_accelerations(system, system.kin(q, qd, t))
     trajectory.record(t, q, qd, qdd, lam)
+    system.commit(k)
 
 
 def run_static(system: System, spec: Static, q0: np.ndarray, trajectory: Trajectory,
                stats: SolverStats, progress: Callable | None = None) -> None:
+    trajectory.at_rest = True
     q, lam = equilibrium(system, q0, None, spec.time, stats)
     stats.steps += 1
     _record(system, trajectory, q, lam, spec.time)
@@ -117,6 +120,7 @@ def run_quasi_static(system: System, spec: QuasiStatic, q0: np.ndarray,
     """Equilibria at the output times (and at the events, located between them and logged
     in `event_log`); a failed step is retried in up to 2^10 sub-steps."""
     monitor = EventMonitor(events)
+    trajectory.at_rest = True
     q, lam, t_prev = q0, None, spec.start
     q_prev = q0
     for t in output_times(spec.start, spec.end, spec.step):

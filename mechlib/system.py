@@ -233,7 +233,9 @@ class System:
         equations and elements."""
         return {"angles": self.references(), "active": self.active,
                 "elements": {n: e.active for n, e in self.mechanism.forces.items()},
-                "states": self.states.z.copy()}
+                "states": self.states.z.copy(),
+                "anchors": {e.name: e.static_anchor() for e in self._remembering
+                            if hasattr(e, "static_anchor")}}
 
     def restore_snapshot(self, snap: dict) -> None:
         self.restore(snap["angles"])
@@ -241,6 +243,8 @@ class System:
         for name, flag in snap["elements"].items():
             self.mechanism.forces[name].active = flag
         self.states.trial = snap["states"]
+        for name, anchor in snap.get("anchors", {}).items():
+            self.mechanism.forces[name].restore_static_anchor(anchor)
 
     # ---- evaluation ---------------------------------------------------------------------
     def kin(self, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:

@@ -154,6 +154,13 @@ class Contact:
         times.append(view.t)
         values.append(self.approach)
 
+    def static_anchor(self):
+        """What static slips are measured from (kept with every recorded equilibrium)."""
+        return self._poses
+
+    def restore_static_anchor(self, anchor) -> None:
+        self._poses = anchor
+
     def approach_at(self, t: float) -> float:
         """Approach speed (m/s) the integrator used for a state at time t (s): the one
         committed last before t."""

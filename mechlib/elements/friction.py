@@ -115,6 +115,13 @@ class JointFriction:
         else:
             self._anchor = self._relative_rotation(view).copy()
 
+    def static_anchor(self):
+        """What static slips are measured from (kept with every recorded equilibrium)."""
+        return self._anchor
+
+    def restore_static_anchor(self, anchor) -> None:
+        self._anchor = anchor
+
     def output(self, view: StateView) -> dict[str, float]:
         """value: friction resisting body 1's motion (signed along the axis; magnitude for
         a spherical joint); capacity: mu r F_r + preload; normal: F_r."""

@@ -109,6 +109,13 @@ class Seal:
         self._anchor = (k.r[self._b1] + rotate(k.p[self._b1], self._s1)
                         - k.r[self._b2] - rotate(k.p[self._b2], self._s2))
 
+    def static_anchor(self):
+        """What static slips are measured from (kept with every recorded equilibrium)."""
+        return self._anchor
+
+    def restore_static_anchor(self, anchor) -> None:
+        self._anchor = anchor
+
     def output(self, view: StateView) -> dict[str, float]:
         """normal, friction: totals of the stations (N); penetration: the largest (m);
         fx fy fz: resultant force on body 1 (N, global)."""

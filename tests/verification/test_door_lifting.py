@@ -35,11 +35,11 @@ def _run(name: str, **overrides):
 def _short_case(folder: Path, name: str, end: float, step: float, **parameters) -> Path:
     """Case `name` of the library over its first `end` s, states `step` s apart, with
     `parameters` added (written into `folder`)."""
-    text = (DOOR / name).read_text(encoding="utf-8")
-    text = text.replace("mechanism: door.mech.yaml", f"mechanism: {DOOR / 'door.mech.yaml'}")
-    text = text.replace("end: 1.0, step: 0.05", f"end: {end}, step: {step}")
-    extra = "".join(f", {key}: {value}" for key, value in parameters.items())
-    text = text.replace("contact_damping: 0}", f"contact_damping: 0{extra}}}")
+    case = yaml.safe_load((DOOR / name).read_text(encoding="utf-8"))
+    case["mechanism"] = str(DOOR / "door.mech.yaml")
+    case["analysis"].update(end=end, step=step)
+    case["parameters"].update(parameters)
+    text = yaml.safe_dump(case)
     path = folder / f"short-{len(list(folder.iterdir()))}-{name}"
     path.write_text(text, encoding="utf-8")
     return path
