@@ -102,9 +102,9 @@ def test_lifting_with_the_outer_handle_by_virtual_work(lifting_inner, tmp_path):
     solution = run_file(path, output_dir=tmp_path / "out")[0].solution
     assert solution.ok, solution.message
     ch = solution.channels
-    assert np.allclose(ch["latch_angle.value"], lifting_inner["latch_angle.value"], atol=1e-9)
-    assert np.allclose(ch["handle_torque.value"], 2.0 * lifting_inner["handle_torque.value"],
-                       rtol=1e-6)
+    inner = {k: v[::2] for k, v in lifting_inner.items()}  # 0.01 s output vs 0.02 s here
+    assert np.allclose(ch["latch_angle.value"], inner["latch_angle.value"], atol=1e-9)
+    assert np.allclose(ch["handle_torque.value"], 2.0 * inner["handle_torque.value"], rtol=1e-6)
     assert np.allclose(ch["handle_force.value"], ch["handle_torque.value"] / 0.15, rtol=1e-9)
     assert np.all(ch["jettison_lever.normal"] == 0.0)
 
@@ -114,7 +114,7 @@ def test_jettison_handle_effort_by_the_lever_geometry(lifting_inner):
     weight acts on its pivot): effort - stowing spring = the moment about the jettison axis
     with which the roller resists the lever (1e-6). The roller's crank circle passes through the jettison pivot,
     so the lever turns half the inner handle angle (inscribed angle), the roller lagging by
-    (0.2 mm design gap + 0.1 mm contact penetration) / 50 mm crank = 0.34 deg (within
+    (0.2 mm design gap + 0.07 mm contact penetration) / 50 mm crank = 0.32 deg (within
     0.5 deg), and by virtual work the lever torque is twice the inner
     handle torque at the same latch angle, within 0.5 % (0.14 % measured: the
     penetration)."""
@@ -126,7 +126,7 @@ def test_jettison_handle_effort_by_the_lever_geometry(lifting_inner):
     assert np.all(ch["roller.normal"] > 300.0)  # in contact over the whole lift
     theta, psi = ch["latch_angle.value"], ch["jettison_angle.value"]
     assert np.allclose(theta, 2.0 * psi, atol=np.radians(0.5))
-    lifted = theta > 0.0  # the first state sits 0.33 deg below the inner lifting's data
+    lifted = theta > 0.0  # the first state sits 0.32 deg below the inner lifting's data
     inner = np.interp(theta[lifted], lifting_inner["latch_angle.value"],
                       lifting_inner["handle_torque.value"])
     assert np.allclose(effort[lifted], 2.0 * inner, rtol=5e-3)
