@@ -33,7 +33,8 @@ ABSCISSA_REQUEST = "abscissa"
 ABSCISSA_COLUMN = f"{ABSCISSA_REQUEST}.value"
 # Unit of an abscissa that is one state measure, e.g. `angle(hinge)` -> rad.
 _MEASURE_UNITS = {"angle": "rad", "omega": "rad/s", "travel": "m", "speed": "m/s", "dist": "m",
-                  "x": "m", "y": "m", "z": "m", "t": "s"}
+                  "x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "vz": "m/s",
+                  "t": "s"}
 _MEASURE = re.compile(r"^\s*(\w+)\s*(\(\s*\w+\s*(,\s*\w+\s*)?\))?\s*$")
 _JOINT_KEYS = ("at", "axis", "axes", "normal", "pitch", "joints", "ratio")
 

@@ -39,7 +39,7 @@ FILE_UNIT_KINDS = ("length", "angle", "mass", "time", "force")
 RESERVED_NAMES = frozenset({
     "t", "pi", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "abs", "min",
     "max", "sign", "exp", "log", "step", "table", "angle", "omega", "travel", "speed", "dist",
-    "x", "y", "z",
+    "x", "y", "z", "vx", "vy", "vz",
 })
 _NUMBER = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*$")
 _LEADING_NUMBER = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")

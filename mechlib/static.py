@@ -34,15 +34,32 @@ def _residual(system: System, q: np.ndarray, lam: np.ndarray, t: float):
 
 def _stiffness(system: System, q: np.ndarray, lam: np.ndarray, t: float,
                force: np.ndarray) -> np.ndarray:
-    """d(phi_q^T lam - Q)/dq by forward differences, (nq, nq)."""
+    """d(phi_q^T lam - Q)/dq by forward differences, (nq, nq). A column of body b leaves
+    out the elements joining two other bodies (contacts, seals: `body_pair`), whose forces
+    it cannot change; the rest is evaluated as a whole."""
     out = np.empty((system.nq, system.nq))
+    skips = _elsewhere(system)
+    k0 = system.kin(q, None, t)
+    reaction0 = system.phi_q(k0).T @ lam
+    base: dict[int, np.ndarray] = {}
     for j in range(system.nq):
+        body = j // 7
+        if body not in base:
+            base[body] = reaction0 - system.forces(k0, inertia=False, lam=lam,
+                                                   skip=skips[body])
         dq = np.zeros(system.nq)
         dq[j] = _FD_STEP * max(1.0, abs(q[j]))
         k = system.kin(q + dq, None, t)
-        out[:, j] = (system.phi_q(k).T @ lam - system.forces(k, inertia=False, lam=lam)
-                     - force) / dq[j]
+        out[:, j] = (system.phi_q(k).T @ lam
+                     - system.forces(k, inertia=False, lam=lam, skip=skips[body])
+                     - base[body]) / dq[j]
     return out
+
+
+def _elsewhere(system: System) -> dict[int, set[int]]:
+    """Per moving body: ids of the two-body elements that do not involve it."""
+    pairs = [(id(e), e.body_pair()) for e in system.elements if hasattr(e, "body_pair")]
+    return {b: {i for i, pair in pairs if b not in pair} for b in range(system.nb)}
 
 
 def _scales(system: System, force: np.ndarray) -> float:

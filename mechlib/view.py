@@ -93,3 +93,17 @@ class StateView:
 
     def z(self, point: str) -> float:
         return float(self.position(point)[2])
+
+    def velocity(self, point: str) -> np.ndarray:
+        """Global velocity (m/s) of a named point."""
+        body, s = self.system.point(point)
+        return self.point_velocity(body, s)
+
+    def vx(self, point: str) -> float:
+        return float(self.velocity(point)[0])
+
+    def vy(self, point: str) -> float:
+        return float(self.velocity(point)[1])
+
+    def vz(self, point: str) -> float:
+        return float(self.velocity(point)[2])

@@ -45,7 +45,8 @@ def _offset(text: str, word: str) -> int | None:
 
 
 _MEASURE_KINDS = {"angle": "joints", "omega": "joints", "travel": "joints", "speed": "joints",
-                  "dist": "points", "x": "points", "y": "points", "z": "points"}
+                  "dist": "points", "x": "points", "y": "points", "z": "points",
+                  "vx": "points", "vy": "points", "vz": "points"}
 _SINGULAR = {"joints": "joint", "points": "point", "tables": "table"}
 
 

@@ -26,7 +26,8 @@ __all__ = [
 MEASURES: dict[str, tuple[int, str]] = {
     "angle": (1, "joint"), "omega": (1, "joint"), "travel": (1, "joint"),
     "speed": (1, "joint"), "dist": (2, "point"), "x": (1, "point"), "y": (1, "point"),
-    "z": (1, "point"), "effort": (1, "motion"),
+    "z": (1, "point"), "vx": (1, "point"), "vy": (1, "point"), "vz": (1, "point"),
+    "effort": (1, "motion"),
 }
 
 

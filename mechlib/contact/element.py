@@ -154,6 +154,10 @@ class Contact:
         times.append(view.t)
         values.append(self.approach)
 
+    def body_pair(self) -> tuple[int, int]:
+        """The two body indices whose states alone set this element's forces."""
+        return self._b1, self._b2
+
     def static_anchor(self):
         """What static slips are measured from (kept with every recorded equilibrium)."""
         return self._poses

@@ -109,6 +109,10 @@ class Seal:
         self._anchor = (k.r[self._b1] + rotate(k.p[self._b1], self._s1)
                         - k.r[self._b2] - rotate(k.p[self._b2], self._s2))
 
+    def body_pair(self) -> tuple[int, int]:
+        """The two body indices whose states alone set this element's forces."""
+        return self._b1, self._b2
+
     def static_anchor(self):
         """What static slips are measured from (kept with every recorded equilibrium)."""
         return self._anchor
