@@ -19,7 +19,7 @@ import numpy as np
 from mechlib.contact import kernels
 from mechlib.contact.friction import NO_FRICTION
 from mechlib.contact.geometry import Gap
-from mechlib.elements.regularize import at_rest, coulomb_vector
+from mechlib.elements.regularize import StaticSlipAnchor, at_rest, coulomb_vector
 from mechlib.rotation import cross
 from mechlib.view import StateView
 
@@ -43,7 +43,7 @@ class ContactForces:
 
 
 @dataclass
-class Contact:
+class Contact(StaticSlipAnchor):
     """Contact between `bodies` (body 1 carries the sphere/ball/pin/roller) with `geometry`
     (mechlib.contact.geometry / profile), `law` (mechlib.contact.laws) and optional
     `friction` (mechlib.contact.friction)."""
@@ -63,7 +63,7 @@ class Contact:
     _history: tuple[list, list] = field(default_factory=lambda: ([], []), repr=False)
     # poses (r, R) of bodies 1 and 2 at the last accepted state: the slip of a static
     # (quasi-static) evaluation is measured from there
-    _poses: tuple | None = field(default=None, repr=False)
+    _anchor: tuple | None = field(default=None, repr=False)
     slip_threshold: float = 1.0e-6  # m: static slip of full friction
 
     def bind(self, system) -> None:
@@ -121,10 +121,10 @@ class Contact:
         accepted state: static and quasi-static analyses have no velocities, so their
         friction opposes the travel between consecutive equilibria (as joint_friction and
         seal do). Zero before the first accepted state."""
-        if self._poses is None:
+        if self._anchor is None:
             return np.zeros(3)
         then = []
-        for b, (r0, rot0) in zip((self._b1, self._b2), self._poses):
+        for b, (r0, rot0) in zip((self._b1, self._b2), self._anchor):
             local = view.rotation(b).T @ (gap.point - view.kin.r[b])
             then.append(r0 + rot0 @ local)
         slip = then[1] - then[0]  # (p - then_1) - (p - then_2)
@@ -136,7 +136,7 @@ class Contact:
         contact, the rate interpolated to x = 0 between that state and the last one apart
         (the step across the impact is not resolved)."""
         if self.friction is not None:
-            self._poses = tuple((view.kin.r[b].copy(), view.rotation(b).copy())
+            self._anchor = tuple((view.kin.r[b].copy(), view.rotation(b).copy())
                                 for b in (self._b1, self._b2))
         if not self.law.remembers:
             return
@@ -157,13 +157,6 @@ class Contact:
     def body_pair(self) -> tuple[int, int]:
         """The two body indices whose states alone set this element's forces."""
         return self._b1, self._b2
-
-    def static_anchor(self):
-        """What static slips are measured from (kept with every recorded equilibrium)."""
-        return self._poses
-
-    def restore_static_anchor(self, anchor) -> None:
-        self._poses = anchor
 
     def approach_at(self, t: float) -> float:
         """Approach speed (m/s) the integrator used for a state at time t (s): the one

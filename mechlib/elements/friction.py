@@ -13,8 +13,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mechlib.elements.regularize import (at_rest, coulomb_factor, coulomb_vector,
-                                         rotation_increment)
+from mechlib.elements.regularize import (StaticSlipAnchor, at_rest, coulomb_factor,
+                                         coulomb_vector, rotation_increment)
 from mechlib.rotation import cross, omega_global
 from mechlib.view import StateView
 
@@ -24,7 +24,7 @@ FRICTION_JOINTS = ("revolute", "cylindrical", "spherical", "prismatic")
 
 
 @dataclass
-class JointFriction:
+class JointFriction(StaticSlipAnchor):
     """Friction of joint `joint`: `mu` (-), `pin_radius` (m; not for prismatic joints),
     `preload` (N*m, or N on a prismatic joint), `v_threshold` (rad/s or m/s: full friction
     from this relative speed on), `slip_threshold` (rad or m: the same for the displacement
@@ -114,13 +114,6 @@ class JointFriction:
             self._anchor = self._m.value(view.kin)
         else:
             self._anchor = self._relative_rotation(view).copy()
-
-    def static_anchor(self):
-        """What static slips are measured from (kept with every recorded equilibrium)."""
-        return self._anchor
-
-    def restore_static_anchor(self, anchor) -> None:
-        self._anchor = anchor
 
     def output(self, view: StateView) -> dict[str, float]:
         """value: friction resisting body 1's motion (signed along the axis; magnitude for

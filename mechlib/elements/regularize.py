@@ -12,7 +12,20 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["coulomb_factor", "coulomb_vector", "at_rest", "rotation_increment"]
+__all__ = ["coulomb_factor", "coulomb_vector", "at_rest", "rotation_increment",
+           "StaticSlipAnchor"]
+
+
+class StaticSlipAnchor:
+    """Mixin of the friction elements: static slips are measured from `_anchor`, set by
+    `commit` on accepted states and kept with every recorded equilibrium (so that outputs
+    see what the solver saw)."""
+
+    def static_anchor(self):
+        return self._anchor
+
+    def restore_static_anchor(self, anchor) -> None:
+        self._anchor = anchor
 
 
 def coulomb_factor(w: float, threshold: float) -> float:

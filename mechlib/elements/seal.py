@@ -18,7 +18,7 @@ from typing import Callable, Sequence
 
 import numpy as np
 
-from mechlib.elements.regularize import at_rest, coulomb_vector
+from mechlib.elements.regularize import StaticSlipAnchor, at_rest, coulomb_vector
 from mechlib.rotation import omega_global, rotate
 from mechlib.view import StateView
 
@@ -26,7 +26,7 @@ __all__ = ["Seal"]
 
 
 @dataclass
-class Seal:
+class Seal(StaticSlipAnchor):
     """Seal between `bodies` (knife on body 1, seal on body 2) along `start`-`end` (m) with
     `count` springs; `stiffness`, `exponent`, `law` (line load, N/m, vs penetration, m),
     `gap` (m), `mu` (-), `v_threshold` (m/s), `slip_threshold` (m)."""
@@ -112,13 +112,6 @@ class Seal:
     def body_pair(self) -> tuple[int, int]:
         """The two body indices whose states alone set this element's forces."""
         return self._b1, self._b2
-
-    def static_anchor(self):
-        """What static slips are measured from (kept with every recorded equilibrium)."""
-        return self._anchor
-
-    def restore_static_anchor(self, anchor) -> None:
-        self._anchor = anchor
 
     def output(self, view: StateView) -> dict[str, float]:
         """normal, friction: totals of the stations (N); penetration: the largest (m);
