@@ -1,9 +1,10 @@
 """Speed of the door's whole load-case set (issue 5: under one minute on 2 cores).
 
 Runs `loads run loadcases/library/door/door.set.yaml --jobs N --force` in a fresh output
-folder, twice: `cold` (numba compiles in every worker unless its disk cache is warm) and
-`warm`; reports wall seconds, the runs, their solver CPU seconds (from the summaries) and the
-machine. No peer comparison: Exudyn has no load-case sets, envelopes or workbooks.
+folder, twice (`first`, `second`): each run starts new processes, which load the compiled
+kernels from numba's disk cache; only the very first run after an install compiles them (about
+14 s more on 2 cores). Reports wall seconds, the runs, their solver CPU seconds (from the
+summaries) and the machine. No peer comparison: Exudyn has no load-case sets, envelopes or workbooks.
 
     python -m benchmarks.door_set [--jobs 2] [--json FILE]
 """
@@ -49,17 +50,17 @@ def main(argv: list[str] | None = None) -> int:
     from benchmarks.suite import machine_info
 
     result = {"machine": machine_info(), "jobs": args.jobs,
-              "cold": run_set(args.jobs), "warm": run_set(args.jobs), "limit_s": LIMIT}
-    for label in ("cold", "warm"):
+              "first": run_set(args.jobs), "second": run_set(args.jobs), "limit_s": LIMIT}
+    for label in ("first", "second"):
         r = result[label]
         print(f"door set, {label}: {r['wall_s']:.1f} s wall for {r['runs']} runs "
               f"(--jobs {args.jobs}), exit {r['exit']}, workbook {'yes' if r['workbook'] else 'no'}")
-    slowest = sorted(result["warm"]["cpu_s"].items(), key=lambda kv: -(kv[1] or 0.0))[:5]
+    slowest = sorted(result["second"]["cpu_s"].items(), key=lambda kv: -(kv[1] or 0.0))[:5]
     print("slowest runs (solver cpu s):", ", ".join(f"{k} {v:.1f}" for k, v in slowest if v))
     if args.json:
         args.json.write_text(json.dumps(result, indent=2), encoding="utf-8")
-    ok = all(result[k]["exit"] == 0 for k in ("cold", "warm"))
-    return 0 if ok and result["warm"]["wall_s"] <= LIMIT else 1
+    ok = all(result[k]["exit"] == 0 for k in ("first", "second"))
+    return 0 if ok and result["second"]["wall_s"] <= LIMIT else 1
 
 
 if __name__ == "__main__":
