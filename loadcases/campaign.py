@@ -12,7 +12,9 @@ with its message and left out of the envelope.
 from __future__ import annotations
 
 import dataclasses
+import os
 import time as clock
+from concurrent.futures import ProcessPoolExecutor
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -37,6 +39,8 @@ ENVELOPE_FILE = "envelope.csv"
 DEFAULT_WORKBOOK = "envelope.xlsx"   # when the set has no `report:`
 
 OnRecord = Callable[[RunRecord, int, int], None]   # (record, runs done, runs in total)
+
+_PLOTS_PER_PROCESS = 16  # fewer plots than twice this: drawn in this process
 
 
 @dataclass
@@ -162,10 +166,21 @@ def _report_files(result: SetResult, runs: list[SavedRun], options: dict[str, st
 
 
 def _plots(curves: list[EnvelopeCurve], directory: Path) -> list[Path]:
-    """PNG envelope plots of each family's main columns next to the workbook."""
+    """PNG envelope plots of each family's main columns next to the workbook; a large set's
+    plots are drawn by one process per core (about 0.3 s each)."""
     from loadcases.plots import write_envelope_plots  # matplotlib: imported only here
 
-    return list(write_envelope_plots(plot_curves(curves), directory))
+    chosen = plot_curves(curves)
+    workers = min(os.cpu_count() or 1, len(chosen) // _PLOTS_PER_PROCESS)
+    if workers <= 1:
+        return list(write_envelope_plots(chosen, directory))
+    chunks = [chosen[i::workers] for i in range(workers)]
+    with ProcessPoolExecutor(max_workers=workers) as pool:
+        drawn = list(pool.map(write_envelope_plots, chunks, [directory] * workers))
+    files = [None] * len(chosen)
+    for i, paths in enumerate(drawn):  # back into the curves' order
+        files[i::workers] = paths
+    return files
 
 
 def run_set(path: str | Path, *, output_dir: str | Path, executor: Executor | None = None,
