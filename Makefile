@@ -1,5 +1,6 @@
 # Developer entry points. Needs only Python 3.11 (`python3`) on a fresh machine.
 #   make demo   install into .venv (if needed) and run the slider-crank verification case
+#               (installing also compiles numba's kernel cache: python -m loadcases.warmup)
 #   make test   install with the test extra (if needed) and run the test suite
 #   make bench  the speed comparison with Exudyn (the test extra installs Exudyn)
 PYTHON ?= python3
@@ -31,10 +32,12 @@ $(BIN)/python:
 
 $(STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e .
+	$(BIN)/python -m loadcases.warmup
 	@touch $@
 
 $(TEST_STAMP): pyproject.toml | $(BIN)/python
 	$(BIN)/python -m pip install --quiet --disable-pip-version-check -e '.[test]'
+	$(BIN)/python -m loadcases.warmup
 	@touch $@ $(STAMP)
 
 clean:
