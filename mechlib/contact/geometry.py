@@ -86,6 +86,16 @@ def _parameters(s1, s2, direction, radius: float, extra: float) -> np.ndarray:
     return np.concatenate([s1, s2, direction, [radius, extra]]).astype(float)
 
 
+def _bind_clearance(joint, system, body1: str, body2: str, kind: int,
+                    axis: np.ndarray) -> tuple[int, int]:
+    """A clearance joint's compiled data: both bodies' points at the common design centre,
+    the axis (zeros for a ball), radius and clearance; returns the two body indices."""
+    b1, s1 = system.body_point(body1, joint.center)
+    b2, s2 = system.body_point(body2, joint.center)
+    joint._bound = (b1, b2, kind, _parameters(s1, s2, axis, joint.radius, joint.clearance))
+    return b1, b2
+
+
 @dataclass
 class SpherePlane(_Compiled):
     """Sphere (centre, radius, m) on body 1 against a plane (point, normal) of body 2.
@@ -126,11 +136,8 @@ class SphereInSphere(_Compiled):
     _bound: tuple = field(default=(), repr=False)
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
-        b1, s1 = system.body_point(body1, self.center)
-        b2, s2 = system.body_point(body2, self.center)
-        self._bound = (b1, b2, kernels.SPHERE_IN_SPHERE,
-                       _parameters(s1, s2, np.zeros(3), self.radius, self.clearance))
-        return b1, b2
+        return _bind_clearance(self, system, body1, body2, kernels.SPHERE_IN_SPHERE,
+                               np.zeros(3))
 
 
 @dataclass
@@ -146,12 +153,9 @@ class CylinderInCylinder(_Compiled):
     _bound: tuple = field(default=(), repr=False)
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
-        b1, s1 = system.body_point(body1, self.center)
-        b2, s2 = system.body_point(body2, self.center)
         # body 2 axes = global at design
-        self._bound = (b1, b2, kernels.CYLINDER_IN_CYLINDER,
-                       _parameters(s1, s2, unit(self.axis), self.radius, self.clearance))
-        return b1, b2
+        return _bind_clearance(self, system, body1, body2, kernels.CYLINDER_IN_CYLINDER,
+                               unit(self.axis))
 
     def axis_now(self, view) -> np.ndarray:
         """Hole axis (unit, global) in the current state."""
