@@ -27,6 +27,7 @@ from numba import njit
 from mechlib.analysis import Dynamic, Trajectory, output_times
 from mechlib.events import EventMonitor, fire, first_events
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
+from mechlib.reaction_loads import accelerations_and_reactions, reaction_coupling
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
@@ -67,8 +68,9 @@ class Coefficients:
 
 def consistent_state(system: System, q, qd, t: float, *, project: bool = True):
     """(qd, qdd, lam): with `project`, qd projected onto phi_q qd = nu (mass-weighted);
-    then qdd and lam from [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma]: the
-    reactions of the equations of motion at that state, free of integrator transients."""
+    then qdd and lam from [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q(lam); gamma]: the
+    reactions of the equations of motion at that state, free of integrator transients,
+    with the joint friction they load (`mechlib.reaction_loads`)."""
     k = system.kin(q, qd, t)
     jac = system.phi_q(k)
     lu = factor_saddle(system.mass(k), jac, system.saddle_pattern())
@@ -78,7 +80,9 @@ def consistent_state(system: System, q, qd, t: float, *, project: bool = True):
     if project and np.abs(drift).max(initial=0.0) > 0.0:
         qd = qd + solve_factored(lu, np.concatenate([np.zeros(system.nq), drift]))[:system.nq]
         k = system.kin(q, qd, t)
-    sol = solve_factored(lu, np.concatenate([system.forces(k), system.gamma(k)]))
+    sol = accelerations_and_reactions(system, k, jac, lu)
+    if sol is None:
+        raise singular_failure(system, jac, t, "dynamic analysis failed")
     return qd, sol[:system.nq], sol[system.nq:]
 
 
@@ -128,10 +132,11 @@ class _Integrator:
         self.eta = 1.0
         self.singular: SolverFailure | None = None  # the last singular iteration matrix
 
-    def _iteration_matrix(self, k, h: float, fresh: bool):
-        """Factor the iteration matrix at step h and state k: the elements' own tangents
-        (compiled contacts, cheap) always at k; the finite-difference part re-evaluated
-        when `fresh`, else the last one reused."""
+    def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):
+        """Factor the iteration matrix at step h, state k and multipliers lam: the
+        elements' own tangents (compiled contacts, cheap) always at k; the finite-difference
+        part re-evaluated when `fresh`, else the last one reused; -dQ/dlam of the loads that
+        depend on the reactions (joint friction) beside phi_q^T."""
         c, sys = self.c, self.system
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
         jac = sys.phi_q(k)
@@ -139,14 +144,15 @@ class _Integrator:
         if self.stiff:
             own = self.own
             if fresh or self.tangent is None:
-                self.tangent = self._differenced_tangent(k, own)
+                self.tangent = self._differenced_tangent(k, own, lam)
             stiffness, damping = (m.copy() for m in self.tangent) if own else self.tangent
             if own:
                 view = sys.view(k)
                 for element in own:
                     element.tangent(view, stiffness, damping)
             top = top + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
-        lu = factor_saddle(top, jac, None if self.stiff else sys.saddle_pattern())
+        lu = factor_saddle(top, jac, None if self.stiff else sys.saddle_pattern(),
+                           coupling=reaction_coupling(sys, k, lam))
         if lu is None:
             raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
         self.lu, self.lu_h = lu, h
@@ -157,20 +163,24 @@ class _Integrator:
         return [e for e in self.system.elements
                 if e.active and getattr(e, "has_tangent", False)]
 
-    def _differenced_tangent(self, k, own: list) -> tuple[np.ndarray, np.ndarray]:
+    def _differenced_tangent(self, k, own: list, lam: np.ndarray
+                             ) -> tuple[np.ndarray, np.ndarray]:
         """(K, C) = (-dQ/dq, -dQ/dqd) of the applied forces but the elements with their
-        own tangent (`own`), by forward differences."""
+        own tangent (`own`), by forward differences at multipliers `lam` (joint friction
+        is loaded by them)."""
         sys = self.system
         skip = {id(e) for e in own}
         q, qd = k.x[:-1].ravel(), k.xd[:-1].ravel()
-        base = sys.forces(k, skip=skip)
+        base = sys.forces(k, skip=skip, lam=lam)
         stiffness, damping = np.empty((sys.nq, sys.nq)), np.empty((sys.nq, sys.nq))
         for j in range(sys.nq):
             dq = np.zeros(sys.nq)
             dq[j] = eps = 1e-7 * max(1.0, abs(q[j]))
-            stiffness[:, j] = -(sys.forces(sys.kin(q + dq, qd, k.t), skip=skip) - base) / eps
+            stiffness[:, j] = -(sys.forces(sys.kin(q + dq, qd, k.t), skip=skip, lam=lam)
+                                - base) / eps
             dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
-            damping[:, j] = -(sys.forces(sys.kin(q, qd + dq, k.t), skip=skip) - base) / eps
+            damping[:, j] = -(sys.forces(sys.kin(q, qd + dq, k.t), skip=skip, lam=lam)
+                              - base) / eps
         return stiffness, damping
 
     def step(self, t, h, q, qd, qdd, a, lam):
@@ -195,7 +205,7 @@ class _Integrator:
                 sys.states.advance(sys.view(k), h)
             if rebuild:
                 try:
-                    self._iteration_matrix(k, h, fresh)
+                    self._iteration_matrix(k, h, fresh, lam1)
                 except SolverFailure as failure:  # singular here: reject, try a smaller step
                     self.singular = failure
                     break

@@ -2,7 +2,7 @@
 
 Positions by Newton on phi(q, t) = 0, velocities from phi_q qd = nu, accelerations from
 phi_q qdd = gamma, and reactions from the equations of motion with inertia:
-phi_q^T lam = Q - M qdd.
+phi_q^T lam = Q(lam) - M qdd (Newton when joint friction makes Q depend on lam).
 """
 from __future__ import annotations
 
@@ -14,13 +14,13 @@ from mechlib.analysis import Kinematic, Trajectory, output_times
 from mechlib.assembly import solve_positions
 from mechlib.events import EventMonitor, fire, first_events
 from mechlib.linalg import factor, singular_failure, solve_factored
+from mechlib.reaction_loads import solve_reaction_loaded
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
 __all__ = ["run_kinematic", "kinematic_state"]
 
 _MAX_SUBDIVISIONS = 10
-_MAX_REACTION_ITERATIONS = 50
 
 
 def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: SolverStats,
@@ -38,15 +38,13 @@ def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: Solver
     k = system.kin(q, qd, t)
     qdd = solve_factored(lu, system.gamma(k))
     inertial = system.mass(k) @ qdd if inertia else 0.0
-    lam = solve_factored(lu, system.forces(k, inertia=inertia) - inertial, transpose=True)
-    if system.reaction_dependent:  # joint friction: loads that depend on the reactions
-        for _ in range(_MAX_REACTION_ITERATIONS):
-            new = solve_factored(lu, system.forces(k, inertia=inertia, lam=lam) - inertial,
-                                 transpose=True)
-            converged = np.abs(new - lam).max(initial=0.0) <= 1e-10 * (1.0 + np.abs(new).max())
-            lam = new
-            if converged:
-                break
+    def loads(lam):
+        return system.forces(k, inertia=inertia, lam=lam) - inertial
+    if not system.reaction_dependent:
+        return q, qd, qdd, solve_factored(lu, loads(None), transpose=True)
+    lam = solve_reaction_loaded(system, k, jac.T, loads, slice(0, jac.shape[0]))
+    if lam is None:
+        raise singular_failure(system, jac, t, "kinematic analysis failed")
     return q, qd, qdd, lam
 
 

@@ -47,10 +47,15 @@ class _Sparse:
         return self.lu.solve(rhs, trans="T" if transpose else "N")
 
 
-def factor_saddle(top: np.ndarray, jac: np.ndarray, pattern: SaddlePattern | None = None):
-    """Factors of [[top, jac^T], [jac, 0]] (None when singular). `pattern` must cover
-    the nonzeros of every matrix given with it; large systems then use sparse LU."""
+def factor_saddle(top: np.ndarray, jac: np.ndarray, pattern: SaddlePattern | None = None,
+                  *, coupling: np.ndarray | None = None):
+    """Factors of [[top, jac^T - coupling], [jac, 0]] (None when singular). `pattern`
+    must cover the nonzeros of every matrix given with it; large systems without a
+    `coupling` (dQ/dlam of reaction-dependent loads) then use sparse LU."""
     matrix = augmented(top, jac)
+    if coupling is not None:
+        matrix[:top.shape[0], top.shape[0]:] -= coupling
+        return factor(matrix)
     if pattern is not None and matrix.shape[0] >= SPARSE_FROM:
         try:
             factors = splu(pattern.csc(matrix), permc_spec="COLAMD")

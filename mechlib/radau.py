@@ -14,7 +14,8 @@ from scipy.integrate import solve_ivp
 from mechlib.analysis import Dynamic, Trajectory, output_times
 from mechlib.assembly import solve_positions
 from mechlib.genalpha import consistent_accelerations
-from mechlib.linalg import augmented
+from mechlib.linalg import singular_failure
+from mechlib.reaction_loads import accelerations_and_reactions
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
@@ -32,7 +33,9 @@ def _rhs(system: System):
         jac = system.phi_q(k)
         drift = jac @ qd - system.nu(k)
         g = system.gamma(k) - 2.0 * _BAUMGARTE * drift - _BAUMGARTE ** 2 * system.phi(k)
-        sol = np.linalg.solve(augmented(system.mass(k), jac), np.concatenate([system.forces(k), g]))
+        sol = accelerations_and_reactions(system, k, jac, gamma=g)
+        if sol is None:
+            raise singular_failure(system, jac, t, "dynamic analysis (radau) failed")
         return np.concatenate([qd, sol[:nq]])
     return f
 

@@ -1,0 +1,97 @@
+"""Loads that depend on the joint reactions (joint friction): Q(q, qd, t, lam).
+
+The equations of motion M qdd + phi_q^T lam = Q(lam) are then nonlinear in the multipliers.
+Every analysis solves them with the same Newton iteration, whose matrix carries the
+coupling dQ/dlam next to phi_q^T, so that the friction an integrator applies is the friction
+of the reactions it reports (not the friction of the reactions of a frictionless solve).
+dQ/dlam is a forward difference over the multipliers the reaction-dependent elements read
+(the rows of their joints): a few force evaluations of those elements only.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+from mechlib.kin import Kin
+from mechlib.linalg import augmented, factor, solve_factored
+
+__all__ = ["reaction_coupling", "solve_reaction_loaded", "accelerations_and_reactions",
+           "MAX_REACTION_NEWTON"]
+
+MAX_REACTION_NEWTON = 30
+_FD = 1e-7
+_CONVERGED = 1e-12
+
+
+def _reading_rows(system) -> np.ndarray:
+    """Indices (into the active multipliers) of the rows whose multipliers the
+    reaction-dependent elements read: the rows of their joints."""
+    joints = {e.joint for e in system.elements
+              if e.active and getattr(e, "uses_reactions", False)}
+    return np.array([i for i, owner in enumerate(system.owners) if owner in joints], dtype=int)
+
+
+def reaction_coupling(system, k: Kin, lam: np.ndarray) -> np.ndarray | None:
+    """dQ/dlam (nq, m) at state `k` and multipliers `lam`, or None when no active element
+    depends on the reactions."""
+    if not system.reaction_dependent:
+        return None
+    users = [e for e in system.elements if e.active and getattr(e, "uses_reactions", False)]
+    if not users:
+        return None
+    others = {id(e) for e in system.elements if e not in users}
+    base = system.forces(k, lam=lam, skip=others)
+    out = np.zeros((system.nq, len(lam)))
+    for j in _reading_rows(system):
+        bumped = lam.copy()
+        bumped[j] += (eps := _FD * max(1.0, abs(lam[j])))
+        out[:, j] = (system.forces(k, lam=bumped, skip=others) - base) / eps
+    return out
+
+
+def solve_reaction_loaded(system, k: Kin, matrix: np.ndarray,
+                          rhs: Callable[[np.ndarray | None], np.ndarray],
+                          lam_at: slice, *, lu=None,
+                          lam_guess: np.ndarray | None = None) -> np.ndarray | None:
+    """x with `matrix @ x = rhs(x[lam_at])`, where rows :nq of rhs hold Q(lam) (N) and the
+    rest does not depend on lam. Without reaction-dependent loads one linear solve (with
+    `lu`, the factors of `matrix`, when given); else Newton from the solution for
+    `lam_guess` (default: the reactions of the loads without their lam-dependent part),
+    with -dQ/dlam beside the multipliers' columns. None when a matrix is singular."""
+    lu = lu if lu is not None else factor(matrix)
+    if lu is None:
+        return None
+    x = solve_factored(lu, rhs(lam_guess))
+    if not system.reaction_dependent:
+        return x
+    nq = system.nq
+    for _ in range(MAX_REACTION_NEWTON):
+        lam = x[lam_at]
+        coupling = reaction_coupling(system, k, lam)
+        if coupling is None:
+            return x
+        newton = matrix.copy()
+        newton[:nq, lam_at] -= coupling
+        lu_n = factor(newton)
+        if lu_n is None:
+            return None
+        dx = solve_factored(lu_n, rhs(lam) - matrix @ x)
+        x = x + dx
+        if np.abs(dx[lam_at]).max(initial=0.0) <= _CONVERGED * (1.0 + np.abs(x[lam_at]).max()):
+            break
+    return x
+
+
+def accelerations_and_reactions(system, k: Kin, jac: np.ndarray, lu=None, *,
+                                gamma: np.ndarray | None = None,
+                                lam_guess: np.ndarray | None = None) -> np.ndarray | None:
+    """[qdd; lam] of [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q(lam); gamma] at state `k`
+    (`lu`: factors of that matrix, if known; `gamma`: default the constraints' own), with
+    the loads that depend on the reactions solved together with them; None when
+    singular."""
+    gamma = system.gamma(k) if gamma is None else gamma
+    matrix = augmented(system.mass(k), jac)
+    return solve_reaction_loaded(
+        system, k, matrix, lambda lam: np.concatenate([system.forces(k, lam=lam), gamma]),
+        slice(system.nq, None), lu=lu, lam_guess=lam_guess)
