@@ -43,6 +43,10 @@ _ETA_MIN = 1e-3
 _ROUNDOFF = 1e3 * np.finfo(float).eps
 _SLOW_ITERATIONS = 3
 _MAX_STEPS = 2_000_000
+# first step, as a fraction of the analysis span: small, because the start acceleration may
+# be one the motion leaves at once (joint friction at rest carries nothing until the joint
+# slips); the step grows x4 per accepted step, so this costs about five steps
+_FIRST_STEP = 1e-6
 
 
 @dataclass(frozen=True)
@@ -144,7 +148,7 @@ class _Integrator:
         if self.stiff:
             own = self.own
             if fresh or self.tangent is None:
-                self.tangent = self._differenced_tangent(k, own, lam)
+                self.tangent = self._differenced_tangent(k, own, lam, jac)
             stiffness, damping = (m.copy() for m in self.tangent) if own else self.tangent
             if own:
                 view = sys.view(k)
@@ -152,7 +156,7 @@ class _Integrator:
                     element.tangent(view, stiffness, damping)
             top = top + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
         lu = factor_saddle(top, jac, None if self.stiff else sys.saddle_pattern(),
-                           coupling=reaction_coupling(sys, k, lam))
+                           coupling=reaction_coupling(sys, k, lam, jac))
         if lu is None:
             raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
         self.lu, self.lu_h = lu, h
@@ -163,7 +167,7 @@ class _Integrator:
         return [e for e in self.system.elements
                 if e.active and getattr(e, "has_tangent", False)]
 
-    def _differenced_tangent(self, k, own: list, lam: np.ndarray
+    def _differenced_tangent(self, k, own: list, lam: np.ndarray, jac: np.ndarray
                              ) -> tuple[np.ndarray, np.ndarray]:
         """(K, C) = (-dQ/dq, -dQ/dqd) of the applied forces but the elements with their
         own tangent (`own`), by forward differences at multipliers `lam` (joint friction
@@ -171,7 +175,7 @@ class _Integrator:
         sys = self.system
         skip = {id(e) for e in own}
         q, qd = k.x[:-1].ravel(), k.xd[:-1].ravel()
-        base = sys.forces(k, skip=skip, lam=lam)
+        base = sys.forces(k, skip=skip, lam=lam, jac=jac)
         stiffness, damping = np.empty((sys.nq, sys.nq)), np.empty((sys.nq, sys.nq))
         for j in range(sys.nq):
             dq = np.zeros(sys.nq)
@@ -179,8 +183,8 @@ class _Integrator:
             stiffness[:, j] = -(sys.forces(sys.kin(q + dq, qd, k.t), skip=skip, lam=lam)
                                 - base) / eps
             dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
-            damping[:, j] = -(sys.forces(sys.kin(q, qd + dq, k.t), skip=skip, lam=lam)
-                              - base) / eps
+            damping[:, j] = -(sys.forces(sys.kin(q, qd + dq, k.t), skip=skip, lam=lam,
+                                         jac=jac) - base) / eps
         return stiffness, damping
 
     def step(self, t, h, q, qd, qdd, a, lam):
@@ -213,7 +217,7 @@ class _Integrator:
                 rebuild, prev = False, math.inf
             phi, jac = sys.phi_and_jacobian(k)
             res = np.concatenate([(sys.mass_times(k, qdd1) + jac.T @ lam1
-                                   - sys.forces(k, lam=lam1)) / bp,
+                                   - sys.forces(k, lam=lam1, jac=jac)) / bp,
                                   phi])
             dx = solve_factored(self.lu, -res)
             dq = dx[:sys.nq]
@@ -259,7 +263,8 @@ class _Integrator:
         drift = sys.nu(k) - jac @ qd1
         qd = qd1 + solve_factored(self.lu, np.concatenate([np.zeros(nq), drift]))[:nq]
         k = sys.kin(q1, qd, t1)
-        res = np.concatenate([sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k, lam=lam1),
+        res = np.concatenate([sys.mass_times(k, qdd1) + jac.T @ lam1
+                              - sys.forces(k, lam=lam1, jac=jac),
                               jac @ qdd1 - sys.gamma(k)])
         fix = solve_factored(self.lu, res)
         return qd, qdd1 - fix[:nq], lam1 - fix[nq:]
@@ -342,7 +347,8 @@ class _Run:
         self.stopped = False
         self.max_step = min(spec.max_step or spec.step, spec.step)
         span = spec.end - spec.start
-        self.h = self.max_step if spec.fixed_step else min(self.max_step, 1e-3 * span or 1e-3)
+        self.h = self.max_step if spec.fixed_step else min(self.max_step,
+                                                            _FIRST_STEP * span or 1e-3)
         self.h_min = 1e-12 * max(1.0, abs(spec.end))
         self.h_used = 0.0
 

@@ -39,10 +39,10 @@ def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: Solver
     qdd = solve_factored(lu, system.gamma(k))
     inertial = system.mass(k) @ qdd if inertia else 0.0
     def loads(lam):
-        return system.forces(k, inertia=inertia, lam=lam) - inertial
+        return system.forces(k, inertia=inertia, lam=lam, jac=jac) - inertial
     if not system.reaction_dependent:
         return q, qd, qdd, solve_factored(lu, loads(None), transpose=True)
-    lam = solve_reaction_loaded(system, k, jac.T, loads, slice(0, jac.shape[0]))
+    lam = solve_reaction_loaded(system, k, jac.T, loads, slice(0, jac.shape[0]), jac=jac)
     if lam is None:
         raise singular_failure(system, jac, t, "kinematic analysis failed")
     return q, qd, qdd, lam

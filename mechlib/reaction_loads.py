@@ -4,8 +4,8 @@ The equations of motion M qdd + phi_q^T lam = Q(lam) are then nonlinear in the m
 Every analysis solves them with the same Newton iteration, whose matrix carries the
 coupling dQ/dlam next to phi_q^T, so that the friction an integrator applies is the friction
 of the reactions it reports (not the friction of the reactions of a frictionless solve).
-dQ/dlam is a forward difference over the multipliers the reaction-dependent elements read
-(the rows of their joints): a few force evaluations of those elements only.
+dQ/dlam is analytic where the element gives it (joint friction: a rank-one term per
+element), else a forward difference over the multipliers of the rows the element reads.
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ import numpy as np
 from mechlib.kin import Kin
 from mechlib.linalg import augmented, factor, solve_factored
 
-__all__ = ["reaction_coupling", "solve_reaction_loaded", "accelerations_and_reactions",
+__all__ = ["reaction_coupling", "differenced_coupling", "solve_reaction_loaded", "accelerations_and_reactions",
            "MAX_REACTION_NEWTON"]
 
 MAX_REACTION_NEWTON = 30
@@ -24,41 +24,53 @@ _FD = 1e-7
 _CONVERGED = 1e-12
 
 
-def _reading_rows(system) -> np.ndarray:
-    """Indices (into the active multipliers) of the rows whose multipliers the
-    reaction-dependent elements read: the rows of their joints."""
-    joints = {e.joint for e in system.elements
-              if e.active and getattr(e, "uses_reactions", False)}
-    return np.array([i for i, owner in enumerate(system.owners) if owner in joints], dtype=int)
-
-
-def reaction_coupling(system, k: Kin, lam: np.ndarray) -> np.ndarray | None:
-    """dQ/dlam (nq, m) at state `k` and multipliers `lam`, or None when no active element
-    depends on the reactions."""
-    if not system.reaction_dependent:
-        return None
+def reaction_coupling(system, k: Kin, lam: np.ndarray,
+                      jac: np.ndarray | None = None) -> np.ndarray | None:
+    """dQ/dlam (nq, m) at state `k` and multipliers `lam` (`jac`: phi_q at k, if known),
+    or None when no active element depends on the reactions. Elements give it through
+    `reaction_jacobian(view, out)`; forward differences over the rows they read are the
+    fallback (and the test oracle)."""
     users = [e for e in system.elements if e.active and getattr(e, "uses_reactions", False)]
     if not users:
         return None
-    others = {id(e) for e in system.elements if e not in users}
-    base = system.forces(k, lam=lam, skip=others)
     out = np.zeros((system.nq, len(lam)))
-    for j in _reading_rows(system):
+    view = system.view(k, lam, jac)
+    differenced = []
+    for element in users:
+        if hasattr(element, "reaction_jacobian"):
+            element.reaction_jacobian(view, out)
+        else:
+            differenced.append(element)
+    if differenced:
+        out += differenced_coupling(system, k, lam, differenced, jac)
+    return out
+
+
+def differenced_coupling(system, k: Kin, lam: np.ndarray, users: list,
+                         jac: np.ndarray | None = None) -> np.ndarray:
+    """dQ/dlam (nq, m) of the elements `users` by forward differences over the
+    multipliers of their joints' rows."""
+    others = {id(e) for e in system.elements if e not in users}
+    base = system.forces(k, lam=lam, skip=others, jac=jac)
+    out = np.zeros((system.nq, len(lam)))
+    rows = np.concatenate([system.joint_force_rows(e.joint)[0] for e in users])
+    for j in np.unique(rows):
         bumped = lam.copy()
         bumped[j] += (eps := _FD * max(1.0, abs(lam[j])))
-        out[:, j] = (system.forces(k, lam=bumped, skip=others) - base) / eps
+        out[:, j] = (system.forces(k, lam=bumped, skip=others, jac=jac) - base) / eps
     return out
 
 
 def solve_reaction_loaded(system, k: Kin, matrix: np.ndarray,
                           rhs: Callable[[np.ndarray | None], np.ndarray],
-                          lam_at: slice, *, lu=None,
-                          lam_guess: np.ndarray | None = None) -> np.ndarray | None:
+                          lam_at: slice, *, lu=None, lam_guess: np.ndarray | None = None,
+                          jac: np.ndarray | None = None) -> np.ndarray | None:
     """x with `matrix @ x = rhs(x[lam_at])`, where rows :nq of rhs hold Q(lam) (N) and the
     rest does not depend on lam. Without reaction-dependent loads one linear solve (with
     `lu`, the factors of `matrix`, when given); else Newton from the solution for
     `lam_guess` (default: the reactions of the loads without their lam-dependent part),
-    with -dQ/dlam beside the multipliers' columns. None when a matrix is singular."""
+    with -dQ/dlam beside the multipliers' columns (`jac`: phi_q at k, if known). None
+    when a matrix is singular."""
     lu = lu if lu is not None else factor(matrix)
     if lu is None:
         return None
@@ -68,7 +80,7 @@ def solve_reaction_loaded(system, k: Kin, matrix: np.ndarray,
     nq = system.nq
     for _ in range(MAX_REACTION_NEWTON):
         lam = x[lam_at]
-        coupling = reaction_coupling(system, k, lam)
+        coupling = reaction_coupling(system, k, lam, jac)
         if coupling is None:
             return x
         newton = matrix.copy()
@@ -93,5 +105,6 @@ def accelerations_and_reactions(system, k: Kin, jac: np.ndarray, lu=None, *,
     gamma = system.gamma(k) if gamma is None else gamma
     matrix = augmented(system.mass(k), jac)
     return solve_reaction_loaded(
-        system, k, matrix, lambda lam: np.concatenate([system.forces(k, lam=lam), gamma]),
-        slice(system.nq, None), lu=lu, lam_guess=lam_guess)
+        system, k, matrix,
+        lambda lam: np.concatenate([system.forces(k, lam=lam, jac=jac), gamma]),
+        slice(system.nq, None), lu=lu, lam_guess=lam_guess, jac=jac)

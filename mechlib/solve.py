@@ -127,6 +127,7 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     try:
         assembled = assemble(system, start, initial)
         warnings += assembled.notes
+        system.begin(system.kin(assembled.q, assembled.qd, start))
         stats.newton_iterations += assembled.newton_iterations
         if events and isinstance(analysis, Static):
             raise ModelError([("", "events need an analysis in time (a static analysis "

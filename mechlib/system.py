@@ -27,6 +27,7 @@ __all__ = ["System"]
 _KINDS = {"spherical": Spherical, "dot1": Dot1, "dot2": Dot2}
 _IDENTITY = np.eye(3)
 _IDENTITY.flags.writeable = False
+_NO_GRAVITY = np.zeros(3)
 
 
 class _Held:
@@ -74,6 +75,7 @@ class System:
         for element in self.elements:
             element.bind(self)
         self.active = np.arange(len(self._all_labels))
+        self._force_rows: dict[str, tuple] = {}
 
     # ---- names -> indices -------------------------------------------------------------
     def body_index(self, name: str) -> int:
@@ -250,8 +252,23 @@ class System:
     def kin(self, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:
         return Kin.from_state(q, qd, t)
 
-    def view(self, k: Kin, lam: np.ndarray | None = None) -> StateView:
-        return StateView(self, k, lam)
+    def view(self, k: Kin, lam: np.ndarray | None = None,
+             jac: np.ndarray | None = None) -> StateView:
+        return StateView(self, k, lam, jac)
+
+    def joint_force_rows(self, joint: str) -> tuple[np.ndarray, int, float]:
+        """(rows among the active equations, moving body index, sign) of `joint`'s own
+        equations: the force on its body 1 is sign * -(phi_q[rows, r of body])^T lam[rows]
+        (body 2, sign -1, when body 1 is ground)."""
+        cached = self._force_rows.get(joint)
+        if cached is not None and cached[0] is self.active:
+            return cached[1]
+        j = self.mechanism.joints[joint]
+        sign, body = (1.0, j.body1) if j.body1 != GROUND else (-1.0, j.body2)
+        rows = np.array([i for i, o in enumerate(self.owners) if o == joint], dtype=int)
+        found = (rows, self._index[body], sign)
+        self._force_rows[joint] = (self.active, found)
+        return found
 
     def design_q(self) -> np.ndarray:
         q = np.zeros((self.nb, 7))
@@ -313,6 +330,14 @@ class System:
             for element in self._remembering:
                 element.commit(view)
 
+    def begin(self, k: Kin) -> None:
+        """Start of an analysis at state `k`: elements with a memory of where they began
+        (`begin(view)`: a joint friction's stick anchor) take it from there."""
+        view = self.view(k)
+        for element in self._remembering:
+            if hasattr(element, "begin"):
+                element.begin(view)
+
     def saddle_pattern(self):
         """Sparsity of [[M, phi_q^T], [phi_q, 0]], from a generic state (found once)."""
         if getattr(self, "_pattern", None) is None:
@@ -344,27 +369,35 @@ class System:
         kernels.mass_times(k.x, self.masses, self.inertia, self._pscale, x, out)
         return out
 
-    def wrenches(self, k: Kin, lam: np.ndarray | None = None, skip=()
-                 ) -> tuple[np.ndarray, np.ndarray]:
+    def wrenches(self, k: Kin, lam: np.ndarray | None = None, skip=(),
+                 jac: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
         """Forces F and torques N (nb+1, 3) of the active force elements (but those whose
         id is in `skip`), global axes, through the cm; `lam` (the multipliers of the
-        iterate) for elements that depend on joint reactions (joint friction)."""
+        iterate) for elements that depend on joint reactions (joint friction), `jac` its
+        phi_q when known."""
         if not self.elements:
             return self._no_wrench, self._no_wrench
         F = np.zeros((self.nb + 1, 3))
         N = np.zeros((self.nb + 1, 3))
-        view = self.view(k, lam)
+        view = self.view(k, lam, jac)
         for element in self.elements:
             if element.active and not (skip and id(element) in skip):
                 element.apply(view, F, N)
         return F, N
 
     def forces(self, k: Kin, *, inertia: bool = True, lam: np.ndarray | None = None,
-               skip=()) -> np.ndarray:
+               skip=(), jac: np.ndarray | None = None) -> np.ndarray:
         """Q (nq,): gravity, elements (but those whose id is in `skip`) and, with
-        `inertia`, the quadratic velocity terms."""
-        F, N = self.wrenches(k, lam, skip)
+        `inertia`, the quadratic velocity terms (`lam`, `jac`: see `wrenches`)."""
+        F, N = self.wrenches(k, lam, skip, jac)
         out = np.empty(self.nq)
         kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N,
                             inertia, out)
+        return out
+
+    def generalized(self, k: Kin, F: np.ndarray, N: np.ndarray) -> np.ndarray:
+        """Q (nq,) of forces F and torques N (nb+1, 3) alone (no gravity, no inertia)."""
+        out = np.empty(self.nq)
+        kernels.body_forces(k.x, k.xd, self.masses, self.inertia, _NO_GRAVITY, F, N,
+                            False, out)
         return out

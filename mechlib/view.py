@@ -17,11 +17,18 @@ __all__ = ["StateView"]
 class StateView:
     """State measures in SI: joint angle (rad) / travel (m) and rates, point positions (m)."""
 
-    def __init__(self, system: "System", kin: Kin, lam: np.ndarray | None = None):
+    def __init__(self, system: "System", kin: Kin, lam: np.ndarray | None = None,
+                 jac: np.ndarray | None = None):
         self.system = system
         self.kin = kin
         self.lam = lam
-        self._jac: np.ndarray | None = None
+        self._jac = jac  # phi_q at kin, when the caller has it already
+
+    def jacobian(self) -> np.ndarray:
+        """phi_q (m, nq) of this state (computed once)."""
+        if self._jac is None:
+            self._jac = self.system.phi_q(self.kin)
+        return self._jac
 
     @property
     def t(self) -> float:
@@ -49,9 +56,17 @@ class StateView:
         if self.lam is None or len(self.lam) == 0:
             return np.zeros(3), np.zeros(3)
         from mechlib.reactions import joint_wrench
-        if self._jac is None:
-            self._jac = self.system.phi_q(self.kin)
-        return joint_wrench(self.system, self.kin, self._jac, self.lam, joint)
+        return joint_wrench(self.system, self.kin, self.jacobian(), self.lam, joint)
+
+    def reaction_force(self, joint: str) -> np.ndarray:
+        """Force (N, global) on body 1 of `joint` from body 2 (its own rows), from the
+        multipliers of this state (zero when none are known yet): the part of `reaction`
+        that joint friction reads, without the moment."""
+        if self.lam is None or len(self.lam) == 0:
+            return np.zeros(3)
+        rows, body, sign = self.system.joint_force_rows(joint)
+        block = self.jacobian()[rows, 7 * body:7 * body + 3]
+        return -sign * (block.T @ self.lam[rows])
 
     def effort(self, motion: str) -> float:
         """Torque (N*m) or force (N) that `motion` applies along its joint coordinate, from
@@ -59,9 +74,7 @@ class StateView:
         if self.lam is None or len(self.lam) == 0:
             return 0.0
         from mechlib.reactions import motion_effort
-        if self._jac is None:
-            self._jac = self.system.phi_q(self.kin)
-        return motion_effort(self.system, self.kin, self._jac, self.lam, motion)
+        return motion_effort(self.system, self.kin, self.jacobian(), self.lam, motion)
 
     def _measure(self, joint: str, kind: str):
         return self.system.measure(joint, kind)

@@ -9,9 +9,11 @@ states, the displacement since the last accepted state in static and quasi-stati
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
+from scipy.spatial.transform import Rotation
 
 from mechlib.elements.regularize import (StaticSlipAnchor, at_rest, coulomb_factor,
                                          coulomb_vector, rotation_increment)
@@ -66,37 +68,42 @@ class JointFriction(StaticSlipAnchor):
     def _direction(self, view: StateView) -> np.ndarray:
         """Signed, regularised unit vector (global) of body 1's slip against body 2."""
         if self._m is not None:
-            axis = view.rotation(self._m.bj) @ self._m.axis_local
+            axis = self._axis(view)
+            slip = (self._m.value(view.kin) - self._anchor) / self.slip_threshold
             if at_rest(view):
-                factor = coulomb_factor(self._m.value(view.kin) - self._anchor,
-                                        self.slip_threshold)
-            else:
-                factor = coulomb_factor(self._m.rate(view.kin), self.v_threshold)
-            return factor * axis
+                return coulomb_factor(slip, 1.0) * axis
+            return coulomb_factor(self._m.rate(view.kin) / self.v_threshold + slip, 1.0) * axis
+        slip = rotation_increment(self._relative_rotation(view), self._anchor)
         if at_rest(view):
-            return coulomb_vector(rotation_increment(self._relative_rotation(view),
-                                                     self._anchor), self.slip_threshold)
+            return coulomb_vector(slip, self.slip_threshold)
         k = view.kin
         w = omega_global(k.p[self._bi], k.pd[self._bi]) - omega_global(k.p[self._bj],
                                                                        k.pd[self._bj])
-        return coulomb_vector(w, self.v_threshold)
+        return coulomb_vector(w / self.v_threshold + slip / self.slip_threshold, 1.0)
 
-    def _normal(self, view: StateView) -> float:
-        """Reaction force (N) normal to the axis (all of it for a spherical joint)."""
-        force, _ = view.reaction(self.joint)
+    def _axis(self, view: StateView) -> np.ndarray:
+        return view.rotation(self._m.bj) @ self._m.axis_local
+
+    def _normal_force(self, view: StateView) -> np.ndarray:
+        """Reaction force (N, global) normal to the axis (all of it for a spherical
+        joint)."""
+        force = view.reaction_force(self.joint)
         if self._m is None:
-            return float(np.linalg.norm(force))
-        axis = view.rotation(self._m.bj) @ self._m.axis_local
-        return float(np.linalg.norm(force - (force @ axis) * axis))
+            return force
+        axis = self._axis(view)
+        return force - (force @ axis) * axis
+
+    @property
+    def _arm(self) -> float:
+        return 1.0 if self._type == "prismatic" else self.pin_radius
 
     def _capacity(self, view: StateView) -> tuple[float, float]:
-        normal = self._normal(view)
-        arm = 1.0 if self._type == "prismatic" else self.pin_radius
-        return self.mu * arm * normal + self.preload, normal
+        normal = float(np.linalg.norm(self._normal_force(view)))
+        return self.mu * self._arm * normal + self.preload, normal
 
     # ---- element protocol -------------------------------------------------------------
-    def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        capacity, _ = self._capacity(view)
+    def _add_wrench(self, view: StateView, capacity: float, F: np.ndarray,
+                    N: np.ndarray) -> None:
         load = -capacity * self._direction(view)  # on body 1, opposing its slip
         if self._type != "prismatic":
             N[self._bi] += load
@@ -108,12 +115,50 @@ class JointFriction(StaticSlipAnchor):
         F[self._bj] -= load
         N[self._bj] -= cross(at - view.kin.r[self._bj], load)
 
+    def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        self._add_wrench(view, self._capacity(view)[0], F, N)
+
+    def reaction_jacobian(self, view: StateView, out: np.ndarray) -> None:
+        """Add dQ/dlam (nq, m) of this friction at `view` to `out`. Q is linear in the
+        capacity mu r |F_n| + preload, and F_n = P (-sign B^T lam) with B the force block
+        of the joint's rows: dQ/dlam = Q(capacity 1) (x) mu r (-sign B u), u = F_n/|F_n|
+        (nothing where F_n = 0, whose derivative is undefined)."""
+        normal = self._normal_force(view)
+        size = float(np.linalg.norm(normal))
+        if size == 0.0 or self.mu == 0.0:
+            return
+        F = np.zeros((view.system.nb + 1, 3))
+        N = np.zeros_like(F)
+        self._add_wrench(view, 1.0, F, N)
+        unit = view.system.generalized(view.kin, F, N)
+        rows, body, sign = view.system.joint_force_rows(self.joint)
+        block = view.jacobian()[rows, 7 * body:7 * body + 3]
+        out[:, rows] += np.outer(unit, -sign * self.mu * self._arm * (block @ (normal / size)))
+
+    def begin(self, view: StateView) -> None:
+        """Start of an analysis: slips are measured from this state."""
+        self._anchor = (self._m.value(view.kin) if self._m is not None
+                        else self._relative_rotation(view).copy())
+
     def commit(self, view: StateView) -> None:
-        """Accepted state: the anchor from which static slips are measured."""
-        if self._m is not None:
-            self._anchor = self._m.value(view.kin)
+        """Accepted state. At rest (static, quasi-static): the anchor moves to it, so that
+        the next equilibrium's friction opposes the travel between the two. Moving
+        (dynamic): the anchor follows only the slip beyond `slip_threshold` (an
+        elasto-plastic anchor): a joint sticking under a load below its capacity stays
+        within `slip_threshold` of where it stuck instead of creeping."""
+        if at_rest(view):
+            self.begin(view)
+        elif self._m is not None:
+            slip = self._m.value(view.kin) - self._anchor
+            if abs(slip) > self.slip_threshold:
+                self._anchor += slip - math.copysign(self.slip_threshold, slip)
         else:
-            self._anchor = self._relative_rotation(view).copy()
+            now = self._relative_rotation(view)
+            slip = rotation_increment(now, self._anchor)
+            size = float(np.linalg.norm(slip))
+            if size > self.slip_threshold:  # anchor = rotation by -threshold (slip axis) of now
+                back = Rotation.from_rotvec(-self.slip_threshold * slip / size).as_matrix()
+                self._anchor = back @ now
 
     def output(self, view: StateView) -> dict[str, float]:
         """value: friction resisting body 1's motion (signed along the axis; magnitude for
@@ -121,8 +166,7 @@ class JointFriction(StaticSlipAnchor):
         capacity, normal = self._capacity(view)
         direction = self._direction(view)
         if self._m is not None:
-            axis = view.rotation(self._m.bj) @ self._m.axis_local
-            value = capacity * float(direction @ axis)
+            value = capacity * float(direction @ self._axis(view))
         else:
             value = capacity * float(np.linalg.norm(direction))
         return {"value": value, "capacity": capacity, "normal": normal}
