@@ -29,6 +29,7 @@ from mechlib.events import EventMonitor, fire, first_events
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.reaction_loads import accelerations_and_reactions, reaction_coupling
 from mechlib.solution import SolverFailure, SolverStats
+from mechlib.stick import slip_stop, switch_sticking
 from mechlib.system import System
 
 __all__ = ["Coefficients", "run_generalized_alpha", "consistent_accelerations",
@@ -406,6 +407,17 @@ class _Run:
             raise _newton_failure(self.system, s.t, t - s.t)
         return _State(t, *new)
 
+    def stop_slips(self, s: _State, new: _State) -> _State:
+        """`new`, or the state at the first instant within the step where a sliding joint
+        friction stops (its slip rate passes through zero: it may stick there)."""
+        sys = self.system
+        try:
+            t = slip_stop(sys, s.t, new.t, _view(sys, s), _view(sys, new),
+                          lambda tt: _view(sys, self._to(s, tt)))
+            return new if t is None or t >= new.t else self._to(s, t)
+        except SolverFailure:  # a shorter step that Newton cannot take: stop at new
+            return new
+
     def events(self, s: _State, new: _State, trajectory: Trajectory) -> _State | None:
         """If events fire during the step s -> new: the state at the first one, recorded,
         with the actions done and the integration restarted; else None."""
@@ -437,6 +449,8 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
     run = _Run(system, spec, stats, events)
     run.integ.scales = _Scales(system, q0, spec.tolerance)
     s = run.restart(spec.start, q0.copy(), qd0.copy())
+    if switch_sticking(system, s.q, s.qd, s.t, _view(system, s), consistent_state):
+        s = run.restart(s.t, s.q, s.qd)
     trajectory.record(s.t, s.q, *s.consistent)
     try:
         for t_out in output_times(spec.start, spec.end, spec.step)[1:]:
@@ -444,10 +458,14 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
                 new = run.attempt(s, t_out)
                 if new is None:
                     continue
+                new = run.stop_slips(s, new)
                 after = run.events(s, new, trajectory) if run.monitor.armed else None
                 if after is None:
                     run.accept(new)
-                    if run.monitor.armed:
+                    if switch_sticking(system, new.q, new.qd, new.t, _view(system, new),
+                                       consistent_state):
+                        after = run.restart(new.t, new.q, new.qd)
+                    elif run.monitor.armed:
                         run.monitor.arm(new.t, _view(system, new))
                 s = new if after is None else after
             if run.stopped:

@@ -36,6 +36,9 @@ class _Held:
     def __init__(self, value: float):
         self._value = value
 
+    def hold(self, value: float) -> None:
+        self._value = value
+
     def value(self, t: float) -> float:
         return self._value
 
@@ -72,9 +75,10 @@ class System:
                                       for e in self.elements)
         self._no_wrench = np.zeros((self.nb + 1, 3))
         self._no_wrench.flags.writeable = False
+        self._dormant: list[int] = []  # rows that elements switch on when they need them
         for element in self.elements:
             element.bind(self)
-        self.active = np.arange(len(self._all_labels))
+        self.active = np.setdiff1d(np.arange(len(self._all_labels)), self._dormant)
         self._force_rows: dict[str, tuple] = {}
 
     # ---- names -> indices -------------------------------------------------------------
@@ -229,6 +233,32 @@ class System:
         self._all_owners.append(joint)
         self.active = np.append(self.active, len(self._all_labels) - 1)
         self._pattern = None
+
+    def held_coordinate(self, owner: str, measure) -> int:
+        """A dormant equation `measure = held value`, owned by `owner` (a joint friction
+        sticking): its row index among all equations, for `hold` and `let_go`."""
+        eq = CoordinateEquation([(1.0, measure)], f"{owner}: stuck {measure.kind}", owner,
+                                _Held(0.0))
+        self.coordinates.append(eq)
+        self._all_labels.append(eq.label)
+        self._all_owners.append(owner)
+        self._dormant.append(len(self._all_labels) - 1)
+        return len(self._all_labels) - 1
+
+    def hold(self, row: int, k: Kin) -> None:
+        """Switch on held-coordinate equation `row` at its coordinate's value in `k`."""
+        eq = self.coordinates[row - self.n_geometric]
+        eq.function.hold(eq.terms[0][1].value(k))
+        self.active = np.union1d(self.active, [row])
+        self._pattern = None
+
+    def let_go(self, row: int) -> None:
+        """Switch off held-coordinate equation `row`."""
+        self.active = np.setdiff1d(self.active, [row])
+        self._pattern = None
+
+    def is_active(self, row: int) -> bool:
+        return bool(np.isin(row, self.active))
 
     def snapshot(self) -> dict:
         """What outputs need to read a recorded state as it was: angle references, active

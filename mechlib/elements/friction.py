@@ -13,7 +13,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 from mechlib.elements.regularize import (StaticSlipAnchor, at_rest, coulomb_factor,
                                          coulomb_vector, rotation_increment)
@@ -54,12 +53,17 @@ class JointFriction(StaticSlipAnchor):
             raise ValueError(f"joint_friction '{self.name}': joint '{self.joint}' is {j.type}; "
                              f"friction needs a {', '.join(FRICTION_JOINTS)} joint")
         self._type = j.type
+        self._system = system
         self._bi, self._si = system.body_point(j.body1, j.at)
         self._bj, _ = system.body_point(j.body2, j.at)
         self._m = None
+        self._stick_row = None
         if j.type != "spherical":
             self._m = system.measure(self.joint, "travel" if j.type == "prismatic" else "angle")
+            self._stick_row = system.held_coordinate(self.stick_owner, self._m)
         self._anchor = 0.0 if self._m is not None else np.eye(3)
+        self._rate = self._rate_before = 0.0  # slip rates at the last two accepted states
+        self._impending = 0.0  # direction of the slip that starts when a stuck joint lets go
 
     # ---- kinematics of the slip -------------------------------------------------------
     def _relative_rotation(self, view: StateView) -> np.ndarray:
@@ -69,17 +73,63 @@ class JointFriction(StaticSlipAnchor):
         """Signed, regularised unit vector (global) of body 1's slip against body 2."""
         if self._m is not None:
             axis = self._axis(view)
-            slip = (self._m.value(view.kin) - self._anchor) / self.slip_threshold
             if at_rest(view):
-                return coulomb_factor(slip, 1.0) * axis
-            return coulomb_factor(self._m.rate(view.kin) / self.v_threshold + slip, 1.0) * axis
-        slip = rotation_increment(self._relative_rotation(view), self._anchor)
+                slip = self._m.value(view.kin) - self._anchor
+                return coulomb_factor(slip, self.slip_threshold) * axis
+            rate = self._m.rate(view.kin) / self.v_threshold + self._impending
+            return coulomb_factor(rate, 1.0) * axis
         if at_rest(view):
-            return coulomb_vector(slip, self.slip_threshold)
+            return coulomb_vector(rotation_increment(self._relative_rotation(view),
+                                                     self._anchor), self.slip_threshold)
         k = view.kin
         w = omega_global(k.p[self._bi], k.pd[self._bi]) - omega_global(k.p[self._bj],
                                                                        k.pd[self._bj])
-        return coulomb_vector(w / self.v_threshold + slip / self.slip_threshold, 1.0)
+        return coulomb_vector(w, self.v_threshold)
+
+    # ---- stick (dynamic analyses; see mechlib.stick) ----------------------------------
+    @property
+    def stick_owner(self) -> str:
+        """Owner name of the equation that holds the joint while it sticks."""
+        return f"{self.name}: stick"
+
+    @property
+    def can_stick(self) -> bool:
+        """Joints with one slip coordinate stick exactly; a spherical joint's friction is
+        the regularised law alone (it creeps below `v_threshold`)."""
+        return self._stick_row is not None
+
+    @property
+    def stuck(self) -> bool:
+        return self._stick_row is not None and self._system.is_active(self._stick_row)
+
+    def slip_rate(self, view: StateView) -> float:
+        """Rate (rad/s or m/s) of the joint coordinate."""
+        return self._m.rate(view.kin)
+
+    def may_stick(self, view: StateView) -> bool:
+        """Sliding, and the slip rate passed through zero over the last accepted step (or
+        is within the regularised band): a candidate to stick."""
+        rate = self.slip_rate(view)
+        return not self.stuck and (rate * self._rate_before <= 0.0
+                                   or abs(rate) < self.v_threshold)
+
+    def stick_effort(self, view: StateView) -> float:
+        """Torque (N*m) or force (N) the stick equation applies to body 1 along the axis."""
+        return view.effort(self.stick_owner)
+
+    @property
+    def impending(self) -> float:
+        """+1/-1: the direction a slip starting from rest takes (0: none known)."""
+        return self._impending
+
+    def stick(self, k) -> None:
+        self._system.hold(self._stick_row, k)
+
+    def slip(self, effort: float) -> None:
+        """Let go: the joint starts to slip the way the held load pushes it (against the
+        stick effort `effort`)."""
+        self._system.let_go(self._stick_row)
+        self._impending = -math.copysign(1.0, effort)
 
     def _axis(self, view: StateView) -> np.ndarray:
         return view.rotation(self._m.bj) @ self._m.axis_local
@@ -96,6 +146,16 @@ class JointFriction(StaticSlipAnchor):
     @property
     def _arm(self) -> float:
         return 1.0 if self._type == "prismatic" else self.pin_radius
+
+    def static_anchor(self) -> tuple:
+        return self._anchor, self._impending
+
+    def restore_static_anchor(self, anchor: tuple) -> None:
+        self._anchor, self._impending = anchor
+
+    def capacity(self, view: StateView) -> float:
+        """mu r F_r + preload (N*m, or N on a prismatic joint) at `view`."""
+        return self._capacity(view)[0]
 
     def _capacity(self, view: StateView) -> tuple[float, float]:
         normal = float(np.linalg.norm(self._normal_force(view)))
@@ -116,7 +176,8 @@ class JointFriction(StaticSlipAnchor):
         N[self._bj] -= cross(at - view.kin.r[self._bj], load)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        self._add_wrench(view, self._capacity(view)[0], F, N)
+        if not self.stuck:  # a stuck joint is held by its stick equation instead
+            self._add_wrench(view, self._capacity(view)[0], F, N)
 
     def reaction_jacobian(self, view: StateView, out: np.ndarray) -> None:
         """Add dQ/dlam (nq, m) of this friction at `view` to `out`. Q is linear in the
@@ -125,7 +186,7 @@ class JointFriction(StaticSlipAnchor):
         (nothing where F_n = 0, whose derivative is undefined)."""
         normal = self._normal_force(view)
         size = float(np.linalg.norm(normal))
-        if size == 0.0 or self.mu == 0.0:
+        if size == 0.0 or self.mu == 0.0 or self.stuck:
             return
         F = np.zeros((view.system.nb + 1, 3))
         N = np.zeros_like(F)
@@ -139,31 +200,28 @@ class JointFriction(StaticSlipAnchor):
         """Start of an analysis: slips are measured from this state."""
         self._anchor = (self._m.value(view.kin) if self._m is not None
                         else self._relative_rotation(view).copy())
+        rate = self.slip_rate(view) if self._m is not None else 0.0
+        self._rate = self._rate_before = rate
+        self._impending = 0.0
 
     def commit(self, view: StateView) -> None:
         """Accepted state. At rest (static, quasi-static): the anchor moves to it, so that
-        the next equilibrium's friction opposes the travel between the two. Moving
-        (dynamic): the anchor follows only the slip beyond `slip_threshold` (an
-        elasto-plastic anchor): a joint sticking under a load below its capacity stays
-        within `slip_threshold` of where it stuck instead of creeping."""
+        the next equilibrium's friction opposes the travel between the two. Moving: the
+        slip rate is kept (stick detection), and a slip that got going forgets the
+        direction it started in."""
         if at_rest(view):
             self.begin(view)
         elif self._m is not None:
-            slip = self._m.value(view.kin) - self._anchor
-            if abs(slip) > self.slip_threshold:
-                self._anchor += slip - math.copysign(self.slip_threshold, slip)
-        else:
-            now = self._relative_rotation(view)
-            slip = rotation_increment(now, self._anchor)
-            size = float(np.linalg.norm(slip))
-            if size > self.slip_threshold:  # anchor = rotation by -threshold (slip axis) of now
-                back = Rotation.from_rotvec(-self.slip_threshold * slip / size).as_matrix()
-                self._anchor = back @ now
+            self._rate_before, self._rate = self._rate, self.slip_rate(view)
+            if abs(self._rate) >= self.v_threshold:
+                self._impending = 0.0
 
     def output(self, view: StateView) -> dict[str, float]:
         """value: friction resisting body 1's motion (signed along the axis; magnitude for
         a spherical joint); capacity: mu r F_r + preload; normal: F_r."""
         capacity, normal = self._capacity(view)
+        if self.stuck:
+            return {"value": -self.stick_effort(view), "capacity": capacity, "normal": normal}
         direction = self._direction(view)
         if self._m is not None:
             value = capacity * float(direction @ self._axis(view))
