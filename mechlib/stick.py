@@ -15,6 +15,7 @@ from __future__ import annotations
 from typing import Callable
 
 from mechlib.events import locate
+from mechlib.solution import SolverFailure
 
 __all__ = ["switch_sticking", "slip_stop"]
 
@@ -36,7 +37,11 @@ def switch_sticking(system, q, qd, t: float, view, consistent: Callable) -> bool
                 switched = True
         elif e.may_stick(view):
             e.stick(system.kin(q, qd, t))
-            held_qd, _, lam = consistent(system, q, qd, t)
+            try:
+                held_qd, _, lam = consistent(system, q, qd, t)
+            except SolverFailure:  # already held by other equations (a motion, a stuck
+                e.unstick()        # joint of the same loop): nothing to hold
+                continue
             held = system.view(system.kin(q, held_qd, t), lam)
             effort = e.stick_effort(held)
             if abs(effort) > e.capacity(held) * (1.0 + _HOLD_MARGIN):
@@ -57,8 +62,8 @@ def slip_stop(system, t0: float, t1: float, view0, view1,
         if not (e.active and getattr(e, "can_stick", False)) or e.stuck:
             continue
         r0, r1 = e.slip_rate(view0), e.slip_rate(view1)
-        if r0 * r1 >= 0.0:
-            continue
+        if r0 * r1 >= 0.0 or max(abs(r0), abs(r1)) < e.v_threshold:
+            continue  # no reversal, or one within the regularised band (velocity noise)
         sign = -1.0 if r0 > 0.0 else 1.0
         t = locate(sign * r0, sign * r1, t0, t1, lambda tt: sign * e.slip_rate(view_at(tt)))
         first = t if first is None else min(first, t)

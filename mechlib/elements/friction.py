@@ -60,7 +60,8 @@ class JointFriction(StaticSlipAnchor):
         self._stick_row = None
         if j.type != "spherical":
             self._m = system.measure(self.joint, "travel" if j.type == "prismatic" else "angle")
-            self._stick_row = system.held_coordinate(self.stick_owner, self._m)
+            if not _prescribed(system.mechanism, self.joint):
+                self._stick_row = system.held_coordinate(self.stick_owner, self._m)
         self._anchor = 0.0 if self._m is not None else np.eye(3)
         self._rate = self._rate_before = 0.0  # slip rates at the last two accepted states
         self._impending = 0.0  # direction of the slip that starts when a stuck joint lets go
@@ -95,7 +96,8 @@ class JointFriction(StaticSlipAnchor):
     @property
     def can_stick(self) -> bool:
         """Joints with one slip coordinate stick exactly; a spherical joint's friction is
-        the regularised law alone (it creeps below `v_threshold`)."""
+        the regularised law alone (it creeps below `v_threshold`), and a joint whose
+        coordinate a motion or a coupling prescribes has nothing to stick."""
         return self._stick_row is not None
 
     @property
@@ -125,10 +127,14 @@ class JointFriction(StaticSlipAnchor):
     def stick(self, k) -> None:
         self._system.hold(self._stick_row, k)
 
+    def unstick(self) -> None:
+        """Take the stick equation away again (it was not needed)."""
+        self._system.let_go(self._stick_row)
+
     def slip(self, effort: float) -> None:
         """Let go: the joint starts to slip the way the held load pushes it (against the
         stick effort `effort`)."""
-        self._system.let_go(self._stick_row)
+        self.unstick()
         self._impending = -math.copysign(1.0, effort)
 
     def _axis(self, view: StateView) -> np.ndarray:
@@ -228,3 +234,10 @@ class JointFriction(StaticSlipAnchor):
         else:
             value = capacity * float(np.linalg.norm(direction))
         return {"value": value, "capacity": capacity, "normal": normal}
+
+
+def _prescribed(mechanism, joint: str) -> bool:
+    """True when a motion drives `joint`, or a coupler or gear ties its coordinate."""
+    if any(m.joint == joint for m in mechanism.motions.values()):
+        return True
+    return any(j.joints and joint in j.joints for j in mechanism.joints.values())
