@@ -24,10 +24,11 @@ from typing import Callable
 import numpy as np
 from numba import njit
 
-from mechlib.analysis import Dynamic, Trajectory, output_times
+from mechlib.analysis import Dynamic, Trajectory, check_step_limit, output_times
 from mechlib.events import EventMonitor, fire, first_events
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.reaction_loads import accelerations_and_reactions, reaction_coupling
+from mechlib.runaway import StepCollapse, element_loads
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
@@ -42,7 +43,6 @@ _NEWTON_KAPPA = 0.05
 _ETA_MIN = 1e-3
 _ROUNDOFF = 1e3 * np.finfo(float).eps
 _SLOW_ITERATIONS = 3
-_MAX_STEPS = 2_000_000
 # first step, as a fraction of the analysis span: small, because the start acceleration may
 # be one the motion leaves at once (joint friction at rest carries nothing until the joint
 # slips); the step grows x4 per accepted step, so this costs about five steps
@@ -351,6 +351,7 @@ class _Run:
                                                             _FIRST_STEP * span or 1e-3)
         self.h_min = 1e-12 * max(1.0, abs(spec.end))
         self.h_used = 0.0
+        self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
 
     def restart(self, t: float, q: np.ndarray, qd: np.ndarray) -> _State:
         """Consistent accelerations (and velocities: a latch engaging is a plastic impact,
@@ -366,9 +367,7 @@ class _Run:
     def attempt(self, s: _State, t_out: float) -> _State | None:
         """One step towards t_out; None when rejected (the step size is then reduced)."""
         spec, stats = self.spec, self.stats
-        if stats.steps + stats.rejected_steps > _MAX_STEPS:
-            raise SolverFailure(f"dynamic analysis stopped at t = {s.t:.6g} s after "
-                                f"{_MAX_STEPS} steps", time=s.t)
+        check_step_limit(spec, stats, s.t)
         _, h_try = _substeps(t_out - s.t, self.h)
         if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
             qdd, lam = consistent_accelerations(self.system, s.q, s.qd, s.t)
@@ -404,6 +403,8 @@ class _Run:
         if self.system.states:
             self.system.states.accept(self.system.view(k))
         self.system.commit(k)
+        self.collapse.watch(self.stats.steps + self.stats.rejected_steps, s.t, self.h_used,
+                            lambda: element_loads(self.system, _view(self.system, s)))
 
     def _to(self, s: _State, t: float) -> _State:
         """The step from s re-solved to end at t (s); _Unresolved when Newton fails."""
