@@ -248,17 +248,18 @@ class _Builder:
             self.error("case", "analysis", f"a {a.type} analysis needs 'end' and 'step' > 0 "
                        "(seconds)")
             return None
+        limit = {"max_steps": a.max_steps} if a.max_steps is not None else {}
         if a.type == "kinematic":
-            return ml.Kinematic(end=a.end, step=a.step)
+            return ml.Kinematic(end=a.end, step=a.step, **limit)
         if a.type == "quasi-static":
-            return ml.QuasiStatic(end=a.end, step=a.step)
+            return ml.QuasiStatic(end=a.end, step=a.step, **limit)
         integrator = a.integrator or "generalized-alpha"
         if integrator not in ("generalized-alpha", "radau"):
             self.error("case", "analysis.integrator", f"unknown integrator '{integrator}': "
                        "use generalized-alpha or radau")
         options = {"tolerance": a.tolerance} if a.tolerance is not None else {}
         return ml.Dynamic(end=a.end, step=a.step, integrator=integrator,
-                          max_step=a.max_step, **options)
+                          max_step=a.max_step, **options, **limit)
 
     def requests(self) -> tuple[list, dict[str, str]]:
         out, units = [], {}

@@ -2,7 +2,7 @@
 
 Build a `Mechanism`, pick an analysis, name the requests, and call `solve`.
 """
-from mechlib.analysis import Dynamic, Kinematic, QuasiStatic, Static
+from mechlib.analysis import DEFAULT_MAX_STEPS, Dynamic, Kinematic, QuasiStatic, Static
 from mechlib.assembly import InitialBodyVelocity, InitialValue
 from mechlib.check import ModelError
 from mechlib.events import Action, Event
@@ -18,7 +18,7 @@ from mechlib.system import System
 from mechlib.view import StateView
 
 __all__ = ["Mechanism", "GROUND", "System", "StateView", "solve", "check_model",
-           "Kinematic", "Static", "QuasiStatic", "Dynamic", "InitialValue",
+           "Kinematic", "Static", "QuasiStatic", "Dynamic", "DEFAULT_MAX_STEPS", "InitialValue",
            "InitialBodyVelocity", "PointForce", "PointTorque", "Spring", "TorsionSpring",
            "JointReaction", "MotionEffort", "PointKinematics", "JointCoordinate",
            "ElementOutput", "ExpressionOutput", "Solution", "SolverFailure", "SolverStats",

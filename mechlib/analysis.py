@@ -6,19 +6,24 @@ from typing import Callable
 
 import numpy as np
 
+from mechlib.solution import SolverFailure, SolverStats
+
 __all__ = ["Kinematic", "Static", "QuasiStatic", "Dynamic", "Trajectory", "output_times",
-           "DEFAULT_TOLERANCE"]
+           "check_step_limit", "DEFAULT_TOLERANCE", "DEFAULT_MAX_STEPS"]
 
 DEFAULT_TOLERANCE = 1e-6
+DEFAULT_MAX_STEPS = 500_000  # accepted + rejected steps: a few minutes of CPU, small model
 
 
 @dataclass(frozen=True)
 class _Timed:
-    """Output every `step` s from `start` to `end` (s)."""
+    """Output every `step` s from `start` to `end` (s); at most `max_steps` steps (accepted
+    and rejected: integrator steps, or output times and their sub-steps)."""
 
     end: float
     step: float
     start: float = 0.0
+    max_steps: int = DEFAULT_MAX_STEPS
 
 
 @dataclass(frozen=True)
@@ -60,6 +65,17 @@ class Dynamic(_Timed):
     rho_inf: float = 0.9
     fixed_step: bool = False
     name = "dynamic"
+
+
+def check_step_limit(spec: _Timed, stats: SolverStats, t: float) -> None:
+    """Raise SolverFailure once the run at time t (s) has used its `max_steps`."""
+    taken = stats.steps + stats.rejected_steps
+    if taken >= spec.max_steps:
+        raise SolverFailure(
+            f"{spec.name} analysis stopped at t = {t:.6g} s of {spec.end:g} s: the limit of "
+            f"{spec.max_steps} steps (analysis.max_steps, accepted and rejected) is reached; "
+            "raise analysis.max_steps if the run is sound, or look for what keeps the steps "
+            "small", time=t)
 
 
 def output_times(start: float, end: float, step: float) -> np.ndarray:

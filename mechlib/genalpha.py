@@ -24,10 +24,11 @@ from typing import Callable
 import numpy as np
 from numba import njit
 
-from mechlib.analysis import Dynamic, Trajectory, output_times
+from mechlib.analysis import Dynamic, Trajectory, check_step_limit, output_times
 from mechlib.events import EventMonitor, fire, first_events
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.reaction_loads import accelerations_and_reactions, reaction_coupling
+from mechlib.runaway import StepCollapse, element_loads
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.stick import slip_stop, switch_sticking
 from mechlib.system import System
@@ -43,7 +44,6 @@ _NEWTON_KAPPA = 0.05
 _ETA_MIN = 1e-3
 _ROUNDOFF = 1e3 * np.finfo(float).eps
 _SLOW_ITERATIONS = 3
-_MAX_STEPS = 2_000_000
 # first step, as a fraction of the analysis span: small, because the start acceleration may
 # be one the motion leaves at once (joint friction at rest carries nothing until the joint
 # slips); the step grows x4 per accepted step, so this costs about five steps
@@ -352,6 +352,7 @@ class _Run:
                                                             _FIRST_STEP * span or 1e-3)
         self.h_min = 1e-12 * max(1.0, abs(spec.end))
         self.h_used = 0.0
+        self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
 
     def restart(self, t: float, q: np.ndarray, qd: np.ndarray) -> _State:
         """Consistent accelerations (and velocities: a latch engaging is a plastic impact,
@@ -367,9 +368,7 @@ class _Run:
     def attempt(self, s: _State, t_out: float) -> _State | None:
         """One step towards t_out; None when rejected (the step size is then reduced)."""
         spec, stats = self.spec, self.stats
-        if stats.steps + stats.rejected_steps > _MAX_STEPS:
-            raise SolverFailure(f"dynamic analysis stopped at t = {s.t:.6g} s after "
-                                f"{_MAX_STEPS} steps", time=s.t)
+        check_step_limit(spec, stats, s.t)
         _, h_try = _substeps(t_out - s.t, self.h)
         if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
             qdd, lam = consistent_accelerations(self.system, s.q, s.qd, s.t)
@@ -382,16 +381,21 @@ class _Run:
             self.system.states.reject()
             if spec.fixed_step:
                 raise _newton_failure(self.system, s.t, h_try)
-            stats.rejected_steps += 1
-            self.h = h_try * (0.25 if new is None else max(_SHRINK, _SAFETY * err ** (-1 / 3)))
-            if self.h < self.h_min:  # a singular matrix says more than "no convergence"
-                raise self.integ.singular or _newton_failure(self.system, s.t, self.h)
+            self._shrink(s.t, h_try * (0.25 if new is None else
+                                       max(_SHRINK, _SAFETY * err ** (-1 / 3))))
             return None
         if not spec.fixed_step:
             grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
             if grow > _REGROW:
                 self.h = min(self.max_step, h_try * grow)
         return _State(s.t + h_try, *new)
+
+    def _shrink(self, t: float, h: float) -> None:
+        """A rejected step at t (s): retry with step h (s), failing below h_min."""
+        self.stats.rejected_steps += 1
+        self.h = h
+        if self.h < self.h_min:  # a singular matrix says more than "no convergence"
+            raise self.integ.singular or _newton_failure(self.system, t, self.h)
 
     def accept(self, s: _State) -> None:
         self.stats.steps += 1
@@ -400,11 +404,14 @@ class _Run:
         if self.system.states:
             self.system.states.accept(self.system.view(k))
         self.system.commit(k)
+        self.collapse.watch(self.stats.steps + self.stats.rejected_steps, s.t, self.h_used,
+                            lambda: element_loads(self.system, _view(self.system, s)))
 
     def _to(self, s: _State, t: float) -> _State:
+        """The step from s re-solved to end at t (s); _Unresolved when Newton fails."""
         new = self.integ.step(s.t, t - s.t, s.q, s.qd, s.qdd, s.a, s.lam)
         if new is None:
-            raise _newton_failure(self.system, s.t, t - s.t)
+            raise _Unresolved(t)
         return _State(t, *new)
 
     def stop_slips(self, s: _State, new: _State) -> _State:
@@ -420,14 +427,28 @@ class _Run:
 
     def events(self, s: _State, new: _State, trajectory: Trajectory) -> _State | None:
         """If events fire during the step s -> new: the state at the first one, recorded,
-        with the actions done and the integration restarted; else None."""
+        with the actions done and the integration restarted; else None. When a re-solved
+        step of the location fails, the step is rejected instead: `s` is returned and the
+        next attempt is a quarter as long."""
         sys = self.system
-        hit = first_events(self.monitor, s.t, new.t, _view(sys, new),
-                           lambda t: _view(sys, self._to(s, t)))
-        if hit is None:
-            return None
-        t_e, now = hit
-        at = self._to(s, t_e)
+        try:
+            hit = first_events(self.monitor, s.t, new.t, _view(sys, new),
+                               lambda t: _view(sys, self._to(s, t)))
+            if hit is None:
+                return None
+            t_e, now = hit
+            at = self._to(s, t_e)
+        except _Unresolved as failed:
+            # a load that jumps where the condition's zero lies (a preloaded wire going
+            # taut) defeats Newton on steps ending just past it; shorter steps resolve it,
+            # as for any step Newton cannot take
+            self.system.states.reject()
+            if self.spec.fixed_step:
+                names = ", ".join(f"'{e.name}'" for e in
+                                  self.monitor.crossed(new.t, _view(sys, new)))
+                raise _newton_failure(sys, s.t, failed.t - s.t, f"locating event {names}")
+            self._shrink(s.t, 0.25 * (new.t - s.t))
+            return s
         self.accept(at)
         trajectory.record(t_e, at.q, *at.consistent)
         if fire(sys, self.monitor, now, sys.kin(at.q, at.qd, t_e), self.log):
@@ -478,8 +499,17 @@ def run_generalized_alpha(system: System, spec: Dynamic, q0, qd0, trajectory: Tr
             event_log.extend(run.log)
 
 
-def _newton_failure(system: System, t: float, h: float) -> SolverFailure:
-    return SolverFailure(f"dynamic analysis failed at t = {t:.6g} s: Newton iterations did not "
-                         f"converge even with a step of {h:.3g} s (an impact or a stiffness "
-                         "too large for the step, a toggle position, or a load discontinuity)",
-                         time=t)
+class _Unresolved(Exception):
+    """A step re-solved to end at `t` (s) that Newton could not take."""
+
+    def __init__(self, t: float):
+        super().__init__(t)
+        self.t = t
+
+
+def _newton_failure(system: System, t: float, h: float, doing: str = "") -> SolverFailure:
+    while_ = f" {doing}" if doing else ""
+    return SolverFailure(f"dynamic analysis failed at t = {t:.6g} s{while_}: Newton iterations "
+                         f"did not converge even with a step of {h:.3g} s (an impact or a "
+                         "stiffness too large for the step, a toggle position, or a load "
+                         "discontinuity)", time=t)

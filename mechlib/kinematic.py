@@ -10,7 +10,7 @@ from typing import Callable
 
 import numpy as np
 
-from mechlib.analysis import Kinematic, Trajectory, output_times
+from mechlib.analysis import Kinematic, Trajectory, check_step_limit, output_times
 from mechlib.assembly import solve_positions
 from mechlib.events import EventMonitor, fire, first_events
 from mechlib.linalg import factor, singular_failure, solve_factored
@@ -58,6 +58,7 @@ def run_kinematic(system: System, spec: Kinematic, q0: np.ndarray, qd0: np.ndarr
     state = (q0, qd0, np.zeros_like(q0))
     t_prev = spec.start
     for t in output_times(spec.start, spec.end, spec.step):
+        check_step_limit(spec, stats, t_prev)
         new, lam = _advance(system, state, t_prev, t, stats)
         while monitor.armed and t > t_prev:
             hit = first_events(monitor, t_prev, t, _view(system, t, new, lam),

@@ -11,7 +11,7 @@ from typing import Callable
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from mechlib.analysis import Dynamic, Trajectory, output_times
+from mechlib.analysis import Dynamic, Trajectory, check_step_limit, output_times
 from mechlib.assembly import solve_positions
 from mechlib.genalpha import consistent_accelerations
 from mechlib.linalg import singular_failure
@@ -59,6 +59,7 @@ def run_radau(system: System, spec: Dynamic, q0, qd0, trajectory: Trajectory,
     trajectory.record(times[0], q, qd, qdd, lam)
     atol = np.r_[np.full(nq, spec.tolerance * 1e-2), np.full(nq, spec.tolerance * 1e-1)]
     for t0, t1 in zip(times[:-1], times[1:]):
+        check_step_limit(spec, stats, t0)
         sol = solve_ivp(f, (t0, t1), np.concatenate([q, qd]), method="Radau",
                         rtol=spec.tolerance, atol=atol, max_step=spec.max_step or np.inf)
         stats.steps += max(len(sol.t) - 1, 0)

@@ -11,7 +11,7 @@ from typing import Callable
 
 import numpy as np
 
-from mechlib.analysis import QuasiStatic, Static, Trajectory, output_times
+from mechlib.analysis import QuasiStatic, Static, Trajectory, check_step_limit, output_times
 from mechlib.assembly import solve_accelerations, solve_positions, solve_velocities
 from mechlib.events import EventMonitor, fire, first_events
 from mechlib.linalg import augmented, factor, singular_failure, solve_factored
@@ -141,6 +141,7 @@ def run_quasi_static(system: System, spec: QuasiStatic, q0: np.ndarray,
     q, lam, t_prev = q0, None, spec.start
     q_prev = q0
     for t in output_times(spec.start, spec.end, spec.step):
+        check_step_limit(spec, stats, t_prev)
         q_new, lam_new = _continue(system, q, q_prev, lam, t_prev, t, stats)
         while monitor.armed and t > t_prev:
             hit = first_events(monitor, t_prev, t, _view(system, q_new, lam_new, t),

@@ -96,11 +96,14 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
                                            f"'{key}' (s)"))
             elif value <= 0.0:
                 found.append(at.diagnostic(("analysis", key), "must be positive"))
+        if analysis.max_steps is not None and analysis.max_steps <= 0:
+            found.append(at.diagnostic(("analysis", "max_steps"), "must be a positive whole "
+                                       "number of steps"))
         if analysis.end and analysis.step and analysis.step > analysis.end:
             found.append(at.diagnostic(("analysis", "step"), "step is longer than end"))
     else:
         found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",
-                                severity="warning") for key in ("end", "step")
+                                severity="warning") for key in ("end", "step", "max_steps")
                   if getattr(analysis, key) is not None]
     if kind != "dynamic":
         found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",

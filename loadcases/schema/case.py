@@ -6,6 +6,8 @@ from typing import Annotated, Any, Literal
 from pydantic import BeforeValidator, Discriminator, Field, Tag
 from pydantic_core import PydanticCustomError
 
+import mechlib as ml
+
 from loadcases.schema.mechanism import Event, FileUnits
 from loadcases.schema.types import (
     AnySI, Dimensionless, Expression, Name, RawQuantity, Strict, describe, quantity, vector,
@@ -71,6 +73,10 @@ class Analysis(Strict):
     integrator: str | None = Field(None, description="dynamic: e.g. generalized-alpha, radau")
     max_step: _TIME | None = Field(None, description=describe(  # type: ignore[valid-type]
         "dynamic: largest integrator step", "time"))
+    max_steps: int | None = Field(None, description=(
+        f"kinematic, quasi-static, dynamic: most steps a run may take, accepted and rejected "
+        f"(default {ml.DEFAULT_MAX_STEPS}); a run that reaches it fails"),
+        json_schema_extra={"minimum": 1})
     redundant: Literal["error", "drop"] = Field(
         "error", description="redundant constraint equations: error (default) or drop them")
 

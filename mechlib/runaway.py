@@ -1,0 +1,71 @@
+"""Runaway runs: a step size that keeps collapsing, stopped long before `max_steps`.
+
+A load that grows without bound (a force exp(100 t), an unstable controller) makes the
+error-controlled step shrink as the motion speeds up; the run would grind on until its step
+limit, minutes later. `StepCollapse` watches the accepted steps: once the rest of the run
+at the current step size would need more steps than `max_steps` leaves, and the step keeps
+shrinking over the next COLLAPSE_STEPS accepted steps (an impact resolves in far fewer, and
+the step then grows again), the run fails naming the force element whose load grew most.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from mechlib.solution import SolverFailure
+
+__all__ = ["StepCollapse", "COLLAPSE_STEPS"]
+
+COLLAPSE_STEPS = 1000  # accepted steps over which a step too small for the limit must shrink
+
+
+def element_loads(system, view) -> dict[str, float]:
+    """Largest force (N) or torque (N*m) component of each active force element at `view`."""
+    loads = {}
+    for element in system.elements:
+        if element.active:
+            F, N = np.zeros((system.nb + 1, 3)), np.zeros((system.nb + 1, 3))
+            element.apply(view, F, N)
+            loads[element.name] = float(max(np.abs(F).max(), np.abs(N).max()))
+    return loads
+
+
+class StepCollapse:
+    """Watches (t, h) of the accepted steps of a run from `start` to `end` (s)."""
+
+    def __init__(self, analysis: str, end: float, max_steps: int):
+        self.analysis, self.end, self.max_steps = analysis, end, max_steps
+        self.since: tuple[int, float, dict[str, float]] | None = None
+
+    def watch(self, taken: int, t: float, h: float, loads) -> None:
+        """After an accepted step of size h (s) ending at t (s), `taken` steps so far;
+        `loads()` gives `element_loads` now. Raises SolverFailure on a collapse."""
+        need = (self.end - t) / h
+        if taken + need <= self.max_steps:
+            self.since = None
+            return
+        if self.since is None:
+            self.since = (taken, h, loads())
+            return
+        n0, h0, loads0 = self.since
+        if taken - n0 < COLLAPSE_STEPS:
+            return
+        if h >= h0:  # not shrinking any more: watch a new window
+            self.since = (taken, h, loads())
+            return
+        raise SolverFailure(
+            f"{self.analysis} analysis failed at t = {t:.6g} s: the step size collapsed to "
+            f"{h:.3g} s (from {h0:.3g} s {taken - n0} steps before); the remaining "
+            f"{self.end - t:.3g} s would need {need:.3g} more steps, beyond analysis.max_steps "
+            f"= {self.max_steps}: {_grown(loads0, loads())}", time=t)
+
+
+def _grown(before: dict[str, float], now: dict[str, float]) -> str:
+    """The likely cause: the element whose load grew the most, or what else to check."""
+    ratios = {name: now[name] / before[name] for name in now
+              if before.get(name, 0.0) > 0.0 and now[name] > before[name]}
+    if not ratios:
+        return ("no force element grows: the motion speeds up without bound (an unstable "
+                "model, a motion or initial value out of range?)")
+    name = max(ratios, key=ratios.get)
+    return (f"the force '{name}' grew from {before[name]:.3g} to {now[name]:.3g} (SI) over "
+            "those steps: does it grow without bound?")
