@@ -422,7 +422,8 @@ class _Run:
             t = slip_stop(sys, s.t, new.t, _view(sys, s), _view(sys, new),
                           lambda tt: _view(sys, self._to(s, tt)))
             return new if t is None or t >= new.t else self._to(s, t)
-        except SolverFailure:  # a shorter step that Newton cannot take: stop at new
+        except (_Unresolved, SolverFailure):  # a shorter step Newton cannot take: keep new
+            self.system.states.reject()
             return new
 
     def events(self, s: _State, new: _State, trajectory: Trajectory) -> _State | None:
