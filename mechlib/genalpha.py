@@ -421,10 +421,14 @@ class _Run:
         try:
             t = slip_stop(sys, s.t, new.t, _view(sys, s), _view(sys, new),
                           lambda tt: _view(sys, self._to(s, tt)))
-            return new if t is None or t >= new.t else self._to(s, t)
+            if t is None:
+                return new
+            if t < new.t:
+                return self._to(s, t)
         except (_Unresolved, SolverFailure):  # a shorter step Newton cannot take: keep new
-            self.system.states.reject()
-            return new
+            pass
+        # the re-solved steps moved the element states' trial values: back to new's
+        return self._to(s, new.t) if sys.states else new
 
     def events(self, s: _State, new: _State, trajectory: Trajectory) -> _State | None:
         """If events fire during the step s -> new: the state at the first one, recorded,
