@@ -7,13 +7,16 @@ units or the size of the mechanism:
   mechanism's length L, Euler-parameter columns times 1/2, i.e. per radian of rotation) and
   each equation scaled to a unit row (an equation's scale does not change what it allows);
   its smallest singular value is 0 when equations become dependent (a driven joint at a
-  toggle, a change point) and about 1 far from it;
+  toggle, a change point);
 - with degrees of freedom left, each joint coordinate that no motion or lock drives has the
   sine of the angle between its gradient and the constraint rows: 0 where the other joints
   leave it no motion (the leg of a landing gear when its drag brace goes straight), i.e.
   where the Jacobian would be singular if that joint were driven.
 
-The measure is the smallest of these. Reactions grow like 1/measure near a toggle.
+Each is taken relative to its largest value in the run (absolute values depend on the
+arrangement: a 3D model with nearly parallel axes is weakly conditioned everywhere), and
+the measure of a position is the smallest of them. Reactions grow like 1/measure near a
+toggle. Checked at the recorded output rows, after the analysis (docs/analyses.md).
 """
 from __future__ import annotations
 
@@ -69,8 +72,9 @@ def _free_measures(system: System) -> list[tuple[str, object]]:
     """(joint, coordinate measure) of the joint coordinates no active motion or lock drives."""
     driven = set()
     for i, eq in enumerate(system.coordinates):
-        if system.n_geometric + i in system.active and len(eq.terms) == 1:
-            driven.add(id(eq.terms[0][1]))
+        terms = getattr(eq, "terms", ())  # a curve joint's equations are not coordinates
+        if system.n_geometric + i in system.active and len(terms) == 1:
+            driven.add(id(terms[0][1]))
     return [(joint, m) for (joint, _), m in system.measures.items() if id(m) not in driven]
 
 
@@ -133,9 +137,8 @@ class _Position:
         """The equations of the smallest singular vector, the latest joint named first."""
         weights, system = self.weights, self.system
         owners, rank = system.owners, system.owner_rank
-        rows = [i for i in np.flatnonzero(np.abs(weights) >= _NAMED_SHARE
-                                          * np.abs(weights).max())
-                if owners[i] not in system.body_names] or [int(np.argmax(np.abs(weights)))]
+        rows = [i for i in _significant(weights) if owners[i] not in system.body_names]
+        rows = rows or [int(np.argmax(np.abs(weights)))]
         last = max(rows, key=lambda i: (rank.get(owners[i], 10**6), abs(weights[i])))
         return Redundancy(last, system.labels[last], owners[last],
                           _owners_of(weights, system, owners[last]))
@@ -148,11 +151,16 @@ class _Position:
                           _owners_of(weights, self.system, joint))
 
 
+def _significant(weights: np.ndarray) -> np.ndarray:
+    """Indices of the weights of at least _NAMED_SHARE of the largest."""
+    return np.flatnonzero(np.abs(weights) >= _NAMED_SHARE * np.abs(weights).max())
+
+
 def _owners_of(weights: np.ndarray, system: System, own: str) -> tuple[str, ...]:
     """Owners of the rows carrying at least _NAMED_SHARE of the largest weight, largest
     first (body normalisations and `own` left out)."""
     owners, bodies = system.owners, set(system.body_names)
-    big = np.flatnonzero(np.abs(weights) >= _NAMED_SHARE * np.abs(weights).max())
+    big = _significant(weights)
     names: list[str] = []
     for i in big[np.argsort(-np.abs(weights[big]))]:
         if owners[i] not in names and owners[i] not in bodies and owners[i] != own:

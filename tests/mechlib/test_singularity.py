@@ -55,7 +55,8 @@ def _toggle_times(warnings: list[str]) -> list[float]:
 
 
 def test_kinematic_slider_drive_warns_at_the_dead_centre() -> None:
-    """Driving the slider through x = r - l... the crank passes phi = 180 deg (crank and
+    """Driving the slider with the travel of a uniformly turning crank, the crank passes
+    phi = 180 deg (crank and
     rod folded) at t* = (pi/2) / omega; the warning is within one output step of t* and
     names the slider's guide D with the loop joints A, B, C."""
     omega = 0.9 * 2.0 * math.pi  # t* = 0.2778 s, off the output grid
