@@ -13,6 +13,7 @@ import numpy as np
 
 from mechlib.kin import Kin
 from mechlib.rotation import e_matrix
+from mechlib.singularity import toggle_detail
 from mechlib.solution import SolverFailure
 from mechlib.system import System
 
@@ -76,9 +77,10 @@ def solve_positions(system: System, q: np.ndarray, t: float, *, tol: float = POS
         rows = np.argsort(-np.abs(res))[:3]
         where = tuple(system.labels[i] for i in rows)
         raise SolverFailure(f"position analysis did not converge at t = {t:.6g} s "
-                            f"(largest residuals: {'; '.join(where)}): the mechanism cannot "
-                            "be assembled there (out of reach, or a motion beyond a toggle)",
-                            time=t, where=where)
+                            f"(largest residuals: {'; '.join(where)}"
+                            f"{toggle_detail(system, system.kin(q, None, t))}): the mechanism "
+                            "cannot be assembled there (out of reach, or a motion beyond a "
+                            "toggle)", time=t, where=where)
     return q, its
 
 

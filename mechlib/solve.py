@@ -17,6 +17,7 @@ from mechlib.model import Mechanism
 from mechlib.radau import run_radau
 from mechlib.requests import evaluate_requests
 from mechlib.solution import Solution, SolverFailure, SolverStats
+from mechlib.singularity import toggle_warnings
 from mechlib.static import run_quasi_static, run_static
 from mechlib.system import System
 
@@ -151,6 +152,8 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
         if throw:
             raise
         status, message, channels = "failed", f"requests: {failure}", {}
+    if not isinstance(analysis, Modes):
+        warnings += toggle_warnings(system, trajectory)
     stats.cpu_seconds = _time.process_time() - cpu0
     if event_log:
         message = message + "; events: " + ", ".join(f"{e.name} at t = {e.time:.6g} s"

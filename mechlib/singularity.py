@@ -1,0 +1,249 @@
+"""Near-singular positions (toggles, dead points): how close the constraints are to rank loss.
+
+The toggle measure of a position is dimensionless, in [0, 1], and the same whatever the
+units or the size of the mechanism:
+
+- the constraint Jacobian is taken per unit motion (translation columns times the
+  mechanism's length L, Euler-parameter columns times 1/2, i.e. per radian of rotation) and
+  each equation scaled to a unit row (an equation's scale does not change what it allows);
+  its smallest singular value is 0 when equations become dependent (a driven joint at a
+  toggle, a change point);
+- with degrees of freedom left, each joint coordinate that no motion or lock drives has the
+  sine of the angle between its gradient and the constraint rows: 0 where the other joints
+  leave it no motion (the leg of a landing gear when its drag brace goes straight), i.e.
+  where the Jacobian would be singular if that joint were driven.
+
+Each is taken relative to its largest value in the run (absolute values depend on the
+arrangement: a 3D model with nearly parallel axes is weakly conditioned everywhere), and
+the measure of a position is the smallest of them. Reactions grow like 1/measure near a
+toggle. Checked at the recorded output rows, after the analysis (docs/analyses.md).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
+
+from mechlib.check import Redundancy
+from mechlib.system import System
+
+__all__ = ["TOGGLE_THRESHOLD", "Toggle", "toggle_detail", "toggle_warnings"]
+
+TOGGLE_THRESHOLD = 0.1
+_NAMED_SHARE = 0.1  # an equation is named when its weight is this share of the largest
+_MAX_ITERATIONS = 50
+_ITERATION_TOLERANCE = 1e-6
+_GRAM_FLOOR = 1e-14
+_HELD = 1e-8  # sine of a coordinate the constraints hold exactly (round-off level)
+
+
+@dataclass(frozen=True)
+class Toggle:
+    """A near-singular position: its measure and the dependent equations, by joint."""
+
+    measure: float
+    found: tuple[Redundancy, ...]
+
+    def describe(self) -> str:
+        return "; ".join(r.describe() for r in self.found[:4])
+
+
+def _length(system: System) -> float:
+    """Size L (m) of the mechanism: extent of its joint points and centres of mass."""
+    points = [j.at for j in system.mechanism.joints.values() if j.joints is None]
+    cloud = np.vstack([system.cm[:-1], np.array(points, dtype=float).reshape(-1, 3)])
+    return max(float(np.ptp(cloud, axis=0).max(initial=0.0)), 1e-3)
+
+
+def _column_scale(system: System) -> np.ndarray:
+    """Per coordinate: L for a translation (m), 1/2 for an Euler parameter (per radian)."""
+    per_body = np.r_[np.full(3, _length(system)), np.full(4, 0.5)]
+    return np.tile(per_body, system.nb)
+
+
+def _unit_rows(matrix: np.ndarray) -> np.ndarray:
+    norm = np.linalg.norm(matrix, axis=1)
+    return matrix / np.where(norm > 0.0, norm, 1.0)[:, None]
+
+
+def _free_measures(system: System) -> list[tuple[str, object]]:
+    """(joint, coordinate measure) of the joint coordinates no active motion or lock drives."""
+    driven = set()
+    for i, eq in enumerate(system.coordinates):
+        terms = getattr(eq, "terms", ())  # a curve joint's equations are not coordinates
+        if system.n_geometric + i in system.active and len(terms) == 1:
+            driven.add(id(terms[0][1]))
+    return [(joint, m) for (joint, _), m in system.measures.items() if id(m) not in driven]
+
+
+class _Position:
+    """The scaled Jacobian at one position, factored through its Gram matrix J J^T (sparse
+    LU: a joint row touches two bodies), and the measures built on it. No SVD: the smallest
+    singular value comes from inverse iteration, projections onto the motion space from
+    solves with J J^T."""
+
+    def __init__(self, system: System, k, start: np.ndarray | None = None):
+        self.system, self.k = system, k
+        self.scale = _column_scale(system)
+        self.jac = sp.csr_matrix(_unit_rows(system.phi_q(k) * self.scale))
+        m = self.jac.shape[0]
+        # a floor of _GRAM_FLOOR on J J^T keeps an exactly singular position factorable
+        gram = self.jac @ self.jac.T + _GRAM_FLOOR * sp.identity(m)
+        self.lu = splu(gram.tocsc()) if m else None
+        self.weights, self.sigma = self._smallest(start) if m else (np.zeros(0), 1.0)
+        self.free = _free_measures(system) if m < system.nq else []
+
+    def _smallest(self, start: np.ndarray | None) -> tuple[np.ndarray, float]:
+        """(unit left singular vector, smallest singular value) of J by inverse iteration
+        on J J^T; `start` (the previous position's vector) makes it converge in a few."""
+        m = self.jac.shape[0]
+        x = start if start is not None and start.size == m else np.ones(m) / np.sqrt(m)
+        value = np.inf
+        for _ in range(_MAX_ITERATIONS):
+            y = self.lu.solve(x)
+            if not np.isfinite(y).all():
+                return x, 0.0
+            x, previous, value = y / np.linalg.norm(y), value, 1.0 / np.linalg.norm(y)
+            if abs(previous - value) <= _ITERATION_TOLERANCE * value:
+                break
+        return x, float(np.sqrt(max(float(x @ (self.jac @ (self.jac.T @ x))), 0.0)))
+
+    def rank_measure(self) -> float:
+        """Smallest singular value of the scaled Jacobian (1 without equations)."""
+        return self.sigma
+
+    def _gradient(self, measure) -> np.ndarray:
+        return measure.gradient(self.k)[:self.system.nq] * self.scale
+
+    def _row_weights(self, g: np.ndarray) -> np.ndarray:
+        """y with J^T y the part of g in the span of the constraint rows (least squares)."""
+        return self.lu.solve(self.jac @ g)
+
+    def sines(self) -> dict[tuple[str, str], float]:
+        """Per free coordinate: sine of the angle between its scaled gradient and the
+        constraint rows (the share of it the constraints leave free)."""
+        out = {}
+        for joint, m in self.free:
+            g = self._gradient(m)
+            norm = np.linalg.norm(g)
+            if norm > 0.0:
+                free = g - self.jac.T @ self._row_weights(g)
+                out[(joint, m.kind)] = float(np.linalg.norm(free) / norm)
+        return out
+
+    def rank_deficiency(self) -> Redundancy:
+        """The equations of the smallest singular vector, the latest joint named first."""
+        weights, system = self.weights, self.system
+        owners, rank = system.owners, system.owner_rank
+        rows = [i for i in _significant(weights) if owners[i] not in system.body_names]
+        rows = rows or [int(np.argmax(np.abs(weights)))]
+        last = max(rows, key=lambda i: (rank.get(owners[i], 10**6), abs(weights[i])))
+        return Redundancy(last, system.labels[last], owners[last],
+                          _owners_of(weights, system, owners[last]))
+
+    def dead_coordinate(self, joint: str, kind: str) -> Redundancy:
+        """A coordinate that cannot change, with the joints whose equations hold it."""
+        g = self._gradient(self.system.measure(joint, kind))
+        weights = self._row_weights(g)
+        return Redundancy(-1, f"{joint}: {kind} cannot change", joint,
+                          _owners_of(weights, self.system, joint))
+
+
+def _significant(weights: np.ndarray) -> np.ndarray:
+    """Indices of the weights of at least _NAMED_SHARE of the largest."""
+    return np.flatnonzero(np.abs(weights) >= _NAMED_SHARE * np.abs(weights).max())
+
+
+def _owners_of(weights: np.ndarray, system: System, own: str) -> tuple[str, ...]:
+    """Owners of the rows carrying at least _NAMED_SHARE of the largest weight, largest
+    first (body normalisations and `own` left out)."""
+    owners, bodies = system.owners, set(system.body_names)
+    big = _significant(weights)
+    names: list[str] = []
+    for i in big[np.argsort(-np.abs(weights[big]))]:
+        if owners[i] not in names and owners[i] not in bodies and owners[i] != own:
+            names.append(owners[i])
+    return tuple(names)
+
+
+def toggle_detail(system: System, k) -> str:
+    """'; near-singular position (...): <equations>' when the scaled Jacobian at state k has
+    a smallest singular value below TOGGLE_THRESHOLD times the one at the design position
+    (the reference a failure has: no run behind it), else ''."""
+    position = _Position(system, k)
+    design = _Position(system, system.kin(system.design_q(), None, k.t)).rank_measure()
+    value = position.rank_measure() / max(design, _GRAM_FLOOR)
+    if value >= TOGGLE_THRESHOLD:
+        return ""
+    return (f"; near-singular position (toggle or dead point, measure {value:.2g}): "
+            f"{position.rank_deficiency().describe()}")
+
+
+def _episodes(values: np.ndarray, threshold: float) -> list[tuple[int, int]]:
+    """(first, last) row index of each run of consecutive values below threshold."""
+    below = np.r_[False, values < threshold, False].astype(int)
+    edges = np.diff(below)
+    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
+
+
+def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
+    """Per recorded row: the rank measure and the sines of the free coordinates."""
+    ranks, sines, start = np.empty(len(trajectory)), [], None
+    for i, t in enumerate(trajectory.time):
+        system.restore_snapshot(trajectory.references[i])
+        position = _Position(system, system.kin(trajectory.q[i], None, t), start)
+        ranks[i], start = position.rank_measure(), position.weights
+        sines.append(position.sines())
+    return ranks, sines
+
+
+def _relative(sines: list[dict]) -> list[dict]:
+    """Each coordinate's sine over its largest in the run; sines at round-off level (a
+    coordinate the motions hold through the constraints) are left out."""
+    best: dict = {}
+    for row in sines:
+        for key, value in row.items():
+            best[key] = max(best.get(key, 0.0), value)
+    return [{key: value / best[key] for key, value in row.items() if value > _HELD}
+            for row in sines]
+
+
+def _measures(ranks: np.ndarray, sines: list[dict]) -> tuple[np.ndarray, list[dict]]:
+    """Toggle measure per row: the smallest of the rank measure and the coordinates'
+    sines, each over its largest in the run (so that a mechanism whose 3D Jacobian is
+    weakly conditioned everywhere, or whose joints move slowly everywhere, is not taken
+    for a toggle); also the coordinates' relative sines per row."""
+    relative = _relative(sines)
+    rank = ranks / max(float(ranks.max()), _GRAM_FLOOR)
+    return np.array([min([r] + list(c.values())) for r, c in zip(rank, relative)]), relative
+
+
+def toggle_warnings(system: System, trajectory, threshold: float = TOGGLE_THRESHOLD
+                    ) -> list[str]:
+    """One warning per episode of recorded rows whose toggle measure is below `threshold`:
+    its time span, the minimum and its time, and the dependent equations there."""
+    if not len(trajectory):
+        return []
+    ranks, sines = _series(system, trajectory)
+    values, relative = _measures(ranks, sines)
+    out = []
+    for first, last in _episodes(values, threshold):
+        worst = first + int(np.argmin(values[first:last + 1]))
+        system.restore_snapshot(trajectory.references[worst])
+        t = trajectory.time[worst]
+        position = _Position(system, system.kin(trajectory.q[worst], None, t))
+        found = [position.rank_deficiency()] if ranks[worst] < threshold * ranks.max() else []
+        found += [position.dead_coordinate(*key) for key, value in relative[worst].items()
+                  if value < threshold]
+        out.append(_message(Toggle(float(values[worst]), tuple(found)), t,
+                            trajectory.time[first], trajectory.time[last], threshold))
+    return out
+
+
+def _message(toggle: Toggle, t: float, start: float, end: float, threshold: float) -> str:
+    return (f"near-singular position (toggle or dead point) at t = {t:.6g} s: toggle measure "
+            f"{toggle.measure:.3g} (below {threshold:g} from t = {start:.6g} to {end:.6g} s); "
+            f"{toggle.describe()}; reactions there grow like 1/measure: check the geometry "
+            "(a brace or link going straight) or keep the motion away from this position")

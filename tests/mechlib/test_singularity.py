@@ -1,0 +1,128 @@
+"""Near-singular positions: warnings at toggles and dead points, and failures that name them.
+
+References are closed forms of the slider-crank of `_models.slider_crank` (crank r = 0.1 m,
+rod l = 0.3 m, slider on x): its dead centres are where crank and rod are collinear, crank
+angle phi = 0 or 180 deg from +x (joint A's angle theta = phi - 90 deg), and the slider
+cannot pass x = r + l.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+import mechlib
+from mechlib.assembly import InitialValue
+
+from ._models import Ramp, slider_crank
+
+R, L = 0.1, 0.3
+STEP = 0.01  # s, output interval of the kinematic runs
+
+
+class SliderOfTurningCrank:
+    """Slider travel (m, from the design position) of a crank turning at `omega` (rad/s)
+    from phi = 90 deg: x(phi) = r cos phi + sqrt(l^2 - r^2 sin^2 phi), exact rates."""
+
+    def __init__(self, omega: float):
+        self.omega = omega
+        self.x0 = math.sqrt(L * L - R * R)
+
+    def _phi(self, t: float) -> tuple[float, float, float]:
+        phi = 0.5 * math.pi + self.omega * t
+        return math.sin(phi), math.cos(phi), L * L - (R * math.sin(phi)) ** 2
+
+    def value(self, t: float) -> float:
+        s, c, root2 = self._phi(t)
+        return R * c + math.sqrt(root2) - self.x0
+
+    def rate(self, t: float) -> float:
+        s, c, root2 = self._phi(t)
+        return (-R * s - R * R * s * c / math.sqrt(root2)) * self.omega
+
+    def accel(self, t: float) -> float:
+        s, c, root2 = self._phi(t)
+        second = (-R * c - R * R * (c * c - s * s) / math.sqrt(root2)
+                  - R ** 4 * s * s * c * c / root2 ** 1.5)
+        return second * self.omega ** 2
+
+
+def _toggle_times(warnings: list[str]) -> list[float]:
+    return [float(re.search(r"at t = ([0-9.e+-]+) s", w).group(1))
+            for w in warnings if "near-singular" in w]
+
+
+def test_kinematic_slider_drive_warns_at_the_dead_centre() -> None:
+    """Driving the slider with the travel of a uniformly turning crank, the crank passes
+    phi = 180 deg (crank and
+    rod folded) at t* = (pi/2) / omega; the warning is within one output step of t* and
+    names the slider's guide D with the loop joints A, B, C."""
+    omega = 0.9 * 2.0 * math.pi  # t* = 0.2778 s, off the output grid
+    mech, _ = slider_crank(R, L)
+    mech.add_motion("push", joint="D", function=SliderOfTurningCrank(omega))
+    sol = mechlib.solve(mech, mechlib.Kinematic(end=0.5, step=STEP), throw=False)
+    assert sol.ok, sol.message
+    times = _toggle_times(sol.warnings)
+    assert len(times) == 1, sol.warnings
+    assert abs(times[0] - 0.5 * math.pi / omega) <= STEP
+    text = sol.warnings[0]
+    assert all(name in text for name in ("A", "B", "C")) and "push" in text, text
+
+
+def test_kinematic_crank_drive_has_no_warning() -> None:
+    """The same mechanism driven at the crank passes the slider's dead centres without any
+    singularity (the crank angle fixes every position): no warning over one turn."""
+    mech, _ = slider_crank(R, L)
+    mech.add_motion("turn", joint="A", function=Ramp(0.0, 2.0 * math.pi))
+    sol = mechlib.solve(mech, mechlib.Kinematic(end=1.0, step=STEP))
+    assert sol.ok and sol.warnings == []
+
+
+def test_kinematic_failure_beyond_reach_names_the_dependent_equations() -> None:
+    """Pushing the slider past x = r + l = 0.4 m (travel 0.4 - 0.2828 m, reached at
+    t = 0.781 s of the ramp) fails there, and the message names the loop's equations at the
+    stretched toggle instead of only the largest residuals."""
+    mech, x0 = slider_crank(R, L)
+    mech.add_motion("push", joint="D", function=Ramp(0.0, 0.15))
+    sol = mechlib.solve(mech, mechlib.Kinematic(end=1.0, step=STEP), throw=False)
+    assert not sol.ok
+    reach = (R + L - x0) / 0.15
+    failed_at = float(re.search(r"at t = ([0-9.e+-]+) s", sol.message).group(1))
+    assert reach - STEP <= failed_at <= reach + STEP, sol.message
+    assert "near-singular position" in sol.message, sol.message
+    detail = sol.message.split("near-singular position")[1]
+    assert sum(name in detail for name in ("A", "B", "C", "D", "push")) >= 3, sol.message
+
+
+def _flywheel_slider_crank() -> mechlib.Mechanism:
+    """The slider-crank with a crank of 10 kg m^2 and rod and slider of 10 g: the crank
+    turns at constant speed within 1e-5 relative (their kinetic energy over the crank's)."""
+    mech, xs = slider_crank(R, L)
+    mech.add_body("crank", mass=1.0, cm=(0.0, R / 2, 0.0), inertia=[10.0] * 3)
+    mech.add_body("rod", mass=0.01, cm=(xs / 2, R / 2, 0.0), inertia=[1e-5] * 3)
+    mech.add_body("slider", mass=0.01, cm=(xs, 0.0, 0.0), inertia=[1e-6] * 3)
+    return mech
+
+
+def test_dynamic_flywheel_warns_at_each_dead_centre_of_the_slider() -> None:
+    """A free slider-crank spinning at 2 pi rad/s from phi = 90 deg: the slider's travel
+    cannot change at phi = 180 deg (t = 0.25 s) and 360 deg (t = 0.75 s); one warning per
+    dead centre, within one output step (0.01 s), naming the guide D."""
+    omega = 2.0 * math.pi
+    sol = mechlib.solve(_flywheel_slider_crank(), mechlib.Dynamic(end=0.9, step=0.01),
+                        initial=[InitialValue("A", rate=omega)], throw=False)
+    assert sol.ok, sol.message
+    times = _toggle_times(sol.warnings)
+    assert np.allclose(times, [0.25, 0.75], atol=0.01), sol.warnings
+    assert all("D: travel cannot change" in w for w in sol.warnings), sol.warnings
+
+
+def test_pendulum_has_no_warning() -> None:
+    """A single hinge is never near-singular: its coordinate is the motion."""
+    mech = mechlib.Mechanism(name="pendulum", gravity=(0.0, -9.81, 0.0))
+    mech.add_body("bar", mass=1.0, cm=(0.5, 0.0, 0.0), inertia=[1e-3, 0.08, 0.08])
+    mech.add_joint("hinge", "revolute", bodies=("bar", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
+    sol = mechlib.solve(mech, mechlib.Dynamic(end=1.0, step=0.01))
+    assert sol.ok and sol.warnings == []
