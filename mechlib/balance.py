@@ -65,10 +65,10 @@ class Balance:
                          - system.forces(k, inertia=False, lam=lam, skip=skip)
                          - base[body]) / dq[j]
         if self._compiled:
-            view = system.view(k0, lam)
+            view, damping = system.view(k0, lam), np.zeros_like(out)  # at rest: unused
             for element in self._compiled:
                 if element.active:
-                    element.tangent(view, out, np.zeros_like(out))
+                    element.tangent(view, out, damping)
         return out
 
     def size(self, res: np.ndarray) -> float:

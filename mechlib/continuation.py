@@ -30,7 +30,7 @@ MAX_STEPS = 120
 RUNAWAY = 1e3
 """Travel, in mechanism sizes, beyond which a body is taken to fall without end."""
 _FIRST_TRAVEL = 1e-6
-"""Largest coordinate change of the first step, per metre of mechanism size (-)."""
+"""The first step's largest coordinate change, as a fraction of the mechanism's size (-)."""
 _MIN_GROWTH = 2.0
 _MAX_RETRIES = 8   # a singular matrix (a load path softening, K_T < 0): delta / 4, retried
 
