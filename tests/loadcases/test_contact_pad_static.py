@@ -1,4 +1,4 @@
-"""The user path of a static analysis on a contact: tests/loadcases/good/pad_static.case.yaml
+"""The user path of a static analysis on a contact: tests/loadcases/contact/pad_static.case.yaml
 (a 1 kg ball on an impact pad k x^1.5, k = 9.81e6 N/m^1.5) through `loadcases.run.run_file`,
 starting touching and 10 mm (100 static deflections) apart. Reference (force balance):
 penetration (m g / k)^(1/1.5) = 0.1 mm, contact force m g; tolerance 1e-9 relative (brief
@@ -12,7 +12,7 @@ import pytest
 
 from loadcases.run import run_file
 
-CASE = Path(__file__).resolve().parent / "good" / "pad_static.case.yaml"
+CASE = Path(__file__).resolve().parent / "contact" / "pad_static.case.yaml"
 DEFLECTION = 1.0e-4   # m
 
 
