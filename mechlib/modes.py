@@ -14,7 +14,8 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
-from mechlib.static import _stiffness, equilibrium
+from mechlib.balance import Balance
+from mechlib.static import equilibrium
 from mechlib.system import System
 
 __all__ = ["Modes", "normal_modes"]
@@ -35,8 +36,7 @@ def normal_modes(system: System, q0: np.ndarray, time: float, stats
     q, lam = equilibrium(system, q0, None, time, stats)
     k = system.kin(q, None, time)
     jac = system.phi_q(k)
-    stiffness = _stiffness(system, q, lam, time, jac.T @ lam - system.forces(k, inertia=False,
-                                                                             lam=lam))
+    stiffness = Balance(system, time, q).stiffness(q, lam)
     basis = sla.null_space(jac)
     kr = basis.T @ stiffness @ basis
     mr = basis.T @ system.mass(k) @ basis

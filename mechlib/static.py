@@ -1,9 +1,10 @@
 """Static and quasi-static analyses: equilibrium with inertia ignored.
 
-Unknowns (q, lam); residual R = [phi_q^T lam - Q(q, t); phi(q, t)]; Newton with the
-stiffness d(phi_q^T lam - Q)/dq by central-free forward differences (the tested fallback of
-DESIGN.md) and backtracking on the residual norm. Quasi-static continues along the motions'
-time functions and subdivides the step when Newton struggles.
+Unknowns (q, lam); the balance R = [phi_q^T lam - Q(q, t); phi(q, t)] and its
+forward-difference stiffness are in mechlib.balance. Newton with backtracking on the residual
+norm; where Newton's matrix is singular, pseudo-transient continuation (mechlib.continuation)
+first. Quasi-static continues along the motions' time functions and subdivides the step when
+Newton struggles.
 """
 from __future__ import annotations
 
@@ -14,6 +15,8 @@ import numpy as np
 from mechlib.analysis import QuasiStatic, Static, Trajectory, check_step_limit, output_times
 from mechlib.assembly import solve_accelerations, solve_positions, solve_velocities
 from mechlib.events import EventMonitor, fire, first_events
+from mechlib.balance import Balance
+from mechlib.continuation import settle
 from mechlib.linalg import augmented, factor, singular_failure, solve_factored
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
@@ -22,94 +25,70 @@ __all__ = ["equilibrium", "run_static", "run_quasi_static"]
 
 _MAX_NEWTON = 40
 _MAX_SUBDIVISIONS = 10
-_FD_STEP = 1e-7
-
-
-def _residual(system: System, q: np.ndarray, lam: np.ndarray, t: float):
-    k = system.kin(q, None, t)
-    jac = system.phi_q(k)
-    force = jac.T @ lam - system.forces(k, inertia=False, lam=lam)
-    return np.concatenate([force, system.phi(k)]), jac, force
-
-
-def _stiffness(system: System, q: np.ndarray, lam: np.ndarray, t: float,
-               force: np.ndarray) -> np.ndarray:
-    """d(phi_q^T lam - Q)/dq by forward differences, (nq, nq). A column of body b leaves
-    out the elements joining two other bodies (contacts, seals: `body_pair`), whose forces
-    it cannot change; the rest is evaluated as a whole."""
-    out = np.empty((system.nq, system.nq))
-    skips = _elsewhere(system)
-    k0 = system.kin(q, None, t)
-    reaction0 = system.phi_q(k0).T @ lam
-    base: dict[int, np.ndarray] = {}
-    for j in range(system.nq):
-        body = j // 7
-        if body not in base:
-            base[body] = reaction0 - system.forces(k0, inertia=False, lam=lam,
-                                                   skip=skips[body])
-        dq = np.zeros(system.nq)
-        dq[j] = _FD_STEP * max(1.0, abs(q[j]))
-        k = system.kin(q + dq, None, t)
-        out[:, j] = (system.phi_q(k).T @ lam
-                     - system.forces(k, inertia=False, lam=lam, skip=skips[body])
-                     - base[body]) / dq[j]
-    return out
-
-
-def _elsewhere(system: System) -> dict[int, set[int]]:
-    """Per moving body: ids of the two-body elements that do not involve it."""
-    pairs = [(id(e), e.body_pair()) for e in system.elements if hasattr(e, "body_pair")]
-    return {b: {i for i, pair in pairs if b not in pair} for b in range(system.nb)}
-
-
-def _scales(system: System, force: np.ndarray) -> float:
-    weight = float(np.abs(system.masses).sum() * max(np.linalg.norm(system.gravity), 1.0))
-    return max(weight, np.abs(force).max(initial=0.0), 1.0)
 
 
 def equilibrium(system: System, q: np.ndarray, lam: np.ndarray | None, t: float,
                 stats: SolverStats, tol: float = 1e-10) -> tuple[np.ndarray, np.ndarray]:
-    """(q, lam) in static equilibrium at t from a guess; SolverFailure if Newton fails."""
+    """(q, lam) in static equilibrium at t from a guess; SolverFailure if none is found.
+
+    Newton first; where its matrix is singular (a contact at zero penetration or open has
+    no stiffness: a body not yet resting on its support), pseudo-transient continuation
+    (mechlib.continuation) brings the bodies to rest, and Newton finishes from there."""
     q, its = solve_positions(system, q, t)
     stats.newton_iterations += its
-    m = len(system.labels)
-    if lam is None or len(lam) != m:
+    if lam is None or len(lam) != len(system.labels):
         # multipliers balancing the loads at the guess (least squares): the constraint
         # forces then carry their geometric stiffness (a hanging pendulum) from the start
         k = system.kin(q, None, t)
         lam, *_ = np.linalg.lstsq(system.phi_q(k).T, system.forces(k, inertia=False),
                                   rcond=None)
-    res, jac, force = _residual(system, q, lam, t)
-    scale = _scales(system, system.forces(system.kin(q, None, t), inertia=False))
+    balance = Balance(system, t, q)
+    try:
+        return _newton(balance, q, lam, stats, tol)
+    except _Singular:
+        q, lam = settle(balance, q, lam, stats)
+    try:
+        return _newton(balance, q, lam, stats, tol)
+    except _Singular as singular:
+        raise singular_failure(system, singular.jac, t, "static equilibrium failed") from None
+
+
+class _Singular(Exception):
+    """Newton's matrix is singular at an iterate with constraint Jacobian `jac`."""
+
+    def __init__(self, jac: np.ndarray):
+        super().__init__("singular static matrix")
+        self.jac = jac
+
+
+def _newton(balance: Balance, q: np.ndarray, lam: np.ndarray, stats: SolverStats,
+            tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Newton on (q, lam), each step halved (down to 1/1000) until the weighted residual
+    decreases; _Singular when the matrix is, SolverFailure after _MAX_NEWTON iterations."""
+    system, t, nq = balance.system, balance.t, balance.system.nq
+    res, jac = balance.residual(q, lam)
     for _ in range(_MAX_NEWTON):
         stats.newton_iterations += 1
-        lu = factor(augmented(_stiffness(system, q, lam, t, force), jac))
+        lu = factor(augmented(balance.stiffness(q, lam), jac))
         if lu is None:
-            raise singular_failure(system, jac, t, "static equilibrium failed")
+            raise _Singular(jac)
         step = solve_factored(lu, -res)
-        norm0, alpha = np.linalg.norm(res / _weights(res, system.nq, scale)), 1.0
+        norm0, alpha = balance.size(res), 1.0
         while True:
-            q_new, lam_new = q + alpha * step[:system.nq], lam + alpha * step[system.nq:]
-            res_new, jac_new, force_new = _residual(system, q_new, lam_new, t)
-            if np.linalg.norm(res_new / _weights(res, system.nq, scale)) < norm0 or alpha < 1e-3:
+            q_new, lam_new = q + alpha * step[:nq], lam + alpha * step[nq:]
+            res_new, jac_new = balance.residual(q_new, lam_new)
+            if balance.size(res_new) < norm0 or alpha < 1e-3:
                 break
             alpha *= 0.5
-        q, lam, res, jac, force = q_new, lam_new, res_new, jac_new, force_new
-        if (np.abs(res[:system.nq]).max(initial=0) < tol * scale
-                and np.abs(res[system.nq:]).max(initial=0) < tol
-                and np.abs(step[:system.nq]).max(initial=0) < 1e-8):
+        q, lam, res, jac = q_new, lam_new, res_new, jac_new
+        if balance.converged(res, step, tol):
             return q, lam
-    worst = int(np.argmax(np.abs(res[system.nq:]))) if m else 0
+    m = len(system.labels)
+    worst = int(np.argmax(np.abs(res[nq:]))) if m else 0
     where = (system.labels[worst],) if m else ()
     raise SolverFailure(f"static equilibrium did not converge at t = {t:.6g} s: no equilibrium "
                         "near the previous position (a load beyond what the mechanism can "
                         "hold, or an unloaded free degree of freedom)", time=t, where=where)
-
-
-def _weights(res: np.ndarray, nq: int, scale: float) -> np.ndarray:
-    w = np.ones_like(res)
-    w[:nq] = scale
-    return w
 
 
 def _record(system: System, trajectory: Trajectory, q, lam, t: float) -> None:

@@ -13,8 +13,8 @@ RADIUS = 0.01
 def guided_ball(law, *, mass: float = 1.0, load: float = 0.0, gravity: bool = True,
                 height: float = 0.0, overlap: float = 0.0) -> ml.Mechanism:
     """A ball (centre at y = RADIUS + height) on a vertical prismatic guide above the
-    plane y = overlap of ground, pressed down by its weight and `load` (N). A static
-    analysis needs `overlap` > 0: at zero penetration k x^e has no stiffness."""
+    plane y = overlap of ground, pressed down by its weight and `load` (N): touching at
+    design by default, apart by `height` or penetrating by `overlap` (m)."""
     m = ml.Mechanism(name="guided-ball", gravity=(0.0, -G if gravity else 0.0, 0.0))
     centre = (0.0, RADIUS + height, 0.0)
     m.add_body("ball", mass=mass, cm=centre, inertia=[4e-5] * 3)
