@@ -40,7 +40,7 @@ def settle(balance: Balance, q: np.ndarray, lam: np.ndarray, stats: SolverStats
     """(q, lam) near rest, from where Newton converges; SolverFailure naming the body that is
     not held (and the contacts on it) when a body runs away or MAX_STEPS pass."""
     system = balance.system
-    length = max(float(np.ptp(system.cm, axis=0).max(initial=0.0)), 1e-3)
+    length = system.length
     start = q[:system.nq].reshape(system.nb, 7)[:, :3].copy()
     res, jac = balance.residual(q, lam)
     delta = _first_delta(balance, q, res, length)

@@ -101,9 +101,7 @@ class _Scales:
     """Error weights: absolute parts from the mechanism's size, relative part = tolerance."""
 
     def __init__(self, system: System, q0: np.ndarray, tol: float):
-        cm = system.cm[:-1]
-        size = float(np.ptp(np.vstack([cm, np.zeros((1, 3))]), axis=0).max(initial=0.0))
-        length = max(size, 1e-3)
+        length = system.length
         self.tol = tol
         self.q_abs = np.tile(np.r_[np.full(3, length), np.ones(4)], system.nb) * tol
         g = max(float(np.linalg.norm(system.gravity)), 1.0)

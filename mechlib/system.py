@@ -28,6 +28,7 @@ _KINDS = {"spherical": Spherical, "dot1": Dot1, "dot2": Dot2}
 _IDENTITY = np.eye(3)
 _IDENTITY.flags.writeable = False
 _NO_GRAVITY = np.zeros(3)
+_MIN_LENGTH = 1e-3  # m
 
 
 class _Held:
@@ -103,6 +104,12 @@ class System:
         body, _, at = self.mechanism.frames.get(name, (name, None, (0.0, 0.0, 0.0)))
         b, s = self.body_point(body, at)
         return self.view(k).point_position(b, s)
+
+    @property
+    def length(self) -> float:
+        """Characteristic size (m) of the mechanism at design: the extent of its body centres
+        of mass and the origin (the ground), at least 1 mm."""
+        return max(float(np.ptp(self.cm, axis=0).max(initial=0.0)), _MIN_LENGTH)
 
     def body_point(self, body: str, at) -> tuple[int, np.ndarray]:
         """(body index, body-fixed vector from its centre of mass) of a design point."""
