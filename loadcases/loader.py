@@ -20,7 +20,7 @@ from loadcases.checks import (
     check_case, check_case_alone, check_mechanism, check_set, check_set_cases, resolve_initial,
 )
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.parameter_refs import parameter_values, put_parameters
+from loadcases.parameter_refs import ParameterRef, parameter_values, put_parameters
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import did_you_mean, validation_diagnostics
 from loadcases.source import KeyPath, Locator, SourceTree, load_yaml
@@ -71,7 +71,9 @@ class CaseFile:
     input_sha256: str
     locators: dict[str, Locator] = field(repr=False)
     warnings: tuple[Diagnostic, ...] = ()
-    parameter_refs: frozenset[str] = frozenset()  # parameters named in numeric fields
+    # parameters named in numeric fields: (key path, name); mechanism paths start with
+    # "mechanism" whether the mechanism is inline or in its own file
+    parameter_refs: frozenset[ParameterRef] = frozenset()
 
     def where(self, kind: str, key_path: str | KeyPath) -> tuple[str, int, int]:
         """(file, line, col) of a key of the `"case"` or the `"mechanism"` (for messages)."""
@@ -255,9 +257,9 @@ def load_case(path: str | Path, overrides: Mapping[str, float] | None = None) ->
 
 
 def _put_parameters(case_locator: Locator, mech_locator: Locator | None,
-                    case_units: dict, mech_units: dict, overrides) -> set[str]:
+                    case_units: dict, mech_units: dict, overrides) -> set[ParameterRef]:
     """Parameter values (mechanism, then case, then overrides) put where a numeric field
-    names a parameter, in both raw trees; returns the names so used."""
+    names a parameter, in both raw trees; returns the fields so set (key path, name)."""
     mech_data = mech_locator.data if mech_locator is not None else {}
     values = parameter_values(mech_data.get("parameters") if isinstance(mech_data, dict)
                               else None, file_units=mech_units)
@@ -265,7 +267,7 @@ def _put_parameters(case_locator: Locator, mech_locator: Locator | None,
                                    overrides=overrides))
     used = put_parameters(case_locator.data, values)
     if mech_locator is not None and mech_locator.data is not case_locator.data.get("mechanism"):
-        used |= put_parameters(mech_locator.data, values)
+        used |= put_parameters(mech_locator.data, values, ("mechanism",))
     return used
 
 

@@ -9,7 +9,7 @@ from typing import Any
 
 from loadcases.units import SIValue, UnitError, to_si
 
-__all__ = ["parameter_values", "put_parameters"]
+__all__ = ["parameter_values", "put_parameters", "ParameterRef"]
 
 # Keys whose string values are names or words, never numbers.
 _NAME_KEYS = frozenset({
@@ -35,24 +35,31 @@ def parameter_values(*sections: Any, file_units: Mapping[str, str] | None = None
     return values
 
 
-def put_parameters(data: Any, values: Mapping[str, float]) -> set[str]:
-    """Replace, in place, scalar values equal to a parameter name by its SI value; returns
-    the names used. The `parameters:` section itself is left alone."""
-    used: set[str] = set()
+ParameterRef = tuple[tuple[str, ...], str]  # (key path of the field, parameter name)
 
-    def walk(node: Any, key: str | None) -> Any:
+
+def put_parameters(data: Any, values: Mapping[str, float],
+                   prefix: tuple[str, ...] = ()) -> set[ParameterRef]:
+    """Replace, in place, scalar values equal to a parameter name by its SI value; returns
+    each field so set as (key path after `prefix`, parameter name), so that a set can tell
+    whether the field belongs to the part of the mechanism a case uses. The `parameters:`
+    section itself is left alone."""
+    used: set[ParameterRef] = set()
+
+    def walk(node: Any, path: tuple[str, ...]) -> Any:
+        key = path[-1] if path else None
         if isinstance(node, dict):
             for k in list(node):
                 if k != "parameters":
-                    node[k] = walk(node[k], str(k))
+                    node[k] = walk(node[k], path + (str(k),))
             return node
         if isinstance(node, list):
             for i, item in enumerate(node):
-                node[i] = walk(item, key)
+                node[i] = walk(item, path)
             return node
         if isinstance(node, str) and key not in _NAME_KEYS and node.strip() in values:
-            used.add(node.strip())
+            used.add((path, node.strip()))
             return SIValue(values[node.strip()])
         return node
-    walk(data, None)
+    walk(data, prefix)
     return used

@@ -125,15 +125,25 @@ def _mechanism_in_use(cf: CaseFile) -> dict:
 
 
 def used_parameters(cf: CaseFile) -> set[str]:
-    """Parameters of a case named in an expression of the case or of the part of its
-    mechanism the case uses (`loads:`, `effects:`)."""
+    """Parameters of a case named in an expression or a numeric field of the case or of
+    the part of its mechanism the case uses (`loads:`, `effects:`)."""
+    in_use = _mechanism_in_use(cf)
     names: set[str] = set()
-    for text in _strings([cf.case.model_dump(), _mechanism_in_use(cf)]):
+    for text in _strings([cf.case.model_dump(), in_use]):
         try:
             names |= parse(text).names()
         except ExpressionError:   # a plain name or text, not an expression
             continue
-    return (names | set(cf.parameter_refs)) & set(cf.parameters)
+    names |= {name for path, name in cf.parameter_refs if _in_use(path, in_use)}
+    return names & set(cf.parameters)
+
+
+def _in_use(path: tuple[str, ...], mechanism: dict) -> bool:
+    """Whether a field at `path` (case keys, or "mechanism", ...) is in the part of the
+    mechanism the case uses: not under a left-out force element or contact."""
+    if len(path) < 3 or path[0] != "mechanism" or path[1] not in ("forces", "contacts"):
+        return True
+    return path[2] in mechanism.get(path[1], {})
 
 
 def _case_runs(set_file: SetFile, cf: CaseFile, order: list[str],
