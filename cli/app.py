@@ -29,6 +29,23 @@ app = typer.Typer(
 )
 
 
+def _print_version(value: bool) -> None:
+    if value:
+        from loadcases.results import package_version
+
+        typer.echo(f"loads {package_version()}")
+        raise typer.Exit(EXIT_OK)
+
+
+@app.callback()
+def _options(
+    version: Annotated[bool, typer.Option("--version", help="Print the version of loads and "
+                                          "exit.", is_eager=True,
+                                          callback=_print_version)] = False,
+) -> None:
+    """Mechanism load cases from YAML: multibody reactions, envelopes and sizing workbooks."""
+
+
 def guarded(command: Callable[..., int]) -> Callable[..., None]:
     """Turn a command's return value into its exit status and an unexpected exception
     into a one-line `internal error` (exit 1); `LOADS_DEBUG=1` lets the traceback through."""
@@ -268,9 +285,10 @@ from cli import plot_cmd  # noqa: E402  (plot and new: registered through `guard
 app.command("plot")(guarded(plot_cmd.plot))
 app.command("new")(guarded(plot_cmd.new))
 
-from cli import draw_cmd  # noqa: E402  (draw: pictures of a run, registered through `guarded`)
+from cli import compare_cmd, draw_cmd  # noqa: E402  (registered through `guarded`)
 
 app.command("draw")(guarded(draw_cmd.draw))
+app.command("compare")(guarded(compare_cmd.compare))
 
 
 def main() -> None:
