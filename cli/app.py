@@ -285,10 +285,11 @@ from cli import plot_cmd  # noqa: E402  (plot and new: registered through `guard
 app.command("plot")(guarded(plot_cmd.plot))
 app.command("new")(guarded(plot_cmd.new))
 
-from cli import compare_cmd, draw_cmd  # noqa: E402  (registered through `guarded`)
+from cli import accuracy_cmd, compare_cmd, draw_cmd  # noqa: E402  (through `guarded`)
 
 app.command("draw")(guarded(draw_cmd.draw))
 app.command("compare")(guarded(compare_cmd.compare))
+app.command("accuracy")(guarded(accuracy_cmd.accuracy))
 
 
 def main() -> None:

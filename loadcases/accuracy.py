@@ -1,0 +1,207 @@
+"""`loads accuracy CASE`: what accuracy costs in time, for one dynamic case.
+
+The case is solved on a ladder of tolerances with each integrator; each solution is compared
+with a reference, a much tighter run of the OTHER integrator (an independent method: its
+errors are not those of the method under study). Per request column the error is measured
+relative to the request's peak (the largest |value| of any component of that request in the
+reference): over the whole run, at the end, and of the envelope peak (the max and min the
+envelope would take). CPU time is the median of `repeats` warm runs. The cheapest setting
+whose worst error meets the target is recommended.
+
+When only one integrator can run the case (events are located by generalized-alpha only),
+its own tighter run is the reference, and the study says so. With both integrators the two
+references are also compared with each other: errors below that agreement are not resolved.
+"""
+from __future__ import annotations
+
+import dataclasses
+import statistics
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+import mechlib as ml
+from loadcases.build import build_run
+from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.loader import CaseFile
+
+__all__ = ["Setting", "ColumnError", "SettingResult", "AccuracyStudy", "accuracy_study",
+           "column_errors", "INTEGRATORS", "DEFAULT_TOLERANCES", "DEFAULT_TARGET"]
+
+INTEGRATORS = ("generalized-alpha", "radau")
+DEFAULT_TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
+DEFAULT_TARGET = 1e-3          # of each request's peak: the sizing accuracy
+REFERENCE_FACTOR = 1e-2        # the reference runs at the tightest tolerance x this
+
+
+@dataclass(frozen=True)
+class Setting:
+    """One solver setting: integrator name and its tolerance (relative local error)."""
+
+    integrator: str
+    tolerance: float
+
+    def describe(self) -> str:
+        return f"{self.integrator} at tolerance {self.tolerance:g}"
+
+
+@dataclass(frozen=True)
+class ColumnError:
+    """Errors of one result column, fractions of its request's peak: the largest over the
+    run, at the end time, and of the envelope extremes (max and min)."""
+
+    over_time: float
+    at_end: float
+    of_peak: float
+
+
+@dataclass
+class SettingResult:
+    """A setting's solution measured against the reference."""
+
+    setting: Setting
+    status: str
+    message: str
+    cpu_seconds: float
+    stats: dict[str, float]
+    errors: dict[str, ColumnError] = field(default_factory=dict)
+
+    def worst(self, kind: str = "over_time") -> tuple[str, float]:
+        """(column, error) of the largest error of `kind`; ("", nan) without errors."""
+        if not self.errors:
+            return "", float("nan")
+        column = max(self.errors, key=lambda c: getattr(self.errors[c], kind))
+        return column, getattr(self.errors[column], kind)
+
+    def meets(self, target: float) -> bool:
+        return self.status == "ok" and bool(self.errors) and self.worst()[1] <= target
+
+
+@dataclass
+class AccuracyStudy:
+    """Every setting's result, the references used, and the recommendation."""
+
+    case: str
+    target: float
+    results: list[SettingResult]
+    references: dict[str, Setting]          # integrator studied -> its reference setting
+    notes: list[str]
+    reference_agreement: float | None = None
+
+    @property
+    def recommended(self) -> SettingResult | None:
+        """The cheapest setting (CPU) meeting the target, or None."""
+        good = [r for r in self.results if r.meets(self.target)]
+        return min(good, key=lambda r: r.cpu_seconds) if good else None
+
+
+def _request(column: str) -> str:
+    return column.rsplit(".", 1)[0]
+
+
+def column_errors(solution: ml.Solution, reference: ml.Solution) -> dict[str, ColumnError]:
+    """Errors of every column of `solution` against `reference` at the common output times,
+    relative to the peak of the column's request in the reference (columns of a request
+    whose reference is zero throughout are left out: no scale to measure against)."""
+    peaks: dict[str, float] = {}
+    for column, values in reference.channels.items():
+        finite = np.abs(values[np.isfinite(values)])
+        peaks[_request(column)] = max(peaks.get(_request(column), 0.0),
+                                      float(finite.max(initial=0.0)))
+    n = min(len(solution.time), len(reference.time))
+    out = {}
+    for column, ref in reference.channels.items():
+        peak = peaks[_request(column)]
+        mine = solution.channels.get(column)
+        if mine is None or peak == 0.0 or n == 0:
+            continue
+        x, r = mine[:n], ref[:n]
+        same_end = len(solution.time) == len(reference.time)
+        out[column] = ColumnError(
+            float(np.max(np.abs(x - r))) / peak,
+            float(abs(x[-1] - r[-1])) / peak if same_end else float("nan"),
+            max(abs(float(x.max() - r.max())), abs(float(x.min() - r.min()))) / peak)
+    return out
+
+
+def _solver(cf: CaseFile) -> Callable[[Setting], ml.Solution]:
+    """A function solving the case with a setting (the model built anew for every run, so
+    that no event or contact memory carries over from one run to the next)."""
+    built = build_run(cf)
+    if not isinstance(built.analysis, ml.Dynamic):
+        file, line, col = cf.where("case", "analysis.type")
+        raise InputError([Diagnostic(file, line, col, "analysis.type",
+                                     f"loads accuracy studies dynamic analyses (an integrator "
+                                     f"and its tolerance); this case's analysis is "
+                                     f"'{built.analysis.name}'")])
+
+    def solve(setting: Setting) -> ml.Solution:
+        run = build_run(cf)
+        analysis = dataclasses.replace(run.analysis, integrator=setting.integrator,
+                                       tolerance=setting.tolerance)
+        return ml.solve(run.mechanism, analysis, requests=run.requests, initial=run.initial,
+                        redundant=run.redundant, throw=False, events=run.events)
+    return solve
+
+
+def _usable(cf: CaseFile, integrators: Sequence[str], notes: list[str]) -> list[str]:
+    if cf.mechanism.events and "radau" in integrators:
+        notes.append("radau left out: the case has events, which only generalized-alpha "
+                     "locates; its reference is its own tighter run (not independent)")
+        return [i for i in integrators if i != "radau"]
+    return list(integrators)
+
+
+def accuracy_study(cf: CaseFile, *, tolerances: Sequence[float] = DEFAULT_TOLERANCES,
+                   integrators: Sequence[str] = INTEGRATORS, target: float = DEFAULT_TARGET,
+                   repeats: int = 3, reference_tolerance: float | None = None,
+                   progress: Callable[[SettingResult], None] | None = None) -> AccuracyStudy:
+    """Solve the case at every (integrator, tolerance) and measure each against the
+    reference (see the module docstring); `progress` is called after each setting."""
+    solve = _solver(cf)
+    notes: list[str] = []
+    methods = _usable(cf, integrators, notes)
+    ref_tol = reference_tolerance or min(tolerances) * REFERENCE_FACTOR
+    solve(Setting(methods[0], max(tolerances)))   # warm-up: compiled kernels, caches
+    ref_solutions = {m: solve(Setting(m, ref_tol)) for m in methods}
+    for method, reference in ref_solutions.items():
+        if not reference.ok:
+            raise ml.SolverFailure(f"the reference run ({Setting(method, ref_tol).describe()})"
+                                   f" failed: {reference.message}")
+    references = {m: Setting(_other(m, methods), ref_tol) for m in methods}
+    if len(methods) == 1 and not notes:
+        notes.append(f"the reference is {methods[0]}'s own tighter run (one integrator "
+                     "studied): its errors are not measured by an independent method")
+    study = AccuracyStudy(cf.case.case, target, [], references, notes)
+    if len(methods) > 1:
+        a, b = (ref_solutions[m] for m in methods[:2])
+        agreement = max((e.over_time for e in column_errors(a, b).values()), default=0.0)
+        study.reference_agreement = agreement
+        notes.append(f"the two references agree within {agreement:.2g} of peak: smaller "
+                     "errors are not resolved" + (" (the target is below that: tighten "
+                                                  "--reference-tolerance)"
+                                                  if agreement > target else ""))
+    for method in methods:
+        for tolerance in sorted(tolerances, reverse=True):
+            result = _measure(solve, Setting(method, tolerance),
+                              ref_solutions[references[method].integrator], repeats)
+            study.results.append(result)
+            if progress:
+                progress(result)
+    return study
+
+
+def _other(method: str, methods: Sequence[str]) -> str:
+    others = [m for m in methods if m != method]
+    return others[0] if others else method
+
+
+def _measure(solve: Callable[[Setting], ml.Solution], setting: Setting,
+             reference: ml.Solution, repeats: int) -> SettingResult:
+    runs = [solve(setting) for _ in range(max(repeats, 1))]
+    solution = runs[0]
+    cpu = statistics.median(r.stats.cpu_seconds for r in runs)
+    stats = {k: v for k, v in solution.stats.as_dict().items() if k != "cpu_seconds"}
+    return SettingResult(setting, solution.status, solution.message, cpu, stats,
+                         column_errors(solution, reference))
