@@ -9,6 +9,8 @@ numba replaces per-row Python loops that cost ~100x more in the interpreter.
 """
 from __future__ import annotations
 
+from typing import TypedDict
+
 import numpy as np
 from numba import njit
 
@@ -17,7 +19,16 @@ __all__ = ["sph_phi", "sph_jac", "sph_gamma", "dot1_phi", "dot1_jac", "dot1_gamm
            "norm_jac", "norm_gamma", "mass_times", "mass_matrix", "body_forces", "point_position",
            "point_velocity", "cross3", "rotation_matrix", "point_force"]
 
-_JIT = dict(cache=True, nogil=True, fastmath=False)
+
+class JitOptions(TypedDict, total=False):
+    """Options of `njit(**options)`, typed so that the call matches numba's stubs (a plain
+    dict[str, bool] matches none of its overloads)."""
+    cache: bool
+    nogil: bool
+    fastmath: bool
+
+
+_JIT: JitOptions = {"cache": True, "nogil": True, "fastmath": False}
 
 
 @njit(**_JIT)

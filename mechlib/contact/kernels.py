@@ -25,7 +25,7 @@ from numba import njit
 from mechlib.contact.friction import COULOMB, STRIBECK, coulomb, stribeck
 from mechlib.contact.laws import (HERTZ, IMPACT, MIN_APPROACH_SPEED, hertz_force,
                                   impact_force, restitution_force)
-from mechlib.kernels import _brot, _gt_times, _rot
+from mechlib.kernels import JitOptions, _brot, _gt_times, _rot
 
 __all__ = ["SPHERE_PLANE", "SPHERE_IN_SPHERE", "CYLINDER_IN_CYLINDER", "GAP_SIZE", "gap",
            "contact_force", "contact_wrench", "contact_tangent"]
@@ -34,7 +34,7 @@ SPHERE_PLANE, SPHERE_IN_SPHERE, CYLINDER_IN_CYLINDER = 0, 1, 2
 GAP_SIZE = 13
 _TINY = 1.0e-15  # m, below this the eccentricity has no direction (the force is zero there)
 _FD = 1.0e-9
-_JIT = dict(cache=True, nogil=True)
+_JIT: JitOptions = {"cache": True, "nogil": True}
 
 
 @njit(**_JIT)

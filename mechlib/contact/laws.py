@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from mechlib.kernels import JitOptions
 from mechlib.smooth import compiled_step, step
 
 __all__ = ["step", "ImpactLaw", "HertzLaw", "RestitutionLaw", "hertz_stiffness",
@@ -24,7 +25,7 @@ __all__ = ["step", "ImpactLaw", "HertzLaw", "RestitutionLaw", "hertz_stiffness",
 
 IMPACT, HERTZ, RESTITUTION = 0, 1, 2
 """Law codes of the compiled kernels."""
-_JIT = dict(cache=True, nogil=True)
+_JIT: JitOptions = {"cache": True, "nogil": True}
 
 MIN_APPROACH_SPEED = 1.0e-3
 """m/s: floor of the stored approach speed (a contact that starts at rest would otherwise
