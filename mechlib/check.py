@@ -7,6 +7,7 @@ redundant, and the rows it depends on are found by least squares, so the report 
 """
 from __future__ import annotations
 
+from collections.abc import Set as AbstractSet
 from dataclasses import dataclass
 
 import numpy as np
@@ -63,7 +64,7 @@ def _independent_rows(phi_q: np.ndarray, tol: float, order=None) -> tuple[list[i
 
 
 def find_redundant(phi_q: np.ndarray, labels: list[str], owners: list[str],
-                   body_names: set[str] = frozenset(), tol: float = RANK_TOLERANCE,
+                   body_names: AbstractSet[str] = frozenset(), tol: float = RANK_TOLERANCE,
                    owner_rank: dict[str, int] | None = None) -> list[Redundancy]:
     """Dependent rows of `phi_q`, each with the joints/motions it depends on.
 

@@ -105,7 +105,7 @@ class CoordinateEquation:
         return value - (self.function.value(k.t) if self.function else 0.0)
 
     def gradient(self, k: Kin) -> np.ndarray:
-        return sum(c * m.gradient(k) for c, m in self.terms)
+        return sum((c * m.gradient(k) for c, m in self.terms), np.zeros(k.ncol))
 
     def nu(self, t: float) -> float:
         """Right side of the velocity equation, -d(phi)/dt."""

@@ -63,7 +63,8 @@ class CurveEquation:
         self.point, self.which, self.label, self.owner = point, which, label, owner
         self.function = None
 
-    def _frozen(self, k: Kin) -> tuple:
+    def _frozen(self, k: Kin) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
+                                             np.ndarray], float, np.ndarray]:
         """The dot2 data with u* held: (bi, bj, v, si, sj) arrays of one item, and u*."""
         pt = self.point
         u, _, normals, foot = pt.project(k)

@@ -112,12 +112,14 @@ class Spring:
     active: bool = True
     output_units = {"value": "N", "length": "m"}
     _geometry: tuple = field(default=(), repr=False)
+    _free_length: float = field(default=np.nan, init=False, repr=False)  # m, set by bind
 
     def bind(self, system) -> None:
         (b1, at1), (b2, at2) = self.points
         self._geometry = (*system.body_point(b1, at1), *system.body_point(b2, at2))
         if self.free_length is None:
             self.free_length = float(np.linalg.norm(np.subtract(at1, at2)))
+        self._free_length = self.free_length
 
     def _state(self, view: StateView):
         b1, s1, b2, s2 = self._geometry
@@ -125,7 +127,7 @@ class Spring:
         length = float(np.linalg.norm(d))
         u = d / length if length > 0.0 else np.zeros(3)
         rate = float(u @ (view.point_velocity(b1, s1) - view.point_velocity(b2, s2)))
-        stretch = length - self.free_length
+        stretch = length - self._free_length
         elastic = self.law(stretch) if self.law is not None else self.stiffness * stretch
         tension = elastic + self.damping * rate + self.preload
         if self.tension_only and (stretch < 0.0 or tension < 0.0):

@@ -81,6 +81,12 @@ def _sph(joint: str, si, sj) -> Row:
     return Row("spherical", (si, sj), f"{joint}: translation")
 
 
+def _axes(joint: Joint) -> tuple[np.ndarray, np.ndarray]:
+    """The axes (a1 on body1, a2 on body2) of a universal or perpendicular joint."""
+    a1, a2 = joint.required(joint.axes, "axes")
+    return np.asarray(a1), np.asarray(a2)
+
+
 def expand_joint(joint: Joint, s1: np.ndarray, s2: np.ndarray) -> list[Row]:
     """Primitive rows of a geometric joint; s1, s2: the joint point in body1/body2 axes (m).
 
@@ -95,10 +101,10 @@ def expand_joint(joint: Joint, s1: np.ndarray, s2: np.ndarray) -> list[Row]:
     if t == "spherical":
         return [_sph(n, s1, s2)]
     if t == "universal":
-        a1, a2 = (np.asarray(a) for a in joint.axes)
+        a1, a2 = _axes(joint)
         return [_sph(n, s1, s2), _dot1(n, a1, a2)]
     if t == "perpendicular":
-        a1, a2 = (np.asarray(a) for a in joint.axes)
+        a1, a2 = _axes(joint)
         return [_dot1(n, a1, a2)]
     if t in ("planar", "inplane"):
         fr = joint_frame(joint.normal)

@@ -6,7 +6,7 @@ body axes coincide with global axes there. ``ground`` is the fixed body and is i
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Protocol
+from typing import Any, Protocol, TypeVar
 
 import numpy as np
 
@@ -14,6 +14,7 @@ __all__ = ["Body", "Point", "Joint", "Motion", "TimeFunction", "Mechanism", "GRO
            "JOINT_TYPES"]
 
 GROUND = "ground"
+_T = TypeVar("_T")
 JOINT_TYPES = ("fixed", "revolute", "spherical", "cylindrical", "prismatic", "universal",
                "planar", "screw", "inline", "inplane", "parallel", "perpendicular",
                "orientation", "coupler", "gear", "point_on_curve")
@@ -69,6 +70,12 @@ class Joint:
     ratio: float = 1.0
     curve: tuple[tuple[float, float, float], ...] | None = None
     interpolation: str = "cubic"
+
+    def required(self, value: _T | None, key: str) -> _T:
+        """`value`, the field `key` of this joint, which its type cannot do without."""
+        if value is None:
+            raise ValueError(f"joint {self.name}: a {self.type} joint needs `{key}`")
+        return value
 
 
 @dataclass(frozen=True)

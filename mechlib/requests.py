@@ -13,6 +13,7 @@ from typing import Callable
 
 import numpy as np
 
+from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.reactions import Gatherer, effort_series, reaction_series
 from mechlib.rotation import d_rotate, rotate
 from mechlib.system import System
@@ -122,7 +123,7 @@ def _gatherer(system: System, req) -> tuple[Gatherer, float]:
                                 if m.joint == req.joint}
         body, other = system.body_index(j.body1), system.body_index(j.body2)
     else:
-        measure = next(c for c in system.coordinates if c.owner == req.motion).terms[0][1]
+        measure = _equation(system, req.motion).terms[0][1]
         owners, body, other = {req.motion}, measure.bi, measure.bj
     return _on_body1(system, owners, body, other)
 
@@ -142,13 +143,19 @@ def _reaction_columns(system, trajectory, req: JointReaction, gatherer, sign):
 
 
 def _effort_columns(system, trajectory, req: MotionEffort, gatherer, sign):
-    measure = next(c for c in system.coordinates if c.owner == req.motion).terms[0][1]
+    measure = _equation(system, req.motion).terms[0][1]
     return effort_series(system, trajectory, gatherer, measure, sign)
 
 
-def _coupler_terms(system: System, joint: str) -> list[tuple[str, object]]:
+def _equation(system: System, owner: str) -> CoordinateEquation:
+    """The coordinate equation of a motion, coupler or gear named `owner`."""
+    return next(c for c in system.coordinates
+                if isinstance(c, CoordinateEquation) and c.owner == owner)
+
+
+def _coupler_terms(system: System, joint: str) -> list[tuple[str, AngleMeasure | TravelMeasure]]:
     """(column, measure) of a coupler's input and output joint coordinates."""
-    equation = next(c for c in system.coordinates if c.owner == joint)
+    equation = _equation(system, joint)
     return [("input", equation.terms[0][1]), ("output", equation.terms[1][1])]
 
 
@@ -220,7 +227,7 @@ def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str,
 
 def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndarray]:
     """Columns `REQUEST.COMPONENT` (SI) at the recorded times, in request order."""
-    per_request: dict[str, dict[str, list]] = {r.name: {} for r in requests}
+    per_request: dict[str, dict[str, list[float]]] = {r.name: {} for r in requests}
     loads = {r.name: [_gatherer(system, r)] for r in requests
              if isinstance(r, (JointReaction, MotionEffort))}
     loads |= {r.name: _coupler_gatherers(system, r) for r in requests
@@ -243,18 +250,19 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
             seen = rest if isinstance(req, ElementOutput) else view
             for comp, value in _evaluate(system, k, req, seen, trajectory.qdd[i]).items():
                 per_request[req.name].setdefault(comp, []).append(float(value))
+    series: dict[str, dict[str, np.ndarray]] = {}  # whole columns, in request order below
     for req in requests:
         if isinstance(req, PointKinematics):
-            per_request[req.name] = _point_series(system, trajectory, req)
+            series[req.name] = _point_series(system, trajectory, req)
         elif isinstance(req, JointReaction):
-            per_request[req.name] = _reaction_columns(system, trajectory, req,
-                                                      *loads[req.name][0])
+            series[req.name] = _reaction_columns(system, trajectory, req,
+                                                 *loads[req.name][0])
         elif isinstance(req, MotionEffort):
-            per_request[req.name] = _effort_columns(system, trajectory, req, *loads[req.name][0])
+            series[req.name] = _effort_columns(system, trajectory, req, *loads[req.name][0])
         elif isinstance(req, CouplerEffort):
-            per_request[req.name] = _coupler_columns(system, trajectory, req, loads[req.name])
+            series[req.name] = _coupler_columns(system, trajectory, req, loads[req.name])
     return {f"{name}.{comp}": np.asarray(values, dtype=float)
-            for name, comps in per_request.items() for comp, values in comps.items()}
+            for name, comps in (per_request | series).items() for comp, values in comps.items()}
 
 
 def _evaluate(system, k, req, view, qdd) -> dict[str, float]:

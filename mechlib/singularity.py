@@ -27,6 +27,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from mechlib.check import Redundancy
+from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.system import System
 
 __all__ = ["TOGGLE_THRESHOLD", "Toggle", "toggle_detail", "toggle_warnings"]
@@ -68,13 +69,14 @@ def _unit_rows(matrix: np.ndarray) -> np.ndarray:
     return matrix / np.where(norm > 0.0, norm, 1.0)[:, None]
 
 
-def _free_measures(system: System) -> list[tuple[str, object]]:
+def _free_measures(system: System) -> list[tuple[str, AngleMeasure | TravelMeasure]]:
     """(joint, coordinate measure) of the joint coordinates no active motion or lock drives."""
     driven = set()
     for i, eq in enumerate(system.coordinates):
-        terms = getattr(eq, "terms", ())  # a curve joint's equations are not coordinates
-        if system.n_geometric + i in system.active and len(terms) == 1:
-            driven.add(id(terms[0][1]))
+        if not isinstance(eq, CoordinateEquation):
+            continue  # a curve joint's equations are not coordinates
+        if system.n_geometric + i in system.active and len(eq.terms) == 1:
+            driven.add(id(eq.terms[0][1]))
     return [(joint, m) for (joint, _), m in system.measures.items() if id(m) not in driven]
 
 
@@ -92,6 +94,8 @@ class _Position:
         # a floor of _GRAM_FLOOR on J J^T keeps an exactly singular position factorable
         gram = self.jac @ self.jac.T + _GRAM_FLOOR * sp.identity(m)
         self.lu = splu(gram.tocsc()) if m else None
+        self.weights: np.ndarray
+        self.sigma: float
         self.weights, self.sigma = self._smallest(start) if m else (np.zeros(0), 1.0)
         self.free = _free_measures(system) if m < system.nq else []
 
@@ -102,10 +106,10 @@ class _Position:
         x = start if start is not None and start.size == m else np.ones(m) / np.sqrt(m)
         value = np.inf
         for _ in range(_MAX_ITERATIONS):
-            y = self.lu.solve(x)
+            y = self._solve(x)
             if not np.isfinite(y).all():
                 return x, 0.0
-            x, previous, value = y / np.linalg.norm(y), value, 1.0 / np.linalg.norm(y)
+            x, previous, value = y / np.linalg.norm(y), value, float(1.0 / np.linalg.norm(y))
             if abs(previous - value) <= _ITERATION_TOLERANCE * value:
                 break
         return x, float(np.sqrt(max(float(x @ (self.jac @ (self.jac.T @ x))), 0.0)))
@@ -117,9 +121,13 @@ class _Position:
     def _gradient(self, measure) -> np.ndarray:
         return measure.gradient(self.k)[:self.system.nq] * self.scale
 
+    def _solve(self, rhs: np.ndarray) -> np.ndarray:
+        """(J J^T)^-1 rhs; without equations rhs is empty and so is the answer."""
+        return rhs if self.lu is None else self.lu.solve(rhs)
+
     def _row_weights(self, g: np.ndarray) -> np.ndarray:
         """y with J^T y the part of g in the span of the constraint rows (least squares)."""
-        return self.lu.solve(self.jac @ g)
+        return self._solve(self.jac @ g)
 
     def sines(self) -> dict[tuple[str, str], float]:
         """Per free coordinate: sine of the angle between its scaled gradient and the

@@ -168,15 +168,16 @@ class System:
         kind = "angle" if (joint, "angle") in self.measures else "travel"
         return self.measure(joint, kind)
 
-    def _coordinate_equations(self) -> list[CoordinateEquation]:
-        eqs = []
+    def _coordinate_equations(self) -> list[CoordinateEquation | CurveEquation]:
+        eqs: list[CoordinateEquation | CurveEquation] = []
         for j in self.mechanism.joints.values():
             if j.type == "screw":
                 terms = [(1.0, self.measure(j.name, "travel")),
-                         (-j.pitch / (2.0 * np.pi), self.measure(j.name, "angle"))]
+                         (-j.required(j.pitch, "pitch") / (2.0 * np.pi),
+                          self.measure(j.name, "angle"))]
                 eqs.append(CoordinateEquation(terms, f"{j.name}: screw travel-angle", j.name))
             elif j.type in ("coupler", "gear"):
-                a, b = j.joints
+                a, b = j.required(j.joints, "joints")
                 terms = [(-j.ratio, self._coordinate_of(a)), (1.0, self._coordinate_of(b))]
                 eqs.append(CoordinateEquation(terms, f"{j.name}: coupling {a}-{b}", j.name))
             elif j.type == "point_on_curve":
@@ -255,6 +256,8 @@ class System:
     def hold(self, row: int, k: Kin) -> None:
         """Switch on held-coordinate equation `row` at its coordinate's value in `k`."""
         eq = self.coordinates[row - self.n_geometric]
+        if not (isinstance(eq, CoordinateEquation) and isinstance(eq.function, _Held)):
+            raise ValueError(f"equation {row} ({eq.label}) is not a held coordinate")
         eq.function.hold(eq.terms[0][1].value(k))
         self.active = np.union1d(self.active, [row])
         self._pattern = None
@@ -391,8 +394,9 @@ class System:
 
     def restore(self, references: dict) -> None:
         for key, value in references.items():
-            if hasattr(self.measures[key], "reference"):
-                self.measures[key].reference = value
+            measure = self.measures[key]
+            if isinstance(measure, AngleMeasure):
+                measure.reference = value
 
     def mass(self, k: Kin) -> np.ndarray:
         """Mass matrix M (nq, nq): m I for r; 4 G^T J' G (+ a p p^T term fixing |p|) for p."""

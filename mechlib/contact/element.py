@@ -28,6 +28,8 @@ __all__ = ["Contact", "ContactForces"]
 _CONTACT_UNITS = {"normal": "N", "friction": "N", "fx": "N", "fy": "N", "fz": "N",
                   "penetration": "m", "px": "m", "py": "m", "pz": "m",
                   "sliding_speed": "m/s", "wear": "W"}
+_Laws = tuple[int, np.ndarray, int, np.ndarray]  # law, its parameters, friction, its parameters
+_Kernel = tuple[int, int, int, np.ndarray, int, np.ndarray, int, np.ndarray]
 
 
 @dataclass(frozen=True)
@@ -71,10 +73,10 @@ class Contact(StaticSlipAnchor):
         law = self.law.kernel()
         friction = (NO_FRICTION, np.zeros(5)) if self.friction is None else \
             self.friction.kernel()
-        self._laws = (*law, *friction)
+        self._laws: _Laws = (*law, *friction)
         self._nb = system.nb
         # the primitives: (kind, b1, b2, g, law, law parameters, friction, its parameters)
-        self._kernel = None
+        self._kernel: _Kernel | None = None
         if hasattr(self.geometry, "kernel"):
             b1, b2, kind, g = self.geometry.kernel()
             self._kernel = (kind, b1, b2, g, *self._laws)
@@ -113,6 +115,8 @@ class Contact(StaticSlipAnchor):
     def tangent(self, view: StateView, K: np.ndarray, C: np.ndarray) -> None:
         """Add the stiffness -dQ/dq and damping -dQ/dqd (nq, nq) of the contact's
         generalized forces (only when `has_tangent`)."""
+        if self._kernel is None:
+            raise ValueError(f"contact {self.name}: no compiled tangent (see has_tangent)")
         kernels.contact_tangent(*self._kernel, self.approach, view.kin.x, view.kin.xd,
                                 self._nb, K, C)
 

@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from typing import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from mechlib.contact import kernels
 
@@ -44,13 +45,13 @@ class Gap:
         return self.velocity + self.rate * self.normal
 
 
-def unit(v: Sequence[float]) -> np.ndarray:
+def unit(v: ArrayLike) -> np.ndarray:
     """v / |v| (raises on a zero vector: a direction is required)."""
-    v = np.asarray(v, float)
-    n = float(np.linalg.norm(v))
+    vector = np.asarray(v, float)
+    n = float(np.linalg.norm(vector))
     if n == 0.0:
         raise ValueError("a direction must not be the zero vector")
-    return v / n
+    return vector / n
 
 
 def material_velocity(view, body: int, point: np.ndarray) -> np.ndarray:

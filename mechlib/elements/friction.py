@@ -14,6 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mechlib.coordinates import AngleMeasure, TravelMeasure
 from mechlib.elements.regularize import (StaticSlipAnchor, at_rest, coulomb_factor,
                                          coulomb_vector, rotation_increment)
 from mechlib.rotation import cross, omega_global
@@ -56,7 +57,7 @@ class JointFriction(StaticSlipAnchor):
         self._system = system
         self._bi, self._si = system.body_point(j.body1, j.at)
         self._bj, _ = system.body_point(j.body2, j.at)
-        self._m = None
+        self._m: AngleMeasure | TravelMeasure | None = None
         self._stick_row = None
         if j.type != "spherical":
             self._m = system.measure(self.joint, "travel" if j.type == "prismatic" else "angle")
@@ -106,7 +107,7 @@ class JointFriction(StaticSlipAnchor):
 
     def slip_rate(self, view: StateView) -> float:
         """Rate (rad/s or m/s) of the joint coordinate."""
-        return self._m.rate(view.kin)
+        return self._coordinate.rate(view.kin)
 
     def may_stick(self, view: StateView) -> bool:
         """Sliding, and the slip rate passed through zero over the last accepted step (or
@@ -137,8 +138,17 @@ class JointFriction(StaticSlipAnchor):
         self.unstick()
         self._impending = -math.copysign(1.0, effort)
 
+    @property
+    def _coordinate(self) -> AngleMeasure | TravelMeasure:
+        """The joint coordinate's measure (a spherical joint has none)."""
+        if self._m is None:
+            raise ValueError(f"joint_friction '{self.name}': a spherical joint has no "
+                             "coordinate")
+        return self._m
+
     def _axis(self, view: StateView) -> np.ndarray:
-        return view.rotation(self._m.bj) @ self._m.axis_local
+        m = self._coordinate
+        return view.rotation(m.bj) @ m.axis_local
 
     def _normal_force(self, view: StateView) -> np.ndarray:
         """Reaction force (N, global) normal to the axis (all of it for a spherical
