@@ -8,7 +8,7 @@ from loadcases.checks.mechanism import mechanism_names
 from loadcases.diagnostics import Diagnostic
 from loadcases.schema import COORDINATE_DIMENSION, KNOWN_EFFECTS, CaseModel, MechanismModel
 from loadcases.schema.errors import did_you_mean
-from loadcases.source import Locator
+from loadcases.source import KeyPath, Locator
 from loadcases.units import UnitError, to_si
 
 __all__ = ["check_case", "check_case_alone", "resolve_initial"]
@@ -28,7 +28,7 @@ def resolve_initial(case: CaseModel, mechanism: MechanismModel, at: Locator,
     for name, entry in case.initial.items():
         joint = mechanism.joints.get(name)
         dimension = COORDINATE_DIMENSION.get(joint.type) if joint is not None else None
-        if dimension is None:
+        if joint is None or dimension is None:
             continue
         update = {}
         for key, dim in (("value", dimension), ("rate", _RATE[dimension])):
@@ -46,7 +46,8 @@ def resolve_initial(case: CaseModel, mechanism: MechanismModel, at: Locator,
 
 def _motions(case: CaseModel, mechanism: MechanismModel, at: Locator,
              names: Names) -> list[Diagnostic]:
-    found, driven = [], {}
+    found: list[Diagnostic] = []
+    driven: dict[str, str] = {}
     for name, motion in case.motions.items():
         path = ("motions", name, "joint")
         joint = mechanism.joints.get(motion.joint)
@@ -149,7 +150,8 @@ def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[
     found = _motions(case, mechanism, at, names) + _initial(case, mechanism, at, names)
     found += check_case_alone(case, at) + _loads(case, at, names)
     found += _parameters(case, mechanism, at) + check_requests(case, mechanism, at, names)
-    expressions = [(("motions", n, "value"), m.value) for n, m in case.motions.items()]
+    expressions: list[tuple[KeyPath, str]] = [(("motions", n, "value"), m.value)
+                                             for n, m in case.motions.items()]
     expressions += [(("requests", n, "expression"), r.expression)
                     for n, r in case.requests.items() if hasattr(r, "expression")]
     if case.abscissa is not None:

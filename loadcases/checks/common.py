@@ -68,7 +68,9 @@ def check_expression(locator: Locator, path: KeyPath, text: str, names: Names,
             "use t, pi, a parameter, a unit name or a function"))
     for kind, args in sorted(expression.measures()):
         collection = _MEASURE_KINDS.get(kind)
-        for arg in args if collection else ():
+        if collection is None:
+            continue
+        for arg in args:
             if arg not in names.get(collection):
                 found.append(unknown(locator, path, _SINGULAR[collection], arg,
                                      names.get(collection), offset=_offset(text, arg)))

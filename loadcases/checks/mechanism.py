@@ -28,7 +28,8 @@ def mechanism_names(model: MechanismModel) -> Names:
 
 def _unique(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     """Names unique across sections; `ground` is not defined by the user."""
-    found, first = [], {}
+    found: list[Diagnostic] = []
+    first: dict[str, str] = {}
     for section in _SECTIONS:
         for name in getattr(model, section):
             if name == GROUND:
@@ -68,16 +69,18 @@ def _body_refs(model: MechanismModel) -> list[tuple[KeyPath, str]]:
 
 def _references(model: MechanismModel, at: Locator, names: Names) -> list[Diagnostic]:
     """Every name a mechanism refers to must exist."""
-    points, joints, tables = [], [], []
+    points: list[tuple[KeyPath, str]] = []
+    joints: list[tuple[KeyPath, str]] = []
+    tables: list[tuple[KeyPath, str]] = []
     for name, force in model.forces.items():
         points += [(("forces", name, "points", i), p) for i, p in
                    enumerate(getattr(force, "points", ()))]
-        if getattr(force, "point", None):
-            points.append((("forces", name, "point"), force.point))
-        if getattr(force, "joint", None):
-            joints.append((("forces", name, "joint"), force.joint))
-        if getattr(force, "law", None):
-            tables.append((("forces", name, "law"), force.law))
+        if point := getattr(force, "point", None):
+            points.append((("forces", name, "point"), point))
+        if joint_name := getattr(force, "joint", None):
+            joints.append((("forces", name, "joint"), joint_name))
+        if law := getattr(force, "law", None):
+            tables.append((("forces", name, "law"), law))
     for name, joint in model.joints.items():
         if joint.type in ("coupler", "gear"):
             joints += [(("joints", name, "joints", i), j) for i, j in enumerate(joint.joints)]
@@ -86,8 +89,8 @@ def _references(model: MechanismModel, at: Locator, names: Names) -> list[Diagno
     found += _refs(at, points, "point", names.get("points"))
     found += _refs(at, joints, "joint", names.get("joints"))
     found += _refs(at, tables, "table", names.get("tables"))
-    found += _refs(at, [(("forces", n, "frame"), f.frame) for n, f in model.forces.items()
-                        if getattr(f, "frame", None)], "frame", frames)
+    found += _refs(at, [(("forces", n, "frame"), frame) for n, f in model.forces.items()
+                        if (frame := getattr(f, "frame", None))], "frame", frames)
     return found
 
 
@@ -99,6 +102,8 @@ def _events(model: MechanismModel, at: Locator, names: Names,
     for name, event in model.events.items():
         for index, action in enumerate(event.then):
             path = ("events", name, "then", index)
+            if action.target is None:
+                continue  # `stop` has no target
             if action.action in ("release", "lock") and action.target not in names.get("joints"):
                 found.append(unknown(at, path, "joint", action.target, names.get("joints")))
             elif action.action in ("activate", "deactivate") and action.target not in switchable:
@@ -196,7 +201,8 @@ def check_mechanism(model: MechanismModel, at: Locator, motions: Iterable[str] |
     found = _unique(model, at) + _references(model, at, names) + _events(model, at, names,
                                                                          motions)
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
-    expressions = [(("events", n, "when"), e.when) for n, e in model.events.items()]
+    expressions: list[tuple[KeyPath, str]] = [(("events", n, "when"), e.when)
+                                             for n, e in model.events.items()]
     for name, force in model.forces.items():
         expressions += [(("forces", name, "value", i), v)
                         for i, v in enumerate(getattr(force, "value", ()))]

@@ -32,13 +32,14 @@ def _quantity_fits(case: CaseModel, mechanism: MechanismModel, at: Locator, name
         joint = mechanism.joints.get(case.motions[request.motion].joint)
         dimension = COORDINATE_DIMENSION.get(joint.type) if joint is not None else None
         wanted = {"angle": "torque", "length": "force"}.get(dimension or "")
-        if wanted and quantity != wanted:
+        if joint is not None and wanted and quantity != wanted:
             return [at.diagnostic(path, f"motion '{request.motion}' drives a {joint.type} "
                                   f"joint: request its {wanted}", hint=f"quantity: {wanted}")]
-    contact = mechanism.contacts.get(getattr(request, "contact", None) or "")
+    contact_name = getattr(request, "contact", None) or ""
+    contact = mechanism.contacts.get(contact_name)
     if quantity == "eccentricity" and contact is not None and \
             contact.geometry.shape not in _CLEARANCE_SHAPES:
-        return [at.diagnostic(path, f"contact '{request.contact}' is a "
+        return [at.diagnostic(path, f"contact '{contact_name}' is a "
                               f"{contact.geometry.shape}, not a clearance joint: it has no "
                               "eccentricity", hint="sphere_in_sphere or cylinder_in_cylinder")]
     return []
