@@ -15,7 +15,7 @@ from loadcases.build_contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT
 from loadcases.build_elements import ELEMENT_EFFECTS, ELEMENT_MAKERS
 from loadcases.build_events import build_events
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.expressions import ExpressionError, parse
+from loadcases.expressions import CompiledExpression, ExpressionError, parse
 from loadcases.loader import CaseFile
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 from mechlib.tables import Table, TableRangeError
@@ -64,26 +64,28 @@ def _named_elsewhere(mechanism, case) -> set[str]:
     return names
 
 
-def guarded(compiled, what: str) -> Callable:
-    """The compiled expression, its run-time errors (math, table range) turned into a
-    solver failure that says which input and when."""
-    def evaluate(t: float, state=None) -> float:
+class Guarded:
+    """The compiled expression `compiled`, its run-time errors (math, table range) turned
+    into a solver failure that says which input and when."""
+
+    def __init__(self, compiled: CompiledExpression, what: str):
+        self.compiled, self.what = compiled, what
+
+    def __call__(self, t: float, state=None) -> float:
         try:
-            return compiled(t, state)
+            return self.compiled(t, state)
         except (ExpressionError, TableRangeError, ZeroDivisionError, OverflowError) as exc:
-            raise ml.SolverFailure(f"{what}: {exc} at t = {t:.6g} s", time=t,
-                                   where=(what,)) from None
-    evaluate.compiled = compiled
-    return evaluate
+            raise ml.SolverFailure(f"{self.what}: {exc} at t = {t:.6g} s", time=t,
+                                   where=(self.what,)) from None
 
 
 class ExpressionMotion:
     """A motion's coordinate f(t) (rad or m) with exact d/dt and d2/dt2 of its expression."""
 
     def __init__(self, compiled, what: str = "motion"):
-        self._f = guarded(compiled, what)
-        self._d1 = guarded(compiled.derivative(), what)
-        self._d2 = guarded(compiled.derivative().derivative(), what)
+        self._f = Guarded(compiled, what)
+        self._d1 = Guarded(compiled.derivative(), what)
+        self._d2 = Guarded(compiled.derivative().derivative(), what)
 
     def value(self, t: float) -> float:
         return self._f(t)
@@ -113,13 +115,13 @@ class _Builder:
         file, line, col = self.where(kind, key)
         self.problems.append(Diagnostic(file, line, col, key, message))
 
-    def compile(self, text: str, what: str, kind: str = "mechanism") -> Callable:
+    def compile(self, text: str, what: str, kind: str = "mechanism") -> Guarded:
         return self.compile_tree(parse(text), what, kind)
 
-    def compile_tree(self, expression, what: str, kind: str = "mechanism") -> Callable:
+    def compile_tree(self, expression, what: str, kind: str = "mechanism") -> Guarded:
         """A parsed expression (or part of one) compiled and guarded."""
         self._check_measures(expression, what, kind)
-        return guarded(expression.compile(self.parameters, self.tables), what)
+        return Guarded(expression.compile(self.parameters, self.tables), what)
 
     def _check_measures(self, expression, what: str, kind: str) -> None:
         """angle/omega need a rotational joint, travel/speed a translational one, effort a
@@ -130,7 +132,7 @@ class _Builder:
                 continue
             types = _MEASURE_JOINTS.get(measure)
             joint = self.mech.joints.get(args[0]) if types else None
-            if joint is not None and joint.type not in types:
+            if joint is not None and types and joint.type not in types:
                 self.error(kind, what, f"{measure}({args[0]}): joint '{args[0]}' is "
                            f"{joint.type}; {measure} needs a {' or '.join(types)} joint")
 
@@ -200,7 +202,8 @@ class _Builder:
                 return None
             law = ml.TableLaw(self.tables[f.law], name)
         if f.type == "spring":
-            pts = tuple((self.mech.points[p].body, self.mech.points[p].at) for p in f.points)
+            p1, p2 = (self.mech.points[p] for p in f.points)
+            pts = ((p1.body, p1.at), (p2.body, p2.at))
             return ml.Spring(name, pts, f.stiffness, f.damping if damping else 0.0,
                              f.free_length, f.preload or 0.0, f.tension_only, law)
         if f.type == "torsion_spring":
@@ -209,14 +212,15 @@ class _Builder:
         if f.type in ("force", "torque"):
             parts = [self.compile(str(v), f"forces.{name}.value") for v in f.value]
             if all(p.compiled.is_constant for p in parts):
-                constant = tuple(p.compiled.value for p in parts)
+                x, y, z = (p.compiled.value or 0.0 for p in parts)  # constants: values set
+                constant = (x, y, z)
                 if not any(constant) and name not in self.kept:
                     return None  # zero throughout (a load switched off by its parameters)
 
-                def value(t: float, view, constant=constant) -> tuple[float, float, float]:
+                def value(t: float, view) -> tuple[float, float, float]:
                     return constant
             else:
-                def value(t: float, view, parts=parts) -> tuple[float, float, float]:
+                def value(t: float, view) -> tuple[float, float, float]:
                     return (parts[0](t, view), parts[1](t, view), parts[2](t, view))
             if f.type == "torque":
                 return ml.PointTorque(name, f.body, value, f.frame)
@@ -303,7 +307,7 @@ class _Builder:
         return None
 
     def initial(self) -> list:
-        out = []
+        out: list[ml.InitialValue | ml.InitialBodyVelocity] = []
         for name, v in self.case.initial.items():
             if name in self.mech.joints:
                 out.append(ml.InitialValue(name, v.value, v.rate))

@@ -6,6 +6,7 @@ from typing import Any, Callable
 
 import mechlib as ml
 from loadcases.expressions import Expression, ExpressionError, parse
+from loadcases.expressions.nodes import Op
 
 __all__ = ["build_events"]
 
@@ -19,7 +20,7 @@ def _condition(builder, text: str, what: str, kind: str = "mechanism"
     bisection."""
     expression = parse(text)
     tree = expression.tree
-    if getattr(tree, "op", None) in (">=", ">", "<=", "<", "=="):
+    if isinstance(tree, Op) and tree.op in (">=", ">", "<=", "<", "=="):
         lhs, rhs = (builder.compile_tree(Expression(text, node), what, kind)
                     for node in tree.args)
         sign = -1.0 if tree.op in ("<=", "<") else 1.0

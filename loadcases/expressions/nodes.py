@@ -95,6 +95,8 @@ def with_children(node: Node, args: tuple[Node, ...]) -> Node:
     old = children(node)
     if len(args) == len(old) and all(a is b for a, b in zip(args, old)):
         return node
+    if not isinstance(node, (Op, Call, Table)):
+        raise ValueError(f"{type(node).__name__} has no sub-expressions")
     return replace(node, args=args)
 
 
