@@ -159,8 +159,8 @@ def _print_report(report: FileReport) -> int:
             typer.echo(f"  {line.message}")
         for warning in line.warnings:
             typer.echo(f"  warning: {warning}")
-    for line in report.footer:
-        typer.echo(line)
+    for text in report.footer:
+        typer.echo(text)
     return EXIT_FAILED if report.failed else EXIT_OK
 
 

@@ -127,10 +127,11 @@ def _solve_all(compiled: CompiledSet, directory: Path, executor: Executor, force
     for index, outcome in executor.map_unordered(solve_spec, [specs[k] for k in todo]):
         spec = specs[todo[index]]
         write_results(outcome, directory, version=compiled.version, xlsx=xlsx)
-        records[todo[index]] = _record(outcome, spec, _csv_path(directory, spec.name))
+        finished = _record(outcome, spec, _csv_path(directory, spec.name))
+        records[todo[index]] = finished
         done += 1
         if on_record is not None:
-            on_record(records[todo[index]], done, len(specs))
+            on_record(finished, done, len(specs))
     return [record for record in records if record is not None]
 
 
@@ -177,10 +178,8 @@ def _plots(curves: list[EnvelopeCurve], directory: Path) -> list[Path]:
     chunks = [chosen[i::workers] for i in range(workers)]
     with ProcessPoolExecutor(max_workers=workers) as pool:
         drawn = list(pool.map(write_envelope_plots, chunks, [directory] * workers))
-    files = [None] * len(chosen)
-    for i, paths in enumerate(drawn):  # back into the curves' order
-        files[i::workers] = paths
-    return files
+    # back into the curves' order: curve n is item n // workers of chunk n % workers
+    return [drawn[n % workers][n // workers] for n in range(len(chosen))]
 
 
 def run_set(path: str | Path, *, output_dir: str | Path, executor: Executor | None = None,

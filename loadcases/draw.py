@@ -46,7 +46,8 @@ class Skeleton:
 
     def add(self, marker: str, body: str, at, *, outline: bool = True) -> str:
         """Add a marker on `body` at `at` (m); `outline`: part of the body's drawn shape."""
-        self.markers[marker] = (body, tuple(float(v) for v in at))
+        x, y, z = (float(v) for v in at)
+        self.markers[marker] = (body, (x, y, z))
         if outline:
             self.bodies.setdefault(body, []).append(marker)
         return marker

@@ -132,11 +132,12 @@ def _spread_labels(ax, texts: list, offsets: dict[str, np.ndarray] | None = None
 
     anchors = {id(t): np.array(t.get_position(), float) for t in texts}
     fresh = [t for t in texts if offsets is None or t.get_text() not in offsets]
+    known = offsets if offsets is not None else {}
     for t in texts:
         if t not in fresh:
-            moved = anchors[id(t)] + offsets[t.get_text()]
+            moved = anchors[id(t)] + known[t.get_text()]
             t.set_position(moved)
-            if np.any(offsets[t.get_text()]):
+            if np.any(known[t.get_text()]):
                 ax.plot(*np.column_stack([anchors[id(t)], moved]), "-", color="gray", lw=0.4)
     placed = [t for t in texts if t not in fresh]
     if len(fresh) > 1 or (fresh and placed):

@@ -113,7 +113,7 @@ def extract_envelope(runs: Iterable[SavedRun | Run]) -> list[EnvelopeRow]:
             if i_min is not None and (row.min is None or values[i_min] < row.min):
                 _fill(row, "min", run, i_min)
     for row in rows.values():
-        if row.max is not None:
+        if row.max is not None and row.min is not None:  # a run fills both or neither
             row.abs_max = max(abs(row.max), abs(row.min))
     return list(rows.values())
 

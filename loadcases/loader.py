@@ -247,6 +247,8 @@ def load_case(path: str | Path, overrides: Mapping[str, float] | None = None) ->
     elif case is not None:
         diagnostics += check_case_alone(case, case_locator)
     _raise_on_errors(diagnostics)
+    if case is None or mechanism is None or mech_locator is None:
+        raise InputError(diagnostics)  # not reached: each of them missing is an error above
     contents = [Path(path).read_bytes()] + ([Path(mech_path).read_bytes()] if mech_path else [])
     return CaseFile(
         path=str(path), case=case, mechanism=mechanism, mechanism_path=mech_path,

@@ -152,7 +152,8 @@ class _Builder:
 
     def _pairs(self, node: MappingNode) -> list[tuple[Node, Node, bool]]:
         """Own key/value pairs first, then those merged in by `<<` (flagged True)."""
-        own, merged = [], []
+        own: list[tuple[Node, Node, bool]] = []
+        merged: list[tuple[Node, Node, bool]] = []
         for key, value in node.value:
             if key.tag == _MERGE_TAG:
                 sources = value.value if isinstance(value, SequenceNode) else [value]

@@ -63,7 +63,7 @@ def _registry() -> Any:
     constants = files.joinpath("constants_en.txt").read_text(encoding="utf-8")
     text = text.replace("radian = [] = rad", "radian = [angle] = rad")
     text = text.replace("@import constants_en.txt", constants)
-    registry = pint.UnitRegistry(None, autoconvert_offset_to_baseunit=False)
+    registry: pint.UnitRegistry = pint.UnitRegistry(None, autoconvert_offset_to_baseunit=False)
     registry.load_definitions(text.splitlines())
     registry.default_system = "mks"
     return registry

@@ -87,8 +87,8 @@ def cases_sheet(sheet: Any, records: list[RunRecord], run_sheets: dict[str, str]
             for column in (6, 7):
                 sheet.cell(row=row, column=column).style = "loads failed"
     sheet.freeze_panes = "B2"
-    for column, width in zip("ABCDEFG", (36, 24, 40, 30, 12, 8, 60)):
-        sheet.column_dimensions[column].width = width
+    for letter, width in zip("ABCDEFG", (36, 24, 40, 30, 12, 8, 60)):
+        sheet.column_dimensions[letter].width = width
 
 
 def envelope_sheet(sheet: Any, rows: list[EnvelopeRow], run_sheets: dict[str, str]) -> None:

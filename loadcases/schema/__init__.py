@@ -3,6 +3,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from pydantic import BaseModel
 from pydantic.json_schema import models_json_schema
 
 from loadcases.schema.case import (
@@ -35,7 +36,8 @@ __all__ = [
     "ANALYSIS_TYPES", "KNOWN_EFFECTS", "REQUEST_KINDS", "Allowable", "Report",
 ]
 
-MODELS = {"mechanism": MechanismModel, "case": CaseModel, "set": SetModel}
+MODELS: dict[str, type[BaseModel]] = {"mechanism": MechanismModel, "case": CaseModel,
+                                      "set": SetModel}
 
 
 def json_schema() -> dict[str, Any]:

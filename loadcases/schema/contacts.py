@@ -70,7 +70,7 @@ class CircleVsProfile(Strict):
     shape: Literal["circle_vs_profile"]
     center: Position = Field(description=describe("roller centre", "length"))
     radius: Length = Field(description=describe("roller radius", "length"))
-    points: list[Position] = Field(description=describe(  # type: ignore[valid-type]
+    points: list[Position] = Field(description=describe(
         "profile points in order (a cubic spline runs through them)", "length"))
     plane_normal: Direction = Field(description="normal of the plane of roller and profile")
 

@@ -25,8 +25,9 @@ _SIMPLE = {
 }
 
 
-def did_you_mean(word: str, choices: typing.Iterable[str]) -> str | None:
-    """`did you mean 'x'?` for the closest of `choices` (difflib), or None."""
+def did_you_mean(word: str | int, choices: typing.Iterable[str]) -> str | None:
+    """`did you mean 'x'?` for the closest of `choices` (difflib), or None (`word` may be
+    a YAML key that is a number)."""
     close = difflib.get_close_matches(str(word), list(choices), n=1, cutoff=0.6)
     return f"did you mean '{close[0]}'?" if close else None
 

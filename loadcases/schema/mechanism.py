@@ -35,11 +35,11 @@ def _unit_name(kind: str) -> Any:
 class FileUnits(Strict):
     """`units:` header: the unit of bare numbers of each kind in this file (default SI)."""
 
-    length: _unit_name("length")  # type: ignore[valid-type]
-    angle: _unit_name("angle")  # type: ignore[valid-type]
-    mass: _unit_name("mass")  # type: ignore[valid-type]
-    time: _unit_name("time")  # type: ignore[valid-type]
-    force: _unit_name("force")  # type: ignore[valid-type]
+    length: _unit_name("length") = None  # type: ignore[valid-type]  # a type built by a call
+    angle: _unit_name("angle") = None  # type: ignore[valid-type]  # a type built by a call
+    mass: _unit_name("mass") = None  # type: ignore[valid-type]  # a type built by a call
+    time: _unit_name("time") = None  # type: ignore[valid-type]  # a type built by a call
+    force: _unit_name("force") = None  # type: ignore[valid-type]  # a type built by a call
 
     def as_dict(self) -> dict[str, str]:
         """{kind: unit} of the kinds that are set."""
