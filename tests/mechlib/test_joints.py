@@ -261,3 +261,16 @@ def test_point_on_curve_gradient_is_exact_on_the_curve() -> None:
         dq[j] = 1e-6
         fd[:, j] = (system.phi(system.kin(q + dq))[-2:] - system.phi(system.kin(q - dq))[-2:]) / 2e-6
     assert np.abs(grad - fd).max() < 1e-6 * np.abs(grad).max()
+
+
+@pytest.mark.parametrize("joint_type, key", [("universal", "axes"), ("perpendicular", "axes"),
+                                             ("screw", "pitch")])
+def test_a_joint_without_its_required_key_is_refused_by_name(joint_type: str, key: str) -> None:
+    """mechlib used directly (no YAML schema in front): a joint missing the key its type
+    needs is a ValueError naming the joint and the key (it was a bare TypeError on None)."""
+    mech = mechlib.Mechanism()
+    mech.add_body("body", mass=1.0, cm=CM, inertia=[0.1, 0.2, 0.3])
+    keys = {k: v for k, v in KEYS[joint_type].items() if k != key}
+    mech.add_joint("J", joint_type, bodies=("body", "ground"), at=AT, **keys)
+    with pytest.raises(ValueError, match=f"joint J: a {joint_type} joint needs `{key}`"):
+        System(mech)
