@@ -4,7 +4,7 @@ from __future__ import annotations
 import re
 from collections.abc import Collection, Iterable
 
-from loadcases.diagnostics import Diagnostic
+from loadcases.diagnostics import Diagnostic, Severity
 from loadcases.expressions import ExpressionError, parse
 from loadcases.schema.errors import did_you_mean
 from loadcases.source import KeyPath, Locator
@@ -27,7 +27,7 @@ class Names:
 
 
 def unknown(locator: Locator, path: KeyPath, what: str, name: str,
-            known: Iterable[str], *, severity: str = "error",
+            known: Iterable[str], *, severity: Severity = "error",
             offset: int | None = None) -> Diagnostic:
     """`unknown body 'grund'` with a `did you mean 'ground'?` hint."""
     known = sorted(known)
@@ -35,7 +35,7 @@ def unknown(locator: Locator, path: KeyPath, what: str, name: str,
     if hint is None and known and len(known) <= 12:
         hint = f"known {what} names: " + ", ".join(known)
     return locator.diagnostic(path, f"unknown {what} '{name}'", hint=hint,
-                              severity=severity, offset=offset)  # type: ignore[arg-type]
+                              severity=severity, offset=offset)
 
 
 def _offset(text: str, word: str) -> int | None:

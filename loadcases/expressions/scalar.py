@@ -128,10 +128,11 @@ def _call(node: Call) -> Scalar:
 
 def _step(node: Call) -> Scalar:
     x, *rest = node.args
-    if not all(isinstance(a, Num) for a in rest):
+    numbers = [a.value for a in rest if isinstance(a, Num)]
+    if len(numbers) != len(rest):
         fs = [build_scalar(a) for a in node.args]
         return lambda t, s: step(*[g(t, s) for g in fs])
-    x0, h0, x1, h1 = (a.value for a in rest)  # type: ignore[union-attr]
+    x0, h0, x1, h1 = numbers
     inv, dh = 1.0 / (x1 - x0), h1 - h0
     fx = build_scalar(x)
 

@@ -42,7 +42,9 @@ def build_vector(node: Node) -> Vector:
         return lambda t: f(*[g(t) for g in args])
     if isinstance(node, Table):
         fn, fa = node.fn, build_vector(node.args[0])
-        each = np.vectorize(lambda x: float(fn(x)), otypes=[float])  # type: ignore[misc]
+        if fn is None:
+            raise TypeError(f"table {node.name!r} is not resolved")
+        each = np.vectorize(lambda x: float(fn(x)), otypes=[float])
         return lambda t: each(fa(t))
     raise TypeError(f"cannot vectorise node {node!r}")
 

@@ -43,9 +43,9 @@ class Initial(Strict):
     value: RawQuantity | None = Field(None, description="joint coordinate [angle or length]")
     rate: RawQuantity | None = Field(None, description="joint coordinate rate [angular "
                                      "velocity or velocity, bare numbers SI]")
-    omega: vector("angular_velocity") | None = Field(  # type: ignore[valid-type]
+    omega: vector("angular_velocity") | None = Field(
         None, description=describe("body angular velocity, global axes", "angular_velocity"))
-    velocity: vector("velocity") | None = Field(  # type: ignore[valid-type]
+    velocity: vector("velocity") | None = Field(
         None, description=describe("body cm velocity, global axes", "velocity"))
 
 
@@ -66,12 +66,12 @@ class Analysis(Strict):
     """What to solve and for how long."""
 
     type: Literal["kinematic", "static", "quasi-static", "dynamic", "modes"]
-    end: _TIME | None = Field(None, description=describe("end time", "time"))  # type: ignore
-    step: _TIME | None = Field(None, description=describe("output interval",  # type: ignore
+    end: _TIME | None = Field(None, description=describe("end time", "time"))
+    step: _TIME | None = Field(None, description=describe("output interval",
                                                           "time"))
     tolerance: Dimensionless | None = Field(None, description="dynamic: local error tolerance")
     integrator: str | None = Field(None, description="dynamic: e.g. generalized-alpha, radau")
-    max_step: _TIME | None = Field(None, description=describe(  # type: ignore[valid-type]
+    max_step: _TIME | None = Field(None, description=describe(
         "dynamic: largest integrator step", "time"))
     max_steps: int | None = Field(None, description=(
         f"kinematic, quasi-static, dynamic: most steps a run may take, accepted and rejected "

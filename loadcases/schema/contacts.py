@@ -92,7 +92,7 @@ class ContactFriction(Strict):
 class Materials(Strict):
     """Elastic materials of the two bodies (Hertz stiffness from E and nu)."""
 
-    E: tuple[quantity("pressure"), quantity("pressure")]  # type: ignore[valid-type]
+    E: tuple[quantity("pressure"), quantity("pressure")]
     nu: tuple[Dimensionless, Dimensionless]
 
 

@@ -45,7 +45,7 @@ class Spring(Strict):
     damping: Damping = Field(0.0, description=describe("damping", "damping"))
     free_length: Length | None = Field(None, description=describe(
         "free length (absent and no preload: the design distance)", "length"))
-    preload: quantity("force") | None = Field(  # type: ignore[valid-type]
+    preload: quantity("force") | None = Field(
         None, description=describe("tension at the design position", "force"))
     law: Name | None = Field(None, description="table of force [N] vs deflection [m]")
     tension_only: bool = Field(False, description="true for wires and ropes")
@@ -65,9 +65,9 @@ class TorsionSpring(Strict):
     stiffness: TorsionalStiffness = Field(0.0, description=describe("stiffness",
                                                                     "torsional_stiffness"))
     damping: TorsionalDamping = Field(0.0, description=describe("damping", "torsional_damping"))
-    angle0: quantity("angle") | None = Field(  # type: ignore[valid-type]
+    angle0: quantity("angle") | None = Field(
         None, description=describe("free angle (absent and no preload: 0)", "angle"))
-    preload: quantity("torque") | None = Field(  # type: ignore[valid-type]
+    preload: quantity("torque") | None = Field(
         None, description=describe("torque at the design position", "torque"))
     law: Name | None = Field(None, description="table of torque [N*m] vs angle [rad]")
     active: bool = Field(True, description=_ACTIVE)
@@ -84,13 +84,13 @@ class Bushing(Strict):
     type: Literal["bushing"]
     bodies: NamePair
     at: Position = Field(description=describe("connection point", "length"))
-    stiffness: vector("stiffness") = Field(_ZERO3, description=describe(  # type: ignore
+    stiffness: vector("stiffness") = Field(_ZERO3, description=describe(
         "[kx, ky, kz]", "stiffness"))
-    torsional_stiffness: vector("torsional_stiffness") = Field(  # type: ignore[valid-type]
+    torsional_stiffness: vector("torsional_stiffness") = Field(
         _ZERO3, description=describe("[krx, kry, krz]", "torsional_stiffness"))
-    damping: vector("damping") = Field(_ZERO3, description=describe(  # type: ignore
+    damping: vector("damping") = Field(_ZERO3, description=describe(
         "[cx, cy, cz]", "damping"))
-    torsional_damping: vector("torsional_damping") = Field(  # type: ignore[valid-type]
+    torsional_damping: vector("torsional_damping") = Field(
         _ZERO3, description=describe("[crx, cry, crz]", "torsional_damping"))
     active: bool = Field(True, description=_ACTIVE)
 
@@ -102,7 +102,7 @@ class PointForce(Strict):
     body: Name | None = None
     point: Name | None = None
     at: Position | None = Field(None, description=describe("point of application", "length"))
-    value: tuple[_F, _F, _F] = Field(  # type: ignore[valid-type]
+    value: tuple[_F, _F, _F] = Field(
         description="[ex, ey, ez] expressions in N (numbers SI) along the axes of `frame`")
     frame: Name = Field("ground", description="ground, a body (axes turn with it) or a frame")
     active: bool = Field(True, description=_ACTIVE)
@@ -120,7 +120,7 @@ class BodyTorque(Strict):
 
     type: Literal["torque"]
     body: Name
-    value: tuple[_T, _T, _T] = Field(  # type: ignore[valid-type]
+    value: tuple[_T, _T, _T] = Field(
         description="[ex, ey, ez] expressions in N*m (numbers SI) along the axes of `frame`")
     frame: Name = Field("ground", description="ground, a body (axes turn with it) or a frame")
     active: bool = Field(True, description=_ACTIVE)

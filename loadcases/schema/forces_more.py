@@ -52,7 +52,7 @@ class CableLoop(Strict):
 
     type: Literal["cable_loop"]
     joints: tuple[Name, Name] = Field(description="[joint 1 (pulley r1), joint 2 (pulley r2)]")
-    radii: vector("length", 2) = Field(  # type: ignore[valid-type]
+    radii: vector("length", 2) = Field(
         description=describe("[r1, r2] pulley radii", "length"))
     stiffness: Stiffness = Field(description=describe("stiffness of each strand",
                                                       "stiffness"))

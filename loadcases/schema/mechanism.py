@@ -35,11 +35,11 @@ def _unit_name(kind: str) -> Any:
 class FileUnits(Strict):
     """`units:` header: the unit of bare numbers of each kind in this file (default SI)."""
 
-    length: _unit_name("length") = None  # type: ignore[valid-type]  # a type built by a call
-    angle: _unit_name("angle") = None  # type: ignore[valid-type]  # a type built by a call
-    mass: _unit_name("mass") = None  # type: ignore[valid-type]  # a type built by a call
-    time: _unit_name("time") = None  # type: ignore[valid-type]  # a type built by a call
-    force: _unit_name("force") = None  # type: ignore[valid-type]  # a type built by a call
+    length: _unit_name("length") = None
+    angle: _unit_name("angle") = None
+    mass: _unit_name("mass") = None
+    time: _unit_name("time") = None
+    force: _unit_name("force") = None
 
     def as_dict(self) -> dict[str, str]:
         """{kind: unit} of the kinds that are set."""
@@ -190,7 +190,7 @@ class MechanismModel(Strict):
 
     name: str | None = None
     units: FileUnits = Field(default_factory=FileUnits)
-    gravity: vector("acceleration") = Field(  # type: ignore[valid-type]
+    gravity: vector("acceleration") = Field(
         (0.0, 0.0, 0.0), description="gravity vector [acceleration: m/s^2, always SI]; "
         "absent: no gravity")
     parameters: dict[str, AnySI] = Field(default_factory=dict, description="named values "
