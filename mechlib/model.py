@@ -14,10 +14,10 @@ __all__ = ["Body", "Point", "Joint", "Motion", "TimeFunction", "Mechanism", "GRO
            "JOINT_TYPES"]
 
 GROUND = "ground"
-_T = TypeVar("_T")
 JOINT_TYPES = ("fixed", "revolute", "spherical", "cylindrical", "prismatic", "universal",
                "planar", "screw", "inline", "inplane", "parallel", "perpendicular",
                "orientation", "coupler", "gear", "point_on_curve")
+_T = TypeVar("_T")
 
 
 class TimeFunction(Protocol):
