@@ -82,7 +82,7 @@ def run(
     """Run case or set files and write their results (NAME.csv, NAME.summary.json; for a
     set SET also DIR/SET/envelope.csv and the workbook)."""
     _require_files(files)
-    from loadcases.loader import file_kind
+    from loadcases.inputs.loader import file_kind
 
     code = EXIT_OK
     for chunk, is_set in _chunks(files, lambda path: file_kind(path) == "set"):
@@ -154,7 +154,7 @@ def validate(
 ) -> int:
     """Check files without solving; print `file:line:col: error: key: message` per problem."""
     _require_files(files)
-    from loadcases.loader import file_kind, validate_files
+    from loadcases.inputs.loader import file_kind, validate_files
 
     found, ok_files = [], []
     for path in files:
@@ -190,8 +190,8 @@ def envelope(
 ) -> int:
     """Envelope (max/min, run, time, abscissa, concurrent values, margins) of every result
     column across saved results; failed runs are left out."""
-    from loadcases import envelope as env
-    from loadcases.saved_report import saved_report
+    from loadcases.report import envelope as env
+    from loadcases.report.saved_report import saved_report
 
     if output is not None and output.suffix.lower() not in (".xlsx", ".csv"):
         raise fail(f"{output}: output must end in .xlsx or .csv")
@@ -210,7 +210,7 @@ def envelope(
         typer.echo(env.envelope_csv_text(report.rows), nl=False)
         return EXIT_OK
     if output.suffix.lower() == ".xlsx":
-        from loadcases.workbook import write_workbook
+        from loadcases.report.workbook import write_workbook
 
         title = set_file.stem if set_file else ", ".join(map(str, dirs))
         write_workbook(report.workbook_data(title, set_file), output)

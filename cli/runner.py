@@ -9,7 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.results import result_base
+from loadcases.results.files import result_base
 
 __all__ = ["RunLine", "FileReport", "run_one", "run_all"]
 
@@ -47,7 +47,7 @@ class FileReport:
 def run_one(path: Path, *, output_dir: Path, xlsx: bool,
             progress: Progress | None = None) -> FileReport:
     """Run one file with `loadcases.run.run_file` (which writes the results)."""
-    from loadcases.loader import file_kind
+    from loadcases.inputs.loader import file_kind
 
     runner = importlib.import_module("loadcases.run")  # the solver stack: only to run
 

@@ -1,4 +1,4 @@
-"""`loads run SET.yaml`: run a load-case set through `loadcases.campaign` and report it."""
+"""`loads run SET.yaml`: run a load-case set through `loadcases.sets.campaign` and report it."""
 from __future__ import annotations
 
 import sys
@@ -48,8 +48,8 @@ class SetProgress:
 def run_set_file(path: Path, *, output_dir: Path, xlsx: bool, jobs: int | None,
                  scheduler: str | None, force: bool, show_progress: bool) -> FileReport:
     """Run every run of a set file; one status line per run, failures and files listed."""
-    from loadcases.campaign import run_set
-    from loadcases.executors import make_executor
+    from loadcases.sets.campaign import run_set
+    from loadcases.sets.executors import make_executor
 
     progress = SetProgress(path.name) if show_progress else None
     executor = make_executor(jobs=jobs, scheduler=scheduler)

@@ -5,11 +5,11 @@ from pathlib import Path
 from typing import Callable
 
 import mechlib as ml
-from loadcases.build import build_mechanism, build_run
+from loadcases.build.model import build_mechanism, build_run
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.loader import CaseFile, file_kind, load_case, load_mechanism
-from loadcases.outcome import RunOutcome
-from loadcases.results import write_results
+from loadcases.inputs.loader import CaseFile, file_kind, load_case, load_mechanism
+from loadcases.results.outcome import RunOutcome
+from loadcases.results.files import write_results
 
 __all__ = ["run_case", "run_file", "check_mechanism_file", "check_case_file"]
 

@@ -19,8 +19,8 @@ import cli.app as cli_app
 from cli.app import app
 from cli.render import ProgressBar
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.outcome import RunOutcome
-from loadcases.results import write_results
+from loadcases.results.outcome import RunOutcome
+from loadcases.results.files import write_results
 from mechlib.solution import Solution, SolverStats
 
 runner = CliRunner()
@@ -141,12 +141,12 @@ def test_validate_prints_diagnostics_sorted_and_ok(tmp_path: Path,
     found = {bad: [Diagnostic("bad.case.yaml", 12, 1, "", "unknown key 'reqests'", hint="did you mean 'requests'?"),
                    Diagnostic("bad.mech.yaml", 3, 7, "bodies.door.mass", "expected a mass, got '2 m'")],
              good: [Diagnostic("good.case.yaml", 2, 1, "loads", "no loads listed", severity="warning")]}
-    module = types.ModuleType("loadcases.loader")
+    module = types.ModuleType("loadcases.inputs.loader")
     module.validate_files = lambda paths: found[str(paths[0])]
     module.file_kind = lambda path: "case"
     run_module = types.ModuleType("loadcases.run")  # the deeper check (build, DOF) is clean
     run_module.check_case_file = lambda path: []
-    monkeypatch.setitem(sys.modules, "loadcases.loader", module)
+    monkeypatch.setitem(sys.modules, "loadcases.inputs.loader", module)
     monkeypatch.setitem(sys.modules, "loadcases.run", run_module)
     result = runner.invoke(app, ["validate", good, bad])
     assert result.exit_code == 2
@@ -161,9 +161,9 @@ def test_validate_prints_diagnostics_sorted_and_ok(tmp_path: Path,
 
 
 def test_validate_real_bad_file(tmp_path: Path) -> None:
-    loader = pytest.importorskip("loadcases.loader")
+    loader = pytest.importorskip("loadcases.inputs.loader")
     if not hasattr(loader, "validate_files"):
-        pytest.skip("loadcases.loader.validate_files not written yet")
+        pytest.skip("loadcases.inputs.loader.validate_files not written yet")
     bad = tmp_path / "bad.case.yaml"
     bad.write_text("case: bad\nmechanism:\n  bodies:\n    door: {mass: 2 m}\n"
                    "analysis: {type: kinematic, end: 1, step: 0.1}\n")

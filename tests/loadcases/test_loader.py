@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 from loadcases.diagnostics import InputError, sort_diagnostics
-from loadcases.loader import file_kind, load_case, load_mechanism, load_set, validate_files
+from loadcases.inputs.loader import file_kind, load_case, load_mechanism, load_set, validate_files
 
 HERE = Path(__file__).parent
 BAD, GOOD = HERE / "bad", HERE / "good"

@@ -11,12 +11,12 @@ import openpyxl
 import pandas as pd
 import pytest
 
-import loadcases.atomic as atomic
-from loadcases.atomic import atomic_path, atomic_write_text
-from loadcases.envelope import (ENVELOPE_COLUMNS, envelope_csv_text, extract_envelope,
+import loadcases.results.atomic as atomic
+from loadcases.results.atomic import atomic_path, atomic_write_text
+from loadcases.report.envelope import (ENVELOPE_COLUMNS, envelope_csv_text, extract_envelope,
                                 find_result_files, load_saved_runs)
-from loadcases.outcome import RunOutcome
-from loadcases.results import read_results, result_base, write_results
+from loadcases.results.outcome import RunOutcome
+from loadcases.results.files import read_results, result_base, write_results
 from mechlib.solution import EventRecord, Solution, SolverStats
 
 TIME = np.array([0.0, 0.1, 0.2, 0.3, 0.4])

@@ -11,12 +11,12 @@ from typing import Any, Callable
 
 
 import mechlib as ml
-from loadcases.build_contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
-from loadcases.build_elements import ELEMENT_EFFECTS, ELEMENT_MAKERS
-from loadcases.build_events import build_events
+from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
+from loadcases.build.elements import ELEMENT_EFFECTS, ELEMENT_MAKERS
+from loadcases.build.events import build_events
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
-from loadcases.loader import CaseFile
+from loadcases.inputs.loader import CaseFile
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 from mechlib.tables import Table, TableRangeError
 

@@ -20,7 +20,7 @@ import yaml
 __all__ = ["Skeleton", "SKELETONS", "TEMPLATE_DIR", "template_path", "skeleton_text",
            "write_skeleton", "check_name"]
 
-TEMPLATE_DIR = Path(__file__).resolve().parents[1] / "templates" / "cases"
+TEMPLATE_DIR = Path(__file__).resolve().parents[2] / "templates" / "cases"
 CASE_SUFFIX = ".case.yaml"
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+=,-]*")
 _UMASK = os.umask(0o022)

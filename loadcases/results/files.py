@@ -4,7 +4,7 @@
 `Solution.channels`, every value written at full precision (shortest round-trip `repr`; NaN
 as `nan`). `NAME.summary.json` holds status, statistics and per-column extremes; numbers
 that are not finite are written as `null` so the file is strict JSON. Every file is written
-atomically (see `loadcases.atomic`); the summary is written last.
+atomically (see `loadcases.results.atomic`); the summary is written last.
 """
 from __future__ import annotations
 
@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from loadcases.atomic import atomic_path, atomic_write_text
-from loadcases.outcome import RunOutcome
+from loadcases.results.atomic import atomic_path, atomic_write_text
+from loadcases.results.outcome import RunOutcome
 from mechlib.solution import Solution
 
 __all__ = [
@@ -209,7 +209,7 @@ def _write_workbook(path: Path, time: np.ndarray, channels: dict[str, np.ndarray
         f"time histories truncated to the first {rows} of {time.size} rows "
         "(Excel sheet limit); the CSV file holds every row"]
     _summary_sheet(workbook.create_sheet("Summary"), summary, units, notes)
-    from loadcases.xlsx_floats import exact_floats  # 17 significant digits, as the CSV
+    from loadcases.results.xlsx_floats import exact_floats  # 17 significant digits, as the CSV
 
     with atomic_path(path) as tmp, exact_floats():
         workbook.save(tmp)

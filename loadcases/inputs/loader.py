@@ -20,7 +20,7 @@ from loadcases.checks import (
     check_case, check_case_alone, check_mechanism, check_set, check_set_cases, resolve_initial,
 )
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.parameter_refs import parameter_values, put_parameters
+from loadcases.inputs.parameter_refs import parameter_values, put_parameters
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import did_you_mean, validation_diagnostics
 from loadcases.source import KeyPath, Locator, SourceTree, load_yaml
@@ -218,7 +218,7 @@ def load_case(path: str | Path, overrides: Mapping[str, float] | None = None) ->
     """Validated case with its mechanism merged; raises InputError with every problem found.
 
     `overrides` (SI) replace parameter values (a set's sweep); parameters named in numeric
-    fields are put in place before validation (loadcases.parameter_refs).
+    fields are put in place before validation (loadcases.inputs.parameter_refs).
     """
     tree, diagnostics = _read_tree(path)
     case_locator = Locator(tree)
