@@ -82,10 +82,8 @@ def run(
     """Run case or set files and write their results (NAME.csv, NAME.summary.json; for a
     set SET also DIR/SET/envelope.csv and the workbook)."""
     _require_files(files)
-    from loadcases.inputs.loader import file_kind
-
     code = EXIT_OK
-    for chunk, is_set in _chunks(files, lambda path: file_kind(path) == "set"):
+    for chunk, is_set in _chunks(files, _is_set):
         if is_set:
             for path in chunk:
                 code = max(code, _print_report(_run_set(path, output, xlsx, jobs, scheduler,
@@ -93,6 +91,17 @@ def run(
         else:
             code = max(code, _run_cases(chunk, output, xlsx, jobs or 1))
     return code
+
+
+def _is_set(path: Path) -> bool:
+    """A set file? (A file that cannot be read is not: the case runner reports why.)"""
+    from loadcases.diagnostics import InputError
+    from loadcases.inputs.kinds import file_kind
+
+    try:
+        return file_kind(path) == "set"
+    except InputError:
+        return False
 
 
 def _chunks(files: list[Path], is_set: Callable[[Path], bool]) -> list[tuple[list[Path], bool]]:
@@ -154,12 +163,13 @@ def validate(
 ) -> int:
     """Check files without solving; print `file:line:col: error: key: message` per problem."""
     _require_files(files)
-    from loadcases.inputs.loader import file_kind, validate_files
+    from loadcases.inputs.kinds import file_kind
+    from loadcases.inputs.loader import validate_files
 
     found, ok_files = [], []
     for path in files:
         diagnostics = validate_files([path])
-        if file_kind(path) == "case" and not any(d.severity == "error" for d in diagnostics):
+        if not any(d.severity == "error" for d in diagnostics) and file_kind(path) == "case":
             from loadcases.run import check_case_file  # builds the model: slower import
             diagnostics += check_case_file(path)
         found.extend(diagnostics)

@@ -47,12 +47,15 @@ class FileReport:
 def run_one(path: Path, *, output_dir: Path, xlsx: bool,
             progress: Progress | None = None) -> FileReport:
     """Run one file with `loadcases.run.run_file` (which writes the results)."""
-    from loadcases.inputs.loader import file_kind
+    from loadcases.inputs.kinds import file_kind, unknown_kind
 
     runner = importlib.import_module("loadcases.run")  # the solver stack: only to run
 
     try:
-        if file_kind(path) == "mechanism":
+        kind = file_kind(path)
+        if kind is None:
+            return FileReport(path, diagnostics=[unknown_kind(path)])
+        if kind == "mechanism":
             return FileReport(path, notes=runner.check_mechanism_file(path))
         outcomes = runner.run_file(path, output_dir=output_dir, xlsx=xlsx, progress=progress)
     except InputError as error:

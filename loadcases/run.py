@@ -7,7 +7,8 @@ from typing import Callable
 import mechlib as ml
 from loadcases.build.model import build_mechanism, build_run
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.inputs.loader import CaseFile, file_kind, load_case, load_mechanism
+from loadcases.inputs.kinds import file_kind
+from loadcases.inputs.loader import CaseFile, load_case, load_mechanism
 from loadcases.results.outcome import RunOutcome
 from loadcases.results.files import write_results
 
