@@ -15,6 +15,7 @@ from typing import Annotated, Any
 
 import typer
 
+from cli.engine import Engine, engine_of
 from cli.runner import FileReport, run_all
 from cli.render import ProgressBar, error_line, fail, print_diagnostics, status_line
 
@@ -67,6 +68,7 @@ def _require_files(paths: list[Path]) -> None:
 @app.command()
 @guarded
 def run(
+    ctx: typer.Context,
     files: Annotated[list[Path], typer.Argument(help="Case (*.case.yaml) or set (*.set.yaml) files.")],
     output: Annotated[Path, typer.Option("-o", "--output", help="Results folder.")] = Path("results"),
     xlsx: Annotated[bool, typer.Option("--xlsx", help="Also write NAME.xlsx per run.")] = False,
@@ -82,14 +84,15 @@ def run(
     """Run case or set files and write their results (NAME.csv, NAME.summary.json; for a
     set SET also DIR/SET/envelope.csv and the workbook)."""
     _require_files(files)
+    engine = engine_of(ctx, "run_file", "run_set", "check_mechanism_file")
     code = EXIT_OK
     for chunk, is_set in _chunks(files, _is_set):
         if is_set:
             for path in chunk:
-                code = max(code, _print_report(_run_set(path, output, xlsx, jobs, scheduler,
-                                                        force)))
+                code = max(code, _print_report(_run_set(engine, path, output, xlsx, jobs,
+                                                        scheduler, force)))
         else:
-            code = max(code, _run_cases(chunk, output, xlsx, jobs or 1))
+            code = max(code, _run_cases(engine, chunk, output, xlsx, jobs or 1))
     return code
 
 
@@ -116,20 +119,20 @@ def _chunks(files: list[Path], is_set: Callable[[Path], bool]) -> list[tuple[lis
     return chunks
 
 
-def _run_set(path: Path, output: Path, xlsx: bool, jobs: int | None, scheduler: str | None,
-             force: bool) -> FileReport:
+def _run_set(engine: Engine, path: Path, output: Path, xlsx: bool, jobs: int | None,
+             scheduler: str | None, force: bool) -> FileReport:
     from cli.set_runner import run_set_file
 
-    return run_set_file(path, output_dir=output, xlsx=xlsx, jobs=jobs, scheduler=scheduler,
-                        force=force, show_progress=sys.stderr.isatty())
+    return run_set_file(path, run_set=engine.run_set, output_dir=output, xlsx=xlsx, jobs=jobs,
+                        scheduler=scheduler, force=force, show_progress=sys.stderr.isatty())
 
 
-def _run_cases(files: list[Path], output: Path, xlsx: bool, jobs: int) -> int:
+def _run_cases(engine: Engine, files: list[Path], output: Path, xlsx: bool, jobs: int) -> int:
     """Case and mechanism files, as `loads run` always ran them; the worst exit status."""
     bars: dict[Path, ProgressBar] = {}
     show_progress = jobs == 1 and sys.stderr.isatty()
     code = EXIT_OK
-    for report in run_all(files, output_dir=output, xlsx=xlsx, jobs=jobs,
+    for report in run_all(files, engine=engine, output_dir=output, xlsx=xlsx, jobs=jobs,
                           progress_for=lambda path: bars.setdefault(path, ProgressBar(path.name))
                           if show_progress else None):
         if report.file in bars:
@@ -159,19 +162,15 @@ def _print_report(report: FileReport) -> int:
 @app.command()
 @guarded
 def validate(
+    ctx: typer.Context,
     files: Annotated[list[Path], typer.Argument(help="Mechanism, case or set files.")],
 ) -> int:
     """Check files without solving; print `file:line:col: error: key: message` per problem."""
     _require_files(files)
-    from loadcases.inputs.kinds import file_kind
-    from loadcases.inputs.loader import validate_files
-
+    check_file = engine_of(ctx, "check_file").check_file
     found, ok_files = [], []
     for path in files:
-        diagnostics = validate_files([path])
-        if not any(d.severity == "error" for d in diagnostics) and file_kind(path) == "case":
-            from loadcases.run import check_case_file  # builds the model: slower import
-            diagnostics += check_case_file(path)
+        diagnostics = check_file(path)
         found.extend(diagnostics)
         if not any(d.severity == "error" for d in diagnostics):
             ok_files.append(path)

@@ -2,12 +2,12 @@
 from __future__ import annotations
 
 import functools
-import importlib
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from cli.engine import Engine
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.results.files import result_base
 
@@ -44,20 +44,19 @@ class FileReport:
         return any(run.status != "ok" for run in self.runs)
 
 
-def run_one(path: Path, *, output_dir: Path, xlsx: bool,
+def run_one(path: Path, *, engine: Engine, output_dir: Path, xlsx: bool,
             progress: Progress | None = None) -> FileReport:
-    """Run one file with `loadcases.run.run_file` (which writes the results)."""
+    """Run one case file with `engine.run_file` (which writes the results); a mechanism file
+    is checked with `engine.check_mechanism_file` (`engine` resolved: no field None)."""
     from loadcases.inputs.kinds import file_kind, unknown_kind
-
-    runner = importlib.import_module("loadcases.run")  # the solver stack: only to run
 
     try:
         kind = file_kind(path)
         if kind is None:
             return FileReport(path, diagnostics=[unknown_kind(path)])
         if kind == "mechanism":
-            return FileReport(path, notes=runner.check_mechanism_file(path))
-        outcomes = runner.run_file(path, output_dir=output_dir, xlsx=xlsx, progress=progress)
+            return FileReport(path, notes=engine.check_mechanism_file(path))
+        outcomes = engine.run_file(path, output_dir=output_dir, xlsx=xlsx, progress=progress)
     except InputError as error:
         return FileReport(path, diagnostics=list(error.diagnostics))
     lines = []
@@ -70,7 +69,7 @@ def run_one(path: Path, *, output_dir: Path, xlsx: bool,
     return FileReport(path, runs=lines)
 
 
-def run_all(paths: list[Path], *, output_dir: Path, xlsx: bool, jobs: int,
+def run_all(paths: list[Path], *, engine: Engine, output_dir: Path, xlsx: bool, jobs: int,
             progress_for: Callable[[Path], Progress | None]) -> Iterator[FileReport]:
     """Reports in input order; files in parallel processes when `jobs > 1`.
 
@@ -80,9 +79,10 @@ def run_all(paths: list[Path], *, output_dir: Path, xlsx: bool, jobs: int,
     workers = min(jobs, len(paths))
     if workers <= 1:
         for path in paths:
-            yield run_one(path, output_dir=output_dir, xlsx=xlsx, progress=progress_for(path))
+            yield run_one(path, engine=engine, output_dir=output_dir, xlsx=xlsx,
+                          progress=progress_for(path))
         return
-    task = functools.partial(run_one, output_dir=output_dir, xlsx=xlsx)
+    task = functools.partial(run_one, engine=engine, output_dir=output_dir, xlsx=xlsx)
     with ProcessPoolExecutor(max_workers=workers) as pool:
         yield from pool.map(task, paths)
 

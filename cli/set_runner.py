@@ -6,6 +6,7 @@ import time
 from pathlib import Path
 from typing import TextIO
 
+from cli.engine import RunSet
 from cli.runner import FileReport, RunLine
 from loadcases.diagnostics import InputError
 
@@ -45,10 +46,11 @@ class SetProgress:
             self._stream.flush()
 
 
-def run_set_file(path: Path, *, output_dir: Path, xlsx: bool, jobs: int | None,
-                 scheduler: str | None, force: bool, show_progress: bool) -> FileReport:
-    """Run every run of a set file; one status line per run, failures and files listed."""
-    from loadcases.sets.campaign import run_set
+def run_set_file(path: Path, *, run_set: RunSet, output_dir: Path, xlsx: bool,
+                 jobs: int | None, scheduler: str | None, force: bool,
+                 show_progress: bool) -> FileReport:
+    """Run every run of a set file with `run_set` (loadcases'); one status line per run,
+    failures and files listed."""
     from loadcases.sets.executors import make_executor
 
     progress = SetProgress(path.name) if show_progress else None
