@@ -152,7 +152,7 @@ def _print_report(report: FileReport) -> int:
         typer.echo(status_line(line.name, line.status, line.steps, line.cpu_seconds, line.where))
         if line.status != "ok":
             typer.echo(f"  {line.message}")
-        for warning in line.warnings:
+        for warning in [*(d.keyed_message() for d in line.warnings), *line.solver_warnings]:
             typer.echo(f"  warning: {warning}")
     for line in report.footer:
         typer.echo(line)

@@ -26,7 +26,8 @@ class RunLine:
     steps: int
     cpu_seconds: float
     where: Path
-    warnings: tuple[str, ...] = ()
+    warnings: tuple[Diagnostic, ...] = ()      # the input's, as data
+    solver_warnings: tuple[str, ...] = ()      # mechlib's messages
 
 
 @dataclass
@@ -65,7 +66,7 @@ def run_one(path: Path, *, engine: Engine, output_dir: Path, xlsx: bool,
         lines.append(RunLine(outcome.name, solution.status, solution.message,
                              int(solution.stats.steps), float(solution.stats.cpu_seconds),
                              _where(output_dir, outcome.name),
-                             tuple(outcome.warnings) + tuple(solution.warnings)))
+                             tuple(outcome.warnings), tuple(solution.warnings)))
     return FileReport(path, runs=lines)
 
 

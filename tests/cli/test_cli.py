@@ -69,6 +69,21 @@ def test_run_ok_prints_status_and_writes_results(tmp_path: Path) -> None:
     assert (out / "a.csv").is_file() and (out / "a.summary.json").is_file()
 
 
+def test_run_prints_input_and_solver_warnings(tmp_path: Path) -> None:
+    """The input's warnings reach the CLI as data (rendered `key: message`), the solver's as
+    its messages; both under the run's status line."""
+    run = outcome("a")
+    run.warnings.append(Diagnostic("a.case.yaml", 3, 27, "effects.friktion",
+                                   "unknown effect 'friktion'", "warning"))
+    run.solution.warnings.append("near-singular at t = 0.05 s")
+    result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml"), "-o",
+                                 str(tmp_path / "r")], obj=fake_engine({"a.case.yaml": [run]}))
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines()[1:] == [
+        "  warning: effects.friktion: unknown effect 'friktion'",
+        "  warning: near-singular at t = 0.05 s"]
+
+
 def test_run_solver_failure_exits_1(tmp_path: Path) -> None:
     engine = fake_engine({"a.case.yaml": [outcome("a")],
                           "b.case.yaml": [outcome("b", status="failed")]})

@@ -12,6 +12,7 @@ import pandas as pd
 import pytest
 
 import loadcases.results.atomic as atomic
+from loadcases.diagnostics import Diagnostic
 from loadcases.results.atomic import atomic_path, atomic_write_text
 from loadcases.report.envelope import (ENVELOPE_COLUMNS, envelope_csv_text, extract_envelope,
                                 find_result_files, load_saved_runs)
@@ -37,7 +38,9 @@ def make_outcome(name: str = "slider/crank[w=6.28319]", status: str = "ok",
     return RunOutcome(name=name, case_file=Path("slider.case.yaml"), analysis="dynamic",
                       solution=solution, input_sha256="ab" * 32,
                       column_units={"pivot_force.fx": "N", "pivot_force.tz": "N*m"},
-                      warnings=["initial pivot rate changed"], parameters={"w": 6.28319})
+                      warnings=[Diagnostic("slider.case.yaml", 7, 3, "initial.pivot",
+                                           "initial pivot rate changed", "warning")],
+                      parameters={"w": 6.28319})
 
 
 def leftovers(directory: Path) -> list[str]:
@@ -78,7 +81,7 @@ def test_summary_json(tmp_path: Path) -> None:
         "max": 0.4, "time_of_max": 0.4, "min": -0.4, "time_of_min": 0.3}
     assert "time" not in summary["extremes"]
     assert summary["events"] == [{"name": "lock", "time": 0.2, "actions": ["activate latch"]}]
-    assert summary["warnings"] == ["initial pivot rate changed", "tolerance loose"]
+    assert summary["warnings"] == ["initial.pivot: initial pivot rate changed", "tolerance loose"]
     assert summary["parameters"] == {"w": 6.28319}
 
 
