@@ -9,7 +9,6 @@ from pathlib import Path
 
 from cli.engine import Engine
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.results.files import result_base
 
 __all__ = ["RunLine", "FileReport", "run_one", "run_all"]
 
@@ -90,6 +89,8 @@ def run_all(paths: list[Path], *, engine: Engine, output_dir: Path, xlsx: bool, 
 
 def _where(output_dir: Path, name: str) -> Path:
     """The CSV of a run if it is where section 3 puts it, else the output folder."""
+    from loadcases.results.files import result_base  # imports mechlib: not for `loads --help`
+
     try:
         csv_path = result_base(output_dir, name)
     except ValueError:
