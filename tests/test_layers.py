@@ -17,7 +17,7 @@ ROOT = Path(__file__).resolve().parents[1]
 # Lowest first: a part may import from the layers below its own, never from its own layer
 # (siblings) or above. `loadcases/__init__.py` is the public API and names everything.
 LAYERS: tuple[frozenset[str], ...] = tuple(frozenset(layer.split()) for layer in (
-    "diagnostics units",          # problems as data; quantities
+    "diagnostics units atomic",   # problems as data; quantities; files written whole
     "source expressions",         # YAML with positions; the expression language
     "schema",                     # pydantic models of the files
     "checks",                     # semantic checks of the models

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from loadcases.results.atomic import atomic_path, atomic_write_text
+from loadcases.atomic import atomic_path, atomic_write_text
 from loadcases.build.model import ABSCISSA_COLUMN
 from loadcases.results.saved import SavedRun, find_result_files, load_saved_run
 

@@ -23,7 +23,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from loadcases.results.atomic import atomic_path
+from loadcases.atomic import atomic_path
 from loadcases.results import saved
 from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN
 from loadcases.results.saved import SavedRun

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from loadcases.results.atomic import atomic_path
+from loadcases.atomic import atomic_path
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.envelope import EnvelopeRow
 from loadcases.results.saved import RunRecord, SavedRun, family_of

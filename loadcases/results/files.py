@@ -4,7 +4,7 @@
 `Solution.channels`, every value written at full precision (shortest round-trip `repr`; NaN
 as `nan`). `NAME.summary.json` holds status, statistics and per-column extremes; numbers
 that are not finite are written as `null` so the file is strict JSON. Every file is written
-atomically (see `loadcases.results.atomic`); the summary is written last.
+atomically (see `loadcases.atomic`); the summary is written last.
 """
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from loadcases.results.atomic import atomic_path, atomic_write_text
+from loadcases.atomic import atomic_path, atomic_write_text
 from loadcases.results.outcome import RunOutcome
 from mechlib.solution import Solution
 

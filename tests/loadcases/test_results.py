@@ -11,9 +11,9 @@ import openpyxl
 import pandas as pd
 import pytest
 
-import loadcases.results.atomic as atomic
+import loadcases.atomic as atomic
 from loadcases.diagnostics import Diagnostic
-from loadcases.results.atomic import atomic_path, atomic_write_text
+from loadcases.atomic import atomic_path, atomic_write_text
 from loadcases.report.envelope import (ENVELOPE_COLUMNS, envelope_csv_text, extract_envelope,
                                 find_result_files, load_saved_runs)
 from loadcases.results.outcome import RunOutcome
