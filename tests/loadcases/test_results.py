@@ -164,6 +164,19 @@ def test_atomic_write_failure_keeps_previous_file(tmp_path: Path) -> None:
     assert target.stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's private 0o600
 
 
+def test_atomic_write_without_overwrite_keeps_a_file_made_meanwhile(tmp_path: Path) -> None:
+    """`overwrite=False` (new case skeletons): a file that appears while the new one is
+    written is kept, the write fails and leaves no temporary file."""
+    target = tmp_path / "a.case.yaml"
+    with pytest.raises(FileExistsError):
+        with atomic_path(target, overwrite=False) as tmp:
+            tmp.write_text("new\n")
+            target.write_text("made meanwhile\n")
+    assert target.read_text() == "made meanwhile\n" and leftovers(tmp_path) == []
+    atomic_write_text(tmp_path / "b.txt", "b\n", overwrite=False)
+    assert (tmp_path / "b.txt").read_text() == "b\n" and leftovers(tmp_path) == []
+
+
 def test_write_results_failure_midway(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     """The CSV is complete, the summary (written last) fails: no partial summary remains."""
     calls = []
