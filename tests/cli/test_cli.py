@@ -8,6 +8,7 @@ import json
 import multiprocessing
 import re
 import sys
+import types
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,7 @@ import cli.app as cli_app
 from cli.app import app
 from cli.engine import Engine
 from cli.render import ProgressBar
+from cli.set_runner import SetProgress
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.results.outcome import RunOutcome
 from loadcases.results.files import write_results
@@ -260,3 +262,19 @@ def test_progress_bar_draws_and_erases() -> None:
     assert "100%" in drawn[1]
     bar.close()
     assert stream.getvalue().endswith("\r" + " " * len(drawn[0].rstrip()) + "\r")
+
+
+def test_set_progress_counts_every_failure_and_draws_the_end() -> None:
+    """The set's progress line shares the bar's redrawing: failures are counted on every
+    call, the line is redrawn only after the interval or at the end."""
+    stream = io.StringIO()
+    progress = SetProgress("s.set.yaml", stream=stream)
+    failed, ok = types.SimpleNamespace(ok=False), types.SimpleNamespace(ok=True)
+    progress(failed, 1, 3)
+    progress(failed, 2, 3)  # within the redraw interval: counted, not drawn
+    progress(ok, 3, 3)
+    drawn = stream.getvalue().split("\r")[1:]
+    assert [line.split(", ~")[0] for line in drawn] == ["s.set.yaml: 1/3 runs, 1 failed",
+                                                         "s.set.yaml: 3/3 runs, 2 failed"]
+    progress.close()
+    assert stream.getvalue().endswith("\r" + " " * max(map(len, drawn)) + "\r")
