@@ -84,7 +84,7 @@ def run(
     """Run case or set files and write their results (NAME.csv, NAME.summary.json; for a
     set SET also DIR/SET/envelope.csv and the workbook)."""
     _require_files(files)
-    engine = engine_of(ctx, "run_file", "run_set", "check_mechanism_file")
+    engine = engine_of(ctx)
     code = EXIT_OK
     for chunk, is_set in _chunks(files, _is_set):
         if is_set:
@@ -167,7 +167,7 @@ def validate(
 ) -> int:
     """Check files without solving; print `file:line:col: error: key: message` per problem."""
     _require_files(files)
-    check_file = engine_of(ctx, "check_file").check_file
+    check_file = engine_of(ctx).check_file
     found, ok_files = [], []
     for path in files:
         diagnostics = check_file(path)

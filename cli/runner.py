@@ -47,7 +47,7 @@ class FileReport:
 def run_one(path: Path, *, engine: Engine, output_dir: Path, xlsx: bool,
             progress: Progress | None = None) -> FileReport:
     """Run one case file with `engine.run_file` (which writes the results); a mechanism file
-    is checked with `engine.check_mechanism_file` (`engine` resolved: no field None)."""
+    is checked with `engine.check_mechanism_file`."""
     from loadcases.inputs.kinds import file_kind, unknown_kind
 
     try:
