@@ -140,8 +140,8 @@ def _loads_api() -> tuple[Callable[..., Any], Callable[..., Any] | None]:
     from loadcases.run import run_file  # type: ignore[import-not-found]
 
     try:
-        from loadcases.loader import load_case  # type: ignore[import-not-found]
-        from loadcases.results import write_results  # type: ignore[import-not-found]
+        from loadcases.inputs.loader import load_case  # type: ignore[import-not-found]
+        from loadcases.results.files import write_results  # type: ignore[import-not-found]
         from loadcases.run import run_case  # type: ignore[import-not-found]
     except ImportError:
         return run_file, None

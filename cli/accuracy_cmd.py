@@ -50,10 +50,10 @@ def accuracy(
     measure every request's error against a much tighter run of the other integrator, and
     recommend the cheapest setting that meets the target. Writes NAME.accuracy.csv,
     NAME.accuracy-columns.csv, NAME.accuracy.png and NAME.accuracy.xlsx."""
-    from loadcases.accuracy import INTEGRATORS, accuracy_study
-    from loadcases.accuracy_report import recommendation_text, write_accuracy_files
+    from loadcases.studies.accuracy import INTEGRATORS, accuracy_study
+    from loadcases.studies.accuracy_files import recommendation_text, write_accuracy_files
     from loadcases.diagnostics import InputError
-    from loadcases.loader import load_case
+    from loadcases.inputs.loader import load_case
 
     if not case.is_file():
         raise fail(f"{case}: no such file")

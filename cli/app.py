@@ -15,6 +15,7 @@ from typing import Annotated, Any
 
 import typer
 
+from cli.engine import Engine, engine_of
 from cli.runner import FileReport, run_all
 from cli.render import ProgressBar, error_line, fail, print_diagnostics, status_line
 
@@ -31,7 +32,7 @@ app = typer.Typer(
 
 def _print_version(value: bool) -> None:
     if value:
-        from loadcases.results import package_version
+        from loadcases.results.files import package_version
 
         typer.echo(f"loads {package_version()}")
         raise typer.Exit(EXIT_OK)
@@ -84,6 +85,7 @@ def _require_files(paths: list[Path]) -> None:
 @app.command()
 @guarded
 def run(
+    ctx: typer.Context,
     files: Annotated[list[Path], typer.Argument(help="Case (*.case.yaml) or set (*.set.yaml) files.")],
     output: Annotated[Path, typer.Option("-o", "--output", help="Results folder.")] = Path("results"),
     xlsx: Annotated[bool, typer.Option("--xlsx", help="Also write NAME.xlsx per run.")] = False,
@@ -99,17 +101,27 @@ def run(
     """Run case or set files and write their results (NAME.csv, NAME.summary.json; for a
     set SET also DIR/SET/envelope.csv and the workbook)."""
     _require_files(files)
-    from loadcases.loader import file_kind
-
+    engine = engine_of(ctx)
     code = EXIT_OK
-    for chunk, is_set in _chunks(files, lambda path: file_kind(path) == "set"):
+    for chunk, is_set in _chunks(files, _is_set):
         if is_set:
             for path in chunk:
-                code = max(code, _print_report(_run_set(path, output, xlsx, jobs, scheduler,
-                                                        force)))
+                code = max(code, _print_report(_run_set(engine, path, output, xlsx, jobs,
+                                                        scheduler, force)))
         else:
-            code = max(code, _run_cases(chunk, output, xlsx, jobs or 1))
+            code = max(code, _run_cases(engine, chunk, output, xlsx, jobs or 1))
     return code
+
+
+def _is_set(path: Path) -> bool:
+    """A set file? (A file that cannot be read is not: the case runner reports why.)"""
+    from loadcases.diagnostics import InputError
+    from loadcases.inputs.kinds import file_kind
+
+    try:
+        return file_kind(path) == "set"
+    except InputError:
+        return False
 
 
 def _chunks(files: list[Path], is_set: Callable[[Path], bool]) -> list[tuple[list[Path], bool]]:
@@ -124,20 +136,20 @@ def _chunks(files: list[Path], is_set: Callable[[Path], bool]) -> list[tuple[lis
     return chunks
 
 
-def _run_set(path: Path, output: Path, xlsx: bool, jobs: int | None, scheduler: str | None,
-             force: bool) -> FileReport:
+def _run_set(engine: Engine, path: Path, output: Path, xlsx: bool, jobs: int | None,
+             scheduler: str | None, force: bool) -> FileReport:
     from cli.set_runner import run_set_file
 
-    return run_set_file(path, output_dir=output, xlsx=xlsx, jobs=jobs, scheduler=scheduler,
-                        force=force, show_progress=sys.stderr.isatty())
+    return run_set_file(path, run_set=engine.run_set, output_dir=output, xlsx=xlsx, jobs=jobs,
+                        scheduler=scheduler, force=force, show_progress=sys.stderr.isatty())
 
 
-def _run_cases(files: list[Path], output: Path, xlsx: bool, jobs: int) -> int:
+def _run_cases(engine: Engine, files: list[Path], output: Path, xlsx: bool, jobs: int) -> int:
     """Case and mechanism files, as `loads run` always ran them; the worst exit status."""
     bars: dict[Path, ProgressBar] = {}
     show_progress = jobs == 1 and sys.stderr.isatty()
     code = EXIT_OK
-    for report in run_all(files, output_dir=output, xlsx=xlsx, jobs=jobs,
+    for report in run_all(files, engine=engine, output_dir=output, xlsx=xlsx, jobs=jobs,
                           progress_for=lambda path: bars.setdefault(path, ProgressBar(path.name))
                           if show_progress else None):
         if report.file in bars:
@@ -157,7 +169,7 @@ def _print_report(report: FileReport) -> int:
         typer.echo(status_line(line.name, line.status, line.steps, line.cpu_seconds, line.where))
         if line.status != "ok":
             typer.echo(f"  {line.message}")
-        for warning in line.warnings:
+        for warning in [*(d.keyed_message() for d in line.warnings), *line.solver_warnings]:
             typer.echo(f"  warning: {warning}")
     for text in report.footer:
         typer.echo(text)
@@ -167,18 +179,15 @@ def _print_report(report: FileReport) -> int:
 @app.command()
 @guarded
 def validate(
+    ctx: typer.Context,
     files: Annotated[list[Path], typer.Argument(help="Mechanism, case or set files.")],
 ) -> int:
     """Check files without solving; print `file:line:col: error: key: message` per problem."""
     _require_files(files)
-    from loadcases.loader import file_kind, validate_files
-
+    check_file = engine_of(ctx).check_file
     found, ok_files = [], []
     for path in files:
-        diagnostics = validate_files([path])
-        if file_kind(path) == "case" and not any(d.severity == "error" for d in diagnostics):
-            from loadcases.run import check_case_file  # builds the model: slower import
-            diagnostics += check_case_file(path)
+        diagnostics = check_file(path)
         found.extend(diagnostics)
         if not any(d.severity == "error" for d in diagnostics):
             ok_files.append(path)
@@ -207,8 +216,8 @@ def envelope(
 ) -> int:
     """Envelope (max/min, run, time, abscissa, concurrent values, margins) of every result
     column across saved results; failed runs are left out."""
-    from loadcases import envelope as env
-    from loadcases.saved_report import saved_report
+    from loadcases.report import envelope as env
+    from loadcases.report.saved_report import saved_report
 
     if output is not None and output.suffix.lower() not in (".xlsx", ".csv"):
         raise fail(f"{output}: output must end in .xlsx or .csv")
@@ -227,7 +236,7 @@ def envelope(
         typer.echo(env.envelope_csv_text(report.rows), nl=False)
         return EXIT_OK
     if output.suffix.lower() == ".xlsx":
-        from loadcases.workbook import write_workbook
+        from loadcases.report.workbook import write_workbook
 
         title = set_file.stem if set_file else ", ".join(map(str, dirs))
         write_workbook(report.workbook_data(title, set_file), output)

@@ -36,7 +36,7 @@ def compare(
 ) -> int:
     """Compare two envelopes row by row: old and new max and min (SI), their difference in
     percent of the old magnitude, and the governing run of each; new and vanished rows."""
-    from loadcases.compare import compare_envelopes, read_envelope, write_compare
+    from loadcases.report.compare import compare_envelopes, read_envelope, write_compare
 
     if output is not None and output.suffix.lower() not in (".csv", ".xlsx"):
         raise fail(f"{output}: output must end in .csv or .xlsx")

@@ -2,7 +2,7 @@
 
 Returns its exit status (0 success, 1 the run failed part-way: the pictures show what was
 computed, 2 invalid input or usage); `cli.app` registers it through its `guarded` wrapper.
-The work is done by `loadcases.draw` (trajectory) and `loadcases.draw_render` (pictures).
+The work is done by `loadcases.draw.trajectory` (trajectory) and `loadcases.draw.render` (pictures).
 """
 from __future__ import annotations
 
@@ -33,8 +33,8 @@ def draw(
 ) -> int:
     """Solve a case and draw the mechanism (bodies, joints, springs, wires, contacts)."""
     from loadcases.diagnostics import InputError
-    from loadcases.draw import trajectory_of_file
-    from loadcases.draw_render import VIEWS, write_animation, write_pngs
+    from loadcases.draw.trajectory import trajectory_of_file
+    from loadcases.draw.render import VIEWS, write_animation, write_pngs
 
     if not case.is_file():
         raise fail(f"{case}: no such file")

@@ -1,8 +1,8 @@
 """`loads plot` (PNG plots of saved results) and `loads new` (case skeletons).
 
 Each command returns its exit status (0 success, 2 invalid input or usage); `cli.app`
-registers them through its `guarded` wrapper. The work is done by `loadcases.plots` and
-`loadcases.scaffold`.
+registers them through its `guarded` wrapper. The work is done by `loadcases.report.plots` and
+`loadcases.inputs.scaffold`.
 """
 from __future__ import annotations
 
@@ -31,7 +31,7 @@ def plot(
     = Path("plots"),
 ) -> int:
     """Write PNG plots of requests vs time or vs another column: one file per request."""
-    from loadcases import plots
+    from loadcases.report import plots
 
     missing = [path for path in results if not path.exists()]
     if missing:
@@ -61,7 +61,7 @@ def new(
     = Path("."),
 ) -> int:
     """Write a commented, runnable case skeleton of a load-case family (never overwrites)."""
-    from loadcases import scaffold
+    from loadcases.inputs import scaffold
 
     try:
         path = scaffold.write_skeleton(kind, name, output)

@@ -11,7 +11,8 @@ import typer
 
 from loadcases.diagnostics import Diagnostic, sort_diagnostics
 
-__all__ = ["print_diagnostics", "status_line", "ProgressBar", "fail", "error_line"]
+__all__ = ["print_diagnostics", "status_line", "TerminalLine", "ProgressBar", "fail",
+           "error_line"]
 
 PROGRESS_WIDTH = 30        # characters of the bar itself
 PROGRESS_INTERVAL = 0.1    # s between redraws: keeps a fast solver from waiting on the terminal
@@ -39,31 +40,47 @@ def status_line(name: str, status: str, steps: int, cpu_seconds: float, where: P
     return f"{name}: {status}, {steps} steps, cpu {cpu_seconds:.3g} s -> {where}"
 
 
-class ProgressBar:
-    """A one-line progress bar on a terminal, fed by `run_file(progress=...)` as (t, t_end)."""
+class TerminalLine:
+    """One line on a terminal, redrawn in place: at most every PROGRESS_INTERVAL seconds
+    (the final state always), erased by `close` before the lines that follow."""
 
-    def __init__(self, label: str, stream: TextIO | None = None) -> None:
-        self._label = label
+    def __init__(self, stream: TextIO | None = None) -> None:
         self._stream = stream if stream is not None else sys.stderr
         self._last_draw = float("-inf")
         self._width_drawn = 0
 
-    def __call__(self, t_current: float, t_end: float) -> None:
+    def due(self, final: bool) -> bool:
+        """Whether to redraw now (keeps a fast solver from waiting on the terminal)."""
         now = time.monotonic()
-        if now - self._last_draw < PROGRESS_INTERVAL and t_current < t_end:
-            return
+        if now - self._last_draw < PROGRESS_INTERVAL and not final:
+            return False
         self._last_draw = now
-        fraction = min(max(t_current / t_end, 0.0), 1.0) if t_end > 0 else 1.0
-        filled = int(round(fraction * PROGRESS_WIDTH))
-        bar = "#" * filled + "." * (PROGRESS_WIDTH - filled)
-        text = f"{self._label} [{bar}] {fraction:4.0%}  t = {t_current:.4g} / {t_end:.4g} s"
+        return True
+
+    def draw(self, text: str) -> None:
         self._stream.write("\r" + text.ljust(self._width_drawn))
         self._stream.flush()
         self._width_drawn = max(self._width_drawn, len(text))
 
     def close(self) -> None:
-        """Erase the bar so that the status lines that follow start on a clean line."""
+        """Erase the line so that the status lines that follow start on a clean line."""
         if self._width_drawn:
             self._stream.write("\r" + " " * self._width_drawn + "\r")
             self._stream.flush()
             self._width_drawn = 0
+
+
+class ProgressBar(TerminalLine):
+    """A one-line progress bar on a terminal, fed by `run_file(progress=...)` as (t, t_end)."""
+
+    def __init__(self, label: str, stream: TextIO | None = None) -> None:
+        super().__init__(stream)
+        self._label = label
+
+    def __call__(self, t_current: float, t_end: float) -> None:
+        if not self.due(final=t_current >= t_end):
+            return
+        fraction = min(max(t_current / t_end, 0.0), 1.0) if t_end > 0 else 1.0
+        filled = int(round(fraction * PROGRESS_WIDTH))
+        bar = "#" * filled + "." * (PROGRESS_WIDTH - filled)
+        self.draw(f"{self._label} [{bar}] {fraction:4.0%}  t = {t_current:.4g} / {t_end:.4g} s")

@@ -2,14 +2,13 @@
 from __future__ import annotations
 
 import functools
-import importlib
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from cli.engine import Engine
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.results import result_base
 
 __all__ = ["RunLine", "FileReport", "run_one", "run_all"]
 
@@ -26,7 +25,8 @@ class RunLine:
     steps: int
     cpu_seconds: float
     where: Path
-    warnings: tuple[str, ...] = ()
+    warnings: tuple[Diagnostic, ...] = ()      # the input's, as data
+    solver_warnings: tuple[str, ...] = ()      # mechlib's messages
 
 
 @dataclass
@@ -44,17 +44,19 @@ class FileReport:
         return any(run.status != "ok" for run in self.runs)
 
 
-def run_one(path: Path, *, output_dir: Path, xlsx: bool,
+def run_one(path: Path, *, engine: Engine, output_dir: Path, xlsx: bool,
             progress: Progress | None = None) -> FileReport:
-    """Run one file with `loadcases.run.run_file` (which writes the results)."""
-    from loadcases.loader import file_kind
-
-    runner = importlib.import_module("loadcases.run")  # the solver stack: only to run
+    """Run one case file with `engine.run_file` (which writes the results); a mechanism file
+    is checked with `engine.check_mechanism_file`."""
+    from loadcases.inputs.kinds import file_kind, unknown_kind
 
     try:
-        if file_kind(path) == "mechanism":
-            return FileReport(path, notes=runner.check_mechanism_file(path))
-        outcomes = runner.run_file(path, output_dir=output_dir, xlsx=xlsx, progress=progress)
+        kind = file_kind(path)
+        if kind is None:
+            return FileReport(path, diagnostics=[unknown_kind(path)])
+        if kind == "mechanism":
+            return FileReport(path, notes=engine.check_mechanism_file(path))
+        outcomes = engine.run_file(path, output_dir=output_dir, xlsx=xlsx, progress=progress)
     except InputError as error:
         return FileReport(path, diagnostics=list(error.diagnostics))
     lines = []
@@ -63,11 +65,11 @@ def run_one(path: Path, *, output_dir: Path, xlsx: bool,
         lines.append(RunLine(outcome.name, solution.status, solution.message,
                              int(solution.stats.steps), float(solution.stats.cpu_seconds),
                              _where(output_dir, outcome.name),
-                             tuple(outcome.warnings) + tuple(solution.warnings)))
+                             tuple(outcome.warnings), tuple(solution.warnings)))
     return FileReport(path, runs=lines)
 
 
-def run_all(paths: list[Path], *, output_dir: Path, xlsx: bool, jobs: int,
+def run_all(paths: list[Path], *, engine: Engine, output_dir: Path, xlsx: bool, jobs: int,
             progress_for: Callable[[Path], Progress | None]) -> Iterator[FileReport]:
     """Reports in input order; files in parallel processes when `jobs > 1`.
 
@@ -77,15 +79,18 @@ def run_all(paths: list[Path], *, output_dir: Path, xlsx: bool, jobs: int,
     workers = min(jobs, len(paths))
     if workers <= 1:
         for path in paths:
-            yield run_one(path, output_dir=output_dir, xlsx=xlsx, progress=progress_for(path))
+            yield run_one(path, engine=engine, output_dir=output_dir, xlsx=xlsx,
+                          progress=progress_for(path))
         return
-    task = functools.partial(run_one, output_dir=output_dir, xlsx=xlsx)
+    task = functools.partial(run_one, engine=engine, output_dir=output_dir, xlsx=xlsx)
     with ProcessPoolExecutor(max_workers=workers) as pool:
         yield from pool.map(task, paths)
 
 
 def _where(output_dir: Path, name: str) -> Path:
     """The CSV of a run if it is where section 3 puts it, else the output folder."""
+    from loadcases.results.files import result_base  # imports mechlib: not for `loads --help`
+
     try:
         csv_path = result_base(output_dir, name)
     except ValueError:

@@ -1,55 +1,43 @@
-"""`loads run SET.yaml`: run a load-case set through `loadcases.campaign` and report it."""
+"""`loads run SET.yaml`: run a load-case set through `loadcases.sets.campaign` and report it."""
 from __future__ import annotations
 
-import sys
 import time
 from pathlib import Path
 from typing import TextIO
 
+from cli.engine import RunSet
+from cli.render import TerminalLine
 from cli.runner import FileReport, RunLine
 from loadcases.diagnostics import InputError
 
 __all__ = ["SetProgress", "run_set_file"]
 
-PROGRESS_INTERVAL = 0.1   # s between redraws
 
-
-class SetProgress:
+class SetProgress(TerminalLine):
     """One line on a terminal: runs done / total, failed, estimated time left."""
 
     def __init__(self, label: str, stream: TextIO | None = None) -> None:
+        super().__init__(stream)
         self._label = label
-        self._stream = stream if stream is not None else sys.stderr
         self._start = time.monotonic()
         self._failed = 0
-        self._width = 0
-        self._last = float("-inf")
 
     def __call__(self, record: object, done: int, total: int) -> None:
         self._failed += not getattr(record, "ok", True)
-        now = time.monotonic()
-        if now - self._last < PROGRESS_INTERVAL and done < total:
+        if not self.due(final=done >= total):
             return
-        self._last = now
+        now = time.monotonic()
         left = (now - self._start) / done * (total - done) if done else float("nan")
-        text = (f"{self._label}: {done}/{total} runs, {self._failed} failed, "
-                f"~{left:.0f} s left")
-        self._stream.write("\r" + text.ljust(self._width))
-        self._stream.flush()
-        self._width = max(self._width, len(text))
-
-    def close(self) -> None:
-        """Erase the line before the status lines are printed."""
-        if self._width:
-            self._stream.write("\r" + " " * self._width + "\r")
-            self._stream.flush()
+        self.draw(f"{self._label}: {done}/{total} runs, {self._failed} failed, "
+                  f"~{left:.0f} s left")
 
 
-def run_set_file(path: Path, *, output_dir: Path, xlsx: bool, jobs: int | None,
-                 scheduler: str | None, force: bool, show_progress: bool) -> FileReport:
-    """Run every run of a set file; one status line per run, failures and files listed."""
-    from loadcases.campaign import run_set
-    from loadcases.executors import make_executor
+def run_set_file(path: Path, *, run_set: RunSet, output_dir: Path, xlsx: bool,
+                 jobs: int | None, scheduler: str | None, force: bool,
+                 show_progress: bool) -> FileReport:
+    """Run every run of a set file with `run_set` (loadcases'); one status line per run,
+    failures and files listed."""
+    from loadcases.sets.executors import make_executor
 
     progress = SetProgress(path.name) if show_progress else None
     executor = make_executor(jobs=jobs, scheduler=scheduler)

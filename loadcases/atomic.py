@@ -22,11 +22,13 @@ _FILE_MODE = 0o666 & ~_UMASK
 
 
 @contextlib.contextmanager
-def atomic_path(target: Path) -> Iterator[Path]:
+def atomic_path(target: Path, *, overwrite: bool = True) -> Iterator[Path]:
     """Yield a temporary path next to `target`; rename it onto `target` on success.
 
     The caller writes the whole file to the yielded path (e.g. `workbook.save(tmp)`).
-    Parent folders are created. If the block raises, the temporary file is deleted.
+    Parent folders are created. If the block raises, the temporary file is deleted. With
+    `overwrite=False` an existing `target` is never replaced, even one another process
+    creates meanwhile: FileExistsError.
     """
     target = Path(target)
     target.parent.mkdir(parents=True, exist_ok=True)
@@ -36,15 +38,18 @@ def atomic_path(target: Path) -> Iterator[Path]:
     try:
         yield tmp
         os.chmod(tmp, _FILE_MODE)
-        os.replace(tmp, target)
+        if overwrite:
+            os.replace(tmp, target)
+        else:  # a hard link takes the final name only if it is free (a rename would replace)
+            os.link(tmp, target)
     finally:
         # After a successful replace the temporary name no longer exists.
         tmp.unlink(missing_ok=True)
 
 
-def atomic_write_bytes(target: Path, data: bytes) -> Path:
+def atomic_write_bytes(target: Path, data: bytes, *, overwrite: bool = True) -> Path:
     """Write `data` to `target` atomically (flushed to disk before the rename)."""
-    with atomic_path(target) as tmp:
+    with atomic_path(target, overwrite=overwrite) as tmp:
         with open(tmp, "wb") as stream:
             stream.write(data)
             stream.flush()
@@ -52,6 +57,7 @@ def atomic_write_bytes(target: Path, data: bytes) -> Path:
     return Path(target)
 
 
-def atomic_write_text(target: Path, text: str, *, encoding: str = "utf-8") -> Path:
+def atomic_write_text(target: Path, text: str, *, encoding: str = "utf-8",
+                      overwrite: bool = True) -> Path:
     """Write `text` to `target` atomically, with `\\n` line ends on every platform."""
-    return atomic_write_bytes(target, text.encode(encoding))
+    return atomic_write_bytes(target, text.encode(encoding), overwrite=overwrite)

@@ -34,6 +34,11 @@ class Diagnostic:
         head = f"{where}: {self.severity}: {self.key + ': ' if self.key else ''}{self.message}"
         return head if self.hint is None else f"{head}\n{where}: hint: {self.hint}"
 
+    def keyed_message(self) -> str:
+        """`key: message` (the message alone without a key), without the place: how a run's
+        summary file and its status lines give the warnings of the input."""
+        return f"{self.key}: {self.message}" if self.key else self.message
+
 
 def format_diagnostic(diagnostic: Diagnostic) -> str:
     """Text of one diagnostic, as `cli/` prints it."""

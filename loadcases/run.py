@@ -5,13 +5,14 @@ from pathlib import Path
 from typing import Callable
 
 import mechlib as ml
-from loadcases.build import build_mechanism, build_run
+from loadcases.build.model import build_mechanism, build_run
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.loader import CaseFile, file_kind, load_case, load_mechanism
-from loadcases.outcome import RunOutcome
-from loadcases.results import write_results
+from loadcases.inputs.kinds import file_kind
+from loadcases.inputs.loader import CaseFile, load_case, load_mechanism, validate_files
+from loadcases.results.outcome import RunOutcome
+from loadcases.results.files import write_results
 
-__all__ = ["run_case", "run_file", "check_mechanism_file", "check_case_file"]
+__all__ = ["run_case", "run_file", "check_mechanism_file", "check_case_file", "check_file"]
 
 Progress = Callable[[float, float], None]
 
@@ -93,3 +94,12 @@ def check_case_file(path: Path | str) -> list[Diagnostic]:
     except ml.ModelError as error:
         return _model_diagnostics(cf, error)
     return []
+
+
+def check_file(path: Path | str) -> list[Diagnostic]:
+    """Every diagnostic `loads validate` gives one file of any kind (errors and warnings):
+    schema and checks, and for a case without errors the model's checks (`check_case_file`)."""
+    diagnostics = validate_files([path])
+    if not any(d.severity == "error" for d in diagnostics) and file_kind(path) == "case":
+        diagnostics += check_case_file(path)
+    return diagnostics

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import yaml
 
-from loadcases.loader import load_case
+from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
 LIBRARY = Path(__file__).resolve().parent / "library"

@@ -2,12 +2,12 @@
 
 Run from the repository root: `.venv/bin/python templates/make_template.py`. A company may
 then restyle the file in Excel (cell styles named `loads ...`, the Cover sheet) and point a
-set's `report: {template: ...}` at its copy; see loadcases/workbook_template.py.
+set's `report: {template: ...}` at its copy; see loadcases/report/workbook_template.py.
 """
 from pathlib import Path
 
 from loadcases.atomic import atomic_path
-from loadcases.workbook_template import build_template
+from loadcases.report.workbook_template import build_template
 
 TARGET = Path(__file__).resolve().parent / "envelope.xlsx"
 

@@ -20,8 +20,8 @@ from scipy.special import ellipj, ellipk
 from typer.testing import CliRunner
 
 from cli.app import app
-from loadcases.accuracy import _solver, accuracy_study
-from loadcases.loader import load_case
+from loadcases.studies.accuracy import _solver, accuracy_study
+from loadcases.inputs.loader import load_case
 
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
 THETA0 = math.radians(60.0)

@@ -1,6 +1,7 @@
 """The `loads` command line (SPEC section 2): outputs and exit status of every command."""
 from __future__ import annotations
 
+import functools
 import importlib
 import io
 import json
@@ -17,10 +18,12 @@ from typer.testing import CliRunner
 
 import cli.app as cli_app
 from cli.app import app
+from cli.engine import Engine
 from cli.render import ProgressBar
+from cli.set_runner import SetProgress
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.outcome import RunOutcome
-from loadcases.results import write_results
+from loadcases.results.outcome import RunOutcome
+from loadcases.results.files import write_results
 from mechlib.solution import Solution, SolverStats
 
 runner = CliRunner()
@@ -35,24 +38,21 @@ def outcome(name: str, status: str = "ok", scale: float = 1.0) -> RunOutcome:
     return RunOutcome(name, Path(f"{name}.case.yaml"), "kinematic", solution, "0" * 64)
 
 
-def fake_run_module(monkeypatch: pytest.MonkeyPatch, behaviour: dict[str, object]) -> None:
-    """Install a `loadcases.run` whose run_file looks up each file's stem in `behaviour`."""
+def fake_run_file(path: Path, *, output_dir: Path, xlsx: bool = False, progress=None,
+                  behaviour: dict[str, object]):
+    """A `run_file` that looks up each file's name in `behaviour` (outcomes or an exception)."""
+    what = behaviour[Path(path).name]
+    if isinstance(what, Exception):
+        raise what
+    outcomes = list(what)
+    for item in outcomes:
+        write_results(item, output_dir, xlsx=xlsx, version="test")
+    return outcomes
 
-    def run_file(path: Path, *, output_dir: Path, xlsx: bool = False, progress=None):
-        what = behaviour[Path(path).name]
-        if isinstance(what, Exception):
-            raise what
-        outcomes = list(what)
-        for item in outcomes:
-            write_results(item, output_dir, xlsx=xlsx, version="test")
-        return outcomes
 
-    module = types.ModuleType("loadcases.run")
-    module.run_file = run_file
-    monkeypatch.setitem(sys.modules, "loadcases.run", module)
-    # `from loadcases import run` prefers the package attribute once the real module was
-    # imported (e.g. by set tests in the same worker): replace it too.
-    monkeypatch.setattr(importlib.import_module("loadcases"), "run", module, raising=False)
+def fake_engine(behaviour: dict[str, object]) -> Engine:
+    """The engine `loads run` is given instead of loadcases' (picklable: `--jobs` sends it)."""
+    return Engine(run_file=functools.partial(fake_run_file, behaviour=behaviour))
 
 
 def case_files(tmp_path: Path, *names: str) -> list[str]:
@@ -61,35 +61,50 @@ def case_files(tmp_path: Path, *names: str) -> list[str]:
     return [str(tmp_path / name) for name in names]
 
 
-def test_run_ok_prints_status_and_writes_results(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    fake_run_module(monkeypatch, {"a.case.yaml": [outcome("a")]})
+def test_run_ok_prints_status_and_writes_results(tmp_path: Path) -> None:
+    engine = fake_engine({"a.case.yaml": [outcome("a")]})
     out = tmp_path / "res"
-    result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml"), "-o", str(out)])
+    result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml"), "-o", str(out)],
+                           obj=engine)
     assert result.exit_code == 0, result.output
     assert f"a: ok, 11 steps, cpu 0.5 s -> {out / 'a.csv'}" in result.stdout
     assert (out / "a.csv").is_file() and (out / "a.summary.json").is_file()
 
 
-def test_run_solver_failure_exits_1(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    fake_run_module(monkeypatch, {"a.case.yaml": [outcome("a")],
-                                  "b.case.yaml": [outcome("b", status="failed")]})
+def test_run_prints_input_and_solver_warnings(tmp_path: Path) -> None:
+    """The input's warnings reach the CLI as data (rendered `key: message`), the solver's as
+    its messages; both under the run's status line."""
+    run = outcome("a")
+    run.warnings.append(Diagnostic("a.case.yaml", 3, 27, "effects.friktion",
+                                   "unknown effect 'friktion'", "warning"))
+    run.solution.warnings.append("near-singular at t = 0.05 s")
+    result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml"), "-o",
+                                 str(tmp_path / "r")], obj=fake_engine({"a.case.yaml": [run]}))
+    assert result.exit_code == 0, result.output
+    assert result.stdout.splitlines()[1:] == [
+        "  warning: effects.friktion: unknown effect 'friktion'",
+        "  warning: near-singular at t = 0.05 s"]
+
+
+def test_run_solver_failure_exits_1(tmp_path: Path) -> None:
+    engine = fake_engine({"a.case.yaml": [outcome("a")],
+                          "b.case.yaml": [outcome("b", status="failed")]})
     files = case_files(tmp_path, "a.case.yaml", "b.case.yaml")
-    result = runner.invoke(app, ["run", *files, "-o", str(tmp_path / "r"), "--xlsx"])
+    result = runner.invoke(app, ["run", *files, "-o", str(tmp_path / "r"), "--xlsx"], obj=engine)
     assert result.exit_code == 1
     assert "b: failed, 11 steps" in result.stdout and "singular at t = 0.1 s" in result.stdout
     assert json.loads((tmp_path / "r" / "b.summary.json").read_text())["status"] == "failed"
     assert (tmp_path / "r" / "a.xlsx").is_file()
 
 
-def test_run_input_error_exits_2_with_sorted_diagnostics(tmp_path: Path,
-                                                         monkeypatch: pytest.MonkeyPatch) -> None:
+def test_run_input_error_exits_2_with_sorted_diagnostics(tmp_path: Path) -> None:
     error = InputError([
         Diagnostic("a.case.yaml", 9, 3, "analysis.end", "expected a time, got '2 m'"),
         Diagnostic("a.case.yaml", 4, 5, "joints.hinge.bodies[1]", "unknown body 'grund'",
                    hint="did you mean 'ground'?"),
     ])
-    fake_run_module(monkeypatch, {"a.case.yaml": error})
-    result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml")])
+    engine = fake_engine({"a.case.yaml": error})
+    result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml")], obj=engine)
     assert result.exit_code == 2
     assert result.stderr.splitlines() == [
         "a.case.yaml:4:5: error: joints.hinge.bodies[1]: unknown body 'grund'",
@@ -100,26 +115,23 @@ def test_run_input_error_exits_2_with_sorted_diagnostics(tmp_path: Path,
 
 
 def test_internal_error_is_one_line_exit_1(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    fake_run_module(monkeypatch, {"a.case.yaml": ZeroDivisionError("float division by zero")})
+    engine = fake_engine({"a.case.yaml": ZeroDivisionError("float division by zero")})
     monkeypatch.delenv("LOADS_DEBUG", raising=False)
-    result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml")])
+    result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml")], obj=engine)
     assert result.exit_code == 1
     lines = result.stderr.splitlines()
     assert len(lines) == 1 and lines[0].startswith("loads: internal error: ZeroDivisionError")
     assert "report" in lines[0] and "Traceback" not in result.output
     monkeypatch.setenv("LOADS_DEBUG", "1")
-    debug = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml")])
+    debug = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml")], obj=engine)
     assert isinstance(debug.exception, ZeroDivisionError)
 
 
-@pytest.mark.skipif(multiprocessing.get_start_method() != "fork",
-                    reason="the fake run module reaches worker processes only by fork")
-def test_run_jobs_in_parallel_keeps_input_order(tmp_path: Path,
-                                                monkeypatch: pytest.MonkeyPatch) -> None:
+def test_run_jobs_in_parallel_keeps_input_order(tmp_path: Path) -> None:
     names = [f"c{i}.case.yaml" for i in range(4)]
-    fake_run_module(monkeypatch, {n: [outcome(n.split(".")[0])] for n in names})
+    engine = fake_engine({n: [outcome(n.split(".")[0])] for n in names})
     result = runner.invoke(app, ["run", *case_files(tmp_path, *names), "-o", str(tmp_path / "r"),
-                                 "--jobs", "2"])
+                                 "--jobs", "2"], obj=engine)
     assert result.exit_code == 0, result.output
     assert [line.split(":")[0] for line in result.stdout.splitlines()] == ["c0", "c1", "c2", "c3"]
     assert len(list((tmp_path / "r").glob("*.summary.json"))) == 4
@@ -135,20 +147,13 @@ def test_missing_file_and_usage_errors_exit_2(tmp_path: Path) -> None:
     assert runner.invoke(app, ["frobnicate"]).exit_code == 2
 
 
-def test_validate_prints_diagnostics_sorted_and_ok(tmp_path: Path,
-                                                   monkeypatch: pytest.MonkeyPatch) -> None:
+def test_validate_prints_diagnostics_sorted_and_ok(tmp_path: Path) -> None:
     good, bad = case_files(tmp_path, "good.case.yaml", "bad.case.yaml")
     found = {bad: [Diagnostic("bad.case.yaml", 12, 1, "", "unknown key 'reqests'", hint="did you mean 'requests'?"),
                    Diagnostic("bad.mech.yaml", 3, 7, "bodies.door.mass", "expected a mass, got '2 m'")],
              good: [Diagnostic("good.case.yaml", 2, 1, "loads", "no loads listed", severity="warning")]}
-    module = types.ModuleType("loadcases.loader")
-    module.validate_files = lambda paths: found[str(paths[0])]
-    module.file_kind = lambda path: "case"
-    run_module = types.ModuleType("loadcases.run")  # the deeper check (build, DOF) is clean
-    run_module.check_case_file = lambda path: []
-    monkeypatch.setitem(sys.modules, "loadcases.loader", module)
-    monkeypatch.setitem(sys.modules, "loadcases.run", run_module)
-    result = runner.invoke(app, ["validate", good, bad])
+    engine = Engine(check_file=lambda path: found[str(path)])
+    result = runner.invoke(app, ["validate", good, bad], obj=engine)
     assert result.exit_code == 2
     assert result.stdout.splitlines() == [
         "bad.case.yaml:12:1: error: unknown key 'reqests'",
@@ -157,13 +162,13 @@ def test_validate_prints_diagnostics_sorted_and_ok(tmp_path: Path,
         "good.case.yaml:2:1: warning: loads: no loads listed",
         f"{good}: ok",
     ]
-    assert runner.invoke(app, ["validate", good]).exit_code == 0
+    assert runner.invoke(app, ["validate", good], obj=engine).exit_code == 0
 
 
 def test_validate_real_bad_file(tmp_path: Path) -> None:
-    loader = pytest.importorskip("loadcases.loader")
+    loader = pytest.importorskip("loadcases.inputs.loader")
     if not hasattr(loader, "validate_files"):
-        pytest.skip("loadcases.loader.validate_files not written yet")
+        pytest.skip("loadcases.inputs.loader.validate_files not written yet")
     bad = tmp_path / "bad.case.yaml"
     bad.write_text("case: bad\nmechanism:\n  bodies:\n    door: {mass: 2 m}\n"
                    "analysis: {type: kinematic, end: 1, step: 0.1}\n")
@@ -257,3 +262,19 @@ def test_progress_bar_draws_and_erases() -> None:
     assert "100%" in drawn[1]
     bar.close()
     assert stream.getvalue().endswith("\r" + " " * len(drawn[0].rstrip()) + "\r")
+
+
+def test_set_progress_counts_every_failure_and_draws_the_end() -> None:
+    """The set's progress line shares the bar's redrawing: failures are counted on every
+    call, the line is redrawn only after the interval or at the end."""
+    stream = io.StringIO()
+    progress = SetProgress("s.set.yaml", stream=stream)
+    failed, ok = types.SimpleNamespace(ok=False), types.SimpleNamespace(ok=True)
+    progress(failed, 1, 3)
+    progress(failed, 2, 3)  # within the redraw interval: counted, not drawn
+    progress(ok, 3, 3)
+    drawn = stream.getvalue().split("\r")[1:]
+    assert [line.split(", ~")[0] for line in drawn] == ["s.set.yaml: 1/3 runs, 1 failed",
+                                                         "s.set.yaml: 3/3 runs, 2 failed"]
+    progress.close()
+    assert stream.getvalue().endswith("\r" + " " * max(map(len, drawn)) + "\r")

@@ -17,7 +17,7 @@ import pytest
 from typer.testing import CliRunner
 
 from cli.app import app
-from loadcases.compare import Peak, compare_envelopes
+from loadcases.report.compare import Peak, compare_envelopes
 from tests.loadcases.set_fixtures import write_inputs
 
 runner = CliRunner()

@@ -8,7 +8,7 @@ from matplotlib.image import imread
 from typer.testing import CliRunner
 
 from cli.app import app
-from loadcases.scaffold import SKELETONS
+from loadcases.inputs.scaffold import SKELETONS
 
 runner = CliRunner()
 

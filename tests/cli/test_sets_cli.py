@@ -68,3 +68,22 @@ def test_envelope_of_saved_set_results_with_set_margins(tmp_path: Path) -> None:
     expected = next(r for r in saved if r["column"] == "drive_torque.value")
     assert torque["ms_max"] == float(expected["ms_max"])
     assert torque["max_run"] == expected["max_run"]
+
+
+def test_file_kind_decided_alike_by_run_and_validate(tmp_path: Path) -> None:
+    """A set named without `.set.yaml` runs as a set; a file whose kind cannot be told gets
+    the same diagnostic from `run` and `validate` (one function decides the kind)."""
+    folder = write_inputs(tmp_path)
+    plain = folder / "crank-set.yaml"
+    plain.write_text((folder / "crank.set.yaml").read_text(encoding="utf-8"), encoding="utf-8")
+    result = runner.invoke(app, ["run", str(plain), "-o", str(tmp_path / "res"), "--jobs", "1"])
+    assert result.exit_code == 0, result.output
+    assert "crank-set: 6 runs, 0 failed, 0 reused" in result.stdout
+    unknown = folder / "notes.yaml"
+    unknown.write_text("colour: blue\n", encoding="utf-8")
+    expected = [f"{unknown}:1:1: error: cannot tell the file kind",
+                f"{unknown}:1:1: hint: name it *.mech.yaml, *.case.yaml or *.set.yaml"]
+    ran = runner.invoke(app, ["run", str(unknown), "-o", str(tmp_path / "res")])
+    assert ran.exit_code == 2 and ran.stderr.splitlines() == expected
+    checked = runner.invoke(app, ["validate", str(unknown)])
+    assert checked.exit_code == 2 and checked.stdout.splitlines() == expected

@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from loadcases.draw import trajectory_of_file
-from loadcases.draw_render import (DPI, FIGURE_SIZE, _figure, projection, write_animation,
+from loadcases.draw.trajectory import trajectory_of_file
+from loadcases.draw.render import (DPI, FIGURE_SIZE, _figure, projection, write_animation,
                                    write_pngs)
 
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library"
@@ -66,7 +66,7 @@ def test_labels_of_a_crowded_mechanism_are_spread(monkeypatch):
     pairs overlap; spread, at most 2 do (0 measured). The spreading is deterministic."""
     import matplotlib.pyplot as plt
 
-    import loadcases.draw_render as render_module
+    import loadcases.draw.render as render_module
     door = trajectory_of_file(LIBRARY / "door" / "opened.case.yaml")
     counts = []
     for spread in (False, True, True):

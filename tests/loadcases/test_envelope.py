@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from loadcases.curves import envelope_curves, envelope_on_grid
-from loadcases.envelope import extract_envelope
-from loadcases.margins import apply_margins, margin
-from loadcases.saved import SavedRun
+from loadcases.report.curves import envelope_curves, envelope_on_grid
+from loadcases.report.envelope import extract_envelope
+from loadcases.report.margins import apply_margins, margin
+from loadcases.results.saved import SavedRun
 
 NAN = math.nan
 

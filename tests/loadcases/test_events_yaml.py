@@ -72,4 +72,5 @@ def test_mechanism_events_wait_in_a_static_case(tmp_path: Path) -> None:
     outcome, = run_file(path, output_dir=tmp_path / "out")
     assert outcome.solution.ok
     assert outcome.solution.channels["angle.value"][0] == pytest.approx(math.pi, abs=1e-8)
-    assert any("need an analysis in time" in w for w in outcome.warnings)
+    warning, = [w for w in outcome.warnings if "need an analysis in time" in w.message]
+    assert (warning.file, warning.severity) == (str(path), "warning") and warning.line > 0

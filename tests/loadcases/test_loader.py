@@ -7,7 +7,8 @@ from pathlib import Path
 import pytest
 
 from loadcases.diagnostics import InputError, sort_diagnostics
-from loadcases.loader import file_kind, load_case, load_mechanism, load_set, validate_files
+from loadcases.inputs.kinds import file_kind
+from loadcases.inputs.loader import load_case, load_mechanism, load_set, validate_files
 
 HERE = Path(__file__).parent
 BAD, GOOD = HERE / "bad", HERE / "good"
@@ -203,8 +204,13 @@ def test_load_mechanism_and_set(monkeypatch: pytest.MonkeyPatch, tmp_path: Path)
     assert validate_files([tmp_path / "a.set.yaml"]) == []
 
 
-def test_file_kind() -> None:
-    assert file_kind("x.case.yaml") == "case"
-    assert file_kind("x.yaml", {"set": "a"}) == "set"
-    assert file_kind("x.yaml", {"bodies": {}}) == "mechanism"
-    assert file_kind("x.yaml", {"foo": 1}) is None
+def test_file_kind(tmp_path: Path) -> None:
+    """The suffix decides; a file without one of the suffixes is told by its top-level keys."""
+    assert file_kind("x.case.yaml") == "case" and file_kind("X.SET.YML") == "set"
+    assert file_kind("missing.mech.yaml") == "mechanism"  # the suffix alone: not read
+    for text, kind in (("set: a\n", "set"), ("bodies: {}\n", "mechanism"),
+                       ("case: c\n", "case"), ("foo: 1\n", None)):
+        (tmp_path / "x.yaml").write_text(text, encoding="utf-8")
+        assert file_kind(tmp_path / "x.yaml") == kind, text
+    with pytest.raises(InputError):
+        file_kind(tmp_path / "missing.yaml")

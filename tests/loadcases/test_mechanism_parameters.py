@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from loadcases.loader import load_mechanism
+from loadcases.inputs.loader import load_mechanism
 
 MECH = """\
 name: pad

@@ -10,7 +10,7 @@ import numpy as np
 from typer.testing import CliRunner
 
 from cli.app import app
-from loadcases.results import read_results
+from loadcases.results.files import read_results
 
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
 

@@ -1,4 +1,4 @@
-"""PNG plots of saved runs and of envelope curves (loadcases.plots)."""
+"""PNG plots of saved runs and of envelope curves (loadcases.report.plots)."""
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -8,9 +8,9 @@ import numpy as np
 import pytest
 from matplotlib.image import imread
 
-from loadcases import plots
-from loadcases.outcome import RunOutcome
-from loadcases.results import write_results
+from loadcases.report import plots
+from loadcases.results.outcome import RunOutcome
+from loadcases.results.files import write_results
 from mechlib.solution import Solution, SolverStats
 
 WIDTH_PX = 1000  # FIG_WIDTH_IN 10 in at DPI 100

@@ -12,11 +12,12 @@ import pandas as pd
 import pytest
 
 import loadcases.atomic as atomic
+from loadcases.diagnostics import Diagnostic
 from loadcases.atomic import atomic_path, atomic_write_text
-from loadcases.envelope import (ENVELOPE_COLUMNS, envelope_csv_text, extract_envelope,
+from loadcases.report.envelope import (ENVELOPE_COLUMNS, envelope_csv_text, extract_envelope,
                                 find_result_files, load_saved_runs)
-from loadcases.outcome import RunOutcome
-from loadcases.results import read_results, result_base, write_results
+from loadcases.results.outcome import RunOutcome
+from loadcases.results.files import read_results, result_base, write_results
 from mechlib.solution import EventRecord, Solution, SolverStats
 
 TIME = np.array([0.0, 0.1, 0.2, 0.3, 0.4])
@@ -37,7 +38,9 @@ def make_outcome(name: str = "slider/crank[w=6.28319]", status: str = "ok",
     return RunOutcome(name=name, case_file=Path("slider.case.yaml"), analysis="dynamic",
                       solution=solution, input_sha256="ab" * 32,
                       column_units={"pivot_force.fx": "N", "pivot_force.tz": "N*m"},
-                      warnings=["initial pivot rate changed"], parameters={"w": 6.28319})
+                      warnings=[Diagnostic("slider.case.yaml", 7, 3, "initial.pivot",
+                                           "initial pivot rate changed", "warning")],
+                      parameters={"w": 6.28319})
 
 
 def leftovers(directory: Path) -> list[str]:
@@ -78,7 +81,7 @@ def test_summary_json(tmp_path: Path) -> None:
         "max": 0.4, "time_of_max": 0.4, "min": -0.4, "time_of_min": 0.3}
     assert "time" not in summary["extremes"]
     assert summary["events"] == [{"name": "lock", "time": 0.2, "actions": ["activate latch"]}]
-    assert summary["warnings"] == ["initial pivot rate changed", "tolerance loose"]
+    assert summary["warnings"] == ["initial.pivot: initial pivot rate changed", "tolerance loose"]
     assert summary["parameters"] == {"w": 6.28319}
 
 
@@ -159,6 +162,19 @@ def test_atomic_write_failure_keeps_previous_file(tmp_path: Path) -> None:
     umask = os.umask(0o022)
     os.umask(umask)
     assert target.stat().st_mode & 0o777 == 0o666 & ~umask  # not mkstemp's private 0o600
+
+
+def test_atomic_write_without_overwrite_keeps_a_file_made_meanwhile(tmp_path: Path) -> None:
+    """`overwrite=False` (new case skeletons): a file that appears while the new one is
+    written is kept, the write fails and leaves no temporary file."""
+    target = tmp_path / "a.case.yaml"
+    with pytest.raises(FileExistsError):
+        with atomic_path(target, overwrite=False) as tmp:
+            tmp.write_text("new\n")
+            target.write_text("made meanwhile\n")
+    assert target.read_text() == "made meanwhile\n" and leftovers(tmp_path) == []
+    atomic_write_text(tmp_path / "b.txt", "b\n", overwrite=False)
+    assert (tmp_path / "b.txt").read_text() == "b\n" and leftovers(tmp_path) == []
 
 
 def test_write_results_failure_midway(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:

@@ -1,4 +1,4 @@
-"""Case skeletons (loadcases.scaffold): every kind validates and runs; files are never
+"""Case skeletons (loadcases.inputs.scaffold): every kind validates and runs; files are never
 overwritten; the physics of each stand-in mechanism is what its comments say."""
 from __future__ import annotations
 
@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from loadcases import scaffold
-from loadcases.loader import load_case, validate_files
+from loadcases.inputs import scaffold
+from loadcases.inputs.loader import load_case, validate_files
 from loadcases.run import run_case
 
 KINDS = ["lifting", "jamming", "opening", "opened", "jettison", "deployment", "rod-end"]

@@ -6,10 +6,10 @@ from pathlib import Path
 
 import pytest
 
-from loadcases.campaign import run_set
+from loadcases.sets.campaign import run_set
 from loadcases.diagnostics import InputError
-from loadcases.executors import DaskExecutor, PoolExecutor
-from loadcases.sets import load_and_compile_set, run_hash, run_name
+from loadcases.sets.executors import DaskExecutor, PoolExecutor
+from loadcases.sets.specs import load_and_compile_set, run_hash, run_name
 from tests.loadcases.set_fixtures import write_inputs
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from loadcases.sets import load_and_compile_set
+from loadcases.sets.specs import load_and_compile_set
 
 MECH = """\
 name: bar

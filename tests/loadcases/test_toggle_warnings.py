@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import brentq
 
-from loadcases.loader import load_case
+from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
 CASE = Path(__file__).parent / "cases" / "landing_gear" / "freefall_toggle.case.yaml"

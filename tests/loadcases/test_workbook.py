@@ -8,10 +8,10 @@ import openpyxl
 import pandas as pd
 import pytest
 
-import loadcases.workbook as workbook_module
-from loadcases.campaign import run_set
-from loadcases.results import read_results
-from loadcases.workbook import sheet_title
+import loadcases.report.workbook as workbook_module
+from loadcases.sets.campaign import run_set
+from loadcases.results.files import read_results
+from loadcases.report.workbook import sheet_title
 from tests.loadcases.set_fixtures import write_inputs
 
 

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from loadcases.build import build_run
+from loadcases.build.model import build_run
 from loadcases.expressions import parse
-from loadcases.loader import load_case
+from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
 CASE = """\

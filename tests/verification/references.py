@@ -742,7 +742,8 @@ def vector(outcome: Any, request: str, components: str = "xyz") -> FloatArray:
 
 def all_warnings(outcome: Any) -> list[str]:
     """Warnings of the run and of its solution (the summary shows both)."""
-    return [*getattr(outcome, "warnings", []), *getattr(outcome.solution, "warnings", [])]
+    return [*(d.keyed_message() for d in getattr(outcome, "warnings", [])),
+            *getattr(outcome.solution, "warnings", [])]
 
 
 def wrap_angle(angle: np.ndarray) -> FloatArray:

@@ -1,7 +1,7 @@
 """The verification case files themselves: well-formed, and with the intended mobility.
 
 The YAML-level checks need no engine; `test_files_validate` asks the load-case layer
-(`loadcases.loader.validate_files`, as `loads validate` does) for problems.
+(`loadcases.inputs.loader.validate_files`, as `loads validate` does) for problems.
 """
 from __future__ import annotations
 
@@ -108,7 +108,7 @@ def test_mobility(file_name: str) -> None:
 def test_files_validate() -> None:
     """`loads validate` finds no error in any verification file (the redundant four-bar is
     only refused when run: redundancy is a property of the built model)."""
-    from loadcases.loader import validate_files
+    from loadcases.inputs.loader import validate_files
 
     paths = sorted(LIBRARY.glob("*.yaml"))
     errors = [d for d in validate_files(paths) if d.severity == "error"]

@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from loadcases.loader import load_case
+from loadcases.inputs.loader import load_case
 from loadcases.run import run_case, run_file
 
 DOOR = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "door"

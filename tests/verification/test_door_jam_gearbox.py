@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from loadcases.loader import load_case
+from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
 DOOR = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "door"

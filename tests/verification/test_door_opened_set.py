@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from loadcases.loader import load_case
+from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
-from loadcases.sets import load_and_compile_set
+from loadcases.sets.specs import load_and_compile_set
 
 DOOR = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "door"
 G = 9.81

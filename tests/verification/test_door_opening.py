@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import yaml
 
-from loadcases.loader import load_case
+from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
 DOOR = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "door"

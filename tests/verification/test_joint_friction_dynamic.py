@@ -22,7 +22,7 @@ G = 9.81
 
 
 def _run_case(name: str, **parameters: float):
-    from loadcases.loader import load_case
+    from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
     solution = run_case(load_case(LIBRARY / "elements" / name, parameters)).solution
     assert solution.ok, solution.message

@@ -1,7 +1,7 @@
 """The table sheets of the sizing workbook: Cases, Envelope, time histories, Provenance.
 
 Styles are the template's named styles (`loads header`, `loads number` ...; see
-`loadcases.workbook_template`). Values are written as they are (SI floats); NaN and
+`loadcases.report.workbook_template`). Values are written as they are (SI floats); NaN and
 infinities become empty cells because Excel has no such numbers.
 """
 from __future__ import annotations
@@ -17,9 +17,9 @@ from openpyxl.styles import PatternFill
 from openpyxl.utils import get_column_letter
 from openpyxl.worksheet.hyperlink import Hyperlink
 
-from loadcases.envelope import ENVELOPE_COLUMNS, EnvelopeRow
-from loadcases.results import EXCEL_MAX_ROWS, TIME_COLUMN
-from loadcases.saved import RunRecord, SavedRun
+from loadcases.report.envelope import ENVELOPE_COLUMNS, EnvelopeRow
+from loadcases.results.files import EXCEL_MAX_ROWS, TIME_COLUMN
+from loadcases.results.saved import RunRecord, SavedRun
 
 __all__ = ["Block", "cases_sheet", "envelope_sheet", "history_sheet", "provenance_sheet",
            "header_text", "CASES_COLUMNS"]

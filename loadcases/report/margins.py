@@ -18,12 +18,12 @@ from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
 
-from loadcases.envelope import EnvelopeRow
+from loadcases.report.envelope import EnvelopeRow
 
 __all__ = ["apply_margins", "column_factor", "margin", "LOAD_UNITS", "ULTIMATE"]
 
 ULTIMATE = "ultimate"
-from loadcases.curves import LOAD_UNITS  # noqa: E402
+from loadcases.report.curves import LOAD_UNITS  # noqa: E402
 
 
 def column_factor(column: str, unit: str | None, factors: Mapping[str, float],

@@ -20,16 +20,15 @@ from loadcases.checks import (
     check_case, check_case_alone, check_mechanism, check_set, check_set_cases, resolve_initial,
 )
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.parameter_refs import ParameterRef, parameter_values, put_parameters
+from loadcases.inputs.kinds import file_kind, unknown_kind
+from loadcases.inputs.parameter_refs import ParameterRef, parameter_values, put_parameters
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import did_you_mean, validation_diagnostics
 from loadcases.source import KeyPath, Locator, SourceTree, load_yaml
 
 __all__ = ["CaseFile", "MechanismFile", "SetFile", "load_case", "load_mechanism", "load_set",
-           "validate_files", "file_kind", "parse_key_path"]
+           "validate_files", "parse_key_path"]
 
-_SUFFIXES = {".mech.yaml": "mechanism", ".case.yaml": "case", ".set.yaml": "set",
-             ".mech.yml": "mechanism", ".case.yml": "case", ".set.yml": "set"}
 _KEY_PART = re.compile(r"([^.\[\]]+)|\[(\d+)\]")
 
 
@@ -93,22 +92,6 @@ class SetFile:
     def where(self, key_path: str | KeyPath) -> tuple[str, int, int]:
         """(file, line, col) of a key such as `"sweep.clearance"`."""
         return self.locator.where(parse_key_path(key_path))
-
-
-def file_kind(path: str | Path, data: Any = None) -> str | None:
-    """"mechanism", "case" or "set" from the suffix, else from the top-level keys."""
-    name = str(path).lower()
-    for suffix, kind in _SUFFIXES.items():
-        if name.endswith(suffix):
-            return kind
-    if isinstance(data, dict):
-        if "case" in data:
-            return "case"
-        if "set" in data:
-            return "set"
-        if {"bodies", "joints", "points", "forces"} & set(data):
-            return "mechanism"
-    return None
 
 
 def _mapping_check(tree: SourceTree) -> list[Diagnostic]:
@@ -220,7 +203,7 @@ def load_case(path: str | Path, overrides: Mapping[str, float] | None = None) ->
     """Validated case with its mechanism merged; raises InputError with every problem found.
 
     `overrides` (SI) replace parameter values (a set's sweep); parameters named in numeric
-    fields are put in place before validation (loadcases.parameter_refs).
+    fields are put in place before validation (loadcases.inputs.parameter_refs).
     """
     tree, diagnostics = _read_tree(path)
     case_locator = Locator(tree)
@@ -298,14 +281,11 @@ def load_set(path: str | Path) -> SetFile:
     return SetFile(str(path), model, tuple(case_paths), locator, tuple(diagnostics))
 
 
-def _validate_one(path: str, kind: str | None, done: set[str]) -> list[Diagnostic]:
-    """Diagnostics of one file of `kind`; a set's cases are validated too (once each)."""
+def _validate_one(path: str, done: set[str]) -> list[Diagnostic]:
+    """Diagnostics of one file of any kind; a set's cases are validated too (once each)."""
+    kind = file_kind(path)
     if kind is None:
-        tree = load_yaml(path)
-        kind = file_kind(path, tree.data)
-        if kind is None:
-            return [Diagnostic(path, 1, 1, "", "cannot tell the file kind", hint="name it "
-                               "*.mech.yaml, *.case.yaml or *.set.yaml")]
+        return [unknown_kind(path)]
     if kind == "mechanism":
         return list(load_mechanism(path).warnings)
     if kind == "case":
@@ -334,7 +314,7 @@ def validate_files(paths: list[str | Path]) -> list[Diagnostic]:
             continue
         done.add(os.path.normpath(name))
         try:
-            found += _validate_one(name, file_kind(name), done)
+            found += _validate_one(name, done)
         except InputError as error:
             found += error.diagnostics
     return list(dict.fromkeys(found))

@@ -4,6 +4,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from loadcases.diagnostics import Diagnostic
 from mechlib.solution import Solution
 
 __all__ = ["RunOutcome"]
@@ -16,7 +17,8 @@ class RunOutcome:
     `name` is the case name (a `/` in it makes sub-folders of the output directory);
     `column_units` maps each result column (`REQUEST.COMPONENT`) to its SI unit text
     (`N`, `N*m`, `rad/s` ...); `input_sha256` hashes the case, its mechanism file and the
-    parameters of the run; `warnings` are non-fatal notes for the summary.
+    parameters of the run; `warnings` are the input's (validation and build) warnings, as
+    data (the solver's are on the solution).
     """
 
     name: str
@@ -25,5 +27,5 @@ class RunOutcome:
     solution: Solution
     input_sha256: str
     column_units: dict[str, str] = field(default_factory=dict)
-    warnings: list[str] = field(default_factory=list)
+    warnings: list[Diagnostic] = field(default_factory=list)
     parameters: dict[str, float] = field(default_factory=dict)

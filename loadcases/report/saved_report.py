@@ -11,15 +11,15 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from loadcases.curves import EnvelopeCurve, envelope_curves
-from loadcases.envelope import EnvelopeRow, extract_envelope
-from loadcases.margins import apply_margins
-from loadcases.results import package_version
-from loadcases.saved import (RunRecord, SavedRun, find_result_files, load_saved_run,
+from loadcases.report.curves import EnvelopeCurve, envelope_curves
+from loadcases.report.envelope import EnvelopeRow, extract_envelope
+from loadcases.report.margins import apply_margins
+from loadcases.results.files import package_version
+from loadcases.results.saved import (RunRecord, SavedRun, find_result_files, load_saved_run,
                              read_summary, record_from_summary, summary_path)
 
 if TYPE_CHECKING:
-    from loadcases.workbook import WorkbookData
+    from loadcases.report.workbook import WorkbookData
 
 __all__ = ["SavedReport", "saved_report"]
 
@@ -36,7 +36,7 @@ class SavedReport:
 
     def workbook_data(self, title: str, set_path: Path | None = None) -> "WorkbookData":
         """The workbook of these results (Provenance lists each CSV with its hash)."""
-        from loadcases.workbook import WorkbookData, file_sha256
+        from loadcases.report.workbook import WorkbookData, file_sha256
 
         inputs = [(str(p), file_sha256(p)) for p in ([set_path] if set_path else [])]
         inputs += [(str(p), file_sha256(p)) for p in self.sources]
@@ -62,7 +62,7 @@ def saved_report(directories: Iterable[Path], *, set_path: Path | None = None
             runs.append(run)
     factors, allowables = {}, {}
     if set_path is not None:
-        from loadcases.loader import load_set
+        from loadcases.inputs.loader import load_set
 
         model = load_set(set_path).model
         factors, allowables = model.factors, model.allowables

@@ -11,9 +11,9 @@ from pathlib import Path
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from loadcases.accuracy import AccuracyStudy, SettingResult
+from loadcases.studies.accuracy import AccuracyStudy, SettingResult
 from loadcases.atomic import atomic_path, atomic_write_text
-from loadcases.results import result_base
+from loadcases.results.files import result_base
 
 __all__ = ["SETTING_COLUMNS", "COLUMN_ERROR_COLUMNS", "write_accuracy_files",
            "settings_rows", "recommendation_text"]

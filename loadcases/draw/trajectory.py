@@ -1,9 +1,9 @@
 """Trajectories of a mechanism's drawing markers: what `loads draw` renders.
 
-A case is built as `loads run` builds it (`loadcases.build.build_run`), then solved with
+A case is built as `loads run` builds it (`loadcases.build.model.build_run`), then solved with
 requests of its own instead of the case's: the position of one marker per joint end, named
 point, spring end, seal end and contact feature, each fixed on its body. Result files are
-not touched. `loadcases.draw_render` turns the trajectory into PNG pictures and animations.
+not touched. `loadcases.draw.render` turns the trajectory into PNG pictures and animations.
 
 Marker names are `<what>@<body>` (`hinge@door`, `wire#0@ground`); positions are in m,
 global axes.
@@ -16,8 +16,8 @@ from pathlib import Path
 import numpy as np
 
 import mechlib as ml
-from loadcases.build import build_run
-from loadcases.loader import CaseFile, load_case
+from loadcases.build.model import build_run
+from loadcases.inputs.loader import CaseFile, load_case
 
 __all__ = ["Skeleton", "Trajectory", "skeleton_of", "solve_trajectory", "trajectory_of_file"]
 

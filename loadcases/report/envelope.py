@@ -4,12 +4,12 @@ An envelope table has one row per result column (except `time`), with the column
 `column, max, max_run, max_time, min, min_run, min_time` (SPEC section 3), then:
 `unit` (SI), `max_abscissa`, `min_abscissa` (the run's `abscissa.value` at that row),
 `abs_max` (max(|max|, |min|)), the factor and ultimate loads, allowables and margins (see
-`loadcases.margins`), and `max_concurrent`, `min_concurrent`: the other components of the
+`loadcases.report.margins`), and `max_concurrent`, `min_concurrent`: the other components of the
 same request at that instant of that run, as `fy=...; fz=...`.
 
 Rules: NaN and infinite values are skipped (a failed run's missing rows never govern);
 ties keep the first run in the given order and, within a run, the earliest row. Runs whose
-status is not `ok` are left out by the callers (`loadcases.campaign`, `loads envelope`):
+status is not `ok` are left out by the callers (`loadcases.sets.campaign`, `loads envelope`):
 values just before a solver failure are often numerical, not loads.
 """
 from __future__ import annotations
@@ -23,8 +23,8 @@ from pathlib import Path
 import numpy as np
 
 from loadcases.atomic import atomic_path, atomic_write_text
-from loadcases.build import ABSCISSA_COLUMN
-from loadcases.saved import SavedRun, find_result_files, load_saved_run
+from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.results.saved import SavedRun, find_result_files, load_saved_run
 
 __all__ = [
     "EnvelopeRow", "ENVELOPE_COLUMNS", "extract_envelope", "find_result_files",
@@ -101,7 +101,7 @@ def _fill(row: EnvelopeRow, side: str, run: SavedRun, index: int) -> None:
 
 def extract_envelope(runs: Iterable[SavedRun | Run]) -> list[EnvelopeRow]:
     """Envelope of runs (`SavedRun` or `(name, time, channels)`), rows in first-seen column
-    order; factors and margins are added by `loadcases.margins.apply_margins`."""
+    order; factors and margins are added by `loadcases.report.margins.apply_margins`."""
     rows: dict[str, EnvelopeRow] = {}
     for run in map(_as_saved, runs):
         for column, values in run.channels.items():
@@ -144,7 +144,7 @@ def write_envelope_csv(rows: list[EnvelopeRow], path: Path) -> Path:
 def write_envelope_xlsx(rows: list[EnvelopeRow], path: Path, *,
                         sources: Iterable[str] = ()) -> Path:
     """A bare workbook: sheet `Envelope` (frozen header) and sheet `Runs` (the sources).
-    The full sizing workbook is `loadcases.workbook.write_workbook`."""
+    The full sizing workbook is `loadcases.report.workbook.write_workbook`."""
     from openpyxl import Workbook  # only needed for workbooks
 
     workbook = Workbook(write_only=True)

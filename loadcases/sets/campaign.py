@@ -2,9 +2,9 @@
 
 `run_set` writes into `DIR/SET/` (SPEC section 3): each run's `NAME.csv` and
 `NAME.summary.json` (`/` in NAME makes sub-folders), `envelope.csv`, the workbook
-(`report.output`, default `envelope.xlsx`) and, when `loadcases.plots` provides it, the
+(`report.output`, default `envelope.xlsx`) and, when `loadcases.report.plots` provides it, the
 envelope plots. A run whose summary in `DIR/SET/` has status `ok` and the run's input hash
-(case and mechanism bytes, parameters, engine version; see `loadcases.sets`) is reused,
+(case and mechanism bytes, parameters, engine version; see `loadcases.sets.specs`) is reused,
 not solved again, unless `force`. Failed runs are solved again (the failure may have been
 fixed elsewhere, e.g. in the engine). One failing run never stops the set: it is recorded
 with its message and left out of the envelope.
@@ -21,16 +21,16 @@ from pathlib import Path
 
 import numpy as np
 
-from loadcases.curves import EnvelopeCurve, envelope_curves, plot_curves
+from loadcases.report.curves import EnvelopeCurve, envelope_curves, plot_curves
 from loadcases.diagnostics import InputError
-from loadcases.envelope import EnvelopeRow, extract_envelope, write_envelope_csv
-from loadcases.executors import Executor, SerialExecutor
-from loadcases.margins import apply_margins
-from loadcases.outcome import RunOutcome
-from loadcases.results import result_base, write_results
-from loadcases.saved import (RunRecord, SavedRun, load_saved_run, read_summary,
+from loadcases.report.envelope import EnvelopeRow, extract_envelope, write_envelope_csv
+from loadcases.sets.executors import Executor, SerialExecutor
+from loadcases.report.margins import apply_margins
+from loadcases.results.outcome import RunOutcome
+from loadcases.results.files import result_base, write_results
+from loadcases.results.saved import (RunRecord, SavedRun, load_saved_run, read_summary,
                              record_from_summary, summary_path)
-from loadcases.sets import CompiledSet, RunSpec, load_and_compile_set
+from loadcases.sets.specs import CompiledSet, RunSpec, load_and_compile_set
 from mechlib.solution import Solution
 
 __all__ = ["SetResult", "run_set", "solve_spec", "ENVELOPE_FILE", "DEFAULT_WORKBOOK"]
@@ -70,7 +70,7 @@ def _failed_outcome(spec: RunSpec, analysis: str, message: str) -> RunOutcome:
 
 def solve_spec(spec: RunSpec) -> RunOutcome:
     """Solve one run (in any process); never raises: a problem is a failed outcome."""
-    from loadcases.loader import load_case
+    from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
 
     analysis = "unknown"
@@ -137,7 +137,7 @@ def _solve_all(compiled: CompiledSet, directory: Path, executor: Executor, force
 
 def _prebuild(compiled: CompiledSet) -> None:
     """Build every case once before solving: what cannot be built is invalid input."""
-    from loadcases.build import build_run
+    from loadcases.build.model import build_run
 
     problems = []
     for cf in compiled.cases:
@@ -152,7 +152,7 @@ def _prebuild(compiled: CompiledSet) -> None:
 def _report_files(result: SetResult, runs: list[SavedRun], options: dict[str, str]
                   ) -> list[Path]:
     """envelope.csv, the workbook and (if available) the plots of a set."""
-    from loadcases.workbook import WorkbookData, write_workbook
+    from loadcases.report.workbook import WorkbookData, write_workbook
 
     model = result.compiled.set_file.model
     files = [write_envelope_csv(result.envelope, result.directory / ENVELOPE_FILE)]
@@ -169,7 +169,7 @@ def _report_files(result: SetResult, runs: list[SavedRun], options: dict[str, st
 def _plots(curves: list[EnvelopeCurve], directory: Path) -> list[Path]:
     """PNG envelope plots of each family's main columns next to the workbook; a large set's
     plots are drawn by one process per core (about 0.3 s each)."""
-    from loadcases.plots import write_envelope_plots  # matplotlib: imported only here
+    from loadcases.report.plots import write_envelope_plots  # matplotlib: imported only here
 
     chosen = plot_curves(curves)
     workers = min(os.cpu_count() or 1, len(chosen) // _PLOTS_PER_PROCESS)

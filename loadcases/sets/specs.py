@@ -24,12 +24,12 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from loadcases.build_elements import ELEMENT_EFFECTS
+from loadcases.build.elements import ELEMENT_EFFECTS
 from loadcases.checks.sets import check_set_cases
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
-from loadcases.loader import CaseFile, SetFile, load_case, load_set
-from loadcases.results import package_version
+from loadcases.inputs.loader import CaseFile, SetFile, load_case, load_set
+from loadcases.results.files import package_version
 
 __all__ = ["RunSpec", "CompiledSet", "compile_set", "load_and_compile_set", "run_name",
            "run_hash", "swept_order", "used_parameters"]

@@ -1,7 +1,7 @@
 """The sizing workbook's template: named styles and a cover sheet a company can restyle.
 
 `templates/envelope.xlsx` is made by `templates/make_template.py` from `build_template()`.
-The writer (`loadcases.workbook`) only relies on:
+The writer (`loadcases.report.workbook`) only relies on:
 - the named styles of `STYLES` (restyle them in Excel: Home > Cell Styles > Modify); any
   that a template lacks are added with the defaults below;
 - a sheet named `Cover` whose column A holds the labels of `COVER_FIELDS`: the value of

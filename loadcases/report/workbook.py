@@ -22,18 +22,18 @@ from pathlib import Path
 from typing import Any
 
 from loadcases.atomic import atomic_path
-from loadcases.curves import EnvelopeCurve
-from loadcases.envelope import EnvelopeRow
-from loadcases.saved import RunRecord, SavedRun, family_of
-from loadcases.xlsx_floats import exact_floats
-from loadcases.workbook_template import COVER_FIELDS, COVER_SHEET, build_template, ensure_styles
+from loadcases.report.curves import EnvelopeCurve
+from loadcases.report.envelope import EnvelopeRow
+from loadcases.results.saved import RunRecord, SavedRun, family_of
+from loadcases.results.xlsx_floats import exact_floats
+from loadcases.report.workbook_template import COVER_FIELDS, COVER_SHEET, build_template, ensure_styles
 
 __all__ = ["WorkbookData", "write_workbook", "sheet_title", "file_sha256", "MAX_RUN_SHEETS",
            "DEFAULT_TEMPLATE"]
 
 MAX_RUN_SHEETS = 40   # more runs: one time-history sheet per family
 SHEET_TITLE_LENGTH = 31   # Excel's limit
-DEFAULT_TEMPLATE = Path(__file__).resolve().parents[1] / "templates" / "envelope.xlsx"
+DEFAULT_TEMPLATE = Path(__file__).resolve().parents[2] / "templates" / "envelope.xlsx"
 _FORBIDDEN = re.compile(r"[\[\]:*?/\\]")
 
 
@@ -54,7 +54,7 @@ class WorkbookData:
     @classmethod
     def from_set(cls, result: Any, runs: list[SavedRun], options: dict[str, str]
                  ) -> "WorkbookData":
-        """From a `loadcases.campaign.SetResult` and its loaded ok runs."""
+        """From a `loadcases.sets.campaign.SetResult` and its loaded ok runs."""
         compiled = result.compiled
         files = [compiled.set_file.path]
         for cf in compiled.cases:
@@ -126,8 +126,8 @@ def _fill_cover(workbook: Any, data: WorkbookData) -> None:
 
 def write_workbook(data: WorkbookData, path: Path, *, template: Path | None = None) -> Path:
     """Write the workbook to `path` atomically; return `path`."""
-    from loadcases import workbook_charts as charts
-    from loadcases import workbook_sheets as sheets
+    from loadcases.report import workbook_charts as charts
+    from loadcases.report import workbook_sheets as sheets
 
     workbook = _load_template(template)
     _fill_cover(workbook, data)

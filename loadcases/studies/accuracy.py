@@ -22,9 +22,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import mechlib as ml
-from loadcases.build import build_run
+from loadcases.build.model import build_run
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.loader import CaseFile
+from loadcases.inputs.loader import CaseFile
 
 __all__ = ["Setting", "ColumnError", "SettingResult", "AccuracyStudy", "accuracy_study",
            "column_errors", "INTEGRATORS", "DEFAULT_TOLERANCES", "DEFAULT_TARGET"]

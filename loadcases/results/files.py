@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from loadcases.atomic import atomic_path, atomic_write_text
-from loadcases.outcome import RunOutcome
+from loadcases.results.outcome import RunOutcome
 from mechlib.solution import Solution
 
 __all__ = [
@@ -87,7 +87,7 @@ def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
         "case_file": str(outcome.case_file),
         "rows": int(time.size),
         "units": {TIME_COLUMN: "s", **outcome.column_units},
-        "warnings": [*outcome.warnings, *solution.warnings],
+        "warnings": [*(d.keyed_message() for d in outcome.warnings), *solution.warnings],
         "events": [{"name": e.name, "time": e.time, "actions": list(e.actions)}
                    for e in solution.events],
         "parameters": dict(outcome.parameters),
@@ -209,7 +209,7 @@ def _write_workbook(path: Path, time: np.ndarray, channels: dict[str, np.ndarray
         f"time histories truncated to the first {rows} of {time.size} rows "
         "(Excel sheet limit); the CSV file holds every row"]
     _summary_sheet(workbook.create_sheet("Summary"), summary, units, notes)
-    from loadcases.xlsx_floats import exact_floats  # 17 significant digits, as the CSV
+    from loadcases.results.xlsx_floats import exact_floats  # 17 significant digits, as the CSV
 
     with atomic_path(path) as tmp, exact_floats():
         workbook.save(tmp)

@@ -8,24 +8,20 @@ Files are never overwritten; the new file appears whole or not at all.
 from __future__ import annotations
 
 import difflib
-import os
 import re
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 
 import yaml
 
+from loadcases.atomic import atomic_write_text
 
 __all__ = ["Skeleton", "SKELETONS", "TEMPLATE_DIR", "template_path", "skeleton_text",
            "write_skeleton", "check_name"]
 
-TEMPLATE_DIR = Path(__file__).resolve().parents[1] / "templates" / "cases"
+TEMPLATE_DIR = Path(__file__).resolve().parents[2] / "templates" / "cases"
 CASE_SUFFIX = ".case.yaml"
 _NAME = re.compile(r"[A-Za-z0-9][A-Za-z0-9_.+=,-]*")
-_UMASK = os.umask(0o022)
-os.umask(_UMASK)
-_FILE_MODE = 0o666 & ~_UMASK  # the mode of a file the user creates (mkstemp gives 0o600)
 _CASE_LINE = re.compile(r"^(case:[ \t]*)(\S+)", re.MULTILINE)
 
 
@@ -99,17 +95,7 @@ def write_skeleton(kind: str, name: str, out_dir: Path) -> Path:
     target = Path(out_dir) / f"{name}{CASE_SUFFIX}"
     if target.exists():
         raise FileExistsError(f"{target} exists: not overwritten (choose another NAME or -o)")
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    tmp = Path(tmp_name)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as stream:
-            stream.write(text)
-        os.chmod(tmp, _FILE_MODE)
-        # A hard link creates the final name only if it is free (a rename would replace).
-        os.link(tmp, target)
+        return atomic_write_text(target, text, overwrite=False)
     except FileExistsError:
         raise FileExistsError(f"{target} exists: not overwritten") from None
-    finally:
-        tmp.unlink(missing_ok=True)
-    return target

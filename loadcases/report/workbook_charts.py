@@ -6,7 +6,7 @@ the case has no `abscissa:`), then the upper and lower envelope of every column.
 and lower envelope of each main request column over the abscissa, and a chart of the same
 column against time with one line per run (the first `MAX_SERIES` runs).
 
-Main columns of a family: see `loadcases.curves.main_columns`.
+Main columns of a family: see `loadcases.report.curves.main_columns`.
 """
 from __future__ import annotations
 
@@ -15,9 +15,9 @@ from typing import Any
 
 from openpyxl.chart import Reference, ScatterChart, Series
 
-from loadcases.curves import EnvelopeCurve, main_columns
-from loadcases.results import TIME_COLUMN
-from loadcases.workbook_sheets import Block, header_text
+from loadcases.report.curves import EnvelopeCurve, main_columns
+from loadcases.results.files import TIME_COLUMN
+from loadcases.report.workbook_sheets import Block, header_text
 
 __all__ = ["curves_sheet", "charts_sheet", "MAX_SERIES"]
 

@@ -107,7 +107,7 @@ def read_envelope(path: Path) -> dict[str, Peak]:
 
 
 def _saved_envelope(folder: Path) -> dict[str, Peak]:
-    from loadcases.saved_report import saved_report
+    from loadcases.report.saved_report import saved_report
 
     if not folder.is_dir():
         raise ValueError(f"{folder}: no such file or folder")

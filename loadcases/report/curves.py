@@ -19,9 +19,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from loadcases.build import ABSCISSA_COLUMN
-from loadcases.results import TIME_COLUMN
-from loadcases.saved import SavedRun
+from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.results.files import TIME_COLUMN
+from loadcases.results.saved import SavedRun
 
 __all__ = ["EnvelopeCurve", "envelope_curves", "envelope_on_grid", "main_columns",
            "plot_curves", "MAX_GRID_POINTS", "MAIN_COLUMNS"]
@@ -131,7 +131,7 @@ def main_columns(curve: EnvelopeCurve) -> list[str]:
 
 
 def plot_curves(curves: Iterable[EnvelopeCurve]) -> list[dict[str, object]]:
-    """One mapping per main column of each family, as `loadcases.plots` draws them:
+    """One mapping per main column of each family, as `loadcases.report.plots` draws them:
     family, column, unit, abscissa_name, abscissa_unit, x, upper, lower."""
     return [{"family": c.family, "column": column, "unit": c.units.get(column, ""),
              "abscissa_name": c.abscissa, "abscissa_unit": c.abscissa_unit, "x": c.x,

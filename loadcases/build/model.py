@@ -11,12 +11,12 @@ from typing import Any, Callable
 
 
 import mechlib as ml
-from loadcases.build_contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
-from loadcases.build_elements import ELEMENT_EFFECTS, ELEMENT_MAKERS
-from loadcases.build_events import build_events
+from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
+from loadcases.build.elements import ELEMENT_EFFECTS, ELEMENT_MAKERS
+from loadcases.build.events import build_events
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import CompiledExpression, ExpressionError, parse
-from loadcases.loader import CaseFile
+from loadcases.inputs.loader import CaseFile
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 from mechlib.tables import Table, TableRangeError
 
@@ -49,7 +49,7 @@ class BuiltRun:
     initial: list
     redundant: str
     column_units: dict[str, str] = field(default_factory=dict)
-    warnings: list[str] = field(default_factory=list)
+    warnings: list[Diagnostic] = field(default_factory=list)
     events: list = field(default_factory=list)
 
 
@@ -385,6 +385,12 @@ def _modal_requests(requests: list, units: dict[str, str]):
     return kept, units, dropped
 
 
+def _case_warning(cf: CaseFile, key: str, message: str, *, keyed: bool = True) -> Diagnostic:
+    """A warning at `key` of the case file (`keyed=False`: placed there, named by no key)."""
+    file, line, column = cf.where("case", key)
+    return Diagnostic(file, line, column, key if keyed else "", message, "warning")
+
+
 def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     """The mechlib model, analysis, requests and initial values of a case; InputError lists
     everything the engine cannot build. With `abscissa`, the case's `abscissa:` expression
@@ -401,16 +407,17 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     events = build_events(b)
     if b.problems:
         raise InputError(b.problems)
-    notes = [f"{d.key}: {d.message}" for d in cf.warnings]  # validation warnings travel along
+    notes = list(cf.warnings)  # validation warnings travel along
     if isinstance(analysis, ml.Modes):
         requests, units, dropped = _modal_requests(requests, units)
-        notes += [f"requests.{name}: no modal meaning (a modes analysis reports point "
-                  "displacements and joint coordinates of each mode): not reported"
-                  for name in dropped]
+        notes += [_case_warning(cf, f"requests.{name}", "no modal meaning (a modes analysis "
+                                "reports point displacements and joint coordinates of each "
+                                "mode): not reported") for name in dropped]
     if events and isinstance(analysis, (ml.Static, ml.Modes)):
         # a mechanism serves static and dynamic cases alike: its events wait for one in time
-        notes.append(f"events ({', '.join(e.name for e in events)}) need an analysis in "
-                     f"time: not active in this {analysis.name} analysis")
+        notes.append(_case_warning(cf, "analysis", f"events ({', '.join(e.name for e in events)})"
+                                   f" need an analysis in time: not active in this "
+                                   f"{analysis.name} analysis", keyed=False))
         events = []
     return BuiltRun(mechanism, analysis, requests, initial, cf.case.analysis.redundant, units,
                     notes, events)

@@ -24,9 +24,9 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from loadcases.atomic import atomic_path
-from loadcases import saved
-from loadcases.results import SUMMARY_SUFFIX, TIME_COLUMN
-from loadcases.saved import SavedRun
+from loadcases.results import saved
+from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN
+from loadcases.results.saved import SavedRun
 
 __all__ = [
     "SavedRun", "load_saved_run", "find_result_csvs", "select_columns", "column_unit",

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from loadcases.results import SUMMARY_SUFFIX, TIME_COLUMN, read_results
+from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN, read_results
 
 __all__ = ["SavedRun", "RunRecord", "family_of", "find_result_files", "load_saved_run",
            "record_from_summary", "read_summary", "summary_path"]

@@ -1,7 +1,7 @@
 """Builders of contact elements (impact, hertz, restitution between primitive geometries).
 
 `CONTACT_MAKERS[type](builder, name, model) -> mechlib element or None` (None after the
-builder recorded a diagnostic). `loadcases.build` adds the element as a force element of
+builder recorded a diagnostic). `loadcases.build.model` adds the element as a force element of
 the contact's effect (`contact`), so that `effects: {contact: false}` removes it; a case
 with `effects: {friction: false}` gets its contacts without friction. `sphere_in_sphere` and
 `cylinder_in_cylinder` geometries make clearance joints (they report an eccentricity).

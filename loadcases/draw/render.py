@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from loadcases.atomic import atomic_path, atomic_write_bytes
-from loadcases.draw import Trajectory
+from loadcases.draw.trajectory import Trajectory
 
 __all__ = ["VIEWS", "projection", "write_pngs", "write_animation", "FIGURE_SIZE", "DPI"]
 

@@ -1,0 +1,1 @@
+"""The input files: which kind a file is, reading them into validated models (parameters put in place first), case skeletons."""

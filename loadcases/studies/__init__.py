@@ -1,0 +1,1 @@
+"""Studies over many solutions of one case: work-precision (`loads accuracy`)."""
