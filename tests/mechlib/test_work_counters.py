@@ -86,3 +86,18 @@ def test_every_analysis_fills_every_counter(analysis) -> None:
     assert {"steps", "rejected_steps", "newton_iterations", "cpu_seconds", "factorizations",
             "jacobian_evaluations"} == set(stats.as_dict())
     assert np.isfinite(stats.cpu_seconds)
+
+
+@pytest.mark.parametrize("analysis", [mechlib.Dynamic(0.5, 0.05, max_steps=20),
+                                      mechlib.QuasiStatic(0.5, 0.05, max_steps=3)],
+                         ids=["generalized-alpha", "quasi-static"])
+def test_max_steps_is_an_option_with_its_status(analysis) -> None:
+    """`max_steps` (accepted and rejected steps) stops the run with status
+    MAX_STEPS_REACHED, its message next to the human text, keeping the rows computed."""
+    sol = mechlib.solve(hinged_bar(), analysis, throw=False,
+                        initial=[mechlib.InitialValue("hinge", 0.0, 0.0)],
+                        requests=[mechlib.JointCoordinate("angle", "hinge")])
+    assert not sol.ok and sol.result is mechlib.Status.MAX_STEPS_REACHED
+    assert sol.result.code == "max_steps_reached"
+    assert "analysis.max_steps" in sol.message and len(sol.time) > 0
+    assert sol.stats.steps + sol.stats.rejected_steps == analysis.max_steps
