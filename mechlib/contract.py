@@ -79,8 +79,9 @@ class State:
 @dataclass(frozen=True)
 class StepResult:
     """What `Stepper.step` returns: the new state (None when rejected), the scaled local
-    error estimate (accepted when <= 1; None for analyses without one: each kinematic or
-    quasi-static row is solved on its own), and the status."""
+    error estimate (accepted when <= 1; inf when Newton failed; None for analyses without
+    one: each kinematic or quasi-static row is solved on its own, Radau keeps SciPy's),
+    and the status (SUCCESSFUL or STEP_REJECTED)."""
 
     state: State | None
     error: float | None
