@@ -5,6 +5,7 @@ Build a `Mechanism`, pick an analysis, name the requests, and call `solve`.
 from mechlib.analysis import DEFAULT_MAX_STEPS, Dynamic, Kinematic, QuasiStatic, Static
 from mechlib.assembly import InitialBodyVelocity, InitialValue
 from mechlib.check import ModelError
+from mechlib.contract import Status
 from mechlib.events import Action, Event
 from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
 from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
@@ -23,4 +24,5 @@ __all__ = ["Mechanism", "GROUND", "System", "StateView", "solve", "check_model",
            "JointReaction", "MotionEffort", "PointKinematics", "JointCoordinate",
            "ElementOutput", "ExpressionOutput", "Solution", "SolverFailure", "SolverStats",
            "ModelError", "MechanismCheck", "inspect_mechanism", "CableLoop", "JointFriction",
-           "RotationalDamper", "Seal", "TableLaw", "Event", "Action", "Bushing", "CouplerEffort"]
+           "RotationalDamper", "Seal", "TableLaw", "Event", "Action", "Bushing", "CouplerEffort",
+           "Status"]

@@ -6,10 +6,8 @@ from typing import Callable
 
 import numpy as np
 
-from mechlib.solution import SolverFailure, SolverStats
-
 __all__ = ["Kinematic", "Static", "QuasiStatic", "Dynamic", "Trajectory", "output_times",
-           "check_step_limit", "DEFAULT_TOLERANCE", "DEFAULT_MAX_STEPS"]
+           "DEFAULT_TOLERANCE", "DEFAULT_MAX_STEPS"]
 
 DEFAULT_TOLERANCE = 1e-6
 DEFAULT_MAX_STEPS = 500_000  # accepted + rejected steps: a few minutes of CPU, small model
@@ -67,17 +65,6 @@ class Dynamic(_Timed):
     name = "dynamic"
 
 
-def check_step_limit(spec: _Timed, stats: SolverStats, t: float) -> None:
-    """Raise SolverFailure once the run at time t (s) has used its `max_steps`."""
-    taken = stats.steps + stats.rejected_steps
-    if taken >= spec.max_steps:
-        raise SolverFailure(
-            f"{spec.name} analysis stopped at t = {t:.6g} s of {spec.end:g} s: the limit of "
-            f"{spec.max_steps} steps (analysis.max_steps, accepted and rejected) is reached; "
-            "raise analysis.max_steps if the run is sound, or look for what keeps the steps "
-            "small", time=t)
-
-
 def output_times(start: float, end: float, step: float) -> np.ndarray:
     """Output grid start, start+step, ..., end (end always included)."""
     n = int(np.floor((end - start) / step + 1e-9))
@@ -108,8 +95,12 @@ class Trajectory:
     lam: list = field(default_factory=list)
     references: list = field(default_factory=list)
 
-    def record(self, t: float, q, qd, qdd, lam) -> None:
-        self.references.append(self.snapshot() if self.snapshot else {})
+    def record(self, t: float, q, qd, qdd, lam, snapshot: dict | None = None) -> None:
+        """Append a row; `snapshot`: the system's snapshot to keep with it (default: taken
+        now)."""
+        if snapshot is None:
+            snapshot = self.snapshot() if self.snapshot else {}
+        self.references.append(snapshot)
         self.time.append(float(t))
         self.q.append(np.array(q, dtype=float))
         self.qd.append(np.array(qd, dtype=float))

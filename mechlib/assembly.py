@@ -11,11 +11,13 @@ from typing import Sequence
 
 import numpy as np
 
+from mechlib.contract import Status
 from mechlib.kin import Kin
 from mechlib.rotation import e_matrix
 from mechlib.singularity import toggle_detail
 from mechlib.solution import SolverFailure
 from mechlib.system import System
+from mechlib.work import count
 
 __all__ = ["InitialValue", "InitialBodyVelocity", "solve_positions", "solve_velocities",
            "solve_accelerations", "assemble", "POSITION_TOLERANCE"]
@@ -59,6 +61,7 @@ def _newton(residual, jacobian, q: np.ndarray, tol: float) -> tuple[np.ndarray, 
     """Minimum-norm Newton (Gauss-Newton when over-determined); returns q, iterations, |res|."""
     res = residual(q)
     for it in range(1, _MAX_NEWTON + 1):
+        count(factorizations=1, jacobian_evaluations=1)
         step, *_ = np.linalg.lstsq(jacobian(q), -res, rcond=None)
         q = q + step
         res = residual(q)
@@ -80,18 +83,20 @@ def solve_positions(system: System, q: np.ndarray, t: float, *, tol: float = POS
                             f"(largest residuals: {'; '.join(where)}"
                             f"{toggle_detail(system, system.kin(q, None, t))}): the mechanism "
                             "cannot be assembled there (out of reach, or a motion beyond a "
-                            "toggle)", time=t, where=where)
+                            "toggle)", time=t, where=where, status=Status.NEWTON_FAILED)
     return q, its
 
 
 def solve_velocities(system: System, k: Kin) -> np.ndarray:
     """qd with phi_q qd = nu (minimum norm when degrees of freedom remain)."""
+    count(factorizations=1)
     qd, *_ = np.linalg.lstsq(system.phi_q(k), system.nu(k), rcond=None)
     return qd
 
 
 def solve_accelerations(system: System, k: Kin) -> np.ndarray:
     """qdd with phi_q qdd = gamma (minimum norm when degrees of freedom remain)."""
+    count(factorizations=1)
     qdd, *_ = np.linalg.lstsq(system.phi_q(k), system.gamma(k), rcond=None)
     return qdd
 
@@ -183,6 +188,7 @@ def _initial_velocities(system: System, q: np.ndarray, t: float, initial):
     k = system.kin(q, None, t)
     phi_q, nu = system.phi_q(k), system.nu(k)
     rows, rhs, names = _velocity_rows(system, k, initial)
+    count(factorizations=2 if rows else 1)
     if rows:
         qd, *_ = np.linalg.lstsq(np.vstack([phi_q, np.array(rows)]),
                                  np.concatenate([nu, rhs]), rcond=None)

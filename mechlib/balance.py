@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.system import System
+from mechlib.work import count
 
 __all__ = ["Balance", "FD_STEP"]
 
@@ -20,10 +21,13 @@ FD_STEP = 1e-7
 class Balance:
     """R(q, lam) and K_T(q, lam) of `system` at time `t` (s). `scale` (N): the force that
     the force residual is judged against: the larger of the total weight (|g| taken at
-    least 1 m/s^2), the largest applied generalised force at `q0`, and 1 N."""
+    least 1 m/s^2), the largest applied generalised force at `q0`, and 1 N.
+    `states_step` (s): the time over which element states (mechlib.states) advance from
+    their accepted values to each iterate (0: they keep them)."""
 
-    def __init__(self, system: System, t: float, q0: np.ndarray):
+    def __init__(self, system: System, t: float, q0: np.ndarray, states_step: float = 0.0):
         self.system, self.t = system, t
+        self.states_step = states_step if system.states else 0.0
         # frictionless primitive contacts differentiate themselves (compiled, increments
         # sized for contact: a steel Hertz deflection is below FD_STEP); a static friction
         # force comes from the slip anchors, which only the differences below see
@@ -39,6 +43,8 @@ class Balance:
         """(R (nq + m,), phi_q (m, nq)) at (q, lam)."""
         system = self.system
         k = system.kin(q, None, self.t)
+        if self.states_step > 0.0:  # at rest, as the forces are evaluated
+            system.states.advance(system.view(k), self.states_step)
         jac = system.phi_q(k)
         force = jac.T @ lam - system.forces(k, inertia=False, lam=lam)
         return np.concatenate([force, system.phi(k)]), jac
@@ -49,6 +55,7 @@ class Balance:
         forces it cannot change; the rest is evaluated as a whole, but for the frictionless
         primitive contacts, which add their own tangent (Contact.tangent)."""
         system, t = self.system, self.t
+        count(jacobian_evaluations=1)
         out = np.empty((system.nq, system.nq))
         k0 = system.kin(q, None, t)
         reaction0 = system.phi_q(k0).T @ lam

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.balance import Balance
+from mechlib.contract import Status
 from mechlib.linalg import augmented, factor, singular_failure, solve_factored
 from mechlib.solution import SolverFailure, SolverStats
 
@@ -102,7 +103,8 @@ def _not_held(balance: Balance, q, lam, res, start: np.ndarray) -> SolverFailure
         f"static equilibrium not found at t = {t:.6g} s: body '{name}' is not held along "
         f"({direction[0]:.3g}, {direction[1]:.3g}, {direction[2]:.3g}) (global): under an "
         f"unbalanced force of {np.linalg.norm(force):.4g} N it moved {moved:.4g} m without "
-        f"coming to rest; {hint}", time=t, where=(name, *(c.name for c in contacts)))
+        f"coming to rest; {hint}", time=t, where=(name, *(c.name for c in contacts)),
+        status=Status.NOT_HELD)
 
 
 def _contact_note(contact, view, body: int, direction: np.ndarray) -> str:

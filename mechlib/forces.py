@@ -34,6 +34,14 @@ def resist_rotation(view: StateView, measure, moment: float, N: np.ndarray) -> N
     N[measure.bj] += moment * axis
 
 
+def _global(view: StateView, frame: str, value: VectorFunction) -> np.ndarray:
+    """`value(t, view)`, components in `frame` axes, in global components."""
+    vector = np.asarray(value(view.t, view), float)
+    if frame == GROUND:
+        return vector
+    return view.system.frame_axes(frame, view.kin) @ vector
+
+
 @dataclass
 class PointForce:
     """Force `value(t, view)` (N, 3 components in `frame` axes) at point `at` of `body`."""
@@ -51,10 +59,7 @@ class PointForce:
         self._b, self._s = system.body_point(self.body, self.at)
 
     def _force(self, view: StateView) -> np.ndarray:
-        value = np.asarray(self.value(view.t, view), float)
-        if self.frame == GROUND:
-            return value
-        return view.system.frame_axes(self.frame, view.kin) @ value
+        return _global(view, self.frame, self.value)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         kernels.point_force(view.kin.x, self._b, self._s, self._force(view), F, N)
@@ -80,7 +85,7 @@ class PointTorque:
         self._b = system.body_index(self.body)
 
     def _torque(self, view: StateView) -> np.ndarray:
-        return view.system.frame_axes(self.frame, view.kin) @ np.asarray(self.value(view.t, view), float)
+        return _global(view, self.frame, self.value)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         N[self._b] += self._torque(view)

@@ -2,30 +2,30 @@
 
 Positions by Newton on phi(q, t) = 0, velocities from phi_q qd = nu, accelerations from
 phi_q qdd = gamma, and reactions from the equations of motion with inertia:
-phi_q^T lam = Q(lam) - M qdd (Newton when joint friction makes Q depend on lam).
+phi_q^T lam = Q(lam) - M qdd (Newton when joint friction makes Q depend on lam). Element
+states advance between the solved states (trapezoidal rule, mechlib.states) before the
+reactions, which their forces load.
 """
 from __future__ import annotations
 
-from typing import Callable
-
 import numpy as np
 
-from mechlib.analysis import Kinematic, Trajectory, check_step_limit, output_times
 from mechlib.assembly import solve_positions
-from mechlib.events import EventMonitor, fire, first_events
+from mechlib.contract import State, Status, Stepper, StepResult
 from mechlib.linalg import factor, singular_failure, solve_factored
 from mechlib.reaction_loads import solve_reaction_loaded
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
-__all__ = ["run_kinematic", "kinematic_state"]
+__all__ = ["KinematicStepper", "kinematic_state"]
 
 _MAX_SUBDIVISIONS = 10
 
 
 def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: SolverStats,
-                    *, inertia: bool = True):
-    """(q, qd, qdd, lam) at time t from a position guess; raises SolverFailure by name."""
+                    *, inertia: bool = True, states_step: float = 0.0):
+    """(q, qd, qdd, lam) at time t from a position guess; raises SolverFailure by name.
+    Element states (if any) advance by `states_step` (s) from their accepted values."""
     q, its = solve_positions(system, q_guess, t)
     stats.newton_iterations += its
     k = system.kin(q, None, t)
@@ -36,6 +36,8 @@ def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: Solver
         raise singular_failure(system, jac, t, "kinematic analysis failed")
     qd = solve_factored(lu, system.nu(k))
     k = system.kin(q, qd, t)
+    if system.states and states_step > 0.0:
+        system.states.advance(system.view(k), states_step)
     qdd = solve_factored(lu, system.gamma(k))
     inertial = system.mass(k) @ qdd if inertia else 0.0
     def loads(lam):
@@ -48,60 +50,56 @@ def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: Solver
     return q, qd, qdd, lam
 
 
-def run_kinematic(system: System, spec: Kinematic, q0: np.ndarray, qd0: np.ndarray,
-                  trajectory: Trajectory, stats: SolverStats,
-                  progress: Callable[[float, float], None] | None = None,
-                  events=(), event_log: list | None = None) -> None:
-    """Fill `trajectory` at the output times (and at the events, located between them and
-    logged in `event_log`); SolverFailure leaves what was computed."""
-    monitor = EventMonitor(events)
-    state = (q0, qd0, np.zeros_like(q0))
-    t_prev = spec.start
-    for t in output_times(spec.start, spec.end, spec.step):
-        check_step_limit(spec, stats, t_prev)
-        new, lam = _advance(system, state, t_prev, t, stats)
-        while monitor.armed and t > t_prev:
-            hit = first_events(monitor, t_prev, t, _view(system, t, new, lam),
-                               lambda tt: _view(system, tt,
-                                                *_advance(system, state, t_prev, tt, stats)))
-            if hit is None:
-                break
-            t_e, fired = hit
-            at, lam_e = _advance(system, state, t_prev, t_e, stats)
-            trajectory.record(t_e, *at, lam_e)
-            if fire(system, monitor, fired, system.kin(at[0], at[1], t_e), event_log):
-                return
-            at, lam_e = _advance(system, at, t_e, t_e, stats)  # the changed model at t_e
-            monitor.arm(t_e, _view(system, t_e, at, lam_e))
-            state, t_prev = at, t_e
-            new, lam = _advance(system, state, t_prev, t, stats)
-        state = new
-        trajectory.record(t, *state, lam)
-        if monitor.armed:
-            monitor.arm(t, _view(system, t, state, lam))
-        stats.steps += 1
-        t_prev = t
-        if progress:
-            progress(t, spec.end)
+class KinematicStepper(Stepper):
+    """Each output time solved on its own from the state before (no integration: the
+    output interval sets where results are sampled, not their accuracy); an interval that
+    Newton cannot take is halved, recursively, 2^10 times at most (rejected steps)."""
 
+    def init(self, t: float, q0: np.ndarray, qd0: np.ndarray) -> State:
+        if self.system.states:
+            self.system.states.start(self.system.view(self.system.kin(q0, qd0, t)))
+        start = State(t, q0, qd0, np.zeros_like(q0), np.zeros(0))
+        start.elements = self._mark(start)
+        return self.settle(self._advance(start, t))
 
-def _view(system: System, t: float, state, lam: np.ndarray):
-    q, qd, _ = state
-    return system.view(system.kin(q, qd, t), lam)
+    def step(self, state: State, t_out: float) -> StepResult:
+        return StepResult(self._advance(state, t_out), None, Status.SUCCESSFUL)
 
+    def resolve(self, state: State, t: float) -> State:
+        return self._advance(state, t)
 
-def _advance(system: System, state, t0: float, t1: float, stats: SolverStats, depth: int = 0):
-    """State at t1 from the state at t0; a step Newton cannot take is halved (10 times at
-    most), since the position guess extrapolates Euler parameters linearly."""
-    q, qd, qdd = state
-    h = t1 - t0
-    try:
-        q1, qd1, qdd1, lam = kinematic_state(system, q + h * qd + 0.5 * h * h * qdd, t1, stats)
-        return (q1, qd1, qdd1), lam
-    except SolverFailure:
-        if depth >= _MAX_SUBDIVISIONS or h <= 0.0:
-            raise
-    stats.rejected_steps += 1
-    mid = 0.5 * (t0 + t1)
-    half, _ = _advance(system, state, t0, mid, stats, depth + 1)
-    return _advance(system, half, mid, t1, stats, depth + 1)
+    def settle(self, state: State) -> State:
+        self.stats.steps += 1
+        if self.system.states:
+            self.system.states.resume(state.elements)
+        return state
+
+    def restart(self, state: State) -> State:
+        """Positions, velocities and reactions afresh on the changed model."""
+        return self._advance(state, state.t)
+
+    def _advance(self, state: State, t1: float, depth: int = 0) -> State:
+        """State at t1 from `state`; a step Newton cannot take is halved (10 times at most),
+        since the position guess extrapolates Euler parameters linearly."""
+        h = t1 - state.t
+        if self.system.states:
+            self.system.states.resume(state.elements)
+        guess = state.q + h * state.qd + 0.5 * h * h * state.qdd
+        try:
+            new = State(t1, *kinematic_state(self.system, guess, t1, self.stats,
+                                                 states_step=h))
+            new.elements = self._mark(new)
+            return new
+        except SolverFailure:
+            if depth >= _MAX_SUBDIVISIONS or h <= 0.0:
+                raise
+        self.stats.rejected_steps += 1
+        mid = 0.5 * (state.t + t1)
+        half = self._advance(state, mid, depth + 1)
+        return self._advance(half, t1, depth + 1)
+
+    def _mark(self, state: State):
+        if not self.system.states:
+            return None
+        return self.system.states.mark(self.system.view(
+            self.system.kin(state.q, state.qd, state.t)))

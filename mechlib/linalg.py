@@ -12,7 +12,9 @@ from scipy.linalg.lapack import dgecon as _gecon, dgetrf as _getrf, dgetrs as _g
 from scipy.sparse.linalg import splu
 
 from mechlib.check import find_redundant
+from mechlib.contract import Status
 from mechlib.solution import SolverFailure
+from mechlib.work import count
 
 __all__ = ["augmented", "factor", "factor_saddle", "SaddlePattern", "solve_factored",
            "singular_failure", "SINGULAR_RATIO", "SPARSE_FROM"]
@@ -57,6 +59,7 @@ def factor_saddle(top: np.ndarray, jac: np.ndarray, pattern: SaddlePattern | Non
         matrix[:top.shape[0], top.shape[0]:] -= coupling
         return factor(matrix)
     if pattern is not None and matrix.shape[0] >= SPARSE_FROM:
+        count(factorizations=1)
         try:
             factors = splu(pattern.csc(matrix), permc_spec="COLAMD")
         except RuntimeError:  # exactly singular: the dense path names the culprits
@@ -90,6 +93,7 @@ def factor(matrix: np.ndarray):
     rows = 1.0 / big
     scaled = matrix * rows[:, None]
     norm = float(np.abs(scaled).sum(axis=0).max())
+    count(factorizations=1)
     lu, piv, info = _getrf(scaled, overwrite_a=True)
     if info > 0 or not np.isfinite(lu).all():
         return None
@@ -117,7 +121,8 @@ def singular_failure(system, phi_q: np.ndarray, t: float, what: str) -> SolverFa
         detail = "; ".join(r.describe() for r in found[:4])
         where = tuple(r.owner for r in found)
         return SolverFailure(f"{what} at t = {t:.6g} s: singular configuration (toggle or "
-                             f"dead point): {detail}", time=t, where=where)
+                             f"dead point): {detail}", time=t, where=where,
+                             status=Status.SINGULAR)
     return SolverFailure(f"{what} at t = {t:.6g} s: singular system matrix (a body with no "
                          "mass or stiffness in some direction, or a free degree of freedom "
-                         "without load path)", time=t)
+                         "without load path)", time=t, status=Status.SINGULAR)

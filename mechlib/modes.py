@@ -15,10 +15,11 @@ import numpy as np
 import scipy.linalg as sla
 
 from mechlib.balance import Balance
-from mechlib.static import equilibrium
+from mechlib.equilibrium import equilibrium
 from mechlib.system import System
+from mechlib.work import count
 
-__all__ = ["Modes", "normal_modes"]
+__all__ = ["Modes", "ModalResult", "normal_modes", "modal_channels"]
 
 
 @dataclass(frozen=True)
@@ -30,29 +31,46 @@ class Modes:
     name = "modes"
 
 
-def normal_modes(system: System, q0: np.ndarray, time: float, stats
-                 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(q at equilibrium, frequencies (n,) Hz, shapes (n, nq) as dq per unit modal amplitude)."""
+@dataclass(frozen=True)
+class ModalResult:
+    """Normal modes about the equilibrium q at `time` (s): `frequencies` (n,) in Hz, lowest
+    first (negative: unstable), `shapes` (n, nq) as dq per unit modal amplitude."""
+
+    time: float
+    q: np.ndarray
+    frequencies: np.ndarray
+    shapes: np.ndarray
+
+    def first(self, count: int | None) -> "ModalResult":
+        """The `count` lowest modes (all when None)."""
+        n = len(self.frequencies) if count is None else min(count, len(self.frequencies))
+        return ModalResult(self.time, self.q, self.frequencies[:n], self.shapes[:n])
+
+
+def normal_modes(system: System, q0: np.ndarray, time: float, stats) -> ModalResult:
+    """The modes about the static equilibrium at `time` (s) found from q0."""
     q, lam = equilibrium(system, q0, None, time, stats)
     k = system.kin(q, None, time)
     jac = system.phi_q(k)
     stiffness = Balance(system, time, q).stiffness(q, lam)
+    count(factorizations=2)  # the null-space SVD and the eigen-decomposition
     basis = sla.null_space(jac)
     kr = basis.T @ stiffness @ basis
     mr = basis.T @ system.mass(k) @ basis
     w2, x = sla.eigh(0.5 * (kr + kr.T), 0.5 * (mr + mr.T))
     freq = np.sign(w2) * np.sqrt(np.abs(w2)) / (2.0 * np.pi)
-    return q, freq, (basis @ x).T
+    stats.steps += 1
+    return ModalResult(time, q, freq, (basis @ x).T)
 
 
-def modal_channels(system: System, q: np.ndarray, time: float, freq: np.ndarray,
-                   shapes: np.ndarray, requests) -> dict[str, np.ndarray]:
+def modal_channels(system: System, modes: ModalResult, requests) -> dict[str, np.ndarray]:
     """One row per mode: `mode.number`, `mode.frequency` (Hz), then for each point request
     its modal displacement x y z (m per unit modal amplitude) and for each joint coordinate
     request its modal angle or travel (`value`); other requests have no modal meaning here."""
     from mechlib.requests import JointCoordinate, PointKinematics
     from mechlib.rotation import d_rotate
-    k = system.kin(q, None, time)
+    freq, shapes = modes.frequencies, modes.shapes
+    k = system.kin(modes.q, None, modes.time)
     out = {"mode.number": np.arange(1.0, len(freq) + 1.0), "mode.frequency": freq.copy()}
     for req in requests:
         if isinstance(req, PointKinematics):

@@ -3,23 +3,29 @@ index-1 form with Baumgarte terms, projected onto the position and velocity cons
 at every output time (the integration restarts from the projected state).
 
     [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma - 2 w (phi_q qd - nu) - w^2 phi]
+
+As a stepper (mechlib.contract) one step is one output interval, integrated by scipy's
+own steps; it does not locate events (`solve` refuses them). Its work is counted from
+scipy's counters (Jacobian evaluations `njev`, LU factorisations `nlu`) and from the calls
+of the right-hand side: each Newton iteration evaluates it at the three stages of the
+trial step, so the stage calls give the iterations and the trial step sizes (a new size
+within one scipy step is a rejected step).
 """
 from __future__ import annotations
 
-from typing import Callable
-
 import numpy as np
-from scipy.integrate import solve_ivp
+from scipy.integrate import Radau
 
-from mechlib.analysis import Dynamic, Trajectory, check_step_limit, output_times
 from mechlib.assembly import solve_positions
-from mechlib.genalpha import consistent_accelerations
+from mechlib.consistent import consistent_accelerations
+from mechlib.contract import State, Status, Stepper, StepResult
 from mechlib.linalg import singular_failure
 from mechlib.reaction_loads import accelerations_and_reactions
-from mechlib.solution import SolverFailure, SolverStats
+from mechlib.solution import SolverFailure
 from mechlib.system import System
+from mechlib.work import count
 
-__all__ = ["run_radau"]
+__all__ = ["RadauStepper"]
 
 _BAUMGARTE = 20.0  # rad/s: constraint drift decays within a few 1/20 s between projections
 
@@ -40,36 +46,92 @@ def _rhs(system: System):
     return f
 
 
+class _Logged:
+    """The right-hand side, with the times of the calls outside Jacobian evaluations."""
+
+    def __init__(self, f):
+        self.f, self.times, self.in_jacobian = f, [], False
+
+    def __call__(self, t: float, y: np.ndarray) -> np.ndarray:
+        if not self.in_jacobian:
+            self.times.append(t)
+        return self.f(t, y)
+
+    def jacobian(self, inner):
+        def jac(*args):
+            self.in_jacobian = True
+            try:
+                return inner(*args)
+            finally:
+                self.in_jacobian = False
+        return jac
+
+
+class RadauStepper(Stepper):
+    """scipy Radau from one output time to the next, projected there."""
+
+    def __init__(self, system: System, spec, stats):
+        super().__init__(system, spec, stats)
+        self.rhs = _Logged(_rhs(system))
+        nq = system.nq
+        self.atol = np.r_[np.full(nq, spec.tolerance * 1e-2), np.full(nq, spec.tolerance * 1e-1)]
+
+    def init(self, t: float, q0: np.ndarray, qd0: np.ndarray) -> State:
+        q, qd = q0.copy(), qd0.copy()
+        return State(t, q, qd, *consistent_accelerations(self.system, q, qd, t))
+
+    def step(self, state: State, t_out: float) -> StepResult:
+        nq, system = self.system.nq, self.system
+        solver = Radau(self.rhs, float(state.t), np.concatenate([state.q, state.qd]),
+                       float(t_out), rtol=self.spec.tolerance, atol=self.atol,
+                       max_step=self.spec.max_step or np.inf)
+        solver.jac = self.rhs.jacobian(solver.jac)
+        while solver.status == "running":
+            self._scipy_step(solver)
+        count(factorizations=solver.nlu, jacobian_evaluations=solver.njev)
+        if solver.status == "failed":
+            raise SolverFailure(f"dynamic analysis (radau) failed at t = {solver.t:.6g} s: "
+                                f"{self.message}", time=float(solver.t),
+                                status=Status.INTEGRATOR_FAILED)
+        q, qd, its = _project(system, solver.y[:nq], solver.y[nq:], t_out)
+        self.stats.newton_iterations += its
+        system.commit(system.kin(q, None, t_out))
+        qdd, lam = consistent_accelerations(system, q, qd, t_out)
+        return StepResult(State(t_out, q, qd, qdd, lam), None, Status.SUCCESSFUL)
+
+    def _scipy_step(self, solver) -> None:
+        """One scipy step, its stage calls counted: three per Newton iteration; the last
+        call of an accepted step is the derivative at its end; calls at the step's start
+        re-evaluate the error estimate."""
+        t0 = solver.t
+        self.rhs.times = []
+        self.message = solver.step()
+        stages = [t for t in self.rhs.times if t != t0]
+        accepted = solver.status != "failed"
+        if accepted:
+            stages = stages[:-1]
+            self.stats.steps += 1
+        self.stats.newton_iterations += len(stages) // 3
+        sizes = [t for i, t in enumerate(stages) if i % 3 == 2]
+        trials = sum(1 for i, h in enumerate(sizes) if i == 0 or h != sizes[i - 1])
+        self.stats.rejected_steps += max(trials - 1, 0) if accepted else trials
+
+    def resolve(self, state: State, t: float) -> State:
+        raise SolverFailure("the radau integrator does not locate events", time=t)
+
+    def settle(self, state: State) -> State:
+        return state  # scipy's steps were counted as taken; committed when projected
+
+    def restart(self, state: State) -> State:
+        raise SolverFailure("the radau integrator does not restart after events",
+                            time=state.t)
+
+
 def _project(system: System, q: np.ndarray, qd: np.ndarray, t: float):
-    q, _ = solve_positions(system, q, t)
+    """(q, qd, Newton iterations) projected onto the position and velocity constraints."""
+    q, its = solve_positions(system, q, t)
     k = system.kin(q, None, t)
     jac = system.phi_q(k)
+    count(factorizations=1)
     fix, *_ = np.linalg.lstsq(jac, system.nu(k) - jac @ qd, rcond=None)
-    return q, qd + fix
-
-
-def run_radau(system: System, spec: Dynamic, q0, qd0, trajectory: Trajectory,
-              stats: SolverStats, progress: Callable | None = None) -> None:
-    """Integrate output interval by output interval with projection in between."""
-    nq = system.nq
-    f = _rhs(system)
-    q, qd = q0.copy(), qd0.copy()
-    times = output_times(spec.start, spec.end, spec.step)
-    qdd, lam = consistent_accelerations(system, q, qd, times[0])
-    trajectory.record(times[0], q, qd, qdd, lam)
-    atol = np.r_[np.full(nq, spec.tolerance * 1e-2), np.full(nq, spec.tolerance * 1e-1)]
-    for t0, t1 in zip(times[:-1], times[1:]):
-        check_step_limit(spec, stats, t0)
-        sol = solve_ivp(f, (t0, t1), np.concatenate([q, qd]), method="Radau",
-                        rtol=spec.tolerance, atol=atol, max_step=spec.max_step or np.inf)
-        stats.steps += max(len(sol.t) - 1, 0)
-        stats.newton_iterations += sol.nfev
-        if not sol.success:
-            raise SolverFailure(f"dynamic analysis (radau) failed at t = {sol.t[-1]:.6g} s: "
-                                f"{sol.message}", time=float(sol.t[-1]))
-        q, qd = _project(system, sol.y[:nq, -1], sol.y[nq:, -1], t1)
-        system.commit(system.kin(q, None, t1))
-        qdd, lam = consistent_accelerations(system, q, qd, t1)
-        trajectory.record(t1, q, qd, qdd, lam)
-        if progress:
-            progress(t1, spec.end)
+    return q, qd + fix, its

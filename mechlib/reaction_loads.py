@@ -15,6 +15,7 @@ import numpy as np
 
 from mechlib.kin import Kin
 from mechlib.linalg import augmented, factor, solve_factored
+from mechlib.work import count
 
 __all__ = ["reaction_coupling", "differenced_coupling", "solve_reaction_loaded", "accelerations_and_reactions",
            "MAX_REACTION_NEWTON"]
@@ -83,6 +84,7 @@ def solve_reaction_loaded(system, k: Kin, matrix: np.ndarray,
         coupling = reaction_coupling(system, k, lam, jac)
         if coupling is None:
             return x
+        count(jacobian_evaluations=1)
         newton = matrix.copy()
         newton[:nq, lam_at] -= coupling
         lu_n = factor(newton)

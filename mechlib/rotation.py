@@ -74,21 +74,21 @@ def d_rotate(p: np.ndarray, s: np.ndarray) -> np.ndarray:
 
 def e_matrix(p: np.ndarray) -> np.ndarray:
     """E(p) (..., 3, 4): global angular velocity omega = 2 E(p) pd; torque n -> Q_p = 2 E^T n."""
-    p = np.asarray(p, dtype=float)
-    e0, e = p[..., 0], p[..., 1:]
-    out = np.empty(p.shape[:-1] + (3, 4))
-    out[..., :, 0] = -e
-    out[..., :, 1:] = skew(e) + e0[..., None, None] * np.eye(3)
-    return out
+    return _rate_matrix(p, 1.0)
 
 
 def g_matrix(p: np.ndarray) -> np.ndarray:
     """G(p) (..., 3, 4): body-axes angular velocity omega' = 2 G(p) pd."""
+    return _rate_matrix(p, -1.0)
+
+
+def _rate_matrix(p: np.ndarray, sign: float) -> np.ndarray:
+    """[-e, sign skew(e) + e0 I] (..., 3, 4): E(p) for sign +1, G(p) for -1."""
     p = np.asarray(p, dtype=float)
     e0, e = p[..., 0], p[..., 1:]
     out = np.empty(p.shape[:-1] + (3, 4))
     out[..., :, 0] = -e
-    out[..., :, 1:] = -skew(e) + e0[..., None, None] * np.eye(3)
+    out[..., :, 1:] = sign * skew(e) + e0[..., None, None] * np.eye(3)
     return out
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib.contract import Status
 from mechlib.solution import SolverFailure
 
 __all__ = ["StepCollapse", "COLLAPSE_STEPS"]
@@ -56,7 +57,8 @@ class StepCollapse:
             f"{self.analysis} analysis failed at t = {t:.6g} s: the step size collapsed to "
             f"{h:.3g} s (from {h0:.3g} s {taken - n0} steps before); the remaining "
             f"{self.end - t:.3g} s would need {need:.3g} more steps, beyond analysis.max_steps "
-            f"= {self.max_steps}: {_grown(loads0, loads())}", time=t)
+            f"= {self.max_steps}: {_grown(loads0, loads())}", time=t,
+            status=Status.STEP_COLLAPSE)
 
 
 def _grown(before: dict[str, float], now: dict[str, float]) -> str:

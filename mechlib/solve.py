@@ -10,16 +10,19 @@ import numpy as np
 from mechlib.analysis import Dynamic, Kinematic, QuasiStatic, Static, Trajectory
 from mechlib.assembly import assemble
 from mechlib.check import ModelError, degrees_of_freedom, find_redundant
-from mechlib.genalpha import run_generalized_alpha
-from mechlib.kinematic import run_kinematic
-from mechlib.modes import Modes, modal_channels, normal_modes
+from mechlib.contract import Status, Stepper
+from mechlib.genalpha_stepper import GeneralizedAlphaStepper
+from mechlib.kinematic import KinematicStepper
+from mechlib.march import march
+from mechlib.modes import ModalResult, Modes, modal_channels, normal_modes
 from mechlib.model import Mechanism
-from mechlib.radau import run_radau
+from mechlib.radau import RadauStepper
 from mechlib.requests import evaluate_requests
 from mechlib.solution import Solution, SolverFailure, SolverStats
 from mechlib.singularity import toggle_warnings
-from mechlib.static import run_quasi_static, run_static
+from mechlib.static import QuasiStaticStepper, run_static
 from mechlib.system import System
+from mechlib.work import tally
 
 __all__ = ["solve", "check_model", "MechanismCheck", "inspect_mechanism"]
 
@@ -76,35 +79,70 @@ def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
                           degrees_of_freedom(jac), tuple(r.describe() for r in found), assembled)
 
 
-def _run_modes(system: System, analysis: Modes, q0, trajectory, stats) -> None:
-    """One row per mode at the equilibrium time; the shapes go to `trajectory.modes`."""
-    q, freq, shapes = normal_modes(system, q0, analysis.time, stats)
-    count = len(freq) if analysis.count is None else min(analysis.count, len(freq))
-    zeros = np.zeros(len(system.labels))
-    system.commit(system.kin(q, None, analysis.time))
-    for _ in range(count):
-        trajectory.record(analysis.time, q, np.zeros_like(q), np.zeros_like(q), zeros)
-    stats.steps += 1
-    trajectory.modes = (q, freq[:count], shapes[:count])
+def _stepper(system: System, analysis: Kinematic | QuasiStatic | Dynamic,
+             stats: SolverStats) -> Stepper:
+    """The stepper of an analysis in time (mechlib.contract)."""
+    if isinstance(analysis, Kinematic):
+        return KinematicStepper(system, analysis, stats)
+    if isinstance(analysis, QuasiStatic):
+        return QuasiStaticStepper(system, analysis, stats)
+    if analysis.integrator == "radau":
+        return RadauStepper(system, analysis, stats)
+    return GeneralizedAlphaStepper(system, analysis, stats)
 
 
-def _run(system: System, analysis: Analysis, q0, qd0, trajectory, stats, progress,
-         events=(), event_log=None) -> None:
-    if isinstance(analysis, Modes):
-        _run_modes(system, analysis, q0, trajectory, stats)
-    elif isinstance(analysis, Kinematic):
-        run_kinematic(system, analysis, q0, qd0, trajectory, stats, progress, events,
-                      event_log)
-    elif isinstance(analysis, Static):
-        run_static(system, analysis, q0, trajectory, stats, progress)
-    elif isinstance(analysis, QuasiStatic):
-        run_quasi_static(system, analysis, q0, trajectory, stats, progress, events,
-                         event_log)
-    elif analysis.integrator == "radau":
-        run_radau(system, analysis, q0, qd0, trajectory, stats, progress)
-    else:
-        run_generalized_alpha(system, analysis, q0, qd0, trajectory, stats, progress,
-                              events, event_log)
+def _check_events(analysis: Analysis, events: Sequence) -> None:
+    if events and isinstance(analysis, Static):
+        raise ModelError([("", "events need an analysis in time (a static analysis "
+                               "solves one instant)")])
+    if events and isinstance(analysis, Dynamic) and analysis.integrator == "radau":
+        raise ModelError([("", "events are located by the generalized-alpha integrator: "
+                               "drop 'integrator: radau' or the events")])
+
+
+@dataclass
+class _Run:
+    """What an analysis produced: rows (or modes), events, status and message."""
+
+    trajectory: Trajectory
+    stats: SolverStats
+    events: list
+    modes: ModalResult | None = None
+    result: Status = Status.SUCCESSFUL
+    message: str = "finished"
+
+
+def _analyse(system: System, analysis: Analysis, run: _Run, initial, events, progress,
+             warnings: list[str]) -> None:
+    """Assemble (notes on the initial values to `warnings`), then run the analysis into
+    `run`; SolverFailure leaves what was computed."""
+    start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
+    with tally(run.stats):
+        assembled = assemble(system, start, initial)
+        warnings += assembled.notes
+        system.begin(system.kin(assembled.q, assembled.qd, start))
+        run.stats.newton_iterations += assembled.newton_iterations
+        _check_events(analysis, events)
+        if isinstance(analysis, Modes):
+            run.modes = normal_modes(system, assembled.q, analysis.time,
+                                     run.stats).first(analysis.count)
+            system.commit(system.kin(run.modes.q, None, analysis.time))
+        elif isinstance(analysis, Static):
+            run_static(system, analysis, assembled.q, run.trajectory, run.stats)
+        else:
+            run.result = march(_stepper(system, analysis, run.stats), assembled.q,
+                               assembled.qd, run.trajectory, progress=progress,
+                               events=events, event_log=run.events)
+
+
+def _channels(system: System, run: _Run, requests) -> tuple[np.ndarray, dict]:
+    """Output times and channels: one row per mode for modes, else per recorded state."""
+    if run.modes is not None:
+        return (np.full(len(run.modes.frequencies), run.modes.time),
+                modal_channels(system, run.modes, requests))
+    channels = evaluate_requests(system, run.trajectory, requests) if len(run.trajectory) \
+        else {}
+    return np.array(run.trajectory.time), channels
 
 
 def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
@@ -114,49 +152,34 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     """Check, assemble and solve; channels `REQUEST.COMPONENT` at the output times.
 
     Raises ModelError for an ill-posed model (always). A numerical failure raises
-    SolverFailure when `throw`, else returns a failed Solution holding what was computed.
+    SolverFailure when `throw`, else returns a failed Solution holding what was computed
+    (`Solution.result` says which failure, `message` when, where and why).
     """
     cpu0 = _time.process_time()
     system = System(mechanism)
     warnings = check_model(system, analysis, redundant=redundant)
-    stats, trajectory = SolverStats(), Trajectory(snapshot=system.snapshot)
-    event_log: list = []
-    status, message = "ok", "finished"
-    start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
-    if isinstance(analysis, Modes) and events:
+    run = _Run(Trajectory(snapshot=system.snapshot), SolverStats(), [])
+    if isinstance(analysis, Modes):
         events = ()  # nothing moves: events have nothing to watch
     try:
-        assembled = assemble(system, start, initial)
-        warnings += assembled.notes
-        system.begin(system.kin(assembled.q, assembled.qd, start))
-        stats.newton_iterations += assembled.newton_iterations
-        if events and isinstance(analysis, Static):
-            raise ModelError([("", "events need an analysis in time (a static analysis "
-                                   "solves one instant)")])
-        if events and isinstance(analysis, Dynamic) and analysis.integrator == "radau":
-            raise ModelError([("", "events are located by the generalized-alpha integrator: "
-                                   "drop 'integrator: radau' or the events")])
-        _run(system, analysis, assembled.q, assembled.qd, trajectory, stats, progress,
-             events, event_log)
+        _analyse(system, analysis, run, initial, events, progress, warnings)
     except SolverFailure as failure:
         if throw:
             raise
-        status, message = "failed", str(failure)
+        run.result, run.message = failure.status, str(failure)
     try:
-        if isinstance(analysis, Modes) and len(trajectory):
-            channels = modal_channels(system, *trajectory.modes[:1], analysis.time,
-                                      *trajectory.modes[1:], requests)
-        else:
-            channels = evaluate_requests(system, trajectory, requests) if len(trajectory) else {}
+        times, channels = _channels(system, run, requests)
     except SolverFailure as failure:  # a request that cannot be evaluated (expression error)
         if throw:
             raise
-        status, message, channels = "failed", f"requests: {failure}", {}
+        run.result, run.message = failure.status, f"requests: {failure}"
+        times, channels = np.array(run.trajectory.time), {}
     if not isinstance(analysis, Modes):
-        warnings += toggle_warnings(system, trajectory)
-    stats.cpu_seconds = _time.process_time() - cpu0
-    if event_log:
-        message = message + "; events: " + ", ".join(f"{e.name} at t = {e.time:.6g} s"
-                                                      for e in event_log)
-    return Solution(status, message, analysis.name, np.array(trajectory.time), channels,
-                    stats, warnings, event_log)
+        warnings += toggle_warnings(system, run.trajectory)
+    run.stats.cpu_seconds = _time.process_time() - cpu0
+    message = run.message
+    if run.events:
+        message += "; events: " + ", ".join(f"{e.name} at t = {e.time:.6g} s"
+                                            for e in run.events)
+    return Solution("ok" if run.result.ok else "failed", message, analysis.name, times,
+                    channels, run.stats, warnings, run.events, run.result)

@@ -3,11 +3,14 @@ with the mechanism (a damper's elongation in a Maxwell element, a controller int
 hydraulic pressures).
 
 An element with states declares `n_states`, `initial_states()` and
-`state_rates(view, z) -> dz/dt`, and reads its current z with `view.states(self)`. In a
-dynamic analysis the states advance by the trapezoidal rule over each step, solved for the
-mechanism's iterate (q, qd) by a small Newton of their own (forward-difference Jacobian),
-which makes them A-stable and second order like the mechanism; in static, quasi-static and
-kinematic analyses they keep their initial values.
+`state_rates(view, z) -> dz/dt`, and reads its current z with `view.states(self)`. Every
+analysis in time advances them by the trapezoidal rule over each step, solved for the
+mechanism's new state by a small Newton of their own (forward-difference Jacobian), which
+makes them A-stable and second order like the mechanism: a dynamic analysis at every Newton
+iterate of a step; a quasi-static one at every iterate of each equilibrium (the view at
+rest, as its forces see it); a kinematic one at each solved position (its velocities
+included). A static analysis solves one instant, with no time to integrate over: the
+states keep their initial values there.
 """
 from __future__ import annotations
 
@@ -78,4 +81,13 @@ class ElementStates:
         self.rates_accepted = self.rates(view, self.z)
 
     def reject(self) -> None:
+        self.trial = self.z.copy()
+
+    def mark(self, view) -> tuple[np.ndarray, np.ndarray]:
+        """(z, dz/dt) of the trial values at the state `view`: what `resume` goes on from."""
+        return self.trial.copy(), self.rates(view, self.trial)
+
+    def resume(self, mark: tuple[np.ndarray, np.ndarray]) -> None:
+        """Make a `mark` the accepted values (a step starts from there)."""
+        self.z, self.rates_accepted = mark[0].copy(), mark[1]
         self.trial = self.z.copy()

@@ -145,10 +145,9 @@ def _with_suffix(base: Path, suffix: str) -> Path:
 
 
 def _stats(solution: Solution) -> dict[str, int | float]:
-    stats = solution.stats
-    return {"steps": int(stats.steps), "rejected_steps": int(stats.rejected_steps),
-            "newton_iterations": int(stats.newton_iterations),
-            "cpu_seconds": float(stats.cpu_seconds)}
+    """The work counters (mechlib.SolverStats.as_dict): counts as int, seconds as float."""
+    return {key: float(value) if key == "cpu_seconds" else int(value)
+            for key, value in solution.stats.as_dict().items()}
 
 
 def _checked_arrays(solution: Solution) -> tuple[np.ndarray, dict[str, np.ndarray]]:

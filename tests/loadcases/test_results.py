@@ -73,6 +73,7 @@ def test_summary_json(tmp_path: Path) -> None:
     assert summary["case"] == "slider/crank[w=6.28319]"
     assert (summary["status"], summary["analysis"], summary["version"]) == ("ok", "dynamic", "1.2.3")
     assert summary["stats"] == {"steps": 42, "rejected_steps": 3, "newton_iterations": 97,
+                                "factorizations": 0, "jacobian_evaluations": 0,
                                 "cpu_seconds": 0.25}
     assert summary["input_sha256"] == "ab" * 32
     assert summary["extremes"]["pivot_force.fx"] == {

@@ -97,6 +97,7 @@ def test_deactivated_force_reports_zero_and_stop_ends_the_run() -> None:
                    requests=[ml.ElementOutput("p", "push"),
                              ml.JointCoordinate("w", "hinge", "omega")])
     assert sol.ok and sol.time[-1] == pytest.approx(0.4)
+    assert sol.result is ml.Status.EVENT_STOP
     assert [e.name for e in sol.events] == ["off", "end"]
     before, after = sol.time < 0.2 - 1e-9, sol.time > 0.2 + 1e-9
     assert np.all(sol.channels["p.tz"][before] == 1.0)
@@ -137,7 +138,7 @@ def test_events_between_output_times(analysis) -> None:
     stop = ml.Event("end", lambda t, view: t - 1.234, (ml.Action("stop"),))
     sol = ml.solve(_driven_latch(), analysis, events=[on, stop],
                    requests=[ml.MotionEffort("m", "drive")])
-    assert sol.ok
+    assert sol.ok and sol.result is ml.Status.EVENT_STOP
     assert [e.name for e in sol.events] == ["latch", "end"]
     assert abs(sol.events[0].time - 0.55) < 1e-6
     assert np.any(np.abs(sol.time - 0.55) < 1e-6)  # recorded at the event

@@ -1,0 +1,155 @@
+"""The integrator contract: what every analysis in time gives the one loop (mechlib.march).
+
+After scipy's `OdeSolver` and diffrax's `step -> (state, error, status)`: an analysis is a
+`Stepper` with `init` (the state at the start) and `step` (one step towards an output time,
+returning a `StepResult`: the new state, its error estimate and a `Status`), plus what the
+loop needs around a step: `resolve` (the step re-solved to end earlier: event location),
+`accept` and `settle` (a state becomes the last accepted one), `restart` (after an event
+changed the model), `view` and `record`. A run that cannot go on raises `SolverFailure`
+carrying a `Status`; `Solution.result` carries the run's status next to its message.
+
+Work counters (`SolverStats`): each stepper counts its accepted and rejected steps and its
+Newton iterations; factorisations and Jacobian evaluations are counted where they happen
+(mechlib.work), so every analysis fills them alike.
+"""
+from __future__ import annotations
+
+import enum
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Callable
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from mechlib.analysis import Trajectory
+    from mechlib.solution import SolverStats
+    from mechlib.system import System
+    from mechlib.view import StateView
+
+__all__ = ["Status", "State", "StepResult", "Stepper", "StepUnresolved"]
+
+
+class Status(enum.Enum):
+    """How a step or a run ended: a code and the human text that goes with it."""
+
+    SUCCESSFUL = ("successful", "finished")
+    STEP_REJECTED = ("step_rejected", "step rejected (error test or Newton iteration): "
+                     "retried with a smaller step")
+    EVENT_STOP = ("event_stop", "stopped by an event")
+    MAX_STEPS_REACHED = ("max_steps_reached", "the limit of analysis.max_steps (accepted "
+                         "and rejected steps) is reached")
+    STEP_COLLAPSE = ("step_collapse", "the step size collapsed (a load or a motion growing "
+                     "without bound)")
+    NEWTON_FAILED = ("newton_failed", "Newton iterations did not converge")
+    SINGULAR = ("singular", "singular matrix (a toggle or dead point, or a free degree of "
+                "freedom without load path)")
+    NOT_HELD = ("not_held", "static equilibrium not found: a body is not held")
+    INTEGRATOR_FAILED = ("integrator_failed", "the integrator (scipy) reported a failure")
+    EVALUATION_FAILED = ("evaluation_failed", "an expression, a force element or a request "
+                         "could not be evaluated")
+
+    def __init__(self, code: str, message: str):
+        self.code = code
+        self.message = message
+
+    @property
+    def ok(self) -> bool:
+        """The run finished (at its end, or where an event stopped it)."""
+        return self in (Status.SUCCESSFUL, Status.EVENT_STOP)
+
+
+@dataclass
+class State:
+    """A state of the mechanism at time t (s) as outputs read it: positions q, velocities
+    qd, accelerations qdd, multipliers lam; `elements`: the element states there (a
+    `mechlib.states` mark, None without element states or where the stepper keeps them);
+    `snapshot`: the system's snapshot to record it with (None: taken when recorded).
+    Steppers add what they continue from."""
+
+    t: float
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    lam: np.ndarray
+    elements: tuple | None = None
+    snapshot: dict | None = None
+
+
+@dataclass(frozen=True)
+class StepResult:
+    """What `Stepper.step` returns: the new state (None when rejected), the scaled local
+    error estimate (accepted when <= 1; inf when Newton failed; None for analyses without
+    one: each kinematic or quasi-static row is solved on its own, Radau keeps SciPy's),
+    and the status (SUCCESSFUL or STEP_REJECTED)."""
+
+    state: State | None
+    error: float | None
+    status: Status
+
+
+class StepUnresolved(Exception):
+    """A step re-solved to end at `t` (s) that the stepper could not take."""
+
+    def __init__(self, t: float):
+        super().__init__(t)
+        self.t = t
+
+
+class Stepper(ABC):
+    """An analysis in time, stepped by `mechlib.march.march`.
+
+    Steps land on the output times: `step(state, t_out)` never goes past `t_out`. A failure
+    that ends the run raises SolverFailure (with its Status); a step the stepper retries
+    smaller returns Status.STEP_REJECTED. Element states (mechlib.states) advance with the
+    mechanism: trial values along a step, accepted by `settle`.
+    """
+
+    at_rest = False  # its states are equilibria (Trajectory.at_rest)
+
+    def __init__(self, system: System, spec, stats: SolverStats):
+        self.system, self.spec, self.stats = system, spec, stats
+
+    @abstractmethod
+    def init(self, t: float, q0: np.ndarray, qd0: np.ndarray) -> State:
+        """The accepted state at the start t (s) from the assembled q0, qd0."""
+
+    @abstractmethod
+    def step(self, state: State, t_out: float) -> StepResult:
+        """One step from `state` towards the output time t_out (s)."""
+
+    @abstractmethod
+    def resolve(self, state: State, t: float) -> State:
+        """The step from `state` re-solved to end at t (s), for locating an event; raises
+        StepUnresolved (or SolverFailure) when it cannot be taken."""
+
+    @abstractmethod
+    def settle(self, state: State) -> State:
+        """`state` becomes the last accepted state (element memories and states, counters)."""
+
+    @abstractmethod
+    def restart(self, state: State) -> State:
+        """The state to go on from after an event changed the model at `state`."""
+
+    def accept(self, state: State) -> State:
+        """Settle a step's state; a stepper that switches the model there (joint friction
+        sticking) returns the state it restarts from."""
+        return self.settle(state)
+
+    def unresolved(self, state: State, new: State, failure: StepUnresolved,
+                   events: Callable[[], str]) -> None:
+        """Locating the events `events()` (their names) within the step state -> new failed
+        at `failure.t`: reject the step (the next one is shorter) or raise SolverFailure.
+        By default a failure."""
+        from mechlib.solution import SolverFailure
+        raise SolverFailure(f"{self.spec.name} analysis failed at t = {state.t:.6g} s "
+                            f"locating event {events()}", time=state.t,
+                            status=Status.NEWTON_FAILED)
+
+    def view(self, state: State) -> StateView:
+        """The state view of `state` (for event conditions)."""
+        return self.system.view(self.system.kin(state.q, state.qd, state.t), state.lam)
+
+    def record(self, trajectory: Trajectory, state: State) -> None:
+        trajectory.record(state.t, state.q, state.qd, state.qdd, state.lam,
+                          snapshot=state.snapshot)

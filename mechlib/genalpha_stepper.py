@@ -1,0 +1,198 @@
+"""Generalized-alpha as a stepper (mechlib.contract): step-size control on the error
+estimate, stick/slip location of joint friction, restarts, and the step-collapse watch
+around `mechlib.genalpha.Integrator`.
+
+The step size changes only when the error estimate asks for it (shrink, or growth by more
+than _REGROW); at each change the pseudo-acceleration restarts from the consistent
+acceleration, because generalized-alpha's `a` is tied to the step it was made with.
+Outputs carry consistent velocities, accelerations and reactions.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechlib.analysis import Dynamic
+from mechlib.consistent import consistent_accelerations, consistent_state
+from mechlib.contract import State, Status, Stepper, StepResult, StepUnresolved
+from mechlib.genalpha import Integrator
+from mechlib.genalpha_kernels import Scales
+from mechlib.runaway import StepCollapse, element_loads
+from mechlib.solution import SolverFailure, SolverStats
+from mechlib.stick import slip_stop, switch_sticking
+from mechlib.system import System
+
+__all__ = ["GeneralizedAlphaStepper"]
+
+_SAFETY = 0.9
+_GROW, _SHRINK = 4.0, 0.2
+_REGROW = 1.5
+# first step, as a fraction of the analysis span: small, because the start acceleration may
+# be one the motion leaves at once (joint friction at rest carries nothing until the joint
+# slips); the step grows x4 per accepted step, so this costs about five steps
+_FIRST_STEP = 1e-6
+
+
+@dataclass
+class _AlphaState(State):
+    """An accepted state with its consistent (qd, qdd, lam), which outputs and the error
+    estimate use, and the integrator's own values it continues from: raw_qd, raw_qdd, the
+    pseudo-acceleration a, raw_lam."""
+
+    raw_qd: np.ndarray | None = None
+    raw_qdd: np.ndarray | None = None
+    a: np.ndarray | None = None
+    raw_lam: np.ndarray | None = None
+
+
+def _state(t: float, new) -> _AlphaState:
+    """A state from Integrator.step's (q, qd, qdd, a, lam, consistent (qd, qdd, lam))."""
+    q, qd, qdd, a, lam, (c_qd, c_qdd, c_lam) = new
+    return _AlphaState(t, q, c_qd, c_qdd, c_lam, raw_qd=qd, raw_qdd=qdd, a=a, raw_lam=lam)
+
+
+class GeneralizedAlphaStepper(Stepper):
+    """Error-controlled generalized-alpha steps landing on the output times."""
+
+    def __init__(self, system: System, spec: Dynamic, stats: SolverStats):
+        super().__init__(system, spec, stats)
+        self.integ = Integrator(system, spec, stats)
+        self.max_step = min(spec.max_step or spec.step, spec.step)
+        span = spec.end - spec.start
+        self.h = self.max_step if spec.fixed_step else min(self.max_step,
+                                                            _FIRST_STEP * span or 1e-3)
+        self.h_min = 1e-12 * max(1.0, abs(spec.end))
+        self.h_used = 0.0
+        self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
+
+    def init(self, t: float, q0: np.ndarray, qd0: np.ndarray) -> State:
+        self.integ.scales = Scales(self.system, q0, self.spec.tolerance)
+        s = self._restart(t, q0.copy(), qd0.copy())
+        return self.restart(s) if self._switched(s) else s
+
+    def restart(self, state: State) -> State:
+        return self._restart(state.t, state.q, state.raw_qd)
+
+    def _restart(self, t: float, q: np.ndarray, qd: np.ndarray) -> _AlphaState:
+        """Consistent accelerations (and velocities: a latch engaging is a plastic impact,
+        the mass-weighted projection) at t; the pseudo-acceleration starts from them."""
+        if self.system.states:
+            self.system.states.start(self.system.view(self.system.kin(q, qd, t)))
+        qd, qdd, lam = consistent_state(self.system, q, qd, t)
+        self.integ.lu, self.integ.eta = None, 1.0
+        return _AlphaState(t, q, qd, qdd, lam, raw_qd=qd, raw_qdd=qdd, a=qdd.copy(),
+                           raw_lam=lam)
+
+    def step(self, state: State, t_out: float) -> StepResult:
+        """One step towards t_out, shortened to where a sliding joint friction stops."""
+        new, err = self._attempt(state, t_out)
+        if new is None:
+            return StepResult(None, err, Status.STEP_REJECTED)
+        return StepResult(self._stop_slips(state, new), err, Status.SUCCESSFUL)
+
+    def _attempt(self, s: _AlphaState, t_out: float) -> tuple[_AlphaState | None, float]:
+        """One step towards t_out and its error; None when rejected (the step size is then
+        reduced)."""
+        spec = self.spec
+        _, h_try = _substeps(t_out - s.t, self.h)
+        if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
+            qdd, lam = consistent_accelerations(self.system, s.q, s.raw_qd, s.t)
+            s.raw_qdd, s.a, s.raw_lam = qdd, qdd.copy(), lam
+            s.qd, s.qdd, s.lam = s.raw_qd, qdd, lam
+        self.h_used = h_try
+        new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam)
+        err = math.inf if new is None else 0.0 if spec.fixed_step else self.integ.error(
+            h_try, new[0], s.qdd, new[5][1])
+        if new is None or err > 1.0:
+            self.system.states.reject()
+            if spec.fixed_step:
+                raise _newton_failure(self.system, s.t, h_try)
+            self._shrink(s.t, h_try * (0.25 if new is None else
+                                       max(_SHRINK, _SAFETY * err ** (-1 / 3))))
+            return None, err
+        if not spec.fixed_step:
+            grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
+            if grow > _REGROW:
+                self.h = min(self.max_step, h_try * grow)
+        return _state(s.t + h_try, new), err
+
+    def _shrink(self, t: float, h: float) -> None:
+        """A rejected step at t (s): retry with step h (s), failing below h_min."""
+        self.stats.rejected_steps += 1
+        self.h = h
+        if self.h < self.h_min:  # a singular matrix says more than "no convergence"
+            raise self.integ.singular or _newton_failure(self.system, t, self.h)
+
+    def settle(self, state: State) -> State:
+        """Count the step, take its element states and memories, watch the step size."""
+        system = self.system
+        self.stats.steps += 1
+        self.integ.scales.update(state.qdd)
+        k = system.kin(state.q, state.raw_qd, state.t)
+        if system.states:
+            system.states.accept(system.view(k))
+        system.commit(k)
+        self.collapse.watch(self.stats.steps + self.stats.rejected_steps, state.t,
+                            self.h_used, lambda: element_loads(system, self.view(state)))
+        return state
+
+    def accept(self, state: State) -> State:
+        """Settle, then stick or free joint frictions there (a switch restarts)."""
+        self.settle(state)
+        return self.restart(state) if self._switched(state) else state
+
+    def _switched(self, s: _AlphaState) -> bool:
+        return switch_sticking(self.system, s.q, s.raw_qd, s.t, self.view(s),
+                               consistent_state)
+
+    def resolve(self, state: State, t: float) -> State:
+        """The step from `state` re-solved to end at t (s); StepUnresolved when Newton
+        fails."""
+        new = self.integ.step(state.t, t - state.t, state.q, state.raw_qd, state.raw_qdd,
+                              state.a, state.raw_lam)
+        if new is None:
+            raise StepUnresolved(t)
+        return _state(t, new)
+
+    def _stop_slips(self, s: _AlphaState, new: _AlphaState) -> _AlphaState:
+        """`new`, or the state at the first instant within the step where a sliding joint
+        friction stops (its slip rate passes through zero: it may stick there)."""
+        sys = self.system
+        try:
+            t = slip_stop(sys, s.t, new.t, self.view(s), self.view(new),
+                          lambda tt: self.view(self.resolve(s, tt)))
+            if t is None:
+                return new
+            if t < new.t:
+                return self.resolve(s, t)
+        except (StepUnresolved, SolverFailure):  # a shorter step Newton cannot take: keep new
+            pass
+        # the re-solved steps moved the element states' trial values: back to new's
+        return self.resolve(s, new.t) if sys.states else new
+
+    def unresolved(self, state: State, new: State, failure: StepUnresolved,
+                   events) -> None:
+        """A load that jumps where an event condition's zero lies (a preloaded wire going
+        taut) defeats Newton on steps ending just past it; shorter steps resolve it, as for
+        any step Newton cannot take: the step is rejected, the next a quarter as long."""
+        self.system.states.reject()
+        if self.spec.fixed_step:
+            raise _newton_failure(self.system, state.t, failure.t - state.t,
+                                  f"locating event {events()}")
+        self._shrink(state.t, 0.25 * (new.t - state.t))
+
+
+def _substeps(interval: float, h: float) -> tuple[int, float]:
+    """Equal sub-steps landing on the output time: (count, size)."""
+    n = max(1, math.ceil(interval / h * (1.0 - 1e-9)))
+    return n, interval / n
+
+
+def _newton_failure(system: System, t: float, h: float, doing: str = "") -> SolverFailure:
+    while_ = f" {doing}" if doing else ""
+    return SolverFailure(f"dynamic analysis failed at t = {t:.6g} s{while_}: Newton iterations "
+                         f"did not converge even with a step of {h:.3g} s (an impact or a "
+                         "stiffness too large for the step, a toggle position, or a load "
+                         "discontinuity)", time=t, status=Status.NEWTON_FAILED)

@@ -1,0 +1,97 @@
+"""The one loop of the analyses in time: a stepper marched to the output times, with events.
+
+Kinematic, quasi-static and dynamic (generalized-alpha, Radau) analyses are steppers
+(mechlib.contract); `march` drives them all:
+
+    state = init(start); record it; arm the events
+    for each output time t_out after start:
+        until t_out is reached:
+            check the step limit (analysis.max_steps, accepted and rejected steps)
+            result = step(state, t_out)       (rejected: the stepper retries shorter)
+            an armed event fired within the step: locate it on re-solved steps, settle
+                and record the state there, carry out its actions, restart (or stop)
+            else: accept the new state, re-arm the events
+        record the state at t_out, report progress
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+from mechlib.analysis import Trajectory, output_times
+from mechlib.contract import State, Status, Stepper, StepUnresolved
+from mechlib.events import EventMonitor, fire, first_events
+from mechlib.solution import SolverFailure, SolverStats
+
+__all__ = ["march", "check_step_limit"]
+
+
+def march(stepper: Stepper, q0, qd0, trajectory: Trajectory, *,
+          progress: Callable[[float, float], None] | None = None, events=(),
+          event_log: list | None = None) -> Status:
+    """Fill `trajectory` at the output times of `stepper.spec` and at the events (logged
+    in `event_log`); SUCCESSFUL, or EVENT_STOP when an event stopped the run. A failure
+    raises SolverFailure and leaves what was recorded."""
+    spec, stats = stepper.spec, stepper.stats
+    monitor = EventMonitor(events)
+    trajectory.at_rest = stepper.at_rest
+    s = stepper.init(spec.start, q0, qd0)
+    stepper.record(trajectory, s)
+    monitor.arm(s.t, stepper.view(s))
+    for t_out in output_times(spec.start, spec.end, spec.step)[1:]:
+        while t_out - s.t > 1e-12 * max(1.0, abs(t_out)):
+            check_step_limit(spec, stats, s.t)
+            new = stepper.step(s, t_out).state
+            if new is None:
+                continue
+            after = _events(stepper, monitor, s, new, trajectory, event_log) \
+                if monitor.armed else None
+            if after is Status.EVENT_STOP:
+                return Status.EVENT_STOP
+            if after is None:
+                after = stepper.accept(new)
+                if monitor.armed:
+                    monitor.arm(after.t, stepper.view(after))
+            s = after
+        stepper.record(trajectory, s)
+        if progress:
+            progress(s.t, spec.end)
+    return Status.SUCCESSFUL
+
+
+def _events(stepper: Stepper, monitor: EventMonitor, s: State, new: State,
+            trajectory: Trajectory, log: list | None) -> State | Status | None:
+    """If events fire during the step s -> new: the state at the first one, settled and
+    recorded, the actions done, restarted (EVENT_STOP when an action stops the run); else
+    None. When a re-solved step of the location cannot be taken the stepper rejects the
+    step (or fails): `s` is returned, to step again from."""
+    try:
+        hit = first_events(monitor, s.t, new.t, stepper.view(new),
+                           lambda t: stepper.view(stepper.resolve(s, t)))
+        if hit is None:
+            return None
+        t_e, fired = hit
+        at = stepper.resolve(s, t_e)
+    except StepUnresolved as failure:
+        stepper.unresolved(s, new, failure, lambda: ", ".join(
+            f"'{e.name}'" for e in monitor.crossed(new.t, stepper.view(new))))
+        return s
+    at = stepper.settle(at)
+    stepper.record(trajectory, at)
+    system = stepper.system
+    if fire(system, monitor, fired, system.kin(at.q, at.qd, t_e), log):
+        return Status.EVENT_STOP
+    at = stepper.restart(at)
+    monitor.arm(at.t, stepper.view(at))
+    return at
+
+
+def check_step_limit(spec, stats: SolverStats, t: float) -> None:
+    """Raise SolverFailure (MAX_STEPS_REACHED) once the run at time t (s) has used its
+    `max_steps` (accepted and rejected steps)."""
+    taken = stats.steps + stats.rejected_steps
+    if taken >= spec.max_steps:
+        raise SolverFailure(
+            f"{spec.name} analysis stopped at t = {t:.6g} s of {spec.end:g} s: the limit of "
+            f"{spec.max_steps} steps (analysis.max_steps, accepted and rejected) is reached; "
+            "raise analysis.max_steps if the run is sound, or look for what keeps the steps "
+            "small", time=t, status=Status.MAX_STEPS_REACHED)
