@@ -10,6 +10,7 @@ from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.loader import CaseFile, file_kind, load_case, load_mechanism
 from loadcases.outcome import RunOutcome
 from loadcases.results import write_results
+from loadcases.torque_margin import plan_torque_margin
 
 __all__ = ["run_case", "run_file", "check_mechanism_file", "check_case_file"]
 
@@ -41,17 +42,22 @@ def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool =
     joints named.
     """
     built = build_run(cf, abscissa=abscissa)
+    margin = plan_torque_margin(cf, built)
     try:
         solution = ml.solve(built.mechanism, built.analysis, requests=built.requests,
                             initial=built.initial, redundant=built.redundant, throw=False,
                             events=built.events, progress=progress)
     except ml.ModelError as error:
         raise InputError(_model_diagnostics(cf, error)) from None
+    checks, notes = {}, []
+    if margin is not None:
+        solution, checks["torque_margin"], notes = margin.apply(solution)
+        built.column_units.update(margin.units())
     return RunOutcome(name=name or cf.case.case, case_file=Path(cf.path),
                       analysis=built.analysis.name,
                       solution=solution, input_sha256=cf.input_sha256,
-                      column_units=built.column_units, warnings=built.warnings,
-                      parameters=dict(cf.parameters))
+                      column_units=built.column_units, warnings=built.warnings + notes,
+                      parameters=dict(cf.parameters), checks=checks)
 
 
 def run_file(path: Path | str, *, output_dir: Path | str, xlsx: bool = False,
@@ -87,6 +93,7 @@ def check_case_file(path: Path | str) -> list[Diagnostic]:
     try:
         cf = load_case(path)
         built = build_run(cf)
+        plan_torque_margin(cf, built)
         ml.check_model(ml.System(built.mechanism), built.analysis, redundant=built.redundant)
     except InputError as error:
         return list(error.diagnostics)
