@@ -272,6 +272,10 @@ from cli import draw_cmd  # noqa: E402  (draw: pictures of a run, registered thr
 
 app.command("draw")(guarded(draw_cmd.draw))
 
+from cli import tune_cmd  # noqa: E402  (tune: parameter for a target frequency, via `guarded`)
+
+app.command("tune")(guarded(tune_cmd.tune))
+
 
 def main() -> None:
     """Console entry point `loads`."""
