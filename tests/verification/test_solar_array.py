@@ -140,3 +140,15 @@ def test_in_orbit_momentum(tmp_path) -> None:
     scale = np.abs(momentum).max()
     assert np.abs(impulse - change).max() < 1e-2 * scale
     assert np.abs(impulse - change).max() < 2e-4 * scale   # measured 5e-5 (trapezoid, 1 ms)
+
+
+def test_library_files_validate() -> None:
+    """Every file of the solar-array library validates and every case builds (as `loads
+    validate` and the set's pre-build do), without warnings."""
+    from loadcases.loader import validate_files
+    from loadcases.run import check_case_file
+    files = sorted(WING.glob("*.yaml"))
+    assert len(files) >= 5
+    assert validate_files(files) == []
+    for case in WING.glob("*.case.yaml"):
+        assert check_case_file(case) == [], case.name
