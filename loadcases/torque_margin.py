@@ -17,6 +17,7 @@ from an expression (N*m, positive resisting). Columns `tm_HL.driving`, `tm_HL.re
 from __future__ import annotations
 
 import dataclasses
+import difflib
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -153,9 +154,9 @@ def plan_torque_margin(cf, built) -> MarginPlan | None:
         return None
     problems: list[Diagnostic] = []
 
-    def error(key: str, message: str) -> None:
+    def error(key: str, message: str, hint: str | None = None) -> None:
         file, line, col = cf.where("case", key)
-        problems.append(Diagnostic(file, line, col, key, message))
+        problems.append(Diagnostic(file, line, col, key, message, hint=hint))
 
     if isinstance(built.analysis, ml.Modes):
         error("torque_margin", "a torque margin needs an analysis along the deployment "
@@ -197,8 +198,12 @@ def _term(cf, built, line: str, label: str, c, joint: str, key: str, error, requ
         return _Term(label, c.kind, factor, f"{hidden}.value", False)
     f = cf.mechanism.forces.get(label)
     if f is None or f.type not in _ELEMENT_TYPES or getattr(f, "joint", None) != joint:
+        on_joint = [n for n, g in cf.mechanism.forces.items()
+                    if g.type in _ELEMENT_TYPES and getattr(g, "joint", None) == joint]
+        close = difflib.get_close_matches(label, on_joint, n=1)
         error(key, f"'{label}' is not a torsion_spring, joint_friction or damper on joint "
-              f"'{joint}' (or give an expression)")
+              f"'{joint}' (or give an expression)",
+              f"did you mean '{close[0]}'?" if close else None)
         return None
     if label not in built.mechanism.forces:
         error(key, f"'{label}' is not active in this case (effects or loads switch it off): "

@@ -96,3 +96,4 @@ def test_bad_contributor_is_an_input_error(tmp_path) -> None:
     (d,) = error.value.diagnostics
     assert d.key == "torque_margin.hinge_lines.HL1.contributors.pin_frixion"
     assert d.line > 1 and "joint_friction" in d.message
+    assert d.hint == "did you mean 'pin_friction'?"
