@@ -300,6 +300,10 @@ app.command("draw")(guarded(draw_cmd.draw))
 app.command("compare")(guarded(compare_cmd.compare))
 app.command("accuracy")(guarded(accuracy_cmd.accuracy))
 
+from cli import tune_cmd  # noqa: E402  (tune: parameter for a target frequency, via `guarded`)
+
+app.command("tune")(guarded(tune_cmd.tune))
+
 
 def main() -> None:
     """Console entry point `loads`."""

@@ -1,12 +1,15 @@
 """Run case files end to end: load, build, check, solve, write results."""
 from __future__ import annotations
 
+import dataclasses
+
 from pathlib import Path
 from typing import Callable
 
 import mechlib as ml
 from loadcases.build.model import build_mechanism, build_run
 from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.build.torque_margin import plan_torque_margin
 from loadcases.inputs.kinds import file_kind
 from loadcases.inputs.loader import CaseFile, load_case, load_mechanism, validate_files
 from loadcases.results.outcome import RunOutcome
@@ -42,17 +45,24 @@ def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool =
     joints named.
     """
     built = build_run(cf, abscissa=abscissa)
+    margin = plan_torque_margin(cf, built)
     try:
         solution = ml.solve(built.mechanism, built.analysis, requests=built.requests,
                             initial=built.initial, redundant=built.redundant, throw=False,
                             events=built.events, progress=progress)
     except ml.ModelError as error:
         raise InputError(_model_diagnostics(cf, error)) from None
+    checks: dict = {}
+    if margin is not None:
+        solution, checks["torque_margin"], notes = margin.apply(solution)
+        # notes on the results (a failed margin), beside the solver's warnings
+        solution = dataclasses.replace(solution, warnings=[*solution.warnings, *notes])
+        built.column_units.update(margin.units())
     return RunOutcome(name=name or cf.case.case, case_file=Path(cf.path),
                       analysis=built.analysis.name,
                       solution=solution, input_sha256=cf.input_sha256,
                       column_units=built.column_units, warnings=built.warnings,
-                      parameters=dict(cf.parameters))
+                      parameters=dict(cf.parameters), checks=checks)
 
 
 def run_file(path: Path | str, *, output_dir: Path | str, xlsx: bool = False,
@@ -88,6 +98,7 @@ def check_case_file(path: Path | str) -> list[Diagnostic]:
     try:
         cf = load_case(path)
         built = build_run(cf)
+        plan_torque_margin(cf, built)
         ml.check_model(ml.System(built.mechanism), built.analysis, redundant=built.redundant)
     except InputError as error:
         return list(error.diagnostics)

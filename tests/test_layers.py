@@ -23,9 +23,8 @@ LAYERS: tuple[frozenset[str], ...] = tuple(frozenset(layer.split()) for layer in
     "checks",                     # semantic checks of the models
     "inputs results",             # files -> validated models; the files of one run
     "build",                      # a case -> a mechlib model
-    "run report draw studies",    # one case end to end; reports over saved runs; pictures;
-                                  # studies over many solutions of one case
-    "sets",                       # sets as campaigns
+    "run report draw",            # one case end to end; reports over saved runs; pictures
+    "sets studies",               # sets as campaigns; studies over many solutions of a case
     "warmup",                     # `python -m loadcases.warmup`
 ))
 LAYER_OF = {part: rank for rank, layer in enumerate(LAYERS) for part in layer}

@@ -17,6 +17,7 @@ from loadcases.build.events import build_events
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import CompiledExpression, ExpressionError, parse
 from loadcases.inputs.loader import CaseFile
+from mechlib.elements.series import SeriesLaw, series_stiffness
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 from mechlib.tables import Table, TableRangeError
 
@@ -207,7 +208,13 @@ class _Builder:
             return ml.Spring(name, pts, f.stiffness, f.damping if damping else 0.0,
                              f.free_length, f.preload or 0.0, f.tension_only, law)
         if f.type == "torsion_spring":
-            return ml.TorsionSpring(name, f.joint, f.stiffness, f.damping if damping else 0.0,
+            stiffness = f.stiffness
+            if f.series_stiffness is not None:  # eq. 2.7: structure and hinge in series
+                if law is not None:
+                    law = SeriesLaw(law, f.series_stiffness)
+                elif stiffness:
+                    stiffness = series_stiffness(f.series_stiffness, stiffness)
+            return ml.TorsionSpring(name, f.joint, stiffness, f.damping if damping else 0.0,
                                     f.angle0 or 0.0, f.preload or 0.0, law)
         if f.type in ("force", "torque"):
             parts = [self.compile(str(v), f"forces.{name}.value") for v in f.value]

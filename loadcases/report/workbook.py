@@ -1,7 +1,8 @@
 """The sizing workbook of a set (openpyxl), built on a template (`templates/envelope.xlsx`).
 
 Sheets, in order: the template's `Cover` (filled in), `Cases` (every run), `Envelope` (the
-table of `envelope.csv`, same header and values), `Charts` (native line charts: per family
+table of `envelope.csv`, same header and values), `Torque margin` (when runs have one:
+loadcases/workbook_tm.py), `Charts` (native line charts: per family
 the envelope curves of its main request columns and those columns against time for each
 run), one `Curves FAMILY` sheet per family (the envelope curves' numbers), the time
 histories, `Provenance`.
@@ -24,6 +25,7 @@ from typing import Any
 from loadcases.atomic import atomic_path
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.envelope import EnvelopeRow
+from loadcases.report.workbook_tm import has_torque_margin, torque_margin_sheet
 from loadcases.results.saved import RunRecord, SavedRun, family_of
 from loadcases.results.xlsx_floats import exact_floats
 from loadcases.report.workbook_template import COVER_FIELDS, COVER_SHEET, build_template, ensure_styles
@@ -142,6 +144,9 @@ def write_workbook(data: WorkbookData, path: Path, *, template: Path | None = No
                        run_sheets)
     sheets.envelope_sheet(workbook.create_sheet(sheet_title("Envelope", used)), data.rows,
                           run_sheets)
+    if has_torque_margin(data.runs):
+        torque_margin_sheet(workbook.create_sheet(sheet_title("Torque margin", used)),
+                            data.runs)
     chart_sheet = workbook.create_sheet(sheet_title("Charts", used)) if data.curves else None
     curve_sheets = [workbook.create_sheet(sheet_title(f"Curves {c.family}", used))
                     for c in data.curves]

@@ -91,6 +91,7 @@ def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
         "events": [{"name": e.name, "time": e.time, "actions": list(e.actions)}
                    for e in solution.events],
         "parameters": dict(outcome.parameters),
+        **outcome.checks,
     }
 
 

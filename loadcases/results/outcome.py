@@ -29,3 +29,4 @@ class RunOutcome:
     column_units: dict[str, str] = field(default_factory=dict)
     warnings: list[Diagnostic] = field(default_factory=list)
     parameters: dict[str, float] = field(default_factory=dict)
+    checks: dict = field(default_factory=dict)   # e.g. {"torque_margin": {...}} for the summary

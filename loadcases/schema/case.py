@@ -9,6 +9,7 @@ from pydantic_core import PydanticCustomError
 import mechlib as ml
 
 from loadcases.schema.mechanism import Event, FileUnits
+from loadcases.schema.torque_margin import TorqueMargin
 from loadcases.schema.types import (
     AnySI, Dimensionless, Expression, Name, RawQuantity, Strict, describe, quantity, vector,
 )
@@ -170,3 +171,6 @@ class CaseModel(Strict):
     events: dict[str, Event] = Field(default_factory=dict, description="events of this case "
                                      "(dynamic analyses), added to the mechanism's; names "
                                      "unique across both")
+    torque_margin: TorqueMargin | None = Field(None, description="torque margin TM_j = "
+                                               "sum D_j / sum R_j per hinge line (seed 003 "
+                                               "eq. 2.1), reported along the run")

@@ -70,6 +70,10 @@ class TorsionSpring(Strict):
     preload: quantity("torque") | None = Field(
         None, description=describe("torque at the design position", "torque"))
     law: Name | None = Field(None, description="table of torque [N*m] vs angle [rad]")
+    series_stiffness: TorsionalStiffness | None = Field(  # type: ignore[valid-type]
+        None, gt=0, description=describe("stiffness of the structure in series with the "
+                                         "hinge given by stiffness or law (seed 003 eq. 2.7)",
+                                         "torsional_stiffness"))
     active: bool = Field(True, description=_ACTIVE)
 
     @model_validator(mode="after")

@@ -138,11 +138,12 @@ def _solve_all(compiled: CompiledSet, directory: Path, executor: Executor, force
 def _prebuild(compiled: CompiledSet) -> None:
     """Build every case once before solving: what cannot be built is invalid input."""
     from loadcases.build.model import build_run
+    from loadcases.build.torque_margin import plan_torque_margin
 
     problems = []
     for cf in compiled.cases:
         try:
-            build_run(cf, abscissa=True)
+            plan_torque_margin(cf, build_run(cf, abscissa=True))
         except InputError as error:
             problems += error.diagnostics
     if problems:

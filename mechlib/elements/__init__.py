@@ -6,5 +6,7 @@ from mechlib.elements.damper import RotationalDamper
 from mechlib.elements.friction import JointFriction
 from mechlib.elements.laws import TableLaw
 from mechlib.elements.seal import Seal
+from mechlib.elements.series import SeriesLaw, series_stiffness
 
-__all__ = ["Bushing", "CableLoop", "JointFriction", "RotationalDamper", "Seal", "TableLaw"]
+__all__ = ["Bushing", "CableLoop", "JointFriction", "RotationalDamper", "Seal", "SeriesLaw",
+           "TableLaw", "series_stiffness"]
