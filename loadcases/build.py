@@ -119,7 +119,13 @@ class _Builder:
     def compile_tree(self, expression, what: str, kind: str = "mechanism") -> Callable:
         """A parsed expression (or part of one) compiled and guarded."""
         self._check_measures(expression, what, kind)
-        return guarded(expression.compile(self.parameters, self.tables), what)
+        try:
+            compiled = expression.compile(self.parameters, self.tables)
+        except ExpressionError as error:  # a constant part that overflows or divides by 0
+            self.error(kind, what, f"invalid expression: {error.message} at character "
+                       f"{error.offset + 1}")
+            compiled = parse("0").compile()
+        return guarded(compiled, what)
 
     def _check_measures(self, expression, what: str, kind: str) -> None:
         """angle/omega need a rotational joint, travel/speed a translational one, effort a
@@ -158,7 +164,7 @@ class _Builder:
             elif element is not None:
                 m.add_force(element)
         for name, motion in (self.case.motions if self.case else {}).items():
-            fn = parse(motion.value).compile(self.parameters, self.tables)
+            fn = self.compile(motion.value, f"motions.{name}.value", "case").compiled
             if not fn.time_only:
                 self.error("case", f"motions.{name}.value", "a motion must be a function of "
                            "time only (use a force element for state-dependent loads)")
@@ -207,7 +213,8 @@ class _Builder:
             return ml.TorsionSpring(name, f.joint, f.stiffness, f.damping if damping else 0.0,
                                     f.angle0 or 0.0, f.preload or 0.0, law)
         if f.type in ("force", "torque"):
-            parts = [self.compile(str(v), f"forces.{name}.value") for v in f.value]
+            parts = [self.compile(str(v), f"forces.{name}.value[{i}]")
+                     for i, v in enumerate(f.value)]
             if all(p.compiled.is_constant for p in parts):
                 constant = tuple(p.compiled.value for p in parts)
                 if not any(constant) and name not in self.kept:
