@@ -100,6 +100,7 @@ class Trajectory:
     """
 
     snapshot: Callable[[], dict] | None = None
+    check: Callable[..., None] | None = None
     at_rest: bool = False
     time: list = field(default_factory=list)
     q: list = field(default_factory=list)
@@ -109,6 +110,8 @@ class Trajectory:
     references: list = field(default_factory=list)
 
     def record(self, t: float, q, qd, qdd, lam) -> None:
+        if self.check is not None:
+            self.check(t, q, qd, qdd, lam)  # a non-finite state stops the run here
         self.references.append(self.snapshot() if self.snapshot else {})
         self.time.append(float(t))
         self.q.append(np.array(q, dtype=float))

@@ -1,6 +1,7 @@
 """One entry point: `solve(mechanism, analysis, *, requests, ...) -> Solution`."""
 from __future__ import annotations
 
+import functools
 import time as _time
 from dataclasses import dataclass
 from typing import Callable, Sequence
@@ -10,6 +11,7 @@ import numpy as np
 from mechlib.analysis import Dynamic, Kinematic, QuasiStatic, Static, Trajectory
 from mechlib.assembly import assemble
 from mechlib.check import ModelError, degrees_of_freedom, find_redundant
+from mechlib.finite import check_recorded_state, explain_failure, nonfinite_channel
 from mechlib.genalpha import run_generalized_alpha
 from mechlib.kinematic import run_kinematic
 from mechlib.modes import Modes, modal_channels, normal_modes
@@ -119,7 +121,8 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     cpu0 = _time.process_time()
     system = System(mechanism)
     warnings = check_model(system, analysis, redundant=redundant)
-    stats, trajectory = SolverStats(), Trajectory(snapshot=system.snapshot)
+    stats, trajectory = SolverStats(), Trajectory(
+        snapshot=system.snapshot, check=functools.partial(check_recorded_state, system))
     event_log: list = []
     status, message = "ok", "finished"
     start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
@@ -141,7 +144,7 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     except SolverFailure as failure:
         if throw:
             raise
-        status, message = "failed", str(failure)
+        status, message = "failed", explain_failure(system, trajectory, failure)
     try:
         if isinstance(analysis, Modes) and len(trajectory):
             channels = modal_channels(system, *trajectory.modes[:1], analysis.time,
@@ -151,7 +154,12 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     except SolverFailure as failure:  # a request that cannot be evaluated (expression error)
         if throw:
             raise
-        status, message, channels = "failed", f"requests: {failure}", {}
+        status, message = "failed", f"requests: {failure}"
+        channels = getattr(failure, "channels", {})  # the columns that did not fail
+    bad = nonfinite_channel(np.asarray(trajectory.time), channels) if status == "ok" else None
+    if bad is not None:
+        status = "failed"
+        message = f"column {bad[0]} is not finite ({bad[2]:g}) at t = {bad[1]:.6g} s"
     if not isinstance(analysis, Modes):
         warnings += toggle_warnings(system, trajectory)
     stats.cpu_seconds = _time.process_time() - cpu0
