@@ -22,6 +22,7 @@ import numpy as np
 from loadcases import engine_hash
 from loadcases.atomic import atomic_path, atomic_write_bytes, atomic_write_text
 from loadcases.outcome import RunOutcome
+from loadcases.xlsx_text import text_cells
 from mechlib.solution import Solution
 
 __all__ = [
@@ -192,6 +193,7 @@ def _cell(value: float) -> float | None:
     return value if math.isfinite(value) else None
 
 
+@text_cells()  # input text is never a formula
 def _write_workbook(path: Path, time: np.ndarray, channels: dict[str, np.ndarray],
                     summary: dict[str, Any], units: dict[str, str]) -> Path:
     """`NAME.xlsx`: sheet `Time histories` (frozen header with units) and sheet `Summary`."""

@@ -26,6 +26,7 @@ from loadcases.curves import EnvelopeCurve
 from loadcases.envelope import EnvelopeRow
 from loadcases.saved import RunRecord, SavedRun, family_of
 from loadcases.xlsx_floats import exact_floats
+from loadcases.xlsx_text import text_cells
 from loadcases.workbook_template import COVER_FIELDS, COVER_SHEET, build_template, ensure_styles
 
 __all__ = ["WorkbookData", "write_workbook", "sheet_title", "file_sha256", "MAX_RUN_SHEETS",
@@ -124,6 +125,7 @@ def _fill_cover(workbook: Any, data: WorkbookData) -> None:
             sheet.cell(row=row, column=2, value=values[label])
 
 
+@text_cells()  # input text is never a formula
 def write_workbook(data: WorkbookData, path: Path, *, template: Path | None = None) -> Path:
     """Write the workbook to `path` atomically; return `path`."""
     from loadcases import workbook_charts as charts
