@@ -84,6 +84,7 @@ def run(
     _require_files(files)
     from loadcases.loader import file_kind
 
+    _preflight(files, output, file_kind)
     code = EXIT_OK
     for chunk, is_set in _chunks(files, lambda path: file_kind(path) == "set"):
         if is_set:
@@ -93,6 +94,21 @@ def run(
         else:
             code = max(code, _run_cases(chunk, output, xlsx, jobs or 1))
     return code
+
+
+def _preflight(files: list[Path], output: Path, file_kind: Callable[[Path], str | None]
+               ) -> None:
+    """Exit 2 before solving when `-o` cannot take results or two case files share a
+    `case:` name."""
+    from loadcases.preflight import duplicate_case_names, output_folder_problem
+
+    problem = output_folder_problem(output)
+    if problem is not None:
+        raise fail(f"-o {output}: {problem}")
+    clashes = duplicate_case_names([path for path in files if file_kind(path) == "case"])
+    if clashes:
+        print_diagnostics(clashes, err=True)
+        raise typer.Exit(EXIT_INPUT)
 
 
 def _chunks(files: list[Path], is_set: Callable[[Path], bool]) -> list[tuple[list[Path], bool]]:

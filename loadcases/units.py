@@ -16,6 +16,8 @@ from collections.abc import Mapping, Sequence
 from functools import lru_cache
 from typing import Any
 
+from loadcases.clip import clip
+
 __all__ = ["SIValue", 
     "DIMENSIONS", "FILE_UNIT_KINDS", "RESERVED_NAMES", "UnitError",
     "to_si", "vector_to_si", "unit_constant", "check_unit_name", "finite",
@@ -151,7 +153,7 @@ def _si_magnitude(value: int | float | str, dimension: str,
     quantity = _quantity(value)
     base = quantity.to_base_units()
     if dimension != "any" and not _matches(base.dimensionality, dimension):
-        raise UnitError(f"expected {_describe(DIMENSIONS[dimension])}, got '{_clip(value)}' "
+        raise UnitError(f"expected {_describe(DIMENSIONS[dimension])}, got '{clip(value)}' "
                         f"({_describe(base.dimensionality, base.units)})")
     return float(base.magnitude)
 
@@ -162,15 +164,10 @@ def finite(magnitude: float, given: Any) -> float:
     if math.isfinite(magnitude):
         return magnitude
     if isinstance(given, str):
-        shown = f"'{_clip(given.strip())}'"
+        shown = f"'{clip(given.strip())}'"
     else:
         shown = "NaN" if math.isnan(given) else "infinity" if given > 0 else "-infinity"
     raise UnitError(f"expected a finite number, got {shown}")
-
-
-def _clip(text: str, limit: int = 80) -> str:
-    """`text` cut to `limit` characters (with `...`) for messages."""
-    return text if len(text) <= limit else text[: limit - 3] + "..."
 
 
 def _show(value: Any) -> str:

@@ -5,6 +5,7 @@ from collections.abc import Mapping
 
 from loadcases.checks.common import GROUND, Names, check_expressions, unknown
 from loadcases.checks.mechanism import mechanism_names
+from loadcases.checks.paths import check_name
 from loadcases.diagnostics import Diagnostic
 from loadcases.schema import COORDINATE_DIMENSION, KNOWN_EFFECTS, CaseModel, MechanismModel
 from loadcases.schema.errors import did_you_mean
@@ -135,7 +136,7 @@ def _parameters(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list
 
 def check_case_alone(case: CaseModel, at: Locator) -> list[Diagnostic]:
     """The problems of a case that do not need its mechanism (analysis, effects)."""
-    return _analysis(case, at) + [
+    return _analysis(case, at) + check_name(at, "case", case.case) + [
         unknown(at, ("effects", name), "effect", name, KNOWN_EFFECTS, severity="warning")
         for name in case.effects if name not in KNOWN_EFFECTS]
 

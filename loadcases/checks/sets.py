@@ -5,6 +5,7 @@ from collections.abc import Sequence
 from typing import Any
 
 from loadcases.checks.common import unknown
+from loadcases.checks.paths import check_name, check_report_paths
 from loadcases.diagnostics import Diagnostic
 from loadcases.schema import SetModel
 from loadcases.source import Locator
@@ -29,7 +30,9 @@ def check_set(model: SetModel, at: Locator) -> list[Diagnostic]:
               for n, f in model.factors.items() if f <= 0.0]
     if model.report is not None and not model.report.output.lower().endswith(".xlsx"):
         found.append(at.diagnostic(("report", "output"), "expected an .xlsx file name"))
-    return found
+    if model.report is not None:
+        found += check_report_paths(at, model.report.output, model.report.template)
+    return found + check_name(at, "set", model.set)
 
 
 ULTIMATE = "ultimate"   # the key of the ultimate factor in `factors:`
