@@ -170,14 +170,11 @@ def validate(
 ) -> int:
     """Check files without solving; print `file:line:col: error: key: message` per problem."""
     _require_files(files)
-    from loadcases.loader import file_kind, validate_files
+    from loadcases.precheck import file_problems  # the checks of `loads run`
 
     found, ok_files = [], []
     for path in files:
-        diagnostics = validate_files([path])
-        if file_kind(path) == "case" and not any(d.severity == "error" for d in diagnostics):
-            from loadcases.run import check_case_file  # builds the model: slower import
-            diagnostics += check_case_file(path)
+        diagnostics = file_problems(path)
         found.extend(diagnostics)
         if not any(d.severity == "error" for d in diagnostics):
             ok_files.append(path)

@@ -140,15 +140,11 @@ def _solve_all(compiled: CompiledSet, directory: Path, executor: Executor, force
 
 
 def _prebuild(compiled: CompiledSet) -> None:
-    """Build every case once before solving: what cannot be built is invalid input."""
-    from loadcases.build import build_run
+    """Build and check every case once before solving (the checks of `loads validate`):
+    what cannot be built, or is ill-posed for its analysis, is invalid input."""
+    from loadcases.precheck import set_problems
 
-    problems = []
-    for cf in compiled.cases:
-        try:
-            build_run(cf, abscissa=True)
-        except InputError as error:
-            problems += error.diagnostics
+    problems = set_problems(list(compiled.cases))
     if problems:
         raise InputError(problems)
 

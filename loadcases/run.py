@@ -9,26 +9,12 @@ from loadcases.build import build_mechanism, build_run
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.loader import CaseFile, file_kind, load_case, load_mechanism
 from loadcases.outcome import RunOutcome
+from loadcases.precheck import case_problems, model_diagnostics
 from loadcases.results import write_results
 
 __all__ = ["run_case", "run_file", "check_mechanism_file", "check_case_file"]
 
 Progress = Callable[[float, float], None]
-
-
-def _model_diagnostics(cf: CaseFile, error: ml.ModelError) -> list[Diagnostic]:
-    """Place each well-posedness problem at the joint or motion it names."""
-    out = []
-    for owner, message in error.problems:
-        if owner in cf.mechanism.joints:
-            kind, key = "mechanism", f"joints.{owner}"
-        elif owner in cf.case.motions:
-            kind, key = "case", f"motions.{owner}"
-        else:
-            kind, key = "case", "analysis"
-        file, line, col = cf.where(kind, key)
-        out.append(Diagnostic(file, line, col, key, message))
-    return out
 
 
 def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool = False,
@@ -46,7 +32,7 @@ def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool =
                             initial=built.initial, redundant=built.redundant, throw=False,
                             events=built.events, progress=progress)
     except ml.ModelError as error:
-        raise InputError(_model_diagnostics(cf, error)) from None
+        raise InputError(model_diagnostics(cf, error)) from None
     return RunOutcome(name=name or cf.case.case, case_file=Path(cf.path),
                       analysis=built.analysis.name,
                       solution=solution, input_sha256=cf.input_sha256,
@@ -85,11 +71,6 @@ def check_case_file(path: Path | str) -> list[Diagnostic]:
     """Everything `loads run` would refuse, without solving: the model is built and its
     degrees of freedom and redundant equations are checked (`loads validate` on a case)."""
     try:
-        cf = load_case(path)
-        built = build_run(cf)
-        ml.check_model(ml.System(built.mechanism), built.analysis, redundant=built.redundant)
+        return case_problems(load_case(path))
     except InputError as error:
         return list(error.diagnostics)
-    except ml.ModelError as error:
-        return _model_diagnostics(cf, error)
-    return []

@@ -106,6 +106,9 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
         found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",
                                 severity="warning") for key in ("end", "step", "max_steps")
                   if getattr(analysis, key) is not None]
+    found += [at.diagnostic(("analysis", key), "must be positive")
+              for key in ("tolerance", "max_step")
+              if getattr(analysis, key) is not None and getattr(analysis, key) <= 0.0]
     if kind != "dynamic":
         found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",
                                 severity="warning") for key in ("tolerance", "integrator",

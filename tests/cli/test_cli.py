@@ -141,13 +141,11 @@ def test_validate_prints_diagnostics_sorted_and_ok(tmp_path: Path,
     found = {bad: [Diagnostic("bad.case.yaml", 12, 1, "", "unknown key 'reqests'", hint="did you mean 'requests'?"),
                    Diagnostic("bad.mech.yaml", 3, 7, "bodies.door.mass", "expected a mass, got '2 m'")],
              good: [Diagnostic("good.case.yaml", 2, 1, "loads", "no loads listed", severity="warning")]}
-    module = types.ModuleType("loadcases.loader")
-    module.validate_files = lambda paths: found[str(paths[0])]
-    module.file_kind = lambda path: "case"
-    run_module = types.ModuleType("loadcases.run")  # the deeper check (build, DOF) is clean
-    run_module.check_case_file = lambda path: []
-    monkeypatch.setitem(sys.modules, "loadcases.loader", module)
-    monkeypatch.setitem(sys.modules, "loadcases.run", run_module)
+    module = types.ModuleType("loadcases.precheck")  # every check of a file, build included
+    module.file_problems = lambda path: found[str(path)]
+    monkeypatch.setitem(sys.modules, "loadcases.precheck", module)
+    monkeypatch.setattr(importlib.import_module("loadcases"), "precheck", module,
+                        raising=False)
     result = runner.invoke(app, ["validate", good, bad])
     assert result.exit_code == 2
     assert result.stdout.splitlines() == [
