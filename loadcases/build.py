@@ -169,8 +169,13 @@ class _Builder:
                 self.error("case", f"motions.{name}.value", "a motion must be a function of "
                            "time only (use a force element for state-dependent loads)")
                 continue
-            m.add_motion(name, joint=motion.joint,
-                         function=ExpressionMotion(fn, f"motions.{name}.value"))
+            try:
+                function = ExpressionMotion(fn, f"motions.{name}.value")
+            except ExpressionError as error:  # its rate or acceleration divides by 0
+                self.error("case", f"motions.{name}.value", f"invalid expression: "
+                           f"{error.message} in its time derivative")
+                continue
+            m.add_motion(name, joint=motion.joint, function=function)
         return m
 
     def _joint(self, m: ml.Mechanism, name: str, j) -> None:

@@ -44,6 +44,9 @@ MECHANISM_PROBES = [
     ((PUSH, '"1/0*t"'),
      "crank.mech.yaml:11:46: error: forces.push.value[1]: invalid expression: division by "
      "zero at character 2"),
+    ((PUSH, '"t/(load - 10)"'),
+     "crank.mech.yaml:11:46: error: forces.push.value[1]: invalid expression: division by "
+     "zero at character 2"),
     ((PUSH, '"1e300*1e300*t"'),
      "crank.mech.yaml:11:46: error: forces.push.value[1]: invalid expression: overflow in "
      "'*' at character 6"),
@@ -67,6 +70,9 @@ def test_non_finite_mechanism_values_are_input_errors(crank, tmp_path: Path, com
      "crank.case.yaml:5:29: error: analysis.end: expected a finite number, got infinity"),
     (("step: 0.05", "step: .nan"),
      "crank.case.yaml:5:39: error: analysis.step: expected a finite number, got NaN"),
+    (('"speed * t"', '"speed * t / (speed - 1)"'),
+     "crank.case.yaml:4:25: error: motions.drive.value: invalid expression: division by zero "
+     "at character 11"),
     (('"speed * t"', '"speed * t * 1e999"'),
      "crank.case.yaml:4:45: error: motions.drive.value: invalid expression: number out of "
      "range (not finite)"),
