@@ -82,9 +82,13 @@ def run(
     """Run case or set files and write their results (NAME.csv, NAME.summary.json; for a
     set SET also DIR/SET/envelope.csv and the workbook)."""
     _require_files(files)
+    from loadcases.limits import capped_jobs
     from loadcases.loader import file_kind
 
     _preflight(files, output, file_kind)
+    jobs, note = capped_jobs(jobs)
+    if note is not None:
+        typer.echo(f"loads: warning: {note}", err=True)
     code = EXIT_OK
     for chunk, is_set in _chunks(files, lambda path: file_kind(path) == "set"):
         if is_set:

@@ -20,6 +20,7 @@ from loadcases.checks import (
     check_case, check_case_alone, check_mechanism, check_set, check_set_cases, resolve_initial,
 )
 from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.limits import pattern_problem
 from loadcases.parameter_refs import parameter_values, put_parameters
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import did_you_mean, validation_diagnostics
@@ -275,6 +276,8 @@ def _expand_cases(model: SetModel, locator: Locator) -> tuple[list[str], list[Di
     paths: list[str] = []
     diagnostics: list[Diagnostic] = []
     for index, pattern in enumerate(model.cases):
+        if pattern_problem(pattern) is not None:
+            continue  # never globbed: check_set reports it
         matches = sorted(glob.glob(os.path.join(folder, pattern), recursive=True))
         if not matches:
             diagnostics.append(locator.diagnostic(("cases", index),

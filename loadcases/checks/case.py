@@ -7,6 +7,7 @@ from loadcases.checks.common import GROUND, Names, check_expressions, unknown
 from loadcases.checks.mechanism import mechanism_names
 from loadcases.checks.paths import check_name
 from loadcases.diagnostics import Diagnostic
+from loadcases.limits import rows_problem
 from loadcases.schema import COORDINATE_DIMENSION, KNOWN_EFFECTS, CaseModel, MechanismModel
 from loadcases.schema.errors import did_you_mean
 from loadcases.source import Locator
@@ -102,6 +103,9 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
                                        "number of steps"))
         if analysis.end and analysis.step and analysis.step > analysis.end:
             found.append(at.diagnostic(("analysis", "step"), "step is longer than end"))
+        elif (analysis.end or 0.0) > 0.0 and (analysis.step or 0.0) > 0.0 and \
+                (problem := rows_problem(analysis.end, analysis.step)) is not None:
+            found.append(at.diagnostic(("analysis", "step"), problem))
     else:
         found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",
                                 severity="warning") for key in ("end", "step", "max_steps")

@@ -7,6 +7,7 @@ from typing import Any
 from loadcases.checks.common import unknown
 from loadcases.checks.paths import check_name, check_report_paths
 from loadcases.diagnostics import Diagnostic
+from loadcases.limits import pattern_diagnostics, runs_problem
 from loadcases.schema import SetModel
 from loadcases.source import Locator
 
@@ -32,7 +33,10 @@ def check_set(model: SetModel, at: Locator) -> list[Diagnostic]:
         found.append(at.diagnostic(("report", "output"), "expected an .xlsx file name"))
     if model.report is not None:
         found += check_report_paths(at, model.report.output, model.report.template)
-    return found + check_name(at, "set", model.set)
+    problem = runs_problem(list(model.sweep.values()), min(lengths, default=0))
+    if problem is not None:
+        found.append(at.diagnostic(("sweep",) if model.sweep else ("zip",), problem))
+    return found + check_name(at, "set", model.set) + pattern_diagnostics(at, model.cases)
 
 
 ULTIMATE = "ultimate"   # the key of the ultimate factor in `factors:`
