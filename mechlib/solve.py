@@ -19,6 +19,7 @@ from mechlib.model import Mechanism
 from mechlib.radau import run_radau
 from mechlib.requests import evaluate_requests
 from mechlib.solution import Solution, SolverFailure, SolverStats
+from mechlib.solve_copy import solve_copy
 from mechlib.singularity import toggle_warnings
 from mechlib.static import run_quasi_static, run_static
 from mechlib.system import System
@@ -115,11 +116,13 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
           progress: Callable[[float, float], None] | None = None) -> Solution:
     """Check, assemble and solve; channels `REQUEST.COMPONENT` at the output times.
 
-    Raises ModelError for an ill-posed model (always). A numerical failure raises
+    The `mechanism` is left unchanged (the solve works on its own copy of the force
+    elements): solving it twice gives the same results. Raises ModelError for an ill-posed
+    model (always). A numerical failure raises
     SolverFailure when `throw`, else returns a failed Solution holding what was computed.
     """
     cpu0 = _time.process_time()
-    system = System(mechanism)
+    system = System(solve_copy(mechanism))  # events and memories never change the caller's
     warnings = check_model(system, analysis, redundant=redundant)
     stats, trajectory = SolverStats(), Trajectory(
         snapshot=system.snapshot, check=functools.partial(check_recorded_state, system))
