@@ -102,6 +102,12 @@ def run(
     set SET also DIR/SET/envelope.csv and the workbook)."""
     _require_files(files)
     engine = engine_of(ctx)
+    from loadcases.limits import capped_jobs
+
+    _preflight(files, output)
+    jobs, note = capped_jobs(jobs)
+    if note is not None:
+        typer.echo(f"loads: warning: {note}", err=True)
     code = EXIT_OK
     for chunk, is_set in _chunks(files, _is_set):
         if is_set:
@@ -113,15 +119,33 @@ def run(
     return code
 
 
-def _is_set(path: Path) -> bool:
-    """A set file? (A file that cannot be read is not: the case runner reports why.)"""
+def _kind(path: Path) -> str | None:
+    """The kind of a file, None when it cannot be told (the runner reports why)."""
     from loadcases.diagnostics import InputError
     from loadcases.inputs.kinds import file_kind
 
     try:
-        return file_kind(path) == "set"
+        return file_kind(path)
     except InputError:
-        return False
+        return None
+
+
+def _is_set(path: Path) -> bool:
+    return _kind(path) == "set"
+
+
+def _preflight(files: list[Path], output: Path) -> None:
+    """Exit 2 before solving when `-o` cannot take results or two case files share a
+    `case:` name."""
+    from loadcases.inputs.preflight import duplicate_case_names, output_folder_problem
+
+    problem = output_folder_problem(output)
+    if problem is not None:
+        raise fail(f"-o {output}: {problem}")
+    clashes = duplicate_case_names([path for path in files if _kind(path) == "case"])
+    if clashes:
+        print_diagnostics(clashes, err=True)
+        raise typer.Exit(EXIT_INPUT)
 
 
 def _chunks(files: list[Path], is_set: Callable[[Path], bool]) -> list[tuple[list[Path], bool]]:

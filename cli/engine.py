@@ -41,9 +41,9 @@ def _check_mechanism_file(path: Path) -> list[str]:
 
 
 def _check_file(path: Path) -> list[Any]:
-    from loadcases.run import check_file
+    from loadcases.sets.precheck import file_problems
 
-    return check_file(path)
+    return file_problems(path)
 
 
 @dataclass(frozen=True)

@@ -7,6 +7,8 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
+from loadcases.clip import clip, clip_quotes
+
 __all__ = ["Diagnostic", "InputError", "format_diagnostic", "sort_diagnostics"]
 
 Severity = Literal["error", "warning"]
@@ -31,8 +33,9 @@ class Diagnostic:
     def format(self) -> str:
         """gcc-style text: `file:line:col: error: key: message` (+ a `hint:` line)."""
         where = f"{self.file}:{self.line}:{self.column}"
-        head = f"{where}: {self.severity}: {self.key + ': ' if self.key else ''}{self.message}"
-        return head if self.hint is None else f"{head}\n{where}: hint: {self.hint}"
+        key = clip(self.key) + ": " if self.key else ""  # input is quoted, never in full
+        head = f"{where}: {self.severity}: {key}{clip_quotes(self.message)}"
+        return head if self.hint is None else f"{head}\n{where}: hint: {clip_quotes(self.hint)}"
 
     def keyed_message(self) -> str:
         """`key: message` (the message alone without a key), without the place: how a run's

@@ -9,30 +9,16 @@ from typing import Callable
 import mechlib as ml
 from loadcases.build.model import build_mechanism, build_run
 from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.build.precheck import case_problems, model_diagnostics
 from loadcases.build.torque_margin import plan_torque_margin
 from loadcases.inputs.kinds import file_kind
-from loadcases.inputs.loader import CaseFile, load_case, load_mechanism, validate_files
+from loadcases.inputs.loader import CaseFile, load_case, load_mechanism
 from loadcases.results.outcome import RunOutcome
 from loadcases.results.files import write_results
 
-__all__ = ["run_case", "run_file", "check_mechanism_file", "check_case_file", "check_file"]
+__all__ = ["run_case", "run_file", "check_mechanism_file", "check_case_file"]
 
 Progress = Callable[[float, float], None]
-
-
-def _model_diagnostics(cf: CaseFile, error: ml.ModelError) -> list[Diagnostic]:
-    """Place each well-posedness problem at the joint or motion it names."""
-    out = []
-    for owner, message in error.problems:
-        if owner in cf.mechanism.joints:
-            kind, key = "mechanism", f"joints.{owner}"
-        elif owner in cf.case.motions:
-            kind, key = "case", f"motions.{owner}"
-        else:
-            kind, key = "case", "analysis"
-        file, line, col = cf.where(kind, key)
-        out.append(Diagnostic(file, line, col, key, message))
-    return out
 
 
 def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool = False,
@@ -51,7 +37,7 @@ def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool =
                             initial=built.initial, redundant=built.redundant, throw=False,
                             events=built.events, progress=progress)
     except ml.ModelError as error:
-        raise InputError(_model_diagnostics(cf, error)) from None
+        raise InputError(model_diagnostics(cf, error)) from None
     checks: dict = {}
     if margin is not None:
         solution, checks["torque_margin"], notes = margin.apply(solution)
@@ -93,24 +79,9 @@ def check_mechanism_file(path: Path | str) -> list[str]:
 
 
 def check_case_file(path: Path | str) -> list[Diagnostic]:
-    """Everything `loads run` would refuse, without solving: the model is built and its
-    degrees of freedom and redundant equations are checked (`loads validate` on a case)."""
+    """Everything `loads run` would refuse about a case file, without solving
+    (`loadcases.build.precheck.case_problems`)."""
     try:
-        cf = load_case(path)
-        built = build_run(cf)
-        plan_torque_margin(cf, built)
-        ml.check_model(ml.System(built.mechanism), built.analysis, redundant=built.redundant)
+        return case_problems(load_case(path))
     except InputError as error:
         return list(error.diagnostics)
-    except ml.ModelError as error:
-        return _model_diagnostics(cf, error)
-    return []
-
-
-def check_file(path: Path | str) -> list[Diagnostic]:
-    """Every diagnostic `loads validate` gives one file of any kind (errors and warnings):
-    schema and checks, and for a case without errors the model's checks (`check_case_file`)."""
-    diagnostics = validate_files([path])
-    if not any(d.severity == "error" for d in diagnostics) and file_kind(path) == "case":
-        diagnostics += check_case_file(path)
-    return diagnostics

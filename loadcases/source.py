@@ -16,6 +16,7 @@ import yaml
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
 from loadcases.diagnostics import Diagnostic, InputError, Severity
+from loadcases.limits import MAX_YAML_DEPTH, MAX_YAML_VALUES
 
 __all__ = ["SourceTree", "KeyPath", "Locator", "load_yaml", "parse_yaml", "format_key"]
 
@@ -119,11 +120,18 @@ class _Builder:
         self.tree = tree
         self.constructor = _CoreLoader("")
         self.stack: set[int] = set()
+        self.count = 0  # values built, aliases expanded
 
     def build(self, node: Node, path: KeyPath) -> Any:
         if id(node) in self.stack:
             raise yaml.MarkedYAMLError(problem="an alias refers to itself",
                                        problem_mark=node.start_mark)
+        self.count += 1
+        if self.count > MAX_YAML_VALUES or len(path) > MAX_YAML_DEPTH:
+            raise yaml.MarkedYAMLError(problem=(
+                f"more than {MAX_YAML_VALUES:,} values once aliases are expanded"
+                if self.count > MAX_YAML_VALUES else
+                f"nested more than {MAX_YAML_DEPTH} levels deep"), problem_mark=node.start_mark)
         self.stack.add(id(node))
         try:
             return self._build(node, path)
@@ -194,6 +202,9 @@ def parse_yaml(text: str, file: str) -> SourceTree:
     try:
         node = yaml.compose(text, Loader=_CoreLoader)
         tree.data = _Builder(tree).build(node, ()) if node is not None else None
+    except RecursionError:  # the composer recurses once per nesting level
+        raise InputError([Diagnostic(file, 1, 1, "", "YAML syntax error: nested more than "
+                                     f"{MAX_YAML_DEPTH} levels deep")]) from None
     except yaml.MarkedYAMLError as error:
         mark = error.problem_mark or error.context_mark
         line, col = (mark.line + 1, mark.column + 1) if mark is not None else (0, 0)

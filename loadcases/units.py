@@ -16,9 +16,11 @@ from collections.abc import Mapping, Sequence
 from functools import lru_cache
 from typing import Any
 
+from loadcases.clip import clip
+
 __all__ = ["SIValue", 
     "DIMENSIONS", "FILE_UNIT_KINDS", "RESERVED_NAMES", "UnitError",
-    "to_si", "vector_to_si", "unit_constant", "check_unit_name",
+    "to_si", "vector_to_si", "unit_constant", "check_unit_name", "finite",
 ]
 
 # Expected dimensionality of each dimension name, as {base dimension: exponent}.
@@ -135,19 +137,37 @@ def to_si(value: Any, dimension: str, file_units: Mapping[str, str] | None = Non
         raise UnitError(f"expected a number or a quantity text, got {_show(value)}")
     if isinstance(value, SIValue):
         return float(value)
+    return finite(_si_magnitude(value, dimension, file_units), value)
+
+
+def _si_magnitude(value: int | float | str, dimension: str,
+                  file_units: Mapping[str, str] | None) -> float:
+    """to_si without the finiteness check."""
     if isinstance(value, str) and _NUMBER.match(value):
         value = float(value)
     if not isinstance(value, str):
         unit = _file_unit(dimension, file_units)
-        if unit is None:
+        if unit is None or not math.isfinite(value):
             return float(value)
         return float(_registry().Quantity(float(value), unit).to_base_units().magnitude)
     quantity = _quantity(value)
     base = quantity.to_base_units()
     if dimension != "any" and not _matches(base.dimensionality, dimension):
-        raise UnitError(f"expected {_describe(DIMENSIONS[dimension])}, got '{value}' "
+        raise UnitError(f"expected {_describe(DIMENSIONS[dimension])}, got '{clip(value)}' "
                         f"({_describe(base.dimensionality, base.units)})")
     return float(base.magnitude)
+
+
+def finite(magnitude: float, given: Any) -> float:
+    """`magnitude` if it is finite; else UnitError "expected a finite number, got NaN"
+    (`given`: the input as written, a float or a text)."""
+    if math.isfinite(magnitude):
+        return magnitude
+    if isinstance(given, str):
+        shown = f"'{clip(given.strip())}'"
+    else:
+        shown = "NaN" if math.isnan(given) else "infinity" if given > 0 else "-infinity"
+    raise UnitError(f"expected a finite number, got {shown}")
 
 
 def _show(value: Any) -> str:

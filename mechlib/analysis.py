@@ -87,6 +87,7 @@ class Trajectory:
     """
 
     snapshot: Callable[[], dict] | None = None
+    check: Callable[..., None] | None = None
     at_rest: bool = False
     time: list = field(default_factory=list)
     q: list = field(default_factory=list)
@@ -97,7 +98,9 @@ class Trajectory:
 
     def record(self, t: float, q, qd, qdd, lam, snapshot: dict | None = None) -> None:
         """Append a row; `snapshot`: the system's snapshot to keep with it (default: taken
-        now)."""
+        now). A non-finite state stops the run here (`check`)."""
+        if self.check is not None:
+            self.check(t, q, qd, qdd, lam)
         if snapshot is None:
             snapshot = self.snapshot() if self.snapshot else {}
         self.references.append(snapshot)

@@ -46,6 +46,7 @@ class Status(enum.Enum):
                 "freedom without load path)")
     NOT_HELD = ("not_held", "static equilibrium not found: a body is not held")
     INTEGRATOR_FAILED = ("integrator_failed", "the integrator (scipy) reported a failure")
+    NOT_FINITE = ("not_finite", "a state, a force or a result value is not finite")
     EVALUATION_FAILED = ("evaluation_failed", "an expression, a force element or a request "
                          "could not be evaluated")
 

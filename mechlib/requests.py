@@ -15,7 +15,9 @@ import numpy as np
 
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.reactions import Gatherer, effort_series, reaction_series
+from mechlib.request_failure import partial_columns
 from mechlib.rotation import d_rotate, rotate
+from mechlib.solution import SolverFailure
 from mechlib.system import System
 from mechlib.view import StateView
 
@@ -234,6 +236,7 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
               if isinstance(r, CouplerEffort)}
     stepwise = [r for r in requests if isinstance(r, (JointCoordinate, ElementOutput,
                                                       ExpressionOutput))]
+    failed: dict[str, SolverFailure] = {}
     for i, t in enumerate(trajectory.time if stepwise or loads else ()):
         system.restore_snapshot(trajectory.references[i])  # as the solver had it then
         k = system.kin(trajectory.q[i], trajectory.qd[i], t)
@@ -248,7 +251,14 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
                            trajectory.lam[i]) if trajectory.at_rest else view
         for req in stepwise:
             seen = rest if isinstance(req, ElementOutput) else view
-            for comp, value in _evaluate(system, k, req, seen, trajectory.qdd[i]).items():
+            if req.name in failed:
+                continue
+            try:
+                values = _evaluate(system, k, req, seen, trajectory.qdd[i])
+            except SolverFailure as failure:  # this column stops here, the others go on
+                failed[req.name] = failure
+                continue
+            for comp, value in values.items():
                 per_request[req.name].setdefault(comp, []).append(float(value))
     series: dict[str, dict[str, np.ndarray]] = {}  # whole columns, in request order below
     for req in requests:
@@ -261,8 +271,12 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
             series[req.name] = _effort_columns(system, trajectory, req, *loads[req.name][0])
         elif isinstance(req, CouplerEffort):
             series[req.name] = _coupler_columns(system, trajectory, req, loads[req.name])
-    return {f"{name}.{comp}": np.asarray(values, dtype=float)
-            for name, comps in (per_request | series).items() for comp, values in comps.items()}
+    columns = per_request | series   # every request, in request order
+    channels = {f"{name}.{comp}": np.asarray(values, dtype=float)
+                for name, comps in columns.items() for comp, values in comps.items()}
+    if failed:
+        raise partial_columns(channels, failed, columns, len(trajectory))
+    return channels
 
 
 def _evaluate(system, k, req, view, qdd) -> dict[str, float]:

@@ -1,6 +1,7 @@
 """One entry point: `solve(mechanism, analysis, *, requests, ...) -> Solution`."""
 from __future__ import annotations
 
+import functools
 import time as _time
 from dataclasses import dataclass
 from typing import Callable, Sequence
@@ -11,6 +12,7 @@ from mechlib.analysis import Dynamic, Kinematic, QuasiStatic, Static, Trajectory
 from mechlib.assembly import assemble
 from mechlib.check import ModelError, degrees_of_freedom, find_redundant
 from mechlib.contract import Status, Stepper
+from mechlib.finite import check_recorded_state, explain_failure, nonfinite_channel
 from mechlib.genalpha_stepper import GeneralizedAlphaStepper
 from mechlib.kinematic import KinematicStepper
 from mechlib.march import march
@@ -19,6 +21,7 @@ from mechlib.model import Mechanism
 from mechlib.radau import RadauStepper
 from mechlib.requests import evaluate_requests
 from mechlib.solution import Solution, SolverFailure, SolverStats
+from mechlib.solve_copy import solve_copy
 from mechlib.singularity import toggle_warnings
 from mechlib.static import QuasiStaticStepper, run_static
 from mechlib.system import System
@@ -151,14 +154,18 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
           progress: Callable[[float, float], None] | None = None) -> Solution:
     """Check, assemble and solve; channels `REQUEST.COMPONENT` at the output times.
 
-    Raises ModelError for an ill-posed model (always). A numerical failure raises
-    SolverFailure when `throw`, else returns a failed Solution holding what was computed
-    (`Solution.result` says which failure, `message` when, where and why).
+    The `mechanism` is left unchanged (the solve works on its own copy of the force
+    elements): solving it twice gives the same results. Raises ModelError for an ill-posed
+    model (always). A numerical failure raises SolverFailure when `throw`, else returns a
+    failed Solution holding what was computed (`Solution.result` says which failure,
+    `message` when, where and why). A non-finite state or column is such a failure.
     """
     cpu0 = _time.process_time()
-    system = System(mechanism)
+    system = System(solve_copy(mechanism))  # events and memories never change the caller's
     warnings = check_model(system, analysis, redundant=redundant)
-    run = _Run(Trajectory(snapshot=system.snapshot), SolverStats(), [])
+    run = _Run(Trajectory(snapshot=system.snapshot,
+                          check=functools.partial(check_recorded_state, system)),
+               SolverStats(), [])
     if isinstance(analysis, Modes):
         events = ()  # nothing moves: events have nothing to watch
     try:
@@ -166,14 +173,20 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     except SolverFailure as failure:
         if throw:
             raise
-        run.result, run.message = failure.status, str(failure)
+        run.result = failure.status
+        run.message = explain_failure(system, run.trajectory, failure)
     try:
         times, channels = _channels(system, run, requests)
     except SolverFailure as failure:  # a request that cannot be evaluated (expression error)
         if throw:
             raise
         run.result, run.message = failure.status, f"requests: {failure}"
-        times, channels = np.array(run.trajectory.time), {}
+        times = np.array(run.trajectory.time)
+        channels = getattr(failure, "channels", {})  # the columns that did not fail
+    bad = nonfinite_channel(times, channels) if run.result.ok else None
+    if bad is not None:
+        run.result = Status.NOT_FINITE
+        run.message = f"column {bad[0]} is not finite ({bad[2]:g}) at t = {bad[1]:.6g} s"
     if not isinstance(analysis, Modes):
         warnings += toggle_warnings(system, run.trajectory)
     run.stats.cpu_seconds = _time.process_time() - cpu0

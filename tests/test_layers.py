@@ -17,7 +17,9 @@ ROOT = Path(__file__).resolve().parents[1]
 # Lowest first: a part may import from the layers below its own, never from its own layer
 # (siblings) or above. `loadcases/__init__.py` is the public API and names everything.
 LAYERS: tuple[frozenset[str], ...] = tuple(frozenset(layer.split()) for layer in (
-    "diagnostics units atomic",   # problems as data; quantities; files written whole
+    "clip",                       # input quoted in messages (at most 80 characters)
+    "diagnostics units atomic limits engine_hash",  # problems as data; quantities; files
+                                  # written whole; input limits; the engine's source hash
     "source expressions",         # YAML with positions; the expression language
     "schema",                     # pydantic models of the files
     "checks",                     # semantic checks of the models

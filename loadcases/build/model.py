@@ -122,7 +122,13 @@ class _Builder:
     def compile_tree(self, expression, what: str, kind: str = "mechanism") -> Guarded:
         """A parsed expression (or part of one) compiled and guarded."""
         self._check_measures(expression, what, kind)
-        return Guarded(expression.compile(self.parameters, self.tables), what)
+        try:
+            compiled = expression.compile(self.parameters, self.tables)
+        except ExpressionError as error:  # a constant part that overflows or divides by 0
+            self.error(kind, what, f"invalid expression: {error.message} at character "
+                       f"{error.offset + 1}")
+            compiled = parse("0").compile()
+        return Guarded(compiled, what)
 
     def _check_measures(self, expression, what: str, kind: str) -> None:
         """angle/omega need a rotational joint, travel/speed a translational one, effort a
@@ -161,13 +167,18 @@ class _Builder:
             elif element is not None:
                 m.add_force(element)
         for name, motion in (self.case.motions if self.case else {}).items():
-            fn = parse(motion.value).compile(self.parameters, self.tables)
+            fn = self.compile(motion.value, f"motions.{name}.value", "case").compiled
             if not fn.time_only:
                 self.error("case", f"motions.{name}.value", "a motion must be a function of "
                            "time only (use a force element for state-dependent loads)")
                 continue
-            m.add_motion(name, joint=motion.joint,
-                         function=ExpressionMotion(fn, f"motions.{name}.value"))
+            try:
+                function = ExpressionMotion(fn, f"motions.{name}.value")
+            except ExpressionError as error:  # its rate or acceleration divides by 0
+                self.error("case", f"motions.{name}.value", f"invalid expression: "
+                           f"{error.message} in its time derivative")
+                continue
+            m.add_motion(name, joint=motion.joint, function=function)
         return m
 
     def _joint(self, m: ml.Mechanism, name: str, j) -> None:
@@ -217,7 +228,8 @@ class _Builder:
             return ml.TorsionSpring(name, f.joint, stiffness, f.damping if damping else 0.0,
                                     f.angle0 or 0.0, f.preload or 0.0, law)
         if f.type in ("force", "torque"):
-            parts = [self.compile(str(v), f"forces.{name}.value") for v in f.value]
+            parts = [self.compile(str(v), f"forces.{name}.value[{i}]")
+                     for i, v in enumerate(f.value)]
             if all(p.compiled.is_constant for p in parts):
                 x, y, z = (p.compiled.value or 0.0 for p in parts)  # constants: values set
                 constant = (x, y, z)

@@ -5,7 +5,9 @@ from collections.abc import Mapping
 
 from loadcases.checks.common import GROUND, Names, check_expressions, unknown
 from loadcases.checks.mechanism import mechanism_names
+from loadcases.checks.paths import check_name
 from loadcases.diagnostics import Diagnostic
+from loadcases.limits import rows_problem
 from loadcases.schema import COORDINATE_DIMENSION, KNOWN_EFFECTS, CaseModel, MechanismModel
 from loadcases.schema.errors import did_you_mean
 from loadcases.source import KeyPath, Locator
@@ -102,10 +104,16 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
                                        "number of steps"))
         if analysis.end and analysis.step and analysis.step > analysis.end:
             found.append(at.diagnostic(("analysis", "step"), "step is longer than end"))
+        elif (analysis.end or 0.0) > 0.0 and (analysis.step or 0.0) > 0.0 and \
+                (problem := rows_problem(analysis.end, analysis.step)) is not None:
+            found.append(at.diagnostic(("analysis", "step"), problem))
     else:
         found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",
                                 severity="warning") for key in ("end", "step", "max_steps")
                   if getattr(analysis, key) is not None]
+    found += [at.diagnostic(("analysis", key), "must be positive")
+              for key in ("tolerance", "max_step")
+              if getattr(analysis, key) is not None and getattr(analysis, key) <= 0.0]
     if kind != "dynamic":
         found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",
                                 severity="warning") for key in ("tolerance", "integrator",
@@ -136,7 +144,7 @@ def _parameters(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list
 
 def check_case_alone(case: CaseModel, at: Locator) -> list[Diagnostic]:
     """The problems of a case that do not need its mechanism (analysis, effects)."""
-    return _analysis(case, at) + [
+    return _analysis(case, at) + check_name(at, "case", case.case) + [
         unknown(at, ("effects", name), "effect", name, KNOWN_EFFECTS, severity="warning")
         for name in case.effects if name not in KNOWN_EFFECTS]
 

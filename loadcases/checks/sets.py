@@ -5,11 +5,19 @@ from collections.abc import Sequence
 from typing import Any
 
 from loadcases.checks.common import unknown
+from loadcases.checks.paths import check_name, check_report_paths
 from loadcases.diagnostics import Diagnostic
+from loadcases.limits import pattern_problem, runs_problem
 from loadcases.schema import SetModel
 from loadcases.source import Locator
 
 __all__ = ["check_set", "check_set_cases"]
+
+
+def _pattern_diagnostics(at: Locator, patterns: Sequence[str]) -> list[Diagnostic]:
+    """pattern_problem of each `cases:` entry, at its position."""
+    return [at.diagnostic(("cases", index), problem) for index, pattern in enumerate(patterns)
+            if (problem := pattern_problem(pattern)) is not None]
 
 
 def check_set(model: SetModel, at: Locator) -> list[Diagnostic]:
@@ -29,7 +37,12 @@ def check_set(model: SetModel, at: Locator) -> list[Diagnostic]:
               for n, f in model.factors.items() if f <= 0.0]
     if model.report is not None and not model.report.output.lower().endswith(".xlsx"):
         found.append(at.diagnostic(("report", "output"), "expected an .xlsx file name"))
-    return found
+    if model.report is not None:
+        found += check_report_paths(at, model.report.output, model.report.template)
+    problem = runs_problem(list(model.sweep.values()), min(lengths, default=0))
+    if problem is not None:
+        found.append(at.diagnostic(("sweep",) if model.sweep else ("zip",), problem))
+    return found + check_name(at, "set", model.set) + _pattern_diagnostics(at, model.cases)
 
 
 ULTIMATE = "ultimate"   # the key of the ultimate factor in `factors:`

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import difflib
 import keyword
+import math
 
 from .errors import ExpressionError
 from .functions import FUNCTIONS, MEASURES
@@ -109,7 +110,10 @@ class _Parser:
 
     def prefix(self, token: Token) -> Node:
         if token.kind == "num":
-            return Num(float(token.text), token.offset)
+            value = float(token.text)
+            if not math.isfinite(value):
+                raise ExpressionError("number out of range (not finite)", token.offset)
+            return Num(value, token.offset)
         if token.kind == "name":
             _check_name(token)
             if self.peek().text == "(":

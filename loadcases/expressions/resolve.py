@@ -83,12 +83,27 @@ def fold(node: Node) -> Node:
     node = with_children(node, tuple(fold(child) for child in children(node)))
     if isinstance(node, Call) and node.func == "step":
         _check_step(node)
+    if isinstance(node, Op) and node.op == "/" and _is_zero(node.args[1]):
+        raise ExpressionError("division by zero", node.offset)
     if isinstance(node, (Op, Call)) and all(isinstance(a, Num) for a in node.args):
-        return Num(build_scalar(node)(0.0, None), node.offset)
+        return Num(_constant(node), node.offset)
     if isinstance(node, Op) and node.op == "*" and any(
             isinstance(a, Num) and a.value == 0.0 for a in node.args):
         return Num(0.0, node.offset)
     return node
+
+
+def _is_zero(node: Node) -> bool:
+    return isinstance(node, Num) and node.value == 0.0
+
+
+def _constant(node: Op | Call) -> float:
+    """The value of an operation on constants; ExpressionError if it is not finite."""
+    value = build_scalar(node)(0.0, None)
+    if not math.isfinite(value):
+        name = node.op if isinstance(node, Op) else node.func
+        raise ExpressionError(f"overflow in {name!r}", node.offset)
+    return value
 
 
 def _check_step(node: Call) -> None:

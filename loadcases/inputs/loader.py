@@ -22,6 +22,7 @@ from loadcases.checks import (
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.parameter_refs import ParameterRef, parameter_values, put_parameters
+from loadcases.limits import pattern_problem
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import did_you_mean, validation_diagnostics
 from loadcases.source import KeyPath, Locator, SourceTree, load_yaml
@@ -262,6 +263,8 @@ def _expand_cases(model: SetModel, locator: Locator) -> tuple[list[str], list[Di
     paths: list[str] = []
     diagnostics: list[Diagnostic] = []
     for index, pattern in enumerate(model.cases):
+        if pattern_problem(pattern) is not None:
+            continue  # never globbed: check_set reports it
         matches = sorted(glob.glob(os.path.join(folder, pattern), recursive=True))
         if not matches:
             diagnostics.append(locator.diagnostic(("cases", index),

@@ -25,6 +25,7 @@ import numpy as np
 from loadcases.atomic import atomic_path, atomic_write_text
 from loadcases.build.model import ABSCISSA_COLUMN
 from loadcases.results.saved import SavedRun, find_result_files, load_saved_run
+from loadcases.results.xlsx_text import text_cells
 
 __all__ = [
     "EnvelopeRow", "ENVELOPE_COLUMNS", "extract_envelope", "find_result_files",
@@ -141,6 +142,7 @@ def write_envelope_csv(rows: list[EnvelopeRow], path: Path) -> Path:
     return atomic_write_text(path, envelope_csv_text(rows))
 
 
+@text_cells()  # input text is never a formula
 def write_envelope_xlsx(rows: list[EnvelopeRow], path: Path, *,
                         sources: Iterable[str] = ()) -> Path:
     """A bare workbook: sheet `Envelope` (frozen header) and sheet `Runs` (the sources).

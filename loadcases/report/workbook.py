@@ -29,6 +29,7 @@ from loadcases.report.workbook_tm import has_torque_margin, torque_margin_sheet
 from loadcases.results.saved import RunRecord, SavedRun, family_of
 from loadcases.results.xlsx_floats import exact_floats
 from loadcases.report.workbook_template import COVER_FIELDS, COVER_SHEET, build_template, ensure_styles
+from loadcases.results.xlsx_text import text_cells
 
 __all__ = ["WorkbookData", "write_workbook", "sheet_title", "file_sha256", "MAX_RUN_SHEETS",
            "DEFAULT_TEMPLATE"]
@@ -126,6 +127,7 @@ def _fill_cover(workbook: Any, data: WorkbookData) -> None:
             sheet.cell(row=row, column=2, value=values[label])
 
 
+@text_cells()  # input text is never a formula
 def write_workbook(data: WorkbookData, path: Path, *, template: Path | None = None) -> Path:
     """Write the workbook to `path` atomically; return `path`."""
     from loadcases.report import workbook_charts as charts

@@ -9,6 +9,7 @@ atomically (see `loadcases.atomic`); the summary is written last.
 from __future__ import annotations
 
 import csv
+import hashlib
 import io
 import json
 import math
@@ -18,8 +19,10 @@ from typing import Any
 
 import numpy as np
 
-from loadcases.atomic import atomic_path, atomic_write_text
+from loadcases import engine_hash
+from loadcases.atomic import atomic_path, atomic_write_bytes, atomic_write_text
 from loadcases.results.outcome import RunOutcome
+from loadcases.results.xlsx_text import text_cells
 from mechlib.solution import Solution
 
 __all__ = [
@@ -62,7 +65,9 @@ def write_results(outcome: RunOutcome, output_dir: Path, *, xlsx: bool = False,
     time, channels = _checked_arrays(solution)
     base = result_base(output_dir, outcome.name)
     summary = summary_of(outcome, version=version or package_version())
-    written = [atomic_write_text(_with_suffix(base, ".csv"), _csv_text(time, channels))]
+    csv_bytes = _csv_text(time, channels).encode("utf-8")
+    summary["csv_sha256"] = hashlib.sha256(csv_bytes).hexdigest()  # reuse checks the CSV
+    written = [atomic_write_bytes(_with_suffix(base, ".csv"), csv_bytes)]
     if xlsx:
         written.append(_write_workbook(_with_suffix(base, ".xlsx"), time, channels,
                                        summary, outcome.column_units))
@@ -84,6 +89,7 @@ def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
         "extremes": {name: column_extremes(time, values) for name, values in channels.items()},
         "input_sha256": outcome.input_sha256,
         "version": version,
+        "engine_sha256": engine_hash.engine_sha256(),
         "case_file": str(outcome.case_file),
         "rows": int(time.size),
         "units": {TIME_COLUMN: "s", **outcome.column_units},
@@ -187,6 +193,7 @@ def _cell(value: float) -> float | None:
     return value if math.isfinite(value) else None
 
 
+@text_cells()  # input text is never a formula
 def _write_workbook(path: Path, time: np.ndarray, channels: dict[str, np.ndarray],
                     summary: dict[str, Any], units: dict[str, str]) -> Path:
     """`NAME.xlsx`: sheet `Time histories` (frozen header with units) and sheet `Summary`."""

@@ -13,7 +13,7 @@ from pydantic import BeforeValidator, ConfigDict, Field, ValidationInfo
 from pydantic import BaseModel
 from pydantic_core import PydanticCustomError
 
-from loadcases.units import UnitError, to_si, vector_to_si
+from loadcases.units import UnitError, finite, to_si, vector_to_si
 
 __all__ = [
     "Strict", "SI_UNITS", "describe", "quantity", "vector", "Expression", "Name", "NamePair",
@@ -119,7 +119,10 @@ def expression(dimension: str = "any") -> Any:
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
             raise PydanticCustomError("expression", "expected an expression text or a number")
         if not isinstance(value, str):
-            return repr(float(value))
+            try:
+                return repr(finite(float(value), value))
+            except UnitError as error:
+                raise _fail(error) from None
         if not value.strip():
             raise PydanticCustomError("expression", "empty expression")
         if _EXPRESSION_QUANTITY.match(value):

@@ -3,8 +3,9 @@
 `run_set` writes into `DIR/SET/` (SPEC section 3): each run's `NAME.csv` and
 `NAME.summary.json` (`/` in NAME makes sub-folders), `envelope.csv`, the workbook
 (`report.output`, default `envelope.xlsx`) and, when `loadcases.report.plots` provides it, the
-envelope plots. A run whose summary in `DIR/SET/` has status `ok` and the run's input hash
-(case and mechanism bytes, parameters, engine version; see `loadcases.sets.specs`) is reused,
+envelope plots. A run whose summary in `DIR/SET/` has status `ok`, the run's input hash
+(case and mechanism bytes, parameters, engine version; see `loadcases.sets.specs`), the engine's
+source hash (`loadcases.engine_hash`) and the SHA-256 of the CSV next to it is reused,
 not solved again, unless `force`. Failed runs are solved again (the failure may have been
 fixed elsewhere, e.g. in the engine). One failing run never stops the set: it is recorded
 with its message and left out of the envelope.
@@ -21,6 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
+from loadcases import engine_hash
 from loadcases.report.curves import EnvelopeCurve, envelope_curves, plot_curves
 from loadcases.diagnostics import InputError
 from loadcases.report.envelope import EnvelopeRow, extract_envelope, write_envelope_csv
@@ -92,11 +94,14 @@ def _csv_path(directory: Path, name: str) -> Path:
 
 
 def _reusable(directory: Path, spec: RunSpec) -> RunRecord | None:
-    """The saved record of `spec` if its results are complete, ok and of the same input."""
+    """The saved record of `spec` if its results are complete, ok, of the same input and
+    engine, and its CSV is the one its summary was written with."""
     csv_path = _csv_path(directory, spec.name)
     summary = read_summary(summary_path(csv_path))
     if (summary is None or not csv_path.is_file() or summary.get("status") != "ok"
-            or summary.get("input_sha256") != spec.input_sha256):
+            or summary.get("input_sha256") != spec.input_sha256
+            or summary.get("engine_sha256") != engine_hash.engine_sha256()
+            or summary.get("csv_sha256") != engine_hash.file_sha256(csv_path)):
         return None
     return record_from_summary(summary, csv_path, reused=True)
 
@@ -136,16 +141,11 @@ def _solve_all(compiled: CompiledSet, directory: Path, executor: Executor, force
 
 
 def _prebuild(compiled: CompiledSet) -> None:
-    """Build every case once before solving: what cannot be built is invalid input."""
-    from loadcases.build.model import build_run
-    from loadcases.build.torque_margin import plan_torque_margin
+    """Build and check every case once before solving (the checks of `loads validate`):
+    what cannot be built, or is ill-posed for its analysis, is invalid input."""
+    from loadcases.build.precheck import set_problems
 
-    problems = []
-    for cf in compiled.cases:
-        try:
-            plan_torque_margin(cf, build_run(cf, abscissa=True))
-        except InputError as error:
-            problems += error.diagnostics
+    problems = set_problems(list(compiled.cases))
     if problems:
         raise InputError(problems)
 

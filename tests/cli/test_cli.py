@@ -57,7 +57,7 @@ def fake_engine(behaviour: dict[str, object]) -> Engine:
 
 def case_files(tmp_path: Path, *names: str) -> list[str]:
     for name in names:
-        (tmp_path / name).write_text("case: x\n")
+        (tmp_path / name).write_text(f"case: {name.split('.')[0]}\n")  # names must differ
     return [str(tmp_path / name) for name in names]
 
 

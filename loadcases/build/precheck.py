@@ -1,0 +1,52 @@
+"""Everything `loads run` refuses about a case, short of solving, in one place: `loads
+validate` and `loads run` (of cases and sets) call these same checks, so a file that
+validates is never refused by a run, and a run refuses nothing validate let through.
+
+Beyond the schema and name checks of the loader: the model is built (element/joint
+compatibility, constant expressions, the torque-margin block) and its degrees of freedom and
+redundant equations are checked against the analysis.
+"""
+from __future__ import annotations
+
+import mechlib as ml
+from loadcases.build.model import build_run
+from loadcases.build.torque_margin import plan_torque_margin
+from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.inputs.loader import CaseFile
+
+__all__ = ["case_problems", "set_problems", "model_diagnostics"]
+
+
+def model_diagnostics(cf: CaseFile, error: ml.ModelError) -> list[Diagnostic]:
+    """Place each well-posedness problem at the joint or motion it names."""
+    out = []
+    for owner, message in error.problems:
+        if owner in cf.mechanism.joints:
+            kind, key = "mechanism", f"joints.{owner}"
+        elif owner in cf.case.motions:
+            kind, key = "case", f"motions.{owner}"
+        else:
+            kind, key = "case", "analysis"
+        file, line, col = cf.where(kind, key)
+        out.append(Diagnostic(file, line, col, key, message))
+    return out
+
+
+def case_problems(cf: CaseFile, *, abscissa: bool = False) -> list[Diagnostic]:
+    """What a run of the loaded case would refuse: the model or its torque-margin block
+    cannot be built, or the model has degrees of freedom or redundant equations its
+    analysis does not allow."""
+    try:
+        built = build_run(cf, abscissa=abscissa)
+        plan_torque_margin(cf, built)
+        ml.check_model(ml.System(built.mechanism), built.analysis, redundant=built.redundant)
+    except InputError as error:
+        return list(error.diagnostics)
+    except ml.ModelError as error:
+        return model_diagnostics(cf, error)
+    return []
+
+
+def set_problems(cases: list[CaseFile]) -> list[Diagnostic]:
+    """case_problems of every case of a set (built with the abscissa a set records)."""
+    return [d for cf in cases for d in case_problems(cf, abscissa=True)]

@@ -1,0 +1,52 @@
+"""Documented limits of the input (README "Input rules"): beyond them `loads` stops with
+an input error (exit 2) instead of hanging or running out of memory."""
+from __future__ import annotations
+
+import glob
+import math
+import os
+from collections.abc import Sequence
+
+__all__ = ["MAX_ROWS", "MAX_RUNS", "MAX_YAML_VALUES", "MAX_YAML_DEPTH", "rows_problem",
+           "runs_problem", "pattern_problem", "capped_jobs"]
+
+MAX_ROWS = 10_000_000        # output rows of one run (end / step): ~1 GB of CSV per column set
+MAX_RUNS = 100_000           # runs of one set (sweep x zip)
+MAX_YAML_VALUES = 1_000_000  # values of one YAML file once its aliases are expanded
+MAX_YAML_DEPTH = 100         # nesting of mappings and lists in one YAML file
+
+
+def rows_problem(end: float, step: float) -> str | None:
+    """Why `end / step` output rows are too many, or None."""
+    rows = end / step
+    if rows <= MAX_ROWS:
+        return None
+    return (f"end / step gives {rows:.3g} output rows; at most {MAX_ROWS:,} (take a longer "
+            "step or a shorter end)")
+
+
+def runs_problem(sweep: Sequence[Sequence[float]], zip_length: int) -> str | None:
+    """Why the sweep lists (cartesian product) times the zip rows are too many runs."""
+    runs = math.prod(len(values) for values in sweep) * max(zip_length, 1)
+    if runs <= MAX_RUNS:
+        return None
+    return f"the sweep gives {runs:,} runs; a set has at most {MAX_RUNS:,}"
+
+
+def pattern_problem(pattern: str) -> str | None:
+    """Why a `cases:` glob pattern could reach outside the set file's folder tree."""
+    if not glob.has_magic(pattern):
+        return None
+    parts = pattern.replace("\\", "/").split("/")
+    if os.path.isabs(pattern) or ".." in parts:
+        return (f"the pattern '{pattern[:80]}' leaves the set file's folder; patterns "
+                "stay inside it (name files outside it one by one)")
+    return None
+
+
+def capped_jobs(jobs: int | None) -> tuple[int | None, str | None]:
+    """`jobs` capped at the number of cores, with a warning when it was above."""
+    cores = os.cpu_count() or 1
+    if jobs is None or jobs <= cores:
+        return jobs, None
+    return cores, f"--jobs {jobs} is more than the {cores} cores of this machine: {cores} used"
