@@ -3,21 +3,30 @@
 Kept apart from `benchmarks.suite` so that its dataclasses belong to an importable module
 (`loads bench` executes the suite under another module name).
 """
+
 from __future__ import annotations
 
 import json
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from datetime import datetime, timezone
+from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
 from benchmarks.models import ModelSpec
 
 __all__ = [
-    "REFERENCE_DIR", "REFERENCE_STEP", "EXUDYN_SOLVER", "Reference", "reference_path",
-    "load_reference", "make_reference", "relative_error", "CodeResult",
+    "EXUDYN_SOLVER",
+    "REFERENCE_DIR",
+    "REFERENCE_STEP",
+    "CodeResult",
+    "Reference",
+    "load_reference",
+    "make_reference",
+    "reference_path",
+    "relative_error",
 ]
 
 REFERENCE_DIR = Path(__file__).resolve().parent / "reference"
@@ -40,11 +49,12 @@ class Reference:
     channels: dict[str, np.ndarray]
     meta: dict[str, Any]
 
-    def until(self, end: float) -> "Reference":
+    def until(self, end: float) -> Reference:
         """The part with time <= end (s)."""
         keep = self.time <= end + 1e-9
-        return Reference(self.model, self.time[keep], {k: v[keep] for k, v in self.channels.items()},
-                         self.meta)
+        return Reference(
+            self.model, self.time[keep], {k: v[keep] for k, v in self.channels.items()}, self.meta
+        )
 
 
 def reference_path(model: ModelSpec) -> Path:
@@ -61,12 +71,20 @@ def load_reference(model: ModelSpec) -> Reference | None:
         columns = [str(c) for c in data["columns"]]
         values = data["values"]
         meta = json.loads(str(data["meta"]))
-        return Reference(model.name, data["time"].copy(),
-                         {c: values[:, i].copy() for i, c in enumerate(columns)}, meta)
+        return Reference(
+            model.name,
+            data["time"].copy(),
+            {c: values[:, i].copy() for i, c in enumerate(columns)},
+            meta,
+        )
 
 
-def relative_error(time: np.ndarray, channels: dict[str, np.ndarray], reference: Reference,
-                   columns: tuple[str, ...] | list[str]) -> float:
+def relative_error(
+    time: np.ndarray,
+    channels: dict[str, np.ndarray],
+    reference: Reference,
+    columns: tuple[str, ...] | list[str],
+) -> float:
     """Largest deviation from the reference, relative to the reference's range.
 
     At each time of `time` within the reference's span, the Euclidean norm over `columns` of
@@ -82,7 +100,9 @@ def relative_error(time: np.ndarray, channels: dict[str, np.ndarray], reference:
     for c in columns:
         ref = reference.channels[c]
         scale = max(scale, float(ref.max() - ref.min()))
-        diff = np.asarray(channels[c], dtype=float)[inside] - np.interp(t[inside], reference.time, ref)
+        diff = np.asarray(channels[c], dtype=float)[inside] - np.interp(
+            t[inside], reference.time, ref
+        )
         sq += diff * diff
     if scale == 0.0:
         raise ValueError(f"{reference.model}: the reference of {columns} is constant")
@@ -98,27 +118,42 @@ def make_reference(model: ModelSpec, log: Callable[[str], None] = print) -> Refe
     runs = {}
     for h in (2.0 * step, step):
         log(f"  reference {model.name}: Exudyn step {h:g} s, {int(round(model.end / h))} steps")
-        runs[h] = run_exudyn(model, ExudynOptions(step=h, end=model.end, output_step=model.output_step,
-                                                  linear_solver=EXUDYN_SOLVER))
+        runs[h] = run_exudyn(
+            model,
+            ExudynOptions(
+                step=h, end=model.end, output_step=model.output_step, linear_solver=EXUDYN_SOLVER
+            ),
+        )
     fine, coarse = runs[step], runs[2.0 * step]
     columns = [o.column for o in model.outputs]
     ref = Reference(model.name, fine.time, dict(fine.channels), {})
     self_error = relative_error(coarse.time, coarse.channels, ref, model.main) / 3.0
     meta = {
-        "model": model.name, "code": "exudyn", "exudyn": exudyn_version(),
-        "exudyn_module": fine.info.get("exudyn_module"), "step": step, "end": model.end,
-        "output_step": model.output_step, "integrator": "generalized-alpha, index 3",
-        "spectral_radius": fine.options.spectral_radius, "linear_solver": EXUDYN_SOLVER,
+        "model": model.name,
+        "code": "exudyn",
+        "exudyn": exudyn_version(),
+        "exudyn_module": fine.info.get("exudyn_module"),
+        "step": step,
+        "end": model.end,
+        "output_step": model.output_step,
+        "integrator": "generalized-alpha, index 3",
+        "spectral_radius": fine.options.spectral_radius,
+        "linear_solver": EXUDYN_SOLVER,
         "self_error": self_error,
         "self_error_method": "error of the run at 2*step against this one, / 3 (second order)",
         "solve_seconds": fine.solve_seconds,
-        "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
+        "date": datetime.now(UTC).isoformat(timespec="seconds"),
     }
     ref.meta = meta
     REFERENCE_DIR.mkdir(parents=True, exist_ok=True)
     values = np.column_stack([fine.channels[c] for c in columns])
-    np.savez_compressed(reference_path(model), time=fine.time, values=values,
-                        columns=np.array(columns), meta=np.array(json.dumps(meta)))
+    np.savez_compressed(
+        reference_path(model),
+        time=fine.time,
+        values=values,
+        columns=np.array(columns),
+        meta=np.array(json.dumps(meta)),
+    )
     log(f"  reference {model.name}: stored, estimated error {self_error:.1e}")
     return ref
 

@@ -4,6 +4,7 @@
 `benchmarks.models`; tests/benchmarks/test_models.py checks that the committed files match.
 Each case holds its mechanism inline, so a copy of the file runs anywhere.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -11,7 +12,7 @@ from pathlib import Path
 
 from benchmarks.models import ModelSpec, all_models
 
-__all__ = ["MODELS_DIR", "DEFAULT_TOLERANCE", "case_path", "case_yaml", "write_cases", "main"]
+__all__ = ["DEFAULT_TOLERANCE", "MODELS_DIR", "case_path", "case_yaml", "main", "write_cases"]
 
 MODELS_DIR = Path(__file__).resolve().parent / "models"
 
@@ -47,7 +48,9 @@ def _vector(v: tuple[float, ...] | list[float]) -> str:
     return "[" + ", ".join(_num(c) for c in v) + "]"
 
 
-def case_yaml(model: ModelSpec, end: float | None = None, tolerance: float = DEFAULT_TOLERANCE) -> str:
+def case_yaml(
+    model: ModelSpec, end: float | None = None, tolerance: float = DEFAULT_TOLERANCE
+) -> str:
     """The case file text of `model` (end time `end` s, default the model's; local error
     `tolerance`)."""
     lines: list[str] = [
@@ -56,14 +59,21 @@ def case_yaml(model: ModelSpec, end: float | None = None, tolerance: float = DEF
         "# builds the Exudyn model (benchmarks/exudyn_models.py). Edit the spec, not this file.",
     ]
     lines.extend(f"# {n}" for n in model.notes)
-    lines += [f"case: {model.name}", "mechanism:", f"  name: {model.name}",
-              f"  gravity: {_vector(model.gravity)}", "  bodies:"]
+    lines += [
+        f"case: {model.name}",
+        "mechanism:",
+        f"  name: {model.name}",
+        f"  gravity: {_vector(model.gravity)}",
+        "  bodies:",
+    ]
     for b in model.bodies:
         inertia = b.inertia_list()
         if all(v == 0.0 for v in inertia[3:]):
             inertia = inertia[:3]
-        lines.append(f"    {b.name}: {{mass: {_num(b.mass)}, cm: {_vector(b.cm)}, "
-                     f"inertia: {_vector(inertia)}}}")
+        lines.append(
+            f"    {b.name}: {{mass: {_num(b.mass)}, cm: {_vector(b.cm)}, "
+            f"inertia: {_vector(inertia)}}}"
+        )
     if model.points:
         lines.append("  points:")
         for p in model.points:
@@ -75,13 +85,21 @@ def case_yaml(model: ModelSpec, end: float | None = None, tolerance: float = DEF
             extra = f", axis: {_vector(j.axis)}"
         if j.axes is not None:
             extra = f", axes: [{_vector(j.axes[0])}, {_vector(j.axes[1])}]"
-        lines.append(f"    {j.name}: {{type: {j.type}, bodies: [{j.bodies[0]}, {j.bodies[1]}], "
-                     f"at: {_vector(j.at)}{extra}}}")
+        lines.append(
+            f"    {j.name}: {{type: {j.type}, bodies: [{j.bodies[0]}, {j.bodies[1]}], "
+            f"at: {_vector(j.at)}{extra}}}"
+        )
     if model.initial_rate is not None:
         joint, rate = model.initial_rate
         lines += ["initial:", f"  {joint}: {{value: 0, rate: {_num(rate)}}}"]
-    lines += ["analysis:", "  type: dynamic", f"  end: {_num(model.end if end is None else end)}",
-              f"  step: {_num(model.output_step)}", f"  tolerance: {_num(tolerance)}", "requests:"]
+    lines += [
+        "analysis:",
+        "  type: dynamic",
+        f"  end: {_num(model.end if end is None else end)}",
+        f"  step: {_num(model.output_step)}",
+        f"  tolerance: {_num(tolerance)}",
+        "requests:",
+    ]
     seen: set[str] = set()
     for out in model.outputs:
         if out.request in seen:
@@ -90,7 +108,9 @@ def case_yaml(model: ModelSpec, end: float | None = None, tolerance: float = DEF
         if out.kind == "point_position":
             lines.append(f"  {out.request}: {{point: {out.target}, quantity: position}}")
         elif out.kind == "joint_force":
-            lines.append(f"  {out.request}: {{joint: {out.target}, quantity: force, frame: ground}}")
+            lines.append(
+                f"  {out.request}: {{joint: {out.target}, quantity: force, frame: ground}}"
+            )
         elif out.kind == "joint_angle":
             lines.append(f"  {out.request}: {{joint: {out.target}, quantity: angle}}")
     return "\n".join(lines) + "\n"

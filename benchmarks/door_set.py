@@ -8,6 +8,7 @@ summaries) and the machine. No peer comparison: Exudyn has no load-case sets, en
 
     python -m benchmarks.door_set [--jobs 2] [--json FILE]
 """
+
 from __future__ import annotations
 
 import argparse
@@ -29,17 +30,25 @@ def run_set(jobs: int) -> dict[str, Any]:
     loads = Path(sys.executable).with_name("loads")
     with tempfile.TemporaryDirectory() as out:
         start = time.perf_counter()
-        done = subprocess.run([str(loads), "run", str(DOOR_SET), "--jobs", str(jobs),
-                               "--force", "-o", out], capture_output=True, text=True)
+        done = subprocess.run(
+            [str(loads), "run", str(DOOR_SET), "--jobs", str(jobs), "--force", "-o", out],
+            capture_output=True,
+            text=True,
+        )
         wall = time.perf_counter() - start
         summaries = sorted(Path(out).rglob("*.summary.json"))
         cpu = {}
         for path in summaries:
             summary = json.loads(path.read_text(encoding="utf-8"))
             cpu[summary.get("case", path.stem)] = summary.get("stats", {}).get("cpu_seconds")
-        return {"wall_s": round(wall, 2), "exit": done.returncode, "runs": len(summaries),
-                "cpu_s": cpu, "workbook": any(Path(out).rglob("*.xlsx")),
-                "stderr_tail": done.stderr.strip().splitlines()[-3:]}
+        return {
+            "wall_s": round(wall, 2),
+            "exit": done.returncode,
+            "runs": len(summaries),
+            "cpu_s": cpu,
+            "workbook": any(Path(out).rglob("*.xlsx")),
+            "stderr_tail": done.stderr.strip().splitlines()[-3:],
+        }
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -49,12 +58,19 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     from benchmarks.suite import machine_info
 
-    result = {"machine": machine_info(), "jobs": args.jobs,
-              "first": run_set(args.jobs), "second": run_set(args.jobs), "limit_s": LIMIT}
+    result = {
+        "machine": machine_info(),
+        "jobs": args.jobs,
+        "first": run_set(args.jobs),
+        "second": run_set(args.jobs),
+        "limit_s": LIMIT,
+    }
     for label in ("first", "second"):
         r = result[label]
-        print(f"door set, {label}: {r['wall_s']:.1f} s wall for {r['runs']} runs "
-              f"(--jobs {args.jobs}), exit {r['exit']}, workbook {'yes' if r['workbook'] else 'no'}")
+        print(
+            f"door set, {label}: {r['wall_s']:.1f} s wall for {r['runs']} runs "
+            f"(--jobs {args.jobs}), exit {r['exit']}, workbook {'yes' if r['workbook'] else 'no'}"
+        )
     slowest = sorted(result["second"]["cpu_s"].items(), key=lambda kv: -(kv[1] or 0.0))[:5]
     print("slowest runs (solver cpu s):", ", ".join(f"{k} {v:.1f}" for k, v in slowest if v))
     if args.json:

@@ -22,6 +22,7 @@ Newton with Exudyn's default tolerances, no solution file, sensors stored in mem
 
 `exudyn` is imported on first use only; `ExudynMissing` says how to install it.
 """
+
 from __future__ import annotations
 
 import importlib
@@ -36,8 +37,14 @@ import numpy as np
 from benchmarks.models import ModelSpec, consistent_velocities
 
 __all__ = [
-    "ExudynMissing", "import_exudyn", "exudyn_version", "ExudynOptions", "ExudynRun",
-    "build_system", "run_exudyn", "REACTION_SIGN",
+    "REACTION_SIGN",
+    "ExudynMissing",
+    "ExudynOptions",
+    "ExudynRun",
+    "build_system",
+    "exudyn_version",
+    "import_exudyn",
+    "run_exudyn",
 ]
 
 LinearSolver = Literal["dense", "sparse"]
@@ -70,6 +77,7 @@ def import_exudyn(fast: bool = True) -> ModuleType:
     try:
         import io
         from contextlib import redirect_stdout
+
         with redirect_stdout(io.StringIO()):  # Exudyn prints a note when it loads the fast module
             module = importlib.import_module("exudyn")
             importlib.import_module("exudyn.utilities")
@@ -86,6 +94,7 @@ def exudyn_version() -> str | None:
     """The installed Exudyn version, or None when Exudyn is missing (does not import it)."""
     try:
         from importlib.metadata import PackageNotFoundError, version
+
         return version("exudyn")
     except PackageNotFoundError:
         return None
@@ -152,7 +161,10 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
     """Create the Exudyn system of `model` with the sensors its outputs need, and assemble it."""
     exu = import_exudyn()
     from exudyn.utilities import (  # type: ignore[import-not-found]
-        ObjectGround, RigidBodyInertia, SensorBody, SensorObject,
+        ObjectGround,
+        RigidBodyInertia,
+        SensorBody,
+        SensorObject,
     )
 
     sc = exu.SystemContainer()
@@ -161,37 +173,51 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
     velocities, omegas = consistent_velocities(model)
     bodies: dict[str, Any] = {"ground": ground}
     for i, b in enumerate(model.bodies):
-        inertia = RigidBodyInertia(mass=b.mass, inertiaTensor=b.inertia_matrix, com=np.zeros(3),
-                                   inertiaTensorAtCOM=True)
+        inertia = RigidBodyInertia(
+            mass=b.mass, inertiaTensor=b.inertia_matrix, com=np.zeros(3), inertiaTensorAtCOM=True
+        )
         bodies[b.name] = mbs.CreateRigidBody(
-            name=b.name, referencePosition=list(b.cm), inertia=inertia,
+            name=b.name,
+            referencePosition=list(b.cm),
+            inertia=inertia,
             initialVelocity=[float(c) for c in velocities[i]],
             initialAngularVelocity=[float(c) for c in omegas[i]],
-            gravity=list(model.gravity), nodeType=exu.NodeType.RotationEulerParameters,
-            graphicsDataList=[], show=False)
+            gravity=list(model.gravity),
+            nodeType=exu.NodeType.RotationEulerParameters,
+            graphicsDataList=[],
+            show=False,
+        )
 
     joints: dict[str, Any] = {}
     for j in model.joints:
         items = [bodies[j.bodies[1]], bodies[j.bodies[0]]]  # marker 0: body 2, marker 1: body 1
         at = [float(c) for c in j.at]
         if j.type == "revolute":
-            joints[j.name] = mbs.CreateRevoluteJoint(name=j.name, itemNumbers=items, position=at,
-                                                     axis=list(j.axis), show=False)
+            joints[j.name] = mbs.CreateRevoluteJoint(
+                name=j.name, itemNumbers=items, position=at, axis=list(j.axis), show=False
+            )
         elif j.type == "spherical":
-            joints[j.name] = mbs.CreateSphericalJoint(name=j.name, itemNumbers=items, position=at,
-                                                      show=False)
+            joints[j.name] = mbs.CreateSphericalJoint(
+                name=j.name, itemNumbers=items, position=at, show=False
+            )
         elif j.type == "prismatic":
-            joints[j.name] = mbs.CreatePrismaticJoint(name=j.name, itemNumbers=items, position=at,
-                                                      axis=list(j.axis), show=False)
+            joints[j.name] = mbs.CreatePrismaticJoint(
+                name=j.name, itemNumbers=items, position=at, axis=list(j.axis), show=False
+            )
         elif j.type == "universal":
             a1 = np.array(j.axes[0], dtype=float)  # fixed in body 1 = marker 1 (joint-1 z axis)
             a2 = np.array(j.axes[1], dtype=float)  # fixed in body 2 = marker 0 (joint-0 y axis)
             a1 /= np.linalg.norm(a1)
             a2 /= np.linalg.norm(a2)
             rot = np.column_stack([np.cross(a2, a1), a2, a1])
-            joints[j.name] = mbs.CreateGenericJoint(name=j.name, itemNumbers=items, position=at,
-                                                    rotationMatrixAxes=rot,
-                                                    constrainedAxes=[1, 1, 1, 1, 0, 0], show=False)
+            joints[j.name] = mbs.CreateGenericJoint(
+                name=j.name,
+                itemNumbers=items,
+                position=at,
+                rotationMatrixAxes=rot,
+                constrainedAxes=[1, 1, 1, 1, 0, 0],
+                show=False,
+            )
         else:  # pragma: no cover - JointSpec.type is a Literal
             raise ValueError(f"unsupported joint type {j.type}")
 
@@ -203,35 +229,65 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
             p = model.point(out.target)
             body = model.body(p.body)
             local = (np.array(p.at) - np.array(body.cm)).tolist()
-            s = mbs.AddSensor(SensorBody(bodyNumber=bodies[p.body], localPosition=local,
-                                         outputVariableType=exu.OutputVariableType.Position,
-                                         storeInternal=True, writeToFile=False))
+            s = mbs.AddSensor(
+                SensorBody(
+                    bodyNumber=bodies[p.body],
+                    localPosition=local,
+                    outputVariableType=exu.OutputVariableType.Position,
+                    storeInternal=True,
+                    writeToFile=False,
+                )
+            )
             channel_sensors[out.column] = (int(s), axis_index[out.component], 1.0, None)
         elif out.kind == "joint_force":
             joint = model.joint(out.target)
             if joint.bodies[1] != "ground":
-                raise ValueError(f"{model.name}: a joint_force output needs a ground joint "
-                                 f"(its marker 0 frame is then fixed), {joint.name} is not one")
+                raise ValueError(
+                    f"{model.name}: a joint_force output needs a ground joint "
+                    f"(its marker 0 frame is then fixed), {joint.name} is not one"
+                )
             marker0 = mbs.GetObject(joints[out.target])["markerNumbers"][0]
             rot = np.array(mbs.GetMarker(marker0)["localHT"], dtype=float)[:3, :3]
-            s = mbs.AddSensor(SensorObject(objectNumber=joints[out.target],
-                                           outputVariableType=exu.OutputVariableType.ForceLocal,
-                                           storeInternal=True, writeToFile=False))
+            s = mbs.AddSensor(
+                SensorObject(
+                    objectNumber=joints[out.target],
+                    outputVariableType=exu.OutputVariableType.ForceLocal,
+                    storeInternal=True,
+                    writeToFile=False,
+                )
+            )
             channel_sensors[out.column] = (int(s), axis_index[out.component], REACTION_SIGN, rot)
         elif out.kind == "joint_angle":
-            s = mbs.AddSensor(SensorObject(objectNumber=joints[out.target],
-                                           outputVariableType=exu.OutputVariableType.Rotation,
-                                           storeInternal=True, writeToFile=False))
+            s = mbs.AddSensor(
+                SensorObject(
+                    objectNumber=joints[out.target],
+                    outputVariableType=exu.OutputVariableType.Rotation,
+                    storeInternal=True,
+                    writeToFile=False,
+                )
+            )
             channel_sensors[out.column] = (int(s), 2, 1.0, None)
 
     body_sensors: dict[str, tuple[int, int, int, int]] = {}
-    joint_point_sensors: list[tuple[str, int | None, int | None, np.ndarray, np.ndarray | None]] = []
+    joint_point_sensors: list[
+        tuple[str, int | None, int | None, np.ndarray, np.ndarray | None]
+    ] = []
     if options.check:
         ovt = exu.OutputVariableType
         for b in model.bodies:
-            ids = tuple(int(mbs.AddSensor(SensorBody(bodyNumber=bodies[b.name], outputVariableType=v,
-                                                     storeInternal=True, writeToFile=False)))
-                        for v in (ovt.Position, ovt.Velocity, ovt.AngularVelocity, ovt.RotationMatrix))
+            ids = tuple(
+                int(
+                    mbs.AddSensor(
+                        SensorBody(
+                            bodyNumber=bodies[b.name],
+                            outputVariableType=v,
+                            storeInternal=True,
+                            writeToFile=False,
+                        )
+                    )
+                )
+                for v in (ovt.Position, ovt.Velocity, ovt.AngularVelocity, ovt.RotationMatrix)
+            )
             body_sensors[b.name] = ids  # type: ignore[assignment]
         for j in model.joints:
             ids: list[int | None] = []
@@ -240,13 +296,25 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
                     ids.append(None)
                     continue
                 local = (np.array(j.at) - np.array(model.body(name).cm)).tolist()
-                ids.append(int(mbs.AddSensor(SensorBody(bodyNumber=bodies[name], localPosition=local,
-                                                        outputVariableType=ovt.Position,
-                                                        storeInternal=True, writeToFile=False))))
+                ids.append(
+                    int(
+                        mbs.AddSensor(
+                            SensorBody(
+                                bodyNumber=bodies[name],
+                                localPosition=local,
+                                outputVariableType=ovt.Position,
+                                storeInternal=True,
+                                writeToFile=False,
+                            )
+                        )
+                    )
+                )
             slide = None
             if j.type == "prismatic":
                 if j.bodies[1] != "ground":
-                    raise ValueError(f"{model.name}: the gap check of {j.name} needs body 2 = ground")
+                    raise ValueError(
+                        f"{model.name}: the gap check of {j.name} needs body 2 = ground"
+                    )
                 slide = np.array(j.axis, dtype=float) / np.linalg.norm(j.axis)
             joint_point_sensors.append((j.name, ids[0], ids[1], np.array(j.at, dtype=float), slide))
 
@@ -260,11 +328,16 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
     ti.generalizedAlpha.spectralRadius = options.spectral_radius
     ti.generalizedAlpha.computeInitialAccelerations = True
     settings.solution.file.write = False
-    settings.solution.sensors.writePeriod = options.step if record_every_step else options.output_step
+    settings.solution.sensors.writePeriod = (
+        options.step if record_every_step else options.output_step
+    )
     settings.show.statistics = False
     settings.show.computationTime = False
-    settings.linearSolver.solverType = (exu.LinearSolverType.EXUdense if options.linear_solver == "dense"
-                                        else exu.LinearSolverType.EigenSparse)
+    settings.linearSolver.solverType = (
+        exu.LinearSolverType.EXUdense
+        if options.linear_solver == "dense"
+        else exu.LinearSolverType.EigenSparse
+    )
     return _Built(sc, mbs, settings, channel_sensors, body_sensors, joint_point_sensors)
 
 
@@ -279,7 +352,9 @@ def _energy(model: ModelSpec, built: _Built) -> np.ndarray:
         omg = built.mbs.GetSensorStoredData(sw)[:, 1:4]
         rot = built.mbs.GetSensorStoredData(sr)[:, 1:10].reshape(-1, 3, 3)
         inertia = np.einsum("nij,jk,nlk->nil", rot, b.inertia_matrix, rot)
-        kinetic = 0.5 * b.mass * np.sum(vel * vel, axis=1) + 0.5 * np.einsum("ni,nij,nj->n", omg, inertia, omg)
+        kinetic = 0.5 * b.mass * np.sum(vel * vel, axis=1) + 0.5 * np.einsum(
+            "ni,nij,nj->n", omg, inertia, omg
+        )
         potential = -b.mass * pos @ g
         e = kinetic + potential
         total = e if total is None else total + e
@@ -329,9 +404,15 @@ def run_exudyn(model: ModelSpec, options: ExudynOptions) -> ExudynRun:
         values = data[:, 1:4] @ rot.T if rot is not None else data[:, 1:]
         channels[column] = sign * values[:, component]
     assert times is not None
-    run = ExudynRun(model=model.name, options=options, time=times, channels=channels,
-                    build_seconds=t1 - t0, solve_seconds=t2 - t1,
-                    steps=int(built.settings.timeIntegration.numberOfSteps))
+    run = ExudynRun(
+        model=model.name,
+        options=options,
+        time=times,
+        channels=channels,
+        build_seconds=t1 - t0,
+        solve_seconds=t2 - t1,
+        steps=int(built.settings.timeIntegration.numberOfSteps),
+    )
     stats = built.mbs.sys.get("dynamicSolver") if hasattr(built.mbs, "sys") else None
     if stats is not None and hasattr(stats, "it"):
         run.info["newton_iterations"] = int(stats.it.newtonStepsCount)

@@ -9,6 +9,7 @@ case file, so both codes integrate the same equations of motion.
 
 All quantities are SI: m, kg, kg*m^2, s, rad, rad/s, m/s^2.
 """
+
 from __future__ import annotations
 
 import math
@@ -18,10 +19,20 @@ from typing import Literal
 import numpy as np
 
 __all__ = [
-    "BodySpec", "JointSpec", "PointSpec", "OutputSpec", "ModelSpec",
-    "slider_crank", "chain20", "fourbar10", "all_models", "model_by_name",
-    "JOINT_EQUATIONS", "constraint_velocity_jacobian", "consistent_velocities",
+    "JOINT_EQUATIONS",
+    "BodySpec",
+    "JointSpec",
+    "ModelSpec",
+    "OutputSpec",
+    "PointSpec",
+    "all_models",
+    "chain20",
+    "consistent_velocities",
+    "constraint_velocity_jacobian",
     "degrees_of_freedom",
+    "fourbar10",
+    "model_by_name",
+    "slider_crank",
 ]
 
 JointType = Literal["revolute", "spherical", "universal", "prismatic"]
@@ -54,8 +65,14 @@ class BodySpec:
     def inertia_list(self) -> list[float]:
         """`[Ixx, Iyy, Izz, Ixy, Ixz, Iyz]` tensor entries (kg*m^2), as SPEC 1.2 writes them."""
         i = self.inertia_matrix
-        return [float(i[0, 0]), float(i[1, 1]), float(i[2, 2]),
-                float(i[0, 1]), float(i[0, 2]), float(i[1, 2])]
+        return [
+            float(i[0, 0]),
+            float(i[1, 1]),
+            float(i[2, 2]),
+            float(i[0, 1]),
+            float(i[0, 2]),
+            float(i[1, 2]),
+        ]
 
 
 @dataclass(frozen=True)
@@ -198,9 +215,16 @@ def slider_crank() -> ModelSpec:
     joints = (
         JointSpec("pivot", "revolute", ("crank", "ground"), (0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0)),
         JointSpec("big", "spherical", ("rod", "crank"), (0.1, 0.0, 0.0)),
-        JointSpec("small", "universal", ("slider", "rod"), (0.4, 0.0, 0.0),
-                  axes=((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))),
-        JointSpec("guide", "prismatic", ("slider", "ground"), (0.4, 0.0, 0.0), axis=(1.0, 0.0, 0.0)),
+        JointSpec(
+            "small",
+            "universal",
+            ("slider", "rod"),
+            (0.4, 0.0, 0.0),
+            axes=((0.0, 0.0, 1.0), (0.0, 1.0, 0.0)),
+        ),
+        JointSpec(
+            "guide", "prismatic", ("slider", "ground"), (0.4, 0.0, 0.0), axis=(1.0, 0.0, 0.0)
+        ),
     )
     points = (
         PointSpec("crank_pin", "crank", (0.1, 0.0, 0.0)),
@@ -212,10 +236,18 @@ def slider_crank() -> ModelSpec:
         OutputSpec("pivot_force", "fy", "joint_force", "pivot"),
     )
     return ModelSpec(
-        name="slider_crank", title="slider-crank (SPEC 1.2), free, 1 s",
-        bodies=bodies, joints=joints, points=points, gravity=(0.0, -GRAVITY, 0.0),
-        end=1.0, quick_end=0.25, output_step=1e-3, outputs=outputs,
-        main=("slider_pos.x",), secondary=("pivot_force.fx", "pivot_force.fy"),
+        name="slider_crank",
+        title="slider-crank (SPEC 1.2), free, 1 s",
+        bodies=bodies,
+        joints=joints,
+        points=points,
+        gravity=(0.0, -GRAVITY, 0.0),
+        end=1.0,
+        quick_end=0.25,
+        output_step=1e-3,
+        outputs=outputs,
+        main=("slider_pos.x",),
+        secondary=("pivot_force.fx", "pivot_force.fy"),
         initial_rate=("pivot", 2.0 * math.pi),
         notes=("3 bodies, 17 constraint equations, 1 DOF",),
     )
@@ -225,11 +257,11 @@ def slider_crank() -> ModelSpec:
 # b. 20-link spatial chain
 # --------------------------------------------------------------------------------------
 CHAIN_LINKS = 20
-CHAIN_LENGTH = 0.1      # m, each link
-CHAIN_MASS = 0.1        # kg, each link
+CHAIN_LENGTH = 0.1  # m, each link
+CHAIN_MASS = 0.1  # kg, each link
 CHAIN_I_AXIAL = 1.25e-6  # kg*m^2, about the link axis (rod of radius 5 mm)
 CHAIN_I_TRANSVERSE = 8.4e-5  # kg*m^2, about a transverse axis through the cm (~ m L^2 / 12)
-CHAIN_BEND = 0.02       # rad, heading change from one link to the next in the horizontal plane
+CHAIN_BEND = 0.02  # rad, heading change from one link to the next in the horizontal plane
 
 
 def chain_joint_points() -> np.ndarray:
@@ -270,10 +302,17 @@ def chain20() -> ModelSpec:
     points = (PointSpec("tip", f"link{CHAIN_LINKS - 1}", _vec(pts[-1])),)
     outputs = tuple(OutputSpec("tip", c, "point_position", "tip") for c in ("x", "y", "z"))
     return ModelSpec(
-        name="chain20", title="20-link spatial chain, spherical joints, 2 s",
-        bodies=tuple(bodies), joints=tuple(joints), points=points,
-        gravity=(0.0, -GRAVITY, 0.0), end=2.0, quick_end=0.5, output_step=5e-3,
-        outputs=outputs, main=("tip.x", "tip.y", "tip.z"),
+        name="chain20",
+        title="20-link spatial chain, spherical joints, 2 s",
+        bodies=tuple(bodies),
+        joints=tuple(joints),
+        points=points,
+        gravity=(0.0, -GRAVITY, 0.0),
+        end=2.0,
+        quick_end=0.5,
+        output_step=5e-3,
+        outputs=outputs,
+        main=("tip.x", "tip.y", "tip.z"),
         notes=("20 bodies, 60 constraint equations, 60 DOF",),
     )
 
@@ -282,12 +321,12 @@ def chain20() -> ModelSpec:
 # c. ten four-bar loops in series
 # --------------------------------------------------------------------------------------
 FOURBAR_LOOPS = 10
-FOURBAR_PITCH = 0.2      # m, between ground pivots
-FOURBAR_LINK = 0.15      # m, pivot to the lower (input) point of a link
-FOURBAR_OFFSET = 0.03    # m, x offset of a link's output point from its input point
+FOURBAR_PITCH = 0.2  # m, between ground pivots
+FOURBAR_LINK = 0.15  # m, pivot to the lower (input) point of a link
+FOURBAR_OFFSET = 0.03  # m, x offset of a link's output point from its input point
 FOURBAR_LINK_MASS = 0.2  # kg
 FOURBAR_COUPLER_MASS = 0.1  # kg
-FOURBAR_RATE = 2.0       # rad/s, initial rate of the first link
+FOURBAR_RATE = 2.0  # rad/s, initial rate of the first link
 
 
 def fourbar10() -> ModelSpec:
@@ -311,24 +350,51 @@ def fourbar10() -> ModelSpec:
     eye = np.eye(3)
     for k in range(FOURBAR_LOOPS + 1):
         g = np.array([FOURBAR_PITCH * k, 0.0, 0.0])
-        bodies.append(BodySpec(f"link{k}", FOURBAR_LINK_MASS, _vec(g + [0.0, -FOURBAR_LINK / 2, 0.0]),
-                               _rotated_inertia(link_local, eye)))
-        joints.append(JointSpec(f"r{k}", "revolute", (f"link{k}", "ground"), _vec(g),
-                                axis=(0.0, 0.0, 1.0)))
+        bodies.append(
+            BodySpec(
+                f"link{k}",
+                FOURBAR_LINK_MASS,
+                _vec(g + [0.0, -FOURBAR_LINK / 2, 0.0]),
+                _rotated_inertia(link_local, eye),
+            )
+        )
+        joints.append(
+            JointSpec(f"r{k}", "revolute", (f"link{k}", "ground"), _vec(g), axis=(0.0, 0.0, 1.0))
+        )
     for k in range(FOURBAR_LOOPS):
         s = np.array([FOURBAR_PITCH * k + FOURBAR_OFFSET, -FOURBAR_LINK, 0.0])
         u = np.array([FOURBAR_PITCH * (k + 1), -FOURBAR_LINK, 0.0])
-        bodies.append(BodySpec(f"coupler{k}", FOURBAR_COUPLER_MASS, _vec(0.5 * (s + u)),
-                               _rotated_inertia(coupler_local, eye)))
+        bodies.append(
+            BodySpec(
+                f"coupler{k}",
+                FOURBAR_COUPLER_MASS,
+                _vec(0.5 * (s + u)),
+                _rotated_inertia(coupler_local, eye),
+            )
+        )
         joints.append(JointSpec(f"s{k}", "spherical", (f"coupler{k}", f"link{k}"), _vec(s)))
-        joints.append(JointSpec(f"u{k}", "universal", (f"link{k + 1}", f"coupler{k}"), _vec(u),
-                                axes=((0.0, 0.0, 1.0), (0.0, 1.0, 0.0))))
+        joints.append(
+            JointSpec(
+                f"u{k}",
+                "universal",
+                (f"link{k + 1}", f"coupler{k}"),
+                _vec(u),
+                axes=((0.0, 0.0, 1.0), (0.0, 1.0, 0.0)),
+            )
+        )
     outputs = (OutputSpec("rocker_angle", "value", "joint_angle", f"r{FOURBAR_LOOPS}"),)
     return ModelSpec(
-        name="fourbar10", title="10 four-bar loops in series (R-S-U-R), 10 s",
-        bodies=tuple(bodies), joints=tuple(joints), points=(),
-        gravity=(0.0, -GRAVITY, 0.0), end=10.0, quick_end=2.0, output_step=1e-2,
-        outputs=outputs, main=("rocker_angle.value",),
+        name="fourbar10",
+        title="10 four-bar loops in series (R-S-U-R), 10 s",
+        bodies=tuple(bodies),
+        joints=tuple(joints),
+        points=(),
+        gravity=(0.0, -GRAVITY, 0.0),
+        end=10.0,
+        quick_end=2.0,
+        output_step=1e-2,
+        outputs=outputs,
+        main=("rocker_angle.value",),
         initial_rate=("r0", FOURBAR_RATE),
         notes=("21 bodies, 125 constraint equations, 1 DOF, no redundant equation",),
     )
@@ -380,15 +446,15 @@ def constraint_velocity_jacobian(model: ModelSpec) -> tuple[np.ndarray, list[str
             return block
         i = index[body]
         r = at - np.array(model.body(body).cm)
-        block[:, 6 * i:6 * i + 3] = sign * np.eye(3)
-        block[:, 6 * i + 3:6 * i + 6] = -sign * _skew(r)
+        block[:, 6 * i : 6 * i + 3] = sign * np.eye(3)
+        block[:, 6 * i + 3 : 6 * i + 6] = -sign * _skew(r)
         return block
 
     def omega_rows(body: str, sign: float) -> np.ndarray:
         block = np.zeros((3, n))
         if body != "ground":
             i = index[body]
-            block[:, 6 * i + 3:6 * i + 6] = sign * np.eye(3)
+            block[:, 6 * i + 3 : 6 * i + 6] = sign * np.eye(3)
         return block
 
     for j in model.joints:
@@ -444,7 +510,7 @@ def consistent_velocities(model: ModelSpec) -> tuple[np.ndarray, np.ndarray]:
     axis = np.array(joint.axis) / np.linalg.norm(joint.axis)
     for body, sign in zip(joint.bodies, (1.0, -1.0)):
         if body != "ground":
-            drive[6 * index[body] + 3:6 * index[body] + 6] = sign * axis
+            drive[6 * index[body] + 3 : 6 * index[body] + 6] = sign * axis
     a = np.vstack([jac, drive])
     rhs = np.zeros(a.shape[0])
     rhs[-1] = rate

@@ -24,6 +24,7 @@ timed. The ratio is loads / Exudyn.
 
 Run: `.venv/bin/python -m benchmarks.suite [--quick] [--json FILE]`.
 """
+
 from __future__ import annotations
 
 import argparse
@@ -35,22 +36,37 @@ import subprocess
 import sys
 import tempfile
 import time
-from datetime import datetime, timezone
+from collections.abc import Callable
+from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any, Callable
+from typing import Any
 
 import numpy as np
 
 from benchmarks.accuracy import (
-    EXUDYN_SOLVER, REFERENCE_DIR, REFERENCE_STEP, CodeResult, Reference, load_reference,
-    make_reference, relative_error,
+    EXUDYN_SOLVER,
+    REFERENCE_DIR,
+    REFERENCE_STEP,
+    CodeResult,
+    Reference,
+    load_reference,
+    make_reference,
+    relative_error,
 )
 from benchmarks.cases import case_path
 from benchmarks.models import ModelSpec, all_models, model_by_name
 
 __all__ = [
-    "REFERENCE_DIR", "REFERENCE_STEP", "EXUDYN_START_STEP", "LOADS_TOLERANCES",
-    "Reference", "load_reference", "make_reference", "relative_error", "machine_info", "main",
+    "EXUDYN_START_STEP",
+    "LOADS_TOLERANCES",
+    "REFERENCE_DIR",
+    "REFERENCE_STEP",
+    "Reference",
+    "load_reference",
+    "machine_info",
+    "main",
+    "make_reference",
+    "relative_error",
 ]
 
 #: Largest Exudyn step (s) tried; the suite halves it until the accuracy target is met.
@@ -65,14 +81,24 @@ MAX_HALVINGS = 10
 # --------------------------------------------------------------------------------------
 # the two codes
 # --------------------------------------------------------------------------------------
-def _secondary(model: ModelSpec, time_: np.ndarray, channels: dict[str, np.ndarray],
-               ref: Reference) -> dict[str, float]:
-    return {c: relative_error(time_, channels, ref, (c,)) for c in model.secondary
-            if c in channels and c in ref.channels}
+def _secondary(
+    model: ModelSpec, time_: np.ndarray, channels: dict[str, np.ndarray], ref: Reference
+) -> dict[str, float]:
+    return {
+        c: relative_error(time_, channels, ref, (c,))
+        for c in model.secondary
+        if c in channels and c in ref.channels
+    }
 
 
-def bench_exudyn(model: ModelSpec, end: float, ref: Reference, tol: float, repeat: int,
-                 log: Callable[[str], None]) -> CodeResult:
+def bench_exudyn(
+    model: ModelSpec,
+    end: float,
+    ref: Reference,
+    tol: float,
+    repeat: int,
+    log: Callable[[str], None],
+) -> CodeResult:
     """Calibrate Exudyn's fixed step to `tol`, then time it `repeat` times (best kept)."""
     from benchmarks.exudyn_models import ExudynOptions, run_exudyn
 
@@ -80,7 +106,9 @@ def bench_exudyn(model: ModelSpec, end: float, ref: Reference, tol: float, repea
     step = EXUDYN_START_STEP[model.name]
     chosen = None
     for _ in range(MAX_HALVINGS + 1):
-        opts = ExudynOptions(step=step, end=end, output_step=model.output_step, linear_solver=EXUDYN_SOLVER)
+        opts = ExudynOptions(
+            step=step, end=end, output_step=model.output_step, linear_solver=EXUDYN_SOLVER
+        )
         try:
             run = run_exudyn(model, opts)
             err = relative_error(run.time, run.channels, ref, model.main)
@@ -112,9 +140,13 @@ def bench_exudyn(model: ModelSpec, end: float, ref: Reference, tol: float, repea
     res.secondary_errors = _secondary(model, run.time, run.channels, ref)
     res.solve_seconds, res.build_seconds, res.total_seconds = best_solve, best_build, best_total
     res.steps = run.steps
-    res.extra = {"step": chosen.step, "spectral_radius": chosen.spectral_radius,
-                 "linear_solver": chosen.linear_solver, "exudyn_module": run.info.get("exudyn_module"),
-                 "newton_iterations": run.info.get("newton_iterations")}
+    res.extra = {
+        "step": chosen.step,
+        "spectral_radius": chosen.spectral_radius,
+        "linear_solver": chosen.linear_solver,
+        "exudyn_module": run.info.get("exudyn_module"),
+        "newton_iterations": run.info.get("newton_iterations"),
+    }
     return res
 
 
@@ -159,8 +191,14 @@ def _loads_api() -> tuple[Callable[..., Any], Callable[..., Any] | None]:
     return run_file, staged
 
 
-def bench_loads(model: ModelSpec, end: float, ref: Reference, tol: float, repeat: int,
-                log: Callable[[str], None]) -> CodeResult:
+def bench_loads(
+    model: ModelSpec,
+    end: float,
+    ref: Reference,
+    tol: float,
+    repeat: int,
+    log: Callable[[str], None],
+) -> CodeResult:
     """Calibrate `loads`'s `analysis.tolerance` to `tol`, then time it `repeat` times.
 
     Calibration calls `run_file`. The timed runs call the stages of `run_file` one by one
@@ -205,12 +243,19 @@ def bench_loads(model: ModelSpec, end: float, ref: Reference, tol: float, repeat
                 break
         if chosen is None:
             res.status = "failed"
-            res.message = (f"no tolerance down to {LOADS_TOLERANCES[-1]:g} reached the error target "
-                           f"{tol:g} (best {min((e for _, e in res.calibration if e is not None), default=float('nan')):.2e})")
+            res.message = (
+                f"no tolerance down to {LOADS_TOLERANCES[-1]:g} reached the error target "
+                f"{tol:g} (best {min((e for _, e in res.calibration if e is not None), default=float('nan')):.2e})"
+            )
             return res
         case = _case_copy(model, end, chosen, work)
-        best = {"solve": float("inf"), "total": float("inf"), "parse": float("inf"),
-                "write": float("inf"), "cpu": float("inf")}
+        best = {
+            "solve": float("inf"),
+            "total": float("inf"),
+            "parse": float("inf"),
+            "write": float("inf"),
+            "cpu": float("inf"),
+        }
         for _ in range(repeat):
             gc.collect()
             if staged is not None:
@@ -222,8 +267,13 @@ def bench_loads(model: ModelSpec, end: float, ref: Reference, tol: float, repeat
                 total_s = time.perf_counter() - t0
                 parse_s = write_s = float("nan")
                 solve_s = float(outcome.solution.stats.cpu_seconds)
-            for key, value in (("solve", solve_s), ("total", total_s), ("parse", parse_s),
-                               ("write", write_s), ("cpu", float(outcome.solution.stats.cpu_seconds))):
+            for key, value in (
+                ("solve", solve_s),
+                ("total", total_s),
+                ("parse", parse_s),
+                ("write", write_s),
+                ("cpu", float(outcome.solution.stats.cpu_seconds)),
+            ):
                 best[key] = min(best[key], value)
         sol = outcome.solution
         res.status = "ok"
@@ -232,10 +282,14 @@ def bench_loads(model: ModelSpec, end: float, ref: Reference, tol: float, repeat
         res.secondary_errors = _secondary(model, sol.time, sol.channels, ref)
         res.solve_seconds, res.total_seconds = best["solve"], best["total"]
         res.steps = int(sol.stats.steps)
-        res.extra = {"tolerance": chosen, "stats": sol.stats.as_dict(),
-                     "solve_timing": "wall of run_case" if staged is not None else "engine cpu_seconds",
-                     "parse_seconds": best["parse"], "write_seconds": best["write"],
-                     "engine_cpu_seconds": best["cpu"]}
+        res.extra = {
+            "tolerance": chosen,
+            "stats": sol.stats.as_dict(),
+            "solve_timing": "wall of run_case" if staged is not None else "engine cpu_seconds",
+            "parse_seconds": best["parse"],
+            "write_seconds": best["write"],
+            "engine_cpu_seconds": best["cpu"],
+        }
     return res
 
 
@@ -254,8 +308,14 @@ def _cpu_model() -> str:
 
 def _git(*args: str) -> str | None:
     try:
-        out = subprocess.run(["git", *args], cwd=Path(__file__).resolve().parent.parent,
-                             capture_output=True, text=True, timeout=10, check=False)
+        out = subprocess.run(
+            ["git", *args],
+            cwd=Path(__file__).resolve().parent.parent,
+            capture_output=True,
+            text=True,
+            timeout=10,
+            check=False,
+        )
     except (OSError, subprocess.SubprocessError):
         return None
     return out.stdout.strip() if out.returncode == 0 else None
@@ -285,11 +345,17 @@ def machine_info() -> dict[str, Any]:
     except AttributeError:
         usable = os.cpu_count() or 1
     return {
-        "date": datetime.now(timezone.utc).isoformat(timespec="seconds"),
-        "platform": platform.platform(), "machine": platform.machine(), "cpu": _cpu_model(),
-        "cores": os.cpu_count(), "usable_cores": usable,
-        "python": platform.python_version(), "numpy": np.__version__,
-        "exudyn": exudyn_version(), "loads": loads_version, "git_commit": _git_commit(),
+        "date": datetime.now(UTC).isoformat(timespec="seconds"),
+        "platform": platform.platform(),
+        "machine": platform.machine(),
+        "cpu": _cpu_model(),
+        "cores": os.cpu_count(),
+        "usable_cores": usable,
+        "python": platform.python_version(),
+        "numpy": np.__version__,
+        "exudyn": exudyn_version(),
+        "loads": loads_version,
+        "git_commit": _git_commit(),
     }
 
 
@@ -299,10 +365,15 @@ def _fmt(x: float | None, spec: str) -> str:
 
 def format_table(rows: list[dict[str, Any]], tol: float) -> str:
     """The results as a fixed-width text table."""
-    head = (f"{'model':<13} {'end s':>5} | {'exudyn':<15} {'error':>8} {'solve s':>8} {'total s':>8} | "
-            f"{'loads':<11} {'error':>8} {'solve s':>8} {'total s':>8} | {'ratio solve':>11} {'total':>7}")
-    lines = [f"accuracy target: error <= {tol:g} of the output's range (vs Exudyn reference)", head,
-             "-" * len(head)]
+    head = (
+        f"{'model':<13} {'end s':>5} | {'exudyn':<15} {'error':>8} {'solve s':>8} {'total s':>8} | "
+        f"{'loads':<11} {'error':>8} {'solve s':>8} {'total s':>8} | {'ratio solve':>11} {'total':>7}"
+    )
+    lines = [
+        f"accuracy target: error <= {tol:g} of the output's range (vs Exudyn reference)",
+        head,
+        "-" * len(head),
+    ]
     for r in rows:
         ex: CodeResult = r["exudyn"]
         lo: CodeResult = r["loads"]
@@ -314,17 +385,26 @@ def format_table(rows: list[dict[str, Any]], tol: float) -> str:
             f"{r['model']:<13} {r['end']:>5g} | {ex.setting or ex.status:<15} {_fmt(ex.error, '.1e'):>8} "
             f"{_fmt(ex.solve_seconds, '.3f'):>8} {_fmt(ex.total_seconds, '.3f'):>8} | "
             f"{lo.setting or lo.status:<11} {_fmt(lo.error, '.1e'):>8} {_fmt(lo.solve_seconds, '.3f'):>8} "
-            f"{_fmt(lo.total_seconds, '.3f'):>8} | {_fmt(ratio_s, '.1f'):>11} {_fmt(ratio_t, '.1f'):>7}")
-    notes = [f"  {r['model']}: loads {r['loads'].status}: {r['loads'].message}"
-             for r in rows if r["loads"].message]
-    notes += [f"  {r['model']}: exudyn {r['exudyn'].status}: {r['exudyn'].message}"
-              for r in rows if r["exudyn"].message]
+            f"{_fmt(lo.total_seconds, '.3f'):>8} | {_fmt(ratio_s, '.1f'):>11} {_fmt(ratio_t, '.1f'):>7}"
+        )
+    notes = [
+        f"  {r['model']}: loads {r['loads'].status}: {r['loads'].message}"
+        for r in rows
+        if r["loads"].message
+    ]
+    notes += [
+        f"  {r['model']}: exudyn {r['exudyn'].status}: {r['exudyn'].message}"
+        for r in rows
+        if r["exudyn"].message
+    ]
     if notes:
         lines += ["notes:"] + notes
     return "\n".join(lines)
 
 
-def run_checks(models: list[ModelSpec], quick: bool, log: Callable[[str], None]) -> list[dict[str, Any]]:
+def run_checks(
+    models: list[ModelSpec], quick: bool, log: Callable[[str], None]
+) -> list[dict[str, Any]]:
     """Physics sanity of the Exudyn models at their start step / 4: energy drift (J, and
     relative to the largest kinetic-plus-potential swing) and the largest joint-point gap (m)."""
     from benchmarks.exudyn_models import ExudynOptions, run_exudyn
@@ -333,16 +413,33 @@ def run_checks(models: list[ModelSpec], quick: bool, log: Callable[[str], None])
     for model in models:
         end = model.quick_end if quick else model.end
         step = EXUDYN_START_STEP[model.name] / 4.0
-        run = run_exudyn(model, ExudynOptions(step=step, end=end, output_step=model.output_step,
-                                              linear_solver=EXUDYN_SOLVER, check=True))
+        run = run_exudyn(
+            model,
+            ExudynOptions(
+                step=step,
+                end=end,
+                output_step=model.output_step,
+                linear_solver=EXUDYN_SOLVER,
+                check=True,
+            ),
+        )
         assert run.energy is not None and run.joint_gap is not None
         drift = float(np.max(np.abs(run.energy - run.energy[0])))
-        entry = {"model": model.name, "step": step, "end": end, "energy_initial": float(run.energy[0]),
-                 "energy_drift": drift, "energy_final_change": float(run.energy[-1] - run.energy[0]),
-                 "joint_gap_max": float(run.joint_gap.max()), "solve_seconds": run.solve_seconds}
-        log(f"  check {model.name}: step {step:g} s, energy E0 = {entry['energy_initial']:.6g} J, "
+        entry = {
+            "model": model.name,
+            "step": step,
+            "end": end,
+            "energy_initial": float(run.energy[0]),
+            "energy_drift": drift,
+            "energy_final_change": float(run.energy[-1] - run.energy[0]),
+            "joint_gap_max": float(run.joint_gap.max()),
+            "solve_seconds": run.solve_seconds,
+        }
+        log(
+            f"  check {model.name}: step {step:g} s, energy E0 = {entry['energy_initial']:.6g} J, "
             f"max |E - E0| = {drift:.3g} J, E(end) - E0 = {entry['energy_final_change']:.3g} J, "
-            f"largest joint gap {entry['joint_gap_max']:.2g} m")
+            f"largest joint gap {entry['joint_gap_max']:.2g} m"
+        )
         out.append(entry)
     return out
 
@@ -353,20 +450,38 @@ def main(argv: list[str] | None = None) -> int:
     0: done (a `loads` engine that cannot be imported yet is reported, not an error);
     1: a code failed on a model or missed the accuracy target; 2: Exudyn is missing.
     """
-    parser = argparse.ArgumentParser(prog="loads bench", description=__doc__,
-                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser = argparse.ArgumentParser(
+        prog="loads bench",
+        description=__doc__,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
     parser.add_argument("--quick", action="store_true", help="shorter end times, one timed repeat")
-    parser.add_argument("--json", type=Path, metavar="FILE", help="write the figures and machine info here")
-    parser.add_argument("--models", default=",".join(m.name for m in all_models()),
-                        help="comma-separated model names (default: all)")
-    parser.add_argument("--tol", type=float, default=1e-4,
-                        help="error target relative to the output's range (default 1e-4)")
-    parser.add_argument("--repeat", type=int, default=None, help="timed repeats, best kept (default 3, quick 1)")
+    parser.add_argument(
+        "--json", type=Path, metavar="FILE", help="write the figures and machine info here"
+    )
+    parser.add_argument(
+        "--models",
+        default=",".join(m.name for m in all_models()),
+        help="comma-separated model names (default: all)",
+    )
+    parser.add_argument(
+        "--tol",
+        type=float,
+        default=1e-4,
+        help="error target relative to the output's range (default 1e-4)",
+    )
+    parser.add_argument(
+        "--repeat", type=int, default=None, help="timed repeats, best kept (default 3, quick 1)"
+    )
     parser.add_argument("--exudyn-only", action="store_true", help="skip the loads side")
-    parser.add_argument("--check", action="store_true",
-                        help="also check Exudyn energy conservation and joint gaps")
-    parser.add_argument("--make-reference", action="store_true",
-                        help="recompute the stored Exudyn reference solutions first")
+    parser.add_argument(
+        "--check", action="store_true", help="also check Exudyn energy conservation and joint gaps"
+    )
+    parser.add_argument(
+        "--make-reference",
+        action="store_true",
+        help="recompute the stored Exudyn reference solutions first",
+    )
     args = parser.parse_args(argv)
     log = lambda text: print(text, flush=True)  # noqa: E731
 
@@ -378,6 +493,7 @@ def main(argv: list[str] | None = None) -> int:
     repeat = args.repeat if args.repeat is not None else (1 if args.quick else 3)
 
     from benchmarks.exudyn_models import ExudynMissing, exudyn_module_name, import_exudyn
+
     try:
         import_exudyn()
     except ExudynMissing as exc:
@@ -386,8 +502,10 @@ def main(argv: list[str] | None = None) -> int:
 
     info = machine_info()
     info["exudyn_module"] = exudyn_module_name()
-    log(f"machine: {info['cpu']}, {info['cores']} cores, Python {info['python']}, numpy {info['numpy']}, "
-        f"Exudyn {info['exudyn']} ({info['exudyn_module']}), loads {info['loads']}")
+    log(
+        f"machine: {info['cpu']}, {info['cores']} cores, Python {info['python']}, numpy {info['numpy']}, "
+        f"Exudyn {info['exudyn']} ({info['exudyn_module']}), loads {info['loads']}"
+    )
 
     checks = run_checks(models, args.quick, log) if args.check else []
     rows: list[dict[str, Any]] = []
@@ -400,16 +518,29 @@ def main(argv: list[str] | None = None) -> int:
             ref = make_reference(model, log)
         ref = ref.until(end)
         ex = bench_exudyn(model, end, ref, args.tol, repeat, log)
-        lo = CodeResult(status="skipped") if args.exudyn_only else bench_loads(model, end, ref, args.tol, repeat, log)
+        lo = (
+            CodeResult(status="skipped")
+            if args.exudyn_only
+            else bench_loads(model, end, ref, args.tol, repeat, log)
+        )
         if ex.status != "ok" or lo.status == "failed":
             exit_code = 1
-        row: dict[str, Any] = {"model": model.name, "title": model.title, "end": end,
-                               "main": list(model.main), "exudyn": ex, "loads": lo,
-                               "reference": {k: ref.meta.get(k) for k in
-                                             ("code", "exudyn", "step", "self_error", "integrator")}}
+        row: dict[str, Any] = {
+            "model": model.name,
+            "title": model.title,
+            "end": end,
+            "main": list(model.main),
+            "exudyn": ex,
+            "loads": lo,
+            "reference": {
+                k: ref.meta.get(k) for k in ("code", "exudyn", "step", "self_error", "integrator")
+            },
+        }
         if ex.status == "ok" and lo.status == "ok":
-            row["ratio"] = {"solve": lo.solve_seconds / ex.solve_seconds,
-                            "total": lo.total_seconds / ex.total_seconds}
+            row["ratio"] = {
+                "solve": lo.solve_seconds / ex.solve_seconds,
+                "total": lo.total_seconds / ex.total_seconds,
+            }
         rows.append(row)
 
     print()
@@ -417,14 +548,27 @@ def main(argv: list[str] | None = None) -> int:
     if args.json:
         payload = {
             "machine": info,
-            "settings": {"tol": args.tol, "quick": args.quick, "repeat": repeat,
-                         "exudyn": {"integrator": "generalized-alpha (index 3), fixed step",
-                                    "spectral_radius": 0.9, "linear_solver": EXUDYN_SOLVER,
-                                    "newton": "Exudyn default (modified Newton, rel. tol 1e-8)"},
-                         "error": "max_t |y - y_ref| (norm over main columns) / range of y_ref"},
+            "settings": {
+                "tol": args.tol,
+                "quick": args.quick,
+                "repeat": repeat,
+                "exudyn": {
+                    "integrator": "generalized-alpha (index 3), fixed step",
+                    "spectral_radius": 0.9,
+                    "linear_solver": EXUDYN_SOLVER,
+                    "newton": "Exudyn default (modified Newton, rel. tol 1e-8)",
+                },
+                "error": "max_t |y - y_ref| (norm over main columns) / range of y_ref",
+            },
             "checks": checks,
-            "models": [{**{k: v for k, v in r.items() if k not in ("exudyn", "loads")},
-                        "exudyn": r["exudyn"].as_dict(), "loads": r["loads"].as_dict()} for r in rows],
+            "models": [
+                {
+                    **{k: v for k, v in r.items() if k not in ("exudyn", "loads")},
+                    "exudyn": r["exudyn"].as_dict(),
+                    "loads": r["loads"].as_dict(),
+                }
+                for r in rows
+            ],
         }
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(payload, indent=2), encoding="utf-8")

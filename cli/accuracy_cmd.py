@@ -1,4 +1,5 @@
 """`loads accuracy CASE`: the work-precision study of a dynamic case (SPEC 2)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -10,8 +11,16 @@ from cli.render import fail, print_diagnostics
 
 __all__ = ["accuracy"]
 
-_HEADER = ("integrator", "tolerance", "status", "CPU (s)", "steps", "rejected",
-           "error (of peak)", "worst column")
+_HEADER = (
+    "integrator",
+    "tolerance",
+    "status",
+    "CPU (s)",
+    "steps",
+    "rejected",
+    "error (of peak)",
+    "worst column",
+)
 
 
 def _numbers(text: str, option: str) -> list[float]:
@@ -31,55 +40,84 @@ def _row(cells: tuple[object, ...]) -> str:
 
 def accuracy(
     case: Annotated[Path, typer.Argument(help="A case file with a dynamic analysis.")],
-    output: Annotated[Path, typer.Option("-o", "--output", help="Folder for the table, the "
-                                         "diagram and the workbook.")] = Path("results"),
-    target: Annotated[float, typer.Option("--target", help="Error wanted, as a fraction of "
-                                          "each request's peak.")] = 1e-3,
-    tolerances: Annotated[str, typer.Option("--tolerances", help="Comma-separated "
-                                            "tolerances to try.")] = "1e-3,1e-4,1e-5,1e-6,1e-7",
-    integrators: Annotated[str, typer.Option("--integrators", help="Comma-separated: "
-                                             "generalized-alpha, radau.")]
-    = "generalized-alpha,radau",
-    repeats: Annotated[int, typer.Option("--repeats", help="Runs per setting; the CPU time is "
-                                         "their median.")] = 3,
-    reference_tolerance: Annotated[float | None, typer.Option(
-        "--reference-tolerance", help="Tolerance of the reference runs (default: the "
-        "tightest studied / 100).")] = None,
+    output: Annotated[
+        Path,
+        typer.Option("-o", "--output", help="Folder for the table, the diagram and the workbook."),
+    ] = Path("results"),
+    target: Annotated[
+        float, typer.Option("--target", help="Error wanted, as a fraction of each request's peak.")
+    ] = 1e-3,
+    tolerances: Annotated[
+        str, typer.Option("--tolerances", help="Comma-separated tolerances to try.")
+    ] = "1e-3,1e-4,1e-5,1e-6,1e-7",
+    integrators: Annotated[
+        str, typer.Option("--integrators", help="Comma-separated: generalized-alpha, radau.")
+    ] = "generalized-alpha,radau",
+    repeats: Annotated[
+        int, typer.Option("--repeats", help="Runs per setting; the CPU time is their median.")
+    ] = 3,
+    reference_tolerance: Annotated[
+        float | None,
+        typer.Option(
+            "--reference-tolerance",
+            help="Tolerance of the reference runs (default: the tightest studied / 100).",
+        ),
+    ] = None,
 ) -> int:
     """Work-precision study: solve the case on a ladder of tolerances with each integrator,
     measure every request's error against a much tighter run of the other integrator, and
     recommend the cheapest setting that meets the target. Writes NAME.accuracy.csv,
     NAME.accuracy-columns.csv, NAME.accuracy.png and NAME.accuracy.xlsx."""
-    from loadcases.studies.accuracy import INTEGRATORS, accuracy_study
-    from loadcases.studies.accuracy_files import recommendation_text, write_accuracy_files
     from loadcases.diagnostics import InputError
     from loadcases.inputs.loader import load_case
+    from loadcases.studies.accuracy import INTEGRATORS, accuracy_study
+    from loadcases.studies.accuracy_files import recommendation_text, write_accuracy_files
 
     if not case.is_file():
         raise fail(f"{case}: no such file")
     methods = [m.strip() for m in integrators.split(",") if m.strip()]
     unknown = [m for m in methods if m not in INTEGRATORS]
     if unknown or not methods:
-        raise fail(f"--integrators: unknown '{', '.join(unknown)[:80]}' (choose from "
-                   f"{', '.join(INTEGRATORS)})")
+        raise fail(
+            f"--integrators: unknown '{', '.join(unknown)[:80]}' (choose from "
+            f"{', '.join(INTEGRATORS)})"
+        )
     if not 0.0 < target < 1.0:
         raise fail(f"--target: {target:g} must lie between 0 and 1 (a fraction of the peak)")
     ladder = _numbers(tolerances, "--tolerances")
     if reference_tolerance is not None and not 0.0 < reference_tolerance < min(ladder):
-        raise fail("--reference-tolerance must be positive and tighter than every tolerance "
-                   "studied")
+        raise fail(
+            "--reference-tolerance must be positive and tighter than every tolerance studied"
+        )
     typer.echo(_row(_HEADER))
 
     def show(result) -> None:
         column, worst = result.worst()
-        typer.echo(_row((result.setting.integrator, f"{result.setting.tolerance:g}",
-                         result.status, f"{result.cpu_seconds:.3g}",
-                         result.stats.get("steps"), result.stats.get("rejected_steps"),
-                         f"{worst:.3g}", column)))
+        typer.echo(
+            _row(
+                (
+                    result.setting.integrator,
+                    f"{result.setting.tolerance:g}",
+                    result.status,
+                    f"{result.cpu_seconds:.3g}",
+                    result.stats.get("steps"),
+                    result.stats.get("rejected_steps"),
+                    f"{worst:.3g}",
+                    column,
+                )
+            )
+        )
+
     try:
-        study = accuracy_study(load_case(case), tolerances=ladder, integrators=methods,
-                               target=target, repeats=repeats, progress=show,
-                               reference_tolerance=reference_tolerance)
+        study = accuracy_study(
+            load_case(case),
+            tolerances=ladder,
+            integrators=methods,
+            target=target,
+            repeats=repeats,
+            progress=show,
+            reference_tolerance=reference_tolerance,
+        )
     except InputError as error:
         print_diagnostics(error.diagnostics, err=True)
         return 2

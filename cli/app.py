@@ -4,6 +4,7 @@ Exit status: 0 success; 1 a solver failure (results up to the failure are writte
 internal error; 2 invalid input or usage. Set `LOADS_DEBUG=1` to see tracebacks of
 internal errors.
 """
+
 import functools
 import json
 import os
@@ -16,8 +17,8 @@ from typing import Annotated, Any
 import typer
 
 from cli.engine import Engine, engine_of
-from cli.runner import FileReport, run_all
 from cli.render import ProgressBar, error_line, fail, print_diagnostics, status_line
+from cli.runner import FileReport, run_all
 
 __all__ = ["app", "main"]
 
@@ -25,7 +26,10 @@ EXIT_OK, EXIT_FAILED, EXIT_INPUT = 0, 1, 2
 DEBUG_ENV = "LOADS_DEBUG"
 
 app = typer.Typer(
-    name="loads", add_completion=False, no_args_is_help=True, pretty_exceptions_enable=False,
+    name="loads",
+    add_completion=False,
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
     help="Mechanism load cases from YAML: multibody reactions, envelopes and sizing workbooks.",
 )
 
@@ -40,9 +44,15 @@ def _print_version(value: bool) -> None:
 
 @app.callback()
 def _options(
-    version: Annotated[bool, typer.Option("--version", help="Print the version of loads and "
-                                          "exit.", is_eager=True,
-                                          callback=_print_version)] = False,
+    version: Annotated[
+        bool,
+        typer.Option(
+            "--version",
+            help="Print the version of loads and exit.",
+            is_eager=True,
+            callback=_print_version,
+        ),
+    ] = False,
 ) -> None:
     """Mechanism load cases from YAML: multibody reactions, envelopes and sizing workbooks."""
 
@@ -69,8 +79,10 @@ def guarded(command: Callable[..., int]) -> Callable[..., None]:
 
 def _internal_error_text(exc: BaseException) -> str:
     first_line = next(iter(str(exc).splitlines()), "")
-    return (f"loads: internal error: {type(exc).__name__}: {first_line} (this is a bug in loads; "
-            f"please report it with the input files; {DEBUG_ENV}=1 shows the traceback)")
+    return (
+        f"loads: internal error: {type(exc).__name__}: {first_line} (this is a bug in loads; "
+        f"please report it with the input files; {DEBUG_ENV}=1 shows the traceback)"
+    )
 
 
 def _require_files(paths: list[Path]) -> None:
@@ -86,17 +98,40 @@ def _require_files(paths: list[Path]) -> None:
 @guarded
 def run(
     ctx: typer.Context,
-    files: Annotated[list[Path], typer.Argument(help="Case (*.case.yaml) or set (*.set.yaml) files.")],
-    output: Annotated[Path, typer.Option("-o", "--output", help="Results folder.")] = Path("results"),
+    files: Annotated[
+        list[Path], typer.Argument(help="Case (*.case.yaml) or set (*.set.yaml) files.")
+    ],
+    output: Annotated[Path, typer.Option("-o", "--output", help="Results folder.")] = Path(
+        "results"
+    ),
     xlsx: Annotated[bool, typer.Option("--xlsx", help="Also write NAME.xlsx per run.")] = False,
-    jobs: Annotated[int | None, typer.Option("--jobs", "-j", min=1, help="Case files run in "
-                    "parallel (default 1); runs of a set in parallel (default: the number of "
-                    "cores).")] = None,
-    scheduler: Annotated[str | None, typer.Option("--scheduler", help="Run the runs of sets "
-                         "on a Dask cluster: scheduler ADDRESS, or 'local' for a "
-                         "LocalCluster.")] = None,
-    force: Annotated[bool, typer.Option("--force", help="Solve every run of a set again, "
-                     "even if its saved results are of the same input.")] = False,
+    jobs: Annotated[
+        int | None,
+        typer.Option(
+            "--jobs",
+            "-j",
+            min=1,
+            help="Case files run in "
+            "parallel (default 1); runs of a set in parallel (default: the number of "
+            "cores).",
+        ),
+    ] = None,
+    scheduler: Annotated[
+        str | None,
+        typer.Option(
+            "--scheduler",
+            help="Run the runs of sets "
+            "on a Dask cluster: scheduler ADDRESS, or 'local' for a "
+            "LocalCluster.",
+        ),
+    ] = None,
+    force: Annotated[
+        bool,
+        typer.Option(
+            "--force",
+            help="Solve every run of a set again, even if its saved results are of the same input.",
+        ),
+    ] = False,
 ) -> int:
     """Run case or set files and write their results (NAME.csv, NAME.summary.json; for a
     set SET also DIR/SET/envelope.csv and the workbook)."""
@@ -112,8 +147,10 @@ def run(
     for chunk, is_set in _chunks(files, _is_set):
         if is_set:
             for path in chunk:
-                code = max(code, _print_report(_run_set(engine, path, output, xlsx, jobs,
-                                                        scheduler, force)))
+                code = max(
+                    code,
+                    _print_report(_run_set(engine, path, output, xlsx, jobs, scheduler, force)),
+                )
         else:
             code = max(code, _run_cases(engine, chunk, output, xlsx, jobs or 1))
     return code
@@ -160,12 +197,27 @@ def _chunks(files: list[Path], is_set: Callable[[Path], bool]) -> list[tuple[lis
     return chunks
 
 
-def _run_set(engine: Engine, path: Path, output: Path, xlsx: bool, jobs: int | None,
-             scheduler: str | None, force: bool) -> FileReport:
+def _run_set(
+    engine: Engine,
+    path: Path,
+    output: Path,
+    xlsx: bool,
+    jobs: int | None,
+    scheduler: str | None,
+    force: bool,
+) -> FileReport:
     from cli.set_runner import run_set_file
 
-    return run_set_file(path, run_set=engine.run_set, output_dir=output, xlsx=xlsx, jobs=jobs,
-                        scheduler=scheduler, force=force, show_progress=sys.stderr.isatty())
+    return run_set_file(
+        path,
+        run_set=engine.run_set,
+        output_dir=output,
+        xlsx=xlsx,
+        jobs=jobs,
+        scheduler=scheduler,
+        force=force,
+        show_progress=sys.stderr.isatty(),
+    )
 
 
 def _run_cases(engine: Engine, files: list[Path], output: Path, xlsx: bool, jobs: int) -> int:
@@ -173,9 +225,16 @@ def _run_cases(engine: Engine, files: list[Path], output: Path, xlsx: bool, jobs
     bars: dict[Path, ProgressBar] = {}
     show_progress = jobs == 1 and sys.stderr.isatty()
     code = EXIT_OK
-    for report in run_all(files, engine=engine, output_dir=output, xlsx=xlsx, jobs=jobs,
-                          progress_for=lambda path: bars.setdefault(path, ProgressBar(path.name))
-                          if show_progress else None):
+    for report in run_all(
+        files,
+        engine=engine,
+        output_dir=output,
+        xlsx=xlsx,
+        jobs=jobs,
+        progress_for=lambda path: (
+            bars.setdefault(path, ProgressBar(path.name)) if show_progress else None
+        ),
+    ):
         if report.file in bars:
             bars.pop(report.file).close()
         code = max(code, _print_report(report))
@@ -234,9 +293,20 @@ def schema() -> int:
 @app.command()
 @guarded
 def envelope(
-    dirs: Annotated[list[Path], typer.Argument(help="Folders of saved results (searched recursively).")],
-    output: Annotated[Path | None, typer.Option("-o", "--output", help="FILE.xlsx (the sizing workbook) or FILE.csv (default: CSV on stdout).")] = None,
-    set_file: Annotated[Path | None, typer.Option("--set", help="Take factors and allowables from this set file.")] = None,
+    dirs: Annotated[
+        list[Path], typer.Argument(help="Folders of saved results (searched recursively).")
+    ],
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o",
+            "--output",
+            help="FILE.xlsx (the sizing workbook) or FILE.csv (default: CSV on stdout).",
+        ),
+    ] = None,
+    set_file: Annotated[
+        Path | None, typer.Option("--set", help="Take factors and allowables from this set file.")
+    ] = None,
 ) -> int:
     """Envelope (max/min, run, time, abscissa, concurrent values, margins) of every result
     column across saved results; failed runs are left out."""
@@ -274,15 +344,21 @@ def envelope(
 @guarded
 def bench(
     quick: Annotated[bool, typer.Option("--quick", help="A short subset of the suite.")] = False,
-    door: Annotated[bool, typer.Option("--door", help="Time the door's whole load-case set "
-                                       "instead (benchmarks/door_set.py).")] = False,
+    door: Annotated[
+        bool,
+        typer.Option(
+            "--door", help="Time the door's whole load-case set instead (benchmarks/door_set.py)."
+        ),
+    ] = False,
 ) -> int:
     """Run the benchmark suite against Exudyn (benchmarks/suite.py of a source checkout), or
     with --door the door set's wall time."""
     suite = _find_bench_suite()
     if suite is None:
-        raise fail("benchmarks/suite.py not found: `loads bench` needs a source checkout "
-                   "(run it from the repository root)")
+        raise fail(
+            "benchmarks/suite.py not found: `loads bench` needs a source checkout "
+            "(run it from the repository root)"
+        )
     module = "door_set" if door else "suite"
     namespace = _load_bench_module(suite.with_name(f"{module}.py"))
     entry = namespace.get("main")
@@ -309,8 +385,14 @@ def _load_bench_module(path: Path) -> dict[str, Any]:
 def _find_bench_suite() -> Path | None:
     """benchmarks/suite.py next to this package (editable install) or in the current folder."""
     candidates = (Path(__file__).resolve().parents[1], Path.cwd())
-    return next((c / "benchmarks" / "suite.py" for c in candidates
-                 if (c / "benchmarks" / "suite.py").is_file()), None)
+    return next(
+        (
+            c / "benchmarks" / "suite.py"
+            for c in candidates
+            if (c / "benchmarks" / "suite.py").is_file()
+        ),
+        None,
+    )
 
 
 from cli import plot_cmd  # noqa: E402  (plot and new: registered through `guarded`)

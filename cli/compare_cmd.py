@@ -1,4 +1,5 @@
 """`loads compare OLD NEW`: the console table of two envelopes compared row by row."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -26,13 +27,23 @@ def _line(cells: tuple[str, ...]) -> str:
 
 
 def compare(
-    old: Annotated[Path, typer.Argument(help="The old results: a set's result folder, its "
-                                        "envelope.csv, or a folder of saved runs.")],
+    old: Annotated[
+        Path,
+        typer.Argument(
+            help="The old results: a set's result folder, its "
+            "envelope.csv, or a folder of saved runs."
+        ),
+    ],
     new: Annotated[Path, typer.Argument(help="The new results, as OLD.")],
-    output: Annotated[Path | None, typer.Option("-o", "--output", help="Also write the whole "
-                                                "comparison to FILE.csv or FILE.xlsx.")] = None,
-    rows: Annotated[int, typer.Option("--rows", help="Rows shown on the console, largest "
-                                      "changes first.")] = 40,
+    output: Annotated[
+        Path | None,
+        typer.Option(
+            "-o", "--output", help="Also write the whole comparison to FILE.csv or FILE.xlsx."
+        ),
+    ] = None,
+    rows: Annotated[
+        int, typer.Option("--rows", help="Rows shown on the console, largest changes first.")
+    ] = 40,
 ) -> int:
     """Compare two envelopes row by row: old and new max and min (SI), their difference in
     percent of the old magnitude, and the governing run of each; new and vanished rows."""
@@ -44,23 +55,36 @@ def compare(
         table = compare_envelopes(read_envelope(old), read_envelope(new))
     except ValueError as error:
         raise fail(str(error)) from None
-    typer.echo(_line(("column", "unit", "old max", "new max", "change", "old min", "new min",
-                      "change")))
-    for row in table[:max(rows, 0)]:
-        typer.echo(_line((row.column, row.unit, _g(row.old_max), _g(row.new_max),
-                          _pct(row.max_change), _g(row.old_min), _g(row.new_min),
-                          _pct(row.min_change))) + ("" if row.status in ("changed", "same")
-                                                    else f"  ({row.status})"))
-        if row.status == "changed" and (row.old_max_run != row.new_max_run
-                                        or row.old_min_run != row.new_min_run):
-            typer.echo(f"    governing max: {row.old_max_run} -> {row.new_max_run}; "
-                       f"min: {row.old_min_run} -> {row.new_min_run}")
-    counts = {s: sum(r.status == s for r in table) for s in ("changed", "new", "vanished",
-                                                              "same")}
+    typer.echo(
+        _line(("column", "unit", "old max", "new max", "change", "old min", "new min", "change"))
+    )
+    for row in table[: max(rows, 0)]:
+        typer.echo(
+            _line(
+                (
+                    row.column,
+                    row.unit,
+                    _g(row.old_max),
+                    _g(row.new_max),
+                    _pct(row.max_change),
+                    _g(row.old_min),
+                    _g(row.new_min),
+                    _pct(row.min_change),
+                )
+            )
+            + ("" if row.status in ("changed", "same") else f"  ({row.status})")
+        )
+        if row.status == "changed" and (
+            row.old_max_run != row.new_max_run or row.old_min_run != row.new_min_run
+        ):
+            typer.echo(
+                f"    governing max: {row.old_max_run} -> {row.new_max_run}; "
+                f"min: {row.old_min_run} -> {row.new_min_run}"
+            )
+    counts = {s: sum(r.status == s for r in table) for s in ("changed", "new", "vanished", "same")}
     shown = min(len(table), max(rows, 0))
     more = f" ({len(table) - shown} more not shown)" if shown < len(table) else ""
-    typer.echo(", ".join(f"{n} {s}" for s, n in counts.items()) + f" of {len(table)} rows"
-               + more)
+    typer.echo(", ".join(f"{n} {s}" for s, n in counts.items()) + f" of {len(table)} rows" + more)
     if output is not None:
         write_compare(table, output, old=str(old), new=str(new))
         typer.echo(f"-> {output}")

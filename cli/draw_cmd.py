@@ -4,6 +4,7 @@ Returns its exit status (0 success, 1 the run failed part-way: the pictures show
 computed, 2 invalid input or usage); `cli.app` registers it through its `guarded` wrapper.
 The work is done by `loadcases.draw.trajectory` (trajectory) and `loadcases.draw.render` (pictures).
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -20,21 +21,36 @@ EXIT_OK, EXIT_FAILED, EXIT_INPUT = 0, 1, 2
 
 def draw(
     case: Annotated[Path, typer.Argument(help="Case file (*.case.yaml) to solve and draw.")],
-    at: Annotated[list[float] | None, typer.Option(
-        "--at", help="Time (s) of a picture; repeat for several. Default: start, middle "
-        "and end of the run.")] = None,
-    view: Annotated[str, typer.Option(
-        "--view", help="Projection plane: xy, yz, xz or auto (plane of the largest "
-        "spread of the mechanism).")] = "auto",
-    output: Annotated[Path, typer.Option("-o", "--output", help="Folder of the pictures.")]
-    = Path("pictures"),
-    gif: Annotated[bool, typer.Option("--gif", help="Also animate the run (GIF with "
-                   "Pillow, else numbered PNG frames).")] = False,
+    at: Annotated[
+        list[float] | None,
+        typer.Option(
+            "--at",
+            help="Time (s) of a picture; repeat for several. Default: start, middle "
+            "and end of the run.",
+        ),
+    ] = None,
+    view: Annotated[
+        str,
+        typer.Option(
+            "--view",
+            help="Projection plane: xy, yz, xz or auto (plane of the largest "
+            "spread of the mechanism).",
+        ),
+    ] = "auto",
+    output: Annotated[Path, typer.Option("-o", "--output", help="Folder of the pictures.")] = Path(
+        "pictures"
+    ),
+    gif: Annotated[
+        bool,
+        typer.Option(
+            "--gif", help="Also animate the run (GIF with Pillow, else numbered PNG frames)."
+        ),
+    ] = False,
 ) -> int:
     """Solve a case and draw the mechanism (bodies, joints, springs, wires, contacts)."""
     from loadcases.diagnostics import InputError
-    from loadcases.draw.trajectory import trajectory_of_file
     from loadcases.draw.render import VIEWS, write_animation, write_pngs
+    from loadcases.draw.trajectory import trajectory_of_file
 
     if not case.is_file():
         raise fail(f"{case}: no such file")
@@ -48,8 +64,11 @@ def draw(
     if len(traj.time) == 0:
         typer.echo(f"{case}: the run failed before its first output: {traj.message}", err=True)
         return EXIT_FAILED
-    times = at if at else [float(traj.time[0]), float(traj.time[len(traj.time) // 2]),
-                           float(traj.time[-1])]
+    times = (
+        at
+        if at
+        else [float(traj.time[0]), float(traj.time[len(traj.time) // 2]), float(traj.time[-1])]
+    )
     written = write_pngs(traj, times, output, view=view)
     for path in written:
         typer.echo(f"wrote {path}")
@@ -57,7 +76,6 @@ def draw(
         files, what = write_animation(traj, output, view=view)
         typer.echo(f"wrote {what}: {files[0]}{' ...' if len(files) > 1 else ''}")
     if traj.status != "ok":
-        typer.echo(f"{case}: the run failed: {traj.message} (pictures up to the failure)",
-                   err=True)
+        typer.echo(f"{case}: the run failed: {traj.message} (pictures up to the failure)", err=True)
         return EXIT_FAILED
     return EXIT_OK

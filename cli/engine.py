@@ -3,6 +3,7 @@
 `loads` uses those of `loadcases`; a test gives its own:
 `CliRunner().invoke(app, ["run", ...], obj=Engine(run_file=fake))`.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -14,10 +15,10 @@ import typer
 
 __all__ = ["Engine", "engine_of"]
 
-RunFile = Callable[..., list[Any]]         # (path, *, output_dir, xlsx, progress) -> [RunOutcome]
-RunSet = Callable[..., Any]                # (path, *, output_dir, executor, ...) -> SetResult
+RunFile = Callable[..., list[Any]]  # (path, *, output_dir, xlsx, progress) -> [RunOutcome]
+RunSet = Callable[..., Any]  # (path, *, output_dir, executor, ...) -> SetResult
 CheckMechanism = Callable[[Path], list[str]]
-CheckFile = Callable[[Path], list[Any]]    # (path) -> [Diagnostic]
+CheckFile = Callable[[Path], list[Any]]  # (path) -> [Diagnostic]
 
 
 # loadcases' functions, imported when first called: the solver stack is slow to import and

@@ -4,6 +4,7 @@ Each command returns its exit status (0 success, 2 invalid input or usage); `cli
 registers them through its `guarded` wrapper. The work is done by `loadcases.report.plots` and
 `loadcases.inputs.scaffold`.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -13,22 +14,35 @@ import typer
 
 from cli.render import fail
 
-__all__ = ["plot", "new"]
+__all__ = ["new", "plot"]
 
 EXIT_OK = 0
 
 
 def plot(
-    results: Annotated[list[Path], typer.Argument(
-        help="NAME.csv or NAME.summary.json files, or folders of results (searched "
-             "recursively); several runs are overlaid.")],
-    columns: Annotated[list[str] | None, typer.Option(
-        "--columns", "-c", help="Columns to plot: a request name (all its components) or "
-        "a pattern such as 'hinge_*.fy'; repeat or separate with commas. Default: all.")] = None,
-    x: Annotated[str, typer.Option(
-        "--x", help="Abscissa: 'time' or a result column, e.g. crank_angle.value.")] = "time",
-    output: Annotated[Path, typer.Option("-o", "--output", help="Folder of the PNG files.")]
-    = Path("plots"),
+    results: Annotated[
+        list[Path],
+        typer.Argument(
+            help="NAME.csv or NAME.summary.json files, or folders of results (searched "
+            "recursively); several runs are overlaid."
+        ),
+    ],
+    columns: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--columns",
+            "-c",
+            help="Columns to plot: a request name (all its components) or "
+            "a pattern such as 'hinge_*.fy'; repeat or separate with commas. Default: all.",
+        ),
+    ] = None,
+    x: Annotated[
+        str,
+        typer.Option("--x", help="Abscissa: 'time' or a result column, e.g. crank_angle.value."),
+    ] = "time",
+    output: Annotated[Path, typer.Option("-o", "--output", help="Folder of the PNG files.")] = Path(
+        "plots"
+    ),
 ) -> int:
     """Write PNG plots of requests vs time or vs another column: one file per request."""
     from loadcases.report import plots
@@ -38,27 +52,33 @@ def plot(
         raise fail("; ".join(f"{path}: no such file or folder" for path in missing))
     files = plots.find_result_csvs(results)
     if not files:
-        raise fail("no results (NAME.csv next to NAME.summary.json) under "
-                   + ", ".join(map(str, results)))
+        raise fail(
+            "no results (NAME.csv next to NAME.summary.json) under " + ", ".join(map(str, results))
+        )
     patterns = [p.strip() for item in columns or [] for p in item.split(",") if p.strip()]
     try:
         runs = [plots.load_saved_run(path) for path in files]
         units = {k: v for run in reversed(runs) for k, v in run.units.items()}
-        written = plots.plot_runs([run.as_run() for run in runs], patterns or None, x=x,
-                                  units=units, out_dir=output)
+        written = plots.plot_runs(
+            [run.as_run() for run in runs], patterns or None, x=x, units=units, out_dir=output
+        )
     except ValueError as error:
         raise fail(str(error)) from None
-    typer.echo(f"{len(written)} plots of {len(runs)} run{'s' if len(runs) != 1 else ''} "
-               f"-> {output}")
+    typer.echo(
+        f"{len(written)} plots of {len(runs)} run{'s' if len(runs) != 1 else ''} -> {output}"
+    )
     return EXIT_OK
 
 
 def new(
-    kind: Annotated[str, typer.Argument(
-        help="lifting, jamming, opening, opened, jettison, deployment or rod-end.")],
+    kind: Annotated[
+        str,
+        typer.Argument(help="lifting, jamming, opening, opened, jettison, deployment or rod-end."),
+    ],
     name: Annotated[str, typer.Argument(help="Case name; the file is NAME.case.yaml.")],
-    output: Annotated[Path, typer.Option("-o", "--output", help="Folder of the new file.")]
-    = Path("."),
+    output: Annotated[Path, typer.Option("-o", "--output", help="Folder of the new file.")] = Path(
+        "."
+    ),
 ) -> int:
     """Write a commented, runnable case skeleton of a load-case family (never overwrites)."""
     from loadcases.inputs import scaffold
@@ -67,6 +87,8 @@ def new(
         path = scaffold.write_skeleton(kind, name, output)
     except (ValueError, FileExistsError) as error:
         raise fail(str(error)) from None
-    typer.echo(f"{path}: {kind} case skeleton ({scaffold.SKELETONS[kind].summary}); "
-               f"check it with `loads validate {path}`")
+    typer.echo(
+        f"{path}: {kind} case skeleton ({scaffold.SKELETONS[kind].summary}); "
+        f"check it with `loads validate {path}`"
+    )
     return EXIT_OK

@@ -1,4 +1,5 @@
 """Text the `loads` command prints: diagnostics, run status lines, a progress bar, errors."""
+
 from __future__ import annotations
 
 import sys
@@ -11,11 +12,17 @@ import typer
 
 from loadcases.diagnostics import Diagnostic, sort_diagnostics
 
-__all__ = ["print_diagnostics", "status_line", "TerminalLine", "ProgressBar", "fail",
-           "error_line"]
+__all__ = [
+    "ProgressBar",
+    "TerminalLine",
+    "error_line",
+    "fail",
+    "print_diagnostics",
+    "status_line",
+]
 
-PROGRESS_WIDTH = 30        # characters of the bar itself
-PROGRESS_INTERVAL = 0.1    # s between redraws: keeps a fast solver from waiting on the terminal
+PROGRESS_WIDTH = 30  # characters of the bar itself
+PROGRESS_INTERVAL = 0.1  # s between redraws: keeps a fast solver from waiting on the terminal
 
 
 def error_line(message: str) -> str:

@@ -1,4 +1,5 @@
 """`loads run`: run case/set files one after another or in a process pool, and report each."""
+
 from __future__ import annotations
 
 import functools
@@ -10,7 +11,7 @@ from pathlib import Path
 from cli.engine import Engine
 from loadcases.diagnostics import Diagnostic, InputError
 
-__all__ = ["RunLine", "FileReport", "run_one", "run_all"]
+__all__ = ["FileReport", "RunLine", "run_all", "run_one"]
 
 Progress = Callable[[float, float], None]
 
@@ -25,8 +26,8 @@ class RunLine:
     steps: int
     cpu_seconds: float
     where: Path
-    warnings: tuple[Diagnostic, ...] = ()      # the input's, as data
-    solver_warnings: tuple[str, ...] = ()      # mechlib's messages
+    warnings: tuple[Diagnostic, ...] = ()  # the input's, as data
+    solver_warnings: tuple[str, ...] = ()  # mechlib's messages
 
 
 @dataclass
@@ -37,15 +38,16 @@ class FileReport:
     runs: list[RunLine] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
-    footer: list[str] = field(default_factory=list)   # printed after the run lines
+    footer: list[str] = field(default_factory=list)  # printed after the run lines
 
     @property
     def failed(self) -> bool:
         return any(run.status != "ok" for run in self.runs)
 
 
-def run_one(path: Path, *, engine: Engine, output_dir: Path, xlsx: bool,
-            progress: Progress | None = None) -> FileReport:
+def run_one(
+    path: Path, *, engine: Engine, output_dir: Path, xlsx: bool, progress: Progress | None = None
+) -> FileReport:
     """Run one case file with `engine.run_file` (which writes the results); a mechanism file
     is checked with `engine.check_mechanism_file`."""
     from loadcases.inputs.kinds import file_kind, unknown_kind
@@ -62,15 +64,30 @@ def run_one(path: Path, *, engine: Engine, output_dir: Path, xlsx: bool,
     lines = []
     for outcome in outcomes:
         solution = outcome.solution
-        lines.append(RunLine(outcome.name, solution.status, solution.message,
-                             int(solution.stats.steps), float(solution.stats.cpu_seconds),
-                             _where(output_dir, outcome.name),
-                             tuple(outcome.warnings), tuple(solution.warnings)))
+        lines.append(
+            RunLine(
+                outcome.name,
+                solution.status,
+                solution.message,
+                int(solution.stats.steps),
+                float(solution.stats.cpu_seconds),
+                _where(output_dir, outcome.name),
+                tuple(outcome.warnings),
+                tuple(solution.warnings),
+            )
+        )
     return FileReport(path, runs=lines)
 
 
-def run_all(paths: list[Path], *, engine: Engine, output_dir: Path, xlsx: bool, jobs: int,
-            progress_for: Callable[[Path], Progress | None]) -> Iterator[FileReport]:
+def run_all(
+    paths: list[Path],
+    *,
+    engine: Engine,
+    output_dir: Path,
+    xlsx: bool,
+    jobs: int,
+    progress_for: Callable[[Path], Progress | None],
+) -> Iterator[FileReport]:
     """Reports in input order; files in parallel processes when `jobs > 1`.
 
     `progress_for(path)` gives the progress callback of a file run in this process
@@ -79,8 +96,9 @@ def run_all(paths: list[Path], *, engine: Engine, output_dir: Path, xlsx: bool, 
     workers = min(jobs, len(paths))
     if workers <= 1:
         for path in paths:
-            yield run_one(path, engine=engine, output_dir=output_dir, xlsx=xlsx,
-                          progress=progress_for(path))
+            yield run_one(
+                path, engine=engine, output_dir=output_dir, xlsx=xlsx, progress=progress_for(path)
+            )
         return
     task = functools.partial(run_one, engine=engine, output_dir=output_dir, xlsx=xlsx)
     with ProcessPoolExecutor(max_workers=workers) as pool:
@@ -97,4 +115,3 @@ def _where(output_dir: Path, name: str) -> Path:
         return output_dir
     csv_path = csv_path.with_name(csv_path.name + ".csv")
     return csv_path if csv_path.is_file() else output_dir
-

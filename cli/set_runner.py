@@ -1,4 +1,5 @@
 """`loads run SET.yaml`: run a load-case set through `loadcases.sets.campaign` and report it."""
+
 from __future__ import annotations
 
 import time
@@ -28,13 +29,20 @@ class SetProgress(TerminalLine):
             return
         now = time.monotonic()
         left = (now - self._start) / done * (total - done) if done else float("nan")
-        self.draw(f"{self._label}: {done}/{total} runs, {self._failed} failed, "
-                  f"~{left:.0f} s left")
+        self.draw(f"{self._label}: {done}/{total} runs, {self._failed} failed, ~{left:.0f} s left")
 
 
-def run_set_file(path: Path, *, run_set: RunSet, output_dir: Path, xlsx: bool,
-                 jobs: int | None, scheduler: str | None, force: bool,
-                 show_progress: bool) -> FileReport:
+def run_set_file(
+    path: Path,
+    *,
+    run_set: RunSet,
+    output_dir: Path,
+    xlsx: bool,
+    jobs: int | None,
+    scheduler: str | None,
+    force: bool,
+    show_progress: bool,
+) -> FileReport:
     """Run every run of a set file with `run_set` (loadcases'); one status line per run,
     failures and files listed."""
     from loadcases.sets.executors import make_executor
@@ -43,18 +51,35 @@ def run_set_file(path: Path, *, run_set: RunSet, output_dir: Path, xlsx: bool,
     executor = make_executor(jobs=jobs, scheduler=scheduler)
     options = {"jobs": str(jobs or "cores"), "scheduler": scheduler or "local processes"}
     try:
-        result = run_set(path, output_dir=output_dir, executor=executor, force=force,
-                         on_record=progress, options=options, xlsx=xlsx)
+        result = run_set(
+            path,
+            output_dir=output_dir,
+            executor=executor,
+            force=force,
+            on_record=progress,
+            options=options,
+            xlsx=xlsx,
+        )
     except InputError as error:
         return FileReport(path, diagnostics=list(error.diagnostics))
     finally:
         if progress is not None:
             progress.close()
-    lines = [RunLine(r.name + (" (reused)" if r.reused else ""), r.status, r.message, r.steps,
-                     r.cpu_seconds, r.csv_path if r.csv_path.is_file() else result.directory)
-             for r in result.records]
-    footer = [f"{result.compiled.name}: {len(result.records)} runs, {len(result.failed)} "
-              f"failed, {sum(r.reused for r in result.records)} reused"]
+    lines = [
+        RunLine(
+            r.name + (" (reused)" if r.reused else ""),
+            r.status,
+            r.message,
+            r.steps,
+            r.cpu_seconds,
+            r.csv_path if r.csv_path.is_file() else result.directory,
+        )
+        for r in result.records
+    ]
+    footer = [
+        f"{result.compiled.name}: {len(result.records)} runs, {len(result.failed)} "
+        f"failed, {sum(r.reused for r in result.records)} reused"
+    ]
     if result.failed:
         footer.append(f"failed runs ({len(result.failed)}):")
         footer += [f"  {r.name}: {r.message}" for r in result.failed]

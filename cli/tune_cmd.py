@@ -4,6 +4,7 @@ Returns its exit status (0 tuned, 1 no solution: no bracket or a run failed, 2 i
 or usage); `cli.app` registers it through its `guarded` wrapper. The work is done by
 `loadcases.tune`.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -19,13 +20,17 @@ EXIT_OK, EXIT_FAILED, EXIT_INPUT = 0, 1, 2
 
 
 def tune(
-    case: Annotated[Path, typer.Argument(help="Case file (*.case.yaml) with a modes "
-                                         "analysis.")],
-    parameter: Annotated[str, typer.Option("--parameter", help="Name of the parameter to "
-                                           "tune (of the case or its mechanism).")],
+    case: Annotated[Path, typer.Argument(help="Case file (*.case.yaml) with a modes analysis.")],
+    parameter: Annotated[
+        str,
+        typer.Option(
+            "--parameter", help="Name of the parameter to tune (of the case or its mechanism)."
+        ),
+    ],
     mode: Annotated[int, typer.Option("--mode", help="Mode number, 1 = lowest.")],
-    target: Annotated[str, typer.Option("--target", help="Target frequency, e.g. "
-                                        "'4.1672 Hz' (bare number: Hz).")],
+    target: Annotated[
+        str, typer.Option("--target", help="Target frequency, e.g. '4.1672 Hz' (bare number: Hz).")
+    ],
 ) -> int:
     """Find the parameter value giving mode MODE the target frequency (root finding on the
     case's modes analysis; seed 003 appendix A latch-spring tuning)."""
@@ -51,7 +56,9 @@ def tune(
         return EXIT_FAILED
     for k, (value, frequency) in enumerate(result.evaluations, start=1):
         typer.echo(f"  {k:3d}  {parameter} = {value:.10g}  mode {mode}: {frequency:.7f} Hz")
-    typer.echo(f"{parameter} = {result.value:.10g} (SI) gives mode {mode} = "
-               f"{result.frequency:.7f} Hz (target {hertz:.7g} Hz, "
-               f"{result.iterations} evaluations)")
+    typer.echo(
+        f"{parameter} = {result.value:.10g} (SI) gives mode {mode} = "
+        f"{result.frequency:.7f} Hz (target {hertz:.7g} Hz, "
+        f"{result.iterations} evaluations)"
+    )
     return EXIT_OK

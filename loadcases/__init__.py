@@ -8,6 +8,7 @@ envelopes and workbooks. This is its public API; the sub-packages hold the parts
 Names are imported when first used (`loadcases.run_case` imports the solver stack,
 `loadcases.write_workbook` openpyxl), so `import loadcases` stays quick.
 """
+
 from __future__ import annotations
 
 import importlib
@@ -17,8 +18,15 @@ from loadcases.diagnostics import Diagnostic, InputError
 
 _WHERE = {
     "loadcases.inputs.kinds": ("FileKind", "file_kind"),
-    "loadcases.inputs.loader": ("CaseFile", "MechanismFile", "SetFile", "load_case",
-                                "load_mechanism", "load_set", "validate_files"),
+    "loadcases.inputs.loader": (
+        "CaseFile",
+        "MechanismFile",
+        "SetFile",
+        "load_case",
+        "load_mechanism",
+        "load_set",
+        "validate_files",
+    ),
     "loadcases.inputs.scaffold": ("SKELETONS", "write_skeleton"),
     "loadcases.schema": ("json_schema",),
     "loadcases.build.model": ("BuiltRun", "build_run", "build_mechanism"),

@@ -4,6 +4,7 @@ Data goes to a temporary file in the target's own directory (so the final `os.re
 is a rename within one file system, which is atomic on POSIX and Windows); on any error the
 temporary file is removed and the previous content of the target, if any, is untouched.
 """
+
 from __future__ import annotations
 
 import contextlib
@@ -49,15 +50,15 @@ def atomic_path(target: Path, *, overwrite: bool = True) -> Iterator[Path]:
 
 def atomic_write_bytes(target: Path, data: bytes, *, overwrite: bool = True) -> Path:
     """Write `data` to `target` atomically (flushed to disk before the rename)."""
-    with atomic_path(target, overwrite=overwrite) as tmp:
-        with open(tmp, "wb") as stream:
-            stream.write(data)
-            stream.flush()
-            os.fsync(stream.fileno())
+    with atomic_path(target, overwrite=overwrite) as tmp, open(tmp, "wb") as stream:
+        stream.write(data)
+        stream.flush()
+        os.fsync(stream.fileno())
     return Path(target)
 
 
-def atomic_write_text(target: Path, text: str, *, encoding: str = "utf-8",
-                      overwrite: bool = True) -> Path:
+def atomic_write_text(
+    target: Path, text: str, *, encoding: str = "utf-8", overwrite: bool = True
+) -> Path:
     """Write `text` to `target` atomically, with `\\n` line ends on every platform."""
     return atomic_write_bytes(target, text.encode(encoding), overwrite=overwrite)

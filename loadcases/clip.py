@@ -1,5 +1,6 @@
 """Input text quoted in messages is cut to at most 80 characters: a message stays one
 readable line whatever a file holds (a 10 kB key, a pasted table in a value)."""
+
 from __future__ import annotations
 
 import re

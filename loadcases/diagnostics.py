@@ -2,6 +2,7 @@
 
 Only `cli/` formats them for people (gcc style, sorted by file and line).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field

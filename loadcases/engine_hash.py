@@ -1,6 +1,7 @@
 """The engine's identity for reusing saved runs: a SHA-256 of the installed source (every
 `.py` file of `mechlib`, `loadcases` and `cli`), so that a changed engine solves again
 even when its version string did not change. Computed once per process."""
+
 from __future__ import annotations
 
 import hashlib
@@ -9,7 +10,7 @@ from collections.abc import Iterable
 from functools import lru_cache
 from pathlib import Path
 
-__all__ = ["ENGINE_PACKAGES", "engine_sha256", "source_sha256", "file_sha256"]
+__all__ = ["ENGINE_PACKAGES", "engine_sha256", "file_sha256", "source_sha256"]
 
 ENGINE_PACKAGES = ("mechlib", "loadcases", "cli")
 _CHUNK = 1 << 20  # bytes read at a time when hashing a file

@@ -1,5 +1,6 @@
 """Documented limits of the input (README "Input rules"): beyond them `loads` stops with
 an input error (exit 2) instead of hanging or running out of memory."""
+
 from __future__ import annotations
 
 import glob
@@ -7,13 +8,21 @@ import math
 import os
 from collections.abc import Sequence
 
-__all__ = ["MAX_ROWS", "MAX_RUNS", "MAX_YAML_VALUES", "MAX_YAML_DEPTH", "rows_problem",
-           "runs_problem", "pattern_problem", "capped_jobs"]
+__all__ = [
+    "MAX_ROWS",
+    "MAX_RUNS",
+    "MAX_YAML_DEPTH",
+    "MAX_YAML_VALUES",
+    "capped_jobs",
+    "pattern_problem",
+    "rows_problem",
+    "runs_problem",
+]
 
-MAX_ROWS = 10_000_000        # output rows of one run (end / step): ~1 GB of CSV per column set
-MAX_RUNS = 100_000           # runs of one set (sweep x zip)
+MAX_ROWS = 10_000_000  # output rows of one run (end / step): ~1 GB of CSV per column set
+MAX_RUNS = 100_000  # runs of one set (sweep x zip)
 MAX_YAML_VALUES = 1_000_000  # values of one YAML file once its aliases are expanded
-MAX_YAML_DEPTH = 100         # nesting of mappings and lists in one YAML file
+MAX_YAML_DEPTH = 100  # nesting of mappings and lists in one YAML file
 
 
 def rows_problem(end: float, step: float) -> str | None:
@@ -21,8 +30,10 @@ def rows_problem(end: float, step: float) -> str | None:
     rows = end / step
     if rows <= MAX_ROWS:
         return None
-    return (f"end / step gives {rows:.3g} output rows; at most {MAX_ROWS:,} (take a longer "
-            "step or a shorter end)")
+    return (
+        f"end / step gives {rows:.3g} output rows; at most {MAX_ROWS:,} (take a longer "
+        "step or a shorter end)"
+    )
 
 
 def runs_problem(sweep: Sequence[Sequence[float]], zip_length: int) -> str | None:
@@ -39,8 +50,10 @@ def pattern_problem(pattern: str) -> str | None:
         return None
     parts = pattern.replace("\\", "/").split("/")
     if os.path.isabs(pattern) or ".." in parts:
-        return (f"the pattern '{pattern[:80]}' leaves the set file's folder; patterns "
-                "stay inside it (name files outside it one by one)")
+        return (
+            f"the pattern '{pattern[:80]}' leaves the set file's folder; patterns "
+            "stay inside it (name files outside it one by one)"
+        )
     return None
 
 

@@ -1,28 +1,33 @@
 """Run case files end to end: load, build, check, solve, write results."""
+
 from __future__ import annotations
 
 import dataclasses
-
+from collections.abc import Callable
 from pathlib import Path
-from typing import Callable
 
 import mechlib as ml
 from loadcases.build.model import build_mechanism, build_run
-from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.build.precheck import case_problems, model_diagnostics
 from loadcases.build.torque_margin import plan_torque_margin
+from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.kinds import file_kind
 from loadcases.inputs.loader import CaseFile, load_case, load_mechanism
-from loadcases.results.outcome import RunOutcome
 from loadcases.results.files import write_results
+from loadcases.results.outcome import RunOutcome
 
-__all__ = ["run_case", "run_file", "check_mechanism_file", "check_case_file"]
+__all__ = ["check_case_file", "check_mechanism_file", "run_case", "run_file"]
 
 Progress = Callable[[float, float], None]
 
 
-def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool = False,
-             name: str | None = None) -> RunOutcome:
+def run_case(
+    cf: CaseFile,
+    *,
+    progress: Progress | None = None,
+    abscissa: bool = False,
+    name: str | None = None,
+) -> RunOutcome:
     """Solve one loaded case; a solver failure gives a failed outcome with what was computed.
 
     `abscissa` adds the case's `abscissa:` expression as column `abscissa.value` (runs of a
@@ -33,9 +38,16 @@ def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool =
     built = build_run(cf, abscissa=abscissa)
     margin = plan_torque_margin(cf, built)
     try:
-        solution = ml.solve(built.mechanism, built.analysis, requests=built.requests,
-                            initial=built.initial, redundant=built.redundant, throw=False,
-                            events=built.events, progress=progress)
+        solution = ml.solve(
+            built.mechanism,
+            built.analysis,
+            requests=built.requests,
+            initial=built.initial,
+            redundant=built.redundant,
+            throw=False,
+            events=built.events,
+            progress=progress,
+        )
     except ml.ModelError as error:
         raise InputError(model_diagnostics(cf, error)) from None
     checks: dict = {}
@@ -44,15 +56,26 @@ def run_case(cf: CaseFile, *, progress: Progress | None = None, abscissa: bool =
         # notes on the results (a failed margin), beside the solver's warnings
         solution = dataclasses.replace(solution, warnings=[*solution.warnings, *notes])
         built.column_units.update(margin.units())
-    return RunOutcome(name=name or cf.case.case, case_file=Path(cf.path),
-                      analysis=built.analysis.name,
-                      solution=solution, input_sha256=cf.input_sha256,
-                      column_units=built.column_units, warnings=built.warnings,
-                      parameters=dict(cf.parameters), checks=checks)
+    return RunOutcome(
+        name=name or cf.case.case,
+        case_file=Path(cf.path),
+        analysis=built.analysis.name,
+        solution=solution,
+        input_sha256=cf.input_sha256,
+        column_units=built.column_units,
+        warnings=built.warnings,
+        parameters=dict(cf.parameters),
+        checks=checks,
+    )
 
 
-def run_file(path: Path | str, *, output_dir: Path | str, xlsx: bool = False,
-             progress: Progress | None = None) -> list[RunOutcome]:
+def run_file(
+    path: Path | str,
+    *,
+    output_dir: Path | str,
+    xlsx: bool = False,
+    progress: Progress | None = None,
+) -> list[RunOutcome]:
     """Run a case file and write its results into `output_dir` (SPEC section 3)."""
     if file_kind(path) == "mechanism":
         raise ValueError(f"{path} is a mechanism file: use check_mechanism_file")
@@ -67,14 +90,19 @@ def check_mechanism_file(path: Path | str) -> list[str]:
     (`loads run` on a mechanism checks it; a mechanism alone is not a load case)."""
     mf = load_mechanism(path)
     check = ml.inspect_mechanism(build_mechanism(mf))
-    lines = [f"{Path(path).name}: mechanism with {check.bodies} bodies, {check.equations} "
-             f"constraint equations, {check.degrees_of_freedom} "
-             f"degree{'' if check.degrees_of_freedom == 1 else 's'} of freedom"]
+    lines = [
+        f"{Path(path).name}: mechanism with {check.bodies} bodies, {check.equations} "
+        f"constraint equations, {check.degrees_of_freedom} "
+        f"degree{'' if check.degrees_of_freedom == 1 else 's'} of freedom"
+    ]
     if not check.assembled:
-        lines.append("  the design position does not satisfy every joint (assembly will move "
-                     "the bodies)")
-    lines += [f"  redundant: {r} (a case must drop them: analysis.redundant: drop)"
-              for r in check.redundant]
+        lines.append(
+            "  the design position does not satisfy every joint (assembly will move the bodies)"
+        )
+    lines += [
+        f"  redundant: {r} (a case must drop them: analysis.redundant: drop)"
+        for r in check.redundant
+    ]
     return lines
 
 

@@ -5,6 +5,7 @@ are numbers, dates stay text), so that `on`, `no` or `2024-01-01` never change t
 engineer's back. Anchors, aliases and `<<` merge keys work; tags other than the core ones
 are refused by the safe loader.
 """
+
 from __future__ import annotations
 
 import re
@@ -18,13 +19,14 @@ from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 from loadcases.diagnostics import Diagnostic, InputError, Severity
 from loadcases.limits import MAX_YAML_DEPTH, MAX_YAML_VALUES
 
-__all__ = ["SourceTree", "KeyPath", "Locator", "load_yaml", "parse_yaml", "format_key"]
+__all__ = ["KeyPath", "Locator", "SourceTree", "format_key", "load_yaml", "parse_yaml"]
 
 KeyPath = tuple[str | int, ...]
 _MERGE_TAG = "tag:yaml.org,2002:merge"
 _QUOTES = ("'", '"')
-_CORE_TAGS = frozenset(f"tag:yaml.org,2002:{name}"
-                       for name in ("str", "int", "float", "bool", "null", "seq", "map"))
+_CORE_TAGS = frozenset(
+    f"tag:yaml.org,2002:{name}" for name in ("str", "int", "float", "bool", "null", "seq", "map")
+)
 
 
 class _CoreLoader(yaml.SafeLoader):
@@ -32,18 +34,25 @@ class _CoreLoader(yaml.SafeLoader):
 
 
 _CoreLoader.yaml_implicit_resolvers = {
-    first: [(tag, rx) for tag, rx in resolvers
-            if tag.rsplit(":", 1)[-1] not in ("bool", "float", "timestamp")]
+    first: [
+        (tag, rx)
+        for tag, rx in resolvers
+        if tag.rsplit(":", 1)[-1] not in ("bool", "float", "timestamp")
+    ]
     for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
 }
 _CoreLoader.add_implicit_resolver(
-    "tag:yaml.org,2002:bool", re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"),
-    list("tTfF"))
+    "tag:yaml.org,2002:bool", re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"), list("tTfF")
+)
 _CoreLoader.add_implicit_resolver(
     "tag:yaml.org,2002:float",
-    re.compile(r"""^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?
-                   |[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$""", re.X),
-    list("-+0123456789."))
+    re.compile(
+        r"""^(?:[-+]?(?:\.[0-9]+|[0-9]+(?:\.[0-9]*)?)(?:[eE][-+]?[0-9]+)?
+                   |[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$""",
+        re.X,
+    ),
+    list("-+0123456789."),
+)
 
 
 def format_key(path: KeyPath) -> str:
@@ -102,8 +111,15 @@ class Locator:
         """(file, line, col) of the key at `path` (relative to `prefix`)."""
         return (self.tree.file, *self.tree.position((*self.prefix, *path)))
 
-    def diagnostic(self, path: KeyPath, message: str, *, hint: str | None = None,
-                   severity: Severity = "error", offset: int | None = None) -> Diagnostic:
+    def diagnostic(
+        self,
+        path: KeyPath,
+        message: str,
+        *,
+        hint: str | None = None,
+        severity: Severity = "error",
+        offset: int | None = None,
+    ) -> Diagnostic:
         """A diagnostic at the key `path`; with `offset`, at that character of its value."""
         full = (*self.prefix, *path)
         line, col = self.tree.position(full)
@@ -124,14 +140,19 @@ class _Builder:
 
     def build(self, node: Node, path: KeyPath) -> Any:
         if id(node) in self.stack:
-            raise yaml.MarkedYAMLError(problem="an alias refers to itself",
-                                       problem_mark=node.start_mark)
+            raise yaml.MarkedYAMLError(
+                problem="an alias refers to itself", problem_mark=node.start_mark
+            )
         self.count += 1
         if self.count > MAX_YAML_VALUES or len(path) > MAX_YAML_DEPTH:
-            raise yaml.MarkedYAMLError(problem=(
-                f"more than {MAX_YAML_VALUES:,} values once aliases are expanded"
-                if self.count > MAX_YAML_VALUES else
-                f"nested more than {MAX_YAML_DEPTH} levels deep"), problem_mark=node.start_mark)
+            raise yaml.MarkedYAMLError(
+                problem=(
+                    f"more than {MAX_YAML_VALUES:,} values once aliases are expanded"
+                    if self.count > MAX_YAML_VALUES
+                    else f"nested more than {MAX_YAML_DEPTH} levels deep"
+                ),
+                problem_mark=node.start_mark,
+            )
         self.stack.add(id(node))
         try:
             return self._build(node, path)
@@ -140,11 +161,15 @@ class _Builder:
 
     def _build(self, node: Node, path: KeyPath) -> Any:
         if node.tag not in _CORE_TAGS:
-            raise yaml.MarkedYAMLError(problem=f"tag {node.tag} is not allowed",
-                                       problem_mark=node.start_mark)
+            raise yaml.MarkedYAMLError(
+                problem=f"tag {node.tag} is not allowed", problem_mark=node.start_mark
+            )
         line, col = node.start_mark.line + 1, node.start_mark.column + 1
-        if isinstance(node, ScalarNode) and node.style in _QUOTES and \
-                node.start_mark.line == node.end_mark.line:
+        if (
+            isinstance(node, ScalarNode)
+            and node.style in _QUOTES
+            and node.start_mark.line == node.end_mark.line
+        ):
             col += 1
         self.tree.values.setdefault(path, (line, col))
         if isinstance(node, MappingNode):
@@ -190,10 +215,16 @@ class _Builder:
         return result
 
     def _duplicate(self, path: KeyPath, key: str, line: int, col: int, first: int) -> None:
-        self.tree.diagnostics.append(Diagnostic(
-            self.tree.file, line, col, format_key((*path, key)),
-            f"duplicate key (first given on line {first})",
-            hint="remove one of them: YAML keeps only one value per key"))
+        self.tree.diagnostics.append(
+            Diagnostic(
+                self.tree.file,
+                line,
+                col,
+                format_key((*path, key)),
+                f"duplicate key (first given on line {first})",
+                hint="remove one of them: YAML keeps only one value per key",
+            )
+        )
 
 
 def parse_yaml(text: str, file: str) -> SourceTree:
@@ -203,16 +234,30 @@ def parse_yaml(text: str, file: str) -> SourceTree:
         node = yaml.compose(text, Loader=_CoreLoader)
         tree.data = _Builder(tree).build(node, ()) if node is not None else None
     except RecursionError:  # the composer recurses once per nesting level
-        raise InputError([Diagnostic(file, 1, 1, "", "YAML syntax error: nested more than "
-                                     f"{MAX_YAML_DEPTH} levels deep")]) from None
+        raise InputError(
+            [
+                Diagnostic(
+                    file,
+                    1,
+                    1,
+                    "",
+                    f"YAML syntax error: nested more than {MAX_YAML_DEPTH} levels deep",
+                )
+            ]
+        ) from None
     except yaml.MarkedYAMLError as error:
         mark = error.problem_mark or error.context_mark
         line, col = (mark.line + 1, mark.column + 1) if mark is not None else (0, 0)
         problem = error.problem or error.context or "invalid YAML"
         if error.context and error.problem:
             problem = f"{error.problem} ({error.context})"
-        raise InputError([Diagnostic(file, line, col, "", f"YAML syntax error: {problem}",
-                                     hint=_syntax_hint(problem))]) from None
+        raise InputError(
+            [
+                Diagnostic(
+                    file, line, col, "", f"YAML syntax error: {problem}", hint=_syntax_hint(problem)
+                )
+            ]
+        ) from None
     except yaml.YAMLError as error:
         raise InputError([Diagnostic(file, 0, 0, "", f"YAML error: {error}")]) from None
     return tree

@@ -8,6 +8,7 @@ stiffness) a value without it is taken per radian: `"50 N*m"` is accepted as 50 
 Bare numbers: for the five file-unit kinds (length, angle, mass, time, force) a bare number is
 in the file's unit (`units: {length: mm}`); for every other dimension a bare number is SI.
 """
+
 from __future__ import annotations
 
 import math
@@ -18,31 +19,78 @@ from typing import Any
 
 from loadcases.clip import clip
 
-__all__ = ["SIValue", 
-    "DIMENSIONS", "FILE_UNIT_KINDS", "RESERVED_NAMES", "UnitError",
-    "to_si", "vector_to_si", "unit_constant", "check_unit_name", "finite",
+__all__ = [
+    "DIMENSIONS",
+    "FILE_UNIT_KINDS",
+    "RESERVED_NAMES",
+    "SIValue",
+    "UnitError",
+    "check_unit_name",
+    "finite",
+    "to_si",
+    "unit_constant",
+    "vector_to_si",
 ]
 
 # Expected dimensionality of each dimension name, as {base dimension: exponent}.
 _L, _M, _T, _A = "[length]", "[mass]", "[time]", "[angle]"
 DIMENSIONS: dict[str, dict[str, int]] = {
-    "length": {_L: 1}, "angle": {_A: 1}, "mass": {_M: 1}, "time": {_T: 1},
-    "force": {_M: 1, _L: 1, _T: -2}, "torque": {_M: 1, _L: 2, _T: -2},
-    "inertia": {_M: 1, _L: 2}, "velocity": {_L: 1, _T: -1},
-    "angular_velocity": {_A: 1, _T: -1}, "acceleration": {_L: 1, _T: -2},
+    "length": {_L: 1},
+    "angle": {_A: 1},
+    "mass": {_M: 1},
+    "time": {_T: 1},
+    "force": {_M: 1, _L: 1, _T: -2},
+    "torque": {_M: 1, _L: 2, _T: -2},
+    "inertia": {_M: 1, _L: 2},
+    "velocity": {_L: 1, _T: -1},
+    "angular_velocity": {_A: 1, _T: -1},
+    "acceleration": {_L: 1, _T: -2},
     "angular_acceleration": {_A: 1, _T: -2},
-    "stiffness": {_M: 1, _T: -2}, "torsional_stiffness": {_M: 1, _L: 2, _T: -2, _A: -1},
-    "damping": {_M: 1, _T: -1}, "torsional_damping": {_M: 1, _L: 2, _T: -1, _A: -1},
-    "pressure": {_M: 1, _L: -1, _T: -2}, "area": {_L: 2}, "volume": {_L: 3},
-    "frequency": {_T: -1}, "dimensionless": {},
+    "stiffness": {_M: 1, _T: -2},
+    "torsional_stiffness": {_M: 1, _L: 2, _T: -2, _A: -1},
+    "damping": {_M: 1, _T: -1},
+    "torsional_damping": {_M: 1, _L: 2, _T: -1, _A: -1},
+    "pressure": {_M: 1, _L: -1, _T: -2},
+    "area": {_L: 2},
+    "volume": {_L: 3},
+    "frequency": {_T: -1},
+    "dimensionless": {},
 }
 FILE_UNIT_KINDS = ("length", "angle", "mass", "time", "force")
 # Identifiers of the expression language that are never unit constants (`t` is not tonne).
-RESERVED_NAMES = frozenset({
-    "t", "pi", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sqrt", "abs", "min",
-    "max", "sign", "exp", "log", "step", "table", "angle", "omega", "travel", "speed", "dist",
-    "x", "y", "z", "vx", "vy", "vz",
-})
+RESERVED_NAMES = frozenset(
+    {
+        "t",
+        "pi",
+        "sin",
+        "cos",
+        "tan",
+        "asin",
+        "acos",
+        "atan",
+        "atan2",
+        "sqrt",
+        "abs",
+        "min",
+        "max",
+        "sign",
+        "exp",
+        "log",
+        "step",
+        "table",
+        "angle",
+        "omega",
+        "travel",
+        "speed",
+        "dist",
+        "x",
+        "y",
+        "z",
+        "vx",
+        "vy",
+        "vz",
+    }
+)
 _NUMBER = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*$")
 _LEADING_NUMBER = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 _VECTOR = re.compile(r"^\s*\[(?P<items>[^\]]*)\]\s*(?P<unit>.*?)\s*$")
@@ -77,8 +125,13 @@ def _describe(dimensionality: Mapping[str, float], units: Any = None) -> str:
     for name, dims in DIMENSIONS.items():
         if dims == wanted:
             name = name.replace("_", " ")
-            return "a dimensionless number" if name == "dimensionless" else \
-                f"an {name}" if name[0] in "aeiou" else f"a {name}"
+            return (
+                "a dimensionless number"
+                if name == "dimensionless"
+                else f"an {name}"
+                if name[0] in "aeiou"
+                else f"a {name}"
+            )
     if units is not None:
         return f"units of {units:~C}"
     return "dimension " + " ".join(f"{k}^{v:g}" if v != 1 else k for k, v in wanted.items())
@@ -90,8 +143,12 @@ def _matches(got: Mapping[str, float], dimension: str) -> bool:
     got = {k: v for k, v in got.items() if v}
     if got == want:
         return True
-    return dimension != "angle" and _A in want and _A not in got and \
-        got == {k: v for k, v in want.items() if k != _A}
+    return (
+        dimension != "angle"
+        and _A in want
+        and _A not in got
+        and got == {k: v for k, v in want.items() if k != _A}
+    )
 
 
 def _quantity(text: str) -> Any:
@@ -104,10 +161,22 @@ def _quantity(text: str) -> Any:
     try:
         quantity = registry.Quantity(text)
     # pint's expression parser raises AssertionError on some malformed texts ("1 m/").
-    except (pint.errors.PintError, ValueError, TypeError, SyntaxError, AttributeError,
-            KeyError, ZeroDivisionError, OverflowError, AssertionError) as error:
-        reason = f"unknown unit '{error.unit_names[0]}'" if isinstance(
-            error, pint.errors.UndefinedUnitError) and error.unit_names else "not a quantity"
+    except (
+        pint.errors.PintError,
+        ValueError,
+        TypeError,
+        SyntaxError,
+        AttributeError,
+        KeyError,
+        ZeroDivisionError,
+        OverflowError,
+        AssertionError,
+    ) as error:
+        reason = (
+            f"unknown unit '{error.unit_names[0]}'"
+            if isinstance(error, pint.errors.UndefinedUnitError) and error.unit_names
+            else "not a quantity"
+        )
         raise UnitError(f"cannot read '{text}': {reason}") from None
     if not isinstance(quantity, registry.Quantity) or isinstance(quantity.magnitude, complex):
         raise UnitError(f"cannot read '{text}': not a quantity")
@@ -140,8 +209,9 @@ def to_si(value: Any, dimension: str, file_units: Mapping[str, str] | None = Non
     return finite(_si_magnitude(value, dimension, file_units), value)
 
 
-def _si_magnitude(value: int | float | str, dimension: str,
-                  file_units: Mapping[str, str] | None) -> float:
+def _si_magnitude(
+    value: int | float | str, dimension: str, file_units: Mapping[str, str] | None
+) -> float:
     """to_si without the finiteness check."""
     if isinstance(value, str) and _NUMBER.match(value):
         value = float(value)
@@ -153,8 +223,10 @@ def _si_magnitude(value: int | float | str, dimension: str,
     quantity = _quantity(value)
     base = quantity.to_base_units()
     if dimension != "any" and not _matches(base.dimensionality, dimension):
-        raise UnitError(f"expected {_describe(DIMENSIONS[dimension])}, got '{clip(value)}' "
-                        f"({_describe(base.dimensionality, base.units)})")
+        raise UnitError(
+            f"expected {_describe(DIMENSIONS[dimension])}, got '{clip(value)}' "
+            f"({_describe(base.dimensionality, base.units)})"
+        )
     return float(base.magnitude)
 
 
@@ -181,8 +253,9 @@ def _show(value: Any) -> str:
     return "nothing" if value is None else repr(value)
 
 
-def vector_to_si(value: Any, dimension: str, file_units: Mapping[str, str] | None = None,
-                 size: int | None = 3) -> tuple[float, ...]:
+def vector_to_si(
+    value: Any, dimension: str, file_units: Mapping[str, str] | None = None, size: int | None = 3
+) -> tuple[float, ...]:
     """SI components of a list of numbers/quantities or a text like "[0, 0, 1500] mm".
 
     `size=None` accepts any length; otherwise a different length raises UnitError
@@ -192,8 +265,9 @@ def vector_to_si(value: Any, dimension: str, file_units: Mapping[str, str] | Non
     if isinstance(value, str):
         match = _VECTOR.match(value)
         if match is None:
-            raise UnitError(f"expected a list of values or a text like '[0, 0, 1] mm', "
-                            f"got '{value}'")
+            raise UnitError(
+                f"expected a list of values or a text like '[0, 0, 1] mm', got '{value}'"
+            )
         items: Sequence[Any] = [s.strip() for s in match["items"].split(",") if s.strip()]
         unit = match["unit"]
     elif isinstance(value, (list, tuple)):

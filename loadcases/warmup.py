@@ -5,6 +5,7 @@ install pays the compilation (about 20 s of the door set on 2 cores). It solves 
 library cases over their first instants: dynamic and quasi-static, every contact kernel.
 Nothing is written outside a temporary folder.
 """
+
 from __future__ import annotations
 
 import tempfile
@@ -18,10 +19,12 @@ from loadcases.run import run_case
 
 LIBRARY = Path(__file__).resolve().parent / "library"
 # (case, end s, step s): short runs that call every compiled kernel
-CASES = (("verification/ball_in_socket.case.yaml", 0.02, 0.01),
-         ("verification/ln_restitution.case.yaml", 0.02, 0.01),
-         ("door/lifting_inner_let_go.case.yaml", 0.02, 0.01),
-         ("door/lifting_inner.case.yaml", 0.1, 0.05))
+CASES = (
+    ("verification/ball_in_socket.case.yaml", 0.02, 0.01),
+    ("verification/ln_restitution.case.yaml", 0.02, 0.01),
+    ("door/lifting_inner_let_go.case.yaml", 0.02, 0.01),
+    ("door/lifting_inner.case.yaml", 0.1, 0.05),
+)
 
 
 def _short_copy(case: Path, end: float, step: float, folder: Path) -> Path:

@@ -1,13 +1,22 @@
 """Analysis settings (what to compute) and the trajectory an analysis records."""
+
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Callable
 
 import numpy as np
 
-__all__ = ["Kinematic", "Static", "QuasiStatic", "Dynamic", "Trajectory", "output_times",
-           "DEFAULT_TOLERANCE", "DEFAULT_MAX_STEPS"]
+__all__ = [
+    "DEFAULT_MAX_STEPS",
+    "DEFAULT_TOLERANCE",
+    "Dynamic",
+    "Kinematic",
+    "QuasiStatic",
+    "Static",
+    "Trajectory",
+    "output_times",
+]
 
 DEFAULT_TOLERANCE = 1e-6
 DEFAULT_MAX_STEPS = 500_000  # accepted + rejected steps: a few minutes of CPU, small model

@@ -3,11 +3,12 @@
 Given initial values that the constraints contradict are projected onto them (least
 squares, smallest change from the design position) and reported.
 """
+
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 
@@ -19,8 +20,15 @@ from mechlib.solution import SolverFailure
 from mechlib.system import System
 from mechlib.work import count
 
-__all__ = ["InitialValue", "InitialBodyVelocity", "solve_positions", "solve_velocities",
-           "solve_accelerations", "assemble", "POSITION_TOLERANCE"]
+__all__ = [
+    "POSITION_TOLERANCE",
+    "InitialBodyVelocity",
+    "InitialValue",
+    "assemble",
+    "solve_accelerations",
+    "solve_positions",
+    "solve_velocities",
+]
 
 POSITION_TOLERANCE = 1e-10
 _MAX_NEWTON = 50
@@ -70,20 +78,30 @@ def _newton(residual, jacobian, q: np.ndarray, tol: float) -> tuple[np.ndarray, 
     return q, _MAX_NEWTON, float(np.abs(res).max(initial=0.0))
 
 
-def solve_positions(system: System, q: np.ndarray, t: float, *, tol: float = POSITION_TOLERANCE
-                    ) -> tuple[np.ndarray, int]:
+def solve_positions(
+    system: System, q: np.ndarray, t: float, *, tol: float = POSITION_TOLERANCE
+) -> tuple[np.ndarray, int]:
     """q with phi(q, t) = 0 from the guess q; raises SolverFailure naming the worst rows."""
-    q, its, worst = _newton(lambda x: system.phi(system.kin(x, None, t)),
-                            lambda x: system.phi_q(system.kin(x, None, t)), q, tol)
+    q, its, worst = _newton(
+        lambda x: system.phi(system.kin(x, None, t)),
+        lambda x: system.phi_q(system.kin(x, None, t)),
+        q,
+        tol,
+    )
     if worst > 1e3 * tol:
         res = system.phi(system.kin(q, None, t))
         rows = np.argsort(-np.abs(res))[:3]
         where = tuple(system.labels[i] for i in rows)
-        raise SolverFailure(f"position analysis did not converge at t = {t:.6g} s "
-                            f"(largest residuals: {'; '.join(where)}"
-                            f"{toggle_detail(system, system.kin(q, None, t))}): the mechanism "
-                            "cannot be assembled there (out of reach, or a motion beyond a "
-                            "toggle)", time=t, where=where, status=Status.NEWTON_FAILED)
+        raise SolverFailure(
+            f"position analysis did not converge at t = {t:.6g} s "
+            f"(largest residuals: {'; '.join(where)}"
+            f"{toggle_detail(system, system.kin(q, None, t))}): the mechanism "
+            "cannot be assembled there (out of reach, or a motion beyond a "
+            "toggle)",
+            time=t,
+            where=where,
+            status=Status.NEWTON_FAILED,
+        )
     return q, its
 
 
@@ -114,8 +132,10 @@ def _position_notes(system: System, k: Kin, given) -> list[str]:
     for item, m in given:
         actual = m.value(k)
         if abs(actual - item.value) > _REPORT_CHANGE * max(1.0, abs(item.value)):
-            notes.append(f"initial {m.kind} of joint '{item.joint}' changed from "
-                         f"{item.value:.6g} to {actual:.6g} to satisfy the constraints")
+            notes.append(
+                f"initial {m.kind} of joint '{item.joint}' changed from "
+                f"{item.value:.6g} to {actual:.6g} to satisfy the constraints"
+            )
     return notes
 
 
@@ -124,14 +144,16 @@ def _given_residual(system: System, given, targets, t: float):
         k = system.kin(x, None, t)
         extra = [m.value(k) - target for (_, m), target in zip(given, targets)]
         return np.concatenate([system.phi(k), extra])
+
     return residual
 
 
 def _given_jacobian(system: System, given, t: float):
     def jacobian(x):
         k = system.kin(x, None, t)
-        extra = [m.gradient(k)[:system.nq] for _, m in given]
+        extra = [m.gradient(k)[: system.nq] for _, m in given]
         return np.vstack([system.phi_q(k)] + extra)
+
     return jacobian
 
 
@@ -148,10 +170,13 @@ def assemble(system: System, t: float, initial: Sequence = ()) -> Assembled:
         span = max(abs(item.value - v) for (item, _), v in zip(given, start))
         stages = max(1, math.ceil(span / _STAGE))
         for stage in range(1, stages + 1):
-            targets = [v + (item.value - v) * stage / stages
-                       for (item, _), v in zip(given, start)]
-            q, n, _ = _newton(_given_residual(system, given, targets, t),
-                              _given_jacobian(system, given, t), q, POSITION_TOLERANCE)
+            targets = [v + (item.value - v) * stage / stages for (item, _), v in zip(given, start)]
+            q, n, _ = _newton(
+                _given_residual(system, given, targets, t),
+                _given_jacobian(system, given, t),
+                q,
+                POSITION_TOLERANCE,
+            )
             its += n
             system.commit(system.kin(q, None, t))
     q, its2 = solve_positions(system, q, t)
@@ -167,16 +192,18 @@ def _velocity_rows(system: System, k: Kin, initial) -> tuple[list, list, list]:
     for item in initial:
         if isinstance(item, InitialValue) and item.rate is not None:
             m = system._coordinate_of(item.joint, item.coordinate)
-            rows.append(m.gradient(k)[:system.nq])
+            rows.append(m.gradient(k)[: system.nq])
             rhs.append(item.rate)
             names.append((f"rate of joint '{item.joint}'", rows[-1][None, :], [item.rate]))
         elif isinstance(item, InitialBodyVelocity):
             b = system.body_index(item.body)
             block = np.zeros((6, system.nq))
-            block[:3, 7 * b:7 * b + 3] = np.eye(3)
-            block[3:, 7 * b + 3:7 * b + 7] = 2.0 * e_matrix(k.p[b])
-            for sl, vec, what in ((slice(0, 3), item.velocity, "velocity"),
-                                  (slice(3, 6), item.omega, "omega")):
+            block[:3, 7 * b : 7 * b + 3] = np.eye(3)
+            block[3:, 7 * b + 3 : 7 * b + 7] = 2.0 * e_matrix(k.p[b])
+            for sl, vec, what in (
+                (slice(0, 3), item.velocity, "velocity"),
+                (slice(3, 6), item.omega, "omega"),
+            ):
                 if vec is not None:
                     rows.extend(block[sl])
                     rhs.extend(vec)
@@ -190,8 +217,9 @@ def _initial_velocities(system: System, q: np.ndarray, t: float, initial):
     rows, rhs, names = _velocity_rows(system, k, initial)
     count(factorizations=2 if rows else 1)
     if rows:
-        qd, *_ = np.linalg.lstsq(np.vstack([phi_q, np.array(rows)]),
-                                 np.concatenate([nu, rhs]), rcond=None)
+        qd, *_ = np.linalg.lstsq(
+            np.vstack([phi_q, np.array(rows)]), np.concatenate([nu, rhs]), rcond=None
+        )
     else:
         qd = np.zeros(system.nq)
     fix, *_ = np.linalg.lstsq(phi_q, nu - phi_q @ qd, rcond=None)
@@ -200,6 +228,8 @@ def _initial_velocities(system: System, q: np.ndarray, t: float, initial):
     for what, block, wanted in names:
         actual = block @ qd
         if np.abs(actual - wanted).max() > _REPORT_CHANGE * max(1.0, np.abs(wanted).max()):
-            notes.append(f"initial {what} changed from {np.round(wanted, 9).tolist()} to "
-                         f"{np.round(actual, 9).tolist()} to satisfy the constraints")
+            notes.append(
+                f"initial {what} changed from {np.round(wanted, 9).tolist()} to "
+                f"{np.round(actual, 9).tolist()} to satisfy the constraints"
+            )
     return qd, notes

@@ -5,6 +5,7 @@ units); stiffness K_T = d(phi_q^T lam - Q)/dq by forward differences (the tested
 DESIGN.md). Shared by Newton (mechlib.static) and pseudo-transient continuation
 (mechlib.continuation).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -12,7 +13,7 @@ import numpy as np
 from mechlib.system import System
 from mechlib.work import count
 
-__all__ = ["Balance", "FD_STEP"]
+__all__ = ["FD_STEP", "Balance"]
 
 FD_STEP = 1e-7
 """Forward-difference step of the stiffness, relative to max(1, |q_j|)."""
@@ -31,8 +32,9 @@ class Balance:
         # frictionless primitive contacts differentiate themselves (compiled, increments
         # sized for contact: a steel Hertz deflection is below FD_STEP); a static friction
         # force comes from the slip anchors, which only the differences below see
-        self._compiled = [e for e in system.elements
-                          if getattr(e, "has_tangent", False) and e.friction is None]
+        self._compiled = [
+            e for e in system.elements if getattr(e, "has_tangent", False) and e.friction is None
+        ]
         compiled = {id(e) for e in self._compiled}
         self._skips = {b: ids | compiled for b, ids in _elsewhere(system).items()}
         weight = float(np.abs(system.masses).sum() * max(np.linalg.norm(system.gravity), 1.0))
@@ -68,9 +70,11 @@ class Balance:
             dq = np.zeros(system.nq)
             dq[j] = FD_STEP * max(1.0, abs(q[j]))
             k = system.kin(q + dq, None, t)
-            out[:, j] = (system.phi_q(k).T @ lam
-                         - system.forces(k, inertia=False, lam=lam, skip=skip)
-                         - base[body]) / dq[j]
+            out[:, j] = (
+                system.phi_q(k).T @ lam
+                - system.forces(k, inertia=False, lam=lam, skip=skip)
+                - base[body]
+            ) / dq[j]
         if self._compiled:
             view, damping = system.view(k0, lam), np.zeros_like(out)  # at rest: unused
             for element in self._compiled:
@@ -81,15 +85,17 @@ class Balance:
     def size(self, res: np.ndarray) -> float:
         """Euclidean norm of R with the forces divided by `scale` (-)."""
         w = np.ones_like(res)
-        w[:self.system.nq] = self.scale
+        w[: self.system.nq] = self.scale
         return float(np.linalg.norm(res / w))
 
     def converged(self, res: np.ndarray, step: np.ndarray, tol: float) -> bool:
         """Forces below tol * scale, constraints below tol, position step below 1e-8."""
         nq = self.system.nq
-        return bool(np.abs(res[:nq]).max(initial=0) < tol * self.scale
-                    and np.abs(res[nq:]).max(initial=0) < tol
-                    and np.abs(step[:nq]).max(initial=0) < 1e-8)
+        return bool(
+            np.abs(res[:nq]).max(initial=0) < tol * self.scale
+            and np.abs(res[nq:]).max(initial=0) < tol
+            and np.abs(step[:nq]).max(initial=0) < 1e-8
+        )
 
 
 def _elsewhere(system: System) -> dict[int, set[int]]:

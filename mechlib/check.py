@@ -5,6 +5,7 @@ couplers and motions); a row whose gradient lies in the span of the rows before 
 redundant, and the rows it depends on are found by least squares, so the report reads
 "C: rotation about x, dependent on A, B, D".
 """
+
 from __future__ import annotations
 
 from collections.abc import Set as AbstractSet
@@ -12,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ModelError", "Redundancy", "find_redundant", "degrees_of_freedom", "RANK_TOLERANCE"]
+__all__ = ["RANK_TOLERANCE", "ModelError", "Redundancy", "degrees_of_freedom", "find_redundant"]
 
 RANK_TOLERANCE = 1e-8
 _COEFFICIENT_FLOOR = 1e-6
@@ -47,7 +48,7 @@ def _independent_rows(phi_q: np.ndarray, tol: float, order=None) -> tuple[list[i
     basis: list[np.ndarray] = []
     independent, dependent = [], []
     scale = max(np.abs(phi_q).max(initial=0.0), 1.0)
-    for i in (range(phi_q.shape[0]) if order is None else order):
+    for i in range(phi_q.shape[0]) if order is None else order:
         row = phi_q[i]
         v = row.copy()
         if basis:
@@ -63,9 +64,14 @@ def _independent_rows(phi_q: np.ndarray, tol: float, order=None) -> tuple[list[i
     return independent, dependent
 
 
-def find_redundant(phi_q: np.ndarray, labels: list[str], owners: list[str],
-                   body_names: AbstractSet[str] = frozenset(), tol: float = RANK_TOLERANCE,
-                   owner_rank: dict[str, int] | None = None) -> list[Redundancy]:
+def find_redundant(
+    phi_q: np.ndarray,
+    labels: list[str],
+    owners: list[str],
+    body_names: AbstractSet[str] = frozenset(),
+    tol: float = RANK_TOLERANCE,
+    owner_rank: dict[str, int] | None = None,
+) -> list[Redundancy]:
     """Dependent rows of `phi_q`, each with the joints/motions it depends on.
 
     Rows are taken owner by owner in `owner_rank` order (default: first appearance), so

@@ -3,6 +3,7 @@ equations of motion at a given (q, qd). Used by both integrators (generalized-al
 start, restarts and step-size changes; Radau at every output time) and by the exact stick
 of joint friction.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -11,7 +12,7 @@ from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.reaction_loads import accelerations_and_reactions
 from mechlib.system import System
 
-__all__ = ["consistent_state", "consistent_accelerations"]
+__all__ = ["consistent_accelerations", "consistent_state"]
 
 
 def consistent_state(system: System, q, qd, t: float, *, project: bool = True):
@@ -26,12 +27,12 @@ def consistent_state(system: System, q, qd, t: float, *, project: bool = True):
         raise singular_failure(system, jac, t, "dynamic analysis failed")
     drift = system.nu(k) - jac @ qd
     if project and np.abs(drift).max(initial=0.0) > 0.0:
-        qd = qd + solve_factored(lu, np.concatenate([np.zeros(system.nq), drift]))[:system.nq]
+        qd = qd + solve_factored(lu, np.concatenate([np.zeros(system.nq), drift]))[: system.nq]
         k = system.kin(q, qd, t)
     sol = accelerations_and_reactions(system, k, jac, lu)
     if sol is None:
         raise singular_failure(system, jac, t, "dynamic analysis failed")
-    return qd, sol[:system.nq], sol[system.nq:]
+    return qd, sol[: system.nq], sol[system.nq :]
 
 
 def consistent_accelerations(system: System, q, qd, t: float):

@@ -7,6 +7,7 @@ given to a group are body-fixed (body axes = global axes at the design position)
 Source: Haug, Computer-Aided Kinematics and Dynamics of Mechanical Systems (1989), ch. 9-11;
 the arithmetic is in `mechlib.kernels`.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -14,7 +15,7 @@ import numpy as np
 from mechlib import kernels as kr
 from mechlib.kin import Kin
 
-__all__ = ["Spherical", "Dot1", "Dot2", "Normalization"]
+__all__ = ["Dot1", "Dot2", "Normalization", "Spherical"]
 
 
 def _ints(a) -> np.ndarray:

@@ -13,6 +13,7 @@ not grow, so that a body far from its support reaches it in a number of steps lo
 the gap; as the residual falls M / delta vanishes and the steps become Newton's. The
 continuation hands over to Newton once the weighted residual is below HANDOVER.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -22,7 +23,7 @@ from mechlib.contract import Status
 from mechlib.linalg import augmented, factor, singular_failure, solve_factored
 from mechlib.solution import SolverFailure, SolverStats
 
-__all__ = ["settle", "HANDOVER", "MAX_STEPS", "RUNAWAY"]
+__all__ = ["HANDOVER", "MAX_STEPS", "RUNAWAY", "settle"]
 
 HANDOVER = 1e-3
 """Weighted residual (forces over the balance's force scale) below which Newton takes over."""
@@ -33,16 +34,17 @@ RUNAWAY = 1e3
 _FIRST_TRAVEL = 1e-6
 """The first step's largest coordinate change, as a fraction of the mechanism's size (-)."""
 _MIN_GROWTH = 2.0
-_MAX_RETRIES = 8   # a singular matrix (a load path softening, K_T < 0): delta / 4, retried
+_MAX_RETRIES = 8  # a singular matrix (a load path softening, K_T < 0): delta / 4, retried
 
 
-def settle(balance: Balance, q: np.ndarray, lam: np.ndarray, stats: SolverStats
-           ) -> tuple[np.ndarray, np.ndarray]:
+def settle(
+    balance: Balance, q: np.ndarray, lam: np.ndarray, stats: SolverStats
+) -> tuple[np.ndarray, np.ndarray]:
     """(q, lam) near rest, from where Newton converges; SolverFailure naming the body that is
     not held (and the contacts on it) when a body runs away or MAX_STEPS pass."""
     system = balance.system
     length = system.length
-    start = q[:system.nq].reshape(system.nb, 7)[:, :3].copy()
+    start = q[: system.nq].reshape(system.nb, 7)[:, :3].copy()
     res, jac = balance.residual(q, lam)
     delta = _first_delta(balance, q, res, length)
     for _ in range(MAX_STEPS):
@@ -51,7 +53,7 @@ def settle(balance: Balance, q: np.ndarray, lam: np.ndarray, stats: SolverStats
             return q, lam
         stats.newton_iterations += 1
         step, delta = _step(balance, q, lam, res, jac, delta)
-        q, lam = q + step[:system.nq], lam + step[system.nq:]
+        q, lam = q + step[: system.nq], lam + step[system.nq :]
         res, jac = balance.residual(q, lam)
         travel = np.abs(q.reshape(system.nb, 7)[:, :3] - start).max()
         if not np.isfinite(res).all() or travel > RUNAWAY * length:
@@ -65,7 +67,7 @@ def _first_delta(balance: Balance, q: np.ndarray, res: np.ndarray, length: float
     """delta (s^2) moving a free coordinate by _FIRST_TRAVEL of the mechanism's size
     `length` (m) under the unbalanced load (M^-1 R: its acceleration)."""
     system = balance.system
-    accel = np.linalg.solve(system.mass(system.kin(q, None, balance.t)), res[:system.nq])
+    accel = np.linalg.solve(system.mass(system.kin(q, None, balance.t)), res[: system.nq])
     return _FIRST_TRAVEL * length / max(float(np.abs(accel).max(initial=0.0)), 1e-300)
 
 
@@ -86,25 +88,35 @@ def _not_held(balance: Balance, q, lam, res, start: np.ndarray) -> SolverFailure
     """The failure of a body that continuation could not bring to rest: which body, along
     which direction, how far it went and what the contacts on it do there."""
     system, t = balance.system, balance.t
-    unbalanced = -res[:system.nq].reshape(system.nb, 7)[:, :3]
+    unbalanced = -res[: system.nq].reshape(system.nb, 7)[:, :3]
     body = int(np.argmax(np.linalg.norm(unbalanced, axis=1)))
     force = unbalanced[body]
     direction = force / max(float(np.linalg.norm(force)), 1e-300) + 0.0  # no "-0"
     moved = float(np.linalg.norm(q.reshape(system.nb, 7)[body, :3] - start[body]))
     view = system.view(system.kin(q, None, t), lam)
-    contacts = [e for e in system.elements
-                if e.active and hasattr(e, "geometry") and body in e.body_pair()]
+    contacts = [
+        e for e in system.elements if e.active and hasattr(e, "geometry") and body in e.body_pair()
+    ]
     notes = "; ".join(_contact_note(c, view, body, direction) for c in contacts)
-    hint = (f"{notes}: check that each contact lies where the load pushes the body and "
+    hint = (
+        (
+            f"{notes}: check that each contact lies where the load pushes the body and "
             "that its normal points from body 2 (plane, socket) towards body 1 (sphere, "
-            "ball)") if contacts else "no contact acts on it: add its support"
+            "ball)"
+        )
+        if contacts
+        else "no contact acts on it: add its support"
+    )
     name = system.body_names[body]
     return SolverFailure(
         f"static equilibrium not found at t = {t:.6g} s: body '{name}' is not held along "
         f"({direction[0]:.3g}, {direction[1]:.3g}, {direction[2]:.3g}) (global): under an "
         f"unbalanced force of {np.linalg.norm(force):.4g} N it moved {moved:.4g} m without "
-        f"coming to rest; {hint}", time=t, where=(name, *(c.name for c in contacts)),
-        status=Status.NOT_HELD)
+        f"coming to rest; {hint}",
+        time=t,
+        where=(name, *(c.name for c in contacts)),
+        status=Status.NOT_HELD,
+    )
 
 
 def _contact_note(contact, view, body: int, direction: np.ndarray) -> str:
@@ -114,5 +126,7 @@ def _contact_note(contact, view, body: int, direction: np.ndarray) -> str:
     if f.normal <= 0.0:
         return f"contact '{contact.name}' is open there (gap {-f.gap.penetration:.4g} m)"
     way = "pushes it that way" if on_body @ direction > 0.0 else "holds part of it"
-    return (f"contact '{contact.name}' {way} ({f.normal:.4g} N at penetration "
-            f"{f.gap.penetration:.4g} m)")
+    return (
+        f"contact '{contact.name}' {way} ({f.normal:.4g} N at penetration "
+        f"{f.gap.penetration:.4g} m)"
+    )

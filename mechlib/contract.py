@@ -12,12 +12,14 @@ Work counters (`SolverStats`): each stepper counts its accepted and rejected ste
 Newton iterations; factorisations and Jacobian evaluations are counted where they happen
 (mechlib.work), so every analysis fills them alike.
 """
+
 from __future__ import annotations
 
 import enum
 from abc import ABC, abstractmethod
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -27,28 +29,38 @@ if TYPE_CHECKING:
     from mechlib.system import System
     from mechlib.view import StateView
 
-__all__ = ["Status", "State", "StepResult", "Stepper", "StepUnresolved"]
+__all__ = ["State", "Status", "StepResult", "StepUnresolved", "Stepper"]
 
 
 class Status(enum.Enum):
     """How a step or a run ended: a code and the human text that goes with it."""
 
     SUCCESSFUL = ("successful", "finished")
-    STEP_REJECTED = ("step_rejected", "step rejected (error test or Newton iteration): "
-                     "retried with a smaller step")
+    STEP_REJECTED = (
+        "step_rejected",
+        "step rejected (error test or Newton iteration): retried with a smaller step",
+    )
     EVENT_STOP = ("event_stop", "stopped by an event")
-    MAX_STEPS_REACHED = ("max_steps_reached", "the limit of analysis.max_steps (accepted "
-                         "and rejected steps) is reached")
-    STEP_COLLAPSE = ("step_collapse", "the step size collapsed (a load or a motion growing "
-                     "without bound)")
+    MAX_STEPS_REACHED = (
+        "max_steps_reached",
+        "the limit of analysis.max_steps (accepted and rejected steps) is reached",
+    )
+    STEP_COLLAPSE = (
+        "step_collapse",
+        "the step size collapsed (a load or a motion growing without bound)",
+    )
     NEWTON_FAILED = ("newton_failed", "Newton iterations did not converge")
-    SINGULAR = ("singular", "singular matrix (a toggle or dead point, or a free degree of "
-                "freedom without load path)")
+    SINGULAR = (
+        "singular",
+        "singular matrix (a toggle or dead point, or a free degree of freedom without load path)",
+    )
     NOT_HELD = ("not_held", "static equilibrium not found: a body is not held")
     INTEGRATOR_FAILED = ("integrator_failed", "the integrator (scipy) reported a failure")
     NOT_FINITE = ("not_finite", "a state, a force or a result value is not finite")
-    EVALUATION_FAILED = ("evaluation_failed", "an expression, a force element or a request "
-                         "could not be evaluated")
+    EVALUATION_FAILED = (
+        "evaluation_failed",
+        "an expression, a force element or a request could not be evaluated",
+    )
 
     def __init__(self, code: str, message: str):
         self.code = code
@@ -137,20 +149,23 @@ class Stepper(ABC):
         sticking) returns the state it restarts from."""
         return self.settle(state)
 
-    def unresolved(self, state: State, new: State, failure: StepUnresolved,
-                   events: Callable[[], str]) -> None:
+    def unresolved(
+        self, state: State, new: State, failure: StepUnresolved, events: Callable[[], str]
+    ) -> None:
         """Locating the events `events()` (their names) within the step state -> new failed
         at `failure.t`: reject the step (the next one is shorter) or raise SolverFailure.
         By default a failure."""
         from mechlib.solution import SolverFailure
-        raise SolverFailure(f"{self.spec.name} analysis failed at t = {state.t:.6g} s "
-                            f"locating event {events()}", time=state.t,
-                            status=Status.NEWTON_FAILED)
+
+        raise SolverFailure(
+            f"{self.spec.name} analysis failed at t = {state.t:.6g} s locating event {events()}",
+            time=state.t,
+            status=Status.NEWTON_FAILED,
+        )
 
     def view(self, state: State) -> StateView:
         """The state view of `state` (for event conditions)."""
         return self.system.view(self.system.kin(state.q, state.qd, state.t), state.lam)
 
     def record(self, trajectory: Trajectory, state: State) -> None:
-        trajectory.record(state.t, state.q, state.qd, state.qdd, state.lam,
-                          snapshot=state.snapshot)
+        trajectory.record(state.t, state.q, state.qd, state.qdd, state.lam, snapshot=state.snapshot)

@@ -7,6 +7,7 @@ continuously past +-pi. The travel is the distance of body 1's joint point from 
 h. `CoordinateEquation` holds sum(c_k theta_k) - f(t) = 0: motions (drivers), couplers,
 gears and the screw's travel/angle relation.
 """
+
 from __future__ import annotations
 
 import math
@@ -18,7 +19,7 @@ from mechlib.constraints import Dot1, Dot2
 from mechlib.kin import Kin
 from mechlib.model import TimeFunction
 
-__all__ = ["AngleMeasure", "TravelMeasure", "CoordinateEquation"]
+__all__ = ["AngleMeasure", "CoordinateEquation", "TravelMeasure"]
 
 TWO_PI = 2.0 * math.pi
 

@@ -8,6 +8,7 @@ acceleration equation adds the curvature: gamma_k = gamma_dot2 + (n_k . c'') u*'
 u*' = c' . rho' / |c'|^2 (rho: the point in body-j axes) - the centripetal acceleration of
 a point running along a bent path.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -17,7 +18,7 @@ from mechlib.curves import Curve
 from mechlib.kin import Kin
 from mechlib.rotation import cross, omega_global
 
-__all__ = ["CurvePoint", "CurveEquation"]
+__all__ = ["CurveEquation", "CurvePoint"]
 
 
 class CurvePoint:
@@ -63,8 +64,11 @@ class CurveEquation:
         self.point, self.which, self.label, self.owner = point, which, label, owner
         self.function = None
 
-    def _frozen(self, k: Kin) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray,
-                                             np.ndarray], float, np.ndarray]:
+    def _frozen(
+        self, k: Kin
+    ) -> tuple[
+        tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray], float, np.ndarray
+    ]:
         """The dot2 data with u* held: (bi, bj, v, si, sj) arrays of one item, and u*."""
         pt = self.point
         u, _, normals, foot = pt.project(k)

@@ -1,6 +1,7 @@
 """Space curves through a table of points: a spline c(u) parameterised by chord length u (m),
 its derivatives, the point nearest a given point, and a normal frame that turns smoothly
 along the curve."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -10,8 +11,8 @@ from mechlib.rotation import cross
 
 __all__ = ["Curve"]
 
-_SAMPLES_PER_SEGMENT = 40   # coarse search grid for the nearest point
-_NEWTON_ITERATIONS = 8      # refinements of the parameter (quadratic convergence)
+_SAMPLES_PER_SEGMENT = 40  # coarse search grid for the nearest point
+_NEWTON_ITERATIONS = 8  # refinements of the parameter (quadratic convergence)
 
 
 class Curve:
@@ -31,8 +32,9 @@ class Curve:
         elif interpolation == "akima" and len(pts) >= 3:
             spline = Akima1DInterpolator(self.u, pts, axis=0, extrapolate=True)
         else:
-            spline = CubicSpline(self.u, pts, axis=0,
-                                 bc_type="not-a-knot" if len(pts) > 3 else "natural")
+            spline = CubicSpline(
+                self.u, pts, axis=0, bc_type="not-a-knot" if len(pts) > 3 else "natural"
+            )
         self._c, self._d1 = spline, spline.derivative(1)
         self._d2 = spline.derivative(2)
         self._grid = np.linspace(0.0, self.u[-1], _SAMPLES_PER_SEGMENT * (len(pts) - 1) + 1)

@@ -5,6 +5,7 @@ forward-difference stiffness are in mechlib.balance. Newton with backtracking on
 norm; where Newton's matrix is singular, pseudo-transient continuation (mechlib.continuation)
 first. Used by the static and quasi-static analyses (mechlib.static) and by modes.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -23,9 +24,16 @@ __all__ = ["equilibrium"]
 _MAX_NEWTON = 40
 
 
-def equilibrium(system: System, q: np.ndarray, lam: np.ndarray | None, t: float,
-                stats: SolverStats, tol: float = 1e-10, *, states_step: float = 0.0
-                ) -> tuple[np.ndarray, np.ndarray]:
+def equilibrium(
+    system: System,
+    q: np.ndarray,
+    lam: np.ndarray | None,
+    t: float,
+    stats: SolverStats,
+    tol: float = 1e-10,
+    *,
+    states_step: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray]:
     """(q, lam) in static equilibrium at t from a guess; SolverFailure if none is found.
 
     Newton first; where its matrix is singular (a contact at zero penetration or open has
@@ -39,8 +47,7 @@ def equilibrium(system: System, q: np.ndarray, lam: np.ndarray | None, t: float,
         # forces then carry their geometric stiffness (a hanging pendulum) from the start
         k = system.kin(q, None, t)
         count(factorizations=1)
-        lam, *_ = np.linalg.lstsq(system.phi_q(k).T, system.forces(k, inertia=False),
-                                  rcond=None)
+        lam, *_ = np.linalg.lstsq(system.phi_q(k).T, system.forces(k, inertia=False), rcond=None)
     balance = Balance(system, t, q, states_step)
     try:
         return _newton(balance, q, lam, stats, tol)
@@ -60,8 +67,9 @@ class _Singular(Exception):
         self.jac = jac
 
 
-def _newton(balance: Balance, q: np.ndarray, lam: np.ndarray, stats: SolverStats,
-            tol: float) -> tuple[np.ndarray, np.ndarray]:
+def _newton(
+    balance: Balance, q: np.ndarray, lam: np.ndarray, stats: SolverStats, tol: float
+) -> tuple[np.ndarray, np.ndarray]:
     """Newton on (q, lam), each step halved (down to 1/1000) until the weighted residual
     decreases; _Singular when the matrix is, SolverFailure after _MAX_NEWTON iterations."""
     system, t, nq = balance.system, balance.t, balance.system.nq
@@ -85,7 +93,11 @@ def _newton(balance: Balance, q: np.ndarray, lam: np.ndarray, stats: SolverStats
     m = len(system.labels)
     worst = int(np.argmax(np.abs(res[nq:]))) if m else 0
     where = (system.labels[worst],) if m else ()
-    raise SolverFailure(f"static equilibrium did not converge at t = {t:.6g} s: no equilibrium "
-                        "near the previous position (a load beyond what the mechanism can "
-                        "hold, or an unloaded free degree of freedom)", time=t, where=where,
-                        status=Status.NEWTON_FAILED)
+    raise SolverFailure(
+        f"static equilibrium did not converge at t = {t:.6g} s: no equilibrium "
+        "near the previous position (a load beyond what the mechanism can "
+        "hold, or an unloaded free degree of freedom)",
+        time=t,
+        where=where,
+        status=Status.NEWTON_FAILED,
+    )

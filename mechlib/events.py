@@ -8,16 +8,25 @@ EVENT_TIME_TOLERANCE, record that state, carry out the actions and restart from 
 Actions: `activate`/`deactivate` an element or a motion, `release` a joint (its equations
 go), `lock` a joint (its coordinate is frozen at the current value), `stop`.
 """
+
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from mechlib.solution import EventRecord
 from mechlib.view import StateView
 
-__all__ = ["Action", "Event", "EventMonitor", "locate", "first_events", "fire", "apply_actions",
-           "EVENT_TIME_TOLERANCE"]
+__all__ = [
+    "EVENT_TIME_TOLERANCE",
+    "Action",
+    "Event",
+    "EventMonitor",
+    "apply_actions",
+    "fire",
+    "first_events",
+    "locate",
+]
 
 EVENT_TIME_TOLERANCE = 1e-9  # s
 _MAX_LOCATE = 100
@@ -57,15 +66,20 @@ class EventMonitor:
 
     def crossed(self, t: float, view: StateView) -> list[Event]:
         """Armed events whose g went from < 0 to >= 0 since the last `arm`."""
-        return [e for e in self.armed
-                if self.values[e.name] < 0.0 <= float(e.condition(t, view))]
+        return [e for e in self.armed if self.values[e.name] < 0.0 <= float(e.condition(t, view))]
 
     def fired(self, events: list[Event]) -> None:
         self.armed = [e for e in self.armed if e not in events]
 
 
-def locate(g0: float, g1: float, t0: float, t1: float, g_at: Callable[[float], float],
-           tol: float = EVENT_TIME_TOLERANCE) -> float:
+def locate(
+    g0: float,
+    g1: float,
+    t0: float,
+    t1: float,
+    g_at: Callable[[float], float],
+    tol: float = EVENT_TIME_TOLERANCE,
+) -> float:
     """Earliest time in (t0, t1] where g >= 0, within `tol`: Illinois regula falsi on a
     continuous g, bisection when g jumps (yes/no conditions)."""
     lo, hi, glo, ghi = t0, t1, g0, g1
@@ -88,8 +102,13 @@ def locate(g0: float, g1: float, t0: float, t1: float, g_at: Callable[[float], f
     return hi
 
 
-def first_events(monitor: EventMonitor, t0: float, t1: float, view1: StateView,
-                 view_at: Callable[[float], StateView]) -> tuple[float, list[Event]] | None:
+def first_events(
+    monitor: EventMonitor,
+    t0: float,
+    t1: float,
+    view1: StateView,
+    view_at: Callable[[float], StateView],
+) -> tuple[float, list[Event]] | None:
     """The earliest of the armed events that fire over the step t0 -> t1 and their time, or
     None; `view1` is the state at t1 and `view_at(t)` re-solves the step to end at t."""
     fired = monitor.crossed(t1, view1)
@@ -97,10 +116,11 @@ def first_events(monitor: EventMonitor, t0: float, t1: float, view1: StateView,
         return None
     first = {}
     for e in fired:
+
         def g_at(t, e=e):
             return float(e.condition(t, view_at(t)))
-        first[e.name] = locate(monitor.values[e.name], float(e.condition(t1, view1)), t0, t1,
-                               g_at)
+
+        first[e.name] = locate(monitor.values[e.name], float(e.condition(t1, view1)), t0, t1, g_at)
     t_e = min(first.values())
     return t_e, [e for e in fired if first[e.name] - t_e <= EVENT_TIME_TOLERANCE]
 

@@ -5,6 +5,7 @@ The checks run once per recorded row (and once per channel after solving), never
 Newton iterations: a non-finite force makes Newton fail or the recorded state non-finite,
 and only then are the elements evaluated one by one to name the culprit.
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -14,7 +15,7 @@ import numpy as np
 from mechlib.contract import Status
 from mechlib.solution import SolverFailure
 
-__all__ = ["check_recorded_state", "nonfinite_force", "explain_failure", "nonfinite_channel"]
+__all__ = ["check_recorded_state", "explain_failure", "nonfinite_channel", "nonfinite_force"]
 
 
 def _first_bad(*arrays: np.ndarray) -> float | None:
@@ -26,14 +27,16 @@ def _first_bad(*arrays: np.ndarray) -> float | None:
     return None
 
 
-def nonfinite_force(system, q: np.ndarray, qd: np.ndarray | None, t: float,
-                    lam: np.ndarray | None = None) -> tuple[str, float] | None:
+def nonfinite_force(
+    system, q: np.ndarray, qd: np.ndarray | None, t: float, lam: np.ndarray | None = None
+) -> tuple[str, float] | None:
     """(name, first bad value) of the first active force element whose force or torque at
     the state (q, qd, t) is not finite; None if every element gives finite values."""
     if _first_bad(q, *(() if qd is None else (qd,))) is not None:
         return None  # on a non-finite state every element is non-finite: no culprit
-    view = system.view(system.kin(q, qd, t), lam if lam is not None and
-                       _first_bad(lam) is None else None)
+    view = system.view(
+        system.kin(q, qd, t), lam if lam is not None and _first_bad(lam) is None else None
+    )
     for element in system.elements:
         if not element.active:
             continue
@@ -53,13 +56,21 @@ def check_recorded_state(system, t: float, q, qd, qdd, lam) -> None:
     that gave a non-finite value when there is one."""
     if _first_bad(q, qd, qdd, lam) is None:
         return
-    found = nonfinite_force(system, np.asarray(q, float), np.asarray(qd, float), t,
-                            np.asarray(lam, float))
+    found = nonfinite_force(
+        system, np.asarray(q, float), np.asarray(qd, float), t, np.asarray(lam, float)
+    )
     where = (found[0],) if found else ()
-    cause = (f"force element '{found[0]}' gives {found[1]:g} (not finite) there" if found
-             else "no force element gives a non-finite value (a diverging solution)")
-    raise SolverFailure(f"the solution is not finite at t = {t:.6g} s: {cause}", time=t,
-                        where=where, status=Status.NOT_FINITE)
+    cause = (
+        f"force element '{found[0]}' gives {found[1]:g} (not finite) there"
+        if found
+        else "no force element gives a non-finite value (a diverging solution)"
+    )
+    raise SolverFailure(
+        f"the solution is not finite at t = {t:.6g} s: {cause}",
+        time=t,
+        where=where,
+        status=Status.NOT_FINITE,
+    )
 
 
 def explain_failure(system, trajectory, failure: SolverFailure) -> str:
@@ -72,12 +83,15 @@ def explain_failure(system, trajectory, failure: SolverFailure) -> str:
     found = nonfinite_force(system, trajectory.q[-1], trajectory.qd[-1], failure.time)
     if found is None:
         return message
-    return (f"{message}; force element '{found[0]}' gives {found[1]:g} (not finite) at "
-            f"t = {failure.time:.6g} s")
+    return (
+        f"{message}; force element '{found[0]}' gives {found[1]:g} (not finite) at "
+        f"t = {failure.time:.6g} s"
+    )
 
 
-def nonfinite_channel(time: np.ndarray, channels: Mapping[str, np.ndarray]
-                      ) -> tuple[str, float, float] | None:
+def nonfinite_channel(
+    time: np.ndarray, channels: Mapping[str, np.ndarray]
+) -> tuple[str, float, float] | None:
     """(column, time, value) of the first non-finite value of the first such column."""
     for name, values in channels.items():
         bad = ~np.isfinite(values)

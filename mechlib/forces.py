@@ -6,10 +6,11 @@ the centres of mass and `N` (nb+1, 3) torques, both global axes. `output` gives 
 a request reports. `effect` names the effect the element belongs to, so that a case that
 switches the effect off gets a model without it.
 """
+
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
 
 import numpy as np
 

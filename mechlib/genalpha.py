@@ -15,6 +15,7 @@ Local error estimate e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading ter
 position update, h^3/12 q''' for the trapezoidal case), steps controlled on it and landing
 on output times (the stepper around it: mechlib.genalpha_stepper).
 """
+
 from __future__ import annotations
 
 import math
@@ -48,7 +49,7 @@ class Coefficients:
     gamma: float
 
     @classmethod
-    def from_rho(cls, rho: float) -> "Coefficients":
+    def from_rho(cls, rho: float) -> Coefficients:
         am = (2.0 * rho - 1.0) / (rho + 1.0)
         af = rho / (rho + 1.0)
         g = 0.5 + af - am
@@ -95,8 +96,12 @@ class Integrator:
                 for element in own:
                     element.tangent(view, stiffness, damping)
             top = top + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
-        lu = factor_saddle(top, jac, None if self.stiff else sys.saddle_pattern(),
-                           coupling=reaction_coupling(sys, k, lam, jac))
+        lu = factor_saddle(
+            top,
+            jac,
+            None if self.stiff else sys.saddle_pattern(),
+            coupling=reaction_coupling(sys, k, lam, jac),
+        )
         if lu is None:
             raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
         self.lu, self.lu_h = lu, h
@@ -104,11 +109,11 @@ class Integrator:
     @property
     def own(self) -> list:
         """The active elements that give their own tangent (`has_tangent`)."""
-        return [e for e in self.system.elements
-                if e.active and getattr(e, "has_tangent", False)]
+        return [e for e in self.system.elements if e.active and getattr(e, "has_tangent", False)]
 
-    def _differenced_tangent(self, k, own: list, lam: np.ndarray, jac: np.ndarray
-                             ) -> tuple[np.ndarray, np.ndarray]:
+    def _differenced_tangent(
+        self, k, own: list, lam: np.ndarray, jac: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
         """(K, C) = (-dQ/dq, -dQ/dqd) of the applied forces but the elements with their
         own tangent (`own`), by forward differences at multipliers `lam` (joint friction
         is loaded by them)."""
@@ -120,11 +125,13 @@ class Integrator:
         for j in range(sys.nq):
             dq = np.zeros(sys.nq)
             dq[j] = eps = 1e-7 * max(1.0, abs(q[j]))
-            stiffness[:, j] = -(sys.forces(sys.kin(q + dq, qd, k.t), skip=skip, lam=lam)
-                                - base) / eps
+            stiffness[:, j] = (
+                -(sys.forces(sys.kin(q + dq, qd, k.t), skip=skip, lam=lam) - base) / eps
+            )
             dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
-            damping[:, j] = -(sys.forces(sys.kin(q, qd + dq, k.t), skip=skip, lam=lam,
-                                         jac=jac) - base) / eps
+            damping[:, j] = (
+                -(sys.forces(sys.kin(q, qd + dq, k.t), skip=skip, lam=lam, jac=jac) - base) / eps
+            )
         return stiffness, damping
 
     def step(self, t, h, q, qd, qdd, a, lam):
@@ -156,11 +163,15 @@ class Integrator:
                 refreshed = refreshed or fresh or not self.stiff
                 rebuild, prev = False, math.inf
             phi, jac = sys.phi_and_jacobian(k)
-            res = np.concatenate([(sys.mass_times(k, qdd1) + jac.T @ lam1
-                                   - sys.forces(k, lam=lam1, jac=jac)) / bp,
-                                  phi])
+            res = np.concatenate(
+                [
+                    (sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k, lam=lam1, jac=jac))
+                    / bp,
+                    phi,
+                ]
+            )
             dx = solve_factored(self.lu, -res)
-            dq = dx[:sys.nq]
+            dq = dx[: sys.nq]
             correct(q1, qd1, qdd1, lam1, dx, gp, bp)
             self.stats.newton_iterations += 1
             it += 1
@@ -176,9 +187,17 @@ class Integrator:
                 self.eta = max(eta, _ETA_MIN) ** 0.8
                 if it > _SLOW_ITERATIONS:
                     self.stale = True  # converging slowly: a fresh matrix for the next step
-                a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (1.0 - c.alpha_m)
-                return q1, qd1, qdd1, a1, lam1, self._true_acceleration(q1, qd1, t1, qdd1, lam1,
-                                                                       jac)
+                a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (
+                    1.0 - c.alpha_m
+                )
+                return (
+                    q1,
+                    qd1,
+                    qdd1,
+                    a1,
+                    lam1,
+                    self._true_acceleration(q1, qd1, t1, qdd1, lam1, jac),
+                )
             if (prev < math.inf and size > 0.9 * prev) or it == _MAX_ITER:
                 if refreshed:
                     break
@@ -203,9 +222,12 @@ class Integrator:
         drift = sys.nu(k) - jac @ qd1
         qd = qd1 + solve_factored(self.lu, np.concatenate([np.zeros(nq), drift]))[:nq]
         k = sys.kin(q1, qd, t1)
-        res = np.concatenate([sys.mass_times(k, qdd1) + jac.T @ lam1
-                              - sys.forces(k, lam=lam1, jac=jac),
-                              jac @ qdd1 - sys.gamma(k)])
+        res = np.concatenate(
+            [
+                sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k, lam=lam1, jac=jac),
+                jac @ qdd1 - sys.gamma(k),
+            ]
+        )
         fix = solve_factored(self.lu, res)
         return qd, qdd1 - fix[:nq], lam1 - fix[nq:]
 

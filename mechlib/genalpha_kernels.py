@@ -1,5 +1,5 @@
-"""Generalized-alpha's error weights and its compiled vector updates (mechlib.genalpha).
-"""
+"""Generalized-alpha's error weights and its compiled vector updates (mechlib.genalpha)."""
+
 from __future__ import annotations
 
 import math
@@ -9,7 +9,7 @@ from numba import njit
 
 from mechlib.system import System
 
-__all__ = ["Scales", "predict", "correct"]
+__all__ = ["Scales", "correct", "predict"]
 
 _ROUNDOFF = 1e3 * np.finfo(float).eps
 
@@ -61,8 +61,11 @@ def _newton_size(dq, q, qdd, bp, q_abs, a_ref, tol, roundoff):  # see Scales.new
     sq = sa = 0.0
     for i in range(dq.shape[0]):
         wq = dq[i] / (q_abs[i] + tol * abs(q[i]))
-        wa = bp * dq[i] / (tol * (a_ref[i] + abs(qdd[i])) + roundoff * bp * (q_abs[i] / tol
-                                                                            + abs(q[i])))
+        wa = (
+            bp
+            * dq[i]
+            / (tol * (a_ref[i] + abs(qdd[i])) + roundoff * bp * (q_abs[i] / tol + abs(q[i])))
+        )
         sq += wq * wq
         sa += wa * wa
     return math.sqrt(max(sq, sa) / dq.shape[0])

@@ -7,6 +7,7 @@ than _REGROW); at each change the pseudo-acceleration restarts from the consiste
 acceleration, because generalized-alpha's `a` is tied to the step it was made with.
 Outputs carry consistent velocities, accelerations and reactions.
 """
+
 from __future__ import annotations
 
 import math
@@ -61,8 +62,9 @@ class GeneralizedAlphaStepper(Stepper):
         self.integ = Integrator(system, spec, stats)
         self.max_step = min(spec.max_step or spec.step, spec.step)
         span = spec.end - spec.start
-        self.h = self.max_step if spec.fixed_step else min(self.max_step,
-                                                            _FIRST_STEP * span or 1e-3)
+        self.h = (
+            self.max_step if spec.fixed_step else min(self.max_step, _FIRST_STEP * span or 1e-3)
+        )
         self.h_min = 1e-12 * max(1.0, abs(spec.end))
         self.h_used = 0.0
         self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
@@ -82,8 +84,7 @@ class GeneralizedAlphaStepper(Stepper):
             self.system.states.start(self.system.view(self.system.kin(q, qd, t)))
         qd, qdd, lam = consistent_state(self.system, q, qd, t)
         self.integ.lu, self.integ.eta = None, 1.0
-        return _AlphaState(t, q, qd, qdd, lam, raw_qd=qd, raw_qdd=qdd, a=qdd.copy(),
-                           raw_lam=lam)
+        return _AlphaState(t, q, qd, qdd, lam, raw_qd=qd, raw_qdd=qdd, a=qdd.copy(), raw_lam=lam)
 
     def step(self, state: State, t_out: float) -> StepResult:
         """One step towards t_out, shortened to where a sliding joint friction stops."""
@@ -103,14 +104,20 @@ class GeneralizedAlphaStepper(Stepper):
             s.qd, s.qdd, s.lam = s.raw_qd, qdd, lam
         self.h_used = h_try
         new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam)
-        err = math.inf if new is None else 0.0 if spec.fixed_step else self.integ.error(
-            h_try, new[0], s.qdd, new[5][1])
+        err = (
+            math.inf
+            if new is None
+            else 0.0
+            if spec.fixed_step
+            else self.integ.error(h_try, new[0], s.qdd, new[5][1])
+        )
         if new is None or err > 1.0:
             self.system.states.reject()
             if spec.fixed_step:
                 raise _newton_failure(self.system, s.t, h_try)
-            self._shrink(s.t, h_try * (0.25 if new is None else
-                                       max(_SHRINK, _SAFETY * err ** (-1 / 3))))
+            self._shrink(
+                s.t, h_try * (0.25 if new is None else max(_SHRINK, _SAFETY * err ** (-1 / 3)))
+            )
             return None, err
         if not spec.fixed_step:
             grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
@@ -134,8 +141,12 @@ class GeneralizedAlphaStepper(Stepper):
         if system.states:
             system.states.accept(system.view(k))
         system.commit(k)
-        self.collapse.watch(self.stats.steps + self.stats.rejected_steps, state.t,
-                            self.h_used, lambda: element_loads(system, self.view(state)))
+        self.collapse.watch(
+            self.stats.steps + self.stats.rejected_steps,
+            state.t,
+            self.h_used,
+            lambda: element_loads(system, self.view(state)),
+        )
         return state
 
     def accept(self, state: State) -> State:
@@ -144,14 +155,14 @@ class GeneralizedAlphaStepper(Stepper):
         return self.restart(state) if self._switched(state) else state
 
     def _switched(self, s: _AlphaState) -> bool:
-        return switch_sticking(self.system, s.q, s.raw_qd, s.t, self.view(s),
-                               consistent_state)
+        return switch_sticking(self.system, s.q, s.raw_qd, s.t, self.view(s), consistent_state)
 
     def resolve(self, state: State, t: float) -> State:
         """The step from `state` re-solved to end at t (s); StepUnresolved when Newton
         fails."""
-        new = self.integ.step(state.t, t - state.t, state.q, state.raw_qd, state.raw_qdd,
-                              state.a, state.raw_lam)
+        new = self.integ.step(
+            state.t, t - state.t, state.q, state.raw_qd, state.raw_qdd, state.a, state.raw_lam
+        )
         if new is None:
             raise StepUnresolved(t)
         return _state(t, new)
@@ -161,8 +172,14 @@ class GeneralizedAlphaStepper(Stepper):
         friction stops (its slip rate passes through zero: it may stick there)."""
         sys = self.system
         try:
-            t = slip_stop(sys, s.t, new.t, self.view(s), self.view(new),
-                          lambda tt: self.view(self.resolve(s, tt)))
+            t = slip_stop(
+                sys,
+                s.t,
+                new.t,
+                self.view(s),
+                self.view(new),
+                lambda tt: self.view(self.resolve(s, tt)),
+            )
             if t is None:
                 return new
             if t < new.t:
@@ -172,15 +189,15 @@ class GeneralizedAlphaStepper(Stepper):
         # the re-solved steps moved the element states' trial values: back to new's
         return self.resolve(s, new.t) if sys.states else new
 
-    def unresolved(self, state: State, new: State, failure: StepUnresolved,
-                   events) -> None:
+    def unresolved(self, state: State, new: State, failure: StepUnresolved, events) -> None:
         """A load that jumps where an event condition's zero lies (a preloaded wire going
         taut) defeats Newton on steps ending just past it; shorter steps resolve it, as for
         any step Newton cannot take: the step is rejected, the next a quarter as long."""
         self.system.states.reject()
         if self.spec.fixed_step:
-            raise _newton_failure(self.system, state.t, failure.t - state.t,
-                                  f"locating event {events()}")
+            raise _newton_failure(
+                self.system, state.t, failure.t - state.t, f"locating event {events()}"
+            )
         self._shrink(state.t, 0.25 * (new.t - state.t))
 
 
@@ -192,7 +209,11 @@ def _substeps(interval: float, h: float) -> tuple[int, float]:
 
 def _newton_failure(system: System, t: float, h: float, doing: str = "") -> SolverFailure:
     while_ = f" {doing}" if doing else ""
-    return SolverFailure(f"dynamic analysis failed at t = {t:.6g} s{while_}: Newton iterations "
-                         f"did not converge even with a step of {h:.3g} s (an impact or a "
-                         "stiffness too large for the step, a toggle position, or a load "
-                         "discontinuity)", time=t, status=Status.NEWTON_FAILED)
+    return SolverFailure(
+        f"dynamic analysis failed at t = {t:.6g} s{while_}: Newton iterations "
+        f"did not converge even with a step of {h:.3g} s (an impact or a "
+        "stiffness too large for the step, a toggle position, or a load "
+        "discontinuity)",
+        time=t,
+        status=Status.NEWTON_FAILED,
+    )

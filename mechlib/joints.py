@@ -4,6 +4,7 @@
 names the joint and the direction it stops ("hinge: rotation about x"), so that redundancy,
 toggle positions and failures are reported by name, never by row index.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -12,8 +13,15 @@ import numpy as np
 
 from mechlib.model import Joint
 
-__all__ = ["Row", "JointFrame", "joint_frame", "expand_joint", "direction_name",
-           "ROTATIONAL", "TRANSLATIONAL"]
+__all__ = [
+    "ROTATIONAL",
+    "TRANSLATIONAL",
+    "JointFrame",
+    "Row",
+    "direction_name",
+    "expand_joint",
+    "joint_frame",
+]
 
 # joints with an angle / a travel coordinate about / along their axis. An inline joint
 # (point on a line) leaves 3 rotations and the slide free: its angle is the rotation about
@@ -69,8 +77,11 @@ def direction_name(v: np.ndarray) -> str:
 
 
 def _dot1(joint: str, u, v) -> Row:
-    return Row("dot1", (np.asarray(u), np.asarray(v)),
-               f"{joint}: rotation about {direction_name(np.cross(u, v))}")
+    return Row(
+        "dot1",
+        (np.asarray(u), np.asarray(v)),
+        f"{joint}: rotation about {direction_name(np.cross(u, v))}",
+    )
 
 
 def _dot2(joint: str, v, si, sj) -> Row:

@@ -7,6 +7,7 @@ B(p, s) w = d(A(p) s)/dp w = 2 b(p, w) s. Formulas: Haug (1989) ch. 9-11; G, E a
 Nikravesh (1988): omega' = 2 G pd (body axes), omega = 2 E pd (global axes).
 numba replaces per-row Python loops that cost ~100x more in the interpreter.
 """
+
 from __future__ import annotations
 
 from typing import TypedDict
@@ -14,15 +15,36 @@ from typing import TypedDict
 import numpy as np
 from numba import njit
 
-__all__ = ["sph_phi", "sph_jac", "sph_gamma", "dot1_phi", "dot1_jac", "dot1_gamma",
-           "dot1_rate", "dot2_phi", "dot2_jac", "dot2_gamma", "dot2_rate", "norm_phi",
-           "norm_jac", "norm_gamma", "mass_times", "mass_matrix", "body_forces", "point_position",
-           "point_velocity", "cross3", "rotation_matrix", "point_force"]
+__all__ = [
+    "body_forces",
+    "cross3",
+    "dot1_gamma",
+    "dot1_jac",
+    "dot1_phi",
+    "dot1_rate",
+    "dot2_gamma",
+    "dot2_jac",
+    "dot2_phi",
+    "dot2_rate",
+    "mass_matrix",
+    "mass_times",
+    "norm_gamma",
+    "norm_jac",
+    "norm_phi",
+    "point_force",
+    "point_position",
+    "point_velocity",
+    "rotation_matrix",
+    "sph_gamma",
+    "sph_jac",
+    "sph_phi",
+]
 
 
 class JitOptions(TypedDict, total=False):
     """Options of `njit(**options)`, typed so that the call matches numba's stubs (a plain
     dict[str, bool] matches none of its overloads)."""
+
     cache: bool
     nogil: bool
     fastmath: bool
@@ -49,12 +71,15 @@ def _brot(p, w, s, out):
     c = e0 * w0 - (e1 * f1 + e2 * f2 + e3 * f3)
     fs = f1 * s[0] + f2 * s[1] + f3 * s[2]
     es = e1 * s[0] + e2 * s[1] + e3 * s[2]
-    out[0] = 2.0 * (c * s[0] + e1 * fs + f1 * es + e0 * (f2 * s[2] - f3 * s[1])
-                    + w0 * (e2 * s[2] - e3 * s[1]))
-    out[1] = 2.0 * (c * s[1] + e2 * fs + f2 * es + e0 * (f3 * s[0] - f1 * s[2])
-                    + w0 * (e3 * s[0] - e1 * s[2]))
-    out[2] = 2.0 * (c * s[2] + e3 * fs + f3 * es + e0 * (f1 * s[1] - f2 * s[0])
-                    + w0 * (e1 * s[1] - e2 * s[0]))
+    out[0] = 2.0 * (
+        c * s[0] + e1 * fs + f1 * es + e0 * (f2 * s[2] - f3 * s[1]) + w0 * (e2 * s[2] - e3 * s[1])
+    )
+    out[1] = 2.0 * (
+        c * s[1] + e2 * fs + f2 * es + e0 * (f3 * s[0] - f1 * s[2]) + w0 * (e3 * s[0] - e1 * s[2])
+    )
+    out[2] = 2.0 * (
+        c * s[2] + e3 * fs + f3 * es + e0 * (f1 * s[1] - f2 * s[0]) + w0 * (e1 * s[1] - e2 * s[0])
+    )
 
 
 @njit(**_JIT)
@@ -297,7 +322,7 @@ def mass_times(x, masses, inertia, scale, vec, out):
         for c in range(3):
             out[o + c] = masses[b] * vec[o + c]
         p = x[b, 3:]
-        _g_times(p, vec[o + 3:o + 7], w)
+        _g_times(p, vec[o + 3 : o + 7], w)
         jw = inertia[b] @ w
         _gt_times(p, jw, 1.0, g4)
         pv = p[0] * vec[o + 3] + p[1] * vec[o + 4] + p[2] * vec[o + 5] + p[3] * vec[o + 6]

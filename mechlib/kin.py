@@ -4,11 +4,12 @@ Symbols: ``q`` stacks ``[r_b, p_b]`` (7 per moving body; r in m, p Euler paramet
 ``qd`` their rates. Ground is body index ``nb`` with r = 0, p = (1, 0, 0, 0) and no columns
 in the Jacobians that leave this module (its 7 columns are sliced off).
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["Kin", "GROUND_Q"]
+__all__ = ["GROUND_Q", "Kin"]
 
 GROUND_Q = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
 
@@ -16,7 +17,7 @@ GROUND_Q = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
 class Kin:
     """`x` (nb+1, 7) rows [r, p] and `xd` their rates; r, p, rd, pd are views of them."""
 
-    __slots__ = ("x", "xd", "t")
+    __slots__ = ("t", "x", "xd")
 
     def __init__(self, x: np.ndarray, xd: np.ndarray, t: float = 0.0):
         self.x, self.xd, self.t = x, xd, t
@@ -37,7 +38,7 @@ class Kin:
         return 7 * self.x.shape[0]
 
     @classmethod
-    def from_state(cls, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> "Kin":
+    def from_state(cls, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:
         """Split the stacked state (7 nb,) into per-body rows with ground appended."""
         n = q.shape[0]
         x = np.empty(n + 7)

@@ -6,6 +6,7 @@ phi_q^T lam = Q(lam) - M qdd (Newton when joint friction makes Q depend on lam).
 states advance between the solved states (trapezoidal rule, mechlib.states) before the
 reactions, which their forces load.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -22,8 +23,15 @@ __all__ = ["KinematicStepper", "kinematic_state"]
 _MAX_SUBDIVISIONS = 10
 
 
-def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: SolverStats,
-                    *, inertia: bool = True, states_step: float = 0.0):
+def kinematic_state(
+    system: System,
+    q_guess: np.ndarray,
+    t: float,
+    stats: SolverStats,
+    *,
+    inertia: bool = True,
+    states_step: float = 0.0,
+):
     """(q, qd, qdd, lam) at time t from a position guess; raises SolverFailure by name.
     Element states (if any) advance by `states_step` (s) from their accepted values."""
     q, its = solve_positions(system, q_guess, t)
@@ -40,8 +48,10 @@ def kinematic_state(system: System, q_guess: np.ndarray, t: float, stats: Solver
         system.states.advance(system.view(k), states_step)
     qdd = solve_factored(lu, system.gamma(k))
     inertial = system.mass(k) @ qdd if inertia else 0.0
+
     def loads(lam):
         return system.forces(k, inertia=inertia, lam=lam, jac=jac) - inertial
+
     if not system.reaction_dependent:
         return q, qd, qdd, solve_factored(lu, loads(None), transpose=True)
     lam = solve_reaction_loaded(system, k, jac.T, loads, slice(0, jac.shape[0]), jac=jac)
@@ -86,8 +96,7 @@ class KinematicStepper(Stepper):
             self.system.states.resume(state.elements)
         guess = state.q + h * state.qd + 0.5 * h * h * state.qdd
         try:
-            new = State(t1, *kinematic_state(self.system, guess, t1, self.stats,
-                                                 states_step=h))
+            new = State(t1, *kinematic_state(self.system, guess, t1, self.stats, states_step=h))
             new.elements = self._mark(new)
             return new
         except SolverFailure:
@@ -101,5 +110,6 @@ class KinematicStepper(Stepper):
     def _mark(self, state: State):
         if not self.system.states:
             return None
-        return self.system.states.mark(self.system.view(
-            self.system.kin(state.q, state.qd, state.t)))
+        return self.system.states.mark(
+            self.system.view(self.system.kin(state.q, state.qd, state.t))
+        )

@@ -4,11 +4,14 @@ Saddle-point matrices [[top, phi_q^T], [phi_q, 0]] of more than SPARSE_FROM rows
 factored by SuperLU on their fixed sparsity pattern (a body couples only to its joints),
 smaller ones by dense LAPACK, which is faster there.
 """
+
 from __future__ import annotations
 
 import numpy as np
 import scipy.sparse as sp
-from scipy.linalg.lapack import dgecon as _gecon, dgetrf as _getrf, dgetrs as _getrs
+from scipy.linalg.lapack import dgecon as _gecon
+from scipy.linalg.lapack import dgetrf as _getrf
+from scipy.linalg.lapack import dgetrs as _getrs
 from scipy.sparse.linalg import splu
 
 from mechlib.check import find_redundant
@@ -16,8 +19,16 @@ from mechlib.contract import Status
 from mechlib.solution import SolverFailure
 from mechlib.work import count
 
-__all__ = ["augmented", "factor", "factor_saddle", "SaddlePattern", "solve_factored",
-           "singular_failure", "SINGULAR_RATIO", "SPARSE_FROM"]
+__all__ = [
+    "SINGULAR_RATIO",
+    "SPARSE_FROM",
+    "SaddlePattern",
+    "augmented",
+    "factor",
+    "factor_saddle",
+    "singular_failure",
+    "solve_factored",
+]
 
 SINGULAR_RATIO = 1e-14
 SPARSE_FROM = 100
@@ -35,8 +46,9 @@ class SaddlePattern:
         self.indices = rows.astype(np.int32)
 
     def csc(self, dense: np.ndarray) -> sp.csc_matrix:
-        return sp.csc_matrix((dense[self.rows, self.cols], self.indices, self.indptr),
-                             shape=self.shape)
+        return sp.csc_matrix(
+            (dense[self.rows, self.cols], self.indices, self.indptr), shape=self.shape
+        )
 
 
 class _Sparse:
@@ -49,14 +61,19 @@ class _Sparse:
         return self.lu.solve(rhs, trans="T" if transpose else "N")
 
 
-def factor_saddle(top: np.ndarray, jac: np.ndarray, pattern: SaddlePattern | None = None,
-                  *, coupling: np.ndarray | None = None):
+def factor_saddle(
+    top: np.ndarray,
+    jac: np.ndarray,
+    pattern: SaddlePattern | None = None,
+    *,
+    coupling: np.ndarray | None = None,
+):
     """Factors of [[top, jac^T - coupling], [jac, 0]] (None when singular). `pattern`
     must cover the nonzeros of every matrix given with it; large systems without a
     `coupling` (dQ/dlam of reaction-dependent loads) then use sparse LU."""
     matrix = augmented(top, jac)
     if coupling is not None:
-        matrix[:top.shape[0], top.shape[0]:] -= coupling
+        matrix[: top.shape[0], top.shape[0] :] -= coupling
         return factor(matrix)
     if pattern is not None and matrix.shape[0] >= SPARSE_FROM:
         count(factorizations=1)
@@ -115,14 +132,22 @@ def solve_factored(lu, rhs: np.ndarray, *, transpose: bool = False) -> np.ndarra
 
 def singular_failure(system, phi_q: np.ndarray, t: float, what: str) -> SolverFailure:
     """A failure naming the dependent equations of phi_q at time t (toggle positions)."""
-    found = find_redundant(phi_q, system.labels, system.owners, set(system.body_names),
-                           owner_rank=system.owner_rank)
+    found = find_redundant(
+        phi_q, system.labels, system.owners, set(system.body_names), owner_rank=system.owner_rank
+    )
     if found:
         detail = "; ".join(r.describe() for r in found[:4])
         where = tuple(r.owner for r in found)
-        return SolverFailure(f"{what} at t = {t:.6g} s: singular configuration (toggle or "
-                             f"dead point): {detail}", time=t, where=where,
-                             status=Status.SINGULAR)
-    return SolverFailure(f"{what} at t = {t:.6g} s: singular system matrix (a body with no "
-                         "mass or stiffness in some direction, or a free degree of freedom "
-                         "without load path)", time=t, status=Status.SINGULAR)
+        return SolverFailure(
+            f"{what} at t = {t:.6g} s: singular configuration (toggle or dead point): {detail}",
+            time=t,
+            where=where,
+            status=Status.SINGULAR,
+        )
+    return SolverFailure(
+        f"{what} at t = {t:.6g} s: singular system matrix (a body with no "
+        "mass or stiffness in some direction, or a free degree of freedom "
+        "without load path)",
+        time=t,
+        status=Status.SINGULAR,
+    )

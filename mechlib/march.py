@@ -13,21 +13,29 @@ Kinematic, quasi-static and dynamic (generalized-alpha, Radau) analyses are step
             else: accept the new state, re-arm the events
         record the state at t_out, report progress
 """
+
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 from mechlib.analysis import Trajectory, output_times
 from mechlib.contract import State, Status, Stepper, StepUnresolved
 from mechlib.events import EventMonitor, fire, first_events
 from mechlib.solution import SolverFailure, SolverStats
 
-__all__ = ["march", "check_step_limit"]
+__all__ = ["check_step_limit", "march"]
 
 
-def march(stepper: Stepper, q0, qd0, trajectory: Trajectory, *,
-          progress: Callable[[float, float], None] | None = None, events=(),
-          event_log: list | None = None) -> Status:
+def march(
+    stepper: Stepper,
+    q0,
+    qd0,
+    trajectory: Trajectory,
+    *,
+    progress: Callable[[float, float], None] | None = None,
+    events=(),
+    event_log: list | None = None,
+) -> Status:
     """Fill `trajectory` at the output times of `stepper.spec` and at the events (logged
     in `event_log`); SUCCESSFUL, or EVENT_STOP when an event stopped the run. A failure
     raises SolverFailure and leaves what was recorded."""
@@ -43,8 +51,9 @@ def march(stepper: Stepper, q0, qd0, trajectory: Trajectory, *,
             new = stepper.step(s, t_out).state
             if new is None:
                 continue
-            after = _events(stepper, monitor, s, new, trajectory, event_log) \
-                if monitor.armed else None
+            after = (
+                _events(stepper, monitor, s, new, trajectory, event_log) if monitor.armed else None
+            )
             if after is Status.EVENT_STOP:
                 return Status.EVENT_STOP
             if after is None:
@@ -58,22 +67,33 @@ def march(stepper: Stepper, q0, qd0, trajectory: Trajectory, *,
     return Status.SUCCESSFUL
 
 
-def _events(stepper: Stepper, monitor: EventMonitor, s: State, new: State,
-            trajectory: Trajectory, log: list | None) -> State | Status | None:
+def _events(
+    stepper: Stepper,
+    monitor: EventMonitor,
+    s: State,
+    new: State,
+    trajectory: Trajectory,
+    log: list | None,
+) -> State | Status | None:
     """If events fire during the step s -> new: the state at the first one, settled and
     recorded, the actions done, restarted (EVENT_STOP when an action stops the run); else
     None. When a re-solved step of the location cannot be taken the stepper rejects the
     step (or fails): `s` is returned, to step again from."""
     try:
-        hit = first_events(monitor, s.t, new.t, stepper.view(new),
-                           lambda t: stepper.view(stepper.resolve(s, t)))
+        hit = first_events(
+            monitor, s.t, new.t, stepper.view(new), lambda t: stepper.view(stepper.resolve(s, t))
+        )
         if hit is None:
             return None
         t_e, fired = hit
         at = stepper.resolve(s, t_e)
     except StepUnresolved as failure:
-        stepper.unresolved(s, new, failure, lambda: ", ".join(
-            f"'{e.name}'" for e in monitor.crossed(new.t, stepper.view(new))))
+        stepper.unresolved(
+            s,
+            new,
+            failure,
+            lambda: ", ".join(f"'{e.name}'" for e in monitor.crossed(new.t, stepper.view(new))),
+        )
         return s
     at = stepper.settle(at)
     stepper.record(trajectory, at)
@@ -94,4 +114,7 @@ def check_step_limit(spec, stats: SolverStats, t: float) -> None:
             f"{spec.name} analysis stopped at t = {t:.6g} s of {spec.end:g} s: the limit of "
             f"{spec.max_steps} steps (analysis.max_steps, accepted and rejected) is reached; "
             "raise analysis.max_steps if the run is sound, or look for what keeps the steps "
-            "small", time=t, status=Status.MAX_STEPS_REACHED)
+            "small",
+            time=t,
+            status=Status.MAX_STEPS_REACHED,
+        )

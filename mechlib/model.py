@@ -3,6 +3,7 @@
 Everything is given in the global frame at the design (assembly) position, as CAD gives it;
 body axes coincide with global axes there. ``ground`` is the fixed body and is implicit.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -10,13 +11,36 @@ from typing import Any, Protocol, TypeVar
 
 import numpy as np
 
-__all__ = ["Body", "Point", "Joint", "Motion", "TimeFunction", "Mechanism", "GROUND",
-           "JOINT_TYPES"]
+__all__ = [
+    "GROUND",
+    "JOINT_TYPES",
+    "Body",
+    "Joint",
+    "Mechanism",
+    "Motion",
+    "Point",
+    "TimeFunction",
+]
 
 GROUND = "ground"
-JOINT_TYPES = ("fixed", "revolute", "spherical", "cylindrical", "prismatic", "universal",
-               "planar", "screw", "inline", "inplane", "parallel", "perpendicular",
-               "orientation", "coupler", "gear", "point_on_curve")
+JOINT_TYPES = (
+    "fixed",
+    "revolute",
+    "spherical",
+    "cylindrical",
+    "prismatic",
+    "universal",
+    "planar",
+    "screw",
+    "inline",
+    "inplane",
+    "parallel",
+    "perpendicular",
+    "orientation",
+    "coupler",
+    "gear",
+    "point_on_curve",
+)
 _T = TypeVar("_T")
 
 
@@ -138,8 +162,9 @@ class Mechanism:
         ey = np.asarray(_unit(ey))
         self.frames[name] = (body, np.column_stack([ex, ey, np.cross(ex, ey)]), _vec(at))
 
-    def add_motion(self, name: str, *, joint: str, function: TimeFunction,
-                   coordinate: str | None = None) -> Motion:
+    def add_motion(
+        self, name: str, *, joint: str, function: TimeFunction, coordinate: str | None = None
+    ) -> Motion:
         motion = Motion(name, joint, function, coordinate)
         self.motions[name] = motion
         return motion
@@ -178,5 +203,3 @@ def _unit(v) -> tuple[float, float, float]:
     if n == 0.0:
         raise ValueError("zero-length axis")
     return _vec(arr / n)
-
-

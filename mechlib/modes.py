@@ -7,6 +7,7 @@ motions the constraints allow, q = q0 + N x with N a basis of the null space of 
 Hz, lowest first; a negative w^2 (an unstable equilibrium) is reported as a negative
 frequency -sqrt(-w^2)/(2 pi). Mode shapes are mass-normalised.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -19,7 +20,7 @@ from mechlib.equilibrium import equilibrium
 from mechlib.system import System
 from mechlib.work import count
 
-__all__ = ["Modes", "ModalResult", "normal_modes", "modal_channels"]
+__all__ = ["ModalResult", "Modes", "modal_channels", "normal_modes"]
 
 
 @dataclass(frozen=True)
@@ -27,7 +28,7 @@ class Modes:
     """An analysis of the normal modes about the equilibrium at `time` (s)."""
 
     time: float = 0.0
-    count: int | None = None   # how many modes to report (None: all)
+    count: int | None = None  # how many modes to report (None: all)
     name = "modes"
 
 
@@ -41,7 +42,7 @@ class ModalResult:
     frequencies: np.ndarray
     shapes: np.ndarray
 
-    def first(self, count: int | None) -> "ModalResult":
+    def first(self, count: int | None) -> ModalResult:
         """The `count` lowest modes (all when None)."""
         n = len(self.frequencies) if count is None else min(count, len(self.frequencies))
         return ModalResult(self.time, self.q, self.frequencies[:n], self.shapes[:n])
@@ -69,6 +70,7 @@ def modal_channels(system: System, modes: ModalResult, requests) -> dict[str, np
     request its modal angle or travel (`value`); other requests have no modal meaning here."""
     from mechlib.requests import JointCoordinate, PointKinematics
     from mechlib.rotation import d_rotate
+
     freq, shapes = modes.frequencies, modes.shapes
     k = system.kin(modes.q, None, modes.time)
     out = {"mode.number": np.arange(1.0, len(freq) + 1.0), "mode.frequency": freq.copy()}
@@ -79,11 +81,11 @@ def modal_channels(system: System, modes: ModalResult, requests) -> dict[str, np
                 disp = np.zeros((len(freq), 3))
             else:
                 block = np.hstack([np.eye(3), d_rotate(k.p[b], s)])
-                disp = shapes[:, 7 * b:7 * b + 7] @ block.T
+                disp = shapes[:, 7 * b : 7 * b + 7] @ block.T
             axes = system.frame_axes(req.frame, k)
             out.update(zip((f"{req.name}.{c}" for c in "xyz"), (disp @ axes).T))
         elif isinstance(req, JointCoordinate):
             kind = "angle" if req.quantity in ("angle", "omega", "alpha") else "travel"
-            grad = system.measure(req.joint, kind).gradient(k)[:system.nq]
+            grad = system.measure(req.joint, kind).gradient(k)[: system.nq]
             out[f"{req.name}.value"] = shapes @ grad
     return out

@@ -11,6 +11,7 @@ of the right-hand side: each Newton iteration evaluates it at the three stages o
 trial step, so the stage calls give the iterations and the trial step sizes (a new size
 within one scipy step is a rejected step).
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -38,11 +39,12 @@ def _rhs(system: System):
         k = system.kin(q, qd, t)
         jac = system.phi_q(k)
         drift = jac @ qd - system.nu(k)
-        g = system.gamma(k) - 2.0 * _BAUMGARTE * drift - _BAUMGARTE ** 2 * system.phi(k)
+        g = system.gamma(k) - 2.0 * _BAUMGARTE * drift - _BAUMGARTE**2 * system.phi(k)
         sol = accelerations_and_reactions(system, k, jac, gamma=g)
         if sol is None:
             raise singular_failure(system, jac, t, "dynamic analysis (radau) failed")
         return np.concatenate([qd, sol[:nq]])
+
     return f
 
 
@@ -64,6 +66,7 @@ class _Logged:
                 return inner(*args)
             finally:
                 self.in_jacobian = False
+
         return jac
 
 
@@ -82,17 +85,25 @@ class RadauStepper(Stepper):
 
     def step(self, state: State, t_out: float) -> StepResult:
         nq, system = self.system.nq, self.system
-        solver = Radau(self.rhs, float(state.t), np.concatenate([state.q, state.qd]),
-                       float(t_out), rtol=self.spec.tolerance, atol=self.atol,
-                       max_step=self.spec.max_step or np.inf)
+        solver = Radau(
+            self.rhs,
+            float(state.t),
+            np.concatenate([state.q, state.qd]),
+            float(t_out),
+            rtol=self.spec.tolerance,
+            atol=self.atol,
+            max_step=self.spec.max_step or np.inf,
+        )
         solver.jac = self.rhs.jacobian(solver.jac)
         while solver.status == "running":
             self._scipy_step(solver)
         count(factorizations=solver.nlu, jacobian_evaluations=solver.njev)
         if solver.status == "failed":
-            raise SolverFailure(f"dynamic analysis (radau) failed at t = {solver.t:.6g} s: "
-                                f"{self.message}", time=float(solver.t),
-                                status=Status.INTEGRATOR_FAILED)
+            raise SolverFailure(
+                f"dynamic analysis (radau) failed at t = {solver.t:.6g} s: {self.message}",
+                time=float(solver.t),
+                status=Status.INTEGRATOR_FAILED,
+            )
         q, qd, its = _project(system, solver.y[:nq], solver.y[nq:], t_out)
         self.stats.newton_iterations += its
         system.commit(system.kin(q, None, t_out))
@@ -123,8 +134,7 @@ class RadauStepper(Stepper):
         return state  # scipy's steps were counted as taken; committed when projected
 
     def restart(self, state: State) -> State:
-        raise SolverFailure("the radau integrator does not restart after events",
-                            time=state.t)
+        raise SolverFailure("the radau integrator does not restart after events", time=state.t)
 
 
 def _project(system: System, q: np.ndarray, qd: np.ndarray, t: float):

@@ -7,9 +7,10 @@ of the reactions it reports (not the friction of the reactions of a frictionless
 dQ/dlam is analytic where the element gives it (joint friction: a rank-one term per
 element), else a forward difference over the multipliers of the rows the element reads.
 """
+
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -17,16 +18,22 @@ from mechlib.kin import Kin
 from mechlib.linalg import augmented, factor, solve_factored
 from mechlib.work import count
 
-__all__ = ["reaction_coupling", "differenced_coupling", "solve_reaction_loaded", "accelerations_and_reactions",
-           "MAX_REACTION_NEWTON"]
+__all__ = [
+    "MAX_REACTION_NEWTON",
+    "accelerations_and_reactions",
+    "differenced_coupling",
+    "reaction_coupling",
+    "solve_reaction_loaded",
+]
 
 MAX_REACTION_NEWTON = 30
 _FD = 1e-7
 _CONVERGED = 1e-12
 
 
-def reaction_coupling(system, k: Kin, lam: np.ndarray,
-                      jac: np.ndarray | None = None) -> np.ndarray | None:
+def reaction_coupling(
+    system, k: Kin, lam: np.ndarray, jac: np.ndarray | None = None
+) -> np.ndarray | None:
     """dQ/dlam (nq, m) at state `k` and multipliers `lam` (`jac`: phi_q at k, if known),
     or None when no active element depends on the reactions. Elements give it through
     `reaction_jacobian(view, out)`; forward differences over the rows they read are the
@@ -47,8 +54,9 @@ def reaction_coupling(system, k: Kin, lam: np.ndarray,
     return out
 
 
-def differenced_coupling(system, k: Kin, lam: np.ndarray, users: list,
-                         jac: np.ndarray | None = None) -> np.ndarray:
+def differenced_coupling(
+    system, k: Kin, lam: np.ndarray, users: list, jac: np.ndarray | None = None
+) -> np.ndarray:
     """dQ/dlam (nq, m) of the elements `users` by forward differences over the
     multipliers of their joints' rows."""
     others = {id(e) for e in system.elements if e not in users}
@@ -62,10 +70,17 @@ def differenced_coupling(system, k: Kin, lam: np.ndarray, users: list,
     return out
 
 
-def solve_reaction_loaded(system, k: Kin, matrix: np.ndarray,
-                          rhs: Callable[[np.ndarray | None], np.ndarray],
-                          lam_at: slice, *, lu=None, lam_guess: np.ndarray | None = None,
-                          jac: np.ndarray | None = None) -> np.ndarray | None:
+def solve_reaction_loaded(
+    system,
+    k: Kin,
+    matrix: np.ndarray,
+    rhs: Callable[[np.ndarray | None], np.ndarray],
+    lam_at: slice,
+    *,
+    lu=None,
+    lam_guess: np.ndarray | None = None,
+    jac: np.ndarray | None = None,
+) -> np.ndarray | None:
     """x with `matrix @ x = rhs(x[lam_at])`, where rows :nq of rhs hold Q(lam) (N) and the
     rest does not depend on lam. Without reaction-dependent loads one linear solve (with
     `lu`, the factors of `matrix`, when given); else Newton from the solution for
@@ -97,9 +112,15 @@ def solve_reaction_loaded(system, k: Kin, matrix: np.ndarray,
     return x
 
 
-def accelerations_and_reactions(system, k: Kin, jac: np.ndarray, lu=None, *,
-                                gamma: np.ndarray | None = None,
-                                lam_guess: np.ndarray | None = None) -> np.ndarray | None:
+def accelerations_and_reactions(
+    system,
+    k: Kin,
+    jac: np.ndarray,
+    lu=None,
+    *,
+    gamma: np.ndarray | None = None,
+    lam_guess: np.ndarray | None = None,
+) -> np.ndarray | None:
     """[qdd; lam] of [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q(lam); gamma] at state `k`
     (`lu`: factors of that matrix, if known; `gamma`: default the constraints' own), with
     the loads that depend on the reactions solved together with them; None when
@@ -107,6 +128,12 @@ def accelerations_and_reactions(system, k: Kin, jac: np.ndarray, lu=None, *,
     gamma = system.gamma(k) if gamma is None else gamma
     matrix = augmented(system.mass(k), jac)
     return solve_reaction_loaded(
-        system, k, matrix,
+        system,
+        k,
+        matrix,
         lambda lam: np.concatenate([system.forces(k, lam=lam, jac=jac), gamma]),
-        slice(system.nq, None), lu=lu, lam_guess=lam_guess, jac=jac)
+        slice(system.nq, None),
+        lu=lu,
+        lam_guess=lam_guess,
+        jac=jac,
+    )

@@ -4,13 +4,14 @@ The generalised force that the rows of a joint (or motion) put on a body is
 -phi_q[rows, body]^T lam[rows]: its first three entries are the force (N, global), the last
 four map to the torque about the centre of mass by n = E(p) Q_p / 2 (N*m, global).
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 from mechlib.rotation import cross, e_matrix, rotate, rotation_matrix
 
-__all__ = ["Gatherer", "reaction_series", "effort_series", "joint_wrench", "motion_effort"]
+__all__ = ["Gatherer", "effort_series", "joint_wrench", "motion_effort", "reaction_series"]
 
 _FORCE = ("fx", "fy", "fz")
 _TORQUE = ("tx", "ty", "tz")
@@ -29,8 +30,10 @@ class Gatherer:
         active = self.system.active
         if self._rows is None or self._rows[0] != id(active):
             owners = self.system.owners
-            self._rows = (id(active), np.array([i for i, o in enumerate(owners)
-                                                if o in self.owners], dtype=int))
+            self._rows = (
+                id(active),
+                np.array([i for i, o in enumerate(owners) if o in self.owners], dtype=int),
+            )
         return self._rows[1]
 
     def gather(self, jac: np.ndarray, lam: np.ndarray) -> None:
@@ -38,7 +41,7 @@ class Gatherer:
         if self.body < 0 or len(rows) == 0:
             self.values.append(np.zeros(7))
             return
-        block = jac[rows, 7 * self.body:7 * self.body + 7]
+        block = jac[rows, 7 * self.body : 7 * self.body + 7]
         self.values.append(-(block.T @ lam[rows]))
 
     def wrench(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -50,11 +53,17 @@ class Gatherer:
 def _body_states(trajectory, body: int, nb: int) -> np.ndarray:
     if body == nb or body < 0:
         return np.tile([1.0, 0.0, 0.0, 0.0], (len(trajectory), 1))
-    return np.array([q[7 * body + 3:7 * body + 7] for q in trajectory.q])
+    return np.array([q[7 * body + 3 : 7 * body + 7] for q in trajectory.q])
 
 
-def reaction_series(system, trajectory, gatherer: Gatherer, point_local: np.ndarray,
-                    sign: float, axes: np.ndarray | None) -> dict[str, np.ndarray]:
+def reaction_series(
+    system,
+    trajectory,
+    gatherer: Gatherer,
+    point_local: np.ndarray,
+    sign: float,
+    axes: np.ndarray | None,
+) -> dict[str, np.ndarray]:
     """fx fy fz tx ty tz f t of a joint reaction (torque about the joint point) in `axes`
     (n, 3, 3) columns, or ground axes when None."""
     p = _body_states(trajectory, gatherer.body, system.nb)
@@ -69,8 +78,9 @@ def reaction_series(system, trajectory, gatherer: Gatherer, point_local: np.ndar
     return out
 
 
-def effort_series(system, trajectory, gatherer: Gatherer, measure, sign: float
-                  ) -> dict[str, np.ndarray]:
+def effort_series(
+    system, trajectory, gatherer: Gatherer, measure, sign: float
+) -> dict[str, np.ndarray]:
     """Torque (angle) or force (travel) along the joint axis fixed in body 2."""
     p = _body_states(trajectory, gatherer.body, system.nb)
     force, torque = gatherer.wrench(p)
@@ -80,8 +90,9 @@ def effort_series(system, trajectory, gatherer: Gatherer, measure, sign: float
     return {"value": sign * np.einsum("ni,ni->n", along, axis)}
 
 
-def joint_wrench(system, k, jac: np.ndarray, lam: np.ndarray, joint: str
-                 ) -> tuple[np.ndarray, np.ndarray]:
+def joint_wrench(
+    system, k, jac: np.ndarray, lam: np.ndarray, joint: str
+) -> tuple[np.ndarray, np.ndarray]:
     """Force and torque about the joint point on body 1 of `joint` (its own rows only),
     global axes, at one state: what elements that load a joint by its reaction use."""
     j = system.mechanism.joints[joint]

@@ -1,5 +1,6 @@
 """A request that fails at some row (an expression dividing by zero) loses only its own
 column from that row on: the other columns and the rows before stay in the solution."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -12,14 +13,24 @@ __all__ = ["RequestFailure", "partial_columns"]
 class RequestFailure(SolverFailure):
     """Some request columns failed; `channels` holds every column, NaN where one failed."""
 
-    def __init__(self, message: str, channels: dict[str, np.ndarray], *,
-                 time: float | None = None, where: tuple[str, ...] = ()) -> None:
+    def __init__(
+        self,
+        message: str,
+        channels: dict[str, np.ndarray],
+        *,
+        time: float | None = None,
+        where: tuple[str, ...] = (),
+    ) -> None:
         super().__init__(message, time=time, where=where)
         self.channels = channels
 
 
-def partial_columns(channels: dict[str, np.ndarray], failed: dict[str, SolverFailure],
-                    per_request: dict[str, dict[str, list]], rows: int) -> RequestFailure:
+def partial_columns(
+    channels: dict[str, np.ndarray],
+    failed: dict[str, SolverFailure],
+    per_request: dict[str, dict[str, list]],
+    rows: int,
+) -> RequestFailure:
     """The failure of the requests in `failed` (name -> failure), their columns padded
     with NaN to `rows` values, every column in request order."""
     padded: dict[str, np.ndarray] = {}
@@ -34,8 +45,13 @@ def partial_columns(channels: dict[str, np.ndarray], failed: dict[str, SolverFai
     notes = []
     for name, failure in failed.items():
         columns = ", ".join(c for c in padded if c.split(".")[0] == name)
-        notes.append(f"{failure} (column {columns} is empty from there on; the other "
-                     "columns are whole)")
+        notes.append(
+            f"{failure} (column {columns} is empty from there on; the other columns are whole)"
+        )
     first = min(failed.values(), key=lambda f: f.time if f.time is not None else np.inf)
-    return RequestFailure("; ".join(notes), padded, time=first.time,
-                          where=tuple(w for f in failed.values() for w in f.where))
+    return RequestFailure(
+        "; ".join(notes),
+        padded,
+        time=first.time,
+        where=tuple(w for f in failed.values() for w in f.where),
+    )

@@ -6,10 +6,11 @@ it includes the effort of motions acting on the joint. A motion effort is the to
 or force (N) the motion applies to body 1 about/along the joint axis, positive in the
 direction of increasing coordinate.
 """
+
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 
@@ -21,8 +22,17 @@ from mechlib.solution import SolverFailure
 from mechlib.system import System
 from mechlib.view import StateView
 
-__all__ = ["evaluate_requests", "JointReaction", "MotionEffort", "CouplerEffort",
-           "PointKinematics", "JointCoordinate", "ElementOutput", "ExpressionOutput", "Request"]
+__all__ = [
+    "CouplerEffort",
+    "ElementOutput",
+    "ExpressionOutput",
+    "JointCoordinate",
+    "JointReaction",
+    "MotionEffort",
+    "PointKinematics",
+    "Request",
+    "evaluate_requests",
+]
 
 _FORCE = ("fx", "fy", "fz")
 _TORQUE = ("tx", "ty", "tz")
@@ -101,8 +111,15 @@ class ExpressionOutput:
     unit: str = ""
 
 
-Request = (JointReaction | MotionEffort | CouplerEffort | PointKinematics | JointCoordinate
-           | ElementOutput | ExpressionOutput)
+Request = (
+    JointReaction
+    | MotionEffort
+    | CouplerEffort
+    | PointKinematics
+    | JointCoordinate
+    | ElementOutput
+    | ExpressionOutput
+)
 
 
 def _frame_matrix(system: System, k, frame: str) -> np.ndarray:
@@ -112,8 +129,12 @@ def _frame_matrix(system: System, k, frame: str) -> np.ndarray:
 def _frame_series(system: System, trajectory, frame: str) -> np.ndarray | None:
     if frame == "ground":
         return None
-    return np.array([system.frame_axes(frame, system.kin(q, None, t))
-                     for q, t in zip(trajectory.q, trajectory.time)])
+    return np.array(
+        [
+            system.frame_axes(frame, system.kin(q, None, t))
+            for q, t in zip(trajectory.q, trajectory.time)
+        ]
+    )
 
 
 def _gatherer(system: System, req) -> tuple[Gatherer, float]:
@@ -121,8 +142,9 @@ def _gatherer(system: System, req) -> tuple[Gatherer, float]:
     on body 2 when body 1 is ground: action and reaction)."""
     if isinstance(req, JointReaction):
         j = system.mechanism.joints[req.joint]
-        owners = {req.joint} | {m.name for m in system.mechanism.motions.values()
-                                if m.joint == req.joint}
+        owners = {req.joint} | {
+            m.name for m in system.mechanism.motions.values() if m.joint == req.joint
+        }
         body, other = system.body_index(j.body1), system.body_index(j.body2)
     else:
         measure = _equation(system, req.motion).terms[0][1]
@@ -140,8 +162,9 @@ def _reaction_columns(system, trajectory, req: JointReaction, gatherer, sign):
     j = system.mechanism.joints[req.joint]
     body = j.body2 if sign < 0 else j.body1
     _, local = system.body_point(body, j.at)
-    return reaction_series(system, trajectory, gatherer, local, sign,
-                           _frame_series(system, trajectory, req.frame))
+    return reaction_series(
+        system, trajectory, gatherer, local, sign, _frame_series(system, trajectory, req.frame)
+    )
 
 
 def _effort_columns(system, trajectory, req: MotionEffort, gatherer, sign):
@@ -151,8 +174,9 @@ def _effort_columns(system, trajectory, req: MotionEffort, gatherer, sign):
 
 def _equation(system: System, owner: str) -> CoordinateEquation:
     """The coordinate equation of a motion, coupler or gear named `owner`."""
-    return next(c for c in system.coordinates
-                if isinstance(c, CoordinateEquation) and c.owner == owner)
+    return next(
+        c for c in system.coordinates if isinstance(c, CoordinateEquation) and c.owner == owner
+    )
 
 
 def _coupler_terms(system: System, joint: str) -> list[tuple[str, AngleMeasure | TravelMeasure]]:
@@ -162,12 +186,16 @@ def _coupler_terms(system: System, joint: str) -> list[tuple[str, AngleMeasure |
 
 
 def _coupler_gatherers(system: System, req: CouplerEffort) -> list[tuple[Gatherer, float]]:
-    return [_on_body1(system, {req.joint}, m.bi, m.bj) for _, m in _coupler_terms(system, req.joint)]
+    return [
+        _on_body1(system, {req.joint}, m.bi, m.bj) for _, m in _coupler_terms(system, req.joint)
+    ]
 
 
 def _coupler_columns(system, trajectory, req: CouplerEffort, gatherers) -> dict[str, np.ndarray]:
-    return {column: effort_series(system, trajectory, g, m, sign)["value"]
-            for (column, m), (g, sign) in zip(_coupler_terms(system, req.joint), gatherers)}
+    return {
+        column: effort_series(system, trajectory, g, m, sign)["value"]
+        for (column, m), (g, sign) in zip(_coupler_terms(system, req.joint), gatherers)
+    }
 
 
 def _in_frame(system, k, values: dict[str, float], frame: str) -> dict[str, float]:
@@ -187,8 +215,14 @@ def _in_frame(system, k, values: dict[str, float], frame: str) -> dict[str, floa
     return out
 
 
-_ANGULAR = {"angle": "angle", "omega": "angle", "alpha": "angle",
-            "travel": "travel", "speed": "travel", "accel": "travel"}
+_ANGULAR = {
+    "angle": "angle",
+    "omega": "angle",
+    "alpha": "angle",
+    "travel": "travel",
+    "speed": "travel",
+    "accel": "travel",
+}
 
 
 def _coordinate(system, k, req: JointCoordinate, qdd) -> float:
@@ -197,7 +231,7 @@ def _coordinate(system, k, req: JointCoordinate, qdd) -> float:
         return m.value(k)
     if req.quantity in ("omega", "speed"):
         return m.rate(k)
-    return float(m.gradient(k)[:system.nq] @ qdd + m.quad(k))
+    return float(m.gradient(k)[: system.nq] @ qdd + m.quad(k))
 
 
 def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str, np.ndarray]:
@@ -216,8 +250,11 @@ def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str,
             v = xd[:, :3] + np.einsum("nij,nj->ni", d_rotate(x[:, 3:], s), xd[:, 3:])
         else:
             xdd = np.array([q[sl] for q in trajectory.qdd])
-            v = (xdd[:, :3] + np.einsum("nij,nj->ni", d_rotate(x[:, 3:], s), xdd[:, 3:])
-                 + 2.0 * rotate(xd[:, 3:], s))
+            v = (
+                xdd[:, :3]
+                + np.einsum("nij,nj->ni", d_rotate(x[:, 3:], s), xdd[:, 3:])
+                + 2.0 * rotate(xd[:, 3:], s)
+            )
     if req.frame != "ground":
         kins = [system.kin(q, None, t) for q, t in zip(trajectory.q, trajectory.time)]
         if req.quantity == "position":  # measured from the frame's origin
@@ -230,12 +267,17 @@ def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str,
 def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndarray]:
     """Columns `REQUEST.COMPONENT` (SI) at the recorded times, in request order."""
     per_request: dict[str, dict[str, list[float]]] = {r.name: {} for r in requests}
-    loads = {r.name: [_gatherer(system, r)] for r in requests
-             if isinstance(r, (JointReaction, MotionEffort))}
-    loads |= {r.name: _coupler_gatherers(system, r) for r in requests
-              if isinstance(r, CouplerEffort)}
-    stepwise = [r for r in requests if isinstance(r, (JointCoordinate, ElementOutput,
-                                                      ExpressionOutput))]
+    loads = {
+        r.name: [_gatherer(system, r)]
+        for r in requests
+        if isinstance(r, (JointReaction, MotionEffort))
+    }
+    loads |= {
+        r.name: _coupler_gatherers(system, r) for r in requests if isinstance(r, CouplerEffort)
+    }
+    stepwise = [
+        r for r in requests if isinstance(r, (JointCoordinate, ElementOutput, ExpressionOutput))
+    ]
     failed: dict[str, SolverFailure] = {}
     for i, t in enumerate(trajectory.time if stepwise or loads else ()):
         system.restore_snapshot(trajectory.references[i])  # as the solver had it then
@@ -247,8 +289,13 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
                     gatherer.gather(jac, trajectory.lam[i])
         view = system.view(k, trajectory.lam[i])  # elements reading reactions see them
         # equilibria: force elements report what the solver used, without velocities
-        rest = system.view(system.kin(trajectory.q[i], np.zeros_like(trajectory.qd[i]), t),
-                           trajectory.lam[i]) if trajectory.at_rest else view
+        rest = (
+            system.view(
+                system.kin(trajectory.q[i], np.zeros_like(trajectory.qd[i]), t), trajectory.lam[i]
+            )
+            if trajectory.at_rest
+            else view
+        )
         for req in stepwise:
             seen = rest if isinstance(req, ElementOutput) else view
             if req.name in failed:
@@ -265,15 +312,17 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
         if isinstance(req, PointKinematics):
             series[req.name] = _point_series(system, trajectory, req)
         elif isinstance(req, JointReaction):
-            series[req.name] = _reaction_columns(system, trajectory, req,
-                                                 *loads[req.name][0])
+            series[req.name] = _reaction_columns(system, trajectory, req, *loads[req.name][0])
         elif isinstance(req, MotionEffort):
             series[req.name] = _effort_columns(system, trajectory, req, *loads[req.name][0])
         elif isinstance(req, CouplerEffort):
             series[req.name] = _coupler_columns(system, trajectory, req, loads[req.name])
-    columns = per_request | series   # every request, in request order
-    channels = {f"{name}.{comp}": np.asarray(values, dtype=float)
-                for name, comps in columns.items() for comp, values in comps.items()}
+    columns = per_request | series  # every request, in request order
+    channels = {
+        f"{name}.{comp}": np.asarray(values, dtype=float)
+        for name, comps in columns.items()
+        for comp, values in comps.items()
+    }
     if failed:
         raise partial_columns(channels, failed, columns, len(trajectory))
     return channels

@@ -5,14 +5,24 @@ The rotation matrix uses the homogeneous quadratic form
 sphere and scales with |p|^2 off it; the normalisation equation of each body pins |p| = 1.
 Shapes: ``p`` (..., 4), vectors (..., 3), matrices (..., 3, 3) or (..., 3, 4).
 """
+
 from __future__ import annotations
 
 import numpy as np
 
 from mechlib import kernels
 
-__all__ = ["cross", "skew", "rotation_matrix", "rotate", "d_rotate", "e_matrix", "g_matrix",
-           "quaternion_from_rotvec", "omega_global"]
+__all__ = [
+    "cross",
+    "d_rotate",
+    "e_matrix",
+    "g_matrix",
+    "omega_global",
+    "quaternion_from_rotvec",
+    "rotate",
+    "rotation_matrix",
+    "skew",
+]
 
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -52,8 +62,11 @@ def rotate(p: np.ndarray, s: np.ndarray) -> np.ndarray:
     p = np.asarray(p, dtype=float)
     e0, e = p[..., :1], p[..., 1:]
     es = np.einsum("...i,...i->...", e, s)[..., None]
-    return ((e0 * e0 - np.einsum("...i,...i->...", e, e)[..., None]) * s
-            + 2.0 * e * es + 2.0 * e0 * cross(e, s))
+    return (
+        (e0 * e0 - np.einsum("...i,...i->...", e, e)[..., None]) * s
+        + 2.0 * e * es
+        + 2.0 * e0 * cross(e, s)
+    )
 
 
 def d_rotate(p: np.ndarray, s: np.ndarray) -> np.ndarray:
@@ -63,8 +76,12 @@ def d_rotate(p: np.ndarray, s: np.ndarray) -> np.ndarray:
     out = np.empty(np.broadcast_shapes(p.shape[:-1], np.shape(s)[:-1]) + (3, 4))
     out[..., :, 0] = 2.0 * (e0[..., None] * s + cross(e, s))
     es = np.einsum("...i,...i->...", e, s)
-    de = 2.0 * (s[..., None, :] * 0.0 + e[..., :, None] * s[..., None, :]
-                - s[..., :, None] * e[..., None, :] - e0[..., None, None] * skew(s))
+    de = 2.0 * (
+        s[..., None, :] * 0.0
+        + e[..., :, None] * s[..., None, :]
+        - s[..., :, None] * e[..., None, :]
+        - e0[..., None, None] * skew(s)
+    )
     de[..., 0, 0] += 2.0 * es
     de[..., 1, 1] += 2.0 * es
     de[..., 2, 2] += 2.0 * es

@@ -7,6 +7,7 @@ at the current step size would need more steps than `max_steps` leaves, and the 
 shrinking over the next COLLAPSE_STEPS accepted steps (an impact resolves in far fewer, and
 the step then grows again), the run fails naming the force element whose load grew most.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -14,7 +15,7 @@ import numpy as np
 from mechlib.contract import Status
 from mechlib.solution import SolverFailure
 
-__all__ = ["StepCollapse", "COLLAPSE_STEPS"]
+__all__ = ["COLLAPSE_STEPS", "StepCollapse"]
 
 COLLAPSE_STEPS = 1000  # accepted steps over which a step too small for the limit must shrink
 
@@ -57,17 +58,26 @@ class StepCollapse:
             f"{self.analysis} analysis failed at t = {t:.6g} s: the step size collapsed to "
             f"{h:.3g} s (from {h0:.3g} s {taken - n0} steps before); the remaining "
             f"{self.end - t:.3g} s would need {need:.3g} more steps, beyond analysis.max_steps "
-            f"= {self.max_steps}: {_grown(loads0, loads())}", time=t,
-            status=Status.STEP_COLLAPSE)
+            f"= {self.max_steps}: {_grown(loads0, loads())}",
+            time=t,
+            status=Status.STEP_COLLAPSE,
+        )
 
 
 def _grown(before: dict[str, float], now: dict[str, float]) -> str:
     """The likely cause: the element whose load grew the most, or what else to check."""
-    ratios = {name: now[name] / before[name] for name in now
-              if before.get(name, 0.0) > 0.0 and now[name] > before[name]}
+    ratios = {
+        name: now[name] / before[name]
+        for name in now
+        if before.get(name, 0.0) > 0.0 and now[name] > before[name]
+    }
     if not ratios:
-        return ("no force element grows: the motion speeds up without bound (an unstable "
-                "model, a motion or initial value out of range?)")
+        return (
+            "no force element grows: the motion speeds up without bound (an unstable "
+            "model, a motion or initial value out of range?)"
+        )
     name = max(ratios, key=ratios.get)
-    return (f"the force '{name}' grew from {before[name]:.3g} to {now[name]:.3g} (SI) over "
-            "those steps: does it grow without bound?")
+    return (
+        f"the force '{name}' grew from {before[name]:.3g} to {now[name]:.3g} (SI) over "
+        "those steps: does it grow without bound?"
+    )

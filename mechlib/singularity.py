@@ -18,6 +18,7 @@ arrangement: a 3D model with nearly parallel axes is weakly conditioned everywhe
 the measure of a position is the smallest of them. Reactions grow like 1/measure near a
 toggle. Checked at the recorded output rows, after the analysis (docs/analyses.md).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -119,7 +120,7 @@ class _Position:
         return self.sigma
 
     def _gradient(self, measure) -> np.ndarray:
-        return measure.gradient(self.k)[:self.system.nq] * self.scale
+        return measure.gradient(self.k)[: self.system.nq] * self.scale
 
     def _solve(self, rhs: np.ndarray) -> np.ndarray:
         """(J J^T)^-1 rhs; without equations rhs is empty and so is the answer."""
@@ -148,15 +149,17 @@ class _Position:
         rows = [i for i in _significant(weights) if owners[i] not in system.body_names]
         rows = rows or [int(np.argmax(np.abs(weights)))]
         last = max(rows, key=lambda i: (rank.get(owners[i], 10**6), abs(weights[i])))
-        return Redundancy(last, system.labels[last], owners[last],
-                          _owners_of(weights, system, owners[last]))
+        return Redundancy(
+            last, system.labels[last], owners[last], _owners_of(weights, system, owners[last])
+        )
 
     def dead_coordinate(self, joint: str, kind: str) -> Redundancy:
         """A coordinate that cannot change, with the joints whose equations hold it."""
         g = self._gradient(self.system.measure(joint, kind))
         weights = self._row_weights(g)
-        return Redundancy(-1, f"{joint}: {kind} cannot change", joint,
-                          _owners_of(weights, self.system, joint))
+        return Redundancy(
+            -1, f"{joint}: {kind} cannot change", joint, _owners_of(weights, self.system, joint)
+        )
 
 
 def _significant(weights: np.ndarray) -> np.ndarray:
@@ -185,8 +188,10 @@ def toggle_detail(system: System, k) -> str:
     value = position.rank_measure() / max(design, _GRAM_FLOOR)
     if value >= TOGGLE_THRESHOLD:
         return ""
-    return (f"; near-singular position (toggle or dead point, measure {value:.2g}): "
-            f"{position.rank_deficiency().describe()}")
+    return (
+        f"; near-singular position (toggle or dead point, measure {value:.2g}): "
+        f"{position.rank_deficiency().describe()}"
+    )
 
 
 def _episodes(values: np.ndarray, threshold: float) -> list[tuple[int, int]]:
@@ -214,8 +219,9 @@ def _relative(sines: list[dict]) -> list[dict]:
     for row in sines:
         for key, value in row.items():
             best[key] = max(best.get(key, 0.0), value)
-    return [{key: value / best[key] for key, value in row.items() if value > _HELD}
-            for row in sines]
+    return [
+        {key: value / best[key] for key, value in row.items() if value > _HELD} for row in sines
+    ]
 
 
 def _measures(ranks: np.ndarray, sines: list[dict]) -> tuple[np.ndarray, list[dict]]:
@@ -228,8 +234,7 @@ def _measures(ranks: np.ndarray, sines: list[dict]) -> tuple[np.ndarray, list[di
     return np.array([min([r] + list(c.values())) for r, c in zip(rank, relative)]), relative
 
 
-def toggle_warnings(system: System, trajectory, threshold: float = TOGGLE_THRESHOLD
-                    ) -> list[str]:
+def toggle_warnings(system: System, trajectory, threshold: float = TOGGLE_THRESHOLD) -> list[str]:
     """One warning per episode of recorded rows whose toggle measure is below `threshold`:
     its time span, the minimum and its time, and the dependent equations there."""
     if not len(trajectory):
@@ -238,20 +243,32 @@ def toggle_warnings(system: System, trajectory, threshold: float = TOGGLE_THRESH
     values, relative = _measures(ranks, sines)
     out = []
     for first, last in _episodes(values, threshold):
-        worst = first + int(np.argmin(values[first:last + 1]))
+        worst = first + int(np.argmin(values[first : last + 1]))
         system.restore_snapshot(trajectory.references[worst])
         t = trajectory.time[worst]
         position = _Position(system, system.kin(trajectory.q[worst], None, t))
         found = [position.rank_deficiency()] if ranks[worst] < threshold * ranks.max() else []
-        found += [position.dead_coordinate(*key) for key, value in relative[worst].items()
-                  if value < threshold]
-        out.append(_message(Toggle(float(values[worst]), tuple(found)), t,
-                            trajectory.time[first], trajectory.time[last], threshold))
+        found += [
+            position.dead_coordinate(*key)
+            for key, value in relative[worst].items()
+            if value < threshold
+        ]
+        out.append(
+            _message(
+                Toggle(float(values[worst]), tuple(found)),
+                t,
+                trajectory.time[first],
+                trajectory.time[last],
+                threshold,
+            )
+        )
     return out
 
 
 def _message(toggle: Toggle, t: float, start: float, end: float, threshold: float) -> str:
-    return (f"near-singular position (toggle or dead point) at t = {t:.6g} s: toggle measure "
-            f"{toggle.measure:.3g} (below {threshold:g} from t = {start:.6g} to {end:.6g} s); "
-            f"{toggle.describe()}; reactions there grow like 1/measure: check the geometry "
-            "(a brace or link going straight) or keep the motion away from this position")
+    return (
+        f"near-singular position (toggle or dead point) at t = {t:.6g} s: toggle measure "
+        f"{toggle.measure:.3g} (below {threshold:g} from t = {start:.6g} to {end:.6g} s); "
+        f"{toggle.describe()}; reactions there grow like 1/measure: check the geometry "
+        "(a brace or link going straight) or keep the motion away from this position"
+    )

@@ -1,9 +1,10 @@
 """The cubic step of MSC Adams (seed 004 eq. 3.10): smooth switches for laws and inputs."""
+
 from __future__ import annotations
 
 from numba import njit
 
-__all__ = ["step", "compiled_step"]
+__all__ = ["compiled_step", "step"]
 
 
 def step(x: float, x0: float, h0: float, x1: float, h1: float) -> float:

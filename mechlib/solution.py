@@ -1,4 +1,5 @@
 """The outcome of an analysis: how it ended, statistics, and the requested channels."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -8,7 +9,7 @@ import numpy as np
 
 from mechlib.contract import Status
 
-__all__ = ["Solution", "SolverStats", "SolverFailure", "EventRecord"]
+__all__ = ["EventRecord", "Solution", "SolverFailure", "SolverStats"]
 
 RunStatus = Literal["ok", "failed"]
 
@@ -28,11 +29,14 @@ class SolverStats:
     cpu_seconds: float = 0.0
 
     def as_dict(self) -> dict[str, float]:
-        return {"steps": self.steps, "rejected_steps": self.rejected_steps,
-                "newton_iterations": self.newton_iterations,
-                "factorizations": self.factorizations,
-                "jacobian_evaluations": self.jacobian_evaluations,
-                "cpu_seconds": self.cpu_seconds}
+        return {
+            "steps": self.steps,
+            "rejected_steps": self.rejected_steps,
+            "newton_iterations": self.newton_iterations,
+            "factorizations": self.factorizations,
+            "jacobian_evaluations": self.jacobian_evaluations,
+            "cpu_seconds": self.cpu_seconds,
+        }
 
 
 @dataclass(frozen=True)
@@ -48,8 +52,14 @@ class SolverFailure(Exception):
     """A numerical failure: when (t, s), where (constraint or element labels), why (the
     message) and its `status` (mechlib.contract.Status)."""
 
-    def __init__(self, message: str, *, time: float | None = None, where: tuple[str, ...] = (),
-                 status: Status = Status.EVALUATION_FAILED):
+    def __init__(
+        self,
+        message: str,
+        *,
+        time: float | None = None,
+        where: tuple[str, ...] = (),
+        status: Status = Status.EVALUATION_FAILED,
+    ):
         super().__init__(message)
         self.time = time
         self.where = where

@@ -1,10 +1,11 @@
 """One entry point: `solve(mechanism, analysis, *, requests, ...) -> Solution`."""
+
 from __future__ import annotations
 
 import functools
 import time as _time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Callable, Sequence
 
 import numpy as np
 
@@ -16,18 +17,18 @@ from mechlib.finite import check_recorded_state, explain_failure, nonfinite_chan
 from mechlib.genalpha_stepper import GeneralizedAlphaStepper
 from mechlib.kinematic import KinematicStepper
 from mechlib.march import march
-from mechlib.modes import ModalResult, Modes, modal_channels, normal_modes
 from mechlib.model import Mechanism
+from mechlib.modes import ModalResult, Modes, modal_channels, normal_modes
 from mechlib.radau import RadauStepper
 from mechlib.requests import evaluate_requests
+from mechlib.singularity import toggle_warnings
 from mechlib.solution import Solution, SolverFailure, SolverStats
 from mechlib.solve_copy import solve_copy
-from mechlib.singularity import toggle_warnings
 from mechlib.static import QuasiStaticStepper, run_static
 from mechlib.system import System
 from mechlib.work import tally
 
-__all__ = ["solve", "check_model", "MechanismCheck", "inspect_mechanism"]
+__all__ = ["MechanismCheck", "check_model", "inspect_mechanism", "solve"]
 
 Analysis = Kinematic | Static | QuasiStatic | Dynamic | Modes
 
@@ -40,22 +41,33 @@ def check_model(system: System, analysis: Analysis, *, redundant: str = "error")
     """
     k = system.kin(system.design_q(), None, getattr(analysis, "start", 0.0))
     jac = system.phi_q(k)
-    found = find_redundant(jac, system.labels, system.owners, set(system.body_names),
-                           owner_rank=system.owner_rank)
+    found = find_redundant(
+        jac, system.labels, system.owners, set(system.body_names), owner_rank=system.owner_rank
+    )
     warnings = []
     if found and redundant != "drop":
         raise ModelError([(r.owner, "redundant constraint: " + r.describe()) for r in found])
     if found:
         system.drop_rows([r.row for r in found])
-        warnings = [f"redundant constraint dropped: {r.describe()}; the reactions of "
-                    f"{', '.join((r.owner,) + r.depends_on)} are not unique" for r in found]
+        warnings = [
+            f"redundant constraint dropped: {r.describe()}; the reactions of "
+            f"{', '.join((r.owner,) + r.depends_on)} are not unique"
+            for r in found
+        ]
     if isinstance(analysis, Kinematic):
         dof = degrees_of_freedom(system.phi_q(k))
         if dof != 0:
             motions = ", ".join(system.mechanism.motions) or "none"
-            raise ModelError([("", f"kinematic analysis needs 0 degrees of freedom after the "
-                                   f"motions ({motions}), but the mechanism has {dof}: add "
-                                   "motions or use a dynamic or quasi-static analysis")])
+            raise ModelError(
+                [
+                    (
+                        "",
+                        f"kinematic analysis needs 0 degrees of freedom after the "
+                        f"motions ({motions}), but the mechanism has {dof}: add "
+                        "motions or use a dynamic or quasi-static analysis",
+                    )
+                ]
+            )
     return warnings
 
 
@@ -75,15 +87,22 @@ def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
     system = System(mechanism)
     k = system.kin(system.design_q(), None, 0.0)
     jac = system.phi_q(k)
-    found = find_redundant(jac, system.labels, system.owners, set(system.body_names),
-                           owner_rank=system.owner_rank)
+    found = find_redundant(
+        jac, system.labels, system.owners, set(system.body_names), owner_rank=system.owner_rank
+    )
     assembled = bool(np.abs(system.phi(k)).max(initial=0.0) < 1e-9)
-    return MechanismCheck(system.nb, len(system.labels) - system.nb,
-                          degrees_of_freedom(jac), tuple(r.describe() for r in found), assembled)
+    return MechanismCheck(
+        system.nb,
+        len(system.labels) - system.nb,
+        degrees_of_freedom(jac),
+        tuple(r.describe() for r in found),
+        assembled,
+    )
 
 
-def _stepper(system: System, analysis: Kinematic | QuasiStatic | Dynamic,
-             stats: SolverStats) -> Stepper:
+def _stepper(
+    system: System, analysis: Kinematic | QuasiStatic | Dynamic, stats: SolverStats
+) -> Stepper:
     """The stepper of an analysis in time (mechlib.contract)."""
     if isinstance(analysis, Kinematic):
         return KinematicStepper(system, analysis, stats)
@@ -96,11 +115,19 @@ def _stepper(system: System, analysis: Kinematic | QuasiStatic | Dynamic,
 
 def _check_events(analysis: Analysis, events: Sequence) -> None:
     if events and isinstance(analysis, Static):
-        raise ModelError([("", "events need an analysis in time (a static analysis "
-                               "solves one instant)")])
+        raise ModelError(
+            [("", "events need an analysis in time (a static analysis solves one instant)")]
+        )
     if events and isinstance(analysis, Dynamic) and analysis.integrator == "radau":
-        raise ModelError([("", "events are located by the generalized-alpha integrator: "
-                               "drop 'integrator: radau' or the events")])
+        raise ModelError(
+            [
+                (
+                    "",
+                    "events are located by the generalized-alpha integrator: "
+                    "drop 'integrator: radau' or the events",
+                )
+            ]
+        )
 
 
 @dataclass
@@ -115,8 +142,9 @@ class _Run:
     message: str = "finished"
 
 
-def _analyse(system: System, analysis: Analysis, run: _Run, initial, events, progress,
-             warnings: list[str]) -> None:
+def _analyse(
+    system: System, analysis: Analysis, run: _Run, initial, events, progress, warnings: list[str]
+) -> None:
     """Assemble (notes on the initial values to `warnings`), then run the analysis into
     `run`; SolverFailure leaves what was computed."""
     start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
@@ -127,31 +155,46 @@ def _analyse(system: System, analysis: Analysis, run: _Run, initial, events, pro
         run.stats.newton_iterations += assembled.newton_iterations
         _check_events(analysis, events)
         if isinstance(analysis, Modes):
-            run.modes = normal_modes(system, assembled.q, analysis.time,
-                                     run.stats).first(analysis.count)
+            run.modes = normal_modes(system, assembled.q, analysis.time, run.stats).first(
+                analysis.count
+            )
             system.commit(system.kin(run.modes.q, None, analysis.time))
         elif isinstance(analysis, Static):
             run_static(system, analysis, assembled.q, run.trajectory, run.stats)
         else:
-            run.result = march(_stepper(system, analysis, run.stats), assembled.q,
-                               assembled.qd, run.trajectory, progress=progress,
-                               events=events, event_log=run.events)
+            run.result = march(
+                _stepper(system, analysis, run.stats),
+                assembled.q,
+                assembled.qd,
+                run.trajectory,
+                progress=progress,
+                events=events,
+                event_log=run.events,
+            )
 
 
 def _channels(system: System, run: _Run, requests) -> tuple[np.ndarray, dict]:
     """Output times and channels: one row per mode for modes, else per recorded state."""
     if run.modes is not None:
-        return (np.full(len(run.modes.frequencies), run.modes.time),
-                modal_channels(system, run.modes, requests))
-    channels = evaluate_requests(system, run.trajectory, requests) if len(run.trajectory) \
-        else {}
+        return (
+            np.full(len(run.modes.frequencies), run.modes.time),
+            modal_channels(system, run.modes, requests),
+        )
+    channels = evaluate_requests(system, run.trajectory, requests) if len(run.trajectory) else {}
     return np.array(run.trajectory.time), channels
 
 
-def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
-          initial: Sequence = (), redundant: str = "error", throw: bool = True,
-          events: Sequence = (),
-          progress: Callable[[float, float], None] | None = None) -> Solution:
+def solve(
+    mechanism: Mechanism,
+    analysis: Analysis,
+    *,
+    requests: Sequence = (),
+    initial: Sequence = (),
+    redundant: str = "error",
+    throw: bool = True,
+    events: Sequence = (),
+    progress: Callable[[float, float], None] | None = None,
+) -> Solution:
     """Check, assemble and solve; channels `REQUEST.COMPONENT` at the output times.
 
     The `mechanism` is left unchanged (the solve works on its own copy of the force
@@ -163,9 +206,11 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     cpu0 = _time.process_time()
     system = System(solve_copy(mechanism))  # events and memories never change the caller's
     warnings = check_model(system, analysis, redundant=redundant)
-    run = _Run(Trajectory(snapshot=system.snapshot,
-                          check=functools.partial(check_recorded_state, system)),
-               SolverStats(), [])
+    run = _Run(
+        Trajectory(snapshot=system.snapshot, check=functools.partial(check_recorded_state, system)),
+        SolverStats(),
+        [],
+    )
     if isinstance(analysis, Modes):
         events = ()  # nothing moves: events have nothing to watch
     try:
@@ -192,7 +237,15 @@ def solve(mechanism: Mechanism, analysis: Analysis, *, requests: Sequence = (),
     run.stats.cpu_seconds = _time.process_time() - cpu0
     message = run.message
     if run.events:
-        message += "; events: " + ", ".join(f"{e.name} at t = {e.time:.6g} s"
-                                            for e in run.events)
-    return Solution("ok" if run.result.ok else "failed", message, analysis.name, times,
-                    channels, run.stats, warnings, run.events, run.result)
+        message += "; events: " + ", ".join(f"{e.name} at t = {e.time:.6g} s" for e in run.events)
+    return Solution(
+        "ok" if run.result.ok else "failed",
+        message,
+        analysis.name,
+        times,
+        channels,
+        run.stats,
+        warnings,
+        run.events,
+        run.result,
+    )

@@ -2,6 +2,7 @@
 activations (`active`), contact and friction memory and bindings to the solve's System
 never leak into the caller's Mechanism. Bodies, points, joints, motions and frames are not
 changed by a solve and are shared. Copying the elements costs about 0.1 ms each."""
+
 from __future__ import annotations
 
 import copy

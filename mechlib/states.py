@@ -12,6 +12,7 @@ rest, as its forces see it); a kinematic one at each solved position (its veloci
 included). A static analysis solves one instant, with no time to integrate over: the
 states keep their initial values there.
 """
+
 from __future__ import annotations
 
 import numpy as np
@@ -34,8 +35,11 @@ class ElementStates:
                 self.slices[id(e)] = slice(start, start + n)
                 start += n
         self.owners = [e for e in elements if id(e) in self.slices]
-        self.z = np.concatenate([np.asarray(e.initial_states(), float) for e in self.owners]) \
-            if self.owners else np.zeros(0)
+        self.z = (
+            np.concatenate([np.asarray(e.initial_states(), float) for e in self.owners])
+            if self.owners
+            else np.zeros(0)
+        )
         self.trial = self.z.copy()
         self.rates_accepted: np.ndarray | None = None
 
@@ -49,8 +53,9 @@ class ElementStates:
     def rates(self, view, z: np.ndarray) -> np.ndarray:
         saved, self.trial = self.trial, z
         try:
-            return np.concatenate([np.asarray(e.state_rates(view, z[self.slices[id(e)]]),
-                                              float) for e in self.owners])
+            return np.concatenate(
+                [np.asarray(e.state_rates(view, z[self.slices[id(e)]]), float) for e in self.owners]
+            )
         finally:
             self.trial = saved
 

@@ -4,6 +4,7 @@ Quasi-static continues along the motions' time functions: each equilibrium start
 linear extrapolation of the last two, and an interval Newton cannot take is subdivided.
 Static solves one instant: the quasi-static stepper's first state.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -17,7 +18,7 @@ from mechlib.equilibrium import equilibrium
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
-__all__ = ["equilibrium", "run_static", "QuasiStaticStepper"]
+__all__ = ["QuasiStaticStepper", "equilibrium", "run_static"]
 
 _MAX_SUBDIVISIONS = 10
 
@@ -97,8 +98,9 @@ class QuasiStaticStepper(Stepper):
         return self.system.states.mark(self.system.view(self.system.kin(q, None, t)))
 
 
-def run_static(system: System, spec: Static, q0: np.ndarray, trajectory: Trajectory,
-               stats: SolverStats) -> None:
+def run_static(
+    system: System, spec: Static, q0: np.ndarray, trajectory: Trajectory, stats: SolverStats
+) -> None:
     """One equilibrium at spec.time: the quasi-static stepper's first state. Element states
     keep their initial values (one instant: no time to integrate them over)."""
     stepper = QuasiStaticStepper(system, spec, stats)

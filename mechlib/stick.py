@@ -10,14 +10,15 @@ with the full friction against the way the load pushes it from the first instant
 joint lets go at the first accepted state where the effort exceeds the capacity. After any
 switch the integration restarts from a consistent state.
 """
+
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 from mechlib.events import locate
 from mechlib.solution import SolverFailure
 
-__all__ = ["switch_sticking", "slip_stop"]
+__all__ = ["slip_stop", "switch_sticking"]
 
 _HOLD_MARGIN = 1e-9  # relative: an effort equal to the capacity still holds
 
@@ -26,8 +27,7 @@ def switch_sticking(system, q, qd, t: float, view, consistent: Callable) -> bool
     """Stick or free the joint frictions at the accepted state (q, qd, t) whose consistent
     view (velocities and multipliers) is `view`; `consistent(system, q, qd, t)` gives
     (qd, qdd, lam). True when the model changed (the caller restarts)."""
-    frictions = [e for e in system.elements
-                 if e.active and getattr(e, "can_stick", False)]
+    frictions = [e for e in system.elements if e.active and getattr(e, "can_stick", False)]
     switched = False
     for e in frictions:
         if e.stuck:
@@ -40,7 +40,7 @@ def switch_sticking(system, q, qd, t: float, view, consistent: Callable) -> bool
             try:
                 held_qd, _, lam = consistent(system, q, qd, t)
             except SolverFailure:  # already held by other equations (a motion, a stuck
-                e.unstick()        # joint of the same loop): nothing to hold
+                e.unstick()  # joint of the same loop): nothing to hold
                 continue
             held = system.view(system.kin(q, held_qd, t), lam)
             effort = e.stick_effort(held)
@@ -53,8 +53,9 @@ def switch_sticking(system, q, qd, t: float, view, consistent: Callable) -> bool
     return switched
 
 
-def slip_stop(system, t0: float, t1: float, view0, view1,
-              view_at: Callable[[float], object]) -> float | None:
+def slip_stop(
+    system, t0: float, t1: float, view0, view1, view_at: Callable[[float], object]
+) -> float | None:
     """The earliest time in (t0, t1] at which a sliding joint friction's slip rate passes
     through zero (located as events are), or None; `view_at(t)` re-solves the step to t."""
     first = None

@@ -6,20 +6,21 @@ Symbols (7 coordinates per moving body, ground excluded): ``phi`` (m,) residuals
 equations of motion ``M qdd + phi_q^T lam = Q``. Row `i` of every constraint array is
 labelled ``labels[i]`` and belongs to joint or motion ``owners[i]``.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
+from mechlib import kernels
 from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.curve_joint import CurveEquation, CurvePoint
 from mechlib.curves import Curve
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL, expand_joint, joint_frame
 from mechlib.kin import Kin
-from mechlib.states import ElementStates
 from mechlib.model import GROUND, Mechanism
-from mechlib import kernels
 from mechlib.rotation import rotation_matrix
+from mechlib.states import ElementStates
 from mechlib.view import StateView
 
 __all__ = ["System"]
@@ -63,8 +64,9 @@ class System:
         bodies = [mechanism.bodies[n] for n in self.body_names]
         self.cm = np.vstack([np.array([b.cm for b in bodies]).reshape(-1, 3), np.zeros((1, 3))])
         self.masses = np.array([b.mass for b in bodies])
-        self.inertia = np.ascontiguousarray(np.array([b.inertia for b in bodies],
-                                                     dtype=float).reshape(-1, 3, 3))
+        self.inertia = np.ascontiguousarray(
+            np.array([b.inertia for b in bodies], dtype=float).reshape(-1, 3, 3)
+        )
         self.gravity = np.asarray(mechanism.gravity, dtype=float)
         self._pscale = 4.0 * np.trace(self.inertia, axis1=1, axis2=2) / 3.0
         self.measures: dict[tuple[str, str], AngleMeasure | TravelMeasure] = {}
@@ -72,8 +74,7 @@ class System:
         self.elements = list(mechanism.forces.values())
         self._remembering = [e for e in self.elements if hasattr(e, "commit")]
         self.states = ElementStates(self.elements)
-        self.reaction_dependent = any(getattr(e, "uses_reactions", False)
-                                      for e in self.elements)
+        self.reaction_dependent = any(getattr(e, "uses_reactions", False) for e in self.elements)
         self._no_wrench = np.zeros((self.nb + 1, 3))
         self._no_wrench.flags.writeable = False
         self._dormant: list[int] = []  # rows that elements switch on when they need them
@@ -172,9 +173,10 @@ class System:
         eqs: list[CoordinateEquation | CurveEquation] = []
         for j in self.mechanism.joints.values():
             if j.type == "screw":
-                terms = [(1.0, self.measure(j.name, "travel")),
-                         (-j.required(j.pitch, "pitch") / (2.0 * np.pi),
-                          self.measure(j.name, "angle"))]
+                terms = [
+                    (1.0, self.measure(j.name, "travel")),
+                    (-j.required(j.pitch, "pitch") / (2.0 * np.pi), self.measure(j.name, "angle")),
+                ]
                 eqs.append(CoordinateEquation(terms, f"{j.name}: screw travel-angle", j.name))
             elif j.type in ("coupler", "gear"):
                 a, b = j.required(j.joints, "joints")
@@ -194,8 +196,10 @@ class System:
         bj = self._index[j.body2]
         curve = Curve([self.body_point(j.body2, p)[1] for p in j.curve], j.interpolation)
         point = CurvePoint(bi, bj, si, curve)
-        return [CurveEquation(point, 0, f"{j.name}: off the curve, in its plane", j.name),
-                CurveEquation(point, 1, f"{j.name}: off the curve, across its plane", j.name)]
+        return [
+            CurveEquation(point, 0, f"{j.name}: off the curve, in its plane", j.name),
+            CurveEquation(point, 1, f"{j.name}: off the curve, across its plane", j.name),
+        ]
 
     # ---- row selection ----------------------------------------------------------------
     @property
@@ -234,8 +238,9 @@ class System:
         """Freeze a joint's coordinate at its value in state `k` (a latch engaging)."""
         measure = self._coordinate_of(joint)
         value = measure.value(k)
-        eq = CoordinateEquation([(1.0, measure)], f"{joint}: locked {measure.kind}", joint,
-                                _Held(value))
+        eq = CoordinateEquation(
+            [(1.0, measure)], f"{joint}: locked {measure.kind}", joint, _Held(value)
+        )
         self.coordinates.append(eq)
         self._all_labels.append(eq.label)
         self._all_owners.append(joint)
@@ -245,8 +250,9 @@ class System:
     def held_coordinate(self, owner: str, measure) -> int:
         """A dormant equation `measure = held value`, owned by `owner` (a joint friction
         sticking): its row index among all equations, for `hold` and `let_go`."""
-        eq = CoordinateEquation([(1.0, measure)], f"{owner}: stuck {measure.kind}", owner,
-                                _Held(0.0))
+        eq = CoordinateEquation(
+            [(1.0, measure)], f"{owner}: stuck {measure.kind}", owner, _Held(0.0)
+        )
         self.coordinates.append(eq)
         self._all_labels.append(eq.label)
         self._all_owners.append(owner)
@@ -273,11 +279,15 @@ class System:
     def snapshot(self) -> dict:
         """What outputs need to read a recorded state as it was: angle references, active
         equations and elements."""
-        return {"angles": self.references(), "active": self.active,
-                "elements": {n: e.active for n, e in self.mechanism.forces.items()},
-                "states": self.states.z.copy(),
-                "anchors": {e.name: e.static_anchor() for e in self._remembering
-                            if hasattr(e, "static_anchor")}}
+        return {
+            "angles": self.references(),
+            "active": self.active,
+            "elements": {n: e.active for n, e in self.mechanism.forces.items()},
+            "states": self.states.z.copy(),
+            "anchors": {
+                e.name: e.static_anchor() for e in self._remembering if hasattr(e, "static_anchor")
+            },
+        }
 
     def restore_snapshot(self, snap: dict) -> None:
         self.restore(snap["angles"])
@@ -292,8 +302,9 @@ class System:
     def kin(self, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:
         return Kin.from_state(q, qd, t)
 
-    def view(self, k: Kin, lam: np.ndarray | None = None,
-             jac: np.ndarray | None = None) -> StateView:
+    def view(
+        self, k: Kin, lam: np.ndarray | None = None, jac: np.ndarray | None = None
+    ) -> StateView:
         return StateView(self, k, lam, jac)
 
     def joint_force_rows(self, joint: str) -> tuple[np.ndarray, int, float]:
@@ -330,29 +341,29 @@ class System:
         parts, row = [], 0
         for g in self.groups:
             parts.append(g.phi(k))
-            g.jacobian(k, out[row:row + g.size])
+            g.jacobian(k, out[row : row + g.size])
             row += g.size
         for c in self.coordinates:
             parts.append(np.array([c.phi(k)]))
             out[row] = c.gradient(k)
             row += 1
-        return self._select(np.concatenate(parts)), self._select(out)[:, :self.nq]
+        return self._select(np.concatenate(parts)), self._select(out)[:, : self.nq]
 
     def phi_q(self, k: Kin) -> np.ndarray:
         out = np.zeros((len(self._all_labels), k.ncol))
         row = 0
         for g in self.groups:
-            g.jacobian(k, out[row:row + g.size])
+            g.jacobian(k, out[row : row + g.size])
             row += g.size
         for c in self.coordinates:
             out[row] = c.gradient(k)
             row += 1
-        return self._select(out)[:, :self.nq]
+        return self._select(out)[:, : self.nq]
 
     def nu(self, k: Kin) -> np.ndarray:
         out = np.zeros(len(self._all_labels))
         if self.coordinates:
-            out[self.n_geometric:] = [c.nu(k.t) for c in self.coordinates]
+            out[self.n_geometric :] = [c.nu(k.t) for c in self.coordinates]
         return self._select(out)
 
     def gamma(self, k: Kin) -> np.ndarray:
@@ -382,6 +393,7 @@ class System:
         """Sparsity of [[M, phi_q^T], [phi_q, 0]], from a generic state (found once)."""
         if getattr(self, "_pattern", None) is None:
             from mechlib.linalg import SaddlePattern
+
             rng = np.random.default_rng(7)
             q = self.design_q() + 0.1 * rng.standard_normal(self.nq)
             k = self.kin(q, rng.standard_normal(self.nq), 0.0)
@@ -410,8 +422,9 @@ class System:
         kernels.mass_times(k.x, self.masses, self.inertia, self._pscale, x, out)
         return out
 
-    def wrenches(self, k: Kin, lam: np.ndarray | None = None, skip=(),
-                 jac: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
+    def wrenches(
+        self, k: Kin, lam: np.ndarray | None = None, skip=(), jac: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Forces F and torques N (nb+1, 3) of the active force elements (but those whose
         id is in `skip`), global axes, through the cm; `lam` (the multipliers of the
         iterate) for elements that depend on joint reactions (joint friction), `jac` its
@@ -426,19 +439,24 @@ class System:
                 element.apply(view, F, N)
         return F, N
 
-    def forces(self, k: Kin, *, inertia: bool = True, lam: np.ndarray | None = None,
-               skip=(), jac: np.ndarray | None = None) -> np.ndarray:
+    def forces(
+        self,
+        k: Kin,
+        *,
+        inertia: bool = True,
+        lam: np.ndarray | None = None,
+        skip=(),
+        jac: np.ndarray | None = None,
+    ) -> np.ndarray:
         """Q (nq,): gravity, elements (but those whose id is in `skip`) and, with
         `inertia`, the quadratic velocity terms (`lam`, `jac`: see `wrenches`)."""
         F, N = self.wrenches(k, lam, skip, jac)
         out = np.empty(self.nq)
-        kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N,
-                            inertia, out)
+        kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N, inertia, out)
         return out
 
     def generalized(self, k: Kin, F: np.ndarray, N: np.ndarray) -> np.ndarray:
         """Q (nq,) of forces F and torques N (nb+1, 3) alone (no gravity, no inertia)."""
         out = np.empty(self.nq)
-        kernels.body_forces(k.x, k.xd, self.masses, self.inertia, _NO_GRAVITY, F, N,
-                            False, out)
+        kernels.body_forces(k.x, k.xd, self.masses, self.inertia, _NO_GRAVITY, F, N, False, out)
         return out

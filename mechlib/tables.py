@@ -1,7 +1,8 @@
 """Tabulated functions y(x): akima, cubic or linear interpolation, explicit extrapolation."""
+
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 from scipy.interpolate import Akima1DInterpolator, CubicSpline
@@ -18,8 +19,15 @@ class Table:
     error|hold|linear outside [x_min, x_max]. `derivative()` gives dy/dx as a Table-like
     callable (used for exact time derivatives of expressions)."""
 
-    def __init__(self, name: str, x, y, interpolation: str = "akima",
-                 extrapolate: str = "error", _order: int = 0):
+    def __init__(
+        self,
+        name: str,
+        x,
+        y,
+        interpolation: str = "akima",
+        extrapolate: str = "error",
+        _order: int = 0,
+    ):
         self.name, self.interpolation, self.extrapolate = name, interpolation, extrapolate
         self.x, self.y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
         if self.x.ndim != 1 or self.x.shape != self.y.shape or len(self.x) < 2:
@@ -36,7 +44,9 @@ class Table:
             if self._order == 0:
                 return lambda v: np.interp(v, x, y)
             if self._order == 1:
-                return lambda v: slopes[np.clip(np.searchsorted(x, v, "right") - 1, 0, len(slopes) - 1)]
+                return lambda v: slopes[
+                    np.clip(np.searchsorted(x, v, "right") - 1, 0, len(slopes) - 1)
+                ]
             return lambda v: np.zeros_like(np.asarray(v, float))
         if self.interpolation == "cubic":
             base = CubicSpline(x, y, bc_type="not-a-knot" if len(x) > 3 else "natural")
@@ -51,8 +61,10 @@ class Table:
         if lo <= v <= hi:
             return float(self._f(v))
         if self.extrapolate == "error":
-            raise TableRangeError(f"table '{self.name}': x = {v:.6g} is outside its data "
-                                  f"[{lo:.6g}, {hi:.6g}] (set extrapolate: hold or linear)")
+            raise TableRangeError(
+                f"table '{self.name}': x = {v:.6g} is outside its data "
+                f"[{lo:.6g}, {hi:.6g}] (set extrapolate: hold or linear)"
+            )
         end = lo if v < lo else hi
         if self.extrapolate == "hold":
             return float(self._f(end)) if self._order == 0 else 0.0
@@ -65,7 +77,8 @@ class Table:
         d = Table(self.name, self.x, self.y, self.interpolation, "hold", self._order + 1)
         return d._f(end) if self._order == 0 else (d._f(end) if self._order == 1 else 0.0)
 
-    def derivative(self) -> "Table":
+    def derivative(self) -> Table:
         """dy/dx with the same extrapolation rule (held value -> zero slope)."""
-        return Table(self.name, self.x, self.y, self.interpolation, self.extrapolate,
-                     self._order + 1)
+        return Table(
+            self.name, self.x, self.y, self.interpolation, self.extrapolate, self._order + 1
+        )

@@ -1,12 +1,13 @@
 """A read-only view of one mechanism state, as expressions and force elements see it."""
+
 from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mechlib.kin import Kin
 from mechlib import kernels
+from mechlib.kin import Kin
 
 if TYPE_CHECKING:
     from mechlib.system import System
@@ -17,8 +18,9 @@ __all__ = ["StateView"]
 class StateView:
     """State measures in SI: joint angle (rad) / travel (m) and rates, point positions (m)."""
 
-    def __init__(self, system: "System", kin: Kin, lam: np.ndarray | None = None,
-                 jac: np.ndarray | None = None):
+    def __init__(
+        self, system: System, kin: Kin, lam: np.ndarray | None = None, jac: np.ndarray | None = None
+    ):
         self.system = system
         self.kin = kin
         self.lam = lam
@@ -56,6 +58,7 @@ class StateView:
         if self.lam is None or len(self.lam) == 0:
             return np.zeros(3), np.zeros(3)
         from mechlib.reactions import joint_wrench
+
         return joint_wrench(self.system, self.kin, self.jacobian(), self.lam, joint)
 
     def reaction_force(self, joint: str) -> np.ndarray:
@@ -65,7 +68,7 @@ class StateView:
         if self.lam is None or len(self.lam) == 0:
             return np.zeros(3)
         rows, body, sign = self.system.joint_force_rows(joint)
-        block = self.jacobian()[rows, 7 * body:7 * body + 3]
+        block = self.jacobian()[rows, 7 * body : 7 * body + 3]
         return -sign * (block.T @ self.lam[rows])
 
     def effort(self, motion: str) -> float:
@@ -74,6 +77,7 @@ class StateView:
         if self.lam is None or len(self.lam) == 0:
             return 0.0
         from mechlib.reactions import motion_effort
+
         return motion_effort(self.system, self.kin, self.jacobian(), self.lam, motion)
 
     def _measure(self, joint: str, kind: str):

@@ -4,13 +4,14 @@
 solve running in this thread (context variable), and does nothing outside one (a check or
 an inspection), so that the linear algebra does not need the stats passed down.
 """
+
 from __future__ import annotations
 
+from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
-from typing import Iterator
 
-__all__ = ["tally", "count"]
+__all__ = ["count", "tally"]
 
 _current: ContextVar = ContextVar("mechlib_work", default=None)
 

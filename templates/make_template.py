@@ -4,6 +4,7 @@ Run from the repository root: `.venv/bin/python templates/make_template.py`. A c
 then restyle the file in Excel (cell styles named `loads ...`, the Cover sheet) and point a
 set's `report: {template: ...}` at its copy; see loadcases/report/workbook_template.py.
 """
+
 from pathlib import Path
 
 from loadcases.atomic import atomic_path

@@ -2,6 +2,7 @@
 only from the layers below it (no cycles, no back-imports between siblings). Read from the
 source (every import statement, also those inside functions), not from what happens to be
 imported at run time."""
+
 from __future__ import annotations
 
 import ast
@@ -16,19 +17,22 @@ ROOT = Path(__file__).resolve().parents[1]
 
 # Lowest first: a part may import from the layers below its own, never from its own layer
 # (siblings) or above. `loadcases/__init__.py` is the public API and names everything.
-LAYERS: tuple[frozenset[str], ...] = tuple(frozenset(layer.split()) for layer in (
-    "clip",                       # input quoted in messages (at most 80 characters)
-    "diagnostics units atomic limits engine_hash",  # problems as data; quantities; files
-                                  # written whole; input limits; the engine's source hash
-    "source expressions",         # YAML with positions; the expression language
-    "schema",                     # pydantic models of the files
-    "checks",                     # semantic checks of the models
-    "inputs results",             # files -> validated models; the files of one run
-    "build",                      # a case -> a mechlib model
-    "run report draw",            # one case end to end; reports over saved runs; pictures
-    "sets studies",               # sets as campaigns; studies over many solutions of a case
-    "warmup",                     # `python -m loadcases.warmup`
-))
+LAYERS: tuple[frozenset[str], ...] = tuple(
+    frozenset(layer.split())
+    for layer in (
+        "clip",  # input quoted in messages (at most 80 characters)
+        "diagnostics units atomic limits engine_hash",  # problems as data; quantities; files
+        # written whole; input limits; the engine's source hash
+        "source expressions",  # YAML with positions; the expression language
+        "schema",  # pydantic models of the files
+        "checks",  # semantic checks of the models
+        "inputs results",  # files -> validated models; the files of one run
+        "build",  # a case -> a mechlib model
+        "run report draw",  # one case end to end; reports over saved runs; pictures
+        "sets studies",  # sets as campaigns; studies over many solutions of a case
+        "warmup",  # `python -m loadcases.warmup`
+    )
+)
 LAYER_OF = {part: rank for rank, layer in enumerate(LAYERS) for part in layer}
 MECHLIB_NEVER = ("loadcases", "cli", "yaml", "pydantic", "typer", "openpyxl", "pint")
 
@@ -43,8 +47,8 @@ def imports(path: Path) -> Iterator[tuple[int, str]]:
             base = node.module or ""
             if node.level:
                 parts = package.split(".")
-                base = ".".join(parts[:len(parts) - node.level + 1] + ([base] if base else []))
-            if base == "loadcases":   # `from loadcases import x`: the module x
+                base = ".".join(parts[: len(parts) - node.level + 1] + ([base] if base else []))
+            if base == "loadcases":  # `from loadcases import x`: the module x
                 yield from ((node.lineno, f"loadcases.{alias.name}") for alias in node.names)
             else:
                 yield node.lineno, base
@@ -56,8 +60,11 @@ def part_of(module: str) -> str:
 
 
 def test_every_part_of_loadcases_has_a_layer() -> None:
-    parts = {p.stem if p.is_file() else p.name for p in (ROOT / "loadcases").iterdir()
-             if (p.suffix == ".py" or (p / "__init__.py").is_file()) and p.name != "__init__.py"}
+    parts = {
+        p.stem if p.is_file() else p.name
+        for p in (ROOT / "loadcases").iterdir()
+        if (p.suffix == ".py" or (p / "__init__.py").is_file()) and p.name != "__init__.py"
+    }
     assert parts == set(LAYER_OF), "place new parts of loadcases/ in LAYERS (and in the docs)"
 
 
@@ -80,9 +87,12 @@ def test_loadcases_imports_only_lower_layers() -> None:
 
 
 def test_mechlib_is_pure() -> None:
-    wrong = [f"{path.relative_to(ROOT)}:{line}: {module}"
-             for path in sorted((ROOT / "mechlib").rglob("*.py"))
-             for line, module in imports(path) if module.split(".")[0] in MECHLIB_NEVER]
+    wrong = [
+        f"{path.relative_to(ROOT)}:{line}: {module}"
+        for path in sorted((ROOT / "mechlib").rglob("*.py"))
+        for line, module in imports(path)
+        if module.split(".")[0] in MECHLIB_NEVER
+    ]
     assert not wrong, "\n".join(wrong)
 
 
@@ -90,8 +100,11 @@ def test_mechlib_is_pure() -> None:
 def test_import_is_light(module: str) -> None:
     """`import loadcases` (the API) and the CLI (`loads --help`) load no solver, plotting,
     Excel or pandas module: each is imported where it is needed."""
-    code = (f"import sys, {module}; print(sorted({{m.split('.')[0] for m in sys.modules}} & "
-            "{'mechlib', 'matplotlib', 'openpyxl', 'pandas', 'numba', 'scipy'}))")
-    result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                            cwd=ROOT, check=True)
+    code = (
+        f"import sys, {module}; print(sorted({{m.split('.')[0] for m in sys.modules}} & "
+        "{'mechlib', 'matplotlib', 'openpyxl', 'pandas', 'numba', 'scipy'}))"
+    )
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True
+    )
     assert result.stdout.strip() == "[]", result.stdout

@@ -6,33 +6,59 @@ the contact's effect (`contact`), so that `effects: {contact: false}` removes it
 with `effects: {friction: false}` gets its contacts without friction. `sphere_in_sphere` and
 `cylinder_in_cylinder` geometries make clearance joints (they report an eccentricity).
 """
+
 from __future__ import annotations
 
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 from mechlib import contact as mc
 
-__all__ = ["CONTACT_MAKERS", "CONTACT_COMPONENTS", "CONTACT_UNITS", "CLEARANCE_SHAPES"]
+__all__ = ["CLEARANCE_SHAPES", "CONTACT_COMPONENTS", "CONTACT_MAKERS", "CONTACT_UNITS"]
 
 CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
 """Geometries that make a clearance joint (with the `eccentricity` request)."""
 
 # Request quantity -> (column component, key of the element's output), SPEC 1.2.1.
 CONTACT_COMPONENTS: dict[str, tuple[tuple[str, str], ...]] = {
-    "force": (("normal", "normal"), ("friction", "friction"), ("fx", "fx"), ("fy", "fy"),
-              ("fz", "fz")),
+    "force": (
+        ("normal", "normal"),
+        ("friction", "friction"),
+        ("fx", "fx"),
+        ("fy", "fy"),
+        ("fz", "fz"),
+    ),
     "penetration": (("value", "penetration"),),
     "point": (("x", "px"), ("y", "py"), ("z", "pz")),
     "sliding_speed": (("value", "sliding_speed"),),
     "wear": (("value", "wear"),),
-    "eccentricity": (("ex", "ex"), ("ey", "ey"), ("ez", "ez"), ("value", "eccentricity"),
-                     ("angle", "angle")),
+    "eccentricity": (
+        ("ex", "ex"),
+        ("ey", "ey"),
+        ("ez", "ez"),
+        ("value", "eccentricity"),
+        ("angle", "angle"),
+    ),
 }
 # Unit of each element output key.
-CONTACT_UNITS: dict[str, str] = {"normal": "N", "friction": "N", "fx": "N", "fy": "N",
-                                 "fz": "N", "penetration": "m", "px": "m", "py": "m",
-                                 "pz": "m", "sliding_speed": "m/s", "wear": "W", "ex": "m",
-                                 "ey": "m", "ez": "m", "eccentricity": "m", "angle": "rad"}
+CONTACT_UNITS: dict[str, str] = {
+    "normal": "N",
+    "friction": "N",
+    "fx": "N",
+    "fy": "N",
+    "fz": "N",
+    "penetration": "m",
+    "px": "m",
+    "py": "m",
+    "pz": "m",
+    "sliding_speed": "m/s",
+    "wear": "W",
+    "ex": "m",
+    "ey": "m",
+    "ez": "m",
+    "eccentricity": "m",
+    "angle": "rad",
+}
 
 DEFAULT_PENALTY = 1.0e8
 """N/m^n: penalty stiffness of a `restitution` contact that gives none."""
@@ -72,8 +98,9 @@ def _element(builder, name: str, model, law) -> Any:
     geometry, friction = _geometry(model.geometry), _friction(builder, model)
     if model.geometry.shape in CLEARANCE_SHAPES:
         axis = getattr(model.geometry, "polar_axis", (0.0, 0.0, 1.0))
-        return mc.ClearanceJoint(name, tuple(model.bodies), geometry, law, friction,
-                                 polar_axis=axis)
+        return mc.ClearanceJoint(
+            name, tuple(model.bodies), geometry, law, friction, polar_axis=axis
+        )
     return mc.Contact(name, tuple(model.bodies), geometry, law, friction)
 
 
@@ -87,8 +114,9 @@ def _hertz(builder, name: str, model) -> Any:
     stiffness = model.stiffness
     if stiffness is None:
         m = model.materials
-        stiffness = mc.hertz_stiffness(m.E[0], m.nu[0], m.E[1], m.nu[1],
-                                       effective_radius(model.geometry))
+        stiffness = mc.hertz_stiffness(
+            m.E[0], m.nu[0], m.E[1], m.nu[1], effective_radius(model.geometry)
+        )
     law = mc.HertzLaw(stiffness, model.exponent, model.restitution)
     return _element(builder, name, model, law)
 
@@ -100,5 +128,7 @@ def _restitution(builder, name: str, model) -> Any:
 
 
 CONTACT_MAKERS: dict[str, Callable[[Any, str, Any], Any]] = {
-    "impact": _impact, "hertz": _hertz, "restitution": _restitution,
+    "impact": _impact,
+    "hertz": _hertz,
+    "restitution": _restitution,
 }

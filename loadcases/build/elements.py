@@ -4,17 +4,23 @@
 builder recorded a diagnostic with `builder.error(...)`). `loadcases.build.model` calls the
 maker of every force element type it does not build itself.
 """
+
 from __future__ import annotations
 
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import mechlib as ml
 
-__all__ = ["ELEMENT_MAKERS", "ELEMENT_EFFECTS"]
+__all__ = ["ELEMENT_EFFECTS", "ELEMENT_MAKERS"]
 
 # force element type -> the effect (case `effects:` switch) it belongs to
-ELEMENT_EFFECTS = {"joint_friction": "friction", "damper": "damping", "seal": "contact",
-                   "cable_loop": "springs"}
+ELEMENT_EFFECTS = {
+    "joint_friction": "friction",
+    "damper": "damping",
+    "seal": "contact",
+    "cable_loop": "springs",
+}
 _ROTARY = ("revolute", "cylindrical", "inline")  # dampers: joints with an angle, screw aside
 
 
@@ -24,8 +30,11 @@ def _joint(builder, name: str, key: str, joint: str, types: tuple[str, ...]):
     if j is None:
         builder.error("mechanism", f"forces.{name}.{key}", f"unknown joint '{joint}'")
     elif j.type not in types:
-        builder.error("mechanism", f"forces.{name}.{key}", f"joint '{joint}' is {j.type}; "
-                      f"this element needs a {' or '.join(types)} joint")
+        builder.error(
+            "mechanism",
+            f"forces.{name}.{key}",
+            f"joint '{joint}' is {j.type}; this element needs a {' or '.join(types)} joint",
+        )
     else:
         return j
     return None
@@ -33,6 +42,7 @@ def _joint(builder, name: str, key: str, joint: str, types: tuple[str, ...]):
 
 def _joint_friction(builder, name: str, f) -> Any:
     from mechlib.elements.friction import FRICTION_JOINTS
+
     j = _joint(builder, name, "joint", f.joint, FRICTION_JOINTS)
     if j is None:
         return None
@@ -47,14 +57,19 @@ def _damper(builder, name: str, f) -> Any:
 
 
 def _cable_loop(builder, name: str, f) -> Any:
-    joints = [_joint(builder, name, f"joints[{i}]", j, ("revolute",))
-              for i, j in enumerate(f.joints)]
+    joints = [
+        _joint(builder, name, f"joints[{i}]", j, ("revolute",)) for i, j in enumerate(f.joints)
+    ]
     if None in joints:
         return None
     shared = set(joints[0].bodies) & set(joints[1].bodies)
     if len(shared) != 1 or f.radii[0] <= 0.0 or f.radii[1] <= 0.0:
-        builder.error("mechanism", f"forces.{name}", "a cable loop needs two revolute joints "
-                      "sharing exactly one body (the yoke) and positive radii")
+        builder.error(
+            "mechanism",
+            f"forces.{name}",
+            "a cable loop needs two revolute joints "
+            "sharing exactly one body (the yoke) and positive radii",
+        )
         return None
     return ml.CableLoop(name, tuple(f.joints), tuple(f.radii), f.stiffness, f.pretension)
 
@@ -63,27 +78,46 @@ def _seal(builder, name: str, f) -> Any:
     law = None
     if f.law is not None:
         if f.stiffness:
-            builder.error("mechanism", f"forces.{name}.law", "give 'stiffness' or 'law', "
-                          "not both")
+            builder.error("mechanism", f"forces.{name}.law", "give 'stiffness' or 'law', not both")
             return None
         law = ml.TableLaw(builder.tables[f.law], name)
     elif f.stiffness <= 0.0:
         builder.error("mechanism", f"forces.{name}", "a seal needs 'stiffness' > 0 or 'law'")
         return None
-    return ml.Seal(name, tuple(f.bodies), f.start, f.end, f.normal, count=f.springs,
-                   stiffness=f.stiffness, exponent=f.exponent, law=law, gap=f.gap, mu=f.mu,
-                   v_threshold=f.v_threshold)
+    return ml.Seal(
+        name,
+        tuple(f.bodies),
+        f.start,
+        f.end,
+        f.normal,
+        count=f.springs,
+        stiffness=f.stiffness,
+        exponent=f.exponent,
+        law=law,
+        gap=f.gap,
+        mu=f.mu,
+        v_threshold=f.v_threshold,
+    )
 
 
 def _bushing(builder, name: str, f) -> Any:
     damping = builder.effects.get("damping", True)  # off: the bushing is a pure spring
     zero = (0.0, 0.0, 0.0)
-    return ml.Bushing(name, tuple(f.bodies), tuple(f.at), tuple(f.stiffness),
-                      tuple(f.torsional_stiffness), tuple(f.damping) if damping else zero,
-                      tuple(f.torsional_damping) if damping else zero)
+    return ml.Bushing(
+        name,
+        tuple(f.bodies),
+        tuple(f.at),
+        tuple(f.stiffness),
+        tuple(f.torsional_stiffness),
+        tuple(f.damping) if damping else zero,
+        tuple(f.torsional_damping) if damping else zero,
+    )
 
 
 ELEMENT_MAKERS: dict[str, Callable[[Any, str, Any], Any]] = {
-    "joint_friction": _joint_friction, "damper": _damper, "cable_loop": _cable_loop,
-    "seal": _seal, "bushing": _bushing,
+    "joint_friction": _joint_friction,
+    "damper": _damper,
+    "cable_loop": _cable_loop,
+    "seal": _seal,
+    "bushing": _bushing,
 }

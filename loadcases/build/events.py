@@ -1,8 +1,10 @@
 """Events of a mechanism (`events:`) as mechlib events: the `when` condition as a function
 that crosses zero at the event, the `then` actions checked against the model."""
+
 from __future__ import annotations
 
-from typing import Any, Callable
+from collections.abc import Callable
+from typing import Any
 
 import mechlib as ml
 from loadcases.expressions import Expression, ExpressionError, parse
@@ -13,16 +15,16 @@ __all__ = ["build_events"]
 _COORDINATE_JOINTS = ("revolute", "prismatic", "cylindrical", "screw")
 
 
-def _condition(builder, text: str, what: str, kind: str = "mechanism"
-               ) -> Callable[[float, Any], float]:
+def _condition(
+    builder, text: str, what: str, kind: str = "mechanism"
+) -> Callable[[float, Any], float]:
     """g(t, state): lhs - rhs for `lhs >= rhs` (rhs - lhs for <=), so that a located zero
     is the event time; any other condition gives -1 (false) / +1 (true), located by
     bisection."""
     expression = parse(text)
     tree = expression.tree
     if isinstance(tree, Op) and tree.op in (">=", ">", "<=", "<", "=="):
-        lhs, rhs = (builder.compile_tree(Expression(text, node), what, kind)
-                    for node in tree.args)
+        lhs, rhs = (builder.compile_tree(Expression(text, node), what, kind) for node in tree.args)
         sign = -1.0 if tree.op in ("<=", "<") else 1.0
         return lambda t, view: sign * (lhs(t, view) - rhs(t, view))
     truth = builder.compile(text, what, kind)
@@ -36,8 +38,9 @@ def _check_action(builder, kind: str, name: str, i: int, action) -> bool:
     if action.action in ("activate", "deactivate"):
         known = set(mech.forces) | set(mech.contacts) | set(case.motions if case else ())
         if target not in known:
-            builder.error(kind, key, f"'{target}' is not a force element, contact or "
-                          "motion of this case")
+            builder.error(
+                kind, key, f"'{target}' is not a force element, contact or motion of this case"
+            )
             return False
     elif action.action in ("release", "lock"):
         joint = mech.joints.get(target)
@@ -45,8 +48,12 @@ def _check_action(builder, kind: str, name: str, i: int, action) -> bool:
             builder.error(kind, key, f"unknown joint '{target}'")
             return False
         if action.action == "lock" and joint.type not in _COORDINATE_JOINTS:
-            builder.error(kind, key, f"lock needs a joint with a coordinate "
-                          f"({', '.join(_COORDINATE_JOINTS)}); '{target}' is {joint.type}")
+            builder.error(
+                kind,
+                key,
+                f"lock needs a joint with a coordinate "
+                f"({', '.join(_COORDINATE_JOINTS)}); '{target}' is {joint.type}",
+            )
             return False
     return True
 
@@ -61,8 +68,11 @@ def build_events(builder) -> list[ml.Event]:
     for kind, found in sources:
         for name, e in found.items():
             if kind == "case" and name in builder.mech.events:
-                builder.error("case", f"events.{name}", f"event '{name}' is also an event of "
-                              "the mechanism: names must be unique")
+                builder.error(
+                    "case",
+                    f"events.{name}",
+                    f"event '{name}' is also an event of the mechanism: names must be unique",
+                )
                 continue
             checked = [_check_action(builder, kind, name, i, a) for i, a in enumerate(e.then)]
             try:

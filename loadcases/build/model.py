@@ -3,12 +3,13 @@
 Everything here is already validated (schema and checks); what the engine cannot simulate
 yet is reported as a diagnostic at its key, never ignored.
 """
+
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import Any, Callable
-
+from typing import Any
 
 import mechlib as ml
 from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
@@ -21,21 +22,42 @@ from mechlib.elements.series import SeriesLaw, series_stiffness
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 from mechlib.tables import Table, TableRangeError
 
-__all__ = ["BuiltRun", "build_run", "build_mechanism", "ExpressionMotion", "ABSCISSA_REQUEST",
-           "ABSCISSA_COLUMN"]
+__all__ = [
+    "ABSCISSA_COLUMN",
+    "ABSCISSA_REQUEST",
+    "BuiltRun",
+    "ExpressionMotion",
+    "build_mechanism",
+    "build_run",
+]
 
 NOT_YET = "is not simulated by this version of loads yet"
 _EFFECT_OF = ELEMENT_EFFECTS  # force element type -> effect switching it
-_MEASURE_JOINTS = {"angle": ROTATIONAL, "omega": ROTATIONAL,
-                   "travel": TRANSLATIONAL, "speed": TRANSLATIONAL}
+_MEASURE_JOINTS = {
+    "angle": ROTATIONAL,
+    "omega": ROTATIONAL,
+    "travel": TRANSLATIONAL,
+    "speed": TRANSLATIONAL,
+}
 # A run of a set records the case's `abscissa:` expression as one more result column, so
 # envelopes and curves over it can be made from the saved results alone.
 ABSCISSA_REQUEST = "abscissa"
 ABSCISSA_COLUMN = f"{ABSCISSA_REQUEST}.value"
 # Unit of an abscissa that is one state measure, e.g. `angle(hinge)` -> rad.
-_MEASURE_UNITS = {"angle": "rad", "omega": "rad/s", "travel": "m", "speed": "m/s", "dist": "m",
-                  "x": "m", "y": "m", "z": "m", "vx": "m/s", "vy": "m/s", "vz": "m/s",
-                  "t": "s"}
+_MEASURE_UNITS = {
+    "angle": "rad",
+    "omega": "rad/s",
+    "travel": "m",
+    "speed": "m/s",
+    "dist": "m",
+    "x": "m",
+    "y": "m",
+    "z": "m",
+    "vx": "m/s",
+    "vy": "m/s",
+    "vz": "m/s",
+    "t": "s",
+}
 _MEASURE = re.compile(r"^\s*(\w+)\s*(\(\s*\w+\s*(,\s*\w+\s*)?\))?\s*$")
 _JOINT_KEYS = ("at", "axis", "axes", "normal", "pitch", "joints", "ratio")
 
@@ -76,8 +98,9 @@ class Guarded:
         try:
             return self.compiled(t, state)
         except (ExpressionError, TableRangeError, ZeroDivisionError, OverflowError) as exc:
-            raise ml.SolverFailure(f"{self.what}: {exc} at t = {t:.6g} s", time=t,
-                                   where=(self.what,)) from None
+            raise ml.SolverFailure(
+                f"{self.what}: {exc} at t = {t:.6g} s", time=t, where=(self.what,)
+            ) from None
 
 
 class ExpressionMotion:
@@ -101,15 +124,16 @@ class ExpressionMotion:
 class _Builder:
     """Builds from a mechanism model and, when given, the case that uses it."""
 
-    def __init__(self, mechanism, parameters: dict[str, float], where: Callable,
-                 case=None):
+    def __init__(self, mechanism, parameters: dict[str, float], where: Callable, case=None):
         self.case, self.mech, self.parameters, self.where = case, mechanism, parameters, where
         self.problems: list[Diagnostic] = []
         effects = dict(case.effects) if case is not None else {}
         self.effects = {"gravity": True, "damping": True} | effects
         self.loads = case.loads if case is not None else None
-        self.tables = {n: Table(n, t.x, t.y, t.interpolation, t.extrapolate)
-                       for n, t in self.mech.tables.items()}
+        self.tables = {
+            n: Table(n, t.x, t.y, t.interpolation, t.extrapolate)
+            for n, t in self.mech.tables.items()
+        }
         self.kept = _named_elsewhere(mechanism, case)
 
     def error(self, kind: str, key: str, message: str) -> None:
@@ -125,8 +149,9 @@ class _Builder:
         try:
             compiled = expression.compile(self.parameters, self.tables)
         except ExpressionError as error:  # a constant part that overflows or divides by 0
-            self.error(kind, what, f"invalid expression: {error.message} at character "
-                       f"{error.offset + 1}")
+            self.error(
+                kind, what, f"invalid expression: {error.message} at character {error.offset + 1}"
+            )
             compiled = parse("0").compile()
         return Guarded(compiled, what)
 
@@ -140,8 +165,12 @@ class _Builder:
             types = _MEASURE_JOINTS.get(measure)
             joint = self.mech.joints.get(args[0]) if types else None
             if joint is not None and types and joint.type not in types:
-                self.error(kind, what, f"{measure}({args[0]}): joint '{args[0]}' is "
-                           f"{joint.type}; {measure} needs a {' or '.join(types)} joint")
+                self.error(
+                    kind,
+                    what,
+                    f"{measure}({args[0]}): joint '{args[0]}' is "
+                    f"{joint.type}; {measure} needs a {' or '.join(types)} joint",
+                )
 
     # ---- mechanism --------------------------------------------------------------------
     def mechanism(self) -> ml.Mechanism:
@@ -169,22 +198,35 @@ class _Builder:
         for name, motion in (self.case.motions if self.case else {}).items():
             fn = self.compile(motion.value, f"motions.{name}.value", "case").compiled
             if not fn.time_only:
-                self.error("case", f"motions.{name}.value", "a motion must be a function of "
-                           "time only (use a force element for state-dependent loads)")
+                self.error(
+                    "case",
+                    f"motions.{name}.value",
+                    "a motion must be a function of "
+                    "time only (use a force element for state-dependent loads)",
+                )
                 continue
             try:
                 function = ExpressionMotion(fn, f"motions.{name}.value")
             except ExpressionError as error:  # its rate or acceleration divides by 0
-                self.error("case", f"motions.{name}.value", f"invalid expression: "
-                           f"{error.message} in its time derivative")
+                self.error(
+                    "case",
+                    f"motions.{name}.value",
+                    f"invalid expression: {error.message} in its time derivative",
+                )
                 continue
             m.add_motion(name, joint=motion.joint, function=function)
         return m
 
     def _joint(self, m: ml.Mechanism, name: str, j) -> None:
         if j.type == "point_on_curve":
-            m.add_joint(name, j.type, bodies=tuple(j.bodies), at=j.at, curve=j.curve,
-                        interpolation=j.interpolation)
+            m.add_joint(
+                name,
+                j.type,
+                bodies=tuple(j.bodies),
+                at=j.at,
+                curve=j.curve,
+                interpolation=j.interpolation,
+            )
             return
         keys = {k: getattr(j, k) for k in _JOINT_KEYS if getattr(j, k, None) is not None}
         bodies = tuple(getattr(j, "bodies", (ml.GROUND, ml.GROUND)))
@@ -209,15 +251,22 @@ class _Builder:
         law = None
         if f.type in ("spring", "torsion_spring") and f.law is not None:
             if f.stiffness:  # the table replaces the linear term: both would be ambiguous
-                self.error("mechanism", f"forces.{name}.law", "give 'stiffness' or 'law', "
-                           "not both")
+                self.error("mechanism", f"forces.{name}.law", "give 'stiffness' or 'law', not both")
                 return None
             law = ml.TableLaw(self.tables[f.law], name)
         if f.type == "spring":
             p1, p2 = (self.mech.points[p] for p in f.points)
             pts = ((p1.body, p1.at), (p2.body, p2.at))
-            return ml.Spring(name, pts, f.stiffness, f.damping if damping else 0.0,
-                             f.free_length, f.preload or 0.0, f.tension_only, law)
+            return ml.Spring(
+                name,
+                pts,
+                f.stiffness,
+                f.damping if damping else 0.0,
+                f.free_length,
+                f.preload or 0.0,
+                f.tension_only,
+                law,
+            )
         if f.type == "torsion_spring":
             stiffness = f.stiffness
             if f.series_stiffness is not None:  # eq. 2.7: structure and hinge in series
@@ -225,11 +274,19 @@ class _Builder:
                     law = SeriesLaw(law, f.series_stiffness)
                 elif stiffness:
                     stiffness = series_stiffness(f.series_stiffness, stiffness)
-            return ml.TorsionSpring(name, f.joint, stiffness, f.damping if damping else 0.0,
-                                    f.angle0 or 0.0, f.preload or 0.0, law)
+            return ml.TorsionSpring(
+                name,
+                f.joint,
+                stiffness,
+                f.damping if damping else 0.0,
+                f.angle0 or 0.0,
+                f.preload or 0.0,
+                law,
+            )
         if f.type in ("force", "torque"):
-            parts = [self.compile(str(v), f"forces.{name}.value[{i}]")
-                     for i, v in enumerate(f.value)]
+            parts = [
+                self.compile(str(v), f"forces.{name}.value[{i}]") for i, v in enumerate(f.value)
+            ]
             if all(p.compiled.is_constant for p in parts):
                 x, y, z = (p.compiled.value or 0.0 for p in parts)  # constants: values set
                 constant = (x, y, z)
@@ -239,8 +296,10 @@ class _Builder:
                 def value(t: float, view) -> tuple[float, float, float]:
                     return constant
             else:
+
                 def value(t: float, view) -> tuple[float, float, float]:
                     return (parts[0](t, view), parts[1](t, view), parts[2](t, view))
+
             if f.type == "torque":
                 return ml.PointTorque(name, f.body, value, f.frame)
             body, at = self._application(f)
@@ -268,8 +327,9 @@ class _Builder:
         if a.type == "static":
             return ml.Static(time=0.0)
         if a.end is None or a.step is None or a.step <= 0.0 or a.end <= 0.0:
-            self.error("case", "analysis", f"a {a.type} analysis needs 'end' and 'step' > 0 "
-                       "(seconds)")
+            self.error(
+                "case", "analysis", f"a {a.type} analysis needs 'end' and 'step' > 0 (seconds)"
+            )
             return None
         limit = {"max_steps": a.max_steps} if a.max_steps is not None else {}
         if a.type == "kinematic":
@@ -278,11 +338,15 @@ class _Builder:
             return ml.QuasiStatic(end=a.end, step=a.step, **limit)
         integrator = a.integrator or "generalized-alpha"
         if integrator not in ("generalized-alpha", "radau"):
-            self.error("case", "analysis.integrator", f"unknown integrator '{integrator}': "
-                       "use generalized-alpha or radau")
+            self.error(
+                "case",
+                "analysis.integrator",
+                f"unknown integrator '{integrator}': use generalized-alpha or radau",
+            )
         options = {"tolerance": a.tolerance} if a.tolerance is not None else {}
-        return ml.Dynamic(end=a.end, step=a.step, integrator=integrator,
-                          max_step=a.max_step, **options, **limit)
+        return ml.Dynamic(
+            end=a.end, step=a.step, integrator=integrator, max_step=a.max_step, **options, **limit
+        )
 
     def requests(self) -> tuple[list, dict[str, str]]:
         out, units = [], {}
@@ -309,20 +373,29 @@ class _Builder:
             return ml.PointKinematics(name, r.point, r.quantity, r.frame)
         if kind == "ElementRequest":
             f = self.mech.forces.get(r.force)
-            if f is None or (self.loads is not None and r.force not in self.loads) \
-                    or not self.effects.get(_EFFECT_OF.get(f.type, ""), True):
-                self.error("case", f"requests.{name}.force",
-                           f"force element '{r.force}' is not active in this case")
+            if (
+                f is None
+                or (self.loads is not None and r.force not in self.loads)
+                or not self.effects.get(_EFFECT_OF.get(f.type, ""), True)
+            ):
+                self.error(
+                    "case",
+                    f"requests.{name}.force",
+                    f"force element '{r.force}' is not active in this case",
+                )
                 return None
             return ml.ElementOutput(name, r.force, r.frame)
         if kind == "ExpressionRequest":
-            return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}",
-                                                          "case"))
+            return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}", "case"))
         components = CONTACT_COMPONENTS.get(r.quantity)
         if r.contact in self.mech.contacts and components and self.effects.get("contact", True):
             return ml.ElementOutput(name, r.contact, r.frame, components)
-        self.error("case", f"requests.{name}", f"contact '{r.contact}' is not simulated in this "
-                   "case (switched off, or its quantity is not available)")
+        self.error(
+            "case",
+            f"requests.{name}",
+            f"contact '{r.contact}' is not simulated in this "
+            "case (switched off, or its quantity is not available)",
+        )
         return None
 
     def initial(self) -> list:
@@ -335,8 +408,14 @@ class _Builder:
         return out
 
 
-_COORDINATE_UNITS = {"angle": "rad", "omega": "rad/s", "alpha": "rad/s^2", "travel": "m",
-                     "speed": "m/s", "accel": "m/s^2"}
+_COORDINATE_UNITS = {
+    "angle": "rad",
+    "omega": "rad/s",
+    "alpha": "rad/s^2",
+    "travel": "m",
+    "speed": "m/s",
+    "accel": "m/s^2",
+}
 _POINT_UNITS = {"position": "m", "velocity": "m/s", "acceleration": "m/s^2"}
 
 
@@ -352,8 +431,10 @@ def _units_of(req, builder: _Builder) -> dict[str, str]:
         return {"value": "N" if joint.type == "prismatic" else "N*m"}
     if isinstance(req, ml.CouplerEffort):
         ends = builder.mech.joints[req.joint].joints
-        return {column: "N" if builder.mech.joints[j].type == "prismatic" else "N*m"
-                for column, j in zip(("input", "output"), ends)}
+        return {
+            column: "N" if builder.mech.joints[j].type == "prismatic" else "N*m"
+            for column, j in zip(("input", "output"), ends)
+        }
     if isinstance(req, ml.ElementOutput) and req.components is not None:
         return {column: CONTACT_UNITS.get(key, "") for column, key in req.components}
     if isinstance(req, ml.ElementOutput):
@@ -384,8 +465,12 @@ def _abscissa_request(b: _Builder, requests: list, units: dict[str, str]) -> Non
     if text is None:
         return
     if ABSCISSA_REQUEST in b.case.requests:
-        b.error("case", f"requests.{ABSCISSA_REQUEST}", f"the request name "
-                f"'{ABSCISSA_REQUEST}' is reserved for the case's abscissa in a set; rename it")
+        b.error(
+            "case",
+            f"requests.{ABSCISSA_REQUEST}",
+            f"the request name "
+            f"'{ABSCISSA_REQUEST}' is reserved for the case's abscissa in a set; rename it",
+        )
         return
     requests.append(ml.ExpressionOutput(ABSCISSA_REQUEST, b.compile(text, "abscissa", "case")))
     units[ABSCISSA_COLUMN] = abscissa_unit(text)
@@ -398,9 +483,14 @@ def _modal_requests(requests: list, units: dict[str, str]):
     dropped = [r.name for r in requests if r not in kept]
     names = {r.name for r in kept}
     units = {"mode.number": "", "mode.frequency": "Hz"} | {
-        c: ("m" if isinstance(next(r for r in kept if r.name == c.split(".")[0]),
-                              ml.PointKinematics) else u)
-        for c, u in units.items() if c.split(".")[0] in names}
+        c: (
+            "m"
+            if isinstance(next(r for r in kept if r.name == c.split(".")[0]), ml.PointKinematics)
+            else u
+        )
+        for c, u in units.items()
+        if c.split(".")[0] in names
+    }
     return kept, units, dropped
 
 
@@ -429,14 +519,29 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     notes = list(cf.warnings)  # validation warnings travel along
     if isinstance(analysis, ml.Modes):
         requests, units, dropped = _modal_requests(requests, units)
-        notes += [_case_warning(cf, f"requests.{name}", "no modal meaning (a modes analysis "
-                                "reports point displacements and joint coordinates of each "
-                                "mode): not reported") for name in dropped]
+        notes += [
+            _case_warning(
+                cf,
+                f"requests.{name}",
+                "no modal meaning (a modes analysis "
+                "reports point displacements and joint coordinates of each "
+                "mode): not reported",
+            )
+            for name in dropped
+        ]
     if events and isinstance(analysis, (ml.Static, ml.Modes)):
         # a mechanism serves static and dynamic cases alike: its events wait for one in time
-        notes.append(_case_warning(cf, "analysis", f"events ({', '.join(e.name for e in events)})"
-                                   f" need an analysis in time: not active in this "
-                                   f"{analysis.name} analysis", keyed=False))
+        notes.append(
+            _case_warning(
+                cf,
+                "analysis",
+                f"events ({', '.join(e.name for e in events)})"
+                f" need an analysis in time: not active in this "
+                f"{analysis.name} analysis",
+                keyed=False,
+            )
+        )
         events = []
-    return BuiltRun(mechanism, analysis, requests, initial, cf.case.analysis.redundant, units,
-                    notes, events)
+    return BuiltRun(
+        mechanism, analysis, requests, initial, cf.case.analysis.redundant, units, notes, events
+    )

@@ -6,6 +6,7 @@ Beyond the schema and name checks of the loader: the model is built (element/joi
 compatibility, constant expressions, the torque-margin block) and its degrees of freedom and
 redundant equations are checked against the analysis.
 """
+
 from __future__ import annotations
 
 import mechlib as ml
@@ -14,7 +15,7 @@ from loadcases.build.torque_margin import plan_torque_margin
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
 
-__all__ = ["case_problems", "set_problems", "model_diagnostics"]
+__all__ = ["case_problems", "model_diagnostics", "set_problems"]
 
 
 def model_diagnostics(cf: CaseFile, error: ml.ModelError) -> list[Diagnostic]:

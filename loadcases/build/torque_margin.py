@@ -14,6 +14,7 @@ from an expression (N*m, positive resisting). Columns `tm_HL.driving`, `tm_HL.re
 (N*m, factors included), `tm_HL.ratio`, `tm_HL.restart_ratio` (-), `tm_HL.excess`
 (D - required R, N*m) and `tm_HL.angle` (deployment angle, rad) are added to the run.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -29,14 +30,20 @@ from loadcases.expressions import ExpressionError, parse
 from loadcases.schema.torque_margin import DEFAULT_FACTORS
 from mechlib.tables import Table
 
-__all__ = ["MarginPlan", "plan_torque_margin", "TM_PREFIX", "TM_UNITS"]
+__all__ = ["TM_PREFIX", "TM_UNITS", "MarginPlan", "plan_torque_margin"]
 
 TM_PREFIX = "tm_"
-TM_UNITS = {"driving": "N*m", "resistive": "N*m", "ratio": "", "restart_ratio": "",
-            "excess": "N*m", "angle": "rad"}
-_HIDDEN = "_tm_"   # requests the margin reads, removed from the results afterwards
+TM_UNITS = {
+    "driving": "N*m",
+    "resistive": "N*m",
+    "ratio": "",
+    "restart_ratio": "",
+    "excess": "N*m",
+    "angle": "rad",
+}
+_HIDDEN = "_tm_"  # requests the margin reads, removed from the results afterwards
 _ELEMENT_TYPES = ("torsion_spring", "joint_friction", "damper")
-_RATE_KINDS = ("damper", "inertia")   # nothing of them resists a restart from rest
+_RATE_KINDS = ("damper", "inertia")  # nothing of them resists a restart from rest
 
 
 @dataclass(frozen=True)
@@ -44,9 +51,9 @@ class _Term:
     label: str
     kind: str
     factor: float
-    column: str      # channel with the torque (positive resisting a positive joint angle)
+    column: str  # channel with the torque (positive resisting a positive joint angle)
     friction: bool
-    scale: float = 1.0   # damper: the channel is omega, the torque c * omega   # joint friction: its capacity always resists
+    scale: float = 1.0  # damper: the channel is omega, the torque c * omega   # joint friction: its capacity always resists
 
 
 @dataclass
@@ -68,8 +75,9 @@ class MarginPlan:
 
     def units(self) -> dict[str, str]:
         """Unit of every column the margin adds."""
-        return {f"{TM_PREFIX}{line.name}.{c}": u for line in self.lines
-                for c, u in TM_UNITS.items()}
+        return {
+            f"{TM_PREFIX}{line.name}.{c}": u for line in self.lines for c, u in TM_UNITS.items()
+        }
 
     def apply(self, solution: ml.Solution) -> tuple[ml.Solution, dict, list[str]]:
         """The solution with the margin columns (hidden ones removed), the summary block
@@ -78,20 +86,22 @@ class MarginPlan:
         block = {"required": self.required, "passed": True, "hinge_lines": {}}
         notes = []
         for line in self.lines:
-            columns, summary = _line_margin(line, solution, self.required,
-                                            self.restart_friction)
+            columns, summary = _line_margin(line, solution, self.required, self.restart_friction)
             channels.update({f"{TM_PREFIX}{line.name}.{c}": v for c, v in columns.items()})
             block["hinge_lines"][line.name] = summary
             block["passed"] = block["passed"] and summary["passed"] and solution.ok
             notes += _line_notes(line.name, summary, self.required)
         if not solution.ok:
-            notes.append("torque margin: the run failed, its margins cover the rows computed "
-                         "and the check is not passed")
+            notes.append(
+                "torque margin: the run failed, its margins cover the rows computed "
+                "and the check is not passed"
+            )
         return dataclasses.replace(solution, channels=channels), block, notes
 
 
-def _line_margin(line: _Line, solution: ml.Solution, required: float,
-                 restart_friction: float) -> tuple[dict[str, np.ndarray], dict]:
+def _line_margin(
+    line: _Line, solution: ml.Solution, required: float, restart_friction: float
+) -> tuple[dict[str, np.ndarray], dict]:
     ch, n = solution.channels, solution.time.size
     driving, resistive, restart = np.zeros(n), np.zeros(n), np.zeros(n)
     for term in line.terms:
@@ -108,41 +118,62 @@ def _line_margin(line: _Line, solution: ml.Solution, required: float,
         ratio = np.where(resistive > 0.0, driving / resistive, np.nan)
         restart_ratio = np.where(restart > 0.0, driving / restart, np.nan)
     angle = line.sense * ch[line.angle_column]
-    columns = {"driving": driving, "resistive": resistive, "ratio": ratio,
-               "restart_ratio": restart_ratio, "excess": driving - required * resistive,
-               "angle": angle}
+    columns = {
+        "driving": driving,
+        "resistive": resistive,
+        "ratio": ratio,
+        "restart_ratio": restart_ratio,
+        "excess": driving - required * resistive,
+        "angle": angle,
+    }
     return columns, _line_summary(solution.time, angle, ratio, restart_ratio, required)
 
 
-def _line_summary(time: np.ndarray, angle: np.ndarray, ratio: np.ndarray,
-                  restart_ratio: np.ndarray, required: float) -> dict:
+def _line_summary(
+    time: np.ndarray,
+    angle: np.ndarray,
+    ratio: np.ndarray,
+    restart_ratio: np.ndarray,
+    required: float,
+) -> dict:
     out: dict = {"undefined_rows": int(np.sum(~np.isfinite(ratio)))}
     for key, values in (("", ratio), ("restart_", restart_ratio)):
         finite = np.isfinite(values)
         if not finite.any():
-            out.update({f"{key}min_ratio": None, f"{key}time_of_min": None,
-                        f"{key}angle_of_min": None})
+            out.update(
+                {f"{key}min_ratio": None, f"{key}time_of_min": None, f"{key}angle_of_min": None}
+            )
             continue
         i = int(np.argmin(np.where(finite, values, np.inf)))
-        out.update({f"{key}min_ratio": float(values[i]), f"{key}time_of_min": float(time[i]),
-                    f"{key}angle_of_min": float(angle[i])})
+        out.update(
+            {
+                f"{key}min_ratio": float(values[i]),
+                f"{key}time_of_min": float(time[i]),
+                f"{key}angle_of_min": float(angle[i]),
+            }
+        )
     mins = (out["min_ratio"], out["restart_min_ratio"])
-    out["passed"] = all(m is not None and m >= required for m in mins) \
-        and out["undefined_rows"] == 0
+    out["passed"] = (
+        all(m is not None and m >= required for m in mins) and out["undefined_rows"] == 0
+    )
     return out
 
 
 def _line_notes(name: str, s: dict, required: float) -> list[str]:
     notes = []
     if s["undefined_rows"]:
-        notes.append(f"torque margin {name}: no resistive torque at {s['undefined_rows']} "
-                     "row(s): TM undefined there (column ratio empty)")
+        notes.append(
+            f"torque margin {name}: no resistive torque at {s['undefined_rows']} "
+            "row(s): TM undefined there (column ratio empty)"
+        )
     for key, what in (("", "TM"), ("restart_", "restart TM")):
         m = s[f"{key}min_ratio"]
         if m is not None and m < required:
-            notes.append(f"torque margin {name}: {what} {m:.4g} < {required:g} at "
-                         f"{np.degrees(s[f'{key}angle_of_min']):.4g} deg "
-                         f"(t = {s[f'{key}time_of_min']:.6g} s): check failed")
+            notes.append(
+                f"torque margin {name}: {what} {m:.4g} < {required:g} at "
+                f"{np.degrees(s[f'{key}angle_of_min']):.4g} deg "
+                f"(t = {s[f'{key}time_of_min']:.6g} s): check failed"
+            )
     return notes
 
 
@@ -159,21 +190,27 @@ def plan_torque_margin(cf, built) -> MarginPlan | None:
         problems.append(Diagnostic(file, line, col, key, message, hint=hint))
 
     if isinstance(built.analysis, ml.Modes):
-        error("torque_margin", "a torque margin needs an analysis along the deployment "
-              "(quasi-static, kinematic or dynamic), not modes")
+        error(
+            "torque_margin",
+            "a torque margin needs an analysis along the deployment "
+            "(quasi-static, kinematic or dynamic), not modes",
+        )
     lines, requests = [], []
     for name, hl in tm.hinge_lines.items():
         key = f"torque_margin.hinge_lines.{name}"
         joint = cf.mechanism.joints.get(hl.joint)
         if joint is None or joint.type not in ("revolute", "cylindrical"):
-            error(f"{key}.joint", f"'{hl.joint}' is not a revolute or cylindrical joint of "
-                  "the mechanism")
+            error(
+                f"{key}.joint",
+                f"'{hl.joint}' is not a revolute or cylindrical joint of the mechanism",
+            )
             continue
         line = _Line(name, 1.0 if hl.sense == "positive" else -1.0, f"{_HIDDEN}{name}.value")
         requests.append(ml.JointCoordinate(f"{_HIDDEN}{name}", hl.joint, "angle"))
         for label, c in hl.contributors.items():
-            term = _term(cf, built, name, label, c, hl.joint, f"{key}.contributors.{label}",
-                         error, requests)
+            term = _term(
+                cf, built, name, label, c, hl.joint, f"{key}.contributors.{label}", error, requests
+            )
             if term is not None:
                 line.terms.append(term)
         lines.append(line)
@@ -187,8 +224,10 @@ def _term(cf, built, line: str, label: str, c, joint: str, key: str, error, requ
     factor = c.factor if c.factor is not None else DEFAULT_FACTORS[c.kind]
     hidden = f"{_HIDDEN}{line}_{label}"
     if c.expression is not None:
-        tables = {n: Table(n, t.x, t.y, t.interpolation, t.extrapolate)
-                  for n, t in cf.mechanism.tables.items()}
+        tables = {
+            n: Table(n, t.x, t.y, t.interpolation, t.extrapolate)
+            for n, t in cf.mechanism.tables.items()
+        }
         try:
             function = parse(c.expression).compile(cf.parameters, tables)
         except ExpressionError as exc:
@@ -198,16 +237,25 @@ def _term(cf, built, line: str, label: str, c, joint: str, key: str, error, requ
         return _Term(label, c.kind, factor, f"{hidden}.value", False)
     f = cf.mechanism.forces.get(label)
     if f is None or f.type not in _ELEMENT_TYPES or getattr(f, "joint", None) != joint:
-        on_joint = [n for n, g in cf.mechanism.forces.items()
-                    if g.type in _ELEMENT_TYPES and getattr(g, "joint", None) == joint]
+        on_joint = [
+            n
+            for n, g in cf.mechanism.forces.items()
+            if g.type in _ELEMENT_TYPES and getattr(g, "joint", None) == joint
+        ]
         close = difflib.get_close_matches(label, on_joint, n=1)
-        error(key, f"'{label}' is not a torsion_spring, joint_friction or damper on joint "
-              f"'{joint}' (or give an expression)",
-              f"did you mean '{close[0]}'?" if close else None)
+        error(
+            key,
+            f"'{label}' is not a torsion_spring, joint_friction or damper on joint "
+            f"'{joint}' (or give an expression)",
+            f"did you mean '{close[0]}'?" if close else None,
+        )
         return None
     if label not in built.mechanism.forces:
-        error(key, f"'{label}' is not active in this case (effects or loads switch it off): "
-              "a torque margin must count every torque of the hinge line")
+        error(
+            key,
+            f"'{label}' is not active in this case (effects or loads switch it off): "
+            "a torque margin must count every torque of the hinge line",
+        )
         return None
     if f.type == "damper":
         # c * omega from the joint's rate: a quasi-static run evaluates elements without
@@ -216,5 +264,4 @@ def _term(cf, built, line: str, label: str, c, joint: str, key: str, error, requ
         return _Term(label, c.kind, factor, f"{hidden}.value", False, f.damping)
     requests.append(ml.ElementOutput(hidden, label))
     friction = f.type == "joint_friction"
-    return _Term(label, c.kind, factor, f"{hidden}.{'capacity' if friction else 'value'}",
-                 friction)
+    return _Term(label, c.kind, factor, f"{hidden}.{'capacity' if friction else 'value'}", friction)

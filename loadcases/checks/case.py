@@ -1,4 +1,5 @@
 """Semantic checks of a validated case against its mechanism; joint coordinates to SI."""
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -19,8 +20,9 @@ _RATE = {"angle": "angular_velocity", "length": "velocity"}
 _TIME_ANALYSES = ("kinematic", "quasi-static", "dynamic")
 
 
-def resolve_initial(case: CaseModel, mechanism: MechanismModel, at: Locator,
-                    units: Mapping[str, str]) -> tuple[CaseModel, list[Diagnostic]]:
+def resolve_initial(
+    case: CaseModel, mechanism: MechanismModel, at: Locator, units: Mapping[str, str]
+) -> tuple[CaseModel, list[Diagnostic]]:
     """The case with `initial` joint `value`/`rate` in SI (rad, rad/s or m, m/s by joint type).
 
     Entries naming no single-coordinate joint are left as written (check_case reports them).
@@ -40,14 +42,16 @@ def resolve_initial(case: CaseModel, mechanism: MechanismModel, at: Locator,
             try:
                 update[key] = to_si(raw, dim, units)
             except UnitError as error:
-                found.append(at.diagnostic(("initial", name, key), f"{error} for a "
-                                           f"{joint.type} joint"))
+                found.append(
+                    at.diagnostic(("initial", name, key), f"{error} for a {joint.type} joint")
+                )
         initial[name] = entry.model_copy(update=update)
     return case.model_copy(update={"initial": initial}), found
 
 
-def _motions(case: CaseModel, mechanism: MechanismModel, at: Locator,
-             names: Names) -> list[Diagnostic]:
+def _motions(
+    case: CaseModel, mechanism: MechanismModel, at: Locator, names: Names
+) -> list[Diagnostic]:
     found: list[Diagnostic] = []
     driven: dict[str, str] = {}
     for name, motion in case.motions.items():
@@ -56,35 +60,60 @@ def _motions(case: CaseModel, mechanism: MechanismModel, at: Locator,
         if joint is None:
             found.append(unknown(at, path, "joint", motion.joint, names.get("joints")))
         elif joint.type not in COORDINATE_DIMENSION:
-            found.append(at.diagnostic(path, f"joint '{motion.joint}' is {joint.type}: a "
-                                       "motion needs a revolute, screw, cylindrical or "
-                                       "prismatic joint"))
+            found.append(
+                at.diagnostic(
+                    path,
+                    f"joint '{motion.joint}' is {joint.type}: a "
+                    "motion needs a revolute, screw, cylindrical or "
+                    "prismatic joint",
+                )
+            )
         elif motion.joint in driven:
-            found.append(at.diagnostic(path, f"joint '{motion.joint}' is already driven by "
-                                       f"motion '{driven[motion.joint]}'"))
+            found.append(
+                at.diagnostic(
+                    path,
+                    f"joint '{motion.joint}' is already driven by motion '{driven[motion.joint]}'",
+                )
+            )
         else:
             driven[motion.joint] = name
     return found
 
 
-def _initial(case: CaseModel, mechanism: MechanismModel, at: Locator,
-             names: Names) -> list[Diagnostic]:
+def _initial(
+    case: CaseModel, mechanism: MechanismModel, at: Locator, names: Names
+) -> list[Diagnostic]:
     found = []
     for name, entry in case.initial.items():
         joint, body = mechanism.joints.get(name), mechanism.bodies.get(name)
         given = [k for k in ("value", "rate", "omega", "velocity") if getattr(entry, k) is not None]
         if joint is None and body is None:
-            found.append(unknown(at, ("initial", name), "joint or body", name,
-                                 names.get("joints") | (names.get("bodies") - {GROUND})))
+            found.append(
+                unknown(
+                    at,
+                    ("initial", name),
+                    "joint or body",
+                    name,
+                    names.get("joints") | (names.get("bodies") - {GROUND}),
+                )
+            )
         elif joint is not None and {"omega", "velocity"} & set(given):
-            found.append(at.diagnostic(("initial", name), f"'{name}' is a joint: give "
-                                       "'value' and/or 'rate'"))
+            found.append(
+                at.diagnostic(("initial", name), f"'{name}' is a joint: give 'value' and/or 'rate'")
+            )
         elif joint is not None and joint.type not in COORDINATE_DIMENSION:
-            found.append(at.diagnostic(("initial", name), f"joint '{name}' is {joint.type}: it "
-                                       "has no single coordinate to set"))
+            found.append(
+                at.diagnostic(
+                    ("initial", name),
+                    f"joint '{name}' is {joint.type}: it has no single coordinate to set",
+                )
+            )
         elif body is not None and {"value", "rate"} & set(given):
-            found.append(at.diagnostic(("initial", name), f"'{name}' is a body: give 'omega' "
-                                       "and/or 'velocity'"))
+            found.append(
+                at.diagnostic(
+                    ("initial", name), f"'{name}' is a body: give 'omega' and/or 'velocity'"
+                )
+            )
     return found
 
 
@@ -95,37 +124,54 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
         for key in ("end", "step"):
             value = getattr(analysis, key)
             if value is None:
-                found.append(at.diagnostic(("analysis", key), f"a {kind} analysis needs "
-                                           f"'{key}' (s)"))
+                found.append(
+                    at.diagnostic(("analysis", key), f"a {kind} analysis needs '{key}' (s)")
+                )
             elif value <= 0.0:
                 found.append(at.diagnostic(("analysis", key), "must be positive"))
         if analysis.max_steps is not None and analysis.max_steps <= 0:
-            found.append(at.diagnostic(("analysis", "max_steps"), "must be a positive whole "
-                                       "number of steps"))
+            found.append(
+                at.diagnostic(("analysis", "max_steps"), "must be a positive whole number of steps")
+            )
         if analysis.end and analysis.step and analysis.step > analysis.end:
             found.append(at.diagnostic(("analysis", "step"), "step is longer than end"))
-        elif (analysis.end or 0.0) > 0.0 and (analysis.step or 0.0) > 0.0 and \
-                (problem := rows_problem(analysis.end, analysis.step)) is not None:
+        elif (
+            (analysis.end or 0.0) > 0.0
+            and (analysis.step or 0.0) > 0.0
+            and (problem := rows_problem(analysis.end, analysis.step)) is not None
+        ):
             found.append(at.diagnostic(("analysis", "step"), problem))
     else:
-        found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",
-                                severity="warning") for key in ("end", "step", "max_steps")
-                  if getattr(analysis, key) is not None]
-    found += [at.diagnostic(("analysis", key), "must be positive")
-              for key in ("tolerance", "max_step")
-              if getattr(analysis, key) is not None and getattr(analysis, key) <= 0.0]
+        found += [
+            at.diagnostic(
+                ("analysis", key), f"does nothing for a {kind} analysis", severity="warning"
+            )
+            for key in ("end", "step", "max_steps")
+            if getattr(analysis, key) is not None
+        ]
+    found += [
+        at.diagnostic(("analysis", key), "must be positive")
+        for key in ("tolerance", "max_step")
+        if getattr(analysis, key) is not None and getattr(analysis, key) <= 0.0
+    ]
     if kind != "dynamic":
-        found += [at.diagnostic(("analysis", key), f"does nothing for a {kind} analysis",
-                                severity="warning") for key in ("tolerance", "integrator",
-                                                                "max_step")
-                  if getattr(analysis, key) is not None]
+        found += [
+            at.diagnostic(
+                ("analysis", key), f"does nothing for a {kind} analysis", severity="warning"
+            )
+            for key in ("tolerance", "integrator", "max_step")
+            if getattr(analysis, key) is not None
+        ]
     return found
 
 
 def _loads(case: CaseModel, at: Locator, names: Names) -> list[Diagnostic]:
     elements = names.get("forces") | names.get("contacts")
-    found = [unknown(at, ("loads", i), "force element", name, elements)
-              for i, name in enumerate(case.loads or ()) if name not in elements]
+    found = [
+        unknown(at, ("loads", i), "force element", name, elements)
+        for i, name in enumerate(case.loads or ())
+        if name not in elements
+    ]
     return found
 
 
@@ -133,20 +179,32 @@ def _parameters(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list
     """A case parameter close to, but not, a mechanism parameter is probably a typo."""
     found = []
     for name in case.parameters:
-        hint = did_you_mean(name, mechanism.parameters) if name not in mechanism.parameters \
-            else None
+        hint = (
+            did_you_mean(name, mechanism.parameters) if name not in mechanism.parameters else None
+        )
         if hint:
-            found.append(at.diagnostic(("parameters", name), f"'{name}' is not a parameter of "
-                                       "the mechanism (a new one is defined)", hint=hint,
-                                       severity="warning"))
+            found.append(
+                at.diagnostic(
+                    ("parameters", name),
+                    f"'{name}' is not a parameter of the mechanism (a new one is defined)",
+                    hint=hint,
+                    severity="warning",
+                )
+            )
     return found
 
 
 def check_case_alone(case: CaseModel, at: Locator) -> list[Diagnostic]:
     """The problems of a case that do not need its mechanism (analysis, effects)."""
-    return _analysis(case, at) + check_name(at, "case", case.case) + [
-        unknown(at, ("effects", name), "effect", name, KNOWN_EFFECTS, severity="warning")
-        for name in case.effects if name not in KNOWN_EFFECTS]
+    return (
+        _analysis(case, at)
+        + check_name(at, "case", case.case)
+        + [
+            unknown(at, ("effects", name), "effect", name, KNOWN_EFFECTS, severity="warning")
+            for name in case.effects
+            if name not in KNOWN_EFFECTS
+        ]
+    )
 
 
 def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[Diagnostic]:
@@ -158,10 +216,14 @@ def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[
     found = _motions(case, mechanism, at, names) + _initial(case, mechanism, at, names)
     found += check_case_alone(case, at) + _loads(case, at, names)
     found += _parameters(case, mechanism, at) + check_requests(case, mechanism, at, names)
-    expressions: list[tuple[KeyPath, str]] = [(("motions", n, "value"), m.value)
-                                             for n, m in case.motions.items()]
-    expressions += [(("requests", n, "expression"), r.expression)
-                    for n, r in case.requests.items() if hasattr(r, "expression")]
+    expressions: list[tuple[KeyPath, str]] = [
+        (("motions", n, "value"), m.value) for n, m in case.motions.items()
+    ]
+    expressions += [
+        (("requests", n, "expression"), r.expression)
+        for n, r in case.requests.items()
+        if hasattr(r, "expression")
+    ]
     if case.abscissa is not None:
         expressions.append((("abscissa",), case.abscissa))
     return found + check_expressions(at, expressions, names, parameters)

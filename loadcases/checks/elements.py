@@ -1,4 +1,5 @@
 """Semantic checks of force elements, contacts, couplers and tables of a mechanism."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -23,20 +24,38 @@ def _joint_elements(model: MechanismModel, at: Locator) -> list[Diagnostic]:
             continue
         path = ("forces", name, "joint")
         if force.type == "torsion_spring" and joint.type not in _ROTARY_JOINTS:
-            found.append(at.diagnostic(path, f"a torsion spring needs a revolute, cylindrical "
-                                       f"or screw joint, '{force.joint}' is {joint.type}"))
+            found.append(
+                at.diagnostic(
+                    path,
+                    f"a torsion spring needs a revolute, cylindrical "
+                    f"or screw joint, '{force.joint}' is {joint.type}",
+                )
+            )
         if force.type != "joint_friction":
             continue
         if joint.type not in (*_PIN_JOINTS, "prismatic"):
-            found.append(at.diagnostic(path, "joint friction needs a revolute, cylindrical, "
-                                       f"spherical or prismatic joint, '{force.joint}' is "
-                                       f"{joint.type}"))
+            found.append(
+                at.diagnostic(
+                    path,
+                    "joint friction needs a revolute, cylindrical, "
+                    f"spherical or prismatic joint, '{force.joint}' is "
+                    f"{joint.type}",
+                )
+            )
         elif joint.type == "prismatic" and force.pin_radius is not None:
-            found.append(at.diagnostic(("forces", name, "pin_radius"), "a prismatic joint "
-                                       "has no pin radius", hint="remove pin_radius"))
+            found.append(
+                at.diagnostic(
+                    ("forces", name, "pin_radius"),
+                    "a prismatic joint has no pin radius",
+                    hint="remove pin_radius",
+                )
+            )
         elif joint.type != "prismatic" and force.pin_radius is None:
-            found.append(at.diagnostic(("forces", name), f"joint friction on a {joint.type} "
-                                       "joint needs 'pin_radius'"))
+            found.append(
+                at.diagnostic(
+                    ("forces", name), f"joint friction on a {joint.type} joint needs 'pin_radius'"
+                )
+            )
     return found
 
 
@@ -46,14 +65,22 @@ def _contacts(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     for name, contact in model.contacts.items():
         geometry = contact.geometry
         if geometry.radius <= 0.0:
-            found.append(at.diagnostic(("contacts", name, "geometry", "radius"),
-                                       "radius must be positive"))
+            found.append(
+                at.diagnostic(("contacts", name, "geometry", "radius"), "radius must be positive")
+            )
         if getattr(geometry, "clearance", 0.0) < 0.0:
-            found.append(at.diagnostic(("contacts", name, "geometry", "clearance"),
-                                       "clearance must not be negative"))
+            found.append(
+                at.diagnostic(
+                    ("contacts", name, "geometry", "clearance"), "clearance must not be negative"
+                )
+            )
         if contact.type == "impact" and contact.damping > 0.0 and not contact.depth:
-            found.append(at.diagnostic(("contacts", name), "impact damping needs 'depth' "
-                                       "(the penetration of full damping)"))
+            found.append(
+                at.diagnostic(
+                    ("contacts", name),
+                    "impact damping needs 'depth' (the penetration of full damping)",
+                )
+            )
         found += _contact_laws(name, contact, at)
     return found
 
@@ -63,23 +90,36 @@ def _contact_laws(name: str, contact, at: Locator) -> list[Diagnostic]:
     found = []
     points = getattr(contact.geometry, "points", None)
     if points is not None and len(points) < 2:
-        found.append(at.diagnostic(("contacts", name, "geometry", "points"), "a profile "
-                                   f"needs at least 2 points, got {len(points)}"))
+        found.append(
+            at.diagnostic(
+                ("contacts", name, "geometry", "points"),
+                f"a profile needs at least 2 points, got {len(points)}",
+            )
+        )
     e = getattr(contact, "restitution", None)
     if e is not None and not 0.0 < e <= 1.0:
-        found.append(at.diagnostic(("contacts", name, "restitution"), "restitution must be "
-                                   f"in (0, 1], got {e:g}"))
+        found.append(
+            at.diagnostic(
+                ("contacts", name, "restitution"), f"restitution must be in (0, 1], got {e:g}"
+            )
+        )
     f = contact.friction
     if f is not None and f.model == "stribeck" and not 0.0 < f.v_static < f.v_dynamic:
-        found.append(at.diagnostic(("contacts", name, "friction"), "expected 0 < v_static "
-                                   f"< v_dynamic, got {f.v_static:g} and {f.v_dynamic:g} m/s"))
+        found.append(
+            at.diagnostic(
+                ("contacts", name, "friction"),
+                f"expected 0 < v_static < v_dynamic, got {f.v_static:g} and {f.v_dynamic:g} m/s",
+            )
+        )
     return found
 
 
 def _couplers(model: MechanismModel, at: Locator) -> list[Diagnostic]:
-    return [at.diagnostic(("joints", name, "joints"), f"a {joint.type} needs two different "
-                          "joints") for name, joint in model.joints.items()
-            if joint.type in ("coupler", "gear") and joint.joints[0] == joint.joints[1]]
+    return [
+        at.diagnostic(("joints", name, "joints"), f"a {joint.type} needs two different joints")
+        for name, joint in model.joints.items()
+        if joint.type in ("coupler", "gear") and joint.joints[0] == joint.joints[1]
+    ]
 
 
 def _tables(model: MechanismModel, at: Locator) -> list[Diagnostic]:
@@ -87,19 +127,34 @@ def _tables(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     found = []
     for name, table in model.tables.items():
         if len(table.x) != len(table.y):
-            found.append(at.diagnostic(("tables", name, "y"), f"expected {len(table.x)} "
-                                       f"values (as many as x), got {len(table.y)}"))
+            found.append(
+                at.diagnostic(
+                    ("tables", name, "y"),
+                    f"expected {len(table.x)} values (as many as x), got {len(table.y)}",
+                )
+            )
         if len(table.x) < 2:
-            found.append(at.diagnostic(("tables", name, "x"), "expected at least 2 values, "
-                                       f"got {len(table.x)}"))
+            found.append(
+                at.diagnostic(
+                    ("tables", name, "x"), f"expected at least 2 values, got {len(table.x)}"
+                )
+            )
         elif np.any(np.diff(table.x) <= 0.0):
             index = int(np.argmax(np.diff(table.x) <= 0.0)) + 1
-            found.append(at.diagnostic(("tables", name, "x"), "values must be strictly "
-                                       f"increasing (item {index + 1} is not)"))
+            found.append(
+                at.diagnostic(
+                    ("tables", name, "x"),
+                    f"values must be strictly increasing (item {index + 1} is not)",
+                )
+            )
     return found
 
 
 def check_elements(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     """All element, contact, coupler and table problems of a mechanism."""
-    return _joint_elements(model, at) + _contacts(model, at) + _couplers(model, at) + \
-        _tables(model, at)
+    return (
+        _joint_elements(model, at)
+        + _contacts(model, at)
+        + _couplers(model, at)
+        + _tables(model, at)
+    )

@@ -1,4 +1,5 @@
 """Semantic checks of a validated mechanism: names, references and physical sense."""
+
 from __future__ import annotations
 
 from collections.abc import Iterable
@@ -10,20 +11,27 @@ from loadcases.diagnostics import Diagnostic
 from loadcases.schema import MechanismModel
 from loadcases.source import KeyPath, Locator
 
-__all__ = ["mechanism_names", "check_mechanism"]
+__all__ = ["check_mechanism", "mechanism_names"]
 
 _SECTIONS = ("bodies", "points", "frames", "joints", "forces", "contacts", "tables", "events")
 _RESERVED_PARAMETERS = ("t", "pi")  # bare names the expression language defines itself
-_TINY = 1.0e-12          # |vector| below this is a zero vector
-_PARALLEL = 1.0e-6       # |sin(angle)| below this: parallel axes
-_INERTIA_TOL = 1.0e-9    # relative tolerance of positivity and triangle inequality
+_TINY = 1.0e-12  # |vector| below this is a zero vector
+_PARALLEL = 1.0e-6  # |sin(angle)| below this: parallel axes
+_INERTIA_TOL = 1.0e-9  # relative tolerance of positivity and triangle inequality
 
 
 def mechanism_names(model: MechanismModel) -> Names:
     """Known names of a mechanism by section (bodies include ground)."""
-    return Names(bodies={GROUND, *model.bodies}, points=model.points, frames=model.frames,
-                 joints=model.joints, forces=model.forces, contacts=model.contacts,
-                 tables=model.tables, events=model.events)
+    return Names(
+        bodies={GROUND, *model.bodies},
+        points=model.points,
+        frames=model.frames,
+        joints=model.joints,
+        forces=model.forces,
+        contacts=model.contacts,
+        tables=model.tables,
+        events=model.events,
+    )
 
 
 def _unique(model: MechanismModel, at: Locator) -> list[Diagnostic]:
@@ -33,24 +41,40 @@ def _unique(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     for section in _SECTIONS:
         for name in getattr(model, section):
             if name == GROUND:
-                found.append(at.diagnostic((section, name), "'ground' is the fixed body and "
-                                           "needs no definition", hint="use another name"))
+                found.append(
+                    at.diagnostic(
+                        (section, name),
+                        "'ground' is the fixed body and needs no definition",
+                        hint="use another name",
+                    )
+                )
             elif name in first:
-                found.append(at.diagnostic((section, name), f"name '{name}' is already used "
-                                           f"in {first[name]}", hint="names of bodies, points, "
-                                           "joints, forces, contacts, tables and events must "
-                                           "be unique"))
+                found.append(
+                    at.diagnostic(
+                        (section, name),
+                        f"name '{name}' is already used in {first[name]}",
+                        hint="names of bodies, points, "
+                        "joints, forces, contacts, tables and events must "
+                        "be unique",
+                    )
+                )
             else:
                 first[name] = section
     for name in model.parameters:
         if name in _RESERVED_PARAMETERS:
-            found.append(at.diagnostic(("parameters", name), f"'{name}' is a reserved name of "
-                                       "expressions", hint="rename the parameter"))
+            found.append(
+                at.diagnostic(
+                    ("parameters", name),
+                    f"'{name}' is a reserved name of expressions",
+                    hint="rename the parameter",
+                )
+            )
     return found
 
 
-def _refs(at: Locator, items: Iterable[tuple[KeyPath, str]], what: str,
-          known: set[str]) -> list[Diagnostic]:
+def _refs(
+    at: Locator, items: Iterable[tuple[KeyPath, str]], what: str, known: set[str]
+) -> list[Diagnostic]:
     return [unknown(at, path, what, name, known) for path, name in items if name not in known]
 
 
@@ -73,8 +97,9 @@ def _references(model: MechanismModel, at: Locator, names: Names) -> list[Diagno
     joints: list[tuple[KeyPath, str]] = []
     tables: list[tuple[KeyPath, str]] = []
     for name, force in model.forces.items():
-        points += [(("forces", name, "points", i), p) for i, p in
-                   enumerate(getattr(force, "points", ()))]
+        points += [
+            (("forces", name, "points", i), p) for i, p in enumerate(getattr(force, "points", ()))
+        ]
         if point := getattr(force, "point", None):
             points.append((("forces", name, "point"), point))
         if joint_name := getattr(force, "joint", None):
@@ -89,13 +114,22 @@ def _references(model: MechanismModel, at: Locator, names: Names) -> list[Diagno
     found += _refs(at, points, "point", names.get("points"))
     found += _refs(at, joints, "joint", names.get("joints"))
     found += _refs(at, tables, "table", names.get("tables"))
-    found += _refs(at, [(("forces", n, "frame"), frame) for n, f in model.forces.items()
-                        if (frame := getattr(f, "frame", None))], "frame", frames)
+    found += _refs(
+        at,
+        [
+            (("forces", n, "frame"), frame)
+            for n, f in model.forces.items()
+            if (frame := getattr(f, "frame", None))
+        ],
+        "frame",
+        frames,
+    )
     return found
 
 
-def _events(model: MechanismModel, at: Locator, names: Names,
-            motions: Iterable[str] | None) -> list[Diagnostic]:
+def _events(
+    model: MechanismModel, at: Locator, names: Names, motions: Iterable[str] | None
+) -> list[Diagnostic]:
     """Event targets: elements/contacts (or case motions) to switch, joints to release/lock."""
     switchable = names.get("forces") | names.get("contacts") | set(motions or ())
     found = []
@@ -107,8 +141,16 @@ def _events(model: MechanismModel, at: Locator, names: Names,
             if action.action in ("release", "lock") and action.target not in names.get("joints"):
                 found.append(unknown(at, path, "joint", action.target, names.get("joints")))
             elif action.action in ("activate", "deactivate") and action.target not in switchable:
-                found.append(unknown(at, path, "element", action.target, switchable,
-                                     severity="error" if motions is not None else "warning"))
+                found.append(
+                    unknown(
+                        at,
+                        path,
+                        "element",
+                        action.target,
+                        switchable,
+                        severity="error" if motions is not None else "warning",
+                    )
+                )
     return found
 
 
@@ -127,37 +169,55 @@ def _vector_checks(model: MechanismModel, at: Locator) -> list[Diagnostic]:
             found += _curve_checks(at, ("joints", name, "curve"), curve)
         bodies = getattr(joint, "bodies", None)
         if bodies is not None and bodies[0] == bodies[1]:
-            found.append(at.diagnostic(("joints", name, "bodies"),
-                                       f"joint joins body '{bodies[0]}' to itself"))
+            found.append(
+                at.diagnostic(
+                    ("joints", name, "bodies"), f"joint joins body '{bodies[0]}' to itself"
+                )
+            )
     for name, frame in model.frames.items():
         found += _axes_checks(at, ("frames", name), "frame", frame.x, frame.y)
     for name, contact in model.contacts.items():
         normal = getattr(contact.geometry, "normal", None)
         if normal is not None and np.linalg.norm(normal) < _TINY:
-            found.append(at.diagnostic(("contacts", name, "geometry", "normal"),
-                                       "normal is a zero vector"))
+            found.append(
+                at.diagnostic(("contacts", name, "geometry", "normal"), "normal is a zero vector")
+            )
         if contact.bodies[0] == contact.bodies[1]:
-            found.append(at.diagnostic(("contacts", name, "bodies"),
-                                       f"contact joins body '{contact.bodies[0]}' to itself"))
+            found.append(
+                at.diagnostic(
+                    ("contacts", name, "bodies"),
+                    f"contact joins body '{contact.bodies[0]}' to itself",
+                )
+            )
     return found
 
 
 def _curve_checks(at: Locator, path: KeyPath, curve) -> list[Diagnostic]:
     """A curve's points follow one another at non-zero distances."""
     steps = np.linalg.norm(np.diff(np.asarray(curve, dtype=float), axis=0), axis=1)
-    return [at.diagnostic((*path, int(i) + 1), f"point {i + 1} repeats point {i}: the curve "
-                          "needs distinct consecutive points")
-            for i in np.flatnonzero(steps < _TINY)]
+    return [
+        at.diagnostic(
+            (*path, int(i) + 1),
+            f"point {i + 1} repeats point {i}: the curve needs distinct consecutive points",
+        )
+        for i in np.flatnonzero(steps < _TINY)
+    ]
 
 
-def _axes_checks(at: Locator, path: KeyPath, kind: str, a1: tuple[float, ...],
-                 a2: tuple[float, ...]) -> list[Diagnostic]:
+def _axes_checks(
+    at: Locator, path: KeyPath, kind: str, a1: tuple[float, ...], a2: tuple[float, ...]
+) -> list[Diagnostic]:
     n1, n2 = np.linalg.norm(a1), np.linalg.norm(a2)
     if n1 < _TINY or n2 < _TINY:
         return [at.diagnostic(path, "an axis is a zero vector")]
     if np.linalg.norm(np.cross(a1, a2)) / (n1 * n2) < _PARALLEL:
-        return [at.diagnostic(path, f"the axes of the {kind} are parallel",
-                              hint="give two axes at an angle (usually perpendicular)")]
+        return [
+            at.diagnostic(
+                path,
+                f"the axes of the {kind} are parallel",
+                hint="give two axes at an angle (usually perpendicular)",
+            )
+        ]
     return []
 
 
@@ -172,12 +232,23 @@ def _inertia(at: Locator, name: str, inertia: tuple[float, ...]) -> list[Diagnos
     scale = max(float(np.max(np.abs(moments))), _TINY)
     path = ("bodies", name, "inertia")
     if moments[0] <= _INERTIA_TOL * scale:
-        return [at.diagnostic(path, "inertia is not positive definite (principal moments "
-                              + ", ".join(f"{m:.6g}" for m in moments) + ")")]
+        return [
+            at.diagnostic(
+                path,
+                "inertia is not positive definite (principal moments "
+                + ", ".join(f"{m:.6g}" for m in moments)
+                + ")",
+            )
+        ]
     if moments[2] > moments[0] + moments[1] + _INERTIA_TOL * scale:
-        return [at.diagnostic(path, "principal moments break the triangle inequality "
-                              f"({moments[2]:.6g} > {moments[0]:.6g} + {moments[1]:.6g})",
-                              hint="each principal moment must be <= the sum of the others")]
+        return [
+            at.diagnostic(
+                path,
+                "principal moments break the triangle inequality "
+                f"({moments[2]:.6g} > {moments[0]:.6g} + {moments[1]:.6g})",
+                hint="each principal moment must be <= the sum of the others",
+            )
+        ]
     return []
 
 
@@ -190,20 +261,25 @@ def _bodies(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     return found
 
 
-def check_mechanism(model: MechanismModel, at: Locator, motions: Iterable[str] | None = None,
-                    parameters: Iterable[str] = ()) -> list[Diagnostic]:
+def check_mechanism(
+    model: MechanismModel,
+    at: Locator,
+    motions: Iterable[str] | None = None,
+    parameters: Iterable[str] = (),
+) -> list[Diagnostic]:
     """All semantic problems of a mechanism; `motions` are the case's motion names (events
     may switch them), None when the mechanism is checked on its own; `parameters` are extra
     parameter names a case defines."""
     from loadcases.checks.elements import check_elements
 
     names = mechanism_names(model)
-    found = _unique(model, at) + _references(model, at, names) + _events(model, at, names,
-                                                                         motions)
+    found = _unique(model, at) + _references(model, at, names) + _events(model, at, names, motions)
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
-    expressions: list[tuple[KeyPath, str]] = [(("events", n, "when"), e.when)
-                                             for n, e in model.events.items()]
+    expressions: list[tuple[KeyPath, str]] = [
+        (("events", n, "when"), e.when) for n, e in model.events.items()
+    ]
     for name, force in model.forces.items():
-        expressions += [(("forces", name, "value", i), v)
-                        for i, v in enumerate(getattr(force, "value", ()))]
+        expressions += [
+            (("forces", name, "value", i), v) for i, v in enumerate(getattr(force, "value", ()))
+        ]
     return found + check_expressions(at, expressions, names, {*model.parameters, *parameters})

@@ -1,6 +1,7 @@
 """Names and paths that become files: case and set names (result files, `/` makes
 sub-folders) and a set's `report.output` stay inside the output folder; `report.template`
 is an existing file given relative to the set file."""
+
 from __future__ import annotations
 
 from pathlib import Path, PurePosixPath, PureWindowsPath
@@ -9,11 +10,17 @@ from loadcases.clip import clip
 from loadcases.diagnostics import Diagnostic
 from loadcases.source import Locator
 
-__all__ = ["MAX_NAME_BYTES", "FORMULA_STARTS", "path_problem", "name_problem",
-           "check_name", "check_report_paths"]
+__all__ = [
+    "FORMULA_STARTS",
+    "MAX_NAME_BYTES",
+    "check_name",
+    "check_report_paths",
+    "name_problem",
+    "path_problem",
+]
 
-MAX_NAME_BYTES = 200        # room for a sweep's `[p=v]`, suffixes and the 255-byte OS limit
-FORMULA_STARTS = "=+-@"     # a spreadsheet reads text starting with these as a formula
+MAX_NAME_BYTES = 200  # room for a sweep's `[p=v]`, suffixes and the 255-byte OS limit
+FORMULA_STARTS = "=+-@"  # a spreadsheet reads text starting with these as a formula
 
 
 def path_problem(text: str) -> str | None:
@@ -47,8 +54,13 @@ def check_name(at: Locator, key: str, name: str) -> list[Diagnostic]:
     problem = name_problem(name)
     if problem is None:
         return []
-    return [at.diagnostic((key,), f"cannot be a result file name: {problem}",
-                          hint="use letters, digits, '-', '_', '.', and '/' for sub-folders")]
+    return [
+        at.diagnostic(
+            (key,),
+            f"cannot be a result file name: {problem}",
+            hint="use letters, digits, '-', '_', '.', and '/' for sub-folders",
+        )
+    ]
 
 
 def check_report_paths(at: Locator, output: str, template: str | None) -> list[Diagnostic]:
@@ -59,14 +71,25 @@ def check_report_paths(at: Locator, output: str, template: str | None) -> list[D
     if problem == "an absolute path":
         problem += "; give a name relative to the output folder"
     if problem is not None:
-        found.append(at.diagnostic(("report", "output"), f"'{clip(output)}' cannot be the "
-                                   f"workbook's name: {problem}"))
+        found.append(
+            at.diagnostic(
+                ("report", "output"), f"'{clip(output)}' cannot be the workbook's name: {problem}"
+            )
+        )
     if template is None:
         return found
     if PurePosixPath(template).is_absolute() or PureWindowsPath(template).anchor:
-        found.append(at.diagnostic(("report", "template"), f"'{clip(template)}' is an "
-                                   "absolute path; give it relative to the set file"))
+        found.append(
+            at.diagnostic(
+                ("report", "template"),
+                f"'{clip(template)}' is an absolute path; give it relative to the set file",
+            )
+        )
     elif not (Path(at.tree.file).parent / template).is_file():
-        found.append(at.diagnostic(("report", "template"), f"no such file '{clip(template)}' "
-                                   "(relative to the set file)"))
+        found.append(
+            at.diagnostic(
+                ("report", "template"),
+                f"no such file '{clip(template)}' (relative to the set file)",
+            )
+        )
     return found

@@ -1,4 +1,5 @@
 """Semantic checks of a validated set: sweeps, zips, allowables, report; parameter names."""
+
 from __future__ import annotations
 
 from collections.abc import Sequence
@@ -16,25 +17,42 @@ __all__ = ["check_set", "check_set_cases"]
 
 def _pattern_diagnostics(at: Locator, patterns: Sequence[str]) -> list[Diagnostic]:
     """pattern_problem of each `cases:` entry, at its position."""
-    return [at.diagnostic(("cases", index), problem) for index, pattern in enumerate(patterns)
-            if (problem := pattern_problem(pattern)) is not None]
+    return [
+        at.diagnostic(("cases", index), problem)
+        for index, pattern in enumerate(patterns)
+        if (problem := pattern_problem(pattern)) is not None
+    ]
 
 
 def check_set(model: SetModel, at: Locator) -> list[Diagnostic]:
     """Problems of a set file on its own."""
-    found = [at.diagnostic(("sweep", n), "expected at least 1 value")
-             for n, values in model.sweep.items() if not values]
-    found += [at.diagnostic(("zip", n), "a parameter cannot be in both sweep and zip")
-              for n in model.zip if n in model.sweep]
+    found = [
+        at.diagnostic(("sweep", n), "expected at least 1 value")
+        for n, values in model.sweep.items()
+        if not values
+    ]
+    found += [
+        at.diagnostic(("zip", n), "a parameter cannot be in both sweep and zip")
+        for n in model.zip
+        if n in model.sweep
+    ]
     lengths = {len(v) for v in model.zip.values()}
     if len(lengths) > 1:
-        found.append(at.diagnostic(("zip",), "zip lists must have equal lengths, got "
-                                   + ", ".join(str(len(v)) for v in model.zip.values())))
+        found.append(
+            at.diagnostic(
+                ("zip",),
+                "zip lists must have equal lengths, got "
+                + ", ".join(str(len(v)) for v in model.zip.values()),
+            )
+        )
     for name, limits in model.allowables.items():
         if limits.max is not None and limits.min is not None and limits.max < limits.min:
             found.append(at.diagnostic(("allowables", name), "max is below min"))
-    found += [at.diagnostic(("factors", n), "factor must be positive")
-              for n, f in model.factors.items() if f <= 0.0]
+    found += [
+        at.diagnostic(("factors", n), "factor must be positive")
+        for n, f in model.factors.items()
+        if f <= 0.0
+    ]
     if model.report is not None and not model.report.output.lower().endswith(".xlsx"):
         found.append(at.diagnostic(("report", "output"), "expected an .xlsx file name"))
     if model.report is not None:
@@ -45,8 +63,8 @@ def check_set(model: SetModel, at: Locator) -> list[Diagnostic]:
     return found + check_name(at, "set", model.set) + _pattern_diagnostics(at, model.cases)
 
 
-ULTIMATE = "ultimate"   # the key of the ultimate factor in `factors:`
-ABSCISSA = "abscissa"   # the request name of a case's abscissa in the results of a set
+ULTIMATE = "ultimate"  # the key of the ultimate factor in `factors:`
+ABSCISSA = "abscissa"  # the request name of a case's abscissa in the results of a set
 
 
 def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:
@@ -58,13 +76,18 @@ def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[
     known = {name for case in cases for name in case.parameters}
     found = []
     for section in ("parameters", "sweep", "zip"):
-        found += [unknown(at, (section, name), "parameter", name, known)
-                  for name in getattr(model, section) if name not in known]
+        found += [
+            unknown(at, (section, name), "parameter", name, known)
+            for name in getattr(model, section)
+            if name not in known
+        ]
     requests = {name for case in cases for name in case.case.requests} | {ABSCISSA}
     for section in ("factors", "allowables"):
-        found += [unknown(at, (section, key), "request", key.split(".")[0], requests)
-                  for key in getattr(model, section)
-                  if key != ULTIMATE and key.split(".")[0] not in requests]
+        found += [
+            unknown(at, (section, key), "request", key.split(".")[0], requests)
+            for key in getattr(model, section)
+            if key != ULTIMATE and key.split(".")[0] not in requests
+        ]
     return found + _duplicate_names(at, cases)
 
 
@@ -75,8 +98,12 @@ def _duplicate_names(at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:
     for case in cases:
         name = case.case.case
         if name in first and first[name] != case.path:
-            found.append(at.diagnostic(("cases",), f"case name '{name}' is used by both "
-                                       f"{first[name]} and {case.path}",
-                                       hint="give each case file its own `case:` name"))
+            found.append(
+                at.diagnostic(
+                    ("cases",),
+                    f"case name '{name}' is used by both {first[name]} and {case.path}",
+                    hint="give each case file its own `case:` name",
+                )
+            )
         first.setdefault(name, case.path)
     return found

@@ -8,6 +8,7 @@ joints are circles with their names, points small dots, springs zigzags, wires d
 seals thick translucent lines, contacts a circle (roller, sphere) with the plane or profile
 it runs on; a contact's name is printed next to its roller.
 """
+
 from __future__ import annotations
 
 import io
@@ -20,7 +21,7 @@ import numpy as np
 from loadcases.atomic import atomic_path, atomic_write_bytes
 from loadcases.draw.trajectory import Trajectory
 
-__all__ = ["VIEWS", "projection", "write_pngs", "write_animation", "FIGURE_SIZE", "DPI"]
+__all__ = ["DPI", "FIGURE_SIZE", "VIEWS", "projection", "write_animation", "write_pngs"]
 
 FIGURE_SIZE = (8.0, 6.0)
 """inch: figure size; with DPI the PNG is 800 x 600 pixels."""
@@ -32,8 +33,17 @@ _ZIGZAG_TEETH = 8
 _MAX_FRAMES = 60
 _GIF_FPS = 12
 _LABEL_ITERATIONS = 200  # adjustText passes per picture (a count, not a time: reproducible)
-_COLOURS = ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple", "tab:brown",
-            "tab:pink", "tab:olive", "tab:cyan")
+_COLOURS = (
+    "tab:blue",
+    "tab:orange",
+    "tab:green",
+    "tab:red",
+    "tab:purple",
+    "tab:brown",
+    "tab:pink",
+    "tab:olive",
+    "tab:cyan",
+)
 
 
 def projection(traj: Trajectory, view: str) -> tuple[np.ndarray, tuple[str, str]]:
@@ -141,12 +151,19 @@ def _spread_labels(ax, texts: list, offsets: dict[str, np.ndarray] | None = None
                 ax.plot(*np.column_stack([anchors[id(t)], moved]), "-", color="gray", lw=0.4)
     placed = [t for t in texts if t not in fresh]
     if len(fresh) > 1 or (fresh and placed):
-        adjust_text(fresh, ax=ax, iter_lim=_LABEL_ITERATIONS, ensure_inside_axes=True,
-                    prevent_crossings=False, objects=placed or None,
-                    arrowprops={"arrowstyle": "-", "color": "gray", "lw": 0.4})
+        adjust_text(
+            fresh,
+            ax=ax,
+            iter_lim=_LABEL_ITERATIONS,
+            ensure_inside_axes=True,
+            prevent_crossings=False,
+            objects=placed or None,
+            arrowprops={"arrowstyle": "-", "color": "gray", "lw": 0.4},
+        )
     if offsets is not None:
-        offsets.update({t.get_text(): np.array(t.get_position(), float) - anchors[id(t)]
-                        for t in fresh})
+        offsets.update(
+            {t.get_text(): np.array(t.get_position(), float) - anchors[id(t)] for t in fresh}
+        )
 
 
 def _limits(traj: Trajectory, basis: np.ndarray) -> tuple[tuple[float, float], tuple[float, float]]:
@@ -159,12 +176,15 @@ def _limits(traj: Trajectory, basis: np.ndarray) -> tuple[tuple[float, float], t
     span, centre = high - low, (low + high) / 2
     shape = FIGURE_SIZE[0] / FIGURE_SIZE[1]  # width / height of the picture
     span = np.maximum(span, [span[1] * shape, span[0] / shape])
-    return ((centre[0] - span[0] / 2, centre[0] + span[0] / 2),
-            (centre[1] - span[1] / 2, centre[1] + span[1] / 2))
+    return (
+        (centre[0] - span[0] / 2, centre[0] + span[0] / 2),
+        (centre[1] - span[1] / 2, centre[1] + span[1] / 2),
+    )
 
 
 def _figure(traj: Trajectory, view: str, *, steady_labels: bool = False):
     import matplotlib
+
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
@@ -184,6 +204,7 @@ def _figure(traj: Trajectory, view: str, *, steady_labels: bool = False):
         ax.grid(True, lw=0.3, alpha=0.5)
         ax.set_title(f"{traj.case}   t = {traj.time[k]:.4g} s", fontsize=10)
         _spread_labels(ax, texts, offsets)
+
     return fig, render
 
 
@@ -191,8 +212,9 @@ def _slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.=\-]+", "_", text)
 
 
-def write_pngs(traj: Trajectory, times: list[float], out_dir: Path, *,
-               view: str = "auto") -> list[Path]:
+def write_pngs(
+    traj: Trajectory, times: list[float], out_dir: Path, *, view: str = "auto"
+) -> list[Path]:
     """One PNG (800 x 600 px) per requested time (s; nearest output time), written
     atomically as `CASE-t<time>.png` in `out_dir`; returns the files."""
     import matplotlib.pyplot as plt
@@ -219,7 +241,9 @@ def _frame_indices(traj: Trajectory) -> list[int]:
     return sorted(set(np.linspace(0, n - 1, min(n, _MAX_FRAMES)).round().astype(int).tolist()))
 
 
-def write_animation(traj: Trajectory, out_dir: Path, *, view: str = "auto") -> tuple[list[Path], str]:
+def write_animation(
+    traj: Trajectory, out_dir: Path, *, view: str = "auto"
+) -> tuple[list[Path], str]:
     """Animate the run (at most 60 frames) as `CASE.gif` (Pillow), or, without Pillow,
     as numbered PNG frames `CASE-frame-NNN.png`; returns (files, what was written)."""
     import matplotlib.pyplot as plt

@@ -8,6 +8,7 @@ not touched. `loadcases.draw.render` turns the trajectory into PNG pictures and 
 Marker names are `<what>@<body>` (`hinge@door`, `wire#0@ground`); positions are in m,
 global axes.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -99,8 +100,15 @@ def _links(sk: Skeleton, mech) -> None:
     """Springs and wires between their points; seals along their line on body 2."""
     for name, f in mech.forces.items():
         if f.type == "spring":
-            ends = [sk.add(f"{name}#{i}@{mech.points[p].body}", mech.points[p].body,
-                           mech.points[p].at, outline=False) for i, p in enumerate(f.points)]
+            ends = [
+                sk.add(
+                    f"{name}#{i}@{mech.points[p].body}",
+                    mech.points[p].body,
+                    mech.points[p].at,
+                    outline=False,
+                )
+                for i, p in enumerate(f.points)
+            ]
             kind = "wire" if f.tension_only else "spring"
             sk.links.append((name, kind, ends[0], ends[1]))
         elif f.type == "seal":
@@ -141,16 +149,24 @@ def solve_trajectory(cf: CaseFile) -> Trajectory:
         point = f"{_PREFIX}{i}"
         built.mechanism.add_point(point, body=body, at=at)
         requests.append(ml.PointKinematics(point, point, "position"))
-    solution = ml.solve(built.mechanism, built.analysis, requests=requests,
-                        initial=built.initial, redundant=built.redundant, throw=False,
-                        events=built.events)
+    solution = ml.solve(
+        built.mechanism,
+        built.analysis,
+        requests=requests,
+        initial=built.initial,
+        redundant=built.redundant,
+        throw=False,
+        events=built.events,
+    )
     positions = {}
     for i, marker in enumerate(sk.markers):
         point = f"{_PREFIX}{i}"
-        positions[marker] = np.column_stack([solution.channels.get(f"{point}.{c}", np.zeros(0))
-                                            for c in "xyz"])
-    return Trajectory(cf.case.case, sk, np.asarray(solution.time), positions,
-                      solution.status, solution.message)
+        positions[marker] = np.column_stack(
+            [solution.channels.get(f"{point}.{c}", np.zeros(0)) for c in "xyz"]
+        )
+    return Trajectory(
+        cf.case.case, sk, np.asarray(solution.time), positions, solution.status, solution.message
+    )
 
 
 def trajectory_of_file(path: Path | str) -> Trajectory:

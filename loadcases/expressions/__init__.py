@@ -13,6 +13,7 @@ dist (two points), x y z and vx vy vz (a point's position and velocity). `table(
     compiled(0.5)                  # -> 3.14
     compiled.derivative()(0.5)     # -> 6.28 (exact d/dt)
 """
+
 from .errors import ExpressionError
 from .expression import CompiledExpression, Expression, parse
 

@@ -4,6 +4,7 @@ Piecewise functions differentiate piecewise: abs -> sign, sign and comparisons -
 min/max -> the derivative of the selected argument, step -> the `_smooth` family.
 Tables use their interpolator's `derivative()` when it has one, else central differences.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -11,10 +12,24 @@ from dataclasses import dataclass, replace
 
 from .errors import ExpressionError
 from .nodes import (
-    Call, Measure, Node, Num, Op, Table, Time, add, call, div, mul, neg, num, power, sub,
+    Call,
+    Measure,
+    Node,
+    Num,
+    Op,
+    Table,
+    Time,
+    add,
+    call,
+    div,
+    mul,
+    neg,
+    num,
+    power,
+    sub,
 )
 
-__all__ = ["differentiate", "CentralDifference", "table_derivative"]
+__all__ = ["CentralDifference", "differentiate", "table_derivative"]
 
 # Relative step of the central-difference fallback for tables: its error is ~ h^2 f'''
 # and ~ eps / h^2 for a second derivative taken this way twice.
@@ -58,8 +73,9 @@ def differentiate(node: Node) -> Node:
         slope = replace(node, name=node.name + "'", fn=table_derivative(node.fn))
         return mul(slope, differentiate(x), node.offset)
     if isinstance(node, Measure):
-        raise ExpressionError(f"cannot differentiate {node.label()} with respect to time",
-                              node.offset)
+        raise ExpressionError(
+            f"cannot differentiate {node.label()} with respect to time", node.offset
+        )
     raise TypeError(f"cannot differentiate {node!r}")
 
 
@@ -94,10 +110,12 @@ _OUTER: dict[str, Callable[[Node, Node, int], Node]] = {
     "sin": lambda a, f, o: call("cos", a, offset=o),
     "cos": lambda a, f, o: neg(call("sin", a, offset=o), o),
     "tan": lambda a, f, o: add(num(1.0), _square(f, o), o),
-    "asin": lambda a, f, o: div(num(1.0), call("sqrt", sub(num(1.0), _square(a, o), o),
-                                               offset=o), o),
-    "acos": lambda a, f, o: div(num(-1.0), call("sqrt", sub(num(1.0), _square(a, o), o),
-                                                offset=o), o),
+    "asin": lambda a, f, o: div(
+        num(1.0), call("sqrt", sub(num(1.0), _square(a, o), o), offset=o), o
+    ),
+    "acos": lambda a, f, o: div(
+        num(-1.0), call("sqrt", sub(num(1.0), _square(a, o), o), offset=o), o
+    ),
     "atan": lambda a, f, o: div(num(1.0), add(num(1.0), _square(a, o), o), o),
     "sqrt": lambda a, f, o: div(num(0.5), f, o),
     "abs": lambda a, f, o: call("sign", a, offset=o),

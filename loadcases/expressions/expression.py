@@ -1,4 +1,5 @@
 """`Expression` (parsed text) and `CompiledExpression` (a fast callable of t and state)."""
+
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
@@ -14,7 +15,7 @@ from .resolve import Resolver, UnitLookup, fold, is_time_only
 from .scalar import build_scalar
 from .vector import Vector, build_vector
 
-__all__ = ["Expression", "CompiledExpression", "parse"]
+__all__ = ["CompiledExpression", "Expression", "parse"]
 
 _EMPTY: Mapping = MappingProxyType({})
 
@@ -91,11 +92,24 @@ class CompiledExpression:
     """`fn(t, state=None) -> float`; `time_only` ones also have `derivative()` (d/dt)
     and `evaluate_array(t)`. `is_constant` ones have their `value` (else None)."""
 
-    __slots__ = ("_fn", "tree", "text", "order", "time_only", "is_constant", "value",
-                 "_source", "_derivative", "_vector")
+    __slots__ = (
+        "_derivative",
+        "_fn",
+        "_source",
+        "_vector",
+        "is_constant",
+        "order",
+        "text",
+        "time_only",
+        "tree",
+        "value",
+    )
 
     def __init__(
-        self, tree: Node, fn: Callable[[float, object], float], source: tuple[str, dict, dict],
+        self,
+        tree: Node,
+        fn: Callable[[float, object], float],
+        source: tuple[str, dict, dict],
         order: int,
     ) -> None:
         self._fn = fn
@@ -123,7 +137,8 @@ class CompiledExpression:
             measure = next(n for n in walk(self.tree) if isinstance(n, Measure))
             raise ExpressionError(
                 f"{what} needs a time-only expression, not one using {measure.label()}",
-                measure.offset, self.text,
+                measure.offset,
+                self.text,
             )
 
     def derivative(self) -> CompiledExpression:

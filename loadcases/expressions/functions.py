@@ -6,6 +6,7 @@ the internal `_smooth` family (the step from 0 to 1 over s in [0, 1] and its der
 `_minsel(a1..an, v1..vn)` / `_maxsel` give the v of the smallest / largest a: the
 piecewise derivatives of `min` and `max`.
 """
+
 from __future__ import annotations
 
 import math
@@ -18,15 +19,33 @@ import numpy as np
 from mechlib.smooth import step  # the one cubic step of loads (seed 004 eq. 3.10)
 
 __all__ = [
-    "FunctionSpec", "FUNCTIONS", "INTERNAL", "MEASURES", "step", "smooth", "dsmooth",
-    "d2smooth", "d3smooth", "minsel", "maxsel", "sign",
+    "FUNCTIONS",
+    "INTERNAL",
+    "MEASURES",
+    "FunctionSpec",
+    "d2smooth",
+    "d3smooth",
+    "dsmooth",
+    "maxsel",
+    "minsel",
+    "sign",
+    "smooth",
+    "step",
 ]
 
 # Measure name -> (number of name arguments, what each argument names).
 MEASURES: dict[str, tuple[int, str]] = {
-    "angle": (1, "joint"), "omega": (1, "joint"), "travel": (1, "joint"),
-    "speed": (1, "joint"), "dist": (2, "point"), "x": (1, "point"), "y": (1, "point"),
-    "z": (1, "point"), "vx": (1, "point"), "vy": (1, "point"), "vz": (1, "point"),
+    "angle": (1, "joint"),
+    "omega": (1, "joint"),
+    "travel": (1, "joint"),
+    "speed": (1, "joint"),
+    "dist": (2, "point"),
+    "x": (1, "point"),
+    "y": (1, "point"),
+    "z": (1, "point"),
+    "vx": (1, "point"),
+    "vy": (1, "point"),
+    "vz": (1, "point"),
     "effort": (1, "motion"),
 }
 
@@ -104,6 +123,7 @@ def _v_select(pick):
         keys, values = np.stack(arrays[:n]), np.stack(arrays[n:])
         index = pick(keys, axis=0)
         return np.take_along_axis(values, index[np.newaxis], axis=0)[0]
+
     return select
 
 

@@ -1,4 +1,5 @@
 """Tokenizer: numbers, names, operators; everything else is an error with its offset."""
+
 from __future__ import annotations
 
 import re
@@ -7,7 +8,7 @@ from dataclasses import dataclass
 
 from .errors import ExpressionError
 
-__all__ = ["Token", "tokenize", "KEYWORDS"]
+__all__ = ["KEYWORDS", "Token", "tokenize"]
 
 KEYWORDS = frozenset({"and", "or", "not"})
 

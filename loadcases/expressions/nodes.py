@@ -3,15 +3,34 @@
 `offset` is the 0-based character offset in the expression text that an error about the
 node points at (the operator of a binary operation, the name of a call).
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 
 __all__ = [
-    "Node", "Num", "Name", "Time", "Op", "Call", "Measure", "Table",
-    "children", "with_children", "walk", "num", "neg", "add", "sub", "mul", "div", "power",
-    "call", "COMPARISONS", "LOGICAL",
+    "COMPARISONS",
+    "LOGICAL",
+    "Call",
+    "Measure",
+    "Name",
+    "Node",
+    "Num",
+    "Op",
+    "Table",
+    "Time",
+    "add",
+    "call",
+    "children",
+    "div",
+    "mul",
+    "neg",
+    "num",
+    "power",
+    "sub",
+    "walk",
+    "with_children",
 ]
 
 COMPARISONS = frozenset({"<", "<=", ">", ">=", "==", "!="})

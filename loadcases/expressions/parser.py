@@ -3,6 +3,7 @@
 Precedence, lowest first: `or`, `and`, `not`, comparisons (not chained), `+ -`, `* /`,
 unary `- +`, `**` / `^` (right-associative, so -2**2 == -4 and 2**-1 == 0.5).
 """
+
 from __future__ import annotations
 
 import difflib
@@ -14,7 +15,7 @@ from .functions import FUNCTIONS, MEASURES
 from .lexer import Token, tokenize
 from .nodes import COMPARISONS, Call, Measure, Name, Node, Num, Op, Table
 
-__all__ = ["parse_tree", "TOO_DEEP"]
+__all__ = ["TOO_DEEP", "parse_tree"]
 
 TOO_DEEP = "expression is nested too deeply"
 
@@ -25,8 +26,21 @@ _UNARY_OPERAND = 70
 _RIGHT_ASSOCIATIVE = {"**", "^"}
 _TERMINATORS = {")", ","}
 _FORBIDDEN_CALLS = frozenset(
-    {"eval", "exec", "compile", "open", "getattr", "setattr", "delattr", "globals",
-     "locals", "vars", "input", "breakpoint", "import"}
+    {
+        "eval",
+        "exec",
+        "compile",
+        "open",
+        "getattr",
+        "setattr",
+        "delattr",
+        "globals",
+        "locals",
+        "vars",
+        "input",
+        "breakpoint",
+        "import",
+    }
 )
 _CALLABLE = sorted({*FUNCTIONS, *MEASURES, "table"})
 
@@ -159,8 +173,7 @@ class _Parser:
         if func in MEASURES:
             count, what = MEASURES[func]
             _check_count(func, count, False, len(args), name.offset)
-            return Measure(func, tuple(_bare(func, a, f"a {what} name") for a in args),
-                           name.offset)
+            return Measure(func, tuple(_bare(func, a, f"a {what} name") for a in args), name.offset)
         if func == "table":
             _check_count(func, 2, False, len(args), name.offset)
             table = _bare(func, args[0], "a table name", "first ")

@@ -1,4 +1,5 @@
 """Compile-time passes: resolve names and tables, then fold constant sub-expressions."""
+
 from __future__ import annotations
 
 import difflib
@@ -8,7 +9,17 @@ from dataclasses import dataclass, field, replace
 
 from .errors import ExpressionError
 from .nodes import (
-    Call, Measure, Name, Node, Num, Op, Table, Time, children, walk, with_children,
+    Call,
+    Measure,
+    Name,
+    Node,
+    Num,
+    Op,
+    Table,
+    Time,
+    children,
+    walk,
+    with_children,
 )
 from .scalar import build_scalar
 
@@ -87,8 +98,11 @@ def fold(node: Node) -> Node:
         raise ExpressionError("division by zero", node.offset)
     if isinstance(node, (Op, Call)) and all(isinstance(a, Num) for a in node.args):
         return Num(_constant(node), node.offset)
-    if isinstance(node, Op) and node.op == "*" and any(
-            isinstance(a, Num) and a.value == 0.0 for a in node.args):
+    if (
+        isinstance(node, Op)
+        and node.op == "*"
+        and any(isinstance(a, Num) and a.value == 0.0 for a in node.args)
+    ):
         return Num(0.0, node.offset)
     return node
 

@@ -4,6 +4,7 @@ The tree is walked once here; each node becomes one closure that calls its child
 closures, with constant operands captured as plain floats. Math errors are raised as
 ExpressionError at the offset of the operation that failed.
 """
+
 from __future__ import annotations
 
 import math
@@ -21,8 +22,12 @@ Scalar = Callable[[float, object], float]
 
 _ARITHMETIC = {"+": operator.add, "-": operator.sub, "*": operator.mul}
 _COMPARE = {
-    "<": operator.lt, "<=": operator.le, ">": operator.gt, ">=": operator.ge,
-    "==": operator.eq, "!=": operator.ne,
+    "<": operator.lt,
+    "<=": operator.le,
+    ">": operator.gt,
+    ">=": operator.ge,
+    "==": operator.eq,
+    "!=": operator.ne,
 }
 
 
@@ -91,6 +96,7 @@ def _divide(fa: Scalar, fb: Scalar, offset: int) -> Scalar:
         if b == 0.0:
             raise ExpressionError("division by zero", offset)
         return a / b
+
     return divide
 
 
@@ -101,6 +107,7 @@ def _power(fa: Scalar, fb: Scalar, offset: int) -> Scalar:
             return math.pow(a, b)
         except (ValueError, OverflowError) as error:
             raise _math_error("**", offset, error) from None
+
     return power
 
 
@@ -119,6 +126,7 @@ def _call(node: Call) -> Scalar:
                 return f(a)
             except (ValueError, OverflowError) as error:
                 raise _math_error(name, offset, error) from None
+
         return guarded
     if len(args) == 2:
         fa, fb = args
@@ -144,6 +152,7 @@ def _step(node: Call) -> Scalar:
             return h1
         u = (v - x0) * inv
         return h0 + dh * u * u * (3.0 - 2.0 * u)
+
     return cubic
 
 
@@ -154,6 +163,7 @@ def _measure(node: Measure) -> Scalar:
         if s is None:
             raise ExpressionError(f"{label} needs the mechanism state", offset)
         return get(s)
+
     return measure
 
 

@@ -2,6 +2,7 @@
 
 Math errors give nan or inf here (numpy semantics), not exceptions.
 """
+
 from __future__ import annotations
 
 import operator
@@ -17,10 +18,17 @@ __all__ = ["Vector", "build_vector"]
 Vector = Callable[[np.ndarray], "np.ndarray | float"]
 
 _BINARY: dict[str, Callable] = {
-    "+": operator.add, "-": operator.sub, "*": operator.mul, "/": np.divide,
+    "+": operator.add,
+    "-": operator.sub,
+    "*": operator.mul,
+    "/": np.divide,
     "**": np.float_power,
-    "<": np.less, "<=": np.less_equal, ">": np.greater, ">=": np.greater_equal,
-    "==": np.equal, "!=": np.not_equal,
+    "<": np.less,
+    "<=": np.less_equal,
+    ">": np.greater,
+    ">=": np.greater_equal,
+    "==": np.equal,
+    "!=": np.not_equal,
     "and": lambda a, b: np.logical_and(a != 0.0, b != 0.0),
     "or": lambda a, b: np.logical_or(a != 0.0, b != 0.0),
 }

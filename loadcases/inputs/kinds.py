@@ -1,4 +1,5 @@
 """Which kind of input file a path is (mechanism, case or set): decided here, and only here."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -7,18 +8,23 @@ from typing import Any, Literal
 from loadcases.diagnostics import Diagnostic
 from loadcases.source import load_yaml
 
-__all__ = ["FileKind", "file_kind", "unknown_kind", "KIND_HINT"]
+__all__ = ["KIND_HINT", "FileKind", "file_kind", "unknown_kind"]
 
 FileKind = Literal["mechanism", "case", "set"]
 SUFFIXES: dict[str, FileKind] = {
-    ".mech.yaml": "mechanism", ".case.yaml": "case", ".set.yaml": "set",
-    ".mech.yml": "mechanism", ".case.yml": "case", ".set.yml": "set"}
+    ".mech.yaml": "mechanism",
+    ".case.yaml": "case",
+    ".set.yaml": "set",
+    ".mech.yml": "mechanism",
+    ".case.yml": "case",
+    ".set.yml": "set",
+}
 KIND_HINT = "name it *.mech.yaml, *.case.yaml or *.set.yaml"
 _MECHANISM_KEYS = {"bodies", "joints", "points", "forces"}
 
 
 def file_kind(path: str | Path) -> FileKind | None:
-    """"mechanism", "case" or "set" from the suffix; a file without one of the suffixes is
+    """ "mechanism", "case" or "set" from the suffix; a file without one of the suffixes is
     read and told by its top-level keys (None if they do not tell). Raises InputError if such
     a file cannot be read or parsed."""
     name = str(path).lower()

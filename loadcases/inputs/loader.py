@@ -3,21 +3,27 @@
 `load_case`, `load_mechanism` and `load_set` raise InputError carrying all diagnostics
 (errors and warnings); on success the warnings are kept on the returned object.
 """
+
 from __future__ import annotations
 
 import glob
 import hashlib
 import os
 import re
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
-from collections.abc import Mapping
 from typing import Any
 
 from pydantic import BaseModel, ValidationError
 
 from loadcases.checks import (
-    check_case, check_case_alone, check_mechanism, check_set, check_set_cases, resolve_initial,
+    check_case,
+    check_case_alone,
+    check_mechanism,
+    check_set,
+    check_set_cases,
+    resolve_initial,
 )
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.kinds import file_kind, unknown_kind
@@ -27,8 +33,16 @@ from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import did_you_mean, validation_diagnostics
 from loadcases.source import KeyPath, Locator, SourceTree, load_yaml
 
-__all__ = ["CaseFile", "MechanismFile", "SetFile", "load_case", "load_mechanism", "load_set",
-           "validate_files", "parse_key_path"]
+__all__ = [
+    "CaseFile",
+    "MechanismFile",
+    "SetFile",
+    "load_case",
+    "load_mechanism",
+    "load_set",
+    "parse_key_path",
+    "validate_files",
+]
 
 _KEY_PART = re.compile(r"([^.\[\]]+)|\[(\d+)\]")
 
@@ -101,8 +115,9 @@ def _mapping_check(tree: SourceTree) -> list[Diagnostic]:
     return [Diagnostic(tree.file, 1, 1, "", "expected a mapping of keys at the top of the file")]
 
 
-def _file_units(locator: Locator, inherited: dict[str, str]) -> tuple[dict[str, str],
-                                                                       list[Diagnostic]]:
+def _file_units(
+    locator: Locator, inherited: dict[str, str]
+) -> tuple[dict[str, str], list[Diagnostic]]:
     """Units of bare numbers: the `units:` header over `inherited` (SI where unset)."""
     raw = locator.data.get("units", {}) if isinstance(locator.data, dict) else {}
     try:
@@ -113,8 +128,9 @@ def _file_units(locator: Locator, inherited: dict[str, str]) -> tuple[dict[str, 
     return {**inherited, **header.as_dict()}, []
 
 
-def _validate(model: type[BaseModel], locator: Locator, units: dict[str, str]
-              ) -> tuple[Any, list[Diagnostic]]:
+def _validate(
+    model: type[BaseModel], locator: Locator, units: dict[str, str]
+) -> tuple[Any, list[Diagnostic]]:
     """The validated model (None if invalid) and the diagnostics of validating it."""
     try:
         return model.model_validate(locator.data, context={"units": units}), []
@@ -162,19 +178,22 @@ def load_mechanism(path: str | Path) -> MechanismFile:
     locator = Locator(tree)
     units, found = _file_units(locator, {})
     if isinstance(locator.data, dict):
-        put_parameters(locator.data, parameter_values(locator.data.get("parameters"),
-                                                      file_units=units))
+        put_parameters(
+            locator.data, parameter_values(locator.data.get("parameters"), file_units=units)
+        )
     model, more = _validate(MechanismModel, locator, units)
     diagnostics += found + more
     if model is not None:
         diagnostics += check_mechanism(model, locator)
     _raise_on_errors(diagnostics)
-    return MechanismFile(str(path), model, _sha256(Path(path).read_bytes()), locator,
-                         tuple(diagnostics))
+    return MechanismFile(
+        str(path), model, _sha256(Path(path).read_bytes()), locator, tuple(diagnostics)
+    )
 
 
-def _mechanism_source(case_locator: Locator, case_units: dict[str, str]
-                      ) -> tuple[Locator | None, str | None, dict[str, str], list[Diagnostic]]:
+def _mechanism_source(
+    case_locator: Locator, case_units: dict[str, str]
+) -> tuple[Locator | None, str | None, dict[str, str], list[Diagnostic]]:
     """Locator of the case's mechanism (inline or file), its path and inherited units."""
     raw = case_locator.data.get("mechanism")
     if isinstance(raw, dict):
@@ -185,9 +204,18 @@ def _mechanism_source(case_locator: Locator, case_units: dict[str, str]
     if not Path(path).is_file():
         folder = Path(path).parent
         names = [p.name for p in folder.glob("*.y*ml")] if folder.is_dir() else []
-        return None, path, {}, [case_locator.diagnostic(
-            ("mechanism",), f"mechanism file not found: {path}",
-            hint=did_you_mean(Path(path).name, names))]
+        return (
+            None,
+            path,
+            {},
+            [
+                case_locator.diagnostic(
+                    ("mechanism",),
+                    f"mechanism file not found: {path}",
+                    hint=did_you_mean(Path(path).name, names),
+                )
+            ],
+        )
     try:
         tree, diagnostics = _read_tree(path)
     except InputError as error:
@@ -235,22 +263,36 @@ def load_case(path: str | Path, overrides: Mapping[str, float] | None = None) ->
         raise InputError(diagnostics)  # not reached: each of them missing is an error above
     contents = [Path(path).read_bytes()] + ([Path(mech_path).read_bytes()] if mech_path else [])
     return CaseFile(
-        path=str(path), case=case, mechanism=mechanism, mechanism_path=mech_path,
+        path=str(path),
+        case=case,
+        mechanism=mechanism,
+        mechanism_path=mech_path,
         parameters={**mechanism.parameters, **case.parameters, **(overrides or {})},
         input_sha256=_sha256(*contents),
         locators={"case": case_locator, "mechanism": mech_locator},
-        warnings=tuple(diagnostics), parameter_refs=frozenset(refs))
+        warnings=tuple(diagnostics),
+        parameter_refs=frozenset(refs),
+    )
 
 
-def _put_parameters(case_locator: Locator, mech_locator: Locator | None,
-                    case_units: dict, mech_units: dict, overrides) -> set[ParameterRef]:
+def _put_parameters(
+    case_locator: Locator,
+    mech_locator: Locator | None,
+    case_units: dict,
+    mech_units: dict,
+    overrides,
+) -> set[ParameterRef]:
     """Parameter values (mechanism, then case, then overrides) put where a numeric field
     names a parameter, in both raw trees; returns the fields so set (key path, name)."""
     mech_data = mech_locator.data if mech_locator is not None else {}
-    values = parameter_values(mech_data.get("parameters") if isinstance(mech_data, dict)
-                              else None, file_units=mech_units)
-    values.update(parameter_values(case_locator.data.get("parameters"), file_units=case_units,
-                                   overrides=overrides))
+    values = parameter_values(
+        mech_data.get("parameters") if isinstance(mech_data, dict) else None, file_units=mech_units
+    )
+    values.update(
+        parameter_values(
+            case_locator.data.get("parameters"), file_units=case_units, overrides=overrides
+        )
+    )
     used = put_parameters(case_locator.data, values)
     if mech_locator is not None and mech_locator.data is not case_locator.data.get("mechanism"):
         used |= put_parameters(mech_locator.data, values, ("mechanism",))
@@ -267,8 +309,9 @@ def _expand_cases(model: SetModel, locator: Locator) -> tuple[list[str], list[Di
             continue  # never globbed: check_set reports it
         matches = sorted(glob.glob(os.path.join(folder, pattern), recursive=True))
         if not matches:
-            diagnostics.append(locator.diagnostic(("cases", index),
-                                                  f"no case file matches '{pattern}'"))
+            diagnostics.append(
+                locator.diagnostic(("cases", index), f"no case file matches '{pattern}'")
+            )
         paths += [os.path.normpath(m) for m in matches if os.path.normpath(m) not in paths]
     return paths, diagnostics
 

@@ -2,6 +2,7 @@
 a parameter, swept by a set) puts the parameter's SI value in place of its name before the
 file is validated. Only scalar values that are exactly a parameter's name count, and never
 under keys that hold names (bodies, joints, types ...)."""
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -9,19 +10,59 @@ from typing import Any
 
 from loadcases.units import SIValue, UnitError, to_si
 
-__all__ = ["parameter_values", "put_parameters", "ParameterRef"]
+__all__ = ["ParameterRef", "parameter_values", "put_parameters"]
 
 # Keys whose string values are names or words, never numbers.
-_NAME_KEYS = frozenset({
-    "name", "case", "set", "mechanism", "body", "bodies", "point", "points", "joint", "joints",
-    "frame", "type", "shape", "force", "motion", "contact", "law", "interpolation",
-    "extrapolate", "model", "then", "when", "expression", "abscissa", "loads",
-    "units", "effects", "cases", "report", "redundant", "integrator", "quantity",
-    "activate", "deactivate", "release", "lock", "template", "output", "requests"})
+_NAME_KEYS = frozenset(
+    {
+        "name",
+        "case",
+        "set",
+        "mechanism",
+        "body",
+        "bodies",
+        "point",
+        "points",
+        "joint",
+        "joints",
+        "frame",
+        "type",
+        "shape",
+        "force",
+        "motion",
+        "contact",
+        "law",
+        "interpolation",
+        "extrapolate",
+        "model",
+        "then",
+        "when",
+        "expression",
+        "abscissa",
+        "loads",
+        "units",
+        "effects",
+        "cases",
+        "report",
+        "redundant",
+        "integrator",
+        "quantity",
+        "activate",
+        "deactivate",
+        "release",
+        "lock",
+        "template",
+        "output",
+        "requests",
+    }
+)
 
 
-def parameter_values(*sections: Any, file_units: Mapping[str, str] | None = None,
-                     overrides: Mapping[str, float] | None = None) -> dict[str, float]:
+def parameter_values(
+    *sections: Any,
+    file_units: Mapping[str, str] | None = None,
+    overrides: Mapping[str, float] | None = None,
+) -> dict[str, float]:
     """SI values of the raw `parameters:` mappings given (later ones override), then of
     `overrides`; values that cannot be read are left to the validation to report."""
     values: dict[str, float] = {}
@@ -38,8 +79,9 @@ def parameter_values(*sections: Any, file_units: Mapping[str, str] | None = None
 ParameterRef = tuple[tuple[str, ...], str]  # (key path of the field, parameter name)
 
 
-def put_parameters(data: Any, values: Mapping[str, float],
-                   prefix: tuple[str, ...] = ()) -> set[ParameterRef]:
+def put_parameters(
+    data: Any, values: Mapping[str, float], prefix: tuple[str, ...] = ()
+) -> set[ParameterRef]:
     """Replace, in place, scalar values equal to a parameter name by its SI value; returns
     each field so set as (key path after `prefix`, parameter name), so that a set can tell
     whether the field belongs to the part of the mechanism a case uses. The `parameters:`
@@ -61,5 +103,6 @@ def put_parameters(data: Any, values: Mapping[str, float],
             used.add((path, node.strip()))
             return SIValue(values[node.strip()])
         return node
+
     walk(data, prefix)
     return used

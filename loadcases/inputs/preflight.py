@@ -1,5 +1,6 @@
 """Checks of a `loads run` command line before anything is solved: the output folder can
 take results, and no two case files would write the same result files."""
+
 from __future__ import annotations
 
 import os
@@ -10,7 +11,7 @@ from loadcases.clip import clip
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.source import load_yaml
 
-__all__ = ["output_folder_problem", "duplicate_case_names"]
+__all__ = ["duplicate_case_names", "output_folder_problem"]
 
 
 def output_folder_problem(folder: Path) -> str | None:
@@ -46,8 +47,18 @@ def duplicate_case_names(case_files: Iterable[Path]) -> list[Diagnostic]:
             continue
         if name in first:
             line, col = tree.value_position(("case",))
-            found.append(Diagnostic(str(path), line, col, "case", (
-                f"case name '{clip(name)}' is also the name in {first[name].name} (both "
-                f"would write {clip(name)}.csv)"), hint="give each case file its own name"))
+            found.append(
+                Diagnostic(
+                    str(path),
+                    line,
+                    col,
+                    "case",
+                    (
+                        f"case name '{clip(name)}' is also the name in {first[name].name} (both "
+                        f"would write {clip(name)}.csv)"
+                    ),
+                    hint="give each case file its own name",
+                )
+            )
         first.setdefault(name, Path(path))
     return found

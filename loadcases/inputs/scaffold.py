@@ -5,6 +5,7 @@ opened, jettison; solar-array deployment; rod-end duty cycle). A skeleton is a c
 runnable case with its mechanism inline, written as `NAME.case.yaml` with `case: NAME`.
 Files are never overwritten; the new file appears whole or not at all.
 """
+
 from __future__ import annotations
 
 import difflib
@@ -16,8 +17,15 @@ import yaml
 
 from loadcases.atomic import atomic_write_text
 
-__all__ = ["Skeleton", "SKELETONS", "TEMPLATE_DIR", "template_path", "skeleton_text",
-           "write_skeleton", "check_name"]
+__all__ = [
+    "SKELETONS",
+    "TEMPLATE_DIR",
+    "Skeleton",
+    "check_name",
+    "skeleton_text",
+    "template_path",
+    "write_skeleton",
+]
 
 TEMPLATE_DIR = Path(__file__).resolve().parents[2] / "templates" / "cases"
 CASE_SUFFIX = ".case.yaml"
@@ -34,20 +42,38 @@ class Skeleton:
 
 
 SKELETONS: dict[str, Skeleton] = {
-    "lifting": Skeleton("lifting.case.yaml", "door lifted by its handle: handle torque, "
-                        "guide and latch-shaft reactions vs latch-shaft rotation"),
-    "jamming": Skeleton("jamming.case.yaml", "jam in the lifting linkage under the ultimate "
-                        "handle load: rod forces vs latch-shaft rotation"),
-    "opening": Skeleton("opening.case.yaml", "door opened by its counterbalance strut in "
-                        "wind: hinge and CB rod forces vs hinge angle"),
-    "opened": Skeleton("opened.case.yaml", "door open as a staircase under crew loads: "
-                       "hinge, CB rod and wire forces (static)"),
-    "jettison": Skeleton("jettison.case.yaml", "door thrown open by air loads: hinge forces, "
-                         "angular rate and acceleration vs hinge angle (dynamic)"),
-    "deployment": Skeleton("deployment.case.yaml", "spring-driven solar array deployment: "
-                           "hinge-line angles, rates, spring torques and reactions"),
-    "rod-end": Skeleton("rod_end_duty_cycle.case.yaml", "flight-control rod-end on a "
-                        "slider-crank actuator duty cycle: rod-end and actuator forces"),
+    "lifting": Skeleton(
+        "lifting.case.yaml",
+        "door lifted by its handle: handle torque, "
+        "guide and latch-shaft reactions vs latch-shaft rotation",
+    ),
+    "jamming": Skeleton(
+        "jamming.case.yaml",
+        "jam in the lifting linkage under the ultimate "
+        "handle load: rod forces vs latch-shaft rotation",
+    ),
+    "opening": Skeleton(
+        "opening.case.yaml",
+        "door opened by its counterbalance strut in wind: hinge and CB rod forces vs hinge angle",
+    ),
+    "opened": Skeleton(
+        "opened.case.yaml",
+        "door open as a staircase under crew loads: hinge, CB rod and wire forces (static)",
+    ),
+    "jettison": Skeleton(
+        "jettison.case.yaml",
+        "door thrown open by air loads: hinge forces, "
+        "angular rate and acceleration vs hinge angle (dynamic)",
+    ),
+    "deployment": Skeleton(
+        "deployment.case.yaml",
+        "spring-driven solar array deployment: "
+        "hinge-line angles, rates, spring torques and reactions",
+    ),
+    "rod-end": Skeleton(
+        "rod_end_duty_cycle.case.yaml",
+        "flight-control rod-end on a slider-crank actuator duty cycle: rod-end and actuator forces",
+    ),
 }
 
 
@@ -65,9 +91,11 @@ def check_name(name: str) -> None:
     """ValueError unless `name` can be both a file name and a case name: letters, digits
     and `_ . + = , -`, starting with a letter or digit, without the `.case.yaml` suffix."""
     if not _NAME.fullmatch(name) or name.endswith(CASE_SUFFIX):
-        raise ValueError(f"invalid name '{name}': use letters, digits and _ . + = , - "
-                         "(starting with a letter or digit), without a folder or "
-                         f"the {CASE_SUFFIX} suffix")
+        raise ValueError(
+            f"invalid name '{name}': use letters, digits and _ . + = , - "
+            "(starting with a letter or digit), without a folder or "
+            f"the {CASE_SUFFIX} suffix"
+        )
 
 
 def _yaml_scalar(name: str) -> str:

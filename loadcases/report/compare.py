@@ -11,6 +11,7 @@ mechanism, 1e-37 N*m beside a 1.5 N*m torque, do not show as a 20 % change). A c
 only in NEW is `new`, only in OLD `vanished`; one whose max and min moved by no more than
 `tolerance` of its old magnitude is `same`, else `changed`.
 """
+
 from __future__ import annotations
 
 import csv
@@ -21,11 +22,20 @@ from pathlib import Path
 
 from loadcases.atomic import atomic_path, atomic_write_text
 
-__all__ = ["Peak", "ComparedRow", "COMPARE_COLUMNS", "read_envelope", "compare_envelopes",
-           "compare_csv_text", "write_compare", "SAME_TOLERANCE", "NOISE_FLOOR"]
+__all__ = [
+    "COMPARE_COLUMNS",
+    "NOISE_FLOOR",
+    "SAME_TOLERANCE",
+    "ComparedRow",
+    "Peak",
+    "compare_csv_text",
+    "compare_envelopes",
+    "read_envelope",
+    "write_compare",
+]
 
 SAME_TOLERANCE = 1e-9  # relative: below it a change is round-off, not a change of the design
-NOISE_FLOOR = 1e-6     # of the request's largest magnitude: below it a peak is round-off
+NOISE_FLOOR = 1e-6  # of the request's largest magnitude: below it a peak is round-off
 _STATUS_ORDER = {"changed": 0, "new": 1, "vanished": 2, "same": 3}
 
 
@@ -99,11 +109,19 @@ def read_envelope(path: Path) -> dict[str, Peak]:
         reader = csv.DictReader(handle)
         missing = {"column", "max", "max_run", "min", "min_run"} - set(reader.fieldnames or ())
         if missing:
-            raise ValueError(f"{source}: not an envelope table (no column "
-                             f"{', '.join(sorted(missing))})")
-        return {row["column"]: Peak(_number(row["max"]), row["max_run"] or "",
-                                    _number(row["min"]), row["min_run"] or "",
-                                    row.get("unit") or "") for row in reader}
+            raise ValueError(
+                f"{source}: not an envelope table (no column {', '.join(sorted(missing))})"
+            )
+        return {
+            row["column"]: Peak(
+                _number(row["max"]),
+                row["max_run"] or "",
+                _number(row["min"]),
+                row["min_run"] or "",
+                row.get("unit") or "",
+            )
+            for row in reader
+        }
 
 
 def _saved_envelope(folder: Path) -> dict[str, Peak]:
@@ -113,14 +131,16 @@ def _saved_envelope(folder: Path) -> dict[str, Peak]:
         raise ValueError(f"{folder}: no such file or folder")
     report = saved_report([folder])
     if not report.runs:
-        raise ValueError(f"{folder}: no envelope.csv and no saved results (NAME.csv with a "
-                         "'time' column)")
-    return {row.column: Peak(row.max, row.max_run or "", row.min, row.min_run or "",
-                             row.unit or "") for row in report.rows}
+        raise ValueError(
+            f"{folder}: no envelope.csv and no saved results (NAME.csv with a 'time' column)"
+        )
+    return {
+        row.column: Peak(row.max, row.max_run or "", row.min, row.min_run or "", row.unit or "")
+        for row in report.rows
+    }
 
 
-def _diff(old: float | None, new: float | None, scale: float) -> tuple[float | None,
-                                                                          float | None]:
+def _diff(old: float | None, new: float | None, scale: float) -> tuple[float | None, float | None]:
     if old is None or new is None:
         return None, None
     diff = new - old
@@ -137,8 +157,9 @@ def _request_scales(peaks: dict[str, Peak]) -> dict[tuple[str, str], float]:
     return scales
 
 
-def _row(column: str, old: Peak | None, new: Peak | None, tolerance: float,
-         request_scale: float) -> ComparedRow:
+def _row(
+    column: str, old: Peak | None, new: Peak | None, tolerance: float, request_scale: float
+) -> ComparedRow:
     blank = Peak(None, "", None, "")
     o, n = old or blank, new or blank
     scale = max(o.magnitude, NOISE_FLOOR * request_scale)
@@ -150,13 +171,28 @@ def _row(column: str, old: Peak | None, new: Peak | None, tolerance: float,
         moved = [abs(c) for c in (max_change, min_change) if c is not None]
         from_zero = scale == 0.0 and any(d for d in (max_diff, min_diff))
         status = "changed" if from_zero or any(c > tolerance for c in moved) else "same"
-    return ComparedRow(column, n.unit or o.unit, status, o.max, n.max, max_diff, max_change,
-                       o.max_run, n.max_run, o.min, n.min, min_diff, min_change, o.min_run,
-                       n.min_run)
+    return ComparedRow(
+        column,
+        n.unit or o.unit,
+        status,
+        o.max,
+        n.max,
+        max_diff,
+        max_change,
+        o.max_run,
+        n.max_run,
+        o.min,
+        n.min,
+        min_diff,
+        min_change,
+        o.min_run,
+        n.min_run,
+    )
 
 
-def compare_envelopes(old: dict[str, Peak], new: dict[str, Peak], *,
-                      tolerance: float = SAME_TOLERANCE) -> list[ComparedRow]:
+def compare_envelopes(
+    old: dict[str, Peak], new: dict[str, Peak], *, tolerance: float = SAME_TOLERANCE
+) -> list[ComparedRow]:
     """Every column of either envelope: changed rows first (largest relative change
     first), then new, vanished and unchanged rows in the envelopes' order."""
     columns = list(old) + [c for c in new if c not in old]
@@ -165,11 +201,17 @@ def compare_envelopes(old: dict[str, Peak], new: dict[str, Peak], *,
     def scale(column: str) -> float:
         peak = old.get(column)
         return scales[(column.rsplit(".", 1)[0], peak.unit)] if peak else 0.0
+
     rows = [_row(c, old.get(c), new.get(c), tolerance, scale(c)) for c in columns]
     order = {c: i for i, c in enumerate(columns)}
-    return sorted(rows, key=lambda r: (_STATUS_ORDER[r.status],
-                                       -r.largest_change if r.status == "changed" else 0.0,
-                                       order[r.column]))
+    return sorted(
+        rows,
+        key=lambda r: (
+            _STATUS_ORDER[r.status],
+            -r.largest_change if r.status == "changed" else 0.0,
+            order[r.column],
+        ),
+    )
 
 
 def _text(value: object) -> object:
@@ -200,15 +242,16 @@ def write_compare(rows: list[ComparedRow], path: Path, *, old: str, new: str) ->
     def cell(value: object, percent: bool = False) -> WriteOnlyCell:
         out = WriteOnlyCell(sheet, value=_text(value))
         if isinstance(value, str):
-            out.data_type = "s"   # a run name is text, never a formula
+            out.data_type = "s"  # a run name is text, never a formula
         elif percent and value is not None:
             out.number_format = "0.00%"
         return out
 
     sheet.append([cell(name) for name in COMPARE_COLUMNS])
     for row in rows:
-        sheet.append([cell(getattr(row, name), name.endswith("_change"))
-                      for name in COMPARE_COLUMNS])
+        sheet.append(
+            [cell(getattr(row, name), name.endswith("_change")) for name in COMPARE_COLUMNS]
+        )
     sources = workbook.create_sheet("Sources")
     for label, where in (("old", old), ("new", new)):
         sources.append([cell(label), cell(where)])

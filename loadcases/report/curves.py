@@ -12,6 +12,7 @@ pendulum's angle) contributes every branch; outside a run's range it contributes
 At each grid point the upper (lower) envelope is the max (min) over the runs covering it;
 points covered by no run are NaN. Rows with a NaN abscissa or value are skipped.
 """
+
 from __future__ import annotations
 
 from collections.abc import Iterable
@@ -23,11 +24,18 @@ from loadcases.build.model import ABSCISSA_COLUMN
 from loadcases.results.files import TIME_COLUMN
 from loadcases.results.saved import SavedRun
 
-__all__ = ["EnvelopeCurve", "envelope_curves", "envelope_on_grid", "main_columns",
-           "plot_curves", "MAX_GRID_POINTS", "MAIN_COLUMNS"]
+__all__ = [
+    "MAIN_COLUMNS",
+    "MAX_GRID_POINTS",
+    "EnvelopeCurve",
+    "envelope_curves",
+    "envelope_on_grid",
+    "main_columns",
+    "plot_curves",
+]
 
-MAX_GRID_POINTS = 20_000   # more would only slow the workbook charts down
-MAIN_COLUMNS = 4           # columns charted and plotted per family
+MAX_GRID_POINTS = 20_000  # more would only slow the workbook charts down
+MAIN_COLUMNS = 4  # columns charted and plotted per family
 LOAD_UNITS = frozenset({"N", "N*m"})
 
 
@@ -53,11 +61,12 @@ def _grid(xs: list[np.ndarray]) -> np.ndarray:
     return grid
 
 
-def _accumulate(grid: np.ndarray, x: np.ndarray, y: np.ndarray,
-                upper: np.ndarray, lower: np.ndarray) -> None:
+def _accumulate(
+    grid: np.ndarray, x: np.ndarray, y: np.ndarray, upper: np.ndarray, lower: np.ndarray
+) -> None:
     """Fold one run (x, y) into upper/lower on `grid` (segments between rows)."""
     ok = np.isfinite(x) & np.isfinite(y)
-    if x.size == 1 or ok.sum() == 1:   # a single row (static analysis) is a point
+    if x.size == 1 or ok.sum() == 1:  # a single row (static analysis) is a point
         keep = np.flatnonzero(ok)
         at = np.searchsorted(grid, x[keep])
         hit = (at < grid.size) & (grid[np.minimum(at, grid.size - 1)] == x[keep])
@@ -70,8 +79,7 @@ def _accumulate(grid: np.ndarray, x: np.ndarray, y: np.ndarray,
     last = np.searchsorted(grid, np.maximum(x0, x1), side="right")
     counts = np.maximum(last - first, 0)
     owner = np.repeat(np.arange(seg.size), counts)
-    index = first[owner] + (np.arange(owner.size) - np.repeat(np.cumsum(counts) - counts,
-                                                               counts))
+    index = first[owner] + (np.arange(owner.size) - np.repeat(np.cumsum(counts) - counts, counts))
     dx = (x1 - x0)[owner]
     s = np.divide(grid[index] - x0[owner], dx, out=np.zeros(owner.size), where=dx != 0.0)
     ya, yb = y0[owner], y1[owner]
@@ -80,8 +88,9 @@ def _accumulate(grid: np.ndarray, x: np.ndarray, y: np.ndarray,
     np.minimum.at(lower, index, np.where(dx == 0.0, np.minimum(ya, yb), values))
 
 
-def envelope_on_grid(pairs: Iterable[tuple[np.ndarray, np.ndarray]], grid: np.ndarray
-                     ) -> tuple[np.ndarray, np.ndarray]:
+def envelope_on_grid(
+    pairs: Iterable[tuple[np.ndarray, np.ndarray]], grid: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
     """(upper, lower) on `grid` (sorted) of curves `(x, y)`; NaN where no curve covers."""
     upper = np.full(grid.size, -np.inf)
     lower = np.full(grid.size, np.inf)
@@ -98,8 +107,14 @@ def _family_curve(family: str, runs: list[SavedRun]) -> EnvelopeCurve:
     xs = [run.channels[name] if use_abscissa else run.time for run in runs]
     units = {k: v for run in runs for k, v in run.units.items()}
     grid = _grid(xs)
-    curve = EnvelopeCurve(family, name, units.get(name, "s" if name == TIME_COLUMN else ""),
-                          grid, runs=tuple(run.name for run in runs), units=units)
+    curve = EnvelopeCurve(
+        family,
+        name,
+        units.get(name, "s" if name == TIME_COLUMN else ""),
+        grid,
+        runs=tuple(run.name for run in runs),
+        units=units,
+    )
     columns = dict.fromkeys(c for run in runs for c in run.channels if c != ABSCISSA_COLUMN)
     for column in columns:
         pairs = [(x, run.channels[column]) for x, run in zip(xs, runs) if column in run.channels]
@@ -114,7 +129,7 @@ def envelope_curves(runs: Iterable[SavedRun]) -> list[EnvelopeCurve]:
     for run in runs:
         families.setdefault(run.family, []).append(run)
     curves = [_family_curve(family, members) for family, members in families.items()]
-    return [curve for curve in curves if curve.x.size >= 2]   # one point is no curve
+    return [curve for curve in curves if curve.x.size >= 2]  # one point is no curve
 
 
 def main_columns(curve: EnvelopeCurve) -> list[str]:
@@ -127,13 +142,24 @@ def main_columns(curve: EnvelopeCurve) -> list[str]:
         values = np.concatenate([curve.upper[column], curve.lower[column]])
         finite = np.abs(values[np.isfinite(values)])
         return float(finite.max()) if finite.size else -1.0
+
     return sorted(loads, key=peak, reverse=True)[:MAIN_COLUMNS]
 
 
 def plot_curves(curves: Iterable[EnvelopeCurve]) -> list[dict[str, object]]:
     """One mapping per main column of each family, as `loadcases.report.plots` draws them:
     family, column, unit, abscissa_name, abscissa_unit, x, upper, lower."""
-    return [{"family": c.family, "column": column, "unit": c.units.get(column, ""),
-             "abscissa_name": c.abscissa, "abscissa_unit": c.abscissa_unit, "x": c.x,
-             "upper": c.upper[column], "lower": c.lower[column]}
-            for c in curves for column in main_columns(c)]
+    return [
+        {
+            "family": c.family,
+            "column": column,
+            "unit": c.units.get(column, ""),
+            "abscissa_name": c.abscissa,
+            "abscissa_unit": c.abscissa_unit,
+            "x": c.x,
+            "upper": c.upper[column],
+            "lower": c.lower[column],
+        }
+        for c in curves
+        for column in main_columns(c)
+    ]

@@ -12,6 +12,7 @@ ties keep the first run in the given order and, within a run, the earliest row. 
 status is not `ok` are left out by the callers (`loadcases.sets.campaign`, `loads envelope`):
 values just before a solver failure are often numerical, not loads.
 """
+
 from __future__ import annotations
 
 import csv
@@ -28,8 +29,14 @@ from loadcases.results.saved import SavedRun, find_result_files, load_saved_run
 from loadcases.results.xlsx_text import text_cells
 
 __all__ = [
-    "EnvelopeRow", "ENVELOPE_COLUMNS", "extract_envelope", "find_result_files",
-    "load_saved_runs", "envelope_csv_text", "write_envelope_csv", "write_envelope_xlsx",
+    "ENVELOPE_COLUMNS",
+    "EnvelopeRow",
+    "envelope_csv_text",
+    "extract_envelope",
+    "find_result_files",
+    "load_saved_runs",
+    "write_envelope_csv",
+    "write_envelope_xlsx",
 ]
 
 Run = tuple[str, np.ndarray, dict[str, np.ndarray]]
@@ -82,9 +89,11 @@ def _extreme_row(values: np.ndarray, sign: float) -> int | None:
 def _concurrent(run: SavedRun, column: str, row: int) -> str:
     """`fy=...; fz=...`: the other components of `column`'s request at `row`."""
     request = column.rsplit(".", 1)[0]
-    parts = [f"{name[len(request) + 1:]}={float(values[row])!r}"
-             for name, values in run.channels.items()
-             if name != column and name.rsplit(".", 1)[0] == request]
+    parts = [
+        f"{name[len(request) + 1 :]}={float(values[row])!r}"
+        for name, values in run.channels.items()
+        if name != column and name.rsplit(".", 1)[0] == request
+    ]
     return "; ".join(parts)
 
 
@@ -143,8 +152,9 @@ def write_envelope_csv(rows: list[EnvelopeRow], path: Path) -> Path:
 
 
 @text_cells()  # input text is never a formula
-def write_envelope_xlsx(rows: list[EnvelopeRow], path: Path, *,
-                        sources: Iterable[str] = ()) -> Path:
+def write_envelope_xlsx(
+    rows: list[EnvelopeRow], path: Path, *, sources: Iterable[str] = ()
+) -> Path:
     """A bare workbook: sheet `Envelope` (frozen header) and sheet `Runs` (the sources).
     The full sizing workbook is `loadcases.report.workbook.write_workbook`."""
     from openpyxl import Workbook  # only needed for workbooks

@@ -12,6 +12,7 @@
   negatives is positive and MS reads as usual. A side whose load is zero or of the other
   sign than its allowable never loads that way: its margin is left empty (unbounded).
 """
+
 from __future__ import annotations
 
 from collections.abc import Mapping
@@ -20,14 +21,15 @@ from typing import Any
 
 from loadcases.report.envelope import EnvelopeRow
 
-__all__ = ["apply_margins", "column_factor", "margin", "LOAD_UNITS", "ULTIMATE"]
+__all__ = ["LOAD_UNITS", "ULTIMATE", "apply_margins", "column_factor", "margin"]
 
 ULTIMATE = "ultimate"
 from loadcases.report.curves import LOAD_UNITS  # noqa: E402
 
 
-def column_factor(column: str, unit: str | None, factors: Mapping[str, float],
-                  named: bool = False) -> float | None:
+def column_factor(
+    column: str, unit: str | None, factors: Mapping[str, float], named: bool = False
+) -> float | None:
     """Ultimate x fitting factor of one column; None for a column that is not a load.
 
     `named`: the column is named by an allowable (then it is a load whatever its unit).
@@ -39,8 +41,7 @@ def column_factor(column: str, unit: str | None, factors: Mapping[str, float],
     return float(factors.get(ULTIMATE, 1.0)) * float(1.0 if fitting is None else fitting)
 
 
-def margin(allowable: float | None, factor: float | None, load: float | None
-           ) -> float | None:
+def margin(allowable: float | None, factor: float | None, load: float | None) -> float | None:
     """MS = allowable / (factor x load) - 1; None when not applicable (see module notes)."""
     if allowable is None or factor is None or load is None:
         return None
@@ -60,18 +61,25 @@ def _limits(allowables: Mapping[str, Any], column: str) -> tuple[float | None, f
     return getattr(entry, "max", None), getattr(entry, "min", None)
 
 
-def apply_margins(rows: list[EnvelopeRow], factors: Mapping[str, float],
-                  allowables: Mapping[str, Any]) -> list[EnvelopeRow]:
+def apply_margins(
+    rows: list[EnvelopeRow], factors: Mapping[str, float], allowables: Mapping[str, Any]
+) -> list[EnvelopeRow]:
     """New rows with factor, ultimate loads, allowables and margins filled in."""
     out = []
     for row in rows:
         allow_max, allow_min = _limits(allowables, row.column)
         named = row.column in allowables
         factor = column_factor(row.column, row.unit, factors, named)
-        out.append(replace(
-            row, factor=factor,
-            ultimate_max=None if factor is None or row.max is None else factor * row.max,
-            ultimate_min=None if factor is None or row.min is None else factor * row.min,
-            allowable_max=allow_max, allowable_min=allow_min,
-            ms_max=margin(allow_max, factor, row.max), ms_min=margin(allow_min, factor, row.min)))
+        out.append(
+            replace(
+                row,
+                factor=factor,
+                ultimate_max=None if factor is None or row.max is None else factor * row.max,
+                ultimate_min=None if factor is None or row.min is None else factor * row.min,
+                allowable_max=allow_max,
+                allowable_min=allow_min,
+                ms_max=margin(allow_max, factor, row.max),
+                ms_min=margin(allow_min, factor, row.min),
+            )
+        )
     return out

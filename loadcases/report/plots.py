@@ -10,6 +10,7 @@ directly (no pyplot, no global backend switch), and every file is written atomic
 Figure size: `FIG_WIDTH_IN` x `figure_height_in(panels)` inches at `DPI`, i.e. 1000 px
 wide and 100 * (1.6 + 2.4 * panels) px high (at least 400 px).
 """
+
 from __future__ import annotations
 
 import fnmatch
@@ -29,30 +30,64 @@ from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN
 from loadcases.results.saved import SavedRun
 
 __all__ = [
-    "SavedRun", "load_saved_run", "find_result_csvs", "select_columns", "column_unit",
-    "request_of", "plot_runs", "write_envelope_plots", "figure_height_in", "plot_file_name",
-    "FIG_WIDTH_IN", "DPI",
+    "DPI",
+    "FIG_WIDTH_IN",
+    "SavedRun",
+    "column_unit",
+    "figure_height_in",
+    "find_result_csvs",
+    "load_saved_run",
+    "plot_file_name",
+    "plot_runs",
+    "request_of",
+    "select_columns",
+    "write_envelope_plots",
 ]
 
 Run = tuple[str, np.ndarray, dict[str, np.ndarray]]
 
-FIG_WIDTH_IN = 10.0         # inches
-DPI = 100                   # pixels per inch
-PANEL_HEIGHT_IN = 2.4       # inches per panel
-TITLE_HEIGHT_IN = 1.6       # inches for the title and the x label
-MIN_HEIGHT_IN = 4.0         # inches
-LEGEND_ROWS = 24            # legend entries per legend column
-ZERO_FLOOR = 1e-9           # SI; a panel whose values all stay below it shows -1..1, not noise
+FIG_WIDTH_IN = 10.0  # inches
+DPI = 100  # pixels per inch
+PANEL_HEIGHT_IN = 2.4  # inches per panel
+TITLE_HEIGHT_IN = 1.6  # inches for the title and the x label
+MIN_HEIGHT_IN = 4.0  # inches
+LEGEND_ROWS = 24  # legend entries per legend column
+ZERO_FLOOR = 1e-9  # SI; a panel whose values all stay below it shows -1..1, not noise
 
 # Units of components whatever the request (SPEC 1.3).
-_COMPONENT_UNITS = {"fx": "N", "fy": "N", "fz": "N", "f": "N", "normal": "N", "friction": "N",
-                    "tx": "N*m", "ty": "N*m", "tz": "N*m", "t": "N*m"}
+_COMPONENT_UNITS = {
+    "fx": "N",
+    "fy": "N",
+    "fz": "N",
+    "f": "N",
+    "normal": "N",
+    "friction": "N",
+    "tx": "N*m",
+    "ty": "N*m",
+    "tz": "N*m",
+    "t": "N*m",
+}
 # Words in a request name that tell the unit of its `value` / `x y z` (first match wins).
-_NAME_UNITS = (("alpha", "rad/s^2"), ("omega", "rad/s"), ("rate", "rad/s"),
-               ("angle", "rad"), ("rotation", "rad"), ("torque", "N*m"), ("moment", "N*m"),
-               ("acc", "m/s^2"), ("vel", "m/s"), ("speed", "m/s"), ("force", "N"),
-               ("load", "N"), ("tension", "N"), ("pos", "m"), ("travel", "m"),
-               ("stroke", "m"), ("length", "m"), ("penetration", "m"))
+_NAME_UNITS = (
+    ("alpha", "rad/s^2"),
+    ("omega", "rad/s"),
+    ("rate", "rad/s"),
+    ("angle", "rad"),
+    ("rotation", "rad"),
+    ("torque", "N*m"),
+    ("moment", "N*m"),
+    ("acc", "m/s^2"),
+    ("vel", "m/s"),
+    ("speed", "m/s"),
+    ("force", "N"),
+    ("load", "N"),
+    ("tension", "N"),
+    ("pos", "m"),
+    ("travel", "m"),
+    ("stroke", "m"),
+    ("length", "m"),
+    ("penetration", "m"),
+)
 
 
 def load_saved_run(path: Path) -> SavedRun:
@@ -73,8 +108,11 @@ def find_result_csvs(paths: Iterable[Path]) -> list[Path]:
     found: list[Path] = []
     for path in map(Path, paths):
         if path.is_dir():
-            found += sorted(p for p in path.rglob("*.csv")
-                            if p.with_name(p.name[:-4] + SUMMARY_SUFFIX).is_file())
+            found += sorted(
+                p
+                for p in path.rglob("*.csv")
+                if p.with_name(p.name[:-4] + SUMMARY_SUFFIX).is_file()
+            )
         else:
             found.append(path)
     return list(dict.fromkeys(found))
@@ -129,7 +167,7 @@ def plot_file_name(stem: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.=,-]+", "_", stem).strip("_") + ".png"
 
 
-def _all_below(panel: "_Panel", floor: float) -> bool:
+def _all_below(panel: _Panel, floor: float) -> bool:
     """True if every finite value of the panel's lines is within +-floor."""
     peaks = [np.nanmax(np.abs(y)) for _, _, y in panel.lines if np.isfinite(y).any()]
     return bool(peaks) and max(peaks) <= floor
@@ -141,26 +179,36 @@ class _Panel:
     lines: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
 
 
-def _draw(panels: list[_Panel], *, title: str, xlabel: str, target: Path,
-          band: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
-          legend_per_panel: bool = False, colors: Mapping[str, str] | None = None,
-          fixed_layout: bool = False) -> Path:
+def _draw(
+    panels: list[_Panel],
+    *,
+    title: str,
+    xlabel: str,
+    target: Path,
+    band: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
+    legend_per_panel: bool = False,
+    colors: Mapping[str, str] | None = None,
+    fixed_layout: bool = False,
+) -> Path:
     """Draw stacked panels sharing x, legends outside on the right (one per panel, or one
     for the figure when every panel has the same lines); save `target` atomically.
     `fixed_layout`: set margins for one panel with a short legend (envelope plots) instead
     of the constrained layout, which costs half the drawing time."""
-    fig = Figure(figsize=(FIG_WIDTH_IN, figure_height_in(len(panels))), dpi=DPI,
-                 layout=None if fixed_layout else "constrained")
+    fig = Figure(
+        figsize=(FIG_WIDTH_IN, figure_height_in(len(panels))),
+        dpi=DPI,
+        layout=None if fixed_layout else "constrained",
+    )
     FigureCanvasAgg(fig)
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     labels_seen: dict[str, Any] = {}
     for ax, panel in zip(axes, panels):
         if band is not None:
-            ax.fill_between(band[0], band[2], band[1], color="0.5", alpha=0.15,
-                            linewidth=0, label="envelope")
+            ax.fill_between(
+                band[0], band[2], band[1], color="0.5", alpha=0.15, linewidth=0, label="envelope"
+            )
         for label, x, y in panel.lines:
-            (line,) = ax.plot(x, y, linewidth=1.2, label=label,
-                              color=(colors or {}).get(label))
+            (line,) = ax.plot(x, y, linewidth=1.2, label=label, color=(colors or {}).get(label))
             labels_seen.setdefault(label, line)
         ax.set_ylabel(panel.ylabel)
         ax.grid(True, which="major", alpha=0.5)
@@ -175,24 +223,35 @@ def _draw(panels: list[_Panel], *, title: str, xlabel: str, target: Path,
     fig.suptitle(title)
     if labels_seen and not legend_per_panel and fixed_layout:
         fig.subplots_adjust(left=0.1, right=0.84, top=0.88, bottom=0.14)
-        fig.legend(list(labels_seen.values()), list(labels_seen), loc="upper left",
-                   bbox_to_anchor=(0.855, 0.88), fontsize="small")
+        fig.legend(
+            list(labels_seen.values()),
+            list(labels_seen),
+            loc="upper left",
+            bbox_to_anchor=(0.855, 0.88),
+            fontsize="small",
+        )
     elif labels_seen and not legend_per_panel:
         ncols = 1 + (len(labels_seen) - 1) // LEGEND_ROWS
-        fig.legend(list(labels_seen.values()), list(labels_seen), loc="outside right upper",
-                   fontsize="small", ncols=ncols)
+        fig.legend(
+            list(labels_seen.values()),
+            list(labels_seen),
+            loc="outside right upper",
+            fontsize="small",
+            ncols=ncols,
+        )
     with atomic_path(target) as tmp:
         fig.savefig(tmp, format="png", dpi=DPI)
     return target
 
 
-def _request_panels(request: str, columns: list[str], runs: list[Run], x: str,
-                    units: Mapping[str, str]) -> list[_Panel]:
+def _request_panels(
+    request: str, columns: list[str], runs: list[Run], x: str, units: Mapping[str, str]
+) -> list[_Panel]:
     """Panels of one request: by unit for a single run, by component for several."""
     panels: dict[str, _Panel] = {}
     for column in columns:
         unit = column_unit(column, units)
-        component = column[len(request) + 1:] or column
+        component = column[len(request) + 1 :] or column
         for run_name, time, channels in runs:
             if column not in channels:
                 continue
@@ -208,8 +267,14 @@ def _request_panels(request: str, columns: list[str], runs: list[Run], x: str,
     return list(panels.values())
 
 
-def plot_runs(runs: list[Run], columns: Sequence[str] | None = None, *, x: str = TIME_COLUMN,
-              units: Mapping[str, str] | None = None, out_dir: Path) -> list[Path]:
+def plot_runs(
+    runs: list[Run],
+    columns: Sequence[str] | None = None,
+    *,
+    x: str = TIME_COLUMN,
+    units: Mapping[str, str] | None = None,
+    out_dir: Path,
+) -> list[Path]:
     """Write one PNG per request of `runs` into `out_dir`; return the paths written.
 
     runs: `(run_name, time (n,) s, {column: values (n,) SI})`, overlaid in the given order.
@@ -223,8 +288,7 @@ def plot_runs(runs: list[Run], columns: Sequence[str] | None = None, *, x: str =
         raise ValueError("no runs to plot")
     available = list(dict.fromkeys(c for _, _, ch in runs for c in ch))
     if x != TIME_COLUMN and not any(x in ch for _, _, ch in runs):
-        raise ValueError(f"x column '{x}' is in none of the runs (columns: "
-                         f"{', '.join(available)})")
+        raise ValueError(f"x column '{x}' is in none of the runs (columns: {', '.join(available)})")
     chosen = [c for c in select_columns(available, columns) if c != x]
     by_request: dict[str, list[str]] = {}
     for column in chosen:
@@ -240,9 +304,15 @@ def plot_runs(runs: list[Run], columns: Sequence[str] | None = None, *, x: str =
             continue
         stem = request if x == TIME_COLUMN else f"{request}-vs-{x}"
         title = f"{request} vs {x} - {subtitle}"
-        written.append(_draw(panels, title=title, xlabel=xlabel,
-                             target=Path(out_dir) / plot_file_name(stem),
-                             legend_per_panel=len(runs) == 1))
+        written.append(
+            _draw(
+                panels,
+                title=title,
+                xlabel=xlabel,
+                target=Path(out_dir) / plot_file_name(stem),
+                legend_per_panel=len(runs) == 1,
+            )
+        )
     return written
 
 
@@ -275,8 +345,15 @@ def write_envelope_plots(curves: Iterable[Any], out_dir: Path) -> list[Path]:
         panel = _Panel(_label(column, unit), [("upper", xs, upper), ("lower", xs, lower)])
         title = f"envelope of {column} vs {abscissa} - family {family}"
         target = Path(out_dir) / plot_file_name(f"envelope-{family}-{column}")
-        written.append(_draw([panel], title=title, xlabel=_label(abscissa, x_unit),
-                             target=target, band=(xs, upper, lower),
-                             colors={"upper": "tab:red", "lower": "tab:blue"},
-                             fixed_layout=True))
+        written.append(
+            _draw(
+                [panel],
+                title=title,
+                xlabel=_label(abscissa, x_unit),
+                target=target,
+                band=(xs, upper, lower),
+                colors={"upper": "tab:red", "lower": "tab:blue"},
+                fixed_layout=True,
+            )
+        )
     return written

@@ -4,6 +4,7 @@ Runs are the results CSVs below the folders (sorted by path); runs whose summary
 failed are listed but left out of the envelope, as in a set run. Factors and allowables
 come from a set file when one is given.
 """
+
 from __future__ import annotations
 
 from collections.abc import Iterable
@@ -15,8 +16,15 @@ from loadcases.report.curves import EnvelopeCurve, envelope_curves
 from loadcases.report.envelope import EnvelopeRow, extract_envelope
 from loadcases.report.margins import apply_margins
 from loadcases.results.files import package_version
-from loadcases.results.saved import (RunRecord, SavedRun, find_result_files, load_saved_run,
-                             read_summary, record_from_summary, summary_path)
+from loadcases.results.saved import (
+    RunRecord,
+    SavedRun,
+    find_result_files,
+    load_saved_run,
+    read_summary,
+    record_from_summary,
+    summary_path,
+)
 
 if TYPE_CHECKING:
     from loadcases.report.workbook import WorkbookData
@@ -34,15 +42,23 @@ class SavedReport:
     curves: list[EnvelopeCurve]
     sources: list[Path]
 
-    def workbook_data(self, title: str, set_path: Path | None = None) -> "WorkbookData":
+    def workbook_data(self, title: str, set_path: Path | None = None) -> WorkbookData:
         """The workbook of these results (Provenance lists each CSV with its hash)."""
         from loadcases.report.workbook import WorkbookData, file_sha256
 
         inputs = [(str(p), file_sha256(p)) for p in ([set_path] if set_path else [])]
         inputs += [(str(p), file_sha256(p)) for p in self.sources]
-        return WorkbookData(title, self.records, self.runs, self.rows, self.curves, inputs,
-                            [("made by", "loads envelope")], package_version(),
-                            str(set_path or ""))
+        return WorkbookData(
+            title,
+            self.records,
+            self.runs,
+            self.rows,
+            self.curves,
+            inputs,
+            [("made by", "loads envelope")],
+            package_version(),
+            str(set_path or ""),
+        )
 
 
 def _record(csv_path: Path, run: SavedRun) -> RunRecord:
@@ -50,8 +66,7 @@ def _record(csv_path: Path, run: SavedRun) -> RunRecord:
     return record_from_summary({**summary, "case": run.name}, csv_path)
 
 
-def saved_report(directories: Iterable[Path], *, set_path: Path | None = None
-                 ) -> SavedReport:
+def saved_report(directories: Iterable[Path], *, set_path: Path | None = None) -> SavedReport:
     """Read every run below `directories`; factors/allowables from `set_path` if given."""
     files = find_result_files(directories)
     records, runs = [], []

@@ -12,6 +12,7 @@ sheet per family with the runs stacked (first column `run`). Headers carry SI un
 (`pivot_force.fx [N]`); values are the CSV's exactly (NaN becomes an empty cell: Excel has
 no NaN). The workbook is written atomically.
 """
+
 from __future__ import annotations
 
 import datetime as dt
@@ -25,17 +26,28 @@ from typing import Any
 from loadcases.atomic import atomic_path
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.envelope import EnvelopeRow
+from loadcases.report.workbook_template import (
+    COVER_FIELDS,
+    COVER_SHEET,
+    build_template,
+    ensure_styles,
+)
 from loadcases.report.workbook_tm import has_torque_margin, torque_margin_sheet
 from loadcases.results.saved import RunRecord, SavedRun, family_of
 from loadcases.results.xlsx_floats import exact_floats
-from loadcases.report.workbook_template import COVER_FIELDS, COVER_SHEET, build_template, ensure_styles
 from loadcases.results.xlsx_text import text_cells
 
-__all__ = ["WorkbookData", "write_workbook", "sheet_title", "file_sha256", "MAX_RUN_SHEETS",
-           "DEFAULT_TEMPLATE"]
+__all__ = [
+    "DEFAULT_TEMPLATE",
+    "MAX_RUN_SHEETS",
+    "WorkbookData",
+    "file_sha256",
+    "sheet_title",
+    "write_workbook",
+]
 
-MAX_RUN_SHEETS = 40   # more runs: one time-history sheet per family
-SHEET_TITLE_LENGTH = 31   # Excel's limit
+MAX_RUN_SHEETS = 40  # more runs: one time-history sheet per family
+SHEET_TITLE_LENGTH = 31  # Excel's limit
 DEFAULT_TEMPLATE = Path(__file__).resolve().parents[2] / "templates" / "envelope.xlsx"
 _FORBIDDEN = re.compile(r"[\[\]:*?/\\]")
 
@@ -49,29 +61,39 @@ class WorkbookData:
     runs: list[SavedRun]
     rows: list[EnvelopeRow]
     curves: list[EnvelopeCurve]
-    inputs: list[tuple[str, str]] = field(default_factory=list)   # (file, sha256)
+    inputs: list[tuple[str, str]] = field(default_factory=list)  # (file, sha256)
     settings: list[tuple[str, str]] = field(default_factory=list)  # (key, value)
     version: str = ""
     source: str = ""
 
     @classmethod
-    def from_set(cls, result: Any, runs: list[SavedRun], options: dict[str, str]
-                 ) -> "WorkbookData":
+    def from_set(cls, result: Any, runs: list[SavedRun], options: dict[str, str]) -> WorkbookData:
         """From a `loadcases.sets.campaign.SetResult` and its loaded ok runs."""
         compiled = result.compiled
         files = [compiled.set_file.path]
         for cf in compiled.cases:
             files += [cf.path] + ([cf.mechanism_path] if cf.mechanism_path else [])
-        settings = [(f"analysis of {cf.case.case}", _analysis_text(cf.case.analysis))
-                    for cf in compiled.cases]
+        settings = [
+            (f"analysis of {cf.case.case}", _analysis_text(cf.case.analysis))
+            for cf in compiled.cases
+        ]
         model = compiled.set_file.model
         settings += [(f"factor {k}", repr(v)) for k, v in model.factors.items()]
-        settings += [(f"allowable {k}", f"max {a.max!r}, min {a.min!r}")
-                     for k, a in model.allowables.items()]
+        settings += [
+            (f"allowable {k}", f"max {a.max!r}, min {a.min!r}") for k, a in model.allowables.items()
+        ]
         settings += [(key, value) for key, value in options.items()]
-        return cls(compiled.name, result.records, runs, result.envelope, result.curves,
-                   [(str(p), file_sha256(p)) for p in dict.fromkeys(files)], settings,
-                   compiled.version, str(compiled.set_file.path))
+        return cls(
+            compiled.name,
+            result.records,
+            runs,
+            result.envelope,
+            result.curves,
+            [(str(p), file_sha256(p)) for p in dict.fromkeys(files)],
+            settings,
+            compiled.version,
+            str(compiled.set_file.path),
+        )
 
 
 def _analysis_text(analysis: Any) -> str:
@@ -116,10 +138,20 @@ def _load_template(template: Path | None) -> Any:
 def _fill_cover(workbook: Any, data: WorkbookData) -> None:
     if COVER_SHEET not in workbook.sheetnames:
         return
-    values = dict(zip(COVER_FIELDS, (
-        data.title, data.source, dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M:%S"),
-        data.version, len(data.records), sum(not r.ok for r in data.records),
-        sum(r.reused for r in data.records))))
+    values = dict(
+        zip(
+            COVER_FIELDS,
+            (
+                data.title,
+                data.source,
+                dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M:%S"),
+                data.version,
+                len(data.records),
+                sum(not r.ok for r in data.records),
+                sum(r.reused for r in data.records),
+            ),
+        )
+    )
     sheet = workbook[COVER_SHEET]
     for row in range(1, sheet.max_row + 1):
         label = sheet.cell(row=row, column=1).value
@@ -137,31 +169,34 @@ def write_workbook(data: WorkbookData, path: Path, *, template: Path | None = No
     _fill_cover(workbook, data)
     used = set(workbook.sheetnames)
     per_run = len(data.runs) <= MAX_RUN_SHEETS
-    groups = ([(run.name, [run]) for run in data.runs] if per_run else
-              list(_families(data.runs).items()))
-    titles = {name: sheet_title(_short(name, k), used) for k, (name, _) in
-              enumerate(groups, start=1)}
+    groups = (
+        [(run.name, [run]) for run in data.runs] if per_run else list(_families(data.runs).items())
+    )
+    titles = {
+        name: sheet_title(_short(name, k), used) for k, (name, _) in enumerate(groups, start=1)
+    }
     run_sheets = {run.name: titles[run.name if per_run else run.family] for run in data.runs}
-    sheets.cases_sheet(workbook.create_sheet(sheet_title("Cases", used)), data.records,
-                       run_sheets)
-    sheets.envelope_sheet(workbook.create_sheet(sheet_title("Envelope", used)), data.rows,
-                          run_sheets)
+    sheets.cases_sheet(workbook.create_sheet(sheet_title("Cases", used)), data.records, run_sheets)
+    sheets.envelope_sheet(
+        workbook.create_sheet(sheet_title("Envelope", used)), data.rows, run_sheets
+    )
     if has_torque_margin(data.runs):
-        torque_margin_sheet(workbook.create_sheet(sheet_title("Torque margin", used)),
-                            data.runs)
+        torque_margin_sheet(workbook.create_sheet(sheet_title("Torque margin", used)), data.runs)
     chart_sheet = workbook.create_sheet(sheet_title("Charts", used)) if data.curves else None
-    curve_sheets = [workbook.create_sheet(sheet_title(f"Curves {c.family}", used))
-                    for c in data.curves]
-    wheres = [charts.curves_sheet(sheet, curve) for sheet, curve in zip(curve_sheets,
-                                                                       data.curves)]
+    curve_sheets = [
+        workbook.create_sheet(sheet_title(f"Curves {c.family}", used)) for c in data.curves
+    ]
+    wheres = [charts.curves_sheet(sheet, curve) for sheet, curve in zip(curve_sheets, data.curves)]
     blocks = {}
     for name, runs in groups:
-        blocks.update(sheets.history_sheet(workbook.create_sheet(titles[name]), runs,
-                                           stacked=not per_run))
+        blocks.update(
+            sheets.history_sheet(workbook.create_sheet(titles[name]), runs, stacked=not per_run)
+        )
     if chart_sheet is not None:
         charts.charts_sheet(chart_sheet, data.curves, curve_sheets, wheres, blocks)
-    sheets.provenance_sheet(workbook.create_sheet(sheet_title("Provenance", used)), data,
-                            platform.python_version())
+    sheets.provenance_sheet(
+        workbook.create_sheet(sheet_title("Provenance", used)), data, platform.python_version()
+    )
     with atomic_path(Path(path)) as tmp, exact_floats():
         workbook.save(tmp)
     return Path(path)
@@ -173,7 +208,7 @@ def _short(run: str, number: int) -> str:
     family = family_of(run)
     if family == run:
         return run
-    values = ",".join(part.split("=", 1)[-1] for part in run[len(family) + 1:-1].split(","))
+    values = ",".join(part.split("=", 1)[-1] for part in run[len(family) + 1 : -1].split(","))
     room = SHEET_TITLE_LENGTH - len(values) - 2
     if room < 6:
         return f"run {number}"

@@ -8,6 +8,7 @@ column against time with one line per run (the first `MAX_SERIES` runs).
 
 Main columns of a family: see `loadcases.report.curves.main_columns`.
 """
+
 from __future__ import annotations
 
 import math
@@ -16,14 +17,14 @@ from typing import Any
 from openpyxl.chart import Reference, ScatterChart, Series
 
 from loadcases.report.curves import EnvelopeCurve, main_columns
-from loadcases.results.files import TIME_COLUMN
 from loadcases.report.workbook_sheets import Block, header_text
+from loadcases.results.files import TIME_COLUMN
 
-__all__ = ["curves_sheet", "charts_sheet", "MAX_SERIES"]
+__all__ = ["MAX_SERIES", "charts_sheet", "curves_sheet"]
 
 MAX_SERIES = 12
-CHART_WIDTH, CHART_HEIGHT = 16.0, 7.5   # cm
-ROWS_PER_CHART, COLUMNS_PER_CHART = 16, 10   # anchor spacing on the Charts sheet
+CHART_WIDTH, CHART_HEIGHT = 16.0, 7.5  # cm
+ROWS_PER_CHART, COLUMNS_PER_CHART = 16, 10  # anchor spacing on the Charts sheet
 
 
 def _value(v: float) -> float | None:
@@ -51,29 +52,38 @@ def _chart(title: str, x_title: str, y_title: str) -> ScatterChart:
     chart = ScatterChart()
     chart.title, chart.style = title, 13
     chart.x_axis.title, chart.y_axis.title = x_title, y_title
-    chart.x_axis.delete = chart.y_axis.delete = False   # openpyxl hides axes by default
+    chart.x_axis.delete = chart.y_axis.delete = False  # openpyxl hides axes by default
     chart.width, chart.height = CHART_WIDTH, CHART_HEIGHT
     return chart
 
 
-def _series(sheet: Any, x_col: int, y_col: int, first: int, last: int,
-            title: str | None = None) -> Series:
+def _series(
+    sheet: Any, x_col: int, y_col: int, first: int, last: int, title: str | None = None
+) -> Series:
     """A line without markers: y from column `y_col`, x from `x_col`, rows first..last."""
     x = Reference(sheet, min_col=x_col, min_row=first, max_row=last)
     if title is None:
-        series = Series(Reference(sheet, min_col=y_col, min_row=first - 1, max_row=last), x,
-                        title_from_data=True)
+        series = Series(
+            Reference(sheet, min_col=y_col, min_row=first - 1, max_row=last),
+            x,
+            title_from_data=True,
+        )
     else:
-        series = Series(Reference(sheet, min_col=y_col, min_row=first, max_row=last), x,
-                        title=title)
+        series = Series(
+            Reference(sheet, min_col=y_col, min_row=first, max_row=last), x, title=title
+        )
     series.marker.symbol = "none"
     series.smooth = False
     return series
 
 
-def _family_charts(workbook: Any, curve: EnvelopeCurve, data_sheet: Any,
-                   where: dict[str, tuple[int, int]], blocks: dict[str, Block]
-                   ) -> list[ScatterChart]:
+def _family_charts(
+    workbook: Any,
+    curve: EnvelopeCurve,
+    data_sheet: Any,
+    where: dict[str, tuple[int, int]],
+    blocks: dict[str, Block],
+) -> list[ScatterChart]:
     charts, last = [], curve.x.size + 1
     x_title = header_text(curve.abscissa, curve.abscissa_unit)
     for column in main_columns(curve):
@@ -83,27 +93,42 @@ def _family_charts(workbook: Any, curve: EnvelopeCurve, data_sheet: Any,
             for col in where[column]:
                 chart.series.append(_series(data_sheet, 1, col, 2, last))
             charts.append(chart)
-        chart = _chart(f"{curve.family}: {column} per run", header_text(TIME_COLUMN, "s"),
-                       y_title)
+        chart = _chart(f"{curve.family}: {column} per run", header_text(TIME_COLUMN, "s"), y_title)
         for run in curve.runs[:MAX_SERIES]:
             block = blocks.get(run)
             if block is None or column not in block.columns or block.last_row < block.first_row:
                 continue
             sheet = workbook[block.sheet]
-            chart.series.append(_series(sheet, block.columns[TIME_COLUMN], block.columns[column],
-                                        block.first_row, block.last_row, title=run))
+            chart.series.append(
+                _series(
+                    sheet,
+                    block.columns[TIME_COLUMN],
+                    block.columns[column],
+                    block.first_row,
+                    block.last_row,
+                    title=run,
+                )
+            )
         if chart.series:
             charts.append(chart)
     return charts
 
 
-def charts_sheet(sheet: Any, curves: list[EnvelopeCurve], data_sheets: list[Any],
-                 wheres: list[dict[str, tuple[int, int]]], blocks: dict[str, Block]) -> None:
+def charts_sheet(
+    sheet: Any,
+    curves: list[EnvelopeCurve],
+    data_sheets: list[Any],
+    wheres: list[dict[str, tuple[int, int]]],
+    blocks: dict[str, Block],
+) -> None:
     """Per family a heading row then its charts, two per row."""
     row = 1
     for curve, data_sheet, where in zip(curves, data_sheets, wheres):
-        sheet.cell(row=row, column=1, value=f"{curve.family} (abscissa: {curve.abscissa}; "
-                   f"runs: {len(curve.runs)})").style = "loads label"
+        sheet.cell(
+            row=row,
+            column=1,
+            value=f"{curve.family} (abscissa: {curve.abscissa}; runs: {len(curve.runs)})",
+        ).style = "loads label"
         row += 1
         charts = _family_charts(sheet.parent, curve, data_sheet, where, blocks)
         for k, chart in enumerate(charts):
@@ -114,4 +139,5 @@ def charts_sheet(sheet: Any, curves: list[EnvelopeCurve], data_sheets: list[Any]
 
 def _letter(column: int) -> str:
     from openpyxl.utils import get_column_letter
+
     return get_column_letter(column)

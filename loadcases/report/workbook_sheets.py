@@ -4,6 +4,7 @@ Styles are the template's named styles (`loads header`, `loads number` ...; see
 `loadcases.report.workbook_template`). Values are written as they are (SI floats); NaN and
 infinities become empty cells because Excel has no such numbers.
 """
+
 from __future__ import annotations
 
 import datetime as dt
@@ -21,22 +22,54 @@ from loadcases.report.envelope import ENVELOPE_COLUMNS, EnvelopeRow
 from loadcases.results.files import EXCEL_MAX_ROWS, TIME_COLUMN
 from loadcases.results.saved import RunRecord, SavedRun
 
-__all__ = ["Block", "cases_sheet", "envelope_sheet", "history_sheet", "provenance_sheet",
-           "header_text", "CASES_COLUMNS"]
+__all__ = [
+    "CASES_COLUMNS",
+    "Block",
+    "cases_sheet",
+    "envelope_sheet",
+    "header_text",
+    "history_sheet",
+    "provenance_sheet",
+]
 
-CASES_COLUMNS = ("run", "case", "file", "parameters", "analysis", "status", "message",
-                 "CPU time [s]", "steps", "reused", "input_sha256", "sheet")
+CASES_COLUMNS = (
+    "run",
+    "case",
+    "file",
+    "parameters",
+    "analysis",
+    "status",
+    "message",
+    "CPU time [s]",
+    "steps",
+    "reused",
+    "input_sha256",
+    "sheet",
+)
 _NEGATIVE_FILL = PatternFill("solid", start_color="FF9999", end_color="FF9999")
-_NUMBER_COLUMNS = {"max", "min", "max_abscissa", "min_abscissa", "abs_max", "ultimate_max",
-                   "ultimate_min", "allowable_max", "allowable_min"}
+_NUMBER_COLUMNS = {
+    "max",
+    "min",
+    "max_abscissa",
+    "min_abscissa",
+    "abs_max",
+    "ultimate_max",
+    "ultimate_min",
+    "allowable_max",
+    "allowable_min",
+}
 _TIME_COLUMNS = {"max_time", "min_time"}
 _MARGIN_COLUMNS = {"factor", "ms_max", "ms_min"}
 _HEADER_NOTES = {
     "unit": "SI unit of the row's values (max, min, ultimate, allowables, concurrent values)",
-    "max_time": "s", "min_time": "s", "factor": "-: ultimate x fitting factor",
-    "ms_max": "-: allowable_max / (factor x max) - 1", "ms_min": "-: allowable_min / "
-    "(factor x min) - 1", "max_abscissa": "unit of the case's abscissa (column "
-    "abscissa.value)", "min_abscissa": "unit of the case's abscissa (column abscissa.value)"}
+    "max_time": "s",
+    "min_time": "s",
+    "factor": "-: ultimate x fitting factor",
+    "ms_max": "-: allowable_max / (factor x max) - 1",
+    "ms_min": "-: allowable_min / (factor x min) - 1",
+    "max_abscissa": "unit of the case's abscissa (column abscissa.value)",
+    "min_abscissa": "unit of the case's abscissa (column abscissa.value)",
+}
 
 
 @dataclass(frozen=True)
@@ -77,9 +110,20 @@ def cases_sheet(sheet: Any, records: list[RunRecord], run_sheets: dict[str, str]
     _header(sheet, list(CASES_COLUMNS))
     for row, r in enumerate(records, start=2):
         parameters = ", ".join(f"{k}={v:g}" for k, v in r.parameters.items())
-        values = (r.name, r.family, r.case_file, parameters, r.analysis, r.status, r.message,
-                  r.cpu_seconds, r.steps, "yes" if r.reused else "no", r.input_sha256,
-                  run_sheets.get(r.name, ""))
+        values = (
+            r.name,
+            r.family,
+            r.case_file,
+            parameters,
+            r.analysis,
+            r.status,
+            r.message,
+            r.cpu_seconds,
+            r.steps,
+            "yes" if r.reused else "no",
+            r.input_sha256,
+            run_sheets.get(r.name, ""),
+        )
         for column, value in enumerate(values, start=1):
             sheet.cell(row=row, column=column, value=value)
         _link(sheet.cell(row=row, column=1), run_sheets.get(r.name))
@@ -95,8 +139,9 @@ def envelope_sheet(sheet: Any, rows: list[EnvelopeRow], run_sheets: dict[str, st
     """The envelope table: header = `envelope.csv`'s, frozen, formatted, margins flagged."""
     _header(sheet, list(ENVELOPE_COLUMNS))
     for column, name in enumerate(ENVELOPE_COLUMNS, start=1):
-        note = _HEADER_NOTES.get(name, "unit: see column 'unit'" if name in _NUMBER_COLUMNS
-                                 else None)
+        note = _HEADER_NOTES.get(
+            name, "unit: see column 'unit'" if name in _NUMBER_COLUMNS else None
+        )
         if note:
             sheet.cell(row=1, column=column).comment = Comment(note, "loads")
     index = {name: k for k, name in enumerate(ENVELOPE_COLUMNS, start=1)}
@@ -114,8 +159,10 @@ def envelope_sheet(sheet: Any, rows: list[EnvelopeRow], run_sheets: dict[str, st
     last = max(len(rows) + 1, 2)
     for name in ("ms_max", "ms_min"):
         letter = get_column_letter(index[name])
-        sheet.conditional_formatting.add(f"{letter}2:{letter}{last}", CellIsRule(
-            operator="lessThan", formula=["0"], fill=_NEGATIVE_FILL))
+        sheet.conditional_formatting.add(
+            f"{letter}2:{letter}{last}",
+            CellIsRule(operator="lessThan", formula=["0"], fill=_NEGATIVE_FILL),
+        )
     sheet.freeze_panes = "B2"
     sheet.column_dimensions["A"].width = 28
     for name in ("max_run", "min_run", "max_concurrent", "min_concurrent"):
@@ -133,26 +180,36 @@ def history_sheet(sheet: Any, runs: list[SavedRun], *, stacked: bool) -> dict[st
     blocks, row = {}, 2
     for run in runs:
         count = min(run.time.size, EXCEL_MAX_ROWS - row + 1)
-        data = [run.time[:count]] + [run.channels[c][:count] if c in run.channels else
-                                     [math.nan] * count for c in columns]
+        data = [run.time[:count]] + [
+            run.channels[c][:count] if c in run.channels else [math.nan] * count for c in columns
+        ]
         for k, values in enumerate(zip(*data)):
             sheet.append(([run.name] if stacked else []) + [_cell(float(v)) for v in values])
-        blocks[run.name] = Block(sheet.title, row, row + count - 1,
-                                 {n: k for k, n in enumerate(names, start=1)})
+        blocks[run.name] = Block(
+            sheet.title, row, row + count - 1, {n: k for k, n in enumerate(names, start=1)}
+        )
         row += count
         if count < run.time.size:
-            sheet.cell(row=1, column=len(names) + 2, value=(
-                f"rows truncated to Excel's limit; {run.name}.csv holds every row")
-                       ).style = "loads note"
+            sheet.cell(
+                row=1,
+                column=len(names) + 2,
+                value=(f"rows truncated to Excel's limit; {run.name}.csv holds every row"),
+            ).style = "loads note"
             break
     return blocks
 
 
 def provenance_sheet(sheet: Any, data: Any, python_version: str) -> None:
     """Engine version, date, inputs with SHA-256, solver settings and options."""
-    now = dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
-    lines = [("engine", "loads"), ("engine version", data.version), ("date", now),
-             ("python", python_version), ("set", data.title), ("set file", data.source)]
+    now = dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M:%S UTC")
+    lines = [
+        ("engine", "loads"),
+        ("engine version", data.version),
+        ("date", now),
+        ("python", python_version),
+        ("set", data.title),
+        ("set file", data.source),
+    ]
     _header(sheet, ["item", "value", "sha256"])
     for key, value in lines:
         sheet.append([key, value])

@@ -8,15 +8,23 @@ The writer (`loadcases.report.workbook`) only relies on:
   each goes in column B of the row where its label is found (rows may be moved, other
   cells, logos and sheets of the template are kept as they are).
 """
+
 from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["build_template", "ensure_styles", "STYLES", "COVER_SHEET", "COVER_FIELDS"]
+__all__ = ["COVER_FIELDS", "COVER_SHEET", "STYLES", "build_template", "ensure_styles"]
 
 COVER_SHEET = "Cover"
-COVER_FIELDS = ("Set", "Set file", "Date (UTC)", "Engine version", "Runs", "Failed runs",
-                "Reused runs")
+COVER_FIELDS = (
+    "Set",
+    "Set file",
+    "Date (UTC)",
+    "Engine version",
+    "Runs",
+    "Failed runs",
+    "Reused runs",
+)
 TITLE = "Mechanism load envelope"
 _BLUE, _GREY, _RED = "1F4E79", "D9E1F2", "F8CBAD"
 
@@ -29,8 +37,11 @@ def _style_specs() -> dict[str, dict[str, Any]]:
     return {
         "loads title": {"font": Font(size=16, bold=True, color=_BLUE)},
         "loads label": {"font": Font(bold=True)},
-        "loads header": {"font": Font(bold=True, color="FFFFFF"), "fill": solid(_BLUE),
-                         "alignment": Alignment(wrap_text=True, vertical="top")},
+        "loads header": {
+            "font": Font(bold=True, color="FFFFFF"),
+            "fill": solid(_BLUE),
+            "alignment": Alignment(wrap_text=True, vertical="top"),
+        },
         "loads number": {"number_format": "0.000E+00"},
         "loads time": {"number_format": "0.000000"},
         "loads margin": {"number_format": "0.00"},
@@ -40,8 +51,17 @@ def _style_specs() -> dict[str, dict[str, Any]]:
     }
 
 
-STYLES = ("loads title", "loads label", "loads header", "loads number", "loads time",
-          "loads margin", "loads text", "loads failed", "loads note")
+STYLES = (
+    "loads title",
+    "loads label",
+    "loads header",
+    "loads number",
+    "loads time",
+    "loads margin",
+    "loads text",
+    "loads failed",
+    "loads note",
+)
 
 
 def ensure_styles(workbook: Any) -> None:
@@ -66,10 +86,15 @@ def build_template() -> Any:
     cover["A1"].style = "loads title"
     for row, label in enumerate(COVER_FIELDS, start=3):
         cover.cell(row=row, column=1, value=label).style = "loads label"
-    note = cover.cell(row=len(COVER_FIELDS) + 4, column=1, value=(
-        "Sheets: Cases (every run), Envelope (max/min per result column, ultimate loads, "
-        "margins), Curves (envelopes over the abscissa, charts), one sheet of time histories "
-        "per run, Provenance (inputs, hashes, settings)."))
+    note = cover.cell(
+        row=len(COVER_FIELDS) + 4,
+        column=1,
+        value=(
+            "Sheets: Cases (every run), Envelope (max/min per result column, ultimate loads, "
+            "margins), Curves (envelopes over the abscissa, charts), one sheet of time histories "
+            "per run, Provenance (inputs, hashes, settings)."
+        ),
+    )
     note.style = "loads note"
     cover.column_dimensions["A"].width = 22
     cover.column_dimensions["B"].width = 60

@@ -6,6 +6,7 @@ as `nan`). `NAME.summary.json` holds status, statistics and per-column extremes;
 that are not finite are written as `null` so the file is strict JSON. Every file is written
 atomically (see `loadcases.atomic`); the summary is written last.
 """
+
 from __future__ import annotations
 
 import csv
@@ -26,8 +27,15 @@ from loadcases.results.xlsx_text import text_cells
 from mechlib.solution import Solution
 
 __all__ = [
-    "write_results", "read_results", "result_base", "summary_of", "column_extremes",
-    "json_safe", "package_version", "TIME_COLUMN", "SUMMARY_SUFFIX",
+    "SUMMARY_SUFFIX",
+    "TIME_COLUMN",
+    "column_extremes",
+    "json_safe",
+    "package_version",
+    "read_results",
+    "result_base",
+    "summary_of",
+    "write_results",
 ]
 
 TIME_COLUMN = "time"
@@ -54,8 +62,9 @@ def result_base(output_dir: Path, name: str) -> Path:
     return Path(output_dir).joinpath(*parts)
 
 
-def write_results(outcome: RunOutcome, output_dir: Path, *, xlsx: bool = False,
-                  version: str | None = None) -> list[Path]:
+def write_results(
+    outcome: RunOutcome, output_dir: Path, *, xlsx: bool = False, version: str | None = None
+) -> list[Path]:
     """Write the result files of one run into `output_dir`; return their paths.
 
     `version` is the engine version recorded in the summary (default: the installed one).
@@ -69,8 +78,11 @@ def write_results(outcome: RunOutcome, output_dir: Path, *, xlsx: bool = False,
     summary["csv_sha256"] = hashlib.sha256(csv_bytes).hexdigest()  # reuse checks the CSV
     written = [atomic_write_bytes(_with_suffix(base, ".csv"), csv_bytes)]
     if xlsx:
-        written.append(_write_workbook(_with_suffix(base, ".xlsx"), time, channels,
-                                       summary, outcome.column_units))
+        written.append(
+            _write_workbook(
+                _with_suffix(base, ".xlsx"), time, channels, summary, outcome.column_units
+            )
+        )
     text = json.dumps(json_safe(summary), indent=2, allow_nan=False) + "\n"
     written.append(atomic_write_text(_with_suffix(base, SUMMARY_SUFFIX), text))
     return written
@@ -94,8 +106,9 @@ def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
         "rows": int(time.size),
         "units": {TIME_COLUMN: "s", **outcome.column_units},
         "warnings": [*(d.keyed_message() for d in outcome.warnings), *solution.warnings],
-        "events": [{"name": e.name, "time": e.time, "actions": list(e.actions)}
-                   for e in solution.events],
+        "events": [
+            {"name": e.name, "time": e.time, "actions": list(e.actions)} for e in solution.events
+        ],
         "parameters": dict(outcome.parameters),
         **outcome.checks,
     }
@@ -111,8 +124,12 @@ def column_extremes(time: np.ndarray, values: np.ndarray) -> dict[str, float | N
         return {"max": None, "time_of_max": None, "min": None, "time_of_min": None}
     i_max = int(np.argmax(np.where(finite, values, -np.inf)))
     i_min = int(np.argmin(np.where(finite, values, np.inf)))
-    return {"max": float(values[i_max]), "time_of_max": float(time[i_max]),
-            "min": float(values[i_min]), "time_of_min": float(time[i_min])}
+    return {
+        "max": float(values[i_max]),
+        "time_of_max": float(time[i_max]),
+        "min": float(values[i_min]),
+        "time_of_min": float(time[i_min]),
+    }
 
 
 def json_safe(value: Any) -> Any:
@@ -153,8 +170,10 @@ def _with_suffix(base: Path, suffix: str) -> Path:
 
 def _stats(solution: Solution) -> dict[str, int | float]:
     """The work counters (mechlib.SolverStats.as_dict): counts as int, seconds as float."""
-    return {key: float(value) if key == "cpu_seconds" else int(value)
-            for key, value in solution.stats.as_dict().items()}
+    return {
+        key: float(value) if key == "cpu_seconds" else int(value)
+        for key, value in solution.stats.as_dict().items()
+    }
 
 
 def _checked_arrays(solution: Solution) -> tuple[np.ndarray, dict[str, np.ndarray]]:
@@ -194,8 +213,13 @@ def _cell(value: float) -> float | None:
 
 
 @text_cells()  # input text is never a formula
-def _write_workbook(path: Path, time: np.ndarray, channels: dict[str, np.ndarray],
-                    summary: dict[str, Any], units: dict[str, str]) -> Path:
+def _write_workbook(
+    path: Path,
+    time: np.ndarray,
+    channels: dict[str, np.ndarray],
+    summary: dict[str, Any],
+    units: dict[str, str],
+) -> Path:
     """`NAME.xlsx`: sheet `Time histories` (frozen header with units) and sheet `Summary`."""
     # Imported here: openpyxl is only needed when a workbook is asked for.
     from openpyxl import Workbook
@@ -212,9 +236,14 @@ def _write_workbook(path: Path, time: np.ndarray, channels: dict[str, np.ndarray
     matrix = np.column_stack([time[:rows], *(v[:rows] for v in channels.values())])
     for row in matrix.tolist():
         sheet.append([_cell(value) for value in row])
-    notes = [] if rows == time.size else [
-        f"time histories truncated to the first {rows} of {time.size} rows "
-        "(Excel sheet limit); the CSV file holds every row"]
+    notes = (
+        []
+        if rows == time.size
+        else [
+            f"time histories truncated to the first {rows} of {time.size} rows "
+            "(Excel sheet limit); the CSV file holds every row"
+        ]
+    )
     _summary_sheet(workbook.create_sheet("Summary"), summary, units, notes)
     from loadcases.results.xlsx_floats import exact_floats  # 17 significant digits, as the CSV
 
@@ -228,8 +257,9 @@ def _styled(cell: Any, font: Any) -> Any:
     return cell
 
 
-def _summary_sheet(sheet: Any, summary: dict[str, Any], units: dict[str, str],
-                   notes: list[str]) -> None:
+def _summary_sheet(
+    sheet: Any, summary: dict[str, Any], units: dict[str, str], notes: list[str]
+) -> None:
     """Key/value lines, statistics, extremes table, events, warnings and notes."""
     for key in ("case", "status", "analysis", "message", "input_sha256", "version", "case_file"):
         sheet.append([key, str(summary[key])])

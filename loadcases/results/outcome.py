@@ -1,4 +1,5 @@
 """The outcome of one run of a case: its name, provenance and the mechlib solution."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass, field
@@ -29,4 +30,4 @@ class RunOutcome:
     column_units: dict[str, str] = field(default_factory=dict)
     warnings: list[Diagnostic] = field(default_factory=list)
     parameters: dict[str, float] = field(default_factory=dict)
-    checks: dict = field(default_factory=dict)   # e.g. {"torque_margin": {...}} for the summary
+    checks: dict = field(default_factory=dict)  # e.g. {"torque_margin": {...}} for the summary

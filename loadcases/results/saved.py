@@ -3,6 +3,7 @@
 A run's family is the case it comes from: its name without the `[p=v,...]` of a sweep.
 Used by envelopes and workbooks, whether the runs were just solved or saved long ago.
 """
+
 from __future__ import annotations
 
 import csv
@@ -17,8 +18,16 @@ import numpy as np
 
 from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN, read_results
 
-__all__ = ["SavedRun", "RunRecord", "family_of", "find_result_files", "load_saved_run",
-           "record_from_summary", "read_summary", "summary_path"]
+__all__ = [
+    "RunRecord",
+    "SavedRun",
+    "family_of",
+    "find_result_files",
+    "load_saved_run",
+    "read_summary",
+    "record_from_summary",
+    "summary_path",
+]
 
 _SWEEP_SUFFIX = re.compile(r"\[[^\[\]]*\]$")
 
@@ -84,22 +93,28 @@ def read_summary(path: Path) -> dict[str, Any] | None:
     return data if isinstance(data, dict) else None
 
 
-def record_from_summary(summary: dict[str, Any], csv_path: Path, *,
-                        reused: bool = False) -> RunRecord:
+def record_from_summary(
+    summary: dict[str, Any], csv_path: Path, *, reused: bool = False
+) -> RunRecord:
     """The record of a run from its saved summary."""
     stats = summary.get("stats") or {}
     name = str(summary.get("case") or csv_path.stem)
-    return RunRecord(name=name, family=family_of(name),
-                     case_file=str(summary.get("case_file", "")),
-                     parameters={k: float(v) for k, v in (summary.get("parameters") or {}
-                                                          ).items() if v is not None},
-                     analysis=str(summary.get("analysis", "")),
-                     status=str(summary.get("status", "failed")),
-                     message=str(summary.get("message", "")),
-                     steps=int(stats.get("steps") or 0),
-                     cpu_seconds=float(stats.get("cpu_seconds") or 0.0),
-                     input_sha256=str(summary.get("input_sha256", "")),
-                     csv_path=csv_path, reused=reused)
+    return RunRecord(
+        name=name,
+        family=family_of(name),
+        case_file=str(summary.get("case_file", "")),
+        parameters={
+            k: float(v) for k, v in (summary.get("parameters") or {}).items() if v is not None
+        },
+        analysis=str(summary.get("analysis", "")),
+        status=str(summary.get("status", "failed")),
+        message=str(summary.get("message", "")),
+        steps=int(stats.get("steps") or 0),
+        cpu_seconds=float(stats.get("cpu_seconds") or 0.0),
+        input_sha256=str(summary.get("input_sha256", "")),
+        csv_path=csv_path,
+        reused=reused,
+    )
 
 
 def load_saved_run(csv_path: Path, directory: Path | None = None) -> SavedRun:

@@ -2,6 +2,7 @@
 digit of doubles that need 17; Excel and openpyxl read 17 digits back exactly. Inside
 `exact_floats()` openpyxl's cell writer uses the shortest round-trip text (`repr`), so a
 workbook holds exactly the numbers of the CSV results."""
+
 from __future__ import annotations
 
 import contextlib

@@ -2,6 +2,7 @@
 formula and `#N/A`-like strings into error values; `loads` writes no formulas, and text
 from input files (run, case, request and parameter names, messages, paths) must never run
 in a spreadsheet. Inside `text_cells()` every such string is saved as a text cell."""
+
 from __future__ import annotations
 
 import contextlib

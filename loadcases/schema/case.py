@@ -1,4 +1,5 @@
 """Pydantic models of a case file (`*.case.yaml`, SPEC 1.3): values in SI floats."""
+
 from __future__ import annotations
 
 from typing import Annotated, Any, Literal
@@ -7,22 +8,39 @@ from pydantic import BeforeValidator, Discriminator, Field, Tag
 from pydantic_core import PydanticCustomError
 
 import mechlib as ml
-
 from loadcases.schema.mechanism import Event, FileUnits
 from loadcases.schema.torque_margin import TorqueMargin
 from loadcases.schema.types import (
-    AnySI, Dimensionless, Expression, Name, RawQuantity, Strict, describe, quantity, vector,
+    AnySI,
+    Dimensionless,
+    Expression,
+    Name,
+    RawQuantity,
+    Strict,
+    describe,
+    quantity,
+    vector,
 )
 
 __all__ = [
-    "Motion", "Initial", "Analysis", "JointRequest", "MotionRequest", "PointRequest",
-    "ElementRequest", "ContactRequest", "ExpressionRequest", "Request", "CaseModel",
-    "ANALYSIS_TYPES", "KNOWN_EFFECTS", "REQUEST_KINDS",
+    "ANALYSIS_TYPES",
+    "KNOWN_EFFECTS",
+    "REQUEST_KINDS",
+    "Analysis",
+    "CaseModel",
+    "ContactRequest",
+    "ElementRequest",
+    "ExpressionRequest",
+    "Initial",
+    "JointRequest",
+    "Motion",
+    "MotionRequest",
+    "PointRequest",
+    "Request",
 ]
 
 ANALYSIS_TYPES = ("kinematic", "static", "quasi-static", "dynamic", "modes")
-KNOWN_EFFECTS = ("gravity", "friction", "contact", "flexibility", "aero", "hydraulics",
-                 "damping")
+KNOWN_EFFECTS = ("gravity", "friction", "contact", "flexibility", "aero", "hydraulics", "damping")
 _FRAME = "frame of the components: ground (default), a body or a named frame"
 
 
@@ -30,8 +48,10 @@ class Motion(Strict):
     """A joint coordinate driven as a function of time."""
 
     joint: Name = Field(description="revolute, screw, cylindrical (angle) or prismatic joint")
-    value: Expression = Field(description="coordinate expression of t, SI (rad or m), e.g. "
-                              "'crank_speed * t' or 'step(t, 0, 0, 2, 90*deg)'")
+    value: Expression = Field(
+        description="coordinate expression of t, SI (rad or m), e.g. "
+        "'crank_speed * t' or 'step(t, 0, 0, 2, 90*deg)'"
+    )
 
 
 class Initial(Strict):
@@ -42,12 +62,15 @@ class Initial(Strict):
     """
 
     value: RawQuantity | None = Field(None, description="joint coordinate [angle or length]")
-    rate: RawQuantity | None = Field(None, description="joint coordinate rate [angular "
-                                     "velocity or velocity, bare numbers SI]")
+    rate: RawQuantity | None = Field(
+        None, description="joint coordinate rate [angular velocity or velocity, bare numbers SI]"
+    )
     omega: vector("angular_velocity") | None = Field(
-        None, description=describe("body angular velocity, global axes", "angular_velocity"))
+        None, description=describe("body angular velocity, global axes", "angular_velocity")
+    )
     velocity: vector("velocity") | None = Field(
-        None, description=describe("body cm velocity, global axes", "velocity"))
+        None, description=describe("body cm velocity, global axes", "velocity")
+    )
 
 
 _TIME = quantity("time")
@@ -55,8 +78,10 @@ _TIME = quantity("time")
 
 def _mechanism_ref(value: Any) -> Any:
     if not isinstance(value, (str, dict)) or (isinstance(value, str) and not value.strip()):
-        raise PydanticCustomError("mechanism", "expected a mechanism file name (relative to "
-                                  "this file) or the mechanism as a mapping")
+        raise PydanticCustomError(
+            "mechanism",
+            "expected a mechanism file name (relative to this file) or the mechanism as a mapping",
+        )
     return value
 
 
@@ -68,18 +93,23 @@ class Analysis(Strict):
 
     type: Literal["kinematic", "static", "quasi-static", "dynamic", "modes"]
     end: _TIME | None = Field(None, description=describe("end time", "time"))
-    step: _TIME | None = Field(None, description=describe("output interval",
-                                                          "time"))
+    step: _TIME | None = Field(None, description=describe("output interval", "time"))
     tolerance: Dimensionless | None = Field(None, description="dynamic: local error tolerance")
     integrator: str | None = Field(None, description="dynamic: e.g. generalized-alpha, radau")
-    max_step: _TIME | None = Field(None, description=describe(
-        "dynamic: largest integrator step", "time"))
-    max_steps: int | None = Field(None, description=(
-        f"kinematic, quasi-static, dynamic: most steps a run may take, accepted and rejected "
-        f"(default {ml.DEFAULT_MAX_STEPS}); a run that reaches it fails"),
-        json_schema_extra={"minimum": 1})
+    max_step: _TIME | None = Field(
+        None, description=describe("dynamic: largest integrator step", "time")
+    )
+    max_steps: int | None = Field(
+        None,
+        description=(
+            f"kinematic, quasi-static, dynamic: most steps a run may take, accepted and rejected "
+            f"(default {ml.DEFAULT_MAX_STEPS}); a run that reaches it fails"
+        ),
+        json_schema_extra={"minimum": 1},
+    )
     redundant: Literal["error", "drop"] = Field(
-        "error", description="redundant constraint equations: error (default) or drop them")
+        "error", description="redundant constraint equations: error (default) or drop them"
+    )
 
 
 class JointRequest(Strict):
@@ -141,13 +171,19 @@ def _request_kind(value: Any) -> str | None:
 
 
 Request = Annotated[
-    Annotated[JointRequest, Tag("joint")] | Annotated[MotionRequest, Tag("motion")]
-    | Annotated[PointRequest, Tag("point")] | Annotated[ElementRequest, Tag("force")]
+    Annotated[JointRequest, Tag("joint")]
+    | Annotated[MotionRequest, Tag("motion")]
+    | Annotated[PointRequest, Tag("point")]
+    | Annotated[ElementRequest, Tag("force")]
     | Annotated[ContactRequest, Tag("contact")]
     | Annotated[ExpressionRequest, Tag("expression")],
-    Discriminator(_request_kind, custom_error_type="request_kind",
-                  custom_error_message="a request needs one of the keys joint, motion, point, "
-                  "force, contact or expression")]
+    Discriminator(
+        _request_kind,
+        custom_error_type="request_kind",
+        custom_error_message="a request needs one of the keys joint, motion, point, "
+        "force, contact or expression",
+    ),
+]
 
 
 class CaseModel(Strict):
@@ -155,22 +191,30 @@ class CaseModel(Strict):
 
     case: str = Field(min_length=1, description="case name; '/' makes sub-folders of results")
     units: FileUnits = Field(default_factory=FileUnits)
-    mechanism: MechanismRef = Field(description="mechanism file relative to this "
-                                            "file, or the mechanism inline")
-    parameters: dict[str, AnySI] = Field(default_factory=dict, description="overrides of the "
-                                         "mechanism's parameters [SI]")
+    mechanism: MechanismRef = Field(
+        description="mechanism file relative to this file, or the mechanism inline"
+    )
+    parameters: dict[str, AnySI] = Field(
+        default_factory=dict, description="overrides of the mechanism's parameters [SI]"
+    )
     motions: dict[str, Motion] = Field(default_factory=dict)
-    effects: dict[str, bool] = Field(default_factory=dict, description="switch effects on/off: "
-                                     + ", ".join(KNOWN_EFFECTS))
-    loads: list[Name] | None = Field(None, description="active force elements by name; "
-                                     "absent: all")
+    effects: dict[str, bool] = Field(
+        default_factory=dict, description="switch effects on/off: " + ", ".join(KNOWN_EFFECTS)
+    )
+    loads: list[Name] | None = Field(None, description="active force elements by name; absent: all")
     initial: dict[str, Initial] = Field(default_factory=dict, description="by joint or body")
     analysis: Analysis
     requests: dict[str, Request] = Field(default_factory=dict)
     abscissa: Expression | None = Field(None, description="x-axis expression for envelopes")
-    events: dict[str, Event] = Field(default_factory=dict, description="events of this case "
-                                     "(dynamic analyses), added to the mechanism's; names "
-                                     "unique across both")
-    torque_margin: TorqueMargin | None = Field(None, description="torque margin TM_j = "
-                                               "sum D_j / sum R_j per hinge line (seed 003 "
-                                               "eq. 2.1), reported along the run")
+    events: dict[str, Event] = Field(
+        default_factory=dict,
+        description="events of this case "
+        "(dynamic analyses), added to the mechanism's; names "
+        "unique across both",
+    )
+    torque_margin: TorqueMargin | None = Field(
+        None,
+        description="torque margin TM_j = "
+        "sum D_j / sum R_j per hinge line (seed 003 "
+        "eq. 2.1), reported along the run",
+    )

@@ -4,6 +4,7 @@ A contact joins body 1 (the sphere, ball, pin or roller) to body 2 (the plane, s
 profile); `sphere_in_sphere` and `cylinder_in_cylinder` are the spherical and revolute
 clearance joints (they also report their eccentricity).
 """
+
 from __future__ import annotations
 
 from typing import Annotated, Literal
@@ -12,21 +13,40 @@ from pydantic import Field, model_validator
 from pydantic_core import PydanticCustomError
 
 from loadcases.schema.types import (
-    AnySI, Damping, Dimensionless, Direction, Length, NamePair, Position, Strict, Velocity,
-    describe, quantity,
+    AnySI,
+    Damping,
+    Dimensionless,
+    Direction,
+    Length,
+    NamePair,
+    Position,
+    Strict,
+    Velocity,
+    describe,
+    quantity,
 )
 
-__all__ = ["SpherePlane", "SphereInSphere", "CylinderInCylinder", "CircleVsProfile",
-           "ContactFriction", "Materials", "ImpactContact", "HertzContact",
-           "RestitutionContact", "Contact"]
+__all__ = [
+    "CircleVsProfile",
+    "Contact",
+    "ContactFriction",
+    "CylinderInCylinder",
+    "HertzContact",
+    "ImpactContact",
+    "Materials",
+    "RestitutionContact",
+    "SphereInSphere",
+    "SpherePlane",
+]
 
 _ACTIVE = "false: the element starts switched off (an event may activate it)"
 
 
 def _at_most_one(model: Strict, first: str, second: str) -> None:
     if getattr(model, first) is not None and getattr(model, second) is not None:
-        raise PydanticCustomError("exclusive", "give '{a}' or '{b}', not both",
-                                  {"a": first, "b": second})
+        raise PydanticCustomError(
+            "exclusive", "give '{a}' or '{b}', not both", {"a": first, "b": second}
+        )
 
 
 class SpherePlane(Strict):
@@ -37,8 +57,12 @@ class SpherePlane(Strict):
     radius: Length = Field(description=describe("sphere radius", "length"))
     plane_point: Position = Field(description=describe("a point of the plane", "length"))
     normal: Direction = Field(description="plane normal, from body 2 to body 1")
-    extent: Length | None = Field(None, description=describe(
-        "radius of the plane's pad about plane_point (absent: an unbounded plane)", "length"))
+    extent: Length | None = Field(
+        None,
+        description=describe(
+            "radius of the plane's pad about plane_point (absent: an unbounded plane)", "length"
+        ),
+    )
 
 
 class SphereInSphere(Strict):
@@ -49,8 +73,10 @@ class SphereInSphere(Strict):
     center: Position = Field(description=describe("common centre at design", "length"))
     radius: Length = Field(description=describe("ball radius", "length"))
     clearance: Length = Field(description=describe("radial clearance", "length"))
-    polar_axis: Direction = Field((0.0, 0.0, 1.0), description="axis (body 2) about which "
-                                  "the eccentricity's polar angle is measured")
+    polar_axis: Direction = Field(
+        (0.0, 0.0, 1.0),
+        description="axis (body 2) about which the eccentricity's polar angle is measured",
+    )
 
 
 class CylinderInCylinder(Strict):
@@ -70,23 +96,26 @@ class CircleVsProfile(Strict):
     shape: Literal["circle_vs_profile"]
     center: Position = Field(description=describe("roller centre", "length"))
     radius: Length = Field(description=describe("roller radius", "length"))
-    points: list[Position] = Field(description=describe(
-        "profile points in order (a cubic spline runs through them)", "length"))
+    points: list[Position] = Field(
+        description=describe("profile points in order (a cubic spline runs through them)", "length")
+    )
     plane_normal: Direction = Field(description="normal of the plane of roller and profile")
 
 
 class ContactFriction(Strict):
     """Friction law of a contact: step-function Stribeck (seed 004 eq. 3.9) or Coulomb."""
 
-    mu_static: Dimensionless | None = Field(None, description="static coefficient (stribeck; "
-                                            "absent: mu_dynamic)")
+    mu_static: Dimensionless | None = Field(
+        None, description="static coefficient (stribeck; absent: mu_dynamic)"
+    )
     mu_dynamic: Dimensionless = Field(description="sliding coefficient [dimensionless]")
     v_static: Velocity = Field(1.0e-3, description=describe("stiction speed", "velocity"))
     v_dynamic: Velocity = Field(1.0e-2, description=describe("full sliding speed", "velocity"))
     viscous: AnySI = Field(0.0, description="viscous coefficient mu_v [s/m, SI]")
     model: Literal["stribeck", "coulomb"] = Field(
-        "stribeck", description="stribeck (eq. 3.9) or coulomb (mu_dynamic, regularised "
-        "below v_static)")
+        "stribeck",
+        description="stribeck (eq. 3.9) or coulomb (mu_dynamic, regularised below v_static)",
+    )
 
 
 class Materials(Strict):
@@ -96,14 +125,17 @@ class Materials(Strict):
     nu: tuple[Dimensionless, Dimensionless]
 
 
-Geometry = Annotated[SpherePlane | SphereInSphere | CylinderInCylinder | CircleVsProfile,
-                     Field(discriminator="shape")]
+Geometry = Annotated[
+    SpherePlane | SphereInSphere | CylinderInCylinder | CircleVsProfile,
+    Field(discriminator="shape"),
+]
 _K = "contact stiffness k in F = k * x^exponent [N/m^exponent, SI]"
 
 
 class _Contact(Strict):
-    bodies: NamePair = Field(description="[body 1 (sphere, ball, pin, roller), body 2 (plane, "
-                             "socket, hole, profile)]")
+    bodies: NamePair = Field(
+        description="[body 1 (sphere, ball, pin, roller), body 2 (plane, socket, hole, profile)]"
+    )
     geometry: Geometry
     exponent: Dimensionless = Field(1.5, description="force exponent [dimensionless]")
     friction: ContactFriction | None = None
@@ -116,8 +148,9 @@ class ImpactContact(_Contact):
     type: Literal["impact"]
     stiffness: AnySI = Field(description=_K)
     damping: Damping = Field(0.0, description=describe("c_max reached at depth", "damping"))
-    depth: Length | None = Field(None, description=describe("penetration of full damping",
-                                                            "length"))
+    depth: Length | None = Field(
+        None, description=describe("penetration of full damping", "length")
+    )
 
 
 class HertzContact(_Contact):
@@ -129,7 +162,7 @@ class HertzContact(_Contact):
     restitution: Dimensionless | None = Field(None, description="coefficient of restitution")
 
     @model_validator(mode="after")
-    def _stiffness(self) -> "HertzContact":
+    def _stiffness(self) -> HertzContact:
         _at_most_one(self, "stiffness", "materials")
         if self.stiffness is None and self.materials is None:
             raise PydanticCustomError("stiffness", "give 'stiffness' or 'materials'")
@@ -144,5 +177,4 @@ class RestitutionContact(_Contact):
     stiffness: AnySI | None = Field(None, description=_K + "; default 1e8")
 
 
-Contact = Annotated[ImpactContact | HertzContact | RestitutionContact,
-                    Field(discriminator="type")]
+Contact = Annotated[ImpactContact | HertzContact | RestitutionContact, Field(discriminator="type")]

@@ -1,4 +1,5 @@
 """Pydantic validation errors -> short, positioned diagnostics naming the key."""
+
 from __future__ import annotations
 
 import difflib
@@ -12,16 +13,25 @@ from pydantic.fields import FieldInfo
 from loadcases.diagnostics import Diagnostic
 from loadcases.source import KeyPath, Locator
 
-__all__ = ["validation_diagnostics", "did_you_mean"]
+__all__ = ["did_you_mean", "validation_diagnostics"]
 
-_NUMBER_TYPES = ("float_type", "float_parsing", "int_type", "int_parsing", "int_from_float",
-                 "finite_number")
+_NUMBER_TYPES = (
+    "float_type",
+    "float_parsing",
+    "int_type",
+    "int_parsing",
+    "int_from_float",
+    "finite_number",
+)
 _SIMPLE = {
-    "string_type": "expected a text", "dict_type": "expected a mapping of keys",
-    "model_type": "expected a mapping of keys", "model_attributes_type":
-    "expected a mapping of keys", "list_type": "expected a list", "tuple_type":
-    "expected a list", "bool_type": "expected true or false", "bool_parsing":
-    "expected true or false",
+    "string_type": "expected a text",
+    "dict_type": "expected a mapping of keys",
+    "model_type": "expected a mapping of keys",
+    "model_attributes_type": "expected a mapping of keys",
+    "list_type": "expected a list",
+    "tuple_type": "expected a list",
+    "bool_type": "expected true or false",
+    "bool_parsing": "expected true or false",
 }
 
 
@@ -64,12 +74,18 @@ def _is_union(tp: Any) -> bool:
 
 def _member_by_tag(members: tuple[Any, ...], meta: list[Any], tag: Any) -> Any:
     """The union member selected by discriminator `tag`, or None if this is no tag."""
-    field = next((m.discriminator for m in meta if isinstance(m, FieldInfo)
-                  and m.discriminator), None)
+    field = next(
+        (m.discriminator for m in meta if isinstance(m, FieldInfo) and m.discriminator), None
+    )
     for member in members:
         inner, inner_meta = _unwrap(member)
-        if field and isinstance(field, str) and isinstance(inner, type) and \
-                issubclass(inner, BaseModel) and field in inner.model_fields:
+        if (
+            field
+            and isinstance(field, str)
+            and isinstance(inner, type)
+            and issubclass(inner, BaseModel)
+            and field in inner.model_fields
+        ):
             if tag in typing.get_args(inner.model_fields[field].annotation):
                 return inner
         if any(getattr(m, "tag", None) == tag for m in inner_meta):
@@ -138,9 +154,17 @@ def _message(error: Any, path: KeyPath, parent: Any) -> tuple[str, str | None, K
         key = str(ctx.get("discriminator", "type")).strip("'")
         return f"missing key '{key}'", None, path
     if kind == "literal_error":
-        return f"expected {ctx.get('expected')}, got {_show(value)}", \
-            did_you_mean(str(value), [s.strip("' ") for s in str(
-                ctx.get("expected", "")).replace(" or ", ", ").split(",")]), path
+        return (
+            f"expected {ctx.get('expected')}, got {_show(value)}",
+            did_you_mean(
+                str(value),
+                [
+                    s.strip("' ")
+                    for s in str(ctx.get("expected", "")).replace(" or ", ", ").split(",")
+                ],
+            ),
+            path,
+        )
     if kind in ("too_short", "too_long"):
         return _length_message(kind, ctx, value), None, path
     if kind in _NUMBER_TYPES:
@@ -157,8 +181,11 @@ def _length_message(kind: str, ctx: dict[str, Any], value: Any) -> str:
     got = ctx.get("actual_length", len(value) if hasattr(value, "__len__") else "?")
     if isinstance(value, (list, tuple)) and kind == "too_long" and "max_length" in ctx:
         return f"expected {ctx['max_length']} values, got {got}"
-    if kind == "too_short" and isinstance(value, (list, tuple)) and \
-            ctx.get("field_type") == "Tuple":
+    if (
+        kind == "too_short"
+        and isinstance(value, (list, tuple))
+        and ctx.get("field_type") == "Tuple"
+    ):
         return f"expected {ctx.get('min_length')} values, got {got}"
     bound = "at least" if kind == "too_short" else "at most"
     count = ctx.get("min_length" if kind == "too_short" else "max_length")
@@ -166,8 +193,9 @@ def _length_message(kind: str, ctx: dict[str, Any], value: Any) -> str:
     return f"expected {bound} {count} {noun}, got {got}"
 
 
-def validation_diagnostics(error: ValidationError, model: type[BaseModel],
-                           locator: Locator) -> list[Diagnostic]:
+def validation_diagnostics(
+    error: ValidationError, model: type[BaseModel], locator: Locator
+) -> list[Diagnostic]:
     """One diagnostic per pydantic error of validating `model` at `locator`."""
     result: list[Diagnostic] = []
     seen: set[tuple[KeyPath, str]] = set()
@@ -179,6 +207,3 @@ def validation_diagnostics(error: ValidationError, model: type[BaseModel],
         seen.add((path, message))
         result.append(locator.diagnostic(path, message, hint=hint))
     return result
-
-
-

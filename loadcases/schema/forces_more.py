@@ -1,4 +1,5 @@
 """Pydantic models of the domain force elements: seal, damper, cable loop (issue 3)."""
+
 from __future__ import annotations
 
 from typing import Literal
@@ -6,11 +7,23 @@ from typing import Literal
 from pydantic import Field
 
 from loadcases.schema.types import (
-    AnySI, Dimensionless, Direction, Force, Length, Name, NamePair, Position, Stiffness,
-    Strict, TorsionalDamping, Velocity, describe, vector,
+    AnySI,
+    Dimensionless,
+    Direction,
+    Force,
+    Length,
+    Name,
+    NamePair,
+    Position,
+    Stiffness,
+    Strict,
+    TorsionalDamping,
+    Velocity,
+    describe,
+    vector,
 )
 
-__all__ = ["Seal", "Damper", "CableLoop"]
+__all__ = ["CableLoop", "Damper", "Seal"]
 
 _ACTIVE = "false: the element starts switched off (an event may activate it)"
 
@@ -24,16 +37,24 @@ class Seal(Strict):
     end: Position = Field(description=describe("second end of the seal line", "length"))
     normal: Direction = Field(description="seal normal, from body 2 towards body 1")
     springs: int = Field(7, ge=1, description="number of springs N spread along the line")
-    stiffness: AnySI = Field(0.0, description="line stiffness k of the line load "
-                             "w = k x^exponent [N/m per metre of seal at exponent 1, SI]")
+    stiffness: AnySI = Field(
+        0.0,
+        description="line stiffness k of the line load "
+        "w = k x^exponent [N/m per metre of seal at exponent 1, SI]",
+    )
     exponent: Dimensionless = Field(1.0, description="exponent of the line load [-]")
-    law: Name | None = Field(None, description="table of line load [N/m] vs penetration "
-                             "[m], instead of stiffness and exponent")
-    gap: Length = Field(0.0, description=describe("gap at design (negative: "
-                                                  "pre-compressed)", "length"))
+    law: Name | None = Field(
+        None,
+        description="table of line load [N/m] vs penetration "
+        "[m], instead of stiffness and exponent",
+    )
+    gap: Length = Field(
+        0.0, description=describe("gap at design (negative: pre-compressed)", "length")
+    )
     mu: Dimensionless = Field(0.0, description="friction coefficient [dimensionless]")
-    v_threshold: Velocity = Field(1.0e-3, description=describe(
-        "sliding speed of full friction", "velocity"))
+    v_threshold: Velocity = Field(
+        1.0e-3, description=describe("sliding speed of full friction", "velocity")
+    )
     active: bool = Field(True, description=_ACTIVE)
 
 
@@ -42,8 +63,7 @@ class Damper(Strict):
 
     type: Literal["damper"]
     joint: Name
-    damping: TorsionalDamping = Field(description=describe("damping c",
-                                                           "torsional_damping"))
+    damping: TorsionalDamping = Field(description=describe("damping c", "torsional_damping"))
     active: bool = Field(True, description=_ACTIVE)
 
 
@@ -52,10 +72,7 @@ class CableLoop(Strict):
 
     type: Literal["cable_loop"]
     joints: tuple[Name, Name] = Field(description="[joint 1 (pulley r1), joint 2 (pulley r2)]")
-    radii: vector("length", 2) = Field(
-        description=describe("[r1, r2] pulley radii", "length"))
-    stiffness: Stiffness = Field(description=describe("stiffness of each strand",
-                                                      "stiffness"))
-    pretension: Force = Field(0.0, description=describe("strand tension at design",
-                                                        "force"))
+    radii: vector("length", 2) = Field(description=describe("[r1, r2] pulley radii", "length"))
+    stiffness: Stiffness = Field(description=describe("stiffness of each strand", "stiffness"))
+    pretension: Force = Field(0.0, description=describe("strand tension at design", "force"))
     active: bool = Field(True, description=_ACTIVE)

@@ -1,4 +1,5 @@
 """Pydantic models of a mechanism file (`*.mech.yaml`, SPEC 1.2): values in SI floats."""
+
 from __future__ import annotations
 
 from typing import Annotated, Any, Literal
@@ -6,18 +7,43 @@ from typing import Annotated, Any, Literal
 from pydantic import BeforeValidator, Field, model_validator
 from pydantic_core import PydanticCustomError
 
-from loadcases.schema.types import (
-    AnySI, Direction, Expression, Inertia, Length, Mass, Name, NamePair, Position, Strict,
-    describe, vector,
-)
 from loadcases.schema.elements import Contact, ForceElement, Table
+from loadcases.schema.types import (
+    AnySI,
+    Direction,
+    Expression,
+    Inertia,
+    Length,
+    Mass,
+    Name,
+    NamePair,
+    Position,
+    Strict,
+    describe,
+    vector,
+)
 from loadcases.units import FILE_UNIT_KINDS, UnitError, check_unit_name
 
 __all__ = [
-    "FileUnits", "Body", "Point", "Frame", "Joint", "Fixed", "Spherical", "Orientation",
-    "AxisJoint", "Screw", "AxesJoint", "NormalJoint", "Coupler", "PointOnCurve",
-    "EventAction", "Event", "MechanismModel",
-    "JOINT_TYPES", "COORDINATE_DIMENSION",
+    "COORDINATE_DIMENSION",
+    "JOINT_TYPES",
+    "AxesJoint",
+    "AxisJoint",
+    "Body",
+    "Coupler",
+    "Event",
+    "EventAction",
+    "FileUnits",
+    "Fixed",
+    "Frame",
+    "Joint",
+    "MechanismModel",
+    "NormalJoint",
+    "Orientation",
+    "Point",
+    "PointOnCurve",
+    "Screw",
+    "Spherical",
 ]
 
 
@@ -27,9 +53,16 @@ def _unit_name(kind: str) -> Any:
             return check_unit_name(value, kind)
         except UnitError as error:
             raise PydanticCustomError("unit", str(error)) from None
-    return Annotated[str | None, BeforeValidator(check), Field(
-        default=None, description=f"unit of bare {kind} numbers in this file, e.g. "
-        + {"length": "mm", "angle": "deg", "mass": "g", "time": "ms", "force": "kN"}[kind])]
+
+    return Annotated[
+        str | None,
+        BeforeValidator(check),
+        Field(
+            default=None,
+            description=f"unit of bare {kind} numbers in this file, e.g. "
+            + {"length": "mm", "angle": "deg", "mass": "g", "time": "ms", "force": "kN"}[kind],
+        ),
+    ]
 
 
 class FileUnits(Strict):
@@ -51,9 +84,11 @@ class Body(Strict):
 
     mass: Mass = Field(description=describe("mass", "mass"))
     cm: Position = Field(description=describe("centre of mass, global frame", "length"))
-    inertia: Inertia = Field(description="about the cm, global axes: [Ixx, Iyy, Izz] or "
-                             "[Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (Ixy = -integral of x*y dm) "
-                             "[inertia: kg*m^2, bare numbers always SI]")
+    inertia: Inertia = Field(
+        description="about the cm, global axes: [Ixx, Iyy, Izz] or "
+        "[Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (Ixy = -integral of x*y dm) "
+        "[inertia: kg*m^2, bare numbers always SI]"
+    )
 
 
 class Point(Strict):
@@ -77,8 +112,10 @@ _AXIS = "unit direction, global frame (normalised on use) [dimensionless]"
 
 
 class _TwoBody(Strict):
-    bodies: NamePair = Field(description="[body 1, body 2]: coordinates are body 1 "
-                             "relative to body 2; reactions act on body 1 from body 2")
+    bodies: NamePair = Field(
+        description="[body 1, body 2]: coordinates are body 1 "
+        "relative to body 2; reactions act on body 1 from body 2"
+    )
 
 
 class Fixed(_TwoBody):
@@ -112,8 +149,9 @@ class Screw(_TwoBody):
 class AxesJoint(_TwoBody):
     type: Literal["universal", "perpendicular"]
     at: Position = Field(description=_AT)
-    axes: tuple[Direction, Direction] = Field(description="[a1 fixed in body 1, a2 fixed in "
-                                              "body 2] " + _AXIS)
+    axes: tuple[Direction, Direction] = Field(
+        description="[a1 fixed in body 1, a2 fixed in body 2] " + _AXIS
+    )
 
 
 class NormalJoint(_TwoBody):
@@ -133,20 +171,53 @@ class PointOnCurve(_TwoBody):
 
     type: Literal["point_on_curve"]
     at: Position = Field(description=_AT)
-    curve: list[Position] = Field(min_length=2, description=describe(
-        "points [x, y, z] of the curve in body 2, global frame at design", "length"))
+    curve: list[Position] = Field(
+        min_length=2,
+        description=describe(
+            "points [x, y, z] of the curve in body 2, global frame at design", "length"
+        ),
+    )
     interpolation: Literal["akima", "linear", "cubic"] = "cubic"
 
 
 Joint = Annotated[
-    Fixed | Spherical | Orientation | AxisJoint | Screw | AxesJoint | NormalJoint | Coupler
-    | PointOnCurve, Field(discriminator="type")]
-JOINT_TYPES = ("fixed", "revolute", "spherical", "cylindrical", "prismatic", "universal",
-               "planar", "screw", "inline", "inplane", "parallel", "perpendicular",
-               "orientation", "coupler", "gear", "point_on_curve")
+    Fixed
+    | Spherical
+    | Orientation
+    | AxisJoint
+    | Screw
+    | AxesJoint
+    | NormalJoint
+    | Coupler
+    | PointOnCurve,
+    Field(discriminator="type"),
+]
+JOINT_TYPES = (
+    "fixed",
+    "revolute",
+    "spherical",
+    "cylindrical",
+    "prismatic",
+    "universal",
+    "planar",
+    "screw",
+    "inline",
+    "inplane",
+    "parallel",
+    "perpendicular",
+    "orientation",
+    "coupler",
+    "gear",
+    "point_on_curve",
+)
 # Dimension of the single coordinate of a joint type (motions, `initial:` values).
-COORDINATE_DIMENSION = {"revolute": "angle", "screw": "angle", "cylindrical": "angle",
-                        "inline": "angle", "prismatic": "length"}
+COORDINATE_DIMENSION = {
+    "revolute": "angle",
+    "screw": "angle",
+    "cylindrical": "angle",
+    "inline": "angle",
+    "prismatic": "length",
+}
 
 _ACTIONS = ("activate", "deactivate", "release", "lock", "stop")
 
@@ -164,14 +235,19 @@ class EventAction(Strict):
         if isinstance(value, str):
             value = {value: None}
         if not isinstance(value, dict) or len(value) != 1:
-            raise PydanticCustomError("action", "expected an action such as 'stop' or "
-                                      "'{activate: NAME}'")
-        (action, target), = value.items()
+            raise PydanticCustomError(
+                "action", "expected an action such as 'stop' or '{activate: NAME}'"
+            )
+        ((action, target),) = value.items()
         if action not in _ACTIONS:
-            raise PydanticCustomError("action", "unknown action '{a}': use activate, "
-                                      "deactivate, release, lock or stop", {"a": action})
-        if (target is None) != (action == "stop") or (target is not None
-                                                      and not isinstance(target, str)):
+            raise PydanticCustomError(
+                "action",
+                "unknown action '{a}': use activate, deactivate, release, lock or stop",
+                {"a": action},
+            )
+        if (target is None) != (action == "stop") or (
+            target is not None and not isinstance(target, str)
+        ):
             what = "takes no name" if action == "stop" else "needs the name of what it acts on"
             raise PydanticCustomError("action", "action '{a}' {w}", {"a": action, "w": what})
         return {"action": action, "target": target}
@@ -181,8 +257,11 @@ class Event(Strict):
     """`when` a condition on the state becomes true, do `then`."""
 
     when: Expression = Field(description="condition expression, e.g. 'angle(hl2) >= 90*deg'")
-    then: list[EventAction] = Field(min_length=1, description="actions: stop, {activate: "
-                                    "NAME}, {deactivate: NAME}, {release: JOINT}, {lock: JOINT}")
+    then: list[EventAction] = Field(
+        min_length=1,
+        description="actions: stop, {activate: "
+        "NAME}, {deactivate: NAME}, {release: JOINT}, {lock: JOINT}",
+    )
 
 
 class MechanismModel(Strict):
@@ -191,10 +270,13 @@ class MechanismModel(Strict):
     name: str | None = None
     units: FileUnits = Field(default_factory=FileUnits)
     gravity: vector("acceleration") = Field(
-        (0.0, 0.0, 0.0), description="gravity vector [acceleration: m/s^2, always SI]; "
-        "absent: no gravity")
-    parameters: dict[str, AnySI] = Field(default_factory=dict, description="named values "
-                                         "for expressions [any dimension, SI; bare numbers SI]")
+        (0.0, 0.0, 0.0),
+        description="gravity vector [acceleration: m/s^2, always SI]; absent: no gravity",
+    )
+    parameters: dict[str, AnySI] = Field(
+        default_factory=dict,
+        description="named values for expressions [any dimension, SI; bare numbers SI]",
+    )
     bodies: dict[str, Body] = Field(default_factory=dict)
     points: dict[str, Point] = Field(default_factory=dict)
     frames: dict[str, Frame] = Field(default_factory=dict)
@@ -203,4 +285,3 @@ class MechanismModel(Strict):
     contacts: dict[str, Contact] = Field(default_factory=dict)
     tables: dict[str, Table] = Field(default_factory=dict)
     events: dict[str, Event] = Field(default_factory=dict)
-

@@ -3,33 +3,74 @@
 Validation context: `{"units": {"length": "mm", ...}}` (the file's `units:` header) gives the
 unit of bare numbers of the five file-unit kinds; every other bare number is SI.
 """
+
 from __future__ import annotations
 
 import re
 from collections.abc import Callable, Mapping
 from typing import Annotated, Any
 
-from pydantic import BeforeValidator, ConfigDict, Field, ValidationInfo
-from pydantic import BaseModel
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo
 from pydantic_core import PydanticCustomError
 
 from loadcases.units import UnitError, finite, to_si, vector_to_si
 
 __all__ = [
-    "Strict", "SI_UNITS", "describe", "quantity", "vector", "Expression", "Name", "NamePair",
-    "Length", "Angle", "Mass", "Time", "Force", "Torque", "Velocity", "AngularVelocity",
-    "Stiffness", "TorsionalStiffness", "Damping", "TorsionalDamping", "Pressure",
-    "Dimensionless", "AnySI", "ForceOrTorque", "Position", "Direction", "Inertia", "Values",
-    "RawQuantity", "expression",
+    "SI_UNITS",
+    "Angle",
+    "AngularVelocity",
+    "AnySI",
+    "Damping",
+    "Dimensionless",
+    "Direction",
+    "Expression",
+    "Force",
+    "ForceOrTorque",
+    "Inertia",
+    "Length",
+    "Mass",
+    "Name",
+    "NamePair",
+    "Position",
+    "Pressure",
+    "RawQuantity",
+    "Stiffness",
+    "Strict",
+    "Time",
+    "Torque",
+    "TorsionalDamping",
+    "TorsionalStiffness",
+    "Values",
+    "Velocity",
+    "describe",
+    "expression",
+    "quantity",
+    "vector",
 ]
 
 SI_UNITS: dict[str, str] = {
-    "length": "m", "angle": "rad", "mass": "kg", "time": "s", "force": "N",
-    "torque": "N*m", "inertia": "kg*m^2", "velocity": "m/s", "angular_velocity": "rad/s",
-    "acceleration": "m/s^2", "angular_acceleration": "rad/s^2", "stiffness": "N/m",
-    "torsional_stiffness": "N*m/rad", "damping": "N*s/m", "torsional_damping": "N*m*s/rad",
-    "pressure": "Pa", "area": "m^2", "volume": "m^3", "frequency": "Hz",
-    "dimensionless": "1", "any": "SI", "force_or_torque": "N or N*m",
+    "length": "m",
+    "angle": "rad",
+    "mass": "kg",
+    "time": "s",
+    "force": "N",
+    "torque": "N*m",
+    "inertia": "kg*m^2",
+    "velocity": "m/s",
+    "angular_velocity": "rad/s",
+    "acceleration": "m/s^2",
+    "angular_acceleration": "rad/s^2",
+    "stiffness": "N/m",
+    "torsional_stiffness": "N*m/rad",
+    "damping": "N*s/m",
+    "torsional_damping": "N*m*s/rad",
+    "pressure": "Pa",
+    "area": "m^2",
+    "volume": "m^3",
+    "frequency": "Hz",
+    "dimensionless": "1",
+    "any": "SI",
+    "force_or_torque": "N or N*m",
 }
 _FILE_KINDS = ("length", "angle", "mass", "time", "force")
 _QUANTITY_TEXT = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*[A-Za-z°%µ]")
@@ -46,8 +87,7 @@ class Strict(BaseModel):
 
 def describe(text: str, dimension: str) -> str:
     """Field description with its unit: `text [length: m; bare numbers in units.length]`."""
-    bare = f"bare numbers in units.{dimension}" if dimension in _FILE_KINDS else \
-        "bare numbers SI"
+    bare = f"bare numbers in units.{dimension}" if dimension in _FILE_KINDS else "bare numbers SI"
     return f"{text} [{dimension}: {SI_UNITS[dimension]}; {bare}]"
 
 
@@ -68,6 +108,7 @@ def _scalar(dimension: str) -> Callable[[Any, ValidationInfo], float]:
             return to_si(value, dimension, _file_units(info))
         except UnitError as error:
             raise _fail(error) from None
+
     return convert
 
 
@@ -79,26 +120,29 @@ def _force_or_torque(value: Any) -> float:
         try:
             return to_si(value, "torque")
         except UnitError as error:
-            raise PydanticCustomError("quantity", str(error).replace(
-                "expected a torque", "expected a force or a torque")) from None
+            raise PydanticCustomError(
+                "quantity", str(error).replace("expected a torque", "expected a force or a torque")
+            ) from None
 
 
 def quantity(dimension: str) -> Any:
     """Annotated float type: a number or quantity text of `dimension`, validated to SI."""
-    return Annotated[float, BeforeValidator(_scalar(dimension),
-                                            json_schema_input_type=float | str)]
+    return Annotated[float, BeforeValidator(_scalar(dimension), json_schema_input_type=float | str)]
 
 
 def vector(dimension: str, size: int | None = 3) -> Any:
     """Annotated tuple type: `size` components (any count if None) of `dimension`, in SI."""
+
     def convert(value: Any, info: ValidationInfo) -> tuple[float, ...]:
         try:
             return vector_to_si(value, dimension, _file_units(info), size)
         except UnitError as error:
             raise _fail(error) from None
+
     inner = tuple[float, float, float] if size == 3 else tuple[float, ...]
-    return Annotated[inner, BeforeValidator(convert,
-                                            json_schema_input_type=list[float | str] | str)]
+    return Annotated[
+        inner, BeforeValidator(convert, json_schema_input_type=list[float | str] | str)
+    ]
 
 
 def _inertia(value: Any, info: ValidationInfo) -> tuple[float, ...]:
@@ -107,14 +151,18 @@ def _inertia(value: Any, info: ValidationInfo) -> tuple[float, ...]:
     except UnitError as error:
         raise _fail(error) from None
     if len(result) not in (3, 6):
-        raise PydanticCustomError("quantity", "expected 3 values [Ixx, Iyy, Izz] or 6 "
-                                  "[Ixx, Iyy, Izz, Ixy, Ixz, Iyz], got {n}", {"n": len(result)})
+        raise PydanticCustomError(
+            "quantity",
+            "expected 3 values [Ixx, Iyy, Izz] or 6 [Ixx, Iyy, Izz, Ixy, Ixz, Iyz], got {n}",
+            {"n": len(result)},
+        )
     return result
 
 
 def expression(dimension: str = "any") -> Any:
     """Annotated str type of an expression: numbers become their text, and a plain quantity
     text such as "100 N" becomes its SI number (checked against `dimension`)."""
+
     def convert(value: Any) -> str:
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
             raise PydanticCustomError("expression", "expected an expression text or a number")
@@ -132,6 +180,7 @@ def expression(dimension: str = "any") -> Any:
                 if "cannot read" not in str(error):
                     raise _fail(error) from None
         return value.strip()
+
     return Annotated[str, BeforeValidator(convert, json_schema_input_type=float | str)]
 
 
@@ -160,8 +209,9 @@ ForceOrTorque = quantity("force_or_torque")
 Position = vector("length")
 Direction = vector("dimensionless")
 Values = vector("any", None)
-Inertia = Annotated[tuple[float, ...], BeforeValidator(
-    _inertia, json_schema_input_type=list[float | str] | str)]
+Inertia = Annotated[
+    tuple[float, ...], BeforeValidator(_inertia, json_schema_input_type=list[float | str] | str)
+]
 Expression = expression()
 # A joint coordinate or rate whose dimension depends on the joint type: converted by the loader.
 RawQuantity = Annotated[float | str, BeforeValidator(_raw)]

@@ -10,37 +10,44 @@ not solved again, unless `force`. Failed runs are solved again (the failure may 
 fixed elsewhere, e.g. in the engine). One failing run never stops the set: it is recorded
 with its message and left out of the envelope.
 """
+
 from __future__ import annotations
 
 import dataclasses
 import os
 import time as clock
-from concurrent.futures import ProcessPoolExecutor
 from collections.abc import Callable
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from loadcases import engine_hash
-from loadcases.report.curves import EnvelopeCurve, envelope_curves, plot_curves
 from loadcases.diagnostics import InputError
+from loadcases.report.curves import EnvelopeCurve, envelope_curves, plot_curves
 from loadcases.report.envelope import EnvelopeRow, extract_envelope, write_envelope_csv
-from loadcases.sets.executors import Executor, SerialExecutor
 from loadcases.report.margins import apply_margins
-from loadcases.results.outcome import RunOutcome
 from loadcases.results.files import result_base, write_results
-from loadcases.results.saved import (RunRecord, SavedRun, load_saved_run, read_summary,
-                             record_from_summary, summary_path)
+from loadcases.results.outcome import RunOutcome
+from loadcases.results.saved import (
+    RunRecord,
+    SavedRun,
+    load_saved_run,
+    read_summary,
+    record_from_summary,
+    summary_path,
+)
+from loadcases.sets.executors import Executor, SerialExecutor
 from loadcases.sets.specs import CompiledSet, RunSpec, load_and_compile_set
 from mechlib.solution import Solution
 
-__all__ = ["SetResult", "run_set", "solve_spec", "ENVELOPE_FILE", "DEFAULT_WORKBOOK"]
+__all__ = ["DEFAULT_WORKBOOK", "ENVELOPE_FILE", "SetResult", "run_set", "solve_spec"]
 
 ENVELOPE_FILE = "envelope.csv"
-DEFAULT_WORKBOOK = "envelope.xlsx"   # when the set has no `report:`
+DEFAULT_WORKBOOK = "envelope.xlsx"  # when the set has no `report:`
 
-OnRecord = Callable[[RunRecord, int, int], None]   # (record, runs done, runs in total)
+OnRecord = Callable[[RunRecord, int, int], None]  # (record, runs done, runs in total)
 
 _PLOTS_PER_PROCESS = 16  # fewer plots than twice this: drawn in this process
 
@@ -64,10 +71,17 @@ class SetResult:
 
 def _failed_outcome(spec: RunSpec, analysis: str, message: str) -> RunOutcome:
     """An outcome without rows for a run that could not be solved at all."""
-    solution = Solution(status="failed", message=message, analysis=analysis,
-                        time=np.empty(0), channels={})
-    return RunOutcome(spec.name, Path(spec.case_path), analysis, solution, spec.input_sha256,
-                      parameters=dict(spec.parameters))
+    solution = Solution(
+        status="failed", message=message, analysis=analysis, time=np.empty(0), channels={}
+    )
+    return RunOutcome(
+        spec.name,
+        Path(spec.case_path),
+        analysis,
+        solution,
+        spec.input_sha256,
+        parameters=dict(spec.parameters),
+    )
 
 
 def solve_spec(spec: RunSpec) -> RunOutcome:
@@ -84,8 +98,7 @@ def solve_spec(spec: RunSpec) -> RunOutcome:
     except InputError as error:
         return _failed_outcome(spec, analysis, str(error))
     except Exception as error:  # a bug must not stop the other runs; it is reported
-        return _failed_outcome(spec, analysis, f"internal error: {type(error).__name__}: "
-                               f"{error}")
+        return _failed_outcome(spec, analysis, f"internal error: {type(error).__name__}: {error}")
 
 
 def _csv_path(directory: Path, name: str) -> Path:
@@ -98,30 +111,46 @@ def _reusable(directory: Path, spec: RunSpec) -> RunRecord | None:
     engine, and its CSV is the one its summary was written with."""
     csv_path = _csv_path(directory, spec.name)
     summary = read_summary(summary_path(csv_path))
-    if (summary is None or not csv_path.is_file() or summary.get("status") != "ok"
-            or summary.get("input_sha256") != spec.input_sha256
-            or summary.get("engine_sha256") != engine_hash.engine_sha256()
-            or summary.get("csv_sha256") != engine_hash.file_sha256(csv_path)):
+    if (
+        summary is None
+        or not csv_path.is_file()
+        or summary.get("status") != "ok"
+        or summary.get("input_sha256") != spec.input_sha256
+        or summary.get("engine_sha256") != engine_hash.engine_sha256()
+        or summary.get("csv_sha256") != engine_hash.file_sha256(csv_path)
+    ):
         return None
     return record_from_summary(summary, csv_path, reused=True)
 
 
 def _record(outcome: RunOutcome, spec: RunSpec, csv_path: Path) -> RunRecord:
     solution = outcome.solution
-    return RunRecord(name=spec.name, family=spec.family, case_file=spec.case_path,
-                     parameters=dict(spec.parameters), analysis=outcome.analysis,
-                     status=solution.status, message=solution.message,
-                     steps=int(solution.stats.steps),
-                     cpu_seconds=float(solution.stats.cpu_seconds),
-                     input_sha256=spec.input_sha256, csv_path=csv_path)
+    return RunRecord(
+        name=spec.name,
+        family=spec.family,
+        case_file=spec.case_path,
+        parameters=dict(spec.parameters),
+        analysis=outcome.analysis,
+        status=solution.status,
+        message=solution.message,
+        steps=int(solution.stats.steps),
+        cpu_seconds=float(solution.stats.cpu_seconds),
+        input_sha256=spec.input_sha256,
+        csv_path=csv_path,
+    )
 
 
-def _solve_all(compiled: CompiledSet, directory: Path, executor: Executor, force: bool,
-               on_record: OnRecord | None, xlsx: bool = False) -> list[RunRecord]:
+def _solve_all(
+    compiled: CompiledSet,
+    directory: Path,
+    executor: Executor,
+    force: bool,
+    on_record: OnRecord | None,
+    xlsx: bool = False,
+) -> list[RunRecord]:
     """Records in run order; solved runs' results are written here as they arrive."""
     specs = list(compiled.runs)
-    records: list[RunRecord | None] = [None if force else _reusable(directory, s)
-                                       for s in specs]
+    records: list[RunRecord | None] = [None if force else _reusable(directory, s) for s in specs]
     done = 0
     for record in records:
         if record is not None:
@@ -150,8 +179,7 @@ def _prebuild(compiled: CompiledSet) -> None:
         raise InputError(problems)
 
 
-def _report_files(result: SetResult, runs: list[SavedRun], options: dict[str, str]
-                  ) -> list[Path]:
+def _report_files(result: SetResult, runs: list[SavedRun], options: dict[str, str]) -> list[Path]:
     """envelope.csv, the workbook and (if available) the plots of a set."""
     from loadcases.report.workbook import WorkbookData, write_workbook
 
@@ -183,9 +211,16 @@ def _plots(curves: list[EnvelopeCurve], directory: Path) -> list[Path]:
     return [drawn[n % workers][n // workers] for n in range(len(chosen))]
 
 
-def run_set(path: str | Path, *, output_dir: str | Path, executor: Executor | None = None,
-            force: bool = False, on_record: OnRecord | None = None,
-            options: dict[str, str] | None = None, xlsx: bool = False) -> SetResult:
+def run_set(
+    path: str | Path,
+    *,
+    output_dir: str | Path,
+    executor: Executor | None = None,
+    force: bool = False,
+    on_record: OnRecord | None = None,
+    options: dict[str, str] | None = None,
+    xlsx: bool = False,
+) -> SetResult:
     """Run a set file into `output_dir/SET/`; InputError (nothing run) for invalid input.
 
     `on_record(record, done, total)` is called as each run is reused or finishes;
@@ -196,14 +231,16 @@ def run_set(path: str | Path, *, output_dir: str | Path, executor: Executor | No
     compiled = load_and_compile_set(path)
     _prebuild(compiled)
     directory = result_base(Path(output_dir), compiled.name)
-    records = _solve_all(compiled, directory, executor or SerialExecutor(), force, on_record,
-                         xlsx)
+    records = _solve_all(compiled, directory, executor or SerialExecutor(), force, on_record, xlsx)
     runs = [load_saved_run(r.csv_path) for r in records if r.ok]
     model = compiled.set_file.model
-    result = SetResult(compiled, directory, records,
-                       apply_margins(extract_envelope(runs), model.factors, model.allowables),
-                       envelope_curves(runs))
-    info = {"force": str(force), "wall seconds": f"{clock.time() - started:.3g}",
-            **(options or {})}
+    result = SetResult(
+        compiled,
+        directory,
+        records,
+        apply_margins(extract_envelope(runs), model.factors, model.allowables),
+        envelope_curves(runs),
+    )
+    info = {"force": str(force), "wall seconds": f"{clock.time() - started:.3g}", **(options or {})}
     result.files = _report_files(result, runs, info)
     return result

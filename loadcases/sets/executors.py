@@ -9,6 +9,7 @@ Dask (`dask.distributed`, optional extra `dask`): workers solve and send the sol
 this process writes every result file, so workers need the input files (same paths, e.g.
 a shared file system) but no access to the output folder.
 """
+
 from __future__ import annotations
 
 import os
@@ -16,10 +17,17 @@ from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from typing import Any, Protocol
 
-__all__ = ["Executor", "SerialExecutor", "PoolExecutor", "DaskExecutor", "make_executor",
-           "default_jobs", "LOCAL_SCHEDULER"]
+__all__ = [
+    "LOCAL_SCHEDULER",
+    "DaskExecutor",
+    "Executor",
+    "PoolExecutor",
+    "SerialExecutor",
+    "default_jobs",
+    "make_executor",
+]
 
-LOCAL_SCHEDULER = "local"   # `--scheduler local`: a Dask LocalCluster on this machine
+LOCAL_SCHEDULER = "local"  # `--scheduler local`: a Dask LocalCluster on this machine
 
 
 def default_jobs() -> int:
@@ -33,15 +41,17 @@ def default_jobs() -> int:
 class Executor(Protocol):
     """Runs `fn` over items; yields `(index, result)` as each finishes."""
 
-    def map_unordered(self, fn: Callable[[Any], Any], items: list[Any]
-                      ) -> Iterator[tuple[int, Any]]: ...
+    def map_unordered(
+        self, fn: Callable[[Any], Any], items: list[Any]
+    ) -> Iterator[tuple[int, Any]]: ...
 
 
 class SerialExecutor:
     """One run after another in this process."""
 
-    def map_unordered(self, fn: Callable[[Any], Any], items: list[Any]
-                      ) -> Iterator[tuple[int, Any]]:
+    def map_unordered(
+        self, fn: Callable[[Any], Any], items: list[Any]
+    ) -> Iterator[tuple[int, Any]]:
         for index, item in enumerate(items):
             yield index, fn(item)
 
@@ -54,8 +64,9 @@ class PoolExecutor:
             raise ValueError(f"jobs must be at least 1, got {jobs}")
         self.jobs = jobs
 
-    def map_unordered(self, fn: Callable[[Any], Any], items: list[Any]
-                      ) -> Iterator[tuple[int, Any]]:
+    def map_unordered(
+        self, fn: Callable[[Any], Any], items: list[Any]
+    ) -> Iterator[tuple[int, Any]]:
         workers = min(self.jobs, len(items))
         if workers <= 1:
             yield from SerialExecutor().map_unordered(fn, items)
@@ -71,8 +82,13 @@ class DaskExecutor:
     for a `LocalCluster` of `jobs` single-threaded workers (`cluster_options` are passed
     to `LocalCluster`, e.g. `processes=False` for threads in this process)."""
 
-    def __init__(self, address: str, *, jobs: int | None = None,
-                 cluster_options: dict[str, Any] | None = None) -> None:
+    def __init__(
+        self,
+        address: str,
+        *,
+        jobs: int | None = None,
+        cluster_options: dict[str, Any] | None = None,
+    ) -> None:
         self.address = address
         self.jobs = jobs or default_jobs()
         self.cluster_options = dict(cluster_options or {})
@@ -81,17 +97,22 @@ class DaskExecutor:
         try:
             from dask.distributed import Client, LocalCluster
         except ImportError as error:
-            raise RuntimeError("--scheduler needs dask.distributed: pip install "
-                               "'loads[dask]'") from error
+            raise RuntimeError(
+                "--scheduler needs dask.distributed: pip install 'loads[dask]'"
+            ) from error
         if self.address != LOCAL_SCHEDULER:
             return Client(self.address), None
-        options = {"n_workers": self.jobs, "threads_per_worker": 1,
-                   "dashboard_address": None} | self.cluster_options
+        options = {
+            "n_workers": self.jobs,
+            "threads_per_worker": 1,
+            "dashboard_address": None,
+        } | self.cluster_options
         cluster = LocalCluster(**options)
         return Client(cluster), cluster
 
-    def map_unordered(self, fn: Callable[[Any], Any], items: list[Any]
-                      ) -> Iterator[tuple[int, Any]]:
+    def map_unordered(
+        self, fn: Callable[[Any], Any], items: list[Any]
+    ) -> Iterator[tuple[int, Any]]:
         if not items:
             return
         from dask.distributed import as_completed as dask_completed
@@ -108,8 +129,9 @@ class DaskExecutor:
                 cluster.close()
 
 
-def make_executor(*, jobs: int | None, scheduler: str | None,
-                  cluster_options: Iterable[tuple[str, Any]] = ()) -> Executor:
+def make_executor(
+    *, jobs: int | None, scheduler: str | None, cluster_options: Iterable[tuple[str, Any]] = ()
+) -> Executor:
     """The executor for `--jobs` / `--scheduler` (`jobs` None: the number of cores)."""
     if scheduler:
         return DaskExecutor(scheduler, jobs=jobs, cluster_options=dict(cluster_options))

@@ -1,6 +1,7 @@
 """`loads validate` of one file of any kind: the loader's schema and name checks, then the
 checks `loads run` makes before solving (`loadcases.build.precheck`): a case's model, a
 mechanism's build, every case of a set."""
+
 from __future__ import annotations
 
 from pathlib import Path

@@ -14,6 +14,7 @@ Rules (also in README "Load-case sets"):
 - The input hash of a run covers the case and mechanism file bytes, every parameter value
   of the run and the engine version: a run is reused only when all of them are unchanged.
 """
+
 from __future__ import annotations
 
 import hashlib
@@ -31,8 +32,16 @@ from loadcases.expressions import ExpressionError, parse
 from loadcases.inputs.loader import CaseFile, SetFile, load_case, load_set
 from loadcases.results.files import package_version
 
-__all__ = ["RunSpec", "CompiledSet", "compile_set", "load_and_compile_set", "run_name",
-           "run_hash", "swept_order", "used_parameters"]
+__all__ = [
+    "CompiledSet",
+    "RunSpec",
+    "compile_set",
+    "load_and_compile_set",
+    "run_hash",
+    "run_name",
+    "swept_order",
+    "used_parameters",
+]
 
 Pairs = tuple[tuple[str, float], ...]
 
@@ -76,9 +85,14 @@ def run_name(family: str, swept: Pairs) -> str:
 
 def run_hash(case_sha256: str, parameters: Pairs, version: str) -> str:
     """SHA-256 over the case/mechanism hash, the run's parameters and the engine version."""
-    text = json.dumps({"input": case_sha256, "version": version,
-                       "parameters": {name: repr(float(v)) for name, v in sorted(parameters)}},
-                      sort_keys=True)
+    text = json.dumps(
+        {
+            "input": case_sha256,
+            "version": version,
+            "parameters": {name: repr(float(v)) for name, v in sorted(parameters)},
+        },
+        sort_keys=True,
+    )
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
@@ -116,9 +130,12 @@ def _mechanism_in_use(cf: CaseFile) -> dict:
     elements of switched-off effects left out (their parameters do not change the run)."""
     mech = cf.mechanism.model_dump()
     effects = dict(cf.case.effects)
-    mech["forces"] = {name: f for name, f in mech.get("forces", {}).items()
-                      if (cf.case.loads is None or name in cf.case.loads)
-                      and effects.get(ELEMENT_EFFECTS.get(f.get("type", ""), ""), True)}
+    mech["forces"] = {
+        name: f
+        for name, f in mech.get("forces", {}).items()
+        if (cf.case.loads is None or name in cf.case.loads)
+        and effects.get(ELEMENT_EFFECTS.get(f.get("type", ""), ""), True)
+    }
     if not effects.get("contact", True):
         mech["contacts"] = {}
     return mech
@@ -132,7 +149,7 @@ def used_parameters(cf: CaseFile) -> set[str]:
     for text in _strings([cf.case.model_dump(), in_use]):
         try:
             names |= parse(text).names()
-        except ExpressionError:   # a plain name or text, not an expression
+        except ExpressionError:  # a plain name or text, not an expression
             continue
     names |= {name for path, name in cf.parameter_refs if _in_use(path, in_use)}
     return names & set(cf.parameters)
@@ -146,8 +163,7 @@ def _in_use(path: tuple[str, ...], mechanism: dict) -> bool:
     return path[2] in mechanism.get(path[1], {})
 
 
-def _case_runs(set_file: SetFile, cf: CaseFile, order: list[str],
-               version: str) -> list[RunSpec]:
+def _case_runs(set_file: SetFile, cf: CaseFile, order: list[str], version: str) -> list[RunSpec]:
     """The runs of one case: combinations restricted to the parameters it uses."""
     fixed = {n: v for n, v in set_file.model.parameters.items() if n in cf.parameters}
     used = used_parameters(cf)
@@ -158,9 +174,16 @@ def _case_runs(set_file: SetFile, cf: CaseFile, order: list[str],
     runs = []
     for swept in seen:
         parameters = tuple({**cf.parameters, **fixed, **dict(swept)}.items())
-        runs.append(RunSpec(run_name(cf.case.case, swept), cf.case.case,
-                            str(Path(cf.path).resolve()), parameters, swept,
-                            run_hash(cf.input_sha256, parameters, version)))
+        runs.append(
+            RunSpec(
+                run_name(cf.case.case, swept),
+                cf.case.case,
+                str(Path(cf.path).resolve()),
+                parameters,
+                swept,
+                run_hash(cf.input_sha256, parameters, version),
+            )
+        )
     return runs
 
 
@@ -171,20 +194,27 @@ def _name_clashes(set_file: SetFile, runs: list[RunSpec]) -> list[Diagnostic]:
         if spec.name in seen:
             names = [name for name, _ in spec.swept] or ["cases"]
             section = "sweep" if names[0] in set_file.model.sweep else "zip"
-            found.append(Diagnostic(*set_file.where((section, names[0])), f"{section}."
-                                    f"{names[0]}", f"two runs are both named '{spec.name}'",
-                                    hint="values that differ only beyond 6 significant "
-                                    "digits print alike in run names (%g); space them wider"))
+            found.append(
+                Diagnostic(
+                    *set_file.where((section, names[0])),
+                    f"{section}.{names[0]}",
+                    f"two runs are both named '{spec.name}'",
+                    hint="values that differ only beyond 6 significant "
+                    "digits print alike in run names (%g); space them wider",
+                )
+            )
         seen.add(spec.name)
     return found
 
 
-def compile_set(set_file: SetFile, cases: list[CaseFile], *,
-                version: str | None = None) -> CompiledSet:
+def compile_set(
+    set_file: SetFile, cases: list[CaseFile], *, version: str | None = None
+) -> CompiledSet:
     """Runs of a loaded set whose case files are loaded; InputError lists every problem
     (unknown parameter, request or duplicate names, with file:line:col and a hint)."""
-    found = [d for d in check_set_cases(set_file.model, set_file.locator, cases)
-             if d.severity == "error"]
+    found = [
+        d for d in check_set_cases(set_file.model, set_file.locator, cases) if d.severity == "error"
+    ]
     if found:
         raise InputError(found)
     version = version or package_version()

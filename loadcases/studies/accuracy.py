@@ -12,6 +12,7 @@ When only one integrator can run the case (events are located by generalized-alp
 its own tighter run is the reference, and the study says so. With both integrators the two
 references are also compared with each other: errors below that agreement are not resolved.
 """
+
 from __future__ import annotations
 
 import dataclasses
@@ -26,13 +27,22 @@ from loadcases.build.model import build_run
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
 
-__all__ = ["Setting", "ColumnError", "SettingResult", "AccuracyStudy", "accuracy_study",
-           "column_errors", "INTEGRATORS", "DEFAULT_TOLERANCES", "DEFAULT_TARGET"]
+__all__ = [
+    "DEFAULT_TARGET",
+    "DEFAULT_TOLERANCES",
+    "INTEGRATORS",
+    "AccuracyStudy",
+    "ColumnError",
+    "Setting",
+    "SettingResult",
+    "accuracy_study",
+    "column_errors",
+]
 
 INTEGRATORS = ("generalized-alpha", "radau")
 DEFAULT_TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
-DEFAULT_TARGET = 1e-3          # of each request's peak: the sizing accuracy
-REFERENCE_FACTOR = 1e-2        # the reference runs at the tightest tolerance x this
+DEFAULT_TARGET = 1e-3  # of each request's peak: the sizing accuracy
+REFERENCE_FACTOR = 1e-2  # the reference runs at the tightest tolerance x this
 
 
 @dataclass(frozen=True)
@@ -85,7 +95,7 @@ class AccuracyStudy:
     case: str
     target: float
     results: list[SettingResult]
-    references: dict[str, Setting]          # integrator studied -> its reference setting
+    references: dict[str, Setting]  # integrator studied -> its reference setting
     notes: list[str]
     reference_agreement: float | None = None
 
@@ -107,8 +117,9 @@ def column_errors(solution: ml.Solution, reference: ml.Solution) -> dict[str, Co
     peaks: dict[str, float] = {}
     for column, values in reference.channels.items():
         finite = np.abs(values[np.isfinite(values)])
-        peaks[_request(column)] = max(peaks.get(_request(column), 0.0),
-                                      float(finite.max(initial=0.0)))
+        peaks[_request(column)] = max(
+            peaks.get(_request(column), 0.0), float(finite.max(initial=0.0))
+        )
     n = min(len(solution.time), len(reference.time))
     out = {}
     for column, ref in reference.channels.items():
@@ -121,7 +132,8 @@ def column_errors(solution: ml.Solution, reference: ml.Solution) -> dict[str, Co
         out[column] = ColumnError(
             float(np.max(np.abs(x - r))) / peak,
             float(abs(x[-1] - r[-1])) / peak if same_end else float("nan"),
-            max(abs(float(x.max() - r.max())), abs(float(x.min() - r.min()))) / peak)
+            max(abs(float(x.max() - r.max())), abs(float(x.min() - r.min()))) / peak,
+        )
     return out
 
 
@@ -131,61 +143,100 @@ def _solver(cf: CaseFile) -> Callable[[Setting], ml.Solution]:
     built = build_run(cf)
     if not isinstance(built.analysis, ml.Dynamic):
         file, line, col = cf.where("case", "analysis.type")
-        raise InputError([Diagnostic(file, line, col, "analysis.type",
-                                     f"loads accuracy studies dynamic analyses (an integrator "
-                                     f"and its tolerance); this case's analysis is "
-                                     f"'{built.analysis.name}'")])
+        raise InputError(
+            [
+                Diagnostic(
+                    file,
+                    line,
+                    col,
+                    "analysis.type",
+                    f"loads accuracy studies dynamic analyses (an integrator "
+                    f"and its tolerance); this case's analysis is "
+                    f"'{built.analysis.name}'",
+                )
+            ]
+        )
 
     def solve(setting: Setting) -> ml.Solution:
         run = build_run(cf)
-        analysis = dataclasses.replace(run.analysis, integrator=setting.integrator,
-                                       tolerance=setting.tolerance)
-        return ml.solve(run.mechanism, analysis, requests=run.requests, initial=run.initial,
-                        redundant=run.redundant, throw=False, events=run.events)
+        analysis = dataclasses.replace(
+            run.analysis, integrator=setting.integrator, tolerance=setting.tolerance
+        )
+        return ml.solve(
+            run.mechanism,
+            analysis,
+            requests=run.requests,
+            initial=run.initial,
+            redundant=run.redundant,
+            throw=False,
+            events=run.events,
+        )
+
     return solve
 
 
 def _usable(cf: CaseFile, integrators: Sequence[str], notes: list[str]) -> list[str]:
     if cf.mechanism.events and "radau" in integrators:
-        notes.append("radau left out: the case has events, which only generalized-alpha "
-                     "locates; its reference is its own tighter run (not independent)")
+        notes.append(
+            "radau left out: the case has events, which only generalized-alpha "
+            "locates; its reference is its own tighter run (not independent)"
+        )
         return [i for i in integrators if i != "radau"]
     return list(integrators)
 
 
-def accuracy_study(cf: CaseFile, *, tolerances: Sequence[float] = DEFAULT_TOLERANCES,
-                   integrators: Sequence[str] = INTEGRATORS, target: float = DEFAULT_TARGET,
-                   repeats: int = 3, reference_tolerance: float | None = None,
-                   progress: Callable[[SettingResult], None] | None = None) -> AccuracyStudy:
+def accuracy_study(
+    cf: CaseFile,
+    *,
+    tolerances: Sequence[float] = DEFAULT_TOLERANCES,
+    integrators: Sequence[str] = INTEGRATORS,
+    target: float = DEFAULT_TARGET,
+    repeats: int = 3,
+    reference_tolerance: float | None = None,
+    progress: Callable[[SettingResult], None] | None = None,
+) -> AccuracyStudy:
     """Solve the case at every (integrator, tolerance) and measure each against the
     reference (see the module docstring); `progress` is called after each setting."""
     solve = _solver(cf)
     notes: list[str] = []
     methods = _usable(cf, integrators, notes)
     ref_tol = reference_tolerance or min(tolerances) * REFERENCE_FACTOR
-    solve(Setting(methods[0], max(tolerances)))   # warm-up: compiled kernels, caches
+    solve(Setting(methods[0], max(tolerances)))  # warm-up: compiled kernels, caches
     ref_solutions = {m: solve(Setting(m, ref_tol)) for m in methods}
     for method, reference in ref_solutions.items():
         if not reference.ok:
-            raise ml.SolverFailure(f"the reference run ({Setting(method, ref_tol).describe()})"
-                                   f" failed: {reference.message}")
+            raise ml.SolverFailure(
+                f"the reference run ({Setting(method, ref_tol).describe()})"
+                f" failed: {reference.message}"
+            )
     references = {m: Setting(_other(m, methods), ref_tol) for m in methods}
     if len(methods) == 1 and not notes:
-        notes.append(f"the reference is {methods[0]}'s own tighter run (one integrator "
-                     "studied): its errors are not measured by an independent method")
+        notes.append(
+            f"the reference is {methods[0]}'s own tighter run (one integrator "
+            "studied): its errors are not measured by an independent method"
+        )
     study = AccuracyStudy(cf.case.case, target, [], references, notes)
     if len(methods) > 1:
         a, b = (ref_solutions[m] for m in methods[:2])
         agreement = max((e.over_time for e in column_errors(a, b).values()), default=0.0)
         study.reference_agreement = agreement
-        notes.append(f"the two references agree within {agreement:.2g} of peak: smaller "
-                     "errors are not resolved" + (" (the target is below that: tighten "
-                                                  "--reference-tolerance)"
-                                                  if agreement > target else ""))
+        notes.append(
+            f"the two references agree within {agreement:.2g} of peak: smaller "
+            "errors are not resolved"
+            + (
+                " (the target is below that: tighten --reference-tolerance)"
+                if agreement > target
+                else ""
+            )
+        )
     for method in methods:
         for tolerance in sorted(tolerances, reverse=True):
-            result = _measure(solve, Setting(method, tolerance),
-                              ref_solutions[references[method].integrator], repeats)
+            result = _measure(
+                solve,
+                Setting(method, tolerance),
+                ref_solutions[references[method].integrator],
+                repeats,
+            )
             study.results.append(result)
             if progress:
                 progress(result)
@@ -197,11 +248,13 @@ def _other(method: str, methods: Sequence[str]) -> str:
     return others[0] if others else method
 
 
-def _measure(solve: Callable[[Setting], ml.Solution], setting: Setting,
-             reference: ml.Solution, repeats: int) -> SettingResult:
+def _measure(
+    solve: Callable[[Setting], ml.Solution], setting: Setting, reference: ml.Solution, repeats: int
+) -> SettingResult:
     runs = [solve(setting) for _ in range(max(repeats, 1))]
     solution = runs[0]
     cpu = statistics.median(r.stats.cpu_seconds for r in runs)
     stats = {k: v for k, v in solution.stats.as_dict().items() if k != "cpu_seconds"}
-    return SettingResult(setting, solution.status, solution.message, cpu, stats,
-                         column_errors(solution, reference))
+    return SettingResult(
+        setting, solution.status, solution.message, cpu, stats, column_errors(solution, reference)
+    )

@@ -7,6 +7,7 @@ value by doubling and halving, then found by Brent's method (scipy.optimize.bren
 `rtol` of the parameter. Every evaluation is recorded. The hinge-line constraints of A.2.1
 (the hinge line held as in the FE model) are the case's joints: tune a case that holds them.
 """
+
 from __future__ import annotations
 
 import math
@@ -19,9 +20,9 @@ from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
-__all__ = ["TuneResult", "TuneError", "tune_parameter"]
+__all__ = ["TuneError", "TuneResult", "tune_parameter"]
 
-_EXPANSIONS = 40   # doublings / halvings tried for a bracket (a factor 2^40 either way)
+_EXPANSIONS = 40  # doublings / halvings tried for a bracket (a factor 2^40 either way)
 
 
 class TuneError(RuntimeError):
@@ -53,12 +54,16 @@ def _input_error(cf, key: str, message: str) -> InputError:
 def _checked_case(path: Path, parameter: str, mode: int):
     cf = load_case(path)
     if cf.case.analysis.type != "modes":
-        raise _input_error(cf, "analysis.type", f"tuning needs a modes analysis, not "
-                           f"'{cf.case.analysis.type}'")
+        raise _input_error(
+            cf, "analysis.type", f"tuning needs a modes analysis, not '{cf.case.analysis.type}'"
+        )
     if parameter not in cf.parameters:
         known = ", ".join(sorted(cf.parameters)) or "none"
-        raise _input_error(cf, "parameters", f"no parameter '{parameter}' in the case or its "
-                           f"mechanism (parameters: {known})")
+        raise _input_error(
+            cf,
+            "parameters",
+            f"no parameter '{parameter}' in the case or its mechanism (parameters: {known})",
+        )
     if mode < 1:
         raise _input_error(cf, "analysis", f"mode {mode}: modes are numbered from 1")
     return cf
@@ -67,17 +72,28 @@ def _checked_case(path: Path, parameter: str, mode: int):
 def _frequency(path: Path, parameter: str, value: float, mode: int) -> float:
     outcome = run_case(load_case(path, overrides={parameter: value}))
     if not outcome.solution.ok:
-        raise TuneError(f"{parameter} = {value:.10g}: the modes analysis failed: "
-                        f"{outcome.solution.message}")
+        raise TuneError(
+            f"{parameter} = {value:.10g}: the modes analysis failed: {outcome.solution.message}"
+        )
     frequencies = outcome.solution.channels["mode.frequency"]
     if mode > frequencies.size:
-        raise InputError([Diagnostic(str(path), 1, 1, "analysis", f"mode {mode}: the case has "
-                                     f"{frequencies.size} modes")])
+        raise InputError(
+            [
+                Diagnostic(
+                    str(path),
+                    1,
+                    1,
+                    "analysis",
+                    f"mode {mode}: the case has {frequencies.size} modes",
+                )
+            ]
+        )
     return float(frequencies[mode - 1])
 
 
-def tune_parameter(path: str | Path, *, parameter: str, mode: int, target: float,
-                   rtol: float = 1e-12) -> TuneResult:
+def tune_parameter(
+    path: str | Path, *, parameter: str, mode: int, target: float, rtol: float = 1e-12
+) -> TuneResult:
     """The value of `parameter` (SI) giving mode `mode` the frequency `target` (Hz).
 
     Raises InputError for a case that is not a modes analysis, an unknown parameter or a
@@ -90,18 +106,25 @@ def tune_parameter(path: str | Path, *, parameter: str, mode: int, target: float
     known: dict[float, float] = {}
 
     def error(value: float) -> float:
-        if value not in known:   # brentq asks again for the ends of the bracket
+        if value not in known:  # brentq asks again for the ends of the bracket
             known[value] = _frequency(path, parameter, value, mode)
             result.evaluations.append((value, known[value]))
         return known[value] - target
 
     start = cf.parameters[parameter]
     if start == 0.0:
-        raise _input_error(cf, "parameters", f"'{parameter}' is 0: give a non-zero starting "
-                           "value (the bracket is searched by doubling and halving it)")
+        raise _input_error(
+            cf,
+            "parameters",
+            f"'{parameter}' is 0: give a non-zero starting "
+            "value (the bracket is searched by doubling and halving it)",
+        )
     low, high = _bracket(error, start)
-    value = low if low == high else brentq(error, low, high, xtol=abs(start) * 1e-15,
-                                           rtol=rtol, maxiter=200)
+    value = (
+        low
+        if low == high
+        else brentq(error, low, high, xtol=abs(start) * 1e-15, rtol=rtol, maxiter=200)
+    )
     result.value = value
     result.frequency = target + error(value)
     return result
@@ -116,7 +139,7 @@ def _bracket(error, start: float) -> tuple[float, float]:
     e1 = error(start * 2.0)
     if e1 == 0.0 or (e1 < 0) != (e0 < 0):
         return start, start * 2.0
-    rising = (e1 - e0) * start > 0   # frequency grows with |parameter|
+    rising = (e1 - e0) * start > 0  # frequency grows with |parameter|
     factor = 2.0 if (e0 < 0) == rising else 0.5
     previous, e_prev = (start * 2.0, e1) if factor == 2.0 else (start, e0)
     for _ in range(_EXPANSIONS):
@@ -125,6 +148,8 @@ def _bracket(error, start: float) -> tuple[float, float]:
         if (e < 0) != (e_prev < 0):
             return min(previous, value), max(previous, value)
         previous, e_prev = value, e
-    raise TuneError(f"no value of the parameter between {start * 2.0 ** -_EXPANSIONS:.3g} and "
-                    f"{start * 2.0 ** _EXPANSIONS:.3g} gives the target (the frequency stays "
-                    f"{'above' if e_prev > 0 else 'below'} it)")
+    raise TuneError(
+        f"no value of the parameter between {start * 2.0**-_EXPANSIONS:.3g} and "
+        f"{start * 2.0**_EXPANSIONS:.3g} gives the target (the frequency stays "
+        f"{'above' if e_prev > 0 else 'below'} it)"
+    )

@@ -5,6 +5,7 @@ laws: normal force (impact, Hertz with Lankarani-Nikravesh damping, restitution)
 friction: Stribeck and regularised Coulomb coefficients; element: the `Contact` force
 element; clearance: ball-in-socket and pin-in-hole clearance joints with eccentricity.
 """
+
 from mechlib.contact.clearance import ClearanceJoint, revolute_clearance, spherical_clearance
 from mechlib.contact.element import Contact
 from mechlib.contact.friction import CoulombFriction, StribeckFriction
@@ -12,7 +13,20 @@ from mechlib.contact.geometry import CylinderInCylinder, SphereInSphere, SphereP
 from mechlib.contact.laws import HertzLaw, ImpactLaw, RestitutionLaw, hertz_stiffness, step
 from mechlib.contact.profile import CircleProfile
 
-__all__ = ["Contact", "ClearanceJoint", "spherical_clearance", "revolute_clearance",
-           "SpherePlane", "SphereInSphere", "CylinderInCylinder", "CircleProfile",
-           "ImpactLaw", "HertzLaw", "RestitutionLaw", "hertz_stiffness", "step",
-           "StribeckFriction", "CoulombFriction"]
+__all__ = [
+    "CircleProfile",
+    "ClearanceJoint",
+    "Contact",
+    "CoulombFriction",
+    "CylinderInCylinder",
+    "HertzLaw",
+    "ImpactLaw",
+    "RestitutionLaw",
+    "SphereInSphere",
+    "SpherePlane",
+    "StribeckFriction",
+    "hertz_stiffness",
+    "revolute_clearance",
+    "spherical_clearance",
+    "step",
+]

@@ -7,11 +7,12 @@ reports the eccentricity e = centre 1 - centre 2 (m, global axes: `ex ey ez`, ma
 hole's axis, or `polar_axis` for a ball), measured from a body-2-fixed reference direction
 normal to it (global x at design, or global y when the axis is along x).
 """
+
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 
@@ -19,7 +20,7 @@ from mechlib.contact.element import Contact
 from mechlib.contact.geometry import CylinderInCylinder, SphereInSphere, unit
 from mechlib.view import StateView
 
-__all__ = ["ClearanceJoint", "spherical_clearance", "revolute_clearance", "polar_reference"]
+__all__ = ["ClearanceJoint", "polar_reference", "revolute_clearance", "spherical_clearance"]
 
 _ECCENTRICITY_UNITS = {"ex": "m", "ey": "m", "ez": "m", "eccentricity": "m", "angle": "rad"}
 
@@ -46,7 +47,7 @@ class ClearanceJoint(Contact):
     def bind(self, system) -> None:
         super().bind(system)
         axis = unit(getattr(self.geometry, "axis", self.polar_axis))
-        self._polar = (axis, polar_reference(axis))   # body-2 axes = global at design
+        self._polar = (axis, polar_reference(axis))  # body-2 axes = global at design
 
     def eccentricity(self, view: StateView) -> tuple[np.ndarray, float]:
         """Eccentricity vector (m, global) and its polar angle (rad) about the body-2 axis."""
@@ -63,16 +64,40 @@ class ClearanceJoint(Contact):
         return out
 
 
-def spherical_clearance(name: str, bodies: tuple[str, str], *, center, radius: float,
-                        clearance: float, law, friction=None,
-                        polar_axis=(0.0, 0.0, 1.0)) -> ClearanceJoint:
+def spherical_clearance(
+    name: str,
+    bodies: tuple[str, str],
+    *,
+    center,
+    radius: float,
+    clearance: float,
+    law,
+    friction=None,
+    polar_axis=(0.0, 0.0, 1.0),
+) -> ClearanceJoint:
     """Ball (radius, m) of body 1 in the socket (radius + clearance) of body 2 at `center`."""
-    return ClearanceJoint(name, bodies, SphereInSphere(center, radius, clearance), law,
-                          friction, polar_axis=polar_axis)
+    return ClearanceJoint(
+        name,
+        bodies,
+        SphereInSphere(center, radius, clearance),
+        law,
+        friction,
+        polar_axis=polar_axis,
+    )
 
 
-def revolute_clearance(name: str, bodies: tuple[str, str], *, center, axis, radius: float,
-                       clearance: float, law, friction=None) -> ClearanceJoint:
+def revolute_clearance(
+    name: str,
+    bodies: tuple[str, str],
+    *,
+    center,
+    axis,
+    radius: float,
+    clearance: float,
+    law,
+    friction=None,
+) -> ClearanceJoint:
     """Pin (radius, m) of body 1 in the hole (radius + clearance) of body 2, along `axis`."""
-    return ClearanceJoint(name, bodies, CylinderInCylinder(center, axis, radius, clearance),
-                          law, friction)
+    return ClearanceJoint(
+        name, bodies, CylinderInCylinder(center, axis, radius, clearance), law, friction
+    )

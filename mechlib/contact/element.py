@@ -8,6 +8,7 @@ states) the approach speed at the start of each contact, which the hysteresis da
 wrench and its tangent are compiled (mechlib.contact.kernels); a profile contact computes
 its gap in Python and its force with the same kernel.
 """
+
 from __future__ import annotations
 
 from bisect import bisect_left
@@ -25,9 +26,19 @@ from mechlib.view import StateView
 
 __all__ = ["Contact", "ContactForces"]
 
-_CONTACT_UNITS = {"normal": "N", "friction": "N", "fx": "N", "fy": "N", "fz": "N",
-                  "penetration": "m", "px": "m", "py": "m", "pz": "m",
-                  "sliding_speed": "m/s", "wear": "W"}
+_CONTACT_UNITS = {
+    "normal": "N",
+    "friction": "N",
+    "fx": "N",
+    "fy": "N",
+    "fz": "N",
+    "penetration": "m",
+    "px": "m",
+    "py": "m",
+    "pz": "m",
+    "sliding_speed": "m/s",
+    "wear": "W",
+}
 _Laws = tuple[int, np.ndarray, int, np.ndarray]  # law, its parameters, friction, its parameters
 _Kernel = tuple[int, int, int, np.ndarray, int, np.ndarray, int, np.ndarray]
 
@@ -58,7 +69,7 @@ class Contact(StaticSlipAnchor):
     effect: str = "contact"
     active: bool = True
     output_units = _CONTACT_UNITS
-    approach: float = 0.0          # m/s, penetration rate when the current contact began
+    approach: float = 0.0  # m/s, penetration rate when the current contact began
     _memory: tuple = field(default=(False, 0.0, 0.0), repr=False)  # in contact, x, xd
     # (time, approach) at every accepted state: outputs are read after the solve, and a
     # recorded state must see the approach speed the integrator used for it
@@ -71,8 +82,7 @@ class Contact(StaticSlipAnchor):
     def bind(self, system) -> None:
         self._b1, self._b2 = self.geometry.bind(system, *self.bodies)
         law = self.law.kernel()
-        friction = (NO_FRICTION, np.zeros(5)) if self.friction is None else \
-            self.friction.kernel()
+        friction = (NO_FRICTION, np.zeros(5)) if self.friction is None else self.friction.kernel()
         self._laws: _Laws = (*law, *friction)
         self._nb = system.nb
         # the primitives: (kind, b1, b2, g, law, law parameters, friction, its parameters)
@@ -92,14 +102,16 @@ class Contact(StaticSlipAnchor):
         approach = self.approach if approach is None else approach
         out = np.empty(6)
         packed = np.concatenate([[gap.penetration], gap.normal, gap.point, gap.velocity])
-        kernels.contact_force(*self._laws, float(self.geometry.radius), packed,
-                              float(approach), out)
+        kernels.contact_force(
+            *self._laws, float(self.geometry.radius), packed, float(approach), out
+        )
         normal = float(out[0])
         if self.friction is not None and normal > 0.0 and at_rest(view):
             direction = coulomb_vector(self._static_slip(view, gap), self.slip_threshold)
             friction = self.friction.mu_dynamic * normal * direction
-            return ContactForces(normal, float(np.linalg.norm(friction)),
-                                 normal * gap.normal - friction, 0.0, gap)
+            return ContactForces(
+                normal, float(np.linalg.norm(friction)), normal * gap.normal - friction, 0.0, gap
+            )
         return ContactForces(normal, float(out[1]), out[2:5], float(out[5]), gap)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
@@ -117,8 +129,9 @@ class Contact(StaticSlipAnchor):
         generalized forces (only when `has_tangent`)."""
         if self._kernel is None:
             raise ValueError(f"contact {self.name}: no compiled tangent (see has_tangent)")
-        kernels.contact_tangent(*self._kernel, self.approach, view.kin.x, view.kin.xd,
-                                self._nb, K, C)
+        kernels.contact_tangent(
+            *self._kernel, self.approach, view.kin.x, view.kin.xd, self._nb, K, C
+        )
 
     def _static_slip(self, view: StateView, gap: Gap) -> np.ndarray:
         """Tangential slip (m, global) of body 1 on body 2 at the contact point since the last
@@ -140,8 +153,9 @@ class Contact(StaticSlipAnchor):
         contact, the rate interpolated to x = 0 between that state and the last one apart
         (the step across the impact is not resolved)."""
         if self.friction is not None:
-            self._anchor = tuple((view.kin.r[b].copy(), view.rotation(b).copy())
-                                for b in (self._b1, self._b2))
+            self._anchor = tuple(
+                (view.kin.r[b].copy(), view.rotation(b).copy()) for b in (self._b1, self._b2)
+            )
         if not self.law.remembers:
             return
         gap = self.geometry.gap(view)
@@ -153,8 +167,8 @@ class Contact(StaticSlipAnchor):
             self.approach = xd0 + (xd - xd0) * (-x0) / (x - x0)
         self._memory = (x > 0.0, x, xd)
         times, values = self._history
-        del values[bisect_left(times, view.t):]   # a restart from an earlier time
-        del times[bisect_left(times, view.t):]
+        del values[bisect_left(times, view.t) :]  # a restart from an earlier time
+        del times[bisect_left(times, view.t) :]
         times.append(view.t)
         values.append(self.approach)
 
@@ -173,6 +187,16 @@ class Contact(StaticSlipAnchor):
         f = self.forces(view, self.approach_at(view.t) if self.law.remembers else None)
         px, py, pz = f.gap.point
         fx, fy, fz = f.force
-        return {"normal": f.normal, "friction": f.friction, "fx": fx, "fy": fy, "fz": fz,
-                "penetration": max(f.gap.penetration, 0.0), "px": px, "py": py, "pz": pz,
-                "sliding_speed": f.sliding_speed, "wear": f.normal * f.sliding_speed}
+        return {
+            "normal": f.normal,
+            "friction": f.friction,
+            "fx": fx,
+            "fy": fy,
+            "fz": fz,
+            "penetration": max(f.gap.penetration, 0.0),
+            "px": px,
+            "py": py,
+            "pz": pz,
+            "sliding_speed": f.sliding_speed,
+            "wear": f.normal * f.sliding_speed,
+        }

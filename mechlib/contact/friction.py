@@ -6,6 +6,7 @@ settles at `mu_dynamic` from `v_dynamic` on. Friction force = mu(|v_t|) * F_N, o
 tangential relative velocity v_t. The formulas are compiled (numba: `stribeck`, `coulomb`)
 for the contact kernels; `kernel()` gives a law's code and parameters.
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -15,16 +16,24 @@ from numba import njit
 
 from mechlib.smooth import compiled_step as step
 
-__all__ = ["StribeckFriction", "CoulombFriction", "NO_FRICTION", "STRIBECK", "COULOMB",
-           "stribeck", "coulomb"]
+__all__ = [
+    "COULOMB",
+    "NO_FRICTION",
+    "STRIBECK",
+    "CoulombFriction",
+    "StribeckFriction",
+    "coulomb",
+    "stribeck",
+]
 
 NO_FRICTION, STRIBECK, COULOMB = 0, 1, 2
 """Friction codes of the compiled kernels."""
 
 
 @njit(cache=True, nogil=True)
-def stribeck(mu_static: float, mu_dynamic: float, v_static: float, v_dynamic: float,
-             viscous: float, v: float) -> float:
+def stribeck(
+    mu_static: float, mu_dynamic: float, v_static: float, v_dynamic: float, viscous: float, v: float
+) -> float:
     """`StribeckFriction` coefficient at sliding speed v (m/s)."""
     top = mu_static - viscous * v_static
     if v <= v_static:
@@ -53,12 +62,17 @@ class StribeckFriction:
     viscous: float = 0.0
 
     def coefficient(self, v: float) -> float:
-        return stribeck(*map(float, (self.mu_static, self.mu_dynamic, self.v_static,
-                                     self.v_dynamic, self.viscous, v)))
+        return stribeck(
+            *map(
+                float,
+                (self.mu_static, self.mu_dynamic, self.v_static, self.v_dynamic, self.viscous, v),
+            )
+        )
 
     def kernel(self) -> tuple[int, np.ndarray]:
-        return STRIBECK, np.array([self.mu_static, self.mu_dynamic, self.v_static,
-                                   self.v_dynamic, self.viscous], float)
+        return STRIBECK, np.array(
+            [self.mu_static, self.mu_dynamic, self.v_static, self.v_dynamic, self.viscous], float
+        )
 
 
 @dataclass(frozen=True)

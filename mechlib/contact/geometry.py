@@ -10,18 +10,26 @@ ball, pin or roller; body 2 the plane, socket, hole or profile. The primitives c
 their gap in compiled code (mechlib.contact.kernels.gap); `kernel()` gives the geometry's
 code and parameters for it.
 """
+
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from mechlib.contact import kernels
 
-__all__ = ["Gap", "SpherePlane", "SphereInSphere", "CylinderInCylinder", "material_velocity",
-           "relative_velocity", "unit"]
+__all__ = [
+    "CylinderInCylinder",
+    "Gap",
+    "SphereInSphere",
+    "SpherePlane",
+    "material_velocity",
+    "relative_velocity",
+    "unit",
+]
 
 
 @dataclass(frozen=True)
@@ -79,16 +87,18 @@ class _Compiled:
         b1, b2, kind, g = self._bound
         out = np.empty(kernels.GAP_SIZE)
         kernels.gap(kind, view.kin.x, view.kin.xd, b1, b2, g, out)
-        return Gap(float(out[0]), out[1:4], out[4:7], out[7:10],
-                   out[10:13] if self.eccentric else None)
+        return Gap(
+            float(out[0]), out[1:4], out[4:7], out[7:10], out[10:13] if self.eccentric else None
+        )
 
 
 def _parameters(s1, s2, direction, radius: float, extra: float) -> np.ndarray:
     return np.concatenate([s1, s2, direction, [radius, extra]]).astype(float)
 
 
-def _bind_clearance(joint, system, body1: str, body2: str, kind: int,
-                    axis: np.ndarray) -> tuple[int, int]:
+def _bind_clearance(
+    joint, system, body1: str, body2: str, kind: int, axis: np.ndarray
+) -> tuple[int, int]:
     """A clearance joint's compiled data: both bodies' points at the common design centre,
     the axis (zeros for a ball), radius and clearance; returns the two body indices."""
     b1, s1 = system.body_point(body1, joint.center)
@@ -120,8 +130,12 @@ class SpherePlane(_Compiled):
         b2, sp = system.body_point(body2, self.plane_point)
         # body axes coincide with the global axes at design: the normal is body-fixed as given
         extent = -1.0 if self.extent is None else float(self.extent)
-        self._bound = (b1, b2, kernels.SPHERE_PLANE,
-                       _parameters(sc, sp, unit(self.normal), self.radius, extent))
+        self._bound = (
+            b1,
+            b2,
+            kernels.SPHERE_PLANE,
+            _parameters(sc, sp, unit(self.normal), self.radius, extent),
+        )
         return b1, b2
 
 
@@ -137,8 +151,7 @@ class SphereInSphere(_Compiled):
     _bound: tuple = field(default=(), repr=False)
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
-        return _bind_clearance(self, system, body1, body2, kernels.SPHERE_IN_SPHERE,
-                               np.zeros(3))
+        return _bind_clearance(self, system, body1, body2, kernels.SPHERE_IN_SPHERE, np.zeros(3))
 
 
 @dataclass
@@ -155,8 +168,9 @@ class CylinderInCylinder(_Compiled):
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
         # body 2 axes = global at design
-        return _bind_clearance(self, system, body1, body2, kernels.CYLINDER_IN_CYLINDER,
-                               unit(self.axis))
+        return _bind_clearance(
+            self, system, body1, body2, kernels.CYLINDER_IN_CYLINDER, unit(self.axis)
+        )
 
     def axis_now(self, view) -> np.ndarray:
         """Hole axis (unit, global) in the current state."""

@@ -15,6 +15,7 @@ of the friction's static speed on rates): the integrator's global difference (1e
 a rate increment of gamma' times that, mm/s) would step over a Hertz deflection of a
 fraction of a micrometre and over the whole Stribeck regularisation.
 """
+
 from __future__ import annotations
 
 import math
@@ -23,12 +24,26 @@ import numpy as np
 from numba import njit
 
 from mechlib.contact.friction import COULOMB, STRIBECK, coulomb, stribeck
-from mechlib.contact.laws import (HERTZ, IMPACT, MIN_APPROACH_SPEED, hertz_force,
-                                  impact_force, restitution_force)
+from mechlib.contact.laws import (
+    HERTZ,
+    IMPACT,
+    MIN_APPROACH_SPEED,
+    hertz_force,
+    impact_force,
+    restitution_force,
+)
 from mechlib.kernels import JitOptions, _brot, _gt_times, _rot
 
-__all__ = ["SPHERE_PLANE", "SPHERE_IN_SPHERE", "CYLINDER_IN_CYLINDER", "GAP_SIZE", "gap",
-           "contact_force", "contact_wrench", "contact_tangent"]
+__all__ = [
+    "CYLINDER_IN_CYLINDER",
+    "GAP_SIZE",
+    "SPHERE_IN_SPHERE",
+    "SPHERE_PLANE",
+    "contact_force",
+    "contact_tangent",
+    "contact_wrench",
+    "gap",
+]
 
 SPHERE_PLANE, SPHERE_IN_SPHERE, CYLINDER_IN_CYLINDER = 0, 1, 2
 GAP_SIZE = 13
@@ -76,8 +91,8 @@ def gap(kind, x, xd, b1, b2, g, out):
     for c in range(3):
         e[c] = c1[c] - c2[c]
     if kind == SPHERE_PLANE:
-        _rot(x[b2, 3:], g[6:9], u)   # the plane normal
-        d = e[0] * u[0] + e[1] * u[1] + e[2] * u[2]   # centre height over the plane
+        _rot(x[b2, 3:], g[6:9], u)  # the plane normal
+        d = e[0] * u[0] + e[1] * u[1] + e[2] * u[2]  # centre height over the plane
         for c in range(3):
             point[c] = c1[c] - 0.5 * (radius + d) * u[c]
         if extra >= 0.0:
@@ -147,7 +162,7 @@ def contact_force(law, lp, friction, fp, radius, gp, approach, out):
     Beyond the radius (no state a step accepts comes near) the force stops growing, so that
     a wild Newton iterate does not make the iteration matrix singular."""
     x = min(gp[0], radius)
-    rate = -(gp[7] * gp[1] + gp[8] * gp[2] + gp[9] * gp[3])   # > 0 approaching
+    rate = -(gp[7] * gp[1] + gp[8] * gp[2] + gp[9] * gp[3])  # > 0 approaching
     normal = _normal_force(law, lp, x, rate, approach)
     vt = np.empty(3)
     for c in range(3):
@@ -220,8 +235,9 @@ def contact_tangent(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, nb,
     """Add -dQ/dq to K and -dQ/dqd to C (nq, nq) for the contact's generalized force Q
     (forward differences, increments in the module docstring); ground (b = nb) has no
     columns."""
-    v_ref = fp[2] if friction == STRIBECK else (fp[1] if friction == COULOMB
-                                                 else MIN_APPROACH_SPEED)
+    v_ref = (
+        fp[2] if friction == STRIBECK else (fp[1] if friction == COULOMB else MIN_APPROACH_SPEED)
+    )
     radius = g[9]
     base = np.empty(14)
     moved = np.empty(14)

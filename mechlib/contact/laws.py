@@ -8,6 +8,7 @@ the integrator's Jacobian. The formulas are compiled (numba: `impact_force`, `he
 `restitution_force`, called by the laws' `force` and by the contact kernels); `kernel()`
 gives a law's code and parameters for mechlib.contact.kernels.
 """
+
 from __future__ import annotations
 
 import math
@@ -19,9 +20,21 @@ from numba import njit
 from mechlib.kernels import JitOptions
 from mechlib.smooth import compiled_step, step
 
-__all__ = ["step", "ImpactLaw", "HertzLaw", "RestitutionLaw", "hertz_stiffness",
-           "MIN_APPROACH_SPEED", "RATE_RATIO_CAP", "IMPACT", "HERTZ", "RESTITUTION",
-           "impact_force", "hertz_force", "restitution_force"]
+__all__ = [
+    "HERTZ",
+    "IMPACT",
+    "MIN_APPROACH_SPEED",
+    "RATE_RATIO_CAP",
+    "RESTITUTION",
+    "HertzLaw",
+    "ImpactLaw",
+    "RestitutionLaw",
+    "hertz_force",
+    "hertz_stiffness",
+    "impact_force",
+    "restitution_force",
+    "step",
+]
 
 IMPACT, HERTZ, RESTITUTION = 0, 1, 2
 """Law codes of the compiled kernels."""
@@ -43,22 +56,24 @@ def _rate_ratio(xd: float, approach: float) -> float:
 
 
 @njit(**_JIT)
-def impact_force(k: float, exponent: float, damping: float, depth: float, x: float,
-                 xd: float) -> float:
+def impact_force(
+    k: float, exponent: float, damping: float, depth: float, x: float, xd: float
+) -> float:
     """`ImpactLaw` force (N)."""
     if x <= 0.0:
         return 0.0
     c = compiled_step(x, 0.0, 0.0, depth, damping) if damping != 0.0 else 0.0
-    return max(k * x ** exponent + c * xd, 0.0)
+    return max(k * x**exponent + c * xd, 0.0)
 
 
 @njit(**_JIT)
-def hertz_force(k: float, exponent: float, restitution: float, x: float, xd: float,
-                approach: float) -> float:
+def hertz_force(
+    k: float, exponent: float, restitution: float, x: float, xd: float, approach: float
+) -> float:
     """`HertzLaw` force (N); restitution NaN: purely elastic."""
     if x <= 0.0:
         return 0.0
-    elastic = k * x ** exponent
+    elastic = k * x**exponent
     if math.isnan(restitution):
         return elastic
     e = restitution
@@ -66,14 +81,15 @@ def hertz_force(k: float, exponent: float, restitution: float, x: float, xd: flo
 
 
 @njit(**_JIT)
-def restitution_force(restitution: float, k: float, exponent: float, x: float, xd: float,
-                      approach: float) -> float:
+def restitution_force(
+    restitution: float, k: float, exponent: float, x: float, xd: float, approach: float
+) -> float:
     """`RestitutionLaw` force (N)."""
     if x <= 0.0:
         return 0.0
     e = restitution
     factor = 8.0 * (1.0 - e) / (5.0 * e)
-    return max(k * x ** exponent * (1.0 + factor * _rate_ratio(xd, approach)), 0.0)
+    return max(k * x**exponent * (1.0 + factor * _rate_ratio(xd, approach)), 0.0)
 
 
 def hertz_stiffness(E1: float, nu1: float, E2: float, nu2: float, radius: float) -> float:
@@ -98,12 +114,12 @@ class ImpactLaw:
     remembers = False
 
     def force(self, x: float, xd: float, approach: float = 0.0) -> float:
-        return impact_force(*map(float, (self.stiffness, self.exponent, self.damping,
-                                         self.depth, x, xd)))
+        return impact_force(
+            *map(float, (self.stiffness, self.exponent, self.damping, self.depth, x, xd))
+        )
 
     def kernel(self) -> tuple[int, np.ndarray]:
-        return IMPACT, np.array([self.stiffness, self.exponent, self.damping, self.depth],
-                                float)
+        return IMPACT, np.array([self.stiffness, self.exponent, self.damping, self.depth], float)
 
 
 @dataclass(frozen=True)
@@ -140,8 +156,9 @@ class RestitutionLaw:
     remembers = True
 
     def force(self, x: float, xd: float, approach: float = 0.0) -> float:
-        return restitution_force(*map(float, (self.restitution, self.stiffness,
-                                              self.exponent, x, xd, approach)))
+        return restitution_force(
+            *map(float, (self.restitution, self.stiffness, self.exponent, x, xd, approach))
+        )
 
     def kernel(self) -> tuple[int, np.ndarray]:
         return RESTITUTION, np.array([self.restitution, self.stiffness, self.exponent], float)

@@ -6,10 +6,11 @@ curve. The roller is the circle (centre, radius) in that plane. The contact norm
 curve's in-plane normal at the point nearest the roller centre, on the side where the roller
 centre lies at the design position; penetration = radius - signed distance of the centre.
 """
+
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -18,8 +19,8 @@ from mechlib.contact.geometry import Gap, relative_velocity, unit
 
 __all__ = ["CircleProfile"]
 
-_SAMPLES_PER_SEGMENT = 40   # coarse search grid for the nearest point
-_NEWTON_ITERATIONS = 6      # refinements of the curve parameter (quadratic convergence)
+_SAMPLES_PER_SEGMENT = 40  # coarse search grid for the nearest point
+_NEWTON_ITERATIONS = 6  # refinements of the curve parameter (quadratic convergence)
 
 
 @dataclass
@@ -47,9 +48,19 @@ class CircleProfile:
         self._derivatives = (spline.derivative(1), spline.derivative(2))
         grid = np.linspace(0.0, chord[-1], _SAMPLES_PER_SEGMENT * (len(pts) - 1) + 1)
         b1, s1 = system.body_point(body1, self.center)
-        b2, s0 = system.body_point(body2, origin)   # body-2 axes = global axes at design
-        self._bound = (b1, s1, b2, s0, np.column_stack((e1, e2)), m, spline, grid,
-                       spline(grid), 1.0)
+        b2, s0 = system.body_point(body2, origin)  # body-2 axes = global axes at design
+        self._bound = (
+            b1,
+            s1,
+            b2,
+            s0,
+            np.column_stack((e1, e2)),
+            m,
+            spline,
+            grid,
+            spline(grid),
+            1.0,
+        )
         side = self._signed(np.asarray(self.center, float) - origin)[0]
         self._bound = self._bound[:-1] + (1.0 if side >= 0.0 else -1.0,)
         return b1, b2

@@ -8,11 +8,12 @@ the opposite at the same point. Linear in theta: meant for the small rotations o
 compliant mount (as a linear Adams bushing); the rotation vector keeps it well defined at
 larger ones.
 """
+
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
-from typing import Sequence
 
 import numpy as np
 
@@ -47,13 +48,27 @@ class Bushing:
     torsional_damping: Sequence[float] = (0.0, 0.0, 0.0)
     effect: str = "springs"
     active: bool = True
-    output_units = {"fx": "N", "fy": "N", "fz": "N", "tx": "N*m", "ty": "N*m", "tz": "N*m",
-                    "dx": "m", "dy": "m", "dz": "m", "rx": "rad", "ry": "rad", "rz": "rad"}
+    output_units = {
+        "fx": "N",
+        "fy": "N",
+        "fz": "N",
+        "tx": "N*m",
+        "ty": "N*m",
+        "tz": "N*m",
+        "dx": "m",
+        "dy": "m",
+        "dz": "m",
+        "rx": "rad",
+        "ry": "rad",
+        "rz": "rad",
+    }
     _ends: tuple = field(default=(), repr=False)
 
     def bind(self, system) -> None:
-        self._ends = (*system.body_point(self.bodies[0], self.at),
-                      *system.body_point(self.bodies[1], self.at))
+        self._ends = (
+            *system.body_point(self.bodies[0], self.at),
+            *system.body_point(self.bodies[1], self.at),
+        )
 
     def _state(self, view: StateView):
         """(force, torque on body 1 in global axes, d, theta in J axes, point of body 1)."""
@@ -63,13 +78,16 @@ class Bushing:
         p1, p2 = view.point_position(b1, s1), view.point_position(b2, s2)
         w1, w2 = (omega_global(kin.x[b, 3:], kin.xd[b, 3:]) for b in (b1, b2))
         d = a2.T @ (p1 - p2)
-        d_rate = a2.T @ (view.point_velocity(b1, s1) - view.point_velocity(b2, s2)
-                         - cross(w2, p1 - p2))
+        d_rate = a2.T @ (
+            view.point_velocity(b1, s1) - view.point_velocity(b2, s2) - cross(w2, p1 - p2)
+        )
         theta = rotation_vector(a2.T @ a1)
         omega = a2.T @ (w1 - w2)
         force = -(np.multiply(self.stiffness, d) + np.multiply(self.damping, d_rate))
-        torque = -(np.multiply(self.torsional_stiffness, theta)
-                   + np.multiply(self.torsional_damping, omega))
+        torque = -(
+            np.multiply(self.torsional_stiffness, theta)
+            + np.multiply(self.torsional_damping, omega)
+        )
         return a2 @ force, a2 @ torque, d, theta, p1
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:

@@ -16,6 +16,7 @@ g(D) = L + (r1 - r2) asin((r1 - r2) / D), L = sqrt(D^2 - (r1 - r2)^2) the free s
 The cable is massless: the loads on the two pulley bodies are in equilibrium, the yoke gets
 none (the lateral couple carries what the torques T1 + T2 leave unbalanced).
 """
+
 from __future__ import annotations
 
 import math
@@ -41,15 +42,23 @@ class CableLoop:
     pretension: float = 0.0
     effect: str = "springs"
     active: bool = True
-    output_units = {"t1": "N*m", "t2": "N*m", "f_axial": "N", "f_lateral": "N",
-                    "tension_a": "N", "tension_b": "N"}
+    output_units = {
+        "t1": "N*m",
+        "t2": "N*m",
+        "f_axial": "N",
+        "f_lateral": "N",
+        "tension_a": "N",
+        "tension_b": "N",
+    }
 
     def bind(self, system) -> None:
         joints = [system.mechanism.joints[j] for j in self.joints]
         shared = {joints[0].body1, joints[0].body2} & {joints[1].body1, joints[1].body2}
         if len(shared) != 1:
-            raise ValueError(f"cable_loop '{self.name}': joints {self.joints[0]} and "
-                             f"{self.joints[1]} must share exactly one body (the yoke)")
+            raise ValueError(
+                f"cable_loop '{self.name}': joints {self.joints[0]} and "
+                f"{self.joints[1]} must share exactly one body (the yoke)"
+            )
         self._m = [system.measure(j, "angle") for j in self.joints]
         self._ends = []  # (pulley body index, body-fixed vector of the hinge point)
         for j in joints:
@@ -67,8 +76,10 @@ class CableLoop:
     def _g(self, d: float) -> float:
         dr = self.radii[0] - self.radii[1]
         if d <= abs(dr):
-            raise ValueError(f"cable_loop '{self.name}': hinge distance {d:.6g} m must exceed "
-                             f"|r1 - r2| = {abs(dr):.6g} m")
+            raise ValueError(
+                f"cable_loop '{self.name}': hinge distance {d:.6g} m must exceed "
+                f"|r1 - r2| = {abs(dr):.6g} m"
+            )
         return math.sqrt(d * d - dr * dr) + dr * math.asin(dr / d)
 
     def _state(self, view: StateView) -> dict:
@@ -82,9 +93,17 @@ class CableLoop:
         fa = max(0.0, self.pretension + self.stiffness * (wrap + common))
         fb = max(0.0, self.pretension + self.stiffness * (-wrap + common))
         length = math.sqrt(d * d - (r1 - r2) ** 2)
-        return {"t1": r1 * (fb - fa), "t2": r2 * (fa - fb), "f_axial": (fa + fb) * length / d,
-                "f_lateral": (fa - fb) * (r1 - r2) / d, "tension_a": fa, "tension_b": fb,
-                "a": a, "b": b, "d": d}
+        return {
+            "t1": r1 * (fb - fa),
+            "t2": r2 * (fa - fb),
+            "f_axial": (fa + fb) * length / d,
+            "f_lateral": (fa - fb) * (r1 - r2) / d,
+            "tension_a": fa,
+            "tension_b": fb,
+            "a": a,
+            "b": b,
+            "d": d,
+        }
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         st = self._state(view)
@@ -107,8 +126,9 @@ class CableLoop:
         self._force(view, F, N, b2, st["b"], -st["f_axial"] * u + on_b)
 
     @staticmethod
-    def _force(view: StateView, F: np.ndarray, N: np.ndarray, body: int, at: np.ndarray,
-               force: np.ndarray) -> None:
+    def _force(
+        view: StateView, F: np.ndarray, N: np.ndarray, body: int, at: np.ndarray, force: np.ndarray
+    ) -> None:
         F[body] += force
         N[body] += cross(at - view.kin.r[body], force)
 

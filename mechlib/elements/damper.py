@@ -1,4 +1,5 @@
 """Rotational (eddy-current) damper on a joint: torque = -c * omega (seed 003 2.2.6, 4.2.4)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass

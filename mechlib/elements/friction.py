@@ -7,6 +7,7 @@ normal to the axis. The friction opposes the relative motion of body 1 against b
 the regularised law of `mechlib.elements.regularize`: the velocity in dynamic and kinematic
 states, the displacement since the last accepted state in static and quasi-static ones.
 """
+
 from __future__ import annotations
 
 import math
@@ -15,12 +16,17 @@ from dataclasses import dataclass
 import numpy as np
 
 from mechlib.coordinates import AngleMeasure, TravelMeasure
-from mechlib.elements.regularize import (StaticSlipAnchor, at_rest, coulomb_factor,
-                                         coulomb_vector, rotation_increment)
+from mechlib.elements.regularize import (
+    StaticSlipAnchor,
+    at_rest,
+    coulomb_factor,
+    coulomb_vector,
+    rotation_increment,
+)
 from mechlib.rotation import cross, omega_global
 from mechlib.view import StateView
 
-__all__ = ["JointFriction", "FRICTION_JOINTS"]
+__all__ = ["FRICTION_JOINTS", "JointFriction"]
 
 FRICTION_JOINTS = ("revolute", "cylindrical", "spherical", "prismatic")
 
@@ -51,8 +57,10 @@ class JointFriction(StaticSlipAnchor):
     def bind(self, system) -> None:
         j = system.mechanism.joints[self.joint]
         if j.type not in FRICTION_JOINTS:
-            raise ValueError(f"joint_friction '{self.name}': joint '{self.joint}' is {j.type}; "
-                             f"friction needs a {', '.join(FRICTION_JOINTS)} joint")
+            raise ValueError(
+                f"joint_friction '{self.name}': joint '{self.joint}' is {j.type}; "
+                f"friction needs a {', '.join(FRICTION_JOINTS)} joint"
+            )
         self._type = j.type
         self._system = system
         self._bi, self._si = system.body_point(j.body1, j.at)
@@ -81,11 +89,13 @@ class JointFriction(StaticSlipAnchor):
             rate = self._m.rate(view.kin) / self.v_threshold + self._impending
             return coulomb_factor(rate, 1.0) * axis
         if at_rest(view):
-            return coulomb_vector(rotation_increment(self._relative_rotation(view),
-                                                     self._anchor), self.slip_threshold)
+            return coulomb_vector(
+                rotation_increment(self._relative_rotation(view), self._anchor), self.slip_threshold
+            )
         k = view.kin
-        w = omega_global(k.p[self._bi], k.pd[self._bi]) - omega_global(k.p[self._bj],
-                                                                       k.pd[self._bj])
+        w = omega_global(k.p[self._bi], k.pd[self._bi]) - omega_global(
+            k.p[self._bj], k.pd[self._bj]
+        )
         return coulomb_vector(w, self.v_threshold)
 
     # ---- stick (dynamic analyses; see mechlib.stick) ----------------------------------
@@ -113,8 +123,7 @@ class JointFriction(StaticSlipAnchor):
         """Sliding, and the slip rate passed through zero over the last accepted step (or
         is within the regularised band): a candidate to stick."""
         rate = self.slip_rate(view)
-        return not self.stuck and (rate * self._rate_before <= 0.0
-                                   or abs(rate) < self.v_threshold)
+        return not self.stuck and (rate * self._rate_before <= 0.0 or abs(rate) < self.v_threshold)
 
     def stick_effort(self, view: StateView) -> float:
         """Torque (N*m) or force (N) the stick equation applies to body 1 along the axis."""
@@ -142,8 +151,7 @@ class JointFriction(StaticSlipAnchor):
     def _coordinate(self) -> AngleMeasure | TravelMeasure:
         """The joint coordinate's measure (a spherical joint has none)."""
         if self._m is None:
-            raise ValueError(f"joint_friction '{self.name}': a spherical joint has no "
-                             "coordinate")
+            raise ValueError(f"joint_friction '{self.name}': a spherical joint has no coordinate")
         return self._m
 
     def _axis(self, view: StateView) -> np.ndarray:
@@ -178,8 +186,7 @@ class JointFriction(StaticSlipAnchor):
         return self.mu * self._arm * normal + self.preload, normal
 
     # ---- element protocol -------------------------------------------------------------
-    def _add_wrench(self, view: StateView, capacity: float, F: np.ndarray,
-                    N: np.ndarray) -> None:
+    def _add_wrench(self, view: StateView, capacity: float, F: np.ndarray, N: np.ndarray) -> None:
         load = -capacity * self._direction(view)  # on body 1, opposing its slip
         if self._type != "prismatic":
             N[self._bi] += load
@@ -209,13 +216,14 @@ class JointFriction(StaticSlipAnchor):
         self._add_wrench(view, 1.0, F, N)
         unit = view.system.generalized(view.kin, F, N)
         rows, body, sign = view.system.joint_force_rows(self.joint)
-        block = view.jacobian()[rows, 7 * body:7 * body + 3]
+        block = view.jacobian()[rows, 7 * body : 7 * body + 3]
         out[:, rows] += np.outer(unit, -sign * self.mu * self._arm * (block @ (normal / size)))
 
     def begin(self, view: StateView) -> None:
         """Start of an analysis: slips are measured from this state."""
-        self._anchor = (self._m.value(view.kin) if self._m is not None
-                        else self._relative_rotation(view).copy())
+        self._anchor = (
+            self._m.value(view.kin) if self._m is not None else self._relative_rotation(view).copy()
+        )
         rate = self.slip_rate(view) if self._m is not None else 0.0
         self._rate = self._rate_before = rate
         self._impending = 0.0

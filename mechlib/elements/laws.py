@@ -3,6 +3,7 @@
 `TableLaw` wraps a `mechlib.tables.Table` for `Spring.law` / `TorsionSpring.law`: a value
 outside a table that does not extrapolate becomes a `SolverFailure` naming the element.
 """
+
 from __future__ import annotations
 
 from mechlib.solution import SolverFailure
@@ -21,5 +22,6 @@ class TableLaw:
         try:
             return self.table(x)
         except TableRangeError as exc:
-            raise SolverFailure(f"force element '{self.element}': {exc}",
-                                where=(self.element,)) from None
+            raise SolverFailure(
+                f"force element '{self.element}': {exc}", where=(self.element,)
+            ) from None

@@ -8,12 +8,18 @@ Static states (every velocity zero: static and quasi-static analyses) use the di
 since the last accepted state instead, with its own (small) threshold: quasi-static friction
 opposes the direction of travel between consecutive equilibria.
 """
+
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["coulomb_factor", "coulomb_vector", "at_rest", "rotation_increment",
-           "StaticSlipAnchor"]
+__all__ = [
+    "StaticSlipAnchor",
+    "at_rest",
+    "coulomb_factor",
+    "coulomb_vector",
+    "rotation_increment",
+]
 
 
 class StaticSlipAnchor:

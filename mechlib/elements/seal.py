@@ -11,10 +11,11 @@ Friction mu F_i opposes the tangential slip of P_i on body 2 (regularised Coulom
 `mechlib.elements.regularize`). The stations integrate the line load by the midpoint rule,
 exact for a linear law under a linearly varying penetration.
 """
+
 from __future__ import annotations
 
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Callable, Sequence
 
 import numpy as np
 
@@ -46,8 +47,14 @@ class Seal(StaticSlipAnchor):
     slip_threshold: float = 1.0e-6
     effect: str = "contact"
     active: bool = True
-    output_units = {"normal": "N", "friction": "N", "penetration": "m", "fx": "N", "fy": "N",
-                    "fz": "N"}
+    output_units = {
+        "normal": "N",
+        "friction": "N",
+        "penetration": "m",
+        "fx": "N",
+        "fy": "N",
+        "fz": "N",
+    }
     _anchor: np.ndarray | None = field(default=None, repr=False)
 
     def bind(self, system) -> None:
@@ -69,7 +76,7 @@ class Seal(StaticSlipAnchor):
         inside = np.maximum(x, 0.0)
         if self.law is not None:
             return np.array([self.law(v) if v > 0.0 else 0.0 for v in x])
-        return self.stiffness * inside ** self.exponent
+        return self.stiffness * inside**self.exponent
 
     def _loads(self, view: StateView) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(P_i (N, 3), normal forces F_i (N,), friction forces on body 1 (N, 3), x_i)."""
@@ -106,8 +113,12 @@ class Seal(StaticSlipAnchor):
     def commit(self, view: StateView) -> None:
         """Accepted state: anchors of the static slips."""
         k = view.kin
-        self._anchor = (k.r[self._b1] + rotate(k.p[self._b1], self._s1)
-                        - k.r[self._b2] - rotate(k.p[self._b2], self._s2))
+        self._anchor = (
+            k.r[self._b1]
+            + rotate(k.p[self._b1], self._s1)
+            - k.r[self._b2]
+            - rotate(k.p[self._b2], self._s2)
+        )
 
     def body_pair(self) -> tuple[int, int]:
         """The two body indices whose states alone set this element's forces."""
@@ -119,7 +130,11 @@ class Seal(StaticSlipAnchor):
         _, normal, friction, x = self._loads(view)
         n = view.rotation(self._b2) @ self._n
         fx, fy, fz = normal.sum() * n + friction.sum(axis=0)
-        return {"normal": float(normal.sum()),
-                "friction": float(np.linalg.norm(friction, axis=1).sum()),
-                "penetration": float(x.max()), "fx": fx, "fy": fy, "fz": fz}
-
+        return {
+            "normal": float(normal.sum()),
+            "friction": float(np.linalg.norm(friction, axis=1).sum()),
+            "penetration": float(x.max()),
+            "fx": fx,
+            "fy": fy,
+            "fz": fz,
+        }

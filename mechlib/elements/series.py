@@ -6,16 +6,17 @@ M = hinge(h) (N*m vs hinge turn h, rad) the turn phi of the hinge line splits as
 phi = h + M / K_STRUCT, the same moment M in both; `SeriesLaw(phi)` solves
 hinge(h) = K_STRUCT (phi - h) for h (Brent, to 1e-14 rad) and returns M.
 """
+
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 from scipy.optimize import brentq
 
 __all__ = ["SeriesLaw", "series_stiffness"]
 
-_XTOL = 1e-14   # rad: far below the finite-difference steps taken on the moment
+_XTOL = 1e-14  # rad: far below the finite-difference steps taken on the moment
 
 
 def series_stiffness(structure: float, hinge: float) -> float:

@@ -2,6 +2,7 @@
 
 No test here measures time. The Exudyn tests are skipped when Exudyn is not installed.
 """
+
 from __future__ import annotations
 
 import importlib.util
@@ -11,13 +12,20 @@ import numpy as np
 import pytest
 import yaml
 
+from benchmarks.accuracy import Reference, relative_error
 from benchmarks.cases import case_path, case_yaml
 from benchmarks.exudyn_models import ExudynOptions, run_exudyn
 from benchmarks.models import (
-    BodySpec, JointSpec, ModelSpec, OutputSpec, all_models, consistent_velocities,
-    constraint_velocity_jacobian, degrees_of_freedom, model_by_name,
+    BodySpec,
+    JointSpec,
+    ModelSpec,
+    OutputSpec,
+    all_models,
+    consistent_velocities,
+    constraint_velocity_jacobian,
+    degrees_of_freedom,
+    model_by_name,
 )
-from benchmarks.accuracy import Reference, relative_error
 
 MODELS = [m.name for m in all_models()]
 
@@ -72,8 +80,9 @@ def test_chain_links_are_0_1_m_and_joined_end_to_end() -> None:
 @pytest.mark.parametrize("name", MODELS)
 def test_committed_case_file_matches_the_spec(name: str) -> None:
     model = model_by_name(name)
-    assert case_path(model).read_text(encoding="utf-8") == case_yaml(model), \
+    assert case_path(model).read_text(encoding="utf-8") == case_yaml(model), (
         "run `python -m benchmarks.cases` to regenerate the case files"
+    )
 
 
 @pytest.mark.parametrize("name", MODELS)
@@ -107,31 +116,51 @@ def test_relative_error_is_norm_over_columns_per_range() -> None:
     assert relative_error(t, got, ref, ("a", "b")) == pytest.approx(0.005 / 2.0)
     assert relative_error(t, got, ref, ("b",)) == pytest.approx(0.004 / 2.0)
     # times between reference samples are interpolated linearly
-    assert relative_error(np.array([0.05]), {"b": np.array([0.1])}, ref, ("b",)) == pytest.approx(0.0, abs=1e-15)
+    assert relative_error(np.array([0.05]), {"b": np.array([0.1])}, ref, ("b",)) == pytest.approx(
+        0.0, abs=1e-15
+    )
 
 
 # --------------------------------------------------------------------------------------
 # Exudyn side
 # --------------------------------------------------------------------------------------
-needs_exudyn = pytest.mark.skipif(importlib.util.find_spec("exudyn") is None,
-                                  reason="Exudyn not installed (pip install -e '.[bench]')")
+needs_exudyn = pytest.mark.skipif(
+    importlib.util.find_spec("exudyn") is None,
+    reason="Exudyn not installed (pip install -e '.[bench]')",
+)
 
 
 def _pendulum(rate: float | None) -> ModelSpec:
     return ModelSpec(
-        name="pendulum", title="pendulum", bodies=(BodySpec("bob", 2.0, (0.0, -0.5, 0.0),
-                                                            ((0.01, 0, 0), (0, 0.01, 0), (0, 0, 0.01))),),
-        joints=(JointSpec("pin", "revolute", ("bob", "ground"), (0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0)),),
-        points=(), gravity=(0.0, -9.81, 0.0), end=0.05, quick_end=0.05, output_step=0.01,
-        outputs=(OutputSpec("f", "fx", "joint_force", "pin"), OutputSpec("f", "fy", "joint_force", "pin"),
-                 OutputSpec("a", "value", "joint_angle", "pin")),
-        main=("a.value",), initial_rate=("pin", rate) if rate is not None else None)
+        name="pendulum",
+        title="pendulum",
+        bodies=(
+            BodySpec("bob", 2.0, (0.0, -0.5, 0.0), ((0.01, 0, 0), (0, 0.01, 0), (0, 0, 0.01))),
+        ),
+        joints=(
+            JointSpec("pin", "revolute", ("bob", "ground"), (0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0)),
+        ),
+        points=(),
+        gravity=(0.0, -9.81, 0.0),
+        end=0.05,
+        quick_end=0.05,
+        output_step=0.01,
+        outputs=(
+            OutputSpec("f", "fx", "joint_force", "pin"),
+            OutputSpec("f", "fy", "joint_force", "pin"),
+            OutputSpec("a", "value", "joint_angle", "pin"),
+        ),
+        main=("a.value",),
+        initial_rate=("pin", rate) if rate is not None else None,
+    )
 
 
 @needs_exudyn
 def test_exudyn_reaction_is_on_body_1_from_body_2_in_ground_axes() -> None:
     run = run_exudyn(_pendulum(None), ExudynOptions(step=1e-3, end=0.05))
-    assert run.channels["f.fy"][-1] == pytest.approx(2.0 * 9.81, rel=1e-9)  # the pin holds the bob up
+    assert run.channels["f.fy"][-1] == pytest.approx(
+        2.0 * 9.81, rel=1e-9
+    )  # the pin holds the bob up
     assert run.channels["f.fx"][-1] == pytest.approx(0.0, abs=1e-9)
 
 
@@ -146,12 +175,20 @@ def test_exudyn_joint_angle_follows_the_right_hand_rule() -> None:
 
 
 @needs_exudyn
-@pytest.mark.parametrize("name, step, end", [("slider_crank", 2.5e-4, 0.3), ("fourbar10", 1e-3, 0.3),
-                                             ("chain20", 5e-4, 0.3)])
-def test_exudyn_model_conserves_energy_and_keeps_its_joints(name: str, step: float, end: float) -> None:
+@pytest.mark.parametrize(
+    "name, step, end",
+    [("slider_crank", 2.5e-4, 0.3), ("fourbar10", 1e-3, 0.3), ("chain20", 5e-4, 0.3)],
+)
+def test_exudyn_model_conserves_energy_and_keeps_its_joints(
+    name: str, step: float, end: float
+) -> None:
     model = model_by_name(name)
-    run = run_exudyn(model, ExudynOptions(step=step, end=end, output_step=model.output_step,
-                                          linear_solver="sparse", check=True))
+    run = run_exudyn(
+        model,
+        ExudynOptions(
+            step=step, end=end, output_step=model.output_step, linear_solver="sparse", check=True
+        ),
+    )
     assert run.energy is not None and run.joint_gap is not None
     kinetic_scale = max(abs(run.energy[0]), 0.05 * 9.81 * sum(b.mass for b in model.bodies))
     assert np.max(np.abs(run.energy - run.energy[0])) < 1e-4 * kinetic_scale
@@ -162,7 +199,9 @@ def test_exudyn_model_conserves_energy_and_keeps_its_joints(name: str, step: flo
 def test_exudyn_slider_stays_between_the_dead_centres() -> None:
     """The slider starts at the outer dead centre (0.4 m) and never passes the inner one (0.2 m)."""
     model = model_by_name("slider_crank")
-    run = run_exudyn(model, ExudynOptions(step=2.5e-4, end=0.3, output_step=model.output_step, check=True))
+    run = run_exudyn(
+        model, ExudynOptions(step=2.5e-4, end=0.3, output_step=model.output_step, check=True)
+    )
     x = run.channels["slider_pos.x"]
     assert x.max() <= 0.4 + 1e-9 and x.min() >= 0.2 - 1e-9
     assert x[0] == pytest.approx(0.4)

@@ -8,6 +8,7 @@ The study's error of `hinge_angle` must equal the error against that closed form
 3e-8 of exact; measured 4e-11), and within the two references' agreement for Radau (whose
 reference is generalized-alpha at 1e-8: 2.0e-5 of peak measured, 2026-11-24).
 """
+
 from __future__ import annotations
 
 import csv
@@ -20,8 +21,8 @@ from scipy.special import ellipj, ellipk
 from typer.testing import CliRunner
 
 from cli.app import app
-from loadcases.studies.accuracy import _solver, accuracy_study
 from loadcases.inputs.loader import load_case
+from loadcases.studies.accuracy import _solver, accuracy_study
 
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
 THETA0 = math.radians(60.0)
@@ -52,22 +53,40 @@ def test_reported_errors_are_the_errors_against_the_closed_form(short_pendulum: 
     assert len(study.results) == 4
     for result in study.results:
         solution = solve(result.setting)
-        true = np.abs(solution.channels["hinge_angle.value"]
-                      - _exact_angle(solution.time)).max() / THETA0
+        true = (
+            np.abs(solution.channels["hinge_angle.value"] - _exact_angle(solution.time)).max()
+            / THETA0
+        )
         reported = result.errors["hinge_angle.value"].over_time
-        slack = 1e-6 if result.setting.integrator == "generalized-alpha" else \
-            study.reference_agreement + 1e-6
+        slack = (
+            1e-6
+            if result.setting.integrator == "generalized-alpha"
+            else study.reference_agreement + 1e-6
+        )
         assert reported == pytest.approx(true, abs=slack), result.setting
     best = study.recommended
     assert best is not None and best.worst()[1] <= 1e-3
     assert best.cpu_seconds == min(r.cpu_seconds for r in study.results if r.meets(1e-3))
 
 
-def test_the_command_writes_table_diagram_and_workbook(short_pendulum: Path,
-                                                       tmp_path: Path) -> None:
-    result = CliRunner().invoke(app, ["accuracy", str(short_pendulum), "-o", str(tmp_path),
-                                      "--tolerances", "1e-3,1e-5", "--repeats", "1",
-                                      "--integrators", "generalized-alpha"])
+def test_the_command_writes_table_diagram_and_workbook(
+    short_pendulum: Path, tmp_path: Path
+) -> None:
+    result = CliRunner().invoke(
+        app,
+        [
+            "accuracy",
+            str(short_pendulum),
+            "-o",
+            str(tmp_path),
+            "--tolerances",
+            "1e-3,1e-5",
+            "--repeats",
+            "1",
+            "--integrators",
+            "generalized-alpha",
+        ],
+    )
     assert result.exit_code == 0, result.output
     base = tmp_path / "pendulum-release-60deg"
     with open(f"{base}.accuracy.csv", newline="") as handle:
@@ -81,8 +100,9 @@ def test_the_command_writes_table_diagram_and_workbook(short_pendulum: Path,
 
 
 def test_a_kinematic_case_is_refused_at_its_analysis_type(tmp_path: Path) -> None:
-    result = CliRunner().invoke(app, ["accuracy", str(LIBRARY / "slider_crank.case.yaml"),
-                                      "-o", str(tmp_path)])
+    result = CliRunner().invoke(
+        app, ["accuracy", str(LIBRARY / "slider_crank.case.yaml"), "-o", str(tmp_path)]
+    )
     assert result.exit_code == 2
     assert "slider_crank.case.yaml:" in result.output
     assert "loads accuracy studies dynamic analyses" in result.output

@@ -1,11 +1,11 @@
 """The `loads` command line (SPEC section 2): outputs and exit status of every command."""
+
 from __future__ import annotations
 
 import functools
 import importlib
 import io
 import json
-import multiprocessing
 import re
 import sys
 import types
@@ -22,8 +22,8 @@ from cli.engine import Engine
 from cli.render import ProgressBar
 from cli.set_runner import SetProgress
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.results.outcome import RunOutcome
 from loadcases.results.files import write_results
+from loadcases.results.outcome import RunOutcome
 from mechlib.solution import Solution, SolverStats
 
 runner = CliRunner()
@@ -31,15 +31,20 @@ runner = CliRunner()
 
 def outcome(name: str, status: str = "ok", scale: float = 1.0) -> RunOutcome:
     """A two-row outcome with one channel."""
-    solution = Solution(status=status, message="ok" if status == "ok" else "singular at t = 0.1 s",
-                        analysis="kinematic", time=np.array([0.0, 0.1]),
-                        channels={"pivot_force.fx": scale * np.array([1.0, -2.0])},
-                        stats=SolverStats(steps=11, cpu_seconds=0.5))
+    solution = Solution(
+        status=status,
+        message="ok" if status == "ok" else "singular at t = 0.1 s",
+        analysis="kinematic",
+        time=np.array([0.0, 0.1]),
+        channels={"pivot_force.fx": scale * np.array([1.0, -2.0])},
+        stats=SolverStats(steps=11, cpu_seconds=0.5),
+    )
     return RunOutcome(name, Path(f"{name}.case.yaml"), "kinematic", solution, "0" * 64)
 
 
-def fake_run_file(path: Path, *, output_dir: Path, xlsx: bool = False, progress=None,
-                  behaviour: dict[str, object]):
+def fake_run_file(
+    path: Path, *, output_dir: Path, xlsx: bool = False, progress=None, behaviour: dict[str, object]
+):
     """A `run_file` that looks up each file's name in `behaviour` (outcomes or an exception)."""
     what = behaviour[Path(path).name]
     if isinstance(what, Exception):
@@ -64,8 +69,9 @@ def case_files(tmp_path: Path, *names: str) -> list[str]:
 def test_run_ok_prints_status_and_writes_results(tmp_path: Path) -> None:
     engine = fake_engine({"a.case.yaml": [outcome("a")]})
     out = tmp_path / "res"
-    result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml"), "-o", str(out)],
-                           obj=engine)
+    result = runner.invoke(
+        app, ["run", *case_files(tmp_path, "a.case.yaml"), "-o", str(out)], obj=engine
+    )
     assert result.exit_code == 0, result.output
     assert f"a: ok, 11 steps, cpu 0.5 s -> {out / 'a.csv'}" in result.stdout
     assert (out / "a.csv").is_file() and (out / "a.summary.json").is_file()
@@ -75,20 +81,26 @@ def test_run_prints_input_and_solver_warnings(tmp_path: Path) -> None:
     """The input's warnings reach the CLI as data (rendered `key: message`), the solver's as
     its messages; both under the run's status line."""
     run = outcome("a")
-    run.warnings.append(Diagnostic("a.case.yaml", 3, 27, "effects.friktion",
-                                   "unknown effect 'friktion'", "warning"))
+    run.warnings.append(
+        Diagnostic("a.case.yaml", 3, 27, "effects.friktion", "unknown effect 'friktion'", "warning")
+    )
     run.solution.warnings.append("near-singular at t = 0.05 s")
-    result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml"), "-o",
-                                 str(tmp_path / "r")], obj=fake_engine({"a.case.yaml": [run]}))
+    result = runner.invoke(
+        app,
+        ["run", *case_files(tmp_path, "a.case.yaml"), "-o", str(tmp_path / "r")],
+        obj=fake_engine({"a.case.yaml": [run]}),
+    )
     assert result.exit_code == 0, result.output
     assert result.stdout.splitlines()[1:] == [
         "  warning: effects.friktion: unknown effect 'friktion'",
-        "  warning: near-singular at t = 0.05 s"]
+        "  warning: near-singular at t = 0.05 s",
+    ]
 
 
 def test_run_solver_failure_exits_1(tmp_path: Path) -> None:
-    engine = fake_engine({"a.case.yaml": [outcome("a")],
-                          "b.case.yaml": [outcome("b", status="failed")]})
+    engine = fake_engine(
+        {"a.case.yaml": [outcome("a")], "b.case.yaml": [outcome("b", status="failed")]}
+    )
     files = case_files(tmp_path, "a.case.yaml", "b.case.yaml")
     result = runner.invoke(app, ["run", *files, "-o", str(tmp_path / "r"), "--xlsx"], obj=engine)
     assert result.exit_code == 1
@@ -98,11 +110,19 @@ def test_run_solver_failure_exits_1(tmp_path: Path) -> None:
 
 
 def test_run_input_error_exits_2_with_sorted_diagnostics(tmp_path: Path) -> None:
-    error = InputError([
-        Diagnostic("a.case.yaml", 9, 3, "analysis.end", "expected a time, got '2 m'"),
-        Diagnostic("a.case.yaml", 4, 5, "joints.hinge.bodies[1]", "unknown body 'grund'",
-                   hint="did you mean 'ground'?"),
-    ])
+    error = InputError(
+        [
+            Diagnostic("a.case.yaml", 9, 3, "analysis.end", "expected a time, got '2 m'"),
+            Diagnostic(
+                "a.case.yaml",
+                4,
+                5,
+                "joints.hinge.bodies[1]",
+                "unknown body 'grund'",
+                hint="did you mean 'ground'?",
+            ),
+        ]
+    )
     engine = fake_engine({"a.case.yaml": error})
     result = runner.invoke(app, ["run", *case_files(tmp_path, "a.case.yaml")], obj=engine)
     assert result.exit_code == 2
@@ -130,8 +150,11 @@ def test_internal_error_is_one_line_exit_1(tmp_path: Path, monkeypatch: pytest.M
 def test_run_jobs_in_parallel_keeps_input_order(tmp_path: Path) -> None:
     names = [f"c{i}.case.yaml" for i in range(4)]
     engine = fake_engine({n: [outcome(n.split(".")[0])] for n in names})
-    result = runner.invoke(app, ["run", *case_files(tmp_path, *names), "-o", str(tmp_path / "r"),
-                                 "--jobs", "2"], obj=engine)
+    result = runner.invoke(
+        app,
+        ["run", *case_files(tmp_path, *names), "-o", str(tmp_path / "r"), "--jobs", "2"],
+        obj=engine,
+    )
     assert result.exit_code == 0, result.output
     assert [line.split(":")[0] for line in result.stdout.splitlines()] == ["c0", "c1", "c2", "c3"]
     assert len(list((tmp_path / "r").glob("*.summary.json"))) == 4
@@ -149,9 +172,15 @@ def test_missing_file_and_usage_errors_exit_2(tmp_path: Path) -> None:
 
 def test_validate_prints_diagnostics_sorted_and_ok(tmp_path: Path) -> None:
     good, bad = case_files(tmp_path, "good.case.yaml", "bad.case.yaml")
-    found = {bad: [Diagnostic("bad.case.yaml", 12, 1, "", "unknown key 'reqests'", hint="did you mean 'requests'?"),
-                   Diagnostic("bad.mech.yaml", 3, 7, "bodies.door.mass", "expected a mass, got '2 m'")],
-             good: [Diagnostic("good.case.yaml", 2, 1, "loads", "no loads listed", severity="warning")]}
+    found = {
+        bad: [
+            Diagnostic(
+                "bad.case.yaml", 12, 1, "", "unknown key 'reqests'", hint="did you mean 'requests'?"
+            ),
+            Diagnostic("bad.mech.yaml", 3, 7, "bodies.door.mass", "expected a mass, got '2 m'"),
+        ],
+        good: [Diagnostic("good.case.yaml", 2, 1, "loads", "no loads listed", severity="warning")],
+    }
     engine = Engine(check_file=lambda path: found[str(path)])
     result = runner.invoke(app, ["validate", good, bad], obj=engine)
     assert result.exit_code == 2
@@ -170,8 +199,10 @@ def test_validate_real_bad_file(tmp_path: Path) -> None:
     if not hasattr(loader, "validate_files"):
         pytest.skip("loadcases.inputs.loader.validate_files not written yet")
     bad = tmp_path / "bad.case.yaml"
-    bad.write_text("case: bad\nmechanism:\n  bodies:\n    door: {mass: 2 m}\n"
-                   "analysis: {type: kinematic, end: 1, step: 0.1}\n")
+    bad.write_text(
+        "case: bad\nmechanism:\n  bodies:\n    door: {mass: 2 m}\n"
+        "analysis: {type: kinematic, end: 1, step: 0.1}\n"
+    )
     result = runner.invoke(app, ["validate", str(bad)])
     assert result.exit_code == 2, result.output
     assert re.search(r"bad\.case\.yaml:\d+:\d+: error: ", result.stdout), result.stdout
@@ -193,8 +224,10 @@ def test_envelope_to_stdout_and_workbook(tmp_path: Path) -> None:
     result = runner.invoke(app, ["envelope", str(tmp_path / "r")])
     assert result.exit_code == 0, result.output
     lines = [line.split(",")[:7] for line in result.stdout.splitlines()]
-    assert lines == [["column", "max", "max_run", "max_time", "min", "min_run", "min_time"],
-                     ["pivot_force.fx", "3.0", "sub/b", "0.0", "-6.0", "sub/b", "0.1"]]
+    assert lines == [
+        ["column", "max", "max_run", "max_time", "min", "min_run", "min_time"],
+        ["pivot_force.fx", "3.0", "sub/b", "0.0", "-6.0", "sub/b", "0.1"],
+    ]
     book_path = tmp_path / "env.xlsx"
     result = runner.invoke(app, ["envelope", str(tmp_path / "r"), "-o", str(book_path)])
     assert result.exit_code == 0, result.output
@@ -209,8 +242,9 @@ def test_envelope_errors_exit_2(tmp_path: Path) -> None:
     assert runner.invoke(app, ["envelope", str(tmp_path), "-o", "x.txt"]).exit_code == 2
 
 
-def test_bench_runs_suite_main_or_reports_missing(tmp_path: Path,
-                                                  monkeypatch: pytest.MonkeyPatch) -> None:
+def test_bench_runs_suite_main_or_reports_missing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     monkeypatch.setattr(cli_app, "_find_bench_suite", lambda: None)
     result = runner.invoke(app, ["bench"])
     assert result.exit_code == 2 and "benchmarks/suite.py not found" in result.stderr
@@ -220,19 +254,23 @@ def test_bench_runs_suite_main_or_reports_missing(tmp_path: Path,
     monkeypatch.setattr(cli_app, "_find_bench_suite", lambda: suite)
     result = runner.invoke(app, ["bench", "--quick"])
     assert result.exit_code == 0 and "suite ['--quick']" in result.stdout
-    (suite.parent / "door_set.py").write_text("def main(argv):\n    print('door', argv)\n"
-                                              "    return 1\n")
+    (suite.parent / "door_set.py").write_text(
+        "def main(argv):\n    print('door', argv)\n    return 1\n"
+    )
     result = runner.invoke(app, ["bench", "--door"])
     assert result.exit_code == 1 and "door []" in result.stdout
 
 
-def test_bench_suite_in_a_package_may_use_relative_imports(tmp_path: Path,
-                                                           monkeypatch: pytest.MonkeyPatch) -> None:
+def test_bench_suite_in_a_package_may_use_relative_imports(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     package = tmp_path / "benchmarks"
     package.mkdir()
     (package / "__init__.py").write_text("")
     (package / "models.py").write_text("CODE = 3\n")
-    (package / "suite.py").write_text("from .models import CODE\n\ndef main(argv):\n    return CODE\n")
+    (package / "suite.py").write_text(
+        "from .models import CODE\n\ndef main(argv):\n    return CODE\n"
+    )
     for name in [n for n in sys.modules if n == "benchmarks" or n.startswith("benchmarks.")]:
         monkeypatch.delitem(sys.modules, name)
     monkeypatch.setattr(cli_app, "_find_bench_suite", lambda: package / "suite.py")
@@ -274,7 +312,9 @@ def test_set_progress_counts_every_failure_and_draws_the_end() -> None:
     progress(failed, 2, 3)  # within the redraw interval: counted, not drawn
     progress(ok, 3, 3)
     drawn = stream.getvalue().split("\r")[1:]
-    assert [line.split(", ~")[0] for line in drawn] == ["s.set.yaml: 1/3 runs, 1 failed",
-                                                         "s.set.yaml: 3/3 runs, 2 failed"]
+    assert [line.split(", ~")[0] for line in drawn] == [
+        "s.set.yaml: 1/3 runs, 1 failed",
+        "s.set.yaml: 3/3 runs, 2 failed",
+    ]
     progress.close()
     assert stream.getvalue().endswith("\r" + " " * max(map(len, drawn)) + "\r")

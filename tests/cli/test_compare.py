@@ -6,6 +6,7 @@ statics of the crank: no angular acceleration), largest at t = 0: 1.4905 N*m for
 and 2.4905 N*m for P = 20 N, so the comparison must show +1 N*m, i.e. +1/1.4905 = +67.09 %
 of the old magnitude.
 """
+
 from __future__ import annotations
 
 import csv
@@ -26,10 +27,12 @@ G = 9.81
 
 def _set_result(folder: Path, load: float, out: Path) -> Path:
     (folder / "one.set.yaml").write_text(
-        "set: one\ncases: [crank.case.yaml]\n"
-        f"parameters: {{speed: 1.0, load: {load}}}\n", encoding="utf-8")
-    result = runner.invoke(app, ["run", str(folder / "one.set.yaml"), "-o", str(out),
-                                 "--jobs", "1"])
+        f"set: one\ncases: [crank.case.yaml]\nparameters: {{speed: 1.0, load: {load}}}\n",
+        encoding="utf-8",
+    )
+    result = runner.invoke(
+        app, ["run", str(folder / "one.set.yaml"), "-o", str(out), "--jobs", "1"]
+    )
     assert result.exit_code == 0, result.output
     return out / "one"
 
@@ -37,8 +40,10 @@ def _set_result(folder: Path, load: float, out: Path) -> Path:
 @pytest.fixture(scope="module")
 def two_results(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Path]:
     folder = write_inputs(tmp_path_factory.mktemp("inputs"))
-    return (_set_result(folder, 10.0, tmp_path_factory.mktemp("old")),
-            _set_result(folder, 20.0, tmp_path_factory.mktemp("new")))
+    return (
+        _set_result(folder, 10.0, tmp_path_factory.mktemp("old")),
+        _set_result(folder, 20.0, tmp_path_factory.mktemp("new")),
+    )
 
 
 def _rows(path: Path) -> dict[str, dict[str, str]]:
@@ -64,8 +69,7 @@ def test_compare_two_set_results_against_the_closed_form(two_results, tmp_path: 
     # the console: the header, the row with its percentage, a count line
     lines = result.stdout.splitlines()
     torque_line = next(line for line in lines if line.startswith("drive_torque.value"))
-    assert torque_line.split()[:5] == ["drive_torque.value", "N*m", "1.4905", "2.4905",
-                                       "+67.09%"]
+    assert torque_line.split()[:5] == ["drive_torque.value", "N*m", "1.4905", "2.4905", "+67.09%"]
     # round-off components (1e-37 N*m beside 1.5 N*m) are not changes
     assert lines[-2] == "5 changed, 0 new, 0 vanished, 5 same of 10 rows"
     assert _rows(out)["pivot_force.tx"]["status"] == "same"
@@ -74,8 +78,9 @@ def test_compare_two_set_results_against_the_closed_form(two_results, tmp_path: 
 def test_compare_reads_envelope_csvs_and_writes_a_workbook(two_results, tmp_path: Path) -> None:
     old, new = two_results
     out = tmp_path / "cmp.xlsx"
-    result = runner.invoke(app, ["compare", str(old / "envelope.csv"),
-                                 str(new / "envelope.csv"), "-o", str(out)])
+    result = runner.invoke(
+        app, ["compare", str(old / "envelope.csv"), str(new / "envelope.csv"), "-o", str(out)]
+    )
     assert result.exit_code == 0, result.output
     sheet = openpyxl.load_workbook(out)["Compare"]
     header = [c.value for c in sheet[1]]
@@ -88,17 +93,28 @@ def test_compare_reads_envelope_csvs_and_writes_a_workbook(two_results, tmp_path
 def test_new_vanished_and_unchanged_rows() -> None:
     """Hand-made envelopes: a column only in NEW is `new`, only in OLD `vanished`, equal
     peaks `same`; a column zero in OLD has a difference but no relative change."""
-    old = {"a": Peak(2.0, "r1", -1.0, "r1"), "b": Peak(1.0, "r1", 0.0, "r1"),
-           "z": Peak(0.0, "r1", 0.0, "r1"), "gone": Peak(5.0, "r1", 1.0, "r1")}
-    new = {"a": Peak(3.0, "r2", -1.0, "r1"), "b": Peak(1.0, "r1", 0.0, "r1"),
-           "z": Peak(0.5, "r1", 0.0, "r1"), "fresh": Peak(1.0, "r1", 0.0, "r1")}
+    old = {
+        "a": Peak(2.0, "r1", -1.0, "r1"),
+        "b": Peak(1.0, "r1", 0.0, "r1"),
+        "z": Peak(0.0, "r1", 0.0, "r1"),
+        "gone": Peak(5.0, "r1", 1.0, "r1"),
+    }
+    new = {
+        "a": Peak(3.0, "r2", -1.0, "r1"),
+        "b": Peak(1.0, "r1", 0.0, "r1"),
+        "z": Peak(0.5, "r1", 0.0, "r1"),
+        "fresh": Peak(1.0, "r1", 0.0, "r1"),
+    }
     rows = {r.column: r for r in compare_envelopes(old, new)}
     assert [r.column for r in compare_envelopes(old, new)] == ["a", "z", "fresh", "gone", "b"]
     assert rows["a"].max_change == pytest.approx(0.5) and rows["a"].status == "changed"
     assert rows["z"].status == "changed" and rows["z"].max_change is None
     assert rows["z"].max_diff == pytest.approx(0.5)
     assert (rows["fresh"].status, rows["gone"].status, rows["b"].status) == (
-        "new", "vanished", "same")
+        "new",
+        "vanished",
+        "same",
+    )
 
 
 def test_compare_of_a_folder_without_results_is_an_input_error(tmp_path: Path) -> None:

@@ -1,4 +1,5 @@
 """`loads new` and `loads plot` through the command line: exit status, files, messages."""
+
 from __future__ import annotations
 
 import json
@@ -46,15 +47,28 @@ def test_new_validate_run_plot_every_kind(tmp_path: Path) -> None:
 def test_plot_one_run_against_a_column_and_chosen_columns(tmp_path: Path) -> None:
     assert runner.invoke(app, ["new", "rod-end", "duty", "-o", str(tmp_path)]).exit_code == 0
     out = tmp_path / "results"
-    assert runner.invoke(app, ["run", str(tmp_path / "duty.case.yaml"), "-o", str(out)]
-                         ).exit_code == 0
-    result = runner.invoke(app, ["plot", str(out / "duty.csv"), "--x", "surface_angle.value",
-                                 "--columns", "rod_end_force.f*,actuator_force",
-                                 "-o", str(tmp_path / "png")])
+    assert (
+        runner.invoke(app, ["run", str(tmp_path / "duty.case.yaml"), "-o", str(out)]).exit_code == 0
+    )
+    result = runner.invoke(
+        app,
+        [
+            "plot",
+            str(out / "duty.csv"),
+            "--x",
+            "surface_angle.value",
+            "--columns",
+            "rod_end_force.f*,actuator_force",
+            "-o",
+            str(tmp_path / "png"),
+        ],
+    )
     assert result.exit_code == 0, result.output
     names = sorted(p.name for p in (tmp_path / "png").iterdir())
-    assert names == ["actuator_force-vs-surface_angle.value.png",
-                     "rod_end_force-vs-surface_angle.value.png"]
+    assert names == [
+        "actuator_force-vs-surface_angle.value.png",
+        "rod_end_force-vs-surface_angle.value.png",
+    ]
     # rod_end_force.fx fy fz f in N: one panel; 400 px high, 1000 px wide
     assert imread(tmp_path / "png" / names[1]).shape[:2] == (400, 1000)
 

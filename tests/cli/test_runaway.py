@@ -1,5 +1,6 @@
 """Runs that cannot finish: a load growing without bound, a step limit, and their input
 checks (`analysis.max_steps`), through the command line (exit status, rows kept, message)."""
+
 from __future__ import annotations
 
 import csv
@@ -16,8 +17,8 @@ from cli.app import app
 
 runner = CliRunner()
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
-INERTIA = 0.1      # kg*m^2 about the axle
-SPIN_AT = 0.05     # s, the event that switches the torque exp(100 t) N*m on
+INERTIA = 0.1  # kg*m^2 about the axle
+SPIN_AT = 0.05  # s, the event that switches the torque exp(100 t) N*m on
 
 SPIN = """\
 case: spin
@@ -39,8 +40,7 @@ requests:
 
 def _spin(tmp_path: Path, extra: str = "") -> Path:
     path = tmp_path / "spin.case.yaml"
-    path.write_text(SPIN.format(inertia=INERTIA, spin_at=SPIN_AT, extra=extra),
-                    encoding="utf-8")
+    path.write_text(SPIN.format(inertia=INERTIA, spin_at=SPIN_AT, extra=extra), encoding="utf-8")
     return path
 
 
@@ -76,9 +76,8 @@ def test_runaway_torque_stops_in_seconds_after_its_event(tmp_path: Path) -> None
     failed_at = float(message.split("failed at t = ")[1].split(" s")[0])
     rows = _rows(tmp_path / "out" / "spin.csv")
     assert 0.1 < failed_at < 0.3 and rows["time"][-1] <= failed_at
-    assert len(rows["time"]) == math.floor(failed_at / 0.01) + 2   # output rows + event row
-    np.testing.assert_allclose(rows["angle.value"], _spun_angle(rows["time"]), rtol=2e-3,
-                               atol=1e-9)
+    assert len(rows["time"]) == math.floor(failed_at / 0.01) + 2  # output rows + event row
+    np.testing.assert_allclose(rows["angle.value"], _spun_angle(rows["time"]), rtol=2e-3, atol=1e-9)
 
 
 def test_max_steps_reached_names_the_limit_and_the_time(tmp_path: Path) -> None:
@@ -89,20 +88,25 @@ def test_max_steps_reached_names_the_limit_and_the_time(tmp_path: Path) -> None:
     dynamic = _spin(tmp_path, ", max_steps: 40")
     shutil.copy(LIBRARY / "slider_crank.mech.yaml", tmp_path)
     kinematic = tmp_path / "slider_crank.case.yaml"
-    kinematic.write_text((LIBRARY / "slider_crank.case.yaml").read_text()
-                         .replace("  step: 0.001 ", "  max_steps: 40\n  step: 0.001 "))
+    kinematic.write_text(
+        (LIBRARY / "slider_crank.case.yaml")
+        .read_text()
+        .replace("  step: 0.001 ", "  max_steps: 40\n  step: 0.001 ")
+    )
     result = runner.invoke(app, ["run", str(dynamic), str(kinematic), "-o", str(tmp_path)])
     assert result.exit_code == 1, result.output
     for name, analysis in (("spin", "dynamic"), ("slider-crank-constant-speed", "kinematic")):
         summary = json.loads((tmp_path / f"{name}.summary.json").read_text())
         assert summary["status"] == "failed"
         assert summary["message"].startswith(f"{analysis} analysis stopped at t = ")
-        assert ("the limit of 40 steps (analysis.max_steps, accepted and rejected) is "
-                "reached; raise analysis.max_steps") in summary["message"]
+        assert (
+            "the limit of 40 steps (analysis.max_steps, accepted and rejected) is "
+            "reached; raise analysis.max_steps"
+        ) in summary["message"]
         reached = float(summary["message"].split("stopped at t = ")[1].split(" s")[0])
         last_row = _rows(tmp_path / f"{name}.csv")["time"][-1]
-        assert 0.0 < last_row <= reached < last_row + 0.01   # rows at output times
-    assert summary["rows"] == 40   # one output time per kinematic step
+        assert 0.0 < last_row <= reached < last_row + 0.01  # rows at output times
+    assert summary["rows"] == 40  # one output time per kinematic step
 
 
 def test_max_steps_must_be_positive(tmp_path: Path) -> None:
@@ -112,9 +116,10 @@ def test_max_steps_must_be_positive(tmp_path: Path) -> None:
         path = _spin(tmp_path, f", max_steps: {value}")
         result = runner.invoke(app, ["run", str(path), "-o", str(tmp_path / "out")])
         assert result.exit_code == 2
-        assert (f"{path}:12:50: error: analysis.max_steps: must be a positive whole number "
-                "of steps") in result.output
+        assert (
+            f"{path}:12:50: error: analysis.max_steps: must be a positive whole number of steps"
+        ) in result.output
     schema = json.loads(runner.invoke(app, ["schema"]).output)
     text = json.dumps(schema)
     assert '"max_steps": {"anyOf": [{"type": "integer"}, {"type": "null"}]' in text
-    assert '"minimum": 1' in text[text.index('"max_steps"'):][:400]
+    assert '"minimum": 1' in text[text.index('"max_steps"') :][:400]

@@ -1,4 +1,5 @@
 """`loads run SET.yaml` and `loads envelope` on set results: files, exit status, messages."""
+
 from __future__ import annotations
 
 import csv
@@ -16,8 +17,9 @@ runner = CliRunner()
 def test_run_set_writes_runs_envelope_and_workbook(tmp_path: Path) -> None:
     folder = write_inputs(tmp_path)
     out = tmp_path / "res"
-    result = runner.invoke(app, ["run", str(folder / "crank.set.yaml"), "-o", str(out),
-                                 "--jobs", "1"])
+    result = runner.invoke(
+        app, ["run", str(folder / "crank.set.yaml"), "-o", str(out), "--jobs", "1"]
+    )
     assert result.exit_code == 0, result.output
     set_dir = out / "crank-set"
     assert (set_dir / "crank-turn[speed=2,load=20].csv").is_file()
@@ -33,8 +35,9 @@ def test_run_set_writes_runs_envelope_and_workbook(tmp_path: Path) -> None:
 
 def test_failing_run_gives_exit_1_and_is_listed(tmp_path: Path) -> None:
     folder = write_inputs(tmp_path)
-    result = runner.invoke(app, ["run", str(folder / "slider.set.yaml"), "-o",
-                                 str(tmp_path / "res"), "--jobs", "1"])
+    result = runner.invoke(
+        app, ["run", str(folder / "slider.set.yaml"), "-o", str(tmp_path / "res"), "--jobs", "1"]
+    )
     assert result.exit_code == 1
     assert "failed runs (1):" in result.stdout
     assert "slider-push[stroke=0.2]: position analysis did not converge" in result.stdout
@@ -45,8 +48,9 @@ def test_failing_run_gives_exit_1_and_is_listed(tmp_path: Path) -> None:
 
 def test_invalid_set_exits_2_with_position(tmp_path: Path) -> None:
     folder = write_inputs(tmp_path)
-    (folder / "bad.set.yaml").write_text("set: bad\ncases: [crank.case.yaml]\n"
-                                         "sweep: {lod: [1, 2]}\n", encoding="utf-8")
+    (folder / "bad.set.yaml").write_text(
+        "set: bad\ncases: [crank.case.yaml]\nsweep: {lod: [1, 2]}\n", encoding="utf-8"
+    )
     result = runner.invoke(app, ["run", str(folder / "bad.set.yaml"), "-o", str(tmp_path)])
     assert result.exit_code == 2
     assert "bad.set.yaml:3:9: error: sweep.lod: unknown parameter 'lod'" in result.stderr
@@ -54,11 +58,21 @@ def test_invalid_set_exits_2_with_position(tmp_path: Path) -> None:
 
 def test_envelope_of_saved_set_results_with_set_margins(tmp_path: Path) -> None:
     folder = write_inputs(tmp_path)
-    runner.invoke(app, ["run", str(folder / "crank.set.yaml"), "-o", str(tmp_path / "res"),
-                        "--jobs", "1"])
+    runner.invoke(
+        app, ["run", str(folder / "crank.set.yaml"), "-o", str(tmp_path / "res"), "--jobs", "1"]
+    )
     book = tmp_path / "env.xlsx"
-    result = runner.invoke(app, ["envelope", str(tmp_path / "res"), "-o", str(book), "--set",
-                                 str(folder / "crank.set.yaml")])
+    result = runner.invoke(
+        app,
+        [
+            "envelope",
+            str(tmp_path / "res"),
+            "-o",
+            str(book),
+            "--set",
+            str(folder / "crank.set.yaml"),
+        ],
+    )
     assert result.exit_code == 0, result.output
     saved = list(csv.DictReader(open(tmp_path / "res" / "crank-set" / "envelope.csv")))
     sheet = openpyxl.load_workbook(book)["Envelope"]
@@ -81,8 +95,10 @@ def test_file_kind_decided_alike_by_run_and_validate(tmp_path: Path) -> None:
     assert "crank-set: 6 runs, 0 failed, 0 reused" in result.stdout
     unknown = folder / "notes.yaml"
     unknown.write_text("colour: blue\n", encoding="utf-8")
-    expected = [f"{unknown}:1:1: error: cannot tell the file kind",
-                f"{unknown}:1:1: hint: name it *.mech.yaml, *.case.yaml or *.set.yaml"]
+    expected = [
+        f"{unknown}:1:1: error: cannot tell the file kind",
+        f"{unknown}:1:1: hint: name it *.mech.yaml, *.case.yaml or *.set.yaml",
+    ]
     ran = runner.invoke(app, ["run", str(unknown), "-o", str(tmp_path / "res")])
     assert ran.exit_code == 2 and ran.stderr.splitlines() == expected
     checked = runner.invoke(app, ["validate", str(unknown)])

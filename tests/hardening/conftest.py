@@ -1,4 +1,5 @@
 """Shared helpers of the hardening tests (issue 15): tiny crank inputs with one change."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -21,8 +22,12 @@ def loads(*args: str):
 def crank(tmp_path: Path):
     """`crank(mech=(old, new), case=(old, new))` writes crank.mech.yaml and crank.case.yaml
     with each `old` text replaced by `new` (it must occur) and returns the case path."""
-    def write(mech: tuple[str, str] | None = None, case: tuple[str, str] | None = None,
-              folder: Path = tmp_path) -> Path:
+
+    def write(
+        mech: tuple[str, str] | None = None,
+        case: tuple[str, str] | None = None,
+        folder: Path = tmp_path,
+    ) -> Path:
         texts = {"crank.mech.yaml": (CRANK_MECH, mech), "crank.case.yaml": (CRANK_CASE, case)}
         for name, (text, change) in texts.items():
             if change is not None:
@@ -30,11 +35,11 @@ def crank(tmp_path: Path):
                 text = text.replace(*change)
             (folder / name).write_text(text, encoding="utf-8")
         return folder / "crank.case.yaml"
+
     return write
 
 
 def has_line(output: str, expected: str) -> bool:
     """Whether a line of `output` is `expected`, or ends with `/expected` (a file path
     printed in full)."""
-    return any(line == expected or line.endswith("/" + expected)
-               for line in output.splitlines())
+    return any(line == expected or line.endswith("/" + expected) for line in output.splitlines())

@@ -1,6 +1,7 @@
 """Issue 15 items 1 and 3: a value that turns non-finite while solving stops the run (exit 1)
 naming the element, the time and the value, keeping the rows before it; never `status: ok`
 with NaN rows. A request that fails at some time keeps the other columns and the rows."""
+
 from __future__ import annotations
 
 import json
@@ -20,15 +21,18 @@ def _summary(folder: Path, name: str = "crank-turn") -> dict:
 
 
 def test_force_overflowing_in_a_kinematic_run_fails_naming_element_time_value(
-        crank, tmp_path: Path) -> None:
+    crank, tmp_path: Path
+) -> None:
     """t*1e300*1e10 is finite at t = 0 (0 N) and infinite from t = 0.05 s (5e308 N)."""
     case = crank(mech=(PUSH, '"t*1e300*1e10"'))
     result = loads("run", case, "-o", tmp_path / "out")
     assert result.exit_code == 1, result.output
     summary = _summary(tmp_path / "out")
     assert summary["status"] == "failed"
-    assert summary["message"] == ("the solution is not finite at t = 0.05 s: force element "
-                                  "'push' gives inf (not finite) there")
+    assert summary["message"] == (
+        "the solution is not finite at t = 0.05 s: force element "
+        "'push' gives inf (not finite) there"
+    )
     time, channels = read_results(tmp_path / "out" / "crank-turn.csv")
     assert time.tolist() == [0.0]
     assert all(np.isfinite(values).all() for values in channels.values())
@@ -37,51 +41,65 @@ def test_force_overflowing_in_a_kinematic_run_fails_naming_element_time_value(
 def test_force_overflowing_in_a_dynamic_run_names_the_element(crank, tmp_path: Path) -> None:
     """A free crank under gravity; the push becomes infinite after t = 0.1 s: Newton fails,
     and the failure says which element gave a non-finite value."""
-    case = crank(mech=(PUSH, '"(t > 0.1) * t*1e300*1e10"'),
-                 case=("motions:\n  drive: {joint: pivot, value: \"speed * t\"}\n"
-                       "analysis: {type: kinematic,", "analysis: {type: dynamic,"))
+    case = crank(
+        mech=(PUSH, '"(t > 0.1) * t*1e300*1e10"'),
+        case=(
+            'motions:\n  drive: {joint: pivot, value: "speed * t"}\nanalysis: {type: kinematic,',
+            "analysis: {type: dynamic,",
+        ),
+    )
     text = case.read_text(encoding="utf-8").replace(
-        "  drive_torque: {motion: drive, quantity: torque}\n", "")
+        "  drive_torque: {motion: drive, quantity: torque}\n", ""
+    )
     case.write_text(text, encoding="utf-8")
     result = loads("run", case, "-o", tmp_path / "out")
     assert result.exit_code == 1, result.output
     summary = _summary(tmp_path / "out")
     assert summary["status"] == "failed"
-    assert summary["message"].endswith("; force element 'push' gives inf (not finite) at "
-                                       "t = 0.1 s"), summary["message"]
+    assert summary["message"].endswith(
+        "; force element 'push' gives inf (not finite) at t = 0.1 s"
+    ), summary["message"]
     time, channels = read_results(tmp_path / "out" / "crank-turn.csv")
     assert time[-1] <= 0.1 + 1e-12 and time.size == 3  # rows at 0, 0.05 and 0.1 s kept
     assert all(np.isfinite(values).all() for values in channels.values())
 
 
-def test_request_failing_at_some_time_keeps_other_columns_and_rows(crank,
-                                                                     tmp_path: Path) -> None:
+def test_request_failing_at_some_time_keeps_other_columns_and_rows(crank, tmp_path: Path) -> None:
     """`1/(t - 0.2)` divides by zero at t = 0.2 s (5th row): its column holds the four values
     before and NaN after; the other columns are whole; the run is failed, the column named."""
-    case = crank(case=("  drive_torque: {motion: drive, quantity: torque}\n",
-                       "  drive_torque: {motion: drive, quantity: torque}\n"
-                       "  bad: {expression: \"1/(t - 0.2)\"}\n"))
+    case = crank(
+        case=(
+            "  drive_torque: {motion: drive, quantity: torque}\n",
+            "  drive_torque: {motion: drive, quantity: torque}\n"
+            '  bad: {expression: "1/(t - 0.2)"}\n',
+        )
+    )
     result = loads("run", case, "-o", tmp_path / "out")
     assert result.exit_code == 1, result.output
     summary = _summary(tmp_path / "out")
     assert summary["status"] == "failed"
-    assert summary["message"] == ("requests: requests.bad: division by zero at offset 1 at "
-                                  "t = 0.2 s (column bad.value is empty from there on; the "
-                                  "other columns are whole)")
+    assert summary["message"] == (
+        "requests: requests.bad: division by zero at offset 1 at "
+        "t = 0.2 s (column bad.value is empty from there on; the "
+        "other columns are whole)"
+    )
     time, channels = read_results(tmp_path / "out" / "crank-turn.csv")
     assert time.size == 11
     bad = channels.pop("bad.value")
     np.testing.assert_allclose(bad[:4], [1 / (t - 0.2) for t in time[:4]], rtol=1e-12)
     assert np.isnan(bad[4:]).all()
     assert all(np.isfinite(values).all() for values in channels.values())
-    assert math.isclose(summary["extremes"]["bad.value"]["min"], 1 / (0.15 - 0.2),
-                        rel_tol=1e-9)
+    assert math.isclose(summary["extremes"]["bad.value"]["min"], 1 / (0.15 - 0.2), rel_tol=1e-9)
 
 
 def test_request_turning_infinite_is_a_failure_naming_column(crank, tmp_path: Path) -> None:
-    case = crank(case=("  drive_torque: {motion: drive, quantity: torque}\n",
-                       "  drive_torque: {motion: drive, quantity: torque}\n"
-                       "  big: {expression: \"t*1e300*1e10\"}\n"))
+    case = crank(
+        case=(
+            "  drive_torque: {motion: drive, quantity: torque}\n",
+            "  drive_torque: {motion: drive, quantity: torque}\n"
+            '  big: {expression: "t*1e300*1e10"}\n',
+        )
+    )
     result = loads("run", case, "-o", tmp_path / "out")
     assert result.exit_code == 1, result.output
     summary = _summary(tmp_path / "out")

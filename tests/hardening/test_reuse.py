@@ -1,5 +1,6 @@
 """Issue 15 item 2: a saved run is reused only when its summary is ok, of the same input
 and of the same engine (hash of the installed source), and its CSV is the one it wrote."""
+
 from __future__ import annotations
 
 import hashlib
@@ -38,7 +39,7 @@ def test_truncated_or_foreign_csv_is_solved_again(inputs: Path) -> None:
     first = run_set(inputs / "crank.set.yaml", output_dir=out)
     csv_path = first.directory / f"{FIRST}.csv"
     whole = csv_path.read_bytes()
-    csv_path.write_bytes(whole[: len(whole) // 2])        # truncated
+    csv_path.write_bytes(whole[: len(whole) // 2])  # truncated
     other = first.directory / "crank-turn[speed=3,load=20].csv"
     other.write_bytes(csv_path.with_name("crank-turn[speed=2,load=10].csv").read_bytes())
     again = run_set(inputs / "crank.set.yaml", output_dir=out)
@@ -58,15 +59,14 @@ def test_interrupted_after_csv_then_input_reverted_is_solved_again(inputs: Path)
     old_summary = summary_path.read_bytes()
     case.write_text(original.replace("end: 0.5", "end: 0.4"))
     run_set(inputs / "crank.set.yaml", output_dir=out)
-    summary_path.write_bytes(old_summary)                 # the summary of the killed run
+    summary_path.write_bytes(old_summary)  # the summary of the killed run
     case.write_text(original)
     again = run_set(inputs / "crank.set.yaml", output_dir=out)
     assert _reused(again)[0] is False
     assert again.records[0].ok
 
 
-def test_other_engine_source_is_solved_again(inputs: Path,
-                                             monkeypatch: pytest.MonkeyPatch) -> None:
+def test_other_engine_source_is_solved_again(inputs: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     out = inputs / "out"
     run_set(inputs / "crank.set.yaml", output_dir=out)
     monkeypatch.setattr(engine_hash, "engine_sha256", lambda: "0" * 64)
@@ -75,8 +75,9 @@ def test_other_engine_source_is_solved_again(inputs: Path,
     assert all(_reused(run_set(inputs / "crank.set.yaml", output_dir=out)))
 
 
-def test_engine_hash_covers_every_source_file(monkeypatch: pytest.MonkeyPatch,
-                                              tmp_path: Path) -> None:
+def test_engine_hash_covers_every_source_file(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
     """The hash changes with one byte of one .py file of a package, and not otherwise."""
     package = tmp_path / "pkg"
     (package / "sub").mkdir(parents=True)

@@ -1,6 +1,7 @@
 """Issue 15 item 10: `mechlib.solve` leaves the Mechanism it is given unchanged (event
 activations, element states live in the solve's own state): solving the same mechanism
 twice gives identical results."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -16,8 +17,14 @@ LATCH = Path(__file__).parents[2] / "loadcases/library/verification/latch_spring
 
 def _solve(built, end: float):
     analysis = ml.Dynamic(end=end, step=0.01, tolerance=1e-7)
-    return ml.solve(built.mechanism, analysis, requests=built.requests,
-                    initial=built.initial, events=built.events, throw=False)
+    return ml.solve(
+        built.mechanism,
+        analysis,
+        requests=built.requests,
+        initial=built.initial,
+        events=built.events,
+        throw=False,
+    )
 
 
 def test_event_activation_does_not_leak_into_the_next_solve() -> None:

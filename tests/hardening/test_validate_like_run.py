@@ -1,6 +1,7 @@
 """Issue 15 item 8: every input mistake is exit 2 with a position, and `loads validate`
 refuses what `loads run` refuses (same checks, short of solving), for case, mechanism and
 set files."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -11,7 +12,7 @@ from tests.hardening.conftest import has_line, loads
 
 ANALYSIS = "analysis: {type: kinematic, end: 0.5, step: 0.05}"
 DYNAMIC = "analysis: {type: dynamic, end: 0.5, step: 0.05"
-NO_MOTION = ("motions:\n  drive: {joint: pivot, value: \"speed * t\"}\n", "")
+NO_MOTION = ('motions:\n  drive: {joint: pivot, value: "speed * t"}\n', "")
 SLIDER_DAMPER = """\
 name: d
 bodies:
@@ -21,28 +22,40 @@ joints:
 forces:
   brake: {type: damper, joint: guide, damping: 10}
 """
-DAMPER_ERROR = ("d.mech.yaml:7:25: error: forces.brake.joint: joint 'guide' is prismatic; "
-                "this element needs a revolute or cylindrical or inline joint")
+DAMPER_ERROR = (
+    "d.mech.yaml:7:25: error: forces.brake.joint: joint 'guide' is prismatic; "
+    "this element needs a revolute or cylindrical or inline joint"
+)
 
 
 def _dynamic(crank, extra: str) -> Path:
     case = crank(case=(ANALYSIS, DYNAMIC + extra + "}"))
-    text = case.read_text(encoding="utf-8").replace(NO_MOTION[0], "").replace(
-        "  drive_torque: {motion: drive, quantity: torque}\n", "")
+    text = (
+        case.read_text(encoding="utf-8")
+        .replace(NO_MOTION[0], "")
+        .replace("  drive_torque: {motion: drive, quantity: torque}\n", "")
+    )
     case.write_text(text, encoding="utf-8")
     return case
 
 
-@pytest.mark.parametrize("extra,expected", [
-    (", tolerance: 0", "crank.case.yaml:3:49: error: analysis.tolerance: must be positive"),
-    (", tolerance: -1e-4", "crank.case.yaml:3:49: error: analysis.tolerance: must be positive"),
-    (", max_step: 0", "crank.case.yaml:3:49: error: analysis.max_step: must be positive"),
-    (", tolerance: .inf", "crank.case.yaml:3:49: error: analysis.tolerance: expected a finite "
-     "number, got infinity"),
-])
+@pytest.mark.parametrize(
+    "extra,expected",
+    [
+        (", tolerance: 0", "crank.case.yaml:3:49: error: analysis.tolerance: must be positive"),
+        (", tolerance: -1e-4", "crank.case.yaml:3:49: error: analysis.tolerance: must be positive"),
+        (", max_step: 0", "crank.case.yaml:3:49: error: analysis.max_step: must be positive"),
+        (
+            ", tolerance: .inf",
+            "crank.case.yaml:3:49: error: analysis.tolerance: expected a finite "
+            "number, got infinity",
+        ),
+    ],
+)
 @pytest.mark.parametrize("command", ["validate", "run"])
-def test_dynamic_settings_out_of_range_are_input_errors(crank, tmp_path: Path, command: str,
-                                                        extra: str, expected: str) -> None:
+def test_dynamic_settings_out_of_range_are_input_errors(
+    crank, tmp_path: Path, command: str, extra: str, expected: str
+) -> None:
     case = _dynamic(crank, extra)
     args = ["-o", tmp_path / "out"] if command == "run" else []
     result = loads(command, case, *args)
@@ -51,21 +64,25 @@ def test_dynamic_settings_out_of_range_are_input_errors(crank, tmp_path: Path, c
 
 
 @pytest.mark.parametrize("command", ["validate", "run"])
-def test_non_finite_initial_value_is_an_input_error(crank, tmp_path: Path,
-                                                    command: str) -> None:
+def test_non_finite_initial_value_is_an_input_error(crank, tmp_path: Path, command: str) -> None:
     case = crank(case=(ANALYSIS, ANALYSIS + "\ninitial:\n  pivot: {value: .nan}"))
     args = ["-o", tmp_path / "out"] if command == "run" else []
     result = loads(command, case, *args)
     assert result.exit_code == 2, result.output
-    assert any(": error: initial.pivot.value: expected a finite number, got NaN" in line
-               for line in result.output.splitlines()), result.output
+    assert any(
+        ": error: initial.pivot.value: expected a finite number, got NaN" in line
+        for line in result.output.splitlines()
+    ), result.output
 
 
 def test_validate_of_a_mechanism_file_builds_it(tmp_path: Path) -> None:
     (tmp_path / "d.mech.yaml").write_text(SLIDER_DAMPER, encoding="utf-8")
     for command in ("validate", "run"):
-        result = loads(command, tmp_path / "d.mech.yaml", "-o", tmp_path / "out") \
-            if command == "run" else loads(command, tmp_path / "d.mech.yaml")
+        result = (
+            loads(command, tmp_path / "d.mech.yaml", "-o", tmp_path / "out")
+            if command == "run"
+            else loads(command, tmp_path / "d.mech.yaml")
+        )
         assert result.exit_code == 2, (command, result.output)
         assert has_line(result.output, DAMPER_ERROR), (command, result.output)
 
@@ -74,7 +91,9 @@ def test_validate_of_a_set_builds_its_cases(crank, tmp_path: Path) -> None:
     (tmp_path / "d.mech.yaml").write_text(SLIDER_DAMPER, encoding="utf-8")
     (tmp_path / "d.case.yaml").write_text(
         "case: d\nmechanism: d.mech.yaml\nanalysis: {type: dynamic, end: 0.1, step: 0.05}\n"
-        "requests:\n  g: {joint: guide, quantity: force}\n", encoding="utf-8")
+        "requests:\n  g: {joint: guide, quantity: force}\n",
+        encoding="utf-8",
+    )
     (tmp_path / "s.set.yaml").write_text("set: s\ncases: [d.case.yaml]\n", encoding="utf-8")
     for command in ("validate", "run"):
         args = ["-o", tmp_path / "out"] if command == "run" else []
@@ -85,15 +104,18 @@ def test_validate_of_a_set_builds_its_cases(crank, tmp_path: Path) -> None:
 
 
 def test_set_case_with_degrees_of_freedom_left_is_refused_before_solving(
-        crank, tmp_path: Path) -> None:
+    crank, tmp_path: Path
+) -> None:
     """A kinematic case without its motion has 1 degree of freedom left: `loads run` of the
     case refuses it (exit 2), and so do `validate` and `run` of a set holding it."""
     crank(case=NO_MOTION)
-    text = (tmp_path / "crank.case.yaml").read_text(encoding="utf-8").replace(
-        "  drive_torque: {motion: drive, quantity: torque}\n", "")
+    text = (
+        (tmp_path / "crank.case.yaml")
+        .read_text(encoding="utf-8")
+        .replace("  drive_torque: {motion: drive, quantity: torque}\n", "")
+    )
     (tmp_path / "crank.case.yaml").write_text(text, encoding="utf-8")
-    (tmp_path / "s.set.yaml").write_text("set: s\ncases: [crank.case.yaml]\n",
-                                         encoding="utf-8")
+    (tmp_path / "s.set.yaml").write_text("set: s\ncases: [crank.case.yaml]\n", encoding="utf-8")
     single = loads("validate", tmp_path / "crank.case.yaml")
     assert single.exit_code == 2, single.output
     expected = next(line for line in single.output.splitlines() if ": error: " in line)

@@ -1,4 +1,5 @@
 """Tiny mechanisms, cases and sets written into a test's tmp folder (fast kinematic runs)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -78,9 +79,14 @@ report: {output: slider.xlsx}
 
 def write_inputs(folder: Path) -> Path:
     """Write every mechanism, case and set file into `folder`; return `folder`."""
-    files = {"crank.mech.yaml": CRANK_MECH, "crank.case.yaml": CRANK_CASE,
-             "slider.mech.yaml": SLIDER_MECH, "slider.case.yaml": SLIDER_CASE,
-             "crank.set.yaml": SET_3X2, "slider.set.yaml": SET_FAILING}
+    files = {
+        "crank.mech.yaml": CRANK_MECH,
+        "crank.case.yaml": CRANK_CASE,
+        "slider.mech.yaml": SLIDER_MECH,
+        "slider.case.yaml": SLIDER_CASE,
+        "crank.set.yaml": SET_3X2,
+        "slider.set.yaml": SET_FAILING,
+    }
     for name, text in files.items():
         (folder / name).write_text(text, encoding="utf-8")
     return folder

@@ -1,5 +1,6 @@
 """A bounded plane (`extent`): a ball over the pad rests on it with contact force = weight;
 the same ball beside the pad falls through freely (z = -g t^2 / 2)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -33,7 +34,9 @@ requests:
 
 
 def _run(tmp_path: Path, x: float):
-    text = CASE.format(x=x).replace("  bodies:\n", "  points: {c: {body: ball, at: [%s, 0, 0.01]}}\n  bodies:\n" % x, 1)
+    text = CASE.format(x=x).replace(
+        "  bodies:\n", "  points: {c: {body: ball, at: [%s, 0, 0.01]}}\n  bodies:\n" % x, 1
+    )
     path = tmp_path / f"pad{x}.case.yaml"
     path.write_text(text, encoding="utf-8")
     return run_file(path, output_dir=tmp_path / "out")[0].solution
@@ -50,5 +53,5 @@ def test_ball_beside_the_pad_falls_freely(tmp_path: Path) -> None:
     """Outside the 50 mm pad there is no contact: free fall within 1e-6 m."""
     sol = _run(tmp_path, 0.2)
     assert sol.ok and np.all(sol.channels["contact.normal"] == 0.0)
-    fall = 0.01 - 0.5 * 9.81 * sol.time ** 2
+    fall = 0.01 - 0.5 * 9.81 * sol.time**2
     assert np.abs(sol.channels["z.z"] - fall).max() < 1e-6

@@ -2,6 +2,7 @@
 consecutive equilibria, as joint_friction and seal do. A ball riding on a carriage (free to
 drop along z) rests on a plane with its weight and is dragged along x and back: the drive
 force is -/+ mu m g. Source: Coulomb's law F_t = mu F_N; tolerance 1e-3 relative."""
+
 from __future__ import annotations
 
 from pathlib import Path

@@ -1,18 +1,17 @@
 """`loads draw`: marker trajectories follow the solved mechanism; one PNG per time, of the
 documented size; the GIF (or the frames without Pillow) is written."""
+
 from __future__ import annotations
 
-from pathlib import Path
-
 import itertools
+from pathlib import Path
 
 import numpy as np
 import pytest
 from PIL import Image
 
+from loadcases.draw.render import DPI, FIGURE_SIZE, _figure, projection, write_animation, write_pngs
 from loadcases.draw.trajectory import trajectory_of_file
-from loadcases.draw.render import (DPI, FIGURE_SIZE, _figure, projection, write_animation,
-                                   write_pngs)
 
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library"
 FOURBAR = LIBRARY / "verification" / "fourbar_quasistatic.case.yaml"
@@ -67,11 +66,14 @@ def test_labels_of_a_crowded_mechanism_are_spread(monkeypatch):
     import matplotlib.pyplot as plt
 
     import loadcases.draw.render as render_module
+
     door = trajectory_of_file(LIBRARY / "door" / "opened.case.yaml")
     counts = []
     for spread in (False, True, True):
         if not spread:
-            monkeypatch.setattr(render_module, "_spread_labels", lambda ax, texts, offsets=None: None)
+            monkeypatch.setattr(
+                render_module, "_spread_labels", lambda ax, texts, offsets=None: None
+            )
         else:
             monkeypatch.undo()
         fig, render = _figure(door, "yz")

@@ -3,6 +3,7 @@
 negative. Reference: a 2 kg bar of 1 m on a hinge lifted at 1 rad/s against gravity needs
 T = m g (L/2) cos(theta) (constant speed: no inertia torque), which turns negative at
 theta = pi/2, i.e. t = pi/2 s."""
+
 from __future__ import annotations
 
 import math
@@ -42,16 +43,23 @@ def test_handle_force_and_let_go(tmp_path: Path) -> None:
     before = sol.time < math.pi / 2 - 1e-9
     expected = 2 * 9.81 * 0.5 * np.cos(sol.time[before]) / 0.2
     assert np.abs(sol.channels["handle_force.value"][before] - expected).max() < 1e-3 * 49.05
-    assert np.allclose(sol.channels["handle_force.value"][before],
-                       sol.channels["torque.value"][before] / 0.2, rtol=1e-9, atol=1e-9)
+    assert np.allclose(
+        sol.channels["handle_force.value"][before],
+        sol.channels["torque.value"][before] / 0.2,
+        rtol=1e-9,
+        atol=1e-9,
+    )
     assert np.all(sol.channels["torque.value"][sol.time > math.pi / 2 + 1e-9] == 0.0)
 
 
 def test_effort_of_an_unknown_motion_is_an_input_error(tmp_path: Path) -> None:
     path = tmp_path / "bad.case.yaml"
-    path.write_text(CASE.replace('expression: "effort(drive) / 0.2"',
-                                 'expression: "effort(drvie) / 0.2"'), encoding="utf-8")
+    path.write_text(
+        CASE.replace('expression: "effort(drive) / 0.2"', 'expression: "effort(drvie) / 0.2"'),
+        encoding="utf-8",
+    )
     with pytest.raises(InputError) as caught:
         run_file(path, output_dir=tmp_path / "out")
     assert [d.message for d in caught.value.diagnostics] == [
-        "effort(drvie): no motion 'drvie' in this case"]
+        "effort(drvie): no motion 'drvie' in this case"
+    ]

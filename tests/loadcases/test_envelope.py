@@ -1,4 +1,5 @@
 """Envelope extraction against hand-made result tables; curves on grids; margins."""
+
 from __future__ import annotations
 
 import math
@@ -15,9 +16,12 @@ NAN = math.nan
 
 
 def run(name: str, time: list[float], **channels: list[float]) -> SavedRun:
-    return SavedRun(name, np.array(time), {k.replace("__", "."): np.array(v, dtype=float)
-                                           for k, v in channels.items()},
-                    units={"h.fx": "N", "h.fy": "N", "abscissa.value": "rad"})
+    return SavedRun(
+        name,
+        np.array(time),
+        {k.replace("__", "."): np.array(v, dtype=float) for k, v in channels.items()},
+        units={"h.fx": "N", "h.fy": "N", "abscissa.value": "rad"},
+    )
 
 
 def test_max_min_with_run_time_abscissa_and_concurrent_values() -> None:
@@ -51,8 +55,7 @@ def test_nan_rows_of_a_failed_run_are_skipped() -> None:
 
 def test_single_run_set() -> None:
     fx = extract_envelope([run("only", [0.0], h__fx=[-2.0])])[0]
-    assert (fx.max, fx.min, fx.max_run, fx.min_run, fx.abs_max) == (-2.0, -2.0, "only",
-                                                                    "only", 2.0)
+    assert (fx.max, fx.min, fx.max_run, fx.min_run, fx.abs_max) == (-2.0, -2.0, "only", "only", 2.0)
 
 
 def test_curves_on_a_union_grid_that_does_not_line_up() -> None:
@@ -71,7 +74,7 @@ def test_curve_of_a_back_and_forth_abscissa_covers_every_branch() -> None:
     np.testing.assert_allclose(upper, [1, 1, 1])
     np.testing.assert_allclose(lower, [-1, 0, 1])
     upper, _ = envelope_on_grid([(np.array([5.0, 6.0]), np.array([1.0, 1.0]))], grid)
-    assert np.isnan(upper).all()   # outside a run's range it contributes nothing
+    assert np.isnan(upper).all()  # outside a run's range it contributes nothing
 
 
 def test_family_without_abscissa_uses_time() -> None:
@@ -88,7 +91,7 @@ def test_margins_both_sides_and_negative_loads() -> None:
     assert fx.factor == pytest.approx(1.8)
     assert (fx.ultimate_max, fx.ultimate_min) == pytest.approx((1800.0, -900.0))
     assert fx.ms_max == pytest.approx(3600 / 1800 - 1) and fx.ms_min == pytest.approx(1.0)
-    assert fy.ms_max is None   # never loaded towards +y: no margin on that side
+    assert fy.ms_max is None  # never loaded towards +y: no margin on that side
     assert margin(-8000.0, 1.5, -6000.0) == pytest.approx(8000 / 9000 - 1)
     assert margin(100.0, 1.5, 0.0) is None
 

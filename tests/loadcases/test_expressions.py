@@ -1,4 +1,5 @@
 """Tests of the expression language: values, derivatives, measures, tables and errors."""
+
 from __future__ import annotations
 
 import math
@@ -99,10 +100,19 @@ class FakeState:
         ("sign(-0.1) + 10*sign(0) + 100*sign(4)", 99.0),
         ("exp(1)", math.e),
         ("log(exp(2.5))", 2.5),
-        ("1 < 2", 1.0), ("2 < 1", 0.0), ("2 <= 2", 1.0), ("3 > 4", 0.0),
-        ("4 >= 4", 1.0), ("1 == 1", 1.0), ("1 != 1", 0.0),
-        ("1 and 0", 0.0), ("1 and 2", 1.0), ("0 or 0", 0.0), ("0 or -3", 1.0),
-        ("not 0", 1.0), ("not 5", 0.0),
+        ("1 < 2", 1.0),
+        ("2 < 1", 0.0),
+        ("2 <= 2", 1.0),
+        ("3 > 4", 0.0),
+        ("4 >= 4", 1.0),
+        ("1 == 1", 1.0),
+        ("1 != 1", 0.0),
+        ("1 and 0", 0.0),
+        ("1 and 2", 1.0),
+        ("0 or 0", 0.0),
+        ("0 or -3", 1.0),
+        ("not 0", 1.0),
+        ("not 5", 0.0),
         ("not 1 < 0", 1.0),
         ("1 < 2 and 3 < 4", 1.0),
         ("1 + 1 == 2 or 0", 1.0),
@@ -125,12 +135,18 @@ def test_constant_values(text, expected):
         ("sin(2*pi*t)", lambda t: math.sin(2 * math.pi * t)),
         ("amp * cos(3*t + 0.5) ^ 2", lambda t: 0.2 * math.cos(3 * t + 0.5) ** 2),
         ("exp(-t) * t**3 - 4/(1 + t*t)", lambda t: math.exp(-t) * t**3 - 4 / (1 + t * t)),
-        ("atan2(t, 2) + atan(t) - asin(t/3) + acos(t/4)",
-         lambda t: math.atan2(t, 2) + math.atan(t) - math.asin(t / 3) + math.acos(t / 4)),
-        ("sqrt(1 + t^2) + log(2 + t) + tan(t/3)",
-         lambda t: math.sqrt(1 + t**2) + math.log(2 + t) + math.tan(t / 3)),
-        ("abs(t - 1) + sign(t - 0.25) + min(t, 1 - t) + max(t, 0.5, t*t)",
-         lambda t: abs(t - 1) + np.sign(t - 0.25) + min(t, 1 - t) + max(t, 0.5, t * t)),
+        (
+            "atan2(t, 2) + atan(t) - asin(t/3) + acos(t/4)",
+            lambda t: math.atan2(t, 2) + math.atan(t) - math.asin(t / 3) + math.acos(t / 4),
+        ),
+        (
+            "sqrt(1 + t^2) + log(2 + t) + tan(t/3)",
+            lambda t: math.sqrt(1 + t**2) + math.log(2 + t) + math.tan(t / 3),
+        ),
+        (
+            "abs(t - 1) + sign(t - 0.25) + min(t, 1 - t) + max(t, 0.5, t*t)",
+            lambda t: abs(t - 1) + np.sign(t - 0.25) + min(t, 1 - t) + max(t, 0.5, t * t),
+        ),
         ("(t > 0.5) * 10 + (t <= 0) * 100", lambda t: 10.0 * (t > 0.5) + 100.0 * (t <= 0)),
         ("step(t, 0, 0, 2, 90*deg)", lambda t: cubic_step(t, 0, 0, 2, math.pi / 2)),
         ("step(sin(t), -0.5, 3, 0.5, -1)", lambda t: cubic_step(math.sin(t), -0.5, 3, 0.5, -1)),
@@ -148,8 +164,15 @@ def test_time_values(text, reference, t):
 
 @pytest.mark.parametrize(
     ("x", "expected"),
-    [(-1.0, 2.0), (0.5, 2.0), (1.0, 2.0), (1.5, 2.0 + 3.0 * 0.5), (1.25, None),
-     (2.0, 5.0), (9.0, 5.0)],
+    [
+        (-1.0, 2.0),
+        (0.5, 2.0),
+        (1.0, 2.0),
+        (1.5, 2.0 + 3.0 * 0.5),
+        (1.25, None),
+        (2.0, 5.0),
+        (9.0, 5.0),
+    ],
 )
 def test_step_values(x, expected):
     compiled = compile_text("step(t, 0.5 + 0.5, 2, 2, 5)")
@@ -166,8 +189,9 @@ def test_names_resolve_in_order_parameters_pi_units_and_t_is_time():
 
 
 def test_parameters_are_folded_into_constants():
-    compiled = compile_text("step(t, 0, 0, t_end, angle_max) + 2*k*mm", {
-        "t_end": 2.0, "angle_max": 1.5, "k": 3.0})
+    compiled = compile_text(
+        "step(t, 0, 0, t_end, angle_max) + 2*k*mm", {"t_end": 2.0, "angle_max": 1.5, "k": 3.0}
+    )
     assert compiled(1.0) == pytest.approx(0.75 + 6.0e-3)
     assert compile_text("2 * k * sin(pi/2)", {"k": 4}).value == 8.0
 
@@ -212,7 +236,8 @@ def test_second_derivatives_analytic():
         w = 2 * math.pi
         assert wave.derivative()(t) == pytest.approx(w * math.cos(w * t), rel=1e-14)
         assert wave.derivative().derivative()(t) == pytest.approx(
-            -w * w * math.sin(w * t), rel=1e-13, abs=1e-12)
+            -w * w * math.sin(w * t), rel=1e-13, abs=1e-12
+        )
     cubic = compile_text("t^3")
     assert cubic.derivative().derivative().derivative().value == 6.0
 
@@ -310,7 +335,8 @@ def test_table_with_exact_derivative():
 
 def test_names_measures_tables():
     expression = parse(
-        "table(wind, angle(hinge)) * k + dist(eye, frame) - step(t, 0, 0, 2, 90*deg) + pi")
+        "table(wind, angle(hinge)) * k + dist(eye, frame) - step(t, 0, 0, 2, 90*deg) + pi"
+    )
     assert expression.names() == {"k", "t", "deg", "pi"}
     assert expression.measures() == {("angle", ("hinge",)), ("dist", ("eye", "frame"))}
     assert expression.tables() == {"wind"}
@@ -410,8 +436,10 @@ def test_unknown_function_and_name_hints():
     error = info.value
     assert (error.message, error.offset) == ("unknown name 'crank_sped'", 4)
     assert error.hint == "did you mean 'crank_speed'?"
-    assert str(error) == ("unknown name 'crank_sped' at offset 4 of '2 * crank_sped * t' "
-                          "(did you mean 'crank_speed'?)")
+    assert str(error) == (
+        "unknown name 'crank_sped' at offset 4 of '2 * crank_sped * t' "
+        "(did you mean 'crank_speed'?)"
+    )
 
 
 @pytest.mark.parametrize(

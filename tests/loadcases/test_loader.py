@@ -1,4 +1,5 @@
 """Loader: good files load to SI models; each bad file gives exactly the expected messages."""
+
 from __future__ import annotations
 
 import math
@@ -14,15 +15,15 @@ HERE = Path(__file__).parent
 BAD, GOOD = HERE / "bad", HERE / "good"
 
 EXPECTED = {
-    'duplicate_key.mech.yaml': [
-        'duplicate_key.mech.yaml:3:3: error: bodies.arm: duplicate key (first given on line 2)',
-        'duplicate_key.mech.yaml:3:3: hint: remove one of them: YAML keeps only one value per key',
+    "duplicate_key.mech.yaml": [
+        "duplicate_key.mech.yaml:3:3: error: bodies.arm: duplicate key (first given on line 2)",
+        "duplicate_key.mech.yaml:3:3: hint: remove one of them: YAML keeps only one value per key",
     ],
-    'duplicate_name.mech.yaml': [
+    "duplicate_name.mech.yaml": [
         "duplicate_name.mech.yaml:4:3: error: points.arm: name 'arm' is already used in bodies",
-        'duplicate_name.mech.yaml:4:3: hint: names of bodies, points, joints, forces, contacts, tables and events must be unique',
+        "duplicate_name.mech.yaml:4:3: hint: names of bodies, points, joints, forces, contacts, tables and events must be unique",
     ],
-    'expressions.case.yaml': [
+    "expressions.case.yaml": [
         "expressions.case.yaml:4:33: error: motions.drive.value: unknown name 'sped' in expression",
         "expressions.case.yaml:4:33: hint: did you mean 'speed'?",
         "expressions.case.yaml:5:11: error: motions.twist.joint: unknown joint 'hinj'",
@@ -32,37 +33,37 @@ EXPECTED = {
         "expressions.case.yaml:8:26: hint: did you mean 'hinge'?",
         "expressions.case.yaml:8:42: error: requests.a.expression: unknown table 'curve'",
     ],
-    'inline.case.yaml': [
-        'inline.case.yaml:5:11: error: mechanism.bodies.arm.mass: mass must be positive',
+    "inline.case.yaml": [
+        "inline.case.yaml:5:11: error: mechanism.bodies.arm.mass: mass must be positive",
         "inline.case.yaml:6:12: error: analysis.type: expected 'kinematic', 'static', 'quasi-static', 'dynamic' or 'modes', got 'statik'",
         "inline.case.yaml:6:12: hint: did you mean 'static'?",
     ],
-    'missing_mechanism.case.yaml': [
-        'missing_mechanism.case.yaml:2:1: error: mechanism: mechanism file not found: bas.mech.yaml',
+    "missing_mechanism.case.yaml": [
+        "missing_mechanism.case.yaml:2:1: error: mechanism: mechanism file not found: bas.mech.yaml",
         "missing_mechanism.case.yaml:2:1: hint: did you mean 'base.mech.yaml'?",
         "missing_mechanism.case.yaml:3:1: error: analysis.end: a dynamic analysis needs 'end' (s)",
     ],
-    'nomatch.set.yaml': [
+    "nomatch.set.yaml": [
         "nomatch.set.yaml:2:9: error: cases[0]: no case file matches 'lifting/*.case.yaml'",
-        'nomatch.set.yaml:4:10: error: report.output: expected an .xlsx file name',
+        "nomatch.set.yaml:4:10: error: report.output: expected an .xlsx file name",
     ],
-    'physics.mech.yaml': [
-        'physics.mech.yaml:2:11: error: bodies.light.mass: mass must be positive',
-        'physics.mech.yaml:3:34: error: bodies.flat.inertia: principal moments break the triangle inequality (3 > 1 + 1)',
-        'physics.mech.yaml:3:34: hint: each principal moment must be <= the sum of the others',
-        'physics.mech.yaml:4:34: error: bodies.bent.inertia: inertia is not positive definite (principal moments -1, 1, 3)',
-        'physics.mech.yaml:6:64: error: joints.j1.axis: axis is a zero vector',
-        'physics.mech.yaml:7:63: error: joints.j2.axes: the axes of the universal are parallel',
-        'physics.mech.yaml:7:63: hint: give two axes at an angle (usually perpendicular)',
+    "physics.mech.yaml": [
+        "physics.mech.yaml:2:11: error: bodies.light.mass: mass must be positive",
+        "physics.mech.yaml:3:34: error: bodies.flat.inertia: principal moments break the triangle inequality (3 > 1 + 1)",
+        "physics.mech.yaml:3:34: hint: each principal moment must be <= the sum of the others",
+        "physics.mech.yaml:4:34: error: bodies.bent.inertia: inertia is not positive definite (principal moments -1, 1, 3)",
+        "physics.mech.yaml:6:64: error: joints.j1.axis: axis is a zero vector",
+        "physics.mech.yaml:7:63: error: joints.j2.axes: the axes of the universal are parallel",
+        "physics.mech.yaml:7:63: hint: give two axes at an angle (usually perpendicular)",
         "physics.mech.yaml:8:25: error: joints.j3.bodies: joint joins body 'bent' to itself",
         "physics.mech.yaml:9:36: error: joints.j4.joints[1]: unknown joint 'j9'",
-        'physics.mech.yaml:9:36: hint: known joint names: j1, j2, j3, j4',
+        "physics.mech.yaml:9:36: hint: known joint names: j1, j2, j3, j4",
     ],
-    'references.case.yaml': [
+    "references.case.yaml": [
         "references.case.yaml:3:27: warning: effects.friktion: unknown effect 'friktion'",
         "references.case.yaml:3:27: hint: did you mean 'friction'?",
         "references.case.yaml:4:15: error: loads[1]: unknown force element 'spring'",
-        'references.case.yaml:4:15: hint: known force element names: coil',
+        "references.case.yaml:4:15: hint: known force element names: coil",
         "references.case.yaml:6:3: error: initial.hing: unknown joint or body 'hing'",
         "references.case.yaml:6:3: hint: did you mean 'hinge'?",
         "references.case.yaml:7:11: error: initial.hinge.value: expected an angle, got '3 m' (a length) for a revolute joint",
@@ -72,32 +73,32 @@ EXPECTED = {
         "references.case.yaml:11:7: hint: did you mean 'tip'?",
         "references.case.yaml:12:7: error: requests.m.motion: unknown motion 'drive'",
     ],
-    'units.mech.yaml': [
+    "units.mech.yaml": [
         "units.mech.yaml:1:9: error: units.length: 'deg' is not a unit of length",
-        'units.mech.yaml:1:22: error: units.angel: unknown key',
+        "units.mech.yaml:1:22: error: units.angel: unknown key",
         "units.mech.yaml:1:22: hint: did you mean 'angle'?",
     ],
-    'unknown_body.mech.yaml': [
+    "unknown_body.mech.yaml": [
         "unknown_body.mech.yaml:4:41: error: joints.hinge.bodies[1]: unknown body 'grund'",
         "unknown_body.mech.yaml:4:41: hint: did you mean 'ground'?",
     ],
-    'unknown_key.mech.yaml': [
-        'unknown_key.mech.yaml:2:3: error: bodies.door.mass: required key is missing',
-        'unknown_key.mech.yaml:3:5: error: bodies.door.mas: unknown key',
+    "unknown_key.mech.yaml": [
+        "unknown_key.mech.yaml:2:3: error: bodies.door.mass: required key is missing",
+        "unknown_key.mech.yaml:3:5: error: bodies.door.mas: unknown key",
         "unknown_key.mech.yaml:3:5: hint: did you mean 'mass'?",
     ],
-    'unknown_type.mech.yaml': [
+    "unknown_type.mech.yaml": [
         "unknown_type.mech.yaml:4:11: error: joints.hinge.type: unknown type 'revolut'",
         "unknown_type.mech.yaml:4:11: hint: did you mean 'revolute'?",
     ],
-    'vector_length.mech.yaml': [
-        'vector_length.mech.yaml:4:65: error: joints.hinge.axis: expected 3 values, got 2',
+    "vector_length.mech.yaml": [
+        "vector_length.mech.yaml:4:65: error: joints.hinge.axis: expected 3 values, got 2",
     ],
-    'wrong_dimension.mech.yaml': [
+    "wrong_dimension.mech.yaml": [
         "wrong_dimension.mech.yaml:3:20: error: bodies.arm.cm: item 2: expected a length, got '12 kg' (a mass)",
         "wrong_dimension.mech.yaml:7:46: error: forces.coil.stiffness: expected a torsional stiffness, got '50 N/m' (a stiffness)",
     ],
-    'yaml_syntax.mech.yaml': [
+    "yaml_syntax.mech.yaml": [
         "yaml_syntax.mech.yaml:4:3: error: YAML syntax error: expected ',' or '}', but got '<scalar>' (while parsing a flow mapping)",
     ],
 }
@@ -149,8 +150,8 @@ def test_good_case_in_si(monkeypatch: pytest.MonkeyPatch) -> None:
     assert mech.bodies["crank"].cm == pytest.approx((0.05, 0.0, 0.0))
     assert mech.points["slider_c"].at == pytest.approx((0.4, 0.0, 0.0))
     assert mech.joints["small"].axes[1] == pytest.approx((0.0, 1.0, 0.0))
-    assert mech.forces["wire"].free_length == pytest.approx(0.85)      # mm file
-    assert mech.forces["wire"].stiffness == pytest.approx(2.0e6)       # compound: SI
+    assert mech.forces["wire"].free_length == pytest.approx(0.85)  # mm file
+    assert mech.forces["wire"].stiffness == pytest.approx(2.0e6)  # compound: SI
     assert mech.forces["latch"].angle0 == pytest.approx(math.pi / 2)
     assert mech.forces["rub"].pin_radius == pytest.approx(0.01)
     assert mech.forces["rub"].preload == pytest.approx(0.5)
@@ -184,10 +185,12 @@ def test_inline_mechanism_and_units(tmp_path: Path) -> None:
     path.write_text(
         "case: inline\nunits: {length: mm}\nmechanism:\n  bodies:\n"
         "    arm: {mass: 1, cm: [10, 0, 0], inertia: [1, 1, 1]}\n"
-        "analysis: {type: static}\n", encoding="utf-8")
+        "analysis: {type: static}\n",
+        encoding="utf-8",
+    )
     case = load_case(path)
     assert case.mechanism_path is None
-    assert case.mechanism.bodies["arm"].cm[0] == pytest.approx(0.01)   # inherits case units
+    assert case.mechanism.bodies["arm"].cm[0] == pytest.approx(0.01)  # inherits case units
     assert case.where("mechanism", "bodies.arm")[1:] == (5, 5)
 
 
@@ -197,7 +200,9 @@ def test_load_mechanism_and_set(monkeypatch: pytest.MonkeyPatch, tmp_path: Path)
     assert mech.model.name == "slider-crank"
     (tmp_path / "a.set.yaml").write_text(
         f"set: s\ncases: ['{GOOD}/*.case.yaml']\nsweep: {{crank_speed: [1 rad/s, 2]}}\n"
-        "factors: {ultimate: 1.5}\nreport: {output: out.xlsx}\n", encoding="utf-8")
+        "factors: {ultimate: 1.5}\nreport: {output: out.xlsx}\n",
+        encoding="utf-8",
+    )
     loaded = load_set(tmp_path / "a.set.yaml")
     assert [Path(p).name for p in loaded.case_paths] == ["slider-crank.case.yaml"]
     assert loaded.model.sweep["crank_speed"] == [1.0, 2.0]
@@ -208,8 +213,12 @@ def test_file_kind(tmp_path: Path) -> None:
     """The suffix decides; a file without one of the suffixes is told by its top-level keys."""
     assert file_kind("x.case.yaml") == "case" and file_kind("X.SET.YML") == "set"
     assert file_kind("missing.mech.yaml") == "mechanism"  # the suffix alone: not read
-    for text, kind in (("set: a\n", "set"), ("bodies: {}\n", "mechanism"),
-                       ("case: c\n", "case"), ("foo: 1\n", None)):
+    for text, kind in (
+        ("set: a\n", "set"),
+        ("bodies: {}\n", "mechanism"),
+        ("case: c\n", "case"),
+        ("foo: 1\n", None),
+    ):
         (tmp_path / "x.yaml").write_text(text, encoding="utf-8")
         assert file_kind(tmp_path / "x.yaml") == kind, text
     with pytest.raises(InputError):

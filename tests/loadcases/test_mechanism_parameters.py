@@ -1,5 +1,6 @@
 """A mechanism file's own parameters named in numeric fields are put in place when the file
 is validated or run alone (`loads validate door.mech.yaml`), as they are for a case."""
+
 from __future__ import annotations
 
 from pathlib import Path

@@ -1,12 +1,12 @@
 """Parameters named in numeric fields, swept by a set (SPEC 1.4's `sweep: {clearance: ...}`):
 the ball-in-socket case with its clearance a parameter settles at each swept clearance plus
 the Hertz deflection under its weight (the same for every clearance: within 1e-7 m)."""
+
 from __future__ import annotations
 
 from pathlib import Path
 
 import numpy as np
-
 from typer.testing import CliRunner
 
 from cli.app import app
@@ -18,14 +18,20 @@ LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verif
 def test_swept_clearance_reaches_the_geometry(tmp_path: Path) -> None:
     text = (LIBRARY / "ball_in_socket.case.yaml").read_text(encoding="utf-8")
     text = text.replace("radius: 10, clearance: 0.5}", "radius: 10, clearance: clearance}")
-    text = text.replace("  name: rod-end-ball\n", "  name: rod-end-ball\n  parameters: {clearance: 0.5 mm}\n")
+    text = text.replace(
+        "  name: rod-end-ball\n", "  name: rod-end-ball\n  parameters: {clearance: 0.5 mm}\n"
+    )
     text = text.replace("  end: 0.3 ", "  end: 0.15 ")
     (tmp_path / "socket.case.yaml").write_text(text, encoding="utf-8")
     (tmp_path / "clearances.set.yaml").write_text(
         "set: clearances\ncases: [socket.case.yaml]\n"
-        "sweep: {clearance: ['0.1 mm', '0.3 mm', '0.5 mm']}\n", encoding="utf-8")
-    result = CliRunner().invoke(app, ["run", str(tmp_path / "clearances.set.yaml"),
-                                      "-o", str(tmp_path / "out"), "--jobs", "1"])
+        "sweep: {clearance: ['0.1 mm', '0.3 mm', '0.5 mm']}\n",
+        encoding="utf-8",
+    )
+    result = CliRunner().invoke(
+        app,
+        ["run", str(tmp_path / "clearances.set.yaml"), "-o", str(tmp_path / "out"), "--jobs", "1"],
+    )
     assert result.exit_code == 0, result.output
     settled = {}
     for clearance in (1e-4, 3e-4, 5e-4):

@@ -1,4 +1,5 @@
 """PNG plots of saved runs and of envelope curves (loadcases.report.plots)."""
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -9,8 +10,8 @@ import pytest
 from matplotlib.image import imread
 
 from loadcases.report import plots
-from loadcases.results.outcome import RunOutcome
 from loadcases.results.files import write_results
+from loadcases.results.outcome import RunOutcome
 from mechlib.solution import Solution, SolverStats
 
 WIDTH_PX = 1000  # FIG_WIDTH_IN 10 in at DPI 100
@@ -20,17 +21,35 @@ def saved_run(tmp_path: Path, name: str, scale: float = 1.0, *, units: bool = Tr
     """Write a 51-row run with a joint force, a motion torque and a joint angle; its CSV."""
     time = np.linspace(0.0, 1.0, 51)
     angle = 2.0 * time
-    channels = {"hinge_force.fx": scale * 100.0 * np.cos(angle),
-                "hinge_force.fy": scale * 50.0 * np.sin(angle),
-                "hinge_force.tz": scale * 3.0 * np.ones_like(time),
-                "drive_torque.value": scale * 12.0 * np.sin(3 * angle),
-                "crank_angle.value": angle}
-    solution = Solution(status="ok", message="ok", analysis="kinematic", time=time,
-                        channels=channels, stats=SolverStats(steps=51, cpu_seconds=0.1))
-    column_units = ({"hinge_force.fx": "N", "hinge_force.fy": "N", "hinge_force.tz": "N*m",
-                     "drive_torque.value": "N*m", "crank_angle.value": "rad"} if units else {})
-    outcome = RunOutcome(name, Path(f"{name}.case.yaml"), "kinematic", solution, "0" * 64,
-                         column_units=column_units)
+    channels = {
+        "hinge_force.fx": scale * 100.0 * np.cos(angle),
+        "hinge_force.fy": scale * 50.0 * np.sin(angle),
+        "hinge_force.tz": scale * 3.0 * np.ones_like(time),
+        "drive_torque.value": scale * 12.0 * np.sin(3 * angle),
+        "crank_angle.value": angle,
+    }
+    solution = Solution(
+        status="ok",
+        message="ok",
+        analysis="kinematic",
+        time=time,
+        channels=channels,
+        stats=SolverStats(steps=51, cpu_seconds=0.1),
+    )
+    column_units = (
+        {
+            "hinge_force.fx": "N",
+            "hinge_force.fy": "N",
+            "hinge_force.tz": "N*m",
+            "drive_torque.value": "N*m",
+            "crank_angle.value": "rad",
+        }
+        if units
+        else {}
+    )
+    outcome = RunOutcome(
+        name, Path(f"{name}.case.yaml"), "kinematic", solution, "0" * 64, column_units=column_units
+    )
     write_results(outcome, tmp_path / "results", version="test")
     return tmp_path / "results" / f"{name}.csv"
 
@@ -50,8 +69,7 @@ def test_known_csv_one_png_per_request_with_expected_size(tmp_path: Path) -> Non
     run = plots.load_saved_run(saved_run(tmp_path, "door-a"))
     assert run.name == "door-a" and run.units["hinge_force.tz"] == "N*m"
     written = plots.plot_runs([run.as_run()], out_dir=tmp_path / "png", units=run.units)
-    assert [p.name for p in written] == ["hinge_force.png", "drive_torque.png",
-                                         "crank_angle.png"]
+    assert [p.name for p in written] == ["hinge_force.png", "drive_torque.png", "crank_angle.png"]
     assert sorted(p.name for p in (tmp_path / "png").iterdir()) == sorted(p.name for p in written)
     # one run: components grouped by unit -> hinge_force has an N and an N*m panel
     assert png_shape(written[0]) == (height_px(2), WIDTH_PX) == (640, 1000)
@@ -59,27 +77,35 @@ def test_known_csv_one_png_per_request_with_expected_size(tmp_path: Path) -> Non
 
 
 def test_overlaid_runs_vs_a_column_one_panel_per_component(tmp_path: Path) -> None:
-    runs = [plots.load_saved_run(saved_run(tmp_path, name, scale)).as_run()
-            for name, scale in (("door-a", 1.0), ("door-b", 1.5), ("door-c", -1.0))]
-    written = plots.plot_runs(runs, ["hinge_force.f*"], x="crank_angle.value",
-                              out_dir=tmp_path / "png")
+    runs = [
+        plots.load_saved_run(saved_run(tmp_path, name, scale)).as_run()
+        for name, scale in (("door-a", 1.0), ("door-b", 1.5), ("door-c", -1.0))
+    ]
+    written = plots.plot_runs(
+        runs, ["hinge_force.f*"], x="crank_angle.value", out_dir=tmp_path / "png"
+    )
     assert [p.name for p in written] == ["hinge_force-vs-crank_angle.value.png"]
-    assert png_shape(written[0]) == (height_px(2), WIDTH_PX)   # fx and fy panels
+    assert png_shape(written[0]) == (height_px(2), WIDTH_PX)  # fx and fy panels
 
 
 def test_x_column_is_not_plotted_against_itself(tmp_path: Path) -> None:
     run = plots.load_saved_run(saved_run(tmp_path, "door-a")).as_run()
     written = plots.plot_runs([run], x="crank_angle.value", out_dir=tmp_path / "png")
-    assert {p.name for p in written} == {"hinge_force-vs-crank_angle.value.png",
-                                         "drive_torque-vs-crank_angle.value.png"}
+    assert {p.name for p in written} == {
+        "hinge_force-vs-crank_angle.value.png",
+        "drive_torque-vs-crank_angle.value.png",
+    }
 
 
 def test_missing_x_column_and_unmatched_pattern_are_errors(tmp_path: Path) -> None:
     run = plots.load_saved_run(saved_run(tmp_path, "door-a")).as_run()
     with pytest.raises(ValueError, match="x column 'hinge_angle.value' is in none"):
         plots.plot_runs([run], x="hinge_angle.value", out_dir=tmp_path)
-    with pytest.raises(ValueError, match=r"no column matches wire_force \(requests: "
-                                         r"hinge_force, drive_torque, crank_angle\)"):
+    with pytest.raises(
+        ValueError,
+        match=r"no column matches wire_force \(requests: "
+        r"hinge_force, drive_torque, crank_angle\)",
+    ):
         plots.plot_runs([run], ["wire_force"], out_dir=tmp_path)
     with pytest.raises(ValueError, match="no runs"):
         plots.plot_runs([], out_dir=tmp_path)
@@ -94,11 +120,20 @@ def test_select_columns_requests_and_patterns() -> None:
     assert plots.select_columns(cols, ["cb_force", "hinge_rate.value"]) == cols[2:]
 
 
-@pytest.mark.parametrize(("column", "unit"), [
-    ("hinge.fx", "N"), ("hinge.t", "N*m"), ("door_angle.value", "rad"),
-    ("hinge_omega.value", "rad/s"), ("tip_vel.x", "m/s"), ("tip_pos.y", "m"),
-    ("drive_torque.value", "N*m"), ("time", "s"), ("mystery.value", ""),
-])
+@pytest.mark.parametrize(
+    ("column", "unit"),
+    [
+        ("hinge.fx", "N"),
+        ("hinge.t", "N*m"),
+        ("door_angle.value", "rad"),
+        ("hinge_omega.value", "rad/s"),
+        ("tip_vel.x", "m/s"),
+        ("tip_pos.y", "m"),
+        ("drive_torque.value", "N*m"),
+        ("time", "s"),
+        ("mystery.value", ""),
+    ],
+)
 def test_column_unit_guessed_from_the_name(column: str, unit: str) -> None:
     assert plots.column_unit(column) == unit
 
@@ -111,7 +146,7 @@ def test_runs_without_summary_units_and_failed_status(tmp_path: Path) -> None:
     csv = saved_run(tmp_path, "bare", units=False)
     summary = csv.with_name("bare.summary.json")
     summary.write_text(summary.read_text().replace('"status": "ok"', '"status": "failed"'))
-    run = plots.load_saved_run(summary)        # a summary names its CSV
+    run = plots.load_saved_run(summary)  # a summary names its CSV
     assert run.status == "failed" and run.as_run()[0] == "bare (failed)"
     assert plots.find_result_csvs([tmp_path]) == [csv]
     written = plots.plot_runs([run.as_run()], ["drive_torque"], out_dir=tmp_path / "png")
@@ -131,14 +166,23 @@ class Curve:
 
 def test_envelope_plots_from_objects_and_dicts(tmp_path: Path) -> None:
     x = np.linspace(0.0, 1.9, 40)
-    curves = [Curve("hinge_fwd_force.fy", "angle(hinge_line)", x, 100 + 50 * x, -20 - x,
-                    "opening", "N"),
-              {"column": "cb_rod_force.value", "abscissa_name": "angle(hinge_line)",
-               "x": x, "upper": np.sin(x), "lower": np.sin(x) - 1.0, "family": "door/open",
-               "unit": "N"}]
+    curves = [
+        Curve("hinge_fwd_force.fy", "angle(hinge_line)", x, 100 + 50 * x, -20 - x, "opening", "N"),
+        {
+            "column": "cb_rod_force.value",
+            "abscissa_name": "angle(hinge_line)",
+            "x": x,
+            "upper": np.sin(x),
+            "lower": np.sin(x) - 1.0,
+            "family": "door/open",
+            "unit": "N",
+        },
+    ]
     written = plots.write_envelope_plots(curves, tmp_path / "env")
-    assert [p.name for p in written] == ["envelope-opening-hinge_fwd_force.fy.png",
-                                         "envelope-door_open-cb_rod_force.value.png"]
+    assert [p.name for p in written] == [
+        "envelope-opening-hinge_fwd_force.fy.png",
+        "envelope-door_open-cb_rod_force.value.png",
+    ]
     for path in written:
         assert png_shape(path) == (400, WIDTH_PX)
     assert not [p for p in (tmp_path / "env").iterdir() if p.suffix != ".png"]

@@ -4,6 +4,7 @@ line made of a spherical and an inline joint). Reference: a 1 m bar turning abou
 omega = 2 rad/s has its tip at (cos wt, sin wt, 0) m and velocity (-2 sin wt, 2 cos wt, 0)
 m/s; a torque -c * omega built from the tip velocity on a free bar decays omega as
 omega0 exp(-c t / I) (I about the hinge, c = 0.3 N*m*s/rad)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -42,8 +43,12 @@ def _run(tmp_path: Path, text: str):
 
 def test_point_velocity_of_a_turning_bar(tmp_path: Path) -> None:
     """Kinematic, omega = 2 rad/s: exact to 1e-9 m/s."""
-    sol = _run(tmp_path, BAR.replace("MOTION", 'motions:\n  drive: {joint: hinge, value: "2 * t"}')
-               .replace("ANALYSIS", "{type: kinematic, end: 1.0, step: 0.1}"))
+    sol = _run(
+        tmp_path,
+        BAR.replace("MOTION", 'motions:\n  drive: {joint: hinge, value: "2 * t"}').replace(
+            "ANALYSIS", "{type: kinematic, end: 1.0, step: 0.1}"
+        ),
+    )
     t = sol.time
     assert np.allclose(sol.channels["vx.value"], -2 * np.sin(2 * t), atol=1e-9)
     assert np.allclose(sol.channels["vy.value"], 2 * np.cos(2 * t), atol=1e-9)
@@ -54,10 +59,15 @@ def test_damping_torque_from_point_velocity_decays_the_rate(tmp_path: Path) -> N
     """Dynamic, free bar from omega0 = 3 rad/s with the torque -c (x vy - y vx) / r^2 of
     its tip (= -c omega): omega = omega0 exp(-c t / I), I = 0.2 + 2 * 0.5^2 = 0.7 kg m^2;
     tolerance 1e-3 relative (integration error)."""
-    text = BAR.replace("MOTION", "initial:\n  hinge: {rate: 3 rad/s}").replace(
-        "ANALYSIS", "{type: dynamic, end: 1.0, step: 0.05, tolerance: 1.0e-8}").replace(
-        "  joints:", "  forces:\n    drag: {type: torque, body: bar, value: [0, 0, "
-        '"-0.3 * (x(tip) * vy(tip) - y(tip) * vx(tip)) / (x(tip)^2 + y(tip)^2)"]}\n  joints:')
+    text = (
+        BAR.replace("MOTION", "initial:\n  hinge: {rate: 3 rad/s}")
+        .replace("ANALYSIS", "{type: dynamic, end: 1.0, step: 0.05, tolerance: 1.0e-8}")
+        .replace(
+            "  joints:",
+            "  forces:\n    drag: {type: torque, body: bar, value: [0, 0, "
+            '"-0.3 * (x(tip) * vy(tip) - y(tip) * vx(tip)) / (x(tip)^2 + y(tip)^2)"]}\n  joints:',
+        )
+    )
     sol = _run(tmp_path, text)
     expected = 3.0 * np.exp(-0.3 * sol.time / 0.7)
     assert np.allclose(sol.channels["omega.value"], expected, rtol=1e-3)
@@ -65,7 +75,10 @@ def test_damping_torque_from_point_velocity_decays_the_rate(tmp_path: Path) -> N
 
 def test_velocity_of_an_unknown_point_is_an_input_error(tmp_path: Path) -> None:
     with pytest.raises(InputError) as caught:
-        _run(tmp_path, BAR.replace('"vy(tip)"', '"vy(tpi)"').replace(
-            "MOTION", 'motions:\n  drive: {joint: hinge, value: "2 * t"}').replace(
-            "ANALYSIS", "{type: kinematic, end: 1.0, step: 0.1}"))
+        _run(
+            tmp_path,
+            BAR.replace('"vy(tip)"', '"vy(tpi)"')
+            .replace("MOTION", 'motions:\n  drive: {joint: hinge, value: "2 * t"}')
+            .replace("ANALYSIS", "{type: kinematic, end: 1.0, step: 0.1}"),
+        )
     assert any("unknown point 'tpi'" in d.message for d in caught.value.diagnostics)

@@ -1,4 +1,5 @@
 """Result files (SPEC section 3): CSV by value, summary.json, workbook, atomic writes."""
+
 from __future__ import annotations
 
 import json
@@ -12,12 +13,17 @@ import pandas as pd
 import pytest
 
 import loadcases.atomic as atomic
-from loadcases.diagnostics import Diagnostic
 from loadcases.atomic import atomic_path, atomic_write_text
-from loadcases.report.envelope import (ENVELOPE_COLUMNS, envelope_csv_text, extract_envelope,
-                                find_result_files, load_saved_runs)
-from loadcases.results.outcome import RunOutcome
+from loadcases.diagnostics import Diagnostic
+from loadcases.report.envelope import (
+    ENVELOPE_COLUMNS,
+    envelope_csv_text,
+    extract_envelope,
+    find_result_files,
+    load_saved_runs,
+)
 from loadcases.results.files import read_results, result_base, write_results
+from loadcases.results.outcome import RunOutcome
 from mechlib.solution import EventRecord, Solution, SolverStats
 
 TIME = np.array([0.0, 0.1, 0.2, 0.3, 0.4])
@@ -26,21 +32,34 @@ FX = np.array([1.0 / 3.0, 2.5e-17, -7.123456789012345e5, np.nan, 12.0])
 TZ = np.array([0.1, 0.2, 0.30000000000000004, -0.4, 0.4])
 
 
-def make_outcome(name: str = "slider/crank[w=6.28319]", status: str = "ok",
-                 fx: np.ndarray = FX) -> RunOutcome:
+def make_outcome(
+    name: str = "slider/crank[w=6.28319]", status: str = "ok", fx: np.ndarray = FX
+) -> RunOutcome:
     """A hand-made outcome with two channels, one event, one warning."""
     solution = Solution(
-        status=status, message="done" if status == "ok" else "Newton failed at t = 0.3 s: hinge",
-        analysis="dynamic", time=TIME.copy(),
+        status=status,
+        message="done" if status == "ok" else "Newton failed at t = 0.3 s: hinge",
+        analysis="dynamic",
+        time=TIME.copy(),
         channels={"pivot_force.fx": fx.copy(), "pivot_force.tz": TZ.copy()},
         stats=SolverStats(steps=42, rejected_steps=3, newton_iterations=97, cpu_seconds=0.25),
-        warnings=["tolerance loose"], events=[EventRecord("lock", 0.2, ("activate latch",))])
-    return RunOutcome(name=name, case_file=Path("slider.case.yaml"), analysis="dynamic",
-                      solution=solution, input_sha256="ab" * 32,
-                      column_units={"pivot_force.fx": "N", "pivot_force.tz": "N*m"},
-                      warnings=[Diagnostic("slider.case.yaml", 7, 3, "initial.pivot",
-                                           "initial pivot rate changed", "warning")],
-                      parameters={"w": 6.28319})
+        warnings=["tolerance loose"],
+        events=[EventRecord("lock", 0.2, ("activate latch",))],
+    )
+    return RunOutcome(
+        name=name,
+        case_file=Path("slider.case.yaml"),
+        analysis="dynamic",
+        solution=solution,
+        input_sha256="ab" * 32,
+        column_units={"pivot_force.fx": "N", "pivot_force.tz": "N*m"},
+        warnings=[
+            Diagnostic(
+                "slider.case.yaml", 7, 3, "initial.pivot", "initial pivot rate changed", "warning"
+            )
+        ],
+        parameters={"w": 6.28319},
+    )
 
 
 def leftovers(directory: Path) -> list[str]:
@@ -68,18 +87,43 @@ def test_summary_json(tmp_path: Path) -> None:
     text = (tmp_path / "slider" / "crank[w=6.28319].summary.json").read_text()
     assert "NaN" not in text and "Infinity" not in text
     summary = json.loads(text)
-    assert {"case", "status", "analysis", "message", "stats", "extremes", "input_sha256",
-            "version"} <= summary.keys()
+    assert {
+        "case",
+        "status",
+        "analysis",
+        "message",
+        "stats",
+        "extremes",
+        "input_sha256",
+        "version",
+    } <= summary.keys()
     assert summary["case"] == "slider/crank[w=6.28319]"
-    assert (summary["status"], summary["analysis"], summary["version"]) == ("ok", "dynamic", "1.2.3")
-    assert summary["stats"] == {"steps": 42, "rejected_steps": 3, "newton_iterations": 97,
-                                "factorizations": 0, "jacobian_evaluations": 0,
-                                "cpu_seconds": 0.25}
+    assert (summary["status"], summary["analysis"], summary["version"]) == (
+        "ok",
+        "dynamic",
+        "1.2.3",
+    )
+    assert summary["stats"] == {
+        "steps": 42,
+        "rejected_steps": 3,
+        "newton_iterations": 97,
+        "factorizations": 0,
+        "jacobian_evaluations": 0,
+        "cpu_seconds": 0.25,
+    }
     assert summary["input_sha256"] == "ab" * 32
     assert summary["extremes"]["pivot_force.fx"] == {
-        "max": 12.0, "time_of_max": 0.4, "min": FX[2], "time_of_min": 0.2}
+        "max": 12.0,
+        "time_of_max": 0.4,
+        "min": FX[2],
+        "time_of_min": 0.2,
+    }
     assert summary["extremes"]["pivot_force.tz"] == {
-        "max": 0.4, "time_of_max": 0.4, "min": -0.4, "time_of_min": 0.3}
+        "max": 0.4,
+        "time_of_max": 0.4,
+        "min": -0.4,
+        "time_of_min": 0.3,
+    }
     assert "time" not in summary["extremes"]
     assert summary["events"] == [{"name": "lock", "time": 0.2, "actions": ["activate latch"]}]
     assert summary["warnings"] == ["initial.pivot: initial pivot rate changed", "tolerance loose"]
@@ -90,7 +134,11 @@ def test_all_nan_column_gives_nulls_and_valid_json(tmp_path: Path) -> None:
     write_results(make_outcome(name="c", fx=np.full(5, np.nan)), tmp_path, version="0")
     summary = json.loads((tmp_path / "c.summary.json").read_text())
     assert summary["extremes"]["pivot_force.fx"] == {
-        "max": None, "time_of_max": None, "min": None, "time_of_min": None}
+        "max": None,
+        "time_of_max": None,
+        "min": None,
+        "time_of_min": None,
+    }
 
 
 def test_failed_run_is_written_with_status_and_message(tmp_path: Path) -> None:
@@ -138,7 +186,9 @@ def test_bad_names_and_shapes_are_refused(tmp_path: Path) -> None:
     assert list(tmp_path.iterdir()) == []
 
 
-def test_atomic_write_failure_leaves_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+def test_atomic_write_failure_leaves_nothing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     target = tmp_path / "sub" / "x.csv"
 
     def broken_fsync(fd: int) -> None:
@@ -153,10 +203,9 @@ def test_atomic_write_failure_leaves_nothing(tmp_path: Path, monkeypatch: pytest
 def test_atomic_write_failure_keeps_previous_file(tmp_path: Path) -> None:
     target = tmp_path / "x.xlsx"
     target.write_text("old")
-    with pytest.raises(RuntimeError):
-        with atomic_path(target) as tmp:
-            tmp.write_text("half a work")
-            raise RuntimeError("crash while saving")
+    with pytest.raises(RuntimeError), atomic_path(target) as tmp:
+        tmp.write_text("half a work")
+        raise RuntimeError("crash while saving")
     assert target.read_text() == "old" and leftovers(tmp_path) == []
     atomic_write_text(target, "new")
     assert target.read_text() == "new"
@@ -169,10 +218,9 @@ def test_atomic_write_without_overwrite_keeps_a_file_made_meanwhile(tmp_path: Pa
     """`overwrite=False` (new case skeletons): a file that appears while the new one is
     written is kept, the write fails and leaves no temporary file."""
     target = tmp_path / "a.case.yaml"
-    with pytest.raises(FileExistsError):
-        with atomic_path(target, overwrite=False) as tmp:
-            tmp.write_text("new\n")
-            target.write_text("made meanwhile\n")
+    with pytest.raises(FileExistsError), atomic_path(target, overwrite=False) as tmp:
+        tmp.write_text("new\n")
+        target.write_text("made meanwhile\n")
     assert target.read_text() == "made meanwhile\n" and leftovers(tmp_path) == []
     atomic_write_text(tmp_path / "b.txt", "b\n", overwrite=False)
     assert (tmp_path / "b.txt").read_text() == "b\n" and leftovers(tmp_path) == []
@@ -196,8 +244,9 @@ def test_write_results_failure_midway(tmp_path: Path, monkeypatch: pytest.Monkey
     assert not (tmp_path / "c.summary.json").exists() and leftovers(tmp_path) == []
 
 
-def test_workbook_save_failure_leaves_no_workbook(tmp_path: Path,
-                                                 monkeypatch: pytest.MonkeyPatch) -> None:
+def test_workbook_save_failure_leaves_no_workbook(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
     real_save = openpyxl.Workbook.save
 
     def broken_save(self: openpyxl.Workbook, filename: str) -> None:

@@ -1,5 +1,6 @@
 """Case skeletons (loadcases.inputs.scaffold): every kind validates and runs; files are never
 overwritten; the physics of each stand-in mechanism is what its comments say."""
+
 from __future__ import annotations
 
 import math
@@ -53,8 +54,8 @@ def test_lifting_handle_torque_changes_sign_past_top_dead_centre(outcomes: dict)
     torque = col(outcomes, "lifting", "handle_torque.value")
     angle = col(outcomes, "lifting", "latch_shaft_rotation.value")
     assert angle[-1] == pytest.approx(math.radians(110), abs=1e-9)
-    assert torque[angle < math.radians(80)].max() > 10.0          # N*m to lift the door
-    assert torque[angle > math.radians(100)].max() < 0.0          # goes on by itself
+    assert torque[angle < math.radians(80)].max() > 10.0  # N*m to lift the door
+    assert torque[angle > math.radians(100)].max() < 0.0  # goes on by itself
     # the guide and lever carry the door weight (80 kg) between them
     assert col(outcomes, "lifting", "latch_shaft_force.fy").min() > 80 * 9.81 * 0.99
 
@@ -77,7 +78,8 @@ def test_opening_reaches_the_open_angle(outcomes: dict) -> None:
 def test_opened_door_hangs_on_the_wire_and_the_cb_rod(outcomes: dict) -> None:
     assert col(outcomes, "opened", "wire_force.value")[0] > 100.0
     assert math.degrees(col(outcomes, "opened", "hinge_angle.value")[0]) == pytest.approx(
-        101.0, abs=1.0)
+        101.0, abs=1.0
+    )
     # the CB rod (a spring at its open length) holds the door back too: in tension
     assert col(outcomes, "opened", "cb_rod_force.value")[0] > 100.0
     # the aft hinge (inline) carries no load along the hinge line

@@ -1,4 +1,5 @@
 """YAML source: plain data, positions of keys and items, duplicates and syntax errors."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -52,7 +53,8 @@ def test_duplicate_keys_reported() -> None:
     assert tree.data == {"a": 1, "b": 2}
     assert [d.format() for d in tree.diagnostics] == [
         "d.yaml:3:1: error: a: duplicate key (first given on line 1)\n"
-        "d.yaml:3:1: hint: remove one of them: YAML keeps only one value per key"]
+        "d.yaml:3:1: hint: remove one of them: YAML keeps only one value per key"
+    ]
 
 
 def test_merge_keys_and_aliases() -> None:
@@ -64,9 +66,11 @@ def test_merge_keys_and_aliases() -> None:
 def test_syntax_error_has_position() -> None:
     with pytest.raises(InputError) as raised:
         parse_yaml("a: b: c\n", "s.yaml")
-    assert str(raised.value) == ("s.yaml:1:5: error: YAML syntax error: mapping values are not "
-                                 "allowed here\ns.yaml:1:5: hint: quote text that contains ': ' "
-                                 "or put a space after each ':'")
+    assert str(raised.value) == (
+        "s.yaml:1:5: error: YAML syntax error: mapping values are not "
+        "allowed here\ns.yaml:1:5: hint: quote text that contains ': ' "
+        "or put a space after each ':'"
+    )
 
 
 def test_unsafe_tags_refused() -> None:

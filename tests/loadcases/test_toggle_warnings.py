@@ -5,6 +5,7 @@ the leg pin P (at (0, -700) mm on the leg at design, turning about the trunnion 
 origin, axis -y) equals the sum of the brace links |B - K| + |K - P| (knee K at design):
 closed form of the leg angle by root finding on that distance (brentq, 1e-12 rad).
 """
+
 from __future__ import annotations
 
 import math
@@ -23,7 +24,11 @@ STEP = 0.002  # s, the case's output interval
 
 def _straight_brace_leg_angle() -> float:
     """Leg angle (rad) at which the drag brace is straight, from the design geometry (mm)."""
-    top, knee, pin = np.array([900.0, -100.0]), np.array([412.686, -344.030]), np.array([0.0, -700.0])
+    top, knee, pin = (
+        np.array([900.0, -100.0]),
+        np.array([412.686, -344.030]),
+        np.array([0.0, -700.0]),
+    )
     span = np.linalg.norm(top - knee) + np.linalg.norm(knee - pin)
 
     def stretch(angle: float) -> float:  # (x, z) of the pin turned by `angle` about -y

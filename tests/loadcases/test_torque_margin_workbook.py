@@ -1,5 +1,6 @@
 """A set of torque-margin runs: envelope rows of the TM columns and the workbook's
 `Torque margin` sheet, read back by value (a failing hinge line red)."""
+
 from __future__ import annotations
 
 import shutil
@@ -7,18 +8,26 @@ from pathlib import Path
 
 import pytest
 
-CASE = (Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
-        / "solar_array" / "torque_margin_panel.case.yaml")
+CASE = (
+    Path(__file__).resolve().parents[2]
+    / "loadcases"
+    / "library"
+    / "verification"
+    / "solar_array"
+    / "torque_margin_panel.case.yaml"
+)
 
 
 def test_set_reports_torque_margin(tmp_path: Path) -> None:
     from openpyxl import load_workbook
 
     from loadcases.sets.campaign import run_set
+
     shutil.copy(CASE, tmp_path / CASE.name)
     (tmp_path / "tm.set.yaml").write_text(
         "set: tm\ncases: [torque_margin_panel.case.yaml]\n"
-        "sweep: {k_drive: [2, 0.1]}\nreport: {output: tm.xlsx}\n")
+        "sweep: {k_drive: [2, 0.1]}\nreport: {output: tm.xlsx}\n"
+    )
     result = run_set(tmp_path / "tm.set.yaml", output_dir=tmp_path / "out")
     assert all(r.ok for r in result.records)
     row = next(r for r in result.envelope if r.column == "tm_HL1.ratio")

@@ -1,4 +1,5 @@
 """The sizing workbook read back by value (pandas, openpyxl): sheets, numbers, links, charts."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -9,9 +10,9 @@ import pandas as pd
 import pytest
 
 import loadcases.report.workbook as workbook_module
-from loadcases.sets.campaign import run_set
-from loadcases.results.files import read_results
 from loadcases.report.workbook import sheet_title
+from loadcases.results.files import read_results
+from loadcases.sets.campaign import run_set
 from tests.loadcases.set_fixtures import write_inputs
 
 
@@ -29,13 +30,20 @@ def test_sheets_and_envelope_sheet_equal_envelope_csv(crank_set) -> None:
     from_csv = pd.read_csv(crank_set.directory / "envelope.csv")
     from_book = pd.read_excel(path, sheet_name="Envelope")
     assert list(from_book.columns) == list(from_csv.columns)
-    assert list(from_csv.columns[:7]) == ["column", "max", "max_run", "max_time", "min",
-                                          "min_run", "min_time"]
+    assert list(from_csv.columns[:7]) == [
+        "column",
+        "max",
+        "max_run",
+        "max_time",
+        "min",
+        "min_run",
+        "min_time",
+    ]
     pd.testing.assert_frame_equal(from_book, from_csv, check_dtype=False)
     sheet = book["Envelope"]
     assert sheet.freeze_panes == "B2"
     assert sheet["C2"].hyperlink is not None and sheet["C2"].hyperlink.location
-    assert sheet.conditional_formatting   # negative margins highlighted
+    assert sheet.conditional_formatting  # negative margins highlighted
     assert len(book["Charts"]._charts) >= 2
 
 

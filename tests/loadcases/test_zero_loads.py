@@ -1,6 +1,7 @@
 """A load switched off by its parameters costs nothing: an expression with a constant factor
 0 folds to 0, and a force or torque that is zero throughout is left out of the model unless
 a request or an event names it."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -42,8 +43,10 @@ def _built(tmp_path: Path, extra: str = ""):
     return load_case(path), path
 
 
-@pytest.mark.parametrize("text, value", [("0 * angle(h)", 0.0), ("p * step(x(a), 0, 1, 1, 0)", 0.0),
-                                         ("2 + x(a) * 0", 2.0)])
+@pytest.mark.parametrize(
+    "text, value",
+    [("0 * angle(h)", 0.0), ("p * step(x(a), 0, 1, 1, 0)", 0.0), ("2 + x(a) * 0", 2.0)],
+)
 def test_a_zero_factor_folds_the_product(text: str, value: float) -> None:
     compiled = parse(text).compile({"p": 0.0})
     assert compiled.is_constant and compiled.value == value

@@ -3,6 +3,7 @@
 The models are planar where a hand calculation is the reference: gravity along -y, joint
 axes along +z, so that a positive joint angle lifts a bar lying along +x.
 """
+
 from __future__ import annotations
 
 import math
@@ -48,7 +49,7 @@ class Sine:
         return self.amplitude * self.omega * math.cos(self.omega * t)
 
     def accel(self, t: float) -> float:
-        return -self.amplitude * self.omega ** 2 * math.sin(self.omega * t)
+        return -self.amplitude * self.omega**2 * math.sin(self.omega * t)
 
 
 @dataclass(frozen=True)
@@ -61,12 +62,12 @@ class Bar:
     @property
     def i_cm(self) -> float:
         """Moment of inertia about the centre of mass, perpendicular to the bar (kg*m^2)."""
-        return self.mass * self.length ** 2 / 12.0
+        return self.mass * self.length**2 / 12.0
 
     @property
     def i_end(self) -> float:
         """Moment of inertia about the hinged end, m L^2 / 3 (kg*m^2)."""
-        return self.mass * self.length ** 2 / 3.0
+        return self.mass * self.length**2 / 3.0
 
     @property
     def weight_moment(self) -> float:
@@ -74,9 +75,14 @@ class Bar:
         return self.mass * G * self.length / 2.0
 
 
-def hinged_bar(bar: Bar = Bar(), *, hinge_at: tuple[float, float, float] = (0.0, 0.0, 0.0),
-               joint_type: str = "revolute", reversed_bodies: bool = False,
-               gravity: float = G) -> mechlib.Mechanism:
+def hinged_bar(
+    bar: Bar = Bar(),
+    *,
+    hinge_at: tuple[float, float, float] = (0.0, 0.0, 0.0),
+    joint_type: str = "revolute",
+    reversed_bodies: bool = False,
+    gravity: float = G,
+) -> mechlib.Mechanism:
     """Bar `bar` lying along +x from `hinge_at`, joined to ground by `hinge` (axis +z).
 
     Gravity is (0, -gravity, 0). The bar's body axes are its principal axes: a small
@@ -84,8 +90,9 @@ def hinged_bar(bar: Bar = Bar(), *, hinge_at: tuple[float, float, float] = (0.0,
     """
     mech = mechlib.Mechanism(name="bar", gravity=(0.0, -gravity, 0.0))
     x0, y0, z0 = hinge_at
-    mech.add_body("bar", mass=bar.mass, cm=(x0 + bar.length / 2.0, y0, z0),
-                  inertia=[1e-4, bar.i_cm, bar.i_cm])
+    mech.add_body(
+        "bar", mass=bar.mass, cm=(x0 + bar.length / 2.0, y0, z0), inertia=[1e-4, bar.i_cm, bar.i_cm]
+    )
     mech.add_point("tip", body="bar", at=(x0 + bar.length, y0, z0))
     bodies = ("ground", "bar") if reversed_bodies else ("bar", "ground")
     mech.add_joint("hinge", joint_type, bodies=bodies, at=hinge_at, axis=(0.0, 0.0, 1.0))
@@ -99,17 +106,17 @@ def slider_crank(crank: float = 0.1, rod: float = 0.3) -> tuple[mechlib.Mechanis
     Returns the mechanism (1 degree of freedom, no redundant equation) and the design
     slider position x_s = sqrt(rod^2 - crank^2) (m).
     """
-    xs = math.sqrt(rod ** 2 - crank ** 2)
+    xs = math.sqrt(rod**2 - crank**2)
     mech = mechlib.Mechanism(name="slider_crank")
     mech.add_body("crank", mass=1.0, cm=(0.0, crank / 2, 0.0), inertia=[1e-3] * 3)
     mech.add_body("rod", mass=1.0, cm=(xs / 2, crank / 2, 0.0), inertia=[1e-2] * 3)
     mech.add_body("slider", mass=1.0, cm=(xs, 0.0, 0.0), inertia=[1e-3] * 3)
     mech.add_joint("A", "revolute", bodies=("crank", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
     mech.add_joint("B", "spherical", bodies=("rod", "crank"), at=(0.0, crank, 0.0))
-    mech.add_joint("C", "universal", bodies=("rod", "slider"), at=(xs, 0.0, 0.0),
-                   axes=((0, 0, 1), (0, 1, 0)))
-    mech.add_joint("D", "prismatic", bodies=("slider", "ground"), at=(xs, 0.0, 0.0),
-                   axis=(1, 0, 0))
+    mech.add_joint(
+        "C", "universal", bodies=("rod", "slider"), at=(xs, 0.0, 0.0), axes=((0, 0, 1), (0, 1, 0))
+    )
+    mech.add_joint("D", "prismatic", bodies=("slider", "ground"), at=(xs, 0.0, 0.0), axis=(1, 0, 0))
     return mech, xs
 
 

@@ -7,9 +7,10 @@ x(t) = x + t xd + t^2/2 xdd:  d2 phi/dt2 (0) = phi_q xdd - gamma.
 All derivatives are taken on the raw (homogeneous) primitives, so the identities hold for
 any x, xd, xdd; the test uses unit quaternions and arbitrary rates.
 """
+
 from __future__ import annotations
 
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -18,8 +19,8 @@ from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
 from mechlib.kin import Kin
 from mechlib.rotation import rotation_matrix
 
-NB = 3                      # moving bodies; ground is index NB
-BODY_I = [0, 2, NB, 1]      # pairs include the ground on either side
+NB = 3  # moving bodies; ground is index NB
+BODY_I = [0, 2, NB, 1]  # pairs include the ground on either side
 BODY_J = [1, NB, 0, 2]
 
 
@@ -36,6 +37,7 @@ def _primitives(rng: np.random.Generator) -> dict[str, object]:
     def vecs() -> np.ndarray:
         """k body-fixed vectors of any length."""
         return rng.normal(size=(k, 3))
+
     return {
         "spherical": Spherical(BODY_I, BODY_J, vecs(), vecs()),
         "dot1": Dot1(BODY_I, BODY_J, vecs(), vecs()),
@@ -53,16 +55,19 @@ def rng() -> np.random.Generator:
     return np.random.default_rng(7)
 
 
-def _phi_along(prim, q: np.ndarray, qd: np.ndarray,
-               qdd: np.ndarray) -> Callable[[float], np.ndarray]:
+def _phi_along(
+    prim, q: np.ndarray, qd: np.ndarray, qdd: np.ndarray
+) -> Callable[[float], np.ndarray]:
     """t -> phi(q + t qd + t^2/2 qdd) (ground fixed)."""
     return lambda t: prim.phi(Kin.from_state(q + t * qd + 0.5 * t * t * qdd))
 
 
 def _second_derivative(f: Callable[[float], np.ndarray], step: float = 1e-3) -> np.ndarray:
     """f''(0) by central differences with one Richardson extrapolation (error O(step^4))."""
+
     def d(h: float) -> np.ndarray:
         return (f(h) - 2.0 * f(0.0) + f(-h)) / (h * h)
+
     return (4.0 * d(step / 2) - d(step)) / 3.0
 
 
@@ -85,7 +90,7 @@ def test_jacobian_matches_central_differences(kind: str, rng: np.random.Generato
         fd[:, c] = (prim.phi(plus) - prim.phi(minus)) / (2.0 * step)
     assert np.abs(jac - fd).max() <= 1e-6 * np.abs(fd).max()
     if kind != "normalization":
-        assert np.abs(jac[:, 7 * NB:]).max() > 0.0, "ground columns must be filled too"
+        assert np.abs(jac[:, 7 * NB :]).max() > 0.0, "ground columns must be filled too"
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -99,9 +104,9 @@ def test_gamma_is_the_second_derivative_remainder(kind: str, rng: np.random.Gene
     k = Kin.from_state(q, qd)
     jac = np.zeros((prim.size, k.ncol))
     prim.jacobian(k, jac)
-    predicted = jac[:, :7 * NB] @ qdd - prim.gamma(k)
+    predicted = jac[:, : 7 * NB] @ qdd - prim.gamma(k)
     measured = _second_derivative(_phi_along(prim, q, qd, qdd))
-    scale = max(np.abs(prim.gamma(k)).max(), np.abs(jac[:, :7 * NB] @ qdd).max())
+    scale = max(np.abs(prim.gamma(k)).max(), np.abs(jac[:, : 7 * NB] @ qdd).max())
     assert np.abs(predicted - measured).max() <= 1e-7 * scale
 
 
@@ -119,7 +124,7 @@ def test_rate_matches_finite_differences(kind: str, rng: np.random.Generator) ->
     assert np.abs(prim.rate(k) - fd).max() <= 1e-8 * scale
     jac = np.zeros((prim.size, k.ncol))
     prim.jacobian(k, jac)
-    assert np.abs(prim.rate(k) - jac[:, :7 * NB] @ qd).max() <= 1e-12 * scale
+    assert np.abs(prim.rate(k) - jac[:, : 7 * NB] @ qd).max() <= 1e-12 * scale
 
 
 def test_spherical_residual_is_the_point_gap(rng: np.random.Generator) -> None:

@@ -4,10 +4,11 @@ a spring-mass-damper against its closed form, and initial values.
 Pendulum model: uniform bar (m = 2 kg, L = 1 m) hinged at its end, axis +z, gravity
 (0, -g, 0), angle theta from the horizontal: I_O theta'' = -m g (L/2) cos(theta).
 """
+
 from __future__ import annotations
 
 import math
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 import pytest
@@ -17,7 +18,7 @@ import mechlib
 from mechlib.rotation import omega_global, rotation_matrix
 from mechlib.view import StateView
 
-from ._models import G, Bar, hinged_bar
+from ._models import Bar, G, hinged_bar
 
 BAR = Bar()
 
@@ -25,17 +26,29 @@ BAR = Bar()
 def _pendulum_reference(bar: Bar, theta0: float, end: float):
     """Dense solution of I_O theta'' = -m g (L/2) cos(theta) from rest (rtol 1e-12)."""
     w2 = bar.weight_moment / bar.i_end
-    sol = solve_ivp(lambda t, y: [y[1], -w2 * math.cos(y[0])], (0.0, end), [theta0, 0.0],
-                    method="DOP853", rtol=1e-12, atol=1e-12, dense_output=True)
+    sol = solve_ivp(
+        lambda t, y: [y[1], -w2 * math.cos(y[0])],
+        (0.0, end),
+        [theta0, 0.0],
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-12,
+        dense_output=True,
+    )
     return sol.sol
 
 
 def _pendulum(analysis: mechlib.Dynamic, theta0: float = 0.0, bar: Bar = BAR) -> mechlib.Solution:
-    return mechlib.solve(hinged_bar(bar), analysis,
-                         initial=[mechlib.InitialValue("hinge", theta0, 0.0)],
-                         requests=[mechlib.JointCoordinate("angle", "hinge"),
-                                   mechlib.JointCoordinate("omega", "hinge", "omega"),
-                                   mechlib.JointReaction("R", "hinge")])
+    return mechlib.solve(
+        hinged_bar(bar),
+        analysis,
+        initial=[mechlib.InitialValue("hinge", theta0, 0.0)],
+        requests=[
+            mechlib.JointCoordinate("angle", "hinge"),
+            mechlib.JointCoordinate("omega", "hinge", "omega"),
+            mechlib.JointReaction("R", "hinge"),
+        ],
+    )
 
 
 def test_generalized_alpha_is_second_order() -> None:
@@ -74,10 +87,12 @@ def test_radau_agrees_with_generalized_alpha() -> None:
 
 def _angular_momentum(inertia: np.ndarray, axis: int) -> Callable[[float, StateView], float]:
     """Component `axis` of the global angular momentum A J' A^T omega of body 0."""
+
     def value(t: float, view: StateView) -> float:
         p, pd = view.kin.p[0], view.kin.pd[0]
         a = rotation_matrix(p)
         return float((a @ inertia @ a.T @ omega_global(p, pd))[axis])
+
     return value
 
 
@@ -90,10 +105,13 @@ def test_free_body_conserves_angular_momentum() -> None:
     mech = mechlib.Mechanism()
     mech.add_body("body", mass=1.0, cm=(0.0, 0.0, 0.0), inertia=[1.0, 2.0, 3.0])
     sol = mechlib.solve(
-        mech, mechlib.Dynamic(2.0, 0.05, tolerance=1e-8),
+        mech,
+        mechlib.Dynamic(2.0, 0.05, tolerance=1e-8),
         initial=[mechlib.InitialBodyVelocity("body", omega=(0.05, 0.05, 5.0))],
-        requests=[mechlib.ExpressionOutput(f"L{i}", _angular_momentum(inertia, i))
-                  for i in range(3)])
+        requests=[
+            mechlib.ExpressionOutput(f"L{i}", _angular_momentum(inertia, i)) for i in range(3)
+        ],
+    )
     assert sol.ok and not sol.warnings
     momentum = np.column_stack([sol.channels[f"L{i}.value"] for i in range(3)])
     np.testing.assert_allclose(momentum[0], [0.05, 0.1, 15.0], rtol=1e-12)
@@ -109,7 +127,7 @@ def test_pendulum_energy_does_not_grow() -> None:
     theta0 = -math.pi / 2 + 1.0
     sol = _pendulum(mechlib.Dynamic(16.0, 0.01), theta0, bar)
     theta, omega = sol.channels["angle.value"], sol.channels["omega.value"]
-    energy = bar.weight_moment * np.sin(theta) + 0.5 * bar.i_end * omega ** 2
+    energy = bar.weight_moment * np.sin(theta) + 0.5 * bar.i_end * omega**2
     swing = bar.weight_moment * (1.0 - math.cos(1.0))
     crossings = np.count_nonzero(np.diff(np.sign(theta + math.pi / 2)) != 0)
     assert crossings >= 40, "20 periods"
@@ -117,9 +135,9 @@ def test_pendulum_energy_does_not_grow() -> None:
     assert energy[0] - energy[-1] < 1e-2 * swing
 
 
-K_SPRING = 400.0   # N/m
-MASS = 1.0         # kg
-X0 = 0.01          # m, initial travel
+K_SPRING = 400.0  # N/m
+MASS = 1.0  # kg
+X0 = 0.01  # m, initial travel
 OMEGA_N = math.sqrt(K_SPRING / MASS)
 
 
@@ -128,14 +146,23 @@ def _oscillator(zeta: float) -> mechlib.Solution:
     origin, released from travel X0: 1 s with outputs every 1 ms."""
     mech = mechlib.Mechanism()
     mech.add_body("mass", mass=MASS, cm=(0.5, 0.0, 0.0), inertia=[1e-2] * 3)
-    mech.add_joint("slide", "prismatic", bodies=("mass", "ground"), at=(0.5, 0.0, 0.0),
-                   axis=(1.0, 0.0, 0.0))
-    mech.add_force(mechlib.Spring("spring", points=(("mass", (0.5, 0.0, 0.0)),
-                                                    ("ground", (0.0, 0.0, 0.0))),
-                                  stiffness=K_SPRING, damping=2.0 * zeta * OMEGA_N * MASS))
-    return mechlib.solve(mech, mechlib.Dynamic(1.0, 0.001),
-                         initial=[mechlib.InitialValue("slide", X0, 0.0)],
-                         requests=[mechlib.JointCoordinate("x", "slide", "travel")])
+    mech.add_joint(
+        "slide", "prismatic", bodies=("mass", "ground"), at=(0.5, 0.0, 0.0), axis=(1.0, 0.0, 0.0)
+    )
+    mech.add_force(
+        mechlib.Spring(
+            "spring",
+            points=(("mass", (0.5, 0.0, 0.0)), ("ground", (0.0, 0.0, 0.0))),
+            stiffness=K_SPRING,
+            damping=2.0 * zeta * OMEGA_N * MASS,
+        )
+    )
+    return mechlib.solve(
+        mech,
+        mechlib.Dynamic(1.0, 0.001),
+        initial=[mechlib.InitialValue("slide", X0, 0.0)],
+        requests=[mechlib.JointCoordinate("x", "slide", "travel")],
+    )
 
 
 def _peaks(t: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -167,9 +194,12 @@ def test_spring_mass_damper_decay() -> None:
     zeta = 0.05
     sol = _oscillator(zeta)
     t, x = sol.time, sol.channels["x.value"]
-    omega_d = OMEGA_N * math.sqrt(1.0 - zeta ** 2)
-    exact = X0 * np.exp(-zeta * OMEGA_N * t) * (
-        np.cos(omega_d * t) + zeta / math.sqrt(1.0 - zeta ** 2) * np.sin(omega_d * t))
+    omega_d = OMEGA_N * math.sqrt(1.0 - zeta**2)
+    exact = (
+        X0
+        * np.exp(-zeta * OMEGA_N * t)
+        * (np.cos(omega_d * t) + zeta / math.sqrt(1.0 - zeta**2) * np.sin(omega_d * t))
+    )
     assert np.abs(x - exact).max() < 1e-3 * X0
     peak_t, peak_x = _peaks(t, x)
     assert len(peak_x) >= 3
@@ -185,18 +215,23 @@ def test_initial_value_assembles_at_the_given_angle_and_rate() -> None:
     F = m (a_cm - g), a_cm = (L/2)(-w^2 (cos, sin) + alpha (-sin, cos)) with
     alpha = -m g (L/2) cos(theta) / I_O (1e-9 of the weight)."""
     theta, omega = 0.5, 1.5
-    sol = mechlib.solve(hinged_bar(BAR), mechlib.Dynamic(0.01, 0.01),
-                        initial=[mechlib.InitialValue("hinge", theta, omega)],
-                        requests=[mechlib.JointCoordinate("angle", "hinge"),
-                                  mechlib.JointCoordinate("omega", "hinge", "omega"),
-                                  mechlib.JointReaction("R", "hinge")])
+    sol = mechlib.solve(
+        hinged_bar(BAR),
+        mechlib.Dynamic(0.01, 0.01),
+        initial=[mechlib.InitialValue("hinge", theta, omega)],
+        requests=[
+            mechlib.JointCoordinate("angle", "hinge"),
+            mechlib.JointCoordinate("omega", "hinge", "omega"),
+            mechlib.JointReaction("R", "hinge"),
+        ],
+    )
     assert sol.warnings == []
     assert sol.channels["angle.value"][0] == pytest.approx(theta, abs=1e-9)
     assert sol.channels["omega.value"][0] == pytest.approx(omega, abs=1e-9)
     d = BAR.length / 2
     alpha = -BAR.weight_moment * math.cos(theta) / BAR.i_end
-    ax = d * (-omega ** 2 * math.cos(theta) - alpha * math.sin(theta))
-    ay = d * (-omega ** 2 * math.sin(theta) + alpha * math.cos(theta))
+    ax = d * (-(omega**2) * math.cos(theta) - alpha * math.sin(theta))
+    ay = d * (-(omega**2) * math.sin(theta) + alpha * math.cos(theta))
     weight = BAR.mass * G
     assert sol.channels["R.fx"][0] == pytest.approx(BAR.mass * ax, abs=1e-9 * weight)
     assert sol.channels["R.fy"][0] == pytest.approx(BAR.mass * (ay + G), abs=1e-9 * weight)
@@ -206,10 +241,15 @@ def test_contradicting_initial_velocity_is_projected_and_reported() -> None:
     """A hinged bar given a cm velocity (0, 1, 0.5) m/s: the z part contradicts the hinge.
     The velocity is projected (least squares: cm velocity (0, 1, 0), omega = 2 rad/s about
     z) and a warning names the body and the change."""
-    sol = mechlib.solve(hinged_bar(BAR, gravity=0.0), mechlib.Dynamic(0.01, 0.01),
-                        initial=[mechlib.InitialBodyVelocity("bar", velocity=(0.0, 1.0, 0.5))],
-                        requests=[mechlib.JointCoordinate("omega", "hinge", "omega"),
-                                  mechlib.PointKinematics("v", "tip", "velocity")])
+    sol = mechlib.solve(
+        hinged_bar(BAR, gravity=0.0),
+        mechlib.Dynamic(0.01, 0.01),
+        initial=[mechlib.InitialBodyVelocity("bar", velocity=(0.0, 1.0, 0.5))],
+        requests=[
+            mechlib.JointCoordinate("omega", "hinge", "omega"),
+            mechlib.PointKinematics("v", "tip", "velocity"),
+        ],
+    )
     assert sol.ok
     assert len(sol.warnings) == 1
     warning = sol.warnings[0]
@@ -221,8 +261,11 @@ def test_contradicting_initial_velocity_is_projected_and_reported() -> None:
 
 def test_consistent_initial_angular_velocity_is_kept_silently() -> None:
     """omega = (0, 0, 2) rad/s on the hinged bar is consistent: no warning, rate 2 rad/s."""
-    sol = mechlib.solve(hinged_bar(BAR, gravity=0.0), mechlib.Dynamic(0.01, 0.01),
-                        initial=[mechlib.InitialBodyVelocity("bar", omega=(0.0, 0.0, 2.0))],
-                        requests=[mechlib.JointCoordinate("omega", "hinge", "omega")])
+    sol = mechlib.solve(
+        hinged_bar(BAR, gravity=0.0),
+        mechlib.Dynamic(0.01, 0.01),
+        initial=[mechlib.InitialBodyVelocity("bar", omega=(0.0, 0.0, 2.0))],
+        requests=[mechlib.JointCoordinate("omega", "hinge", "omega")],
+    )
     assert sol.warnings == []
     assert sol.channels["omega.value"][0] == pytest.approx(2.0, abs=1e-12)

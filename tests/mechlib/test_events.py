@@ -3,6 +3,7 @@
 References: closed-form motions of a body on a hinge (torsion spring: theta(t) =
 theta0 (1 - cos(wn t)), wn = sqrt(k/I); free spin: theta = w0 t; free fall: a = g).
 """
+
 from __future__ import annotations
 
 import math
@@ -19,8 +20,7 @@ I_HINGE = 0.5  # kg*m^2 about the hinge axis
 def _panel(gravity=(0.0, 0.0, 0.0), cm=(0.0, 0.0, 0.0), mass=1.0) -> ml.Mechanism:
     mech = ml.Mechanism(gravity=gravity)
     mech.add_body("panel", mass=mass, cm=cm, inertia=[I_HINGE, I_HINGE, I_HINGE])
-    mech.add_joint("hinge", "revolute", bodies=("panel", "ground"), at=(0, 0, 0),
-                   axis=(0, 0, 1))
+    mech.add_joint("hinge", "revolute", bodies=("panel", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
     return mech
 
 
@@ -37,9 +37,12 @@ def test_lock_lands_within_a_microsecond_of_the_exact_time() -> None:
     mech = _panel()
     mech.add_force(ml.TorsionSpring("drive", "hinge", stiffness=2.0, angle0=math.pi))
     latch = ml.Event("latch", _angle_above(math.pi / 2), (ml.Action("lock", "hinge"),))
-    sol = ml.solve(mech, ml.Dynamic(end=1.0, step=0.01, tolerance=1e-10), events=[latch],
-                   requests=[ml.JointCoordinate("w", "hinge", "omega"),
-                             ml.JointReaction("r", "hinge")])
+    sol = ml.solve(
+        mech,
+        ml.Dynamic(end=1.0, step=0.01, tolerance=1e-10),
+        events=[latch],
+        requests=[ml.JointCoordinate("w", "hinge", "omega"), ml.JointReaction("r", "hinge")],
+    )
     exact = (math.pi / 3) / math.sqrt(2.0 / I_HINGE)
     assert len(sol.events) == 1 and sol.events[0].name == "latch"
     assert abs(sol.events[0].time - exact) < 1e-6
@@ -61,9 +64,13 @@ def test_latch_spring_peak_torque_from_energy_balance() -> None:
     latch.active = False
     mech.add_force(latch)
     on = ml.Event("engage", _angle_above(math.pi / 2), (ml.Action("activate", "latch"),))
-    sol = ml.solve(mech, ml.Dynamic(end=1.0, step=2e-4, tolerance=1e-9), events=[on],
-                   initial=[ml.InitialValue("hinge", rate=w0)],
-                   requests=[ml.ElementOutput("m", "latch")])
+    sol = ml.solve(
+        mech,
+        ml.Dynamic(end=1.0, step=2e-4, tolerance=1e-9),
+        events=[on],
+        initial=[ml.InitialValue("hinge", rate=w0)],
+        requests=[ml.ElementOutput("m", "latch")],
+    )
     moment = sol.channels["m.value"]
     assert sol.events[0].time == pytest.approx((math.pi / 2) / w0, abs=1e-6)
     assert np.all(moment[sol.time < sol.events[0].time - 1e-9] == 0.0)  # off before
@@ -77,9 +84,12 @@ def test_release_lets_the_body_fall_freely() -> None:
     mech = _panel(gravity=(0, -g, 0), cm=(0.5, 0, 0))
     mech.add_point("c", body="panel", at=(0.5, 0, 0))
     go = ml.Event("jettison", lambda t, view: t - 0.3, (ml.Action("release", "hinge"),))
-    sol = ml.solve(mech, ml.Dynamic(end=0.6, step=0.01), events=[go],
-                   requests=[ml.JointReaction("r", "hinge"),
-                             ml.PointKinematics("a", "c", "acceleration")])
+    sol = ml.solve(
+        mech,
+        ml.Dynamic(end=0.6, step=0.01),
+        events=[go],
+        requests=[ml.JointReaction("r", "hinge"), ml.PointKinematics("a", "c", "acceleration")],
+    )
     after = sol.time > 0.3 + 1e-9
     assert sol.events[0].time == pytest.approx(0.3, abs=1e-9)
     assert np.abs(sol.channels["r.f"][after]).max() < 1e-9
@@ -93,9 +103,12 @@ def test_deactivated_force_reports_zero_and_stop_ends_the_run() -> None:
     mech.add_force(ml.PointTorque("push", "panel", lambda t, view: (0.0, 0.0, 1.0)))
     off = ml.Event("off", lambda t, view: t - 0.2, (ml.Action("deactivate", "push"),))
     stop = ml.Event("end", lambda t, view: t - 0.4, (ml.Action("stop"),))
-    sol = ml.solve(mech, ml.Dynamic(end=1.0, step=0.05, tolerance=1e-10), events=[off, stop],
-                   requests=[ml.ElementOutput("p", "push"),
-                             ml.JointCoordinate("w", "hinge", "omega")])
+    sol = ml.solve(
+        mech,
+        ml.Dynamic(end=1.0, step=0.05, tolerance=1e-10),
+        events=[off, stop],
+        requests=[ml.ElementOutput("p", "push"), ml.JointCoordinate("w", "hinge", "omega")],
+    )
     assert sol.ok and sol.time[-1] == pytest.approx(0.4)
     assert sol.result is ml.Status.EVENT_STOP
     assert [e.name for e in sol.events] == ["off", "end"]
@@ -123,9 +136,11 @@ def _driven_latch(rate: float = 1.0, k: float = 3.0) -> ml.Mechanism:
     return mech
 
 
-@pytest.mark.parametrize("analysis", [ml.QuasiStatic(end=1.5, step=0.1),
-                                      ml.Kinematic(end=1.5, step=0.1)],
-                         ids=["quasi-static", "kinematic"])
+@pytest.mark.parametrize(
+    "analysis",
+    [ml.QuasiStatic(end=1.5, step=0.1), ml.Kinematic(end=1.5, step=0.1)],
+    ids=["quasi-static", "kinematic"],
+)
 def test_events_between_output_times(analysis) -> None:
     """Quasi-static and kinematic analyses locate an event between two output times (here
     at the exact time 0.55 s, between 0.5 and 0.6) within 1e-6 s, record the state there,
@@ -133,11 +148,13 @@ def test_events_between_output_times(analysis) -> None:
     switched on and k (angle - 0.55) = 3 (t - 0.55) N*m after (exact; quasi-static has no
     inertia, the kinematic panel turns at constant rate); a stop at t = 1.234 s ends the
     run there."""
-    on = ml.Event("latch", lambda t, view: view.angle("hinge") - 0.55,
-                  (ml.Action("activate", "latch"),))
+    on = ml.Event(
+        "latch", lambda t, view: view.angle("hinge") - 0.55, (ml.Action("activate", "latch"),)
+    )
     stop = ml.Event("end", lambda t, view: t - 1.234, (ml.Action("stop"),))
-    sol = ml.solve(_driven_latch(), analysis, events=[on, stop],
-                   requests=[ml.MotionEffort("m", "drive")])
+    sol = ml.solve(
+        _driven_latch(), analysis, events=[on, stop], requests=[ml.MotionEffort("m", "drive")]
+    )
     assert sol.ok and sol.result is ml.Status.EVENT_STOP
     assert [e.name for e in sol.events] == ["latch", "end"]
     assert abs(sol.events[0].time - 0.55) < 1e-6

@@ -6,6 +6,7 @@ screw 5 (cylindrical + travel = pitch * angle / 2 pi), inline 2, inplane 1, para
 perpendicular 1, orientation 3; a coupler or gear adds one equation between two joint
 coordinates.
 """
+
 from __future__ import annotations
 
 import math
@@ -20,37 +21,63 @@ from mechlib.system import System
 
 from ._models import Ramp
 
-AXIS = np.array([1.0, 2.0, 2.0]) / 3.0          # a skew unit axis: no global-axis luck
+AXIS = np.array([1.0, 2.0, 2.0]) / 3.0  # a skew unit axis: no global-axis luck
 OTHER = np.cross(AXIS, [0.0, 0.0, 1.0])
-OTHER /= np.linalg.norm(OTHER)                    # perpendicular to AXIS
-CM = (0.3, -0.2, 0.5)                             # body centre of mass (m)
-AT = (0.1, 0.4, -0.2)                             # joint point (m)
-PITCH = 0.01                                      # screw lead (m per revolution)
+OTHER /= np.linalg.norm(OTHER)  # perpendicular to AXIS
+CM = (0.3, -0.2, 0.5)  # body centre of mass (m)
+AT = (0.1, 0.4, -0.2)  # joint point (m)
+PITCH = 0.01  # screw lead (m per revolution)
 
-CONSTRAINTS = {"fixed": 6, "revolute": 5, "spherical": 3, "cylindrical": 4, "prismatic": 5,
-               "universal": 4, "planar": 3, "screw": 5, "inline": 2, "inplane": 1,
-               "parallel": 2, "perpendicular": 1, "orientation": 3, "point_on_curve": 2}
-BEND = np.cross(AXIS, OTHER)                      # the curve of point_on_curve bends this way
-CURVE_RADIUS = 0.5                                # m
+CONSTRAINTS = {
+    "fixed": 6,
+    "revolute": 5,
+    "spherical": 3,
+    "cylindrical": 4,
+    "prismatic": 5,
+    "universal": 4,
+    "planar": 3,
+    "screw": 5,
+    "inline": 2,
+    "inplane": 1,
+    "parallel": 2,
+    "perpendicular": 1,
+    "orientation": 3,
+    "point_on_curve": 2,
+}
+BEND = np.cross(AXIS, OTHER)  # the curve of point_on_curve bends this way
+CURVE_RADIUS = 0.5  # m
 
 
 def _arc(angle: float) -> np.ndarray:
     """Point of the circular arc through AT (tangent OTHER, centre AT + R BEND) at angle."""
-    return (np.asarray(AT) + CURVE_RADIUS * math.sin(angle) * OTHER
-            + CURVE_RADIUS * (1.0 - math.cos(angle)) * BEND)
+    return (
+        np.asarray(AT)
+        + CURVE_RADIUS * math.sin(angle) * OTHER
+        + CURVE_RADIUS * (1.0 - math.cos(angle)) * BEND
+    )
+
 
 KEYS = {
-    "fixed": {}, "spherical": {}, "orientation": {"axis": AXIS},
-    "revolute": {"axis": AXIS}, "cylindrical": {"axis": AXIS}, "prismatic": {"axis": AXIS},
-    "screw": {"axis": AXIS, "pitch": PITCH}, "inline": {"axis": AXIS},
-    "parallel": {"axis": AXIS}, "planar": {"normal": AXIS}, "inplane": {"normal": AXIS},
-    "universal": {"axes": (AXIS, OTHER)}, "perpendicular": {"axes": (AXIS, OTHER)},
+    "fixed": {},
+    "spherical": {},
+    "orientation": {"axis": AXIS},
+    "revolute": {"axis": AXIS},
+    "cylindrical": {"axis": AXIS},
+    "prismatic": {"axis": AXIS},
+    "screw": {"axis": AXIS, "pitch": PITCH},
+    "inline": {"axis": AXIS},
+    "parallel": {"axis": AXIS},
+    "planar": {"normal": AXIS},
+    "inplane": {"normal": AXIS},
+    "universal": {"axes": (AXIS, OTHER)},
+    "perpendicular": {"axes": (AXIS, OTHER)},
     "point_on_curve": {"curve": [_arc(a) for a in np.linspace(-1.0, 1.0, 21)]},
 }
 
 
-def _one_body(joint_type: str, *, body1: str = "body", body2: str = "ground",
-              extra_body: str | None = None) -> mechlib.Mechanism:
+def _one_body(
+    joint_type: str, *, body1: str = "body", body2: str = "ground", extra_body: str | None = None
+) -> mechlib.Mechanism:
     """One body (plus optionally a second, `extra_body`) joined by `joint_type` joint `J`."""
     mech = mechlib.Mechanism()
     mech.add_body("body", mass=1.0, cm=CM, inertia=[0.1, 0.2, 0.3])
@@ -65,8 +92,9 @@ def _two_cranks(joint_type: str) -> mechlib.Mechanism:
     mech = mechlib.Mechanism()
     for i, z in ((1, 0.0), (2, 1.0)):
         mech.add_body(f"b{i}", mass=1.0, cm=(0.5, 0.0, z), inertia=[0.1, 0.2, 0.3])
-        mech.add_joint(f"R{i}", "revolute", bodies=(f"b{i}", "ground"), at=(0.0, 0.0, z),
-                       axis=(0.0, 0.0, 1.0))
+        mech.add_joint(
+            f"R{i}", "revolute", bodies=(f"b{i}", "ground"), at=(0.0, 0.0, z), axis=(0.0, 0.0, 1.0)
+        )
     mech.add_joint("K", joint_type, bodies=("b1", "b2"), joints=("R1", "R2"), ratio=2.0)
     return mech
 
@@ -124,7 +152,7 @@ def test_angle_sign_is_right_handed_body1_relative_to_body2(joint_type: str) -> 
         q = _rotated_state(system, "body", 0.3)
         value = system.measure("J", "angle").value(system.kin(q))
         assert value == pytest.approx(sign * 0.3, abs=1e-12)
-        geometric = system.phi(system.kin(q))[:system.n_geometric]
+        geometric = system.phi(system.kin(q))[: system.n_geometric]
         assert np.abs(geometric).max() < 1e-12, "the turned state must satisfy the joint"
 
 
@@ -156,9 +184,14 @@ def test_screw_advances_pitch_per_revolution() -> None:
     """A screw driven to +0.3 rad is assembled at travel pitch * 0.3 / (2 pi) (1e-12 m)."""
     mech = _one_body("screw")
     mech.add_motion("turn", joint="J", function=Ramp(0.3, 0.0), coordinate="angle")
-    sol = mechlib.solve(mech, mechlib.Kinematic(0.0, 1.0),
-                        requests=[mechlib.JointCoordinate("s", "J", "travel"),
-                                  mechlib.JointCoordinate("a", "J", "angle")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Kinematic(0.0, 1.0),
+        requests=[
+            mechlib.JointCoordinate("s", "J", "travel"),
+            mechlib.JointCoordinate("a", "J", "angle"),
+        ],
+    )
     assert sol.channels["a.value"][0] == pytest.approx(0.3, abs=1e-12)
     assert sol.channels["s.value"][0] == pytest.approx(PITCH * 0.3 / (2 * math.pi), abs=1e-12)
 
@@ -167,8 +200,9 @@ def test_gear_ratio_relates_the_coordinates() -> None:
     """R1 driven to 0.2 rad through a gear of ratio 2: R2 at 0.4 rad (1e-12)."""
     mech = _two_cranks("gear")
     mech.add_motion("drive", joint="R1", function=Ramp(0.2, 0.0))
-    sol = mechlib.solve(mech, mechlib.Kinematic(0.0, 1.0),
-                        requests=[mechlib.JointCoordinate("a2", "R2")])
+    sol = mechlib.solve(
+        mech, mechlib.Kinematic(0.0, 1.0), requests=[mechlib.JointCoordinate("a2", "R2")]
+    )
     assert sol.channels["a2.value"][0] == pytest.approx(0.4, abs=1e-12)
 
 
@@ -180,8 +214,9 @@ def test_revolute_angle_unwraps_past_pi() -> None:
     mech.add_body("crank", mass=1.0, cm=(0.05, 0.0, 0.0), inertia=[1e-4, 1e-3, 1e-3])
     mech.add_joint("A", "revolute", bodies=("crank", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
     mech.add_motion("spin", joint="A", function=Ramp(0.0, 4.0 * math.pi))
-    sol = mechlib.solve(mech, mechlib.Kinematic(1.0, 0.01),
-                        requests=[mechlib.JointCoordinate("angle", "A")])
+    sol = mechlib.solve(
+        mech, mechlib.Kinematic(1.0, 0.01), requests=[mechlib.JointCoordinate("angle", "A")]
+    )
     angle = sol.channels["angle.value"]
     assert sol.ok
     assert angle[-1] == pytest.approx(4.0 * math.pi, abs=1e-9)
@@ -197,12 +232,14 @@ def test_large_initial_angle_assembles_without_wrapping() -> None:
     for degrees in (170.0, -170.0, 300.0):
         mech = mechlib.Mechanism()
         mech.add_body("bar", mass=1.0, cm=(0.5, 0.0, 0.0), inertia=[0.01, 0.1, 0.1])
-        mech.add_joint("hinge", "revolute", bodies=("bar", "ground"), at=(0, 0, 0),
-                       axis=(0, 0, 1))
+        mech.add_joint("hinge", "revolute", bodies=("bar", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
         value = math.radians(degrees)
-        sol = mechlib.solve(mech, mechlib.Dynamic(end=0.01, step=0.01),
-                            initial=[mechlib.InitialValue("hinge", value)],
-                            requests=[mechlib.JointCoordinate("a", "hinge", "angle")])
+        sol = mechlib.solve(
+            mech,
+            mechlib.Dynamic(end=0.01, step=0.01),
+            initial=[mechlib.InitialValue("hinge", value)],
+            requests=[mechlib.JointCoordinate("a", "hinge", "angle")],
+        )
         assert not sol.warnings
         assert sol.channels["a.value"][0] == pytest.approx(value, abs=1e-9)
 
@@ -212,26 +249,29 @@ def test_hinge_line_of_spherical_and_inline_has_the_revolute_angle() -> None:
     (axis along the line) at the other swings exactly as on one revolute: the inline's
     angle, omega and alpha equal the revolute's (1e-7 rad, rad/s, rad/s^2 over 1 s of a
     pendulum swing from 60 deg; same integrator, same tolerance), and its travel stays 0."""
+
     def bar(hinge: str) -> mechlib.Mechanism:
         mech = mechlib.Mechanism(gravity=(0.0, 0.0, -9.81))
         mech.add_body("bar", mass=2.0, cm=(0.0, 0.3, 0.0), inertia=[0.06, 0.01, 0.06])
         if hinge == "revolute":
-            mech.add_joint("H", "revolute", bodies=("bar", "ground"), at=(-0.2, 0, 0),
-                           axis=(1, 0, 0))
+            mech.add_joint(
+                "H", "revolute", bodies=("bar", "ground"), at=(-0.2, 0, 0), axis=(1, 0, 0)
+            )
         else:
             mech.add_joint("S", "spherical", bodies=("bar", "ground"), at=(0.2, 0, 0))
-            mech.add_joint("H", "inline", bodies=("bar", "ground"), at=(-0.2, 0, 0),
-                           axis=(1, 0, 0))
+            mech.add_joint("H", "inline", bodies=("bar", "ground"), at=(-0.2, 0, 0), axis=(1, 0, 0))
         return mech
 
     requests = [mechlib.JointCoordinate(q, "H", q) for q in ("angle", "omega", "alpha")]
     runs = {}
     for hinge in ("revolute", "inline"):
         extra = [mechlib.JointCoordinate("travel", "H", "travel")] if hinge == "inline" else []
-        runs[hinge] = mechlib.solve(bar(hinge), mechlib.Dynamic(end=1.0, step=0.01,
-                                                                tolerance=1e-8),
-                                    initial=[mechlib.InitialValue("H", math.radians(60.0))],
-                                    requests=requests + extra)
+        runs[hinge] = mechlib.solve(
+            bar(hinge),
+            mechlib.Dynamic(end=1.0, step=0.01, tolerance=1e-8),
+            initial=[mechlib.InitialValue("H", math.radians(60.0))],
+            requests=requests + extra,
+        )
     rev, inl = runs["revolute"], runs["inline"]
     assert rev.ok and inl.ok
     assert np.ptp(rev.channels["angle.value"]) > 1.0  # it does swing
@@ -259,12 +299,15 @@ def test_point_on_curve_gradient_is_exact_on_the_curve() -> None:
     for j in range(system.nq):
         dq = np.zeros(system.nq)
         dq[j] = 1e-6
-        fd[:, j] = (system.phi(system.kin(q + dq))[-2:] - system.phi(system.kin(q - dq))[-2:]) / 2e-6
+        fd[:, j] = (
+            system.phi(system.kin(q + dq))[-2:] - system.phi(system.kin(q - dq))[-2:]
+        ) / 2e-6
     assert np.abs(grad - fd).max() < 1e-6 * np.abs(grad).max()
 
 
-@pytest.mark.parametrize("joint_type, key", [("universal", "axes"), ("perpendicular", "axes"),
-                                             ("screw", "pitch")])
+@pytest.mark.parametrize(
+    "joint_type, key", [("universal", "axes"), ("perpendicular", "axes"), ("screw", "pitch")]
+)
 def test_a_joint_without_its_required_key_is_refused_by_name(joint_type: str, key: str) -> None:
     """mechlib used directly (no YAML schema in front): a joint missing the key its type
     needs is a ValueError naming the joint and the key (it was a bare TypeError on None)."""

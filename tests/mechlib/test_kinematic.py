@@ -8,6 +8,7 @@ Model: uniform bar (m = 2 kg, L = 1 m) hinged at its end at the origin, axis +z,
     a_cm = d (-theta'^2 (cos, sin) + theta'' (-sin, cos)),
     drive torque about +z:          tau = I_O theta'' + m g d cos(theta).
 """
+
 from __future__ import annotations
 
 import math
@@ -18,17 +19,18 @@ import pytest
 
 import mechlib
 
-from ._models import G, Bar, Ramp, Sine, hinged_bar, slider_crank
+from ._models import Bar, G, Ramp, Sine, hinged_bar, slider_crank
 
 BAR = Bar()
 
 
-def _hand_reactions(theta: np.ndarray, omega: np.ndarray,
-                    alpha: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _hand_reactions(
+    theta: np.ndarray, omega: np.ndarray, alpha: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(fx, fy, tau) on the bar from ground and drive, by Newton-Euler (see module)."""
     d = BAR.length / 2.0
-    ax = d * (-omega ** 2 * np.cos(theta) - alpha * np.sin(theta))
-    ay = d * (-omega ** 2 * np.sin(theta) + alpha * np.cos(theta))
+    ax = d * (-(omega**2) * np.cos(theta) - alpha * np.sin(theta))
+    ay = d * (-(omega**2) * np.sin(theta) + alpha * np.cos(theta))
     tau = BAR.i_end * alpha + BAR.mass * G * d * np.cos(theta)
     return BAR.mass * ax, BAR.mass * (ay + G), tau
 
@@ -36,10 +38,17 @@ def _hand_reactions(theta: np.ndarray, omega: np.ndarray,
 def _driven(function) -> mechlib.Solution:
     mech = hinged_bar(BAR)
     mech.add_motion("drive", joint="hinge", function=function)
-    return mechlib.solve(mech, mechlib.Kinematic(1.0, 0.05), requests=[
-        mechlib.JointReaction("R", "hinge"), mechlib.MotionEffort("E", "drive"),
-        mechlib.JointCoordinate("angle", "hinge"), mechlib.JointCoordinate("w", "hinge", "omega"),
-        mechlib.JointCoordinate("al", "hinge", "alpha")])
+    return mechlib.solve(
+        mech,
+        mechlib.Kinematic(1.0, 0.05),
+        requests=[
+            mechlib.JointReaction("R", "hinge"),
+            mechlib.MotionEffort("E", "drive"),
+            mechlib.JointCoordinate("angle", "hinge"),
+            mechlib.JointCoordinate("w", "hinge", "omega"),
+            mechlib.JointCoordinate("al", "hinge", "alpha"),
+        ],
+    )
 
 
 def test_constant_speed_reactions_match_newton_euler() -> None:
@@ -99,7 +108,7 @@ def test_overconstrained_by_motions_is_refused() -> None:
         mechlib.solve(mech, mechlib.Kinematic(1.0, 0.1))
 
 
-SLIDER_SPEED = 0.15   # m/s pushed on the slider
+SLIDER_SPEED = 0.15  # m/s pushed on the slider
 
 
 def _pushed_slider_crank() -> tuple[mechlib.Mechanism, float]:
@@ -117,8 +126,12 @@ def test_driving_past_the_dead_point_fails_by_time() -> None:
     outputs up to then are kept."""
     mech, t_star = _pushed_slider_crank()
     step = 0.01
-    sol = mechlib.solve(mech, mechlib.Kinematic(1.0, step), throw=False,
-                        requests=[mechlib.JointCoordinate("x", "D", "travel")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Kinematic(1.0, step),
+        throw=False,
+        requests=[mechlib.JointCoordinate("x", "D", "travel")],
+    )
     assert sol.status == "failed"
     assert "did not converge" in sol.message or "singular" in sol.message
     t_fail = math.ceil(t_star / step) * step
@@ -142,7 +155,11 @@ def test_coarse_output_step_on_a_fast_crank() -> None:
     kinematic run: the final angle is 4.8 pi (1e-9 rad)."""
     mech = hinged_bar(BAR)
     mech.add_motion("spin", joint="hinge", function=Ramp(0.0, 4.0 * math.pi))
-    sol = mechlib.solve(mech, mechlib.Kinematic(1.2, 0.3), throw=False,
-                        requests=[mechlib.JointCoordinate("angle", "hinge")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Kinematic(1.2, 0.3),
+        throw=False,
+        requests=[mechlib.JointCoordinate("angle", "hinge")],
+    )
     assert sol.ok, sol.message
     assert sol.channels["angle.value"][-1] == pytest.approx(4.8 * math.pi, abs=1e-9)

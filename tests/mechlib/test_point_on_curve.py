@@ -2,6 +2,7 @@
 4 sqrt(R/g) K(sin(theta0/2)), normal force m (g cos(theta) + v^2/R) = m g (3 cos(theta) -
 2 cos(theta0))); a bead on the parabola y = x^2 under gravity and a side force F rests
 where the slope 2x = F / (m g). Tolerances per test."""
+
 from __future__ import annotations
 
 import math
@@ -20,8 +21,14 @@ def _bead_on(curve_points, start, gravity=(0.0, -G, 0.0), interpolation="cubic")
     mech = ml.Mechanism(gravity=gravity)
     mech.add_body("bead", mass=MASS, cm=start, inertia=[1e-4, 1e-4, 1e-4])
     mech.add_point("bead_c", body="bead", at=start)
-    mech.add_joint("wire", "point_on_curve", bodies=("bead", "ground"), at=start,
-                   curve=curve_points, interpolation=interpolation)
+    mech.add_joint(
+        "wire",
+        "point_on_curve",
+        bodies=("bead", "ground"),
+        at=start,
+        curve=curve_points,
+        interpolation=interpolation,
+    )
     return mech
 
 
@@ -53,17 +60,21 @@ def test_bead_on_a_circular_wire_is_a_pendulum():
     theta0 = math.radians(60.0)
     points, start = _circle(theta0)
     period = 4.0 * math.sqrt(R / G) * ellipk(math.sin(theta0 / 2.0) ** 2)
-    sol = ml.solve(_bead_on(points, start), ml.Dynamic(end=1.5 * period, step=1e-3,
-                                                       tolerance=1e-8),
-                   requests=[ml.PointKinematics("p", "bead_c"),
-                             ml.JointReaction("f", "wire")])
+    sol = ml.solve(
+        _bead_on(points, start),
+        ml.Dynamic(end=1.5 * period, step=1e-3, tolerance=1e-8),
+        requests=[ml.PointKinematics("p", "bead_c"), ml.JointReaction("f", "wire")],
+    )
     assert sol.ok, sol.message
     x, y = sol.channels["p.x"], sol.channels["p.y"]
     assert np.abs(np.hypot(x, y) - R).max() < 1e-6
     # period: between two downward crossings of x = 0
     t = sol.time
-    crossings = [t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i])
-                 for i in range(len(x) - 1) if x[i] > 0.0 >= x[i + 1]]
+    crossings = [
+        t[i] - x[i] * (t[i + 1] - t[i]) / (x[i + 1] - x[i])
+        for i in range(len(x) - 1)
+        if x[i] > 0.0 >= x[i + 1]
+    ]
     assert len(crossings) >= 2
     assert crossings[1] - crossings[0] == pytest.approx(period, rel=2e-4)
     force = np.hypot(sol.channels["f.fx"], sol.channels["f.fy"])
@@ -93,7 +104,8 @@ def test_point_on_curve_from_yaml(tmp_path):
     from loadcases.run import run_file
 
     case = tmp_path / "bead.case.yaml"
-    case.write_text("""\
+    case.write_text(
+        """\
 case: bead-on-wire
 units: {length: mm}
 mechanism:
@@ -112,8 +124,10 @@ requests:
   wire: {joint: wire, quantity: force}
   v: {point: bead_c, quantity: velocity}
   p: {point: bead_c, quantity: position}
-""", encoding="utf-8")
-    outcome, = run_file(case, output_dir=tmp_path / "out")
+""",
+        encoding="utf-8",
+    )
+    (outcome,) = run_file(case, output_dir=tmp_path / "out")
     ch = outcome.solution.channels
     assert outcome.solution.ok
     speed2 = sum(ch[f"v.{c}"] ** 2 for c in "xyz")
@@ -129,7 +143,8 @@ def test_repeated_curve_point_is_an_input_error(tmp_path):
     from loadcases.run import check_case_file
 
     case = tmp_path / "bad.case.yaml"
-    case.write_text("""\
+    case.write_text(
+        """\
 case: bad-curve
 mechanism:
   bodies:
@@ -138,8 +153,11 @@ mechanism:
     wire: {type: point_on_curve, bodies: [bead, ground], at: [0, 0, 0],
            curve: [[0, 0, 0], [0, 0, 0], [1, 0, 0]]}
 analysis: {type: static}
-""", encoding="utf-8")
+""",
+        encoding="utf-8",
+    )
     found = check_case_file(case)
     assert [(d.message, d.line) for d in found] == [
-        ("point 1 repeats point 0: the curve needs distinct consecutive points", 7)]
+        ("point 1 repeats point 0: the curve needs distinct consecutive points", 7)
+    ]
     assert found[0].key.endswith("curve[1]")

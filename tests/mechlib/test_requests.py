@@ -5,6 +5,7 @@ body 1 from body 2, the torque about the joint point, components in the requeste
 axes; a motion effort is positive in the direction of increasing joint coordinate.
 Models: uniform bar (m = 2 kg, L = 1 m) along +x from its hinge, axis +z, gravity -y.
 """
+
 from __future__ import annotations
 
 import math
@@ -14,11 +15,11 @@ import pytest
 
 import mechlib
 
-from ._models import G, Bar, Ramp, Sine, hinged_bar, rz
+from ._models import Bar, G, Ramp, Sine, hinged_bar, rz
 
 BAR = Bar()
 WEIGHT = BAR.mass * G
-HINGE = (0.3, 0.2, 0.0)        # off the origin: a moment about the origin would differ
+HINGE = (0.3, 0.2, 0.0)  # off the origin: a moment about the origin would differ
 FORCE = ("fx", "fy", "fz")
 TORQUE = ("tx", "ty", "tz")
 
@@ -34,10 +35,16 @@ def test_reaction_in_a_body_frame_is_the_rotated_ground_one() -> None:
     mech = hinged_bar(BAR, hinge_at=HINGE)
     mech.add_motion("drive", joint="hinge", function=Ramp(0.4, 2.0))
     mech.add_frame("side", body="bar", x=(0.0, 1.0, 0.0), y=(-1.0, 0.0, 0.0))
-    sol = mechlib.solve(mech, mechlib.Kinematic(1.0, 0.1), requests=[
-        mechlib.JointReaction("G", "hinge"), mechlib.JointReaction("B", "hinge", frame="bar"),
-        mechlib.JointReaction("S", "hinge", frame="side"),
-        mechlib.JointCoordinate("angle", "hinge")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Kinematic(1.0, 0.1),
+        requests=[
+            mechlib.JointReaction("G", "hinge"),
+            mechlib.JointReaction("B", "hinge", frame="bar"),
+            mechlib.JointReaction("S", "hinge", frame="side"),
+            mechlib.JointCoordinate("angle", "hinge"),
+        ],
+    )
     side = np.array([[0.0, -1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]])  # columns: axes
     for comps in (FORCE, TORQUE):
         ground, body, named = (_vector(sol, n, comps) for n in ("G", "B", "S"))
@@ -86,8 +93,11 @@ def test_reactions_along_a_two_bar_cantilever(order: tuple[str, str]) -> None:
     mech.add_body("b2", mass=1.0, cm=(1.5, 0.0, 0.0), inertia=[1e-4, 1 / 12, 1 / 12])
     mech.add_joint("wall", "fixed", bodies=("b1", "ground"), at=(0.0, 0.0, 0.0))
     mech.add_joint("weld", "fixed", bodies=order, at=(1.0, 0.0, 0.0))
-    sol = mechlib.solve(mech, mechlib.Static(), requests=[
-        mechlib.JointReaction("W", "wall"), mechlib.JointReaction("J", "weld")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Static(),
+        requests=[mechlib.JointReaction("W", "wall"), mechlib.JointReaction("J", "weld")],
+    )
     tol = 1e-8 * 3.0 * G
     sign = 1.0 if order[0] == "b2" else -1.0
     wall = np.r_[_vector(sol, "W", FORCE)[0], _vector(sol, "W", TORQUE)[0]]
@@ -115,8 +125,11 @@ def test_motion_effort_sign_on_a_revolute(reversed_bodies: bool) -> None:
     sign = -1.0 if reversed_bodies else 1.0
     mech = hinged_bar(BAR, reversed_bodies=reversed_bodies)
     mech.add_motion("hold", joint="hinge", function=Ramp(sign * 0.4, 0.0))
-    sol = mechlib.solve(mech, mechlib.Static(), requests=[
-        mechlib.MotionEffort("E", "hold"), mechlib.PointKinematics("tip", "tip")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Static(),
+        requests=[mechlib.MotionEffort("E", "hold"), mechlib.PointKinematics("tip", "tip")],
+    )
     assert sol.channels["tip.y"][0] == pytest.approx(BAR.length * math.sin(0.4), abs=1e-10)
     expected = sign * BAR.weight_moment * math.cos(0.4)
     assert sol.channels["E.value"][0] == pytest.approx(expected, abs=1e-8 * BAR.weight_moment)
@@ -128,8 +141,13 @@ def test_motion_effort_sign_on_a_prismatic(axis_sign: float) -> None:
     is +m g (pushing towards increasing travel), with the axis down -m g. 1e-8 of m g."""
     mech = mechlib.Mechanism(gravity=(0.0, -G, 0.0))
     mech.add_body("slider", mass=BAR.mass, cm=(0.0, 0.0, 0.0), inertia=[1e-2] * 3)
-    mech.add_joint("slide", "prismatic", bodies=("slider", "ground"), at=(0.0, 0.0, 0.0),
-                   axis=(0.0, axis_sign, 0.0))
+    mech.add_joint(
+        "slide",
+        "prismatic",
+        bodies=("slider", "ground"),
+        at=(0.0, 0.0, 0.0),
+        axis=(0.0, axis_sign, 0.0),
+    )
     mech.add_motion("hold", joint="slide", function=Ramp(0.1, 0.0))
     sol = mechlib.solve(mech, mechlib.Static(), requests=[mechlib.MotionEffort("E", "hold")])
     assert sol.channels["E.value"][0] == pytest.approx(axis_sign * WEIGHT, abs=1e-8 * WEIGHT)
@@ -144,10 +162,16 @@ def test_point_acceleration_matches_finite_differences() -> None:
     mech = hinged_bar(BAR)
     mech.add_motion("drive", joint="hinge", function=motion)
     dt = 1e-4
-    sol = mechlib.solve(mech, mechlib.Kinematic(0.6, dt), requests=[
-        mechlib.PointKinematics(q, "tip", q) for q in ("position", "velocity", "acceleration")])
-    pos, vel, acc = (_vector(sol, q, ("x", "y", "z"))
-                     for q in ("position", "velocity", "acceleration"))
+    sol = mechlib.solve(
+        mech,
+        mechlib.Kinematic(0.6, dt),
+        requests=[
+            mechlib.PointKinematics(q, "tip", q) for q in ("position", "velocity", "acceleration")
+        ],
+    )
+    pos, vel, acc = (
+        _vector(sol, q, ("x", "y", "z")) for q in ("position", "velocity", "acceleration")
+    )
     v_fd = (pos[2:] - pos[:-2]) / (2 * dt)
     a_fd = (vel[2:] - vel[:-2]) / (2 * dt)
     assert np.abs(vel[1:-1] - v_fd).max() < 1e-6 * np.abs(vel).max()
@@ -165,8 +189,11 @@ def test_point_velocity_in_a_body_frame() -> None:
     """The tip velocity in the bar's own frame is (0, omega L, 0) (1e-9 of the peak)."""
     mech = hinged_bar(BAR)
     mech.add_motion("drive", joint="hinge", function=Ramp(0.2, 3.0))
-    sol = mechlib.solve(mech, mechlib.Kinematic(0.5, 0.1), requests=[
-        mechlib.PointKinematics("v", "tip", "velocity", frame="bar")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Kinematic(0.5, 0.1),
+        requests=[mechlib.PointKinematics("v", "tip", "velocity", frame="bar")],
+    )
     v = _vector(sol, "v", ("x", "y", "z"))
     assert np.abs(v - [0.0, 3.0 * BAR.length, 0.0]).max() < 1e-9 * 3.0 * BAR.length
 
@@ -175,8 +202,11 @@ def test_angle_channel_of_a_fast_wheel() -> None:
     """A free wheel (no gravity) spinning at 7.5 rev/s, outputs every 0.1 s: its angle
     channel is omega t (gen-alpha accuracy at default tolerance: 1e-3 rad)."""
     omega = 2.0 * math.pi * 7.5
-    sol = mechlib.solve(hinged_bar(BAR, gravity=0.0), mechlib.Dynamic(0.3, 0.1),
-                        initial=[mechlib.InitialValue("hinge", 0.0, omega)],
-                        requests=[mechlib.JointCoordinate("angle", "hinge")])
+    sol = mechlib.solve(
+        hinged_bar(BAR, gravity=0.0),
+        mechlib.Dynamic(0.3, 0.1),
+        initial=[mechlib.InitialValue("hinge", 0.0, omega)],
+        requests=[mechlib.JointCoordinate("angle", "hinge")],
+    )
     assert sol.ok
     assert np.abs(sol.channels["angle.value"] - omega * sol.time).max() < 1e-3

@@ -5,14 +5,23 @@ quaternion -> matrix map, scalar-first convention); the definitions A(p) s (rota
 body-fixed vector), B(p, s) = d(A s)/dp and skew(omega) = Adot A^T (Haug 1989, ch. 9;
 Nikravesh 1988, ch. 6).
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mechlib.rotation import (d_rotate, e_matrix, g_matrix, omega_global, quaternion_from_rotvec,
-                              rotate, rotation_matrix, skew)
+from mechlib.rotation import (
+    d_rotate,
+    e_matrix,
+    g_matrix,
+    omega_global,
+    quaternion_from_rotvec,
+    rotate,
+    rotation_matrix,
+    skew,
+)
 
 N_SAMPLES = 20
 

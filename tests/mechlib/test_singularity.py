@@ -5,13 +5,13 @@ rod l = 0.3 m, slider on x): its dead centres are where crank and rod are collin
 angle phi = 0 or 180 deg from +x (joint A's angle theta = phi - 90 deg), and the slider
 cannot pass x = r + l.
 """
+
 from __future__ import annotations
 
 import math
 import re
 
 import numpy as np
-import pytest
 
 import mechlib
 from mechlib.assembly import InitialValue
@@ -44,14 +44,18 @@ class SliderOfTurningCrank:
 
     def accel(self, t: float) -> float:
         s, c, root2 = self._phi(t)
-        second = (-R * c - R * R * (c * c - s * s) / math.sqrt(root2)
-                  - R ** 4 * s * s * c * c / root2 ** 1.5)
-        return second * self.omega ** 2
+        second = (
+            -R * c - R * R * (c * c - s * s) / math.sqrt(root2) - R**4 * s * s * c * c / root2**1.5
+        )
+        return second * self.omega**2
 
 
 def _toggle_times(warnings: list[str]) -> list[float]:
-    return [float(re.search(r"at t = ([0-9.e+-]+) s", w).group(1))
-            for w in warnings if "near-singular" in w]
+    return [
+        float(re.search(r"at t = ([0-9.e+-]+) s", w).group(1))
+        for w in warnings
+        if "near-singular" in w
+    ]
 
 
 def test_kinematic_slider_drive_warns_at_the_dead_centre() -> None:
@@ -111,8 +115,12 @@ def test_dynamic_flywheel_warns_at_each_dead_centre_of_the_slider() -> None:
     cannot change at phi = 180 deg (t = 0.25 s) and 360 deg (t = 0.75 s); one warning per
     dead centre, within one output step (0.01 s), naming the guide D."""
     omega = 2.0 * math.pi
-    sol = mechlib.solve(_flywheel_slider_crank(), mechlib.Dynamic(end=0.9, step=0.01),
-                        initial=[InitialValue("A", rate=omega)], throw=False)
+    sol = mechlib.solve(
+        _flywheel_slider_crank(),
+        mechlib.Dynamic(end=0.9, step=0.01),
+        initial=[InitialValue("A", rate=omega)],
+        throw=False,
+    )
     assert sol.ok, sol.message
     times = _toggle_times(sol.warnings)
     assert np.allclose(times, [0.25, 0.75], atol=0.01), sol.warnings

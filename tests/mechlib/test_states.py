@@ -4,6 +4,7 @@ Reference: a force that builds up as a first-order lag, tau dz/dt + z = F0, push
 of mass m from rest: z = F0 (1 - exp(-t/tau)), x = F0/m (t^2/2 - tau t + tau^2 (1 -
 exp(-t/tau))) (integrate twice).
 """
+
 from __future__ import annotations
 
 from dataclasses import dataclass
@@ -55,8 +56,11 @@ def test_lag_state_and_motion_match_the_closed_form() -> None:
     """State within 1e-5 of F0 and travel within 1e-5 of its peak (tolerance 1e-8): the
     trapezoidal rule on the state is second order like the mechanism."""
     tau, F0, m = 0.1, 4.0, 2.0
-    sol = ml.solve(_slider(tau), ml.Dynamic(end=0.5, step=0.01, tolerance=1e-8),
-                   requests=[ml.ElementOutput("z", "lag"), ml.JointCoordinate("x", "g", "travel")])
+    sol = ml.solve(
+        _slider(tau),
+        ml.Dynamic(end=0.5, step=0.01, tolerance=1e-8),
+        requests=[ml.ElementOutput("z", "lag"), ml.JointCoordinate("x", "g", "travel")],
+    )
     t = sol.time
     z = F0 * (1 - np.exp(-t / tau))
     x = F0 / m * (t * t / 2 - tau * t + tau * tau * (1 - np.exp(-t / tau)))
@@ -67,8 +71,9 @@ def test_lag_state_and_motion_match_the_closed_form() -> None:
 def test_stiff_state_stays_bounded() -> None:
     """tau = 1e-4 s with outputs every 10 ms: no failure, the state never exceeds F0 by
     more than 1 % (A-stable trapezoidal rule) and ends at F0."""
-    sol = ml.solve(_slider(1e-4), ml.Dynamic(end=0.5, step=0.01),
-                   requests=[ml.ElementOutput("z", "lag")])
+    sol = ml.solve(
+        _slider(1e-4), ml.Dynamic(end=0.5, step=0.01), requests=[ml.ElementOutput("z", "lag")]
+    )
     z = sol.channels["z.value"]
     assert sol.ok
     assert z.max() <= 4.0 * 1.01
@@ -108,6 +113,7 @@ class Follower:
 
 def _driven_slider(tau: float, speed: float, c: float) -> ml.Mechanism:
     from tests.mechlib._models import Ramp
+
     mech = ml.Mechanism(gravity=(0.0, 0.0, 0.0))
     mech.add_body("s", mass=2.0, cm=(0, 0, 0), inertia=[1, 1, 1])
     mech.add_joint("g", "prismatic", bodies=("s", "ground"), at=(0, 0, 0), axis=(1, 0, 0))
@@ -119,13 +125,18 @@ def _driven_slider(tau: float, speed: float, c: float) -> ml.Mechanism:
 def _lag_error(analysis) -> tuple[float, float]:
     """Largest errors of z and of the drive's effort |f| = c z against the closed form."""
     tau, a, c = 0.1, 2.0, 50.0
-    sol = ml.solve(_driven_slider(tau, a, c), analysis,
-                   requests=[ml.ElementOutput("z", "lag"), ml.MotionEffort("f", "drive")])
+    sol = ml.solve(
+        _driven_slider(tau, a, c),
+        analysis,
+        requests=[ml.ElementOutput("z", "lag"), ml.MotionEffort("f", "drive")],
+    )
     assert sol.ok
     t = sol.time
     z = a * (t - tau * (1.0 - np.exp(-t / tau)))
-    return (float(np.abs(sol.channels["z.value"] - z).max()),
-            float(np.abs(np.abs(sol.channels["f.value"]) - c * z).max()))
+    return (
+        float(np.abs(sol.channels["z.value"] - z).max()),
+        float(np.abs(np.abs(sol.channels["f.value"]) - c * z).max()),
+    )
 
 
 @pytest.mark.parametrize("kind", [ml.Kinematic, ml.QuasiStatic], ids=["kinematic", "quasi-static"])
@@ -144,8 +155,11 @@ def test_element_state_follows_a_prescribed_motion(kind) -> None:
 def test_static_keeps_initial_element_states() -> None:
     """A static analysis solves one instant: no time to integrate over, the state keeps its
     initial value (0) while the travel is a t = 0.6 m."""
-    sol = ml.solve(_driven_slider(0.1, 2.0, 50.0), ml.Static(time=0.3),
-                   requests=[ml.ElementOutput("z", "lag"), ml.JointCoordinate("x", "g", "travel")])
+    sol = ml.solve(
+        _driven_slider(0.1, 2.0, 50.0),
+        ml.Static(time=0.3),
+        requests=[ml.ElementOutput("z", "lag"), ml.JointCoordinate("x", "g", "travel")],
+    )
     assert sol.ok
     assert sol.channels["z.value"][0] == 0.0
     assert sol.channels["x.value"][0] == pytest.approx(0.6, abs=1e-12)

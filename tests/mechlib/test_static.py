@@ -4,6 +4,7 @@ Model: uniform bar (m = 2 kg, L = 1 m) hinged at its end, axis +z, gravity (0, -
 The weight's moment about the hinge is -m g (L/2) cos(theta) (about +z); a torsion spring
 of stiffness k adds -k theta; a motion on the hinge adds its effort tau.
 """
+
 from __future__ import annotations
 
 import math
@@ -17,20 +18,28 @@ import mechlib
 from ._models import Bar, Ramp, hinged_bar
 
 BAR = Bar()
-K_SPRING = 20.0   # N*m/rad
+K_SPRING = 20.0  # N*m/rad
 
 
 def test_torsion_spring_equilibrium_angle() -> None:
     """k theta = -m g (L/2) cos(theta) (moment balance about the hinge), solved by brentq
     to 1e-14: theta* = -0.4431 rad. Static Newton stops at 1e-10 of the weight:
     tolerance 1e-8 rad (brief)."""
+
     def balance(theta: float) -> float:
         return K_SPRING * theta + BAR.weight_moment * math.cos(theta)
+
     expected = brentq(balance, -math.pi / 2, 0.0, xtol=1e-14)
     mech = hinged_bar(BAR)
     mech.add_force(mechlib.TorsionSpring("spring", joint="hinge", stiffness=K_SPRING))
-    sol = mechlib.solve(mech, mechlib.Static(), requests=[
-        mechlib.JointCoordinate("angle", "hinge"), mechlib.ElementOutput("spring", "spring")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Static(),
+        requests=[
+            mechlib.JointCoordinate("angle", "hinge"),
+            mechlib.ElementOutput("spring", "spring"),
+        ],
+    )
     assert sol.ok and len(sol.time) == 1
     assert sol.channels["angle.value"][0] == pytest.approx(expected, abs=1e-8)
     # the spring reports the moment k theta (N*m) at that angle
@@ -43,9 +52,15 @@ def test_quasi_static_effort_equals_the_weight_moment() -> None:
     so 1e-8 of the peak 9.81 N*m is asserted), the hinge force carries the weight."""
     mech = hinged_bar(BAR)
     mech.add_motion("lift", joint="hinge", function=Ramp(-1.2, 2.4))
-    sol = mechlib.solve(mech, mechlib.QuasiStatic(1.0, 0.1), requests=[
-        mechlib.MotionEffort("effort", "lift"), mechlib.JointCoordinate("angle", "hinge"),
-        mechlib.JointReaction("R", "hinge")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.QuasiStatic(1.0, 0.1),
+        requests=[
+            mechlib.MotionEffort("effort", "lift"),
+            mechlib.JointCoordinate("angle", "hinge"),
+            mechlib.JointReaction("R", "hinge"),
+        ],
+    )
     theta = -1.2 + 2.4 * sol.time
     assert len(sol.time) == 11
     assert np.abs(sol.channels["angle.value"] - theta).max() < 1e-10
@@ -62,13 +77,20 @@ def test_quasi_static_large_step_is_subdivided() -> None:
     static effort m g (L/2) cos 3 (1e-8 of the peak)."""
     mech = hinged_bar(BAR)
     mech.add_motion("lift", joint="hinge", function=Ramp(0.0, 3.0))
-    sol = mechlib.solve(mech, mechlib.QuasiStatic(1.0, 1.0), requests=[
-        mechlib.MotionEffort("effort", "lift"), mechlib.JointCoordinate("angle", "hinge")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.QuasiStatic(1.0, 1.0),
+        requests=[
+            mechlib.MotionEffort("effort", "lift"),
+            mechlib.JointCoordinate("angle", "hinge"),
+        ],
+    )
     assert sol.ok
     assert sol.stats.rejected_steps > 0
     assert sol.channels["angle.value"][-1] == pytest.approx(3.0, abs=1e-10)
     assert sol.channels["effort.value"][-1] == pytest.approx(
-        BAR.weight_moment * math.cos(3.0), abs=1e-8 * BAR.weight_moment)
+        BAR.weight_moment * math.cos(3.0), abs=1e-8 * BAR.weight_moment
+    )
 
 
 @pytest.mark.parametrize("frame", ["bar", "ground"])
@@ -80,16 +102,24 @@ def test_point_force_frame_in_static_balance(frame: str) -> None:
     push = 5.0
     mech = hinged_bar(BAR)
     mech.add_force(mechlib.TorsionSpring("spring", joint="hinge", stiffness=K_SPRING))
-    mech.add_force(mechlib.PointForce("push", body="bar", at=(BAR.length, 0.0, 0.0),
-                                      value=lambda t, view: (0.0, push, 0.0), frame=frame))
+    mech.add_force(
+        mechlib.PointForce(
+            "push",
+            body="bar",
+            at=(BAR.length, 0.0, 0.0),
+            value=lambda t, view: (0.0, push, 0.0),
+            frame=frame,
+        )
+    )
 
     def balance(theta: float) -> float:
         arm = 1.0 if frame == "bar" else math.cos(theta)
-        return (K_SPRING * theta - push * BAR.length * arm
-                + BAR.weight_moment * math.cos(theta))
+        return K_SPRING * theta - push * BAR.length * arm + BAR.weight_moment * math.cos(theta)
+
     expected = brentq(balance, -1.5, 1.5, xtol=1e-14)
-    sol = mechlib.solve(mech, mechlib.Static(),
-                        requests=[mechlib.JointCoordinate("angle", "hinge")])
+    sol = mechlib.solve(
+        mech, mechlib.Static(), requests=[mechlib.JointCoordinate("angle", "hinge")]
+    )
     assert sol.channels["angle.value"][0] == pytest.approx(expected, abs=1e-8)
 
 
@@ -98,8 +128,9 @@ def test_angle_channel_keeps_turns_of_a_subdivided_step() -> None:
     channel reports the prescribed 6 rad (1e-10), as the motion equation demands."""
     mech = hinged_bar(BAR)
     mech.add_motion("lift", joint="hinge", function=Ramp(0.0, 6.0))
-    sol = mechlib.solve(mech, mechlib.QuasiStatic(1.0, 1.0),
-                        requests=[mechlib.JointCoordinate("angle", "hinge")])
+    sol = mechlib.solve(
+        mech, mechlib.QuasiStatic(1.0, 1.0), requests=[mechlib.JointCoordinate("angle", "hinge")]
+    )
     assert sol.ok
     assert sol.channels["angle.value"][-1] == pytest.approx(6.0, abs=1e-10)
 

@@ -5,6 +5,7 @@ of its right-hand side; the oracle here is SciPy's own collocation solver, spied
 iterations it reports (`n_iter`) and the trial step sizes it is called with from each
 step start (a new size from the same start is a rejected trial).
 """
+
 from __future__ import annotations
 
 import importlib
@@ -22,9 +23,12 @@ from ._models import hinged_bar
 
 
 def _pendulum(analysis) -> mechlib.Solution:
-    return mechlib.solve(hinged_bar(), analysis,
-                         initial=[mechlib.InitialValue("hinge", 0.0, 0.0)],
-                         requests=[mechlib.JointCoordinate("angle", "hinge")])
+    return mechlib.solve(
+        hinged_bar(),
+        analysis,
+        initial=[mechlib.InitialValue("hinge", 0.0, 0.0)],
+        requests=[mechlib.JointCoordinate("angle", "hinge")],
+    )
 
 
 def test_radau_counts_match_scipy(monkeypatch) -> None:
@@ -66,14 +70,21 @@ def test_radau_counts_match_scipy(monkeypatch) -> None:
     assert rejected > 0
     assert sol.stats.steps == len(starts)
     assert sol.stats.rejected_steps == rejected
-    assert sol.stats.newton_iterations == (sum(n for *_, n in collocations) + sum(projections)
-                                           + sum(assembly))
+    assert sol.stats.newton_iterations == (
+        sum(n for *_, n in collocations) + sum(projections) + sum(assembly)
+    )
 
 
-@pytest.mark.parametrize("analysis", [
-    mechlib.Dynamic(0.5, 0.05), mechlib.Dynamic(0.5, 0.05, integrator="radau"),
-    mechlib.QuasiStatic(0.5, 0.05), mechlib.Static(0.0)],
-    ids=["generalized-alpha", "radau", "quasi-static", "static"])
+@pytest.mark.parametrize(
+    "analysis",
+    [
+        mechlib.Dynamic(0.5, 0.05),
+        mechlib.Dynamic(0.5, 0.05, integrator="radau"),
+        mechlib.QuasiStatic(0.5, 0.05),
+        mechlib.Static(0.0),
+    ],
+    ids=["generalized-alpha", "radau", "quasi-static", "static"],
+)
 def test_every_analysis_fills_every_counter(analysis) -> None:
     """Each analysis reports steps, Newton iterations, factorisations and Jacobian
     evaluations (all > 0 for a pendulum released horizontal), and `as_dict` carries the
@@ -81,22 +92,36 @@ def test_every_analysis_fills_every_counter(analysis) -> None:
     sol = _pendulum(analysis)
     stats = sol.stats
     assert sol.ok and sol.result is mechlib.Status.SUCCESSFUL
-    assert min(stats.steps, stats.newton_iterations, stats.factorizations,
-               stats.jacobian_evaluations) > 0
-    assert {"steps", "rejected_steps", "newton_iterations", "cpu_seconds", "factorizations",
-            "jacobian_evaluations"} == set(stats.as_dict())
+    assert (
+        min(stats.steps, stats.newton_iterations, stats.factorizations, stats.jacobian_evaluations)
+        > 0
+    )
+    assert {
+        "steps",
+        "rejected_steps",
+        "newton_iterations",
+        "cpu_seconds",
+        "factorizations",
+        "jacobian_evaluations",
+    } == set(stats.as_dict())
     assert np.isfinite(stats.cpu_seconds)
 
 
-@pytest.mark.parametrize("analysis", [mechlib.Dynamic(0.5, 0.05, max_steps=20),
-                                      mechlib.QuasiStatic(0.5, 0.05, max_steps=3)],
-                         ids=["generalized-alpha", "quasi-static"])
+@pytest.mark.parametrize(
+    "analysis",
+    [mechlib.Dynamic(0.5, 0.05, max_steps=20), mechlib.QuasiStatic(0.5, 0.05, max_steps=3)],
+    ids=["generalized-alpha", "quasi-static"],
+)
 def test_max_steps_is_an_option_with_its_status(analysis) -> None:
     """`max_steps` (accepted and rejected steps) stops the run with status
     MAX_STEPS_REACHED, its message next to the human text, keeping the rows computed."""
-    sol = mechlib.solve(hinged_bar(), analysis, throw=False,
-                        initial=[mechlib.InitialValue("hinge", 0.0, 0.0)],
-                        requests=[mechlib.JointCoordinate("angle", "hinge")])
+    sol = mechlib.solve(
+        hinged_bar(),
+        analysis,
+        throw=False,
+        initial=[mechlib.InitialValue("hinge", 0.0, 0.0)],
+        requests=[mechlib.JointCoordinate("angle", "hinge")],
+    )
     assert not sol.ok and sol.result is mechlib.Status.MAX_STEPS_REACHED
     assert sol.result.code == "max_steps_reached"
     assert "analysis.max_steps" in sol.message and len(sol.time) > 0

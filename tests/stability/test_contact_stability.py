@@ -5,19 +5,28 @@ a steel ball rattling in its socket (seed 004 rod-end) under a sinusoidal force 
 Each: no solver failure, no energy growth, a bounded step count (measured, with margin) and
 results unchanged within a stated tolerance when the tolerance is tightened 10x.
 """
+
 from __future__ import annotations
 
 import math
 
-import mechlib as ml
 import numpy as np
 import pytest
-from mechlib.analysis import DEFAULT_TOLERANCE
-from mechlib.rotation import omega_global
 from scipy.integrate import cumulative_simpson
-from mechlib.contact import (CircleProfile, Contact, HertzLaw, ImpactLaw, SpherePlane,
-                             StribeckFriction, hertz_stiffness, spherical_clearance)
 
+import mechlib as ml
+from mechlib.analysis import DEFAULT_TOLERANCE
+from mechlib.contact import (
+    CircleProfile,
+    Contact,
+    HertzLaw,
+    ImpactLaw,
+    SpherePlane,
+    StribeckFriction,
+    hertz_stiffness,
+    spherical_clearance,
+)
+from mechlib.rotation import omega_global
 from tests.mechlib._models import Ramp
 
 G, R = 9.81, 0.01
@@ -26,27 +35,37 @@ G, R = 9.81, 0.01
 def _cam_profile() -> np.ndarray:
     """A 20 mm high, 40 mm wide bump on a flat guide (m, global, z = 0)."""
     x = np.linspace(-0.2, 0.2, 41)
-    return np.column_stack((x, 0.02 * np.exp(-(x / 0.04) ** 2), 0 * x))
+    return np.column_stack((x, 0.02 * np.exp(-((x / 0.04) ** 2)), 0 * x))
 
 
 def roller_over_cam(tolerance: float = DEFAULT_TOLERANCE) -> ml.Solution:
     """A 0.5 kg roller on a vertical slide of a carriage driven at 0.2 m/s over the cam."""
     m = ml.Mechanism(name="cam", gravity=(0, -G, 0))
-    y0 = R + 0.02 * math.exp(-(0.1 / 0.04) ** 2)
+    y0 = R + 0.02 * math.exp(-((0.1 / 0.04) ** 2))
     m.add_body("carriage", mass=1.0, cm=(-0.1, 0.1, 0), inertia=[0.01] * 3)
     m.add_body("roller", mass=0.5, cm=(-0.1, y0, 0), inertia=[1e-4] * 3)
     m.add_point("centre", body="roller", at=(-0.1, y0, 0))
-    m.add_joint("rail", "prismatic", bodies=("carriage", ml.GROUND), at=(-0.1, 0.1, 0),
-                axis=(1, 0, 0))
-    m.add_joint("slide", "prismatic", bodies=("roller", "carriage"), at=(-0.1, y0, 0),
-                axis=(0, 1, 0))
+    m.add_joint(
+        "rail", "prismatic", bodies=("carriage", ml.GROUND), at=(-0.1, 0.1, 0), axis=(1, 0, 0)
+    )
+    m.add_joint(
+        "slide", "prismatic", bodies=("roller", "carriage"), at=(-0.1, y0, 0), axis=(0, 1, 0)
+    )
     m.add_motion("drive", joint="rail", function=Ramp(0.0, 0.2))
     law = ImpactLaw(1.0e6, 1.5, damping=200.0, depth=1e-4)
-    m.add_force(Contact("cam", ("roller", ml.GROUND),
-                        CircleProfile((-0.1, y0, 0), R, _cam_profile(), (0, 0, 1)), law))
-    return ml.solve(m, ml.Dynamic(end=1.0, step=0.005, tolerance=tolerance),
-                    requests=[ml.PointKinematics("p", "centre", "position"),
-                              ml.ElementOutput("cam", "cam")])
+    m.add_force(
+        Contact(
+            "cam",
+            ("roller", ml.GROUND),
+            CircleProfile((-0.1, y0, 0), R, _cam_profile(), (0, 0, 1)),
+            law,
+        )
+    )
+    return ml.solve(
+        m,
+        ml.Dynamic(end=1.0, step=0.005, tolerance=tolerance),
+        requests=[ml.PointKinematics("p", "centre", "position"), ml.ElementOutput("cam", "cam")],
+    )
 
 
 def test_roller_passes_over_the_cam_top() -> None:
@@ -77,21 +96,38 @@ def block_on_spring(tolerance: float = DEFAULT_TOLERANCE) -> ml.Solution:
     overlap = (G / 4 / k_contact) ** (1 / 1.5)
     law = ImpactLaw(k_contact, 1.5, damping=2.0e3, depth=1e-5)
     for i, (x, z) in enumerate([(-0.1, -0.1), (-0.1, 0.1), (0.1, -0.1), (0.1, 0.1)]):
-        m.add_force(Contact(f"c{i}", ("box", ml.GROUND),
-                            SpherePlane((0.03 + x, R, z), R, (0, overlap, 0), (0, 1, 0)),
-                            law, STICK_SLIP))
-    m.add_force(ml.Spring("tie", (("box", (0.03, 0.05, 0)), (ml.GROUND, (-1.0, 0.05, 0))),
-                          stiffness=K_SPRING, free_length=1.0))
-    return ml.solve(m, ml.Dynamic(end=2.0, step=0.005, tolerance=tolerance),
-                    requests=[ml.PointKinematics("p", "cm", "position"),
-                              ml.PointKinematics("v", "cm", "velocity")])
+        m.add_force(
+            Contact(
+                f"c{i}",
+                ("box", ml.GROUND),
+                SpherePlane((0.03 + x, R, z), R, (0, overlap, 0), (0, 1, 0)),
+                law,
+                STICK_SLIP,
+            )
+        )
+    m.add_force(
+        ml.Spring(
+            "tie",
+            (("box", (0.03, 0.05, 0)), (ml.GROUND, (-1.0, 0.05, 0))),
+            stiffness=K_SPRING,
+            free_length=1.0,
+        )
+    )
+    return ml.solve(
+        m,
+        ml.Dynamic(end=2.0, step=0.005, tolerance=tolerance),
+        requests=[
+            ml.PointKinematics("p", "cm", "position"),
+            ml.PointKinematics("v", "cm", "velocity"),
+        ],
+    )
 
 
 def _energy(sol: ml.Solution) -> np.ndarray:
     """Kinetic + spring energy (J); the contacts' elastic energy is constant (no lift)."""
     x = np.asarray(sol.channels["p.x"])
     v = np.column_stack([sol.channels[f"v.{c}"] for c in "xyz"])
-    return 0.5 * MASS * np.sum(v * v, axis=1) + 0.5 * K_SPRING * x ** 2
+    return 0.5 * MASS * np.sum(v * v, axis=1) + 0.5 * K_SPRING * x**2
 
 
 def test_stick_slip_at_near_zero_speed() -> None:
@@ -110,8 +146,9 @@ def test_stick_slip_at_near_zero_speed() -> None:
 
 
 BALL_MASS, BALL_INERTIA, BALL_RADIUS, CLEARANCE = 0.2, 8e-6, 0.01, 5e-4
-K_HERTZ = hertz_stiffness(210e9, 0.3, 210e9, 0.3, BALL_RADIUS * (BALL_RADIUS + CLEARANCE)
-                          / CLEARANCE)
+K_HERTZ = hertz_stiffness(
+    210e9, 0.3, 210e9, 0.3, BALL_RADIUS * (BALL_RADIUS + CLEARANCE) / CLEARANCE
+)
 DRIVE, DRIVE_HZ = 20.0, 4.0
 
 
@@ -127,8 +164,12 @@ def _ball_energy(t: float, view) -> float:
     rd, pd = view.kin.xd[0, :3], view.kin.xd[0, 3:]
     w = omega_global(p, pd)
     x = max(view.system.mechanism.forces["socket"].geometry.gap(view).penetration, 0.0)
-    return float(0.5 * BALL_MASS * rd @ rd + 0.5 * BALL_INERTIA * w @ w + BALL_MASS * G * y
-                 + K_HERTZ * x ** 2.5 / 2.5)
+    return float(
+        0.5 * BALL_MASS * rd @ rd
+        + 0.5 * BALL_INERTIA * w @ w
+        + BALL_MASS * G * y
+        + K_HERTZ * x**2.5 / 2.5
+    )
 
 
 def rod_end(tolerance: float = DEFAULT_TOLERANCE, end: float = 10.0) -> ml.Solution:
@@ -139,15 +180,27 @@ def rod_end(tolerance: float = DEFAULT_TOLERANCE, end: float = 10.0) -> ml.Solut
     m = ml.Mechanism(name="rod-end", gravity=(0, -G, 0))
     m.add_body("ball", mass=BALL_MASS, cm=(0, 0, 0), inertia=[BALL_INERTIA] * 3)
     m.add_point("centre", body="ball", at=(0, 0, 0))
-    m.add_force(spherical_clearance("socket", ("ball", ml.GROUND), center=(0, 0, 0),
-                                    radius=BALL_RADIUS, clearance=CLEARANCE,
-                                    law=HertzLaw(K_HERTZ, 1.5, 0.5),
-                                    friction=StribeckFriction(0.15, 0.1)))
+    m.add_force(
+        spherical_clearance(
+            "socket",
+            ("ball", ml.GROUND),
+            center=(0, 0, 0),
+            radius=BALL_RADIUS,
+            clearance=CLEARANCE,
+            law=HertzLaw(K_HERTZ, 1.5, 0.5),
+            friction=StribeckFriction(0.15, 0.1),
+        )
+    )
     m.add_force(ml.PointForce("drive", "ball", (0, 0, 0), lambda t, v: (_drive(t), 0.0, 0.0)))
-    return ml.solve(m, ml.Dynamic(end=end, step=1e-3, tolerance=tolerance),
-                    requests=[ml.ElementOutput("socket", "socket"),
-                              ml.PointKinematics("c", "centre", "position"),
-                              ml.ExpressionOutput("energy", _ball_energy, "J")])
+    return ml.solve(
+        m,
+        ml.Dynamic(end=end, step=1e-3, tolerance=tolerance),
+        requests=[
+            ml.ElementOutput("socket", "socket"),
+            ml.PointKinematics("c", "centre", "position"),
+            ml.ExpressionOutput("energy", _ball_energy, "J"),
+        ],
+    )
 
 
 def energy_balance(sol: ml.Solution) -> np.ndarray:
@@ -168,7 +221,7 @@ def impact_force_bound() -> float:
     v^2 = 2 (F/m + g) 2c: F = K^0.4 (5/4 m v^2)^0.6 (Johnson, Contact Mechanics, 11.2).
     Damping only lowers it."""
     v2 = 2.0 * (DRIVE / BALL_MASS + G) * 2.0 * CLEARANCE
-    return K_HERTZ ** 0.4 * (1.25 * BALL_MASS * v2) ** 0.6
+    return K_HERTZ**0.4 * (1.25 * BALL_MASS * v2) ** 0.6
 
 
 def _steady_figures(sol: ml.Solution) -> dict[str, float]:
@@ -181,11 +234,14 @@ def _steady_figures(sol: ml.Solution) -> dict[str, float]:
     ts, span = t[steady], t[-1] - 0.1
     normal = np.asarray(sol.channels["socket.normal"])[steady]
     balance = energy_balance(sol)
-    return {"rms": math.sqrt(np.trapezoid(normal ** 2, ts) / span),
-            "mean": np.trapezoid(normal, ts) / span, "peak": normal.max(),
-            "eccentricity": np.trapezoid(sol.channels["socket.eccentricity"][steady], ts) / span,
-            "wear": np.trapezoid(sol.channels["socket.wear"], t),
-            "dissipation": (balance[0] - balance[-1]) / (t[-1] * DRIVE_HZ)}
+    return {
+        "rms": math.sqrt(np.trapezoid(normal**2, ts) / span),
+        "mean": np.trapezoid(normal, ts) / span,
+        "peak": normal.max(),
+        "eccentricity": np.trapezoid(sol.channels["socket.eccentricity"][steady], ts) / span,
+        "wear": np.trapezoid(sol.channels["socket.wear"], t),
+        "dissipation": (balance[0] - balance[-1]) / (t[-1] * DRIVE_HZ),
+    }
 
 
 def test_steel_ball_in_socket_ten_seconds() -> None:
@@ -214,8 +270,9 @@ def test_steel_ball_in_socket_ten_seconds() -> None:
         steady = balance[np.asarray(sol.time) >= 0.1]
         assert (steady - np.minimum.accumulate(steady)).max() < 1e-6
         deflection = (normal[-1] / K_HERTZ) ** (2 / 3)
-        assert sol.channels["socket.eccentricity"][-1] == pytest.approx(CLEARANCE + deflection,
-                                                                         abs=1e-9)
+        assert sol.channels["socket.eccentricity"][-1] == pytest.approx(
+            CLEARANCE + deflection, abs=1e-9
+        )
     base, tight = (_steady_figures(sol) for sol in runs)
     for key in ("rms", "mean", "peak"):
         assert base[key] == pytest.approx(tight[key], rel=1e-3)

@@ -5,6 +5,7 @@ A panel (I = 0.5 kg*m^2) is driven by a torsion spring k = 2 N*m/rad towards 180
 dissipates, so the energy (kinetic + both springs) must stay constant; the step count must
 stay bounded; and the peak latch moment must not change when the tolerance is 10x tighter.
 """
+
 from __future__ import annotations
 
 import math
@@ -21,19 +22,24 @@ K_LATCH = 1000.0 * K_DRIVE
 def _run(tolerance: float) -> ml.Solution:
     mech = ml.Mechanism()
     mech.add_body("panel", mass=1.0, cm=(0, 0, 0), inertia=[I_PANEL] * 3)
-    mech.add_joint("hinge", "revolute", bodies=("panel", "ground"), at=(0, 0, 0),
-                   axis=(0, 0, 1))
+    mech.add_joint("hinge", "revolute", bodies=("panel", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
     mech.add_force(ml.TorsionSpring("drive", "hinge", stiffness=K_DRIVE, angle0=math.pi))
     latch = ml.TorsionSpring("latch", "hinge", stiffness=K_LATCH, angle0=math.pi / 2)
     latch.active = False
     mech.add_force(latch)
-    engage = ml.Event("engage", lambda t, v: v.angle("hinge") - math.pi / 2,
-                      (ml.Action("activate", "latch"),))
-    return ml.solve(mech, ml.Dynamic(end=2.0, step=1e-3, tolerance=tolerance),
-                    events=[engage],
-                    requests=[ml.JointCoordinate("a", "hinge", "angle"),
-                              ml.JointCoordinate("w", "hinge", "omega"),
-                              ml.ElementOutput("latch", "latch")])
+    engage = ml.Event(
+        "engage", lambda t, v: v.angle("hinge") - math.pi / 2, (ml.Action("activate", "latch"),)
+    )
+    return ml.solve(
+        mech,
+        ml.Dynamic(end=2.0, step=1e-3, tolerance=tolerance),
+        events=[engage],
+        requests=[
+            ml.JointCoordinate("a", "hinge", "angle"),
+            ml.JointCoordinate("w", "hinge", "omega"),
+            ml.ElementOutput("latch", "latch"),
+        ],
+    )
 
 
 @pytest.fixture(scope="module")
@@ -56,10 +62,13 @@ def test_energy_stays_constant(runs) -> None:
     sol = runs[0]
     a, w = sol.channels["a.value"], sol.channels["w.value"]
     latched = a >= math.pi / 2 - 1e-9
-    latched[np.argmax(latched):] = True  # the latch holds from its first engagement on
-    energy = (0.5 * I_PANEL * w ** 2 + 0.5 * K_DRIVE * (a - math.pi) ** 2
-              + np.where(latched, 0.5 * K_LATCH * (a - math.pi / 2) ** 2, 0.0))
-    released = 0.5 * K_DRIVE * math.pi ** 2 * (1 - 0.25)
+    latched[np.argmax(latched) :] = True  # the latch holds from its first engagement on
+    energy = (
+        0.5 * I_PANEL * w**2
+        + 0.5 * K_DRIVE * (a - math.pi) ** 2
+        + np.where(latched, 0.5 * K_LATCH * (a - math.pi / 2) ** 2, 0.0)
+    )
+    released = 0.5 * K_DRIVE * math.pi**2 * (1 - 0.25)
     assert energy.max() - energy[0] <= 1e-3 * released
     assert energy[0] - energy.min() <= 5e-3 * released
 
@@ -73,7 +82,7 @@ def test_peak_latch_moment_unchanged_with_tighter_tolerance(runs) -> None:
     assert p0 == pytest.approx(p1, rel=5e-3)
     # energy at engagement: I w^2/2 = k (pi^2 - (pi/2)^2)/2; over the latch travel theta
     # the drive spring still gives k (pi/2) theta - k theta^2/2: solve for theta_max
-    e0 = 0.5 * K_DRIVE * (math.pi ** 2 - (math.pi / 2) ** 2)
+    e0 = 0.5 * K_DRIVE * (math.pi**2 - (math.pi / 2) ** 2)
     a2, b1 = 0.5 * (K_LATCH + K_DRIVE), -K_DRIVE * math.pi / 2
     theta = (-b1 + math.sqrt(b1 * b1 + 4 * a2 * e0)) / (2 * a2)
     assert p1 == pytest.approx(K_LATCH * theta, rel=1e-2)

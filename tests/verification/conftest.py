@@ -3,6 +3,7 @@
 The engine is imported inside the fixtures, so that the reference self-checks
 (test_references.py) collect and run even where the engine cannot be imported.
 """
+
 from __future__ import annotations
 
 import sys
@@ -13,7 +14,7 @@ from typing import Any
 import pytest
 
 HERE = Path(__file__).resolve().parent
-if str(HERE) not in sys.path:          # `import references` from the test modules
+if str(HERE) not in sys.path:  # `import references` from the test modules
     sys.path.insert(0, str(HERE))
 
 LIBRARY = HERE.parents[1] / "loadcases" / "library" / "verification"
@@ -45,7 +46,9 @@ def run_case(tmp_path_factory: pytest.TempPathFactory) -> Callable[[str], Any]:
         assert len(outcomes) == 1, f"{file_name}: expected one run, got {len(outcomes)}"
         outcome = outcomes[0]
         assert outcome.solution.status == "ok", (
-            f"{file_name}: solver failed: {outcome.solution.message}")
+            f"{file_name}: solver failed: {outcome.solution.message}"
+        )
         cache[file_name] = outcome
         return outcome
+
     return run

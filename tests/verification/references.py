@@ -18,6 +18,7 @@ Sources:
 Planar conventions used throughout: the plane is x-y, angles are about +z (right-hand rule),
 `cross2(a, b) = a_x b_y - a_y b_x` is the z-component of a 3D cross product.
 """
+
 from __future__ import annotations
 
 from collections.abc import Callable
@@ -32,19 +33,44 @@ from scipy.special import ellipk
 
 __all__ = [
     "STANDARD_GRAVITY",
+    "DoublePendulum",
+    "FourBar",
+    "FourBarPose",
+    "HeavyTop",
+    "HeavyTopSolution",
+    "Pendulum",
+    "SliderCrank",
+    "SliderCrankKinematics",
+    "SliderCrankLoads",
+    "SpringBar",
+    "all_warnings",
+    "angular_velocity_from_points",
+    "assert_within_peak",
+    "channel",
     "cross2",
-    "SliderCrank", "SliderCrankKinematics", "SliderCrankLoads",
-    "slider_crank_kinematics", "slider_crank_loads", "slider_crank_energy",
-    "Pendulum", "pendulum_period", "pendulum_small_angle_period",
-    "pendulum_hinge_reaction", "pendulum_bottom_reaction", "pendulum_rhs",
-    "FourBar", "FourBarPose", "fourbar_pose", "fourbar_velocity_ratios", "fourbar_potential",
-    "fourbar_drive_torque", "fourbar_static_loads",
-    "SpringBar", "spring_bar_moment", "spring_bar_equilibrium",
-    "HeavyTop", "HeavyTopSolution", "heavy_top_solve", "heavy_top_energy",
-    "heavy_top_vertical_momentum", "angular_velocity_from_points",
-    "DoublePendulum", "double_pendulum_energy", "double_pendulum_rhs",
+    "double_pendulum_energy",
+    "double_pendulum_rhs",
     "double_pendulum_solve",
-    "channel", "vector", "all_warnings", "wrap_angle", "assert_within_peak",
+    "fourbar_drive_torque",
+    "fourbar_pose",
+    "fourbar_potential",
+    "fourbar_static_loads",
+    "fourbar_velocity_ratios",
+    "heavy_top_energy",
+    "heavy_top_solve",
+    "heavy_top_vertical_momentum",
+    "pendulum_bottom_reaction",
+    "pendulum_hinge_reaction",
+    "pendulum_period",
+    "pendulum_rhs",
+    "pendulum_small_angle_period",
+    "slider_crank_energy",
+    "slider_crank_kinematics",
+    "slider_crank_loads",
+    "spring_bar_equilibrium",
+    "spring_bar_moment",
+    "vector",
+    "wrap_angle",
 ]
 
 STANDARD_GRAVITY = 9.81
@@ -69,6 +95,7 @@ def _perp(v: FloatArray) -> FloatArray:
 # the slider, slider on a prismatic along x; gravity -y. [SM] 5/6 and 6/6 (general plane motion).
 # --------------------------------------------------------------------------------------------
 
+
 @dataclass(frozen=True)
 class SliderCrank:
     """Slider-crank data (SI). Defaults are those of slider_crank.mech.yaml.
@@ -78,38 +105,39 @@ class SliderCrank:
     of mass is at the slider joint point on the x axis.
     """
 
-    crank_length: float = 0.100        # m, pivot to crank pin
-    rod_length: float = 0.300          # m, crank pin to slider joint
-    crank_mass: float = 1.2            # kg
-    crank_cm_radius: float = 0.050     # m, pivot to crank centre of mass (on the crank line)
-    crank_izz: float = 0.001           # kg*m^2, about the crank centre of mass
-    rod_mass: float = 0.8              # kg
-    rod_cm_fraction: float = 0.5       # -, along the rod from the crank pin
-    rod_izz: float = 0.006             # kg*m^2, about the rod centre of mass
-    slider_mass: float = 2.0           # kg
-    g: float = STANDARD_GRAVITY        # m/s^2, acting along -y
+    crank_length: float = 0.100  # m, pivot to crank pin
+    rod_length: float = 0.300  # m, crank pin to slider joint
+    crank_mass: float = 1.2  # kg
+    crank_cm_radius: float = 0.050  # m, pivot to crank centre of mass (on the crank line)
+    crank_izz: float = 0.001  # kg*m^2, about the crank centre of mass
+    rod_mass: float = 0.8  # kg
+    rod_cm_fraction: float = 0.5  # -, along the rod from the crank pin
+    rod_izz: float = 0.006  # kg*m^2, about the rod centre of mass
+    slider_mass: float = 2.0  # kg
+    g: float = STANDARD_GRAVITY  # m/s^2, acting along -y
 
 
 @dataclass(frozen=True)
 class SliderCrankKinematics:
     """Closed-form kinematics, arrays of shape (n,) or (n, 2) (m, rad, s)."""
 
-    beta: FloatArray                 # rod angle from +x, rad (negative while theta in (0, pi))
-    beta_d: FloatArray               # rad/s
-    beta_dd: FloatArray              # rad/s^2
-    x: FloatArray                    # slider position along x, m
-    x_d: FloatArray                  # m/s
-    x_dd: FloatArray                 # m/s^2
-    pin: FloatArray                  # crank pin position (n, 2), m
-    crank_cm: FloatArray             # (n, 2), m
-    crank_cm_acc: FloatArray         # (n, 2), m/s^2
-    rod_cm: FloatArray               # (n, 2), m
-    rod_cm_vel: FloatArray           # (n, 2), m/s
-    rod_cm_acc: FloatArray           # (n, 2), m/s^2
+    beta: FloatArray  # rod angle from +x, rad (negative while theta in (0, pi))
+    beta_d: FloatArray  # rad/s
+    beta_dd: FloatArray  # rad/s^2
+    x: FloatArray  # slider position along x, m
+    x_d: FloatArray  # m/s
+    x_dd: FloatArray  # m/s^2
+    pin: FloatArray  # crank pin position (n, 2), m
+    crank_cm: FloatArray  # (n, 2), m
+    crank_cm_acc: FloatArray  # (n, 2), m/s^2
+    rod_cm: FloatArray  # (n, 2), m
+    rod_cm_vel: FloatArray  # (n, 2), m/s
+    rod_cm_acc: FloatArray  # (n, 2), m/s^2
 
 
-def slider_crank_kinematics(theta: ArrayLike, omega: ArrayLike, alpha: ArrayLike,
-                            p: SliderCrank = SliderCrank()) -> SliderCrankKinematics:
+def slider_crank_kinematics(
+    theta: ArrayLike, omega: ArrayLike, alpha: ArrayLike, p: SliderCrank = SliderCrank()
+) -> SliderCrankKinematics:
     """Slider-crank positions, velocities and accelerations in closed form.
 
     Loop closure [SM 5/6]: pin A = r (cos th, sin th); slider B = A + l (cos b, sin b) with
@@ -138,8 +166,9 @@ def slider_crank_kinematics(theta: ArrayLike, omega: ArrayLike, alpha: ArrayLike
     rc = p.crank_cm_radius
     crank_cm = rc * u_th
     crank_acc = rc * (a[..., None] * _perp(u_th) - (w**2)[..., None] * u_th)
-    return SliderCrankKinematics(beta, bd, bdd, x, xd, xdd, pin, crank_cm, crank_acc,
-                                 rod_cm, rod_vel, rod_acc)
+    return SliderCrankKinematics(
+        beta, bd, bdd, x, xd, xdd, pin, crank_cm, crank_acc, rod_cm, rod_vel, rod_acc
+    )
 
 
 @dataclass(frozen=True)
@@ -162,8 +191,9 @@ class SliderCrankLoads:
     drive_torque: FloatArray
 
 
-def slider_crank_loads(theta: ArrayLike, omega: ArrayLike, alpha: ArrayLike,
-                       p: SliderCrank = SliderCrank()) -> SliderCrankLoads:
+def slider_crank_loads(
+    theta: ArrayLike, omega: ArrayLike, alpha: ArrayLike, p: SliderCrank = SliderCrank()
+) -> SliderCrankLoads:
     """Planar Newton-Euler solution of the slider-crank [SM 6/6], inertia and gravity included.
 
     Unknowns u = [Px, Py, Ax, Ay, Bx, By, N, T]: P on the crank from ground at the pivot, A on
@@ -178,10 +208,10 @@ def slider_crank_loads(theta: ArrayLike, omega: ArrayLike, alpha: ArrayLike,
     n = k.x.shape[0]
     gvec = np.array([0.0, -p.g])
     slider = np.stack([k.x, np.zeros(n)], axis=-1)
-    rO = -k.crank_cm                       # pivot relative to crank cm
-    rA = k.pin - k.crank_cm                # pin relative to crank cm
-    sA = k.pin - k.rod_cm                  # pin relative to rod cm
-    sB = slider - k.rod_cm                 # slider joint relative to rod cm
+    rO = -k.crank_cm  # pivot relative to crank cm
+    rA = k.pin - k.crank_cm  # pin relative to crank cm
+    sA = k.pin - k.rod_cm  # pin relative to rod cm
+    sB = slider - k.rod_cm  # slider joint relative to rod cm
     mat = np.zeros((n, 8, 8))
     rhs = np.zeros((n, 8))
     # crank translation: P - A = m a - m g
@@ -207,12 +237,12 @@ def slider_crank_loads(theta: ArrayLike, omega: ArrayLike, alpha: ArrayLike,
     mat[:, 7, 5], mat[:, 7, 6] = 1.0, 1.0
     rhs[:, 7] = -p.slider_mass * gvec[1]
     u = np.linalg.solve(mat, rhs[..., None])[..., 0]
-    return SliderCrankLoads(u[:, 0], u[:, 1], u[:, 2], u[:, 3], u[:, 4], u[:, 5], u[:, 6],
-                            u[:, 7])
+    return SliderCrankLoads(u[:, 0], u[:, 1], u[:, 2], u[:, 3], u[:, 4], u[:, 5], u[:, 6], u[:, 7])
 
 
-def slider_crank_energy(theta: ArrayLike, omega: ArrayLike,
-                        p: SliderCrank = SliderCrank()) -> tuple[FloatArray, FloatArray]:
+def slider_crank_energy(
+    theta: ArrayLike, omega: ArrayLike, p: SliderCrank = SliderCrank()
+) -> tuple[FloatArray, FloatArray]:
     """Kinetic and potential energy of the slider-crank (J), potential zero at y = 0.
 
     T = 1/2 (I_c + m_c r_c^2) w^2 + 1/2 m_r |v_G|^2 + 1/2 I_r b'^2 + 1/2 m_s x'^2;
@@ -221,8 +251,12 @@ def slider_crank_energy(theta: ArrayLike, omega: ArrayLike,
     w = np.asarray(omega, float)
     k = slider_crank_kinematics(theta, w, np.zeros_like(w), p)
     i_pivot = p.crank_izz + p.crank_mass * p.crank_cm_radius**2
-    kinetic = (0.5 * i_pivot * w**2 + 0.5 * p.rod_mass * np.sum(k.rod_cm_vel**2, axis=-1)
-               + 0.5 * p.rod_izz * k.beta_d**2 + 0.5 * p.slider_mass * k.x_d**2)
+    kinetic = (
+        0.5 * i_pivot * w**2
+        + 0.5 * p.rod_mass * np.sum(k.rod_cm_vel**2, axis=-1)
+        + 0.5 * p.rod_izz * k.beta_d**2
+        + 0.5 * p.slider_mass * k.x_d**2
+    )
     potential = p.g * (p.crank_mass * k.crank_cm[:, 1] + p.rod_mass * k.rod_cm[:, 1])
     return kinetic, potential
 
@@ -232,14 +266,15 @@ def slider_crank_energy(theta: ArrayLike, omega: ArrayLike,
 # hinge at the design position (theta = 0), gravity -y.
 # --------------------------------------------------------------------------------------------
 
+
 @dataclass(frozen=True)
 class Pendulum:
     """Physical pendulum data (SI); defaults are those of pendulum.case.yaml (uniform 1 m bar)."""
 
-    mass: float = 3.0              # kg
-    cm_distance: float = 0.5       # m, hinge to centre of mass
-    izz_cm: float = 0.25           # kg*m^2, about the centre of mass (m L^2 / 12)
-    g: float = STANDARD_GRAVITY    # m/s^2
+    mass: float = 3.0  # kg
+    cm_distance: float = 0.5  # m, hinge to centre of mass
+    izz_cm: float = 0.25  # kg*m^2, about the centre of mass (m L^2 / 12)
+    g: float = STANDARD_GRAVITY  # m/s^2
 
     @property
     def izz_hinge(self) -> float:
@@ -266,8 +301,9 @@ def pendulum_small_angle_period(p: Pendulum = Pendulum()) -> float:
     return 2.0 * np.pi / np.sqrt(p.omega0_squared)
 
 
-def pendulum_hinge_reaction(theta: ArrayLike, theta0: float,
-                            p: Pendulum = Pendulum()) -> tuple[FloatArray, FloatArray]:
+def pendulum_hinge_reaction(
+    theta: ArrayLike, theta0: float, p: Pendulum = Pendulum()
+) -> tuple[FloatArray, FloatArray]:
     """Force on the pendulum from the hinge (N, global x and y) at angle `theta` (rad).
 
     Energy [SM 6/6]: theta'^2 = 2 m g d (cos theta - cos theta0) / I_hinge and moment balance
@@ -302,6 +338,7 @@ def pendulum_rhs(t: float, y: FloatArray, p: Pendulum = Pendulum()) -> FloatArra
 # Four-bar (planar): crank O2-B, coupler B-C, rocker O4-C; design position of fourbar*.yaml.
 # --------------------------------------------------------------------------------------------
 
+
 @dataclass(frozen=True)
 class FourBar:
     """Four-bar geometry and masses at the design position (SI, global x-y).
@@ -310,17 +347,17 @@ class FourBar:
     crank 0.1 m, coupler 0.3 m, rocker 0.35 m, ground 0.45 m (Grashof crank-rocker).
     """
 
-    o2: tuple[float, float] = (0.0, 0.0)          # crank pivot, m
-    o4: tuple[float, float] = (0.45, 0.0)         # rocker pivot, m
-    b0: tuple[float, float] = (0.0, 0.1)          # crank pin at design, m
-    c0: tuple[float, float] = (0.24, 0.28)        # coupler-rocker pin at design, m
-    crank_mass: float = 0.5                       # kg
+    o2: tuple[float, float] = (0.0, 0.0)  # crank pivot, m
+    o4: tuple[float, float] = (0.45, 0.0)  # rocker pivot, m
+    b0: tuple[float, float] = (0.0, 0.1)  # crank pin at design, m
+    c0: tuple[float, float] = (0.24, 0.28)  # coupler-rocker pin at design, m
+    crank_mass: float = 0.5  # kg
     crank_cm0: tuple[float, float] = (0.0, 0.05)
     coupler_mass: float = 5.0
-    coupler_cm0: tuple[float, float] = (0.09, 0.23)   # off the line B-C on purpose
+    coupler_cm0: tuple[float, float] = (0.09, 0.23)  # off the line B-C on purpose
     rocker_mass: float = 1.5
     rocker_cm0: tuple[float, float] = (0.345, 0.14)
-    g: float = STANDARD_GRAVITY                   # m/s^2, along -y
+    g: float = STANDARD_GRAVITY  # m/s^2, along -y
 
 
 @dataclass(frozen=True)
@@ -329,8 +366,8 @@ class FourBarPose:
 
     b: FloatArray
     c: FloatArray
-    phi3: FloatArray      # coupler rotation from design, rad
-    phi4: FloatArray      # rocker rotation from design, rad
+    phi3: FloatArray  # coupler rotation from design, rad
+    phi4: FloatArray  # rocker rotation from design, rad
     crank_cm: FloatArray
     coupler_cm: FloatArray
     rocker_cm: FloatArray
@@ -373,8 +410,9 @@ def fourbar_pose(theta: ArrayLike, p: FourBar = FourBar()) -> FourBarPose:
     return FourBarPose(b, c, phi3, phi4, crank_cm, coupler_cm, rocker_cm)
 
 
-def fourbar_velocity_ratios(theta: ArrayLike,
-                            p: FourBar = FourBar()) -> tuple[FloatArray, FloatArray]:
+def fourbar_velocity_ratios(
+    theta: ArrayLike, p: FourBar = FourBar()
+) -> tuple[FloatArray, FloatArray]:
     """Velocity ratios d(phi3)/d(theta), d(phi4)/d(theta) (-) from the loop closure.
 
     Differentiating B(theta) + (C - B) = O4 + (C - O4) [RS 6.7]:
@@ -383,7 +421,7 @@ def fourbar_velocity_ratios(theta: ArrayLike,
     pose = fourbar_pose(theta, p)
     o2, o4 = np.asarray(p.o2, float), np.asarray(p.o4, float)
     db = _perp(pose.b - o2)
-    mat = np.stack([_perp(pose.c - pose.b), -_perp(pose.c - o4)], axis=-1)   # (n, 2, 2)
+    mat = np.stack([_perp(pose.c - pose.b), -_perp(pose.c - o4)], axis=-1)  # (n, 2, 2)
     sol = np.linalg.solve(mat, -db[..., None])[..., 0]
     return sol[:, 0], sol[:, 1]
 
@@ -391,8 +429,11 @@ def fourbar_velocity_ratios(theta: ArrayLike,
 def fourbar_potential(theta: ArrayLike, p: FourBar = FourBar()) -> FloatArray:
     """Gravitational potential energy V = g sum(m_i y_Gi) (J) at crank rotations `theta`."""
     pose = fourbar_pose(theta, p)
-    return p.g * (p.crank_mass * pose.crank_cm[:, 1] + p.coupler_mass * pose.coupler_cm[:, 1]
-                  + p.rocker_mass * pose.rocker_cm[:, 1])
+    return p.g * (
+        p.crank_mass * pose.crank_cm[:, 1]
+        + p.coupler_mass * pose.coupler_cm[:, 1]
+        + p.rocker_mass * pose.rocker_cm[:, 1]
+    )
 
 
 def fourbar_drive_torque(theta: ArrayLike, p: FourBar = FourBar()) -> FloatArray:
@@ -408,8 +449,7 @@ def fourbar_drive_torque(theta: ArrayLike, p: FourBar = FourBar()) -> FloatArray
     dy_crank = _perp(pose.crank_cm - o2)[:, 1]
     dy_coupler = _perp(pose.b - o2)[:, 1] + r3 * _perp(pose.coupler_cm - pose.b)[:, 1]
     dy_rocker = r4 * _perp(pose.rocker_cm - o4)[:, 1]
-    return p.g * (p.crank_mass * dy_crank + p.coupler_mass * dy_coupler
-                  + p.rocker_mass * dy_rocker)
+    return p.g * (p.crank_mass * dy_crank + p.coupler_mass * dy_coupler + p.rocker_mass * dy_rocker)
 
 
 def fourbar_static_loads(theta: ArrayLike, p: FourBar = FourBar()) -> dict[str, FloatArray]:
@@ -425,32 +465,41 @@ def fourbar_static_loads(theta: ArrayLike, p: FourBar = FourBar()) -> dict[str, 
     pose = fourbar_pose(theta, p)
     n = pose.b.shape[0]
     o2, o4 = np.asarray(p.o2, float), np.asarray(p.o4, float)
-    w2, w3, w4 = (np.array([0.0, -m * p.g]) for m in
-                  (p.crank_mass, p.coupler_mass, p.rocker_mass))
+    w2, w3, w4 = (np.array([0.0, -m * p.g]) for m in (p.crank_mass, p.coupler_mass, p.rocker_mass))
     rb, cb, c4 = pose.b - o2, pose.c - pose.b, pose.c - o4
     mat = np.zeros((n, 9, 9))
     rhs = np.zeros((n, 9))
     mat[:, 0, 0], mat[:, 0, 2], rhs[:, 0] = 1.0, -1.0, -w2[0]
     mat[:, 1, 1], mat[:, 1, 3], rhs[:, 1] = 1.0, -1.0, -w2[1]
-    mat[:, 2, 8], mat[:, 2, 2], mat[:, 2, 3] = 1.0, rb[:, 1], -rb[:, 0]   # T - rb x FB
+    mat[:, 2, 8], mat[:, 2, 2], mat[:, 2, 3] = 1.0, rb[:, 1], -rb[:, 0]  # T - rb x FB
     rhs[:, 2] = -cross2(pose.crank_cm - o2, w2)
     mat[:, 3, 2], mat[:, 3, 4], rhs[:, 3] = 1.0, 1.0, -w3[0]
     mat[:, 4, 3], mat[:, 4, 5], rhs[:, 4] = 1.0, 1.0, -w3[1]
-    mat[:, 5, 4], mat[:, 5, 5] = -cb[:, 1], cb[:, 0]                       # cb x FC
+    mat[:, 5, 4], mat[:, 5, 5] = -cb[:, 1], cb[:, 0]  # cb x FC
     rhs[:, 5] = -cross2(pose.coupler_cm - pose.b, w3)
     mat[:, 6, 6], mat[:, 6, 4], rhs[:, 6] = 1.0, -1.0, -w4[0]
     mat[:, 7, 7], mat[:, 7, 5], rhs[:, 7] = 1.0, -1.0, -w4[1]
-    mat[:, 8, 4], mat[:, 8, 5] = c4[:, 1], -c4[:, 0]                       # -c4 x FC
+    mat[:, 8, 4], mat[:, 8, 5] = c4[:, 1], -c4[:, 0]  # -c4 x FC
     rhs[:, 8] = -cross2(pose.rocker_cm - o4, w4)
     u = np.linalg.solve(mat, rhs[..., None])[..., 0]
-    names = ("crank_pivot_fx", "crank_pivot_fy", "pin_b_fx", "pin_b_fy", "pin_c_fx",
-             "pin_c_fy", "rocker_pivot_fx", "rocker_pivot_fy", "drive_torque")
+    names = (
+        "crank_pivot_fx",
+        "crank_pivot_fy",
+        "pin_b_fx",
+        "pin_b_fy",
+        "pin_c_fx",
+        "pin_c_fy",
+        "rocker_pivot_fx",
+        "rocker_pivot_fy",
+        "drive_torque",
+    )
     return {name: u[:, i] for i, name in enumerate(names)}
 
 
 # --------------------------------------------------------------------------------------------
 # Bar on a hinge held up by a linear spring (static_spring_bar.case.yaml).
 # --------------------------------------------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class SpringBar:
@@ -460,13 +509,13 @@ class SpringBar:
     `anchor`; tension = stiffness * (length - free_length).
     """
 
-    mass: float = 4.0                         # kg
-    cm0: tuple[float, float] = (0.5, 0.0)     # m, centre of mass at design
-    tip0: tuple[float, float] = (0.8, 0.0)    # m, spring point on the bar at design
+    mass: float = 4.0  # kg
+    cm0: tuple[float, float] = (0.5, 0.0)  # m, centre of mass at design
+    tip0: tuple[float, float] = (0.8, 0.0)  # m, spring point on the bar at design
     anchor: tuple[float, float] = (0.0, 0.6)  # m, spring point on ground (1 m from tip0)
-    stiffness: float = 200.0                  # N/m
-    free_length: float = 0.6                  # m
-    g: float = STANDARD_GRAVITY               # m/s^2
+    stiffness: float = 200.0  # N/m
+    free_length: float = 0.6  # m
+    g: float = STANDARD_GRAVITY  # m/s^2
 
 
 def _spring_bar_state(theta: float, p: SpringBar) -> tuple[FloatArray, FloatArray, FloatArray]:
@@ -485,8 +534,9 @@ def spring_bar_moment(theta: float, p: SpringBar = SpringBar()) -> float:
     return float(cross2(tip, force) + cross2(cm, np.array([0.0, -p.mass * p.g])))
 
 
-def spring_bar_equilibrium(p: SpringBar = SpringBar(),
-                           bracket: tuple[float, float] = (-1.5, 1.5)) -> dict[str, float]:
+def spring_bar_equilibrium(
+    p: SpringBar = SpringBar(), bracket: tuple[float, float] = (-1.5, 1.5)
+) -> dict[str, float]:
     """Static equilibrium of the spring bar by moment balance, solved with `brentq`.
 
     Returns `angle` (rad), `tension` (N), `length` (m) of the spring, `hinge_fx`, `hinge_fy`
@@ -498,14 +548,20 @@ def spring_bar_equilibrium(p: SpringBar = SpringBar(),
     length = float(np.linalg.norm(np.asarray(p.anchor) - tip))
     h = 1e-6
     slope = (spring_bar_moment(angle + h, p) - spring_bar_moment(angle - h, p)) / (2 * h)
-    return {"angle": angle, "tension": p.stiffness * (length - p.free_length),
-            "length": length, "hinge_fx": -float(force[0]),
-            "hinge_fy": -float(force[1]) + p.mass * p.g, "stiffness": slope}
+    return {
+        "angle": angle,
+        "tension": p.stiffness * (length - p.free_length),
+        "length": length,
+        "hinge_fx": -float(force[0]),
+        "hinge_fy": -float(force[1]) + p.mass * p.g,
+        "stiffness": slope,
+    }
 
 
 # --------------------------------------------------------------------------------------------
 # Heavy top on a spherical joint at the origin (heavy_top.case.yaml), gravity -z.
 # --------------------------------------------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class HeavyTop:
@@ -518,10 +574,10 @@ class HeavyTop:
     """
 
     mass: float = 1.0
-    cm0: tuple[float, float, float] = (0.03, 0.0, 0.04)       # m, 0.05 m along e
+    cm0: tuple[float, float, float] = (0.03, 0.0, 0.04)  # m, 0.05 m along e
     inertia_cm: tuple[float, ...] = (0.00304, 0.0025, 0.00346, 0.0, 0.00072, 0.0)
-    omega0: tuple[float, float, float] = (60.0, 0.0, 80.0)    # rad/s, global, = 100 e
-    g: float = STANDARD_GRAVITY                               # m/s^2, along -z
+    omega0: tuple[float, float, float] = (60.0, 0.0, 80.0)  # rad/s, global, = 100 e
+    g: float = STANDARD_GRAVITY  # m/s^2, along -z
 
     def inertia_pivot(self) -> FloatArray:
         """Inertia tensor about the pivot (origin), design axes (kg*m^2), parallel axes."""
@@ -536,10 +592,10 @@ class HeavyTopSolution:
     """Reference motion at times `t` (n,): body-frame rates, quaternions, global rates."""
 
     t: FloatArray
-    omega_body: FloatArray      # (n, 3) rad/s, body (design) axes
-    quaternion: FloatArray      # (n, 4) scalar first, body -> global
-    omega_global: FloatArray    # (n, 3) rad/s
-    alpha_global: FloatArray    # (n, 3) rad/s^2
+    omega_body: FloatArray  # (n, 3) rad/s, body (design) axes
+    quaternion: FloatArray  # (n, 4) scalar first, body -> global
+    omega_global: FloatArray  # (n, 3) rad/s
+    alpha_global: FloatArray  # (n, 3) rad/s^2
 
     def rotation(self) -> FloatArray:
         """Rotation matrices (n, 3, 3), body -> global."""
@@ -561,15 +617,19 @@ def _quat_to_matrix(q: FloatArray) -> FloatArray:
     """Rotation matrices (n, 3, 3) of unit quaternions (n, 4), scalar first."""
     q = q / np.linalg.norm(q, axis=-1, keepdims=True)
     w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
-    return np.stack([
-        np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-        np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-        np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
-    ], axis=-2)
+    return np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+            np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+            np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        axis=-2,
+    )
 
 
-def _top_rhs(top: HeavyTop, i_pivot: FloatArray,
-             i_inv: FloatArray) -> Callable[[float, FloatArray], FloatArray]:
+def _top_rhs(
+    top: HeavyTop, i_pivot: FloatArray, i_inv: FloatArray
+) -> Callable[[float, FloatArray], FloatArray]:
     """Euler's equations about the fixed point + quaternion kinematics [GO 4.9, 5.5]."""
     r_body = np.asarray(top.cm0, float)
     g_global = np.array([0.0, 0.0, -top.g])
@@ -577,16 +637,18 @@ def _top_rhs(top: HeavyTop, i_pivot: FloatArray,
     def rhs(t: float, y: FloatArray) -> FloatArray:
         w, q = y[:3], y[3:]
         rot = _quat_to_matrix(q[None])[0]
-        torque = np.cross(r_body, top.mass * rot.T @ g_global)    # gravity, body axes
+        torque = np.cross(r_body, top.mass * rot.T @ g_global)  # gravity, body axes
         wd = i_inv @ (torque - np.cross(w, i_pivot @ w))
         qw, qv = q[0], q[1:]
         qd = 0.5 * np.concatenate([[-qv @ w], qw * w + np.cross(qv, w)])
         return np.concatenate([wd, qd])
+
     return rhs
 
 
-def heavy_top_solve(t_eval: ArrayLike, top: HeavyTop = HeavyTop(),
-                    rtol: float = 1e-10, atol: float = 1e-12) -> HeavyTopSolution:
+def heavy_top_solve(
+    t_eval: ArrayLike, top: HeavyTop = HeavyTop(), rtol: float = 1e-10, atol: float = 1e-12
+) -> HeavyTopSolution:
     """Integrate the heavy top with `solve_ivp` (DOP853) from the design position (s).
 
     State: body-frame angular velocity w (rad/s) and quaternion q (body -> global, starts at
@@ -597,15 +659,21 @@ def heavy_top_solve(t_eval: ArrayLike, top: HeavyTop = HeavyTop(),
     i_inv = np.linalg.inv(i_pivot)
     rhs = _top_rhs(top, i_pivot, i_inv)
     y0 = np.concatenate([np.asarray(top.omega0, float), [1.0, 0.0, 0.0, 0.0]])
-    sol = solve_ivp(rhs, (t_eval[0], t_eval[-1]), y0, method="DOP853", t_eval=t_eval,
-                    rtol=rtol, atol=atol)
+    sol = solve_ivp(
+        rhs, (t_eval[0], t_eval[-1]), y0, method="DOP853", t_eval=t_eval, rtol=rtol, atol=atol
+    )
     if not sol.success:
         raise RuntimeError(f"heavy top reference integration failed: {sol.message}")
     w_body, quat = sol.y[:3].T, sol.y[3:].T
     wd_body = np.array([rhs(t, y)[:3] for t, y in zip(sol.t, sol.y.T)])
     rot = _quat_to_matrix(quat)
-    return HeavyTopSolution(sol.t, w_body, quat, np.einsum("nij,nj->ni", rot, w_body),
-                            np.einsum("nij,nj->ni", rot, wd_body))
+    return HeavyTopSolution(
+        sol.t,
+        w_body,
+        quat,
+        np.einsum("nij,nj->ni", rot, w_body),
+        np.einsum("nij,nj->ni", rot, wd_body),
+    )
 
 
 def heavy_top_energy(solution: HeavyTopSolution, top: HeavyTop = HeavyTop()) -> FloatArray:
@@ -616,25 +684,34 @@ def heavy_top_energy(solution: HeavyTopSolution, top: HeavyTop = HeavyTop()) -> 
     return kinetic + top.mass * top.g * solution.position(top.cm0)[:, 2]
 
 
-def heavy_top_vertical_momentum(solution: HeavyTopSolution,
-                                top: HeavyTop = HeavyTop()) -> FloatArray:
+def heavy_top_vertical_momentum(
+    solution: HeavyTopSolution, top: HeavyTop = HeavyTop()
+) -> FloatArray:
     """Angular momentum about the vertical (global z) through the pivot (kg*m^2/s)."""
     h_body = solution.omega_body @ top.inertia_pivot().T
     return np.einsum("nij,nj->ni", solution.rotation(), h_body)[:, 2]
 
 
-def angular_velocity_from_points(positions: list[FloatArray],
-                                 velocities: list[FloatArray]) -> FloatArray:
+def angular_velocity_from_points(
+    positions: list[FloatArray], velocities: list[FloatArray]
+) -> FloatArray:
     """Angular velocity (n, 3) rad/s of a body turning about a fixed origin.
 
     Each point satisfies v = w x p, i.e. [-p]x w = v; two points not in line with the origin
     determine w, solved in the least-squares sense from all given points.
     """
+
     def skew(p: FloatArray) -> FloatArray:
         z = np.zeros(p.shape[0])
-        return np.stack([np.stack([z, -p[:, 2], p[:, 1]], -1),
-                         np.stack([p[:, 2], z, -p[:, 0]], -1),
-                         np.stack([-p[:, 1], p[:, 0], z], -1)], axis=-2)
+        return np.stack(
+            [
+                np.stack([z, -p[:, 2], p[:, 1]], -1),
+                np.stack([p[:, 2], z, -p[:, 0]], -1),
+                np.stack([-p[:, 1], p[:, 0], z], -1),
+            ],
+            axis=-2,
+        )
+
     mat = np.concatenate([-skew(np.asarray(p, float)) for p in positions], axis=1)
     rhs = np.concatenate([np.asarray(v, float) for v in velocities], axis=1)
     return np.stack([np.linalg.lstsq(m, b, rcond=None)[0] for m, b in zip(mat, rhs)])
@@ -643,6 +720,7 @@ def angular_velocity_from_points(positions: list[FloatArray],
 # --------------------------------------------------------------------------------------------
 # Double pendulum of two bars on revolutes about +z, hanging along -y at design, gravity -y.
 # --------------------------------------------------------------------------------------------
+
 
 @dataclass(frozen=True)
 class DoublePendulum:
@@ -663,16 +741,22 @@ class DoublePendulum:
     g: float = STANDARD_GRAVITY
 
 
-def _double_pendulum_points(phi1: FloatArray, phi2: FloatArray,
-                            p: DoublePendulum) -> tuple[FloatArray, FloatArray, FloatArray]:
+def _double_pendulum_points(
+    phi1: FloatArray, phi2: FloatArray, p: DoublePendulum
+) -> tuple[FloatArray, FloatArray, FloatArray]:
     """Unit vectors from hinge to centre of mass (hanging = (0, -1)) and joint-2 position."""
     u1 = np.stack([np.sin(phi1), -np.cos(phi1)], axis=-1)
     u2 = np.stack([np.sin(phi2), -np.cos(phi2)], axis=-1)
     return u1, u2, p.length1 * u1
 
 
-def double_pendulum_energy(phi1: ArrayLike, phi2: ArrayLike, w1: ArrayLike, w2: ArrayLike,
-                           p: DoublePendulum = DoublePendulum()) -> FloatArray:
+def double_pendulum_energy(
+    phi1: ArrayLike,
+    phi2: ArrayLike,
+    w1: ArrayLike,
+    w2: ArrayLike,
+    p: DoublePendulum = DoublePendulum(),
+) -> FloatArray:
     """Total energy (J) from absolute angles (rad) and rates (rad/s); V = 0 at the hinge level.
 
     G1 = c1 u1, G2 = L1 u1 + c2 u2 with u = (sin phi, -cos phi); the velocities are
@@ -683,14 +767,16 @@ def double_pendulum_energy(phi1: ArrayLike, phi2: ArrayLike, w1: ArrayLike, w2: 
     t1, t2 = _perp(u1), _perp(u2)
     v1 = p.cm1 * w1[..., None] * t1
     v2 = p.length1 * w1[..., None] * t1 + p.cm2 * w2[..., None] * t2
-    kinetic = 0.5 * (p.mass1 * np.sum(v1**2, -1) + p.izz1 * w1**2
-                     + p.mass2 * np.sum(v2**2, -1) + p.izz2 * w2**2)
+    kinetic = 0.5 * (
+        p.mass1 * np.sum(v1**2, -1) + p.izz1 * w1**2 + p.mass2 * np.sum(v2**2, -1) + p.izz2 * w2**2
+    )
     potential = p.g * (p.mass1 * p.cm1 * u1[..., 1] + p.mass2 * (j2 + p.cm2 * u2)[..., 1])
     return kinetic + potential
 
 
-def double_pendulum_rhs(t: float, y: FloatArray,
-                        p: DoublePendulum = DoublePendulum()) -> FloatArray:
+def double_pendulum_rhs(
+    t: float, y: FloatArray, p: DoublePendulum = DoublePendulum()
+) -> FloatArray:
     """Lagrange's equations, state [phi1, phi2, w1, w2] (rad, rad/s).
 
     M = [[I1 + m1 c1^2 + m2 L1^2, m2 L1 c2 cos(d)], [m2 L1 c2 cos(d), I2 + m2 c2^2]],
@@ -700,23 +786,41 @@ def double_pendulum_rhs(t: float, y: FloatArray,
     phi1, phi2, w1, w2 = y
     d = phi1 - phi2
     k = p.mass2 * p.length1 * p.cm2
-    mass = np.array([[p.izz1 + p.mass1 * p.cm1**2 + p.mass2 * p.length1**2, k * np.cos(d)],
-                     [k * np.cos(d), p.izz2 + p.mass2 * p.cm2**2]])
-    force = np.array([-k * np.sin(d) * w2**2
-                      - (p.mass1 * p.cm1 + p.mass2 * p.length1) * p.g * np.sin(phi1),
-                      k * np.sin(d) * w1**2 - p.mass2 * p.cm2 * p.g * np.sin(phi2)])
+    mass = np.array(
+        [
+            [p.izz1 + p.mass1 * p.cm1**2 + p.mass2 * p.length1**2, k * np.cos(d)],
+            [k * np.cos(d), p.izz2 + p.mass2 * p.cm2**2],
+        ]
+    )
+    force = np.array(
+        [
+            -k * np.sin(d) * w2**2 - (p.mass1 * p.cm1 + p.mass2 * p.length1) * p.g * np.sin(phi1),
+            k * np.sin(d) * w1**2 - p.mass2 * p.cm2 * p.g * np.sin(phi2),
+        ]
+    )
     return np.concatenate([[w1, w2], np.linalg.solve(mass, force)])
 
 
-def double_pendulum_solve(t_eval: ArrayLike, phi0: tuple[float, float],
-                          p: DoublePendulum = DoublePendulum(),
-                          rtol: float = 1e-10, atol: float = 1e-12) -> FloatArray:
+def double_pendulum_solve(
+    t_eval: ArrayLike,
+    phi0: tuple[float, float],
+    p: DoublePendulum = DoublePendulum(),
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+) -> FloatArray:
     """Reference motion from rest at absolute angles `phi0` (rad): array (n, 4) of
     [phi1, phi2, w1, w2] at `t_eval` (s), integrated with DOP853."""
     t_eval = np.asarray(t_eval, float)
-    sol = solve_ivp(double_pendulum_rhs, (t_eval[0], t_eval[-1]),
-                    [phi0[0], phi0[1], 0.0, 0.0], method="DOP853", t_eval=t_eval,
-                    rtol=rtol, atol=atol, args=(p,))
+    sol = solve_ivp(
+        double_pendulum_rhs,
+        (t_eval[0], t_eval[-1]),
+        [phi0[0], phi0[1], 0.0, 0.0],
+        method="DOP853",
+        t_eval=t_eval,
+        rtol=rtol,
+        atol=atol,
+        args=(p,),
+    )
     if not sol.success:
         raise RuntimeError(f"double pendulum reference integration failed: {sol.message}")
     return sol.y.T
@@ -725,6 +829,7 @@ def double_pendulum_solve(t_eval: ArrayLike, phi0: tuple[float, float],
 # --------------------------------------------------------------------------------------------
 # Comparing engine results with the references (any object with `.solution`).
 # --------------------------------------------------------------------------------------------
+
 
 def channel(outcome: Any, column: str) -> FloatArray:
     """Result column `REQUEST.COMPONENT` as a float array, with a helpful error if absent."""
@@ -742,8 +847,10 @@ def vector(outcome: Any, request: str, components: str = "xyz") -> FloatArray:
 
 def all_warnings(outcome: Any) -> list[str]:
     """Warnings of the run and of its solution (the summary shows both)."""
-    return [*(d.keyed_message() for d in getattr(outcome, "warnings", [])),
-            *getattr(outcome.solution, "warnings", [])]
+    return [
+        *(d.keyed_message() for d in getattr(outcome, "warnings", [])),
+        *getattr(outcome.solution, "warnings", []),
+    ]
 
 
 def wrap_angle(angle: np.ndarray) -> FloatArray:
@@ -751,11 +858,13 @@ def wrap_angle(angle: np.ndarray) -> FloatArray:
     return np.angle(np.exp(1j * np.asarray(angle, dtype=float)))
 
 
-def assert_within_peak(actual: np.ndarray, expected: np.ndarray, fraction: float,
-                       label: str, peak: float | None = None) -> None:
+def assert_within_peak(
+    actual: np.ndarray, expected: np.ndarray, fraction: float, label: str, peak: float | None = None
+) -> None:
     """Assert max |actual - expected| <= fraction * peak, peak = max |expected| by default."""
     actual, expected = np.asarray(actual, float), np.asarray(expected, float)
     scale = float(np.max(np.abs(expected))) if peak is None else peak
     error = float(np.max(np.abs(actual - expected)))
     assert error <= fraction * scale, (
-        f"{label}: max error {error:.6g} exceeds {fraction:g} x peak {scale:.6g}")
+        f"{label}: max error {error:.6g} exceeds {fraction:g} x peak {scale:.6g}"
+    )

@@ -6,15 +6,16 @@ motion with the friction opposing the velocity, stops at every zero of the veloc
 is within the static friction capacity (loads here do not depend on time), else it slides
 on in the direction of that load. No regularisation anywhere.
 """
+
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Callable
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
-__all__ = ["OneDof", "StickSlipHistory", "integrate_stick_slip", "friction_pendulum"]
+__all__ = ["OneDof", "StickSlipHistory", "friction_pendulum", "integrate_stick_slip"]
 
 
 @dataclass(frozen=True)
@@ -62,9 +63,18 @@ def integrate_stick_slip(system: OneDof, x0: float, v0: float, end: float) -> St
 
         def stops(_t, y, d=direction):  # the velocity falls through zero
             return y[1] * d
+
         stops.terminal, stops.direction = True, -1
-        sol = solve_ivp(rhs, (t, end), [x, v], method="DOP853", rtol=1e-12, atol=1e-14,
-                        dense_output=True, events=stops)
+        sol = solve_ivp(
+            rhs,
+            (t, end),
+            [x, v],
+            method="DOP853",
+            rtol=1e-12,
+            atol=1e-14,
+            dense_output=True,
+            events=stops,
+        )
         pieces.append((t, sol.t[-1], sol.sol))
         if sol.status != 1:
             break
@@ -73,24 +83,27 @@ def integrate_stick_slip(system: OneDof, x0: float, v0: float, end: float) -> St
     return StickSlipHistory(pieces, turns, None)
 
 
-def friction_pendulum(mass: float, length: float, mu_r: float, preload: float,
-                      g: float = 9.81) -> OneDof:
+def friction_pendulum(
+    mass: float, length: float, mu_r: float, preload: float, g: float = 9.81
+) -> OneDof:
     """A uniform bar (mass kg, length m) hinged at one end, angle x from the horizontal
     (gravity -y), pin friction T = mu_r |F| + preload (N*m) with F the hinge force, which
     depends on the angular acceleration itself: solved by fixed-point iteration (the
     friction's share mu_r m L / 2 is tiny against the inertia m L^2 / 3)."""
-    inertia, arm = mass * length ** 2 / 3.0, length / 2.0
+    inertia, arm = mass * length**2 / 3.0, length / 2.0
 
     def hinge_force(x: float, v: float, a: float) -> float:
-        acm = arm * (a * np.array([-np.sin(x), np.cos(x)]) - v * v * np.array([np.cos(x),
-                                                                                np.sin(x)]))
+        acm = arm * (
+            a * np.array([-np.sin(x), np.cos(x)]) - v * v * np.array([np.cos(x), np.sin(x)])
+        )
         return float(np.linalg.norm(mass * acm + np.array([0.0, mass * g])))
 
     def sliding(x: float, v: float, direction: float) -> float:
         a = 0.0
         for _ in range(100):
-            new = (-mass * g * arm * np.cos(x)
-                   - direction * (mu_r * hinge_force(x, v, a) + preload)) / inertia
+            new = (
+                -mass * g * arm * np.cos(x) - direction * (mu_r * hinge_force(x, v, a) + preload)
+            ) / inertia
             if abs(new - a) <= 1e-15 * max(1.0, abs(new)):
                 return new
             a = new

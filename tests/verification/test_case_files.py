@@ -3,6 +3,7 @@
 The YAML-level checks need no engine; `test_files_validate` asks the load-case layer
 (`loadcases.inputs.loader.validate_files`, as `loads validate` does) for problems.
 """
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -10,15 +11,43 @@ from typing import Any
 
 import pytest
 import yaml
-
 from conftest import LIBRARY
 
-CASE_KEYS = {"case", "mechanism", "motions", "effects", "loads", "initial", "analysis",
-             "requests", "abscissa", "units", "parameters"}
-MECHANISM_KEYS = {"name", "units", "gravity", "parameters", "bodies", "points", "joints",
-                  "forces", "contacts", "tables", "events"}
-EQUATIONS = {"fixed": 6, "revolute": 5, "prismatic": 5, "cylindrical": 4, "universal": 4,
-             "spherical": 3, "planar": 3}
+CASE_KEYS = {
+    "case",
+    "mechanism",
+    "motions",
+    "effects",
+    "loads",
+    "initial",
+    "analysis",
+    "requests",
+    "abscissa",
+    "units",
+    "parameters",
+}
+MECHANISM_KEYS = {
+    "name",
+    "units",
+    "gravity",
+    "parameters",
+    "bodies",
+    "points",
+    "joints",
+    "forces",
+    "contacts",
+    "tables",
+    "events",
+}
+EQUATIONS = {
+    "fixed": 6,
+    "revolute": 5,
+    "prismatic": 5,
+    "cylindrical": 4,
+    "universal": 4,
+    "spherical": 3,
+    "planar": 3,
+}
 """Constraint equations of each joint type in 3D (Gruebler-Kutzbach count)."""
 
 # case file -> (degrees of freedom before motions by the Gruebler count, number of motions)
@@ -33,8 +62,8 @@ MOBILITY = {
     # (fourbar_redundant.case.yaml, refused by design, lives in tests/verification/cases)
     "fourbar_redundant_drop.case.yaml": (-2, 1),
     "latch_spring.case.yaml": (1, 0),
-    "ball_in_socket.case.yaml": (6, 0),   # a free ball held by its contact only
-    "ln_restitution.case.yaml": (6, 0),   # a free ball bouncing on a plane
+    "ball_in_socket.case.yaml": (6, 0),  # a free ball held by its contact only
+    "ln_restitution.case.yaml": (6, 0),  # a free ball bouncing on a plane
 }
 CASE_FILES = sorted(MOBILITY)
 
@@ -99,7 +128,9 @@ def test_names_are_unique_and_resolved(file_name: str) -> None:
 def test_mobility(file_name: str) -> None:
     """Gruebler count 6 (bodies) - sum(joint equations) as designed (see MOBILITY)."""
     mech = _mechanism(LIBRARY / file_name)
-    dof = 6 * len(mech["bodies"]) - sum(EQUATIONS[j["type"]] for j in mech.get("joints", {}).values())
+    dof = 6 * len(mech["bodies"]) - sum(
+        EQUATIONS[j["type"]] for j in mech.get("joints", {}).values()
+    )
     expected_dof, motions = MOBILITY[file_name]
     assert dof == expected_dof
     assert len(_load(LIBRARY / file_name).get("motions") or {}) == motions

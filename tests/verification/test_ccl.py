@@ -8,10 +8,10 @@
 - synchronisation: theta2 / theta1 stays within 10 % of -r1 / r2 = -2 over the run and its
   time average is within 3 % (measured -1.96; the strands stretch and oscillate).
 """
+
 from __future__ import annotations
 
 import numpy as np
-
 from conftest import LIBRARY
 
 CASE = LIBRARY / "solar_array" / "ccl_energy.case.yaml"
@@ -21,12 +21,16 @@ K_STRAND = 1.0e4
 def test_ccl_energy_and_ratio() -> None:
     from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
+
     solution = run_case(load_case(CASE)).solution
     assert solution.ok, solution.message
     ch = solution.channels
     w1, w2 = ch["w1.value"], ch["w2.value"]
-    kinetic = (0.5 * (0.1 + 1.0 * 0.5 ** 2) * w1 ** 2
-               + 0.5 * 2.0 * (ch["v.x"] ** 2 + ch["v.y"] ** 2) + 0.5 * 0.2 * (w1 + w2) ** 2)
+    kinetic = (
+        0.5 * (0.1 + 1.0 * 0.5**2) * w1**2
+        + 0.5 * 2.0 * (ch["v.x"] ** 2 + ch["v.y"] ** 2)
+        + 0.5 * 0.2 * (w1 + w2) ** 2
+    )
     cable = (ch["ccl.tension_a"] ** 2 + ch["ccl.tension_b"] ** 2) / (2 * K_STRAND)
     assert ch["ccl.tension_a"].min() > 0 and ch["ccl.tension_b"].min() > 0
     total = kinetic + cable

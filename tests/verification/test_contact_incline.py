@@ -8,13 +8,15 @@ gravity is tilted by theta, so the plane is an incline. Friction: mu_static 0.3,
 - tan(theta) = 0.5 > mu_static: it slides with a = g (sin theta - mu_dynamic cos theta)
   once faster than v_dynamic, within 1 %.
 """
+
 from __future__ import annotations
 
 import math
 
-import mechlib as ml
 import numpy as np
 import pytest
+
+import mechlib as ml
 from mechlib.contact import Contact, ImpactLaw, SpherePlane, StribeckFriction
 
 G, K, R = 9.81, 1.0e7, 0.01
@@ -32,25 +34,33 @@ def block_on_incline(slope: float, end: float = 1.0) -> ml.Solution:
     overlap = (G * math.cos(theta) / 4 / K) ** (1 / 1.5)
     law = ImpactLaw(K, 1.5, damping=2.0e3, depth=1e-5)
     for i, (x, z) in enumerate(CORNERS):
-        m.add_force(Contact(f"c{i}", ("box", ml.GROUND),
-                            SpherePlane((x, R, z), R, (0, overlap, 0), (0, 1, 0)), law,
-                            FRICTION))
-    return ml.solve(m, ml.Dynamic(end=end, step=0.01),
-                    requests=[ml.PointKinematics("v", "cm", "velocity"),
-                              ml.ElementOutput("c0", "c0")])
+        m.add_force(
+            Contact(
+                f"c{i}",
+                ("box", ml.GROUND),
+                SpherePlane((x, R, z), R, (0, overlap, 0), (0, 1, 0)),
+                law,
+                FRICTION,
+            )
+        )
+    return ml.solve(
+        m,
+        ml.Dynamic(end=end, step=0.01),
+        requests=[ml.PointKinematics("v", "cm", "velocity"), ml.ElementOutput("c0", "c0")],
+    )
 
 
 def test_sticks_below_mu_static() -> None:
     sol = block_on_incline(0.2)
     v = np.asarray(sol.channels["v.x"])
-    assert np.abs(v[len(v) // 2:]).max() < FRICTION.v_static
-    assert abs(v[-1] - v[len(v) // 2]) < 0.1 * FRICTION.v_static   # no acceleration
+    assert np.abs(v[len(v) // 2 :]).max() < FRICTION.v_static
+    assert abs(v[-1] - v[len(v) // 2]) < 0.1 * FRICTION.v_static  # no acceleration
 
 
 def test_slides_with_dynamic_friction_above_mu_static() -> None:
     sol = block_on_incline(0.5)
     t, v = np.asarray(sol.time), np.asarray(sol.channels["v.x"])
-    fast = (t >= 0.5)
+    fast = t >= 0.5
     assert v[fast].min() > FRICTION.v_dynamic
     a = np.polyfit(t[fast], v[fast], 1)[0]
     theta = math.atan(0.5)

@@ -13,13 +13,14 @@ is constant after the contact), Hertz K = 1e9 N/m^1.5. References:
 - energy lost per impact: 1 - (v+/v-)^2 of the kinetic energy, checked against the input's
   1 - e^2 with the same tolerance on e.
 """
+
 from __future__ import annotations
 
-import mechlib as ml
-import numpy as np
 import pytest
-from mechlib.contact import Contact, HertzLaw, RestitutionLaw, SpherePlane
 from scipy.integrate import solve_ivp
+
+import mechlib as ml
+from mechlib.contact import Contact, HertzLaw, RestitutionLaw, SpherePlane
 
 K, MASS, V0, R = 1.0e9, 1.0, 1.0, 0.01
 
@@ -29,25 +30,29 @@ def _engine_rebound(law) -> tuple[float, ml.Solution]:
     centre = (0.0, R + 0.002, 0.0)
     m.add_body("ball", mass=MASS, cm=centre, inertia=[4e-5] * 3)
     m.add_point("centre", body="ball", at=centre)
-    m.add_force(Contact("c", ("ball", ml.GROUND), SpherePlane(centre, R, (0, 0, 0), (0, 1, 0)),
-                        law))
-    sol = ml.solve(m, ml.Dynamic(end=0.01, step=1e-4),
-                   requests=[ml.PointKinematics("v", "centre", "velocity"),
-                             ml.ElementOutput("c", "c")],
-                   initial=[ml.InitialBodyVelocity("ball", (0, 0, 0), (0, -V0, 0))])
+    m.add_force(
+        Contact("c", ("ball", ml.GROUND), SpherePlane(centre, R, (0, 0, 0), (0, 1, 0)), law)
+    )
+    sol = ml.solve(
+        m,
+        ml.Dynamic(end=0.01, step=1e-4),
+        requests=[ml.PointKinematics("v", "centre", "velocity"), ml.ElementOutput("c", "c")],
+        initial=[ml.InitialBodyVelocity("ball", (0, 0, 0), (0, -V0, 0))],
+    )
     return sol.channels["v.y"][-1] / V0, sol
 
 
 def _exact_rebound(factor: float) -> float:
     """Rebound / impact speed of m x'' = -K x^1.5 (1 + factor x'/V0), x(0) = 0, x'(0) = V0."""
+
     def rhs(t, y):
         return [y[1], -K * max(y[0], 0.0) ** 1.5 * (1.0 + factor * y[1] / V0) / MASS]
 
     def apart(t, y):
         return y[0]
+
     apart.terminal, apart.direction = True, -1
-    sol = solve_ivp(rhs, (0, 1), [1e-15, V0], events=apart, rtol=1e-11, atol=1e-16,
-                    method="DOP853")
+    sol = solve_ivp(rhs, (0, 1), [1e-15, V0], events=apart, rtol=1e-11, atol=1e-16, method="DOP853")
     return -sol.y[1, -1] / V0
 
 
@@ -57,7 +62,7 @@ def test_lankarani_nikravesh_restitution(e: float, tolerance: float) -> None:
     assert sol.status == "ok"
     assert rebound == pytest.approx(_exact_rebound(0.75 * (1 - e * e)), rel=5e-3)
     assert rebound == pytest.approx(e, rel=tolerance)
-    energy_loss = 1.0 - rebound ** 2
+    energy_loss = 1.0 - rebound**2
     assert energy_loss == pytest.approx(1.0 - e * e, abs=2 * tolerance)
     assert min(sol.channels["c.normal"]) >= 0.0
 
@@ -67,4 +72,4 @@ def test_restitution_law_meets_its_input(e: float, tolerance: float) -> None:
     rebound, sol = _engine_rebound(RestitutionLaw(e, K, 1.5))
     assert rebound == pytest.approx(_exact_rebound(8 * (1 - e) / (5 * e)), rel=5e-3)
     assert rebound == pytest.approx(e, rel=tolerance)
-    assert 1.0 - rebound ** 2 == pytest.approx(1.0 - e * e, abs=2 * tolerance)
+    assert 1.0 - rebound**2 == pytest.approx(1.0 - e * e, abs=2 * tolerance)

@@ -6,17 +6,17 @@ resting contact force equals the weight m g = 1.962 N (within 0.1 %, the thesis'
 the eccentricity equals the clearance plus the Hertz deflection (F/K)^(1/1.5) (1e-9 m);
 no friction force (the ball falls straight, nothing slides).
 """
+
 from __future__ import annotations
 
 import math
 
 import numpy as np
 import pytest
-
 from references import channel
 
-WEIGHT = 0.2 * 9.81                                   # N
-E_STAR = 210e9 / (2 * (1 - 0.3 ** 2))                 # Pa, two equal steels
+WEIGHT = 0.2 * 9.81  # N
+E_STAR = 210e9 / (2 * (1 - 0.3**2))  # Pa, two equal steels
 K = 4 / 3 * E_STAR * math.sqrt(0.01 * 0.0105 / 0.0005)  # N/m^1.5, internal contact radius
 
 

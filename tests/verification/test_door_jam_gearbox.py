@@ -1,6 +1,7 @@
 """Door library: jamming at the gearbox (thesis seed 000, sections 1.5.2, 4.2, 5.1.2,
 appendix A figure 49) against the lever ratios of the spreadsheet. The gearbox output is
 jammed (prescribed) and the ultimate load 1334 N acts on the inner handle grip (200 mm)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -31,8 +32,9 @@ def _arm(ch, end, other, pivot):
     return np.linalg.norm(np.cross(a - p, u), axis=1)
 
 
-@pytest.mark.parametrize("name", ["jam_gearbox_no_gravity.case.yaml",
-                                  "jam_gearbox_closing_no_gravity.case.yaml"])
+@pytest.mark.parametrize(
+    "name", ["jam_gearbox_no_gravity.case.yaml", "jam_gearbox_closing_no_gravity.case.yaml"]
+)
 def test_jammed_gearbox_rods_are_the_lever_ratios(name):
     """No gravity, handle load only. Rod P2P6 = F r_handle / (arm of P2P6 about the inner
     handle pivot); the jammed gearbox torque = rod P7P10 x (arm of P7P10 about the gearbox

@@ -3,9 +3,10 @@ seed 000 sections 3.1.5-3.1.6 and 4.1) against hand checks: statics of the close
 its stops, Coulomb friction at the pads, guides and seal, the work balance of the lift,
 3 vs 7 seal springs, the let-go event and the quasi-static vs dynamic lift. Tolerances are
 stated per test."""
+
 from __future__ import annotations
 
-from functools import lru_cache
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -16,16 +17,16 @@ from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
 DOOR = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "door"
-G = 9.81                       # m/s^2, as door.mech.yaml
+G = 9.81  # m/s^2, as door.mech.yaml
 HINGE_YZ = np.array([-0.06, 0.0])  # m: hinge line (y, z)
-STOP_Z = 1.2                   # m: Stop1 height
+STOP_Z = 1.2  # m: Stop1 height
 SEAL = {"k": 2.5e4, "length": 1.35, "precompression": 0.002}  # N/m^2, m, m
-PRESSURE = (1440.0, 0.84)      # N at the centre of airload (z, m)
+PRESSURE = (1440.0, 0.84)  # N at the centre of airload (z, m)
 MU = {"stop1": 0.15, "guide": 0.05, "seal": 0.3}
 CB_PARTS = ("cb_arm", "cb_rod")
 
 
-@lru_cache(maxsize=None)
+@cache
 def _run(name: str, **overrides):
     outcome = run_case(load_case(DOOR / name, overrides or None))
     assert outcome.solution.ok, outcome.solution.message
@@ -54,14 +55,19 @@ def _moment(point_yz, force_yz) -> float:
 def _door_side_gravity_moment() -> float:
     """Opening moment (N*m) of the weights of every body but the CB arm and rod, at design."""
     bodies = yaml.safe_load((DOOR / "door.mech.yaml").read_text(encoding="utf-8"))["bodies"]
-    return sum(_moment(np.array(b["cm"][1:]) / 1000.0, [0.0, -b["mass"] * G])
-               for name, b in bodies.items() if name not in CB_PARTS)
+    return sum(
+        _moment(np.array(b["cm"][1:]) / 1000.0, [0.0, -b["mass"] * G])
+        for name, b in bodies.items()
+        if name not in CB_PARTS
+    )
 
 
-@pytest.mark.parametrize("case, pressure_on", [("lifting_inner.case.yaml", 0),
-                                               ("lifting_inner_pressure.case.yaml", 1)])
-def test_closed_door_rests_on_stop1_by_hand_statics(tmp_path: Path, case: str,
-                                                    pressure_on: int) -> None:
+@pytest.mark.parametrize(
+    "case, pressure_on", [("lifting_inner.case.yaml", 0), ("lifting_inner_pressure.case.yaml", 1)]
+)
+def test_closed_door_rests_on_stop1_by_hand_statics(
+    tmp_path: Path, case: str, pressure_on: int
+) -> None:
     """Closed door (first state: no travel, no friction): Stop1 fwd + aft = (gravity +
     pressure + seal + CB rod force and moment about the hinge line) / 1.2 m. The door leans on the
     stops by their impact deflection x_s = (N / 1e8)^(1/1.5), i.e. it turns x_s / 1.2 m
@@ -85,8 +91,13 @@ def test_closed_door_rests_on_stop1_by_hand_statics(tmp_path: Path, case: str,
     cb_pt = np.array([ch["cb_door_point.y"][0], ch["cb_door_point.z"][0]])
     cb_on_door = -np.array([ch["cb_rod.fy"][0], ch["cb_rod.fz"][0]])
     # the CB rod's universal joint also carries a reaction moment (on the rod: t)
-    opening = (_door_side_gravity_moment() + _moment(cb_pt, cb_on_door) + ch["cb_rod.tx"][0]
-               + pressure_on * PRESSURE[0] * PRESSURE[1] + seal_moment)
+    opening = (
+        _door_side_gravity_moment()
+        + _moment(cb_pt, cb_on_door)
+        + ch["cb_rod.tx"][0]
+        + pressure_on * PRESSURE[0] * PRESSURE[1]
+        + seal_moment
+    )
     # the door settles micrometres from its design position onto the stops, a slip the
     # friction of the pads (contact point 60 mm outboard of the hinge line) and of the seal
     # (55 mm) opposes: at most this moment, which bounds the difference
@@ -101,8 +112,14 @@ def test_friction_is_mu_times_normal_while_sliding() -> None:
     Coulomb's law; tolerance 1e-3 (full friction above the 1 mm/s regularisation; the door
     rises at 30-50 mm/s)."""
     ch = _run("lifting_inner_pressure.case.yaml").channels
-    for name, key in (("stop1_fwd", "stop1"), ("stop1_aft", "stop1"), ("guide_fwd", "guide"),
-                      ("guide_aft", "guide"), ("seal_fwd", "seal"), ("seal_aft", "seal")):
+    for name, key in (
+        ("stop1_fwd", "stop1"),
+        ("stop1_aft", "stop1"),
+        ("guide_fwd", "guide"),
+        ("guide_aft", "guide"),
+        ("seal_fwd", "seal"),
+        ("seal_aft", "seal"),
+    ):
         loaded = ch[f"{name}.normal"] > 1.0
         loaded[0] = False  # the first state has no travel yet
         assert loaded.sum() >= 4, name
@@ -110,7 +127,10 @@ def test_friction_is_mu_times_normal_while_sliding() -> None:
         assert np.allclose(ratio, MU[key], rtol=1e-3), name
     pads = ch["stop1_fwd.normal"] > 1.0
     pads[0] = False
-    assert np.all(ch["stop1_fwd.fz"][pads] == pytest.approx(-MU["stop1"] * ch["stop1_fwd.normal"][pads], rel=1e-3))
+    assert np.all(
+        ch["stop1_fwd.fz"][pads]
+        == pytest.approx(-MU["stop1"] * ch["stop1_fwd.normal"][pads], rel=1e-3)
+    )
 
 
 def test_lifting_work_balance_with_contacts() -> None:
@@ -136,10 +156,14 @@ def test_lifting_work_balance_with_contacts() -> None:
         return 0.5 * (ch[name][1:] + ch[name][:-1])
 
     rise = path("stop_fwd_point", "z")
-    friction = (np.sum((mean("stop1_fwd.friction") + mean("stop1_aft.friction")) * rise)
-                + np.sum((mean("guide_fwd.friction") + mean("guide_aft.friction"))
-                         * path("roller_fwd_point", "yz"))
-                + np.sum((mean("seal_fwd.friction") + mean("seal_aft.friction")) * rise))
+    friction = (
+        np.sum((mean("stop1_fwd.friction") + mean("stop1_aft.friction")) * rise)
+        + np.sum(
+            (mean("guide_fwd.friction") + mean("guide_aft.friction"))
+            * path("roller_fwd_point", "yz")
+        )
+        + np.sum((mean("seal_fwd.friction") + mean("seal_aft.friction")) * rise)
+    )
     seal_release = 2 * SEAL["length"] * 0.5 * SEAL["k"] * SEAL["precompression"] ** 2
     # 49.15 mm of lift, less 0.8 mm as the cam lets the door out 1.5 deg
     assert ch["door_cm.z"][-1] - ch["door_cm.z"][0] == pytest.approx(0.04915, rel=0.02)
@@ -157,8 +181,12 @@ def test_seal_with_3_or_7_springs_gives_the_same_lift(tmp_path: Path) -> None:
     (2e-4 measured); stop difference within 5 % of that prediction (and 3 % of the
     reaction); seal total at the first state k L x = 2.5e4 x 1.35 x 2 mm within 3 % (the
     door leans 0.05 mm outboard on its stops)."""
-    runs = [run_case(load_case(_short_case(tmp_path, "lifting_inner.case.yaml", 0.3, 0.1,
-                                            seal_springs=n))).solution for n in (3, 7)]
+    runs = [
+        run_case(
+            load_case(_short_case(tmp_path, "lifting_inner.case.yaml", 0.3, 0.1, seal_springs=n))
+        ).solution
+        for n in (3, 7)
+    ]
     assert all(r.ok for r in runs)
     three, seven = (r.channels for r in runs)
     assert np.allclose(three["seal_fwd.normal"], seven["seal_fwd.normal"], rtol=1e-3)
@@ -171,8 +199,9 @@ def test_seal_with_3_or_7_springs_gives_the_same_lift(tmp_path: Path) -> None:
     difference = three["stop1_fwd.normal"][on_stops] - seven["stop1_fwd.normal"][on_stops]
     assert np.allclose(difference, expected, rtol=0.05, atol=0.05)
     assert np.all(np.abs(difference) < 0.03 * seven["stop1_fwd.normal"][on_stops])
-    assert three["seal_fwd.normal"][0] == pytest.approx(k * length * SEAL["precompression"],
-                                                        rel=0.03)
+    assert three["seal_fwd.normal"][0] == pytest.approx(
+        k * length * SEAL["precompression"], rel=0.03
+    )
 
 
 def _zero_crossing(x: np.ndarray, y: np.ndarray) -> float:
@@ -217,24 +246,30 @@ def test_quasi_static_and_dynamic_lift_differ_only_where_the_door_accelerates() 
     text = (DOOR / "lifting_inner.case.yaml").read_text(encoding="utf-8")
     assert "type: quasi-static, end: 1.0" in text
     dyn = _run_dynamic_lifting()
-    on_cam = (dyn["latch_angle.value"] > np.radians(35.0)) & (dyn["latch_angle.value"] < np.radians(60.0))
-    expected = np.interp(dyn["latch_angle.value"][on_cam], quasi["latch_angle.value"],
-                         quasi["handle_force.value"])
+    on_cam = (dyn["latch_angle.value"] > np.radians(35.0)) & (
+        dyn["latch_angle.value"] < np.radians(60.0)
+    )
+    expected = np.interp(
+        dyn["latch_angle.value"][on_cam], quasi["latch_angle.value"], quasi["handle_force.value"]
+    )
     assert np.allclose(dyn["handle_force.value"][on_cam], expected, rtol=0.02)
-    let_out = (quasi["latch_angle.value"] > np.radians(62.0))
+    let_out = quasi["latch_angle.value"] > np.radians(62.0)
     assert quasi["guide_fwd.normal"][let_out].min() > 15.0
     dyn_let_out = dyn["latch_angle.value"] > np.radians(62.0)
     assert dyn["guide_fwd.normal"][dyn_let_out].min() == 0.0
 
 
-@lru_cache(maxsize=None)
+@cache
 def _run_dynamic_lifting():
     """lifting_inner.case.yaml run dynamic (output every 0.01 s), contact damping 1e4."""
     text = (DOOR / "lifting_inner.case.yaml").read_text(encoding="utf-8")
     text = text.replace("mechanism: door.mech.yaml", f"mechanism: {DOOR / 'door.mech.yaml'}")
-    text = text.replace("type: quasi-static, end: 1.0, step: 0.05", "type: dynamic, end: 1.0, step: 0.01")
+    text = text.replace(
+        "type: quasi-static, end: 1.0, step: 0.05", "type: dynamic, end: 1.0, step: 0.01"
+    )
     text = text.replace("contact_damping: 0}", "contact_damping: 1.0e4}")
     import tempfile
+
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "lifting_dynamic.case.yaml"
         path.write_text(text, encoding="utf-8")

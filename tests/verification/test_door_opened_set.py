@@ -2,6 +2,7 @@
 1.5.4, 4.4, appendix A). Hand statics of one of its loads, three men standing (900 N on
 each step): moment balance about the hinge line gives the wire, force balance of the door
 and yoke gives the hinge resultant."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -31,9 +32,12 @@ def test_three_men_standing_hinge_and_wire_by_hand_statics():
     hinge line of gravity (132.2 kg lumped at the door cm), the three 900 N loads and the
     CB rod (model force): tolerance 2 % (the lumping). Hinge fwd + aft = -(weights + men +
     wire + CB rod on the door) in y and z: tolerance 0.5 %."""
-    ch = run_case(load_case(DOOR / "opened.case.yaml",
-                            overrides={"man_load": 0.0, "man_step": 0.0, "three_men": 1.0})
-                  ).solution.channels
+    ch = run_case(
+        load_case(
+            DOOR / "opened.case.yaml",
+            overrides={"man_load": 0.0, "man_step": 0.0, "three_men": 1.0},
+        )
+    ).solution.channels
     yz = lambda name: np.array([ch[f"{name}.y"][0], ch[f"{name}.z"][0]])  # noqa: E731
     cm, wire_pt, cb_pt = yz("door_cm"), yz("wire_door"), yz("cb_door_point")
     local_cm, local_wire = np.array([-0.040, 0.840]), np.array([-0.050, 1.200])
@@ -53,7 +57,11 @@ def test_three_men_standing_hinge_and_wire_by_hand_statics():
     tension = -loads / moment(wire_pt, u)
     assert ch["wire.value"][0] == pytest.approx(tension, rel=0.02)
 
-    hinge = np.array([ch["hinge_fwd.fy"][0] + ch["hinge_aft.fy"][0],
-                      ch["hinge_fwd.fz"][0] + ch["hinge_aft.fz"][0]])
+    hinge = np.array(
+        [
+            ch["hinge_fwd.fy"][0] + ch["hinge_aft.fy"][0],
+            ch["hinge_fwd.fz"][0] + ch["hinge_aft.fz"][0],
+        ]
+    )
     applied = np.array([0.0, -MASS * G - 3 * 900.0]) + ch["wire.value"][0] * u - cb
     assert hinge == pytest.approx(-applied, rel=0.005, abs=0.005 * np.linalg.norm(applied))

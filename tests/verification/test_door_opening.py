@@ -1,6 +1,7 @@
 """Door opening (loadcases/library/door/opening.case.yaml, thesis seed 000 sections 1.5.3 and
 4.3) against the spreadsheet's hand statics: the CB rod force that holds the door at a few
 opening angles, and what the opening speed adds to it (4.8 s and 2.5 s)."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -26,11 +27,15 @@ def _opening(tmp_path: Path, analysis: dict, open_time: float, name: str):
     case["mechanism"] = str(DOOR / "door.mech.yaml")
     case["analysis"] = analysis
     case["parameters"]["open_time"] = f"{open_time} s"
-    case["requests"].update({"door_cm": {"point": "door_cm", "quantity": "position"},
-                             "cb_door_point": {"point": "cb_door_pt", "quantity": "position"},
-                             "wire": {"force": "wire"},
-                             "hinge_joint": {"joint": "hinge_aft", "quantity": "angle"},
-                             "wire_door": {"point": "wire_door", "quantity": "position"}})
+    case["requests"].update(
+        {
+            "door_cm": {"point": "door_cm", "quantity": "position"},
+            "cb_door_point": {"point": "cb_door_pt", "quantity": "position"},
+            "wire": {"force": "wire"},
+            "hinge_joint": {"joint": "hinge_aft", "quantity": "angle"},
+            "wire_door": {"point": "wire_door", "quantity": "position"},
+        }
+    )
     path = tmp_path / f"{name}.case.yaml"
     path.write_text(yaml.safe_dump(case), encoding="utf-8")
     outcome = run_case(load_case(path))
@@ -64,8 +69,9 @@ def _gravity_moment(ch) -> np.ndarray:
     theta = ch["hinge_angle.value"]
     door = np.column_stack([ch["door_cm.y"], ch["door_cm.z"]])
     dy, dz = -0.07 - HINGE_YZ[0], 0.6  # yoke cm from the hinge line at design
-    yoke = HINGE_YZ + np.column_stack([dy * np.cos(theta) + dz * np.sin(theta),
-                                       -dy * np.sin(theta) + dz * np.cos(theta)])
+    yoke = HINGE_YZ + np.column_stack(
+        [dy * np.cos(theta) + dz * np.sin(theta), -dy * np.sin(theta) + dz * np.cos(theta)]
+    )
     down = np.zeros_like(door)
     down[:, 1] = -G
     return _moment(door, ON_DOOR * down) + _moment(yoke, YOKE * down)
@@ -97,13 +103,17 @@ def test_opening_speed_adds_the_door_inertia(tmp_path: Path) -> None:
     residuals 12 and 14 N*m, of which 11 N*m is the lumping seen quasi-statically)."""
     peaks = []
     for open_time in (4.8, 2.5):
-        ch = _opening(tmp_path, {"type": "kinematic", "end": open_time, "step": open_time / 96},
-                      open_time, f"kin{open_time}")
+        ch = _opening(
+            tmp_path,
+            {"type": "kinematic", "end": open_time, "step": open_time / 96},
+            open_time,
+            f"kin{open_time}",
+        )
         t, theta = ch["time"], ch["hinge_angle.value"]
         alpha = np.gradient(np.gradient(theta, t), t)
         lift = 0.04915
         door_r2 = (-0.04 + 0.06) ** 2 + (0.84 + lift) ** 2
-        yoke_r2 = (-0.07 + 0.06) ** 2 + 0.6 ** 2
+        yoke_r2 = (-0.07 + 0.06) ** 2 + 0.6**2
         inertia = 25.7 + ON_DOOR * door_r2 + 1.2 + YOKE * yoke_r2  # kg*m^2
         residual = _gravity_moment(ch) + _rod_moment(ch) + _wire_moment(ch)
         inner = slice(2, -2)  # central differences of alpha at the ends are one-sided

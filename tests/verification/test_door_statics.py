@@ -1,6 +1,7 @@
 """Door library (loadcases/library/door) against the spreadsheet-style hand checks of the
 thesis (seed 000, sections 4.2, 4.4, 4.5): lever ratio of the jammed rod, moment balance of
 the opened door, initial angular acceleration of the jettison. Tolerances are stated per test."""
+
 from __future__ import annotations
 
 from pathlib import Path
@@ -69,7 +70,7 @@ def test_jettison_initial_angular_acceleration():
     ch = _run("jettison.case.yaml")
     lift = 0.04915
     door_r2 = (-0.04 + 0.06) ** 2 + (0.84 + lift) ** 2
-    yoke_r2 = (-0.07 + 0.06) ** 2 + 0.6 ** 2
+    yoke_r2 = (-0.07 + 0.06) ** 2 + 0.6**2
     inertia = 25.7 + 124.0 * door_r2 + 1.2 + 8.0 * yoke_r2  # kg*m^2
     gravity = 124.0 * G * 0.02 - 8.0 * G * 0.01  # N*m, opening sense
     alpha = (2400.0 + gravity) / inertia

@@ -4,20 +4,25 @@ Case: loadcases/library/verification/double_pendulum.case.yaml. References:
 references.double_pendulum_energy (energy of the two bars) and double_pendulum_solve
 (Lagrange's equations, solve_ivp DOP853 with rtol 1e-10).
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from references import (
-    DoublePendulum, channel, double_pendulum_energy, double_pendulum_solve, vector,
+    DoublePendulum,
+    channel,
+    double_pendulum_energy,
+    double_pendulum_solve,
+    vector,
     wrap_angle,
 )
 
-PENDULUM = DoublePendulum()                      # data of double_pendulum.case.yaml, SI
-PHI0 = (np.radians(90.0), np.radians(135.0))     # absolute angles: j1 = 90, j2 = 45 deg
-ENERGY_SCALE = PENDULUM.g * (PENDULUM.mass1 * PENDULUM.cm1
-                             + PENDULUM.mass2 * (PENDULUM.length1 + PENDULUM.cm2))
+PENDULUM = DoublePendulum()  # data of double_pendulum.case.yaml, SI
+PHI0 = (np.radians(90.0), np.radians(135.0))  # absolute angles: j1 = 90, j2 = 45 deg
+ENERGY_SCALE = PENDULUM.g * (
+    PENDULUM.mass1 * PENDULUM.cm1 + PENDULUM.mass2 * (PENDULUM.length1 + PENDULUM.cm2)
+)
 """Depth of the potential well, 32.37 J: the energy scale of the motion (the total energy
 is near zero with the datum at the hinge, so it cannot serve as the scale)."""
 
@@ -55,12 +60,12 @@ def test_energy_from_point_requests(outcome) -> None:
     v1, v2 = vector(outcome, "cm1_vel"), vector(outcome, "cm2_vel")
     y1, y2 = channel(outcome, "cm1_pos.y"), channel(outcome, "cm2_pos.y")
     potential = p.g * (p.mass1 * y1 + p.mass2 * y2)
-    kinetic = 0.5 * (p.mass1 * np.sum(v1**2, 1) + p.izz1 * w1**2
-                     + p.mass2 * np.sum(v2**2, 1) + p.izz2 * w2**2)
+    kinetic = 0.5 * (
+        p.mass1 * np.sum(v1**2, 1) + p.izz1 * w1**2 + p.mass2 * np.sum(v2**2, 1) + p.izz2 * w2**2
+    )
     from_joints = double_pendulum_energy(*_absolute_state(outcome), p)
     assert np.max(np.abs(kinetic + potential - from_joints)) <= 1e-4 * ENERGY_SCALE
-    assert np.max(np.abs(channel(outcome, "potential.value") - potential)) \
-        <= 1e-9 * ENERGY_SCALE
+    assert np.max(np.abs(channel(outcome, "potential.value") - potential)) <= 1e-9 * ENERGY_SCALE
 
 
 def test_early_motion_matches_lagrange(outcome) -> None:

@@ -7,20 +7,27 @@ same with `redundant: drop`: runs and warns). References: references.fourbar_dri
 (virtual work with loop-closure velocity ratios) and references.fourbar_static_loads
 (planar statics of each link).
 """
+
 from __future__ import annotations
 
 from pathlib import Path
 
 import numpy as np
 import pytest
-
 from references import (
-    FourBar, all_warnings, assert_within_peak, channel, fourbar_drive_torque, fourbar_pose,
-    fourbar_static_loads, vector, wrap_angle,
+    FourBar,
+    all_warnings,
+    assert_within_peak,
+    channel,
+    fourbar_drive_torque,
+    fourbar_pose,
+    fourbar_static_loads,
+    vector,
+    wrap_angle,
 )
 
-CRANK_SPEED = 2 * np.pi      # rad/s, `crank_speed: 360 deg/s`
-FOURBAR = FourBar()          # geometry and masses of the case files (SI)
+CRANK_SPEED = 2 * np.pi  # rad/s, `crank_speed: 360 deg/s`
+FOURBAR = FourBar()  # geometry and masses of the case files (SI)
 LOOP_JOINTS = ("crank_pivot", "pin_b", "pin_c", "rocker_pivot")
 PEAK_FRACTION = 1e-3
 """Quasi-static results within 0.1% of the channel's peak: each row is an exact equilibrium
@@ -62,8 +69,9 @@ def test_drive_torque_by_virtual_work(outcome) -> None:
     """drive_torque.value = g sum(m_i dy_Gi/dtheta) (virtual work, [RS 11.9]) within 0.1%
     of its peak (about 5.3 N*m)."""
     expected = fourbar_drive_torque(_crank_rotation(outcome), FOURBAR)
-    assert_within_peak(channel(outcome, "drive_torque.value"), expected, PEAK_FRACTION,
-                       "drive_torque.value")
+    assert_within_peak(
+        channel(outcome, "drive_torque.value"), expected, PEAK_FRACTION, "drive_torque.value"
+    )
 
 
 @pytest.mark.parametrize("joint", LOOP_JOINTS)
@@ -75,10 +83,12 @@ def test_joint_reactions(outcome, joint: str) -> None:
     ref_x, ref_y = loads[f"{joint}_fx"], loads[f"{joint}_fy"]
     peak = float(np.max(np.hypot(ref_x, ref_y)))
     request = f"{joint}_force"
-    assert_within_peak(channel(outcome, f"{request}.fx"), ref_x, PEAK_FRACTION,
-                       f"{request}.fx", peak)
-    assert_within_peak(channel(outcome, f"{request}.fy"), ref_y, PEAK_FRACTION,
-                       f"{request}.fy", peak)
+    assert_within_peak(
+        channel(outcome, f"{request}.fx"), ref_x, PEAK_FRACTION, f"{request}.fx", peak
+    )
+    assert_within_peak(
+        channel(outcome, f"{request}.fy"), ref_y, PEAK_FRACTION, f"{request}.fy", peak
+    )
     assert np.max(np.abs(channel(outcome, f"{request}.fz"))) <= PEAK_FRACTION * peak
     for moment in ("tx", "ty"):
         values = channel(outcome, f"{request}.{moment}")
@@ -107,7 +117,8 @@ def test_redundant_fourbar_is_refused(tmp_path) -> None:
     messages = sorted(d.message for d in diagnostics)
     assert messages == sorted(
         f"redundant constraint: rocker_pivot: {direction}, dependent on crank_pivot, pin_b, pin_c"
-        for direction in ("translation z", "rotation about x", "rotation about y")), messages
+        for direction in ("translation z", "rotation about x", "rotation about y")
+    ), messages
     assert not list(tmp_path.iterdir()), "a refused run writes no result"
 
 
@@ -123,11 +134,19 @@ def test_redundant_drop_runs_and_warns(run_case) -> None:
     assert warnings, "dropping redundant equations must be reported in the summary"
     assert any(joint in warnings for joint in LOOP_JOINTS), warnings
     th = _crank_rotation(outcome)
-    assert_within_peak(channel(outcome, "drive_torque.value"),
-                       fourbar_drive_torque(th, FOURBAR), PEAK_FRACTION, "drive_torque.value")
+    assert_within_peak(
+        channel(outcome, "drive_torque.value"),
+        fourbar_drive_torque(th, FOURBAR),
+        PEAK_FRACTION,
+        "drive_torque.value",
+    )
     loads = fourbar_static_loads(th, FOURBAR)
     peak = float(np.max(np.hypot(loads["crank_pivot_fx"], loads["crank_pivot_fy"])))
     for c in ("fx", "fy"):
-        assert_within_peak(channel(outcome, f"crank_pivot_force.{c}"),
-                           loads[f"crank_pivot_{c}"], PEAK_FRACTION,
-                           f"crank_pivot_force.{c}", peak)
+        assert_within_peak(
+            channel(outcome, f"crank_pivot_force.{c}"),
+            loads[f"crank_pivot_{c}"],
+            PEAK_FRACTION,
+            f"crank_pivot_force.{c}",
+            peak,
+        )

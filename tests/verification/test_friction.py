@@ -1,15 +1,14 @@
 """The element verification cases of loadcases/library/verification/elements, run by `loads`:
 pin friction in quasi-static (hand statics) and the closed cable loop (seed 003 eqs. 2.3-2.6).
 """
+
 from __future__ import annotations
 
 import math
-
 from pathlib import Path
 
 import numpy as np
 import pytest
-
 from conftest import LIBRARY
 
 G, MASS, LENGTH = 9.81, 2.0, 1.0
@@ -18,6 +17,7 @@ G, MASS, LENGTH = 9.81, 2.0, 1.0
 def _run(name: str, tmp_path: Path):
     """Run library/verification/elements/NAME as `loads run` does; the solver must succeed."""
     from loadcases.run import run_file
+
     (outcome,) = run_file(LIBRARY / "elements" / name, output_dir=tmp_path)
     assert outcome.solution.status == "ok", outcome.solution.message
     return outcome.solution
@@ -43,8 +43,9 @@ def test_cable_loop_case(tmp_path: Path) -> None:
     c = {key: v[0] for key, v in _run("cable_loop.case.yaml", tmp_path).channels.items()}
     assert c["ccl.t1"] == pytest.approx(r1 * (fb - fa), rel=1e-9)
     assert c["ccl.t2"] == pytest.approx(r2 * (fa - fb), rel=1e-9)
-    assert c["ccl.f_axial"] == pytest.approx((fa + fb) * math.sqrt(d * d - (r1 - r2) ** 2) / d,
-                                             rel=1e-9)
+    assert c["ccl.f_axial"] == pytest.approx(
+        (fa + fb) * math.sqrt(d * d - (r1 - r2) ** 2) / d, rel=1e-9
+    )
     assert c["ccl.f_lateral"] == pytest.approx((fa - fb) * (r1 - r2) / d, rel=1e-9)
     assert c["hold1.value"] == pytest.approx(r1 * (fb - fa), rel=1e-9)
     assert c["hold2.value"] == pytest.approx(-r2 * (fa - fb), rel=1e-9)

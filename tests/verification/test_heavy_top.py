@@ -5,18 +5,22 @@ references.heavy_top_solve (Euler's equations about the fixed point in body axes
 quaternion kinematics, solve_ivp DOP853 with rtol 1e-10, same initial conditions). The
 engine's angular velocity is rebuilt from the velocities of two body points, v = w x p.
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from references import (
-    HeavyTop, angular_velocity_from_points, assert_within_peak, heavy_top_solve, vector,
+    HeavyTop,
+    angular_velocity_from_points,
+    assert_within_peak,
+    heavy_top_solve,
+    vector,
 )
 
-TOP = HeavyTop()                     # data of heavy_top.case.yaml, SI
-TIP = (0.06, 0.0, 0.08)              # m, point `tip` at the design position
-RIM = (0.03, 0.05, 0.04)             # m, point `rim` at the design position
+TOP = HeavyTop()  # data of heavy_top.case.yaml, SI
+TIP = (0.06, 0.0, 0.08)  # m, point `tip` at the design position
+RIM = (0.03, 0.05, 0.04)  # m, point `rim` at the design position
 RELATIVE = 1e-3
 """Angular velocity within 1e-3 of its magnitude (100 rad/s), tip position within 1e-3 of
 its 0.1 m distance from the pivot, over 2 s (about 32 spin turns, 2.5 rad of precession,
@@ -37,11 +41,13 @@ def test_angular_velocity(outcome, reference) -> None:
     """Global angular velocity from tip and rim velocities vs the reference (1e-3 rel)."""
     omega = angular_velocity_from_points(
         [vector(outcome, "tip_pos"), vector(outcome, "rim_pos")],
-        [vector(outcome, "tip_vel"), vector(outcome, "rim_vel")])
+        [vector(outcome, "tip_vel"), vector(outcome, "rim_vel")],
+    )
     peak = float(np.max(np.linalg.norm(reference.omega_global, axis=1)))
     for i, axis in enumerate("xyz"):
-        assert_within_peak(omega[:, i], reference.omega_global[:, i], RELATIVE,
-                           f"omega_{axis}", peak)
+        assert_within_peak(
+            omega[:, i], reference.omega_global[:, i], RELATIVE, f"omega_{axis}", peak
+        )
 
 
 def test_tip_position(outcome, reference) -> None:
@@ -83,6 +89,7 @@ def test_pivot_reaction(outcome, reference) -> None:
     peak = float(np.max(np.linalg.norm(expected, axis=1)))
     early = t <= 0.25 + 1e-12
     for i, c in enumerate(("fx", "fy", "fz")):
-        assert_within_peak(force[early, i], expected[early, i], 1e-3,
-                           f"pivot_force.{c} (t <= 0.25 s)", peak)
+        assert_within_peak(
+            force[early, i], expected[early, i], 1e-3, f"pivot_force.{c} (t <= 0.25 s)", peak
+        )
         assert_within_peak(force[:, i], expected[:, i], 1e-2, f"pivot_force.{c}", peak)

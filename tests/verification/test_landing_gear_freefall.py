@@ -4,6 +4,7 @@ The event `angle(trunnion) <= 0` switches the 5e6 N*m/rad down-stop on at the an
 preloaded downlock wire (tension only, 500 N) goes taut. Re-solving the step to the event
 used to fail ("Newton iterations did not converge" at 1.256 s, no event listed).
 """
+
 from __future__ import annotations
 
 import math
@@ -18,17 +19,19 @@ from loadcases.run import run_file
 from mechlib.events import EVENT_TIME_TOLERANCE
 
 CASES = Path(__file__).resolve().parent / "cases" / "landing_gear"
-STOP_STIFFNESS = 5.0e6        # N*m/rad, mlg.mech.yaml downstop
-DRAG = 0.5 * 1.225 * (150 * 1852 / 3600) ** 2 * 0.45   # N, 0.5 rho V^2 CdA at 150 knot
-AXLE = 1.8                    # m below the trunnion
+STOP_STIFFNESS = 5.0e6  # N*m/rad, mlg.mech.yaml downstop
+DRAG = 0.5 * 1.225 * (150 * 1852 / 3600) ** 2 * 0.45  # N, 0.5 rho V^2 CdA at 150 knot
+AXLE = 1.8  # m below the trunnion
 
 
 def _case(tmp_path: Path, when: str, then: str = "[{activate: downstop}]") -> Path:
     """The free-fall case (and its mechanism) in tmp_path with another event condition."""
     shutil.copy(CASES / "mlg.mech.yaml", tmp_path)
     text = (CASES / "freefall_dyn.case.yaml").read_text(encoding="utf-8")
-    text = text.replace('when: "angle(trunnion) <= 0", then: [{activate: downstop}]',
-                        f'when: "{when}", then: {then}')
+    text = text.replace(
+        'when: "angle(trunnion) <= 0", then: [{activate: downstop}]',
+        f'when: "{when}", then: {then}',
+    )
     path = tmp_path / "freefall.case.yaml"
     path.write_text(text, encoding="utf-8")
     return path
@@ -38,7 +41,7 @@ def _case(tmp_path: Path, when: str, then: str = "[{activate: downstop}]") -> Pa
 def freefall(tmp_path_factory: pytest.TempPathFactory):
     """The shipped-in-tests case as written: event at angle 0 exactly."""
     out = tmp_path_factory.mktemp("freefall")
-    outcome, = run_file(CASES / "freefall_dyn.case.yaml", output_dir=out)
+    (outcome,) = run_file(CASES / "freefall_dyn.case.yaml", output_dir=out)
     return outcome.solution
 
 
@@ -47,9 +50,12 @@ def _toggle_angle() -> float:
     point on the leg (700 mm below the trunnion) as long as both brace halves together."""
     top, knee, leg = np.array([0.9, -0.1]), np.array([0.412686, -0.344030]), 0.7
     reach = np.linalg.norm(knee - top) + np.linalg.norm(np.array([0.0, -leg]) - knee)
+
     def gap(theta: float) -> float:
-        return np.linalg.norm(np.array([leg * math.sin(theta), -leg * math.cos(theta)])
-                              - top) - reach
+        return (
+            np.linalg.norm(np.array([leg * math.sin(theta), -leg * math.cos(theta)]) - top) - reach
+        )
+
     return brentq(gap, math.radians(-5.0), 0.0)
 
 
@@ -59,12 +65,13 @@ def test_event_at_the_wire_jump_fires_where_the_angle_is_zero(freefall, tmp_path
     = 1.1e-7 s), and the recorded angle at the event is zero within |omega| times the
     location tolerance."""
     assert freefall.ok, freefall.message
-    event, = freefall.events
+    (event,) = freefall.events
     assert event.name == "down" and event.actions == ("activate downstop",)
     assert "down at t = 1.25653 s" in freefall.message
-    earlier, = run_file(_case(tmp_path, "angle(trunnion) <= 1.0e-7", "[stop]"),
-                        output_dir=tmp_path / "out")
-    offset, = earlier.solution.events
+    (earlier,) = run_file(
+        _case(tmp_path, "angle(trunnion) <= 1.0e-7", "[stop]"), output_dir=tmp_path / "out"
+    )
+    (offset,) = earlier.solution.events
     assert abs(event.time - offset.time) < 1e-6
     row = int(np.flatnonzero(freefall.time == event.time)[0])
     omega = abs(freefall.channels["leg_rate.value"][row])

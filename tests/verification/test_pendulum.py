@@ -4,18 +4,23 @@ Case: loadcases/library/verification/pendulum.case.yaml (uniform 1 m, 3 kg bar o
 I_hinge = 1 kg*m^2). References: the exact period from the complete elliptic integral and
 the hinge reaction from the energy integral (references.pendulum_*).
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from references import (
-    Pendulum, assert_within_peak, channel, pendulum_bottom_reaction, pendulum_hinge_reaction,
-    pendulum_period, vector,
+    Pendulum,
+    assert_within_peak,
+    channel,
+    pendulum_bottom_reaction,
+    pendulum_hinge_reaction,
+    pendulum_period,
+    vector,
 )
 
-THETA0 = np.radians(60.0)      # rad, `initial: hinge: {value: 60 deg, rate: 0}`
-PENDULUM = Pendulum(mass=3.0, cm_distance=0.5, izz_cm=0.25)   # as in pendulum.case.yaml
+THETA0 = np.radians(60.0)  # rad, `initial: hinge: {value: 60 deg, rate: 0}`
+PENDULUM = Pendulum(mass=3.0, cm_distance=0.5, izz_cm=0.25)  # as in pendulum.case.yaml
 
 
 @pytest.fixture(scope="module")

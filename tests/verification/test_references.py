@@ -3,27 +3,49 @@
 Each reference is checked against a second, independent route to the same physics: a limit
 case, a conservation law, or a different formulation. Tolerances are stated per test.
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from references import (
+    DoublePendulum,
+    FourBar,
+    HeavyTop,
+    HeavyTopSolution,
+    Pendulum,
+    SliderCrank,
+    SpringBar,
+    angular_velocity_from_points,
+    double_pendulum_energy,
+    double_pendulum_solve,
+    fourbar_drive_torque,
+    fourbar_pose,
+    fourbar_potential,
+    fourbar_static_loads,
+    fourbar_velocity_ratios,
+    heavy_top_energy,
+    heavy_top_solve,
+    heavy_top_vertical_momentum,
+    pendulum_bottom_reaction,
+    pendulum_hinge_reaction,
+    pendulum_period,
+    pendulum_rhs,
+    pendulum_small_angle_period,
+    slider_crank_energy,
+    slider_crank_kinematics,
+    slider_crank_loads,
+    spring_bar_equilibrium,
+    spring_bar_moment,
+)
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
-
-from references import (
-    DoublePendulum, FourBar, HeavyTop, HeavyTopSolution, Pendulum, SliderCrank, SpringBar,
-    angular_velocity_from_points, double_pendulum_energy, double_pendulum_solve,
-    fourbar_drive_torque, fourbar_pose, fourbar_potential, fourbar_static_loads,
-    fourbar_velocity_ratios, heavy_top_energy, heavy_top_solve, heavy_top_vertical_momentum,
-    pendulum_bottom_reaction, pendulum_hinge_reaction, pendulum_period, pendulum_rhs,
-    pendulum_small_angle_period, slider_crank_energy, slider_crank_kinematics,
-    slider_crank_loads, spring_bar_equilibrium, spring_bar_moment,
-)
 
 G = 9.81
 
 
 # ---------------------------------------------------------------- pendulum
+
 
 def test_elliptic_period_tends_to_small_angle_limit() -> None:
     """T(theta0) -> 2 pi sqrt(L_eq / g) as theta0 -> 0; the first correction is
@@ -49,8 +71,16 @@ def test_elliptic_period_matches_integration() -> None:
 
     def through_bottom(t: float, y: np.ndarray) -> float:
         return float(y[0])
-    sol = solve_ivp(pendulum_rhs, (0.0, 4.0), [theta0, 0.0], method="DOP853", rtol=1e-12,
-                    atol=1e-14, events=through_bottom)
+
+    sol = solve_ivp(
+        pendulum_rhs,
+        (0.0, 4.0),
+        [theta0, 0.0],
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-14,
+        events=through_bottom,
+    )
     crossings = sol.t_events[0]
     assert len(crossings) >= 4
     period = crossings[2] - crossings[0]
@@ -61,8 +91,15 @@ def test_hinge_reaction_from_energy_matches_integration() -> None:
     """R(theta) from energy equals m a_G - m g computed from an integrated motion
     (rtol 1e-12): agreement to 1e-7 of the peak; at the bottom it is the closed form."""
     p, theta0 = Pendulum(), np.radians(60.0)
-    sol = solve_ivp(pendulum_rhs, (0.0, 2.0), [theta0, 0.0], method="DOP853", rtol=1e-12,
-                    atol=1e-14, dense_output=True)
+    sol = solve_ivp(
+        pendulum_rhs,
+        (0.0, 2.0),
+        [theta0, 0.0],
+        method="DOP853",
+        rtol=1e-12,
+        atol=1e-14,
+        dense_output=True,
+    )
     t = np.linspace(0.0, 2.0, 401)
     th, w = sol.sol(t)
     a = -p.omega0_squared * np.sin(th)
@@ -82,10 +119,14 @@ def test_hinge_reaction_from_energy_matches_integration() -> None:
 
 # ---------------------------------------------------------------- slider-crank
 
+
 def _crank_motion(t: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A non-uniform crank motion th = 2 pi t + 0.3 sin(5 t), so alpha != 0 (rad, s)."""
-    return (2 * np.pi * t + 0.3 * np.sin(5 * t), 2 * np.pi + 1.5 * np.cos(5 * t),
-            -7.5 * np.sin(5 * t))
+    return (
+        2 * np.pi * t + 0.3 * np.sin(5 * t),
+        2 * np.pi + 1.5 * np.cos(5 * t),
+        -7.5 * np.sin(5 * t),
+    )
 
 
 def test_slider_crank_power_balance() -> None:
@@ -106,8 +147,12 @@ def test_slider_crank_kinematics_by_differences() -> None:
     t = np.linspace(0.0, 1.0, 20_001)
     th, w, a = _crank_motion(t)
     k = slider_crank_kinematics(th, w, a)
-    for value, rate, label in ((k.x, k.x_d, "x'"), (k.x_d, k.x_dd, "x''"),
-                               (k.beta, k.beta_d, "b'"), (k.beta_d, k.beta_dd, "b''")):
+    for value, rate, label in (
+        (k.x, k.x_d, "x'"),
+        (k.x_d, k.x_dd, "x''"),
+        (k.beta, k.beta_d, "b'"),
+        (k.beta_d, k.beta_dd, "b''"),
+    ):
         fd = np.gradient(value, t, edge_order=2)
         assert np.max(np.abs(fd - rate)[1:-1]) < 1e-6 * np.max(np.abs(rate)), label
     # loop closure: |B - A| = l with B = (x, 0)
@@ -124,8 +169,11 @@ def test_slider_crank_whole_system_balance() -> None:
     k = slider_crank_kinematics(th, w, a)
     f = slider_crank_loads(th, w, a, p)
     total_mass = p.crank_mass + p.rod_mass + p.slider_mass
-    mx = p.crank_mass * k.crank_cm_acc[:, 0] + p.rod_mass * k.rod_cm_acc[:, 0] \
+    mx = (
+        p.crank_mass * k.crank_cm_acc[:, 0]
+        + p.rod_mass * k.rod_cm_acc[:, 0]
         + p.slider_mass * k.x_dd
+    )
     my = p.crank_mass * k.crank_cm_acc[:, 1] + p.rod_mass * k.rod_cm_acc[:, 1]
     peak = np.max(np.abs(f.pivot_fy))
     assert np.max(np.abs(f.pivot_fx - mx)) < 1e-10 * peak
@@ -143,6 +191,7 @@ def test_slider_crank_static_dead_centre() -> None:
 
 
 # ---------------------------------------------------------------- four-bar
+
 
 def test_fourbar_loop_closes_and_starts_at_design() -> None:
     """Link lengths are preserved over a full crank turn (1e-14 m) and theta = 0 is the
@@ -188,11 +237,11 @@ def test_fourbar_statics_agrees_with_virtual_work() -> None:
     assert np.max(np.abs(loads["drive_torque"] - torque)) < 1e-10 * np.max(np.abs(torque))
     weight = (p.crank_mass + p.coupler_mass + p.rocker_mass) * p.g
     assert np.allclose(loads["crank_pivot_fy"] + loads["rocker_pivot_fy"], weight, rtol=1e-12)
-    assert np.allclose(loads["crank_pivot_fx"] + loads["rocker_pivot_fx"], 0.0,
-                       atol=1e-12 * weight)
+    assert np.allclose(loads["crank_pivot_fx"] + loads["rocker_pivot_fx"], 0.0, atol=1e-12 * weight)
 
 
 # ---------------------------------------------------------------- spring bar
+
 
 def test_spring_bar_equilibrium_minimises_potential() -> None:
     """The moment-balance root is the minimum of V = k (s - s0)^2 / 2 + m g y_G, found by a
@@ -203,10 +252,13 @@ def test_spring_bar_equilibrium_minimises_potential() -> None:
     def potential(theta: float) -> float:
         tip = np.array([np.cos(theta), np.sin(theta)]) * p.tip0[0]
         s = np.linalg.norm(np.asarray(p.anchor) - tip)
-        return 0.5 * p.stiffness * (s - p.free_length) ** 2 \
-            + p.mass * p.g * p.cm0[0] * np.sin(theta)
-    found = minimize_scalar(potential, bounds=(-1.5, 1.5), method="bounded",
-                            options={"xatol": 1e-10})
+        return 0.5 * p.stiffness * (s - p.free_length) ** 2 + p.mass * p.g * p.cm0[0] * np.sin(
+            theta
+        )
+
+    found = minimize_scalar(
+        potential, bounds=(-1.5, 1.5), method="bounded", options={"xatol": 1e-10}
+    )
     assert eq["angle"] == pytest.approx(found.x, abs=1e-8)
     assert abs(spring_bar_moment(eq["angle"], p)) < 1e-10
     assert eq["stiffness"] < 0.0
@@ -227,14 +279,14 @@ def test_spring_bar_hinge_balances_forces() -> None:
 
 # ---------------------------------------------------------------- heavy top
 
+
 @pytest.fixture(scope="module")
 def top_solution() -> HeavyTopSolution:
     """Reference heavy-top motion, 2 s at 1 ms."""
     return heavy_top_solve(np.linspace(0.0, 2.0, 2001))
 
 
-def test_heavy_top_conserves_energy_and_vertical_momentum(
-        top_solution: HeavyTopSolution) -> None:
+def test_heavy_top_conserves_energy_and_vertical_momentum(top_solution: HeavyTopSolution) -> None:
     """Gravity does no work about the fixed point and has no torque about the vertical:
     energy and L_z stay constant to 1e-8 relative with rtol 1e-10 (and |q| = 1)."""
     e = heavy_top_energy(top_solution)
@@ -259,7 +311,7 @@ def test_heavy_top_precession_rate(top_solution: HeavyTopSolution) -> None:
     tip = top_solution.position([0.06, 0.0, 0.08])
     azimuth = np.unwrap(np.arctan2(tip[:, 1], tip[:, 0]))
     rate = np.polyfit(top_solution.t, azimuth, 1)[0]
-    i_t = 0.0025 + top.mass * 0.05**2        # transverse, about the pivot
+    i_t = 0.0025 + top.mass * 0.05**2  # transverse, about the pivot
     i_a, w3, cos_th, mgh = 0.004, 100.0, 0.8, top.mass * top.g * 0.05
     slow = (i_a * w3 - np.sqrt((i_a * w3) ** 2 - 4 * i_t * cos_th * mgh)) / (2 * i_t * cos_th)
     assert rate == pytest.approx(slow, rel=2e-3)
@@ -275,6 +327,7 @@ def test_angular_velocity_from_points_recovers_omega(top_solution: HeavyTopSolut
 
 
 # ---------------------------------------------------------------- double pendulum
+
 
 def test_double_pendulum_energy_is_conserved() -> None:
     """The energy function is constant along the Lagrange-equation motion (rtol 1e-10):
@@ -300,8 +353,9 @@ def test_double_pendulum_energy_from_finite_differences() -> None:
     g1, g2 = p.cm1 * u1, p.length1 * u1 + p.cm2 * u2
     v1, v2 = (np.gradient(g, t, axis=0, edge_order=2) for g in (g1, g2))
     w1, w2 = (np.gradient(phi, t, edge_order=2) for phi in (phi1, phi2))
-    e_fd = 0.5 * (p.mass1 * np.sum(v1**2, -1) + p.izz1 * w1**2 + p.mass2 * np.sum(v2**2, -1)
-                  + p.izz2 * w2**2) + p.g * (p.mass1 * g1[:, 1] + p.mass2 * g2[:, 1])
+    e_fd = 0.5 * (
+        p.mass1 * np.sum(v1**2, -1) + p.izz1 * w1**2 + p.mass2 * np.sum(v2**2, -1) + p.izz2 * w2**2
+    ) + p.g * (p.mass1 * g1[:, 1] + p.mass2 * g2[:, 1])
     e = double_pendulum_energy(phi1, phi2, y[:, 2], y[:, 3], p)
     scale = p.g * (p.mass1 * p.cm1 + p.mass2 * (p.length1 + p.cm2))
     assert np.max(np.abs(e_fd - e)) < 1e-6 * scale

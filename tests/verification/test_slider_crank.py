@@ -6,17 +6,22 @@ the three bodies). The rod has spherical/universal ends in 3D, but with principa
 z and in-plane gravity its in-plane reactions are the planar ones and the out-of-plane ones
 vanish.
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from references import (
-    SliderCrank, assert_within_peak, channel, slider_crank_kinematics, slider_crank_loads,
-    vector, wrap_angle,
+    SliderCrank,
+    assert_within_peak,
+    channel,
+    slider_crank_kinematics,
+    slider_crank_loads,
+    vector,
+    wrap_angle,
 )
 
-CRANK_SPEED = 2 * np.pi        # rad/s, `crank_speed: 360 deg/s` in slider_crank.mech.yaml
+CRANK_SPEED = 2 * np.pi  # rad/s, `crank_speed: 360 deg/s` in slider_crank.mech.yaml
 PEAK_FRACTION = 1e-3
 """Reactions within 0.1% of the channel's peak: a kinematic analysis has no integration
 error, only the Newton tolerance of the position/velocity/acceleration solves (far smaller);
@@ -63,34 +68,45 @@ def test_slider_position(outcome, reference) -> None:
 def test_drive_torque(outcome, reference) -> None:
     """drive_torque.value vs Newton-Euler T, within 0.1% of its peak (about 1.3 N*m)."""
     _, loads = reference
-    assert_within_peak(channel(outcome, "drive_torque.value"), loads.drive_torque,
-                       PEAK_FRACTION, "drive_torque.value")
+    assert_within_peak(
+        channel(outcome, "drive_torque.value"),
+        loads.drive_torque,
+        PEAK_FRACTION,
+        "drive_torque.value",
+    )
 
 
-@pytest.mark.parametrize("request_name, fx, fy", [
-    ("pivot_force", "pivot_fx", "pivot_fy"),   # on the crank from ground
-    ("big_force", "big_fx", "big_fy"),         # on the rod from the crank
-    ("small_force", "small_fx", "small_fy"),   # on the slider from the rod
-])
-def test_joint_reactions_in_plane(outcome, reference, request_name: str, fx: str,
-                                  fy: str) -> None:
+@pytest.mark.parametrize(
+    "request_name, fx, fy",
+    [
+        ("pivot_force", "pivot_fx", "pivot_fy"),  # on the crank from ground
+        ("big_force", "big_fx", "big_fy"),  # on the rod from the crank
+        ("small_force", "small_fx", "small_fy"),  # on the slider from the rod
+    ],
+)
+def test_joint_reactions_in_plane(outcome, reference, request_name: str, fx: str, fy: str) -> None:
     """In-plane reaction components within 0.1% of the peak of the resultant in-plane force
     of that joint (a component may pass through zero, so its own peak is not the scale)."""
     _, loads = reference
     ref_x, ref_y = getattr(loads, fx), getattr(loads, fy)
     peak = float(np.max(np.hypot(ref_x, ref_y)))
-    assert_within_peak(channel(outcome, f"{request_name}.fx"), ref_x, PEAK_FRACTION,
-                       f"{request_name}.fx", peak)
-    assert_within_peak(channel(outcome, f"{request_name}.fy"), ref_y, PEAK_FRACTION,
-                       f"{request_name}.fy", peak)
+    assert_within_peak(
+        channel(outcome, f"{request_name}.fx"), ref_x, PEAK_FRACTION, f"{request_name}.fx", peak
+    )
+    assert_within_peak(
+        channel(outcome, f"{request_name}.fy"), ref_y, PEAK_FRACTION, f"{request_name}.fy", peak
+    )
 
 
 @pytest.mark.parametrize("request_name", ["pivot_force", "big_force", "small_force"])
 def test_joint_reactions_out_of_plane_vanish(outcome, request_name: str) -> None:
     """fz, tx, ty are zero for planar motion with in-plane loads: below 0.1% of the joint's
     peak in-plane force (N) and of that force times the 0.1 m crank (N*m)."""
-    peak = float(np.max(np.hypot(channel(outcome, f"{request_name}.fx"),
-                                 channel(outcome, f"{request_name}.fy"))))
+    peak = float(
+        np.max(
+            np.hypot(channel(outcome, f"{request_name}.fx"), channel(outcome, f"{request_name}.fy"))
+        )
+    )
     assert np.max(np.abs(channel(outcome, f"{request_name}.fz"))) <= PEAK_FRACTION * peak
     for moment in ("tx", "ty"):
         values = channel(outcome, f"{request_name}.{moment}")
@@ -102,8 +118,9 @@ def test_guide_reaction(outcome, reference) -> None:
     within 0.1% of the peak normal force (about 26 N)."""
     _, loads = reference
     peak = float(np.max(np.abs(loads.guide_fy)))
-    assert_within_peak(channel(outcome, "guide_force.fy"), loads.guide_fy, PEAK_FRACTION,
-                       "guide_force.fy", peak)
+    assert_within_peak(
+        channel(outcome, "guide_force.fy"), loads.guide_fy, PEAK_FRACTION, "guide_force.fy", peak
+    )
     assert np.max(np.abs(channel(outcome, "guide_force.fx"))) <= PEAK_FRACTION * peak
     assert np.max(np.abs(channel(outcome, "guide_force.fz"))) <= PEAK_FRACTION * peak
 
@@ -111,5 +128,6 @@ def test_guide_reaction(outcome, reference) -> None:
 def test_force_magnitude_column(outcome) -> None:
     """pivot_force.f is the magnitude of (fx, fy, fz) (round-off)."""
     f = vector(outcome, "pivot_force", "fx fy fz")
-    assert np.allclose(channel(outcome, "pivot_force.f"), np.linalg.norm(f, axis=1),
-                       rtol=1e-12, atol=1e-12)
+    assert np.allclose(
+        channel(outcome, "pivot_force.f"), np.linalg.norm(f, axis=1), rtol=1e-12, atol=1e-12
+    )

@@ -4,14 +4,14 @@ Case: loadcases/library/verification/static_spring_bar.case.yaml. Reference:
 references.spring_bar_equilibrium (moment balance about the hinge solved with brentq):
 0.46595 rad, tension 30.825 N, hinge force on the bar (29.214, 29.406) N.
 """
+
 from __future__ import annotations
 
 import numpy as np
 import pytest
-
 from references import SpringBar, channel, spring_bar_equilibrium
 
-SPRING_BAR = SpringBar()       # the data of static_spring_bar.case.yaml, SI
+SPRING_BAR = SpringBar()  # the data of static_spring_bar.case.yaml, SI
 EQUILIBRIUM = spring_bar_equilibrium(SPRING_BAR)
 HINGE_PEAK = float(np.hypot(EQUILIBRIUM["hinge_fx"], EQUILIBRIUM["hinge_fy"]))
 
@@ -31,8 +31,7 @@ def test_equilibrium_angle(outcome) -> None:
     """hinge_angle.value within 1e-6 rad of the brentq root: the static solve is an exact
     Newton solve with a stiffness of about 51 N*m/rad, so a 1e-6 rad error would leave a
     5e-5 N*m unbalanced moment, well above any converged residual."""
-    assert channel(outcome, "hinge_angle.value")[0] == pytest.approx(
-        EQUILIBRIUM["angle"], abs=1e-6)
+    assert channel(outcome, "hinge_angle.value")[0] == pytest.approx(EQUILIBRIUM["angle"], abs=1e-6)
 
 
 def test_spring_tension_and_length(outcome) -> None:
@@ -40,9 +39,11 @@ def test_spring_tension_and_length(outcome) -> None:
     accuracy of the verification suite); the spring length (expression `dist`) within
     1e-6 m (follows from the angle tolerance times the 0.8 m lever)."""
     assert channel(outcome, "spring_force.value")[0] == pytest.approx(
-        EQUILIBRIUM["tension"], rel=1e-3)
+        EQUILIBRIUM["tension"], rel=1e-3
+    )
     assert channel(outcome, "spring_length.value")[0] == pytest.approx(
-        EQUILIBRIUM["length"], abs=1e-6)
+        EQUILIBRIUM["length"], abs=1e-6
+    )
 
 
 def test_hinge_reaction(outcome) -> None:

@@ -11,14 +11,21 @@ Tolerance asked: 1e-6 relative. Measured (2026-11, this file): penetration error
 4e-11 relative over every start below, 1.4e-11 of the deflection in the socket; Newton stops
 at a force residual of 1e-10 of the weight, i.e. about 1e-10 / e of x*. Guarded at 1e-9.
 """
+
 from __future__ import annotations
 
-import mechlib as ml
 import numpy as np
 import pytest
-from mechlib.contact import (Contact, HertzLaw, ImpactLaw, SpherePlane, hertz_stiffness,
-                             spherical_clearance)
 
+import mechlib as ml
+from mechlib.contact import (
+    Contact,
+    HertzLaw,
+    ImpactLaw,
+    SpherePlane,
+    hertz_stiffness,
+    spherical_clearance,
+)
 from tests.mechlib.contact._contact_models import G, guided_ball
 
 DEFLECTION = 1.0e-4
@@ -30,9 +37,12 @@ MEASURED = 1e-9
 def _pad_penetration(exponent: float, start: float) -> tuple[float, ml.Solution]:
     """Static penetration (m) of a 1 kg ball on a pad of stiffness m g / x*^e, the ball
     starting `start` x* apart (> 0), touching (0) or penetrating (< 0)."""
-    law = ImpactLaw(G / DEFLECTION ** exponent, exponent)
-    mech = (guided_ball(law, height=start * DEFLECTION) if start >= 0.0
-            else guided_ball(law, overlap=-start * DEFLECTION))
+    law = ImpactLaw(G / DEFLECTION**exponent, exponent)
+    mech = (
+        guided_ball(law, height=start * DEFLECTION)
+        if start >= 0.0
+        else guided_ball(law, overlap=-start * DEFLECTION)
+    )
     sol = ml.solve(mech, ml.Static(), requests=[ml.ElementOutput("pad", "contact")])
     return float(sol.channels["pad.penetration"][0]), sol
 
@@ -45,7 +55,7 @@ def test_pad_penetration_from_any_start(exponent: float, start: float) -> None:
     penetration, sol = _pad_penetration(exponent, start)
     assert abs(penetration - DEFLECTION) <= MEASURED * DEFLECTION
     assert sol.channels["pad.normal"][0] == pytest.approx(G, rel=MEASURED)
-    assert sol.stats.newton_iterations <= 40     # measured 21-29: continuation + Newton
+    assert sol.stats.newton_iterations <= 40  # measured 21-29: continuation + Newton
 
 
 @pytest.mark.parametrize("gravity", [(0.0, -G, 0.0), (3.0, -9.0, 1.0)])
@@ -55,15 +65,20 @@ def test_ball_rests_in_its_socket_at_clearance_plus_hertz_deflection(gravity) ->
     deflections from the wall): e = c + (m |g| / K)^(1/1.5) along g, the deflection within
     MEASURED of itself (measured 1.4e-11)."""
     radius, clearance, mass = 0.01, 5e-4, 0.2
-    stiffness = hertz_stiffness(210e9, 0.3, 210e9, 0.3, radius * (radius + clearance)
-                                / clearance)
+    stiffness = hertz_stiffness(210e9, 0.3, 210e9, 0.3, radius * (radius + clearance) / clearance)
     m = ml.Mechanism(name="socket", gravity=gravity)
     m.add_body("ball", mass=mass, cm=(0, 0, 0), inertia=[8e-6] * 3)
-    m.add_joint("keep", "orientation", bodies=("ball", ml.GROUND), at=(0, 0, 0),
-                axis=(0, 0, 1))
-    m.add_force(spherical_clearance("socket", ("ball", ml.GROUND), center=(0, 0, 0),
-                                    radius=radius, clearance=clearance,
-                                    law=HertzLaw(stiffness, 1.5)))
+    m.add_joint("keep", "orientation", bodies=("ball", ml.GROUND), at=(0, 0, 0), axis=(0, 0, 1))
+    m.add_force(
+        spherical_clearance(
+            "socket",
+            ("ball", ml.GROUND),
+            center=(0, 0, 0),
+            radius=radius,
+            clearance=clearance,
+            law=HertzLaw(stiffness, 1.5),
+        )
+    )
     sol = ml.solve(m, ml.Static(), requests=[ml.ElementOutput("s", "socket")])
     deflection = (mass * np.linalg.norm(gravity) / stiffness) ** (1 / 1.5)
     ecc = np.array([sol.channels[f"s.e{c}"][0] for c in "xyz"])
@@ -78,17 +93,22 @@ def test_pad_facing_away_names_body_and_contact() -> None:
     normal)."""
     m = ml.Mechanism(name="upside-down", gravity=(0.0, -G, 0.0))
     m.add_body("ball", mass=1.0, cm=(0, 0.01, 0), inertia=[4e-5] * 3)
-    m.add_joint("guide", "prismatic", bodies=("ball", ml.GROUND), at=(0, 0.01, 0),
-                axis=(0, 1, 0))
-    m.add_force(Contact("pad", ("ball", ml.GROUND),
-                        SpherePlane((0, 0.01, 0), 0.01, (0, 0, 0), (0, -1, 0)),
-                        ImpactLaw(1e6, 1.5)))
+    m.add_joint("guide", "prismatic", bodies=("ball", ml.GROUND), at=(0, 0.01, 0), axis=(0, 1, 0))
+    m.add_force(
+        Contact(
+            "pad",
+            ("ball", ml.GROUND),
+            SpherePlane((0, 0.01, 0), 0.01, (0, 0, 0), (0, -1, 0)),
+            ImpactLaw(1e6, 1.5),
+        )
+    )
     with pytest.raises(ml.SolverFailure) as failure:
         ml.solve(m, ml.Static(time=0.25))
     message = str(failure.value)
     assert failure.value.time == 0.25 and failure.value.where == ("ball", "pad")
-    assert message.startswith("static equilibrium not found at t = 0.25 s: body 'ball' is "
-                              "not held along (0, -1, 0)")
+    assert message.startswith(
+        "static equilibrium not found at t = 0.25 s: body 'ball' is not held along (0, -1, 0)"
+    )
     assert "contact 'pad'" in message and "normal points from body 2" in message
 
 

@@ -7,13 +7,13 @@ mu r F_r + T_pret of eq. 2.2, linear harness table, damper c omega at the motion
 inertia as an expression); tolerance 1e-9 relative (the only numerics are the pin
 reaction of a static equilibrium, solved to machine precision).
 """
+
 from __future__ import annotations
 
 import math
 
 import numpy as np
 import pytest
-
 from conftest import LIBRARY
 
 CASE = LIBRARY / "solar_array" / "torque_margin_panel.case.yaml"
@@ -42,6 +42,7 @@ def _hand(theta: float, k: float = K) -> tuple[float, float, float]:
 def outcome():
     from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
+
     return run_case(load_case(CASE))
 
 
@@ -75,6 +76,7 @@ def test_weak_spring_fails_the_check() -> None:
     """k = 0.1 N*m/rad: D(90 deg) = 0.157 + 0.2 < 2 R: the check fails, the run is ok."""
     from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
+
     weak = run_case(load_case(CASE, overrides={"k_drive": 0.1}))
     block = weak.checks["torque_margin"]
     assert weak.solution.status == "ok" and not block["passed"]
@@ -88,6 +90,7 @@ def test_bad_contributor_is_an_input_error(tmp_path) -> None:
     from loadcases.diagnostics import InputError
     from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
+
     text = CASE.read_text().replace("pin_friction: friction", "pin_frixion: friction")
     bad = tmp_path / "bad.case.yaml"
     bad.write_text(text)

@@ -1,4 +1,5 @@
 """Small contact mechanisms shared by the contact tests (SI units, gravity along -y)."""
+
 from __future__ import annotations
 
 import mechlib as ml
@@ -10,8 +11,15 @@ RADIUS = 0.01
 """m, radius of the test spheres."""
 
 
-def guided_ball(law, *, mass: float = 1.0, load: float = 0.0, gravity: bool = True,
-                height: float = 0.0, overlap: float = 0.0) -> ml.Mechanism:
+def guided_ball(
+    law,
+    *,
+    mass: float = 1.0,
+    load: float = 0.0,
+    gravity: bool = True,
+    height: float = 0.0,
+    overlap: float = 0.0,
+) -> ml.Mechanism:
     """A ball (centre at y = RADIUS + height) on a vertical prismatic guide above the
     plane y = overlap of ground, pressed down by its weight and `load` (N): touching at
     design by default, apart by `height` or penetrating by `overlap` (m)."""
@@ -20,8 +28,14 @@ def guided_ball(law, *, mass: float = 1.0, load: float = 0.0, gravity: bool = Tr
     m.add_body("ball", mass=mass, cm=centre, inertia=[4e-5] * 3)
     m.add_point("centre", body="ball", at=centre)
     m.add_joint("guide", "prismatic", bodies=("ball", ml.GROUND), at=centre, axis=(0, 1, 0))
-    m.add_force(Contact("contact", ("ball", ml.GROUND),
-                        SpherePlane(centre, RADIUS, (0, overlap, 0), (0, 1, 0)), law))
+    m.add_force(
+        Contact(
+            "contact",
+            ("ball", ml.GROUND),
+            SpherePlane(centre, RADIUS, (0, overlap, 0), (0, 1, 0)),
+            law,
+        )
+    )
     if load:
         m.add_force(ml.PointForce("load", "ball", centre, lambda t, v: (0.0, -load, 0.0)))
     return m

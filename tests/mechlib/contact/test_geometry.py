@@ -1,13 +1,21 @@
 """Contact geometries at known positions: penetration, normal, point, eccentricity (SI)."""
+
 from __future__ import annotations
 
 import math
 
-import mechlib as ml
 import numpy as np
 import pytest
-from mechlib.contact import (CircleProfile, CylinderInCylinder, SphereInSphere, SpherePlane,
-                             revolute_clearance, HertzLaw)
+
+import mechlib as ml
+from mechlib.contact import (
+    CircleProfile,
+    CylinderInCylinder,
+    HertzLaw,
+    SphereInSphere,
+    SpherePlane,
+    revolute_clearance,
+)
 
 
 def _system_at(offset, velocity=(0.0, 0.0, 0.0)):
@@ -53,8 +61,15 @@ def test_ball_in_socket_and_pin_in_hole() -> None:
 def test_clearance_joint_polar_angle() -> None:
     """Eccentricity along +y about the z axis of the hole: polar angle 90 deg."""
     system, view = _system_at((0.0, 0.0003, 0.0))
-    joint = revolute_clearance("j", ("b", ml.GROUND), center=(0, 0, 0), axis=(0, 0, 1),
-                               radius=0.01, clearance=0.0005, law=HertzLaw(1e9))
+    joint = revolute_clearance(
+        "j",
+        ("b", ml.GROUND),
+        center=(0, 0, 0),
+        axis=(0, 0, 1),
+        radius=0.01,
+        clearance=0.0005,
+        law=HertzLaw(1e9),
+    )
     joint.bind(system)
     out = joint.output(view)
     assert out["angle"] == pytest.approx(math.pi / 2)

@@ -1,13 +1,21 @@
 """Contact laws and friction coefficients against their defining equations (SI units)."""
+
 from __future__ import annotations
 
 import math
 
-import mechlib as ml
 import pytest
-from mechlib.contact import (CoulombFriction, HertzLaw, ImpactLaw, RestitutionLaw,
-                             StribeckFriction, hertz_stiffness, step)
 
+import mechlib as ml
+from mechlib.contact import (
+    CoulombFriction,
+    HertzLaw,
+    ImpactLaw,
+    RestitutionLaw,
+    StribeckFriction,
+    hertz_stiffness,
+    step,
+)
 from tests.mechlib.contact._contact_models import G, guided_ball
 
 
@@ -24,7 +32,7 @@ def test_impact_law_is_continuous_and_never_pulls() -> None:
     separating fast (no adhesion)."""
     law = ImpactLaw(1e7, 1.5, damping=100.0, depth=1e-4)
     assert law.force(-1e-3, 1.0) == 0.0
-    assert law.force(2e-4, 0.5) == pytest.approx(1e7 * 2e-4 ** 1.5 + 50.0, rel=1e-12)
+    assert law.force(2e-4, 0.5) == pytest.approx(1e7 * 2e-4**1.5 + 50.0, rel=1e-12)
     assert law.force(1e-6, -100.0) == 0.0
 
 
@@ -40,9 +48,9 @@ def test_ln_damping_factor() -> None:
     """F = K d^n (1 + 3 (1 - e^2)/4 * dd / dd(-)) (seed 004 eq. 3.6-3.8)."""
     law = HertzLaw(1e9, 1.5, 0.8)
     x, xd, v0 = 1e-5, 0.3, 0.6
-    assert law.force(x, xd, v0) == pytest.approx(1e9 * x ** 1.5 * (1 + 0.75 * 0.36 * 0.5))
-    assert HertzLaw(1e9).force(x, xd, v0) == pytest.approx(1e9 * x ** 1.5)
-    assert RestitutionLaw(0.8, 1e9).force(x, 0.0, v0) == pytest.approx(1e9 * x ** 1.5)
+    assert law.force(x, xd, v0) == pytest.approx(1e9 * x**1.5 * (1 + 0.75 * 0.36 * 0.5))
+    assert HertzLaw(1e9).force(x, xd, v0) == pytest.approx(1e9 * x**1.5)
+    assert RestitutionLaw(0.8, 1e9).force(x, 0.0, v0) == pytest.approx(1e9 * x**1.5)
 
 
 def test_stribeck_coefficient_of_seed_004_eq_3_9() -> None:
@@ -55,11 +63,14 @@ def test_stribeck_coefficient_of_seed_004_eq_3_9() -> None:
     assert CoulombFriction(0.25, 1e-3).coefficient(0.1) == pytest.approx(0.25)
 
 
-@pytest.mark.parametrize("law, exact", [
-    (ImpactLaw(1.0e7, 1.5), lambda f: (f / 1.0e7) ** (1 / 1.5)),     # x = (F/k)^(1/e)
-    (HertzLaw(5.0e9, 1.5, 0.8), lambda f: (f / 5.0e9) ** (1 / 1.5)),  # d = (F/K)^(1/n)
-    (ImpactLaw(2.0e6, 1.0), lambda f: f / 2.0e6),
-])
+@pytest.mark.parametrize(
+    "law, exact",
+    [
+        (ImpactLaw(1.0e7, 1.5), lambda f: (f / 1.0e7) ** (1 / 1.5)),  # x = (F/k)^(1/e)
+        (HertzLaw(5.0e9, 1.5, 0.8), lambda f: (f / 5.0e9) ** (1 / 1.5)),  # d = (F/K)^(1/n)
+        (ImpactLaw(2.0e6, 1.0), lambda f: f / 2.0e6),
+    ],
+)
 def test_static_penetration_under_a_known_load(law, exact) -> None:
     """A 1 kg ball on a vertical guide pressed onto a plane by 100 N + its weight: static
     analysis, penetration within 0.1 % of the law inverted, normal force = load."""

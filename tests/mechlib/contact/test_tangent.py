@@ -1,12 +1,22 @@
 """The compiled contact tangent (stiffness -dQ/dq, damping -dQ/dqd) against central
 differences of the system's generalized forces (SI units)."""
+
 from __future__ import annotations
 
-import mechlib as ml
 import numpy as np
 import pytest
-from mechlib.contact import (HertzLaw, ImpactLaw, SpherePlane, StribeckFriction, Contact,
-                             hertz_stiffness, revolute_clearance, spherical_clearance)
+
+import mechlib as ml
+from mechlib.contact import (
+    Contact,
+    HertzLaw,
+    ImpactLaw,
+    SpherePlane,
+    StribeckFriction,
+    hertz_stiffness,
+    revolute_clearance,
+    spherical_clearance,
+)
 from mechlib.rotation import quaternion_from_rotvec
 
 K_STEEL = hertz_stiffness(210e9, 0.3, 210e9, 0.3, 0.01 * 0.0105 / 0.0005)
@@ -41,14 +51,37 @@ def _central(system, q, qd, t, which: int) -> np.ndarray:
     return out
 
 
-@pytest.mark.parametrize("element", [
-    spherical_clearance("c", ("ball", "socket"), center=(0, 0, 0), radius=0.01,
-                        clearance=5e-4, law=HertzLaw(K_STEEL, 1.5, 0.5), friction=FRICTION),
-    revolute_clearance("c", ("ball", "socket"), center=(0, 0, 0), axis=(0, 0, 1),
-                       radius=0.01, clearance=5e-4, law=HertzLaw(K_STEEL, 1.5, 0.5),
-                       friction=FRICTION),
-    Contact("c", ("ball", "socket"), SpherePlane((0, 0, 0), 0.01, (0, -0.01, 0), (0, 1, 0)),
-            ImpactLaw(1e9, 1.5, damping=1e3, depth=1e-5), FRICTION)])
+@pytest.mark.parametrize(
+    "element",
+    [
+        spherical_clearance(
+            "c",
+            ("ball", "socket"),
+            center=(0, 0, 0),
+            radius=0.01,
+            clearance=5e-4,
+            law=HertzLaw(K_STEEL, 1.5, 0.5),
+            friction=FRICTION,
+        ),
+        revolute_clearance(
+            "c",
+            ("ball", "socket"),
+            center=(0, 0, 0),
+            axis=(0, 0, 1),
+            radius=0.01,
+            clearance=5e-4,
+            law=HertzLaw(K_STEEL, 1.5, 0.5),
+            friction=FRICTION,
+        ),
+        Contact(
+            "c",
+            ("ball", "socket"),
+            SpherePlane((0, 0, 0), 0.01, (0, -0.01, 0), (0, 1, 0)),
+            ImpactLaw(1e9, 1.5, damping=1e3, depth=1e-5),
+            FRICTION,
+        ),
+    ],
+)
 def test_contact_tangent_matches_central_differences(element) -> None:
     """A steel ball 0.5 um into its socket (or a pin in its hole, a sphere on a plane),
     both bodies turned and moving, sliding in the Stribeck regime: K and C of

@@ -2,6 +2,7 @@
 of mass has the six uncoupled frequencies sqrt(k_i / m) and sqrt(kr_i / I_i) / (2 pi); a
 bar on a torsionally stiff bushing sags by kr theta = m g L cos(theta) (root-found); a
 damped vertical oscillation decays as exp(-c t / (2 m)). Tolerances per test."""
+
 from __future__ import annotations
 
 import math
@@ -37,8 +38,10 @@ def test_six_uncoupled_frequencies() -> None:
     """Modes of the body on the bushing at its centre of mass: the three translational
     and three rotational frequencies of the closed form, within 1e-6 relative."""
     sol = ml.solve(_mounted(stiffness=K, torsional_stiffness=KR), ml.Modes())
-    expected = sorted([math.sqrt(k / MASS) / (2 * math.pi) for k in K]
-                      + [math.sqrt(kr / i) / (2 * math.pi) for kr, i in zip(KR, INERTIA)])
+    expected = sorted(
+        [math.sqrt(k / MASS) / (2 * math.pi) for k in K]
+        + [math.sqrt(kr / i) / (2 * math.pi) for kr, i in zip(KR, INERTIA)]
+    )
     assert list(sol.channels["mode.frequency"]) == pytest.approx(expected, rel=1e-6)
 
 
@@ -48,9 +51,13 @@ def test_bar_sags_on_torsional_stiffness() -> None:
     the bushing point); rotation vector within 1e-9 rad, dz = -m g / kz within 1e-9 m,
     reported force on the box = +m g up (1e-9 N)."""
     length, g = 0.4, 9.81
-    sol = ml.solve(_mounted(cm=(length, 0.0, 0.0), gravity=(0.0, 0.0, -g), stiffness=K,
-                            torsional_stiffness=KR),
-                   ml.Static(), requests=[ml.ElementOutput("b", "mount")])
+    sol = ml.solve(
+        _mounted(
+            cm=(length, 0.0, 0.0), gravity=(0.0, 0.0, -g), stiffness=K, torsional_stiffness=KR
+        ),
+        ml.Static(),
+        requests=[ml.ElementOutput("b", "mount")],
+    )
     theta = brentq(lambda a: KR[1] * a - MASS * g * length * math.cos(a), 0.0, 1.0)
     assert sol.ok
     # gravity turns the bar down: a positive rotation about +y takes +x towards -z
@@ -66,16 +73,19 @@ def test_vertical_damping_decay() -> None:
     decrement of the damped oscillator), within 1 %; the twist stays zero (1e-12)."""
     c = 8.0
     mech = _mounted(stiffness=K, torsional_stiffness=KR, damping=(0.0, 0.0, c))
-    sol = ml.solve(mech, ml.Dynamic(end=0.2, step=1.0e-4, tolerance=1e-9),
-                   initial=[ml.InitialBodyVelocity("box", velocity=(0.0, 0.0, 0.1))],
-                   requests=[ml.PointKinematics("p", "box_c"), ml.ElementOutput("b", "mount")])
+    sol = ml.solve(
+        mech,
+        ml.Dynamic(end=0.2, step=1.0e-4, tolerance=1e-9),
+        initial=[ml.InitialBodyVelocity("box", velocity=(0.0, 0.0, 0.1))],
+        requests=[ml.PointKinematics("p", "box_c"), ml.ElementOutput("b", "mount")],
+    )
     assert sol.ok
     z = sol.channels["p.z"]
     peaks = [i for i in range(1, len(z) - 1) if z[i - 1] < z[i] >= z[i + 1] and z[i] > 0]
     assert len(peaks) >= 4
     wn = math.sqrt(K[2] / MASS)
     zeta = c / (2.0 * math.sqrt(K[2] * MASS))
-    period = 2.0 * math.pi / (wn * math.sqrt(1.0 - zeta ** 2))
+    period = 2.0 * math.pi / (wn * math.sqrt(1.0 - zeta**2))
     ratio = math.exp(-c * period / (2.0 * MASS))
     measured = [z[b] / z[a] for a, b in zip(peaks, peaks[1:])]
     assert measured == pytest.approx([ratio] * len(measured), rel=0.01)
@@ -88,7 +98,8 @@ def test_bushing_from_yaml(tmp_path) -> None:
     from loadcases.run import run_file
 
     case = tmp_path / "bushing.case.yaml"
-    case.write_text("""\
+    case.write_text(
+        """\
 case: bushing-mount
 units: {length: mm}
 mechanism:
@@ -101,8 +112,10 @@ mechanism:
 analysis: {type: static}
 requests:
   mount: {force: mount}
-""", encoding="utf-8")
-    outcome, = run_file(case, output_dir=tmp_path / "out")
+""",
+        encoding="utf-8",
+    )
+    (outcome,) = run_file(case, output_dir=tmp_path / "out")
     ch = outcome.solution.channels
     theta = brentq(lambda a: KR[1] * a - MASS * 9.81 * 0.4 * math.cos(a), 0.0, 1.0)
     assert ch["mount.fz"][0] == pytest.approx(MASS * 9.81, abs=1e-9)

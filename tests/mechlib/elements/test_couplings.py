@@ -1,4 +1,5 @@
 """Cable loop (seed 003 eqs. 2.3-2.6), eddy-current damper, gear coupler, seal springs."""
+
 from __future__ import annotations
 
 import math
@@ -10,7 +11,7 @@ import mechlib
 
 from .._models import Ramp
 
-R1, R2, K, T0 = 0.05, 0.04, 1.0e4, 200.0   # m, m, N/m per strand, N (both strands taut)
+R1, R2, K, T0 = 0.05, 0.04, 1.0e4, 200.0  # m, m, N/m per strand, N (both strands taut)
 TH1, TH2 = math.radians(10.0), math.radians(5.0)
 
 
@@ -45,19 +46,32 @@ def test_cable_loop_loads_by_hand() -> None:
     fa, fb = T0 + K * e, T0 - K * e
     d = 1.0
     length = math.sqrt(d * d - (R1 - R2) ** 2)
-    sol = mechlib.solve(_ccl(), mechlib.Static(), requests=[
-        mechlib.ElementOutput("ccl", "ccl"), mechlib.MotionEffort("m1", "m1"),
-        mechlib.MotionEffort("m2", "m2"), mechlib.JointReaction("hl2", "hl2")])
+    sol = mechlib.solve(
+        _ccl(),
+        mechlib.Static(),
+        requests=[
+            mechlib.ElementOutput("ccl", "ccl"),
+            mechlib.MotionEffort("m1", "m1"),
+            mechlib.MotionEffort("m2", "m2"),
+            mechlib.JointReaction("hl2", "hl2"),
+        ],
+    )
     assert sol.ok, sol.message
     c = {k: v[0] for k, v in sol.channels.items()}
-    expected = {"t1": R1 * (fb - fa), "t2": R2 * (fa - fb), "f_axial": (fa + fb) * length / d,
-                "f_lateral": (fa - fb) * (R1 - R2) / d, "tension_a": fa, "tension_b": fb}
+    expected = {
+        "t1": R1 * (fb - fa),
+        "t2": R2 * (fa - fb),
+        "f_axial": (fa + fb) * length / d,
+        "f_lateral": (fa - fb) * (R1 - R2) / d,
+        "tension_a": fa,
+        "tension_b": fb,
+    }
     for key, value in expected.items():
         assert c[f"ccl.{key}"] == pytest.approx(value, rel=1e-9)
     assert c["m1.value"] == pytest.approx(expected["t1"], rel=1e-9)
     assert c["m2.value"] == pytest.approx(-expected["t2"], rel=1e-9)
     # reaction on the panel from the yoke balances the cable's force on pulley 2
-    u = np.array([math.cos(TH1), math.sin(TH1), 0.0])    # A -> B
+    u = np.array([math.cos(TH1), math.sin(TH1), 0.0])  # A -> B
     force = np.array([c["hl2.fx"], c["hl2.fy"], c["hl2.fz"]])
     assert force @ u == pytest.approx(expected["f_axial"], rel=1e-9)
     assert abs(np.cross(u, force)[2]) == pytest.approx(abs(expected["f_lateral"]), rel=1e-9)
@@ -71,9 +85,12 @@ def test_damper_decays_a_free_rotor() -> None:
     mech.add_body("rotor", mass=1.0, cm=(0, 0, 0), inertia=[0.05, 0.05, 0.1])
     mech.add_joint("axle", "revolute", bodies=("rotor", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
     mech.add_force(mechlib.RotationalDamper("eddy", "axle", 0.05))
-    sol = mechlib.solve(mech, mechlib.Dynamic(end=2.0, step=0.1),
-                        initial=[mechlib.InitialBodyVelocity("rotor", omega=(0, 0, 2.0))],
-                        requests=[mechlib.ElementOutput("eddy", "eddy")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Dynamic(end=2.0, step=0.1),
+        initial=[mechlib.InitialBodyVelocity("rotor", omega=(0, 0, 2.0))],
+        requests=[mechlib.ElementOutput("eddy", "eddy")],
+    )
     assert sol.ok, sol.message
     expected = 2.0 * np.exp(-0.05 * sol.time / 0.1)
     np.testing.assert_allclose(sol.channels["eddy.omega"], expected, rtol=1e-3)
@@ -88,14 +105,21 @@ def test_gear_ratio_transmits_angle_and_torque() -> None:
     mech = mechlib.Mechanism(name="gear", gravity=(0.0, 0.0, 0.0))
     for name, x in (("s1", 0.0), ("s2", 0.2)):
         mech.add_body(name, mass=1.0, cm=(x, 0, 0), inertia=[0.01] * 3)
-        mech.add_joint(f"j{name[1]}", "revolute", bodies=(name, "ground"), at=(x, 0, 0),
-                       axis=(0, 0, 1))
+        mech.add_joint(
+            f"j{name[1]}", "revolute", bodies=(name, "ground"), at=(x, 0, 0), axis=(0, 0, 1)
+        )
     mech.add_joint("g", "gear", bodies=("ground", "ground"), joints=("j1", "j2"), ratio=3.0)
     mech.add_force(mechlib.TorsionSpring("k", "j2", stiffness=4.0))
     mech.add_motion("drive", joint="j1", function=Ramp(0.0, 0.1))
-    sol = mechlib.solve(mech, mechlib.QuasiStatic(end=1.0, step=0.5), requests=[
-        mechlib.JointCoordinate("a2", "j2"), mechlib.MotionEffort("drive", "drive"),
-        mechlib.CouplerEffort("mesh", "g")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.QuasiStatic(end=1.0, step=0.5),
+        requests=[
+            mechlib.JointCoordinate("a2", "j2"),
+            mechlib.MotionEffort("drive", "drive"),
+            mechlib.CouplerEffort("mesh", "g"),
+        ],
+    )
     assert sol.ok, sol.message
     assert sol.channels["a2.value"][-1] == pytest.approx(0.3, abs=1e-9)
     assert sol.channels["drive.value"][-1] == pytest.approx(3.6, abs=1e-9)
@@ -112,11 +136,24 @@ def _seal_force(count: int, exponent: float) -> float:
     mech = mechlib.Mechanism(name="door", gravity=(0.0, 0.0, 0.0))
     mech.add_body("door", mass=5.0, cm=(0.5, 0.0, 0.0), inertia=[0.1, 0.5, 0.5])
     mech.add_joint("hinge", "revolute", bodies=("door", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
-    mech.add_force(mechlib.Seal("seal", ("door", "ground"), (0.2, 0, 0), (1.0, 0, 0),
-                                (0, 1, 0), count=count, stiffness=2.0e5, exponent=exponent))
+    mech.add_force(
+        mechlib.Seal(
+            "seal",
+            ("door", "ground"),
+            (0.2, 0, 0),
+            (1.0, 0, 0),
+            (0, 1, 0),
+            count=count,
+            stiffness=2.0e5,
+            exponent=exponent,
+        )
+    )
     mech.add_motion("close", joint="hinge", function=_held(-0.01))
-    sol = mechlib.solve(mech, mechlib.Static(), requests=[
-        mechlib.ElementOutput("seal", "seal"), mechlib.MotionEffort("close", "close")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Static(),
+        requests=[mechlib.ElementOutput("seal", "seal"), mechlib.MotionEffort("close", "close")],
+    )
     assert sol.ok, sol.message
     return sol.channels["seal.normal"][0]
 
@@ -128,9 +165,10 @@ def test_seal_force_3_vs_7_springs(exponent: float) -> None:
     f'' = k e (e - 1) g^2 (g s)^(e - 2) (zero for e = 1: exact, tolerance 1e-9 relative).
     3 and 7 springs agree within the sum of their two bounds."""
     a, b, k, g = 0.2, 1.0, 2.0e5, math.sin(0.01)
-    exact = k * g ** exponent * (b ** (exponent + 1) - a ** (exponent + 1)) / (exponent + 1)
-    f2 = k * exponent * (exponent - 1) * g ** 2 * (g * a) ** (exponent - 2) if exponent != 1 \
-        else 0.0   # |f''| is largest at s = a for 1 < e < 2
+    exact = k * g**exponent * (b ** (exponent + 1) - a ** (exponent + 1)) / (exponent + 1)
+    f2 = (
+        k * exponent * (exponent - 1) * g**2 * (g * a) ** (exponent - 2) if exponent != 1 else 0.0
+    )  # |f''| is largest at s = a for 1 < e < 2
     bound = {n: (b - a) * ((b - a) / n) ** 2 * abs(f2) / 24 + 1e-9 * exact for n in (3, 7)}
     forces = {n: _seal_force(n, exponent) for n in (3, 7)}
     for n, force in forces.items():
@@ -144,7 +182,8 @@ def test_gear_effort_from_yaml(tmp_path) -> None:
     from loadcases.run import run_file
 
     case = tmp_path / "gear.case.yaml"
-    case.write_text("""\
+    case.write_text(
+        """\
 case: gear-mesh
 mechanism:
   gravity: [0, 0, 0]
@@ -162,8 +201,10 @@ motions:
 analysis: {type: quasi-static, end: 1.0, step: 0.5}
 requests:
   mesh: {joint: g, quantity: force}
-""", encoding="utf-8")
-    outcome, = run_file(case, output_dir=tmp_path / "out")
+""",
+        encoding="utf-8",
+    )
+    (outcome,) = run_file(case, output_dir=tmp_path / "out")
     ch = outcome.solution.channels
     assert ch["mesh.output"][-1] == pytest.approx(1.2, abs=1e-9)
     assert ch["mesh.input"][-1] == pytest.approx(-3.6, abs=1e-9)

@@ -1,5 +1,6 @@
 """Joint friction: T = mu r |F_r| + preload (seed 003 eq. 2.2) in quasi-static and
 kinematic analyses, on a bar hinged at one end (m = 2 kg, L = 1 m, gravity -y, axis +z)."""
+
 from __future__ import annotations
 
 import numpy as np
@@ -8,10 +9,10 @@ import pytest
 import mechlib
 from mechlib.elements.regularize import coulomb_factor, coulomb_vector
 
-from .._models import G, Bar, Ramp, Sine, hinged_bar
+from .._models import Bar, G, Ramp, Sine, hinged_bar
 
 BAR = Bar()
-MU, RADIUS, PRELOAD = 0.2, 0.01, 0.5   # -, m, N*m
+MU, RADIUS, PRELOAD = 0.2, 0.01, 0.5  # -, m, N*m
 
 
 def _drive(friction: bool, analysis, joint_type: str = "revolute", slope: float = 0.5):
@@ -53,10 +54,11 @@ def test_kinematic_friction_uses_the_inertial_reaction() -> None:
     angle = omega * np.linspace(0.0, 1.0, 5)
     weight = np.stack([np.zeros(5), -np.full(5, BAR.mass * G)])
     # force on the bar from the hinge = m a_cm - m g; a_cm = -w^2 L/2 (cos, sin)
-    a_cm = -omega ** 2 * BAR.length / 2 * np.stack([np.cos(angle), np.sin(angle)])
+    a_cm = -(omega**2) * BAR.length / 2 * np.stack([np.cos(angle), np.sin(angle)])
     hinge = BAR.mass * a_cm - weight
-    np.testing.assert_allclose(extra, MU * RADIUS * np.linalg.norm(hinge, axis=0) + PRELOAD,
-                               atol=1e-9)
+    np.testing.assert_allclose(
+        extra, MU * RADIUS * np.linalg.norm(hinge, axis=0) + PRELOAD, atol=1e-9
+    )
 
 
 def test_regularised_law_is_smooth_and_saturates() -> None:
@@ -77,13 +79,19 @@ def test_free_swing_with_pin_friction_stops_without_chatter() -> None:
     integrator), at rest at the end (below the 1e-3 rad/s threshold speed x 5)."""
     mech = hinged_bar(BAR)
     mech.add_force(mechlib.JointFriction("rub", "hinge", MU, RADIUS, 3.0))
-    sol = mechlib.solve(mech, mechlib.Dynamic(end=3.0, step=0.01), requests=[
-        mechlib.JointCoordinate("a", "hinge"), mechlib.JointCoordinate("w", "hinge", "omega")])
+    sol = mechlib.solve(
+        mech,
+        mechlib.Dynamic(end=3.0, step=0.01),
+        requests=[
+            mechlib.JointCoordinate("a", "hinge"),
+            mechlib.JointCoordinate("w", "hinge", "omega"),
+        ],
+    )
     assert sol.ok, sol.message
     a, w = sol.channels["a.value"], sol.channels["w.value"]
-    energy = 0.5 * BAR.i_end * w ** 2 + BAR.mass * G * BAR.length / 2 * np.sin(a)
+    energy = 0.5 * BAR.i_end * w**2 + BAR.mass * G * BAR.length / 2 * np.sin(a)
     assert np.all(np.diff(energy) <= 1e-6)
-    assert abs(w[-1]) < 5e-3          # at rest (creeping below the threshold speed)
+    assert abs(w[-1]) < 5e-3  # at rest (creeping below the threshold speed)
     assert sol.stats.steps < 3000
 
 
@@ -108,7 +116,8 @@ def test_dynamic_friction_on_a_driven_joint_never_tries_to_stick_against_the_mot
         assert solutions[-1].ok, solutions[-1].message
     rub, bare = solutions
     capacity, value = rub.channels["rub.capacity"], rub.channels["rub.value"]
-    np.testing.assert_allclose(rub.channels["drive.value"] - bare.channels["drive.value"],
-                               value, atol=1e-3)
+    np.testing.assert_allclose(
+        rub.channels["drive.value"] - bare.channels["drive.value"], value, atol=1e-3
+    )
     assert np.all(np.abs(value) <= capacity * (1 + 1e-12)) and capacity.min() >= PRELOAD
     assert np.abs(value).max() > 0.99 * PRELOAD

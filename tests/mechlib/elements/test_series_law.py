@@ -6,6 +6,7 @@
 - through a case: a rotor on a latch spring with `series_stiffness` has the mode
   sqrt(K_tot / I) / (2 pi), linear hinge and a linear table alike (1e-9 relative).
 """
+
 from __future__ import annotations
 
 import math
@@ -20,14 +21,16 @@ from mechlib.tables import Table
 def test_linear_in_series() -> None:
     law = SeriesLaw(lambda h: 300.0 * h, 1200.0)
     for turn in (-0.1, 0.0, 0.02, 0.3):
-        assert law(turn) == pytest.approx(series_stiffness(1200.0, 300.0) * turn,
-                                          rel=1e-12, abs=1e-15)
+        assert law(turn) == pytest.approx(
+            series_stiffness(1200.0, 300.0) * turn, rel=1e-12, abs=1e-15
+        )
     assert series_stiffness(1200.0, 300.0) == pytest.approx(240.0, rel=1e-15)
 
 
 def test_stiffening_table_splits_the_turn() -> None:
-    table = Table("hinge", [-0.1, 0.0, 0.01, 0.03, 0.1], [-80.0, 0.0, 2.0, 20.0, 150.0],
-                  "linear", "error")
+    table = Table(
+        "hinge", [-0.1, 0.0, 0.01, 0.03, 0.1], [-80.0, 0.0, 2.0, 20.0, 150.0], "linear", "error"
+    )
     law = SeriesLaw(table, 2000.0)
     for turn in (-0.05, 0.005, 0.02, 0.06):
         moment = law(turn)
@@ -36,12 +39,17 @@ def test_stiffening_table_splits_the_turn() -> None:
         assert abs(hinge_turn) <= abs(turn)
 
 
-@pytest.mark.parametrize("spring", [
-    'stiffness: "300 N*m/rad", series_stiffness: "1200 N*m/rad"',
-    'law: hinge, series_stiffness: "1200 N*m/rad"'])
+@pytest.mark.parametrize(
+    "spring",
+    [
+        'stiffness: "300 N*m/rad", series_stiffness: "1200 N*m/rad"',
+        'law: hinge, series_stiffness: "1200 N*m/rad"',
+    ],
+)
 def test_mode_of_a_series_latch(tmp_path, spring: str) -> None:
     from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
+
     case = tmp_path / "rotor.case.yaml"
     case.write_text(f"""\
 case: series-rotor
@@ -59,5 +67,4 @@ analysis: {{type: modes}}
     solution = run_case(load_case(case)).solution
     assert solution.ok, solution.message
     expected = math.sqrt(240.0 / 0.5) / (2 * math.pi)
-    assert np.asarray(solution.channels["mode.frequency"])[0] == pytest.approx(expected,
-                                                                               rel=1e-9)
+    assert np.asarray(solution.channels["mode.frequency"])[0] == pytest.approx(expected, rel=1e-9)

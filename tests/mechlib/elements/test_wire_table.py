@@ -1,4 +1,5 @@
 """Tension-only wire pendulum (slack and taut again) and tabulated laws (Akima = scipy)."""
+
 from __future__ import annotations
 
 import math
@@ -12,22 +13,37 @@ from mechlib.tables import Table
 
 from .._models import G
 
-L, MASS, K = 1.0, 1.0, 1.0e5   # wire length (m), bob mass (kg), wire stiffness (N/m)
+L, MASS, K = 1.0, 1.0, 1.0e5  # wire length (m), bob mass (kg), wire stiffness (N/m)
 
 
 def _wire_pendulum(v0: float):
     """A bob hanging on a wire from the origin, launched horizontally at v0 (m/s), the wire
     stretched by the tension of that state, m (g + v0^2/L) (no radial oscillation)."""
-    y0 = -(L + MASS * (G + v0 ** 2 / L) / K)
+    y0 = -(L + MASS * (G + v0**2 / L) / K)
     mech = mechlib.Mechanism(name="wire", gravity=(0.0, -G, 0.0))
     mech.add_body("bob", mass=MASS, cm=(0.0, y0, 0.0), inertia=[1e-3] * 3)
     mech.add_point("bob_cm", body="bob", at=(0.0, y0, 0.0))
-    mech.add_force(mechlib.Spring("wire", (("bob", (0.0, y0, 0.0)), ("ground", (0.0, 0.0, 0.0))),
-                                  stiffness=K, free_length=L, tension_only=True))
+    mech.add_force(
+        mechlib.Spring(
+            "wire",
+            (("bob", (0.0, y0, 0.0)), ("ground", (0.0, 0.0, 0.0))),
+            stiffness=K,
+            free_length=L,
+            tension_only=True,
+        )
+    )
     init = [mechlib.InitialBodyVelocity("bob", velocity=(v0, 0.0, 0.0))]
-    return mechlib.solve(mech, mechlib.Dynamic(end=1.6, step=0.002), initial=init, requests=[
-        mechlib.ElementOutput("wire", "wire"), mechlib.PointKinematics("p", "bob_cm", "position"),
-        mechlib.PointKinematics("v", "bob_cm", "velocity")], throw=False), mech
+    return mechlib.solve(
+        mech,
+        mechlib.Dynamic(end=1.6, step=0.002),
+        initial=init,
+        requests=[
+            mechlib.ElementOutput("wire", "wire"),
+            mechlib.PointKinematics("p", "bob_cm", "position"),
+            mechlib.PointKinematics("v", "bob_cm", "velocity"),
+        ],
+        throw=False,
+    ), mech
 
 
 def test_wire_goes_slack_and_taut_again() -> None:
@@ -52,7 +68,7 @@ def test_wire_goes_slack_and_taut_again() -> None:
     assert phi == pytest.approx(120.0, abs=1.0)
     speed2 = sol.channels["v.x"] ** 2 + sol.channels["v.y"] ** 2
     stretch = np.maximum(np.hypot(x, y) - L, 0.0)
-    energy = 0.5 * MASS * speed2 + MASS * G * y + 0.5 * K * stretch ** 2
+    energy = 0.5 * MASS * speed2 + MASS * G * y + 0.5 * K * stretch**2
     assert energy.max() <= energy[0] * (1.0 + 1e-3)
     assert energy.min() >= energy[0] * (1.0 - 1e-2)
 
@@ -60,8 +76,10 @@ def test_wire_goes_slack_and_taut_again() -> None:
 def test_akima_table_equals_scipy() -> None:
     """The wind-moment table of SPEC 1.2.1 (and a longer, uneven one): Akima values equal
     scipy's Akima1DInterpolator to 1e-12 relative inside the data."""
-    for x, y in (([0, 30, 60, 90], [0, 120, 180, 90]),
-                 ([0.0, 0.1, 0.5, 0.6, 1.2, 2.0, 2.1], [1.0, 3.0, -2.0, 0.5, 0.5, 4.0, 1.0])):
+    for x, y in (
+        ([0, 30, 60, 90], [0, 120, 180, 90]),
+        ([0.0, 0.1, 0.5, 0.6, 1.2, 2.0, 2.1], [1.0, 3.0, -2.0, 0.5, 0.5, 4.0, 1.0]),
+    ):
         x = np.radians(x) if len(x) == 4 else np.asarray(x)
         table, ref = Table("t", x, y, "akima"), Akima1DInterpolator(x, y)
         for v in np.linspace(x[0], x[-1], 97):
@@ -85,12 +103,14 @@ def test_torsion_spring_table_law_static_equilibrium() -> None:
     from scipy.optimize import brentq
 
     from .._models import Bar, hinged_bar
+
     bar = Bar()
     angles = np.radians([-90.0, -60.0, -30.0, 0.0, 30.0])
     torques = np.array([-30.0, -20.0, -12.0, -4.0, 6.0])
     ref = Akima1DInterpolator(angles, torques)
-    expected = brentq(lambda a: float(ref(a)) + bar.weight_moment * math.cos(a),
-                      angles[0], angles[-1], xtol=1e-14)
+    expected = brentq(
+        lambda a: float(ref(a)) + bar.weight_moment * math.cos(a), angles[0], angles[-1], xtol=1e-14
+    )
     mech = hinged_bar(bar)
     law = mechlib.TableLaw(Table("harness", angles, torques, "akima"), "harness")
     mech.add_force(mechlib.TorsionSpring("harness", "hinge", law=law))
