@@ -117,7 +117,7 @@ def make_reference(model: ModelSpec, log: Callable[[str], None] = print) -> Refe
     step = REFERENCE_STEP[model.name]
     runs = {}
     for h in (2.0 * step, step):
-        log(f"  reference {model.name}: Exudyn step {h:g} s, {int(round(model.end / h))} steps")
+        log(f"  reference {model.name}: Exudyn step {h:g} s, {round(model.end / h)} steps")
         runs[h] = run_exudyn(
             model,
             ExudynOptions(
@@ -176,4 +176,4 @@ class CodeResult:
 
     def as_dict(self) -> dict[str, Any]:
         """JSON-ready form."""
-        return {k: v for k, v in self.__dict__.items()}
+        return dict(self.__dict__)

@@ -322,7 +322,7 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
 
     settings = exu.SimulationSettings()
     ti = settings.timeIntegration
-    ti.numberOfSteps = int(round(options.end / options.step))
+    ti.numberOfSteps = round(options.end / options.step)
     ti.endTime = options.end
     ti.verboseMode = 0
     ti.generalizedAlpha.spectralRadius = options.spectral_radius

@@ -88,6 +88,6 @@ class ProgressBar(TerminalLine):
         if not self.due(final=t_current >= t_end):
             return
         fraction = min(max(t_current / t_end, 0.0), 1.0) if t_end > 0 else 1.0
-        filled = int(round(fraction * PROGRESS_WIDTH))
+        filled = round(fraction * PROGRESS_WIDTH)
         bar = "#" * filled + "." * (PROGRESS_WIDTH - filled)
         self.draw(f"{self._label} [{bar}] {fraction:4.0%}  t = {t_current:.4g} / {t_end:.4g} s")

@@ -8,7 +8,7 @@ import re
 __all__ = ["QUOTE_LIMIT", "clip", "clip_quotes"]
 
 QUOTE_LIMIT = 80  # characters of input a message quotes at most
-_QUOTED = re.compile(r"'([^']{%d,})'" % (QUOTE_LIMIT + 1))
+_QUOTED = re.compile(rf"'([^']{{{QUOTE_LIMIT + 1},}})'")
 
 
 def clip(text: str, limit: int = QUOTE_LIMIT) -> str:

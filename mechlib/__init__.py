@@ -46,6 +46,7 @@ __all__ = [
     "Mechanism",
     "MechanismCheck",
     "ModelError",
+    "Modes",
     "MotionEffort",
     "PointForce",
     "PointKinematics",

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -54,7 +55,7 @@ class PointForce:
     frame: str = "ground"
     effect: str = "loads"
     active: bool = True
-    output_units = {"fx": "N", "fy": "N", "fz": "N"}
+    output_units: ClassVar[dict[str, str]] = {"fx": "N", "fy": "N", "fz": "N"}
 
     def bind(self, system) -> None:
         self._b, self._s = system.body_point(self.body, self.at)
@@ -80,7 +81,7 @@ class PointTorque:
     frame: str = "ground"
     effect: str = "loads"
     active: bool = True
-    output_units = {"tx": "N*m", "ty": "N*m", "tz": "N*m"}
+    output_units: ClassVar[dict[str, str]] = {"tx": "N*m", "ty": "N*m", "tz": "N*m"}
 
     def bind(self, system) -> None:
         self._b = system.body_index(self.body)
@@ -116,7 +117,7 @@ class Spring:
     law: Callable[[float], float] | None = None
     effect: str = "springs"
     active: bool = True
-    output_units = {"value": "N", "length": "m"}
+    output_units: ClassVar[dict[str, str]] = {"value": "N", "length": "m"}
     _geometry: tuple = field(default=(), repr=False)
     _free_length: float = field(default=np.nan, init=False, repr=False)  # m, set by bind
 
@@ -171,7 +172,7 @@ class TorsionSpring:
     law: Callable[[float], float] | None = None
     effect: str = "springs"
     active: bool = True
-    output_units = {"value": "N*m", "angle": "rad"}
+    output_units: ClassVar[dict[str, str]] = {"value": "N*m", "angle": "rad"}
 
     def bind(self, system) -> None:
         self._m = system.measure(self.joint, "angle")

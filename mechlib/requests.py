@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -45,7 +46,9 @@ class JointReaction:
     name: str
     joint: str
     frame: str = "ground"
-    units = dict(zip(_FORCE + _TORQUE + ("f", "t"), ("N",) * 3 + ("N*m",) * 3 + ("N", "N*m")))
+    units: ClassVar[dict[str, str]] = dict(
+        zip(_FORCE + _TORQUE + ("f", "t"), ("N",) * 3 + ("N*m",) * 3 + ("N", "N*m"))
+    )
 
 
 @dataclass(frozen=True)
@@ -54,7 +57,7 @@ class MotionEffort:
 
     name: str
     motion: str
-    units = {"value": "N*m or N"}
+    units: ClassVar[dict[str, str]] = {"value": "N*m or N"}
 
 
 @dataclass(frozen=True)
@@ -65,7 +68,7 @@ class CouplerEffort:
 
     name: str
     joint: str
-    units = {"input": "N*m or N", "output": "N*m or N"}
+    units: ClassVar[dict[str, str]] = {"input": "N*m or N", "output": "N*m or N"}
 
 
 @dataclass(frozen=True)
@@ -78,7 +81,7 @@ class PointKinematics:
     point: str
     quantity: str = "position"
     frame: str = "ground"
-    units = {"x": "m", "y": "m", "z": "m"}
+    units: ClassVar[dict[str, str]] = {"x": "m", "y": "m", "z": "m"}
 
 
 @dataclass(frozen=True)
@@ -88,7 +91,7 @@ class JointCoordinate:
     name: str
     joint: str
     quantity: str = "angle"
-    units = {"value": "rad"}
+    units: ClassVar[dict[str, str]] = {"value": "rad"}
 
 
 @dataclass(frozen=True)

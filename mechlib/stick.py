@@ -66,6 +66,8 @@ def slip_stop(
         if r0 * r1 >= 0.0 or max(abs(r0), abs(r1)) < e.v_threshold:
             continue  # no reversal, or one within the regularised band (velocity noise)
         sign = -1.0 if r0 > 0.0 else 1.0
-        t = locate(sign * r0, sign * r1, t0, t1, lambda tt: sign * e.slip_rate(view_at(tt)))
+        t = locate(
+            sign * r0, sign * r1, t0, t1, lambda tt, e=e, sign=sign: sign * e.slip_rate(view_at(tt))
+        )
         first = t if first is None else min(first, t)
     return first

@@ -144,7 +144,7 @@ class System:
         self._angles = [m for m in self.measures.values() if isinstance(m, AngleMeasure)]
         self.norm = Normalization(self.nb)
         labels = [f"{n}: normalisation" for n in self.body_names]
-        owners = [n for n in self.body_names]
+        owners = list(self.body_names)
         self.groups = [self.norm]
         for kind, items in rows.items():
             if not items:
@@ -153,7 +153,7 @@ class System:
             self.groups.append(_KINDS[kind](bi, bj, *map(np.array, zip(*data))))
             reps = 3 if kind == "spherical" else 1
             suffix = (" x", " y", " z") if reps == 3 else ("",)
-            labels += [l + s for l in lab for s in suffix]
+            labels += [label + s for label in lab for s in suffix]
             owners += [o for o in own for _ in range(reps)]
         self.coordinates = self._coordinate_equations()
         labels += [c.label for c in self.coordinates]

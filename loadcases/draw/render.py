@@ -122,7 +122,7 @@ def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> list:
         else:
             closed = np.vstack([pts, pts[:1]]) if kind == "plane" else pts
             ax.plot(closed[:, 0], closed[:, 1], "-", color="crimson", lw=1.5)
-    for name, marker in sk.points.items():
+    for marker in sk.points.values():
         ax.plot(*at[marker], ".", color="gray", ms=4)
     labels: dict[tuple[float, float], list[str]] = {}  # coincident joints share one label
     for name, marker in sk.joints.items():

@@ -145,7 +145,7 @@ def solve_trajectory(cf: CaseFile) -> Trajectory:
     sk = skeleton_of(cf.mechanism)
     built = build_run(cf)
     requests = []
-    for i, (marker, (body, at)) in enumerate(sk.markers.items()):
+    for i, (body, at) in enumerate(sk.markers.values()):
         point = f"{_PREFIX}{i}"
         built.mechanism.add_point(point, body=body, at=at)
         requests.append(ml.PointKinematics(point, point, "position"))

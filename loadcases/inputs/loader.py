@@ -318,7 +318,7 @@ def _expand_cases(model: SetModel, locator: Locator) -> tuple[list[str], list[Di
 
 def load_set(path: str | Path) -> SetFile:
     """Validated set file with its case patterns expanded; raises InputError on problems."""
-    model, locator, units, diagnostics = _read_model(path, SetModel)
+    model, locator, _units, diagnostics = _read_model(path, SetModel)
     case_paths: list[str] = []
     if model is not None:
         case_paths, found = _expand_cases(model, locator)

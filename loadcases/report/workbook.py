@@ -82,7 +82,7 @@ class WorkbookData:
         settings += [
             (f"allowable {k}", f"max {a.max!r}, min {a.min!r}") for k, a in model.allowables.items()
         ]
-        settings += [(key, value) for key, value in options.items()]
+        settings += list(options.items())
         return cls(
             compiled.name,
             result.records,

@@ -183,7 +183,7 @@ def history_sheet(sheet: Any, runs: list[SavedRun], *, stacked: bool) -> dict[st
         data = [run.time[:count]] + [
             run.channels[c][:count] if c in run.channels else [math.nan] * count for c in columns
         ]
-        for k, values in enumerate(zip(*data)):
+        for values in zip(*data):
             sheet.append(([run.name] if stacked else []) + [_cell(float(v)) for v in values])
         blocks[run.name] = Block(
             sheet.title, row, row + count - 1, {n: k for k, n in enumerate(names, start=1)}

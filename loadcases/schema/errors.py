@@ -85,9 +85,8 @@ def _member_by_tag(members: tuple[Any, ...], meta: list[Any], tag: Any) -> Any:
             and isinstance(inner, type)
             and issubclass(inner, BaseModel)
             and field in inner.model_fields
-        ):
-            if tag in typing.get_args(inner.model_fields[field].annotation):
-                return inner
+        ) and tag in typing.get_args(inner.model_fields[field].annotation):
+            return inner
         if any(getattr(m, "tag", None) == tag for m in inner_meta):
             return inner
     return None

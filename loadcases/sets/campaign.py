@@ -97,7 +97,7 @@ def solve_spec(spec: RunSpec) -> RunOutcome:
         return run_case(cf, abscissa=True, name=spec.name)
     except InputError as error:
         return _failed_outcome(spec, analysis, str(error))
-    except Exception as error:  # a bug must not stop the other runs; it is reported
+    except Exception as error:  # noqa: BLE001  (a bug must not stop the other runs; reported)
         return _failed_outcome(spec, analysis, f"internal error: {type(error).__name__}: {error}")
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -48,7 +49,7 @@ class Bushing:
     torsional_damping: Sequence[float] = (0.0, 0.0, 0.0)
     effect: str = "springs"
     active: bool = True
-    output_units = {
+    output_units: ClassVar[dict[str, str]] = {
         "fx": "N",
         "fy": "N",
         "fz": "N",

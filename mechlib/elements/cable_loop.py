@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -42,7 +43,7 @@ class CableLoop:
     pretension: float = 0.0
     effect: str = "springs"
     active: bool = True
-    output_units = {
+    output_units: ClassVar[dict[str, str]] = {
         "t1": "N*m",
         "t2": "N*m",
         "f_axial": "N",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
@@ -23,7 +24,7 @@ class RotationalDamper:
     damping: float
     effect: str = "damping"
     active: bool = True
-    output_units = {"value": "N*m", "omega": "rad/s"}
+    output_units: ClassVar[dict[str, str]] = {"value": "N*m", "omega": "rad/s"}
 
     def bind(self, system) -> None:
         self._m = system.measure(self.joint, "angle")

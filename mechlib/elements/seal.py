@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import ClassVar
 
 import numpy as np
 
@@ -47,7 +48,7 @@ class Seal(StaticSlipAnchor):
     slip_threshold: float = 1.0e-6
     effect: str = "contact"
     active: bool = True
-    output_units = {
+    output_units: ClassVar[dict[str, str]] = {
         "normal": "N",
         "friction": "N",
         "penetration": "m",

@@ -6,6 +6,7 @@ No test here measures time. The Exudyn tests are skipped when Exudyn is not inst
 from __future__ import annotations
 
 import importlib.util
+import itertools
 import math
 
 import numpy as np
@@ -72,7 +73,7 @@ def test_inertia_tensors_are_physical(name: str) -> None:
 def test_chain_links_are_0_1_m_and_joined_end_to_end() -> None:
     model = model_by_name("chain20")
     ats = [np.array(j.at) for j in model.joints] + [np.array(model.point("tip").at)]
-    lengths = [np.linalg.norm(b - a) for a, b in zip(ats, ats[1:])]
+    lengths = [np.linalg.norm(b - a) for a, b in itertools.pairwise(ats)]
     assert lengths == pytest.approx([0.1] * 20)
     assert max(abs(a[2]) for a in ats) > 0.3  # out of any vertical plane through the x axis
 

@@ -74,7 +74,8 @@ def test_envelope_of_saved_set_results_with_set_margins(tmp_path: Path) -> None:
         ],
     )
     assert result.exit_code == 0, result.output
-    saved = list(csv.DictReader(open(tmp_path / "res" / "crank-set" / "envelope.csv")))
+    with open(tmp_path / "res" / "crank-set" / "envelope.csv") as handle:
+        saved = list(csv.DictReader(handle))
     sheet = openpyxl.load_workbook(book)["Envelope"]
     header = [c.value for c in sheet[1]]
     rows = [dict(zip(header, r)) for r in sheet.iter_rows(min_row=2, values_only=True)]

@@ -35,7 +35,7 @@ requests:
 
 def _run(tmp_path: Path, x: float):
     text = CASE.format(x=x).replace(
-        "  bodies:\n", "  points: {c: {body: ball, at: [%s, 0, 0.01]}}\n  bodies:\n" % x, 1
+        "  bodies:\n", f"  points: {{c: {{body: ball, at: [{x}, 0, 0.01]}}}}\n  bodies:\n", 1
     )
     path = tmp_path / f"pad{x}.case.yaml"
     path.write_text(text, encoding="utf-8")

@@ -25,7 +25,7 @@ def fourbar():
 def test_markers_keep_body_distances(fourbar):
     """Two markers of one rigid body keep their design distance at every time (1e-9 m)."""
     sk = fourbar.skeleton
-    body, markers = next((b, m) for b, m in sk.bodies.items() if b != "ground" and len(m) >= 2)
+    _body, markers = next((b, m) for b, m in sk.bodies.items() if b != "ground" and len(m) >= 2)
     a, b = fourbar.positions[markers[0]], fourbar.positions[markers[1]]
     design = np.linalg.norm(np.subtract(sk.markers[markers[0]][1], sk.markers[markers[1]][1]))
     assert np.allclose(np.linalg.norm(a - b, axis=1), design, atol=1e-9)
@@ -43,7 +43,7 @@ def test_pngs_one_per_time_of_documented_size(fourbar, tmp_path):
 
 
 def test_auto_view_of_planar_mechanism_is_its_plane(fourbar):
-    basis, labels = projection(fourbar, "auto")
+    _basis, labels = projection(fourbar, "auto")
     assert labels == ("x [m]", "y [m]")
 
 

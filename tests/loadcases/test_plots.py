@@ -99,7 +99,7 @@ def test_x_column_is_not_plotted_against_itself(tmp_path: Path) -> None:
 
 def test_missing_x_column_and_unmatched_pattern_are_errors(tmp_path: Path) -> None:
     run = plots.load_saved_run(saved_run(tmp_path, "door-a")).as_run()
-    with pytest.raises(ValueError, match="x column 'hinge_angle.value' is in none"):
+    with pytest.raises(ValueError, match=r"x column 'hinge_angle\.value' is in none"):
         plots.plot_runs([run], x="hinge_angle.value", out_dir=tmp_path)
     with pytest.raises(
         ValueError,

@@ -181,7 +181,7 @@ def test_bad_names_and_shapes_are_refused(tmp_path: Path) -> None:
             result_base(tmp_path, name)
     outcome = make_outcome(name="c")
     outcome.solution.channels["short.value"] = np.zeros(2)
-    with pytest.raises(ValueError, match="short.value"):
+    with pytest.raises(ValueError, match=r"short\.value"):
         write_results(outcome, tmp_path, version="0")
     assert list(tmp_path.iterdir()) == []
 

@@ -73,7 +73,7 @@ def test_vectors() -> None:
     assert vector_to_si("[0, 0, 1500] mm", "length") == pytest.approx((0.0, 0.0, 1.5))
     assert vector_to_si(["1 m", 2, "3 mm"], "length", MM_DEG) == pytest.approx((1.0, 0.002, 0.003))
     assert vector_to_si("[0, 90] deg", "angle", size=None) == pytest.approx((0, math.pi / 2))
-    with pytest.raises(UnitError, match="^expected 3 values, got 2$"):
+    with pytest.raises(UnitError, match=r"^expected 3 values, got 2$"):
         vector_to_si([1, 2], "length")
     with pytest.raises(UnitError, match=r"^item 2: expected a length, got '2 kg' \(a mass\)$"):
         vector_to_si([1, "2 kg", 3], "length")
@@ -103,7 +103,7 @@ def test_not_unit_constants(name: str) -> None:
 
 def test_unit_names_of_a_header() -> None:
     assert check_unit_name(" mm", "length") == "mm"
-    with pytest.raises(UnitError, match="^'deg' is not a unit of length$"):
+    with pytest.raises(UnitError, match=r"^'deg' is not a unit of length$"):
         check_unit_name("deg", "length")
-    with pytest.raises(UnitError, match="^unknown unit 'mmm'$"):
+    with pytest.raises(UnitError, match=r"^unknown unit 'mmm'$"):
         check_unit_name("mmm", "length")

@@ -69,7 +69,7 @@ def test_many_runs_stack_per_family(tmp_path: Path, monkeypatch: pytest.MonkeyPa
     frame = pd.read_excel(result.directory / "crank-envelope.xlsx", sheet_name="crank-turn")
     assert frame["run"].drop_duplicates().tolist() == [r.name for r in result.records]
     last = result.records[-1]
-    time, channels = read_results(last.csv_path)
+    time, _channels = read_results(last.csv_path)
     block = frame[frame["run"] == last.name]
     np.testing.assert_array_equal(block["time [s]"].to_numpy(), time)
 

@@ -35,7 +35,7 @@ class SliderOfTurningCrank:
         return math.sin(phi), math.cos(phi), L * L - (R * math.sin(phi)) ** 2
 
     def value(self, t: float) -> float:
-        s, c, root2 = self._phi(t)
+        _s, c, root2 = self._phi(t)
         return R * c + math.sqrt(root2) - self.x0
 
     def rate(self, t: float) -> float:

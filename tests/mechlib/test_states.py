@@ -8,6 +8,7 @@ exp(-t/tau))) (integrate twice).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import pytest
@@ -26,7 +27,7 @@ class Lag:
     effect: str = "loads"
     active: bool = True
     n_states: int = 1
-    output_units = {"value": "N"}
+    output_units: ClassVar[dict[str, str]] = {"value": "N"}
 
     def bind(self, system) -> None:
         self._b = system.body_index(self.body)
@@ -93,7 +94,7 @@ class Follower:
     effect: str = "loads"
     active: bool = True
     n_states: int = 1
-    output_units = {"value": "m"}
+    output_units: ClassVar[dict[str, str]] = {"value": "m"}
 
     def bind(self, system) -> None:
         self._b = system.body_index(self.body)

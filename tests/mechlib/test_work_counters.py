@@ -17,9 +17,9 @@ import scipy.integrate._ivp.radau as scipy_radau
 import mechlib
 import mechlib.radau
 
-SOLVE = importlib.import_module("mechlib.solve")  # the module (mechlib.solve is the function)
-
 from ._models import hinged_bar
+
+SOLVE = importlib.import_module("mechlib.solve")  # the module (mechlib.solve is the function)
 
 
 def _pendulum(analysis) -> mechlib.Solution:

@@ -77,7 +77,6 @@ def test_peak_latch_moment_unchanged_with_tighter_tolerance(runs) -> None:
     """Peak latch moment within 0.5 % between tolerance 1e-6 and 1e-7, and within 1 % of
     the energy balance: the kinetic energy at engagement plus the drive spring's work over
     the latch travel theta equals the latch spring's energy at theta_max."""
-    coarse, fine = runs
     p0, p1 = (np.abs(s.channels["latch.value"]).max() for s in runs)
     assert p0 == pytest.approx(p1, rel=5e-3)
     # energy at engagement: I w^2/2 = k (pi^2 - (pi/2)^2)/2; over the latch travel theta

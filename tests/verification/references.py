@@ -140,26 +140,26 @@ def slider_crank_kinematics(
 ) -> SliderCrankKinematics:
     """Slider-crank positions, velocities and accelerations in closed form.
 
-    Loop closure [SM 5/6]: pin A = r (cos th, sin th); slider B = A + l (cos b, sin b) with
-    B_y = 0, so sin b = -r sin th / l. Differentiating l sin b = -r sin th twice gives b', b''.
+    Loop closure [SM 5/6]: pin A = r (cos th, sin th); slider B = A + L (cos b, sin b) with
+    B_y = 0, so sin b = -r sin th / L. Differentiating L sin b = -r sin th twice gives b', b''.
     `theta` (rad), `omega` (rad/s), `alpha` (rad/s^2) are the crank angle and its derivatives.
     """
     th, w, a = (np.asarray(v, float) for v in (theta, omega, alpha))
-    r, l = p.crank_length, p.rod_length
-    sb = -r * np.sin(th) / l
+    r, L = p.crank_length, p.rod_length
+    sb = -r * np.sin(th) / L
     cb = np.sqrt(1.0 - sb**2)
     beta = np.arctan2(sb, cb)
-    bd = -r * np.cos(th) * w / (l * cb)
-    bdd = (r * np.sin(th) * w**2 - r * np.cos(th) * a + l * sb * bd**2) / (l * cb)
-    x = r * np.cos(th) + l * cb
-    xd = -r * np.sin(th) * w - l * sb * bd
-    xdd = -r * np.cos(th) * w**2 - r * np.sin(th) * a - l * cb * bd**2 - l * sb * bdd
+    bd = -r * np.cos(th) * w / (L * cb)
+    bdd = (r * np.sin(th) * w**2 - r * np.cos(th) * a + L * sb * bd**2) / (L * cb)
+    x = r * np.cos(th) + L * cb
+    xd = -r * np.sin(th) * w - L * sb * bd
+    xdd = -r * np.cos(th) * w**2 - r * np.sin(th) * a - L * cb * bd**2 - L * sb * bdd
     u_th = np.stack([np.cos(th), np.sin(th)], axis=-1)
     u_b = np.stack([cb, sb], axis=-1)
     pin = r * u_th
     pin_vel = r * w[..., None] * _perp(u_th)
     pin_acc = r * (a[..., None] * _perp(u_th) - (w**2)[..., None] * u_th)
-    s = p.rod_cm_fraction * l
+    s = p.rod_cm_fraction * L
     rod_cm = pin + s * u_b
     rod_vel = pin_vel + s * bd[..., None] * _perp(u_b)
     rod_acc = pin_acc + s * (bdd[..., None] * _perp(u_b) - (bd**2)[..., None] * u_b)

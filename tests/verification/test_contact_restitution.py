@@ -69,7 +69,7 @@ def test_lankarani_nikravesh_restitution(e: float, tolerance: float) -> None:
 
 @pytest.mark.parametrize("e, tolerance", [(0.5, 0.07), (0.7, 0.03), (0.9, 0.03)])
 def test_restitution_law_meets_its_input(e: float, tolerance: float) -> None:
-    rebound, sol = _engine_rebound(RestitutionLaw(e, K, 1.5))
+    rebound, _sol = _engine_rebound(RestitutionLaw(e, K, 1.5))
     assert rebound == pytest.approx(_exact_rebound(8 * (1 - e) / (5 * e)), rel=5e-3)
     assert rebound == pytest.approx(e, rel=tolerance)
     assert 1.0 - rebound**2 == pytest.approx(1.0 - e * e, abs=2 * tolerance)

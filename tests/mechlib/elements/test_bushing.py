@@ -5,6 +5,7 @@ damped vertical oscillation decays as exp(-c t / (2 m)). Tolerances per test."""
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -87,7 +88,7 @@ def test_vertical_damping_decay() -> None:
     zeta = c / (2.0 * math.sqrt(K[2] * MASS))
     period = 2.0 * math.pi / (wn * math.sqrt(1.0 - zeta**2))
     ratio = math.exp(-c * period / (2.0 * MASS))
-    measured = [z[b] / z[a] for a, b in zip(peaks, peaks[1:])]
+    measured = [z[b] / z[a] for a, b in itertools.pairwise(peaks)]
     assert measured == pytest.approx([ratio] * len(measured), rel=0.01)
     assert np.abs(sol.channels["b.rx"]).max() < 1e-12
 
