@@ -4,7 +4,8 @@ Runs `loads run loadcases/library/door/door.set.yaml --jobs N --force` in a fres
 folder, twice (`first`, `second`): each run starts new processes, which load the compiled
 kernels from numba's disk cache; only the very first run after an install compiles them (about
 14 s more on 2 cores). Reports wall seconds, the runs, their solver CPU seconds (from the
-summaries) and the machine. No peer comparison: Exudyn has no load-case sets, envelopes or workbooks.
+summaries) and the machine. No peer comparison: Exudyn has no load-case sets, envelopes or
+workbooks.
 
     python -m benchmarks.door_set [--jobs 2] [--json FILE]
 """

@@ -50,7 +50,8 @@ __all__ = [
 LinearSolver = Literal["dense", "sparse"]
 
 #: Exudyn's revolute-joint `ForceLocal` output (marker 0 on body 2, turned to ground axes with
-#: the marker-0 rotation) is the force on body 2 from body 1 (checked against a hanging pendulum in tests/benchmarks/test_models.py); SPEC 1.3
+#: the marker-0 rotation) is the force on body 2 from body 1 (checked against a hanging
+#: pendulum in tests/benchmarks/test_models.py); SPEC 1.3
 #: reports the reaction on body 1 from body 2, hence the sign.
 REACTION_SIGN = -1.0
 

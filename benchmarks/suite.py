@@ -242,10 +242,11 @@ def bench_loads(
                 chosen = tolerance
                 break
         if chosen is None:
+            best_error = min((e for _, e in res.calibration if e is not None), default=float("nan"))
             res.status = "failed"
             res.message = (
                 f"no tolerance down to {LOADS_TOLERANCES[-1]:g} reached the error target "
-                f"{tol:g} (best {min((e for _, e in res.calibration if e is not None), default=float('nan')):.2e})"
+                f"{tol:g} (best {best_error:.2e})"
             )
             return res
         case = _case_copy(model, end, chosen, work)
@@ -366,8 +367,10 @@ def _fmt(x: float | None, spec: str) -> str:
 def format_table(rows: list[dict[str, Any]], tol: float) -> str:
     """The results as a fixed-width text table."""
     head = (
-        f"{'model':<13} {'end s':>5} | {'exudyn':<15} {'error':>8} {'solve s':>8} {'total s':>8} | "
-        f"{'loads':<11} {'error':>8} {'solve s':>8} {'total s':>8} | {'ratio solve':>11} {'total':>7}"
+        f"{'model':<13} {'end s':>5} | "
+        f"{'exudyn':<15} {'error':>8} {'solve s':>8} {'total s':>8} | "
+        f"{'loads':<11} {'error':>8} {'solve s':>8} {'total s':>8} | "
+        f"{'ratio solve':>11} {'total':>7}"
     )
     lines = [
         f"accuracy target: error <= {tol:g} of the output's range (vs Exudyn reference)",
@@ -382,10 +385,12 @@ def format_table(rows: list[dict[str, Any]], tol: float) -> str:
             ratio_s = lo.solve_seconds / ex.solve_seconds
             ratio_t = lo.total_seconds / ex.total_seconds
         lines.append(
-            f"{r['model']:<13} {r['end']:>5g} | {ex.setting or ex.status:<15} {_fmt(ex.error, '.1e'):>8} "
+            f"{r['model']:<13} {r['end']:>5g} | "
+            f"{ex.setting or ex.status:<15} {_fmt(ex.error, '.1e'):>8} "
             f"{_fmt(ex.solve_seconds, '.3f'):>8} {_fmt(ex.total_seconds, '.3f'):>8} | "
-            f"{lo.setting or lo.status:<11} {_fmt(lo.error, '.1e'):>8} {_fmt(lo.solve_seconds, '.3f'):>8} "
-            f"{_fmt(lo.total_seconds, '.3f'):>8} | {_fmt(ratio_s, '.1f'):>11} {_fmt(ratio_t, '.1f'):>7}"
+            f"{lo.setting or lo.status:<11} {_fmt(lo.error, '.1e'):>8} "
+            f"{_fmt(lo.solve_seconds, '.3f'):>8} {_fmt(lo.total_seconds, '.3f'):>8} | "
+            f"{_fmt(ratio_s, '.1f'):>11} {_fmt(ratio_t, '.1f'):>7}"
         )
     notes = [
         f"  {r['model']}: loads {r['loads'].status}: {r['loads'].message}"
@@ -503,7 +508,8 @@ def main(argv: list[str] | None = None) -> int:
     info = machine_info()
     info["exudyn_module"] = exudyn_module_name()
     log(
-        f"machine: {info['cpu']}, {info['cores']} cores, Python {info['python']}, numpy {info['numpy']}, "
+        f"machine: {info['cpu']}, {info['cores']} cores, "
+        f"Python {info['python']}, numpy {info['numpy']}, "
         f"Exudyn {info['exudyn']} ({info['exudyn_module']}), loads {info['loads']}"
     )
 

@@ -77,7 +77,8 @@ class Joint:
 
     `axis`: revolute/cylindrical/prismatic/screw/inline/parallel; `axes`: universal
     (a1 on body1, a2 on body2) and perpendicular; `normal`: planar/inplane; `pitch` (m per
-    revolution): screw; `joints` + `ratio`: coupler/gear (coordinate of joints[1] = ratio * coordinate of joints[0]);
+    revolution): screw; `joints` + `ratio`: coupler/gear (coordinate of joints[1] = ratio *
+    coordinate of joints[0]);
     `curve` (points, global at design, m) + `interpolation`: point_on_curve.
     """
 

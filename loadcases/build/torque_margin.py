@@ -53,7 +53,9 @@ class _Term:
     factor: float
     column: str  # channel with the torque (positive resisting a positive joint angle)
     friction: bool
-    scale: float = 1.0  # damper: the channel is omega, the torque c * omega   # joint friction: its capacity always resists
+    # damper: the channel is omega, the torque c * omega;
+    # joint friction: its capacity always resists
+    scale: float = 1.0
 
 
 @dataclass

@@ -7,7 +7,8 @@ Numbers are SI; `t` is the time; `pi`, parameters and unit names (`deg`, `mm`, `
 constants. Operators: + - * / ** (or ^), unary -, comparisons (1.0 / 0.0), and, or, not.
 Functions: sin cos tan asin acos atan atan2 sqrt abs min max sign exp log step.
 State measures (bare names as arguments): angle omega travel speed (a joint),
-dist (two points), x y z and vx vy vz (a point's position and velocity). `table(name, x)` interpolates a named table.
+dist (two points), x y z and vx vy vz (a point's position and velocity).
+`table(name, x)` interpolates a named table.
 
     compiled = parse("crank_speed * t").compile({"crank_speed": 6.28})
     compiled(0.5)                  # -> 3.14

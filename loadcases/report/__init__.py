@@ -1,1 +1,2 @@
-"""Reports over saved runs: envelopes, factors and margins, envelope curves, plots, the sizing workbook."""
+"""Reports over saved runs: envelopes, factors and margins, envelope curves, plots, the sizing
+workbook."""

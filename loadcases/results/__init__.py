@@ -1,1 +1,2 @@
-"""The files of one run: its outcome, NAME.csv / NAME.summary.json (/ NAME.xlsx) written and read back."""
+"""The files of one run: its outcome, NAME.csv / NAME.summary.json (/ NAME.xlsx) written and
+read back."""

@@ -60,7 +60,8 @@ def _spun_angle(t: np.ndarray) -> np.ndarray:
 def test_runaway_torque_stops_in_seconds_after_its_event(tmp_path: Path) -> None:
     """The torque exp(100 t), switched on by an event at 0.05 s, makes the step collapse:
     exit 1 within 30 s (it ran for minutes before), the rows so far kept and equal to the
-    closed form (2e-3 relative: the local error of 1e-6 per step, thousands of steps on a solution growing as exp(100 t)), the message naming the collapse, the force and the event,
+    closed form (2e-3 relative: the local error of 1e-6 per step, thousands of steps on a
+    solution growing as exp(100 t)), the message naming the collapse, the force and the event,
     and the event in the summary."""
     start = time.monotonic()
     result = runner.invoke(app, ["run", str(_spin(tmp_path)), "-o", str(tmp_path / "out")])

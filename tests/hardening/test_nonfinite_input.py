@@ -106,7 +106,8 @@ def test_non_finite_mechanism_values_are_input_errors(
         ),
         (
             ('"speed * t"', '"speed * t / (speed - 1)"'),
-            "crank.case.yaml:4:25: error: motions.drive.value: invalid expression: division by zero "
+            "crank.case.yaml:4:25: error: motions.drive.value: invalid expression: division by "
+            "zero "
             "at character 11",
         ),
         (

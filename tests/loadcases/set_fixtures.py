@@ -42,7 +42,8 @@ bodies:
 joints:
   pivot: {type: revolute, bodies: [crank, ground], at: [0, 0, 0], axis: [0, 0, 1]}
   big:   {type: spherical, bodies: [rod, crank], at: [0, 0.1, 0]}
-  small: {type: universal, bodies: [slider, rod], at: [0.282843, 0, 0], axes: [[0, 0, 1], [0.333333, 0.942809, 0]]}
+  small: {type: universal, bodies: [slider, rod], at: [0.282843, 0, 0],
+         axes: [[0, 0, 1], [0.333333, 0.942809, 0]]}
   guide: {type: prismatic, bodies: [slider, ground], at: [0.282843, 0, 0], axis: [1, 0, 0]}
 """
 

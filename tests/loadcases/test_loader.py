@@ -21,7 +21,8 @@ EXPECTED = {
     ],
     "duplicate_name.mech.yaml": [
         "duplicate_name.mech.yaml:4:3: error: points.arm: name 'arm' is already used in bodies",
-        "duplicate_name.mech.yaml:4:3: hint: names of bodies, points, joints, forces, contacts, tables and events must be unique",
+        "duplicate_name.mech.yaml:4:3: hint: names of bodies, points, joints, forces, contacts, "
+        "tables and events must be unique",
     ],
     "expressions.case.yaml": [
         "expressions.case.yaml:4:33: error: motions.drive.value: unknown name 'sped' in expression",
@@ -35,11 +36,13 @@ EXPECTED = {
     ],
     "inline.case.yaml": [
         "inline.case.yaml:5:11: error: mechanism.bodies.arm.mass: mass must be positive",
-        "inline.case.yaml:6:12: error: analysis.type: expected 'kinematic', 'static', 'quasi-static', 'dynamic' or 'modes', got 'statik'",
+        "inline.case.yaml:6:12: error: analysis.type: expected 'kinematic', 'static', "
+        "'quasi-static', 'dynamic' or 'modes', got 'statik'",
         "inline.case.yaml:6:12: hint: did you mean 'static'?",
     ],
     "missing_mechanism.case.yaml": [
-        "missing_mechanism.case.yaml:2:1: error: mechanism: mechanism file not found: bas.mech.yaml",
+        "missing_mechanism.case.yaml:2:1: error: mechanism: mechanism file not found: "
+        "bas.mech.yaml",
         "missing_mechanism.case.yaml:2:1: hint: did you mean 'base.mech.yaml'?",
         "missing_mechanism.case.yaml:3:1: error: analysis.end: a dynamic analysis needs 'end' (s)",
     ],
@@ -49,9 +52,11 @@ EXPECTED = {
     ],
     "physics.mech.yaml": [
         "physics.mech.yaml:2:11: error: bodies.light.mass: mass must be positive",
-        "physics.mech.yaml:3:34: error: bodies.flat.inertia: principal moments break the triangle inequality (3 > 1 + 1)",
+        "physics.mech.yaml:3:34: error: bodies.flat.inertia: principal moments break the triangle "
+        "inequality (3 > 1 + 1)",
         "physics.mech.yaml:3:34: hint: each principal moment must be <= the sum of the others",
-        "physics.mech.yaml:4:34: error: bodies.bent.inertia: inertia is not positive definite (principal moments -1, 1, 3)",
+        "physics.mech.yaml:4:34: error: bodies.bent.inertia: inertia is not positive definite "
+        "(principal moments -1, 1, 3)",
         "physics.mech.yaml:6:64: error: joints.j1.axis: axis is a zero vector",
         "physics.mech.yaml:7:63: error: joints.j2.axes: the axes of the universal are parallel",
         "physics.mech.yaml:7:63: hint: give two axes at an angle (usually perpendicular)",
@@ -66,7 +71,8 @@ EXPECTED = {
         "references.case.yaml:4:15: hint: known force element names: coil",
         "references.case.yaml:6:3: error: initial.hing: unknown joint or body 'hing'",
         "references.case.yaml:6:3: hint: did you mean 'hinge'?",
-        "references.case.yaml:7:11: error: initial.hinge.value: expected an angle, got '3 m' (a length) for a revolute joint",
+        "references.case.yaml:7:11: error: initial.hinge.value: expected an angle, got '3 m' (a "
+        "length) for a revolute joint",
         "references.case.yaml:10:38: error: requests.f.frame: unknown frame 'arn'",
         "references.case.yaml:10:38: hint: did you mean 'arm'?",
         "references.case.yaml:11:7: error: requests.p.point: unknown point 'tipp'",
@@ -95,11 +101,14 @@ EXPECTED = {
         "vector_length.mech.yaml:4:65: error: joints.hinge.axis: expected 3 values, got 2",
     ],
     "wrong_dimension.mech.yaml": [
-        "wrong_dimension.mech.yaml:3:20: error: bodies.arm.cm: item 2: expected a length, got '12 kg' (a mass)",
-        "wrong_dimension.mech.yaml:7:46: error: forces.coil.stiffness: expected a torsional stiffness, got '50 N/m' (a stiffness)",
+        "wrong_dimension.mech.yaml:3:20: error: bodies.arm.cm: item 2: expected a length, got '12 "
+        "kg' (a mass)",
+        "wrong_dimension.mech.yaml:7:46: error: forces.coil.stiffness: expected a torsional "
+        "stiffness, got '50 N/m' (a stiffness)",
     ],
     "yaml_syntax.mech.yaml": [
-        "yaml_syntax.mech.yaml:4:3: error: YAML syntax error: expected ',' or '}', but got '<scalar>' (while parsing a flow mapping)",
+        "yaml_syntax.mech.yaml:4:3: error: YAML syntax error: expected ',' or '}', but got "
+        "'<scalar>' (while parsing a flow mapping)",
     ],
 }
 

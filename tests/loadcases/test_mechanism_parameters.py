@@ -17,12 +17,14 @@ parameters:
 bodies:
   door: {mass: 1, cm: [0, 0, 0], inertia: [1, 1, 1]}
 forces:
-  seal: {type: seal, bodies: [door, ground], start: [0, 0, 0], end: [0, 0, 1], normal: [0, 1, 0], springs: seal_springs, stiffness: 1.0e4}
+  seal: {type: seal, bodies: [door, ground], start: [0, 0, 0], end: [0, 0, 1],
+         normal: [0, 1, 0], springs: seal_springs, stiffness: 1.0e4}
 contacts:
   stop:
     type: impact
     bodies: [door, ground]
-    geometry: {shape: sphere_plane, center: [0, 0, 0], radius: 0.01, plane_point: [0, stop_gap, 0], normal: [0, -1, 0]}
+    geometry: {shape: sphere_plane, center: [0, 0, 0], radius: 0.01,
+               plane_point: [0, stop_gap, 0], normal: [0, -1, 0]}
     stiffness: 1.0e8
 """
 

@@ -25,7 +25,8 @@ mechanism:
   joints:
     hinge: {type: revolute, bodies: [arm, ground], at: [0, 0, 0], axis: [0, 1, 0]}
   forces:
-    pressure: {type: force, point: tip, value: [0, 0, "pressure_on * 1000 * step(angle(hinge), 0, 1, 0.5, 0)"]}
+    pressure: {type: force, point: tip,
+               value: [0, 0, "pressure_on * 1000 * step(angle(hinge), 0, 1, 0.5, 0)"]}
     side: {type: force, point: tip, value: ["push", 0, 0]}
     spare: {type: torque, body: arm, value: [0, "0 * t", 0]}
 motions:

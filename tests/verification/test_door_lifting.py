@@ -239,7 +239,8 @@ def test_quasi_static_and_dynamic_lift_differ_only_where_the_door_accelerates() 
     inertia of the lift by hand: 124 kg x z'' (<= 0.09 m/s^2) x dz/dtheta (<= 0.03 m/rad)
     = 0.3 N*m against 40 N*m, below 1 %). On the let-out slope the
     cam recedes faster than the door's small opening moment (gravity and the CB spring:
-    2 x 17 N on the cams at the lifted position) can accelerate it outward: in the dynamic run the rollers leave the cam (guide
+    2 x 17 N on the cams at the lifted position) can accelerate it outward: in the dynamic
+    run the rollers leave the cam (guide
     force 0) while the quasi-static door follows it (guide force > 15 N throughout), the
     thesis' difference and its cause. Source: the two runs; tolerances as stated."""
     quasi = _run("lifting_inner.case.yaml").channels
