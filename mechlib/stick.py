@@ -67,7 +67,11 @@ def slip_stop(
             continue  # no reversal, or one within the regularised band (velocity noise)
         sign = -1.0 if r0 > 0.0 else 1.0
         t = locate(
-            sign * r0, sign * r1, t0, t1, lambda tt, e=e, sign=sign: sign * e.slip_rate(view_at(tt))
+            sign * r0,
+            sign * r1,
+            t0,
+            t1,
+            lambda tt: sign * e.slip_rate(view_at(tt)),  # noqa: B023  (locate calls it right here)
         )
         first = t if first is None else min(first, t)
     return first

@@ -19,12 +19,12 @@ from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
 
+from loadcases.report.curves import LOAD_UNITS
 from loadcases.report.envelope import EnvelopeRow
 
 __all__ = ["LOAD_UNITS", "ULTIMATE", "apply_margins", "column_factor", "margin"]
 
 ULTIMATE = "ultimate"
-from loadcases.report.curves import LOAD_UNITS  # noqa: E402
 
 
 def column_factor(

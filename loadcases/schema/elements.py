@@ -7,6 +7,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 from pydantic_core import PydanticCustomError
 
+from loadcases.schema.forces_more import CableLoop, Damper, Seal
 from loadcases.schema.types import (
     Damping,
     Dimensionless,
@@ -197,8 +198,6 @@ class JointFriction(Strict):
     )
     active: bool = Field(True, description=_ACTIVE)
 
-
-from loadcases.schema.forces_more import CableLoop, Damper, Seal  # noqa: E402
 
 ForceElement = Annotated[
     Spring
