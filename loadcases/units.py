@@ -22,11 +22,13 @@ from loadcases.clip import clip
 __all__ = [
     "DIMENSIONS",
     "FILE_UNIT_KINDS",
+    "REPORT_KINDS",
     "RESERVED_NAMES",
     "SIValue",
     "UnitError",
     "check_unit_name",
     "finite",
+    "is_load_unit",
     "to_si",
     "unit_constant",
     "vector_to_si",
@@ -57,6 +59,24 @@ DIMENSIONS: dict[str, dict[str, int]] = {
     "dimensionless": {},
 }
 FILE_UNIT_KINDS = ("length", "angle", "mass", "time", "force")
+# The kinds a report may show in other units (`report.units`), by the SI unit text the engine
+# gives their result columns.
+REPORT_KINDS: dict[str, str] = {
+    "force": "N",
+    "torque": "N*m",
+    "angle": "rad",
+    "length": "m",
+    "velocity": "m/s",
+    "angular_velocity": "rad/s",
+    "acceleration": "m/s^2",
+    "angular_acceleration": "rad/s^2",
+    "time": "s",
+    "mass": "kg",
+    "pressure": "Pa",
+    "stiffness": "N/m",
+    "torsional_stiffness": "N*m/rad",
+    "frequency": "Hz",
+}
 # Identifiers of the expression language that are never unit constants (`t` is not tonne).
 RESERVED_NAMES = frozenset(
     {
@@ -306,6 +326,19 @@ def unit_constant(name: str) -> float | None:
     except (pint.errors.PintError, ValueError, TypeError, AttributeError, KeyError):
         return None
     return float(magnitude) if math.isfinite(magnitude) and offset == 0 else None
+
+
+@lru_cache(maxsize=256)
+def is_load_unit(unit: str) -> bool:
+    """A unit of force or torque (`N`, `kN`, `N*m`, `lbf*in`): the columns factors apply to
+    and the envelope charts show first."""
+    for kind in ("force", "torque"):
+        try:
+            to_si(f"1 {unit}", kind)
+            return True
+        except UnitError:
+            continue
+    return False
 
 
 def check_unit_name(unit: Any, kind: str) -> str:

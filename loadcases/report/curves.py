@@ -23,6 +23,7 @@ import numpy as np
 from loadcases.build.model import ABSCISSA_COLUMN
 from loadcases.results.files import TIME_COLUMN
 from loadcases.results.saved import SavedRun
+from loadcases.units import is_load_unit
 
 __all__ = [
     "MAIN_COLUMNS",
@@ -133,10 +134,10 @@ def envelope_curves(runs: Iterable[SavedRun]) -> list[EnvelopeCurve]:
 
 
 def main_columns(curve: EnvelopeCurve) -> list[str]:
-    """The columns charted and plotted for a family: its load columns (unit N or N*m; all
+    """The columns charted and plotted for a family: its load columns (force or torque; all
     columns if it has none) ranked by their largest |envelope| value, the first
     `MAIN_COLUMNS`."""
-    loads = [c for c in curve.upper if curve.units.get(c) in LOAD_UNITS] or list(curve.upper)
+    loads = [c for c in curve.upper if is_load_unit(curve.units.get(c) or "")] or list(curve.upper)
 
     def peak(column: str) -> float:
         values = np.concatenate([curve.upper[column], curve.lower[column]])

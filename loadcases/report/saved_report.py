@@ -8,7 +8,7 @@ come from a set file when one is given.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -34,30 +34,35 @@ __all__ = ["SavedReport", "saved_report"]
 
 @dataclass
 class SavedReport:
-    """Every saved run (`records`), the ok runs, their envelope and curves."""
+    """Every saved run (`records`), the ok runs, their envelope and curves (SI); `units`:
+    the set's `report.units` ({kind: unit}) the workbook shows them in."""
 
     records: list[RunRecord]
     runs: list[SavedRun]
     rows: list[EnvelopeRow]
     curves: list[EnvelopeCurve]
     sources: list[Path]
+    units: dict[str, str] = field(default_factory=dict)
 
     def workbook_data(self, title: str, set_path: Path | None = None) -> WorkbookData:
         """The workbook of these results (Provenance lists each CSV with its hash)."""
+        from loadcases.report.units import ReportUnits
         from loadcases.report.workbook import WorkbookData, file_sha256
 
         inputs = [(str(p), file_sha256(p)) for p in ([set_path] if set_path else [])]
         inputs += [(str(p), file_sha256(p)) for p in self.sources]
-        return WorkbookData(
-            title,
-            self.records,
-            self.runs,
-            self.rows,
-            self.curves,
-            inputs,
-            [("made by", "loads envelope")],
-            package_version(),
-            str(set_path or ""),
+        return ReportUnits.of(self.units).workbook_data(
+            WorkbookData(
+                title,
+                self.records,
+                self.runs,
+                self.rows,
+                self.curves,
+                inputs,
+                [("made by", "loads envelope")],
+                package_version(),
+                str(set_path or ""),
+            )
         )
 
 
@@ -75,11 +80,12 @@ def saved_report(directories: Iterable[Path], *, set_path: Path | None = None) -
         records.append(_record(csv_path, run))
         if records[-1].ok:
             runs.append(run)
-    factors, allowables = {}, {}
+    factors, allowables, units = {}, {}, {}
     if set_path is not None:
         from loadcases.inputs.loader import load_set
 
         model = load_set(set_path).model
         factors, allowables = model.factors, model.allowables
+        units = model.report.units.given() if model.report is not None else {}
     rows = apply_margins(extract_envelope(runs), factors, allowables)
-    return SavedReport(records, runs, rows, envelope_curves(runs), [p for _, p in files])
+    return SavedReport(records, runs, rows, envelope_curves(runs), [p for _, p in files], units)

@@ -8,9 +8,10 @@ run), one `Curves FAMILY` sheet per family (the envelope curves' numbers), the t
 histories, `Provenance`.
 
 Time histories: one sheet per run when the set has at most `MAX_RUN_SHEETS` runs, else one
-sheet per family with the runs stacked (first column `run`). Headers carry SI units
-(`pivot_force.fx [N]`); values are the CSV's exactly (NaN becomes an empty cell: Excel has
-no NaN). The workbook is written atomically.
+sheet per family with the runs stacked (first column `run`). Headers carry their units
+(`pivot_force.fx [N]`): SI, or the set's `report.units` (`loadcases.report.units` converts
+the data before they get here); SI values are the CSV's exactly (NaN becomes an empty cell:
+Excel has no NaN). The workbook is written atomically.
 """
 
 from __future__ import annotations

@@ -61,9 +61,10 @@ _NUMBER_COLUMNS = {
 _TIME_COLUMNS = {"max_time", "min_time"}
 _MARGIN_COLUMNS = {"factor", "ms_max", "ms_min"}
 _HEADER_NOTES = {
-    "unit": "SI unit of the row's values (max, min, ultimate, allowables, concurrent values)",
-    "max_time": "s",
-    "min_time": "s",
+    "unit": "unit of the row's values (max, min, ultimate, allowables, concurrent values): "
+    "the set's report.units, else SI",
+    "max_time": "s (or the report's time unit)",
+    "min_time": "s (or the report's time unit)",
     "factor": "-: ultimate x fitting factor",
     "ms_max": "-: allowable_max / (factor x max) - 1",
     "ms_min": "-: allowable_min / (factor x min) - 1",

@@ -5,11 +5,13 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from pydantic import BeforeValidator, Field
+from pydantic_core import PydanticCustomError
 
 from loadcases.schema.mechanism import FileUnits
 from loadcases.schema.types import AnySI, Dimensionless, Strict
+from loadcases.units import REPORT_KINDS, UnitError, check_unit_name
 
-__all__ = ["Allowable", "Report", "SetModel"]
+__all__ = ["Allowable", "Report", "ReportUnits", "SetModel"]
 
 
 def _as_list(value: Any) -> Any:
@@ -23,11 +25,66 @@ class Allowable(Strict):
     min: AnySI | None = None
 
 
+def _report_unit(kind: str) -> Any:
+    def check(value: Any) -> str:
+        try:
+            return check_unit_name(value, kind)
+        except UnitError as error:
+            raise PydanticCustomError("unit", str(error)) from None
+
+    return Annotated[
+        str | None,
+        BeforeValidator(check),
+        Field(
+            default=None,
+            description=f"unit in which the report shows {kind.replace('_', ' ')}"
+            f" values (SI unit {REPORT_KINDS[kind]}), e.g. {_EXAMPLES.get(kind, '')}",
+        ),
+    ]
+
+
+_EXAMPLES = {
+    "force": "kN",
+    "torque": "N*m",
+    "angle": "deg",
+    "length": "mm",
+    "angular_velocity": "deg/s",
+    "velocity": "mm/s",
+    "pressure": "bar",
+}
+
+
+class ReportUnits(Strict):
+    """`report.units` (SPEC 1.4): the units in which the workbook, the plots and the envelope
+    tables show each physical kind; CSV and summary files stay SI."""
+
+    force: _report_unit("force") = None
+    torque: _report_unit("torque") = None
+    angle: _report_unit("angle") = None
+    length: _report_unit("length") = None
+    velocity: _report_unit("velocity") = None
+    angular_velocity: _report_unit("angular_velocity") = None
+    acceleration: _report_unit("acceleration") = None
+    angular_acceleration: _report_unit("angular_acceleration") = None
+    time: _report_unit("time") = None
+    mass: _report_unit("mass") = None
+    pressure: _report_unit("pressure") = None
+    stiffness: _report_unit("stiffness") = None
+    torsional_stiffness: _report_unit("torsional_stiffness") = None
+    frequency: _report_unit("frequency") = None
+
+    def given(self) -> dict[str, str]:
+        """{kind: unit} of the kinds given."""
+        return {k: v for k, v in self.model_dump().items() if v is not None}
+
+
 class Report(Strict):
-    """Workbook report: `template` and `output` relative to the set file."""
+    """Workbook report: `template` and `output` relative to the set file; `units` of the
+    report (workbook, plots, envelope tables)."""
 
     template: str | None = None
     output: str = Field(min_length=1)
+    units: ReportUnits = Field(default_factory=ReportUnits)
 
 
 class SetModel(Strict):

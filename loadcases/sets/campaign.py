@@ -181,6 +181,7 @@ def _prebuild(compiled: CompiledSet) -> None:
 
 def _report_files(result: SetResult, runs: list[SavedRun], options: dict[str, str]) -> list[Path]:
     """envelope.csv, the workbook and (if available) the plots of a set."""
+    from loadcases.report.units import ReportUnits
     from loadcases.report.workbook import WorkbookData, write_workbook
 
     model = result.compiled.set_file.model
@@ -189,9 +190,10 @@ def _report_files(result: SetResult, runs: list[SavedRun], options: dict[str, st
     template = None
     if model.report is not None and model.report.template:
         template = Path(result.compiled.set_file.path).parent / model.report.template
-    data = WorkbookData.from_set(result, runs, options)
+    units = ReportUnits.of(model.report.units.given() if model.report is not None else None)
+    data = units.workbook_data(WorkbookData.from_set(result, runs, options))
     files.append(write_workbook(data, result.directory / output, template=template))
-    files += _plots(result.curves, result.directory)
+    files += _plots(data.curves, result.directory)
     return files
 
 
