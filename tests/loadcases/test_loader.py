@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import shutil
 from pathlib import Path
 
 import pytest
@@ -207,8 +208,10 @@ def test_load_mechanism_and_set(monkeypatch: pytest.MonkeyPatch, tmp_path: Path)
     monkeypatch.chdir(GOOD)
     mech = load_mechanism("slider-crank.mech.yaml")
     assert mech.model.name == "slider-crank"
+    for name in ("slider-crank.case.yaml", "slider-crank.mech.yaml"):  # a glob stays in
+        shutil.copy(GOOD / name, tmp_path / name)  # the set's folder
     (tmp_path / "a.set.yaml").write_text(
-        f"set: s\ncases: ['{GOOD}/*.case.yaml']\nsweep: {{crank_speed: [1 rad/s, 2]}}\n"
+        f"set: s\ncases: ['*.case.yaml']\nsweep: {{crank_speed: [1 rad/s, 2]}}\n"
         "factors: {ultimate: 1.5}\nreport: {output: out.xlsx}\n",
         encoding="utf-8",
     )
