@@ -211,7 +211,7 @@ def test_load_mechanism_and_set(monkeypatch: pytest.MonkeyPatch, tmp_path: Path)
     for name in ("slider-crank.case.yaml", "slider-crank.mech.yaml"):  # a glob stays in
         shutil.copy(GOOD / name, tmp_path / name)  # the set's folder
     (tmp_path / "a.set.yaml").write_text(
-        f"set: s\ncases: ['*.case.yaml']\nsweep: {{crank_speed: [1 rad/s, 2]}}\n"
+        "set: s\ncases: ['*.case.yaml']\nsweep: {crank_speed: [1 rad/s, 2]}\n"
         "factors: {ultimate: 1.5}\nreport: {output: out.xlsx}\n",
         encoding="utf-8",
     )
