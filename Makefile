@@ -1,7 +1,9 @@
 # Developer entry points. Needs only Python 3.11 (`python3`) on a fresh machine.
 #   make demo   install into .venv (if needed) and run the slider-crank verification case
 #               (installing also compiles numba's kernel cache: python -m loadcases.warmup)
-#   make test   install with the test extra (if needed) and run the test suite
+#   make test   install with the test extra (if needed), then lint (ruff check, ruff format
+#               --check), type-check (mypy) and run the whole test suite
+#   make test-quick  the same without the tests marked slow (a few minutes less)
 #   make bench  the speed comparison with Exudyn (the test extra installs Exudyn)
 PYTHON ?= python3
 VENV := .venv
@@ -13,14 +15,22 @@ DEMO_CASE ?= loadcases/library/verification/slider_crank.case.yaml
 DEMO_OUT ?= results
 PYTEST_ARGS ?= -n 2
 
-.PHONY: demo test bench install clean
+.PHONY: demo test test-quick lint bench install clean
 
 demo: $(STAMP)
 	$(BIN)/loads run $(DEMO_CASE) -o $(DEMO_OUT) --xlsx
 	@echo "results are in $(abspath $(DEMO_OUT))/"
 
-test: $(TEST_STAMP)
+test: lint
 	$(BIN)/python -m pytest $(PYTEST_ARGS)
+
+test-quick: lint
+	$(BIN)/python -m pytest $(PYTEST_ARGS) -m "not slow"
+
+lint: $(TEST_STAMP)
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+	$(BIN)/mypy
 
 bench: $(TEST_STAMP)
 	$(BIN)/loads bench

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
 from matplotlib.image import imread
 from typer.testing import CliRunner
 
@@ -14,6 +15,7 @@ from loadcases.inputs.scaffold import SKELETONS
 runner = CliRunner()
 
 
+@pytest.mark.slow
 def test_new_validate_run_plot_every_kind(tmp_path: Path) -> None:
     cases = tmp_path / "cases"
     for kind in SKELETONS:

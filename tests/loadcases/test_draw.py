@@ -47,6 +47,7 @@ def test_auto_view_of_planar_mechanism_is_its_plane(fourbar):
     assert labels == ("x [m]", "y [m]")
 
 
+@pytest.mark.slow
 def test_animation_written(fourbar, tmp_path):
     files, what = write_animation(fourbar, tmp_path)
     assert files and all(f.is_file() and f.stat().st_size > 0 for f in files)

@@ -52,6 +52,7 @@ def test_curve_nearest_point_and_normals():
     assert abs(n2[2]) == pytest.approx(1.0, abs=1e-6)
 
 
+@pytest.mark.slow
 def test_bead_on_a_circular_wire_is_a_pendulum():
     """Released at 60 deg: the period equals the elliptic-integral value within 2e-4
     (the spline of the circle and the integrator), and the wire's normal force at the

@@ -244,6 +244,7 @@ def _steady_figures(sol: ml.Solution) -> dict[str, float]:
     }
 
 
+@pytest.mark.slow
 def test_steel_ball_in_socket_ten_seconds() -> None:
     """Issue 3 item 12: 10 s (40 duty cycles) of the rod-end at the default tolerance and
     at 10x tighter. Each run: no failure; steps below 135 000 and 280 000 (measured 89 277

@@ -209,6 +209,7 @@ def _zero_crossing(x: np.ndarray, y: np.ndarray) -> float:
     return float(x[i] + (x[i + 1] - x[i]) * y[i] / (y[i] - y[i + 1]))
 
 
+@pytest.mark.slow
 def test_let_go_when_the_handle_effort_turns_negative() -> None:
     """Let-go variant (thesis 4.1, figure 30): the dynamic lift with pressure lets go of the
     handle where the quasi-static handle effort turns negative (the cam converts the
@@ -232,6 +233,7 @@ def test_let_go_when_the_handle_effort_turns_negative() -> None:
     assert np.degrees(latch[-1]) == pytest.approx(110.0, abs=1.0)
 
 
+@pytest.mark.slow
 def test_quasi_static_and_dynamic_lift_differ_only_where_the_door_accelerates() -> None:
     """Thesis 4.1 / 5.1.1: the same lift without pressure, quasi-static and dynamic
     (contact damping 1e4 N*s/m). While the rollers run up the cam (latch 35-60 deg) the door

@@ -68,6 +68,7 @@ def test_bar_sags_on_torsional_stiffness() -> None:
     assert sol.channels["b.ty"][0] == pytest.approx(-KR[1] * theta, abs=1e-6)
 
 
+@pytest.mark.slow
 def test_vertical_damping_decay() -> None:
     """Launched up at 0.1 m/s from rest position with damping c_z = 8 N*s/m: successive
     peaks of the vertical motion decay by exp(-c T_d / (2 m)) per damped period (log
