@@ -33,6 +33,13 @@ __all__ = ["MechanismCheck", "check_model", "inspect_mechanism", "solve"]
 Analysis = Kinematic | Static | QuasiStatic | Dynamic | Modes
 
 
+def _redundant(system: System, jac: np.ndarray) -> list:
+    """The dependent equations of the constraint Jacobian `jac`, named joint by joint."""
+    return find_redundant(
+        jac, system.labels, system.owners, set(system.body_names), owner_rank=system.owner_rank
+    )
+
+
 def check_model(system: System, analysis: Analysis, *, redundant: str = "error") -> list[str]:
     """Redundant equations and degrees of freedom, before any solving.
 
@@ -41,9 +48,7 @@ def check_model(system: System, analysis: Analysis, *, redundant: str = "error")
     """
     k = system.kin(system.design_q(), None, getattr(analysis, "start", 0.0))
     jac = system.phi_q(k)
-    found = find_redundant(
-        jac, system.labels, system.owners, set(system.body_names), owner_rank=system.owner_rank
-    )
+    found = _redundant(system, jac)
     warnings = []
     if found and redundant != "drop":
         raise ModelError([(r.owner, "redundant constraint: " + r.describe()) for r in found])
@@ -87,9 +92,7 @@ def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
     system = System(mechanism)
     k = system.kin(system.design_q(), None, 0.0)
     jac = system.phi_q(k)
-    found = find_redundant(
-        jac, system.labels, system.owners, set(system.body_names), owner_rank=system.owner_rank
-    )
+    found = _redundant(system, jac)
     assembled = bool(np.abs(system.phi(k)).max(initial=0.0) < 1e-9)
     return MechanismCheck(
         system.nb,
