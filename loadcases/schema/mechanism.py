@@ -47,7 +47,9 @@ __all__ = [
 ]
 
 
-def _unit_name(kind: str) -> Any:
+def unit_name(kind: str, description: str) -> Any:
+    """An optional unit name of `kind` (`mm`, `kN`, `deg/s`), checked at its key."""
+
     def check(value: Any) -> str:
         try:
             return check_unit_name(value, kind)
@@ -55,14 +57,15 @@ def _unit_name(kind: str) -> Any:
             raise PydanticCustomError("unit", str(error)) from None
 
     return Annotated[
-        str | None,
-        BeforeValidator(check),
-        Field(
-            default=None,
-            description=f"unit of bare {kind} numbers in this file, e.g. "
-            + {"length": "mm", "angle": "deg", "mass": "g", "time": "ms", "force": "kN"}[kind],
-        ),
+        str | None, BeforeValidator(check), Field(default=None, description=description)
     ]
+
+
+_FILE_EXAMPLES = {"length": "mm", "angle": "deg", "mass": "g", "time": "ms", "force": "kN"}
+
+
+def _unit_name(kind: str) -> Any:
+    return unit_name(kind, f"unit of bare {kind} numbers in this file, e.g. {_FILE_EXAMPLES[kind]}")
 
 
 class FileUnits(Strict):

@@ -5,11 +5,10 @@ from __future__ import annotations
 from typing import Annotated, Any
 
 from pydantic import BeforeValidator, Field
-from pydantic_core import PydanticCustomError
 
-from loadcases.schema.mechanism import FileUnits
+from loadcases.schema.mechanism import FileUnits, unit_name
 from loadcases.schema.types import AnySI, Dimensionless, Strict
-from loadcases.units import REPORT_KINDS, UnitError, check_unit_name
+from loadcases.units import REPORT_KINDS
 
 __all__ = ["Allowable", "Report", "ReportUnits", "SetModel"]
 
@@ -26,21 +25,11 @@ class Allowable(Strict):
 
 
 def _report_unit(kind: str) -> Any:
-    def check(value: Any) -> str:
-        try:
-            return check_unit_name(value, kind)
-        except UnitError as error:
-            raise PydanticCustomError("unit", str(error)) from None
-
-    return Annotated[
-        str | None,
-        BeforeValidator(check),
-        Field(
-            default=None,
-            description=f"unit in which the report shows {kind.replace('_', ' ')}"
-            f" values (SI unit {REPORT_KINDS[kind]}), e.g. {_EXAMPLES.get(kind, '')}",
-        ),
-    ]
+    return unit_name(
+        kind,
+        f"unit in which the report shows {kind.replace('_', ' ')} values "
+        f"(SI unit {REPORT_KINDS[kind]}), e.g. {_EXAMPLES.get(kind, '')}",
+    )
 
 
 _EXAMPLES = {
