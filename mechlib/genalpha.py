@@ -235,4 +235,5 @@ class Integrator:
         """Scaled norm of the local position error c h^2 (qdd_{n+1} - qdd_n), about
         c h^3 d3q/dt3, from the true accelerations at both ends (accept when <= 1)."""
         e = self.c.error_constant * h * h * (acc1 - acc0)
+        assert self.scales is not None, "set by the stepper before its first step"
         return float(np.abs(e / (self.scales.q_abs + self.scales.tol * np.abs(q1))).max())

@@ -36,16 +36,22 @@ _REGROW = 1.5
 _FIRST_STEP = 1e-6
 
 
-@dataclass
+@dataclass(kw_only=True)
 class _AlphaState(State):
     """An accepted state with its consistent (qd, qdd, lam), which outputs and the error
     estimate use, and the integrator's own values it continues from: raw_qd, raw_qdd, the
     pseudo-acceleration a, raw_lam."""
 
-    raw_qd: np.ndarray | None = None
-    raw_qdd: np.ndarray | None = None
-    a: np.ndarray | None = None
-    raw_lam: np.ndarray | None = None
+    raw_qd: np.ndarray
+    raw_qdd: np.ndarray
+    a: np.ndarray
+    raw_lam: np.ndarray
+
+
+def _alpha(state: State) -> _AlphaState:
+    """`state` as this stepper's own: every state it is handed is one it made."""
+    assert isinstance(state, _AlphaState), "a generalized-alpha stepper's own state"
+    return state
 
 
 def _state(t: float, new) -> _AlphaState:
@@ -75,7 +81,7 @@ class GeneralizedAlphaStepper(Stepper):
         return self.restart(s) if self._switched(s) else s
 
     def restart(self, state: State) -> State:
-        return self._restart(state.t, state.q, state.raw_qd)
+        return self._restart(state.t, state.q, _alpha(state).raw_qd)
 
     def _restart(self, t: float, q: np.ndarray, qd: np.ndarray) -> _AlphaState:
         """Consistent accelerations (and velocities: a latch engaging is a plastic impact,
@@ -88,10 +94,11 @@ class GeneralizedAlphaStepper(Stepper):
 
     def step(self, state: State, t_out: float) -> StepResult:
         """One step towards t_out, shortened to where a sliding joint friction stops."""
-        new, err = self._attempt(state, t_out)
+        s = _alpha(state)
+        new, err = self._attempt(s, t_out)
         if new is None:
             return StepResult(None, err, Status.STEP_REJECTED)
-        return StepResult(self._stop_slips(state, new), err, Status.SUCCESSFUL)
+        return StepResult(self._stop_slips(s, new), err, Status.SUCCESSFUL)
 
     def _attempt(self, s: _AlphaState, t_out: float) -> tuple[_AlphaState | None, float]:
         """One step towards t_out and its error; None when rejected (the step size is then
@@ -136,8 +143,9 @@ class GeneralizedAlphaStepper(Stepper):
         """Count the step, take its element states and memories, watch the step size."""
         system = self.system
         self.stats.steps += 1
+        assert self.integ.scales is not None, "set by init"
         self.integ.scales.update(state.qdd)
-        k = system.kin(state.q, state.raw_qd, state.t)
+        k = system.kin(state.q, _alpha(state).raw_qd, state.t)
         if system.states:
             system.states.accept(system.view(k))
         system.commit(k)
@@ -152,7 +160,7 @@ class GeneralizedAlphaStepper(Stepper):
     def accept(self, state: State) -> State:
         """Settle, then stick or free joint frictions there (a switch restarts)."""
         self.settle(state)
-        return self.restart(state) if self._switched(state) else state
+        return self.restart(state) if self._switched(_alpha(state)) else state
 
     def _switched(self, s: _AlphaState) -> bool:
         return switch_sticking(self.system, s.q, s.raw_qd, s.t, self.view(s), consistent_state)
@@ -160,9 +168,11 @@ class GeneralizedAlphaStepper(Stepper):
     def resolve(self, state: State, t: float) -> State:
         """The step from `state` re-solved to end at t (s); StepUnresolved when Newton
         fails."""
-        new = self.integ.step(
-            state.t, t - state.t, state.q, state.raw_qd, state.raw_qdd, state.a, state.raw_lam
-        )
+        return self._resolve(_alpha(state), t)
+
+    def _resolve(self, s: _AlphaState, t: float) -> _AlphaState:
+        """`resolve` on this stepper's own state."""
+        new = self.integ.step(s.t, t - s.t, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam)
         if new is None:
             raise StepUnresolved(t)
         return _state(t, new)
@@ -178,16 +188,16 @@ class GeneralizedAlphaStepper(Stepper):
                 new.t,
                 self.view(s),
                 self.view(new),
-                lambda tt: self.view(self.resolve(s, tt)),
+                lambda tt: self.view(self._resolve(s, tt)),
             )
             if t is None:
                 return new
             if t < new.t:
-                return self.resolve(s, t)
+                return self._resolve(s, t)
         except (StepUnresolved, SolverFailure):  # a shorter step Newton cannot take: keep new
             pass
         # the re-solved steps moved the element states' trial values: back to new's
-        return self.resolve(s, new.t) if sys.states else new
+        return self._resolve(s, new.t) if sys.states else new
 
     def unresolved(self, state: State, new: State, failure: StepUnresolved, events) -> None:
         """A load that jumps where an event condition's zero lies (a preloaded wire going

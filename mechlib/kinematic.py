@@ -81,6 +81,7 @@ class KinematicStepper(Stepper):
     def settle(self, state: State) -> State:
         self.stats.steps += 1
         if self.system.states:
+            assert state.elements is not None, "marked by _mark when there are states"
             self.system.states.resume(state.elements)
         return state
 
@@ -93,6 +94,7 @@ class KinematicStepper(Stepper):
         since the position guess extrapolates Euler parameters linearly."""
         h = t1 - state.t
         if self.system.states:
+            assert state.elements is not None, "marked by _mark when there are states"
             self.system.states.resume(state.elements)
         guess = state.q + h * state.qd + 0.5 * h * h * state.qdd
         try:

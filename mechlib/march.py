@@ -17,6 +17,7 @@ Kinematic, quasi-static and dynamic (generalized-alpha, Radau) analyses are step
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Literal
 
 from mechlib.analysis import Trajectory, output_times
 from mechlib.contract import State, Status, Stepper, StepUnresolved
@@ -74,7 +75,7 @@ def _events(
     new: State,
     trajectory: Trajectory,
     log: list | None,
-) -> State | Status | None:
+) -> State | Literal[Status.EVENT_STOP] | None:
     """If events fire during the step s -> new: the state at the first one, settled and
     recorded, the actions done, restarted (EVENT_STOP when an action stops the run); else
     None. When a re-solved step of the location cannot be taken the stepper rejects the

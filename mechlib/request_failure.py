@@ -3,6 +3,8 @@ column from that row on: the other columns and the rows before stay in the solut
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+
 import numpy as np
 
 from mechlib.solution import SolverFailure
@@ -28,7 +30,7 @@ class RequestFailure(SolverFailure):
 def partial_columns(
     channels: dict[str, np.ndarray],
     failed: dict[str, SolverFailure],
-    per_request: dict[str, dict[str, list]],
+    per_request: Mapping[str, Mapping[str, Sequence[float] | np.ndarray]],
     rows: int,
 ) -> RequestFailure:
     """The failure of the requests in `failed` (name -> failure), their columns padded

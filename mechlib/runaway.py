@@ -76,7 +76,7 @@ def _grown(before: dict[str, float], now: dict[str, float]) -> str:
             "no force element grows: the motion speeds up without bound (an unstable "
             "model, a motion or initial value out of range?)"
         )
-    name = max(ratios, key=ratios.get)
+    name = max(ratios, key=ratios.__getitem__)
     return (
         f"the force '{name}' grew from {before[name]:.3g} to {now[name]:.3g} (SI) over "
         "those steps: does it grow without bound?"

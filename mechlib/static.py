@@ -23,11 +23,17 @@ __all__ = ["QuasiStaticStepper", "equilibrium", "run_static"]
 _MAX_SUBDIVISIONS = 10
 
 
-@dataclass
+@dataclass(kw_only=True)
 class _Equilibrium(State):
     """An equilibrium, and the one before it (its extrapolation's start)."""
 
-    q_prev: np.ndarray | None = None
+    q_prev: np.ndarray
+
+
+def _equilibrium(state: State) -> _Equilibrium:
+    """`state` as this stepper's own: every state it is handed is one it made."""
+    assert isinstance(state, _Equilibrium), "a quasi-static stepper's own state"
+    return state
 
 
 class QuasiStaticStepper(Stepper):
@@ -39,12 +45,14 @@ class QuasiStaticStepper(Stepper):
     at_rest = True
 
     def init(self, t: float, q0: np.ndarray, qd0: np.ndarray | None) -> State:
-        start = _Equilibrium(t, q0, None, None, None, q_prev=q0)
-        start.elements = self._mark(q0, t)
-        return self.settle(self._solve(start, t, q0))
+        # the start has no multipliers yet (None: equilibrium starts them from the loads)
+        q, lam = self._continue(q0, q0, None, t, t, self._mark(q0, t))
+        return self.settle(self._state(q, lam, t, q0))
 
     def step(self, state: State, t_out: float) -> StepResult:
-        return StepResult(self._solve(state, t_out, state.q_prev), None, Status.SUCCESSFUL)
+        return StepResult(
+            self._solve(state, t_out, _equilibrium(state).q_prev), None, Status.SUCCESSFUL
+        )
 
     def resolve(self, state: State, t: float) -> State:
         return self._solve(state, t, state.q)
@@ -53,6 +61,7 @@ class QuasiStaticStepper(Stepper):
         system = self.system
         self.stats.steps += 1
         if system.states:
+            assert state.elements is not None, "marked by _state when there are states"
             system.states.resume(state.elements)
         state.snapshot = system.snapshot()
         system.commit(system.kin(state.q, None, state.t))

@@ -248,7 +248,7 @@ class _Builder:
 
     def _element(self, name: str, f):
         damping = self.effects.get("damping", True)
-        law = None
+        law: ml.TableLaw | SeriesLaw | None = None
         if f.type in ("spring", "torsion_spring") and f.law is not None:
             if f.stiffness:  # the table replaces the linear term: both would be ambiguous
                 self.error("mechanism", f"forces.{name}.law", "give 'stiffness' or 'law', not both")

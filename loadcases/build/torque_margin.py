@@ -85,12 +85,13 @@ class MarginPlan:
         """The solution with the margin columns (hidden ones removed), the summary block
         `torque_margin` and notes (a failed check, rows without a resistive torque)."""
         channels = {k: v for k, v in solution.channels.items() if not k.startswith(_HIDDEN)}
-        block = {"required": self.required, "passed": True, "hinge_lines": {}}
+        hinge_lines: dict[str, dict] = {}
+        block = {"required": self.required, "passed": True, "hinge_lines": hinge_lines}
         notes = []
         for line in self.lines:
             columns, summary = _line_margin(line, solution, self.required, self.restart_friction)
             channels.update({f"{TM_PREFIX}{line.name}.{c}": v for c, v in columns.items()})
-            block["hinge_lines"][line.name] = summary
+            hinge_lines[line.name] = summary
             block["passed"] = block["passed"] and summary["passed"] and solution.ok
             notes += _line_notes(line.name, summary, self.required)
         if not solution.ok:

@@ -136,8 +136,10 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
         if analysis.end and analysis.step and analysis.step > analysis.end:
             found.append(at.diagnostic(("analysis", "step"), "step is longer than end"))
         elif (
-            (analysis.end or 0.0) > 0.0
-            and (analysis.step or 0.0) > 0.0
+            analysis.end is not None
+            and analysis.end > 0.0
+            and analysis.step is not None
+            and analysis.step > 0.0
             and (problem := rows_problem(analysis.end, analysis.step)) is not None
         ):
             found.append(at.diagnostic(("analysis", "step"), problem))

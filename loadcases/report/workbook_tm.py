@@ -50,7 +50,7 @@ def _minimum(values: np.ndarray) -> int | None:
 
 def margin_rows(run: SavedRun) -> list[tuple]:
     """One row per hinge line of `run` (TM_SHEET_COLUMNS); required = (D - excess) / R."""
-    out = []
+    out: list[tuple] = []
     for line in _hinge_lines(run):
         ch = {
             c: run.channels[f"{TM_PREFIX}{line}.{c}"]

@@ -115,7 +115,7 @@ class TorsionSpring(Strict):
         None, description=describe("torque at the design position", "torque")
     )
     law: Name | None = Field(None, description="table of torque [N*m] vs angle [rad]")
-    series_stiffness: TorsionalStiffness | None = Field(  # type: ignore[valid-type]
+    series_stiffness: TorsionalStiffness | None = Field(
         None,
         gt=0,
         description=describe(
