@@ -40,19 +40,9 @@ CONTACT_COMPONENTS: dict[str, tuple[tuple[str, str], ...]] = {
         ("angle", "angle"),
     ),
 }
-# Unit of each element output key.
+# Unit of each element output key: the contact's own, and the clearance joints' eccentricity.
 CONTACT_UNITS: dict[str, str] = {
-    "normal": "N",
-    "friction": "N",
-    "fx": "N",
-    "fy": "N",
-    "fz": "N",
-    "penetration": "m",
-    "px": "m",
-    "py": "m",
-    "pz": "m",
-    "sliding_speed": "m/s",
-    "wear": "W",
+    **mc.Contact.output_units,
     "ex": "m",
     "ey": "m",
     "ez": "m",
