@@ -57,7 +57,11 @@ class JointFrame:
 def joint_frame(axis) -> JointFrame:
     """A right-handed triad (f, g, h) with h = axis; f taken from the least aligned global axis."""
     h = np.asarray(axis, dtype=float)
-    h = h / np.linalg.norm(h)
+    with np.errstate(over="ignore"):
+        length = float(np.linalg.norm(h))
+    if not (np.isfinite(length) and length > 0.0):
+        raise ValueError(f"a joint axis must be a finite, non-zero vector of moderate size: {axis}")
+    h = h / length
     for e in np.eye(3):
         if abs(e @ h) < 0.9:
             f = e - (e @ h) * h

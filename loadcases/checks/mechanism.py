@@ -159,8 +159,9 @@ def _vector_checks(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     found = []
     for name, joint in model.joints.items():
         for key in ("axis", "normal"):
-            if np.linalg.norm(getattr(joint, key, None) or (1.0,)) < _TINY:
-                found.append(at.diagnostic(("joints", name, key), f"{key} is a zero vector"))
+            problem = _direction_problem(key, getattr(joint, key, None))
+            if problem:
+                found.append(at.diagnostic(("joints", name, key), problem))
         axes = getattr(joint, "axes", None)
         if axes is not None:
             found += _axes_checks(at, ("joints", name, "axes"), joint.type, *axes)
@@ -177,11 +178,9 @@ def _vector_checks(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     for name, frame in model.frames.items():
         found += _axes_checks(at, ("frames", name), "frame", frame.x, frame.y)
     for name, contact in model.contacts.items():
-        normal = getattr(contact.geometry, "normal", None)
-        if normal is not None and np.linalg.norm(normal) < _TINY:
-            found.append(
-                at.diagnostic(("contacts", name, "geometry", "normal"), "normal is a zero vector")
-            )
+        problem = _direction_problem("normal", getattr(contact.geometry, "normal", None))
+        if problem:
+            found.append(at.diagnostic(("contacts", name, "geometry", "normal"), problem))
         if contact.bodies[0] == contact.bodies[1]:
             found.append(
                 at.diagnostic(
@@ -190,6 +189,19 @@ def _vector_checks(model: MechanismModel, at: Locator) -> list[Diagnostic]:
                 )
             )
     return found
+
+
+def _direction_problem(key: str, vector: tuple[float, ...] | None) -> str | None:
+    """Why a direction cannot be normalised (zero, or so long that its length overflows)."""
+    if vector is None:
+        return None
+    with np.errstate(over="ignore"):
+        length = float(np.linalg.norm(vector))
+    if not np.isfinite(length):
+        return f"{key} is too long to normalise (its length overflows); give a unit vector"
+    if length < _TINY:
+        return f"{key} is a zero vector"
+    return None
 
 
 def _curve_checks(at: Locator, path: KeyPath, curve) -> list[Diagnostic]:
@@ -207,9 +219,10 @@ def _curve_checks(at: Locator, path: KeyPath, curve) -> list[Diagnostic]:
 def _axes_checks(
     at: Locator, path: KeyPath, kind: str, a1: tuple[float, ...], a2: tuple[float, ...]
 ) -> list[Diagnostic]:
+    problem = _direction_problem("axis", a1) or _direction_problem("axis", a2)
+    if problem:
+        return [at.diagnostic(path, problem.replace("axis is", "an axis is"))]
     n1, n2 = np.linalg.norm(a1), np.linalg.norm(a2)
-    if n1 < _TINY or n2 < _TINY:
-        return [at.diagnostic(path, "an axis is a zero vector")]
     if np.linalg.norm(np.cross(a1, a2)) / (n1 * n2) < _PARALLEL:
         return [
             at.diagnostic(

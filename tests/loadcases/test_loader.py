@@ -63,7 +63,9 @@ EXPECTED = {
         "physics.mech.yaml:7:63: hint: give two axes at an angle (usually perpendicular)",
         "physics.mech.yaml:8:25: error: joints.j3.bodies: joint joins body 'bent' to itself",
         "physics.mech.yaml:9:36: error: joints.j4.joints[1]: unknown joint 'j9'",
-        "physics.mech.yaml:9:36: hint: known joint names: j1, j2, j3, j4",
+        "physics.mech.yaml:9:36: hint: known joint names: j1, j2, j3, j4, j5",
+        "physics.mech.yaml:10:64: error: joints.j5.axis: axis is too long to normalise (its "
+        "length overflows); give a unit vector",
     ],
     "references.case.yaml": [
         "references.case.yaml:3:27: warning: effects.friktion: unknown effect 'friktion'",

@@ -317,3 +317,22 @@ def test_a_joint_without_its_required_key_is_refused_by_name(joint_type: str, ke
     mech.add_joint("J", joint_type, bodies=("body", "ground"), at=AT, **keys)
     with pytest.raises(ValueError, match=f"joint J: a {joint_type} joint needs `{key}`"):
         System(mech)
+
+
+@pytest.mark.parametrize("axis", [(0.0, 0.0, 0.0), (0.0, 1.34e154, 1.34e154), (math.nan, 0, 1)])
+def test_joint_frame_refuses_an_axis_it_cannot_normalise(axis) -> None:
+    """A zero, overflowing or NaN axis is a ValueError, never an unbound triad (fuzz find)."""
+    from mechlib.joints import joint_frame
+
+    with pytest.raises(ValueError, match="finite, non-zero"):
+        joint_frame(axis)
+
+
+def test_joint_frame_is_a_right_handed_triad_about_the_axis() -> None:
+    from mechlib.joints import joint_frame
+
+    triad = joint_frame(3.0 * AXIS)
+    f, g, h = triad.f, triad.g, triad.h
+    assert np.allclose(h, AXIS, atol=1e-15)
+    assert np.allclose(np.cross(f, g), h, atol=1e-15)
+    assert abs(f @ h) < 1e-15 and abs(np.linalg.norm(f) - 1.0) < 1e-15
