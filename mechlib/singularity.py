@@ -21,10 +21,12 @@ toggle. Checked at the recorded output rows, after the analysis (docs/analyses.m
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 import scipy.sparse as sp
+from scipy.linalg.lapack import dgetrf, dgetrs
 from scipy.sparse.linalg import splu
 
 from mechlib.check import Redundancy
@@ -38,6 +40,7 @@ _NAMED_SHARE = 0.1  # an equation is named when its weight is this share of the 
 _MAX_ITERATIONS = 50
 _ITERATION_TOLERANCE = 1e-6
 _GRAM_FLOOR = 1e-14
+_DENSE_ROWS = 150  # up to this many equations a dense LU of J J^T is the faster one
 _HELD = 1e-8  # sine of a coordinate the constraints hold exactly (round-off level)
 
 
@@ -90,11 +93,20 @@ class _Position:
     def __init__(self, system: System, k, start: np.ndarray | None = None):
         self.system, self.k = system, k
         self.scale = _column_scale(system)
-        self.jac = sp.csr_matrix(_unit_rows(system.phi_q(k) * self.scale))
-        m = self.jac.shape[0]
+        jac = _unit_rows(system.phi_q(k) * self.scale)
+        m = jac.shape[0]
         # a floor of _GRAM_FLOOR on J J^T keeps an exactly singular position factorable
-        gram = self.jac @ self.jac.T + _GRAM_FLOOR * sp.identity(m)
-        self.lu = splu(gram.tocsc()) if m else None
+        self.jac: np.ndarray | sp.csr_matrix
+        self.lu: Callable[[np.ndarray], np.ndarray] | None = None
+        if m > _DENSE_ROWS:
+            self.jac = sp.csr_matrix(jac)
+            self.lu = splu((self.jac @ self.jac.T + _GRAM_FLOOR * sp.identity(m)).tocsc()).solve
+        elif m:
+            self.jac = jac
+            lu, pivots, _ = dgetrf(jac @ jac.T + _GRAM_FLOOR * np.eye(m))
+            self.lu = lambda rhs: dgetrs(lu, pivots, rhs)[0]  # LAPACK direct: no wrapper cost
+        else:
+            self.jac = jac
         self.weights: np.ndarray
         self.sigma: float
         self.weights, self.sigma = self._smallest(start) if m else (np.zeros(0), 1.0)
@@ -124,7 +136,7 @@ class _Position:
 
     def _solve(self, rhs: np.ndarray) -> np.ndarray:
         """(J J^T)^-1 rhs; without equations rhs is empty and so is the answer."""
-        return rhs if self.lu is None else self.lu.solve(rhs)
+        return rhs if self.lu is None else self.lu(rhs)
 
     def _row_weights(self, g: np.ndarray) -> np.ndarray:
         """y with J^T y the part of g in the span of the constraint rows (least squares)."""
