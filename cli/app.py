@@ -122,7 +122,7 @@ def run(
             "--scheduler",
             help="Run the runs of sets "
             "on a Dask cluster: scheduler ADDRESS, or 'local' for a "
-            "LocalCluster.",
+            "LocalCluster. A scheduler that does not answer within 10 s is an error.",
         ),
     ] = None,
     force: Annotated[
@@ -139,21 +139,38 @@ def run(
     engine = engine_of(ctx)
     from loadcases.limits import capped_jobs
 
-    _preflight(files, output)
+    _preflight(files, output, scheduler)
     jobs, note = capped_jobs(jobs)
     if note is not None:
         typer.echo(f"loads: warning: {note}", err=True)
+    from loadcases import interrupts
+
     code = EXIT_OK
-    for chunk, is_set in _chunks(files, _is_set):
-        if is_set:
-            for path in chunk:
-                code = max(
-                    code,
-                    _print_report(_run_set(engine, path, output, xlsx, jobs, scheduler, force)),
-                )
-        else:
-            code = max(code, _run_cases(engine, chunk, output, xlsx, jobs or 1))
-    return code
+    with interrupts.on_signals():
+        try:
+            for chunk, is_set in _chunks(files, _is_set):
+                if interrupts.received() is not None:
+                    break
+                if is_set:
+                    for path in chunk:
+                        if interrupts.received() is not None:
+                            break
+                        report = _run_set(engine, path, output, xlsx, jobs, scheduler, force)
+                        code = max(code, _print_report(report))
+                else:
+                    code = max(code, _run_cases(engine, chunk, output, xlsx, jobs or 1))
+        except interrupts.Interrupted:  # outside a solve: files are written whole or not at all
+            pass
+    signum = interrupts.received()
+    if signum is None:
+        return code
+    typer.echo(
+        f"loads: interrupted by {interrupts.signal_name(signum)}: the runs finished before "
+        "stay valid; a run stopped while solving is saved with status 'interrupted' and its "
+        "rows so far; no further run was started",
+        err=True,
+    )
+    return interrupts.exit_code(signum)
 
 
 def _kind(path: Path) -> str | None:
@@ -171,14 +188,20 @@ def _is_set(path: Path) -> bool:
     return _kind(path) == "set"
 
 
-def _preflight(files: list[Path], output: Path) -> None:
-    """Exit 2 before solving when `-o` cannot take results or two case files share a
-    `case:` name."""
+def _preflight(files: list[Path], output: Path, scheduler: str | None) -> None:
+    """Exit 2 before solving when `-o` cannot take results, two case files share a
+    `case:` name or the `--scheduler` of a set cannot be reached."""
     from loadcases.inputs.preflight import duplicate_case_names, output_folder_problem
 
     problem = output_folder_problem(output)
     if problem is not None:
         raise fail(f"-o {output}: {problem}")
+    if scheduler and any(_is_set(path) for path in files):
+        from loadcases.sets.executors import scheduler_problem
+
+        problem = scheduler_problem(scheduler)
+        if problem is not None:
+            raise fail(f"--scheduler {scheduler}: {problem}")
     clashes = duplicate_case_names([path for path in files if _kind(path) == "case"])
     if clashes:
         print_diagnostics(clashes, err=True)

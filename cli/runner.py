@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import functools
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -93,16 +92,32 @@ def run_all(
     `progress_for(path)` gives the progress callback of a file run in this process
     (worker processes run without one).
     """
+    from loadcases import interrupts
+
     workers = min(jobs, len(paths))
     if workers <= 1:
         for path in paths:
+            if interrupts.received() is not None:
+                return
             yield run_one(
                 path, engine=engine, output_dir=output_dir, xlsx=xlsx, progress=progress_for(path)
             )
         return
+    from loadcases.sets.executors import PoolExecutor
+
     task = functools.partial(run_one, engine=engine, output_dir=output_dir, xlsx=xlsx)
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        yield from pool.map(task, paths)
+    ready: dict[int, FileReport] = {}
+    following = 0  # the next report in input order
+    try:
+        for index, report in PoolExecutor(workers).map_unordered(task, paths):
+            ready[index] = report
+            while following in ready:
+                yield ready.pop(following)
+                following += 1
+    except KeyboardInterrupt:  # the files that came back, then the interrupt goes on
+        for index in sorted(ready):
+            yield ready[index]
+        raise
 
 
 def _where(output_dir: Path, name: str) -> Path:

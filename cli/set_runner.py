@@ -4,12 +4,15 @@ from __future__ import annotations
 
 import time
 from pathlib import Path
-from typing import TextIO
+from typing import TYPE_CHECKING, TextIO
 
 from cli.engine import RunSet
 from cli.render import TerminalLine
 from cli.runner import FileReport, RunLine
 from loadcases.diagnostics import InputError
+
+if TYPE_CHECKING:
+    from loadcases.sets.campaign import SetResult
 
 __all__ = ["SetProgress", "run_set_file"]
 
@@ -80,8 +83,22 @@ def run_set_file(
         f"{result.compiled.name}: {len(result.records)} runs, {len(result.failed)} "
         f"failed, {sum(r.reused for r in result.records)} reused"
     ]
-    if result.failed:
-        footer.append(f"failed runs ({len(result.failed)}):")
-        footer += [f"  {r.name}: {r.message}" for r in result.failed]
+    if result.interrupted:
+        footer = [_interrupted_footer(result)]
+    failed = [r for r in result.failed if r.status != "interrupted"]
+    if failed:
+        footer.append(f"failed runs ({len(failed)}):")
+        footer += [f"  {r.name}: {r.message}" for r in failed]
     footer += [f"  -> {file}" for file in result.files[:2]]
     return FileReport(path, runs=lines, footer=footer)
+
+
+def _interrupted_footer(result: SetResult) -> str:
+    """What an interrupted set left: runs finished, stopped, not started; no report."""
+    total = len(result.compiled.runs)
+    stopped = sum(r.status == "interrupted" for r in result.records)
+    return (
+        f"{result.compiled.name}: interrupted: {len(result.records) - stopped} of {total} runs "
+        f"finished, {stopped} stopped while solving (rows so far saved), "
+        f"{total - len(result.records)} not started; envelope and workbook not written"
+    )

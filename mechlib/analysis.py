@@ -119,5 +119,15 @@ class Trajectory:
         self.qdd.append(np.array(qdd, dtype=float))
         self.lam.append(np.array(lam, dtype=float))
 
+    def trim(self) -> None:
+        """Drop a row that an interrupt left half-appended (all lists to the shortest)."""
+        rows = self._fields()
+        n = min(len(rows_) for rows_ in rows)
+        for rows_ in rows:
+            del rows_[n:]
+
+    def _fields(self) -> tuple[list, ...]:
+        return (self.references, self.time, self.q, self.qd, self.qdd, self.lam)
+
     def __len__(self) -> int:
         return len(self.time)

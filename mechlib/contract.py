@@ -61,6 +61,7 @@ class Status(enum.Enum):
         "evaluation_failed",
         "an expression, a force element or a request could not be evaluated",
     )
+    INTERRUPTED = ("interrupted", "interrupted by the user (SIGINT or SIGTERM)")
 
     def __init__(self, code: str, message: str):
         self.code = code

@@ -9,9 +9,9 @@ import numpy as np
 
 from mechlib.contract import Status
 
-__all__ = ["EventRecord", "Solution", "SolverFailure", "SolverStats"]
+__all__ = ["EventRecord", "RunStatus", "Solution", "SolverFailure", "SolverStats"]
 
-RunStatus = Literal["ok", "failed"]
+RunStatus = Literal["ok", "failed", "interrupted"]
 
 
 @dataclass
@@ -72,7 +72,8 @@ class Solution:
 
     `time` has shape (n,) in s; `channels` maps a column name (`REQUEST.COMPONENT`) to an
     array of shape (n,) in SI units. On failure, `status == "failed"`, `message` says when,
-    where and why, and the arrays hold what was computed up to the failure. `result`: the
+    where and why, and the arrays hold what was computed up to the failure; a run stopped
+    by SIGINT or SIGTERM is `"interrupted"`, with the rows computed before. `result`: the
     run's Status (mechlib.contract), next to the message.
     """
 

@@ -22,7 +22,7 @@ from mechlib.modes import ModalResult, Modes, modal_channels, normal_modes
 from mechlib.radau import RadauStepper
 from mechlib.requests import evaluate_requests
 from mechlib.singularity import toggle_warnings
-from mechlib.solution import Solution, SolverFailure, SolverStats
+from mechlib.solution import RunStatus, Solution, SolverFailure, SolverStats
 from mechlib.solve_copy import solve_copy
 from mechlib.static import QuasiStaticStepper, run_static
 from mechlib.system import System
@@ -187,6 +187,26 @@ def _channels(system: System, run: _Run, requests) -> tuple[np.ndarray, dict]:
     return np.array(run.trajectory.time), channels
 
 
+def _summary_status(result: Status) -> RunStatus:
+    """`ok`, `interrupted` or `failed` (the summary's status)."""
+    if result.ok:
+        return "ok"
+    return "interrupted" if result is Status.INTERRUPTED else "failed"
+
+
+def _interrupted_message(analysis: Analysis, trajectory: Trajectory, signal_name: str) -> str:
+    """Where an interrupt stopped the run, and what was kept."""
+    by = f" by {signal_name}" if signal_name else ""
+    if not len(trajectory):
+        return f"{analysis.name} analysis interrupted{by} before its first output"
+    end = getattr(analysis, "end", None)
+    of = f" of {end:g} s" if isinstance(end, int | float) else ""
+    return (
+        f"{analysis.name} analysis interrupted{by} at t = {trajectory.time[-1]:.6g} s{of}; "
+        f"the {len(trajectory)} rows computed so far are kept"
+    )
+
+
 def solve(
     mechanism: Mechanism,
     analysis: Analysis,
@@ -223,6 +243,12 @@ def solve(
             raise
         run.result = failure.status
         run.message = explain_failure(system, run.trajectory, failure)
+    except KeyboardInterrupt as stop:  # SIGINT/SIGTERM (loadcases.interrupts): keep the rows
+        if throw:
+            raise
+        run.trajectory.trim()
+        run.result = Status.INTERRUPTED
+        run.message = _interrupted_message(analysis, run.trajectory, str(stop))
     try:
         times, channels = _channels(system, run, requests)
     except SolverFailure as failure:  # a request that cannot be evaluated (expression error)
@@ -242,7 +268,7 @@ def solve(
     if run.events:
         message += "; events: " + ", ".join(f"{e.name} at t = {e.time:.6g} s" for e in run.events)
     return Solution(
-        "ok" if run.result.ok else "failed",
+        _summary_status(run.result),
         message,
         analysis.name,
         times,

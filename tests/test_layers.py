@@ -21,8 +21,8 @@ LAYERS: tuple[frozenset[str], ...] = tuple(
     frozenset(layer.split())
     for layer in (
         "clip",  # input quoted in messages (at most 80 characters)
-        "diagnostics units atomic limits engine_hash",  # problems as data; quantities; files
-        # written whole; input limits; the engine's source hash
+        "diagnostics units atomic limits engine_hash interrupts",  # problems as data;
+        # quantities; files written whole; input limits; the engine's source hash; signals
         "source expressions",  # YAML with positions; the expression language
         "schema",  # pydantic models of the files
         "checks",  # semantic checks of the models

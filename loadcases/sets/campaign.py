@@ -8,7 +8,10 @@ envelope plots. A run whose summary in `DIR/SET/` has status `ok`, the run's inp
 source hash (`loadcases.engine_hash`) and the SHA-256 of the CSV next to it is reused,
 not solved again, unless `force`. Failed runs are solved again (the failure may have been
 fixed elsewhere, e.g. in the engine). One failing run never stops the set: it is recorded
-with its message and left out of the envelope.
+with its message and left out of the envelope. An interrupt (SIGINT, SIGTERM:
+`loadcases.interrupts`) starts no further run; the runs finished stay valid, those under
+way are written with status `interrupted` and their rows so far, and no envelope or
+workbook is written (`SetResult.interrupted`).
 """
 
 from __future__ import annotations
@@ -23,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from loadcases import engine_hash
+from loadcases import engine_hash, interrupts
 from loadcases.diagnostics import InputError
 from loadcases.report.curves import EnvelopeCurve, envelope_curves, plot_curves
 from loadcases.report.envelope import EnvelopeRow, extract_envelope, write_envelope_csv
@@ -62,6 +65,7 @@ class SetResult:
     envelope: list[EnvelopeRow] = field(default_factory=list)
     curves: list[EnvelopeCurve] = field(default_factory=list)
     files: list[Path] = field(default_factory=list)
+    interrupted: bool = False  # SIGINT/SIGTERM: runs missing, no envelope or report
 
     @property
     def failed(self) -> list[RunRecord]:
@@ -147,8 +151,9 @@ def _solve_all(
     force: bool,
     on_record: OnRecord | None,
     xlsx: bool = False,
-) -> list[RunRecord]:
-    """Records in run order; solved runs' results are written here as they arrive."""
+) -> tuple[list[RunRecord], bool]:
+    """Records in run order (solved runs' results are written here as they arrive), and
+    whether an interrupt stopped the set."""
     specs = list(compiled.runs)
     records: list[RunRecord | None] = [None if force else _reusable(directory, s) for s in specs]
     done = 0
@@ -158,15 +163,21 @@ def _solve_all(
             if on_record is not None:
                 on_record(record, done, len(specs))
     todo = [k for k, record in enumerate(records) if record is None]
-    for index, outcome in executor.map_unordered(solve_spec, [specs[k] for k in todo]):
-        spec = specs[todo[index]]
-        write_results(outcome, directory, version=compiled.version, xlsx=xlsx)
-        finished = _record(outcome, spec, _csv_path(directory, spec.name))
-        records[todo[index]] = finished
-        done += 1
-        if on_record is not None:
-            on_record(finished, done, len(specs))
-    return [record for record in records if record is not None]
+    try:
+        for index, outcome in executor.map_unordered(solve_spec, [specs[k] for k in todo]):
+            spec = specs[todo[index]]
+            write_results(outcome, directory, version=compiled.version, xlsx=xlsx)
+            finished = _record(outcome, spec, _csv_path(directory, spec.name))
+            records[todo[index]] = finished
+            done += 1
+            if on_record is not None:
+                on_record(finished, done, len(specs))
+            if finished.status == "interrupted" and interrupts.received() is None:
+                break  # Ctrl-C without loads' signal handlers (the Python API): stop here
+    except KeyboardInterrupt:  # the runs under way came back interrupted; none starts now
+        return [record for record in records if record is not None], True
+    kept = [record for record in records if record is not None]
+    return kept, len(kept) < len(specs) or interrupts.received() is not None
 
 
 def _prebuild(compiled: CompiledSet) -> None:
@@ -233,7 +244,11 @@ def run_set(
     compiled = load_and_compile_set(path)
     _prebuild(compiled)
     directory = result_base(Path(output_dir), compiled.name)
-    records = _solve_all(compiled, directory, executor or SerialExecutor(), force, on_record, xlsx)
+    records, interrupted = _solve_all(
+        compiled, directory, executor or SerialExecutor(), force, on_record, xlsx
+    )
+    if interrupted or any(r.status == "interrupted" for r in records):
+        return SetResult(compiled, directory, records, interrupted=True)
     runs = [load_saved_run(r.csv_path) for r in records if r.ok]
     model = compiled.set_file.model
     result = SetResult(

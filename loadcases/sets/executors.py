@@ -8,14 +8,23 @@ frozen data), and `fn` must not raise for one item's sake (a failing run is a re
 Dask (`dask.distributed`, optional extra `dask`): workers solve and send the solution back;
 this process writes every result file, so workers need the input files (same paths, e.g.
 a shared file system) but no access to the output folder.
+
+Interrupts (`loadcases.interrupts`): after SIGINT or SIGTERM no new run starts; the runs
+being solved in local workers stop and come back with their rows (status `interrupted`);
+no worker outlives the pool. On Dask the runs under way are cancelled.
 """
 
 from __future__ import annotations
 
+import multiprocessing
 import os
+import signal
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import Future, ProcessPoolExecutor, as_completed
+from concurrent.futures import TimeoutError as FuturesTimeout
 from typing import Any, Protocol
+
+from loadcases import interrupts
 
 __all__ = [
     "LOCAL_SCHEDULER",
@@ -25,9 +34,12 @@ __all__ = [
     "SerialExecutor",
     "default_jobs",
     "make_executor",
+    "scheduler_problem",
 ]
 
 LOCAL_SCHEDULER = "local"  # `--scheduler local`: a Dask LocalCluster on this machine
+SCHEDULER_TIMEOUT = 10.0  # s: a scheduler not reached by then is an error (exit 2)
+_NO_DASK = "--scheduler needs dask.distributed: pip install 'loads[dask]'"
 
 
 def default_jobs() -> int:
@@ -53,6 +65,8 @@ class SerialExecutor:
         self, fn: Callable[[Any], Any], items: list[Any]
     ) -> Iterator[tuple[int, Any]]:
         for index, item in enumerate(items):
+            if interrupts.received() is not None:
+                return
             yield index, fn(item)
 
 
@@ -71,10 +85,54 @@ class PoolExecutor:
         if workers <= 1:
             yield from SerialExecutor().map_unordered(fn, items)
             return
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            futures = {pool.submit(fn, item): index for index, item in enumerate(items)}
+        others = {p.pid for p in multiprocessing.active_children()}
+        pool = ProcessPoolExecutor(max_workers=workers, initializer=interrupts.worker_init)
+        futures = {
+            pool.submit(interrupts.in_task, fn, item): index for index, item in enumerate(items)
+        }
+        finished = False
+        try:
             for future in as_completed(futures):
                 yield futures[future], future.result()
+            finished = True
+        except KeyboardInterrupt:
+            yield from _interrupted_runs(pool, futures, _Workers(others))
+            raise
+        finally:
+            if not finished:  # interrupt, error or the caller stopped early: no worker left
+                pool.shutdown(wait=False, cancel_futures=True)
+                for process in _Workers(others).alive():
+                    process.kill()
+            pool.shutdown(wait=True)
+
+
+class _Workers:
+    """The pool's worker processes: this process's children but the `others` (pids)."""
+
+    def __init__(self, others: set[int | None]) -> None:
+        self.others = others
+
+    def alive(self) -> list[multiprocessing.process.BaseProcess]:
+        return [p for p in multiprocessing.active_children() if p.pid not in self.others]
+
+    def pids(self) -> list[int]:
+        return [p.pid for p in self.alive() if p.pid is not None]
+
+
+def _interrupted_runs(
+    pool: ProcessPoolExecutor, futures: dict[Future, int], workers: _Workers
+) -> Iterator[tuple[int, Any]]:
+    """After an interrupt: cancel the runs not started, stop the ones under way (the signal
+    forwarded to the workers) and yield those that come back within the grace time."""
+    pool.shutdown(wait=False, cancel_futures=True)
+    interrupts.forward(interrupts.received() or signal.SIGINT, workers.pids())
+    running = [f for f in futures if not f.cancelled()]
+    try:
+        for future in as_completed(running, timeout=interrupts.GRACE_SECONDS):
+            if future.exception() is None:
+                yield futures[future], future.result()
+    except FuturesTimeout:
+        pass
 
 
 class DaskExecutor:
@@ -97,11 +155,9 @@ class DaskExecutor:
         try:
             from dask.distributed import Client, LocalCluster
         except ImportError as error:
-            raise RuntimeError(
-                "--scheduler needs dask.distributed: pip install 'loads[dask]'"
-            ) from error
+            raise RuntimeError(_NO_DASK) from error
         if self.address != LOCAL_SCHEDULER:
-            return Client(self.address), None
+            return Client(self.address, timeout=SCHEDULER_TIMEOUT), None
         options = {
             "n_workers": self.jobs,
             "threads_per_worker": 1,
@@ -127,6 +183,24 @@ class DaskExecutor:
             client.close()
             if cluster is not None:
                 cluster.close()
+
+
+def scheduler_problem(address: str, timeout: float = SCHEDULER_TIMEOUT) -> str | None:
+    """Why `--scheduler address` cannot be used (None: it can): dask missing, or no
+    scheduler answering there within `timeout` (s)."""
+    try:
+        from dask.distributed import Client
+    except ImportError:
+        return _NO_DASK
+    if address == LOCAL_SCHEDULER:
+        return None
+    try:
+        client = Client(address, timeout=timeout)
+    except (OSError, TimeoutError, ValueError, TypeError) as error:
+        reason = str(error).splitlines()[0][:120] if str(error) else type(error).__name__
+        return f"cannot reach a Dask scheduler at {address!r} within {timeout:g} s ({reason})"
+    client.close()
+    return None
 
 
 def make_executor(
