@@ -279,6 +279,8 @@ def _print_report(report: FileReport) -> int:
             typer.echo(f"  warning: {warning}")
     for text in report.footer:
         typer.echo(text)
+    if report.input_errors:
+        return EXIT_INPUT
     return EXIT_FAILED if report.failed else EXIT_OK
 
 

@@ -38,6 +38,7 @@ class FileReport:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     footer: list[str] = field(default_factory=list)  # printed after the run lines
+    input_errors: bool = False  # a run's own input (its parameter values) is invalid: exit 2
 
     @property
     def failed(self) -> bool:

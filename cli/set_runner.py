@@ -90,7 +90,14 @@ def run_set_file(
         footer.append(f"failed runs ({len(failed)}):")
         footer += [f"  {r.name}: {r.message}" for r in failed]
     footer += [f"  -> {file}" for file in result.files[:2]]
-    return FileReport(path, runs=lines, footer=footer)
+    invalid = [r.name for r in result.records if r.input_error]
+    if invalid:
+        footer.append(
+            f"runs whose parameter values make the input invalid ({len(invalid)}, exit 2): "
+            + ", ".join(invalid[:5])
+            + (" ..." if len(invalid) > 5 else "")
+        )
+    return FileReport(path, runs=lines, footer=footer, input_errors=bool(invalid))
 
 
 def _interrupted_footer(result: SetResult) -> str:

@@ -31,3 +31,4 @@ class RunOutcome:
     warnings: list[Diagnostic] = field(default_factory=list)
     parameters: dict[str, float] = field(default_factory=dict)
     checks: dict = field(default_factory=dict)  # e.g. {"torque_margin": {...}} for the summary
+    input_error: bool = False  # not solved: the run's parameter values make its input invalid

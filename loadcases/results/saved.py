@@ -73,6 +73,7 @@ class RunRecord:
     input_sha256: str
     csv_path: Path
     reused: bool = False
+    input_error: bool = False  # its parameter values make the input invalid (exit 2)
 
     @property
     def ok(self) -> bool:

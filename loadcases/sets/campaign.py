@@ -73,8 +73,12 @@ class SetResult:
         return [record for record in self.records if not record.ok]
 
 
-def _failed_outcome(spec: RunSpec, analysis: str, message: str) -> RunOutcome:
-    """An outcome without rows for a run that could not be solved at all."""
+def _failed_outcome(
+    spec: RunSpec, analysis: str, message: str, *, input_error: bool = False
+) -> RunOutcome:
+    """An outcome without rows for a run that could not be solved at all (`input_error`:
+    its parameter values make the input invalid, e.g. a swept value overflowing an
+    expression)."""
     solution = Solution(
         status="failed", message=message, analysis=analysis, time=np.empty(0), channels={}
     )
@@ -85,6 +89,7 @@ def _failed_outcome(spec: RunSpec, analysis: str, message: str) -> RunOutcome:
         solution,
         spec.input_sha256,
         parameters=dict(spec.parameters),
+        input_error=input_error,
     )
 
 
@@ -100,7 +105,7 @@ def solve_spec(spec: RunSpec) -> RunOutcome:
         cf = dataclasses.replace(cf, input_sha256=spec.input_sha256)
         return run_case(cf, abscissa=True, name=spec.name)
     except InputError as error:
-        return _failed_outcome(spec, analysis, str(error))
+        return _failed_outcome(spec, analysis, str(error), input_error=True)
     except Exception as error:  # noqa: BLE001  (a bug must not stop the other runs; reported)
         return _failed_outcome(spec, analysis, f"internal error: {type(error).__name__}: {error}")
 
@@ -141,6 +146,7 @@ def _record(outcome: RunOutcome, spec: RunSpec, csv_path: Path) -> RunRecord:
         cpu_seconds=float(solution.stats.cpu_seconds),
         input_sha256=spec.input_sha256,
         csv_path=csv_path,
+        input_error=outcome.input_error,
     )
 
 

@@ -142,3 +142,21 @@ def test_non_finite_sweep_value_is_an_input_error(crank, tmp_path: Path, command
         "s.set.yaml:4:16: error: sweep.speed[1]: expected a finite number, got infinity",
     ), result.output
     assert not (tmp_path / "out" / "s").exists()
+
+
+def test_sweep_value_overflowing_an_expression_is_an_input_error(crank, tmp_path: Path) -> None:
+    """A finite swept value that makes a constant expression overflow once substituted
+    (load = 1e300 in `-load*1e10`) is found when its run is built: that run is reported
+    with the expression's position, the other runs are solved, and the command exits 2."""
+    crank(mech=('"-load"', '"-load*1e10"'))
+    (tmp_path / "s.set.yaml").write_text(
+        "set: s\ncases: [crank.case.yaml]\nsweep:\n  load: [1e300, 10]\n", encoding="utf-8"
+    )
+    result = loads("run", tmp_path / "s.set.yaml", "-o", tmp_path / "out")
+    assert result.exit_code == 2, result.output
+    assert (
+        "crank.mech.yaml:11:46: error: forces.push.value[1]: invalid expression: overflow in "
+        "'*' at character 6" in result.output
+    )
+    assert "crank-turn[load=10]: ok" in result.output
+    assert "make the input invalid (1, exit 2): crank-turn[load=1e+300]" in result.output
