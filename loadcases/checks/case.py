@@ -153,15 +153,15 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
         ]
     found += [
         at.diagnostic(("analysis", key), "must be positive")
-        for key in ("tolerance", "max_step")
-        if getattr(analysis, key) is not None and getattr(analysis, key) <= 0.0
+        for key in ("tolerance", "max_step", "accuracy")
+        if isinstance(getattr(analysis, key), int | float) and getattr(analysis, key) <= 0.0
     ]
     if kind != "dynamic":
         found += [
             at.diagnostic(
                 ("analysis", key), f"does nothing for a {kind} analysis", severity="warning"
             )
-            for key in ("tolerance", "integrator", "max_step")
+            for key in ("tolerance", "integrator", "max_step", "accuracy")
             if getattr(analysis, key) is not None
         ]
     return found

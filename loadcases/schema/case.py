@@ -95,6 +95,14 @@ class Analysis(Strict):
     end: _TIME | None = Field(None, description=describe("end time", "time"))
     step: _TIME | None = Field(None, description=describe("output interval", "time"))
     tolerance: Dimensionless | None = Field(None, description="dynamic: local error tolerance")
+    accuracy: Dimensionless | Literal["off"] | None = Field(
+        None,
+        description=(
+            "dynamic: target of the estimated global error of each request, relative to its "
+            "peak (default 1e-3); without a tolerance the engine tightens its steps to meet "
+            "it; off: no estimate (one solve)"
+        ),
+    )
     integrator: str | None = Field(None, description="dynamic: e.g. generalized-alpha, radau")
     max_step: _TIME | None = Field(
         None, description=describe("dynamic: largest integrator step", "time")

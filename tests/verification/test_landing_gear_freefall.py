@@ -24,25 +24,48 @@ DRAG = 0.5 * 1.225 * (150 * 1852 / 3600) ** 2 * 0.45  # N, 0.5 rho V^2 CdA at 15
 AXLE = 1.8  # m below the trunnion
 
 
-def _case(tmp_path: Path, when: str, then: str = "[{activate: downstop}]") -> Path:
-    """The free-fall case (and its mechanism) in tmp_path with another event condition."""
+def _case(
+    tmp_path: Path,
+    when: str,
+    then: str = "[{activate: downstop}]",
+    settings: tuple[float, float] | None = None,
+) -> Path:
+    """The free-fall case (and its mechanism) in tmp_path with another event condition;
+    `settings`: the (tolerance, max_step) to solve it with, once (no accuracy estimate)."""
     shutil.copy(CASES / "mlg.mech.yaml", tmp_path)
     text = (CASES / "freefall_dyn.case.yaml").read_text(encoding="utf-8")
     text = text.replace(
         'when: "angle(trunnion) <= 0", then: [{activate: downstop}]',
         f'when: "{when}", then: {then}',
     )
+    if settings is not None:
+        text = text.replace(
+            "analysis: {type: dynamic, ",
+            f"analysis: {{tolerance: {settings[0]!r}, max_step: {settings[1]!r}, "
+            "accuracy: off, type: dynamic, ",
+        )
     path = tmp_path / "freefall.case.yaml"
     path.write_text(text, encoding="utf-8")
     return path
 
 
 @pytest.fixture(scope="module")
-def freefall(tmp_path_factory: pytest.TempPathFactory):
+def freefall_outcome(tmp_path_factory: pytest.TempPathFactory):
     """The shipped-in-tests case as written: event at angle 0 exactly."""
     out = tmp_path_factory.mktemp("freefall")
     (outcome,) = run_file(CASES / "freefall_dyn.case.yaml", output_dir=out)
-    return outcome.solution
+    return outcome
+
+
+@pytest.fixture(scope="module")
+def freefall(freefall_outcome):
+    return freefall_outcome.solution
+
+
+@pytest.fixture(scope="module")
+def freefall_accuracy(freefall_outcome) -> dict:
+    """The tolerance and largest step the shipped case was solved with (its accuracy block)."""
+    return freefall_outcome.checks["accuracy"]
 
 
 def _toggle_angle() -> float:
@@ -59,7 +82,9 @@ def _toggle_angle() -> float:
     return brentq(gap, math.radians(-5.0), 0.0)
 
 
-def test_event_at_the_wire_jump_fires_where_the_angle_is_zero(freefall, tmp_path) -> None:
+def test_event_at_the_wire_jump_fires_where_the_angle_is_zero(
+    freefall, freefall_accuracy, tmp_path
+) -> None:
     """The event fires, within 1e-6 s of the same run with the threshold 1e-7 rad earlier
     (independent location, away from the jump; the offset itself is 1e-7 rad / 0.93 rad/s
     = 1.1e-7 s), and the recorded angle at the event is zero within |omega| times the
@@ -68,8 +93,11 @@ def test_event_at_the_wire_jump_fires_where_the_angle_is_zero(freefall, tmp_path
     (event,) = freefall.events
     assert event.name == "down" and event.actions == ("activate downstop",)
     assert "down at t = 1.25653 s" in freefall.message
+    # the same settings as the shipped run wrote (its accuracy estimate may tighten them)
+    settings = freefall_accuracy["tolerance"], freefall_accuracy["max_step"]
     (earlier,) = run_file(
-        _case(tmp_path, "angle(trunnion) <= 1.0e-7", "[stop]"), output_dir=tmp_path / "out"
+        _case(tmp_path, "angle(trunnion) <= 1.0e-7", "[stop]", settings),
+        output_dir=tmp_path / "out",
     )
     (offset,) = earlier.solution.events
     assert abs(event.time - offset.time) < 1e-6

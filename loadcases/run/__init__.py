@@ -7,7 +7,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import mechlib as ml
-from loadcases.build.model import build_mechanism, build_run
+from loadcases.build.model import BuiltRun, build_mechanism, build_run
 from loadcases.build.precheck import case_problems, model_diagnostics
 from loadcases.build.torque_margin import plan_torque_margin
 from loadcases.diagnostics import Diagnostic, InputError
@@ -15,6 +15,7 @@ from loadcases.inputs.kinds import file_kind
 from loadcases.inputs.loader import CaseFile, load_case, load_mechanism
 from loadcases.results.files import write_results
 from loadcases.results.outcome import RunOutcome
+from loadcases.run.global_error import DEFAULT_ACCURACY, AccuracyEstimate, solve_to_accuracy
 
 __all__ = ["check_case_file", "check_mechanism_file", "run_case", "run_file"]
 
@@ -37,20 +38,14 @@ def run_case(
     """
     built = build_run(cf, abscissa=abscissa)
     margin = plan_torque_margin(cf, built)
+    checks: dict = {}
     try:
-        solution = ml.solve(
-            built.mechanism,
-            built.analysis,
-            requests=built.requests,
-            initial=built.initial,
-            redundant=built.redundant,
-            throw=False,
-            events=built.events,
-            progress=progress,
-        )
+        solution, estimate = _solve(cf, built, progress)
     except ml.ModelError as error:
         raise InputError(model_diagnostics(cf, error)) from None
-    checks: dict = {}
+    if estimate is not None:
+        checks["accuracy"] = estimate.summary()
+        solution = dataclasses.replace(solution, warnings=[*solution.warnings, *estimate.warnings])
     if margin is not None:
         solution, checks["torque_margin"], notes = margin.apply(solution)
         # notes on the results (a failed margin), beside the solver's warnings
@@ -66,6 +61,36 @@ def run_case(
         warnings=built.warnings,
         parameters=dict(cf.parameters),
         checks=checks,
+    )
+
+
+def _solve(
+    cf: CaseFile, built: BuiltRun, progress: Progress | None
+) -> tuple[ml.Solution, AccuracyEstimate | None]:
+    """The case's solution and, for a dynamic analysis, its global error estimate (with the
+    steps tightened to meet the target when the case leaves the tolerance to the engine)."""
+    first = [progress]  # the progress bar follows the first solve only
+
+    def solve(analysis) -> ml.Solution:
+        return ml.solve(
+            built.mechanism,
+            analysis,
+            requests=built.requests,
+            initial=built.initial,
+            redundant=built.redundant,
+            throw=False,
+            events=built.events,
+            progress=first.pop() if first else None,
+        )
+
+    accuracy = cf.case.analysis.accuracy
+    if not isinstance(built.analysis, ml.Dynamic) or accuracy == "off":
+        return solve(built.analysis), None
+    return solve_to_accuracy(
+        solve,
+        built.analysis,
+        DEFAULT_ACCURACY if accuracy is None else float(accuracy),
+        tighten=cf.case.analysis.tolerance is None,
     )
 
 

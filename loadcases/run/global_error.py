@@ -1,0 +1,252 @@
+"""The global error of a dynamic run, estimated, and the tolerance that meets a target.
+
+The integrator controls the local error of each step; what a sizing engineer needs is the
+error of the results (each request, over the whole run, relative to its peak). It is
+estimated the way Richardson did for whole solutions: the run is compared with a companion
+run whose every step is twice as long (tolerance x 2^(p+1), largest step and output
+interval x 2), at their shared output times. For a method of order p the companion's error
+is 2^p times the run's, so the run's error is about |run - companion| / (2^p - 1)
+(generalized-alpha: p = 2, the difference / 3). On smooth runs the estimate is within 10 %
+of the true error (pendulum, heavy top, latch: tests/verification/test_global_error.py);
+through impacts and chaotic motion it is an order of magnitude at best, and said to be.
+
+Two errors per request: `history`, the largest difference over the run (a time shift of a
+peak counts in full), and `peak`, the error of its envelope (largest max or min
+difference), the quantity sizing uses. When the case leaves the tolerance to the engine,
+a run whose estimate misses the target is solved again with every step halved (tolerance /
+2^(p+1), largest step / 2), the previous run becoming the companion, up to
+`MAX_TIGHTENINGS` times; the summary says what was reached.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import time as clock
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+import mechlib as ml
+
+__all__ = [
+    "DEFAULT_ACCURACY",
+    "MAX_TIGHTENINGS",
+    "AccuracyEstimate",
+    "RequestError",
+    "request_errors",
+    "solve_to_accuracy",
+]
+
+DEFAULT_ACCURACY = 1e-3  # of each request's peak: the sizing accuracy
+MAX_TIGHTENINGS = 2  # each halves every step: at most 1 + 1/2 + 2 + 4 = 7.5 x one run's cost
+_ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)
+_SKIPPED = ("abscissa",)  # a set's abscissa column is not a load
+
+
+@dataclass(frozen=True)
+class RequestError:
+    """Estimated global error of one request, relative to its peak |value|."""
+
+    history: float  # the largest difference over the run
+    peak: float  # of its envelope: max and min
+
+
+@dataclass
+class AccuracyEstimate:
+    """What the summary says of a dynamic run's accuracy."""
+
+    target: float
+    integrator: str
+    tolerance: float
+    max_step: float
+    tightenings: int
+    requests: dict[str, RequestError]
+    cpu_seconds: float  # of the companion and tightened runs
+    note: str = ""
+    warnings: list[str] = field(default_factory=list)
+
+    @property
+    def worst_peak(self) -> float:
+        return max((e.peak for e in self.requests.values()), default=0.0)
+
+    @property
+    def worst_history(self) -> float:
+        return max((e.history for e in self.requests.values()), default=0.0)
+
+    @property
+    def met(self) -> bool:
+        return bool(self.worst_peak <= self.target)
+
+    def summary(self) -> dict:
+        """The summary's `accuracy` block."""
+        return {
+            "target": self.target,
+            "met": self.met,
+            "integrator": self.integrator,
+            "tolerance": self.tolerance,
+            "max_step": self.max_step,
+            "tightenings": self.tightenings,
+            "estimate": {
+                name: {"history": e.history, "peak": e.peak} for name, e in self.requests.items()
+            },
+            "method": (
+                "estimated (Richardson): this run against a companion run with every step "
+                f"twice as long, difference / {2 ** _order(self.integrator) - 1}"
+            ),
+            "cpu_seconds": self.cpu_seconds,
+            **({"note": self.note} if self.note else {}),
+        }
+
+
+def _order(integrator: str) -> int:
+    return _ORDER.get(integrator, 2)
+
+
+def _local_factor(integrator: str) -> float:
+    """Tolerance factor that doubles the steps: the local error goes as h^(p+1)."""
+    return 2.0 ** (_order(integrator) + 1)
+
+
+def _largest_step(analysis: ml.Dynamic) -> float:
+    return min(analysis.max_step or analysis.step, analysis.step)
+
+
+def coarser(analysis: ml.Dynamic) -> ml.Dynamic:
+    """The companion: every step twice as long (output interval too)."""
+    return dataclasses.replace(
+        analysis,
+        tolerance=analysis.tolerance * _local_factor(analysis.integrator),
+        max_step=2.0 * _largest_step(analysis),
+        step=2.0 * analysis.step,
+    )
+
+
+def finer(analysis: ml.Dynamic) -> ml.Dynamic:
+    """Every step half as long; the output interval unchanged."""
+    return dataclasses.replace(
+        analysis,
+        tolerance=analysis.tolerance / _local_factor(analysis.integrator),
+        max_step=0.5 * _largest_step(analysis),
+    )
+
+
+def _request(column: str) -> str:
+    return column.rsplit(".", 1)[0]
+
+
+def _shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row indices of the times `a` and `b` share (output times are rounded alike)."""
+    of_b = {round(float(t), 9): j for j, t in enumerate(b)}
+    pairs = [(i, of_b[key]) for i, t in enumerate(a) if (key := round(float(t), 9)) in of_b]
+    if not pairs:
+        return np.zeros(0, int), np.zeros(0, int)
+    rows_a, rows_b = np.array(pairs).T
+    return rows_a, rows_b
+
+
+def request_errors(run: ml.Solution, companion: ml.Solution, order: int) -> dict[str, RequestError]:
+    """Estimated error of each request of `run` from a companion of steps twice as long."""
+    rows, rows_c = _shared_rows(run.time, companion.time)
+    scale = 1.0 / (2.0**order - 1.0)
+    peaks: dict[str, float] = {}
+    for column, values in run.channels.items():
+        finite = np.abs(values[np.isfinite(values)])
+        peaks[_request(column)] = max(
+            peaks.get(_request(column), 0.0), float(finite.max(initial=0.0))
+        )
+    out: dict[str, RequestError] = {}
+    for column, values in run.channels.items():
+        name, other = _request(column), companion.channels.get(column)
+        if name in _SKIPPED or other is None or peaks[name] == 0.0 or not len(rows):
+            continue
+        x, y = values[rows], other[rows_c]
+        history = float(np.nanmax(np.abs(x - y), initial=0.0))
+        peak = max(
+            abs(np.nanmax(values) - np.nanmax(other)), abs(np.nanmin(values) - np.nanmin(other))
+        )
+        before = out.get(name, RequestError(0.0, 0.0))
+        out[name] = RequestError(
+            max(before.history, scale * history / peaks[name]),
+            max(before.peak, scale * float(peak) / peaks[name]),
+        )
+    return out
+
+
+Solver = Callable[[ml.Dynamic], ml.Solution]
+
+
+def solve_to_accuracy(
+    solve: Solver, analysis: ml.Dynamic, target: float, *, tighten: bool
+) -> tuple[ml.Solution, AccuracyEstimate | None]:
+    """The run (the first that meets `target` when `tighten`) and its error estimate
+    (None when the run itself failed: a failure says its own where and why)."""
+    run = solve(analysis)
+    if run.status != "ok":
+        return run, None
+    started = clock.process_time()
+    order = _order(analysis.integrator)
+    companion = solve(coarser(analysis))
+    note, tightenings = "", 0
+    if companion.status != "ok":
+        estimate = _estimate(analysis, target, {}, tightenings, started)
+        estimate.note = f"not estimated: the companion run failed ({companion.message})"
+        return run, estimate
+    errors = request_errors(run, companion, order)
+    while tighten and tightenings < MAX_TIGHTENINGS and _worst_peak(errors) > target:
+        finer_analysis = finer(analysis)
+        finer_run = solve(finer_analysis)
+        if finer_run.status != "ok":
+            note = f"a tighter run failed ({finer_run.message}): the estimate is of this one"
+            break
+        errors = request_errors(finer_run, run, order)
+        run, analysis, tightenings = finer_run, finer_analysis, tightenings + 1
+    estimate = _estimate(analysis, target, errors, tightenings, started)
+    estimate.note = note
+    estimate.warnings = _warnings(estimate, tighten)
+    return run, estimate
+
+
+def _worst_peak(errors: dict[str, RequestError]) -> float:
+    return max((e.peak for e in errors.values()), default=0.0)
+
+
+def _estimate(
+    analysis: ml.Dynamic,
+    target: float,
+    errors: dict[str, RequestError],
+    tightenings: int,
+    started: float,
+) -> AccuracyEstimate:
+    return AccuracyEstimate(
+        target,
+        analysis.integrator,
+        analysis.tolerance,
+        _largest_step(analysis),
+        tightenings,
+        errors,
+        clock.process_time() - started,
+    )
+
+
+def _warnings(estimate: AccuracyEstimate, tightened: bool) -> list[str]:
+    """A warning when the envelope peaks miss the target, another when time histories do."""
+    out = []
+    how = (
+        f"after {estimate.tightenings} tightenings (tolerance {estimate.tolerance:.3g})"
+        if tightened
+        else f"at tolerance {estimate.tolerance:.3g} (set in the case)"
+    )
+    for measure, text in (
+        ("peak", "envelope peaks"),
+        ("history", "time histories (a peak shifted in time counts in full)"),
+    ):
+        values = {n: float(getattr(e, measure)) for n, e in estimate.requests.items()}
+        missed = sorted(((v, n) for n, v in values.items() if v > estimate.target), reverse=True)
+        if missed:
+            listed = ", ".join(f"{n} {value:.2g}" for value, n in missed[:3])
+            out.append(
+                f"accuracy: estimated error of the {text} above the target {estimate.target:g} "
+                f"of the peak {how}: {listed}"
+            )
+    return out
