@@ -343,7 +343,11 @@ class _Builder:
                 "analysis.integrator",
                 f"unknown integrator '{integrator}': use generalized-alpha or radau",
             )
-        options = {"tolerance": a.tolerance} if a.tolerance is not None else {}
+        options = {
+            key: value
+            for key, value in (("tolerance", a.tolerance), ("rho_inf", a.rho_inf))
+            if value is not None
+        }
         return ml.Dynamic(
             end=a.end, step=a.step, integrator=integrator, max_step=a.max_step, **options, **limit
         )

@@ -161,9 +161,11 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
             at.diagnostic(
                 ("analysis", key), f"does nothing for a {kind} analysis", severity="warning"
             )
-            for key in ("tolerance", "integrator", "max_step", "accuracy")
+            for key in ("tolerance", "integrator", "max_step", "accuracy", "rho_inf")
             if getattr(analysis, key) is not None
         ]
+    if analysis.rho_inf is not None and not 0.0 <= analysis.rho_inf <= 1.0:
+        found.append(at.diagnostic(("analysis", "rho_inf"), "must be between 0 and 1"))
     return found
 
 

@@ -104,6 +104,13 @@ class Analysis(Strict):
         ),
     )
     integrator: str | None = Field(None, description="dynamic: e.g. generalized-alpha, radau")
+    rho_inf: Dimensionless | None = Field(
+        None,
+        description=(
+            "dynamic, generalized-alpha: spectral radius at infinite frequency, 0 to 1 "
+            "(default 0.9; lower damps high-frequency modes more, 1 not at all)"
+        ),
+    )
     max_step: _TIME | None = Field(
         None, description=describe("dynamic: largest integrator step", "time")
     )
