@@ -75,6 +75,20 @@ class BuiltRun:
     warnings: list[Diagnostic] = field(default_factory=list)
     events: list = field(default_factory=list)
 
+    def solve(self, analysis: Any = None, *, progress: Any = None) -> ml.Solution:
+        """`mechlib.solve` of this run (a failure is a failed Solution, never raised; an
+        ill-posed model raises ml.ModelError); `analysis` replaces the case's."""
+        return ml.solve(
+            self.mechanism,
+            self.analysis if analysis is None else analysis,
+            requests=self.requests,
+            initial=self.initial,
+            redundant=self.redundant,
+            throw=False,
+            events=self.events,
+            progress=progress,
+        )
+
 
 def _named_elsewhere(mechanism, case) -> set[str]:
     """Force elements a request or an event names: built even when their load is zero."""

@@ -72,16 +72,7 @@ def _solve(
     first = [progress]  # the progress bar follows the first solve only
 
     def solve(analysis) -> ml.Solution:
-        return ml.solve(
-            built.mechanism,
-            analysis,
-            requests=built.requests,
-            initial=built.initial,
-            redundant=built.redundant,
-            throw=False,
-            events=built.events,
-            progress=first.pop() if first else None,
-        )
+        return built.solve(analysis, progress=first.pop() if first else None)
 
     accuracy = cf.case.analysis.accuracy
     if not isinstance(built.analysis, ml.Dynamic) or accuracy == "off":

@@ -162,15 +162,7 @@ def _solver(cf: CaseFile) -> Callable[[Setting], ml.Solution]:
         analysis = dataclasses.replace(
             run.analysis, integrator=setting.integrator, tolerance=setting.tolerance
         )
-        return ml.solve(
-            run.mechanism,
-            analysis,
-            requests=run.requests,
-            initial=run.initial,
-            redundant=run.redundant,
-            throw=False,
-            events=run.events,
-        )
+        return run.solve(analysis)
 
     return solve
 

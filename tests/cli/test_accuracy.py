@@ -17,22 +17,19 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.special import ellipj, ellipk
 from typer.testing import CliRunner
 
 from cli.app import app
 from loadcases.inputs.loader import load_case
 from loadcases.studies.accuracy import _solver, accuracy_study
+from tests.verification.references import pendulum_angle
 
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
 THETA0 = math.radians(60.0)
 
 
 def _exact_angle(t: np.ndarray) -> np.ndarray:
-    k = math.sin(THETA0 / 2)
-    m = k * k
-    w0 = math.sqrt(3.0 * 9.81 * 0.5 / 1.0)
-    return 2.0 * np.arcsin(k * ellipj(ellipk(m) - w0 * t, m)[0])
+    return pendulum_angle(t, THETA0)
 
 
 @pytest.fixture(scope="module")

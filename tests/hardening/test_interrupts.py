@@ -94,6 +94,14 @@ def _wait_for(condition, process: subprocess.Popen, timeout: float = 240.0) -> N
         time.sleep(0.1)
 
 
+def _solving_workers(process: subprocess.Popen) -> list[int]:
+    """The two pool workers of `process`, once both are inside their solves."""
+    _wait_for(lambda: len(_children(process.pid)) == 2, process)
+    workers = _children(process.pid)
+    _wait_for(lambda: all(_cpu_seconds(w) > SOLVING_CPU for w in workers), process)
+    return workers
+
+
 def _summary(folder: Path, name: str) -> dict:
     return json.loads((folder / f"{name}.summary.json").read_text())
 
@@ -149,9 +157,7 @@ def test_sigterm_of_a_parallel_set_stops_its_workers_and_saves_their_rows(
         "set: two\ncases: [slow-a.case.yaml]\nsweep: {swing: [0.5, 1.0]}\n"
     )
     process = _start(tmp_path, "run", "two.set.yaml", "-j", "2", "-o", "out")
-    _wait_for(lambda: len(_children(process.pid)) == 2, process)
-    workers = _children(process.pid)
-    _wait_for(lambda: all(_cpu_seconds(w) > SOLVING_CPU for w in workers), process)
+    workers = _solving_workers(process)
     process.send_signal(signal.SIGTERM)  # the parent alone: it stops its workers
     stdout, stderr = process.communicate(timeout=120)
     assert process.returncode == exit_code(signal.SIGTERM) == 143, stderr
@@ -165,9 +171,7 @@ def test_sigterm_of_a_parallel_set_stops_its_workers_and_saves_their_rows(
 def test_sigint_of_case_files_run_in_parallel(tmp_path: Path) -> None:
     _write(tmp_path)
     process = _start(tmp_path, "run", "slow-a.case.yaml", "slow-b.case.yaml", "-j", "2")
-    _wait_for(lambda: len(_children(process.pid)) == 2, process)
-    workers = _children(process.pid)
-    _wait_for(lambda: all(_cpu_seconds(w) > SOLVING_CPU for w in workers), process)
+    workers = _solving_workers(process)
     os.killpg(process.pid, signal.SIGINT)  # workers and parent alike, as a terminal does
     stdout, stderr = process.communicate(timeout=120)
     assert process.returncode == 130, stderr

@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
-from scipy.special import ellipk
+from scipy.special import ellipj, ellipk
 
 __all__ = [
     "STANDARD_GRAVITY",
@@ -294,6 +294,17 @@ def pendulum_period(theta0: float, p: Pendulum = Pendulum()) -> float:
     (scipy's `ellipk` takes the parameter m = k^2).
     """
     return 4.0 / np.sqrt(p.omega0_squared) * float(ellipk(np.sin(0.5 * theta0) ** 2))
+
+
+def pendulum_angle(t: ArrayLike, theta0: float, p: Pendulum = Pendulum()) -> FloatArray:
+    """Exact angle (rad) at times t (s) of a pendulum released at rest from `theta0`.
+
+    [AS 16.1, 17.3] theta(t) = 2 asin(k sn(K(m) - w0 t | m)), k = sin(theta0 / 2), m = k^2.
+    """
+    k = np.sin(0.5 * theta0)
+    m = float(k * k)
+    w0 = np.sqrt(p.omega0_squared)
+    return 2.0 * np.arcsin(k * ellipj(float(ellipk(m)) - w0 * np.asarray(t, float), m)[0])
 
 
 def pendulum_small_angle_period(p: Pendulum = Pendulum()) -> float:

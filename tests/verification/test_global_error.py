@@ -16,21 +16,18 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.special import ellipj, ellipk
 
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 from loadcases.run.global_error import MAX_TIGHTENINGS
+from tests.verification.references import pendulum_angle
 
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
 THETA0 = math.radians(60.0)
 
 
 def _exact_angle(t: np.ndarray) -> np.ndarray:
-    k = math.sin(THETA0 / 2)
-    m = k * k
-    w0 = math.sqrt(3.0 * 9.81 * 0.5 / 1.0)
-    return 2.0 * np.arcsin(k * ellipj(ellipk(m) - w0 * t, m)[0])
+    return pendulum_angle(t, THETA0)
 
 
 def _run(tmp_path: Path, analysis_lines: str = ""):
