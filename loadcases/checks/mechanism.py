@@ -282,4 +282,6 @@ def check_mechanism(
         expressions += [
             (("forces", name, "value", i), v) for i, v in enumerate(getattr(force, "value", ()))
         ]
+        if getattr(force, "command", None) is not None:  # a servo actuator's stroke demand
+            expressions.append((("forces", name, "command"), force.command))
     return found + check_expressions(at, expressions, names, {*model.parameters, *parameters})

@@ -117,7 +117,7 @@ class JetPipe:
     receiver_pressure: float = 100.0 * BAR
     spool_area: float = 2.0e-5
     spool_mass: float = 0.02
-    spool_damping: float = 200.0
+    spool_damping: float = 4000.0
     rated_opening: float = 5.0e-4
     discharge: float = 0.61
     density: float = 850.0

@@ -61,14 +61,17 @@ def test_full_open_speed_follows_the_rated_flow(load: float) -> None:
     assert abs(speed / expected - 1.0) < 2e-3
 
 
-def test_small_step_settles_with_the_loop_time_constant() -> None:
-    """A 1 mm demand (current 2 mA, below its limit): t63 within 4 % of 1/K_v = 35.3 ms
-    with the library values (measured +1.6 %: the 100 Hz spool and the oil columns add
-    a little lag); it settles within 0.5 % of the demand by 0.2 s."""
-    sol = ml.solve(rig(lambda t: 1e-3), ml.Dynamic(end=0.2, step=5e-4), requests=REQUESTS)
+@pytest.mark.parametrize("fidelity", ["valve", "jet_pipe"])
+def test_small_step_settles_with_the_loop_time_constant(fidelity: str) -> None:
+    """A 1 mm demand (current 2 mA, below its limit): t63 within 3 % of 1/K_v = 35.3 ms
+    with the library values (measured +1.6 % valve, +1.3 % jet pipe: the valve stages and
+    the oil columns add a little lag); within 0.5 % of the demand by 0.2 s."""
+    sol = ml.solve(
+        rig(lambda t: 1e-3, fidelity=fidelity), ml.Dynamic(end=0.2, step=5e-4), requests=REQUESTS
+    )
     t63 = rise_time(sol.time, sol.channels["x.value"], 0.632e-3)
     tau = 1.0 / rig().forces["act"].loop_gain()
-    assert abs(t63 / tau - 1.0) < 0.04
+    assert abs(t63 / tau - 1.0) < 0.03
     assert abs(sol.channels["x.value"][-1] - 1e-3) < 5e-6
 
 
@@ -87,20 +90,21 @@ def _loop(ratio: float) -> np.ndarray:
     kp = ratio * 2 * zeta * w_h / probe.loop_gain() * probe.controller.kp
     sol = ml.solve(
         rig(controller=Controller(kp=kp, ki=0.0), valve=ServoValve(frequency=1000.0)),
-        ml.Dynamic(end=0.25, step=2e-4, tolerance=1e-6),
+        ml.Dynamic(end=0.17, step=5e-4),
         requests=REQUESTS,
         initial=[ml.InitialValue("slide", rate=0.005)],
     )
     period = 2 * math.pi / w_h
     t, x = sol.time, sol.channels["x.value"]
-    edges = np.arange(0.05, 0.25 - period, period)
+    edges = np.arange(0.03, 0.17 - period, period)
     return np.array([np.abs(x[(t >= a) & (t < a + period)]).max() for a in edges])
 
 
 def test_loop_oscillates_above_the_stability_bound_and_not_below() -> None:
-    """K_v = 1.3 x 2 zeta_h w_h: the oscillation grows (last period's amplitude > 2x the
-    first's); K_v = 0.7 x the bound: it decays (< 0.5x). Valve at 1 kHz, as the bound
-    assumes a valve much faster than w_h."""
+    """K_v = 1.3 x 2 zeta_h w_h: the oscillation grows (last period's amplitude > 1.5x the
+    first's over 10 periods, measured 2.35x); K_v = 0.7 x the bound: it decays (< 0.6x,
+    measured 0.42x). Valve at 1 kHz, as
+    the bound assumes a valve much faster than w_h."""
     above, below = _loop(1.3), _loop(0.7)
-    assert above[-1] > 2.0 * above[0], above
-    assert below[-1] < 0.5 * below[0], below
+    assert above[-1] > 1.5 * above[0], above
+    assert below[-1] < 0.6 * below[0], below

@@ -1,0 +1,70 @@
+"""Builder of the hydraulic servo-actuator (schema -> mechlib.hydraulics.ServoActuator):
+keys given replace the library values, absent ones keep them."""
+
+from __future__ import annotations
+
+from dataclasses import fields, replace
+from typing import Any
+
+from mechlib.hydraulics import Controller, Cylinder, JetPipe, ServoActuator, ServoValve, Supply
+
+__all__ = ["servo_actuator"]
+
+
+def _given(defaults, model, **renamed) -> Any:
+    """`defaults` (a parameter dataclass) with the keys `model` gives (not None)."""
+    names = {f.name for f in fields(defaults)}
+    values = {k: v for k, v in model.model_dump().items() if v is not None and k in names}
+    values.update({k: v for k, v in renamed.items() if v is not None})
+    return replace(defaults, **values)
+
+
+def _cylinder(f) -> Cylinder:
+    c = f.cylinder
+    dead = c.dead_volumes or (None, None)
+    return _given(
+        Cylinder(),
+        c,
+        stroke=tuple(f.stroke),
+        dead_volume_1=dead[0],
+        dead_volume_2=dead[1],
+    )
+
+
+def servo_actuator(builder, name: str, f) -> Any:
+    """The element, or None after a diagnostic (unknown point, bad stroke or volumes)."""
+    missing = [p for p in f.points if p not in builder.mech.points]
+    if missing:
+        builder.error("mechanism", f"forces.{name}.points", f"unknown point '{missing[0]}'")
+        return None
+    lo, hi = f.stroke
+    if not lo <= 0.0 <= hi or lo == hi:
+        builder.error(
+            "mechanism",
+            f"forces.{name}.stroke",
+            f"expected [retracted, extended] around the design (0), got [{lo:g}, {hi:g}] m",
+        )
+        return None
+    dead = f.cylinder.dead_volumes
+    if dead is not None and (len(dead) != 2 or min(dead) <= 0.0):
+        builder.error(
+            "mechanism", f"forces.{name}.cylinder.dead_volumes", "expected two positive volumes"
+        )
+        return None
+    p1, p2 = (builder.mech.points[p] for p in f.points)
+    command = builder.compile(f.command, f"forces.{name}.command")
+    return ServoActuator(
+        name,
+        ((p1.body, p1.at), (p2.body, p2.at)),
+        lambda t: command(t),
+        f.fidelity,
+        cylinder=_cylinder(f),
+        supply=_given(Supply(), f.supply),
+        valve=_given(ServoValve(), f.valve),
+        controller=_given(Controller(), f.controller),
+        jet_pipe=_given(JetPipe(), f.jet_pipe),
+        velocity_gain=f.lag.velocity_gain,
+        lag_stiffness=f.lag.stiffness,
+        lag_damping=f.lag.damping if f.lag.damping is not None else 2.0e4,
+        initial_pressures=tuple(f.initial_pressures) if f.initial_pressures else None,
+    )
