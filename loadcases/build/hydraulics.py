@@ -32,24 +32,11 @@ def _cylinder(f) -> Cylinder:
 
 
 def servo_actuator(builder, name: str, f) -> Any:
-    """The element, or None after a diagnostic (unknown point, bad stroke or volumes)."""
+    """The element, or None after a diagnostic (unknown point; the stroke and volumes are
+    checked by loadcases.checks.elements)."""
     missing = [p for p in f.points if p not in builder.mech.points]
     if missing:
         builder.error("mechanism", f"forces.{name}.points", f"unknown point '{missing[0]}'")
-        return None
-    lo, hi = f.stroke
-    if not lo <= 0.0 <= hi or lo == hi:
-        builder.error(
-            "mechanism",
-            f"forces.{name}.stroke",
-            f"expected [retracted, extended] around the design (0), got [{lo:g}, {hi:g}] m",
-        )
-        return None
-    dead = f.cylinder.dead_volumes
-    if dead is not None and (len(dead) != 2 or min(dead) <= 0.0):
-        builder.error(
-            "mechanism", f"forces.{name}.cylinder.dead_volumes", "expected two positive volumes"
-        )
         return None
     p1, p2 = (builder.mech.points[p] for p in f.points)
     command = builder.compile(f.command, f"forces.{name}.command")
