@@ -94,7 +94,9 @@ class ElementStates:
                 dz = _FD * max(1.0, abs(ze[i]))
                 zi = ze.copy()
                 zi[i] += dz
-                jac[block, block.start + i] = (np.asarray(e.state_rates(view, zi), float) - base) / dz
+                jac[block, block.start + i] = (
+                    np.asarray(e.state_rates(view, zi), float) - base
+                ) / dz
         return jac
 
     def accept(self, view) -> None:

@@ -166,7 +166,7 @@ def _servo_actuators(model: MechanismModel, at: Locator) -> list[Diagnostic]:
                     hint="the stroke is measured from the design distance of the two points",
                 )
             )
-        dead = force.cylinder.dead_volumes
+        dead = force.cylinder.dead_volumes if force.cylinder is not None else None
         if dead is not None and (len(dead) != 2 or min(dead) <= 0.0):
             found.append(
                 at.diagnostic(

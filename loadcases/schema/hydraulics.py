@@ -14,7 +14,6 @@ from loadcases.schema.types import (
     Force,
     Length,
     Mass,
-    Name,
     NamePair,
     Pressure,
     Stiffness,
@@ -90,9 +89,7 @@ class ControllerInput(Strict):
     """PI position controller with saturated current."""
 
     kp: quantity("current_gain") | None = Field(None, description=describe("K_p", "current_gain"))
-    ki: quantity("integral_gain") | None = Field(
-        None, description=describe("K_i", "integral_gain")
-    )
+    ki: quantity("integral_gain") | None = Field(None, description=describe("K_i", "integral_gain"))
     current_limit: _Current | None = Field(None, description=describe("i_max", "current"))
 
 
@@ -141,10 +138,10 @@ class ServoActuator(Strict):
     initial_pressures: vector("pressure", 2) | None = Field(
         None, description=describe("[p1, p2] at the start (absent: no force)", "pressure")
     )
-    cylinder: CylinderInput = CylinderInput()
-    supply: SupplyInput = SupplyInput()
-    valve: ValveInput = ValveInput()
-    controller: ControllerInput = ControllerInput()
-    jet_pipe: JetPipeInput = JetPipeInput()
-    lag: LagInput = LagInput()
+    cylinder: CylinderInput | None = None
+    supply: SupplyInput | None = None
+    valve: ValveInput | None = None
+    controller: ControllerInput | None = None
+    jet_pipe: JetPipeInput | None = None
+    lag: LagInput | None = None
     active: bool = Field(True, description="false: the element starts switched off")

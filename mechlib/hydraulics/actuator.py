@@ -27,9 +27,10 @@ from mechlib.hydraulics.stages import controller_current, jet_pipe_rates, valve_
 from mechlib.rotation import cross
 from mechlib.view import StateView
 
-__all__ = ["FIDELITIES", "ServoActuator"]
+__all__ = ["FIDELITIES", "LAG_DAMPING", "ServoActuator"]
 
 FIDELITIES = ("lag", "valve", "jet_pipe")
+LAG_DAMPING = 2.0e4  # N*s/m: zeta ~ 0.2 for 100 kg on the library oil columns
 _N_STATES = {"lag": 1, "valve": 5, "jet_pipe": 7}
 _STAGE_STATES = {"valve": 2, "jet_pipe": 4}  # after the integral, before p1, p2
 _HYDRAULIC_UNITS = {
@@ -66,7 +67,7 @@ class ServoActuator:
     jet_pipe: JetPipe = field(default_factory=JetPipe)
     velocity_gain: float | None = None
     lag_stiffness: float | None = None
-    lag_damping: float = 2.0e4
+    lag_damping: float = LAG_DAMPING
     initial_pressures: tuple[float, float] | None = None
     effect: str = "hydraulics"
     active: bool = True
@@ -167,7 +168,9 @@ class ServoActuator:
                 self.jet_pipe, self.valve, current, stage, drop
             )
             out.update(more, spool=stage[2])
-        flows = spool_flows(opening, pf1, pf2, s, self.valve.flow_gain, self.valve.transition_pressure)
+        flows = spool_flows(
+            opening, pf1, pf2, s, self.valve.flow_gain, self.valve.transition_pressure
+        )
         pressure_rates = self._chamber_rates(x, xd, pf1, pf2, flows.q1, flows.q2)
         out.update(
             current=current,

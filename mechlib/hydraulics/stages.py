@@ -63,7 +63,7 @@ def jet_pipe_rates(
     Returns (rates, opening x_s / x_R, outputs)."""
     xj, vj, xs, vs = z
     wire = j.wire_stiffness * (xj + xs)
-    jet_acc = (motor_gain(j, v) * current - j.hinge_stiffness * xj - j.hinge_damping * vj - wire)
+    jet_acc = motor_gain(j, v) * current - j.hinge_stiffness * xj - j.hinge_damping * vj - wire
     receiver = j.receiver_pressure * math.tanh(j.receiver_gain * xj / j.receiver_pressure)
     flow_force = (
         -2.0 * j.discharge * _VELOCITY_COEFFICIENT * _COS_JET * port_width(j, v) * xs * valve_drop

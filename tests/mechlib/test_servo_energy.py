@@ -61,7 +61,9 @@ def test_hydraulic_energy_in_equals_work_plus_losses() -> None:
     work = 0.5 * M * (v[-1] ** 2 - v[0] ** 2) + _integral(t, LOAD * v)
     losses = throttling + leakage + friction + compression
     imbalance = (energy_in - losses - work) / energy_in
-    print(f"in {energy_in:.3f} J, work {work:.3f}, throttling {throttling:.3f}, "
-          f"leak {leakage:.4f}, friction {friction:.3f}, compression {compression:.4f}, "
-          f"imbalance {imbalance:.2e}")
+    print(
+        f"in {energy_in:.3f} J, work {work:.3f}, throttling {throttling:.3f}, "
+        f"leak {leakage:.4f}, friction {friction:.3f}, compression {compression:.4f}, "
+        f"imbalance {imbalance:.2e}"
+    )
     assert abs(imbalance) < 1e-4

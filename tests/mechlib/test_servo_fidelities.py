@@ -14,19 +14,19 @@ import pytest
 from scipy.optimize import fsolve
 
 import mechlib as ml
-from mechlib.hydraulics import Cylinder, JetPipe, ServoValve, Supply, floored
+from mechlib.hydraulics import Cylinder, JetPipe, ServoValve, Supply, floored, spool_flows
 from mechlib.hydraulics import regularised_root as sr
-from mechlib.hydraulics import spool_flows
 from tests.mechlib.hydraulic_rig import REQUESTS, rig
 
 
 def test_lag_follows_the_first_order_closed_form() -> None:
     """Step of 1 mm: the servo stroke within 1e-4 of the step of x_c (1 - exp(-K_v t))
-    (measured 6.4e-6, 1 ms outputs); the rod, tied to the servo stroke by the oil columns (k_h, w_h), within
-    the bound K_v x_c / w_h of the transient a sudden speed demand K_v x_c excites (5.9e-5 m,
-    measured 4.2e-5 m), and at the demand by 0.2 s."""
-    sol = ml.solve(rig(lambda t: 1e-3, fidelity="lag"), ml.Dynamic(end=0.2, step=1e-3),
-                   requests=REQUESTS)
+    (measured 6.4e-6, 1 ms outputs); the rod, tied to the servo stroke by the oil columns
+    (k_h, w_h), within the bound K_v x_c / w_h of the transient a sudden speed demand K_v x_c
+    excites (5.9e-5 m, measured 4.2e-5 m), and at the demand by 0.2 s."""
+    sol = ml.solve(
+        rig(lambda t: 1e-3, fidelity="lag"), ml.Dynamic(end=0.2, step=1e-3), requests=REQUESTS
+    )
     gain = rig().forces["act"].loop_gain()
     expected = 1e-3 * (1.0 - np.exp(-gain * sol.time))
     assert np.abs(sol.channels["act.servo_stroke"] - expected).max() < 1e-7
@@ -50,7 +50,9 @@ def _jet_static_opening(current: float, valve_drop: float) -> float:
         wire = j.wire_stiffness * (xj + xs)
         return [
             k_t * current - j.hinge_stiffness * xj - wire,
-            j.spool_area * j.receiver_pressure * math.tanh(j.receiver_gain * xj / j.receiver_pressure)
+            j.spool_area
+            * j.receiver_pressure
+            * math.tanh(j.receiver_gain * xj / j.receiver_pressure)
             - wire
             - flow * xs,
         ]
