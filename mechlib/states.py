@@ -18,6 +18,7 @@ states keep their initial values there.
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg import lu_factor, lu_solve
 
 __all__ = ["ElementStates"]
 
@@ -44,6 +45,8 @@ class ElementStates:
         )
         self.trial = self.z.copy()
         self.rates_accepted: np.ndarray | None = None
+        self._lu: tuple | None = None  # factored Newton matrix of `advance`, at step _lu_h
+        self._lu_h = 0.0
 
     def __bool__(self) -> bool:
         return bool(self.owners)
@@ -67,14 +70,28 @@ class ElementStates:
         self.rates_accepted = self.rates(view, self.z)
 
     def advance(self, view, h: float) -> None:
-        """Trial z at the iterate `view` after a step h: z = z_n + h/2 (f_n + f(z))."""
+        """Trial z at the iterate `view` after a step h: z = z_n + h/2 (f_n + f(z)).
+
+        Modified Newton: the factored matrix I - h/2 df/dz is kept across iterations and
+        calls while it contracts (residual at least 4x smaller per iteration), refreshed
+        when it does not or h changed. Converged when each residual is within 1e-12 of its
+        state (1e-14 absolute): a pressure of 1e7 Pa and a spool travel of 1e-5 m each at
+        their own scale."""
         z = self.trial.copy()
+        prev, fresh = np.inf, False
         for _ in range(_NEWTON):
             rates = self.rates(view, z)
             res = z - self.z - 0.5 * h * (self.rates_accepted + rates)
-            if np.abs(res).max(initial=0.0) <= 1e-12 * (1.0 + np.abs(z).max(initial=0.0)):
+            size = np.max(np.abs(res) / (1e-12 * np.abs(z) + 1e-14), initial=0.0)
+            if size <= 1.0:
                 break
-            z = z - np.linalg.solve(np.eye(z.size) - 0.5 * h * self.jacobian(view, z, rates), res)
+            if self._lu is None or self._lu_h != h or (size > 0.25 * prev and not fresh):
+                matrix = np.eye(z.size) - 0.5 * h * self.jacobian(view, z, rates)
+                self._lu, self._lu_h, fresh = lu_factor(matrix), h, True
+            else:
+                fresh = False
+            z = z - lu_solve(self._lu, res)
+            prev = size
         self.trial = z
 
     def jacobian(self, view, z: np.ndarray, rates: np.ndarray) -> np.ndarray:
