@@ -33,7 +33,8 @@ def _integral(t: np.ndarray, y: np.ndarray) -> float:
 def test_hydraulic_energy_in_equals_work_plus_losses() -> None:
     """10 mm at 2 Hz against a 3 kN load, the first 0.15 s (extending), outputs
     every 0.2 ms: imbalance below 1 % of the energy in (the issue's limit), guarded at 1e-4
-    (measured 1e-6 to 1e-5: the trapezoidal sums of the channels)."""
+    (measured -2.3e-6: the trapezoidal sums of the channels). 190 J in: 157 J throttled,
+    27 J of work on the rod, 4.6 J friction, 0.9 J leakage, 0.2 J compression."""
     sol = ml.solve(
         rig(lambda t: 0.01 * math.sin(2 * math.pi * 2.0 * t), load=LOAD, cylinder=CYLINDER),
         ml.Dynamic(end=0.15, step=2e-4, tolerance=1e-6),
