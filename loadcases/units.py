@@ -56,6 +56,11 @@ DIMENSIONS: dict[str, dict[str, int]] = {
     "area": {_L: 2},
     "volume": {_L: 3},
     "frequency": {_T: -1},
+    "flow": {_L: 3, _T: -1},
+    "leakage": {_L: 4, _T: 1, _M: -1},
+    "current": {"[current]": 1},
+    "current_gain": {"[current]": 1, _L: -1},
+    "integral_gain": {"[current]": 1, _L: -1, _T: -1},
     "dimensionless": {},
 }
 FILE_UNIT_KINDS = ("length", "angle", "mass", "time", "force")

@@ -89,7 +89,7 @@ class Integrator:
         if self.stiff:
             own = self.own
             if fresh or self.tangent is None:
-                self.tangent = self._differenced_tangent(k, own, lam, jac)
+                self.tangent = self._differenced_tangent(k, own, lam, jac, h)
             stiffness, damping = (m.copy() for m in self.tangent) if own else self.tangent
             if own:
                 view = sys.view(k)
@@ -112,26 +112,36 @@ class Integrator:
         return [e for e in self.system.elements if e.active and getattr(e, "has_tangent", False)]
 
     def _differenced_tangent(
-        self, k, own: list, lam: np.ndarray, jac: np.ndarray
+        self, k, own: list, lam: np.ndarray, jac: np.ndarray, h: float
     ) -> tuple[np.ndarray, np.ndarray]:
         """(K, C) = (-dQ/dq, -dQ/dqd) of the applied forces but the elements with their
         own tangent (`own`), by forward differences at multipliers `lam` (joint friction
-        is loaded by them)."""
+        is loaded by them). Element states (mechlib.states) are re-advanced over the step h
+        at each perturbed state: the tangent then holds their response to q and qd (the
+        oil columns of a hydraulic actuator are a stiffness only through its pressures)."""
         sys = self.system
         skip = {id(e) for e in own}
         q, qd = k.x[:-1].ravel(), k.xd[:-1].ravel()
+        states = sys.states
+        trial = states.trial.copy()
+
+        def forces(kp, jac_p=None):
+            if states:
+                states.trial = trial.copy()
+                states.advance(sys.view(kp), h)
+            return sys.forces(kp, skip=skip, lam=lam, jac=jac_p)
+
         base = sys.forces(k, skip=skip, lam=lam, jac=jac)
         stiffness, damping = np.empty((sys.nq, sys.nq)), np.empty((sys.nq, sys.nq))
-        for j in range(sys.nq):
-            dq = np.zeros(sys.nq)
-            dq[j] = eps = 1e-7 * max(1.0, abs(q[j]))
-            stiffness[:, j] = (
-                -(sys.forces(sys.kin(q + dq, qd, k.t), skip=skip, lam=lam) - base) / eps
-            )
-            dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
-            damping[:, j] = (
-                -(sys.forces(sys.kin(q, qd + dq, k.t), skip=skip, lam=lam, jac=jac) - base) / eps
-            )
+        try:
+            for j in range(sys.nq):
+                dq = np.zeros(sys.nq)
+                dq[j] = eps = 1e-7 * max(1.0, abs(q[j]))
+                stiffness[:, j] = -(forces(sys.kin(q + dq, qd, k.t)) - base) / eps
+                dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
+                damping[:, j] = -(forces(sys.kin(q, qd + dq, k.t), jac) - base) / eps
+        finally:
+            states.trial = trial
         return stiffness, damping
 
     def step(self, t, h, q, qd, qdd, a, lam):

@@ -5,8 +5,10 @@ hydraulic pressures).
 An element with states declares `n_states`, `initial_states()` and
 `state_rates(view, z) -> dz/dt`, and reads its current z with `view.states(self)`. Every
 analysis in time advances them by the trapezoidal rule over each step, solved for the
-mechanism's new state by a small Newton of their own (forward-difference Jacobian), which
-makes them A-stable and second order like the mechanism: a dynamic analysis at every Newton
+mechanism's new state by a small Newton of their own, which makes them A-stable and second
+order like the mechanism. Its Jacobian is block diagonal by element: an element's
+`state_jacobian(view, z)` when it has one, else forward differences of its own rates. They
+are advanced: in a dynamic analysis at every Newton
 iterate of a step; a quasi-static one at every iterate of each equilibrium (the view at
 rest, as its forces see it); a kinematic one at each solved position (its velocities
 included). A static analysis solves one instant, with no time to integrate over: the
@@ -16,6 +18,7 @@ states keep their initial values there.
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg import lu_factor, lu_solve
 
 __all__ = ["ElementStates"]
 
@@ -42,6 +45,8 @@ class ElementStates:
         )
         self.trial = self.z.copy()
         self.rates_accepted: np.ndarray | None = None
+        self._lu: tuple | None = None  # factored Newton matrix of `advance`, at step _lu_h
+        self._lu_h = 0.0
 
     def __bool__(self) -> bool:
         return bool(self.owners)
@@ -65,21 +70,51 @@ class ElementStates:
         self.rates_accepted = self.rates(view, self.z)
 
     def advance(self, view, h: float) -> None:
-        """Trial z at the iterate `view` after a step h: z = z_n + h/2 (f_n + f(z))."""
+        """Trial z at the iterate `view` after a step h: z = z_n + h/2 (f_n + f(z)).
+
+        Modified Newton: the factored matrix I - h/2 df/dz is kept across iterations and
+        calls while it contracts (residual at least 4x smaller per iteration), refreshed
+        when it does not or h changed. Converged when each residual is within 1e-12 of its
+        state (1e-14 absolute): a pressure of 1e7 Pa and a spool travel of 1e-5 m each at
+        their own scale."""
         z = self.trial.copy()
+        prev, fresh = np.inf, False
         for _ in range(_NEWTON):
-            res = z - self.z - 0.5 * h * (self.rates_accepted + self.rates(view, z))
-            if np.abs(res).max(initial=0.0) <= 1e-12 * (1.0 + np.abs(z).max(initial=0.0)):
+            rates = self.rates(view, z)
+            res = z - self.z - 0.5 * h * (self.rates_accepted + rates)
+            size = np.max(np.abs(res) / (1e-12 * np.abs(z) + 1e-14), initial=0.0)
+            if size <= 1.0:
                 break
-            jac = np.eye(z.size)
-            base = self.rates(view, z)
-            for i in range(z.size):
-                dz = _FD * max(1.0, abs(z[i]))
-                zi = z.copy()
-                zi[i] += dz
-                jac[:, i] -= 0.5 * h * (self.rates(view, zi) - base) / dz
-            z = z - np.linalg.solve(jac, res)
+            if self._lu is None or self._lu_h != h or (size > 0.25 * prev and not fresh):
+                matrix = np.eye(z.size) - 0.5 * h * self.jacobian(view, z, rates)
+                self._lu, self._lu_h, fresh = lu_factor(matrix), h, True
+            else:
+                fresh = False
+            z = z - lu_solve(self._lu, res)
+            prev = size
         self.trial = z
+
+    def jacobian(self, view, z: np.ndarray, rates: np.ndarray) -> np.ndarray:
+        """d(dz/dt)/dz at `z` (rates: dz/dt there), block diagonal: an element's rates
+        depend on its own states only. An element's `state_jacobian(view, z_e)` gives its
+        block; otherwise forward differences of its own `state_rates`."""
+        jac = np.zeros((z.size, z.size))
+        for e in self.owners:
+            block = self.slices[id(e)]
+            ze = z[block]
+            own = getattr(e, "state_jacobian", None)
+            if own is not None:
+                jac[block, block] = own(view, ze)
+                continue
+            base = rates[block]
+            for i in range(ze.size):
+                dz = _FD * max(1.0, abs(ze[i]))
+                zi = ze.copy()
+                zi[i] += dz
+                jac[block, block.start + i] = (
+                    np.asarray(e.state_rates(view, zi), float) - base
+                ) / dz
+        return jac
 
     def accept(self, view) -> None:
         self.z = self.trial.copy()

@@ -11,6 +11,7 @@ from collections.abc import Callable
 from typing import Any
 
 import mechlib as ml
+from loadcases.build.hydraulics import servo_actuator
 
 __all__ = ["ELEMENT_EFFECTS", "ELEMENT_MAKERS"]
 
@@ -20,6 +21,7 @@ ELEMENT_EFFECTS = {
     "damper": "damping",
     "seal": "contact",
     "cable_loop": "springs",
+    "servo_actuator": "hydraulics",
 }
 _ROTARY = ("revolute", "cylindrical", "inline")  # dampers: joints with an angle, screw aside
 
@@ -120,4 +122,5 @@ ELEMENT_MAKERS: dict[str, Callable[[Any, str, Any], Any]] = {
     "cable_loop": _cable_loop,
     "seal": _seal,
     "bushing": _bushing,
+    "servo_actuator": servo_actuator,
 }

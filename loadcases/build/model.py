@@ -19,6 +19,7 @@ from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import CompiledExpression, ExpressionError, parse
 from loadcases.inputs.loader import CaseFile
 from mechlib.elements.series import SeriesLaw, series_stiffness
+from mechlib.hydraulics import ServoActuator
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 from mechlib.tables import Table, TableRangeError
 
@@ -518,6 +519,25 @@ def _case_warning(cf: CaseFile, key: str, message: str, *, keyed: bool = True) -
     return Diagnostic(file, line, column, key if keyed else "", message, "warning")
 
 
+def _servo_warnings(cf: CaseFile, mechanism: ml.Mechanism, analysis) -> list[Diagnostic]:
+    """Servo actuators with valve dynamics outside a dynamic analysis: their chambers see the
+    piston at rest (quasi-static) or keep their initial pressures (static)."""
+    if not isinstance(analysis, (ml.QuasiStatic, ml.Static)):
+        return []
+    return [
+        _case_warning(
+            cf,
+            "analysis",
+            f"servo actuator '{name}' ({element.fidelity}) in a {analysis.name} analysis: "
+            "its chambers see the piston at rest, so its pressures and force do not describe "
+            "a moving actuator (use a dynamic analysis, or fidelity lag)",
+            keyed=False,
+        )
+        for name, element in mechanism.forces.items()
+        if isinstance(element, ServoActuator) and element.fidelity != "lag"
+    ]
+
+
 def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     """The mechlib model, analysis, requests and initial values of a case; InputError lists
     everything the engine cannot build. With `abscissa`, the case's `abscissa:` expression
@@ -560,6 +580,7 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
             )
         )
         events = []
+    notes += _servo_warnings(cf, mechanism, analysis)
     return BuiltRun(
         mechanism, analysis, requests, initial, cf.case.analysis.redundant, units, notes, events
     )

@@ -150,6 +150,33 @@ def _tables(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     return found
 
 
+def _servo_actuators(model: MechanismModel, at: Locator) -> list[Diagnostic]:
+    """A stroke [retracted, extended] around the design (0); two positive dead volumes."""
+    found = []
+    for name, force in model.forces.items():
+        if force.type != "servo_actuator":
+            continue
+        lo, hi = force.stroke
+        if not lo <= 0.0 <= hi or lo == hi:
+            found.append(
+                at.diagnostic(
+                    ("forces", name, "stroke"),
+                    f"expected [retracted, extended] limits around the design length (0), "
+                    f"got [{lo:g}, {hi:g}] m",
+                    hint="the stroke is measured from the design distance of the two points",
+                )
+            )
+        dead = force.cylinder.dead_volumes if force.cylinder is not None else None
+        if dead is not None and (len(dead) != 2 or min(dead) <= 0.0):
+            found.append(
+                at.diagnostic(
+                    ("forces", name, "cylinder", "dead_volumes"),
+                    f"expected two positive volumes [V1, V2], got {len(dead)} values",
+                )
+            )
+    return found
+
+
 def check_elements(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     """All element, contact, coupler and table problems of a mechanism."""
     return (
@@ -157,4 +184,5 @@ def check_elements(model: MechanismModel, at: Locator) -> list[Diagnostic]:
         + _contacts(model, at)
         + _couplers(model, at)
         + _tables(model, at)
+        + _servo_actuators(model, at)
     )

@@ -295,4 +295,7 @@ def check_mechanism(
         expressions += [
             (("forces", name, "value", i), v) for i, v in enumerate(getattr(force, "value", ()))
         ]
+        command = getattr(force, "command", None)  # a servo actuator's stroke demand
+        if command is not None:
+            expressions.append((("forces", name, "command"), command))
     return found + check_expressions(at, expressions, names, {*model.parameters, *parameters})

@@ -8,6 +8,7 @@ from pydantic import Field, model_validator
 from pydantic_core import PydanticCustomError
 
 from loadcases.schema.forces_more import CableLoop, Damper, Seal
+from loadcases.schema.hydraulics import ServoActuator
 from loadcases.schema.types import (
     Damping,
     Dimensionless,
@@ -208,7 +209,8 @@ ForceElement = Annotated[
     | JointFriction
     | Seal
     | Damper
-    | CableLoop,
+    | CableLoop
+    | ServoActuator,
     Field(discriminator="type"),
 ]
 

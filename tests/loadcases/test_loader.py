@@ -82,6 +82,23 @@ EXPECTED = {
         "references.case.yaml:11:7: hint: did you mean 'tip'?",
         "references.case.yaml:12:7: error: requests.m.motion: unknown motion 'drive'",
     ],
+    "servo_actuator.mech.yaml": [
+        "servo_actuator.mech.yaml:11:61: error: forces.act.fidelity: expected 'lag', 'valve' or "
+        "'jet_pipe', got 'servo'",
+        "servo_actuator.mech.yaml:12:106: error: forces.act2.controller.kp: expected a current "
+        "gain, got '2 N' (a force)",
+    ],
+    "servo_stroke.mech.yaml": [
+        "servo_stroke.mech.yaml:11:71: error: forces.act.command: unknown name 'stroke_demand' in "
+        "expression",
+        "servo_stroke.mech.yaml:11:71: hint: use t, pi, a parameter, a unit name or a function",
+        "servo_stroke.mech.yaml:11:87: error: forces.act.stroke: expected [retracted, extended] "
+        "limits around the design length (0), got [0.01, 0.05] m",
+        "servo_stroke.mech.yaml:11:87: hint: the stroke is measured from the design distance of "
+        "the two points",
+        "servo_stroke.mech.yaml:11:116: error: forces.act.cylinder.dead_volumes: expected two "
+        "positive volumes [V1, V2], got 1 values",
+    ],
     "units.mech.yaml": [
         "units.mech.yaml:1:9: error: units.length: 'deg' is not a unit of length",
         "units.mech.yaml:1:22: error: units.angel: unknown key",

@@ -1,0 +1,71 @@
+"""Builder of the hydraulic servo-actuator (schema -> mechlib.hydraulics.ServoActuator):
+keys given replace the library values, absent ones keep them."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, fields, replace
+from typing import Any
+
+from mechlib.hydraulics import Controller, Cylinder, JetPipe, ServoActuator, ServoValve, Supply
+from mechlib.hydraulics.actuator import LAG_DAMPING
+
+
+@dataclass(frozen=True)
+class Lag:
+    """The `lag:` keys of a servo actuator: None keeps the element's own default."""
+
+    velocity_gain: float | None = None
+    stiffness: float | None = None
+    damping: float = LAG_DAMPING
+
+
+__all__ = ["servo_actuator"]
+
+
+def _given(defaults, model, **renamed) -> Any:
+    """`defaults` (a parameter dataclass) with the keys `model` gives (not None; no model:
+    none)."""
+    names = {f.name for f in fields(defaults)}
+    given = model.model_dump() if model is not None else {}
+    values = {k: v for k, v in given.items() if v is not None and k in names}
+    values.update({k: v for k, v in renamed.items() if v is not None})
+    return replace(defaults, **values)
+
+
+def _cylinder(f) -> Cylinder:
+    c = f.cylinder
+    dead = (c.dead_volumes if c is not None else None) or (None, None)
+    return _given(
+        Cylinder(),
+        c,
+        stroke=tuple(f.stroke),
+        dead_volume_1=dead[0],
+        dead_volume_2=dead[1],
+    )
+
+
+def servo_actuator(builder, name: str, f) -> Any:
+    """The element, or None after a diagnostic (unknown point; the stroke and volumes are
+    checked by loadcases.checks.elements)."""
+    missing = [p for p in f.points if p not in builder.mech.points]
+    if missing:
+        builder.error("mechanism", f"forces.{name}.points", f"unknown point '{missing[0]}'")
+        return None
+    p1, p2 = (builder.mech.points[p] for p in f.points)
+    lag = _given(Lag(), f.lag)
+    command = builder.compile(f.command, f"forces.{name}.command")
+    return ServoActuator(
+        name,
+        ((p1.body, p1.at), (p2.body, p2.at)),
+        lambda t: command(t),
+        f.fidelity,
+        cylinder=_cylinder(f),
+        supply=_given(Supply(), f.supply),
+        valve=_given(ServoValve(), f.valve),
+        controller=_given(Controller(), f.controller),
+        jet_pipe=_given(JetPipe(), f.jet_pipe),
+        velocity_gain=lag.velocity_gain,
+        lag_stiffness=lag.stiffness,
+        lag_damping=lag.damping,
+        initial_pressures=tuple(f.initial_pressures) if f.initial_pressures else None,
+    )
