@@ -132,6 +132,16 @@ def run(
             help="Solve every run of a set again, even if its saved results are of the same input.",
         ),
     ] = False,
+    what_if: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--set",
+            metavar="NAME=VALUE",
+            help="Override the parameter NAME for this run, e.g. --set 'length=1.5 m' (a bare "
+            "number is SI). Repeat it for more parameters. The run is named CASE[NAME=VALUE] "
+            "and its summary lists the overrides.",
+        ),
+    ] = None,
 ) -> int:
     """Run case or set files and write their results (NAME.csv, NAME.summary.json; for a
     set SET also DIR/SET/envelope.csv and the workbook)."""
@@ -139,6 +149,7 @@ def run(
     engine = engine_of(ctx)
     from loadcases.limits import capped_jobs
 
+    overrides = _overrides(what_if or [])
     _preflight(files, output)
     jobs, note = capped_jobs(jobs)
     if note is not None:
@@ -149,11 +160,24 @@ def run(
             for path in chunk:
                 code = max(
                     code,
-                    _print_report(_run_set(engine, path, output, xlsx, jobs, scheduler, force)),
+                    _print_report(
+                        _run_set(engine, path, output, xlsx, jobs, scheduler, force, overrides)
+                    ),
                 )
         else:
-            code = max(code, _run_cases(engine, chunk, output, xlsx, jobs or 1))
+            code = max(code, _run_cases(engine, chunk, output, xlsx, jobs or 1, overrides))
     return code
+
+
+def _overrides(texts: list[str]) -> tuple[Any, ...]:
+    """The `--set` options read (`loadcases.inputs.overrides.Override`); exit 2 if one
+    cannot be read."""
+    from loadcases.inputs.overrides import OverrideError, parse_overrides
+
+    try:
+        return parse_overrides(texts)
+    except OverrideError as error:
+        raise fail(str(error)) from None
 
 
 def _kind(path: Path) -> str | None:
@@ -205,6 +229,7 @@ def _run_set(
     jobs: int | None,
     scheduler: str | None,
     force: bool,
+    overrides: tuple[Any, ...],
 ) -> FileReport:
     from cli.set_runner import run_set_file
 
@@ -217,10 +242,18 @@ def _run_set(
         scheduler=scheduler,
         force=force,
         show_progress=sys.stderr.isatty(),
+        what_if=overrides,
     )
 
 
-def _run_cases(engine: Engine, files: list[Path], output: Path, xlsx: bool, jobs: int) -> int:
+def _run_cases(
+    engine: Engine,
+    files: list[Path],
+    output: Path,
+    xlsx: bool,
+    jobs: int,
+    overrides: tuple[Any, ...] = (),
+) -> int:
     """Case and mechanism files, as `loads run` always ran them; the worst exit status."""
     bars: dict[Path, ProgressBar] = {}
     show_progress = jobs == 1 and sys.stderr.isatty()
@@ -231,6 +264,7 @@ def _run_cases(engine: Engine, files: list[Path], output: Path, xlsx: bool, jobs
         output_dir=output,
         xlsx=xlsx,
         jobs=jobs,
+        what_if=overrides,
         progress_for=lambda path: (
             bars.setdefault(path, ProgressBar(path.name)) if show_progress else None
         ),
