@@ -27,6 +27,7 @@ from loadcases.checks import (
     resolve_initial,
 )
 from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.inputs.hardpoints import expand_hardpoints
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
 from loadcases.inputs.parameter_refs import ParameterRef, parameter_values, put_parameters
@@ -180,6 +181,8 @@ def load_mechanism(path: str | Path) -> MechanismFile:
     tree, diagnostics = _read_tree(path)
     locator = Locator(tree)
     units, found = _file_units(locator, {})
+    tables, more = expand_hardpoints(locator, units)
+    found += more
     if isinstance(locator.data, dict):
         put_parameters(
             locator.data, parameter_values(locator.data.get("parameters"), file_units=units)
@@ -190,7 +193,7 @@ def load_mechanism(path: str | Path) -> MechanismFile:
         diagnostics += check_mechanism(model, locator)
     _raise_on_errors(diagnostics)
     return MechanismFile(
-        str(path), model, _sha256(Path(path).read_bytes()), locator, tuple(diagnostics)
+        str(path), model, _sha256(Path(path).read_bytes(), *tables), locator, tuple(diagnostics)
     )
 
 
@@ -254,9 +257,11 @@ def load_case(
         diagnostics += override_problems(what_if, definitions, case_locator, "the case")
         overrides = {**(overrides or {}), **dict(pairs(what_if))}
     mech_units: dict[str, str] = {}
+    tables: list[bytes] = []
     if mech_locator is not None:
         mech_units, found = _file_units(mech_locator, inherited)
-        diagnostics += found
+        tables, more = expand_hardpoints(mech_locator, mech_units)
+        diagnostics += found + more
     refs = _put_parameters(case_locator, mech_locator, case_units, mech_units, overrides)
     case, found = _validate(CaseModel, case_locator, case_units)
     diagnostics += found
@@ -276,6 +281,7 @@ def load_case(
     if case is None or mechanism is None or mech_locator is None:
         raise InputError(diagnostics)  # not reached: each of them missing is an error above
     contents = [Path(path).read_bytes()] + ([Path(mech_path).read_bytes()] if mech_path else [])
+    contents += tables  # hardpoint tables: a changed table is a changed input
     if what_if:  # part of the run's identity: never mistaken for the run without them
         contents.append(json.dumps(pairs(what_if)).encode("utf-8"))
     return CaseFile(
