@@ -52,6 +52,8 @@ def run_set_file(
     progress = SetProgress(path.name) if show_progress else None
     executor = make_executor(jobs=jobs, scheduler=scheduler)
     options = {"jobs": str(jobs or "cores"), "scheduler": scheduler or "local processes"}
+    if what_if:  # on the workbook's Provenance sheet
+        options["--set"] = ", ".join(f"{o.name}={o.text}" for o in what_if)
     try:
         result = run_set(
             path,

@@ -107,7 +107,7 @@ def override_problems(
     what: str,
 ) -> list[Diagnostic]:
     """Errors for overrides of parameters not in `definitions` (reported at the top of
-    `anchor`'s file, `what` names it: 'the case') or of another dimension than their
+    `anchor`'s file, `what` says where it was looked for: 'the case') or of another dimension than their
     definition (reported at the definition)."""
     found = []
     for override in overrides:
@@ -117,7 +117,7 @@ def override_problems(
                     anchor.tree.file,
                     *anchor.tree.position(("parameters",)),
                     override.option,
-                    f"{what} has no parameter '{override.name}'",
+                    f"no parameter '{override.name}' in {what}",
                     hint=did_you_mean(override.name, definitions)
                     or "define it under `parameters:` of the case or its mechanism",
                 )

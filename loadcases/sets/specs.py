@@ -11,6 +11,9 @@ Rules (also in README "Load-case sets"):
 - A run is named `CASE[p1=v1,p2=v2]`: the swept parameters in the order the set file lists
   them (sweep and zip together), values in SI formatted `%g`; a run with no swept
   parameter is named `CASE`.
+- `loads run SET --set NAME=VALUE` overrides NAME in every run of a case that has it
+  (after the set's `parameters:`); the override names the run after the swept parameters
+  when the case uses it (`CASE[p1=v1,NAME=VALUE]`). A swept parameter cannot be overridden.
 - The input hash of a run covers the case and mechanism file bytes, every parameter value
   of the run and the engine version: a run is reused only when all of them are unchanged.
 """
@@ -207,7 +210,7 @@ def _what_if_problems(
         mine = [o for o in what_if if o.name in definitions]
         found += override_problems(mine, definitions, set_file.locator, "the set")
     unknown = [o for o in what_if if o.name not in known]
-    found += override_problems(unknown, {}, set_file.locator, "no case of the set")
+    found += override_problems(unknown, {}, set_file.locator, "the set or its cases")
     model = set_file.model
     for override in what_if:
         section = "sweep" if override.name in model.sweep else "zip"

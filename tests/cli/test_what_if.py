@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import openpyxl
 import pytest
 from typer.testing import CliRunner
 
@@ -120,6 +121,11 @@ def test_set_runs_with_an_override_never_reuse_other_runs(folder: Path) -> None:
     assert "2 runs, 0 failed, 0 reused" in other.stdout
     envelope = (set_dir / "envelope.csv").read_text()
     assert "arm[omega=3,length=0.7]" in envelope
+    book = openpyxl.load_workbook(set_dir / "envelope.xlsx", read_only=True)
+    provenance = [
+        [c for c in row if c is not None] for row in book["Provenance"].iter_rows(values_only=True)
+    ]
+    assert ["--set", "length=0.7 m"] in provenance
 
 
 @pytest.mark.parametrize(
@@ -157,7 +163,7 @@ def test_unknown_parameter_and_wrong_dimension_exit_2(folder: Path) -> None:
         ],
     )
     assert result.exit_code == 2
-    assert "--set lenght=2 m: the case has no parameter 'lenght'" in result.output
+    assert "--set lenght=2 m: no parameter 'lenght' in the case" in result.output
     assert "did you mean 'length'?" in result.output
     assert (
         "arm.case.yaml:6:5: error: mechanism.parameters.omega: --set omega=3 kg: expected an "
@@ -173,6 +179,15 @@ def test_override_of_a_swept_parameter_is_refused(folder: Path) -> None:
     assert "arm.set.yaml:3:9: error: sweep.omega: --set omega=5: the set varies 'omega'" in (
         result.output
     )
+
+
+def test_set_override_of_an_unknown_parameter_is_refused(folder: Path) -> None:
+    result = runner.invoke(
+        app, ["run", str(folder / "arm.set.yaml"), "-o", str(folder / "res"), "--set", "lenth=2"]
+    )
+    assert result.exit_code == 2
+    assert "--set lenth=2: no parameter 'lenth' in the set or its cases" in result.output
+    assert not (folder / "res" / "arm-set").exists()
 
 
 def test_same_name_twice_is_refused(folder: Path) -> None:
