@@ -81,7 +81,7 @@ class _Table:
 
     def header(self, line: int, cells: list[tuple[int, str]]) -> dict[str, int] | None:
         """Column name -> cell index; None (with a problem) if a column is missing."""
-        index = {}
+        index: dict[str, int] = {}
         for position, (col, text) in enumerate(cells):
             name = text.lower()
             if name in index:

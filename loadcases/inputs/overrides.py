@@ -93,7 +93,9 @@ def defined_parameters(locators: Iterable[Locator | None]) -> dict[str, tuple[Lo
     name -> (the file's locator, the value as written)."""
     found: dict[str, tuple[Locator, object]] = {}
     for locator in locators:
-        data = locator.data if locator is not None else None
+        if locator is None:
+            continue
+        data = locator.data
         section = data.get("parameters") if isinstance(data, dict) else None
         if isinstance(section, dict):
             found.update({str(name): (locator, raw) for name, raw in section.items()})
@@ -107,8 +109,8 @@ def override_problems(
     what: str,
 ) -> list[Diagnostic]:
     """Errors for overrides of parameters not in `definitions` (reported at the top of
-    `anchor`'s file, `what` says where it was looked for: 'the case') or of another dimension than their
-    definition (reported at the definition)."""
+    `anchor`'s file; `what` says where they were looked for, e.g. 'the case') or of another
+    dimension than their definition (reported at the definition)."""
     found = []
     for override in overrides:
         if override.name not in definitions:
