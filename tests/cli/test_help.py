@@ -4,6 +4,7 @@ Python types, and the schema's help says how to point an editor at it."""
 from __future__ import annotations
 
 import re
+from pathlib import Path
 
 import pytest
 from typer.testing import CliRunner
@@ -60,3 +61,12 @@ def test_schema_help_gives_the_editor_modeline() -> None:
 
 def test_new_help_offers_blank() -> None:
     assert "blank" in _help("new")
+
+
+def test_docs_name_no_files_outside_the_repository() -> None:
+    """README.md and docs/*.md point only at files of the repository."""
+    root = Path(__file__).resolve().parents[2]
+    outside = re.compile(r"\.\./shared|/work/|\.\./\.\./|SPEC\.md|DESIGN\.md")
+    for path in [root / "README.md", *sorted((root / "docs").glob("*.md"))]:
+        for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            assert outside.search(line) is None, f"{path.name}:{number}: {line}"
