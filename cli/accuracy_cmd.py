@@ -1,4 +1,4 @@
-"""`loads accuracy CASE`: the work-precision study of a dynamic case (SPEC 2)."""
+"""`loads accuracy CASE`: the work-precision study of a dynamic case."""
 
 from __future__ import annotations
 
@@ -39,28 +39,55 @@ def _row(cells: tuple[object, ...]) -> str:
 
 
 def accuracy(
-    case: Annotated[Path, typer.Argument(help="A case file with a dynamic analysis.")],
+    case: Annotated[
+        Path, typer.Argument(metavar="CASE", help="A case file with a dynamic analysis.")
+    ],
     output: Annotated[
         Path,
-        typer.Option("-o", "--output", help="Folder for the table, the diagram and the workbook."),
+        typer.Option(
+            "-o",
+            "--output",
+            metavar="DIR",
+            help="The folder for the table, the diagram and the workbook.",
+        ),
     ] = Path("results"),
     target: Annotated[
-        float, typer.Option("--target", help="Error wanted, as a fraction of each request's peak.")
+        float,
+        typer.Option(
+            "--target",
+            metavar="FRACTION",
+            help="The error wanted, as a fraction of each request's peak.",
+        ),
     ] = 1e-3,
     tolerances: Annotated[
-        str, typer.Option("--tolerances", help="Comma-separated tolerances to try.")
+        str,
+        typer.Option(
+            "--tolerances", metavar="LIST", help="The tolerances to try, separated by commas."
+        ),
     ] = "1e-3,1e-4,1e-5,1e-6,1e-7",
     integrators: Annotated[
-        str, typer.Option("--integrators", help="Comma-separated: generalized-alpha, radau.")
+        str,
+        typer.Option(
+            "--integrators",
+            metavar="LIST",
+            help="The integrators to study, separated by commas: generalized-alpha, radau.",
+        ),
     ] = "generalized-alpha,radau",
     repeats: Annotated[
-        int, typer.Option("--repeats", help="Runs per setting; the CPU time is their median.")
+        int,
+        typer.Option(
+            "--repeats",
+            metavar="N",
+            help="The number of runs per setting; the CPU time is their median.",
+        ),
     ] = 3,
     reference_tolerance: Annotated[
         float | None,
         typer.Option(
             "--reference-tolerance",
-            help="Tolerance of the reference runs (default: the tightest studied / 100).",
+            metavar="TOLERANCE",
+            help="The tolerance of the reference runs. By default it is the tightest "
+            "tolerance studied divided by 100.",
         ),
     ] = None,
 ) -> int:

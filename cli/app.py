@@ -17,6 +17,7 @@ from typing import Annotated, Any
 import typer
 
 from cli.engine import Engine, engine_of
+from cli.help_style import use_domain_names
 from cli.render import ProgressBar, error_line, fail, print_diagnostics, status_line
 from cli.runner import FileReport, run_all
 
@@ -24,6 +25,7 @@ __all__ = ["app", "main"]
 
 EXIT_OK, EXIT_FAILED, EXIT_INPUT = 0, 1, 2
 DEBUG_ENV = "LOADS_DEBUG"
+use_domain_names()
 
 app = typer.Typer(
     name="loads",
@@ -99,46 +101,65 @@ def _require_files(paths: list[Path]) -> None:
 def run(
     ctx: typer.Context,
     files: Annotated[
-        list[Path], typer.Argument(help="Case (*.case.yaml) or set (*.set.yaml) files.")
+        list[Path],
+        typer.Argument(
+            metavar="FILE", help="The case (*.case.yaml) or set (*.set.yaml) files to run."
+        ),
     ],
-    output: Annotated[Path, typer.Option("-o", "--output", help="Results folder.")] = Path(
-        "results"
-    ),
-    xlsx: Annotated[bool, typer.Option("--xlsx", help="Also write NAME.xlsx per run.")] = False,
+    output: Annotated[
+        Path,
+        typer.Option("-o", "--output", metavar="DIR", help="The folder the results go to."),
+    ] = Path("results"),
+    xlsx: Annotated[
+        bool, typer.Option("--xlsx", help="Also write a workbook NAME.xlsx for each run.")
+    ] = False,
     jobs: Annotated[
         int | None,
         typer.Option(
             "--jobs",
             "-j",
             min=1,
-            help="Case files run in "
-            "parallel (default 1); runs of a set in parallel (default: the number of "
-            "cores).",
+            metavar="N",
+            help="The number of processes. Case files run one at a time unless N is given; "
+            "the runs of a set use every core unless N is given.",
         ),
     ] = None,
     scheduler: Annotated[
         str | None,
         typer.Option(
             "--scheduler",
-            help="Run the runs of sets "
-            "on a Dask cluster: scheduler ADDRESS, or 'local' for a "
-            "LocalCluster. A scheduler that does not answer within 10 s is an error.",
+            metavar="ADDRESS",
+            help="Run the runs of sets on the Dask cluster whose scheduler is at ADDRESS, or "
+            "on a local Dask cluster with 'local'. A scheduler that does not answer within "
+            "10 s is an error.",
         ),
     ] = None,
     force: Annotated[
         bool,
         typer.Option(
             "--force",
-            help="Solve every run of a set again, even if its saved results are of the same input.",
+            help="Solve every run of a set again, even when its saved results are of the "
+            "same input.",
         ),
     ] = False,
+    what_if: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--set",
+            metavar="NAME=VALUE",
+            help="Override the parameter NAME for this run, e.g. --set 'length=1.5 m' (a bare "
+            "number is SI). Repeat it for more parameters. The run is named CASE[NAME=VALUE] "
+            "and its summary lists the overrides.",
+        ),
+    ] = None,
 ) -> int:
-    """Run case or set files and write their results (NAME.csv, NAME.summary.json; for a
-    set SET also DIR/SET/envelope.csv and the workbook)."""
+    """Run case or set files and write their results. Each run writes NAME.csv and
+    NAME.summary.json; a set SET also writes DIR/SET/envelope.csv and its workbook."""
     _require_files(files)
     engine = engine_of(ctx)
     from loadcases.limits import capped_jobs
 
+    overrides = _overrides(what_if or [])
     _preflight(files, output, scheduler)
     jobs, note = capped_jobs(jobs)
     if note is not None:
@@ -155,10 +176,12 @@ def run(
                     for path in chunk:
                         if interrupts.received() is not None:
                             break
-                        report = _run_set(engine, path, output, xlsx, jobs, scheduler, force)
+                        report = _run_set(
+                            engine, path, output, xlsx, jobs, scheduler, force, overrides
+                        )
                         code = max(code, _print_report(report))
                 else:
-                    code = max(code, _run_cases(engine, chunk, output, xlsx, jobs or 1))
+                    code = max(code, _run_cases(engine, chunk, output, xlsx, jobs or 1, overrides))
         except interrupts.Interrupted:  # outside a solve: files are written whole or not at all
             pass
     signum = interrupts.received()
@@ -171,6 +194,17 @@ def run(
         err=True,
     )
     return interrupts.exit_code(signum)
+
+
+def _overrides(texts: list[str]) -> tuple[Any, ...]:
+    """The `--set` options read (`loadcases.inputs.overrides.Override`); exit 2 if one
+    cannot be read."""
+    from loadcases.inputs.overrides import OverrideError, parse_overrides
+
+    try:
+        return parse_overrides(texts)
+    except OverrideError as error:
+        raise fail(str(error)) from None
 
 
 def _kind(path: Path) -> str | None:
@@ -228,6 +262,7 @@ def _run_set(
     jobs: int | None,
     scheduler: str | None,
     force: bool,
+    overrides: tuple[Any, ...],
 ) -> FileReport:
     from cli.set_runner import run_set_file
 
@@ -240,10 +275,18 @@ def _run_set(
         scheduler=scheduler,
         force=force,
         show_progress=sys.stderr.isatty(),
+        what_if=overrides,
     )
 
 
-def _run_cases(engine: Engine, files: list[Path], output: Path, xlsx: bool, jobs: int) -> int:
+def _run_cases(
+    engine: Engine,
+    files: list[Path],
+    output: Path,
+    xlsx: bool,
+    jobs: int,
+    overrides: tuple[Any, ...] = (),
+) -> int:
     """Case and mechanism files, as `loads run` always ran them; the worst exit status."""
     bars: dict[Path, ProgressBar] = {}
     show_progress = jobs == 1 and sys.stderr.isatty()
@@ -254,6 +297,7 @@ def _run_cases(engine: Engine, files: list[Path], output: Path, xlsx: bool, jobs
         output_dir=output,
         xlsx=xlsx,
         jobs=jobs,
+        what_if=overrides,
         progress_for=lambda path: (
             bars.setdefault(path, ProgressBar(path.name)) if show_progress else None
         ),
@@ -288,9 +332,13 @@ def _print_report(report: FileReport) -> int:
 @guarded
 def validate(
     ctx: typer.Context,
-    files: Annotated[list[Path], typer.Argument(help="Mechanism, case or set files.")],
+    files: Annotated[
+        list[Path],
+        typer.Argument(metavar="FILE", help="The mechanism, case or set files to check."),
+    ],
 ) -> int:
-    """Check files without solving; print `file:line:col: error: key: message` per problem."""
+    """Check files without solving them. Each problem is printed as
+    `file:line:col: error: key: message`, and each good file as `file: ok`."""
     _require_files(files)
     check_file = engine_of(ctx).check_file
     found, ok_files = [], []
@@ -308,7 +356,15 @@ def validate(
 @app.command()
 @guarded
 def schema() -> int:
-    """Print the JSON Schema of the mechanism, case and set files."""
+    """Print the JSON Schema of the mechanism, case and set files.
+
+    To have an editor check a file as you type (VS Code with the YAML extension, or any
+    editor with the YAML language server), save the schema once with
+    `loads schema > loads.schema.json` and make this the first line of each YAML file:
+    `# yaml-language-server: $schema=loads.schema.json` (the path is relative to the YAML
+    file). Unknown keys, wrong types and missing keys are then marked as you type, and
+    each key shows its description; `loads validate` still makes the checks a schema
+    cannot (names, units, expressions, degrees of freedom)."""
     from loadcases.schema import json_schema
 
     typer.echo(json.dumps(json_schema(), indent=2))
@@ -319,22 +375,29 @@ def schema() -> int:
 @guarded
 def envelope(
     dirs: Annotated[
-        list[Path], typer.Argument(help="Folders of saved results (searched recursively).")
+        list[Path],
+        typer.Argument(metavar="DIR", help="The folders of saved results, searched recursively."),
     ],
     output: Annotated[
         Path | None,
         typer.Option(
             "-o",
             "--output",
-            help="FILE.xlsx (the sizing workbook) or FILE.csv (default: CSV on stdout).",
+            metavar="FILE",
+            help="Write the sizing workbook (FILE.xlsx) or a CSV file (FILE.csv). Without "
+            "it the envelope is printed as CSV.",
         ),
     ] = None,
     set_file: Annotated[
-        Path | None, typer.Option("--set", help="Take factors and allowables from this set file.")
+        Path | None,
+        typer.Option(
+            "--set", metavar="SET_FILE", help="Take the factors and allowables from this set file."
+        ),
     ] = None,
 ) -> int:
-    """Envelope (max/min, run, time, abscissa, concurrent values, margins) of every result
-    column across saved results; failed runs are left out."""
+    """Make the envelope of every result column across saved results: max and min, the
+    governing run and time, the abscissa, concurrent values and margins. Failed runs are
+    left out."""
     from loadcases.report import envelope as env
     from loadcases.report.saved_report import saved_report
 
@@ -368,16 +431,19 @@ def envelope(
 @app.command()
 @guarded
 def bench(
-    quick: Annotated[bool, typer.Option("--quick", help="A short subset of the suite.")] = False,
+    quick: Annotated[
+        bool, typer.Option("--quick", help="Run a short subset of the suite.")
+    ] = False,
     door: Annotated[
         bool,
         typer.Option(
-            "--door", help="Time the door's whole load-case set instead (benchmarks/door_set.py)."
+            "--door",
+            help="Time the door's whole load-case set instead (benchmarks/door_set.py).",
         ),
     ] = False,
 ) -> int:
-    """Run the benchmark suite against Exudyn (benchmarks/suite.py of a source checkout), or
-    with --door the door set's wall time."""
+    """Run the benchmark suite against Exudyn, or with --door time the door's load-case
+    set. It needs a source checkout (benchmarks/suite.py)."""
     suite = _find_bench_suite()
     if suite is None:
         raise fail(

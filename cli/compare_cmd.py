@@ -30,23 +30,33 @@ def compare(
     old: Annotated[
         Path,
         typer.Argument(
-            help="The old results: a set's result folder, its "
-            "envelope.csv, or a folder of saved runs."
+            metavar="OLD",
+            help="The old results: a set's result folder, its envelope.csv, or a folder of "
+            "saved runs.",
         ),
     ],
-    new: Annotated[Path, typer.Argument(help="The new results, as OLD.")],
+    new: Annotated[Path, typer.Argument(metavar="NEW", help="The new results, given as OLD is.")],
     output: Annotated[
         Path | None,
         typer.Option(
-            "-o", "--output", help="Also write the whole comparison to FILE.csv or FILE.xlsx."
+            "-o",
+            "--output",
+            metavar="FILE",
+            help="Also write the whole comparison to FILE, which ends in .csv or .xlsx.",
         ),
     ] = None,
     rows: Annotated[
-        int, typer.Option("--rows", help="Rows shown on the console, largest changes first.")
+        int,
+        typer.Option(
+            "--rows",
+            metavar="N",
+            help="The number of rows shown on the console, largest changes first.",
+        ),
     ] = 40,
 ) -> int:
-    """Compare two envelopes row by row: old and new max and min (SI), their difference in
-    percent of the old magnitude, and the governing run of each; new and vanished rows."""
+    """Compare two envelopes row by row. Each row shows the old and new max and min (SI),
+    their difference in percent of the old magnitude and the governing run of each; rows
+    that are new or have vanished are listed too."""
     from loadcases.report.compare import compare_envelopes, read_envelope, write_compare
 
     if output is not None and output.suffix.lower() not in (".csv", ".xlsx"):

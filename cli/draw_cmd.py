@@ -20,34 +20,40 @@ EXIT_OK, EXIT_FAILED, EXIT_INPUT = 0, 1, 2
 
 
 def draw(
-    case: Annotated[Path, typer.Argument(help="Case file (*.case.yaml) to solve and draw.")],
+    case: Annotated[
+        Path, typer.Argument(metavar="CASE", help="The case file (*.case.yaml) to solve and draw.")
+    ],
     at: Annotated[
         list[float] | None,
         typer.Option(
             "--at",
-            help="Time (s) of a picture; repeat for several. Default: start, middle "
-            "and end of the run.",
+            metavar="SECONDS",
+            help="Draw a picture at this time (s); repeat the option for several. By default "
+            "the pictures show the start, the middle and the end of the run.",
         ),
     ] = None,
     view: Annotated[
         str,
         typer.Option(
             "--view",
-            help="Projection plane: xy, yz, xz or auto (plane of the largest "
-            "spread of the mechanism).",
+            metavar="PLANE",
+            help="The projection plane: xy, yz, xz, or auto for the plane in which the "
+            "mechanism spreads most.",
         ),
     ] = "auto",
-    output: Annotated[Path, typer.Option("-o", "--output", help="Folder of the pictures.")] = Path(
-        "pictures"
-    ),
+    output: Annotated[
+        Path, typer.Option("-o", "--output", metavar="DIR", help="The folder of the pictures.")
+    ] = Path("pictures"),
     gif: Annotated[
         bool,
         typer.Option(
-            "--gif", help="Also animate the run (GIF with Pillow, else numbered PNG frames)."
+            "--gif",
+            help="Also animate the run: a GIF when Pillow is installed, else numbered PNG frames.",
         ),
     ] = False,
 ) -> int:
-    """Solve a case and draw the mechanism (bodies, joints, springs, wires, contacts)."""
+    """Solve a case and draw its mechanism (bodies, joints, springs, wires and contacts)
+    as PNG pictures."""
     from loadcases.diagnostics import InputError
     from loadcases.draw.render import VIEWS, write_animation, write_pngs
     from loadcases.draw.trajectory import trajectory_of_file

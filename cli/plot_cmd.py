@@ -23,8 +23,9 @@ def plot(
     results: Annotated[
         list[Path],
         typer.Argument(
+            metavar="RESULTS",
             help="NAME.csv or NAME.summary.json files, or folders of results (searched "
-            "recursively); several runs are overlaid."
+            "recursively). Several runs are overlaid.",
         ),
     ],
     columns: Annotated[
@@ -32,19 +33,25 @@ def plot(
         typer.Option(
             "--columns",
             "-c",
-            help="Columns to plot: a request name (all its components) or "
-            "a pattern such as 'hinge_*.fy'; repeat or separate with commas. Default: all.",
+            metavar="COLUMNS",
+            help="The columns to plot: a request name (all its components) or a pattern such "
+            "as 'hinge_*.fy'. Repeat the option or separate the names with commas. By "
+            "default every column is plotted.",
         ),
     ] = None,
     x: Annotated[
         str,
-        typer.Option("--x", help="Abscissa: 'time' or a result column, e.g. crank_angle.value."),
+        typer.Option(
+            "--x",
+            metavar="COLUMN",
+            help="The abscissa: 'time' or a result column such as crank_angle.value.",
+        ),
     ] = "time",
-    output: Annotated[Path, typer.Option("-o", "--output", help="Folder of the PNG files.")] = Path(
-        "plots"
-    ),
+    output: Annotated[
+        Path, typer.Option("-o", "--output", metavar="DIR", help="The folder of the PNG files.")
+    ] = Path("plots"),
 ) -> int:
-    """Write PNG plots of requests vs time or vs another column: one file per request."""
+    """Write PNG plots of requests against time or another column, one file per request."""
     from loadcases.report import plots
 
     missing = [path for path in results if not path.exists()]
@@ -73,14 +80,21 @@ def plot(
 def new(
     kind: Annotated[
         str,
-        typer.Argument(help="lifting, jamming, opening, opened, jettison, deployment or rod-end."),
+        typer.Argument(
+            metavar="KIND",
+            help="The kind of case: blank (a generic case to start from) or a load-case "
+            "family: lifting, jamming, opening, opened, jettison, deployment or rod-end.",
+        ),
     ],
-    name: Annotated[str, typer.Argument(help="Case name; the file is NAME.case.yaml.")],
-    output: Annotated[Path, typer.Option("-o", "--output", help="Folder of the new file.")] = Path(
-        "."
-    ),
+    name: Annotated[
+        str, typer.Argument(metavar="NAME", help="The case name; the file is NAME.case.yaml.")
+    ],
+    output: Annotated[
+        Path, typer.Option("-o", "--output", metavar="DIR", help="The folder of the new file.")
+    ] = Path("."),
 ) -> int:
-    """Write a commented, runnable case skeleton of a load-case family (never overwrites)."""
+    """Write a commented case skeleton that runs as it is: a blank case or one of a
+    load-case family. An existing file is never overwritten."""
     from loadcases.inputs import scaffold
 
     try:

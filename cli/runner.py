@@ -46,10 +46,17 @@ class FileReport:
 
 
 def run_one(
-    path: Path, *, engine: Engine, output_dir: Path, xlsx: bool, progress: Progress | None = None
+    path: Path,
+    *,
+    engine: Engine,
+    output_dir: Path,
+    xlsx: bool,
+    progress: Progress | None = None,
+    what_if: tuple = (),
 ) -> FileReport:
     """Run one case file with `engine.run_file` (which writes the results); a mechanism file
-    is checked with `engine.check_mechanism_file`."""
+    is checked with `engine.check_mechanism_file`. `what_if` are the `--set` overrides
+    (passed on only when given; a mechanism file has no run to override: a note says so)."""
     from loadcases.inputs.kinds import file_kind, unknown_kind
 
     try:
@@ -57,8 +64,14 @@ def run_one(
         if kind is None:
             return FileReport(path, diagnostics=[unknown_kind(path)])
         if kind == "mechanism":
-            return FileReport(path, notes=engine.check_mechanism_file(path))
-        outcomes = engine.run_file(path, output_dir=output_dir, xlsx=xlsx, progress=progress)
+            notes = engine.check_mechanism_file(path)
+            if what_if:
+                notes.append(f"  note: --set does nothing for a mechanism file ({path.name})")
+            return FileReport(path, notes=notes)
+        options = {"what_if": what_if} if what_if else {}
+        outcomes = engine.run_file(
+            path, output_dir=output_dir, xlsx=xlsx, progress=progress, **options
+        )
     except InputError as error:
         return FileReport(path, diagnostics=list(error.diagnostics))
     lines = []
@@ -87,6 +100,7 @@ def run_all(
     xlsx: bool,
     jobs: int,
     progress_for: Callable[[Path], Progress | None],
+    what_if: tuple = (),
 ) -> Iterator[FileReport]:
     """Reports in input order; files in parallel processes when `jobs > 1`.
 
@@ -101,12 +115,19 @@ def run_all(
             if interrupts.received() is not None:
                 return
             yield run_one(
-                path, engine=engine, output_dir=output_dir, xlsx=xlsx, progress=progress_for(path)
+                path,
+                engine=engine,
+                output_dir=output_dir,
+                xlsx=xlsx,
+                progress=progress_for(path),
+                what_if=what_if,
             )
         return
     from loadcases.sets.executors import PoolExecutor
 
-    task = functools.partial(run_one, engine=engine, output_dir=output_dir, xlsx=xlsx)
+    task = functools.partial(
+        run_one, engine=engine, output_dir=output_dir, xlsx=xlsx, what_if=what_if
+    )
     ready: dict[int, FileReport] = {}
     following = 0  # the next report in input order
     try:

@@ -45,14 +45,18 @@ def run_set_file(
     scheduler: str | None,
     force: bool,
     show_progress: bool,
+    what_if: tuple = (),
 ) -> FileReport:
     """Run every run of a set file with `run_set` (loadcases'); one status line per run,
-    failures and files listed."""
+    failures and files listed. `what_if` are the `--set` overrides (passed on only when
+    given, so that a test's own `run_set` need not take them)."""
     from loadcases.sets.executors import make_executor
 
     progress = SetProgress(path.name) if show_progress else None
     executor = make_executor(jobs=jobs, scheduler=scheduler)
     options = {"jobs": str(jobs or "cores"), "scheduler": scheduler or "local processes"}
+    if what_if:  # on the workbook's Provenance sheet
+        options["--set"] = ", ".join(f"{o.name}={o.text}" for o in what_if)
     try:
         result = run_set(
             path,
@@ -62,6 +66,7 @@ def run_set_file(
             on_record=progress,
             options=options,
             xlsx=xlsx,
+            **({"what_if": what_if} if what_if else {}),
         )
     except InputError as error:
         return FileReport(path, diagnostics=list(error.diagnostics))

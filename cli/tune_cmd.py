@@ -20,20 +20,32 @@ EXIT_OK, EXIT_FAILED, EXIT_INPUT = 0, 1, 2
 
 
 def tune(
-    case: Annotated[Path, typer.Argument(help="Case file (*.case.yaml) with a modes analysis.")],
+    case: Annotated[
+        Path,
+        typer.Argument(metavar="CASE", help="A case file (*.case.yaml) with a modes analysis."),
+    ],
     parameter: Annotated[
         str,
         typer.Option(
-            "--parameter", help="Name of the parameter to tune (of the case or its mechanism)."
+            "--parameter",
+            metavar="NAME",
+            help="The parameter to tune, of the case or of its mechanism.",
         ),
     ],
-    mode: Annotated[int, typer.Option("--mode", help="Mode number, 1 = lowest.")],
+    mode: Annotated[
+        int, typer.Option("--mode", metavar="N", help="The mode number; 1 is the lowest mode.")
+    ],
     target: Annotated[
-        str, typer.Option("--target", help="Target frequency, e.g. '4.1672 Hz' (bare number: Hz).")
+        str,
+        typer.Option(
+            "--target",
+            metavar="FREQUENCY",
+            help="The target frequency, e.g. '4.1672 Hz'; a bare number is in Hz.",
+        ),
     ],
 ) -> int:
-    """Find the parameter value giving mode MODE the target frequency (root finding on the
-    case's modes analysis; seed 003 appendix A latch-spring tuning)."""
+    """Find the value of a parameter that gives mode N the target frequency, by root
+    finding on the case's modes analysis (as in latch-spring tuning)."""
     from loadcases.diagnostics import InputError
     from loadcases.studies.tune import TuneError, tune_parameter
     from loadcases.units import UnitError, to_si

@@ -7,13 +7,17 @@ import glob
 import math
 import os
 from collections.abc import Sequence
+from pathlib import Path
 
 __all__ = [
+    "MAX_HARDPOINTS",
+    "MAX_HARDPOINT_BYTES",
     "MAX_ROWS",
     "MAX_RUNS",
     "MAX_YAML_DEPTH",
     "MAX_YAML_VALUES",
     "capped_jobs",
+    "local_path_problem",
     "pattern_problem",
     "rows_problem",
     "runs_problem",
@@ -23,6 +27,8 @@ MAX_ROWS = 10_000_000  # output rows of one run (end / step): ~1 GB of CSV per c
 MAX_RUNS = 100_000  # runs of one set (sweep x zip)
 MAX_YAML_VALUES = 1_000_000  # values of one YAML file once its aliases are expanded
 MAX_YAML_DEPTH = 100  # nesting of mappings and lists in one YAML file
+MAX_HARDPOINTS = 100_000  # points of one hardpoint CSV file
+MAX_HARDPOINT_BYTES = 20_000_000  # size of one hardpoint CSV file (~200 bytes a point)
 
 
 def rows_problem(end: float, step: float) -> str | None:
@@ -54,6 +60,20 @@ def pattern_problem(pattern: str) -> str | None:
             f"the pattern '{pattern[:80]}' leaves the set file's folder; patterns "
             "stay inside it (name files outside it one by one)"
         )
+    return None
+
+
+def local_path_problem(path: str, folder: Path, owner: str) -> str | None:
+    """Why a file named in an input file (relative to `folder`, the folder of `owner`)
+    could be read from outside that folder tree, as `pattern_problem` keeps a set's
+    `cases:` inside the set file's folder: absolute, `..`, or a link that leads out."""
+    parts = path.replace("\\", "/").split("/")
+    leaves = f"'{path[:80]}' leaves the folder of {owner}; files it names stay inside it"
+    if os.path.isabs(path) or ".." in parts or path.startswith("~"):
+        return leaves
+    root = os.path.realpath(folder)
+    if os.path.commonpath([root, os.path.realpath(folder / path)]) != root:
+        return leaves + " (a link leads out)"
     return None
 
 

@@ -27,6 +27,7 @@ __all__ = [
     "SIValue",
     "UnitError",
     "check_unit_name",
+    "dimension_mismatch",
     "finite",
     "is_load_unit",
     "to_si",
@@ -357,3 +358,24 @@ def check_unit_name(unit: Any, kind: str) -> str:
             raise UnitError(f"unknown unit '{unit}'") from None
         raise UnitError(f"'{unit}' is not a unit of {kind}") from None
     return unit.strip()
+
+
+def dimension_mismatch(value: str, reference: Any) -> str | None:
+    """Why the quantity text `value` cannot replace `reference` (a parameter as written),
+    or None: both must have the same dimension. A bare number on either side (SI, of an
+    unknown dimension) is never a mismatch."""
+    if not isinstance(reference, str) or _NUMBER.match(reference) or _NUMBER.match(value):
+        return None
+    try:
+        want = _quantity(reference).to_base_units()
+    except UnitError:
+        return None  # a bad definition is reported where it is written
+    got = _quantity(value).to_base_units()
+    if {k: v for k, v in got.dimensionality.items() if v} == {
+        k: v for k, v in want.dimensionality.items() if v
+    }:
+        return None
+    return (
+        f"expected {_describe(want.dimensionality, want.units)} like '{clip(reference)}', "
+        f"got {_describe(got.dimensionality, got.units)}"
+    )

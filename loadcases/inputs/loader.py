@@ -8,9 +8,10 @@ from __future__ import annotations
 
 import glob
 import hashlib
+import json
 import os
 import re
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -26,7 +27,9 @@ from loadcases.checks import (
     resolve_initial,
 )
 from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.inputs.hardpoints import expand_hardpoints
 from loadcases.inputs.kinds import file_kind, unknown_kind
+from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
 from loadcases.inputs.parameter_refs import ParameterRef, parameter_values, put_parameters
 from loadcases.limits import pattern_problem
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
@@ -88,6 +91,7 @@ class CaseFile:
     # parameters named in numeric fields: (key path, name); mechanism paths start with
     # "mechanism" whether the mechanism is inline or in its own file
     parameter_refs: frozenset[ParameterRef] = frozenset()
+    what_if: tuple[Override, ...] = ()  # `--set` overrides, in the order given
 
     def where(self, kind: str, key_path: str | KeyPath) -> tuple[str, int, int]:
         """(file, line, col) of a key of the `"case"` or the `"mechanism"` (for messages)."""
@@ -177,6 +181,8 @@ def load_mechanism(path: str | Path) -> MechanismFile:
     tree, diagnostics = _read_tree(path)
     locator = Locator(tree)
     units, found = _file_units(locator, {})
+    tables, more = expand_hardpoints(locator, units)
+    found += more
     if isinstance(locator.data, dict):
         put_parameters(
             locator.data, parameter_values(locator.data.get("parameters"), file_units=units)
@@ -187,7 +193,7 @@ def load_mechanism(path: str | Path) -> MechanismFile:
         diagnostics += check_mechanism(model, locator)
     _raise_on_errors(diagnostics)
     return MechanismFile(
-        str(path), model, _sha256(Path(path).read_bytes()), locator, tuple(diagnostics)
+        str(path), model, _sha256(Path(path).read_bytes(), *tables), locator, tuple(diagnostics)
     )
 
 
@@ -228,21 +234,34 @@ def _raw_keys(data: dict[str, Any], *sections: str) -> list[list[str]]:
     return [list(data[s]) if isinstance(data.get(s), dict) else [] for s in sections]
 
 
-def load_case(path: str | Path, overrides: Mapping[str, float] | None = None) -> CaseFile:
+def load_case(
+    path: str | Path,
+    overrides: Mapping[str, float] | None = None,
+    *,
+    what_if: Sequence[Override] = (),
+) -> CaseFile:
     """Validated case with its mechanism merged; raises InputError with every problem found.
 
-    `overrides` (SI) replace parameter values (a set's sweep); parameters named in numeric
-    fields are put in place before validation (loadcases.inputs.parameter_refs).
+    `overrides` (SI) replace parameter values (a set's sweep); `what_if` (`--set`) too, after
+    checking that each names a parameter of the case or its mechanism, of the same
+    dimension. Parameters named in numeric fields are put in place before validation
+    (loadcases.inputs.parameter_refs).
     """
     tree, diagnostics = _read_tree(path)
     case_locator = Locator(tree)
     case_units, found = _file_units(case_locator, {})
     mech_locator, mech_path, inherited, more = _mechanism_source(case_locator, case_units)
     diagnostics += found + more
+    if what_if:
+        definitions = defined_parameters([mech_locator, case_locator])
+        diagnostics += override_problems(what_if, definitions, case_locator, "the case")
+        overrides = {**(overrides or {}), **dict(pairs(what_if))}
     mech_units: dict[str, str] = {}
+    tables: list[bytes] = []
     if mech_locator is not None:
         mech_units, found = _file_units(mech_locator, inherited)
-        diagnostics += found
+        tables, more = expand_hardpoints(mech_locator, mech_units)
+        diagnostics += found + more
     refs = _put_parameters(case_locator, mech_locator, case_units, mech_units, overrides)
     case, found = _validate(CaseModel, case_locator, case_units)
     diagnostics += found
@@ -262,6 +281,9 @@ def load_case(path: str | Path, overrides: Mapping[str, float] | None = None) ->
     if case is None or mechanism is None or mech_locator is None:
         raise InputError(diagnostics)  # not reached: each of them missing is an error above
     contents = [Path(path).read_bytes()] + ([Path(mech_path).read_bytes()] if mech_path else [])
+    contents += tables  # hardpoint tables: a changed table is a changed input
+    if what_if:  # part of the run's identity: never mistaken for the run without them
+        contents.append(json.dumps(pairs(what_if)).encode("utf-8"))
     return CaseFile(
         path=str(path),
         case=case,
@@ -272,6 +294,7 @@ def load_case(path: str | Path, overrides: Mapping[str, float] | None = None) ->
         locators={"case": case_locator, "mechanism": mech_locator},
         warnings=tuple(diagnostics),
         parameter_refs=frozenset(refs),
+        what_if=tuple(what_if),
     )
 
 

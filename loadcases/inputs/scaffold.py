@@ -1,7 +1,8 @@
 """Case skeletons: `loads new KIND NAME` copies a commented template of `templates/cases/`.
 
-Each kind is a load-case family of the source documents (door lifting, jamming, opening,
-opened, jettison; solar-array deployment; rod-end duty cycle). A skeleton is a complete,
+`blank` is a generic case to start from; each other kind is a load-case family of the
+source documents (door lifting, jamming, opening, opened, jettison; solar-array
+deployment; rod-end duty cycle). A skeleton is a complete,
 runnable case with its mechanism inline, written as `NAME.case.yaml` with `case: NAME`.
 Files are never overwritten; the new file appears whole or not at all.
 """
@@ -42,6 +43,11 @@ class Skeleton:
 
 
 SKELETONS: dict[str, Skeleton] = {
+    "blank": Skeleton(
+        "blank.case.yaml",
+        "a generic, commented case to start from: one arm on a hinge, "
+        "turned by a motion, with its reactions and drive torque",
+    ),
     "lifting": Skeleton(
         "lifting.case.yaml",
         "door lifted by its handle: handle torque, "

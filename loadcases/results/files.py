@@ -110,6 +110,7 @@ def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
             {"name": e.name, "time": e.time, "actions": list(e.actions)} for e in solution.events
         ],
         "parameters": dict(outcome.parameters),
+        "overrides": dict(outcome.overrides),
         **outcome.checks,
     }
 

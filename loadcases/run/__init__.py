@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 import mechlib as ml
@@ -13,6 +13,8 @@ from loadcases.build.torque_margin import plan_torque_margin
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.kinds import file_kind
 from loadcases.inputs.loader import CaseFile, load_case, load_mechanism
+from loadcases.inputs.overrides import Override, pairs
+from loadcases.inputs.run_identity import run_name
 from loadcases.results.files import write_results
 from loadcases.results.outcome import RunOutcome
 from loadcases.run.global_error import DEFAULT_ACCURACY, AccuracyEstimate, solve_to_accuracy
@@ -32,7 +34,8 @@ def run_case(
     """Solve one loaded case; a solver failure gives a failed outcome with what was computed.
 
     `abscissa` adds the case's `abscissa:` expression as column `abscissa.value` (runs of a
-    set); `name` names the run (default: the case name). Raises InputError for what cannot
+    set); `name` names the run (default: the case name, with its `--set` overrides as in
+    `CASE[length=1.5]`). Raises InputError for what cannot
     be built or is not well posed (redundant joints, wrong degrees of freedom), with the
     joints named.
     """
@@ -52,7 +55,7 @@ def run_case(
         solution = dataclasses.replace(solution, warnings=[*solution.warnings, *notes])
         built.column_units.update(margin.units())
     return RunOutcome(
-        name=name or cf.case.case,
+        name=name or run_name(cf.case.case, pairs(cf.what_if)),
         case_file=Path(cf.path),
         analysis=built.analysis.name,
         solution=solution,
@@ -60,6 +63,7 @@ def run_case(
         column_units=built.column_units,
         warnings=built.warnings,
         parameters=dict(cf.parameters),
+        overrides=dict(pairs(cf.what_if)),
         checks=checks,
     )
 
@@ -91,11 +95,13 @@ def run_file(
     output_dir: Path | str,
     xlsx: bool = False,
     progress: Progress | None = None,
+    what_if: Sequence[Override] = (),
 ) -> list[RunOutcome]:
-    """Run a case file and write its results into `output_dir` (SPEC section 3)."""
+    """Run a case file and write its results into `output_dir` (SPEC section 3); `what_if`
+    (`--set`) overrides parameters and names the run `CASE[name=value]`."""
     if file_kind(path) == "mechanism":
         raise ValueError(f"{path} is a mechanism file: use check_mechanism_file")
-    cf = load_case(path)
+    cf = load_case(path, what_if=what_if)
     outcome = run_case(cf, progress=progress)
     write_results(outcome, Path(output_dir), xlsx=xlsx)
     return [outcome]

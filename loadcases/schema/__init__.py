@@ -139,6 +139,14 @@ def json_schema() -> dict[str, Any]:
         "anyOf": [{"type": "string"}, {"$ref": "#/$defs/MechanismModel"}],
         "description": "mechanism file relative to the case file, or the mechanism inline",
     }
+    defs["MechanismModel"]["properties"]["points"]["properties"] = {
+        "from": {
+            "type": "string",
+            "description": "hardpoint CSV file (relative to this file, inside its folder "
+            "tree) with the columns name, body, x, y, z, units; its points join the inline "
+            "ones",
+        }
+    }
     return {
         "$schema": "https://json-schema.org/draft/2020-12/schema",
         "title": "loads input file (mechanism *.mech.yaml, case *.case.yaml, set *.set.yaml)",

@@ -19,7 +19,7 @@ from __future__ import annotations
 import dataclasses
 import os
 import time as clock
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -28,6 +28,7 @@ import numpy as np
 
 from loadcases import engine_hash, interrupts
 from loadcases.diagnostics import InputError
+from loadcases.inputs.overrides import Override
 from loadcases.report.curves import EnvelopeCurve, envelope_curves, plot_curves
 from loadcases.report.envelope import EnvelopeRow, extract_envelope, write_envelope_csv
 from loadcases.report.margins import apply_margins
@@ -90,6 +91,7 @@ def _failed_outcome(
         spec.input_sha256,
         parameters=dict(spec.parameters),
         input_error=input_error,
+        overrides=dict(spec.overrides),
     )
 
 
@@ -103,7 +105,9 @@ def solve_spec(spec: RunSpec) -> RunOutcome:
         cf = load_case(spec.case_path, overrides=dict(spec.parameters))
         analysis = cf.case.analysis.type
         cf = dataclasses.replace(cf, input_sha256=spec.input_sha256)
-        return run_case(cf, abscissa=True, name=spec.name)
+        outcome = run_case(cf, abscissa=True, name=spec.name)
+        outcome.overrides = dict(spec.overrides)
+        return outcome
     except InputError as error:
         return _failed_outcome(spec, analysis, str(error), input_error=True)
     except Exception as error:  # noqa: BLE001  (a bug must not stop the other runs; reported)
@@ -239,15 +243,17 @@ def run_set(
     on_record: OnRecord | None = None,
     options: dict[str, str] | None = None,
     xlsx: bool = False,
+    what_if: Sequence[Override] = (),
 ) -> SetResult:
     """Run a set file into `output_dir/SET/`; InputError (nothing run) for invalid input.
 
     `on_record(record, done, total)` is called as each run is reused or finishes;
     `options` (e.g. jobs, scheduler) are recorded on the workbook's Provenance sheet;
-    `xlsx` also writes each solved run's `NAME.xlsx`.
+    `xlsx` also writes each solved run's `NAME.xlsx`; `what_if` (`--set`) overrides
+    parameters in every run of a case that has them (runs `CASE[name=value]`).
     """
     started = clock.time()
-    compiled = load_and_compile_set(path)
+    compiled = load_and_compile_set(path, what_if=what_if)
     _prebuild(compiled)
     directory = result_base(Path(output_dir), compiled.name)
     records, interrupted = _solve_all(

@@ -11,16 +11,17 @@ Rules (also in README "Load-case sets"):
 - A run is named `CASE[p1=v1,p2=v2]`: the swept parameters in the order the set file lists
   them (sweep and zip together), values in SI formatted `%g`; a run with no swept
   parameter is named `CASE`.
+- `loads run SET --set NAME=VALUE` overrides NAME in every run of a case that has it
+  (after the set's `parameters:`); the override names the run after the swept parameters
+  when the case uses it (`CASE[p1=v1,NAME=VALUE]`). A swept parameter cannot be overridden.
 - The input hash of a run covers the case and mechanism file bytes, every parameter value
   of the run and the engine version: a run is reused only when all of them are unchanged.
 """
 
 from __future__ import annotations
 
-import hashlib
 import itertools
-import json
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -30,6 +31,8 @@ from loadcases.checks.sets import check_set_cases
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
 from loadcases.inputs.loader import CaseFile, SetFile, load_case, load_set
+from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
+from loadcases.inputs.run_identity import Pairs, run_hash, run_name
 from loadcases.results.files import package_version
 
 __all__ = [
@@ -43,14 +46,14 @@ __all__ = [
     "used_parameters",
 ]
 
-Pairs = tuple[tuple[str, float], ...]
-
 
 @dataclass(frozen=True)
 class RunSpec:
     """One run of a set, ready to be solved anywhere (picklable, no solver objects).
 
-    `parameters` are every parameter value of the run (SI); `swept` the ones that name it.
+    `parameters` are every parameter value of the run (SI); `swept` the swept ones that
+    name it; `overrides` the `--set` values among `parameters` (those the case uses name
+    the run too, after the swept ones).
     """
 
     name: str
@@ -59,6 +62,7 @@ class RunSpec:
     parameters: Pairs
     swept: Pairs
     input_sha256: str
+    overrides: Pairs = ()
 
 
 @dataclass(frozen=True)
@@ -74,26 +78,6 @@ class CompiledSet:
     def name(self) -> str:
         """The set name (results go to DIR/SET/)."""
         return self.set_file.model.set
-
-
-def run_name(family: str, swept: Pairs) -> str:
-    """`CASE[p1=v1,p2=v2]` with values `%g` (SI), or `CASE` when nothing is swept."""
-    if not swept:
-        return family
-    return f"{family}[{','.join(f'{name}={value:g}' for name, value in swept)}]"
-
-
-def run_hash(case_sha256: str, parameters: Pairs, version: str) -> str:
-    """SHA-256 over the case/mechanism hash, the run's parameters and the engine version."""
-    text = json.dumps(
-        {
-            "input": case_sha256,
-            "version": version,
-            "parameters": {name: repr(float(v)) for name, v in sorted(parameters)},
-        },
-        sort_keys=True,
-    )
-    return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
 
 def swept_order(set_file: SetFile) -> list[str]:
@@ -163,25 +147,30 @@ def _in_use(path: tuple[str, ...], mechanism: dict) -> bool:
     return path[2] in mechanism.get(path[1], {})
 
 
-def _case_runs(set_file: SetFile, cf: CaseFile, order: list[str], version: str) -> list[RunSpec]:
+def _case_runs(
+    set_file: SetFile, cf: CaseFile, order: list[str], version: str, what_if: Pairs
+) -> list[RunSpec]:
     """The runs of one case: combinations restricted to the parameters it uses."""
     fixed = {n: v for n, v in set_file.model.parameters.items() if n in cf.parameters}
+    overrides = tuple((n, v) for n, v in what_if if n in cf.parameters)
     used = used_parameters(cf)
+    named = tuple((n, v) for n, v in overrides if n in used)
     mine = [name for name in order if name in used]
     seen: dict[Pairs, None] = {}
     for combination in _combinations(set_file):
         seen.setdefault(tuple((n, float(combination[n])) for n in mine), None)
     runs = []
     for swept in seen:
-        parameters = tuple({**cf.parameters, **fixed, **dict(swept)}.items())
+        parameters = tuple({**cf.parameters, **fixed, **dict(swept), **dict(overrides)}.items())
         runs.append(
             RunSpec(
-                run_name(cf.case.case, swept),
+                run_name(cf.case.case, swept + named),
                 cf.case.case,
                 str(Path(cf.path).resolve()),
                 parameters,
                 swept,
                 run_hash(cf.input_sha256, parameters, version),
+                overrides,
             )
         )
     return runs
@@ -207,28 +196,67 @@ def _name_clashes(set_file: SetFile, runs: list[RunSpec]) -> list[Diagnostic]:
     return found
 
 
+def _what_if_problems(
+    set_file: SetFile, cases: list[CaseFile], what_if: Sequence[Override]
+) -> list[Diagnostic]:
+    """`--set` overrides of a set: each must name a parameter of the set or of one of its
+    cases, with the dimension of each definition, and not a swept one."""
+    sources = [[set_file.locator]]
+    sources += [[cf.locators["mechanism"], cf.locators["case"]] for cf in cases]
+    found, known = [], set()
+    for locators in sources:
+        definitions = defined_parameters(locators)
+        known |= set(definitions)
+        mine = [o for o in what_if if o.name in definitions]
+        found += override_problems(mine, definitions, set_file.locator, "the set")
+    unknown = [o for o in what_if if o.name not in known]
+    found += override_problems(unknown, {}, set_file.locator, "the set or its cases")
+    model = set_file.model
+    for override in what_if:
+        section = "sweep" if override.name in model.sweep else "zip"
+        if override.name in model.sweep or override.name in model.zip:
+            found.append(
+                set_file.locator.diagnostic(
+                    (section, override.name),
+                    f"{override.option}: the set varies '{override.name}' in its {section}",
+                    hint="a --set value would replace every value of the "
+                    f"{section}: remove it from the {section} or from --set",
+                )
+            )
+    return found
+
+
 def compile_set(
-    set_file: SetFile, cases: list[CaseFile], *, version: str | None = None
+    set_file: SetFile,
+    cases: list[CaseFile],
+    *,
+    version: str | None = None,
+    what_if: Sequence[Override] = (),
 ) -> CompiledSet:
     """Runs of a loaded set whose case files are loaded; InputError lists every problem
-    (unknown parameter, request or duplicate names, with file:line:col and a hint)."""
+    (unknown parameter, request or duplicate names, with file:line:col and a hint).
+    `what_if` (`--set`) overrides parameters in every run of a case that has them."""
     found = [
         d for d in check_set_cases(set_file.model, set_file.locator, cases) if d.severity == "error"
     ]
+    found += _what_if_problems(set_file, cases, what_if)
     if found:
         raise InputError(found)
     version = version or package_version()
     order = swept_order(set_file)
-    runs = [spec for cf in cases for spec in _case_runs(set_file, cf, order, version)]
+    given = pairs(what_if)
+    runs = [spec for cf in cases for spec in _case_runs(set_file, cf, order, version, given)]
     found = _name_clashes(set_file, runs)
     if found:
         raise InputError(found)
     return CompiledSet(set_file, tuple(cases), tuple(runs), version)
 
 
-def load_and_compile_set(path: str | Path, *, version: str | None = None) -> CompiledSet:
-    """Load a set file and all its cases, then compile; InputError with every problem of
-    the set and of its case files at once."""
+def load_and_compile_set(
+    path: str | Path, *, version: str | None = None, what_if: Sequence[Override] = ()
+) -> CompiledSet:
+    """Load a set file and all its cases, then compile (with the `--set` overrides
+    `what_if`); InputError with every problem of the set and of its case files at once."""
     set_file = load_set(path)
     cases, found = [], []
     for case_path in set_file.case_paths:
@@ -238,4 +266,4 @@ def load_and_compile_set(path: str | Path, *, version: str | None = None) -> Com
             found += [d for d in error.diagnostics if d.severity == "error"]
     if found:
         raise InputError(found)
-    return compile_set(set_file, cases, version=version)
+    return compile_set(set_file, cases, version=version, what_if=what_if)

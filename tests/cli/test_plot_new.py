@@ -23,11 +23,11 @@ def test_new_validate_run_plot_every_kind(tmp_path: Path) -> None:
         assert result.exit_code == 0, result.output
         assert f"my-{kind}.case.yaml: {kind} case skeleton" in result.output
     files = sorted(str(p) for p in cases.glob("*.case.yaml"))
-    assert len(files) == len(SKELETONS) == 7
+    assert len(files) == len(SKELETONS) == 8
 
     result = runner.invoke(app, ["validate", *files])
     assert result.exit_code == 0, result.output
-    assert result.output.count(": ok") == 7
+    assert result.output.count(": ok") == 8
 
     out = tmp_path / "results"
     result = runner.invoke(app, ["run", *files, "-o", str(out)])
@@ -42,7 +42,7 @@ def test_new_validate_run_plot_every_kind(tmp_path: Path) -> None:
     assert result.exit_code == 0, result.output
     pngs = sorted((tmp_path / "png").glob("*.png"))
     assert len(pngs) == len(requests)
-    assert result.output.strip().endswith(f"{len(requests)} plots of 7 runs -> {tmp_path / 'png'}")
+    assert result.output.strip().endswith(f"{len(requests)} plots of 8 runs -> {tmp_path / 'png'}")
     assert imread(pngs[0]).shape[1] == 1000
 
 

@@ -13,10 +13,10 @@ from loadcases.inputs import scaffold
 from loadcases.inputs.loader import load_case, validate_files
 from loadcases.run import run_case
 
-KINDS = ["lifting", "jamming", "opening", "opened", "jettison", "deployment", "rod-end"]
+KINDS = ["blank", "lifting", "jamming", "opening", "opened", "jettison", "deployment", "rod-end"]
 
 
-def test_the_seven_families_are_offered() -> None:
+def test_blank_and_the_seven_families_are_offered() -> None:
     assert list(scaffold.SKELETONS) == KINDS
     for kind in KINDS:
         assert scaffold.template_path(kind).is_file()
@@ -48,6 +48,16 @@ def test_every_skeleton_runs_ok(outcomes: dict, kind: str) -> None:
 
 def col(outcomes: dict, kind: str, column: str) -> np.ndarray:
     return outcomes[kind].solution.channels[column]
+
+
+def test_blank_drive_torque_is_the_static_moment(outcomes: dict) -> None:
+    """The arm turns at constant rate (no angular acceleration): the drive torque is the
+    moment of the weight (2 kg at 0.25 m) and of the 50 N tip load (at 0.5 m),
+    (2 * 9.81 * 0.25 + 50 * 0.5) cos(angle) N*m, to 1e-9 N*m."""
+    angle = col(outcomes, "blank", "arm_angle.value")
+    torque = col(outcomes, "blank", "drive_torque.value")
+    assert angle[-1] == pytest.approx(math.pi / 2, abs=1e-12)
+    np.testing.assert_allclose(torque, (2 * 9.81 * 0.25 + 50 * 0.5) * np.cos(angle), atol=1e-9)
 
 
 def test_lifting_handle_torque_changes_sign_past_top_dead_centre(outcomes: dict) -> None:
