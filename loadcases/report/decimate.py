@@ -38,9 +38,7 @@ def chart_rows(size: int, columns: Iterable[np.ndarray], limit: int = CHART_ROWS
     return np.array(sorted(keep), dtype=int)
 
 
-def decimate_run(
-    run: SavedRun, limit: int = CHART_ROWS, skip: Collection[str] = ()
-) -> SavedRun:
+def decimate_run(run: SavedRun, limit: int = CHART_ROWS, skip: Collection[str] = ()) -> SavedRun:
     """`run` with the rows of `chart_rows` only, without the columns in `skip`."""
     channels = {c: v for c, v in run.channels.items() if c not in skip}
     rows = chart_rows(run.time.size, channels.values(), limit)

@@ -4,8 +4,8 @@ factor, the factored load, the allowable and MS = allowable / (factor x load) - 
 
 Lines come from the envelope rows (`loadcases.report.margins.apply_margins`), in whatever
 units the rows are (SI for `margins.csv`, report units in the workbook); the load is
-factored load / factor. Margins left empty (a side that never loads towards its allowable)
-come last; rows marked `~0` have no margin and no line.
+factored load / factor. A side that never loads towards its allowable (MS left empty) and
+rows marked `~0` have no line.
 """
 
 from __future__ import annotations
@@ -59,10 +59,12 @@ def _lines_of(row: EnvelopeRow, ultimate: float) -> list[MarginLine]:
                 factor / ultimate if ultimate else factor,
             ),
         ):
-            if allowable is not None:
+            if allowable is not None and ms is not None:
                 scaled = None if load is None else used * load
                 lines.append(
-                    MarginLine(row.column, row.unit, side, kind, load, run, used, scaled, allowable, ms)
+                    MarginLine(
+                        row.column, row.unit, side, kind, load, run, used, scaled, allowable, ms
+                    )
                 )
     return lines
 
@@ -71,7 +73,7 @@ def margin_lines(rows: list[EnvelopeRow], ultimate: float = 1.0) -> list[MarginL
     """Every margin of `rows`, lowest first (ties in row order); `ultimate`: the set's
     ultimate factor (the limit factor is the row's factor / ultimate)."""
     lines = [line for row in rows for line in _lines_of(row, ultimate)]
-    return sorted(lines, key=lambda line: math.inf if line.ms is None else line.ms)
+    return sorted(lines, key=lambda line: line.ms if line.ms is not None else math.inf)
 
 
 def margin_csv_text(lines: list[MarginLine]) -> str:

@@ -7,10 +7,10 @@
   into the ultimate factor (a column key wins over its request's key). Columns that are not
   loads get no factor.
 - `case_factors: {"freefall-*": 1.25}`: a factor of the runs whose name or case (family)
-  matches the glob, every matching pattern multiplied in. The factor of a side of a row is
-  ultimate x fitting x case factor of the run whose factored load governs: the largest
-  case factor x max over the runs (the smallest x min for the min side); without case
-  factors that is the envelope's max_run / min_run.
+  matches the glob (`*`, `?`; brackets literal), every matching pattern multiplied in.
+  The factor of a side of a row is ultimate x fitting x case factor of the run whose
+  factored load governs: the largest case factor x max over the runs (the smallest x min
+  for the min side); without case factors that is the envelope's max_run / min_run.
 - ultimate_max = factor x load of that run (its limit load), likewise ultimate_min.
 - margin of safety on each side: MS = allowable / (factor x load) - 1, the ultimate
   allowable (`max`/`min` or `ultimate:`) against the ultimate factor; the limit allowable
@@ -26,13 +26,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
-from fnmatch import fnmatchcase
 from typing import Any
 
 from loadcases.report.curves import LOAD_UNITS
 from loadcases.report.envelope import EnvelopeRow
 from loadcases.report.noise import NOISE_MARK
 from loadcases.report.peaks import RunPeak
+from loadcases.schema.setfile import matches
 
 __all__ = [
     "LOAD_UNITS",
@@ -71,7 +71,7 @@ def case_factor(run: str, family: str, case_factors: Mapping[str, float]) -> flo
     """Product of the factors whose glob pattern matches the run's name or its family."""
     factor = 1.0
     for pattern, value in case_factors.items():
-        if fnmatchcase(run, pattern) or fnmatchcase(family, pattern):
+        if matches(run, pattern) or matches(family, pattern):
             factor *= float(value)
     return factor
 
@@ -108,7 +108,9 @@ def _governing(
     for peak in peaks:
         load = getattr(peak, side)
         factor = case_factor(peak.run, peak.family, case_factors)
-        if load is not None and (best[1] is None or sign * factor * load > sign * best[0] * best[1]):
+        if load is not None and (
+            best[1] is None or sign * factor * load > sign * best[0] * best[1]
+        ):
             best = (factor, load, peak.run)
     return best
 
@@ -150,7 +152,7 @@ def apply_margins(
     out = []
     for row in rows:
         limits = _limits(allowables, row.column)
-        shown = dict(zip(("allowable_max", "allowable_min"), limits[:2]))
+        shown: dict[str, Any] = dict(zip(("allowable_max", "allowable_min"), limits[:2]))
         shown.update(zip(("limit_allowable_max", "limit_allowable_min"), limits[2:]))
         fitting = fitting_factor(row.column, row.unit, factors, row.column in allowables)
         if row.column in noise:
@@ -159,7 +161,12 @@ def apply_margins(
             out.append(replace(row, **shown))
         else:
             changes = _factored(
-                row, fitting, ultimate, (peaks or {}).get(row.column, ()), case_factors or {}, limits
+                row,
+                fitting,
+                ultimate,
+                (peaks or {}).get(row.column, ()),
+                case_factors or {},
+                limits,
             )
             out.append(replace(row, **shown, **changes))
     return out

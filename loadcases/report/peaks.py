@@ -57,6 +57,8 @@ def run_peaks(runs: Iterable[SavedRun]) -> dict[str, list[RunPeak]]:
         for column in run.channels:
             if column == ABSCISSA_COLUMN:
                 continue
-            peak = RunPeak(run.name, run.family, *_side(run, column, 1.0), *_side(run, column, -1.0))
+            peak = RunPeak(
+                run.name, run.family, *_side(run, column, 1.0), *_side(run, column, -1.0)
+            )
             peaks.setdefault(column, []).append(peak)
     return peaks

@@ -95,6 +95,4 @@ def saved_report(directories: Iterable[Path], *, set_path: Path | None = None) -
             units, histories = model.report.units.given(), model.report.histories
     sizing = size_runs(runs, model)
     sources = [p for _, p in files]
-    return SavedReport(
-        records, runs, sizing.rows, sizing.curves, sources, units, sizing, histories
-    )
+    return SavedReport(records, runs, sizing.rows, sizing.curves, sources, units, sizing, histories)

@@ -230,7 +230,9 @@ def write_workbook(
     for k, (name, group) in enumerate(groups, start=1):
         say(f"workbook: time histories {k}/{len(groups)}")
         sheet = workbook.create_sheet(titles[name])
-        blocks.update(sheets.history_sheet(sheet, group, stacked=not per_run, note=_NOTE[data.histories]))
+        blocks.update(
+            sheets.history_sheet(sheet, group, stacked=not per_run, note=_NOTE[data.histories])
+        )
     if chart_sheet is not None:
         charts.charts_sheet(chart_sheet, curves, curve_sheets, wheres, blocks)
     sheets.provenance_sheet(new("Provenance"), data, platform.python_version())

@@ -25,8 +25,13 @@ CRITICAL_FILL = {
     "min": PatternFill("solid", start_color="9DC3E6", end_color="9DC3E6"),
 }
 _NEGATIVE = PatternFill("solid", start_color="FF9999", end_color="FF9999")
-_MARGIN_STYLES = {"load": "loads number", "factored_load": "loads number", "allowable": "loads number",
-                  "factor": "loads margin", "ms": "loads margin"}  # fmt: skip
+_MARGIN_STYLES = {
+    "load": "loads number",
+    "factored_load": "loads number",
+    "allowable": "loads number",
+    "factor": "loads margin",
+    "ms": "loads margin",
+}
 FIRST_HEAD_COLUMN = 5  # column, unit, critical max, critical min, then the heads
 
 
@@ -72,7 +77,9 @@ def matrix_sheet(sheet: Any, matrix: LoadsMatrix) -> None:
     """The loads matrix: each row's critical max cell orange, critical min cell blue."""
     _heads(sheet, matrix)
     for r, row in enumerate(matrix.rows, start=3):
-        critical = [matrix.heads[k] if k is not None else None for k in map(row.critical.get, SIDES)]
+        critical = [
+            matrix.heads[k] if k is not None else None for k in map(row.critical.get, SIDES)
+        ]
         for k, value in enumerate((row.column, row.unit, *critical), start=1):
             sheet.cell(row=r, column=k, value=value)
         for h, cell in enumerate(row.cells):

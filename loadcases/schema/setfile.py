@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from fnmatch import fnmatchcase
 from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Field, model_validator
@@ -11,9 +12,15 @@ from loadcases.schema.mechanism import FileUnits, unit_name
 from loadcases.schema.types import AnySI, Dimensionless, Strict
 from loadcases.units import REPORT_KINDS
 
-__all__ = ["Allowable", "Limits", "Report", "ReportUnits", "SetModel"]
+__all__ = ["Allowable", "Limits", "Report", "ReportUnits", "SetModel", "matches"]
 
 DEFAULT_NOISE_FLOOR = 1e-6  # loadcases.report.noise: below it (of the request's peak) ~0
+
+
+def matches(name: str, pattern: str) -> bool:
+    """A `case_factors` glob: `*` and `?` are the wildcards, brackets are literal (run
+    names hold `[p=v]`)."""
+    return fnmatchcase(name, pattern.replace("[", "[[]"))
 
 
 def _as_list(value: Any) -> Any:
@@ -46,12 +53,14 @@ class Allowable(Strict):
     max: AnySI | None = None
     min: AnySI | None = None
     ultimate: SideLimits | None = Field(
-        None, description="ultimate allowables (against ultimate factor x load): {max, min} or "
-        "a magnitude for both sides; same as max/min"
+        None,
+        description="ultimate allowables (against ultimate factor x load): {max, min} or "
+        "a magnitude for both sides; same as max/min",
     )
     limit: SideLimits | None = Field(
-        None, description="limit allowables (against case x fitting factor x load, without the "
-        "ultimate factor): {max, min} or a magnitude for both sides"
+        None,
+        description="limit allowables (against case x fitting factor x load, without the "
+        "ultimate factor): {max, min} or a magnitude for both sides",
     )
 
     @model_validator(mode="after")
