@@ -21,7 +21,7 @@ from loadcases.results.saved import SavedRun
 
 __all__ = ["CHART_ROWS", "chart_rows", "decimate_curve", "decimate_run"]
 
-CHART_ROWS = 200  # evenly spaced rows per run or curve, before the peak rows are added
+CHART_ROWS = 150  # evenly spaced rows per run or curve, before the peak rows are added
 
 
 def chart_rows(size: int, columns: Iterable[np.ndarray], limit: int = CHART_ROWS) -> np.ndarray:
