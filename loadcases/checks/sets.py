@@ -10,6 +10,7 @@ from loadcases.checks.paths import check_name, check_report_paths
 from loadcases.diagnostics import Diagnostic
 from loadcases.limits import pattern_problem, runs_problem
 from loadcases.schema import SetModel
+from loadcases.schema.setfile import matches
 from loadcases.source import Locator
 
 __all__ = ["check_set", "check_set_cases"]
@@ -88,7 +89,18 @@ def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[
             for key in getattr(model, section)
             if key != ULTIMATE and key.split(".")[0] not in requests
         ]
-    return found + _duplicate_names(at, cases)
+    return found + _duplicate_names(at, cases) + _unmatched_case_factors(model, at, cases)
+
+
+def _unmatched_case_factors(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:
+    """A `case_factors` pattern must match a case name (one with `[` may name runs of a
+    sweep: `door[clearance=0.0001]`, matched against the case name up to its `[`)."""
+    names = [case.case.case for case in cases]
+    return [
+        unknown(at, ("case_factors", pattern), "case", pattern, set(names))
+        for pattern in model.case_factors
+        if not any(matches(name, pattern.split("[")[0] + "*" * ("[" in pattern)) for name in names)
+    ]
 
 
 def _duplicate_names(at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:

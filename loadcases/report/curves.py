@@ -2,7 +2,8 @@
 
 A family is the runs of one case file (one case name) across the set's sweeps. Its
 abscissa is `abscissa.value` (the case's `abscissa:` expression, recorded by a set run)
-when every run of the family has it, else `time`.
+when every run of the family has it, else `time`; the curve names it by its expression
+(`angle(trunnion)`) when the caller knows it.
 
 The common grid is the sorted union of the abscissa values of all the family's runs
 (thinned to `MAX_GRID_POINTS` evenly spaced points over the same range when larger). Each
@@ -15,7 +16,7 @@ points covered by no run are NaN. Rows with a NaN abscissa or value are skipped.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Collection, Iterable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -102,7 +103,9 @@ def envelope_on_grid(
     return upper, lower
 
 
-def _family_curve(family: str, runs: list[SavedRun]) -> EnvelopeCurve:
+def _family_curve(
+    family: str, runs: list[SavedRun], expression: str | None, skip: Collection[str]
+) -> EnvelopeCurve:
     use_abscissa = all(ABSCISSA_COLUMN in run.channels for run in runs)
     name = ABSCISSA_COLUMN if use_abscissa else TIME_COLUMN
     xs = [run.channels[name] if use_abscissa else run.time for run in runs]
@@ -110,26 +113,35 @@ def _family_curve(family: str, runs: list[SavedRun]) -> EnvelopeCurve:
     grid = _grid(xs)
     curve = EnvelopeCurve(
         family,
-        name,
+        (expression or name) if use_abscissa else name,
         units.get(name, "s" if name == TIME_COLUMN else ""),
         grid,
         runs=tuple(run.name for run in runs),
         units=units,
     )
-    columns = dict.fromkeys(c for run in runs for c in run.channels if c != ABSCISSA_COLUMN)
+    columns = dict.fromkeys(
+        c for run in runs for c in run.channels if c != ABSCISSA_COLUMN and c not in skip
+    )
     for column in columns:
         pairs = [(x, run.channels[column]) for x, run in zip(xs, runs) if column in run.channels]
         curve.upper[column], curve.lower[column] = envelope_on_grid(pairs, grid)
     return curve
 
 
-def envelope_curves(runs: Iterable[SavedRun]) -> list[EnvelopeCurve]:
+def envelope_curves(
+    runs: Iterable[SavedRun],
+    abscissae: Mapping[str, str] | None = None,
+    skip: Collection[str] = (),
+) -> list[EnvelopeCurve]:
     """One curve set per family, families in first-seen order (give only `ok` runs);
-    a family whose runs cover a single abscissa value (static runs) has none."""
+    a family whose runs cover a single abscissa value (static runs) has none. A family's
+    abscissa is named by its expression from `abscissae` {family: text} when given;
+    columns in `skip` (numerical noise) get no curve."""
     families: dict[str, list[SavedRun]] = {}
     for run in runs:
         families.setdefault(run.family, []).append(run)
-    curves = [_family_curve(family, members) for family, members in families.items()]
+    names = abscissae or {}
+    curves = [_family_curve(f, members, names.get(f), skip) for f, members in families.items()]
     return [curve for curve in curves if curve.x.size >= 2]  # one point is no curve
 
 

@@ -4,8 +4,13 @@ An envelope table has one row per result column (except `time`), with the column
 `column, max, max_run, max_time, min, min_run, min_time` (SPEC section 3), then:
 `unit` (SI), `max_abscissa`, `min_abscissa` (the run's `abscissa.value` at that row),
 `abs_max` (max(|max|, |min|)), the factor and ultimate loads, allowables and margins (see
-`loadcases.report.margins`), and `max_concurrent`, `min_concurrent`: the other components of the
-same request at that instant of that run, as `fy=...; fz=...`.
+`loadcases.report.margins`), `max_concurrent`, `min_concurrent`: the other components of the
+same request at that instant of that run, as `fy=...; fz=...`; then `noise` (`~0` for a
+component that is numerical noise: `loadcases.report.noise`), `factor_min` (the factor of the
+min side; `factor` is the max side's), `ultimate_max_run`, `ultimate_min_run` (the runs whose
+factored loads govern: differ from max_run/min_run only with `case_factors`), the limit
+allowables and their margins `limit_allowable_max`, `limit_allowable_min`, `ms_limit_max`,
+`ms_limit_min`.
 
 Rules: NaN and infinite values are skipped (a failed run's missing rows never govern);
 ties keep the first run in the given order and, within a run, the earliest row. Runs whose
@@ -33,6 +38,7 @@ __all__ = [
     "EnvelopeRow",
     "envelope_csv_text",
     "extract_envelope",
+    "extreme_row",
     "find_result_files",
     "load_saved_runs",
     "write_envelope_csv",
@@ -66,6 +72,14 @@ class EnvelopeRow:
     ms_min: float | None = None
     max_concurrent: str | None = None
     min_concurrent: str | None = None
+    noise: str | None = None
+    factor_min: float | None = None
+    ultimate_max_run: str | None = None
+    ultimate_min_run: str | None = None
+    limit_allowable_max: float | None = None
+    limit_allowable_min: float | None = None
+    ms_limit_max: float | None = None
+    ms_limit_min: float | None = None
 
 
 ENVELOPE_COLUMNS = tuple(f.name for f in fields(EnvelopeRow))
@@ -78,7 +92,7 @@ def _as_saved(run: SavedRun | Run) -> SavedRun:
     return SavedRun(name, np.asarray(time, dtype=float), dict(channels))
 
 
-def _extreme_row(values: np.ndarray, sign: float) -> int | None:
+def extreme_row(values: np.ndarray, sign: float) -> int | None:
     """Row of the first largest (`sign` 1) or smallest (-1) finite value, None if none."""
     finite = np.isfinite(values)
     if not finite.any():
@@ -117,7 +131,7 @@ def extract_envelope(runs: Iterable[SavedRun | Run]) -> list[EnvelopeRow]:
         for column, values in run.channels.items():
             row = rows.setdefault(column, EnvelopeRow(column))
             row.unit = row.unit or run.units.get(column)
-            i_max, i_min = _extreme_row(values, 1.0), _extreme_row(values, -1.0)
+            i_max, i_min = extreme_row(values, 1.0), extreme_row(values, -1.0)
             if i_max is not None and (row.max is None or values[i_max] > row.max):
                 _fill(row, "max", run, i_max)
             if i_min is not None and (row.min is None or values[i_min] < row.min):

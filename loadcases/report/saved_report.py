@@ -12,9 +12,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from loadcases.report.curves import EnvelopeCurve, envelope_curves
-from loadcases.report.envelope import EnvelopeRow, extract_envelope
-from loadcases.report.margins import apply_margins
+from loadcases.report.curves import EnvelopeCurve
+from loadcases.report.envelope import EnvelopeRow
+from loadcases.report.sizing import Sizing, size_runs
 from loadcases.results.files import package_version
 from loadcases.results.saved import (
     RunRecord,
@@ -43,6 +43,8 @@ class SavedReport:
     curves: list[EnvelopeCurve]
     sources: list[Path]
     units: dict[str, str] = field(default_factory=dict)
+    sizing: Sizing | None = None
+    histories: str = "envelope"
 
     def workbook_data(self, title: str, set_path: Path | None = None) -> WorkbookData:
         """The workbook of these results (Provenance lists each CSV with its hash)."""
@@ -62,6 +64,10 @@ class SavedReport:
                 [("made by", "loads envelope")],
                 package_version(),
                 str(set_path or ""),
+                matrix=self.sizing.matrix if self.sizing is not None else None,
+                ultimate=self.sizing.ultimate if self.sizing is not None else 1.0,
+                noise=self.sizing.noise if self.sizing is not None else frozenset(),
+                histories=self.histories,
             )
         )
 
@@ -80,12 +86,13 @@ def saved_report(directories: Iterable[Path], *, set_path: Path | None = None) -
         records.append(_record(csv_path, run))
         if records[-1].ok:
             runs.append(run)
-    factors, allowables, units = {}, {}, {}
+    model, units, histories = None, {}, "envelope"
     if set_path is not None:
         from loadcases.inputs.loader import load_set
 
         model = load_set(set_path).model
-        factors, allowables = model.factors, model.allowables
-        units = model.report.units.given() if model.report is not None else {}
-    rows = apply_margins(extract_envelope(runs), factors, allowables)
-    return SavedReport(records, runs, rows, envelope_curves(runs), [p for _, p in files], units)
+        if model.report is not None:
+            units, histories = model.report.units.given(), model.report.histories
+    sizing = size_runs(runs, model)
+    sources = [p for _, p in files]
+    return SavedReport(records, runs, sizing.rows, sizing.curves, sources, units, sizing, histories)

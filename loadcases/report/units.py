@@ -20,6 +20,8 @@ import numpy as np
 
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.envelope import EnvelopeRow
+from loadcases.report.loads_matrix import LoadsMatrix
+from loadcases.report.peaks import RunPeak
 from loadcases.results.files import TIME_COLUMN
 from loadcases.results.saved import SavedRun
 from loadcases.units import REPORT_KINDS, to_si
@@ -37,6 +39,8 @@ _VALUE_FIELDS = (
     "ultimate_min",
     "allowable_max",
     "allowable_min",
+    "limit_allowable_max",
+    "limit_allowable_min",
 )
 _CONCURRENT = re.compile(r"([A-Za-z_]\w*)=([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|nan|-?inf)")
 
@@ -122,6 +126,31 @@ class ReportUnits:
             units={c: self.unit(u) or "" for c, u in units.items()},
         )
 
+    def peak(self, peak: RunPeak | None, unit: str, at_unit: str) -> RunPeak | None:
+        """A run's peak in report units: values in `unit`'s, abscissae in `at_unit`'s."""
+        if peak is None:
+            return None
+        changes: dict[str, Any] = {}
+        for side in ("max", "min"):
+            changes[side] = self.value(getattr(peak, side), unit)
+            changes[f"{side}_time"] = self.value(getattr(peak, f"{side}_time"), "s")
+            changes[f"{side}_abscissa"] = self.value(getattr(peak, f"{side}_abscissa"), at_unit)
+        return dataclasses.replace(peak, **changes)
+
+    def matrix(self, matrix: LoadsMatrix) -> LoadsMatrix:
+        """The loads matrix in report units (where peaks are: abscissa or time too)."""
+        at_units = [unit for _, unit in matrix.at]
+        rows = [
+            dataclasses.replace(
+                row,
+                unit=self.unit(row.unit) or "",
+                cells=[self.peak(c, row.unit, u) for c, u in zip(row.cells, at_units)],
+            )
+            for row in matrix.rows
+        ]
+        at = [(name, self.unit(unit) or "") for name, unit in matrix.at]
+        return dataclasses.replace(matrix, rows=rows, at=at)
+
     def workbook_data(self, data: WorkbookData) -> WorkbookData:
         """The workbook's rows, runs and curves in report units, the units on Provenance."""
         if not self:
@@ -134,5 +163,6 @@ class ReportUnits:
             rows=[self.row(r, units, abscissa) for r in data.rows],
             runs=[self.run(r) for r in data.runs],
             curves=[self.curve(c) for c in data.curves],
+            matrix=None if data.matrix is None else self.matrix(data.matrix),
             settings=[*data.settings, ("report units", shown)],
         )

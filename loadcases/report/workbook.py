@@ -1,32 +1,48 @@
 """The sizing workbook of a set (openpyxl), built on a template (`templates/envelope.xlsx`).
 
-Sheets, in order: the template's `Cover` (filled in), `Cases` (every run), `Envelope` (the
-table of `envelope.csv`, same header and values), `Torque margin` (when runs have one:
+Sheets, in order: the template's `Cover` (filled in), `Cases` (every run, linked to its
+sheet and its CSV file), `Envelope` (the table of `envelope.csv`, same header and values,
+without the abscissa row: the abscissa is the x axis, not a load), `Margins` (every margin,
+lowest first: `loadcases.report.margin_table`), `Loads matrix` (peaks per component and run:
+`loadcases.report.loads_matrix`), `Torque margin` (when runs have one:
 loadcases/workbook_tm.py), `Charts` (native line charts: per family
 the envelope curves of its main request columns and those columns against time for each
-run), one `Curves FAMILY` sheet per family (the envelope curves' numbers), the time
-histories, `Provenance`.
+run), one `Curves FAMILY` sheet per family (the envelope curves' numbers, without the
+columns marked `~0`), the time histories, `Provenance`.
 
-Time histories: one sheet per run when the set has at most `MAX_RUN_SHEETS` runs, else one
-sheet per family with the runs stacked (first column `run`). Headers carry their units
-(`pivot_force.fx [N]`): SI, or the set's `report.units` (`loadcases.report.units` converts
-the data before they get here); SI values are the CSV's exactly (NaN becomes an empty cell:
-Excel has no NaN). The workbook is written atomically.
+Time histories (`report.histories`): `envelope` (default) keeps the rows the charts need
+(`loadcases.report.decimate`: at most `CHART_ROWS` evenly spaced rows per run and curve, plus
+the rows of every column's max and min, so peaks read from the sheets are exact; columns
+marked `~0` left out); `all`
+every output row (and the full curves); `none` no history sheets (and no per-run charts).
+Every run's full rows stay in its `NAME.csv`, linked from the Cases sheet. One sheet per run
+when the set has at most `MAX_RUN_SHEETS` runs, else one sheet per family with the runs
+stacked (first column `run`). Headers carry their units (`pivot_force.fx [N]`): SI, or the
+set's `report.units` (`loadcases.report.units` converts the data before they get here); SI
+values are the CSV's exactly (NaN becomes an empty cell: Excel has no NaN). The workbook is
+written atomically.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import datetime as dt
 import hashlib
+import os
 import platform
 import re
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 from loadcases.atomic import atomic_path
+from loadcases.build.model import ABSCISSA_COLUMN
 from loadcases.report.curves import EnvelopeCurve
+from loadcases.report.decimate import CHART_ROWS, decimate_curve, decimate_run
 from loadcases.report.envelope import EnvelopeRow
+from loadcases.report.loads_matrix import LoadsMatrix
+from loadcases.report.margin_table import margin_lines
 from loadcases.report.workbook_template import (
     COVER_FIELDS,
     COVER_SHEET,
@@ -66,6 +82,10 @@ class WorkbookData:
     settings: list[tuple[str, str]] = field(default_factory=list)  # (key, value)
     version: str = ""
     source: str = ""
+    matrix: LoadsMatrix | None = None
+    ultimate: float = 1.0  # the ultimate factor (margins: limit factor = factor / ultimate)
+    noise: frozenset[str] = frozenset()  # columns marked ~0
+    histories: str = "envelope"  # report.histories: all | envelope | none
 
     @classmethod
     def from_set(cls, result: Any, runs: list[SavedRun], options: dict[str, str]) -> WorkbookData:
@@ -83,7 +103,10 @@ class WorkbookData:
         settings += [
             (f"allowable {k}", f"max {a.max!r}, min {a.min!r}") for k, a in model.allowables.items()
         ]
-        settings += list(options.items())
+        settings += [(f"case factor {k}", repr(v)) for k, v in model.case_factors.items()]
+        histories = model.report.histories if model.report is not None else "envelope"
+        settings += [("histories", histories), *options.items()]
+        sizing = result.sizing
         return cls(
             compiled.name,
             result.records,
@@ -94,6 +117,10 @@ class WorkbookData:
             settings,
             compiled.version,
             str(compiled.set_file.path),
+            matrix=sizing.matrix if sizing is not None else None,
+            ultimate=sizing.ultimate if sizing is not None else 1.0,
+            noise=sizing.noise if sizing is not None else frozenset(),
+            histories=histories,
         )
 
 
@@ -161,46 +188,100 @@ def _fill_cover(workbook: Any, data: WorkbookData) -> None:
 
 
 @text_cells()  # input text is never a formula
-def write_workbook(data: WorkbookData, path: Path, *, template: Path | None = None) -> Path:
-    """Write the workbook to `path` atomically; return `path`."""
+def write_workbook(
+    data: WorkbookData,
+    path: Path,
+    *,
+    template: Path | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> Path:
+    """Write the workbook to `path` atomically; return `path`. `progress(text)` is told
+    which part is being written."""
     from loadcases.report import workbook_charts as charts
     from loadcases.report import workbook_sheets as sheets
+    from loadcases.report import workbook_tables as tables
 
+    say = progress or (lambda text: None)
+    say("workbook: tables")
     workbook = _load_template(template)
     _fill_cover(workbook, data)
     used = set(workbook.sheetnames)
-    per_run = len(data.runs) <= MAX_RUN_SHEETS
-    groups = (
-        [(run.name, [run]) for run in data.runs] if per_run else list(_families(data.runs).items())
-    )
+    new = lambda title: workbook.create_sheet(sheet_title(title, used))  # noqa: E731
+    runs = _history_runs(data)
+    per_run = len(runs) <= MAX_RUN_SHEETS
+    groups = [(run.name, [run]) for run in runs] if per_run else list(_families(runs).items())
     titles = {
         name: sheet_title(_short(name, k), used) for k, (name, _) in enumerate(groups, start=1)
     }
-    run_sheets = {run.name: titles[run.name if per_run else run.family] for run in data.runs}
-    sheets.cases_sheet(workbook.create_sheet(sheet_title("Cases", used)), data.records, run_sheets)
-    sheets.envelope_sheet(
-        workbook.create_sheet(sheet_title("Envelope", used)), data.rows, run_sheets
-    )
+    run_sheets = {run.name: titles[run.name if per_run else run.family] for run in runs}
+    sheets.cases_sheet(new("Cases"), data.records, run_sheets, _csv_links(data, Path(path)))
+    shown = [row for row in data.rows if row.column != ABSCISSA_COLUMN]
+    sheets.envelope_sheet(new("Envelope"), shown, run_sheets)
+    tables.margins_sheet(new("Margins"), margin_lines(shown, data.ultimate))
+    if data.matrix is not None:
+        tables.matrix_sheet(new("Loads matrix"), data.matrix)
     if has_torque_margin(data.runs):
-        torque_margin_sheet(workbook.create_sheet(sheet_title("Torque margin", used)), data.runs)
-    chart_sheet = workbook.create_sheet(sheet_title("Charts", used)) if data.curves else None
-    curve_sheets = [
-        workbook.create_sheet(sheet_title(f"Curves {c.family}", used)) for c in data.curves
-    ]
-    wheres = [charts.curves_sheet(sheet, curve) for sheet, curve in zip(curve_sheets, data.curves)]
+        torque_margin_sheet(new("Torque margin"), data.runs)
+    curves = _shown_curves(data)
+    chart_sheet = new("Charts") if curves else None
+    curve_sheets = [new(f"Curves {c.family}") for c in curves]
+    wheres = [charts.curves_sheet(sheet, curve) for sheet, curve in zip(curve_sheets, curves)]
     blocks = {}
-    for name, runs in groups:
+    for k, (name, group) in enumerate(groups, start=1):
+        say(f"workbook: time histories {k}/{len(groups)}")
+        sheet = workbook.create_sheet(titles[name])
         blocks.update(
-            sheets.history_sheet(workbook.create_sheet(titles[name]), runs, stacked=not per_run)
+            sheets.history_sheet(sheet, group, stacked=not per_run, note=_NOTE[data.histories])
         )
     if chart_sheet is not None:
-        charts.charts_sheet(chart_sheet, data.curves, curve_sheets, wheres, blocks)
-    sheets.provenance_sheet(
-        workbook.create_sheet(sheet_title("Provenance", used)), data, platform.python_version()
-    )
+        charts.charts_sheet(chart_sheet, curves, curve_sheets, wheres, blocks)
+    sheets.provenance_sheet(new("Provenance"), data, platform.python_version())
+    say("workbook: saving")
     with atomic_path(Path(path)) as tmp, exact_floats():
         workbook.save(tmp)
     return Path(path)
+
+
+_NOTE = {
+    "all": None,
+    "envelope": f"rows thinned for the charts (at most {CHART_ROWS} evenly spaced, plus every "
+    "column's max and min row), columns marked ~0 left out: the run's CSV (linked from "
+    "Cases) holds every row and column",
+    "none": None,
+}
+
+
+def _history_runs(data: WorkbookData) -> list[SavedRun]:
+    """The runs whose time histories the workbook holds (`report.histories`)."""
+    if data.histories == "none":
+        return []
+    if data.histories == "all":
+        return data.runs
+    return [decimate_run(run, skip=data.noise) for run in data.runs]
+
+
+def _shown_curves(data: WorkbookData) -> list[EnvelopeCurve]:
+    """The envelope curves without the `~0` columns, thinned unless `histories: all`."""
+    curves = []
+    for curve in data.curves:
+        kept = [c for c in curve.upper if c not in data.noise]
+        curve = dataclasses.replace(
+            curve,
+            upper={c: curve.upper[c] for c in kept},
+            lower={c: curve.lower[c] for c in kept},
+        )
+        curves.append(curve if data.histories == "all" else decimate_curve(curve))
+    return curves
+
+
+def _csv_links(data: WorkbookData, path: Path) -> dict[str, str]:
+    """{run: its CSV file relative to the workbook's folder} of the runs with a CSV."""
+    folder = path.resolve().parent
+    return {
+        r.name: Path(os.path.relpath(Path(r.csv_path).resolve(), folder)).as_posix()
+        for r in data.records
+        if r.csv_path and Path(r.csv_path).is_file()
+    }
 
 
 def _short(run: str, number: int) -> str:

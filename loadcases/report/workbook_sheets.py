@@ -45,6 +45,7 @@ CASES_COLUMNS = (
     "reused",
     "input_sha256",
     "sheet",
+    "csv",
 )
 _NEGATIVE_FILL = PatternFill("solid", start_color="FF9999", end_color="FF9999")
 _NUMBER_COLUMNS = {
@@ -57,17 +58,24 @@ _NUMBER_COLUMNS = {
     "ultimate_min",
     "allowable_max",
     "allowable_min",
+    "limit_allowable_max",
+    "limit_allowable_min",
 }
 _TIME_COLUMNS = {"max_time", "min_time"}
-_MARGIN_COLUMNS = {"factor", "ms_max", "ms_min"}
+_MARGIN_COLUMNS = {"factor", "factor_min", "ms_max", "ms_min", "ms_limit_max", "ms_limit_min"}
 _HEADER_NOTES = {
     "unit": "unit of the row's values (max, min, ultimate, allowables, concurrent values): "
     "the set's report.units, else SI",
     "max_time": "s (or the report's time unit)",
     "min_time": "s (or the report's time unit)",
-    "factor": "-: ultimate x fitting factor",
+    "factor": "-: ultimate x fitting x case factor (of the max side)",
     "ms_max": "-: allowable_max / (factor x max) - 1",
-    "ms_min": "-: allowable_min / (factor x min) - 1",
+    "ms_min": "-: allowable_min / (factor_min x min) - 1",
+    "factor_min": "-: ultimate x fitting x case factor of the min side",
+    "noise": "~0: numerical noise (below report.noise_floor of the request's or set's peak): "
+    "no factor, no margin",
+    "ms_limit_max": "-: limit_allowable_max / (factor / ultimate x max) - 1",
+    "ms_limit_min": "-: limit_allowable_min / (factor_min / ultimate x min) - 1",
     "max_abscissa": "unit of the case's abscissa (column abscissa.value)",
     "min_abscissa": "unit of the case's abscissa (column abscissa.value)",
 }
@@ -106,8 +114,15 @@ def _link(cell: Any, sheet_name: str | None) -> None:
         cell.style = "Hyperlink"
 
 
-def cases_sheet(sheet: Any, records: list[RunRecord], run_sheets: dict[str, str]) -> None:
-    """One row per run: case, file, parameters, analysis, status, message, CPU time, hash."""
+def cases_sheet(
+    sheet: Any,
+    records: list[RunRecord],
+    run_sheets: dict[str, str],
+    csv_links: dict[str, str] | None = None,
+) -> None:
+    """One row per run: case, file, parameters, analysis, status, message, CPU time, hash,
+    its time-history sheet and its CSV file (`csv_links` {run: path from the workbook})."""
+    links = csv_links or {}
     _header(sheet, list(CASES_COLUMNS))
     for row, r in enumerate(records, start=2):
         parameters = ", ".join(f"{k}={v:g}" for k, v in r.parameters.items())
@@ -124,10 +139,14 @@ def cases_sheet(sheet: Any, records: list[RunRecord], run_sheets: dict[str, str]
             "yes" if r.reused else "no",
             r.input_sha256,
             run_sheets.get(r.name, ""),
+            links.get(r.name, ""),
         )
         for column, value in enumerate(values, start=1):
             sheet.cell(row=row, column=column, value=value)
         _link(sheet.cell(row=row, column=1), run_sheets.get(r.name))
+        if r.name in links:  # a file next to the workbook: opens in any spreadsheet program
+            csv_cell = sheet.cell(row=row, column=len(values))
+            csv_cell.hyperlink, csv_cell.style = links[r.name], "Hyperlink"
         if not r.ok:
             for column in (6, 7):
                 sheet.cell(row=row, column=column).style = "loads failed"
@@ -158,7 +177,7 @@ def envelope_sheet(sheet: Any, rows: list[EnvelopeRow], run_sheets: dict[str, st
         _link(sheet.cell(row=r, column=index["max_run"]), run_sheets.get(row.max_run or ""))
         _link(sheet.cell(row=r, column=index["min_run"]), run_sheets.get(row.min_run or ""))
     last = max(len(rows) + 1, 2)
-    for name in ("ms_max", "ms_min"):
+    for name in ("ms_max", "ms_min", "ms_limit_max", "ms_limit_min"):
         letter = get_column_letter(index[name])
         sheet.conditional_formatting.add(
             f"{letter}2:{letter}{last}",
@@ -170,14 +189,19 @@ def envelope_sheet(sheet: Any, rows: list[EnvelopeRow], run_sheets: dict[str, st
         sheet.column_dimensions[get_column_letter(index[name])].width = 30
 
 
-def history_sheet(sheet: Any, runs: list[SavedRun], *, stacked: bool) -> dict[str, Block]:
+def history_sheet(
+    sheet: Any, runs: list[SavedRun], *, stacked: bool, note: str | None = None
+) -> dict[str, Block]:
     """Time histories of one run (or, `stacked`, of a family's runs one under the other,
-    first column `run`); returns where each run's rows are."""
+    first column `run`); returns where each run's rows are. `note`: shown beside the
+    header (how the rows were chosen)."""
     columns = list(dict.fromkeys(c for run in runs for c in run.channels))
     units = {TIME_COLUMN: "s", **{k: v for run in runs for k, v in run.units.items()}}
     names = ["run"] * stacked + [TIME_COLUMN, *columns]
     _header(sheet, [n if n == "run" else header_text(n, units.get(n)) for n in names])
     sheet.freeze_panes = "C2" if stacked else "B2"
+    if note:
+        sheet.cell(row=1, column=len(names) + 2, value=note).style = "loads note"
     blocks, row = {}, 2
     for run in runs:
         count = min(run.time.size, EXCEL_MAX_ROWS - row + 1)

@@ -2,26 +2,84 @@
 
 from __future__ import annotations
 
-from typing import Annotated, Any
+from fnmatch import fnmatchcase
+from typing import Annotated, Any, Literal
 
-from pydantic import BeforeValidator, Field
+from pydantic import BeforeValidator, Field, model_validator
+from pydantic_core import PydanticCustomError
 
 from loadcases.schema.mechanism import FileUnits, unit_name
 from loadcases.schema.types import AnySI, Dimensionless, Strict
 from loadcases.units import REPORT_KINDS
 
-__all__ = ["Allowable", "Report", "ReportUnits", "SetModel"]
+__all__ = ["Allowable", "Limits", "Report", "ReportUnits", "SetModel", "matches"]
+
+DEFAULT_NOISE_FLOOR = 1e-6  # loadcases.report.noise: below it (of the request's peak) ~0
+
+
+def matches(name: str, pattern: str) -> bool:
+    """A `case_factors` glob: `*` and `?` are the wildcards, brackets are literal (run
+    names hold `[p=v]`)."""
+    return fnmatchcase(name, pattern.replace("[", "[[]"))
 
 
 def _as_list(value: Any) -> Any:
     return [value] if isinstance(value, str) else value
 
 
-class Allowable(Strict):
-    """Limits of a result column [SI, same unit as the column]."""
+def _symmetric(value: Any) -> Any:
+    """`limit: 20 kN` -> {max: 20 kN, min: -20 kN} (a magnitude, both ways)."""
+    if isinstance(value, (str, int, float)) and not isinstance(value, bool):
+        text = str(value).strip()
+        return {"max": value, "min": text[1:] if text.startswith("-") else f"-{text}"}
+    return value
+
+
+class Limits(Strict):
+    """Allowable loads of a result column on each side [SI, unit of the column]; `min` is
+    given negative (compression -8 kN)."""
 
     max: AnySI | None = None
     min: AnySI | None = None
+
+
+SideLimits = Annotated[Limits, BeforeValidator(_symmetric)]
+
+
+class Allowable(Strict):
+    """Allowables of a result column [SI, same unit as the column]: `max`/`min` (ultimate,
+    against factor x load), or `ultimate:` and `limit:` (each {max, min} or one magnitude)."""
+
+    max: AnySI | None = None
+    min: AnySI | None = None
+    ultimate: SideLimits | None = Field(
+        None,
+        description="ultimate allowables (against ultimate factor x load): {max, min} or "
+        "a magnitude for both sides; same as max/min",
+    )
+    limit: SideLimits | None = Field(
+        None,
+        description="limit allowables (against case x fitting factor x load, without the "
+        "ultimate factor): {max, min} or a magnitude for both sides",
+    )
+
+    @model_validator(mode="after")
+    def _one_ultimate(self) -> Allowable:
+        if self.ultimate is not None and (self.max is not None or self.min is not None):
+            raise PydanticCustomError(
+                "allowable", "give 'ultimate' or 'max'/'min', not both (they are the same)"
+            )
+        return self
+
+    def ultimate_limits(self) -> tuple[float | None, float | None]:
+        """(max, min) ultimate allowables."""
+        if self.ultimate is not None:
+            return self.ultimate.max, self.ultimate.min
+        return self.max, self.min
+
+    def limit_limits(self) -> tuple[float | None, float | None]:
+        """(max, min) limit allowables."""
+        return (None, None) if self.limit is None else (self.limit.max, self.limit.min)
 
 
 def _report_unit(kind: str) -> Any:
@@ -74,6 +132,21 @@ class Report(Strict):
     template: str | None = None
     output: str = Field(min_length=1)
     units: ReportUnits = Field(default_factory=ReportUnits)
+    histories: Literal["all", "envelope", "none"] = Field(
+        "envelope",
+        description="time-history sheets: all (every output row), envelope (the rows the "
+        "charts need, every column's max and min rows kept exactly) or none",
+    )
+    noise_floor: float = Field(
+        DEFAULT_NOISE_FLOOR,
+        ge=0.0,
+        lt=1.0,
+        description="a component whose peak is below this fraction of its request's (or the "
+        "set's, same unit) largest peak is ~0: no factor, no margin",
+    )
+    matrix: Literal["runs", "families"] = Field(
+        "runs", description="columns of the loads matrix: one per run or per family (case)"
+    )
 
 
 class SetModel(Strict):
@@ -97,6 +170,11 @@ class SetModel(Strict):
         "any other key: fitting factor of a request "
         "REQ or a column REQ.COMP, multiplied in; "
         "e.g. {ultimate: 1.5, rod_end: 1.15}",
+    )
+    case_factors: dict[str, Dimensionless] = Field(
+        default_factory=dict,
+        description="factor of the runs whose name or case (family) matches a glob pattern, "
+        "multiplied into ultimate x fitting (every matching pattern), e.g. {'freefall-*': 1.25}",
     )
     allowables: dict[str, Allowable] = Field(
         default_factory=dict, description="by result column REQUEST.COMPONENT"

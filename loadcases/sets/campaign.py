@@ -1,7 +1,8 @@
 """Run a load-case set: compile, solve every run (reusing unchanged ones), write its reports.
 
 `run_set` writes into `DIR/SET/` (SPEC section 3): each run's `NAME.csv` and
-`NAME.summary.json` (`/` in NAME makes sub-folders), `envelope.csv`, the workbook
+`NAME.summary.json` (`/` in NAME makes sub-folders), `envelope.csv`, `margins.csv` (every
+margin, lowest first), `loads-matrix.csv` (peaks per component and run), the workbook
 (`report.output`, default `envelope.xlsx`) and, when `loadcases.report.plots` provides it, the
 envelope plots. A run whose summary in `DIR/SET/` has status `ok`, the run's input hash
 (case and mechanism bytes, parameters, engine version; see `loadcases.sets.specs`), the engine's
@@ -29,9 +30,11 @@ import numpy as np
 from loadcases import engine_hash, interrupts
 from loadcases.diagnostics import InputError
 from loadcases.inputs.overrides import Override
-from loadcases.report.curves import EnvelopeCurve, envelope_curves, plot_curves
-from loadcases.report.envelope import EnvelopeRow, extract_envelope, write_envelope_csv
-from loadcases.report.margins import apply_margins
+from loadcases.report.curves import EnvelopeCurve, plot_curves
+from loadcases.report.envelope import EnvelopeRow, write_envelope_csv
+from loadcases.report.loads_matrix import write_matrix_csv
+from loadcases.report.margin_table import margin_lines, write_margin_csv
+from loadcases.report.sizing import Sizing, size_runs
 from loadcases.results.files import result_base, write_results
 from loadcases.results.outcome import RunOutcome
 from loadcases.results.saved import (
@@ -46,12 +49,23 @@ from loadcases.sets.executors import Executor, SerialExecutor
 from loadcases.sets.specs import CompiledSet, RunSpec, load_and_compile_set
 from mechlib.solution import Solution
 
-__all__ = ["DEFAULT_WORKBOOK", "ENVELOPE_FILE", "SetResult", "run_set", "solve_spec"]
+__all__ = [
+    "DEFAULT_WORKBOOK",
+    "ENVELOPE_FILE",
+    "MARGINS_FILE",
+    "MATRIX_FILE",
+    "SetResult",
+    "run_set",
+    "solve_spec",
+]
 
 ENVELOPE_FILE = "envelope.csv"
+MARGINS_FILE = "margins.csv"
+MATRIX_FILE = "loads-matrix.csv"
 DEFAULT_WORKBOOK = "envelope.xlsx"  # when the set has no `report:`
 
 OnRecord = Callable[[RunRecord, int, int], None]  # (record, runs done, runs in total)
+OnReport = Callable[[str], None]  # what the report is writing now
 
 _PLOTS_PER_PROCESS = 16  # fewer plots than twice this: drawn in this process
 
@@ -67,6 +81,7 @@ class SetResult:
     curves: list[EnvelopeCurve] = field(default_factory=list)
     files: list[Path] = field(default_factory=list)
     interrupted: bool = False  # SIGINT/SIGTERM: runs missing, no envelope or report
+    sizing: Sizing | None = None
 
     @property
     def failed(self) -> list[RunRecord]:
@@ -200,20 +215,34 @@ def _prebuild(compiled: CompiledSet) -> None:
         raise InputError(problems)
 
 
-def _report_files(result: SetResult, runs: list[SavedRun], options: dict[str, str]) -> list[Path]:
-    """envelope.csv, the workbook and (if available) the plots of a set."""
+def _report_files(
+    result: SetResult,
+    runs: list[SavedRun],
+    options: dict[str, str],
+    on_report: OnReport | None = None,
+) -> list[Path]:
+    """envelope.csv, margins.csv, loads-matrix.csv, the workbook and (if available) the
+    plots of a set; `on_report(text)` says what is being written."""
     from loadcases.report.units import ReportUnits
     from loadcases.report.workbook import WorkbookData, write_workbook
 
     model = result.compiled.set_file.model
     files = [write_envelope_csv(result.envelope, result.directory / ENVELOPE_FILE)]
     output = model.report.output if model.report is not None else DEFAULT_WORKBOOK
+    workbook = result.directory / output
+    files.append(workbook)  # second, as the command lists the first two files
+    if result.sizing is not None:
+        lines = margin_lines(result.envelope, result.sizing.ultimate)
+        files.append(write_margin_csv(lines, result.directory / MARGINS_FILE))
+        files.append(write_matrix_csv(result.sizing.matrix, result.directory / MATRIX_FILE))
     template = None
     if model.report is not None and model.report.template:
         template = Path(result.compiled.set_file.path).parent / model.report.template
     units = ReportUnits.of(model.report.units.given() if model.report is not None else None)
     data = units.workbook_data(WorkbookData.from_set(result, runs, options))
-    files.append(write_workbook(data, result.directory / output, template=template))
+    write_workbook(data, workbook, template=template, progress=on_report)
+    if on_report is not None:
+        on_report("envelope plots")
     files += _plots(data.curves, result.directory)
     return files
 
@@ -244,10 +273,12 @@ def run_set(
     options: dict[str, str] | None = None,
     xlsx: bool = False,
     what_if: Sequence[Override] = (),
+    on_report: OnReport | None = None,
 ) -> SetResult:
     """Run a set file into `output_dir/SET/`; InputError (nothing run) for invalid input.
 
-    `on_record(record, done, total)` is called as each run is reused or finishes;
+    `on_record(record, done, total)` is called as each run is reused or finishes,
+    `on_report(text)` as each part of the report is written;
     `options` (e.g. jobs, scheduler) are recorded on the workbook's Provenance sheet;
     `xlsx` also writes each solved run's `NAME.xlsx`; `what_if` (`--set`) overrides
     parameters in every run of a case that has them (runs `CASE[name=value]`).
@@ -262,14 +293,11 @@ def run_set(
     if interrupted or any(r.status == "interrupted" for r in records):
         return SetResult(compiled, directory, records, interrupted=True)
     runs = [load_saved_run(r.csv_path) for r in records if r.ok]
-    model = compiled.set_file.model
-    result = SetResult(
-        compiled,
-        directory,
-        records,
-        apply_margins(extract_envelope(runs), model.factors, model.allowables),
-        envelope_curves(runs),
-    )
+    if on_report is not None:
+        on_report("envelope")
+    abscissae = {cf.case.case: cf.case.abscissa for cf in compiled.cases if cf.case.abscissa}
+    sizing = size_runs(runs, compiled.set_file.model, abscissae)
+    result = SetResult(compiled, directory, records, sizing.rows, sizing.curves, sizing=sizing)
     info = {"force": str(force), "wall seconds": f"{clock.time() - started:.3g}", **(options or {})}
-    result.files = _report_files(result, runs, info)
+    result.files = _report_files(result, runs, info, on_report)
     return result

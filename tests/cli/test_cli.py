@@ -318,3 +318,18 @@ def test_set_progress_counts_every_failure_and_draws_the_end() -> None:
     ]
     progress.close()
     assert stream.getvalue().endswith("\r" + " " * max(map(len, drawn)) + "\r")
+
+
+def test_set_progress_says_which_part_of_the_report_it_writes(tmp_path: Path) -> None:
+    """`run_set(on_report=...)` is called for each part; the line names it."""
+    from loadcases.sets.campaign import run_set
+    from tests.loadcases.set_fixtures import write_inputs
+
+    stream = io.StringIO()
+    progress = SetProgress("crank.set.yaml", stream=stream)
+    folder = write_inputs(tmp_path)
+    run_set(folder / "crank.set.yaml", output_dir=tmp_path / "out", on_report=progress.report)
+    drawn = [line.strip() for line in stream.getvalue().split("\r")[1:]]
+    assert drawn[0] == "crank.set.yaml: writing the report: envelope (0 s)"
+    assert any("workbook: time histories 6/6" in line for line in drawn)
+    assert drawn[-1].startswith("crank.set.yaml: writing the report: envelope plots (")

@@ -57,8 +57,10 @@ def test_workbook_shows_the_report_units_and_the_csv_stays_si(tmp_path: Path) ->
         float(si["pivot_force.fy"]["max"]) / 1e3, rel=1e-12
     )
     assert rows["pivot_force.fy"]["max"] == pytest.approx(19.81e-3, rel=1e-6)
-    assert rows["abscissa.value"]["unit"] == "deg"
-    assert rows["abscissa.value"]["max"] == pytest.approx(math.degrees(0.5), rel=1e-9)
+    assert "abscissa.value" not in rows  # the x axis, not a load row
+    curves = book["Curves crank-turn"]  # named by its expression, in the report's unit
+    assert curves["A1"].value == "angle(pivot) [deg]"
+    assert max(c.value for c in curves["A"][1:]) == pytest.approx(math.degrees(0.5), rel=1e-9)
     assert rows["pivot_force.fy"]["max_abscissa"] == pytest.approx(
         math.degrees(float(si["pivot_force.fy"]["max_abscissa"])), rel=1e-9
     )

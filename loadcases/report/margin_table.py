@@ -1,0 +1,90 @@
+"""The margin table of a set: one line per margin of the envelope (column, side, limit or
+ultimate), lowest margin first, as a stress office reads it: the limit load and its run, the
+factor, the factored load, the allowable and MS = allowable / (factor x load) - 1.
+
+Lines come from the envelope rows (`loadcases.report.margins.apply_margins`), in whatever
+units the rows are (SI for `margins.csv`, report units in the workbook); the load is
+factored load / factor. A side that never loads towards its allowable (MS left empty) and
+rows marked `~0` have no line.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from dataclasses import astuple, dataclass, fields
+from pathlib import Path
+
+from loadcases.atomic import atomic_write_text
+from loadcases.report.envelope import EnvelopeRow
+
+__all__ = ["MARGIN_COLUMNS", "MarginLine", "margin_csv_text", "margin_lines", "write_margin_csv"]
+
+
+@dataclass(frozen=True)
+class MarginLine:
+    """One margin: `kind` limit or ultimate, `side` max or min; values in the rows' units."""
+
+    column: str
+    unit: str | None
+    side: str
+    kind: str
+    load: float | None
+    run: str | None
+    factor: float
+    factored_load: float | None
+    allowable: float
+    ms: float | None
+
+
+MARGIN_COLUMNS = tuple(f.name for f in fields(MarginLine))
+
+
+def _lines_of(row: EnvelopeRow, ultimate: float) -> list[MarginLine]:
+    lines = []
+    for side in ("max", "min"):
+        factor = row.factor if side == "max" else row.factor_min
+        factored = getattr(row, f"ultimate_{side}")
+        if factor is None or row.noise:
+            continue
+        load = None if factored is None else factored / factor
+        run = getattr(row, f"ultimate_{side}_run") or getattr(row, f"{side}_run")
+        for kind, allowable, ms, used in (
+            ("ultimate", getattr(row, f"allowable_{side}"), getattr(row, f"ms_{side}"), factor),
+            (
+                "limit",
+                getattr(row, f"limit_allowable_{side}"),
+                getattr(row, f"ms_limit_{side}"),
+                factor / ultimate if ultimate else factor,
+            ),
+        ):
+            if allowable is not None and ms is not None:
+                scaled = None if load is None else used * load
+                lines.append(
+                    MarginLine(
+                        row.column, row.unit, side, kind, load, run, used, scaled, allowable, ms
+                    )
+                )
+    return lines
+
+
+def margin_lines(rows: list[EnvelopeRow], ultimate: float = 1.0) -> list[MarginLine]:
+    """Every margin of `rows`, lowest first (ties in row order); `ultimate`: the set's
+    ultimate factor (the limit factor is the row's factor / ultimate)."""
+    lines = [line for row in rows for line in _lines_of(row, ultimate)]
+    return sorted(lines, key=lambda line: line.ms if line.ms is not None else math.inf)
+
+
+def margin_csv_text(lines: list[MarginLine]) -> str:
+    """The margin table as CSV text (full precision, missing values empty)."""
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(MARGIN_COLUMNS)
+    writer.writerows(["" if v is None else v for v in astuple(line)] for line in lines)
+    return buffer.getvalue()
+
+
+def write_margin_csv(lines: list[MarginLine], path: Path) -> Path:
+    """Write `margins.csv` atomically."""
+    return atomic_write_text(path, margin_csv_text(lines))

@@ -1,0 +1,49 @@
+"""Numerical noise in an envelope: components whose peak is round-off, not a load.
+
+A column is `~0` when its largest magnitude max(|max|, |min|) over all runs is at most
+`fraction` (the set's `report.noise_floor`, default 1e-6) times
+- the largest magnitude of the other components of the same request in the same unit (the
+  out-of-plane fy = 7e-4 N of a joint carrying fx = 3e5 N in a planar mechanism), or
+- the largest magnitude of any column of the same (known) unit in the envelope: the
+  round-off moments of a planar mechanism's pin joints (4e-4 N*m) beside a 5e4 N*m torque,
+  where every component of the request is noise.
+Such a row gets no factor and no margin; the loads matrix shows it as `~0`. A set whose
+columns are all round-off of one unit (no real load of that unit anywhere) is not detected.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.report.compare import NOISE_FLOOR
+from loadcases.report.envelope import EnvelopeRow
+
+__all__ = ["NOISE_FLOOR", "NOISE_MARK", "noise_columns"]
+
+NOISE_MARK = "~0"
+
+
+def _magnitudes(rows: Iterable[EnvelopeRow]) -> dict[str, tuple[str, str, float]]:
+    """{column: (request, unit, largest magnitude)} of the rows with values."""
+    out = {}
+    for row in rows:
+        if row.abs_max is not None and row.column != ABSCISSA_COLUMN:
+            out[row.column] = (row.column.rsplit(".", 1)[0], row.unit or "", row.abs_max)
+    return out
+
+
+def noise_columns(rows: Iterable[EnvelopeRow], fraction: float = NOISE_FLOOR) -> set[str]:
+    """The columns of `rows` (SI envelope rows) that are numerical noise (module notes)."""
+    magnitudes = _magnitudes(rows)
+    per_request: dict[tuple[str, str], float] = {}
+    per_unit: dict[str, float] = {}
+    for request, unit, size in magnitudes.values():
+        per_request[request, unit] = max(per_request.get((request, unit), 0.0), size)
+        if unit:
+            per_unit[unit] = max(per_unit.get(unit, 0.0), size)
+    return {
+        column
+        for column, (request, unit, size) in magnitudes.items()
+        if size <= fraction * max(per_request[request, unit], per_unit.get(unit, 0.0))
+    }

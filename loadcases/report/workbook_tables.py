@@ -1,0 +1,100 @@
+"""The stress office's sheets of the sizing workbook: `Margins` (every margin, lowest first)
+and `Loads matrix` (peak per component and run, critical run highlighted).
+
+Values are in the rows' units (the set's `report.units`, else SI); numerical noise shows
+as the text `~0` in the loads matrix.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+from openpyxl.styles import PatternFill
+from openpyxl.utils import get_column_letter
+
+from loadcases.report.loads_matrix import SIDES, LoadsMatrix
+from loadcases.report.margin_table import MARGIN_COLUMNS, MarginLine
+from loadcases.report.noise import NOISE_MARK
+from loadcases.report.workbook_sheets import header_text
+
+__all__ = ["CRITICAL_FILL", "margins_sheet", "matrix_sheet"]
+
+CRITICAL_FILL = {
+    "max": PatternFill("solid", start_color="F4B183", end_color="F4B183"),
+    "min": PatternFill("solid", start_color="9DC3E6", end_color="9DC3E6"),
+}
+_NEGATIVE = PatternFill("solid", start_color="FF9999", end_color="FF9999")
+_MARGIN_STYLES = {
+    "load": "loads number",
+    "factored_load": "loads number",
+    "allowable": "loads number",
+    "factor": "loads margin",
+    "ms": "loads margin",
+}
+FIRST_HEAD_COLUMN = 5  # column, unit, critical max, critical min, then the heads
+
+
+def _value(value: Any) -> Any:
+    """Excel has no NaN or infinity: those become empty cells."""
+    return None if isinstance(value, float) and not math.isfinite(value) else value
+
+
+def margins_sheet(sheet: Any, lines: list[MarginLine]) -> None:
+    """One row per margin, lowest first; negative margins filled red."""
+    for k, name in enumerate(MARGIN_COLUMNS, start=1):
+        sheet.cell(row=1, column=k, value=name).style = "loads header"
+    ms_column = MARGIN_COLUMNS.index("ms") + 1
+    for r, line in enumerate(lines, start=2):
+        for k, name in enumerate(MARGIN_COLUMNS, start=1):
+            value = getattr(line, name)
+            cell = sheet.cell(row=r, column=k, value=_value(value))
+            if name in _MARGIN_STYLES:
+                cell.style = _MARGIN_STYLES[name]
+        ms = sheet.cell(row=r, column=ms_column)
+        if ms.value is not None and ms.value < 0:
+            ms.fill = _NEGATIVE
+    sheet.freeze_panes = "B2"
+    sheet.column_dimensions["A"].width = 28
+    sheet.column_dimensions[get_column_letter(MARGIN_COLUMNS.index("run") + 1)].width = 36
+
+
+def _heads(sheet: Any, matrix: LoadsMatrix) -> None:
+    """Two header rows: the run (family) over its four columns, then max / at / min / at."""
+    for k, title in enumerate(("column", "unit", "critical max", "critical min"), start=1):
+        sheet.cell(row=1, column=k, value=title).style = "loads header"
+        sheet.cell(row=2, column=k).style = "loads header"
+    for h, (head, (name, unit)) in enumerate(zip(matrix.heads, matrix.at)):
+        first = FIRST_HEAD_COLUMN + 4 * h
+        sheet.cell(row=1, column=first, value=head).style = "loads header"
+        sheet.merge_cells(start_row=1, start_column=first, end_row=1, end_column=first + 3)
+        at = header_text(f"at {name}", unit)
+        for k, title in enumerate(("max", at, "min", at)):
+            sheet.cell(row=2, column=first + k, value=title).style = "loads header"
+
+
+def matrix_sheet(sheet: Any, matrix: LoadsMatrix) -> None:
+    """The loads matrix: each row's critical max cell orange, critical min cell blue."""
+    _heads(sheet, matrix)
+    for r, row in enumerate(matrix.rows, start=3):
+        critical = [
+            matrix.heads[k] if k is not None else None for k in map(row.critical.get, SIDES)
+        ]
+        for k, value in enumerate((row.column, row.unit, *critical), start=1):
+            sheet.cell(row=r, column=k, value=value)
+        for h, cell in enumerate(row.cells):
+            if cell is None:
+                continue
+            for s, side in enumerate(SIDES):
+                column = FIRST_HEAD_COLUMN + 4 * h + 2 * s
+                peak = sheet.cell(row=r, column=column)
+                if row.noise:
+                    peak.value = NOISE_MARK
+                    continue
+                peak.value = _value(getattr(cell, side))
+                peak.style = "loads number"
+                sheet.cell(row=r, column=column + 1, value=_value(cell.at(side)))
+                if row.critical.get(side) == h:
+                    peak.fill = CRITICAL_FILL[side]
+    sheet.freeze_panes = f"{get_column_letter(FIRST_HEAD_COLUMN)}3"
+    sheet.column_dimensions["A"].width = 28
