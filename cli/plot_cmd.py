@@ -43,8 +43,18 @@ def plot(
     output: Annotated[Path, typer.Option("-o", "--output", help="Folder of the PNG files.")] = Path(
         "plots"
     ),
+    polar: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--polar",
+            help="Instead of time plots: the polar plots and wear map of this `polar` "
+            "request of a clearance joint (e.g. --polar polar), per run and overlaid "
+            "across the runs of a sweep; repeat for several.",
+        ),
+    ] = None,
 ) -> int:
-    """Write PNG plots of requests vs time or vs another column: one file per request."""
+    """Write PNG plots of requests vs time or vs another column: one file per request
+    (with --polar: polar plots and wear maps of clearance joints)."""
     from loadcases.report import plots
 
     missing = [path for path in results if not path.exists()]
@@ -56,6 +66,8 @@ def plot(
             "no results (NAME.csv next to NAME.summary.json) under " + ", ".join(map(str, results))
         )
     patterns = [p.strip() for item in columns or [] for p in item.split(",") if p.strip()]
+    if polar:
+        return _polar(files, polar, output)
     try:
         runs = [plots.load_saved_run(path) for path in files]
         units = {k: v for run in reversed(runs) for k, v in run.units.items()}
@@ -66,6 +78,23 @@ def plot(
         raise fail(str(error)) from None
     typer.echo(
         f"{len(written)} plots of {len(runs)} run{'s' if len(runs) != 1 else ''} -> {output}"
+    )
+    return EXIT_OK
+
+
+def _polar(files: list[Path], requests: list[str], output: Path) -> int:
+    """`loads plot --polar REQ`: polar plots and wear maps of the runs in `files`."""
+    from loadcases.report import plots
+    from loadcases.report.polar_plots import write_runs_polar_plots
+
+    try:
+        runs = [plots.load_saved_run(path) for path in files]
+        written = write_runs_polar_plots(runs, output, requests)
+    except ValueError as error:
+        raise fail(str(error)) from None
+    typer.echo(
+        f"{len(written)} polar plots and wear maps of {len(runs)} "
+        f"run{'s' if len(runs) != 1 else ''} -> {output}"
     )
     return EXIT_OK
 

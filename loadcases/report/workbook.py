@@ -33,6 +33,7 @@ from loadcases.report.workbook_template import (
     build_template,
     ensure_styles,
 )
+from loadcases.report.wear_map import WEAR_SHEET, polar_requests, wear_map_sheet
 from loadcases.report.workbook_tm import has_torque_margin, torque_margin_sheet
 from loadcases.results.saved import RunRecord, SavedRun, family_of
 from loadcases.results.xlsx_floats import exact_floats
@@ -183,6 +184,8 @@ def write_workbook(data: WorkbookData, path: Path, *, template: Path | None = No
     )
     if has_torque_margin(data.runs):
         torque_margin_sheet(workbook.create_sheet(sheet_title("Torque margin", used)), data.runs)
+    if any(polar_requests(run) for run in data.runs):
+        wear_map_sheet(workbook.create_sheet(sheet_title(WEAR_SHEET, used)), data.runs)
     chart_sheet = workbook.create_sheet(sheet_title("Charts", used)) if data.curves else None
     curve_sheets = [
         workbook.create_sheet(sheet_title(f"Curves {c.family}", used)) for c in data.curves
