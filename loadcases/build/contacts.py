@@ -16,7 +16,11 @@ from mechlib import contact as mc
 
 __all__ = [
     "CLEARANCE_QUANTITIES",
-    "CLEARANCE_SHAPES", "CONTACT_COMPONENTS", "CONTACT_MAKERS", "CONTACT_UNITS"]
+    "CLEARANCE_SHAPES",
+    "CONTACT_COMPONENTS",
+    "CONTACT_MAKERS",
+    "CONTACT_UNITS",
+]
 
 CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
 """Geometries that make a clearance joint (with the `eccentricity` request)."""

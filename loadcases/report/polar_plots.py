@@ -55,10 +55,21 @@ def _polar_panels(data: list[PolarData], title: str, target: Path) -> Path:
             ax.plot(d.angle, values(d), ".", markersize=1.5, label=d.run)
         ax.set_title(label, fontsize="medium")
     for d in {d.clearance: d for d in data}.values():
-        axes[0].plot(circle, np.full_like(circle, d.clearance * _MM), "--", color="0.3",
-                     linewidth=0.8, label=f"clearance {d.clearance * _MM:g} mm")
-    fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center",
-               fontsize="small", ncols=min(4, len(data) + 1), markerscale=6)
+        axes[0].plot(
+            circle,
+            np.full_like(circle, d.clearance * _MM),
+            "--",
+            color="0.3",
+            linewidth=0.8,
+            label=f"clearance {d.clearance * _MM:g} mm",
+        )
+    fig.legend(
+        *axes[0].get_legend_handles_labels(),
+        loc="outside lower center",
+        fontsize="small",
+        ncols=min(4, len(data) + 1),
+        markerscale=6,
+    )
     fig.suptitle(title)
     with atomic_path(target) as tmp:
         fig.savefig(tmp, format="png", dpi=_DPI)

@@ -62,9 +62,7 @@ class PolarData:
 def polar_requests(run: SavedRun) -> list[str]:
     """Names of the run's `polar` requests (every component column present)."""
     names = {c.rsplit(".", 1)[0] for c in run.channels if c.endswith(".wear_work")}
-    return sorted(
-        n for n in names if all(f"{n}.{c}" in run.channels for c in POLAR_COMPONENTS)
-    )
+    return sorted(n for n in names if all(f"{n}.{c}" in run.channels for c in POLAR_COMPONENTS))
 
 
 def _si(run: SavedRun, column: str) -> np.ndarray:
@@ -108,7 +106,9 @@ def wear_sectors(angle: np.ndarray, work: np.ndarray, count: int = SECTORS) -> n
     angle, work = np.asarray(angle, float), np.asarray(work, float)
     if angle.size < 2:
         return np.zeros(count)
-    mean = np.arctan2(np.sin(angle[:-1]) + np.sin(angle[1:]), np.cos(angle[:-1]) + np.cos(angle[1:]))
+    mean = np.arctan2(
+        np.sin(angle[:-1]) + np.sin(angle[1:]), np.cos(angle[:-1]) + np.cos(angle[1:])
+    )
     width = 2.0 * math.pi / count
     index = np.floor(np.mod(mean + 0.5 * width, 2.0 * math.pi) / width).astype(int) % count
     return np.bincount(index, weights=np.diff(work), minlength=count)

@@ -27,13 +27,13 @@ from typing import Any
 from loadcases.atomic import atomic_path
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.envelope import EnvelopeRow
+from loadcases.report.wear_map import WEAR_SHEET, polar_requests, wear_map_sheet
 from loadcases.report.workbook_template import (
     COVER_FIELDS,
     COVER_SHEET,
     build_template,
     ensure_styles,
 )
-from loadcases.report.wear_map import WEAR_SHEET, polar_requests, wear_map_sheet
 from loadcases.report.workbook_tm import has_torque_margin, torque_margin_sheet
 from loadcases.results.saved import RunRecord, SavedRun, family_of
 from loadcases.results.xlsx_floats import exact_floats

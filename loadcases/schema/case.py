@@ -153,7 +153,14 @@ class ContactRequest(Strict):
 
     contact: Name
     quantity: Literal[
-        "force", "penetration", "point", "sliding_speed", "wear", "eccentricity", "wear_work", "polar"
+        "force",
+        "penetration",
+        "point",
+        "sliding_speed",
+        "wear",
+        "eccentricity",
+        "wear_work",
+        "polar",
     ]
     frame: Name = Field("ground", description=_FRAME)
 

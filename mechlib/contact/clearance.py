@@ -40,6 +40,7 @@ _ECCENTRICITY_UNITS = {
     "clearance": "m",
     "wear_work": "J",
 }
+_CLEARANCE_UNITS = {**Contact.output_units, **_ECCENTRICITY_UNITS}
 
 
 def polar_reference(axis: np.ndarray) -> np.ndarray:
@@ -58,7 +59,7 @@ class ClearanceJoint(Contact):
     polar_axis: Sequence[float] = (0.0, 0.0, 1.0)
     _polar: tuple = field(default=(), repr=False)
     n_states = 1  # the wear work (J), mechlib.states
-    output_units = {**Contact.output_units, **_ECCENTRICITY_UNITS}
+    output_units = _CLEARANCE_UNITS
 
     def bind(self, system) -> None:
         super().bind(system)

@@ -73,15 +73,21 @@ class Bushing:
         self._ends = (b1, np.asarray(s1, float), b2, np.asarray(s2, float))
         self._gains = tuple(
             np.asarray(v, float)
-            for v in (self.stiffness, self.damping, self.torsional_stiffness, self.torsional_damping)
+            for v in (
+                self.stiffness,
+                self.damping,
+                self.torsional_stiffness,
+                self.torsional_damping,
+            )
         )
 
     def _state(self, view: StateView):
         """(force, torque on body 1 in global axes, d, theta in J axes, point of body 1),
         from the compiled kernel (mechlib.elements.bushing_kernel)."""
         b1, s1, b2, s2 = self._ends
+        k, c, kr, cr = self._gains
         out = np.empty(STATE_SIZE)
-        bushing_state(view.kin.x, view.kin.xd, b1, s1, b2, s2, *self._gains, out)
+        bushing_state(view.kin.x, view.kin.xd, b1, s1, b2, s2, k, c, kr, cr, out)
         return out[0:3], out[3:6], out[6:9], out[9:12], out[12:15]
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:

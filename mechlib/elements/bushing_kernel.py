@@ -73,7 +73,14 @@ def bushing_state(x, xd, b1, s1, b2, s2, k, c, kr, cr, out):
     a1, a2 = np.empty((3, 3)), np.empty((3, 3))
     _matrix(x[b1, 3:], a1)
     _matrix(x[b2, 3:], a2)
-    p1, p2, v1, v2, w1, w2 = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    p1, p2, v1, v2, w1, w2 = (
+        np.empty(3),
+        np.empty(3),
+        np.empty(3),
+        np.empty(3),
+        np.empty(3),
+        np.empty(3),
+    )
     _brot(x[b1, 3:], xd[b1, 3:], s1, v1)
     _brot(x[b2, 3:], xd[b2, 3:], s2, v2)
     _omega(x[b1, 3:], xd[b1, 3:], w1)
