@@ -99,9 +99,17 @@ class ClearanceJoint(Contact):
             radial=math.sqrt(max(size * size - axial * axial, 0.0)),
             axial=axial,
             clearance=float(self.geometry.clearance),
-            wear_work=float(view.states(self)[0]),
+            wear_work=self._wear_work(view),
         )
         return out
+
+    def _wear_work(self, view: StateView) -> float:
+        """The integrated wear work (J); 0 for a joint evaluated outside a system's
+        analysis (bound by hand: no state was integrated for it)."""
+        states = getattr(view.system, "states", None)
+        if states is None or id(self) not in states.slices:
+            return 0.0
+        return float(view.states(self)[0])
 
 
 def spherical_clearance(
