@@ -53,7 +53,7 @@ def _polar_panels(data: list[PolarData], title: str, target: Path) -> Path:
     for ax, (label, values) in zip(axes, panels):
         for d in data:
             ax.plot(d.angle, values(d), ".", markersize=1.5, label=d.run)
-        ax.set_title(label, fontsize="medium")
+        ax.set_title(label, fontsize="medium", pad=22)
     for d in {d.clearance: d for d in data}.values():
         axes[0].plot(
             circle,
@@ -77,7 +77,7 @@ def _polar_panels(data: list[PolarData], title: str, target: Path) -> Path:
 
 
 def _wear_map(data: list[PolarData], title: str, target: Path) -> Path:
-    fig = Figure(figsize=(7.5, 7.5), dpi=_DPI, layout="constrained")
+    fig = Figure(figsize=(8.5, 8.5), dpi=_DPI, layout="constrained")
     FigureCanvasAgg(fig)
     ax = fig.add_subplot(projection="polar")
     width = 2.0 * math.pi / SECTORS
@@ -87,7 +87,7 @@ def _wear_map(data: list[PolarData], title: str, target: Path) -> Path:
         offset = (k - 0.5 * (len(data) - 1)) * bar
         ax.bar(centres + offset, d.sectors(), width=bar, label=d.run, alpha=0.8)
     ax.set_title("wear work per 10 deg sector [J]", fontsize="medium")
-    fig.legend(loc="outside lower center", fontsize="small", ncols=min(3, len(data)))
+    fig.legend(loc="outside lower center", fontsize="small", ncols=min(2, len(data)))
     fig.suptitle(title)
     with atomic_path(target) as tmp:
         fig.savefig(tmp, format="png", dpi=_DPI)
