@@ -29,7 +29,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import LIBRARY
+from conftest import LIBRARY, solve_case
 
 ROD_END = LIBRARY.parent / "rod_end"
 S, T, L0 = 0.11, 0.38, 0.37  # crank, frame, actuator length at design (m)
@@ -61,15 +61,6 @@ def _variant(tmp: Path, case: str, edits=(), *, ideal: bool = False) -> Path:
     return path
 
 
-def _solve(path: Path, **overrides):
-    from loadcases.inputs.loader import load_case
-    from loadcases.run import run_case
-
-    outcome = run_case(load_case(path, overrides=overrides or None))
-    assert outcome.solution.ok, outcome.solution.message
-    return outcome.solution
-
-
 def _ch(solution, column: str) -> np.ndarray:
     return np.asarray(solution.channels[column], float)
 
@@ -90,7 +81,7 @@ def test_kinematics_against_closed_form_slider_crank(tmp_path: Path) -> None:
         [("type: dynamic", "type: quasi-static"), ("  step: 0.001 ", "  step: 0.02 ")],
         ideal=True,
     )
-    sol = _solve(path)
+    sol = solve_case(path)
     travel, angle = _ch(sol, "stroke.value"), _ch(sol, "surface_angle.value")
     assert travel.max() > 0.059 and travel.min() < -0.059  # the whole +-60 mm stroke
     assert np.abs(angle - _surface_angle(travel)).max() < 1e-12
@@ -109,13 +100,13 @@ def test_clearance_to_zero_tends_to_ideal_joint(tmp_path: Path) -> None:
         ("parameters:", "effects: {friction: false}\nparameters:"),
     ]
     case = "constant_moment.case.yaml"
-    ideal = _solve(_variant(tmp_path, case, edits, ideal=True), stroke_time=0.2)
+    ideal = solve_case(_variant(tmp_path, case, edits, ideal=True), stroke_time=0.2)
     reference = _force(ideal)
     late = np.asarray(ideal.time) >= 0.1
     peak = np.linalg.norm(reference, axis=1)[late].max()
     errors = []
     for clearance in (1e-4, 1e-5):
-        sol = _solve(
+        sol = solve_case(
             _variant(tmp_path, "constant_moment.case.yaml", edits),
             stroke_time=0.2,
             clearance=clearance,
@@ -135,7 +126,7 @@ def test_first_impact_peak_grows_with_clearance(tmp_path: Path) -> None:
     path = _variant(tmp_path, "extend.case.yaml", edits)
     peaks = []
     for clearance in (1e-4, 5e-4):
-        normal = _ch(_solve(path, clearance=clearance), "contact.normal")
+        normal = _ch(solve_case(path, clearance=clearance), "contact.normal")
         first = int(np.argmax(normal > 0))
         assert normal[first] > 0, f"no contact within 0.13 s at clearance {clearance}"
         end = first + int(np.argmax(normal[first:] == 0))
@@ -147,7 +138,7 @@ def test_first_impact_peak_grows_with_clearance(tmp_path: Path) -> None:
 def constant_moment(tmp_path_factory: pytest.TempPathFactory):
     tmp = tmp_path_factory.mktemp("constant_moment")
     edits = [("  end: 2.5", "  end: 0.45"), ("  step: 0.001 ", "  step: 2.0e-4 ")]
-    return _solve(_variant(tmp, "constant_moment.case.yaml", edits), stroke_time=0.3)
+    return solve_case(_variant(tmp, "constant_moment.case.yaml", edits), stroke_time=0.3)
 
 
 def test_constant_moment_contact_stays_on_one_side(constant_moment) -> None:
