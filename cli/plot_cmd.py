@@ -50,8 +50,19 @@ def plot(
     output: Annotated[
         Path, typer.Option("-o", "--output", metavar="DIR", help="The folder of the PNG files.")
     ] = Path("plots"),
+    polar: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--polar",
+            metavar="REQUEST",
+            help="Instead of time plots, draw the polar plots and wear map of this `polar` "
+            "request of a clearance joint (for example --polar polar), per run and overlaid "
+            "across the runs of a sweep. Repeat the option for several requests.",
+        ),
+    ] = None,
 ) -> int:
-    """Write PNG plots of requests against time or another column, one file per request."""
+    """Write PNG plots of requests against time or another column, one file per request
+    (with --polar: the polar plots and wear maps of clearance joints)."""
     from loadcases.report import plots
 
     missing = [path for path in results if not path.exists()]
@@ -63,6 +74,8 @@ def plot(
             "no results (NAME.csv next to NAME.summary.json) under " + ", ".join(map(str, results))
         )
     patterns = [p.strip() for item in columns or [] for p in item.split(",") if p.strip()]
+    if polar:
+        return _polar(files, polar, output)
     try:
         runs = [plots.load_saved_run(path) for path in files]
         units = {k: v for run in reversed(runs) for k, v in run.units.items()}
@@ -73,6 +86,23 @@ def plot(
         raise fail(str(error)) from None
     typer.echo(
         f"{len(written)} plots of {len(runs)} run{'s' if len(runs) != 1 else ''} -> {output}"
+    )
+    return EXIT_OK
+
+
+def _polar(files: list[Path], requests: list[str], output: Path) -> int:
+    """`loads plot --polar REQ`: polar plots and wear maps of the runs in `files`."""
+    from loadcases.report import plots
+    from loadcases.report.polar_plots import write_runs_polar_plots
+
+    try:
+        runs = [plots.load_saved_run(path) for path in files]
+        written = write_runs_polar_plots(runs, output, requests)
+    except ValueError as error:
+        raise fail(str(error)) from None
+    typer.echo(
+        f"{len(written)} polar plots and wear maps of {len(runs)} "
+        f"run{'s' if len(runs) != 1 else ''} -> {output}"
     )
     return EXIT_OK
 

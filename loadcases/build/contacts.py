@@ -14,7 +14,13 @@ from typing import Any
 
 from mechlib import contact as mc
 
-__all__ = ["CLEARANCE_SHAPES", "CONTACT_COMPONENTS", "CONTACT_MAKERS", "CONTACT_UNITS"]
+__all__ = [
+    "CLEARANCE_QUANTITIES",
+    "CLEARANCE_SHAPES",
+    "CONTACT_COMPONENTS",
+    "CONTACT_MAKERS",
+    "CONTACT_UNITS",
+]
 
 CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
 """Geometries that make a clearance joint (with the `eccentricity` request)."""
@@ -39,16 +45,21 @@ CONTACT_COMPONENTS: dict[str, tuple[tuple[str, str], ...]] = {
         ("value", "eccentricity"),
         ("angle", "angle"),
     ),
+    "wear_work": (("value", "wear_work"),),
+    "polar": (
+        ("radial", "radial"),
+        ("axial", "axial"),
+        ("angle", "angle"),
+        ("clearance", "clearance"),
+        ("normal", "normal"),
+        ("wear", "wear"),
+        ("wear_work", "wear_work"),
+    ),
 }
+CLEARANCE_QUANTITIES = ("eccentricity", "wear_work", "polar")
+"""Request quantities only a clearance joint has."""
 # Unit of each element output key: the contact's own, and the clearance joints' eccentricity.
-CONTACT_UNITS: dict[str, str] = {
-    **mc.Contact.output_units,
-    "ex": "m",
-    "ey": "m",
-    "ez": "m",
-    "eccentricity": "m",
-    "angle": "rad",
-}
+CONTACT_UNITS: dict[str, str] = {**mc.Contact.output_units, **mc.ClearanceJoint.output_units}
 
 DEFAULT_PENALTY = 1.0e8
 """N/m^n: penalty stiffness of a `restitution` contact that gives none."""
@@ -59,7 +70,7 @@ def _geometry(g) -> Any:
     if g.shape == "sphere_plane":
         return mc.SpherePlane(g.center, g.radius, g.plane_point, g.normal, g.extent)
     if g.shape == "sphere_in_sphere":
-        return mc.SphereInSphere(g.center, g.radius, g.clearance)
+        return mc.SphereInSphere(g.center, g.radius, g.clearance, g.offset)
     if g.shape == "cylinder_in_cylinder":
         return mc.CylinderInCylinder(g.center, g.axis, g.radius, g.clearance)
     return mc.CircleProfile(g.center, g.radius, g.points, g.plane_normal)

@@ -14,6 +14,7 @@ _ANGLE_QUANTITIES = ("angle", "omega", "alpha")
 _TRAVEL_QUANTITIES = ("travel", "speed")
 _ANGLE_JOINTS, _TRAVEL_JOINTS = ROTATIONAL, TRANSLATIONAL
 _CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
+_CLEARANCE_QUANTITIES = ("eccentricity", "wear_work", "polar")  # as loadcases.build.contacts
 _TARGETS = {
     "joint": "joints",
     "motion": "motions",
@@ -50,7 +51,7 @@ def _quantity_fits(
     contact_name = getattr(request, "contact", None) or ""
     contact = mechanism.contacts.get(contact_name)
     if (
-        quantity == "eccentricity"
+        quantity in _CLEARANCE_QUANTITIES
         and contact is not None
         and contact.geometry.shape not in _CLEARANCE_SHAPES
     ):
@@ -59,7 +60,7 @@ def _quantity_fits(
                 path,
                 f"contact '{contact_name}' is a "
                 f"{contact.geometry.shape}, not a clearance joint: it has no "
-                "eccentricity",
+                f"{quantity}",
                 hint="sphere_in_sphere or cylinder_in_cylinder",
             )
         ]

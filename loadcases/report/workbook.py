@@ -43,6 +43,7 @@ from loadcases.report.decimate import CHART_ROWS, decimate_curve, decimate_run
 from loadcases.report.envelope import EnvelopeRow
 from loadcases.report.loads_matrix import LoadsMatrix
 from loadcases.report.margin_table import margin_lines
+from loadcases.report.wear_map import WEAR_SHEET, polar_requests, wear_map_sheet
 from loadcases.report.workbook_template import (
     COVER_FIELDS,
     COVER_SHEET,
@@ -222,6 +223,8 @@ def write_workbook(
         tables.matrix_sheet(new("Loads matrix"), data.matrix)
     if has_torque_margin(data.runs):
         torque_margin_sheet(new("Torque margin"), data.runs)
+    if any(polar_requests(run) for run in data.runs):
+        wear_map_sheet(new(WEAR_SHEET), data.runs)
     curves = _shown_curves(data)
     chart_sheet = new("Charts") if curves else None
     curve_sheets = [new(f"Curves {c.family}") for c in curves]

@@ -162,10 +162,21 @@ class ContactRequest(Strict):
     """Contact `force` (normal, friction, fx fy fz on body 1), `penetration` (value, m),
     `point` (x y z, m, ground axes), `sliding_speed` (value, m/s), `wear` (F_N * v_rel,
     value, W) or, of a clearance joint, `eccentricity` (ex ey ez in ground axes, value, m,
-    and its polar angle, rad)."""
+    and its polar angle, rad), `wear_work` (the integral of F_N * v_rel, value, J) and
+    `polar` (radial, axial, m; angle, rad; clearance, m; normal, N; wear, W; wear_work, J:
+    what the polar plots and the wear map read)."""
 
     contact: Name
-    quantity: Literal["force", "penetration", "point", "sliding_speed", "wear", "eccentricity"]
+    quantity: Literal[
+        "force",
+        "penetration",
+        "point",
+        "sliding_speed",
+        "wear",
+        "eccentricity",
+        "wear_work",
+        "polar",
+    ]
     frame: Name = Field("ground", description=_FRAME)
 
 

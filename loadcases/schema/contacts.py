@@ -66,8 +66,8 @@ class SpherePlane(Strict):
 
 
 class SphereInSphere(Strict):
-    """Ball on body 1 inside the socket of body 2 (a spherical clearance joint); centres
-    coincide at design."""
+    """Ball on body 1 inside the socket of body 2 (a spherical clearance joint); the socket
+    is centred on `center` at design, the ball on `center` + `offset`."""
 
     shape: Literal["sphere_in_sphere"]
     center: Position = Field(description=describe("common centre at design", "length"))
@@ -76,6 +76,14 @@ class SphereInSphere(Strict):
     polar_axis: Direction = Field(
         (0.0, 0.0, 1.0),
         description="axis (body 2) about which the eccentricity's polar angle is measured",
+    )
+    offset: Position = Field(
+        (0.0, 0.0, 0.0),
+        description=describe(
+            "the ball's centre minus the socket's at design (an assembly error, the "
+            "eccentricity at the start; its size below the clearance)",
+            "length",
+        ),
     )
 
 

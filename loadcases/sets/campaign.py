@@ -244,7 +244,17 @@ def _report_files(
     if on_report is not None:
         on_report("envelope plots")
     files += _plots(data.curves, result.directory)
-    return files
+    return files + _polar_plots(runs, result.directory)
+
+
+def _polar_plots(runs: list[SavedRun], directory: Path) -> list[Path]:
+    """Polar plots and wear maps of the runs' clearance joints (`polar` requests), per run
+    and overlaid per family, in `directory/polar/`."""
+    from loadcases.report.polar_plots import write_runs_polar_plots  # matplotlib: here only
+    from loadcases.report.wear_map import polar_requests
+
+    with_polar = [run for run in runs if polar_requests(run)]
+    return write_runs_polar_plots(with_polar, directory / "polar") if with_polar else []
 
 
 def _plots(curves: list[EnvelopeCurve], directory: Path) -> list[Path]:

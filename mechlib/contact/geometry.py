@@ -99,9 +99,11 @@ def _parameters(s1, s2, direction, radius: float, extra: float) -> np.ndarray:
 def _bind_clearance(
     joint, system, body1: str, body2: str, kind: int, axis: np.ndarray
 ) -> tuple[int, int]:
-    """A clearance joint's compiled data: both bodies' points at the common design centre,
-    the axis (zeros for a ball), radius and clearance; returns the two body indices."""
-    b1, s1 = system.body_point(body1, joint.center)
+    """A clearance joint's compiled data: body 1's point at its centre (the design centre
+    plus the joint's `offset`, if any), body 2's at the design centre, the axis (zeros for a
+    ball), radius and clearance; returns the two body indices."""
+    offset = np.asarray(getattr(joint, "offset", (0.0, 0.0, 0.0)), float)
+    b1, s1 = system.body_point(body1, np.asarray(joint.center, float) + offset)
     b2, s2 = system.body_point(body2, joint.center)
     joint._bound = (b1, b2, kind, _parameters(s1, s2, axis, joint.radius, joint.clearance))
     return b1, b2
@@ -141,13 +143,16 @@ class SpherePlane(_Compiled):
 
 @dataclass
 class SphereInSphere(_Compiled):
-    """Ball (radius, m) on body 1 in a socket of radius + clearance on body 2; the centres
-    coincide at the design position. Penetration = |eccentricity| - clearance; the contact
-    point midway between the ball surface and the socket wall along the eccentricity."""
+    """Ball (radius, m) on body 1 in a socket of radius + clearance on body 2, the socket
+    centred on `center` at the design position and the ball on `center` + `offset` (m,
+    global: an assembly error, the eccentricity at design; zero by default). Penetration =
+    |eccentricity| - clearance; the contact point midway between the ball surface and the
+    socket wall along the eccentricity."""
 
     center: Sequence[float]
     radius: float
     clearance: float
+    offset: Sequence[float] = (0.0, 0.0, 0.0)
     _bound: tuple = field(default=(), repr=False)
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:

@@ -18,7 +18,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from mechlib.rotation import cross, omega_global
+from mechlib.elements.bushing_kernel import STATE_SIZE, bushing_state
+from mechlib.rotation import cross
 from mechlib.view import StateView
 
 __all__ = ["Bushing", "rotation_vector"]
@@ -64,32 +65,30 @@ class Bushing:
         "rz": "rad",
     }
     _ends: tuple = field(default=(), repr=False)
+    _gains: tuple = field(default=(), repr=False)
 
     def bind(self, system) -> None:
-        self._ends = (
-            *system.body_point(self.bodies[0], self.at),
-            *system.body_point(self.bodies[1], self.at),
+        b1, s1 = system.body_point(self.bodies[0], self.at)
+        b2, s2 = system.body_point(self.bodies[1], self.at)
+        self._ends = (b1, np.asarray(s1, float), b2, np.asarray(s2, float))
+        self._gains = tuple(
+            np.asarray(v, float)
+            for v in (
+                self.stiffness,
+                self.damping,
+                self.torsional_stiffness,
+                self.torsional_damping,
+            )
         )
 
     def _state(self, view: StateView):
-        """(force, torque on body 1 in global axes, d, theta in J axes, point of body 1)."""
+        """(force, torque on body 1 in global axes, d, theta in J axes, point of body 1),
+        from the compiled kernel (mechlib.elements.bushing_kernel)."""
         b1, s1, b2, s2 = self._ends
-        kin = view.kin
-        a1, a2 = view.rotation(b1), view.rotation(b2)
-        p1, p2 = view.point_position(b1, s1), view.point_position(b2, s2)
-        w1, w2 = (omega_global(kin.x[b, 3:], kin.xd[b, 3:]) for b in (b1, b2))
-        d = a2.T @ (p1 - p2)
-        d_rate = a2.T @ (
-            view.point_velocity(b1, s1) - view.point_velocity(b2, s2) - cross(w2, p1 - p2)
-        )
-        theta = rotation_vector(a2.T @ a1)
-        omega = a2.T @ (w1 - w2)
-        force = -(np.multiply(self.stiffness, d) + np.multiply(self.damping, d_rate))
-        torque = -(
-            np.multiply(self.torsional_stiffness, theta)
-            + np.multiply(self.torsional_damping, omega)
-        )
-        return a2 @ force, a2 @ torque, d, theta, p1
+        k, c, kr, cr = self._gains
+        out = np.empty(STATE_SIZE)
+        bushing_state(view.kin.x, view.kin.xd, b1, s1, b2, s2, k, c, kr, cr, out)
+        return out[0:3], out[3:6], out[6:9], out[9:12], out[12:15]
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         force, torque, _, _, p1 = self._state(view)

@@ -21,6 +21,17 @@ LIBRARY = HERE.parents[1] / "loadcases" / "library" / "verification"
 """The verification case files (shipped with the package as library data)."""
 
 
+def solve_case(path: Path, **overrides: float) -> Any:
+    """Solve a case file (parameter `overrides` in SI, as a set's sweep gives them) through
+    `loadcases.run.run_case`; return its Solution after checking that it reports success."""
+    from loadcases.inputs.loader import load_case
+    from loadcases.run import run_case
+
+    outcome = run_case(load_case(path, overrides=overrides or None))
+    assert outcome.solution.ok, outcome.solution.message
+    return outcome.solution
+
+
 @pytest.fixture(scope="session")
 def library() -> Path:
     """Directory of the verification case files."""

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from conftest import LIBRARY
+from conftest import LIBRARY, solve_case
 
 WING = LIBRARY.parent / "solar_array"
 DEG = math.pi / 180
@@ -54,15 +54,6 @@ def _variant(tmp_path: Path, name: str, edits: dict[str, str]) -> Path:
     path = tmp_path / name
     path.write_text(text)
     return path
-
-
-def _run(path: Path, **overrides):
-    from loadcases.inputs.loader import load_case
-    from loadcases.run import run_case
-
-    outcome = run_case(load_case(path, overrides=overrides or None))
-    assert outcome.solution.ok, outcome.solution.message
-    return outcome.solution
 
 
 def test_latch_tuning_reproduces_appendix() -> None:
@@ -105,7 +96,7 @@ def held(tmp_path_factory):
         "bepicolombo_deploy_hot.case.yaml",
         {"end: 6.24, step: 0.002": "end: 3.0, step: 0.01"},
     )
-    return _run(path, sadm_holding=1.0e4)
+    return solve_case(path, sadm_holding=1.0e4)
 
 
 def test_energy_balance(held) -> None:
@@ -130,7 +121,7 @@ def test_latch_peak_one_dof(tmp_path) -> None:
             "hl2: {value: 0, rate: 0}": f"hl2: {{value: 179 deg, rate: {w0} rad/s}}",
         },
     )
-    sol = _run(path, sadm_holding=1.0e4)
+    sol = solve_case(path, sadm_holding=1.0e4)
     k = 2 * 19.344 / DEG
     drive = K_DEPLOY * (WINDUP - math.pi) - T_PRET_HOT + 0.05  # spring - friction + harness
     w = math.sqrt(w0**2 + 2 * DEG * (K_DEPLOY * (WINDUP - math.pi) - T_PRET_HOT) / I_OUT)
@@ -150,7 +141,7 @@ def test_in_orbit_momentum(tmp_path) -> None:
             "hl2: {value: 0, rate: 0}": "hl2: {value: 170 deg, rate: 1.33 rad/s}",
         },
     )
-    sol = _run(path)
+    sol = solve_case(path)
     ch, t = sol.channels, sol.time
     assert np.ptp(ch["sadm_angle.value"]) > 0.05  # the SADM did slip
     impulse = np.array([np.trapezoid(ch[f"sadm_force.f{c}"], t) for c in "xy"])
