@@ -72,7 +72,7 @@ def _solve(
     cf: CaseFile, built: BuiltRun, progress: Progress | None
 ) -> tuple[ml.Solution, AccuracyEstimate | None]:
     """The case's solution and, for a dynamic analysis, its global error estimate (with the
-    steps tightened to meet the target when the case leaves the tolerance to the engine)."""
+    steps tightened to meet the target when the case sets `accuracy` and no tolerance)."""
     first = [progress]  # the progress bar follows the first solve only
 
     def solve(analysis) -> ml.Solution:
@@ -85,7 +85,7 @@ def _solve(
         solve,
         built.analysis,
         DEFAULT_ACCURACY if accuracy is None else float(accuracy),
-        tighten=cf.case.analysis.tolerance is None,
+        tighten=accuracy is not None and cf.case.analysis.tolerance is None,
     )
 
 

@@ -12,10 +12,12 @@ through impacts and chaotic motion it is an order of magnitude at best, and said
 
 Two errors per request: `history`, the largest difference over the run (a time shift of a
 peak counts in full), and `peak`, the error of its envelope (largest max or min
-difference), the quantity sizing uses. When the case leaves the tolerance to the engine,
-a run whose estimate misses the target is solved again with every step halved (tolerance /
-2^(p+1), largest step / 2), the previous run becoming the companion, up to
-`MAX_TIGHTENINGS` times; the summary says what was reached.
+difference), the quantity sizing uses. When the case sets `accuracy` and leaves the
+tolerance to the engine, a run whose estimate misses the target is solved again with every
+step halved (tolerance / 2^(p+1), largest step / 2), the previous run becoming the
+companion, up to `MAX_TIGHTENINGS` times; the summary says what was reached. Without
+`accuracy` the default target is only estimated against and warned about: tightening costs
+up to 7.5 runs, which a case asks for, not every case.
 """
 
 from __future__ import annotations
@@ -235,7 +237,7 @@ def _warnings(estimate: AccuracyEstimate, tightened: bool) -> list[str]:
     how = (
         f"after {estimate.tightenings} tightenings (tolerance {estimate.tolerance:.3g})"
         if tightened
-        else f"at tolerance {estimate.tolerance:.3g} (set in the case)"
+        else f"at tolerance {estimate.tolerance:.3g} (not tightened)"
     )
     for measure, text in (
         ("peak", "envelope peaks"),

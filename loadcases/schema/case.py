@@ -99,8 +99,8 @@ class Analysis(Strict):
         None,
         description=(
             "dynamic: target of the estimated global error of each request, relative to its "
-            "peak (default 1e-3); without a tolerance the engine tightens its steps to meet "
-            "it; off: no estimate (one solve)"
+            "peak (default 1e-3, warned about); given without a tolerance, the engine "
+            "tightens its steps to meet it; off: no estimate (one solve)"
         ),
     )
     integrator: str | None = Field(None, description="dynamic: e.g. generalized-alpha, radau")
