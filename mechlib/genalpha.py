@@ -126,7 +126,7 @@ class Integrator:
         trial = states.trial.copy()
 
         def forces(kp, jac_p=None):
-            if states:
+            if states.drive_forces:
                 states.trial = trial.copy()
                 states.advance(sys.view(kp), h)
             return sys.forces(kp, skip=skip, lam=lam, jac=jac_p)

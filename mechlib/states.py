@@ -45,6 +45,10 @@ class ElementStates:
         )
         self.trial = self.z.copy()
         self.rates_accepted: np.ndarray | None = None
+        # states that no force reads (`states_drive_forces = False`: an integral kept as an
+        # output, e.g. a clearance joint's wear work) have rates independent of z: one
+        # explicit trapezoid per advance, and no part in the mechanism's tangent
+        self.drive_forces = any(getattr(e, "states_drive_forces", True) for e in self.owners)
         self._lu: tuple | None = None  # factored Newton matrix of `advance`, at step _lu_h
         self._lu_h = 0.0
 
@@ -77,6 +81,9 @@ class ElementStates:
         when it does not or h changed. Converged when each residual is within 1e-12 of its
         state (1e-14 absolute): a pressure of 1e7 Pa and a spool travel of 1e-5 m each at
         their own scale."""
+        if not self.drive_forces:  # rates independent of z: the trapezoid is explicit
+            self.trial = self.z + 0.5 * h * (self.rates_accepted + self.rates(view, self.z))
+            return
         z = self.trial.copy()
         prev, fresh = np.inf, False
         for _ in range(_NEWTON):

@@ -59,6 +59,7 @@ class ClearanceJoint(Contact):
     polar_axis: Sequence[float] = (0.0, 0.0, 1.0)
     _polar: tuple = field(default=(), repr=False)
     n_states = 1  # the wear work (J), mechlib.states
+    states_drive_forces = False  # an output only: the contact force never reads it
     output_units = _CLEARANCE_UNITS
 
     def bind(self, system) -> None:

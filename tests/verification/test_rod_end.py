@@ -97,7 +97,7 @@ def test_clearance_to_zero_tends_to_ideal_joint(tmp_path: Path) -> None:
     edits = [
         ("  end: 2.5", "  end: 0.35"),
         ("  step: 0.001 ", "  step: 0.002 "),
-        ("parameters:", "effects: {friction: false}\nparameters:"),
+        ("effects: {hydraulics: false}", "effects: {hydraulics: false, friction: false}"),
     ]
     case = "constant_moment.case.yaml"
     ideal = solve_case(_variant(tmp_path, case, edits, ideal=True), stroke_time=0.2)
