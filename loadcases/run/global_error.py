@@ -37,6 +37,8 @@ __all__ = [
     "AccuracyEstimate",
     "RequestError",
     "request_errors",
+    "request_of",
+    "request_peaks",
     "solve_to_accuracy",
 ]
 
@@ -69,16 +71,8 @@ class AccuracyEstimate:
     warnings: list[str] = field(default_factory=list)
 
     @property
-    def worst_peak(self) -> float:
-        return max((e.peak for e in self.requests.values()), default=0.0)
-
-    @property
-    def worst_history(self) -> float:
-        return max((e.history for e in self.requests.values()), default=0.0)
-
-    @property
     def met(self) -> bool:
-        return bool(self.worst_peak <= self.target)
+        return bool(_worst_peak(self.requests) <= self.target)
 
     def summary(self) -> dict:
         """The summary's `accuracy` block."""
@@ -133,8 +127,19 @@ def finer(analysis: ml.Dynamic) -> ml.Dynamic:
     )
 
 
-def _request(column: str) -> str:
+def request_of(column: str) -> str:
+    """`pivot_force.fx` -> `pivot_force`."""
     return column.rsplit(".", 1)[0]
+
+
+def request_peaks(channels: dict[str, np.ndarray]) -> dict[str, float]:
+    """Per request: the largest finite |value| of any of its columns."""
+    peaks: dict[str, float] = {}
+    for column, values in channels.items():
+        finite = np.abs(values[np.isfinite(values)])
+        name = request_of(column)
+        peaks[name] = max(peaks.get(name, 0.0), float(finite.max(initial=0.0)))
+    return peaks
 
 
 def _shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -151,15 +156,10 @@ def request_errors(run: ml.Solution, companion: ml.Solution, order: int) -> dict
     """Estimated error of each request of `run` from a companion of steps twice as long."""
     rows, rows_c = _shared_rows(run.time, companion.time)
     scale = 1.0 / (2.0**order - 1.0)
-    peaks: dict[str, float] = {}
-    for column, values in run.channels.items():
-        finite = np.abs(values[np.isfinite(values)])
-        peaks[_request(column)] = max(
-            peaks.get(_request(column), 0.0), float(finite.max(initial=0.0))
-        )
+    peaks = request_peaks(run.channels)
     out: dict[str, RequestError] = {}
     for column, values in run.channels.items():
-        name, other = _request(column), companion.channels.get(column)
+        name, other = request_of(column), companion.channels.get(column)
         if name in _SKIPPED or other is None or peaks[name] == 0.0 or not len(rows):
             continue
         x, y = values[rows], other[rows_c]

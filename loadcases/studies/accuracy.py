@@ -26,6 +26,7 @@ import mechlib as ml
 from loadcases.build.model import build_run
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
+from loadcases.run.global_error import request_of, request_peaks
 
 __all__ = [
     "DEFAULT_TARGET",
@@ -106,24 +107,15 @@ class AccuracyStudy:
         return min(good, key=lambda r: r.cpu_seconds) if good else None
 
 
-def _request(column: str) -> str:
-    return column.rsplit(".", 1)[0]
-
-
 def column_errors(solution: ml.Solution, reference: ml.Solution) -> dict[str, ColumnError]:
     """Errors of every column of `solution` against `reference` at the common output times,
     relative to the peak of the column's request in the reference (columns of a request
     whose reference is zero throughout are left out: no scale to measure against)."""
-    peaks: dict[str, float] = {}
-    for column, values in reference.channels.items():
-        finite = np.abs(values[np.isfinite(values)])
-        peaks[_request(column)] = max(
-            peaks.get(_request(column), 0.0), float(finite.max(initial=0.0))
-        )
+    peaks = request_peaks(reference.channels)
     n = min(len(solution.time), len(reference.time))
     out = {}
     for column, ref in reference.channels.items():
-        peak = peaks[_request(column)]
+        peak = peaks[request_of(column)]
         mine = solution.channels.get(column)
         if mine is None or peak == 0.0 or n == 0:
             continue
