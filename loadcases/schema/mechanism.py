@@ -23,6 +23,7 @@ from loadcases.schema.types import (
     vector,
 )
 from loadcases.units import FILE_UNIT_KINDS, UnitError, check_unit_name
+from mechlib.model import JOINT_TYPES  # one list of joint types: the engine's
 
 __all__ = [
     "COORDINATE_DIMENSION",
@@ -195,24 +196,6 @@ Joint = Annotated[
     | PointOnCurve,
     Field(discriminator="type"),
 ]
-JOINT_TYPES = (
-    "fixed",
-    "revolute",
-    "spherical",
-    "cylindrical",
-    "prismatic",
-    "universal",
-    "planar",
-    "screw",
-    "inline",
-    "inplane",
-    "parallel",
-    "perpendicular",
-    "orientation",
-    "coupler",
-    "gear",
-    "point_on_curve",
-)
 # Dimension of the single coordinate of a joint type (motions, `initial:` values).
 COORDINATE_DIMENSION = {
     "revolute": "angle",
