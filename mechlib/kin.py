@@ -15,12 +15,14 @@ GROUND_Q = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
 
 
 class Kin:
-    """`x` (nb+1, 7) rows [r, p] and `xd` their rates; r, p, rd, pd are views of them."""
+    """`x` (nb+1, 7) rows [r, p] and `xd` their rates; r, p, rd, pd are views of them.
+    `at_rest`: an equilibrium (static, quasi-static), built without rates: its rates are zero
+    and force elements leave out what acts on rates (a servo's oil-column damping)."""
 
-    __slots__ = ("t", "x", "xd")
+    __slots__ = ("at_rest", "t", "x", "xd")
 
-    def __init__(self, x: np.ndarray, xd: np.ndarray, t: float = 0.0):
-        self.x, self.xd, self.t = x, xd, t
+    def __init__(self, x: np.ndarray, xd: np.ndarray, t: float = 0.0, at_rest: bool = False):
+        self.x, self.xd, self.t, self.at_rest = x, xd, t, at_rest
 
     r = property(lambda self: self.x[:, :3])
     p = property(lambda self: self.x[:, 3:])
@@ -39,7 +41,8 @@ class Kin:
 
     @classmethod
     def from_state(cls, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:
-        """Split the stacked state (7 nb,) into per-body rows with ground appended."""
+        """Split the stacked state (7 nb,) into per-body rows with ground appended; without
+        `qd`, a state at rest."""
         n = q.shape[0]
         x = np.empty(n + 7)
         x[:n] = q
@@ -47,4 +50,4 @@ class Kin:
         xd = np.zeros(n + 7)
         if qd is not None:
             xd[:n] = qd
-        return cls(x.reshape(-1, 7), xd.reshape(-1, 7), t)
+        return cls(x.reshape(-1, 7), xd.reshape(-1, 7), t, at_rest=qd is None)

@@ -293,9 +293,7 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
         view = system.view(k, trajectory.lam[i])  # elements reading reactions see them
         # equilibria: force elements report what the solver used, without velocities
         rest = (
-            system.view(
-                system.kin(trajectory.q[i], np.zeros_like(trajectory.qd[i]), t), trajectory.lam[i]
-            )
+            system.view(system.kin(trajectory.q[i], None, t), trajectory.lam[i])
             if trajectory.at_rest
             else view
         )

@@ -36,6 +36,11 @@ class StateView:
     def t(self) -> float:
         return self.kin.t
 
+    @property
+    def at_rest(self) -> bool:
+        """An equilibrium's state (static, quasi-static): see Kin.at_rest."""
+        return self.kin.at_rest
+
     def rotation(self, body: int) -> np.ndarray:
         """Rotation matrix of body index `body` (ground = nb)."""
         return kernels.rotation_matrix(self.kin.x[body, 3:])

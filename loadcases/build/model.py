@@ -519,19 +519,24 @@ def _case_warning(cf: CaseFile, key: str, message: str, *, keyed: bool = True) -
     return Diagnostic(file, line, column, key if keyed else "", message, "warning")
 
 
-def _servo_warnings(cf: CaseFile, mechanism: ml.Mechanism, analysis) -> list[Diagnostic]:
-    """Servo actuators with valve dynamics outside a dynamic analysis: their chambers see the
-    piston at rest (quasi-static) or keep their initial pressures (static)."""
+def _servo_problems(cf: CaseFile, mechanism: ml.Mechanism, analysis) -> list[Diagnostic]:
+    """Servo actuators with valve dynamics in an equilibrium analysis: their chamber
+    pressures follow the piston flow, which an equilibrium (piston at rest) does not have,
+    so they cannot give a force there (docs/hydraulics.md, Analyses)."""
     if not isinstance(analysis, (ml.QuasiStatic, ml.Static)):
         return []
+    file, line, column = cf.where("case", "analysis.type")
     return [
-        _case_warning(
-            cf,
-            "analysis",
-            f"servo actuator '{name}' ({element.fidelity}) in a {analysis.name} analysis: "
-            "its chambers see the piston at rest, so its pressures and force do not describe "
-            "a moving actuator (use a dynamic analysis, or fidelity lag)",
-            keyed=False,
+        Diagnostic(
+            file,
+            line,
+            column,
+            "analysis.type",
+            f"servo actuator '{name}' ({element.fidelity}) cannot act in a {analysis.name} "
+            "analysis: its chamber pressures follow the piston flow, and an equilibrium has "
+            "the piston at rest",
+            hint="use a dynamic or kinematic analysis, the actuator's fidelity lag, "
+            "or effects: {hydraulics: false}",
         )
         for name, element in mechanism.forces.items()
         if isinstance(element, ServoActuator) and element.fidelity != "lag"
@@ -549,6 +554,7 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     if abscissa:
         _abscissa_request(b, requests, units)
     initial = b.initial()
+    b.problems += _servo_problems(cf, mechanism, analysis)
     if b.problems:
         raise InputError(b.problems)
     events = build_events(b)
@@ -580,7 +586,6 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
             )
         )
         events = []
-    notes += _servo_warnings(cf, mechanism, analysis)
     return BuiltRun(
         mechanism, analysis, requests, initial, cf.case.analysis.redundant, units, notes, events
     )

@@ -142,16 +142,22 @@ class ServoActuator:
     def state_rates(self, view: StateView, z) -> list[float]:
         if self._seen is None or self._seen[0] is not view:  # one line per Newton iterate
             self._seen = (view, *self._line(view)[:2])
-        return self._evaluate(view.t, self._seen[1], self._seen[2], z)[0]
+        return self._evaluate(view.t, self._seen[1], self._seen[2], z, view.at_rest)[0]
 
-    def _evaluate(self, t: float, x: float, xd: float, z) -> tuple[list[float], dict[str, float]]:
-        """(dz/dt, outputs) at time t, stroke x, rate xd and states z."""
+    def _evaluate(
+        self, t: float, x: float, xd: float, z, at_rest: bool = False
+    ) -> tuple[list[float], dict[str, float]]:
+        """(dz/dt, outputs) at time t, stroke x, rate xd and states z; `at_rest`: in an
+        equilibrium, where the rod follows the servo piston without inertia, the oil
+        columns' damping (lag) carries no force."""
         demand = float(self.command(t))
         out = {"stroke": x, "speed": xd, "command": demand}
         if self.fidelity == "lag":
             s = z[0]
             sd = self._lag_gain * (demand - s)
-            force = self._lag_stiffness * (s - x) + self.lag_damping * (sd - xd)
+            force = self._lag_stiffness * (s - x)
+            if not at_rest:
+                force += self.lag_damping * (sd - xd)
             out.update(servo_stroke=s, force=force + self._stop_force(x, xd))
             return [sd], out
         current, integral_rate = controller_current(self.controller, demand - x, z[0])
@@ -206,7 +212,7 @@ class ServoActuator:
     # ---- element interface ------------------------------------------------------------
     def _state(self, view: StateView) -> tuple[dict[str, float], np.ndarray]:
         x, xd, u = self._line(view)
-        out = self._evaluate(view.t, x, xd, view.states(self))[1]
+        out = self._evaluate(view.t, x, xd, view.states(self), view.at_rest)[1]
         out["value"] = -out["force"]
         return out, u
 
