@@ -9,6 +9,11 @@ forces are arrows from the joint point, on the joint's body 1 from its body 2, o
 proportional to the force's magnitude: the largest over the run and the joints drawn is
 `ARROW_SHARE` of the mechanism's size. Text from the case file is HTML-escaped: plotly shows
 it as written and never reads it as markup. Positions in the page are rounded to 1 µm.
+
+Every label keeps its text on every frame (plotly.js draws a 3-D label whose text changes
+during an animation at a fraction of its size): joints are grouped once, as those within
+0.1 mm of each other all along the run, and force magnitudes are hover texts and the
+slider's current value (`force_summary`), not labels.
 """
 
 from __future__ import annotations
@@ -22,12 +27,13 @@ from loadcases.draw.render import projection
 from loadcases.draw.shapes import outline_order, zigzag
 from loadcases.draw.trajectory import Trajectory
 
-__all__ = ["ARROW_SHARE", "Scene", "frame_traces", "scene_of"]
+__all__ = ["ARROW_SHARE", "Scene", "force_summary", "frame_traces", "scene_of"]
 
 ARROW_SHARE = 0.3
 """length of the largest force arrow, as a share of the mechanism's size."""
 _HEAD_SHARE = 0.12  # arrowhead length, as a share of the largest arrow
 _DECIMALS = 6  # m: 1 µm, far below what a screen shows
+_COINCIDENT = 1e-4  # m: joints closer than this all along the run share one label
 _CIRCLE_SEGMENTS = 36
 _COLOURS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2")
 _CONTACT = "crimson"
@@ -38,12 +44,14 @@ _FORCE = "#d0021b"
 class Scene:
     """What stays the same on every frame: `outlines` body -> its markers in outline order,
     `plane` (2, 3) two unit vectors of the mechanism's main plane, `size` (m) the largest
-    extent of the markers over the run, `metres_per_newton` the force arrows' scale."""
+    extent of the markers over the run, `metres_per_newton` the force arrows' scale,
+    `joint_groups` the joints labelled together (coincident all along the run)."""
 
     outlines: dict[str, list[str]]
     plane: np.ndarray
     size: float
     metres_per_newton: float
+    joint_groups: list[list[str]]
 
     @property
     def head(self) -> float:
@@ -64,7 +72,22 @@ def scene_of(traj: Trajectory) -> Scene:
     largest = max((float(np.max(np.linalg.norm(f, axis=1))) for f in traj.reactions.values()),
                   default=0.0)
     scale = ARROW_SHARE * size / largest if largest > 0.0 else 0.0
-    return Scene(outlines, np.asarray(plane, float), size, scale)
+    return Scene(outlines, np.asarray(plane, float), size, scale, _joint_groups(traj))
+
+
+def _joint_groups(traj: Trajectory) -> list[list[str]]:
+    """Joints in groups of those within `_COINCIDENT` of the group's first all along the run."""
+    groups: list[list[str]] = []
+    for name, marker in traj.skeleton.joints.items():
+        path = traj.positions[marker]
+        for group in groups:
+            first = traj.positions[traj.skeleton.joints[group[0]]]
+            if np.max(np.linalg.norm(path - first, axis=1)) < _COINCIDENT:
+                group.append(name)
+                break
+        else:
+            groups.append([name])
+    return groups
 
 
 def _xyz(points: list[np.ndarray | None]) -> dict[str, list]:
@@ -157,11 +180,8 @@ def _joints_and_points(traj: Trajectory, scene: Scene, k: int) -> list[dict]:
     """Points (gray dots), joints (open circles, coincident ones named together), body names."""
     sk = traj.skeleton
     points = [traj.positions[m][k] for m in sk.points.values()]
-    groups: dict[tuple[float, ...], list[str]] = {}
-    for name, marker in sk.joints.items():
-        key = tuple(np.round(traj.positions[marker][k], 4))
-        groups.setdefault(key, []).append(html.escape(name))
-    joints = [np.array(place) for place in groups]
+    joints = [traj.positions[sk.joints[group[0]]][k] for group in scene.joint_groups]
+    names = [", ".join(html.escape(j) for j in group) for group in scene.joint_groups]
     centres = [
         np.mean([traj.positions[m][k] for m in markers], axis=0)
         for markers in scene.outlines.values()
@@ -177,7 +197,7 @@ def _joints_and_points(traj: Trajectory, scene: Scene, k: int) -> list[dict]:
             "hoverinfo": "text",
             **_xyz(points),
         },
-        _labels(joints, [", ".join(g) for g in groups.values()], "joints", "black")
+        _labels(joints, names, "joints", "black")
         | {"mode": "markers+text", "marker": marker, "textposition": "top right"},
         _labels(centres, [f"<i>{html.escape(b)}</i>" for b in scene.outlines], "body names",
                 "dimgray"),
@@ -187,7 +207,7 @@ def _joints_and_points(traj: Trajectory, scene: Scene, k: int) -> list[dict]:
 def _arrows(traj: Trajectory, scene: Scene, k: int) -> list[dict]:
     """Reaction force arrows: shafts, heads (cones at the tips) and magnitudes."""
     shafts: list = []
-    tips, heads, texts = [], [], []
+    tips, heads, hover = [], [], []
     for joint, force in traj.reactions.items():
         start = traj.positions[traj.skeleton.joints[joint]][k]
         f = force[k]
@@ -196,7 +216,7 @@ def _arrows(traj: Trajectory, scene: Scene, k: int) -> list[dict]:
         shafts += [start, tip, None]
         tips.append(tip)
         heads.append(f / magnitude * scene.head if magnitude > 0.0 else np.zeros(3))
-        texts.append(f"{html.escape(joint)}: {magnitude:.4g} N")
+        hover.append(f"{html.escape(joint)}: {magnitude:.4g} N")
     cones = {
         "type": "cone",
         "name": "force arrowheads",
@@ -212,8 +232,22 @@ def _arrows(traj: Trajectory, scene: Scene, k: int) -> list[dict]:
     return [
         _lines(shafts, "reaction forces", _FORCE, 6),
         cones,
-        _labels(tips, texts, "reaction force magnitudes", _FORCE, textposition="top center"),
+        _labels(
+            tips,
+            [html.escape(j) for j in traj.reactions],
+            "reaction force names",
+            _FORCE,
+            textposition="top center",
+            hovertext=hover,
+        ),
     ]
+
+
+def force_summary(traj: Trajectory, k: int) -> str:
+    """The magnitudes of the reaction forces drawn, at output index k (N)."""
+    return ", ".join(
+        f"{html.escape(j)} {float(np.linalg.norm(f[k])):.4g} N" for j, f in traj.reactions.items()
+    )
 
 
 def frame_traces(traj: Trajectory, scene: Scene, k: int) -> list[dict]:

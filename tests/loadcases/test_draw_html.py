@@ -79,7 +79,10 @@ def test_one_frame_and_one_slider_step_per_drawn_time(page, fourbar) -> None:
     assert len(steps) == count
     assert [s["args"][0] for s in steps] == [[f["name"]] for f in fig["frames"]]
     times = fourbar.time[frame_indices(len(fourbar.time), MAX_FRAMES)]
-    assert [s["label"] for s in steps] == [f"{t:.4g}" for t in times]
+    labels = [s["label"] for s in steps]
+    assert [label.split("   ")[0] for label in labels] == [f"{t:.4g} s" for t in times]
+    # the forces' magnitudes follow the time: "0.005 s   crank_pivot 46.5 N, pin_c 15.4 N"
+    assert all(re.fullmatch(r"\S+ s   crank_pivot \S+ N, pin_c \S+ N", s) for s in labels)
     sizes = {len(f["data"]) for f in fig["frames"]}
     assert sizes == {len(fig["data"])}  # every frame updates the same traces
 
@@ -92,8 +95,13 @@ def test_labels_name_every_body_joint_and_force(page) -> None:
     joints = ", ".join(trace(data, "joints")["text"])
     assert all(j in joints for j in ("crank_pivot", "pin_b", "pin_c", "rocker_pivot"))
     assert trace(data, "body names")["text"] == ["<i>crank</i>", "<i>coupler</i>", "<i>rocker</i>"]
-    forces = trace(data, "reaction force magnitudes")["text"]
-    assert [t.split(":")[0] for t in forces] == list(FORCES)
+    forces = trace(data, "reaction force names")
+    assert forces["text"] == list(FORCES)
+    assert [t.split(":")[0] for t in forces["hovertext"]] == list(FORCES)
+    for frame in fig["frames"]:  # 3-D labels keep their text (plotly shrinks changed ones)
+        for t in frame["data"]:
+            if "text" in t:
+                assert t["text"] == trace(data, t["name"])["text"], t["name"]
 
 
 def test_arrow_lengths_follow_the_closed_form_reactions(page, fourbar) -> None:
