@@ -137,9 +137,7 @@ def figure_of(traj: Trajectory, *, view: str = "auto") -> dict:
     """The plotly figure (a dict: data, layout, frames) of a trajectory with output times."""
     scene = scene_of(traj)
     indices = frame_indices(len(traj.time), MAX_FRAMES)
-    frames = [
-        {"name": str(i), "data": frame_traces(traj, scene, k)} for i, k in enumerate(indices)
-    ]
+    frames = [{"name": str(i), "data": frame_traces(traj, scene, k)} for i, k in enumerate(indices)]
     layout = {
         "title": {"text": _title(traj, scene)},
         "scene": _scene_layout(traj, scene, view),

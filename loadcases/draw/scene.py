@@ -19,6 +19,7 @@ slider's current value (`force_summary`), not labels.
 from __future__ import annotations
 
 import html
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -69,8 +70,9 @@ def scene_of(traj: Trajectory) -> Scene:
             outlines[body] = [markers[i] for i in outline_order(at_start)]
     cloud = np.concatenate([p for p in traj.positions.values() if len(p)])
     size = max(float(np.max(np.ptp(cloud, axis=0))), 1e-3)
-    largest = max((float(np.max(np.linalg.norm(f, axis=1))) for f in traj.reactions.values()),
-                  default=0.0)
+    largest = max(
+        (float(np.max(np.linalg.norm(f, axis=1))) for f in traj.reactions.values()), default=0.0
+    )
     scale = ARROW_SHARE * size / largest if largest > 0.0 else 0.0
     return Scene(outlines, np.asarray(plane, float), size, scale, _joint_groups(traj))
 
@@ -90,7 +92,7 @@ def _joint_groups(traj: Trajectory) -> list[list[str]]:
     return groups
 
 
-def _xyz(points: list[np.ndarray | None]) -> dict[str, list]:
+def _xyz(points: Sequence[np.ndarray | None]) -> dict[str, list]:
     """x, y, z lists of a polyline (m, rounded); None breaks the line."""
     cols: dict[str, list] = {"x": [], "y": [], "z": []}
     for p in points:
@@ -199,8 +201,9 @@ def _joints_and_points(traj: Trajectory, scene: Scene, k: int) -> list[dict]:
         },
         _labels(joints, names, "joints", "black")
         | {"mode": "markers+text", "marker": marker, "textposition": "top right"},
-        _labels(centres, [f"<i>{html.escape(b)}</i>" for b in scene.outlines], "body names",
-                "dimgray"),
+        _labels(
+            centres, [f"<i>{html.escape(b)}</i>" for b in scene.outlines], "body names", "dimgray"
+        ),
     ]
 
 

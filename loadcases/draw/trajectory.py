@@ -178,7 +178,7 @@ def solve_trajectory(
         events=built.events,
     )
 
-    def columns(request: str, components: str) -> np.ndarray:
+    def columns(request: str, components: Sequence[str]) -> np.ndarray:
         return np.column_stack(
             [solution.channels.get(f"{request}.{c}", np.zeros(0)) for c in components]
         )
@@ -199,4 +199,3 @@ def solve_trajectory(
 def trajectory_of_file(path: Path | str) -> Trajectory:
     """Load a case file (InputError on bad input) and solve its marker trajectory."""
     return solve_trajectory(load_case(path))
-

@@ -139,7 +139,7 @@ def test_text_of_the_case_is_escaped(tmp_path: Path) -> None:
     case.write_text(source, encoding="utf-8")
     path = write_html(solve_trajectory(load_case(case)), tmp_path / "out")
     text = path.read_text(encoding="utf-8")
-    assert "<img" not in text and "onerror=\"alert" not in text
+    assert "<img" not in text and 'onerror="alert' not in text
     assert "<title>&lt;img src=x onerror=&quot;alert(1)&quot;&gt;</title>" in text
 
 

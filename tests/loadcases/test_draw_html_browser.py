@@ -22,7 +22,10 @@ from loadcases.draw.trajectory import solve_trajectory
 from loadcases.inputs.loader import load_case
 
 CHROMIUM = Path("/usr/bin/chromium")
-CASE = Path(__file__).resolve().parents[2] / "loadcases/library/verification/fourbar_quasistatic.case.yaml"
+CASE = (
+    Path(__file__).resolve().parents[2]
+    / "loadcases/library/verification/fourbar_quasistatic.case.yaml"
+)
 FLAGS = [
     "--headless",
     "--no-sandbox",
