@@ -121,6 +121,7 @@ def draw(
             help="Also animate the run: a GIF when Pillow is installed, else numbered PNG frames.",
         ),
     ] = False,
+    # `\\[` in help texts: typer reads [...] as rich markup and would drop it
     html: Annotated[
         bool,
         typer.Option(
@@ -128,7 +129,7 @@ def draw(
             help="Write an interactive 3-D view of the run, NAME.html, instead of the PNG "
             "pictures: drag to turn it, scroll to zoom, move the time slider or press Play. "
             "The page holds everything it needs and opens without a network. It needs the "
-            "optional plotly package: pip install 'loads[html]'.",
+            "optional plotly package: pip install 'loads\\[html]'.",
         ),
     ] = False,
     forces: Annotated[
@@ -147,7 +148,7 @@ def draw(
             "--run",
             metavar="NAME",
             help="The run of a set file to draw, named as loads run names it "
-            "(e.g. opening[angle=1.2]). A wrong name lists the runs of the set.",
+            "(e.g. opening\\[angle=1.2]). A wrong name lists the runs of the set.",
         ),
     ] = None,
 ) -> int:

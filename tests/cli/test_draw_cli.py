@@ -72,3 +72,11 @@ def test_html_of_one_run_of_a_set(tmp_path: Path) -> None:
     text = page.read_text(encoding="utf-8")
     assert f"<title>{RUN}</title>" in text
     assert "pivot" in text and "big" in text
+
+
+def test_help_shows_the_install_command_and_a_run_name() -> None:
+    """Square brackets survive typer's rich markup in the help."""
+    result = runner.invoke(app, ["draw", "--help"], terminal_width=200)
+    assert result.exit_code == 0
+    text = " ".join(result.output.replace("│", " ").split())
+    assert "pip install 'loads[html]'" in text and "opening[angle=1.2]" in text
