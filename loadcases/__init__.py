@@ -46,6 +46,7 @@ _WHERE = {
     "loadcases.report.plots": ("plot_runs", "write_envelope_plots"),
     "loadcases.draw.trajectory": ("Trajectory", "trajectory_of_file"),
     "loadcases.draw.render": ("write_pngs", "write_animation"),
+    "loadcases.draw.page": ("write_html",),
 }
 _MODULE_OF = {name: module for module, names in _WHERE.items() for name in names}
 

@@ -19,9 +19,10 @@ from pathlib import Path
 import numpy as np
 
 from loadcases.atomic import atomic_path, atomic_write_bytes
+from loadcases.draw.shapes import frame_indices, outline_order, zigzag
 from loadcases.draw.trajectory import Trajectory
 
-__all__ = ["DPI", "FIGURE_SIZE", "VIEWS", "projection", "write_animation", "write_pngs"]
+__all__ = ["DPI", "FIGURE_SIZE", "VIEWS", "projection", "slug", "write_animation", "write_pngs"]
 
 FIGURE_SIZE = (8.0, 6.0)
 """inch: figure size; with DPI the PNG is 800 x 600 pixels."""
@@ -29,7 +30,6 @@ DPI = 100
 VIEWS = ("auto", "xy", "yz", "xz")
 _AXES = {"xy": (0, 1), "yz": (1, 2), "xz": (0, 2)}
 _SNAP_COS = np.cos(np.radians(15.0))
-_ZIGZAG_TEETH = 8
 _MAX_FRAMES = 60
 _GIF_FPS = 12
 _LABEL_ITERATIONS = 200  # adjustText passes per picture (a count, not a time: reproducible)
@@ -63,31 +63,6 @@ def projection(traj: Trajectory, view: str) -> tuple[np.ndarray, tuple[str, str]
     return vt[:2], ("u [m] (principal)", "v [m] (principal)")
 
 
-def _zigzag(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Points of a zigzag from a to b (2D), teeth a tenth of the length wide."""
-    d = b - a
-    length = float(np.hypot(*d))
-    if length < 1e-9:
-        return np.array([a, b])
-    normal = np.array([-d[1], d[0]]) / length * 0.05 * length
-    s = np.linspace(0.15, 0.85, 2 * _ZIGZAG_TEETH + 1)
-    side = np.where(np.arange(s.size) % 2 == 1, 1.0, -1.0)
-    side[0] = side[-1] = 0.0
-    middle = a + np.outer(s, d) + np.outer(side, normal)
-    return np.vstack([a, middle, b])
-
-
-def _outline(pts: np.ndarray) -> np.ndarray:
-    """The body's markers in order round their centre (a closed outline), 2D."""
-    unique = np.unique(np.round(pts, 9), axis=0)
-    if len(unique) <= 2:
-        return unique
-    centre = unique.mean(axis=0)
-    order = np.argsort(np.arctan2(*(unique - centre).T[::-1]))
-    ring = unique[order]
-    return np.vstack([ring, ring[:1]])
-
-
 def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> list:
     """Draw the mechanism at output index k on the axes; returns the name labels."""
     from matplotlib.patches import Circle
@@ -98,7 +73,8 @@ def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> list:
     for n, (body, markers) in enumerate(sk.bodies.items()):
         if body == "ground":
             continue
-        ring = _outline(np.array([at[m] for m in markers]))
+        pts = np.array([at[m] for m in markers])
+        ring = pts[outline_order(pts)]
         colour = _COLOURS[n % len(_COLOURS)]
         ax.plot(ring[:, 0], ring[:, 1], "-", color=colour, lw=2.0, alpha=0.85)
         ax.fill(ring[:, 0], ring[:, 1], color=colour, alpha=0.08)
@@ -107,7 +83,8 @@ def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> list:
     for name, kind, a, b in sk.links:
         pa, pb = at[a], at[b]
         if kind == "spring":
-            z = _zigzag(pa, pb)
+            d = (pb - pa) / max(float(np.hypot(*(pb - pa))), 1e-12)
+            z = zigzag(pa, pb, np.array([-d[1], d[0]]))
             ax.plot(z[:, 0], z[:, 1], "-", color="tab:green", lw=1.2)
         elif kind == "wire":
             ax.plot([pa[0], pb[0]], [pa[1], pb[1]], "--", color="black", lw=1.2)
@@ -208,7 +185,7 @@ def _figure(traj: Trajectory, view: str, *, steady_labels: bool = False):
     return fig, render
 
 
-def _slug(text: str) -> str:
+def slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.=\-]+", "_", text)
 
 
@@ -227,18 +204,13 @@ def write_pngs(
         for t in times:
             k = traj.index_at(t)
             render(k)
-            target = Path(out_dir) / f"{_slug(traj.case)}-t{traj.time[k]:.4f}.png"
+            target = Path(out_dir) / f"{slug(traj.case)}-t{traj.time[k]:.4f}.png"
             with atomic_path(target) as tmp:
                 fig.savefig(tmp, format="png", dpi=DPI)
             written.append(target)
     finally:
         plt.close(fig)
     return written
-
-
-def _frame_indices(traj: Trajectory) -> list[int]:
-    n = len(traj.time)
-    return sorted(set(np.linspace(0, n - 1, min(n, _MAX_FRAMES)).round().astype(int).tolist()))
 
 
 def write_animation(
@@ -252,20 +224,20 @@ def write_animation(
     if len(traj.time) == 0:
         raise ValueError(f"{traj.case}: the run produced no output time ({traj.message})")
     fig, render = _figure(traj, view, steady_labels=True)
-    frames = _frame_indices(traj)
+    frames = frame_indices(len(traj.time), _MAX_FRAMES)
     try:
         if animation.PillowWriter.isAvailable():
             anim = animation.FuncAnimation(fig, render, frames=frames, blit=False)
             with tempfile.TemporaryDirectory() as tmp:
                 gif = Path(tmp) / "animation.gif"
                 anim.save(gif, writer=animation.PillowWriter(fps=_GIF_FPS), dpi=DPI)
-                target = Path(out_dir) / f"{_slug(traj.case)}.gif"
+                target = Path(out_dir) / f"{slug(traj.case)}.gif"
                 atomic_write_bytes(target, gif.read_bytes())
             return [target], f"GIF of {len(frames)} frames"
         written = []
         for i, k in enumerate(frames):
             render(k)
-            target = Path(out_dir) / f"{_slug(traj.case)}-frame-{i:03d}.png"
+            target = Path(out_dir) / f"{slug(traj.case)}-frame-{i:03d}.png"
             buffer = io.BytesIO()
             fig.savefig(buffer, format="png", dpi=DPI)
             atomic_write_bytes(target, buffer.getvalue())

@@ -2,8 +2,9 @@
 
 A case is built as `loads run` builds it (`loadcases.build.model.build_run`), then solved with
 requests of its own instead of the case's: the position of one marker per joint end, named
-point, spring end, seal end and contact feature, each fixed on its body. Result files are
-not touched. `loadcases.draw.render` turns the trajectory into PNG pictures and animations.
+point, spring end, seal end and contact feature, each fixed on its body, and the reaction
+force of the joints asked for. Result files are not touched. `loadcases.draw.render` turns
+the trajectory into PNG pictures and animations, `loadcases.draw.page` into a 3-D HTML page.
 
 Marker names are `<what>@<body>` (`hinge@door`, `wire#0@ground`); positions are in m,
 global axes.
@@ -11,6 +12,7 @@ global axes.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -20,7 +22,13 @@ import mechlib as ml
 from loadcases.build.model import build_run
 from loadcases.inputs.loader import CaseFile, load_case
 
-__all__ = ["Skeleton", "Trajectory", "skeleton_of", "solve_trajectory", "trajectory_of_file"]
+__all__ = [
+    "Skeleton",
+    "Trajectory",
+    "skeleton_of",
+    "solve_trajectory",
+    "trajectory_of_file",
+]
 
 _PLANE_HALF_SIZE = 0.03
 """m: half size of the square drawn for the plane of a sphere-plane contact."""
@@ -56,7 +64,9 @@ class Skeleton:
 
 @dataclass
 class Trajectory:
-    """Marker positions over a run: `time` (n,) s, `positions[marker]` (n, 3) m."""
+    """Marker positions over a run: `time` (n,) s, `positions[marker]` (n, 3) m;
+    `reactions[joint]` (n, 3) N: the force on the joint's body 1 from its body 2, global
+    axes, for the joints asked for. `case` names the run (the case, or the run of a set)."""
 
     case: str
     skeleton: Skeleton
@@ -64,6 +74,7 @@ class Trajectory:
     positions: dict[str, np.ndarray]
     status: str = "ok"
     message: str = ""
+    reactions: dict[str, np.ndarray] = field(default_factory=dict)
 
     def index_at(self, t: float) -> int:
         """Index of the output time nearest to `t` (s)."""
@@ -136,19 +147,27 @@ def skeleton_of(mech) -> Skeleton:
     return sk
 
 
-def solve_trajectory(cf: CaseFile) -> Trajectory:
-    """Solve a loaded case for the positions of every marker of its mechanism.
+def solve_trajectory(
+    cf: CaseFile, *, forces: Sequence[str] = (), name: str | None = None
+) -> Trajectory:
+    """Solve a loaded case for the positions of every marker of its mechanism and the
+    reaction forces of the joints `forces` (names of `skeleton_of(...).joints`).
 
-    The case's own requests are replaced by one point position request per marker; a
-    failed solve gives the trajectory up to the failure (`status`, `message`).
+    The case's own requests are replaced by one point position request per marker and one
+    reaction request per joint of `forces`; a failed solve gives the trajectory up to the
+    failure (`status`, `message`). `name` names the trajectory (default: the case name).
+    A modes analysis has no reaction forces: ValueError when `forces` are asked of one.
     """
+    if forces and cf.case.analysis.type == "modes":
+        raise ValueError(f"{cf.case.case}: a modes analysis computes no reaction forces")
     sk = skeleton_of(cf.mechanism)
     built = build_run(cf)
-    requests = []
+    requests: list = []
     for i, (body, at) in enumerate(sk.markers.values()):
         point = f"{_PREFIX}{i}"
         built.mechanism.add_point(point, body=body, at=at)
         requests.append(ml.PointKinematics(point, point, "position"))
+    requests += [ml.JointReaction(f"{_PREFIX}force_{j}", j) for j in forces]
     solution = ml.solve(
         built.mechanism,
         built.analysis,
@@ -158,14 +177,22 @@ def solve_trajectory(cf: CaseFile) -> Trajectory:
         throw=False,
         events=built.events,
     )
-    positions = {}
-    for i, marker in enumerate(sk.markers):
-        point = f"{_PREFIX}{i}"
-        positions[marker] = np.column_stack(
-            [solution.channels.get(f"{point}.{c}", np.zeros(0)) for c in "xyz"]
+
+    def columns(request: str, components: Sequence[str]) -> np.ndarray:
+        return np.column_stack(
+            [solution.channels.get(f"{request}.{c}", np.zeros(0)) for c in components]
         )
+
+    positions = {m: columns(f"{_PREFIX}{i}", "xyz") for i, m in enumerate(sk.markers)}
+    reactions = {j: columns(f"{_PREFIX}force_{j}", ("fx", "fy", "fz")) for j in forces}
     return Trajectory(
-        cf.case.case, sk, np.asarray(solution.time), positions, solution.status, solution.message
+        name or cf.case.case,
+        sk,
+        np.asarray(solution.time),
+        positions,
+        solution.status,
+        solution.message,
+        reactions,
     )
 
 

@@ -38,6 +38,7 @@ from loadcases.results.files import package_version
 __all__ = [
     "CompiledSet",
     "RunSpec",
+    "case_of_run",
     "compile_set",
     "load_and_compile_set",
     "run_hash",
@@ -267,3 +268,14 @@ def load_and_compile_set(
     if found:
         raise InputError(found)
     return compile_set(set_file, cases, version=version, what_if=what_if)
+
+
+def case_of_run(path: str | Path, run: str) -> CaseFile | list[str]:
+    """The case of the run named `run` of the set file `path`, loaded with the run's
+    parameter values (InputError on bad input), or the names of the set's runs, in order,
+    when it has no run of that name."""
+    runs = load_and_compile_set(path).runs
+    spec = next((r for r in runs if r.name == run), None)
+    if spec is None:
+        return [r.name for r in runs]
+    return load_case(spec.case_path, overrides=dict(spec.parameters))
