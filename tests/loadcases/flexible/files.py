@@ -5,9 +5,7 @@ readers."""
 
 from __future__ import annotations
 
-import functools
 import json
-import operator
 import struct
 from pathlib import Path
 from typing import Any
@@ -161,6 +159,6 @@ def dmig(name: str, matrix: np.ndarray, grids: list[int], style: str) -> str:
         lines.append(_line(["DMIG", name, str(gj), str(cj), "", *cells[0]], style))
         for k in range(1, len(cells), 2):
             lines.append(
-                _line(["+", *functools.reduce(operator.iadd, cells[k : k + 2], [])], style)
+                _line(["+", *(field for cell in cells[k : k + 2] for field in cell)], style)
             )
     return "".join(lines)
