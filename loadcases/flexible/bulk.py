@@ -160,9 +160,9 @@ def _aset(card: Card, bulk: BulkData, file: str) -> None:
     where = (file, card.line)
     if card.name == "ASET":
         pairs = [(card.fields[k], card.fields[k + 1]) for k in range(0, len(card.fields) - 1, 2)]
-        for grid, comps in pairs:
+        for grid, text in pairs:
             if grid:
-                for c in _components(card, comps):
+                for c in _components(card, text):
                     bulk.aset[(_integer(card, grid, "grid"), c)] = where
         return
     comps = _components(card, card.fields[0])
@@ -176,9 +176,9 @@ def _aset(card: Card, bulk: BulkData, file: str) -> None:
             continue
         ids.append(_integer(card, grids[k], "grid"))
         k += 1
-    for grid in ids:
+    for node in ids:
         for c in comps:
-            bulk.aset[(grid, c)] = where
+            bulk.aset[(node, c)] = where
 
 
 def read_bulk(paths: list[Path]) -> BulkData:
@@ -191,7 +191,7 @@ def read_bulk(paths: list[Path]) -> BulkData:
             for card in parse_cards(text):
                 _entry(card, bulk, str(path))
         except FileFormatError as error:
-            raise FileFormatError(f"{path}: {error.message}", error.line) from None
+            raise FileFormatError(error.message, error.line, Path(path)) from None
     return bulk
 
 

@@ -149,7 +149,8 @@ def cached(
     result = _checked(compute())
     try:
         with atomic_path(path) as tmp, open(tmp, "wb") as stream:
-            np.savez(stream, **{_KEY_ARRAY: np.array(key)}, **result)
+            entry: dict[str, Any] = {_KEY_ARRAY: np.array(key), **result}
+            np.savez(stream, **entry)
     except OSError as error:
         warn(f"cache entry {path} not written ({error})")
     return result

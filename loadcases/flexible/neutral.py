@@ -91,7 +91,7 @@ def write_neutral(
     """Write `model` (SI) as `NAME.json` + `NAME.npz` (each whole or not at all); `path` is
     NAME.json (or NAME); `node_names` maps names to node indices. Returns both paths."""
     header_path = Path(path).with_suffix(".json")
-    arrays: dict[str, np.ndarray] = {
+    arrays: dict[str, Any] = {
         "node_ids": np.asarray(model.node_ids, dtype=np.int64),
         "coordinates": np.asarray(model.coordinates, dtype=float),
         "dof_map": np.column_stack(

@@ -161,10 +161,13 @@ def dmig_source(header: Header) -> RawModel | None:
         return None
     try:
         bulk = read_bulk(paths)
-    except (FileFormatError, OSError) as error:
-        header.in_file(paths[0], str(error), line=getattr(error, "line", 0))
+    except FileFormatError as error:
+        header.in_file(error.file or paths[0], error.message, line=error.line)
         return None
-    picked = [_pick(header, key, path, bulk.matrices, name) for key, path, name in refs]
+    except OSError as error:
+        header.in_file(paths[0], f"cannot read: {error}")
+        return None
+    picked = [_pick(header, key, path, bulk.matrices, name) for key, path, name in refs if path]
     if header.errors or None in picked:
         return None
     return _dmig_model(header, bulk, refs, picked, paths)

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 
 __all__ = ["FileFormatError", "nastran_real"]
 
@@ -13,11 +14,11 @@ _SHORT_EXPONENT = re.compile(r"^([+-]?(?:\d+\.?\d*|\.\d+))([+-]\d+)$")
 
 class FileFormatError(ValueError):
     """A matrix or bulk-data file that does not follow its format; `line` (1-based, 0 when
-    unknown) is where."""
+    unknown) is where, `file` which file when the reader read several."""
 
-    def __init__(self, message: str, line: int = 0) -> None:
+    def __init__(self, message: str, line: int = 0, file: Path | None = None) -> None:
         super().__init__(message)
-        self.message, self.line = message, line
+        self.message, self.line, self.file = message, line, file
 
 
 def nastran_real(text: str, line: int = 0) -> float:
