@@ -101,34 +101,38 @@ def _dof_rows(header: Header, raw: RawModel, index: dict[int, int]) -> np.ndarra
 
 
 def _wtmass(header: Header, raw: RawModel, scales: Scales) -> float:
-    """The factor on the mass matrix: the header's `wtmass`, else PARAM,WTMASS, else 1
-    (with a warning when weight units are likely)."""
+    """The factor on the mass matrix as written: the header's `wtmass` (NASTRAN formats),
+    else 1. PARAM,WTMASS found in bulk data is not applied, with a warning: NASTRAN applies
+    it when it generates element masses, so the MAA/MGG it writes (OUTPUT4, the EXTOUT DMIG
+    punch) already hold it, and DMIG mass input (M2GG) is not scaled by it. Without either,
+    imperial force units warn that the masses may be weights."""
     given = header.data.get("wtmass")
     kind = header.data["format"]
     if given is not None:
         if kind not in NASTRAN:
             header.problem(("wtmass",), f"wtmass is for NASTRAN files (op4, dmig), not {kind}")
-            return 1.0
-        if isinstance(given, bool) or not isinstance(given, (int, float)) or not given > 0:
+        elif isinstance(given, bool) or not isinstance(given, (int, float)) or not given > 0:
             header.problem(("wtmass",), f"expected a positive number, got {json.dumps(given)}")
-            return 1.0
-        if raw.wtmass is not None and not np.isclose(raw.wtmass[0], given, rtol=1e-12):
-            header.problem(
-                ("wtmass",),
-                f"wtmass {given:g} but {raw.wtmass[1]} line {raw.wtmass[2]} has "
-                f"PARAM,WTMASS,{raw.wtmass[0]:g}",
-            )
-        return float(given)
-    if raw.wtmass is not None:
-        return raw.wtmass[0]
-    force = dict(scales.names).get("force", "")
-    if kind in NASTRAN and force.lower() in _WEIGHT_FORCES:
+        else:
+            return float(given)
+        return 1.0
+    if raw.wtmass is not None and raw.wtmass[0] != 1.0:
+        value, file, line = raw.wtmass
+        header.warn(
+            ("wtmass",),
+            f"PARAM,WTMASS,{value:g} ({file} line {line}) is not applied: the mass matrices "
+            "NASTRAN writes already hold it and DMIG mass input is not scaled by it",
+            hint=f'if the mass matrix as written is in weight units, give "wtmass": {value:g}',
+        )
+        return 1.0
+    names = dict(scales.names)
+    if kind in NASTRAN and names.get("force", "").lower() in _WEIGHT_FORCES:
         header.warn(
             ("units", "force"),
-            f"no PARAM,WTMASS in the files nor wtmass in the header: the masses are taken in "
-            f"{force}*{dict(scales.names).get('time', 's')}^2/{dict(scales.names)['length']}",
-            hint='if the model\'s masses are weights (lbm), give "wtmass": 0.00259 '
-            "(1/386.09, as PARAM,WTMASS in the NASTRAN run)",
+            f"no wtmass: the masses are taken in {names['force']}*{names.get('time', 's')}^2/"
+            f"{names['length']} (consistent units, as NASTRAN writes MAA/MGG)",
+            hint='if the mass matrix as written is in weight units (lbm), give "wtmass": '
+            "0.00259 (1/386.09)",
         )
     return 1.0
 

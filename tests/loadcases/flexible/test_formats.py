@@ -186,25 +186,30 @@ def test_dmig(tmp_path: Path, style: str) -> None:
     _assert_closed_form(path)
 
 
-def test_dmig_wtmass_multiplies_the_mass(tmp_path: Path) -> None:
-    """PARAM,WTMASS in the bulk data scales M (and only M); weight units in lbf-in."""
+def test_dmig_wtmass(tmp_path: Path) -> None:
+    """PARAM,WTMASS in the bulk data is not applied (NASTRAN's MAA/MGG already hold it; DMIG
+    mass input is not scaled by it): a warning; the header's wtmass scales M (only M)."""
     K, M = element(FILE_BEAM)
     text = "PARAM,WTMASS,0.5\nGRID,101,,0.,0.,0.\nGRID,202,,2.,0.,0.\n"
     text += files.dmig("K", K, GRIDS, "free") + files.dmig("M", M, GRIDS, "free")
     (tmp_path / "se.bdf").write_text(text)
-    path = files.header(
-        tmp_path,
-        format="dmig",
-        units=UNITS,
-        interface=GRIDS,
-        stiffness={"file": "se.bdf", "matrix": "K"},
-        mass={"file": "se.bdf", "matrix": "M"},
-    )
-    imported = read_fe_model(path)
+    keys = {
+        "format": "dmig",
+        "units": UNITS,
+        "interface": GRIDS,
+        "stiffness": {"file": "se.bdf", "matrix": "K"},
+        "mass": {"file": "se.bdf", "matrix": "M"},
+    }
     K_si, M_si = element(SI_BEAM)
-    assert imported.wtmass == 0.5
-    assert relative_error(imported.model.mass, 0.5 * M_si) < TOLERANCE
-    assert relative_error(imported.model.stiffness, K_si) < TOLERANCE
+    as_written = read_fe_model(files.header(tmp_path, **keys))
+    (warning,) = as_written.warnings
+    assert "PARAM,WTMASS,0.5" in warning.message and "se.bdf line 1" in warning.message
+    assert as_written.wtmass == 1.0
+    assert relative_error(as_written.model.mass, M_si) < TOLERANCE
+    scaled = read_fe_model(files.header(tmp_path, wtmass=0.5, **keys))
+    assert scaled.warnings == () and scaled.wtmass == 0.5
+    assert relative_error(scaled.model.mass, 0.5 * M_si) < TOLERANCE
+    assert relative_error(scaled.model.stiffness, K_si) < TOLERANCE
 
 
 def test_imperial_units_without_wtmass_warn(
@@ -222,7 +227,7 @@ def test_imperial_units_without_wtmass_warn(
         "mass": {"file": "se.op4", "matrix": "MAA"},
     }
     warned = read_fe_model(files.header(folder, **common))
-    assert len(warned.warnings) == 1 and "WTMASS" in warned.warnings[0].message
+    assert len(warned.warnings) == 1 and "no wtmass" in warned.warnings[0].message
     slinch = 4.4482216152605 / 0.0254  # kg in one lbf*s^2/in
     assert warned.model.mass[0, 0] == pytest.approx(M[0, 0] * slinch, rel=1e-12)
     weighed = read_fe_model(files.header(folder, wtmass=1 / 386.0886, **common))
