@@ -12,12 +12,13 @@ __all__ = [
     "definiteness_problem",
     "diagonal_problem",
     "lowest_eigenvalue",
+    "negative_pivots",
     "shape_problem",
     "symmetry_problem",
 ]
 
 SYMMETRY_TOLERANCE = 1e-9  # max |A - A^T| relative to max |A|
-DEFINITENESS_TOLERANCE = 1e-9  # lowest eigenvalue of M relative to its largest, at least
+DEFINITENESS_TOLERANCE = 1e-9  # lowest eigenvalue of M scaled to a unit diagonal, at least
 _DENSE_LIMIT = 1500  # up to this size the lowest eigenvalue is found by a dense solver
 _COMPONENT_NAMES = ("ux", "uy", "uz", "rx", "ry", "rz")
 
@@ -65,31 +66,67 @@ def diagonal_problem(matrix: sp.spmatrix, dofs: np.ndarray, what: str) -> str | 
 
 
 def lowest_eigenvalue(matrix: sp.spmatrix) -> float:
-    """The lowest eigenvalue of a symmetric matrix (dense solver up to 1500 rows, else
-    Lanczos on the low end of the spectrum)."""
+    """The lowest eigenvalue of a symmetric matrix (dense solver)."""
     from scipy.linalg import eigvalsh
-    from scipy.sparse.linalg import eigsh
 
-    if matrix.shape[0] <= _DENSE_LIMIT:
-        dense = sp.csr_matrix(matrix).toarray()
-        return float(eigvalsh(0.5 * (dense + dense.T), subset_by_index=[0, 0])[0])
-    values = eigsh(
-        sp.csr_matrix(matrix, dtype=float), k=1, which="SA", tol=1e-10, return_eigenvectors=False
-    )
-    return float(values[0])
+    dense = sp.csr_matrix(matrix).toarray()
+    return float(eigvalsh(0.5 * (dense + dense.T), subset_by_index=[0, 0])[0])
+
+
+def negative_pivots(matrix: sp.spmatrix) -> int | None:
+    """How many eigenvalues of a symmetric matrix are negative, by Sylvester's law of
+    inertia: the signs of the pivots of its LDL^T factorisation (SuperLU with symmetric
+    ordering and diagonal pivots). None when the factorisation had to pivot off the
+    diagonal or failed (the count would not be the inertia)."""
+    from scipy.sparse.linalg import splu
+
+    try:
+        lu = splu(
+            sp.csc_matrix(matrix),
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
+    except RuntimeError:  # exactly singular
+        return None
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        return None
+    return int(np.count_nonzero(lu.U.diagonal() < 0.0))
 
 
 def definiteness_problem(mass: sp.spmatrix, what: str) -> str | None:
-    """Why the (symmetric) mass matrix is not positive semi-definite, or None: its lowest
-    eigenvalue must not be below -1e-9 of its largest term. A zero matrix is refused too."""
+    """Why the (symmetric) mass matrix is not positive semi-definite, or None. Scaled to a
+    unit diagonal (S = D^-1/2 M D^-1/2, rows without mass left out), S + 1e-9 I must be
+    positive definite: no eigenvalue of S below -1e-9. A zero matrix, or a row with
+    coupling terms but no diagonal term, is refused too. Up to 1500 DOF the lowest
+    eigenvalue is computed; above, the pivots of S + 1e-9 I are counted.
+    RuntimeError if the larger check cannot be done (the caller warns)."""
     mass = sp.csr_matrix(mass)
-    scale = abs(mass).max() if mass.nnz else 0.0
-    if scale == 0.0:
-        return f"{what} is zero: the component has no mass"
-    lowest = lowest_eigenvalue(mass)
-    if lowest >= -DEFINITENESS_TOLERANCE * scale:
+    diagonal = mass.diagonal()
+    if not np.any(diagonal != 0.0):
+        return f"{what} has no diagonal term: the component has no mass"
+    empty = diagonal == 0.0
+    coupled = np.flatnonzero(empty & (np.diff(mass.indptr) > 0))
+    coupled = [row for row in coupled if np.any(mass.getrow(row).data != 0.0)]
+    if coupled:
+        return f"{what} has coupling terms in row {coupled[0] + 1} but no diagonal term"
+    kept = np.flatnonzero(~empty)
+    scale = sp.diags(1.0 / np.sqrt(np.abs(diagonal[kept])))
+    scaled = scale @ mass[kept][:, kept] @ scale
+    if len(kept) <= _DENSE_LIMIT:
+        lowest = lowest_eigenvalue(scaled)
+        if lowest >= -DEFINITENESS_TOLERANCE:
+            return None
+        return (
+            f"{what} is not positive semi-definite: eigenvalue {lowest:.6g} of the matrix "
+            "scaled to a unit diagonal (a negative mass or inertia)"
+        )
+    negative = negative_pivots(scaled + DEFINITENESS_TOLERANCE * sp.identity(len(kept)))
+    if negative is None:
+        raise RuntimeError("its LDL^T factorisation needed off-diagonal pivots")
+    if negative == 0:
         return None
     return (
-        f"{what} is not positive semi-definite: eigenvalue {lowest:.6g}, against its largest "
-        f"term {scale:.6g} (a negative mass or inertia)"
+        f"{what} is not positive semi-definite: {negative} eigenvalues below "
+        f"{-DEFINITENESS_TOLERANCE:g} of the matrix scaled to a unit diagonal"
     )

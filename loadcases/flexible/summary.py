@@ -14,7 +14,7 @@ from mechlib.flexible.fe_model import FEModel
 __all__ = ["MassProperties", "free_free_frequencies", "mass_properties", "rigid_fields"]
 
 DENSE_LIMIT = 600  # DOF: up to this size every mode comes from a dense solver
-_RIGID = 1e-9  # |w^2| below this fraction of the stiffness-to-mass scale: a rigid-body mode
+_RIGID = 1e-8  # |K r|, relative to max |K| |r|, below which a rigid-body field r is free
 
 
 @dataclass(frozen=True)
@@ -67,8 +67,8 @@ def _scale(model: FEModel) -> float:
 
 def free_free_frequencies(model: FEModel, count: int) -> tuple[np.ndarray, np.ndarray]:
     """The lowest `count` eigenvalues of K x = w^2 M x as frequencies (Hz; negative for a
-    negative w^2, found only from rounding) and a flag per mode: rigid-body (|w^2| below
-    1e-9 of the model's stiffness-to-mass scale). Shift-invert about a small negative
+    negative w^2, found only from rounding) and a flag per mode: rigid-body (the first
+    `rigid_modes(model)` modes). Shift-invert about a small negative
     shift, so that K may be singular (free-free) and M semi-definite; dense below 600 DOF."""
     from scipy.linalg import eigh
     from scipy.sparse.linalg import eigsh
@@ -88,4 +88,19 @@ def free_free_frequencies(model: FEModel, count: int) -> tuple[np.ndarray, np.nd
             eigsh(K, k=count, M=M, sigma=shift, which="LM", return_eigenvectors=False)
         )
     hertz = np.sign(squares) * np.sqrt(np.abs(squares)) / (2.0 * np.pi)
-    return hertz, np.abs(squares) < _RIGID * scale
+    return hertz, np.arange(count) < rigid_modes(model)
+
+
+def rigid_modes(model: FEModel) -> int:
+    """How many rigid-body motions the model has (6 when free-free, fewer when DOF are
+    constrained): the rigid-body fields (translations, rotations about the nodes' centroid)
+    that K leaves unloaded, |K r| <= 1e-8 max|K| max|r|."""
+    gamma, r0 = rigid_fields(model)
+    centroid = np.mean(model.coordinates, axis=0)
+    r0 = r0 - gamma @ np.cross(np.eye(3), centroid).T  # rotations about the centroid
+    fields = np.hstack([gamma, r0])
+    K = sp.csr_matrix(model.stiffness)
+    largest = float(abs(K).max()) if K.nnz else 0.0
+    loads = np.max(np.abs(K @ fields), axis=0)
+    sizes = np.max(np.abs(fields), axis=0)
+    return int(np.count_nonzero((sizes > 0) & (loads <= _RIGID * largest * sizes)))
