@@ -106,9 +106,8 @@ def definiteness_problem(mass: sp.spmatrix, what: str) -> str | None:
     if not np.any(diagonal != 0.0):
         return f"{what} has no diagonal term: the component has no mass"
     empty = diagonal == 0.0
-    coupled = np.flatnonzero(empty & (np.diff(mass.indptr) > 0))
-    coupled = [row for row in coupled if np.any(mass.getrow(row).data != 0.0)]
-    if coupled:
+    coupled = np.flatnonzero(empty & (np.asarray(abs(mass).sum(axis=1)).ravel() > 0.0))
+    if coupled.size:
         return f"{what} has coupling terms in row {coupled[0] + 1} but no diagonal term"
     kept = np.flatnonzero(~empty)
     scale = sp.diags(1.0 / np.sqrt(np.abs(diagonal[kept])))
