@@ -36,19 +36,22 @@ def _node_table(header: Header) -> tuple[NodeTable | None, np.ndarray | None, li
 
 
 def _raw(
-    header: Header, matrices: list[Any], files: list[Path], table: NodeTable, dofs: Any
+    matrices: list[Any], files: list[Path], table: NodeTable, dofs: Any, **extra: Any
 ) -> RawModel:
+    """The RawModel of (matrix, file) pairs for stiffness and mass on the node table (six
+    DOF per node unless a DOF map is given)."""
     dof_map = dofs if dofs is not None else six_per_node(table.ids)
     return RawModel(
         sp.csr_matrix(matrices[0][0], dtype=float),
         sp.csr_matrix(matrices[1][0], dtype=float),
-        dof_map,
+        np.asarray(dof_map, dtype=np.int64).reshape(-1, 2),
         table.ids,
         table.coordinates,
         matrices[0][1],
         matrices[1][1],
         node_names=table.names,
         files=files,
+        **extra,
     )
 
 
@@ -68,7 +71,7 @@ def matrix_market_source(header: Header) -> RawModel | None:
     table, dofs, read = _node_table(header)
     if header.errors or table is None or len(matrices) != 2:
         return None
-    return _raw(header, matrices, [matrices[0][1], matrices[1][1], *read], table, dofs)
+    return _raw(matrices, [matrices[0][1], matrices[1][1], *read], table, dofs)
 
 
 def _matrix_ref(header: Header, key: str) -> tuple[Path | None, str | None]:
@@ -124,7 +127,7 @@ def op4_source(header: Header) -> RawModel | None:
     table, dofs, read = _node_table(header)
     if header.errors or table is None or len(matrices) != 2:
         return None
-    return _raw(header, matrices, [*files, *read], table, dofs)
+    return _raw(matrices, [*files, *read], table, dofs)
 
 
 def _dmig_matrix(matrix: DmigMatrix, index: dict[tuple[int, int], int]) -> sp.csr_matrix:
@@ -200,18 +203,6 @@ def _dmig_model(
             np.array([bulk.grids[g][0] for g in grids], dtype=float),
             {},
         )
+    pairs = [(stiffness, refs[0][1]), (mass, refs[1][1])]
     interface = sorted({grid for grid, _ in bulk.aset})
-    raw = RawModel(
-        stiffness,
-        mass,
-        np.array(dofs, dtype=np.int64).reshape(-1, 2),
-        table.ids,
-        table.coordinates,
-        refs[0][1],
-        refs[1][1],
-        node_names=table.names,
-        interface=interface,
-        wtmass=bulk.wtmass,
-        files=[*paths, *read],
-    )
-    return raw
+    return _raw(pairs, [*paths, *read], table, dofs, interface=interface, wtmass=bulk.wtmass)

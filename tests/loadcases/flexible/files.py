@@ -19,6 +19,13 @@ def header(folder: Path, name: str = "part", **keys: Any) -> Path:
     return path
 
 
+def nastran_header(folder: Path, kind: str, file: str, names: tuple[str, str], **keys: Any) -> Path:
+    """A header of format `kind` (op4, dmig) whose stiffness and mass are the matrices
+    `names` of one file."""
+    refs = [{"file": file, "matrix": name} for name in names]
+    return header(folder, format=kind, stiffness=refs[0], mass=refs[1], **keys)
+
+
 def nodes_csv(
     folder: Path, ids: list[int], x: np.ndarray, names: dict[int, str] | None = None
 ) -> Path:
@@ -42,6 +49,15 @@ def _strings(column: np.ndarray) -> list[tuple[int, np.ndarray]]:
     return runs
 
 
+def _columns(matrix: np.ndarray) -> Any:
+    """(index, column, first non-zero row 0-based, values from it to the last non-zero)
+    of every column with a non-zero term."""
+    for c in range(matrix.shape[1]):
+        nz = np.flatnonzero(matrix[:, c])
+        if nz.size:
+            yield c, matrix[:, c], nz[0], matrix[nz[0] : nz[-1] + 1, c]
+
+
 def _ascii_values(values: np.ndarray, per_line: int, width: int, digits: int) -> str:
     cells = [f"{v:{width}.{digits}E}" for v in values]
     return "".join("".join(cells[i : i + per_line]) + "\n" for i in range(0, len(cells), per_line))
@@ -57,14 +73,9 @@ def op4_ascii(
         rows, cols = matrix.shape
         nrow = -rows if layout == "bigmat" else rows
         text += f"{cols:8}{nrow:8}{6:8}{2:8}{name:8}1P,{per_line}E{width}.{digits}\n"
-        for c in range(cols):
-            column = matrix[:, c]
-            if not np.any(column):
-                continue
+        for c, column, first_row, values in _columns(matrix):
             if layout == "dense":
-                nz = np.flatnonzero(column)
-                values = column[nz[0] : nz[-1] + 1]
-                text += f"{c + 1:8}{nz[0] + 1:8}{len(values):8}\n"
+                text += f"{c + 1:8}{first_row + 1:8}{len(values):8}\n"
                 text += _ascii_values(values, per_line, width, digits)
                 continue
             runs = _strings(column)
@@ -96,14 +107,9 @@ def op4_binary(matrices: dict[str, np.ndarray], layout: str, order: str = "<") -
         rows, cols = matrix.shape
         nrow = -rows if layout == "bigmat" else rows
         data += _record(order, struct.pack(order + "4i8s", cols, nrow, 6, 2, f"{name:8}".encode()))
-        for c in range(cols):
-            column = matrix[:, c]
-            if not np.any(column):
-                continue
+        for c, column, first_row, values in _columns(matrix):
             if layout == "dense":
-                nz = np.flatnonzero(column)
-                values = column[nz[0] : nz[-1] + 1]
-                body = struct.pack(order + "3i", c + 1, nz[0] + 1, 2 * len(values))
+                body = struct.pack(order + "3i", c + 1, first_row + 1, 2 * len(values))
                 data += _record(order, body + values.astype(order + "f8").tobytes())
                 continue
             body = b""

@@ -226,13 +226,7 @@ def test_op4_complex_refused(tmp_path: Path) -> None:
 def test_dmig_entries(tmp_path: Path, entry: str, words: str) -> None:
     text = "DMIG,K,0,6,2,0,,,12\nDMIG,M,0,6,2,0,,,12\n$ comment\n" + entry + "\n"
     (tmp_path / "se.pch").write_text(text)
-    path = files.header(
-        tmp_path,
-        format="dmig",
-        units=UNITS,
-        stiffness={"file": "se.pch", "matrix": "K"},
-        mass={"file": "se.pch", "matrix": "M"},
-    )
+    path = files.nastran_header(tmp_path, "dmig", "se.pch", ("K", "M"), units=UNITS)
     _one(path, file=tmp_path / "se.pch", words=words, line=4)
 
 
@@ -241,11 +235,5 @@ def test_dmig_without_grids(tmp_path: Path) -> None:
     (tmp_path / "se.pch").write_text(
         files.dmig("K", K, GRIDS, "small") + files.dmig("M", M, GRIDS, "small")
     )
-    path = files.header(
-        tmp_path,
-        format="dmig",
-        units=UNITS,
-        stiffness={"file": "se.pch", "matrix": "K"},
-        mass={"file": "se.pch", "matrix": "M"},
-    )
+    path = files.nastran_header(tmp_path, "dmig", "se.pch", ("K", "M"), units=UNITS)
     _one(path, file=path, words="no GRID entry for grids 101, 202", key="nodes")

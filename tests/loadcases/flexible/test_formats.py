@@ -105,14 +105,8 @@ def test_matrix_market(beam_files: tuple[Path, np.ndarray, np.ndarray]) -> None:
 def test_op4_ascii(beam_files: tuple[Path, np.ndarray, np.ndarray], layout: str) -> None:
     folder, K, M = beam_files
     (folder / "se.op4").write_text(files.op4_ascii({"KAA": K, "MAA": M}, layout))
-    path = files.header(
-        folder,
-        format="op4",
-        units=UNITS,
-        nodes="nodes.csv",
-        interface=GRIDS,
-        stiffness={"file": "se.op4", "matrix": "KAA"},
-        mass={"file": "se.op4", "matrix": "maa"},
+    path = files.nastran_header(
+        folder, "op4", "se.op4", ("KAA", "maa"), units=UNITS, nodes="nodes.csv", interface=GRIDS
     )
     _assert_closed_form(path)
 
@@ -176,13 +170,7 @@ def test_dmig(tmp_path: Path, style: str) -> None:
         + files.dmig("MAAX", M, GRIDS, style)
     )
     (tmp_path / "se.pch").write_text(bulk)
-    path = files.header(
-        tmp_path,
-        format="dmig",
-        units=UNITS,
-        stiffness={"file": "se.pch", "matrix": "KAAX"},
-        mass={"file": "se.pch", "matrix": "MAAX"},
-    )
+    path = files.nastran_header(tmp_path, "dmig", "se.pch", ("KAAX", "MAAX"), units=UNITS)
     _assert_closed_form(path)
 
 
