@@ -30,6 +30,7 @@ __all__ = ["Op4Matrix", "read_op4"]
 
 _FORMAT = re.compile(r"(\d+)\s*[EDGF]\s*(\d+)\.(\d+)", re.IGNORECASE)
 _INTEGERS = re.compile(r"^\s*[-+]?\d+(\s+[-+]?\d+)*\s*$")
+_DUMMY = re.compile(r"^[\s\d.EeDd+-]*[.EeDd][\s\d.EeDd+-]*$")  # real numbers only
 _REAL_TYPES = {1: "single", 2: "double"}
 
 
@@ -111,6 +112,15 @@ class _AsciiLines:
     def done(self) -> bool:
         return all(not line.strip() for line in self.lines[self.at :])
 
+    def skip_dummy(self) -> None:
+        """Pass the dummy value after the last column record, when there is one (a line
+        that is neither integers nor the next matrix header, whose name has letters)."""
+        at = self.at
+        while at < len(self.lines) and not self.lines[at].strip():
+            at += 1
+        if at < len(self.lines) and _DUMMY.match(self.lines[at]):
+            self.at = at + 1
+
     def values(self, count: int, width: int) -> np.ndarray:
         """`count` fixed-width numbers from the following lines."""
         found: list[float] = []
@@ -156,7 +166,7 @@ def _read_ascii(lines: list[str]) -> dict[str, Op4Matrix]:
             number, line = source.next()
             col, row, nw = _ints(line, 3, number)
             if col > ncol:
-                source.values(1, width)  # the dummy value that ends the matrix
+                source.skip_dummy()
                 break
             if row > 0:  # dense: NW counts the values
                 terms.add(row, col, source.values(nw, width), f"line {number}")

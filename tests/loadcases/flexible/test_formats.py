@@ -265,3 +265,19 @@ def test_the_documented_export_script(tmp_path: Path, monkeypatch: pytest.Monkey
     assert relative_error(imported.model.stiffness, K_si) < TOLERANCE
     assert relative_error(imported.model.mass, M_si) < TOLERANCE
     assert imported.node("hinge_b") == 1 and imported.model.interface == (0, 1)
+
+
+def test_op4_ascii_without_dummy_values(tmp_path: Path) -> None:
+    """Some writers end a matrix with its last record alone (no dummy value line)."""
+    from loadcases.flexible.op4 import read_op4
+
+    K, M = element(FILE_BEAM)
+    text = files.op4_ascii({"KAA": K, "MAA": M}, "sparse")
+    lines = text.splitlines()
+    ends = [i for i, line in enumerate(lines) if line.startswith("      13       1       1")]
+    kept = [line for i, line in enumerate(lines) if i - 1 not in ends]
+    (tmp_path / "se.op4").write_text("\n".join(kept) + "\n")
+    found = read_op4(tmp_path / "se.op4")
+    assert len(kept) == len(lines) - 2
+    assert np.array_equal(found["KAA"].matrix.toarray(), K)
+    assert np.array_equal(found["MAA"].matrix.toarray(), M)
