@@ -501,6 +501,16 @@ from cli import tune_cmd  # noqa: E402  (tune: parameter for a target frequency,
 
 app.command("tune")(guarded(tune_cmd.tune))
 
+from cli import flex_cmd  # noqa: E402  (flex check: an imported flexible component, via `guarded`)
+
+flex_app = typer.Typer(
+    no_args_is_help=True,
+    pretty_exceptions_enable=False,
+    help="Flexible components imported from FE files (stiffness and mass).",
+)
+flex_app.command("check")(guarded(flex_cmd.check))
+app.add_typer(flex_app, name="flex")
+
 
 def main() -> None:
     """Console entry point `loads`."""

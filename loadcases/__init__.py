@@ -47,6 +47,9 @@ _WHERE = {
     "loadcases.draw.trajectory": ("Trajectory", "trajectory_of_file"),
     "loadcases.draw.render": ("write_pngs", "write_animation"),
     "loadcases.draw.page": ("write_html",),
+    "loadcases.flexible.read": ("FEImport", "read_fe_model"),
+    "loadcases.flexible.neutral": ("write_neutral",),
+    "loadcases.flexible.cache": ("cached",),
 }
 _MODULE_OF = {name: module for module, names in _WHERE.items() for name in names}
 

@@ -23,7 +23,8 @@ LAYERS: tuple[frozenset[str], ...] = tuple(
         "clip",  # input quoted in messages (at most 80 characters)
         "diagnostics units atomic limits engine_hash interrupts",  # problems as data;
         # quantities; files written whole; input limits; the engine's source hash; signals
-        "source expressions",  # YAML with positions; the expression language
+        "source expressions flexible",  # YAML with positions; the expression language;
+        # stiffness and mass files of flexible components (readers, reduction cache)
         "schema",  # pydantic models of the files
         "checks",  # semantic checks of the models
         "inputs results",  # files -> validated models; the files of one run

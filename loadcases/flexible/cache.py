@@ -1,0 +1,156 @@
+"""A cache of computed arrays (Craig-Bampton reductions of imported components), keyed by a
+SHA-256 of everything they are computed from.
+
+The key covers the caller's `key_parts` (matrices by content, interface, mode selection,
+damping ...) and the engine's identity: the hash of its source (`engine_sha256`, the rule
+that keeps saved runs from being reused across engine changes) and the numpy and scipy
+versions. An entry is one `KEY.npz` file, written whole or not at all (temporary file, then
+rename); an unreadable entry is computed again with a warning. Nothing is ever evicted:
+delete the folder to clear it.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import os
+import warnings
+import zipfile
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import scipy
+import scipy.sparse as sp
+
+from loadcases.atomic import atomic_path
+from loadcases.engine_hash import engine_sha256
+
+__all__ = ["CACHE_ENV", "CacheWarning", "cache_folder", "cache_key", "cached"]
+
+CACHE_ENV = "LOADS_CACHE_DIR"  # a folder shared by every run (else one per output folder)
+_KEY_ARRAY = "__key__"
+
+
+class CacheWarning(UserWarning):
+    """A cache entry could not be read or written (the result is computed anyway)."""
+
+
+def cache_folder(output_folder: Path | None = None) -> Path:
+    """`$LOADS_CACHE_DIR/flexible` when set, else `<output folder>/.cache/flexible`
+    (`./.cache/flexible` without an output folder)."""
+    shared = os.environ.get(CACHE_ENV, "").strip()
+    if shared:
+        return Path(shared) / "flexible"
+    return Path(output_folder or ".") / ".cache" / "flexible"
+
+
+def _feed(digest: Any, value: Any) -> None:
+    """Add `value` to the hash in a canonical, type-tagged form (so 1 and 1.0 and "1"
+    differ, a sparse matrix hashes by its terms, not by how it is stored)."""
+    if isinstance(value, np.generic):  # numpy scalars hash as the Python numbers they equal
+        value = value.item()
+    if value is None or isinstance(value, (bool, int, float, str)):
+        digest.update(f"{type(value).__name__}:{value!r};".encode())
+    elif isinstance(value, Path):
+        _feed(digest, str(value))
+    elif sp.issparse(value):
+        csr = sp.csr_matrix(value, copy=True)
+        csr.sum_duplicates()
+        csr.eliminate_zeros()
+        csr.sort_indices()
+        digest.update(b"sparse;")
+        for part in (np.asarray(csr.shape), csr.data, csr.indices, csr.indptr):
+            _feed(digest, np.asarray(part))
+    elif isinstance(value, np.ndarray):
+        array = np.ascontiguousarray(value)
+        if array.dtype.kind == "O":
+            raise TypeError("object arrays cannot be part of a cache key")
+        digest.update(f"array:{array.dtype.str}:{array.shape};".encode())
+        digest.update(array.tobytes())
+    elif isinstance(value, Mapping):
+        digest.update(f"map:{len(value)};".encode())
+        for key in sorted(value, key=str):
+            _feed(digest, str(key))
+            _feed(digest, value[key])
+    elif isinstance(value, (list, tuple)):
+        digest.update(f"list:{len(value)};".encode())
+        for item in value:
+            _feed(digest, item)
+    elif dataclasses.is_dataclass(value) and not isinstance(value, type):
+        digest.update(f"{type(value).__qualname__};".encode())
+        _feed(digest, {f.name: getattr(value, f.name) for f in dataclasses.fields(value)})
+    else:
+        raise TypeError(f"{type(value).__name__} cannot be part of a cache key")
+
+
+def cache_key(key_parts: Mapping[str, Any]) -> str:
+    """The SHA-256 (hex) of `key_parts` and of the engine's identity (source hash, numpy
+    and scipy versions). Values: numbers, text, None, lists, mappings, numpy arrays,
+    scipy sparse matrices, dataclasses of those (an `FEModel`)."""
+    digest = hashlib.sha256()
+    _feed(
+        digest,
+        {
+            "parts": dict(key_parts),
+            "engine": engine_sha256(),
+            "numpy": np.__version__,
+            "scipy": scipy.__version__,
+        },
+    )
+    return digest.hexdigest()
+
+
+def _warn(message: str) -> None:
+    warnings.warn(message, CacheWarning, stacklevel=3)
+
+
+def _load(path: Path, key: str) -> dict[str, np.ndarray]:
+    """The arrays of a cache entry; ValueError (or the reader's error) if it is damaged."""
+    with np.load(path, allow_pickle=False) as entry:
+        if _KEY_ARRAY not in entry.files or str(entry[_KEY_ARRAY]) != key:
+            raise ValueError("its key does not match its name")
+        return {name: entry[name] for name in entry.files if name != _KEY_ARRAY}
+
+
+def _checked(result: Any) -> dict[str, np.ndarray]:
+    """The computed result as name -> array; TypeError if it is not one."""
+    if not isinstance(result, Mapping):
+        raise TypeError(f"compute() must return a mapping of arrays, got {type(result).__name__}")
+    arrays = {}
+    for name, value in result.items():
+        if not isinstance(name, str) or not name.isidentifier() or name.startswith("__"):
+            raise TypeError(f"cache entry names are identifiers without a leading __: {name!r}")
+        arrays[name] = np.asarray(value)
+        if arrays[name].dtype.kind == "O":
+            raise TypeError(f"{name}: object arrays cannot be cached")
+    return arrays
+
+
+def cached(
+    key_parts: Mapping[str, Any],
+    compute: Callable[[], Mapping[str, np.ndarray]],
+    *,
+    folder: Path | None = None,
+    warn: Callable[[str], None] = _warn,
+) -> dict[str, np.ndarray]:
+    """The arrays `compute()` returns for `key_parts`, read from the cache when an entry
+    exists, else computed and stored (`folder`, default `cache_folder()`). A damaged entry
+    is computed again and replaced; a cache that cannot be written only warns (`warn`,
+    default a `CacheWarning`)."""
+    key = cache_key(key_parts)
+    path = Path(folder if folder is not None else cache_folder()) / f"{key}.npz"
+    if path.is_file():
+        try:
+            return _load(path, key)
+        except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
+            warn(f"cache entry {path} unreadable ({error}): computed again")
+    result = _checked(compute())
+    try:
+        with atomic_path(path) as tmp, open(tmp, "wb") as stream:
+            entry: dict[str, Any] = {_KEY_ARRAY: np.array(key), **result}
+            np.savez(stream, **entry)
+    except OSError as error:
+        warn(f"cache entry {path} not written ({error})")
+    return result

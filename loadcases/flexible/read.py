@@ -1,0 +1,243 @@
+"""`read_fe_model(header.json)`: an imported flexible component as a checked `FEModel` in SI
+units, whatever its format (neutral npz, Matrix Market, NASTRAN OP4 or DMIG).
+
+Every problem is an `InputError` whose diagnostics name the file (the header, a matrix or
+a node table), the line and key where known, and what is wrong; warnings (weight units
+suspected, an unchecked mass matrix) come back with the result.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from loadcases.diagnostics import Diagnostic
+from loadcases.flexible import checks
+from loadcases.flexible.header import Header, load_header
+from loadcases.flexible.neutral import npz_source
+from loadcases.flexible.raw import RawModel
+from loadcases.flexible.scales import Scales, read_scales, to_si_matrix
+from loadcases.flexible.sources import dmig_source, matrix_market_source, op4_source
+from mechlib.flexible.fe_model import FEModel
+
+__all__ = ["FEImport", "read_fe_model"]
+
+SOURCES: dict[str, Callable[[Header], RawModel | None]] = {
+    "npz": npz_source,
+    "matrix-market": matrix_market_source,
+    "op4": op4_source,
+    "dmig": dmig_source,
+}
+NASTRAN = ("op4", "dmig")
+_WEIGHT_FORCES = ("lbf", "kip", "kipf", "ozf", "pdl", "poundal", "pound_force")
+
+
+@dataclass(frozen=True)
+class FEImport:
+    """An imported component: its model (SI), description, node names (name -> node
+    index), the units and WTMASS factor applied, every file read (header first: what a
+    run's input hash must cover) and the warnings found."""
+
+    model: FEModel
+    description: str
+    node_names: dict[str, int]
+    units: str
+    wtmass: float
+    files: tuple[Path, ...]
+    warnings: tuple[Diagnostic, ...]
+
+    def node(self, ref: int | str) -> int:
+        """Index of a node given by its id or name; KeyError if there is none."""
+        if isinstance(ref, str):
+            return self.node_names[ref]
+        hits = np.flatnonzero(self.model.node_ids == ref)
+        if hits.size == 0:
+            raise KeyError(f"no node {ref}")
+        return int(hits[0])
+
+
+def read_fe_model(path: Path) -> FEImport:
+    """The component described by the JSON header at `path`, checked and in SI units;
+    InputError with every problem found otherwise."""
+    header = load_header(Path(path))
+    scales = read_scales(header)
+    raw = SOURCES[header.data["format"]](header)
+    header.stop_if_errors()
+    assert raw is not None and scales is not None
+    model, names, wtmass = _model(header, raw, scales)
+    header.stop_if_errors()
+    assert model is not None
+    description = header.data.get("description", "")
+    return FEImport(
+        model,
+        description if isinstance(description, str) else json.dumps(description),
+        names,
+        scales.text(),
+        wtmass,
+        (header.path, *dict.fromkeys(raw.files)),
+        tuple(header.warnings),
+    )
+
+
+def _dof_rows(header: Header, raw: RawModel, index: dict[int, int]) -> np.ndarray | None:
+    """(ndof, 2) node index and component 0-5 of the raw DOF map; None with problems."""
+    dofs = np.asarray(raw.dofs, dtype=np.int64).reshape(-1, 2)
+    unknown = sorted({int(n) for n in dofs[:, 0] if int(n) not in index})
+    where = raw.stiffness_file
+    if unknown:
+        shown = ", ".join(map(str, unknown[:10]))
+        header.in_file(where, f"the DOF map names nodes without coordinates: {shown}")
+    if np.any((dofs[:, 1] < 1) | (dofs[:, 1] > 6)):
+        header.in_file(where, "the DOF map has components outside 1-6")
+    if len({(int(a), int(b)) for a, b in dofs}) != len(dofs):
+        header.in_file(where, "the DOF map names a DOF twice")
+    if header.errors:
+        return None
+    return np.column_stack([[index[int(n)] for n in dofs[:, 0]], dofs[:, 1] - 1]).astype(np.int64)
+
+
+def _wtmass(header: Header, raw: RawModel, scales: Scales) -> float:
+    """The factor on the mass matrix as written: the header's `wtmass` (NASTRAN formats),
+    else 1. PARAM,WTMASS found in bulk data is not applied, with a warning: NASTRAN applies
+    it when it generates element masses, so the MAA/MGG it writes (OUTPUT4, the EXTOUT DMIG
+    punch) already hold it, and DMIG mass input (M2GG) is not scaled by it. Without either,
+    imperial force units warn that the masses may be weights."""
+    given = header.data.get("wtmass")
+    kind = header.data["format"]
+    if given is not None:
+        if kind not in NASTRAN:
+            header.problem(("wtmass",), f"wtmass is for NASTRAN files (op4, dmig), not {kind}")
+        elif isinstance(given, bool) or not isinstance(given, (int, float)) or not given > 0:
+            header.problem(("wtmass",), f"expected a positive number, got {json.dumps(given)}")
+        else:
+            return float(given)
+        return 1.0
+    if raw.wtmass is not None and raw.wtmass[0] != 1.0:
+        value, file, line = raw.wtmass
+        header.warn(
+            ("wtmass",),
+            f"PARAM,WTMASS,{value:g} ({file} line {line}) is not applied: the mass matrices "
+            "NASTRAN writes already hold it and DMIG mass input is not scaled by it",
+            hint=f'if the mass matrix as written is in weight units, give "wtmass": {value:g}',
+        )
+        return 1.0
+    names = dict(scales.names)
+    if kind in NASTRAN and names.get("force", "").lower() in _WEIGHT_FORCES:
+        header.warn(
+            ("units", "force"),
+            f"no wtmass: the masses are taken in {names['force']}*{names.get('time', 's')}^2/"
+            f"{names['length']} (consistent units, as NASTRAN writes MAA/MGG)",
+            hint='if the mass matrix as written is in weight units (lbm), give "wtmass": '
+            "0.00259 (1/386.09)",
+        )
+    return 1.0
+
+
+def _model(
+    header: Header, raw: RawModel, scales: Scales
+) -> tuple[FEModel | None, dict[str, int], float]:
+    """The checked FEModel (SI), node names and WTMASS; problems recorded on the header."""
+    ids = np.asarray(raw.node_ids, dtype=np.int64)
+    index = {int(n): i for i, n in enumerate(ids)}
+    if len(index) != len(ids):
+        header.in_file(raw.stiffness_file, "a node id is given twice")
+        return None, {}, 1.0
+    dof_map = _dof_rows(header, raw, index)
+    if dof_map is None:
+        return None, {}, 1.0
+    for matrix, path, what in (
+        (raw.stiffness, raw.stiffness_file, "the stiffness matrix"),
+        (raw.mass, raw.mass_file, "the mass matrix"),
+    ):
+        problem = checks.shape_problem(matrix, len(dof_map), what)
+        if problem is not None:
+            header.in_file(path, problem)
+    wtmass = _wtmass(header, raw, scales)
+    if header.errors:
+        return None, {}, wtmass
+    rotational = dof_map[:, 1] >= 3
+    stiffness = to_si_matrix(raw.stiffness, rotational, scales, "stiffness")
+    mass = to_si_matrix(raw.mass, rotational, scales, "mass") * wtmass
+    _check_matrices(header, raw, stiffness, mass)
+    names = _names(header, raw, index)
+    interface = _interface(header, raw, index, names, dof_map)
+    if header.errors or interface is None:
+        return None, names, wtmass
+    coordinates = np.asarray(raw.coordinates, dtype=float) * scales.length
+    return FEModel(ids, coordinates, dof_map, stiffness, mass, interface), names, wtmass
+
+
+def _check_matrices(header: Header, raw: RawModel, stiffness: object, mass: object) -> None:
+    """Symmetry, diagonals and (mass) semi-definiteness, as problems of the matrix files."""
+    for matrix, path, what in (
+        (stiffness, raw.stiffness_file, "the stiffness matrix"),
+        (mass, raw.mass_file, "the mass matrix"),
+    ):
+        for problem in (
+            checks.symmetry_problem(matrix, what),
+            checks.diagonal_problem(matrix, raw.dofs, what),
+        ):
+            if problem is not None:
+                header.in_file(path, problem)
+    if header.errors:
+        return
+    try:
+        problem = checks.definiteness_problem(mass, "the mass matrix")
+    except (ArithmeticError, ValueError, RuntimeError) as error:  # ARPACK did not converge
+        header.warn(("mass",), f"the mass matrix could not be checked for definiteness: {error}")
+        return
+    if problem is not None:
+        header.in_file(raw.mass_file, problem)
+
+
+def _names(header: Header, raw: RawModel, index: dict[int, int]) -> dict[str, int]:
+    """Node names (name -> node index): the node table's, then the header's `node_names`."""
+    given = header.data.get("node_names", {})
+    if not isinstance(given, dict):
+        header.problem(("node_names",), 'expected {"name": node id, ...}')
+        given = {}
+    names: dict[str, int] = {}
+    for name, node in [*raw.node_names.items(), *given.items()]:
+        if isinstance(node, bool) or not isinstance(node, int) or node not in index:
+            header.problem(("node_names", name), f"'{name}': no node {json.dumps(node)}")
+            continue
+        names[name] = index[node]
+    return names
+
+
+def _interface(
+    header: Header, raw: RawModel, index: dict[int, int], names: dict[str, int], dofs: np.ndarray
+) -> tuple[int, ...] | None:
+    """Node indices of the interface (header ids or names, else the files' ASET grids),
+    each carrying six DOF; None with problems."""
+    given = header.data.get("interface", raw.interface)
+    if not isinstance(given, list):
+        header.problem(("interface",), "expected a list of node ids or names")
+        return None
+    found: list[int] = []
+    for i, ref in enumerate(given):
+        node = (
+            names.get(ref)
+            if isinstance(ref, str)
+            else index.get(ref)
+            if isinstance(ref, int)
+            else None
+        )
+        if node is None:
+            header.problem(("interface", i), f"no node {json.dumps(ref)}")
+            continue
+        carried = int(np.count_nonzero(dofs[:, 0] == node))
+        if carried != 6:
+            header.problem(
+                ("interface", i),
+                f"interface node {json.dumps(ref)} carries {carried} DOF: an interface node "
+                "needs all six (ux uy uz rx ry rz)",
+            )
+            continue
+        if node not in found:
+            found.append(node)
+    return None if header.errors else tuple(found)
