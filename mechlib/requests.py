@@ -234,7 +234,7 @@ def _coordinate(system, k, req: JointCoordinate, qdd) -> float:
         return m.value(k)
     if req.quantity in ("omega", "speed"):
         return m.rate(k)
-    return float(m.gradient(k)[: system.nq] @ qdd + m.quad(k))
+    return float(system.body_columns(m.gradient(k)) @ qdd + m.quad(k))
 
 
 def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str, np.ndarray]:
