@@ -193,7 +193,10 @@ class _Builder:
         m = ml.Mechanism(name=self.mech.name or "mechanism", gravity=gravity)
         self.built = m
         for name, b in self.mech.bodies.items():
-            m.add_body(name, mass=b.mass, cm=b.cm, inertia=b.inertia)
+            if b.flexible is not None:
+                self._flexible(m, name, b.flexible)
+            else:
+                m.add_body(name, mass=b.mass, cm=b.cm, inertia=b.inertia)
         for name, p in self.mech.points.items():
             m.add_point(name, body=p.body, at=p.at)
         for name, f in self.mech.frames.items():
@@ -231,6 +234,18 @@ class _Builder:
                 continue
             m.add_motion(name, joint=motion.joint, function=function)
         return m
+
+    def _flexible(self, m: ml.Mechanism, name: str, f) -> None:
+        """A flexible body (its interface points are points `NAME.POINT` of the schema
+        model), or an error at its key."""
+        from loadcases.build.flexible import flexible_component
+
+        try:
+            component = flexible_component(f)
+        except ValueError as error:  # ReductionError too
+            self.error("mechanism", f"bodies.{name}.flexible", str(error))
+            return
+        m.add_flexible_body(name, component)
 
     def _joint(self, m: ml.Mechanism, name: str, j) -> None:
         if j.type == "point_on_curve":

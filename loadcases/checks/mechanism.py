@@ -268,6 +268,8 @@ def _inertia(at: Locator, name: str, inertia: tuple[float, ...]) -> list[Diagnos
 def _bodies(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     found = []
     for name, body in model.bodies.items():
+        if body.mass is None or body.inertia is None:
+            continue  # a flexible body: mass properties from its FE model
         if body.mass <= 0.0:
             found.append(at.diagnostic(("bodies", name, "mass"), "mass must be positive"))
         found += _inertia(at, name, body.inertia)

@@ -8,6 +8,7 @@ from pydantic import BeforeValidator, Field, model_validator
 from pydantic_core import PydanticCustomError
 
 from loadcases.schema.elements import Contact, ForceElement, Table
+from loadcases.schema.flexible import Flexible
 from loadcases.schema.types import (
     AnySI,
     Direction,
@@ -84,15 +85,35 @@ class FileUnits(Strict):
 
 
 class Body(Strict):
-    """A rigid body; `cm` and `inertia` in global axes at the design position."""
+    """A rigid body (`cm` and `inertia` in global axes at the design position) or a flexible
+    body (`flexible:`, its mass properties from its FE model)."""
 
-    mass: Mass = Field(description=describe("mass", "mass"))
-    cm: Position = Field(description=describe("centre of mass, global frame", "length"))
-    inertia: Inertia = Field(
+    mass: Mass | None = Field(None, description=describe("mass", "mass"))
+    cm: Position | None = Field(
+        None, description=describe("centre of mass, global frame", "length")
+    )
+    inertia: Inertia | None = Field(
+        None,
         description="about the cm, global axes: [Ixx, Iyy, Izz] or "
         "[Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (Ixy = -integral of x*y dm) "
-        "[inertia: kg*m^2, bare numbers always SI]"
+        "[inertia: kg*m^2, bare numbers always SI]",
     )
+    flexible: Flexible | None = Field(
+        None, description="a flexible body (Craig-Bampton modes of a beam or grillage)"
+    )
+
+    @model_validator(mode="after")
+    def _rigid_or_flexible(self) -> Body:
+        rigid = [k for k in ("mass", "cm", "inertia") if getattr(self, k) is not None]
+        if self.flexible is not None and rigid:
+            raise PydanticCustomError(
+                "body",
+                "a flexible body takes its mass properties from its FE model: "
+                f"remove {', '.join(rigid)}",
+            )
+        if self.flexible is None and len(rigid) < 3:
+            raise PydanticCustomError("body", "a rigid body needs mass, cm and inertia")
+        return self
 
 
 class Point(Strict):
@@ -271,3 +292,16 @@ class MechanismModel(Strict):
     contacts: dict[str, Contact] = Field(default_factory=dict)
     tables: dict[str, Table] = Field(default_factory=dict)
     events: dict[str, Event] = Field(default_factory=dict)
+
+    @model_validator(mode="after")
+    def _interface_points(self) -> MechanismModel:
+        """Each interface point of a flexible body is a point `BODY.NAME` of the mechanism."""
+        for body, b in self.bodies.items():
+            for name, at in (b.flexible.interface if b.flexible else {}).items():
+                point = f"{body}.{name}"
+                if point in self.points:
+                    raise PydanticCustomError(
+                        "points", f"point {point} is also an interface point of body {body}"
+                    )
+                self.points[point] = Point(body=body, at=at)
+        return self

@@ -18,14 +18,14 @@ import numpy as np
 from mechlib.flexible.beam import Material, Section, assemble_beams
 from mechlib.flexible.fe_model import FEModel
 
-__all__ = ["Grillage", "grillage"]
+__all__ = ["NamedModel", "grillage", "straight_beam"]
 
 _MERGE = 1e-9  # relative to the panel size: grid lines closer than this are one line
 
 
 @dataclass(frozen=True)
-class Grillage:
-    """The FEModel of a grillage and its named interface nodes (name -> node index)."""
+class NamedModel:
+    """An FEModel and its named interface nodes (name -> node index)."""
 
     model: FEModel
     nodes: dict[str, int] = field(default_factory=dict)
@@ -50,9 +50,13 @@ def grillage(
     material: Material,
     mesh: tuple[int, int],
     interface: dict[str, tuple[float, float]] | None = None,
-) -> Grillage:
+    *,
+    origin=(0.0, 0.0, 0.0),
+    axes=None,
+) -> NamedModel:
     """A panel `size` = (lx, ly) m, `thickness` m, `mesh` = (nx, ny) cells, with interface
-    nodes at the named (x, y) positions (m, panel frame)."""
+    nodes at the named (x, y) positions (m, panel frame); the panel frame's corner placed at
+    `origin` (m) with `axes` (rows: its x, y, z axes; default the model's axes)."""
     lx, ly = size
     interface = interface or {}
     for name, (x, y) in interface.items():
@@ -61,22 +65,57 @@ def grillage(
     xs = _lines(lx, mesh[0], [p[0] for p in interface.values()])
     ys = _lines(ly, mesh[1], [p[1] for p in interface.values()])
     gx, gy = np.meshgrid(xs, ys, indexing="ij")
-    xyz = np.column_stack([gx.ravel(), gy.ravel(), np.zeros(gx.size)])
+    local = np.column_stack([gx.ravel(), gy.ravel(), np.zeros(gx.size)])
+    rot = np.eye(3) if axes is None else np.asarray(axes, dtype=float)
+    xyz = np.asarray(origin, dtype=float) + local @ rot
     half = Material(material.E, material.nu, 0.5 * material.rho)
     ny = len(ys)
     elements = []
     for j, width in enumerate(_tributary(ys)):  # strips along x
         section = Section.rectangle(width, thickness)
         elements += [
-            (i * ny + j, (i + 1) * ny + j, section, half, (0, 1, 0)) for i in range(len(xs) - 1)
+            (i * ny + j, (i + 1) * ny + j, section, half, rot[1]) for i in range(len(xs) - 1)
         ]
     for i, width in enumerate(_tributary(xs)):  # strips along y: local y = -x, z = normal
         section = Section.rectangle(width, thickness)
-        elements += [(i * ny + j, i * ny + j + 1, section, half, (-1, 0, 0)) for j in range(ny - 1)]
+        elements += [(i * ny + j, i * ny + j + 1, section, half, -rot[0]) for j in range(ny - 1)]
     nodes = {
-        name: int(np.argmin(np.hypot(xyz[:, 0] - x, xyz[:, 1] - y)))
+        name: int(np.argmin(np.hypot(local[:, 0] - x, local[:, 1] - y)))
         for name, (x, y) in interface.items()
     }
-    return Grillage(
+    return NamedModel(
         assemble_beams(xyz, elements, interface=tuple(dict.fromkeys(nodes.values()))), nodes
+    )
+
+
+def straight_beam(
+    start,
+    end,
+    section: Section,
+    material: Material,
+    elements: int,
+    interface: dict[str, tuple[float, float, float]] | None = None,
+    y_axis=(0.0, 0.0, 1.0),
+) -> NamedModel:
+    """A straight beam from `start` to `end` (m) in `elements` equal elements plus nodes at
+    the named interface points (m, on the beam's line); section y axis near `y_axis`."""
+    a, b = np.asarray(start, dtype=float), np.asarray(end, dtype=float)
+    length = float(np.linalg.norm(b - a))
+    axis = (b - a) / length
+    interface = interface or {}
+    along = {}
+    for name, point in interface.items():
+        d = np.asarray(point, dtype=float) - a
+        s = float(d @ axis)
+        if np.linalg.norm(d - s * axis) > _MERGE * length + 1e-9 or not (
+            -_MERGE <= s / length <= 1 + _MERGE
+        ):
+            raise ValueError(f"interface point {name} is not on the beam from start to end")
+        along[name] = s
+    stations = _lines(length, elements, list(along.values()))
+    xyz = a + np.outer(stations, axis)
+    beams = [(i, i + 1, section, material, np.asarray(y_axis, float)) for i in range(len(xyz) - 1)]
+    nodes = {name: int(np.argmin(np.abs(stations - s))) for name, s in along.items()}
+    return NamedModel(
+        assemble_beams(xyz, beams, interface=tuple(dict.fromkeys(nodes.values()))), nodes
     )
