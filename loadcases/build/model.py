@@ -18,6 +18,7 @@ from loadcases.build.events import build_events
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import CompiledExpression, ExpressionError, parse
 from loadcases.inputs.loader import CaseFile
+from loadcases.schema import FlexibleBody
 from mechlib.elements.series import SeriesLaw, series_stiffness
 from mechlib.hydraulics import ServoActuator
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
@@ -193,7 +194,7 @@ class _Builder:
         m = ml.Mechanism(name=self.mech.name or "mechanism", gravity=gravity)
         self.built = m
         for name, b in self.mech.bodies.items():
-            if b.flexible is not None:
+            if isinstance(b, FlexibleBody):
                 self._flexible(m, name, b.flexible)
             else:
                 m.add_body(name, mass=b.mass, cm=b.cm, inertia=b.inertia)
@@ -234,6 +235,23 @@ class _Builder:
                 continue
             m.add_motion(name, joint=motion.joint, function=function)
         return m
+
+    def _flexible_request(self, name: str, r):
+        body = self.mech.bodies.get(r.flexible)
+        if not isinstance(body, FlexibleBody):
+            self.error("case", f"requests.{name}.flexible", f"'{r.flexible}' is no flexible body")
+            return None
+        if r.quantity == "deformation" and (
+            r.point is None or r.point.removeprefix(f"{r.flexible}.") not in body.flexible.interface
+        ):
+            self.error(
+                "case",
+                f"requests.{name}.point",
+                f"a deformation needs one of the interface points of {r.flexible}: "
+                + ", ".join(f"{r.flexible}.{p}" for p in body.flexible.interface),
+            )
+            return None
+        return ml.FlexibleOutput(name, r.flexible, r.quantity, r.point)
 
     def _flexible(self, m: ml.Mechanism, name: str, f) -> None:
         """A flexible body (its interface points are points `NAME.POINT` of the schema
@@ -347,7 +365,7 @@ class _Builder:
         if f.at is not None:
             return f.body, f.at
         body = self.mech.bodies.get(f.body)
-        return f.body, body.cm if body is not None else (0.0, 0.0, 0.0)
+        return f.body, getattr(body, "cm", None) or (0.0, 0.0, 0.0)
 
     # ---- case -------------------------------------------------------------------------
     def analysis(self):
@@ -405,6 +423,8 @@ class _Builder:
             return ml.MotionEffort(name, r.motion)
         if kind == "PointRequest":
             return ml.PointKinematics(name, r.point, r.quantity, r.frame)
+        if kind == "FlexibleRequest":
+            return self._flexible_request(name, r)
         if kind == "ElementRequest":
             f = self.mech.forces.get(r.force)
             if (
@@ -460,6 +480,13 @@ def _units_of(req, builder: _Builder) -> dict[str, str]:
         return {"value": _COORDINATE_UNITS[req.quantity]}
     if isinstance(req, ml.PointKinematics):
         return dict.fromkeys("xyz", _POINT_UNITS[req.quantity])
+    if isinstance(req, ml.FlexibleOutput):
+        if req.quantity == "deformation":
+            return dict.fromkeys("xyz", "m")
+        built = getattr(builder, "built", None)
+        flexible = built.flexible.get(req.body) if built is not None else None
+        count = flexible.component.count if flexible is not None else 0
+        return {f"q{j + 1}": "kg^0.5*m" for j in range(count)}
     if isinstance(req, ml.MotionEffort):
         joint = builder.mech.joints[builder.case.motions[req.motion].joint]
         return {"value": "N" if joint.type == "prismatic" else "N*m"}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import BeforeValidator, Field, model_validator
+from pydantic import BeforeValidator, Discriminator, Field, Tag, model_validator
 from pydantic_core import PydanticCustomError
 
 from loadcases.schema.elements import Contact, ForceElement, Table
@@ -29,6 +29,7 @@ from mechlib.model import JOINT_TYPES  # one list of joint types: the engine's
 __all__ = [
     "COORDINATE_DIMENSION",
     "JOINT_TYPES",
+    "AnyBody",
     "AxesJoint",
     "AxisJoint",
     "Body",
@@ -37,6 +38,7 @@ __all__ = [
     "EventAction",
     "FileUnits",
     "Fixed",
+    "FlexibleBody",
     "Frame",
     "Joint",
     "MechanismModel",
@@ -85,35 +87,34 @@ class FileUnits(Strict):
 
 
 class Body(Strict):
-    """A rigid body (`cm` and `inertia` in global axes at the design position) or a flexible
-    body (`flexible:`, its mass properties from its FE model)."""
+    """A rigid body; `cm` and `inertia` in global axes at the design position."""
 
-    mass: Mass | None = Field(None, description=describe("mass", "mass"))
-    cm: Position | None = Field(
-        None, description=describe("centre of mass, global frame", "length")
-    )
-    inertia: Inertia | None = Field(
-        None,
+    mass: Mass = Field(description=describe("mass", "mass"))
+    cm: Position = Field(description=describe("centre of mass, global frame", "length"))
+    inertia: Inertia = Field(
         description="about the cm, global axes: [Ixx, Iyy, Izz] or "
         "[Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (Ixy = -integral of x*y dm) "
-        "[inertia: kg*m^2, bare numbers always SI]",
-    )
-    flexible: Flexible | None = Field(
-        None, description="a flexible body (Craig-Bampton modes of a beam or grillage)"
+        "[inertia: kg*m^2, bare numbers always SI]"
     )
 
-    @model_validator(mode="after")
-    def _rigid_or_flexible(self) -> Body:
-        rigid = [k for k in ("mass", "cm", "inertia") if getattr(self, k) is not None]
-        if self.flexible is not None and rigid:
-            raise PydanticCustomError(
-                "body",
-                "a flexible body takes its mass properties from its FE model: "
-                f"remove {', '.join(rigid)}",
-            )
-        if self.flexible is None and len(rigid) < 3:
-            raise PydanticCustomError("body", "a rigid body needs mass, cm and inertia")
-        return self
+
+class FlexibleBody(Strict):
+    """A flexible body: Craig-Bampton modes of a beam or grillage; its mass properties come
+    from its FE model."""
+
+    flexible: Flexible
+
+
+def _body_kind(value: Any) -> str:
+    """`flexible` when the body has a `flexible:` key, else `rigid`."""
+    has = "flexible" in value if isinstance(value, dict) else hasattr(value, "flexible")
+    return "flexible" if has else "rigid"
+
+
+AnyBody = Annotated[
+    Annotated[Body, Tag("rigid")] | Annotated[FlexibleBody, Tag("flexible")],
+    Discriminator(_body_kind),
+]
 
 
 class Point(Strict):
@@ -284,7 +285,7 @@ class MechanismModel(Strict):
         default_factory=dict,
         description="named values for expressions [any dimension, SI; bare numbers SI]",
     )
-    bodies: dict[str, Body] = Field(default_factory=dict)
+    bodies: dict[str, AnyBody] = Field(default_factory=dict)
     points: dict[str, Point] = Field(default_factory=dict)
     frames: dict[str, Frame] = Field(default_factory=dict)
     joints: dict[str, Joint] = Field(default_factory=dict)
@@ -297,7 +298,8 @@ class MechanismModel(Strict):
     def _interface_points(self) -> MechanismModel:
         """Each interface point of a flexible body is a point `BODY.NAME` of the mechanism."""
         for body, b in self.bodies.items():
-            for name, at in (b.flexible.interface if b.flexible else {}).items():
+            flexible = getattr(b, "flexible", None)
+            for name, at in (flexible.interface if flexible else {}).items():
                 point = f"{body}.{name}"
                 if point in self.points:
                     raise PydanticCustomError(
