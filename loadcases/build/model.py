@@ -11,6 +11,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 import mechlib as ml
 from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
 from loadcases.build.elements import ELEMENT_EFFECTS, ELEMENT_MAKERS
@@ -580,6 +582,27 @@ def _servo_warnings(cf: CaseFile, mechanism: ml.Mechanism, analysis) -> list[Dia
     ]
 
 
+def _flexible_notes(cf: CaseFile, mechanism: ml.Mechanism) -> list[Diagnostic]:
+    """The approximation of each flexible body, said with the results (issue 13)."""
+    notes = []
+    for name, body in mechanism.flexible.items():
+        f = body.component.frequencies / (2.0 * np.pi)
+        file, line, column = cf.where("mechanism", f"bodies.{name}.flexible")
+        notes.append(
+            Diagnostic(
+                file,
+                line,
+                column,
+                f"bodies.{name}.flexible",
+                f"flexible body {name}: {len(f)} Craig-Bampton modes ({f.min():.4g} to "
+                f"{f.max():.4g} Hz), linear elastic deformation in a floating frame (small "
+                "deformation, no geometric stiffening)",
+                "warning",
+            )
+        )
+    return notes
+
+
 def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     """The mechlib model, analysis, requests and initial values of a case; InputError lists
     everything the engine cannot build. With `abscissa`, the case's `abscissa:` expression
@@ -623,6 +646,7 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
         )
         events = []
     notes += _servo_warnings(cf, mechanism, analysis)
+    notes += _flexible_notes(cf, mechanism)
     return BuiltRun(
         mechanism, analysis, requests, initial, cf.case.analysis.redundant, units, notes, events
     )
