@@ -199,3 +199,57 @@ def weld_labels(welds: NodeWelds) -> list[str]:
         for a, row, _ in welds.items
         for c in ("x", "y", "z", "rx", "ry", "rz")
     ]
+
+
+LINEAR_LIMIT = 0.1  # of the characteristic length: Adams' CHAR_LEN warning (10 %)
+ROTATION_LIMIT = 0.1  # rad: the linearised node rotation I + theta~ errs by theta^2/2
+
+
+def deformation_warnings(system, trajectory) -> list[str]:
+    """A warning per flexible body whose interface nodes deform by more than LINEAR_LIMIT of
+    its characteristic length (the extent of its kept nodes) or turn by more than
+    ROTATION_LIMIT relative to its floating frame along `trajectory`: beyond them the linear
+    modal model (and the linearised node rotation) is no longer a good one."""
+    out = []
+    for a in system.flexible:
+        comp = a.body.component
+        start = 7 * system.nb + a.offset
+        zeta = np.array([q[start : start + a.body.n] for q in trajectory.q])
+        if zeta.size == 0:
+            continue
+        moved = np.linalg.norm(np.einsum("pcn,tn->tpc", comp.phi, zeta), axis=2).max(axis=1)
+        turned = np.linalg.norm(np.einsum("pcn,tn->tpc", comp.phi_star, zeta), axis=2).max(axis=1)
+        length = max(float(np.ptp(comp.positions, axis=0).max(initial=0.0)), 1e-3)
+        if moved.max() > LINEAR_LIMIT * length or turned.max() > ROTATION_LIMIT:
+            i = int(np.argmax(np.maximum(moved / (LINEAR_LIMIT * length), turned / ROTATION_LIMIT)))
+            out.append(
+                f"flexible body {a.name}: at t = {trajectory.time[i]:.6g} s its interface nodes "
+                f"deform by {moved[i]:.3g} m and turn by {turned[i]:.3g} rad relative to its "
+                f"floating frame (limits {LINEAR_LIMIT:.0%} of its size {length:.3g} m and "
+                f"{ROTATION_LIMIT:g} rad): beyond the small deformation its modal model assumes"
+            )
+    return out
+
+
+STEPS_PER_PERIOD = 20  # fewer steps per period of a mode: it is not resolved
+
+
+def unresolved_mode_warnings(system, duration: float, steps: int) -> list[str]:
+    """A warning per flexible body keeping modes whose period spans fewer than
+    STEPS_PER_PERIOD of the mean step taken (`duration` s over `steps` accepted steps):
+    generalized-alpha damps them numerically (rho_inf < 1) instead of following them."""
+    if steps <= 0 or duration <= 0.0:
+        return []
+    h = duration / steps
+    out = []
+    for a in system.flexible:
+        f = a.body.component.frequencies / (2.0 * np.pi)
+        fast = f[f * h * STEPS_PER_PERIOD > 1.0]
+        if fast.size:
+            out.append(
+                f"flexible body {a.name}: {fast.size} of its {f.size} modes ({fast.min():.4g} "
+                f"to {fast.max():.4g} Hz) are not resolved by the mean step {h:.3g} s (fewer "
+                f"than {STEPS_PER_PERIOD} steps per period): the integrator damps them; drop "
+                "them (modes, frequency_range) or lower the step (tolerance, max_step)"
+            )
+    return out

@@ -157,3 +157,30 @@ def test_tip_motion_against_the_full_fe_model():
     )
     z_ref, z = ref.y[tip], sol.channels["tip.z"]
     assert np.abs(z - z_ref).max() < 1e-3 * np.abs(z_ref).max()
+
+
+def test_deformation_beyond_the_linear_limit_is_warned():
+    """The strip loaded to a 0.11 m tip deflection (11 % of its 1 m length) is warned about:
+    its tip turns by 0.118 rad relative to the floating frame (limit 0.1 rad; it deforms by
+    only 17 mm from the mean axes, limit 10 % of the length); at 4.6 mm it is not."""
+    comp = craig_bampton(_beam(), fixed_interface_modes=6)
+    for load, warned in ((0.2, False), (5.0, True)):
+        sol = mechlib.solve(_cantilever(comp, lambda t, v, P=load: (0.0, 0.0, P)), mechlib.Static())
+        assert sol.ok
+        assert any("beyond the small deformation" in w for w in sol.warnings) == warned
+
+
+def test_modes_the_steps_do_not_resolve_are_warned():
+    """A clamped strip with all its modes (up to kHz), steps limited to 1 ms: the modes
+    above 1 / (20 h) = 50 Hz are named; with 0.1 ms steps fewer are."""
+    comp = craig_bampton(_beam(), fixed_interface_modes=6)
+    m = _cantilever(comp, lambda t, v: (0.0, 0.0, 0.2))
+    counts = []
+    for max_step in (1e-3, 1e-4):
+        sol = mechlib.solve(
+            m, mechlib.Dynamic(end=0.01, step=0.005, max_step=max_step, tolerance=1e-3)
+        )
+        found = [w for w in sol.warnings if "not resolved" in w]
+        assert len(found) == 1
+        counts.append(int(found[0].split(": ")[1].split(" of")[0]))
+    assert counts[0] > counts[1] >= 1
