@@ -361,8 +361,12 @@ def _evaluate(system, k, req, view, qdd) -> dict[str, float]:
 
 
 def _flexible_columns(system: System, trajectory, req: FlexibleOutput) -> dict[str, np.ndarray]:
-    """Modal coordinates or a node's deformation (body axes) at all recorded times."""
-    attached = next(a for a in system.flexible if a.name == req.body)
+    """Modal coordinates or a node's deformation (body axes) at all recorded times; a body
+    built rigid (flexibility switched off) has no modes and no deformation."""
+    attached = next((a for a in system.flexible if a.name == req.body), None)
+    if attached is None:
+        zero = np.zeros(len(trajectory))
+        return {} if req.quantity == "modes" else dict.fromkeys("xyz", zero)
     start = 7 * system.nb + attached.offset
     zeta = np.array([q[start : start + attached.body.n] for q in trajectory.q])
     zeta = zeta.reshape(len(trajectory), attached.body.n)

@@ -265,7 +265,11 @@ class _Builder:
         except ValueError as error:  # ReductionError too
             self.error("mechanism", f"bodies.{name}.flexible", str(error))
             return
-        m.add_flexible_body(name, component)
+        if self.effects.get("flexibility", True):
+            m.add_flexible_body(name, component)
+        else:  # `effects: {flexibility: false}`: the same body, rigid
+            inertia = component.invariants.I7
+            m.add_body(name, mass=component.mass, cm=component.origin, inertia=inertia)
 
     def _joint(self, m: ml.Mechanism, name: str, j) -> None:
         if j.type == "point_on_curve":
