@@ -201,6 +201,7 @@ class _Builder:
             else:
                 m.add_body(name, mass=b.mass, cm=b.cm, inertia=b.inertia)
         for name, p in self.mech.points.items():
+            self._at_interface(p.body, p.at, f"points.{name}.at")
             m.add_point(name, body=p.body, at=p.at)
         for name, f in self.mech.frames.items():
             m.add_frame(name, body=f.body, x=f.x, y=f.y, at=f.at)
@@ -255,6 +256,25 @@ class _Builder:
             return None
         return ml.FlexibleOutput(name, r.flexible, r.quantity, r.point)
 
+    def _at_interface(self, body: str, at, key: str) -> None:
+        """An error at `key` when `at` (m) is on flexible `body` but at none of its interface
+        points: attachments and loads act at interface nodes only."""
+        b = self.mech.bodies.get(body)
+        if not isinstance(b, FlexibleBody):
+            return
+        gaps = {
+            name: float(np.linalg.norm(np.subtract(at, point)))
+            for name, point in b.flexible.interface.items()
+        }
+        nearest = min(gaps, key=gaps.__getitem__)
+        if gaps[nearest] > 1e-6:
+            self.error(
+                "mechanism",
+                key,
+                f"{body} is a flexible body: attachments act at its interface points only "
+                f"(nearest: {body}.{nearest}, {gaps[nearest]:.3g} m away)",
+            )
+
     def _flexible(self, m: ml.Mechanism, name: str, f) -> None:
         """A flexible body (its interface points are points `NAME.POINT` of the schema
         model), or an error at its key."""
@@ -284,6 +304,8 @@ class _Builder:
             return
         keys = {k: getattr(j, k) for k in _JOINT_KEYS if getattr(j, k, None) is not None}
         bodies = tuple(getattr(j, "bodies", (ml.GROUND, ml.GROUND)))
+        for body in bodies:
+            self._at_interface(body, keys.get("at", (0.0, 0.0, 0.0)), f"joints.{name}.at")
         if j.type == "orientation" and keys.get("at") is None:
             keys.pop("at", None)
         m.add_joint(name, j.type, bodies=bodies, **keys)

@@ -144,3 +144,8 @@ def test_flexibility_off_makes_the_body_rigid(tmp_path: Path) -> None:
     )
     channels = outcome.solution.channels
     assert abs(channels["tip.z"][0]) < 1e-12
+
+
+def test_a_joint_off_the_interface_points_is_an_input_error(tmp_path: Path) -> None:
+    with pytest.raises(InputError, match="interface points only"):
+        run_case(_case(tmp_path, replace=("at: [0, 0, 0]}\n  forces", "at: [5, 0, 0]}\n  forces")))
