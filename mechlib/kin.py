@@ -66,4 +66,4 @@ class Kin:
         if nz == 0:
             return cls(x.reshape(-1, 7), xd.reshape(-1, 7), t)
         zd = np.zeros(nz) if qd is None else np.array(qd[n:], dtype=float)
-        return cls(x.reshape(-1, 7), xd.reshape(-1, 7), t, np.array(q[n:], dtype=float), zd)
+        return cls(x.reshape(-1, 7), xd.reshape(-1, 7), t, z=np.array(q[n:], dtype=float), zd=zd)
