@@ -56,6 +56,8 @@ DIMENSIONS: dict[str, dict[str, int]] = {
     "pressure": {_M: 1, _L: -1, _T: -2},
     "area": {_L: 2},
     "volume": {_L: 3},
+    "density": {_M: 1, _L: -3},
+    "second_moment": {_L: 4},
     "frequency": {_T: -1},
     "flow": {_L: 3, _T: -1},
     "leakage": {_L: 4, _T: 1, _M: -1},

@@ -151,7 +151,7 @@ def _given_residual(system: System, given, targets, t: float):
 def _given_jacobian(system: System, given, t: float):
     def jacobian(x):
         k = system.kin(x, None, t)
-        extra = [m.gradient(k)[: system.nq] for _, m in given]
+        extra = [system.body_columns(m.gradient(k)) for _, m in given]
         return np.vstack([system.phi_q(k)] + extra)
 
     return jacobian
@@ -192,7 +192,7 @@ def _velocity_rows(system: System, k: Kin, initial) -> tuple[list, list, list]:
     for item in initial:
         if isinstance(item, InitialValue) and item.rate is not None:
             m = system._coordinate_of(item.joint, item.coordinate)
-            rows.append(m.gradient(k)[: system.nq])
+            rows.append(system.body_columns(m.gradient(k)))
             rhs.append(item.rate)
             names.append((f"rate of joint '{item.joint}'", rows[-1][None, :], [item.rate]))
         elif isinstance(item, InitialBodyVelocity):

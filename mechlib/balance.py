@@ -37,7 +37,8 @@ class Balance:
         ]
         compiled = {id(e) for e in self._compiled}
         self._skips = {b: ids | compiled for b, ids in _elsewhere(system).items()}
-        weight = float(np.abs(system.masses).sum() * max(np.linalg.norm(system.gravity), 1.0))
+        self._skips[-1] = compiled  # modal coordinates move no body but their own
+        weight = abs(system.total_mass) * max(float(np.linalg.norm(system.gravity)), 1.0)
         applied = system.forces(system.kin(q0, None, t), inertia=False)
         self.scale = max(weight, np.abs(applied).max(initial=0.0), 1.0)
 
@@ -63,8 +64,8 @@ class Balance:
         reaction0 = system.phi_q(k0).T @ lam
         base: dict[int, np.ndarray] = {}
         for j in range(system.nq):
-            body = j // 7
-            skip = self._skips[body]
+            body = j // 7 if j < 7 * system.nb else -1  # -1: a modal coordinate
+            skip = self._skips.get(body, ())
             if body not in base:
                 base[body] = reaction0 - system.forces(k0, inertia=False, lam=lam, skip=skip)
             dq = np.zeros(system.nq)

@@ -71,7 +71,7 @@ class Integrator:
         self.lu_h = 0.0
         self.tangent: tuple[np.ndarray, np.ndarray] | None = None
         self.stale = False
-        self.stiff = bool(system.elements)
+        self.stiff = bool(system.elements) or system.nz > 0  # modal stiffness, damping
         self.eta = 1.0
         self.singular: SolverFailure | None = None  # the last singular iteration matrix
         self.scales: Scales | None = None  # set by the stepper from its first state
@@ -121,7 +121,7 @@ class Integrator:
         oil columns of a hydraulic actuator are a stiffness only through its pressures)."""
         sys = self.system
         skip = {id(e) for e in own}
-        q, qd = k.x[:-1].ravel(), k.xd[:-1].ravel()
+        q, qd = np.r_[k.x[:-1].ravel(), k.z], np.r_[k.xd[:-1].ravel(), k.zd]
         states = sys.states
         trial = states.trial.copy()
 

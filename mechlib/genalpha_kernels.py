@@ -20,9 +20,19 @@ class Scales:
     def __init__(self, system: System, q0: np.ndarray, tol: float):
         length = system.length
         self.tol = tol
-        self.q_abs = np.tile(np.r_[np.full(3, length), np.ones(4)], system.nb) * tol
         g = max(float(np.linalg.norm(system.gravity)), 1.0)
-        self.a_ref = np.tile(np.r_[np.full(3, g), np.full(4, g / length)], system.nb)
+        # a modal coordinate (kg^0.5 m) weighs as a displacement times sqrt(body mass)
+        modal = np.concatenate(
+            [np.full(a.body.n, np.sqrt(a.body.component.mass)) for a in system.flexible]
+            or [np.zeros(0)]
+        )
+        self.q_abs = np.r_[
+            np.tile(np.r_[np.full(3, length), np.ones(4)], system.nb), modal * length
+        ]
+        self.q_abs *= tol
+        self.a_ref = np.r_[
+            np.tile(np.r_[np.full(3, g), np.full(4, g / length)], system.nb), modal * g
+        ]
 
     def update(self, qdd: np.ndarray) -> None:
         """Raise the acceleration reference to the largest accelerations seen."""

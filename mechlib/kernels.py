@@ -16,6 +16,7 @@ import numpy as np
 from numba import njit
 
 __all__ = [
+    "b_matrix",
     "body_forces",
     "cross3",
     "dot1_gamma",
@@ -106,6 +107,14 @@ def _bmat(p, s, out):
     out[1, 3] += 2.0 * e0 * s0
     out[2, 1] += 2.0 * e0 * s1
     out[2, 2] -= 2.0 * e0 * s0
+
+
+@njit(**_JIT)
+def b_matrix(p, s):
+    """B(p, s) = d(A(p) s)/dp (3, 4) as a new array."""
+    out = np.empty((3, 4))
+    _bmat(p, s, out)
+    return out
 
 
 @njit(**_JIT)

@@ -15,6 +15,7 @@ __all__ = [
     "GROUND",
     "JOINT_TYPES",
     "Body",
+    "FlexibleBody",
     "Joint",
     "Mechanism",
     "Motion",
@@ -60,6 +61,24 @@ class Body:
     mass: float
     cm: tuple[float, float, float]
     inertia: np.ndarray  # (3, 3)
+
+
+@dataclass(frozen=True)
+class FlexibleBody:
+    """A modal body (mechlib.flexible): its `component` placed with the FE model's origin
+    at `at` (m, global, FE axes = global axes at design). `node_bodies` names the massless
+    body standing for each kept node (by node number): points of the flexible body must be
+    at one of these nodes."""
+
+    name: str
+    component: Any  # mechlib.flexible.ModalComponent
+    at: tuple[float, float, float]
+    node_bodies: dict[int, str]
+
+    def node_position(self, node_id: int) -> np.ndarray:
+        """Undeformed global position (m) of a kept node."""
+        comp = self.component
+        return np.asarray(self.at) + comp.origin + comp.positions[comp.node(node_id)]
 
 
 @dataclass(frozen=True)
@@ -125,12 +144,30 @@ class Mechanism:
     motions: dict[str, Motion] = field(default_factory=dict)
     forces: dict[str, Any] = field(default_factory=dict)
     frames: dict[str, tuple[str, np.ndarray, tuple]] = field(default_factory=dict)
+    flexible: dict[str, FlexibleBody] = field(default_factory=dict)
 
     def add_body(self, name: str, *, mass: float, cm, inertia) -> Body:
         """Add a body; `inertia` is [Ixx, Iyy, Izz], 6 entries (+ Ixy, Ixz, Iyz) or 3x3."""
         body = Body(name, float(mass), _vec(cm), inertia_matrix(inertia))
         self.bodies[name] = body
         return body
+
+    def add_flexible_body(self, name: str, component: Any, *, at=(0.0, 0.0, 0.0)) -> FlexibleBody:
+        """Add a modal body (a `ModalComponent`, FE origin placed `at`, m): its frame as a body
+        with its rigid mass properties, and a massless body `NAME.node<id>` per kept node."""
+        origin = np.asarray(_vec(at)) + component.origin
+        self.bodies[name] = Body(
+            name, float(component.mass), _vec(origin), component.invariants.I7.copy()
+        )
+        nodes = {}
+        for node_id, position in zip(component.node_ids, component.positions):
+            nodes[int(node_id)] = f"{name}.node{int(node_id)}"
+            self.bodies[nodes[int(node_id)]] = Body(
+                nodes[int(node_id)], 0.0, _vec(origin + position), np.zeros((3, 3))
+            )
+        flexible = FlexibleBody(name, component, _vec(at), nodes)
+        self.flexible[name] = flexible
+        return flexible
 
     def add_point(self, name: str, *, body: str, at) -> Point:
         point = Point(name, body, _vec(at))

@@ -27,6 +27,7 @@ __all__ = [
     "CouplerEffort",
     "ElementOutput",
     "ExpressionOutput",
+    "FlexibleOutput",
     "JointCoordinate",
     "JointReaction",
     "MotionEffort",
@@ -82,6 +83,18 @@ class PointKinematics:
     quantity: str = "position"
     frame: str = "ground"
     units: ClassVar[dict[str, str]] = {"x": "m", "y": "m", "z": "m"}
+
+
+@dataclass(frozen=True)
+class FlexibleOutput:
+    """Of the flexible body `body`: its modal coordinates (`modes`: q1..qn, kg^0.5*m per
+    mass-normalised mode) or the elastic `deformation` of its interface point `point`
+    (x y z, m, in the body's floating-frame axes: Phi_p zeta)."""
+
+    name: str
+    body: str
+    quantity: str = "modes"
+    point: str | None = None
 
 
 @dataclass(frozen=True)
@@ -234,7 +247,7 @@ def _coordinate(system, k, req: JointCoordinate, qdd) -> float:
         return m.value(k)
     if req.quantity in ("omega", "speed"):
         return m.rate(k)
-    return float(m.gradient(k)[: system.nq] @ qdd + m.quad(k))
+    return float(system.body_columns(m.gradient(k)) @ qdd + m.quad(k))
 
 
 def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str, np.ndarray]:
@@ -318,6 +331,8 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
             series[req.name] = _effort_columns(system, trajectory, req, *loads[req.name][0])
         elif isinstance(req, CouplerEffort):
             series[req.name] = _coupler_columns(system, trajectory, req, loads[req.name])
+        elif isinstance(req, FlexibleOutput):
+            series[req.name] = _flexible_columns(system, trajectory, req)
     columns = per_request | series  # every request, in request order
     channels = {
         f"{name}.{comp}": np.asarray(values, dtype=float)
@@ -341,3 +356,21 @@ def _evaluate(system, k, req, view, qdd) -> dict[str, float]:
             values = dict.fromkeys(values, 0.0)
         return values
     return {"value": req.function(k.t, view)}
+
+
+def _flexible_columns(system: System, trajectory, req: FlexibleOutput) -> dict[str, np.ndarray]:
+    """Modal coordinates or a node's deformation (body axes) at all recorded times; a body
+    built rigid (flexibility switched off) has no modes and no deformation."""
+    attached = next((a for a in system.flexible if a.name == req.body), None)
+    if attached is None:
+        zero = np.zeros(len(trajectory))
+        return {} if req.quantity == "modes" else dict.fromkeys("xyz", zero)
+    start = 7 * system.nb + attached.offset
+    zeta = np.array([q[start : start + attached.body.n] for q in trajectory.q])
+    zeta = zeta.reshape(len(trajectory), attached.body.n)
+    if req.quantity == "modes":
+        return {f"q{j + 1}": zeta[:, j] for j in range(attached.body.n)}
+    if req.point is None:
+        raise ValueError(f"request {req.name}: a deformation needs a point")
+    row = attached.nodes.index(system.point(req.point)[0])
+    return dict(zip("xyz", (zeta @ attached.body.component.phi[row].T).T))

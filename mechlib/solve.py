@@ -14,6 +14,7 @@ from mechlib.assembly import assemble
 from mechlib.check import ModelError, degrees_of_freedom, find_redundant
 from mechlib.contract import Status, Stepper
 from mechlib.finite import check_recorded_state, explain_failure, nonfinite_channel
+from mechlib.flexible.attached import deformation_warnings, unresolved_mode_warnings
 from mechlib.genalpha_stepper import GeneralizedAlphaStepper
 from mechlib.kinematic import KinematicStepper
 from mechlib.march import march
@@ -263,6 +264,10 @@ def solve(
         run.message = f"column {bad[0]} is not finite ({bad[2]:g}) at t = {bad[1]:.6g} s"
     if not isinstance(analysis, Modes):
         warnings += toggle_warnings(system, run.trajectory)
+        warnings += deformation_warnings(system, run.trajectory)
+    if isinstance(analysis, Dynamic) and len(run.trajectory):
+        duration = run.trajectory.time[-1] - run.trajectory.time[0]
+        warnings += unresolved_mode_warnings(system, duration, run.stats.steps)
     run.stats.cpu_seconds = _time.process_time() - cpu0
     message = run.message
     if run.events:

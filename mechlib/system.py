@@ -16,6 +16,7 @@ from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.curve_joint import CurveEquation, CurvePoint
 from mechlib.curves import Curve
+from mechlib.flexible.attached import NodeWelds, attach_flexible, node_at, weld_labels
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL, expand_joint, joint_frame
 from mechlib.kin import Kin
 from mechlib.model import GROUND, Mechanism
@@ -58,14 +59,20 @@ class System:
         self.mechanism = mechanism
         self.body_names = list(mechanism.bodies)
         self.nb = len(self.body_names)
-        self.nq = 7 * self.nb
         self._index = {name: i for i, name in enumerate(self.body_names)}
         self._index[GROUND] = self.nb
+        self.flexible = attach_flexible(mechanism, self._index)
+        self.nz = sum(a.body.n for a in self.flexible)
+        self.nq = 7 * self.nb + self.nz
         bodies = [mechanism.bodies[n] for n in self.body_names]
         self.cm = np.vstack([np.array([b.cm for b in bodies]).reshape(-1, 3), np.zeros((1, 3))])
-        self.masses = np.array([b.mass for b in bodies])
+        rigid = [n not in mechanism.flexible for n in self.body_names]  # modal bodies: own M
+        self.masses = np.array([b.mass if r else 0.0 for b, r in zip(bodies, rigid)])
+        self.total_mass = float(sum(b.mass for b in bodies))
         self.inertia = np.ascontiguousarray(
-            np.array([b.inertia for b in bodies], dtype=float).reshape(-1, 3, 3)
+            np.array([b.inertia if r else np.zeros((3, 3)) for b, r in zip(bodies, rigid)])
+            .astype(float)
+            .reshape(-1, 3, 3)
         )
         self.gravity = np.asarray(mechanism.gravity, dtype=float)
         self._pscale = 4.0 * np.trace(self.inertia, axis1=1, axis2=2) / 3.0
@@ -113,7 +120,10 @@ class System:
         return max(float(np.ptp(self.cm, axis=0).max(initial=0.0)), _MIN_LENGTH)
 
     def body_point(self, body: str, at) -> tuple[int, np.ndarray]:
-        """(body index, body-fixed vector from its centre of mass) of a design point."""
+        """(body index, body-fixed vector from its centre of mass) of a design point; on a
+        flexible body, the node body of the kept node at that point."""
+        if body in self.mechanism.flexible:
+            body = node_at(self.mechanism.flexible[body], at)
         b = self._index[body]
         return b, np.asarray(at, dtype=float) - self.cm[b]
 
@@ -145,7 +155,7 @@ class System:
         self.norm = Normalization(self.nb)
         labels = [f"{n}: normalisation" for n in self.body_names]
         owners = list(self.body_names)
-        self.groups = [self.norm]
+        self.groups: list = [self.norm]
         for kind, items in rows.items():
             if not items:
                 continue
@@ -155,6 +165,11 @@ class System:
             suffix = (" x", " y", " z") if reps == 3 else ("",)
             labels += [label + s for label in lab for s in suffix]
             owners += [o for o in own for _ in range(reps)]
+        if self.flexible:
+            welds = NodeWelds(self.flexible, self.nb)
+            self.groups.append(welds)
+            labels += weld_labels(welds)
+            owners += [a.name for a, _, _ in welds.items for _ in range(6)]
         self.coordinates = self._coordinate_equations()
         labels += [c.label for c in self.coordinates]
         owners += [c.owner for c in self.coordinates]
@@ -300,7 +315,14 @@ class System:
 
     # ---- evaluation ---------------------------------------------------------------------
     def kin(self, q: np.ndarray, qd: np.ndarray | None = None, t: float = 0.0) -> Kin:
-        return Kin.from_state(q, qd, t)
+        return Kin.from_state(q, qd, t, self.nz)
+
+    def body_columns(self, rows: np.ndarray) -> np.ndarray:
+        """Working Jacobian rows (..., 7 (nb + 1) + nz) without ground's columns (..., nq)."""
+        if not self.nz:
+            return rows[..., : self.nq]
+        cut = 7 * self.nb
+        return np.concatenate([rows[..., :cut], rows[..., cut + 7 :]], axis=-1)
 
     def view(
         self, k: Kin, lam: np.ndarray | None = None, jac: np.ndarray | None = None
@@ -325,7 +347,7 @@ class System:
         q = np.zeros((self.nb, 7))
         q[:, :3] = self.cm[:-1]
         q[:, 3] = 1.0
-        return q.ravel()
+        return np.r_[q.ravel(), np.zeros(self.nz)]
 
     def _select(self, rows: np.ndarray) -> np.ndarray:
         """The active rows (all of them, without a copy, unless some were dropped)."""
@@ -347,7 +369,7 @@ class System:
             parts.append(np.array([c.phi(k)]))
             out[row] = c.gradient(k)
             row += 1
-        return self._select(np.concatenate(parts)), self._select(out)[:, : self.nq]
+        return self._select(np.concatenate(parts)), self.body_columns(self._select(out))
 
     def phi_q(self, k: Kin) -> np.ndarray:
         out = np.zeros((len(self._all_labels), k.ncol))
@@ -358,7 +380,7 @@ class System:
         for c in self.coordinates:
             out[row] = c.gradient(k)
             row += 1
-        return self._select(out)[:, : self.nq]
+        return self.body_columns(self._select(out))
 
     def nu(self, k: Kin) -> np.ndarray:
         out = np.zeros(len(self._all_labels))
@@ -414,11 +436,16 @@ class System:
         """Mass matrix M (nq, nq): m I for r; 4 G^T J' G (+ a p p^T term fixing |p|) for p."""
         out = np.zeros((self.nq, self.nq))
         kernels.mass_matrix(k.x, self.masses, self.inertia, self._pscale, out)
+        for a in self.flexible:
+            cols = a.columns(self.nb)
+            out[np.ix_(cols, cols)] += a.mass(k)
         return out
 
     def mass_times(self, k: Kin, x: np.ndarray) -> np.ndarray:
         """M(q) x without forming M (nq,)."""
         out = np.empty(self.nq)
+        if self.nz:
+            return self.mass(k) @ x
         kernels.mass_times(k.x, self.masses, self.inertia, self._pscale, x, out)
         return out
 
@@ -451,12 +478,14 @@ class System:
         """Q (nq,): gravity, elements (but those whose id is in `skip`) and, with
         `inertia`, the quadratic velocity terms (`lam`, `jac`: see `wrenches`)."""
         F, N = self.wrenches(k, lam, skip, jac)
-        out = np.empty(self.nq)
+        out = np.zeros(self.nq)
         kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N, inertia, out)
+        for a in self.flexible:
+            out[a.columns(self.nb)] += a.forces(k, self.gravity, inertia)
         return out
 
     def generalized(self, k: Kin, F: np.ndarray, N: np.ndarray) -> np.ndarray:
         """Q (nq,) of forces F and torques N (nb+1, 3) alone (no gravity, no inertia)."""
-        out = np.empty(self.nq)
+        out = np.zeros(self.nq)
         kernels.body_forces(k.x, k.xd, self.masses, self.inertia, _NO_GRAVITY, F, N, False, out)
         return out

@@ -11,6 +11,8 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
+import numpy as np
+
 import mechlib as ml
 from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
 from loadcases.build.elements import ELEMENT_EFFECTS, ELEMENT_MAKERS
@@ -18,6 +20,7 @@ from loadcases.build.events import build_events
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import CompiledExpression, ExpressionError, parse
 from loadcases.inputs.loader import CaseFile
+from loadcases.schema import FlexibleBody
 from mechlib.elements.series import SeriesLaw, series_stiffness
 from mechlib.hydraulics import ServoActuator
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
@@ -193,8 +196,12 @@ class _Builder:
         m = ml.Mechanism(name=self.mech.name or "mechanism", gravity=gravity)
         self.built = m
         for name, b in self.mech.bodies.items():
-            m.add_body(name, mass=b.mass, cm=b.cm, inertia=b.inertia)
+            if isinstance(b, FlexibleBody):
+                self._flexible(m, name, b.flexible)
+            else:
+                m.add_body(name, mass=b.mass, cm=b.cm, inertia=b.inertia)
         for name, p in self.mech.points.items():
+            self._at_interface(p.body, p.at, f"points.{name}.at")
             m.add_point(name, body=p.body, at=p.at)
         for name, f in self.mech.frames.items():
             m.add_frame(name, body=f.body, x=f.x, y=f.y, at=f.at)
@@ -232,6 +239,58 @@ class _Builder:
             m.add_motion(name, joint=motion.joint, function=function)
         return m
 
+    def _flexible_request(self, name: str, r):
+        body = self.mech.bodies.get(r.flexible)
+        if not isinstance(body, FlexibleBody):
+            self.error("case", f"requests.{name}.flexible", f"'{r.flexible}' is no flexible body")
+            return None
+        if r.quantity == "deformation" and (
+            r.point is None or r.point.removeprefix(f"{r.flexible}.") not in body.flexible.interface
+        ):
+            self.error(
+                "case",
+                f"requests.{name}.point",
+                f"a deformation needs one of the interface points of {r.flexible}: "
+                + ", ".join(f"{r.flexible}.{p}" for p in body.flexible.interface),
+            )
+            return None
+        return ml.FlexibleOutput(name, r.flexible, r.quantity, r.point)
+
+    def _at_interface(self, body: str, at, key: str) -> None:
+        """An error at `key` when `at` (m) is on flexible `body` but at none of its interface
+        points: attachments and loads act at interface nodes only."""
+        b = self.mech.bodies.get(body)
+        if not isinstance(b, FlexibleBody):
+            return
+        gaps = {
+            name: float(np.linalg.norm(np.subtract(at, point)))
+            for name, point in b.flexible.interface.items()
+        }
+        nearest = min(gaps, key=gaps.__getitem__)
+        if gaps[nearest] > 1e-6:
+            self.error(
+                "mechanism",
+                key,
+                f"{body} is a flexible body: attachments act at its interface points only "
+                f"(nearest: {body}.{nearest}, {gaps[nearest]:.3g} m away)",
+            )
+
+    def _flexible(self, m: ml.Mechanism, name: str, f) -> None:
+        """A flexible body (its interface points are points `NAME.POINT` of the schema
+        model), or an error at its key."""
+        from loadcases.build.flexible import flexible_component
+
+        try:
+            component = flexible_component(f)
+        except ValueError as error:  # ReductionError too
+            self.error("mechanism", f"bodies.{name}.flexible", str(error))
+            return
+        if self.effects.get("flexibility", True):
+            m.add_flexible_body(name, component)
+        else:  # `effects: {flexibility: false}`: the same body, rigid
+            inertia = component.invariants.I7
+            m.add_body(name, mass=component.mass, cm=component.origin, inertia=inertia)
+
     def _joint(self, m: ml.Mechanism, name: str, j) -> None:
         if j.type == "point_on_curve":
             m.add_joint(
@@ -245,6 +304,8 @@ class _Builder:
             return
         keys = {k: getattr(j, k) for k in _JOINT_KEYS if getattr(j, k, None) is not None}
         bodies = tuple(getattr(j, "bodies", (ml.GROUND, ml.GROUND)))
+        for body in bodies:
+            self._at_interface(body, keys.get("at", (0.0, 0.0, 0.0)), f"joints.{name}.at")
         if j.type == "orientation" and keys.get("at") is None:
             keys.pop("at", None)
         m.add_joint(name, j.type, bodies=bodies, **keys)
@@ -332,7 +393,7 @@ class _Builder:
         if f.at is not None:
             return f.body, f.at
         body = self.mech.bodies.get(f.body)
-        return f.body, body.cm if body is not None else (0.0, 0.0, 0.0)
+        return f.body, getattr(body, "cm", None) or (0.0, 0.0, 0.0)
 
     # ---- case -------------------------------------------------------------------------
     def analysis(self):
@@ -390,6 +451,8 @@ class _Builder:
             return ml.MotionEffort(name, r.motion)
         if kind == "PointRequest":
             return ml.PointKinematics(name, r.point, r.quantity, r.frame)
+        if kind == "FlexibleRequest":
+            return self._flexible_request(name, r)
         if kind == "ElementRequest":
             f = self.mech.forces.get(r.force)
             if (
@@ -445,6 +508,13 @@ def _units_of(req, builder: _Builder) -> dict[str, str]:
         return {"value": _COORDINATE_UNITS[req.quantity]}
     if isinstance(req, ml.PointKinematics):
         return dict.fromkeys("xyz", _POINT_UNITS[req.quantity])
+    if isinstance(req, ml.FlexibleOutput):
+        if req.quantity == "deformation":
+            return dict.fromkeys("xyz", "m")
+        built = getattr(builder, "built", None)
+        flexible = built.flexible.get(req.body) if built is not None else None
+        count = flexible.component.count if flexible is not None else 0
+        return {f"q{j + 1}": "kg^0.5*m" for j in range(count)}
     if isinstance(req, ml.MotionEffort):
         joint = builder.mech.joints[builder.case.motions[req.motion].joint]
         return {"value": "N" if joint.type == "prismatic" else "N*m"}
@@ -543,6 +613,27 @@ def _servo_problems(cf: CaseFile, mechanism: ml.Mechanism, analysis) -> list[Dia
     ]
 
 
+def _flexible_notes(cf: CaseFile, mechanism: ml.Mechanism) -> list[Diagnostic]:
+    """The approximation of each flexible body, said with the results (issue 13)."""
+    notes = []
+    for name, body in mechanism.flexible.items():
+        f = body.component.frequencies / (2.0 * np.pi)
+        file, line, column = cf.where("mechanism", f"bodies.{name}.flexible")
+        notes.append(
+            Diagnostic(
+                file,
+                line,
+                column,
+                f"bodies.{name}.flexible",
+                f"flexible body {name}: {len(f)} Craig-Bampton modes ({f.min():.4g} to "
+                f"{f.max():.4g} Hz), linear elastic deformation in a floating frame (small "
+                "deformation, no geometric stiffening)",
+                "warning",
+            )
+        )
+    return notes
+
+
 def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     """The mechlib model, analysis, requests and initial values of a case; InputError lists
     everything the engine cannot build. With `abscissa`, the case's `abscissa:` expression
@@ -586,6 +677,7 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
             )
         )
         events = []
+    notes += _flexible_notes(cf, mechanism)
     return BuiltRun(
         mechanism, analysis, requests, initial, cf.case.analysis.redundant, units, notes, events
     )

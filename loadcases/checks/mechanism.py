@@ -8,7 +8,7 @@ import numpy as np
 
 from loadcases.checks.common import GROUND, Names, check_expressions, unknown
 from loadcases.diagnostics import Diagnostic
-from loadcases.schema import MechanismModel
+from loadcases.schema import Body, MechanismModel
 from loadcases.source import KeyPath, Locator
 
 __all__ = ["check_mechanism", "mechanism_names"]
@@ -268,6 +268,8 @@ def _inertia(at: Locator, name: str, inertia: tuple[float, ...]) -> list[Diagnos
 def _bodies(model: MechanismModel, at: Locator) -> list[Diagnostic]:
     found = []
     for name, body in model.bodies.items():
+        if not isinstance(body, Body):
+            continue  # a flexible body: mass properties from its FE model
         if body.mass <= 0.0:
             found.append(at.diagnostic(("bodies", name, "mass"), "mass must be positive"))
         found += _inertia(at, name, body.inertia)

@@ -180,13 +180,22 @@ class ContactRequest(Strict):
     frame: Name = Field("ground", description=_FRAME)
 
 
+class FlexibleRequest(Strict):
+    """Of a flexible body: its modal coordinates (`modes`: q1..qn, kg^0.5*m) or the elastic
+    `deformation` of one of its interface points (`point`; x y z, m, the body's axes)."""
+
+    flexible: Name
+    quantity: Literal["modes", "deformation"] = "modes"
+    point: Name | None = None
+
+
 class ExpressionRequest(Strict):
     """Any expression of the state (`value`)."""
 
     expression: Expression
 
 
-REQUEST_KINDS = ("joint", "motion", "point", "force", "contact", "expression")
+REQUEST_KINDS = ("joint", "motion", "flexible", "point", "force", "contact", "expression")
 
 
 def _request_kind(value: Any) -> str | None:
@@ -202,12 +211,13 @@ Request = Annotated[
     | Annotated[PointRequest, Tag("point")]
     | Annotated[ElementRequest, Tag("force")]
     | Annotated[ContactRequest, Tag("contact")]
+    | Annotated[FlexibleRequest, Tag("flexible")]
     | Annotated[ExpressionRequest, Tag("expression")],
     Discriminator(
         _request_kind,
         custom_error_type="request_kind",
         custom_error_message="a request needs one of the keys joint, motion, point, "
-        "force, contact or expression",
+        "force, contact, flexible or expression",
     ),
 ]
 

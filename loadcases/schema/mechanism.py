@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from typing import Annotated, Any, Literal
 
-from pydantic import BeforeValidator, Field, model_validator
+from pydantic import BeforeValidator, Discriminator, Field, Tag, model_validator
 from pydantic_core import PydanticCustomError
 
 from loadcases.schema.elements import Contact, ForceElement, Table
+from loadcases.schema.flexible import Flexible
 from loadcases.schema.types import (
     AnySI,
     Direction,
@@ -28,6 +29,7 @@ from mechlib.model import JOINT_TYPES  # one list of joint types: the engine's
 __all__ = [
     "COORDINATE_DIMENSION",
     "JOINT_TYPES",
+    "AnyBody",
     "AxesJoint",
     "AxisJoint",
     "Body",
@@ -36,6 +38,7 @@ __all__ = [
     "EventAction",
     "FileUnits",
     "Fixed",
+    "FlexibleBody",
     "Frame",
     "Joint",
     "MechanismModel",
@@ -93,6 +96,25 @@ class Body(Strict):
         "[Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (Ixy = -integral of x*y dm) "
         "[inertia: kg*m^2, bare numbers always SI]"
     )
+
+
+class FlexibleBody(Strict):
+    """A flexible body: Craig-Bampton modes of a beam or grillage; its mass properties come
+    from its FE model."""
+
+    flexible: Flexible
+
+
+def _body_kind(value: Any) -> str:
+    """`flexible` when the body has a `flexible:` key, else `rigid`."""
+    has = "flexible" in value if isinstance(value, dict) else hasattr(value, "flexible")
+    return "flexible" if has else "rigid"
+
+
+AnyBody = Annotated[
+    Annotated[Body, Tag("rigid")] | Annotated[FlexibleBody, Tag("flexible")],
+    Discriminator(_body_kind),
+]
 
 
 class Point(Strict):
@@ -263,7 +285,7 @@ class MechanismModel(Strict):
         default_factory=dict,
         description="named values for expressions [any dimension, SI; bare numbers SI]",
     )
-    bodies: dict[str, Body] = Field(default_factory=dict)
+    bodies: dict[str, AnyBody] = Field(default_factory=dict)
     points: dict[str, Point] = Field(default_factory=dict)
     frames: dict[str, Frame] = Field(default_factory=dict)
     joints: dict[str, Joint] = Field(default_factory=dict)
@@ -271,3 +293,17 @@ class MechanismModel(Strict):
     contacts: dict[str, Contact] = Field(default_factory=dict)
     tables: dict[str, Table] = Field(default_factory=dict)
     events: dict[str, Event] = Field(default_factory=dict)
+
+    @model_validator(mode="after")
+    def _interface_points(self) -> MechanismModel:
+        """Each interface point of a flexible body is a point `BODY.NAME` of the mechanism."""
+        for body, b in self.bodies.items():
+            flexible = getattr(b, "flexible", None)
+            for name, at in (flexible.interface if flexible else {}).items():
+                point = f"{body}.{name}"
+                if point in self.points:
+                    raise PydanticCustomError(
+                        "points", f"point {point} is also an interface point of body {body}"
+                    )
+                self.points[point] = Point(body=body, at=at)
+        return self

@@ -67,6 +67,8 @@ SI_UNITS: dict[str, str] = {
     "pressure": "Pa",
     "area": "m^2",
     "volume": "m^3",
+    "density": "kg/m^3",
+    "second_moment": "m^4",
     "frequency": "Hz",
     "flow": "m^3/s",
     "leakage": "m^3/(s*Pa)",

@@ -51,3 +51,43 @@ class FEModel:
         if hits.size == 0:
             raise KeyError(f"node {self.node_ids[node]} has no DOF {COMPONENTS[component]}")
         return int(hits[0])
+
+    def skew_field(self, vectors: np.ndarray, rotations: bool) -> np.ndarray:
+        """(ndof, 3) field: translation rows -skew(v_p) of one vector per node (n, 3),
+        rotation rows I when `rotations` else 0. With v = positions it is the motion of a
+        small rotation (R0 of the flexible-body notes); with v = a mode's translations it is
+        R_j."""
+        nodes, comps = self.dof_map[:, 0], self.dof_map[:, 1]
+        out = np.zeros((len(self.dof_map), 3))
+        v = vectors[nodes]
+        trans = comps < 3
+        # rows of -skew(v): (0, v2, -v1), (-v2, 0, v0), (v1, -v0, 0)
+        for c, (a, sa, b, sb) in enumerate(
+            ((2, 1.0, 1, -1.0), (0, 1.0, 2, -1.0), (1, 1.0, 0, -1.0))
+        ):
+            rows = trans & (comps == c)
+            out[rows, (c + 1) % 3] = sa * v[rows, a]
+            out[rows, (c + 2) % 3] = sb * v[rows, b]
+        if rotations:
+            rot = ~trans
+            out[rot, comps[rot] - 3] = 1.0
+        return out
+
+    def translation_field(self) -> np.ndarray:
+        """(ndof, 3) Gamma: a unit translation along each axis."""
+        out = np.zeros((len(self.dof_map), 3))
+        trans = self.dof_map[:, 1] < 3
+        out[trans, self.dof_map[trans, 1]] = 1.0
+        return out
+
+    def rigid_properties(self) -> tuple[float, np.ndarray, np.ndarray]:
+        """(mass kg, centre of mass (3,) m, inertia (3, 3) kg*m^2 about it), from the mass
+        matrix and rigid motions (exact for lumped and consistent mass alike)."""
+        gamma = self.translation_field()
+        mg = self.mass @ gamma
+        mass = float(gamma[:, 0] @ mg[:, 0])
+        r0 = self.skew_field(self.coordinates, True)
+        moment = gamma.T @ (self.mass @ r0)  # = -m skew(c)
+        cm = np.array([moment[1, 2], moment[2, 0], moment[0, 1]]) / mass
+        rc = self.skew_field(self.coordinates - cm, True)
+        return mass, cm, rc.T @ (self.mass @ rc)

@@ -1,0 +1,119 @@
+"""Pydantic models of a flexible body (`bodies: NAME: flexible:`, issue 13): SI floats.
+
+A built-in source (`beam:` or `grillage:`) gives the FE model; `interface:` names the points
+(global, at design) where the mechanism attaches: each becomes a node and a point
+`BODY.NAME`; `modes:` / `frequency_range:` select the Craig-Bampton modes, `damping:` their
+ratios (default: 1 % below 100 Hz, 10 % below 1 kHz, 100 % above).
+"""
+
+from __future__ import annotations
+
+from pydantic import Field, model_validator
+from pydantic_core import PydanticCustomError
+
+from loadcases.schema.types import (
+    Dimensionless,
+    Direction,
+    Length,
+    Position,
+    Strict,
+    describe,
+    quantity,
+    vector,
+)
+
+__all__ = ["BeamSection", "BeamSource", "Flexible", "GrillageSource", "MaterialModel"]
+
+Density = quantity("density")
+Pressure = quantity("pressure")
+Area = quantity("area")
+SecondMoment = quantity("second_moment")
+
+
+class MaterialModel(Strict):
+    """Isotropic material."""
+
+    E: Pressure = Field(description=describe("Young's modulus", "pressure"))
+    nu: Dimensionless = Field(description="Poisson's ratio [dimensionless]")
+    rho: Density = Field(description=describe("density", "density"))
+
+
+class BeamSection(Strict):
+    """A solid rectangle (`width` along the section y axis, `height` along z) or the
+    properties `A`, `Iy` (= int z^2 dA), `Iz` (= int y^2 dA), `J`."""
+
+    width: Length | None = Field(None, description=describe("rectangle width", "length"))
+    height: Length | None = Field(None, description=describe("rectangle height", "length"))
+    A: Area | None = Field(None, description=describe("area", "area"))
+    Iy: SecondMoment | None = Field(None, description=describe("Iy", "second_moment"))
+    Iz: SecondMoment | None = Field(None, description=describe("Iz", "second_moment"))
+    J: SecondMoment | None = Field(None, description=describe("torsion constant", "second_moment"))
+    shear: bool = Field(True, description="Timoshenko shear deformation (k = 5/6)")
+
+    @model_validator(mode="after")
+    def _complete(self) -> BeamSection:
+        rectangle = self.width is not None and self.height is not None
+        props = None not in (self.A, self.Iy, self.Iz, self.J)
+        if rectangle == props:
+            raise PydanticCustomError("section", "give either width and height, or A, Iy, Iz and J")
+        return self
+
+
+class BeamSource(Strict):
+    """A straight beam from `start` to `end` (global, design) in `elements` elements."""
+
+    start: Position = Field(description=describe("first end", "length"))
+    end: Position = Field(description=describe("second end", "length"))
+    section: BeamSection
+    material: MaterialModel
+    elements: int = Field(20, ge=1, le=2000, description="number of elements")
+    y_axis: Direction = Field(
+        (0.0, 0.0, 1.0), description="section y axis (made normal to the beam) [dimensionless]"
+    )
+
+
+class GrillageSource(Strict):
+    """A flat panel as a grillage of beams: corner `at`, edges along `x` and `y`."""
+
+    at: Position = Field(description=describe("corner of the panel", "length"))
+    x: Direction = Field((1.0, 0.0, 0.0), description="panel x edge [dimensionless]")
+    y: Direction = Field((0.0, 1.0, 0.0), description="panel y edge [dimensionless]")
+    size: vector("length", 2) = Field(description=describe("[lx, ly]", "length"))
+    thickness: Length = Field(description=describe("thickness", "length"))
+    material: MaterialModel
+    mesh: tuple[int, int] = Field((10, 10), description="[nx, ny] cells")
+
+
+class Flexible(Strict):
+    """A flexible body reduced by Craig-Bampton (seed 003, chapter 1)."""
+
+    beam: BeamSource | None = None
+    grillage: GrillageSource | None = None
+    interface: dict[str, Position] = Field(
+        description=describe("named attachment points, global at design", "length")
+    )
+    modes: int | None = Field(None, ge=1, description="number of modes kept (lowest)")
+    frequency_range: vector("frequency", 2) | None = Field(
+        None, description=describe("[low, high]: the modes kept", "frequency")
+    )
+    fixed_interface_modes: int | None = Field(
+        None, ge=0, description="fixed-interface modes of the basis (default max(10, modes))"
+    )
+    damping: float | dict[int, float] | None = Field(
+        None,
+        description="ratio of critical for all modes, or {mode number: ratio} over the "
+        "default (1 % < 100 Hz, 10 % < 1 kHz, 100 % above) [dimensionless]",
+    )
+
+    @model_validator(mode="after")
+    def _one_source(self) -> Flexible:
+        if (self.beam is None) == (self.grillage is None):
+            raise PydanticCustomError("flexible", "give exactly one source: beam or grillage")
+        if self.modes is not None and self.frequency_range is not None:
+            raise PydanticCustomError("flexible", "give modes or frequency_range, not both")
+        if not self.interface:
+            raise PydanticCustomError("flexible", "name at least one interface point")
+        return self
+
+    def source_key(self) -> str:
+        return "beam" if self.beam is not None else "grillage"

@@ -1,0 +1,160 @@
+"""Craig-Bampton reduction of a free-free FEModel to orthonormal modes (seed 003 eqs 1.3-1.8).
+
+Basis T = [[I, 0], [Phi_IC, Phi_IN]] (interface DOF first): constraint modes
+Phi_IC = -K_II^-1 K_IB and fixed-interface normal modes Phi_IN of (K_II, M_II). The reduced
+K^ = T^T K T, M^ = T^T M T is orthonormalised, K^ N = M^ N Lambda (eqs 1.6-1.8), after the
+six rigid-body motions (exact in the reduced coordinates: constraint modes reproduce rigid
+motion) are removed: the eigenproblem is solved in their M^-orthogonal complement. So the
+kept modes are free-free approximations plus boundary eigenvectors, each with a frequency,
+all orthogonal to rigid motion (a linearised mean-axis frame: I3 = I4 = 0).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+import scipy.linalg as sla
+import scipy.sparse.linalg as spla
+
+from mechlib.flexible.fe_model import FEModel
+from mechlib.flexible.invariants import field_invariants
+from mechlib.flexible.modal_component import ModalComponent, damping_ratios
+
+__all__ = ["ReductionError", "craig_bampton", "free_modes"]
+
+_RIGID_ENERGY = 1e-8  # |K R| / (|K| |R|) above this: the rigid motions strain the model
+_MECHANISM = 1e-12  # omega^2 / max(omega^2) below this: a zero-energy deformation
+_DENSE_LIMIT = 600  # internal DOF up to which the fixed-interface modes come from eigh
+
+
+class ReductionError(ValueError):
+    """The FE model cannot be reduced as asked (says why)."""
+
+
+def _split(model: FEModel) -> tuple[np.ndarray, np.ndarray]:
+    if not model.interface:
+        raise ReductionError("a Craig-Bampton reduction needs at least one interface node")
+    boundary = np.flatnonzero(np.isin(model.dof_map[:, 0], model.interface))
+    return boundary, np.setdiff1d(np.arange(len(model.dof_map)), boundary)
+
+
+def _fixed_interface(k_ii, m_ii, count: int) -> np.ndarray:
+    """The `count` lowest fixed-interface modes (n_i, count)."""
+    n = k_ii.shape[0]
+    if count == 0:
+        return np.zeros((n, 0))
+    if n <= _DENSE_LIMIT or count >= n - 1:
+        _, vec = sla.eigh(k_ii.toarray(), m_ii.toarray(), subset_by_index=[0, count - 1])
+        return vec
+    _, vec = spla.eigsh(k_ii.tocsc(), k=count, M=m_ii.tocsc(), sigma=0.0)
+    return vec
+
+
+def _basis(model: FEModel, fixed_interface_modes: int) -> np.ndarray:
+    """T (ndof, n_b + n_q)."""
+    b, i = _split(model)
+    k, m = model.stiffness.tocsr(), model.mass.tocsr()
+    k_ii = k[i][:, i]
+    try:
+        lu = spla.splu(k_ii.tocsc())
+    except RuntimeError as exc:
+        raise ReductionError(
+            "the stiffness with the interface nodes held is singular: a part of the model "
+            "is not connected to an interface node (a mechanism)"
+        ) from exc
+    constraint = -lu.solve(k[i][:, b].toarray())
+    n_q = min(fixed_interface_modes, len(i))
+    normal = _fixed_interface(k_ii, m[i][:, i], n_q)
+    t = np.zeros((len(model.dof_map), len(b) + n_q))
+    t[b, : len(b)] = np.eye(len(b))
+    t[i, : len(b)] = constraint
+    t[i, len(b) :] = normal
+    return t
+
+
+def free_modes(model: FEModel, fixed_interface_modes: int = 20) -> tuple[np.ndarray, np.ndarray]:
+    """(omega (n,) rad/s ascending, Psi (ndof, n) mass-normalised): every elastic mode of
+    the Craig-Bampton basis, the six rigid-body motions removed."""
+    t = _basis(model, fixed_interface_modes)
+    k_hat, m_hat = t.T @ (model.stiffness @ t), t.T @ (model.mass @ t)
+    b, _ = _split(model)
+    rigid = np.zeros((t.shape[1], 6))  # rigid motion in reduced coordinates: [R_B; 0]
+    rigid[: len(b)] = np.hstack([model.translation_field(), _rotation_field(model)])[b]
+    strain = np.linalg.norm(k_hat @ rigid) / (np.linalg.norm(k_hat) * np.linalg.norm(rigid))
+    if strain > _RIGID_ENERGY:
+        raise ReductionError(
+            "the FE model is not free-free: rigid-body motions strain it (constrained DOF "
+            "in the model?); fewer than six rigid-body modes"
+        )
+    complement = sla.null_space(rigid.T @ m_hat)
+    w2, vec = sla.eigh(complement.T @ k_hat @ complement, complement.T @ m_hat @ complement)
+    zero = int(np.count_nonzero(w2 < _MECHANISM * w2.max(initial=0.0)))
+    if zero:
+        raise ReductionError(
+            f"{6 + zero} zero-energy modes where exactly six rigid-body modes are expected: "
+            "the model is a mechanism (parts joined only through interface nodes, or too few "
+            "interface DOF to hold them)"
+        )
+    return np.sqrt(w2), t @ (complement @ vec)
+
+
+def _rotation_field(model: FEModel) -> np.ndarray:
+    return model.skew_field(model.coordinates, rotations=True)
+
+
+def _select(omega: np.ndarray, modes: int | None, band: Sequence[float] | None) -> np.ndarray:
+    """Indices of the kept modes: the lowest `modes`, or those in `band` (Hz)."""
+    f = omega / (2.0 * np.pi)
+    if band is not None:
+        kept = np.flatnonzero((f >= band[0]) & (f <= band[1]))
+        if kept.size == 0:
+            raise ReductionError(
+                f"no mode between {band[0]:g} and {band[1]:g} Hz "
+                f"(the reduced model's modes: {f.min():.4g} to {f.max():.4g} Hz)"
+            )
+        return kept
+    count = len(omega) if modes is None else modes
+    if count > len(omega):
+        raise ReductionError(
+            f"{count} modes asked, the reduced model has {len(omega)}: raise fixed_interface_modes"
+        )
+    return np.arange(count)
+
+
+def craig_bampton(
+    model: FEModel,
+    *,
+    modes: int | None = None,
+    frequency_range: Sequence[float] | None = None,
+    fixed_interface_modes: int | None = None,
+    damping: float | Mapping[int, float] | None = None,
+    keep_nodes: Sequence[int] = (),
+) -> ModalComponent:
+    """The modal component of `model`: `modes` lowest elastic modes or those within
+    `frequency_range` (Hz); `fixed_interface_modes` (default: enough for the modes asked,
+    at least 10); `damping` as `damping_ratios`; slices kept at the interface nodes and
+    the node indices `keep_nodes`."""
+    n_q = fixed_interface_modes
+    if n_q is None:
+        n_q = max(10, modes or 0, 20 if frequency_range is not None else 0)
+    omega, psi = free_modes(model, n_q)
+    kept = _select(omega, modes, frequency_range)
+    omega, psi = omega[kept], psi[:, kept]
+    mass, origin, _ = model.rigid_properties()
+    nodes = list(dict.fromkeys([*model.interface, *keep_nodes]))
+    phi = np.zeros((len(nodes), 6, len(kept)))
+    for row, node in enumerate(nodes):
+        for dof in np.flatnonzero(model.dof_map[:, 0] == node):
+            phi[row, model.dof_map[dof, 1]] = psi[dof]
+    return ModalComponent(
+        mass=mass,
+        origin=origin,
+        invariants=field_invariants(model, psi, origin),
+        node_ids=model.node_ids[nodes],
+        positions=model.coordinates[nodes] - origin,
+        phi=phi[:, :3],
+        phi_star=phi[:, 3:],
+        frequencies=omega,
+        damping=damping_ratios(omega / (2.0 * np.pi), damping),
+    )
