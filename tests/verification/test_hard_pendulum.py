@@ -112,11 +112,11 @@ def test_tight_setting(tight) -> None:
 @pytest.mark.long
 def test_2000_seconds(tmp_path: Path) -> None:
     """The benchmark's full length, 2000 s (845 periods) at the default settings (one
-    solve): no failure, the mean period within 1.2e-4 of the closed form (the error per
-    period is systematic: 5.6e-5 over the first 10 s) and the energy within 5e-2 of m g L.
-    The energy bound is extrapolated, not yet measured over 2000 s: over the first 10 s the
-    error oscillates within 2.7e-4 and its envelope grows by about 1e-5 per second
-    (generalized-alpha's numerical dissipation), 2e-2 if that continues linearly."""
+    solve, 171 s of CPU, 401070 steps): no failure, the energy within 4e-2 of m g L
+    (measured 2.1e-2: generalized-alpha's numerical dissipation, its envelope growing by
+    about 1e-5 per second as over the first 10 s) and the mean period within 5e-3 of the
+    closed form (measured -2.3e-3: the lost energy lowers the amplitude, which shortens the
+    period; over the first 10 s it is 5.6e-5). Measured 2026-11-25."""
     from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
 
@@ -127,5 +127,5 @@ def test_2000_seconds(tmp_path: Path) -> None:
     outcome = run_case(load_case(path))
     assert outcome.solution.status == "ok", outcome.solution.message
     assert outcome.solution.time[-1] == pytest.approx(2000.0)
-    assert _energy_drift(outcome) < 5e-2
-    assert _period(outcome) == pytest.approx(pendulum_period(THETA0, BALL), rel=1.2e-4)
+    assert _energy_drift(outcome) < 4e-2
+    assert _period(outcome) == pytest.approx(pendulum_period(THETA0, BALL), rel=5e-3)
