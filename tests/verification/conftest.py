@@ -52,7 +52,7 @@ def run_case(tmp_path_factory: pytest.TempPathFactory) -> Callable[[str], Any]:
             return cache[file_name]
         from loadcases.run import run_file
 
-        out_dir = tmp_path_factory.mktemp(file_name.split(".")[0])
+        out_dir = tmp_path_factory.mktemp(Path(file_name).name.split(".")[0])
         outcomes = run_file(LIBRARY / file_name, output_dir=out_dir)
         assert len(outcomes) == 1, f"{file_name}: expected one run, got {len(outcomes)}"
         outcome = outcomes[0]
