@@ -33,7 +33,7 @@ from mechlib.check import Redundancy
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.system import System
 
-__all__ = ["TOGGLE_THRESHOLD", "Toggle", "toggle_detail", "toggle_warnings"]
+__all__ = ["TOGGLE_THRESHOLD", "Toggle", "toggle_detail", "toggle_warnings", "weakest_equations"]
 
 TOGGLE_THRESHOLD = 0.1
 _NAMED_SHARE = 0.1  # an equation is named when its weight is this share of the largest
@@ -204,6 +204,12 @@ def toggle_detail(system: System, k) -> str:
         f"; near-singular position (toggle or dead point, measure {value:.2g}): "
         f"{position.rank_deficiency().describe()}"
     )
+
+
+def weakest_equations(system: System, k) -> str:
+    """The equations closest to dependence at state k (those of the smallest singular
+    value of the scaled Jacobian), by joint, whatever that value."""
+    return _Position(system, k).rank_deficiency().describe()
 
 
 def _episodes(values: np.ndarray, threshold: float) -> list[tuple[int, int]]:
