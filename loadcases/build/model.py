@@ -404,6 +404,8 @@ class _Builder:
                 )
                 return None
             return ml.ElementOutput(name, r.force, r.frame)
+        if kind == "EnergyRequest":
+            return ml.EnergyBalance(name)
         if kind == "ExpressionRequest":
             return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}", "case"))
         components = CONTACT_COMPONENTS.get(r.quantity)
@@ -458,6 +460,8 @@ def _units_of(req, builder: _Builder) -> dict[str, str]:
         return {column: CONTACT_UNITS.get(key, "") for column, key in req.components}
     if isinstance(req, ml.ElementOutput):
         return dict(getattr(builder.built.forces[req.element], "output_units", {}))
+    if isinstance(req, ml.EnergyBalance):
+        return dict(req.units)
     return {"value": ""}
 
 
