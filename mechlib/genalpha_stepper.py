@@ -139,9 +139,7 @@ class GeneralizedAlphaStepper(Stepper):
         self.h = h
         if self.h < self.h_min:  # a singular matrix says more than "no convergence"
             why = self.integ.singular or _newton_failure(self.system, s.t, self.h)
-            raise stall(
-                self.system, self.spec.name, s.t, s.q, fell_to(self.h, self.h_min), str(why)
-            )
+            raise stall(self.system, self.spec.name, s.t, s.q, fell_to(self.h, self.h_min), why)
 
     def settle(self, state: State) -> State:
         """Count the step, take its element states and memories, watch the step size."""

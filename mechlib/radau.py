@@ -112,9 +112,8 @@ class RadauStepper(Stepper):
         try:
             q, qd, its = _project(system, solver.y[:nq], solver.y[nq:], t_out)
         except SolverFailure as failure:  # no position on the constraints at t_out
-            how = "no position on the constraints there (the integrated one drifted off)"
-            y = solver.y[:nq]
-            raise stall(system, self.spec.name, t_out, y, how, str(failure)) from None
+            how = f"no position on the constraints at t = {t_out:.6g} s"
+            raise stall(system, self.spec.name, state.t, state.q, how, failure) from None
         self.stats.newton_iterations += its
         system.commit(system.kin(q, None, t_out))
         qdd, lam = consistent_accelerations(system, q, qd, t_out)

@@ -11,7 +11,7 @@ the step then grows again), the run fails naming the force element whose load gr
 A run stalls when the step size falls below STALL_FLOOR times the time scale max(1, |end|)
 s: time no longer advances (a motion driven beyond a dead point, a singular position the
 integrator cannot pass). `stall` makes the failure that says when and which joints: the
-dependent equations at that position (mechlib.singularity.toggle_detail).
+equations closest to dependence there (mechlib.singularity.weakest_equations).
 """
 
 from __future__ import annotations
@@ -19,13 +19,22 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.contract import Status
-from mechlib.singularity import toggle_detail, weakest_equations
+from mechlib.singularity import weakest_equations
 from mechlib.solution import SolverFailure
 
-__all__ = ["COLLAPSE_STEPS", "STALL_FLOOR", "StepCollapse", "fell_to", "stall", "step_floor"]
+__all__ = [
+    "COLLAPSE_STEPS",
+    "NAMED_MEASURE",
+    "STALL_FLOOR",
+    "StepCollapse",
+    "fell_to",
+    "stall",
+    "step_floor",
+]
 
 COLLAPSE_STEPS = 1000  # accepted steps over which a step too small for the limit must shrink
 STALL_FLOOR = 1e-12  # smallest step, relative to the time scale max(1, |end|) s
+NAMED_MEASURE = 0.5  # toggle measure (mechlib.singularity) below which a stall names joints
 
 
 def fell_to(h: float, floor: float) -> str:
@@ -38,19 +47,28 @@ def step_floor(end: float) -> float:
     return STALL_FLOOR * max(1.0, abs(end))
 
 
-def stall(system, analysis: str, t: float, q: np.ndarray, how: str, why: str) -> SolverFailure:
+def stall(
+    system, analysis: str, t: float, q: np.ndarray, how: str, why: SolverFailure | str
+) -> SolverFailure:
     """The failure of a run that cannot progress from the position q at t (s): `how` it
-    stopped (the step size below its floor), `why` what the last attempt reported. Names
-    the joints of the dependent equations there when the position is near-singular."""
-    k = system.kin(q, None, t)
-    where = toggle_detail(system, k).removeprefix("; ")
-    where = where or f"the equations closest to dependence there: {weakest_equations(system, k)}"
+    stopped (the step size below its floor), `why` the last attempt's failure (its time,
+    the attempt's end, is the failure's). Names the joints of the equations closest to
+    dependence there when the position is nearer to singular than NAMED_MEASURE; away
+    from singular positions the attempt's own failure (`why`) is returned as it is."""
+    measure, equations = weakest_equations(system, system.kin(q, None, t))
+    if measure >= NAMED_MEASURE and isinstance(why, SolverFailure):
+        return why  # no singular position: the attempt's own failure says more
+    where = (
+        f"near-singular position (toggle or dead point, measure {measure:.2g}): {equations}"
+        if measure < NAMED_MEASURE
+        else "no near-singular position there"
+    )
+    last = f"; last attempt: {why}" if str(why) else ""
     return SolverFailure(
-        f"{analysis} analysis stalled at t = {t:.6g} s: no progress, {how}; {where}"
-        f"{f'; last attempt: {why}' if why else ''}. A motion "
-        "driven beyond a dead point, or a singular position the integrator cannot pass: "
-        "the rows up to there are kept",
-        time=t,
+        f"{analysis} analysis stalled at t = {t:.6g} s: no progress, {how}; {where}{last}. "
+        "A motion driven beyond a dead point, a singular position the integrator cannot "
+        "pass, or a load it cannot follow: the rows up to there are kept",
+        time=getattr(why, "time", None) or t,
         status=Status.STALLED,
     )
 

@@ -206,10 +206,14 @@ def toggle_detail(system: System, k) -> str:
     )
 
 
-def weakest_equations(system: System, k) -> str:
-    """The equations closest to dependence at state k (those of the smallest singular
-    value of the scaled Jacobian), by joint, whatever that value."""
-    return _Position(system, k).rank_deficiency().describe()
+def weakest_equations(system: System, k) -> tuple[float, str]:
+    """(measure, equations): the smallest singular value of the scaled Jacobian at state k
+    over the one at the design position, and the equations closest to dependence there
+    (those of that singular value), by joint."""
+    position = _Position(system, k)
+    design = _Position(system, system.kin(system.design_q(), None, k.t)).rank_measure()
+    measure = position.rank_measure() / max(design, _GRAM_FLOOR)
+    return measure, position.rank_deficiency().describe()
 
 
 def _episodes(values: np.ndarray, threshold: float) -> list[tuple[int, int]]:
