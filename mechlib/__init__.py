@@ -8,6 +8,7 @@ from mechlib.assembly import InitialBodyVelocity, InitialValue
 from mechlib.check import ModelError
 from mechlib.contract import Status
 from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
+from mechlib.energy import EnergyBalance
 from mechlib.events import Action, Event
 from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
 from mechlib.model import GROUND, Mechanism
@@ -36,6 +37,7 @@ __all__ = [
     "CouplerEffort",
     "Dynamic",
     "ElementOutput",
+    "EnergyBalance",
     "Event",
     "ExpressionOutput",
     "FlexibleOutput",

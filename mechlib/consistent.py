@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib.augmented import augmented_accelerations
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.reaction_loads import accelerations_and_reactions
 from mechlib.system import System
@@ -23,8 +24,8 @@ def consistent_state(system: System, q, qd, t: float, *, project: bool = True):
     k = system.kin(q, qd, t)
     jac = system.phi_q(k)
     lu = factor_saddle(system.mass(k), jac, system.saddle_pattern())
-    if lu is None:
-        raise singular_failure(system, jac, t, "dynamic analysis failed")
+    if lu is None:  # a singular position: the bounded augmented-Lagrangian solution
+        return _at_singular(system, k, jac, qd, t)
     drift = system.nu(k) - jac @ qd
     if project and np.abs(drift).max(initial=0.0) > 0.0:
         qd = qd + solve_factored(lu, np.concatenate([np.zeros(system.nq), drift]))[: system.nq]
@@ -33,6 +34,15 @@ def consistent_state(system: System, q, qd, t: float, *, project: bool = True):
     if sol is None:
         raise singular_failure(system, jac, t, "dynamic analysis failed")
     return qd, sol[: system.nq], sol[system.nq :]
+
+
+def _at_singular(system: System, k, jac: np.ndarray, qd, t: float):
+    """(qd, qdd, lam) where the saddle matrix is singular (mechlib.augmented): qd as
+    given, the accelerations bounded."""
+    sol = augmented_accelerations(system, k, jac, system.gamma(k))
+    if sol is None:
+        raise singular_failure(system, jac, t, "dynamic analysis failed")
+    return qd, sol[0], sol[1]
 
 
 def consistent_accelerations(system: System, q, qd, t: float):

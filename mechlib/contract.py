@@ -49,6 +49,11 @@ class Status(enum.Enum):
         "step_collapse",
         "the step size collapsed (a load or a motion growing without bound)",
     )
+    STALLED = (
+        "stalled",
+        "no progress: the step size fell below its floor (a singular position the motion "
+        "cannot pass)",
+    )
     NEWTON_FAILED = ("newton_failed", "Newton iterations did not converge")
     SINGULAR = (
         "singular",

@@ -153,6 +153,30 @@ class Spring:
         tension, length, _ = self._state(view)
         return {"value": tension, "length": length}
 
+    def _taut(self, view: StateView) -> tuple[float, float] | None:
+        """(stretch (m), rate (m/s)), None while a tension-only spring carries nothing."""
+        tension, length, u = self._state(view)
+        if self.tension_only and tension == 0.0:
+            return None
+        b1, s1, b2, s2 = self._geometry
+        rate = float(u @ (view.point_velocity(b1, s1) - view.point_velocity(b2, s2)))
+        return length - self._free_length, rate
+
+    @property
+    def potential(self):
+        """Elastic energy (J) at a view, k s^2 / 2 + preload s; None with a tabulated law
+        (its work is then load work)."""
+        return None if self.law is not None else self._potential
+
+    def _potential(self, view: StateView) -> float:
+        taut = self._taut(view)
+        return 0.0 if taut is None else 0.5 * self.stiffness * taut[0] ** 2 + self.preload * taut[0]
+
+    def dissipation(self, view: StateView) -> float:
+        """Power (W) taken out by the damper: damping * rate^2."""
+        taut = self._taut(view)
+        return 0.0 if taut is None else self.damping * taut[1] ** 2
+
 
 @dataclass
 class TorsionSpring:
@@ -190,3 +214,17 @@ class TorsionSpring:
     def output(self, view: StateView) -> dict[str, float]:
         moment, angle = self._moment(view)
         return {"value": moment, "angle": angle}
+
+    @property
+    def potential(self):
+        """Elastic energy (J) at a view, k turn^2 / 2 + preload turn; None with a tabulated
+        law (its work is then load work)."""
+        return None if self.law is not None else self._potential
+
+    def _potential(self, view: StateView) -> float:
+        turn = self._m.value(view.kin) - self.angle0
+        return 0.5 * self.stiffness * turn**2 + self.preload * turn
+
+    def dissipation(self, view: StateView) -> float:
+        """Power (W) taken out by the damper: damping * omega^2."""
+        return self.damping * self._m.rate(view.kin) ** 2

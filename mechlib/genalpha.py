@@ -37,6 +37,8 @@ _MAX_ITER = 8
 _NEWTON_KAPPA = 0.05
 _ETA_MIN = 1e-3
 _SLOW_ITERATIONS = 3
+_STAGNANT = 0.5  # increment ratio of an iteration that no longer converges
+_NOISE_POSITION = 1e-3  # position increment (x the position tolerance) that is round-off
 
 
 @dataclass(frozen=True)
@@ -193,7 +195,11 @@ class Integrator:
                 eta = theta / (1.0 - theta) if theta < 1.0 else math.inf
             # Newton error estimate eta*|dq| against a fraction of the local error tolerance
             # (Hairer & Wanner, Solving ODEs II, IV.8); positions only, as the error test
-            if (eta * size <= _NEWTON_KAPPA and size < 1.0) or size < 1e-10:
+            if (
+                (eta * size <= _NEWTON_KAPPA and size < 1.0)
+                or size < 1e-10
+                or self._noise(size, prev, dq, q1)
+            ):
                 self.eta = max(eta, _ETA_MIN) ** 0.8
                 if it > _SLOW_ITERATIONS:
                     self.stale = True  # converging slowly: a fresh matrix for the next step
@@ -218,6 +224,19 @@ class Integrator:
         self.eta = 1.0
         sys.states.reject()
         return None
+
+    def _noise(self, size: float, prev: float, dq: np.ndarray, q1: np.ndarray) -> bool:
+        """Newton has reached its round-off floor: the increments stopped shrinking
+        (ratio above _STAGNANT) while far below the position tolerance. Near a singular
+        position (the horizontal crossing of a chain of parallelogram four-bars) the
+        iteration matrix amplifies round-off in q by 1/sigma_min, and x beta' that noise
+        reads as a large acceleration increment no smaller step removes."""
+        assert self.scales is not None, "set by the stepper before its first step"
+        return (
+            prev < math.inf
+            and size > _STAGNANT * prev
+            and self.scales.position_size(dq, q1) <= _NOISE_POSITION
+        )
 
     def _true_acceleration(self, q1, qd1, t1, qdd1, lam1, jac):
         """The state on all three constraint levels, by corrections with the iteration

@@ -44,6 +44,10 @@ class Scales:
         allows (bp eps |q|): below it Newton cannot go, whatever tol asks."""
         return _newton_size(dq, q, qdd, bp, self.q_abs, self.a_ref, self.tol, _ROUNDOFF)
 
+    def position_size(self, dq: np.ndarray, q: np.ndarray) -> float:
+        """RMS of a Newton increment against the position weights alone."""
+        return float(np.sqrt(np.mean((dq / (self.q_abs + self.tol * np.abs(q))) ** 2)))
+
 
 @njit(cache=True)
 def predict(q, qd, qdd, a, h, alpha_m, beta, gamma):

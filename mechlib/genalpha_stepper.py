@@ -20,7 +20,7 @@ from mechlib.consistent import consistent_accelerations, consistent_state
 from mechlib.contract import State, Status, Stepper, StepResult, StepUnresolved
 from mechlib.genalpha import Integrator
 from mechlib.genalpha_kernels import Scales
-from mechlib.runaway import StepCollapse, element_loads
+from mechlib.runaway import StepCollapse, element_loads, fell_to, stall, step_floor
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.stick import slip_stop, switch_sticking
 from mechlib.system import System
@@ -71,7 +71,7 @@ class GeneralizedAlphaStepper(Stepper):
         self.h = (
             self.max_step if spec.fixed_step else min(self.max_step, _FIRST_STEP * span or 1e-3)
         )
-        self.h_min = 1e-12 * max(1.0, abs(spec.end))
+        self.h_min = step_floor(spec.end)
         self.h_used = 0.0
         self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
 
@@ -123,7 +123,7 @@ class GeneralizedAlphaStepper(Stepper):
             if spec.fixed_step:
                 raise _newton_failure(self.system, s.t, h_try)
             self._shrink(
-                s.t, h_try * (0.25 if new is None else max(_SHRINK, _SAFETY * err ** (-1 / 3)))
+                s, h_try * (0.25 if new is None else max(_SHRINK, _SAFETY * err ** (-1 / 3)))
             )
             return None, err
         if not spec.fixed_step:
@@ -132,12 +132,14 @@ class GeneralizedAlphaStepper(Stepper):
                 self.h = min(self.max_step, h_try * grow)
         return _state(s.t + h_try, new), err
 
-    def _shrink(self, t: float, h: float) -> None:
-        """A rejected step at t (s): retry with step h (s), failing below h_min."""
+    def _shrink(self, s: State, h: float) -> None:
+        """A rejected step from s: retry with step h (s); below h_min the run stalls (its
+        message names the joints of a singular position there)."""
         self.stats.rejected_steps += 1
         self.h = h
         if self.h < self.h_min:  # a singular matrix says more than "no convergence"
-            raise self.integ.singular or _newton_failure(self.system, t, self.h)
+            why = self.integ.singular or _newton_failure(self.system, s.t, self.h)
+            raise stall(self.system, self.spec.name, s.t, s.q, fell_to(self.h, self.h_min), why)
 
     def settle(self, state: State) -> State:
         """Count the step, take its element states and memories, watch the step size."""
@@ -208,7 +210,7 @@ class GeneralizedAlphaStepper(Stepper):
             raise _newton_failure(
                 self.system, state.t, failure.t - state.t, f"locating event {events()}"
             )
-        self._shrink(state.t, 0.25 * (new.t - state.t))
+        self._shrink(state, 0.25 * (new.t - state.t))
 
 
 def _substeps(interval: float, h: float) -> tuple[int, float]:

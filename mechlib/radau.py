@@ -18,10 +18,12 @@ import numpy as np
 from scipy.integrate import Radau
 
 from mechlib.assembly import solve_positions
+from mechlib.augmented import augmented_accelerations
 from mechlib.consistent import consistent_accelerations
 from mechlib.contract import State, Status, Stepper, StepResult
 from mechlib.linalg import singular_failure
-from mechlib.reaction_loads import accelerations_and_reactions
+from mechlib.march import check_step_limit
+from mechlib.runaway import fell_to, stall, step_floor
 from mechlib.solution import SolverFailure
 from mechlib.system import System
 from mechlib.work import count
@@ -40,10 +42,10 @@ def _rhs(system: System):
         jac = system.phi_q(k)
         drift = jac @ qd - system.nu(k)
         g = system.gamma(k) - 2.0 * _BAUMGARTE * drift - _BAUMGARTE**2 * system.phi(k)
-        sol = accelerations_and_reactions(system, k, jac, gamma=g)
+        sol = augmented_accelerations(system, k, jac, g)
         if sol is None:
             raise singular_failure(system, jac, t, "dynamic analysis (radau) failed")
-        return np.concatenate([qd, sol[:nq]])
+        return np.concatenate([qd, sol[0]])
 
     return f
 
@@ -95,16 +97,23 @@ class RadauStepper(Stepper):
             max_step=self.spec.max_step or np.inf,
         )
         solver.jac = self.rhs.jacobian(solver.jac)
+        floor = step_floor(self.spec.end)
         while solver.status == "running":
+            check_step_limit(self.spec, self.stats, float(solver.t))
             self._scipy_step(solver)
+            if solver.status == "running" and solver.h_abs < floor:
+                solver.status = "failed"
         count(factorizations=solver.nlu, jacobian_evaluations=solver.njev)
-        if solver.status == "failed":
-            raise SolverFailure(
-                f"dynamic analysis (radau) failed at t = {solver.t:.6g} s: {self.message}",
-                time=float(solver.t),
-                status=Status.INTEGRATOR_FAILED,
-            )
-        q, qd, its = _project(system, solver.y[:nq], solver.y[nq:], t_out)
+        if solver.status == "failed":  # scipy's step fell below its own floor: a stall
+            y = solver.y[:nq]
+            why = f"scipy: {self.message}" if self.message else ""
+            how = fell_to(solver.h_abs, floor)
+            raise stall(system, self.spec.name, float(solver.t), y, how, why)
+        try:
+            q, qd, its = _project(system, solver.y[:nq], solver.y[nq:], t_out)
+        except SolverFailure as failure:  # no position on the constraints at t_out
+            how = f"no position on the constraints at t = {t_out:.6g} s"
+            raise stall(system, self.spec.name, state.t, state.q, how, failure) from None
         self.stats.newton_iterations += its
         system.commit(system.kin(q, None, t_out))
         qdd, lam = consistent_accelerations(system, q, qd, t_out)

@@ -9,6 +9,7 @@ direction of increasing coordinate.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import ClassVar
@@ -16,6 +17,7 @@ from typing import ClassVar
 import numpy as np
 
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
+from mechlib.energy import EnergyBalance, energy_columns
 from mechlib.reactions import Gatherer, effort_series, reaction_series
 from mechlib.request_failure import partial_columns
 from mechlib.rotation import d_rotate, rotate
@@ -128,7 +130,8 @@ class ExpressionOutput:
 
 
 Request = (
-    JointReaction
+    EnergyBalance
+    | JointReaction
     | MotionEffort
     | CouplerEffort
     | PointKinematics
@@ -333,6 +336,11 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
             series[req.name] = _coupler_columns(system, trajectory, req, loads[req.name])
         elif isinstance(req, FlexibleOutput):
             series[req.name] = _flexible_columns(system, trajectory, req)
+    for req in requests:
+        if isinstance(req, EnergyBalance):
+            series[req.name] = energy_columns(
+                system, trajectory, functools.partial(_row_views, system, trajectory)
+            )
     columns = per_request | series  # every request, in request order
     channels = {
         f"{name}.{comp}": np.asarray(values, dtype=float)
@@ -342,6 +350,16 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
     if failed:
         raise partial_columns(channels, failed, columns, len(trajectory))
     return channels
+
+
+def _row_views(system: System, trajectory, i: int):
+    """(k, view) of row i as requests read it: the solver's snapshot restored; the force
+    elements of equilibria evaluated without velocities."""
+    system.restore_snapshot(trajectory.references[i])
+    q, qd, lam = trajectory.q[i], trajectory.qd[i], trajectory.lam[i]
+    k = system.kin(q, qd, trajectory.time[i])
+    rest = system.kin(q, np.zeros_like(qd), trajectory.time[i]) if trajectory.at_rest else k
+    return k, system.view(rest, lam)
 
 
 def _evaluate(system, k, req, view, qdd) -> dict[str, float]:

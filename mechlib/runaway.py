@@ -1,4 +1,5 @@
-"""Runaway runs: a step size that keeps collapsing, stopped long before `max_steps`.
+"""Runaway and stalled runs: a step size that keeps collapsing, stopped long before
+`max_steps`; a step size below its floor, stopped at once (`stall`).
 
 A load that grows without bound (a force exp(100 t), an unstable controller) makes the
 error-controlled step shrink as the motion speeds up; the run would grind on until its step
@@ -6,6 +7,11 @@ limit, minutes later. `StepCollapse` watches the accepted steps: once the rest o
 at the current step size would need more steps than `max_steps` leaves, and the step keeps
 shrinking over the next COLLAPSE_STEPS accepted steps (an impact resolves in far fewer, and
 the step then grows again), the run fails naming the force element whose load grew most.
+
+A run stalls when the step size falls below STALL_FLOOR times the time scale max(1, |end|)
+s: time no longer advances (a motion driven beyond a dead point, a singular position the
+integrator cannot pass). `stall` makes the failure that says when and which joints: the
+equations closest to dependence there (mechlib.singularity.weakest_equations).
 """
 
 from __future__ import annotations
@@ -13,11 +19,58 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.contract import Status
+from mechlib.singularity import weakest_equations
 from mechlib.solution import SolverFailure
 
-__all__ = ["COLLAPSE_STEPS", "StepCollapse"]
+__all__ = [
+    "COLLAPSE_STEPS",
+    "NAMED_MEASURE",
+    "STALL_FLOOR",
+    "StepCollapse",
+    "fell_to",
+    "stall",
+    "step_floor",
+]
 
 COLLAPSE_STEPS = 1000  # accepted steps over which a step too small for the limit must shrink
+STALL_FLOOR = 1e-12  # smallest step, relative to the time scale max(1, |end|) s
+NAMED_MEASURE = 0.5  # toggle measure (mechlib.singularity) below which a stall names joints
+
+
+def fell_to(h: float, floor: float) -> str:
+    """How a stall stopped: the step h (s) below its floor (s)."""
+    return f"the step size fell to {h:.3g} s (floor {floor:.3g} s)"
+
+
+def step_floor(end: float) -> float:
+    """The smallest step size (s) of a run ending at `end` (s)."""
+    return STALL_FLOOR * max(1.0, abs(end))
+
+
+def stall(
+    system, analysis: str, t: float, q: np.ndarray, how: str, why: SolverFailure | str
+) -> SolverFailure:
+    """The failure of a run that cannot progress from the position q at t (s): `how` it
+    stopped (the step size below its floor), `why` the last attempt's failure (its time,
+    the attempt's end, is the failure's). Names the joints of the equations closest to
+    dependence there when the position is nearer to singular than NAMED_MEASURE; away
+    from singular positions the attempt's own failure (`why`) is returned as it is."""
+    measure, equations = weakest_equations(system, system.kin(q, None, t))
+    if measure >= NAMED_MEASURE and isinstance(why, SolverFailure):
+        return why  # no singular position: the attempt's own failure says more
+    where = (
+        f"near-singular position (toggle or dead point, measure {measure:.2g}): {equations}"
+        if measure < NAMED_MEASURE
+        else "no near-singular position there"
+    )
+    last = f"; last attempt: {why}" if str(why) else ""
+    return SolverFailure(
+        f"{analysis} analysis stalled at t = {t:.6g} s: no progress, {how}; {where}{last}. "
+        "A motion driven beyond a dead point, a singular position the integrator cannot "
+        "pass, or a load it cannot follow: the rows up to there are kept",
+        time=getattr(why, "time", None) or t,
+        status=Status.STALLED,
+    )
 
 
 def element_loads(system, view) -> dict[str, float]:

@@ -33,7 +33,7 @@ from mechlib.check import Redundancy
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.system import System
 
-__all__ = ["TOGGLE_THRESHOLD", "Toggle", "toggle_detail", "toggle_warnings"]
+__all__ = ["TOGGLE_THRESHOLD", "Toggle", "toggle_detail", "toggle_warnings", "weakest_equations"]
 
 TOGGLE_THRESHOLD = 0.1
 _NAMED_SHARE = 0.1  # an equation is named when its weight is this share of the largest
@@ -204,6 +204,16 @@ def toggle_detail(system: System, k) -> str:
         f"; near-singular position (toggle or dead point, measure {value:.2g}): "
         f"{position.rank_deficiency().describe()}"
     )
+
+
+def weakest_equations(system: System, k) -> tuple[float, str]:
+    """(measure, equations): the smallest singular value of the scaled Jacobian at state k
+    over the one at the design position, and the equations closest to dependence there
+    (those of that singular value), by joint."""
+    position = _Position(system, k)
+    design = _Position(system, system.kin(system.design_q(), None, k.t)).rank_measure()
+    measure = position.rank_measure() / max(design, _GRAM_FLOOR)
+    return measure, position.rank_deficiency().describe()
 
 
 def _episodes(values: np.ndarray, threshold: float) -> list[tuple[int, int]]:

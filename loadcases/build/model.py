@@ -467,6 +467,21 @@ class _Builder:
                 )
                 return None
             return ml.ElementOutput(name, r.force, r.frame)
+        if kind == "EnergyRequest":
+            flexible = [
+                n
+                for n, b in self.mech.bodies.items()
+                if getattr(b, "flexible", None) is not None and self.effects.get("flexibility", True)
+            ]
+            if flexible:  # their modal kinetic and strain energy are not in the balance yet
+                self.error(
+                    "case",
+                    f"requests.{name}",
+                    "the energy request does not cover flexible bodies yet "
+                    f"({', '.join(flexible)}); use effects: {{flexibility: false}} for it",
+                )
+                return None
+            return ml.EnergyBalance(name)
         if kind == "ExpressionRequest":
             return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}", "case"))
         components = CONTACT_COMPONENTS.get(r.quantity)
@@ -528,6 +543,8 @@ def _units_of(req, builder: _Builder) -> dict[str, str]:
         return {column: CONTACT_UNITS.get(key, "") for column, key in req.components}
     if isinstance(req, ml.ElementOutput):
         return dict(getattr(builder.built.forces[req.element], "output_units", {}))
+    if isinstance(req, ml.EnergyBalance):
+        return dict(req.units)
     return {"value": ""}
 
 

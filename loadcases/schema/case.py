@@ -195,14 +195,24 @@ class ExpressionRequest(Strict):
     expression: Expression
 
 
+class EnergyRequest(Strict):
+    """The energy balance of the run (J): kinetic, gravitational, elastic, drive_work,
+    load_work, dissipated and balance (docs/analyses.md, Energy)."""
+
+    quantity: Literal["energy"]
+
+
 REQUEST_KINDS = ("joint", "motion", "flexible", "point", "force", "contact", "expression")
 
 
 def _request_kind(value: Any) -> str | None:
-    """The request kind: the first of REQUEST_KINDS given as a key."""
+    """The request kind: the first of REQUEST_KINDS given as a key; `energy` for a request
+    with none of them and `quantity: energy`."""
     if isinstance(value, dict):
-        return next((kind for kind in REQUEST_KINDS if kind in value), None)
-    return next((kind for kind in REQUEST_KINDS if hasattr(value, kind)), None)
+        kind = next((kind for kind in REQUEST_KINDS if kind in value), None)
+        return kind or ("energy" if value.get("quantity") == "energy" else None)
+    kind = next((kind for kind in REQUEST_KINDS if hasattr(value, kind)), None)
+    return kind or ("energy" if isinstance(value, EnergyRequest) else None)
 
 
 Request = Annotated[
@@ -212,12 +222,13 @@ Request = Annotated[
     | Annotated[ElementRequest, Tag("force")]
     | Annotated[ContactRequest, Tag("contact")]
     | Annotated[FlexibleRequest, Tag("flexible")]
-    | Annotated[ExpressionRequest, Tag("expression")],
+    | Annotated[ExpressionRequest, Tag("expression")]
+    | Annotated[EnergyRequest, Tag("energy")],
     Discriminator(
         _request_kind,
         custom_error_type="request_kind",
         custom_error_message="a request needs one of the keys joint, motion, point, "
-        "force, contact, flexible or expression",
+        "force, contact, flexible or expression, or is `quantity: energy`",
     ),
 ]
 

@@ -1,0 +1,113 @@
+"""The energy balance of a run as one request (`EnergyBalance`): stored energies at each
+recorded row and the work and dissipation integrated over the rows.
+
+Columns (J):
+- `kinetic`: 1/2 qd^T M qd (0 in quasi-static and static rows: inertia is ignored there);
+- `gravitational`: -sum m g . r_cm (zero at the ground origin);
+- `elastic`: the potentials of the elements that give one (`potential(view)`: linear
+  springs and torsion springs; a spring with a tabulated law has none, its work goes to
+  `load_work`);
+- `drive_work`: work done by the motions, the integral of -lam . nu (the constraint power:
+  only the rows a motion drives have nu != 0);
+- `dissipated`: energy taken out by friction and damping, the integral of -P of the
+  elements of the `friction` and `damping` effects and of the `dissipation(view)` (W) of
+  the others (a spring's damper);
+- `load_work`: work of every other applied load (point forces and torques, actuators,
+  contacts, springs with a tabulated law), the integral of P_e + D_e (an element with a
+  potential loads with -dV/dt - D_e exactly: counted in `elastic` and `dissipated`);
+- `balance`: kinetic + gravitational + elastic - drive_work - load_work + dissipated minus
+  its value at the first row: zero up to the integration error.
+
+The integrals are trapezoid sums over the recorded rows (second order in the output
+interval, whatever the integrator's own steps): the output step sets their accuracy, and
+`balance` shows it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from mechlib.system import System
+
+__all__ = ["COMPONENTS", "DISSIPATIVE_EFFECTS", "EnergyBalance", "energy_columns"]
+
+COMPONENTS = (
+    "kinetic",
+    "gravitational",
+    "elastic",
+    "drive_work",
+    "load_work",
+    "dissipated",
+    "balance",
+)
+DISSIPATIVE_EFFECTS = ("friction", "damping")
+
+
+@dataclass(frozen=True)
+class EnergyBalance:
+    """The energy request: the columns of `COMPONENTS` (J)."""
+
+    name: str
+    units: ClassVar[dict[str, str]] = dict.fromkeys(COMPONENTS, "J")
+
+
+def _element_power(system: System, k, view, element) -> float:
+    """Power (W) of one element's loads at state k (velocities from k)."""
+    F, N = np.zeros((system.nb + 1, 3)), np.zeros((system.nb + 1, 3))
+    element.apply(view, F, N)
+    return float(system.generalized(k, F, N) @ k.xd[:-1].ravel())
+
+
+def _row(system: System, k, view, lam: np.ndarray, rest: bool) -> tuple[float, ...]:
+    """(kinetic, gravitational, elastic, drive power, load power, dissipation) at one row."""
+    qd = k.xd[:-1].ravel()
+    kinetic = 0.0 if rest else 0.5 * float(qd @ system.mass_times(k, qd))
+    gravitational = -float(system.masses @ (k.r[:-1] @ system.gravity))
+    elastic = load = dissipation = 0.0
+    for element in system.elements:
+        if not element.active:
+            continue
+        power = _element_power(system, k, view, element)
+        if element.effect in DISSIPATIVE_EFFECTS:
+            dissipation -= power
+            continue
+        own = float(element.dissipation(view)) if hasattr(element, "dissipation") else 0.0
+        dissipation += own
+        potential = getattr(element, "potential", None)
+        if potential is not None:  # its power is -dV/dt - own, exactly
+            elastic += float(potential(view))
+        else:
+            load += power + own
+    drive = -float(lam @ system.nu(k))
+    return kinetic, gravitational, elastic, drive, load, dissipation
+
+
+def _integral(time: np.ndarray, rate: np.ndarray) -> np.ndarray:
+    """Running trapezoid integral of `rate` over `time`, 0 at the first row."""
+    steps = 0.5 * (rate[1:] + rate[:-1]) * np.diff(time)
+    return np.concatenate([[0.0], np.cumsum(steps)])
+
+
+def energy_columns(system: System, trajectory, views) -> dict[str, np.ndarray]:
+    """The `COMPONENTS` columns (J) at the recorded rows; `views(i)` gives (k, view) of row
+    i as the requests see it (snapshot restored; the forces' view of equilibria)."""
+    rows = []
+    for i in range(len(trajectory)):
+        k, view = views(i)
+        rows.append(_row(system, k, view, trajectory.lam[i], trajectory.at_rest))
+    kinetic, gravitational, elastic, drive, load, dissipation = np.array(rows).T
+    time = np.asarray(trajectory.time, dtype=float)
+    out = {
+        "kinetic": kinetic,
+        "gravitational": gravitational,
+        "elastic": elastic,
+        "drive_work": _integral(time, drive),
+        "load_work": _integral(time, load),
+        "dissipated": _integral(time, dissipation),
+    }
+    total = kinetic + gravitational + elastic
+    out["balance"] = total - total[0] - out["drive_work"] - out["load_work"] + out["dissipated"]
+    return out
