@@ -117,14 +117,15 @@ def test_default_rates_miss_the_acceptance_and_say_so(default) -> None:
 
 
 def test_tight_setting_reaches_1e6(tight) -> None:
-    """Radau IIA at tolerance 1e-6: coordinates within 1e-7 relative of the reference
-    (measured 4.4e-8; the issue asks 1e-6), rates within 1e-6 of their peak (measured
-    3.2e-7), the reaction at E within 2e-7 of its peak (measured 8.7e-8)."""
+    """Radau IIA at tolerance 1e-6: coordinates within 2.5e-7 relative of the reference
+    (measured 1.1e-7 with the augmented-Lagrangian accelerations; the issue asks 1e-6),
+    rates within 1e-6 of their peak (measured 8.1e-7), the reaction at E within 4e-7 of
+    its peak (measured 1.8e-7)."""
     q = _coordinates(tight)
-    assert np.max(np.abs(q[-1] - Q_END) / np.abs(Q_END)) < 1e-7
+    assert np.max(np.abs(q[-1] - Q_END) / np.abs(Q_END)) < 2.5e-7
     _, v_error = _end_errors(tight)
     assert np.max(v_error) < 1e-6, dict(zip(NAMES, v_error))
-    assert _reaction_error(tight) < 2e-7
+    assert _reaction_error(tight) < 4e-7
 
 
 @pytest.mark.parametrize(("fixture", "bound"), [("default", 1e-11), ("tight", 1e-14)])
