@@ -6,17 +6,23 @@ mechanism: loadcases.schema.mechanism); the Craig-Bampton reduction keeps those 
 
 from __future__ import annotations
 
-import numpy as np
+from pathlib import Path
 
-from loadcases.schema.flexible import BeamSection, Flexible, MaterialModel
+import numpy as np
+import scipy.sparse as sp
+
+from loadcases.limits import local_path_problem
+from loadcases.schema.flexible import BeamSection, FileSource, Flexible, MaterialModel
 from mechlib.flexible.beam import Material, Section
 from mechlib.flexible.craig_bampton import craig_bampton
+from mechlib.flexible.fe_model import FEModel
 from mechlib.flexible.grillage import NamedModel, grillage, straight_beam
 from mechlib.flexible.modal_component import ModalComponent
 
 __all__ = ["flexible_component"]
 
 _IN_PLANE = 1e-6  # m: interface points farther than this from the panel's plane are errors
+_AT_NODE = 1e-6  # m: an imported model's interface point lies this close to its node
 
 
 def _material(m: MaterialModel) -> Material:
@@ -31,9 +37,94 @@ def _section(s: BeamSection) -> Section:
     return Section(s.A, s.Iy, s.Iz, s.J, k, k)
 
 
-def _fe_model(f: Flexible) -> NamedModel:
+def _axes(x, y) -> np.ndarray:
+    """Rows: the unit x, y, z axes (global) of a frame given by its x and y directions."""
+    ex = np.asarray(x, float) / np.linalg.norm(x)
+    ey = np.asarray(y, float) - (np.asarray(y, float) @ ex) * ex
+    ey /= np.linalg.norm(ey)
+    return np.array([ex, ey, np.cross(ex, ey)])
+
+
+def _placed(model: FEModel, src: FileSource) -> FEModel:
+    """The imported model in global axes at design: nodes moved to `at` + axes, K and M
+    turned with them (u_model = axes u_global per nodal triple). ValueError when the axes
+    turn a node that carries only part of a triple."""
+    axes = _axes(src.x, src.y)
+    turn = sp.identity(len(model.dof_map), format="lil")
+    if not np.allclose(axes, np.eye(3), rtol=0.0, atol=1e-15):
+        for node in range(len(model.node_ids)):
+            for first in (0, 3):
+                rows = [
+                    np.flatnonzero((model.dof_map[:, 0] == node) & (model.dof_map[:, 1] == c))
+                    for c in range(first, first + 3)
+                ]
+                present = [r[0] for r in rows if r.size]
+                if not present:
+                    continue
+                if len(present) != 3:
+                    raise ValueError(
+                        f"node {model.node_ids[node]} carries part of a "
+                        f"{'translation' if first == 0 else 'rotation'} triple: the model can "
+                        "only be used in its own axes (leave out x and y)"
+                    )
+                for i, r in enumerate(present):
+                    for j, c in enumerate(present):
+                        turn[r, c] = axes[i, j]
+    t = turn.tocsr()
+    return FEModel(
+        model.node_ids,
+        np.asarray(src.at) + model.coordinates @ axes,
+        model.dof_map,
+        (t.T @ model.stiffness @ t).tocsr(),
+        (t.T @ model.mass @ t).tocsr(),
+        model.interface,
+    )
+
+
+def _imported(f: Flexible, folder: Path) -> NamedModel:
+    """The imported model placed in global axes, its interface nodes at the interface
+    points; InputError for the files, ValueError for a point at no node."""
+    from loadcases.flexible.read import read_fe_model
+
+    src = f.file
+    assert src is not None
+    leaves = local_path_problem(src.path, folder, "the file that holds the mechanism")
+    if leaves is not None:
+        raise ValueError(leaves)
+    model = _placed(read_fe_model(folder / src.path).model, src)
+    nodes = {}
+    for name, point in f.interface.items():
+        gaps = np.linalg.norm(model.coordinates - np.asarray(point), axis=1)
+        node = int(np.argmin(gaps))
+        if gaps[node] > _AT_NODE:
+            raise ValueError(
+                f"interface point {name} is at no node of {src.path} (nearest: node "
+                f"{model.node_ids[node]}, {gaps[node]:.3g} m away)"
+            )
+        if int(np.count_nonzero(model.dof_map[:, 0] == node)) != 6:
+            raise ValueError(
+                f"interface point {name}: node {model.node_ids[node]} must carry all six DOF"
+            )
+        nodes[name] = node
+    interface = tuple(dict.fromkeys(nodes.values()))
+    return NamedModel(
+        FEModel(
+            model.node_ids,
+            model.coordinates,
+            model.dof_map,
+            model.stiffness,
+            model.mass,
+            interface,
+        ),
+        nodes,
+    )
+
+
+def _fe_model(f: Flexible, folder: Path) -> NamedModel:
     """The FE model of the source with nodes at the interface points; ValueError if a point
-    is off the beam or the panel."""
+    is off the beam or the panel or at no node of an imported model."""
+    if f.file is not None:
+        return _imported(f, folder)
     if f.beam is not None:
         b = f.beam
         return straight_beam(
@@ -47,10 +138,7 @@ def _fe_model(f: Flexible) -> NamedModel:
         )
     g = f.grillage
     assert g is not None
-    ex = np.asarray(g.x) / np.linalg.norm(g.x)
-    ey = np.asarray(g.y) - (np.asarray(g.y) @ ex) * ex
-    ey /= np.linalg.norm(ey)
-    axes = np.array([ex, ey, np.cross(ex, ey)])
+    axes = _axes(g.x, g.y)
     local = {}
     for name, point in f.interface.items():
         d = axes @ (np.asarray(point) - np.asarray(g.at))
@@ -62,10 +150,12 @@ def _fe_model(f: Flexible) -> NamedModel:
     )
 
 
-def flexible_component(f: Flexible) -> ModalComponent:
-    """The modal component; ValueError (and ReductionError) say what is wrong."""
+def flexible_component(f: Flexible, folder: Path) -> ModalComponent:
+    """The modal component (`folder`: that of the file holding the mechanism, where a
+    `file:` source is read); ValueError (and ReductionError) say what is wrong, InputError
+    what is wrong in an imported model's files."""
     return craig_bampton(
-        _fe_model(f).model,
+        _fe_model(f, folder).model,
         modes=f.modes,
         frequency_range=f.frequency_range,
         fixed_interface_modes=f.fixed_interface_modes,

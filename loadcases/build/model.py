@@ -9,6 +9,7 @@ from __future__ import annotations
 import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -280,10 +281,14 @@ class _Builder:
         model), or an error at its key."""
         from loadcases.build.flexible import flexible_component
 
+        key = f"bodies.{name}.flexible"
         try:
-            component = flexible_component(f)
+            component = flexible_component(f, Path(self.where("mechanism", key)[0]).parent)
+        except InputError as error:  # the files of an imported model
+            self.problems += error.diagnostics
+            return
         except ValueError as error:  # ReductionError too
-            self.error("mechanism", f"bodies.{name}.flexible", str(error))
+            self.error("mechanism", key, str(error))
             return
         if self.effects.get("flexibility", True):
             m.add_flexible_body(name, component)
@@ -468,10 +473,9 @@ class _Builder:
                 return None
             return ml.ElementOutput(name, r.force, r.frame)
         if kind == "EnergyRequest":
+            flexing = self.effects.get("flexibility", True)
             flexible = [
-                n
-                for n, b in self.mech.bodies.items()
-                if getattr(b, "flexible", None) is not None and self.effects.get("flexibility", True)
+                n for n, b in self.mech.bodies.items() if flexing and isinstance(b, FlexibleBody)
             ]
             if flexible:  # their modal kinetic and strain energy are not in the balance yet
                 self.error(

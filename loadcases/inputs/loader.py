@@ -31,7 +31,7 @@ from loadcases.inputs.hardpoints import expand_hardpoints
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
 from loadcases.inputs.parameter_refs import ParameterRef, parameter_values, put_parameters
-from loadcases.limits import pattern_problem
+from loadcases.limits import local_path_problem, pattern_problem
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import did_you_mean, validation_diagnostics
 from loadcases.source import KeyPath, Locator, SourceTree, load_yaml
@@ -175,6 +175,24 @@ def _read_model(path: str | Path, model_class):
     return model, locator, units, diagnostics + found + more
 
 
+def imported_model_bytes(mechanism: MechanismModel, folder: Path) -> list[bytes]:
+    """The contents of the files of every imported flexible body (`flexible: file:`), so
+    that a changed matrix is a changed input; files that cannot be read add nothing (the
+    build reports them)."""
+    from loadcases.flexible.read import read_fe_model
+
+    out: list[bytes] = []
+    for body in mechanism.bodies.values():
+        source = getattr(getattr(body, "flexible", None), "file", None)
+        if source is None or local_path_problem(source.path, folder, "the mechanism") is not None:
+            continue
+        try:
+            out += [f.read_bytes() for f in read_fe_model(folder / source.path).files]
+        except (InputError, OSError):
+            continue
+    return out
+
+
 def load_mechanism(path: str | Path) -> MechanismFile:
     """Validated mechanism file; raises InputError with every problem found. Its own
     parameters named in numeric fields are put in place first (as a case does)."""
@@ -282,6 +300,7 @@ def load_case(
         raise InputError(diagnostics)  # not reached: each of them missing is an error above
     contents = [Path(path).read_bytes()] + ([Path(mech_path).read_bytes()] if mech_path else [])
     contents += tables  # hardpoint tables: a changed table is a changed input
+    contents += imported_model_bytes(mechanism, Path(mech_path or path).parent)
     if what_if:  # part of the run's identity: never mistaken for the run without them
         contents.append(json.dumps(pairs(what_if)).encode("utf-8"))
     return CaseFile(

@@ -1,9 +1,10 @@
 """Pydantic models of a flexible body (`bodies: NAME: flexible:`, issue 13): SI floats.
 
-A built-in source (`beam:` or `grillage:`) gives the FE model; `interface:` names the points
-(global, at design) where the mechanism attaches: each becomes a node and a point
-`BODY.NAME`; `modes:` / `frequency_range:` select the Craig-Bampton modes, `damping:` their
-ratios (default: 1 % below 100 Hz, 10 % below 1 kHz, 100 % above).
+A built-in source (`beam:` or `grillage:`) or an imported one (`file:`) gives the FE model;
+`interface:` names the points (global, at design) where the mechanism attaches: each
+becomes a node and a point `BODY.NAME`; `modes:` / `frequency_range:` select the
+Craig-Bampton modes, `damping:` their ratios (default: 1 % below 100 Hz, 10 % below
+1 kHz, 100 % above).
 """
 
 from __future__ import annotations
@@ -22,7 +23,14 @@ from loadcases.schema.types import (
     vector,
 )
 
-__all__ = ["BeamSection", "BeamSource", "Flexible", "GrillageSource", "MaterialModel"]
+__all__ = [
+    "BeamSection",
+    "BeamSource",
+    "FileSource",
+    "Flexible",
+    "GrillageSource",
+    "MaterialModel",
+]
 
 Density = quantity("density")
 Pressure = quantity("pressure")
@@ -84,11 +92,27 @@ class GrillageSource(Strict):
     mesh: tuple[int, int] = Field((10, 10), description="[nx, ny] cells")
 
 
+class FileSource(Strict):
+    """An imported FE model (docs/flexible-bodies-import.md): the JSON header of a neutral,
+    Matrix Market, OP4 or DMIG model, placed by its frame's origin `at` and axes `x`, `y`."""
+
+    path: str = Field(
+        min_length=1,
+        description="the model's JSON header, relative to this file, inside its folder",
+    )
+    at: Position = Field(
+        (0.0, 0.0, 0.0), description=describe("the model frame's origin, global", "length")
+    )
+    x: Direction = Field((1.0, 0.0, 0.0), description="the model's x axis, global [dimensionless]")
+    y: Direction = Field((0.0, 1.0, 0.0), description="the model's y axis, global [dimensionless]")
+
+
 class Flexible(Strict):
     """A flexible body reduced by Craig-Bampton (seed 003, chapter 1)."""
 
     beam: BeamSource | None = None
     grillage: GrillageSource | None = None
+    file: FileSource | None = None
     interface: dict[str, Position] = Field(
         description=describe("named attachment points, global at design", "length")
     )
@@ -107,8 +131,8 @@ class Flexible(Strict):
 
     @model_validator(mode="after")
     def _one_source(self) -> Flexible:
-        if (self.beam is None) == (self.grillage is None):
-            raise PydanticCustomError("flexible", "give exactly one source: beam or grillage")
+        if sum(s is not None for s in (self.beam, self.grillage, self.file)) != 1:
+            raise PydanticCustomError("flexible", "give exactly one source: beam, grillage or file")
         if self.modes is not None and self.frequency_range is not None:
             raise PydanticCustomError("flexible", "give modes or frequency_range, not both")
         if not self.interface:
@@ -116,4 +140,6 @@ class Flexible(Strict):
         return self
 
     def source_key(self) -> str:
+        if self.file is not None:
+            return "file"
         return "beam" if self.beam is not None else "grillage"
