@@ -52,13 +52,10 @@ def _placed(model: FEModel, src: FileSource) -> FEModel:
     axes = _axes(src.x, src.y)
     turn = sp.identity(len(model.dof_map), format="lil")
     if not np.allclose(axes, np.eye(3), rtol=0.0, atol=1e-15):
+        row_of = {(int(n), int(c)): r for r, (n, c) in enumerate(model.dof_map)}
         for node in range(len(model.node_ids)):
             for first in (0, 3):
-                rows = [
-                    np.flatnonzero((model.dof_map[:, 0] == node) & (model.dof_map[:, 1] == c))
-                    for c in range(first, first + 3)
-                ]
-                present = [r[0] for r in rows if r.size]
+                present = [row_of[node, c] for c in range(first, first + 3) if (node, c) in row_of]
                 if not present:
                     continue
                 if len(present) != 3:

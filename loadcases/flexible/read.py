@@ -60,10 +60,38 @@ class FEImport:
         return int(hits[0])
 
 
+_READ: dict[Path, tuple[tuple, FEImport]] = {}  # header -> (stamps of its files, import)
+_KEEP = 4  # imports remembered: a run reads its model twice (input hash, then build)
+
+
+def _stamps(files: tuple[Path, ...]) -> tuple:
+    """(name, modification time ns, size) of each file: what says it is unchanged."""
+    return tuple((str(f), f.stat().st_mtime_ns, f.stat().st_size) for f in files)
+
+
 def read_fe_model(path: Path) -> FEImport:
     """The component described by the JSON header at `path`, checked and in SI units;
-    InputError with every problem found otherwise."""
-    header = load_header(Path(path))
+    InputError with every problem found otherwise. Read once while none of its files
+    changes (the loader hashes the files, the build reduces the model)."""
+    key = Path(path).resolve()
+    seen = _READ.get(key)
+    if seen is not None:
+        try:
+            if _stamps(seen[1].files) == seen[0]:
+                return seen[1]
+        except OSError:
+            pass
+    imported = _read(Path(path))
+    _READ.pop(key, None)
+    if len(_READ) >= _KEEP:
+        _READ.pop(next(iter(_READ)))
+    _READ[key] = (_stamps(imported.files), imported)
+    return imported
+
+
+def _read(path: Path) -> FEImport:
+    """read_fe_model without the memory."""
+    header = load_header(path)
     scales = read_scales(header)
     raw = SOURCES[header.data["format"]](header)
     header.stop_if_errors()
