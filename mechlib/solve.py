@@ -195,6 +195,18 @@ def _summary_status(result: Status) -> RunStatus:
     return "interrupted" if result is Status.INTERRUPTED else "failed"
 
 
+def _interrupt_of(error: BaseException) -> KeyboardInterrupt | None:
+    """The SIGINT/SIGTERM (loadcases.interrupts) behind `error`: itself, or the one a
+    compiled kernel's dispatcher met while it ran (numba then raises SystemError "returned
+    a result with an exception set", the interrupt as its context)."""
+    seen: BaseException | None = error
+    while seen is not None:
+        if isinstance(seen, KeyboardInterrupt):
+            return seen
+        seen = seen.__cause__ or seen.__context__
+    return None
+
+
 def _interrupted_message(analysis: Analysis, trajectory: Trajectory, signal_name: str) -> str:
     """Where an interrupt stopped the run, and what was kept."""
     by = f" by {signal_name}" if signal_name else ""
@@ -244,12 +256,13 @@ def solve(
             raise
         run.result = failure.status
         run.message = explain_failure(system, run.trajectory, failure)
-    except KeyboardInterrupt as stop:  # SIGINT/SIGTERM (loadcases.interrupts): keep the rows
-        if throw:
+    except (KeyboardInterrupt, SystemError) as stop:  # SIGINT/SIGTERM: keep the rows
+        interrupt = _interrupt_of(stop)
+        if throw or interrupt is None:
             raise
         run.trajectory.trim()
         run.result = Status.INTERRUPTED
-        run.message = _interrupted_message(analysis, run.trajectory, str(stop))
+        run.message = _interrupted_message(analysis, run.trajectory, str(interrupt))
     try:
         times, channels = _channels(system, run, requests)
     except SolverFailure as failure:  # a request that cannot be evaluated (expression error)

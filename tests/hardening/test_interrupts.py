@@ -220,3 +220,33 @@ def test_solve_keeps_the_rows_before_an_interrupt() -> None:
         assert np.array_equal(values, whole.channels[column][:4]), column
     with pytest.raises(KeyboardInterrupt):
         ml.solve(mech, analysis, requests=requests, initial=initial, progress=stop_at)
+
+
+def test_interrupt_met_inside_a_compiled_kernel_is_an_interrupt() -> None:
+    """A signal that lands while numba's dispatcher runs comes back as SystemError
+    ("returned a result with an exception set") with the interrupt as its context (seen
+    under load in the SIGTERM test above): still status `interrupted` with the rows so far;
+    any other SystemError propagates."""
+    mech = hinged_bar()
+    analysis = ml.Dynamic(end=1.0, step=0.1)
+    initial = [ml.InitialValue("hinge", 1.0)]
+
+    def kernel_stop(t: float, end: float) -> None:
+        if t >= 0.2 - 1e-12:
+            try:
+                raise KeyboardInterrupt("SIGTERM")
+            except KeyboardInterrupt:  # as numba's dispatcher: the context only, no cause
+                raise SystemError(  # noqa: B904
+                    "CPUDispatcher(<function predict>) returned a result with an exception set"
+                )
+
+    cut = ml.solve(mech, analysis, initial=initial, throw=False, progress=kernel_stop)
+    assert cut.result is ml.Status.INTERRUPTED
+    assert cut.message.startswith("dynamic analysis interrupted by SIGTERM at t = 0.2 s of 1 s")
+    assert np.allclose(cut.time, [0.0, 0.1, 0.2], atol=1e-12)
+
+    def kernel_fault(t: float, end: float) -> None:
+        raise SystemError("a fault of a compiled kernel, no signal")
+
+    with pytest.raises(SystemError):
+        ml.solve(mech, analysis, initial=initial, throw=False, progress=kernel_fault)
