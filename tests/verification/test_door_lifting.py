@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from conftest import estimate_off
 
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
@@ -28,7 +29,7 @@ CB_PARTS = ("cb_arm", "cb_rod")
 
 @cache
 def _run(name: str, **overrides):
-    outcome = run_case(load_case(DOOR / name, overrides or None))
+    outcome = run_case(estimate_off(load_case(DOOR / name, overrides or None)))
     assert outcome.solution.ok, outcome.solution.message
     return outcome.solution
 
@@ -77,7 +78,7 @@ def test_closed_door_rests_on_stop1_by_hand_statics(
     tolerances 0.5 % (seal force); stop reactions 0.2 % plus the largest moment the pad and
     seal friction can take while the door settles onto the stops (mu N x its lever about
     the hinge line: 2 % of the reaction without pressure, 0.2 % with)."""
-    outcome = run_case(load_case(_short_case(tmp_path, case, 0.05, 0.05)))
+    outcome = run_case(estimate_off(load_case(_short_case(tmp_path, case, 0.05, 0.05))))
     assert outcome.solution.ok, outcome.solution.message
     ch = outcome.solution.channels
     stops = ch["stop1_fwd.normal"][0] + ch["stop1_aft.normal"][0]
@@ -276,6 +277,6 @@ def _run_dynamic_lifting():
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "lifting_dynamic.case.yaml"
         path.write_text(text, encoding="utf-8")
-        outcome = run_case(load_case(path))
+        outcome = run_case(estimate_off(load_case(path)))
     assert outcome.solution.ok, outcome.solution.message
     return outcome.solution.channels

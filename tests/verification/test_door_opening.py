@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 import yaml
+from conftest import estimate_off
 
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
@@ -38,7 +39,7 @@ def _opening(tmp_path: Path, analysis: dict, open_time: float, name: str):
     )
     path = tmp_path / f"{name}.case.yaml"
     path.write_text(yaml.safe_dump(case), encoding="utf-8")
-    outcome = run_case(load_case(path))
+    outcome = run_case(estimate_off(load_case(path)))
     assert outcome.solution.ok, outcome.solution.message
     return {"time": outcome.solution.time, **outcome.solution.channels}
 

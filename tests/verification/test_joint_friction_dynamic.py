@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 import pytest
-from conftest import LIBRARY
+from conftest import LIBRARY, estimate_off
 from stick_slip import friction_pendulum, integrate_stick_slip
 
 import mechlib
@@ -26,7 +26,7 @@ def _run_case(name: str, **parameters: float):
     from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
 
-    solution = run_case(load_case(LIBRARY / "elements" / name, parameters)).solution
+    solution = run_case(estimate_off(load_case(LIBRARY / "elements" / name, parameters))).solution
     assert solution.ok, solution.message
     return solution
 

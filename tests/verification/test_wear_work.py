@@ -57,12 +57,14 @@ requests:
 
 @pytest.fixture(scope="module")
 def solution(tmp_path_factory: pytest.TempPathFactory):
+    from conftest import estimate_off
+
     from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
 
     path = tmp_path_factory.mktemp("wear") / "wear.case.yaml"
     path.write_text(CASE)
-    outcome = run_case(load_case(path))
+    outcome = run_case(estimate_off(load_case(path)))
     assert outcome.solution.ok, outcome.solution.message
     return outcome.solution
 
