@@ -63,7 +63,10 @@ class Dynamic(_Timed):
     size); `integrator`: `generalized-alpha` (index-3, Arnold & Bruls 2007) or `radau`
     (scipy Radau IIA on the index-1 form with projection, for cross-checks); `max_step` (s);
     `rho_inf`: spectral radius at infinity of generalized-alpha (numerical damping);
-    `fixed_step`: take exactly `step` per step, no error control (for convergence studies).
+    `fixed_step`: take exactly `step` per step, no error control (for convergence studies);
+    `dense`: the steps do not land on the output times (their size is the error control's,
+    up to `max_step` or the mechanism's natural time), the rows between them come from
+    dense output (mechlib.dense).
     """
 
     tolerance: float = DEFAULT_TOLERANCE
@@ -71,6 +74,7 @@ class Dynamic(_Timed):
     max_step: float | None = None
     rho_inf: float = 0.9
     fixed_step: bool = False
+    dense: bool = False
     name = "dynamic"
 
 

@@ -125,6 +125,7 @@ class Stepper(ABC):
     """
 
     at_rest = False  # its states are equilibria (Trajectory.at_rest)
+    dense = False  # steps at their own size; rows from `dense_row` (mechlib.dense)
 
     def __init__(self, system: System, spec, stats: SolverStats):
         self.system, self.spec, self.stats = system, spec, stats
@@ -168,6 +169,11 @@ class Stepper(ABC):
             time=state.t,
             status=Status.NEWTON_FAILED,
         )
+
+    def dense_row(self, start: State, end: State, t: float, states) -> State:
+        """The row at t (s) within the accepted step start -> end (dense steppers);
+        `states`: the element states interpolated there (None without)."""
+        raise NotImplementedError(f"{type(self).__name__} has no dense output")
 
     def view(self, state: State) -> StateView:
         """The state view of `state` (for event conditions)."""

@@ -18,6 +18,7 @@ import numpy as np
 from mechlib.analysis import Dynamic
 from mechlib.consistent import consistent_accelerations, consistent_state
 from mechlib.contract import State, Status, Stepper, StepResult, StepUnresolved
+from mechlib.dense import first_step, hermite, largest_step, projected_row
 from mechlib.genalpha import Integrator
 from mechlib.genalpha_kernels import Scales
 from mechlib.runaway import StepCollapse, element_loads, fell_to, stall, step_floor
@@ -66,11 +67,15 @@ class GeneralizedAlphaStepper(Stepper):
     def __init__(self, system: System, spec: Dynamic, stats: SolverStats):
         super().__init__(system, spec, stats)
         self.integ = Integrator(system, spec, stats)
-        self.max_step = min(spec.max_step or spec.step, spec.step)
-        span = spec.end - spec.start
-        self.h = (
-            self.max_step if spec.fixed_step else min(self.max_step, _FIRST_STEP * span or 1e-3)
-        )
+        self.dense = spec.dense and not spec.fixed_step
+        if self.dense:  # steps from the problem's scales, not the output interval's
+            self.max_step, self.h = largest_step(system, spec), first_step(system, spec)
+        else:
+            self.max_step = min(spec.max_step or spec.step, spec.step)
+            span = spec.end - spec.start
+            self.h = (
+                self.max_step if spec.fixed_step else min(self.max_step, _FIRST_STEP * span or 1e-3)
+            )
         self.h_min = step_floor(spec.end)
         self.h_used = 0.0
         self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
@@ -163,6 +168,17 @@ class GeneralizedAlphaStepper(Stepper):
         """Settle, then stick or free joint frictions there (a switch restarts)."""
         self.settle(state)
         return self.restart(state) if self._switched(_alpha(state)) else state
+
+    def dense_row(self, start: State, end: State, t: float, states) -> State:
+        """The row at t within start -> end: the quintic Hermite interpolant of both ends'
+        (q, qd, qdd) (`end`'s own at its time), projected (mechlib.dense): every row's
+        accelerations and reactions are those of the equations of motion at its state."""
+        if abs(t - end.t) <= 1e-12 * max(1.0, abs(t)):
+            q, qd = end.q, end.qd
+        else:
+            a, b = (start.q, start.qd, start.qdd), (end.q, end.qd, end.qdd)
+            q, qd = hermite(start.t, end.t, a, b, t)
+        return projected_row(self.system, t, q, qd, states)
 
     def _switched(self, s: _AlphaState) -> bool:
         return switch_sticking(self.system, s.q, s.raw_qd, s.t, self.view(s), consistent_state)

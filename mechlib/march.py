@@ -12,10 +12,15 @@ Kinematic, quasi-static and dynamic (generalized-alpha, Radau) analyses are step
                 and record the state there, carry out its actions, restart (or stop)
             else: accept the new state, re-arm the events
         record the state at t_out, report progress
+
+A dense stepper (`analysis.output: dense`) instead steps towards the end at its own step
+sizes and records a row at each output time within each accepted step (`dense_row`, from
+the step's two ends: mechlib.dense), and the rows before an event within its step.
 """
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Callable
 from typing import Literal
 
@@ -46,6 +51,8 @@ def march(
     s = stepper.init(spec.start, q0, qd0)
     stepper.record(trajectory, s)
     monitor.arm(s.t, stepper.view(s))
+    if stepper.dense:
+        return _march_dense(stepper, s, trajectory, monitor, progress, event_log)
     for t_out in output_times(spec.start, spec.end, spec.step)[1:]:
         while t_out - s.t > 1e-12 * max(1.0, abs(t_out)):
             check_step_limit(spec, stats, s.t)
@@ -68,6 +75,83 @@ def march(
     return Status.SUCCESSFUL
 
 
+def _march_dense(
+    stepper: Stepper,
+    s: State,
+    trajectory: Trajectory,
+    monitor: EventMonitor,
+    progress: Callable[[float, float], None] | None,
+    log: list | None,
+) -> Status:
+    """`march` for a dense stepper: steps towards the end, rows at the output times
+    within each accepted step (and before an event, within its step)."""
+    spec, system = stepper.spec, stepper.system
+    rows = _Rows(stepper, trajectory, output_times(spec.start, spec.end, spec.step)[1:], progress)
+    while spec.end - s.t > 1e-12 * max(1.0, abs(spec.end)):
+        check_step_limit(spec, stepper.stats, s.t)
+        z0 = system.states.z.copy() if system.states else None
+        new = stepper.step(s, spec.end).state
+        if new is None:
+            continue
+        after = None
+        if monitor.armed:
+            after = _events(
+                stepper, monitor, s, new, trajectory, log, functools.partial(rows.before, s, z0)
+            )
+        if after is Status.EVENT_STOP:
+            return Status.EVENT_STOP
+        if after is None:
+            after = stepper.accept(new)
+            rows.upto(s, new, z0, True)
+            if monitor.armed:
+                monitor.arm(after.t, stepper.view(after))
+        elif after is not s:
+            rows.at_event(after)
+        s = after
+    return Status.SUCCESSFUL
+
+
+class _Rows:
+    """The output times still to record, recorded from dense steps."""
+
+    def __init__(self, stepper: Stepper, trajectory: Trajectory, times, progress):
+        self.stepper, self.trajectory, self.progress = stepper, trajectory, progress
+        self.times, self.next = times, 0
+
+    def _due(self, t: float, inclusive: bool) -> bool:
+        if self.next >= len(self.times):
+            return False
+        gap = self.times[self.next] - t
+        tiny = 1e-12 * max(1.0, abs(t))
+        return gap <= tiny if inclusive else gap < -tiny
+
+    def upto(self, start: State, end: State, z0, inclusive: bool) -> None:
+        """Record the output times up to end.t (inclusive or not) within start -> end."""
+        system = self.stepper.system
+        while self._due(end.t, inclusive):
+            t = float(self.times[self.next])
+            states = None
+            if z0 is not None:
+                w = (t - start.t) / (end.t - start.t)
+                states = (1.0 - w) * z0 + w * system.states.z
+            self._record(self.stepper.dense_row(start, end, t, states))
+
+    def before(self, start: State, z0, event: State) -> None:
+        """Record the output times before an event's instant within start -> event."""
+        self.upto(start, event, z0, False)
+
+    def at_event(self, state: State) -> None:
+        """An output time at the event's instant gets the state the run goes on from."""
+        if self._due(state.t, True):
+            self._record(state)
+
+    def _record(self, state: State) -> None:
+        self.stepper.record(self.trajectory, state)
+        self.next += 1
+        if self.progress:
+            self.progress(state.t, self.stepper.spec.end)
+
+
 def _events(
     stepper: Stepper,
     monitor: EventMonitor,
@@ -75,11 +159,13 @@ def _events(
     new: State,
     trajectory: Trajectory,
     log: list | None,
+    before: Callable[[State], None] | None = None,
 ) -> State | Literal[Status.EVENT_STOP] | None:
     """If events fire during the step s -> new: the state at the first one, settled and
-    recorded, the actions done, restarted (EVENT_STOP when an action stops the run); else
-    None. When a re-solved step of the location cannot be taken the stepper rejects the
-    step (or fails): `s` is returned, to step again from."""
+    recorded (after `before(it)`: a dense march's rows within the step), the actions done,
+    restarted (EVENT_STOP when an action stops the run); else None. When a re-solved step
+    of the location cannot be taken the stepper rejects the step (or fails): `s` is
+    returned, to step again from."""
     try:
         hit = first_events(
             monitor, s.t, new.t, stepper.view(new), lambda t: stepper.view(stepper.resolve(s, t))
@@ -97,6 +183,8 @@ def _events(
         )
         return s
     at = stepper.settle(at)
+    if before is not None:
+        before(at)
     stepper.record(trajectory, at)
     system = stepper.system
     if fire(system, monitor, fired, system.kin(at.q, at.qd, t_e), log):

@@ -5,7 +5,11 @@ at every output time (the integration restarts from the projected state).
     [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma - 2 w (phi_q qd - nu) - w^2 phi]
 
 As a stepper (mechlib.contract) one step is one output interval, integrated by scipy's
-own steps; it does not locate events (`solve` refuses them). Its work is counted from
+own steps; it does not locate events (`solve` refuses them). With dense output
+(`analysis.output: dense`) one scipy solver runs over the whole analysis instead, one of
+its steps per stepper step (largest step: mechlib.dense.largest_step), and each row is its
+dense output at the output time, projected; the integration never restarts, the
+Baumgarte terms hold its drift. Its work is counted from
 scipy's counters (Jacobian evaluations `njev`, LU factorisations `nlu`) and from the calls
 of the right-hand side: each Newton iteration evaluates it at the three stages of the
 trial step, so the stage calls give the iterations and the trial step sizes (a new size
@@ -21,6 +25,7 @@ from mechlib.assembly import solve_positions
 from mechlib.augmented import augmented_accelerations
 from mechlib.consistent import consistent_accelerations
 from mechlib.contract import State, Status, Stepper, StepResult
+from mechlib.dense import largest_step, projected_row
 from mechlib.linalg import singular_failure
 from mechlib.march import check_step_limit
 from mechlib.runaway import fell_to, stall, step_floor
@@ -80,23 +85,32 @@ class RadauStepper(Stepper):
         self.rhs = _Logged(_rhs(system))
         nq = system.nq
         self.atol = np.r_[np.full(nq, spec.tolerance * 1e-2), np.full(nq, spec.tolerance * 1e-1)]
+        self.dense = spec.dense and not spec.fixed_step
+        self.solver: Radau | None = None  # dense: the one solver of the whole run
+        self.counted = (0, 0)  # dense: its factorisations and Jacobians counted so far
 
     def init(self, t: float, q0: np.ndarray, qd0: np.ndarray) -> State:
         q, qd = q0.copy(), qd0.copy()
         return State(t, q, qd, *consistent_accelerations(self.system, q, qd, t))
 
-    def step(self, state: State, t_out: float) -> StepResult:
-        nq, system = self.system.nq, self.system
+    def _solver(self, state: State, t_end: float, max_step: float) -> Radau:
         solver = Radau(
             self.rhs,
             float(state.t),
             np.concatenate([state.q, state.qd]),
-            float(t_out),
+            float(t_end),
             rtol=self.spec.tolerance,
             atol=self.atol,
-            max_step=self.spec.max_step or np.inf,
+            max_step=max_step,
         )
         solver.jac = self.rhs.jacobian(solver.jac)
+        return solver
+
+    def step(self, state: State, t_out: float) -> StepResult:
+        if self.dense:
+            return self._dense_step(state)
+        nq, system = self.system.nq, self.system
+        solver = self._solver(state, t_out, self.spec.max_step or np.inf)
         floor = step_floor(self.spec.end)
         while solver.status == "running":
             check_step_limit(self.spec, self.stats, float(solver.t))
@@ -118,6 +132,35 @@ class RadauStepper(Stepper):
         system.commit(system.kin(q, None, t_out))
         qdd, lam = consistent_accelerations(system, q, qd, t_out)
         return StepResult(State(t_out, q, qd, qdd, lam), None, Status.SUCCESSFUL)
+
+    def _dense_step(self, state: State) -> StepResult:
+        """One scipy step of the run's one solver; its end unprojected (rows project)."""
+        nq = self.system.nq
+        if self.solver is None:
+            self.solver = self._solver(state, self.spec.end, largest_step(self.system, self.spec))
+        solver = self.solver
+        self._scipy_step(solver)
+        nlu, njev = self.counted
+        count(factorizations=solver.nlu - nlu, jacobian_evaluations=solver.njev - njev)
+        self.counted = (solver.nlu, solver.njev)
+        floor = step_floor(self.spec.end)
+        if solver.status == "failed" or (solver.status == "running" and solver.h_abs < floor):
+            why = f"scipy: {self.message}" if self.message else ""
+            how = fell_to(solver.h_abs, floor)
+            raise stall(self.system, self.spec.name, float(solver.t), solver.y[:nq], how, why)
+        y = solver.y
+        return StepResult(
+            State(float(solver.t), y[:nq], y[nq:], state.qdd, state.lam), None, Status.SUCCESSFUL
+        )
+
+    def dense_row(self, start: State, end: State, t: float, states) -> State:
+        """The row at t: the solver's dense output over its last step, projected."""
+        assert self.solver is not None, "made by the first dense step"
+        nq = self.system.nq
+        y = self.solver.y if t == end.t else self.solver.dense_output()(t)
+        row = projected_row(self.system, t, y[:nq], y[nq:], states)
+        self.system.commit(self.system.kin(row.q, None, t))
+        return row
 
     def _scipy_step(self, solver) -> None:
         """One scipy step, its stage calls counted: three per Newton iteration; the last

@@ -429,6 +429,8 @@ class _Builder:
             for key, value in (("tolerance", a.tolerance), ("rho_inf", a.rho_inf))
             if value is not None
         }
+        if a.output == "dense":
+            options["dense"] = True
         return ml.Dynamic(
             end=a.end, step=a.step, integrator=integrator, max_step=a.max_step, **options, **limit
         )

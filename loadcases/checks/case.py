@@ -161,7 +161,7 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
             at.diagnostic(
                 ("analysis", key), f"does nothing for a {kind} analysis", severity="warning"
             )
-            for key in ("tolerance", "integrator", "max_step", "accuracy", "rho_inf")
+            for key in ("tolerance", "integrator", "max_step", "accuracy", "rho_inf", "output")
             if getattr(analysis, key) is not None
         ]
     if analysis.rho_inf is not None and not 0.0 <= analysis.rho_inf <= 1.0:

@@ -105,6 +105,10 @@ def _local_factor(integrator: str) -> float:
 
 
 def _largest_step(analysis: ml.Dynamic) -> float:
+    """The largest step (s); with dense output and no max_step, 0: the mechanism's natural
+    time bounds the steps (mechlib.dense), the same in the companion and finer runs."""
+    if analysis.dense:
+        return analysis.max_step or 0.0
     return min(analysis.max_step or analysis.step, analysis.step)
 
 
@@ -113,7 +117,7 @@ def coarser(analysis: ml.Dynamic) -> ml.Dynamic:
     return dataclasses.replace(
         analysis,
         tolerance=analysis.tolerance * _local_factor(analysis.integrator),
-        max_step=2.0 * _largest_step(analysis),
+        max_step=2.0 * _largest_step(analysis) or None,
         step=2.0 * analysis.step,
     )
 
@@ -123,7 +127,7 @@ def finer(analysis: ml.Dynamic) -> ml.Dynamic:
     return dataclasses.replace(
         analysis,
         tolerance=analysis.tolerance / _local_factor(analysis.integrator),
-        max_step=0.5 * _largest_step(analysis),
+        max_step=0.5 * _largest_step(analysis) or None,
     )
 
 

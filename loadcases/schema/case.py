@@ -114,6 +114,15 @@ class Analysis(Strict):
     max_step: _TIME | None = Field(
         None, description=describe("dynamic: largest integrator step", "time")
     )
+    output: Literal["steps", "dense"] | None = Field(
+        None,
+        description=(
+            "dynamic: steps (default): the integrator's steps end on the output times, their "
+            "size at most the output interval; dense: they take the size the tolerance "
+            "allows (up to max_step, or the mechanism's natural time sqrt(size / g)) and the "
+            "rows at the output times come from dense output, projected onto the constraints"
+        ),
+    )
     max_steps: int | None = Field(
         None,
         description=(

@@ -144,3 +144,14 @@ def test_json_schema_covers_three_kinds() -> None:
     assert "kg" in body["properties"]["mass"]["description"]
     joints = schema["$defs"]["MechanismModel"]["properties"]["joints"]
     assert "discriminator" in json.dumps(joints)
+
+
+def test_analysis_output_key() -> None:
+    """`analysis.output` is `steps` or `dense` (dense output, mechlib.dense); anything else
+    is an error naming the key and its place; `dense` reaches the dynamic analysis."""
+    text = "case: c\nmechanism: m.yaml\nanalysis: {type: dynamic, end: 1, step: 0.1, output: %s}\n"
+    assert _errors(CaseModel, text % "sparse") == [
+        "f.yaml:3:46: error: analysis.output: expected 'steps' or 'dense', got 'sparse'"
+    ]
+    case = CaseModel.model_validate(parse_yaml(text % "dense", "f.yaml").data, context={})
+    assert case.analysis.output == "dense"

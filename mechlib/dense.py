@@ -1,0 +1,98 @@
+"""Dense output (`analysis.output: dense`): output rows between the integrator's own steps.
+
+The integrator steps at the size its error control chooses, from a first step and up to a
+largest step set by the problem's own scales (or `analysis.max_step`), whatever the output
+interval; each output time within an accepted step gets a row from the step's two ends:
+
+- positions and velocities by the quintic Hermite interpolant of (q, qd, qdd) at both
+  ends (generalized-alpha), or by the integrator's own dense output (Radau);
+- the positions then projected onto the position constraints, the velocities onto the
+  velocity constraints (mass-weighted), and the accelerations and multipliers solved from
+  the equations of motion there (`consistent_state`): the row's reactions are those of the
+  equations of motion at the row's state, as at a step's end;
+- element states (mechlib.states) interpolated linearly between the step's ends (they are
+  advanced by the trapezoidal rule, itself linear in time over a step).
+
+Events still end a step where they happen, and their rows are recorded as before.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mechlib.assembly import solve_positions
+from mechlib.consistent import consistent_state
+from mechlib.contract import State
+from mechlib.system import System
+
+__all__ = ["first_step", "hermite", "natural_time", "projected_row"]
+
+_FIRST_FRACTION = 1e-6  # of the natural time: the start acceleration may be left at once
+
+
+def natural_time(system: System) -> float:
+    """The mechanism's own time scale (s): sqrt(size / gravity), gravity floored at
+    1 m/s^2 (a mechanism without gravity: sqrt of its size in metres)."""
+    g = max(float(np.linalg.norm(system.gravity)), 1.0)
+    return math.sqrt(max(system.length, 1e-6) / g)
+
+
+def largest_step(system: System, spec) -> float:
+    """`analysis.max_step` when given, else the natural time (never past the span)."""
+    if spec.max_step:
+        return float(spec.max_step)
+    return min(natural_time(system), spec.end - spec.start)
+
+
+def first_step(system: System, spec) -> float:
+    """A small fraction of the natural time, at most the largest step (s)."""
+    return min(largest_step(system, spec), _FIRST_FRACTION * natural_time(system))
+
+
+def hermite(t0: float, t1: float, a: tuple, b: tuple, t: float) -> tuple:
+    """(q, qd) at t from the quintic Hermite interpolant of a = (q, qd, qdd) at t0 and
+    b = (q, qd, qdd) at t1: exact for quintic motions, error O(h^6) in q."""
+    h = t1 - t0
+    s = (t - t0) / h
+    p = s ** np.arange(6)  # 1, s, .., s^5
+    dp = np.r_[0.0, np.arange(1, 6) * s ** np.arange(5)]  # their slopes d/ds
+    values, slopes = _BASIS @ p, _BASIS @ dp  # per end quantity: q0 qd0 qdd0 q1 qd1 qdd1
+    scale = np.array([1.0, h, h * h, 1.0, h, h * h])
+    parts = (a[0], a[1], a[2], b[0], b[1], b[2])
+    q = sum(w * x for w, x in zip(values * scale, parts))
+    qd = sum(w * x for w, x in zip(slopes * scale / h, parts))
+    return q, qd
+
+
+# quintic Hermite basis on s in [0, 1], coefficients of 1, s, .., s^5: the weights of q0,
+# h qd0, h^2 qdd0, q1, h qd1, h^2 qdd1
+_BASIS = np.array(
+    [
+        [1, 0, 0, -10, 15, -6],
+        [0, 1, 0, -6, 8, -3],
+        [0, 0, 0.5, -1.5, 1.5, -0.5],
+        [0, 0, 0, 10, -15, 6],
+        [0, 0, 0, -4, 7, -3],
+        [0, 0, 0, 0.5, -1, 0.5],
+    ]
+)
+
+
+def projected_row(system: System, t: float, q, qd, states: np.ndarray | None) -> State:
+    """The row at t from interpolated (q, qd) and element states: q onto the position
+    constraints, qd onto the velocity ones, qdd and lam from the equations of motion; its
+    snapshot carries the interpolated element states. The system's element states are
+    left as they were."""
+    snapshot = system.snapshot()
+    kept = system.states.trial
+    if states is not None:
+        system.states.trial = states
+        snapshot["states"] = states.copy()
+    try:
+        q, _ = solve_positions(system, np.asarray(q, float), t)
+        qd, qdd, lam = consistent_state(system, q, np.asarray(qd, float), t)
+    finally:
+        system.states.trial = kept
+    return State(t, q, qd, qdd, lam, snapshot=snapshot)
