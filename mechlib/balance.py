@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib.fd_columns import ColumnSkips
 from mechlib.system import System
 from mechlib.work import count
 
@@ -35,9 +36,7 @@ class Balance:
         self._compiled = [
             e for e in system.elements if getattr(e, "has_tangent", False) and e.friction is None
         ]
-        compiled = {id(e) for e in self._compiled}
-        self._skips = {b: ids | compiled for b, ids in _elsewhere(system).items()}
-        self._skips[-1] = compiled  # modal coordinates move no body but their own
+        self._skips = ColumnSkips(system, {id(e) for e in self._compiled})
         weight = abs(system.total_mass) * max(float(np.linalg.norm(system.gravity)), 1.0)
         applied = system.forces(system.kin(q0, None, t), inertia=False)
         self.scale = max(weight, np.abs(applied).max(initial=0.0), 1.0)
@@ -64,8 +63,8 @@ class Balance:
         reaction0 = system.phi_q(k0).T @ lam
         base: dict[int, np.ndarray] = {}
         for j in range(system.nq):
-            body = j // 7 if j < 7 * system.nb else -1  # -1: a modal coordinate
-            skip = self._skips.get(body, ())
+            body = self._skips.body(j)
+            skip = self._skips.skip(body)
             if body not in base:
                 base[body] = reaction0 - system.forces(k0, inertia=False, lam=lam, skip=skip)
             dq = np.zeros(system.nq)
@@ -98,8 +97,3 @@ class Balance:
             and np.abs(step[:nq]).max(initial=0) < 1e-8
         )
 
-
-def _elsewhere(system: System) -> dict[int, set[int]]:
-    """Per moving body: ids of the two-body elements that do not involve it."""
-    pairs = [(id(e), e.body_pair()) for e in system.elements if hasattr(e, "body_pair")]
-    return {b: {i for i, pair in pairs if b not in pair} for b in range(system.nb)}
