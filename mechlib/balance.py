@@ -96,4 +96,3 @@ class Balance:
             and np.abs(res[nq:]).max(initial=0) < tol
             and np.abs(step[:nq]).max(initial=0) < 1e-8
         )
-
