@@ -61,19 +61,19 @@ class Balance:
         out = np.empty((system.nq, system.nq))
         k0 = system.kin(q, None, t)
         reaction0 = system.phi_q(k0).T @ lam
-        base: dict[int, np.ndarray] = {}
+        base: dict[frozenset[int], np.ndarray] = {}
         for j in range(system.nq):
             body = self._skips.body(j)
             skip = self._skips.skip(body)
-            if body not in base:
-                base[body] = reaction0 - system.forces(k0, inertia=False, lam=lam, skip=skip)
+            if skip not in base:  # bodies that leave out the same elements share it
+                base[skip] = reaction0 - system.forces(k0, inertia=False, lam=lam, skip=skip)
             dq = np.zeros(system.nq)
             dq[j] = FD_STEP * max(1.0, abs(q[j]))
             k = system.kin(q + dq, None, t)
             out[:, j] = (
                 system.phi_q(k).T @ lam
                 - system.forces(k, inertia=False, lam=lam, skip=skip)
-                - base[body]
+                - base[skip]
             ) / dq[j]
         if self._compiled:
             view, damping = system.view(k0, lam), np.zeros_like(out)  # at rest: unused

@@ -135,19 +135,19 @@ class Integrator:
                 states.advance(sys.view(kp), h)
             return sys.forces(kp, skip=skip, lam=lam, jac=jac_p)
 
-        base: dict[int, np.ndarray] = {}
+        base: dict[frozenset[int], np.ndarray] = {}
         stiffness, damping = np.empty((sys.nq, sys.nq)), np.empty((sys.nq, sys.nq))
         try:
             for j in range(sys.nq):
                 body = skips.body(j)
                 skip = skips.skip(body)
-                if body not in base:
-                    base[body] = sys.forces(k, skip=skip, lam=lam, jac=jac)
+                if skip not in base:  # bodies that leave out the same elements share it
+                    base[skip] = sys.forces(k, skip=skip, lam=lam, jac=jac)
                 dq = np.zeros(sys.nq)
                 dq[j] = eps = 1e-7 * max(1.0, abs(q[j]))
-                stiffness[:, j] = -(forces(sys.kin(q + dq, qd, k.t), skip) - base[body]) / eps
+                stiffness[:, j] = -(forces(sys.kin(q + dq, qd, k.t), skip) - base[skip]) / eps
                 dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
-                damping[:, j] = -(forces(sys.kin(q, qd + dq, k.t), skip, jac) - base[body]) / eps
+                damping[:, j] = -(forces(sys.kin(q, qd + dq, k.t), skip, jac) - base[skip]) / eps
         finally:
             states.trial = trial
         return stiffness, damping
