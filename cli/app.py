@@ -441,21 +441,30 @@ def bench(
             help="Time the door's whole load-case set instead (benchmarks/door_set.py).",
         ),
     ] = False,
+    startup: Annotated[
+        bool,
+        typer.Option(
+            "--startup",
+            help="Time `loads --help` and `loads validate` of a door case instead "
+            "(benchmarks/startup.py).",
+        ),
+    ] = False,
 ) -> int:
     """Run the benchmark suite against Exudyn, or with --door time the door's load-case
-    set. It needs a source checkout (benchmarks/suite.py)."""
+    set, or with --startup the command's start-up. It needs a source checkout
+    (benchmarks/suite.py)."""
     suite = _find_bench_suite()
     if suite is None:
         raise fail(
             "benchmarks/suite.py not found: `loads bench` needs a source checkout "
             "(run it from the repository root)"
         )
-    module = "door_set" if door else "suite"
+    module = "startup" if startup else "door_set" if door else "suite"
     namespace = _load_bench_module(suite.with_name(f"{module}.py"))
     entry = namespace.get("main")
     if not callable(entry):
         raise fail(f"{suite.with_name(module + '.py')}: no main(argv) function")
-    result = entry(["--quick"] if quick and not door else [])
+    result = entry(["--quick"] if quick and module == "suite" else [])
     return int(result or 0)
 
 

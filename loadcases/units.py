@@ -247,7 +247,24 @@ def _si_magnitude(
         unit = _file_unit(dimension, file_units)
         if unit is None or not math.isfinite(value):
             return float(value)
-        return float(_registry().Quantity(float(value), unit).to_base_units().magnitude)
+        return _number_in_unit(float(value), unit, math.copysign(1.0, value) < 0.0)
+    return _text_magnitude(value, dimension)
+
+
+# A set reads its mechanism once per case and run (the door: 800 quantities each), and
+# pint parses a quantity in about 0.2 ms: the conversions are remembered (pure functions
+# of their arguments; a failed one raises again each time).
+@lru_cache(maxsize=8192)
+def _number_in_unit(value: float, unit: str, negative: bool) -> float:
+    """SI magnitude of a bare number in `unit` (`negative`: its sign bit, which tells the
+    cache -0.0 from 0.0)."""
+    return float(_registry().Quantity(value, unit).to_base_units().magnitude)
+
+
+@lru_cache(maxsize=8192)
+def _text_magnitude(value: str, dimension: str) -> float:
+    """SI magnitude of a quantity text of `dimension` ("any": of any); UnitError if it is
+    not one."""
     quantity = _quantity(value)
     base = quantity.to_base_units()
     if dimension != "any" and not _matches(base.dimensionality, dimension):

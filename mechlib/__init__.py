@@ -1,32 +1,88 @@
 """mechlib: rigid multibody mechanics in absolute coordinates (NumPy/SciPy, SI units).
 
-Build a `Mechanism`, pick an analysis, name the requests, and call `solve`.
+Build a `Mechanism`, pick an analysis, name the requests, and call `solve`. Each name is
+imported on first use (PEP 562): `from mechlib.joints import ROTATIONAL` (the schema's
+joint types, `loads validate`) then loads no solver, SciPy or numba.
 """
 
-from mechlib.analysis import DEFAULT_MAX_STEPS, Dynamic, Kinematic, QuasiStatic, Static
-from mechlib.assembly import InitialBodyVelocity, InitialValue
-from mechlib.check import ModelError
-from mechlib.contract import Status
-from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
-from mechlib.energy import EnergyBalance
-from mechlib.events import Action, Event
-from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
-from mechlib.model import GROUND, Mechanism
-from mechlib.modes import Modes
-from mechlib.requests import (
-    CouplerEffort,
-    ElementOutput,
-    ExpressionOutput,
-    FlexibleOutput,
-    JointCoordinate,
-    JointReaction,
-    MotionEffort,
-    PointKinematics,
-)
-from mechlib.solution import Solution, SolverFailure, SolverStats
-from mechlib.solve import MechanismCheck, check_model, inspect_mechanism, solve
-from mechlib.system import System
-from mechlib.view import StateView
+from __future__ import annotations
+
+import importlib
+import sys
+import types
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from mechlib.analysis import DEFAULT_MAX_STEPS, Dynamic, Kinematic, QuasiStatic, Static
+    from mechlib.assembly import InitialBodyVelocity, InitialValue
+    from mechlib.check import ModelError
+    from mechlib.contract import Status
+    from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
+    from mechlib.energy import EnergyBalance
+    from mechlib.events import Action, Event
+    from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
+    from mechlib.model import GROUND, Mechanism
+    from mechlib.modes import Modes
+    from mechlib.requests import (
+        CouplerEffort,
+        ElementOutput,
+        ExpressionOutput,
+        FlexibleOutput,
+        JointCoordinate,
+        JointReaction,
+        MotionEffort,
+        PointKinematics,
+    )
+    from mechlib.solution import Solution, SolverFailure, SolverStats
+    from mechlib.solve import MechanismCheck, check_model, inspect_mechanism, solve
+    from mechlib.system import System
+    from mechlib.view import StateView
+
+# name -> the module that defines it
+_HOMES = {
+    "DEFAULT_MAX_STEPS": "mechlib.analysis",
+    "GROUND": "mechlib.model",
+    "Action": "mechlib.events",
+    "Bushing": "mechlib.elements",
+    "CableLoop": "mechlib.elements",
+    "CouplerEffort": "mechlib.requests",
+    "Dynamic": "mechlib.analysis",
+    "ElementOutput": "mechlib.requests",
+    "EnergyBalance": "mechlib.energy",
+    "Event": "mechlib.events",
+    "ExpressionOutput": "mechlib.requests",
+    "FlexibleOutput": "mechlib.requests",
+    "InitialBodyVelocity": "mechlib.assembly",
+    "InitialValue": "mechlib.assembly",
+    "JointCoordinate": "mechlib.requests",
+    "JointFriction": "mechlib.elements",
+    "JointReaction": "mechlib.requests",
+    "Kinematic": "mechlib.analysis",
+    "Mechanism": "mechlib.model",
+    "MechanismCheck": "mechlib.solve",
+    "ModelError": "mechlib.check",
+    "Modes": "mechlib.modes",
+    "MotionEffort": "mechlib.requests",
+    "PointForce": "mechlib.forces",
+    "PointKinematics": "mechlib.requests",
+    "PointTorque": "mechlib.forces",
+    "QuasiStatic": "mechlib.analysis",
+    "RotationalDamper": "mechlib.elements",
+    "Seal": "mechlib.elements",
+    "Solution": "mechlib.solution",
+    "SolverFailure": "mechlib.solution",
+    "SolverStats": "mechlib.solution",
+    "Spring": "mechlib.forces",
+    "StateView": "mechlib.view",
+    "Static": "mechlib.analysis",
+    "Status": "mechlib.contract",
+    "System": "mechlib.system",
+    "TableLaw": "mechlib.elements",
+    "TorsionSpring": "mechlib.forces",
+    "check_model": "mechlib.solve",
+    "inspect_mechanism": "mechlib.solve",
+    "solve": "mechlib.solve",
+}
 
 __all__ = [
     "DEFAULT_MAX_STEPS",
@@ -72,3 +128,30 @@ __all__ = [
     "inspect_mechanism",
     "solve",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """A public name, imported from its module on first use (then kept here)."""
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module 'mechlib' has no attribute {name!r}")
+    value = getattr(importlib.import_module(home), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))
+
+
+class _Package(types.ModuleType):
+    """mechlib itself: importing the submodule `mechlib.solve` does not hide the function
+    `mechlib.solve` (as the eager imports had it, the public name wins)."""
+
+    def __setattr__(self, name: str, value: Any) -> None:
+        if name in _HOMES and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package

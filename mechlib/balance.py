@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib.fd_columns import ColumnSkips
 from mechlib.system import System
 from mechlib.work import count
 
@@ -35,9 +36,7 @@ class Balance:
         self._compiled = [
             e for e in system.elements if getattr(e, "has_tangent", False) and e.friction is None
         ]
-        compiled = {id(e) for e in self._compiled}
-        self._skips = {b: ids | compiled for b, ids in _elsewhere(system).items()}
-        self._skips[-1] = compiled  # modal coordinates move no body but their own
+        self._skips = ColumnSkips(system, {id(e) for e in self._compiled})
         weight = abs(system.total_mass) * max(float(np.linalg.norm(system.gravity)), 1.0)
         applied = system.forces(system.kin(q0, None, t), inertia=False)
         self.scale = max(weight, np.abs(applied).max(initial=0.0), 1.0)
@@ -62,19 +61,19 @@ class Balance:
         out = np.empty((system.nq, system.nq))
         k0 = system.kin(q, None, t)
         reaction0 = system.phi_q(k0).T @ lam
-        base: dict[int, np.ndarray] = {}
+        base: dict[frozenset[int], np.ndarray] = {}
         for j in range(system.nq):
-            body = j // 7 if j < 7 * system.nb else -1  # -1: a modal coordinate
-            skip = self._skips.get(body, ())
-            if body not in base:
-                base[body] = reaction0 - system.forces(k0, inertia=False, lam=lam, skip=skip)
+            body = self._skips.body(j)
+            skip = self._skips.skip(body)
+            if skip not in base:  # bodies that leave out the same elements share it
+                base[skip] = reaction0 - system.forces(k0, inertia=False, lam=lam, skip=skip)
             dq = np.zeros(system.nq)
             dq[j] = FD_STEP * max(1.0, abs(q[j]))
             k = system.kin(q + dq, None, t)
             out[:, j] = (
                 system.phi_q(k).T @ lam
                 - system.forces(k, inertia=False, lam=lam, skip=skip)
-                - base[body]
+                - base[skip]
             ) / dq[j]
         if self._compiled:
             view, damping = system.view(k0, lam), np.zeros_like(out)  # at rest: unused
@@ -97,9 +96,3 @@ class Balance:
             and np.abs(res[nq:]).max(initial=0) < tol
             and np.abs(step[:nq]).max(initial=0) < 1e-8
         )
-
-
-def _elsewhere(system: System) -> dict[int, set[int]]:
-    """Per moving body: ids of the two-body elements that do not involve it."""
-    pairs = [(id(e), e.body_pair()) for e in system.elements if hasattr(e, "body_pair")]
-    return {b: {i for i, pair in pairs if b not in pair} for b in range(system.nb)}

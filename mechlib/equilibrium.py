@@ -4,6 +4,14 @@ Unknowns (q, lam); the balance R = [phi_q^T lam - Q(q, t); phi(q, t)] and its
 forward-difference stiffness are in mechlib.balance. Newton with backtracking on the residual
 norm; where Newton's matrix is singular, pseudo-transient continuation (mechlib.continuation)
 first. Used by the static and quasi-static analyses (mechlib.static) and by modes.
+
+The differenced stiffness (nq force evaluations, most of an equilibrium's cost) is reused by
+the next iterations, and through a `Tangent` by the next equilibria of a quasi-static run,
+with phi_q always current (modified Newton), as long as each such iteration at least halves
+the residual; otherwise it is differenced afresh at the iterate and Newton goes on from
+there. The convergence test is the same either way. Where this Newton fails, or needs more
+than _MAX_FRESH fresh stiffnesses, Newton with a fresh stiffness at every iteration starts
+again from the same guess.
 """
 
 from __future__ import annotations
@@ -19,9 +27,18 @@ from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 from mechlib.work import count
 
-__all__ = ["equilibrium"]
+__all__ = ["Tangent", "equilibrium"]
 
 _MAX_NEWTON = 40
+_CONTRACTION = 0.5  # residual ratio an iteration on a reused stiffness must reach
+_MAX_FRESH = 4  # fresh stiffnesses in a Newton that reuses them: beyond, plain Newton
+
+
+class Tangent:
+    """The stiffness K_T (nq, nq) last differenced, for reuse (None: none yet)."""
+
+    def __init__(self) -> None:
+        self.stiffness: np.ndarray | None = None
 
 
 def equilibrium(
@@ -33,13 +50,15 @@ def equilibrium(
     tol: float = 1e-10,
     *,
     states_step: float = 0.0,
+    tangent: Tangent | None = None,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(q, lam) in static equilibrium at t from a guess; SolverFailure if none is found.
 
     Newton first; where its matrix is singular (a contact at zero penetration or open has
     no stiffness: a body not yet resting on its support), pseudo-transient continuation
     (mechlib.continuation) brings the bodies to rest, and Newton finishes from there.
-    Element states advance over `states_step` (s) with every iterate (mechlib.balance)."""
+    Element states advance over `states_step` (s) with every iterate (mechlib.balance);
+    `tangent`: the stiffness to start from (a quasi-static run's last), kept up to date."""
     q, its = solve_positions(system, q, t)
     stats.newton_iterations += its
     if lam is None or len(lam) != len(system.labels):
@@ -49,14 +68,71 @@ def equilibrium(
         count(factorizations=1)
         lam, *_ = np.linalg.lstsq(system.phi_q(k).T, system.forces(k, inertia=False), rcond=None)
     balance = Balance(system, t, q, states_step)
+    tangent = tangent or Tangent()
     try:
-        return _newton(balance, q, lam, stats, tol)
+        return _solve(balance, q, lam, stats, tol, tangent)
     except _Singular:
+        tangent.stiffness = None
         q, lam = settle(balance, q, lam, stats)
     try:
-        return _newton(balance, q, lam, stats, tol)
+        return _solve(balance, q, lam, stats, tol, tangent)
     except _Singular as singular:
         raise singular_failure(system, singular.jac, t, "static equilibrium failed") from None
+
+
+def _solve(
+    balance: Balance,
+    q: np.ndarray,
+    lam: np.ndarray,
+    stats: SolverStats,
+    tol: float,
+    tangent: Tangent,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Newton reusing `tangent`'s stiffness; where it fails, Newton differencing it at every
+    iteration, from the same start."""
+    try:
+        return _newton(balance, q, lam, stats, tol, tangent)
+    except SolverFailure:
+        tangent.stiffness = None
+        return _newton(balance, q, lam, stats, tol, None)
+
+
+Moved = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
+
+
+def _fresh_step(balance: Balance, tangent: Tangent, q, lam, res, jac) -> Moved:
+    """(q, lam, res, jac, step) after a Newton step on a stiffness differenced at q (kept
+    in `tangent`), halved until the residual decreases; _Singular if the matrix is."""
+    nq = balance.system.nq
+    tangent.stiffness = balance.stiffness(q, lam)
+    lu = factor(augmented(tangent.stiffness, jac))
+    if lu is None:
+        tangent.stiffness = None
+        raise _Singular(jac)
+    step = solve_factored(lu, -res)
+    norm0, alpha = balance.size(res), 1.0
+    while True:
+        q_new, lam_new = q + alpha * step[:nq], lam + alpha * step[nq:]
+        res_new, jac_new = balance.residual(q_new, lam_new)
+        if balance.size(res_new) < norm0 or alpha < 1e-3:
+            return q_new, lam_new, res_new, jac_new, step
+        alpha *= 0.5
+
+
+def _reused_step(balance: Balance, tangent: Tangent, q, lam, res, jac) -> Moved | None:
+    """The full step on the reused stiffness with the current phi_q, or None when it
+    does not at least halve the weighted residual (or the matrix is singular)."""
+    nq = balance.system.nq
+    assert tangent.stiffness is not None, "called with a stiffness to reuse"
+    lu = factor(augmented(tangent.stiffness, jac))
+    if lu is None:
+        return None
+    step = solve_factored(lu, -res)
+    q_new, lam_new = q + step[:nq], lam + step[nq:]
+    res_new, jac_new = balance.residual(q_new, lam_new)
+    if not balance.size(res_new) <= _CONTRACTION * balance.size(res):
+        return None
+    return q_new, lam_new, res_new, jac_new, step
 
 
 class _Singular(Exception):
@@ -68,26 +144,32 @@ class _Singular(Exception):
 
 
 def _newton(
-    balance: Balance, q: np.ndarray, lam: np.ndarray, stats: SolverStats, tol: float
+    balance: Balance,
+    q: np.ndarray,
+    lam: np.ndarray,
+    stats: SolverStats,
+    tol: float,
+    reused: Tangent | None,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Newton on (q, lam), each step halved (down to 1/1000) until the weighted residual
-    decreases; _Singular when the matrix is, SolverFailure after _MAX_NEWTON iterations."""
+    """Newton on (q, lam), each step on a fresh stiffness halved (down to 1/1000) until the
+    weighted residual decreases; given a `reused` tangent, on its stiffness while an
+    undamped step at least halves it (module docstring); _Singular when a fresh matrix is,
+    SolverFailure after _MAX_NEWTON iterations (or _MAX_FRESH stiffnesses, reusing)."""
     system, t, nq = balance.system, balance.t, balance.system.nq
     res, jac = balance.residual(q, lam)
+    tangent, fresh = reused or Tangent(), 0
     for _ in range(_MAX_NEWTON):
         stats.newton_iterations += 1
-        lu = factor(augmented(balance.stiffness(q, lam), jac))
-        if lu is None:
-            raise _Singular(jac)
-        step = solve_factored(lu, -res)
-        norm0, alpha = balance.size(res), 1.0
-        while True:
-            q_new, lam_new = q + alpha * step[:nq], lam + alpha * step[nq:]
-            res_new, jac_new = balance.residual(q_new, lam_new)
-            if balance.size(res_new) < norm0 or alpha < 1e-3:
+        moved = None
+        if reused is not None and tangent.stiffness is not None:
+            moved = _reused_step(balance, tangent, q, lam, res, jac)
+        if moved is None:
+            fresh += 1
+            if reused is not None and fresh > _MAX_FRESH:
                 break
-            alpha *= 0.5
-        q, lam, res, jac = q_new, lam_new, res_new, jac_new
+            moved = _fresh_step(balance, tangent, q, lam, res, jac)
+        assert moved is not None, "a fresh step always moves"
+        q, lam, res, jac, step = moved
         if balance.converged(res, step, tol):
             return q, lam
     m = len(system.labels)

@@ -10,7 +10,8 @@ Newton on (q, lam) with the scaled iteration matrix [[M + (C gamma' + K)/beta', 
 across iterations and steps while it converges (modified Newton). K = -dQ/dq and
 C = -dQ/dqd are kept apart, so that a new step size only refactors; elements that give their
 own tangent (compiled contacts) have it re-evaluated at every step, the rest of K and C
-(forward differences, 2 nq force evaluations) only after slow or failed convergence.
+(forward differences, 2 nq force evaluations, a column leaving out the two-body elements
+of other bodies: mechlib.fd_columns) only after slow or failed convergence.
 Local error estimate e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading term of the
 position update, h^3/12 q''' for the trapezoidal case), steps controlled on it and landing
 on output times (the stepper around it: mechlib.genalpha_stepper).
@@ -24,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mechlib.analysis import Dynamic
+from mechlib.fd_columns import ColumnSkips
 from mechlib.genalpha_kernels import Scales, correct, predict
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.reaction_loads import reaction_coupling
@@ -122,26 +124,30 @@ class Integrator:
         at each perturbed state: the tangent then holds their response to q and qd (the
         oil columns of a hydraulic actuator are a stiffness only through its pressures)."""
         sys = self.system
-        skip = {id(e) for e in own}
+        skips = ColumnSkips(sys, {id(e) for e in own})  # a column: its body's elements
         q, qd = np.r_[k.x[:-1].ravel(), k.z], np.r_[k.xd[:-1].ravel(), k.zd]
         states = sys.states
         trial = states.trial.copy()
 
-        def forces(kp, jac_p=None):
+        def forces(kp, skip, jac_p=None):
             if states.drive_forces:
                 states.trial = trial.copy()
                 states.advance(sys.view(kp), h)
             return sys.forces(kp, skip=skip, lam=lam, jac=jac_p)
 
-        base = sys.forces(k, skip=skip, lam=lam, jac=jac)
+        base: dict[frozenset[int], np.ndarray] = {}
         stiffness, damping = np.empty((sys.nq, sys.nq)), np.empty((sys.nq, sys.nq))
         try:
             for j in range(sys.nq):
+                body = skips.body(j)
+                skip = skips.skip(body)
+                if skip not in base:  # bodies that leave out the same elements share it
+                    base[skip] = sys.forces(k, skip=skip, lam=lam, jac=jac)
                 dq = np.zeros(sys.nq)
                 dq[j] = eps = 1e-7 * max(1.0, abs(q[j]))
-                stiffness[:, j] = -(forces(sys.kin(q + dq, qd, k.t)) - base) / eps
+                stiffness[:, j] = -(forces(sys.kin(q + dq, qd, k.t), skip) - base[skip]) / eps
                 dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
-                damping[:, j] = -(forces(sys.kin(q, qd + dq, k.t), jac) - base) / eps
+                damping[:, j] = -(forces(sys.kin(q, qd + dq, k.t), skip, jac) - base[skip]) / eps
         finally:
             states.trial = trial
         return stiffness, damping

@@ -5,8 +5,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from mechlib.jit import njit
 from mechlib.system import System
 
 __all__ = ["Scales", "correct", "predict"]

@@ -13,7 +13,8 @@ from __future__ import annotations
 from typing import TypedDict
 
 import numpy as np
-from numba import njit
+
+from mechlib.jit import njit
 
 __all__ = [
     "b_matrix",

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from numba import njit
+from mechlib.jit import njit
 
 __all__ = ["compiled_step", "step"]
 

@@ -14,7 +14,7 @@ import numpy as np
 from mechlib.analysis import Static, Trajectory
 from mechlib.assembly import solve_accelerations, solve_velocities
 from mechlib.contract import State, Status, Stepper, StepResult
-from mechlib.equilibrium import equilibrium
+from mechlib.equilibrium import Tangent, equilibrium
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 
@@ -40,9 +40,15 @@ class QuasiStaticStepper(Stepper):
     """Equilibria at the output times; a failed interval is retried in up to 2^10 sub-steps
     (rejected steps). Velocities and accelerations are those the motions prescribe
     (minimum-norm); an equilibrium is recorded before it is committed, so that its outputs
-    see the slip anchors the solver measured from (the previous equilibrium)."""
+    see the slip anchors the solver measured from (the previous equilibrium). The stiffness
+    is reused from equilibrium to equilibrium while Newton converges on it
+    (mechlib.equilibrium.Tangent)."""
 
     at_rest = True
+
+    def __init__(self, system: System, spec, stats: SolverStats):
+        super().__init__(system, spec, stats)
+        self.tangent = Tangent()  # the last stiffness, reused while Newton converges on it
 
     def init(self, t: float, q0: np.ndarray, qd0: np.ndarray | None) -> State:
         # the start has no multipliers yet (None: equilibrium starts them from the loads)
@@ -55,7 +61,11 @@ class QuasiStaticStepper(Stepper):
         )
 
     def resolve(self, state: State, t: float) -> State:
-        return self._solve(state, t, state.q)
+        kept, self.tangent = self.tangent, Tangent()  # locating an event: no stiffness
+        try:  # carried in from another time, as each trial time is solved afresh
+            return self._solve(state, t, state.q)
+        finally:
+            self.tangent = kept
 
     def settle(self, state: State) -> State:
         system = self.system
@@ -90,7 +100,9 @@ class QuasiStaticStepper(Stepper):
             system.states.resume(marks)
         guess = 2.0 * q - q_prev if depth == 0 and t1 > t0 else q
         try:
-            return equilibrium(system, guess, lam, t1, self.stats, states_step=t1 - t0)
+            return equilibrium(
+                system, guess, lam, t1, self.stats, states_step=t1 - t0, tangent=self.tangent
+            )
         except SolverFailure:
             if depth >= _MAX_SUBDIVISIONS or t1 <= t0:
                 raise

@@ -4,7 +4,8 @@ validates is never refused by a run, and a run refuses nothing validate let thro
 
 Beyond the schema and name checks of the loader: the model is built (element/joint
 compatibility, constant expressions, the torque-margin block) and its degrees of freedom and
-redundant equations are checked against the analysis.
+redundant equations are checked against the analysis. The numba kernels run as Python here
+(mechlib.jit.interpreted): `loads validate` loads no compiler.
 """
 
 from __future__ import annotations
@@ -14,6 +15,7 @@ from loadcases.build.model import build_run
 from loadcases.build.torque_margin import plan_torque_margin
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
+from mechlib.jit import interpreted
 
 __all__ = ["case_problems", "model_diagnostics", "set_problems"]
 
@@ -38,9 +40,10 @@ def case_problems(cf: CaseFile, *, abscissa: bool = False) -> list[Diagnostic]:
     cannot be built, or the model has degrees of freedom or redundant equations its
     analysis does not allow."""
     try:
-        built = build_run(cf, abscissa=abscissa)
-        plan_torque_margin(cf, built)
-        ml.check_model(ml.System(built.mechanism), built.analysis, redundant=built.redundant)
+        with interpreted():  # a few Jacobians: not worth loading numba for
+            built = build_run(cf, abscissa=abscissa)
+            plan_torque_margin(cf, built)
+            ml.check_model(ml.System(built.mechanism), built.analysis, redundant=built.redundant)
     except InputError as error:
         return list(error.diagnostics)
     except ml.ModelError as error:

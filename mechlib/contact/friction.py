@@ -12,8 +12,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from mechlib.jit import njit
 from mechlib.smooth import compiled_step as step
 
 __all__ = [

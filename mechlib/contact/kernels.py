@@ -21,7 +21,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from mechlib.contact.friction import COULOMB, STRIBECK, coulomb, stribeck
 from mechlib.contact.laws import (
@@ -32,6 +31,7 @@ from mechlib.contact.laws import (
     impact_force,
     restitution_force,
 )
+from mechlib.jit import njit
 from mechlib.kernels import JitOptions, _brot, _gt_times, _rot
 
 __all__ = [

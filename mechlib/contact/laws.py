@@ -15,8 +15,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
+from mechlib.jit import njit
 from mechlib.kernels import JitOptions
 from mechlib.smooth import compiled_step, step
 

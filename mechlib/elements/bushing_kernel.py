@@ -10,8 +10,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
+from mechlib.jit import njit
 from mechlib.kernels import JitOptions, _brot
 
 __all__ = ["STATE_SIZE", "bushing_state"]

@@ -142,3 +142,42 @@ def test_unloaded_free_freedom_fails_static() -> None:
     assert sol.status == "failed"
     assert "t = 0.5 s" in sol.message
     assert "singular" in sol.message and "free degree of freedom" in sol.message
+
+
+def _spring_bar_under_growing_torque() -> tuple[mechlib.Mechanism, list[float]]:
+    """The bar on its torsion spring under a torque T(t) = 8 t N*m about +z, and the
+    equilibrium angles T(t) - k theta - m g (L/2) cos(theta) = 0 at t = 0, 0.1, ... 1 s
+    (brentq to 1e-14)."""
+    mech = hinged_bar(BAR)
+    mech.add_force(mechlib.TorsionSpring("spring", joint="hinge", stiffness=K_SPRING))
+    mech.add_force(mechlib.PointTorque("drive", "bar", lambda t, view: (0.0, 0.0, 8.0 * t)))
+    angles = [
+        brentq(
+            lambda th, t=t: 8.0 * t - K_SPRING * th - BAR.weight_moment * math.cos(th),
+            -math.pi / 2,
+            math.pi / 2,
+            xtol=1e-14,
+        )
+        for t in np.linspace(0.0, 1.0, 11)
+    ]
+    return mech, angles
+
+
+def test_quasi_static_reuses_its_stiffness(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The differenced stiffness is reused from equilibrium to equilibrium (modified
+    Newton, mechlib.equilibrium): the angles meet the hand statics (brentq) as with a fresh
+    stiffness at every iteration (reuse switched off: no reused step reaches a zero
+    contraction), with fewer Jacobian evaluations. Measured: 35 against 78 evaluations,
+    angles within 3.5e-12 and 2e-16 rad; guarded at 1e-10 and 1e-12 rad."""
+    import mechlib.equilibrium as equilibrium
+
+    mech, expected = _spring_bar_under_growing_torque()
+    requests = [mechlib.JointCoordinate("angle", "hinge")]
+    reused = mechlib.solve(mech, mechlib.QuasiStatic(1.0, 0.1), requests=requests)
+    monkeypatch.setattr(equilibrium, "_CONTRACTION", 0.0)
+    mech, _ = _spring_bar_under_growing_torque()
+    fresh = mechlib.solve(mech, mechlib.QuasiStatic(1.0, 0.1), requests=requests)
+    for sol, tolerance in ((reused, 1e-10), (fresh, 1e-12)):
+        assert sol.ok
+        assert np.abs(sol.channels["angle.value"] - expected).max() < tolerance
+    assert reused.stats.jacobian_evaluations < fresh.stats.jacobian_evaluations

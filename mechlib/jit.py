@@ -1,0 +1,109 @@
+"""numba kernels, compiled (or loaded from numba's disk cache) on their first call.
+
+`njit(**options)` marks a kernel as numba's decorator does, without importing numba, so
+that `loads --help` and `loads validate` never load it (its import and the loading of the
+cached kernels cost about a second). The first call of any kernel imports numba, turns every
+kernel marked so far into a numba dispatcher at once and puts the dispatchers in place of the
+marks in the namespaces of the mechlib modules: compiled kernels then call compiled kernels,
+and Python callers in mechlib reach the dispatcher directly. Kernels marked after that are
+compiled as they are marked.
+
+Within `interpreted()` a kernel not yet compiled runs as plain Python: the checks of
+`loads validate` (a few constraint Jacobians) need no compiler. The kernels are written in the
+subset of Python numba compiles, which runs unchanged in the interpreter, only slower.
+"""
+
+from __future__ import annotations
+
+import sys
+import threading
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
+from typing import Any, TypeVar
+
+__all__ = ["Kernel", "compile_all", "interpreted", "is_compiled", "njit"]
+
+F = TypeVar("F", bound=Callable[..., Any])
+
+_marked: list[Kernel] = []
+_lock = threading.Lock()
+_compiled = False
+_interpreting = 0  # depth of `interpreted()` blocks
+
+
+class Kernel:
+    """A function marked for numba: compiled with `options` on the first call of any kernel
+    (outside `interpreted()`), run as Python before that within it."""
+
+    __slots__ = ("__name__", "dispatcher", "options", "py_func")
+
+    def __init__(self, py_func: Callable[..., Any], options: dict[str, Any]):
+        self.py_func = py_func
+        self.options = options
+        self.dispatcher: Callable[..., Any] | None = None
+        self.__name__ = py_func.__name__
+
+    def __call__(self, *args: Any, **kwargs: Any) -> Any:
+        dispatcher = self.dispatcher
+        if dispatcher is None:
+            if _interpreting:
+                return self.py_func(*args, **kwargs)
+            compile_all()
+            dispatcher = self.dispatcher
+            assert dispatcher is not None, "compile_all made every marked kernel's"
+        return dispatcher(*args, **kwargs)
+
+    def __repr__(self) -> str:
+        return f"<kernel {self.py_func.__module__}.{self.__name__}>"
+
+
+def njit(**options: Any) -> Callable[[F], F]:
+    """numba's `njit(**options)`, applied on the first call (module docstring)."""
+
+    def mark(py_func: F) -> F:
+        with _lock:
+            if _compiled:
+                import numba
+
+                return numba.njit(**options)(py_func)
+            kernel = Kernel(py_func, dict(options))
+            _marked.append(kernel)
+        return kernel  # type: ignore[return-value]
+
+    return mark
+
+
+def compile_all() -> None:
+    """Import numba and make every marked kernel a dispatcher (each compiles, or loads
+    from the disk cache, on its first call with new argument types)."""
+    global _compiled
+    with _lock:
+        if _compiled:
+            return
+        import numba
+
+        for kernel in _marked:
+            kernel.dispatcher = numba.njit(**kernel.options)(kernel.py_func)
+        for name, module in list(sys.modules.items()):
+            if module is not None and (name == "mechlib" or name.startswith("mechlib.")):
+                namespace = vars(module)
+                for key, value in list(namespace.items()):
+                    if isinstance(value, Kernel):
+                        namespace[key] = value.dispatcher
+        _compiled = True
+
+
+def is_compiled() -> bool:
+    """Whether numba has been loaded for the kernels (in this process)."""
+    return _compiled
+
+
+@contextmanager
+def interpreted() -> Iterator[None]:
+    """Kernels not yet compiled run as plain Python within the block (compiled ones stay)."""
+    global _interpreting
+    _interpreting += 1
+    try:
+        yield
+    finally:
+        _interpreting -= 1
