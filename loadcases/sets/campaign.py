@@ -29,6 +29,7 @@ import numpy as np
 
 from loadcases import engine_hash, interrupts
 from loadcases.diagnostics import InputError
+from loadcases.flexible.cache import caching_under
 from loadcases.inputs.overrides import Override
 from loadcases.report.curves import EnvelopeCurve, plot_curves
 from loadcases.report.envelope import EnvelopeRow, write_envelope_csv
@@ -295,11 +296,12 @@ def run_set(
     """
     started = clock.time()
     compiled = load_and_compile_set(path, what_if=what_if)
-    _prebuild(compiled)
     directory = result_base(Path(output_dir), compiled.name)
-    records, interrupted = _solve_all(
-        compiled, directory, executor or SerialExecutor(), force, on_record, xlsx
-    )
+    with caching_under(directory):  # flexible bodies reduced once for all runs
+        _prebuild(compiled)
+        records, interrupted = _solve_all(
+            compiled, directory, executor or SerialExecutor(), force, on_record, xlsx
+        )
     if interrupted or any(r.status == "interrupted" for r in records):
         return SetResult(compiled, directory, records, interrupted=True)
     runs = [load_saved_run(r.csv_path) for r in records if r.ok]

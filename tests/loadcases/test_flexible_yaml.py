@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from loadcases.diagnostics import InputError
@@ -162,3 +163,31 @@ def test_flexibility_off_makes_the_body_rigid(tmp_path: Path) -> None:
 def test_a_joint_off_the_interface_points_is_an_input_error(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="interface points only"):
         run_case(_case(tmp_path, replace=("at: [0, 0, 0]}\n  forces", "at: [5, 0, 0]}\n  forces")))
+
+
+def test_reduction_cached_by_its_inputs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A second build of the same flexible body reads the reduction from the cache (no
+    Craig-Bampton, the same component to the bit); a changed input (the beam's length, the
+    mode selection) reduces again."""
+    from loadcases.build import flexible
+    from loadcases.build.model import build_run
+
+    monkeypatch.setenv("LOADS_CACHE_DIR", str(tmp_path / "cache"))
+    calls = []
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return craig_bampton(*args, **kwargs)
+
+    craig_bampton = flexible.craig_bampton
+    monkeypatch.setattr(flexible, "craig_bampton", counted)
+    first = build_run(_case(tmp_path)).mechanism.flexible["beam"].component
+    second = build_run(_case(tmp_path)).mechanism.flexible["beam"].component
+    assert len(calls) == 1
+    assert np.array_equal(first.frequencies, second.frequencies)
+    assert np.array_equal(first.invariants.I9, second.invariants.I9)
+    assert first.mass == second.mass and isinstance(second.mass, float)
+    build_run(_case(tmp_path, replace=("end: [800, 0, 0]", "end: [801, 0, 0]")))
+    build_run(_case(tmp_path, replace=("fixed_interface_modes: 6", "fixed_interface_modes: 5")))
+    assert len(calls) == 3
+    assert len(list((tmp_path / "cache" / "flexible").glob("*.npz"))) == 3
