@@ -37,7 +37,7 @@ POSITION_TOLERANCE = 1e-10
 _MAX_NEWTON = 50
 _REPORT_CHANGE = 1e-8
 _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
-_MODAL_WEIGHT = 1e-4  # column scale of modal coordinates in the assembly's least squares
+_MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
 
 
 @dataclass(frozen=True)

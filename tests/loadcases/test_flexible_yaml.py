@@ -16,6 +16,8 @@ from loadcases.diagnostics import InputError
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
+LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library"
+
 CASE = """\
 case: flexible-cantilever
 mechanism:
@@ -191,3 +193,35 @@ def test_reduction_cached_by_its_inputs(tmp_path: Path, monkeypatch: pytest.Monk
     build_run(_case(tmp_path, replace=("fixed_interface_modes: 6", "fixed_interface_modes: 5")))
     assert len(calls) == 3
     assert len(list((tmp_path / "cache" / "flexible").glob("*.npz"))) == 3
+
+
+@pytest.mark.parametrize("weight, strained", [(None, False), (1.0, True)])
+def test_assembly_turns_a_flexible_body_rigidly(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, weight, strained: bool
+) -> None:
+    """The flexible pendulum (library example) assembled at 60 deg from its design position
+    at 1 rad/s: the assembly reaches the angle and rate by rigid motion, its modal
+    coordinates and rates stay 0 (1e-9); weighting the modes like the rigid coordinates (the
+    former plain least squares) starts it strained (the regression this guards)."""
+    import mechlib.assembly
+    from loadcases.build.model import build_run
+    from mechlib.system import System
+
+    if weight is not None:
+        monkeypatch.setattr(mechlib.assembly, "_MODAL_WEIGHT", weight)
+    example = LIBRARY / "examples" / "flexible" / "flexible_pendulum.case.yaml"
+    text = example.read_text().replace(
+        "analysis:", "initial:\n  hinge: {value: 1.0472, rate: 1}\nanalysis:"
+    )
+    path = tmp_path / "pendulum.case.yaml"
+    path.write_text(text)
+    built = build_run(load_case(path))
+    system = System(built.mechanism)
+    start = mechlib.assembly.assemble(system, 0.0, built.initial)
+    modal = slice(system.nq - system.nz, system.nq)
+    deformed = max(np.abs(start.q[modal]).max(), np.abs(start.qd[modal]).max())
+    assert (deformed > 1e-6) == strained, deformed
+    assert deformed < 1e-9 or strained
+    assert system.measure("hinge", "angle").value(system.kin(start.q, None, 0.0)) == (
+        pytest.approx(1.0472, abs=1e-9)
+    )
