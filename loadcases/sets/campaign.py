@@ -222,8 +222,13 @@ def _report_files(
     options: dict[str, str],
     on_report: OnReport | None = None,
 ) -> list[Path]:
-    """envelope.csv, margins.csv, loads-matrix.csv, the workbook and (if available) the
-    plots of a set; `on_report(text)` says what is being written."""
+    """envelope.csv, margins.csv, loads-matrix.csv, comparisons.csv (with `comparisons:`),
+    the workbook and (if available) the plots of a set; `on_report(text)` says what is being written."""
+    from loadcases.report.comparison import (
+        COMPARISON_FILE,
+        comparison_rows,
+        write_comparison_csv,
+    )
     from loadcases.report.units import ReportUnits
     from loadcases.report.workbook import WorkbookData, write_workbook
 
@@ -236,6 +241,9 @@ def _report_files(
         lines = margin_lines(result.envelope, result.sizing.ultimate)
         files.append(write_margin_csv(lines, result.directory / MARGINS_FILE))
         files.append(write_matrix_csv(result.sizing.matrix, result.directory / MATRIX_FILE))
+    if model.comparisons:
+        rows = comparison_rows(model.comparisons, runs)
+        files.append(write_comparison_csv(rows, result.directory / COMPARISON_FILE))
     template = None
     if model.report is not None and model.report.template:
         template = Path(result.compiled.set_file.path).parent / model.report.template
