@@ -81,7 +81,7 @@ def comparison_rows(comparisons: Mapping[str, Any], runs: Sequence[SavedRun]) ->
     for name, comparison in comparisons.items():
         reference = by_name.get(comparison.reference)
         for column in _columns(comparison.columns, reference):
-            ref_peak, ref_time = _peak(reference, column)
+            ref_peak, _ = _peak(reference, column)
             for run_name in [comparison.reference, *comparison.runs]:
                 run = by_name.get(run_name)
                 peak, time = _peak(run, column)

@@ -39,11 +39,11 @@ from typing import Any
 
 from loadcases.atomic import atomic_path
 from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.report.comparison import comparison_rows, comparison_sheet
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.decimate import CHART_ROWS, decimate_curve, decimate_run
 from loadcases.report.envelope import EnvelopeRow
 from loadcases.report.loads_matrix import LoadsMatrix
-from loadcases.report.comparison import comparison_rows, comparison_sheet
 from loadcases.report.margin_table import margin_lines
 from loadcases.report.wear_map import WEAR_SHEET, polar_requests, wear_map_sheet
 from loadcases.report.workbook_template import (

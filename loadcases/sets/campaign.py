@@ -223,7 +223,8 @@ def _report_files(
     on_report: OnReport | None = None,
 ) -> list[Path]:
     """envelope.csv, margins.csv, loads-matrix.csv, comparisons.csv (with `comparisons:`),
-    the workbook and (if available) the plots of a set; `on_report(text)` says what is being written."""
+    the workbook and (if available) the plots of a set; `on_report(text)` says what is
+    being written."""
     from loadcases.report.comparison import (
         COMPARISON_FILE,
         comparison_rows,
