@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from dataclasses import fields as _fields
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -160,7 +161,7 @@ def _arrays(component: ModalComponent) -> dict[str, np.ndarray]:
 
 def _component(arrays: dict[str, np.ndarray]) -> ModalComponent:
     """The modal component of a cache entry (`_arrays`); 0-d arrays back to floats."""
-    values = {k: float(v) if v.ndim == 0 else v for k, v in arrays.items()}
+    values: dict[str, Any] = {k: float(v) if v.ndim == 0 else v for k, v in arrays.items()}
     invariants = Invariants(**{f.name: values[f"inv_{f.name}"] for f in _fields(Invariants)})
     kept = {f.name: values[f.name] for f in _fields(ModalComponent) if f.name != "invariants"}
     return ModalComponent(invariants=invariants, **kept)
@@ -174,7 +175,7 @@ def flexible_component(f: Flexible, folder: Path) -> ModalComponent:
     grillage by its keys (the FE model is not even assembled on a hit), an imported model by
     its content (nodes, DOF map, K, M, interface), with the mode selection and damping; a
     set whose runs share a body reduces it once."""
-    selection = {
+    selection: dict[str, Any] = {
         "modes": f.modes,
         "frequency_range": f.frequency_range,
         "fixed_interface_modes": f.fixed_interface_modes,
