@@ -10,15 +10,8 @@ from pathlib import Path
 import pytest
 
 from loadcases.diagnostics import InputError
+from tests.loadcases.set_fixtures import TM_PANEL_CASE as CASE
 
-CASE = (
-    Path(__file__).resolve().parents[2]
-    / "loadcases"
-    / "library"
-    / "verification"
-    / "solar_array"
-    / "torque_margin_panel.case.yaml"
-)
 SET = """\
 set: cmp
 cases: [panel.case.yaml]

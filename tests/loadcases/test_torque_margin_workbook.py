@@ -12,7 +12,9 @@ from typing import Any
 
 import pytest
 
-# the drive spring's torque compared between the two runs (tests/loadcases/test_set_comparison.py)
+from tests.loadcases.set_fixtures import TM_PANEL_CASE as CASE
+
+# the drive spring's torque compared between the two runs
 COMPARISONS = """\
 comparisons:
   softer:
@@ -20,19 +22,11 @@ comparisons:
     runs: ["torque-margin-panel[k_drive=0.1]"]
     columns: [spring, drive_torque.value]
 """
-CASE = (
-    Path(__file__).resolve().parents[2]
-    / "loadcases"
-    / "library"
-    / "verification"
-    / "solar_array"
-    / "torque_margin_panel.case.yaml"
-)
 
 
 @pytest.fixture(scope="module")
 def tm_set(tmp_path_factory: pytest.TempPathFactory) -> tuple[Any, Path]:
-    """The set run once (the comparison test of test_set_comparison.py reads it too)."""
+    """The set run once for the torque-margin and the comparison tests."""
     from loadcases.sets.campaign import run_set
 
     tmp_path = tmp_path_factory.mktemp("tm")
