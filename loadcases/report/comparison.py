@@ -4,9 +4,11 @@ and the ratio run / reference.
 
 The peak of a column is its value of largest magnitude, with its sign (a latch-up torque
 of -80 N*m peaks at -80); the ratio divides the signed peaks, so a load that changes side
-shows a negative ratio. A column a run does not have (or a failed run) is left empty. Read
-from the saved runs alone: `comparisons.csv` in SI, the workbook sheet `Comparison` in the
-report's units.
+shows a negative ratio. A reference peak within NOISE_FLOOR of the column's largest peak
+in the comparison is round-off (the out-of-plane loads of a planar rigid model, 1e-23 N
+beside 0.7 N): the ratio is left empty. A column a run does not have (or a failed run) is
+left empty. Read from the saved runs alone: `comparisons.csv` in SI, the workbook sheet
+`Comparison` in the report's units.
 """
 
 from __future__ import annotations
@@ -22,6 +24,7 @@ from typing import Any
 import numpy as np
 
 from loadcases.atomic import atomic_write_text
+from loadcases.report.compare import NOISE_FLOOR
 from loadcases.results.saved import SavedRun
 
 __all__ = [
@@ -81,12 +84,15 @@ def comparison_rows(comparisons: Mapping[str, Any], runs: Sequence[SavedRun]) ->
     for name, comparison in comparisons.items():
         reference = by_name.get(comparison.reference)
         for column in _columns(comparison.columns, reference):
-            ref_peak, _ = _peak(reference, column)
-            for run_name in [comparison.reference, *comparison.runs]:
+            names = [comparison.reference, *comparison.runs]
+            peaks = {n: _peak(by_name.get(n), column) for n in names}
+            ref_peak = peaks[comparison.reference][0]
+            largest = max((abs(p) for p, _ in peaks.values() if p is not None), default=0.0)
+            for run_name in names:
                 run = by_name.get(run_name)
-                peak, time = _peak(run, column)
+                peak, time = peaks[run_name]
                 ratio = None
-                if peak is not None and ref_peak:
+                if peak is not None and ref_peak and abs(ref_peak) > NOISE_FLOOR * largest:
                     ratio = peak / ref_peak
                 known = [r for r in (run, reference) if r is not None]
                 unit = known[0].units.get(column, "") if known else ""
