@@ -1,7 +1,10 @@
 """Assembly: positions on the constraints (Newton), consistent velocities and accelerations.
 
 Given initial values that the constraints contradict are projected onto them (least
-squares, smallest change from the design position) and reported.
+squares, smallest change from the design position) and reported. The modal coordinates of
+flexible bodies weigh _MODAL_WEIGHT^-2 times more in that smallest change: a given angle is
+reached by rigid motion, and a body deforms only where the constraints need it (otherwise
+the least-squares step spreads the motion over the modes and starts a run strained).
 """
 
 from __future__ import annotations
@@ -34,6 +37,7 @@ POSITION_TOLERANCE = 1e-10
 _MAX_NEWTON = 50
 _REPORT_CHANGE = 1e-8
 _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
+_MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
 
 
 @dataclass(frozen=True)
@@ -65,12 +69,24 @@ class Assembled:
     notes: list[str] = field(default_factory=list)
 
 
-def _newton(residual, jacobian, q: np.ndarray, tol: float) -> tuple[np.ndarray, int, float]:
-    """Minimum-norm Newton (Gauss-Newton when over-determined); returns q, iterations, |res|."""
+def _assembly_weights(system: System) -> np.ndarray:
+    """Column scales (nq,) of the assembly's least squares: 1, _MODAL_WEIGHT for modes."""
+    weights = np.ones(system.nq)
+    weights[system.nq - system.nz :] = _MODAL_WEIGHT
+    return weights
+
+
+def _newton(
+    residual, jacobian, q: np.ndarray, tol: float, weights: np.ndarray | None = None
+) -> tuple[np.ndarray, int, float]:
+    """Minimum-norm Newton (Gauss-Newton when over-determined), the norm of the step
+    divided by `weights` per column; returns q, iterations, |res|."""
     res = residual(q)
+    w = np.ones(len(q)) if weights is None else weights
     for it in range(1, _MAX_NEWTON + 1):
         count(factorizations=1, jacobian_evaluations=1)
-        step, *_ = np.linalg.lstsq(jacobian(q), -res, rcond=None)
+        scaled, *_ = np.linalg.lstsq(jacobian(q) * w, -res, rcond=None)
+        step = w * scaled
         q = q + step
         res = residual(q)
         if np.abs(step).max(initial=0.0) < tol and np.abs(res).max(initial=0.0) < tol:
@@ -79,14 +95,21 @@ def _newton(residual, jacobian, q: np.ndarray, tol: float) -> tuple[np.ndarray, 
 
 
 def solve_positions(
-    system: System, q: np.ndarray, t: float, *, tol: float = POSITION_TOLERANCE
+    system: System,
+    q: np.ndarray,
+    t: float,
+    *,
+    tol: float = POSITION_TOLERANCE,
+    weights: np.ndarray | None = None,
 ) -> tuple[np.ndarray, int]:
-    """q with phi(q, t) = 0 from the guess q; raises SolverFailure naming the worst rows."""
+    """q with phi(q, t) = 0 from the guess q (`weights`: see _newton); raises SolverFailure
+    naming the worst rows."""
     q, its, worst = _newton(
         lambda x: system.phi(system.kin(x, None, t)),
         lambda x: system.phi_q(system.kin(x, None, t)),
         q,
         tol,
+        weights,
     )
     if worst > 1e3 * tol:
         res = system.phi(system.kin(q, None, t))
@@ -161,6 +184,7 @@ def assemble(system: System, t: float, initial: Sequence = ()) -> Assembled:
     """Initial q, qd: design position moved onto the constraints and the given values."""
     given = _given_positions(system, initial)
     q = system.design_q()
+    weights = _assembly_weights(system)
     its = 0
     if given:
         # approach large given angles in stages of at most _STAGE rad, committing the
@@ -176,14 +200,15 @@ def assemble(system: System, t: float, initial: Sequence = ()) -> Assembled:
                 _given_jacobian(system, given, t),
                 q,
                 POSITION_TOLERANCE,
+                weights,
             )
             its += n
             system.commit(system.kin(q, None, t))
-    q, its2 = solve_positions(system, q, t)
+    q, its2 = solve_positions(system, q, t, weights=weights)
     k = system.kin(q, None, t)
     system.commit(k)
     notes = _position_notes(system, k, given)
-    qd, vnotes = _initial_velocities(system, q, t, initial)
+    qd, vnotes = _initial_velocities(system, q, t, initial, weights)
     return Assembled(q, qd, its + its2, notes + vnotes)
 
 
@@ -211,19 +236,21 @@ def _velocity_rows(system: System, k: Kin, initial) -> tuple[list, list, list]:
     return rows, rhs, names
 
 
-def _initial_velocities(system: System, q: np.ndarray, t: float, initial):
+def _initial_velocities(system: System, q: np.ndarray, t: float, initial, weights: np.ndarray):
+    """qd on the velocity constraints and the given rates, smallest in the `weights` norm."""
     k = system.kin(q, None, t)
     phi_q, nu = system.phi_q(k), system.nu(k)
     rows, rhs, names = _velocity_rows(system, k, initial)
     count(factorizations=2 if rows else 1)
     if rows:
-        qd, *_ = np.linalg.lstsq(
-            np.vstack([phi_q, np.array(rows)]), np.concatenate([nu, rhs]), rcond=None
+        scaled, *_ = np.linalg.lstsq(
+            np.vstack([phi_q, np.array(rows)]) * weights, np.concatenate([nu, rhs]), rcond=None
         )
+        qd = weights * scaled
     else:
         qd = np.zeros(system.nq)
-    fix, *_ = np.linalg.lstsq(phi_q, nu - phi_q @ qd, rcond=None)
-    qd = qd + fix
+    fix, *_ = np.linalg.lstsq(phi_q * weights, nu - phi_q @ qd, rcond=None)
+    qd = qd + weights * fix
     notes = []
     for what, block, wanted in names:
         actual = block @ qd

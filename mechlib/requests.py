@@ -164,7 +164,8 @@ def _gatherer(system: System, req) -> tuple[Gatherer, float]:
         owners = {req.joint} | {
             m.name for m in system.mechanism.motions.values() if m.joint == req.joint
         }
-        body, other = system.body_index(j.body1), system.body_index(j.body2)
+        # on a flexible body the joint's rows act on the node body at its point
+        body, other = (system.body_point(name, j.at)[0] for name in (j.body1, j.body2))
     else:
         measure = _equation(system, req.motion).terms[0][1]
         owners, body, other = {req.motion}, measure.bi, measure.bj

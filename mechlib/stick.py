@@ -28,13 +28,16 @@ def switch_sticking(system, q, qd, t: float, view, consistent: Callable) -> bool
     view (velocities and multipliers) is `view`; `consistent(system, q, qd, t)` gives
     (qd, qdd, lam). True when the model changed (the caller restarts)."""
     frictions = [e for e in system.elements if e.active and getattr(e, "can_stick", False)]
-    switched = False
+    switched = stale = False
     for e in frictions:
+        if stale:  # an earlier joint stuck or let go: the multipliers' rows have changed
+            fresh_qd, _, lam = consistent(system, q, qd, t)
+            view, stale = system.view(system.kin(q, fresh_qd, t), lam), False
         if e.stuck:
             effort = e.stick_effort(view)
             if abs(effort) > e.capacity(view) * (1.0 + _HOLD_MARGIN):
                 e.slip(effort)
-                switched = True
+                switched = stale = True
         elif e.may_stick(view):
             e.stick(system.kin(q, qd, t))
             try:
@@ -49,7 +52,7 @@ def switch_sticking(system, q, qd, t: float, view, consistent: Callable) -> bool
                 e.slip(effort)
                 switched = switched or e.impending != before
             else:
-                switched = True
+                switched = stale = True
     return switched
 
 

@@ -24,3 +24,10 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
     for item in items:
         if "long" in item.keywords:
             item.add_marker(skip)
+
+
+@pytest.fixture(autouse=True)
+def _reduction_cache(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch):
+    """Flexible-body reductions cached in one temporary folder per session, never in the
+    working folder (loadcases.flexible.cache)."""
+    monkeypatch.setenv("LOADS_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "loads-cache"))

@@ -6,17 +6,21 @@ mechanism: loadcases.schema.mechanism); the Craig-Bampton reduction keeps those 
 
 from __future__ import annotations
 
+from dataclasses import fields as _fields
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import scipy.sparse as sp
 
+from loadcases.flexible.cache import cached
 from loadcases.limits import local_path_problem
 from loadcases.schema.flexible import BeamSection, FileSource, Flexible, MaterialModel
 from mechlib.flexible.beam import Material, Section
 from mechlib.flexible.craig_bampton import craig_bampton
 from mechlib.flexible.fe_model import FEModel
 from mechlib.flexible.grillage import NamedModel, grillage, straight_beam
+from mechlib.flexible.invariants import Invariants
 from mechlib.flexible.modal_component import ModalComponent
 
 __all__ = ["flexible_component"]
@@ -147,14 +151,41 @@ def _fe_model(f: Flexible, folder: Path) -> NamedModel:
     )
 
 
+def _arrays(component: ModalComponent) -> dict[str, np.ndarray]:
+    """A modal component as named arrays (a cache entry)."""
+    out = {f"inv_{f.name}": getattr(component.invariants, f.name) for f in _fields(Invariants)}
+    out |= {f.name: getattr(component, f.name) for f in _fields(ModalComponent)}
+    del out["invariants"]
+    return out
+
+
+def _component(arrays: dict[str, np.ndarray]) -> ModalComponent:
+    """The modal component of a cache entry (`_arrays`); 0-d arrays back to floats."""
+    values: dict[str, Any] = {k: float(v) if v.ndim == 0 else v for k, v in arrays.items()}
+    invariants = Invariants(**{f.name: values[f"inv_{f.name}"] for f in _fields(Invariants)})
+    kept = {f.name: values[f.name] for f in _fields(ModalComponent) if f.name != "invariants"}
+    return ModalComponent(invariants=invariants, **kept)
+
+
 def flexible_component(f: Flexible, folder: Path) -> ModalComponent:
     """The modal component (`folder`: that of the file holding the mechanism, where a
     `file:` source is read); ValueError (and ReductionError) say what is wrong, InputError
-    what is wrong in an imported model's files."""
-    return craig_bampton(
-        _fe_model(f, folder).model,
-        modes=f.modes,
-        frequency_range=f.frequency_range,
-        fixed_interface_modes=f.fixed_interface_modes,
-        damping=f.damping,
-    )
+    what is wrong in an imported model's files. The reduction is cached
+    (loadcases.flexible.cache) by its inputs and the engine's identity: a built-in beam or
+    grillage by its keys (the FE model is not even assembled on a hit), an imported model by
+    its content (nodes, DOF map, K, M, interface), with the mode selection and damping; a
+    set whose runs share a body reduces it once."""
+    selection: dict[str, Any] = {
+        "modes": f.modes,
+        "frequency_range": f.frequency_range,
+        "fixed_interface_modes": f.fixed_interface_modes,
+        "damping": f.damping,
+    }
+    model = _fe_model(f, folder).model if f.file is not None else None
+    source = {"fe_model": model} if model is not None else {"source": f.model_dump()}
+
+    def reduce() -> dict[str, np.ndarray]:
+        fe_model = model if model is not None else _fe_model(f, folder).model
+        return _arrays(craig_bampton(fe_model, **selection))
+
+    return _component(cached({**source, **selection}, reduce))

@@ -70,8 +70,9 @@ ABSCISSA = "abscissa"  # the request name of a case's abscissa in the results of
 
 def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:
     """Sweep, zip and parameter names must be parameters of at least one of the `cases`
-    (loaded CaseFile objects with `.parameters`); factor and allowable keys must name a
-    request (`REQUEST` or `REQUEST.COMPONENT`) of one of them; case names are unique."""
+    (loaded CaseFile objects with `.parameters`); factor and allowable keys and compared
+    columns must name a request (`REQUEST` or `REQUEST.COMPONENT`) of one of them; case
+    names are unique."""
     if not cases:
         return []
     known = {name for case in cases for name in case.parameters}
@@ -88,6 +89,12 @@ def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[
             unknown(at, (section, key), "request", key.split(".")[0], requests)
             for key in getattr(model, section)
             if key != ULTIMATE and key.split(".")[0] not in requests
+        ]
+    for name, comparison in model.comparisons.items():
+        found += [
+            unknown(at, ("comparisons", name, "columns", i), "request", key.split(".")[0], requests)
+            for i, key in enumerate(comparison.columns)
+            if key.split(".")[0] not in requests
         ]
     return found + _duplicate_names(at, cases) + _unmatched_case_factors(model, at, cases)
 

@@ -16,7 +16,9 @@ import hashlib
 import os
 import warnings
 import zipfile
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
+from contextvars import ContextVar
 from pathlib import Path
 from typing import Any
 
@@ -27,23 +29,35 @@ import scipy.sparse as sp
 from loadcases.atomic import atomic_path
 from loadcases.engine_hash import engine_sha256
 
-__all__ = ["CACHE_ENV", "CacheWarning", "cache_folder", "cache_key", "cached"]
+__all__ = ["CACHE_ENV", "CacheWarning", "cache_folder", "cache_key", "cached", "caching_under"]
 
 CACHE_ENV = "LOADS_CACHE_DIR"  # a folder shared by every run (else one per output folder)
 _KEY_ARRAY = "__key__"
+_OUTPUT: ContextVar[Path | None] = ContextVar("loads_cache_output", default=None)
 
 
 class CacheWarning(UserWarning):
     """A cache entry could not be read or written (the result is computed anyway)."""
 
 
+@contextmanager
+def caching_under(output_folder: Path | str) -> Iterator[None]:
+    """Within the block, `cache_folder()` defaults to `output_folder` (the runs' results
+    folder); worker processes of a set that do not share this context use their own."""
+    token = _OUTPUT.set(Path(output_folder))
+    try:
+        yield
+    finally:
+        _OUTPUT.reset(token)
+
+
 def cache_folder(output_folder: Path | None = None) -> Path:
-    """`$LOADS_CACHE_DIR/flexible` when set, else `<output folder>/.cache/flexible`
-    (`./.cache/flexible` without an output folder)."""
+    """`$LOADS_CACHE_DIR/flexible` when set, else `<output folder>/.cache/flexible`: the
+    folder given, else the one `caching_under` set, else the working folder."""
     shared = os.environ.get(CACHE_ENV, "").strip()
     if shared:
         return Path(shared) / "flexible"
-    return Path(output_folder or ".") / ".cache" / "flexible"
+    return Path(output_folder or _OUTPUT.get() or ".") / ".cache" / "flexible"
 
 
 def _feed(digest: Any, value: Any) -> None:

@@ -5,7 +5,8 @@ sheet and its CSV file), `Envelope` (the table of `envelope.csv`, same header an
 without the abscissa row: the abscissa is the x axis, not a load), `Margins` (every margin,
 lowest first: `loadcases.report.margin_table`), `Loads matrix` (peaks per component and run:
 `loadcases.report.loads_matrix`), `Torque margin` (when runs have one:
-loadcases/workbook_tm.py), `Charts` (native line charts: per family
+loadcases/workbook_tm.py), `Comparison` (the set's `comparisons:`:
+loadcases.report.comparison), `Charts` (native line charts: per family
 the envelope curves of its main request columns and those columns against time for each
 run), one `Curves FAMILY` sheet per family (the envelope curves' numbers, without the
 columns marked `~0`), the time histories, `Provenance`.
@@ -38,6 +39,7 @@ from typing import Any
 
 from loadcases.atomic import atomic_path
 from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.report.comparison import comparison_rows, comparison_sheet
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.decimate import CHART_ROWS, decimate_curve, decimate_run
 from loadcases.report.envelope import EnvelopeRow
@@ -87,6 +89,7 @@ class WorkbookData:
     ultimate: float = 1.0  # the ultimate factor (margins: limit factor = factor / ultimate)
     noise: frozenset[str] = frozenset()  # columns marked ~0
     histories: str = "envelope"  # report.histories: all | envelope | none
+    comparisons: dict[str, Any] = field(default_factory=dict)  # the set's `comparisons:`
 
     @classmethod
     def from_set(cls, result: Any, runs: list[SavedRun], options: dict[str, str]) -> WorkbookData:
@@ -122,6 +125,7 @@ class WorkbookData:
             ultimate=sizing.ultimate if sizing is not None else 1.0,
             noise=sizing.noise if sizing is not None else frozenset(),
             histories=histories,
+            comparisons=dict(model.comparisons),
         )
 
 
@@ -223,6 +227,8 @@ def write_workbook(
         tables.matrix_sheet(new("Loads matrix"), data.matrix)
     if has_torque_margin(data.runs):
         torque_margin_sheet(new("Torque margin"), data.runs)
+    if data.comparisons:
+        comparison_sheet(new("Comparison"), comparison_rows(data.comparisons, data.runs))
     if any(polar_requests(run) for run in data.runs):
         wear_map_sheet(new(WEAR_SHEET), data.runs)
     curves = _shown_curves(data)

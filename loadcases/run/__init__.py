@@ -11,6 +11,7 @@ from loadcases.build.model import BuiltRun, build_mechanism, build_run
 from loadcases.build.precheck import case_problems, model_diagnostics
 from loadcases.build.torque_margin import plan_torque_margin
 from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.flexible.cache import caching_under
 from loadcases.inputs.kinds import file_kind
 from loadcases.inputs.loader import CaseFile, load_case, load_mechanism
 from loadcases.inputs.overrides import Override, pairs
@@ -102,7 +103,8 @@ def run_file(
     if file_kind(path) == "mechanism":
         raise ValueError(f"{path} is a mechanism file: use check_mechanism_file")
     cf = load_case(path, what_if=what_if)
-    outcome = run_case(cf, progress=progress)
+    with caching_under(output_dir):
+        outcome = run_case(cf, progress=progress)
     write_results(outcome, Path(output_dir), xlsx=xlsx)
     return [outcome]
 

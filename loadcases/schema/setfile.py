@@ -149,6 +149,20 @@ class Report(Strict):
     )
 
 
+class Comparison(Strict):
+    """`comparisons: NAME:` the peak of chosen result columns in each of `runs` beside the
+    `reference` run's, and their ratio (workbook sheet `Comparison`, `comparisons.csv`)."""
+
+    reference: str = Field(min_length=1, description="the reference run: CASE or CASE[p=v,...]")
+    runs: Annotated[list[str], BeforeValidator(_as_list)] = Field(
+        min_length=1, description="the runs compared with the reference"
+    )
+    columns: Annotated[list[str], BeforeValidator(_as_list)] = Field(
+        min_length=1,
+        description="result columns REQUEST.COMPONENT, or REQUEST for all its components",
+    )
+
+
 class SetModel(Strict):
     """A load-case set: cases, sweeps, factors, allowables and report."""
 
@@ -178,5 +192,9 @@ class SetModel(Strict):
     )
     allowables: dict[str, Allowable] = Field(
         default_factory=dict, description="by result column REQUEST.COMPONENT"
+    )
+    comparisons: dict[str, Comparison] = Field(
+        default_factory=dict,
+        description="peaks of chosen columns run by run against a reference run, with ratios",
     )
     report: Report | None = None

@@ -29,6 +29,7 @@ import numpy as np
 
 from loadcases import engine_hash, interrupts
 from loadcases.diagnostics import InputError
+from loadcases.flexible.cache import caching_under
 from loadcases.inputs.overrides import Override
 from loadcases.report.curves import EnvelopeCurve, plot_curves
 from loadcases.report.envelope import EnvelopeRow, write_envelope_csv
@@ -221,8 +222,14 @@ def _report_files(
     options: dict[str, str],
     on_report: OnReport | None = None,
 ) -> list[Path]:
-    """envelope.csv, margins.csv, loads-matrix.csv, the workbook and (if available) the
-    plots of a set; `on_report(text)` says what is being written."""
+    """envelope.csv, margins.csv, loads-matrix.csv, comparisons.csv (with `comparisons:`),
+    the workbook and (if available) the plots of a set; `on_report(text)` says what is
+    being written."""
+    from loadcases.report.comparison import (
+        COMPARISON_FILE,
+        comparison_rows,
+        write_comparison_csv,
+    )
     from loadcases.report.units import ReportUnits
     from loadcases.report.workbook import WorkbookData, write_workbook
 
@@ -235,6 +242,9 @@ def _report_files(
         lines = margin_lines(result.envelope, result.sizing.ultimate)
         files.append(write_margin_csv(lines, result.directory / MARGINS_FILE))
         files.append(write_matrix_csv(result.sizing.matrix, result.directory / MATRIX_FILE))
+    if model.comparisons:
+        rows = comparison_rows(model.comparisons, runs)
+        files.append(write_comparison_csv(rows, result.directory / COMPARISON_FILE))
     template = None
     if model.report is not None and model.report.template:
         template = Path(result.compiled.set_file.path).parent / model.report.template
@@ -295,11 +305,12 @@ def run_set(
     """
     started = clock.time()
     compiled = load_and_compile_set(path, what_if=what_if)
-    _prebuild(compiled)
     directory = result_base(Path(output_dir), compiled.name)
-    records, interrupted = _solve_all(
-        compiled, directory, executor or SerialExecutor(), force, on_record, xlsx
-    )
+    with caching_under(directory):  # flexible bodies reduced once for all runs
+        _prebuild(compiled)
+        records, interrupted = _solve_all(
+            compiled, directory, executor or SerialExecutor(), force, on_record, xlsx
+        )
     if interrupted or any(r.status == "interrupted" for r in records):
         return SetResult(compiled, directory, records, interrupted=True)
     runs = [load_saved_run(r.csv_path) for r in records if r.ok]

@@ -27,6 +27,7 @@ from pathlib import Path
 from typing import Any
 
 from loadcases.build.elements import ELEMENT_EFFECTS
+from loadcases.checks.common import unknown
 from loadcases.checks.sets import check_set_cases
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
@@ -247,10 +248,24 @@ def compile_set(
     order = swept_order(set_file)
     given = pairs(what_if)
     runs = [spec for cf in cases for spec in _case_runs(set_file, cf, order, version, given)]
-    found = _name_clashes(set_file, runs)
+    found = _name_clashes(set_file, runs) + _compared_runs(set_file, runs)
     if found:
         raise InputError(found)
     return CompiledSet(set_file, tuple(cases), tuple(runs), version)
+
+
+def _compared_runs(set_file: SetFile, runs: list[RunSpec]) -> list[Diagnostic]:
+    """A comparison's reference and runs must be runs of the set (names as run)."""
+    names = {spec.name for spec in runs}
+    found = []
+    for name, comparison in set_file.model.comparisons.items():
+        keys = [("reference",), *(("runs", i) for i in range(len(comparison.runs)))]
+        for key, run in zip(keys, [comparison.reference, *comparison.runs]):
+            if run not in names:
+                found.append(
+                    unknown(set_file.locator, ("comparisons", name, *key), "run", run, names)
+                )
+    return found
 
 
 def load_and_compile_set(

@@ -4,6 +4,15 @@ from __future__ import annotations
 
 from pathlib import Path
 
+# a one-panel torque-margin case (every contributor kind), shared by set tests
+TM_PANEL_CASE = (
+    Path(__file__).resolve().parents[2]
+    / "loadcases"
+    / "library"
+    / "verification"
+    / "solar_array"
+    / "torque_margin_panel.case.yaml"
+)
 CRANK_MECH = """\
 name: crank
 gravity: [0, -9.81, 0]

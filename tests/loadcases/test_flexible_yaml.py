@@ -9,11 +9,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from loadcases.diagnostics import InputError
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
+
+LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library"
 
 CASE = """\
 case: flexible-cantilever
@@ -41,6 +44,7 @@ requests:
   tip: {point: beam.tip, quantity: position}
   bend: {flexible: beam, quantity: deformation, point: beam.tip}
   modal: {flexible: beam, quantity: modes}
+  clamp_force: {joint: clamp, quantity: force}
 """
 
 
@@ -63,6 +67,18 @@ def test_static_cantilever_from_yaml(tmp_path: Path) -> None:
     assert channels["tip.z"][0] == pytest.approx(exact, rel=1e-3)
     assert channels["bend.z"][0] != 0.0
     assert sum(1 for c in channels if c.startswith("modal.q")) == 12 + 6 - 6
+
+
+def test_clamp_reaction_of_a_flexible_body(tmp_path: Path) -> None:
+    """The clamp's reaction on the beam (its root node body) balances the tip load: -5 N
+    along z and P x_tip about y at the root, x_tip the tip's deformed position (1e-9
+    relative; x_tip is 1.5e-5 m short of L, the floating frame's second-order geometry).
+    Regression: a joint reaction on a
+    flexible body read the modal body's columns, where the joint has none (all zero)."""
+    channels = run_case(_case(tmp_path)).solution.channels
+    assert channels["clamp_force.fz"][0] == pytest.approx(-5.0, rel=1e-9)
+    assert channels["clamp_force.ty"][0] == pytest.approx(5.0 * channels["tip.x"][0], rel=1e-9)
+    assert abs(channels["clamp_force.fx"][0]) < 1e-9
 
 
 @pytest.mark.parametrize(
@@ -149,3 +165,63 @@ def test_flexibility_off_makes_the_body_rigid(tmp_path: Path) -> None:
 def test_a_joint_off_the_interface_points_is_an_input_error(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="interface points only"):
         run_case(_case(tmp_path, replace=("at: [0, 0, 0]}\n  forces", "at: [5, 0, 0]}\n  forces")))
+
+
+def test_reduction_cached_by_its_inputs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A second build of the same flexible body reads the reduction from the cache (no
+    Craig-Bampton, the same component to the bit); a changed input (the beam's length, the
+    mode selection) reduces again."""
+    from loadcases.build import flexible
+    from loadcases.build.model import build_run
+
+    monkeypatch.setenv("LOADS_CACHE_DIR", str(tmp_path / "cache"))
+    calls = []
+
+    def counted(*args, **kwargs):
+        calls.append(1)
+        return craig_bampton(*args, **kwargs)
+
+    craig_bampton = flexible.craig_bampton
+    monkeypatch.setattr(flexible, "craig_bampton", counted)
+    first = build_run(_case(tmp_path)).mechanism.flexible["beam"].component
+    second = build_run(_case(tmp_path)).mechanism.flexible["beam"].component
+    assert len(calls) == 1
+    assert np.array_equal(first.frequencies, second.frequencies)
+    assert np.array_equal(first.invariants.I9, second.invariants.I9)
+    assert first.mass == second.mass and isinstance(second.mass, float)
+    build_run(_case(tmp_path, replace=("end: [800, 0, 0]", "end: [801, 0, 0]")))
+    build_run(_case(tmp_path, replace=("fixed_interface_modes: 6", "fixed_interface_modes: 5")))
+    assert len(calls) == 3
+    assert len(list((tmp_path / "cache" / "flexible").glob("*.npz"))) == 3
+
+
+@pytest.mark.parametrize("weight, strained", [(None, False), (1.0, True)])
+def test_assembly_turns_a_flexible_body_rigidly(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch, weight, strained: bool
+) -> None:
+    """The flexible pendulum (library example) assembled at 60 deg from its design position
+    at 1 rad/s: the assembly reaches the angle and rate by rigid motion, its modal
+    coordinates and rates stay 0 (1e-9); weighting the modes like the rigid coordinates (the
+    former plain least squares) starts it strained (the regression this guards)."""
+    import mechlib.assembly
+    from loadcases.build.model import build_run
+    from mechlib.system import System
+
+    if weight is not None:
+        monkeypatch.setattr(mechlib.assembly, "_MODAL_WEIGHT", weight)
+    example = LIBRARY / "examples" / "flexible" / "flexible_pendulum.case.yaml"
+    text = example.read_text().replace(
+        "analysis:", "initial:\n  hinge: {value: 1.0472, rate: 1}\nanalysis:"
+    )
+    path = tmp_path / "pendulum.case.yaml"
+    path.write_text(text)
+    built = build_run(load_case(path))
+    system = System(built.mechanism)
+    start = mechlib.assembly.assemble(system, 0.0, built.initial)
+    modal = slice(system.nq - system.nz, system.nq)
+    deformed = max(np.abs(start.q[modal]).max(), np.abs(start.qd[modal]).max())
+    assert (deformed > 1e-6) == strained, deformed
+    assert deformed < 1e-9 or strained
+    assert system.measure("hinge", "angle").value(system.kin(start.q, None, 0.0)) == (
+        pytest.approx(1.0472, abs=1e-9)
+    )
