@@ -68,15 +68,21 @@ class Attached:
         out[3:7, 3:7] += scale * np.outer(p, p)
         return out
 
-    def forces(self, k: Kin, gravity: np.ndarray, inertia: bool) -> np.ndarray:
+    def forces(
+        self, k: Kin, gravity: np.ndarray, inertia: bool, node_loads: np.ndarray | None = None
+    ) -> np.ndarray:
         """Q_q (7 + n): gravity, modal stiffness and damping, with `inertia` the quadratic
-        velocity vector."""
+        velocity vector; with geometric stiffening, -K_G zeta of the spin and of the loads
+        `node_loads` (k, 6) on the body at its kept nodes (body axes; None: unknown)."""
         p, zeta, zeta_d = k.p[self.frame], k.z[self.modes], k.zd[self.modes]
         A = rotation_matrix(p)
         f = self.body.applied(A, zeta, zeta_d, gravity)
+        omega = 2.0 * g_matrix(p) @ k.pd[self.frame]
         if inertia:
-            omega = 2.0 * g_matrix(p) @ k.pd[self.frame]
             f = f + self.body.quadratic(A, omega, zeta, zeta_d)
+        geometric = self.body.component.geometric
+        if geometric is not None:
+            f[6:] -= geometric.stiffness(omega, node_loads) @ zeta
         return self.velocity_map(k).T @ f
 
 
@@ -126,6 +132,24 @@ class NodeWelds:
                 r[nb_ + 3 : nb_ + 7] += b @ d_rotate(pn, _AXES[f])
                 r[fb + 3 : fb + 7] += an @ d_rotate(p, v)
                 r[zc] += an @ A @ (-skew(_AXES[g]) @ comp.phi_star[row])
+
+    def node_loads(self, k: Kin, lam: np.ndarray, body: Attached) -> np.ndarray:
+        """(k, 6): force (N) and torque (N m) on `body` at each of its kept nodes, body
+        axes, from the multipliers `lam` (size,) of these equations (M qdd + phi_q^T lam
+        = Q): the position rows push the body with +lam, an orientation row
+        (A_n f).(A v) = 0 turns it with lam (A_n f) x (A v)."""
+        A = rotation_matrix(k.p[body.frame])
+        out = []
+        for i, (a, row, node) in enumerate(self.items):
+            if a is not body:
+                continue
+            theta = a.body.component.phi_star[row] @ k.z[a.modes]
+            turn, rows = A.T @ rotation_matrix(k.p[node]), lam[6 * i : 6 * i + 6]
+            torque = np.zeros(3)  # body axes: (A^T A_n f) x v
+            for c, (f, g) in enumerate(_PAIRS):
+                torque += rows[3 + c] * cross3(turn[:, f], _AXES[g] + cross3(theta, _AXES[g]))
+            out.append(np.r_[A.T @ rows[:3], torque])
+        return np.array(out)
 
     def gamma(self, k: Kin) -> np.ndarray:
         """phi_q qdd = gamma: minus the terms of the second derivative without qdd."""

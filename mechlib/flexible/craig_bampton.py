@@ -20,6 +20,7 @@ import scipy.sparse.linalg as spla
 from mechlib.flexible.fe_model import FEModel
 from mechlib.flexible.invariants import field_invariants
 from mechlib.flexible.modal_component import ModalComponent, damping_ratios
+from mechlib.flexible.stiffening import modal_geometric
 
 __all__ = ["ReductionError", "craig_bampton", "free_modes"]
 
@@ -130,11 +131,13 @@ def craig_bampton(
     fixed_interface_modes: int | None = None,
     damping: float | Mapping[int, float] | None = None,
     keep_nodes: Sequence[int] = (),
+    stiffening: bool = False,
 ) -> ModalComponent:
     """The modal component of `model`: `modes` lowest elastic modes or those within
     `frequency_range` (Hz); `fixed_interface_modes` (default: enough for the modes asked,
     at least 10); `damping` as `damping_ratios`; slices kept at the interface nodes and
-    the node indices `keep_nodes`."""
+    the node indices `keep_nodes`; with `stiffening`, the modal geometric stiffness
+    (mechlib.flexible.stiffening; beam models only, else ReductionError)."""
     n_q = fixed_interface_modes
     if n_q is None:
         n_q = max(10, modes or 0, 20 if frequency_range is not None else 0)
@@ -147,6 +150,12 @@ def craig_bampton(
     for row, node in enumerate(nodes):
         for dof in np.flatnonzero(model.dof_map[:, 0] == node):
             phi[row, model.dof_map[dof, 1]] = psi[dof]
+    geometric = None
+    if stiffening:
+        try:
+            geometric = modal_geometric(model, psi, origin, nodes)
+        except ValueError as exc:
+            raise ReductionError(str(exc)) from exc
     return ModalComponent(
         mass=mass,
         origin=origin,
@@ -157,4 +166,5 @@ def craig_bampton(
         phi_star=phi[:, 3:],
         frequencies=omega,
         damping=damping_ratios(omega / (2.0 * np.pi), damping),
+        geometric=geometric,
     )
