@@ -22,7 +22,7 @@ from mechlib.flexible.invariants import field_invariants
 from mechlib.flexible.modal_component import ModalComponent, damping_ratios
 from mechlib.flexible.stiffening import modal_geometric
 
-__all__ = ["ReductionError", "craig_bampton", "free_modes"]
+__all__ = ["ReductionError", "craig_bampton", "free_modes", "held_frequency"]
 
 _RIGID_ENERGY = 1e-8  # |K R| / (|K| |R|) above this: the rigid motions strain the model
 _MECHANISM = 1e-12  # omega^2 / max(omega^2) below this: a zero-energy deformation
@@ -40,16 +40,17 @@ def _split(model: FEModel) -> tuple[np.ndarray, np.ndarray]:
     return boundary, np.setdiff1d(np.arange(len(model.dof_map)), boundary)
 
 
-def _fixed_interface(k_ii, m_ii, count: int) -> np.ndarray:
-    """The `count` lowest fixed-interface modes (n_i, count)."""
+def _fixed_interface(k_ii, m_ii, count: int, values: bool = False):
+    """The `count` lowest fixed-interface modes (n_i, count); with `values`, the lowest
+    eigenvalue omega^2 alone (count 1)."""
     n = k_ii.shape[0]
     if count == 0:
         return np.zeros((n, 0))
     if n <= _DENSE_LIMIT or count >= n - 1:
-        _, vec = sla.eigh(k_ii.toarray(), m_ii.toarray(), subset_by_index=[0, count - 1])
-        return vec
-    _, vec = spla.eigsh(k_ii.tocsc(), k=count, M=m_ii.tocsc(), sigma=0.0)
-    return vec
+        w2, vec = sla.eigh(k_ii.toarray(), m_ii.toarray(), subset_by_index=[0, count - 1])
+    else:
+        w2, vec = spla.eigsh(k_ii.tocsc(), k=count, M=m_ii.tocsc(), sigma=0.0)
+    return float(np.min(w2)) if values else vec
 
 
 def _basis(model: FEModel, fixed_interface_modes: int) -> np.ndarray:
@@ -98,6 +99,18 @@ def free_modes(model: FEModel, fixed_interface_modes: int = 20) -> tuple[np.ndar
             "interface DOF to hold them)"
         )
     return np.sqrt(w2), t @ (complement @ vec)
+
+
+def held_frequency(model: FEModel) -> float:
+    """The lowest frequency (rad/s) of `model` held at one of its interface nodes (the
+    lowest over the nodes)."""
+    k, m = model.stiffness.tocsr(), model.mass.tocsr()
+    lowest = np.inf
+    for node in model.interface:
+        free = np.flatnonzero(model.dof_map[:, 0] != node)
+        w2 = _fixed_interface(k[free][:, free], m[free][:, free], 1, values=True)
+        lowest = min(lowest, float(np.sqrt(max(w2, 0.0))))
+    return lowest
 
 
 def _rotation_field(model: FEModel) -> np.ndarray:
@@ -167,4 +180,5 @@ def craig_bampton(
         frequencies=omega,
         damping=damping_ratios(omega / (2.0 * np.pi), damping),
         geometric=geometric,
+        held_frequency=held_frequency(model),
     )

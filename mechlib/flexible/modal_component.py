@@ -47,7 +47,9 @@ class ModalComponent:
     invariants about it, and per kept node: `node_ids` (k,), `positions` (k, 3) m from the
     origin, `phi` (k, 3, n) translations and `phi_star` (k, 3, n) rotations (rad) per unit
     modal coordinate; `frequencies` (n,) rad/s, `damping` (n,) ratios of critical;
-    `geometric` the modal geometric stiffness (geometric stiffening) or None (off)."""
+    `geometric` the modal geometric stiffness (geometric stiffening) or None (off);
+    `held_frequency` (rad/s) the lowest frequency of the body held at one interface node
+    (the softest single attachment: the spin guard's yardstick), None when unknown."""
 
     mass: float
     origin: np.ndarray
@@ -59,6 +61,7 @@ class ModalComponent:
     frequencies: np.ndarray
     damping: np.ndarray
     geometric: ModalGeometric | None = None
+    held_frequency: float | None = None
 
     @property
     def count(self) -> int:
