@@ -157,4 +157,5 @@ def flexible_component(f: Flexible, folder: Path) -> ModalComponent:
         frequency_range=f.frequency_range,
         fixed_interface_modes=f.fixed_interface_modes,
         damping=f.damping,
+        stiffening=f.stiffening,
     )

@@ -291,7 +291,7 @@ class _Builder:
             self.error("mechanism", key, str(error))
             return
         if self.effects.get("flexibility", True):
-            m.add_flexible_body(name, component)
+            m.add_flexible_body(name, component, linear_limit=f.linear_limit)
         else:  # `effects: {flexibility: false}`: the same body, rigid
             inertia = component.invariants.I7
             m.add_body(name, mass=component.mass, cm=component.origin, inertia=inertia)
