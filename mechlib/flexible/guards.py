@@ -30,9 +30,17 @@ def _modal(system, trajectory, a) -> np.ndarray:
     return np.array([q[start : start + a.body.n] for q in trajectory.q])
 
 
+def _size(comp) -> float:
+    """Characteristic length (m): the extent of the kept nodes, or twice the radius of
+    gyration sqrt(tr(I7) / m) if larger (a body kept at one node)."""
+    extent = float(np.ptp(comp.positions, axis=0).max(initial=0.0))
+    gyration = 2.0 * float(np.sqrt(np.trace(comp.invariants.I7) / comp.mass))
+    return max(extent, gyration, 1e-3)
+
+
 def deformation_warnings(system, trajectory) -> list[str]:
     """A warning per flexible body whose interface nodes deform by more than its linear
-    limit (a share of its characteristic length: the extent of its kept nodes) or turn by
+    limit (a share of its characteristic length, `_size`) or turn by
     more than ROTATION_LIMIT relative to its floating frame along `trajectory`: beyond them
     the linear modal model (and the linearised node rotation) is no longer a good one."""
     out = []
@@ -44,7 +52,7 @@ def deformation_warnings(system, trajectory) -> list[str]:
         limit = system.mechanism.flexible[a.name].linear_limit
         moved = np.linalg.norm(np.einsum("pcn,tn->tpc", comp.phi, zeta), axis=2).max(axis=1)
         turned = np.linalg.norm(np.einsum("pcn,tn->tpc", comp.phi_star, zeta), axis=2).max(axis=1)
-        length = max(float(np.ptp(comp.positions, axis=0).max(initial=0.0)), 1e-3)
+        length = _size(comp)
         if moved.max() > limit * length or turned.max() > ROTATION_LIMIT:
             i = int(np.argmax(np.maximum(moved / (limit * length), turned / ROTATION_LIMIT)))
             out.append(
