@@ -58,7 +58,7 @@ def deformation_warnings(system, trajectory) -> list[str]:
             out.append(
                 f"flexible body {a.name}: at t = {trajectory.time[i]:.6g} s its interface nodes "
                 f"deform by {moved[i]:.3g} m and turn by {turned[i]:.3g} rad relative to its "
-                f"floating frame (limits {limit:.0%} of its size {length:.3g} m and "
+                f"floating frame (limits {100 * limit:.3g} % of its size {length:.3g} m and "
                 f"{ROTATION_LIMIT:g} rad): beyond the small deformation its modal model assumes"
             )
     return out
