@@ -483,11 +483,11 @@ class System:
         out = np.zeros(self.nq)
         kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N, inertia, out)
         for a in self.flexible:
-            loads = self._node_loads(k, lam, a) if a.body.component.geometric else None
+            loads = self.node_loads(k, lam, a) if a.body.component.geometric else None
             out[a.columns(self.nb)] += a.forces(k, self.gravity, inertia, loads)
         return out
 
-    def _node_loads(self, k: Kin, lam: np.ndarray | None, a) -> np.ndarray | None:
+    def node_loads(self, k: Kin, lam: np.ndarray | None, a) -> np.ndarray | None:
         """The loads (k, 6) on modal body `a` at its kept nodes from the weld multipliers
         among `lam` (the active rows), None when no multipliers are known."""
         if lam is None or self._welds is None or len(lam) != self.active.size:

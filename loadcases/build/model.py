@@ -473,18 +473,6 @@ class _Builder:
                 return None
             return ml.ElementOutput(name, r.force, r.frame)
         if kind == "EnergyRequest":
-            flexing = self.effects.get("flexibility", True)
-            flexible = [
-                n for n, b in self.mech.bodies.items() if flexing and isinstance(b, FlexibleBody)
-            ]
-            if flexible:  # their modal kinetic and strain energy are not in the balance yet
-                self.error(
-                    "case",
-                    f"requests.{name}",
-                    "the energy request does not cover flexible bodies yet "
-                    f"({', '.join(flexible)}); use effects: {{flexibility: false}} for it",
-                )
-                return None
             return ml.EnergyBalance(name)
         if kind == "ExpressionRequest":
             return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}", "case"))
@@ -639,6 +627,11 @@ def _flexible_notes(cf: CaseFile, mechanism: ml.Mechanism) -> list[Diagnostic]:
     notes = []
     for name, body in mechanism.flexible.items():
         f = body.component.frequencies / (2.0 * np.pi)
+        stiffening = (
+            "geometric stiffening of the spin and the interface loads (beam axial forces)"
+            if body.component.geometric is not None
+            else "no geometric stiffening"
+        )
         file, line, column = cf.where("mechanism", f"bodies.{name}.flexible")
         notes.append(
             Diagnostic(
@@ -648,7 +641,7 @@ def _flexible_notes(cf: CaseFile, mechanism: ml.Mechanism) -> list[Diagnostic]:
                 f"bodies.{name}.flexible",
                 f"flexible body {name}: {len(f)} Craig-Bampton modes ({f.min():.4g} to "
                 f"{f.max():.4g} Hz), linear elastic deformation in a floating frame (small "
-                "deformation, no geometric stiffening)",
+                f"deformation, {stiffening})",
                 "warning",
             )
         )
