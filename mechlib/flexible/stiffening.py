@@ -1,13 +1,14 @@
 """Modal geometric stiffness of a flexible body (geometric stiffening), SI units.
 
 A linear modal body in a floating frame knows the centrifugal load only through the frame's
-inertia: a spinning beam softens, and a beam spun up past its first bending frequency
-diverges (Kane, Ryan & Banerjee, J. Guid. Control Dyn. 10 (1987) 139). The stresses that
-the motion and the interface loads set up stiffen it. With the modal geometric stiffness
-K_G,c = Psi^T K_G,FE(sigma_c) Psi of unit load cases c (the "SID" approach: Wallrapp 1994;
-Schwertassek, Wallrapp & Shabana, Nonlinear Dyn. 20 (1999) 361), the modal equations gain
--(sum_c lambda_c K_G,c) zeta. The unit load cases are balanced by the rigid body's own
-inertia (inertia relief: the body is free-free in its mean-axis frame):
+inertia: its bending softens as it spins (a linear beam model in the hub frame spun past its
+first bending frequency diverges: Kane, Ryan & Banerjee, J. Guid. Control Dyn. 10 (1987)
+139). The stresses that the motion and the interface loads set up stiffen it. With the
+modal geometric stiffness K_G,c = Psi^T K_G,FE(sigma_c) Psi of unit load cases c (the
+"SID" approach: Wallrapp 1994; Schwertassek, Wallrapp & Shabana, Nonlinear Dyn. 20 (1999)
+361), the modal equations gain -(sum_c lambda_c K_G,c) zeta. The unit load cases are
+balanced by the rigid body's own inertia (inertia relief: the body is free-free in its
+mean-axis frame):
 
 - spin: the centrifugal load -M a, a_p = (W - tr(W) I) s_p with W = omega omega^T (body
   axes, s_p from the centre of mass), one case per product omega_a omega_b;

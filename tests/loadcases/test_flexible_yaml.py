@@ -115,8 +115,8 @@ def test_stiffening_and_linear_limit_keys(tmp_path: Path) -> None:
     """`stiffening: true` reaches the model: an axial pull of 2 kN at the tip stiffens the
     beam against the 5 N sideways (the string term; mechlib's tests check its size) by more
     than 1 %, and without the pull next to nothing (1e-4, measured 7.9e-6: a lateral load
-    sets up no axial force but for the frame's turn); `linear_limit: 0.0002` warns at the tip's 0.49 mm from the floating frame (0.06 % of
-    0.8 m)."""
+    sets up no axial force but for the frame's turn); `linear_limit: 0.0002` warns at the
+    tip's 0.49 mm from the floating frame (0.06 % of 0.8 m)."""
 
     def tip(pull: float, keys: str) -> tuple[float, list[str]]:
         replace = ("fixed_interface_modes: 6", f"fixed_interface_modes: 6\n{keys}")

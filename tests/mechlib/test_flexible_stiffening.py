@@ -12,8 +12,10 @@
   W after (T = 15 s). The reference is independent: a Rayleigh-Ritz model of the beam in
   the rotating frame (4 clamped Euler-Bernoulli modes, axially rigid) with the centrifugal
   stiffening integral (rho A / 2)(L^2 - x^2) v'^2, integrated by scipy's solve_ivp:
-  M q'' + [K + W^2 (K_G - M)] q = -W' int rho A x phi dx. Without K_G it diverges once W
-  exceeds the first clamped frequency (3.80 rad/s).
+  M q'' + [K + W^2 (K_G - M)] q = -W' int rho A x phi dx. Without K_G that model diverges
+  once W exceeds the first clamped frequency (3.80 rad/s); the engine's modal body without
+  K_G does not (its mean-axis frame keeps the stiffening of the beam's rigid turn) but is
+  off by 17 % of the peak.
 """
 
 from __future__ import annotations
@@ -278,12 +280,15 @@ def test_spin_up_beam_full_length(top):
 
 
 @pytest.mark.long
-def test_unstiffened_spin_up_beam_leaves_the_linear_range():
-    """Without stiffening, Kane's beam spun up to 4 rad/s: the linear reference diverges
-    (-3.7e4 m at 20 s); the engine's modal body bends beyond its linear limit and the run
-    warns of the spin and of the deformation."""
-    sol, lag = _spin_up(4.0, False, 20.0, 4, 1e-3)
+def test_unstiffened_spin_up_beam_is_warned_and_off():
+    """Without stiffening, Kane's beam spun up to 4 rad/s (tolerance 1e-4): the linear
+    rotating-frame reference diverges (-3.7e4 m at 20 s), the engine's modal body does not
+    (its floating frame turns with the beam and keeps, nonlinearly, the stiffening of its
+    rigid turn), but its tip lags by 0.43 m against the stiffened 0.40 m (measured 0.068 m
+    off the stiffened reference: more than 10 % of the peak) and the run warns of the spin."""
+    sol, lag = _spin_up(4.0, False, 20.0, 4, 1e-4)
     assert abs(_rayleigh_ritz(4.0, False, 20.0)(20.0)) > 1e3
-    assert np.abs(lag).max() > 1.0
+    stiffened = _rayleigh_ritz(4.0, True, 20.0)
+    reference = np.array([stiffened(t) for t in sol.time])
+    assert np.abs(lag - reference).max() > 0.1 * np.abs(reference).max()
     assert [w for w in sol.warnings if "spins at" in w]
-    assert [w for w in sol.warnings if "beyond the small deformation" in w]
