@@ -22,7 +22,7 @@ from mechlib.flexible.invariants import field_invariants
 from mechlib.flexible.modal_component import ModalComponent, damping_ratios
 from mechlib.flexible.stiffening import modal_geometric
 
-__all__ = ["ReductionError", "craig_bampton", "free_modes", "held_frequency"]
+__all__ = ["ReductionError", "craig_bampton", "free_modes"]
 
 _RIGID_ENERGY = 1e-8  # |K R| / (|K| |R|) above this: the rigid motions strain the model
 _MECHANISM = 1e-12  # omega^2 / max(omega^2) below this: a zero-energy deformation
@@ -40,17 +40,16 @@ def _split(model: FEModel) -> tuple[np.ndarray, np.ndarray]:
     return boundary, np.setdiff1d(np.arange(len(model.dof_map)), boundary)
 
 
-def _fixed_interface(k_ii, m_ii, count: int, values: bool = False):
-    """The `count` lowest fixed-interface modes (n_i, count); with `values`, the lowest
-    eigenvalue omega^2 alone (count 1)."""
+def _fixed_interface(k_ii, m_ii, count: int) -> np.ndarray:
+    """The `count` lowest fixed-interface modes (n_i, count)."""
     n = k_ii.shape[0]
     if count == 0:
         return np.zeros((n, 0))
     if n <= _DENSE_LIMIT or count >= n - 1:
-        w2, vec = sla.eigh(k_ii.toarray(), m_ii.toarray(), subset_by_index=[0, count - 1])
-    else:
-        w2, vec = spla.eigsh(k_ii.tocsc(), k=count, M=m_ii.tocsc(), sigma=0.0)
-    return float(np.min(w2)) if values else vec
+        _, vec = sla.eigh(k_ii.toarray(), m_ii.toarray(), subset_by_index=[0, count - 1])
+        return vec
+    _, vec = spla.eigsh(k_ii.tocsc(), k=count, M=m_ii.tocsc(), sigma=0.0)
+    return vec
 
 
 def _basis(model: FEModel, fixed_interface_modes: int) -> np.ndarray:
@@ -78,6 +77,14 @@ def _basis(model: FEModel, fixed_interface_modes: int) -> np.ndarray:
 def free_modes(model: FEModel, fixed_interface_modes: int = 20) -> tuple[np.ndarray, np.ndarray]:
     """(omega (n,) rad/s ascending, Psi (ndof, n) mass-normalised): every elastic mode of
     the Craig-Bampton basis, the six rigid-body motions removed."""
+    omega, psi, _ = _reduce(model, fixed_interface_modes)
+    return omega, psi
+
+
+def _reduce(model: FEModel, fixed_interface_modes: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """`free_modes` and the held frequency (rad/s): the lowest frequency of the reduced
+    model with one interface node's six boundary DOF held, the lowest over the nodes (a
+    Rayleigh-Ritz value on the Craig-Bampton basis, exact when it is the only node)."""
     t = _basis(model, fixed_interface_modes)
     k_hat, m_hat = t.T @ (model.stiffness @ t), t.T @ (model.mass @ t)
     b, _ = _split(model)
@@ -98,18 +105,17 @@ def free_modes(model: FEModel, fixed_interface_modes: int = 20) -> tuple[np.ndar
             "the model is a mechanism (parts joined only through interface nodes, or too few "
             "interface DOF to hold them)"
         )
-    return np.sqrt(w2), t @ (complement @ vec)
+    return np.sqrt(w2), t @ (complement @ vec), _held(model.dof_map[b, 0], k_hat, m_hat)
 
 
-def held_frequency(model: FEModel) -> float:
-    """The lowest frequency (rad/s) of `model` held at one of its interface nodes (the
-    lowest over the nodes)."""
-    k, m = model.stiffness.tocsr(), model.mass.tocsr()
+def _held(boundary_nodes: np.ndarray, k_hat: np.ndarray, m_hat: np.ndarray) -> float:
+    """The lowest frequency (rad/s) of the reduced model held at one of its interface nodes
+    (boundary coordinates first, `boundary_nodes` their nodes), the lowest over the nodes."""
     lowest = np.inf
-    for node in model.interface:
-        free = np.flatnonzero(model.dof_map[:, 0] != node)
-        w2 = _fixed_interface(k[free][:, free], m[free][:, free], 1, values=True)
-        lowest = min(lowest, float(np.sqrt(max(w2, 0.0))))
+    for node in np.unique(boundary_nodes):
+        free = np.r_[np.flatnonzero(boundary_nodes != node), len(boundary_nodes) : len(k_hat)]
+        w2 = sla.eigh(k_hat[np.ix_(free, free)], m_hat[np.ix_(free, free)], eigvals_only=True)
+        lowest = min(lowest, float(np.sqrt(max(w2[0], 0.0))))
     return lowest
 
 
@@ -154,7 +160,7 @@ def craig_bampton(
     n_q = fixed_interface_modes
     if n_q is None:
         n_q = max(10, modes or 0, 20 if frequency_range is not None else 0)
-    omega, psi = free_modes(model, n_q)
+    omega, psi, held = _reduce(model, n_q)
     kept = _select(omega, modes, frequency_range)
     omega, psi = omega[kept], psi[:, kept]
     mass, origin, _ = model.rigid_properties()
@@ -180,5 +186,5 @@ def craig_bampton(
         frequencies=omega,
         damping=damping_ratios(omega / (2.0 * np.pi), damping),
         geometric=geometric,
-        held_frequency=held_frequency(model),
+        held_frequency=held,
     )

@@ -97,7 +97,9 @@ def _modal_elements(model: FEModel, psi: np.ndarray) -> np.ndarray:
     assert beams is not None
     turn = np.einsum("ab,eij->eaibj", np.eye(4), beams.axes).reshape(-1, 12, 12)
     local = np.einsum("eij,ejn->ein", turn, psi[_element_dofs(model)])
-    return np.einsum("ein,eij,ejm->enm", local, _element_geometric(beams.length), local)
+    return np.einsum(
+        "ein,eij,ejm->enm", local, _element_geometric(beams.length), local, optimize=True
+    )
 
 
 def _axial_forces(model: FEModel, u: np.ndarray) -> np.ndarray:
