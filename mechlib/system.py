@@ -483,7 +483,8 @@ class System:
         out = np.zeros(self.nq)
         kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N, inertia, out)
         for a in self.flexible:
-            loads = self.node_loads(k, lam, a) if a.body.component.geometric else None
+            stiff = a.body.component.geometric is not None
+            loads = self.node_loads(k, lam, a) if stiff else None
             out[a.columns(self.nb)] += a.forces(k, self.gravity, inertia, loads)
         return out
 
