@@ -2,19 +2,22 @@
 recorded row and the work and dissipation integrated over the rows.
 
 Columns (J):
-- `kinetic`: 1/2 qd^T M qd (0 in quasi-static and static rows: inertia is ignored there);
-- `gravitational`: -sum m g . r_cm (zero at the ground origin);
+- `kinetic`: 1/2 qd^T M qd (0 in quasi-static and static rows: inertia is ignored there),
+  modal coordinates of flexible bodies included;
+- `gravitational`: -sum m g . r_cm (zero at the ground origin; a flexible body's deformed
+  centre of mass);
 - `elastic`: the potentials of the elements that give one (`potential(view)`: linear
   springs and torsion springs; a spring with a tabulated law has none, its work goes to
-  `load_work`);
+  `load_work`) and the modal strain energy 1/2 zeta^T K zeta of flexible bodies;
 - `drive_work`: work done by the motions, the integral of -lam . nu (the constraint power:
   only the rows a motion drives have nu != 0);
 - `dissipated`: energy taken out by friction and damping, the integral of -P of the
   elements of the `friction` and `damping` effects and of the `dissipation(view)` (W) of
-  the others (a spring's damper);
+  the others (a spring's damper), and of flexible bodies' modal damping zeta_d^T D zeta_d;
 - `load_work`: work of every other applied load (point forces and torques, actuators,
   contacts, springs with a tabulated law), the integral of P_e + D_e (an element with a
-  potential loads with -dV/dt - D_e exactly: counted in `elastic` and `dissipated`);
+  potential loads with -dV/dt - D_e exactly: counted in `elastic` and `dissipated`), and
+  of the geometric stiffening forces -zeta_d^T K_G zeta (not a potential in general);
 - `balance`: kinetic + gravitational + elastic - drive_work - load_work + dissipated minus
   its value at the first row: zero up to the integration error.
 
@@ -30,6 +33,8 @@ from typing import ClassVar
 
 import numpy as np
 
+from mechlib.kernels import rotation_matrix
+from mechlib.rotation import g_matrix
 from mechlib.system import System
 
 __all__ = ["COMPONENTS", "DISSIPATIVE_EFFECTS", "EnergyBalance", "energy_columns"]
@@ -58,15 +63,36 @@ def _element_power(system: System, k, view, element) -> float:
     """Power (W) of one element's loads at state k (velocities from k)."""
     F, N = np.zeros((system.nb + 1, 3)), np.zeros((system.nb + 1, 3))
     element.apply(view, F, N)
-    return float(system.generalized(k, F, N) @ k.xd[:-1].ravel())
+    qd = k.xd[:-1].ravel()
+    return float(system.generalized(k, F, N)[: qd.size] @ qd)
+
+
+def _modal(system: System, k, lam: np.ndarray) -> tuple[float, float, float, float]:
+    """(gravitational, strain energy, power of the geometric stiffening, modal damping
+    dissipation) of the flexible bodies at state k (their masses are not among the rigid
+    bodies': the weight at the deformed centre of mass x + A (I2 + I3 zeta))."""
+    gravitational = elastic = load = dissipation = 0.0
+    for a in system.flexible:
+        comp = a.body.component
+        zeta, zeta_d = k.z[a.modes], k.zd[a.modes]
+        A = rotation_matrix(k.p[a.frame])
+        centre = k.r[a.frame] * comp.mass + A @ a.body.first_moment(zeta)
+        gravitational -= float(system.gravity @ centre)
+        elastic += 0.5 * float(comp.stiffness @ zeta**2)
+        dissipation += float(comp.viscous @ zeta_d**2)
+        if comp.geometric is not None:
+            omega = 2.0 * g_matrix(k.p[a.frame]) @ k.pd[a.frame]
+            stiffness = comp.geometric.stiffness(omega, system.node_loads(k, lam, a))
+            load -= float(zeta_d @ stiffness @ zeta)
+    return gravitational, elastic, load, dissipation
 
 
 def _row(system: System, k, view, lam: np.ndarray, rest: bool) -> tuple[float, ...]:
     """(kinetic, gravitational, elastic, drive power, load power, dissipation) at one row."""
-    qd = k.xd[:-1].ravel()
+    qd = np.r_[k.xd[:-1].ravel(), k.zd]
     kinetic = 0.0 if rest else 0.5 * float(qd @ system.mass_times(k, qd))
-    gravitational = -float(system.masses @ (k.r[:-1] @ system.gravity))
-    elastic = load = dissipation = 0.0
+    modal_weight, elastic, load, dissipation = _modal(system, k, lam)
+    gravitational = modal_weight - float(system.masses @ (k.r[:-1] @ system.gravity))
     for element in system.elements:
         if not element.active:
             continue

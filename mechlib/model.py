@@ -68,12 +68,14 @@ class FlexibleBody:
     """A modal body (mechlib.flexible): its `component` placed with the FE model's origin
     at `at` (m, global, FE axes = global axes at design). `node_bodies` names the massless
     body standing for each kept node (by node number): points of the flexible body must be
-    at one of these nodes."""
+    at one of these nodes. `linear_limit`: the share of its size its nodes may deform by
+    before a warning (mechlib.flexible.guards)."""
 
     name: str
     component: Any  # mechlib.flexible.ModalComponent
     at: tuple[float, float, float]
     node_bodies: dict[int, str]
+    linear_limit: float = 0.1
 
     def node_position(self, node_id: int) -> np.ndarray:
         """Undeformed global position (m) of a kept node."""
@@ -152,9 +154,12 @@ class Mechanism:
         self.bodies[name] = body
         return body
 
-    def add_flexible_body(self, name: str, component: Any, *, at=(0.0, 0.0, 0.0)) -> FlexibleBody:
+    def add_flexible_body(
+        self, name: str, component: Any, *, at=(0.0, 0.0, 0.0), linear_limit: float = 0.1
+    ) -> FlexibleBody:
         """Add a modal body (a `ModalComponent`, FE origin placed `at`, m): its frame as a body
-        with its rigid mass properties, and a massless body `NAME.node<id>` per kept node."""
+        with its rigid mass properties, and a massless body `NAME.node<id>` per kept node;
+        `linear_limit`: the share of its size its nodes may deform by without a warning."""
         origin = np.asarray(_vec(at)) + component.origin
         self.bodies[name] = Body(
             name, float(component.mass), _vec(origin), component.invariants.I7.copy()
@@ -165,7 +170,7 @@ class Mechanism:
             self.bodies[nodes[int(node_id)]] = Body(
                 nodes[int(node_id)], 0.0, _vec(origin + position), np.zeros((3, 3))
             )
-        flexible = FlexibleBody(name, component, _vec(at), nodes)
+        flexible = FlexibleBody(name, component, _vec(at), nodes, float(linear_limit))
         self.flexible[name] = flexible
         return flexible
 

@@ -14,7 +14,11 @@ from mechlib.assembly import assemble
 from mechlib.check import ModelError, degrees_of_freedom, find_redundant
 from mechlib.contract import Status, Stepper
 from mechlib.finite import check_recorded_state, explain_failure, nonfinite_channel
-from mechlib.flexible.attached import deformation_warnings, unresolved_mode_warnings
+from mechlib.flexible.guards import (
+    deformation_warnings,
+    spin_warnings,
+    unresolved_mode_warnings,
+)
 from mechlib.genalpha_stepper import GeneralizedAlphaStepper
 from mechlib.kinematic import KinematicStepper
 from mechlib.march import march
@@ -278,6 +282,7 @@ def solve(
     if not isinstance(analysis, Modes):
         warnings += toggle_warnings(system, run.trajectory)
         warnings += deformation_warnings(system, run.trajectory)
+        warnings += spin_warnings(system, run.trajectory)
     if isinstance(analysis, Dynamic) and len(run.trajectory):
         duration = run.trajectory.time[-1] - run.trajectory.time[0]
         warnings += unresolved_mode_warnings(system, duration, run.stats.steps)

@@ -165,8 +165,10 @@ class System:
             suffix = (" x", " y", " z") if reps == 3 else ("",)
             labels += [label + s for label in lab for s in suffix]
             owners += [o for o in own for _ in range(reps)]
+        self._welds: tuple[NodeWelds, int] | None = None  # and its first row
         if self.flexible:
             welds = NodeWelds(self.flexible, self.nb)
+            self._welds = (welds, sum(g.size for g in self.groups))
             self.groups.append(welds)
             labels += weld_labels(welds)
             owners += [a.name for a, _, _ in welds.items for _ in range(6)]
@@ -481,8 +483,20 @@ class System:
         out = np.zeros(self.nq)
         kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N, inertia, out)
         for a in self.flexible:
-            out[a.columns(self.nb)] += a.forces(k, self.gravity, inertia)
+            stiff = a.body.component.geometric is not None
+            loads = self.node_loads(k, lam, a) if stiff else None
+            out[a.columns(self.nb)] += a.forces(k, self.gravity, inertia, loads)
         return out
+
+    def node_loads(self, k: Kin, lam: np.ndarray | None, a) -> np.ndarray | None:
+        """The loads (k, 6) on modal body `a` at its kept nodes from the weld multipliers
+        among `lam` (the active rows), None when no multipliers are known."""
+        if lam is None or self._welds is None or len(lam) != self.active.size:
+            return None
+        welds, first = self._welds
+        full = np.zeros(len(self._all_labels))
+        full[self.active] = lam
+        return welds.node_loads(k, full[first : first + welds.size], a)
 
     def generalized(self, k: Kin, F: np.ndarray, N: np.ndarray) -> np.ndarray:
         """Q (nq,) of forces F and torques N (nb+1, 3) alone (no gravity, no inertia)."""

@@ -22,6 +22,7 @@ from mechlib.flexible.fe_model import FEModel
 from mechlib.flexible.grillage import NamedModel, grillage, straight_beam
 from mechlib.flexible.invariants import Invariants
 from mechlib.flexible.modal_component import ModalComponent
+from mechlib.flexible.stiffening import ModalGeometric
 
 __all__ = ["flexible_component"]
 
@@ -155,7 +156,12 @@ def _arrays(component: ModalComponent) -> dict[str, np.ndarray]:
     """A modal component as named arrays (a cache entry)."""
     out = {f"inv_{f.name}": getattr(component.invariants, f.name) for f in _fields(Invariants)}
     out |= {f.name: getattr(component, f.name) for f in _fields(ModalComponent)}
-    del out["invariants"]
+    del out["invariants"], out["geometric"], out["held_frequency"]
+    if component.geometric is not None:
+        out |= {"geometric_spin": component.geometric.spin}
+        out |= {"geometric_nodal": component.geometric.nodal}
+    if component.held_frequency is not None:
+        out["held_frequency"] = np.asarray(component.held_frequency)
     return out
 
 
@@ -163,8 +169,19 @@ def _component(arrays: dict[str, np.ndarray]) -> ModalComponent:
     """The modal component of a cache entry (`_arrays`); 0-d arrays back to floats."""
     values: dict[str, Any] = {k: float(v) if v.ndim == 0 else v for k, v in arrays.items()}
     invariants = Invariants(**{f.name: values[f"inv_{f.name}"] for f in _fields(Invariants)})
-    kept = {f.name: values[f.name] for f in _fields(ModalComponent) if f.name != "invariants"}
-    return ModalComponent(invariants=invariants, **kept)
+    optional = ("invariants", "geometric", "held_frequency")
+    kept = {f.name: values[f.name] for f in _fields(ModalComponent) if f.name not in optional}
+    geometric = (
+        ModalGeometric(spin=values["geometric_spin"], nodal=values["geometric_nodal"])
+        if "geometric_spin" in values
+        else None
+    )
+    return ModalComponent(
+        invariants=invariants,
+        geometric=geometric,
+        held_frequency=values.get("held_frequency"),
+        **kept,
+    )
 
 
 def flexible_component(f: Flexible, folder: Path) -> ModalComponent:
@@ -180,6 +197,7 @@ def flexible_component(f: Flexible, folder: Path) -> ModalComponent:
         "frequency_range": f.frequency_range,
         "fixed_interface_modes": f.fixed_interface_modes,
         "damping": f.damping,
+        "stiffening": f.stiffening,
     }
     model = _fe_model(f, folder).model if f.file is not None else None
     source = {"fe_model": model} if model is not None else {"source": f.model_dump()}

@@ -291,7 +291,7 @@ class _Builder:
             self.error("mechanism", key, str(error))
             return
         if self.effects.get("flexibility", True):
-            m.add_flexible_body(name, component)
+            m.add_flexible_body(name, component, linear_limit=f.linear_limit)
         else:  # `effects: {flexibility: false}`: the same body, rigid
             inertia = component.invariants.I7
             m.add_body(name, mass=component.mass, cm=component.origin, inertia=inertia)
@@ -475,18 +475,6 @@ class _Builder:
                 return None
             return ml.ElementOutput(name, r.force, r.frame)
         if kind == "EnergyRequest":
-            flexing = self.effects.get("flexibility", True)
-            flexible = [
-                n for n, b in self.mech.bodies.items() if flexing and isinstance(b, FlexibleBody)
-            ]
-            if flexible:  # their modal kinetic and strain energy are not in the balance yet
-                self.error(
-                    "case",
-                    f"requests.{name}",
-                    "the energy request does not cover flexible bodies yet "
-                    f"({', '.join(flexible)}); use effects: {{flexibility: false}} for it",
-                )
-                return None
             return ml.EnergyBalance(name)
         if kind == "ExpressionRequest":
             return ml.ExpressionOutput(name, self.compile(r.expression, f"requests.{name}", "case"))
@@ -641,6 +629,11 @@ def _flexible_notes(cf: CaseFile, mechanism: ml.Mechanism) -> list[Diagnostic]:
     notes = []
     for name, body in mechanism.flexible.items():
         f = body.component.frequencies / (2.0 * np.pi)
+        stiffening = (
+            "geometric stiffening of the spin and the interface loads (beam axial forces)"
+            if body.component.geometric is not None
+            else "no geometric stiffening"
+        )
         file, line, column = cf.where("mechanism", f"bodies.{name}.flexible")
         notes.append(
             Diagnostic(
@@ -650,7 +643,7 @@ def _flexible_notes(cf: CaseFile, mechanism: ml.Mechanism) -> list[Diagnostic]:
                 f"bodies.{name}.flexible",
                 f"flexible body {name}: {len(f)} Craig-Bampton modes ({f.min():.4g} to "
                 f"{f.max():.4g} Hz), linear elastic deformation in a floating frame (small "
-                "deformation, no geometric stiffening)",
+                f"deformation, {stiffening})",
                 "warning",
             )
         )

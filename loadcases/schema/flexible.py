@@ -4,7 +4,8 @@ A built-in source (`beam:` or `grillage:`) or an imported one (`file:`) gives th
 `interface:` names the points (global, at design) where the mechanism attaches: each
 becomes a node and a point `BODY.NAME`; `modes:` / `frequency_range:` select the
 Craig-Bampton modes, `damping:` their ratios (default: 1 % below 100 Hz, 10 % below
-1 kHz, 100 % above).
+1 kHz, 100 % above); `stiffening:` adds the modal geometric stiffness (spin-up beams),
+`linear_limit:` the deformation share of the body's size beyond which a run warns.
 """
 
 from __future__ import annotations
@@ -127,6 +128,17 @@ class Flexible(Strict):
         None,
         description="ratio of critical for all modes, or {mode number: ratio} over the "
         "default (1 % < 100 Hz, 10 % < 1 kHz, 100 % above) [dimensionless]",
+    )
+    stiffening: bool = Field(
+        False,
+        description="geometric stiffening: the stresses of the spin and of the interface "
+        "loads stiffen the modes (built-in beam and grillage only)",
+    )
+    linear_limit: float = Field(
+        0.1,
+        gt=0.0,
+        description="warn when interface nodes deform by more than this share of the "
+        "body's size [dimensionless]",
     )
 
     @model_validator(mode="after")

@@ -68,15 +68,21 @@ class Attached:
         out[3:7, 3:7] += scale * np.outer(p, p)
         return out
 
-    def forces(self, k: Kin, gravity: np.ndarray, inertia: bool) -> np.ndarray:
+    def forces(
+        self, k: Kin, gravity: np.ndarray, inertia: bool, node_loads: np.ndarray | None = None
+    ) -> np.ndarray:
         """Q_q (7 + n): gravity, modal stiffness and damping, with `inertia` the quadratic
-        velocity vector."""
+        velocity vector; with geometric stiffening, -K_G zeta of the spin and of the loads
+        `node_loads` (k, 6) on the body at its kept nodes (body axes; None: unknown)."""
         p, zeta, zeta_d = k.p[self.frame], k.z[self.modes], k.zd[self.modes]
         A = rotation_matrix(p)
         f = self.body.applied(A, zeta, zeta_d, gravity)
+        omega = 2.0 * g_matrix(p) @ k.pd[self.frame]
         if inertia:
-            omega = 2.0 * g_matrix(p) @ k.pd[self.frame]
             f = f + self.body.quadratic(A, omega, zeta, zeta_d)
+        geometric = self.body.component.geometric
+        if geometric is not None:
+            f[6:] -= geometric.stiffness(omega, node_loads) @ zeta
         return self.velocity_map(k).T @ f
 
 
@@ -126,6 +132,24 @@ class NodeWelds:
                 r[nb_ + 3 : nb_ + 7] += b @ d_rotate(pn, _AXES[f])
                 r[fb + 3 : fb + 7] += an @ d_rotate(p, v)
                 r[zc] += an @ A @ (-skew(_AXES[g]) @ comp.phi_star[row])
+
+    def node_loads(self, k: Kin, lam: np.ndarray, body: Attached) -> np.ndarray:
+        """(k, 6): force (N) and torque (N m) on `body` at each of its kept nodes, body
+        axes, from the multipliers `lam` (size,) of these equations (M qdd + phi_q^T lam
+        = Q): the position rows push the body with +lam, an orientation row
+        (A_n f).(A v) = 0 turns it with lam (A_n f) x (A v)."""
+        A = rotation_matrix(k.p[body.frame])
+        out = []
+        for i, (a, row, node) in enumerate(self.items):
+            if a is not body:
+                continue
+            theta = a.body.component.phi_star[row] @ k.z[a.modes]
+            turn, rows = A.T @ rotation_matrix(k.p[node]), lam[6 * i : 6 * i + 6]
+            torque = np.zeros(3)  # body axes: (A^T A_n f) x v
+            for c, (f, g) in enumerate(_PAIRS):
+                torque += rows[3 + c] * cross3(turn[:, f], _AXES[g] + cross3(theta, _AXES[g]))
+            out.append(np.r_[A.T @ rows[:3], torque])
+        return np.array(out)
 
     def gamma(self, k: Kin) -> np.ndarray:
         """phi_q qdd = gamma: minus the terms of the second derivative without qdd."""
@@ -199,57 +223,3 @@ def weld_labels(welds: NodeWelds) -> list[str]:
         for a, row, _ in welds.items
         for c in ("x", "y", "z", "rx", "ry", "rz")
     ]
-
-
-LINEAR_LIMIT = 0.1  # of the characteristic length: Adams' CHAR_LEN warning (10 %)
-ROTATION_LIMIT = 0.1  # rad: the linearised node rotation I + theta~ errs by theta^2/2
-
-
-def deformation_warnings(system, trajectory) -> list[str]:
-    """A warning per flexible body whose interface nodes deform by more than LINEAR_LIMIT of
-    its characteristic length (the extent of its kept nodes) or turn by more than
-    ROTATION_LIMIT relative to its floating frame along `trajectory`: beyond them the linear
-    modal model (and the linearised node rotation) is no longer a good one."""
-    out = []
-    for a in system.flexible:
-        comp = a.body.component
-        start = 7 * system.nb + a.offset
-        zeta = np.array([q[start : start + a.body.n] for q in trajectory.q])
-        if zeta.size == 0:
-            continue
-        moved = np.linalg.norm(np.einsum("pcn,tn->tpc", comp.phi, zeta), axis=2).max(axis=1)
-        turned = np.linalg.norm(np.einsum("pcn,tn->tpc", comp.phi_star, zeta), axis=2).max(axis=1)
-        length = max(float(np.ptp(comp.positions, axis=0).max(initial=0.0)), 1e-3)
-        if moved.max() > LINEAR_LIMIT * length or turned.max() > ROTATION_LIMIT:
-            i = int(np.argmax(np.maximum(moved / (LINEAR_LIMIT * length), turned / ROTATION_LIMIT)))
-            out.append(
-                f"flexible body {a.name}: at t = {trajectory.time[i]:.6g} s its interface nodes "
-                f"deform by {moved[i]:.3g} m and turn by {turned[i]:.3g} rad relative to its "
-                f"floating frame (limits {LINEAR_LIMIT:.0%} of its size {length:.3g} m and "
-                f"{ROTATION_LIMIT:g} rad): beyond the small deformation its modal model assumes"
-            )
-    return out
-
-
-STEPS_PER_PERIOD = 20  # fewer steps per period of a mode: it is not resolved
-
-
-def unresolved_mode_warnings(system, duration: float, steps: int) -> list[str]:
-    """A warning per flexible body keeping modes whose period spans fewer than
-    STEPS_PER_PERIOD of the mean step taken (`duration` s over `steps` accepted steps):
-    generalized-alpha damps them numerically (rho_inf < 1) instead of following them."""
-    if steps <= 0 or duration <= 0.0:
-        return []
-    h = duration / steps
-    out = []
-    for a in system.flexible:
-        f = a.body.component.frequencies / (2.0 * np.pi)
-        fast = f[f * h * STEPS_PER_PERIOD > 1.0]
-        if fast.size:
-            out.append(
-                f"flexible body {a.name}: {fast.size} of its {f.size} modes ({fast.min():.4g} "
-                f"to {fast.max():.4g} Hz) are not resolved by the mean step {h:.3g} s (fewer "
-                f"than {STEPS_PER_PERIOD} steps per period): the integrator damps them; drop "
-                "them (modes, frequency_range) or lower the step (tolerance, max_step)"
-            )
-    return out

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from mechlib.flexible.fe_model import FEModel
+from mechlib.flexible.fe_model import BeamSet, FEModel
 
 __all__ = ["Material", "Section", "assemble_beams", "beam_matrices", "section_axes"]
 
@@ -156,10 +156,12 @@ def assemble_beams(
     indices into `coordinates` (n, 3) m; `interface`: node indices of the attachments."""
     xyz = np.asarray(coordinates, dtype=float)
     n = len(xyz)
-    rows, cols, kv, mv = [], [], [], []
+    rows, cols, kv, mv, records = [], [], [], [], []
     for a, b, section, material, y_hint in elements:
         axes = section_axes(xyz[a], xyz[b], np.asarray(y_hint, dtype=float))
-        k, m = beam_matrices(float(np.linalg.norm(xyz[b] - xyz[a])), section, material)
+        length = float(np.linalg.norm(xyz[b] - xyz[a]))
+        k, m = beam_matrices(length, section, material)
+        records.append((a, b, material.E * section.A, length, axes))
         t = np.kron(np.eye(4), axes)
         dofs = np.r_[6 * a : 6 * a + 6, 6 * b : 6 * b + 6]
         rows.append(np.repeat(dofs, 12))
@@ -171,4 +173,5 @@ def assemble_beams(
     mass = sp.csr_matrix((np.concatenate(mv), (r, c)), shape=(6 * n, 6 * n))
     dof_map = np.column_stack([np.repeat(np.arange(n), 6), np.tile(np.arange(6), n)])
     ids = np.arange(1, n + 1) if node_ids is None else np.asarray(node_ids, dtype=int)
-    return FEModel(ids, xyz, dof_map, stiffness, mass, tuple(int(i) for i in interface))
+    beams = BeamSet(*(np.array(column) for column in zip(*records))) if records else None
+    return FEModel(ids, xyz, dof_map, stiffness, mass, tuple(int(i) for i in interface), beams)

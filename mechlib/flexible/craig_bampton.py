@@ -20,6 +20,7 @@ import scipy.sparse.linalg as spla
 from mechlib.flexible.fe_model import FEModel
 from mechlib.flexible.invariants import field_invariants
 from mechlib.flexible.modal_component import ModalComponent, damping_ratios
+from mechlib.flexible.stiffening import modal_geometric
 
 __all__ = ["ReductionError", "craig_bampton", "free_modes"]
 
@@ -76,6 +77,14 @@ def _basis(model: FEModel, fixed_interface_modes: int) -> np.ndarray:
 def free_modes(model: FEModel, fixed_interface_modes: int = 20) -> tuple[np.ndarray, np.ndarray]:
     """(omega (n,) rad/s ascending, Psi (ndof, n) mass-normalised): every elastic mode of
     the Craig-Bampton basis, the six rigid-body motions removed."""
+    omega, psi, _ = _reduce(model, fixed_interface_modes)
+    return omega, psi
+
+
+def _reduce(model: FEModel, fixed_interface_modes: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """`free_modes` and the held frequency (rad/s): the lowest frequency of the reduced
+    model with one interface node's six boundary DOF held, the lowest over the nodes (a
+    Rayleigh-Ritz value on the Craig-Bampton basis, exact when it is the only node)."""
     t = _basis(model, fixed_interface_modes)
     k_hat, m_hat = t.T @ (model.stiffness @ t), t.T @ (model.mass @ t)
     b, _ = _split(model)
@@ -96,7 +105,18 @@ def free_modes(model: FEModel, fixed_interface_modes: int = 20) -> tuple[np.ndar
             "the model is a mechanism (parts joined only through interface nodes, or too few "
             "interface DOF to hold them)"
         )
-    return np.sqrt(w2), t @ (complement @ vec)
+    return np.sqrt(w2), t @ (complement @ vec), _held(model.dof_map[b, 0], k_hat, m_hat)
+
+
+def _held(boundary_nodes: np.ndarray, k_hat: np.ndarray, m_hat: np.ndarray) -> float:
+    """The lowest frequency (rad/s) of the reduced model held at one of its interface nodes
+    (boundary coordinates first, `boundary_nodes` their nodes), the lowest over the nodes."""
+    lowest = np.inf
+    for node in np.unique(boundary_nodes):
+        free = np.r_[np.flatnonzero(boundary_nodes != node), len(boundary_nodes) : len(k_hat)]
+        w2 = sla.eigh(k_hat[np.ix_(free, free)], m_hat[np.ix_(free, free)], eigvals_only=True)
+        lowest = min(lowest, float(np.sqrt(max(w2[0], 0.0))))
+    return lowest
 
 
 def _rotation_field(model: FEModel) -> np.ndarray:
@@ -130,15 +150,17 @@ def craig_bampton(
     fixed_interface_modes: int | None = None,
     damping: float | Mapping[int, float] | None = None,
     keep_nodes: Sequence[int] = (),
+    stiffening: bool = False,
 ) -> ModalComponent:
     """The modal component of `model`: `modes` lowest elastic modes or those within
     `frequency_range` (Hz); `fixed_interface_modes` (default: enough for the modes asked,
     at least 10); `damping` as `damping_ratios`; slices kept at the interface nodes and
-    the node indices `keep_nodes`."""
+    the node indices `keep_nodes`; with `stiffening`, the modal geometric stiffness
+    (mechlib.flexible.stiffening; beam models only, else ReductionError)."""
     n_q = fixed_interface_modes
     if n_q is None:
         n_q = max(10, modes or 0, 20 if frequency_range is not None else 0)
-    omega, psi = free_modes(model, n_q)
+    omega, psi, held = _reduce(model, n_q)
     kept = _select(omega, modes, frequency_range)
     omega, psi = omega[kept], psi[:, kept]
     mass, origin, _ = model.rigid_properties()
@@ -147,6 +169,12 @@ def craig_bampton(
     for row, node in enumerate(nodes):
         for dof in np.flatnonzero(model.dof_map[:, 0] == node):
             phi[row, model.dof_map[dof, 1]] = psi[dof]
+    geometric = None
+    if stiffening:
+        try:
+            geometric = modal_geometric(model, psi, origin, nodes)
+        except ValueError as exc:
+            raise ReductionError(str(exc)) from exc
     return ModalComponent(
         mass=mass,
         origin=origin,
@@ -157,4 +185,6 @@ def craig_bampton(
         phi_star=phi[:, 3:],
         frequencies=omega,
         damping=damping_ratios(omega / (2.0 * np.pi), damping),
+        geometric=geometric,
+        held_frequency=held,
     )

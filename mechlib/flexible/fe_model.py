@@ -12,9 +12,22 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-__all__ = ["COMPONENTS", "FEModel"]
+__all__ = ["COMPONENTS", "BeamSet", "FEModel"]
 
 COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")  # nodal DOF components, in this order
+
+
+@dataclass(frozen=True)
+class BeamSet:
+    """The beam elements of a built-in model, for the geometric stiffness
+    (mechlib.flexible.stiffening): end node indices `a`, `b` (e,), axial stiffness `EA`
+    (e,) N, lengths `length` (e,) m, local axes `axes` (e, 3, 3) rows x (along), y, z."""
+
+    a: np.ndarray
+    b: np.ndarray
+    EA: np.ndarray
+    length: np.ndarray
+    axes: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -33,6 +46,7 @@ class FEModel:
     stiffness: sp.csr_matrix  # (ndof, ndof) N/m, N/rad, N*m/rad
     mass: sp.csr_matrix  # (ndof, ndof) kg, kg*m, kg*m^2
     interface: tuple[int, ...]  # node indices (into node_ids)
+    beams: BeamSet | None = None  # the elements of a built-in beam or grillage, else None
 
     def __post_init__(self) -> None:
         n = len(self.node_ids)

@@ -14,6 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mechlib.flexible.invariants import Invariants
+from mechlib.flexible.stiffening import ModalGeometric
 
 __all__ = ["ModalComponent", "default_damping"]
 
@@ -45,7 +46,10 @@ class ModalComponent:
     """Mass (kg), centre of mass `origin` (3,) m in the FE model's coordinates, the nine
     invariants about it, and per kept node: `node_ids` (k,), `positions` (k, 3) m from the
     origin, `phi` (k, 3, n) translations and `phi_star` (k, 3, n) rotations (rad) per unit
-    modal coordinate; `frequencies` (n,) rad/s, `damping` (n,) ratios of critical."""
+    modal coordinate; `frequencies` (n,) rad/s, `damping` (n,) ratios of critical;
+    `geometric` the modal geometric stiffness (geometric stiffening) or None (off);
+    `held_frequency` (rad/s) the lowest frequency of the body held at one interface node
+    (the softest single attachment: the spin guard's yardstick), None when unknown."""
 
     mass: float
     origin: np.ndarray
@@ -56,6 +60,8 @@ class ModalComponent:
     phi_star: np.ndarray
     frequencies: np.ndarray
     damping: np.ndarray
+    geometric: ModalGeometric | None = None
+    held_frequency: float | None = None
 
     @property
     def count(self) -> int:

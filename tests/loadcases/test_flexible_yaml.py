@@ -127,6 +127,30 @@ requests:
 """
 
 
+def test_stiffening_and_linear_limit_keys(tmp_path: Path) -> None:
+    """`stiffening: true` reaches the model: an axial pull of 2 kN at the tip stiffens the
+    beam against the 5 N sideways (the string term; mechlib's tests check its size) by more
+    than 1 %, and without the pull next to nothing (1e-4, measured 7.9e-6: a lateral load
+    sets up no axial force but for the frame's turn); `linear_limit: 0.0002` warns at the
+    tip's 0.49 mm from the floating frame (0.06 % of 0.8 m)."""
+
+    def tip(pull: float, keys: str) -> tuple[float, list[str]]:
+        replace = ("fixed_interface_modes: 6", f"fixed_interface_modes: 6\n{keys}")
+        case = _case(tmp_path, replace=replace)
+        path = tmp_path / "flex.case.yaml"
+        path.write_text(path.read_text().replace("[0, 0, 5]", f"[{pull}, 0, 5]"), "utf-8")
+        outcome = run_case(load_case(path))
+        assert outcome.solution.ok, (case, outcome.solution.message)
+        return float(outcome.solution.channels["tip.z"][0]), outcome.solution.warnings
+
+    stiff = "        stiffening: true\n        linear_limit: 0.0002"
+    plain, _ = tip(0.0, "")
+    same, warnings = tip(0.0, stiff)
+    assert same == pytest.approx(plain, rel=1e-4)
+    assert [w for w in warnings if "limits 0.02 % of its size 0.8 m" in w]
+    assert tip(2000.0, stiff)[0] < 0.99 * tip(2000.0, "")[0]
+
+
 def test_grillage_panel_from_yaml(tmp_path: Path) -> None:
     """A panel in the global y-z plane: its mass is rho lx ly t, its centre the panel's
     centre, its interface nodes at the given points; a modes analysis runs on it."""

@@ -86,6 +86,11 @@ def test_imported_model_deflects_as_the_built_in_beam(tmp_path: Path) -> None:
         ("file: {path: strip.json}", "[790, 0, 0]", "at no node of strip.json"),
         ("file: {path: ../strip.json}", "[800, 0, 0]", "leaves the folder"),
         ("file: {path: missing.json}", "[800, 0, 0]", "missing.json"),
+        (
+            "file: {path: strip.json}\n        stiffening: true",
+            "[800, 0, 0]",
+            "geometric stiffening needs the elements",
+        ),
     ],
 )
 def test_file_source_errors_name_the_problem(
