@@ -29,7 +29,7 @@ if TYPE_CHECKING:
     from mechlib.system import System
     from mechlib.view import StateView
 
-__all__ = ["State", "Status", "StepResult", "StepUnresolved", "Stepper"]
+__all__ = ["DenseStepper", "State", "Status", "StepResult", "StepUnresolved", "Stepper"]
 
 
 class Status(enum.Enum):
@@ -125,7 +125,7 @@ class Stepper(ABC):
     """
 
     at_rest = False  # its states are equilibria (Trajectory.at_rest)
-    dense = False  # steps at their own size; rows from `dense_row` (mechlib.dense)
+    dense = False  # steps at their own size; rows from `dense_row` (DenseStepper)
 
     def __init__(self, system: System, spec, stats: SolverStats):
         self.system, self.spec, self.stats = system, spec, stats
@@ -170,14 +170,19 @@ class Stepper(ABC):
             status=Status.NEWTON_FAILED,
         )
 
-    def dense_row(self, start: State, end: State, t: float, states) -> State:
-        """The row at t (s) within the accepted step start -> end (dense steppers);
-        `states`: the element states interpolated there (None without)."""
-        raise NotImplementedError(f"{type(self).__name__} has no dense output")
-
     def view(self, state: State) -> StateView:
         """The state view of `state` (for event conditions)."""
         return self.system.view(self.system.kin(state.q, state.qd, state.t), state.lam)
 
     def record(self, trajectory: Trajectory, state: State) -> None:
         trajectory.record(state.t, state.q, state.qd, state.qdd, state.lam, snapshot=state.snapshot)
+
+
+class DenseStepper(Stepper):
+    """A stepper that can give rows between its step ends: with `dense` set it steps at
+    its own size and `march` takes the output rows from `dense_row` (mechlib.dense)."""
+
+    @abstractmethod
+    def dense_row(self, start: State, end: State, t: float, states) -> State:
+        """The row at t (s) within the accepted step start -> end; `states`: the element
+        states interpolated there (None without)."""

@@ -17,7 +17,7 @@ import numpy as np
 
 from mechlib.analysis import Dynamic
 from mechlib.consistent import consistent_accelerations, consistent_state
-from mechlib.contract import State, Status, Stepper, StepResult, StepUnresolved
+from mechlib.contract import DenseStepper, State, Status, StepResult, StepUnresolved
 from mechlib.dense import first_step, hermite, largest_step, projected_row
 from mechlib.genalpha import Integrator
 from mechlib.genalpha_kernels import Scales
@@ -61,7 +61,7 @@ def _state(t: float, new) -> _AlphaState:
     return _AlphaState(t, q, c_qd, c_qdd, c_lam, raw_qd=qd, raw_qdd=qdd, a=a, raw_lam=lam)
 
 
-class GeneralizedAlphaStepper(Stepper):
+class GeneralizedAlphaStepper(DenseStepper):
     """Error-controlled generalized-alpha steps landing on the output times."""
 
     def __init__(self, system: System, spec: Dynamic, stats: SolverStats):

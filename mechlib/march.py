@@ -25,7 +25,7 @@ from collections.abc import Callable
 from typing import Literal
 
 from mechlib.analysis import Trajectory, output_times
-from mechlib.contract import State, Status, Stepper, StepUnresolved
+from mechlib.contract import DenseStepper, State, Status, Stepper, StepUnresolved
 from mechlib.events import EventMonitor, fire, first_events
 from mechlib.solution import SolverFailure, SolverStats
 
@@ -51,7 +51,7 @@ def march(
     s = stepper.init(spec.start, q0, qd0)
     stepper.record(trajectory, s)
     monitor.arm(s.t, stepper.view(s))
-    if stepper.dense:
+    if isinstance(stepper, DenseStepper) and stepper.dense:
         return _march_dense(stepper, s, trajectory, monitor, progress, event_log)
     for t_out in output_times(spec.start, spec.end, spec.step)[1:]:
         while t_out - s.t > 1e-12 * max(1.0, abs(t_out)):
@@ -76,7 +76,7 @@ def march(
 
 
 def _march_dense(
-    stepper: Stepper,
+    stepper: DenseStepper,
     s: State,
     trajectory: Trajectory,
     monitor: EventMonitor,
@@ -114,7 +114,7 @@ def _march_dense(
 class _Rows:
     """The output times still to record, recorded from dense steps."""
 
-    def __init__(self, stepper: Stepper, trajectory: Trajectory, times, progress):
+    def __init__(self, stepper: DenseStepper, trajectory: Trajectory, times, progress):
         self.stepper, self.trajectory, self.progress = stepper, trajectory, progress
         self.times, self.next = times, 0
 

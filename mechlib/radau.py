@@ -24,7 +24,7 @@ from scipy.integrate import Radau
 from mechlib.assembly import solve_positions
 from mechlib.augmented import augmented_accelerations
 from mechlib.consistent import consistent_accelerations
-from mechlib.contract import State, Status, Stepper, StepResult
+from mechlib.contract import DenseStepper, State, Status, StepResult
 from mechlib.dense import largest_step, projected_row
 from mechlib.linalg import singular_failure
 from mechlib.march import check_step_limit
@@ -77,7 +77,7 @@ class _Logged:
         return jac
 
 
-class RadauStepper(Stepper):
+class RadauStepper(DenseStepper):
     """scipy Radau from one output time to the next, projected there."""
 
     def __init__(self, system: System, spec, stats):
