@@ -67,18 +67,27 @@ def check_model(system: System, analysis: Analysis, *, redundant: str = "error")
     if isinstance(analysis, Kinematic):
         dof = degrees_of_freedom(system.phi_q(k))
         if dof != 0:
-            motions = ", ".join(system.mechanism.motions) or "none"
-            raise ModelError(
-                [
-                    (
-                        "",
-                        f"kinematic analysis needs 0 degrees of freedom after the "
-                        f"motions ({motions}), but the mechanism has {dof}: add "
-                        "motions or use a dynamic or quasi-static analysis",
-                    )
-                ]
-            )
+            raise ModelError([("", _kinematic_dof_message(system, dof))])
     return warnings
+
+
+def _kinematic_dof_message(system: System, dof: int) -> str:
+    """Why a kinematic analysis cannot run: `dof` free coordinates after the motions, and
+    which of them are the modes of flexible bodies (no motion can drive those)."""
+    motions = ", ".join(system.mechanism.motions) or "none"
+    text = (
+        f"kinematic analysis needs 0 degrees of freedom after the motions ({motions}), "
+        f"but the mechanism has {dof}"
+    )
+    if not system.flexible:
+        return text + ": add motions or use a dynamic or quasi-static analysis"
+    modal = ", ".join(f"{a.name} ({a.body.n})" for a in system.flexible)
+    return (
+        f"{text}, {system.nz} of them the modal coordinates of flexible bodies "
+        f"[{modal}]: a flexible body deforms under its loads, which a kinematic analysis "
+        "does not solve; use a quasi-static analysis (deflection under loads, inertia "
+        "ignored) or a dynamic one, or switch the flexibility off (effects: {flexibility: false})"
+    )
 
 
 @dataclass(frozen=True)

@@ -186,6 +186,27 @@ def test_flexibility_off_makes_the_body_rigid(tmp_path: Path) -> None:
     assert abs(channels["tip.z"][0]) < 1e-12
 
 
+def test_kinematic_analysis_names_the_modes_it_cannot_drive(tmp_path: Path) -> None:
+    """A clamped flexible beam has no rigid freedom left, but its 12 modal coordinates
+    (6 constraint + 6 fixed-interface modes) are free: the kinematic analysis is refused,
+    the message names them and the way out; with the flexibility off it runs."""
+    case = _case(
+        tmp_path,
+        replace=("analysis: {type: static}", "analysis: {type: kinematic, end: 0.1, step: 0.05}"),
+    )
+    with pytest.raises(InputError, match=r"has 12, 12 of them the modal coordinates .*beam \(12\)"):
+        run_case(case)
+    rigid = _case(
+        tmp_path,
+        replace=(
+            "analysis: {type: static}",
+            "analysis: {type: kinematic, end: 0.1, step: 0.05}\neffects: {flexibility: false}",
+        ),
+    )
+    channels = run_case(rigid).solution.channels
+    assert abs(channels["tip.x"][-1] - 0.8) < 1e-12
+
+
 def test_a_joint_off_the_interface_points_is_an_input_error(tmp_path: Path) -> None:
     with pytest.raises(InputError, match="interface points only"):
         run_case(_case(tmp_path, replace=("at: [0, 0, 0]}\n  forces", "at: [5, 0, 0]}\n  forces")))
