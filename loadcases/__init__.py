@@ -11,10 +11,8 @@ Names are imported when first used (`loadcases.run_case` imports the solver stac
 
 from __future__ import annotations
 
-import importlib
-from typing import Any
-
 from loadcases.diagnostics import Diagnostic, InputError
+from mechlib.lazy import lazy_names
 
 _WHERE = {
     "loadcases.inputs.kinds": ("FileKind", "file_kind"),
@@ -56,15 +54,4 @@ _MODULE_OF = {name: module for module, names in _WHERE.items() for name in names
 __all__ = ["Diagnostic", "InputError", *_MODULE_OF]
 
 
-def __getattr__(name: str) -> Any:
-    """Import the module of a public name on first use (PEP 562)."""
-    module = _MODULE_OF.get(name)
-    if module is None:
-        raise AttributeError(f"module 'loadcases' has no attribute '{name}'")
-    value = getattr(importlib.import_module(module), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted({*globals(), *__all__})
+__getattr__, __dir__ = lazy_names(__name__, _MODULE_OF, globals(), __all__)

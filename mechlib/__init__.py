@@ -7,10 +7,11 @@ joint types, `loads validate`) then loads no solver, SciPy or numba.
 
 from __future__ import annotations
 
-import importlib
 import sys
 import types
 from typing import TYPE_CHECKING, Any
+
+from mechlib.lazy import lazy_names
 
 if TYPE_CHECKING:
     from mechlib.analysis import DEFAULT_MAX_STEPS, Dynamic, Kinematic, QuasiStatic, Static
@@ -130,18 +131,7 @@ __all__ = [
 ]
 
 
-def __getattr__(name: str) -> Any:
-    """A public name, imported from its module on first use (then kept here)."""
-    home = _HOMES.get(name)
-    if home is None:
-        raise AttributeError(f"module 'mechlib' has no attribute {name!r}")
-    value = getattr(importlib.import_module(home), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = lazy_names(__name__, _HOMES, globals(), __all__)
 
 
 class _Package(types.ModuleType):
