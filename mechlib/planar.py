@@ -25,28 +25,15 @@ from mechlib.check import ModelError
 from mechlib.kin import GROUND_Q, Kin
 from mechlib.model import Mechanism
 from mechlib.planar_kernels import planar_reduce, planar_state
+from mechlib.plane import joint_problem, normal_name, plane_axes
 from mechlib.system import System
 
 if TYPE_CHECKING:
     from mechlib.linalg import SaddlePattern
 
-__all__ = ["PLANES", "PlanarSystem", "make_system", "plane_axes"]
+__all__ = ["PlanarSystem", "joint_problems", "make_system"]
 
-PLANES = ("xy", "yz", "xz")
-_AXES = {"xy": (0, 1, 2), "yz": (1, 2, 0), "xz": (2, 0, 1)}  # e1, e2, n: e1 x e2 = n
 _IN_PLANE = 1e-10  # |reduced Jacobian row| below this (relative): identically satisfied
-_ALIGNED = 1e-9  # |sin| of the angle between an axis and the normal (or the plane)
-_ALONG_NORMAL = ("revolute", "cylindrical", "screw")  # axis = plane normal
-_IN_THE_PLANE = ("prismatic", "inline")  # axis in the plane
-_NORMAL_KEYED = ("planar", "inplane")  # `normal` = plane normal
-_AXIS_FREE = ("fixed", "spherical", "orientation", "coupler", "gear")
-_NOT_PLANAR = ("universal", "perpendicular", "parallel", "point_on_curve")
-
-
-def plane_axes(plane: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(e1, e2, n) of plane `plane` (xy, yz or xz), global unit vectors, n = e1 x e2."""
-    eye = np.eye(3)
-    return tuple(eye[i] for i in _AXES[plane])  # type: ignore[return-value]
 
 
 def make_system(mechanism: Mechanism) -> System:
@@ -59,29 +46,13 @@ def make_system(mechanism: Mechanism) -> System:
 
 
 def joint_problems(mechanism: Mechanism, plane: str) -> list[tuple[str, str]]:
-    """(joint, message) of the joints that do not keep their bodies in `plane`: an axis
-    not along its normal (revolute, cylindrical, screw), not in it (prismatic, inline), a
-    planar joint's normal not along it, and the types with no planar form."""
-    n = plane_axes(plane)[2]
+    """(joint, message) of the joints that do not keep their bodies in `plane`
+    (mechlib.plane.joint_problem)."""
     out = []
     for j in mechanism.joints.values():
-        if j.type in _NOT_PLANAR:
-            out.append((j.name, f"a {j.type} joint has no planar form (plane {plane})"))
-            continue
-        key, vector = ("normal", j.normal) if j.type in _NORMAL_KEYED else ("axis", j.axis)
-        if j.type in _AXIS_FREE or vector is None:
-            continue
-        u = np.asarray(vector, dtype=float) / np.linalg.norm(vector)
-        along = float(np.linalg.norm(np.cross(u, n)))
-        if j.type in _ALONG_NORMAL + _NORMAL_KEYED and along > _ALIGNED:
-            out.append(
-                (
-                    j.name,
-                    f"its {key} must be the normal of plane {plane} ({'xyz'[_AXES[plane][2]]})",
-                )
-            )
-        elif j.type in _IN_THE_PLANE and abs(float(u @ n)) > _ALIGNED:
-            out.append((j.name, f"its {key} must lie in plane {plane}"))
+        problem = joint_problem(j.type, plane, axis=j.axis, axes=j.axes, normal=j.normal)
+        if problem is not None:
+            out.append((j.name, f"joint {j.name}: {problem[1]}"))
     return out
 
 
@@ -95,6 +66,10 @@ class PlanarSystem:
 
     def __init__(self, space: System, plane: str):
         problems = joint_problems(space.mechanism, plane)
+        if abs(float(space.gravity @ plane_axes(plane)[2])) > 0.0:
+            problems.append(
+                ("", f"gravity has a component along {normal_name(plane)}, out of plane {plane}")
+            )
         if space.flexible:
             problems.append(("", "flexible bodies need the 3-D model: remove `plane`"))
         problems += [
@@ -249,6 +224,18 @@ class PlanarSystem:
             k = self.kin(q, rng.standard_normal(self.nq))
             self._pattern = (self.space.active, SaddlePattern(self.mass(k), self.phi_q(k)))
         return self._pattern[1]
+
+    def output_notes(self, requests) -> list[str]:
+        """What a planar solution leaves out of the outputs asked for."""
+        if not any(type(r).__name__ == "JointReaction" for r in requests):
+            return []
+        n = normal_name(self.plane)
+        across = "".join(c for c in "xyz" if c != n)
+        return [
+            f"planar mechanism (plane {self.plane}): the out-of-plane reaction components "
+            f"(f{n}, t{across[0]}, t{across[1]}) are not computed and are reported as 0; "
+            "pin moments and forces out of the plane need the 3-D model"
+        ]
 
     # ---- back to 3-D for the outputs ----------------------------------------------------
     def in_space(self, trajectory: Trajectory) -> tuple[System, Trajectory]:

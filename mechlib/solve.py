@@ -250,6 +250,7 @@ def solve(
     cpu0 = _time.process_time()
     system = make_system(solve_copy(mechanism))  # events and memories never change the caller's
     warnings = check_model(system, analysis, redundant=redundant)
+    warnings += system.output_notes(requests)
     run = _Run(
         Trajectory(snapshot=system.snapshot, check=functools.partial(check_recorded_state, system)),
         SolverStats(),

@@ -356,6 +356,10 @@ class System:
         """dQ/dlam (nq, m) of elements that wrote it in this system's coordinates."""
         return coupling
 
+    def output_notes(self, requests) -> list[str]:
+        """What the outputs asked for leave out (mechlib.planar: out-of-plane reactions)."""
+        return []
+
     def in_space(self, trajectory):
         """(the 3-D system, the trajectory in its coordinates) to evaluate outputs on: this
         system and `trajectory` (mechlib.planar lifts its own)."""
