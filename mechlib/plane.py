@@ -50,7 +50,7 @@ def joint_problem(
     n = plane_axes(plane)[2]
     along = f"along the normal of plane {plane} ({normal_name(plane)})"
     if kind in _NOT_PLANAR:
-        return "type", f"a {kind} joint has no planar form: use the 3-D model (no `plane`)"
+        return "type", f"a {kind} joint has no planar form"
     if kind in _ALONG_NORMAL and axis is not None and not _along(axis, n):
         return "axis", f"the axis of a {kind} joint must be {along}"
     if kind in _IN_THE_PLANE and axis is not None and not _across(axis, n):
