@@ -12,6 +12,7 @@ import numpy as np
 
 from loadcases.diagnostics import Diagnostic
 from loadcases.schema import CaseModel, MechanismModel
+from loadcases.schema.elements import BodyTorque, PointForce
 from loadcases.source import Locator
 from mechlib.plane import joint_problem, normal_name, plane_axes
 
@@ -83,9 +84,9 @@ def _loads(model: MechanismModel, at: Locator, plane: str) -> list[Diagnostic]:
     n = plane_axes(plane)[2]
     found = []
     for name, force in model.forces.items():
-        kind = getattr(force, "type", "")
-        if kind not in ("force", "torque"):
+        if not isinstance(force, PointForce | BodyTorque):
             continue
+        kind = force.type
         axes = _frame_axes(model, force.frame)
         for i, text in enumerate(force.value):
             reach = abs(float(axes[:, i] @ n))  # share of component i along the normal
