@@ -93,6 +93,8 @@ class PlanarSystem:
 
     def __getattr__(self, name: str):
         """Whatever the reduction leaves unchanged is the 3-D system's."""
+        if name == "space":  # not set yet (copying, unpickling): no recursion
+            raise AttributeError(name)
         return getattr(self.space, name)
 
     # ---- the map to 3-D ---------------------------------------------------------------
@@ -109,6 +111,16 @@ class PlanarSystem:
         rates = self._no_rates if qd is None else np.asarray(qd, dtype=float)
         planar_state(np.asarray(q, dtype=float), rates, self._offset, self._in, self.normal, x, xd)
         return Kin(x, xd, t, at_rest=qd is None)
+
+    def state_of(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
+        """(q, qd) (3 nb,) of a state `kin` made: phi within (-2 pi, 2 pi] (the same
+        Euler parameters as any phi + 4 pi n)."""
+        x, xd = k.x[:-1], k.xd[:-1]
+        sine, cosine = x[:, 4:] @ self.normal, x[:, 3]
+        q = np.column_stack([(x[:, :3] - self._offset) @ self._in, 2.0 * np.arctan2(sine, cosine)])
+        rate = 2.0 * (cosine * (xd[:, 4:] @ self.normal) - sine * xd[:, 3])
+        qd = np.column_stack([xd[:, :3] @ self._in, rate])
+        return q.ravel(), qd.ravel()
 
     def _dp(self, x: np.ndarray) -> np.ndarray:
         """dp/dphi (nb, 4) of the moving bodies at 3-D positions x (nb+1, 7)."""

@@ -339,6 +339,10 @@ class System:
         block[3:, 7 * body + 3 : 7 * body + 7] = 2.0 * e_matrix(k.p[body])
         return block
 
+    def state_of(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
+        """(q, qd) (nq,) of state `k`: the inverse of `kin`."""
+        return np.r_[k.x[:-1].ravel(), k.z], np.r_[k.xd[:-1].ravel(), k.zd]
+
     def body_weights(self, translation: float, rotation: float) -> np.ndarray:
         """Per-body weights (7,) of q's entries: `translation` for r, `rotation` (the size
         of one radian) for the Euler parameters, which change by half an angle."""
