@@ -13,10 +13,10 @@ __all__ = ["PLANES", "joint_problem", "normal_name", "plane_axes"]
 PLANES = ("xy", "yz", "xz")
 _AXES = {"xy": (0, 1, 2), "yz": (1, 2, 0), "xz": (2, 0, 1)}  # e1, e2, n
 _ALIGNED = 1e-9  # |sin| (or |cos|) below this: along (or across) the normal
-_ALONG_NORMAL = ("revolute", "cylindrical", "screw")  # `axis` = the normal
+_ALONG_NORMAL = ("revolute", "cylindrical")  # `axis` = the normal (a cylindrical: a revolute)
 _IN_THE_PLANE = ("prismatic", "inline")  # `axis` in the plane
 _AXIS_FREE = ("fixed", "spherical", "orientation", "coupler", "gear")
-_NOT_PLANAR = ("perpendicular", "parallel", "point_on_curve")
+_NOT_PLANAR = ("screw", "perpendicular", "parallel", "point_on_curve")  # screw: no travel
 
 
 def plane_axes(plane: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
