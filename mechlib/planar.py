@@ -26,6 +26,7 @@ from mechlib.kin import GROUND_Q, Kin
 from mechlib.model import Mechanism
 from mechlib.planar_kernels import planar_reduce, planar_state
 from mechlib.plane import joint_problem, normal_name, plane_axes
+from mechlib.requests import JointReaction
 from mechlib.system import System
 
 if TYPE_CHECKING:
@@ -239,7 +240,7 @@ class PlanarSystem:
 
     def output_notes(self, requests) -> list[str]:
         """What a planar solution leaves out of the outputs asked for."""
-        if not any(type(r).__name__ == "JointReaction" for r in requests):
+        if not any(isinstance(r, JointReaction) for r in requests):
             return []
         n = normal_name(self.plane)
         across = "".join(c for c in "xyz" if c != n)
