@@ -18,7 +18,7 @@ import pytest
 from typer.testing import CliRunner
 
 from cli.app import app
-from loadcases.run import run_file
+from loadcases.run import check_mechanism_file, run_file
 
 LIBRARY = Path(__file__).parents[2] / "loadcases" / "library" / "verification"
 _IN_PLANE = ("fx", "fy", "x", "y", "value")
@@ -57,6 +57,20 @@ def test_planar_file_matches_the_3d_file(tmp_path: Path, analysis: str) -> None:
             gap = np.abs(planar.channels[name] - column).max()
             assert gap <= 1e-9 * np.abs(column).max() + _FLOOR, name
     assert any("reported as 0" in w for w in planar.warnings)
+
+
+def test_mechanism_check_counts_planar_equations(tmp_path: Path) -> None:
+    """`loads run X.mech.yaml`: 17 equations in 3-D (5 + 3 + 4 + 5), 8 in the plane (2 per
+    joint: the universal's cross-axis equation is met by any planar motion); 1 DOF both."""
+    _case(tmp_path, "kinematic", True), _case(tmp_path, "kinematic", False)
+    assert check_mechanism_file(tmp_path / "planar_kinematic.mech.yaml") == [
+        "planar_kinematic.mech.yaml: planar mechanism (xy) with 3 bodies, 8 constraint "
+        "equations, 1 degree of freedom"
+    ]
+    assert check_mechanism_file(tmp_path / "space_kinematic.mech.yaml") == [
+        "space_kinematic.mech.yaml: mechanism with 3 bodies, 17 constraint equations, "
+        "1 degree of freedom"
+    ]
 
 
 def test_leaving_the_plane_exits_2_naming_the_key(tmp_path: Path) -> None:
