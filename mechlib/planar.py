@@ -90,6 +90,7 @@ class PlanarSystem:
         self._mass = np.column_stack([space.masses, space.masses, inertia]).ravel()
         self._no_rates = np.zeros(self.nq)
         self._pattern: tuple[np.ndarray, SaddlePattern] | None = None
+        self._jacobian: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
         self._drop_out_of_plane()
 
     def __getattr__(self, name: str):
@@ -172,12 +173,28 @@ class PlanarSystem:
     def phi(self, k: Kin) -> np.ndarray:
         return self.space.phi(k)
 
+    def _space_jacobian(self, k: Kin, jac: np.ndarray | None = None) -> np.ndarray:
+        """phi_q3 at k's positions: `jac` when given (kept), else the one kept for the same
+        positions and rows (gamma asks again at each velocity), else evaluated."""
+        kept = self._jacobian
+        if (
+            jac is None
+            and kept is not None
+            and kept[0] is self.space.active
+            and np.array_equal(kept[1], k.x)
+        ):
+            return kept[2]
+        if jac is None:
+            jac = self.space.phi_q(k)
+        self._jacobian = (self.space.active, k.x.copy(), jac)
+        return jac
+
     def phi_q(self, k: Kin) -> np.ndarray:
-        return self.reduce(self.space.phi_q(k), k)
+        return self.reduce(self._space_jacobian(k), k)
 
     def phi_and_jacobian(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
         phi, jac = self.space.phi_and_jacobian(k)
-        return phi, self.reduce(jac, k)
+        return phi, self.reduce(self._space_jacobian(k, jac), k)
 
     def nu(self, k: Kin) -> np.ndarray:
         return self.space.nu(k)
@@ -185,7 +202,7 @@ class PlanarSystem:
     def gamma(self, k: Kin) -> np.ndarray:
         curvature = np.zeros((self.nb, 7))
         curvature[:, 3:] = self._curvature(k)
-        return self.space.gamma(k) - self.space.phi_q(k) @ curvature.ravel()
+        return self.space.gamma(k) - self._space_jacobian(k) @ curvature.ravel()
 
     def coordinate_gradient(self, measure, k: Kin) -> np.ndarray:
         """d(measure)/dq (nq,) of a joint angle or travel."""
