@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import platform
 import time
 from datetime import UTC, datetime
@@ -103,6 +104,15 @@ def run(loops: int, end: float, planar: bool) -> dict[str, Any]:
     }
 
 
+def _cpu_model() -> str:
+    """The CPU's model name (Linux), else what platform says."""
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            return next(line.split(":", 1)[1].strip() for line in f if "model name" in line)
+    except (OSError, StopIteration):
+        return platform.processor()
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--loops", type=int, default=40)
@@ -125,7 +135,8 @@ def main(argv: list[str] | None = None) -> int:
         info = {
             "date": datetime.now(UTC).isoformat(timespec="seconds"),
             "machine": platform.platform(),
-            "processor": platform.processor(),
+            "processor": _cpu_model(),
+            "load_average": os.getloadavg(),
             "python": platform.python_version(),
             "loops": args.loops,
             "end": args.end,
