@@ -87,3 +87,13 @@ def test_leaving_the_plane_exits_2_naming_the_key(tmp_path: Path) -> None:
         f"planar_kinematic.mech.yaml:{line}:{column}: error: joints.guide.axis: the axis of a "
         "prismatic joint must lie in plane xy"
     ) in result.output
+
+
+def test_modes_of_a_planar_file_exit_2_at_the_analysis(tmp_path: Path) -> None:
+    """A modes analysis needs the 3-D model: `loads validate` exits 2 at `analysis`."""
+    case = _case(tmp_path, "modes", True)
+    text = case.read_text()
+    case.write_text(text[: text.index("analysis:")] + "analysis: {type: modes}\n")
+    result = CliRunner().invoke(app, ["validate", str(case)])
+    assert result.exit_code == 2
+    assert "error: analysis: a modes analysis needs the 3-D model: remove `plane`" in result.output
