@@ -10,7 +10,8 @@ T = d(q3)/d(q): ``phi_q = phi_q3 T``, ``Q = T^T Q3``, ``M = T^T M3 T = diag(m, m
 with ``Td qd = (0, -p phi_d^2 / 4)``; ``T^T M3 Td qd`` vanishes (G(p) p = 0, p . dp/dphi = 0).
 The equations identically satisfied in the plane (the normalisation, the out-of-plane
 rows of the joints: their reduced Jacobian is zero) are left out, so a planar four-bar
-has 8 equations on 9 coordinates and no redundant one (3-D: 20 on 28, 3 redundant).
+has 8 equations on 9 coordinates and no redundant one (3-D: 20 joint equations and 3
+normalisations on 21 coordinates, 3 of them redundant).
 Nikravesh, Planar Multibody Dynamics, 2nd ed. (2018), body-coordinate formulation.
 """
 
