@@ -24,6 +24,7 @@ if TYPE_CHECKING:
     from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
     from mechlib.model import GROUND, Mechanism
     from mechlib.modes import Modes
+    from mechlib.planar import make_system
     from mechlib.requests import (
         CouplerEffort,
         ElementOutput,
@@ -82,6 +83,7 @@ _HOMES = {
     "TorsionSpring": "mechlib.forces",
     "check_model": "mechlib.solve",
     "inspect_mechanism": "mechlib.solve",
+    "make_system": "mechlib.planar",
     "solve": "mechlib.solve",
 }
 
@@ -127,6 +129,7 @@ __all__ = [
     "TorsionSpring",
     "check_model",
     "inspect_mechanism",
+    "make_system",
     "solve",
 ]
 

@@ -17,7 +17,6 @@ import numpy as np
 
 from mechlib.contract import Status
 from mechlib.kin import Kin
-from mechlib.rotation import e_matrix
 from mechlib.singularity import toggle_detail
 from mechlib.solution import SolverFailure
 from mechlib.system import System
@@ -174,7 +173,7 @@ def _given_residual(system: System, given, targets, t: float):
 def _given_jacobian(system: System, given, t: float):
     def jacobian(x):
         k = system.kin(x, None, t)
-        extra = [system.body_columns(m.gradient(k)) for _, m in given]
+        extra = [system.coordinate_gradient(m, k) for _, m in given]
         return np.vstack([system.phi_q(k)] + extra)
 
     return jacobian
@@ -217,14 +216,12 @@ def _velocity_rows(system: System, k: Kin, initial) -> tuple[list, list, list]:
     for item in initial:
         if isinstance(item, InitialValue) and item.rate is not None:
             m = system._coordinate_of(item.joint, item.coordinate)
-            rows.append(system.body_columns(m.gradient(k)))
+            rows.append(system.coordinate_gradient(m, k))
             rhs.append(item.rate)
             names.append((f"rate of joint '{item.joint}'", rows[-1][None, :], [item.rate]))
         elif isinstance(item, InitialBodyVelocity):
             b = system.body_index(item.body)
-            block = np.zeros((6, system.nq))
-            block[:3, 7 * b : 7 * b + 3] = np.eye(3)
-            block[3:, 7 * b + 3 : 7 * b + 7] = 2.0 * e_matrix(k.p[b])
+            block = system.body_rates(k, b)
             for sl, vec, what in (
                 (slice(0, 3), item.velocity, "velocity"),
                 (slice(3, 6), item.omega, "omega"),

@@ -44,7 +44,7 @@ def settle(
     not held (and the contacts on it) when a body runs away or MAX_STEPS pass."""
     system = balance.system
     length = system.length
-    start = q[: 7 * system.nb].reshape(system.nb, 7)[:, :3].copy()
+    start = system.cm_positions(q)
     res, jac = balance.residual(q, lam)
     delta = _first_delta(balance, q, res, length)
     for _ in range(MAX_STEPS):
@@ -55,7 +55,7 @@ def settle(
         step, delta = _step(balance, q, lam, res, jac, delta)
         q, lam = q + step[: system.nq], lam + step[system.nq :]
         res, jac = balance.residual(q, lam)
-        travel = np.abs(q[: 7 * system.nb].reshape(system.nb, 7)[:, :3] - start).max()
+        travel = np.abs(system.cm_positions(q) - start).max()
         if not np.isfinite(res).all() or travel > RUNAWAY * length:
             break
         ratio = size / balance.size(res)
@@ -90,11 +90,11 @@ def _not_held(balance: Balance, q, lam, res, start: np.ndarray) -> SolverFailure
     """The failure of a body that continuation could not bring to rest: which body, along
     which direction, how far it went and what the contacts on it do there."""
     system, t = balance.system, balance.t
-    unbalanced = -res[: 7 * system.nb].reshape(system.nb, 7)[:, :3]
+    unbalanced = -system.cm_forces(res)
     body = int(np.argmax(np.linalg.norm(unbalanced, axis=1)))
     force = unbalanced[body]
     direction = force / max(float(np.linalg.norm(force)), 1e-300) + 0.0  # no "-0"
-    moved = float(np.linalg.norm(q[: 7 * system.nb].reshape(system.nb, 7)[body, :3] - start[body]))
+    moved = float(np.linalg.norm(system.cm_positions(q)[body] - start[body]))
     view = system.view(system.kin(q, None, t), lam)
     contacts = [
         e for e in system.elements if e.active and hasattr(e, "geometry") and body in e.body_pair()

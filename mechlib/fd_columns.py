@@ -24,7 +24,8 @@ class ColumnSkips:
 
     def __init__(self, system: System, always: set[int] | frozenset[int] = frozenset()):
         pairs = [(id(e), e.body_pair()) for e in system.elements if hasattr(e, "body_pair")]
-        self._rigid = 7 * system.nb
+        self._per_body = system.per_body
+        self._rigid = system.per_body * system.nb
         self._of_body = {
             b: frozenset({i for i, pair in pairs if b not in pair} | set(always))
             for b in range(system.nb)
@@ -33,7 +34,7 @@ class ColumnSkips:
 
     def body(self, column: int) -> int:
         """The body whose coordinate `column` is; -1 for a modal coordinate."""
-        return column // 7 if column < self._rigid else -1
+        return column // self._per_body if column < self._rigid else -1
 
     def skip(self, body: int) -> frozenset[int]:
         """The element ids a column of `body` (-1: modal) leaves out."""

@@ -125,7 +125,7 @@ class Integrator:
         oil columns of a hydraulic actuator are a stiffness only through its pressures)."""
         sys = self.system
         skips = ColumnSkips(sys, {id(e) for e in own})  # a column: its body's elements
-        q, qd = np.r_[k.x[:-1].ravel(), k.z], np.r_[k.xd[:-1].ravel(), k.zd]
+        q, qd = sys.state_of(k)
         states = sys.states
         trial = states.trial.copy()
 

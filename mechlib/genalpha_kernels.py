@@ -26,13 +26,9 @@ class Scales:
             [np.full(a.body.n, np.sqrt(a.body.component.mass)) for a in system.flexible]
             or [np.zeros(0)]
         )
-        self.q_abs = np.r_[
-            np.tile(np.r_[np.full(3, length), np.ones(4)], system.nb), modal * length
-        ]
+        self.q_abs = np.r_[np.tile(system.body_weights(length, 1.0), system.nb), modal * length]
         self.q_abs *= tol
-        self.a_ref = np.r_[
-            np.tile(np.r_[np.full(3, g), np.full(4, g / length)], system.nb), modal * g
-        ]
+        self.a_ref = np.r_[np.tile(system.body_weights(g, g / length), system.nb), modal * g]
 
     def update(self, qdd: np.ndarray) -> None:
         """Raise the acceleration reference to the largest accelerations seen."""

@@ -147,6 +147,7 @@ class Mechanism:
     forces: dict[str, Any] = field(default_factory=dict)
     frames: dict[str, tuple[str, np.ndarray, tuple]] = field(default_factory=dict)
     flexible: dict[str, FlexibleBody] = field(default_factory=dict)
+    plane: str | None = None  # xy, yz or xz: a planar mechanism (mechlib.planar)
 
     def add_body(self, name: str, *, mass: float, cm, inertia) -> Body:
         """Add a body; `inertia` is [Ixx, Iyy, Izz], 6 entries (+ Ixy, Ixz, Iyz) or 3x3."""

@@ -86,6 +86,6 @@ def modal_channels(system: System, modes: ModalResult, requests) -> dict[str, np
             out.update(zip((f"{req.name}.{c}" for c in "xyz"), (disp @ axes).T))
         elif isinstance(req, JointCoordinate):
             kind = "angle" if req.quantity in ("angle", "omega", "alpha") else "travel"
-            grad = system.body_columns(system.measure(req.joint, kind).gradient(k))
+            grad = system.coordinate_gradient(system.measure(req.joint, kind), k)
             out[f"{req.name}.value"] = shapes @ grad
     return out

@@ -41,14 +41,16 @@ def reaction_coupling(
     users = [e for e in system.elements if e.active and getattr(e, "uses_reactions", False)]
     if not users:
         return None
-    out = np.zeros((system.nq, len(lam)))
     view = system.view(k, lam, jac)
+    space = view.system  # the elements' own (3-D for a planar system: mechlib.planar)
+    out = np.zeros((space.nq, len(lam)))
     differenced = []
     for element in users:
         if hasattr(element, "reaction_jacobian"):
             element.reaction_jacobian(view, out)
         else:
             differenced.append(element)
+    out = system.reaction_coupling(out, k)
     if differenced:
         out += differenced_coupling(system, k, lam, differenced, jac)
     return out

@@ -251,7 +251,7 @@ def _coordinate(system, k, req: JointCoordinate, qdd) -> float:
         return m.value(k)
     if req.quantity in ("omega", "speed"):
         return m.rate(k)
-    return float(system.body_columns(m.gradient(k)) @ qdd + m.quad(k))
+    return float(system.coordinate_gradient(m, k) @ qdd + m.quad(k))
 
 
 def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str, np.ndarray]:

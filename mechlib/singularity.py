@@ -64,7 +64,7 @@ def _length(system: System) -> float:
 
 def _column_scale(system: System) -> np.ndarray:
     """Per coordinate: L for a translation (m), 1/2 for an Euler parameter (per radian)."""
-    per_body = np.r_[np.full(3, _length(system)), np.full(4, 0.5)]
+    per_body = system.body_weights(_length(system), 0.5)
     return np.r_[np.tile(per_body, system.nb), np.ones(system.nz)]
 
 
@@ -132,7 +132,7 @@ class _Position:
         return self.sigma
 
     def _gradient(self, measure) -> np.ndarray:
-        return self.system.body_columns(measure.gradient(self.k)) * self.scale
+        return self.system.coordinate_gradient(measure, self.k) * self.scale
 
     def _solve(self, rhs: np.ndarray) -> np.ndarray:
         """(J J^T)^-1 rhs; without equations rhs is empty and so is the answer."""

@@ -24,6 +24,7 @@ from mechlib.kinematic import KinematicStepper
 from mechlib.march import march
 from mechlib.model import Mechanism
 from mechlib.modes import ModalResult, Modes, modal_channels, normal_modes
+from mechlib.planar import make_system
 from mechlib.radau import RadauStepper
 from mechlib.requests import evaluate_requests
 from mechlib.singularity import toggle_warnings
@@ -51,6 +52,8 @@ def check_model(system: System, analysis: Analysis, *, redundant: str = "error")
     Raises ModelError naming joints and directions; with redundant="drop" removes the
     dependent rows instead and returns warnings saying those reactions are not unique.
     """
+    if isinstance(analysis, Modes) and system.per_body != 7:
+        raise ModelError([("", "a modes analysis needs the 3-D model: remove `plane`")])
     k = system.kin(system.design_q(), None, getattr(analysis, "start", 0.0))
     jac = system.phi_q(k)
     found = _redundant(system, jac)
@@ -103,14 +106,14 @@ class MechanismCheck:
 
 def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
     """Degrees of freedom and redundant equations (by joint and direction) at design."""
-    system = System(mechanism)
+    system = make_system(mechanism)
     k = system.kin(system.design_q(), None, 0.0)
     jac = system.phi_q(k)
     found = _redundant(system, jac)
     assembled = bool(np.abs(system.phi(k)).max(initial=0.0) < 1e-9)
     return MechanismCheck(
         system.nb,
-        len(system.labels) - system.nb,
+        len(system.labels) - (system.nb if system.per_body == 7 else 0),
         degrees_of_freedom(jac),
         tuple(r.describe() for r in found),
         assembled,
@@ -197,7 +200,8 @@ def _channels(system: System, run: _Run, requests) -> tuple[np.ndarray, dict]:
             np.full(len(run.modes.frequencies), run.modes.time),
             modal_channels(system, run.modes, requests),
         )
-    channels = evaluate_requests(system, run.trajectory, requests) if len(run.trajectory) else {}
+    space, trajectory = system.in_space(run.trajectory)  # a planar one lifted to 3-D
+    channels = evaluate_requests(space, trajectory, requests) if len(trajectory) else {}
     return np.array(run.trajectory.time), channels
 
 
@@ -253,8 +257,9 @@ def solve(
     `message` when, where and why). A non-finite state or column is such a failure.
     """
     cpu0 = _time.process_time()
-    system = System(solve_copy(mechanism))  # events and memories never change the caller's
+    system = make_system(solve_copy(mechanism))  # events and memories never change the caller's
     warnings = check_model(system, analysis, redundant=redundant)
+    warnings += system.output_notes(requests)
     run = _Run(
         Trajectory(snapshot=system.snapshot, check=functools.partial(check_recorded_state, system)),
         SolverStats(),

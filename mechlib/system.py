@@ -20,7 +20,7 @@ from mechlib.flexible.attached import NodeWelds, attach_flexible, node_at, weld_
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL, expand_joint, joint_frame
 from mechlib.kin import Kin
 from mechlib.model import GROUND, Mechanism
-from mechlib.rotation import rotation_matrix
+from mechlib.rotation import e_matrix, rotation_matrix
 from mechlib.states import ElementStates
 from mechlib.view import StateView
 
@@ -54,6 +54,8 @@ class _Held:
 
 class System:
     """The numerical form of a `Mechanism` (see module docstring for the symbols)."""
+
+    per_body = 7  # coordinates of a rigid body in q (mechlib.planar: 3)
 
     def __init__(self, mechanism: Mechanism):
         self.mechanism = mechanism
@@ -325,6 +327,47 @@ class System:
             return rows[..., : self.nq]
         cut = 7 * self.nb
         return np.concatenate([rows[..., :cut], rows[..., cut + 7 :]], axis=-1)
+
+    def coordinate_gradient(self, measure, k: Kin) -> np.ndarray:
+        """d(measure)/dq (nq,) of a joint angle or travel (mechlib.coordinates)."""
+        return self.body_columns(measure.gradient(k))
+
+    def body_rates(self, k: Kin, body: int) -> np.ndarray:
+        """(6, nq): qd -> the velocity (m/s) and angular velocity (rad/s) of `body`, global."""
+        block = np.zeros((6, self.nq))
+        block[:3, 7 * body : 7 * body + 3] = np.eye(3)
+        block[3:, 7 * body + 3 : 7 * body + 7] = 2.0 * e_matrix(k.p[body])
+        return block
+
+    def state_of(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
+        """(q, qd) (nq,) of state `k`: the inverse of `kin`."""
+        return np.r_[k.x[:-1].ravel(), k.z], np.r_[k.xd[:-1].ravel(), k.zd]
+
+    def body_weights(self, translation: float, rotation: float) -> np.ndarray:
+        """Per-body weights (7,) of q's entries: `translation` for r, `rotation` (the size
+        of one radian) for the Euler parameters, which change by half an angle."""
+        return np.r_[np.full(3, translation), np.full(4, rotation)]
+
+    def cm_positions(self, q: np.ndarray) -> np.ndarray:
+        """Centres of mass (nb, 3), m, global, of the rigid coordinates of q."""
+        return q[: 7 * self.nb].reshape(self.nb, 7)[:, :3].copy()
+
+    def cm_forces(self, generalized: np.ndarray) -> np.ndarray:
+        """The force parts (nb, 3), N, global, of generalised forces (nq,)."""
+        return generalized[: 7 * self.nb].reshape(self.nb, 7)[:, :3]
+
+    def reaction_coupling(self, coupling: np.ndarray, k: Kin) -> np.ndarray:
+        """dQ/dlam (nq, m) of elements that wrote it in this system's coordinates."""
+        return coupling
+
+    def output_notes(self, requests) -> list[str]:
+        """What the outputs asked for leave out (mechlib.planar: out-of-plane reactions)."""
+        return []
+
+    def in_space(self, trajectory):
+        """(the 3-D system, the trajectory in its coordinates) to evaluate outputs on: this
+        system and `trajectory` (mechlib.planar lifts its own)."""
+        return self, trajectory
 
     def view(
         self, k: Kin, lam: np.ndarray | None = None, jac: np.ndarray | None = None

@@ -194,7 +194,7 @@ class _Builder:
     # ---- mechanism --------------------------------------------------------------------
     def mechanism(self) -> ml.Mechanism:
         gravity = self.mech.gravity if self.effects.get("gravity", True) else (0.0, 0.0, 0.0)
-        m = ml.Mechanism(name=self.mech.name or "mechanism", gravity=gravity)
+        m = ml.Mechanism(name=self.mech.name or "mechanism", gravity=gravity, plane=self.mech.plane)
         self.built = m
         for name, b in self.mech.bodies.items():
             if isinstance(b, FlexibleBody):

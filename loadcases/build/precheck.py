@@ -43,7 +43,9 @@ def case_problems(cf: CaseFile, *, abscissa: bool = False) -> list[Diagnostic]:
         with interpreted():  # a few Jacobians: not worth loading numba for
             built = build_run(cf, abscissa=abscissa)
             plan_torque_margin(cf, built)
-            ml.check_model(ml.System(built.mechanism), built.analysis, redundant=built.redundant)
+            ml.check_model(
+                ml.make_system(built.mechanism), built.analysis, redundant=built.redundant
+            )
     except InputError as error:
         return list(error.diagnostics)
     except ml.ModelError as error:

@@ -213,12 +213,14 @@ def check_case_alone(case: CaseModel, at: Locator) -> list[Diagnostic]:
 
 def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[Diagnostic]:
     """All semantic problems of a case against its (valid) mechanism."""
+    from loadcases.checks.planar import check_plane_initial
     from loadcases.checks.requests import check_requests
 
     names = mechanism_names(mechanism)
     parameters = {*mechanism.parameters, *case.parameters}
     found = _motions(case, mechanism, at, names) + _initial(case, mechanism, at, names)
     found += check_case_alone(case, at) + _loads(case, at, names)
+    found += check_plane_initial(case, mechanism, at)
     found += _parameters(case, mechanism, at) + check_requests(case, mechanism, at, names)
     expressions: list[tuple[KeyPath, str]] = [
         (("motions", n, "value"), m.value) for n, m in case.motions.items()

@@ -286,10 +286,12 @@ def check_mechanism(
     may switch them), None when the mechanism is checked on its own; `parameters` are extra
     parameter names a case defines."""
     from loadcases.checks.elements import check_elements
+    from loadcases.checks.planar import check_plane
 
     names = mechanism_names(model)
     found = _unique(model, at) + _references(model, at, names) + _events(model, at, names, motions)
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
+    found += check_plane(model, at)
     expressions: list[tuple[KeyPath, str]] = [
         (("events", n, "when"), e.when) for n, e in model.events.items()
     ]

@@ -113,9 +113,11 @@ def check_mechanism_file(path: Path | str) -> list[str]:
     """Lines describing a mechanism file: bodies, equations, degrees of freedom, redundancy
     (`loads run` on a mechanism checks it; a mechanism alone is not a load case)."""
     mf = load_mechanism(path)
-    check = ml.inspect_mechanism(build_mechanism(mf))
+    mechanism = build_mechanism(mf)
+    check = ml.inspect_mechanism(mechanism)
+    kind = "mechanism" if mechanism.plane is None else f"planar mechanism ({mechanism.plane})"
     lines = [
-        f"{Path(path).name}: mechanism with {check.bodies} bodies, {check.equations} "
+        f"{Path(path).name}: {kind} with {check.bodies} bodies, {check.equations} "
         f"constraint equations, {check.degrees_of_freedom} "
         f"degree{'' if check.degrees_of_freedom == 1 else 's'} of freedom"
     ]

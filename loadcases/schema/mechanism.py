@@ -277,6 +277,11 @@ class MechanismModel(Strict):
 
     name: str | None = None
     units: FileUnits = Field(default_factory=FileUnits)
+    plane: Literal["xy", "yz", "xz"] | None = Field(
+        None,
+        description="a planar mechanism: its bodies move in this plane (3 coordinates each); "
+        "joint axes along its normal, loads and velocities in it; absent: 3-D",
+    )
     gravity: vector("acceleration") = Field(
         (0.0, 0.0, 0.0),
         description="gravity vector [acceleration: m/s^2, always SI]; absent: no gravity",

@@ -117,6 +117,35 @@ EXPECTED = {
         "unknown_type.mech.yaml:4:11: error: joints.hinge.type: unknown type 'revolut'",
         "unknown_type.mech.yaml:4:11: hint: did you mean 'revolute'?",
     ],
+    "planar.case.yaml": [
+        "planar.case.yaml:10:9: error: initial.arm.omega: an initial omega out of plane yz",
+        "planar.case.yaml:10:9: hint: keep velocities in the plane and omega along x",
+        "planar.case.yaml:10:29: error: initial.arm.velocity: an initial velocity out of plane yz",
+        "planar.case.yaml:10:29: hint: keep velocities in the plane and omega along x",
+    ],
+    "planar.mech.yaml": [
+        "planar.mech.yaml:4:1: error: gravity: gravity has a component along z, out of plane xy",
+        "planar.mech.yaml:4:1: hint: set it to 0",
+        "planar.mech.yaml:10:67: error: joints.pivot.axis: the axis of a revolute joint must be "
+        "along the normal of plane xy (z)",
+        "planar.mech.yaml:10:67: hint: remove `plane` to use the 3-D model",
+        "planar.mech.yaml:11:11: error: joints.pin.type: a perpendicular joint has no planar form",
+        "planar.mech.yaml:11:11: hint: remove `plane` to use the 3-D model",
+        "planar.mech.yaml:12:72: error: joints.guide.axis: the axis of a prismatic joint must lie "
+        "in plane xy",
+        "planar.mech.yaml:12:72: hint: remove `plane` to use the 3-D model",
+        "planar.mech.yaml:13:69: error: joints.knot.axes: a universal joint needs one axis along "
+        "the normal of plane xy (z) and the other in the plane",
+        "planar.mech.yaml:13:69: hint: remove `plane` to use the 3-D model",
+        "planar.mech.yaml:15:49: error: forces.push.value[2]: a force component along the normal "
+        "(2*t) leaves plane xy",
+        "planar.mech.yaml:15:49: hint: make it 0, or remove `plane` to use the 3-D model",
+        "planar.mech.yaml:16:44: error: forces.twist.value[0]: a torque component about an "
+        "in-plane axis (1.0) leaves plane xy",
+        "planar.mech.yaml:16:44: hint: make it 0, or remove `plane` to use the 3-D model",
+        "planar.mech.yaml:18:3: error: contacts.stop: contacts need the 3-D model",
+        "planar.mech.yaml:18:3: hint: remove `plane` to use the 3-D model",
+    ],
     "vector_length.mech.yaml": [
         "vector_length.mech.yaml:4:65: error: joints.hinge.axis: expected 3 values, got 2",
     ],

@@ -1,0 +1,66 @@
+"""The planes of a planar mechanism and which joints keep their bodies in one.
+
+Light (NumPy only): the loader's checks use it before anything is built. Plane `xy` has
+e1 = x, e2 = y, normal n = z; `yz`: y, z, x; `xz`: z, x, y (always n = e1 x e2).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["PLANES", "joint_problem", "normal_name", "plane_axes"]
+
+PLANES = ("xy", "yz", "xz")
+_AXES = {"xy": (0, 1, 2), "yz": (1, 2, 0), "xz": (2, 0, 1)}  # e1, e2, n
+_ALIGNED = 1e-9  # |sin| (or |cos|) below this: along (or across) the normal
+_ALONG_NORMAL = ("revolute", "cylindrical")  # `axis` = the normal (a cylindrical: a revolute)
+_IN_THE_PLANE = ("prismatic", "inline")  # `axis` in the plane
+_AXIS_FREE = ("fixed", "spherical", "orientation", "coupler", "gear")
+_NOT_PLANAR = ("screw", "perpendicular", "parallel", "point_on_curve")  # screw: no travel
+
+
+def plane_axes(plane: str) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(e1, e2, n) of plane `plane` (xy, yz or xz), global unit vectors, n = e1 x e2."""
+    e1, e2, n = (np.eye(3)[i] for i in _AXES[plane])
+    return e1, e2, n
+
+
+def normal_name(plane: str) -> str:
+    """The global axis normal to `plane`: z for xy."""
+    return "xyz"[_AXES[plane][2]]
+
+
+def _along(vector, n: np.ndarray) -> bool:
+    u = np.asarray(vector, dtype=float)
+    return float(np.linalg.norm(np.cross(u, n))) <= _ALIGNED * float(np.linalg.norm(u))
+
+
+def _across(vector, n: np.ndarray) -> bool:
+    u = np.asarray(vector, dtype=float)
+    return abs(float(u @ n)) <= _ALIGNED * float(np.linalg.norm(u))
+
+
+def joint_problem(
+    kind: str, plane: str, axis=None, axes=None, normal=None
+) -> tuple[str, str] | None:
+    """(key, message) when a joint of type `kind` does not keep its bodies' motion in
+    `plane` (its axis not along the normal, a slide not in the plane, a type with no
+    planar form), else None. A universal joint with one axis along the normal and the
+    other in the plane acts as a revolute; a spherical joint acts as one too."""
+    n = plane_axes(plane)[2]
+    along = f"along the normal of plane {plane} ({normal_name(plane)})"
+    if kind in _NOT_PLANAR:
+        return "type", f"a {kind} joint has no planar form"
+    if kind in _ALONG_NORMAL and axis is not None and not _along(axis, n):
+        return "axis", f"the axis of a {kind} joint must be {along}"
+    if kind in _IN_THE_PLANE and axis is not None and not _across(axis, n):
+        return "axis", f"the axis of a {kind} joint must lie in plane {plane}"
+    if kind == "planar" and normal is not None and not _along(normal, n):
+        return "normal", f"the normal of a planar joint must be {along}"
+    if kind == "inplane" and normal is not None and not (_along(normal, n) or _across(normal, n)):
+        return "normal", f"the normal of an inplane joint must be {along} or lie in the plane"
+    if kind == "universal" and axes is not None:
+        a1, a2 = axes
+        if not ((_along(a1, n) and _across(a2, n)) or (_along(a2, n) and _across(a1, n))):
+            return "axes", f"a universal joint needs one axis {along} and the other in the plane"
+    return None
