@@ -131,14 +131,11 @@ class Seal(StaticSlipAnchor):
 
     def dissipation(self, view: StateView) -> float:
         """Power (W, >= 0) of the friction: -sum friction_i . slip velocity_i."""
-        if self.mu == 0.0 or at_rest(view):
-            return 0.0
-        p1, _, friction, _ = self._loads(view)
-        return -float(np.sum(friction * self._slip_velocity(view, p1)))
+        return 0.0 if at_rest(view) else self.rest_dissipation(view, view.kin)
 
     def rest_dissipation(self, view: StateView, moving) -> float:
-        """Power (W) of the static friction of an equilibrium `view` (against the slip
-        since the last accepted state) while the bodies move at the rates of `moving`."""
+        """Power (W) of the friction of `view` (at an equilibrium: against the slip since
+        the last accepted state) while the bodies move at the rates of `moving` (a Kin)."""
         if self.mu == 0.0:
             return 0.0
         p1, _, friction, _ = self._loads(view)
