@@ -6,18 +6,32 @@ Columns (J):
   modal coordinates of flexible bodies included;
 - `gravitational`: -sum m g . r_cm (zero at the ground origin; a flexible body's deformed
   centre of mass);
-- `elastic`: the potentials of the elements that give one (`potential(view)`: linear
-  springs and torsion springs; a spring with a tabulated law has none, its work goes to
-  `load_work`) and the modal strain energy 1/2 zeta^T K zeta of flexible bodies;
+- `elastic`: the potentials of the elements that give one (`potential(view)`, exact:
+  their loads are -grad V): linear springs and torsion springs (k s^2/2 + preload s),
+  springs, torsion springs and seals with a tabulated law (the table's exact integral,
+  mechlib.tables.Table.integral), contacts and clearance joints (the integral
+  k x^(n+1)/(n+1) of every normal law's elastic part k x^n over the penetration), seals
+  (the same per station), cable loops (each strand's tension integrated over its
+  elongation), bushings (1/2 d.K d + 1/2 theta.Kr theta: exact for the translational part
+  and an isotropic or one-axis torsional stiffness, to second order in rotation otherwise,
+  see mechlib.elements.bushing), and the modal strain energy 1/2 zeta^T K zeta of flexible
+  bodies;
 - `drive_work`: work done by the motions, the integral of -lam . nu (the constraint power:
   only the rows a motion drives have nu != 0);
 - `dissipated`: energy taken out by friction and damping, the integral of -P of the
-  elements of the `friction` and `damping` effects and of the `dissipation(view)` (W) of
-  the others (a spring's damper), and of flexible bodies' modal damping zeta_d^T D zeta_d;
-- `load_work`: work of every other applied load (point forces and torques, actuators,
-  contacts, springs with a tabulated law), the integral of P_e + D_e (an element with a
-  potential loads with -dV/dt - D_e exactly: counted in `elastic` and `dissipated`), and
-  of the geometric stiffening forces -zeta_d^T K_G zeta (not a potential in general);
+  elements of the `friction` and `damping` effects (joint friction, rotational dampers)
+  and of the `dissipation(view)` (W) of the others: the dampers of springs and bushings;
+  a contact's damping part (F_N - k x^n) times the penetration rate and its friction
+  mu F_N |v_t|; a seal's friction. At equilibrium rows (forces without velocities) an
+  element's `rest_dissipation(view, k)` where it has one: the static friction of contacts
+  and seals against the rates of the row. Also flexible bodies' modal damping
+  zeta_d^T D zeta_d;
+- `load_work`: work of every other applied load: point forces and torques, hydraulic
+  actuators (their oil volumes are states: the energy they store is not a potential of the
+  mechanism's coordinates), springs whose law has no exact integral (a hinge law in series
+  with a structure, `SeriesLaw`), the integral of P_e + D_e (an element with a potential
+  loads with -dV/dt - D_e exactly: counted in `elastic` and `dissipated`), and the geometric
+  stiffening forces of flexible bodies -zeta_d^T K_G zeta (not a potential in general);
 - `balance`: kinetic + gravitational + elastic - drive_work - load_work + dissipated minus
   its value at the first row: zero up to the integration error.
 
@@ -87,6 +101,15 @@ def _modal(system: System, k, lam: np.ndarray) -> tuple[float, float, float, flo
     return gravitational, elastic, load, dissipation
 
 
+def _own_dissipation(element, k, view, rest: bool) -> float:
+    """Power (W) an element takes out by itself: `dissipation(view)`, or at an equilibrium
+    row (forces without velocities, the mechanism moving at k's rates) `rest_dissipation`
+    where the element has one (the static friction of a contact or a seal)."""
+    if rest and hasattr(element, "rest_dissipation"):
+        return float(element.rest_dissipation(view, k))
+    return float(element.dissipation(view)) if hasattr(element, "dissipation") else 0.0
+
+
 def _row(system: System, k, view, lam: np.ndarray, rest: bool) -> tuple[float, ...]:
     """(kinetic, gravitational, elastic, drive power, load power, dissipation) at one row."""
     qd = np.r_[k.xd[:-1].ravel(), k.zd]
@@ -100,7 +123,7 @@ def _row(system: System, k, view, lam: np.ndarray, rest: bool) -> tuple[float, .
         if element.effect in DISSIPATIVE_EFFECTS:
             dissipation -= power
             continue
-        own = float(element.dissipation(view)) if hasattr(element, "dissipation") else 0.0
+        own = _own_dissipation(element, k, view, rest)
         dissipation += own
         potential = getattr(element, "potential", None)
         if potential is not None:  # its power is -dV/dt - own, exactly

@@ -36,6 +36,20 @@ def resist_rotation(view: StateView, measure, moment: float, N: np.ndarray) -> N
     N[measure.bj] += moment * axis
 
 
+def has_potential(law) -> bool:
+    """True when a spring with `law` (None: linear) has an exact potential: linear, or a
+    law with an exact `integral` (a table, mechlib.elements.laws.TableLaw)."""
+    return law is None or hasattr(law, "integral")
+
+
+def stored(law, stiffness: float, deflection: float) -> float:
+    """Energy (J) of the elastic part at `deflection` (m or rad): k d^2 / 2, or the
+    integral of `law` from 0 to d."""
+    if law is None:
+        return 0.5 * stiffness * deflection**2
+    return float(law.integral(0.0, deflection))
+
+
 def _global(view: StateView, frame: str, value: VectorFunction) -> np.ndarray:
     """`value(t, view)`, components in `frame` axes, in global components."""
     vector = np.asarray(value(view.t, view), float)
@@ -164,13 +178,16 @@ class Spring:
 
     @property
     def potential(self):
-        """Elastic energy (J) at a view, k s^2 / 2 + preload s; None with a tabulated law
-        (its work is then load work)."""
-        return None if self.law is not None else self._potential
+        """Elastic energy (J) at a view, k s^2 / 2 + preload s, or with a tabulated law its
+        exact integral over the stretch; None with a law without one (its work is then
+        load work)."""
+        return self._potential if has_potential(self.law) else None
 
     def _potential(self, view: StateView) -> float:
         taut = self._taut(view)
-        return 0.0 if taut is None else 0.5 * self.stiffness * taut[0] ** 2 + self.preload * taut[0]
+        if taut is None:
+            return 0.0
+        return stored(self.law, self.stiffness, taut[0]) + self.preload * taut[0]
 
     def dissipation(self, view: StateView) -> float:
         """Power (W) taken out by the damper: damping * rate^2."""
@@ -217,13 +234,14 @@ class TorsionSpring:
 
     @property
     def potential(self):
-        """Elastic energy (J) at a view, k turn^2 / 2 + preload turn; None with a tabulated
-        law (its work is then load work)."""
-        return None if self.law is not None else self._potential
+        """Elastic energy (J) at a view, k turn^2 / 2 + preload turn, or with a tabulated
+        law its exact integral over the turn; None with a law without one (its work is then
+        load work)."""
+        return self._potential if has_potential(self.law) else None
 
     def _potential(self, view: StateView) -> float:
         turn = self._m.value(view.kin) - self.angle0
-        return 0.5 * self.stiffness * turn**2 + self.preload * turn
+        return stored(self.law, self.stiffness, turn) + self.preload * turn
 
     def dissipation(self, view: StateView) -> float:
         """Power (W) taken out by the damper: damping * omega^2."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Any
 
 import numpy as np
 from scipy.interpolate import Akima1DInterpolator, CubicSpline
@@ -76,6 +77,41 @@ class Table:
     def _slope_at(self, end: float) -> float:
         d = Table(self.name, self.x, self.y, self.interpolation, "hold", self._order + 1)
         return d._f(end) if self._order == 0 else (d._f(end) if self._order == 1 else 0.0)
+
+    def integral(self, a: float, b: float) -> float:
+        """The exact integral of y(x) over [a, b] (x's unit times y's): the interpolant is
+        piecewise linear or cubic, so its integral is closed-form; outside the data the
+        extrapolation (held value or line) is integrated too, `error` raises."""
+        return self._primitive(b) - self._primitive(a)
+
+    def _primitive(self, v: float) -> float:
+        """Integral of y from x[0] to v (negative below x[0])."""
+        lo, hi = self.x[0], self.x[-1]
+        if v < lo:
+            return self._beyond(lo, v)
+        if v > hi:
+            return self._inside(hi) + self._beyond(hi, v)
+        return self._inside(v)
+
+    def _inside(self, v: float) -> float:
+        """Integral of the interpolant from x[0] to v in [x[0], x[-1]]."""
+        if self.interpolation != "linear":
+            spline: Any = self._f  # a scipy PPoly (CubicSpline, Akima1DInterpolator)
+            return float(spline.integrate(self.x[0], v))
+        x, y = self.x, self.y
+        slopes = np.diff(y) / np.diff(x)
+        knots = np.concatenate([[0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * np.diff(x))])
+        i = int(np.clip(np.searchsorted(x, v, "right") - 1, 0, len(slopes) - 1))
+        d = v - x[i]
+        return float(knots[i] + y[i] * d + 0.5 * slopes[i] * d * d)
+
+    def _beyond(self, end: float, v: float) -> float:
+        """Integral of the extrapolation from the data's `end` to v beyond it."""
+        self(v)  # raises outside the data of a table that does not extrapolate
+        d = v - end
+        if self.extrapolate == "hold":
+            return float(self._f(end)) * d
+        return float(self._f(end)) * d + 0.5 * float(self._slope_at(end)) * d * d
 
     def derivative(self) -> Table:
         """dy/dx with the same extrapolation rule (held value -> zero slope)."""

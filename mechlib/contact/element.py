@@ -7,6 +7,13 @@ states) the approach speed at the start of each contact, which the hysteresis da
 `hertz` and `restitution` divide by. The force and, for the primitive geometries, the
 wrench and its tangent are compiled (mechlib.contact.kernels); a profile contact computes
 its gap in Python and its force with the same kernel.
+
+Energy (the energy request, mechlib.energy): `potential` is the integral of the law's
+elastic part k x^n over the penetration, `dissipation` the power of the rest of the normal
+force, (F_N - k x^n) times the penetration rate, plus the friction's, mu F_N |v_t|: the
+contact's power is exactly -dV/dt - D, since the penetration rate of every geometry is the
+time derivative of its penetration. Not conservative: a sphere leaving a bounded plane
+(`extent`) while pressed in drops its energy with the force.
 """
 
 from __future__ import annotations
@@ -171,6 +178,27 @@ class Contact(StaticSlipAnchor):
         del times[bisect_left(times, view.t) :]
         times.append(view.t)
         values.append(self.approach)
+
+    def potential(self, view: StateView) -> float:
+        """Elastic energy (J) stored in the penetration (0 apart)."""
+        x = self.geometry.gap(view).penetration
+        return self.law.potential(x, float(self.geometry.radius))
+
+    def dissipation(self, view: StateView) -> float:
+        """Power (W, >= 0) of the damping part of the normal force and of the friction, at
+        the approach speed the integrator used for this state."""
+        f = self.forces(view, self.approach_at(view.t) if self.law.remembers else None)
+        x = min(f.gap.penetration, float(self.geometry.radius))
+        damping = f.normal - self.law.elastic_force(x)  # -k x^n where F_N is held at 0
+        return damping * f.gap.rate + f.friction * f.sliding_speed
+
+    def rest_dissipation(self, view: StateView, moving) -> float:
+        """Power (W) the friction of an equilibrium (`view`, no velocities: its force
+        opposes the slip since the last accepted state) takes out while the bodies move at
+        the rates of `moving` (a Kin of the same positions)."""
+        f = self.forces(view)
+        friction = f.force - f.normal * f.gap.normal
+        return -float(friction @ self.geometry.gap(view.system.view(moving)).sliding)
 
     def body_pair(self) -> tuple[int, int]:
         """The two body indices whose states alone set this element's forces."""

@@ -6,7 +6,9 @@ contact began (m/s, the element's memory; only the laws with `remembers` use it)
 force is continuous in x and xd (a kink at most), which keeps stiff contact stable under
 the integrator's Jacobian. The formulas are compiled (numba: `impact_force`, `hertz_force`,
 `restitution_force`, called by the laws' `force` and by the contact kernels); `kernel()`
-gives a law's code and parameters for mechlib.contact.kernels.
+gives a law's code and parameters for mechlib.contact.kernels. Every law's elastic part is
+k x^n (`elastic_force`), with the potential k x^(n+1) / (n+1) (`potential`, J; the energy
+request's `elastic` column); the rest of the force, (F - k x^n), is the damping part.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ __all__ = [
     "RESTITUTION",
     "HertzLaw",
     "ImpactLaw",
+    "PowerLaw",
     "RestitutionLaw",
     "hertz_force",
     "hertz_stiffness",
@@ -92,6 +95,27 @@ def restitution_force(
     return max(k * x**exponent * (1.0 + factor * _rate_ratio(xd, approach)), 0.0)
 
 
+class PowerLaw:
+    """The elastic part k x^n of a law with `stiffness` k (N/m^n) and `exponent` n, and its
+    potential (the integral of that force over the penetration)."""
+
+    stiffness: float
+    exponent: float
+
+    def elastic_force(self, x: float) -> float:
+        """k x^n (N) at penetration x (m; 0 apart)."""
+        return self.stiffness * x**self.exponent if x > 0.0 else 0.0
+
+    def potential(self, x: float, cap: float = math.inf) -> float:
+        """Elastic energy (J) at penetration x (m): k x^(n+1) / (n+1), and beyond `cap` (m,
+        where the contact kernels hold the force at k cap^n) that plus k cap^n (x - cap)."""
+        if x <= 0.0:
+            return 0.0
+        k, n = self.stiffness, self.exponent
+        held = min(x, cap)
+        return k * held ** (n + 1.0) / (n + 1.0) + k * held**n * (x - held)
+
+
 def hertz_stiffness(E1: float, nu1: float, E2: float, nu2: float, radius: float) -> float:
     """K (N/m^1.5) of two elastic bodies (seed 004 eqs. 3.4-3.5):
     K = 4 / (3 pi (h1 + h2)) * sqrt(R), h = (1 - nu^2) / (pi E), R the effective radius (m)
@@ -102,7 +126,7 @@ def hertz_stiffness(E1: float, nu1: float, E2: float, nu2: float, radius: float)
 
 
 @dataclass(frozen=True)
-class ImpactLaw:
+class ImpactLaw(PowerLaw):
     """F = k x^e + step(x, 0, 0, depth, c_max) * xd, never negative (seed 000 sec. 2.2.5).
 
     stiffness k (N/m^e), exponent e (-), damping c_max (N*s/m) reached at `depth` (m)."""
@@ -123,7 +147,7 @@ class ImpactLaw:
 
 
 @dataclass(frozen=True)
-class HertzLaw:
+class HertzLaw(PowerLaw):
     """F = K x^n (1 + 3 (1 - e^2) / 4 * xd / xd(-)), never negative: Hertz with the
     Lankarani-Nikravesh hysteresis damping mu = 3 K (1 - e^2) / (4 xd(-)) (seed 004
     eqs. 3.6-3.8); xd(-) the approach speed at the start of the contact (m/s). K (N/m^n),
@@ -144,7 +168,7 @@ class HertzLaw:
 
 
 @dataclass(frozen=True)
-class RestitutionLaw:
+class RestitutionLaw(PowerLaw):
     """A penalty force with the damping that gives restitution e, valid for low e too
     (Flores et al. 2011): F = k x^n (1 + 8 (1 - e) / (5 e) * xd / xd(-)), never negative.
 

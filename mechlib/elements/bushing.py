@@ -7,6 +7,13 @@ Force on body 1, J axes: -(K d + C d'); torque on body 1: -(Kr theta + Cr omega)
 the opposite at the same point. Linear in theta: meant for the small rotations of a
 compliant mount (as a linear Adams bushing); the rotation vector keeps it well defined at
 larger ones.
+
+Energy (the energy request, mechlib.energy): `potential` V = 1/2 d.K d + 1/2 theta.Kr theta,
+`dissipation` d'.C d' + omega.Cr omega (W). The force's power is exactly -d/dt(1/2 d.K d)
+- d'.C d'. The torque's is -theta.Kr J(theta) theta' (J the rotation vector's Jacobian,
+omega = J theta'), and J^T theta = theta: exact for an isotropic Kr or a rotation about one
+axis of Kr, otherwise exact to second order in rotation (the torque of an anisotropic Kr is
+not conservative at finite 3-D rotations; its energy error is third order in theta).
 """
 
 from __future__ import annotations
@@ -82,16 +89,16 @@ class Bushing:
         )
 
     def _state(self, view: StateView):
-        """(force, torque on body 1 in global axes, d, theta in J axes, point of body 1),
-        from the compiled kernel (mechlib.elements.bushing_kernel)."""
+        """(force, torque on body 1 in global axes, d, theta in J axes, point of body 1,
+        d', omega in J axes), from the compiled kernel (mechlib.elements.bushing_kernel)."""
         b1, s1, b2, s2 = self._ends
         k, c, kr, cr = self._gains
         out = np.empty(STATE_SIZE)
         bushing_state(view.kin.x, view.kin.xd, b1, s1, b2, s2, k, c, kr, cr, out)
-        return out[0:3], out[3:6], out[6:9], out[9:12], out[12:15]
+        return out[0:3], out[3:6], out[6:9], out[9:12], out[12:15], out[15:18], out[18:21]
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        force, torque, _, _, p1 = self._state(view)
+        force, torque, _, _, p1, _, _ = self._state(view)
         for body, sign in ((self._ends[0], 1.0), (self._ends[2], -1.0)):
             F[body] += sign * force
             N[body] += sign * (torque + cross(p1 - view.kin.r[body], force))
@@ -99,7 +106,19 @@ class Bushing:
     def output(self, view: StateView) -> dict[str, float]:
         """fx..tz: the force and torque on body 1 (global axes, N and N*m); dx..dz, rx..rz:
         the translation (m) and rotation vector (rad) of body 1's frame in body 2's."""
-        force, torque, d, theta, _ = self._state(view)
+        force, torque, d, theta, *_ = self._state(view)
         values = dict(zip(("fx", "fy", "fz", "tx", "ty", "tz"), (*force, *torque)))
         values.update(zip(("dx", "dy", "dz", "rx", "ry", "rz"), (*d, *theta)))
         return {k: float(v) for k, v in values.items()}
+
+    def potential(self, view: StateView) -> float:
+        """Elastic energy (J): 1/2 d.K d + 1/2 theta.Kr theta."""
+        _, _, d, theta, *_ = self._state(view)
+        k, _, kr, _ = self._gains
+        return 0.5 * float(d @ (k * d) + theta @ (kr * theta))
+
+    def dissipation(self, view: StateView) -> float:
+        """Power (W) of the dampers: d'.C d' + omega.Cr omega."""
+        *_, d_rate, omega = self._state(view)
+        _, c, _, cr = self._gains
+        return float(d_rate @ (c * d_rate) + omega @ (cr * omega))

@@ -16,9 +16,10 @@ from mechlib.kernels import JitOptions, _brot
 
 __all__ = ["STATE_SIZE", "bushing_state"]
 
-STATE_SIZE = 15
+STATE_SIZE = 21
 """bushing_state's `out`: force (3), torque (3) on body 1 (global, N, N*m), d (3, m) and
-theta (3, rad) in body 2's axes, body 1's point (3, global, m)."""
+theta (3, rad) in body 2's axes, body 1's point (3, global, m), d' (3, m/s) and omega (3,
+rad/s) in body 2's axes."""
 _JIT: JitOptions = {"cache": True, "nogil": True}
 
 
@@ -107,3 +108,5 @@ def bushing_state(x, xd, b1, s1, b2, s2, k, c, kr, cr, out):
         out[6 + i] = d[i]
         out[9 + i] = theta[i]
         out[12 + i] = p1[i]
+        out[15 + i] = d_rate[i]
+        out[18 + i] = omega[i]

@@ -15,6 +15,9 @@ g(D) = L + (r1 - r2) asin((r1 - r2) / D), L = sqrt(D^2 - (r1 - r2)^2) the free s
     F_lat = (F_a - F_b) (r1 - r2) / D   normal to AB, a couple on the pulleys (2.6).
 The cable is massless: the loads on the two pulley bodies are in equilibrium, the yoke gets
 none (the lateral couple carries what the torques T1 + T2 leave unbalanced).
+Energy (the energy request): the loads are those of the potential
+V = sum over the strands of (max(0, T0 + k e)^2 - T0^2) / (2 k) (`potential`, J; 0 at
+design), the integral of each strand's tension over its elongation.
 """
 
 from __future__ import annotations
@@ -83,16 +86,29 @@ class CableLoop:
             )
         return math.sqrt(d * d - dr * dr) + dr * math.asin(dr / d)
 
+    def _elongations(self, view: StateView) -> tuple[float, float, float]:
+        """(e_a, e_b (m), hinge distance D (m))."""
+        (b1, s1), (b2, s2) = self._ends
+        d = float(np.linalg.norm(view.point_position(b2, s2) - view.point_position(b1, s1)))
+        r1, r2 = self.radii
+        phi1, phi2 = (c * m.value(view.kin) for c, m in zip(self._sense, self._m))
+        wrap, common = r1 * phi1 - r2 * phi2, self._g(d) - self._g0
+        return wrap + common, -wrap + common, d
+
+    def potential(self, view: StateView) -> float:
+        """Elastic energy (J) of the two strands, 0 at design."""
+        k, t0 = self.stiffness, self.pretension
+        return sum(
+            (max(0.0, t0 + k * e) ** 2 - t0 * t0) / (2.0 * k) for e in self._elongations(view)[:2]
+        )
+
     def _state(self, view: StateView) -> dict:
         (b1, s1), (b2, s2) = self._ends
         a, b = view.point_position(b1, s1), view.point_position(b2, s2)
-        d = float(np.linalg.norm(b - a))
+        ea, eb, d = self._elongations(view)
         r1, r2 = self.radii
-        phi1, phi2 = (c * m.value(view.kin) for c, m in zip(self._sense, self._m))
-        wrap = r1 * phi1 - r2 * phi2
-        common = self._g(d) - self._g0
-        fa = max(0.0, self.pretension + self.stiffness * (wrap + common))
-        fb = max(0.0, self.pretension + self.stiffness * (-wrap + common))
+        fa = max(0.0, self.pretension + self.stiffness * ea)
+        fb = max(0.0, self.pretension + self.stiffness * eb)
         length = math.sqrt(d * d - (r1 - r2) ** 2)
         return {
             "t1": r1 * (fb - fa),

@@ -1,7 +1,8 @@
 """Tabulated element laws: force (N) vs deflection (m), torque (N*m) vs angle (rad).
 
-`TableLaw` wraps a `mechlib.tables.Table` for `Spring.law` / `TorsionSpring.law`: a value
-outside a table that does not extrapolate becomes a `SolverFailure` naming the element.
+`TableLaw` wraps a `mechlib.tables.Table` for `Spring.law` / `TorsionSpring.law` / `Seal.law`:
+a value outside a table that does not extrapolate becomes a `SolverFailure` naming the
+element. Its exact `integral` gives those elements their potential energy.
 """
 
 from __future__ import annotations
@@ -21,6 +22,16 @@ class TableLaw:
     def __call__(self, x: float) -> float:
         try:
             return self.table(x)
+        except TableRangeError as exc:
+            raise SolverFailure(
+                f"force element '{self.element}': {exc}", where=(self.element,)
+            ) from None
+
+    def integral(self, a: float, b: float) -> float:
+        """The exact integral of the law over [a, b] (J for a force vs m or a torque vs rad:
+        the work the element's potential stores), mechlib.tables.Table.integral."""
+        try:
+            return self.table.integral(a, b)
         except TableRangeError as exc:
             raise SolverFailure(
                 f"force element '{self.element}': {exc}", where=(self.element,)

@@ -10,6 +10,10 @@ F_i = (length / N) w(x_i) for x_i > 0, along n on body 1 (the reverse on body 2)
 Friction mu F_i opposes the tangential slip of P_i on body 2 (regularised Coulomb, see
 `mechlib.elements.regularize`). The stations integrate the line load by the midpoint rule,
 exact for a linear law under a linearly varying penetration.
+
+Energy (the energy request, mechlib.energy): `potential` sums the stations' share times
+the integral of the line load over their penetration (exact for the power law and a
+tabulated law, `TableLaw.integral`); `dissipation` is the friction's power.
 """
 
 from __future__ import annotations
@@ -21,6 +25,7 @@ from typing import ClassVar
 import numpy as np
 
 from mechlib.elements.regularize import StaticSlipAnchor, at_rest, coulomb_vector
+from mechlib.forces import has_potential, stored
 from mechlib.rotation import omega_global, rotate
 from mechlib.view import StateView
 
@@ -81,24 +86,61 @@ class Seal(StaticSlipAnchor):
 
     def _loads(self, view: StateView) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(P_i (N, 3), normal forces F_i (N,), friction forces on body 1 (N, 3), x_i)."""
-        k = view.kin
-        p1 = k.r[self._b1] + rotate(k.p[self._b1], self._s1)
-        p2 = k.r[self._b2] + rotate(k.p[self._b2], self._s2)
-        n = view.rotation(self._b2) @ self._n
-        x = -(p1 - p2) @ n - self.gap
+        p1, p2, n, x = self._stations(view)
         normal = self._share * self._line_load(x)
         if self.mu == 0.0:
             return p1, normal, np.zeros_like(p1), x
         if at_rest(view):
             slip, threshold = (p1 - p2) - self._anchor, self.slip_threshold
         else:
-            v1 = np.array([view.point_velocity(self._b1, s) for s in self._s1])
-            omega2 = omega_global(k.p[self._b2], k.pd[self._b2])
-            v2 = k.rd[self._b2] + np.cross(omega2, p1 - k.r[self._b2])  # body 2 under P_i
-            slip, threshold = v1 - v2, self.v_threshold
+            slip, threshold = self._slip_velocity(view, p1), self.v_threshold
         slip = slip - np.outer(slip @ n, n)
         friction = -self.mu * normal[:, None] * coulomb_vector(slip, threshold)
         return p1, normal, friction, x
+
+    def _stations(self, view: StateView):
+        """(P_i (N, 3), their twins S_i in body 2 (N, 3), the normal (3,), x_i (m))."""
+        k = view.kin
+        p1 = k.r[self._b1] + rotate(k.p[self._b1], self._s1)
+        p2 = k.r[self._b2] + rotate(k.p[self._b2], self._s2)
+        n = view.rotation(self._b2) @ self._n
+        return p1, p2, n, -(p1 - p2) @ n - self.gap
+
+    def _slip_velocity(self, view: StateView, p1: np.ndarray) -> np.ndarray:
+        """Velocity (m/s, (N, 3)) of body 1's points P_i relative to body 2's points under
+        them."""
+        k = view.kin
+        v1 = np.array([view.point_velocity(self._b1, s) for s in self._s1])
+        omega2 = omega_global(k.p[self._b2], k.pd[self._b2])
+        return v1 - (k.rd[self._b2] + np.cross(omega2, p1 - k.r[self._b2]))
+
+    @property
+    def potential(self):
+        """Elastic energy (J) at a view: the line load integrated over each station's
+        penetration, times its share of the seal; None with a law that has no exact
+        integral (its work is then load work)."""
+        return self._potential if has_potential(self.law) else None
+
+    def _potential(self, view: StateView) -> float:
+        x = self._stations(view)[3]
+        pressed = x[x > 0.0]
+        if self.law is not None:
+            return self._share * sum(stored(self.law, 0.0, float(v)) for v in pressed)
+        n = self.exponent
+        return self._share * self.stiffness * float(np.sum(pressed ** (n + 1.0))) / (n + 1.0)
+
+    def dissipation(self, view: StateView) -> float:
+        """Power (W, >= 0) of the friction: -sum friction_i . slip velocity_i."""
+        return 0.0 if at_rest(view) else self.rest_dissipation(view, view.kin)
+
+    def rest_dissipation(self, view: StateView, moving) -> float:
+        """Power (W) of the friction of `view` (at an equilibrium: against the slip since
+        the last accepted state) while the bodies move at the rates of `moving` (a Kin)."""
+        if self.mu == 0.0:
+            return 0.0
+        p1, _, friction, _ = self._loads(view)
+        slip = self._slip_velocity(view.system.view(moving), p1)
+        return -float(np.sum(friction * slip))
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         p1, normal, friction, _ = self._loads(view)

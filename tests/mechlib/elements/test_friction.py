@@ -3,6 +3,8 @@ kinematic analyses, on a bar hinged at one end (m = 2 kg, L = 1 m, gravity -y, a
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -123,10 +125,10 @@ def test_dynamic_friction_on_a_driven_joint_never_tries_to_stick_against_the_mot
     assert np.abs(value).max() > 0.99 * PRELOAD
 
 
-def _two_link_arm(shoulder_hold: float, elbow_hold: float) -> mechlib.Solution:
+def _two_link_arm(shoulder_hold: float, elbow_hold: float, end: float = 0.5) -> mechlib.Solution:
     """Two 1 kg, 1 m links (uniform bars) hinged at the origin and at x = 1 m about +z,
     horizontal and at rest under gravity -y; each joint's friction a preload only (N*m),
-    0.5 s dynamic."""
+    `end` s dynamic."""
     mech = mechlib.Mechanism(name="arm", gravity=(0.0, -G, 0.0))
     inertia = [1e-3, 1.0 / 12.0, 1.0 / 12.0]
     mech.add_body("upper", mass=1.0, cm=(0.5, 0.0, 0.0), inertia=inertia)
@@ -137,7 +139,7 @@ def _two_link_arm(shoulder_hold: float, elbow_hold: float) -> mechlib.Solution:
     mech.add_force(mechlib.JointFriction("f_shoulder", "shoulder", 0.0, preload=shoulder_hold))
     mech.add_force(mechlib.JointFriction("f_elbow", "elbow", 0.0, preload=elbow_hold))
     coordinates = [mechlib.JointCoordinate(j, j, "angle") for j in ("shoulder", "elbow")]
-    sol = mechlib.solve(mech, mechlib.Dynamic(end=0.5, step=0.01), requests=coordinates)
+    sol = mechlib.solve(mech, mechlib.Dynamic(end=end, step=0.01), requests=coordinates)
     assert sol.ok, sol.message
     return sol
 
@@ -177,3 +179,25 @@ def test_two_joint_frictions_hold_or_slip_each_by_its_own_moment(holds, moving) 
     ref = solve_ivp(pendulum, (0.0, t[-1]), [0.0, 0.0], t_eval=t, rtol=1e-10, atol=1e-12)
     assert np.all(ref.y[1][1:] < 0.0)  # still falling at the end: friction against it
     np.testing.assert_allclose(sol.channels[f"{moving}.value"], ref.y[0], atol=3e-4)
+
+
+def test_a_joint_stopping_while_the_next_is_held_sticks_both() -> None:
+    """Issue 13: the shoulder (friction 10 N*m < its gravity moment 19.62 N*m) swings the
+    arm down, the elbow held (30 N*m) throughout, and the shoulder stops at its turnaround
+    past the vertical, where it sticks while the elbow is held: one switch in which the
+    shoulder's new stick equation shifts the elbow's multiplier (an IndexError before
+    4fbde85, which re-solves the multipliers before testing the next joint). Closed form
+    (energy, the arm rigid: friction work = the cm's drop): the shoulder stops at
+    phi = -theta with m g d sin(phi) = T phi (m g d = 19.62 N*m), phi = 1.8731 rad (at
+    1.4 s), and holds there (gravity moment 19.62 |cos phi| = 5.9 < 10 N*m): the last
+    0.3 s within 1e-4 rad of it (measured 3.4e-5 rad at the default tolerance), exactly
+    still; the elbow at rest."""
+    from scipy.optimize import brentq
+
+    sol = _two_link_arm(10.0, 30.0, end=1.8)
+    stop = brentq(lambda phi: 2.0 * G * math.sin(phi) - 10.0 * phi, 1.0, 3.0, xtol=1e-14)
+    shoulder = sol.channels["shoulder.value"]
+    assert np.abs(sol.channels["elbow.value"]).max() < 1e-12
+    held = np.asarray(sol.time) > 1.5
+    assert np.abs(shoulder[held] + stop).max() < 1e-4
+    assert np.ptp(shoulder[held]) < 1e-12
