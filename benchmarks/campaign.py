@@ -112,9 +112,7 @@ def run_exudyn_pool(rates: list[float], jobs: int) -> dict[str, Any]:
     return {
         "wall_s": round(wall, 2),
         "runs": len(peaks),
-        "envelope": {
-            column: [max(p[column][0] for p in peaks), min(p[column][1] for p in peaks)]
-        },
+        "envelope": {column: [max(p[column][0] for p in peaks), min(p[column][1] for p in peaks)]},
     }
 
 
@@ -190,8 +188,10 @@ def main(argv: list[str] | None = None) -> int:
             result["stages_s"] = stage_breakdown(set_file, rates, Path(result["loads"]["output"]))
             print("per run, in this process (s):", result["stages_s"], flush=True)
     result["load_after"] = os.getloadavg()
-    ratio = result["exudyn"]["wall_s"] / result["loads"]["wall_s"] * (
-        result["loads"]["runs"] / max(result["exudyn"]["runs"], 1)
+    ratio = (
+        result["exudyn"]["wall_s"]
+        / result["loads"]["wall_s"]
+        * (result["loads"]["runs"] / max(result["exudyn"]["runs"], 1))
     )
     result["throughput_ratio_loads_over_exudyn"] = round(ratio, 4)
     print(
