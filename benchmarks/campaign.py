@@ -13,8 +13,10 @@ before and after (the machine may be shared: compare the ratio, measured side by
 validate, build, solve, accuracy companion, whole `run_case`, write; and the set's report
 (a second `run_set` in this process, every run reused). `--dask` also times the same set on
 a local Dask cluster of J workers (`loads run SET --scheduler local --jobs J`).
+`--accuracy-off` runs the case without its error estimate (`analysis.accuracy: off`: no
+companion run), as Exudyn runs.
 
-    python -m benchmarks.campaign [--runs 200] [--jobs 2] [--dask] [--json FILE]
+    python -m benchmarks.campaign [--runs 200] [--jobs 2] [--dask] [--accuracy-off] [--json FILE]
 """
 
 from __future__ import annotations
@@ -46,10 +48,13 @@ def sweep_rates(runs: int) -> list[float]:
     return [float(r) for r in np.linspace(0.5 * NOMINAL_RATE, 1.5 * NOMINAL_RATE, runs)]
 
 
-def write_sweep(folder: Path, rates: list[float]) -> Path:
-    """The case (the bench slider-crank, its initial rate a parameter) and the set sweeping
-    it over `rates`, written into `folder`; returns the set file."""
+def write_sweep(folder: Path, rates: list[float], *, accuracy_off: bool = False) -> Path:
+    """The case (the bench slider-crank, its initial rate a parameter; `accuracy_off`: no
+    error estimate, `analysis.accuracy: off`) and the set sweeping it over `rates`, written
+    into `folder`; returns the set file."""
     text = CASE.read_text(encoding="utf-8")
+    if accuracy_off:
+        text = text.replace("analysis:\n", 'analysis:\n  accuracy: "off"\n', 1)
     given = f"pivot: {{value: 0, rate: {NOMINAL_RATE!r}}}"
     if given not in text:
         raise RuntimeError(f"{CASE}: no `{given}` to sweep (regenerated differently?)")
@@ -168,15 +173,21 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--dask", action="store_true", help="also on a local Dask cluster")
     parser.add_argument("--no-breakdown", action="store_true")
+    parser.add_argument(
+        "--accuracy-off",
+        action="store_true",
+        help="runs without their error estimate (analysis.accuracy: off), as Exudyn's",
+    )
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
     from benchmarks.suite import machine_info
 
     rates = sweep_rates(args.runs)
     result: dict[str, Any] = {"machine": machine_info(), "runs": args.runs, "jobs": args.jobs}
+    result["accuracy_off"] = args.accuracy_off
     result["load_before"] = os.getloadavg()
     with tempfile.TemporaryDirectory() as tmp:
-        set_file = write_sweep(Path(tmp), rates)
+        set_file = write_sweep(Path(tmp), rates, accuracy_off=args.accuracy_off)
         result["loads"] = run_loads(set_file, args.jobs, [])
         print(_rate_line(f"loads run -j {args.jobs}", result["loads"]), flush=True)
         result["exudyn"] = run_exudyn_pool(rates, args.jobs)
