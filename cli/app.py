@@ -449,10 +449,18 @@ def bench(
             "(benchmarks/startup.py).",
         ),
     ] = False,
+    campaign: Annotated[
+        bool,
+        typer.Option(
+            "--campaign",
+            help="Time a 200-variant sweep of the slider-crank in `loads run -j 2` against "
+            "Exudyn with 2 processes instead (benchmarks/campaign.py).",
+        ),
+    ] = False,
 ) -> int:
     """Run the benchmark suite against Exudyn, or with --door time the door's load-case
-    set, or with --startup the command's start-up. It needs a source checkout
-    (benchmarks/suite.py)."""
+    set, with --startup the command's start-up, with --campaign a large sweep against
+    Exudyn. It needs a source checkout (benchmarks/suite.py)."""
     suite = _find_bench_suite()
     if suite is None:
         raise fail(
@@ -460,6 +468,7 @@ def bench(
             "(run it from the repository root)"
         )
     module = "startup" if startup else "door_set" if door else "suite"
+    module = "campaign" if campaign else module
     namespace = _load_bench_module(suite.with_name(f"{module}.py"))
     entry = namespace.get("main")
     if not callable(entry):

@@ -205,6 +205,19 @@ def _channels(system: System, run: _Run, requests) -> tuple[np.ndarray, dict]:
     return np.array(run.trajectory.time), channels
 
 
+def _position_warnings(system: System, analysis: Analysis, run: _Run) -> list[str]:
+    """Warnings from the recorded positions: toggles, deformation, spin, unresolved modes."""
+    warnings: list[str] = []
+    if not isinstance(analysis, Modes):
+        warnings += toggle_warnings(system, run.trajectory)
+        warnings += deformation_warnings(system, run.trajectory)
+        warnings += spin_warnings(system, run.trajectory)
+    if isinstance(analysis, Dynamic) and len(run.trajectory):
+        duration = run.trajectory.time[-1] - run.trajectory.time[0]
+        warnings += unresolved_mode_warnings(system, duration, run.stats.steps)
+    return warnings
+
+
 def _summary_status(result: Status) -> RunStatus:
     """`ok`, `interrupted` or `failed` (the summary's status)."""
     if result.ok:
@@ -247,8 +260,13 @@ def solve(
     throw: bool = True,
     events: Sequence = (),
     progress: Callable[[float, float], None] | None = None,
+    checks: bool = True,
 ) -> Solution:
     """Check, assemble and solve; channels `REQUEST.COMPONENT` at the output times.
+
+    `checks` False leaves out the checks of the recorded positions after the run (toggles,
+    deformation, spin, unresolved modes: their warnings only) for a run whose warnings are
+    not kept, e.g. an accuracy companion; times, channels and status are the same.
 
     The `mechanism` is left unchanged (the solve works on its own copy of the force
     elements): solving it twice gives the same results. Raises ModelError for an ill-posed
@@ -293,13 +311,8 @@ def solve(
     if bad is not None:
         run.result = Status.NOT_FINITE
         run.message = f"column {bad[0]} is not finite ({bad[2]:g}) at t = {bad[1]:.6g} s"
-    if not isinstance(analysis, Modes):
-        warnings += toggle_warnings(system, run.trajectory)
-        warnings += deformation_warnings(system, run.trajectory)
-        warnings += spin_warnings(system, run.trajectory)
-    if isinstance(analysis, Dynamic) and len(run.trajectory):
-        duration = run.trajectory.time[-1] - run.trajectory.time[0]
-        warnings += unresolved_mode_warnings(system, duration, run.stats.steps)
+    if checks:
+        warnings += _position_warnings(system, analysis, run)
     run.stats.cpu_seconds = _time.process_time() - cpu0
     message = run.message
     if run.events:

@@ -80,9 +80,12 @@ class BuiltRun:
     warnings: list[Diagnostic] = field(default_factory=list)
     events: list = field(default_factory=list)
 
-    def solve(self, analysis: Any = None, *, progress: Any = None) -> ml.Solution:
+    def solve(
+        self, analysis: Any = None, *, progress: Any = None, checks: bool = True
+    ) -> ml.Solution:
         """`mechlib.solve` of this run (a failure is a failed Solution, never raised; an
-        ill-posed model raises ml.ModelError); `analysis` replaces the case's."""
+        ill-posed model raises ml.ModelError); `analysis` replaces the case's; `checks`
+        False: no position checks after the run (mechlib.solve)."""
         return ml.solve(
             self.mechanism,
             self.analysis if analysis is None else analysis,
@@ -92,6 +95,7 @@ class BuiltRun:
             throw=False,
             events=self.events,
             progress=progress,
+            checks=checks,
         )
 
 

@@ -14,7 +14,8 @@ columns marked `~0`), the time histories, `Provenance`.
 Time histories (`report.histories`): `envelope` (default) keeps the rows the charts need
 (`loadcases.report.decimate`: at most `CHART_ROWS` evenly spaced rows per run and curve, plus
 the rows of every column's max and min, so peaks read from the sheets are exact; columns
-marked `~0` left out); `all`
+marked `~0` left out; of a set with more than `MAX_HISTORY_RUNS` ok runs, only the runs that
+govern an envelope row, so that a campaign's workbook grows with its envelope); `all`
 every output row (and the full curves); `none` no history sheets (and no per-run charts).
 Every run's full rows stay in its `NAME.csv`, linked from the Cases sheet. One sheet per run
 when the set has at most `MAX_RUN_SHEETS` runs, else one sheet per family with the runs
@@ -59,6 +60,7 @@ from loadcases.results.xlsx_text import text_cells
 
 __all__ = [
     "DEFAULT_TEMPLATE",
+    "MAX_HISTORY_RUNS",
     "MAX_RUN_SHEETS",
     "WorkbookData",
     "file_sha256",
@@ -67,6 +69,9 @@ __all__ = [
 ]
 
 MAX_RUN_SHEETS = 40  # more runs: one time-history sheet per family
+# More ok runs than this (a campaign): `histories: envelope` keeps the runs that govern an
+# envelope row only, so the workbook grows with the envelope, not with the number of runs.
+MAX_HISTORY_RUNS = 100
 SHEET_TITLE_LENGTH = 31  # Excel's limit
 DEFAULT_TEMPLATE = Path(__file__).resolve().parents[2] / "templates" / "envelope.xlsx"
 _FORBIDDEN = re.compile(r"[\[\]:*?/\\]")
@@ -240,7 +245,7 @@ def write_workbook(
         say(f"workbook: time histories {k}/{len(groups)}")
         sheet = workbook.create_sheet(titles[name])
         blocks.update(
-            sheets.history_sheet(sheet, group, stacked=not per_run, note=_NOTE[data.histories])
+            sheets.history_sheet(sheet, group, stacked=not per_run, note=_history_note(data))
         )
     if chart_sheet is not None:
         charts.charts_sheet(chart_sheet, curves, curve_sheets, wheres, blocks)
@@ -260,13 +265,33 @@ _NOTE = {
 }
 
 
+def _history_note(data: WorkbookData) -> str | None:
+    """The note above the time histories: what was left out (None: nothing)."""
+    note = _NOTE[data.histories]
+    if note is None or len(data.runs) <= MAX_HISTORY_RUNS:
+        return note
+    return (
+        f"only the runs that govern an envelope row (the set has {len(data.runs)} ok runs, "
+        f"more than {MAX_HISTORY_RUNS}); {note}"
+    )
+
+
+def _governing(data: WorkbookData) -> list[SavedRun]:
+    """The ok runs, or only those that govern an envelope row when there are more than
+    MAX_HISTORY_RUNS of them (run order kept)."""
+    if len(data.runs) <= MAX_HISTORY_RUNS:
+        return data.runs
+    names = {row.max_run for row in data.rows} | {row.min_run for row in data.rows}
+    return [run for run in data.runs if run.name in names]
+
+
 def _history_runs(data: WorkbookData) -> list[SavedRun]:
     """The runs whose time histories the workbook holds (`report.histories`)."""
     if data.histories == "none":
         return []
     if data.histories == "all":
         return data.runs
-    return [decimate_run(run, skip=data.noise) for run in data.runs]
+    return [decimate_run(run, skip=data.noise) for run in _governing(data)]
 
 
 def _shown_curves(data: WorkbookData) -> list[EnvelopeCurve]:

@@ -76,8 +76,8 @@ def _solve(
     steps tightened to meet the target when the case sets `accuracy` and no tolerance)."""
     first = [progress]  # the progress bar follows the first solve only
 
-    def solve(analysis) -> ml.Solution:
-        return built.solve(analysis, progress=first.pop() if first else None)
+    def solve(analysis, checks: bool = True) -> ml.Solution:
+        return built.solve(analysis, progress=first.pop() if first else None, checks=checks)
 
     accuracy = cf.case.analysis.accuracy
     if not isinstance(built.analysis, ml.Dynamic) or accuracy == "off":

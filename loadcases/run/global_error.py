@@ -24,8 +24,8 @@ from __future__ import annotations
 
 import dataclasses
 import time as clock
-from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 
@@ -179,7 +179,11 @@ def request_errors(run: ml.Solution, companion: ml.Solution, order: int) -> dict
     return out
 
 
-Solver = Callable[[ml.Dynamic], ml.Solution]
+class Solver(Protocol):
+    """Solves the run with an analysis; `checks` False: without the position checks after
+    the run (their warnings), for a companion whose warnings are not kept."""
+
+    def __call__(self, analysis: ml.Dynamic, checks: bool = True) -> ml.Solution: ...
 
 
 def solve_to_accuracy(
@@ -192,7 +196,7 @@ def solve_to_accuracy(
         return run, None
     started = clock.process_time()
     order = _order(analysis.integrator)
-    companion = solve(coarser(analysis))
+    companion = solve(coarser(analysis), checks=False)  # only its channels are used
     note, tightenings = "", 0
     if companion.status != "ok":
         estimate = _estimate(analysis, target, {}, tightenings, started)

@@ -259,6 +259,11 @@ def test_bench_runs_suite_main_or_reports_missing(
     )
     result = runner.invoke(app, ["bench", "--door"])
     assert result.exit_code == 1 and "door []" in result.stdout
+    (suite.parent / "campaign.py").write_text(
+        "def main(argv):\n    print('campaign', argv)\n    return 0\n"
+    )
+    result = runner.invoke(app, ["bench", "--campaign"])
+    assert result.exit_code == 0 and "campaign []" in result.stdout
 
 
 def test_bench_suite_in_a_package_may_use_relative_imports(

@@ -88,3 +88,28 @@ def test_sheet_titles_are_valid_and_unique() -> None:
     long = "x" * 40
     assert sheet_title(long, used) == "x" * 31
     assert sheet_title(long, used) == "x" * 27 + " (2)"
+
+
+def test_a_campaign_keeps_the_histories_of_the_governing_runs_only(
+    crank_set, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Above MAX_HISTORY_RUNS ok runs the history sheets hold the runs named in the
+    envelope's max_run / min_run, with a note; the Cases sheet still lists every run."""
+    from loadcases.report.workbook import WorkbookData, write_workbook
+    from loadcases.results.saved import load_saved_run
+
+    monkeypatch.setattr(workbook_module, "MAX_HISTORY_RUNS", 2)
+    runs = [load_saved_run(r.csv_path) for r in crank_set.records]
+    data = WorkbookData.from_set(crank_set, runs, {})
+    data.rows = [row for row in data.rows if row.column == "pivot_force.fx"]
+    path = write_workbook(data, tmp_path / "c.xlsx")
+    governing = {data.rows[0].max_run, data.rows[0].min_run}
+    assert 0 < len(governing) < len(runs)
+    cases = pd.read_excel(path, sheet_name="Cases")
+    assert cases["run"].tolist() == [r.name for r in crank_set.records]
+    with_sheet = set(cases.loc[cases["sheet"].notna(), "run"])
+    assert with_sheet == governing
+    book = openpyxl.load_workbook(path)
+    sheet = book[cases.loc[cases["sheet"].notna(), "sheet"].iloc[0]]
+    notes = [c.value for c in sheet[1] if isinstance(c.value, str) and "govern" in c.value]
+    assert notes and "more than 2" in notes[0]

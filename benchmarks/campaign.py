@@ -1,0 +1,218 @@
+"""Throughput of a large sweep (issue 17 item 4: a campaign of N variants of one mechanism).
+
+Builds a set of N variants of the bench slider-crank (`models/slider_crank.case.yaml`, its
+initial crank rate swept evenly from 1/2 to 3/2 of 2*pi rad/s), runs it with
+`loads run SET --jobs J --force` in a fresh output folder (every run's CSV and summary, the
+envelope, the workbook and plots, as a user gets them), and the same N runs in Exudyn with a
+pool of J processes (each run solved at Exudyn's 1e-4 setting of the suite, h = 1 ms, its
+channels sent back to the parent, which takes each column's max and min: no files). Prints
+runs per second of both and their ratio, with the machine, the date and the load average
+before and after (the machine may be shared: compare the ratio, measured side by side).
+
+`--breakdown` (default on) times the stages of a few runs in this process: load and
+validate, build, solve, accuracy companion, whole `run_case`, write; and the set's report
+(a second `run_set` in this process, every run reused). `--dask` also times the same set on
+a local Dask cluster of J workers (`loads run SET --scheduler local --jobs J`).
+`--accuracy-off` runs the case without its error estimate (`analysis.accuracy: off`: no
+companion run), as Exudyn runs.
+
+    python -m benchmarks.campaign [--runs 200] [--jobs 2] [--dask] [--accuracy-off] [--json FILE]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import multiprocessing
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+CASE = ROOT / "benchmarks" / "models" / "slider_crank.case.yaml"
+PARAMETER = "crank_rate"
+NOMINAL_RATE = 2.0 * math.pi  # rad/s, the bench model's initial crank rate
+EXUDYN_STEP = 1e-3  # s: Exudyn's step at the suite's 1e-4 accuracy target (README)
+SAMPLE_RUNS = 3  # runs timed stage by stage in this process
+
+
+def sweep_rates(runs: int) -> list[float]:
+    """`runs` initial crank rates (rad/s), evenly from 0.5 to 1.5 times the nominal one."""
+    return [float(r) for r in np.linspace(0.5 * NOMINAL_RATE, 1.5 * NOMINAL_RATE, runs)]
+
+
+def write_sweep(folder: Path, rates: list[float], *, accuracy_off: bool = False) -> Path:
+    """The case (the bench slider-crank, its initial rate a parameter; `accuracy_off`: no
+    error estimate, `analysis.accuracy: off`) and the set sweeping it over `rates`, written
+    into `folder`; returns the set file."""
+    text = CASE.read_text(encoding="utf-8")
+    if accuracy_off:
+        text = text.replace("analysis:\n", 'analysis:\n  accuracy: "off"\n', 1)
+    given = f"pivot: {{value: 0, rate: {NOMINAL_RATE!r}}}"
+    if given not in text:
+        raise RuntimeError(f"{CASE}: no `{given}` to sweep (regenerated differently?)")
+    text = text.replace(given, f"pivot: {{value: 0, rate: {PARAMETER}}}")
+    text = text.replace("initial:", f"parameters: {{{PARAMETER}: {NOMINAL_RATE!r}}}\ninitial:", 1)
+    (folder / "crank.case.yaml").write_text(text, encoding="utf-8")
+    values = ", ".join(repr(rate) for rate in rates)
+    set_file = folder / "campaign.set.yaml"
+    set_file.write_text(
+        f"set: campaign\ncases: [crank.case.yaml]\nsweep:\n  {PARAMETER}: [{values}]\n",
+        encoding="utf-8",
+    )
+    return set_file
+
+
+def run_loads(set_file: Path, jobs: int, extra: list[str]) -> dict[str, Any]:
+    """`loads run SET --jobs J --force` in a fresh folder: wall s, exit, runs written, solver
+    CPU s summed over the summaries."""
+    loads = Path(sys.executable).with_name("loads")
+    out = set_file.parent / f"out-{len(extra)}-{time.monotonic_ns()}"
+    command = [str(loads), "run", str(set_file), "--jobs", str(jobs), "--force", "-o", str(out)]
+    start = time.perf_counter()
+    done = subprocess.run([*command, *extra], capture_output=True, text=True)
+    wall = time.perf_counter() - start
+    summaries = list(out.rglob("*.summary.json"))
+    cpu = [json.loads(p.read_text(encoding="utf-8"))["stats"]["cpu_seconds"] for p in summaries]
+    return {
+        "wall_s": round(wall, 2),
+        "exit": done.returncode,
+        "runs": len(summaries),
+        "solver_cpu_s": round(float(sum(cpu)), 2),
+        "output": str(out),
+        "stderr_tail": done.stderr.strip().splitlines()[-3:],
+    }
+
+
+def _exudyn_run(rate: float) -> dict[str, tuple[float, float]]:
+    """One Exudyn run of the slider-crank at initial crank rate `rate` (rad/s): each output
+    column's (max, min)."""
+    import dataclasses
+
+    from benchmarks.exudyn_models import ExudynOptions, run_exudyn
+    from benchmarks.models import slider_crank
+
+    model = slider_crank()
+    model = dataclasses.replace(model, initial_rate=(model.initial_rate[0], rate))
+    options = ExudynOptions(step=EXUDYN_STEP, end=model.end, output_step=model.output_step)
+    run = run_exudyn(model, options)
+    return {c: (float(v.max()), float(v.min())) for c, v in run.channels.items()}
+
+
+def run_exudyn_pool(rates: list[float], jobs: int) -> dict[str, Any]:
+    """The runs in Exudyn on a pool of `jobs` processes (started inside the timing, as
+    `loads` starts its workers): wall s and the envelope of the main column."""
+    start = time.perf_counter()
+    with multiprocessing.get_context("spawn").Pool(jobs) as pool:
+        peaks = pool.map(_exudyn_run, rates, chunksize=max(1, len(rates) // (4 * jobs)))
+    wall = time.perf_counter() - start
+    column = "slider_pos.x"
+    return {
+        "wall_s": round(wall, 2),
+        "runs": len(peaks),
+        "envelope": {column: [max(p[column][0] for p in peaks), min(p[column][1] for p in peaks)]},
+    }
+
+
+def _timed(fn: Any, *args: Any, **kwargs: Any) -> tuple[Any, float]:
+    start = time.perf_counter()
+    result = fn(*args, **kwargs)
+    return result, time.perf_counter() - start
+
+
+def stage_breakdown(set_file: Path, rates: list[float], out: Path) -> dict[str, float]:
+    """Wall s per stage of `SAMPLE_RUNS` runs in this process (after one unmeasured run:
+    imports, compiled kernels), mean per run; and the set's report with every run reused
+    (`out`: where `loads run` wrote the set)."""
+    from loadcases.build.model import build_run
+    from loadcases.inputs.loader import load_case
+    from loadcases.results.files import write_results
+    from loadcases.run import run_case
+    from loadcases.run.global_error import coarser
+    from loadcases.sets.campaign import run_set
+
+    case = set_file.with_name("crank.case.yaml")
+    run_case(load_case(case, overrides={PARAMETER: rates[0]}))
+    totals: dict[str, float] = {}
+    sample = rates[:: max(1, len(rates) // SAMPLE_RUNS)][:SAMPLE_RUNS]
+    for rate in sample:
+        cf, t_load = _timed(load_case, case, overrides={PARAMETER: rate})
+        built, t_build = _timed(build_run, cf, abscissa=True)
+        _, t_solve = _timed(built.solve)
+        _, t_companion = _timed(built.solve, coarser(built.analysis), checks=False)
+        outcome, t_run = _timed(run_case, cf, abscissa=True)
+        _, t_write = _timed(write_results, outcome, case.parent / "stages", version="bench")
+        for key, value in (
+            ("load_validate", t_load),
+            ("build", t_build),
+            ("solve", t_solve),
+            ("companion", t_companion),
+            ("run_case", t_run),
+            ("write", t_write),
+        ):
+            totals[key] = totals.get(key, 0.0) + value / len(sample)
+    _, totals["set_report_all_reused"] = _timed(run_set, set_file, output_dir=out)
+    return {key: round(value, 4) for key, value in totals.items()}
+
+
+def _rate_line(label: str, result: dict[str, Any]) -> str:
+    rate = result["runs"] / result["wall_s"] if result["wall_s"] else float("nan")
+    return f"{label}: {result['runs']} runs in {result['wall_s']:.1f} s wall = {rate:.2f} runs/s"
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--runs", type=int, default=200)
+    parser.add_argument("--jobs", type=int, default=2)
+    parser.add_argument("--dask", action="store_true", help="also on a local Dask cluster")
+    parser.add_argument("--no-breakdown", action="store_true")
+    parser.add_argument(
+        "--accuracy-off",
+        action="store_true",
+        help="runs without their error estimate (analysis.accuracy: off), as Exudyn's",
+    )
+    parser.add_argument("--json", type=Path, default=None)
+    args = parser.parse_args(argv)
+    from benchmarks.suite import machine_info
+
+    rates = sweep_rates(args.runs)
+    result: dict[str, Any] = {"machine": machine_info(), "runs": args.runs, "jobs": args.jobs}
+    result["accuracy_off"] = args.accuracy_off
+    result["load_before"] = os.getloadavg()
+    with tempfile.TemporaryDirectory() as tmp:
+        set_file = write_sweep(Path(tmp), rates, accuracy_off=args.accuracy_off)
+        result["loads"] = run_loads(set_file, args.jobs, [])
+        print(_rate_line(f"loads run -j {args.jobs}", result["loads"]), flush=True)
+        result["exudyn"] = run_exudyn_pool(rates, args.jobs)
+        print(_rate_line(f"Exudyn, pool of {args.jobs}", result["exudyn"]), flush=True)
+        if args.dask:
+            result["dask"] = run_loads(set_file, args.jobs, ["--scheduler", "local"])
+            print(_rate_line("loads run --scheduler local", result["dask"]), flush=True)
+        if not args.no_breakdown:
+            result["stages_s"] = stage_breakdown(set_file, rates, Path(result["loads"]["output"]))
+            print("per run, in this process (s):", result["stages_s"], flush=True)
+    result["load_after"] = os.getloadavg()
+    ratio = (
+        result["exudyn"]["wall_s"]
+        / result["loads"]["wall_s"]
+        * (result["loads"]["runs"] / max(result["exudyn"]["runs"], 1))
+    )
+    result["throughput_ratio_loads_over_exudyn"] = round(ratio, 4)
+    print(
+        f"throughput loads / Exudyn: {ratio:.3f} (Exudyn {1 / ratio:.1f}x faster); load average "
+        f"{result['load_before'][0]:.1f} before, {result['load_after'][0]:.1f} after (1 min)"
+    )
+    if args.json:
+        args.json.write_text(json.dumps(result, indent=2), encoding="utf-8")
+    return 0 if result["loads"]["exit"] == 0 and ratio >= 1.0 else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
