@@ -90,9 +90,15 @@ class _Position:
     singular value comes from inverse iteration, projections onto the motion space from
     solves with J J^T."""
 
-    def __init__(self, system: System, k, start: np.ndarray | None = None):
+    def __init__(
+        self,
+        system: System,
+        k,
+        start: np.ndarray | None = None,
+        scale: np.ndarray | None = None,
+    ):
         self.system, self.k = system, k
-        self.scale = _column_scale(system)
+        self.scale = _column_scale(system) if scale is None else scale
         jac = _unit_rows(system.phi_q(k) * self.scale)
         m = jac.shape[0]
         # a floor of _GRAM_FLOOR on J J^T keeps an exactly singular position factorable
@@ -226,9 +232,10 @@ def _episodes(values: np.ndarray, threshold: float) -> list[tuple[int, int]]:
 def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
     """Per recorded row: the rank measure and the sines of the free coordinates."""
     ranks, sines, start = np.empty(len(trajectory)), [], None
+    scale = _column_scale(system)  # the mechanism's size, the same at every row
     for i, t in enumerate(trajectory.time):
         system.restore_snapshot(trajectory.references[i])
-        position = _Position(system, system.kin(trajectory.q[i], None, t), start)
+        position = _Position(system, system.kin(trajectory.q[i], None, t), start, scale)
         ranks[i], start = position.rank_measure(), position.weights
         sines.append(position.sines())
     return ranks, sines
