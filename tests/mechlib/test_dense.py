@@ -138,9 +138,7 @@ def test_rows_do_not_depend_on_the_end_time(fine) -> None:
     on [0, 0.5] s agree: the same to 1e-12 of each channel's peak up to 0.495 s, where
     the shorter run's last two steps begin, within 3e-4 after (measured 1.7e-4, the
     hinge reaction: the integration error of steps of another size)."""
-    longer = ml.solve(
-        _pendulum(), ml.Dynamic(end=1.0, step=1e-3, dense=True), requests=_REQUESTS
-    )
+    longer = ml.solve(_pendulum(), ml.Dynamic(end=1.0, step=1e-3, dense=True), requests=_REQUESTS)
     assert longer.ok, longer.message
     n = len(fine.time)
     assert np.array_equal(np.round(longer.time[:n], 9), np.round(fine.time, 9))
