@@ -66,7 +66,8 @@ class Dynamic(_Timed):
     `fixed_step`: take exactly `step` per step, no error control (for convergence studies);
     `dense`: the steps do not land on the output times (their size is the error control's,
     up to `max_step` or the mechanism's natural time), the rows between them come from
-    dense output (mechlib.dense).
+    dense output (mechlib.dense). A case's dynamic analysis is dense unless it says
+    `output: steps` (loadcases.build); this dataclass's own default stays False.
     """
 
     tolerance: float = DEFAULT_TOLERANCE

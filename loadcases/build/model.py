@@ -433,7 +433,7 @@ class _Builder:
             for key, value in (("tolerance", a.tolerance), ("rho_inf", a.rho_inf))
             if value is not None
         }
-        if a.output == "dense":
+        if a.output != "steps":  # dense by default: the steps do not depend on the output
             options["dense"] = True
         return ml.Dynamic(
             end=a.end, step=a.step, integrator=integrator, max_step=a.max_step, **options, **limit

@@ -117,10 +117,11 @@ class Analysis(Strict):
     output: Literal["steps", "dense"] | None = Field(
         None,
         description=(
-            "dynamic: steps (default): the integrator's steps end on the output times, their "
-            "size at most the output interval; dense: they take the size the tolerance "
-            "allows (up to max_step, or the mechanism's natural time sqrt(size / g)) and the "
-            "rows at the output times come from dense output, projected onto the constraints"
+            "dynamic: dense (default): the integrator's steps take the size the tolerance "
+            "allows (up to max_step, or the mechanism's natural time sqrt(size / g)), "
+            "whatever the output interval and the end, and the rows at the output times come "
+            "from dense output, projected onto the constraints; steps: the steps end on the "
+            "output times, their size at most the output interval"
         ),
     )
     max_steps: int | None = Field(

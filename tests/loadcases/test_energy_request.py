@@ -31,8 +31,9 @@ COMPONENTS = ("kinetic", "gravitational", "elastic", "drive_work", "load_work", 
 
 def test_energy_request_columns_and_balance(tmp_path: Path) -> None:
     """Columns energy.kinetic ... energy.balance in J; the spring's energy k (pi/3)^2 / 2
-    = 1.0966 J at the start, kinetic + elastic constant within 4e-6 J
-    (balance column; measured 1.2e-6 J: generalized-alpha's numerical damping),
+    = 1.0966 J at the start, kinetic + elastic constant within 1e-5 J
+    (balance column; measured 4.5e-6 J with the dense output of 0.7.0, 1.2e-6 J with
+    `output: steps`: generalized-alpha's numerical damping),
     no gravity, drive, load work or dissipation."""
     path = tmp_path / "swing.case.yaml"
     path.write_text(CASE, encoding="utf-8")
@@ -45,8 +46,8 @@ def test_energy_request_columns_and_balance(tmp_path: Path) -> None:
     assert sol.channels["energy.elastic"][0] == pytest.approx(e0, rel=1e-12)
     total = sol.channels["energy.kinetic"] + sol.channels["energy.elastic"]
     assert sol.channels["energy.kinetic"].max() > 0.9 * e0
-    assert np.abs(total - e0).max() < 4e-6
-    assert np.abs(sol.channels["energy.balance"]).max() < 4e-6
+    assert np.abs(total - e0).max() < 1e-5
+    assert np.abs(sol.channels["energy.balance"]).max() < 1e-5
     for quiet in ("gravitational", "drive_work", "load_work", "dissipated"):
         assert np.abs(sol.channels[f"energy.{quiet}"]).max() == 0.0
     summary = json.loads(next((tmp_path / "out").glob("*.summary.json")).read_text())

@@ -9,7 +9,8 @@ kinematics: the rods' orientations are the product of exponentials of the joint 
 about the design axes, their angular velocities the sum of the joint rates about the
 current axes; centre-of-mass positions and velocities come from point requests. The same
 product around the loop must give the identity: the joint angles keep the loop closed.
-Measured 2026-11-25: energy drift 1.4e-5 of m_total g L (default), 4.0e-7 (tight); loop
+Measured 2026-11-25: energy drift 5.1e-5 of m_total g L (default, dense output; 1.4e-5 with
+`output: steps`), 4.0e-7 (tight); loop
 closure 6e-11 (default) and 4e-14 (tight).
 """
 
@@ -93,10 +94,11 @@ def tight(tmp_path_factory):
     return outcome
 
 
-@pytest.mark.parametrize(("fixture", "bound"), [("default", 3e-5), ("tight", 8e-7)])
+@pytest.mark.parametrize(("fixture", "bound"), [("default", 1e-4), ("tight", 8e-7)])
 def test_energy_is_conserved(request, fixture: str, bound: float) -> None:
     """Over 10 s the energy stays within `bound` of m_total g L = 49 J of its initial value
-    (measured 1.4e-5 default, 4.0e-7 tight), the benchmark's check, and the rods do move
+    (measured 5.1e-5 default with the dense output of 0.7.0, 1.4e-5 with `output: steps`;
+    4.0e-7 tight), the benchmark's check, and the rods do move
     (the third rod's far end travels more than 0.5 m)."""
     outcome = request.getfixturevalue(fixture)
     assert outcome.solution.time[-1] == pytest.approx(10.0)

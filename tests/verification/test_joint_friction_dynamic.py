@@ -37,14 +37,15 @@ WHEEL_MASS, WHEEL_INERTIA, MU, PIN = 10.0, 0.1, 0.2, 0.05  # kg, kg*m^2, -, m
 
 def test_wheel_accelerates_with_the_full_friction_torque() -> None:
     """wheel_friction.case.yaml: angle(1 s) = (2 - mu r m g) / I / 2 = 5.095 rad; the
-    friction request reports mu r m g = 0.981 N*m. Measured: 5.09405 (1.9e-4 relative, the
-    integrator's phase error on a rotation at tolerance 1e-6; 5.0952 at 1e-9, where the
+    friction request reports mu r m g = 0.981 N*m. Measured: 5.09328 (3.4e-4 relative, the
+    integrator's phase error on a rotation at tolerance 1e-6 with the dense output of 0.7.0;
+    5.09405, 1.9e-4, with `output: steps`; 5.0952 at 1e-9, where the
     regularised law's start adds 2e-4 rad). Rejected steps below 10 % of accepted."""
     sol = _run_case("wheel_friction.case.yaml")
     torque = MU * PIN * WHEEL_MASS * G
     expected = 0.5 * (2.0 - torque) / WHEEL_INERTIA
     assert sol.channels["a.value"][-1] == pytest.approx(expected, rel=1e-3)
-    assert sol.channels["a.value"][-1] == pytest.approx(expected, rel=3e-4)  # measured 1.9e-4
+    assert sol.channels["a.value"][-1] == pytest.approx(expected, rel=7e-4)  # measured 3.4e-4
     np.testing.assert_allclose(sol.channels["rub.value"][1:], torque, rtol=1e-9)
     assert sol.stats.rejected_steps < 0.1 * sol.stats.steps
 

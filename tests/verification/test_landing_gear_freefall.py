@@ -38,11 +38,11 @@ def _case(
         'when: "angle(trunnion) <= 0", then: [{activate: downstop}]',
         f'when: "{when}", then: {then}',
     )
-    if settings is not None:
+    if settings is not None:  # max_step 0: the natural time bounds the steps (dense output)
+        largest = f"max_step: {settings[1]!r}, " if settings[1] else ""
         text = text.replace(
             "analysis: {type: dynamic, ",
-            f"analysis: {{tolerance: {settings[0]!r}, max_step: {settings[1]!r}, "
-            "accuracy: off, type: dynamic, ",
+            f"analysis: {{tolerance: {settings[0]!r}, {largest}accuracy: off, type: dynamic, ",
         )
     path = tmp_path / "freefall.case.yaml"
     path.write_text(text, encoding="utf-8")

