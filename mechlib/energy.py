@@ -119,17 +119,16 @@ def _row(system: System, k, view, lam: np.ndarray, rest: bool) -> tuple[float, .
     for element in system.elements:
         if not element.active:
             continue
-        power = _element_power(system, k, view, element)
         if element.effect in DISSIPATIVE_EFFECTS:
-            dissipation -= power
+            dissipation -= _element_power(system, k, view, element)
             continue
         own = _own_dissipation(element, k, view, rest)
         dissipation += own
         potential = getattr(element, "potential", None)
-        if potential is not None:  # its power is -dV/dt - own, exactly
+        if potential is not None:  # its power is -dV/dt - own, exactly: not needed
             elastic += float(potential(view))
         else:
-            load += power + own
+            load += _element_power(system, k, view, element) + own
     drive = -float(lam @ system.nu(k))
     return kinetic, gravitational, elastic, drive, load, dissipation
 
