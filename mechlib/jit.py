@@ -21,7 +21,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any, TypeVar
 
-__all__ = ["Kernel", "compile_all", "interpreted", "is_compiled", "njit"]
+__all__ = ["Kernel", "compile_all", "interpreted", "njit"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -91,11 +91,6 @@ def compile_all() -> None:
                     if isinstance(value, Kernel):
                         namespace[key] = value.dispatcher
         _compiled = True
-
-
-def is_compiled() -> bool:
-    """Whether numba has been loaded for the kernels (in this process)."""
-    return _compiled
 
 
 @contextmanager

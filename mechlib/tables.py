@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -99,19 +100,23 @@ class Table:
             spline: Any = self._f  # a scipy PPoly (CubicSpline, Akima1DInterpolator)
             return float(spline.integrate(self.x[0], v))
         x, y = self.x, self.y
-        slopes = np.diff(y) / np.diff(x)
-        knots = np.concatenate([[0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * np.diff(x))])
+        slopes, knots = self._linear_primitive
         i = int(np.clip(np.searchsorted(x, v, "right") - 1, 0, len(slopes) - 1))
         d = v - x[i]
         return float(knots[i] + y[i] * d + 0.5 * slopes[i] * d * d)
 
+    @cached_property
+    def _linear_primitive(self) -> tuple[np.ndarray, np.ndarray]:
+        """(slope of each interval, integral from x[0] to each point) of the linear table."""
+        x, y = self.x, self.y
+        knots = np.concatenate([[0.0], np.cumsum(0.5 * (y[1:] + y[:-1]) * np.diff(x))])
+        return np.diff(y) / np.diff(x), knots
+
     def _beyond(self, end: float, v: float) -> float:
-        """Integral of the extrapolation from the data's `end` to v beyond it."""
-        self(v)  # raises outside the data of a table that does not extrapolate
-        d = v - end
-        if self.extrapolate == "hold":
-            return float(self._f(end)) * d
-        return float(self._f(end)) * d + 0.5 * float(self._slope_at(end)) * d * d
+        """Integral of the extrapolation (a held value or a line) from the data's `end` to
+        v beyond it: the trapezoid, exact for both; `self(v)` raises outside the data of a
+        table that does not extrapolate."""
+        return 0.5 * (v - end) * (float(self._f(end)) + float(self(v)))
 
     def derivative(self) -> Table:
         """dy/dx with the same extrapolation rule (held value -> zero slope)."""
