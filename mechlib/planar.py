@@ -65,6 +65,7 @@ class PlanarSystem:
     requests on the trajectory lifted back to 3-D (`in_space`)."""
 
     per_body = 3
+    normalisations = 0  # an angle per body: no Euler-parameter rows
 
     def __init__(self, space: System, plane: str):
         problems = joint_problems(space.mechanism, plane)

@@ -52,7 +52,7 @@ def check_model(system: System, analysis: Analysis, *, redundant: str = "error")
     Raises ModelError naming joints and directions; with redundant="drop" removes the
     dependent rows instead and returns warnings saying those reactions are not unique.
     """
-    if isinstance(analysis, Modes) and system.per_body != 7:
+    if isinstance(analysis, Modes) and system.mechanism.plane:
         raise ModelError([("", "a modes analysis needs the 3-D model: remove `plane`")])
     k = system.kin(system.design_q(), None, getattr(analysis, "start", 0.0))
     jac = system.phi_q(k)
@@ -113,7 +113,7 @@ def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
     assembled = bool(np.abs(system.phi(k)).max(initial=0.0) < 1e-9)
     return MechanismCheck(
         system.nb,
-        len(system.labels) - (system.nb if system.per_body == 7 else 0),
+        len(system.labels) - system.normalisations,
         degrees_of_freedom(jac),
         tuple(r.describe() for r in found),
         assembled,

@@ -57,6 +57,12 @@ class System:
 
     per_body = 7  # coordinates of a rigid body in q (mechlib.planar: 3)
 
+    @property
+    def normalisations(self) -> int:
+        """Rows of `labels` that are Euler-parameter normalisations, not joints (one per
+        body; mechlib.planar: none)."""
+        return self.nb
+
     def __init__(self, mechanism: Mechanism):
         self.mechanism = mechanism
         self.body_names = list(mechanism.bodies)
