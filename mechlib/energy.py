@@ -48,7 +48,7 @@ from typing import ClassVar
 import numpy as np
 
 from mechlib.kernels import rotation_matrix
-from mechlib.rotation import g_matrix
+from mechlib.rotation import omega_body
 from mechlib.system import System
 
 __all__ = ["COMPONENTS", "DISSIPATIVE_EFFECTS", "EnergyBalance", "energy_columns"]
@@ -95,7 +95,7 @@ def _modal(system: System, k, lam: np.ndarray) -> tuple[float, float, float, flo
         elastic += 0.5 * float(comp.stiffness @ zeta**2)
         dissipation += float(comp.viscous @ zeta_d**2)
         if comp.geometric is not None:
-            omega = 2.0 * g_matrix(k.p[a.frame]) @ k.pd[a.frame]
+            omega = omega_body(k.p[a.frame], k.pd[a.frame])
             stiffness = comp.geometric.stiffness(omega, system.node_loads(k, lam, a))
             load -= float(zeta_d @ stiffness @ zeta)
     return gravitational, elastic, load, dissipation

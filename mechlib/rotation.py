@@ -17,6 +17,7 @@ __all__ = [
     "d_rotate",
     "e_matrix",
     "g_matrix",
+    "omega_body",
     "omega_global",
     "quaternion_from_rotvec",
     "rotate",
@@ -112,6 +113,11 @@ def _rate_matrix(p: np.ndarray, sign: float) -> np.ndarray:
 def omega_global(p: np.ndarray, pd: np.ndarray) -> np.ndarray:
     """Global angular velocity (..., 3) in rad/s from Euler parameters and their rates."""
     return 2.0 * np.einsum("...ij,...j->...i", e_matrix(p), pd)
+
+
+def omega_body(p: np.ndarray, pd: np.ndarray) -> np.ndarray:
+    """Body-axes angular velocity (..., 3) in rad/s from Euler parameters and their rates."""
+    return 2.0 * np.einsum("...ij,...j->...i", g_matrix(p), pd)
 
 
 def quaternion_from_rotvec(v: np.ndarray) -> np.ndarray:

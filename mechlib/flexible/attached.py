@@ -23,7 +23,7 @@ from mechlib.flexible.modal_body import ModalBody
 from mechlib.kernels import b_matrix as d_rotate
 from mechlib.kernels import cross3, rotation_matrix
 from mechlib.kin import Kin
-from mechlib.rotation import g_matrix, skew
+from mechlib.rotation import g_matrix, omega_body, skew
 
 __all__ = ["Attached", "NodeWelds"]
 
@@ -77,7 +77,7 @@ class Attached:
         p, zeta, zeta_d = k.p[self.frame], k.z[self.modes], k.zd[self.modes]
         A = rotation_matrix(p)
         f = self.body.applied(A, zeta, zeta_d, gravity)
-        omega = 2.0 * g_matrix(p) @ k.pd[self.frame]
+        omega = omega_body(p, k.pd[self.frame])
         if inertia:
             f = f + self.body.quadratic(A, omega, zeta, zeta_d)
         geometric = self.body.component.geometric

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mechlib.rotation import g_matrix
+from mechlib.rotation import omega_body
 
 __all__ = ["deformation_warnings", "spin_warnings", "unresolved_mode_warnings"]
 
@@ -97,10 +97,10 @@ def spin_warnings(system, trajectory) -> list[str]:
         if comp.geometric is not None or not comp.held_frequency or not len(trajectory):
             continue
         cols = slice(7 * a.frame + 3, 7 * a.frame + 7)
-        spin = [
-            2.0 * np.linalg.norm(g_matrix(q[cols]) @ qd[cols])
-            for q, qd in zip(trajectory.q, trajectory.qd)
-        ]
+        spin = np.linalg.norm(
+            omega_body(np.asarray(trajectory.q)[:, cols], np.asarray(trajectory.qd)[:, cols]),
+            axis=1,
+        )
         i = int(np.argmax(spin))
         if spin[i] ** 2 > SPIN_LIMIT * comp.held_frequency**2:
             out.append(
