@@ -18,14 +18,13 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import time
-from datetime import UTC, datetime
 from typing import Any
 
 import numpy as np
 
 import mechlib as ml
+from benchmarks.suite import machine_info
 from mechlib.plane import plane_axes
 
 PITCH, LINK, OFFSET = 0.2, 0.15, 0.03  # m
@@ -104,15 +103,6 @@ def run(loops: int, end: float, planar: bool) -> dict[str, Any]:
     }
 
 
-def _cpu_model() -> str:
-    """The CPU's model name (Linux), else what platform says."""
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8") as f:
-            return next(line.split(":", 1)[1].strip() for line in f if "model name" in line)
-    except (OSError, StopIteration):
-        return platform.processor()
-
-
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--loops", type=int, default=40)
@@ -133,11 +123,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"  speed-up {speedup:.1f}x (CPU); the last rocker's angle differs by {gap:.2e} rad")
     if args.json:
         info = {
-            "date": datetime.now(UTC).isoformat(timespec="seconds"),
-            "machine": platform.platform(),
-            "processor": _cpu_model(),
+            "machine": machine_info(),
             "load_average": os.getloadavg(),
-            "python": platform.python_version(),
             "loops": args.loops,
             "end": args.end,
             "angle_difference_rad": gap,

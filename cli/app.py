@@ -467,8 +467,7 @@ def bench(
             "benchmarks/suite.py not found: `loads bench` needs a source checkout "
             "(run it from the repository root)"
         )
-    module = "startup" if startup else "door_set" if door else "suite"
-    module = "campaign" if campaign else module
+    module = "campaign" if campaign else "startup" if startup else "door_set" if door else "suite"
     namespace = _load_bench_module(suite.with_name(f"{module}.py"))
     entry = namespace.get("main")
     if not callable(entry):
