@@ -16,6 +16,7 @@ __all__ = [
     "cross",
     "d_rotate",
     "e_matrix",
+    "frame_axes",
     "g_matrix",
     "omega_body",
     "omega_global",
@@ -113,6 +114,15 @@ def _rate_matrix(p: np.ndarray, sign: float) -> np.ndarray:
 def omega_global(p: np.ndarray, pd: np.ndarray) -> np.ndarray:
     """Global angular velocity (..., 3) in rad/s from Euler parameters and their rates."""
     return 2.0 * np.einsum("...ij,...j->...i", e_matrix(p), pd)
+
+
+def frame_axes(x, y) -> np.ndarray:
+    """Columns: the unit x, y, z axes (global) of a frame given by its x direction and a y
+    direction (made perpendicular to x; z = x cross y). Neither may be zero or parallel."""
+    ex = np.asarray(x, float) / np.linalg.norm(x)
+    ey = np.asarray(y, float) - (np.asarray(y, float) @ ex) * ex
+    ey /= np.linalg.norm(ey)
+    return np.column_stack([ex, ey, np.cross(ex, ey)])
 
 
 def omega_body(p: np.ndarray, pd: np.ndarray) -> np.ndarray:

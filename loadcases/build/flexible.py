@@ -23,6 +23,7 @@ from mechlib.flexible.grillage import NamedModel, grillage, straight_beam
 from mechlib.flexible.invariants import Invariants
 from mechlib.flexible.modal_component import ModalComponent
 from mechlib.flexible.stiffening import ModalGeometric
+from mechlib.rotation import frame_axes
 
 __all__ = ["flexible_component"]
 
@@ -42,19 +43,11 @@ def _section(s: BeamSection) -> Section:
     return Section(s.A, s.Iy, s.Iz, s.J, k, k)
 
 
-def _axes(x, y) -> np.ndarray:
-    """Rows: the unit x, y, z axes (global) of a frame given by its x and y directions."""
-    ex = np.asarray(x, float) / np.linalg.norm(x)
-    ey = np.asarray(y, float) - (np.asarray(y, float) @ ex) * ex
-    ey /= np.linalg.norm(ey)
-    return np.array([ex, ey, np.cross(ex, ey)])
-
-
 def _placed(model: FEModel, src: FileSource) -> FEModel:
     """The imported model in global axes at design: nodes moved to `at` + axes, K and M
     turned with them (u_model = axes u_global per nodal triple). ValueError when the axes
     turn a node that carries only part of a triple."""
-    axes = _axes(src.x, src.y)
+    axes = frame_axes(src.x, src.y).T
     turn = sp.identity(len(model.dof_map), format="lil")
     if not np.allclose(axes, np.eye(3), rtol=0.0, atol=1e-15):
         row_of = {(int(n), int(c)): r for r, (n, c) in enumerate(model.dof_map)}
@@ -140,7 +133,7 @@ def _fe_model(f: Flexible, folder: Path) -> NamedModel:
         )
     g = f.grillage
     assert g is not None
-    axes = _axes(g.x, g.y)
+    axes = frame_axes(g.x, g.y).T
     local = {}
     for name, point in f.interface.items():
         d = axes @ (np.asarray(point) - np.asarray(g.at))

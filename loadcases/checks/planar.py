@@ -15,6 +15,7 @@ from loadcases.schema import CaseModel, MechanismModel
 from loadcases.schema.elements import BodyTorque, PointForce
 from loadcases.source import Locator
 from mechlib.plane import joint_problem, normal_name, plane_axes
+from mechlib.rotation import frame_axes
 
 __all__ = ["check_plane", "check_plane_initial"]
 
@@ -63,12 +64,7 @@ def _along_normal(what: str, plane: str) -> str:
 def _frame_axes(model: MechanismModel, frame: str) -> np.ndarray:
     """Columns: the axes of `frame` at design (ground and bodies: the global axes)."""
     f = model.frames.get(frame)
-    if f is None:
-        return np.eye(3)
-    x = np.asarray(f.x, dtype=float) / np.linalg.norm(f.x)
-    y = np.asarray(f.y, dtype=float) - (np.asarray(f.y, dtype=float) @ x) * x
-    y /= np.linalg.norm(y)
-    return np.column_stack([x, y, np.cross(x, y)])
+    return np.eye(3) if f is None else frame_axes(f.x, f.y)
 
 
 def _zero(text: str) -> bool:
