@@ -193,7 +193,12 @@ def flexible_component(f: Flexible, folder: Path) -> ModalComponent:
         "stiffening": f.stiffening,
     }
     model = _fe_model(f, folder).model if f.file is not None else None
-    source = {"fe_model": model} if model is not None else {"source": f.model_dump()}
+    # the linear limit sets a warning only: a sweep of it reuses the reduction
+    source = (
+        {"fe_model": model}
+        if model is not None
+        else {"source": f.model_dump(exclude={"linear_limit"})}
+    )
 
     def reduce() -> dict[str, np.ndarray]:
         fe_model = model if model is not None else _fe_model(f, folder).model
