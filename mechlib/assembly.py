@@ -37,6 +37,7 @@ _MAX_NEWTON = 50
 _REPORT_CHANGE = 1e-8
 _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
 _MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
+_NORMAL_CHECK = 1e-6  # a normal-equations solution must meet its equations this well
 
 
 @dataclass(frozen=True)
@@ -84,13 +85,29 @@ def _newton(
     w = np.ones(len(q)) if weights is None else weights
     for it in range(1, _MAX_NEWTON + 1):
         count(factorizations=1, jacobian_evaluations=1)
-        scaled, *_ = np.linalg.lstsq(jacobian(q) * w, -res, rcond=None)
-        step = w * scaled
+        step = w * _minimum_norm(jacobian(q) * w, -res)
         q = q + step
         res = residual(q)
         if np.abs(step).max(initial=0.0) < tol and np.abs(res).max(initial=0.0) < tol:
             return q, it, float(np.abs(res).max(initial=0.0))
     return q, _MAX_NEWTON, float(np.abs(res).max(initial=0.0))
+
+
+def _minimum_norm(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """x of least norm with a x = b: a^T (a a^T)^-1 b when a has full row rank (10x
+    cheaper than an SVD for the small corrections of dense rows), checked by its own
+    residual; least squares (SVD) otherwise (redundant rows, a singular position, more
+    rows than columns)."""
+    if a.shape[0] <= a.shape[1]:
+        try:
+            x = a.T @ np.linalg.solve(a @ a.T, b)
+        except np.linalg.LinAlgError:
+            pass
+        else:
+            if np.abs(a @ x - b).max(initial=0.0) <= _NORMAL_CHECK * np.abs(b).max(initial=0.0):
+                return x
+    x, *_ = np.linalg.lstsq(a, b, rcond=None)
+    return x
 
 
 def solve_positions(

@@ -27,33 +27,37 @@ def _vecs(a) -> np.ndarray:
 
 
 class _Group:
-    """k equations of one primitive type; subclasses name their kernels and rows per item."""
+    """k equations of one primitive type; subclasses name their kernels (in
+    `mechlib.kernels`, by the prefix of `_phi`, `_jac`, `_gamma`, `_rate`) and rows per
+    item. The kernels are looked up in the module at each call: once compiled, that is the
+    numba dispatcher itself, without the `mechlib.jit` mark's call in between."""
 
     rows_per_item = 1
-    kernels: tuple = ()
+    prefix = ""
 
     def __init__(self, args: tuple):
         self.args = args
         self.size = self.rows_per_item * len(args[0])
+        self._names = tuple(self.prefix + part for part in ("_phi", "_jac", "_gamma", "_rate"))
 
     def phi(self, k: Kin) -> np.ndarray:
         out = np.empty(self.size)
-        self.kernels[0](k.x, *self.args, out)
+        getattr(kr, self._names[0])(k.x, *self.args, out)
         return out
 
     def jacobian(self, k: Kin, out: np.ndarray) -> None:
         """Add the rows into `out` (k, 7 (nb+1))."""
-        self.kernels[1](k.x, *self.args, out)
+        getattr(kr, self._names[1])(k.x, *self.args, out)
 
     def gamma(self, k: Kin) -> np.ndarray:
         out = np.empty(self.size)
-        self.kernels[2](k.x, k.xd, *self.args, out)
+        getattr(kr, self._names[2])(k.x, k.xd, *self.args, out)
         return out
 
     def rate(self, k: Kin) -> np.ndarray:
         """d(phi)/dt (k,)."""
         out = np.empty(self.size)
-        self.kernels[3](k.x, k.xd, *self.args, out)
+        getattr(kr, self._names[3])(k.x, k.xd, *self.args, out)
         return out
 
 
@@ -61,7 +65,7 @@ class Spherical(_Group):
     """Point s_i of body i coincides with point s_j of body j: 3 equations per pair."""
 
     rows_per_item = 3
-    kernels = (kr.sph_phi, kr.sph_jac, kr.sph_gamma)
+    prefix = "sph"
 
     def __init__(self, bi, bj, si, sj):
         super().__init__((_ints(bi), _ints(bj), _vecs(si), _vecs(sj)))
@@ -70,7 +74,7 @@ class Spherical(_Group):
 class Dot1(_Group):
     """Body-fixed vector u of body i stays perpendicular to vector v of body j: a_i . a_j."""
 
-    kernels = (kr.dot1_phi, kr.dot1_jac, kr.dot1_gamma, kr.dot1_rate)
+    prefix = "dot1"
 
     def __init__(self, bi, bj, u, v):
         super().__init__((_ints(bi), _ints(bj), _vecs(u), _vecs(v)))
@@ -79,7 +83,7 @@ class Dot1(_Group):
 class Dot2(_Group):
     """Vector v of body j stays perpendicular to d = P_i - P_j (points s_i on i, s_j on j)."""
 
-    kernels = (kr.dot2_phi, kr.dot2_jac, kr.dot2_gamma, kr.dot2_rate)
+    prefix = "dot2"
 
     def __init__(self, bi, bj, v, si, sj):
         super().__init__((_ints(bi), _ints(bj), _vecs(v), _vecs(si), _vecs(sj)))

@@ -57,14 +57,14 @@ def hermite(t0: float, t1: float, a: tuple, b: tuple, t: float) -> tuple:
     b = (q, qd, qdd) at t1: exact for quintic motions, error O(h^6) in q."""
     h = t1 - t0
     s = (t - t0) / h
-    p = s ** np.arange(6)  # 1, s, .., s^5
-    dp = np.r_[0.0, np.arange(1, 6) * s ** np.arange(5)]  # their slopes d/ds
+    s2 = s * s
+    s3, s4 = s2 * s, s2 * s2
+    p = np.array((1.0, s, s2, s3, s4, s4 * s))  # 1, s, .., s^5
+    dp = np.array((0.0, 1.0, 2.0 * s, 3.0 * s2, 4.0 * s3, 5.0 * s4))  # their slopes d/ds
     values, slopes = _BASIS @ p, _BASIS @ dp  # per end quantity: q0 qd0 qdd0 q1 qd1 qdd1
     scale = np.array([1.0, h, h * h, 1.0, h, h * h])
-    parts = (a[0], a[1], a[2], b[0], b[1], b[2])
-    q = sum(w * x for w, x in zip(values * scale, parts))
-    qd = sum(w * x for w, x in zip(slopes * scale / h, parts))
-    return q, qd
+    parts = np.stack((a[0], a[1], a[2], b[0], b[1], b[2]))
+    return (values * scale) @ parts, (slopes * scale / h) @ parts
 
 
 # quintic Hermite basis on s in [0, 1], coefficients of 1, s, .., s^5: the weights of q0,

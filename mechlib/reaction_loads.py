@@ -75,7 +75,7 @@ def differenced_coupling(
 def solve_reaction_loaded(
     system,
     k: Kin,
-    matrix: np.ndarray,
+    matrix: np.ndarray | None,
     rhs: Callable[[np.ndarray | None], np.ndarray],
     lam_at: slice,
     *,
@@ -88,13 +88,17 @@ def solve_reaction_loaded(
     `lu`, the factors of `matrix`, when given); else Newton from the solution for
     `lam_guess` (default: the reactions of the loads without their lam-dependent part),
     with -dQ/dlam beside the multipliers' columns (`jac`: phi_q at k, if known). None
-    when a matrix is singular."""
-    lu = lu if lu is not None else factor(matrix)
+    when a matrix is singular. `matrix` may be None when `lu` is given and no load
+    depends on the reactions."""
+    if lu is None:
+        assert matrix is not None, "a matrix to factor"
+        lu = factor(matrix)
     if lu is None:
         return None
     x = solve_factored(lu, rhs(lam_guess))
     if not system.reaction_dependent:
         return x
+    assert matrix is not None, "the reactions' Newton iteration needs the matrix"
     nq = system.nq
     for _ in range(MAX_REACTION_NEWTON):
         lam = x[lam_at]
@@ -128,7 +132,9 @@ def accelerations_and_reactions(
     the loads that depend on the reactions solved together with them; None when
     singular."""
     gamma = system.gamma(k) if gamma is None else gamma
-    matrix = augmented(system.mass(k), jac)
+    # the matrix is needed to factor it, or for the reactions' Newton iteration
+    needed = lu is None or system.reaction_dependent
+    matrix = augmented(system.mass(k), jac) if needed else None
     return solve_reaction_loaded(
         system,
         k,

@@ -96,6 +96,7 @@ class _Position:
         k,
         start: np.ndarray | None = None,
         scale: np.ndarray | None = None,
+        free: list[tuple[str, AngleMeasure | TravelMeasure]] | None = None,
     ):
         self.system, self.k = system, k
         self.scale = _column_scale(system) if scale is None else scale
@@ -116,7 +117,9 @@ class _Position:
         self.weights: np.ndarray
         self.sigma: float
         self.weights, self.sigma = self._smallest(start) if m else (np.zeros(0), 1.0)
-        self.free = _free_measures(system) if m < system.nq else []
+        self.free: list[tuple[str, AngleMeasure | TravelMeasure]] = []
+        if m < system.nq:
+            self.free = _free_measures(system) if free is None else free
 
     def _smallest(self, start: np.ndarray | None) -> tuple[np.ndarray, float]:
         """(unit left singular vector, smallest singular value) of J by inverse iteration
@@ -150,15 +153,19 @@ class _Position:
 
     def sines(self) -> dict[tuple[str, str], float]:
         """Per free coordinate: sine of the angle between its scaled gradient and the
-        constraint rows (the share of it the constraints leave free)."""
-        out = {}
-        for joint, m in self.free:
-            g = self._gradient(m)
-            norm = np.linalg.norm(g)
-            if norm > 0.0:
-                free = g - self.jac.T @ self._row_weights(g)
-                out[(joint, m.kind)] = float(np.linalg.norm(free) / norm)
-        return out
+        constraint rows (the share of it the constraints leave free); all coordinates in
+        one solve."""
+        if not self.free:
+            return {}
+        grads = np.array([self._gradient(m) for _, m in self.free]).T  # (nq, coordinates)
+        norms = np.linalg.norm(grads, axis=0)
+        free = grads - self.jac.T @ self._row_weights(grads)
+        share = np.linalg.norm(free, axis=0) / np.where(norms > 0.0, norms, 1.0)
+        return {
+            (joint, m.kind): float(value)
+            for (joint, m), value, norm in zip(self.free, share, norms)
+            if norm > 0.0
+        }
 
     def rank_deficiency(self) -> Redundancy:
         """The equations of the smallest singular vector, the latest joint named first."""
@@ -233,9 +240,13 @@ def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
     """Per recorded row: the rank measure and the sines of the free coordinates."""
     ranks, sines, start = np.empty(len(trajectory)), [], None
     scale = _column_scale(system)  # the mechanism's size, the same at every row
+    active, free = None, None  # the free coordinates change only with the active rows
     for i, t in enumerate(trajectory.time):
         system.restore_snapshot(trajectory.references[i])
-        position = _Position(system, system.kin(trajectory.q[i], None, t), start, scale)
+        if system.active is not active:
+            active, free = system.active, _free_measures(system)
+        k = system.kin(trajectory.q[i], None, t)
+        position = _Position(system, k, start, scale, free)
         ranks[i], start = position.rank_measure(), position.weights
         sines.append(position.sines())
     return ranks, sines
