@@ -13,6 +13,7 @@ import numpy as np
 
 from mechlib import kernels
 from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
+from mechlib.coordinate_block import CoordinateBlock
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.curve_joint import CurveEquation, CurvePoint
 from mechlib.curves import Curve
@@ -181,6 +182,7 @@ class System:
             labels += weld_labels(welds)
             owners += [a.name for a, _, _ in welds.items for _ in range(6)]
         self.coordinates = self._coordinate_equations()
+        self._block: CoordinateBlock | None = None
         labels += [c.label for c in self.coordinates]
         owners += [c.owner for c in self.coordinates]
         self._all_labels, self._all_owners = labels, owners
@@ -404,8 +406,15 @@ class System:
         """The active rows (all of them, without a copy, unless some were dropped)."""
         return rows if self.active.size == len(self._all_labels) else rows[self.active]
 
+    def _coordinate_rows(self) -> CoordinateBlock:
+        """The coordinate equations as one block, rebuilt when an event added one."""
+        block = self._block
+        if block is None or block.size != len(self.coordinates):
+            block = self._block = CoordinateBlock(self.coordinates)
+        return block
+
     def phi(self, k: Kin) -> np.ndarray:
-        parts = [g.phi(k) for g in self.groups] + [np.array([c.phi(k) for c in self.coordinates])]
+        parts = [g.phi(k) for g in self.groups] + [self._coordinate_rows().phi(k)]
         return self._select(np.concatenate(parts))
 
     def phi_and_jacobian(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
@@ -416,10 +425,9 @@ class System:
             parts.append(g.phi(k))
             g.jacobian(k, out[row : row + g.size])
             row += g.size
-        for c in self.coordinates:
-            parts.append(np.array([c.phi(k)]))
-            out[row] = c.gradient(k)
-            row += 1
+        block = self._coordinate_rows()
+        parts.append(block.phi(k))
+        block.jacobian(k, out[row:])
         return self._select(np.concatenate(parts)), self.body_columns(self._select(out))
 
     def phi_q(self, k: Kin) -> np.ndarray:
@@ -428,9 +436,7 @@ class System:
         for g in self.groups:
             g.jacobian(k, out[row : row + g.size])
             row += g.size
-        for c in self.coordinates:
-            out[row] = c.gradient(k)
-            row += 1
+        self._coordinate_rows().jacobian(k, out[row:])
         return self.body_columns(self._select(out))
 
     def nu(self, k: Kin) -> np.ndarray:
@@ -441,7 +447,7 @@ class System:
 
     def gamma(self, k: Kin) -> np.ndarray:
         parts = [g.gamma(k) for g in self.groups]
-        parts.append(np.array([c.gamma(k) for c in self.coordinates]))
+        parts.append(self._coordinate_rows().gamma(k))
         return self._select(np.concatenate(parts))
 
     def commit(self, k: Kin) -> None:
