@@ -23,6 +23,7 @@ from loadcases.expressions import CompiledExpression, ExpressionError, parse
 from loadcases.inputs.loader import CaseFile
 from loadcases.schema import FlexibleBody
 from mechlib.elements.series import SeriesLaw, series_stiffness
+from mechlib.flexible.attached import node_at
 from mechlib.hydraulics import ServoActuator
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 from mechlib.tables import Table, TableRangeError
@@ -276,8 +277,10 @@ class _Builder:
             self.error(
                 "mechanism",
                 key,
-                f"{body} is a flexible body: attachments act at its interface points only "
-                f"(nearest: {body}.{nearest}, {gaps[nearest]:.3g} m away)",
+                f"{body} is a flexible body: a point of it is at one of its interface points "
+                f"or carried by one (nearest: {body}.{nearest}, {gaps[nearest]:.3g} m away; "
+                f"to attach this point to that node by a rigid arm, name the body "
+                f"'{body}.{nearest}')",
             )
 
     def _flexible(self, m: ml.Mechanism, name: str, f) -> None:
@@ -295,10 +298,14 @@ class _Builder:
             self.error("mechanism", key, str(error))
             return
         if self.effects.get("flexibility", True):
-            m.add_flexible_body(name, component, linear_limit=f.linear_limit)
+            flexible = m.add_flexible_body(name, component, linear_limit=f.linear_limit)
+            for point, at in f.interface.items():  # `BODY.POINT`: that node's rigid body
+                m.add_alias(f"{name}.{point}", node_at(flexible, at))
         else:  # `effects: {flexibility: false}`: the same body, rigid
             inertia = component.invariants.I7
             m.add_body(name, mass=component.mass, cm=component.origin, inertia=inertia)
+            for point in f.interface:
+                m.add_alias(f"{name}.{point}", name)
 
     def _joint(self, m: ml.Mechanism, name: str, j) -> None:
         if j.type == "point_on_curve":
