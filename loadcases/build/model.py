@@ -262,6 +262,16 @@ class _Builder:
             return None
         return ml.FlexibleOutput(name, r.flexible, r.quantity, r.point)
 
+    def body_owner(self, body: str) -> str:
+        """The body a body name stands for: `BODY.POINT` (a flexible body's interface point,
+        that node's rigid body) is on BODY."""
+        for name, b in self.mech.bodies.items():
+            if isinstance(b, FlexibleBody) and any(
+                body == f"{name}.{point}" for point in b.flexible.interface
+            ):
+                return name
+        return body
+
     def _at_interface(self, body: str, at, key: str) -> None:
         """An error at `key` when `at` (m) is on flexible `body` but at none of its interface
         points: attachments and loads act at interface nodes only."""
