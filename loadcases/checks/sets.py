@@ -94,7 +94,7 @@ def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[
         found += [
             unknown(at, ("comparisons", name, "columns", i), "request", request, requests)
             for i, key in enumerate(comparison.columns)
-            for request in (side.strip().split(".")[0] for side in key.split("="))
+            for request in (side.strip(" -").split(".")[0] for side in key.split("="))
             if request not in requests
         ]
     return found + _duplicate_names(at, cases) + _unmatched_case_factors(model, at, cases)

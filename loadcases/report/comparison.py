@@ -10,8 +10,8 @@ beside 0.7 N): the ratio is left empty. A column a run does not have (or a faile
 left empty. A column `REF = RUN` (`latch_hl3.value = hl3_lock.tz`) pairs two columns that
 stand for one quantity in two models: the reference's peak of REF beside the runs' peaks
 of RUN (a latch spring's torque in a rigid model, a locked joint's reaction in a flexible
-one). Read from the saved runs alone: `comparisons.csv` in SI, the workbook sheet
-`Comparison` in the report's units.
+one); `-RUN` negates it (a reaction on the other body). Read from the saved runs alone:
+`comparisons.csv` in SI, the workbook sheet `Comparison` in the report's units.
 """
 
 from __future__ import annotations
@@ -58,10 +58,13 @@ class ComparedPeak:
 
 
 def _peak(run: SavedRun | None, column: str) -> tuple[float | None, float | None]:
-    """Signed value of largest magnitude of `column` in `run`, and its time (s)."""
+    """Signed value of largest magnitude of `column` (`-COLUMN`: negated) in `run`, and its
+    time (s)."""
+    sign = -1.0 if column.startswith("-") else 1.0
+    column = column.removeprefix("-").strip()
     if run is None or column not in run.channels or run.status != "ok":
         return None, None
-    values = np.asarray(run.channels[column], dtype=float)
+    values = sign * np.asarray(run.channels[column], dtype=float)
     finite = np.isfinite(values)
     if not finite.any():
         return None, None
@@ -109,7 +112,7 @@ def comparison_rows(comparisons: Mapping[str, Any], runs: Sequence[SavedRun]) ->
                 if peak is not None and ref_peak and abs(ref_peak) > NOISE_FLOOR * largest:
                     ratio = peak / ref_peak
                 known = [(r, c) for r, c in ((run, sides[run_name]), (reference, ref_column)) if r]
-                unit = known[0][0].units.get(known[0][1], "") if known else ""
+                unit = known[0][0].units.get(known[0][1].lstrip("- "), "") if known else ""
                 clock = known[0][0].units.get("time", "s") if known else "s"
                 rows.append(ComparedPeak(name, column, unit, run_name, peak, time, ratio, clock))
     return rows
