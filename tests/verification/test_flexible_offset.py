@@ -22,6 +22,7 @@ import pytest
 from loadcases.diagnostics import InputError
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
+from tests.loadcases.test_flexible_yaml import CASE
 
 E, NU = 70e9, 0.33
 G = E / (2.0 * (1.0 + NU))
@@ -31,62 +32,33 @@ AREA = WIDTH * HEIGHT
 A_, B_ = WIDTH / 2.0, HEIGHT / 2.0  # Roark: J = a b^3 (16/3 - 3.36 b/a (1 - b^4/12a^4))
 J = A_ * B_**3 * (16.0 / 3.0 - 3.36 * B_ / A_ * (1.0 - B_**4 / (12 * A_**4)))
 
-BEAM = """\
-    beam:
-      flexible:
-        beam:
-          start: [0, 0, 0]
-          end: [800, 0, 0]
-          section: {width: 30, height: 10}
-          material: {E: 70 GPa, nu: 0.33, rho: RHO}
-          elements: ELEMENTS
-          y_axis: [0, 1, 0]
-        interface: {root: [0, 0, 0], tip: [800, 0, 0]}
-        fixed_interface_modes: MODES
-"""
-
-STATIC = (
-    """\
-case: offset-force
-mechanism:
-  units: {length: mm}
-  bodies:
-"""
-    + BEAM.replace("RHO", "2700 kg/m^3").replace("ELEMENTS", "8").replace("MODES", "6")
-    + """\
+ARM = """\
   points:
-    arm_end: {body: beam.tip, at: [800, 100, 0]}
-  joints:
-    clamp: {type: fixed, bodies: [beam, ground], at: [0, 0, 0]}
-  forces:
-    load: {type: force, point: arm_end, value: [0, 0, 5]}
-analysis: {type: static}
-requests:
-  tip: {point: beam.tip, quantity: position}
-  arm: {point: arm_end, quantity: position}
-"""
+    arm_end: {body: beam.tip, at: [800, 100, 0]}"""
+STATIC = (
+    CASE.replace("{extra_body}", ARM).replace("point: beam.tip, value", "point: arm_end, value")
+    + "  arm: {point: arm_end, quantity: position}\n"
 )
 
-DYNAMIC = (
-    """\
-case: offset-mass
-mechanism:
-  units: {length: mm}
-  gravity: [0, 0, -9.81]
-  bodies:
-"""
-    + BEAM.replace("RHO", "2.7 kg/m^3").replace("ELEMENTS", "1").replace("MODES", "0")
-    + """\
+MASS = """\
     mass: {mass: 1.0, cm: [900, 0, 0], inertia: [1e-8, 1e-8, 1e-8]}
   points:
-    mass_cm: {body: mass, at: [900, 0, 0]}
-  joints:
-    clamp: {type: fixed, bodies: [beam, ground], at: [0, 0, 0]}
-    weld: {type: fixed, bodies: [mass, beam.tip], at: [900, 0, 0]}
-analysis: {type: dynamic, end: 0.3, step: 0.002}
-requests:
-  mass: {point: mass_cm, quantity: position}
-"""
+    mass_cm: {body: mass, at: [900, 0, 0]}"""
+WELD = "    weld: {type: fixed, bodies: [mass, beam.tip], at: [900, 0, 0]}\n"
+DYNAMIC = (
+    CASE.replace("{extra_body}", MASS)
+    .replace("units: {length: mm}", "units: {length: mm}\n  gravity: [0, 0, -9.81]")
+    .replace("2700 kg/m^3", "2.7 kg/m^3")
+    .replace("elements: 8", "elements: 1")
+    .replace("fixed_interface_modes: 6", "fixed_interface_modes: 0")
+    .replace(
+        "at: [0, 0, 0]}\n",
+        "at: [0, 0, 0]}\n    weld: {type: fixed, bodies: [mass, beam.tip], at: [900, 0, 0]}\n",
+        1,
+    )
+    .replace("value: [0, 0, 5]", "value: [0, 0, 0]")
+    .replace("analysis: {type: static}", "analysis: {type: dynamic, end: 0.3, step: 0.002}")
+    + "  mass: {point: mass_cm, quantity: position}\n"
 )
 
 
@@ -133,3 +105,12 @@ def test_a_point_neither_at_a_node_nor_carried_by_one_is_an_input_error(
     with pytest.raises(InputError, match=r"name the body 'beam\.tip'") as error:
         _run(tmp_path, STATIC.replace("body: beam.tip, at", "body: beam, at"))
     assert "points.arm_end.at" in str(error.value.diagnostics[0])
+
+
+def test_with_flexibility_off_the_node_names_the_rigid_body(tmp_path: Path) -> None:
+    """`effects: {flexibility: false}`: `beam.tip` is the (clamped) rigid beam itself, so the
+    arm's end stays at its design position (to round-off) while the load acts on it."""
+    channels = _run(
+        tmp_path, STATIC.replace("analysis:", "effects: {flexibility: false}\nanalysis:")
+    )
+    assert abs(channels["arm.z"][0]) < 1e-12 and channels["arm.y"][0] == pytest.approx(0.1)
