@@ -556,8 +556,9 @@ def _units_of(req, builder: _Builder) -> dict[str, str]:
         }
     if isinstance(req, ml.ElementOutput) and req.components is not None:
         return {column: CONTACT_UNITS.get(key, "") for column, key in req.components}
-    if isinstance(req, ml.ElementOutput):
-        return dict(getattr(builder.built.forces[req.element], "output_units", {}))
+    if isinstance(req, ml.ElementOutput):  # an element that failed to build: its error stands
+        element = builder.built.forces.get(req.element)
+        return dict(getattr(element, "output_units", {}))
     if isinstance(req, ml.EnergyBalance):
         return dict(req.units)
     return {"value": ""}

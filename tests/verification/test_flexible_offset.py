@@ -22,7 +22,7 @@ import pytest
 from loadcases.diagnostics import InputError
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
-from tests.loadcases.test_flexible_yaml import CASE
+from tests.loadcases.test_flexible_yaml import CASE, LIBRARY
 
 E, NU = 70e9, 0.33
 G = E / (2.0 * (1.0 + NU))
@@ -114,3 +114,13 @@ def test_with_flexibility_off_the_node_names_the_rigid_body(tmp_path: Path) -> N
         tmp_path, STATIC.replace("analysis:", "effects: {flexibility: false}\nanalysis:")
     )
     assert abs(channels["arm.z"][0]) < 1e-12 and channels["arm.y"][0] == pytest.approx(0.1)
+
+
+def test_a_cable_loop_that_cannot_be_built_is_an_input_error(tmp_path: Path) -> None:
+    """Regression: a request on a cable loop whose joints share two bodies was an internal
+    error (KeyError while reading the request's units) instead of the loop's own message."""
+    case = LIBRARY / "verification" / "elements" / "cable_loop.case.yaml"
+    path = tmp_path / "ccl.case.yaml"
+    path.write_text(case.read_text().replace("bodies: [yoke, ground]", "bodies: [yoke, panel]"))
+    with pytest.raises(InputError, match="sharing exactly one body"):
+        run_case(load_case(path))
