@@ -148,6 +148,23 @@ class Mechanism:
     frames: dict[str, tuple[str, np.ndarray, tuple]] = field(default_factory=dict)
     flexible: dict[str, FlexibleBody] = field(default_factory=dict)
     plane: str | None = None  # xy, yz or xz: a planar mechanism (mechlib.planar)
+    aliases: dict[str, str] = field(default_factory=dict)  # another name of a body
+
+    def add_alias(self, alias: str, body: str) -> None:
+        """`alias` names `body` wherever a body is named: a point given on it at any place is
+        carried by `body` rigidly. On a flexible body's node body (`NAME.node<id>`) this is
+        a rigid arm from that node (an offset attachment, seed 003 3.4.2.1)."""
+        if body not in self.bodies:
+            raise ValueError(f"alias {alias}: no body {body}")
+        self.aliases[alias] = body
+
+    def owner(self, body: str) -> str:
+        """The body `body` stands for: an alias's body, and a node body's flexible body."""
+        body = self.aliases.get(body, body)
+        for name, flexible in self.flexible.items():
+            if body in flexible.node_bodies.values():
+                return name
+        return body
 
     def add_body(self, name: str, *, mass: float, cm, inertia) -> Body:
         """Add a body; `inertia` is [Ixx, Iyy, Izz], 6 entries (+ Ixy, Ixz, Iyz) or 3x3."""

@@ -64,7 +64,8 @@ def _cable_loop(builder, name: str, f) -> Any:
     ]
     if None in joints:
         return None
-    shared = set(joints[0].bodies) & set(joints[1].bodies)
+    owner = builder.body_owner  # a joint on a node of a flexible yoke is on the yoke
+    shared = set(map(owner, joints[0].bodies)) & set(map(owner, joints[1].bodies))
     if len(shared) != 1 or f.radii[0] <= 0.0 or f.radii[1] <= 0.0:
         builder.error(
             "mechanism",

@@ -23,6 +23,7 @@ from loadcases.expressions import CompiledExpression, ExpressionError, parse
 from loadcases.inputs.loader import CaseFile
 from loadcases.schema import FlexibleBody
 from mechlib.elements.series import SeriesLaw, series_stiffness
+from mechlib.flexible.attached import node_at
 from mechlib.hydraulics import ServoActuator
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 from mechlib.tables import Table, TableRangeError
@@ -261,6 +262,16 @@ class _Builder:
             return None
         return ml.FlexibleOutput(name, r.flexible, r.quantity, r.point)
 
+    def body_owner(self, body: str) -> str:
+        """The body a body name stands for: `BODY.POINT` (a flexible body's interface point,
+        that node's rigid body) is on BODY."""
+        for name, b in self.mech.bodies.items():
+            if isinstance(b, FlexibleBody) and any(
+                body == f"{name}.{point}" for point in b.flexible.interface
+            ):
+                return name
+        return body
+
     def _at_interface(self, body: str, at, key: str) -> None:
         """An error at `key` when `at` (m) is on flexible `body` but at none of its interface
         points: attachments and loads act at interface nodes only."""
@@ -276,8 +287,10 @@ class _Builder:
             self.error(
                 "mechanism",
                 key,
-                f"{body} is a flexible body: attachments act at its interface points only "
-                f"(nearest: {body}.{nearest}, {gaps[nearest]:.3g} m away)",
+                f"{body} is a flexible body: a point of it is at one of its interface points "
+                f"or carried by one (nearest: {body}.{nearest}, {gaps[nearest]:.3g} m away; "
+                f"to attach this point to that node by a rigid arm, name the body "
+                f"'{body}.{nearest}')",
             )
 
     def _flexible(self, m: ml.Mechanism, name: str, f) -> None:
@@ -295,10 +308,14 @@ class _Builder:
             self.error("mechanism", key, str(error))
             return
         if self.effects.get("flexibility", True):
-            m.add_flexible_body(name, component, linear_limit=f.linear_limit)
+            flexible = m.add_flexible_body(name, component, linear_limit=f.linear_limit)
+            for point, at in f.interface.items():  # `BODY.POINT`: that node's rigid body
+                m.add_alias(f"{name}.{point}", node_at(flexible, at))
         else:  # `effects: {flexibility: false}`: the same body, rigid
             inertia = component.invariants.I7
             m.add_body(name, mass=component.mass, cm=component.origin, inertia=inertia)
+            for point in f.interface:
+                m.add_alias(f"{name}.{point}", name)
 
     def _joint(self, m: ml.Mechanism, name: str, j) -> None:
         if j.type == "point_on_curve":
@@ -539,8 +556,9 @@ def _units_of(req, builder: _Builder) -> dict[str, str]:
         }
     if isinstance(req, ml.ElementOutput) and req.components is not None:
         return {column: CONTACT_UNITS.get(key, "") for column, key in req.components}
-    if isinstance(req, ml.ElementOutput):
-        return dict(getattr(builder.built.forces[req.element], "output_units", {}))
+    if isinstance(req, ml.ElementOutput):  # an element that failed to build: its error stands
+        element = builder.built.forces.get(req.element)
+        return dict(getattr(element, "output_units", {}))
     if isinstance(req, ml.EnergyBalance):
         return dict(req.units)
     return {"value": ""}

@@ -8,10 +8,10 @@ import numpy as np
 
 from loadcases.checks.common import GROUND, Names, check_expressions, unknown
 from loadcases.diagnostics import Diagnostic
-from loadcases.schema import Body, MechanismModel
+from loadcases.schema import Body, FlexibleBody, MechanismModel
 from loadcases.source import KeyPath, Locator
 
-__all__ = ["check_mechanism", "mechanism_names"]
+__all__ = ["check_mechanism", "mechanism_names", "node_bodies"]
 
 _SECTIONS = ("bodies", "points", "frames", "joints", "forces", "contacts", "tables", "events")
 _RESERVED_PARAMETERS = ("t", "pi")  # bare names the expression language defines itself
@@ -32,6 +32,17 @@ def mechanism_names(model: MechanismModel) -> Names:
         tables=model.tables,
         events=model.events,
     )
+
+
+def node_bodies(model: MechanismModel) -> set[str]:
+    """`BODY.POINT` for each interface point of a flexible body: the rigid body of that
+    node, which carries points given anywhere (an offset attachment)."""
+    return {
+        f"{name}.{point}"
+        for name, body in model.bodies.items()
+        if isinstance(body, FlexibleBody)
+        for point in body.flexible.interface
+    }
 
 
 def _unique(model: MechanismModel, at: Locator) -> list[Diagnostic]:
@@ -109,8 +120,9 @@ def _references(model: MechanismModel, at: Locator, names: Names) -> list[Diagno
     for name, joint in model.joints.items():
         if joint.type in ("coupler", "gear"):
             joints += [(("joints", name, "joints", i), j) for i, j in enumerate(joint.joints)]
-    frames = names.get("bodies") | names.get("frames")
-    found = _refs(at, _body_refs(model), "body", names.get("bodies"))
+    carried = names.get("bodies") | node_bodies(model)
+    frames = carried | names.get("frames")
+    found = _refs(at, _body_refs(model), "body", carried)
     found += _refs(at, points, "point", names.get("points"))
     found += _refs(at, joints, "joint", names.get("joints"))
     found += _refs(at, tables, "table", names.get("tables"))

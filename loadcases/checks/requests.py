@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from loadcases.checks.common import Names, unknown
+from loadcases.checks.mechanism import node_bodies
 from loadcases.diagnostics import Diagnostic
 from loadcases.schema import COORDINATE_DIMENSION, CaseModel, MechanismModel
 from loadcases.source import Locator
@@ -73,7 +74,7 @@ def check_requests(
     """Unknown joints, motions, points, force elements, contacts and frames of requests."""
     found = []
     known = dict(names.kinds, motions=set(case.motions))
-    frames = names.get("bodies") | names.get("frames")
+    frames = names.get("bodies") | node_bodies(mechanism) | names.get("frames")
     for name, request in case.requests.items():
         for key, section in _TARGETS.items():
             target = getattr(request, key, None)

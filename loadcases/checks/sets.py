@@ -92,9 +92,10 @@ def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[
         ]
     for name, comparison in model.comparisons.items():
         found += [
-            unknown(at, ("comparisons", name, "columns", i), "request", key.split(".")[0], requests)
+            unknown(at, ("comparisons", name, "columns", i), "request", request, requests)
             for i, key in enumerate(comparison.columns)
-            if key.split(".")[0] not in requests
+            for request in (side.strip(" -").split(".")[0] for side in key.split("="))
+            if request not in requests
         ]
     return found + _duplicate_names(at, cases) + _unmatched_case_factors(model, at, cases)
 

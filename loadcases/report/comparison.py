@@ -7,8 +7,11 @@ of -80 N*m peaks at -80); the ratio divides the signed peaks, so a load that cha
 shows a negative ratio. A reference peak within NOISE_FLOOR of the column's largest peak
 in the comparison is round-off (the out-of-plane loads of a planar rigid model, 1e-23 N
 beside 0.7 N): the ratio is left empty. A column a run does not have (or a failed run) is
-left empty. Read from the saved runs alone: `comparisons.csv` in SI, the workbook sheet
-`Comparison` in the report's units.
+left empty. A column `REF = RUN` (`latch_hl3.value = hl3_lock.tz`) pairs two columns that
+stand for one quantity in two models: the reference's peak of REF beside the runs' peaks
+of RUN (a latch spring's torque in a rigid model, a locked joint's reaction in a flexible
+one); `-RUN` negates it (a reaction on the other body). Read from the saved runs alone:
+`comparisons.csv` in SI, the workbook sheet `Comparison` in the report's units.
 """
 
 from __future__ import annotations
@@ -55,10 +58,13 @@ class ComparedPeak:
 
 
 def _peak(run: SavedRun | None, column: str) -> tuple[float | None, float | None]:
-    """Signed value of largest magnitude of `column` in `run`, and its time (s)."""
+    """Signed value of largest magnitude of `column` (`-COLUMN`: negated) in `run`, and its
+    time (s)."""
+    sign = -1.0 if column.startswith("-") else 1.0
+    column = column.removeprefix("-").strip()
     if run is None or column not in run.channels or run.status != "ok":
         return None, None
-    values = np.asarray(run.channels[column], dtype=float)
+    values = sign * np.asarray(run.channels[column], dtype=float)
     finite = np.isfinite(values)
     if not finite.any():
         return None, None
@@ -71,9 +77,18 @@ def _columns(wanted: Sequence[str], run: SavedRun | None) -> list[str]:
     reference run's order (or as given when the reference lacks it)."""
     out: list[str] = []
     for key in wanted:
+        if "=" in key:  # a pair, as given
+            out.append(" = ".join(side.strip() for side in key.split("=", 1)))
+            continue
         parts = [c for c in (run.channels if run else ()) if c.split(".")[0] == key]
         out += [key] if "." in key or not parts else parts
     return list(dict.fromkeys(out))
+
+
+def _sides(column: str) -> tuple[str, str]:
+    """(the reference's column, the runs' column): `REF = RUN` or one column for both."""
+    ref, _, run = column.partition(" = ")
+    return ref, run or ref
 
 
 def comparison_rows(comparisons: Mapping[str, Any], runs: Sequence[SavedRun]) -> list[ComparedPeak]:
@@ -85,7 +100,9 @@ def comparison_rows(comparisons: Mapping[str, Any], runs: Sequence[SavedRun]) ->
         reference = by_name.get(comparison.reference)
         for column in _columns(comparison.columns, reference):
             names = [comparison.reference, *comparison.runs]
-            peaks = {n: _peak(by_name.get(n), column) for n in names}
+            ref_column, run_column = _sides(column)
+            sides = dict.fromkeys(names, run_column) | {comparison.reference: ref_column}
+            peaks = {n: _peak(by_name.get(n), sides[n]) for n in names}
             ref_peak = peaks[comparison.reference][0]
             largest = max((abs(p) for p, _ in peaks.values() if p is not None), default=0.0)
             for run_name in names:
@@ -94,9 +111,9 @@ def comparison_rows(comparisons: Mapping[str, Any], runs: Sequence[SavedRun]) ->
                 ratio = None
                 if peak is not None and ref_peak and abs(ref_peak) > NOISE_FLOOR * largest:
                     ratio = peak / ref_peak
-                known = [r for r in (run, reference) if r is not None]
-                unit = known[0].units.get(column, "") if known else ""
-                clock = known[0].units.get("time", "s") if known else "s"
+                known = [(r, c) for r, c in ((run, sides[run_name]), (reference, ref_column)) if r]
+                unit = known[0][0].units.get(known[0][1].lstrip("- "), "") if known else ""
+                clock = known[0][0].units.get("time", "s") if known else "s"
                 rows.append(ComparedPeak(name, column, unit, run_name, peak, time, ratio, clock))
     return rows
 

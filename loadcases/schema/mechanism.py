@@ -120,7 +120,10 @@ AnyBody = Annotated[
 class Point(Strict):
     """A named point fixed on `body`, given at its design position."""
 
-    body: Name = Field(description="body carrying the point (or ground)")
+    body: Name = Field(
+        description="body carrying the point (or ground); on a flexible body, "
+        "BODY.POINT (an interface point) carries it from that node by a rigid arm"
+    )
     at: Position = Field(description=describe("position, global frame", "length"))
 
 
@@ -140,7 +143,8 @@ _AXIS = "unit direction, global frame (normalised on use) [dimensionless]"
 class _TwoBody(Strict):
     bodies: NamePair = Field(
         description="[body 1, body 2]: coordinates are body 1 "
-        "relative to body 2; reactions act on body 1 from body 2"
+        "relative to body 2; reactions act on body 1 from body 2; BODY.POINT (an interface "
+        "point of a flexible body): that node, reaching `at` by a rigid arm"
     )
 
 

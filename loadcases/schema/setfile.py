@@ -159,7 +159,8 @@ class Comparison(Strict):
     )
     columns: Annotated[list[str], BeforeValidator(_as_list)] = Field(
         min_length=1,
-        description="result columns REQUEST.COMPONENT, or REQUEST for all its components",
+        description="result columns REQUEST.COMPONENT, or REQUEST for all its components; "
+        "'REF = RUN' (or 'REF = -RUN', negated): the reference's REF beside the runs' RUN",
     )
 
 

@@ -57,7 +57,11 @@ class CableLoop:
 
     def bind(self, system) -> None:
         joints = [system.mechanism.joints[j] for j in self.joints]
-        shared = {joints[0].body1, joints[0].body2} & {joints[1].body1, joints[1].body2}
+        owner = system.mechanism.owner  # a flexible yoke: its joints are on its node bodies
+        shared = {owner(joints[0].body1), owner(joints[0].body2)} & {
+            owner(joints[1].body1),
+            owner(joints[1].body2),
+        }
         if len(shared) != 1:
             raise ValueError(
                 f"cable_loop '{self.name}': joints {self.joints[0]} and "
@@ -66,7 +70,7 @@ class CableLoop:
         self._m = [system.measure(j, "angle") for j in self.joints]
         self._ends = []  # (pulley body index, body-fixed vector of the hinge point)
         for j in joints:
-            pulley = j.body1 if j.body2 in shared else j.body2
+            pulley = j.body1 if owner(j.body2) in shared else j.body2
             self._ends.append(system.body_point(pulley, j.at))
         along = float(self._m[0].axis_local @ self._m[1].axis_local)
         if abs(abs(along) - 1.0) > 1e-6:

@@ -208,7 +208,7 @@ def test_kinematic_analysis_names_the_modes_it_cannot_drive(tmp_path: Path) -> N
 
 
 def test_a_joint_off_the_interface_points_is_an_input_error(tmp_path: Path) -> None:
-    with pytest.raises(InputError, match="interface points only"):
+    with pytest.raises(InputError, match="carried by one"):
         run_case(_case(tmp_path, replace=("at: [0, 0, 0]}\n  forces", "at: [5, 0, 0]}\n  forces")))
 
 

@@ -71,3 +71,26 @@ def test_peaks_ratios_and_round_off() -> None:
     assert rows["m.value", "flex"].ratio == pytest.approx(0.75, rel=1e-15)
     assert rows["z.value", "flex"].peak == 0.7 and rows["z.value", "flex"].ratio is None
     assert rows["m.value", "gone"].peak is None and rows["m.value", "gone"].ratio is None
+
+
+def test_a_pair_compares_two_columns_for_one_quantity(tmp_path: Path) -> None:
+    """`REF = -RUN`: the reference's REF beside the runs' RUN negated (a latch spring's
+    torque against a locked joint's reaction on the other body); an unknown request on
+    either side is an input error."""
+    import numpy as np
+
+    from loadcases.report.comparison import comparison_rows
+    from loadcases.results.saved import SavedRun
+    from loadcases.schema.setfile import Comparison
+    from loadcases.sets.specs import load_and_compile_set
+
+    t = np.array([0.0, 1.0])
+    rigid = SavedRun("rigid", t, {"latch.value": np.array([0.0, 20.0])})
+    flex = SavedRun("flex", t, {"lock.tz": np.array([0.0, -17.0])})
+    spec = Comparison(reference="rigid", runs=["flex"], columns=["latch.value = -lock.tz"])
+    rows = {r.run: r for r in comparison_rows({"c": spec}, [rigid, flex])}
+    assert rows["rigid"].column == "latch.value = -lock.tz" and rows["rigid"].peak == 20.0
+    assert (rows["flex"].peak, rows["flex"].ratio) == (17.0, pytest.approx(0.85, rel=1e-15))
+    path = _inputs(tmp_path, SET.replace("columns: [spring,", "columns: [spring = -sprung,"))
+    with pytest.raises(InputError, match="unknown request 'sprung'"):
+        load_and_compile_set(path)
