@@ -14,6 +14,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
+from scipy.linalg.lapack import dgetrf, dgetrs
 
 from mechlib.contract import Status
 from mechlib.kin import Kin
@@ -38,6 +39,7 @@ _REPORT_CHANGE = 1e-8
 _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
 _MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
 _NORMAL_CHECK = 1e-6  # a normal-equations solution must meet its equations this well
+_REUSE_BELOW = 1e-6  # a Newton step below this keeps its Jacobian for the next
 
 
 @dataclass(frozen=True)
@@ -80,34 +82,50 @@ def _newton(
     residual, jacobian, q: np.ndarray, tol: float, weights: np.ndarray | None = None
 ) -> tuple[np.ndarray, int, float]:
     """Minimum-norm Newton (Gauss-Newton when over-determined), the norm of the step
-    divided by `weights` per column; returns q, iterations, |res|."""
+    divided by `weights` per column; returns q, iterations, |res|. After a step below
+    _REUSE_BELOW the Jacobian is kept (its change is of the order of that step, so the
+    next step converges as fast as with a fresh one): a dense row, already on the
+    constraints to 1e-9, is polished with one Jacobian instead of two."""
     res = residual(q)
     w = np.ones(len(q)) if weights is None else weights
+    solver: _MinimumNorm | None = None
     for it in range(1, _MAX_NEWTON + 1):
-        count(factorizations=1, jacobian_evaluations=1)
-        step = w * _minimum_norm(jacobian(q) * w, -res)
+        if solver is None:
+            count(factorizations=1, jacobian_evaluations=1)
+            solver = _MinimumNorm(jacobian(q) * w)
+        step = w * solver(-res)
         q = q + step
         res = residual(q)
-        if np.abs(step).max(initial=0.0) < tol and np.abs(res).max(initial=0.0) < tol:
+        size = np.abs(step).max(initial=0.0)
+        if size < tol and np.abs(res).max(initial=0.0) < tol:
             return q, it, float(np.abs(res).max(initial=0.0))
+        if size >= _REUSE_BELOW:
+            solver = None
     return q, _MAX_NEWTON, float(np.abs(res).max(initial=0.0))
 
 
-def _minimum_norm(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """x of least norm with a x = b: a^T (a a^T)^-1 b when a has full row rank (10x
-    cheaper than an SVD for the small corrections of dense rows), checked by its own
-    residual; least squares (SVD) otherwise (redundant rows, a singular position, more
-    rows than columns)."""
-    if a.shape[0] <= a.shape[1]:
-        try:
-            x = a.T @ np.linalg.solve(a @ a.T, b)
-        except np.linalg.LinAlgError:
-            pass
-        else:
+class _MinimumNorm:
+    """x of least norm with a x = b for the right sides b given: a^T (a a^T)^-1 b, a a^T
+    factored once (LU; 10x cheaper than an SVD for the small matrices of a
+    mechanism), each x checked by its own residual (which also catches a factor of
+    non-finite numbers); least squares (SVD) where that fails
+    (dependent rows, a singular position, more rows than columns)."""
+
+    def __init__(self, a: np.ndarray):
+        self.a = a
+        self.factor: tuple[np.ndarray, np.ndarray] | None = None
+        if a.shape[0] <= a.shape[1]:  # LAPACK directly: the wrappers cost more than the work
+            lu, pivots, info = dgetrf(a @ a.T)
+            self.factor = (lu, pivots) if info == 0 else None  # else dependent rows
+
+    def __call__(self, b: np.ndarray) -> np.ndarray:
+        a = self.a
+        if self.factor is not None:
+            x = a.T @ dgetrs(*self.factor, b)[0]
             if np.abs(a @ x - b).max(initial=0.0) <= _NORMAL_CHECK * np.abs(b).max(initial=0.0):
                 return x
-    x, *_ = np.linalg.lstsq(a, b, rcond=None)
-    return x
+        x, *_ = np.linalg.lstsq(a, b, rcond=None)
+        return x
 
 
 def solve_positions(

@@ -53,7 +53,9 @@ class CoordinateBlock:
 
     def phi(self, k: Kin) -> np.ndarray:
         out = np.empty(self.size)
-        values = np.r_[self._angle_values(k), self._travel_values(k)]
+        if not self.size:
+            return out
+        values = np.concatenate((self._angle_values(k), self._travel_values(k)))
         out[self._linear] = self._coefficients @ values - self._function(k.t, "value")
         for i in self._own:
             out[i] = self.equations[i].phi(k)
@@ -61,6 +63,8 @@ class CoordinateBlock:
 
     def jacobian(self, k: Kin, out: np.ndarray) -> None:
         """The rows (size, ncol) into `out`."""
+        if not self.size:
+            return
         grads = np.empty((len(self._angles) + len(self._travels), k.ncol))
         na = len(self._angles)
         if self._sines is not None:
@@ -79,7 +83,9 @@ class CoordinateBlock:
 
     def gamma(self, k: Kin) -> np.ndarray:
         out = np.empty(self.size)
-        quads = np.r_[self._angle_quads(k), self._travel_quads(k)]
+        if not self.size:
+            return out
+        quads = np.concatenate((self._angle_quads(k), self._travel_quads(k)))
         out[self._linear] = self._function(k.t, "accel") - self._coefficients @ quads
         for i in self._own:
             out[i] = self.equations[i].gamma(k)
