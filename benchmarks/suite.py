@@ -1,6 +1,6 @@
 """Side-by-side speed benchmark of `loads` and Exudyn at equal accuracy.
 
-For each model of `benchmarks.models` (slider_crank, chain20, fourbar10):
+For each model of `benchmarks.models` (slider_crank, chain20, fourbar10, ball_bounce, chain100):
 
 1. Reference: Exudyn's solution with a very fine fixed step (`REFERENCE_STEP`, 10x to 100x
    below the step the benchmark ends up using), stored in `benchmarks/reference/<model>.npz`
