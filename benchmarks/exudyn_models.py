@@ -429,8 +429,12 @@ def _energy(model: ModelSpec, built: _Built) -> np.ndarray:
 def _joint_gap(built: _Built) -> np.ndarray:
     """Largest joint-point gap (m) over all joints, at the stored sensor times.
 
-    For a prismatic joint (body 2 = ground) only the gap across the sliding axis counts.
+    For a prismatic joint (body 2 = ground) only the gap across the sliding axis counts; a
+    model without joints (the bouncing ball) has none: zeros.
     """
+    if not built.joint_point_sensors:
+        first = next(iter(built.body_sensors.values()))[0]
+        return np.zeros(len(built.mbs.GetSensorStoredData(first)))
     gap = None
     for _name, s1, s2, at, slide in built.joint_point_sensors:
         p1 = built.mbs.GetSensorStoredData(s1)[:, 1:4] if s1 is not None else at[None, :]
