@@ -354,7 +354,10 @@ def chain20() -> ModelSpec:
 
 
 def chain100() -> ModelSpec:
-    """chain(100): 100 links, 10 m of chain along a 2 rad arc, 300 DOF; CHAIN100_END s."""
+    """chain(100): 100 links, 10 m of chain along a 2 rad arc, 300 DOF, CHAIN100_END s: the
+    tip falls freely for about 1 s, then the chain swings down (the tip reaches 9.5 m below
+    the pivot); Exudyn's runs converge at 2 s (halving 5e-4 s changes the tip path by 8e-5
+    of its range)."""
     return chain(100, end=CHAIN100_END, quick_end=0.5)
 
 
