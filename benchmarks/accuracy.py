@@ -32,7 +32,13 @@ __all__ = [
 REFERENCE_DIR = Path(__file__).resolve().parent / "reference"
 
 #: Fixed step (s) of the stored Exudyn reference solution of each model.
-REFERENCE_STEP: dict[str, float] = {"slider_crank": 1e-5, "chain20": 2.5e-5, "fourbar10": 2.5e-5}
+REFERENCE_STEP: dict[str, float] = {
+    "slider_crank": 1e-5,
+    "chain20": 2.5e-5,
+    "fourbar10": 2.5e-5,
+    "ball_bounce": 1e-7,
+    "chain100": 5e-5,
+}
 
 #: Exudyn's sparse solver (EigenSparse) is its faster one here: 4x to 6x on chain20 and
 #: fourbar10, equal on slider_crank (measured with this suite's models).

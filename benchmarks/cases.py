@@ -48,6 +48,26 @@ def _vector(v: tuple[float, ...] | list[float]) -> str:
     return "[" + ", ".join(_num(c) for c in v) + "]"
 
 
+def _contact_lines(model: ModelSpec) -> list[str]:
+    """The `contacts:` block (sphere on a ground plane, `hertz` law) of the mechanism."""
+    if not model.contacts:
+        return []
+    lines = ["  contacts:"]
+    for c in model.contacts:
+        lines += [
+            f"    {c.name}:",
+            "      type: hertz",
+            f"      bodies: [{c.body}, ground]",
+            f"      geometry: {{shape: sphere_plane, center: {_vector(c.center)}, "
+            f"radius: {_num(c.radius)}, plane_point: {_vector(c.plane_point)}, "
+            f"normal: {_vector(c.normal)}}}",
+            f"      stiffness: {_num(c.stiffness)}",
+            f"      exponent: {_num(c.exponent)}",
+            f"      restitution: {_num(c.restitution)}",
+        ]
+    return lines
+
+
 def case_yaml(
     model: ModelSpec, end: float | None = None, tolerance: float = DEFAULT_TOLERANCE
 ) -> str:
@@ -78,7 +98,8 @@ def case_yaml(
         lines.append("  points:")
         for p in model.points:
             lines.append(f"    {p.name}: {{body: {p.body}, at: {_vector(p.at)}}}")
-    lines.append("  joints:")
+    if model.joints:
+        lines.append("  joints:")
     for j in model.joints:
         extra = ""
         if j.axis is not None:
@@ -89,6 +110,7 @@ def case_yaml(
             f"    {j.name}: {{type: {j.type}, bodies: [{j.bodies[0]}, {j.bodies[1]}], "
             f"at: {_vector(j.at)}{extra}}}"
         )
+    lines += _contact_lines(model)
     if model.initial_rate is not None:
         joint, rate = model.initial_rate
         lines += ["initial:", f"  {joint}: {{value: 0, rate: {_num(rate)}}}"]

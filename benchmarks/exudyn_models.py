@@ -16,6 +16,16 @@ The joint's marker 0 is on body 2 of the spec (the ground for ground joints) and
 body 1, so joint outputs are in body-2 axes and joint rotations are those of body 1 relative to
 body 2, as in SPEC 1.3.
 
+A sphere-plane contact (`ContactSpec`, the `hertz` law of `loads`) is Exudyn's native
+`ObjectContactSphereSphere` between the ball and a ground sphere of radius GROUND_SPHERE_RADIUS
+whose surface touches the plane at the plane point: for a ball that moves along the normal
+through that point (the bouncing ball) its gap is exactly the plane's. Its Hunt-Crossley model
+(`impactModel=1`), F = K x^n (1 + 3 (1 - e_HC) / 2 x' / x'(-)), is the Lankarani-Nikravesh law
+F = K x^n (1 + 3 (1 - e^2) / 4 x' / x'(-)) of `loads` with e_HC = (1 + e^2) / 2
+(`hunt_crossley_restitution`); the smallest remembered approach speed is 1 mm/s in both
+codes. Exudyn remembers x'(-) at the end of the first step in contact, `loads` interpolates it
+to the instant of touching: the difference vanishes with the step.
+
 Time integration: Exudyn's implicit generalized-alpha (index 3, Euler-parameter nodes),
 fixed steps `numberOfSteps = round(end / h)`, spectral radius 0.9 (Exudyn's default), modified
 Newton with Exudyn's default tolerances, no solution file, sensors stored in memory.
@@ -37,12 +47,14 @@ import numpy as np
 from benchmarks.models import ModelSpec, consistent_velocities
 
 __all__ = [
+    "GROUND_SPHERE_RADIUS",
     "REACTION_SIGN",
     "ExudynMissing",
     "ExudynOptions",
     "ExudynRun",
     "build_system",
     "exudyn_version",
+    "hunt_crossley_restitution",
     "import_exudyn",
     "run_exudyn",
 ]
@@ -54,6 +66,18 @@ LinearSolver = Literal["dense", "sparse"]
 #: pendulum in tests/benchmarks/test_models.py); SPEC 1.3
 #: reports the reaction on body 1 from body 2, hence the sign.
 REACTION_SIGN = -1.0
+
+#: Radius (m) of the ground sphere that stands for a contact plane.
+GROUND_SPHERE_RADIUS = 1.0
+
+#: Smallest remembered approach speed (m/s), mechlib.contact.laws.MIN_APPROACH_SPEED of `loads`.
+MIN_IMPACT_SPEED = 1.0e-3
+
+
+def hunt_crossley_restitution(restitution: float) -> float:
+    """Exudyn's Hunt-Crossley coefficient e_HC giving the Lankarani-Nikravesh damping of
+    coefficient `restitution` e: 3 (1 - e_HC) / 2 = 3 (1 - e^2) / 4."""
+    return 0.5 * (1.0 + restitution * restitution)
 
 
 class ExudynMissing(ImportError):
@@ -158,6 +182,40 @@ class _Built:
     joint_point_sensors: list[tuple[str, int | None, int | None, np.ndarray, np.ndarray | None]]
 
 
+def _add_contacts(mbs: Any, model: ModelSpec, bodies: dict[str, Any]) -> None:
+    """Each sphere-plane contact as an ObjectContactSphereSphere against a ground sphere."""
+    from exudyn.utilities import (  # type: ignore[import-not-found]
+        MarkerBodyRigid,
+        NodeGenericData,
+        ObjectContactSphereSphere,
+    )
+
+    for c in model.contacts:
+        normal = np.array(c.normal, dtype=float) / np.linalg.norm(c.normal)
+        centre = np.array(c.plane_point, dtype=float) - GROUND_SPHERE_RADIUS * normal
+        ball = np.array(c.center, dtype=float)
+        gap = float((ball - np.array(c.plane_point)) @ normal) - c.radius
+        m_ground = mbs.AddMarker(MarkerBodyRigid(bodyNumber=bodies["ground"], localPosition=centre))
+        local = ball - np.array(model.body(c.body).cm)
+        m_ball = mbs.AddMarker(MarkerBodyRigid(bodyNumber=bodies[c.body], localPosition=local))
+        data = mbs.AddNode(
+            NodeGenericData(numberOfDataCoordinates=4, initialCoordinates=[gap, 0, 0, 0])
+        )
+        mbs.AddObject(
+            ObjectContactSphereSphere(
+                name=c.name,
+                markerNumbers=[m_ground, m_ball],
+                nodeNumber=data,
+                spheresRadii=[GROUND_SPHERE_RADIUS, c.radius],
+                contactStiffness=c.stiffness,
+                contactStiffnessExponent=c.exponent,
+                restitutionCoefficient=hunt_crossley_restitution(c.restitution),
+                minimumImpactVelocity=MIN_IMPACT_SPEED,
+                impactModel=1,
+            )
+        )
+
+
 def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
     """Create the Exudyn system of `model` with the sensors its outputs need, and assemble it."""
     exu = import_exudyn()
@@ -189,6 +247,7 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
             show=False,
         )
 
+    _add_contacts(mbs, model, bodies)
     joints: dict[str, Any] = {}
     for j in model.joints:
         items = [bodies[j.bodies[1]], bodies[j.bodies[0]]]  # marker 0: body 2, marker 1: body 1
@@ -332,6 +391,10 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
     settings.solution.sensors.writePeriod = (
         options.step if record_every_step else options.output_step
     )
+    if model.contacts:
+        # Exudyn's step recommended at a contact switch drives the step to its 1e-8 s minimum
+        # and aborts on this stiff contact (1.13.6): fixed steps, as for the jointed models
+        ti.discontinuous.useRecommendedStepSize = False
     settings.show.statistics = False
     settings.show.computationTime = False
     settings.linearSolver.solverType = (
@@ -366,8 +429,12 @@ def _energy(model: ModelSpec, built: _Built) -> np.ndarray:
 def _joint_gap(built: _Built) -> np.ndarray:
     """Largest joint-point gap (m) over all joints, at the stored sensor times.
 
-    For a prismatic joint (body 2 = ground) only the gap across the sliding axis counts.
+    For a prismatic joint (body 2 = ground) only the gap across the sliding axis counts; a
+    model without joints (the bouncing ball) has none: zeros.
     """
+    if not built.joint_point_sensors:
+        first = next(iter(built.body_sensors.values()))[0]
+        return np.zeros(len(built.mbs.GetSensorStoredData(first)))
     gap = None
     for _name, s1, s2, at, slide in built.joint_point_sensors:
         p1 = built.mbs.GetSensorStoredData(s1)[:, 1:4] if s1 is not None else at[None, :]
@@ -385,15 +452,21 @@ def run_exudyn(model: ModelSpec, options: ExudynOptions) -> ExudynRun:
     """Build and solve `model` with `options`; wall times measured with time.perf_counter.
 
     `build_seconds` covers creating the items and `Assemble`; `solve_seconds` covers
-    `SolveDynamic` alone (initial accelerations included). Channels follow `loads`
+    `SolveDynamic` alone (initial accelerations included), `info["solve_cpu_seconds"]` its
+    process CPU time. Channels follow `loads`
     conventions (joint reactions on body 1 from body 2, ground axes).
     """
     exu = import_exudyn()
     t0 = time.perf_counter()
     built = build_system(model, options)
-    t1 = time.perf_counter()
-    ok = built.mbs.SolveDynamic(built.settings)
-    t2 = time.perf_counter()
+    t1, cpu = time.perf_counter(), time.process_time()
+    try:
+        ok = built.mbs.SolveDynamic(built.settings)
+    except RuntimeError as exc:  # Exudyn's SolverError (aborted run) is one
+        raise RuntimeError(
+            f"Exudyn failed to solve {model.name} with step {options.step} s"
+        ) from exc
+    t2, cpu = time.perf_counter(), time.process_time() - cpu
     if ok is False:
         raise RuntimeError(f"Exudyn failed to solve {model.name} with step {options.step} s")
     channels: dict[str, np.ndarray] = {}
@@ -420,5 +493,6 @@ def run_exudyn(model: ModelSpec, options: ExudynOptions) -> ExudynRun:
     if options.check:
         run.energy = _energy(model, built)
         run.joint_gap = _joint_gap(built)
+    run.info["solve_cpu_seconds"] = cpu  # process CPU time of SolveDynamic
     run.info["exudyn_module"] = str(getattr(exu, "_compiledModuleName", "exudynCPP"))
     return run

@@ -21,12 +21,15 @@ import numpy as np
 __all__ = [
     "JOINT_EQUATIONS",
     "BodySpec",
+    "ContactSpec",
     "JointSpec",
     "ModelSpec",
     "OutputSpec",
     "PointSpec",
     "all_models",
+    "chain",
     "chain20",
+    "chain100",
     "consistent_velocities",
     "constraint_velocity_jacobian",
     "degrees_of_freedom",
@@ -102,6 +105,28 @@ class PointSpec:
 
 
 @dataclass(frozen=True)
+class ContactSpec:
+    """A sphere fixed on `body` against a plane fixed to the ground (`sphere_plane`).
+
+    `center` and `radius` (m) place the sphere at the design position, `plane_point` and
+    `normal` the plane (the unit normal points from the ground towards the body). Normal
+    force: Hertz with Lankarani-Nikravesh damping, F = K x^n (1 + 3 (1 - e^2) / 4 x' / x'(-))
+    (x penetration, m; x' its rate; x'(-) its rate when the contact began), `stiffness` K
+    (N/m^n), `exponent` n, `restitution` e; no friction.
+    """
+
+    name: str
+    body: str
+    center: tuple[float, float, float]
+    radius: float
+    plane_point: tuple[float, float, float]
+    normal: tuple[float, float, float]
+    stiffness: float
+    exponent: float
+    restitution: float
+
+
+@dataclass(frozen=True)
 class OutputSpec:
     """A requested result channel.
 
@@ -131,6 +156,7 @@ class ModelSpec:
     `main` lists the columns whose error against the reference decides the accuracy;
     `secondary` the columns also compared, for information. `end` is the simulated time (s),
     `quick_end` the shorter one of `--quick`, `output_step` the output interval (s).
+    `contacts` lists the sphere-plane contacts (none in the jointed models).
     """
 
     name: str
@@ -145,6 +171,7 @@ class ModelSpec:
     outputs: tuple[OutputSpec, ...]
     main: tuple[str, ...]
     secondary: tuple[str, ...] = ()
+    contacts: tuple[ContactSpec, ...] = ()
     initial_rate: tuple[str, float] | None = None
     notes: tuple[str, ...] = field(default_factory=tuple)
 
@@ -254,43 +281,42 @@ def slider_crank() -> ModelSpec:
 
 
 # --------------------------------------------------------------------------------------
-# b. 20-link spatial chain
+# b. spatial chains of N links (chain20, chain100; the scaling study's chain<N>)
 # --------------------------------------------------------------------------------------
-CHAIN_LINKS = 20
+CHAIN_LINKS = 20  # links of chain20
 CHAIN_LENGTH = 0.1  # m, each link
 CHAIN_MASS = 0.1  # kg, each link
 CHAIN_I_AXIAL = 1.25e-6  # kg*m^2, about the link axis (rod of radius 5 mm)
 CHAIN_I_TRANSVERSE = 8.4e-5  # kg*m^2, about a transverse axis through the cm (~ m L^2 / 12)
 CHAIN_BEND = 0.02  # rad, heading change from one link to the next in the horizontal plane
+CHAIN100_END = 2.0  # s, simulated time of chain100
 
 
-def chain_joint_points() -> np.ndarray:
-    """The 21 joint points (m) of the chain: a horizontal arc in the x-z plane from the origin."""
-    pts = np.zeros((CHAIN_LINKS + 1, 3))
-    for i in range(CHAIN_LINKS):
+def chain_joint_points(links: int = CHAIN_LINKS) -> np.ndarray:
+    """The links + 1 joint points (m) of the chain: a horizontal arc in the x-z plane from the
+    origin, each link 0.1 m long and turned 0.02 rad about y from the one before."""
+    pts = np.zeros((links + 1, 3))
+    for i in range(links):
         phi = CHAIN_BEND * i
         pts[i + 1] = pts[i] + CHAIN_LENGTH * np.array([math.cos(phi), 0.0, math.sin(phi)])
     return pts
 
 
-def chain20() -> ModelSpec:
-    """20 slender links (0.1 m, 0.1 kg) joined by spherical joints, released at rest.
+def chain(links: int, end: float = 2.0, quick_end: float = 0.5) -> ModelSpec:
+    """`links` slender links (0.1 m, 0.1 kg) joined by spherical joints, released at rest.
 
     The chain lies in the horizontal plane y = 0 along a gentle arc (each link turned by
     0.02 rad about y from the previous one, the first along +x), so it falls under gravity
     (-y) out of any single vertical plane: a spatial motion. Link inertia about its cm:
     1.25e-6 kg*m^2 about its own axis, 8.4e-5 kg*m^2 across. Spherical joint `s0` holds link
-    0 to the ground at the origin, `s<i>` joins link i to link i-1. 2 s simulated: the chain
-    swings down, its tip whips past the bottom at about 0.65 s and again at about 1.95 s.
-    Beyond about 3 s the whips amplify any difference (halving the step changes the tip path
-    by 1e-2 of its range at 4 s): no step size gives a 1e-4 answer there, so the benchmark
-    stops at 2 s, where Exudyn's solution converges at second order.
+    0 to the ground at the origin, `s<i>` joins link i to link i-1; 3 * links DOF. Output:
+    the free end `tip`. `end` and `quick_end` (s) are the simulated times of the suite.
     """
-    pts = chain_joint_points()
+    pts = chain_joint_points(links)
     local = np.diag([CHAIN_I_AXIAL, CHAIN_I_TRANSVERSE, CHAIN_I_TRANSVERSE])
     bodies = []
     joints = []
-    for i in range(CHAIN_LINKS):
+    for i in range(links):
         phi = CHAIN_BEND * i
         c, s = math.cos(phi), math.sin(phi)
         # columns: link axis (cos, 0, sin), global y, and their cross product
@@ -299,22 +325,40 @@ def chain20() -> ModelSpec:
         bodies.append(BodySpec(f"link{i}", CHAIN_MASS, _vec(cm), _rotated_inertia(local, rot)))
         other = "ground" if i == 0 else f"link{i - 1}"
         joints.append(JointSpec(f"s{i}", "spherical", (f"link{i}", other), _vec(pts[i])))
-    points = (PointSpec("tip", f"link{CHAIN_LINKS - 1}", _vec(pts[-1])),)
+    points = (PointSpec("tip", f"link{links - 1}", _vec(pts[-1])),)
     outputs = tuple(OutputSpec("tip", c, "point_position", "tip") for c in ("x", "y", "z"))
     return ModelSpec(
-        name="chain20",
-        title="20-link spatial chain, spherical joints, 2 s",
+        name=f"chain{links}",
+        title=f"{links}-link spatial chain, spherical joints, {end:g} s",
         bodies=tuple(bodies),
         joints=tuple(joints),
         points=points,
         gravity=(0.0, -GRAVITY, 0.0),
-        end=2.0,
-        quick_end=0.5,
+        end=end,
+        quick_end=quick_end,
         output_step=5e-3,
         outputs=outputs,
         main=("tip.x", "tip.y", "tip.z"),
-        notes=("20 bodies, 60 constraint equations, 60 DOF",),
+        notes=(f"{links} bodies, {3 * links} constraint equations, {3 * links} DOF",),
     )
+
+
+def chain20() -> ModelSpec:
+    """chain(20), 2 s simulated: the chain swings down, its tip whips past the bottom at about
+    0.65 s and again at about 1.95 s. Beyond about 3 s the whips amplify any difference
+    (halving the step changes the tip path by 1e-2 of its range at 4 s): no step size gives
+    a 1e-4 answer there, so the benchmark stops at 2 s, where Exudyn's solution converges at
+    second order.
+    """
+    return chain(CHAIN_LINKS, end=2.0, quick_end=0.5)
+
+
+def chain100() -> ModelSpec:
+    """chain(100): 100 links, 10 m of chain along a 2 rad arc, 300 DOF, CHAIN100_END s: the
+    tip falls freely for about 1 s, then the chain swings down (the tip reaches 9.5 m below
+    the pivot); Exudyn's runs converge at 2 s (halving 5e-4 s changes the tip path by 8e-5
+    of its range)."""
+    return chain(100, end=CHAIN100_END, quick_end=0.5)
 
 
 # --------------------------------------------------------------------------------------
@@ -401,12 +445,15 @@ def fourbar10() -> ModelSpec:
 
 
 def all_models() -> list[ModelSpec]:
-    """The three benchmark models, in the order the suite runs them."""
-    return [slider_crank(), chain20(), fourbar10()]
+    """The benchmark models, in the order the suite runs them."""
+    from benchmarks.ball import ball_bounce  # the ball's module builds on this one
+
+    return [slider_crank(), chain20(), fourbar10(), ball_bounce(), chain100()]
 
 
 def model_by_name(name: str) -> ModelSpec:
-    """The model called `name` (`slider_crank`, `chain20`, `fourbar10`)."""
+    """The model called `name` (`slider_crank`, `chain20`, `fourbar10`, `ball_bounce`,
+    `chain100`)."""
     for m in all_models():
         if m.name == name:
             return m
@@ -479,7 +526,7 @@ def constraint_velocity_jacobian(model: ModelSpec) -> tuple[np.ndarray, list[str
             rows.extend(dw)
             labels.extend([f"{j.name}: translation 1", f"{j.name}: translation 2"])
             labels.extend(f"{j.name}: rotation {c}" for c in "xyz")
-    return np.array(rows), labels
+    return np.array(rows).reshape(len(rows), n), labels
 
 
 def degrees_of_freedom(model: ModelSpec) -> tuple[int, int]:

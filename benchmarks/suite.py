@@ -1,6 +1,6 @@
 """Side-by-side speed benchmark of `loads` and Exudyn at equal accuracy.
 
-For each model of `benchmarks.models` (slider_crank, chain20, fourbar10):
+For each model of `benchmarks.models` (slider_crank, chain20, fourbar10, ball_bounce, chain100):
 
 1. Reference: Exudyn's solution with a very fine fixed step (`REFERENCE_STEP`, 10x to 100x
    below the step the benchmark ends up using), stored in `benchmarks/reference/<model>.npz`
@@ -53,7 +53,7 @@ from benchmarks.accuracy import (
     make_reference,
     relative_error,
 )
-from benchmarks.cases import case_path
+from benchmarks.cases import case_path, case_yaml
 from benchmarks.models import ModelSpec, all_models, model_by_name
 
 __all__ = [
@@ -70,10 +70,27 @@ __all__ = [
 ]
 
 #: Largest Exudyn step (s) tried; the suite halves it until the accuracy target is met.
-EXUDYN_START_STEP: dict[str, float] = {"slider_crank": 2e-3, "chain20": 2e-3, "fourbar10": 1e-2}
+EXUDYN_START_STEP: dict[str, float] = {
+    "slider_crank": 2e-3,
+    "chain20": 2e-3,
+    "fourbar10": 1e-2,
+    "ball_bounce": 4e-6,
+    "chain100": 2e-3,
+}
 
 #: `analysis.tolerance` values tried for `loads`, loosest first.
-LOADS_TOLERANCES: tuple[float, ...] = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10)
+LOADS_TOLERANCES: tuple[float, ...] = (
+    1e-3,
+    1e-4,
+    1e-5,
+    1e-6,
+    1e-7,
+    1e-8,
+    1e-9,
+    1e-10,
+    1e-11,
+    1e-12,
+)
 
 MAX_HALVINGS = 10
 
@@ -153,10 +170,13 @@ def bench_exudyn(
 def _case_copy(model: ModelSpec, end: float, tolerance: float, directory: Path) -> Path:
     """A copy of the committed case file with `analysis.end` and `analysis.tolerance` set,
     and `accuracy: off`: the bench measures the error itself, so the engine's own estimate
-    (a second, coarser solve) would only be timed against `loads`."""
+    (a second, coarser solve) would only be timed against `loads`. A model without a committed
+    case file (the scaling study's chain<N>) is written from its spec."""
     import yaml
 
-    data = yaml.safe_load(case_path(model).read_text(encoding="utf-8"))
+    committed = case_path(model)
+    text = committed.read_text(encoding="utf-8") if committed.is_file() else case_yaml(model)
+    data = yaml.safe_load(text)
     data["analysis"]["end"] = float(end)
     data["analysis"]["tolerance"] = float(tolerance)
     data["analysis"]["accuracy"] = "off"

@@ -457,17 +457,27 @@ def bench(
             "Exudyn with 2 processes instead (benchmarks/campaign.py).",
         ),
     ] = False,
+    scaling: Annotated[
+        bool,
+        typer.Option(
+            "--scaling",
+            help="Time an N-link chain (N = 5 to 100) in both codes instead: time per step "
+            "and per simulated second against N, a log-log PNG (benchmarks/scaling.py).",
+        ),
+    ] = False,
 ) -> int:
     """Run the benchmark suite against Exudyn, or with --door time the door's load-case
     set, with --startup the command's start-up, with --campaign a large sweep against
-    Exudyn. It needs a source checkout (benchmarks/suite.py)."""
+    Exudyn, with --scaling the cost against the number of bodies. It needs a source
+    checkout (benchmarks/suite.py)."""
     suite = _find_bench_suite()
     if suite is None:
         raise fail(
             "benchmarks/suite.py not found: `loads bench` needs a source checkout "
             "(run it from the repository root)"
         )
-    module = "campaign" if campaign else "startup" if startup else "door_set" if door else "suite"
+    chosen = {"scaling": scaling, "campaign": campaign, "startup": startup, "door_set": door}
+    module = next((name for name, on in chosen.items() if on), "suite")
     namespace = _load_bench_module(suite.with_name(f"{module}.py"))
     entry = namespace.get("main")
     if not callable(entry):

@@ -22,6 +22,7 @@ from benchmarks.models import (
     ModelSpec,
     OutputSpec,
     all_models,
+    chain,
     consistent_velocities,
     constraint_velocity_jacobian,
     degrees_of_freedom,
@@ -31,7 +32,16 @@ from benchmarks.models import (
 MODELS = [m.name for m in all_models()]
 
 
-@pytest.mark.parametrize("name, dof", [("slider_crank", 1), ("chain20", 60), ("fourbar10", 1)])
+@pytest.mark.parametrize(
+    "name, dof",
+    [
+        ("slider_crank", 1),
+        ("chain20", 60),
+        ("fourbar10", 1),
+        ("ball_bounce", 6),
+        ("chain100", 300),
+    ],
+)
 def test_mobility_and_no_redundant_equation(name: str, dof: int) -> None:
     model = model_by_name(name)
     assert degrees_of_freedom(model) == (dof, 0)
@@ -43,7 +53,7 @@ def test_initial_velocities_satisfy_the_constraints(name: str) -> None:
     v, w = consistent_velocities(model)
     jac, _ = constraint_velocity_jacobian(model)
     x = np.hstack([v, w]).reshape(-1)
-    assert np.max(np.abs(jac @ x)) < 1e-12
+    assert np.max(np.abs(jac @ x), initial=0.0) < 1e-12
     if model.initial_rate is not None:
         joint, rate = model.initial_rate
         i = [b.name for b in model.bodies].index(model.joint(joint).bodies[0])
@@ -70,12 +80,23 @@ def test_inertia_tensors_are_physical(name: str) -> None:
         assert ev.max() <= ev.sum() - ev.max() + 1e-15  # triangle inequality of principal moments
 
 
-def test_chain_links_are_0_1_m_and_joined_end_to_end() -> None:
-    model = model_by_name("chain20")
+@pytest.mark.parametrize("name, links", [("chain20", 20), ("chain100", 100)])
+def test_chain_links_are_0_1_m_and_joined_end_to_end(name: str, links: int) -> None:
+    model = model_by_name(name)
     ats = [np.array(j.at) for j in model.joints] + [np.array(model.point("tip").at)]
     lengths = [np.linalg.norm(b - a) for a, b in itertools.pairwise(ats)]
-    assert lengths == pytest.approx([0.1] * 20)
+    assert lengths == pytest.approx([0.1] * links)
     assert max(abs(a[2]) for a in ats) > 0.3  # out of any vertical plane through the x axis
+    assert len(model.bodies) == links and model.joints[-1].bodies == (
+        f"link{links - 1}",
+        f"link{links - 2}",
+    )
+
+
+def test_chain20_is_chain_of_20_links() -> None:
+    """Generalising the chain left chain20 as it was: its spec is chain(20), 2 s."""
+    assert chain(20, end=2.0, quick_end=0.5) == model_by_name("chain20")
+    assert model_by_name("chain20").title == "20-link spatial chain, spherical joints, 2 s"
 
 
 @pytest.mark.parametrize("name", MODELS)
@@ -106,6 +127,21 @@ def test_case_file_reads_back_as_the_spec(name: str) -> None:
         entry = mech["joints"][joint.name]
         assert entry["type"] == joint.type and entry["bodies"] == list(joint.bodies)
         assert entry["at"] == list(joint.at)
+    for contact in model.contacts:
+        entry = mech["contacts"][contact.name]
+        assert entry["type"] == "hertz" and entry["bodies"] == [contact.body, "ground"]
+        assert entry["geometry"] == {
+            "shape": "sphere_plane",
+            "center": list(contact.center),
+            "radius": contact.radius,
+            "plane_point": list(contact.plane_point),
+            "normal": list(contact.normal),
+        }
+        assert (entry["stiffness"], entry["exponent"], entry["restitution"]) == (
+            contact.stiffness,
+            contact.exponent,
+            contact.restitution,
+        )
     columns = {o.request for o in model.outputs}
     assert set(data["requests"]) == columns
 

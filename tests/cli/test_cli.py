@@ -264,6 +264,11 @@ def test_bench_runs_suite_main_or_reports_missing(
     )
     result = runner.invoke(app, ["bench", "--campaign"])
     assert result.exit_code == 0 and "campaign []" in result.stdout
+    (suite.parent / "scaling.py").write_text(
+        "def main(argv):\n    print('scaling', argv)\n    return 0\n"
+    )
+    result = runner.invoke(app, ["bench", "--scaling"])
+    assert result.exit_code == 0 and "scaling []" in result.stdout
 
 
 def test_bench_suite_in_a_package_may_use_relative_imports(
