@@ -270,3 +270,51 @@ def test_assembly_turns_a_flexible_body_rigidly(
     assert system.measure("hinge", "angle").value(system.kin(start.q, None, 0.0)) == (
         pytest.approx(1.0472, abs=1e-9)
     )
+
+
+def test_plate_panel_from_yaml(tmp_path: Path) -> None:
+    """`plate:` takes the grillage's keys: the same panel of shell elements has the plate's
+    mass and centre exactly (consistent mass), its interface nodes at the given points, and
+    a modes analysis runs on it. Skipped without the extra `plate` (pyfe3d)."""
+    pytest.importorskip("pyfe3d", reason="plate panels need the extra: pip install 'loads[plate]'")
+    from loadcases.build.model import build_run
+
+    path = tmp_path / "plate.case.yaml"
+    path.write_text(PANEL.replace("grillage:", "plate:"), "utf-8")
+    built = build_run(load_case(path))
+    body = built.mechanism.bodies["panel"]
+    assert body.mass == pytest.approx(2700.0 * 1.2 * 0.8 * 0.002, rel=1e-12)
+    assert body.cm == pytest.approx((0.1, 0.6, 0.4), abs=1e-12)
+    flexible = built.mechanism.flexible["panel"]
+    positions = [flexible.node_position(int(i)) for i in flexible.component.node_ids]
+    assert positions[0] == pytest.approx([0.1, 0.0, 0.13], abs=1e-12)
+    assert positions[1] == pytest.approx([0.1, 1.2, 0.8], abs=1e-12)
+    outcome = run_case(load_case(path))
+    assert outcome.solution.ok
+    assert len(outcome.solution.channels["mode.frequency"]) >= 6
+
+
+def test_a_plate_without_its_extra_is_an_input_error(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Without pyfe3d a `plate:` panel stops at its file, line and key with the install
+    command (exit 2), and two sources are refused."""
+    import sys
+
+    from typer.testing import CliRunner
+
+    from cli.app import app
+
+    monkeypatch.setitem(sys.modules, "pyfe3d", None)  # `import pyfe3d` fails
+    monkeypatch.setenv("LOADS_CACHE_DIR", str(tmp_path / "cache"))  # no reduction cached
+    path = tmp_path / "plate.case.yaml"
+    path.write_text(PANEL.replace("grillage:", "plate:"), "utf-8")
+    result = CliRunner().invoke(app, ["run", str(path), "-o", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "plate.case.yaml:6:" in result.output
+    assert "pip install 'loads[plate]'" in result.output
+    plate = "plate: {at: [0, 0, 0], size: [1, 1], thickness: 1, material: {E: 1, nu: 0, rho: 1}}"
+    both = PANEL.replace("        grillage:", f"        {plate}\n        grillage:")
+    path.write_text(both, "utf-8")
+    with pytest.raises(InputError, match="exactly one source"):
+        load_case(path)
