@@ -275,7 +275,8 @@ def test_assembly_turns_a_flexible_body_rigidly(
 def test_plate_panel_from_yaml(tmp_path: Path) -> None:
     """`plate:` takes the grillage's keys: the same panel of shell elements has the plate's
     mass and centre exactly (consistent mass), its interface nodes at the given points, and
-    a modes analysis runs on it. Skipped without the extra `plate` (pyfe3d)."""
+    a modes analysis runs on it; `stiffening:` (beam elements) is refused. Skipped without
+    the extra `plate` (pyfe3d)."""
     pytest.importorskip("pyfe3d", reason="plate panels need the extra: pip install 'loads[plate]'")
     from loadcases.build.model import build_run
 
@@ -292,6 +293,9 @@ def test_plate_panel_from_yaml(tmp_path: Path) -> None:
     outcome = run_case(load_case(path))
     assert outcome.solution.ok
     assert len(outcome.solution.channels["mode.frequency"]) >= 6
+    path.write_text(path.read_text().replace("modes: 6", "modes: 6\n        stiffening: true"))
+    with pytest.raises(InputError, match="a plate no beam elements"):
+        run_case(load_case(path))
 
 
 def test_a_plate_without_its_extra_is_an_input_error(
