@@ -151,13 +151,17 @@ def test_stiffening_and_linear_limit_keys(tmp_path: Path) -> None:
     assert tip(2000.0, stiff)[0] < 0.99 * tip(2000.0, "")[0]
 
 
-def test_grillage_panel_from_yaml(tmp_path: Path) -> None:
+@pytest.mark.parametrize("source", ["grillage", "plate"])
+def test_panel_from_yaml(tmp_path: Path, source: str) -> None:
     """A panel in the global y-z plane: its mass is rho lx ly t, its centre the panel's
-    centre, its interface nodes at the given points; a modes analysis runs on it."""
+    centre, its interface nodes at the given points; a modes analysis runs on it. `plate:`
+    takes the grillage's keys (skipped without the extra `plate`, pyfe3d)."""
     from loadcases.build.model import build_run
 
+    if source == "plate":
+        pytest.importorskip("pyfe3d", reason="plate panels need: pip install 'loads[plate]'")
     path = tmp_path / "panel.case.yaml"
-    path.write_text(PANEL, "utf-8")
+    path.write_text(PANEL.replace("grillage:", f"{source}:"), "utf-8")
     built = build_run(load_case(path))
     body = built.mechanism.bodies["panel"]
     assert body.mass == pytest.approx(2700.0 * 1.2 * 0.8 * 0.002, rel=1e-12)
@@ -272,28 +276,14 @@ def test_assembly_turns_a_flexible_body_rigidly(
     )
 
 
-def test_plate_panel_from_yaml(tmp_path: Path) -> None:
-    """`plate:` takes the grillage's keys: the same panel of shell elements has the plate's
-    mass and centre exactly (consistent mass), its interface nodes at the given points, and
-    a modes analysis runs on it; `stiffening:` (beam elements) is refused. Skipped without
-    the extra `plate` (pyfe3d)."""
+def test_a_plate_has_no_stiffening(tmp_path: Path) -> None:
+    """`stiffening:` needs beam elements: a plate panel's is refused at its key."""
     pytest.importorskip("pyfe3d", reason="plate panels need the extra: pip install 'loads[plate]'")
-    from loadcases.build.model import build_run
-
     path = tmp_path / "plate.case.yaml"
-    path.write_text(PANEL.replace("grillage:", "plate:"), "utf-8")
-    built = build_run(load_case(path))
-    body = built.mechanism.bodies["panel"]
-    assert body.mass == pytest.approx(2700.0 * 1.2 * 0.8 * 0.002, rel=1e-12)
-    assert body.cm == pytest.approx((0.1, 0.6, 0.4), abs=1e-12)
-    flexible = built.mechanism.flexible["panel"]
-    positions = [flexible.node_position(int(i)) for i in flexible.component.node_ids]
-    assert positions[0] == pytest.approx([0.1, 0.0, 0.13], abs=1e-12)
-    assert positions[1] == pytest.approx([0.1, 1.2, 0.8], abs=1e-12)
-    outcome = run_case(load_case(path))
-    assert outcome.solution.ok
-    assert len(outcome.solution.channels["mode.frequency"]) >= 6
-    path.write_text(path.read_text().replace("modes: 6", "modes: 6\n        stiffening: true"))
+    stiff = PANEL.replace("grillage:", "plate:").replace(
+        "modes: 6", "modes: 6\n        stiffening: true"
+    )
+    path.write_text(stiff, "utf-8")
     with pytest.raises(InputError, match="a plate no beam elements"):
         run_case(load_case(path))
 
