@@ -6,6 +6,7 @@ mechanism: loadcases.schema.mechanism); the Craig-Bampton reduction keeps those 
 
 from __future__ import annotations
 
+import importlib.util
 from dataclasses import fields as _fields
 from pathlib import Path
 from typing import Any
@@ -131,7 +132,13 @@ def _fe_model(f: Flexible, folder: Path) -> NamedModel:
             dict(f.interface),
             b.y_axis,
         )
-    g = f.grillage
+    return _panel(f)
+
+
+def _panel(f: Flexible) -> NamedModel:
+    """A grillage or plate panel with nodes at the interface points; ValueError for a point
+    off the panel or a plate without its optional extra."""
+    g = f.grillage if f.grillage is not None else f.plate
     assert g is not None
     axes = frame_axes(g.x, g.y).T
     local = {}
@@ -140,9 +147,17 @@ def _fe_model(f: Flexible, folder: Path) -> NamedModel:
         if abs(d[2]) > _IN_PLANE:
             raise ValueError(f"interface point {name} is {d[2]:.3g} m off the panel's plane")
         local[name] = (float(d[0]), float(d[1]))
-    return grillage(
-        g.size, g.thickness, _material(g.material), g.mesh, local, origin=g.at, axes=axes
-    )
+    if f.plate is None:
+        build = grillage
+    elif importlib.util.find_spec("pyfe3d") is None:
+        raise ValueError(
+            "plate: the plate element comes from the optional package pyfe3d, which is not "
+            "installed: pip install 'loads[plate]' (or pip install pyfe3d), or use grillage: "
+            "with the same keys"
+        )
+    else:
+        from mechlib.flexible.plate import plate as build
+    return build(g.size, g.thickness, _material(g.material), g.mesh, local, origin=g.at, axes=axes)
 
 
 def _arrays(component: ModalComponent) -> dict[str, np.ndarray]:
@@ -181,9 +196,9 @@ def flexible_component(f: Flexible, folder: Path) -> ModalComponent:
     """The modal component (`folder`: that of the file holding the mechanism, where a
     `file:` source is read); ValueError (and ReductionError) say what is wrong, InputError
     what is wrong in an imported model's files. The reduction is cached
-    (loadcases.flexible.cache) by its inputs and the engine's identity: a built-in beam or
-    grillage by its keys (the FE model is not even assembled on a hit), an imported model by
-    its content (nodes, DOF map, K, M, interface), with the mode selection and damping; a
+    (loadcases.flexible.cache) by its inputs and the engine's identity: a built-in beam,
+    grillage or plate by its keys (the FE model is not even assembled on a hit), an imported
+    model by its content (nodes, DOF map, K, M, interface), with the mode selection and damping; a
     set whose runs share a body reduces it once."""
     selection: dict[str, Any] = {
         "modes": f.modes,

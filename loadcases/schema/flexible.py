@@ -1,6 +1,7 @@
 """Pydantic models of a flexible body (`bodies: NAME: flexible:`, issue 13): SI floats.
 
-A built-in source (`beam:` or `grillage:`) or an imported one (`file:`) gives the FE model;
+A built-in source (`beam:`, `grillage:` or `plate:`) or an imported one (`file:`) gives the
+FE model;
 `interface:` names the points (global, at design) where the mechanism attaches: each
 becomes a node and a point `BODY.NAME`; `modes:` / `frequency_range:` select the
 Craig-Bampton modes, `damping:` their ratios (default: 1 % below 100 Hz, 10 % below
@@ -31,6 +32,7 @@ __all__ = [
     "Flexible",
     "GrillageSource",
     "MaterialModel",
+    "PlateSource",
 ]
 
 Density = quantity("density")
@@ -93,6 +95,11 @@ class GrillageSource(Strict):
     mesh: tuple[int, int] = Field((10, 10), description="[nx, ny] cells")
 
 
+class PlateSource(GrillageSource):
+    """A flat panel of plate/shell elements (the extra `plate`: pyfe3d), the grillage's
+    keys: corner `at`, edges along `x` and `y`."""
+
+
 class FileSource(Strict):
     """An imported FE model (docs/flexible-bodies-import.md): the JSON header of a neutral,
     Matrix Market, OP4 or DMIG model, placed by its frame's origin `at` and axes `x`, `y`."""
@@ -113,6 +120,7 @@ class Flexible(Strict):
 
     beam: BeamSource | None = None
     grillage: GrillageSource | None = None
+    plate: PlateSource | None = None
     file: FileSource | None = None
     interface: dict[str, Position] = Field(
         description=describe("named attachment points, global at design", "length")
@@ -143,8 +151,10 @@ class Flexible(Strict):
 
     @model_validator(mode="after")
     def _one_source(self) -> Flexible:
-        if sum(s is not None for s in (self.beam, self.grillage, self.file)) != 1:
-            raise PydanticCustomError("flexible", "give exactly one source: beam, grillage or file")
+        if sum(s is not None for s in (self.beam, self.grillage, self.plate, self.file)) != 1:
+            raise PydanticCustomError(
+                "flexible", "give exactly one source: beam, grillage, plate or file"
+            )
         if self.modes is not None and self.frequency_range is not None:
             raise PydanticCustomError("flexible", "give modes or frequency_range, not both")
         if not self.interface:
@@ -152,6 +162,7 @@ class Flexible(Strict):
         return self
 
     def source_key(self) -> str:
-        if self.file is not None:
-            return "file"
-        return "beam" if self.beam is not None else "grillage"
+        for key in ("file", "beam", "plate"):
+            if getattr(self, key) is not None:
+                return key
+        return "grillage"

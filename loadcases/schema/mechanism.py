@@ -99,8 +99,8 @@ class Body(Strict):
 
 
 class FlexibleBody(Strict):
-    """A flexible body: Craig-Bampton modes of a beam or grillage; its mass properties come
-    from its FE model."""
+    """A flexible body: Craig-Bampton modes of a beam, grillage or plate; its mass properties
+    come from its FE model."""
 
     flexible: Flexible
 

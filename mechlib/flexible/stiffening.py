@@ -159,7 +159,7 @@ def modal_geometric(
     if model.beams is None:
         raise ValueError(
             "geometric stiffening needs the elements of the model: a built-in beam or "
-            "grillage (an imported model has matrices only)"
+            "grillage (an imported model has matrices only, a plate no beam elements)"
         )
     loads = np.hstack([_spin_loads(model, origin), _nodal_loads(model, nodes)])
     forces = _axial_forces(model, _relieved(model, loads, origin))

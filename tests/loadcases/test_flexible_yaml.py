@@ -151,13 +151,17 @@ def test_stiffening_and_linear_limit_keys(tmp_path: Path) -> None:
     assert tip(2000.0, stiff)[0] < 0.99 * tip(2000.0, "")[0]
 
 
-def test_grillage_panel_from_yaml(tmp_path: Path) -> None:
+@pytest.mark.parametrize("source", ["grillage", "plate"])
+def test_panel_from_yaml(tmp_path: Path, source: str) -> None:
     """A panel in the global y-z plane: its mass is rho lx ly t, its centre the panel's
-    centre, its interface nodes at the given points; a modes analysis runs on it."""
+    centre, its interface nodes at the given points; a modes analysis runs on it. `plate:`
+    takes the grillage's keys (skipped without the extra `plate`, pyfe3d)."""
     from loadcases.build.model import build_run
 
+    if source == "plate":
+        pytest.importorskip("pyfe3d", reason="plate panels need: pip install 'loads[plate]'")
     path = tmp_path / "panel.case.yaml"
-    path.write_text(PANEL, "utf-8")
+    path.write_text(PANEL.replace("grillage:", f"{source}:"), "utf-8")
     built = build_run(load_case(path))
     body = built.mechanism.bodies["panel"]
     assert body.mass == pytest.approx(2700.0 * 1.2 * 0.8 * 0.002, rel=1e-12)
@@ -270,3 +274,41 @@ def test_assembly_turns_a_flexible_body_rigidly(
     assert system.measure("hinge", "angle").value(system.kin(start.q, None, 0.0)) == (
         pytest.approx(1.0472, abs=1e-9)
     )
+
+
+def test_a_plate_has_no_stiffening(tmp_path: Path) -> None:
+    """`stiffening:` needs beam elements: a plate panel's is refused at its key."""
+    pytest.importorskip("pyfe3d", reason="plate panels need the extra: pip install 'loads[plate]'")
+    path = tmp_path / "plate.case.yaml"
+    stiff = PANEL.replace("grillage:", "plate:").replace(
+        "modes: 6", "modes: 6\n        stiffening: true"
+    )
+    path.write_text(stiff, "utf-8")
+    with pytest.raises(InputError, match="a plate no beam elements"):
+        run_case(load_case(path))
+
+
+def test_a_plate_without_its_extra_is_an_input_error(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Without pyfe3d a `plate:` panel stops at its file, line and key with the install
+    command (exit 2), and two sources are refused."""
+    import sys
+
+    from typer.testing import CliRunner
+
+    from cli.app import app
+
+    monkeypatch.setitem(sys.modules, "pyfe3d", None)  # `import pyfe3d` fails
+    monkeypatch.setenv("LOADS_CACHE_DIR", str(tmp_path / "cache"))  # no reduction cached
+    path = tmp_path / "plate.case.yaml"
+    path.write_text(PANEL.replace("grillage:", "plate:"), "utf-8")
+    result = CliRunner().invoke(app, ["run", str(path), "-o", str(tmp_path / "out")])
+    assert result.exit_code == 2, result.output
+    assert "plate.case.yaml:6:" in result.output
+    assert "pip install 'loads[plate]'" in result.output
+    plate = "plate: {at: [0, 0, 0], size: [1, 1], thickness: 1, material: {E: 1, nu: 0, rho: 1}}"
+    both = PANEL.replace("        grillage:", f"        {plate}\n        grillage:")
+    path.write_text(both, "utf-8")
+    with pytest.raises(InputError, match="exactly one source"):
+        load_case(path)
