@@ -10,14 +10,18 @@ the least-squares step spreads the motion over the modes and starts a run strain
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from contextlib import suppress
 from dataclasses import dataclass, field
 
 import numpy as np
+import scipy.sparse as sp
 from scipy.linalg.lapack import dgetrf, dgetrs
+from scipy.sparse.linalg import splu
 
 from mechlib.contract import Status
 from mechlib.kin import Kin
+from mechlib.linalg import SPARSE_FROM
 from mechlib.singularity import toggle_detail
 from mechlib.solution import SolverFailure
 from mechlib.system import System
@@ -106,22 +110,29 @@ def _newton(
 
 class _MinimumNorm:
     """x of least norm with a x = b for the right sides b given: a^T (a a^T)^-1 b, a a^T
-    factored once (LU; 10x cheaper than an SVD for the small matrices of a
-    mechanism), each x checked by its own residual (which also catches a factor of
-    non-finite numbers); least squares (SVD) where that fails
+    factored once (dense LU; sparse LU from SPARSE_FROM rows on, as a joint's rows touch
+    two bodies), 10x cheaper than an SVD; each x checked by its own residual (which also
+    catches a factor of non-finite numbers); least squares (SVD) where that fails
     (dependent rows, a singular position, more rows than columns)."""
 
     def __init__(self, a: np.ndarray):
         self.a = a
-        self.factor: tuple[np.ndarray, np.ndarray] | None = None
-        if a.shape[0] <= a.shape[1]:  # LAPACK directly: the wrappers cost more than the work
-            lu, pivots, info = dgetrf(a @ a.T)
-            self.factor = (lu, pivots) if info == 0 else None  # else dependent rows
+        self.solve: Callable[[np.ndarray], np.ndarray] | None = None
+        if a.shape[0] > a.shape[1]:
+            return
+        if a.shape[0] >= SPARSE_FROM:
+            sparse = sp.csr_matrix(a)
+            with suppress(RuntimeError):  # exactly singular: dependent rows
+                self.solve = splu((sparse @ sparse.T).tocsc(), permc_spec="COLAMD").solve
+            return
+        lu, pivots, info = dgetrf(a @ a.T)  # LAPACK directly: its wrappers cost more
+        if info == 0:  # else dependent rows
+            self.solve = lambda rhs: dgetrs(lu, pivots, rhs)[0]
 
     def __call__(self, b: np.ndarray) -> np.ndarray:
         a = self.a
-        if self.factor is not None:
-            x = a.T @ dgetrs(*self.factor, b)[0]
+        if self.solve is not None:
+            x = a.T @ self.solve(b)
             if np.abs(a @ x - b).max(initial=0.0) <= _NORMAL_CHECK * np.abs(b).max(initial=0.0):
                 return x
         x, *_ = np.linalg.lstsq(a, b, rcond=None)

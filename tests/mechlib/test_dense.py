@@ -147,3 +147,22 @@ def test_rows_do_not_depend_on_the_end_time(fine) -> None:
         gap = np.abs(longer.channels[name][:n] - values) / peak
         assert gap.max() < 3e-4, name
         assert gap[fine.time < 0.495 - 1e-9].max() <= 1e-12, name
+
+
+@pytest.mark.parametrize(("rows", "columns"), [(20, 21), (150, 210)])
+def test_minimum_norm_step_is_the_least_squares_one(rows: int, columns: int) -> None:
+    """The projection's minimum-norm step (normal equations, dense below SPARSE_FROM rows,
+    sparse above) equals numpy's least-squares solution within 1e-12; with a dependent row
+    (no factor, or a failed check) it falls back to least squares itself."""
+    from mechlib.assembly import _MinimumNorm
+
+    rng = np.random.default_rng(rows)
+    a = rng.standard_normal((rows, columns)) * (rng.random((rows, columns)) < 0.1)
+    a[np.arange(rows), np.arange(rows)] += 3.0  # full row rank, sparse like a Jacobian
+    b = rng.standard_normal(rows)
+    expected = np.linalg.lstsq(a, b, rcond=None)[0]
+    assert np.abs(_MinimumNorm(a)(b) - expected).max() < 1e-12 * np.abs(expected).max()
+    a[-1] = a[0]  # dependent rows: a consistent right side has a least-squares answer
+    b[-1] = b[0]
+    expected = np.linalg.lstsq(a, b, rcond=None)[0]
+    assert np.abs(_MinimumNorm(a)(b) - expected).max() < 1e-10 * np.abs(expected).max()
