@@ -21,7 +21,7 @@ from scipy.sparse.linalg import splu
 
 from mechlib.contract import Status
 from mechlib.kin import Kin
-from mechlib.linalg import SPARSE_FROM
+from mechlib.linalg import SINGULAR_RATIO, SPARSE_FROM
 from mechlib.singularity import toggle_detail
 from mechlib.solution import SolverFailure
 from mechlib.system import System
@@ -118,15 +118,17 @@ class _MinimumNorm:
     def __init__(self, a: np.ndarray):
         self.a = a
         self.solve: Callable[[np.ndarray], np.ndarray] | None = None
-        if a.shape[0] > a.shape[1]:
+        if a.shape[0] == 0 or a.shape[0] > a.shape[1]:
             return
         if a.shape[0] >= SPARSE_FROM:
             sparse = sp.csr_matrix(a)
             with suppress(RuntimeError):  # exactly singular: dependent rows
-                self.solve = splu((sparse @ sparse.T).tocsc(), permc_spec="COLAMD").solve
+                factors = splu((sparse @ sparse.T).tocsc(), permc_spec="COLAMD")
+                if _well_pivoted(factors.U.diagonal()):
+                    self.solve = factors.solve
             return
         lu, pivots, info = dgetrf(a @ a.T)  # LAPACK directly: its wrappers cost more
-        if info == 0:  # else dependent rows
+        if info == 0 and _well_pivoted(np.diag(lu)):
             self.solve = lambda rhs: dgetrs(lu, pivots, rhs)[0]
 
     def __call__(self, b: np.ndarray) -> np.ndarray:
@@ -135,8 +137,17 @@ class _MinimumNorm:
             x = a.T @ self.solve(b)
             if np.abs(a @ x - b).max(initial=0.0) <= _NORMAL_CHECK * np.abs(b).max(initial=0.0):
                 return x
+            self.solve = None  # it failed once: least squares for the next right sides too
         x, *_ = np.linalg.lstsq(a, b, rcond=None)
         return x
+
+
+def _well_pivoted(diagonal: np.ndarray) -> bool:
+    """The LU of a a^T is far from singular: its pivots' ratio above SINGULAR_RATIO (a
+    nearly dependent row would otherwise leave a large null-space part in a^T y, which
+    the residual check cannot see; least squares cuts it)."""
+    size = np.abs(diagonal)
+    return bool(np.isfinite(size).all() and size.min() > SINGULAR_RATIO * size.max())
 
 
 def solve_positions(

@@ -156,6 +156,8 @@ class Mechanism:
         a rigid arm from that node (an offset attachment, seed 003 3.4.2.1)."""
         if body not in self.bodies:
             raise ValueError(f"alias {alias}: no body {body}")
+        if alias in self.bodies:
+            raise ValueError(f"alias {alias}: already a body's name")
         self.aliases[alias] = body
 
     def owner(self, body: str) -> str:
