@@ -14,7 +14,14 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.constraints import Dot1, Dot2
-from mechlib.coordinates import TWO_PI, AngleMeasure, CoordinateEquation, TravelMeasure
+from mechlib.coordinates import (
+    TWO_PI,
+    AngleMeasure,
+    CoordinateEquation,
+    TravelMeasure,
+    angle_gradient,
+    angle_quad,
+)
 from mechlib.kin import Kin
 
 __all__ = ["CoordinateBlock"]
@@ -71,9 +78,7 @@ class CoordinateBlock:
             s, c = self._pairs(self._sines.phi(k))
             rows = np.zeros((2 * na, k.ncol))
             self._sines.jacobian(k, rows)
-            grads[:na] = (c[:, None] * rows[0::2] - s[:, None] * rows[1::2]) / (s * s + c * c)[
-                :, None
-            ]
+            grads[:na] = angle_gradient(s[:, None], c[:, None], rows[0::2], rows[1::2])
         if self._distances is not None:
             grads[na:] = 0.0
             self._distances.jacobian(k, grads[na:])
@@ -115,9 +120,7 @@ class CoordinateBlock:
         s, c = self._pairs(self._sines.phi(k))
         sd, cd = self._pairs(self._sines.rate(k))
         sq, cq = self._pairs(-self._sines.gamma(k))
-        r2 = s * s + c * c
-        rate = (c * sd - s * cd) / r2
-        return (c * sq - s * cq) / r2 - 2.0 * rate * (s * sd + c * cd) / r2
+        return angle_quad(s, c, sd, cd, sq, cq)
 
     def _travel_quads(self, k: Kin) -> np.ndarray:
         return np.zeros(0) if self._distances is None else -self._distances.gamma(k)

@@ -19,7 +19,13 @@ from mechlib.constraints import Dot1, Dot2
 from mechlib.kin import Kin
 from mechlib.model import TimeFunction
 
-__all__ = ["AngleMeasure", "CoordinateEquation", "TravelMeasure"]
+__all__ = [
+    "AngleMeasure",
+    "CoordinateEquation",
+    "TravelMeasure",
+    "angle_gradient",
+    "angle_quad",
+]
 
 TWO_PI = 2.0 * math.pi
 
@@ -48,7 +54,7 @@ class AngleMeasure:
         s, c = self._sc.phi(k)
         rows = np.zeros((2, k.ncol))
         self._sc.jacobian(k, rows)
-        return (c * rows[0] - s * rows[1]) / (s * s + c * c)
+        return angle_gradient(s, c, rows[0], rows[1])
 
     def rate(self, k: Kin) -> float:
         s, c = self._sc.phi(k)
@@ -60,9 +66,21 @@ class AngleMeasure:
         s, c = self._sc.phi(k)
         sd, cd = self._sc.rate(k)
         sq, cq = -self._sc.gamma(k)
-        r2 = s * s + c * c
-        rate = (c * sd - s * cd) / r2
-        return (c * sq - s * cq) / r2 - 2.0 * rate * (s * sd + c * cd) / r2
+        return angle_quad(s, c, sd, cd, sq, cq)
+
+
+def angle_gradient(s, c, s_rows, c_rows):
+    """d(theta)/dq of theta = atan2(S, C) from S, C and their gradient rows (scalars and
+    rows, or arrays of them broadcast: mechlib.coordinate_block)."""
+    return (c * s_rows - s * c_rows) / (s * s + c * c)
+
+
+def angle_quad(s, c, sd, cd, sq, cq):
+    """The part of d2(theta)/dt2 not multiplying qdd (rad/s^2) from S, C, their rates and
+    the parts of their second derivatives not multiplying qdd (scalars or arrays)."""
+    r2 = s * s + c * c
+    rate = (c * sd - s * cd) / r2
+    return (c * sq - s * cq) / r2 - 2.0 * rate * (s * sd + c * cd) / r2
 
 
 class TravelMeasure:

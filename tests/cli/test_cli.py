@@ -254,21 +254,16 @@ def test_bench_runs_suite_main_or_reports_missing(
     monkeypatch.setattr(cli_app, "_find_bench_suite", lambda: suite)
     result = runner.invoke(app, ["bench", "--quick"])
     assert result.exit_code == 0 and "suite ['--quick']" in result.stdout
-    (suite.parent / "door_set.py").write_text(
-        "def main(argv):\n    print('door', argv)\n    return 1\n"
-    )
-    result = runner.invoke(app, ["bench", "--door"])
-    assert result.exit_code == 1 and "door []" in result.stdout
-    (suite.parent / "campaign.py").write_text(
-        "def main(argv):\n    print('campaign', argv)\n    return 0\n"
-    )
-    result = runner.invoke(app, ["bench", "--campaign"])
-    assert result.exit_code == 0 and "campaign []" in result.stdout
-    (suite.parent / "scaling.py").write_text(
-        "def main(argv):\n    print('scaling', argv)\n    return 0\n"
-    )
-    result = runner.invoke(app, ["bench", "--scaling"])
-    assert result.exit_code == 0 and "scaling []" in result.stdout
+    for module, flag, code in (
+        ("door_set", "--door", 1),
+        ("campaign", "--campaign", 0),
+        ("scaling", "--scaling", 0),
+    ):
+        (suite.parent / f"{module}.py").write_text(
+            f"def main(argv):\n    print('{flag[2:]}', argv)\n    return {code}\n"
+        )
+        result = runner.invoke(app, ["bench", flag])
+        assert result.exit_code == code and f"{flag[2:]} []" in result.stdout
 
 
 def test_bench_suite_in_a_package_may_use_relative_imports(
