@@ -41,6 +41,8 @@ _MAX_ITERATIONS = 50
 _ITERATION_TOLERANCE = 1e-6
 _GRAM_FLOOR = 1e-14
 _DENSE_ROWS = 150  # up to this many equations a dense LU of J J^T is the faster one
+_BATCH_ROWS = 60  # up to this many equations, the rows of a run are measured in batches
+_BATCH_SIZE = 256  # rows per batch (bounds the memory of many coordinates, long runs)
 _HELD = 1e-8  # sine of a coordinate the constraints hold exactly (round-off level)
 
 
@@ -237,19 +239,85 @@ def _episodes(values: np.ndarray, threshold: float) -> list[tuple[int, int]]:
 
 
 def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
-    """Per recorded row: the rank measure and the sines of the free coordinates."""
-    ranks, sines, start = np.empty(len(trajectory)), [], None
+    """Per recorded row: the rank measure and the sines of the free coordinates. Rows of
+    up to _BATCH_ROWS equations are measured together (`_Batch`), larger ones one by one
+    (`_Position`, sparse and warm-started)."""
+    ranks, start = np.empty(len(trajectory)), None
+    sines: list[dict] = [{} for _ in range(len(trajectory))]
     scale = _column_scale(system)  # the mechanism's size, the same at every row
-    active, free = None, None  # the free coordinates change only with the active rows
+    active, free = None, []  # the free coordinates change only with the active rows
+    batch = _Batch()
     for i, t in enumerate(trajectory.time):
         system.restore_snapshot(trajectory.references[i])
         if system.active is not active:
+            batch.flush(ranks, sines)
             active, free = system.active, _free_measures(system)
         k = system.kin(trajectory.q[i], None, t)
+        jac = system.phi_q(k)
+        if jac.shape[0] <= _BATCH_ROWS:
+            batch.free = free if jac.shape[0] < system.nq else []
+            batch.add(i, _unit_rows(jac * scale), _gradients(system, k, batch.free, scale))
+            if len(batch.rows) >= _BATCH_SIZE:
+                batch.flush(ranks, sines)
+            continue
         position = _Position(system, k, start, scale, free)
         ranks[i], start = position.rank_measure(), position.weights
-        sines.append(position.sines())
+        sines[i] = position.sines()
+    batch.flush(ranks, sines)
     return ranks, sines
+
+
+def _gradients(system: System, k, free: list, scale: np.ndarray) -> np.ndarray:
+    """The free coordinates' scaled gradients at state k as columns (nq, coordinates)."""
+    columns = [system.coordinate_gradient(m, k) * scale for _, m in free]
+    return np.array(columns).T if columns else np.zeros((system.nq, 0))
+
+
+class _Batch:
+    """Rows of one active set with few equations, measured in one go: the smallest
+    singular value of each scaled Jacobian from the eigenvalues of J J^T, the sines from
+    one batched solve (the same quantities as `_Position`, without its per-row calls)."""
+
+    def __init__(self) -> None:
+        self.rows: list[int] = []
+        self.jacs: list[np.ndarray] = []
+        self.grads: list[np.ndarray] = []
+        self.free: list = []
+
+    def add(self, row: int, jac: np.ndarray, grads: np.ndarray) -> None:
+        self.rows.append(row)
+        self.jacs.append(jac)
+        self.grads.append(grads)
+
+    def flush(self, ranks: np.ndarray, sines: list) -> None:
+        """Write the measures of the rows held into `ranks` and `sines`; empty the batch."""
+        if not self.rows:
+            return
+        jac, grads = np.array(self.jacs), np.array(self.grads)  # (n, m, nq), (n, nq, c)
+        m = jac.shape[1]
+        gram = jac @ jac.transpose(0, 2, 1) if m else None
+        ranks[self.rows] = (
+            np.sqrt(np.maximum(np.linalg.eigvalsh(gram)[:, 0], 0.0)) if gram is not None else 1.0
+        )
+        floored = gram + _GRAM_FLOOR * np.eye(m) if gram is not None else None
+        shares, norms = _free_shares(jac, grads, floored)
+        for i, share, norm in zip(self.rows, shares, norms):
+            sines[i] = {
+                (joint, meas.kind): float(value)
+                for (joint, meas), value, size in zip(self.free, share, norm)
+                if size > 0.0
+            }
+        self.rows, self.jacs, self.grads = [], [], []
+
+
+def _free_shares(jac: np.ndarray, grads: np.ndarray, gram: np.ndarray | None):
+    """(shares, norms) (n, c): per row and free coordinate, the part of its gradient the
+    constraint rows leave free over its length, and that length."""
+    norms = np.linalg.norm(grads, axis=1)
+    if gram is None or not grads.shape[2]:
+        return np.ones_like(norms), norms
+    free = grads - jac.transpose(0, 2, 1) @ np.linalg.solve(gram, jac @ grads)
+    return np.linalg.norm(free, axis=1) / np.where(norms > 0.0, norms, 1.0), norms
 
 
 def _relative(sines: list[dict]) -> list[dict]:
