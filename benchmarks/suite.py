@@ -94,6 +94,11 @@ LOADS_TOLERANCES: tuple[float, ...] = (
 
 MAX_HALVINGS = 10
 
+#: `analysis.output` modes calibrated for `loads`; the faster at the target is kept: dense
+#: rows between free steps, or steps landing on every output time (no rows to project:
+#: cheaper where the error-controlled step is about the output interval, as on slider_crank)
+OUTPUT_MODES: tuple[str, ...] = ("dense", "steps")
+
 
 # --------------------------------------------------------------------------------------
 # the two codes
@@ -167,11 +172,14 @@ def bench_exudyn(
     return res
 
 
-def _case_copy(model: ModelSpec, end: float, tolerance: float, directory: Path) -> Path:
+def _case_copy(
+    model: ModelSpec, end: float, tolerance: float, directory: Path, output: str | None = None
+) -> Path:
     """A copy of the committed case file with `analysis.end` and `analysis.tolerance` set,
-    and `accuracy: off`: the bench measures the error itself, so the engine's own estimate
-    (a second, coarser solve) would only be timed against `loads`. A model without a committed
-    case file (the scaling study's chain<N>) is written from its spec."""
+    `analysis.output` when given (dense or steps), and `accuracy: off`: the bench measures
+    the error itself, so the engine's own estimate (a second, coarser solve) would only be
+    timed against `loads`. A model without a committed case file (the scaling study's
+    chain<N>) is written from its spec."""
     import yaml
 
     committed = case_path(model)
@@ -180,6 +188,8 @@ def _case_copy(model: ModelSpec, end: float, tolerance: float, directory: Path) 
     data["analysis"]["end"] = float(end)
     data["analysis"]["tolerance"] = float(tolerance)
     data["analysis"]["accuracy"] = "off"
+    if output is not None:
+        data["analysis"]["output"] = output
     path = directory / f"{model.name}.case.yaml"
     path.write_text(yaml.safe_dump(data, sort_keys=False), encoding="utf-8")
     return path
@@ -222,7 +232,8 @@ def bench_loads(
     repeat: int,
     log: Callable[[str], None],
 ) -> CodeResult:
-    """Calibrate `loads`'s `analysis.tolerance` to `tol`, then time it `repeat` times.
+    """Calibrate `loads`'s `analysis.tolerance` to `tol` in each output mode (OUTPUT_MODES),
+    time each calibrated setting `repeat` times and keep the faster mode.
 
     Calibration calls `run_file`. The timed runs call the stages of `run_file` one by one
     (when the engine exposes them): *solve* is the wall time of `run_case` (model build from
@@ -239,75 +250,51 @@ def bench_loads(
 
     with tempfile.TemporaryDirectory(prefix=f"bench-{model.name}-") as tmp:
         work = Path(tmp)
-        chosen = None
-        for tolerance in LOADS_TOLERANCES:
-            case = _case_copy(model, end, tolerance, work)
-            try:
-                outcome = run_file(case, output_dir=work / "out")[0]
-            except Exception as exc:  # noqa: BLE001  (any engine error is this model's failed result)
-                res.status = "failed"
-                res.message = f"run_file raised {type(exc).__name__}: {exc}"
-                return res
-            sol = outcome.solution
-            if not sol.ok:
-                res.calibration.append((tolerance, None))
-                log(f"  loads   tolerance {tolerance:.0e}: failed ({sol.message})")
-                continue
-            missing = [c for c in model.main if c not in sol.channels]
-            if missing:
-                res.status = "failed"
-                res.message = f"result columns {missing} missing; got {sorted(sol.channels)}"
-                return res
-            err = relative_error(sol.time, sol.channels, ref, model.main)
-            res.calibration.append((tolerance, err))
-            log(f"  loads   tolerance {tolerance:.0e}: error {err:.2e}")
-            if err <= tol:
-                chosen = tolerance
-                break
-        if chosen is None:
-            best_error = min((e for _, e in res.calibration if e is not None), default=float("nan"))
+        timed: dict[str, dict[str, Any]] = {}
+        for output in OUTPUT_MODES:
+            calibration = _calibrate(model, end, ref, tol, output, work, run_file, log)
+            if isinstance(calibration, CodeResult):  # the engine failed or lacks a column
+                return calibration
+            chosen, tried = calibration
+            timed[output] = {"calibration": tried, "tolerance": chosen}
+            if chosen is not None:
+                case = _case_copy(model, end, chosen, work, output)
+                timed[output].update(_timed(case, work, repeat, run_file, staged))
+        done = [o for o in OUTPUT_MODES if timed[o]["tolerance"] is not None]
+        if not done:
+            tried = [e for o in OUTPUT_MODES for _, e in timed[o]["calibration"] if e is not None]
             res.status = "failed"
+            res.calibration = timed[OUTPUT_MODES[0]]["calibration"]
             res.message = (
                 f"no tolerance down to {LOADS_TOLERANCES[-1]:g} reached the error target "
-                f"{tol:g} (best {best_error:.2e})"
+                f"{tol:g} in either output mode (best {min(tried, default=float('nan')):.2e})"
             )
             return res
-        case = _case_copy(model, end, chosen, work)
-        best = {
-            "solve": float("inf"),
-            "total": float("inf"),
-            "parse": float("inf"),
-            "write": float("inf"),
-            "cpu": float("inf"),
-        }
-        for _ in range(repeat):
-            gc.collect()
-            if staged is not None:
-                outcome, parse_s, solve_s, write_s = staged(case, work / "out")
-                total_s = parse_s + solve_s + write_s
-            else:
-                t0 = time.perf_counter()
-                outcome = run_file(case, output_dir=work / "out")[0]
-                total_s = time.perf_counter() - t0
-                parse_s = write_s = float("nan")
-                solve_s = float(outcome.solution.stats.cpu_seconds)
-            for key, value in (
-                ("solve", solve_s),
-                ("total", total_s),
-                ("parse", parse_s),
-                ("write", write_s),
-                ("cpu", float(outcome.solution.stats.cpu_seconds)),
-            ):
-                best[key] = min(best[key], value)
-        sol = outcome.solution
+        output = min(done, key=lambda o: timed[o]["best"]["solve"])
+        best, sol, chosen = (
+            timed[output]["best"],
+            timed[output]["solution"],
+            timed[output]["tolerance"],
+        )
         res.status = "ok"
-        res.setting = f"tol = {chosen:.0e}"
+        res.setting = f"tol = {chosen:.0e}, {output}"
+        res.calibration = timed[output]["calibration"]
         res.error = relative_error(sol.time, sol.channels, ref, model.main)
         res.secondary_errors = _secondary(model, sol.time, sol.channels, ref)
         res.solve_seconds, res.total_seconds = best["solve"], best["total"]
         res.steps = int(sol.stats.steps)
         res.extra = {
             "tolerance": chosen,
+            "output": output,
+            "modes": {
+                o: {
+                    "tolerance": timed[o]["tolerance"],
+                    "calibration": timed[o]["calibration"],
+                    "solve_seconds": timed[o].get("best", {}).get("solve"),
+                    "cpu_seconds": timed[o].get("best", {}).get("cpu"),
+                }
+                for o in OUTPUT_MODES
+            },
             "stats": sol.stats.as_dict(),
             "solve_timing": "wall of run_case" if staged is not None else "engine cpu_seconds",
             "parse_seconds": best["parse"],
@@ -315,6 +302,81 @@ def bench_loads(
             "engine_cpu_seconds": best["cpu"],
         }
     return res
+
+
+def _calibrate(
+    model: ModelSpec,
+    end: float,
+    ref: Reference,
+    tol: float,
+    output: str,
+    work: Path,
+    run_file: Callable[..., Any],
+    log: Callable[[str], None],
+) -> tuple[float | None, list[tuple[float, float | None]]] | CodeResult:
+    """(the loosest tolerance meeting `tol` in output mode `output` or None, the tolerances
+    tried with their errors); a failed CodeResult when the engine raised or a column is
+    missing."""
+    tried: list[tuple[float, float | None]] = []
+    for tolerance in LOADS_TOLERANCES:
+        case = _case_copy(model, end, tolerance, work, output)
+        try:
+            outcome = run_file(case, output_dir=work / "out")[0]
+        except Exception as exc:  # noqa: BLE001  (any engine error is this model's failed result)
+            return CodeResult(
+                status="failed", message=f"run_file raised {type(exc).__name__}: {exc}"
+            )
+        sol = outcome.solution
+        if not sol.ok:
+            tried.append((tolerance, None))
+            log(f"  loads   {output:5s} tolerance {tolerance:.0e}: failed ({sol.message})")
+            continue
+        missing = [c for c in model.main if c not in sol.channels]
+        if missing:
+            return CodeResult(
+                status="failed",
+                message=f"result columns {missing} missing; got {sorted(sol.channels)}",
+            )
+        err = relative_error(sol.time, sol.channels, ref, model.main)
+        tried.append((tolerance, err))
+        log(f"  loads   {output:5s} tolerance {tolerance:.0e}: error {err:.2e}")
+        if err <= tol:
+            return tolerance, tried
+    return None, tried
+
+
+def _timed(
+    case: Path,
+    work: Path,
+    repeat: int,
+    run_file: Callable[..., Any],
+    staged: Callable[..., Any] | None,
+) -> dict[str, Any]:
+    """{"best": the best solve, total, parse, write and engine CPU seconds of `repeat`
+    runs, "solution": the last run's solution}."""
+    best = dict.fromkeys(("solve", "total", "parse", "write", "cpu"), float("inf"))
+    outcome = None
+    for _ in range(repeat):
+        gc.collect()
+        if staged is not None:
+            outcome, parse_s, solve_s, write_s = staged(case, work / "out")
+            total_s = parse_s + solve_s + write_s
+        else:
+            t0 = time.perf_counter()
+            outcome = run_file(case, output_dir=work / "out")[0]
+            total_s = time.perf_counter() - t0
+            parse_s = write_s = float("nan")
+            solve_s = float(outcome.solution.stats.cpu_seconds)
+        for key, value in (
+            ("solve", solve_s),
+            ("total", total_s),
+            ("parse", parse_s),
+            ("write", write_s),
+            ("cpu", float(outcome.solution.stats.cpu_seconds)),
+        ):
+            best[key] = min(best[key], value)
+    assert outcome is not None, "repeat >= 1"
+    return {"best": best, "solution": outcome.solution}
 
 
 # --------------------------------------------------------------------------------------
