@@ -76,6 +76,8 @@ class GeneralizedAlphaStepper(DenseStepper):
             self.h = (
                 self.max_step if spec.fixed_step else min(self.max_step, _FIRST_STEP * span or 1e-3)
             )
+        # joint frictions that can stick: without any, no slip stops to look for
+        self.sticking = any(getattr(e, "can_stick", False) for e in system.elements)
         self.h_min = step_floor(spec.end)
         self.h_used = 0.0
         self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
@@ -181,6 +183,8 @@ class GeneralizedAlphaStepper(DenseStepper):
         return projected_row(self.system, t, q, qd, states)
 
     def _switched(self, s: _AlphaState) -> bool:
+        if not self.sticking:
+            return False
         return switch_sticking(self.system, s.q, s.raw_qd, s.t, self.view(s), consistent_state)
 
     def resolve(self, state: State, t: float) -> State:
@@ -199,6 +203,8 @@ class GeneralizedAlphaStepper(DenseStepper):
         """`new`, or the state at the first instant within the step where a sliding joint
         friction stops (its slip rate passes through zero: it may stick there)."""
         sys = self.system
+        if not self.sticking:
+            return new
         try:
             t = slip_stop(
                 sys,
