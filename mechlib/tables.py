@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from bisect import bisect_right
 from collections.abc import Callable
 from functools import cached_property
 from typing import Any
@@ -38,6 +39,7 @@ class Table:
             raise ValueError(f"table '{name}': x must increase strictly")
         self._order = _order
         self._f = self._interpolant()
+        self._pieces = self._piecewise()
 
     def _interpolant(self) -> Callable:
         x, y = self.x, self.y
@@ -58,10 +60,38 @@ class Table:
             base = Akima1DInterpolator(x, y)
         return base.derivative(self._order) if self._order else base
 
+    def _piecewise(self) -> tuple[list[float], list[tuple[float, ...]]]:
+        """(breakpoints, per interval the polynomial's coefficients, lowest power first) of
+        the interpolant, as Python floats: one value costs a bisection and a few products
+        instead of a scipy call (the door's seal and latch laws are called per station and
+        per column of the differenced tangent)."""
+        if self.interpolation == "linear":
+            x, y = self.x, self.y
+            slopes = np.diff(y) / np.diff(x)
+            if self._order == 0:
+                coefs = np.column_stack((y[:-1], slopes))
+            elif self._order == 1:
+                coefs = slopes[:, None]
+            else:
+                coefs = np.zeros((len(slopes), 1))
+            return x.tolist(), [tuple(row) for row in coefs.tolist()]
+        spline: Any = self._f  # a scipy PPoly: c[k, i] multiplies (v - x_i)^(K - 1 - k)
+        return spline.x.tolist(), [tuple(col[::-1]) for col in spline.c.T.tolist()]
+
+    def _value(self, v: float) -> float:
+        """The interpolant at v within the data (the same sum as scipy's PPoly)."""
+        breaks, pieces = self._pieces
+        i = min(max(bisect_right(breaks, v) - 1, 0), len(pieces) - 1)
+        d, power, out = v - breaks[i], 1.0, 0.0
+        for c in pieces[i]:
+            out += c * power
+            power *= d
+        return out
+
     def __call__(self, v: float) -> float:
         lo, hi = self.x[0], self.x[-1]
         if lo <= v <= hi:
-            return float(self._f(v))
+            return self._value(float(v))
         if self.extrapolate == "error":
             raise TableRangeError(
                 f"table '{self.name}': x = {v:.6g} is outside its data "

@@ -15,7 +15,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.interpolate import CubicSpline
 
+from mechlib.contact.curve_kernels import nearest_on_cubic
 from mechlib.contact.geometry import Gap, relative_velocity, unit
+from mechlib.rotation import cross
 
 __all__ = ["CircleProfile"]
 
@@ -32,7 +34,7 @@ class CircleProfile:
     points: Sequence[Sequence[float]]
     plane_normal: Sequence[float]
     _bound: tuple = field(default=(), repr=False)
-    _derivatives: tuple = field(default=(), repr=False)  # spline', spline'' (built once)
+    _cubic: tuple = field(default=(), repr=False)  # the spline's breakpoints, coefficients
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
         pts = np.asarray(self.points, float)
@@ -45,7 +47,7 @@ class CircleProfile:
         uv = np.column_stack(((pts - origin) @ e1, (pts - origin) @ e2))
         chord = np.concatenate(([0.0], np.cumsum(np.linalg.norm(np.diff(uv, axis=0), axis=1))))
         spline = CubicSpline(chord, uv, bc_type="natural" if len(pts) > 2 else "not-a-knot")
-        self._derivatives = (spline.derivative(1), spline.derivative(2))
+        self._cubic = (np.ascontiguousarray(spline.x), np.ascontiguousarray(spline.c))
         grid = np.linspace(0.0, chord[-1], _SAMPLES_PER_SEGMENT * (len(pts) - 1) + 1)
         b1, s1 = system.body_point(body1, self.center)
         b2, s0 = system.body_point(body2, origin)  # body-2 axes = global axes at design
@@ -65,31 +67,24 @@ class CircleProfile:
         self._bound = self._bound[:-1] + (1.0 if side >= 0.0 else -1.0,)
         return b1, b2
 
-    def _nearest(self, w: np.ndarray) -> float:
-        """Curve parameter (m of chord) of the point nearest the in-plane point w (2,)."""
-        spline, grid, samples = self._bound[6], self._bound[7], self._bound[8]
-        u = grid[int(np.argmin(np.sum((samples - w) ** 2, axis=1)))]
-        d1, d2 = self._derivatives
-        for _ in range(_NEWTON_ITERATIONS):
-            r, t, c = spline(u) - w, d1(u), d2(u)
-            slope = t @ t + r @ c
-            if slope <= 0.0:
-                break
-            step = (r @ t) / slope
-            u = float(np.clip(u - step, grid[0], grid[-1]))
-            if abs(step) < 1e-13:  # m of chord: converged to round-off
-                break
-        return u
+    def _nearest(self, w: np.ndarray) -> tuple[float, np.ndarray]:
+        """(curve parameter (m of chord) of the point nearest the in-plane point w (2,),
+        (3, 2) the curve point, tangent and second derivative there)."""
+        grid, samples = self._bound[7], self._bound[8]
+        out = np.empty((3, 2))
+        breaks, coefs = self._cubic
+        u = nearest_on_cubic(w, grid, samples, breaks, coefs, _NEWTON_ITERATIONS, out)
+        return u, out
 
     def _signed(self, local: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
         """Signed distance (m) of a point (relative to the profile origin, body-2 axes) from
         the curve, the in-plane unit normal and the nearest curve point (body-2 axes)."""
-        basis, m, spline = self._bound[4], self._bound[5], self._bound[6]
+        basis, m = self._bound[4], self._bound[5]
         w = basis.T @ local
-        u = self._nearest(w)
-        tangent = basis @ self._derivatives[0](u)
-        normal = unit(np.cross(m, tangent)) * (self._bound[9] if len(self._bound) > 9 else 1.0)
-        foot = basis @ spline(u)
+        _, curve = self._nearest(w)
+        tangent = basis @ curve[1]
+        normal = unit(cross(m, tangent)) * (self._bound[9] if len(self._bound) > 9 else 1.0)
+        foot = basis @ curve[0]
         return float((local - foot) @ normal), normal, foot
 
     def gap(self, view) -> Gap:

@@ -90,3 +90,28 @@ def test_roller_on_a_circular_profile() -> None:
     gap = g.gap(view)
     assert gap.penetration == pytest.approx(0.005, abs=1e-6)
     np.testing.assert_allclose(gap.normal, c / np.linalg.norm(c), atol=1e-4)
+
+
+def test_nearest_point_on_a_cubic_profile_against_scipy() -> None:
+    """The compiled nearest point (mechlib.contact.curve_kernels) on a scipy CubicSpline
+    through 6 points: the foot of the perpendicular, i.e. (c(u) - w) . c'(u) = 0 to 1e-12 m,
+    and no sample of a 20001-point scan of the curve nearer than it (within 1e-12 m);
+    point and tangent equal to scipy's evaluation at u within 1e-13."""
+    from scipy.interpolate import CubicSpline
+
+    from mechlib.contact.curve_kernels import nearest_on_cubic
+
+    pts = np.array([[0, 0], [0.1, 0.02], [0.2, 0.05], [0.3, 0.04], [0.4, 0.0], [0.5, -0.03]])
+    chord = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
+    spline = CubicSpline(chord, pts, bc_type="natural")
+    grid = np.linspace(0.0, chord[-1], 201)
+    scan = np.linspace(0.0, chord[-1], 20001)
+    curve = spline(scan)
+    out = np.empty((3, 2))
+    for w in ([0.15, 0.1], [0.33, -0.05], [0.05, 0.03]):
+        w = np.array(w)
+        u = nearest_on_cubic(w, grid, spline(grid), spline.x, spline.c, 6, out)
+        assert abs((spline(u) - w) @ spline(u, 1)) <= 1e-12
+        assert np.linalg.norm(out[0] - w) <= np.linalg.norm(curve - w, axis=1).min() + 1e-12
+        assert np.abs(out[0] - spline(u)).max() <= 1e-13
+        assert np.abs(out[1] - spline(u, 1)).max() <= 1e-13
