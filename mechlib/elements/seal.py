@@ -24,7 +24,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from mechlib.elements.regularize import StaticSlipAnchor, at_rest, coulomb_vector
+from mechlib.elements.regularize import StaticSlipAnchor, at_rest
+from mechlib.elements.seal_kernels import seal_friction, seal_stations, seal_wrench
 from mechlib.forces import has_potential, stored
 from mechlib.rotation import omega_global, rotate
 from mechlib.view import StateView
@@ -86,25 +87,32 @@ class Seal(StaticSlipAnchor):
 
     def _loads(self, view: StateView) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """(P_i (N, 3), normal forces F_i (N,), friction forces on body 1 (N, 3), x_i)."""
+        p1, _, normal, friction, x = self._parts(view)
+        return p1, normal, friction, x
+
+    def _parts(self, view: StateView):
+        """(P_i (N, 3), the normal n (3,), F_i (N,), friction forces on body 1 (N, 3), x_i)."""
         p1, p2, n, x = self._stations(view)
         normal = self._share * self._line_load(x)
-        if self.mu == 0.0:
-            return p1, normal, np.zeros_like(p1), x
-        if at_rest(view):
-            slip, threshold = (p1 - p2) - self._anchor, self.slip_threshold
-        else:
-            slip, threshold = self._slip_velocity(view, p1), self.v_threshold
-        slip = slip - np.outer(slip @ n, n)
-        friction = -self.mu * normal[:, None] * coulomb_vector(slip, threshold)
-        return p1, normal, friction, x
+        friction = np.zeros_like(p1)
+        if self.mu != 0.0:
+            k, rest = view.kin, at_rest(view)
+            threshold = self.slip_threshold if rest else self.v_threshold
+            anchor = self._anchor if rest else p1  # the static slip's start (unused moving)
+            seal_friction(
+                k.x, k.xd, self._b1, self._b2, self._s1, p1, p2, n, normal, self.mu,
+                anchor, rest, threshold, friction,
+            )  # fmt: skip
+        return p1, n, normal, friction, x
 
     def _stations(self, view: StateView):
         """(P_i (N, 3), their twins S_i in body 2 (N, 3), the normal (3,), x_i (m))."""
-        k = view.kin
-        p1 = k.r[self._b1] + rotate(k.p[self._b1], self._s1)
-        p2 = k.r[self._b2] + rotate(k.p[self._b2], self._s2)
-        n = view.rotation(self._b2) @ self._n
-        return p1, p2, n, -(p1 - p2) @ n - self.gap
+        p1, p2 = np.empty((self.count, 3)), np.empty((self.count, 3))
+        n, x = np.empty(3), np.empty(self.count)
+        seal_stations(
+            view.kin.x, self._b1, self._b2, self._s1, self._s2, self._n, self.gap, p1, p2, n, x
+        )
+        return p1, p2, n, x
 
     def _slip_velocity(self, view: StateView, p1: np.ndarray) -> np.ndarray:
         """Velocity (m/s, (N, 3)) of body 1's points P_i relative to body 2's points under
@@ -143,15 +151,8 @@ class Seal(StaticSlipAnchor):
         return -float(np.sum(friction * slip))
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        p1, normal, friction, _ = self._loads(view)
-        n = view.rotation(self._b2) @ self._n
-        forces = normal[:, None] * n + friction  # on body 1 at P_i
-        total = forces.sum(axis=0)
-        F[self._b1] += total
-        F[self._b2] -= total
-        for body, sign in ((self._b1, 1.0), (self._b2, -1.0)):
-            arms = p1 - view.kin.r[body]
-            N[body] += sign * np.cross(arms, forces).sum(axis=0)
+        p1, n, normal, friction, _ = self._parts(view)
+        seal_wrench(view.kin.x, self._b1, self._b2, p1, n, normal, friction, F, N)
 
     def commit(self, view: StateView) -> None:
         """Accepted state: anchors of the static slips."""
@@ -170,8 +171,7 @@ class Seal(StaticSlipAnchor):
     def output(self, view: StateView) -> dict[str, float]:
         """normal, friction: totals of the stations (N); penetration: the largest (m);
         fx fy fz: resultant force on body 1 (N, global)."""
-        _, normal, friction, x = self._loads(view)
-        n = view.rotation(self._b2) @ self._n
+        _, n, normal, friction, x = self._parts(view)
         fx, fy, fz = normal.sum() * n + friction.sum(axis=0)
         return {
             "normal": float(normal.sum()),

@@ -210,3 +210,39 @@ requests:
     assert ch["mesh.input"][-1] == pytest.approx(-3.6, abs=1e-9)
     header = (tmp_path / "out" / "gear-mesh.csv").read_text().splitlines()[0]
     assert header.split(",")[1:] == ["mesh.input", "mesh.output"]
+
+
+@pytest.mark.parametrize("moving", [True, False])
+def test_seal_wrench_with_friction(moving: bool) -> None:
+    """The seal's wrench on a door sliding along its knife, in closed form: a knife of
+    0.8 m along x on body `door` (cm (0.5, 0, 0)) over a seal of normal +y on ground, 4
+    springs at x = 0.3, 0.5, 0.7, 0.9 m, pre-compressed 1 mm (gap -1 mm) at 2e5 N/m^2: each
+    spring 0.2 m x 200 N/m = 40 N along +y on the door. Sliding at +0.5 m/s (moving) or
+    2e-6 m from its slip anchor at rest (both beyond the thresholds 1e-3 m/s, 1e-6 m), each
+    spring's friction is -mu 40 N along x (mu 0.3: -12 N). Door: F = (-48, 160, 0) N,
+    moment about its cm N_z = 40 N x (-0.2 + 0 + 0.2 + 0.4) m = 16 N*m; ground: the reverse
+    force, moment about the origin -40 N x 2.4 m = -96 N*m. Tolerance 1e-9 N."""
+    from mechlib.system import System
+
+    mech = mechlib.Mechanism(name="door", gravity=(0.0, 0.0, 0.0))
+    mech.add_body("door", mass=5.0, cm=(0.5, 0.0, 0.0), inertia=[0.1, 0.5, 0.5])
+    seal = mechlib.Seal(
+        "seal", ("door", "ground"), (0.2, 0, 0), (1.0, 0, 0), (0, 1, 0), count=4,
+        stiffness=2.0e5, gap=-1e-3, mu=0.3,
+    )  # fmt: skip
+    mech.add_force(seal)
+    system = System(mech)
+    q = system.design_q()
+    qd = np.zeros(system.nq)
+    if moving:
+        qd[0] = 0.5
+        k = system.kin(q, qd, 0.0)
+    else:
+        q[0] += 2e-6  # anchored at the design position by bind
+        k = system.kin(q, None, 0.0)
+    F, N = np.zeros((2, 3)), np.zeros((2, 3))
+    seal.apply(system.view(k), F, N)
+    shift = 0.0 if moving else 2e-6  # the arms move with the door at rest
+    assert np.allclose(F, [[-48.0, 160.0, 0.0], [48.0, -160.0, 0.0]], rtol=0, atol=1e-9)
+    assert np.allclose(N[0], [0.0, 0.0, 16.0], rtol=0, atol=1e-9)
+    assert np.allclose(N[1], [0.0, 0.0, -40.0 * (2.4 + 4 * shift)], rtol=0, atol=1e-9)
