@@ -21,14 +21,12 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from mechlib.balance import Balance
+from mechlib.balance import FD_STEP, Balance
 from mechlib.fd_columns import ColumnSkips, element_bodies
 from mechlib.genalpha import Integrator
 from mechlib.solution import SolverStats
 from mechlib.system import System
 from tests.mechlib._models import Ramp
-
-_STEP = 1e-7  # the differences' relative step (mechlib.balance.FD_STEP)
 
 
 def _chain() -> ml.Mechanism:
@@ -76,7 +74,7 @@ def _state(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return q, qd, lam
 
 
-def _roundoff(system: System, k, lam: np.ndarray) -> float:
+def roundoff(system: System, k, lam: np.ndarray) -> float:
     """4 eps sum_e max |Q_e| / h: the round-off bound of a difference quotient of a sum of
     the element forces Q_e (N or N*m) taken in another order."""
     view, total = system.view(k, lam), 0.0
@@ -84,10 +82,10 @@ def _roundoff(system: System, k, lam: np.ndarray) -> float:
         F, N = np.zeros((system.nb + 1, 3)), np.zeros((system.nb + 1, 3))
         element.apply(view, F, N)
         total += np.abs(system.generalized(k, F, N)).max()
-    return 4.0 * np.finfo(float).eps * total / _STEP
+    return 4.0 * np.finfo(float).eps * total / FD_STEP
 
 
-class _EveryColumn(ColumnSkips):
+class EveryColumn(ColumnSkips):
     """The reference: every column leaves out only `always` (and `extra`: a wrong skip)."""
 
     def __init__(self, system: System, always=frozenset(), extra=frozenset()):
@@ -136,13 +134,13 @@ def test_static_stiffness_equals_every_element_in_every_column(system, monkeypat
 
     q, _, lam = _state(system)
     fast = Balance(system, 0.3, q).stiffness(q, lam)
-    monkeypatch.setattr(mechlib.balance, "ColumnSkips", _EveryColumn)
+    monkeypatch.setattr(mechlib.balance, "ColumnSkips", EveryColumn)
     full = Balance(system, 0.3, q).stiffness(q, lam)
-    tol = _roundoff(system, system.kin(q, None, 0.3), lam)
+    tol = roundoff(system, system.kin(q, None, 0.3), lam)
     assert np.abs(fast - full).max() <= tol
     # the check can fail: leaving the third-body force out of a's columns is seen there
     third = {id(system.mechanism.forces["third"])}
-    monkeypatch.setattr(mechlib.balance, "ColumnSkips", lambda s, a: _EveryColumn(s, a, third))
+    monkeypatch.setattr(mechlib.balance, "ColumnSkips", lambda s, a: EveryColumn(s, a, third))
     wrong = Balance(system, 0.3, q).stiffness(q, lam)
     a = system.body_index("a")
     assert np.abs(wrong - full)[:, 7 * a : 7 * a + 7].max() > 1e3 * tol
@@ -156,8 +154,8 @@ def test_dynamic_tangent_equals_every_element_in_every_column(system, monkeypatc
     jac = system.phi_q(k)
     integrator = Integrator(system, ml.Dynamic(end=1.0, step=0.1), SolverStats())
     fast = integrator._differenced_tangent(k, [], lam, jac, 1e-3)
-    monkeypatch.setattr(mechlib.genalpha, "ColumnSkips", _EveryColumn)
+    monkeypatch.setattr(mechlib.genalpha, "ColumnSkips", EveryColumn)
     full = integrator._differenced_tangent(k, [], lam, jac, 1e-3)
-    tol = _roundoff(system, k, lam)
+    tol = roundoff(system, k, lam)
     for mine, reference in zip(fast, full):
         assert np.abs(mine - reference).max() <= tol
