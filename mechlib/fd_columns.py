@@ -1,16 +1,16 @@
 """Which force elements a forward-difference column of the tangent can change.
 
-A column perturbs one coordinate of q (or qd), of one body or a modal coordinate. An element
-that knows the bodies its force depends on (`state_bodies()`: the body indices whose rows
-of the state, positions and rates, it reads; None or no such method: unknown) is left out of the
-columns of every other body: its force is the same at the base and at the perturbed state.
-So are contacts and seals (their two bodies), springs, torsion springs, dampers and bushings
-(the bodies they join), and point forces and torques (their body, their frame's body and
-the bodies their value's measures read). The others (joint friction, which reads the
-multipliers; elements with internal states; a force whose value reads a motion's effort)
-are evaluated in every column. A modal coordinate moves no body and no element reads it:
-its columns leave out every element with known bodies. Shared by the static stiffness
-(mechlib.balance) and the dynamic tangent (mechlib.genalpha).
+A column perturbs one coordinate of q (or qd): of one body, or a modal coordinate. An
+element that knows the bodies its force depends on (`state_bodies()`: the body indices
+whose positions and rates it reads, and it reads no modal coordinate; None or no such
+method: unknown) is left out of the columns of every other body: its force is the same at
+the base and at the perturbed state. So are contacts and seals (their two bodies), springs,
+torsion springs, dampers, bushings and cable loops (the bodies they join), and point forces
+and torques (their body, their frame's body and the bodies their value's measures read).
+The others are evaluated in every column: joint friction (it reads the multipliers),
+elements with internal states, and a load whose value reads a motion's effort. A modal
+coordinate moves no body: its columns leave out every element with known bodies. Shared by
+the static stiffness (mechlib.balance) and the dynamic tangent (mechlib.genalpha).
 """
 
 from __future__ import annotations
