@@ -53,9 +53,10 @@ class Balance:
 
     def stiffness(self, q: np.ndarray, lam: np.ndarray) -> np.ndarray:
         """d(phi_q^T lam - Q)/dq by forward differences, (nq, nq). A column of body b leaves
-        out the elements joining two other bodies (contacts, seals: `body_pair`), whose
-        forces it cannot change; the rest is evaluated as a whole, but for the frictionless
-        primitive contacts, which add their own tangent (Contact.tangent)."""
+        out the elements whose forces depend on other bodies only (`state_bodies`,
+        mechlib.fd_columns), which it cannot change; the rest is evaluated as a whole, but
+        for the frictionless primitive contacts, which add their own tangent
+        (Contact.tangent)."""
         system, t = self.system, self.t
         count(jacobian_evaluations=1)
         out = np.empty((system.nq, system.nq))

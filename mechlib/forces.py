@@ -9,7 +9,7 @@ switches the effect off gets a model without it.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Collection, Sequence
 from dataclasses import dataclass, field
 from typing import ClassVar
 
@@ -18,7 +18,7 @@ import numpy as np
 from mechlib import kernels
 from mechlib.model import GROUND
 from mechlib.rotation import cross
-from mechlib.view import StateView
+from mechlib.view import StateView, measure_bodies
 
 __all__ = ["PointForce", "PointTorque", "Spring", "TorsionSpring", "resist_rotation"]
 
@@ -26,6 +26,7 @@ __all__ = ["PointForce", "PointTorque", "Spring", "TorsionSpring", "resist_rotat
 # reports nothing) and `effect` (the case switch that removes it from the model).
 
 VectorFunction = Callable[[float, StateView], Sequence[float]]
+Measures = Collection[tuple[str, tuple[str, ...]]]  # view measures: ('angle', ('hinge',))
 
 
 def resist_rotation(view: StateView, measure, moment: float, N: np.ndarray) -> None:
@@ -58,9 +59,21 @@ def _global(view: StateView, frame: str, value: VectorFunction) -> np.ndarray:
     return view.system.frame_axes(frame, view.kin) @ vector
 
 
+def _read_bodies(system, own: int, frame: str, reads: Measures | None) -> set[int] | None:
+    """The bodies a load's value depends on: its own, its frame's and those `reads` (the
+    view measures the value reads) read; None when unknown."""
+    read = None if reads is None else measure_bodies(system, reads)
+    if read is None:
+        return None
+    axes = system.frame_index(frame)
+    return read | {own} | (set() if axes is None else {axes})
+
+
 @dataclass
 class PointForce:
-    """Force `value(t, view)` (N, 3 components in `frame` axes) at point `at` of `body`."""
+    """Force `value(t, view)` (N, 3 components in `frame` axes) at point `at` of `body`.
+    `reads`: the view measures `value` reads ((kind, names) pairs, mechlib.view.
+    measure_bodies; empty: t only), None when unknown."""
 
     name: str
     body: str
@@ -69,10 +82,16 @@ class PointForce:
     frame: str = "ground"
     effect: str = "loads"
     active: bool = True
+    reads: Measures | None = None
     output_units: ClassVar[dict[str, str]] = {"fx": "N", "fy": "N", "fz": "N"}
 
     def bind(self, system) -> None:
         self._b, self._s = system.body_point(self.body, self.at)
+        self._bodies = _read_bodies(system, self._b, self.frame, self.reads)
+
+    def state_bodies(self) -> set[int] | None:
+        """The body indices whose states the force depends on (mechlib.fd_columns)."""
+        return self._bodies
 
     def _force(self, view: StateView) -> np.ndarray:
         return _global(view, self.frame, self.value)
@@ -87,7 +106,8 @@ class PointForce:
 
 @dataclass
 class PointTorque:
-    """Torque `value(t, view)` (N*m, components in `frame` axes) on `body`."""
+    """Torque `value(t, view)` (N*m, components in `frame` axes) on `body`; `reads` as
+    PointForce's."""
 
     name: str
     body: str
@@ -95,10 +115,16 @@ class PointTorque:
     frame: str = "ground"
     effect: str = "loads"
     active: bool = True
+    reads: Measures | None = None
     output_units: ClassVar[dict[str, str]] = {"tx": "N*m", "ty": "N*m", "tz": "N*m"}
 
     def bind(self, system) -> None:
         self._b = system.body_index(self.body)
+        self._bodies = _read_bodies(system, self._b, self.frame, self.reads)
+
+    def state_bodies(self) -> set[int] | None:
+        """The body indices whose states the torque depends on (mechlib.fd_columns)."""
+        return self._bodies
 
     def _torque(self, view: StateView) -> np.ndarray:
         return _global(view, self.frame, self.value)
@@ -141,6 +167,11 @@ class Spring:
         if self.free_length is None:
             self.free_length = float(np.linalg.norm(np.subtract(at1, at2)))
         self._free_length = self.free_length
+
+    def state_bodies(self) -> set[int]:
+        """The two points' bodies: the tension is a function of their stretch and its rate
+        (`law`: of the stretch alone) (mechlib.fd_columns)."""
+        return {self._geometry[0], self._geometry[2]}
 
     def _state(self, view: StateView):
         b1, s1, b2, s2 = self._geometry
@@ -217,6 +248,11 @@ class TorsionSpring:
 
     def bind(self, system) -> None:
         self._m = system.measure(self.joint, "angle")
+
+    def state_bodies(self) -> set[int]:
+        """The joint's two bodies: the moment is a function of its angle and rate (`law`:
+        of the turn alone) (mechlib.fd_columns)."""
+        return {self._m.bi, self._m.bj}
 
     def _moment(self, view: StateView) -> tuple[float, float]:
         angle = self._m.value(view.kin)

@@ -10,8 +10,9 @@ Newton on (q, lam) with the scaled iteration matrix [[M + (C gamma' + K)/beta', 
 across iterations and steps while it converges (modified Newton). K = -dQ/dq and
 C = -dQ/dqd are kept apart, so that a new step size only refactors; elements that give their
 own tangent (compiled contacts) have it re-evaluated at every step, the rest of K and C
-(forward differences, 2 nq force evaluations, a column leaving out the two-body elements
-of other bodies: mechlib.fd_columns) only after slow or failed convergence.
+(forward differences, 2 nq force evaluations, a column leaving out the elements whose
+forces depend on other bodies only: mechlib.fd_columns) only after slow or failed
+convergence.
 Local error estimate e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading term of the
 position update, h^3/12 q''' for the trapezoidal case), steps controlled on it and landing
 on output times (the stepper around it: mechlib.genalpha_stepper).

@@ -12,7 +12,31 @@ from mechlib.kin import Kin
 if TYPE_CHECKING:
     from mechlib.system import System
 
-__all__ = ["StateView"]
+__all__ = ["StateView", "measure_bodies"]
+
+# the measures of a view by the coordinate they read of a joint, or reading named points
+_JOINT_MEASURES = {"angle": "angle", "omega": "angle", "travel": "travel", "speed": "travel"}
+_POINT_MEASURES = frozenset({"x", "y", "z", "vx", "vy", "vz", "dist"})
+
+
+def measure_bodies(system: System, measures) -> set[int] | None:
+    """The body indices whose states the view measures `measures` read, given as (kind,
+    names) pairs named as the StateView methods (('angle', ('hinge',)), ('dist', ('a',
+    'b'))); None when one reads more (`effort`: the multipliers and the whole Jacobian),
+    is of another kind, or names no joint coordinate or point of `system`."""
+    out: set[int] = set()
+    for kind, names in measures:
+        try:
+            if kind in _JOINT_MEASURES:
+                measure = system.measure(names[0], _JOINT_MEASURES[kind])
+                out |= {measure.bi, measure.bj}
+            elif kind in _POINT_MEASURES:
+                out |= {system.point(name)[0] for name in names}
+            else:
+                return None
+        except KeyError:
+            return None
+    return out
 
 
 class StateView:

@@ -386,9 +386,11 @@ class _Builder:
                 law,
             )
         if f.type in ("force", "torque"):
+            expressions = [parse(str(v)) for v in f.value]
             parts = [
-                self.compile(str(v), f"forces.{name}.value[{i}]") for i, v in enumerate(f.value)
+                self.compile_tree(e, f"forces.{name}.value[{i}]") for i, e in enumerate(expressions)
             ]
+            reads = set().union(*(e.measures() for e in expressions))  # its columns' bodies
             if all(p.compiled.is_constant for p in parts):
                 x, y, z = (p.compiled.value or 0.0 for p in parts)  # constants: values set
                 constant = (x, y, z)
@@ -403,9 +405,9 @@ class _Builder:
                     return (parts[0](t, view), parts[1](t, view), parts[2](t, view))
 
             if f.type == "torque":
-                return ml.PointTorque(name, f.body, value, f.frame)
+                return ml.PointTorque(name, f.body, value, f.frame, reads=reads)
             body, at = self._application(f)
-            return ml.PointForce(name, body, at, value, f.frame)
+            return ml.PointForce(name, body, at, value, f.frame, reads=reads)
         maker = ELEMENT_MAKERS.get(f.type)
         if maker is not None:
             return maker(self, name, f)

@@ -204,6 +204,10 @@ class Contact(StaticSlipAnchor):
         """The two body indices whose states alone set this element's forces."""
         return self._b1, self._b2
 
+    def state_bodies(self) -> tuple[int, int]:
+        """The body pair (mechlib.fd_columns)."""
+        return self.body_pair()
+
     def approach_at(self, t: float) -> float:
         """Approach speed (m/s) the integrator used for a state at time t (s): the one
         committed last before t."""

@@ -88,6 +88,10 @@ class Bushing:
             )
         )
 
+    def state_bodies(self) -> set[int]:
+        """The two bodies, whose relative pose and rates set the loads (mechlib.fd_columns)."""
+        return {self._ends[0], self._ends[2]}
+
     def _state(self, view: StateView):
         """(force, torque on body 1 in global axes, d, theta in J axes, point of body 1,
         d', omega in J axes), from the compiled kernel (mechlib.elements.bushing_kernel)."""

@@ -81,6 +81,11 @@ class CableLoop:
         self._sense[1] *= 1.0 if along > 0.0 else -1.0
         self._g0 = self._g(float(np.linalg.norm(np.subtract(joints[1].at, joints[0].at))))
 
+    def state_bodies(self) -> set[int]:
+        """The bodies of the two joints (pulleys and yoke): their angles and the hinge
+        distance set the loads (mechlib.fd_columns)."""
+        return {b for m in self._m for b in (m.bi, m.bj)} | {b for b, _ in self._ends}
+
     def _g(self, d: float) -> float:
         dr = self.radii[0] - self.radii[1]
         if d <= abs(dr):

@@ -29,6 +29,10 @@ class RotationalDamper:
     def bind(self, system) -> None:
         self._m = system.measure(self.joint, "angle")
 
+    def state_bodies(self) -> set[int]:
+        """The joint's two bodies, whose relative rate sets the moment (mechlib.fd_columns)."""
+        return {self._m.bi, self._m.bj}
+
     def _moment(self, view: StateView) -> tuple[float, float]:
         omega = self._m.rate(view.kin)
         return self.damping * omega, omega

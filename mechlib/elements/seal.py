@@ -168,6 +168,10 @@ class Seal(StaticSlipAnchor):
         """The two body indices whose states alone set this element's forces."""
         return self._b1, self._b2
 
+    def state_bodies(self) -> tuple[int, int]:
+        """The body pair (mechlib.fd_columns)."""
+        return self.body_pair()
+
     def output(self, view: StateView) -> dict[str, float]:
         """normal, friction: totals of the stations (N); penetration: the largest (m);
         fx fy fz: resultant force on body 1 (N, global)."""
