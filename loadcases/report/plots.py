@@ -185,30 +185,19 @@ def _draw(
     title: str,
     xlabel: str,
     target: Path,
-    band: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None,
     legend_per_panel: bool = False,
-    colors: Mapping[str, str] | None = None,
-    fixed_layout: bool = False,
 ) -> Path:
     """Draw stacked panels sharing x, legends outside on the right (one per panel, or one
-    for the figure when every panel has the same lines); save `target` atomically.
-    `fixed_layout`: set margins for one panel with a short legend (envelope plots) instead
-    of the constrained layout, which costs half the drawing time."""
+    for the figure when every panel has the same lines); save `target` atomically."""
     fig = Figure(
-        figsize=(FIG_WIDTH_IN, figure_height_in(len(panels))),
-        dpi=DPI,
-        layout=None if fixed_layout else "constrained",
+        figsize=(FIG_WIDTH_IN, figure_height_in(len(panels))), dpi=DPI, layout="constrained"
     )
     FigureCanvasAgg(fig)
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     labels_seen: dict[str, Any] = {}
     for ax, panel in zip(axes, panels):
-        if band is not None:
-            ax.fill_between(
-                band[0], band[2], band[1], color="0.5", alpha=0.15, linewidth=0, label="envelope"
-            )
         for label, x, y in panel.lines:
-            (line,) = ax.plot(x, y, linewidth=1.2, label=label, color=(colors or {}).get(label))
+            (line,) = ax.plot(x, y, linewidth=1.2, label=label)
             labels_seen.setdefault(label, line)
         ax.set_ylabel(panel.ylabel)
         ax.grid(True, which="major", alpha=0.5)
@@ -221,16 +210,7 @@ def _draw(
             ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize="small")
     axes[-1].set_xlabel(xlabel)
     fig.suptitle(title)
-    if labels_seen and not legend_per_panel and fixed_layout:
-        fig.subplots_adjust(left=0.1, right=0.84, top=0.88, bottom=0.14)
-        fig.legend(
-            list(labels_seen.values()),
-            list(labels_seen),
-            loc="upper left",
-            bbox_to_anchor=(0.855, 0.88),
-            fontsize="small",
-        )
-    elif labels_seen and not legend_per_panel:
+    if labels_seen and not legend_per_panel:
         ncols = 1 + (len(labels_seen) - 1) // LEGEND_ROWS
         fig.legend(
             list(labels_seen.values()),
@@ -331,29 +311,73 @@ def write_envelope_plots(curves: Iterable[Any], out_dir: Path) -> list[Path]:
     (else guessed from `abscissa_name`, e.g. `angle(hinge)` -> rad).
     File: `envelope-FAMILY-COLUMN.png` (unsafe characters replaced by `_`).
     """
+    figure = _EnvelopeFigure()
     written = []
     for curve in curves:
         column, family = str(_field(curve, "column")), str(_field(curve, "family", ""))
-        xs = np.asarray(_field(curve, "x"), dtype=float)
-        upper = np.asarray(_field(curve, "upper"), dtype=float)
-        lower = np.asarray(_field(curve, "lower"), dtype=float)
         abscissa = str(_field(curve, "abscissa_name", "x"))
         x_unit = _field(curve, "abscissa_unit")
         if x_unit is None:
             x_unit = column_unit(abscissa.replace("(", "_").replace(")", ""))
         unit = _field(curve, "unit") or column_unit(column)
-        panel = _Panel(_label(column, unit), [("upper", xs, upper), ("lower", xs, lower)])
-        title = f"envelope of {column} vs {abscissa} - family {family}"
         target = Path(out_dir) / plot_file_name(f"envelope-{family}-{column}")
-        written.append(
-            _draw(
-                [panel],
-                title=title,
-                xlabel=_label(abscissa, x_unit),
-                target=target,
-                band=(xs, upper, lower),
-                colors={"upper": "tab:red", "lower": "tab:blue"},
-                fixed_layout=True,
-            )
+        figure.set_labels(
+            title=f"envelope of {column} vs {abscissa} - family {family}",
+            xlabel=_label(abscissa, x_unit),
+            ylabel=_label(column, unit),
         )
+        x, upper, lower = (_field(curve, k) for k in ("x", "upper", "lower"))
+        written.append(figure.save(x, upper, lower, target))
     return written
+
+
+class _EnvelopeFigure:
+    """One figure drawn again for each envelope curve: its axes, grids, ticks and legend
+    are built once (building the ticks was most of a plot's time); per curve only the
+    lines, the band, the labels and the limits change. Upper line red, lower blue, the band
+    between them grey; one panel, the legend at the right."""
+
+    def __init__(self) -> None:
+        self.fig = Figure(figsize=(FIG_WIDTH_IN, figure_height_in(1)), dpi=DPI)
+        FigureCanvasAgg(self.fig)
+        self.ax = self.fig.subplots()
+        self.upper = self.ax.plot([], [], linewidth=1.2, label="upper", color="tab:red")[0]
+        self.lower = self.ax.plot([], [], linewidth=1.2, label="lower", color="tab:blue")[0]
+        self.ax.grid(True, which="major", alpha=0.5)
+        self.ax.minorticks_on()
+        self.ax.grid(True, which="minor", alpha=0.15)
+        self.ax.axhline(0.0, color="0.3", linewidth=0.6)
+        self.fig.subplots_adjust(left=0.1, right=0.84, top=0.88, bottom=0.14)
+        self.fig.legend(
+            [self.upper, self.lower],
+            ["upper", "lower"],
+            loc="upper left",
+            bbox_to_anchor=(0.855, 0.88),
+            fontsize="small",
+        )
+        self.band: Any = None
+
+    def set_labels(self, *, title: str, xlabel: str, ylabel: str) -> None:
+        self.fig.suptitle(title)
+        self.ax.set_xlabel(xlabel)
+        self.ax.set_ylabel(ylabel)
+
+    def save(self, x: Any, upper: Any, lower: Any, target: Path) -> Path:
+        """Draw the curve (x, upper, lower: SI, NaN = gap) and save `target` atomically."""
+        xs, hi, lo = (np.asarray(v, dtype=float) for v in (x, upper, lower))
+        if self.band is not None:
+            self.band.remove()
+        self.band = self.ax.fill_between(
+            xs, lo, hi, color="0.5", alpha=0.15, linewidth=0, label="envelope"
+        )
+        self.upper.set_data(xs, hi)
+        self.lower.set_data(xs, lo)
+        self.ax.set_autoscale_on(True)
+        self.ax.relim()
+        self.ax.autoscale_view()
+        panel = _Panel("", [("upper", xs, hi), ("lower", xs, lo)])
+        if _all_below(panel, ZERO_FLOOR):
+            self.ax.set_ylim(-1.0, 1.0)
+        with atomic_path(target) as tmp:
+            self.fig.savefig(tmp, format="png", dpi=DPI)
+        return target

@@ -186,3 +186,24 @@ def test_envelope_plots_from_objects_and_dicts(tmp_path: Path) -> None:
     for path in written:
         assert png_shape(path) == (400, WIDTH_PX)
     assert not [p for p in (tmp_path / "env").iterdir() if p.suffix != ".png"]
+
+
+def test_envelope_plots_carry_nothing_from_the_curve_before(tmp_path: Path) -> None:
+    """The envelope figure is drawn again for each curve: a curve's PNG after another curve
+    (larger values, a NaN gap, another abscissa) has the same pixels as drawn alone, and a
+    curve within +-1e-9 keeps the -1..1 axis after a large one."""
+    x = np.linspace(0.0, 1.2, 51)
+    big = {"column": "rod.f", "family": "a", "x": x - 5.0, "abscissa_name": "t", "unit": "N"}
+    big.update(upper=500.0 * np.sin(3 * x) + 200.0, lower=500.0 * np.sin(3 * x) - 100.0)
+    big["upper"][10:15] = np.nan
+    small = {"column": "rod.fz", "family": "b", "x": x, "abscissa_name": "angle(latch)"}
+    small.update(upper=np.full(51, 1e-12), lower=np.full(51, -1e-12), unit="N")
+    gentle = {"column": "tq.t", "family": "c", "x": x, "abscissa_name": "angle(hinge)"}
+    gentle.update(upper=np.cos(x), lower=np.cos(x) - 0.5, unit="N*m")
+    alone, after = tmp_path / "alone", tmp_path / "after"
+    for curve in (small, gentle):
+        plots.write_envelope_plots([curve], alone)
+    drawn = plots.write_envelope_plots([big, small, gentle], after)
+    assert [p.parent for p in drawn] == [after] * 3
+    for name in (p.name for p in drawn[1:]):
+        assert np.array_equal(imread(alone / name), imread(after / name)), name
