@@ -86,7 +86,10 @@ def _newton(
     residual, jacobian, q: np.ndarray, tol: float, weights: np.ndarray | None = None
 ) -> tuple[np.ndarray, int, float]:
     """Minimum-norm Newton (Gauss-Newton when over-determined), the norm of the step
-    divided by `weights` per column; returns q, iterations, |res|. After a step below
+    divided by `weights` per column; returns q, iterations, |res| once a step is below
+    `tol` (|res| above tol then: the least-squares point of inconsistent equations, such as
+    an assembly stage's interpolated targets, or a stuck Newton; callers judge). After a
+    step below
     _REUSE_BELOW the Jacobian is kept (its change is of the order of that step, so the
     next step converges as fast as with a fresh one): a dense row, already on the
     constraints to 1e-9, is polished with one Jacobian instead of two."""
@@ -101,7 +104,7 @@ def _newton(
         q = q + step
         res = residual(q)
         size = np.abs(step).max(initial=0.0)
-        if size < tol and np.abs(res).max(initial=0.0) < tol:
+        if size < tol:  # converged, or (residual above tol) stuck: Gauss-Newton's fixed point
             return q, it, float(np.abs(res).max(initial=0.0))
         if size >= _REUSE_BELOW:
             solver = None
