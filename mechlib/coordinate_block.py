@@ -58,24 +58,30 @@ class CoordinateBlock:
             ]
         )
 
-    def phi(self, k: Kin) -> np.ndarray:
+    def sines(self, k: Kin) -> np.ndarray | None:
+        """The angles' interleaved (sine, cosine) rows at k, for `phi` and `jacobian` to
+        share (None without angles)."""
+        return None if self._sines is None else self._sines.phi(k)
+
+    def phi(self, k: Kin, sines: np.ndarray | None = None) -> np.ndarray:
+        """The equations' residuals; `sines`: `self.sines(k)` when the caller has them."""
         out = np.empty(self.size)
         if not self.size:
             return out
-        values = np.concatenate((self._angle_values(k), self._travel_values(k)))
+        values = np.concatenate((self._angle_values(k, sines), self._travel_values(k)))
         out[self._linear] = self._coefficients @ values - self._function(k.t, "value")
         for i in self._own:
             out[i] = self.equations[i].phi(k)
         return out
 
-    def jacobian(self, k: Kin, out: np.ndarray) -> None:
-        """The rows (size, ncol) into `out`."""
+    def jacobian(self, k: Kin, out: np.ndarray, sines: np.ndarray | None = None) -> None:
+        """The rows (size, ncol) into `out`; `sines` as for `phi`."""
         if not self.size:
             return
         grads = np.empty((len(self._angles) + len(self._travels), k.ncol))
         na = len(self._angles)
         if self._sines is not None:
-            s, c = self._pairs(self._sines.phi(k))
+            s, c = self._pairs(self._sines.phi(k) if sines is None else sines)
             rows = np.zeros((2 * na, k.ncol))
             self._sines.jacobian(k, rows)
             grads[:na] = angle_gradient(s[:, None], c[:, None], rows[0::2], rows[1::2])
@@ -101,11 +107,11 @@ class CoordinateBlock:
         """(sines, cosines) of interleaved rows."""
         return values[0::2], values[1::2]
 
-    def _angle_values(self, k: Kin) -> np.ndarray:
+    def _angle_values(self, k: Kin, sines: np.ndarray | None = None) -> np.ndarray:
         """Unwrapped angles (rad) against each measure's committed reference."""
         if self._sines is None:
             return np.zeros(0)
-        s, c = self._pairs(self._sines.phi(k))
+        s, c = self._pairs(self._sines.phi(k) if sines is None else sines)
         raw = np.arctan2(s, c)
         ref = np.array([m.reference for m in self._angles])
         return raw + TWO_PI * np.round((ref - raw) / TWO_PI)

@@ -427,8 +427,9 @@ class System:
             g.jacobian(k, out[row : row + g.size])
             row += g.size
         block = self._coordinate_rows()
-        parts.append(block.phi(k))
-        block.jacobian(k, out[row:])
+        sines = block.sines(k)
+        parts.append(block.phi(k, sines))
+        block.jacobian(k, out[row:], sines)
         return self._select(np.concatenate(parts)), self.body_columns(self._select(out))
 
     def phi_q(self, k: Kin) -> np.ndarray:
