@@ -10,8 +10,11 @@ the next iterations, and through a `Tangent` by the next equilibria of a quasi-s
 with phi_q always current (modified Newton), as long as each such iteration at least halves
 the residual; otherwise it is differenced afresh at the iterate and Newton goes on from
 there. The convergence test is the same either way. Where this Newton fails, or needs more
-than _MAX_FRESH fresh stiffnesses, Newton with a fresh stiffness at every iteration starts
-again from the same guess.
+than _MAX_FRESH fresh stiffnesses, Newton with a fresh stiffness at every iteration takes
+over as if started from the same guess: its iterates are the reusing Newton's as long as
+every step of that one was on a fresh stiffness (each reused step rejected), so it goes on
+from the last of those (the guess itself once a reused step was accepted) instead of
+differencing them again; the same iterates, iteration limit and result as a restart.
 """
 
 from __future__ import annotations

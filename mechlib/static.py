@@ -90,22 +90,19 @@ class QuasiStaticStepper(Stepper):
         return self._state(q1, lam, t1, q, t0, tangent)
 
     def _state(self, q, lam, t: float, q_prev, t_prev: float, tangent: Tangent) -> State:
+        """The equilibrium (q, lam) at t as a state, after q_prev at t_prev, with the
+        stiffness its Newton ended with."""
         k = self.system.kin(q, None, t)
         qd = solve_velocities(self.system, k)
         qdd = solve_accelerations(self.system, self.system.kin(q, qd, t))
+        mark, stiffness = self._mark(q, t), tangent.stiffness
         return _Equilibrium(
-            t,
-            q,
-            qd,
-            qdd,
-            lam,
-            self._mark(q, t),
-            q_prev=q_prev,
-            t_prev=t_prev,
-            stiffness=tangent.stiffness,
+            t, q, qd, qdd, lam, mark, q_prev=q_prev, t_prev=t_prev, stiffness=stiffness
         )
 
-    def _subdivided(self, q, guess, lam, t0: float, t1: float, marks, tangent, depth: int = 0):
+    def _subdivided(
+        self, q, guess, lam, t0: float, t1: float, marks, tangent: Tangent, depth: int = 0
+    ):
         """(q, lam) at t1 from the equilibrium (q, lam) at t0 (element states `marks`), Newton
         from `guess`; where it fails, the interval in two halves, recursively."""
         system = self.system
