@@ -75,7 +75,8 @@ class QuasiStaticStepper(Stepper):
         return state
 
     def restart(self, state: State) -> State:
-        """The equilibrium of the changed model: its multipliers restart from the loads."""
+        """The equilibrium of the changed model: its multipliers restart from the loads, its
+        stiffness is differenced afresh."""
         tangent = Tangent()
         q, lam = equilibrium(self.system, state.q, None, state.t, self.stats, tangent=tangent)
         return self._state(q, lam, state.t, q, state.t, tangent)
