@@ -10,8 +10,11 @@ the next iterations, and through a `Tangent` by the next equilibria of a quasi-s
 with phi_q always current (modified Newton), as long as each such iteration at least halves
 the residual; otherwise it is differenced afresh at the iterate and Newton goes on from
 there. The convergence test is the same either way. Where this Newton fails, or needs more
-than _MAX_FRESH fresh stiffnesses, Newton with a fresh stiffness at every iteration starts
-again from the same guess.
+than _MAX_FRESH fresh stiffnesses, Newton with a fresh stiffness at every iteration takes
+over as if started from the same guess: its iterates are the reusing Newton's as long as
+every step of that one was on a fresh stiffness (each reused step rejected), so it goes on
+from the last of those (the guess itself once a reused step was accepted) instead of
+differencing them again; the same iterates, iteration limit and result as a restart.
 """
 
 from __future__ import annotations
@@ -35,10 +38,11 @@ _MAX_FRESH = 4  # fresh stiffnesses in a Newton that reuses them: beyond, plain 
 
 
 class Tangent:
-    """The stiffness K_T (nq, nq) last differenced, for reuse (None: none yet)."""
+    """The stiffness K_T (nq, nq) last differenced, for reuse (None: none yet). Newton
+    replaces the array, never writes into it: tangents may share one."""
 
-    def __init__(self) -> None:
-        self.stiffness: np.ndarray | None = None
+    def __init__(self, stiffness: np.ndarray | None = None) -> None:
+        self.stiffness = stiffness
 
 
 def equilibrium(
@@ -89,12 +93,12 @@ def _solve(
     tangent: Tangent,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Newton reusing `tangent`'s stiffness; where it fails, Newton differencing it at every
-    iteration, from the same start."""
+    iteration from the same start, resumed where the two part (_Abandoned)."""
     try:
         return _newton(balance, q, lam, stats, tol, tangent)
-    except SolverFailure:
+    except _Abandoned as abandoned:
         tangent.stiffness = None
-        return _newton(balance, q, lam, stats, tol, None)
+        return _newton(balance, abandoned.q, abandoned.lam, stats, tol, None, abandoned.taken)
 
 
 Moved = tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]
@@ -145,6 +149,16 @@ def _polished(balance: Balance, tangent: Tangent, q, lam, res, jac):
     return (q, lam) if moved is None else (moved[0], moved[1])
 
 
+class _Abandoned(Exception):
+    """A Newton reusing its stiffness failed. Its first `taken` iterations were on fresh
+    stiffnesses (every reused step rejected), so they are those of a Newton with a fresh
+    stiffness at every iteration from the same start: (q, lam) is where that one goes on."""
+
+    def __init__(self, q: np.ndarray, lam: np.ndarray, taken: int):
+        super().__init__("modified Newton abandoned")
+        self.q, self.lam, self.taken = q, lam, taken
+
+
 class _Singular(Exception):
     """Newton's matrix is singular at an iterate with constraint Jacobian `jac`."""
 
@@ -160,20 +174,23 @@ def _newton(
     stats: SolverStats,
     tol: float,
     reused: Tangent | None,
+    taken: int = 0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Newton on (q, lam), each step on a fresh stiffness halved (down to 1/1000) until the
     weighted residual decreases; given a `reused` tangent, on its stiffness while an
-    undamped step at least halves it (module docstring); _Singular when a fresh matrix is,
-    SolverFailure after _MAX_NEWTON iterations (or _MAX_FRESH stiffnesses, reusing)."""
-    system, t, nq = balance.system, balance.t, balance.system.nq
+    undamped step at least halves it (module docstring); _Singular when a fresh matrix is.
+    Reusing, _Abandoned after _MAX_NEWTON iterations or _MAX_FRESH stiffnesses; else
+    SolverFailure after _MAX_NEWTON iterations in all (`taken`: those already taken)."""
     res, jac = balance.residual(q, lam)
     tangent, fresh = reused or Tangent(), 0
-    for _ in range(_MAX_NEWTON):
+    resume = _Abandoned(q, lam, taken)
+    for iteration in range(taken + 1, _MAX_NEWTON + 1):
         stats.newton_iterations += 1
         moved = None
         if reused is not None and tangent.stiffness is not None:
             moved = _reused_step(balance, tangent, q, lam, res, jac)
-        if moved is None:
+        on_fresh = moved is None
+        if on_fresh:
             fresh += 1
             if reused is not None and fresh > _MAX_FRESH:
                 break
@@ -182,10 +199,20 @@ def _newton(
         q, lam, res, jac, step = moved
         if balance.converged(res, step, tol):
             return _polished(balance, tangent, q, lam, res, jac) if reused else (q, lam)
+        if on_fresh and resume.taken == iteration - 1:  # no reused step yet
+            resume = _Abandoned(q, lam, iteration)
+    if reused is not None:
+        raise resume
+    raise _no_equilibrium(balance, res)
+
+
+def _no_equilibrium(balance: Balance, res: np.ndarray) -> SolverFailure:
+    """The failure of a Newton that ended at the residual `res`, naming the worst equation."""
+    system, t, nq = balance.system, balance.t, balance.system.nq
     m = len(system.labels)
     worst = int(np.argmax(np.abs(res[nq:]))) if m else 0
     where = (system.labels[worst],) if m else ()
-    raise SolverFailure(
+    return SolverFailure(
         f"static equilibrium did not converge at t = {t:.6g} s: no equilibrium "
         "near the previous position (a load beyond what the mechanism can "
         "hold, or an unloaded free degree of freedom)",

@@ -1,7 +1,8 @@
 """Static and quasi-static analyses: equilibria with inertia ignored (mechlib.equilibrium).
 
 Quasi-static continues along the motions' time functions: each equilibrium starts from the
-linear extrapolation of the last two, and an interval Newton cannot take is subdivided.
+linear extrapolation in time of the last two and on the last one's stiffness, and an interval
+Newton cannot take is subdivided.
 Static solves one instant: the quasi-static stepper's first state.
 """
 
@@ -25,9 +26,12 @@ _MAX_SUBDIVISIONS = 10
 
 @dataclass(kw_only=True)
 class _Equilibrium(State):
-    """An equilibrium, and the one before it (its extrapolation's start)."""
+    """An equilibrium, the one before it (its extrapolation's start: q_prev at t_prev, s)
+    and the stiffness its Newton ended with (None: none differenced)."""
 
     q_prev: np.ndarray
+    t_prev: float
+    stiffness: np.ndarray | None = None
 
 
 def _equilibrium(state: State) -> _Equilibrium:
@@ -40,32 +44,25 @@ class QuasiStaticStepper(Stepper):
     """Equilibria at the output times; a failed interval is retried in up to 2^10 sub-steps
     (rejected steps). Velocities and accelerations are those the motions prescribe
     (minimum-norm); an equilibrium is recorded before it is committed, so that its outputs
-    see the slip anchors the solver measured from (the previous equilibrium). The stiffness
-    is reused from equilibrium to equilibrium while Newton converges on it
-    (mechlib.equilibrium.Tangent)."""
+    see the slip anchors the solver measured from (the previous equilibrium). Each state
+    keeps the stiffness its Newton ended with, and a step from it starts on that stiffness
+    (mechlib.equilibrium.Tangent) and from the extrapolation of the state and the one before:
+    a step depends on its start state and end time only, so the trial times of an event's
+    location can be solved in any order."""
 
     at_rest = True
 
-    def __init__(self, system: System, spec, stats: SolverStats):
-        super().__init__(system, spec, stats)
-        self.tangent = Tangent()  # the last stiffness, reused while Newton converges on it
-
     def init(self, t: float, q0: np.ndarray, qd0: np.ndarray | None) -> State:
         # the start has no multipliers yet (None: equilibrium starts them from the loads)
-        q, lam = self._continue(q0, q0, None, t, t, self._mark(q0, t))
-        return self.settle(self._state(q, lam, t, q0))
+        tangent = Tangent()
+        q, lam = self._subdivided(q0, q0, None, t, t, self._mark(q0, t), tangent)
+        return self.settle(self._state(q, lam, t, q0, t, tangent))
 
     def step(self, state: State, t_out: float) -> StepResult:
-        return StepResult(
-            self._solve(state, t_out, _equilibrium(state).q_prev), None, Status.SUCCESSFUL
-        )
+        return StepResult(self._solve(_equilibrium(state), t_out), None, Status.SUCCESSFUL)
 
     def resolve(self, state: State, t: float) -> State:
-        kept, self.tangent = self.tangent, Tangent()  # locating an event: no stiffness
-        try:  # carried in from another time, as each trial time is solved afresh
-            return self._solve(state, t, state.q)
-        finally:
-            self.tangent = kept
+        return self._solve(_equilibrium(state), t)
 
     def settle(self, state: State) -> State:
         system = self.system
@@ -78,39 +75,53 @@ class QuasiStaticStepper(Stepper):
         return state
 
     def restart(self, state: State) -> State:
-        """The equilibrium of the changed model: its multipliers restart from the loads."""
-        q, lam = equilibrium(self.system, state.q, None, state.t, self.stats)
-        return self._state(q, lam, state.t, q)
+        """The equilibrium of the changed model: its multipliers restart from the loads, its
+        stiffness is differenced afresh."""
+        tangent = Tangent()
+        q, lam = equilibrium(self.system, state.q, None, state.t, self.stats, tangent=tangent)
+        return self._state(q, lam, state.t, q, state.t, tangent)
 
-    def _solve(self, state: State, t1: float, q_prev: np.ndarray) -> State:
-        """The equilibrium at t1 continued from `state`, extrapolated from q_prev."""
-        q, lam = self._continue(state.q, q_prev, state.lam, state.t, t1, state.elements)
-        return self._state(q, lam, t1, state.q)
+    def _solve(self, start: _Equilibrium, t1: float) -> State:
+        """The equilibrium at t1 continued from `start`: on a copy of its stiffness, from the
+        guess extrapolated linearly in time from it and the equilibrium before it."""
+        q, q_prev, t0, t_prev = start.q, start.q_prev, start.t, start.t_prev
+        guess = q + (t1 - t0) / (t0 - t_prev) * (q - q_prev) if t1 > t0 > t_prev else q
+        tangent = Tangent(start.stiffness)
+        q1, lam = self._subdivided(q, guess, start.lam, t0, t1, start.elements, tangent)
+        return self._state(q1, lam, t1, q, t0, tangent)
 
-    def _state(self, q: np.ndarray, lam: np.ndarray, t: float, q_prev: np.ndarray) -> State:
+    def _state(self, q, lam, t: float, q_prev, t_prev: float, tangent: Tangent) -> State:
+        """The equilibrium (q, lam) at t as a state, after q_prev at t_prev, with the
+        stiffness its Newton ended with."""
         k = self.system.kin(q, None, t)
         qd = solve_velocities(self.system, k)
         qdd = solve_accelerations(self.system, self.system.kin(q, qd, t))
-        return _Equilibrium(t, q, qd, qdd, lam, self._mark(q, t), q_prev=q_prev)
+        mark, stiffness = self._mark(q, t), tangent.stiffness
+        return _Equilibrium(
+            t, q, qd, qdd, lam, mark, q_prev=q_prev, t_prev=t_prev, stiffness=stiffness
+        )
 
-    def _continue(self, q, q_prev, lam, t0: float, t1: float, marks, depth: int = 0):
-        """(q, lam) at t1 from the equilibrium (q, lam) at t0 (element states `marks`)."""
+    def _subdivided(
+        self, q, guess, lam, t0: float, t1: float, marks, tangent: Tangent, depth: int = 0
+    ):
+        """(q, lam) at t1 from the equilibrium (q, lam) at t0 (element states `marks`), Newton
+        from `guess`; where it fails, the interval in two halves, recursively."""
         system = self.system
         if system.states:
             system.states.resume(marks)
-        guess = 2.0 * q - q_prev if depth == 0 and t1 > t0 else q
         try:
             return equilibrium(
-                system, guess, lam, t1, self.stats, states_step=t1 - t0, tangent=self.tangent
+                system, guess, lam, t1, self.stats, states_step=t1 - t0, tangent=tangent
             )
         except SolverFailure:
             if depth >= _MAX_SUBDIVISIONS or t1 <= t0:
                 raise
         self.stats.rejected_steps += 1
         mid = 0.5 * (t0 + t1)
-        q_mid, lam_mid = self._continue(q, q, lam, t0, mid, marks, depth + 1)
+        q_mid, lam_mid = self._subdivided(q, q, lam, t0, mid, marks, tangent, depth + 1)
         system.commit(system.kin(q_mid, None, mid))
-        return self._continue(q_mid, q, lam_mid, mid, t1, self._mark(q_mid, mid), depth + 1)
+        mark = self._mark(q_mid, mid)
+        return self._subdivided(q_mid, q_mid, lam_mid, mid, t1, mark, tangent, depth + 1)
 
     def _mark(self, q: np.ndarray, t: float):
         """The element states' mark at the equilibrium q (at rest, as its forces)."""
