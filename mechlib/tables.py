@@ -81,6 +81,8 @@ class Table:
     def _value(self, v: float) -> float:
         """The interpolant at v within the data (the same sum as scipy's PPoly)."""
         breaks, pieces = self._pieces
+        if v == breaks[-1] and self.interpolation == "linear" and self._order == 0:
+            return float(self.y[-1])  # np.interp's value there (the sum may be an ulp off)
         i = min(max(bisect_right(breaks, v) - 1, 0), len(pieces) - 1)
         d, power, out = v - breaks[i], 1.0, 0.0
         for c in pieces[i]:

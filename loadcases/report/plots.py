@@ -321,12 +321,14 @@ def write_envelope_plots(curves: Iterable[Any], out_dir: Path) -> list[Path]:
             x_unit = column_unit(abscissa.replace("(", "_").replace(")", ""))
         unit = _field(curve, "unit") or column_unit(column)
         target = Path(out_dir) / plot_file_name(f"envelope-{family}-{column}")
+        x, upper, lower = (_field(curve, k) for k in ("x", "upper", "lower"))
+        if not np.isfinite(np.asarray(upper, float)).any():
+            figure = _EnvelopeFigure()  # nothing to scale to: the limits of a new figure
         figure.set_labels(
             title=f"envelope of {column} vs {abscissa} - family {family}",
             xlabel=_label(abscissa, x_unit),
             ylabel=_label(column, unit),
         )
-        x, upper, lower = (_field(curve, k) for k in ("x", "upper", "lower"))
         written.append(figure.save(x, upper, lower, target))
     return written
 

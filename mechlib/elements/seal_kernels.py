@@ -63,7 +63,7 @@ def seal_friction(x, xd, b1, b2, s1, p1, p2, n, normal, mu, anchor, rest, thresh
         for c in range(3):
             w[c] -= along * n[c]
         size = np.sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2])
-        s = size / threshold
+        s = size / threshold if threshold > 0.0 else np.inf  # no band: plain Coulomb
         if s < 1.0:
             factor = 0.5 * (3.0 - s * s) / threshold
         elif size > 0.0:

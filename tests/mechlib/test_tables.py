@@ -50,3 +50,11 @@ def test_table_outside_its_data() -> None:
     )
     with pytest.raises(TableRangeError):
         Table("t", X, Y, "akima", "error")(X[0] - 1e-6)
+
+
+def test_linear_table_at_its_last_point_is_its_last_value() -> None:
+    """At x[-1] a linear table gives y[-1] exactly, as np.interp does (the last piece's
+    sum y[-2] + slope (x[-1] - x[-2]) may be an ulp off)."""
+    x, y = np.array([0.0, 0.1, 0.3]), np.array([0.0, 0.7, 0.1])
+    assert Table("t", x, y, "linear", "error")(0.3) == 0.1
+    assert Table("t", X, Y, "linear", "hold")(X[-1]) == Y[-1]

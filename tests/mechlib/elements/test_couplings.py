@@ -246,3 +246,25 @@ def test_seal_wrench_with_friction(moving: bool) -> None:
     assert np.allclose(F, [[-48.0, 160.0, 0.0], [48.0, -160.0, 0.0]], rtol=0, atol=1e-9)
     assert np.allclose(N[0], [0.0, 0.0, 16.0], rtol=0, atol=1e-9)
     assert np.allclose(N[1], [0.0, 0.0, -40.0 * (2.4 + 4 * shift)], rtol=0, atol=1e-9)
+
+
+def test_seal_without_a_friction_band_is_plain_coulomb() -> None:
+    """v_threshold 0 (no regularisation band): full friction -mu F at any sliding speed,
+    none at rest relative to the seal (closed form of test_seal_wrench_with_friction at
+    0.5 m/s: -12 N per spring along x; at 0 m/s: 0 N)."""
+    from mechlib.system import System
+
+    for speed, friction in ((0.5, -48.0), (0.0, 0.0)):
+        mech = mechlib.Mechanism(name="door", gravity=(0.0, 0.0, 0.0))
+        mech.add_body("door", mass=5.0, cm=(0.5, 0.0, 0.0), inertia=[0.1, 0.5, 0.5])
+        seal = mechlib.Seal(
+            "seal", ("door", "ground"), (0.2, 0, 0), (1.0, 0, 0), (0, 1, 0), count=4,
+            stiffness=2.0e5, gap=-1e-3, mu=0.3, v_threshold=0.0,
+        )  # fmt: skip
+        mech.add_force(seal)
+        system = System(mech)
+        qd = np.zeros(system.nq)
+        qd[0] = speed
+        F, N = np.zeros((2, 3)), np.zeros((2, 3))
+        seal.apply(system.view(system.kin(system.design_q(), qd, 0.0)), F, N)
+        assert np.allclose(F[0], [friction, 160.0, 0.0], rtol=0, atol=1e-9)
