@@ -90,7 +90,7 @@ class _Position:
     """The scaled Jacobian at one position, factored through its Gram matrix J J^T (sparse
     LU: a joint row touches two bodies), and the measures built on it. No SVD: the smallest
     singular value comes from inverse iteration, projections onto the motion space from
-    solves with J J^T."""
+    solves with J J^T. `phi_q`: the constraint Jacobian at k when the caller has it."""
 
     def __init__(
         self,
@@ -99,10 +99,11 @@ class _Position:
         start: np.ndarray | None = None,
         scale: np.ndarray | None = None,
         free: list[tuple[str, AngleMeasure | TravelMeasure]] | None = None,
+        phi_q: np.ndarray | None = None,
     ):
         self.system, self.k = system, k
         self.scale = _column_scale(system) if scale is None else scale
-        jac = _unit_rows(system.phi_q(k) * self.scale)
+        jac = _unit_rows((system.phi_q(k) if phi_q is None else phi_q) * self.scale)
         m = jac.shape[0]
         # a floor of _GRAM_FLOOR on J J^T keeps an exactly singular position factorable
         self.jac: np.ndarray | sp.csr_matrix
@@ -260,7 +261,7 @@ def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
             if len(batch.rows) >= _BATCH_SIZE:
                 batch.flush(ranks, sines)
             continue
-        position = _Position(system, k, start, scale, free)
+        position = _Position(system, k, start, scale, free, jac)
         ranks[i], start = position.rank_measure(), position.weights
         sines[i] = position.sines()
     batch.flush(ranks, sines)

@@ -179,6 +179,14 @@ class _Panel:
     lines: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
 
 
+def _style(ax: Any) -> None:
+    """Major and minor grids and the zero line of a panel."""
+    ax.grid(True, which="major", alpha=0.5)
+    ax.minorticks_on()
+    ax.grid(True, which="minor", alpha=0.15)
+    ax.axhline(0.0, color="0.3", linewidth=0.6)
+
+
 def _draw(
     panels: list[_Panel],
     *,
@@ -200,10 +208,7 @@ def _draw(
             (line,) = ax.plot(x, y, linewidth=1.2, label=label)
             labels_seen.setdefault(label, line)
         ax.set_ylabel(panel.ylabel)
-        ax.grid(True, which="major", alpha=0.5)
-        ax.minorticks_on()
-        ax.grid(True, which="minor", alpha=0.15)
-        ax.axhline(0.0, color="0.3", linewidth=0.6)
+        _style(ax)
         if _all_below(panel, ZERO_FLOOR):
             ax.set_ylim(-1.0, 1.0)
         if legend_per_panel:
@@ -345,10 +350,7 @@ class _EnvelopeFigure:
         self.ax = self.fig.subplots()
         self.upper = self.ax.plot([], [], linewidth=1.2, label="upper", color="tab:red")[0]
         self.lower = self.ax.plot([], [], linewidth=1.2, label="lower", color="tab:blue")[0]
-        self.ax.grid(True, which="major", alpha=0.5)
-        self.ax.minorticks_on()
-        self.ax.grid(True, which="minor", alpha=0.15)
-        self.ax.axhline(0.0, color="0.3", linewidth=0.6)
+        _style(self.ax)
         self.fig.subplots_adjust(left=0.1, right=0.84, top=0.88, bottom=0.14)
         self.fig.legend(
             [self.upper, self.lower],
