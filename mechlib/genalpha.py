@@ -26,8 +26,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from mechlib.analysis import Dynamic
+from mechlib.constraint_arrays import ConstraintArrays
 from mechlib.fd_columns import ColumnSkips
-from mechlib.genalpha_kernels import Scales, correct, predict
+from mechlib.genalpha_compiled import CONVERGED, body_data, factor_data, newton
+from mechlib.genalpha_kernels import ROUNDOFF, Scales, correct, predict
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.reaction_loads import reaction_coupling
 from mechlib.solution import SolverFailure, SolverStats
@@ -80,6 +82,15 @@ class Integrator:
         self.eta = 1.0
         self.singular: SolverFailure | None = None  # the last singular iteration matrix
         self.scales: Scales | None = None  # set by the stepper from its first state
+        # the compiled Newton loop (mechlib.genalpha_compiled) serves steps with no active
+        # element: nothing of theirs to evaluate in Python between two iterations
+        self.arrays = (
+            ConstraintArrays(system)
+            if ConstraintArrays.eligible(system) and not system.states
+            else None
+        )
+        self._factors: tuple = (None, None)  # (self.lu, its factor_data)
+        self._bodies = body_data(system) if self.arrays is not None else None
 
     def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):
         """Factor the iteration matrix at step h, state k and multipliers lam: the
@@ -155,6 +166,8 @@ class Integrator:
 
     def step(self, t, h, q, qd, qdd, a, lam):
         """One step; returns the new state or None when Newton does not converge."""
+        if self.arrays is not None and not any(e.active for e in self.system.elements):
+            return self._compiled_step(t, h, q, qd, qdd, a, lam)
         c, sys = self.c, self.system
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
         gp = c.gamma / (h * c.beta)
@@ -231,6 +244,68 @@ class Integrator:
         self.eta = 1.0
         sys.states.reject()
         return None
+
+    def _compiled_step(self, t, h, q, qd, qdd, a, lam):
+        """`step` with the Newton iterations between factorisations and the three-level
+        correction compiled (mechlib.genalpha_compiled): the same iteration, decisions and
+        results (to round-off) for a system with no active element."""
+        c, sys, arrays = self.c, self.system, self.arrays
+        assert arrays is not None and self.scales is not None, "checked by step; set by init"
+        bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
+        gp = c.gamma / (h * c.beta)
+        q1, qd1, qdd1 = predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
+        lam1 = lam.copy()
+        t1 = t + h
+        fresh = self.lu is None or self.stale
+        rebuild = fresh or abs(h / self.lu_h - 1.0) > 0.25
+        self.stale = False
+        refreshed, prev, it, eta = False, math.inf, 0, self.eta
+        ints, floats = arrays.packed()
+        functions, refs = arrays.functions(t1), arrays.references()
+        scales = self.scales
+        params = np.array(
+            [bp, gp, scales.tol, ROUNDOFF, _NEWTON_KAPPA, _STAGNANT, _NOISE_POSITION, _MAX_ITER]
+        )
+        nq = sys.nq
+        true = np.empty(2 * nq + lam1.shape[0])
+        while True:
+            if rebuild:
+                try:
+                    self._iteration_matrix(sys.kin(q1, qd1, t1), h, fresh, lam1)
+                except SolverFailure as failure:  # singular here: reject, try a smaller step
+                    self.singular = failure
+                    break
+                refreshed = refreshed or fresh or not self.stiff
+                rebuild, prev = False, math.inf
+            status, it, prev, eta, done = newton(
+                q1, qd1, qdd1, lam1, ints, floats, functions, refs, self._bodies,
+                *self._factor_data(), scales.q_abs, scales.a_ref, params, it, prev, eta, true,
+            )  # fmt: skip
+            self.stats.newton_iterations += done
+            if status == CONVERGED:
+                self.eta = max(eta, _ETA_MIN) ** 0.8
+                if it > _SLOW_ITERATIONS:
+                    self.stale = True
+                a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (
+                    1.0 - c.alpha_m
+                )
+                return q1, qd1, qdd1, a1, lam1, (true[:nq], true[nq : 2 * nq], true[2 * nq :])
+            if refreshed:
+                break
+            rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
+            it = 0
+        self.lu = None
+        self.eta = 1.0
+        sys.states.reject()
+        return None
+
+    def _factor_data(self) -> tuple[np.ndarray, np.ndarray]:
+        """The current factors as the compiled kernels take them (converted once)."""
+        lu, data = self._factors
+        if lu is not self.lu:
+            data = factor_data(self.lu)
+            self._factors = (self.lu, data)
+        return data
 
     def _noise(self, size: float, prev: float, dq: np.ndarray, q1: np.ndarray) -> bool:
         """Newton has reached its round-off floor: the increments stopped shrinking

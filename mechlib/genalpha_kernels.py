@@ -9,9 +9,9 @@ import numpy as np
 from mechlib.jit import njit
 from mechlib.system import System
 
-__all__ = ["Scales", "correct", "predict"]
+__all__ = ["ROUNDOFF", "Scales", "correct", "predict"]
 
-_ROUNDOFF = 1e3 * np.finfo(float).eps
+ROUNDOFF = 1e3 * np.finfo(float).eps
 
 
 class Scales:
@@ -38,7 +38,7 @@ class Scales:
         """Size of a Newton increment: the larger of its RMS against the position weights
         and of bp dq against tol (a_ref + |qdd|), the latter floored at what round-off in q
         allows (bp eps |q|): below it Newton cannot go, whatever tol asks."""
-        return _newton_size(dq, q, qdd, bp, self.q_abs, self.a_ref, self.tol, _ROUNDOFF)
+        return _newton_size(dq, q, qdd, bp, self.q_abs, self.a_ref, self.tol, ROUNDOFF)
 
     def position_size(self, dq: np.ndarray, q: np.ndarray) -> float:
         """RMS of a Newton increment against the position weights alone."""

@@ -30,6 +30,7 @@ from scipy.linalg.lapack import dgetrf, dgetrs
 from scipy.sparse.linalg import splu
 
 from mechlib.check import Redundancy
+from mechlib.constraint_arrays import ConstraintArrays, scaled_rows
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.system import System
 
@@ -241,31 +242,80 @@ def _episodes(values: np.ndarray, threshold: float) -> list[tuple[int, int]]:
 
 def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
     """Per recorded row: the rank measure and the sines of the free coordinates. Rows of
-    up to _BATCH_ROWS equations are measured together (`_Batch`), larger ones one by one
-    (`_Position`, sparse and warm-started)."""
-    ranks, start = np.empty(len(trajectory)), None
-    sines: list[dict] = [{} for _ in range(len(trajectory))]
+    up to _BATCH_ROWS equations are measured together (`_Batch`; their scaled rows and
+    gradients from one compiled call per batch where the system allows it:
+    mechlib.constraint_arrays), larger ones one by one (`_Position`, sparse and
+    warm-started)."""
+    n = len(trajectory)
+    ranks, start = np.empty(n), None
+    sines: list[dict] = [{} for _ in range(n)]
     scale = _column_scale(system)  # the mechanism's size, the same at every row
     active, free = None, []  # the free coordinates change only with the active rows
     batch = _Batch()
-    for i, t in enumerate(trajectory.time):
-        system.restore_snapshot(trajectory.references[i])
+    arrays = ConstraintArrays(system) if ConstraintArrays.eligible(system) else None
+    i = 0
+    while i < n:
+        snapshot = trajectory.references[i]
+        system.restore_snapshot(snapshot)
         if system.active is not active:
             batch.flush(ranks, sines)
             active, free = system.active, _free_measures(system)
-        k = system.kin(trajectory.q[i], None, t)
+        if arrays is not None and 0 < system.active.size <= _BATCH_ROWS:
+            end = _same_rows(trajectory.references, i, _BATCH_SIZE - len(batch.rows))
+            batch.free = free if system.active.size < system.nq else []
+            batch.extend(i, *_compiled_rows(arrays, trajectory.q[i:end], batch.free, scale))
+            if len(batch.rows) >= _BATCH_SIZE:
+                batch.flush(ranks, sines)
+            i = end
+            continue
+        k = system.kin(trajectory.q[i], None, trajectory.time[i])
         jac = system.phi_q(k)
         if jac.shape[0] <= _BATCH_ROWS:
             batch.free = free if jac.shape[0] < system.nq else []
             batch.add(i, _unit_rows(jac * scale), _gradients(system, k, batch.free, scale))
             if len(batch.rows) >= _BATCH_SIZE:
                 batch.flush(ranks, sines)
-            continue
-        position = _Position(system, k, start, scale, free, jac)
-        ranks[i], start = position.rank_measure(), position.weights
-        sines[i] = position.sines()
+        else:
+            position = _Position(system, k, start, scale, free, jac)
+            ranks[i], start = position.rank_measure(), position.weights
+            sines[i] = position.sines()
+        i += 1
     batch.flush(ranks, sines)
+    system.restore_snapshot(trajectory.references[n - 1])
     return ranks, sines
+
+
+def _same_rows(references: list, first: int, most: int) -> int:
+    """The end of the rows from `first` on (at most `most`) recorded with the same active
+    equations (the same array, as a run keeps it between events)."""
+    active = references[first]["active"]
+    end = first + 1
+    while end < len(references) and end - first < most and references[end]["active"] is active:
+        end += 1
+    return end
+
+
+def _compiled_rows(arrays: ConstraintArrays, qs: np.ndarray, free: list, scale: np.ndarray):
+    """(jacs (n, m, nq), grads (n, nq, c)) of the rows at states `qs`: the scaled unit
+    constraint rows and the free coordinates' scaled gradients, as `_unit_rows` and
+    `_gradients` give them, in one compiled call."""
+    ints, floats = arrays.packed()
+    system = arrays.system
+    angles = [m for _, m in free if isinstance(m, AngleMeasure)]
+    travels = [m for _, m in free if isinstance(m, TravelMeasure)]
+    measures = _measure_args([m._sc for m in angles], 4) + _measure_args([m._d for m in travels], 5)
+    order = {id(m): c for c, m in enumerate([*angles, *travels])}
+    jacs = np.empty((len(qs), system.active.size, system.nq))
+    grads = np.empty((len(qs), system.nq, len(free)))
+    scaled_rows(np.ascontiguousarray(qs), ints, floats, scale, *measures, jacs, grads)  # type: ignore[call-arg]
+    return jacs, grads[:, :, [order[id(m)] for _, m in free]]
+
+
+def _measure_args(groups: list, width: int) -> tuple:
+    """The arguments of the primitive groups `groups` joined (empty arrays without any)."""
+    if not groups:
+        return (np.zeros(0, dtype=np.int64),) * 2 + (np.zeros((0, 3)),) * (width - 2)
+    return tuple(np.concatenate([g.args[j] for g in groups]) for j in range(width))
 
 
 def _gradients(system: System, k, free: list, scale: np.ndarray) -> np.ndarray:
@@ -289,6 +339,12 @@ class _Batch:
         self.rows.append(row)
         self.jacs.append(jac)
         self.grads.append(grads)
+
+    def extend(self, first: int, jacs: np.ndarray, grads: np.ndarray) -> None:
+        """Rows first, first + 1, ... with their jacs (n, m, nq) and grads (n, nq, c)."""
+        self.rows.extend(range(first, first + len(jacs)))
+        self.jacs.extend(jacs)
+        self.grads.extend(grads)
 
     def flush(self, ranks: np.ndarray, sines: list) -> None:
         """Write the measures of the rows held into `ranks` and `sines`; empty the batch."""

@@ -16,6 +16,7 @@ from loadcases.inputs.kinds import file_kind
 from loadcases.inputs.loader import CaseFile, load_case, load_mechanism
 from loadcases.inputs.overrides import Override, pairs
 from loadcases.inputs.run_identity import run_name
+from loadcases.process_settings import freeze_heap, one_blas_thread
 from loadcases.results.files import write_results
 from loadcases.results.outcome import RunOutcome
 from loadcases.run.global_error import DEFAULT_ACCURACY, AccuracyEstimate, solve_to_accuracy
@@ -40,6 +41,7 @@ def run_case(
     be built or is not well posed (redundant joints, wrong degrees of freedom), with the
     joints named.
     """
+    one_blas_thread()
     built = build_run(cf, abscissa=abscissa)
     margin = plan_torque_margin(cf, built)
     checks: dict = {}
@@ -55,6 +57,7 @@ def run_case(
         # notes on the results (a failed margin), beside the solver's warnings
         solution = dataclasses.replace(solution, warnings=[*solution.warnings, *notes])
         built.column_units.update(margin.units())
+    freeze_heap()
     return RunOutcome(
         name=name or run_name(cf.case.case, pairs(cf.what_if)),
         case_file=Path(cf.path),

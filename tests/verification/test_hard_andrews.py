@@ -1,7 +1,7 @@
 """Andrews' squeezing mechanism (issue 14 item 6): a published index-3 benchmark in CI.
 
 Cases: loadcases/library/verification/hard/andrews_squeezer.case.yaml (default integrator
-and tolerance) and andrews_squeezer_tight.case.yaml (Radau IIA at tolerance 1e-6).
+and tolerance) and andrews_squeezer_tight.case.yaml (Radau IIA at tolerance 3e-7).
 Reference: the Test Set for IVP Solvers, problem `andrews` (PSIDE at 1e-14): coordinates,
 rates and multipliers at t = 0.03 s, and the consistent initial multipliers
 (tests/verification/andrews.py). Acceptance: 1e-3 of each request's peak over the run.
@@ -120,15 +120,17 @@ def test_default_rates_miss_the_acceptance_and_say_so(default) -> None:
 
 
 def test_tight_setting_reaches_1e6(tight) -> None:
-    """Radau IIA at tolerance 1e-6: coordinates within 2.5e-7 relative of the reference
-    (the issue asks 1e-6), rates within 1e-6 of their peak (measured 4.4e-7 with dense
-    output, 8.1e-7 with `output: steps`), the reaction at E within 4e-7 of its peak
-    (measured 9.7e-8; 1.8e-7)."""
+    """Radau IIA at tolerance 3e-7: coordinates within 5e-8 relative of the reference
+    (the issue asks 1e-6; measured 1.4e-8), rates within 3e-7 of their peak (measured
+    1.0e-7), the reaction at E within 2.5e-7 of its peak (measured 8.3e-8). At tolerance
+    1e-6 the rates were 4.4e-7 to 2.3e-6 depending on round-off alone (BLAS threads: one
+    since version 0.10.0, loadcases.process_settings), which moves Radau's step sequence;
+    at 3e-7 they are not near the limit."""
     q = _coordinates(tight)
-    assert np.max(np.abs(q[-1] - Q_END) / np.abs(Q_END)) < 2.5e-7
+    assert np.max(np.abs(q[-1] - Q_END) / np.abs(Q_END)) < 5e-8
     _, v_error = _end_errors(tight)
-    assert np.max(v_error) < 1e-6, dict(zip(NAMES, v_error))
-    assert _reaction_error(tight) < 4e-7
+    assert np.max(v_error) < 3e-7, dict(zip(NAMES, v_error))
+    assert _reaction_error(tight) < 2.5e-7
 
 
 @pytest.mark.parametrize(("fixture", "bound"), [("default", 1e-11), ("tight", 1e-14)])

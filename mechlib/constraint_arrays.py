@@ -1,0 +1,351 @@
+"""A rigid system's constraint equations evaluated in one compiled call.
+
+`System.phi_and_jacobian` calls one kernel per primitive group and assembles the coordinate
+rows in NumPy: about 30 us of Python per call on a slider-crank, more than the arithmetic.
+Here the same equations (normalisations, spherical, dot-1 and dot-2 rows, and the coordinate
+equations: motions, locks, couplers, gears, screws) are one kernel call that the compiled
+generalized-alpha step (mechlib.genalpha_compiled) calls from inside its Newton loop. Same
+primitives, same formulas (mechlib.kernels, mechlib.coordinates): results equal to
+round-off. Systems with flexible bodies or point-on-curve joints keep the grouped path.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mechlib import kernels as kr
+from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
+from mechlib.coordinate_block import CoordinateBlock
+from mechlib.jit import njit
+from mechlib.kin import GROUND_Q
+
+__all__ = ["ConstraintArrays"]
+
+_TWO_PI = 2.0 * math.pi
+_NO_INT = np.zeros(0, dtype=np.int64)
+_NO_VEC = np.zeros((0, 3))
+
+
+def _group(groups: list, kind, width: int) -> tuple:
+    """The arguments of the system's group of `kind` (empty arrays without one)."""
+    found = [g for g in groups if type(g) is kind]
+    if found:
+        return found[0].args
+    return (_NO_INT, _NO_INT) + (_NO_VEC,) * width
+
+
+class ConstraintArrays:
+    """The constraint equations of a rigid `System` packed for the compiled kernels in two
+    flat arrays, `ints` and `floats` (`packed()`: the geometric groups, the coordinate
+    block's measures and coefficients, the active rows; rebuilt when an event changes the
+    block or the active rows), and per time `functions(t)` (value, rate and acceleration of
+    each coordinate equation's function) and `references()` (the angles' unwrapping
+    references). Few arguments, because numba's dispatch costs about 0.2 us per array."""
+
+    def __init__(self, system):
+        assert ConstraintArrays.eligible(system), "checked by the caller"
+        self.system = system
+        self._key: tuple = ()
+        self._packed: tuple[np.ndarray, np.ndarray] = (_NO_INT, np.zeros(0))
+
+    @staticmethod
+    def eligible(system) -> bool:
+        """Rigid bodies of 7 coordinates, primitive groups only (no flexible welds), no
+        point-on-curve equations."""
+        if getattr(system, "per_body", 0) != 7 or system.nz or system.flexible:
+            return False
+        kinds = (Normalization, Spherical, Dot1, Dot2)
+        if not all(type(g) in kinds for g in system.groups):
+            return False
+        return not system._coordinate_rows()._own
+
+    def packed(self) -> tuple[np.ndarray, np.ndarray]:
+        """(ints, floats) of the current block and active rows (`_unpack` reads them)."""
+        system = self.system
+        block: CoordinateBlock = system._coordinate_rows()
+        key = (id(block), block.size, id(system.active))
+        if key != self._key:
+            self._packed, self._key = _pack(system, block), key
+        return self._packed
+
+    def functions(self, t: float) -> np.ndarray:
+        """(equations, 3): value, rate and acceleration of each coordinate equation's
+        function of time at t (zeros without one)."""
+        block = self.system._coordinate_rows()
+        out = np.zeros((len(block._linear), 3))
+        for row, i in enumerate(block._linear):
+            f = block.equations[i].function
+            if f is not None:
+                out[row] = f.value(t), f.rate(t), f.accel(t)
+        return out
+
+    def references(self) -> np.ndarray:
+        """The angle measures' unwrapping references (rad), in the block's order."""
+        return np.array([m.reference for m in self.system._coordinate_rows()._angles])
+
+
+def _pack(system, block: CoordinateBlock) -> tuple[np.ndarray, np.ndarray]:
+    """ints: a header of sizes (nb, spherical items, dot-1 rows, dot-2 rows, angles,
+    travels, coordinate equations, active rows), then the body indices of each group, the
+    equations' rows, the active rows; floats: each group's vectors, the coefficients."""
+    sph = _group(system.groups, Spherical, 2)
+    dot1 = _group(system.groups, Dot1, 2)
+    dot2 = _group(system.groups, Dot2, 3)
+    sines = block._sines.args if block._sines is not None else (_NO_INT,) * 2 + (_NO_VEC,) * 2
+    travels = (
+        block._distances.args if block._distances is not None else (_NO_INT,) * 2 + (_NO_VEC,) * 3
+    )
+    linear = np.asarray(block._linear, dtype=np.int64)
+    header = [
+        system.nb,
+        len(sph[0]),
+        len(dot1[0]),
+        len(dot2[0]),
+        len(block._angles),
+        len(travels[0]),
+        len(linear),
+        len(system.active),
+    ]
+    groups = (sph, dot1, dot2, sines, travels)
+    ints = np.concatenate(
+        [np.array(header, dtype=np.int64)]
+        + [np.asarray(a, dtype=np.int64) for g in groups for a in g[:2]]
+        + [linear, np.asarray(system.active, dtype=np.int64)]
+    )
+    floats = np.concatenate(
+        [np.asarray(a, dtype=float).ravel() for g in groups for a in g[2:]]
+        + [np.asarray(block._coefficients, dtype=float).ravel()]
+    )
+    return ints, floats
+
+
+@njit(cache=True, nogil=True)
+def _full_rows(x, nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj, phi, rows):
+    """Residuals and Jacobian rows (nall, 7 (nb+1)) of the geometric groups, in the
+    system's row order; `rows` zeroed by the caller. Returns the first coordinate row."""
+    kr.norm_phi(x, nb, phi[:nb])
+    kr.norm_jac(x, nb, rows[:nb])
+    r = nb
+    n = 3 * sbi.shape[0]
+    kr.sph_phi(x, sbi, sbj, ssi, ssj, phi[r : r + n])
+    kr.sph_jac(x, sbi, sbj, ssi, ssj, rows[r : r + n])
+    r += n
+    n = d1i.shape[0]
+    kr.dot1_phi(x, d1i, d1j, d1u, d1v, phi[r : r + n])
+    kr.dot1_jac(x, d1i, d1j, d1u, d1v, rows[r : r + n])
+    r += n
+    n = d2i.shape[0]
+    kr.dot2_phi(x, d2i, d2j, d2v, d2si, d2sj, phi[r : r + n])
+    kr.dot2_jac(x, d2i, d2j, d2v, d2si, d2sj, rows[r : r + n])
+    return r + n
+
+
+@njit(cache=True, nogil=True)
+def state_arrays(q, qd, nb):
+    """x, xd (nb+1, 7) of (q, qd) with ground appended (mechlib.kin.Kin.from_state)."""
+    x = np.empty((nb + 1, 7))
+    xd = np.zeros((nb + 1, 7))
+    for b in range(nb):
+        for c in range(7):
+            x[b, c] = q[7 * b + c]
+            xd[b, c] = qd[7 * b + c]
+    for c in range(7):
+        x[nb, c] = GROUND_Q[c]
+    return x, xd
+
+
+@njit(cache=True, nogil=True)
+def measure_rows(x, ai, aj, au, av, ti, tj, tv, tsi, tsj, refs, values, grads):
+    """Values (rad, m) and gradients (rows of 7 (nb+1)) of angle measures (their sine and
+    cosine dot-1 pairs; atan2(S, C) unwrapped against `refs`) then travel measures
+    (dot-2 rows), into `values` and the zeroed `grads` (mechlib.coordinates)."""
+    na = refs.shape[0]
+    ncol = grads.shape[1]
+    sc = np.empty(2 * na)
+    sc_rows = np.zeros((2 * na, ncol))
+    kr.dot1_phi(x, ai, aj, au, av, sc)
+    kr.dot1_jac(x, ai, aj, au, av, sc_rows)
+    for i in range(na):
+        s, c = sc[2 * i], sc[2 * i + 1]
+        raw = math.atan2(s, c)
+        values[i] = raw + _TWO_PI * np.round((refs[i] - raw) / _TWO_PI)
+        r2 = s * s + c * c
+        for j in range(ncol):
+            grads[i, j] = (c * sc_rows[2 * i, j] - s * sc_rows[2 * i + 1, j]) / r2
+    kr.dot2_phi(x, ti, tj, tv, tsi, tsj, values[na:])
+    kr.dot2_jac(x, ti, tj, tv, tsi, tsj, grads[na:])
+
+
+@njit(cache=True, nogil=True)
+def _coordinate_rows(
+    x, ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, functions, refs, first, phi, rows
+):
+    """The coordinate equations' residuals and rows (coef @ measures - f(t)) from row
+    `first` on."""
+    if linear.shape[0] == 0:
+        return
+    nm = refs.shape[0] + ti.shape[0]
+    values = np.empty(nm)
+    grads = np.zeros((nm, rows.shape[1]))
+    measure_rows(x, ai, aj, au, av, ti, tj, tv, tsi, tsj, refs, values, grads)
+    for e in range(linear.shape[0]):
+        row = first + linear[e]
+        acc = 0.0
+        for m in range(nm):
+            acc += coef[e, m] * values[m]
+        phi[row] = acc - functions[e, 0]
+        for m in range(nm):
+            if coef[e, m] != 0.0:
+                for j in range(rows.shape[1]):
+                    rows[row, j] += coef[e, m] * grads[m, j]
+
+
+@njit(cache=True, nogil=True)
+def unpack(ints, floats):
+    """The arrays `_pack` laid out: (nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j,
+    d2v, d2si, d2sj, ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active), views."""
+    nb, ns, n1, n2, na, nt, ne, nact = ints[:8]
+    o = 8
+    sbi, sbj = ints[o : o + ns], ints[o + ns : o + 2 * ns]
+    o += 2 * ns
+    d1i, d1j = ints[o : o + n1], ints[o + n1 : o + 2 * n1]
+    o += 2 * n1
+    d2i, d2j = ints[o : o + n2], ints[o + n2 : o + 2 * n2]
+    o += 2 * n2
+    ai, aj = ints[o : o + 2 * na], ints[o + 2 * na : o + 4 * na]
+    o += 4 * na
+    ti, tj = ints[o : o + nt], ints[o + nt : o + 2 * nt]
+    o += 2 * nt
+    linear = ints[o : o + ne]
+    active = ints[o + ne : o + ne + nact]
+    f = 0
+    ssi = floats[f : f + 3 * ns].reshape((ns, 3))
+    ssj = floats[f + 3 * ns : f + 6 * ns].reshape((ns, 3))
+    f += 6 * ns
+    d1u = floats[f : f + 3 * n1].reshape((n1, 3))
+    d1v = floats[f + 3 * n1 : f + 6 * n1].reshape((n1, 3))
+    f += 6 * n1
+    d2v = floats[f : f + 3 * n2].reshape((n2, 3))
+    d2si = floats[f + 3 * n2 : f + 6 * n2].reshape((n2, 3))
+    d2sj = floats[f + 6 * n2 : f + 9 * n2].reshape((n2, 3))
+    f += 9 * n2
+    au = floats[f : f + 6 * na].reshape((2 * na, 3))
+    av = floats[f + 6 * na : f + 12 * na].reshape((2 * na, 3))
+    f += 12 * na
+    tv = floats[f : f + 3 * nt].reshape((nt, 3))
+    tsi = floats[f + 3 * nt : f + 6 * nt].reshape((nt, 3))
+    tsj = floats[f + 6 * nt : f + 9 * nt].reshape((nt, 3))
+    f += 9 * nt
+    coef = floats[f : f + ne * (na + nt)].reshape((ne, na + nt))
+    return (
+        nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
+        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active,
+    )  # fmt: skip
+
+
+@njit(cache=True, nogil=True)
+def phi_and_jacobian(x, ints, floats, functions, refs, phi, jac):
+    """phi (m,) and phi_q (m, 7 nb) of the active rows at x (nb+1, 7), into phi and jac;
+    (ints, floats) from `ConstraintArrays.packed`, `functions` and `refs` at the time."""
+    (
+        nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
+        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active,
+    ) = unpack(ints, floats)  # fmt: skip
+    nall = nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0] + linear.shape[0]
+    full = np.zeros(nall)
+    rows = np.zeros((nall, x.shape[0] * 7))
+    first = _full_rows(
+        x, nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj, full, rows
+    )
+    _coordinate_rows(
+        x, ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, functions, refs, first, full, rows
+    )
+    nq = 7 * nb
+    for i in range(active.shape[0]):
+        phi[i] = full[active[i]]
+        for j in range(nq):
+            jac[i, j] = rows[active[i], j]
+
+
+@njit(cache=True, nogil=True)
+def nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma):
+    """The right sides of phi_q qd = nu and phi_q qdd = gamma of the active rows at (x, xd)
+    (mechlib.constraints, mechlib.coordinates: the same formulas)."""
+    (
+        nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
+        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active,
+    ) = unpack(ints, floats)  # fmt: skip
+    ns, n1, n2 = 3 * sbi.shape[0], d1i.shape[0], d2i.shape[0]
+    first = nb + ns + n1 + n2
+    full = np.zeros(first + linear.shape[0])
+    full_nu = np.zeros(first + linear.shape[0])
+    kr.norm_gamma(xd, nb, full[:nb])
+    kr.sph_gamma(x, xd, sbi, sbj, ssi, ssj, full[nb : nb + ns])
+    kr.dot1_gamma(x, xd, d1i, d1j, d1u, d1v, full[nb + ns : nb + ns + n1])
+    kr.dot2_gamma(x, xd, d2i, d2j, d2v, d2si, d2sj, full[nb + ns + n1 : first])
+    if linear.shape[0]:
+        na, nt = refs.shape[0], ti.shape[0]
+        sc, scd, scq = np.empty(2 * na), np.empty(2 * na), np.empty(2 * na)
+        kr.dot1_phi(x, ai, aj, au, av, sc)
+        kr.dot1_rate(x, xd, ai, aj, au, av, scd)
+        kr.dot1_gamma(x, xd, ai, aj, au, av, scq)
+        quads = np.empty(na + nt)
+        for i in range(na):
+            s, c, sd, cd = sc[2 * i], sc[2 * i + 1], scd[2 * i], scd[2 * i + 1]
+            sq, cq = -scq[2 * i], -scq[2 * i + 1]
+            r2 = s * s + c * c
+            rate = (c * sd - s * cd) / r2
+            quads[i] = (c * sq - s * cq) / r2 - 2.0 * rate * (s * sd + c * cd) / r2
+        kr.dot2_gamma(x, xd, ti, tj, tv, tsi, tsj, quads[na:])
+        for m in range(nt):
+            quads[na + m] = -quads[na + m]
+        for e in range(linear.shape[0]):
+            acc = 0.0
+            for m in range(na + nt):
+                acc += coef[e, m] * quads[m]
+            full[first + linear[e]] = functions[e, 2] - acc
+            full_nu[first + linear[e]] = functions[e, 1]
+    for i in range(active.shape[0]):
+        gamma[i] = full[active[i]]
+        nu[i] = full_nu[active[i]]
+
+
+@njit(cache=True, nogil=True)
+def scaled_rows(qs, ints, floats, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, jacs, grads):
+    """Per state q of `qs` (n, 7 nb): the active constraint rows scaled per column by
+    `scale` and each to unit length (jacs (n, m, 7 nb): zero rows stay zero), and the
+    gradients of the given measures (angles, then travels) scaled the same way, as columns
+    (grads (n, 7 nb, measures)): what mechlib.singularity measures at each recorded row."""
+    n, nq = qs.shape
+    nb = nq // 7
+    m = jacs.shape[1]
+    na, nt = ai.shape[0] // 2, ti.shape[0]
+    ne = ints[6]
+    functions = np.zeros((ne, 3))
+    refs = np.zeros(ints[4])
+    phi = np.empty(m)
+    jac = np.empty((m, nq))
+    values = np.empty(na + nt)
+    rows = np.empty((na + nt, 7 * (nb + 1)))
+    zero_refs = np.zeros(na)
+    for r in range(n):
+        x, _ = state_arrays(qs[r], qs[r], nb)
+        phi_and_jacobian(x, ints, floats, functions, refs, phi, jac)
+        for i in range(m):
+            norm = 0.0
+            for j in range(nq):
+                v = jac[i, j] * scale[j]
+                jacs[r, i, j] = v
+                norm += v * v
+            norm = math.sqrt(norm)
+            if norm > 0.0:
+                for j in range(nq):
+                    jacs[r, i, j] /= norm
+        if na + nt:
+            rows[:, :] = 0.0
+            measure_rows(x, ai, aj, au, av, ti, tj, tv, tsi, tsj, zero_refs, values, rows)
+            for c in range(na + nt):
+                for j in range(nq):
+                    grads[r, j, c] = rows[c, j] * scale[j]

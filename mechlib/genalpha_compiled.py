@@ -1,0 +1,226 @@
+"""Generalized-alpha's Newton loop and state correction as compiled kernels.
+
+For a rigid system with no active force element and no element states (gravity, joints,
+motions: the bench models, a free deployment phase), everything a Newton iteration of
+`mechlib.genalpha.Integrator.step` does between two factorisations -- state arrays,
+constraint residual and Jacobian (mechlib.constraint_arrays), mass times acceleration,
+gravity and velocity terms, the solve with the iteration matrix's LU factors (dense LAPACK
+getrf or SuperLU's L and U), the correction and the convergence test -- runs in one numba
+call, and so does the three-level correction of the accepted state. The factorisation, the
+step-size control and everything else stay in Python. Same equations, same order of
+operations but for summation order: results equal the Python loop's to round-off
+(tests/mechlib/test_genalpha_compiled.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mechlib import constraint_arrays as ca
+from mechlib import genalpha_kernels as gk
+from mechlib import kernels as kr
+from mechlib.jit import njit
+
+__all__ = ["CONVERGED", "STALLED", "body_data", "factor_data", "newton"]
+
+CONVERGED, STALLED = 1, 2
+
+
+def factor_data(lu) -> tuple[np.ndarray, np.ndarray]:
+    """LU factors of the iteration matrix (mechlib.linalg.factor_saddle) as two flat
+    arrays for `lu_solve`: dense getrf factors of the row-equilibrated matrix, ints
+    [0, n, piv] and floats [LU by columns, row scales]; SuperLU's, ints [1, n, nnz(L),
+    nnz(U), L's column starts and rows, U's, perm_r, perm_c] and floats [L, U]."""
+    if isinstance(lu, tuple):
+        dense, piv, rows = lu
+        n = len(rows)
+        ints = np.concatenate([np.array([0, n], dtype=np.int64), np.asarray(piv, np.int64)])
+        return ints, np.concatenate([np.asarray(dense).ravel(order="F"), rows])
+    f = lu.lu
+    lower, upper = f.L.tocsc(), f.U.tocsc()
+    n = lower.shape[0]
+    ints = np.concatenate(
+        [
+            np.array([1, n, lower.nnz, upper.nnz], dtype=np.int64),
+            lower.indptr,
+            lower.indices,
+            upper.indptr,
+            upper.indices,
+            f.perm_r,
+            f.perm_c,
+        ]
+    ).astype(np.int64)
+    return ints, np.concatenate([lower.data, upper.data])
+
+
+def body_data(system) -> np.ndarray:
+    """The rigid bodies' mass terms in one array: gravity (3), masses (nb), the Euler
+    parameters' normalising scale (nb), inertia tensors (nb x 9)."""
+    return np.concatenate(
+        [system.gravity, system.masses, system._pscale, system.inertia.ravel()]
+    ).astype(float)
+
+
+@njit(cache=True, nogil=True)
+def lu_solve(ints, floats, b):
+    """x with A x = b from `factor_data` (mechlib.linalg.solve_factored's arithmetic)."""
+    n = ints[1]
+    x = np.empty(n)
+    if ints[0] == 0:  # (R A) = P L U: x = U^-1 L^-1 P^T (R b)
+        piv = ints[2 : 2 + n]
+        lu = floats[: n * n]
+        for i in range(n):
+            x[i] = floats[n * n + i] * b[i]
+        for i in range(n):
+            p = piv[i]
+            if p != i:
+                x[i], x[p] = x[p], x[i]
+        for j in range(n):  # unit lower triangle, by columns
+            xj = x[j]
+            if xj != 0.0:
+                for i in range(j + 1, n):
+                    x[i] -= lu[j * n + i] * xj
+        for j in range(n - 1, -1, -1):
+            x[j] /= lu[j * n + j]
+            xj = x[j]
+            if xj != 0.0:
+                for i in range(j):
+                    x[i] -= lu[j * n + i] * xj
+        return x
+    nl, nu = ints[2], ints[3]
+    o = 4
+    lp, li = ints[o : o + n + 1], ints[o + n + 1 : o + n + 1 + nl]
+    o += n + 1 + nl
+    up, ui = ints[o : o + n + 1], ints[o + n + 1 : o + n + 1 + nu]
+    o += n + 1 + nu
+    perm_r, perm_c = ints[o : o + n], ints[o + n : o + 2 * n]
+    lx, ux = floats[:nl], floats[nl : nl + nu]
+    y = np.empty(n)  # Pr A Pc = L U: L U y = Pr b, x = Pc y
+    for i in range(n):
+        y[perm_r[i]] = b[i]
+    for j in range(n):  # unit lower triangle (CSC)
+        yj = y[j]
+        if yj != 0.0:
+            for k in range(lp[j], lp[j + 1]):
+                if li[k] > j:
+                    y[li[k]] -= lx[k] * yj
+    for j in range(n - 1, -1, -1):  # upper triangle (CSC): the diagonal is row j's entry
+        for k in range(up[j], up[j + 1]):
+            if ui[k] == j:
+                y[j] /= ux[k]
+        yj = y[j]
+        if yj != 0.0:
+            for k in range(up[j], up[j + 1]):
+                if ui[k] < j:
+                    y[ui[k]] -= ux[k] * yj
+    for i in range(n):
+        x[i] = y[perm_c[i]]
+    return x
+
+
+@njit(cache=True, nogil=True)
+def _dynamic_residual(x, xd, qdd, lam, jac, body, out):
+    """out[:nq] = M qdd + phi_q^T lam - Q (gravity and velocity terms; no element)."""
+    nq = qdd.shape[0]
+    nb = nq // 7
+    gravity, masses, pscale = body[:3], body[3 : 3 + nb], body[3 + nb : 3 + 2 * nb]
+    inertia = body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
+    m_qdd = np.empty(nq)
+    kr.mass_times(x, masses, inertia, pscale, qdd, m_qdd)
+    forces = np.empty(nq)
+    none = np.zeros((nb + 1, 3))
+    kr.body_forces(x, xd, masses, inertia, gravity, none, none, True, forces)
+    for j in range(nq):
+        acc = 0.0
+        for i in range(lam.shape[0]):
+            acc += jac[i, j] * lam[i]
+        out[j] = m_qdd[j] + acc - forces[j]
+
+
+@njit(cache=True, nogil=True)
+def newton(
+    q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
+    it, prev, eta, true,
+):  # fmt: skip
+    """Newton iterations on (q1, qd1, qdd1, lam1), in place, with fixed LU factors (fi, ff)
+    from iteration `it` with the last increment size `prev` and rate estimate `eta`, as
+    mechlib.genalpha.Integrator.step does them; params: (beta', gamma', tolerance,
+    round-off, kappa, stagnation ratio, noise position, most iterations). Stops on
+    convergence (CONVERGED: `true` then holds the state's (qd, qdd, lam) on all three
+    constraint levels, stacked) or when the increments stop shrinking fast enough or the
+    iterations run out (STALLED: the caller refactors or gives up). Returns
+    (status, it, prev, eta, iterations done)."""
+    bp, gp, tol, roundoff = params[0], params[1], params[2], params[3]
+    kappa, stagnant, noise_position, max_iter = params[4], params[5], params[6], params[7]
+    nq, m = q1.shape[0], lam1.shape[0]
+    nb = nq // 7
+    phi = np.empty(m)
+    jac = np.empty((m, nq))
+    res = np.empty(nq + m)
+    done = 0
+    while True:
+        x, xd = ca.state_arrays(q1, qd1, nb)
+        ca.phi_and_jacobian(x, ints, floats, functions, refs, phi, jac)
+        _dynamic_residual(x, xd, qdd1, lam1, jac, body, res)
+        for j in range(nq):
+            res[j] = -res[j] / bp
+        for i in range(m):
+            res[nq + i] = -phi[i]
+        dx = lu_solve(fi, ff, res)
+        gk.correct(q1, qd1, qdd1, lam1, dx, gp, bp)
+        done += 1
+        it += 1
+        dq = dx[:nq]
+        size = gk._newton_size(dq, q1, qdd1, bp, q_abs, a_ref, tol, roundoff)
+        if prev < math.inf:
+            theta = size / prev
+            eta = theta / (1.0 - theta) if theta < 1.0 else math.inf
+        noise = False
+        if prev < math.inf and size > stagnant * prev:
+            acc = 0.0
+            for j in range(nq):
+                w = dq[j] / (q_abs[j] + tol * abs(q1[j]))
+                acc += w * w
+            noise = math.sqrt(acc / nq) <= noise_position
+        if (eta * size <= kappa and size < 1.0) or size < 1e-10 or noise:
+            _true_acceleration(
+                q1, qd1, qdd1, lam1, jac, ints, floats, functions, refs, body, fi, ff, true
+            )
+            return CONVERGED, it, size, eta, done
+        if (prev < math.inf and size > 0.9 * prev) or it >= max_iter:
+            return STALLED, it, size, eta, done
+        prev = size
+
+
+@njit(cache=True, nogil=True)
+def _true_acceleration(q1, qd1, qdd1, lam1, jac, ints, floats, functions, refs, body, fi, ff, out):
+    """(qd, qdd, lam) on all three constraint levels, stacked into `out`, by two
+    corrections with the iteration matrix (mechlib.genalpha.Integrator._true_acceleration;
+    `jac`: phi_q of the last iterate)."""
+    nq, m = q1.shape[0], lam1.shape[0]
+    nb = nq // 7
+    x, xd = ca.state_arrays(q1, qd1, nb)
+    nu, gamma = np.empty(m), np.empty(m)
+    ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
+    rhs = np.zeros(nq + m)
+    for i in range(m):
+        acc = 0.0
+        for j in range(nq):
+            acc += jac[i, j] * qd1[j]
+        rhs[nq + i] = nu[i] - acc
+    fix = lu_solve(fi, ff, rhs)
+    qd = qd1 + fix[:nq]
+    x, xd = ca.state_arrays(q1, qd, nb)
+    ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
+    _dynamic_residual(x, xd, qdd1, lam1, jac, body, rhs)
+    for i in range(m):
+        acc = 0.0
+        for j in range(nq):
+            acc += jac[i, j] * qdd1[j]
+        rhs[nq + i] = acc - gamma[i]
+    fix = lu_solve(fi, ff, rhs)
+    out[:nq] = qd
+    out[nq : 2 * nq] = qdd1 - fix[:nq]
+    out[2 * nq :] = lam1 - fix[nq:]
