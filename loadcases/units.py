@@ -11,10 +11,15 @@ in the file's unit (`units: {length: mm}`); for every other dimension a bare num
 
 from __future__ import annotations
 
+import hashlib
 import math
+import os
 import re
+import sys
 from collections.abc import Mapping, Sequence
+from contextlib import suppress
 from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 from loadcases.clip import clip
@@ -132,18 +137,94 @@ class UnitError(ValueError):
 @lru_cache(maxsize=1)
 def _registry() -> Any:
     """The shared pint registry with `[angle]` as a base dimension (built once, lazily)."""
-    import importlib.resources
-
     import pint
+
+    text = _definitions()
+    registry = _cached_registry(text)
+    if registry is None:
+        registry = pint.UnitRegistry(None, autoconvert_offset_to_baseunit=False)
+        registry.load_definitions(text.splitlines())
+    registry.default_system = "mks"
+    return registry
+
+
+def _definitions() -> str:
+    """pint's own definitions (its constants put in place) with `radian = [angle]`."""
+    import importlib.resources
 
     files = importlib.resources.files("pint")
     text = files.joinpath("default_en.txt").read_text(encoding="utf-8")
     constants = files.joinpath("constants_en.txt").read_text(encoding="utf-8")
     text = text.replace("radian = [] = rad", "radian = [angle] = rad")
-    text = text.replace("@import constants_en.txt", constants)
-    registry: pint.UnitRegistry = pint.UnitRegistry(None, autoconvert_offset_to_baseunit=False)
-    registry.load_definitions(text.splitlines())
-    registry.default_system = "mks"
+    return text.replace("@import constants_en.txt", constants)
+
+
+def _unit_cache_folder() -> Path:
+    """Where pint keeps the parsed unit definitions of loads: `loads/pint` in the user's
+    cache folder (on Linux `$XDG_CACHE_HOME`, else `~/.cache`)."""
+    import platformdirs
+
+    return platformdirs.user_cache_path("loads", appauthor=False) / "pint"
+
+
+def _cached_registry(text: str) -> Any:
+    """The registry of the definitions `text` through pint's own disk cache (its
+    `cache_folder` option, flexcache): parsing the definitions costs about 0.2 s, loading
+    them parsed a few hundredths. The same definitions parsed by the same pint: the same
+    registry, the same numbers. None when the cache folder cannot be written or its files
+    cannot be read: the caller then parses as without a cache.
+
+    The files are named by the SHA-256 of the definitions, pint's version and Python's. A
+    first run fills a private folder and moves each file into the cache folder (an atomic
+    rename: flexcache writes its files in place), then writes the `.ready` mark; without
+    the mark a run fills the cache itself, so no run reads a file another is writing."""
+    import pint
+
+    ready: Path | None = None
+    try:
+        key = "\0".join((text, pint.__version__, sys.version))
+        stem = "units-" + hashlib.sha256(key.encode("utf-8")).hexdigest()[:24]
+        folder = _unit_cache_folder()
+        definitions, ready = folder / f"{stem}.txt", folder / f"{stem}.ready"
+        if ready.is_file() and definitions.read_text(encoding="utf-8") == text:
+            return _parsed_registry(definitions, folder)
+        folder.mkdir(parents=True, exist_ok=True)
+        return _fill_unit_cache(text, folder, definitions, ready)
+    # Whatever stops the cache (a read-only or full disk, a truncated or foreign file) only
+    # costs the parse: the registry is then built without it.
+    except Exception:  # noqa: BLE001
+        if ready is not None:
+            with suppress(OSError):
+                ready.unlink(missing_ok=True)  # the next run fills the cache again
+    return None
+
+
+def _parsed_registry(definitions: Path, cache: Path) -> Any:
+    """A registry of the definitions file `definitions`, parsed through pint's cache in
+    `cache` (as `_registry` builds it without: offsets not converted, cache built lazily)."""
+    import pint
+
+    registry: pint.UnitRegistry = pint.UnitRegistry(
+        None, autoconvert_offset_to_baseunit=False, cache_folder=cache
+    )
+    registry.load_definitions(definitions)
+    return registry
+
+
+def _fill_unit_cache(text: str, folder: Path, definitions: Path, ready: Path) -> Any:
+    """The registry of `text`, parsed once with pint's cache in a private folder whose
+    files then move into `folder`."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory(dir=folder, prefix=".fill-") as private:
+        staged = Path(private) / definitions.name
+        staged.write_text(text, encoding="utf-8")
+        registry = _parsed_registry(staged, Path(private))
+        for made in Path(private).iterdir():
+            if made != staged:
+                os.replace(made, folder / made.name)
+        os.replace(staged, definitions)
+        ready.touch()
     return registry
 
 

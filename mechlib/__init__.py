@@ -14,8 +14,16 @@ from typing import TYPE_CHECKING, Any
 from mechlib.lazy import lazy_names
 
 if TYPE_CHECKING:
-    from mechlib.analysis import DEFAULT_MAX_STEPS, Dynamic, Kinematic, QuasiStatic, Static
-    from mechlib.assembly import InitialBodyVelocity, InitialValue
+    from mechlib.analysis import (
+        DEFAULT_MAX_STEPS,
+        Dynamic,
+        InitialBodyVelocity,
+        InitialValue,
+        Kinematic,
+        Modes,
+        QuasiStatic,
+        Static,
+    )
     from mechlib.check import ModelError
     from mechlib.contract import Status
     from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
@@ -23,7 +31,7 @@ if TYPE_CHECKING:
     from mechlib.events import Action, Event
     from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
     from mechlib.model import GROUND, Mechanism
-    from mechlib.modes import Modes
+    from mechlib.model_check import MechanismCheck, check_model, inspect_mechanism
     from mechlib.planar import make_system
     from mechlib.requests import (
         CouplerEffort,
@@ -36,7 +44,7 @@ if TYPE_CHECKING:
         PointKinematics,
     )
     from mechlib.solution import Solution, SolverFailure, SolverStats
-    from mechlib.solve import MechanismCheck, check_model, inspect_mechanism, solve
+    from mechlib.solve import solve
     from mechlib.system import System
     from mechlib.view import StateView
 
@@ -54,16 +62,16 @@ _HOMES = {
     "Event": "mechlib.events",
     "ExpressionOutput": "mechlib.requests",
     "FlexibleOutput": "mechlib.requests",
-    "InitialBodyVelocity": "mechlib.assembly",
-    "InitialValue": "mechlib.assembly",
+    "InitialBodyVelocity": "mechlib.analysis",
+    "InitialValue": "mechlib.analysis",
     "JointCoordinate": "mechlib.requests",
     "JointFriction": "mechlib.elements",
     "JointReaction": "mechlib.requests",
     "Kinematic": "mechlib.analysis",
     "Mechanism": "mechlib.model",
-    "MechanismCheck": "mechlib.solve",
+    "MechanismCheck": "mechlib.model_check",
     "ModelError": "mechlib.check",
-    "Modes": "mechlib.modes",
+    "Modes": "mechlib.analysis",
     "MotionEffort": "mechlib.requests",
     "PointForce": "mechlib.forces",
     "PointKinematics": "mechlib.requests",
@@ -81,8 +89,8 @@ _HOMES = {
     "System": "mechlib.system",
     "TableLaw": "mechlib.elements",
     "TorsionSpring": "mechlib.forces",
-    "check_model": "mechlib.solve",
-    "inspect_mechanism": "mechlib.solve",
+    "check_model": "mechlib.model_check",
+    "inspect_mechanism": "mechlib.model_check",
     "make_system": "mechlib.planar",
     "solve": "mechlib.solve",
 }

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -11,7 +11,10 @@ __all__ = [
     "DEFAULT_MAX_STEPS",
     "DEFAULT_TOLERANCE",
     "Dynamic",
+    "InitialBodyVelocity",
+    "InitialValue",
     "Kinematic",
+    "Modes",
     "QuasiStatic",
     "Static",
     "Trajectory",
@@ -77,6 +80,34 @@ class Dynamic(_Timed):
     fixed_step: bool = False
     dense: bool = False
     name = "dynamic"
+
+
+@dataclass(frozen=True)
+class Modes:
+    """An analysis of the normal modes about the equilibrium at `time` (s)."""
+
+    time: float = 0.0
+    count: int | None = None  # how many modes to report (None: all)
+    name = "modes"
+
+
+@dataclass(frozen=True)
+class InitialValue:
+    """A joint coordinate (rad or m) and/or its rate given for the start of an analysis."""
+
+    joint: str
+    value: float | None = None
+    rate: float | None = None
+    coordinate: str | None = None
+
+
+@dataclass(frozen=True)
+class InitialBodyVelocity:
+    """A body's angular velocity (rad/s) and/or cm velocity (m/s), global axes."""
+
+    body: str
+    omega: Sequence[float] | None = None
+    velocity: Sequence[float] | None = None
 
 
 def output_times(start: float, end: float, step: float) -> np.ndarray:

@@ -19,6 +19,7 @@ import scipy.sparse as sp
 from scipy.linalg.lapack import dgetrf, dgetrs
 from scipy.sparse.linalg import splu
 
+from mechlib.analysis import InitialBodyVelocity, InitialValue
 from mechlib.contract import Status
 from mechlib.kin import Kin
 from mechlib.linalg import SINGULAR_RATIO, SPARSE_FROM
@@ -44,25 +45,6 @@ _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
 _MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
 _NORMAL_CHECK = 1e-6  # a normal-equations solution must meet its equations this well
 _REUSE_BELOW = 1e-6  # a Newton step below this keeps its Jacobian for the next
-
-
-@dataclass(frozen=True)
-class InitialValue:
-    """A joint coordinate (rad or m) and/or its rate given for the start of an analysis."""
-
-    joint: str
-    value: float | None = None
-    rate: float | None = None
-    coordinate: str | None = None
-
-
-@dataclass(frozen=True)
-class InitialBodyVelocity:
-    """A body's angular velocity (rad/s) and/or cm velocity (m/s), global axes."""
-
-    body: str
-    omega: Sequence[float] | None = None
-    velocity: Sequence[float] | None = None
 
 
 @dataclass

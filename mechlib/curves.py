@@ -5,7 +5,6 @@ along the curve."""
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import Akima1DInterpolator, CubicSpline, make_interp_spline
 
 from mechlib.rotation import cross
 
@@ -20,6 +19,10 @@ class Curve:
     chord length from the first point (m); beyond the ends the end polynomial continues."""
 
     def __init__(self, points, interpolation: str = "cubic"):
+        # imported here, where a spline is built: a module that only names Curve (the model
+        # checks of `loads validate`) loads no scipy.interpolate
+        from scipy.interpolate import Akima1DInterpolator, CubicSpline, make_interp_spline
+
         pts = np.asarray(points, dtype=float)
         if pts.ndim != 2 or pts.shape[1] != 3 or len(pts) < 2:
             raise ValueError("a curve needs at least 2 points [x, y, z]")

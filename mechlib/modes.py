@@ -15,21 +15,13 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.linalg as sla
 
+from mechlib.analysis import Modes
 from mechlib.balance import Balance
 from mechlib.equilibrium import equilibrium
 from mechlib.system import System
 from mechlib.work import count
 
 __all__ = ["ModalResult", "Modes", "modal_channels", "normal_modes"]
-
-
-@dataclass(frozen=True)
-class Modes:
-    """An analysis of the normal modes about the equilibrium at `time` (s)."""
-
-    time: float = 0.0
-    count: int | None = None  # how many modes to report (None: all)
-    name = "modes"
 
 
 @dataclass(frozen=True)

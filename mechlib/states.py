@@ -18,7 +18,6 @@ states keep their initial values there.
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import lu_factor, lu_solve
 
 __all__ = ["ElementStates"]
 
@@ -84,6 +83,8 @@ class ElementStates:
         if not self.drive_forces:  # rates independent of z: the trapezoid is explicit
             self.trial = self.z + 0.5 * h * (self.rates_accepted + self.rates(view, self.z))
             return
+        from scipy.linalg import lu_factor, lu_solve  # here: a System without states needs none
+
         z = self.trial.copy()
         prev, fresh = np.inf, False
         for _ in range(_NEWTON):

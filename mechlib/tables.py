@@ -8,7 +8,6 @@ from functools import cached_property
 from typing import Any
 
 import numpy as np
-from scipy.interpolate import Akima1DInterpolator, CubicSpline
 
 __all__ = ["Table", "TableRangeError"]
 
@@ -38,8 +37,16 @@ class Table:
         if np.any(np.diff(self.x) <= 0.0):
             raise ValueError(f"table '{name}': x must increase strictly")
         self._order = _order
-        self._f = self._interpolant()
-        self._pieces = self._piecewise()
+
+    # The interpolant and its pieces are built on first use: a model that is only built and
+    # checked (`loads validate`) imports no scipy.interpolate.
+    @cached_property
+    def _f(self) -> Callable:
+        return self._interpolant()
+
+    @cached_property
+    def _pieces(self) -> tuple[list[float], list[tuple[float, ...]]]:
+        return self._piecewise()
 
     def _interpolant(self) -> Callable:
         x, y = self.x, self.y
@@ -52,6 +59,8 @@ class Table:
                     np.clip(np.searchsorted(x, v, "right") - 1, 0, len(slopes) - 1)
                 ]
             return lambda v: np.zeros_like(np.asarray(v, float))
+        from scipy.interpolate import Akima1DInterpolator, CubicSpline
+
         if self.interpolation == "cubic":
             base = CubicSpline(x, y, bc_type="not-a-knot" if len(x) > 3 else "natural")
         elif len(x) < 3:

@@ -23,7 +23,6 @@ from loadcases.expressions import CompiledExpression, ExpressionError, parse
 from loadcases.inputs.loader import CaseFile
 from loadcases.schema import FlexibleBody
 from mechlib.elements.series import SeriesLaw, series_stiffness
-from mechlib.flexible.attached import node_at
 from mechlib.hydraulics import ServoActuator
 from mechlib.joints import ROTATIONAL, TRANSLATIONAL
 from mechlib.tables import Table, TableRangeError
@@ -297,6 +296,7 @@ class _Builder:
         """A flexible body (its interface points are points `NAME.POINT` of the schema
         model), or an error at its key."""
         from loadcases.build.flexible import flexible_component
+        from mechlib.flexible.attached import node_at  # scipy.sparse: only with flexible bodies
 
         key = f"bodies.{name}.flexible"
         try:

@@ -179,13 +179,14 @@ def imported_model_bytes(mechanism: MechanismModel, folder: Path) -> list[bytes]
     """The contents of the files of every imported flexible body (`flexible: file:`), so
     that a changed matrix is a changed input; files that cannot be read add nothing (the
     build reports them)."""
-    from loadcases.flexible.read import read_fe_model
-
     out: list[bytes] = []
     for body in mechanism.bodies.values():
         source = getattr(getattr(body, "flexible", None), "file", None)
         if source is None or local_path_problem(source.path, folder, "the mechanism") is not None:
             continue
+        # imported here: a mechanism without imported bodies loads no scipy.sparse
+        from loadcases.flexible.read import read_fe_model
+
         try:
             out += [f.read_bytes() for f in read_fe_model(folder / source.path).files]
         except (InputError, OSError):

@@ -13,7 +13,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.interpolate import CubicSpline
 
 from mechlib.contact.curve_kernels import nearest_on_cubic
 from mechlib.contact.geometry import Gap, relative_velocity, unit
@@ -37,6 +36,8 @@ class CircleProfile:
     _cubic: tuple = field(default=(), repr=False)  # the spline's breakpoints, coefficients
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
+        from scipy.interpolate import CubicSpline  # here, where the spline is built
+
         pts = np.asarray(self.points, float)
         if len(pts) < 2:
             raise ValueError("a profile needs at least 2 points")

@@ -12,8 +12,6 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from scipy.optimize import brentq
-
 __all__ = ["SeriesLaw", "series_stiffness"]
 
 _XTOL = 1e-14  # rad: far below the finite-difference steps taken on the moment
@@ -38,6 +36,8 @@ class SeriesLaw:
 
         def unbalance(h: float) -> float:
             return self.hinge(h) - self.structure * (turn - h)
+
+        from scipy.optimize import brentq  # here: building a model imports no scipy.optimize
 
         low, high = sorted((0.0, turn))
         h = brentq(unbalance, low, high, xtol=_XTOL, rtol=1e-15)

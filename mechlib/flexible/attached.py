@@ -16,14 +16,17 @@ T = diag(I, 2 G(p), I) (omega = 2 G pd), so M_q = T^T M_w T and Q_q = T^T f_w.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mechlib.flexible.modal_body import ModalBody
 from mechlib.kernels import b_matrix as d_rotate
 from mechlib.kernels import cross3, rotation_matrix
 from mechlib.kin import Kin
 from mechlib.rotation import g_matrix, omega_body, skew
+
+if TYPE_CHECKING:
+    from mechlib.flexible.modal_body import ModalBody
 
 __all__ = ["Attached", "NodeWelds"]
 
@@ -191,6 +194,9 @@ def attach_flexible(mechanism, index: dict[str, int]) -> list[Attached]:
     the order of `mechanism.flexible`."""
     out, offset = [], 0
     for name, flexible in mechanism.flexible.items():
+        # imported here (scipy.sparse): a System without flexible bodies does not load it
+        from mechlib.flexible.modal_body import ModalBody
+
         body = ModalBody(flexible.component)
         nodes = [index[flexible.node_bodies[int(i)]] for i in flexible.component.node_ids]
         out.append(Attached(name, body, index[name], offset, nodes))

@@ -1,17 +1,40 @@
 """Start-up of `loads validate` (issue 17 item 5): it loads no compiler, data frame, plotting
-or workbook library. Structural checks in a fresh interpreter, not timings: speed is
-measured by `loads bench`, never by timed unit tests."""
+or workbook library, none of SciPy's submodules (interpolate, optimize, integrate, linalg,
+sparse: the model is built and checked, never solved) and none of mechlib's solvers.
+Structural checks in a fresh interpreter, not timings: speed is measured by `loads bench`,
+never by timed unit tests."""
 
 from __future__ import annotations
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[2]
 DOOR = ROOT / "loadcases" / "library" / "door"
 HEAVY = ("numba", "pandas", "matplotlib", "openpyxl", "plotly")
+# imported only to solve, interpolate a table or build a flexible body (mechlib.tables,
+# mechlib.model_check, mechlib.flexible): a case that validates needs none of them
+SOLVER = (
+    "scipy.interpolate",
+    "scipy.optimize",
+    "scipy.integrate",
+    "scipy.linalg",
+    "scipy.sparse",
+    "scipy.special",
+    "mechlib.solve",
+    "mechlib.assembly",
+    "mechlib.linalg",
+    "mechlib.radau",
+    "mechlib.genalpha_stepper",
+    "mechlib.modes",
+    "mechlib.flexible.fe_model",
+    "loadcases.flexible.read",
+)
 
 _VALIDATE = """
 import json, sys
@@ -22,6 +45,19 @@ try:
 except SystemExit as done:
     code = done.code
 print(json.dumps({"exit": code, "loaded": sorted(m for m in %r if m in sys.modules)}))
+"""
+
+_UNITS = """
+import json, sys
+from cli.app import main
+from loadcases import units
+sys.argv = ["loads", "validate", *sys.argv[1:]]
+try:
+    main()
+except SystemExit as done:
+    code = done.code
+folder = units._registry().cache_folder
+print(json.dumps({"exit": code, "cache": None if folder is None else str(folder)}))
 """
 
 _KERNELS = """
@@ -39,13 +75,14 @@ print(json.dumps({"before": before, "after": "numba" in sys.modules,
 """
 
 
-def _python(code: str, *args: str) -> dict:
+def _python(code: str, *args: str, env: dict[str, str] | None = None) -> dict:
     done = subprocess.run(
         [sys.executable, "-c", code, *args],
         capture_output=True,
         text=True,
         cwd=ROOT,
         timeout=300,
+        env=env,
     )
     assert done.returncode == 0, done.stderr
     return json.loads(done.stdout.strip().splitlines()[-1])
@@ -57,6 +94,33 @@ def test_validate_loads_no_solver_stack() -> None:
     leaves numba, pandas, matplotlib, openpyxl and plotly unimported."""
     result = _python(_VALIDATE % (HEAVY,), str(DOOR / "opening.case.yaml"))
     assert result == {"exit": 0, "loaded": []}
+
+
+@pytest.mark.parametrize(
+    "case",
+    ["opening.case.yaml", "opened.case.yaml", "jam_gearbox.case.yaml", "jettison.case.yaml"],
+)
+def test_validate_loads_no_scipy_submodule_or_solver(case: str) -> None:
+    """`loads validate` of door cases (the door's tables, seals and contacts; kinematic,
+    static, quasi-static and dynamic) builds and checks the model without SciPy's
+    submodules or mechlib's solvers: a table builds its spline, a solver its factors, on
+    first use. (A case with a profile contact, the lifting ones, builds the profile's
+    spline when its system is made, and so imports scipy.interpolate.)"""
+    result = _python(_VALIDATE % (SOLVER,), str(DOOR / case))
+    assert result == {"exit": 0, "loaded": []}
+
+
+def test_validate_reads_the_unit_registry_from_pints_cache(tmp_path: Path) -> None:
+    """The first `loads validate` fills pint's cache of the parsed unit definitions in the
+    user cache folder; the next reads the registry from it (instead of parsing pint's
+    definitions again, about 0.2 s)."""
+    env = os.environ | {"XDG_CACHE_HOME": str(tmp_path)}
+    case = str(DOOR / "opening.case.yaml")
+    assert _python(_UNITS, case, env=env)["exit"] == 0
+    assert _python(_UNITS, case, env=env) == {
+        "exit": 0,
+        "cache": str(tmp_path / "loads" / "pint"),
+    }
 
 
 def test_interpreted_kernels_match_the_compiled_ones() -> None:

@@ -6,6 +6,7 @@ import math
 
 import pytest
 
+from loadcases import units
 from loadcases.units import UnitError, check_unit_name, to_si, unit_constant, vector_to_si
 
 MM_DEG = {"length": "mm", "angle": "deg"}
@@ -107,3 +108,85 @@ def test_unit_names_of_a_header() -> None:
         check_unit_name("deg", "length")
     with pytest.raises(UnitError, match=r"^unknown unit 'mmm'$"):
         check_unit_name("mmm", "length")
+
+
+# pint's disk cache of the parsed definitions (loadcases.units._cached_registry)
+
+
+def _every_conversion(registry) -> dict[str, tuple[float, float, str]]:
+    """(SI factor, SI offset, SI unit) of every unit and of metres and newtons under every
+    prefix; a unit pint cannot convert gives its error instead."""
+    names = [*registry._units, *(f"{p}m" for p in registry._prefixes)]
+    names += [f"{p}N" for p in registry._prefixes]
+    out = {}
+    for name in names:
+        try:
+            one = registry.Quantity(1.0, name).to_base_units()
+            zero = registry.Quantity(0.0, name).to_base_units()
+            out[name] = (one.magnitude, zero.magnitude, str(one.units))
+        except Exception as error:  # noqa: BLE001  (the error is the result to compare)
+            out[name] = (math.nan, math.nan, repr(error))
+    return out
+
+
+def _uncached():
+    import pint
+
+    registry = pint.UnitRegistry(None, autoconvert_offset_to_baseunit=False)
+    registry.load_definitions(units._definitions().splitlines())
+    registry.default_system = "mks"
+    return registry
+
+
+@pytest.fixture
+def cache_folder(tmp_path, monkeypatch):
+    folder = tmp_path / "cache" / "loads" / "pint"
+    monkeypatch.setattr(units, "_unit_cache_folder", lambda: folder)
+    return folder
+
+
+def test_cached_unit_registry_gives_the_same_numbers(cache_folder) -> None:
+    """The first registry fills the cache (its files moved in whole, then the `.ready`
+    mark), the second is read from it; both convert every unit exactly as a registry
+    parsed without the cache (factors, offsets and SI units compared bit for bit)."""
+    text = units._definitions()
+    first = units._cached_registry(text)
+    assert first is not None
+    assert len(list(cache_folder.glob("*.ready"))) == 1
+    assert len(list(cache_folder.glob("*.pickle"))) >= 1
+    assert not list(cache_folder.glob(".fill-*"))  # the private folder is gone
+    second = units._cached_registry(text)
+    assert second is not None and second.cache_folder == cache_folder
+    second.default_system = first.default_system = "mks"
+    expected = _every_conversion(_uncached())
+    assert len(expected) > 1000
+    for registry in (first, second):
+        got = _every_conversion(registry)
+        assert got.keys() == expected.keys()
+        for name, (factor, offset, unit) in expected.items():
+            assert got[name][2] == unit, name
+            assert got[name][:2] == (factor, offset) or math.isnan(factor), name
+
+
+def test_unit_cache_that_cannot_be_written_is_not_used(tmp_path, monkeypatch) -> None:
+    """A cache folder that cannot be made (a file in the way) gives no registry: the caller
+    parses the definitions as before."""
+    blocker = tmp_path / "file"
+    blocker.write_text("", encoding="utf-8")
+    monkeypatch.setattr(units, "_unit_cache_folder", lambda: blocker / "pint")
+    assert units._cached_registry(units._definitions()) is None
+
+
+def test_broken_unit_cache_is_refilled(cache_folder) -> None:
+    """A cache whose files are cut short gives no registry and loses its `.ready` mark;
+    the next registry fills it again."""
+    text = units._definitions()
+    assert units._cached_registry(text) is not None
+    for pickled in cache_folder.glob("*.pickle"):
+        pickled.write_bytes(pickled.read_bytes()[:1000])
+    assert units._cached_registry(text) is None
+    assert not list(cache_folder.glob("*.ready"))
+    refilled = units._cached_registry(text)
+    assert refilled is not None and list(cache_folder.glob("*.ready"))
+    assert units._cached_registry(text) is not None
+    assert refilled.Quantity("110 mm").to_base_units().magnitude == 0.11
