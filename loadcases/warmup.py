@@ -20,6 +20,7 @@ from loadcases.run import run_case
 LIBRARY = Path(__file__).resolve().parent / "library"
 # (case, end s, step s): short runs that call every compiled kernel
 CASES = (
+    ("verification/pendulum.case.yaml", 0.02, 0.01),  # the compiled Newton loop
     ("verification/ball_in_socket.case.yaml", 0.02, 0.01),
     ("verification/ln_restitution.case.yaml", 0.02, 0.01),
     ("door/lifting_inner_let_go.case.yaml", 0.02, 0.01),

@@ -21,8 +21,9 @@ LAYERS: tuple[frozenset[str], ...] = tuple(
     frozenset(layer.split())
     for layer in (
         "clip",  # input quoted in messages (at most 80 characters)
-        "diagnostics units atomic limits engine_hash interrupts",  # problems as data;
-        # quantities; files written whole; input limits; the engine's source hash; signals
+        "diagnostics units atomic limits engine_hash interrupts process_settings",  # problems
+        # as data; quantities; files written whole; input limits; the engine's source hash;
+        # signals; a solving process's BLAS threads and heap
         "source expressions flexible",  # YAML with positions; the expression language;
         # stiffness and mass files of flexible components (readers, reduction cache)
         "schema",  # pydantic models of the files
