@@ -47,7 +47,7 @@ class ConstraintArrays:
     def __init__(self, system):
         assert ConstraintArrays.eligible(system), "checked by the caller"
         self.system = system
-        self._key: tuple = ()
+        self._key: tuple = ()  # what `packed` was made from
         self._packed: tuple[np.ndarray, np.ndarray] = (_NO_INT, np.zeros(0))
 
     @staticmethod
@@ -65,10 +65,18 @@ class ConstraintArrays:
         """(ints, floats) of the current block and active rows (`_unpack` reads them)."""
         system = self.system
         block: CoordinateBlock = system._coordinate_rows()
-        key = (id(block), block.size, id(system.active))
-        if key != self._key:
-            self._packed, self._key = _pack(system, block), key
+        key = self._key  # the objects themselves: an id may be reused
+        if not key or key[0] is not block or key[1] != block.size or key[2] is not system.active:
+            self._packed, self._key = _pack(system, block), (block, block.size, system.active)
         return self._packed
+
+    def phi_and_jacobian(self, k) -> tuple[np.ndarray, np.ndarray]:
+        """(phi, phi_q) of the active rows at state k (mechlib.system.System's)."""
+        ints, floats = self.packed()
+        m = self.system.active.size
+        phi, jac = np.empty(m), np.empty((m, self.system.nq))
+        phi_and_jacobian(k.x, ints, floats, self.functions(k.t), self.references(), phi, jac)
+        return phi, jac
 
     def functions(self, t: float) -> np.ndarray:
         """(equations, 3): value, rate and acceleration of each coordinate equation's

@@ -21,7 +21,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any, TypeVar
 
-__all__ = ["Kernel", "compile_all", "interpreted", "njit"]
+__all__ = ["Kernel", "compile_all", "compiled", "interpreted", "njit"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -91,6 +91,12 @@ def compile_all() -> None:
                     if isinstance(value, Kernel):
                         namespace[key] = value.dispatcher
         _compiled = True
+
+
+def compiled() -> bool:
+    """Whether the kernels are numba dispatchers (after the first call of any kernel
+    outside `interpreted()`)."""
+    return _compiled
 
 
 @contextmanager

@@ -11,7 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from mechlib import kernels
+from mechlib import jit, kernels
+from mechlib.constraint_arrays import ConstraintArrays
 from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
 from mechlib.coordinate_block import CoordinateBlock
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
@@ -66,6 +67,7 @@ class System:
 
     def __init__(self, mechanism: Mechanism):
         self.mechanism = mechanism
+        self._arrays: ConstraintArrays | bool | None = False  # packed_constraints(), once
         self.body_names = list(mechanism.bodies)
         self.nb = len(self.body_names)
         self._index = {name: i for i, name in enumerate(self.body_names)}
@@ -418,8 +420,28 @@ class System:
         parts = [g.phi(k) for g in self.groups] + [self._coordinate_rows().phi(k)]
         return self._select(np.concatenate(parts))
 
+    def packed_constraints(self) -> ConstraintArrays | None:
+        """The constraint equations packed for one compiled call
+        (mechlib.constraint_arrays), once the kernels are compiled; None where the
+        system needs the grouped path (flexible bodies, curve joints) or the kernels run
+        as Python (`loads validate`)."""
+        if not jit.compiled():
+            return None
+        if self._arrays is False:
+            self._arrays = ConstraintArrays(self) if ConstraintArrays.eligible(self) else None
+        return self._arrays  # type: ignore[return-value]
+
     def phi_and_jacobian(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
-        """(phi, phi_q) in one pass over the primitive groups."""
+        """(phi, phi_q): one compiled call (`packed_constraints`) or one pass over the
+        primitive groups."""
+        arrays = self.packed_constraints()
+        if arrays is not None:
+            return arrays.phi_and_jacobian(k)
+        return self.grouped_phi_and_jacobian(k)
+
+    def grouped_phi_and_jacobian(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
+        """(phi, phi_q) by one compiled call per primitive group and the coordinate block
+        (the path of every system; the reference of the packed one)."""
         out = np.zeros((len(self._all_labels), k.ncol))
         parts, row = [], 0
         for g in self.groups:
@@ -433,6 +455,9 @@ class System:
         return self._select(np.concatenate(parts)), self.body_columns(self._select(out))
 
     def phi_q(self, k: Kin) -> np.ndarray:
+        arrays = self.packed_constraints()
+        if arrays is not None:
+            return arrays.phi_and_jacobian(k)[1]
         out = np.zeros((len(self._all_labels), k.ncol))
         row = 0
         for g in self.groups:

@@ -2,9 +2,10 @@
 mechlib.constraint_arrays) against the Python code they replace, and the motion they give
 against closed forms.
 
-- The packed constraint kernels give System.phi_and_jacobian's residuals and rows, and the
-  right sides nu and gamma, to 1e-12 at generic states (every primitive group, angles past
-  +-pi, travels, a screw, a gear and a motion; after a lock and a dropped row).
+- The packed constraint kernels give the grouped path's residuals and rows
+  (System.grouped_phi_and_jacobian), and the right sides nu and gamma, to 1e-12 at generic
+  states (every primitive group, angles past +-pi, travels, a screw, a gear and a motion;
+  after a lock and a dropped row); the system uses them once compiled.
 - The LU solve from dense getrf factors and from SuperLU's L and U equals
   mechlib.linalg.solve_factored to 1e-12.
 - Whole runs through the compiled loop and through the Python loop (`arrays = None`) take
@@ -73,7 +74,7 @@ def test_kernels_match_the_system(seed: int) -> None:
     k = system.kin(q, rng.standard_normal(system.nq), 0.7)
     for m in system._angles:  # unwrap against references a turn or more away
         m.reference = float(rng.choice([-7.0, 0.0, 7.0]))
-    phi, jac = system.phi_and_jacobian(k)
+    phi, jac = system.grouped_phi_and_jacobian(k)
     expected = (phi, jac, system.nu(k), system.gamma(k))
     for got, want in zip(_kernel_rows(system, k), expected):
         assert got.shape == want.shape
@@ -87,7 +88,7 @@ def test_kernels_follow_a_lock_and_a_dropped_row() -> None:
     system.drop_rows([3])
     q = system.design_q() + 0.1
     k = system.kin(q, np.ones(system.nq), 0.2)
-    phi, jac = system.phi_and_jacobian(k)
+    phi, jac = system.grouped_phi_and_jacobian(k)
     for got, want in zip(_kernel_rows(system, k), (phi, jac, system.nu(k), system.gamma(k))):
         assert got.shape == want.shape
         assert np.abs(got - want).max() < TOL * max(1.0, np.abs(want).max())
@@ -95,6 +96,19 @@ def test_kernels_follow_a_lock_and_a_dropped_row() -> None:
 
 def test_curve_joints_keep_the_grouped_path() -> None:
     assert not ConstraintArrays.eligible(System(_coordinate_mechanism()))
+
+
+def test_the_system_evaluates_its_rows_in_one_call() -> None:
+    """Once the kernels are compiled, System.phi_and_jacobian and phi_q are the packed
+    kernels' (equal to the grouped path to 1e-12)."""
+    system = System(_kernel_mechanism())
+    k = system.kin(system.design_q() + 0.05, np.ones(system.nq), 0.3)
+    system.grouped_phi_and_jacobian(k)  # compiles the kernels if no test did
+    assert system.packed_constraints() is not None
+    phi, jac = system.phi_and_jacobian(k)
+    want_phi, want_jac = system.grouped_phi_and_jacobian(k)
+    assert np.abs(phi - want_phi).max() < TOL and np.abs(jac - want_jac).max() < TOL
+    assert np.abs(system.phi_q(k) - want_jac).max() < TOL
 
 
 @pytest.mark.parametrize("n", [30, 160])  # dense LAPACK below 100 rows, SuperLU above
