@@ -26,6 +26,8 @@ __all__ = ["ConstraintArrays"]
 _TWO_PI = 2.0 * math.pi
 _NO_INT = np.zeros(0, dtype=np.int64)
 _NO_VEC = np.zeros((0, 3))
+_ROW_BODIES = 4  # bodies a row's columns are recorded for (more: the row is dense)
+_DENSE = -2
 
 
 def _group(groups: list, kind, width: int) -> tuple:
@@ -94,6 +96,27 @@ class ConstraintArrays:
         return np.array([m.reference for m in self.system._coordinate_rows()._angles])
 
 
+def _row_bodies(nb: int, sph, dot1, dot2, block: CoordinateBlock) -> np.ndarray:
+    """(rows, _ROW_BODIES): the moving bodies whose columns each equation's row may fill
+    (ground's are cut), -1 for none; a row of more bodies (a coordinate equation over many
+    joints) is marked _DENSE."""
+    rows = [[k] for k in range(nb)]
+    rows += [[int(i), int(j)] for i, j in zip(*sph[:2]) for _ in range(3)]
+    rows += [[int(i), int(j)] for i, j in zip(*dot1[:2])]
+    rows += [[int(i), int(j)] for i, j in zip(*dot2[:2])]
+    measures = [*block._angles, *block._travels]
+    for row in block._coefficients:
+        rows.append([b for c, m in zip(row, measures) if c != 0.0 for b in (m.bi, m.bj)])
+    out = np.full((len(rows), _ROW_BODIES), -1, dtype=np.int64)
+    for r, bodies in enumerate(rows):
+        moving = sorted({b for b in bodies if b != nb})
+        if len(moving) > _ROW_BODIES:
+            out[r, 0] = _DENSE
+        else:
+            out[r, : len(moving)] = moving
+    return out
+
+
 def _pack(system, block: CoordinateBlock) -> tuple[np.ndarray, np.ndarray]:
     """ints: a header of sizes (nb, spherical items, dot-1 rows, dot-2 rows, angles,
     travels, coordinate equations, active rows), then the body indices of each group, the
@@ -121,6 +144,7 @@ def _pack(system, block: CoordinateBlock) -> tuple[np.ndarray, np.ndarray]:
         [np.array(header, dtype=np.int64)]
         + [np.asarray(a, dtype=np.int64) for g in groups for a in g[:2]]
         + [linear, np.asarray(system.active, dtype=np.int64)]
+        + [_row_bodies(system.nb, sph, dot1, dot2, block).ravel()]
     )
     floats = np.concatenate(
         [np.asarray(a, dtype=float).ravel() for g in groups for a in g[2:]]
@@ -213,7 +237,8 @@ def _coordinate_rows(
 @njit(cache=True, nogil=True)
 def unpack(ints, floats):
     """The arrays `_pack` laid out: (nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j,
-    d2v, d2si, d2sj, ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active), views."""
+    d2v, d2si, d2sj, ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active,
+    row_bodies), views."""
     nb, ns, n1, n2, na, nt, ne, nact = ints[:8]
     o = 8
     sbi, sbj = ints[o : o + ns], ints[o + ns : o + 2 * ns]
@@ -228,6 +253,9 @@ def unpack(ints, floats):
     o += 2 * nt
     linear = ints[o : o + ne]
     active = ints[o + ne : o + ne + nact]
+    o += ne + nact
+    nall = nb + 3 * ns + n1 + n2 + ne
+    row_bodies = ints[o : o + _ROW_BODIES * nall].reshape((nall, _ROW_BODIES))
     f = 0
     ssi = floats[f : f + 3 * ns].reshape((ns, 3))
     ssj = floats[f + 3 * ns : f + 6 * ns].reshape((ns, 3))
@@ -249,7 +277,7 @@ def unpack(ints, floats):
     coef = floats[f : f + ne * (na + nt)].reshape((ne, na + nt))
     return (
         nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
-        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active,
+        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, row_bodies,
     )  # fmt: skip
 
 
@@ -259,7 +287,7 @@ def phi_and_jacobian(x, ints, floats, functions, refs, phi, jac):
     (ints, floats) from `ConstraintArrays.packed`, `functions` and `refs` at the time."""
     (
         nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
-        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active,
+        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, _,
     ) = unpack(ints, floats)  # fmt: skip
     nall = nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0] + linear.shape[0]
     full = np.zeros(nall)
@@ -278,12 +306,80 @@ def phi_and_jacobian(x, ints, floats, functions, refs, phi, jac):
 
 
 @njit(cache=True, nogil=True)
+def constraint_rows(x, ints, floats, functions, refs, full, rows):
+    """Residuals `full` (all rows) and Jacobian rows `rows` (all rows, 7 (nb+1)) at x,
+    filled only in the column blocks of each row's bodies and ground's (the rest of `rows`
+    is left as it was: read it with `times` and `transpose_times`). Returns (active rows,
+    row bodies) of the pack."""
+    (
+        nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
+        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, row_bodies,
+    ) = unpack(ints, floats)  # fmt: skip
+    g = 7 * nb
+    for r in range(full.shape[0]):
+        if row_bodies[r, 0] == _DENSE:
+            rows[r, :] = 0.0
+            continue
+        for c in range(_ROW_BODIES):
+            b = row_bodies[r, c]
+            if b >= 0:
+                rows[r, 7 * b : 7 * b + 7] = 0.0
+        rows[r, g : g + 7] = 0.0
+    first = _full_rows(
+        x, nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj, full, rows
+    )
+    _coordinate_rows(
+        x, ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, functions, refs, first, full, rows
+    )
+    return active, row_bodies
+
+
+@njit(cache=True, nogil=True)
+def transpose_times(rows, active, row_bodies, lam, out):
+    """out (7 nb,) = phi_q^T lam over the active rows of `constraint_rows`' `rows`."""
+    out[:] = 0.0
+    nq = out.shape[0]
+    for i in range(active.shape[0]):
+        r, weight = active[i], lam[i]
+        if weight == 0.0:
+            continue
+        if row_bodies[r, 0] == _DENSE:
+            for j in range(nq):
+                out[j] += weight * rows[r, j]
+            continue
+        for c in range(_ROW_BODIES):
+            b = row_bodies[r, c]
+            if b >= 0:
+                for j in range(7 * b, 7 * b + 7):
+                    out[j] += weight * rows[r, j]
+
+
+@njit(cache=True, nogil=True)
+def times(rows, active, row_bodies, v, out):
+    """out (m,) = phi_q v over the active rows of `constraint_rows`' `rows`."""
+    nq = v.shape[0]
+    for i in range(active.shape[0]):
+        r = active[i]
+        acc = 0.0
+        if row_bodies[r, 0] == _DENSE:
+            for j in range(nq):
+                acc += rows[r, j] * v[j]
+        else:
+            for c in range(_ROW_BODIES):
+                b = row_bodies[r, c]
+                if b >= 0:
+                    for j in range(7 * b, 7 * b + 7):
+                        acc += rows[r, j] * v[j]
+        out[i] = acc
+
+
+@njit(cache=True, nogil=True)
 def nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma):
     """The right sides of phi_q qd = nu and phi_q qdd = gamma of the active rows at (x, xd)
     (mechlib.constraints, mechlib.coordinates: the same formulas)."""
     (
         nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
-        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active,
+        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, _,
     ) = unpack(ints, floats)  # fmt: skip
     ns, n1, n2 = 3 * sbi.shape[0], d1i.shape[0], d2i.shape[0]
     first = nb + ns + n1 + n2

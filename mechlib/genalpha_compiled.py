@@ -121,7 +121,7 @@ def lu_solve(ints, floats, b):
 
 
 @njit(cache=True, nogil=True)
-def _dynamic_residual(x, xd, qdd, lam, jac, body, out):
+def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, out):
     """out[:nq] = M qdd + phi_q^T lam - Q (gravity and velocity terms; no element)."""
     nq = qdd.shape[0]
     nb = nq // 7
@@ -132,11 +132,10 @@ def _dynamic_residual(x, xd, qdd, lam, jac, body, out):
     forces = np.empty(nq)
     none = np.zeros((nb + 1, 3))
     kr.body_forces(x, xd, masses, inertia, gravity, none, none, True, forces)
+    reactions = np.empty(nq)
+    ca.transpose_times(rows, active, row_bodies, lam, reactions)
     for j in range(nq):
-        acc = 0.0
-        for i in range(lam.shape[0]):
-            acc += jac[i, j] * lam[i]
-        out[j] = m_qdd[j] + acc - forces[j]
+        out[j] = m_qdd[j] + reactions[j] - forces[j]
 
 
 @njit(cache=True, nogil=True)
@@ -156,18 +155,19 @@ def newton(
     kappa, stagnant, noise_position, max_iter = params[4], params[5], params[6], params[7]
     nq, m = q1.shape[0], lam1.shape[0]
     nb = nq // 7
-    phi = np.empty(m)
-    jac = np.empty((m, nq))
+    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    full = np.empty(nall)
+    rows = np.empty((nall, nq + 7))  # each iteration fills its rows' blocks only
     res = np.empty(nq + m)
     done = 0
     while True:
         x, xd = ca.state_arrays(q1, qd1, nb)
-        ca.phi_and_jacobian(x, ints, floats, functions, refs, phi, jac)
-        _dynamic_residual(x, xd, qdd1, lam1, jac, body, res)
+        active, row_bodies = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)
+        _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, res)
         for j in range(nq):
             res[j] = -res[j] / bp
         for i in range(m):
-            res[nq + i] = -phi[i]
+            res[nq + i] = -full[active[i]]
         dx = lu_solve(fi, ff, res)
         gk.correct(q1, qd1, qdd1, lam1, dx, gp, bp)
         done += 1
@@ -186,8 +186,9 @@ def newton(
             noise = math.sqrt(acc / nq) <= noise_position
         if (eta * size <= kappa and size < 1.0) or size < 1e-10 or noise:
             _true_acceleration(
-                q1, qd1, qdd1, lam1, jac, ints, floats, functions, refs, body, fi, ff, true
-            )
+                q1, qd1, qdd1, lam1, rows, active, row_bodies, ints, floats, functions, refs,
+                body, fi, ff, true,
+            )  # fmt: skip
             return CONVERGED, it, size, eta, done
         if (prev < math.inf and size > 0.9 * prev) or it >= max_iter:
             return STALLED, it, size, eta, done
@@ -195,31 +196,30 @@ def newton(
 
 
 @njit(cache=True, nogil=True)
-def _true_acceleration(q1, qd1, qdd1, lam1, jac, ints, floats, functions, refs, body, fi, ff, out):
+def _true_acceleration(
+    q1, qd1, qdd1, lam1, rows, active, row_bodies, ints, floats, functions, refs, body, fi, ff,
+    out,
+):  # fmt: skip
     """(qd, qdd, lam) on all three constraint levels, stacked into `out`, by two
     corrections with the iteration matrix (mechlib.genalpha.Integrator._true_acceleration;
-    `jac`: phi_q of the last iterate)."""
+    `rows`: phi_q of the last iterate, as `constraint_rows` left them)."""
     nq, m = q1.shape[0], lam1.shape[0]
     nb = nq // 7
     x, xd = ca.state_arrays(q1, qd1, nb)
-    nu, gamma = np.empty(m), np.empty(m)
+    nu, gamma, product = np.empty(m), np.empty(m), np.empty(m)
     ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
     rhs = np.zeros(nq + m)
+    ca.times(rows, active, row_bodies, qd1, product)
     for i in range(m):
-        acc = 0.0
-        for j in range(nq):
-            acc += jac[i, j] * qd1[j]
-        rhs[nq + i] = nu[i] - acc
+        rhs[nq + i] = nu[i] - product[i]
     fix = lu_solve(fi, ff, rhs)
     qd = qd1 + fix[:nq]
     x, xd = ca.state_arrays(q1, qd, nb)
     ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
-    _dynamic_residual(x, xd, qdd1, lam1, jac, body, rhs)
+    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, rhs)
+    ca.times(rows, active, row_bodies, qdd1, product)
     for i in range(m):
-        acc = 0.0
-        for j in range(nq):
-            acc += jac[i, j] * qdd1[j]
-        rhs[nq + i] = acc - gamma[i]
+        rhs[nq + i] = product[i] - gamma[i]
     fix = lu_solve(fi, ff, rhs)
     out[:nq] = qd
     out[nq : 2 * nq] = qdd1 - fix[:nq]
