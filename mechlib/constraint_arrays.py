@@ -50,6 +50,7 @@ class ConstraintArrays:
         assert ConstraintArrays.eligible(system), "checked by the caller"
         self.system = system
         self._key: tuple = ()  # what `packed` was made from
+        self._angle_args: tuple | None = None
         self._packed: tuple[np.ndarray, np.ndarray] = (_NO_INT, np.zeros(0))
 
     @staticmethod
@@ -91,9 +92,31 @@ class ConstraintArrays:
                 out[row] = f.value(t), f.rate(t), f.accel(t)
         return out
 
+    def commit_angles(self, k) -> None:
+        """Every angle measure of the system takes its value at state k as its unwrapping
+        reference (mechlib.coordinates.AngleMeasure.commit, in one call)."""
+        angles = self.system._angles
+        if not angles:
+            return
+        if self._angle_args is None:
+            self._angle_args = measure_args([m._sc for m in angles], 4)
+        refs = np.array([m.reference for m in angles])
+        ai, aj, au, av = self._angle_args
+        angle_values(k.x, ai, aj, au, av, refs)
+        for m, value in zip(angles, refs):
+            m.reference = float(value)
+
     def references(self) -> np.ndarray:
         """The angle measures' unwrapping references (rad), in the block's order."""
         return np.array([m.reference for m in self.system._coordinate_rows()._angles])
+
+
+def measure_args(groups: list, width: int) -> tuple:
+    """The arguments of primitive groups (the Dot1 pairs of angle measures, width 4, or the
+    Dot2 rows of travel measures, width 5) joined, empty arrays without any."""
+    if not groups:
+        return (_NO_INT,) * 2 + (_NO_VEC,) * (width - 2)
+    return tuple(np.concatenate([g.args[j] for g in groups]) for j in range(width))
 
 
 def _row_bodies(nb: int, sph, dot1, dot2, block: CoordinateBlock) -> np.ndarray:
@@ -104,7 +127,7 @@ def _row_bodies(nb: int, sph, dot1, dot2, block: CoordinateBlock) -> np.ndarray:
     rows += [[int(i), int(j)] for i, j in zip(*sph[:2]) for _ in range(3)]
     rows += [[int(i), int(j)] for i, j in zip(*dot1[:2])]
     rows += [[int(i), int(j)] for i, j in zip(*dot2[:2])]
-    measures = [*block._angles, *block._travels]
+    measures: list = [*block._angles, *block._travels]
     for row in block._coefficients:
         rows.append([b for c, m in zip(row, measures) if c != 0.0 for b in (m.bi, m.bj)])
     out = np.full((len(rows), _ROW_BODIES), -1, dtype=np.int64)
@@ -186,6 +209,17 @@ def state_arrays(q, qd, nb):
     for c in range(7):
         x[nb, c] = GROUND_Q[c]
     return x, xd
+
+
+@njit(cache=True, nogil=True)
+def angle_values(x, ai, aj, au, av, refs):
+    """Angles atan2(S, C) (rad) of the measures whose sine and cosine dot-1 pairs are
+    given, unwrapped against `refs`, written over `refs`."""
+    sc = np.empty(ai.shape[0])
+    kr.dot1_phi(x, ai, aj, au, av, sc)
+    for i in range(refs.shape[0]):
+        raw = math.atan2(sc[2 * i], sc[2 * i + 1])
+        refs[i] = raw + _TWO_PI * np.round((refs[i] - raw) / _TWO_PI)
 
 
 @njit(cache=True, nogil=True)

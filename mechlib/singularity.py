@@ -30,7 +30,7 @@ from scipy.linalg.lapack import dgetrf, dgetrs
 from scipy.sparse.linalg import splu
 
 from mechlib.check import Redundancy
-from mechlib.constraint_arrays import ConstraintArrays, scaled_rows
+from mechlib.constraint_arrays import ConstraintArrays, measure_args, scaled_rows
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.system import System
 
@@ -303,19 +303,12 @@ def _compiled_rows(arrays: ConstraintArrays, qs: np.ndarray, free: list, scale: 
     system = arrays.system
     angles = [m for _, m in free if isinstance(m, AngleMeasure)]
     travels = [m for _, m in free if isinstance(m, TravelMeasure)]
-    measures = _measure_args([m._sc for m in angles], 4) + _measure_args([m._d for m in travels], 5)
+    measures = measure_args([m._sc for m in angles], 4) + measure_args([m._d for m in travels], 5)
     order = {id(m): c for c, m in enumerate([*angles, *travels])}
     jacs = np.empty((len(qs), system.active.size, system.nq))
     grads = np.empty((len(qs), system.nq, len(free)))
     scaled_rows(np.ascontiguousarray(qs), ints, floats, scale, *measures, jacs, grads)  # type: ignore[call-arg]
     return jacs, grads[:, :, [order[id(m)] for _, m in free]]
-
-
-def _measure_args(groups: list, width: int) -> tuple:
-    """The arguments of the primitive groups `groups` joined (empty arrays without any)."""
-    if not groups:
-        return (np.zeros(0, dtype=np.int64),) * 2 + (np.zeros((0, 3)),) * (width - 2)
-    return tuple(np.concatenate([g.args[j] for g in groups]) for j in range(width))
 
 
 def _gradients(system: System, k, free: list, scale: np.ndarray) -> np.ndarray:

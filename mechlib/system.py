@@ -480,8 +480,12 @@ class System:
     def commit(self, k: Kin) -> None:
         """Accept a state: joint angles unwrap against it from now on, and elements with a
         memory (`commit(view)`: a contact's approach speed, a stick point) update it."""
-        for m in self._angles:
-            m.commit(k)
+        arrays = self.packed_constraints()
+        if arrays is not None:
+            arrays.commit_angles(k)
+        else:
+            for m in self._angles:
+                m.commit(k)
         if self._remembering:
             view = self.view(k)
             for element in self._remembering:

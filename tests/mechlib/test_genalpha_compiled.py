@@ -269,3 +269,23 @@ def test_toggle_rows_from_the_kernels_equal_the_python_rows(monkeypatch) -> None
     assert [row.keys() for row in sines] == [row.keys() for row in sines_py]
     assert max(abs(a[key] - b[key]) for a, b in zip(sines, sines_py) for key in a) < TOL
     assert any("near-singular position" in w for w in sol.warnings)
+
+
+def test_angles_commit_in_one_call() -> None:
+    """System.commit unwraps every joint angle against its reference in one kernel call:
+    the same references as each AngleMeasure.commit (to 1e-12 rad), a turn or more away."""
+    system = System(_kernel_mechanism())
+    rng = np.random.default_rng(5)
+    k = system.kin(system.design_q() + 0.3 * rng.standard_normal(system.nq), None, 0.0)
+    start = {id(m): float(rng.choice([-7.0, 0.0, 7.0])) for m in system._angles}
+    for m in system._angles:
+        m.reference = start[id(m)]
+        m.commit(k)
+    want = [m.reference for m in system._angles]
+    for m in system._angles:
+        m.reference = start[id(m)]
+    arrays = ConstraintArrays(system)
+    arrays.commit_angles(k)
+    got = [m.reference for m in system._angles]
+    assert len(got) >= 3 and max(abs(a) for a in got) > math.pi
+    assert np.abs(np.array(got) - np.array(want)).max() < TOL
