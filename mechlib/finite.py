@@ -8,14 +8,26 @@ and only then are the elements evaluated one by one to name the culprit.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 import numpy as np
 
 from mechlib.contract import Status
+from mechlib.jit import njit
 from mechlib.solution import SolverFailure
 
 __all__ = ["check_recorded_state", "explain_failure", "nonfinite_channel", "nonfinite_force"]
+
+
+@njit(cache=True, nogil=True)
+def _all_finite(q, qd, qdd, lam) -> bool:
+    """Whether every value of the four state arrays is finite (one pass, no temporaries)."""
+    for array in (q, qd, qdd, lam):
+        for value in array:
+            if not math.isfinite(value):
+                return False
+    return True
 
 
 def _first_bad(*arrays: np.ndarray) -> float | None:
@@ -54,7 +66,8 @@ def nonfinite_force(
 def check_recorded_state(system, t: float, q, qd, qdd, lam) -> None:
     """SolverFailure if a state about to be recorded is not finite, naming the force element
     that gave a non-finite value when there is one."""
-    if _first_bad(q, qd, qdd, lam) is None:
+    q, qd, qdd, lam = (np.asarray(a, dtype=float).ravel() for a in (q, qd, qdd, lam))
+    if _all_finite(q, qd, qdd, lam) or _first_bad(q, qd, qdd, lam) is None:
         return
     found = nonfinite_force(
         system, np.asarray(q, float), np.asarray(qd, float), t, np.asarray(lam, float)

@@ -265,9 +265,10 @@ class Integrator:
         scales = self.scales
         params = np.array(
             [bp, gp, scales.tol, ROUNDOFF, _NEWTON_KAPPA, _STAGNANT, _NOISE_POSITION, _MAX_ITER]
+            + [c.alpha_m, c.alpha_f]
         )
         nq = sys.nq
-        true = np.empty(2 * nq + lam1.shape[0])
+        true = np.empty(3 * nq + lam1.shape[0])  # qd, qdd, lam on three levels; a
         while True:
             if rebuild:
                 try:
@@ -279,17 +280,16 @@ class Integrator:
                 rebuild, prev = False, math.inf
             status, it, prev, eta, done = newton(
                 q1, qd1, qdd1, lam1, ints, floats, functions, refs, self._bodies,
-                *self._factor_data(), scales.q_abs, scales.a_ref, params, it, prev, eta, true,
+                *self._factor_data(), scales.q_abs, scales.a_ref, params, it, prev, eta, qdd, a,
+                true,
             )  # fmt: skip
             self.stats.newton_iterations += done
             if status == CONVERGED:
                 self.eta = max(eta, _ETA_MIN) ** 0.8
                 if it > _SLOW_ITERATIONS:
                     self.stale = True
-                a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (
-                    1.0 - c.alpha_m
-                )
-                return q1, qd1, qdd1, a1, lam1, (true[:nq], true[nq : 2 * nq], true[2 * nq :])
+                qd_true, qdd_true, lam_true, a1 = np.split(true, [nq, 2 * nq, 2 * nq + lam.size])
+                return q1, qd1, qdd1, a1, lam1, (qd_true, qdd_true, lam_true)
             if refreshed:
                 break
             rebuild = fresh = True  # an old iteration matrix: refresh it once, go on

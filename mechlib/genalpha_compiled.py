@@ -141,14 +141,15 @@ def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, out):
 @njit(cache=True, nogil=True)
 def newton(
     q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
-    it, prev, eta, true,
+    it, prev, eta, qdd, a, true,
 ):  # fmt: skip
     """Newton iterations on (q1, qd1, qdd1, lam1), in place, with fixed LU factors (fi, ff)
     from iteration `it` with the last increment size `prev` and rate estimate `eta`, as
     mechlib.genalpha.Integrator.step does them; params: (beta', gamma', tolerance,
-    round-off, kappa, stagnation ratio, noise position, most iterations). Stops on
-    convergence (CONVERGED: `true` then holds the state's (qd, qdd, lam) on all three
-    constraint levels, stacked) or when the increments stop shrinking fast enough or the
+    round-off, kappa, stagnation ratio, noise position, most iterations, alpha_m, alpha_f).
+    Stops on convergence (CONVERGED: `true` then holds the state's (qd, qdd, lam) on all
+    three constraint levels and the new pseudo-acceleration a from the step's start values
+    (qdd, a), stacked) or when the increments stop shrinking fast enough or the
     iterations run out (STALLED: the caller refactors or gives up). Returns
     (status, it, prev, eta, iterations done)."""
     bp, gp, tol, roundoff = params[0], params[1], params[2], params[3]
@@ -189,6 +190,9 @@ def newton(
                 q1, qd1, qdd1, lam1, rows, active, row_bodies, ints, floats, functions, refs,
                 body, fi, ff, true,
             )  # fmt: skip
+            am, af = params[8], params[9]
+            for j in range(nq):
+                true[2 * nq + m + j] = ((1.0 - af) * qdd1[j] + af * qdd[j] - am * a[j]) / (1.0 - am)
             return CONVERGED, it, size, eta, done
         if (prev < math.inf and size > 0.9 * prev) or it >= max_iter:
             return STALLED, it, size, eta, done
@@ -223,4 +227,4 @@ def _true_acceleration(
     fix = lu_solve(fi, ff, rhs)
     out[:nq] = qd
     out[nq : 2 * nq] = qdd1 - fix[:nq]
-    out[2 * nq :] = lam1 - fix[nq:]
+    out[2 * nq : 2 * nq + m] = lam1 - fix[nq:]
