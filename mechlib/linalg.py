@@ -45,10 +45,22 @@ class SaddlePattern:
         self.indptr = np.searchsorted(cols, np.arange(n + 1)).astype(np.int32)
         self.indices = rows.astype(np.int32)
 
-    def csc(self, dense: np.ndarray) -> sp.csc_matrix:
-        return sp.csc_matrix(
-            (dense[self.rows, self.cols], self.indices, self.indptr), shape=self.shape
-        )
+        # where each structural nonzero comes from: top, jac^T (upper right), jac (lower left)
+        nq = top.shape[0]
+        self._top = np.flatnonzero((rows < nq) & (cols < nq))
+        self._upper = np.flatnonzero((rows < nq) & (cols >= nq))
+        self._lower = np.flatnonzero((rows >= nq) & (cols < nq))
+        self._nq = nq
+
+    def saddle_csc(self, top: np.ndarray, jac: np.ndarray) -> sp.csc_matrix:
+        """[[top, jac^T], [jac, 0]] on the pattern, gathered from `top` and `jac` without
+        forming the dense saddle matrix ((nq + m)^2 entries: 10 MB for a 100-link chain)."""
+        rows, cols, nq = self.rows, self.cols, self._nq
+        values = np.zeros(rows.size)
+        values[self._top] = top[rows[self._top], cols[self._top]]
+        values[self._upper] = jac[cols[self._upper] - nq, rows[self._upper]]
+        values[self._lower] = jac[rows[self._lower] - nq, cols[self._lower]]
+        return sp.csc_matrix((values, self.indices, self.indptr), shape=self.shape)
 
 
 class _Sparse:
@@ -71,20 +83,20 @@ def factor_saddle(
     """Factors of [[top, jac^T - coupling], [jac, 0]] (None when singular). `pattern`
     must cover the nonzeros of every matrix given with it; large systems without a
     `coupling` (dQ/dlam of reaction-dependent loads) then use sparse LU."""
-    matrix = augmented(top, jac)
     if coupling is not None:
+        matrix = augmented(top, jac)
         matrix[: top.shape[0], top.shape[0] :] -= coupling
         return factor(matrix)
-    if pattern is not None and matrix.shape[0] >= SPARSE_FROM:
+    if pattern is not None and top.shape[0] + jac.shape[0] >= SPARSE_FROM:
         count(factorizations=1)
         try:
-            factors = splu(pattern.csc(matrix), permc_spec="COLAMD")
+            factors = splu(pattern.saddle_csc(top, jac), permc_spec="COLAMD")
         except RuntimeError:  # exactly singular: the dense path names the culprits
-            return factor(matrix)
+            return factor(augmented(top, jac))
         diag = np.abs(factors.U.diagonal())
         if diag.min() > SINGULAR_RATIO * diag.max() and np.isfinite(diag).all():
             return _Sparse(factors)
-    return factor(matrix)
+    return factor(augmented(top, jac))
 
 
 def augmented(top: np.ndarray, jac: np.ndarray) -> np.ndarray:
