@@ -92,6 +92,22 @@ class ConstraintArrays:
                 out[row] = f.value(t), f.rate(t), f.accel(t)
         return out
 
+    def nu_and_gamma(self, k) -> tuple[np.ndarray, np.ndarray]:
+        """(nu, gamma) of the active rows at state k (right sides of phi_q qd = nu and
+        phi_q qdd = gamma)."""
+        ints, floats = self.packed()
+        m = self.system.active.size
+        nu, gamma = np.empty(m), np.empty(m)
+        nu_and_gamma(k.x, k.xd, ints, floats, self.functions(k.t), self.references(), nu, gamma)
+        return nu, gamma
+
+    def phi(self, k) -> np.ndarray:
+        """phi of the active rows at state k, without the Jacobian."""
+        ints, floats = self.packed()
+        out = np.empty(self.system.active.size)
+        phi_values(k.x, ints, floats, self.functions(k.t), self.references(), out)
+        return out
+
     def commit_angles(self, k) -> None:
         """Every angle measure of the system takes its value at state k as its unwrapping
         reference (mechlib.coordinates.AngleMeasure.commit, in one call)."""
@@ -337,6 +353,35 @@ def phi_and_jacobian(x, ints, floats, functions, refs, phi, jac):
         phi[i] = full[active[i]]
         for j in range(nq):
             jac[i, j] = rows[active[i], j]
+
+
+@njit(cache=True, nogil=True)
+def phi_values(x, ints, floats, functions, refs, phi):
+    """phi (m,) of the active rows at x (nb+1, 7), without the Jacobian rows."""
+    (
+        nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
+        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, _,
+    ) = unpack(ints, floats)  # fmt: skip
+    ns, n1, n2 = 3 * sbi.shape[0], d1i.shape[0], d2i.shape[0]
+    first = nb + ns + n1 + n2
+    full = np.empty(first + linear.shape[0])
+    kr.norm_phi(x, nb, full[:nb])
+    kr.sph_phi(x, sbi, sbj, ssi, ssj, full[nb : nb + ns])
+    kr.dot1_phi(x, d1i, d1j, d1u, d1v, full[nb + ns : nb + ns + n1])
+    kr.dot2_phi(x, d2i, d2j, d2v, d2si, d2sj, full[nb + ns + n1 : first])
+    if linear.shape[0]:
+        na = refs.shape[0]
+        values = np.empty(na + ti.shape[0])
+        values[:na] = refs
+        angle_values(x, ai, aj, au, av, values[:na])
+        kr.dot2_phi(x, ti, tj, tv, tsi, tsj, values[na:])
+        for e in range(linear.shape[0]):
+            acc = 0.0
+            for m in range(values.shape[0]):
+                acc += coef[e, m] * values[m]
+            full[first + linear[e]] = acc - functions[e, 0]
+    for i in range(active.shape[0]):
+        phi[i] = full[active[i]]
 
 
 @njit(cache=True, nogil=True)

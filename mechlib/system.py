@@ -417,6 +417,9 @@ class System:
         return block
 
     def phi(self, k: Kin) -> np.ndarray:
+        arrays = self.packed_constraints()
+        if arrays is not None:
+            return arrays.phi(k)
         parts = [g.phi(k) for g in self.groups] + [self._coordinate_rows().phi(k)]
         return self._select(np.concatenate(parts))
 
@@ -473,6 +476,9 @@ class System:
         return self._select(out)
 
     def gamma(self, k: Kin) -> np.ndarray:
+        arrays = self.packed_constraints()
+        if arrays is not None:
+            return arrays.nu_and_gamma(k)[1]
         parts = [g.gamma(k) for g in self.groups]
         parts.append(self._coordinate_rows().gamma(k))
         return self._select(np.concatenate(parts))

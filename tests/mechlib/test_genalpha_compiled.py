@@ -109,6 +109,11 @@ def test_the_system_evaluates_its_rows_in_one_call() -> None:
     want_phi, want_jac = system.grouped_phi_and_jacobian(k)
     assert np.abs(phi - want_phi).max() < TOL and np.abs(jac - want_jac).max() < TOL
     assert np.abs(system.phi_q(k) - want_jac).max() < TOL
+    assert np.abs(system.phi(k) - want_phi).max() < TOL
+    groups = np.concatenate([g.gamma(k) for g in system.groups])
+    block = system._coordinate_rows().gamma(k)
+    want_gamma = np.concatenate([groups, block])[system.active]
+    assert np.abs(system.gamma(k) - want_gamma).max() < TOL * np.abs(want_gamma).max()
 
 
 @pytest.mark.parametrize("n", [30, 160])  # dense LAPACK below 100 rows, SuperLU above
