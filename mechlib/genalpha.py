@@ -169,17 +169,11 @@ class Integrator:
         if self.arrays is not None and not any(e.active for e in self.system.elements):
             return self._compiled_step(t, h, q, qd, qdd, a, lam)
         c, sys = self.c, self.system
-        bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
-        gp = c.gamma / (h * c.beta)
-        q1, qd1, qdd1 = predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
-        lam1 = lam.copy()
-        t1 = t + h
-        # a new differenced tangent after a failure or slow convergence; a step-size change
-        # refactors; elements with their own tangent (contacts: stiffness and friction slope
-        # change from step to step) have it re-evaluated at every step
-        fresh = self.lu is None or self.stale
+        bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
+        # a step-size change refactors; elements with their own tangent (contacts:
+        # stiffness and friction slope change from step to step) have it re-evaluated at
+        # every step
         rebuild = fresh or abs(h / self.lu_h - 1.0) > 0.25 or bool(self.own)
-        self.stale = False
         refreshed, prev, it = False, math.inf, 0
         eta = self.eta
         while it < _MAX_ITER:
@@ -245,20 +239,26 @@ class Integrator:
         sys.states.reject()
         return None
 
+    def _predicted(self, t, h, q, qd, qdd, a, lam) -> tuple:
+        """(beta', gamma', q1, qd1, qdd1, lam1, t + h, fresh): the predictor of a step h
+        from t and whether the differenced tangent is made afresh (no matrix, or the last
+        step failed or converged slowly)."""
+        c = self.c
+        bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
+        gp = c.gamma / (h * c.beta)
+        q1, qd1, qdd1 = predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
+        fresh = self.lu is None or self.stale
+        self.stale = False
+        return bp, gp, q1, qd1, qdd1, lam.copy(), t + h, fresh
+
     def _compiled_step(self, t, h, q, qd, qdd, a, lam):
         """`step` with the Newton iterations between factorisations and the three-level
         correction compiled (mechlib.genalpha_compiled): the same iteration, decisions and
         results (to round-off) for a system with no active element."""
         c, sys, arrays = self.c, self.system, self.arrays
         assert arrays is not None and self.scales is not None, "checked by step; set by init"
-        bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
-        gp = c.gamma / (h * c.beta)
-        q1, qd1, qdd1 = predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
-        lam1 = lam.copy()
-        t1 = t + h
-        fresh = self.lu is None or self.stale
+        bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
         rebuild = fresh or abs(h / self.lu_h - 1.0) > 0.25
-        self.stale = False
         refreshed, prev, it, eta = False, math.inf, 0, self.eta
         ints, floats = arrays.packed()
         functions, refs = arrays.functions(t1), arrays.references()
