@@ -9,8 +9,9 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.augmented import augmented_accelerations
-from mechlib.linalg import factor_saddle, singular_failure, solve_factored
+from mechlib.linalg import singular_failure, solve_factored
 from mechlib.reaction_loads import accelerations_and_reactions
+from mechlib.saddle import rigid_saddle_factors
 from mechlib.system import System
 
 __all__ = ["consistent_accelerations", "consistent_state"]
@@ -23,7 +24,7 @@ def consistent_state(system: System, q, qd, t: float, *, project: bool = True):
     with the joint friction they load (`mechlib.reaction_loads`)."""
     k = system.kin(q, qd, t)
     jac = system.phi_q(k)
-    lu = factor_saddle(system.mass(k), jac, system.saddle_pattern())
+    lu = rigid_saddle_factors(system, k)
     if lu is None:  # a singular position: the bounded augmented-Lagrangian solution
         return _at_singular(system, k, jac, qd, t)
     drift = system.nu(k) - jac @ qd

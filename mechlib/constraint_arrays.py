@@ -51,6 +51,7 @@ class ConstraintArrays:
         self.system = system
         self._key: tuple = ()  # what `packed` was made from
         self._angle_args: tuple | None = None
+        self._bodies: np.ndarray | None = None
         self._packed: tuple[np.ndarray, np.ndarray] = (_NO_INT, np.zeros(0))
 
     @staticmethod
@@ -91,6 +92,16 @@ class ConstraintArrays:
             if f is not None:
                 out[row] = f.value(t), f.rate(t), f.accel(t)
         return out
+
+    def bodies(self) -> np.ndarray:
+        """The rigid bodies' mass terms in one array for the kernels: gravity (3), masses
+        (nb), the Euler parameters' normalising scale (nb), inertia tensors (nb x 9)."""
+        if self._bodies is None:
+            system = self.system
+            self._bodies = np.concatenate(
+                [system.gravity, system.masses, system._pscale, system.inertia.ravel()]
+            ).astype(float)
+        return self._bodies
 
     def nu_and_gamma(self, k) -> tuple[np.ndarray, np.ndarray]:
         """(nu, gamma) of the active rows at state k (right sides of phi_q qd = nu and

@@ -28,10 +28,11 @@ import numpy as np
 from mechlib.analysis import Dynamic
 from mechlib.constraint_arrays import ConstraintArrays
 from mechlib.fd_columns import ColumnSkips
-from mechlib.genalpha_compiled import CONVERGED, body_data, factor_data, newton
+from mechlib.genalpha_compiled import CONVERGED, factor_data, newton
 from mechlib.genalpha_kernels import ROUNDOFF, Scales, correct, predict
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.reaction_loads import reaction_coupling
+from mechlib.saddle import rigid_saddle_factors
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 from mechlib.work import count
@@ -90,7 +91,6 @@ class Integrator:
             else None
         )
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
-        self._bodies = body_data(system) if self.arrays is not None else None
 
     def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):
         """Factor the iteration matrix at step h, state k and multipliers lam: the
@@ -99,25 +99,24 @@ class Integrator:
         depend on the reactions (joint friction) beside phi_q^T."""
         c, sys = self.c, self.system
         count(jacobian_evaluations=1)
+        if not self.stiff:  # [[M, phi_q^T], [phi_q, 0]], gathered on its pattern
+            lu = rigid_saddle_factors(sys, k)
+            if lu is None:
+                raise singular_failure(sys, sys.phi_q(k), k.t, "dynamic analysis failed")
+            self.lu, self.lu_h = lu, h
+            return
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
         jac = sys.phi_q(k)
-        top = sys.mass(k)
-        if self.stiff:
-            own = self.own
-            if fresh or self.tangent is None:
-                self.tangent = self._differenced_tangent(k, own, lam, jac, h)
-            stiffness, damping = (m.copy() for m in self.tangent) if own else self.tangent
-            if own:
-                view = sys.view(k)
-                for element in own:
-                    element.tangent(view, stiffness, damping)
-            top = top + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
-        lu = factor_saddle(
-            top,
-            jac,
-            None if self.stiff else sys.saddle_pattern(),
-            coupling=reaction_coupling(sys, k, lam, jac),
-        )
+        own = self.own
+        if fresh or self.tangent is None:
+            self.tangent = self._differenced_tangent(k, own, lam, jac, h)
+        stiffness, damping = (m.copy() for m in self.tangent) if own else self.tangent
+        if own:
+            view = sys.view(k)
+            for element in own:
+                element.tangent(view, stiffness, damping)
+        top = sys.mass(k) + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
+        lu = factor_saddle(top, jac, None, coupling=reaction_coupling(sys, k, lam, jac))
         if lu is None:
             raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
         self.lu, self.lu_h = lu, h
@@ -279,7 +278,7 @@ class Integrator:
                 refreshed = refreshed or fresh or not self.stiff
                 rebuild, prev = False, math.inf
             status, it, prev, eta, done = newton(
-                q1, qd1, qdd1, lam1, ints, floats, functions, refs, self._bodies,
+                q1, qd1, qdd1, lam1, ints, floats, functions, refs, arrays.bodies(),
                 *self._factor_data(), scales.q_abs, scales.a_ref, params, it, prev, eta, qdd, a,
                 true,
             )  # fmt: skip

@@ -23,7 +23,7 @@ from mechlib import genalpha_kernels as gk
 from mechlib import kernels as kr
 from mechlib.jit import njit
 
-__all__ = ["CONVERGED", "STALLED", "body_data", "factor_data", "newton"]
+__all__ = ["CONVERGED", "STALLED", "factor_data", "newton"]
 
 CONVERGED, STALLED = 1, 2
 
@@ -53,14 +53,6 @@ def factor_data(lu) -> tuple[np.ndarray, np.ndarray]:
         ]
     ).astype(np.int64)
     return ints, np.concatenate([lower.data, upper.data])
-
-
-def body_data(system) -> np.ndarray:
-    """The rigid bodies' mass terms in one array: gravity (3), masses (nb), the Euler
-    parameters' normalising scale (nb), inertia tensors (nb x 9)."""
-    return np.concatenate(
-        [system.gravity, system.masses, system._pscale, system.inertia.ravel()]
-    ).astype(float)
 
 
 @njit(cache=True, nogil=True)

@@ -28,6 +28,7 @@ __all__ = [
     "dot2_jac",
     "dot2_phi",
     "dot2_rate",
+    "mass_blocks",
     "mass_matrix",
     "mass_times",
     "norm_gamma",
@@ -341,15 +342,15 @@ def mass_times(x, masses, inertia, scale, vec, out):
 
 
 @njit(**_JIT)
-def mass_matrix(x, masses, inertia, scale, out):
-    """Dense M(q) (nq, nq), block diagonal."""
+def mass_blocks(x, masses, inertia, scale, out):
+    """The diagonal blocks (nb, 7, 7) of M(q): m I for r, 4 G^T J' G + scale p p^T for p."""
     unit = np.zeros(4)
     w = np.empty(3)
     g4 = np.empty(4)
     for b in range(masses.shape[0]):
-        o = 7 * b
+        out[b] = 0.0
         for c in range(3):
-            out[o + c, o + c] = masses[b]
+            out[b, c, c] = masses[b]
         p = x[b, 3:]
         for d in range(4):
             unit[:] = 0.0
@@ -357,7 +358,19 @@ def mass_matrix(x, masses, inertia, scale, out):
             _g_times(p, unit, w)
             _gt_times(p, inertia[b] @ w, 1.0, g4)
             for e in range(4):
-                out[o + 3 + e, o + 3 + d] = 4.0 * g4[e] + scale[b] * p[e] * p[d]
+                out[b, 3 + e, 3 + d] = 4.0 * g4[e] + scale[b] * p[e] * p[d]
+
+
+@njit(**_JIT)
+def mass_matrix(x, masses, inertia, scale, out):
+    """Dense M(q) (nq, nq), block diagonal (`mass_blocks` on the diagonal)."""
+    blocks = np.empty((masses.shape[0], 7, 7))
+    mass_blocks(x, masses, inertia, scale, blocks)
+    for b in range(masses.shape[0]):
+        o = 7 * b
+        for c in range(7):
+            for d in range(7):
+                out[o + c, o + d] = blocks[b, c, d]
 
 
 @njit(**_JIT)

@@ -7,6 +7,8 @@ smaller ones by dense LAPACK, which is faster there.
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 import scipy.sparse as sp
 from scipy.linalg.lapack import dgecon as _gecon
@@ -28,6 +30,7 @@ __all__ = [
     "factor_saddle",
     "singular_failure",
     "solve_factored",
+    "sparse_saddle_factors",
 ]
 
 SINGULAR_RATIO = 1e-14
@@ -88,15 +91,22 @@ def factor_saddle(
         matrix[: top.shape[0], top.shape[0] :] -= coupling
         return factor(matrix)
     if pattern is not None and top.shape[0] + jac.shape[0] >= SPARSE_FROM:
-        count(factorizations=1)
-        try:
-            factors = splu(pattern.saddle_csc(top, jac), permc_spec="COLAMD")
-        except RuntimeError:  # exactly singular: the dense path names the culprits
-            return factor(augmented(top, jac))
-        diag = np.abs(factors.U.diagonal())
-        if diag.min() > SINGULAR_RATIO * diag.max() and np.isfinite(diag).all():
-            return _Sparse(factors)
+        return sparse_saddle_factors(pattern.saddle_csc(top, jac), lambda: augmented(top, jac))
     return factor(augmented(top, jac))
+
+
+def sparse_saddle_factors(matrix: sp.csc_matrix, dense: Callable[[], np.ndarray]):
+    """SuperLU factors of a saddle matrix; where they are singular or badly pivoted, the
+    dense path's (`dense()`: the same matrix dense), which names the culprits."""
+    count(factorizations=1)
+    try:
+        factors = splu(matrix, permc_spec="COLAMD")
+    except RuntimeError:  # exactly singular: the dense path names the culprits
+        return factor(dense())
+    diag = np.abs(factors.U.diagonal())
+    if diag.min() > SINGULAR_RATIO * diag.max() and np.isfinite(diag).all():
+        return _Sparse(factors)
+    return factor(dense())
 
 
 def augmented(top: np.ndarray, jac: np.ndarray) -> np.ndarray:
