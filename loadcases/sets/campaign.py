@@ -286,14 +286,16 @@ def _polar_plots(runs: list[SavedRun], directory: Path) -> list[Path]:
 def _plots(curves: list[EnvelopeCurve], directory: Path) -> Iterator[Callable[[], list[Path]]]:
     """PNG envelope plots of each family's main columns next to the workbook; yields the
     function that returns their paths. A large set's plots are drawn by one process per
-    core (about 0.07 s each), started on entry (they import matplotlib where this process
-    has not, see _import_report_modules): they draw while the caller writes the CSV files
-    and the workbook, and the function waits for them."""
+    core (about 0.07 s each), forked on entry after this process has imported matplotlib
+    (already done while the runs were solved: _import_report_modules): they draw while the
+    caller writes the CSV files and the workbook, and the function waits for them."""
     chosen = plot_curves(curves)
     workers = min(os.cpu_count() or 1, len(chosen) // _PLOTS_PER_PROCESS)
     if workers <= 1:
         yield lambda: _draw_plots(chosen, directory)
         return
+    import loadcases.report.plots  # noqa: F401  (matplotlib once, here: the workers inherit it)
+
     chunks = [chosen[i::workers] for i in range(workers)]
     with ProcessPoolExecutor(max_workers=workers) as pool:
         futures = [pool.submit(_draw_plots, chunk, directory) for chunk in chunks]
@@ -307,7 +309,7 @@ def _plots(curves: list[EnvelopeCurve], directory: Path) -> Iterator[Callable[[]
 
 
 def _draw_plots(curves: list[dict[str, object]], directory: Path) -> list[Path]:
-    """`write_envelope_plots` (matplotlib imported here, in the process that draws)."""
+    """`write_envelope_plots` (matplotlib imported only where plots are drawn)."""
     from loadcases.report.plots import write_envelope_plots
 
     return list(write_envelope_plots(curves, directory))
