@@ -8,9 +8,11 @@ DESIGN.md). Shared by Newton (mechlib.static) and pseudo-transient continuation
 
 from __future__ import annotations
 
+import weakref
+
 import numpy as np
 
-from mechlib.fd_columns import ColumnSkips
+from mechlib.fd_columns import ColumnSkips, JacobianClasses
 from mechlib.system import System
 from mechlib.work import count
 
@@ -18,6 +20,9 @@ __all__ = ["FD_STEP", "Balance"]
 
 FD_STEP = 1e-7
 """Forward-difference step of the stiffness, relative to max(1, |q_j|)."""
+
+# per system: the Jacobian classes of its current equations (by their labels)
+_CLASSES: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 class Balance:
@@ -37,6 +42,7 @@ class Balance:
             e for e in system.elements if getattr(e, "has_tangent", False) and e.friction is None
         ]
         self._skips = ColumnSkips(system, {id(e) for e in self._compiled})
+        self._classes = _jacobian_classes(system)
         weight = abs(system.total_mass) * max(float(np.linalg.norm(system.gravity)), 1.0)
         applied = system.forces(system.kin(q0, None, t), inertia=False)
         self.scale = max(weight, np.abs(applied).max(initial=0.0), 1.0)
@@ -56,32 +62,63 @@ class Balance:
         out the elements whose forces depend on other bodies only (`state_bodies`,
         mechlib.fd_columns), which it cannot change; the rest is evaluated as a whole, but
         for the frictionless primitive contacts, which add their own tangent
-        (Contact.tangent)."""
-        system, t = self.system, self.t
+        (Contact.tangent). The constraint Jacobian at a column's perturbed q is the base one
+        with the rows of the body's equations taken from an evaluation shared by bodies
+        that no equation joins (mechlib.fd_columns.JacobianClasses): the same matrix, from
+        (for the door) 21 evaluations instead of 105."""
+        system, t, nq = self.system, self.t, self.system.nq
         count(jacobian_evaluations=1)
-        out = np.empty((system.nq, system.nq))
+        out = np.empty((nq, nq))
         k0 = system.kin(q, None, t)
-        reaction0 = system.phi_q(k0).T @ lam
+        jac0 = system.phi_q(k0)
+        reaction0 = jac0.T @ lam
+        steps = FD_STEP * np.maximum(1.0, np.abs(q))
+        classes = self._classes
+        shared = None if classes is None else self._shared_jacobians(classes, q, steps)
+        work = jac0.copy()
         base: dict[frozenset[int], np.ndarray] = {}
-        for j in range(system.nq):
+        for j in range(nq):
             body = self._skips.body(j)
             skip = self._skips.skip(body)
             if skip not in base:  # bodies that leave out the same elements share it
                 base[skip] = reaction0 - system.forces(k0, inertia=False, lam=lam, skip=skip)
-            dq = np.zeros(system.nq)
-            dq[j] = FD_STEP * max(1.0, abs(q[j]))
+            dq = np.zeros(nq)
+            dq[j] = steps[j]
             k = system.kin(q + dq, None, t)
+            if classes is None or shared is None or body < 0:
+                jac = system.phi_q(k)
+            else:  # the base Jacobian but the rows of the body's equations, as evaluated at k
+                rows = classes.rows[body]
+                work[rows] = shared[body][j % system.per_body][rows]
+                jac = work
             out[:, j] = (
-                system.phi_q(k).T @ lam
-                - system.forces(k, inertia=False, lam=lam, skip=skip)
-                - base[skip]
+                jac.T @ lam - system.forces(k, inertia=False, lam=lam, skip=skip) - base[skip]
             ) / dq[j]
+            if jac is work:
+                work[rows] = jac0[rows]
         if self._compiled:
             view, damping = system.view(k0, lam), np.zeros_like(out)  # at rest: unused
             for element in self._compiled:
                 if element.active:
                     element.tangent(view, out, damping)
         return out
+
+    def _shared_jacobians(
+        self, classes: JacobianClasses, q: np.ndarray, steps: np.ndarray
+    ) -> dict[int, list[np.ndarray]]:
+        """{body: [phi_q at q + the steps of coordinate c of every body of the body's
+        class, for each c]}."""
+        system, per_body = self.system, self.system.per_body
+        found: dict[int, list[np.ndarray]] = {}
+        for bodies in classes.classes:
+            jacobians = []
+            for c in range(per_body):
+                dq = np.zeros(system.nq)
+                for b in bodies:
+                    dq[per_body * b + c] = steps[per_body * b + c]
+                jacobians.append(system.phi_q(system.kin(q + dq, None, self.t)))
+            found.update(dict.fromkeys(bodies, jacobians))
+        return found
 
     def size(self, res: np.ndarray) -> float:
         """Euclidean norm of R with the forces divided by `scale` (-)."""
@@ -97,3 +134,14 @@ class Balance:
             and np.abs(res[nq:]).max(initial=0) < tol
             and np.abs(step[:nq]).max(initial=0) < 1e-8
         )
+
+
+def _jacobian_classes(system: System) -> JacobianClasses | None:
+    """JacobianClasses.of(system), found once per set of equations (an event may add or
+    drop some)."""
+    key = tuple(system.labels)
+    cached = _CLASSES.get(system)
+    if cached is None or cached[0] != key:
+        cached = (key, JacobianClasses.of(system))
+        _CLASSES[system] = cached
+    return cached[1]

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mechlib.analysis import Static, Trajectory
-from mechlib.assembly import solve_accelerations, solve_velocities
+from mechlib.assembly import solve_rates
 from mechlib.contract import State, Status, Stepper, StepResult
 from mechlib.equilibrium import Tangent, equilibrium
 from mechlib.solution import SolverFailure, SolverStats
@@ -93,9 +93,7 @@ class QuasiStaticStepper(Stepper):
     def _state(self, q, lam, t: float, q_prev, t_prev: float, tangent: Tangent) -> State:
         """The equilibrium (q, lam) at t as a state, after q_prev at t_prev, with the
         stiffness its Newton ended with."""
-        k = self.system.kin(q, None, t)
-        qd = solve_velocities(self.system, k)
-        qdd = solve_accelerations(self.system, self.system.kin(q, qd, t))
+        qd, qdd = solve_rates(self.system, q, t)
         mark, stiffness = self._mark(q, t), tangent.stiffness
         return _Equilibrium(
             t, q, qd, qdd, lam, mark, q_prev=q_prev, t_prev=t_prev, stiffness=stiffness

@@ -192,6 +192,8 @@ def _solve_all(
     todo = [k for k, record in enumerate(records) if record is None]
     try:
         for index, outcome in executor.map_unordered(solve_spec, [specs[k] for k in todo]):
+            if done == len(specs) - len(todo):  # the first solved run
+                _import_report_modules()
             spec = specs[todo[index]]
             write_results(outcome, directory, version=compiled.version, xlsx=xlsx)
             finished = _record(outcome, spec, _csv_path(directory, spec.name))
@@ -205,6 +207,15 @@ def _solve_all(
         return [record for record in records if record is not None], True
     kept = [record for record in records if record is not None]
     return kept, len(kept) < len(specs) or interrupts.received() is not None
+
+
+def _import_report_modules() -> None:
+    """Import what the report draws and writes with (matplotlib, openpyxl: about 0.8 s)
+    while the workers solve, the cores busy anyway, instead of after the last run, when
+    this process alone works; the plot processes forked then inherit them. Called once the
+    first run is back, when the solving processes have started (none is forked later)."""
+    import loadcases.report.plots
+    import loadcases.report.workbook  # noqa: F401
 
 
 def _prebuild(compiled: CompiledSet) -> None:
@@ -232,26 +243,28 @@ def _report_files(
         write_comparison_csv,
     )
     from loadcases.report.units import ReportUnits
-    from loadcases.report.workbook import WorkbookData, write_workbook
 
     model = result.compiled.set_file.model
-    files = [write_envelope_csv(result.envelope, result.directory / ENVELOPE_FILE)]
-    output = model.report.output if model.report is not None else DEFAULT_WORKBOOK
-    workbook = result.directory / output
-    files.append(workbook)  # second, as the command lists the first two files
-    if result.sizing is not None:
-        lines = margin_lines(result.envelope, result.sizing.ultimate)
-        files.append(write_margin_csv(lines, result.directory / MARGINS_FILE))
-        files.append(write_matrix_csv(result.sizing.matrix, result.directory / MATRIX_FILE))
-    if model.comparisons:
-        rows = comparison_rows(model.comparisons, runs)
-        files.append(write_comparison_csv(rows, result.directory / COMPARISON_FILE))
-    template = None
-    if model.report is not None and model.report.template:
-        template = Path(result.compiled.set_file.path).parent / model.report.template
     units = ReportUnits.of(model.report.units.given() if model.report is not None else None)
-    data = units.workbook_data(WorkbookData.from_set(result, runs, options))
-    with _plots(data.curves, result.directory) as plots:  # drawn while the workbook is written
+    curves = [units.curve(curve) for curve in result.curves]  # as the workbook's
+    with _plots(curves, result.directory) as plots:  # drawn while the rest is written
+        from loadcases.report.workbook import WorkbookData, write_workbook  # openpyxl: after
+
+        files = [write_envelope_csv(result.envelope, result.directory / ENVELOPE_FILE)]
+        output = model.report.output if model.report is not None else DEFAULT_WORKBOOK
+        workbook = result.directory / output
+        files.append(workbook)  # second, as the command lists the first two files
+        if result.sizing is not None:
+            lines = margin_lines(result.envelope, result.sizing.ultimate)
+            files.append(write_margin_csv(lines, result.directory / MARGINS_FILE))
+            files.append(write_matrix_csv(result.sizing.matrix, result.directory / MATRIX_FILE))
+        if model.comparisons:
+            rows = comparison_rows(model.comparisons, runs)
+            files.append(write_comparison_csv(rows, result.directory / COMPARISON_FILE))
+        template = None
+        if model.report is not None and model.report.template:
+            template = Path(result.compiled.set_file.path).parent / model.report.template
+        data = units.workbook_data(WorkbookData.from_set(result, runs, options))
         write_workbook(data, workbook, template=template, progress=on_report)
         if on_report is not None:
             on_report("envelope plots")
@@ -273,18 +286,19 @@ def _polar_plots(runs: list[SavedRun], directory: Path) -> list[Path]:
 def _plots(curves: list[EnvelopeCurve], directory: Path) -> Iterator[Callable[[], list[Path]]]:
     """PNG envelope plots of each family's main columns next to the workbook; yields the
     function that returns their paths. A large set's plots are drawn by one process per
-    core (about 0.15 s each), started on entry: they are drawn while the caller writes the
-    workbook, and the function waits for them."""
-    from loadcases.report.plots import write_envelope_plots  # matplotlib: imported only here
-
+    core (about 0.07 s each), forked on entry after this process has imported matplotlib
+    (already done while the runs were solved: _import_report_modules): they draw while the
+    caller writes the CSV files and the workbook, and the function waits for them."""
     chosen = plot_curves(curves)
     workers = min(os.cpu_count() or 1, len(chosen) // _PLOTS_PER_PROCESS)
     if workers <= 1:
-        yield lambda: list(write_envelope_plots(chosen, directory))
+        yield lambda: _draw_plots(chosen, directory)
         return
+    import loadcases.report.plots  # noqa: F401  (matplotlib once, here: the workers inherit it)
+
     chunks = [chosen[i::workers] for i in range(workers)]
     with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(write_envelope_plots, chunk, directory) for chunk in chunks]
+        futures = [pool.submit(_draw_plots, chunk, directory) for chunk in chunks]
 
         def drawn() -> list[Path]:
             done = [future.result() for future in futures]
@@ -292,6 +306,13 @@ def _plots(curves: list[EnvelopeCurve], directory: Path) -> Iterator[Callable[[]
             return [done[n % workers][n // workers] for n in range(len(chosen))]
 
         yield drawn
+
+
+def _draw_plots(curves: list[dict[str, object]], directory: Path) -> list[Path]:
+    """`write_envelope_plots` (matplotlib imported only where plots are drawn)."""
+    from loadcases.report.plots import write_envelope_plots
+
+    return list(write_envelope_plots(curves, directory))
 
 
 def run_set(

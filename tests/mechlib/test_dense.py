@@ -149,11 +149,12 @@ def test_rows_do_not_depend_on_the_end_time(fine) -> None:
         assert gap[fine.time < 0.495 - 1e-9].max() <= 1e-12, name
 
 
-@pytest.mark.parametrize(("rows", "columns"), [(20, 21), (150, 210)])
+@pytest.mark.parametrize(("rows", "columns"), [(20, 21), (150, 210), (300, 420)])
 def test_minimum_norm_step_is_the_least_squares_one(rows: int, columns: int) -> None:
-    """The projection's minimum-norm step (normal equations, dense below SPARSE_FROM rows,
-    sparse above) equals numpy's least-squares solution within 1e-12; with a dependent row
-    (no factor, or a failed check) it falls back to least squares itself."""
+    """The projection's minimum-norm step (normal equations, dense below
+    _SPARSE_NORMAL_FROM = 250 rows, sparse above) equals numpy's least-squares solution
+    within 1e-12; with a dependent row (no factor, or a failed check) it falls back to
+    least squares itself."""
     from mechlib.assembly import _MinimumNorm
 
     rng = np.random.default_rng(rows)
