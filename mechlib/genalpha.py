@@ -29,7 +29,7 @@ from mechlib.analysis import Dynamic
 from mechlib.constraint_arrays import ConstraintArrays
 from mechlib.fd_columns import ColumnSkips
 from mechlib.genalpha_compiled import CONVERGED, factor_data, newton
-from mechlib.genalpha_kernels import ROUNDOFF, Scales, correct, predict
+from mechlib.genalpha_kernels import ROUNDOFF, Scales, correct, error_norm, predict
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.reaction_loads import reaction_coupling
 from mechlib.saddle import rigid_saddle_factors
@@ -287,8 +287,9 @@ class Integrator:
                 self.eta = max(eta, _ETA_MIN) ** 0.8
                 if it > _SLOW_ITERATIONS:
                     self.stale = True
-                qd_true, qdd_true, lam_true, a1 = np.split(true, [nq, 2 * nq, 2 * nq + lam.size])
-                return q1, qd1, qdd1, a1, lam1, (qd_true, qdd_true, lam_true)
+                m = lam.size
+                consistent = (true[:nq], true[nq : 2 * nq], true[2 * nq : 2 * nq + m])
+                return q1, qd1, qdd1, true[2 * nq + m :], lam1, consistent
             if refreshed:
                 break
             rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
@@ -344,6 +345,6 @@ class Integrator:
     def error(self, h, q1, acc0, acc1) -> float:
         """Scaled norm of the local position error c h^2 (qdd_{n+1} - qdd_n), about
         c h^3 d3q/dt3, from the true accelerations at both ends (accept when <= 1)."""
-        e = self.c.error_constant * h * h * (acc1 - acc0)
         assert self.scales is not None, "set by the stepper before its first step"
-        return float(np.abs(e / (self.scales.q_abs + self.scales.tol * np.abs(q1))).max())
+        scales = self.scales
+        return error_norm(self.c.error_constant * h * h, acc0, acc1, scales.q_abs, scales.tol, q1)

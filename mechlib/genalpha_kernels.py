@@ -9,7 +9,7 @@ import numpy as np
 from mechlib.jit import njit
 from mechlib.system import System
 
-__all__ = ["ROUNDOFF", "Scales", "correct", "predict"]
+__all__ = ["ROUNDOFF", "Scales", "correct", "error_norm", "predict"]
 
 ROUNDOFF = 1e3 * np.finfo(float).eps
 
@@ -79,3 +79,15 @@ def _newton_size(dq, q, qdd, bp, q_abs, a_ref, tol, roundoff):  # see Scales.new
         sq += wq * wq
         sa += wa * wa
     return math.sqrt(max(sq, sa) / dq.shape[0])
+
+
+@njit(cache=True)
+def error_norm(scale, acc0, acc1, q_abs, tol, q1):
+    """max_i |scale (acc1_i - acc0_i)| / (q_abs_i + tol |q1_i|): the scaled local error of
+    a step (mechlib.genalpha.Integrator.error)."""
+    worst = 0.0
+    for i in range(q1.shape[0]):
+        e = abs(scale * (acc1[i] - acc0[i]) / (q_abs[i] + tol * abs(q1[i])))
+        if e > worst or e != e:  # a NaN stays: the step is then rejected
+            worst = e
+    return worst
