@@ -79,18 +79,24 @@ class ConstraintArrays:
         ints, floats = self.packed()
         m = self.system.active.size
         phi, jac = np.empty(m), np.empty((m, self.system.nq))
-        phi_and_jacobian(k.x, ints, floats, self.functions(k.t), self.references(), phi, jac)
+        phi_and_jacobian(
+            k.x, ints, floats, self.functions(k.t, "value"), self.references(), phi, jac
+        )
         return phi, jac
 
-    def functions(self, t: float) -> np.ndarray:
+    def functions(self, t: float, parts: str = "value rate accel") -> np.ndarray:
         """(equations, 3): value, rate and acceleration of each coordinate equation's
-        function of time at t (zeros without one)."""
+        function of time at t, those named in `parts` (the others and equations without a
+        function: zeros). The kernels read only what they need: phi the values, nu and
+        gamma the rates and accelerations."""
         block = self.system._coordinate_rows()
         out = np.zeros((len(block._linear), 3))
+        wanted = [(c, name) for c, name in enumerate(("value", "rate", "accel")) if name in parts]
         for row, i in enumerate(block._linear):
             f = block.equations[i].function
             if f is not None:
-                out[row] = f.value(t), f.rate(t), f.accel(t)
+                for c, name in wanted:
+                    out[row, c] = getattr(f, name)(t)
         return out
 
     def bodies(self) -> np.ndarray:
@@ -109,14 +115,16 @@ class ConstraintArrays:
         ints, floats = self.packed()
         m = self.system.active.size
         nu, gamma = np.empty(m), np.empty(m)
-        nu_and_gamma(k.x, k.xd, ints, floats, self.functions(k.t), self.references(), nu, gamma)
+        nu_and_gamma(
+            k.x, k.xd, ints, floats, self.functions(k.t, "rate accel"), self.references(), nu, gamma
+        )
         return nu, gamma
 
     def phi(self, k) -> np.ndarray:
         """phi of the active rows at state k, without the Jacobian."""
         ints, floats = self.packed()
         out = np.empty(self.system.active.size)
-        phi_values(k.x, ints, floats, self.functions(k.t), self.references(), out)
+        phi_values(k.x, ints, floats, self.functions(k.t, "value"), self.references(), out)
         return out
 
     def commit_angles(self, k) -> None:

@@ -35,7 +35,7 @@ def rigid_saddle_factors(system, k: Kin):
     ints, floats = arrays.packed()
     values = np.empty(pattern.rows.size)
     saddle_values(
-        k.x, ints, floats, arrays.functions(k.t), arrays.references(), arrays.bodies(),
+        k.x, ints, floats, arrays.functions(k.t, "value"), arrays.references(), arrays.bodies(),
         pattern.rows, pattern.cols, values,
     )  # fmt: skip
     matrix = sp.csc_matrix((values, pattern.indices, pattern.indptr), shape=pattern.shape)
