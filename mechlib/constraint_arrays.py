@@ -1,12 +1,15 @@
 """A rigid system's constraint equations evaluated in one compiled call.
 
-`System.phi_and_jacobian` calls one kernel per primitive group and assembles the coordinate
-rows in NumPy: about 30 us of Python per call on a slider-crank, more than the arithmetic.
-Here the same equations (normalisations, spherical, dot-1 and dot-2 rows, and the coordinate
-equations: motions, locks, couplers, gears, screws) are one kernel call that the compiled
-generalized-alpha step (mechlib.genalpha_compiled) calls from inside its Newton loop. Same
-primitives, same formulas (mechlib.kernels, mechlib.coordinates): results equal to
-round-off. Systems with flexible bodies or point-on-curve joints keep the grouped path.
+The grouped path (`System.grouped_phi_and_jacobian`) calls one kernel per primitive group
+and assembles the coordinate rows in NumPy: about 30 us of Python per call on a
+slider-crank, more than the arithmetic. Here the same equations (normalisations, spherical,
+dot-1 and dot-2 rows, and the coordinate equations: motions, locks, couplers, gears,
+screws) are one kernel call: `System.phi`, `phi_q`, `phi_and_jacobian`, `gamma` and
+`commit` use them once the kernels are compiled, and the compiled generalized-alpha step
+(mechlib.genalpha_compiled), the saddle matrix (mechlib.saddle) and the toggle check call
+them from compiled code. Same primitives, same formulas (mechlib.kernels,
+mechlib.coordinates): results equal to round-off. Systems with flexible bodies or
+point-on-curve joints keep the grouped path.
 """
 
 from __future__ import annotations
