@@ -69,9 +69,7 @@ def check_recorded_state(system, t: float, q, qd, qdd, lam) -> None:
     q, qd, qdd, lam = (np.asarray(a, dtype=float).ravel() for a in (q, qd, qdd, lam))
     if _all_finite(q, qd, qdd, lam) or _first_bad(q, qd, qdd, lam) is None:
         return
-    found = nonfinite_force(
-        system, np.asarray(q, float), np.asarray(qd, float), t, np.asarray(lam, float)
-    )
+    found = nonfinite_force(system, q, qd, t, lam)
     where = (found[0],) if found else ()
     cause = (
         f"force element '{found[0]}' gives {found[1]:g} (not finite) there"

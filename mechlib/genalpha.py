@@ -26,7 +26,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from mechlib.analysis import Dynamic
-from mechlib.constraint_arrays import ConstraintArrays
 from mechlib.fd_columns import ColumnSkips
 from mechlib.genalpha_compiled import CONVERGED, factor_data, newton
 from mechlib.genalpha_kernels import ROUNDOFF, Scales, correct, error_norm, predict
@@ -84,12 +83,9 @@ class Integrator:
         self.singular: SolverFailure | None = None  # the last singular iteration matrix
         self.scales: Scales | None = None  # set by the stepper from its first state
         # the compiled Newton loop (mechlib.genalpha_compiled) serves steps with no active
-        # element: nothing of theirs to evaluate in Python between two iterations
-        self.arrays = (
-            ConstraintArrays(system)
-            if ConstraintArrays.eligible(system) and not system.states
-            else None
-        )
+        # element: nothing of theirs to evaluate in Python between two iterations (the
+        # kernels are compiled by now: the model checks before solving called them)
+        self.arrays = None if system.states else system.packed_constraints()
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
 
     def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):

@@ -101,6 +101,11 @@ class PlanarSystem:
             raise AttributeError(name)
         return getattr(self.space, name)
 
+    def packed_constraints(self) -> None:
+        """None: the packed kernels (mechlib.constraint_arrays) work in 3-D coordinates, not
+        in the planar ones the solvers see here (the 3-D `space` uses them itself)."""
+        return None
+
     # ---- the map to 3-D ---------------------------------------------------------------
     def design_q(self) -> np.ndarray:
         q = np.zeros((self.nb, 3))

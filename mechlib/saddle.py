@@ -19,7 +19,6 @@ from mechlib import kernels as kr
 from mechlib.jit import njit
 from mechlib.kin import Kin
 from mechlib.linalg import SPARSE_FROM, augmented, factor_saddle, sparse_saddle_factors
-from mechlib.system import System
 
 __all__ = ["rigid_saddle_factors"]
 
@@ -28,7 +27,7 @@ def rigid_saddle_factors(system, k: Kin):
     """LU factors of [[M, phi_q^T], [phi_q, 0]] at state k (as mechlib.linalg.factor_saddle
     gives them, None when singular): gathered on the pattern by `saddle_values` for a
     packed system with a sparse saddle matrix, else from the dense M and phi_q."""
-    arrays = system.packed_constraints() if isinstance(system, System) else None
+    arrays = system.packed_constraints()
     pattern = system.saddle_pattern()
     if arrays is None or system.nq + system.active.size < SPARSE_FROM:
         return factor_saddle(system.mass(k), system.phi_q(k), pattern)

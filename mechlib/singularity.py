@@ -252,7 +252,7 @@ def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
     scale = _column_scale(system)  # the mechanism's size, the same at every row
     active, free = None, []  # the free coordinates change only with the active rows
     batch = _Batch()
-    arrays = ConstraintArrays(system) if ConstraintArrays.eligible(system) else None
+    arrays = system.packed_constraints()
     i = 0
     while i < n:
         snapshot = trajectory.references[i]

@@ -294,9 +294,10 @@ def test_toggle_rows_from_the_kernels_equal_the_python_rows(monkeypatch) -> None
     captured: list = []
 
     def both(system, trajectory):
+        assert system.packed_constraints() is not None
         compiled = series(system, trajectory)
-        with monkeypatch.context() as patch:
-            patch.setattr(singularity.ConstraintArrays, "eligible", staticmethod(lambda s: False))
+        with monkeypatch.context() as patch:  # the per-row Python path
+            patch.setattr(system, "packed_constraints", lambda: None)
             captured.append((compiled, series(system, trajectory)))
         return compiled
 
