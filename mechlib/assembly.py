@@ -30,7 +30,9 @@ from mechlib.system import System
 from mechlib.work import count
 
 __all__ = [
+    "MAX_NEWTON",
     "POSITION_TOLERANCE",
+    "REUSE_BELOW",
     "InitialBodyVelocity",
     "InitialValue",
     "assemble",
@@ -41,12 +43,12 @@ __all__ = [
 ]
 
 POSITION_TOLERANCE = 1e-10
-_MAX_NEWTON = 50
+MAX_NEWTON = 50
 _REPORT_CHANGE = 1e-8
 _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
 _MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
 _NORMAL_CHECK = 1e-6  # a normal-equations solution must meet its equations this well
-_REUSE_BELOW = 1e-6  # a Newton step below this keeps its Jacobian for the next
+REUSE_BELOW = 1e-6  # a Newton step below this keeps its Jacobian for the next
 # a a^T of this many rows and more is factored sparse: below, the dense LU is cheaper
 # (2026-11-28, chains of 7-coordinate bodies, 5 rows per joint: 103 rows 0.14 ms dense
 # against 0.61 ms sparse, 235 rows 0.86 against 1.0, 355 rows 2.6 against 1.5; the door's
@@ -80,13 +82,13 @@ def _newton(
     `tol` (|res| above tol then: the least-squares point of inconsistent equations, such as
     an assembly stage's interpolated targets, or a stuck Newton; callers judge). After a
     step below
-    _REUSE_BELOW the Jacobian is kept (its change is of the order of that step, so the
+    REUSE_BELOW the Jacobian is kept (its change is of the order of that step, so the
     next step converges as fast as with a fresh one): a dense row, already on the
     constraints to 1e-9, is polished with one Jacobian instead of two."""
     res = residual(q)
     w = np.ones(len(q)) if weights is None else weights
     solver: _MinimumNorm | None = None
-    for it in range(1, _MAX_NEWTON + 1):
+    for it in range(1, MAX_NEWTON + 1):
         if solver is None:
             count(factorizations=1, jacobian_evaluations=1)
             solver = _MinimumNorm(jacobian(q) * w)
@@ -96,9 +98,9 @@ def _newton(
         size = np.abs(step).max(initial=0.0)
         if size < tol:  # converged, or (residual above tol) stuck: Gauss-Newton's fixed point
             return q, it, float(np.abs(res).max(initial=0.0))
-        if size >= _REUSE_BELOW:
+        if size >= REUSE_BELOW:
             solver = None
-    return q, _MAX_NEWTON, float(np.abs(res).max(initial=0.0))
+    return q, MAX_NEWTON, float(np.abs(res).max(initial=0.0))
 
 
 class _MinimumNorm:

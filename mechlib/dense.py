@@ -22,14 +22,18 @@ import math
 
 import numpy as np
 
-from mechlib.assembly import solve_positions
+from mechlib.assembly import MAX_NEWTON, POSITION_TOLERANCE, REUSE_BELOW, solve_positions
 from mechlib.consistent import consistent_state
 from mechlib.contract import State
+from mechlib.dense_compiled import DONE, project_row
+from mechlib.linalg import SPARSE_FROM
 from mechlib.system import System
+from mechlib.work import count
 
 __all__ = ["first_step", "hermite", "natural_time", "projected_row"]
 
 _FIRST_FRACTION = 1e-6  # of the natural time: the start acceleration may be left at once
+_PROJECTION = np.array([POSITION_TOLERANCE, REUSE_BELOW, MAX_NEWTON], dtype=float)
 
 
 def natural_time(system: System) -> float:
@@ -91,9 +95,37 @@ def projected_row(system: System, t: float, q, qd, states: np.ndarray | None) ->
     if states is not None:
         system.states.trial = states
         snapshot["states"] = states.copy()
+    compiled = None if states is not None else _compiled_row(system, t, q, qd)
+    if compiled is not None:
+        q, qd, qdd, lam = compiled
+        return State(t, q, qd, qdd, lam, snapshot=snapshot)
     try:
         q, _ = solve_positions(system, np.asarray(q, float), t)
         qd, qdd, lam = consistent_state(system, q, np.asarray(qd, float), t)
     finally:
         system.states.trial = kept
     return State(t, q, qd, qdd, lam, snapshot=snapshot)
+
+
+def _compiled_row(system: System, t: float, q, qd) -> tuple[np.ndarray, ...] | None:
+    """(q, qd, qdd, lam) of `projected_row` from one compiled call
+    (mechlib.dense_compiled) for a small packed system with no active element and no
+    element states; None where the Python path must take the row (a larger system, or
+    the kernel gave up: near a toggle, no convergence)."""
+    arrays = system.packed_constraints()
+    if arrays is None or system.states or system.nq + system.active.size >= SPARSE_FROM:
+        return None
+    if any(e.active for e in system.elements):
+        return None
+    nq, m = system.nq, system.active.size
+    out = np.empty(3 * nq + m)
+    ints, floats = arrays.packed()
+    status, fresh = project_row(
+        np.asarray(q, float), np.asarray(qd, float), ints, floats, arrays.functions(t),
+        arrays.references(), arrays.bodies(), _PROJECTION, out,
+    )  # fmt: skip
+    count(factorizations=fresh, jacobian_evaluations=fresh)
+    if status != DONE:
+        return None
+    count(factorizations=1)  # the saddle matrix's, as consistent_state counts it
+    return out[:nq], out[nq : 2 * nq], out[2 * nq : 3 * nq], out[3 * nq :]
