@@ -25,12 +25,12 @@ import numpy as np
 from mechlib.assembly import MAX_NEWTON, POSITION_TOLERANCE, REUSE_BELOW, solve_positions
 from mechlib.consistent import consistent_state
 from mechlib.contract import State
-from mechlib.dense_compiled import DONE, project_row
+from mechlib.dense_compiled import DONE, interpolated, project_row
 from mechlib.linalg import SPARSE_FROM
 from mechlib.system import System
 from mechlib.work import count
 
-__all__ = ["first_step", "hermite", "natural_time", "projected_row"]
+__all__ = ["HermiteRows", "first_step", "hermite", "natural_time", "projected_row"]
 
 _FIRST_FRACTION = 1e-6  # of the natural time: the start acceleration may be left at once
 _PROJECTION = np.array([POSITION_TOLERANCE, REUSE_BELOW, MAX_NEWTON], dtype=float)
@@ -59,30 +59,26 @@ def first_step(system: System, spec) -> float:
 def hermite(t0: float, t1: float, a: tuple, b: tuple, t: float) -> tuple:
     """(q, qd) at t from the quintic Hermite interpolant of a = (q, qd, qdd) at t0 and
     b = (q, qd, qdd) at t1: exact for quintic motions, error O(h^6) in q."""
-    h = t1 - t0
-    s = (t - t0) / h
-    s2 = s * s
-    s3, s4 = s2 * s, s2 * s2
-    p = np.array((1.0, s, s2, s3, s4, s4 * s))  # 1, s, .., s^5
-    dp = np.array((0.0, 1.0, 2.0 * s, 3.0 * s2, 4.0 * s3, 5.0 * s4))  # their slopes d/ds
-    values, slopes = _BASIS @ p, _BASIS @ dp  # per end quantity: q0 qd0 qdd0 q1 qd1 qdd1
-    scale = np.array([1.0, h, h * h, 1.0, h, h * h])
-    parts = np.stack((a[0], a[1], a[2], b[0], b[1], b[2]))
-    return (values * scale) @ parts, (slopes * scale / h) @ parts
+    return interpolated(np.stack((*a, *b)), t1 - t0, (t - t0) / (t1 - t0))
 
 
-# quintic Hermite basis on s in [0, 1], coefficients of 1, s, .., s^5: the weights of q0,
-# h qd0, h^2 qdd0, q1, h qd1, h^2 qdd1
-_BASIS = np.array(
-    [
-        [1, 0, 0, -10, 15, -6],
-        [0, 1, 0, -6, 8, -3],
-        [0, 0, 0.5, -1.5, 1.5, -0.5],
-        [0, 0, 0, 10, -15, 6],
-        [0, 0, 0, -4, 7, -3],
-        [0, 0, 0, 0.5, -1, 0.5],
-    ]
-)
+class HermiteRows:
+    """Rows within generalized-alpha's accepted steps: the quintic Hermite interpolant of
+    both ends' (q, qd, qdd), projected (`projected_row`); a row at a step's end takes the
+    end's own (q, qd). The ends are stacked once per step for the compiled rows."""
+
+    def __init__(self, system: System):
+        self.system = system
+        self._step: tuple[State, State, np.ndarray] | None = None
+
+    def row(self, start: State, end: State, t: float, states) -> State:
+        """The row at t (s) within start -> end, with the element states `states`."""
+        s = 1.0 if abs(t - end.t) <= 1e-12 * max(1.0, abs(t)) else (t - start.t) / (end.t - start.t)
+        step = self._step
+        if step is None or step[0] is not start or step[1] is not end:
+            ends = np.stack((start.q, start.qd, start.qdd, end.q, end.qd, end.qdd))
+            step = self._step = (start, end, ends)
+        return _projected(self.system, t, step[2], end.t - start.t, s, states)
 
 
 def projected_row(system: System, t: float, q, qd, states: np.ndarray | None) -> State:
@@ -90,28 +86,38 @@ def projected_row(system: System, t: float, q, qd, states: np.ndarray | None) ->
     constraints, qd onto the velocity ones, qdd and lam from the equations of motion; its
     snapshot carries the interpolated element states. The system's element states are
     left as they were."""
+    ends = np.zeros((6, system.nq))
+    ends[3], ends[4] = q, qd
+    return _projected(system, t, ends, 1.0, 1.0, states)
+
+
+def _projected(system: System, t: float, ends: np.ndarray, h: float, s: float, states) -> State:
+    """`projected_row` of the interpolant of `ends` at the fraction s of the step h (s)."""
     snapshot = system.snapshot()
+    compiled = None if states is not None else _compiled_row(system, t, ends, h, s)
+    if compiled is not None:
+        q, qd, qdd, lam = compiled
+        return State(t, q, qd, qdd, lam, snapshot=snapshot)
+    q, qd = interpolated(ends, h, s)
     kept = system.states.trial
     if states is not None:
         system.states.trial = states
         snapshot["states"] = states.copy()
-    compiled = None if states is not None else _compiled_row(system, t, q, qd)
-    if compiled is not None:
-        q, qd, qdd, lam = compiled
-        return State(t, q, qd, qdd, lam, snapshot=snapshot)
     try:
-        q, _ = solve_positions(system, np.asarray(q, float), t)
-        qd, qdd, lam = consistent_state(system, q, np.asarray(qd, float), t)
+        q, _ = solve_positions(system, q, t)
+        qd, qdd, lam = consistent_state(system, q, qd, t)
     finally:
         system.states.trial = kept
     return State(t, q, qd, qdd, lam, snapshot=snapshot)
 
 
-def _compiled_row(system: System, t: float, q, qd) -> tuple[np.ndarray, ...] | None:
-    """(q, qd, qdd, lam) of `projected_row` from one compiled call
-    (mechlib.dense_compiled) for a small packed system with no active element and no
-    element states; None where the Python path must take the row (a larger system, or
-    the kernel gave up: near a toggle, no convergence)."""
+def _compiled_row(
+    system: System, t: float, ends: np.ndarray, h: float, s: float
+) -> tuple[np.ndarray, ...] | None:
+    """(q, qd, qdd, lam) of `_projected` from one compiled call (mechlib.dense_compiled)
+    for a small packed system with no active element and no element states; None where
+    the Python path must take the row (a larger system, or the kernel gave up: near a
+    toggle, no convergence)."""
     arrays = system.packed_constraints()
     if arrays is None or system.states or system.nq + system.active.size >= SPARSE_FROM:
         return None
@@ -121,8 +127,8 @@ def _compiled_row(system: System, t: float, q, qd) -> tuple[np.ndarray, ...] | N
     out = np.empty(3 * nq + m)
     ints, floats = arrays.packed()
     status, fresh = project_row(
-        np.asarray(q, float), np.asarray(qd, float), ints, floats, arrays.functions(t),
-        arrays.references(), arrays.bodies(), _PROJECTION, out,
+        ends, h, s, ints, floats, arrays.functions(t), arrays.references(), arrays.bodies(),
+        _PROJECTION, out,
     )  # fmt: skip
     count(factorizations=fresh, jacobian_evaluations=fresh)
     if status != DONE:

@@ -18,7 +18,7 @@ import numpy as np
 from mechlib.analysis import Dynamic
 from mechlib.consistent import consistent_accelerations, consistent_state
 from mechlib.contract import DenseStepper, State, Status, StepResult, StepUnresolved
-from mechlib.dense import first_step, hermite, largest_step, projected_row
+from mechlib.dense import HermiteRows, first_step, largest_step
 from mechlib.genalpha import Integrator
 from mechlib.genalpha_kernels import Scales
 from mechlib.runaway import StepCollapse, element_loads, fell_to, stall, step_floor
@@ -67,6 +67,7 @@ class GeneralizedAlphaStepper(DenseStepper):
     def __init__(self, system: System, spec: Dynamic, stats: SolverStats):
         super().__init__(system, spec, stats)
         self.integ = Integrator(system, spec, stats)
+        self.rows = HermiteRows(system)
         self.dense = spec.dense and not spec.fixed_step
         if self.dense:  # steps from the problem's scales, not the output interval's
             self.max_step, self.h = largest_step(system, spec), first_step(system, spec)
@@ -175,12 +176,7 @@ class GeneralizedAlphaStepper(DenseStepper):
         """The row at t within start -> end: the quintic Hermite interpolant of both ends'
         (q, qd, qdd) (`end`'s own at its time), projected (mechlib.dense): every row's
         accelerations and reactions are those of the equations of motion at its state."""
-        if abs(t - end.t) <= 1e-12 * max(1.0, abs(t)):
-            q, qd = end.q, end.qd
-        else:
-            a, b = (start.q, start.qd, start.qdd), (end.q, end.qd, end.qdd)
-            q, qd = hermite(start.t, end.t, a, b, t)
-        return projected_row(self.system, t, q, qd, states)
+        return self.rows.row(start, end, t, states)
 
     def _switched(self, s: _AlphaState) -> bool:
         if not self.sticking:

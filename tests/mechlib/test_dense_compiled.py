@@ -13,6 +13,7 @@ consistent_state), and the motion it gives against closed forms.
 - The pendulum released from the horizontal with dense rows: its energy stays within
   2e-5 of m g L (measured 1.3e-5) and its period meets the elliptic integral to 4e-6
   (measured 2.6e-6).
+- The kernel's interpolant is the quintic Hermite of both ends (exact for a quintic).
 - Where the kernel cannot vouch for its solve (a singular or non-finite matrix, Newton
   not converging) it gives up and the Python path takes the row.
 """
@@ -29,7 +30,7 @@ import mechlib
 import mechlib.dense as dense
 from mechlib import jit
 from mechlib.constraint_arrays import ConstraintArrays
-from mechlib.dense_compiled import DONE, FALLBACK, _well_conditioned, project_row
+from mechlib.dense_compiled import DONE, FALLBACK, _well_conditioned, interpolated, project_row
 from mechlib.system import System
 
 from ._models import Bar, G, Ramp, hinged_bar, slider_crank
@@ -47,6 +48,13 @@ def _packed_system() -> tuple[System, ConstraintArrays]:
     arrays = system.packed_constraints()
     assert arrays is not None
     return system, arrays
+
+
+def _ends(q: np.ndarray, qd: np.ndarray) -> np.ndarray:
+    """A step's ends (6, nq) whose row at s = 1 is (q, qd) as given."""
+    ends = np.zeros((6, q.size))
+    ends[3], ends[4] = q, qd
+    return ends
 
 
 def _free_crank() -> tuple[mechlib.Mechanism, list, list]:
@@ -115,8 +123,8 @@ def test_compiled_rows_meet_the_equations_of_motion() -> None:
         out = np.empty(3 * nq + m)
         ints, floats = arrays.packed()
         status, fresh = project_row(
-            q, qd, ints, floats, arrays.functions(t), arrays.references(), arrays.bodies(),
-            dense._PROJECTION, out,
+            _ends(q, qd), 1.0, 1.0, ints, floats, arrays.functions(t), arrays.references(),
+            arrays.bodies(), dense._PROJECTION, out,
         )  # fmt: skip
         assert status == DONE and fresh >= 1
         q1, qd1, qdd1, lam1 = out[:nq], out[nq : 2 * nq], out[2 * nq : 3 * nq], out[3 * nq :]
@@ -174,9 +182,35 @@ def test_the_kernel_gives_up_and_python_takes_the_row() -> None:
     q[0] = np.nan
     out = np.empty(3 * nq + system.active.size)
     ints, floats = arrays.packed()
+    ends = _ends(q, np.zeros(nq))
     status, _ = project_row(
-        q, np.zeros(nq), ints, floats, arrays.functions(0.0), arrays.references(),
+        ends, 1.0, 1.0, ints, floats, arrays.functions(0.0), arrays.references(),
         arrays.bodies(), dense._PROJECTION, out,
     )  # fmt: skip
     assert status == FALLBACK
-    assert dense._compiled_row(system, 0.0, q, np.zeros(nq)) is None
+    assert dense._compiled_row(system, 0.0, ends, 1.0, 1.0) is None
+
+
+def test_interpolant_in_the_kernel_is_the_quintic_hermite() -> None:
+    """`interpolated` against the quintic through both ends' (q, qd, qdd), evaluated from
+    its closed form (exact to round-off: 1e-12), and the end's own state at s = 1."""
+    jit.compile_all()
+    c = np.array([0.3, -1.2, 0.7, 2.0, -0.5, 0.25])  # q(t) = sum c_i t^i
+
+    def q(t):
+        return sum(ci * t**i for i, ci in enumerate(c))
+
+    def qd(t):
+        return sum(i * ci * t ** (i - 1) for i, ci in enumerate(c) if i)
+
+    def qdd(t):
+        return sum(i * (i - 1) * ci * t ** (i - 2) for i, ci in enumerate(c) if i > 1)
+
+    t0, t1 = 0.4, 1.1
+    ends = np.array([[f(t)] for t in (t0, t1) for f in (q, qd, qdd)])
+    for s in (0.0, 0.25, 0.6, 0.999):
+        t = t0 + s * (t1 - t0)
+        got_q, got_qd = interpolated(ends, t1 - t0, s)
+        assert abs(got_q[0] - q(t)) < 1e-12 and abs(got_qd[0] - qd(t)) < 1e-12
+    at_end = interpolated(ends + 1e-3, t1 - t0, 1.0)  # not a quintic: the end as given
+    assert at_end[0][0] == ends[3, 0] + 1e-3 and at_end[1][0] == ends[4, 0] + 1e-3
