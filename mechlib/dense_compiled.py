@@ -50,20 +50,46 @@ HERMITE_BASIS = np.array(
 
 
 @njit(cache=True, nogil=True)
-def _well_conditioned(a):
-    """a (symmetric) is positive definite with Cholesky pivots not below WELL_CONDITIONED
-    of the largest, and finite."""
+def _cholesky(a):
+    """(ok, L): the Cholesky factor of a (symmetric); ok when a is finite and positive
+    definite with pivots not below WELL_CONDITIONED of the largest."""
     for v in a.ravel():
         if not np.isfinite(v):
-            return False
+            return False, a
     try:
         low = np.linalg.cholesky(a)
     except Exception:  # noqa: BLE001 -- numba catches no narrower class; not positive definite
-        return False
+        return False, a
     pivots = np.diag(low) ** 2
     if pivots.shape[0] == 0:
-        return True
-    return bool(np.isfinite(pivots).all() and pivots.min() > WELL_CONDITIONED * pivots.max())
+        return True, low
+    ok = np.isfinite(pivots).all() and pivots.min() > WELL_CONDITIONED * pivots.max()
+    return ok, low
+
+
+@njit(cache=True, nogil=True)
+def _well_conditioned(a):
+    """a passes `_cholesky`'s check."""
+    return _cholesky(a)[0]
+
+
+@njit(cache=True, nogil=True)
+def _cho_solve(low, b):
+    """x with L L^T x = b, by the two triangular substitutions (numba has no triangular
+    solve; np.linalg.solve would factor the matrix again)."""
+    n = b.shape[0]
+    y = np.empty(n)
+    for i in range(n):
+        acc = b[i]
+        for j in range(i):
+            acc -= low[i, j] * y[j]
+        y[i] = acc / low[i, i]
+    for i in range(n - 1, -1, -1):
+        acc = y[i]
+        for j in range(i + 1, n):
+            acc -= low[j, i] * y[j]
+        y[i] = acc / low[i, i]
+    return y
 
 
 @njit(cache=True, nogil=True)
@@ -77,20 +103,21 @@ def _positions(q, ints, floats, functions, refs, tol, reuse, most):
     x, _ = ca.state_arrays(q, q, nb)
     phi = np.empty(m)
     jac = np.empty((m, nq))
-    gram = np.empty((m, m))
-    ca.phi_values(x, ints, floats, functions, refs, phi)
+    low = np.empty((m, m))
     fresh, have = 0, False
     for _ in range(most):
-        if not have:
-            ca.phi_and_jacobian(x, ints, floats, functions, refs, np.empty(m), jac)
-            gram = jac @ jac.T
-            if not _well_conditioned(gram):
+        if not have:  # phi at q too: the same equations, so the same residual at the start
+            ca.phi_and_jacobian(
+                x, ints, floats, functions, refs, phi if fresh == 0 else np.empty(m), jac
+            )
+            ok, low = _cholesky(jac @ jac.T)
+            if not ok:
                 return FALLBACK, q, fresh
             fresh += 1
             have = True
         if not np.isfinite(phi).all():
             return FALLBACK, q, fresh
-        step = jac.T @ np.linalg.solve(gram, -phi)
+        step = jac.T @ _cho_solve(low, -phi)
         size = 0.0
         for j in range(nq):
             q[j] += step[j]
@@ -113,10 +140,15 @@ def _inverse_mass(x, body, nb):
     inertia = body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
     blocks = np.empty((nb, 7, 7))
     kr.mass_blocks(x, masses, inertia, pscale, blocks)
+    unit = np.zeros(7)
     for b in range(nb):
-        if not _well_conditioned(blocks[b]):
+        ok, low = _cholesky(blocks[b])
+        if not ok:
             return np.empty((0, 7, 7))
-        blocks[b] = np.linalg.inv(blocks[b])
+        for c in range(7):
+            unit[:] = 0.0
+            unit[c] = 1.0
+            blocks[b, :, c] = _cho_solve(low, unit)
     return blocks
 
 
@@ -161,22 +193,22 @@ def project_row(ends, h, s, ints, floats, functions, refs, body, params, out):
     for b in range(nb):
         o = 7 * b
         weighted[:, o : o + 7] = np.ascontiguousarray(jac[:, o : o + 7]) @ minv[b]
-    schur = weighted @ jac.T
-    if not _well_conditioned(schur):
+    ok, low = _cholesky(weighted @ jac.T)  # the Schur complement phi_q M^-1 phi_q^T
+    if not ok:
         return FALLBACK, fresh
     nu, gamma = np.empty(m), np.empty(m)
     ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
     drift = nu - jac @ qd
     v = qd.copy()
     if m and np.abs(drift).max() > 0.0:
-        v += weighted.T @ np.linalg.solve(schur, drift)
+        v += weighted.T @ _cho_solve(low, drift)
         x, xd = ca.state_arrays(q, v, nb)
         ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
     forces = np.empty(nq)
     none = np.zeros((nb + 1, 3))
     masses, inertia = body[3 : 3 + nb], body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
     kr.body_forces(x, xd, masses, inertia, body[:3], none, none, True, forces)
-    lam = np.linalg.solve(schur, weighted @ forces - gamma)
+    lam = _cho_solve(low, weighted @ forces - gamma)
     free = forces - jac.T @ lam
     for b in range(nb):
         o = 7 * b
