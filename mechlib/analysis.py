@@ -155,6 +155,17 @@ class Trajectory:
         self.qdd.append(np.array(qdd, dtype=float))
         self.lam.append(np.array(lam, dtype=float))
 
+    def same_active(self, first: int, most: int) -> int:
+        """The end of the rows from `first` on (at most `most`) recorded with the same
+        active equations (the same array, as a run keeps it between events)."""
+        active = self.references[first]["active"]
+        end = first + 1
+        while end < len(self.references) and end - first < most:
+            if self.references[end]["active"] is not active:
+                break
+            end += 1
+        return end
+
     def trim(self) -> None:
         """Drop a row that an interrupt left half-appended (all lists to the shortest)."""
         rows = self._fields()

@@ -24,13 +24,14 @@ from mechlib.coordinate_block import CoordinateBlock
 from mechlib.jit import njit
 from mechlib.kin import GROUND_Q
 
-__all__ = ["ConstraintArrays"]
+__all__ = ["DENSE_ROW", "ConstraintArrays"]
 
 _TWO_PI = 2.0 * math.pi
 _NO_INT = np.zeros(0, dtype=np.int64)
 _NO_VEC = np.zeros((0, 3))
 _ROW_BODIES = 4  # bodies a row's columns are recorded for (more: the row is dense)
 _DENSE = -2
+DENSE_ROW = _DENSE  # row_bodies' mark of a row over more bodies than _ROW_BODIES: filled whole
 
 
 def _group(groups: list, kind, width: int) -> tuple:

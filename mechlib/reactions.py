@@ -9,9 +9,18 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib import constraint_arrays as ca
+from mechlib.jit import njit
 from mechlib.rotation import cross, e_matrix, rotate, rotation_matrix
 
-__all__ = ["Gatherer", "effort_series", "joint_wrench", "motion_effort", "reaction_series"]
+__all__ = [
+    "Gatherer",
+    "effort_series",
+    "gather_in_batches",
+    "joint_wrench",
+    "motion_effort",
+    "reaction_series",
+]
 
 _FORCE = ("fx", "fy", "fz")
 _TORQUE = ("tx", "ty", "tz")
@@ -48,6 +57,74 @@ class Gatherer:
         """Force and torque about the cm (n, 3) given the body's Euler parameters (n, 4)."""
         g = np.array(self.values).reshape(-1, 7)
         return g[:, :3], 0.5 * np.einsum("nij,nj->ni", e_matrix(p), g[:, 3:])
+
+
+def gather_in_batches(system, trajectory, gatherers: list[Gatherer]) -> None:
+    """Every recorded row's `Gatherer.gather` for `gatherers` of a packed system
+    (mechlib.constraint_arrays), in one compiled call per run of rows with the same active
+    equations instead of a Jacobian per row in Python: the same products. Leaves the
+    system restored to the last row, as the row loop does."""
+    arrays = system.packed_constraints()
+    assert arrays is not None, "the caller checks that the system is packed"
+    n, i = len(trajectory), 0
+    while i < n:
+        system.restore_snapshot(trajectory.references[i])
+        end = trajectory.same_active(i, n)
+        rows = [g._current_rows() for g in gatherers]
+        starts = np.cumsum([0] + [len(r) for r in rows])
+        rows_of = np.concatenate([np.zeros(0, dtype=np.int64), *rows]).astype(np.int64)
+        bodies = np.array([g.body for g in gatherers], dtype=np.int64)
+        out = np.empty((end - i, len(gatherers), 7))
+        ints, floats = arrays.packed()
+        m = system.active.size
+        lams = np.array(trajectory.lam[i:end], dtype=float).reshape(end - i, m)
+        gathered_loads(
+            np.array(trajectory.q[i:end], dtype=float), lams, ints, floats,
+            arrays.references(), rows_of, starts, bodies, out,
+        )  # fmt: skip
+        for g, gatherer in enumerate(gatherers):
+            gatherer.values.extend(out[:, g, :])
+        i = end
+    system.restore_snapshot(trajectory.references[n - 1])
+
+
+@njit(cache=True, nogil=True)
+def gathered_loads(qs, lams, ints, floats, refs, rows_of, starts, bodies, out):
+    """out (n, gatherers, 7): per recorded state (qs (n, nq), lams (n, m)) and gatherer g,
+    -phi_q[rows, body g's columns]^T lam[rows] over its active rows
+    rows_of[starts[g]:starts[g + 1]] (zeros for a body < 0). The Jacobian rows read no
+    time function, so none is given."""
+    n, nq = qs.shape
+    nb = nq // 7
+    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    full = np.empty(nall)
+    rows = np.zeros((nall, nq + 7))
+    functions = np.zeros((ints[6], 3))
+    for i in range(n):
+        x, _ = ca.state_arrays(qs[i], qs[i], nb)
+        active, row_bodies = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)
+        for g in range(bodies.shape[0]):
+            b = bodies[g]
+            out[i, g, :] = 0.0
+            if b < 0:
+                continue
+            for e in range(starts[g], starts[g + 1]):
+                r = active[rows_of[e]]
+                # a row fills only its bodies' blocks (constraint_rows): elsewhere it is 0
+                if row_bodies[r, 0] != ca.DENSE_ROW and not _touches(row_bodies[r], b):
+                    continue
+                w = lams[i, rows_of[e]]
+                for c in range(7):
+                    out[i, g, c] -= rows[r, 7 * b + c] * w
+
+
+@njit(cache=True, nogil=True)
+def _touches(bodies, b):
+    """Whether a row's recorded bodies include body b."""
+    for c in range(bodies.shape[0]):  # noqa: SIM110 -- numba compiles no generator in any()
+        if bodies[c] == b:
+            return True
+    return False
 
 
 def _body_states(trajectory, body: int, nb: int) -> np.ndarray:

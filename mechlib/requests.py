@@ -18,7 +18,7 @@ import numpy as np
 
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.energy import EnergyBalance, energy_columns
-from mechlib.reactions import Gatherer, effort_series, reaction_series
+from mechlib.reactions import Gatherer, effort_series, gather_in_batches, reaction_series
 from mechlib.request_failure import partial_columns
 from mechlib.rotation import d_rotate, rotate
 from mechlib.solution import SolverFailure
@@ -299,10 +299,15 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
         r for r in requests if isinstance(r, (JointCoordinate, ElementOutput, ExpressionOutput))
     ]
     failed: dict[str, SolverFailure] = {}
-    for i, t in enumerate(trajectory.time if stepwise or loads else ()):
+    gathered = bool(loads) and not stepwise and len(trajectory) > 0
+    if gathered and system.packed_constraints() is not None:
+        gather_in_batches(system, trajectory, [g for gs in loads.values() for g, _ in gs])
+    else:
+        gathered = False
+    for i, t in enumerate(trajectory.time if stepwise or (loads and not gathered) else ()):
         system.restore_snapshot(trajectory.references[i])  # as the solver had it then
         k = system.kin(trajectory.q[i], trajectory.qd[i], t)
-        if loads:
+        if loads and not gathered:
             jac = system.phi_q(k)
             for gatherers in loads.values():
                 for gatherer, _ in gatherers:

@@ -261,7 +261,7 @@ def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
             batch.flush(ranks, sines)
             active, free = system.active, _free_measures(system)
         if arrays is not None and 0 < system.active.size <= _BATCH_ROWS:
-            end = _same_rows(trajectory.references, i, _BATCH_SIZE - len(batch.rows))
+            end = trajectory.same_active(i, _BATCH_SIZE - len(batch.rows))
             batch.free = free if system.active.size < system.nq else []
             batch.extend(i, *_compiled_rows(arrays, trajectory.q[i:end], batch.free, scale))
             if len(batch.rows) >= _BATCH_SIZE:
@@ -283,16 +283,6 @@ def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
     batch.flush(ranks, sines)
     system.restore_snapshot(trajectory.references[n - 1])
     return ranks, sines
-
-
-def _same_rows(references: list, first: int, most: int) -> int:
-    """The end of the rows from `first` on (at most `most`) recorded with the same active
-    equations (the same array, as a run keeps it between events)."""
-    active = references[first]["active"]
-    end = first + 1
-    while end < len(references) and end - first < most and references[end]["active"] is active:
-        end += 1
-    return end
 
 
 def _compiled_rows(arrays: ConstraintArrays, qs: np.ndarray, free: list, scale: np.ndarray):
