@@ -21,6 +21,7 @@ toggle. Checked at the recorded output rows, after the analysis (docs/analyses.m
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -32,6 +33,7 @@ from scipy.sparse.linalg import splu
 from mechlib.check import Redundancy
 from mechlib.constraint_arrays import ConstraintArrays, measure_args, scaled_rows
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
+from mechlib.jit import njit
 from mechlib.system import System
 
 __all__ = ["TOGGLE_THRESHOLD", "Toggle", "toggle_detail", "toggle_warnings", "weakest_equations"]
@@ -310,54 +312,74 @@ def _gradients(system: System, k, free: list, scale: np.ndarray) -> np.ndarray:
 class _Batch:
     """Rows of one active set with few equations, measured in one go: the smallest
     singular value of each scaled Jacobian from the eigenvalues of J J^T, the sines from
-    one batched solve (the same quantities as `_Position`, without its per-row calls)."""
+    a solve with J J^T (the same quantities as `_Position`), in one compiled call
+    (`_batch_measures`)."""
 
     def __init__(self) -> None:
         self.rows: list[int] = []
-        self.jacs: list[np.ndarray] = []
-        self.grads: list[np.ndarray] = []
+        self.jacs: list[np.ndarray] = []  # chunks (n, m, nq)
+        self.grads: list[np.ndarray] = []  # chunks (n, nq, c)
         self.free: list = []
 
     def add(self, row: int, jac: np.ndarray, grads: np.ndarray) -> None:
-        self.rows.append(row)
-        self.jacs.append(jac)
-        self.grads.append(grads)
+        self.extend(row, jac[None], grads[None])
 
     def extend(self, first: int, jacs: np.ndarray, grads: np.ndarray) -> None:
         """Rows first, first + 1, ... with their jacs (n, m, nq) and grads (n, nq, c)."""
         self.rows.extend(range(first, first + len(jacs)))
-        self.jacs.extend(jacs)
-        self.grads.extend(grads)
+        self.jacs.append(jacs)
+        self.grads.append(grads)
 
     def flush(self, ranks: np.ndarray, sines: list) -> None:
         """Write the measures of the rows held into `ranks` and `sines`; empty the batch."""
         if not self.rows:
             return
-        jac, grads = np.array(self.jacs), np.array(self.grads)  # (n, m, nq), (n, nq, c)
-        m = jac.shape[1]
-        gram = jac @ jac.transpose(0, 2, 1) if m else None
-        ranks[self.rows] = (
-            np.sqrt(np.maximum(np.linalg.eigvalsh(gram)[:, 0], 0.0)) if gram is not None else 1.0
-        )
-        floored = gram + _GRAM_FLOOR * np.eye(m) if gram is not None else None
-        shares, norms = _free_shares(jac, grads, floored)
-        for i, share, norm in zip(self.rows, shares, norms):
+        jac = np.ascontiguousarray(np.concatenate(self.jacs))  # (n, m, nq)
+        grads = np.ascontiguousarray(np.concatenate(self.grads))  # (n, nq, c)
+        n, c = len(self.rows), grads.shape[2]
+        rank, shares, norms = np.empty(n), np.empty((n, c)), np.empty((n, c))
+        _batch_measures(jac, grads, _GRAM_FLOOR, rank, shares, norms)
+        ranks[self.rows] = rank
+        for i, share, norm in zip(self.rows, shares.tolist(), norms.tolist()):
             sines[i] = {
-                (joint, meas.kind): float(value)
+                (joint, meas.kind): value
                 for (joint, meas), value, size in zip(self.free, share, norm)
                 if size > 0.0
             }
         self.rows, self.jacs, self.grads = [], [], []
 
 
-def _free_shares(jac: np.ndarray, grads: np.ndarray, gram: np.ndarray | None):
-    """(shares, norms) (n, c): per row and free coordinate, the part of its gradient the
-    constraint rows leave free over its length, and that length."""
-    norms = np.linalg.norm(grads, axis=1)
-    if gram is None or not grads.shape[2]:
-        return np.ones_like(norms), norms
-    free = grads - jac.transpose(0, 2, 1) @ np.linalg.solve(gram, jac @ grads)
-    return np.linalg.norm(free, axis=1) / np.where(norms > 0.0, norms, 1.0), norms
+@njit(cache=True, nogil=True)
+def _batch_measures(jacs, grads, floor, ranks, shares, norms):
+    """Per row i: the smallest singular value of the scaled Jacobian jacs[i] (m, nq) from
+    the eigenvalues of J J^T (1 without equations), and per free coordinate (gradient
+    column of grads[i] (nq, c)) its length and the part of it outside the span of the
+    rows over that length (J J^T floored by `floor` for the solve)."""
+    n, m, nq = jacs.shape
+    c = grads.shape[2]
+    for i in range(n):
+        jac, grad = jacs[i], grads[i]
+        for k in range(c):
+            acc = 0.0
+            for j in range(nq):
+                acc += grad[j, k] * grad[j, k]
+            norms[i, k] = math.sqrt(acc)
+        if m == 0:
+            ranks[i] = 1.0
+            shares[i, :] = 1.0
+            continue
+        gram = jac @ jac.T
+        ranks[i] = math.sqrt(max(np.linalg.eigvalsh(gram)[0], 0.0))
+        if c == 0:
+            continue
+        for k in range(m):
+            gram[k, k] += floor
+        free = grad - jac.T @ np.linalg.solve(gram, jac @ grad)
+        for k in range(c):
+            acc = 0.0
+            for j in range(nq):
+                acc += free[j, k] * free[j, k]
+            shares[i, k] = math.sqrt(acc) / (norms[i, k] if norms[i, k] > 0.0 else 1.0)
 
 
 def _relative(sines: list[dict]) -> list[dict]:
