@@ -36,14 +36,23 @@ from mechlib.solution import SolverFailure, SolverStats
 from mechlib.system import System
 from mechlib.work import count
 
-__all__ = ["Coefficients", "Integrator"]
+__all__ = [
+    "ETA_MIN",
+    "MAX_ITER",
+    "NEWTON_KAPPA",
+    "NOISE_POSITION",
+    "SLOW_ITERATIONS",
+    "STAGNANT",
+    "Coefficients",
+    "Integrator",
+]
 
-_MAX_ITER = 8
-_NEWTON_KAPPA = 0.05
-_ETA_MIN = 1e-3
-_SLOW_ITERATIONS = 3
-_STAGNANT = 0.5  # increment ratio of an iteration that no longer converges
-_NOISE_POSITION = 1e-3  # position increment (x the position tolerance) that is round-off
+MAX_ITER = 8
+NEWTON_KAPPA = 0.05
+ETA_MIN = 1e-3
+SLOW_ITERATIONS = 3
+STAGNANT = 0.5  # increment ratio of an iteration that no longer converges
+NOISE_POSITION = 1e-3  # position increment (x the position tolerance) that is round-off
 
 
 @dataclass(frozen=True)
@@ -171,7 +180,7 @@ class Integrator:
         rebuild = fresh or abs(h / self.lu_h - 1.0) > 0.25 or bool(self.own)
         refreshed, prev, it = False, math.inf, 0
         eta = self.eta
-        while it < _MAX_ITER:
+        while it < MAX_ITER:
             k = sys.kin(q1, qd1, t1)
             if sys.states:
                 sys.states.advance(sys.view(k), h)
@@ -205,12 +214,12 @@ class Integrator:
             # Newton error estimate eta*|dq| against a fraction of the local error tolerance
             # (Hairer & Wanner, Solving ODEs II, IV.8); positions only, as the error test
             if (
-                (eta * size <= _NEWTON_KAPPA and size < 1.0)
+                (eta * size <= NEWTON_KAPPA and size < 1.0)
                 or size < 1e-10
                 or self._noise(size, prev, dq, q1)
             ):
-                self.eta = max(eta, _ETA_MIN) ** 0.8
-                if it > _SLOW_ITERATIONS:
+                self.eta = max(eta, ETA_MIN) ** 0.8
+                if it > SLOW_ITERATIONS:
                     self.stale = True  # converging slowly: a fresh matrix for the next step
                 a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (
                     1.0 - c.alpha_m
@@ -223,7 +232,7 @@ class Integrator:
                     lam1,
                     self._true_acceleration(q1, qd1, t1, qdd1, lam1, jac),
                 )
-            if (prev < math.inf and size > 0.9 * prev) or it == _MAX_ITER:
+            if (prev < math.inf and size > 0.9 * prev) or it == MAX_ITER:
                 if refreshed:
                     break
                 rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
@@ -259,7 +268,7 @@ class Integrator:
         functions, refs = arrays.functions(t1), arrays.references()
         scales = self.scales
         params = np.array(
-            [bp, gp, scales.tol, ROUNDOFF, _NEWTON_KAPPA, _STAGNANT, _NOISE_POSITION, _MAX_ITER]
+            [bp, gp, scales.tol, ROUNDOFF, NEWTON_KAPPA, STAGNANT, NOISE_POSITION, MAX_ITER]
             + [c.alpha_m, c.alpha_f]
         )
         nq = sys.nq
@@ -280,8 +289,8 @@ class Integrator:
             )  # fmt: skip
             self.stats.newton_iterations += done
             if status == CONVERGED:
-                self.eta = max(eta, _ETA_MIN) ** 0.8
-                if it > _SLOW_ITERATIONS:
+                self.eta = max(eta, ETA_MIN) ** 0.8
+                if it > SLOW_ITERATIONS:
                     self.stale = True
                 m = lam.size
                 consistent = (true[:nq], true[nq : 2 * nq], true[2 * nq : 2 * nq + m])
@@ -305,15 +314,15 @@ class Integrator:
 
     def _noise(self, size: float, prev: float, dq: np.ndarray, q1: np.ndarray) -> bool:
         """Newton has reached its round-off floor: the increments stopped shrinking
-        (ratio above _STAGNANT) while far below the position tolerance. Near a singular
+        (ratio above STAGNANT) while far below the position tolerance. Near a singular
         position (the horizontal crossing of a chain of parallelogram four-bars) the
         iteration matrix amplifies round-off in q by 1/sigma_min, and x beta' that noise
         reads as a large acceleration increment no smaller step removes."""
         assert self.scales is not None, "set by the stepper before its first step"
         return (
             prev < math.inf
-            and size > _STAGNANT * prev
-            and self.scales.position_size(dq, q1) <= _NOISE_POSITION
+            and size > STAGNANT * prev
+            and self.scales.position_size(dq, q1) <= NOISE_POSITION
         )
 
     def _true_acceleration(self, q1, qd1, t1, qdd1, lam1, jac):

@@ -15,12 +15,22 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mechlib import genalpha_run as run
 from mechlib.analysis import Dynamic
 from mechlib.consistent import consistent_accelerations, consistent_state
 from mechlib.contract import DenseStepper, State, Status, StepResult, StepUnresolved
 from mechlib.dense import HermiteRows, first_step, largest_step
-from mechlib.genalpha import Integrator
-from mechlib.genalpha_kernels import Scales
+from mechlib.genalpha import (
+    ETA_MIN,
+    MAX_ITER,
+    NEWTON_KAPPA,
+    NOISE_POSITION,
+    SLOW_ITERATIONS,
+    STAGNANT,
+    Integrator,
+)
+from mechlib.genalpha_kernels import ROUNDOFF, Scales
+from mechlib.genalpha_run import StepRun
 from mechlib.runaway import StepCollapse, element_loads, fell_to, stall, step_floor
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.stick import slip_stop, switch_sticking
@@ -82,6 +92,7 @@ class GeneralizedAlphaStepper(DenseStepper):
         self.h_min = step_floor(spec.end)
         self.h_used = 0.0
         self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
+        self.run = StepRun(self, _run_settings()) if StepRun.eligible(self) else None
 
     def init(self, t: float, q0: np.ndarray, qd0: np.ndarray) -> State:
         self.integ.scales = Scales(self.system, q0, self.spec.tolerance)
@@ -229,6 +240,23 @@ class GeneralizedAlphaStepper(DenseStepper):
                 self.system, state.t, failure.t - state.t, f"locating event {events()}"
             )
         self._shrink(state, 0.25 * (new.t - state.t))
+
+
+def _run_settings() -> dict[int, float]:
+    """The constants of this stepper and its integrator, by slot of `run_steps`' control
+    array (mechlib.genalpha_run)."""
+    return {
+        run.KAPPA: NEWTON_KAPPA,
+        run.STAGNANT: STAGNANT,
+        run.NOISE: NOISE_POSITION,
+        run.MAX_ITER: MAX_ITER,
+        run.SLOW: SLOW_ITERATIONS,
+        run.ETA_MIN: ETA_MIN,
+        run.SAFETY: _SAFETY,
+        run.GROW: _GROW,
+        run.REGROW: _REGROW,
+        run.ROUNDOFF: ROUNDOFF,
+    }
 
 
 def _substeps(interval: float, h: float) -> tuple[int, float]:

@@ -53,8 +53,16 @@ def march(
     monitor.arm(s.t, stepper.view(s))
     if isinstance(stepper, DenseStepper) and stepper.dense:
         return _march_dense(stepper, s, trajectory, monitor, progress, event_log)
-    for t_out in output_times(spec.start, spec.end, spec.step)[1:]:
-        while t_out - s.t > 1e-12 * max(1.0, abs(t_out)):
+    outputs = output_times(spec.start, spec.end, spec.step)[1:]
+    run = getattr(stepper, "run", None)  # steps in one compiled call (mechlib.genalpha_run)
+    i = 0
+    while i < len(outputs):
+        if run is not None and not monitor.armed:
+            s, i = run.run(s, outputs, i, trajectory, progress)
+            if i == len(outputs):
+                break
+        t_out = outputs[i]
+        if t_out - s.t > 1e-12 * max(1.0, abs(t_out)):  # one step in Python
             check_step_limit(spec, stats, s.t)
             new = stepper.step(s, t_out).state
             if new is None:
@@ -69,9 +77,11 @@ def march(
                 if monitor.armed:
                     monitor.arm(after.t, stepper.view(after))
             s = after
-        stepper.record(trajectory, s)
-        if progress:
-            progress(s.t, spec.end)
+        if t_out - s.t <= 1e-12 * max(1.0, abs(t_out)):
+            stepper.record(trajectory, s)
+            i += 1
+            if progress:
+                progress(s.t, spec.end)
     return Status.SUCCESSFUL
 
 

@@ -1,0 +1,271 @@
+"""Runs of generalized-alpha steps in one compiled call (`output: steps`).
+
+For a rigid system with no active force element, no element states, no joint friction and
+no time function in its equations (a free mechanism under gravity: the bench models, a
+free deployment phase), `run_steps` takes accepted steps one after another towards the
+output times, as `GeneralizedAlphaStepper.step`, `accept` and `march` do them -- the step
+size from the error estimate, the Newton iterations (mechlib.genalpha_compiled.newton),
+the error estimate, the acceleration scales, the angles' unwrapping, the rows at the
+output times -- without returning to Python between steps.
+
+It stops, leaving the state where it was, before any step that needs what only the Python
+stepper does: a new factorisation of the iteration matrix (a stale one, or a step size
+more than 25 % away from the factored one), consistent accelerations at a new step size,
+a rejected step, Newton stalling, the step limit or a collapsing step size; and before
+recording a non-finite row. `march` then takes one step in Python and calls it again: the
+same steps, iterations and results as the Python loop to round-off
+(tests/mechlib/test_genalpha_run.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mechlib import constraint_arrays as ca
+from mechlib import genalpha_kernels as gk
+from mechlib.coordinates import AngleMeasure
+from mechlib.genalpha_compiled import CONVERGED, newton
+from mechlib.jit import njit
+
+__all__ = ["STOPPED", "StepRun", "run_steps"]
+
+STOPPED = 1  # the run stopped before a step (or a row) that Python must take
+
+# slots of the control array `ctrl` (in: settings; in/out: the stepper's state)
+T, H, H_USED, LU_H, ETA, STALE = 0, 1, 2, 3, 4, 5
+MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT = 6, 7, 8, 9, 10
+ALPHA_M, ALPHA_F, BETA, GAMMA = 11, 12, 13, 14
+KAPPA, STAGNANT, NOISE, MAX_ITER, SLOW, ETA_MIN = 15, 16, 17, 18, 19, 20
+SAFETY, GROW, REGROW, ROUNDOFF = 21, 22, 23, 24
+CTRL_SIZE = 25
+# slots of the counters `counts` (in/out)
+STEPS, REJECTED, ITERATIONS = 0, 1, 2
+
+
+@njit(cache=True, nogil=True)
+def _substep(interval, h):
+    """The size of equal sub-steps of at most h landing on the output time."""
+    n = max(1, math.ceil(interval / h * (1.0 - 1e-9)))
+    return interval / n
+
+
+@njit(cache=True, nogil=True)
+def _finite(*arrays):
+    for a in arrays:
+        for v in a:
+            if not np.isfinite(v):
+                return False
+    return True
+
+
+@njit(cache=True, nogil=True)
+def run_steps(
+    own, own_lam, cons, cons_lam, ctrl, counts, outs, first, ints, floats, functions, body,
+    fi, ff, q_abs, a_ref, angles, refs_all, block_angles, rows_t, rows_state, rows_refs,
+    most_steps,
+):  # fmt: skip
+    """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
+    `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
+    consistent multipliers), in place, towards the output times outs[first:], recording a
+    row (t, and q, qd, qdd,
+    lam stacked, and the angles' references) at each one reached, at most
+    len(rows_t) rows and `most_steps` steps. `angles` = (ai, aj, au, av) of every angle
+    measure, `refs_all` their references (in place), `block_angles` the indices of the
+    constraint rows' angles among them. Returns (STOPPED or 0, next output index, rows
+    written)."""
+    ai, aj, au, av = angles
+    nq = own.shape[1]
+    m = own_lam.shape[0]
+    nb = nq // 7
+    refs = np.empty(block_angles.shape[0])
+    for j in range(block_angles.shape[0]):
+        refs[j] = refs_all[block_angles[j]]
+    true = np.empty(3 * nq + m)
+    params = np.empty(10)
+    params[2], params[3], params[4] = ctrl[TOL], ctrl[ROUNDOFF], ctrl[KAPPA]
+    params[5], params[6], params[7] = ctrl[STAGNANT], ctrl[NOISE], ctrl[MAX_ITER]
+    params[8], params[9] = ctrl[ALPHA_M], ctrl[ALPHA_F]
+    i, written, taken = first, 0, 0
+    while i < outs.shape[0]:
+        t = ctrl[T]
+        t_out = outs[i]
+        if t_out - t <= 1e-12 * max(1.0, abs(t_out)):  # reached: its row
+            if written == rows_t.shape[0]:
+                return 0, i, written
+            if not _finite(own[0], cons[0], cons[1], cons_lam):
+                return STOPPED, i, written
+            rows_t[written] = t
+            rows_state[written, :nq] = own[0]
+            rows_state[written, nq : 2 * nq] = cons[0]
+            rows_state[written, 2 * nq : 3 * nq] = cons[1]
+            rows_state[written, 3 * nq :] = cons_lam
+            rows_refs[written] = refs_all
+            written += 1
+            i += 1
+            continue
+        if taken == most_steps or counts[STEPS] + counts[REJECTED] >= ctrl[MAX_STEPS]:
+            return STOPPED, i, written
+        h_try = _substep(t_out - t, ctrl[H])
+        changed = ctrl[H_USED] != 0.0 and abs(h_try / ctrl[H_USED] - 1.0) > 1e-9
+        if changed or ctrl[STALE] != 0.0 or abs(h_try / ctrl[LU_H] - 1.0) > 0.25:
+            return STOPPED, i, written  # consistent accelerations or a factorisation
+        if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
+            return STOPPED, i, written  # the step-collapse watch
+        am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
+        params[0] = (1.0 - am) / (h_try * h_try * beta * (1.0 - af))
+        params[1] = gamma / (h_try * beta)
+        q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h_try, am, beta, gamma)
+        lam1 = own_lam.copy()
+        status, it, _, eta, done = newton(
+            q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref,
+            params, 0, math.inf, ctrl[ETA], own[2], own[3], true,
+        )  # fmt: skip
+        if status != CONVERGED:
+            return STOPPED, i, written
+        new_qdd = true[nq : 2 * nq]
+        err = gk.error_norm(
+            ctrl[ERROR_CONSTANT] * h_try * h_try, cons[1], new_qdd, q_abs, ctrl[TOL], q1
+        )
+        if err > 1.0:
+            return STOPPED, i, written  # rejected: the Python stepper shrinks the step
+        # accepted (GeneralizedAlphaStepper._attempt, then settle)
+        counts[ITERATIONS] += done
+        ctrl[ETA] = max(eta, ctrl[ETA_MIN]) ** 0.8
+        if it > ctrl[SLOW]:
+            ctrl[STALE] = 1.0
+        grow = ctrl[GROW] if err == 0.0 else min(ctrl[GROW], ctrl[SAFETY] * err ** (-1.0 / 3.0))
+        if grow > ctrl[REGROW]:
+            ctrl[H] = min(ctrl[MAX_STEP], h_try * grow)
+        ctrl[H_USED] = h_try
+        ctrl[T] = t + h_try
+        own[0], own[1], own[2] = q1, qd1, qdd1
+        own[3] = true[2 * nq + m :]
+        own_lam[:] = lam1
+        cons[0], cons[1] = true[:nq], new_qdd
+        cons_lam[:] = true[2 * nq : 2 * nq + m]
+        counts[STEPS] += 1
+        taken += 1
+        for j in range(nq):
+            a_ref[j] = max(a_ref[j], abs(new_qdd[j]))
+        x, _ = ca.state_arrays(q1, q1, nb)
+        ca.angle_values(x, ai, aj, au, av, refs_all)
+        for j in range(block_angles.shape[0]):
+            refs[j] = refs_all[block_angles[j]]
+    return 0, i, written
+
+
+class StepRun:
+    """`run_steps` for a generalized-alpha stepper in `march` (`output: steps`): whether
+    the system allows it now, the stepper's state in and out, the rows recorded."""
+
+    CHUNK = 256  # rows per call: the progress bar and interrupts are served between calls
+
+    def __init__(self, stepper, settings: dict[int, float]):
+        self.stepper = stepper
+        self.settings = settings  # the stepper's and the integrator's constants, by slot
+        system = stepper.system
+        # system._angles' order: the angle measures in the order of system.measures
+        self.angle_keys = [k for k, m in system.measures.items() if isinstance(m, AngleMeasure)]
+        self._angle_args: tuple | None = None
+
+    @staticmethod
+    def eligible(stepper) -> bool:
+        """A stepper whose runs may be compiled at all (more is checked at each run)."""
+        return (
+            not stepper.dense
+            and not stepper.spec.fixed_step
+            and not stepper.sticking
+            and stepper.integ.arrays is not None
+            and not stepper.system.states
+        )
+
+    def _ready(self) -> bool:
+        system = self.stepper.system
+        if self.stepper.integ.lu is None or any(e.active for e in system.elements):
+            return False
+        block = system._coordinate_rows()
+        return all(block.equations[i].function is None for i in block._linear)
+
+    def run(self, s, outputs: np.ndarray, i: int, trajectory, progress) -> tuple:
+        """From state s, the steps and rows towards outputs[i:] that `run_steps` takes;
+        returns (the state reached, the index of the next output time)."""
+        if not self._ready():
+            return s, i
+        stepper, system = self.stepper, self.stepper.system
+        integ, stats, spec = stepper.integ, stepper.stats, stepper.spec
+        arrays, scales, c = integ.arrays, integ.scales, integ.c
+        nq = system.nq
+        own = np.stack([s.q, s.raw_qd, s.raw_qdd, s.a])
+        own_lam = np.array(s.raw_lam, dtype=float)
+        cons = np.stack([s.qd, s.qdd])
+        cons_lam = np.array(s.lam, dtype=float)
+        ctrl = np.empty(CTRL_SIZE)
+        for slot, value in self.settings.items():
+            ctrl[slot] = value
+        ctrl[[T, H, H_USED, LU_H, ETA, STALE]] = (
+            s.t,
+            stepper.h,
+            stepper.h_used,
+            integ.lu_h,
+            integ.eta,
+            float(integ.stale),
+        )
+        ctrl[[MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT]] = (
+            stepper.max_step,
+            spec.end,
+            spec.max_steps,
+            scales.tol,
+            c.error_constant,
+        )
+        ctrl[[ALPHA_M, ALPHA_F, BETA, GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
+        counts = np.array([stats.steps, stats.rejected_steps, 0], dtype=np.int64)
+        ints, floats = arrays.packed()
+        fi, ff = integ._factor_data()
+        if self._angle_args is None:
+            self._angle_args = ca.measure_args([m._sc for m in system._angles], 4)
+        refs_all = np.array([m.reference for m in system._angles], dtype=float)
+        position = {id(m): j for j, m in enumerate(system._angles)}
+        block = system._coordinate_rows()
+        block_angles = np.array([position[id(m)] for m in block._angles], dtype=np.int64)
+        rows = min(self.CHUNK, len(outputs) - i)
+        rows_t, rows_refs = np.empty(rows), np.empty((rows, len(refs_all)))
+        rows_state = np.empty((rows, 3 * nq + own_lam.size))
+        _, i_next, written = run_steps(
+            own, own_lam, cons, cons_lam, ctrl, counts, outputs, i, ints, floats,
+            arrays.functions(s.t), arrays.bodies(), fi, ff, scales.q_abs, scales.a_ref,
+            self._angle_args, refs_all, block_angles, rows_t, rows_state, rows_refs, 10 * rows,
+        )  # fmt: skip
+        taken = int(counts[STEPS]) - stats.steps
+        stats.steps = int(counts[STEPS])
+        stats.newton_iterations += int(counts[ITERATIONS])
+        for m, value in zip(system._angles, refs_all):
+            m.reference = float(value)
+        if taken:
+            stepper.h, stepper.h_used = float(ctrl[H]), float(ctrl[H_USED])
+            integ.eta, integ.stale = float(ctrl[ETA]), bool(ctrl[STALE])
+            stepper.collapse.since = None  # every step was well within analysis.max_steps
+            s = type(s)(
+                float(ctrl[T]), own[0], cons[0], cons[1], cons_lam,
+                raw_qd=own[1], raw_qdd=own[2], a=own[3], raw_lam=own_lam,
+            )  # fmt: skip
+        self._record(trajectory, rows_t[:written], rows_state[:written], rows_refs[:written])
+        if written and progress:
+            progress(float(rows_t[written - 1]), spec.end)
+        return s, i_next
+
+    def _record(self, trajectory, times, states, refs) -> None:
+        """The rows, each with the system's snapshot and its own angle references."""
+        if not len(times):
+            return
+        nq = self.stepper.system.nq
+        base = self.stepper.system.snapshot()
+        angles = dict(base["angles"])
+        for t, state, row in zip(times, states, refs):
+            angles.update(zip(self.angle_keys, row.tolist()))
+            snapshot = dict(base, angles=dict(angles))
+            trajectory.record(
+                float(t), state[:nq], state[nq : 2 * nq], state[2 * nq : 3 * nq],
+                state[3 * nq :], snapshot=snapshot,
+            )  # fmt: skip
