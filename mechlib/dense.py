@@ -30,10 +30,18 @@ from mechlib.linalg import SPARSE_FROM
 from mechlib.system import System
 from mechlib.work import count
 
-__all__ = ["HermiteRows", "first_step", "hermite", "natural_time", "projected_row"]
+__all__ = [
+    "PROJECTION",
+    "HermiteRows",
+    "first_step",
+    "hermite",
+    "natural_time",
+    "projected_row",
+]
 
 _FIRST_FRACTION = 1e-6  # of the natural time: the start acceleration may be left at once
-_PROJECTION = np.array([POSITION_TOLERANCE, REUSE_BELOW, MAX_NEWTON], dtype=float)
+# mechlib.dense_compiled.project_row's parameters: solve_positions' tolerance and iterations
+PROJECTION = np.array([POSITION_TOLERANCE, REUSE_BELOW, MAX_NEWTON], dtype=float)
 
 
 def natural_time(system: System) -> float:
@@ -128,7 +136,7 @@ def _compiled_row(
     ints, floats = arrays.packed()
     status, fresh = project_row(
         ends, h, s, ints, floats, arrays.functions(t), arrays.references(), arrays.bodies(),
-        _PROJECTION, out,
+        PROJECTION, out,
     )  # fmt: skip
     count(factorizations=fresh, jacobian_evaluations=fresh)
     if status != DONE:

@@ -1,20 +1,22 @@
-"""Runs of generalized-alpha steps in one compiled call (`output: steps`).
+"""Runs of generalized-alpha steps in one compiled call.
 
 For a rigid system with no active force element, no element states, no joint friction and
 no time function in its equations (a free mechanism under gravity: the bench models, a
-free deployment phase), `run_steps` takes accepted steps one after another towards the
-output times, as `GeneralizedAlphaStepper.step`, `accept` and `march` do them -- the step
-size from the error estimate, the Newton iterations (mechlib.genalpha_compiled.newton),
-the error estimate, the acceleration scales, the angles' unwrapping, the rows at the
-output times -- without returning to Python between steps.
+free deployment phase), `run_steps` takes accepted steps one after another, landing on the
+output times (`output: steps`) or towards the end (dense output), as
+`GeneralizedAlphaStepper.step`, `accept` and `march` do them -- the step size from the
+error estimate, the Newton iterations (mechlib.genalpha_compiled.newton), the error
+estimate, the acceleration scales, the angles' unwrapping, the rows at the output times
+(a step's own state, or dense rows interpolated and projected by
+mechlib.dense_compiled.project_row) -- without returning to Python between steps.
 
 It stops, leaving the state where it was, before any step that needs what only the Python
 stepper does: a new factorisation of the iteration matrix (a stale one, or a step size
 more than 25 % away from the factored one), consistent accelerations at a new step size,
-a rejected step, Newton stalling, the step limit or a collapsing step size; and before
-recording a non-finite row. `march` then takes one step in Python and calls it again: the
-same steps, iterations and results as the Python loop to round-off
-(tests/mechlib/test_genalpha_run.py).
+a rejected step, Newton stalling, the step limit or a collapsing step size, a dense row
+the compiled projection gives back; and before recording a non-finite row. `march` then
+takes one step in Python and calls it again: the same steps, iterations and results as
+the Python loop to round-off (tests/mechlib/test_genalpha_run.py).
 """
 
 from __future__ import annotations
@@ -26,8 +28,11 @@ import numpy as np
 from mechlib import constraint_arrays as ca
 from mechlib import genalpha_kernels as gk
 from mechlib.coordinates import AngleMeasure
+from mechlib.dense import PROJECTION
+from mechlib.dense_compiled import DONE, project_row
 from mechlib.genalpha_compiled import CONVERGED, newton
 from mechlib.jit import njit
+from mechlib.work import count
 
 __all__ = ["STOPPED", "StepRun", "run_steps"]
 
@@ -38,10 +43,10 @@ T, H, H_USED, LU_H, ETA, STALE = 0, 1, 2, 3, 4, 5
 MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT = 6, 7, 8, 9, 10
 ALPHA_M, ALPHA_F, BETA, GAMMA = 11, 12, 13, 14
 KAPPA, STAGNANT, NOISE, MAX_ITER, SLOW, ETA_MIN = 15, 16, 17, 18, 19, 20
-SAFETY, GROW, REGROW, ROUNDOFF = 21, 22, 23, 24
-CTRL_SIZE = 25
-# slots of the counters `counts` (in/out)
-STEPS, REJECTED, ITERATIONS = 0, 1, 2
+SAFETY, GROW, REGROW, ROUNDOFF, DENSE = 21, 22, 23, 24, 25
+CTRL_SIZE = 26
+# slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
+STEPS, REJECTED, ITERATIONS, ROW_JACOBIANS, ROW_FACTORS = 0, 1, 2, 3, 4
 
 
 @njit(cache=True, nogil=True)
@@ -61,58 +66,89 @@ def _finite(*arrays):
 
 
 @njit(cache=True, nogil=True)
+def _towards(interval, h):
+    """A dense step of h towards a time `interval` ahead (GeneralizedAlphaStepper's)."""
+    if interval <= h * (1.0 + 1e-9):
+        return interval
+    return 0.5 * interval if interval < 2.0 * h else h
+
+
+@njit(cache=True, nogil=True)
+def _reached(t_out, t):
+    return t_out - t <= 1e-12 * max(1.0, abs(t_out))
+
+
+@njit(cache=True, nogil=True)
 def run_steps(
     own, own_lam, cons, cons_lam, ctrl, counts, outs, first, ints, floats, functions, body,
-    fi, ff, q_abs, a_ref, angles, refs_all, block_angles, rows_t, rows_state, rows_refs,
-    most_steps,
+    fi, ff, q_abs, a_ref, angles, refs_all, block_angles, projection, rows_t, rows_state,
+    rows_refs, most_steps,
 ):  # fmt: skip
     """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
     `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
-    consistent multipliers), in place, towards the output times outs[first:], recording a
-    row (t, and q, qd, qdd,
-    lam stacked, and the angles' references) at each one reached, at most
-    len(rows_t) rows and `most_steps` steps. `angles` = (ai, aj, au, av) of every angle
-    measure, `refs_all` their references (in place), `block_angles` the indices of the
-    constraint rows' angles among them. Returns (STOPPED or 0, next output index, rows
-    written)."""
+    consistent multipliers), in place, recording the rows at the output times outs[first:]
+    (rows_t, rows_state: q, qd, qdd, lam stacked, rows_refs: the angles' references): with
+    ctrl[DENSE], steps towards the end and rows projected within each step
+    (mechlib.dense_compiled, `projection` its parameters), else steps landing on each
+    output time and the rows their states. At most len(rows_t) rows and `most_steps`
+    steps. `angles` = (ai, aj, au, av) of every angle measure, `refs_all` their references
+    (in place), `block_angles` the indices of the constraint rows' angles among them.
+    Returns (STOPPED or 0, next output index, rows written)."""
     ai, aj, au, av = angles
     nq = own.shape[1]
     m = own_lam.shape[0]
     nb = nq // 7
+    dense = ctrl[DENSE] != 0.0
     refs = np.empty(block_angles.shape[0])
     for j in range(block_angles.shape[0]):
         refs[j] = refs_all[block_angles[j]]
+    new_refs, new_block = refs_all.copy(), refs.copy()
     true = np.empty(3 * nq + m)
+    ends = np.empty((6, nq))
     params = np.empty(10)
     params[2], params[3], params[4] = ctrl[TOL], ctrl[ROUNDOFF], ctrl[KAPPA]
     params[5], params[6], params[7] = ctrl[STAGNANT], ctrl[NOISE], ctrl[MAX_ITER]
     params[8], params[9] = ctrl[ALPHA_M], ctrl[ALPHA_F]
     i, written, taken = first, 0, 0
-    while i < outs.shape[0]:
+    while True:
         t = ctrl[T]
-        t_out = outs[i]
-        if t_out - t <= 1e-12 * max(1.0, abs(t_out)):  # reached: its row
-            if written == rows_t.shape[0]:
+        if dense:
+            if _reached(ctrl[END], t):
                 return 0, i, written
-            if not _finite(own[0], cons[0], cons[1], cons_lam):
-                return STOPPED, i, written
-            rows_t[written] = t
-            rows_state[written, :nq] = own[0]
-            rows_state[written, nq : 2 * nq] = cons[0]
-            rows_state[written, 2 * nq : 3 * nq] = cons[1]
-            rows_state[written, 3 * nq :] = cons_lam
-            rows_refs[written] = refs_all
-            written += 1
-            i += 1
-            continue
+            target = ctrl[END]
+        else:
+            if i == outs.shape[0]:
+                return 0, i, written
+            if _reached(outs[i], t):  # a step's end on an output time: its row
+                if written == rows_t.shape[0]:
+                    return 0, i, written
+                if not _finite(own[0], cons[0], cons[1], cons_lam):
+                    return STOPPED, i, written
+                rows_t[written] = t
+                rows_state[written, :nq] = own[0]
+                rows_state[written, nq : 2 * nq] = cons[0]
+                rows_state[written, 2 * nq : 3 * nq] = cons[1]
+                rows_state[written, 3 * nq :] = cons_lam
+                rows_refs[written] = refs_all
+                written += 1
+                i += 1
+                continue
+            target = outs[i]
         if taken == most_steps or counts[STEPS] + counts[REJECTED] >= ctrl[MAX_STEPS]:
             return STOPPED, i, written
-        h_try = _substep(t_out - t, ctrl[H])
+        h_try = _towards(target - t, ctrl[H]) if dense else _substep(target - t, ctrl[H])
         changed = ctrl[H_USED] != 0.0 and abs(h_try / ctrl[H_USED] - 1.0) > 1e-9
         if changed or ctrl[STALE] != 0.0 or abs(h_try / ctrl[LU_H] - 1.0) > 0.25:
             return STOPPED, i, written  # consistent accelerations or a factorisation
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
             return STOPPED, i, written  # the step-collapse watch
+        t_new = t + h_try
+        due = 0  # rows within the step (dense): output times up to its end
+        if dense:
+            while i + due < outs.shape[0] and outs[i + due] - t_new <= 1e-12 * max(1.0, abs(t_new)):
+                due += 1
+            if written + due > rows_t.shape[0]:
+                return (STOPPED if written == 0 else 0), i, written
         am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
         params[0] = (1.0 - am) / (h_try * h_try * beta * (1.0 - af))
         params[1] = gamma / (h_try * beta)
@@ -130,8 +166,34 @@ def run_steps(
         )
         if err > 1.0:
             return STOPPED, i, written  # rejected: the Python stepper shrinks the step
+        # the angles unwrapped at the new state (settle), which the step's rows read
+        x, _ = ca.state_arrays(q1, q1, nb)
+        new_refs[:] = refs_all
+        ca.angle_values(x, ai, aj, au, av, new_refs)
+        for j in range(block_angles.shape[0]):
+            new_block[j] = new_refs[block_angles[j]]
+        fresh_rows = 0
+        if due:
+            ends[0], ends[1], ends[2] = own[0], cons[0], cons[1]
+            ends[3], ends[4], ends[5] = q1, true[:nq], new_qdd
+            span = t_new - t
+            for k in range(due):
+                t_row = outs[i + k]
+                at_end = abs(t_row - t_new) <= 1e-12 * max(1.0, abs(t_row))
+                s = 1.0 if at_end else (t_row - t) / span
+                status, fresh = project_row(
+                    ends, span, s, ints, floats, functions, new_block, body, projection,
+                    rows_state[written + k],
+                )  # fmt: skip
+                if status != DONE:  # the Python stepper takes this step and its rows
+                    return STOPPED, i, written
+                fresh_rows += fresh
+                rows_t[written + k] = t_row
+                rows_refs[written + k] = new_refs
         # accepted (GeneralizedAlphaStepper._attempt, then settle)
         counts[ITERATIONS] += done
+        counts[ROW_JACOBIANS] += fresh_rows
+        counts[ROW_FACTORS] += fresh_rows + due
         ctrl[ETA] = max(eta, ctrl[ETA_MIN]) ** 0.8
         if it > ctrl[SLOW]:
             ctrl[STALE] = 1.0
@@ -139,7 +201,7 @@ def run_steps(
         if grow > ctrl[REGROW]:
             ctrl[H] = min(ctrl[MAX_STEP], h_try * grow)
         ctrl[H_USED] = h_try
-        ctrl[T] = t + h_try
+        ctrl[T] = t_new
         own[0], own[1], own[2] = q1, qd1, qdd1
         own[3] = true[2 * nq + m :]
         own_lam[:] = lam1
@@ -149,16 +211,15 @@ def run_steps(
         taken += 1
         for j in range(nq):
             a_ref[j] = max(a_ref[j], abs(new_qdd[j]))
-        x, _ = ca.state_arrays(q1, q1, nb)
-        ca.angle_values(x, ai, aj, au, av, refs_all)
-        for j in range(block_angles.shape[0]):
-            refs[j] = refs_all[block_angles[j]]
-    return 0, i, written
+        refs_all[:] = new_refs
+        refs[:] = new_block
+        written += due
+        i += due
 
 
 class StepRun:
-    """`run_steps` for a generalized-alpha stepper in `march` (`output: steps`): whether
-    the system allows it now, the stepper's state in and out, the rows recorded."""
+    """`run_steps` for a generalized-alpha stepper in `march`: whether the system allows it
+    now, the stepper's state in and out, the rows recorded."""
 
     CHUNK = 256  # rows per call: the progress bar and interrupts are served between calls
 
@@ -174,8 +235,7 @@ class StepRun:
     def eligible(stepper) -> bool:
         """A stepper whose runs may be compiled at all (more is checked at each run)."""
         return (
-            not stepper.dense
-            and not stepper.spec.fixed_step
+            not stepper.spec.fixed_step
             and not stepper.sticking
             and stepper.integ.arrays is not None
             and not stepper.system.states
@@ -220,7 +280,8 @@ class StepRun:
             c.error_constant,
         )
         ctrl[[ALPHA_M, ALPHA_F, BETA, GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
-        counts = np.array([stats.steps, stats.rejected_steps, 0], dtype=np.int64)
+        ctrl[DENSE] = float(stepper.dense)
+        counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
         ints, floats = arrays.packed()
         fi, ff = integ._factor_data()
         if self._angle_args is None:
@@ -235,8 +296,12 @@ class StepRun:
         _, i_next, written = run_steps(
             own, own_lam, cons, cons_lam, ctrl, counts, outputs, i, ints, floats,
             arrays.functions(s.t), arrays.bodies(), fi, ff, scales.q_abs, scales.a_ref,
-            self._angle_args, refs_all, block_angles, rows_t, rows_state, rows_refs, 10 * rows,
+            self._angle_args, refs_all, block_angles, PROJECTION, rows_t, rows_state, rows_refs,
+            10 * rows,
         )  # fmt: skip
+        count(
+            factorizations=int(counts[ROW_FACTORS]), jacobian_evaluations=int(counts[ROW_JACOBIANS])
+        )
         taken = int(counts[STEPS]) - stats.steps
         stats.steps = int(counts[STEPS])
         stats.newton_iterations += int(counts[ITERATIONS])

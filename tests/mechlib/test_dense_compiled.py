@@ -31,6 +31,7 @@ import mechlib.dense as dense
 from mechlib import jit
 from mechlib.constraint_arrays import ConstraintArrays
 from mechlib.dense_compiled import DONE, FALLBACK, _well_conditioned, interpolated, project_row
+from mechlib.genalpha_stepper import GeneralizedAlphaStepper
 from mechlib.system import System
 
 from ._models import Bar, G, Ramp, hinged_bar, slider_crank
@@ -74,8 +75,10 @@ def _driven_crank() -> tuple[mechlib.Mechanism, list, list]:
 
 
 def _run(model, analysis, monkeypatch, *, compiled: bool) -> tuple[mechlib.Solution, dict]:
-    """The dense run of `model`, its rows from the kernel or (compiled False) from Python;
-    also how many rows asked the kernel and how many it took."""
+    """The dense run of `model`, row by row (mechlib.genalpha_run's runs of steps, which
+    project their rows in the same kernel, switched off), its rows from the kernel or
+    (compiled False) from Python; also how many rows asked the kernel and how many it
+    took."""
     taken = {"asked": 0, "done": 0}
     original = dense._compiled_row
 
@@ -85,8 +88,15 @@ def _run(model, analysis, monkeypatch, *, compiled: bool) -> tuple[mechlib.Solut
         taken["done"] += got is not None
         return got
 
+    original_init = GeneralizedAlphaStepper.__init__
+
+    def init(self, *args, **kwargs):  # rows one by one: no compiled runs of steps
+        original_init(self, *args, **kwargs)
+        self.run = None
+
     with monkeypatch.context() as patch:
         patch.setattr(dense, "_compiled_row", row)
+        patch.setattr(GeneralizedAlphaStepper, "__init__", init)
         mech, initial, requests = model()
         return mechlib.solve(mech, analysis, initial=initial, requests=requests), taken
 
@@ -124,7 +134,7 @@ def test_compiled_rows_meet_the_equations_of_motion() -> None:
         ints, floats = arrays.packed()
         status, fresh = project_row(
             _ends(q, qd), 1.0, 1.0, ints, floats, arrays.functions(t), arrays.references(),
-            arrays.bodies(), dense._PROJECTION, out,
+            arrays.bodies(), dense.PROJECTION, out,
         )  # fmt: skip
         assert status == DONE and fresh >= 1
         q1, qd1, qdd1, lam1 = out[:nq], out[nq : 2 * nq], out[2 * nq : 3 * nq], out[3 * nq :]
@@ -185,7 +195,7 @@ def test_the_kernel_gives_up_and_python_takes_the_row() -> None:
     ends = _ends(q, np.zeros(nq))
     status, _ = project_row(
         ends, 1.0, 1.0, ints, floats, arrays.functions(0.0), arrays.references(),
-        arrays.bodies(), dense._PROJECTION, out,
+        arrays.bodies(), dense.PROJECTION, out,
     )  # fmt: skip
     assert status == FALLBACK
     assert dense._compiled_row(system, 0.0, ends, 1.0, 1.0) is None
