@@ -155,6 +155,17 @@ class Trajectory:
         self.qdd.append(np.array(qdd, dtype=float))
         self.lam.append(np.array(lam, dtype=float))
 
+    def extend(self, times, states: np.ndarray, nq: int, snapshots: list[dict]) -> None:
+        """Append rows found finite already (a compiled run's): times (n,), states (n,
+        3 nq + m) with q, qd, qdd, lam stacked, one snapshot each."""
+        block = np.array(states, dtype=float)  # one copy; the rows are views of it
+        self.references.extend(snapshots)
+        self.time.extend(float(t) for t in times)
+        self.q.extend(block[:, :nq])
+        self.qd.extend(block[:, nq : 2 * nq])
+        self.qdd.extend(block[:, 2 * nq : 3 * nq])
+        self.lam.extend(block[:, 3 * nq :])
+
     def same_active(self, first: int, most: int) -> int:
         """The end of the rows from `first` on (at most `most`) recorded with the same
         active equations (the same array, as a run keeps it between events)."""

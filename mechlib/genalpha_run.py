@@ -321,16 +321,14 @@ class StepRun:
         return s, i_next
 
     def _record(self, trajectory, times, states, refs) -> None:
-        """The rows, each with the system's snapshot and its own angle references."""
+        """The rows (found finite by the kernel), each with the system's snapshot and its
+        own angle references."""
         if not len(times):
             return
-        nq = self.stepper.system.nq
         base = self.stepper.system.snapshot()
         angles = dict(base["angles"])
-        for t, state, row in zip(times, states, refs):
-            angles.update(zip(self.angle_keys, row.tolist()))
-            snapshot = dict(base, angles=dict(angles))
-            trajectory.record(
-                float(t), state[:nq], state[nq : 2 * nq], state[2 * nq : 3 * nq],
-                state[3 * nq :], snapshot=snapshot,
-            )  # fmt: skip
+        snapshots = []
+        for row in refs.tolist():
+            angles.update(zip(self.angle_keys, row))
+            snapshots.append(dict(base, angles=dict(angles)))
+        trajectory.extend(times, states, self.stepper.system.nq, snapshots)
