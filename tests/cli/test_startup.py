@@ -60,6 +60,17 @@ folder = units._registry().cache_folder
 print(json.dumps({"exit": code, "cache": None if folder is None else str(folder)}))
 """
 
+_FROZEN = """
+import gc, json, sys
+from cli.app import main
+sys.argv = ["loads", "validate", *sys.argv[1:]]
+try:
+    main()
+except SystemExit as done:
+    code = done.code
+print(json.dumps({"exit": code, "frozen": gc.get_freeze_count()}))
+"""
+
 _KERNELS = """
 import json, sys
 import numpy as np
@@ -131,3 +142,12 @@ def test_interpreted_kernels_match_the_compiled_ones() -> None:
     assert result["before"] is False
     assert result["after"] is True
     assert result["difference"] <= 1e-15
+
+
+def test_main_leaves_its_objects_out_of_the_exit_collection() -> None:
+    """`main` freezes the objects alive when the command ends (gc.freeze), so that the
+    interpreter's exit does not walk the imports' tens of thousands of objects in its
+    garbage collections (about 0.2 s of `loads validate`); the command's output is unchanged."""
+    result = _python(_FROZEN, str(DOOR / "opening.case.yaml"))
+    assert result["exit"] == 0
+    assert result["frozen"] > 10_000
