@@ -6,6 +6,7 @@ never by timed unit tests."""
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import os
 import subprocess
@@ -119,6 +120,19 @@ def test_validate_loads_no_scipy_submodule_or_solver(case: str) -> None:
     spline when its system is made, and so imports scipy.interpolate.)"""
     result = _python(_VALIDATE % (SOLVER,), str(DOOR / case))
     assert result == {"exit": 0, "loaded": []}
+
+
+def test_second_validate_imports_no_pint(tmp_path: Path) -> None:
+    """The first `loads validate` keeps pint's conversions in the user cache folder
+    (loadcases.unit_table); the next, meeting only those units, imports neither pint nor
+    the dask pint's compat layer imports when installed."""
+    env = os.environ | {"XDG_CACHE_HOME": str(tmp_path)}
+    case = str(DOOR / "opening.case.yaml")
+    assert _python(_VALIDATE % (("pint", "dask"),), case, env=env) == {
+        "exit": 0,
+        "loaded": ["dask", "pint"] if importlib.util.find_spec("dask") else ["pint"],
+    }
+    assert _python(_VALIDATE % (("pint", "dask"),), case, env=env) == {"exit": 0, "loaded": []}
 
 
 def test_validate_reads_the_unit_registry_from_pints_cache(tmp_path: Path) -> None:
