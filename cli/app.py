@@ -6,6 +6,7 @@ internal errors.
 """
 
 import functools
+import gc
 import json
 import os
 import runpy
@@ -548,6 +549,13 @@ def main() -> None:
             raise
         print(_internal_error_text(exc), file=sys.stderr)
         sys.exit(EXIT_FAILED)
+    finally:
+        # The interpreter's exit collects garbage over every object still alive: the ~80,000
+        # that pydantic, pint and numpy build at import cost `loads validate` about 0.2 s of
+        # its 0.9 s there (measured on the 2-core VM). Frozen objects are left out of those
+        # collections; the process returns their memory. Nothing of loads relies on the
+        # exit's collection: its files are closed by `with`, its pools shut down by it.
+        gc.freeze()
 
 
 if __name__ == "__main__":

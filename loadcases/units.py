@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from loadcases.clip import clip
+from loadcases.unit_table import UnitTable
 
 __all__ = [
     "DIMENSIONS",
@@ -148,15 +149,35 @@ def _registry() -> Any:
     return registry
 
 
+@lru_cache(maxsize=1)
 def _definitions() -> str:
-    """pint's own definitions (its constants put in place) with `radian = [angle]`."""
-    import importlib.resources
+    """pint's own definitions (its constants put in place) with `radian = [angle]`, read
+    from pint's folder without importing pint."""
+    import importlib.util
 
-    files = importlib.resources.files("pint")
-    text = files.joinpath("default_en.txt").read_text(encoding="utf-8")
-    constants = files.joinpath("constants_en.txt").read_text(encoding="utf-8")
+    spec = importlib.util.find_spec("pint")
+    if spec is None or not spec.submodule_search_locations:
+        raise ImportError("pint is not installed")
+    files = Path(next(iter(spec.submodule_search_locations)))
+    text = (files / "default_en.txt").read_text(encoding="utf-8")
+    constants = (files / "constants_en.txt").read_text(encoding="utf-8")
     text = text.replace("radian = [] = rad", "radian = [angle] = rad")
     return text.replace("@import constants_en.txt", constants)
+
+
+def _cache_stem(text: str) -> str:
+    """The name of the cached files of the definitions `text` read by this pint and this
+    Python (pint's version from its metadata: pint itself is not imported)."""
+    from importlib.metadata import version
+
+    key = "\0".join((text, version("pint"), sys.version))
+    return "units-" + hashlib.sha256(key.encode("utf-8")).hexdigest()[:24]
+
+
+@lru_cache(maxsize=1)
+def _table() -> UnitTable:
+    """The table of the conversions pint made before (`loadcases.unit_table`)."""
+    return UnitTable(_unit_cache_folder() / f"{_cache_stem(_definitions())}.table.json")
 
 
 def _unit_cache_folder() -> Path:
@@ -178,12 +199,9 @@ def _cached_registry(text: str) -> Any:
     first run fills a private folder and moves each file into the cache folder (an atomic
     rename: flexcache writes its files in place), then writes the `.ready` mark; without
     the mark a run fills the cache itself, so no run reads a file another is writing."""
-    import pint
-
     ready: Path | None = None
     try:
-        key = "\0".join((text, pint.__version__, sys.version))
-        stem = "units-" + hashlib.sha256(key.encode("utf-8")).hexdigest()[:24]
+        stem = _cache_stem(text)
         folder = _unit_cache_folder()
         definitions, ready = folder / f"{stem}.txt", folder / f"{stem}.ready"
         if ready.is_file() and definitions.read_text(encoding="utf-8") == text:
@@ -339,21 +357,50 @@ def _si_magnitude(
 def _number_in_unit(value: float, unit: str, negative: bool) -> float:
     """SI magnitude of a bare number in `unit` (`negative`: its sign bit, which tells the
     cache -0.0 from 0.0)."""
-    return float(_registry().Quantity(value, unit).to_base_units().magnitude)
+    one = _table().unit(unit)
+    if one is not None:
+        return value * one
+    registry = _registry()
+    result = float(registry.Quantity(value, unit).to_base_units().magnitude)
+    _table().learn_unit(
+        unit,
+        value,
+        result,
+        one=float(registry.Quantity(1.0, unit).to_base_units().magnitude),
+        zero=float(registry.Quantity(0.0, unit).to_base_units().magnitude),
+    )
+    return result
 
 
 @lru_cache(maxsize=8192)
 def _text_magnitude(value: str, dimension: str) -> float:
     """SI magnitude of a quantity text of `dimension` ("any": of any); UnitError if it is
     not one."""
+    known = _table().quantity(value)
+    if known is not None and (dimension == "any" or _matches(known[1], dimension)):
+        return known[0]
     quantity = _quantity(value)
     base = quantity.to_base_units()
+    if known is None:
+        _learn_quantity(value, quantity, base)
     if dimension != "any" and not _matches(base.dimensionality, dimension):
         raise UnitError(
             f"expected {_describe(DIMENSIONS[dimension])}, got '{clip(value)}' "
             f"({_describe(base.dimensionality, base.units)})"
         )
     return float(base.magnitude)
+
+
+def _learn_quantity(text: str, quantity: Any, base: Any) -> None:
+    """Put pint's conversion of the quantity text `text` into the table."""
+    registry = _registry()
+    _table().learn_quantity(
+        text,
+        float(base.magnitude),
+        one=float(registry.Quantity(1, quantity.units).to_base_units().magnitude),
+        zero=float(registry.Quantity(0, quantity.units).to_base_units().magnitude),
+        dims=dict(base.dimensionality),
+    )
 
 
 def finite(magnitude: float, given: Any) -> float:
@@ -422,6 +469,16 @@ def unit_constant(name: str) -> float | None:
     """
     if name in RESERVED_NAMES or not _IDENTIFIER.match(name):
         return None
+    known, value = _table().constant(name)
+    if known:
+        return value
+    value = _pint_unit_constant(name)
+    _table().learn_constant(name, value)
+    return value
+
+
+def _pint_unit_constant(name: str) -> float | None:
+    """unit_constant computed by pint."""
     registry = _registry()
     import pint
 

@@ -20,7 +20,8 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYERS: tuple[frozenset[str], ...] = tuple(
     frozenset(layer.split())
     for layer in (
-        "clip",  # input quoted in messages (at most 80 characters)
+        "clip unit_table",  # input quoted in messages (at most 80 characters); the unit
+        # conversions pint made before
         "diagnostics units atomic limits engine_hash interrupts process_settings",  # problems
         # as data; quantities; files written whole; input limits; the engine's source hash;
         # signals; a solving process's BLAS threads and heap
