@@ -32,11 +32,14 @@ from mechlib.dense import PROJECTION
 from mechlib.dense_compiled import DONE, project_row
 from mechlib.genalpha_compiled import CONVERGED, newton
 from mechlib.jit import njit
+from mechlib.solution import SolverFailure
 from mechlib.work import count
 
-__all__ = ["STOPPED", "StepRun", "run_steps"]
+__all__ = ["FAILED", "REFACTOR", "STOPPED", "StepRun", "run_steps"]
 
 STOPPED = 1  # the run stopped before a step (or a row) that Python must take
+REFACTOR = 2  # stopped before a step that needs a new iteration matrix (ctrl[NEXT_H]: its h)
+FAILED = 3  # Newton stalled on the step after a new iteration matrix: the step fails
 
 # slots of the control array `ctrl` (in: settings; in/out: the stepper's state)
 T, H, H_USED, LU_H, ETA, STALE = 0, 1, 2, 3, 4, 5
@@ -44,7 +47,8 @@ MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT = 6, 7, 8, 9, 10
 ALPHA_M, ALPHA_F, BETA, GAMMA = 11, 12, 13, 14
 KAPPA, STAGNANT, NOISE, MAX_ITER, SLOW, ETA_MIN = 15, 16, 17, 18, 19, 20
 SAFETY, GROW, REGROW, ROUNDOFF, DENSE = 21, 22, 23, 24, 25
-CTRL_SIZE = 26
+FRESH, NEXT_H = 26, 27  # in: the matrix is new for the next step; out: that step's h
+CTRL_SIZE = 28
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
 STEPS, REJECTED, ITERATIONS, ROW_JACOBIANS, ROW_FACTORS = 0, 1, 2, 3, 4
 
@@ -93,7 +97,7 @@ def run_steps(
     output time and the rows their states. At most len(rows_t) rows and `most_steps`
     steps. `angles` = (ai, aj, au, av) of every angle measure, `refs_all` their references
     (in place), `block_angles` the indices of the constraint rows' angles among them.
-    Returns (STOPPED or 0, next output index, rows written)."""
+    Returns (0, STOPPED, REFACTOR or FAILED; next output index, rows written)."""
     ai, aj, au, av = angles
     nq = own.shape[1]
     m = own_lam.shape[0]
@@ -134,14 +138,20 @@ def run_steps(
                 i += 1
                 continue
             target = outs[i]
-        if taken == most_steps or counts[STEPS] + counts[REJECTED] >= ctrl[MAX_STEPS]:
+        if taken == most_steps:
+            return 0, i, written
+        if counts[STEPS] + counts[REJECTED] >= ctrl[MAX_STEPS]:
             return STOPPED, i, written
         h_try = _towards(target - t, ctrl[H]) if dense else _substep(target - t, ctrl[H])
-        changed = ctrl[H_USED] != 0.0 and abs(h_try / ctrl[H_USED] - 1.0) > 1e-9
-        if changed or ctrl[STALE] != 0.0 or abs(h_try / ctrl[LU_H] - 1.0) > 0.25:
-            return STOPPED, i, written  # consistent accelerations or a factorisation
+        if ctrl[H_USED] != 0.0 and abs(h_try / ctrl[H_USED] - 1.0) > 1e-9:
+            return STOPPED, i, written  # consistent accelerations at the new step size
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
             return STOPPED, i, written  # the step-collapse watch
+        fresh = ctrl[FRESH] != 0.0
+        ctrl[FRESH] = 0.0
+        if not fresh and (ctrl[STALE] != 0.0 or abs(h_try / ctrl[LU_H] - 1.0) > 0.25):
+            ctrl[NEXT_H] = h_try
+            return REFACTOR, i, written
         t_new = t + h_try
         due = 0  # rows within the step (dense): output times up to its end
         if dense:
@@ -159,7 +169,11 @@ def run_steps(
             params, 0, math.inf, ctrl[ETA], own[2], own[3], true,
         )  # fmt: skip
         if status != CONVERGED:
-            return STOPPED, i, written
+            if not fresh:
+                return STOPPED, i, written  # Python refreshes the matrix, as it would
+            counts[ITERATIONS] += done
+            ctrl[NEXT_H] = h_try
+            return FAILED, i, written
         new_qdd = true[nq : 2 * nq]
         err = gk.error_norm(
             ctrl[ERROR_CONSTANT] * h_try * h_try, cons[1], new_qdd, q_abs, ctrl[TOL], q1
@@ -249,10 +263,58 @@ class StepRun:
         return all(block.equations[i].function is None for i in block._linear)
 
     def run(self, s, outputs: np.ndarray, i: int, trajectory, progress) -> tuple:
-        """From state s, the steps and rows towards outputs[i:] that `run_steps` takes;
-        returns (the state reached, the index of the next output time)."""
+        """From state s, the steps and rows towards outputs[i:] that `run_steps` takes,
+        the iteration matrices it asks for factored here as the Python step factors them
+        (at the step's predicted state); returns (the state reached, the index of the next
+        output time)."""
         if not self._ready():
             return s, i
+        fresh = False
+        for _ in range(4 * self.CHUNK):  # calls (each a chunk of rows, or a factorisation)
+            s, i, status, h_next, fresh = self._call(s, outputs, i, trajectory, progress, fresh)
+            if status == FAILED:
+                self._fail(s, h_next)
+                return s, i
+            if status == REFACTOR:
+                fresh = self._refactor(s, h_next)
+                if not fresh:
+                    return s, i
+            elif status == STOPPED or i == len(outputs) or not fresh:
+                return s, i
+        return s, i
+
+    def _refactor(self, s, h: float) -> bool:
+        """The iteration matrix of the step h (s) from s factored at its predicted state
+        (GeneralizedAlphaStepper._attempt, Integrator._compiled_step); False when it is
+        singular (the step then fails as there)."""
+        stepper, system = self.stepper, self.stepper.system
+        integ = stepper.integ
+        stepper.h_used = h
+        _, _, q1, qd1, _, lam1, t1, fresh = integ._predicted(
+            s.t, h, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam
+        )
+        try:
+            integ._iteration_matrix(system.kin(q1, qd1, t1), h, fresh, lam1)
+        except SolverFailure as failure:  # singular here: the step fails, a smaller one next
+            integ.singular = failure
+            self._fail(s, h)
+            return False
+        return True
+
+    def _fail(self, s, h: float) -> None:
+        """The step h (s) from s failed with a new iteration matrix: as the Python stepper
+        (Integrator.step returning None, then GeneralizedAlphaStepper._attempt) -- the
+        matrix dropped, the step rejected, the next a quarter as long (below the step
+        floor: the stall's SolverFailure)."""
+        stepper = self.stepper
+        stepper.integ.lu, stepper.integ.eta = None, 1.0
+        stepper.h_used = h
+        stepper._shrink(s, 0.25 * h)  # no element states to reject: not eligible
+
+    def _call(self, s, outputs: np.ndarray, i: int, trajectory, progress, fresh: bool) -> tuple:
+        """One `run_steps` call from s (`fresh`: the matrix was factored for its first
+        step): (the state reached, the next output index, the status, ctrl[NEXT_H], whether
+        the matrix is still new for the next step: the call ended before taking it)."""
         stepper, system = self.stepper, self.stepper.system
         integ, stats, spec = stepper.integ, stepper.stats, stepper.spec
         arrays, scales, c = integ.arrays, integ.scales, integ.c
@@ -264,13 +326,14 @@ class StepRun:
         ctrl = np.empty(CTRL_SIZE)
         for slot, value in self.settings.items():
             ctrl[slot] = value
-        ctrl[[T, H, H_USED, LU_H, ETA, STALE]] = (
+        ctrl[[T, H, H_USED, LU_H, ETA, STALE, FRESH]] = (
             s.t,
             stepper.h,
             stepper.h_used,
             integ.lu_h,
             integ.eta,
             float(integ.stale),
+            float(fresh),
         )
         ctrl[[MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT]] = (
             stepper.max_step,
@@ -293,7 +356,7 @@ class StepRun:
         rows = min(self.CHUNK, len(outputs) - i)
         rows_t, rows_refs = np.empty(rows), np.empty((rows, len(refs_all)))
         rows_state = np.empty((rows, 3 * nq + own_lam.size))
-        _, i_next, written = run_steps(
+        status, i_next, written = run_steps(
             own, own_lam, cons, cons_lam, ctrl, counts, outputs, i, ints, floats,
             arrays.functions(s.t), arrays.bodies(), fi, ff, scales.q_abs, scales.a_ref,
             self._angle_args, refs_all, block_angles, PROJECTION, rows_t, rows_state, rows_refs,
@@ -318,7 +381,7 @@ class StepRun:
         self._record(trajectory, rows_t[:written], rows_state[:written], rows_refs[:written])
         if written and progress:
             progress(float(rows_t[written - 1]), spec.end)
-        return s, i_next
+        return s, i_next, status, float(ctrl[NEXT_H]), bool(ctrl[FRESH])
 
     def _record(self, trajectory, times, states, refs) -> None:
         """The rows (found finite by the kernel), each with the system's snapshot and its
