@@ -84,3 +84,13 @@ def test_the_accuracy_companion_skips_the_position_checks_only(sweep: Path) -> N
         assert (values == bare.channels[column]).all(), column
     assert any("near-singular" in w for w in full.warnings)
     assert not any("near-singular" in w for w in bare.warnings)
+
+
+def test_the_equal_accuracy_sweep_uses_the_suites_setting(tmp_path: Path) -> None:
+    """`--equal-accuracy`: the case as the suite calibrated it against Exudyn (tolerance
+    1e-4, steps landing on the outputs, no companion), still a valid case."""
+    set_file = write_sweep(tmp_path, sweep_rates(2), equal=True)
+    case = load_case(set_file.with_name("crank.case.yaml"))
+    analysis = build_run(case).analysis
+    assert analysis.tolerance == 1e-4 and not analysis.dense
+    assert case.case.analysis.accuracy == "off"
