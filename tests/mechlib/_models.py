@@ -124,3 +124,61 @@ def rz(angle: float) -> np.ndarray:
     """Rotation matrix about +z by `angle` (rad)."""
     c, s = math.cos(angle), math.sin(angle)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def falling_chain(links: int = 12) -> mechlib.Mechanism:
+    """`links` bars of 0.1 m joined by spherical joints, falling from a gentle horizontal
+    arc (benchmarks.models' chain), a point `tip` at its free end: saddle matrices above
+    100 rows, factored by SuperLU."""
+    mech = mechlib.Mechanism(name="chain", gravity=(0.0, -G, 0.0))
+    start, heading = np.zeros(3), 0.0
+    for i in range(links):
+        end = start + 0.1 * np.array([math.cos(heading), 0.0, math.sin(heading)])
+        mech.add_body(f"l{i}", mass=0.1, cm=(start + end) / 2, inertia=[1.25e-6, 8.4e-5, 8.4e-5])
+        other = "ground" if i == 0 else f"l{i - 1}"
+        mech.add_joint(f"s{i}", "spherical", bodies=(f"l{i}", other), at=start)
+        start, heading = end, heading + 0.02
+    mech.add_point("tip", body=f"l{links - 1}", at=start)
+    return mech
+
+
+def falling_slider_crank(drive: float | None = None) -> mechlib.Mechanism:
+    """`slider_crank` under gravity (-y), free, or with its crank A driven at `drive`
+    (rad/s) from 0 by the motion `drive`."""
+    mech, _ = slider_crank()
+    mech.gravity = (0.0, -G, 0.0)
+    if drive is not None:
+        mech.add_motion("drive", joint="A", function=Ramp(0.0, drive))
+    return mech
+
+
+PENDULUM_REQUESTS = (
+    mechlib.JointCoordinate("angle", "hinge"),
+    mechlib.JointCoordinate("omega", "hinge", "omega"),
+)
+"""What `pendulum_errors` reads of a `hinged_bar` run."""
+
+
+def pendulum_errors(sol: mechlib.Solution, bar: Bar) -> tuple[float, float]:
+    """(period error, energy error) of the bar `bar` released from the horizontal
+    (`hinged_bar`, requests PENDULUM_REQUESTS): the last return to the horizontal (the
+    vertex of the parabola through the three rows around the angle's last maximum) against
+    the nearest multiple of the period T = 4 sqrt(I_O / (m g L/2)) K(sin^2(pi/4))
+    (elliptic integral, amplitude 90 deg about the hanging position), relative to it; and
+    the largest |m g (L/2) sin(theta) + I_O omega^2 / 2| over m g L (zero exactly)."""
+    from scipy.special import ellipk
+
+    theta, omega, t = sol.channels["angle.value"], sol.channels["omega.value"], sol.time
+    period = 4.0 * math.sqrt(bar.i_end / bar.weight_moment) * ellipk(0.5)
+    tops = np.flatnonzero((theta[1:-1] > theta[:-2]) & (theta[1:-1] >= theta[2:])) + 1
+    assert tops.size >= 1, "the bar swings back up at least once"
+    i = tops[-1]
+    a, b, _ = np.polyfit(t[i - 1 : i + 2] - t[i], theta[i - 1 : i + 2], 2)
+    vertex = t[i] - b / (2.0 * a)
+    cycles = round(vertex / period)
+    assert cycles >= 1, "a whole period run"
+    energy = bar.weight_moment * np.sin(theta) + 0.5 * bar.i_end * omega**2
+    return (
+        abs(vertex - cycles * period) / (cycles * period),
+        float(np.abs(energy).max()) / (bar.mass * G * bar.length),
+    )

@@ -23,7 +23,6 @@ import math
 
 import numpy as np
 import pytest
-from scipy.special import ellipk
 
 import mechlib
 from mechlib.constraint_arrays import ConstraintArrays, nu_and_gamma, phi_and_jacobian
@@ -32,7 +31,15 @@ from mechlib.genalpha_compiled import factor_data, lu_solve
 from mechlib.linalg import factor, factor_saddle, solve_factored
 from mechlib.system import System
 
-from ._models import Bar, G, Ramp, hinged_bar, slider_crank
+from ._models import (
+    PENDULUM_REQUESTS,
+    Bar,
+    falling_chain,
+    falling_slider_crank,
+    hinged_bar,
+    pendulum_errors,
+    slider_crank,
+)
 from .test_coordinate_block import _mechanism as _coordinate_mechanism
 
 TOL = 1e-12
@@ -175,8 +182,7 @@ def test_saddle_factors_gathered_by_the_kernel() -> None:
 
 
 def _free_crank() -> tuple[mechlib.Mechanism, list, list]:
-    mech, _ = slider_crank()
-    mech.gravity = (0.0, -G, 0.0)
+    mech = falling_slider_crank()
     initial = [mechlib.InitialValue("A", 0.0, 2.0 * math.pi)]
     requests = [
         mechlib.JointReaction("A_force", "A"),
@@ -187,26 +193,13 @@ def _free_crank() -> tuple[mechlib.Mechanism, list, list]:
 
 
 def _chain(links: int = 12) -> tuple[mechlib.Mechanism, list, list]:
-    """`links` bars of 0.1 m joined by spherical joints, falling from a gentle horizontal
-    arc (benchmarks.models' chain): saddle matrices above 100 rows, factored by SuperLU."""
-    mech = mechlib.Mechanism(name="chain", gravity=(0.0, -G, 0.0))
-    start, heading = np.zeros(3), 0.0
-    for i in range(links):
-        end = start + 0.1 * np.array([math.cos(heading), 0.0, math.sin(heading)])
-        mech.add_body(f"l{i}", mass=0.1, cm=(start + end) / 2, inertia=[1.25e-6, 8.4e-5, 8.4e-5])
-        other = "ground" if i == 0 else f"l{i - 1}"
-        mech.add_joint(f"s{i}", "spherical", bodies=(f"l{i}", other), at=start)
-        start, heading = end, heading + 0.02
-    mech.add_point("tip", body=f"l{links - 1}", at=start)
+    mech = falling_chain(links)
     return mech, [], [mechlib.PointKinematics("tip", "tip"), mechlib.JointReaction("s0", "s0")]
 
 
 def _driven_crank() -> tuple[mechlib.Mechanism, list, list]:
-    mech, _ = slider_crank()
-    mech.gravity = (0.0, -G, 0.0)
-    mech.add_motion("drive", joint="A", function=Ramp(0.0, 3.0))
     requests = [mechlib.JointReaction("A_force", "A"), mechlib.MotionEffort("drive", "drive")]
-    return mech, [], requests
+    return falling_slider_crank(drive=3.0), [], requests
 
 
 def _both_paths(model, analysis) -> tuple[mechlib.Solution, mechlib.Solution]:
@@ -264,24 +257,11 @@ def test_pendulum_through_the_compiled_loop_meets_the_closed_form() -> None:
     sol = mechlib.solve(
         hinged_bar(bar),
         mechlib.Dynamic(3.0, 0.001, tolerance=1e-8),
-        requests=[
-            mechlib.JointCoordinate("angle", "hinge"),
-            mechlib.JointCoordinate("omega", "hinge", "omega"),
-        ],
+        requests=list(PENDULUM_REQUESTS),
     )
     assert sol.ok
-    theta, omega, t = sol.channels["angle.value"], sol.channels["omega.value"], sol.time
-    period = 4.0 * math.sqrt(bar.i_end / bar.weight_moment) * ellipk(0.5)
-    tops = np.flatnonzero((theta[1:-1] > theta[:-2]) & (theta[1:-1] >= theta[2:])) + 1
-    assert tops.size >= 1
-    i = tops[-1]
-    a, b, _ = np.polyfit(t[i - 1 : i + 2] - t[i], theta[i - 1 : i + 2], 2)
-    vertex = t[i] - b / (2.0 * a)
-    cycles = round(vertex / period)
-    assert cycles >= 1
-    assert abs(vertex - cycles * period) < TOL_PERIOD * cycles * period
-    energy = bar.weight_moment * np.sin(theta) + 0.5 * bar.i_end * omega**2
-    assert np.abs(energy).max() < TOL_ENERGY * bar.mass * G * bar.length
+    period, energy = pendulum_errors(sol, bar)
+    assert period < TOL_PERIOD and energy < TOL_ENERGY
 
 
 def test_toggle_rows_from_the_kernels_equal_the_python_rows(monkeypatch) -> None:

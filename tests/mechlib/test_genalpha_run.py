@@ -22,51 +22,21 @@ import math
 
 import numpy as np
 import pytest
-from scipy.special import ellipk
 
 import mechlib
 from mechlib import genalpha_run
 from mechlib.genalpha_stepper import GeneralizedAlphaStepper
 
-from ._models import Bar, G, Ramp, hinged_bar, slider_crank
+from ._models import PENDULUM_REQUESTS, Bar, falling_slider_crank, hinged_bar, pendulum_errors
+from .test_genalpha_compiled import _chain, _free_crank
 
 TOL_SAME = 1e-9  # of each output's peak
 TOL_PERIOD = 3e-6  # measured 1.5e-6 (generalized-alpha's phase error at 1e-8)
 TOL_ENERGY = 2e-5  # measured 9.3e-6 (its numerical damping, rho_inf < 1)
 
 
-def _free_crank() -> tuple[mechlib.Mechanism, list, list]:
-    mech, _ = slider_crank()
-    mech.gravity = (0.0, -G, 0.0)
-    initial = [mechlib.InitialValue("A", 0.0, 2.0 * math.pi)]
-    requests = [
-        mechlib.JointReaction("A_force", "A"),
-        mechlib.JointCoordinate("A_angle", "A"),
-        mechlib.JointReaction("D_force", "D"),
-    ]
-    return mech, initial, requests
-
-
-def _chain(links: int = 12) -> tuple[mechlib.Mechanism, list, list]:
-    """`links` bars of 0.1 m joined by spherical joints, falling from a gentle arc:
-    saddle matrices above 100 rows, factored by SuperLU."""
-    mech = mechlib.Mechanism(name="chain", gravity=(0.0, -G, 0.0))
-    start, heading = np.zeros(3), 0.0
-    for i in range(links):
-        end = start + 0.1 * np.array([math.cos(heading), 0.0, math.sin(heading)])
-        mech.add_body(f"l{i}", mass=0.1, cm=(start + end) / 2, inertia=[1.25e-6, 8.4e-5, 8.4e-5])
-        other = "ground" if i == 0 else f"l{i - 1}"
-        mech.add_joint(f"s{i}", "spherical", bodies=(f"l{i}", other), at=start)
-        start, heading = end, heading + 0.02
-    mech.add_point("tip", body=f"l{links - 1}", at=start)
-    return mech, [], [mechlib.PointKinematics("tip", "tip"), mechlib.JointReaction("s0", "s0")]
-
-
 def _driven_crank() -> tuple[mechlib.Mechanism, list, list]:
-    mech, _ = slider_crank()
-    mech.gravity = (0.0, -G, 0.0)
-    mech.add_motion("drive", joint="A", function=Ramp(0.0, 3.0))
-    return mech, [], [mechlib.JointReaction("A_force", "A")]
+    return falling_slider_crank(drive=3.0), [], [mechlib.JointReaction("A_force", "A")]
 
 
 def _run(model, analysis, monkeypatch, *, compiled: bool, **kwargs):
@@ -156,24 +126,11 @@ def test_pendulum_through_compiled_runs_meets_the_closed_form(monkeypatch) -> No
     bar = Bar()
 
     def model():
-        requests = [
-            mechlib.JointCoordinate("angle", "hinge"),
-            mechlib.JointCoordinate("omega", "hinge", "omega"),
-        ]
-        return hinged_bar(bar), [], requests
+        return hinged_bar(bar), [], list(PENDULUM_REQUESTS)
 
     sol, in_kernel = _run(
         model, mechlib.Dynamic(3.0, 0.001, tolerance=1e-8), monkeypatch, compiled=True
     )
     assert sol.ok and in_kernel > 0.5 * sol.stats.steps
-    theta, omega, t = sol.channels["angle.value"], sol.channels["omega.value"], sol.time
-    period = 4.0 * math.sqrt(bar.i_end / bar.weight_moment) * ellipk(0.5)
-    tops = np.flatnonzero((theta[1:-1] > theta[:-2]) & (theta[1:-1] >= theta[2:])) + 1
-    i = tops[-1]
-    a, b, _ = np.polyfit(t[i - 1 : i + 2] - t[i], theta[i - 1 : i + 2], 2)
-    vertex = t[i] - b / (2.0 * a)
-    cycles = round(vertex / period)
-    assert cycles >= 1
-    assert abs(vertex - cycles * period) < TOL_PERIOD * cycles * period
-    energy = bar.weight_moment * np.sin(theta) + 0.5 * bar.i_end * omega**2
-    assert np.abs(energy).max() < TOL_ENERGY * bar.mass * G * bar.length
+    period, energy = pendulum_errors(sol, bar)
+    assert period < TOL_PERIOD and energy < TOL_ENERGY
