@@ -243,31 +243,38 @@ def _episodes(values: np.ndarray, threshold: float) -> list[tuple[int, int]]:
 
 
 def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
-    """Per recorded row: the rank measure and the sines of the free coordinates. Rows of
-    up to _BATCH_ROWS equations are measured together (`_Batch`; their scaled rows and
-    gradients from one compiled call per batch where the system allows it:
-    mechlib.constraint_arrays), larger ones one by one (`_Position`, sparse and
-    warm-started)."""
+    """Per recorded row: the rank measure and the sines of the free coordinates."""
+    ranks, _, sines = _walk(system, trajectory, bounds=False)
+    return ranks, sines
+
+
+def _walk(system: System, trajectory, bounds: bool) -> tuple[np.ndarray, np.ndarray, list]:
+    """Per recorded row: (lower, upper) bounds of the rank measure -- with `bounds`, from
+    the trace and a diagonal of (J J^T)^-1 for the rows measured in batches, else both the
+    measure itself -- and the sines of the free coordinates. Rows of up to _BATCH_ROWS
+    equations are measured together (`_Batch`; their scaled rows and gradients from one
+    compiled call per batch where the system allows it: mechlib.constraint_arrays), larger
+    ones one by one (`_Position`, sparse and warm-started)."""
     n = len(trajectory)
-    ranks, start = np.empty(n), None
+    ranks, highs, start = np.empty(n), np.empty(n), None
     sines: list[dict] = [{} for _ in range(n)]
     scale = _column_scale(system)  # the mechanism's size, the same at every row
     active, free = None, []  # the free coordinates change only with the active rows
-    batch = _Batch()
+    batch = _Batch(bounds)
     arrays = system.packed_constraints()
     i = 0
     while i < n:
         snapshot = trajectory.references[i]
         system.restore_snapshot(snapshot)
         if system.active is not active:
-            batch.flush(ranks, sines)
+            batch.flush(ranks, highs, sines)
             active, free = system.active, _free_measures(system)
         if arrays is not None and 0 < system.active.size <= _BATCH_ROWS:
             end = trajectory.same_active(i, _BATCH_SIZE - len(batch.rows))
             batch.free = free if system.active.size < system.nq else []
             batch.extend(i, *_compiled_rows(arrays, trajectory.q[i:end], batch.free, scale))
             if len(batch.rows) >= _BATCH_SIZE:
-                batch.flush(ranks, sines)
+                batch.flush(ranks, highs, sines)
             i = end
             continue
         k = system.kin(trajectory.q[i], None, trajectory.time[i])
@@ -276,15 +283,16 @@ def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
             batch.free = free if jac.shape[0] < system.nq else []
             batch.add(i, _unit_rows(jac * scale), _gradients(system, k, batch.free, scale))
             if len(batch.rows) >= _BATCH_SIZE:
-                batch.flush(ranks, sines)
+                batch.flush(ranks, highs, sines)
         else:
             position = _Position(system, k, start, scale, free, jac)
             ranks[i], start = position.rank_measure(), position.weights
+            highs[i] = ranks[i]
             sines[i] = position.sines()
         i += 1
-    batch.flush(ranks, sines)
+    batch.flush(ranks, highs, sines)
     system.restore_snapshot(trajectory.references[n - 1])
-    return ranks, sines
+    return ranks, highs, sines
 
 
 def _compiled_rows(arrays: ConstraintArrays, qs: np.ndarray, free: list, scale: np.ndarray):
@@ -311,11 +319,12 @@ def _gradients(system: System, k, free: list, scale: np.ndarray) -> np.ndarray:
 
 class _Batch:
     """Rows of one active set with few equations, measured in one go: the smallest
-    singular value of each scaled Jacobian from the eigenvalues of J J^T, the sines from
-    a solve with J J^T (the same quantities as `_Position`), in one compiled call
-    (`_batch_measures`)."""
+    singular value of each scaled Jacobian from the eigenvalues of J J^T (with `bounds`:
+    bounds of it, `_batch_bounds`), the sines from a solve with J J^T (the same quantities
+    as `_Position`), in one compiled call."""
 
-    def __init__(self) -> None:
+    def __init__(self, bounds: bool = False) -> None:
+        self.bounds = bounds
         self.rows: list[int] = []
         self.jacs: list[np.ndarray] = []  # chunks (n, m, nq)
         self.grads: list[np.ndarray] = []  # chunks (n, nq, c)
@@ -330,16 +339,22 @@ class _Batch:
         self.jacs.append(jacs)
         self.grads.append(grads)
 
-    def flush(self, ranks: np.ndarray, sines: list) -> None:
-        """Write the measures of the rows held into `ranks` and `sines`; empty the batch."""
+    def flush(self, ranks: np.ndarray, highs: np.ndarray, sines: list) -> None:
+        """Write the measures of the rows held into `ranks` (with `bounds`: their lower
+        bounds), `highs` (their upper bounds) and `sines`; empty the batch."""
         if not self.rows:
             return
         jac = np.ascontiguousarray(np.concatenate(self.jacs))  # (n, m, nq)
         grads = np.ascontiguousarray(np.concatenate(self.grads))  # (n, nq, c)
         n, c = len(self.rows), grads.shape[2]
-        rank, shares, norms = np.empty(n), np.empty((n, c)), np.empty((n, c))
-        _batch_measures(jac, grads, _GRAM_FLOOR, rank, shares, norms)
-        ranks[self.rows] = rank
+        rank, high = np.empty(n), np.empty(n)
+        shares, norms = np.empty((n, c)), np.empty((n, c))
+        if self.bounds:
+            _batch_bounds(jac, grads, _GRAM_FLOOR, rank, high, shares, norms)
+        else:
+            _batch_measures(jac, grads, _GRAM_FLOOR, rank, shares, norms)
+            high[:] = rank
+        ranks[self.rows], highs[self.rows] = rank, high
         for i, share, norm in zip(self.rows, shares.tolist(), norms.tolist()):
             sines[i] = {
                 (joint, meas.kind): value
@@ -382,6 +397,77 @@ def _batch_measures(jacs, grads, floor, ranks, shares, norms):
             shares[i, k] = math.sqrt(acc) / (norms[i, k] if norms[i, k] > 0.0 else 1.0)
 
 
+@njit(cache=True, nogil=True)
+def _batch_bounds(jacs, grads, floor, lows, highs, shares, norms):
+    """`_batch_measures` without the eigenvalues: per row, bounds of the smallest singular
+    value of jacs[i] from the Cholesky factor L of G = J J^T + floor I (G^-1 = L^-T L^-1):
+    lambda_min >= 1 / trace(G^-1), and lambda_min <= the Rayleigh quotient of G^-1 e_k for
+    the k of G^-1's largest diagonal entry (one step of inverse iteration), each less the
+    floor; the shares and lengths as there, solved with L. A row whose G is not positive
+    definite gets the bounds (0, 1): the caller then measures it exactly."""
+    n, m, nq = jacs.shape
+    c = grads.shape[2]
+    for i in range(n):
+        jac, grad = jacs[i], grads[i]
+        for k in range(c):
+            acc = 0.0
+            for j in range(nq):
+                acc += grad[j, k] * grad[j, k]
+            norms[i, k] = math.sqrt(acc)
+        if m == 0:
+            lows[i] = highs[i] = 1.0
+            shares[i, :] = 1.0
+            continue
+        gram = jac @ jac.T
+        for k in range(m):
+            gram[k, k] += floor
+        ok, inverse = _lower_inverse(gram)
+        if not ok:
+            lows[i], highs[i] = 0.0, 1.0
+            shares[i, :] = 1.0
+            continue
+        diagonal = np.zeros(m)  # of G^-1: the columns of L^-1 squared
+        for a in range(m):
+            for k in range(a + 1):
+                diagonal[k] += inverse[a, k] * inverse[a, k]
+        k = int(np.argmax(diagonal))
+        column = inverse.T @ np.ascontiguousarray(inverse[:, k])  # G^-1 e_k
+        lows[i] = math.sqrt(max(1.0 / diagonal.sum() - floor, 0.0))
+        highs[i] = math.sqrt(max(diagonal[k] / (column @ column) - floor, 0.0))
+        if c == 0:
+            continue
+        free = grad - jac.T @ (inverse.T @ (inverse @ (jac @ grad)))
+        for k in range(c):
+            acc = 0.0
+            for j in range(nq):
+                acc += free[j, k] * free[j, k]
+            shares[i, k] = math.sqrt(acc) / (norms[i, k] if norms[i, k] > 0.0 else 1.0)
+
+
+@njit(cache=True, nogil=True)
+def _lower_inverse(gram):
+    """(ok, L^-1) of the Cholesky factor L of `gram` (forward substitution on the
+    identity; numba has no triangular inverse); ok False where gram is not positive
+    definite or not finite."""
+    m = gram.shape[0]
+    for v in gram.ravel():
+        if not np.isfinite(v):
+            return False, gram
+    try:
+        low = np.linalg.cholesky(gram)
+    except Exception:  # noqa: BLE001 -- numba catches no narrower class; not positive definite
+        return False, gram
+    inverse = np.zeros((m, m))
+    for k in range(m):
+        inverse[k, k] = 1.0 / low[k, k]
+        for a in range(k + 1, m):
+            acc = 0.0
+            for b in range(k, a):
+                acc += low[a, b] * inverse[b, k]
+            inverse[a, k] = -acc / low[a, a]
+    return True, inverse
+
+
 def _relative(sines: list[dict]) -> list[dict]:
     """Each coordinate's sine over its largest in the run; sines at round-off level (a
     coordinate the motions hold through the constraints) are left out."""
@@ -394,14 +480,34 @@ def _relative(sines: list[dict]) -> list[dict]:
     ]
 
 
-def _measures(ranks: np.ndarray, sines: list[dict]) -> tuple[np.ndarray, list[dict]]:
+def _measures(ranks: np.ndarray, sines: list[dict]) -> tuple[np.ndarray, np.ndarray, list]:
     """Toggle measure per row: the smallest of the rank measure and the coordinates'
     sines, each over its largest in the run (so that a mechanism whose 3D Jacobian is
     weakly conditioned everywhere, or whose joints move slowly everywhere, is not taken
-    for a toggle); also the coordinates' relative sines per row."""
+    for a toggle); also the relative rank measures and the coordinates' relative sines
+    per row."""
     relative = _relative(sines)
     rank = ranks / max(float(ranks.max()), _GRAM_FLOOR)
-    return np.array([min([r] + list(c.values())) for r, c in zip(rank, relative)]), relative
+    return _smallest_of(rank, relative), rank, relative
+
+
+def _smallest_of(rank: np.ndarray, relative: list[dict]) -> np.ndarray:
+    return np.array([min([r] + list(c.values())) for r, c in zip(rank, relative)])
+
+
+def _bounded_measures(
+    system: System, trajectory, threshold: float
+) -> tuple[np.ndarray, np.ndarray, list]:
+    """`_measures` of the run where the rank measure's bounds show that no row's is below
+    `threshold` of the largest (then each row's toggle measure below the threshold is one
+    of its sines, exactly, and a row at or above it stays so); else the exact measures.
+    The bounds take about a third of the eigenvalues' time (`_batch_bounds`)."""
+    lows, highs, sines = _walk(system, trajectory, bounds=True)
+    rank = lows / max(float(highs.max()), _GRAM_FLOOR)  # below each row's relative measure
+    if np.any(rank < threshold):
+        return _measures(*_series(system, trajectory))
+    relative = _relative(sines)
+    return _smallest_of(rank, relative), rank, relative
 
 
 def toggle_warnings(system: System, trajectory, threshold: float = TOGGLE_THRESHOLD) -> list[str]:
@@ -409,15 +515,14 @@ def toggle_warnings(system: System, trajectory, threshold: float = TOGGLE_THRESH
     its time span, the minimum and its time, and the dependent equations there."""
     if not len(trajectory):
         return []
-    ranks, sines = _series(system, trajectory)
-    values, relative = _measures(ranks, sines)
+    values, rank, relative = _bounded_measures(system, trajectory, threshold)
     out = []
     for first, last in _episodes(values, threshold):
         worst = first + int(np.argmin(values[first : last + 1]))
         system.restore_snapshot(trajectory.references[worst])
         t = trajectory.time[worst]
         position = _Position(system, system.kin(trajectory.q[worst], None, t))
-        found = [position.rank_deficiency()] if ranks[worst] < threshold * ranks.max() else []
+        found = [position.rank_deficiency()] if rank[worst] < threshold else []
         found += [
             position.dead_coordinate(*key)
             for key, value in relative[worst].items()

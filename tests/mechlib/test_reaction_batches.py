@@ -14,8 +14,8 @@ forms.
 
 from __future__ import annotations
 
+import importlib
 import math
-import sys
 
 import numpy as np
 import pytest
@@ -49,7 +49,7 @@ def _both(monkeypatch, mech, analysis, requests, **kwargs) -> tuple[ml.Solution,
             patch.setattr(system, "packed_constraints", lambda: None)
             return original(system, trajectory, reqs)
 
-    monkeypatch.setattr(sys.modules["mechlib.solve"], "evaluate_requests", row_by_row)
+    monkeypatch.setattr(importlib.import_module("mechlib.solve"), "evaluate_requests", row_by_row)
     slow = ml.solve(mech(), analysis, requests=requests, **kwargs)
     return fast, slow
 
