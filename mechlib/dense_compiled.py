@@ -53,12 +53,8 @@ HERMITE_BASIS = np.array(
 def _cholesky(a):
     """(ok, L): the Cholesky factor of a (symmetric); ok when a is finite and positive
     definite with pivots not below WELL_CONDITIONED of the largest."""
-    for v in a.ravel():
-        if not np.isfinite(v):
-            return False, a
-    try:
-        low = np.linalg.cholesky(a)
-    except Exception:  # noqa: BLE001 -- numba catches no narrower class; not positive definite
+    ok, low = kr.positive_cholesky(a)
+    if not ok:
         return False, a
     pivots = np.diag(low) ** 2
     if pivots.shape[0] == 0:

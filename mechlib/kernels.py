@@ -37,6 +37,7 @@ __all__ = [
     "point_force",
     "point_position",
     "point_velocity",
+    "positive_cholesky",
     "rotation_matrix",
     "sph_gamma",
     "sph_jac",
@@ -450,3 +451,17 @@ def point_force(x, b, s, force, F, N):
     N[b, 0] += arm[1] * force[2] - arm[2] * force[1]
     N[b, 1] += arm[2] * force[0] - arm[0] * force[2]
     N[b, 2] += arm[0] * force[1] - arm[1] * force[0]
+
+
+@njit(**_JIT)
+def positive_cholesky(a):
+    """(ok, L): the Cholesky factor of the symmetric `a`; ok False where `a` is not finite
+    or not positive definite (L is then `a`)."""
+    for v in a.ravel():
+        if not np.isfinite(v):
+            return False, a
+    try:
+        low = np.linalg.cholesky(a)
+    except Exception:  # noqa: BLE001 -- numba catches no narrower class; not positive definite
+        return False, a
+    return True, low

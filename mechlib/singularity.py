@@ -30,6 +30,7 @@ import scipy.sparse as sp
 from scipy.linalg.lapack import dgetrf, dgetrs
 from scipy.sparse.linalg import splu
 
+from mechlib import kernels as kr
 from mechlib.check import Redundancy
 from mechlib.constraint_arrays import ConstraintArrays, measure_args, scaled_rows
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
@@ -250,11 +251,12 @@ def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
 
 def _walk(system: System, trajectory, bounds: bool) -> tuple[np.ndarray, np.ndarray, list]:
     """Per recorded row: (lower, upper) bounds of the rank measure -- with `bounds`, from
-    the trace and a diagonal of (J J^T)^-1 for the rows measured in batches, else both the
-    measure itself -- and the sines of the free coordinates. Rows of up to _BATCH_ROWS
-    equations are measured together (`_Batch`; their scaled rows and gradients from one
-    compiled call per batch where the system allows it: mechlib.constraint_arrays), larger
-    ones one by one (`_Position`, sparse and warm-started)."""
+    the trace and a diagonal of (J J^T)^-1 (`_rank_bounds`) for the rows measured in
+    batches, else both the measure itself -- and the sines of the free coordinates. Rows
+    of up to _BATCH_ROWS equations are measured together (`_Batch`; their scaled rows and
+    gradients from one compiled call per batch where the system allows it:
+    mechlib.constraint_arrays), larger ones one by one (`_Position`, sparse and
+    warm-started)."""
     n = len(trajectory)
     ranks, highs, start = np.empty(n), np.empty(n), None
     sines: list[dict] = [{} for _ in range(n)]
@@ -320,7 +322,7 @@ def _gradients(system: System, k, free: list, scale: np.ndarray) -> np.ndarray:
 class _Batch:
     """Rows of one active set with few equations, measured in one go: the smallest
     singular value of each scaled Jacobian from the eigenvalues of J J^T (with `bounds`:
-    bounds of it, `_batch_bounds`), the sines from a solve with J J^T (the same quantities
+    bounds of it, `_rank_bounds`), the sines from a solve with J J^T (the same quantities
     as `_Position`), in one compiled call."""
 
     def __init__(self, bounds: bool = False) -> None:
@@ -349,11 +351,7 @@ class _Batch:
         n, c = len(self.rows), grads.shape[2]
         rank, high = np.empty(n), np.empty(n)
         shares, norms = np.empty((n, c)), np.empty((n, c))
-        if self.bounds:
-            _batch_bounds(jac, grads, _GRAM_FLOOR, rank, high, shares, norms)
-        else:
-            _batch_measures(jac, grads, _GRAM_FLOOR, rank, shares, norms)
-            high[:] = rank
+        _batch_measures(jac, grads, _GRAM_FLOOR, self.bounds, rank, high, shares, norms)
         ranks[self.rows], highs[self.rows] = rank, high
         for i, share, norm in zip(self.rows, shares.tolist(), norms.tolist()):
             sines[i] = {
@@ -365,83 +363,74 @@ class _Batch:
 
 
 @njit(cache=True, nogil=True)
-def _batch_measures(jacs, grads, floor, ranks, shares, norms):
+def _batch_measures(jacs, grads, floor, bounds, lows, highs, shares, norms):
     """Per row i: the smallest singular value of the scaled Jacobian jacs[i] (m, nq) from
-    the eigenvalues of J J^T (1 without equations), and per free coordinate (gradient
-    column of grads[i] (nq, c)) its length and the part of it outside the span of the
-    rows over that length (J J^T floored by `floor` for the solve)."""
-    n, m, nq = jacs.shape
+    the eigenvalues of J J^T (1 without equations) into lows and highs -- with `bounds`,
+    bounds of it instead (`_rank_bounds`) -- and per free coordinate (gradient column of
+    grads[i] (nq, c)) its length and the part of it outside the span of the rows over that
+    length (J J^T floored by `floor` for the solve)."""
+    n, m, _ = jacs.shape
     c = grads.shape[2]
     for i in range(n):
         jac, grad = jacs[i], grads[i]
-        for k in range(c):
-            acc = 0.0
-            for j in range(nq):
-                acc += grad[j, k] * grad[j, k]
-            norms[i, k] = math.sqrt(acc)
-        if m == 0:
-            ranks[i] = 1.0
-            shares[i, :] = 1.0
-            continue
-        gram = jac @ jac.T
-        ranks[i] = math.sqrt(max(np.linalg.eigvalsh(gram)[0], 0.0))
-        if c == 0:
-            continue
-        for k in range(m):
-            gram[k, k] += floor
-        free = grad - jac.T @ np.linalg.solve(gram, jac @ grad)
-        for k in range(c):
-            acc = 0.0
-            for j in range(nq):
-                acc += free[j, k] * free[j, k]
-            shares[i, k] = math.sqrt(acc) / (norms[i, k] if norms[i, k] > 0.0 else 1.0)
-
-
-@njit(cache=True, nogil=True)
-def _batch_bounds(jacs, grads, floor, lows, highs, shares, norms):
-    """`_batch_measures` without the eigenvalues: per row, bounds of the smallest singular
-    value of jacs[i] from the Cholesky factor L of G = J J^T + floor I (G^-1 = L^-T L^-1):
-    lambda_min >= 1 / trace(G^-1), and lambda_min <= the Rayleigh quotient of G^-1 e_k for
-    the k of G^-1's largest diagonal entry (one step of inverse iteration), each less the
-    floor; the shares and lengths as there, solved with L. A row whose G is not positive
-    definite gets the bounds (0, 1): the caller then measures it exactly."""
-    n, m, nq = jacs.shape
-    c = grads.shape[2]
-    for i in range(n):
-        jac, grad = jacs[i], grads[i]
-        for k in range(c):
-            acc = 0.0
-            for j in range(nq):
-                acc += grad[j, k] * grad[j, k]
-            norms[i, k] = math.sqrt(acc)
+        _column_norms(grad, norms[i])
         if m == 0:
             lows[i] = highs[i] = 1.0
             shares[i, :] = 1.0
             continue
         gram = jac @ jac.T
+        if not bounds:
+            lows[i] = highs[i] = math.sqrt(max(np.linalg.eigvalsh(gram)[0], 0.0))
         for k in range(m):
             gram[k, k] += floor
+        if not bounds:
+            if c:
+                free = grad - jac.T @ np.linalg.solve(gram, jac @ grad)
+                _shares(free, norms[i], shares[i])
+            continue
         ok, inverse = _lower_inverse(gram)
-        if not ok:
+        if not ok:  # measured exactly by the caller
             lows[i], highs[i] = 0.0, 1.0
             shares[i, :] = 1.0
             continue
-        diagonal = np.zeros(m)  # of G^-1: the columns of L^-1 squared
-        for a in range(m):
-            for k in range(a + 1):
-                diagonal[k] += inverse[a, k] * inverse[a, k]
-        k = int(np.argmax(diagonal))
-        column = inverse.T @ np.ascontiguousarray(inverse[:, k])  # G^-1 e_k
-        lows[i] = math.sqrt(max(1.0 / diagonal.sum() - floor, 0.0))
-        highs[i] = math.sqrt(max(diagonal[k] / (column @ column) - floor, 0.0))
-        if c == 0:
-            continue
-        free = grad - jac.T @ (inverse.T @ (inverse @ (jac @ grad)))
-        for k in range(c):
-            acc = 0.0
-            for j in range(nq):
-                acc += free[j, k] * free[j, k]
-            shares[i, k] = math.sqrt(acc) / (norms[i, k] if norms[i, k] > 0.0 else 1.0)
+        lows[i], highs[i] = _rank_bounds(inverse, floor)
+        if c:
+            _shares(grad - jac.T @ (inverse.T @ (inverse @ (jac @ grad))), norms[i], shares[i])
+
+
+@njit(cache=True, nogil=True)
+def _rank_bounds(inverse, floor):
+    """(lower, upper) bounds of the smallest singular value of J from L^-1, the inverse
+    Cholesky factor of G = J J^T + floor I (G^-1 = L^-T L^-1): lambda_min >= 1 /
+    trace(G^-1), and lambda_min <= the Rayleigh quotient of G^-1 e_k for the k of G^-1's
+    largest diagonal entry (one step of inverse iteration), each less the floor."""
+    m = inverse.shape[0]
+    diagonal = np.zeros(m)  # of G^-1: the columns of L^-1 squared
+    for a in range(m):
+        for k in range(a + 1):
+            diagonal[k] += inverse[a, k] * inverse[a, k]
+    k = int(np.argmax(diagonal))
+    column = inverse.T @ np.ascontiguousarray(inverse[:, k])  # G^-1 e_k
+    low = math.sqrt(max(1.0 / diagonal.sum() - floor, 0.0))
+    return low, math.sqrt(max(diagonal[k] / (column @ column) - floor, 0.0))
+
+
+@njit(cache=True, nogil=True)
+def _column_norms(matrix, out):
+    """out[k] = the length of matrix[:, k]."""
+    for k in range(matrix.shape[1]):
+        acc = 0.0
+        for j in range(matrix.shape[0]):
+            acc += matrix[j, k] * matrix[j, k]
+        out[k] = math.sqrt(acc)
+
+
+@njit(cache=True, nogil=True)
+def _shares(free, norms, out):
+    """out[k] = the length of free[:, k] over norms[k] (1 where that is 0)."""
+    _column_norms(free, out)
+    for k in range(out.shape[0]):
+        out[k] /= norms[k] if norms[k] > 0.0 else 1.0
 
 
 @njit(cache=True, nogil=True)
@@ -450,12 +439,8 @@ def _lower_inverse(gram):
     identity; numba has no triangular inverse); ok False where gram is not positive
     definite or not finite."""
     m = gram.shape[0]
-    for v in gram.ravel():
-        if not np.isfinite(v):
-            return False, gram
-    try:
-        low = np.linalg.cholesky(gram)
-    except Exception:  # noqa: BLE001 -- numba catches no narrower class; not positive definite
+    ok, low = kr.positive_cholesky(gram)
+    if not ok:
         return False, gram
     inverse = np.zeros((m, m))
     for k in range(m):
@@ -501,7 +486,7 @@ def _bounded_measures(
     """`_measures` of the run where the rank measure's bounds show that no row's is below
     `threshold` of the largest (then each row's toggle measure below the threshold is one
     of its sines, exactly, and a row at or above it stays so); else the exact measures.
-    The bounds take about a third of the eigenvalues' time (`_batch_bounds`)."""
+    The bounds take about a third of the eigenvalues' time (`_rank_bounds`)."""
     lows, highs, sines = _walk(system, trajectory, bounds=True)
     rank = lows / max(float(highs.max()), _GRAM_FLOOR)  # below each row's relative measure
     if np.any(rank < threshold):

@@ -136,6 +136,22 @@ def test_pendulum_has_no_warning() -> None:
     assert sol.ok and sol.warnings == []
 
 
+def _capture_toggle_checks(monkeypatch) -> list:
+    """The (system, trajectory) of each run's toggle check from now on, in order."""
+    import importlib
+
+    from mechlib import singularity
+
+    captured: list = []
+
+    def capture(system, trajectory, threshold=singularity.TOGGLE_THRESHOLD):
+        captured.append((system, trajectory))
+        return singularity.toggle_warnings(system, trajectory, threshold)
+
+    monkeypatch.setattr(importlib.import_module("mechlib.solve"), "toggle_warnings", capture)
+    return captured
+
+
 def test_toggle_series_matches_the_svd_of_each_row(monkeypatch) -> None:
     """The batched measures of a run's rows (mechlib.singularity._series: eigenvalues of
     J J^T and one batched solve) against an independent SVD of each row's scaled Jacobian:
@@ -143,18 +159,9 @@ def test_toggle_series_matches_the_svd_of_each_row(monkeypatch) -> None:
     the span of the rows (1 - projection onto the right singular vectors). Tolerance 1e-9:
     both are exact to round-off (the inverse iteration used before stopped at 1e-6 and
     was up to 11 % high on the bench slider-crank)."""
-    import importlib
-
     from mechlib import singularity
 
-    solve_module = importlib.import_module("mechlib.solve")
-    captured = []
-
-    def capture(system, trajectory, threshold=singularity.TOGGLE_THRESHOLD):
-        captured.append((system, trajectory))
-        return singularity.toggle_warnings(system, trajectory, threshold)
-
-    monkeypatch.setattr(solve_module, "toggle_warnings", capture)
+    captured = _capture_toggle_checks(monkeypatch)
     mechlib.solve(
         _flywheel_slider_crank(),
         mechlib.Dynamic(end=0.3, step=0.01),
@@ -200,18 +207,9 @@ def test_assembly_to_two_consistent_given_values_in_stages() -> None:
 def _checked_run(monkeypatch, mech, analysis, **kwargs) -> tuple[list, list, tuple]:
     """The warnings of a run (the rank measure's bounds first, `_bounded_measures`), the
     warnings of the exact measures on the same rows, and the bounds and exact measures."""
-    import importlib
-
     from mechlib import singularity
 
-    solve_module = importlib.import_module("mechlib.solve")
-    captured = []
-
-    def capture(system, trajectory, threshold=singularity.TOGGLE_THRESHOLD):
-        captured.append((system, trajectory))
-        return singularity.toggle_warnings(system, trajectory, threshold)
-
-    monkeypatch.setattr(solve_module, "toggle_warnings", capture)
+    captured = _capture_toggle_checks(monkeypatch)
     sol = mechlib.solve(mech, analysis, throw=False, **kwargs)
     assert sol.ok, sol.message
     system, trajectory = captured[0]
@@ -227,7 +225,7 @@ def _checked_run(monkeypatch, mech, analysis, **kwargs) -> tuple[list, list, tup
 
 
 def test_rank_bounds_hold_and_the_warnings_are_the_exact_ones(monkeypatch) -> None:
-    """The bounds of the rank measure (`_batch_bounds`: 1 / trace((J J^T)^-1) below, a
+    """The bounds of the rank measure (`_rank_bounds`: 1 / trace((J J^T)^-1) below, a
     Rayleigh quotient of one inverse-iteration step above) hold at every row of the
     flywheel slider-crank (against the eigenvalues, to round-off: 1e-12; measured: the upper
     bound within 1.17 and the lower within 0.47 of the measure), and are close enough there
