@@ -10,13 +10,15 @@ estimate, the acceleration scales, the angles' unwrapping, the rows at the outpu
 (a step's own state, or dense rows interpolated and projected by
 mechlib.dense_compiled.project_row) -- without returning to Python between steps.
 
-It stops, leaving the state where it was, before any step that needs what only the Python
-stepper does: a new factorisation of the iteration matrix (a stale one, or a step size
-more than 25 % away from the factored one), consistent accelerations at a new step size,
-a rejected step, Newton stalling, the step limit or a collapsing step size, a dense row
-the compiled projection gives back; and before recording a non-finite row. `march` then
-takes one step in Python and calls it again: the same steps, iterations and results as
-the Python loop to round-off (tests/mechlib/test_genalpha_run.py).
+Before a step that needs a new factorisation of the iteration matrix (a stale one, or a
+step size more than 25 % away from the factored one) it returns REFACTOR: `StepRun`
+factors the matrix at the step's predicted state, as the Python step does, and calls it
+again for that step. It stops, leaving the state where it was, before any step that needs
+what only the Python stepper does: consistent accelerations at a new step size, a
+rejected step, Newton stalling, the step limit or a collapsing step size, a dense row the
+compiled projection gives back; and before recording a non-finite row. `march` then takes
+one step in Python and calls it again: the same steps, iterations and results as the
+Python loop to round-off (tests/mechlib/test_genalpha_run.py).
 """
 
 from __future__ import annotations
