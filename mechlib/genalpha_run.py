@@ -34,6 +34,7 @@ from mechlib.dense import PROJECTION
 from mechlib.dense_compiled import DONE, project_row
 from mechlib.genalpha_compiled import CONVERGED, newton
 from mechlib.jit import njit
+from mechlib.linalg import SPARSE_FROM
 from mechlib.solution import SolverFailure
 from mechlib.work import count
 
@@ -261,6 +262,8 @@ class StepRun:
         system = self.stepper.system
         if self.stepper.integ.lu is None or any(e.active for e in system.elements):
             return False
+        if self.stepper.dense and system.nq + system.active.size >= SPARSE_FROM:
+            return False  # its rows' dense Schur complement would cost more than Python's
         block = system._coordinate_rows()
         return all(block.equations[i].function is None for i in block._linear)
 
