@@ -17,11 +17,17 @@ from mechlib.contract import Status
 from mechlib.jit import njit
 from mechlib.solution import SolverFailure
 
-__all__ = ["check_recorded_state", "explain_failure", "nonfinite_channel", "nonfinite_force"]
+__all__ = [
+    "all_finite",
+    "check_recorded_state",
+    "explain_failure",
+    "nonfinite_channel",
+    "nonfinite_force",
+]
 
 
 @njit(cache=True, nogil=True)
-def _all_finite(q, qd, qdd, lam) -> bool:
+def all_finite(q, qd, qdd, lam) -> bool:
     """Whether every value of the four state arrays is finite (one pass, no temporaries)."""
     for array in (q, qd, qdd, lam):
         for value in array:
@@ -67,7 +73,7 @@ def check_recorded_state(system, t: float, q, qd, qdd, lam) -> None:
     """SolverFailure if a state about to be recorded is not finite, naming the force element
     that gave a non-finite value when there is one."""
     q, qd, qdd, lam = (np.asarray(a, dtype=float).ravel() for a in (q, qd, qdd, lam))
-    if _all_finite(q, qd, qdd, lam) or _first_bad(q, qd, qdd, lam) is None:
+    if all_finite(q, qd, qdd, lam) or _first_bad(q, qd, qdd, lam) is None:
         return
     found = nonfinite_force(system, q, qd, t, lam)
     where = (found[0],) if found else ()

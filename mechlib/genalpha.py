@@ -238,9 +238,7 @@ class Integrator:
                 rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
                 it = 0
             prev = size
-        self.lu = None
-        self.eta = 1.0
-        sys.states.reject()
+        self.drop()
         return None
 
     def _predicted(self, t, h, q, qd, qdd, a, lam) -> tuple:
@@ -299,10 +297,15 @@ class Integrator:
                 break
             rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
             it = 0
+        self.drop()
+        return None
+
+    def drop(self) -> None:
+        """A step failed: the iteration matrix is dropped (the next step factors afresh),
+        the Newton rate estimate reset and the element states' trial values undone."""
         self.lu = None
         self.eta = 1.0
-        sys.states.reject()
-        return None
+        self.system.states.reject()
 
     def _factor_data(self) -> tuple[np.ndarray, np.ndarray]:
         """The current factors as the compiled kernels take them (converted once)."""

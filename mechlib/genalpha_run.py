@@ -32,13 +32,14 @@ from mechlib import genalpha_kernels as gk
 from mechlib.coordinates import AngleMeasure
 from mechlib.dense import PROJECTION
 from mechlib.dense_compiled import DONE, project_row
+from mechlib.finite import all_finite
 from mechlib.genalpha_compiled import CONVERGED, newton
 from mechlib.jit import njit
 from mechlib.linalg import SPARSE_FROM
 from mechlib.solution import SolverFailure
 from mechlib.work import count
 
-__all__ = ["FAILED", "REFACTOR", "STOPPED", "StepRun", "run_steps"]
+__all__ = ["FAILED", "REFACTOR", "STOPPED", "StepRun", "run_steps", "substep", "towards"]
 
 STOPPED = 1  # the run stopped before a step (or a row) that Python must take
 REFACTOR = 2  # stopped before a step that needs a new iteration matrix (ctrl[NEXT_H]: its h)
@@ -57,24 +58,18 @@ STEPS, REJECTED, ITERATIONS, ROW_JACOBIANS, ROW_FACTORS = 0, 1, 2, 3, 4
 
 
 @njit(cache=True, nogil=True)
-def _substep(interval, h):
-    """The size of equal sub-steps of at most h landing on the output time."""
+def substep(interval, h):
+    """The size (s) of equal sub-steps of at most h (s) landing on an output time
+    `interval` s ahead (`output: steps`)."""
     n = max(1, math.ceil(interval / h * (1.0 - 1e-9)))
     return interval / n
 
 
 @njit(cache=True, nogil=True)
-def _finite(*arrays):
-    for a in arrays:
-        for v in a:
-            if not np.isfinite(v):
-                return False
-    return True
-
-
-@njit(cache=True, nogil=True)
-def _towards(interval, h):
-    """A dense step of h towards a time `interval` ahead (GeneralizedAlphaStepper's)."""
+def towards(interval, h):
+    """A dense step of h (s) towards a time `interval` s ahead: h itself while it leaves
+    more than h, so that the steps do not depend on how far the end is; then the rest in
+    one step, or in two equal ones when one would be longer than h."""
     if interval <= h * (1.0 + 1e-9):
         return interval
     return 0.5 * interval if interval < 2.0 * h else h
@@ -129,7 +124,7 @@ def run_steps(
             if _reached(outs[i], t):  # a step's end on an output time: its row
                 if written == rows_t.shape[0]:
                     return 0, i, written
-                if not _finite(own[0], cons[0], cons[1], cons_lam):
+                if not all_finite(own[0], cons[0], cons[1], cons_lam):
                     return STOPPED, i, written
                 rows_t[written] = t
                 rows_state[written, :nq] = own[0]
@@ -145,7 +140,7 @@ def run_steps(
             return 0, i, written
         if counts[STEPS] + counts[REJECTED] >= ctrl[MAX_STEPS]:
             return STOPPED, i, written
-        h_try = _towards(target - t, ctrl[H]) if dense else _substep(target - t, ctrl[H])
+        h_try = towards(target - t, ctrl[H]) if dense else substep(target - t, ctrl[H])
         if ctrl[H_USED] != 0.0 and abs(h_try / ctrl[H_USED] - 1.0) > 1e-9:
             return STOPPED, i, written  # consistent accelerations at the new step size
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
@@ -247,6 +242,7 @@ class StepRun:
         # system._angles' order: the angle measures in the order of system.measures
         self.angle_keys = [k for k, m in system.measures.items() if isinstance(m, AngleMeasure)]
         self._angle_args: tuple | None = None
+        self._block: tuple | None = None  # (coordinate block, its angles' indices)
 
     @staticmethod
     def eligible(stepper) -> bool:
@@ -312,9 +308,9 @@ class StepRun:
         matrix dropped, the step rejected, the next a quarter as long (below the step
         floor: the stall's SolverFailure)."""
         stepper = self.stepper
-        stepper.integ.lu, stepper.integ.eta = None, 1.0
+        stepper.integ.drop()
         stepper.h_used = h
-        stepper._shrink(s, 0.25 * h)  # no element states to reject: not eligible
+        stepper._shrink(s, 0.25 * h)
 
     def _call(self, s, outputs: np.ndarray, i: int, trajectory, progress, fresh: bool) -> tuple:
         """One `run_steps` call from s (`fresh`: the matrix was factored for its first
@@ -355,9 +351,7 @@ class StepRun:
         if self._angle_args is None:
             self._angle_args = ca.measure_args([m._sc for m in system._angles], 4)
         refs_all = np.array([m.reference for m in system._angles], dtype=float)
-        position = {id(m): j for j, m in enumerate(system._angles)}
-        block = system._coordinate_rows()
-        block_angles = np.array([position[id(m)] for m in block._angles], dtype=np.int64)
+        block_angles = self._block_angles(system._coordinate_rows())
         rows = min(self.CHUNK, len(outputs) - i)
         rows_t, rows_refs = np.empty(rows), np.empty((rows, len(refs_all)))
         rows_state = np.empty((rows, 3 * nq + own_lam.size))
@@ -387,6 +381,15 @@ class StepRun:
         if written and progress:
             progress(float(rows_t[written - 1]), spec.end)
         return s, i_next, status, float(ctrl[NEXT_H]), bool(ctrl[FRESH])
+
+    def _block_angles(self, block) -> np.ndarray:
+        """The indices of the constraint rows' angle measures among all of the system's
+        (found again only when an event changes the coordinate block)."""
+        if self._block is None or self._block[0] is not block:
+            position = {id(m): j for j, m in enumerate(self.stepper.system._angles)}
+            found = np.array([position[id(m)] for m in block._angles], dtype=np.int64)
+            self._block = (block, found)
+        return self._block[1]
 
     def _record(self, trajectory, times, states, refs) -> None:
         """The rows (found finite by the kernel), each with the system's snapshot and its

@@ -30,7 +30,7 @@ from mechlib.genalpha import (
     Integrator,
 )
 from mechlib.genalpha_kernels import ROUNDOFF, Scales
-from mechlib.genalpha_run import StepRun
+from mechlib.genalpha_run import StepRun, substep, towards
 from mechlib.runaway import StepCollapse, element_loads, fell_to, stall, step_floor
 from mechlib.solution import SolverFailure, SolverStats
 from mechlib.stick import slip_stop, switch_sticking
@@ -123,7 +123,7 @@ class GeneralizedAlphaStepper(DenseStepper):
         """One step towards t_out and its error; None when rejected (the step size is then
         reduced)."""
         spec = self.spec
-        h_try = _towards(t_out - s.t, self.h) if self.dense else _substeps(t_out - s.t, self.h)[1]
+        h_try = towards(t_out - s.t, self.h) if self.dense else substep(t_out - s.t, self.h)
         if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
             qdd, lam = consistent_accelerations(self.system, s.q, s.raw_qd, s.t)
             s.raw_qdd, s.a, s.raw_lam = qdd, qdd.copy(), lam
@@ -257,21 +257,6 @@ def _run_settings() -> dict[int, float]:
         run.REGROW: _REGROW,
         run.ROUNDOFF: ROUNDOFF,
     }
-
-
-def _substeps(interval: float, h: float) -> tuple[int, float]:
-    """Equal sub-steps landing on the output time: (count, size)."""
-    n = max(1, math.ceil(interval / h * (1.0 - 1e-9)))
-    return n, interval / n
-
-
-def _towards(interval: float, h: float) -> float:
-    """A dense step of h (s) towards a time `interval` s ahead: h itself while it leaves
-    more than h, so that the steps do not depend on how far the end is; then the rest in
-    one step, or in two equal ones when one would be longer than h."""
-    if interval <= h * (1.0 + 1e-9):
-        return interval
-    return 0.5 * interval if interval < 2.0 * h else h
 
 
 def _newton_failure(system: System, t: float, h: float, doing: str = "") -> SolverFailure:

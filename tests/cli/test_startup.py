@@ -37,40 +37,30 @@ SOLVER = (
     "loadcases.flexible.read",
 )
 
-_VALIDATE = """
-import json, sys
-from cli.app import main
-sys.argv = ["loads", "validate", *sys.argv[1:]]
-try:
-    main()
-except SystemExit as done:
-    code = done.code
-print(json.dumps({"exit": code, "loaded": sorted(m for m in %r if m in sys.modules)}))
-"""
 
-_UNITS = """
-import json, sys
-from cli.app import main
-from loadcases import units
-sys.argv = ["loads", "validate", *sys.argv[1:]]
-try:
-    main()
-except SystemExit as done:
-    code = done.code
-folder = units._registry().cache_folder
-print(json.dumps({"exit": code, "cache": None if folder is None else str(folder)}))
-"""
-
-_FROZEN = """
+def _validate_script(report: str, imports: str = "") -> str:
+    """A script running `loads validate ARGS` in-process (after `imports`), then printing
+    the JSON of `report`, an expression of the exit `code` and what the run left."""
+    return f"""
 import gc, json, sys
 from cli.app import main
+{imports}
 sys.argv = ["loads", "validate", *sys.argv[1:]]
 try:
     main()
 except SystemExit as done:
     code = done.code
-print(json.dumps({"exit": code, "frozen": gc.get_freeze_count()}))
+print(json.dumps({report}))
 """
+
+
+_VALIDATE = _validate_script('{"exit": code, "loaded": sorted(m for m in %r if m in sys.modules)}')
+_UNITS = _validate_script(
+    '{"exit": code, "cache": None if (folder := units._registry().cache_folder) is None '
+    "else str(folder)}",
+    "from loadcases import units",
+)
+_FROZEN = _validate_script('{"exit": code, "frozen": gc.get_freeze_count()}')
 
 _KERNELS = """
 import json, sys
