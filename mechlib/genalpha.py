@@ -27,7 +27,8 @@ import numpy as np
 
 from mechlib.analysis import Dynamic
 from mechlib.fd_columns import ColumnSkips
-from mechlib.genalpha_compiled import CONVERGED, factor_data, newton
+from mechlib.flat_lu import factor_data
+from mechlib.genalpha_compiled import CONVERGED, newton
 from mechlib.genalpha_kernels import ROUNDOFF, Scales, correct, error_norm, predict
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
 from mechlib.reaction_loads import reaction_coupling

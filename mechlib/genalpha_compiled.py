@@ -4,10 +4,11 @@ For a rigid system with no active force element and no element states (gravity, 
 motions: the bench models, a free deployment phase), everything a Newton iteration of
 `mechlib.genalpha.Integrator.step` does between two factorisations -- state arrays,
 constraint residual and Jacobian (mechlib.constraint_arrays), mass times acceleration,
-gravity and velocity terms, the solve with the iteration matrix's LU factors (dense LAPACK
-getrf or SuperLU's L and U), the correction and the convergence test -- runs in one numba
-call, and so does the three-level correction of the accepted state. The factorisation, the
-step-size control and everything else stay in Python. Same equations, same order of
+gravity and velocity terms, the solve with the iteration matrix's LU factors
+(mechlib.flat_lu: dense or band LAPACK, or SuperLU's L and U), the correction and the
+convergence test -- runs in one numba call, and so does the three-level correction of the
+accepted state. Here the factorisation, the step-size control and everything else stay in
+Python (mechlib.genalpha_run compiles whole runs of steps). Same equations, same order of
 operations but for summation order: results equal the Python loop's to round-off
 (tests/mechlib/test_genalpha_compiled.py).
 """
@@ -21,95 +22,12 @@ import numpy as np
 from mechlib import constraint_arrays as ca
 from mechlib import genalpha_kernels as gk
 from mechlib import kernels as kr
+from mechlib.flat_lu import lu_solve
 from mechlib.jit import njit
 
-__all__ = ["CONVERGED", "STALLED", "factor_data", "newton"]
+__all__ = ["CONVERGED", "STALLED", "newton"]
 
 CONVERGED, STALLED = 1, 2
-
-
-def factor_data(lu) -> tuple[np.ndarray, np.ndarray]:
-    """LU factors of the iteration matrix (mechlib.linalg.factor_saddle) as two flat
-    arrays for `lu_solve`: dense getrf factors of the row-equilibrated matrix, ints
-    [0, n, piv] and floats [LU by columns, row scales]; SuperLU's, ints [1, n, nnz(L),
-    nnz(U), L's column starts and rows, U's, perm_r, perm_c] and floats [L, U]."""
-    if isinstance(lu, tuple):
-        dense, piv, rows = lu
-        n = len(rows)
-        ints = np.concatenate([np.array([0, n], dtype=np.int64), np.asarray(piv, np.int64)])
-        return ints, np.concatenate([np.asarray(dense).ravel(order="F"), rows])
-    f = lu.lu
-    lower, upper = f.L.tocsc(), f.U.tocsc()
-    n = lower.shape[0]
-    ints = np.concatenate(
-        [
-            np.array([1, n, lower.nnz, upper.nnz], dtype=np.int64),
-            lower.indptr,
-            lower.indices,
-            upper.indptr,
-            upper.indices,
-            f.perm_r,
-            f.perm_c,
-        ]
-    ).astype(np.int64)
-    return ints, np.concatenate([lower.data, upper.data])
-
-
-@njit(cache=True, nogil=True)
-def lu_solve(ints, floats, b):
-    """x with A x = b from `factor_data` (mechlib.linalg.solve_factored's arithmetic)."""
-    n = ints[1]
-    x = np.empty(n)
-    if ints[0] == 0:  # (R A) = P L U: x = U^-1 L^-1 P^T (R b)
-        piv = ints[2 : 2 + n]
-        lu = floats[: n * n]
-        for i in range(n):
-            x[i] = floats[n * n + i] * b[i]
-        for i in range(n):
-            p = piv[i]
-            if p != i:
-                x[i], x[p] = x[p], x[i]
-        for j in range(n):  # unit lower triangle, by columns
-            xj = x[j]
-            if xj != 0.0:
-                for i in range(j + 1, n):
-                    x[i] -= lu[j * n + i] * xj
-        for j in range(n - 1, -1, -1):
-            x[j] /= lu[j * n + j]
-            xj = x[j]
-            if xj != 0.0:
-                for i in range(j):
-                    x[i] -= lu[j * n + i] * xj
-        return x
-    nl, nu = ints[2], ints[3]
-    o = 4
-    lp, li = ints[o : o + n + 1], ints[o + n + 1 : o + n + 1 + nl]
-    o += n + 1 + nl
-    up, ui = ints[o : o + n + 1], ints[o + n + 1 : o + n + 1 + nu]
-    o += n + 1 + nu
-    perm_r, perm_c = ints[o : o + n], ints[o + n : o + 2 * n]
-    lx, ux = floats[:nl], floats[nl : nl + nu]
-    y = np.empty(n)  # Pr A Pc = L U: L U y = Pr b, x = Pc y
-    for i in range(n):
-        y[perm_r[i]] = b[i]
-    for j in range(n):  # unit lower triangle (CSC)
-        yj = y[j]
-        if yj != 0.0:
-            for k in range(lp[j], lp[j + 1]):
-                if li[k] > j:
-                    y[li[k]] -= lx[k] * yj
-    for j in range(n - 1, -1, -1):  # upper triangle (CSC): the diagonal is row j's entry
-        for k in range(up[j], up[j + 1]):
-            if ui[k] == j:
-                y[j] /= ux[k]
-        yj = y[j]
-        if yj != 0.0:
-            for k in range(up[j], up[j + 1]):
-                if ui[k] < j:
-                    y[ui[k]] -= ux[k] * yj
-    for i in range(n):
-        x[i] = y[perm_c[i]]
-    return x
 
 
 @njit(cache=True, nogil=True)

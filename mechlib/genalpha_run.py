@@ -1,24 +1,26 @@
 """Runs of generalized-alpha steps in one compiled call.
 
-For a rigid system with no active force element, no element states, no joint friction and
-no time function in its equations (a free mechanism under gravity: the bench models, a
-free deployment phase), `run_steps` takes accepted steps one after another, landing on the
-output times (`output: steps`) or towards the end (dense output), as
-`GeneralizedAlphaStepper.step`, `accept` and `march` do them -- the step size from the
-error estimate, the Newton iterations (mechlib.genalpha_compiled.newton), the error
-estimate, the acceleration scales, the angles' unwrapping, the rows at the output times
-(a step's own state, or dense rows interpolated and projected by
-mechlib.dense_compiled.project_row) -- without returning to Python between steps.
+For a rigid system with no active force element, no element states, no joint friction and no
+time function in its equations (a free mechanism under gravity: the bench models, a free
+deployment phase), `run_steps` takes accepted steps one after another, landing on the output
+times (`output: steps`) or towards the end (dense output), as
+`GeneralizedAlphaStepper.step`, `accept` and `march` do them -- the step size from the error
+estimate, the Newton iterations (mechlib.genalpha_compiled.newton), the error estimate, the
+acceleration scales, the angles' unwrapping, the rows at the output times (a step's own
+state, or dense rows interpolated and projected by mechlib.dense_compiled.project_row) --
+without returning to Python between steps.
 
-Before a step that needs a new factorisation of the iteration matrix (a stale one, or a
-step size more than 25 % away from the factored one) it returns REFACTOR: `StepRun`
-factors the matrix at the step's predicted state, as the Python step does, and calls it
-again for that step. It stops, leaving the state where it was, before any step that needs
-what only the Python stepper does: consistent accelerations at a new step size, a
-rejected step, Newton stalling, the step limit or a collapsing step size, a dense row the
-compiled projection gives back; and before recording a non-finite row. `march` then takes
-one step in Python and calls it again: the same steps, iterations and results as the
-Python loop to round-off (tests/mechlib/test_genalpha_run.py).
+Before a step that needs a new factorisation of the iteration matrix (a stale one, or a step
+size more than 25 % away from the factored one) it factors [[M, phi_q^T], [phi_q, 0]] at the
+step's predicted state, as the Python step does, with the kernel the Python path uses
+(mechlib.flat_lu.refactor: dense or band LU). For SuperLU's factors, or a matrix the kernel
+finds singular, it returns REFACTOR: `StepRun` factors it in Python (or fails the step as
+the Python step does) and calls it again for that step. It stops, leaving the state where it
+was, before any step that needs what only the Python stepper does: consistent accelerations
+at a new step size, a rejected step, Newton stalling, the step limit or a collapsing step
+size, a dense row the compiled projection gives back; and before recording a non-finite row.
+`march` then takes one step in Python and calls it again: the same steps, iterations and
+results as the Python loop to round-off (tests/mechlib/test_genalpha_run.py).
 """
 
 from __future__ import annotations
@@ -33,9 +35,11 @@ from mechlib.coordinates import AngleMeasure
 from mechlib.dense import PROJECTION
 from mechlib.dense_compiled import DONE, project_row
 from mechlib.finite import all_finite
+from mechlib.flat_lu import SUPERLU, factors, refactor
 from mechlib.genalpha_compiled import CONVERGED, newton
 from mechlib.jit import njit
 from mechlib.linalg import SPARSE_FROM
+from mechlib.saddle import saddle_values
 from mechlib.solution import SolverFailure
 from mechlib.work import count
 
@@ -52,7 +56,8 @@ ALPHA_M, ALPHA_F, BETA, GAMMA = 11, 12, 13, 14
 KAPPA, STAGNANT, NOISE, MAX_ITER, SLOW, ETA_MIN = 15, 16, 17, 18, 19, 20
 SAFETY, GROW, REGROW, ROUNDOFF, DENSE = 21, 22, 23, 24, 25
 FRESH, NEXT_H = 26, 27  # in: the matrix is new for the next step; out: that step's h
-CTRL_SIZE = 28
+REFACTORED = 28  # out: the iteration matrices factored in the call
+CTRL_SIZE = 29
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
 STEPS, REJECTED, ITERATIONS, ROW_JACOBIANS, ROW_FACTORS = 0, 1, 2, 3, 4
 
@@ -83,8 +88,8 @@ def _reached(t_out, t):
 @njit(cache=True, nogil=True)
 def run_steps(
     own, own_lam, cons, cons_lam, ctrl, counts, outs, first, ints, floats, functions, body,
-    fi, ff, q_abs, a_ref, angles, refs_all, block_angles, projection, rows_t, rows_state,
-    rows_refs, most_steps,
+    fi, ff, layout, q_abs, a_ref, angles, refs_all, block_angles, projection, rows_t,
+    rows_state, rows_refs, most_steps,
 ):  # fmt: skip
     """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
     `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
@@ -93,8 +98,11 @@ def run_steps(
     ctrl[DENSE], steps towards the end and rows projected within each step
     (mechlib.dense_compiled, `projection` its parameters), else steps landing on each
     output time and the rows their states. At most len(rows_t) rows and `most_steps`
-    steps. `angles` = (ai, aj, au, av) of every angle measure, `refs_all` their references
-    (in place), `block_angles` the indices of the constraint rows' angles among them.
+    steps. The iteration matrix's factors (fi, ff: mechlib.flat_lu) are refactored in
+    place when the saddle pattern's `layout` (its kind, rows, columns, and the flat
+    layout's places, rows and columns; kind -1: none) fits them. `angles` = (ai, aj, au, av)
+    of every angle measure, `refs_all` their references (in place), `block_angles` the
+    indices of the constraint rows' angles among them.
     Returns (0, STOPPED, REFACTOR or FAILED; next output index, rows written)."""
     ai, aj, au, av = angles
     nq = own.shape[1]
@@ -111,6 +119,8 @@ def run_steps(
     params[2], params[3], params[4] = ctrl[TOL], ctrl[ROUNDOFF], ctrl[KAPPA]
     params[5], params[6], params[7] = ctrl[STAGNANT], ctrl[NOISE], ctrl[MAX_ITER]
     params[8], params[9] = ctrl[ALPHA_M], ctrl[ALPHA_F]
+    kind, prow, pcol, place, brow, bcol = layout
+    values = np.empty(prow.shape[0])
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[T]
@@ -147,9 +157,6 @@ def run_steps(
             return STOPPED, i, written  # the step-collapse watch
         fresh = ctrl[FRESH] != 0.0
         ctrl[FRESH] = 0.0
-        if not fresh and (ctrl[STALE] != 0.0 or abs(h_try / ctrl[LU_H] - 1.0) > 0.25):
-            ctrl[NEXT_H] = h_try
-            return REFACTOR, i, written
         t_new = t + h_try
         due = 0  # rows within the step (dense): output times up to its end
         if dense:
@@ -158,9 +165,22 @@ def run_steps(
             if written + due > rows_t.shape[0]:
                 return (STOPPED if written == 0 else 0), i, written
         am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
+        q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h_try, am, beta, gamma)
+        if not fresh and (ctrl[STALE] != 0.0 or abs(h_try / ctrl[LU_H] - 1.0) > 0.25):
+            # [[M, phi_q^T], [phi_q, 0]] at the predicted state (Integrator._iteration_matrix)
+            x, _ = ca.state_arrays(q1, q1, nb)
+            if fi[0] == kind:
+                saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
+            if fi[0] != kind or not refactor(values, place, brow, bcol, fi, ff):
+                ctrl[NEXT_H] = h_try  # StepRun factors it (or finds it singular)
+                return REFACTOR, i, written
+            counts[ROW_JACOBIANS] += 1
+            counts[ROW_FACTORS] += 1
+            ctrl[LU_H], ctrl[STALE], ctrl[H_USED] = h_try, 0.0, h_try
+            ctrl[REFACTORED] += 1.0
+            fresh = True
         params[0] = (1.0 - am) / (h_try * h_try * beta * (1.0 - af))
         params[1] = gamma / (h_try * beta)
-        q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h_try, am, beta, gamma)
         lam1 = own_lam.copy()
         status, it, _, eta, done = newton(
             q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref,
@@ -345,9 +365,10 @@ class StepRun:
         )
         ctrl[[ALPHA_M, ALPHA_F, BETA, GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
         ctrl[DENSE] = float(stepper.dense)
+        ctrl[REFACTORED] = 0.0
         counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
         ints, floats = arrays.packed()
-        fi, ff = integ._factor_data()
+        fi, ff, layout = self._factors()
         if self._angle_args is None:
             self._angle_args = ca.measure_args([m._sc for m in system._angles], 4)
         refs_all = np.array([m.reference for m in system._angles], dtype=float)
@@ -357,13 +378,17 @@ class StepRun:
         rows_state = np.empty((rows, 3 * nq + own_lam.size))
         status, i_next, written = run_steps(
             own, own_lam, cons, cons_lam, ctrl, counts, outputs, i, ints, floats,
-            arrays.functions(s.t), arrays.bodies(), fi, ff, scales.q_abs, scales.a_ref,
+            arrays.functions(s.t), arrays.bodies(), fi, ff, layout, scales.q_abs, scales.a_ref,
             self._angle_args, refs_all, block_angles, PROJECTION, rows_t, rows_state, rows_refs,
             10 * rows,
         )  # fmt: skip
         count(
             factorizations=int(counts[ROW_FACTORS]), jacobian_evaluations=int(counts[ROW_JACOBIANS])
         )
+        if ctrl[REFACTORED]:  # as StepRun._refactor leaves them
+            integ.lu, integ.lu_h = factors(fi, ff), float(ctrl[LU_H])
+            integ._factors = (integ.lu, (fi, ff))
+            integ.stale, stepper.h_used = bool(ctrl[STALE]), float(ctrl[H_USED])
         taken = int(counts[STEPS]) - stats.steps
         stats.steps = int(counts[STEPS])
         stats.newton_iterations += int(counts[ITERATIONS])
@@ -381,6 +406,19 @@ class StepRun:
         if written and progress:
             progress(float(rows_t[written - 1]), spec.end)
         return s, i_next, status, float(ctrl[NEXT_H]), bool(ctrl[FRESH])
+
+    def _factors(self) -> tuple[np.ndarray, np.ndarray, tuple]:
+        """The iteration matrix's flat factors for the call (copies where the kernel may
+        refactor in them: the stepper's own stay as they are until the call returns) and
+        the saddle pattern's layout for `run_steps` (kind -1 where it does not fit them)."""
+        fi, ff = self.stepper.integ._factor_data()
+        pattern = self.stepper.system.saddle_pattern()
+        layout = pattern.layout
+        if fi[0] == SUPERLU or layout is None or layout.ints[0] != fi[0] or len(ff) != layout.size:
+            return fi, ff, (-1, *self._NO_LAYOUT)
+        return fi.copy(), ff.copy(), (fi[0], pattern.rows, pattern.cols, *layout.kernel_args())
+
+    _NO_LAYOUT = tuple(np.zeros(0, dtype=np.int64) for _ in range(5))
 
     def _block_angles(self, block) -> np.ndarray:
         """The indices of the constraint rows' angle measures among all of the system's

@@ -21,7 +21,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from typing import Any, TypeVar
 
-__all__ = ["Kernel", "compile_all", "compiled", "interpreted", "njit"]
+__all__ = ["Kernel", "compile_all", "compiled", "interpreted", "njit", "on_compile"]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -29,6 +29,7 @@ _marked: list[Kernel] = []
 _lock = threading.Lock()
 _compiled = False
 _interpreting = 0  # depth of `interpreted()` blocks
+_hooks: list[Callable[[], None]] = []
 
 
 class Kernel:
@@ -73,14 +74,28 @@ def njit(**options: Any) -> Callable[[F], F]:
     return mark
 
 
+def on_compile(hook: Callable[[], None]) -> None:
+    """Run `hook` once numba is imported, before any kernel compiles (at once if it already
+    is): it binds what the kernels call that only exists with numba (mechlib.lapack)."""
+    with _lock:
+        if not _compiled:
+            _hooks.append(hook)
+            return
+    hook()
+
+
 def compile_all() -> None:
-    """Import numba and make every marked kernel a dispatcher (each compiles, or loads
-    from the disk cache, on its first call with new argument types)."""
+    """Import numba, run the `on_compile` hooks and make every marked kernel a dispatcher
+    (each compiles, or loads from the disk cache, on its first call with new argument
+    types)."""
     global _compiled
     with _lock:
         if _compiled:
             return
         import numba
+
+        for hook in _hooks:
+            hook()
 
         for kernel in _marked:
             kernel.dispatcher = numba.njit(**kernel.options)(kernel.py_func)

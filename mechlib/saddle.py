@@ -7,29 +7,32 @@ and phi_q (m nq) only to pick the pattern's few nonzeros out of them: at 200 lin
 the constraint rows' column blocks (mechlib.constraint_arrays) are evaluated and the values
 taken straight from them. Used by the generalized-alpha iteration matrix of a system with no
 active force element and by the consistent states; the same values, so the same factors.
+Small matrices too are gathered so (their dense LU then follows the same kernel as the
+compiled runs').
 """
 
 from __future__ import annotations
 
 import numpy as np
-import scipy.sparse as sp
 
 from mechlib import constraint_arrays as ca
 from mechlib import kernels as kr
 from mechlib.jit import njit
 from mechlib.kin import Kin
-from mechlib.linalg import SPARSE_FROM, augmented, factor_saddle, sparse_saddle_factors
+from mechlib.linalg import augmented, factor_saddle, pattern_factors
 
 __all__ = ["rigid_saddle_factors"]
 
 
 def rigid_saddle_factors(system, k: Kin):
     """LU factors of [[M, phi_q^T], [phi_q, 0]] at state k (as mechlib.linalg.factor_saddle
-    gives them, None when singular): gathered on the pattern by `saddle_values` for a
-    packed system with a sparse saddle matrix, else from the dense M and phi_q."""
+    gives them, None when singular): for a packed system, its values gathered on the
+    pattern by `saddle_values` and factored by the pattern's layout (the same kernels as
+    the compiled runs' refactorisations: mechlib.genalpha_run), else from the dense M and
+    phi_q."""
     arrays = system.packed_constraints()
     pattern = system.saddle_pattern()
-    if arrays is None or system.nq + system.active.size < SPARSE_FROM:
+    if arrays is None:
         return factor_saddle(system.mass(k), system.phi_q(k), pattern)
     ints, floats = arrays.packed()
     values = np.empty(pattern.rows.size)
@@ -37,8 +40,7 @@ def rigid_saddle_factors(system, k: Kin):
         k.x, ints, floats, arrays.functions(k.t, "value"), arrays.references(), arrays.bodies(),
         pattern.rows, pattern.cols, values,
     )  # fmt: skip
-    matrix = sp.csc_matrix((values, pattern.indices, pattern.indptr), shape=pattern.shape)
-    return sparse_saddle_factors(matrix, lambda: augmented(system.mass(k), system.phi_q(k)))
+    return pattern_factors(pattern, values, lambda: augmented(system.mass(k), system.phi_q(k)))
 
 
 @njit(cache=True, nogil=True)

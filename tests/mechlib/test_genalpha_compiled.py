@@ -7,10 +7,10 @@ against closed forms.
   states (every primitive group, angles past +-pi, travels, a screw, a gear and a motion;
   after a lock and a dropped row); the system uses them once compiled.
 - The LU solve from dense getrf factors and from SuperLU's L and U equals
-  mechlib.linalg.solve_factored to 1e-12.
+  mechlib.linalg.solve_factored to 1e-12 (band factors: tests/mechlib/test_flat_lu.py).
 - Whole runs through the compiled loop and through the Python loop (`arrays = None`) take
   the same steps and Newton iterations and give every output to 1e-9 of its peak (measured
-  1e-13 to 1e-10): the free slider-crank (dense factors), a 12-link chain (SuperLU factors),
+  1e-13 to 1e-10): the free slider-crank (dense factors), a 12-link chain (band factors),
   a driven crank (a motion: the coordinate rows and their time functions).
 - The pendulum through the compiled loop meets the elliptic-integral period (1e-6) and the
   energy is conserved to 1e-6 of m g L over 3 s (generalized-alpha at tolerance 1e-8).
@@ -26,8 +26,8 @@ import pytest
 
 import mechlib
 from mechlib.constraint_arrays import ConstraintArrays, nu_and_gamma, phi_and_jacobian
+from mechlib.flat_lu import factor_data, lu_solve
 from mechlib.genalpha import Integrator
-from mechlib.genalpha_compiled import factor_data, lu_solve
 from mechlib.linalg import factor, factor_saddle, solve_factored
 from mechlib.system import System
 
@@ -123,7 +123,7 @@ def test_the_system_evaluates_its_rows_in_one_call() -> None:
     assert np.abs(system.gamma(k) - want_gamma).max() < TOL * np.abs(want_gamma).max()
 
 
-@pytest.mark.parametrize("n", [30, 160])  # dense LAPACK below 100 rows, SuperLU above
+@pytest.mark.parametrize("n", [30, 160])  # dense LAPACK below 100 rows; SuperLU (no band)
 def test_lu_solve_matches_solve_factored(n: int) -> None:
     rng = np.random.default_rng(n)
     top = rng.standard_normal((n, n))
@@ -161,7 +161,7 @@ def test_saddle_matrix_gathered_on_its_pattern() -> None:
 def test_saddle_factors_gathered_by_the_kernel() -> None:
     """The saddle matrix's factors from the kernel's values on the pattern
     (mechlib.saddle) solve as those of the dense M and phi_q, to 1e-12 (a 12-link chain:
-    132 rows, the sparse path)."""
+    132 rows, the band path)."""
     from mechlib.linalg import factor_saddle
     from mechlib.saddle import rigid_saddle_factors
 
@@ -230,7 +230,7 @@ def _both_paths(model, analysis) -> tuple[mechlib.Solution, mechlib.Solution]:
         (_chain, mechlib.Dynamic(0.3, 0.01, tolerance=1e-6)),
         (_driven_crank, mechlib.Dynamic(0.5, 0.01, tolerance=1e-6)),
     ],
-    ids=["free-slider-crank", "chain-superlu", "driven-crank"],
+    ids=["free-slider-crank", "chain-band", "driven-crank"],
 )
 def test_compiled_loop_equals_the_python_loop(model, analysis) -> None:
     compiled, python = _both_paths(model, analysis)
