@@ -11,17 +11,34 @@ compiled as they are marked.
 Within `interpreted()` a kernel not yet compiled runs as plain Python: the checks of
 `loads validate` (a few constraint Jacobians) need no compiler. The kernels are written in the
 subset of Python numba compiles, which runs unchanged in the interpreter, only slower.
+
+numba keys a kernel's disk cache on the kernel's own source file only: a kernel calling a
+kernel of another module would keep the callee's old machine code after that module changed
+(a crash or a wrong number after a partial update such as `git pull`). So before the first
+compilation every mechlib kernel cache is dropped when any mechlib source file changed since
+the caches were written (`drop_stale_caches`).
 """
 
 from __future__ import annotations
 
+import hashlib
+import os
 import sys
 import threading
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
+from pathlib import Path
 from typing import Any, TypeVar
 
-__all__ = ["Kernel", "compile_all", "compiled", "interpreted", "njit", "on_compile"]
+__all__ = [
+    "Kernel",
+    "compile_all",
+    "compiled",
+    "drop_stale_caches",
+    "interpreted",
+    "njit",
+    "on_compile",
+]
 
 F = TypeVar("F", bound=Callable[..., Any])
 
@@ -92,6 +109,7 @@ def compile_all() -> None:
     with _lock:
         if _compiled:
             return
+        drop_stale_caches(Path(__file__).resolve().parent)
         import numba
 
         for hook in _hooks:
@@ -106,6 +124,36 @@ def compile_all() -> None:
                     if isinstance(value, Kernel):
                         namespace[key] = value.dispatcher
         _compiled = True
+
+
+def drop_stale_caches(root: Path) -> bool:
+    """Delete numba's cache files (*.nbi, *.nbc) in the __pycache__ folders under `root`
+    when the names, sizes or modification times of its .py files differ from those
+    recorded with them (`root`/__pycache__/kernels.stamp, then written anew). True when
+    they were dropped. A folder that cannot be written is left as it is (numba then caches
+    elsewhere, and an installed package does not change in place)."""
+    sources = sorted(root.rglob("*.py"))
+    lines = []
+    for path in sources:
+        info = path.stat()
+        lines.append(f"{path.relative_to(root)} {info.st_size} {info.st_mtime_ns}\n")
+    stamp = hashlib.sha256("".join(lines).encode()).hexdigest()
+    marker = root / "__pycache__" / "kernels.stamp"
+    try:
+        if marker.read_text(encoding="ascii") == stamp:
+            return False
+    except OSError:
+        pass
+    try:
+        for cache in [*root.rglob("__pycache__/*.nbi"), *root.rglob("__pycache__/*.nbc")]:
+            cache.unlink(missing_ok=True)
+        marker.parent.mkdir(exist_ok=True)
+        partial = marker.with_name(f"{marker.name}.{os.getpid()}")
+        partial.write_text(stamp, encoding="ascii")
+        partial.replace(marker)  # whole or not at all: other processes may read it
+    except OSError:
+        return False
+    return True
 
 
 def compiled() -> bool:

@@ -16,7 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN, read_results
+from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN, checked_arrays, read_results
+from loadcases.results.outcome import RunOutcome
 
 __all__ = [
     "RunRecord",
@@ -26,6 +27,7 @@ __all__ = [
     "load_saved_run",
     "read_summary",
     "record_from_summary",
+    "saved_run_of",
     "summary_path",
 ]
 
@@ -128,6 +130,15 @@ def load_saved_run(csv_path: Path, directory: Path | None = None) -> SavedRun:
         name = base.as_posix()[: -len(".csv")]
     units = {str(k): str(v) for k, v in (summary.get("units") or {}).items()}
     return SavedRun(name, time, channels, units, status=str(summary.get("status", "ok")))
+
+
+def saved_run_of(outcome: RunOutcome) -> SavedRun:
+    """The run as `load_saved_run` reads it back once `write_results` has written it (a
+    loadcases.run.RunOutcome; the CSV's numbers round-trip exactly): a set's report takes
+    the runs it has just solved from memory, not from disk."""
+    time, channels = checked_arrays(outcome.solution)
+    units = {TIME_COLUMN: "s", **outcome.column_units}
+    return SavedRun(outcome.name, time, channels, units, status=outcome.solution.status)
 
 
 def find_result_files(directories: Iterable[Path]) -> list[tuple[Path, Path]]:

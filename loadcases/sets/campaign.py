@@ -45,6 +45,7 @@ from loadcases.results.saved import (
     load_saved_run,
     read_summary,
     record_from_summary,
+    saved_run_of,
     summary_path,
 )
 from loadcases.sets.executors import Executor, SerialExecutor
@@ -178,9 +179,11 @@ def _solve_all(
     force: bool,
     on_record: OnRecord | None,
     xlsx: bool = False,
+    solved: dict[str, SavedRun] | None = None,
 ) -> tuple[list[RunRecord], bool]:
     """Records in run order (solved runs' results are written here as they arrive), and
-    whether an interrupt stopped the set."""
+    whether an interrupt stopped the set; `solved` gets each run solved ok, by name, as
+    read back from its files (saved_run_of)."""
     specs = list(compiled.runs)
     records: list[RunRecord | None] = [None if force else _reusable(directory, s) for s in specs]
     done = 0
@@ -197,6 +200,8 @@ def _solve_all(
             spec = specs[todo[index]]
             write_results(outcome, directory, version=compiled.version, xlsx=xlsx)
             finished = _record(outcome, spec, _csv_path(directory, spec.name))
+            if solved is not None and finished.ok:
+                solved[finished.name] = saved_run_of(outcome)
             records[todo[index]] = finished
             done += 1
             if on_record is not None:
@@ -340,12 +345,13 @@ def run_set(
     directory = result_base(Path(output_dir), compiled.name)
     with caching_under(directory):  # flexible bodies reduced once for all runs
         _prebuild(compiled)
+        solved: dict[str, SavedRun] = {}
         records, interrupted = _solve_all(
-            compiled, directory, executor or SerialExecutor(), force, on_record, xlsx
+            compiled, directory, executor or SerialExecutor(), force, on_record, xlsx, solved
         )
     if interrupted or any(r.status == "interrupted" for r in records):
         return SetResult(compiled, directory, records, interrupted=True)
-    runs = [load_saved_run(r.csv_path) for r in records if r.ok]
+    runs = [solved.get(r.name) or load_saved_run(r.csv_path) for r in records if r.ok]
     if on_report is not None:
         on_report("envelope")
     abscissae = {cf.case.case: cf.case.abscissa for cf in compiled.cases if cf.case.abscissa}

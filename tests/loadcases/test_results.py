@@ -82,6 +82,42 @@ def test_csv_reads_back_by_value(tmp_path: Path) -> None:
     assert channels["pivot_force.fx"][2] == FX[2] and math.isnan(channels["pivot_force.fx"][3])
 
 
+def test_csv_text_is_the_csv_modules(tmp_path: Path) -> None:
+    """The rows joined by hand are what csv.writer writes (repr of each float; inf, nan)."""
+    import csv
+    import io
+
+    fx = np.array([1.0 / 3.0, np.inf, -np.inf, np.nan, 1e16])
+    write_results(make_outcome(fx=fx), tmp_path, version="1.2.3")
+    text = (tmp_path / "slider" / "crank[w=6.28319].csv").read_text(encoding="utf-8")
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(["time", "pivot_force.fx", "pivot_force.tz"])
+    writer.writerows(np.column_stack([TIME, fx, TZ]).tolist())
+    assert text == buffer.getvalue()
+
+
+def test_a_solved_run_in_memory_equals_its_files_read_back(tmp_path: Path) -> None:
+    """A set's report takes the runs it has just solved from memory (saved_run_of): the
+    same names, units, status and numbers as load_saved_run reads from their files."""
+    from loadcases.results.saved import load_saved_run, saved_run_of
+
+    outcome = make_outcome()
+    write_results(outcome, tmp_path, version="1.2.3")
+    read = load_saved_run(tmp_path / "slider" / "crank[w=6.28319].csv")
+    held = saved_run_of(outcome)
+    assert (held.name, held.family, held.status, held.units) == (
+        read.name,
+        read.family,
+        read.status,
+        read.units,
+    )
+    np.testing.assert_array_equal(held.time, read.time)
+    assert list(held.channels) == list(read.channels)
+    for name, values in read.channels.items():
+        np.testing.assert_array_equal(held.channels[name], values)  # NaN == NaN here
+
+
 def test_summary_json(tmp_path: Path) -> None:
     write_results(make_outcome(), tmp_path, version="1.2.3")
     text = (tmp_path / "slider" / "crank[w=6.28319].summary.json").read_text()
