@@ -36,11 +36,22 @@ class CircleProfile:
     _cubic: tuple = field(default=(), repr=False)  # the spline's breakpoints, coefficients
 
     def bind(self, system, body1: str, body2: str) -> tuple[int, int]:
-        from scipy.interpolate import CubicSpline  # here, where the spline is built
-
+        """The bodies' indices; the spline is built on the first gap (`_shape`): a model
+        that is only built and checked (`loads validate`) imports no scipy.interpolate."""
         pts = np.asarray(self.points, float)
         if len(pts) < 2:
             raise ValueError("a profile needs at least 2 points")
+        b1, s1 = system.body_point(body1, self.center)
+        b2, s0 = system.body_point(body2, pts[0])  # body-2 axes = global axes at design
+        self._bound = (b1, s1, b2, s0)
+        return b1, b2
+
+    def _shape(self) -> None:
+        """The spline through the points in their plane, its sample grid and the side of
+        the curve the roller centre lies on at the design position (appended to _bound)."""
+        from scipy.interpolate import CubicSpline  # here, where the spline is built
+
+        pts = np.asarray(self.points, float)
         m = unit(self.plane_normal)
         origin = pts[0]
         e1 = unit((pts[-1] - origin) - ((pts[-1] - origin) @ m) * m)
@@ -50,23 +61,10 @@ class CircleProfile:
         spline = CubicSpline(chord, uv, bc_type="natural" if len(pts) > 2 else "not-a-knot")
         self._cubic = (np.ascontiguousarray(spline.x), np.ascontiguousarray(spline.c))
         grid = np.linspace(0.0, chord[-1], _SAMPLES_PER_SEGMENT * (len(pts) - 1) + 1)
-        b1, s1 = system.body_point(body1, self.center)
-        b2, s0 = system.body_point(body2, origin)  # body-2 axes = global axes at design
-        self._bound = (
-            b1,
-            s1,
-            b2,
-            s0,
-            np.column_stack((e1, e2)),
-            m,
-            spline,
-            grid,
-            spline(grid),
-            1.0,
-        )
+        shape = (np.column_stack((e1, e2)), m, spline, grid, spline(grid))
+        self._bound = self._bound[:4] + shape + (1.0,)
         side = self._signed(np.asarray(self.center, float) - origin)[0]
         self._bound = self._bound[:-1] + (1.0 if side >= 0.0 else -1.0,)
-        return b1, b2
 
     def _nearest(self, w: np.ndarray) -> tuple[float, np.ndarray]:
         """(curve parameter (m of chord) of the point nearest the in-plane point w (2,),
@@ -89,6 +87,8 @@ class CircleProfile:
         return float((local - foot) @ normal), normal, foot
 
     def gap(self, view) -> Gap:
+        if len(self._bound) == 4:
+            self._shape()
         b1, s1, b2, s0 = self._bound[:4]
         rot2 = view.rotation(b2)
         origin = view.point_position(b2, s0)
