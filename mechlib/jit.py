@@ -15,8 +15,8 @@ subset of Python numba compiles, which runs unchanged in the interpreter, only s
 numba keys a kernel's disk cache on the kernel's own source file only: a kernel calling a
 kernel of another module would keep the callee's old machine code after that module changed
 (a crash or a wrong number after a partial update such as `git pull`). So before the first
-compilation every mechlib kernel cache is dropped when any mechlib source file changed since
-the caches were written (`drop_stale_caches`).
+compilation every mechlib kernel cache is dropped when any mechlib source file with kernels
+changed since the caches were written (`drop_stale_caches`).
 """
 
 from __future__ import annotations
@@ -128,15 +128,16 @@ def compile_all() -> None:
 
 def drop_stale_caches(root: Path) -> bool:
     """Delete numba's cache files (*.nbi, *.nbc) in the __pycache__ folders under `root`
-    when the names, sizes or modification times of its .py files differ from those
-    recorded with them (`root`/__pycache__/kernels.stamp, then written anew). True when
-    they were dropped. A folder that cannot be written is left as it is (numba then caches
+    when the names, sizes or modification times of its .py files with kernels (`@njit`)
+    differ from those recorded with them (`root`/__pycache__/kernels.stamp, then written
+    anew): a change to a module without kernels costs no compilation. True when they were
+    dropped. A folder that cannot be written is left as it is (numba then caches
     elsewhere, and an installed package does not change in place)."""
-    sources = sorted(root.rglob("*.py"))
     lines = []
-    for path in sources:
-        info = path.stat()
-        lines.append(f"{path.relative_to(root)} {info.st_size} {info.st_mtime_ns}\n")
+    for path in sorted(root.rglob("*.py")):
+        if b"@njit" in path.read_bytes():
+            info = path.stat()
+            lines.append(f"{path.relative_to(root)} {info.st_size} {info.st_mtime_ns}\n")
     stamp = hashlib.sha256("".join(lines).encode()).hexdigest()
     marker = root / "__pycache__" / "kernels.stamp"
     try:

@@ -22,8 +22,9 @@ toggle. Checked at the recorded output rows, after the analysis (docs/analyses.m
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -121,12 +122,25 @@ class _Position:
             self.lu = lambda rhs: dgetrs(lu, pivots, rhs)[0]  # LAPACK direct: no wrapper cost
         else:
             self.jac = jac
-        self.weights: np.ndarray
-        self.sigma: float
-        self.weights, self.sigma = self._smallest(start) if m else (np.zeros(0), 1.0)
+        self._start = start
         self.free: list[tuple[str, AngleMeasure | TravelMeasure]] = []
         if m < system.nq:
             self.free = _free_measures(system) if free is None else free
+
+    @cached_property
+    def _rank(self) -> tuple[np.ndarray, float]:
+        """(weights, sigma) of `_smallest`, found on first use: a dead coordinate's
+        warning needs neither."""
+        return self._smallest(self._start) if self.jac.shape[0] else (np.zeros(0), 1.0)
+
+    @property
+    def weights(self) -> np.ndarray:
+        """The unit left singular vector of the smallest singular value."""
+        return self._rank[0]
+
+    @property
+    def sigma(self) -> float:
+        return self._rank[1]
 
     def _smallest(self, start: np.ndarray | None) -> tuple[np.ndarray, float]:
         """(unit left singular vector, smallest singular value) of J by inverse iteration
@@ -243,13 +257,13 @@ def _episodes(values: np.ndarray, threshold: float) -> list[tuple[int, int]]:
     return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
 
 
-def _series(system: System, trajectory) -> tuple[np.ndarray, list[dict]]:
+def _series(system: System, trajectory) -> tuple[np.ndarray, _Sines]:
     """Per recorded row: the rank measure and the sines of the free coordinates."""
     ranks, _, sines = _walk(system, trajectory, bounds=False)
     return ranks, sines
 
 
-def _walk(system: System, trajectory, bounds: bool) -> tuple[np.ndarray, np.ndarray, list]:
+def _walk(system: System, trajectory, bounds: bool) -> tuple[np.ndarray, np.ndarray, _Sines]:
     """Per recorded row: (lower, upper) bounds of the rank measure -- with `bounds`, from
     the trace and a diagonal of (J J^T)^-1 (`_rank_bounds`) for the rows measured in
     batches, else both the measure itself -- and the sines of the free coordinates. Rows
@@ -259,7 +273,7 @@ def _walk(system: System, trajectory, bounds: bool) -> tuple[np.ndarray, np.ndar
     warm-started)."""
     n = len(trajectory)
     ranks, highs, start = np.empty(n), np.empty(n), None
-    sines: list[dict] = [{} for _ in range(n)]
+    sines = _Sines(n)
     scale = _column_scale(system)  # the mechanism's size, the same at every row
     active, free = None, []  # the free coordinates change only with the active rows
     batch = _Batch(bounds)
@@ -290,7 +304,8 @@ def _walk(system: System, trajectory, bounds: bool) -> tuple[np.ndarray, np.ndar
             position = _Position(system, k, start, scale, free, jac)
             ranks[i], start = position.rank_measure(), position.weights
             highs[i] = ranks[i]
-            sines[i] = position.sines()
+            row = position.sines()
+            sines.add(np.array([i]), list(row), np.array([list(row.values())]).reshape(1, -1))
         i += 1
     batch.flush(ranks, highs, sines)
     system.restore_snapshot(trajectory.references[n - 1])
@@ -341,7 +356,7 @@ class _Batch:
         self.jacs.append(jacs)
         self.grads.append(grads)
 
-    def flush(self, ranks: np.ndarray, highs: np.ndarray, sines: list) -> None:
+    def flush(self, ranks: np.ndarray, highs: np.ndarray, sines: _Sines) -> None:
         """Write the measures of the rows held into `ranks` (with `bounds`: their lower
         bounds), `highs` (their upper bounds) and `sines`; empty the batch."""
         if not self.rows:
@@ -353,12 +368,8 @@ class _Batch:
         shares, norms = np.empty((n, c)), np.empty((n, c))
         _batch_measures(jac, grads, _GRAM_FLOOR, self.bounds, rank, high, shares, norms)
         ranks[self.rows], highs[self.rows] = rank, high
-        for i, share, norm in zip(self.rows, shares.tolist(), norms.tolist()):
-            sines[i] = {
-                (joint, meas.kind): value
-                for (joint, meas), value, size in zip(self.free, share, norm)
-                if size > 0.0
-            }
+        keys = [(joint, meas.kind) for joint, meas in self.free]
+        sines.add(np.array(self.rows), keys, np.where(norms > 0.0, shares, np.nan))
         self.rows, self.jacs, self.grads = [], [], []
 
 
@@ -453,36 +464,77 @@ def _lower_inverse(gram):
     return True, inverse
 
 
-def _relative(sines: list[dict]) -> list[dict]:
-    """Each coordinate's sine over its largest in the run; sines at round-off level (a
-    coordinate the motions hold through the constraints) are left out."""
-    best: dict = {}
-    for row in sines:
-        for key, value in row.items():
-            best[key] = max(best.get(key, 0.0), value)
-    return [
-        {key: value / best[key] for key, value in row.items() if value > _HELD} for row in sines
-    ]
+class _Sines:
+    """The free coordinates' sines of a run's rows, by segment of rows with the same free
+    coordinates: the rows, the coordinates' keys (joint, kind) and their sines (rows x
+    keys; NaN where a coordinate has no gradient, or is left out). `sines[i]`: row i's
+    {key: sine} (in the order of the free coordinates)."""
+
+    def __init__(self, n: int) -> None:
+        self.segments: list[tuple[np.ndarray, list, np.ndarray]] = []
+        self._segment = np.full(n, -1)  # of each row (-1: none, no free coordinate)
+        self._place = np.zeros(n, dtype=np.int64)  # in it
+
+    def add(self, rows: np.ndarray, keys: list, values: np.ndarray) -> None:
+        self._segment[rows] = len(self.segments)
+        self._place[rows] = np.arange(len(rows))
+        self.segments.append((rows, keys, values))
+
+    def __len__(self) -> int:
+        return len(self._segment)
+
+    def __getitem__(self, i: int) -> dict:
+        if self._segment[i] < 0:
+            return {}
+        _, keys, values = self.segments[self._segment[i]]
+        row = values[self._place[i]].tolist()
+        return {key: value for key, value in zip(keys, row) if not math.isnan(value)}
+
+    def __iter__(self) -> Iterator[dict]:
+        return (self[i] for i in range(len(self)))
+
+    def relative(self) -> _Sines:
+        """Each coordinate's sine over its largest in the run; sines at round-off level (a
+        coordinate the motions hold through the constraints) are left out."""
+        best: dict = {}
+        for _, keys, values in self.segments:
+            if values.size:
+                tops = np.where(np.isnan(values), -np.inf, values).max(axis=0).tolist()
+                for key, top in zip(keys, tops):
+                    best[key] = max(best.get(key, 0.0), top)
+        out = _Sines(len(self))
+        out._segment, out._place = self._segment, self._place
+        for rows, keys, values in self.segments:
+            over = np.array([best.get(key, 0.0) for key in keys])
+            with np.errstate(divide="ignore", invalid="ignore"):
+                kept = np.where(values > _HELD, values / over, np.nan)
+            out.segments.append((rows, keys, kept))
+        return out
+
+    def smallest(self, rank: np.ndarray) -> np.ndarray:
+        """Per row: the smallest of `rank` and its sines."""
+        out = np.array(rank, dtype=float)
+        for rows, _, values in self.segments:
+            if values.shape[1]:
+                least = np.where(np.isnan(values), np.inf, values).min(axis=1)
+                out[rows] = np.minimum(out[rows], least)
+        return out
 
 
-def _measures(ranks: np.ndarray, sines: list[dict]) -> tuple[np.ndarray, np.ndarray, list]:
+def _measures(ranks: np.ndarray, sines: _Sines) -> tuple[np.ndarray, np.ndarray, _Sines]:
     """Toggle measure per row: the smallest of the rank measure and the coordinates'
     sines, each over its largest in the run (so that a mechanism whose 3D Jacobian is
     weakly conditioned everywhere, or whose joints move slowly everywhere, is not taken
     for a toggle); also the relative rank measures and the coordinates' relative sines
     per row."""
-    relative = _relative(sines)
+    relative = sines.relative()
     rank = ranks / max(float(ranks.max()), _GRAM_FLOOR)
-    return _smallest_of(rank, relative), rank, relative
-
-
-def _smallest_of(rank: np.ndarray, relative: list[dict]) -> np.ndarray:
-    return np.array([min([r] + list(c.values())) for r, c in zip(rank, relative)])
+    return relative.smallest(rank), rank, relative
 
 
 def _bounded_measures(
     system: System, trajectory, threshold: float
-) -> tuple[np.ndarray, np.ndarray, list]:
+) -> tuple[np.ndarray, np.ndarray, _Sines]:
     """`_measures` of the run where the rank measure's bounds show that no row's is below
     `threshold` of the largest (then each row's toggle measure below the threshold is one
     of its sines, exactly, and a row at or above it stays so); else the exact measures.
@@ -491,8 +543,8 @@ def _bounded_measures(
     rank = lows / max(float(highs.max()), _GRAM_FLOOR)  # below each row's relative measure
     if np.any(rank < threshold):
         return _measures(*_series(system, trajectory))
-    relative = _relative(sines)
-    return _smallest_of(rank, relative), rank, relative
+    relative = sines.relative()
+    return relative.smallest(rank), rank, relative
 
 
 def toggle_warnings(system: System, trajectory, threshold: float = TOGGLE_THRESHOLD) -> list[str]:

@@ -2,7 +2,7 @@
 
 numba keys each kernel's disk cache on that kernel's own file: a caller in another module
 would keep a changed callee's old code. `drop_stale_caches` drops every cache of the tree
-when any of its sources changed, and only then.
+when any of its kernel sources changed, and only then.
 """
 
 from __future__ import annotations
@@ -23,10 +23,10 @@ def _caches(root: Path) -> list[Path]:
 
 
 def test_caches_kept_while_the_sources_stay_and_dropped_when_one_changes(tmp_path) -> None:
-    (tmp_path / "caller.py").write_text("def run(): return callee()\n")
+    (tmp_path / "caller.py").write_text("@njit\ndef run(): return callee()\n")
     (tmp_path / "sub").mkdir()
     callee = tmp_path / "sub" / "callee.py"
-    callee.write_text("def callee(): return 1\n")
+    callee.write_text("@njit\ndef callee(): return 1\n")
     pyc = tmp_path / "__pycache__" / "caller.cpython-311.pyc"
 
     assert drop_stale_caches(tmp_path)  # no stamp yet
@@ -35,7 +35,7 @@ def test_caches_kept_while_the_sources_stay_and_dropped_when_one_changes(tmp_pat
     assert not drop_stale_caches(tmp_path)
     assert all(f.exists() for f in files)
 
-    callee.write_text("def callee(): return 2\n")
+    callee.write_text("@njit\ndef callee(): return 2\n")
     info = callee.stat()
     os.utime(callee, ns=(info.st_atime_ns, info.st_mtime_ns + 1_000_000))
     assert drop_stale_caches(tmp_path)
@@ -44,10 +44,13 @@ def test_caches_kept_while_the_sources_stay_and_dropped_when_one_changes(tmp_pat
     assert not drop_stale_caches(tmp_path)
 
 
-def test_a_new_source_file_drops_them_too(tmp_path) -> None:
-    (tmp_path / "a.py").write_text("x = 1\n")
+def test_a_new_kernel_file_drops_them_and_a_plain_module_does_not(tmp_path) -> None:
+    (tmp_path / "a.py").write_text("@njit\ndef f(): return 1\n")
     drop_stale_caches(tmp_path)
     files = _caches(tmp_path)
-    (tmp_path / "b.py").write_text("y = 2\n")
+    (tmp_path / "plain.py").write_text("y = 2\n")  # no kernel: no cache can depend on it
+    assert not drop_stale_caches(tmp_path)
+    assert all(f.exists() for f in files)
+    (tmp_path / "b.py").write_text("@njit\ndef g(): return 2\n")
     assert drop_stale_caches(tmp_path)
     assert not any(f.exists() for f in files)
