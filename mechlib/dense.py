@@ -25,8 +25,7 @@ import numpy as np
 from mechlib.assembly import MAX_NEWTON, POSITION_TOLERANCE, REUSE_BELOW, solve_positions
 from mechlib.consistent import consistent_state
 from mechlib.contract import State
-from mechlib.dense_compiled import DONE, interpolated, project_row
-from mechlib.linalg import SPARSE_FROM
+from mechlib.dense_compiled import DONE, interpolated, project_row, small_enough
 from mechlib.system import System
 from mechlib.work import count
 
@@ -127,7 +126,7 @@ def _compiled_row(
     the Python path must take the row (a larger system, or the kernel gave up: near a
     toggle, no convergence)."""
     arrays = system.packed_constraints()
-    if arrays is None or system.states or system.nq + system.active.size >= SPARSE_FROM:
+    if arrays is None or system.states or not small_enough(system):
         return None
     if any(e.active for e in system.elements):
         return None

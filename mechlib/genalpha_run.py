@@ -33,12 +33,11 @@ from mechlib import constraint_arrays as ca
 from mechlib import genalpha_kernels as gk
 from mechlib.coordinates import AngleMeasure
 from mechlib.dense import PROJECTION
-from mechlib.dense_compiled import DONE, project_row
+from mechlib.dense_compiled import DONE, project_row, small_enough
 from mechlib.finite import all_finite
 from mechlib.flat_lu import SUPERLU, factors, refactor
 from mechlib.genalpha_compiled import CONVERGED, newton
 from mechlib.jit import njit
-from mechlib.linalg import SPARSE_FROM
 from mechlib.saddle import saddle_values
 from mechlib.solution import SolverFailure
 from mechlib.work import count
@@ -278,7 +277,7 @@ class StepRun:
         system = self.stepper.system
         if self.stepper.integ.lu is None or any(e.active for e in system.elements):
             return False
-        if self.stepper.dense and system.nq + system.active.size >= SPARSE_FROM:
+        if self.stepper.dense and not small_enough(system):
             return False  # its rows' dense Schur complement would cost more than Python's
         block = system._coordinate_rows()
         return all(block.equations[i].function is None for i in block._linear)

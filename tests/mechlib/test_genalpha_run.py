@@ -7,12 +7,13 @@ they give against closed forms.
   Jacobian evaluations, and give every output to 1e-9 of its peak (measured 0 to 1e-13:
   the same arithmetic): the free slider-crank (dense LU factors, joint angles unwrapped
   past 180 deg), a 12-link chain (band LU factors, and SuperLU's) with steps landing on
-  the output times, the crank and a 6-link chain with dense rows (projected in the
-  kernel); the kernel took over 60 % of the steps (measured 68-99 %; the others: a new
-  step size, a rejection or a row given back, in Python). Dense and band factors are
+  the output times, the crank, a 6-link chain and the 12-link chain (48 equations, band
+  factors) with dense rows (projected in the kernel); the kernel took over 60 % of the
+  steps (measured 68-99 %; the others: a new step size, a rejection or a row given back,
+  in Python). Dense and band factors are
   refactored in the kernel (no factorisation in Python), SuperLU's in Python.
 - Where the kernel cannot serve (a motion's time function, an armed event, dense rows of a
-  saddle matrix of 100 rows or more) the run is the Python loop's.
+  system of more than 64 equations) the run is the Python loop's.
 - The pendulum released from the horizontal (steps of 1 ms, tolerance 1e-8): its period
   meets the elliptic integral to 3e-6 (measured 1.5e-6) and its energy stays within 2e-5
   of m g L (measured 9.3e-6).
@@ -81,6 +82,7 @@ def _run(model, analysis, monkeypatch, *, compiled: bool, **kwargs):
         (_free_crank, mechlib.Dynamic(1.0, 0.001, tolerance=1e-4, dense=True)),
         (_free_crank, mechlib.Dynamic(1.0, 0.001, tolerance=1e-6, dense=True)),
         (_short_chain, mechlib.Dynamic(0.3, 0.005, tolerance=1e-6, dense=True)),
+        (_chain, mechlib.Dynamic(0.3, 0.005, tolerance=1e-6, dense=True)),
     ],
     ids=[
         "free-slider-crank-1e-4",
@@ -90,6 +92,7 @@ def _run(model, analysis, monkeypatch, *, compiled: bool, **kwargs):
         "dense-slider-crank-1e-4",
         "dense-slider-crank-1e-6",
         "dense-short-chain",
+        "dense-chain-band",
     ],
 )
 def test_compiled_runs_equal_the_python_loop(model, analysis, monkeypatch, request) -> None:
@@ -133,15 +136,15 @@ def test_the_crank_turns_past_half_a_turn_in_the_kernel(monkeypatch) -> None:
 
 @pytest.mark.parametrize("case", ["motion", "event", "large-dense"])
 def test_what_the_kernel_cannot_serve_goes_to_python(case, monkeypatch) -> None:
-    """A motion's time function, an armed event, and dense rows of a system whose saddle
-    matrix has 100 rows or more (the 12-link chain: 132; its rows' dense Schur complement
-    would cost more than the Python path's sparse solves)."""
+    """A motion's time function, an armed event, and dense rows of a system of more than
+    SCHUR_ROWS (64) equations (a 20-link chain: 80; its rows' dense Schur complement would
+    cost more than the Python path's band solves)."""
     analysis = mechlib.Dynamic(0.2, 0.002, tolerance=1e-6)
     if case == "motion":
         sol, in_kernel = _run(_driven_crank, analysis, monkeypatch, compiled=True)
     elif case == "large-dense":
         analysis = mechlib.Dynamic(0.1, 0.005, tolerance=1e-6, dense=True)
-        sol, in_kernel = _run(_chain, analysis, monkeypatch, compiled=True)
+        sol, in_kernel = _run(lambda: _chain(20), analysis, monkeypatch, compiled=True)
     else:
         stop = mechlib.Event("turned", lambda t, view: view.angle("A") - 10.0, ())
         sol, in_kernel = _run(_free_crank, analysis, monkeypatch, compiled=True, events=[stop])
