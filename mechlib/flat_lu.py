@@ -107,6 +107,7 @@ class FlatLayout:
         return self.ints.copy(), np.empty(self.size)
 
     def kernel_args(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(place, row, col): `refactor`'s arguments after the values."""
         return self.place, self.row, self.col
 
 
