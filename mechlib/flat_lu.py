@@ -89,13 +89,10 @@ class FlatLayout:
         return cls(ints, n * n + n, (rows + n * cols).astype(np.int64), rows, cols)
 
     @classmethod
-    def band(
-        cls, rows: np.ndarray, cols: np.ndarray, n: int, perm: np.ndarray, kl: int, ku: int
-    ) -> FlatLayout:
-        """P A P^T (row i of it: row perm[i] of A) in band storage."""
-        order = np.empty(n, dtype=np.int64)
-        order[perm] = np.arange(n)
-        r, c = order[rows], order[cols]
+    def band(cls, r: np.ndarray, c: np.ndarray, perm: np.ndarray, kl: int, ku: int) -> FlatLayout:
+        """P A P^T (row i of it: row perm[i] of A) in band storage; `r`, `c` the
+        nonzeros' rows and columns in P A P^T."""
+        n = len(perm)
         lead = 2 * kl + ku + 1
         ints = np.zeros(4 + 2 * n, dtype=np.int64)
         ints[:4] = BAND, n, kl, ku

@@ -10,6 +10,7 @@ by dense LAPACK, which is faster there.
 from __future__ import annotations
 
 from collections.abc import Callable
+from functools import cached_property
 
 import numpy as np
 import scipy.sparse as sp
@@ -58,18 +59,12 @@ class SaddlePattern:
         self._upper = np.flatnonzero((rows < nq) & (cols >= nq))
         self._lower = np.flatnonzero((rows >= nq) & (cols < nq))
         self._nq = nq
-        self._layout: tuple[FlatLayout | None] | None = None
 
-    @property
+    @cached_property
     def layout(self) -> FlatLayout | None:
         """How the compiled kernels store and factor the matrix (mechlib.flat_lu): dense
         below SPARSE_FROM rows, banded in reverse Cuthill-McKee order where its band is
         narrow (at most BAND_SHARE of the rows wide), else None (SuperLU's)."""
-        if self._layout is None:
-            self._layout = (self._find_layout(),)
-        return self._layout[0]
-
-    def _find_layout(self) -> FlatLayout | None:
         from scipy.sparse.csgraph import reverse_cuthill_mckee  # here: `validate` needs none
 
         n = self.shape[0]
@@ -80,11 +75,11 @@ class SaddlePattern:
         perm = reverse_cuthill_mckee(graph, symmetric_mode=True).astype(np.int64)
         order = np.empty(n, dtype=np.int64)
         order[perm] = np.arange(n)
-        below = order[self.rows] - order[self.cols]
-        kl, ku = int(max(below.max(), 0)), int(max(-below.min(), 0))
+        rows, cols = order[self.rows], order[self.cols]  # in P A P^T
+        kl, ku = int(max((rows - cols).max(), 0)), int(max((cols - rows).max(), 0))
         if kl + ku + 1 > BAND_SHARE * n:
             return None
-        return FlatLayout.band(self.rows, self.cols, n, perm, kl, ku)
+        return FlatLayout.band(rows, cols, perm, kl, ku)
 
     def values(self, top: np.ndarray, jac: np.ndarray) -> np.ndarray:
         """[[top, jac^T], [jac, 0]]'s values on the pattern (CSC order), gathered from
@@ -96,10 +91,6 @@ class SaddlePattern:
         values[self._upper] = jac[cols[self._upper] - nq, rows[self._upper]]
         values[self._lower] = jac[rows[self._lower] - nq, cols[self._lower]]
         return values
-
-    def saddle_csc(self, top: np.ndarray, jac: np.ndarray) -> sp.csc_matrix:
-        """[[top, jac^T], [jac, 0]] on the pattern as a sparse matrix."""
-        return self.csc(self.values(top, jac))
 
     def csc(self, values: np.ndarray) -> sp.csc_matrix:
         """The sparse matrix of the pattern's values."""

@@ -527,8 +527,12 @@ def _measures(ranks: np.ndarray, sines: _Sines) -> tuple[np.ndarray, np.ndarray,
     weakly conditioned everywhere, or whose joints move slowly everywhere, is not taken
     for a toggle); also the relative rank measures and the coordinates' relative sines
     per row."""
+    return _with_sines(ranks / max(float(ranks.max()), _GRAM_FLOOR), sines)
+
+
+def _with_sines(rank: np.ndarray, sines: _Sines) -> tuple[np.ndarray, np.ndarray, _Sines]:
+    """(toggle measure, rank, relative sines) per row from the relative rank measures."""
     relative = sines.relative()
-    rank = ranks / max(float(ranks.max()), _GRAM_FLOOR)
     return relative.smallest(rank), rank, relative
 
 
@@ -543,8 +547,7 @@ def _bounded_measures(
     rank = lows / max(float(highs.max()), _GRAM_FLOOR)  # below each row's relative measure
     if np.any(rank < threshold):
         return _measures(*_series(system, trajectory))
-    relative = sines.relative()
-    return relative.smallest(rank), rank, relative
+    return _with_sines(rank, sines)
 
 
 def toggle_warnings(system: System, trajectory, threshold: float = TOGGLE_THRESHOLD) -> list[str]:
