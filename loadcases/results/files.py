@@ -10,6 +10,7 @@ atomically (see `loadcases.atomic`); the summary is written last.
 from __future__ import annotations
 
 import csv
+import functools
 import hashlib
 import io
 import json
@@ -45,6 +46,7 @@ SUMMARY_SUFFIX = ".summary.json"
 EXCEL_MAX_ROWS = 1_048_576  # rows per worksheet in Excel 2007 and later
 
 
+@functools.cache  # read from the package metadata once a process (2 ms a call)
 def package_version() -> str:
     """Installed version of the `loads` distribution (`0+unknown` when not installed)."""
     try:
