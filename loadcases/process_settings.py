@@ -6,8 +6,11 @@ already puts one process on each core. With two BLAS threads per process on a bu
 machine, each small product spins for a time slice: the 10-loop four-bar chain's toggle
 check took 66 ms per recorded row instead of 0.5 ms (2026-11-28). threadpoolctl (the
 scikit-learn project's library) sets the limit of the BLAS already loaded, which an
-environment variable set after numpy's import cannot. A user who sets OPENBLAS_NUM_THREADS,
-OMP_NUM_THREADS or MKL_NUM_THREADS keeps their own setting.
+environment variable set after numpy's import cannot; the environment variables, set too,
+limit the BLAS loaded afterwards (scipy's own OpenBLAS is a second library, loaded with
+scipy.linalg: left at its default it ran the door set's workers with two spinning threads
+each, five times slower, 2026-11-28) and the processes started from this one. A user who
+sets OPENBLAS_NUM_THREADS, OMP_NUM_THREADS or MKL_NUM_THREADS keeps their own setting.
 
 After its first run a process's heap holds about 150,000 long-lived objects (numba, scipy,
 pandas); each full collection of the cyclic garbage collector walks them all, about 70 ms,
@@ -35,9 +38,11 @@ def one_blas_thread() -> bool:
         return True
     if any(os.environ.get(name) for name in _USER_SETTINGS):
         return False
+    for name in _USER_SETTINGS:  # read by each BLAS library as it loads
+        os.environ[name] = "1"
     from threadpoolctl import threadpool_limits
 
-    threadpool_limits(limits=1, user_api="blas")
+    threadpool_limits(limits=1, user_api="blas")  # the ones loaded already
     _limited = True
     return True
 

@@ -10,19 +10,23 @@ import subprocess
 import sys
 
 _PROBE = (
-    "import json, numpy, threadpoolctl\n"
+    "import json, {before}threadpoolctl\n"
     "from loadcases.process_settings import one_blas_thread\n"
     "set_now = one_blas_thread()\n"
+    "import numpy, scipy.linalg\n"
     "blas = [i['num_threads'] for i in threadpoolctl.threadpool_info() "
     "if i['user_api'] == 'blas']\n"
     "print(json.dumps([set_now, blas]))\n"
 )
 
 
-def _probe(**env: str) -> tuple[bool, list[int]]:
+def _probe(before: str = "numpy, ", **env: str) -> tuple[bool, list[int]]:
+    """(what one_blas_thread returned, the threads of each BLAS loaded) in a new process
+    that imports `before`, limits, then imports numpy and scipy.linalg (scipy's OpenBLAS,
+    a second library)."""
     clean = {k: v for k, v in os.environ.items() if not k.endswith("_NUM_THREADS")}
     done = subprocess.run(
-        [sys.executable, "-c", _PROBE],
+        [sys.executable, "-c", _PROBE.format(before=before)],
         env={**clean, **env},
         capture_output=True,
         text=True,
@@ -35,7 +39,15 @@ def _probe(**env: str) -> tuple[bool, list[int]]:
 def test_one_blas_thread() -> None:
     set_now, blas = _probe()
     assert set_now is True
-    assert blas and all(n == 1 for n in blas)
+    assert len(blas) == 2 and all(n == 1 for n in blas)  # numpy's and scipy's OpenBLAS
+
+
+def test_blas_loaded_after_the_limit_keeps_it() -> None:
+    """Limited before numpy and scipy load their BLAS: both still run one thread (each
+    reads the environment as it loads; threadpoolctl only reaches those loaded)."""
+    set_now, blas = _probe(before="")
+    assert set_now is True
+    assert len(blas) == 2 and all(n == 1 for n in blas)
 
 
 def test_a_users_setting_is_kept() -> None:
