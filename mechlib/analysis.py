@@ -120,6 +120,13 @@ def output_times(start: float, end: float, step: float) -> np.ndarray:
     return times
 
 
+def _stack(rows: list) -> np.ndarray:
+    """Rows (arrays of one length) as a (rows, width) float array (a copy)."""
+    if not rows:
+        return np.empty((0, 0))
+    return np.array(rows, dtype=float).reshape(len(rows), -1)
+
+
 @dataclass
 class Trajectory:
     """States recorded at output times: q, qd, qdd (n, nq) and multipliers lam (n, m).
@@ -140,6 +147,8 @@ class Trajectory:
     qdd: list = field(default_factory=list)
     lam: list = field(default_factory=list)
     references: list = field(default_factory=list)
+    # (first row, block (n, 3 nq + m), nq) of each `extend`: its rows are views of it
+    _blocks: list = field(default_factory=list, repr=False)
 
     def record(self, t: float, q, qd, qdd, lam, snapshot: dict | None = None) -> None:
         """Append a row; `snapshot`: the system's snapshot to keep with it (default: taken
@@ -159,12 +168,35 @@ class Trajectory:
         """Append rows found finite already (a compiled run's): times (n,), states (n,
         3 nq + m) with q, qd, qdd, lam stacked, one snapshot each."""
         block = np.array(states, dtype=float)  # one copy; the rows are views of it
+        self._blocks.append((len(self.time), block, nq))
         self.references.extend(snapshots)
         self.time.extend(float(t) for t in times)
         self.q.extend(block[:, :nq])
         self.qd.extend(block[:, nq : 2 * nq])
         self.qdd.extend(block[:, 2 * nq : 3 * nq])
         self.lam.extend(block[:, 3 * nq :])
+
+    def stacked(self, name: str, first: int = 0, end: int | None = None) -> np.ndarray:
+        """Rows first..end-1 of `name` (q, qd, qdd or lam) as one (rows, width) array, not
+        to be written to: slices of the blocks compiled runs recorded them in (a view when
+        one block holds them all), the rows recorded one by one copied."""
+        end = len(self) if end is None else end
+        rows, parts, row = getattr(self, name), [], first
+        for start, block, nq in self._blocks:  # in row order
+            stop = start + len(block)
+            if stop <= row or start >= end:
+                continue
+            if start > row:
+                parts.append(_stack(rows[row:start]))
+            low, high = {"q": (0, nq), "qd": (nq, 2 * nq), "qdd": (2 * nq, 3 * nq)}.get(
+                name, (3 * nq, block.shape[1])
+            )
+            row, top = max(row, start), min(end, stop)
+            parts.append(block[row - start : top - start, low:high])
+            row = top
+        if row < end or not parts:
+            parts.append(_stack(rows[row:end]))
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
 
     def same_active(self, first: int, most: int) -> int:
         """The end of the rows from `first` on (at most `most`) recorded with the same
@@ -183,6 +215,7 @@ class Trajectory:
         n = min(len(rows_) for rows_ in rows)
         for rows_ in rows:
             del rows_[n:]
+        self._blocks = [(k, b[: n - k], nq) for k, b, nq in self._blocks if k < n]
 
     def _fields(self) -> tuple[list, ...]:
         return (self.references, self.time, self.q, self.qd, self.qdd, self.lam)

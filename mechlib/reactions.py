@@ -77,9 +77,9 @@ def gather_in_batches(system, trajectory, gatherers: list[Gatherer]) -> None:
         out = np.empty((end - i, len(gatherers), 7))
         ints, floats = arrays.packed()
         m = system.active.size
-        lams = np.array(trajectory.lam[i:end], dtype=float).reshape(end - i, m)
+        lams = np.ascontiguousarray(trajectory.stacked("lam", i, end).reshape(end - i, m))
         gathered_loads(
-            np.array(trajectory.q[i:end], dtype=float), lams, ints, floats,
+            np.ascontiguousarray(trajectory.stacked("q", i, end)), lams, ints, floats,
             arrays.references(), rows_of, starts, bodies, out,
         )  # fmt: skip
         for g, gatherer in enumerate(gatherers):
@@ -130,7 +130,7 @@ def _touches(bodies, b):
 def _body_states(trajectory, body: int, nb: int) -> np.ndarray:
     if body == nb or body < 0:
         return np.tile([1.0, 0.0, 0.0, 0.0], (len(trajectory), 1))
-    return np.array([q[7 * body + 3 : 7 * body + 7] for q in trajectory.q])
+    return trajectory.stacked("q")[:, 7 * body + 3 : 7 * body + 7]
 
 
 def reaction_series(

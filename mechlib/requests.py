@@ -262,14 +262,13 @@ def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str,
         v = np.tile(s, (n, 1)) if req.quantity == "position" else np.zeros((n, 3))
     else:
         sl = slice(7 * b, 7 * b + 7)
-        x = np.array([q[sl] for q in trajectory.q])
-        xd = np.array([q[sl] for q in trajectory.qd])
+        x, xd = trajectory.stacked("q")[:, sl], trajectory.stacked("qd")[:, sl]
         if req.quantity == "position":
             v = x[:, :3] + rotate(x[:, 3:], s)
         elif req.quantity == "velocity":
             v = xd[:, :3] + np.einsum("nij,nj->ni", d_rotate(x[:, 3:], s), xd[:, 3:])
         else:
-            xdd = np.array([q[sl] for q in trajectory.qdd])
+            xdd = trajectory.stacked("qdd")[:, sl]
             v = (
                 xdd[:, :3]
                 + np.einsum("nij,nj->ni", d_rotate(x[:, 3:], s), xdd[:, 3:])

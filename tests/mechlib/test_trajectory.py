@@ -1,0 +1,73 @@
+"""Trajectory.stacked: the recorded rows of q, qd, qdd or lam as one array, whatever mix
+of rows recorded one by one (`record`) and blocks of a compiled run (`extend`) holds them,
+equal to stacking the row lists; a view when one block holds them all; right after `trim`
+and a new block."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mechlib.analysis import Trajectory
+
+NQ, M = 3, 2
+
+
+def _state(t: float) -> np.ndarray:
+    """q, qd, qdd, lam stacked (3 NQ + M), each entry distinct: 100 t + column."""
+    return 100.0 * t + np.arange(3 * NQ + M, dtype=float)
+
+
+def _record(trajectory: Trajectory, t: float) -> None:
+    s = _state(t)
+    trajectory.record(t, s[:NQ], s[NQ : 2 * NQ], s[2 * NQ : 3 * NQ], s[3 * NQ :], {})
+
+
+def _extend(trajectory: Trajectory, times: list[float]) -> None:
+    trajectory.extend(times, np.array([_state(t) for t in times]), NQ, [{} for _ in times])
+
+
+def _mixed() -> Trajectory:
+    """Rows 0 (record), 1-4 (a block), 5 (record), 6-8 (a block), 9-10 (a block)."""
+    trajectory = Trajectory()
+    _record(trajectory, 0.0)
+    _extend(trajectory, [1.0, 2.0, 3.0, 4.0])
+    _record(trajectory, 5.0)
+    _extend(trajectory, [6.0, 7.0, 8.0])
+    _extend(trajectory, [9.0, 10.0])
+    return trajectory
+
+
+@pytest.mark.parametrize("name", ["q", "qd", "qdd", "lam"])
+@pytest.mark.parametrize("first,end", [(0, 11), (1, 5), (2, 4), (3, 7), (5, 6), (4, 10), (6, 11)])
+def test_stacked_equals_the_stacked_rows(name: str, first: int, end: int) -> None:
+    trajectory = _mixed()
+    rows = np.array(getattr(trajectory, name)[first:end])
+    np.testing.assert_array_equal(trajectory.stacked(name, first, end), rows)
+    assert trajectory.stacked(name, first, end).shape == (end - first, M if name == "lam" else NQ)
+
+
+def test_stacked_is_a_view_within_one_block() -> None:
+    trajectory = _mixed()
+    inside = trajectory.stacked("qd", 6, 9)
+    assert inside.base is not None  # a slice of the block, no copy
+    np.testing.assert_array_equal(inside[:, 0], [100.0 * t + NQ for t in (6.0, 7.0, 8.0)])
+    np.testing.assert_array_equal(trajectory.stacked("q")[:, 0], 100.0 * np.arange(11.0))
+
+
+def test_stacked_after_trim_and_a_new_block() -> None:
+    """A row an interrupt half-appended is trimmed; the block then added holds new rows:
+    stacked reads those, not the trimmed block's old ones."""
+    trajectory = _mixed()
+    trajectory.q.pop()  # row 10 half-appended: only q lost it
+    trajectory.trim()
+    assert len(trajectory) == 10
+    _extend(trajectory, [20.0, 21.0])
+    np.testing.assert_array_equal(
+        trajectory.stacked("lam")[:, 0], [100.0 * t + 3 * NQ for t in [*range(10), 20, 21]]
+    )
+
+
+def test_stacked_of_no_rows() -> None:
+    assert Trajectory().stacked("q").shape[0] == 0
+    assert _mixed().stacked("q", 4, 4).shape[0] == 0
