@@ -288,7 +288,8 @@ def _walk(system: System, trajectory, bounds: bool) -> tuple[np.ndarray, np.ndar
         if arrays is not None and 0 < system.active.size <= _BATCH_ROWS:
             end = trajectory.same_active(i, _BATCH_SIZE - len(batch.rows))
             batch.free = free if system.active.size < system.nq else []
-            batch.extend(i, *_compiled_rows(arrays, trajectory.stacked("q", i, end), batch.free, scale))
+            qs = trajectory.stacked("q", i, end)
+            batch.extend(i, *_compiled_rows(arrays, qs, batch.free, scale))
             if len(batch.rows) >= _BATCH_SIZE:
                 batch.flush(ranks, highs, sines)
             i = end

@@ -2,9 +2,10 @@
 
 `NAME.csv` has a `time` column (s) then one column per request component, in the order of
 `Solution.channels`, every value written at full precision (the shortest decimal that reads
-back to the same double; NaN as `nan`, infinities as `inf`, `-inf`). `NAME.summary.json` holds status, statistics and per-column extremes; numbers
-that are not finite are written as `null` so the file is strict JSON. Every file is written
-atomically (see `loadcases.atomic`); the summary is written last.
+back to the same double; NaN as `nan`, infinities as `inf`, `-inf`). `NAME.summary.json`
+holds status, statistics and per-column extremes; numbers that are not finite are written
+as `null` so the file is strict JSON. Every file is written atomically (see
+`loadcases.atomic`); the summary is written last.
 """
 
 from __future__ import annotations
