@@ -20,9 +20,12 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import matplotlib as mpl
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
+from matplotlib.ticker import AutoMinorLocator
 
 from loadcases.atomic import atomic_path
 from loadcases.results import saved
@@ -48,6 +51,9 @@ Run = tuple[str, np.ndarray, dict[str, np.ndarray]]
 
 FIG_WIDTH_IN = 10.0  # inches
 DPI = 100  # pixels per inch
+# zlib level 1 instead of PIL's 6: a plot's PNG encodes in 6 ms instead of 19 (a set draws
+# one per family and main column: the door set's 84), the file about 25 % larger, lossless
+PNG_OPTIONS = {"compress_level": 1}
 PANEL_HEIGHT_IN = 2.4  # inches per panel
 TITLE_HEIGHT_IN = 1.6  # inches for the title and the x label
 MIN_HEIGHT_IN = 4.0  # inches
@@ -179,12 +185,53 @@ class _Panel:
     lines: list[tuple[str, np.ndarray, np.ndarray]] = field(default_factory=list)
 
 
-def _style(ax: Any) -> None:
-    """Major and minor grids and the zero line of a panel."""
+def _style(ax: Any) -> _MinorGrid:
+    """Major and minor grids and the zero line of a panel; returns the minor grid, to be
+    updated once the panel's limits are final."""
     ax.grid(True, which="major", alpha=0.5)
-    ax.minorticks_on()
-    ax.grid(True, which="minor", alpha=0.15)
     ax.axhline(0.0, color="0.3", linewidth=0.6)
+    return _MinorGrid(ax)
+
+
+class _MinorGrid:
+    """A panel's minor grid lines (matplotlib's automatic minor steps between the major
+    ticks) as two line collections, one draw call each. matplotlib's own minor grid draws
+    three lines per minor tick (two tick marks and the grid line), about half of an
+    envelope plot's time; here the minor steps have grid lines but no tick marks."""
+
+    def __init__(self, ax: Any) -> None:
+        self.ax = ax
+        style = {
+            "colors": mpl.rcParams["grid.color"],
+            "linewidths": mpl.rcParams["grid.linewidth"],
+            "alpha": 0.15,
+            "zorder": 1.5,  # with matplotlib's grid lines: under the curves
+        }
+        self.vertical = LineCollection([], transform=ax.get_xaxis_transform(), **style)
+        self.horizontal = LineCollection([], transform=ax.get_yaxis_transform(), **style)
+        ax.add_collection(self.vertical, autolim=False)
+        ax.add_collection(self.horizontal, autolim=False)
+
+    def update(self) -> None:
+        """The lines at the minor steps of the panel's current limits."""
+        xs, ys = _minor_steps(self.ax.xaxis), _minor_steps(self.ax.yaxis)
+        self.vertical.set_segments([[(x, 0.0), (x, 1.0)] for x in xs])
+        self.horizontal.set_segments([[(0.0, y), (1.0, y)] for y in ys])
+
+
+def _minor_steps(axis: Any) -> list[float]:
+    """The minor tick positions matplotlib would draw on `axis` (AutoMinorLocator), inside
+    its view and off its major ticks."""
+    locator = AutoMinorLocator()
+    locator.set_axis(axis)
+    low, high = sorted(axis.get_view_interval())
+    majors = np.asarray(axis.get_majorticklocs(), dtype=float)
+    tolerance = 1e-9 * max(abs(high - low), 1e-300)
+    return [
+        float(v)
+        for v in locator()
+        if low <= v <= high and not np.any(np.abs(majors - v) <= tolerance)
+    ]
 
 
 def _draw(
@@ -203,12 +250,13 @@ def _draw(
     FigureCanvasAgg(fig)
     axes = fig.subplots(len(panels), 1, sharex=True, squeeze=False)[:, 0]
     labels_seen: dict[str, Any] = {}
+    grids = []
     for ax, panel in zip(axes, panels):
         for label, x, y in panel.lines:
             (line,) = ax.plot(x, y, linewidth=1.2, label=label)
             labels_seen.setdefault(label, line)
         ax.set_ylabel(panel.ylabel)
-        _style(ax)
+        grids.append(_style(ax))
         if _all_below(panel, ZERO_FLOOR):
             ax.set_ylim(-1.0, 1.0)
         if legend_per_panel:
@@ -224,8 +272,10 @@ def _draw(
             fontsize="small",
             ncols=ncols,
         )
+    for grid in grids:
+        grid.update()
     with atomic_path(target) as tmp:
-        fig.savefig(tmp, format="png", dpi=DPI)
+        fig.savefig(tmp, format="png", dpi=DPI, pil_kwargs=PNG_OPTIONS)
     return target
 
 
@@ -350,7 +400,7 @@ class _EnvelopeFigure:
         self.ax = self.fig.subplots()
         self.upper = self.ax.plot([], [], linewidth=1.2, label="upper", color="tab:red")[0]
         self.lower = self.ax.plot([], [], linewidth=1.2, label="lower", color="tab:blue")[0]
-        _style(self.ax)
+        self.grid = _style(self.ax)
         self.fig.subplots_adjust(left=0.1, right=0.84, top=0.88, bottom=0.14)
         self.fig.legend(
             [self.upper, self.lower],
@@ -382,6 +432,7 @@ class _EnvelopeFigure:
         panel = _Panel("", [("upper", xs, hi), ("lower", xs, lo)])
         if _all_below(panel, ZERO_FLOOR):
             self.ax.set_ylim(-1.0, 1.0)
+        self.grid.update()
         with atomic_path(target) as tmp:
-            self.fig.savefig(tmp, format="png", dpi=DPI)
+            self.fig.savefig(tmp, format="png", dpi=DPI, pil_kwargs=PNG_OPTIONS)
         return target

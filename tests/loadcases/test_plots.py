@@ -207,3 +207,37 @@ def test_envelope_plots_carry_nothing_from_the_curve_before(tmp_path: Path) -> N
     assert [p.parent for p in drawn] == [after] * 3
     for name in (p.name for p in drawn[1:]):
         assert np.array_equal(imread(alone / name), imread(after / name)), name
+
+
+@pytest.mark.parametrize(
+    "xlim,ylim",
+    [((0.0, 1.0), (-35.0, 41.0)), ((0.0, 1.5), (-1.0, 1.0)), ((-3e-3, 7e-3), (2e4, 9e4))],
+)
+def test_minor_grid_at_matplotlibs_minor_ticks(xlim: tuple, ylim: tuple) -> None:
+    """The minor grid drawn as line collections (plots._MinorGrid) lies where matplotlib's
+    own minor ticks would (AutoMinorLocator, majors left out): (0, 1) with majors every
+    0.2 gives 15 lines at 0.05, 0.1, 0.15, 0.25, ..., 0.95."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from loadcases.report.plots import _style
+
+    fig = Figure()
+    FigureCanvasAgg(fig)
+    ax = fig.subplots()
+    grid = _style(ax)
+    ax.set_xlim(*xlim)
+    ax.set_ylim(*ylim)
+    grid.update()
+    drawn_x = [segment[0][0] for segment in grid.vertical.get_segments()]
+    drawn_y = [segment[0][1] for segment in grid.horizontal.get_segments()]
+    ax.minorticks_on()  # matplotlib's own minor ticks, those in view drawn, as the reference
+
+    def shown(axis, limits):
+        return [v for v in axis.get_minorticklocs() if limits[0] <= v <= limits[1]]
+
+    np.testing.assert_allclose(drawn_x, shown(ax.xaxis, xlim), rtol=0, atol=1e-12)
+    np.testing.assert_allclose(drawn_y, shown(ax.yaxis, ylim), rtol=0, atol=1e-9)
+    if xlim == (0.0, 1.0):
+        assert len(drawn_x) == 15
+        np.testing.assert_allclose(drawn_x[:4], [0.05, 0.1, 0.15, 0.25], atol=1e-12)
