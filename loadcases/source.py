@@ -60,19 +60,18 @@ _CoreLoader.add_implicit_resolver(
 # The same loader on libyaml's parser when PyYAML has it: a 20 kB mechanism file composes
 # in 5 ms instead of 60. A file it refuses is parsed again by the pure-Python loader, so
 # that syntax errors read as they always have (parse_yaml).
-_FastCoreLoader: type | None = None
-if getattr(yaml, "__with_libyaml__", False):
+class _FastCoreLoader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):  # type: ignore[misc]
+    """_CoreLoader's resolvers on libyaml's scanner, parser and composer."""
 
-    class _FastCoreLoader(yaml.CSafeLoader):  # type: ignore[no-redef]
-        """_CoreLoader's resolvers on libyaml's scanner, parser and composer."""
 
-    _FastCoreLoader.yaml_implicit_resolvers = _CoreLoader.yaml_implicit_resolvers
+_FastCoreLoader.yaml_implicit_resolvers = _CoreLoader.yaml_implicit_resolvers
+_LIBYAML: bool = bool(getattr(yaml, "__with_libyaml__", False))
 
 
 def _compose(text: str) -> yaml.Node | None:
     """The node tree of `text`: by libyaml where available, by the pure-Python loader
     where it is not or refuses the text (its error then is the one raised)."""
-    if _FastCoreLoader is not None:
+    if _LIBYAML:
         try:
             return yaml.compose(text, Loader=_FastCoreLoader)
         except yaml.YAMLError:

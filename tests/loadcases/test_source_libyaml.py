@@ -29,12 +29,12 @@ TRICKY = [
 
 
 def _python(text: str, file: str = "f.yaml"):
-    saved = source._FastCoreLoader
-    source._FastCoreLoader = None
+    saved = source._LIBYAML
+    source._LIBYAML = False
     try:
         return source.parse_yaml(text, file)
     finally:
-        source._FastCoreLoader = saved
+        source._LIBYAML = saved
 
 
 def _same(a, b) -> None:
@@ -49,7 +49,7 @@ def _same(a, b) -> None:
 
 
 def test_libyaml_is_used_here() -> None:
-    assert yaml.__with_libyaml__ and source._FastCoreLoader is not None
+    assert yaml.__with_libyaml__ and source._LIBYAML
 
 
 @pytest.mark.parametrize("path", SHIPPED, ids=lambda p: str(p.relative_to(ROOT)))
