@@ -60,12 +60,18 @@ def _options(
     """Mechanism load cases from YAML: multibody reactions, envelopes and sizing workbooks."""
 
 
+# commands that only read their input and end within a second: the collector stays paused
+_READ_ONLY_COMMANDS = frozenset({"validate", "schema"})
+
+
 def guarded(command: Callable[..., int]) -> Callable[..., None]:
     """Turn a command's return value into its exit status and an unexpected exception
     into a one-line `internal error` (exit 1); `LOADS_DEBUG=1` lets the traceback through."""
 
     @functools.wraps(command)
     def wrapper(*args: Any, **kwargs: Any) -> None:
+        if command.__name__ not in _READ_ONLY_COMMANDS:
+            gc.enable()  # paused for the start-up (cli.entry); a long command needs it
         try:
             code = command(*args, **kwargs)
         except (typer.Exit, typer.Abort):

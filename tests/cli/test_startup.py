@@ -160,3 +160,35 @@ def test_main_leaves_its_objects_out_of_the_exit_collection() -> None:
     result = _python(_FROZEN, str(DOOR / "opening.case.yaml"))
     assert result["exit"] == 0
     assert result["frozen"] > 10_000
+
+
+_COLLECTOR = """
+import gc, json, sys
+from cli.entry import main
+sys.argv = ["loads", *sys.argv[1:]]
+try:
+    main()
+except SystemExit as done:
+    code = done.code
+print(json.dumps({"exit": code, "enabled": gc.isenabled()}))
+"""
+
+
+@pytest.mark.parametrize(
+    "command,args,enabled",
+    [
+        ("validate", ["validate", str(DOOR / "opening.case.yaml")], False),
+        ("schema", ["schema"], False),
+        ("run", ["run", str(ROOT / "benchmarks" / "models" / "slider_crank.case.yaml")], True),
+    ],
+)
+def test_the_console_script_pauses_the_collector_for_short_commands(
+    command: str, args: list[str], enabled: bool, tmp_path: Path
+) -> None:
+    """The `loads` script (cli.entry) pauses the cyclic garbage collector for the start-up
+    imports; `validate` and `schema` end without it, `run` (and every other command)
+    turns it back on as it starts."""
+    if command == "run":
+        args = [*args, "-o", str(tmp_path)]
+    result = _python(_COLLECTOR, *args)
+    assert result == {"exit": 0, "enabled": enabled}
