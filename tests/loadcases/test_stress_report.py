@@ -267,6 +267,12 @@ def test_loads_matrix_sheet_and_csv_equal_the_runs_peaks(long_set) -> None:
     row = shown["drive_torque.value"]
     assert row[heads.index(critical)].fill.fgColor.rgb.endswith("F4B183")
     assert sheet["F2"].value == "at angle(pivot) [deg]"
+    # each run's name centred across its four columns, no merged cells (quadratic to write)
+    assert not sheet.merged_cells.ranges
+    for record in long_set.records:
+        first = heads.index(record.name)
+        assert heads[first + 1 : first + 4] == [None, None, None]
+        assert {c.alignment.horizontal for c in sheet[1][first : first + 4]} == {"centerContinuous"}
 
 
 @pytest.mark.parametrize(("histories", "sheets"), [("all", 2), ("none", 0)])
