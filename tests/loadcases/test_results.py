@@ -331,3 +331,37 @@ def test_envelope_across_saved_runs(tmp_path: Path) -> None:
     lines = envelope_csv_text(list(rows.values())).splitlines()
     assert lines[0] == ",".join(ENVELOPE_COLUMNS)
     assert lines[1].startswith(f"pivot_force.fx,24.0,b,0.4,{float(2.0 * FX[2])!r},b,0.2,")
+
+
+def test_read_results_parses_as_float_does(tmp_path: Path) -> None:
+    """read_results (numpy's C text reader) gives each value exactly as Python's float()
+    parses its text: 3000 random doubles over the whole exponent range, subnormals, the
+    largest double, -0.0, nan and infinities; CRLF line ends and blank lines are read too."""
+    rng = np.random.default_rng(3)
+    values = rng.normal(size=3000) * 10.0 ** rng.integers(-300, 300, 3000)
+    values[:6] = [5e-324, 2.2250738585072014e-308, 1.7976931348623157e308, -0.0, np.nan, -np.inf]
+    texts = [repr(float(v)) for v in values]
+    texts[7] = "0.000015"  # as orjson writes 1.5e-05
+    lines = [f"{k * 1e-3!r},{text}" for k, text in enumerate(texts)]
+    path = tmp_path / "r.csv"
+    path.write_bytes(
+        (
+            "time,a.x\r\n" + "\r\n".join(lines[:10]) + "\r\n\r\n" + "\r\n".join(lines[10:]) + "\r\n"
+        ).encode()
+    )
+    time, channels = read_results(path)
+    expected = np.array([float(text) for text in texts])
+    np.testing.assert_array_equal(channels["a.x"], expected)  # NaN where NaN
+    assert np.signbit(channels["a.x"][3]) and channels["a.x"][7] == 1.5e-5
+    np.testing.assert_array_equal(time, [k * 1e-3 for k in range(len(texts))])
+
+
+def test_read_results_of_no_rows_and_of_a_short_row(tmp_path: Path) -> None:
+    empty = tmp_path / "e.csv"
+    empty.write_text("time,a.x,a.y\n")
+    time, channels = read_results(empty)
+    assert time.shape == (0,) and [c.shape for c in channels.values()] == [(0,), (0,)]
+    short = tmp_path / "s.csv"
+    short.write_text("time,a.x,a.y\n0.0,1.0\n")
+    with pytest.raises(ValueError):
+        read_results(short)
