@@ -57,28 +57,6 @@ _CoreLoader.add_implicit_resolver(
 )
 
 
-# The same loader on libyaml's parser when PyYAML has it: a 20 kB mechanism file composes
-# in 5 ms instead of 60. A file it refuses is parsed again by the pure-Python loader, so
-# that syntax errors read as they always have (parse_yaml).
-class _FastCoreLoader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):  # type: ignore[misc]
-    """_CoreLoader's resolvers on libyaml's scanner, parser and composer."""
-
-
-_FastCoreLoader.yaml_implicit_resolvers = _CoreLoader.yaml_implicit_resolvers
-_LIBYAML: bool = bool(getattr(yaml, "__with_libyaml__", False))
-
-
-def _compose(text: str) -> yaml.Node | None:
-    """The node tree of `text`: by libyaml where available, by the pure-Python loader
-    where it is not or refuses the text (its error then is the one raised)."""
-    if _LIBYAML:
-        try:
-            return yaml.compose(text, Loader=_FastCoreLoader)
-        except yaml.YAMLError:
-            pass
-    return yaml.compose(text, Loader=_CoreLoader)
-
-
 def format_key(path: KeyPath) -> str:
     """Dotted text of a key path: `('joints', 'hinge', 'bodies', 1)` -> `joints.hinge.bodies[1]`."""
     text = ""
@@ -255,7 +233,7 @@ def parse_yaml(text: str, file: str) -> SourceTree:
     """Parse YAML `text` (reported as `file`); raises InputError on a syntax error."""
     tree = SourceTree(file=file, data=None)
     try:
-        node = _compose(text)
+        node = yaml.compose(text, Loader=_CoreLoader)
         tree.data = _Builder(tree).build(node, ()) if node is not None else None
     except RecursionError:  # the composer recurses once per nesting level
         raise InputError(
