@@ -1,10 +1,12 @@
-"""Speed of the door's whole load-case set (issue 5: under one minute on 2 cores).
+"""Speed of the door's whole load-case set (issue 17: under 15 s on 2 cores, report included;
+issue 5 asked for one minute).
 
 Runs `loads run loadcases/library/door/door.set.yaml --jobs N --force` in a fresh output
 folder, twice (`first`, `second`): each run starts new processes, which load the compiled
 kernels from numba's disk cache; only the very first run after an install compiles them (about
 14 s more on 2 cores). Reports wall seconds, the runs, their solver CPU seconds (from the
-summaries) and the machine. No peer comparison: Exudyn has no load-case sets, envelopes or
+summaries), the machine and its load average, and whether the second run met the 15 s
+(exit 1 when not). No peer comparison: Exudyn has no load-case sets, envelopes or
 workbooks.
 
     python -m benchmarks.door_set [--jobs 2] [--json FILE]
@@ -14,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import subprocess
 import sys
 import tempfile
@@ -23,7 +26,7 @@ from typing import Any
 
 ROOT = Path(__file__).resolve().parents[1]
 DOOR_SET = ROOT / "loadcases" / "library" / "door" / "door.set.yaml"
-LIMIT = 60.0  # s: the issue's target for the whole set on 2 cores
+LIMIT = 15.0  # s: issue 17's target for the whole set on 2 cores, report included
 
 
 def run_set(jobs: int) -> dict[str, Any]:
@@ -65,6 +68,7 @@ def main(argv: list[str] | None = None) -> int:
         "first": run_set(args.jobs),
         "second": run_set(args.jobs),
         "limit_s": LIMIT,
+        "load": os.getloadavg(),
     }
     for label in ("first", "second"):
         r = result[label]
@@ -74,6 +78,8 @@ def main(argv: list[str] | None = None) -> int:
         )
     slowest = sorted(result["second"]["cpu_s"].items(), key=lambda kv: -(kv[1] or 0.0))[:5]
     print("slowest runs (solver cpu s):", ", ".join(f"{k} {v:.1f}" for k, v in slowest if v))
+    met = "met" if result["second"]["wall_s"] <= LIMIT else "missed"
+    print(f"target {LIMIT:g} s {met}; load average {result['load'][0]:.1f} (1 min)")
     if args.json:
         args.json.write_text(json.dumps(result, indent=2), encoding="utf-8")
     ok = all(result[k]["exit"] == 0 for k in ("first", "second"))
