@@ -39,6 +39,7 @@ __all__ = [
     "envelope_csv_text",
     "extract_envelope",
     "extreme_row",
+    "extreme_rows",
     "find_result_files",
     "load_saved_runs",
     "write_envelope_csv",
@@ -100,6 +101,25 @@ def extreme_row(values: np.ndarray, sign: float) -> int | None:
     return int(np.argmax(np.where(finite, sign * values, -np.inf)))
 
 
+def extreme_rows(channels: dict[str, np.ndarray]) -> dict[str, tuple[int | None, int | None]]:
+    """{column: (row of its first largest, row of its first smallest finite value)}, None
+    for a column without any: `extreme_row` of every column, in one pass over a run's
+    columns stacked when they are of one length (a set of 1000 runs called it 22,000 times)."""
+    arrays = {name: np.asarray(values, dtype=float) for name, values in channels.items()}
+    lengths = {a.shape for a in arrays.values()}
+    if len(lengths) != 1 or next(iter(lengths)) in ((0,), ()):
+        return {n: (extreme_row(a, 1.0), extreme_row(a, -1.0)) for n, a in arrays.items()}
+    matrix = np.column_stack(list(arrays.values()))
+    finite = np.isfinite(matrix)
+    some = finite.any(axis=0).tolist()
+    highs = np.argmax(np.where(finite, matrix, -np.inf), axis=0).tolist()
+    lows = np.argmax(np.where(finite, -matrix, -np.inf), axis=0).tolist()
+    return {
+        name: (high, low) if any_ else (None, None)
+        for name, any_, high, low in zip(arrays, some, highs, lows)
+    }
+
+
 def _concurrent(run: SavedRun, column: str, row: int) -> str:
     """`fy=...; fz=...`: the other components of `column`'s request at `row`."""
     request = column.rsplit(".", 1)[0]
@@ -128,10 +148,11 @@ def extract_envelope(runs: Iterable[SavedRun | Run]) -> list[EnvelopeRow]:
     order; factors and margins are added by `loadcases.report.margins.apply_margins`."""
     rows: dict[str, EnvelopeRow] = {}
     for run in map(_as_saved, runs):
+        extremes = extreme_rows(run.channels)
         for column, values in run.channels.items():
             row = rows.setdefault(column, EnvelopeRow(column))
             row.unit = row.unit or run.units.get(column)
-            i_max, i_min = extreme_row(values, 1.0), extreme_row(values, -1.0)
+            i_max, i_min = extremes[column]
             if i_max is not None and (row.max is None or values[i_max] > row.max):
                 _fill(row, "max", run, i_max)
             if i_min is not None and (row.min is None or values[i_min] < row.min):

@@ -13,7 +13,7 @@ from collections.abc import Iterable
 from dataclasses import dataclass
 
 from loadcases.build.model import ABSCISSA_COLUMN
-from loadcases.report.envelope import extreme_row
+from loadcases.report.envelope import extreme_rows
 from loadcases.results.saved import SavedRun
 
 __all__ = ["RunPeak", "run_peaks"]
@@ -38,10 +38,9 @@ class RunPeak:
         return abscissa if abscissa is not None else getattr(self, f"{side}_time")
 
 
-def _side(run: SavedRun, column: str, sign: float) -> tuple[float | None, ...]:
-    """(value, time, abscissa) of the largest (`sign` 1) or smallest (-1) value."""
+def _side(run: SavedRun, column: str, row: int | None) -> tuple[float | None, ...]:
+    """(value, time, abscissa) of `column` at `row` (its largest or smallest value)."""
     values = run.channels[column]
-    row = extreme_row(values, sign)
     if row is None:
         return None, None, None
     abscissa = run.channels.get(ABSCISSA_COLUMN)
@@ -54,11 +53,12 @@ def run_peaks(runs: Iterable[SavedRun]) -> dict[str, list[RunPeak]]:
     column is the runs' x axis, not a result, and is left out."""
     peaks: dict[str, list[RunPeak]] = {}
     for run in runs:
+        extremes = extreme_rows(run.channels)
         for column in run.channels:
             if column == ABSCISSA_COLUMN:
                 continue
-            peak = RunPeak(
-                run.name, run.family, *_side(run, column, 1.0), *_side(run, column, -1.0)
-            )
+            high, low = extremes[column]
+            high_side, low_side = _side(run, column, high), _side(run, column, low)
+            peak = RunPeak(run.name, run.family, *high_side, *low_side)
             peaks.setdefault(column, []).append(peak)
     return peaks

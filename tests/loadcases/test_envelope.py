@@ -100,3 +100,28 @@ def test_only_load_columns_get_the_ultimate_factor() -> None:
     rows = extract_envelope([run("a", [0], h__fx=[1.0], abscissa__value=[2.0])])
     fx, x = apply_margins(rows, {"ultimate": 1.5}, {})
     assert fx.factor == 1.5 and x.factor is None and x.ultimate_max is None
+
+
+def test_extreme_rows_of_all_columns_equal_extreme_row_of_each() -> None:
+    """extreme_rows (every column of a run at once) gives the rows extreme_row gives column
+    by column: the first largest and smallest finite value, ties to the earliest row,
+    None for a column of NaN and infinities only; columns of unequal or no length too."""
+    from loadcases.report.envelope import extreme_row, extreme_rows
+
+    rng = np.random.default_rng(11)
+    values = rng.normal(size=(200, 6)).round(1)  # rounding makes ties
+    values[rng.random(values.shape) < 0.1] = np.nan
+    values[5, 1], values[9, 2] = np.inf, -np.inf  # not finite: never an extreme
+    values[:, 3] = np.nan  # no finite value
+    values[:, 4] = 2.5  # all tied: row 0 both ways
+    channels = {f"c{k}": values[:, k] for k in range(6)}
+    found = extreme_rows(channels)
+    expected = {n: (extreme_row(v, 1.0), extreme_row(v, -1.0)) for n, v in channels.items()}
+    assert found == expected
+    assert found["c3"] == (None, None) and found["c4"] == (0, 0)
+    assert extreme_rows({"a": np.array([1.0, 3.0]), "b": np.array([2.0])}) == {
+        "a": (1, 0),
+        "b": (0, 0),
+    }
+    assert extreme_rows({"a": np.empty(0)}) == {"a": (None, None)}
+    assert extreme_rows({}) == {}
