@@ -6,8 +6,10 @@ initial crank rate swept evenly from 1/2 to 3/2 of 2*pi rad/s), runs it with
 envelope, the workbook and plots, as a user gets them), and the same N runs in Exudyn with a
 pool of J processes (each run solved at Exudyn's 1e-4 setting of the suite, h = 1 ms, its
 channels sent back to the parent, which takes each column's max and min: no files). Prints
-runs per second of both and their ratio, with the machine, the date and the load average
-before and after (the machine may be shared: compare the ratio, measured side by side).
+runs per second of both and their ratio, the CPU of each side per run (getrusage: the
+`loads` command with its worker processes; the Exudyn pool with this process's share),
+with the machine, the date and the load average before and after (the machine may be
+shared: compare the ratio, measured side by side).
 
 `--breakdown` (default on) times the stages of a few runs in this process: load and
 validate, build, solve, accuracy companion, whole `run_case`, write; and the set's report
@@ -30,6 +32,7 @@ import json
 import math
 import multiprocessing
 import os
+import resource
 import subprocess
 import sys
 import tempfile
@@ -83,22 +86,42 @@ def write_sweep(
     return set_file
 
 
+def _cpu_s() -> tuple[float, float]:
+    """(this process's, its waited-for descendants') user + system CPU seconds so far."""
+    own, children = (
+        resource.getrusage(resource.RUSAGE_SELF),
+        resource.getrusage(resource.RUSAGE_CHILDREN),
+    )
+    return own.ru_utime + own.ru_stime, children.ru_utime + children.ru_stime
+
+
+def _cpu_since(before: tuple[float, float], runs: int) -> dict[str, float]:
+    """CPU s of this process and of its descendants since `before`, and ms per run."""
+    after = _cpu_s()
+    total = (after[0] - before[0]) + (after[1] - before[1])
+    return {"cpu_s": round(total, 2), "cpu_ms_per_run": round(1e3 * total / max(runs, 1), 1)}
+
+
 def run_loads(set_file: Path, jobs: int, extra: list[str]) -> dict[str, Any]:
     """`loads run SET --jobs J --force` in a fresh folder: wall s, exit, runs written, solver
-    CPU s summed over the summaries."""
+    CPU s summed over the summaries, CPU s of the command and its workers."""
     loads = Path(sys.executable).with_name("loads")
     out = set_file.parent / f"out-{len(extra)}-{time.monotonic_ns()}"
     command = [str(loads), "run", str(set_file), "--jobs", str(jobs), "--force", "-o", str(out)]
+    cpu = _cpu_s()
     start = time.perf_counter()
     done = subprocess.run([*command, *extra], capture_output=True, text=True)
     wall = time.perf_counter() - start
+    used = _cpu_since(cpu, 1)
     summaries = list(out.rglob("*.summary.json"))
-    cpu = [json.loads(p.read_text(encoding="utf-8"))["stats"]["cpu_seconds"] for p in summaries]
+    solver = [json.loads(p.read_text(encoding="utf-8"))["stats"]["cpu_seconds"] for p in summaries]
     return {
         "wall_s": round(wall, 2),
         "exit": done.returncode,
         "runs": len(summaries),
-        "solver_cpu_s": round(float(sum(cpu)), 2),
+        "solver_cpu_s": round(float(sum(solver)), 2),
+        "cpu_s": used["cpu_s"],
+        "cpu_ms_per_run": round(1e3 * used["cpu_s"] / max(len(summaries), 1), 1),
         "output": str(out),
         "stderr_tail": done.stderr.strip().splitlines()[-3:],
     }
@@ -121,7 +144,9 @@ def _exudyn_run(rate: float) -> dict[str, tuple[float, float]]:
 
 def run_exudyn_pool(rates: list[float], jobs: int) -> dict[str, Any]:
     """The runs in Exudyn on a pool of `jobs` processes (started inside the timing, as
-    `loads` starts its workers): wall s and the envelope of the main column."""
+    `loads` starts its workers): wall s, CPU s of this process and the pool's, and the
+    envelope of the main column."""
+    cpu = _cpu_s()
     start = time.perf_counter()
     with multiprocessing.get_context("spawn").Pool(jobs) as pool:
         peaks = pool.map(_exudyn_run, rates, chunksize=max(1, len(rates) // (4 * jobs)))
@@ -130,6 +155,7 @@ def run_exudyn_pool(rates: list[float], jobs: int) -> dict[str, Any]:
     return {
         "wall_s": round(wall, 2),
         "runs": len(peaks),
+        **_cpu_since(cpu, len(peaks)),
         "envelope": {column: [max(p[column][0] for p in peaks), min(p[column][1] for p in peaks)]},
     }
 
@@ -177,7 +203,10 @@ def stage_breakdown(set_file: Path, rates: list[float], out: Path) -> dict[str, 
 
 def _rate_line(label: str, result: dict[str, Any]) -> str:
     rate = result["runs"] / result["wall_s"] if result["wall_s"] else float("nan")
-    return f"{label}: {result['runs']} runs in {result['wall_s']:.1f} s wall = {rate:.2f} runs/s"
+    return (
+        f"{label}: {result['runs']} runs in {result['wall_s']:.1f} s wall = {rate:.2f} runs/s, "
+        f"{result['cpu_ms_per_run']:.0f} ms of CPU a run"
+    )
 
 
 def main(argv: list[str] | None = None) -> int:
