@@ -95,9 +95,12 @@ def _cpu_s() -> tuple[float, float]:
     return own.ru_utime + own.ru_stime, children.ru_utime + children.ru_stime
 
 
-def _cpu_since(before: tuple[float, float], runs: int) -> dict[str, float]:
-    """CPU s of this process and of its descendants since `before`, and ms per run."""
-    after = _cpu_s()
+def _cpu_per_run(
+    before: tuple[float, float], runs: int, after: tuple[float, float] | None = None
+) -> dict[str, float]:
+    """CPU s of this process and of its descendants from `before` to `after` (`_cpu_s`;
+    default: now), and ms a run."""
+    after = after or _cpu_s()
     total = (after[0] - before[0]) + (after[1] - before[1])
     return {"cpu_s": round(total, 2), "cpu_ms_per_run": round(1e3 * total / max(runs, 1), 1)}
 
@@ -112,7 +115,7 @@ def run_loads(set_file: Path, jobs: int, extra: list[str]) -> dict[str, Any]:
     start = time.perf_counter()
     done = subprocess.run([*command, *extra], capture_output=True, text=True)
     wall = time.perf_counter() - start
-    used = _cpu_since(cpu, 1)
+    after = _cpu_s()  # before the summaries are read: the command's CPU only
     summaries = list(out.rglob("*.summary.json"))
     solver = [json.loads(p.read_text(encoding="utf-8"))["stats"]["cpu_seconds"] for p in summaries]
     return {
@@ -120,8 +123,7 @@ def run_loads(set_file: Path, jobs: int, extra: list[str]) -> dict[str, Any]:
         "exit": done.returncode,
         "runs": len(summaries),
         "solver_cpu_s": round(float(sum(solver)), 2),
-        "cpu_s": used["cpu_s"],
-        "cpu_ms_per_run": round(1e3 * used["cpu_s"] / max(len(summaries), 1), 1),
+        **_cpu_per_run(cpu, len(summaries), after),
         "output": str(out),
         "stderr_tail": done.stderr.strip().splitlines()[-3:],
     }
@@ -155,7 +157,7 @@ def run_exudyn_pool(rates: list[float], jobs: int) -> dict[str, Any]:
     return {
         "wall_s": round(wall, 2),
         "runs": len(peaks),
-        **_cpu_since(cpu, len(peaks)),
+        **_cpu_per_run(cpu, len(peaks)),
         "envelope": {column: [max(p[column][0] for p in peaks), min(p[column][1] for p in peaks)]},
     }
 

@@ -27,7 +27,7 @@ import numpy as np
 
 from mechlib.analysis import Dynamic
 from mechlib.fd_columns import ColumnSkips
-from mechlib.flat_lu import factor_data
+from mechlib.flat_lu import factor_data, factors
 from mechlib.genalpha_compiled import CONVERGED, newton
 from mechlib.genalpha_kernels import ROUNDOFF, Scales, correct, error_norm, predict
 from mechlib.linalg import factor_saddle, singular_failure, solve_factored
@@ -307,6 +307,12 @@ class Integrator:
         self.lu = None
         self.eta = 1.0
         self.system.states.reject()
+
+    def adopt(self, ints: np.ndarray, floats: np.ndarray, h: float) -> None:
+        """Take flat factors (mechlib.flat_lu) made by a compiled run for the step size h
+        (s) as the iteration matrix's."""
+        self.lu, self.lu_h = factors(ints, floats), h
+        self._factors = (self.lu, (ints, floats))
 
     def _factor_data(self) -> tuple[np.ndarray, np.ndarray]:
         """The current factors as the compiled kernels take them (converted once)."""

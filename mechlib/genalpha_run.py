@@ -35,7 +35,7 @@ from mechlib.coordinates import AngleMeasure
 from mechlib.dense import PROJECTION
 from mechlib.dense_compiled import DONE, project_row, small_enough
 from mechlib.finite import all_finite
-from mechlib.flat_lu import SUPERLU, factors, refactor
+from mechlib.flat_lu import SUPERLU, refactor
 from mechlib.genalpha_compiled import CONVERGED, newton
 from mechlib.jit import njit
 from mechlib.saddle import saddle_values
@@ -385,8 +385,7 @@ class StepRun:
             factorizations=int(counts[ROW_FACTORS]), jacobian_evaluations=int(counts[ROW_JACOBIANS])
         )
         if ctrl[REFACTORED]:  # as StepRun._refactor leaves them
-            integ.lu, integ.lu_h = factors(fi, ff), float(ctrl[LU_H])
-            integ._factors = (integ.lu, (fi, ff))
+            integ.adopt(fi, ff, float(ctrl[LU_H]))
             integ.stale, stepper.h_used = bool(ctrl[STALE]), float(ctrl[H_USED])
         taken = int(counts[STEPS]) - stats.steps
         stats.steps = int(counts[STEPS])

@@ -1,7 +1,7 @@
 """LAPACK's LU routines called from compiled kernels.
 
 numba's own LAPACK bindings (np.linalg) have no condition estimate and no banded LU. These
-kernels call dgetrf, dgecon, dgbtrf, dgbtrs and dgbcon of scipy.linalg.cython_lapack: the
+kernels call dgetrf, dgecon, dgbtrf and dgbtrs of scipy.linalg.cython_lapack: the
 library scipy.linalg.lapack calls, so a kernel's factors equal the Python path's bit for bit.
 The routines are bound by symbol name once numba is imported (mechlib.jit.on_compile), which
 keeps the kernels that call them in numba's disk cache. Matrices are column-major and flat
@@ -14,11 +14,11 @@ import numpy as np
 
 from mechlib.jit import njit, on_compile
 
-__all__ = ["gbcon", "gbtrf", "gbtrs", "gecon", "getrf"]
+__all__ = ["gbtrf", "gbtrs", "gecon", "getrf"]
 
 # each routine's number of arguments (all pointers: Fortran passes by reference)
-_ROUTINES = {"dgetrf": 6, "dgecon": 9, "dgbtrf": 8, "dgbtrs": 11, "dgbcon": 12}
-_dgetrf = _dgecon = _dgbtrf = _dgbtrs = _dgbcon = None  # bound by _bind
+_ROUTINES = {"dgetrf": 6, "dgecon": 9, "dgbtrf": 8, "dgbtrs": 11}
+_dgetrf = _dgecon = _dgbtrf = _dgbtrs = None  # bound by _bind
 _ONE_NORM, _NO_TRANSPOSE = ord("1"), ord("N")
 
 
@@ -86,19 +86,3 @@ def gbtrs(ab, n, kl, ku, piv, b):
         trans.ctypes, dims[0:].ctypes, dims[1:].ctypes, dims[2:].ctypes, dims[3:].ctypes,
         ab.ctypes, dims[4:].ctypes, piv.ctypes, b.ctypes, dims[5:].ctypes, dims[6:].ctypes,
     )  # fmt: skip
-
-
-@njit(cache=True, nogil=True)
-def gbcon(ab, n, kl, ku, piv, anorm):
-    """Reciprocal condition number (1-norm, dgbcon) of the band matrix of 1-norm `anorm`
-    whose gbtrf factors are ab."""
-    norm = np.array([_ONE_NORM], dtype=np.uint8)
-    dims = np.array([n, kl, ku, 2 * kl + ku + 1, 0], dtype=np.int32)
-    values = np.array([anorm, 0.0])
-    work, iwork = np.empty(3 * n), np.empty(n, dtype=np.int32)
-    _dgbcon(
-        norm.ctypes, dims[0:].ctypes, dims[1:].ctypes, dims[2:].ctypes, ab.ctypes,
-        dims[3:].ctypes, piv.ctypes, values[0:].ctypes, values[1:].ctypes, work.ctypes,
-        iwork.ctypes, dims[4:].ctypes,
-    )  # fmt: skip
-    return values[1]
