@@ -287,16 +287,32 @@ def load_yaml(path: str | Path) -> SourceTree:
     parsed = _PARSED.get(key)
     if parsed is None:
         parsed = pickle.dumps(parse_yaml(text, file), protocol=pickle.HIGHEST_PROTOCOL)
-        _PARSED[key] = parsed
-        if len(_PARSED) > _PARSED_FILES:
-            _PARSED.popitem(last=False)
+        _remember(key, parsed)
     else:
         _PARSED.move_to_end(key)
     return pickle.loads(parsed)  # a fresh copy: callers put parameters into the data
 
 
+def _remember(key: tuple[str, str], parsed: bytes) -> None:
+    """Keep a parsed tree, forgetting the least recently read ones beyond the budget."""
+    global _parsed_size
+    _PARSED[key] = parsed
+    _parsed_size += _cost(key, parsed)
+    while len(_PARSED) > 1 and (_parsed_size > _PARSED_BUDGET or len(_PARSED) > _PARSED_FILES):
+        old, tree = _PARSED.popitem(last=False)
+        _parsed_size -= _cost(old, tree)
+
+
+def _cost(key: tuple[str, str], parsed: bytes) -> int:
+    """Bytes (about) a kept tree holds: its file's text and its pickle."""
+    return len(key[1]) + len(parsed)
+
+
 # The trees of the files last read, by name and contents: a set reads its mechanism file
-# once per case (the door: 22 times) and each run reads it again; unpickling a tree is
-# about ten times faster than parsing it.
+# once per case (the door: 22 times) and each run reads its files again; unpickling a
+# tree is about ten times faster than parsing it. Bounded by count and by bytes (a long
+# hardpoint table is one file).
 _PARSED: OrderedDict[tuple[str, str], bytes] = OrderedDict()
-_PARSED_FILES = 16
+_PARSED_FILES = 256
+_PARSED_BUDGET = 16 * 2**20
+_parsed_size = 0

@@ -7,6 +7,7 @@ unary `- +`, `**` / `^` (right-associative, so -2**2 == -4 and 2**-1 == 0.5).
 from __future__ import annotations
 
 import difflib
+import functools
 import keyword
 import math
 
@@ -45,6 +46,7 @@ _FORBIDDEN_CALLS = frozenset(
 _CALLABLE = sorted({*FUNCTIONS, *MEASURES, "table"})
 
 
+@functools.lru_cache(maxsize=4096)  # the trees are frozen; a set's cases repeat their texts
 def parse_tree(text: str) -> Node:
     """The tree of `text`; raises ExpressionError (message, offset) on the first problem."""
     if not text.strip():

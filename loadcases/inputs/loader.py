@@ -43,6 +43,7 @@ __all__ = [
     "load_case",
     "load_mechanism",
     "load_set",
+    "load_set_cases",
     "parse_key_path",
     "validate_files",
 ]
@@ -380,17 +381,29 @@ def _validate_one(path: str, done: set[str]) -> list[Diagnostic]:
     if kind == "case":
         return list(load_case(path).warnings)
     set_file = load_set(path)
-    result = list(set_file.warnings)
+    cases, found = load_set_cases(set_file, done)
+    return [*set_file.warnings, *found, *check_set_cases(set_file.model, set_file.locator, cases)]
+
+
+def load_set_cases(
+    set_file: SetFile, done: set[str] | None = None
+) -> tuple[list[CaseFile], list[Diagnostic]]:
+    """The set's case files that load, and the diagnostics of all of them (warnings, and
+    the errors of those that do not load), each file once; paths in `done` are skipped
+    and the others added to it."""
+    done = set() if done is None else done
     cases: list[CaseFile] = []
+    found: list[Diagnostic] = []
     for case_path in set_file.case_paths:
-        if case_path not in done:
-            done.add(case_path)
-            try:
-                cases.append(load_case(case_path))
-                result += cases[-1].warnings
-            except InputError as error:
-                result += error.diagnostics
-    return result + check_set_cases(set_file.model, set_file.locator, cases)
+        if case_path in done:
+            continue
+        done.add(case_path)
+        try:
+            cases.append(load_case(case_path))
+            found += cases[-1].warnings
+        except InputError as error:
+            found += error.diagnostics
+    return cases, found
 
 
 def validate_files(paths: list[str | Path]) -> list[Diagnostic]:

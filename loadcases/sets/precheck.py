@@ -1,6 +1,6 @@
 """`loads validate` of one file of any kind: the loader's schema and name checks, then the
 checks `loads run` makes before solving (`loadcases.build.precheck`): a case's model, a
-mechanism's build, every case of a set."""
+mechanism's build, every case of a set. Each file is loaded once."""
 
 from __future__ import annotations
 
@@ -8,10 +8,11 @@ from pathlib import Path
 
 from loadcases.build.model import build_mechanism
 from loadcases.build.precheck import case_problems, set_problems
+from loadcases.checks.sets import check_set_cases
 from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.inputs.kinds import file_kind
-from loadcases.inputs.loader import load_case, load_mechanism, validate_files
-from loadcases.sets.specs import load_and_compile_set
+from loadcases.inputs.kinds import file_kind, unknown_kind
+from loadcases.inputs.loader import load_case, load_mechanism, load_set, load_set_cases
+from loadcases.sets.specs import compile_set
 
 __all__ = ["file_problems"]
 
@@ -19,17 +20,40 @@ __all__ = ["file_problems"]
 def file_problems(path: str | Path) -> list[Diagnostic]:
     """Every diagnostic of one file of any kind (errors and warnings), as `loads validate`
     prints them."""
-    found = validate_files([path])
-    if any(d.severity == "error" for d in found):
-        return found
+    found: list[Diagnostic] = []
     try:
         kind = file_kind(path)
-        if kind == "case":
-            found += case_problems(load_case(path))
-        elif kind == "mechanism":
-            build_mechanism(load_mechanism(path))
-        elif kind == "set":
-            found += set_problems(list(load_and_compile_set(path).cases))
+        if kind is None:
+            return [unknown_kind(path)]
+        if kind == "mechanism":
+            mechanism = load_mechanism(path)
+            found += mechanism.warnings
+            build_mechanism(mechanism)
+        elif kind == "case":
+            case = load_case(path)
+            found += case.warnings
+            found += case_problems(case)
+        else:
+            found += _set_file_problems(path)
     except InputError as error:
         found += error.diagnostics
     return list(dict.fromkeys(found))
+
+
+def _set_file_problems(path: str | Path) -> list[Diagnostic]:
+    """A set's diagnostics and those of its case files; the run checks of every case once
+    the files load without error."""
+    set_file = load_set(path)
+    cases, found = load_set_cases(set_file)
+    found = [
+        *set_file.warnings,
+        *found,
+        *check_set_cases(set_file.model, set_file.locator, cases),
+    ]
+    if any(d.severity == "error" for d in found):
+        return found
+    try:
+        compiled = compile_set(set_file, cases)
+    except InputError as error:
+        return found + list(error.diagnostics)
+    return found + set_problems(list(compiled.cases))

@@ -31,7 +31,7 @@ from loadcases.checks.common import unknown
 from loadcases.checks.sets import check_set_cases
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
-from loadcases.inputs.loader import CaseFile, SetFile, load_case, load_set
+from loadcases.inputs.loader import CaseFile, SetFile, load_case, load_set, load_set_cases
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
 from loadcases.inputs.run_identity import Pairs, run_hash, run_name
 from loadcases.results.files import package_version
@@ -274,14 +274,9 @@ def load_and_compile_set(
     """Load a set file and all its cases, then compile (with the `--set` overrides
     `what_if`); InputError with every problem of the set and of its case files at once."""
     set_file = load_set(path)
-    cases, found = [], []
-    for case_path in set_file.case_paths:
-        try:
-            cases.append(load_case(case_path))
-        except InputError as error:
-            found += [d for d in error.diagnostics if d.severity == "error"]
-    if found:
-        raise InputError(found)
+    cases, found = load_set_cases(set_file)
+    if any(d.severity == "error" for d in found):
+        raise InputError([d for d in found if d.severity == "error"])
     return compile_set(set_file, cases, version=version, what_if=what_if)
 
 

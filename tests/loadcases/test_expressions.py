@@ -503,3 +503,14 @@ def test_deep_nesting_is_an_error_not_a_crash():
         with pytest.raises(ExpressionError) as info:
             parse(text).compile()
         assert (info.value.message, info.value.offset) == ("expression is nested too deeply", 0)
+
+
+def test_parsed_text_reused_and_errors_raised_every_time() -> None:
+    """A text parsed before gives the same (frozen) tree; a text that does not parse is
+    refused each time with its message and offset (errors are not kept)."""
+    a, b = parse("2 * angle(hinge) + k"), parse("2 * angle(hinge) + k")
+    assert a.tree is b.tree and a == b
+    for _ in range(2):
+        with pytest.raises(ExpressionError) as caught:
+            parse("2 * (t + ")
+        assert caught.value.offset == 9

@@ -20,3 +20,21 @@ def test_every_library_file_validates(folder: Path) -> None:
     assert files
     errors = [d.format() for path in files for d in file_problems(path) if d.severity == "error"]
     assert errors == []
+
+
+def test_set_validation_loads_each_file_once(monkeypatch) -> None:
+    """`loads validate` of the door set loads each of its 22 case files once and parses
+    each file (set, cases, mechanism) once."""
+    import loadcases.inputs.loader as loader
+    import loadcases.source as source
+
+    monkeypatch.setattr(source, "_PARSED", source.OrderedDict())
+    monkeypatch.setattr(source, "_parsed_size", 0)
+    loaded, parsed = [], []
+    real_load, real_parse = loader.load_case, source.parse_yaml
+    monkeypatch.setattr(loader, "load_case", lambda p, *a, **k: loaded.append(p) or real_load(p))
+    monkeypatch.setattr(source, "parse_yaml", lambda t, f: parsed.append(f) or real_parse(t, f))
+    door = LIBRARY / "door" / "door.set.yaml"
+    assert [d for d in file_problems(door) if d.severity == "error"] == []
+    assert len(loaded) == len(set(loaded)) == 22
+    assert len(parsed) == len(set(parsed)) == 24

@@ -86,3 +86,34 @@ def test_missing_file(tmp_path: Path) -> None:
 def test_format_key() -> None:
     assert format_key(("joints", "hinge", "bodies", 1)) == "joints.hinge.bodies[1]"
     assert format_key(()) == ""
+
+
+def test_parsed_trees_kept_within_budget(tmp_path: Path, monkeypatch) -> None:
+    """A tree read again is a copy of the kept one (not parsed again); the least recently
+    read trees are forgotten beyond the byte budget, never the one just read."""
+    import loadcases.source as source
+
+    monkeypatch.setattr(source, "_PARSED", source.OrderedDict())
+    monkeypatch.setattr(source, "_parsed_size", 0)
+    parsed = []
+    real = source.parse_yaml
+    monkeypatch.setattr(source, "parse_yaml", lambda t, f: parsed.append(f) or real(t, f))
+    files = []
+    for n in range(3):
+        files.append(tmp_path / f"f{n}.yaml")
+        files[-1].write_text(f"name: f{n}\nvalues: {list(range(50))}\n", encoding="utf-8")
+    first = load_yaml(files[0])
+    first.data["name"] = "changed"  # a copy: the kept tree is untouched
+    assert load_yaml(files[0]).data["name"] == "f0"
+    assert parsed == [str(files[0])]
+    one = source._cost(*next(iter(source._PARSED.items())))
+    monkeypatch.setattr(source, "_PARSED_BUDGET", 2 * one + one // 2)  # two trees fit
+    for path in files:
+        load_yaml(path)
+    assert [key[0] for key in source._PARSED] == [str(files[1]), str(files[2])]
+    assert source._parsed_size == sum(source._cost(k, v) for k, v in source._PARSED.items())
+    load_yaml(files[0])  # forgotten: parsed again
+    assert parsed == [str(f) for f in (files[0], files[1], files[2], files[0])]
+    monkeypatch.setattr(source, "_PARSED_BUDGET", 1)  # smaller than any tree: keeps the last
+    load_yaml(files[1])
+    assert [key[0] for key in source._PARSED] == [str(files[1])]
