@@ -64,19 +64,27 @@ def _grid(xs: list[np.ndarray]) -> np.ndarray:
 
 
 def _accumulate(
-    grid: np.ndarray, x: np.ndarray, y: np.ndarray, upper: np.ndarray, lower: np.ndarray
+    grid: np.ndarray, x: np.ndarray, ys: np.ndarray, upper: np.ndarray, lower: np.ndarray
 ) -> None:
-    """Fold one run (x, y) into upper/lower on `grid` (segments between rows)."""
-    ok = np.isfinite(x) & np.isfinite(y)
-    if x.size == 1 or ok.sum() == 1:  # a single row (static analysis) is a point
-        keep = np.flatnonzero(ok)
+    """Fold one run into upper/lower (columns, grid points) on `grid`: its abscissa x (n,)
+    and its columns ys (n, columns), segment by segment between rows. A column with one
+    finite row (or a run of one row: a static analysis) contributes that point alone."""
+    ys = np.where(np.isfinite(ys), ys, np.nan)  # an infinite value is no value either
+    rows = np.isfinite(x)
+    finite = rows[:, None] & ~np.isnan(ys)
+    points = range(ys.shape[1]) if x.size == 1 else np.flatnonzero(finite.sum(axis=0) == 1)
+    for column in points:
+        keep = np.flatnonzero(finite[:, column])
         at = np.searchsorted(grid, x[keep])
         hit = (at < grid.size) & (grid[np.minimum(at, grid.size - 1)] == x[keep])
-        np.maximum.at(upper, at[hit], y[keep][hit])
-        np.minimum.at(lower, at[hit], y[keep][hit])
+        np.fmax.at(upper[column], at[hit], ys[keep[hit], column])
+        np.fmin.at(lower[column], at[hit], ys[keep[hit], column])
+    if x.size == 1:
         return
-    seg = np.flatnonzero(ok[:-1] & ok[1:])
-    x0, x1, y0, y1 = x[seg], x[seg + 1], y[seg], y[seg + 1]
+    # the grid points inside each segment between two rows of finite abscissa, found once
+    # for all columns; a segment with a NaN end gives NaN, which fmax and fmin pass over
+    seg = np.flatnonzero(rows[:-1] & rows[1:])
+    x0, x1 = x[seg], x[seg + 1]
     first = np.searchsorted(grid, np.minimum(x0, x1), side="left")
     last = np.searchsorted(grid, np.maximum(x0, x1), side="right")
     counts = np.maximum(last - first, 0)
@@ -84,23 +92,31 @@ def _accumulate(
     index = first[owner] + (np.arange(owner.size) - np.repeat(np.cumsum(counts) - counts, counts))
     dx = (x1 - x0)[owner]
     s = np.divide(grid[index] - x0[owner], dx, out=np.zeros(owner.size), where=dx != 0.0)
-    ya, yb = y0[owner], y1[owner]
-    values = ya + s * (yb - ya)
-    np.maximum.at(upper, index, np.where(dx == 0.0, np.maximum(ya, yb), values))
-    np.minimum.at(lower, index, np.where(dx == 0.0, np.minimum(ya, yb), values))
+    flat = dx == 0.0
+    ends = seg[owner]
+    for column in range(ys.shape[1]):
+        ya, yb = ys[ends, column], ys[ends + 1, column]
+        values = ya + s * (yb - ya)
+        np.fmax.at(upper[column], index, np.where(flat, np.maximum(ya, yb), values))
+        np.fmin.at(lower[column], index, np.where(flat, np.minimum(ya, yb), values))
 
 
 def envelope_on_grid(
     pairs: Iterable[tuple[np.ndarray, np.ndarray]], grid: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """(upper, lower) on `grid` (sorted) of curves `(x, y)`; NaN where no curve covers."""
-    upper = np.full(grid.size, -np.inf)
-    lower = np.full(grid.size, np.inf)
+    upper = np.full((1, grid.size), -np.inf)
+    lower = np.full((1, grid.size), np.inf)
     for x, y in pairs:
-        _accumulate(grid, np.asarray(x, dtype=float), np.asarray(y, dtype=float), upper, lower)
-    upper[~np.isfinite(upper)] = np.nan
-    lower[~np.isfinite(lower)] = np.nan
-    return upper, lower
+        y = np.asarray(y, dtype=float)
+        _accumulate(grid, np.asarray(x, dtype=float), y.reshape(-1, 1), upper, lower)
+    return _uncovered_nan(upper[0]), _uncovered_nan(lower[0])
+
+
+def _uncovered_nan(values: np.ndarray) -> np.ndarray:
+    """The envelope with the grid points no run covers (still +-inf) set to NaN."""
+    values[~np.isfinite(values)] = np.nan
+    return values
 
 
 def _family_curve(
@@ -119,12 +135,29 @@ def _family_curve(
         runs=tuple(run.name for run in runs),
         units=units,
     )
-    columns = dict.fromkeys(
-        c for run in runs for c in run.channels if c != ABSCISSA_COLUMN and c not in skip
+    columns = list(
+        dict.fromkeys(
+            c for run in runs for c in run.channels if c != ABSCISSA_COLUMN and c not in skip
+        )
     )
-    for column in columns:
-        pairs = [(x, run.channels[column]) for x, run in zip(xs, runs) if column in run.channels]
-        curve.upper[column], curve.lower[column] = envelope_on_grid(pairs, grid)
+    place = {column: n for n, column in enumerate(columns)}
+    upper = np.full((len(columns), grid.size), -np.inf)
+    lower = np.full((len(columns), grid.size), np.inf)
+    for x, run in zip(xs, runs):
+        have = [place[c] for c in run.channels if c in place]
+        ys = np.column_stack([run.channels[columns[n]] for n in have]) if have else None
+        if ys is not None:
+            x = np.asarray(x, dtype=float)
+            ys = ys.astype(float, copy=False)
+            if have == list(range(len(columns))):
+                _accumulate(grid, x, ys, upper, lower)
+            else:  # a run without some of the family's columns: its own rows of the sums
+                sub_upper, sub_lower = upper[have], lower[have]
+                _accumulate(grid, x, ys, sub_upper, sub_lower)
+                upper[have], lower[have] = sub_upper, sub_lower
+    for n, column in enumerate(columns):
+        curve.upper[column] = _uncovered_nan(upper[n])
+        curve.lower[column] = _uncovered_nan(lower[n])
     return curve
 
 

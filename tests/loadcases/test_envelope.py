@@ -125,3 +125,55 @@ def test_extreme_rows_of_all_columns_equal_extreme_row_of_each() -> None:
     }
     assert extreme_rows({"a": np.empty(0)}) == {"a": (None, None)}
     assert extreme_rows({}) == {}
+
+
+def _brute_envelope(runs: list[tuple[np.ndarray, np.ndarray]], grid: np.ndarray):
+    """Reference: every segment between two finite rows, every grid point in it, in plain
+    Python; a run with a single finite row adds its point where the grid has it."""
+    upper = [-math.inf] * grid.size
+    lower = [math.inf] * grid.size
+    for x, y in runs:
+        ok = [i for i in range(len(x)) if math.isfinite(x[i]) and math.isfinite(y[i])]
+        spans = [(i, i) for i in ok] if len(ok) == 1 else []
+        spans += [(i, i + 1) for i in range(len(x) - 1) if i in ok and i + 1 in ok]
+        for i, j in spans:
+            lo, hi = min(x[i], x[j]), max(x[i], x[j])
+            for g, at in enumerate(grid):
+                if lo <= at <= hi:
+                    if x[j] == x[i]:
+                        top, bottom = max(y[i], y[j]), min(y[i], y[j])
+                    else:
+                        top = bottom = y[i] + (at - x[i]) / (x[j] - x[i]) * (y[j] - y[i])
+                    upper[g], lower[g] = max(upper[g], top), min(lower[g], bottom)
+    clean = [np.array([v if math.isfinite(v) else NAN for v in side]) for side in (upper, lower)]
+    return clean[0], clean[1]
+
+
+def test_family_curves_match_a_segment_by_segment_reference() -> None:
+    """All columns of a run folded together give, column by column, the envelope of a
+    plain segment-by-segment reference (1e-12): NaN and infinite values skipped, a column
+    with one finite row a point, a run without a column, an abscissa going back, repeated
+    abscissa values (a jump)."""
+    rng = np.random.default_rng(3)
+    runs = []
+    for n in range(6):
+        x = np.sort(rng.uniform(0, 2, 9)) if n % 2 else np.array([0, 1, 2, 1.5, 1.5, 0.2, 1, 1, 3])
+        fx, fy = rng.normal(size=9), rng.normal(size=9)
+        fx[rng.integers(0, 9, 2)] = [NAN, np.inf]
+        if n == 2:
+            fy[:] = NAN
+            fy[4] = 7.0  # one finite row: a point
+        channels = {"h__fx": list(fx), "abscissa__value": list(x)}
+        if n != 3:  # run 3 has no h.fy
+            channels["h__fy"] = list(fy)
+        runs.append(run(f"f[n={n}]", list(range(9)), **channels))
+    (curve,) = envelope_curves(runs)
+    for column in ("h.fx", "h.fy"):
+        pairs = [
+            (r.channels["abscissa.value"], r.channels[column]) for r in runs if column in r.channels
+        ]
+        upper, lower = _brute_envelope(pairs, curve.x)
+        np.testing.assert_allclose(curve.upper[column], upper, rtol=0, atol=1e-12)
+        np.testing.assert_allclose(curve.lower[column], lower, rtol=0, atol=1e-12)
+    assert np.isfinite(curve.upper["h.fy"]).sum() > 1
+    assert 7.0 in curve.upper["h.fy"]  # the point of run 2 (the others stay below 7)

@@ -241,3 +241,42 @@ def test_minor_grid_at_matplotlibs_minor_ticks(xlim: tuple, ylim: tuple) -> None
     if xlim == (0.0, 1.0):
         assert len(drawn_x) == 15
         np.testing.assert_allclose(drawn_x[:4], [0.05, 0.1, 0.15, 0.25], atol=1e-12)
+
+
+@pytest.mark.parametrize(
+    ("plots_count", "points", "cores", "processes"),
+    [(4, 20_000, 2, 1), (4, 500, 2, 0), (40, 10, 2, 2), (4, 20_000, 1, 0), (1, 50_000, 2, 0)],
+)
+def test_envelope_plots_drawn_beside_the_workbook_when_large(
+    tmp_path: Path, monkeypatch, plots_count: int, points: int, cores: int, processes: int
+) -> None:
+    """A set's envelope plots are drawn by forked processes when they are many, or a few
+    of many points (a long sweep), and there is more than one core; else in this process.
+    Either way each plot is written, in the curves' order."""
+    from loadcases.report.curves import EnvelopeCurve
+    from loadcases.sets import campaign
+
+    started: list[int] = []
+    real = campaign.ProcessPoolExecutor
+
+    def recording(max_workers: int):
+        started.append(max_workers)
+        return real(max_workers=max_workers)
+
+    monkeypatch.setattr(campaign, "ProcessPoolExecutor", recording)
+    monkeypatch.setattr(campaign.os, "cpu_count", lambda: cores)
+    x = np.linspace(0.0, 1.0, points)
+    curves = []
+    for n in range((plots_count + 3) // 4):
+        columns = {f"j{c}.fx": np.sin(x + c) * (10 + c) for c in range(min(4, plots_count))}
+        curve = EnvelopeCurve(f"fam{n}", "time", "s", x, runs=("a",))
+        curve.upper = {k: v + 1 for k, v in columns.items()}
+        curve.lower = {k: v - 1 for k, v in columns.items()}
+        curve.units = dict.fromkeys(columns, "N")
+        curves.append(curve)
+    with campaign._plots(curves, tmp_path) as drawn:
+        paths = drawn()
+    assert started == ([processes] if processes else [])
+    assert len(paths) == plots_count and all(p.stat().st_size > 1000 for p in paths)
+    chosen = campaign.plot_curves(curves)
+    assert [p.stem for p in paths] == [f"envelope-{c['family']}-{c['column']}" for c in chosen]
