@@ -4,9 +4,9 @@ Force on body 1 at the contact point: F_N * normal + friction, with
 friction = -mu(|v_t|) * F_N * v_t / |v_t| (v_t the tangential relative velocity); body 2
 gets the opposite force at the same point. The element remembers (`commit`, on accepted
 states) the approach speed at the start of each contact, which the hysteresis damping of
-`hertz` and `restitution` divide by. The force and, for the primitive geometries, the
-wrench and its tangent are compiled (mechlib.contact.kernels); a profile contact computes
-its gap in Python and its force with the same kernel.
+`hertz` and `restitution` divide by. The gap, the force and the wrench are compiled
+(mechlib.contact.kernels); so is the tangent of the primitive geometries, while a profile
+contact's is the integrator's difference of its compiled wrench.
 
 Energy (the energy request, mechlib.energy): `potential` is the integral of the law's
 elastic part k x^n over the penetration, `dissipation` the power of the rest of the normal
@@ -94,6 +94,7 @@ class Contact(StaticSlipAnchor):
         self._nb = system.nb
         # the primitives: (kind, b1, b2, g, law, law parameters, friction, its parameters)
         self._kernel: _Kernel | None = None
+        self._profile_kernel: _Kernel | None = None
         if hasattr(self.geometry, "kernel"):
             b1, b2, kind, g = self.geometry.kernel()
             self._kernel = (kind, b1, b2, g, *self._laws)
@@ -121,9 +122,18 @@ class Contact(StaticSlipAnchor):
             )
         return ContactForces(normal, float(out[1]), out[2:5], float(out[5]), gap)
 
+    def _wrench_kernel(self) -> _Kernel | None:
+        """The compiled wrench's arguments: a primitive's (also its tangent's), or a
+        profile's once its spline is built (its tangent is the integrator's difference)."""
+        if self._kernel is None and hasattr(self.geometry, "compiled"):
+            b1, b2, kind, g = self.geometry.compiled()
+            self._profile_kernel = (kind, b1, b2, g, *self._laws)
+        return self._kernel or self._profile_kernel
+
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        if self._kernel is not None and not (self.friction is not None and at_rest(view)):
-            kernels.contact_wrench(*self._kernel, self.approach, view.kin.x, view.kin.xd, F, N)
+        kernel = self._wrench_kernel()
+        if kernel is not None and not (self.friction is not None and at_rest(view)):
+            kernels.contact_wrench(*kernel, self.approach, view.kin.x, view.kin.xd, F, N)
             return
         f = self.forces(view)
         p = f.gap.point

@@ -22,6 +22,7 @@ import math
 
 import numpy as np
 
+from mechlib.contact.curve_kernels import nearest_on_cubic
 from mechlib.contact.friction import COULOMB, STRIBECK, coulomb, stribeck
 from mechlib.contact.laws import (
     HERTZ,
@@ -35,8 +36,11 @@ from mechlib.jit import njit
 from mechlib.kernels import JitOptions, _brot, _gt_times, _rot
 
 __all__ = [
+    "CIRCLE_PROFILE",
     "CYLINDER_IN_CYLINDER",
     "GAP_SIZE",
+    "PROFILE_HEAD",
+    "PROFILE_ITERATIONS",
     "SPHERE_IN_SPHERE",
     "SPHERE_PLANE",
     "contact_force",
@@ -45,8 +49,10 @@ __all__ = [
     "gap",
 ]
 
-SPHERE_PLANE, SPHERE_IN_SPHERE, CYLINDER_IN_CYLINDER = 0, 1, 2
+SPHERE_PLANE, SPHERE_IN_SPHERE, CYLINDER_IN_CYLINDER, CIRCLE_PROFILE = 0, 1, 2, 3
 GAP_SIZE = 13
+PROFILE_HEAD = 19  # parameters of a profile before its spline arrays (`_profile_gap`)
+PROFILE_ITERATIONS = 6  # Newton refinements of the nearest point (quadratic convergence)
 _TINY = 1.0e-15  # m, below this the eccentricity has no direction (the force is zero there)
 _FD = 1.0e-9
 _JIT: JitOptions = {"cache": True, "nogil": True}
@@ -90,7 +96,9 @@ def gap(kind, x, xd, b1, b2, g, out):
     _position(x, b2, g[3:6], c2)
     for c in range(3):
         e[c] = c1[c] - c2[c]
-    if kind == SPHERE_PLANE:
+    if kind == CIRCLE_PROFILE:
+        _profile_gap(x, b2, g, e, c2, point, out)
+    elif kind == SPHERE_PLANE:
         _rot(x[b2, 3:], g[6:9], u)  # the plane normal
         d = e[0] * u[0] + e[1] * u[1] + e[2] * u[2]  # centre height over the plane
         for c in range(3):
@@ -135,6 +143,54 @@ def gap(kind, x, xd, b1, b2, g, out):
     for c in range(3):
         out[4 + c] = point[c]
         out[7 + c] = v1[c] - v2[c]
+
+
+@njit(**_JIT)
+def _profile_gap(x, b2, g, e, origin, point, out):
+    """A roller circle against a profile curve of body 2 (mechlib.contact.profile): from
+    e, the roller centre less the profile origin (global), put the penetration, normal
+    and eccentricity (zero) into `out` and the contact point into `point`. Parameters g:
+    [s1 (3), s0 (3), plane normal m (3), radius, side (+-1), in-plane basis (3 x 2, by
+    rows), samples n, breakpoints k, the sample parameters (n), the samples (n x 2), the
+    breakpoints (k), the coefficients (4 x (k - 1) x 2)], body-2 axes."""
+    radius, side = g[9], g[10]
+    n, k = int(g[17]), int(g[18])
+    at = PROFILE_HEAD
+    grid = g[at : at + n]
+    samples = g[at + n : at + 3 * n].reshape((n, 2))
+    breaks = g[at + 3 * n : at + 3 * n + k]
+    coefs = g[at + 3 * n + k : at + 3 * n + k + 8 * (k - 1)].reshape((4, k - 1, 2))
+    conj = np.empty(4)
+    conj[0] = x[b2, 3]
+    for c in range(3):
+        conj[1 + c] = -x[b2, 4 + c]
+    local = np.empty(3)
+    _rot(conj, e, local)  # the roller centre in body-2 axes
+    w = np.empty(2)
+    for j in range(2):
+        w[j] = local[0] * g[11 + j] + local[1] * g[13 + j] + local[2] * g[15 + j]
+    curve = np.empty((3, 2))
+    nearest_on_cubic(w, grid, samples, breaks, coefs, PROFILE_ITERATIONS, curve)
+    tangent, foot, normal = np.empty(3), np.empty(3), np.empty(3)
+    for c in range(3):
+        tangent[c] = g[11 + 2 * c] * curve[1, 0] + g[12 + 2 * c] * curve[1, 1]
+        foot[c] = g[11 + 2 * c] * curve[0, 0] + g[12 + 2 * c] * curve[0, 1]
+    normal[0] = g[7] * tangent[2] - g[8] * tangent[1]
+    normal[1] = g[8] * tangent[0] - g[6] * tangent[2]
+    normal[2] = g[6] * tangent[1] - g[7] * tangent[0]
+    length = math.sqrt(normal[0] ** 2 + normal[1] ** 2 + normal[2] ** 2)
+    d = 0.0
+    for c in range(3):
+        normal[c] *= side / length
+        d += (local[c] - foot[c]) * normal[c]
+    n_global, foot_global = np.empty(3), np.empty(3)
+    _rot(x[b2, 3:], normal, n_global)
+    _rot(x[b2, 3:], foot, foot_global)
+    out[0] = radius - d
+    for c in range(3):
+        out[1 + c] = n_global[c]
+        point[c] = origin[c] + foot_global[c] + 0.5 * (d - radius) * n_global[c]
+        out[10 + c] = 0.0
 
 
 @njit(**_JIT)
