@@ -38,6 +38,7 @@ class AngleMeasure:
     def __init__(self, bi: int, bj: int, f: np.ndarray, g: np.ndarray, h: np.ndarray):
         self._sc = Dot1([bi, bi], [bj, bj], [f, f], [g, f])
         self.bi, self.bj, self.axis_local = bi, bj, np.asarray(h, float)
+        self.f, self.g = np.asarray(f, float), np.asarray(g, float)  # kernels.angle_state
         self.reference = 0.0
 
     def value(self, k: Kin) -> float:

@@ -160,6 +160,7 @@ class Spring:
     output_units: ClassVar[dict[str, str]] = {"value": "N", "length": "m"}
     _geometry: tuple = field(default=(), repr=False)
     _free_length: float = field(default=np.nan, init=False, repr=False)  # m, set by bind
+    _compiled: tuple = field(default=(), init=False, repr=False)  # kernels.spring_state's
 
     def bind(self, system) -> None:
         (b1, at1), (b2, at2) = self.points
@@ -167,6 +168,12 @@ class Spring:
         if self.free_length is None:
             self.free_length = float(np.linalg.norm(np.subtract(at1, at2)))
         self._free_length = self.free_length
+        b1, s1, b2, s2 = self._geometry
+        self._compiled = (
+            *(b1, np.asarray(s1, float), b2, np.asarray(s2, float)),
+            *map(float, (self.stiffness, self.damping, self._free_length, self.preload)),
+            bool(self.tension_only),
+        )
 
     def state_bodies(self) -> set[int]:
         """The two points' bodies: the tension is a function of their stretch and its rate
@@ -174,19 +181,25 @@ class Spring:
         return {self._geometry[0], self._geometry[2]}
 
     def _state(self, view: StateView):
+        if self.law is None:  # linear: compiled
+            out = np.empty(5)
+            kernels.spring_state(view.kin.x, view.kin.xd, *self._compiled, out)  # type: ignore[call-arg]
+            return float(out[0]), float(out[1]), out[2:5]
         b1, s1, b2, s2 = self._geometry
         d = view.point_position(b1, s1) - view.point_position(b2, s2)
         length = float(np.linalg.norm(d))
         u = d / length if length > 0.0 else np.zeros(3)
         rate = float(u @ (view.point_velocity(b1, s1) - view.point_velocity(b2, s2)))
         stretch = length - self._free_length
-        elastic = self.law(stretch) if self.law is not None else self.stiffness * stretch
-        tension = elastic + self.damping * rate + self.preload
+        tension = self.law(stretch) + self.damping * rate + self.preload
         if self.tension_only and (stretch < 0.0 or tension < 0.0):
             tension = 0.0  # a slack wire pushes nowhere, nor does its damping when taut
         return tension, length, u
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        if self.law is None:
+            kernels.spring_wrench(view.kin.x, view.kin.xd, *self._compiled, F, N)  # type: ignore[call-arg]
+            return
         b1, s1, b2, s2 = self._geometry
         tension, _, u = self._state(view)
         for body, s, sign in ((b1, s1, -1.0), (b2, s2, 1.0)):
@@ -255,13 +268,22 @@ class TorsionSpring:
         return {self._m.bi, self._m.bj}
 
     def _moment(self, view: StateView) -> tuple[float, float]:
-        angle = self._m.value(view.kin)
-        rate = self._m.rate(view.kin)
+        m, state = self._m, np.empty(2)
+        kernels.angle_state(view.kin.x, view.kin.xd, m.bi, m.bj, m.f, m.g, m.reference, state)
+        angle, rate = float(state[0]), float(state[1])
         turn = angle - self.angle0
         elastic = self.law(turn) if self.law is not None else self.stiffness * turn
         return elastic + self.damping * rate + self.preload, angle
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        if self.law is None:  # linear: compiled
+            m = self._m
+            x, xd = view.kin.x, view.kin.xd
+            k, c, a0, pre = map(float, (self.stiffness, self.damping, self.angle0, self.preload))
+            kernels.torsion_wrench(
+                x, xd, m.bi, m.bj, m.f, m.g, m.axis_local, m.reference, k, c, a0, pre, N
+            )
+            return
         resist_rotation(view, self._m, self._moment(view)[0], N)
 
     def output(self, view: StateView) -> dict[str, float]:

@@ -10,6 +10,7 @@ numba replaces per-row Python loops that cost ~100x more in the interpreter.
 
 from __future__ import annotations
 
+import math
 from typing import TypedDict
 
 import numpy as np
@@ -17,6 +18,7 @@ import numpy as np
 from mechlib.jit import njit
 
 __all__ = [
+    "angle_state",
     "b_matrix",
     "body_forces",
     "cross3",
@@ -42,6 +44,9 @@ __all__ = [
     "sph_gamma",
     "sph_jac",
     "sph_phi",
+    "spring_state",
+    "spring_wrench",
+    "torsion_wrench",
 ]
 
 
@@ -451,6 +456,79 @@ def point_force(x, b, s, force, F, N):
     N[b, 0] += arm[1] * force[2] - arm[2] * force[1]
     N[b, 1] += arm[2] * force[0] - arm[0] * force[2]
     N[b, 2] += arm[0] * force[1] - arm[1] * force[0]
+
+
+@njit(**_JIT)
+def spring_state(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, out):
+    """out (5,) = [tension (N), length (m), unit vector (3) from point 2 to point 1] of a
+    linear spring-damper between the body-fixed points s1 of b1 and s2 of b2: stiffness
+    (N/m) x (length - free_length) + damping (N*s/m) x rate + preload; with `slack` (a
+    wire) none while shorter than its free length or pushing."""
+    p1, p2 = point_position(x, b1, s1), point_position(x, b2, s2)
+    v1, v2 = point_velocity(x, xd, b1, s1), point_velocity(x, xd, b2, s2)
+    d = p1 - p2
+    length = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+    rate = 0.0
+    for c in range(3):
+        out[2 + c] = d[c] / length if length > 0.0 else 0.0
+        rate += out[2 + c] * (v1[c] - v2[c])
+    stretch = length - free_length
+    tension = stiffness * stretch + damping * rate + preload
+    if slack and (stretch < 0.0 or tension < 0.0):
+        tension = 0.0
+    out[0], out[1] = tension, length
+
+
+@njit(**_JIT)
+def spring_wrench(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, F, N):
+    """Add a linear spring-damper's forces (spring_state): -tension along the unit vector
+    at point 1, +tension at point 2, with their moments about the cms, to F and N."""
+    state = np.empty(5)
+    spring_state(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, state)
+    force = state[0] * state[2:5]
+    point_force(x, b1, s1, -force, F, N)
+    point_force(x, b2, s2, force, F, N)
+
+
+@njit(**_JIT)
+def _dot3(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(**_JIT)
+def angle_state(x, xd, bi, bj, f, g, reference, out):
+    """out (2,) = [angle (rad), rate (rad/s)] of body bi relative to body bj about a joint
+    axis with body-fixed triad vectors f, g (mechlib.coordinates.AngleMeasure): atan2(
+    f_i . g_j, f_i . f_j), unwrapped to the turn nearest `reference` (rad)."""
+    fi, gj, fj = np.empty(3), np.empty(3), np.empty(3)
+    fid, gjd, fjd = np.empty(3), np.empty(3), np.empty(3)
+    _rot(x[bi, 3:], f, fi)
+    _rot(x[bj, 3:], g, gj)
+    _rot(x[bj, 3:], f, fj)
+    _brot(x[bi, 3:], xd[bi, 3:], f, fid)
+    _brot(x[bj, 3:], xd[bj, 3:], g, gjd)
+    _brot(x[bj, 3:], xd[bj, 3:], f, fjd)
+    s, c = _dot3(fi, gj), _dot3(fi, fj)
+    sd, cd = _dot3(fid, gj) + _dot3(fi, gjd), _dot3(fid, fj) + _dot3(fi, fjd)
+    raw = math.atan2(s, c)
+    turns = (reference - raw) / (2.0 * math.pi)
+    out[0] = raw + 2.0 * math.pi * np.round(turns)  # half-way ties to even, as Python's
+    out[1] = (c * sd - s * cd) / (s * s + c * c)
+
+
+@njit(**_JIT)
+def torsion_wrench(x, xd, bi, bj, f, g, axis, reference, stiffness, damping, angle0, preload, N):
+    """Add a linear torsion spring-damper's moments to N: moment = stiffness (N*m/rad) x
+    (angle - angle0) + damping (N*m*s/rad) x rate + preload (N*m) about the joint axis
+    (body-fixed `axis` of bj), -moment on bi, +moment on bj (angle_state)."""
+    state = np.empty(2)
+    angle_state(x, xd, bi, bj, f, g, reference, state)
+    moment = stiffness * (state[0] - angle0) + damping * state[1] + preload
+    a = np.empty(3)
+    _rot(x[bj, 3:], axis, a)
+    for c in range(3):
+        N[bi, c] -= moment * a[c]
+        N[bj, c] += moment * a[c]
 
 
 @njit(**_JIT)

@@ -135,3 +135,106 @@ def test_table_integral_is_exact(interpolation: str, extrapolate: str) -> None:
         assert abs(table.integral(a, b) - ref) < 1e-13
     with pytest.raises(TableRangeError):
         Table("t", x, y, interpolation, "error").integral(0.0, 1.1)
+
+
+@pytest.mark.parametrize(
+    ("stiffness", "damping", "preload", "slack", "stretch"),
+    [
+        (2.0e5, 30.0, 5.0, False, -0.004),  # compressed: pushes
+        (2.0e5, 30.0, 5.0, False, 0.004),
+        (2.0e5, 30.0, 0.0, True, 0.003),  # a taut wire
+        (2.0e5, 30.0, 0.0, True, -0.002),  # a slack wire: nothing
+        (2.0e5, 4.0e5, 0.0, True, 1.0e-4),  # taut but closing fast: its damping would push
+    ],
+)
+def test_compiled_linear_spring_against_its_definition(
+    stiffness: float, damping: float, preload: float, slack: bool, stretch: float
+) -> None:
+    """The compiled linear spring-damper (kernels.spring_state and spring_wrench) between
+    two turned, moving bodies: tension = k (L - L0) + c dL/dt + preload (none for a slack
+    or pushing wire), L and dL/dt from the points' positions and velocities taken apart
+    (dL/dt by a central difference of L over +-1e-6 s of the rigid motion), the forces
+    -T u and +T u at the two points with their moments about the cms (1e-9 relative)."""
+    m = mechlib.Mechanism(name="two")
+    m.add_body("a", mass=1.0, cm=(0.0, 0.0, 0.0), inertia=[1, 1, 1])
+    m.add_body("b", mass=1.0, cm=(0.3, 0.1, 0.0), inertia=[1, 1, 1])
+    at_a, at_b = np.array([0.05, 0.02, 0.01]), np.array([0.32, 0.12, -0.02])
+    free = float(np.linalg.norm(at_a - at_b)) - stretch  # so that L - L0 = stretch at design
+    spring = mechlib.Spring(
+        "s", (("a", at_a), ("b", at_b)), stiffness, damping, free, preload, slack
+    )
+    m.add_force(spring)
+    system = mechlib.System(m)
+    rng = np.random.default_rng(5)
+    q, qd = system.design_q().copy(), np.zeros(system.nq)
+    for b in range(2):
+        qd[7 * b : 7 * b + 3] = rng.normal(scale=0.01, size=3)
+        qd[7 * b + 4 : 7 * b + 7] = rng.normal(scale=0.02, size=3)  # about p = (1, 0, 0, 0)
+    closing = (at_a - at_b) / np.linalg.norm(at_a - at_b) * 0.05  # m/s each: dL/dt < 0
+    qd[0:3] -= closing
+    qd[7:10] += closing
+
+    def points(t: float) -> tuple[np.ndarray, np.ndarray]:
+        view = system.view(system.kin(q + t * qd, qd, 0.0))  # Euler parameters to first order
+        return tuple(view.point_position(b, s) for b, s in ((0, at_a), (1, at_b - (0.3, 0.1, 0))))
+
+    p1, p2 = points(0.0)
+    length = float(np.linalg.norm(p1 - p2))
+    rate = (
+        np.linalg.norm(np.subtract(*points(1e-6))) - np.linalg.norm(np.subtract(*points(-1e-6)))
+    ) / 2e-6
+    tension = stiffness * (length - free) + damping * rate + preload
+    if slack and (length < free or tension < 0.0):
+        tension = 0.0
+    view = system.view(system.kin(q, qd, 0.0))
+    assert spring.output(view)["value"] == pytest.approx(tension, rel=1e-6, abs=1e-9)
+    assert spring.output(view)["length"] == pytest.approx(length, rel=1e-12)
+    F, N = np.zeros((3, 3)), np.zeros((3, 3))
+    spring.apply(view, F, N)
+    u = (p1 - p2) / length
+    force = spring.output(view)["value"] * u
+    np.testing.assert_allclose(F[:2], [-force, force], atol=1e-9 * max(abs(tension), 1.0))
+    moments = [np.cross(p1 - view.kin.r[0], -force), np.cross(p2 - view.kin.r[1], force)]
+    np.testing.assert_allclose(N[:2], moments, atol=1e-9 * max(abs(tension), 1.0))
+    assert rate < 0.0
+    assert (tension == 0.0) == (slack and (stretch < 0.0 or damping > stiffness))
+
+
+def test_compiled_torsion_spring_against_the_joint_angle() -> None:
+    """The compiled linear torsion spring (kernels.angle_state, torsion_wrench) on a
+    revolute between two bodies turned and moving: its angle and rate equal the joint's
+    angle measure (mechlib.coordinates.AngleMeasure, constraint kernels) over three turns
+    of unwrapping, its rate the central difference of that angle over +-1e-6 s (1e-6
+    relative), its moments -M a on body 1 and +M a on body 2 about the joint axis a of
+    body 2, M = k (angle - angle0) + c rate + preload (1e-12 relative)."""
+    m = mechlib.Mechanism(name="hinge")
+    m.add_body("a", mass=1.0, cm=(0.0, 0.0, 0.0), inertia=[1, 1, 1])
+    m.add_body("b", mass=1.0, cm=(0.2, 0.0, 0.0), inertia=[1, 1, 1])
+    m.add_joint("h", "revolute", bodies=("a", "b"), at=(0.1, 0.0, 0.0), axis=(0.0, 0.6, 0.8))
+    spring = mechlib.TorsionSpring("t", "h", stiffness=35.0, damping=2.5, angle0=0.3, preload=4)
+    m.add_force(spring)
+    system = mechlib.System(m)
+    measure = system.measure("h", "angle")
+    rng = np.random.default_rng(9)
+    for reference in (0.0, 6.0, -19.0):
+        q, qd = system.design_q().copy(), rng.normal(scale=0.5, size=system.nq)
+        for b in range(2):
+            p = rng.normal(size=4)
+            q[7 * b + 3 : 7 * b + 7] = p / np.linalg.norm(p)
+        measure.reference = reference
+        view = system.view(system.kin(q, qd, 0.0))
+        angle = measure.value(view.kin)
+        assert abs(angle - reference) <= math.pi
+        out = spring.output(view)
+        assert out["angle"] == pytest.approx(angle, rel=1e-12, abs=1e-12)
+        rate = measure.rate(view.kin)
+        ahead, behind = (measure.value(system.kin(q + t * qd, qd, 0.0)) for t in (1e-6, -1e-6))
+        assert rate == pytest.approx((ahead - behind) / 2e-6, rel=1e-6)
+        moment = 35.0 * (angle - 0.3) + 2.5 * rate + 4.0
+        assert out["value"] == pytest.approx(moment, rel=1e-12)
+        F, N = np.zeros((3, 3)), np.zeros((3, 3))
+        spring.apply(view, F, N)
+        axis = view.rotation(measure.bj) @ measure.axis_local
+        np.testing.assert_allclose(N[measure.bi], -moment * axis, rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(N[measure.bj], moment * axis, rtol=1e-12, atol=1e-12)
+        assert not F.any()
