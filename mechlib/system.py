@@ -71,6 +71,7 @@ class System:
         self.body_names = list(mechanism.bodies)
         self.nb = len(self.body_names)
         self._index = {name: i for i, name in enumerate(self.body_names)}
+        self._points: dict[str, tuple[int, np.ndarray]] = {}
         self._index[GROUND] = self.nb
         self._index |= {a: self._index[b] for a, b in mechanism.aliases.items()}
         self.flexible = attach_flexible(mechanism, self._index)
@@ -140,8 +141,15 @@ class System:
         return b, np.asarray(at, dtype=float) - self.cm[b]
 
     def point(self, name: str) -> tuple[int, np.ndarray]:
-        p = self.mechanism.points[name]
-        return self.body_point(p.body, p.at)
+        """(body index, body-fixed vector, read-only) of a named point, found once: the
+        expressions of loads read points at every force evaluation."""
+        found = self._points.get(name)
+        if found is None:
+            p = self.mechanism.points[name]
+            b, s = self.body_point(p.body, p.at)
+            s.flags.writeable = False
+            found = self._points[name] = (b, s)
+        return found
 
     def measure(self, joint: str, kind: str) -> AngleMeasure | TravelMeasure:
         try:

@@ -238,3 +238,23 @@ def test_compiled_torsion_spring_against_the_joint_angle() -> None:
         np.testing.assert_allclose(N[measure.bi], -moment * axis, rtol=1e-12, atol=1e-12)
         np.testing.assert_allclose(N[measure.bj], moment * axis, rtol=1e-12, atol=1e-12)
         assert not F.any()
+
+
+def test_named_points_found_once_and_read_only() -> None:
+    """A named point's (body, body-fixed vector) is found once per system and cannot be
+    changed through what it returns: the position it gives is the body point's, r + A s."""
+    m = mechlib.Mechanism(name="p")
+    m.add_body("a", mass=1.0, cm=(0.1, 0.2, 0.3), inertia=[1, 1, 1])
+    m.add_point("tip", body="a", at=(0.5, 0.2, 0.3))
+    system = mechlib.System(m)
+    body, s = system.point("tip")
+    assert system.point("tip")[1] is s and body == 0
+    np.testing.assert_array_equal(s, [0.4, 0.0, 0.0])
+    with pytest.raises(ValueError):
+        s[0] = 1.0
+    q = system.design_q().copy()
+    q[3:7] = [math.cos(0.25), 0.0, 0.0, math.sin(0.25)]  # 0.5 rad about z
+    q[:3] += (0.01, 0.02, 0.03)
+    view = system.view(system.kin(q, None, 0.0))
+    expected = q[:3] + 0.4 * np.array([math.cos(0.5), math.sin(0.5), 0.0])
+    np.testing.assert_allclose(view.position("tip"), expected, rtol=0, atol=1e-15)
