@@ -71,9 +71,9 @@ class System:
         self.body_names = list(mechanism.bodies)
         self.nb = len(self.body_names)
         self._index = {name: i for i, name in enumerate(self.body_names)}
-        self._points: dict[str, tuple[int, np.ndarray]] = {}
         self._index[GROUND] = self.nb
         self._index |= {a: self._index[b] for a, b in mechanism.aliases.items()}
+        self._points: dict[str, tuple[int, np.ndarray]] = {}  # named points found (point)
         self.flexible = attach_flexible(mechanism, self._index)
         self.nz = sum(a.body.n for a in self.flexible)
         self.nq = 7 * self.nb + self.nz

@@ -125,10 +125,12 @@ class Contact(StaticSlipAnchor):
     def _wrench_kernel(self) -> _Kernel | None:
         """The compiled wrench's arguments: a primitive's (also its tangent's), or a
         profile's once its spline is built (its tangent is the integrator's difference)."""
-        if self._kernel is None and hasattr(self.geometry, "compiled"):
+        if self._kernel is not None:
+            return self._kernel
+        if self._profile_kernel is None and hasattr(self.geometry, "compiled"):
             b1, b2, kind, g = self.geometry.compiled()
             self._profile_kernel = (kind, b1, b2, g, *self._laws)
-        return self._kernel or self._profile_kernel
+        return self._profile_kernel
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         kernel = self._wrench_kernel()
