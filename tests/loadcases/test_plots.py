@@ -244,14 +244,14 @@ def test_minor_grid_at_matplotlibs_minor_ticks(xlim: tuple, ylim: tuple) -> None
 
 
 @pytest.mark.parametrize(
-    ("plots_count", "points", "cores", "processes"),
-    [(4, 20_000, 2, 1), (4, 500, 2, 0), (40, 10, 2, 2), (4, 20_000, 1, 0), (1, 50_000, 2, 0)],
+    ("plots_count", "runs", "cores", "processes"),
+    [(4, 1000, 2, 1), (4, 3, 2, 0), (40, 1, 2, 2), (4, 1000, 1, 0), (1, 1000, 2, 0)],
 )
 def test_envelope_plots_drawn_beside_the_workbook_when_large(
-    tmp_path: Path, monkeypatch, plots_count: int, points: int, cores: int, processes: int
+    tmp_path: Path, monkeypatch, plots_count: int, runs: int, cores: int, processes: int
 ) -> None:
     """A set's envelope plots are drawn by forked processes when they are many, or a few
-    of many points (a long sweep), and there is more than one core; else in this process.
+    of a sweep of many runs, and there is more than one core; else in this process.
     Either way each plot is written, in the curves' order."""
     from loadcases.report.curves import EnvelopeCurve
     from loadcases.sets import campaign
@@ -265,11 +265,11 @@ def test_envelope_plots_drawn_beside_the_workbook_when_large(
 
     monkeypatch.setattr(campaign, "ProcessPoolExecutor", recording)
     monkeypatch.setattr(campaign.os, "cpu_count", lambda: cores)
-    x = np.linspace(0.0, 1.0, points)
+    x = np.linspace(0.0, 1.0, 200)
     curves = []
     for n in range((plots_count + 3) // 4):
         columns = {f"j{c}.fx": np.sin(x + c) * (10 + c) for c in range(min(4, plots_count))}
-        curve = EnvelopeCurve(f"fam{n}", "time", "s", x, runs=("a",))
+        curve = EnvelopeCurve(f"fam{n}", "time", "s", x, runs=tuple(map(str, range(runs))))
         curve.upper = {k: v + 1 for k, v in columns.items()}
         curve.lower = {k: v - 1 for k, v in columns.items()}
         curve.units = dict.fromkeys(columns, "N")
