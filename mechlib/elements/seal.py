@@ -25,7 +25,7 @@ from typing import ClassVar
 import numpy as np
 
 from mechlib.elements.regularize import StaticSlipAnchor, at_rest
-from mechlib.elements.seal_kernels import seal_friction, seal_stations, seal_wrench
+from mechlib.elements.seal_kernels import seal_apply, seal_friction, seal_stations, seal_wrench
 from mechlib.forces import has_potential, stored
 from mechlib.rotation import omega_global, rotate
 from mechlib.view import StateView
@@ -151,6 +151,15 @@ class Seal(StaticSlipAnchor):
         return -float(np.sum(friction * slip))
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        if self.law is None:  # the power law: one compiled call
+            k, rest = view.kin, at_rest(view)
+            threshold = self.slip_threshold if rest else self.v_threshold
+            seal_apply(
+                k.x, k.xd, self._b1, self._b2, self._s1, self._s2, self._n, float(self.gap),
+                self._share, float(self.stiffness), float(self.exponent), float(self.mu),
+                self._anchor, rest, threshold, F, N,
+            )  # fmt: skip
+            return
         p1, n, normal, friction, _ = self._parts(view)
         seal_wrench(view.kin.x, self._b1, self._b2, p1, n, normal, friction, F, N)
 

@@ -14,7 +14,7 @@ import numpy as np
 from mechlib.jit import njit
 from mechlib.kernels import JitOptions, point_position, point_velocity, rotation_matrix
 
-__all__ = ["seal_friction", "seal_stations", "seal_wrench"]
+__all__ = ["seal_apply", "seal_friction", "seal_stations", "seal_wrench"]
 
 _JIT: JitOptions = {"cache": True, "nogil": True}
 
@@ -90,3 +90,25 @@ def seal_wrench(x, b1, b2, p1, n, normal, friction, F, N):
             N[body, 0] += sign * (a1 * f2 - a2 * f1)
             N[body, 1] += sign * (a2 * f0 - a0 * f2)
             N[body, 2] += sign * (a0 * f1 - a1 * f0)
+
+
+@njit(**_JIT)
+def seal_apply(
+    x, xd, b1, b2, s1, s2, n_local, gap, share, stiffness, exponent, mu, anchor, rest,
+    threshold, F, N,
+):  # fmt: skip
+    """A seal of the power law w = stiffness x^exponent (N/m) in one call: its stations,
+    normal forces share (m) x w(x_i), friction (mu > 0) and the wrench added to F and N
+    (the three kernels above, as Seal.apply calls them)."""
+    count = s1.shape[0]
+    p1, p2 = np.empty((count, 3)), np.empty((count, 3))
+    n, pen = np.empty(3), np.empty(count)
+    seal_stations(x, b1, b2, s1, s2, n_local, gap, p1, p2, n, pen)
+    normal = np.empty(count)
+    for i in range(count):
+        normal[i] = share * (stiffness * max(pen[i], 0.0) ** exponent)
+    friction = np.zeros((count, 3))
+    if mu != 0.0:
+        start = anchor if rest else p1  # the static slip's start (unused moving)
+        seal_friction(x, xd, b1, b2, s1, p1, p2, n, normal, mu, start, rest, threshold, friction)
+    seal_wrench(x, b1, b2, p1, n, normal, friction, F, N)

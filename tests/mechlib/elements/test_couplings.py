@@ -268,3 +268,42 @@ def test_seal_without_a_friction_band_is_plain_coulomb() -> None:
         F, N = np.zeros((2, 3)), np.zeros((2, 3))
         seal.apply(system.view(system.kin(system.design_q(), qd, 0.0)), F, N)
         assert np.allclose(F[0], [friction, 160.0, 0.0], rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("moving", [True, False])
+def test_compiled_seal_equals_its_stations(moving: bool) -> None:
+    """The power-law seal's one compiled call (seal_kernels.seal_apply) against its
+    stations taken one by one (Seal._parts, the kernels the output request reads) and
+    their wrench: a door turned and moving (or displaced from its slip anchor at rest),
+    exponent 1.5, friction on; forces and moments to 1e-12 relative, and the door's force
+    equal to the output's resultant."""
+    from mechlib.elements.seal_kernels import seal_wrench
+    from mechlib.system import System
+
+    mech = mechlib.Mechanism(name="door", gravity=(0.0, 0.0, 0.0))
+    mech.add_body("door", mass=5.0, cm=(0.5, 0.0, 0.0), inertia=[0.1, 0.5, 0.5])
+    seal = mechlib.Seal(
+        "seal", ("door", "ground"), (0.2, 0, 0), (1.0, 0, 0), (0, 1, 0), count=5,
+        stiffness=3.0e6, exponent=1.5, gap=-1e-3, mu=0.3,
+    )  # fmt: skip
+    mech.add_force(seal)
+    system = System(mech)
+    q = system.design_q().copy()
+    q[3:7] = [math.cos(0.002), 0.0, 0.0, math.sin(0.002)]  # 4 mrad about z: uneven pressure
+    q[0] += 2e-6
+    qd = np.zeros(system.nq)
+    if moving:
+        qd[0], qd[1], qd[6] = 0.4, -0.01, 0.05
+    view = system.view(system.kin(q, qd if moving else None, 0.0))
+    F, N = np.zeros((2, 3)), np.zeros((2, 3))
+    seal.apply(view, F, N)
+    p1, n, normal, friction, x = seal._parts(view)
+    assert (x > 0).sum() >= 3 and len(set(np.round(normal, 6))) > 1
+    F_ref, N_ref = np.zeros((2, 3)), np.zeros((2, 3))
+    seal_wrench(view.kin.x, 0, 1, p1, n, normal, friction, F_ref, N_ref)
+    scale = np.abs(F_ref).max()
+    np.testing.assert_allclose(F, F_ref, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(N, N_ref, rtol=0, atol=1e-12 * scale)
+    out = seal.output(view)
+    np.testing.assert_allclose(F[0], [out["fx"], out["fy"], out["fz"]], atol=1e-12 * scale)
+    assert np.abs(friction).max() > 0.0
