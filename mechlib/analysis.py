@@ -2,7 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from bisect import bisect_right
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -127,6 +128,84 @@ def _stack(rows: list) -> np.ndarray:
     return np.array(rows, dtype=float).reshape(len(rows), -1)
 
 
+class Snapshots:
+    """The system snapshot of each recorded row (`System.snapshot`: active equations, angle
+    references...): dicts appended one by one, or the rows of a compiled run, which share
+    one base snapshot and differ only in their angle references, kept as an array and made
+    into a dict when a row's is read (most are never read: the outputs restore one per
+    batch of rows)."""
+
+    def __init__(self) -> None:
+        self._rows: list[dict | None] = []  # None: in a block, not made yet
+        self._blocks: list[tuple[int, dict, tuple, np.ndarray]] = []  # (first, base, keys, refs)
+        self._firsts: list[int] = []  # of the blocks
+
+    def __len__(self) -> int:
+        return len(self._rows)
+
+    def append(self, snapshot: dict) -> None:
+        self._rows.append(snapshot)
+
+    def extend(self, snapshots) -> None:
+        self._rows.extend(snapshots)
+
+    def extend_block(self, base: dict, keys: Sequence, refs: np.ndarray) -> None:
+        """Rows whose snapshots are `base` with the angle references `keys` set to each
+        row of `refs` (rows, keys)."""
+        self._blocks.append((len(self._rows), base, tuple(keys), np.array(refs, dtype=float)))
+        self._firsts.append(len(self._rows))
+        self._rows.extend([None] * len(refs))
+
+    def __getitem__(self, i: int) -> dict:
+        found = self._rows[i]
+        if found is None:
+            first, base, keys, refs = self._block(i)
+            angles = dict(base["angles"])
+            angles.update(zip(keys, refs[i % len(self._rows) - first].tolist()))
+            found = self._rows[i] = dict(base, angles=angles)
+        return found
+
+    def active(self, i: int):
+        """Row i's active equations (the snapshot's `active`), without making its dict."""
+        found = self._rows[i]
+        return found["active"] if found is not None else self._block(i)[1]["active"]
+
+    def same_active(self, first: int, most: int) -> int:
+        """The end of the rows from `first` on (at most `most`) whose snapshots hold the
+        same active equations (the same array: a run keeps it between events); a block's
+        rows share their base's."""
+        active = self.active(first)
+        end, limit = first + 1, min(len(self._rows), first + most)
+        while end < limit:
+            found = self._rows[end]
+            if found is None:
+                start, base, _, refs = self._block(end)
+                if base["active"] is not active:
+                    break
+                end = min(start + len(refs), limit)
+            elif found["active"] is not active:
+                break
+            else:
+                end += 1
+        return end
+
+    def _block(self, i: int) -> tuple[int, dict, tuple, np.ndarray]:
+        return self._blocks[bisect_right(self._firsts, i % len(self._rows)) - 1]
+
+    def __delitem__(self, rows: slice) -> None:
+        """Drop the rows from `rows.start` on (Trajectory.trim)."""
+        if rows.stop is not None or rows.step is not None:
+            raise ValueError("only the rows from an index on can be dropped")
+        n = len(range(*rows.indices(len(self._rows))))
+        end = len(self._rows) - n
+        del self._rows[end:]
+        self._blocks = [(k, b, keys, r[: end - k]) for k, b, keys, r in self._blocks if k < end]
+        self._firsts = [b[0] for b in self._blocks]
+
+    def __iter__(self) -> Iterator[dict]:
+        return (self[i] for i in range(len(self)))
+
+
 @dataclass
 class Trajectory:
     """States recorded at output times: q, qd, qdd (n, nq) and multipliers lam (n, m).
@@ -146,7 +225,7 @@ class Trajectory:
     qd: list = field(default_factory=list)
     qdd: list = field(default_factory=list)
     lam: list = field(default_factory=list)
-    references: list = field(default_factory=list)
+    references: Snapshots = field(default_factory=Snapshots)
     # (first row, block (n, 3 nq + m), nq) of each `extend`: its rows are views of it
     _blocks: list = field(default_factory=list, repr=False)
 
@@ -164,12 +243,15 @@ class Trajectory:
         self.qdd.append(np.array(qdd, dtype=float))
         self.lam.append(np.array(lam, dtype=float))
 
-    def extend(self, times, states: np.ndarray, nq: int, snapshots: list[dict]) -> None:
+    def extend(
+        self, times, states: np.ndarray, nq: int, snapshot: dict, keys: Sequence, refs
+    ) -> None:
         """Append rows found finite already (a compiled run's): times (n,), states (n,
-        3 nq + m) with q, qd, qdd, lam stacked, one snapshot each."""
+        3 nq + m) with q, qd, qdd, lam stacked; their snapshots are `snapshot` with the
+        angle references `keys` set to each row of `refs` (n, keys)."""
         block = np.array(states, dtype=float)  # one copy; the rows are views of it
         self._blocks.append((len(self.time), block, nq))
-        self.references.extend(snapshots)
+        self.references.extend_block(snapshot, keys, refs)
         self.time.extend(float(t) for t in times)
         self.q.extend(block[:, :nq])
         self.qd.extend(block[:, nq : 2 * nq])
@@ -201,13 +283,7 @@ class Trajectory:
     def same_active(self, first: int, most: int) -> int:
         """The end of the rows from `first` on (at most `most`) recorded with the same
         active equations (the same array, as a run keeps it between events)."""
-        active = self.references[first]["active"]
-        end = first + 1
-        while end < len(self.references) and end - first < most:
-            if self.references[end]["active"] is not active:
-                break
-            end += 1
-        return end
+        return self.references.same_active(first, most)
 
     def trim(self) -> None:
         """Drop a row that an interrupt left half-appended (all lists to the shortest)."""
@@ -217,7 +293,7 @@ class Trajectory:
             del rows_[n:]
         self._blocks = [(k, b[: n - k], nq) for k, b, nq in self._blocks if k < n]
 
-    def _fields(self) -> tuple[list, ...]:
+    def _fields(self) -> tuple[list | Snapshots, ...]:
         return (self.references, self.time, self.q, self.qd, self.qdd, self.lam)
 
     def __len__(self) -> int:

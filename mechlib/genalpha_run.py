@@ -429,13 +429,8 @@ class StepRun:
 
     def _record(self, trajectory, times, states, refs) -> None:
         """The rows (found finite by the kernel), each with the system's snapshot and its
-        own angle references."""
+        own angle references (made into a dict when read: mechlib.analysis.Snapshots)."""
         if not len(times):
             return
-        base = self.stepper.system.snapshot()
-        angles = dict(base["angles"])
-        snapshots = []
-        for row in refs.tolist():
-            angles.update(zip(self.angle_keys, row))
-            snapshots.append(dict(base, angles=dict(angles)))
-        trajectory.extend(times, states, self.stepper.system.nq, snapshots)
+        system = self.stepper.system
+        trajectory.extend(times, states, system.nq, system.snapshot(), self.angle_keys, refs)
