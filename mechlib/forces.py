@@ -160,7 +160,8 @@ class Spring:
     output_units: ClassVar[dict[str, str]] = {"value": "N", "length": "m"}
     _geometry: tuple = field(default=(), repr=False)
     _free_length: float = field(default=np.nan, init=False, repr=False)  # m, set by bind
-    _compiled: tuple = field(default=(), init=False, repr=False)  # kernels.spring_state's
+    # kernels.spring_state's arguments, taken at bind (a bound spring's parameters are fixed)
+    _compiled: tuple = field(default=(), init=False, repr=False)
 
     def bind(self, system) -> None:
         (b1, at1), (b2, at2) = self.points

@@ -85,8 +85,10 @@ class CircleProfile:
         x[0, 3] = 1.0
         out, point = np.empty(kernels.GAP_SIZE), np.empty(3)
         e = np.asarray(self.center, float) - origin
-        kernels._profile_gap(x, 0, g, e, np.zeros(3), point, out)
-        g[10] = 1.0 if self.radius - out[0] >= 0.0 else -1.0  # the centre's side at design
+        side = g.copy()
+        side[9] = 0.0  # a roller of no radius: its "penetration" is -d exactly
+        kernels._profile_gap(x, 0, side, e, np.zeros(3), point, out)
+        g[10] = 1.0 if out[0] <= 0.0 else -1.0  # the centre's side at design: d >= 0
         return b1, b2, kernels.CIRCLE_PROFILE, g
 
     def gap(self, view) -> Gap:
