@@ -84,6 +84,7 @@ class Contact(StaticSlipAnchor):
     # poses (r, R) of bodies 1 and 2 at the last accepted state: the slip of a static
     # (quasi-static) evaluation is measured from there
     _anchor: tuple | None = field(default=None, repr=False)
+    _packed: tuple | None = field(default=None, repr=False)  # (anchor, _packed_anchor())
     slip_threshold: float = 1.0e-6  # m: static slip of full friction
 
     def bind(self, system) -> None:
@@ -134,8 +135,15 @@ class Contact(StaticSlipAnchor):
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         kernel = self._wrench_kernel()
-        if kernel is not None and not (self.friction is not None and at_rest(view)):
-            kernels.contact_wrench(*kernel, self.approach, view.kin.x, view.kin.xd, F, N)
+        if kernel is not None:
+            x, xd = view.kin.x, view.kin.xd
+            if self.friction is None or not at_rest(view):
+                kernels.contact_wrench(*kernel, self.approach, x, xd, F, N)
+                return
+            kernels.static_contact_wrench(
+                *kernel, self.approach, x, xd, float(self.friction.mu_dynamic),
+                self._packed_anchor(), float(self.slip_threshold), F, N,
+            )  # fmt: skip
             return
         f = self.forces(view)
         p = f.gap.point
@@ -151,6 +159,19 @@ class Contact(StaticSlipAnchor):
         kernels.contact_tangent(
             *self._kernel, self.approach, view.kin.x, view.kin.xd, self._nb, K, C
         )
+
+    def _packed_anchor(self) -> np.ndarray:
+        """The anchor poses (`_anchor`) as kernels.static_contact_wrench takes them (2, 12):
+        r, then the rotation matrix by rows, per body; NaN before the first accepted
+        state. Packed again only when the anchor changes."""
+        held = self._packed
+        if held is None or held[0] is not self._anchor:
+            packed = np.full((2, 12), np.nan)
+            if self._anchor is not None:
+                for k, (r0, rot0) in enumerate(self._anchor):
+                    packed[k, :3], packed[k, 3:] = r0, np.asarray(rot0).ravel()
+            held = self._packed = (self._anchor, packed)
+        return held[1]
 
     def _static_slip(self, view: StateView, gap: Gap) -> np.ndarray:
         """Tangential slip (m, global) of body 1 on body 2 at the contact point since the last

@@ -47,6 +47,7 @@ __all__ = [
     "contact_tangent",
     "contact_wrench",
     "gap",
+    "static_contact_wrench",
 ]
 
 SPHERE_PLANE, SPHERE_IN_SPHERE, CYLINDER_IN_CYLINDER, CIRCLE_PROFILE = 0, 1, 2, 3
@@ -266,6 +267,58 @@ def contact_wrench(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, F, N
         F[b2, c] -= f[c]
     _cross_add(a1, f, 1.0, N[b1])
     _cross_add(a2, f, -1.0, N[b2])
+
+
+@njit(**_JIT)
+def static_contact_wrench(
+    kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, mu, anchor, threshold, F, N
+):
+    """The wrench of a contact with friction in a static evaluation (no velocities): the
+    normal force, and the friction mu F_N opposing the tangential slip of body 1 on body 2
+    at the contact point since the accepted state whose poses `anchor` (2, 12) holds
+    (per body: r (3), then its rotation matrix by rows; rows of NaN: none yet, no slip),
+    regularised over `threshold` (m) as mechlib.elements.regularize.coulomb_vector."""
+    gp = np.empty(GAP_SIZE)
+    cf = np.empty(6)
+    gap(kind, x, xd, b1, b2, g, gp)
+    contact_force(law, lp, friction, fp, g[9], gp, approach, cf)
+    normal = cf[0]
+    force = cf[2:5].copy()
+    if normal > 0.0:
+        slip = np.zeros(3)
+        if not math.isnan(anchor[0, 0]):
+            conj, d, local = np.empty(4), np.empty(3), np.empty(3)
+            for k in range(2):
+                b, sign = (b1, -1.0) if k == 0 else (b2, 1.0)
+                conj[0] = x[b, 3]
+                for c in range(3):
+                    conj[1 + c] = -x[b, 4 + c]
+                    d[c] = gp[4 + c] - x[b, c]
+                _rot(conj, d, local)  # the contact point in body b's axes
+                for c in range(3):  # where it was at the anchor: r0 + R0 local
+                    then = anchor[k, c]
+                    for j in range(3):
+                        then += anchor[k, 3 + 3 * c + j] * local[j]
+                    slip[c] += sign * then
+            along = slip[0] * gp[1] + slip[1] * gp[2] + slip[2] * gp[3]
+            for c in range(3):
+                slip[c] -= along * gp[1 + c]
+        size = math.sqrt(slip[0] ** 2 + slip[1] ** 2 + slip[2] ** 2)
+        s = size / threshold
+        if s < 1.0:
+            scale = 0.5 * (3.0 - s * s) / threshold
+        else:
+            scale = 1.0 / size if size > 0.0 else 0.0
+        for c in range(3):
+            force[c] = normal * gp[1 + c] - mu * normal * (slip[c] * scale)
+    arm1, arm2 = np.empty(3), np.empty(3)
+    for c in range(3):
+        F[b1, c] += force[c]
+        F[b2, c] -= force[c]
+        arm1[c] = gp[4 + c] - x[b1, c]
+        arm2[c] = gp[4 + c] - x[b2, c]
+    _cross_add(arm1, force, 1.0, N[b1])
+    _cross_add(arm2, force, -1.0, N[b2])
 
 
 @njit(**_JIT)

@@ -222,3 +222,51 @@ def test_profile_contact_wrench_compiled_equals_its_forces() -> None:
     for b, sign in ((b1, 1.0), (b2, -1.0)):
         moment = np.cross(f.gap.point - view.kin.r[b], sign * f.force)
         np.testing.assert_allclose(N[b], moment, atol=1e-9 * scale)
+
+
+@pytest.mark.parametrize("geometry", ["sphere_plane", "profile"])
+@pytest.mark.parametrize("slip", [0.0, 3e-7, 5e-6])
+def test_static_friction_wrench_compiled_equals_its_forces(geometry: str, slip: float) -> None:
+    """A contact with friction in a static evaluation (no velocities): its compiled wrench
+    (kernels.static_contact_wrench) is its force from Contact.forces -- the normal force
+    and mu F_N against the tangential slip of the contact point since the accepted state
+    (committed here), regularised below slip_threshold 1e-6 m -- on body 1 at the contact
+    point, the opposite on body 2, with their moments (1e-12 relative); none before the
+    first accepted state."""
+    from mechlib.contact import Contact, CoulombFriction, ImpactLaw, SpherePlane
+
+    m = ml.Mechanism(name="rest", gravity=(0.0, 0.0, 0.0))
+    m.add_body("r", mass=1.0, cm=(0.02, 0.1, 0.0), inertia=[1, 1, 1])
+    m.add_body("p", mass=1.0, cm=(0.0, 0.05, 0.01), inertia=[1, 1, 1])
+    if geometry == "profile":
+        angles = np.linspace(0.2, 2.6, 9)
+        points = np.column_stack((0.08 * np.cos(angles), 0.05 + 0.08 * np.sin(angles), 0 * angles))
+        shape = CircleProfile((0.0, 0.1395, 0.0), 0.01, points, (0, 0, 1))
+    else:
+        shape = SpherePlane((0.0, 0.1395, 0.0), 0.01, (0.0, 0.13, 0.0), (0.0, 1.0, 0.0))
+    contact = Contact("c", ("r", "p"), shape, ImpactLaw(1e7, 1.5, 1e3, 1e-4), CoulombFriction(0.3))
+    m.add_force(contact)
+    system = ml.System(m)
+    q = system.design_q().copy()
+    q[3:7] = [math.cos(0.01), 0.0, 0.0, math.sin(0.01)]  # body r turned 20 mrad about z
+    b1, b2 = system.body_index("r"), system.body_index("p")
+    for anchored in (False, True):
+        if anchored:
+            contact.commit(system.view(system.kin(q, None, 0.0)))
+            q = q.copy()
+            q[0] += slip  # body r slides along x (tangential) since the accepted state
+            q[1] -= 2e-5  # and presses in
+        view = system.view(system.kin(q, None, 0.0))
+        F, N = np.zeros((3, 3)), np.zeros((3, 3))
+        contact.apply(view, F, N)
+        f = contact.forces(view)
+        assert f.normal > 0.0
+        assert anchored or f.friction == 0.0  # no accepted state yet: no slip
+        scale = np.abs(f.force).max()
+        np.testing.assert_allclose(F[b1], f.force, rtol=0, atol=1e-12 * scale)
+        np.testing.assert_allclose(F[b2], -f.force, rtol=0, atol=1e-12 * scale)
+        for b, sign in ((b1, 1.0), (b2, -1.0)):
+            moment = np.cross(f.gap.point - view.kin.r[b], sign * f.force)
+            np.testing.assert_allclose(N[b], moment, rtol=0, atol=1e-12 * scale)
+    if slip > 1e-6:  # beyond the threshold: the full mu F_N
+        assert f.friction == pytest.approx(0.3 * f.normal, rel=1e-12)
