@@ -46,6 +46,7 @@ __all__ = [
     "load_set_cases",
     "parse_key_path",
     "validate_files",
+    "validate_set",
 ]
 
 _KEY_PART = re.compile(r"([^.\[\]]+)|\[(\d+)\]")
@@ -380,9 +381,18 @@ def _validate_one(path: str, done: set[str]) -> list[Diagnostic]:
         return list(load_mechanism(path).warnings)
     if kind == "case":
         return list(load_case(path).warnings)
+    return validate_set(path, done)[2]
+
+
+def validate_set(
+    path: str | Path, done: set[str] | None = None
+) -> tuple[SetFile, list[CaseFile], list[Diagnostic]]:
+    """A set file (InputError if it cannot be loaded), its case files that load (those in
+    `done` skipped, `load_set_cases`) and every diagnostic of the set and of its cases."""
     set_file = load_set(path)
     cases, found = load_set_cases(set_file, done)
-    return [*set_file.warnings, *found, *check_set_cases(set_file.model, set_file.locator, cases)]
+    checks = check_set_cases(set_file.model, set_file.locator, cases)
+    return set_file, cases, [*set_file.warnings, *found, *checks]
 
 
 def load_set_cases(

@@ -8,10 +8,9 @@ from pathlib import Path
 
 from loadcases.build.model import build_mechanism
 from loadcases.build.precheck import case_problems, set_problems
-from loadcases.checks.sets import check_set_cases
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.kinds import file_kind, unknown_kind
-from loadcases.inputs.loader import load_case, load_mechanism, load_set, load_set_cases
+from loadcases.inputs.loader import load_case, load_mechanism, validate_set
 from loadcases.sets.specs import compile_set
 
 __all__ = ["file_problems"]
@@ -43,13 +42,7 @@ def file_problems(path: str | Path) -> list[Diagnostic]:
 def _set_file_problems(path: str | Path) -> list[Diagnostic]:
     """A set's diagnostics and those of its case files; the run checks of every case once
     the files load without error."""
-    set_file = load_set(path)
-    cases, found = load_set_cases(set_file)
-    found = [
-        *set_file.warnings,
-        *found,
-        *check_set_cases(set_file.model, set_file.locator, cases),
-    ]
+    set_file, cases, found = validate_set(path)
     if any(d.severity == "error" for d in found):
         return found
     try:

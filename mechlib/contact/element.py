@@ -27,8 +27,7 @@ import numpy as np
 from mechlib.contact import kernels
 from mechlib.contact.friction import NO_FRICTION
 from mechlib.contact.geometry import Gap
-from mechlib.elements.regularize import StaticSlipAnchor, at_rest, coulomb_vector
-from mechlib.rotation import cross
+from mechlib.elements.regularize import StaticSlipAnchor, at_rest
 from mechlib.view import StateView
 
 __all__ = ["Contact", "ContactForces"]
@@ -81,10 +80,10 @@ class Contact(StaticSlipAnchor):
     # (time, approach) at every accepted state: outputs are read after the solve, and a
     # recorded state must see the approach speed the integrator used for it
     _history: tuple[list, list] = field(default_factory=lambda: ([], []), repr=False)
-    # poses (r, R) of bodies 1 and 2 at the last accepted state: the slip of a static
-    # (quasi-static) evaluation is measured from there
-    _anchor: tuple | None = field(default=None, repr=False)
-    _packed: tuple | None = field(default=None, repr=False)  # (anchor, _packed_anchor())
+    # poses of bodies 1 and 2 at the last accepted state, per body r then its rotation matrix
+    # by rows (NaN: none yet): the slip of a static (quasi-static) evaluation is measured
+    # from there (kernels.static_contact_wrench)
+    _anchor: np.ndarray = field(default_factory=lambda: np.full((2, 12), np.nan), repr=False)
     slip_threshold: float = 1.0e-6  # m: static slip of full friction
 
     def bind(self, system) -> None:
@@ -95,7 +94,7 @@ class Contact(StaticSlipAnchor):
         self._nb = system.nb
         # the primitives: (kind, b1, b2, g, law, law parameters, friction, its parameters)
         self._kernel: _Kernel | None = None
-        self._profile_kernel: _Kernel | None = None
+        self._wrench: _Kernel | None = None  # the gap and wrench's (`_wrench_kernel`)
         if hasattr(self.geometry, "kernel"):
             b1, b2, kind, g = self.geometry.kernel()
             self._kernel = (kind, b1, b2, g, *self._laws)
@@ -114,42 +113,33 @@ class Contact(StaticSlipAnchor):
         kernels.contact_force(
             *self._laws, float(self.geometry.radius), packed, float(approach), out
         )
-        normal = float(out[0])
-        if self.friction is not None and normal > 0.0 and at_rest(view):
-            direction = coulomb_vector(self._static_slip(view, gap), self.slip_threshold)
-            friction = self.friction.mu_dynamic * normal * direction
-            return ContactForces(
-                normal, float(np.linalg.norm(friction)), normal * gap.normal - friction, 0.0, gap
-            )
-        return ContactForces(normal, float(out[1]), out[2:5], float(out[5]), gap)
+        if self.friction is not None and out[0] > 0.0 and at_rest(view):
+            kernels.static_contact_force(
+                *self._wrench_kernel(), float(approach), view.kin.x, view.kin.xd,
+                *self._static_friction(), out,
+            )  # fmt: skip
+        return ContactForces(float(out[0]), float(out[1]), out[2:5], float(out[5]), gap)
 
-    def _wrench_kernel(self) -> _Kernel | None:
-        """The compiled wrench's arguments: a primitive's (also its tangent's), or a
-        profile's once its spline is built (its tangent is the integrator's difference)."""
-        if self._kernel is not None:
-            return self._kernel
-        if self._profile_kernel is None and hasattr(self.geometry, "compiled"):
+    def _wrench_kernel(self) -> _Kernel:
+        """The compiled gap and wrench's arguments (a profile's once its spline is built)."""
+        if self._wrench is None:
             b1, b2, kind, g = self.geometry.compiled()
-            self._profile_kernel = (kind, b1, b2, g, *self._laws)
-        return self._profile_kernel
+            self._wrench = (kind, b1, b2, g, *self._laws)
+        return self._wrench
+
+    def _static_friction(self) -> tuple[float, np.ndarray, float]:
+        """(mu, anchor poses, slip threshold (m)) for the static friction kernels."""
+        assert self.friction is not None
+        return float(self.friction.mu_dynamic), self._anchor, float(self.slip_threshold)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        kernel = self._wrench_kernel()
-        if kernel is not None:
-            x, xd = view.kin.x, view.kin.xd
-            if self.friction is None or not at_rest(view):
-                kernels.contact_wrench(*kernel, self.approach, x, xd, F, N)
-                return
+        kernel, x, xd = self._wrench_kernel(), view.kin.x, view.kin.xd
+        if self.friction is None or not at_rest(view):
+            kernels.contact_wrench(*kernel, self.approach, x, xd, F, N)
+        else:
             kernels.static_contact_wrench(
-                *kernel, self.approach, x, xd, float(self.friction.mu_dynamic),
-                self._packed_anchor(), float(self.slip_threshold), F, N,
-            )  # fmt: skip
-            return
-        f = self.forces(view)
-        p = f.gap.point
-        for body, sign in ((self._b1, 1.0), (self._b2, -1.0)):
-            F[body] += sign * f.force
-            N[body] += cross(p - view.kin.r[body], sign * f.force)
+                *kernel, self.approach, x, xd, *self._static_friction(), F, N
+            )
 
     def tangent(self, view: StateView, K: np.ndarray, C: np.ndarray) -> None:
         """Add the stiffness -dQ/dq and damping -dQ/dqd (nq, nq) of the contact's
@@ -160,41 +150,14 @@ class Contact(StaticSlipAnchor):
             *self._kernel, self.approach, view.kin.x, view.kin.xd, self._nb, K, C
         )
 
-    def _packed_anchor(self) -> np.ndarray:
-        """The anchor poses (`_anchor`) as kernels.static_contact_wrench takes them (2, 12):
-        r, then the rotation matrix by rows, per body; NaN before the first accepted
-        state. Packed again only when the anchor changes."""
-        held = self._packed
-        if held is None or held[0] is not self._anchor:
-            packed = np.full((2, 12), np.nan)
-            if self._anchor is not None:
-                for k, (r0, rot0) in enumerate(self._anchor):
-                    packed[k, :3], packed[k, 3:] = r0, np.asarray(rot0).ravel()
-            held = self._packed = (self._anchor, packed)
-        return held[1]
-
-    def _static_slip(self, view: StateView, gap: Gap) -> np.ndarray:
-        """Tangential slip (m, global) of body 1 on body 2 at the contact point since the last
-        accepted state: static and quasi-static analyses have no velocities, so their
-        friction opposes the travel between consecutive equilibria (as joint_friction and
-        seal do). Zero before the first accepted state."""
-        if self._anchor is None:
-            return np.zeros(3)
-        then = []
-        for b, (r0, rot0) in zip((self._b1, self._b2), self._anchor):
-            local = view.rotation(b).T @ (gap.point - view.kin.r[b])
-            then.append(r0 + rot0 @ local)
-        slip = then[1] - then[0]  # (p - then_1) - (p - then_2)
-        return slip - (slip @ gap.normal) * gap.normal
-
     def commit(self, view: StateView) -> None:
         """Remember the poses of the two bodies (static slip) and the approach speed when a
         contact begins: while apart, the rate of the latest state; at the first state in
         contact, the rate interpolated to x = 0 between that state and the last one apart
         (the step across the impact is not resolved)."""
-        if self.friction is not None:
-            self._anchor = tuple(
-                (view.kin.r[b].copy(), view.rotation(b).copy()) for b in (self._b1, self._b2)
+        if self.friction is not None:  # a new array: recorded snapshots keep the old ones
+            self._anchor = np.array(
+                [np.r_[view.kin.r[b], view.rotation(b).ravel()] for b in (self._b1, self._b2)]
             )
         if not self.law.remembers:
             return

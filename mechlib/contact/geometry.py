@@ -83,6 +83,8 @@ class _Compiled:
         """(body 1, body 2, geometry code, parameters) for mechlib.contact.kernels."""
         return self._bound
 
+    compiled = kernel  # as CircleProfile.compiled: the gap and wrench kernels' arguments
+
     def gap(self, view) -> Gap:
         b1, b2, kind, g = self._bound
         out = np.empty(kernels.GAP_SIZE)

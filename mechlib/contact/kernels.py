@@ -47,6 +47,7 @@ __all__ = [
     "contact_tangent",
     "contact_wrench",
     "gap",
+    "static_contact_force",
     "static_contact_wrench",
 ]
 
@@ -60,18 +61,24 @@ _JIT: JitOptions = {"cache": True, "nogil": True}
 
 
 @njit(**_JIT)
-def _material_velocity(x, xd, b, point, out):
-    """Velocity (m/s, global) of the material point of body b now at `point` (global, m):
-    rd + B(p, s) pd with s = A(p)^T (point - r) (A(p)^T = A of the conjugate)."""
+def _body_vector(x, b, point, out):
+    """out = A(p)^T (point - r): the global `point` (m) in body b's axes, from its cm (A(p)^T
+    = A of the conjugate)."""
     d = np.empty(3)
     conj = np.empty(4)
-    s = np.empty(3)
-    for c in range(3):
-        d[c] = point[c] - x[b, c]
     conj[0] = x[b, 3]
     for c in range(3):
+        d[c] = point[c] - x[b, c]
         conj[1 + c] = -x[b, 4 + c]
-    _rot(conj, d, s)
+    _rot(conj, d, out)
+
+
+@njit(**_JIT)
+def _material_velocity(x, xd, b, point, out):
+    """Velocity (m/s, global) of the material point of body b now at `point` (global, m):
+    rd + B(p, s) pd with s = A(p)^T (point - r)."""
+    s = np.empty(3)
+    _body_vector(x, b, point, s)
     _brot(x[b, 3:], xd[b, 3:], s, out)
     for c in range(3):
         out[c] += xd[b, c]
@@ -166,7 +173,7 @@ def _profile_gap(x, b2, g, e, origin, point, out):
     for c in range(3):
         conj[1 + c] = -x[b2, 4 + c]
     local = np.empty(3)
-    _rot(conj, e, local)  # the roller centre in body-2 axes
+    _rot(conj, e, local)  # the roller centre in body-2 axes (from the origin, not the cm)
     w = np.empty(2)
     for j in range(2):
         w[j] = local[0] * g[11 + j] + local[1] * g[13 + j] + local[2] * g[15 + j]
@@ -262,6 +269,12 @@ def contact_wrench(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, F, N
     body 1 at the contact point, -force on body 2 at the same point."""
     f, a1, a2 = np.empty(3), np.empty(3), np.empty(3)
     _wrench(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, f, a1, a2)
+    _add_wrench(b1, b2, f, a1, a2, F, N)
+
+
+@njit(**_JIT)
+def _add_wrench(b1, b2, f, a1, a2, F, N):
+    """+f on body 1 and -f on body 2 (N, global) with arms a1, a2 (m) from their cms."""
     for c in range(3):
         F[b1, c] += f[c]
         F[b2, c] -= f[c]
@@ -270,55 +283,75 @@ def contact_wrench(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, F, N
 
 
 @njit(**_JIT)
+def _static_force(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, mu, anchor,
+                  threshold, gp, out):  # fmt: skip
+    """The gap `gp` and forces `out` (6,) as contact_force gives them, of a contact with
+    friction in a static evaluation (no velocities): the friction mu F_N opposes the
+    tangential slip of body 1 on body 2 at the contact point since the accepted state
+    whose poses `anchor` (2, 12) holds (per body: r (3), then its rotation matrix by rows;
+    rows of NaN: none yet, no slip), regularised over `threshold` (m) as
+    mechlib.elements.regularize.coulomb_vector."""
+    gap(kind, x, xd, b1, b2, g, gp)
+    contact_force(law, lp, friction, fp, g[9], gp, approach, out)
+    normal = out[0]
+    if normal <= 0.0:
+        return
+    slip = np.zeros(3)
+    if not math.isnan(anchor[0, 0]):
+        local = np.empty(3)
+        for k in range(2):
+            b, sign = (b1, -1.0) if k == 0 else (b2, 1.0)
+            _body_vector(x, b, gp[4:7], local)  # the contact point in body b's axes
+            for c in range(3):  # where it was at the anchor: r0 + R0 local
+                then = anchor[k, c]
+                for j in range(3):
+                    then += anchor[k, 3 + 3 * c + j] * local[j]
+                slip[c] += sign * then
+        along = slip[0] * gp[1] + slip[1] * gp[2] + slip[2] * gp[3]
+        for c in range(3):
+            slip[c] -= along * gp[1 + c]
+    size = math.sqrt(slip[0] ** 2 + slip[1] ** 2 + slip[2] ** 2)
+    s = size / threshold
+    if s < 1.0:
+        scale = 0.5 * (3.0 - s * s) / threshold
+    else:
+        scale = 1.0 / size if size > 0.0 else 0.0
+    magnitude = 0.0
+    for c in range(3):
+        tangential = mu * normal * (slip[c] * scale)
+        out[2 + c] = normal * gp[1 + c] - tangential
+        magnitude += tangential * tangential
+    out[1] = math.sqrt(magnitude)
+    out[5] = 0.0
+
+
+@njit(**_JIT)
+def static_contact_force(kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, mu, anchor,
+                         threshold, out):  # fmt: skip
+    """out (6,) = [normal force, friction magnitude, force on body 1 (3), sliding speed 0]
+    of a contact with friction in a static evaluation (`_static_force`)."""
+    gp = np.empty(GAP_SIZE)
+    _static_force(
+        kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, mu, anchor, threshold, gp, out
+    )
+
+
+@njit(**_JIT)
 def static_contact_wrench(
     kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, mu, anchor, threshold, F, N
 ):
-    """The wrench of a contact with friction in a static evaluation (no velocities): the
-    normal force, and the friction mu F_N opposing the tangential slip of body 1 on body 2
-    at the contact point since the accepted state whose poses `anchor` (2, 12) holds
-    (per body: r (3), then its rotation matrix by rows; rows of NaN: none yet, no slip),
-    regularised over `threshold` (m) as mechlib.elements.regularize.coulomb_vector."""
+    """Add the force of a contact with friction in a static evaluation (`_static_force`)
+    to F and its moments about the cms to N, as contact_wrench does."""
     gp = np.empty(GAP_SIZE)
-    cf = np.empty(6)
-    gap(kind, x, xd, b1, b2, g, gp)
-    contact_force(law, lp, friction, fp, g[9], gp, approach, cf)
-    normal = cf[0]
-    force = cf[2:5].copy()
-    if normal > 0.0:
-        slip = np.zeros(3)
-        if not math.isnan(anchor[0, 0]):
-            conj, d, local = np.empty(4), np.empty(3), np.empty(3)
-            for k in range(2):
-                b, sign = (b1, -1.0) if k == 0 else (b2, 1.0)
-                conj[0] = x[b, 3]
-                for c in range(3):
-                    conj[1 + c] = -x[b, 4 + c]
-                    d[c] = gp[4 + c] - x[b, c]
-                _rot(conj, d, local)  # the contact point in body b's axes
-                for c in range(3):  # where it was at the anchor: r0 + R0 local
-                    then = anchor[k, c]
-                    for j in range(3):
-                        then += anchor[k, 3 + 3 * c + j] * local[j]
-                    slip[c] += sign * then
-            along = slip[0] * gp[1] + slip[1] * gp[2] + slip[2] * gp[3]
-            for c in range(3):
-                slip[c] -= along * gp[1 + c]
-        size = math.sqrt(slip[0] ** 2 + slip[1] ** 2 + slip[2] ** 2)
-        s = size / threshold
-        if s < 1.0:
-            scale = 0.5 * (3.0 - s * s) / threshold
-        else:
-            scale = 1.0 / size if size > 0.0 else 0.0
-        for c in range(3):
-            force[c] = normal * gp[1 + c] - mu * normal * (slip[c] * scale)
-    arm1, arm2 = np.empty(3), np.empty(3)
+    out = np.empty(6)
+    _static_force(
+        kind, b1, b2, g, law, lp, friction, fp, approach, x, xd, mu, anchor, threshold, gp, out
+    )
+    f, a1, a2 = out[2:5].copy(), np.empty(3), np.empty(3)
     for c in range(3):
-        F[b1, c] += force[c]
-        F[b2, c] -= force[c]
-        arm1[c] = gp[4 + c] - x[b1, c]
-        arm2[c] = gp[4 + c] - x[b2, c]
-    _cross_add(arm1, force, 1.0, N[b1])
-    _cross_add(arm2, force, -1.0, N[b2])
+        a1[c] = gp[4 + c] - x[b1, c]
+        a2[c] = gp[4 + c] - x[b2, c]
+    _add_wrench(b1, b2, f, a1, a2, F, N)
 
 
 @njit(**_JIT)
