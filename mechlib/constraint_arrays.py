@@ -413,10 +413,17 @@ def constraint_rows(x, ints, floats, functions, refs, full, rows):
     filled only in the column blocks of each row's bodies and ground's (the rest of `rows`
     is left as it was: read it with `times` and `transpose_times`). Returns (active rows,
     row bodies) of the pack."""
+    return unpacked_rows(x, unpack(ints, floats), functions, refs, full, rows)
+
+
+@njit(cache=True, nogil=True)
+def unpacked_rows(x, packed, functions, refs, full, rows):
+    """`constraint_rows` of the pack unpacked once (`unpack`: a loop of Newton
+    iterations unpacks it once, not at every iteration)."""
     (
         nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
         ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, row_bodies,
-    ) = unpack(ints, floats)  # fmt: skip
+    ) = packed  # fmt: skip
     g = 7 * nb
     for r in range(full.shape[0]):
         if row_bodies[r, 0] == _DENSE:
@@ -479,10 +486,16 @@ def times(rows, active, row_bodies, v, out):
 def nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma):
     """The right sides of phi_q qd = nu and phi_q qdd = gamma of the active rows at (x, xd)
     (mechlib.constraints, mechlib.coordinates: the same formulas)."""
+    unpacked_nu_and_gamma(x, xd, unpack(ints, floats), functions, refs, nu, gamma)
+
+
+@njit(cache=True, nogil=True)
+def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
+    """`nu_and_gamma` of the pack unpacked once (`unpack`)."""
     (
         nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
         ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, _,
-    ) = unpack(ints, floats)  # fmt: skip
+    ) = packed  # fmt: skip
     ns, n1, n2 = 3 * sbi.shape[0], d1i.shape[0], d2i.shape[0]
     first = nb + ns + n1 + n2
     full = np.zeros(first + linear.shape[0])
@@ -519,39 +532,48 @@ def nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma):
 
 
 @njit(cache=True, nogil=True)
-def scaled_rows(qs, ints, floats, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, jacs, grads):
-    """Per state q of `qs` (n, 7 nb): the active constraint rows scaled per column by
-    `scale` and each to unit length (jacs (n, m, 7 nb): zero rows stay zero), and the
-    gradients of the given measures (angles, then travels) scaled the same way, as columns
-    (grads (n, 7 nb, measures)): what mechlib.singularity measures at each recorded row."""
-    n, nq = qs.shape
+def scaled_row(q, ints, floats, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, work, jac, grad):
+    """At state q (7 nb,): the active constraint rows scaled per column by `scale` and each
+    to unit length (jac (m, 7 nb): zero rows stay zero), and the gradients of the given
+    measures (angles, then travels) scaled the same way, as columns (grad (7 nb,
+    measures)): what mechlib.singularity measures at a recorded row. `work`: `row_work`'s
+    arrays, reused from row to row."""
+    full, rows, measures, values, measure_refs, refs, functions = work
+    nq = q.shape[0]
     nb = nq // 7
-    m = jacs.shape[1]
-    na, nt = ai.shape[0] // 2, ti.shape[0]
-    ne = ints[6]
-    functions = np.zeros((ne, 3))
-    refs = np.zeros(ints[4])
-    phi = np.empty(m)
-    jac = np.empty((m, nq))
-    values = np.empty(na + nt)
-    rows = np.empty((na + nt, 7 * (nb + 1)))
-    zero_refs = np.zeros(na)
-    for r in range(n):
-        x, _ = state_arrays(qs[r], qs[r], nb)
-        phi_and_jacobian(x, ints, floats, functions, refs, phi, jac)
-        for i in range(m):
-            norm = 0.0
+    x, _ = state_arrays(q, q, nb)
+    active, _ = constraint_rows(x, ints, floats, functions, refs, full, rows)
+    for i in range(active.shape[0]):
+        r = active[i]
+        norm = 0.0
+        for j in range(nq):
+            v = rows[r, j] * scale[j]
+            jac[i, j] = v
+            norm += v * v
+        if norm > 0.0:
+            reciprocal = 1.0 / math.sqrt(norm)
             for j in range(nq):
-                v = jac[i, j] * scale[j]
-                jacs[r, i, j] = v
-                norm += v * v
-            norm = math.sqrt(norm)
-            if norm > 0.0:
-                for j in range(nq):
-                    jacs[r, i, j] /= norm
-        if na + nt:
-            rows[:, :] = 0.0
-            measure_rows(x, ai, aj, au, av, ti, tj, tv, tsi, tsj, zero_refs, values, rows)
-            for c in range(na + nt):
-                for j in range(nq):
-                    grads[r, j, c] = rows[c, j] * scale[j]
+                jac[i, j] *= reciprocal
+    if values.shape[0]:
+        measures[:, :] = 0.0
+        measure_rows(x, ai, aj, au, av, ti, tj, tv, tsi, tsj, measure_refs, values, measures)
+        for c in range(values.shape[0]):
+            for j in range(nq):
+                grad[j, c] = measures[c, j] * scale[j]
+
+
+def row_work(ints: np.ndarray, nq: int, angles: int, travels: int) -> tuple:
+    """Work arrays of `scaled_row` for a pack (`ConstraintArrays.packed`'s ints) and the
+    numbers of angle and travel measures: the rows start at zero (`constraint_rows`
+    fills only their bodies' blocks)."""
+    nb, ns, n1, n2, ne = ints[0], ints[1], ints[2], ints[3], ints[6]
+    nall = nb + 3 * ns + n1 + n2 + ne
+    return (
+        np.zeros(nall),
+        np.zeros((nall, nq + 7)),
+        np.zeros((angles + travels, nq + 7)),
+        np.zeros(angles + travels),
+        np.zeros(angles),
+        np.zeros(ints[4]),
+        np.zeros((ne, 3)),
+    )

@@ -70,10 +70,11 @@ def newton(
     full = np.empty(nall)
     rows = np.empty((nall, nq + 7))  # each iteration fills its rows' blocks only
     res = np.empty(nq + m)
+    packed = ca.unpack(ints, floats)
     done = 0
     while True:
         x, xd = ca.state_arrays(q1, qd1, nb)
-        active, row_bodies = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)
+        active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
         _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, res)
         for j in range(nq):
             res[j] = -res[j] / bp
@@ -97,8 +98,8 @@ def newton(
             noise = math.sqrt(acc / nq) <= noise_position
         if (eta * size <= kappa and size < 1.0) or size < 1e-10 or noise:
             _true_acceleration(
-                q1, qd1, qdd1, lam1, rows, active, row_bodies, ints, floats, functions, refs,
-                body, fi, ff, true,
+                q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body,
+                fi, ff, true,
             )  # fmt: skip
             am, af = params[8], params[9]
             for j in range(nq):
@@ -111,17 +112,17 @@ def newton(
 
 @njit(cache=True, nogil=True)
 def _true_acceleration(
-    q1, qd1, qdd1, lam1, rows, active, row_bodies, ints, floats, functions, refs, body, fi, ff,
-    out,
+    q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, fi, ff, out
 ):  # fmt: skip
     """(qd, qdd, lam) on all three constraint levels, stacked into `out`, by two
     corrections with the iteration matrix (mechlib.genalpha.Integrator._true_acceleration;
-    `rows`: phi_q of the last iterate, as `constraint_rows` left them)."""
+    `rows`: phi_q of the last iterate, as `constraint_rows` left them; `packed`: the
+    constraints unpacked, mechlib.constraint_arrays.unpack)."""
     nq, m = q1.shape[0], lam1.shape[0]
     nb = nq // 7
     x, xd = ca.state_arrays(q1, qd1, nb)
     nu, gamma, product = np.empty(m), np.empty(m), np.empty(m)
-    ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
+    ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
     rhs = np.zeros(nq + m)
     ca.times(rows, active, row_bodies, qd1, product)
     for i in range(m):
@@ -129,7 +130,7 @@ def _true_acceleration(
     fix = lu_solve(fi, ff, rhs)
     qd = qd1 + fix[:nq]
     x, xd = ca.state_arrays(q1, qd, nb)
-    ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
+    ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
     _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, rhs)
     ca.times(rows, active, row_bodies, qdd1, product)
     for i in range(m):

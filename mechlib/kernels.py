@@ -63,6 +63,11 @@ _JIT: JitOptions = {"cache": True, "nogil": True, "fastmath": False}
 
 
 @njit(**_JIT)
+def _dot3(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(**_JIT)
 def _rot(p, s, out):
     e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
     es = e1 * s[0] + e2 * s[1] + e3 * s[2]
@@ -202,7 +207,7 @@ def dot1_rate(x, xd, bi, bj, u, v, out):
         _rot(x[bj[k], 3:], v[k], b)
         _brot(x[bi[k], 3:], xd[bi[k], 3:], u[k], ad)
         _brot(x[bj[k], 3:], xd[bj[k], 3:], v[k], bd)
-        out[k] = np.dot(ad, b) + np.dot(a, bd)
+        out[k] = _dot3(ad, b) + _dot3(a, bd)
 
 
 @njit(**_JIT)
@@ -221,13 +226,12 @@ def dot1_gamma(x, xd, bi, bj, u, v, out):
         _brot(pj, wj, v[k], bd)
         _rot(wi, u[k], add)
         _rot(wj, v[k], bdd)
-        out[k] = -(2.0 * np.dot(add, b) + 2.0 * np.dot(ad, bd) + 2.0 * np.dot(a, bdd))
+        out[k] = -(2.0 * _dot3(add, b) + 2.0 * _dot3(ad, bd) + 2.0 * _dot3(a, bdd))
 
 
 @njit(**_JIT)
-def _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, rates):
+def _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, rates, tmp):
     pi, pj = x[bi[k], 3:], x[bj[k], 3:]
-    tmp = np.empty(3)
     _rot(pj, v[k], b)
     _rot(pi, si[k], d)
     _rot(pj, sj[k], tmp)
@@ -243,18 +247,18 @@ def _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, rates):
 
 @njit(**_JIT)
 def dot2_phi(x, bi, bj, v, si, sj, out):
-    b, d, bd, dd = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     for k in range(bi.shape[0]):
-        _dot2_parts(x, x, k, bi, bj, v, si, sj, b, d, bd, dd, False)
-        out[k] = np.dot(b, d)
+        _dot2_parts(x, x, k, bi, bj, v, si, sj, b, d, bd, dd, False, tmp)
+        out[k] = _dot3(b, d)
 
 
 @njit(**_JIT)
 def dot2_jac(x, bi, bj, v, si, sj, out):
-    b, d, bd, dd = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     m = np.empty((3, 4))
     for k in range(bi.shape[0]):
-        _dot2_parts(x, x, k, bi, bj, v, si, sj, b, d, bd, dd, False)
+        _dot2_parts(x, x, k, bi, bj, v, si, sj, b, d, bd, dd, False, tmp)
         ci, cj = 7 * bi[k], 7 * bj[k]
         for c in range(3):
             out[k, ci + c] += b[c]
@@ -272,23 +276,23 @@ def dot2_jac(x, bi, bj, v, si, sj, out):
 
 @njit(**_JIT)
 def dot2_rate(x, xd, bi, bj, v, si, sj, out):
-    b, d, bd, dd = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     for k in range(bi.shape[0]):
-        _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, True)
-        out[k] = np.dot(bd, d) + np.dot(b, dd)
+        _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, True, tmp)
+        out[k] = _dot3(bd, d) + _dot3(b, dd)
 
 
 @njit(**_JIT)
 def dot2_gamma(x, xd, bi, bj, v, si, sj, out):
-    b, d, bd, dd = np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     bdd, t1, t2 = np.empty(3), np.empty(3), np.empty(3)
     for k in range(bi.shape[0]):
-        _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, True)
+        _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, True, tmp)
         _rot(xd[bj[k], 3:], v[k], bdd)
         _rot(xd[bi[k], 3:], si[k], t1)
         _rot(xd[bj[k], 3:], sj[k], t2)
-        ddd = 2.0 * (np.dot(b, t1) - np.dot(b, t2))
-        out[k] = -(2.0 * np.dot(bdd, d) + 2.0 * np.dot(bd, dd) + ddd)
+        ddd = 2.0 * (_dot3(b, t1) - _dot3(b, t2))
+        out[k] = -(2.0 * _dot3(bdd, d) + 2.0 * _dot3(bd, dd) + ddd)
 
 
 @njit(**_JIT)
@@ -488,11 +492,6 @@ def spring_wrench(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preloa
     force = state[0] * state[2:5]
     point_force(x, b1, s1, -force, F, N)
     point_force(x, b2, s2, force, F, N)
-
-
-@njit(**_JIT)
-def _dot3(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 
 
 @njit(**_JIT)

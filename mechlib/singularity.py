@@ -31,9 +31,9 @@ import scipy.sparse as sp
 from scipy.linalg.lapack import dgetrf, dgetrs
 from scipy.sparse.linalg import splu
 
-from mechlib import kernels as kr
+from mechlib import constraint_arrays as ca
 from mechlib.check import Redundancy
-from mechlib.constraint_arrays import ConstraintArrays, measure_args, scaled_rows
+from mechlib.constraint_arrays import ConstraintArrays, measure_args, row_work
 from mechlib.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
 from mechlib.jit import njit
 from mechlib.system import System
@@ -48,6 +48,8 @@ _GRAM_FLOOR = 1e-14
 _DENSE_ROWS = 150  # up to this many equations a dense LU of J J^T is the faster one
 _BATCH_ROWS = 60  # up to this many equations, the rows of a run are measured in batches
 _BATCH_SIZE = 256  # rows per batch (bounds the memory of many coordinates, long runs)
+_RUN_ROWS = 4096  # rows per compiled call (it keeps one row's Jacobian at a time)
+_REASSOCIATE = {"reassoc", "contract"}  # sums in any order: vectorised loops
 _HELD = 1e-8  # sine of a coordinate the constraints hold exactly (round-off level)
 
 
@@ -267,10 +269,10 @@ def _walk(system: System, trajectory, bounds: bool) -> tuple[np.ndarray, np.ndar
     """Per recorded row: (lower, upper) bounds of the rank measure -- with `bounds`, from
     the trace and a diagonal of (J J^T)^-1 (`_rank_bounds`) for the rows measured in
     batches, else both the measure itself -- and the sines of the free coordinates. Rows
-    of up to _BATCH_ROWS equations are measured together (`_Batch`; their scaled rows and
-    gradients from one compiled call per batch where the system allows it:
-    mechlib.constraint_arrays), larger ones one by one (`_Position`, sparse and
-    warm-started)."""
+    of up to _BATCH_ROWS equations are measured together: in one compiled call per run of
+    rows with the same active equations where the system packs its constraints
+    (`_compiled_measures`), else in batches (`_Batch`); larger ones one by one
+    (`_Position`, sparse and warm-started)."""
     n = len(trajectory)
     ranks, highs, start = np.empty(n), np.empty(n), None
     sines = _Sines(n)
@@ -286,12 +288,13 @@ def _walk(system: System, trajectory, bounds: bool) -> tuple[np.ndarray, np.ndar
             batch.flush(ranks, highs, sines)
             active, free = system.active, _free_measures(system)
         if arrays is not None and 0 < system.active.size <= _BATCH_ROWS:
-            end = trajectory.same_active(i, _BATCH_SIZE - len(batch.rows))
-            batch.free = free if system.active.size < system.nq else []
-            qs = trajectory.stacked("q", i, end)
-            batch.extend(i, *_compiled_rows(arrays, qs, batch.free, scale))
-            if len(batch.rows) >= _BATCH_SIZE:
-                batch.flush(ranks, highs, sines)
+            end = trajectory.same_active(i, _RUN_ROWS)
+            row_free = free if system.active.size < system.nq else []
+            rows = np.arange(i, end)
+            ranks[rows], highs[rows], values = _compiled_measures(
+                arrays, trajectory.stacked("q", i, end), row_free, scale, bounds
+            )
+            sines.add(rows, [(joint, meas.kind) for joint, meas in row_free], values)
             i = end
             continue
         k = system.kin(trajectory.q[i], None, trajectory.time[i])
@@ -313,20 +316,48 @@ def _walk(system: System, trajectory, bounds: bool) -> tuple[np.ndarray, np.ndar
     return ranks, highs, sines
 
 
-def _compiled_rows(arrays: ConstraintArrays, qs: np.ndarray, free: list, scale: np.ndarray):
-    """(jacs (n, m, nq), grads (n, nq, c)) of the rows at states `qs`: the scaled unit
-    constraint rows and the free coordinates' scaled gradients, as `_unit_rows` and
-    `_gradients` give them, in one compiled call."""
+def _compiled_measures(
+    arrays: ConstraintArrays, qs: np.ndarray, free: list, scale: np.ndarray, bounds: bool
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(lows, highs, sines) of the rows at states `qs` (n, nq), in one compiled call: the
+    measures `_Batch` takes of the scaled unit constraint rows and the free coordinates'
+    scaled gradients, without keeping them (mechlib.constraint_arrays.scaled_row). sines
+    (n, coordinates): NaN where a coordinate has no gradient."""
     ints, floats = arrays.packed()
-    system = arrays.system
     angles = [m for _, m in free if isinstance(m, AngleMeasure)]
     travels = [m for _, m in free if isinstance(m, TravelMeasure)]
     measures = measure_args([m._sc for m in angles], 4) + measure_args([m._d for m in travels], 5)
     order = {id(m): c for c, m in enumerate([*angles, *travels])}
-    jacs = np.empty((len(qs), system.active.size, system.nq))
-    grads = np.empty((len(qs), system.nq, len(free)))
-    scaled_rows(np.ascontiguousarray(qs), ints, floats, scale, *measures, jacs, grads)  # type: ignore[call-arg]
-    return jacs, grads[:, :, [order[id(m)] for _, m in free]]
+    n, nq = qs.shape
+    work = row_work(ints, nq, len(angles), len(travels))
+    lows, highs = np.empty(n), np.empty(n)
+    shares, norms = np.empty((n, len(free))), np.empty((n, len(free)))
+    _rows_measures(
+        np.ascontiguousarray(qs), ints, floats, scale, measures, work, _GRAM_FLOOR, bounds,
+        lows, highs, shares, norms,
+    )  # fmt: skip
+    columns = [order[id(m)] for _, m in free]
+    return lows, highs, np.where(norms > 0.0, shares, np.nan)[:, columns]
+
+
+@njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
+def _rows_measures(
+    qs, ints, floats, scale, measures, work, floor, bounds, lows, highs, shares, norms
+):  # fmt: skip
+    """Per state of qs: `_row_measures` of its scaled unit rows and gradients
+    (mechlib.constraint_arrays.scaled_row) into lows, highs, shares and norms."""
+    ai, aj, au, av, ti, tj, tv, tsi, tsj = measures
+    nq = qs.shape[1]
+    m = ints[7]
+    jac, grad = np.zeros((m, nq)), np.zeros((nq, norms.shape[1]))
+    gram, inverse, column = np.empty((m, m)), np.empty((m, m)), np.empty((3, m))
+    for r in range(qs.shape[0]):
+        ca.scaled_row(
+            qs[r], ints, floats, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, work, jac, grad
+        )  # fmt: skip
+        lows[r], highs[r] = _row_measures(
+            jac, grad, floor, bounds, gram, inverse, column, shares[r], norms[r]
+        )
 
 
 def _gradients(system: System, k, free: list, scale: np.ndarray) -> np.ndarray:
@@ -374,57 +405,109 @@ class _Batch:
         self.rows, self.jacs, self.grads = [], [], []
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
 def _batch_measures(jacs, grads, floor, bounds, lows, highs, shares, norms):
-    """Per row i: the smallest singular value of the scaled Jacobian jacs[i] (m, nq) from
-    the eigenvalues of J J^T (1 without equations) into lows and highs -- with `bounds`,
-    bounds of it instead (`_rank_bounds`) -- and per free coordinate (gradient column of
-    grads[i] (nq, c)) its length and the part of it outside the span of the rows over that
-    length (J J^T floored by `floor` for the solve)."""
+    """`_row_measures` of each row i (its scaled Jacobian jacs[i] (m, nq), its free
+    coordinates' gradient columns grads[i] (nq, c)) into lows, highs, shares and norms."""
     n, m, _ = jacs.shape
-    c = grads.shape[2]
+    gram, inverse, column = np.empty((m, m)), np.empty((m, m)), np.empty((3, m))
     for i in range(n):
-        jac, grad = jacs[i], grads[i]
-        _column_norms(grad, norms[i])
-        if m == 0:
-            lows[i] = highs[i] = 1.0
-            shares[i, :] = 1.0
-            continue
-        gram = jac @ jac.T
-        if not bounds:
-            lows[i] = highs[i] = math.sqrt(max(np.linalg.eigvalsh(gram)[0], 0.0))
+        lows[i], highs[i] = _row_measures(
+            jacs[i], grads[i], floor, bounds, gram, inverse, column, shares[i], norms[i]
+        )
+
+
+@njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
+def _row_measures(jac, grad, floor, bounds, gram, inverse, column, shares, norms):
+    """(low, high) of one row: the smallest singular value of the scaled Jacobian jac
+    (m, nq) from the eigenvalues of J J^T (1 without equations) -- with `bounds`, bounds
+    of it instead (`_rank_bounds`) -- and per free coordinate (gradient column of grad
+    (nq, c)) its length into norms and the part of it outside the span of the rows over
+    that length into shares (J J^T floored by `floor` for the solve). gram, inverse (m, m)
+    and column (3, m): work arrays."""
+    m, nq = jac.shape
+    _column_norms(grad, norms)
+    if m == 0:
+        shares[:] = 1.0
+        return 1.0, 1.0
+    for a in range(m):
+        for b in range(a + 1):
+            acc = 0.0
+            for j in range(nq):
+                acc += jac[a, j] * jac[b, j]
+            gram[a, b] = gram[b, a] = acc
+    if not bounds:
+        value = math.sqrt(max(np.linalg.eigvalsh(gram)[0], 0.0))
         for k in range(m):
             gram[k, k] += floor
-        if not bounds:
-            if c:
-                free = grad - jac.T @ np.linalg.solve(gram, jac @ grad)
-                _shares(free, norms[i], shares[i])
-            continue
-        ok, inverse = _lower_inverse(gram)
-        if not ok:  # measured exactly by the caller
-            lows[i], highs[i] = 0.0, 1.0
-            shares[i, :] = 1.0
-            continue
-        lows[i], highs[i] = _rank_bounds(inverse, floor)
-        if c:
-            _shares(grad - jac.T @ (inverse.T @ (inverse @ (jac @ grad))), norms[i], shares[i])
+        if grad.shape[1]:
+            free = grad - jac.T @ np.linalg.solve(gram, jac @ grad)
+            _shares(free, norms, shares)
+        return value, value
+    for k in range(m):
+        gram[k, k] += floor
+    if not _lower_inverse(gram, inverse):  # measured exactly by the caller
+        shares[:] = 1.0
+        return 0.0, 1.0
+    low, high = _rank_bounds(inverse, floor, column[0], column[1])
+    for c in range(grad.shape[1]):
+        _outside_share(jac, grad, c, inverse, column, norms, shares)
+    return low, high
 
 
-@njit(cache=True, nogil=True)
-def _rank_bounds(inverse, floor):
+@njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
+def _outside_share(jac, grad, c, inverse, work, norms, shares):
+    """shares[c] = the length of g - J^T G^-1 J g (g = grad[:, c], G^-1 = L^-T L^-1 from
+    inverse = L^-1, lower) over norms[c] (1 where that is 0); work (3, m)."""
+    m, nq = jac.shape
+    y, z = work[0], work[1]
+    for a in range(m):  # y = L^-1 J g
+        acc = 0.0
+        for j in range(nq):
+            acc += jac[a, j] * grad[j, c]
+        work[2, a] = acc
+    for a in range(m):
+        acc = 0.0
+        for b in range(a + 1):
+            acc += inverse[a, b] * work[2, b]
+        y[a] = acc
+    for b in range(m):  # z = L^-T y
+        acc = 0.0
+        for a in range(b, m):
+            acc += inverse[a, b] * y[a]
+        z[b] = acc
+    total = 0.0
+    for j in range(nq):
+        acc = grad[j, c]
+        for a in range(m):
+            acc -= jac[a, j] * z[a]
+        total += acc * acc
+    shares[c] = math.sqrt(total) / (norms[c] if norms[c] > 0.0 else 1.0)
+
+
+@njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
+def _rank_bounds(inverse, floor, diagonal, column):
     """(lower, upper) bounds of the smallest singular value of J from L^-1, the inverse
     Cholesky factor of G = J J^T + floor I (G^-1 = L^-T L^-1): lambda_min >= 1 /
     trace(G^-1), and lambda_min <= the Rayleigh quotient of G^-1 e_k for the k of G^-1's
-    largest diagonal entry (one step of inverse iteration), each less the floor."""
+    largest diagonal entry (one step of inverse iteration), each less the floor.
+    diagonal, column (m,): work arrays."""
     m = inverse.shape[0]
-    diagonal = np.zeros(m)  # of G^-1: the columns of L^-1 squared
+    diagonal[:] = 0.0  # of G^-1: the columns of L^-1 squared
     for a in range(m):
         for k in range(a + 1):
             diagonal[k] += inverse[a, k] * inverse[a, k]
     k = int(np.argmax(diagonal))
-    column = inverse.T @ np.ascontiguousarray(inverse[:, k])  # G^-1 e_k
+    for b in range(m):  # G^-1 e_k = L^-T (L^-1 e_k)
+        acc = 0.0
+        for a in range(max(b, k), m):
+            acc += inverse[a, b] * inverse[a, k]
+        column[b] = acc
+    squares = 0.0
+    for b in range(m):
+        squares += column[b] * column[b]
     low = math.sqrt(max(1.0 / diagonal.sum() - floor, 0.0))
-    return low, math.sqrt(max(diagonal[k] / (column @ column) - floor, 0.0))
+    return low, math.sqrt(max(diagonal[k] / squares - floor, 0.0))
 
 
 @njit(cache=True, nogil=True)
@@ -445,24 +528,40 @@ def _shares(free, norms, out):
         out[k] /= norms[k] if norms[k] > 0.0 else 1.0
 
 
-@njit(cache=True, nogil=True)
-def _lower_inverse(gram):
-    """(ok, L^-1) of the Cholesky factor L of `gram` (forward substitution on the
-    identity; numba has no triangular inverse); ok False where gram is not positive
-    definite or not finite."""
+@njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
+def _lower_inverse(gram, inverse):
+    """L^-1 into `inverse` (lower; its upper triangle left as it was) of the Cholesky
+    factor L of `gram`, which is overwritten with L in its lower triangle; False where
+    gram is not positive definite or not finite (then `inverse` is undefined). By rows,
+    with reciprocals of the pivots: no division in the loops."""
     m = gram.shape[0]
-    ok, low = kr.positive_cholesky(gram)
-    if not ok:
-        return False, gram
-    inverse = np.zeros((m, m))
     for k in range(m):
-        inverse[k, k] = 1.0 / low[k, k]
+        pivot = gram[k, k]
+        for p in range(k):
+            pivot -= gram[k, p] * gram[k, p]
+        if not pivot > 0.0 or not math.isfinite(pivot):
+            return False
+        pivot = math.sqrt(pivot)
+        gram[k, k] = pivot
+        reciprocal = 1.0 / pivot
+        inverse[k, k] = reciprocal
         for a in range(k + 1, m):
-            acc = 0.0
-            for b in range(k, a):
-                acc += low[a, b] * inverse[b, k]
-            inverse[a, k] = -acc / low[a, a]
-    return True, inverse
+            acc = gram[a, k]
+            for p in range(k):
+                acc -= gram[a, p] * gram[k, p]
+            if not math.isfinite(acc):
+                return False
+            gram[a, k] = acc * reciprocal
+    for a in range(1, m):  # row a of L^-1: -(sum over b < a of L[a, b] (L^-1)[b, :]) / L[a, a]
+        for k in range(a):
+            inverse[a, k] = 0.0
+        for b in range(a):
+            weight = gram[a, b]
+            for k in range(b + 1):
+                inverse[a, k] -= weight * inverse[b, k]
+        for k in range(a):
+            inverse[a, k] *= inverse[a, a]
+    return True
 
 
 class _Sines:
