@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 from bisect import bisect_right
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -112,12 +113,19 @@ class InitialBodyVelocity:
 
 
 def output_times(start: float, end: float, step: float) -> np.ndarray:
-    """Output grid start, start+step, ..., end (end always included)."""
+    """Output grid start, start+step, ..., end (end always included), read-only: the
+    grids of a campaign's runs are the same and made once per process."""
+    return _output_times(float(start), float(end), float(step))
+
+
+@functools.lru_cache(maxsize=64)
+def _output_times(start: float, end: float, step: float) -> np.ndarray:
     n = int(np.floor((end - start) / step + 1e-9))
     # rounded to 12 significant digits: 0.6, not 0.6000000000000001, in the results
     times = np.array([float(f"{start + step * i:.12g}") for i in range(n + 1)])
     if end - times[-1] > 1e-9 * max(step, 1.0):
         times = np.append(times, end)
+    times.flags.writeable = False
     return times
 
 

@@ -532,17 +532,17 @@ def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
 
 
 @njit(cache=True, nogil=True)
-def scaled_row(q, ints, floats, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, work, jac, grad):
+def scaled_row(q, packed, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, work, jac, grad):
     """At state q (7 nb,): the active constraint rows scaled per column by `scale` and each
     to unit length (jac (m, 7 nb): zero rows stay zero), and the gradients of the given
     measures (angles, then travels) scaled the same way, as columns (grad (7 nb,
-    measures)): what mechlib.singularity measures at a recorded row. `work`: `row_work`'s
-    arrays, reused from row to row."""
+    measures)): what mechlib.singularity measures at a recorded row. `packed`: the
+    constraints unpacked (`unpack`); `work`: `row_work`'s arrays, reused from row to row."""
     full, rows, measures, values, measure_refs, refs, functions = work
     nq = q.shape[0]
     nb = nq // 7
     x, _ = state_arrays(q, q, nb)
-    active, _ = constraint_rows(x, ints, floats, functions, refs, full, rows)
+    active, _ = unpacked_rows(x, packed, functions, refs, full, rows)
     for i in range(active.shape[0]):
         r = active[i]
         norm = 0.0

@@ -31,18 +31,24 @@ CONVERGED, STALLED = 1, 2
 
 
 @njit(cache=True, nogil=True)
-def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, out):
-    """out[:nq] = M qdd + phi_q^T lam - Q (gravity and velocity terms; no element)."""
+def _residual_work(nq):
+    """Work arrays of `_dynamic_residual`: its three products (3, nq), and no applied
+    forces or torques (nb + 1, 3)."""
+    return np.empty((3, nq)), np.zeros((nq // 7 + 1, 3))
+
+
+@njit(cache=True, nogil=True)
+def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, work, out):
+    """out[:nq] = M qdd + phi_q^T lam - Q (gravity and velocity terms; no element);
+    work: `_residual_work`'s arrays."""
     nq = qdd.shape[0]
     nb = nq // 7
     gravity, masses, pscale = body[:3], body[3 : 3 + nb], body[3 + nb : 3 + 2 * nb]
     inertia = body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
-    m_qdd = np.empty(nq)
+    products, none = work
+    m_qdd, forces, reactions = products[0], products[1], products[2]
     kr.mass_times(x, masses, inertia, pscale, qdd, m_qdd)
-    forces = np.empty(nq)
-    none = np.zeros((nb + 1, 3))
     kr.body_forces(x, xd, masses, inertia, gravity, none, none, True, forces)
-    reactions = np.empty(nq)
     ca.transpose_times(rows, active, row_bodies, lam, reactions)
     for j in range(nq):
         out[j] = m_qdd[j] + reactions[j] - forces[j]
@@ -71,11 +77,12 @@ def newton(
     rows = np.empty((nall, nq + 7))  # each iteration fills its rows' blocks only
     res = np.empty(nq + m)
     packed = ca.unpack(ints, floats)
+    work = _residual_work(nq)
     done = 0
     while True:
         x, xd = ca.state_arrays(q1, qd1, nb)
         active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
-        _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, res)
+        _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, work, res)
         for j in range(nq):
             res[j] = -res[j] / bp
         for i in range(m):
@@ -99,7 +106,7 @@ def newton(
         if (eta * size <= kappa and size < 1.0) or size < 1e-10 or noise:
             _true_acceleration(
                 q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body,
-                fi, ff, true,
+                work, fi, ff, true,
             )  # fmt: skip
             am, af = params[8], params[9]
             for j in range(nq):
@@ -112,12 +119,13 @@ def newton(
 
 @njit(cache=True, nogil=True)
 def _true_acceleration(
-    q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, fi, ff, out
+    q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, work, fi, ff,
+    out,
 ):  # fmt: skip
     """(qd, qdd, lam) on all three constraint levels, stacked into `out`, by two
     corrections with the iteration matrix (mechlib.genalpha.Integrator._true_acceleration;
     `rows`: phi_q of the last iterate, as `constraint_rows` left them; `packed`: the
-    constraints unpacked, mechlib.constraint_arrays.unpack)."""
+    constraints unpacked, mechlib.constraint_arrays.unpack; work: `_residual_work`'s)."""
     nq, m = q1.shape[0], lam1.shape[0]
     nb = nq // 7
     x, xd = ca.state_arrays(q1, qd1, nb)
@@ -131,7 +139,7 @@ def _true_acceleration(
     qd = qd1 + fix[:nq]
     x, xd = ca.state_arrays(q1, qd, nb)
     ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
-    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, rhs)
+    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, work, rhs)
     ca.times(rows, active, row_bodies, qdd1, product)
     for i in range(m):
         rhs[nq + i] = product[i] - gamma[i]

@@ -334,9 +334,16 @@ def _gt_times(p, y, sign, out):
 
 
 @njit(**_JIT)
+def _inertia_times(inertia, w, out):
+    """out (3) = inertia (3, 3) w, inline (numba's @ calls BLAS and allocates)."""
+    for a in range(3):
+        out[a] = inertia[a, 0] * w[0] + inertia[a, 1] * w[1] + inertia[a, 2] * w[2]
+
+
+@njit(**_JIT)
 def mass_times(x, masses, inertia, scale, vec, out):
     """out = M(q) vec; M_p = 4 G^T J' G + scale p p^T (the last term only fixes |p|)."""
-    w = np.empty(3)
+    w, jw = np.empty(3), np.empty(3)
     g4 = np.empty(4)
     for b in range(masses.shape[0]):
         o = 7 * b
@@ -344,7 +351,7 @@ def mass_times(x, masses, inertia, scale, vec, out):
             out[o + c] = masses[b] * vec[o + c]
         p = x[b, 3:]
         _g_times(p, vec[o + 3 : o + 7], w)
-        jw = inertia[b] @ w
+        _inertia_times(inertia[b], w, jw)
         _gt_times(p, jw, 1.0, g4)
         pv = p[0] * vec[o + 3] + p[1] * vec[o + 4] + p[2] * vec[o + 5] + p[3] * vec[o + 6]
         for d in range(4):
@@ -355,7 +362,7 @@ def mass_times(x, masses, inertia, scale, vec, out):
 def mass_blocks(x, masses, inertia, scale, out):
     """The diagonal blocks (nb, 7, 7) of M(q): m I for r, 4 G^T J' G + scale p p^T for p."""
     unit = np.zeros(4)
-    w = np.empty(3)
+    w, jw = np.empty(3), np.empty(3)
     g4 = np.empty(4)
     for b in range(masses.shape[0]):
         out[b] = 0.0
@@ -366,7 +373,8 @@ def mass_blocks(x, masses, inertia, scale, out):
             unit[:] = 0.0
             unit[d] = 1.0
             _g_times(p, unit, w)
-            _gt_times(p, inertia[b] @ w, 1.0, g4)
+            _inertia_times(inertia[b], w, jw)
+            _gt_times(p, jw, 1.0, g4)
             for e in range(4):
                 out[b, 3 + e, 3 + d] = 4.0 * g4[e] + scale[b] * p[e] * p[d]
 
@@ -387,7 +395,7 @@ def mass_matrix(x, masses, inertia, scale, out):
 def body_forces(x, xd, masses, inertia, gravity, F, N, with_inertia, out):
     """Q (nq): forces F and torques N (global, through the cm, gravity added here) and, with
     `with_inertia`, the quadratic velocity term -8 G(pd)^T J' G(p) pd."""
-    w = np.empty(3)
+    w, jw = np.empty(3), np.empty(3)
     g4 = np.empty(4)
     for b in range(masses.shape[0]):
         o = 7 * b
@@ -399,7 +407,9 @@ def body_forces(x, xd, masses, inertia, gravity, F, N, with_inertia, out):
             out[o + 3 + d] = 2.0 * g4[d]
         if with_inertia:
             _g_times(p, pd, w)
-            jw = inertia[b] @ (2.0 * w)
+            for c in range(3):
+                w[c] *= 2.0
+            _inertia_times(inertia[b], w, jw)
             _gt_times(pd, jw, 1.0, g4)
             for d in range(4):
                 out[o + 3 + d] -= 4.0 * g4[d]

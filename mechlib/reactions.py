@@ -100,9 +100,10 @@ def gathered_loads(qs, lams, ints, floats, refs, rows_of, starts, bodies, out):
     full = np.empty(nall)
     rows = np.zeros((nall, nq + 7))
     functions = np.zeros((ints[6], 3))
+    packed = ca.unpack(ints, floats)
     for i in range(n):
         x, _ = ca.state_arrays(qs[i], qs[i], nb)
-        active, row_bodies = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)
+        active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
         for g in range(bodies.shape[0]):
             b = bodies[g]
             out[i, g, :] = 0.0

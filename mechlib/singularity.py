@@ -351,10 +351,9 @@ def _rows_measures(
     m = ints[7]
     jac, grad = np.zeros((m, nq)), np.zeros((nq, norms.shape[1]))
     gram, inverse, column = np.empty((m, m)), np.empty((m, m)), np.empty((3, m))
+    packed = ca.unpack(ints, floats)
     for r in range(qs.shape[0]):
-        ca.scaled_row(
-            qs[r], ints, floats, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, work, jac, grad
-        )  # fmt: skip
+        ca.scaled_row(qs[r], packed, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, work, jac, grad)
         lows[r], highs[r] = _row_measures(
             jac, grad, floor, bounds, gram, inverse, column, shares[r], norms[r]
         )
