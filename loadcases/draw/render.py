@@ -32,6 +32,7 @@ _AXES = {"xy": (0, 1), "yz": (1, 2), "xz": (0, 2)}
 _SNAP_COS = np.cos(np.radians(15.0))
 _MAX_FRAMES = 60
 _GIF_FPS = 12
+_GRID = 1e-9  # m: axis limits and label anchors are drawn on this grid
 _LABEL_ITERATIONS = 200  # adjustText passes per picture (a count, not a time: reproducible)
 _COLOURS = (
     "tab:blue",
@@ -117,6 +118,8 @@ def _spread_labels(ax, texts: list, offsets: dict[str, np.ndarray] | None = None
     labels travel with their anchors instead of jumping), new ones are spread and added."""
     from adjustText import adjust_text
 
+    for t in texts:  # adjustText amplifies round-off into another picture: anchors on a grid
+        t.set_position(_on_grid(np.array(t.get_position(), float)))
     anchors = {id(t): np.array(t.get_position(), float) for t in texts}
     fresh = [t for t in texts if offsets is None or t.get_text() not in offsets]
     known = offsets if offsets is not None else {}
@@ -154,9 +157,14 @@ def _limits(traj: Trajectory, basis: np.ndarray) -> tuple[tuple[float, float], t
     shape = FIGURE_SIZE[0] / FIGURE_SIZE[1]  # width / height of the picture
     span = np.maximum(span, [span[1] * shape, span[0] / shape])
     return (
-        (centre[0] - span[0] / 2, centre[0] + span[0] / 2),
-        (centre[1] - span[1] / 2, centre[1] + span[1] / 2),
+        (float(_on_grid(centre[0] - span[0] / 2)), float(_on_grid(centre[0] + span[0] / 2))),
+        (float(_on_grid(centre[1] - span[1] / 2)), float(_on_grid(centre[1] + span[1] / 2))),
     )
+
+
+def _on_grid(values):
+    """Values (m) rounded to _GRID: a picture the same whatever the solver's round-off."""
+    return np.round(np.asarray(values, float) / _GRID) * _GRID
 
 
 def _figure(traj: Trajectory, view: str, *, steady_labels: bool = False):
