@@ -15,10 +15,14 @@ size more than 25 % away from the factored one) it factors [[M, phi_q^T], [phi_q
 step's predicted state, as the Python step does, with the kernel the Python path uses
 (mechlib.flat_lu.refactor: dense or band LU). For SuperLU's factors, or a matrix the kernel
 finds singular, it returns REFACTOR: `StepRun` factors it in Python (or fails the step as
-the Python step does) and calls it again for that step. It stops, leaving the state where it
-was, before any step that needs what only the Python stepper does: consistent accelerations
-at a new step size, a rejected step, Newton stalling, the step limit or a collapsing step
-size, a dense row the compiled projection gives back; and before recording a non-finite row.
+the Python step does) and calls it again for that step. At a new step size it takes the
+consistent accelerations as the Python step does (`_restart`: the saddle matrix at the
+step's start factored by the same kernel, into factors of its own; ctrl[RESTARTED] tells
+`StepRun` that the state it hands back has them). It stops, leaving the state where it was
+(but for those accelerations), before any step that needs what only the Python stepper
+does: consistent accelerations with SuperLU's factors or a singular matrix, a rejected
+step, Newton stalling, the step limit or a collapsing step size, a dense row the compiled
+projection gives back; and before recording a non-finite row.
 `march` then takes one step in Python and calls it again: the same steps, iterations and
 results as the Python loop to round-off (tests/mechlib/test_genalpha_run.py).
 """
@@ -31,11 +35,12 @@ import numpy as np
 
 from mechlib import constraint_arrays as ca
 from mechlib import genalpha_kernels as gk
+from mechlib import kernels as kr
 from mechlib.coordinates import AngleMeasure
 from mechlib.dense import PROJECTION
 from mechlib.dense_compiled import DONE, project_row, small_enough
 from mechlib.finite import all_finite
-from mechlib.flat_lu import SUPERLU, refactor
+from mechlib.flat_lu import SUPERLU, lu_solve, refactor
 from mechlib.genalpha_compiled import CONVERGED, newton
 from mechlib.jit import njit
 from mechlib.saddle import saddle_values
@@ -56,7 +61,8 @@ KAPPA, STAGNANT, NOISE, MAX_ITER, SLOW, ETA_MIN = 15, 16, 17, 18, 19, 20
 SAFETY, GROW, REGROW, ROUNDOFF, DENSE = 21, 22, 23, 24, 25
 FRESH, NEXT_H = 26, 27  # in: the matrix is new for the next step; out: that step's h
 REFACTORED = 28  # out: the iteration matrices factored in the call
-CTRL_SIZE = 29
+RESTARTED = 29  # out: consistent accelerations taken at a new step size (H_USED is that h)
+CTRL_SIZE = 30
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
 STEPS, REJECTED, ITERATIONS, ROW_JACOBIANS, ROW_FACTORS = 0, 1, 2, 3, 4
 
@@ -120,6 +126,7 @@ def run_steps(
     params[8], params[9] = ctrl[ALPHA_M], ctrl[ALPHA_F]
     kind, prow, pcol, place, brow, bcol = layout
     values = np.empty(prow.shape[0])
+    spare_i, spare_f = fi[:0].copy(), ff[:0].copy()  # the consistent accelerations' factors
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[T]
@@ -151,7 +158,18 @@ def run_steps(
             return STOPPED, i, written
         h_try = towards(target - t, ctrl[H]) if dense else substep(target - t, ctrl[H])
         if ctrl[H_USED] != 0.0 and abs(h_try / ctrl[H_USED] - 1.0) > 1e-9:
-            return STOPPED, i, written  # consistent accelerations at the new step size
+            # consistent accelerations at the new step size (GeneralizedAlphaStepper._attempt)
+            if kind < 0:
+                return STOPPED, i, written  # SuperLU's factors: Python's
+            if spare_i.shape[0] == 0:
+                spare_i, spare_f = fi.copy(), ff.copy()
+            if not _restart(
+                own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol,
+                values, place, brow, bcol, spare_i, spare_f,
+            ):  # fmt: skip
+                return STOPPED, i, written  # singular or not finite: Python's
+            counts[ROW_FACTORS] += 1
+            ctrl[H_USED], ctrl[RESTARTED] = h_try, 1.0
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
             return STOPPED, i, written  # the step-collapse watch
         fresh = ctrl[FRESH] != 0.0
@@ -246,6 +264,39 @@ def run_steps(
         refs[:] = new_block
         written += due
         i += due
+
+
+@njit(cache=True, nogil=True)
+def _restart(
+    own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol, values,
+    place, brow, bcol, fi, ff,
+):  # fmt: skip
+    """Consistent accelerations and multipliers at the state (own[0], own[1]) from
+    [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma] (mechlib.consistent, no force
+    element: Q is gravity and the velocity terms), factored into (fi, ff) by the kernel
+    of mechlib.saddle.rigid_saddle_factors; written as GeneralizedAlphaStepper._attempt
+    does (qdd, a, lam; the consistent qd is the raw one). False, nothing written, where
+    the matrix is taken for singular or the solution is not finite."""
+    nq = own.shape[1]
+    nb = nq // 7
+    x, xd = ca.state_arrays(own[0], own[1], nb)
+    saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
+    if not refactor(values, place, brow, bcol, fi, ff):
+        return False
+    m = own_lam.shape[0]
+    rhs = np.empty(nq + m)
+    gravity, masses = body[:3], body[3 : 3 + nb]
+    inertia = body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
+    none = np.zeros((nb + 1, 3))
+    kr.body_forces(x, xd, masses, inertia, gravity, none, none, True, rhs[:nq])
+    nu = np.empty(m)
+    ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, rhs[nq:])
+    sol = lu_solve(fi, ff, rhs)
+    if not all_finite(sol, sol, sol, sol):
+        return False
+    own[2], own[3], own_lam[:] = sol[:nq], sol[:nq], sol[nq:]
+    cons[0], cons[1], cons_lam[:] = own[1], sol[:nq], sol[nq:]
+    return True
 
 
 class StepRun:
@@ -364,7 +415,7 @@ class StepRun:
         )
         ctrl[[ALPHA_M, ALPHA_F, BETA, GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
         ctrl[DENSE] = float(stepper.dense)
-        ctrl[REFACTORED] = 0.0
+        ctrl[REFACTORED] = ctrl[RESTARTED] = 0.0
         counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
         ints, floats = arrays.packed()
         fi, ff, layout = self._factors()
@@ -392,10 +443,11 @@ class StepRun:
         stats.newton_iterations += int(counts[ITERATIONS])
         for m, value in zip(system._angles, refs_all):
             m.reference = float(value)
-        if taken:
+        if taken or ctrl[RESTARTED]:  # the state moved, or took consistent accelerations
             stepper.h, stepper.h_used = float(ctrl[H]), float(ctrl[H_USED])
             integ.eta, integ.stale = float(ctrl[ETA]), bool(ctrl[STALE])
-            stepper.collapse.since = None  # every step was well within analysis.max_steps
+            if taken:
+                stepper.collapse.since = None  # every step was well within max_steps
             s = type(s)(
                 float(ctrl[T]), own[0], cons[0], cons[1], cons_lam,
                 raw_qd=own[1], raw_qdd=own[2], a=own[3], raw_lam=own_lam,

@@ -4,14 +4,18 @@ they give against closed forms.
 
 - Whole runs with the compiled runs and with the Python loop alone (`stepper.run = None`)
   take the same accepted and rejected steps, Newton iterations, factorisations and
-  Jacobian evaluations, and give every output to 1e-9 of its peak (measured 0 to 1e-13:
-  the same arithmetic): the free slider-crank (dense LU factors, joint angles unwrapped
-  past 180 deg), a 12-link chain (band LU factors, and SuperLU's) with steps landing on
-  the output times, the crank, a 6-link chain and the 12-link chain (48 equations, band
-  factors) with dense rows (projected in the kernel); the kernel took over 60 % of the
-  steps (measured 68-99 %; the others: a new step size, a rejection or a row given back,
-  in Python). Dense and band factors are
-  refactored in the kernel (no factorisation in Python), SuperLU's in Python.
+  Jacobian evaluations, and give every output to 1e-9 of its peak (measured 0 to 2.8e-10:
+  the consistent accelerations at a new step size are solved with the kernel's LU solve,
+  not LAPACK's getrs, and the free crank's dead centres amplify that round-off in its
+  reactions; 0 to 1e-13 when those were Python's): the free slider-crank (dense LU
+  factors, joint angles unwrapped past 180 deg), a 12-link chain (band LU factors, and
+  SuperLU's) with steps landing on the output times, the crank, a 6-link chain and the
+  12-link chain (48 equations, band factors) with dense rows (projected in the kernel).
+  The kernel took every accepted step but at most two (measured: all but one or two,
+  98.3-99.9 %; a new step size takes its consistent accelerations in the kernel, a
+  rejected attempt is Python's; before that the kernel took 68-99 %); with SuperLU's
+  factors at least 90 % (measured 94 %: its new step sizes in Python). Dense and band
+  factors are refactored in the kernel (no factorisation in Python), SuperLU's in Python.
 - Where the kernel cannot serve (a motion's time function, an armed event, dense rows of a
   system of more than 64 equations) the run is the Python loop's.
 - The pendulum released from the horizontal (steps of 1 ms, tolerance 1e-8): its period
@@ -110,8 +114,10 @@ def test_compiled_runs_equal_the_python_loop(model, analysis, monkeypatch, reque
     fast, in_kernel = _run(model, analysis, monkeypatch, compiled=True)
     slow, none = _run(model, analysis, monkeypatch, compiled=False)
     assert fast.ok and slow.ok
-    # the rest: steps at a new step size or rejected, and rows given back (dense)
-    assert none == 0 and in_kernel > 0.6 * fast.stats.steps
+    # the rest: the first step, and steps after a rejection in Python or a row given back;
+    # with SuperLU's factors, also the steps at a new step size (measured 94 %)
+    least = 0.9 * fast.stats.steps if superlu else fast.stats.steps - 2
+    assert none == 0 and in_kernel >= least
     # dense and band LU factors are refactored in the kernel, SuperLU's in Python
     assert (in_python["factors"] > 0) if superlu else (in_python["factors"] == 0)
     names = ("steps", "rejected_steps", "newton_iterations", "factorizations")
