@@ -239,15 +239,22 @@ def _full_rows(x, nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2s
 @njit(cache=True, nogil=True)
 def state_arrays(q, qd, nb):
     """x, xd (nb+1, 7) of (q, qd) with ground appended (mechlib.kin.Kin.from_state)."""
-    x = np.empty((nb + 1, 7))
-    xd = np.zeros((nb + 1, 7))
+    x, xd = np.empty((nb + 1, 7)), np.empty((nb + 1, 7))
+    state_into(q, qd, x, xd)
+    return x, xd
+
+
+@njit(cache=True, nogil=True)
+def state_into(q, qd, x, xd):
+    """`state_arrays` written into x, xd (nb+1, 7): no allocation in a loop of iterations."""
+    nb = x.shape[0] - 1
     for b in range(nb):
         for c in range(7):
             x[b, c] = q[7 * b + c]
             xd[b, c] = qd[7 * b + c]
     for c in range(7):
         x[nb, c] = GROUND_Q[c]
-    return x, xd
+        xd[nb, c] = 0.0
 
 
 @njit(cache=True, nogil=True)

@@ -146,8 +146,15 @@ def factor_data(lu) -> tuple[np.ndarray, np.ndarray]:
 @njit(cache=True, nogil=True)
 def lu_solve(ints, floats, b):
     """x with A x = b from `factor_data` (mechlib.linalg.solve_factored's arithmetic)."""
+    x = np.empty(ints[1])
+    lu_solve_into(ints, floats, b, x)
+    return x
+
+
+@njit(cache=True, nogil=True)
+def lu_solve_into(ints, floats, b, x):
+    """`lu_solve` written into x (no allocation for dense factors); returns x."""
     n = ints[1]
-    x = np.empty(n)
     if ints[0] == BAND:  # R P A P^T = L U (LAPACK's band factors); x[perm] = (L U)^-1 R b[perm]
         kl, ku = ints[2], ints[3]
         size = (2 * kl + ku + 1) * n

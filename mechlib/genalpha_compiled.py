@@ -22,7 +22,7 @@ import numpy as np
 from mechlib import constraint_arrays as ca
 from mechlib import genalpha_kernels as gk
 from mechlib import kernels as kr
-from mechlib.flat_lu import lu_solve
+from mechlib.flat_lu import lu_solve, lu_solve_into
 from mechlib.jit import njit
 
 __all__ = ["CONVERGED", "STALLED", "newton"]
@@ -78,16 +78,17 @@ def newton(
     res = np.empty(nq + m)
     packed = ca.unpack(ints, floats)
     work = _residual_work(nq)
+    x, xd, dx = np.empty((nb + 1, 7)), np.empty((nb + 1, 7)), np.empty(nq + m)
     done = 0
     while True:
-        x, xd = ca.state_arrays(q1, qd1, nb)
+        ca.state_into(q1, qd1, x, xd)
         active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
         _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, work, res)
         for j in range(nq):
             res[j] = -res[j] / bp
         for i in range(m):
             res[nq + i] = -full[active[i]]
-        dx = lu_solve(fi, ff, res)
+        lu_solve_into(fi, ff, res, dx)
         gk.correct(q1, qd1, qdd1, lam1, dx, gp, bp)
         done += 1
         it += 1
