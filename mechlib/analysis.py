@@ -118,7 +118,7 @@ def output_times(start: float, end: float, step: float) -> np.ndarray:
     return _output_times(float(start), float(end), float(step))
 
 
-@functools.lru_cache(maxsize=64)
+@functools.lru_cache(maxsize=8)  # a set's runs share a few grids; long grids weigh MB each
 def _output_times(start: float, end: float, step: float) -> np.ndarray:
     n = int(np.floor((end - start) / step + 1e-9))
     # rounded to 12 significant digits: 0.6, not 0.6000000000000001, in the results
