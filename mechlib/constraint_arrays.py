@@ -237,6 +237,14 @@ def _full_rows(x, nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2s
 
 
 @njit(cache=True, nogil=True)
+def body_terms(body, nb):
+    """(gravity (3,), masses (nb,), Euler-parameter scales (nb,), inertia tensors (nb, 3,
+    3)): views of `ConstraintArrays.bodies`' array."""
+    inertia = body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
+    return body[:3], body[3 : 3 + nb], body[3 + nb : 3 + 2 * nb], inertia
+
+
+@njit(cache=True, nogil=True)
 def state_arrays(q, qd, nb):
     """x, xd (nb+1, 7) of (q, qd) with ground appended (mechlib.kin.Kin.from_state)."""
     x, xd = np.empty((nb + 1, 7)), np.empty((nb + 1, 7))

@@ -150,8 +150,7 @@ def _positions(q, ints, floats, functions, refs, tol, reuse, most):
 def _inverse_mass(x, body, nb):
     """M^-1's diagonal blocks (nb, 7, 7) at x, or an empty array where a block is not
     well conditioned (a body without inertia)."""
-    masses, pscale = body[3 : 3 + nb], body[3 + nb : 3 + 2 * nb]
-    inertia = body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
+    _, masses, pscale, inertia = ca.body_terms(body, nb)
     blocks = np.empty((nb, 7, 7))
     kr.mass_blocks(x, masses, inertia, pscale, blocks)
     unit = np.zeros(7)
@@ -220,8 +219,8 @@ def project_row(ends, h, s, ints, floats, functions, refs, body, params, out):
         ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
     forces = np.empty(nq)
     none = np.zeros((nb + 1, 3))
-    masses, inertia = body[3 : 3 + nb], body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
-    kr.body_forces(x, xd, masses, inertia, body[:3], none, none, True, forces)
+    gravity, masses, _, inertia = ca.body_terms(body, nb)
+    kr.body_forces(x, xd, masses, inertia, gravity, none, none, True, forces)
     lam = _cho_solve(low, weighted @ forces - gamma)
     free = forces - jac.T @ lam
     for b in range(nb):

@@ -259,9 +259,12 @@ class TorsionSpring:
     effect: str = "springs"
     active: bool = True
     output_units: ClassVar[dict[str, str]] = {"value": "N*m", "angle": "rad"}
+    # kernels.torsion_wrench's constants, taken at bind (as Spring's)
+    _linear: tuple = field(default=(), init=False, repr=False)
 
     def bind(self, system) -> None:
         self._m = system.measure(self.joint, "angle")
+        self._linear = tuple(map(float, (self.stiffness, self.damping, self.angle0, self.preload)))
 
     def state_bodies(self) -> set[int]:
         """The joint's two bodies: the moment is a function of its angle and rate (`law`:
@@ -278,11 +281,9 @@ class TorsionSpring:
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         if self.law is None:  # linear: compiled
-            m = self._m
-            x, xd = view.kin.x, view.kin.xd
-            k, c, a0, pre = map(float, (self.stiffness, self.damping, self.angle0, self.preload))
-            kernels.torsion_wrench(
-                x, xd, m.bi, m.bj, m.f, m.g, m.axis_local, m.reference, k, c, a0, pre, N
+            m, x, xd = self._m, view.kin.x, view.kin.xd
+            kernels.torsion_wrench(  # type: ignore[call-arg]
+                x, xd, m.bi, m.bj, m.f, m.g, m.axis_local, m.reference, *self._linear, N
             )
             return
         resist_rotation(view, self._m, self._moment(view)[0], N)

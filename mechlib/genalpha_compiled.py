@@ -43,8 +43,7 @@ def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, work, out
     work: `_residual_work`'s arrays."""
     nq = qdd.shape[0]
     nb = nq // 7
-    gravity, masses, pscale = body[:3], body[3 : 3 + nb], body[3 + nb : 3 + 2 * nb]
-    inertia = body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
+    gravity, masses, pscale, inertia = ca.body_terms(body, nb)
     products, none = work
     m_qdd, forces, reactions = products[0], products[1], products[2]
     kr.mass_times(x, masses, inertia, pscale, qdd, m_qdd)

@@ -285,8 +285,7 @@ def _restart(
         return False
     m = own_lam.shape[0]
     rhs = np.empty(nq + m)
-    gravity, masses = body[:3], body[3 : 3 + nb]
-    inertia = body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
+    gravity, masses, _, inertia = ca.body_terms(body, nb)
     none = np.zeros((nb + 1, 3))
     kr.body_forces(x, xd, masses, inertia, gravity, none, none, True, rhs[:nq])
     nu = np.empty(m)

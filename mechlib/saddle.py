@@ -50,8 +50,7 @@ def saddle_values(x, ints, floats, functions, refs, body, prow, pcol, out):
     nb = ints[0]
     nq = 7 * nb
     nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
-    masses, pscale = body[3 : 3 + nb], body[3 + nb : 3 + 2 * nb]
-    inertia = body[3 + 2 * nb : 3 + 11 * nb].reshape((nb, 3, 3))
+    _, masses, pscale, inertia = ca.body_terms(body, nb)
     blocks = np.empty((nb, 7, 7))
     kr.mass_blocks(x, masses, inertia, pscale, blocks)
     full = np.empty(nall)
