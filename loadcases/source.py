@@ -8,10 +8,12 @@ are refused by the safe loader.
 
 from __future__ import annotations
 
+import hashlib
 import pickle
 import re
 from collections import OrderedDict
 from dataclasses import dataclass, field
+from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
@@ -276,7 +278,8 @@ def _syntax_hint(problem: str) -> str | None:
 
 def load_yaml(path: str | Path) -> SourceTree:
     """Read the YAML file at `path`; raises InputError if it cannot be read or parsed. A
-    file read before with the same contents is not parsed again (a copy of its tree)."""
+    file read before with the same contents, in this process or (through the user cache
+    folder) another, is not parsed again (a copy of its tree)."""
     file = str(path)
     try:
         text = Path(path).read_text(encoding="utf-8")
@@ -286,11 +289,35 @@ def load_yaml(path: str | Path) -> SourceTree:
     key = (file, text)
     parsed = _PARSED.get(key)
     if parsed is None:
-        parsed = pickle.dumps(parse_yaml(text, file), protocol=pickle.HIGHEST_PROTOCOL)
+        parsed = pickle.dumps(_stored_or_parsed(text, file), protocol=pickle.HIGHEST_PROTOCOL)
         _remember(key, parsed)
     else:
         _PARSED.move_to_end(key)
     return pickle.loads(parsed)  # a fresh copy: callers put parameters into the data
+
+
+def _stored_or_parsed(text: str, file: str) -> SourceTree:
+    """The tree of `text` from the user cache folder (`loadcases.parse_cache`), else parsed
+    and stored there."""
+    from loadcases import parse_cache
+
+    stored = parse_cache.recall(file, text, _parser_identity())
+    if stored is not None:
+        data, keys, values = stored
+        return SourceTree(file=file, data=data, keys=keys, values=values)
+    tree = parse_yaml(text, file)
+    if not tree.diagnostics:
+        parse_cache.store(file, text, _parser_identity(), tree.data, tree.keys, tree.values)
+    return tree
+
+
+@lru_cache(maxsize=1)
+def _parser_identity() -> bytes:
+    """What a parsed tree depends on besides its file: this module's source, the input
+    limits and PyYAML's version."""
+    digest = hashlib.sha256(Path(__file__).read_bytes())
+    digest.update(repr((MAX_YAML_VALUES, MAX_YAML_DEPTH, yaml.__version__)).encode())
+    return digest.digest()
 
 
 def _remember(key: tuple[str, str], parsed: bytes) -> None:

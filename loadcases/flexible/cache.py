@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
-import os
 import warnings
 import zipfile
 from collections.abc import Callable, Iterator, Mapping
@@ -27,11 +26,11 @@ import scipy
 import scipy.sparse as sp
 
 from loadcases.atomic import atomic_path
+from loadcases.cache_env import CACHE_ENV, shared_cache_folder
 from loadcases.engine_hash import engine_sha256
 
 __all__ = ["CACHE_ENV", "CacheWarning", "cache_folder", "cache_key", "cached", "caching_under"]
 
-CACHE_ENV = "LOADS_CACHE_DIR"  # a folder shared by every run (else one per output folder)
 _KEY_ARRAY = "__key__"
 _OUTPUT: ContextVar[Path | None] = ContextVar("loads_cache_output", default=None)
 
@@ -54,9 +53,9 @@ def caching_under(output_folder: Path | str) -> Iterator[None]:
 def cache_folder(output_folder: Path | None = None) -> Path:
     """`$LOADS_CACHE_DIR/flexible` when set, else `<output folder>/.cache/flexible`: the
     folder given, else the one `caching_under` set, else the working folder."""
-    shared = os.environ.get(CACHE_ENV, "").strip()
-    if shared:
-        return Path(shared) / "flexible"
+    shared = shared_cache_folder("flexible")
+    if shared is not None:
+        return shared
     return Path(output_folder or _OUTPUT.get() or ".") / ".cache" / "flexible"
 
 

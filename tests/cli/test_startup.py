@@ -163,14 +163,15 @@ def test_main_leaves_its_objects_out_of_the_exit_collection() -> None:
 
 
 _COLLECTOR = """
-import gc, json, sys
+import gc, json, os, sys
 from cli.entry import main
 sys.argv = ["loads", *sys.argv[1:]]
 try:
     main()
 except SystemExit as done:
     code = done.code
-print(json.dumps({"exit": code, "enabled": gc.isenabled()}))
+print(json.dumps({"exit": code, "enabled": gc.isenabled(),
+                  "plugins": os.environ.get("PYDANTIC_DISABLE_PLUGINS")}))
 """
 
 
@@ -187,8 +188,20 @@ def test_the_console_script_pauses_the_collector_for_short_commands(
 ) -> None:
     """The `loads` script (cli.entry) pauses the cyclic garbage collector for the start-up
     imports; `validate` and `schema` end without it, `run` (and every other command)
-    turns it back on as it starts."""
+    turns it back on as it starts. pydantic's plugins are off."""
     if command == "run":
         args = [*args, "-o", str(tmp_path)]
-    result = _python(_COLLECTOR, *args)
-    assert result == {"exit": 0, "enabled": enabled}
+    result = _python(_COLLECTOR, *args, env=_without_plugin_setting())
+    assert result == {"exit": 0, "enabled": enabled, "plugins": "__all__"}
+
+
+def _without_plugin_setting() -> dict[str, str]:
+    return {k: v for k, v in os.environ.items() if k != "PYDANTIC_DISABLE_PLUGINS"}
+
+
+def test_the_console_script_keeps_a_users_plugin_setting() -> None:
+    """pydantic's plugins are off in `loads` (looking for them reads every installed
+    package's metadata) unless the environment says otherwise."""
+    env = _without_plugin_setting() | {"PYDANTIC_DISABLE_PLUGINS": "0"}
+    result = _python(_COLLECTOR, "validate", str(DOOR / "opening.case.yaml"), env=env)
+    assert result == {"exit": 0, "enabled": False, "plugins": "0"}

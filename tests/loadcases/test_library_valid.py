@@ -22,12 +22,14 @@ def test_every_library_file_validates(folder: Path) -> None:
     assert errors == []
 
 
-def test_set_validation_loads_each_file_once(monkeypatch) -> None:
+def test_set_validation_loads_each_file_once(monkeypatch, tmp_path) -> None:
     """`loads validate` of the door set loads each of its 22 case files once and parses
-    each file (set, cases, mechanism) once."""
+    each file (set, cases, mechanism) once; a second validation, as another command would,
+    reads every tree from the cache folder (loadcases.parse_cache) and parses none."""
     import loadcases.inputs.loader as loader
     import loadcases.source as source
 
+    monkeypatch.setenv("LOADS_CACHE_DIR", str(tmp_path))  # nothing parsed before
     monkeypatch.setattr(source, "_PARSED", source.OrderedDict())
     monkeypatch.setattr(source, "_parsed_size", 0)
     loaded, parsed = [], []
@@ -38,3 +40,6 @@ def test_set_validation_loads_each_file_once(monkeypatch) -> None:
     assert [d for d in file_problems(door) if d.severity == "error"] == []
     assert len(loaded) == len(set(loaded)) == 22
     assert len(parsed) == len(set(parsed)) == 24
+    source._PARSED.clear()
+    assert [d for d in file_problems(door) if d.severity == "error"] == []
+    assert len(parsed) == 24

@@ -92,9 +92,11 @@ def test_parsed_trees_kept_within_budget(tmp_path: Path, monkeypatch) -> None:
     """A tree read again is a copy of the kept one (not parsed again); the least recently
     read trees are forgotten beyond the byte budget, never the one just read."""
     import loadcases.source as source
+    from loadcases import parse_cache
 
     monkeypatch.setattr(source, "_PARSED", source.OrderedDict())
     monkeypatch.setattr(source, "_parsed_size", 0)
+    monkeypatch.setattr(parse_cache, "recall", lambda *a: None)  # memory alone
     parsed = []
     real = source.parse_yaml
     monkeypatch.setattr(source, "parse_yaml", lambda t, f: parsed.append(f) or real(t, f))

@@ -1,0 +1,111 @@
+"""Parsed YAML trees kept in the user cache folder, so that a command reading a file that
+has not changed (a mechanism file beside the case being edited) does not parse it again:
+PyYAML's pure-Python composer takes about 75 ms for the door's mechanism file, reading its
+stored tree back about 3 ms (2-core VM, 2026-11-28).
+
+An entry is named by the SHA-256 of the file's name and text, of the parser's identity (its
+own source, its limits and PyYAML's version: `loadcases.source`) and of Python's version:
+change any of them and another entry is made, so a stored tree is always the one the
+parser would give. It is written with `marshal`, which holds only Python's built-in
+values: reading an entry rebuilds no class of ours or anyone's, and runs no code. Trees
+with diagnostics (duplicate keys) and texts over `MAX_TEXT` characters are not stored. A
+missing, unreadable or foreign entry is parsed again. Entries are written whole (a new
+file, then an atomic rename); the folder keeps the `MAX_ENTRIES` written last. Nothing
+here is an error: a cache that cannot be read or written only costs the parse.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import marshal
+import os
+import sys
+import tempfile
+from contextlib import suppress
+from pathlib import Path
+from typing import Any
+
+from loadcases.cache_env import shared_cache_folder
+
+__all__ = ["MAX_ENTRIES", "MAX_TEXT", "cache_folder", "recall", "store"]
+
+FORMAT = 1  # the layout of an entry; another layout is a foreign entry
+MAX_ENTRIES = 256  # entries kept (each edit of a file makes one)
+MAX_TEXT = 4 * 2**20  # characters of the largest text whose tree is stored
+_SUFFIX = ".tree"
+
+
+def cache_folder() -> Path:
+    """`$LOADS_CACHE_DIR/yaml` when set, else `loads/yaml` in the user's cache folder (on
+    Linux `$XDG_CACHE_HOME`, else `~/.cache`)."""
+    shared = shared_cache_folder("yaml")
+    if shared is not None:
+        return shared
+    import platformdirs
+
+    return platformdirs.user_cache_path("loads", appauthor=False) / "yaml"
+
+
+def _entry(file: str, text: str, parser: bytes) -> Path:
+    digest = hashlib.sha256(parser)
+    digest.update(f"{sys.version} {marshal.version} {FORMAT}".encode())
+    digest.update(file.encode("utf-8", "surrogatepass") + b"\0")
+    digest.update(text.encode("utf-8", "surrogatepass"))
+    return cache_folder() / f"{digest.hexdigest()}{_SUFFIX}"
+
+
+def recall(file: str, text: str, parser: bytes) -> tuple[Any, dict, dict] | None:
+    """(data, keys, values) of the tree stored for `text` read as `file` by the parser
+    whose identity is `parser`, or None."""
+    if len(text) > MAX_TEXT:
+        return None
+    try:
+        stored = marshal.loads(_entry(file, text, parser).read_bytes())
+    except (OSError, EOFError, ValueError, TypeError):
+        return None
+    if (
+        not isinstance(stored, tuple)
+        or len(stored) != 5
+        or stored[0] != FORMAT
+        or stored[1] != file
+        or not isinstance(stored[3], dict)
+        or not isinstance(stored[4], dict)
+    ):
+        return None
+    return stored[2], stored[3], stored[4]
+
+
+def store(file: str, text: str, parser: bytes, data: Any, keys: dict, values: dict) -> None:
+    """Keep the tree parsed from `text` read as `file` by the parser whose identity is
+    `parser`; drop the oldest entries beyond `MAX_ENTRIES`."""
+    if len(text) > MAX_TEXT:
+        return
+    try:
+        payload = marshal.dumps((FORMAT, file, data, keys, values))
+        target = _entry(file, text, parser)
+        target.parent.mkdir(parents=True, exist_ok=True)
+        handle, name = tempfile.mkstemp(dir=target.parent, prefix=".tree-")
+        try:
+            with os.fdopen(handle, "wb") as stream:
+                stream.write(payload)
+            os.replace(name, target)
+        finally:
+            with suppress(OSError):
+                os.unlink(name)
+        _prune(target.parent)
+    except (OSError, ValueError):  # ValueError: a value marshal cannot hold
+        return
+
+
+def _prune(folder: Path) -> None:
+    """Remove the entries written before the last `MAX_ENTRIES`."""
+    entries = []
+    for entry in folder.glob(f"*{_SUFFIX}"):
+        with suppress(OSError):
+            entries.append((entry.stat().st_mtime_ns, entry))
+    if len(entries) <= MAX_ENTRIES:
+        return
+    entries.sort()
+    for _, entry in entries[: len(entries) - MAX_ENTRIES]:
+        with suppress(OSError):
+            entry.unlink()
