@@ -28,7 +28,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from mechlib.rotation import cross
+from mechlib.elements import cable_loop_kernel as kernel
 from mechlib.view import StateView
 
 __all__ = ["CableLoop"]
@@ -80,6 +80,15 @@ class CableLoop:
         self._sense = [1.0 if m.bi == b else -1.0 for m, (b, _) in zip(self._m, self._ends)]
         self._sense[1] *= 1.0 if along > 0.0 else -1.0
         self._g0 = self._g(float(np.linalg.norm(np.subtract(joints[1].at, joints[0].at))))
+        (b1, s1), (b2, s2) = self._ends
+        m1, m2 = self._m
+        yoke = m1.bj if m1.bi == b1 else m1.bi
+        self._ints = np.array([b1, b2, m1.bi, m1.bj, m2.bi, m2.bj, yoke], dtype=np.int64)
+        self._floats = np.concatenate(
+            [s1, s2, m1.f, m1.g, m1.axis_local, m2.f, m2.g, m2.axis_local, self._sense]
+            + [[*self.radii, self.stiffness, self.pretension, self._g0]]
+        ).astype(float)
+        assert self._ints.size == kernel.INTS and self._floats.size == kernel.FLOATS
 
     def state_bodies(self) -> set[int]:
         """The bodies of the two joints (pulleys and yoke): their angles and the hinge
@@ -95,10 +104,14 @@ class CableLoop:
             )
         return math.sqrt(d * d - dr * dr) + dr * math.asin(dr / d)
 
+    def _distance(self, view: StateView) -> float:
+        """Hinge distance D = |AB| (m)."""
+        (b1, s1), (b2, s2) = self._ends
+        return float(np.linalg.norm(view.point_position(b2, s2) - view.point_position(b1, s1)))
+
     def _elongations(self, view: StateView) -> tuple[float, float, float]:
         """(e_a, e_b (m), hinge distance D (m))."""
-        (b1, s1), (b2, s2) = self._ends
-        d = float(np.linalg.norm(view.point_position(b2, s2) - view.point_position(b1, s1)))
+        d = self._distance(view)
         r1, r2 = self.radii
         phi1, phi2 = (c * m.value(view.kin) for c, m in zip(self._sense, self._m))
         wrap, common = r1 * phi1 - r2 * phi2, self._g(d) - self._g0
@@ -132,31 +145,17 @@ class CableLoop:
         }
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        st = self._state(view)
-        (b1, _), (b2, _) = self._ends
-        yoke = self._m[0].bj if self._m[0].bi == b1 else self._m[0].bi
-        carrier = np.zeros(3)  # what the joint-pair torques would put on the yoke
-        for m, sense, torque in zip(self._m, self._sense, (st["t1"], st["t2"])):
-            # generalised torque sense * T on theta: the pair on body 1 / body 2 of the joint
-            pair = sense * torque * (view.rotation(m.bj) @ m.axis_local)
-            N[m.bi] += pair
-            N[m.bj] -= pair
-            carrier += pair if m.bi == yoke else -pair
-        # The yoke's share moves to a couple of forces at A and B on the pulleys (the same
-        # virtual work: A and B are points of the yoke); a part along AB stays a torque.
-        u = (st["b"] - st["a"]) / st["d"]
-        along = (carrier @ u) * u
-        N[yoke] += along - carrier
-        on_b = cross(carrier - along, u) / st["d"]  # (B - A) x on_b = carrier - along
-        self._force(view, F, N, b1, st["a"], st["f_axial"] * u - on_b)
-        self._force(view, F, N, b2, st["b"], -st["f_axial"] * u + on_b)
-
-    @staticmethod
-    def _force(
-        view: StateView, F: np.ndarray, N: np.ndarray, body: int, at: np.ndarray, force: np.ndarray
-    ) -> None:
-        F[body] += force
-        N[body] += cross(at - view.kin.r[body], force)
+        """Add the loads (eqs. 2.3-2.6) to F and N (mechlib.elements.cable_loop_kernel: the
+        pulley torques as pairs on each joint's bodies; the yoke's share of them moved to a
+        couple of forces at A and B on the pulleys, the same virtual work since A and B are
+        points of the yoke; a part along AB stays a torque on the yoke)."""
+        m1, m2 = self._m
+        x, xd = view.kin.x, view.kin.xd
+        if not kernel.cable_loop_wrench(
+            x, xd, self._ints, self._floats, m1.reference, m2.reference, F, N
+        ):
+            self._g(self._distance(view))  # raises: the hinges are too close
+            F[self._ints[0]] += np.nan  # a non-finite state: non-finite loads (mechlib.finite)
 
     def output(self, view: StateView) -> dict[str, float]:
         """t1, t2 (N*m, eqs. 2.3-2.4), f_axial, f_lateral (N, eqs. 2.5-2.6), strand

@@ -19,7 +19,7 @@ def _held(value: float) -> Ramp:
     return Ramp(value, 0.0)
 
 
-def _ccl() -> mechlib.Mechanism:
+def _ccl(th1: float = TH1) -> mechlib.Mechanism:
     """Yoke hinged to ground at A = 0, panel hinged to the yoke at B = (1, 0, 0); pulley 1
     (r1) on ground at A, pulley 2 (r2) on the panel at B; both joints held by motions."""
     mech = mechlib.Mechanism(name="ccl", gravity=(0.0, 0.0, 0.0))
@@ -28,26 +28,27 @@ def _ccl() -> mechlib.Mechanism:
     mech.add_joint("hl1", "revolute", bodies=("yoke", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
     mech.add_joint("hl2", "revolute", bodies=("panel", "yoke"), at=(1, 0, 0), axis=(0, 0, 1))
     mech.add_force(mechlib.CableLoop("ccl", ("hl1", "hl2"), (R1, R2), K, T0))
-    mech.add_motion("m1", joint="hl1", function=_held(TH1))
+    mech.add_motion("m1", joint="hl1", function=_held(th1))
     mech.add_motion("m2", joint="hl2", function=_held(TH2))
     return mech
 
 
-def test_cable_loop_loads_by_hand() -> None:
+@pytest.mark.parametrize("th1", [TH1, math.radians(40.0)], ids=["taut", "strand-a-slack"])
+def test_cable_loop_loads_by_hand(th1: float) -> None:
     """Pulley rotations relative to the yoke: phi1 = -th1 (pulley 1 is on ground, body 2
     of hl1), phi2 = +th2 (pulley 2 is the panel, body 1 of hl2); e = r1 phi1 - r2 phi2;
     F_a = T0 + k e, F_b = T0 - k e (the hinge distance D = 1 m is fixed by the yoke);
     T1 = r1 (F_b - F_a), T2 = r2 (F_a - F_b), F_ax = (F_a + F_b) L / D,
     F_lat = (F_a - F_b)(r1 - r2)/D with L = sqrt(D^2 - (r1 - r2)^2). The motions hold the
     loop (no gravity): their efforts are +T1 (on th1 = -phi1) and -T2; the panel's hinge
-    carries the cable's pull on pulley 2, F_ax along B->A and |F_lat| across.
-    Tolerance 1e-9 relative."""
-    e = R1 * (-TH1) - R2 * TH2
-    fa, fb = T0 + K * e, T0 - K * e
+    carries the cable's pull on pulley 2, F_ax along B->A and |F_lat| across. At th1 =
+    40 deg strand a is slack (F_a = max(0, T0 + k e) = 0). Tolerance 1e-9 relative."""
+    e = R1 * (-th1) - R2 * TH2
+    fa, fb = max(0.0, T0 + K * e), max(0.0, T0 - K * e)
     d = 1.0
     length = math.sqrt(d * d - (R1 - R2) ** 2)
     sol = mechlib.solve(
-        _ccl(),
+        _ccl(th1),
         mechlib.Static(),
         requests=[
             mechlib.ElementOutput("ccl", "ccl"),
@@ -71,7 +72,7 @@ def test_cable_loop_loads_by_hand() -> None:
     assert c["m1.value"] == pytest.approx(expected["t1"], rel=1e-9)
     assert c["m2.value"] == pytest.approx(-expected["t2"], rel=1e-9)
     # reaction on the panel from the yoke balances the cable's force on pulley 2
-    u = np.array([math.cos(TH1), math.sin(TH1), 0.0])  # A -> B
+    u = np.array([math.cos(th1), math.sin(th1), 0.0])  # A -> B
     force = np.array([c["hl2.fx"], c["hl2.fy"], c["hl2.fz"]])
     assert force @ u == pytest.approx(expected["f_axial"], rel=1e-9)
     assert abs(np.cross(u, force)[2]) == pytest.approx(abs(expected["f_lateral"]), rel=1e-9)
