@@ -109,12 +109,21 @@ class Table:
                 f"[{lo:.6g}, {hi:.6g}] (set extrapolate: hold or linear)"
             )
         end = lo if v < lo else hi
+        value, slope = self._ends[0 if v < lo else 1]
         if self.extrapolate == "hold":
-            return float(self._f(end)) if self._order == 0 else 0.0
-        slope = float(self._slope_at(end))
+            return value if self._order == 0 else 0.0
         if self._order == 0:
-            return float(self._f(end)) + slope * (v - end)
-        return slope if self._order == 1 else 0.0
+            return value + slope * (v - end)
+        return value if self._order == 1 else 0.0  # the line's slope is y' at the end
+
+    @cached_property
+    def _ends(self) -> tuple[tuple[float, float], tuple[float, float]]:
+        """(value, slope) of the interpolant at the first and the last x, which the
+        extrapolation continues: found once (the slope's interpolant is a table of its own;
+        a tabulated spring outside its data asks at every force evaluation)."""
+        return tuple(  # type: ignore[return-value]
+            (float(self._f(end)), float(self._slope_at(end))) for end in (self.x[0], self.x[-1])
+        )
 
     def _slope_at(self, end: float) -> float:
         d = Table(self.name, self.x, self.y, self.interpolation, "hold", self._order + 1)

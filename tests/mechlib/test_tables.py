@@ -58,3 +58,28 @@ def test_linear_table_at_its_last_point_is_its_last_value() -> None:
     x, y = np.array([0.0, 0.1, 0.3]), np.array([0.0, 0.7, 0.1])
     assert Table("t", x, y, "linear", "error")(0.3) == 0.1
     assert Table("t", X, Y, "linear", "hold")(X[-1]) == Y[-1]
+
+
+@pytest.mark.parametrize("interpolation", ["linear", "cubic", "akima"])
+def test_extrapolation_at_both_ends(interpolation: str) -> None:
+    """Below x[0] and above x[-1], many times over (the end values and slopes are found
+    once): `linear` continues the reference's value at that end with its slope there, and
+    the table's derivative() is that slope (it gave the end's curvature before 0.10.0: 0 for
+    a linear table), its second derivative 0; `hold` keeps the end value, slope 0. Within
+    1e-12 of the largest magnitude; the derivative also against a central difference of
+    the table (1e-6)."""
+    reference, slope = _reference(interpolation, 0), _reference(interpolation, 1)
+    linear = Table("t", X, Y, interpolation, "linear")
+    hold = Table("t", X, Y, interpolation, "hold")
+    rate, curvature = linear.derivative(), linear.derivative().derivative()
+    for end, beyond in ((X[0], X[0] - np.r_[1e-3, 0.5, 3.0]), (X[-1], X[-1] + np.r_[1e-3, 2.0])):
+        value, tangent = float(reference(end)), float(slope(end))
+        for v in np.r_[beyond, beyond]:
+            want = value + tangent * (v - end)
+            assert linear(v) == pytest.approx(want, abs=1e-12 * max(abs(want), 1.0))
+            assert rate(v) == pytest.approx(tangent, abs=1e-12 * max(abs(tangent), 1.0))
+            assert curvature(v) == 0.0
+            h = 1e-6
+            assert (linear(v + h) - linear(v - h)) / (2 * h) == pytest.approx(tangent, abs=1e-6)
+            assert hold(v) == pytest.approx(value, abs=1e-12)
+            assert hold.derivative()(v) == 0.0
