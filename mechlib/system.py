@@ -572,7 +572,7 @@ class System:
             return self._no_wrench, self._no_wrench
         F = np.zeros((self.nb + 1, 3))
         N = np.zeros((self.nb + 1, 3))
-        view = self.view(k, lam, jac)
+        view = StateView(self, k, lam, jac, memo=True)  # one state for all elements
         for element in self.elements:
             if element.active and not (skip and id(element) in skip):
                 element.apply(view, F, N)

@@ -43,12 +43,23 @@ class StateView:
     """State measures in SI: joint angle (rad) / travel (m) and rates, point positions (m)."""
 
     def __init__(
-        self, system: System, kin: Kin, lam: np.ndarray | None = None, jac: np.ndarray | None = None
+        self,
+        system: System,
+        kin: Kin,
+        lam: np.ndarray | None = None,
+        jac: np.ndarray | None = None,
+        *,
+        memo: bool = False,
     ):
         self.system = system
         self.kin = kin
         self.lam = lam
         self._jac = jac  # phi_q at kin, when the caller has it already
+        # With `memo`, body rotations and named points' positions and velocities are
+        # computed once (read-only arrays): for a view that lives while its state cannot
+        # change (System.wrenches: every element at one state; a drag force reads a
+        # point's vx and vy three times each, joint friction its axis twice).
+        self._memo: dict | None = {} if memo else None
 
     def jacobian(self) -> np.ndarray:
         """phi_q (m, nq) of this state (computed once)."""
@@ -67,7 +78,13 @@ class StateView:
 
     def rotation(self, body: int) -> np.ndarray:
         """Rotation matrix of body index `body` (ground = nb)."""
-        return kernels.rotation_matrix(self.kin.x[body, 3:])
+        if self._memo is None:
+            return kernels.rotation_matrix(self.kin.x[body, 3:])
+        key = ("rotation", body)
+        found = self._memo.get(key)
+        if found is None:
+            found = self._memo[key] = _read_only(kernels.rotation_matrix(self.kin.x[body, 3:]))
+        return found
 
     def point_position(self, body: int, s: np.ndarray) -> np.ndarray:
         """Global position (m) of the body-fixed vector s (m) of body index `body`."""
@@ -125,8 +142,15 @@ class StateView:
         return self._measure(joint, "travel").rate(self.kin)
 
     def position(self, point: str) -> np.ndarray:
-        body, s = self.system.point(point)
-        return self.point_position(body, s)
+        if self._memo is None:
+            body, s = self.system.point(point)
+            return self.point_position(body, s)
+        key = ("position", point)
+        found = self._memo.get(key)
+        if found is None:
+            body, s = self.system.point(point)
+            found = self._memo[key] = _read_only(self.point_position(body, s))
+        return found
 
     def dist(self, p1: str, p2: str) -> float:
         return float(np.linalg.norm(self.position(p1) - self.position(p2)))
@@ -142,8 +166,15 @@ class StateView:
 
     def velocity(self, point: str) -> np.ndarray:
         """Global velocity (m/s) of a named point."""
-        body, s = self.system.point(point)
-        return self.point_velocity(body, s)
+        if self._memo is None:
+            body, s = self.system.point(point)
+            return self.point_velocity(body, s)
+        key = ("velocity", point)
+        found = self._memo.get(key)
+        if found is None:
+            body, s = self.system.point(point)
+            found = self._memo[key] = _read_only(self.point_velocity(body, s))
+        return found
 
     def vx(self, point: str) -> float:
         return float(self.velocity(point)[0])
@@ -153,3 +184,9 @@ class StateView:
 
     def vz(self, point: str) -> float:
         return float(self.velocity(point)[2])
+
+
+def _read_only(array: np.ndarray) -> np.ndarray:
+    """`array`, no longer writable (a memoised value is shared by its readers)."""
+    array.flags.writeable = False
+    return array
