@@ -16,6 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mechlib.coordinates import AngleMeasure, TravelMeasure
+from mechlib.elements import friction_kernel as kernel
 from mechlib.elements.regularize import (
     StaticSlipAnchor,
     at_rest,
@@ -29,6 +30,7 @@ from mechlib.view import StateView
 __all__ = ["FRICTION_JOINTS", "JointFriction"]
 
 FRICTION_JOINTS = ("revolute", "cylindrical", "spherical", "prismatic")
+_NO_JACOBIAN, _NO_VALUES, _NO_ROWS = np.zeros((0, 0)), np.zeros(0), np.zeros(0, dtype=np.int64)
 
 
 @dataclass
@@ -72,6 +74,15 @@ class JointFriction(StaticSlipAnchor):
             if not _prescribed(system.mechanism, self.joint):
                 self._stick_row = system.held_coordinate(self.stick_owner, self._m)
         self._anchor = 0.0 if self._m is not None else np.eye(3)
+        self._compiled: tuple[AngleMeasure, np.ndarray, np.ndarray] | None = None
+        if isinstance(self._m, AngleMeasure):  # a revolute or cylindrical joint
+            m = self._m
+            self._compiled = (
+                m,
+                np.array([self._bi, self._bj, m.bi, m.bj, 0], dtype=np.int64),
+                np.r_[m.f, m.g, m.axis_local, self.mu * self._arm, self.preload].astype(float),
+            )
+            assert self._compiled[2].size == kernel.FLOATS
         self._rate = self._rate_before = 0.0  # slip rates at the last two accepted states
         self._impending = 0.0  # direction of the slip that starts when a stuck joint lets go
 
@@ -199,8 +210,21 @@ class JointFriction(StaticSlipAnchor):
         N[self._bj] -= cross(at - view.kin.r[self._bj], load)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        if not self.stuck:  # a stuck joint is held by its stick equation instead
+        if self.stuck:  # a stuck joint is held by its stick equation instead
+            return
+        if self._compiled is None or at_rest(view):
             self._add_wrench(view, self._capacity(view)[0], F, N)
+            return
+        m, ints, floats = self._compiled  # a revolute or cylindrical joint, moving
+        lam, sign = view.lam, 1.0
+        if lam is None or len(lam) == 0:
+            jac, lam, rows = _NO_JACOBIAN, _NO_VALUES, _NO_ROWS  # no reaction known yet
+        else:
+            rows, ints[4], sign = self._system.joint_force_rows(self.joint)
+            jac = view.jacobian()
+        varying = np.array([sign, m.reference, self.v_threshold, self._impending])
+        x, xd = view.kin.x, view.kin.xd
+        kernel.rotation_friction_wrench(x, xd, jac, lam, rows, ints, floats, varying, N)
 
     def reaction_jacobian(self, view: StateView, out: np.ndarray) -> None:
         """Add dQ/dlam (nq, m) of this friction at `view` to `out`. Q is linear in the

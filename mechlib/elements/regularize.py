@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib.jit import njit
+
 __all__ = [
     "StaticSlipAnchor",
     "at_rest",
@@ -34,6 +36,7 @@ class StaticSlipAnchor:
         self._anchor = anchor
 
 
+@njit(cache=True, nogil=True)
 def coulomb_factor(w: float, threshold: float) -> float:
     """Signed fraction (-1..1) of the full friction for a slip w (same unit as threshold)."""
     s = w / threshold

@@ -1,0 +1,64 @@
+"""Compiled (numba) joint friction of a revolute or cylindrical joint in a moving state
+(mechlib.elements.friction: the same formulas, seed 003 eq. 2.2; layout of mechlib.kernels:
+`x`, `xd` (nb+1, 7) rows [r, p] per body, ground last). It removes the Python overhead of
+the reaction, axis, capacity and regularised direction: the solar array's three hinge
+frictions were a third of its deployment run, evaluated at every Newton iterate and every
+column of the differenced tangent. States at rest (static, quasi-static) and prismatic and
+spherical joints keep the Python path.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mechlib.elements.regularize import coulomb_factor
+from mechlib.jit import njit
+from mechlib.kernels import JitOptions, _rot, angle_state
+
+__all__ = ["FLOATS", "INTS", "VARYING", "rotation_friction_wrench"]
+
+INTS = 5
+"""`ints`: the joint's body 1 and body 2 (the torque pair), its angle's bodies (bi, bj),
+the body whose force columns carry the joint's reaction."""
+FLOATS = 11
+"""`floats`: the angle's triad f, g and axis h (3 x 3, body-fixed), mu * pin radius (m),
+preload (N*m)."""
+VARYING = 4
+"""`varying`: the sign of the reaction's rows, the angle's unwrapping reference (rad),
+v_threshold (rad/s), the impending slip direction (+1, -1 or 0)."""
+_JIT: JitOptions = {"cache": True, "nogil": True}
+
+
+@njit(**_JIT)
+def rotation_friction_wrench(x, xd, jac, lam, rows, ints, floats, varying, N):
+    """Add the friction torque pair to N (nb+1, 3): capacity mu r |F_r| + preload (F_r the
+    reaction force -sign jac[rows, force columns]^T lam[rows] normal to the axis), times
+    the regularised direction of the joint's rate, opposing body 1's rotation against
+    body 2 (+ on body 2). Returns the capacity (N*m)."""
+    body = ints[4]
+    force = np.zeros(3)
+    for r in range(rows.size):
+        row = rows[r]
+        for c in range(3):
+            force[c] += jac[row, 7 * body + c] * lam[row]
+    axis = np.empty(3)
+    _rot(x[ints[3], 3:], floats[6:9], axis)
+    along = 0.0
+    for c in range(3):
+        force[c] *= -varying[0]
+        along += force[c] * axis[c]
+    normal = 0.0
+    for c in range(3):
+        part = force[c] - along * axis[c]
+        normal += part * part
+    capacity = floats[9] * math.sqrt(normal) + floats[10]
+    state = np.empty(2)
+    angle_state(x, xd, ints[2], ints[3], floats[0:3], floats[3:6], varying[1], state)
+    factor = coulomb_factor(state[1] / varying[2] + varying[3], 1.0)
+    for c in range(3):
+        load = -capacity * factor * axis[c]  # on body 1, opposing its slip
+        N[ints[0], c] += load
+        N[ints[1], c] -= load
+    return capacity
