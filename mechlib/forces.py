@@ -265,6 +265,14 @@ class TorsionSpring:
     def bind(self, system) -> None:
         self._m = system.measure(self.joint, "angle")
         self._linear = tuple(map(float, (self.stiffness, self.damping, self.angle0, self.preload)))
+        self._table = None  # kernels.torsion_table_wrench's arguments, for a table law
+        if getattr(self.law, "compiled", False):  # a TableLaw (its module imports this one)
+            m = self._m
+            self._table = (
+                np.array([m.bi, m.bj], dtype=np.int64),
+                np.r_[m.f, m.g, m.axis_local, self.damping, self.angle0, self.preload],
+                self.law.table.packed,  # type: ignore[union-attr]
+            )
 
     def state_bodies(self) -> set[int]:
         """The joint's two bodies: the moment is a function of its angle and rate (`law`:
@@ -280,13 +288,17 @@ class TorsionSpring:
         return elastic + self.damping * rate + self.preload, angle
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
+        m, x, xd = self._m, view.kin.x, view.kin.xd
         if self.law is None:  # linear: compiled
-            m, x, xd = self._m, view.kin.x, view.kin.xd
             kernels.torsion_wrench(  # type: ignore[call-arg]
                 x, xd, m.bi, m.bj, m.f, m.g, m.axis_local, m.reference, *self._linear, N
             )
             return
-        resist_rotation(view, self._m, self._moment(view)[0], N)
+        if self._table is not None:  # a table: compiled while the table takes the turn
+            ints, floats, table = self._table
+            if kernels.torsion_table_wrench(x, xd, ints, floats, m.reference, *table, N):  # type: ignore[call-arg]
+                return
+        resist_rotation(view, self._m, self._moment(view)[0], N)  # (raises off the table)
 
     def output(self, view: StateView) -> dict[str, float]:
         moment, angle = self._moment(view)

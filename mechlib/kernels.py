@@ -16,6 +16,7 @@ from typing import TypedDict
 import numpy as np
 
 from mechlib.jit import njit
+from mechlib.table_kernel import table_value
 
 __all__ = [
     "angle_state",
@@ -533,6 +534,30 @@ def torsion_wrench(x, xd, bi, bj, f, g, axis, reference, stiffness, damping, ang
     state = np.empty(2)
     angle_state(x, xd, bi, bj, f, g, reference, state)
     moment = stiffness * (state[0] - angle0) + damping * state[1] + preload
+    _resist_rotation(x, bi, bj, axis, moment, N)
+
+
+@njit(**_JIT)
+def torsion_table_wrench(x, xd, ints, floats, reference, breaks, coefs, ends, flags, N):
+    """Add a tabulated torsion spring-damper's moments to N: moment = law(angle - angle0)
+    (N*m, the packed table: mechlib.table_kernel) + damping (N*m*s/rad) x rate + preload
+    (N*m), as torsion_wrench. ints: the angle's bodies (bi, bj); floats: its triad f, g,
+    the axis (body-fixed in bj), damping, angle0 (rad), preload. False, and nothing added,
+    where the table refuses the turn."""
+    state = np.empty(2)
+    angle_state(x, xd, ints[0], ints[1], floats[0:3], floats[3:6], reference, state)
+    ok, elastic = table_value(breaks, coefs, ends, flags, state[0] - floats[10])
+    if not ok:
+        return False
+    moment = elastic + floats[9] * state[1] + floats[11]
+    _resist_rotation(x, ints[0], ints[1], floats[6:9], moment, N)
+    return True
+
+
+@njit(**_JIT)
+def _resist_rotation(x, bi, bj, axis, moment, N):
+    """A moment (N*m) resisting bi's rotation about the body-fixed `axis` of bj: -moment
+    on bi, +moment on bj (mechlib.forces.resist_rotation)."""
     a = np.empty(3)
     _rot(x[bj, 3:], axis, a)
     for c in range(3):

@@ -117,6 +117,22 @@ class Table:
         return value if self._order == 1 else 0.0  # the line's slope is y' at the end
 
     @cached_property
+    def packed(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """The table as `table_value` (mechlib.table_kernel) evaluates it: (breakpoints,
+        coefficients (pieces, powers; lowest power first), (value, slope) at the first
+        and the last x (2, 2), [extrapolation: 0 error, 1 hold, 2 linear; order; 1 where
+        x[-1] gives y[-1] itself (a linear table's value)])."""
+        breaks, pieces = self._pieces
+        mode = ("error", "hold", "linear").index(self.extrapolate)
+        exact = int(self.interpolation == "linear" and self._order == 0)
+        return (
+            np.array(breaks, dtype=float),
+            np.array(pieces, dtype=float).reshape(len(pieces), -1),
+            np.array(self._ends, dtype=float),
+            np.array([mode, self._order, exact], dtype=np.int64),
+        )
+
+    @cached_property
     def _ends(self) -> tuple[tuple[float, float], tuple[float, float]]:
         """(value, slope) of the interpolant at the first and the last x, which the
         extrapolation continues: found once (the slope's interpolant is a table of its own;

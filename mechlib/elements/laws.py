@@ -16,6 +16,8 @@ __all__ = ["TableLaw"]
 class TableLaw:
     """law(x) = table(x) for element `element` (x and the result in the table's SI units)."""
 
+    compiled = True  # its table is a law the compiled elements evaluate (Table.packed)
+
     def __init__(self, table: Table, element: str):
         self.table, self.element = table, element
 

@@ -83,3 +83,26 @@ def test_extrapolation_at_both_ends(interpolation: str) -> None:
             assert (linear(v + h) - linear(v - h)) / (2 * h) == pytest.approx(tangent, abs=1e-6)
             assert hold(v) == pytest.approx(value, abs=1e-12)
             assert hold.derivative()(v) == 0.0
+
+
+@pytest.mark.parametrize("interpolation", ["linear", "cubic", "akima"])
+@pytest.mark.parametrize("extrapolate", ["error", "hold", "linear"])
+@pytest.mark.parametrize("order", [0, 1, 2])
+def test_compiled_table_value_is_the_tables(interpolation, extrapolate, order) -> None:
+    """mechlib.table_kernel.table_value of Table.packed (compiled: the tabulated torsion
+    spring's law) gives the table's own value, bit for bit, inside (the data points, the
+    last one included, and random points), at and beyond both ends; where the table
+    refuses a value (extrapolate: error), it says so instead of a value."""
+    from mechlib.table_kernel import table_value
+
+    table = Table("t", X, Y, interpolation, extrapolate, order)
+    points = np.r_[POINTS, X[0] - np.r_[1e-9, 0.3, 4.0], X[-1] + np.r_[1e-9, 2.0], np.nan]
+    for v in points:
+        ok, value = table_value(*table.packed, float(v))
+        try:
+            want = table(float(v))
+        except TableRangeError:
+            assert not ok, v
+            continue
+        assert ok, v
+        assert value == want or (np.isnan(value) and np.isnan(want)), (v, value, want)
