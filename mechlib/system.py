@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mechlib import jit, kernels
+from mechlib import element_groups, jit, kernels
 from mechlib.constraint_arrays import ConstraintArrays
 from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
 from mechlib.coordinate_block import CoordinateBlock
@@ -100,6 +100,7 @@ class System:
         self._dormant: list[int] = []  # rows that elements switch on when they need them
         for element in self.elements:
             element.bind(self)
+        self._groups, self._singles = element_groups.grouped(self.elements)
         awake = np.ones(len(self._all_labels), dtype=bool)
         awake[self._dormant] = False  # (np.setdiff1d would import numpy.ma: 9 ms)
         self.active = np.flatnonzero(awake)
@@ -572,8 +573,10 @@ class System:
             return self._no_wrench, self._no_wrench
         F = np.zeros((self.nb + 1, 3))
         N = np.zeros((self.nb + 1, 3))
+        for group in self._groups:  # one call per element type (mechlib.element_groups)
+            group.apply(k.x, k.xd, skip, F, N)
         view = StateView(self, k, lam, jac, memo=True)  # one state for all elements
-        for element in self.elements:
+        for element in self._singles:
             if element.active and not (skip and id(element) in skip):
                 element.apply(view, F, N)
         return F, N
