@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -78,12 +79,16 @@ class StateView:
 
     def rotation(self, body: int) -> np.ndarray:
         """Rotation matrix of body index `body` (ground = nb)."""
+        return self._kept(("rotation", body), lambda: kernels.rotation_matrix(self.kin.x[body, 3:]))
+
+    def _kept(self, key: tuple, compute: Callable[[], np.ndarray]) -> np.ndarray:
+        """compute(), once per view with `memo` (then read-only: its readers share it)."""
         if self._memo is None:
-            return kernels.rotation_matrix(self.kin.x[body, 3:])
-        key = ("rotation", body)
+            return compute()
         found = self._memo.get(key)
         if found is None:
-            found = self._memo[key] = _read_only(kernels.rotation_matrix(self.kin.x[body, 3:]))
+            found = self._memo[key] = compute()
+            found.flags.writeable = False
         return found
 
     def point_position(self, body: int, s: np.ndarray) -> np.ndarray:
@@ -142,15 +147,9 @@ class StateView:
         return self._measure(joint, "travel").rate(self.kin)
 
     def position(self, point: str) -> np.ndarray:
-        if self._memo is None:
-            body, s = self.system.point(point)
-            return self.point_position(body, s)
-        key = ("position", point)
-        found = self._memo.get(key)
-        if found is None:
-            body, s = self.system.point(point)
-            found = self._memo[key] = _read_only(self.point_position(body, s))
-        return found
+        """Global position (m) of a named point."""
+        where = self.system.point
+        return self._kept(("position", point), lambda: self.point_position(*where(point)))
 
     def dist(self, p1: str, p2: str) -> float:
         return float(np.linalg.norm(self.position(p1) - self.position(p2)))
@@ -166,15 +165,8 @@ class StateView:
 
     def velocity(self, point: str) -> np.ndarray:
         """Global velocity (m/s) of a named point."""
-        if self._memo is None:
-            body, s = self.system.point(point)
-            return self.point_velocity(body, s)
-        key = ("velocity", point)
-        found = self._memo.get(key)
-        if found is None:
-            body, s = self.system.point(point)
-            found = self._memo[key] = _read_only(self.point_velocity(body, s))
-        return found
+        where = self.system.point
+        return self._kept(("velocity", point), lambda: self.point_velocity(*where(point)))
 
     def vx(self, point: str) -> float:
         return float(self.velocity(point)[0])
@@ -184,9 +176,3 @@ class StateView:
 
     def vz(self, point: str) -> float:
         return float(self.velocity(point)[2])
-
-
-def _read_only(array: np.ndarray) -> np.ndarray:
-    """`array`, no longer writable (a memoised value is shared by its readers)."""
-    array.flags.writeable = False
-    return array

@@ -200,6 +200,42 @@ def test_compiled_linear_spring_against_its_definition(
     assert (tension == 0.0) == (slack and (stretch < 0.0 or damping > stiffness))
 
 
+def _tilted_hinge(spring) -> tuple[mechlib.System, object]:
+    """(system, the joint's angle measure) of two bodies on a revolute `h` with a tilted
+    axis, held by `spring`."""
+    m = mechlib.Mechanism(name="hinge")
+    m.add_body("a", mass=1.0, cm=(0.0, 0.0, 0.0), inertia=[1, 1, 1])
+    m.add_body("b", mass=1.0, cm=(0.2, 0.0, 0.0), inertia=[1, 1, 1])
+    m.add_joint("h", "revolute", bodies=("a", "b"), at=(0.1, 0.0, 0.0), axis=(0.0, 0.6, 0.8))
+    m.add_force(spring)
+    system = mechlib.System(m)
+    return system, system.measure("h", "angle")
+
+
+def _turned_states(system, measure, seed: int):
+    """(angle reference, q, qd, view) of both bodies turned at random and moving, the
+    angle unwrapped near 0, 6 and -19 rad (three turns)."""
+    rng = np.random.default_rng(seed)
+    for reference in (0.0, 6.0, -19.0):
+        q, qd = system.design_q().copy(), rng.normal(scale=0.5, size=system.nq)
+        for b in range(2):
+            p = rng.normal(size=4)
+            q[7 * b + 3 : 7 * b + 7] = p / np.linalg.norm(p)
+        measure.reference = reference
+        yield reference, q, qd, system.view(system.kin(q, qd, 0.0))
+
+
+def _assert_resists(spring, view, measure, moment: float) -> None:
+    """`spring` applies -moment a on the angle's body 1 and +moment a on its body 2, a the
+    joint axis (fixed in body 2), and no force (1e-12 relative)."""
+    F, N = np.zeros((3, 3)), np.zeros((3, 3))
+    spring.apply(view, F, N)
+    axis = view.rotation(measure.bj) @ measure.axis_local
+    np.testing.assert_allclose(N[measure.bi], -moment * axis, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(N[measure.bj], moment * axis, rtol=1e-12, atol=1e-12)
+    assert not F.any()
+
+
 def test_compiled_torsion_spring_against_the_joint_angle() -> None:
     """The compiled linear torsion spring (kernels.angle_state, torsion_wrench) on a
     revolute between two bodies turned and moving: its angle and rate equal the joint's
@@ -207,22 +243,9 @@ def test_compiled_torsion_spring_against_the_joint_angle() -> None:
     of unwrapping, its rate the central difference of that angle over +-1e-6 s (1e-6
     relative), its moments -M a on body 1 and +M a on body 2 about the joint axis a of
     body 2, M = k (angle - angle0) + c rate + preload (1e-12 relative)."""
-    m = mechlib.Mechanism(name="hinge")
-    m.add_body("a", mass=1.0, cm=(0.0, 0.0, 0.0), inertia=[1, 1, 1])
-    m.add_body("b", mass=1.0, cm=(0.2, 0.0, 0.0), inertia=[1, 1, 1])
-    m.add_joint("h", "revolute", bodies=("a", "b"), at=(0.1, 0.0, 0.0), axis=(0.0, 0.6, 0.8))
     spring = mechlib.TorsionSpring("t", "h", stiffness=35.0, damping=2.5, angle0=0.3, preload=4)
-    m.add_force(spring)
-    system = mechlib.System(m)
-    measure = system.measure("h", "angle")
-    rng = np.random.default_rng(9)
-    for reference in (0.0, 6.0, -19.0):
-        q, qd = system.design_q().copy(), rng.normal(scale=0.5, size=system.nq)
-        for b in range(2):
-            p = rng.normal(size=4)
-            q[7 * b + 3 : 7 * b + 7] = p / np.linalg.norm(p)
-        measure.reference = reference
-        view = system.view(system.kin(q, qd, 0.0))
+    system, measure = _tilted_hinge(spring)
+    for reference, q, qd, view in _turned_states(system, measure, seed=9):
         angle = measure.value(view.kin)
         assert abs(angle - reference) <= math.pi
         out = spring.output(view)
@@ -232,12 +255,7 @@ def test_compiled_torsion_spring_against_the_joint_angle() -> None:
         assert rate == pytest.approx((ahead - behind) / 2e-6, rel=1e-6)
         moment = 35.0 * (angle - 0.3) + 2.5 * rate + 4.0
         assert out["value"] == pytest.approx(moment, rel=1e-12)
-        F, N = np.zeros((3, 3)), np.zeros((3, 3))
-        spring.apply(view, F, N)
-        axis = view.rotation(measure.bj) @ measure.axis_local
-        np.testing.assert_allclose(N[measure.bi], -moment * axis, rtol=1e-12, atol=1e-12)
-        np.testing.assert_allclose(N[measure.bj], moment * axis, rtol=1e-12, atol=1e-12)
-        assert not F.any()
+        _assert_resists(spring, view, measure, moment)
 
 
 def test_named_points_found_once_and_read_only() -> None:
@@ -267,35 +285,16 @@ def test_compiled_table_torsion_spring_against_its_definition() -> None:
     angle and rate of the joint's measure and the table's own value (1e-12 relative),
     beyond the data too (extrapolate: linear); a table that does not extrapolate refuses
     a turn beyond its data with a solver failure naming the element."""
-    m = mechlib.Mechanism(name="hinge")
-    m.add_body("a", mass=1.0, cm=(0.0, 0.0, 0.0), inertia=[1, 1, 1])
-    m.add_body("b", mass=1.0, cm=(0.2, 0.0, 0.0), inertia=[1, 1, 1])
-    m.add_joint("h", "revolute", bodies=("a", "b"), at=(0.1, 0.0, 0.0), axis=(0.0, 0.6, 0.8))
     angles, torques = np.array([-1.0, 0.0, 0.5, 1.5]), np.array([-8.0, 0.0, 3.0, 20.0])
     law = mechlib.TableLaw(Table("law", angles, torques, "akima", "linear"), "t")
     spring = mechlib.TorsionSpring("t", "h", damping=2.5, angle0=0.3, preload=4.0, law=law)
-    m.add_force(spring)
-    system = mechlib.System(m)
-    measure = system.measure("h", "angle")
-    rng = np.random.default_rng(11)
-    for reference in (0.0, 6.0, -19.0):
-        q, qd = system.design_q().copy(), rng.normal(scale=0.5, size=system.nq)
-        for b in range(2):
-            p = rng.normal(size=4)
-            q[7 * b + 3 : 7 * b + 7] = p / np.linalg.norm(p)
-        measure.reference = reference
-        view = system.view(system.kin(q, qd, 0.0))
+    system, measure = _tilted_hinge(spring)
+    for _, _, _, view in _turned_states(system, measure, seed=11):
         angle, rate = measure.value(view.kin), measure.rate(view.kin)
         moment = law.table(angle - 0.3) + 2.5 * rate + 4.0
-        F, N = np.zeros((3, 3)), np.zeros((3, 3))
-        spring.apply(view, F, N)
-        axis = view.rotation(measure.bj) @ measure.axis_local
-        np.testing.assert_allclose(N[measure.bi], -moment * axis, rtol=1e-12, atol=1e-12)
-        np.testing.assert_allclose(N[measure.bj], moment * axis, rtol=1e-12, atol=1e-12)
-        assert not F.any()
+        _assert_resists(spring, view, measure, moment)
     strict = mechlib.TableLaw(Table("law", angles, torques, "akima", "error"), "t")
-    m.forces["t"] = mechlib.TorsionSpring("t", "h", law=strict)
-    system = mechlib.System(m)
+    system, _ = _tilted_hinge(mechlib.TorsionSpring("t", "h", law=strict))
     q = system.design_q()
     q[3:7] = [math.cos(1.0), 0.0, 0.6 * math.sin(1.0), 0.8 * math.sin(1.0)]  # a turned 2 rad
     with pytest.raises(mechlib.SolverFailure, match="force element 't'"):
