@@ -1,4 +1,4 @@
-"""Force elements of one type evaluated in one compiled call (DESIGN.md: elements grouped by
+"""Force elements of one type evaluated in one compiled call (the design rule: elements grouped by
 type and evaluated as arrays, so that cost grows with the work, not with Python overhead).
 
 Linear springs and linear torsion springs of a system, when it has two or more of a type,
