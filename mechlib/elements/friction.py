@@ -212,10 +212,18 @@ class JointFriction(StaticSlipAnchor):
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         if self.stuck:  # a stuck joint is held by its stick equation instead
             return
-        if self._compiled is None or at_rest(view):
+        arguments = self._kernel_arguments(view)
+        if arguments is None:
             self._add_wrench(view, self._capacity(view)[0], F, N)
             return
-        m, ints, floats = self._compiled  # a revolute or cylindrical joint, moving
+        kernel.rotation_friction_wrench(*arguments, N)  # type: ignore[call-arg]
+
+    def _kernel_arguments(self, view: StateView) -> tuple | None:
+        """The compiled kernels' state arguments (mechlib.elements.friction_kernel) for a
+        revolute or cylindrical joint in a moving state, else None (the Python path)."""
+        if self._compiled is None or at_rest(view):
+            return None
+        m, ints, floats = self._compiled
         lam, sign = view.lam, 1.0
         if lam is None or len(lam) == 0:
             jac, lam, rows = _NO_JACOBIAN, _NO_VALUES, _NO_ROWS  # no reaction known yet
@@ -223,17 +231,23 @@ class JointFriction(StaticSlipAnchor):
             rows, ints[4], sign = self._system.joint_force_rows(self.joint)
             jac = view.jacobian()
         varying = np.array([sign, m.reference, self.v_threshold, self._impending])
-        x, xd = view.kin.x, view.kin.xd
-        kernel.rotation_friction_wrench(x, xd, jac, lam, rows, ints, floats, varying, N)
+        return view.kin.x, view.kin.xd, jac, lam, rows, ints, floats, varying
 
     def reaction_jacobian(self, view: StateView, out: np.ndarray) -> None:
         """Add dQ/dlam (nq, m) of this friction at `view` to `out`. Q is linear in the
         capacity mu r |F_n| + preload, and F_n = P (-sign B^T lam) with B the force block
         of the joint's rows: dQ/dlam = Q(capacity 1) (x) mu r (-sign B u), u = F_n/|F_n|
         (nothing where F_n = 0, whose derivative is undefined)."""
+        if self.mu == 0.0 or self.stuck:
+            return
+        arguments = self._kernel_arguments(view)
+        if arguments is not None:  # compiled: the same product
+            system = self._system
+            kernel.rotation_friction_coupling(*arguments, system.masses, system.inertia, out)  # type: ignore[call-arg]
+            return
         normal = self._normal_force(view)
         size = float(np.linalg.norm(normal))
-        if size == 0.0 or self.mu == 0.0 or self.stuck:
+        if size == 0.0:
             return
         F = np.zeros((view.system.nb + 1, 3))
         N = np.zeros_like(F)

@@ -15,9 +15,9 @@ import numpy as np
 
 from mechlib.elements.regularize import coulomb_factor
 from mechlib.jit import njit
-from mechlib.kernels import JitOptions, _rot, angle_state
+from mechlib.kernels import JitOptions, _rot, angle_state, body_forces
 
-__all__ = ["FLOATS", "INTS", "VARYING", "rotation_friction_wrench"]
+__all__ = ["FLOATS", "INTS", "VARYING", "rotation_friction_coupling", "rotation_friction_wrench"]
 
 INTS = 5
 """`ints`: the joint's body 1 and body 2 (the torque pair), its angle's bodies (bi, bj),
@@ -32,11 +32,10 @@ _JIT: JitOptions = {"cache": True, "nogil": True}
 
 
 @njit(**_JIT)
-def rotation_friction_wrench(x, xd, jac, lam, rows, ints, floats, varying, N):
-    """Add the friction torque pair to N (nb+1, 3): capacity mu r |F_r| + preload (F_r the
-    reaction force -sign jac[rows, force columns]^T lam[rows] normal to the axis), times
-    the regularised direction of the joint's rate, opposing body 1's rotation against
-    body 2 (+ on body 2). Returns the capacity (N*m)."""
+def _friction_state(x, xd, jac, lam, rows, ints, floats, varying):
+    """(F_r, the reaction force (N, global) on body 1 normal to the axis; the axis (unit,
+    global); the regularised fraction of the full friction, signed with the joint's rate)
+    at the state (the arguments of rotation_friction_wrench)."""
     body = ints[4]
     force = np.zeros(3)
     for r in range(rows.size):
@@ -49,16 +48,51 @@ def rotation_friction_wrench(x, xd, jac, lam, rows, ints, floats, varying, N):
     for c in range(3):
         force[c] *= -varying[0]
         along += force[c] * axis[c]
-    normal = 0.0
     for c in range(3):
-        part = force[c] - along * axis[c]
-        normal += part * part
-    capacity = floats[9] * math.sqrt(normal) + floats[10]
+        force[c] -= along * axis[c]
     state = np.empty(2)
     angle_state(x, xd, ints[2], ints[3], floats[0:3], floats[3:6], varying[1], state)
-    factor = coulomb_factor(state[1] / varying[2] + varying[3], 1.0)
+    return force, axis, coulomb_factor(state[1] / varying[2] + varying[3], 1.0)
+
+
+@njit(**_JIT)
+def rotation_friction_wrench(x, xd, jac, lam, rows, ints, floats, varying, N):
+    """Add the friction torque pair to N (nb+1, 3): capacity mu r |F_r| + preload (F_r the
+    reaction force -sign jac[rows, force columns]^T lam[rows] normal to the axis), times
+    the regularised direction of the joint's rate, opposing body 1's rotation against
+    body 2 (+ on body 2). Returns the capacity (N*m)."""
+    normal, axis, factor = _friction_state(x, xd, jac, lam, rows, ints, floats, varying)
+    size = math.sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2])
+    capacity = floats[9] * size + floats[10]
     for c in range(3):
         load = -capacity * factor * axis[c]  # on body 1, opposing its slip
         N[ints[0], c] += load
         N[ints[1], c] -= load
     return capacity
+
+
+@njit(**_JIT)
+def rotation_friction_coupling(x, xd, jac, lam, rows, ints, floats, varying, masses, inertia, out):
+    """Add dQ/dlam of the friction to out (nq, m): Q is linear in the capacity mu r |F_r| +
+    preload and F_r = P (-sign B^T lam), B the joint's force block, so dQ/dlam = Q(capacity
+    1) (x) mu r (-sign B u), u = F_r / |F_r|; nothing where F_r = 0 (its derivative is
+    undefined). masses, inertia: the system's (kernels.body_forces)."""
+    normal, axis, factor = _friction_state(x, xd, jac, lam, rows, ints, floats, varying)
+    size = math.sqrt(normal[0] * normal[0] + normal[1] * normal[1] + normal[2] * normal[2])
+    if size == 0.0:
+        return
+    F, N = np.zeros((x.shape[0], 3)), np.zeros((x.shape[0], 3))
+    for c in range(3):
+        N[ints[0], c] -= factor * axis[c]  # the pair at capacity 1
+        N[ints[1], c] += factor * axis[c]
+    unit = np.zeros(out.shape[0])
+    body_forces(x, xd, masses, inertia, np.zeros(3), F, N, False, unit)
+    body = ints[4]
+    for r in range(rows.size):
+        row = rows[r]
+        along = 0.0
+        for c in range(3):
+            along += jac[row, 7 * body + c] * (normal[c] / size)
+        weight = -varying[0] * floats[9] * along
+        for i in range(unit.size):
+            out[i, row] += unit[i] * weight
