@@ -95,3 +95,69 @@ def test_a_group_adds_what_its_members_add_on_their_own(damping: float) -> None:
             scale = max(np.abs(F1).max(), np.abs(N1).max(), 1.0)
             assert np.abs(F - F1).max() <= 1e-13 * scale
             assert np.abs(N - N1).max() <= 1e-13 * scale
+
+
+def _hanging(driven: bool) -> ml.Mechanism:
+    """Two bars (2 kg, 1 m) on hinges to ground, each held up by its own linear torsion
+    spring, and two blocks (1.5 kg) on vertical slides, each hung on its own vertical spring
+    from ground (free length 1 m); gravity -y. With `driven`, ramps drive every joint."""
+    from ._models import Ramp
+
+    mech = ml.Mechanism(name="hanging", gravity=(0.0, -9.81, 0.0))
+    for i, k in enumerate(STIFFNESS[:2]):
+        z = float(i)
+        mech.add_body(f"bar{i}", mass=2.0, cm=(0.5, 0.0, z), inertia=[1e-3, 2 / 12, 2 / 12])
+        mech.add_joint(f"h{i}", "revolute", bodies=(f"bar{i}", "ground"), at=(0, 0, z),
+                       axis=(0, 0, 1))  # fmt: skip
+        mech.add_force(ml.TorsionSpring(f"t{i}", f"h{i}", stiffness=k))
+        mech.add_body(f"block{i}", mass=1.5, cm=(3.0, 0.0, z), inertia=[1e-2] * 3)
+        mech.add_joint(f"s{i}", "prismatic", bodies=(f"block{i}", "ground"), at=(3, 0, z),
+                       axis=(0, 1, 0))  # fmt: skip
+        ends = ((f"block{i}", (3.0, 0.0, z)), ("ground", (3.0, 1.0, z)))
+        mech.add_force(ml.Spring(f"k{i}", ends, stiffness=10 * k, free_length=1.0))
+        if driven:
+            mech.add_motion(f"m{i}", joint=f"h{i}", function=Ramp(-0.1, 0.3))
+            mech.add_motion(f"n{i}", joint=f"s{i}", function=Ramp(-0.2, 0.1))
+    return mech
+
+
+def test_grouped_springs_hold_the_static_equilibrium() -> None:
+    """Static: each bar rests where k theta = -m g L/2 cos(theta) (brentq), each block
+    where 10 k (-travel) = m g (the spring stretched by the weight); to 1e-8. One group of
+    each type."""
+    from scipy.optimize import brentq
+
+    mech = _hanging(driven=False)
+    assert len(ml.System(mech)._groups) == 2
+    sol = ml.solve(
+        mech,
+        ml.Static(),
+        requests=[ml.JointCoordinate(f"a{i}", f"h{i}") for i in range(2)]
+        + [ml.JointCoordinate(f"x{i}", f"s{i}", "travel") for i in range(2)],
+    )
+    assert sol.ok, sol.message
+    for i, k in enumerate(STIFFNESS[:2]):
+        theta = brentq(lambda a, k=k: k * a + 2.0 * 9.81 * 0.5 * math.cos(a), -1.5, 0.0, xtol=1e-14)
+        assert sol.channels[f"a{i}.value"][0] == pytest.approx(theta, abs=1e-8)
+        assert sol.channels[f"x{i}.value"][0] == pytest.approx(-1.5 * 9.81 / (10 * k), abs=1e-8)
+
+
+@pytest.mark.parametrize("analysis", ["kinematic", "quasi-static"])
+def test_grouped_springs_load_the_motions_that_drive_them(analysis: str) -> None:
+    """Ramps at constant rate drive every joint: a bar's motion carries k theta + m g L/2
+    cos(theta) (constant rate: no angular acceleration, the centripetal force passes
+    through the hinge), a block's 10 k travel + m g (constant speed); to 1e-8 of the
+    largest (kinematic: inverse dynamics; quasi-static: equilibria along the ramps)."""
+    mech = _hanging(driven=True)
+    spec = (ml.Kinematic if analysis == "kinematic" else ml.QuasiStatic)(end=1.0, step=0.25)
+    requests = [ml.MotionEffort(f"m{i}", f"m{i}") for i in range(2)]
+    requests += [ml.MotionEffort(f"n{i}", f"n{i}") for i in range(2)]
+    sol = ml.solve(mech, spec, requests=requests)
+    assert sol.ok, sol.message
+    t = sol.time
+    for i, k in enumerate(STIFFNESS[:2]):
+        theta, travel = -0.1 + 0.3 * t, -0.2 + 0.1 * t
+        torque = k * theta + 2.0 * 9.81 * 0.5 * np.cos(theta)
+        force = 10 * k * travel + 1.5 * 9.81
+        np.testing.assert_allclose(sol.channels[f"m{i}.value"], torque, rtol=0, atol=1e-8 * 30)
+        np.testing.assert_allclose(sol.channels[f"n{i}.value"], force, rtol=0, atol=1e-8 * 200)
