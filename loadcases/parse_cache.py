@@ -18,13 +18,12 @@ from __future__ import annotations
 
 import hashlib
 import marshal
-import os
 import sys
-import tempfile
 from contextlib import suppress
 from pathlib import Path
 from typing import Any
 
+from loadcases.atomic import atomic_path
 from loadcases.cache_env import shared_cache_folder
 
 __all__ = ["MAX_ENTRIES", "MAX_TEXT", "cache_folder", "recall", "store"]
@@ -83,15 +82,8 @@ def store(file: str, text: str, parser: bytes, data: Any, keys: dict, values: di
     try:
         payload = marshal.dumps((FORMAT, file, data, keys, values))
         target = _entry(file, text, parser)
-        target.parent.mkdir(parents=True, exist_ok=True)
-        handle, name = tempfile.mkstemp(dir=target.parent, prefix=".tree-")
-        try:
-            with os.fdopen(handle, "wb") as stream:
-                stream.write(payload)
-            os.replace(name, target)
-        finally:
-            with suppress(OSError):
-                os.unlink(name)
+        with atomic_path(target) as temporary:  # no fsync: a lost entry is parsed again
+            temporary.write_bytes(payload)
         _prune(target.parent)
     except (OSError, ValueError):  # ValueError: a value marshal cannot hold
         return

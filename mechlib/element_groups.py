@@ -49,13 +49,12 @@ class SpringGroup(_Group):
 
     def __init__(self, members: Sequence[Spring]) -> None:
         super().__init__(members)
-        self.ints = np.array(
-            [[s._compiled[0], s._compiled[2], int(s._compiled[8])] for s in members],
-            dtype=np.int64,
-        )
-        self.floats = np.array(
-            [[*s._compiled[1], *s._compiled[3], *s._compiled[4:8]] for s in members], dtype=float
-        )
+        ints, floats = [], []
+        for spring in members:  # kernels.spring_wrench's arguments, taken at bind
+            b1, s1, b2, s2, stiffness, damping, free_length, preload, slack = spring._compiled
+            ints.append([b1, b2, int(slack)])
+            floats.append([*s1, *s2, stiffness, damping, free_length, preload])
+        self.ints, self.floats = np.array(ints, dtype=np.int64), np.array(floats, dtype=float)
 
     def apply(self, x: np.ndarray, xd: np.ndarray, skip, F: np.ndarray, N: np.ndarray) -> None:
         springs_wrench(x, xd, self.ints, self.floats, self._on(skip), F, N)

@@ -20,11 +20,12 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYERS: tuple[frozenset[str], ...] = tuple(
     frozenset(layer.split())
     for layer in (
-        "clip unit_table cache_env",  # input quoted in messages (at most 80 characters); the
-        # unit conversions pint made before; the folder named for every cache
-        "diagnostics units atomic limits engine_hash interrupts process_settings parse_cache",
-        # problems as data; quantities; files written whole; input limits; the engine's
-        # source hash; signals; a solving process's BLAS threads and heap; parsed YAML trees
+        "clip unit_table cache_env atomic",  # input quoted in messages (at most 80
+        # characters); the unit conversions pint made before; the folder named for every
+        # cache; files written whole
+        "diagnostics units limits engine_hash interrupts process_settings parse_cache",
+        # problems as data; quantities; input limits; the engine's source hash; signals; a
+        # solving process's BLAS threads and heap; parsed YAML trees
         "source expressions flexible",  # YAML with positions; the expression language;
         # stiffness and mass files of flexible components (readers, reduction cache)
         "schema",  # pydantic models of the files

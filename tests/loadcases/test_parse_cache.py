@@ -173,7 +173,7 @@ def test_the_folder_keeps_the_entries_written_last(folder: Path, tmp_path, monke
     kept = [parse_cache.recall(f"f{n}.yaml", f"n: {n}\n", b"p") for n in range(5)]
     assert [k is not None for k in kept] == [False, False, True, True, True]
     assert len(list(folder.glob("*.tree"))) == 3
-    assert not list(folder.glob(".tree-*"))  # no temporary file left
+    assert not list(folder.glob(".*.tmp"))  # no temporary file left (loadcases.atomic)
 
 
 def test_a_cache_that_cannot_be_written_costs_only_the_parse(parsed, tmp_path, monkeypatch):
