@@ -4,9 +4,9 @@ Sheets, in order: the template's `Cover` (filled in), `Cases` (every run, linked
 sheet and its CSV file), `Envelope` (the table of `envelope.csv`, same header and values,
 without the abscissa row: the abscissa is the x axis, not a load), `Margins` (every margin,
 lowest first: `loadcases.report.margin_table`), `Loads matrix` (peaks per component and run:
-`loadcases.report.loads_matrix`), `Torque margin` (when runs have one:
-loadcases/workbook_tm.py), `Comparison` (the set's `comparisons:`:
-loadcases.report.comparison), `Charts` (native line charts: per family
+`loadcases.report.loads_matrix`; beyond 4,095 runs on `Loads matrix 2`, ...), `Torque
+margin` (when runs have one: loadcases/workbook_tm.py), `Comparison` (the set's
+`comparisons:`: loadcases.report.comparison), `Charts` (native line charts: per family
 the envelope curves of its main request columns and those columns against time for each
 run), one `Curves FAMILY` sheet per family (the envelope curves' numbers, without the
 columns marked `~0`), the time histories, `Provenance`.
@@ -229,7 +229,7 @@ def write_workbook(
     sheets.envelope_sheet(new("Envelope"), shown, run_sheets)
     tables.margins_sheet(new("Margins"), margin_lines(shown, data.ultimate))
     if data.matrix is not None:
-        tables.matrix_sheet(new("Loads matrix"), data.matrix)
+        tables.matrix_sheets(new, data.matrix)
     if has_torque_margin(data.runs):
         torque_margin_sheet(new("Torque margin"), data.runs)
     if data.comparisons:

@@ -2,12 +2,15 @@
 and `Loads matrix` (peak per component and run, critical run highlighted).
 
 Values are in the rows' units (the set's `report.units`, else SI); numerical noise shows
-as the text `~0` in the loads matrix.
+as the text `~0` in the loads matrix. A matrix of more runs than one sheet's 16,384
+columns hold (4,095 runs of four columns) goes on over `Loads matrix 2`, `Loads matrix 3`,
+... (the same rows and first four columns on each; `loads-matrix.csv` has no such limit).
 """
 
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Any
 
 from openpyxl.styles import Alignment, PatternFill
@@ -18,7 +21,13 @@ from loadcases.report.margin_table import MARGIN_COLUMNS, MarginLine
 from loadcases.report.noise import NOISE_MARK
 from loadcases.report.workbook_sheets import header_text
 
-__all__ = ["CRITICAL_FILL", "margins_sheet", "matrix_sheet"]
+__all__ = [
+    "CRITICAL_FILL",
+    "EXCEL_MAX_COLUMNS",
+    "HEADS_PER_SHEET",
+    "margins_sheet",
+    "matrix_sheets",
+]
 
 CRITICAL_FILL = {
     "max": PatternFill("solid", start_color="F4B183", end_color="F4B183"),
@@ -33,6 +42,9 @@ _MARGIN_STYLES = {
     "ms": "loads margin",
 }
 FIRST_HEAD_COLUMN = 5  # column, unit, critical max, critical min, then the heads
+EXCEL_MAX_COLUMNS = 16_384  # columns per worksheet in Excel 2007 and later
+HEADS_PER_SHEET = (EXCEL_MAX_COLUMNS - FIRST_HEAD_COLUMN + 1) // 4  # 4,095 runs a sheet
+MATRIX_TITLE = "Loads matrix"
 
 
 def _value(value: Any) -> Any:
@@ -64,12 +76,14 @@ def margins_sheet(sheet: Any, lines: list[MarginLine]) -> None:
 _ACROSS = Alignment(horizontal="centerContinuous")
 
 
-def _heads(sheet: Any, matrix: LoadsMatrix) -> None:
-    """Two header rows: the run (family) over its four columns, then max / at / min / at."""
+def _heads(sheet: Any, matrix: LoadsMatrix, heads: range) -> None:
+    """Two header rows: the run (family) over its four columns, then max / at / min / at,
+    for the matrix's `heads`."""
     for k, title in enumerate(("column", "unit", "critical max", "critical min"), start=1):
         sheet.cell(row=1, column=k, value=title).style = "loads header"
         sheet.cell(row=2, column=k).style = "loads header"
-    for h, (head, (name, unit)) in enumerate(zip(matrix.heads, matrix.at)):
+    for h, g in enumerate(heads):
+        head, (name, unit) = matrix.heads[g], matrix.at[g]
         first = FIRST_HEAD_COLUMN + 4 * h
         for k in range(4):
             cell = sheet.cell(row=1, column=first + k, value=head if k == 0 else None)
@@ -80,16 +94,41 @@ def _heads(sheet: Any, matrix: LoadsMatrix) -> None:
             sheet.cell(row=2, column=first + k, value=title).style = "loads header"
 
 
-def matrix_sheet(sheet: Any, matrix: LoadsMatrix) -> None:
-    """The loads matrix: each row's critical max cell orange, critical min cell blue."""
-    _heads(sheet, matrix)
+def matrix_sheets(new_sheet: Callable[[str], Any], matrix: LoadsMatrix) -> list[Any]:
+    """The loads matrix on sheets made by `new_sheet(title)`: `Loads matrix`, then, for more
+    than HEADS_PER_SHEET runs (families), `Loads matrix 2`, ... with the next ones; below
+    the rows of each sheet of several, a note of which runs are on which sheet."""
+    parts = [
+        range(start, min(start + HEADS_PER_SHEET, len(matrix.heads)))
+        for start in range(0, max(len(matrix.heads), 1), HEADS_PER_SHEET)
+    ]
+    sheets = []
+    for k, heads in enumerate(parts, start=1):
+        sheet = new_sheet(MATRIX_TITLE if k == 1 else f"{MATRIX_TITLE} {k}")
+        _matrix_sheet(sheet, matrix, heads)
+        sheets.append(sheet)
+    if len(parts) > 1:
+        note = "; ".join(
+            f"{sheet.title}: {matrix.by} {heads.start + 1} to {heads.stop}"
+            for sheet, heads in zip(sheets, parts)
+        )
+        for sheet in sheets:
+            sheet.cell(row=len(matrix.rows) + 4, column=1, value=note).style = "loads note"
+    return sheets
+
+
+def _matrix_sheet(sheet: Any, matrix: LoadsMatrix, heads: range) -> None:
+    """The loads matrix's `heads` (the critical columns name the matrix's critical run,
+    wherever it is): each row's critical max cell orange, critical min cell blue."""
+    _heads(sheet, matrix, heads)
     for r, row in enumerate(matrix.rows, start=3):
         critical = [
             matrix.heads[k] if k is not None else None for k in map(row.critical.get, SIDES)
         ]
         for k, value in enumerate((row.column, row.unit, *critical), start=1):
             sheet.cell(row=r, column=k, value=value)
-        for h, cell in enumerate(row.cells):
+        for h, g in enumerate(heads):
+            cell = row.cells[g]
             if cell is None:
                 continue
             for s, side in enumerate(SIDES):
@@ -101,7 +140,7 @@ def matrix_sheet(sheet: Any, matrix: LoadsMatrix) -> None:
                 peak.value = _value(getattr(cell, side))
                 peak.style = "loads number"
                 sheet.cell(row=r, column=column + 1, value=_value(cell.at(side)))
-                if row.critical.get(side) == h:
+                if row.critical.get(side) == g:
                     peak.fill = CRITICAL_FILL[side]
     sheet.freeze_panes = f"{get_column_letter(FIRST_HEAD_COLUMN)}3"
     sheet.column_dimensions["A"].width = 28
