@@ -24,6 +24,7 @@ from loadcases.results.saved import RunRecord, SavedRun
 
 __all__ = [
     "CASES_COLUMNS",
+    "EXCEL_MAX_LINKS",
     "Block",
     "cases_sheet",
     "envelope_sheet",
@@ -47,6 +48,7 @@ CASES_COLUMNS = (
     "sheet",
     "csv",
 )
+EXCEL_MAX_LINKS = 65_530  # hyperlinks per worksheet in Excel
 _NEGATIVE_FILL = PatternFill("solid", start_color="FF9999", end_color="FF9999")
 _NUMBER_COLUMNS = {
     "max",
@@ -121,10 +123,18 @@ def cases_sheet(
     csv_links: dict[str, str] | None = None,
 ) -> None:
     """One row per run: case, file, parameters, analysis, status, message, CPU time, hash,
-    its time-history sheet and its CSV file (`csv_links` {run: path from the workbook})."""
+    its time-history sheet and its CSV file (`csv_links` {run: path from the workbook}).
+    Within Excel's limits: at most EXCEL_MAX_ROWS - 1 runs and EXCEL_MAX_LINKS hyperlinks
+    (the links to the runs' sheets first, then to their CSV files, in run order); a note
+    beside the header says what is left out (the CSV column still names every file)."""
     links = csv_links or {}
     _header(sheet, list(CASES_COLUMNS))
-    for row, r in enumerate(records, start=2):
+    shown = records[: EXCEL_MAX_ROWS - 1]
+    to_sheets = [r.name for r in shown if run_sheets.get(r.name)]
+    to_files = [r.name for r in shown if r.name in links]
+    linked_sheets = set(to_sheets[:EXCEL_MAX_LINKS])
+    file_links = set(to_files[: EXCEL_MAX_LINKS - len(linked_sheets)])
+    for row, r in enumerate(shown, start=2):
         parameters = ", ".join(f"{k}={v:g}" for k, v in r.parameters.items())
         values = (
             r.name,
@@ -143,16 +153,37 @@ def cases_sheet(
         )
         for column, value in enumerate(values, start=1):
             sheet.cell(row=row, column=column, value=value)
-        _link(sheet.cell(row=row, column=1), run_sheets.get(r.name))
-        if r.name in links:  # a file next to the workbook: opens in any spreadsheet program
+        if r.name in linked_sheets:
+            _link(sheet.cell(row=row, column=1), run_sheets[r.name])
+        if r.name in file_links:  # a file next to the workbook: opens in any spreadsheet program
             csv_cell = sheet.cell(row=row, column=len(values))
             csv_cell.hyperlink, csv_cell.style = links[r.name], "Hyperlink"
         if not r.ok:
             for column in (6, 7):
                 sheet.cell(row=row, column=column).style = "loads failed"
+    linked, wanted = len(linked_sheets) + len(file_links), len(to_sheets) + len(to_files)
+    note = _cases_note(len(records), len(shown), linked < wanted)
+    if note:
+        sheet.cell(row=1, column=len(CASES_COLUMNS) + 2, value=note).style = "loads note"
     sheet.freeze_panes = "B2"
     for letter, width in zip("ABCDEFG", (36, 24, 40, 30, 12, 8, 60)):
         sheet.column_dimensions[letter].width = width
+
+
+def _cases_note(runs: int, shown: int, unlinked: bool) -> str | None:
+    """What the Cases sheet leaves out for Excel's limits (None: nothing)."""
+    notes = []
+    if shown < runs:
+        notes.append(
+            f"the first {shown} of {runs} runs (Excel's {EXCEL_MAX_ROWS} rows a sheet): every "
+            "run's CSV and summary are in the set's folder"
+        )
+    if unlinked:
+        notes.append(
+            f"hyperlinks for the first runs only (Excel holds {EXCEL_MAX_LINKS} a sheet): "
+            "the csv column names every run's file"
+        )
+    return "; ".join(notes) or None
 
 
 def envelope_sheet(sheet: Any, rows: list[EnvelopeRow], run_sheets: dict[str, str]) -> None:

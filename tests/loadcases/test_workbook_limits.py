@@ -1,8 +1,9 @@
-"""The workbook's loads matrix beyond one sheet's columns (Excel: 16,384 a worksheet).
+"""The workbook of a large campaign within Excel's limits of a worksheet.
 
-A campaign of 4,100 runs needs 4 + 4 x 4,100 = 16,404 columns: the matrix must go on over
-a second sheet, every run's peaks on one of them, never a column past XFD (Excel reports
-such a file as corrupt; openpyxl writes it without complaint).
+A campaign of 4,100 runs needs 4 + 4 x 4,100 = 16,404 columns for its loads matrix: the
+matrix must go on over a second sheet, every run's peaks on one of them, never a column
+past XFD (Excel reports such a file as corrupt; openpyxl writes it without complaint). Its
+Cases sheet links each run's CSV file: at most 65,530 hyperlinks and 1,048,576 rows.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ from pathlib import Path
 import openpyxl
 import pytest
 
+from loadcases.report import workbook_sheets as sheets
 from loadcases.report.loads_matrix import loads_matrix
 from loadcases.report.peaks import RunPeak
 from loadcases.report.workbook import _load_template
@@ -21,6 +23,7 @@ from loadcases.report.workbook_tables import (
     HEADS_PER_SHEET,
     matrix_sheets,
 )
+from loadcases.results.saved import RunRecord
 from loadcases.results.xlsx_floats import exact_floats
 
 RUNS = 4100
@@ -85,3 +88,51 @@ def test_a_matrix_that_fits_stays_on_one_sheet_without_a_note() -> None:
     assert sheet.title == "Loads matrix" and sheet.max_column == 12
     assert sheet.cell(row=3, column=3).value == "b" and sheet.cell(row=3, column=4).value == "a"
     assert sheet.cell(row=5, column=1).value is None
+
+
+def _record(k: int) -> RunRecord:
+    return RunRecord(
+        f"crank[rate={k}]", "crank", "crank.case.yaml", {"rate": float(k)}, "dynamic", "ok",
+        "finished", 1005, 0.04, "0" * 64, Path(f"crank[rate={k}].csv"),
+    )  # fmt: skip
+
+
+def test_the_cases_sheet_keeps_within_excels_rows_and_hyperlinks(tmp_path, monkeypatch) -> None:
+    """Excel holds 65,530 hyperlinks and 1,048,576 rows a sheet (a campaign's Cases sheet
+    has a link per run): beyond them the sheet keeps the first runs, the links to the runs'
+    sheets first, and says so; every shown row still names its CSV file. The limits are
+    made small here (5 rows, 3 links), as a sheet of 65,531 runs takes minutes to write."""
+    assert (sheets.EXCEL_MAX_LINKS, sheets.EXCEL_MAX_ROWS) == (65_530, 1_048_576)
+    monkeypatch.setattr(sheets, "EXCEL_MAX_ROWS", 6)
+    monkeypatch.setattr(sheets, "EXCEL_MAX_LINKS", 3)
+    records = [_record(k) for k in range(7)]
+    run_sheets = {records[1].name: "crank", records[3].name: "crank"}
+    links = {r.name: f"campaign/{r.name}.csv" for r in records}
+    workbook = _load_template(None)
+    sheets.cases_sheet(workbook.create_sheet("Cases"), records, run_sheets, links)
+    path = tmp_path / "cases.xlsx"
+    workbook.save(path)
+    sheet = openpyxl.load_workbook(path)["Cases"]
+    names = [sheet.cell(row=r, column=1).value for r in range(2, 8)]
+    assert names == [r.name for r in records[:5]] + [None]
+    linked = {
+        (cell.row, cell.column) for row in sheet.iter_rows() for cell in row if cell.hyperlink
+    }
+    assert linked == {(3, 1), (5, 1), (2, 13)}  # both sheet links, then one file link
+    assert [sheet.cell(row=r, column=13).value for r in range(2, 7)] == [
+        links[r.name] for r in records[:5]
+    ]
+    note = sheet.cell(row=1, column=15).value
+    assert "the first 5 of 7 runs" in note and "hyperlinks for the first runs only" in note
+
+
+def test_the_cases_sheet_of_a_small_set_links_every_run_without_a_note(tmp_path) -> None:
+    records = [_record(k) for k in range(3)]
+    links = {r.name: f"campaign/{r.name}.csv" for r in records}
+    workbook = _load_template(None)
+    sheets.cases_sheet(workbook.create_sheet("Cases"), records, {}, links)
+    sheet = workbook["Cases"]
+    assert [sheet.cell(row=r, column=13).hyperlink.target for r in (2, 3, 4)] == list(
+        links.values()
+    )
+    assert sheet.cell(row=1, column=15).value is None
