@@ -21,8 +21,11 @@ found it meets Exudyn's 1e-4 of range (`tolerance: 1e-4`, `output: steps`, accur
 errors 9.7e-5 and 9.4e-5 in results-2026-11-28-v0.10.0-quiet.json): the solvers compared
 at equal accuracy, each run still written as a user gets it.
 
+`--rounds N` runs both codes N times, the first to go alternating, and prints the median
+of the rounds' ratios (the machine's phases last minutes: one pair can favour either).
+
     python -m benchmarks.campaign [--runs 200] [--jobs 2] [--dask] [--accuracy-off]
-                                  [--equal-accuracy] [--json FILE]
+                                  [--equal-accuracy] [--rounds N] [--json FILE]
 """
 
 from __future__ import annotations
@@ -218,6 +221,26 @@ def _rate_line(label: str, result: dict[str, Any]) -> str:
     )
 
 
+CODES = ("loads", "exudyn")
+
+
+def _round(set_file: Path, rates: list[float], jobs: int, *, exudyn_first: bool) -> dict:
+    """One round: the sweep in `loads run -j jobs` and in Exudyn's pool, one after the
+    other (`exudyn_first`: Exudyn's first, so that a machine's phase does not always favour
+    the same code), with their throughput ratio."""
+    done: dict[str, Any] = {}
+    for code in reversed(CODES) if exudyn_first else CODES:
+        if code == "loads":
+            done[code] = run_loads(set_file, jobs, [])
+            print(_rate_line(f"loads run -j {jobs}", done[code]), flush=True)
+        else:
+            done[code] = run_exudyn_pool(rates, jobs)
+            print(_rate_line(f"Exudyn, pool of {jobs}", done[code]), flush=True)
+    loads, exudyn = done["loads"], done["exudyn"]
+    ratio = exudyn["wall_s"] / loads["wall_s"] * (loads["runs"] / max(exudyn["runs"], 1))
+    return {**done, "exudyn_first": exudyn_first, "throughput_ratio_loads_over_exudyn": ratio}
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=200)
@@ -235,6 +258,13 @@ def main(argv: list[str] | None = None) -> int:
         help="loads at the suite's setting for Exudyn's accuracy (tolerance 1e-4, output "
         "steps, accuracy off)",
     )
+    parser.add_argument(
+        "--rounds",
+        type=int,
+        default=1,
+        help="rounds of both codes, the first to go alternating (loads first in round 1): "
+        "the ratio printed is the median of the rounds'",
+    )
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
     from benchmarks.suite import machine_info
@@ -248,10 +278,11 @@ def main(argv: list[str] | None = None) -> int:
         set_file = write_sweep(
             Path(tmp), rates, accuracy_off=args.accuracy_off, equal=args.equal_accuracy
         )
-        result["loads"] = run_loads(set_file, args.jobs, [])
-        print(_rate_line(f"loads run -j {args.jobs}", result["loads"]), flush=True)
-        result["exudyn"] = run_exudyn_pool(rates, args.jobs)
-        print(_rate_line(f"Exudyn, pool of {args.jobs}", result["exudyn"]), flush=True)
+        result["rounds"] = [
+            _round(set_file, rates, args.jobs, exudyn_first=k % 2 == 1)
+            for k in range(max(1, args.rounds))
+        ]
+        result["loads"], result["exudyn"] = (result["rounds"][0][key] for key in CODES)
         if args.dask:
             result["dask"] = run_loads(set_file, args.jobs, ["--scheduler", "local"])
             print(_rate_line("loads run --scheduler local", result["dask"]), flush=True)
@@ -259,14 +290,16 @@ def main(argv: list[str] | None = None) -> int:
             result["stages_s"] = stage_breakdown(set_file, rates, Path(result["loads"]["output"]))
             print("per run, in this process (s):", result["stages_s"], flush=True)
     result["load_after"] = os.getloadavg()
-    ratio = (
-        result["exudyn"]["wall_s"]
-        / result["loads"]["wall_s"]
-        * (result["loads"]["runs"] / max(result["exudyn"]["runs"], 1))
-    )
+    ratios = [r["throughput_ratio_loads_over_exudyn"] for r in result["rounds"]]
+    ratio = float(np.median(ratios))
     result["throughput_ratio_loads_over_exudyn"] = round(ratio, 4)
+    of = (
+        f"median of {len(ratios)} rounds {[round(r, 3) for r in ratios]}, "
+        if len(ratios) > 1
+        else ""
+    )
     print(
-        f"throughput loads / Exudyn: {ratio:.3f} ({_faster(ratio)}); load average "
+        f"throughput loads / Exudyn: {ratio:.3f} ({of}{_faster(ratio)}); load average "
         f"{result['load_before'][0]:.1f} before, {result['load_after'][0]:.1f} after (1 min)"
     )
     if args.json:
