@@ -19,7 +19,7 @@ from openpyxl.utils import get_column_letter
 from openpyxl.worksheet.hyperlink import Hyperlink
 
 from loadcases.report.envelope import ENVELOPE_COLUMNS, EnvelopeRow
-from loadcases.results.files import EXCEL_MAX_ROWS, TIME_COLUMN
+from loadcases.results.files import EXCEL_MAX_LINKS, EXCEL_MAX_ROWS, TIME_COLUMN
 from loadcases.results.saved import RunRecord, SavedRun
 
 __all__ = [
@@ -48,7 +48,6 @@ CASES_COLUMNS = (
     "sheet",
     "csv",
 )
-EXCEL_MAX_LINKS = 65_530  # hyperlinks per worksheet in Excel
 _NEGATIVE_FILL = PatternFill("solid", start_color="FF9999", end_color="FF9999")
 _NUMBER_COLUMNS = {
     "max",

@@ -20,6 +20,7 @@ from loadcases.report.loads_matrix import SIDES, LoadsMatrix
 from loadcases.report.margin_table import MARGIN_COLUMNS, MarginLine
 from loadcases.report.noise import NOISE_MARK
 from loadcases.report.workbook_sheets import header_text
+from loadcases.results.files import EXCEL_MAX_COLUMNS
 
 __all__ = [
     "CRITICAL_FILL",
@@ -42,7 +43,6 @@ _MARGIN_STYLES = {
     "ms": "loads margin",
 }
 FIRST_HEAD_COLUMN = 5  # column, unit, critical max, critical min, then the heads
-EXCEL_MAX_COLUMNS = 16_384  # columns per worksheet in Excel 2007 and later
 HEADS_PER_SHEET = (EXCEL_MAX_COLUMNS - FIRST_HEAD_COLUMN + 1) // 4  # 4,095 runs a sheet
 MATRIX_TITLE = "Loads matrix"
 

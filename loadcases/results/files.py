@@ -45,6 +45,8 @@ __all__ = [
 TIME_COLUMN = "time"
 SUMMARY_SUFFIX = ".summary.json"
 EXCEL_MAX_ROWS = 1_048_576  # rows per worksheet in Excel 2007 and later
+EXCEL_MAX_COLUMNS = 16_384  # columns per worksheet
+EXCEL_MAX_LINKS = 65_530  # hyperlinks per worksheet
 
 
 @functools.cache  # read from the package metadata once a process (2 ms a call)
