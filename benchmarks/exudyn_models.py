@@ -70,7 +70,8 @@ REACTION_SIGN = -1.0
 #: Radius (m) of the ground sphere that stands for a contact plane.
 GROUND_SPHERE_RADIUS = 1.0
 
-#: Smallest remembered approach speed (m/s), mechlib.contact.laws.MIN_APPROACH_SPEED of `loads`.
+#: Smallest remembered approach speed (m/s), mechlib.elements.contact.laws.MIN_APPROACH_SPEED of
+#: `loads`.
 MIN_IMPACT_SPEED = 1.0e-3
 
 

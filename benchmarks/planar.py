@@ -25,7 +25,7 @@ import numpy as np
 
 import mechlib as ml
 from benchmarks.suite import machine_info
-from mechlib.plane import plane_axes
+from mechlib.model.plane import plane_axes
 
 PITCH, LINK, OFFSET = 0.2, 0.15, 0.03  # m
 LINK_MASS, COUPLER_MASS = 0.2, 0.1  # kg

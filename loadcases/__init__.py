@@ -12,7 +12,7 @@ Names are imported when first used (`loadcases.run_case` imports the solver stac
 from __future__ import annotations
 
 from loadcases.diagnostics import Diagnostic, InputError
-from mechlib.lazy import lazy_names
+from mechlib.core.lazy import lazy_names
 
 _WHERE = {
     "loadcases.inputs.kinds": ("FileKind", "file_kind"),

@@ -1,20 +1,23 @@
 """mechlib: rigid multibody mechanics in absolute coordinates (NumPy/SciPy, SI units).
 
 Build a `Mechanism`, pick an analysis, name the requests, and call `solve`. Each name is
-imported on first use (PEP 562): `from mechlib.joints import ROTATIONAL` (the schema's
+imported on first use (PEP 562): `from mechlib.model.joints import ROTATIONAL` (the schema's
 joint types, `loads validate`) then loads no solver, SciPy or numba.
 """
 
 from __future__ import annotations
 
-import sys
-import types
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
-from mechlib.lazy import lazy_names
+from mechlib.core.lazy import lazy_names
 
 if TYPE_CHECKING:
-    from mechlib.analysis import (
+    from mechlib.checks.model_check import MechanismCheck, check_model, inspect_mechanism
+    from mechlib.core.outcome import ModelError, Solution, SolverFailure, SolverStats, Status
+    from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
+    from mechlib.elements.forces import PointForce, PointTorque, Spring, TorsionSpring
+    from mechlib.kinematics.view import StateView
+    from mechlib.model.analysis import (
         DEFAULT_MAX_STEPS,
         Dynamic,
         InitialBodyVelocity,
@@ -24,16 +27,9 @@ if TYPE_CHECKING:
         QuasiStatic,
         Static,
     )
-    from mechlib.check import ModelError
-    from mechlib.contract import Status
-    from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
-    from mechlib.energy import EnergyBalance
-    from mechlib.events import Action, Event
-    from mechlib.forces import PointForce, PointTorque, Spring, TorsionSpring
-    from mechlib.model import GROUND, Mechanism
-    from mechlib.model_check import MechanismCheck, check_model, inspect_mechanism
-    from mechlib.planar import make_system
-    from mechlib.requests import (
+    from mechlib.model.mechanism import GROUND, Mechanism
+    from mechlib.outputs.energy import EnergyBalance
+    from mechlib.outputs.requests import (
         CouplerEffort,
         ElementOutput,
         ExpressionOutput,
@@ -43,56 +39,56 @@ if TYPE_CHECKING:
         MotionEffort,
         PointKinematics,
     )
-    from mechlib.solution import Solution, SolverFailure, SolverStats
-    from mechlib.solve import solve
-    from mechlib.system import System
-    from mechlib.view import StateView
+    from mechlib.solvers.events import Action, Event
+    from mechlib.solvers.solve import solve
+    from mechlib.system.planar import make_system
+    from mechlib.system.system import System
 
 # name -> the module that defines it
 _HOMES = {
-    "DEFAULT_MAX_STEPS": "mechlib.analysis",
-    "GROUND": "mechlib.model",
-    "Action": "mechlib.events",
-    "Bushing": "mechlib.elements",
-    "CableLoop": "mechlib.elements",
-    "CouplerEffort": "mechlib.requests",
-    "Dynamic": "mechlib.analysis",
-    "ElementOutput": "mechlib.requests",
-    "EnergyBalance": "mechlib.energy",
-    "Event": "mechlib.events",
-    "ExpressionOutput": "mechlib.requests",
-    "FlexibleOutput": "mechlib.requests",
-    "InitialBodyVelocity": "mechlib.analysis",
-    "InitialValue": "mechlib.analysis",
-    "JointCoordinate": "mechlib.requests",
-    "JointFriction": "mechlib.elements",
-    "JointReaction": "mechlib.requests",
-    "Kinematic": "mechlib.analysis",
-    "Mechanism": "mechlib.model",
-    "MechanismCheck": "mechlib.model_check",
-    "ModelError": "mechlib.check",
-    "Modes": "mechlib.analysis",
-    "MotionEffort": "mechlib.requests",
-    "PointForce": "mechlib.forces",
-    "PointKinematics": "mechlib.requests",
-    "PointTorque": "mechlib.forces",
-    "QuasiStatic": "mechlib.analysis",
-    "RotationalDamper": "mechlib.elements",
-    "Seal": "mechlib.elements",
-    "Solution": "mechlib.solution",
-    "SolverFailure": "mechlib.solution",
-    "SolverStats": "mechlib.solution",
-    "Spring": "mechlib.forces",
-    "StateView": "mechlib.view",
-    "Static": "mechlib.analysis",
-    "Status": "mechlib.contract",
-    "System": "mechlib.system",
-    "TableLaw": "mechlib.elements",
-    "TorsionSpring": "mechlib.forces",
-    "check_model": "mechlib.model_check",
-    "inspect_mechanism": "mechlib.model_check",
-    "make_system": "mechlib.planar",
-    "solve": "mechlib.solve",
+    "DEFAULT_MAX_STEPS": "mechlib.model.analysis",
+    "GROUND": "mechlib.model.mechanism",
+    "Action": "mechlib.solvers.events",
+    "Bushing": "mechlib.elements.bushing",
+    "CableLoop": "mechlib.elements.cable_loop",
+    "CouplerEffort": "mechlib.outputs.requests",
+    "Dynamic": "mechlib.model.analysis",
+    "ElementOutput": "mechlib.outputs.requests",
+    "EnergyBalance": "mechlib.outputs.energy",
+    "Event": "mechlib.solvers.events",
+    "ExpressionOutput": "mechlib.outputs.requests",
+    "FlexibleOutput": "mechlib.outputs.requests",
+    "InitialBodyVelocity": "mechlib.model.analysis",
+    "InitialValue": "mechlib.model.analysis",
+    "JointCoordinate": "mechlib.outputs.requests",
+    "JointFriction": "mechlib.elements.friction",
+    "JointReaction": "mechlib.outputs.requests",
+    "Kinematic": "mechlib.model.analysis",
+    "Mechanism": "mechlib.model.mechanism",
+    "MechanismCheck": "mechlib.checks.model_check",
+    "ModelError": "mechlib.core.outcome",
+    "Modes": "mechlib.model.analysis",
+    "MotionEffort": "mechlib.outputs.requests",
+    "PointForce": "mechlib.elements.forces",
+    "PointKinematics": "mechlib.outputs.requests",
+    "PointTorque": "mechlib.elements.forces",
+    "QuasiStatic": "mechlib.model.analysis",
+    "RotationalDamper": "mechlib.elements.damper",
+    "Seal": "mechlib.elements.seal",
+    "Solution": "mechlib.core.outcome",
+    "SolverFailure": "mechlib.core.outcome",
+    "SolverStats": "mechlib.core.outcome",
+    "Spring": "mechlib.elements.forces",
+    "StateView": "mechlib.kinematics.view",
+    "Static": "mechlib.model.analysis",
+    "Status": "mechlib.core.outcome",
+    "System": "mechlib.system.system",
+    "TableLaw": "mechlib.elements.laws",
+    "TorsionSpring": "mechlib.elements.forces",
+    "check_model": "mechlib.checks.model_check",
+    "inspect_mechanism": "mechlib.checks.model_check",
+    "make_system": "mechlib.system.planar",
+    "solve": "mechlib.solvers.solve",
 }
 
 __all__ = [
@@ -143,16 +139,3 @@ __all__ = [
 
 
 __getattr__, __dir__ = lazy_names(__name__, _HOMES, globals(), __all__)
-
-
-class _Package(types.ModuleType):
-    """mechlib itself: importing the submodule `mechlib.solve` does not hide the function
-    `mechlib.solve` (as the eager imports had it, the public name wins)."""
-
-    def __setattr__(self, name: str, value: Any) -> None:
-        if name in _HOMES and isinstance(value, types.ModuleType):
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package

@@ -104,11 +104,11 @@ def test_mechlib_is_pure() -> None:
 def test_import_is_light(module: str) -> None:
     """`import loadcases` (the API) and the CLI (`loads --help`) load no solver, plotting,
     Excel or pandas module: each is imported where it is needed (of `mechlib`, only its
-    lazy package and `mechlib.lazy`)."""
+    lazy package and `mechlib.core.lazy`)."""
     code = (
         f"import sys, {module}; print(sorted(({{m.split('.')[0] for m in sys.modules}} & "
         "{'matplotlib', 'openpyxl', 'pandas', 'numba', 'scipy'}) | "
-        "({m for m in sys.modules if m.startswith('mechlib')} - {'mechlib', 'mechlib.lazy'})))"
+        "({m for m in sys.modules if m.startswith('mechlib')} - {'mechlib', 'mechlib.core.lazy'})))"
     )
     result = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True

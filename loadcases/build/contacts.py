@@ -12,7 +12,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from mechlib import contact as mc
+from mechlib.elements import contact as mc
 
 __all__ = [
     "CLEARANCE_QUANTITIES",

@@ -17,6 +17,7 @@ import scipy.sparse as sp
 from loadcases.flexible.cache import cached
 from loadcases.limits import local_path_problem
 from loadcases.schema.flexible import BeamSection, FileSource, Flexible, MaterialModel
+from mechlib.core.rotation import frame_axes
 from mechlib.flexible.beam import Material, Section
 from mechlib.flexible.craig_bampton import craig_bampton
 from mechlib.flexible.fe_model import FEModel
@@ -24,7 +25,6 @@ from mechlib.flexible.grillage import NamedModel, grillage, straight_beam
 from mechlib.flexible.invariants import Invariants
 from mechlib.flexible.modal_component import ModalComponent
 from mechlib.flexible.stiffening import ModalGeometric
-from mechlib.rotation import frame_axes
 
 __all__ = ["flexible_component"]
 

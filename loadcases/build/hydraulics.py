@@ -1,4 +1,4 @@
-"""Builder of the hydraulic servo-actuator (schema -> mechlib.hydraulics.ServoActuator):
+"""Builder of the hydraulic servo-actuator (schema -> mechlib.elements.hydraulics.ServoActuator):
 keys given replace the library values, absent ones keep them."""
 
 from __future__ import annotations
@@ -6,8 +6,15 @@ from __future__ import annotations
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
-from mechlib.hydraulics import Controller, Cylinder, JetPipe, ServoActuator, ServoValve, Supply
-from mechlib.hydraulics.actuator import LAG_DAMPING
+from mechlib.elements.hydraulics import (
+    Controller,
+    Cylinder,
+    JetPipe,
+    ServoActuator,
+    ServoValve,
+    Supply,
+)
+from mechlib.elements.hydraulics.actuator import LAG_DAMPING
 
 
 @dataclass(frozen=True)

@@ -22,10 +22,10 @@ from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import CompiledExpression, ExpressionError, parse
 from loadcases.inputs.loader import CaseFile
 from loadcases.schema import FlexibleBody
+from mechlib.elements.hydraulics import ServoActuator
 from mechlib.elements.series import SeriesLaw, series_stiffness
-from mechlib.hydraulics import ServoActuator
-from mechlib.joints import ROTATIONAL, TRANSLATIONAL
-from mechlib.tables import Table, TableRangeError
+from mechlib.model.joints import ROTATIONAL, TRANSLATIONAL
+from mechlib.model.tables import Table, TableRangeError
 
 __all__ = [
     "ABSCISSA_COLUMN",

@@ -5,7 +5,7 @@ validates is never refused by a run, and a run refuses nothing validate let thro
 Beyond the schema and name checks of the loader: the model is built (element/joint
 compatibility, constant expressions, the torque-margin block) and its degrees of freedom and
 redundant equations are checked against the analysis. The numba kernels run as Python here
-(mechlib.jit.interpreted): `loads validate` loads no compiler.
+(mechlib.core.jit.interpreted): `loads validate` loads no compiler.
 """
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from loadcases.build.model import build_run
 from loadcases.build.torque_margin import plan_torque_margin
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
-from mechlib.jit import interpreted
+from mechlib.core.jit import interpreted
 
 __all__ = ["case_problems", "model_diagnostics", "set_problems"]
 

@@ -28,7 +28,7 @@ from loadcases.build.model import Guarded
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
 from loadcases.schema.torque_margin import DEFAULT_FACTORS
-from mechlib.tables import Table
+from mechlib.model.tables import Table
 
 __all__ = ["TM_PREFIX", "TM_UNITS", "MarginPlan", "plan_torque_margin"]
 

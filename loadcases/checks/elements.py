@@ -7,7 +7,7 @@ import numpy as np
 from loadcases.diagnostics import Diagnostic
 from loadcases.schema import MechanismModel
 from loadcases.source import Locator
-from mechlib.joints import ROTATIONAL
+from mechlib.model.joints import ROTATIONAL
 
 __all__ = ["check_elements"]
 

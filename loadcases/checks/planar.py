@@ -3,7 +3,7 @@
 Joints whose axis is not along the plane's normal (or a slide not in the plane), gravity
 and loads with out-of-plane components (a force along the normal, a torque about an
 in-plane axis), flexible bodies, contacts, and initial velocities out of the plane: each
-names its key. The joint rules are mechlib.plane's.
+names its key. The joint rules are mechlib.model.plane's.
 """
 
 from __future__ import annotations
@@ -14,8 +14,8 @@ from loadcases.diagnostics import Diagnostic
 from loadcases.schema import CaseModel, MechanismModel
 from loadcases.schema.elements import BodyTorque, PointForce
 from loadcases.source import Locator
-from mechlib.plane import joint_problem, normal_name, plane_axes
-from mechlib.rotation import frame_axes
+from mechlib.core.rotation import frame_axes
+from mechlib.model.plane import joint_problem, normal_name, plane_axes
 
 __all__ = ["check_plane", "check_plane_initial"]
 

@@ -7,7 +7,7 @@ from loadcases.checks.mechanism import node_bodies
 from loadcases.diagnostics import Diagnostic
 from loadcases.schema import COORDINATE_DIMENSION, CaseModel, MechanismModel
 from loadcases.source import Locator
-from mechlib.joints import ROTATIONAL, TRANSLATIONAL
+from mechlib.model.joints import ROTATIONAL, TRANSLATIONAL
 
 __all__ = ["check_requests"]
 

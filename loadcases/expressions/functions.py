@@ -16,7 +16,7 @@ from functools import reduce
 
 import numpy as np
 
-from mechlib.smooth import step  # the one cubic step of loads (seed 004 eq. 3.10)
+from mechlib.core.smooth import step  # the one cubic step of loads (seed 004 eq. 3.10)
 
 __all__ = [
     "FUNCTIONS",

@@ -27,7 +27,7 @@ from loadcases import engine_hash
 from loadcases.atomic import atomic_path, atomic_write_bytes, atomic_write_text
 from loadcases.results.outcome import RunOutcome
 from loadcases.results.xlsx_text import text_cells
-from mechlib.solution import Solution
+from mechlib.core.outcome import Solution
 
 __all__ = [
     "SUMMARY_SUFFIX",

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from loadcases.diagnostics import Diagnostic
-from mechlib.solution import Solution
+from mechlib.core.outcome import Solution
 
 __all__ = ["RunOutcome"]
 

@@ -106,7 +106,7 @@ def _local_factor(integrator: str) -> float:
 
 def _largest_step(analysis: ml.Dynamic) -> float:
     """The largest step (s); with dense output and no max_step, 0: the mechanism's natural
-    time bounds the steps (mechlib.dense), the same in the companion and finer runs."""
+    time bounds the steps (mechlib.solvers.dense), the same in the companion and finer runs."""
     if analysis.dense:
         return analysis.max_step or 0.0
     return min(analysis.max_step or analysis.step, analysis.step)

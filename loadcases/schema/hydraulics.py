@@ -1,6 +1,6 @@
 """Pydantic model of the hydraulic servo-actuator force element (issue 12; equations and
 library values in docs/hydraulics.md). Absent keys take the library values of
-mechlib.hydraulics.parameters."""
+mechlib.elements.hydraulics.parameters."""
 
 from __future__ import annotations
 

@@ -24,7 +24,7 @@ from loadcases.schema.types import (
     vector,
 )
 from loadcases.units import FILE_UNIT_KINDS, UnitError, check_unit_name
-from mechlib.model import JOINT_TYPES  # one list of joint types: the engine's
+from mechlib.model.mechanism import JOINT_TYPES  # one list of joint types: the engine's
 
 __all__ = [
     "COORDINATE_DIMENSION",

@@ -50,7 +50,7 @@ from loadcases.results.saved import (
 )
 from loadcases.sets.executors import Executor, SerialExecutor
 from loadcases.sets.specs import CompiledSet, RunSpec, load_and_compile_set
-from mechlib.solution import Solution
+from mechlib.core.outcome import Solution
 
 __all__ = [
     "DEFAULT_WORKBOOK",

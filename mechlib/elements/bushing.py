@@ -8,7 +8,7 @@ the opposite at the same point. Linear in theta: meant for the small rotations o
 compliant mount (as a linear Adams bushing); the rotation vector keeps it well defined at
 larger ones.
 
-Energy (the energy request, mechlib.energy): `potential` V = 1/2 d.K d + 1/2 theta.Kr theta,
+Energy (the energy request, mechlib.outputs.energy): `potential` V = 1/2 d.K d + 1/2 theta.Kr theta,
 `dissipation` d'.C d' + omega.Cr omega (W). The force's power is exactly -d/dt(1/2 d.K d)
 - d'.C d'. The torque's is -theta.Kr J(theta) theta' (J the rotation vector's Jacobian,
 omega = J theta'), and J^T theta = theta: exact for an isotropic Kr or a rotation about one
@@ -25,9 +25,9 @@ from typing import ClassVar
 
 import numpy as np
 
+from mechlib.core.rotation import cross
 from mechlib.elements.bushing_kernel import STATE_SIZE, bushing_state
-from mechlib.rotation import cross
-from mechlib.view import StateView
+from mechlib.kinematics.view import StateView
 
 __all__ = ["Bushing", "rotation_vector"]
 
@@ -89,7 +89,8 @@ class Bushing:
         )
 
     def state_bodies(self) -> set[int]:
-        """The two bodies, whose relative pose and rates set the loads (mechlib.fd_columns)."""
+        """The two bodies, whose relative pose and rates set the loads
+        (mechlib.system.fd_columns)."""
         return {self._ends[0], self._ends[2]}
 
     def _state(self, view: StateView):

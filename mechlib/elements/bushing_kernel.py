@@ -1,5 +1,5 @@
 """Compiled (numba) bushing state: the force and torque of a 6-DOF linear bushing from the
-two bodies' coordinates and rates (layout of mechlib.kernels: `x`, `xd` (nb+1, 7) rows
+two bodies' coordinates and rates (layout of mechlib.kinematics.kernels: `x`, `xd` (nb+1, 7) rows
 [r, p] per body, ground last). The formulas are those of mechlib.elements.bushing; this
 kernel only removes the Python overhead of the many small array operations (the bushing
 was most of the cost of a rod-end run, evaluated at every Newton iterate).
@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-from mechlib.jit import njit
-from mechlib.kernels import JitOptions, _brot
+from mechlib.core.jit import KERNEL, njit
+from mechlib.kinematics.kernels import _brot
 
 __all__ = ["STATE_SIZE", "bushing_state"]
 
@@ -20,10 +20,9 @@ STATE_SIZE = 21
 """bushing_state's `out`: force (3), torque (3) on body 1 (global, N, N*m), d (3, m) and
 theta (3, rad) in body 2's axes, body 1's point (3, global, m), d' (3, m/s) and omega (3,
 rad/s) in body 2's axes."""
-_JIT: JitOptions = {"cache": True, "nogil": True}
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def _matrix(p, out):
     """Rotation matrix A(p) (3, 3) of the unit quaternion p."""
     e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
@@ -40,7 +39,7 @@ def _matrix(p, out):
     out[2, 1] += 2.0 * e0 * e1
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def _omega(p, pd, out):
     """Global angular velocity 2 E(p) pd (rad/s)."""
     e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
@@ -50,13 +49,13 @@ def _omega(p, pd, out):
     out[2] = 2.0 * (-e3 * w0 + e0 * f3 + e1 * f2 - e2 * f1)
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def _transposed_times(a, v, out):
     for i in range(3):
         out[i] = a[0, i] * v[0] + a[1, i] * v[1] + a[2, i] * v[2]
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def _rotation_vector(r, out):
     """Axis times angle (rad) of the rotation matrix r (as bushing.rotation_vector)."""
     s0 = 0.5 * (r[2, 1] - r[1, 2])
@@ -68,7 +67,7 @@ def _rotation_vector(r, out):
     out[0], out[1], out[2] = scale * s0, scale * s1, scale * s2
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def bushing_state(x, xd, b1, s1, b2, s2, k, c, kr, cr, out):
     """out (STATE_SIZE,) of the bushing between b1 (point s1, body axes) and b2 (s2)."""
     a1, a2 = np.empty((3, 3)), np.empty((3, 3))

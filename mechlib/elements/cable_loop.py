@@ -29,7 +29,7 @@ from typing import ClassVar
 import numpy as np
 
 from mechlib.elements import cable_loop_kernel as kernel
-from mechlib.view import StateView
+from mechlib.kinematics.view import StateView
 
 __all__ = ["CableLoop"]
 
@@ -92,7 +92,7 @@ class CableLoop:
 
     def state_bodies(self) -> set[int]:
         """The bodies of the two joints (pulleys and yoke): their angles and the hinge
-        distance set the loads (mechlib.fd_columns)."""
+        distance set the loads (mechlib.system.fd_columns)."""
         return {b for m in self._m for b in (m.bi, m.bj)} | {b for b, _ in self._ends}
 
     def _g(self, d: float) -> float:
@@ -155,7 +155,9 @@ class CableLoop:
             x, xd, self._ints, self._floats, m1.reference, m2.reference, F, N
         ):
             self._g(self._distance(view))  # raises: the hinges are too close
-            F[self._ints[0]] += np.nan  # a non-finite state: non-finite loads (mechlib.finite)
+            F[self._ints[0]] += (
+                np.nan
+            )  # a non-finite state: non-finite loads (mechlib.solvers.finite)
 
     def output(self, view: StateView) -> dict[str, float]:
         """t1, t2 (N*m, eqs. 2.3-2.4), f_axial, f_lateral (N, eqs. 2.5-2.6), strand

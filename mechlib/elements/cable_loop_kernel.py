@@ -1,6 +1,6 @@
 """Compiled (numba) loads of a closed cable loop (mechlib.elements.cable_loop: the same
-formulas, seed 003 eqs. 2.3-2.6; layout of mechlib.kernels: `x`, `xd` (nb+1, 7) rows [r, p]
-per body, ground last). This kernel only removes the Python overhead of the loop's many
+formulas, seed 003 eqs. 2.3-2.6; layout of mechlib.kinematics.kernels: `x`, `xd` (nb+1, 7) rows [r,
+p] per body, ground last). This kernel only removes the Python overhead of the loop's many
 small array operations: the two cable loops were a quarter of the solar array's deployment
 run, evaluated at every Newton iterate and at every column of the differenced tangent.
 """
@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-from mechlib.jit import njit
-from mechlib.kernels import JitOptions, _rot, angle_state, point_position
+from mechlib.core.jit import KERNEL, njit
+from mechlib.kinematics.kernels import _rot, angle_state, point_position
 
 __all__ = ["FLOATS", "INTS", "cable_loop_wrench"]
 
@@ -23,10 +23,9 @@ FLOATS = 31
 """`floats`: the hinge points A and B in their pulleys' bodies (2 x 3, m), joint 1's angle
 triad f, g and axis h (3 x 3), joint 2's (3 x 3), the senses of phi1 and phi2 (2), r1, r2
 (m), strand stiffness (N/m), pretension (N), g(D0) (m)."""
-_JIT: JitOptions = {"cache": True, "nogil": True}
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def cable_loop_wrench(x, xd, ints, floats, reference1, reference2, F, N):
     """Add the cable loop's loads to F and N (nb+1, 3); the joint angles unwrapped to the
     turns nearest `reference1`, `reference2` (rad). False, and nothing added, when the hinge

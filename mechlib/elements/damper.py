@@ -7,8 +7,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from mechlib.forces import resist_rotation
-from mechlib.view import StateView
+from mechlib.elements.forces import resist_rotation
+from mechlib.kinematics.view import StateView
 
 __all__ = ["RotationalDamper"]
 
@@ -30,7 +30,8 @@ class RotationalDamper:
         self._m = system.measure(self.joint, "angle")
 
     def state_bodies(self) -> set[int]:
-        """The joint's two bodies, whose relative rate sets the moment (mechlib.fd_columns)."""
+        """The joint's two bodies, whose relative rate sets the moment
+        (mechlib.system.fd_columns)."""
         return {self._m.bi, self._m.bj}
 
     def _moment(self, view: StateView) -> tuple[float, float]:

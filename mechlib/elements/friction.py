@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mechlib.coordinates import AngleMeasure, TravelMeasure
+from mechlib.core.rotation import cross, omega_global
 from mechlib.elements import friction_kernel as kernel
 from mechlib.elements.regularize import (
     StaticSlipAnchor,
@@ -24,8 +24,8 @@ from mechlib.elements.regularize import (
     coulomb_vector,
     rotation_increment,
 )
-from mechlib.rotation import cross, omega_global
-from mechlib.view import StateView
+from mechlib.kinematics.coordinates import AngleMeasure, TravelMeasure
+from mechlib.kinematics.view import StateView
 
 __all__ = ["FRICTION_JOINTS", "JointFriction"]
 
@@ -109,7 +109,7 @@ class JointFriction(StaticSlipAnchor):
         )
         return coulomb_vector(w, self.v_threshold)
 
-    # ---- stick (dynamic analyses; see mechlib.stick) ----------------------------------
+    # ---- stick (dynamic analyses; see mechlib.solvers.stick) ----------------------------------
     @property
     def stick_owner(self) -> str:
         """Owner name of the equation that holds the joint while it sticks."""

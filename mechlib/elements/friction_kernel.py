@@ -1,5 +1,6 @@
 """Compiled (numba) joint friction of a revolute or cylindrical joint in a moving state
-(mechlib.elements.friction: the same formulas, seed 003 eq. 2.2; layout of mechlib.kernels:
+(mechlib.elements.friction: the same formulas, seed 003 eq. 2.2; layout of
+mechlib.kinematics.kernels:
 `x`, `xd` (nb+1, 7) rows [r, p] per body, ground last). It removes the Python overhead of
 the reaction, axis, capacity and regularised direction: the solar array's three hinge
 frictions were a third of its deployment run, evaluated at every Newton iterate and every
@@ -13,9 +14,9 @@ import math
 
 import numpy as np
 
+from mechlib.core.jit import KERNEL, njit
 from mechlib.elements.regularize import coulomb_factor
-from mechlib.jit import njit
-from mechlib.kernels import JitOptions, _rot, angle_state, body_forces
+from mechlib.kinematics.kernels import _rot, angle_state, body_forces
 
 __all__ = ["FLOATS", "INTS", "VARYING", "rotation_friction_coupling", "rotation_friction_wrench"]
 
@@ -28,10 +29,9 @@ preload (N*m)."""
 VARYING = 4
 """`varying`: the sign of the reaction's rows, the angle's unwrapping reference (rad),
 v_threshold (rad/s), the impending slip direction (+1, -1 or 0)."""
-_JIT: JitOptions = {"cache": True, "nogil": True}
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def _friction_state(x, xd, jac, lam, rows, ints, floats, varying):
     """(F_r, the reaction force (N, global) on body 1 normal to the axis; the axis (unit,
     global); the regularised fraction of the full friction, signed with the joint's rate)
@@ -55,7 +55,7 @@ def _friction_state(x, xd, jac, lam, rows, ints, floats, varying):
     return force, axis, coulomb_factor(state[1] / varying[2] + varying[3], 1.0)
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def rotation_friction_wrench(x, xd, jac, lam, rows, ints, floats, varying, N):
     """Add the friction torque pair to N (nb+1, 3): capacity mu r |F_r| + preload (F_r the
     reaction force -sign jac[rows, force columns]^T lam[rows] normal to the axis), times
@@ -71,7 +71,7 @@ def rotation_friction_wrench(x, xd, jac, lam, rows, ints, floats, varying, N):
     return capacity
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def rotation_friction_coupling(x, xd, jac, lam, rows, ints, floats, varying, masses, inertia, out):
     """Add dQ/dlam of the friction to out (nq, m): Q is linear in the capacity mu r |F_r| +
     preload and F_r = P (-sign B^T lam), B the joint's force block, so dQ/dlam = Q(capacity

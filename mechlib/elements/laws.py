@@ -1,14 +1,14 @@
 """Tabulated element laws: force (N) vs deflection (m), torque (N*m) vs angle (rad).
 
-`TableLaw` wraps a `mechlib.tables.Table` for `Spring.law` / `TorsionSpring.law` / `Seal.law`:
+`TableLaw` wraps a `mechlib.model.tables.Table` for `Spring.law` / `TorsionSpring.law` / `Seal.law`:
 a value outside a table that does not extrapolate becomes a `SolverFailure` naming the
 element. Its exact `integral` gives those elements their potential energy.
 """
 
 from __future__ import annotations
 
-from mechlib.solution import SolverFailure
-from mechlib.tables import Table, TableRangeError
+from mechlib.core.outcome import SolverFailure
+from mechlib.model.tables import Table, TableRangeError
 
 __all__ = ["TableLaw"]
 
@@ -31,7 +31,7 @@ class TableLaw:
 
     def integral(self, a: float, b: float) -> float:
         """The exact integral of the law over [a, b] (J for a force vs m or a torque vs rad:
-        the work the element's potential stores), mechlib.tables.Table.integral."""
+        the work the element's potential stores), mechlib.model.tables.Table.integral."""
         try:
             return self.table.integral(a, b)
         except TableRangeError as exc:

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mechlib.jit import njit
+from mechlib.core.jit import KERNEL, njit
 
 __all__ = [
     "StaticSlipAnchor",
@@ -36,7 +36,7 @@ class StaticSlipAnchor:
         self._anchor = anchor
 
 
-@njit(cache=True, nogil=True)
+@njit(**KERNEL)
 def coulomb_factor(w: float, threshold: float) -> float:
     """Signed fraction (-1..1) of the full friction for a slip w (same unit as threshold)."""
     s = w / threshold

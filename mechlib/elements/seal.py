@@ -11,7 +11,7 @@ Friction mu F_i opposes the tangential slip of P_i on body 2 (regularised Coulom
 `mechlib.elements.regularize`). The stations integrate the line load by the midpoint rule,
 exact for a linear law under a linearly varying penetration.
 
-Energy (the energy request, mechlib.energy): `potential` sums the stations' share times
+Energy (the energy request, mechlib.outputs.energy): `potential` sums the stations' share times
 the integral of the line load over their penetration (exact for the power law and a
 tabulated law, `TableLaw.integral`); `dissipation` is the friction's power.
 """
@@ -24,11 +24,11 @@ from typing import ClassVar
 
 import numpy as np
 
+from mechlib.core.rotation import omega_global, rotate
+from mechlib.elements.forces import has_potential, stored
 from mechlib.elements.regularize import StaticSlipAnchor, at_rest
 from mechlib.elements.seal_kernels import seal_apply, seal_friction, seal_stations, seal_wrench
-from mechlib.forces import has_potential, stored
-from mechlib.rotation import omega_global, rotate
-from mechlib.view import StateView
+from mechlib.kinematics.view import StateView
 
 __all__ = ["Seal"]
 
@@ -178,7 +178,7 @@ class Seal(StaticSlipAnchor):
         return self._b1, self._b2
 
     def state_bodies(self) -> tuple[int, int]:
-        """The body pair (mechlib.fd_columns)."""
+        """The body pair (mechlib.system.fd_columns)."""
         return self.body_pair()
 
     def output(self, view: StateView) -> dict[str, float]:

@@ -1,6 +1,6 @@
 """Compiled parts of the distributed seal (mechlib.elements.seal): the stations' geometry,
 their friction and the wrench on both bodies, for the state arrays `x`, `xd` (nb+1, 7) of
-mechlib.kernels (rows [r, p], ground last). Units: m, m/s, N.
+mechlib.kinematics.kernels (rows [r, p], ground last). Units: m, m/s, N.
 
 The seal's force is evaluated in every column of a differenced tangent that moves one of
 its two bodies; as a dozen small NumPy calls it cost about 0.3 ms, most of the door's
@@ -11,15 +11,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from mechlib.jit import njit
-from mechlib.kernels import JitOptions, point_position, point_velocity, rotation_matrix
+from mechlib.core.jit import KERNEL, njit
+from mechlib.kinematics.kernels import point_position, point_velocity, rotation_matrix
 
 __all__ = ["seal_apply", "seal_friction", "seal_stations", "seal_wrench"]
 
-_JIT: JitOptions = {"cache": True, "nogil": True}
 
-
-@njit(**_JIT)
+@njit(**KERNEL)
 def seal_stations(x, b1, b2, s1, s2, n_local, gap, p1, p2, n, pen):
     """Stations P_i of body 1 (body-fixed s1 (N, 3)) and their twins S_i of body 2 (s2) into
     p1, p2 (N, 3); the normal n (3,) of body 2 (n_local in its axes); penetrations
@@ -35,7 +33,7 @@ def seal_stations(x, b1, b2, s1, s2, n_local, gap, p1, p2, n, pen):
         pen[i] = -((a[0] - b[0]) * n[0] + (a[1] - b[1]) * n[1] + (a[2] - b[2]) * n[2]) - gap
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def seal_friction(x, xd, b1, b2, s1, p1, p2, n, normal, mu, anchor, rest, threshold, out):
     """Friction forces on body 1 (N, 3) into out: -mu F_i g(|w|/threshold) w/|w| with w the
     tangential slip of P_i on body 2 (at rest: its displacement since `anchor`, else its
@@ -74,7 +72,7 @@ def seal_friction(x, xd, b1, b2, s1, p1, p2, n, normal, mu, anchor, rest, thresh
             out[i, c] = -mu * normal[i] * w[c] * factor
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def seal_wrench(x, b1, b2, p1, n, normal, friction, F, N):
     """Add the stations' forces normal_i n + friction_i (on body 1 at P_i; the reverse on
     body 2) to F and their moments about each body's centre of mass to N."""
@@ -92,7 +90,7 @@ def seal_wrench(x, b1, b2, p1, n, normal, friction, F, N):
             N[body, 2] += sign * (a0 * f1 - a1 * f0)
 
 
-@njit(**_JIT)
+@njit(**KERNEL)
 def seal_apply(
     x, xd, b1, b2, s1, s2, n_local, gap, share, stiffness, exponent, mu, anchor, rest,
     threshold, F, N,

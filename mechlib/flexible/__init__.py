@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from mechlib.lazy import lazy_names
+from mechlib.core.lazy import lazy_names
 
 if TYPE_CHECKING:
     from mechlib.flexible.fe_model import COMPONENTS, FEModel

@@ -20,10 +20,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mechlib.kernels import b_matrix as d_rotate
-from mechlib.kernels import cross3, rotation_matrix
-from mechlib.kin import Kin
-from mechlib.rotation import g_matrix, omega_body, skew
+from mechlib.core.rotation import cross3, g_matrix, omega_body, skew
+from mechlib.kinematics.kernels import b_matrix as d_rotate
+from mechlib.kinematics.kernels import rotation_matrix
+from mechlib.kinematics.kin import Kin
 
 if TYPE_CHECKING:
     from mechlib.flexible.modal_body import ModalBody
@@ -91,7 +91,7 @@ class Attached:
 
 class NodeWelds:
     """The six weld equations of every kept node of the modal bodies (a constraint group:
-    phi, jacobian, gamma, rate as mechlib.constraints)."""
+    phi, jacobian, gamma, rate as mechlib.kinematics.constraints)."""
 
     def __init__(self, bodies: list[Attached], nb: int):
         self.items = [(a, row, node) for a in bodies for row, node in enumerate(a.nodes)]

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from mechlib.rotation import omega_body
+from mechlib.core.rotation import omega_body
 
 __all__ = ["deformation_warnings", "spin_warnings", "unresolved_mode_warnings"]
 

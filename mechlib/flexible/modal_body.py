@@ -24,8 +24,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib.core.rotation import skew
 from mechlib.flexible.modal_component import ModalComponent
-from mechlib.rotation import skew
 
 __all__ = ["ModalBody"]
 

@@ -24,7 +24,7 @@ from cli.set_runner import SetProgress
 from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.results.files import write_results
 from loadcases.results.outcome import RunOutcome
-from mechlib.solution import Solution, SolverStats
+from mechlib.core.outcome import Solution, SolverStats
 
 runner = CliRunner()
 

@@ -18,8 +18,8 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 DOOR = ROOT / "loadcases" / "library" / "door"
 HEAVY = ("numba", "pandas", "matplotlib", "openpyxl", "plotly")
-# imported only to solve, interpolate a table or build a flexible body (mechlib.tables,
-# mechlib.model_check, mechlib.flexible): a case that validates needs none of them
+# imported only to solve, interpolate a table or build a flexible body (mechlib.model.tables,
+# mechlib.checks.model_check, mechlib.flexible): a case that validates needs none of them
 SOLVER = (
     "scipy.interpolate",
     "scipy.optimize",
@@ -27,12 +27,12 @@ SOLVER = (
     "scipy.linalg",
     "scipy.sparse",
     "scipy.special",
-    "mechlib.solve",
-    "mechlib.assembly",
-    "mechlib.linalg",
-    "mechlib.radau",
-    "mechlib.genalpha_stepper",
-    "mechlib.modes",
+    "mechlib.solvers.solve",
+    "mechlib.solvers.assembly",
+    "mechlib.linalg.factor",
+    "mechlib.solvers.radau",
+    "mechlib.solvers.genalpha.stepper",
+    "mechlib.solvers.modes",
     "mechlib.flexible.fe_model",
     "loadcases.flexible.read",
 )
@@ -65,8 +65,8 @@ _FROZEN = _validate_script('{"exit": code, "frozen": gc.get_freeze_count()}')
 _KERNELS = """
 import json, sys
 import numpy as np
-from mechlib import jit
-from mechlib.kernels import rotation_matrix
+from mechlib.core import jit
+from mechlib.kinematics.kernels import rotation_matrix
 p = np.array([0.9, 0.1, -0.3, 0.2]) / np.linalg.norm([0.9, 0.1, -0.3, 0.2])
 with jit.interpreted():
     python = rotation_matrix(p)
@@ -92,7 +92,7 @@ def _python(code: str, *args: str, env: dict[str, str] | None = None) -> dict:
 
 def test_validate_loads_no_solver_stack() -> None:
     """`loads validate` of a door case (its model built and its degrees of freedom
-    checked, the kernels run as Python: mechlib.jit.interpreted) says ok, exit 0, and
+    checked, the kernels run as Python: mechlib.core.jit.interpreted) says ok, exit 0, and
     leaves numba, pandas, matplotlib, openpyxl and plotly unimported."""
     result = _python(_VALIDATE % (HEAVY,), str(DOOR / "opening.case.yaml"))
     assert result == {"exit": 0, "loaded": []}

@@ -10,7 +10,7 @@ import openpyxl
 
 from loadcases.results.files import write_results
 from loadcases.results.outcome import RunOutcome
-from mechlib.solution import Solution, SolverStats
+from mechlib.core.outcome import Solution, SolverStats
 from tests.hardening.conftest import loads
 
 HOSTILE = ["=1+2", "+SUM(1,2)", "-2+3", "@SUM(1)", "=cmd|' /C calc'!A0", "#N/A"]

@@ -1,4 +1,4 @@
-"""The bodies a force or torque of a case depends on (`state_bodies`, mechlib.fd_columns),
+"""The bodies a force or torque of a case depends on (`state_bodies`, mechlib.system.fd_columns),
 from the measures its value expressions read: a joint measure reads the joint's two bodies,
 a point measure the point's body (a flexible body's interface node), `effort` reads the
 multipliers and the whole Jacobian (unknown: evaluated in every column). On a flexible
@@ -12,12 +12,12 @@ from pathlib import Path
 
 import numpy as np
 
-import mechlib.balance
+import mechlib.solvers.static.balance
 from loadcases.build.model import build_run
 from loadcases.inputs.loader import load_case
-from mechlib.balance import Balance
-from mechlib.fd_columns import ColumnSkips, element_bodies
-from mechlib.system import System
+from mechlib.solvers.static.balance import Balance
+from mechlib.system.fd_columns import ColumnSkips, element_bodies
+from mechlib.system.system import System
 from tests.loadcases.test_flexible_yaml import CASE as FLEXIBLE
 from tests.mechlib.test_fd_columns import EveryColumn, roundoff
 
@@ -92,7 +92,7 @@ def test_flexible_stiffness_with_modal_columns(tmp_path: Path, monkeypatch) -> N
     q = system.design_q() + 1e-3 * rng.standard_normal(system.nq)
     lam = rng.standard_normal(system.phi(system.kin(q)).size)
     fast = Balance(system, 0.0, q).stiffness(q, lam)
-    monkeypatch.setattr(mechlib.balance, "ColumnSkips", EveryColumn)
+    monkeypatch.setattr(mechlib.solvers.static.balance, "ColumnSkips", EveryColumn)
     full = Balance(system, 0.0, q).stiffness(q, lam)
     assert np.abs(fast - full).max() <= roundoff(system, system.kin(q), lam)
     assert np.abs(full[:, 7 * system.nb :]).max() > 0.0  # modal columns are there

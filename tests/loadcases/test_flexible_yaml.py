@@ -252,12 +252,12 @@ def test_assembly_turns_a_flexible_body_rigidly(
     at 1 rad/s: the assembly reaches the angle and rate by rigid motion, its modal
     coordinates and rates stay 0 (1e-9); weighting the modes like the rigid coordinates (the
     former plain least squares) starts it strained (the regression this guards)."""
-    import mechlib.assembly
+    import mechlib.solvers.assembly
     from loadcases.build.model import build_run
-    from mechlib.system import System
+    from mechlib.system.system import System
 
     if weight is not None:
-        monkeypatch.setattr(mechlib.assembly, "_MODAL_WEIGHT", weight)
+        monkeypatch.setattr(mechlib.solvers.assembly, "_MODAL_WEIGHT", weight)
     example = LIBRARY / "examples" / "flexible" / "flexible_pendulum.case.yaml"
     text = example.read_text().replace(
         "analysis:", "initial:\n  hinge: {value: 1.0472, rate: 1}\nanalysis:"
@@ -266,7 +266,7 @@ def test_assembly_turns_a_flexible_body_rigidly(
     path.write_text(text)
     built = build_run(load_case(path))
     system = System(built.mechanism)
-    start = mechlib.assembly.assemble(system, 0.0, built.initial)
+    start = mechlib.solvers.assembly.assemble(system, 0.0, built.initial)
     modal = slice(system.nq - system.nz, system.nq)
     deformed = max(np.abs(start.q[modal]).max(), np.abs(start.qd[modal]).max())
     assert (deformed > 1e-6) == strained, deformed

@@ -1,6 +1,6 @@
 """The static stiffness's constraint Jacobians shared by bodies that no equation joins
-(mechlib.fd_columns.JacobianClasses, mechlib.balance): the classes of a chain and of the
-door, and the differenced stiffness equal, entry for entry, to the one that evaluates the
+(mechlib.system.fd_columns.JacobianClasses, mechlib.solvers.static.balance): the classes of a chain
+and of the door, and the differenced stiffness equal, entry for entry, to the one that evaluates the
 whole constraint Jacobian in every column.
 
 Door (loadcases/library/door/lifting_inner.case.yaml): 15 bodies, 104 equations; the door
@@ -16,13 +16,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-import mechlib.balance
+import mechlib.solvers.static.balance
 from loadcases.build.model import build_run
 from loadcases.inputs.loader import load_case
-from mechlib.assembly import solve_positions
-from mechlib.balance import Balance
-from mechlib.fd_columns import JacobianClasses
-from mechlib.system import System
+from mechlib.solvers.assembly import solve_positions
+from mechlib.solvers.static.balance import Balance
+from mechlib.system.fd_columns import JacobianClasses
+from mechlib.system.system import System
 from tests.mechlib.test_fd_columns import _chain, _state
 
 DOOR = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "door"
@@ -88,7 +88,7 @@ def test_a_wrong_class_is_seen(door, monkeypatch):
     classes = JacobianClasses.of(door)
     assert classes is not None
     wrong = JacobianClasses([tuple(range(door.nb))], classes.rows)
-    monkeypatch.setattr(mechlib.balance, "_jacobian_classes", lambda system: wrong)
+    monkeypatch.setattr(mechlib.solvers.static.balance, "_jacobian_classes", lambda system: wrong)
     rng = np.random.default_rng(11)
     q, _ = solve_positions(door, door.design_q(), 0.0)
     lam = 1e3 * rng.standard_normal(door.phi(door.kin(q)).size)
@@ -109,8 +109,8 @@ def test_rates_from_one_factorization_equal_least_squares(door, monkeypatch):
     lifting door at its assembled pose with its motions' rates at t = 0.5 s (opening): equal to
     round-off (measured 3e-14 and 5e-14 of the largest rate for lifting_inner: its phi_q is
     well conditioned); with the rank test failing, exactly the least-squares numbers."""
-    import mechlib.assembly
-    from mechlib.assembly import solve_rates
+    import mechlib.solvers.assembly
+    from mechlib.solvers.assembly import solve_rates
 
     q, _ = solve_positions(door, door.design_q(), 0.5)
     qd, qdd = solve_rates(door, q, 0.5)
@@ -118,7 +118,7 @@ def test_rates_from_one_factorization_equal_least_squares(door, monkeypatch):
     assert np.abs(ref_qd).max() > 0.1 and np.abs(ref_qdd).max() > 0.01  # it moves
     np.testing.assert_allclose(qd, ref_qd, rtol=0, atol=1e-13 * np.abs(ref_qd).max())
     np.testing.assert_allclose(qdd, ref_qdd, rtol=0, atol=1e-12 * np.abs(ref_qdd).max())
-    monkeypatch.setattr(mechlib.assembly, "_RANK_RATIO", 1.0)  # every pivot "too small"
+    monkeypatch.setattr(mechlib.solvers.assembly, "_RANK_RATIO", 1.0)  # every pivot "too small"
     fallback = solve_rates(door, q, 0.5)
     np.testing.assert_array_equal(fallback[0], ref_qd)
     np.testing.assert_array_equal(fallback[1], ref_qdd)

@@ -12,7 +12,7 @@ from matplotlib.image import imread
 from loadcases.report import plots
 from loadcases.results.files import write_results
 from loadcases.results.outcome import RunOutcome
-from mechlib.solution import Solution, SolverStats
+from mechlib.core.outcome import Solution, SolverStats
 
 WIDTH_PX = 1000  # FIG_WIDTH_IN 10 in at DPI 100
 

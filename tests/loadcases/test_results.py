@@ -24,7 +24,7 @@ from loadcases.report.envelope import (
 )
 from loadcases.results.files import read_results, result_base, write_results
 from loadcases.results.outcome import RunOutcome
-from mechlib.solution import EventRecord, Solution, SolverStats
+from mechlib.core.outcome import EventRecord, Solution, SolverStats
 
 TIME = np.array([0.0, 0.1, 0.2, 0.3, 0.4])
 # Values chosen to need all 17 significant digits, plus a NaN and a negative extreme.

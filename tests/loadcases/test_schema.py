@@ -147,7 +147,7 @@ def test_json_schema_covers_three_kinds() -> None:
 
 
 def test_analysis_output_key() -> None:
-    """`analysis.output` is `steps` or `dense` (dense output, mechlib.dense); anything else
+    """`analysis.output` is `steps` or `dense` (dense output, mechlib.solvers.dense); anything else
     is an error naming the key and its place; `dense` reaches the dynamic analysis."""
     text = "case: c\nmechanism: m.yaml\nanalysis: {type: dynamic, end: 1, step: 0.1, output: %s}\n"
     assert _errors(CaseModel, text % "sparse") == [

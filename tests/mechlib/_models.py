@@ -129,7 +129,7 @@ def rz(angle: float) -> np.ndarray:
 def falling_chain(links: int = 12) -> mechlib.Mechanism:
     """`links` bars of 0.1 m joined by spherical joints, falling from a gentle horizontal
     arc (benchmarks.models' chain), a point `tip` at its free end: saddle matrices above
-    100 rows, factored by band LU (mechlib.flat_lu)."""
+    100 rows, factored by band LU (mechlib.linalg.flat_lu)."""
     mech = mechlib.Mechanism(name="chain", gravity=(0.0, -G, 0.0))
     start, heading = np.zeros(3), 0.0
     for i in range(links):

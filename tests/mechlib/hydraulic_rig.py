@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 import mechlib as ml
-from mechlib.hydraulics import ServoActuator
+from mechlib.elements.hydraulics import ServoActuator
 
 REQUESTS = [
     ml.ElementOutput("act", "act"),

@@ -5,7 +5,7 @@ restored. Reference: membership of the row in `system.active` itself."""
 from __future__ import annotations
 
 import mechlib as ml
-from mechlib.planar import make_system
+from mechlib.system.planar import make_system
 
 
 def _arm() -> ml.Mechanism:

@@ -15,9 +15,9 @@ from collections.abc import Callable
 import numpy as np
 import pytest
 
-from mechlib.constraints import Dot1, Dot2, Normalization, Spherical
-from mechlib.kin import Kin
-from mechlib.rotation import rotation_matrix
+from mechlib.core.rotation import rotation_matrix
+from mechlib.kinematics.constraints import Dot1, Dot2, Normalization, Spherical
+from mechlib.kinematics.kin import Kin
 
 NB = 3  # moving bodies; ground is index NB
 BODY_I = [0, 2, NB, 1]  # pairs include the ground on either side
@@ -129,7 +129,7 @@ def test_rate_matches_finite_differences(kind: str, rng: np.random.Generator) ->
 
 def test_spherical_residual_is_the_point_gap(rng: np.random.Generator) -> None:
     """Spherical phi = (r_i + A_i s_i) - (r_j + A_j s_j), written out with
-    A(p) from mechlib.rotation (1e-14)."""
+    A(p) from mechlib.core.rotation (1e-14)."""
     q, _, _ = _random_state(rng)
     si, sj = rng.normal(size=(1, 3)), rng.normal(size=(1, 3))
     k = Kin.from_state(q)

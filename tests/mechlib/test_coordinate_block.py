@@ -1,5 +1,6 @@
-"""The coordinate equations evaluated as one block (mechlib.coordinate_block) against the
-same equations evaluated one by one (mechlib.coordinates, mechlib.curve_joint): phi,
+"""The coordinate equations evaluated as one block (mechlib.kinematics.coordinate_block) against the
+same equations evaluated one by one (mechlib.kinematics.coordinates,
+mechlib.kinematics.curve_joint): phi,
 gradient rows and gamma at generic states with rates, past +-pi for the unwrapping, and
 after a lock adds an equation. Same arithmetic in another order: agreement to 1e-12."""
 
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 import mechlib
-from mechlib.system import System
+from mechlib.system.system import System
 
 from ._models import Ramp
 from .test_joints import AT, KEYS

@@ -1,4 +1,4 @@
-"""Dense output (`analysis.output: dense`, mechlib.dense): steps independent of the output
+"""Dense output (`analysis.output: dense`, mechlib.solvers.dense): steps independent of the output
 interval, rows interpolated and projected (issue 14 item 2).
 
 References: a quintic polynomial (the Hermite interpolant is exact for it); the run itself
@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from mechlib.dense import hermite
+from mechlib.solvers.dense import hermite
 
 G, L = 9.81, 1.0  # m/s^2, m: a 1 kg point mass on a 1 m massless link, released horizontal
 
@@ -134,7 +134,7 @@ def test_events_land_exactly_in_dense_runs() -> None:
 def test_rows_do_not_depend_on_the_end_time(fine) -> None:
     """The pendulum to 0.5 s and to 1 s, output step 1e-3: the longer run takes the same
     steps over the shorter one's time but for the last two (the steps no longer spread
-    over the span to land on its end: mechlib.genalpha_stepper._towards), so their rows
+    over the span to land on its end: mechlib.solvers.genalpha.stepper._towards), so their rows
     on [0, 0.5] s agree: the same to 1e-12 of each channel's peak up to 0.495 s, where
     the shorter run's last two steps begin, within 3e-4 after (measured 1.7e-4, the
     hinge reaction: the integration error of steps of another size)."""
@@ -155,7 +155,7 @@ def test_minimum_norm_step_is_the_least_squares_one(rows: int, columns: int) -> 
     _SPARSE_NORMAL_FROM = 250 rows, sparse above) equals numpy's least-squares solution
     within 1e-12; with a dependent row (no factor, or a failed check) it falls back to
     least squares itself."""
-    from mechlib.assembly import _MinimumNorm
+    from mechlib.solvers.assembly import _MinimumNorm
 
     rng = np.random.default_rng(rows)
     a = rng.standard_normal((rows, columns)) * (rng.random((rows, columns)) < 0.1)

@@ -1,5 +1,5 @@
-"""The compiled projection of dense output rows (mechlib.dense_compiled) against the Python
-projection it replaces (mechlib.assembly.solve_positions + mechlib.consistent.
+"""The compiled projection of dense output rows (mechlib.solvers.dense_compiled) against the Python
+projection it replaces (mechlib.solvers.assembly.solve_positions + mechlib.solvers.consistent.
 consistent_state), and the motion it gives against closed forms.
 
 - Whole dense runs with the compiled rows and with the Python rows (`_compiled_row`
@@ -26,12 +26,18 @@ import numpy as np
 import pytest
 
 import mechlib
-import mechlib.dense as dense
-from mechlib import jit
-from mechlib.constraint_arrays import ConstraintArrays
-from mechlib.dense_compiled import DONE, FALLBACK, _well_conditioned, interpolated, project_row
-from mechlib.genalpha_stepper import GeneralizedAlphaStepper
-from mechlib.system import System
+import mechlib.solvers.dense as dense
+from mechlib.core import jit
+from mechlib.kinematics.constraint_arrays import ConstraintArrays
+from mechlib.solvers.dense_compiled import (
+    DONE,
+    FALLBACK,
+    _well_conditioned,
+    interpolated,
+    project_row,
+)
+from mechlib.solvers.genalpha.stepper import GeneralizedAlphaStepper
+from mechlib.system.system import System
 
 from ._models import PENDULUM_REQUESTS, Bar, falling_slider_crank, hinged_bar, pendulum_errors
 
@@ -70,7 +76,7 @@ def _driven_crank() -> tuple[mechlib.Mechanism, list, list]:
 
 
 def _run(model, analysis, monkeypatch, *, compiled: bool) -> tuple[mechlib.Solution, dict]:
-    """The dense run of `model`, row by row (mechlib.genalpha_run's runs of steps, which
+    """The dense run of `model`, row by row (mechlib.solvers.genalpha.run's runs of steps, which
     project their rows in the same kernel, switched off), its rows from the kernel or
     (compiled False) from Python; also how many rows asked the kernel and how many it
     took."""

@@ -15,8 +15,8 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mechlib
-from mechlib.rotation import omega_global, rotation_matrix
-from mechlib.view import StateView
+from mechlib.core.rotation import omega_global, rotation_matrix
+from mechlib.kinematics.view import StateView
 
 from ._models import Bar, G, hinged_bar
 

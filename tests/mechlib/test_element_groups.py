@@ -1,4 +1,4 @@
-"""Force elements of one type in one call (mechlib.element_groups): the motion two groups of
+"""Force elements of one type in one call (mechlib.elements.groups): the motion two groups of
 linear springs and torsion springs produce against closed forms, and a group's loads
 against those its members give on their own, with members switched off or left out."""
 
@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from mechlib.element_groups import SpringGroup, TorsionSpringGroup
+from mechlib.elements.groups import SpringGroup, TorsionSpringGroup
 
 STIFFNESS = (30.0, 80.0, 55.0)  # N*m/rad (bars), N/m (blocks)
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mechlib
-from mechlib.assembly import InitialValue
+from mechlib.solvers.assembly import InitialValue
 
 from ._models import Bar, G, Ramp, hinged_bar
 

@@ -12,7 +12,8 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 import mechlib as ml
-from mechlib.contact import (
+from mechlib.elements import Bushing
+from mechlib.elements.contact import (
     Contact,
     CoulombFriction,
     HertzLaw,
@@ -20,7 +21,6 @@ from mechlib.contact import (
     RestitutionLaw,
     SpherePlane,
 )
-from mechlib.elements import Bushing
 
 from ._models import Ramp
 from .contact._contact_models import RADIUS, guided_ball

@@ -12,8 +12,8 @@ import pytest
 from scipy.optimize import brentq
 
 import mechlib as ml
-from mechlib.assembly import InitialValue
-from mechlib.tables import Table
+from mechlib.model.tables import Table
+from mechlib.solvers.assembly import InitialValue
 
 from .test_energy import _energy
 

@@ -1,11 +1,11 @@
-"""LU factors in flat arrays (mechlib.flat_lu) and the LAPACK routines the kernels call
-(mechlib.lapack), against scipy's LAPACK and numpy's dense solve.
+"""LU factors in flat arrays (mechlib.linalg.flat_lu) and the LAPACK routines the kernels call
+(mechlib.linalg.lapack), against scipy's LAPACK and numpy's dense solve.
 
 - The band ordering of a spherical-joint chain's saddle matrix (reverse Cuthill-McKee) has
   13 sub- and 13 superdiagonals at 12, 20 and 50 links (132-550 rows): the band LU's cost
   grows with the length only; a pattern without a narrow band keeps SuperLU.
 - `refactor` gives bit for bit the factors of scipy's dgetrf (dense, the arithmetic of
-  mechlib.linalg.factor) and dgbtrf (band) of the same row-equilibrated matrix, and the
+  mechlib.linalg.factor.factor) and dgbtrf (band) of the same row-equilibrated matrix, and the
   kernel's condition estimate equals scipy's dgecon.
 - Band factors solve the saddle matrix, its transpose and several right sides as numpy's
   dense solve does, to 1e-11 relative (measured 1e-13); the compiled band solve equals the
@@ -20,8 +20,15 @@ import numpy as np
 import pytest
 import scipy.linalg.lapack as scipy_lapack
 
-from mechlib import lapack
-from mechlib.flat_lu import (
+from mechlib.linalg.factor import (
+    SaddlePattern,
+    augmented,
+    factor,
+    factor_saddle,
+    lapack,
+    solve_factored,
+)
+from mechlib.linalg.flat_lu import (
     BAND,
     DENSE,
     Banded,
@@ -31,8 +38,7 @@ from mechlib.flat_lu import (
     lu_solve,
     refactor,
 )
-from mechlib.linalg import SaddlePattern, augmented, factor, factor_saddle, solve_factored
-from mechlib.system import System
+from mechlib.system.system import System
 
 from ._models import falling_chain
 

@@ -17,17 +17,17 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mechlib
-from mechlib.analysis import Trajectory
-from mechlib.assembly import assemble
-from mechlib.energy import energy_columns
+from mechlib.core.outcome import SolverStats
+from mechlib.core.rotation import rotation_matrix
+from mechlib.elements.forces import PointForce
 from mechlib.flexible.beam import Material, Section, assemble_beams
 from mechlib.flexible.craig_bampton import craig_bampton
-from mechlib.forces import PointForce
-from mechlib.march import march
-from mechlib.rotation import rotation_matrix
-from mechlib.solution import SolverStats
-from mechlib.solve import _stepper
-from mechlib.system import System
+from mechlib.model.analysis import Trajectory
+from mechlib.outputs.energy import energy_columns
+from mechlib.solvers.assembly import assemble
+from mechlib.solvers.march import march
+from mechlib.solvers.solve import _stepper
+from mechlib.system.system import System
 
 ALUMINIUM = Material(E=70e9, nu=0.33, rho=2700.0)
 SECTION = Section.rectangle(0.02, 0.005)  # local y = global y: soft in z (about y)
@@ -86,7 +86,7 @@ def test_flexible_pendulum_conserves_energy():
     assert swing > 1.0
     assert np.abs(energy[:, 0] - energy[0, 0]).max() < 3e-5 * swing
     assert np.abs(np.array(trajectory.q)[:, -3:]).max() > 1e-5  # in-plane bending excited
-    # the energy request (mechlib.energy) on the same rows: the same energies, balanced
+    # the energy request (mechlib.outputs.energy) on the same rows: the same energies, balanced
     columns = energy_columns(system, trajectory, functools.partial(_row_view, system, trajectory))
     stored = columns["kinetic"] + columns["gravitational"] + columns["elastic"]
     assert stored - stored[0] == pytest.approx(energy[:, 0] - energy[0, 0], abs=1e-12 * swing)

@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 import scipy.sparse.linalg as spla
 
+from mechlib.core.rotation import frame_axes
 from mechlib.flexible.beam import Material
 from mechlib.flexible.craig_bampton import free_modes
 from mechlib.flexible.fe_model import FEModel
 from mechlib.flexible.plate import plate
-from mechlib.rotation import frame_axes
 
 pytest.importorskip("pyfe3d", reason="plate panels need the extra: pip install 'loads[plate]'")
 

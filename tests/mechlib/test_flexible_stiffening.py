@@ -27,10 +27,10 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 import mechlib
+from mechlib.elements.forces import PointForce
 from mechlib.flexible import stiffening
 from mechlib.flexible.beam import Material, Section, assemble_beams
 from mechlib.flexible.craig_bampton import craig_bampton
-from mechlib.forces import PointForce
 
 E, RHO, AREA, INERTIA, L, T = 7e10, 3000.0, 4e-4, 2e-7, 10.0, 15.0
 MATERIAL = Material(E, 0.3, RHO)

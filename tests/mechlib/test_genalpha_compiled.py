@@ -1,5 +1,6 @@
-"""The compiled generalized-alpha Newton loop and constraint kernels (mechlib.genalpha_compiled,
-mechlib.constraint_arrays) against the Python code they replace, and the motion they give
+"""The compiled generalized-alpha Newton loop and constraint kernels
+(mechlib.solvers.genalpha.compiled,
+mechlib.kinematics.constraint_arrays) against the Python code they replace, and the motion they give
 against closed forms.
 
 - The packed constraint kernels give the grouped path's residuals and rows
@@ -7,7 +8,7 @@ against closed forms.
   states (every primitive group, angles past +-pi, travels, a screw, a gear and a motion;
   after a lock and a dropped row); the system uses them once compiled.
 - The LU solve from dense getrf factors and from SuperLU's L and U equals
-  mechlib.linalg.solve_factored to 1e-12 (band factors: tests/mechlib/test_flat_lu.py).
+  mechlib.linalg.factor.solve_factored to 1e-12 (band factors: tests/mechlib/test_flat_lu.py).
 - Whole runs through the compiled loop and through the Python loop (`arrays = None`) take
   the same steps and Newton iterations and give every output to 1e-9 of its peak (measured
   1e-13 to 1e-10): the free slider-crank (dense factors), a 12-link chain (band factors),
@@ -25,11 +26,11 @@ import numpy as np
 import pytest
 
 import mechlib
-from mechlib.constraint_arrays import ConstraintArrays, nu_and_gamma, phi_and_jacobian
-from mechlib.flat_lu import factor_data, lu_solve
-from mechlib.genalpha import Integrator
-from mechlib.linalg import factor, factor_saddle, solve_factored
-from mechlib.system import System
+from mechlib.kinematics.constraint_arrays import ConstraintArrays, nu_and_gamma, phi_and_jacobian
+from mechlib.linalg.factor import factor, factor_saddle, solve_factored
+from mechlib.linalg.flat_lu import factor_data, lu_solve
+from mechlib.solvers.genalpha.integrator import Integrator
+from mechlib.system.system import System
 
 from ._models import (
     PENDULUM_REQUESTS,
@@ -131,7 +132,7 @@ def test_lu_solve_matches_solve_factored(n: int) -> None:
     jac = rng.standard_normal((n // 3, n)) * (rng.random((n // 3, n)) < 0.1)
     jac[np.arange(n // 3), np.arange(n // 3)] += 1.0
     if n >= 100:
-        from mechlib.linalg import SaddlePattern
+        from mechlib.linalg.factor import SaddlePattern
 
         lu = factor_saddle(top, jac, SaddlePattern(top, jac))
         assert not isinstance(lu, tuple)  # the sparse factors
@@ -147,7 +148,7 @@ def test_saddle_matrix_gathered_on_its_pattern() -> None:
     """The sparse saddle matrix gathered from the mass matrix and the Jacobian on the
     pattern equals the dense [[M, J^T], [J, 0]] exactly (a 12-link chain at a generic
     state)."""
-    from mechlib.linalg import SaddlePattern, augmented
+    from mechlib.linalg.factor import SaddlePattern, augmented
 
     mech, _, _ = _chain()
     system = System(mech)
@@ -160,10 +161,10 @@ def test_saddle_matrix_gathered_on_its_pattern() -> None:
 
 def test_saddle_factors_gathered_by_the_kernel() -> None:
     """The saddle matrix's factors from the kernel's values on the pattern
-    (mechlib.saddle) solve as those of the dense M and phi_q, to 1e-12 (a 12-link chain:
+    (mechlib.system.saddle) solve as those of the dense M and phi_q, to 1e-12 (a 12-link chain:
     132 rows, the band path)."""
-    from mechlib.linalg import factor_saddle
-    from mechlib.saddle import rigid_saddle_factors
+    from mechlib.linalg.factor import factor_saddle
+    from mechlib.system.saddle import rigid_saddle_factors
 
     mech, _, _ = _chain()
     system = System(mech)
@@ -270,7 +271,7 @@ def test_toggle_rows_from_the_kernels_equal_the_python_rows(monkeypatch) -> None
     per-row Python path to 1e-12, and so do the warnings."""
     import importlib
 
-    import mechlib.singularity as singularity
+    import mechlib.checks.singularity as singularity
 
     captured: list = []
 
@@ -282,7 +283,7 @@ def test_toggle_rows_from_the_kernels_equal_the_python_rows(monkeypatch) -> None
             captured.append((compiled, singularity._series(system, trajectory)))
         return singularity.toggle_warnings(system, trajectory, *args)
 
-    monkeypatch.setattr(importlib.import_module("mechlib.solve"), "toggle_warnings", both)
+    monkeypatch.setattr(importlib.import_module("mechlib.solvers.solve"), "toggle_warnings", both)
     mech, initial, requests = _free_crank()
     sol = mechlib.solve(mech, mechlib.Dynamic(1.0, 0.002), initial=initial, requests=requests)
     assert sol.ok and captured

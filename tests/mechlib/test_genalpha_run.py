@@ -1,4 +1,4 @@
-"""Runs of generalized-alpha steps in one compiled call (mechlib.genalpha_run), with
+"""Runs of generalized-alpha steps in one compiled call (mechlib.solvers.genalpha.run), with
 `output: steps` and with dense rows, against the Python loop they replace, and the motion
 they give against closed forms.
 
@@ -31,8 +31,9 @@ import numpy as np
 import pytest
 
 import mechlib
-from mechlib import genalpha_run, linalg
-from mechlib.genalpha_stepper import GeneralizedAlphaStepper
+from mechlib.linalg import factor as linalg
+from mechlib.solvers.genalpha import run as genalpha_run
+from mechlib.solvers.genalpha.stepper import GeneralizedAlphaStepper
 
 from ._models import PENDULUM_REQUESTS, Bar, falling_slider_crank, hinged_bar, pendulum_errors
 from .test_genalpha_compiled import _chain, _free_crank

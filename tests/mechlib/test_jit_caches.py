@@ -1,4 +1,4 @@
-"""numba's kernel caches are dropped when a kernel source changes (mechlib.jit).
+"""numba's kernel caches are dropped when a kernel source changes (mechlib.core.jit).
 
 numba keys each kernel's disk cache on that kernel's own file: a caller in another module
 would keep a changed callee's old code. `drop_stale_caches` drops every cache of the tree
@@ -10,7 +10,7 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
-from mechlib.jit import drop_stale_caches
+from mechlib.core.jit import drop_stale_caches
 
 
 def _caches(root: Path) -> list[Path]:

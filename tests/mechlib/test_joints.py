@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 import mechlib
-from mechlib.model import JOINT_TYPES
-from mechlib.rotation import quaternion_from_rotvec, rotate
-from mechlib.system import System
+from mechlib.core.rotation import quaternion_from_rotvec, rotate
+from mechlib.model.mechanism import JOINT_TYPES
+from mechlib.system.system import System
 
 from ._models import Ramp
 
@@ -322,14 +322,14 @@ def test_a_joint_without_its_required_key_is_refused_by_name(joint_type: str, ke
 @pytest.mark.parametrize("axis", [(0.0, 0.0, 0.0), (0.0, 1.34e154, 1.34e154), (math.nan, 0, 1)])
 def test_joint_frame_refuses_an_axis_it_cannot_normalise(axis) -> None:
     """A zero, overflowing or NaN axis is a ValueError, never an unbound triad (fuzz find)."""
-    from mechlib.joints import joint_frame
+    from mechlib.model.joints import joint_frame
 
     with pytest.raises(ValueError, match="finite, non-zero"):
         joint_frame(axis)
 
 
 def test_joint_frame_is_a_right_handed_triad_about_the_axis() -> None:
-    from mechlib.joints import joint_frame
+    from mechlib.model.joints import joint_frame
 
     triad = joint_frame(3.0 * AXIS)
     f, g, h = triad.f, triad.g, triad.h

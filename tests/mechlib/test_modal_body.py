@@ -13,13 +13,13 @@ from __future__ import annotations
 import numpy as np
 import scipy.sparse as sp
 
+from mechlib.core.rotation import rotation_matrix, skew
 from mechlib.flexible.beam import Material, Section, assemble_beams
 from mechlib.flexible.craig_bampton import craig_bampton
 from mechlib.flexible.fe_model import FEModel
 from mechlib.flexible.invariants import field_invariants
 from mechlib.flexible.modal_body import ModalBody
 from mechlib.flexible.modal_component import ModalComponent
-from mechlib.rotation import rotation_matrix, skew
 
 
 def _particles(n_p: int = 7, n: int = 3):

@@ -1,4 +1,4 @@
-"""Planar mechanisms (mechlib.planar) against the same model in 3-D.
+"""Planar mechanisms (mechlib.system.planar) against the same model in 3-D.
 
 The model: benchmarks.planar.fourbar_chain (four-bar loops of four revolutes about the
 plane's normal). Oracles: the 3-D solution of the same model (redundant equations dropped),
@@ -17,8 +17,8 @@ import pytest
 
 import mechlib as ml
 from benchmarks.planar import fourbar_chain
-from mechlib.planar import make_system
-from mechlib.plane import plane_axes
+from mechlib.model.plane import plane_axes
+from mechlib.system.planar import make_system
 
 
 class _Swing:

@@ -12,7 +12,7 @@ import pytest
 from scipy.special import ellipk
 
 import mechlib as ml
-from mechlib.curves import Curve
+from mechlib.model.curves import Curve
 
 G, R, MASS = 9.81, 1.0, 0.5
 

@@ -1,6 +1,6 @@
 """Event location in a quasi-static run: the trial times start on the stiffness of the
-step's start (mechlib.static) and land where a Newton with a fresh stiffness at every
-iteration lands.
+step's start (mechlib.solvers.static.analyses) and land where a Newton with a fresh stiffness at
+every iteration lands.
 
 Model: the bar of test_static (m = 2 kg, L = 1 m, hinged at its end, gravity -y) on a
 torsion spring k = 20 N*m/rad under a torque T(t) = 8 t N*m about +z. Equilibrium:
@@ -15,9 +15,9 @@ import math
 import pytest
 
 import mechlib
-import mechlib.balance as balance
-import mechlib.equilibrium as equilibrium
-from mechlib.events import EVENT_TIME_TOLERANCE
+import mechlib.solvers.static.balance as balance
+import mechlib.solvers.static.equilibrium as equilibrium
+from mechlib.solvers.events import EVENT_TIME_TOLERANCE
 
 from ._models import Bar, hinged_bar
 

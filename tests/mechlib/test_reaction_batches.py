@@ -1,5 +1,5 @@
 """Joint reactions and motion efforts of a packed system gathered in batches
-(mechlib.reactions.gather_in_batches: one compiled call per run of rows with the same
+(mechlib.kinematics.reactions.gather_in_batches: one compiled call per run of rows with the same
 active equations) against the row-by-row gather of the Python path, and against closed
 forms.
 
@@ -21,8 +21,8 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-import mechlib.requests as requests_module
-from mechlib import reactions
+import mechlib.outputs.requests as requests_module
+from mechlib.kinematics import reactions
 
 from ._models import G, Ramp, slider_crank
 
@@ -49,7 +49,9 @@ def _both(monkeypatch, mech, analysis, requests, **kwargs) -> tuple[ml.Solution,
             patch.setattr(system, "packed_constraints", lambda: None)
             return original(system, trajectory, reqs)
 
-    monkeypatch.setattr(importlib.import_module("mechlib.solve"), "evaluate_requests", row_by_row)
+    monkeypatch.setattr(
+        importlib.import_module("mechlib.solvers.solve"), "evaluate_requests", row_by_row
+    )
     slow = ml.solve(mech(), analysis, requests=requests, **kwargs)
     return fast, slow
 

@@ -1,6 +1,6 @@
 """Requests: reaction frames and moment point, motion-effort sign, point kinematics.
 
-Conventions under test (mechlib/requests.py): a joint reaction is the force and torque on
+Conventions under test (mechlib/outputs/requests.py): a joint reaction is the force and torque on
 body 1 from body 2, the torque about the joint point, components in the requested frame's
 axes; a motion effort is positive in the direction of increasing joint coordinate.
 Models: uniform bar (m = 2 kg, L = 1 m) along +x from its hinge, axis +z, gravity -y.

@@ -1,4 +1,4 @@
-"""Euler-parameter kinematics of mechlib.rotation against scipy and finite differences.
+"""Euler-parameter kinematics of mechlib.core.rotation against scipy and finite differences.
 
 References: scipy.spatial.transform.Rotation (independent implementation of the
 quaternion -> matrix map, scalar-first convention); the definitions A(p) s (rotation of a
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from mechlib.rotation import (
+from mechlib.core.rotation import (
     d_rotate,
     e_matrix,
     g_matrix,

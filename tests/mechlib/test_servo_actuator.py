@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from mechlib.hydraulics import Controller, Cylinder, ServoActuator, ServoValve
+from mechlib.elements.hydraulics import Controller, Cylinder, ServoActuator, ServoValve
 from tests.mechlib.hydraulic_rig import REQUESTS, crossings, rig, rise_time
 
 M = 100.0

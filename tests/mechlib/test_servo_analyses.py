@@ -18,7 +18,7 @@ import math
 import numpy as np
 
 import mechlib as ml
-from mechlib.hydraulics import Cylinder
+from mechlib.elements.hydraulics import Cylinder
 from tests.mechlib._models import Ramp
 from tests.mechlib.hydraulic_rig import REQUESTS, rig
 

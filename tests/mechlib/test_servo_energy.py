@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 import mechlib as ml
-from mechlib.hydraulics import Cylinder
+from mechlib.elements.hydraulics import Cylinder
 from tests.mechlib.hydraulic_rig import REQUESTS, rig
 
 M, LOAD = 100.0, 3000.0

@@ -14,8 +14,8 @@ import pytest
 from scipy.optimize import fsolve
 
 import mechlib as ml
-from mechlib.hydraulics import Cylinder, JetPipe, ServoValve, Supply, floored, spool_flows
-from mechlib.hydraulics import regularised_root as sr
+from mechlib.elements.hydraulics import Cylinder, JetPipe, ServoValve, Supply, floored, spool_flows
+from mechlib.elements.hydraulics import regularised_root as sr
 from tests.mechlib.hydraulic_rig import REQUESTS, rig
 
 

@@ -14,7 +14,7 @@ import re
 import numpy as np
 
 import mechlib
-from mechlib.assembly import InitialValue
+from mechlib.solvers.assembly import InitialValue
 
 from ._models import Ramp, slider_crank
 
@@ -140,7 +140,7 @@ def _capture_toggle_checks(monkeypatch) -> list:
     """The (system, trajectory) of each run's toggle check from now on, in order."""
     import importlib
 
-    from mechlib import singularity
+    from mechlib.checks import singularity
 
     captured: list = []
 
@@ -148,7 +148,9 @@ def _capture_toggle_checks(monkeypatch) -> list:
         captured.append((system, trajectory))
         return singularity.toggle_warnings(system, trajectory, threshold)
 
-    monkeypatch.setattr(importlib.import_module("mechlib.solve"), "toggle_warnings", capture)
+    monkeypatch.setattr(
+        importlib.import_module("mechlib.solvers.solve"), "toggle_warnings", capture
+    )
     return captured
 
 
@@ -157,7 +159,7 @@ def _flywheel_rows_by_svd(monkeypatch) -> tuple:
     per recorded row from an independent SVD of its scaled Jacobian: the singular values
     and each free coordinate's share of its gradient outside the span of the rows (1 -
     projection onto the right singular vectors), by (joint, kind)."""
-    from mechlib import singularity
+    from mechlib.checks import singularity
 
     captured = _capture_toggle_checks(monkeypatch)
     mechlib.solve(
@@ -183,13 +185,13 @@ def _flywheel_rows_by_svd(monkeypatch) -> tuple:
 
 
 def test_toggle_series_matches_the_svd_of_each_row(monkeypatch) -> None:
-    """The batched measures of a run's rows (mechlib.singularity._series: eigenvalues of
+    """The batched measures of a run's rows (mechlib.checks.singularity._series: eigenvalues of
     J J^T and one batched solve) against an independent SVD of each row's scaled Jacobian:
     the smallest singular value, and per free coordinate the share of its gradient outside
     the span of the rows. Tolerance 1e-9: both are exact to round-off (the inverse
     iteration used before stopped at 1e-6 and was up to 11 % high on the bench
     slider-crank)."""
-    from mechlib import singularity
+    from mechlib.checks import singularity
 
     system, trajectory, rows = _flywheel_rows_by_svd(monkeypatch)
     ranks, sines = singularity._series(system, trajectory)
@@ -206,7 +208,7 @@ def test_bounded_walk_matches_the_svd_of_each_row(monkeypatch) -> None:
     bound (to round-off, 1e-12), each within a factor of it (lower above 0.45, upper below
     1.2 times; measured 0.494 and 1.170), and the free coordinates' shares outside the span
     of the rows to 1e-12 (measured 3.3e-16)."""
-    from mechlib import singularity
+    from mechlib.checks import singularity
 
     system, trajectory, rows = _flywheel_rows_by_svd(monkeypatch)
     lows, highs, sines = singularity._walk(system, trajectory, bounds=True)
@@ -221,7 +223,7 @@ def test_lower_inverse_is_the_inverse_cholesky_factor() -> None:
     """`_lower_inverse` (the bounds' hand-written Cholesky and L^-1, by rows) against
     numpy's Cholesky factor and its inverse (1e-12 relative, Gram matrices of 1 to 40
     random rows); False for a matrix that is not positive definite, or not finite."""
-    from mechlib import singularity
+    from mechlib.checks import singularity
 
     rng = np.random.default_rng(7)
     for m in (1, 2, 7, 20, 40):
@@ -248,8 +250,8 @@ def test_assembly_to_two_consistent_given_values_in_stages() -> None:
     assembly's three stages of at most 30 deg: each inconsistent stage stops at its
     least-squares point (before: 50 Newton iterations per stage), and the assembled
     position meets both values within 1e-9."""
-    from mechlib.assembly import assemble
-    from mechlib.system import System
+    from mechlib.solvers.assembly import assemble
+    from mechlib.system.system import System
 
     mech, _ = slider_crank(R, L)
     turn = 1.5
@@ -265,7 +267,7 @@ def test_assembly_to_two_consistent_given_values_in_stages() -> None:
 def _checked_run(monkeypatch, mech, analysis, **kwargs) -> tuple[list, list, tuple]:
     """The warnings of a run (the rank measure's bounds first, `_bounded_measures`), the
     warnings of the exact measures on the same rows, and the bounds and exact measures."""
-    from mechlib import singularity
+    from mechlib.checks import singularity
 
     captured = _capture_toggle_checks(monkeypatch)
     sol = mechlib.solve(mech, analysis, throw=False, **kwargs)

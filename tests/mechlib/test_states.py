@@ -181,7 +181,7 @@ def test_state_jacobian_of_an_element_is_used_and_gives_the_same_motion() -> Non
     """An element's `state_jacobian` replaces the differenced block (it is called) and the
     state history equals the one with differences within 1e-12 of F0 (linear rates: the
     difference quotient is exact to rounding)."""
-    from mechlib.states import ElementStates
+    from mechlib.elements.states import ElementStates
 
     element = AnalyticLag("lag", "s", 0.1, 4.0)
     states = ElementStates([element])

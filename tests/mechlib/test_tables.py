@@ -1,4 +1,4 @@
-"""Tabulated functions (mechlib.tables.Table): values and slopes against the interpolants
+"""Tabulated functions (mechlib.model.tables.Table): values and slopes against the interpolants
 of NumPy and SciPy built independently in the test (np.interp, CubicSpline with the same
 end conditions, Akima1DInterpolator), at the data points and at random points inside."""
 
@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from scipy.interpolate import Akima1DInterpolator, CubicSpline
 
-from mechlib.tables import Table, TableRangeError
+from mechlib.model.tables import Table, TableRangeError
 
 RNG = np.random.default_rng(7)
 X = np.sort(RNG.uniform(0.0, 10.0, 12))
@@ -89,11 +89,11 @@ def test_extrapolation_at_both_ends(interpolation: str) -> None:
 @pytest.mark.parametrize("extrapolate", ["error", "hold", "linear"])
 @pytest.mark.parametrize("order", [0, 1, 2])
 def test_compiled_table_value_is_the_tables(interpolation, extrapolate, order) -> None:
-    """mechlib.table_kernel.table_value of Table.packed (compiled: the tabulated torsion
+    """mechlib.model.table_kernel.table_value of Table.packed (compiled: the tabulated torsion
     spring's law) gives the table's own value, bit for bit, inside (the data points, the
     last one included, and random points), at and beyond both ends; where the table
     refuses a value (extrapolate: error), it says so instead of a value."""
-    from mechlib.table_kernel import table_value
+    from mechlib.model.table_kernel import table_value
 
     table = Table("t", X, Y, interpolation, extrapolate, order)
     points = np.r_[POINTS, X[0] - np.r_[1e-9, 0.3, 4.0], X[-1] + np.r_[1e-9, 2.0], np.nan]

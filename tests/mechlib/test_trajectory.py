@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from mechlib.analysis import Trajectory
+from mechlib.model.analysis import Trajectory
 
 NQ, M = 3, 2
 

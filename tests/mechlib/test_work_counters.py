@@ -15,11 +15,13 @@ import pytest
 import scipy.integrate._ivp.radau as scipy_radau
 
 import mechlib
-import mechlib.radau
+import mechlib.solvers.radau
 
 from ._models import hinged_bar
 
-SOLVE = importlib.import_module("mechlib.solve")  # the module (mechlib.solve is the function)
+SOLVE = importlib.import_module(
+    "mechlib.solvers.solve"
+)  # the module (mechlib.solve is the function)
 
 
 def _pendulum(analysis) -> mechlib.Solution:
@@ -38,7 +40,7 @@ def test_radau_counts_match_scipy(monkeypatch) -> None:
     some trial steps, so the rejected count is tested non-trivially."""
     collocations, projections, assembly = [], [], []
     solve_collocation = scipy_radau.solve_collocation_system
-    solve_positions = mechlib.radau.solve_positions
+    solve_positions = mechlib.solvers.radau.solve_positions
     assemble = SOLVE.assemble
 
     def spy_collocation(fun, t, y, h, *args):
@@ -57,7 +59,7 @@ def test_radau_counts_match_scipy(monkeypatch) -> None:
         return out
 
     monkeypatch.setattr(scipy_radau, "solve_collocation_system", spy_collocation)
-    monkeypatch.setattr(mechlib.radau, "solve_positions", spy_positions)
+    monkeypatch.setattr(mechlib.solvers.radau, "solve_positions", spy_positions)
     monkeypatch.setattr(SOLVE, "assemble", spy_assemble)
     sol = _pendulum(mechlib.Dynamic(2.0, 0.5, integrator="radau", tolerance=1e-3))
     assert sol.ok

@@ -15,8 +15,8 @@ import pytest
 from scipy.integrate import cumulative_simpson
 
 import mechlib as ml
-from mechlib.analysis import DEFAULT_TOLERANCE
-from mechlib.contact import (
+from mechlib.core.rotation import omega_global
+from mechlib.elements.contact import (
     CircleProfile,
     Contact,
     HertzLaw,
@@ -26,7 +26,7 @@ from mechlib.contact import (
     hertz_stiffness,
     spherical_clearance,
 )
-from mechlib.rotation import omega_global
+from mechlib.model.analysis import DEFAULT_TOLERANCE
 from tests.mechlib._models import Ramp
 
 G, R = 9.81, 0.01

@@ -23,7 +23,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mechlib
-from mechlib.assembly import InitialValue
+from mechlib.solvers.assembly import InitialValue
 
 from ..mechlib._models import G, Ramp, slider_crank
 

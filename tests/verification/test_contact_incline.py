@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from mechlib.contact import Contact, ImpactLaw, SpherePlane, StribeckFriction
+from mechlib.elements.contact import Contact, ImpactLaw, SpherePlane, StribeckFriction
 
 G, K, R = 9.81, 1.0e7, 0.01
 FRICTION = StribeckFriction(0.3, 0.25, 1e-3, 1e-2)

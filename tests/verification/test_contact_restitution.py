@@ -20,7 +20,7 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import mechlib as ml
-from mechlib.contact import Contact, HertzLaw, RestitutionLaw, SpherePlane
+from mechlib.elements.contact import Contact, HertzLaw, RestitutionLaw, SpherePlane
 
 K, MASS, V0, R = 1.0e9, 1.0, 1.0, 0.01
 

@@ -16,7 +16,7 @@ import pytest
 from scipy.optimize import brentq
 
 from loadcases.run import run_file
-from mechlib.events import EVENT_TIME_TOLERANCE
+from mechlib.solvers.events import EVENT_TIME_TOLERANCE
 
 CASES = Path(__file__).resolve().parent / "cases" / "landing_gear"
 STOP_STIFFNESS = 5.0e6  # N*m/rad, mlg.mech.yaml downstop

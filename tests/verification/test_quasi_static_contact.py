@@ -1,8 +1,8 @@
 """Quasi-static runs in which a contact closes: a block lowered onto a pad, a load ramped up.
 
 Both start at zero penetration (no contact stiffness: the first equilibrium needs the
-pseudo-transient continuation of mechlib/continuation.py). References are force balances
-along the vertical (no friction), solved to 1e-15 by brentq where two contacts share the
+pseudo-transient continuation of mechlib/solvers/static/continuation.py). References are force
+balances along the vertical (no friction), solved to 1e-15 by brentq where two contacts share the
 load. Tolerance asked: 1e-6 relative; measured (2026-11, this file): 4e-12 of the static
 deflection x* (lowered block), 4e-11 relative (ramped load); guarded at 1e-9.
 """
@@ -14,9 +14,9 @@ import pytest
 from scipy.optimize import brentq
 
 import mechlib as ml
-from mechlib.contact import Contact, ImpactLaw, SpherePlane
+from mechlib.elements.contact import Contact, ImpactLaw, SpherePlane
 from tests.mechlib._models import Ramp
-from tests.mechlib.contact._contact_models import RADIUS, G, guided_ball
+from tests.mechlib.elements.contact._contact_models import RADIUS, G, guided_ball
 
 MASS, EXPONENT, DEFLECTION = 1.0, 1.5, 1.0e-4
 """kg, -, m: x* = (m g / k)^(1/e), the penetration of one contact carrying the block."""

@@ -2,8 +2,8 @@
 
 A contact k x^e has no stiffness at zero penetration or when open, so Newton's matrix is
 singular there: the static analysis brings the body to rest by pseudo-transient continuation
-first (mechlib/continuation.py, docs/analyses.md, Static). References (closed form, force
-balance along the contact normal, no friction):
+first (mechlib/solvers/static/continuation.py, docs/analyses.md, Static). References (closed form,
+force balance along the contact normal, no friction):
 - a block on an impact pad: penetration x* = (m g / k)^(1/e);
 - a ball in its socket (Hertz, elastic): eccentricity = clearance + (m g / K)^(1/n), K from
   `hertz_stiffness` with the internal radius R (R + c) / c, along gravity.
@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from mechlib.contact import (
+from mechlib.elements.contact import (
     Contact,
     HertzLaw,
     ImpactLaw,
@@ -26,7 +26,7 @@ from mechlib.contact import (
     hertz_stiffness,
     spherical_clearance,
 )
-from tests.mechlib.contact._contact_models import G, guided_ball
+from tests.mechlib.elements.contact._contact_models import G, guided_ball
 
 DEFLECTION = 1.0e-4
 """m: the static penetration x* every pad below is given (k = m g / x*^e, m = 1 kg)."""

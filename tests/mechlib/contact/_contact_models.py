@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import mechlib as ml
-from mechlib.contact import Contact, SpherePlane
+from mechlib.elements.contact import Contact, SpherePlane
 
 G = 9.81
 """m/s^2."""

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from mechlib.contact import (
+from mechlib.elements.contact import (
     CircleProfile,
     CylinderInCylinder,
     HertzLaw,
@@ -93,13 +93,13 @@ def test_roller_on_a_circular_profile() -> None:
 
 
 def test_nearest_point_on_a_cubic_profile_against_scipy() -> None:
-    """The compiled nearest point (mechlib.contact.curve_kernels) on a scipy CubicSpline
+    """The compiled nearest point (mechlib.elements.contact.curve_kernels) on a scipy CubicSpline
     through 6 points: the foot of the perpendicular, i.e. (c(u) - w) . c'(u) = 0 to 1e-12 m,
     and no sample of a 20001-point scan of the curve nearer than it (within 1e-12 m);
     point and tangent equal to scipy's evaluation at u within 1e-13."""
     from scipy.interpolate import CubicSpline
 
-    from mechlib.contact.curve_kernels import nearest_on_cubic
+    from mechlib.elements.contact.curve_kernels import nearest_on_cubic
 
     pts = np.array([[0, 0], [0.1, 0.02], [0.2, 0.05], [0.3, 0.04], [0.4, 0.0], [0.5, -0.03]])
     chord = np.r_[0.0, np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))]
@@ -147,12 +147,12 @@ def test_compiled_profile_gap_against_a_scanned_spline() -> None:
     moving, against an independent evaluation: the roller centre taken into the profile
     body's axes, the nearest point of scipy's spline found by a 400,001-sample scan refined
     by scipy's bounded scalar minimiser, the normal from scipy's derivative there, the
-    relative velocity from the view's point velocities (mechlib.contact.geometry).
+    relative velocity from the view's point velocities (mechlib.elements.contact.geometry).
     Penetration and point within 1e-12 m, normal within 1e-9."""
     from scipy.interpolate import CubicSpline
     from scipy.optimize import minimize_scalar
 
-    from mechlib.contact.geometry import relative_velocity
+    from mechlib.elements.contact.geometry import relative_velocity
 
     system, view = _two_moving_bodies()
     angles = np.linspace(0.2, 2.6, 9)
@@ -202,7 +202,7 @@ def test_profile_contact_wrench_compiled_equals_its_forces() -> None:
     """A moving profile contact's compiled wrench (Contact.apply) is its force (from
     Contact.forces) on body 1 at the contact point and the opposite on body 2, with their
     moments about each centre of mass (1e-9 relative)."""
-    from mechlib.contact import Contact, CoulombFriction, ImpactLaw
+    from mechlib.elements.contact import Contact, CoulombFriction, ImpactLaw
 
     system, view = _two_moving_bodies()
     angles = np.linspace(0.2, 2.6, 9)
@@ -233,7 +233,7 @@ def test_static_friction_wrench_compiled_equals_its_forces(geometry: str, slip: 
     (committed here), regularised below slip_threshold 1e-6 m -- on body 1 at the contact
     point, the opposite on body 2, with their moments (1e-12 relative); none before the
     first accepted state."""
-    from mechlib.contact import Contact, CoulombFriction, ImpactLaw, SpherePlane
+    from mechlib.elements.contact import Contact, CoulombFriction, ImpactLaw, SpherePlane
 
     m = ml.Mechanism(name="rest", gravity=(0.0, 0.0, 0.0))
     m.add_body("r", mass=1.0, cm=(0.02, 0.1, 0.0), inertia=[1, 1, 1])

@@ -7,7 +7,7 @@ import math
 import pytest
 
 import mechlib as ml
-from mechlib.contact import (
+from mechlib.elements.contact import (
     CoulombFriction,
     HertzLaw,
     ImpactLaw,
@@ -16,7 +16,7 @@ from mechlib.contact import (
     hertz_stiffness,
     step,
 )
-from tests.mechlib.contact._contact_models import G, guided_ball
+from tests.mechlib.elements.contact._contact_models import G, guided_ball
 
 
 def test_step_function_of_seed_004_eq_3_10() -> None:

@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from mechlib.contact import (
+from mechlib.core.rotation import quaternion_from_rotvec
+from mechlib.elements.contact import (
     Contact,
     HertzLaw,
     ImpactLaw,
@@ -17,7 +18,6 @@ from mechlib.contact import (
     revolute_clearance,
     spherical_clearance,
 )
-from mechlib.rotation import quaternion_from_rotvec
 
 K_STEEL = hertz_stiffness(210e9, 0.3, 210e9, 0.3, 0.01 * 0.0105 / 0.0005)
 FRICTION = StribeckFriction(0.15, 0.1)

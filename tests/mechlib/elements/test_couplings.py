@@ -233,7 +233,7 @@ def test_seal_wrench_with_friction(moving: bool) -> None:
     spring's friction is -mu 40 N along x (mu 0.3: -12 N). Door: F = (-48, 160, 0) N,
     moment about its cm N_z = 40 N x (-0.2 + 0 + 0.2 + 0.4) m = 16 N*m; ground: the reverse
     force, moment about the origin -40 N x 2.4 m = -96 N*m. Tolerance 1e-9 N."""
-    from mechlib.system import System
+    from mechlib.system.system import System
 
     mech = mechlib.Mechanism(name="door", gravity=(0.0, 0.0, 0.0))
     mech.add_body("door", mass=5.0, cm=(0.5, 0.0, 0.0), inertia=[0.1, 0.5, 0.5])
@@ -263,7 +263,7 @@ def test_seal_without_a_friction_band_is_plain_coulomb() -> None:
     """v_threshold 0 (no regularisation band): full friction -mu F at any sliding speed,
     none at rest relative to the seal (closed form of test_seal_wrench_with_friction at
     0.5 m/s: -12 N per spring along x; at 0 m/s: 0 N)."""
-    from mechlib.system import System
+    from mechlib.system.system import System
 
     for speed, friction in ((0.5, -48.0), (0.0, 0.0)):
         mech = mechlib.Mechanism(name="door", gravity=(0.0, 0.0, 0.0))
@@ -289,7 +289,7 @@ def test_compiled_seal_equals_its_stations(moving: bool) -> None:
     exponent 1.5, friction on; forces and moments to 1e-12 relative, and the door's force
     equal to the output's resultant."""
     from mechlib.elements.seal_kernels import seal_wrench
-    from mechlib.system import System
+    from mechlib.system.system import System
 
     mech = mechlib.Mechanism(name="door", gravity=(0.0, 0.0, 0.0))
     mech.add_body("door", mass=5.0, cm=(0.5, 0.0, 0.0), inertia=[0.1, 0.5, 0.5])

@@ -2,7 +2,7 @@
 type's `reaction_jacobian` -- compiled for a moving revolute or cylindrical joint
 (mechlib.elements.friction_kernel), Python at rest and on prismatic and spherical joints --
 against forward differences of the friction loads over the multipliers
-(mechlib.reaction_loads.differenced_coupling), at moving and resting states with
+(mechlib.system.reaction_loads.differenced_coupling), at moving and resting states with
 multipliers that load every joint (at rest: displaced from the last accepted equilibrium,
 so that the friction opposes a slip)."""
 
@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import mechlib
-from mechlib.reaction_loads import differenced_coupling
+from mechlib.system.reaction_loads import differenced_coupling
 
 from .._models import Bar, hinged_bar
 

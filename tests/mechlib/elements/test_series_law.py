@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from mechlib.elements.series import SeriesLaw, series_stiffness
-from mechlib.tables import Table
+from mechlib.model.tables import Table
 
 
 def test_linear_in_series() -> None:

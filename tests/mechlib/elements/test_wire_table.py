@@ -9,7 +9,7 @@ import pytest
 from scipy.interpolate import Akima1DInterpolator
 
 import mechlib
-from mechlib.tables import Table, TableRangeError
+from mechlib.model.tables import Table, TableRangeError
 
 from .._models import G
 
@@ -239,7 +239,7 @@ def _assert_resists(spring, view, measure, moment: float) -> None:
 def test_compiled_torsion_spring_against_the_joint_angle() -> None:
     """The compiled linear torsion spring (kernels.angle_state, torsion_wrench) on a
     revolute between two bodies turned and moving: its angle and rate equal the joint's
-    angle measure (mechlib.coordinates.AngleMeasure, constraint kernels) over three turns
+    angle measure (mechlib.kinematics.coordinates.AngleMeasure, constraint kernels) over three turns
     of unwrapping, its rate the central difference of that angle over +-1e-6 s (1e-6
     relative), its moments -M a on body 1 and +M a on body 2 about the joint axis a of
     body 2, M = k (angle - angle0) + c rate + preload (1e-12 relative)."""

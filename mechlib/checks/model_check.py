@@ -1,0 +1,104 @@
+"""The checks of a model before solving: redundant equations and degrees of freedom at the
+design position, by joint and direction (`check_model`, `inspect_mechanism`).
+
+Apart from `mechlib.solve` and its steppers: `loads validate` runs these checks without
+loading the solvers or SciPy's linear algebra.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechlib.core.outcome import ModelError
+from mechlib.linalg.rank import degrees_of_freedom, find_redundant
+from mechlib.model.analysis import Dynamic, Kinematic, Modes, QuasiStatic, Static
+from mechlib.model.mechanism import Mechanism
+from mechlib.system.planar import make_system
+from mechlib.system.system import System
+
+__all__ = ["MechanismCheck", "check_model", "inspect_mechanism"]
+
+Analysis = Kinematic | Static | QuasiStatic | Dynamic | Modes
+
+
+def _redundant(system: System, jac: np.ndarray) -> list:
+    """The dependent equations of the constraint Jacobian `jac`, named joint by joint."""
+    return find_redundant(
+        jac, system.labels, system.owners, set(system.body_names), owner_rank=system.owner_rank
+    )
+
+
+def check_model(system: System, analysis: Analysis, *, redundant: str = "error") -> list[str]:
+    """Redundant equations and degrees of freedom, before any solving.
+
+    Raises ModelError naming joints and directions; with redundant="drop" removes the
+    dependent rows instead and returns warnings saying those reactions are not unique.
+    """
+    if isinstance(analysis, Modes) and system.mechanism.plane:
+        raise ModelError([("", "a modes analysis needs the 3-D model: remove `plane`")])
+    k = system.kin(system.design_q(), None, getattr(analysis, "start", 0.0))
+    jac = system.phi_q(k)
+    found = _redundant(system, jac)
+    warnings = []
+    if found and redundant != "drop":
+        raise ModelError([(r.owner, "redundant constraint: " + r.describe()) for r in found])
+    if found:
+        system.drop_rows([r.row for r in found])
+        warnings = [
+            f"redundant constraint dropped: {r.describe()}; the reactions of "
+            f"{', '.join((r.owner,) + r.depends_on)} are not unique"
+            for r in found
+        ]
+    if isinstance(analysis, Kinematic):
+        dof = degrees_of_freedom(system.phi_q(k))
+        if dof != 0:
+            raise ModelError([("", _kinematic_dof_message(system, dof))])
+    return warnings
+
+
+def _kinematic_dof_message(system: System, dof: int) -> str:
+    """Why a kinematic analysis cannot run: `dof` free coordinates after the motions, and
+    which of them are the modes of flexible bodies (no motion can drive those)."""
+    motions = ", ".join(system.mechanism.motions) or "none"
+    text = (
+        f"kinematic analysis needs 0 degrees of freedom after the motions ({motions}), "
+        f"but the mechanism has {dof}"
+    )
+    if not system.flexible:
+        return text + ": add motions or use a dynamic or quasi-static analysis"
+    modal = ", ".join(f"{a.name} ({a.body.n})" for a in system.flexible)
+    return (
+        f"{text}, {system.nz} of them the modal coordinates of flexible bodies "
+        f"[{modal}]: a flexible body deforms under its loads, which a kinematic analysis "
+        "does not solve; use a quasi-static analysis (deflection under loads, inertia "
+        "ignored) or a dynamic one, or switch the flexibility off (effects: {flexibility: false})"
+    )
+
+
+@dataclass(frozen=True)
+class MechanismCheck:
+    """What a mechanism is at its design position: sizes, mobility and redundancy."""
+
+    bodies: int
+    equations: int
+    degrees_of_freedom: int
+    redundant: tuple[str, ...]
+    assembled: bool
+
+
+def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
+    """Degrees of freedom and redundant equations (by joint and direction) at design."""
+    system = make_system(mechanism)
+    k = system.kin(system.design_q(), None, 0.0)
+    jac = system.phi_q(k)
+    found = _redundant(system, jac)
+    assembled = bool(np.abs(system.phi(k)).max(initial=0.0) < 1e-9)
+    return MechanismCheck(
+        system.nb,
+        len(system.labels) - system.normalisations,
+        degrees_of_freedom(jac),
+        tuple(r.describe() for r in found),
+        assembled,
+    )

@@ -1,0 +1,19 @@
+"""Hydraulic servo-actuator: element, parameters and orifice laws (SI units; the
+equations per fidelity are in docs/hydraulics.md)."""
+
+from mechlib.elements.hydraulics.actuator import FIDELITIES, ServoActuator
+from mechlib.elements.hydraulics.orifice import floored, regularised_root, spool_flows
+from mechlib.elements.hydraulics.parameters import Controller, Cylinder, JetPipe, ServoValve, Supply
+
+__all__ = [
+    "FIDELITIES",
+    "Controller",
+    "Cylinder",
+    "JetPipe",
+    "ServoActuator",
+    "ServoValve",
+    "Supply",
+    "floored",
+    "regularised_root",
+    "spool_flows",
+]

@@ -1,0 +1,555 @@
+"""Compiled (numba) kernels of the constraint primitives and the rigid-body mass terms.
+
+Layout: `x` (nb+1, 7) rows [r, p] per body, ground last; `xd` their rates; Jacobian rows have
+7 (nb+1) columns. Rotation of a body-fixed vector s: the homogeneous form
+A(p) s = (e0^2 - e.e) s + 2 e (e.s) + 2 e0 (e x s); its polarisation b(p, w) s gives
+B(p, s) w = d(A(p) s)/dp w = 2 b(p, w) s. Formulas: Haug (1989) ch. 9-11; G, E as in
+Nikravesh (1988): omega' = 2 G pd (body axes), omega = 2 E pd (global axes).
+numba replaces per-row Python loops that cost ~100x more in the interpreter.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mechlib.core.jit import KERNEL, njit
+from mechlib.model.table_kernel import table_value
+
+__all__ = [
+    "angle_state",
+    "b_matrix",
+    "body_forces",
+    "dot1_gamma",
+    "dot1_jac",
+    "dot1_phi",
+    "dot1_rate",
+    "dot2_gamma",
+    "dot2_jac",
+    "dot2_phi",
+    "dot2_rate",
+    "mass_blocks",
+    "mass_matrix",
+    "mass_times",
+    "norm_gamma",
+    "norm_jac",
+    "norm_phi",
+    "point_force",
+    "point_position",
+    "point_velocity",
+    "positive_cholesky",
+    "rotation_matrix",
+    "sph_gamma",
+    "sph_jac",
+    "sph_phi",
+    "spring_state",
+    "spring_wrench",
+    "torsion_wrench",
+]
+
+
+@njit(**KERNEL)
+def _dot3(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(**KERNEL)
+def _rot(p, s, out):
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    es = e1 * s[0] + e2 * s[1] + e3 * s[2]
+    c = e0 * e0 - (e1 * e1 + e2 * e2 + e3 * e3)
+    out[0] = c * s[0] + 2.0 * e1 * es + 2.0 * e0 * (e2 * s[2] - e3 * s[1])
+    out[1] = c * s[1] + 2.0 * e2 * es + 2.0 * e0 * (e3 * s[0] - e1 * s[2])
+    out[2] = c * s[2] + 2.0 * e3 * es + 2.0 * e0 * (e1 * s[1] - e2 * s[0])
+
+
+@njit(**KERNEL)
+def _brot(p, w, s, out):
+    """out = B(p, s) w = 2 b(p, w) s (the rate of A(p) s for pd = w)."""
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    w0, f1, f2, f3 = w[0], w[1], w[2], w[3]
+    c = e0 * w0 - (e1 * f1 + e2 * f2 + e3 * f3)
+    fs = f1 * s[0] + f2 * s[1] + f3 * s[2]
+    es = e1 * s[0] + e2 * s[1] + e3 * s[2]
+    out[0] = 2.0 * (
+        c * s[0] + e1 * fs + f1 * es + e0 * (f2 * s[2] - f3 * s[1]) + w0 * (e2 * s[2] - e3 * s[1])
+    )
+    out[1] = 2.0 * (
+        c * s[1] + e2 * fs + f2 * es + e0 * (f3 * s[0] - f1 * s[2]) + w0 * (e3 * s[0] - e1 * s[2])
+    )
+    out[2] = 2.0 * (
+        c * s[2] + e3 * fs + f3 * es + e0 * (f1 * s[1] - f2 * s[0]) + w0 * (e1 * s[1] - e2 * s[0])
+    )
+
+
+@njit(**KERNEL)
+def _bmat(p, s, out):
+    """out (3, 4) = B(p, s) = d(A(p) s)/dp."""
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    s0, s1, s2 = s[0], s[1], s[2]
+    es = e1 * s0 + e2 * s1 + e3 * s2
+    out[0, 0] = 2.0 * (e0 * s0 + e2 * s2 - e3 * s1)
+    out[1, 0] = 2.0 * (e0 * s1 + e3 * s0 - e1 * s2)
+    out[2, 0] = 2.0 * (e0 * s2 + e1 * s1 - e2 * s0)
+    e = (e1, e2, e3)
+    sv = (s0, s1, s2)
+    for a in range(3):
+        for b in range(3):
+            v = e[a] * sv[b] - sv[a] * e[b]
+            if a == b:
+                v += es
+            out[a, 1 + b] = 2.0 * v
+    # - e0 [s]x
+    out[0, 2] += 2.0 * e0 * s2
+    out[0, 3] -= 2.0 * e0 * s1
+    out[1, 1] -= 2.0 * e0 * s2
+    out[1, 3] += 2.0 * e0 * s0
+    out[2, 1] += 2.0 * e0 * s1
+    out[2, 2] -= 2.0 * e0 * s0
+
+
+@njit(**KERNEL)
+def b_matrix(p, s):
+    """B(p, s) = d(A(p) s)/dp (3, 4) as a new array."""
+    out = np.empty((3, 4))
+    _bmat(p, s, out)
+    return out
+
+
+@njit(**KERNEL)
+def sph_phi(x, bi, bj, si, sj, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    for k in range(bi.shape[0]):
+        _rot(x[bi[k], 3:], si[k], a)
+        _rot(x[bj[k], 3:], sj[k], b)
+        for c in range(3):
+            out[3 * k + c] = x[bi[k], c] + a[c] - x[bj[k], c] - b[c]
+
+
+@njit(**KERNEL)
+def sph_jac(x, bi, bj, si, sj, out):
+    m = np.empty((3, 4))
+    for k in range(bi.shape[0]):
+        ci, cj = 7 * bi[k], 7 * bj[k]
+        for c in range(3):
+            out[3 * k + c, ci + c] += 1.0
+            out[3 * k + c, cj + c] -= 1.0
+        _bmat(x[bi[k], 3:], si[k], m)
+        for c in range(3):
+            for d in range(4):
+                out[3 * k + c, ci + 3 + d] += m[c, d]
+        _bmat(x[bj[k], 3:], sj[k], m)
+        for c in range(3):
+            for d in range(4):
+                out[3 * k + c, cj + 3 + d] -= m[c, d]
+
+
+@njit(**KERNEL)
+def sph_gamma(x, xd, bi, bj, si, sj, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    for k in range(bi.shape[0]):
+        _rot(xd[bi[k], 3:], si[k], a)
+        _rot(xd[bj[k], 3:], sj[k], b)
+        for c in range(3):
+            out[3 * k + c] = -2.0 * (a[c] - b[c])
+
+
+@njit(**KERNEL)
+def dot1_phi(x, bi, bj, u, v, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    for k in range(bi.shape[0]):
+        _rot(x[bi[k], 3:], u[k], a)
+        _rot(x[bj[k], 3:], v[k], b)
+        out[k] = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(**KERNEL)
+def dot1_jac(x, bi, bj, u, v, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    m = np.empty((3, 4))
+    for k in range(bi.shape[0]):
+        _rot(x[bi[k], 3:], u[k], a)
+        _rot(x[bj[k], 3:], v[k], b)
+        _bmat(x[bi[k], 3:], u[k], m)
+        for d in range(4):
+            out[k, 7 * bi[k] + 3 + d] += b[0] * m[0, d] + b[1] * m[1, d] + b[2] * m[2, d]
+        _bmat(x[bj[k], 3:], v[k], m)
+        for d in range(4):
+            out[k, 7 * bj[k] + 3 + d] += a[0] * m[0, d] + a[1] * m[1, d] + a[2] * m[2, d]
+
+
+@njit(**KERNEL)
+def dot1_rate(x, xd, bi, bj, u, v, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    ad = np.empty(3)
+    bd = np.empty(3)
+    for k in range(bi.shape[0]):
+        _rot(x[bi[k], 3:], u[k], a)
+        _rot(x[bj[k], 3:], v[k], b)
+        _brot(x[bi[k], 3:], xd[bi[k], 3:], u[k], ad)
+        _brot(x[bj[k], 3:], xd[bj[k], 3:], v[k], bd)
+        out[k] = _dot3(ad, b) + _dot3(a, bd)
+
+
+@njit(**KERNEL)
+def dot1_gamma(x, xd, bi, bj, u, v, out):
+    a = np.empty(3)
+    b = np.empty(3)
+    ad = np.empty(3)
+    bd = np.empty(3)
+    add = np.empty(3)
+    bdd = np.empty(3)
+    for k in range(bi.shape[0]):
+        pi, pj, wi, wj = x[bi[k], 3:], x[bj[k], 3:], xd[bi[k], 3:], xd[bj[k], 3:]
+        _rot(pi, u[k], a)
+        _rot(pj, v[k], b)
+        _brot(pi, wi, u[k], ad)
+        _brot(pj, wj, v[k], bd)
+        _rot(wi, u[k], add)
+        _rot(wj, v[k], bdd)
+        out[k] = -(2.0 * _dot3(add, b) + 2.0 * _dot3(ad, bd) + 2.0 * _dot3(a, bdd))
+
+
+@njit(**KERNEL)
+def _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, rates, tmp):
+    pi, pj = x[bi[k], 3:], x[bj[k], 3:]
+    _rot(pj, v[k], b)
+    _rot(pi, si[k], d)
+    _rot(pj, sj[k], tmp)
+    for c in range(3):
+        d[c] += x[bi[k], c] - x[bj[k], c] - tmp[c]
+    if rates:
+        _brot(pj, xd[bj[k], 3:], v[k], bd)
+        _brot(pi, xd[bi[k], 3:], si[k], dd)
+        _brot(pj, xd[bj[k], 3:], sj[k], tmp)
+        for c in range(3):
+            dd[c] += xd[bi[k], c] - xd[bj[k], c] - tmp[c]
+
+
+@njit(**KERNEL)
+def dot2_phi(x, bi, bj, v, si, sj, out):
+    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    for k in range(bi.shape[0]):
+        _dot2_parts(x, x, k, bi, bj, v, si, sj, b, d, bd, dd, False, tmp)
+        out[k] = _dot3(b, d)
+
+
+@njit(**KERNEL)
+def dot2_jac(x, bi, bj, v, si, sj, out):
+    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    m = np.empty((3, 4))
+    for k in range(bi.shape[0]):
+        _dot2_parts(x, x, k, bi, bj, v, si, sj, b, d, bd, dd, False, tmp)
+        ci, cj = 7 * bi[k], 7 * bj[k]
+        for c in range(3):
+            out[k, ci + c] += b[c]
+            out[k, cj + c] -= b[c]
+        _bmat(x[bi[k], 3:], si[k], m)
+        for e in range(4):
+            out[k, ci + 3 + e] += b[0] * m[0, e] + b[1] * m[1, e] + b[2] * m[2, e]
+        _bmat(x[bj[k], 3:], v[k], m)
+        for e in range(4):
+            out[k, cj + 3 + e] += d[0] * m[0, e] + d[1] * m[1, e] + d[2] * m[2, e]
+        _bmat(x[bj[k], 3:], sj[k], m)
+        for e in range(4):
+            out[k, cj + 3 + e] -= b[0] * m[0, e] + b[1] * m[1, e] + b[2] * m[2, e]
+
+
+@njit(**KERNEL)
+def dot2_rate(x, xd, bi, bj, v, si, sj, out):
+    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    for k in range(bi.shape[0]):
+        _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, True, tmp)
+        out[k] = _dot3(bd, d) + _dot3(b, dd)
+
+
+@njit(**KERNEL)
+def dot2_gamma(x, xd, bi, bj, v, si, sj, out):
+    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
+    bdd, t1, t2 = np.empty(3), np.empty(3), np.empty(3)
+    for k in range(bi.shape[0]):
+        _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, True, tmp)
+        _rot(xd[bj[k], 3:], v[k], bdd)
+        _rot(xd[bi[k], 3:], si[k], t1)
+        _rot(xd[bj[k], 3:], sj[k], t2)
+        ddd = 2.0 * (_dot3(b, t1) - _dot3(b, t2))
+        out[k] = -(2.0 * _dot3(bdd, d) + 2.0 * _dot3(bd, dd) + ddd)
+
+
+@njit(**KERNEL)
+def norm_phi(x, nb, out):
+    for k in range(nb):
+        out[k] = x[k, 3] ** 2 + x[k, 4] ** 2 + x[k, 5] ** 2 + x[k, 6] ** 2 - 1.0
+
+
+@njit(**KERNEL)
+def norm_jac(x, nb, out):
+    for k in range(nb):
+        for d in range(4):
+            out[k, 7 * k + 3 + d] += 2.0 * x[k, 3 + d]
+
+
+@njit(**KERNEL)
+def norm_gamma(xd, nb, out):
+    for k in range(nb):
+        out[k] = -2.0 * (xd[k, 3] ** 2 + xd[k, 4] ** 2 + xd[k, 5] ** 2 + xd[k, 6] ** 2)
+
+
+@njit(**KERNEL)
+def _g_times(p, w, out):
+    """out (3) = G(p) w."""
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    out[0] = -w[0] * e1 + e0 * w[1] - (e2 * w[3] - e3 * w[2])
+    out[1] = -w[0] * e2 + e0 * w[2] - (e3 * w[1] - e1 * w[3])
+    out[2] = -w[0] * e3 + e0 * w[3] - (e1 * w[2] - e2 * w[1])
+
+
+@njit(**KERNEL)
+def _gt_times(p, y, sign, out):
+    """out (4) = G(p)^T y (sign = +1) or E(p)^T y (sign = -1)."""
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    out[0] = -(e1 * y[0] + e2 * y[1] + e3 * y[2])
+    out[1] = sign * (e2 * y[2] - e3 * y[1]) + e0 * y[0]
+    out[2] = sign * (e3 * y[0] - e1 * y[2]) + e0 * y[1]
+    out[3] = sign * (e1 * y[1] - e2 * y[0]) + e0 * y[2]
+
+
+@njit(**KERNEL)
+def _inertia_times(inertia, w, out):
+    """out (3) = inertia (3, 3) w, inline (numba's @ calls BLAS and allocates)."""
+    for a in range(3):
+        out[a] = inertia[a, 0] * w[0] + inertia[a, 1] * w[1] + inertia[a, 2] * w[2]
+
+
+@njit(**KERNEL)
+def mass_times(x, masses, inertia, scale, vec, out):
+    """out = M(q) vec; M_p = 4 G^T J' G + scale p p^T (the last term only fixes |p|)."""
+    w, jw = np.empty(3), np.empty(3)
+    g4 = np.empty(4)
+    for b in range(masses.shape[0]):
+        o = 7 * b
+        for c in range(3):
+            out[o + c] = masses[b] * vec[o + c]
+        p = x[b, 3:]
+        _g_times(p, vec[o + 3 : o + 7], w)
+        _inertia_times(inertia[b], w, jw)
+        _gt_times(p, jw, 1.0, g4)
+        pv = p[0] * vec[o + 3] + p[1] * vec[o + 4] + p[2] * vec[o + 5] + p[3] * vec[o + 6]
+        for d in range(4):
+            out[o + 3 + d] = 4.0 * g4[d] + scale[b] * p[d] * pv
+
+
+@njit(**KERNEL)
+def mass_blocks(x, masses, inertia, scale, out):
+    """The diagonal blocks (nb, 7, 7) of M(q): m I for r, 4 G^T J' G + scale p p^T for p."""
+    unit = np.zeros(4)
+    w, jw = np.empty(3), np.empty(3)
+    g4 = np.empty(4)
+    for b in range(masses.shape[0]):
+        out[b] = 0.0
+        for c in range(3):
+            out[b, c, c] = masses[b]
+        p = x[b, 3:]
+        for d in range(4):
+            unit[:] = 0.0
+            unit[d] = 1.0
+            _g_times(p, unit, w)
+            _inertia_times(inertia[b], w, jw)
+            _gt_times(p, jw, 1.0, g4)
+            for e in range(4):
+                out[b, 3 + e, 3 + d] = 4.0 * g4[e] + scale[b] * p[e] * p[d]
+
+
+@njit(**KERNEL)
+def mass_matrix(x, masses, inertia, scale, out):
+    """Dense M(q) (nq, nq), block diagonal (`mass_blocks` on the diagonal)."""
+    blocks = np.empty((masses.shape[0], 7, 7))
+    mass_blocks(x, masses, inertia, scale, blocks)
+    for b in range(masses.shape[0]):
+        o = 7 * b
+        for c in range(7):
+            for d in range(7):
+                out[o + c, o + d] = blocks[b, c, d]
+
+
+@njit(**KERNEL)
+def body_forces(x, xd, masses, inertia, gravity, F, N, with_inertia, out):
+    """Q (nq): forces F and torques N (global, through the cm, gravity added here) and, with
+    `with_inertia`, the quadratic velocity term -8 G(pd)^T J' G(p) pd."""
+    w, jw = np.empty(3), np.empty(3)
+    g4 = np.empty(4)
+    for b in range(masses.shape[0]):
+        o = 7 * b
+        for c in range(3):
+            out[o + c] = F[b, c] + masses[b] * gravity[c]
+        p, pd = x[b, 3:], xd[b, 3:]
+        _gt_times(p, N[b], -1.0, g4)
+        for d in range(4):
+            out[o + 3 + d] = 2.0 * g4[d]
+        if with_inertia:
+            _g_times(p, pd, w)
+            for c in range(3):
+                w[c] *= 2.0
+            _inertia_times(inertia[b], w, jw)
+            _gt_times(pd, jw, 1.0, g4)
+            for d in range(4):
+                out[o + 3 + d] -= 4.0 * g4[d]
+
+
+@njit(**KERNEL)
+def point_position(x, b, s):
+    """Global position (m) of the body-fixed vector s of body b: r_b + A(p_b) s."""
+    out = np.empty(3)
+    _rot(x[b, 3:], s, out)
+    for c in range(3):
+        out[c] += x[b, c]
+    return out
+
+
+@njit(**KERNEL)
+def point_velocity(x, xd, b, s):
+    """Global velocity (m/s) of the body-fixed point s of body b: rd_b + B(p_b, s) pd_b."""
+    out = np.empty(3)
+    _brot(x[b, 3:], xd[b, 3:], s, out)
+    for c in range(3):
+        out[c] += xd[b, c]
+    return out
+
+
+@njit(**KERNEL)
+def rotation_matrix(p):
+    """A(p) (3, 3) of one set of Euler parameters (homogeneous form)."""
+    out = np.empty((3, 3))
+    unit = np.zeros(3)
+    col = np.empty(3)
+    for j in range(3):
+        unit[:] = 0.0
+        unit[j] = 1.0
+        _rot(p, unit, col)
+        out[:, j] = col
+    return out
+
+
+@njit(**KERNEL)
+def point_force(x, b, s, force, F, N):
+    """Add a force (N, global) at the body-fixed point s of body b to F[b] and its moment
+    about the cm, A(p_b) s x force, to N[b]."""
+    arm = np.empty(3)
+    _rot(x[b, 3:], s, arm)
+    for c in range(3):
+        F[b, c] += force[c]
+    N[b, 0] += arm[1] * force[2] - arm[2] * force[1]
+    N[b, 1] += arm[2] * force[0] - arm[0] * force[2]
+    N[b, 2] += arm[0] * force[1] - arm[1] * force[0]
+
+
+@njit(**KERNEL)
+def spring_state(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, out):
+    """out (5,) = [tension (N), length (m), unit vector (3) from point 2 to point 1] of a
+    linear spring-damper between the body-fixed points s1 of b1 and s2 of b2: stiffness
+    (N/m) x (length - free_length) + damping (N*s/m) x rate + preload; with `slack` (a
+    wire) none while shorter than its free length or pushing."""
+    p1, p2 = point_position(x, b1, s1), point_position(x, b2, s2)
+    v1, v2 = point_velocity(x, xd, b1, s1), point_velocity(x, xd, b2, s2)
+    d = p1 - p2
+    length = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+    rate = 0.0
+    for c in range(3):
+        out[2 + c] = d[c] / length if length > 0.0 else 0.0
+        rate += out[2 + c] * (v1[c] - v2[c])
+    stretch = length - free_length
+    tension = stiffness * stretch + damping * rate + preload
+    if slack and (stretch < 0.0 or tension < 0.0):
+        tension = 0.0
+    out[0], out[1] = tension, length
+
+
+@njit(**KERNEL)
+def spring_wrench(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, F, N):
+    """Add a linear spring-damper's forces (spring_state): -tension along the unit vector
+    at point 1, +tension at point 2, with their moments about the cms, to F and N."""
+    state = np.empty(5)
+    spring_state(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, state)
+    force = state[0] * state[2:5]
+    point_force(x, b1, s1, -force, F, N)
+    point_force(x, b2, s2, force, F, N)
+
+
+@njit(**KERNEL)
+def angle_state(x, xd, bi, bj, f, g, reference, out):
+    """out (2,) = [angle (rad), rate (rad/s)] of body bi relative to body bj about a joint
+    axis with body-fixed triad vectors f, g (mechlib.kinematics.coordinates.AngleMeasure): atan2(
+    f_i . g_j, f_i . f_j), unwrapped to the turn nearest `reference` (rad)."""
+    fi, gj, fj = np.empty(3), np.empty(3), np.empty(3)
+    fid, gjd, fjd = np.empty(3), np.empty(3), np.empty(3)
+    _rot(x[bi, 3:], f, fi)
+    _rot(x[bj, 3:], g, gj)
+    _rot(x[bj, 3:], f, fj)
+    _brot(x[bi, 3:], xd[bi, 3:], f, fid)
+    _brot(x[bj, 3:], xd[bj, 3:], g, gjd)
+    _brot(x[bj, 3:], xd[bj, 3:], f, fjd)
+    s, c = _dot3(fi, gj), _dot3(fi, fj)
+    sd, cd = _dot3(fid, gj) + _dot3(fi, gjd), _dot3(fid, fj) + _dot3(fi, fjd)
+    raw = math.atan2(s, c)
+    turns = (reference - raw) / (2.0 * math.pi)
+    out[0] = raw + 2.0 * math.pi * np.round(turns)  # half-way ties to even, as Python's
+    out[1] = (c * sd - s * cd) / (s * s + c * c)
+
+
+@njit(**KERNEL)
+def torsion_wrench(x, xd, bi, bj, f, g, axis, reference, stiffness, damping, angle0, preload, N):
+    """Add a linear torsion spring-damper's moments to N: moment = stiffness (N*m/rad) x
+    (angle - angle0) + damping (N*m*s/rad) x rate + preload (N*m) about the joint axis
+    (body-fixed `axis` of bj), -moment on bi, +moment on bj (angle_state)."""
+    state = np.empty(2)
+    angle_state(x, xd, bi, bj, f, g, reference, state)
+    moment = stiffness * (state[0] - angle0) + damping * state[1] + preload
+    _resist_rotation(x, bi, bj, axis, moment, N)
+
+
+@njit(**KERNEL)
+def torsion_table_wrench(x, xd, ints, floats, reference, breaks, coefs, ends, flags, N):
+    """Add a tabulated torsion spring-damper's moments to N: moment = law(angle - angle0)
+    (N*m, the packed table: mechlib.model.table_kernel) + damping (N*m*s/rad) x rate + preload
+    (N*m), as torsion_wrench. ints: the angle's bodies (bi, bj); floats: its triad f, g,
+    the axis (body-fixed in bj), damping, angle0 (rad), preload. False, and nothing added,
+    where the table refuses the turn."""
+    state = np.empty(2)
+    angle_state(x, xd, ints[0], ints[1], floats[0:3], floats[3:6], reference, state)
+    ok, elastic = table_value(breaks, coefs, ends, flags, state[0] - floats[10])
+    if not ok:
+        return False
+    moment = elastic + floats[9] * state[1] + floats[11]
+    _resist_rotation(x, ints[0], ints[1], floats[6:9], moment, N)
+    return True
+
+
+@njit(**KERNEL)
+def _resist_rotation(x, bi, bj, axis, moment, N):
+    """A moment (N*m) resisting bi's rotation about the body-fixed `axis` of bj: -moment
+    on bi, +moment on bj (mechlib.elements.forces.resist_rotation)."""
+    a = np.empty(3)
+    _rot(x[bj, 3:], axis, a)
+    for c in range(3):
+        N[bi, c] -= moment * a[c]
+        N[bj, c] += moment * a[c]
+
+
+@njit(**KERNEL)
+def positive_cholesky(a):
+    """(ok, L): the Cholesky factor of the symmetric `a`; ok False where `a` is not finite
+    or not positive definite (L is then `a`)."""
+    for v in a.ravel():
+        if not np.isfinite(v):
+            return False, a
+    try:
+        low = np.linalg.cholesky(a)
+    except Exception:  # noqa: BLE001 -- numba catches no narrower class; not positive definite
+        return False, a
+    return True, low

@@ -1,0 +1,308 @@
+"""Analysis settings (what to compute) and the trajectory an analysis records."""
+
+from __future__ import annotations
+
+import functools
+from bisect import bisect_right
+from collections.abc import Callable, Iterator, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = [
+    "DEFAULT_MAX_STEPS",
+    "DEFAULT_TOLERANCE",
+    "Dynamic",
+    "InitialBodyVelocity",
+    "InitialValue",
+    "Kinematic",
+    "Modes",
+    "QuasiStatic",
+    "Static",
+    "Trajectory",
+    "output_times",
+]
+
+DEFAULT_TOLERANCE = 1e-6
+DEFAULT_MAX_STEPS = 500_000  # accepted + rejected steps: a few minutes of CPU, small model
+
+
+@dataclass(frozen=True)
+class _Timed:
+    """Output every `step` s from `start` to `end` (s); at most `max_steps` steps (accepted
+    and rejected: integrator steps, or output times and their sub-steps)."""
+
+    end: float
+    step: float
+    start: float = 0.0
+    max_steps: int = DEFAULT_MAX_STEPS
+
+
+@dataclass(frozen=True)
+class Kinematic(_Timed):
+    """Motions fix every degree of freedom; output every `step` s from `start` to `end`."""
+
+    name = "kinematic"
+
+
+@dataclass(frozen=True)
+class Static:
+    """One equilibrium at `time` (s), motions held at their value, inertia ignored."""
+
+    time: float = 0.0
+    name = "static"
+
+
+@dataclass(frozen=True)
+class QuasiStatic(_Timed):
+    """A sequence of static equilibria along the motions, every `step` s to `end`."""
+
+    name = "quasi-static"
+
+
+@dataclass(frozen=True)
+class Dynamic(_Timed):
+    """Equations of motion integrated in time.
+
+    `tolerance`: relative local error per step (absolute parts scaled by the mechanism's
+    size); `integrator`: `generalized-alpha` (index-3, Arnold & Bruls 2007) or `radau`
+    (scipy Radau IIA on the index-1 form with projection, for cross-checks); `max_step` (s);
+    `rho_inf`: spectral radius at infinity of generalized-alpha (numerical damping);
+    `fixed_step`: take exactly `step` per step, no error control (for convergence studies);
+    `dense`: the steps do not land on the output times (their size is the error control's,
+    up to `max_step` or the mechanism's natural time), the rows between them come from
+    dense output (mechlib.solvers.dense). A case's dynamic analysis is dense unless it says
+    `output: steps` (loadcases.build); this dataclass's own default stays False.
+    """
+
+    tolerance: float = DEFAULT_TOLERANCE
+    integrator: str = "generalized-alpha"
+    max_step: float | None = None
+    rho_inf: float = 0.9
+    fixed_step: bool = False
+    dense: bool = False
+    name = "dynamic"
+
+
+@dataclass(frozen=True)
+class Modes:
+    """An analysis of the normal modes about the equilibrium at `time` (s)."""
+
+    time: float = 0.0
+    count: int | None = None  # how many modes to report (None: all)
+    name = "modes"
+
+
+@dataclass(frozen=True)
+class InitialValue:
+    """A joint coordinate (rad or m) and/or its rate given for the start of an analysis."""
+
+    joint: str
+    value: float | None = None
+    rate: float | None = None
+    coordinate: str | None = None
+
+
+@dataclass(frozen=True)
+class InitialBodyVelocity:
+    """A body's angular velocity (rad/s) and/or cm velocity (m/s), global axes."""
+
+    body: str
+    omega: Sequence[float] | None = None
+    velocity: Sequence[float] | None = None
+
+
+def output_times(start: float, end: float, step: float) -> np.ndarray:
+    """Output grid start, start+step, ..., end (end always included), read-only: the
+    grids of a campaign's runs are the same and made once per process."""
+    return _output_times(float(start), float(end), float(step))
+
+
+@functools.lru_cache(maxsize=8)  # a set's runs share a few grids; long grids weigh MB each
+def _output_times(start: float, end: float, step: float) -> np.ndarray:
+    n = int(np.floor((end - start) / step + 1e-9))
+    # rounded to 12 significant digits: 0.6, not 0.6000000000000001, in the results
+    times = np.array([float(f"{start + step * i:.12g}") for i in range(n + 1)])
+    if end - times[-1] > 1e-9 * max(step, 1.0):
+        times = np.append(times, end)
+    times.flags.writeable = False
+    return times
+
+
+def _stack(rows: list) -> np.ndarray:
+    """Rows (arrays of one length) as a (rows, width) float array (a copy)."""
+    if not rows:
+        return np.empty((0, 0))
+    return np.array(rows, dtype=float).reshape(len(rows), -1)
+
+
+class Snapshots:
+    """The system snapshot of each recorded row (`System.snapshot`: active equations, angle
+    references...): dicts appended one by one, or the rows of a compiled run, which share
+    one base snapshot and differ only in their angle references, kept as an array and made
+    into a dict when a row's is read (most are never read: the outputs restore one per
+    batch of rows)."""
+
+    def __init__(self) -> None:
+        self._rows: list[dict | None] = []  # None: in a block, not made yet
+        self._blocks: list[tuple[int, dict, tuple, np.ndarray]] = []  # (first, base, keys, refs)
+        self._firsts: list[int] = []  # of the blocks
+
+    def __len__(self) -> int:
+        return len(self._rows)
+
+    def append(self, snapshot: dict) -> None:
+        self._rows.append(snapshot)
+
+    def extend(self, snapshots) -> None:
+        self._rows.extend(snapshots)
+
+    def extend_block(self, base: dict, keys: Sequence, refs: np.ndarray) -> None:
+        """Rows whose snapshots are `base` with the angle references `keys` set to each
+        row of `refs` (rows, keys)."""
+        self._blocks.append((len(self._rows), base, tuple(keys), np.array(refs, dtype=float)))
+        self._firsts.append(len(self._rows))
+        self._rows.extend([None] * len(refs))
+
+    def __getitem__(self, i: int) -> dict:
+        found = self._rows[i]
+        if found is None:
+            first, base, keys, refs = self._block(i)
+            angles = dict(base["angles"])
+            angles.update(zip(keys, refs[i % len(self._rows) - first].tolist()))
+            found = self._rows[i] = dict(base, angles=angles)
+        return found
+
+    def active(self, i: int):
+        """Row i's active equations (the snapshot's `active`), without making its dict."""
+        found = self._rows[i]
+        return found["active"] if found is not None else self._block(i)[1]["active"]
+
+    def same_active(self, first: int, most: int) -> int:
+        """The end of the rows from `first` on (at most `most`) whose snapshots hold the
+        same active equations (the same array: a run keeps it between events); a block's
+        rows share their base's."""
+        active = self.active(first)
+        end, limit = first + 1, min(len(self._rows), first + most)
+        while end < limit:
+            found = self._rows[end]
+            if found is None:
+                start, base, _, refs = self._block(end)
+                if base["active"] is not active:
+                    break
+                end = min(start + len(refs), limit)
+            elif found["active"] is not active:
+                break
+            else:
+                end += 1
+        return end
+
+    def _block(self, i: int) -> tuple[int, dict, tuple, np.ndarray]:
+        return self._blocks[bisect_right(self._firsts, i % len(self._rows)) - 1]
+
+    def __delitem__(self, rows: slice) -> None:
+        """Drop the rows from `rows.start` on (Trajectory.trim)."""
+        if rows.stop is not None or rows.step is not None:
+            raise ValueError("only the rows from an index on can be dropped")
+        n = len(range(*rows.indices(len(self._rows))))
+        end = len(self._rows) - n
+        del self._rows[end:]
+        self._blocks = [(k, b, keys, r[: end - k]) for k, b, keys, r in self._blocks if k < end]
+        self._firsts = [b[0] for b in self._blocks]
+
+    def __iter__(self) -> Iterator[dict]:
+        return (self[i] for i in range(len(self)))
+
+
+@dataclass
+class Trajectory:
+    """States recorded at output times: q, qd, qdd (n, nq) and multipliers lam (n, m).
+
+    `snapshot()` (e.g. `System.references`) is stored with each row, so that outputs read
+    joint angles unwrapped as the solver tracked them, however far they turn between rows.
+    `at_rest`: the states are equilibria (static, quasi-static): force elements were
+    evaluated without velocities, and their outputs must be too; qd holds the rates the
+    motions prescribe, for the kinematic outputs.
+    """
+
+    snapshot: Callable[[], dict] | None = None
+    check: Callable[..., None] | None = None
+    at_rest: bool = False
+    time: list = field(default_factory=list)
+    q: list = field(default_factory=list)
+    qd: list = field(default_factory=list)
+    qdd: list = field(default_factory=list)
+    lam: list = field(default_factory=list)
+    references: Snapshots = field(default_factory=Snapshots)
+    # (first row, block (n, 3 nq + m), nq) of each `extend`: its rows are views of it
+    _blocks: list = field(default_factory=list, repr=False)
+
+    def record(self, t: float, q, qd, qdd, lam, snapshot: dict | None = None) -> None:
+        """Append a row; `snapshot`: the system's snapshot to keep with it (default: taken
+        now). A non-finite state stops the run here (`check`)."""
+        if self.check is not None:
+            self.check(t, q, qd, qdd, lam)
+        if snapshot is None:
+            snapshot = self.snapshot() if self.snapshot else {}
+        self.references.append(snapshot)
+        self.time.append(float(t))
+        self.q.append(np.array(q, dtype=float))
+        self.qd.append(np.array(qd, dtype=float))
+        self.qdd.append(np.array(qdd, dtype=float))
+        self.lam.append(np.array(lam, dtype=float))
+
+    def extend(
+        self, times, states: np.ndarray, nq: int, snapshot: dict, keys: Sequence, refs
+    ) -> None:
+        """Append rows found finite already (a compiled run's): times (n,), states (n,
+        3 nq + m) with q, qd, qdd, lam stacked; their snapshots are `snapshot` with the
+        angle references `keys` set to each row of `refs` (n, keys)."""
+        block = np.array(states, dtype=float)  # one copy; the rows are views of it
+        self._blocks.append((len(self.time), block, nq))
+        self.references.extend_block(snapshot, keys, refs)
+        self.time.extend(float(t) for t in times)
+        self.q.extend(block[:, :nq])
+        self.qd.extend(block[:, nq : 2 * nq])
+        self.qdd.extend(block[:, 2 * nq : 3 * nq])
+        self.lam.extend(block[:, 3 * nq :])
+
+    def stacked(self, name: str, first: int = 0, end: int | None = None) -> np.ndarray:
+        """Rows first..end-1 of `name` (q, qd, qdd or lam) as one (rows, width) array, not
+        to be written to: slices of the blocks compiled runs recorded them in (a view when
+        one block holds them all), the rows recorded one by one copied."""
+        end = len(self) if end is None else end
+        rows, parts, row = getattr(self, name), [], first
+        for start, block, nq in self._blocks:  # in row order
+            stop = start + len(block)
+            if stop <= row or start >= end:
+                continue
+            if start > row:
+                parts.append(_stack(rows[row:start]))
+            low, high = {"q": (0, nq), "qd": (nq, 2 * nq), "qdd": (2 * nq, 3 * nq)}.get(
+                name, (3 * nq, block.shape[1])
+            )
+            row, top = max(row, start), min(end, stop)
+            parts.append(block[row - start : top - start, low:high])
+            row = top
+        if row < end or not parts:
+            parts.append(_stack(rows[row:end]))
+        return parts[0] if len(parts) == 1 else np.concatenate(parts)
+
+    def same_active(self, first: int, most: int) -> int:
+        """The end of the rows from `first` on (at most `most`) recorded with the same
+        active equations (the same array, as a run keeps it between events)."""
+        return self.references.same_active(first, most)
+
+    def trim(self) -> None:
+        """Drop a row that an interrupt left half-appended (all lists to the shortest)."""
+        rows = self._fields()
+        n = min(len(rows_) for rows_ in rows)
+        for rows_ in rows:
+            del rows_[n:]
+        self._blocks = [(k, b[: n - k], nq) for k, b, nq in self._blocks if k < n]
+
+    def _fields(self) -> tuple[list | Snapshots, ...]:
+        return (self.references, self.time, self.q, self.qd, self.qdd, self.lam)
+
+    def __len__(self) -> int:
+        return len(self.time)

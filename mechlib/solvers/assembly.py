@@ -1,0 +1,334 @@
+"""Assembly: positions on the constraints (Newton), consistent velocities and accelerations.
+
+Given initial values that the constraints contradict are projected onto them (least
+squares, smallest change from the design position) and reported. The modal coordinates of
+flexible bodies weigh _MODAL_WEIGHT^-2 times more in that smallest change: a given angle is
+reached by rigid motion, and a body deforms only where the constraints need it (otherwise
+the least-squares step spreads the motion over the modes and starts a run strained).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from contextlib import suppress
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.linalg import qr, solve_triangular
+from scipy.linalg.lapack import dgetrf, dgetrs
+from scipy.sparse.linalg import splu
+
+from mechlib.checks.singularity import toggle_detail
+from mechlib.core.outcome import SolverFailure, Status
+from mechlib.core.work import count
+from mechlib.kinematics.kin import Kin
+from mechlib.linalg.factor import SINGULAR_RATIO
+from mechlib.model.analysis import InitialBodyVelocity, InitialValue
+from mechlib.system.system import System
+
+__all__ = [
+    "MAX_NEWTON",
+    "POSITION_TOLERANCE",
+    "REUSE_BELOW",
+    "InitialBodyVelocity",
+    "InitialValue",
+    "assemble",
+    "solve_accelerations",
+    "solve_positions",
+    "solve_rates",
+    "solve_velocities",
+]
+
+POSITION_TOLERANCE = 1e-10
+MAX_NEWTON = 50
+_REPORT_CHANGE = 1e-8
+_STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
+_MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
+_NORMAL_CHECK = 1e-6  # a normal-equations solution must meet its equations this well
+REUSE_BELOW = 1e-6  # a Newton step below this keeps its Jacobian for the next
+# a a^T of this many rows and more is factored sparse: below, the dense LU is cheaper
+# (2026-11-28, chains of 7-coordinate bodies, 5 rows per joint: 103 rows 0.14 ms dense
+# against 0.61 ms sparse, 235 rows 0.86 against 1.0, 355 rows 2.6 against 1.5; the door's
+# 105 rows 0.13 against 0.54 ms)
+_SPARSE_NORMAL_FROM = 250
+_RANK_RATIO = 1e-8  # solve_rates: smaller pivots of the QR leave it to least squares
+
+
+@dataclass
+class Assembled:
+    """Initial state and the notes on given values that had to change."""
+
+    q: np.ndarray
+    qd: np.ndarray
+    newton_iterations: int
+    notes: list[str] = field(default_factory=list)
+
+
+def _assembly_weights(system: System) -> np.ndarray:
+    """Column scales (nq,) of the assembly's least squares: 1, _MODAL_WEIGHT for modes."""
+    weights = np.ones(system.nq)
+    weights[system.nq - system.nz :] = _MODAL_WEIGHT
+    return weights
+
+
+def _newton(
+    residual, jacobian, q: np.ndarray, tol: float, weights: np.ndarray | None = None
+) -> tuple[np.ndarray, int, float]:
+    """Minimum-norm Newton (Gauss-Newton when over-determined), the norm of the step
+    divided by `weights` per column; returns q, iterations, |res| once a step is below
+    `tol` (|res| above tol then: the least-squares point of inconsistent equations, such as
+    an assembly stage's interpolated targets, or a stuck Newton; callers judge). After a
+    step below
+    REUSE_BELOW the Jacobian is kept (its change is of the order of that step, so the
+    next step converges as fast as with a fresh one): a dense row, already on the
+    constraints to 1e-9, is polished with one Jacobian instead of two."""
+    res = residual(q)
+    w = np.ones(len(q)) if weights is None else weights
+    solver: _MinimumNorm | None = None
+    for it in range(1, MAX_NEWTON + 1):
+        if solver is None:
+            count(factorizations=1, jacobian_evaluations=1)
+            solver = _MinimumNorm(jacobian(q) * w)
+        step = w * solver(-res)
+        q = q + step
+        res = residual(q)
+        size = np.abs(step).max(initial=0.0)
+        if size < tol:  # converged, or (residual above tol) stuck: Gauss-Newton's fixed point
+            return q, it, float(np.abs(res).max(initial=0.0))
+        if size >= REUSE_BELOW:
+            solver = None
+    return q, MAX_NEWTON, float(np.abs(res).max(initial=0.0))
+
+
+class _MinimumNorm:
+    """x of least norm with a x = b for the right sides b given: a^T (a a^T)^-1 b, a a^T
+    factored once (dense LU; sparse LU from _SPARSE_NORMAL_FROM rows on, as a joint's rows
+    touch two bodies), 10x cheaper than an SVD; each x checked by its own residual (which also
+    catches a factor of non-finite numbers); least squares (SVD) where that fails
+    (dependent rows, a singular position, more rows than columns)."""
+
+    def __init__(self, a: np.ndarray):
+        self.a = a
+        self.solve: Callable[[np.ndarray], np.ndarray] | None = None
+        if a.shape[0] == 0 or a.shape[0] > a.shape[1]:
+            return
+        if a.shape[0] >= _SPARSE_NORMAL_FROM:
+            sparse = sp.csr_matrix(a)
+            with suppress(RuntimeError):  # exactly singular: dependent rows
+                factors = splu((sparse @ sparse.T).tocsc(), permc_spec="COLAMD")
+                if _well_pivoted(factors.U.diagonal()):
+                    self.solve = factors.solve
+            return
+        lu, pivots, info = dgetrf(a @ a.T)  # LAPACK directly: its wrappers cost more
+        if info == 0 and _well_pivoted(np.diag(lu)):
+            self.solve = lambda rhs: dgetrs(lu, pivots, rhs)[0]
+
+    def __call__(self, b: np.ndarray) -> np.ndarray:
+        a = self.a
+        if self.solve is not None:
+            x = a.T @ self.solve(b)
+            if np.abs(a @ x - b).max(initial=0.0) <= _NORMAL_CHECK * np.abs(b).max(initial=0.0):
+                return x
+            self.solve = None  # it failed once: least squares for the next right sides too
+        x, *_ = np.linalg.lstsq(a, b, rcond=None)
+        return x
+
+
+def _well_pivoted(diagonal: np.ndarray) -> bool:
+    """The LU of a a^T is far from singular: its pivots' ratio above SINGULAR_RATIO (a
+    nearly dependent row would otherwise leave a large null-space part in a^T y, which
+    the residual check cannot see; least squares cuts it)."""
+    size = np.abs(diagonal)
+    return bool(np.isfinite(size).all() and size.min() > SINGULAR_RATIO * size.max())
+
+
+def solve_positions(
+    system: System,
+    q: np.ndarray,
+    t: float,
+    *,
+    tol: float = POSITION_TOLERANCE,
+    weights: np.ndarray | None = None,
+) -> tuple[np.ndarray, int]:
+    """q with phi(q, t) = 0 from the guess q (`weights`: see _newton); raises SolverFailure
+    naming the worst rows."""
+    q, its, worst = _newton(
+        lambda x: system.phi(system.kin(x, None, t)),
+        lambda x: system.phi_q(system.kin(x, None, t)),
+        q,
+        tol,
+        weights,
+    )
+    if worst > 1e3 * tol:
+        res = system.phi(system.kin(q, None, t))
+        rows = np.argsort(-np.abs(res))[:3]
+        where = tuple(system.labels[i] for i in rows)
+        raise SolverFailure(
+            f"position analysis did not converge at t = {t:.6g} s "
+            f"(largest residuals: {'; '.join(where)}"
+            f"{toggle_detail(system, system.kin(q, None, t))}): the mechanism "
+            "cannot be assembled there (out of reach, or a motion beyond a "
+            "toggle)",
+            time=t,
+            where=where,
+            status=Status.NEWTON_FAILED,
+        )
+    return q, its
+
+
+def solve_velocities(system: System, k: Kin) -> np.ndarray:
+    """qd with phi_q qd = nu (minimum norm when degrees of freedom remain)."""
+    count(factorizations=1)
+    qd, *_ = np.linalg.lstsq(system.phi_q(k), system.nu(k), rcond=None)
+    return qd
+
+
+def solve_accelerations(system: System, k: Kin) -> np.ndarray:
+    """qdd with phi_q qdd = gamma (minimum norm when degrees of freedom remain)."""
+    count(factorizations=1)
+    qdd, *_ = np.linalg.lstsq(system.phi_q(k), system.gamma(k), rcond=None)
+    return qdd
+
+
+def solve_rates(system: System, q: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+    """(qd, qdd) at q: solve_velocities, then solve_accelerations at (q, qd), from one
+    factorization of their common phi_q: phi_q^T = Q R (QR), the minimum-norm x of
+    phi_q x = b is Q R^-T b. The same solutions as least squares (an SVD each) to round-off
+    where phi_q has full row rank, at a tenth of the cost; least squares where a pivot of R
+    is below _RANK_RATIO of the largest (dependent rows, a singular position)."""
+    k = system.kin(q, None, t)
+    jac = system.phi_q(k)
+    count(factorizations=1)
+    if 0 < jac.shape[0] <= jac.shape[1]:
+        basis, upper = qr(jac.T, mode="economic", check_finite=False)
+        pivots = np.abs(np.diag(upper))
+        if np.isfinite(pivots).all() and pivots.min() > _RANK_RATIO * pivots.max():
+
+            def solve(b: np.ndarray) -> np.ndarray:
+                return basis @ solve_triangular(upper, b, trans="T", check_finite=False)
+
+            qd = solve(system.nu(k))
+            return qd, solve(system.gamma(system.kin(q, qd, t)))
+    qd, *_ = np.linalg.lstsq(jac, system.nu(k), rcond=None)
+    qdd, *_ = np.linalg.lstsq(jac, system.gamma(system.kin(q, qd, t)), rcond=None)
+    return qd, qdd
+
+
+def _given_positions(system: System, initial) -> list[tuple]:
+    out = []
+    for item in initial:
+        if isinstance(item, InitialValue) and item.value is not None:
+            out.append((item, system._coordinate_of(item.joint, item.coordinate)))
+    return out
+
+
+def _position_notes(system: System, k: Kin, given) -> list[str]:
+    notes = []
+    for item, m in given:
+        actual = m.value(k)
+        if abs(actual - item.value) > _REPORT_CHANGE * max(1.0, abs(item.value)):
+            notes.append(
+                f"initial {m.kind} of joint '{item.joint}' changed from "
+                f"{item.value:.6g} to {actual:.6g} to satisfy the constraints"
+            )
+    return notes
+
+
+def _given_residual(system: System, given, targets, t: float):
+    def residual(x):
+        k = system.kin(x, None, t)
+        extra = [m.value(k) - target for (_, m), target in zip(given, targets)]
+        return np.concatenate([system.phi(k), extra])
+
+    return residual
+
+
+def _given_jacobian(system: System, given, t: float):
+    def jacobian(x):
+        k = system.kin(x, None, t)
+        extra = [system.coordinate_gradient(m, k) for _, m in given]
+        return np.vstack([system.phi_q(k)] + extra)
+
+    return jacobian
+
+
+def assemble(system: System, t: float, initial: Sequence = ()) -> Assembled:
+    """Initial q, qd: design position moved onto the constraints and the given values."""
+    given = _given_positions(system, initial)
+    q = system.design_q()
+    weights = _assembly_weights(system)
+    its = 0
+    if given:
+        # approach large given angles in stages of at most _STAGE rad, committing the
+        # unwrapping references between stages: one Newton jump of 170 deg would wrap
+        k0 = system.kin(q, None, t)
+        start = [m.value(k0) for _, m in given]
+        span = max(abs(item.value - v) for (item, _), v in zip(given, start))
+        stages = max(1, math.ceil(span / _STAGE))
+        for stage in range(1, stages + 1):
+            targets = [v + (item.value - v) * stage / stages for (item, _), v in zip(given, start)]
+            q, n, _ = _newton(
+                _given_residual(system, given, targets, t),
+                _given_jacobian(system, given, t),
+                q,
+                POSITION_TOLERANCE,
+                weights,
+            )
+            its += n
+            system.commit(system.kin(q, None, t))
+    q, its2 = solve_positions(system, q, t, weights=weights)
+    k = system.kin(q, None, t)
+    system.commit(k)
+    notes = _position_notes(system, k, given)
+    qd, vnotes = _initial_velocities(system, q, t, initial, weights)
+    return Assembled(q, qd, its + its2, notes + vnotes)
+
+
+def _velocity_rows(system: System, k: Kin, initial) -> tuple[list, list, list]:
+    rows, rhs, names = [], [], []
+    for item in initial:
+        if isinstance(item, InitialValue) and item.rate is not None:
+            m = system._coordinate_of(item.joint, item.coordinate)
+            rows.append(system.coordinate_gradient(m, k))
+            rhs.append(item.rate)
+            names.append((f"rate of joint '{item.joint}'", rows[-1][None, :], [item.rate]))
+        elif isinstance(item, InitialBodyVelocity):
+            b = system.body_index(item.body)
+            block = system.body_rates(k, b)
+            for sl, vec, what in (
+                (slice(0, 3), item.velocity, "velocity"),
+                (slice(3, 6), item.omega, "omega"),
+            ):
+                if vec is not None:
+                    rows.extend(block[sl])
+                    rhs.extend(vec)
+                    names.append((f"{what} of body '{item.body}'", block[sl], list(vec)))
+    return rows, rhs, names
+
+
+def _initial_velocities(system: System, q: np.ndarray, t: float, initial, weights: np.ndarray):
+    """qd on the velocity constraints and the given rates, smallest in the `weights` norm."""
+    k = system.kin(q, None, t)
+    phi_q, nu = system.phi_q(k), system.nu(k)
+    rows, rhs, names = _velocity_rows(system, k, initial)
+    count(factorizations=2 if rows else 1)
+    if rows:
+        scaled, *_ = np.linalg.lstsq(
+            np.vstack([phi_q, np.array(rows)]) * weights, np.concatenate([nu, rhs]), rcond=None
+        )
+        qd = weights * scaled
+    else:
+        qd = np.zeros(system.nq)
+    fix, *_ = np.linalg.lstsq(phi_q * weights, nu - phi_q @ qd, rcond=None)
+    qd = qd + weights * fix
+    notes = []
+    for what, block, wanted in names:
+        actual = block @ qd
+        if np.abs(actual - wanted).max() > _REPORT_CHANGE * max(1.0, np.abs(wanted).max()):
+            notes.append(
+                f"initial {what} changed from {np.round(wanted, 9).tolist()} to "
+                f"{np.round(actual, 9).tolist()} to satisfy the constraints"
+            )
+    return qd, notes

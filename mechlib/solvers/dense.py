@@ -1,0 +1,144 @@
+"""Dense output (`analysis.output: dense`): output rows between the integrator's own steps.
+
+The integrator steps at the size its error control chooses, from a first step and up to a
+largest step set by the problem's own scales (or `analysis.max_step`), whatever the output
+interval; each output time within an accepted step gets a row from the step's two ends:
+
+- positions and velocities by the quintic Hermite interpolant of (q, qd, qdd) at both
+  ends (generalized-alpha), or by the integrator's own dense output (Radau);
+- the positions then projected onto the position constraints, the velocities onto the
+  velocity constraints (mass-weighted), and the accelerations and multipliers solved from
+  the equations of motion there (`consistent_state`): the row's reactions are those of the
+  equations of motion at the row's state, as at a step's end;
+- element states (mechlib.elements.states) interpolated linearly between the step's ends (they are
+  advanced by the trapezoidal rule, itself linear in time over a step).
+
+Events still end a step where they happen, and their rows are recorded as before.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mechlib.core.work import count
+from mechlib.solvers.assembly import MAX_NEWTON, POSITION_TOLERANCE, REUSE_BELOW, solve_positions
+from mechlib.solvers.consistent import consistent_state
+from mechlib.solvers.contract import State
+from mechlib.solvers.dense_compiled import DONE, interpolated, project_row, small_enough
+from mechlib.system.system import System
+
+__all__ = [
+    "PROJECTION",
+    "HermiteRows",
+    "first_step",
+    "hermite",
+    "natural_time",
+    "projected_row",
+]
+
+_FIRST_FRACTION = 1e-6  # of the natural time: the start acceleration may be left at once
+# mechlib.solvers.dense_compiled.project_row's parameters: solve_positions' tolerance and iterations
+PROJECTION = np.array([POSITION_TOLERANCE, REUSE_BELOW, MAX_NEWTON], dtype=float)
+
+
+def natural_time(system: System) -> float:
+    """The mechanism's own time scale (s): sqrt(size / gravity), gravity floored at
+    1 m/s^2 (a mechanism without gravity: sqrt of its size in metres)."""
+    g = max(float(np.linalg.norm(system.gravity)), 1.0)
+    return math.sqrt(max(system.length, 1e-6) / g)
+
+
+def largest_step(system: System, spec) -> float:
+    """`analysis.max_step` when given, else the natural time (s): not the span, so that
+    a longer run takes the same steps over the shorter one's time."""
+    if spec.max_step:
+        return float(spec.max_step)
+    return natural_time(system)
+
+
+def first_step(system: System, spec) -> float:
+    """A small fraction of the natural time, at most the largest step (s)."""
+    return min(largest_step(system, spec), _FIRST_FRACTION * natural_time(system))
+
+
+def hermite(t0: float, t1: float, a: tuple, b: tuple, t: float) -> tuple:
+    """(q, qd) at t from the quintic Hermite interpolant of a = (q, qd, qdd) at t0 and
+    b = (q, qd, qdd) at t1: exact for quintic motions, error O(h^6) in q."""
+    return interpolated(np.stack((*a, *b)), t1 - t0, (t - t0) / (t1 - t0))
+
+
+class HermiteRows:
+    """Rows within generalized-alpha's accepted steps: the quintic Hermite interpolant of
+    both ends' (q, qd, qdd), projected (`projected_row`); a row at a step's end takes the
+    end's own (q, qd). The ends are stacked once per step for the compiled rows."""
+
+    def __init__(self, system: System):
+        self.system = system
+        self._step: tuple[State, State, np.ndarray] | None = None
+
+    def row(self, start: State, end: State, t: float, states) -> State:
+        """The row at t (s) within start -> end, with the element states `states`."""
+        s = 1.0 if abs(t - end.t) <= 1e-12 * max(1.0, abs(t)) else (t - start.t) / (end.t - start.t)
+        step = self._step
+        if step is None or step[0] is not start or step[1] is not end:
+            ends = np.stack((start.q, start.qd, start.qdd, end.q, end.qd, end.qdd))
+            step = self._step = (start, end, ends)
+        return _projected(self.system, t, step[2], end.t - start.t, s, states)
+
+
+def projected_row(system: System, t: float, q, qd, states: np.ndarray | None) -> State:
+    """The row at t from interpolated (q, qd) and element states: q onto the position
+    constraints, qd onto the velocity ones, qdd and lam from the equations of motion; its
+    snapshot carries the interpolated element states. The system's element states are
+    left as they were."""
+    ends = np.zeros((6, system.nq))
+    ends[3], ends[4] = q, qd
+    return _projected(system, t, ends, 1.0, 1.0, states)
+
+
+def _projected(system: System, t: float, ends: np.ndarray, h: float, s: float, states) -> State:
+    """`projected_row` of the interpolant of `ends` at the fraction s of the step h (s)."""
+    snapshot = system.snapshot()
+    compiled = None if states is not None else _compiled_row(system, t, ends, h, s)
+    if compiled is not None:
+        q, qd, qdd, lam = compiled
+        return State(t, q, qd, qdd, lam, snapshot=snapshot)
+    q, qd = interpolated(ends, h, s)
+    kept = system.states.trial
+    if states is not None:
+        system.states.trial = states
+        snapshot["states"] = states.copy()
+    try:
+        q, _ = solve_positions(system, q, t)
+        qd, qdd, lam = consistent_state(system, q, qd, t)
+    finally:
+        system.states.trial = kept
+    return State(t, q, qd, qdd, lam, snapshot=snapshot)
+
+
+def _compiled_row(
+    system: System, t: float, ends: np.ndarray, h: float, s: float
+) -> tuple[np.ndarray, ...] | None:
+    """(q, qd, qdd, lam) of `_projected` from one compiled call (mechlib.solvers.dense_compiled)
+    for a small packed system with no active element and no element states; None where
+    the Python path must take the row (a larger system, or the kernel gave up: near a
+    toggle, no convergence)."""
+    arrays = system.packed_constraints()
+    if arrays is None or system.states or not small_enough(system):
+        return None
+    if any(e.active for e in system.elements):
+        return None
+    nq, m = system.nq, system.active.size
+    out = np.empty(3 * nq + m)
+    ints, floats = arrays.packed()
+    status, fresh = project_row(
+        ends, h, s, ints, floats, arrays.functions(t), arrays.references(), arrays.bodies(),
+        PROJECTION, out,
+    )  # fmt: skip
+    count(factorizations=fresh, jacobian_evaluations=fresh)
+    if status != DONE:
+        return None
+    count(factorizations=1)  # the saddle matrix's, as consistent_state counts it
+    return out[:nq], out[nq : 2 * nq], out[2 * nq : 3 * nq], out[3 * nq :]

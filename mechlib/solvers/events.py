@@ -1,0 +1,154 @@
+"""Events: a condition on the state becomes true, the model changes, the analysis goes on.
+
+An event's `condition(t, view)` is a function g that is negative before the event and
+>= 0 from it on (`angle(hl2) >= 90*deg` gives g = angle - 90 deg; a yes/no condition gives
+-1/+1). The analyses watch g over each accepted step, locate its zero by re-solving the step
+to shorter ends (Illinois regula falsi; bisection for yes/no conditions) to within
+EVENT_TIME_TOLERANCE, record that state, carry out the actions and restart from there.
+Actions: `activate`/`deactivate` an element or a motion, `release` a joint (its equations
+go), `lock` a joint (its coordinate is frozen at the current value), `stop`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from mechlib.core.outcome import EventRecord
+from mechlib.kinematics.view import StateView
+
+__all__ = [
+    "EVENT_TIME_TOLERANCE",
+    "Action",
+    "Event",
+    "EventMonitor",
+    "apply_actions",
+    "fire",
+    "first_events",
+    "locate",
+]
+
+EVENT_TIME_TOLERANCE = 1e-9  # s
+_MAX_LOCATE = 100
+ACTIONS = ("activate", "deactivate", "release", "lock", "stop")
+
+
+@dataclass(frozen=True)
+class Action:
+    """What an event does: `kind` in ACTIONS on `target` (None for stop)."""
+
+    kind: str
+    target: str | None = None
+
+    def describe(self) -> str:
+        return self.kind if self.target is None else f"{self.kind} {self.target}"
+
+
+@dataclass(frozen=True)
+class Event:
+    """Fires once, when `condition(t, view)` goes from < 0 to >= 0."""
+
+    name: str
+    condition: Callable[[float, StateView], float]
+    actions: tuple[Action, ...]
+
+
+class EventMonitor:
+    """The armed events and their condition values at the last accepted state."""
+
+    def __init__(self, events=()):
+        self.armed = list(events)
+        self.values: dict[str, float] = {}
+
+    def arm(self, t: float, view: StateView) -> None:
+        """Remember g of every armed event at an accepted state."""
+        self.values = {e.name: float(e.condition(t, view)) for e in self.armed}
+
+    def crossed(self, t: float, view: StateView) -> list[Event]:
+        """Armed events whose g went from < 0 to >= 0 since the last `arm`."""
+        return [e for e in self.armed if self.values[e.name] < 0.0 <= float(e.condition(t, view))]
+
+    def fired(self, events: list[Event]) -> None:
+        self.armed = [e for e in self.armed if e not in events]
+
+
+def locate(
+    g0: float,
+    g1: float,
+    t0: float,
+    t1: float,
+    g_at: Callable[[float], float],
+    tol: float = EVENT_TIME_TOLERANCE,
+) -> float:
+    """Earliest time in (t0, t1] where g >= 0, within `tol`: Illinois regula falsi on a
+    continuous g, bisection when g jumps (yes/no conditions)."""
+    lo, hi, glo, ghi = t0, t1, g0, g1
+    side = 0
+    for _ in range(_MAX_LOCATE):
+        if hi - lo <= tol:
+            break
+        yes_no = abs(glo) == abs(ghi) == 1.0
+        t = 0.5 * (lo + hi) if yes_no else hi - ghi * (hi - lo) / (ghi - glo)
+        t = min(max(t, lo + 0.01 * (hi - lo)), hi - 0.01 * (hi - lo))
+        g = g_at(t)
+        if g >= 0.0:
+            hi, ghi = t, g
+            glo = glo * 0.5 if side == 1 else glo  # Illinois: halve the stale end
+            side = 1
+        else:
+            lo, glo = t, g
+            ghi = ghi * 0.5 if side == -1 else ghi
+            side = -1
+    return hi
+
+
+def first_events(
+    monitor: EventMonitor,
+    t0: float,
+    t1: float,
+    view1: StateView,
+    view_at: Callable[[float], StateView],
+) -> tuple[float, list[Event]] | None:
+    """The earliest of the armed events that fire over the step t0 -> t1 and their time, or
+    None; `view1` is the state at t1 and `view_at(t)` re-solves the step to end at t."""
+    fired = monitor.crossed(t1, view1)
+    if not fired:
+        return None
+    first = {}
+    for e in fired:
+
+        def g_at(t, e=e):
+            return float(e.condition(t, view_at(t)))
+
+        first[e.name] = locate(monitor.values[e.name], float(e.condition(t1, view1)), t0, t1, g_at)
+    t_e = min(first.values())
+    return t_e, [e for e in fired if first[e.name] - t_e <= EVENT_TIME_TOLERANCE]
+
+
+def apply_actions(system, event: Event, k) -> tuple[EventRecord, bool]:
+    """Carry out an event's actions on the compiled system at the state `k` (its time is
+    the event's); returns (record, stop requested)."""
+    stop = False
+    for action in event.actions:
+        if action.kind == "stop":
+            stop = True
+        elif action.kind in ("activate", "deactivate"):
+            system.set_active(action.target, action.kind == "activate")
+        elif action.kind == "release":
+            system.release(action.target)
+        elif action.kind == "lock":
+            system.lock(action.target, k)
+    return EventRecord(event.name, k.t, tuple(a.describe() for a in event.actions)), stop
+
+
+def fire(system, monitor: EventMonitor, events: list[Event], k, log: list | None) -> bool:
+    """Carry out `events` (fired together at state `k`), log them, disarm them; True when
+    one of them stops the analysis."""
+    stop = False
+    for e in events:
+        record, stops = apply_actions(system, e, k)
+        if log is not None:
+            log.append(record)
+        stop = stop or stops
+    monitor.fired(events)
+    return stop

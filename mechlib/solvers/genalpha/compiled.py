@@ -1,0 +1,152 @@
+"""Generalized-alpha's Newton loop and state correction as compiled kernels.
+
+For a rigid system with no active force element and no element states (gravity, joints,
+motions: the bench models, a free deployment phase), everything a Newton iteration of
+`mechlib.solvers.genalpha.integrator.Integrator.step` does between two factorisations -- state
+arrays,
+constraint residual and Jacobian (mechlib.kinematics.constraint_arrays), mass times acceleration,
+gravity and velocity terms, the solve with the iteration matrix's LU factors
+(mechlib.linalg.flat_lu: dense or band LAPACK, or SuperLU's L and U), the correction and the
+convergence test -- runs in one numba call, and so does the three-level correction of the
+accepted state. Here the factorisation, the step-size control and everything else stay in
+Python (mechlib.solvers.genalpha.run compiles whole runs of steps). Same equations, same order of
+operations but for summation order: results equal the Python loop's to round-off
+(tests/mechlib/test_genalpha_compiled.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mechlib.core.jit import KERNEL, njit
+from mechlib.kinematics import constraint_arrays as ca
+from mechlib.kinematics import kernels as kr
+from mechlib.linalg.flat_lu import lu_solve, lu_solve_into
+from mechlib.solvers.genalpha import kernels as gk
+
+__all__ = ["CONVERGED", "STALLED", "newton"]
+
+CONVERGED, STALLED = 1, 2
+
+
+@njit(**KERNEL)
+def _residual_work(nq):
+    """Work arrays of `_dynamic_residual`: its three products (3, nq), and no applied
+    forces or torques (nb + 1, 3)."""
+    return np.empty((3, nq)), np.zeros((nq // 7 + 1, 3))
+
+
+@njit(**KERNEL)
+def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, work, out):
+    """out[:nq] = M qdd + phi_q^T lam - Q (gravity and velocity terms; no element);
+    work: `_residual_work`'s arrays."""
+    nq = qdd.shape[0]
+    nb = nq // 7
+    gravity, masses, pscale, inertia = ca.body_terms(body, nb)
+    products, none = work
+    m_qdd, forces, reactions = products[0], products[1], products[2]
+    kr.mass_times(x, masses, inertia, pscale, qdd, m_qdd)
+    kr.body_forces(x, xd, masses, inertia, gravity, none, none, True, forces)
+    ca.transpose_times(rows, active, row_bodies, lam, reactions)
+    for j in range(nq):
+        out[j] = m_qdd[j] + reactions[j] - forces[j]
+
+
+@njit(**KERNEL)
+def newton(
+    q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
+    it, prev, eta, qdd, a, true,
+):  # fmt: skip
+    """Newton iterations on (q1, qd1, qdd1, lam1), in place, with fixed LU factors (fi, ff)
+    from iteration `it` with the last increment size `prev` and rate estimate `eta`, as
+    mechlib.solvers.genalpha.integrator.Integrator.step does them; params: (beta', gamma',
+    tolerance,
+    round-off, kappa, stagnation ratio, noise position, most iterations, alpha_m, alpha_f).
+    Stops on convergence (CONVERGED: `true` then holds the state's (qd, qdd, lam) on all
+    three constraint levels and the new pseudo-acceleration a from the step's start values
+    (qdd, a), stacked) or when the increments stop shrinking fast enough or the
+    iterations run out (STALLED: the caller refactors or gives up). Returns
+    (status, it, prev, eta, iterations done)."""
+    bp, gp, tol, roundoff = params[0], params[1], params[2], params[3]
+    kappa, stagnant, noise_position, max_iter = params[4], params[5], params[6], params[7]
+    nq, m = q1.shape[0], lam1.shape[0]
+    nb = nq // 7
+    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    full = np.empty(nall)
+    rows = np.empty((nall, nq + 7))  # each iteration fills its rows' blocks only
+    res = np.empty(nq + m)
+    packed = ca.unpack(ints, floats)
+    work = _residual_work(nq)
+    x, xd, dx = np.empty((nb + 1, 7)), np.empty((nb + 1, 7)), np.empty(nq + m)
+    done = 0
+    while True:
+        ca.state_into(q1, qd1, x, xd)
+        active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
+        _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, work, res)
+        for j in range(nq):
+            res[j] = -res[j] / bp
+        for i in range(m):
+            res[nq + i] = -full[active[i]]
+        lu_solve_into(fi, ff, res, dx)
+        gk.correct(q1, qd1, qdd1, lam1, dx, gp, bp)
+        done += 1
+        it += 1
+        dq = dx[:nq]
+        size = gk._newton_size(dq, q1, qdd1, bp, q_abs, a_ref, tol, roundoff)
+        if prev < math.inf:
+            theta = size / prev
+            eta = theta / (1.0 - theta) if theta < 1.0 else math.inf
+        noise = False
+        if prev < math.inf and size > stagnant * prev:
+            acc = 0.0
+            for j in range(nq):
+                w = dq[j] / (q_abs[j] + tol * abs(q1[j]))
+                acc += w * w
+            noise = math.sqrt(acc / nq) <= noise_position
+        if (eta * size <= kappa and size < 1.0) or size < 1e-10 or noise:
+            _true_acceleration(
+                q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body,
+                work, fi, ff, true,
+            )  # fmt: skip
+            am, af = params[8], params[9]
+            for j in range(nq):
+                true[2 * nq + m + j] = ((1.0 - af) * qdd1[j] + af * qdd[j] - am * a[j]) / (1.0 - am)
+            return CONVERGED, it, size, eta, done
+        if (prev < math.inf and size > 0.9 * prev) or it >= max_iter:
+            return STALLED, it, size, eta, done
+        prev = size
+
+
+@njit(**KERNEL)
+def _true_acceleration(
+    q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, work, fi, ff,
+    out,
+):  # fmt: skip
+    """(qd, qdd, lam) on all three constraint levels, stacked into `out`, by two
+    corrections with the iteration matrix
+    (mechlib.solvers.genalpha.integrator.Integrator._true_acceleration;
+    `rows`: phi_q of the last iterate, as `constraint_rows` left them; `packed`: the
+    constraints unpacked, mechlib.kinematics.constraint_arrays.unpack; work: `_residual_work`'s)."""
+    nq, m = q1.shape[0], lam1.shape[0]
+    nb = nq // 7
+    x, xd = ca.state_arrays(q1, qd1, nb)
+    nu, gamma, product = np.empty(m), np.empty(m), np.empty(m)
+    ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
+    rhs = np.zeros(nq + m)
+    ca.times(rows, active, row_bodies, qd1, product)
+    for i in range(m):
+        rhs[nq + i] = nu[i] - product[i]
+    fix = lu_solve(fi, ff, rhs)
+    qd = qd1 + fix[:nq]
+    x, xd = ca.state_arrays(q1, qd, nb)
+    ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
+    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, work, rhs)
+    ca.times(rows, active, row_bodies, qdd1, product)
+    for i in range(m):
+        rhs[nq + i] = product[i] - gamma[i]
+    fix = lu_solve(fi, ff, rhs)
+    out[:nq] = qd
+    out[nq : 2 * nq] = qdd1 - fix[:nq]
+    out[2 * nq : 2 * nq + m] = lam1 - fix[nq:]

@@ -1,0 +1,365 @@
+"""Generalized-alpha for the index-3 equations of motion (Arnold & Bruls 2007).
+
+    M(q) qdd + phi_q^T lam = Q(q, qd, t),  phi(q, t) = 0
+    (1 - alpha_m) a_{n+1} + alpha_m a_n = (1 - alpha_f) qdd_{n+1} + alpha_f qdd_n
+    q_{n+1}  = q_n + h qd_n + h^2 ((1/2 - beta) a_n + beta a_{n+1})
+    qd_{n+1} = qd_n + h ((1 - gamma) a_n + gamma a_{n+1})
+
+Newton on (q, lam) with the scaled iteration matrix [[M + (C gamma' + K)/beta', phi_q^T],
+[phi_q, 0]] (beta' = (1-alpha_m)/(h^2 beta (1-alpha_f)), gamma' = gamma/(h beta)), kept
+across iterations and steps while it converges (modified Newton). K = -dQ/dq and
+C = -dQ/dqd are kept apart, so that a new step size only refactors; elements that give their
+own tangent (compiled contacts) have it re-evaluated at every step, the rest of K and C
+(forward differences, 2 nq force evaluations, a column leaving out the elements whose
+forces depend on other bodies only: mechlib.system.fd_columns) only after slow or failed
+convergence.
+Local error estimate e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading term of the
+position update, h^3/12 q''' for the trapezoidal case), steps controlled on it and landing
+on output times (the stepper around it: mechlib.solvers.genalpha.stepper).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechlib.core.outcome import SolverFailure, SolverStats
+from mechlib.core.work import count
+from mechlib.linalg.factor import factor_saddle, singular_failure, solve_factored
+from mechlib.linalg.flat_lu import factor_data, factors
+from mechlib.model.analysis import Dynamic
+from mechlib.solvers.genalpha.compiled import CONVERGED, newton
+from mechlib.solvers.genalpha.kernels import ROUNDOFF, Scales, correct, error_norm, predict
+from mechlib.system.fd_columns import ColumnSkips
+from mechlib.system.reaction_loads import reaction_coupling
+from mechlib.system.saddle import rigid_saddle_factors
+from mechlib.system.system import System
+
+__all__ = [
+    "ETA_MIN",
+    "MAX_ITER",
+    "NEWTON_KAPPA",
+    "NOISE_POSITION",
+    "SLOW_ITERATIONS",
+    "STAGNANT",
+    "Coefficients",
+    "Integrator",
+]
+
+MAX_ITER = 8
+NEWTON_KAPPA = 0.05
+ETA_MIN = 1e-3
+SLOW_ITERATIONS = 3
+STAGNANT = 0.5  # increment ratio of an iteration that no longer converges
+NOISE_POSITION = 1e-3  # position increment (x the position tolerance) that is round-off
+
+
+@dataclass(frozen=True)
+class Coefficients:
+    """alpha_m, alpha_f, beta, gamma of generalized-alpha for a spectral radius rho_inf."""
+
+    alpha_m: float
+    alpha_f: float
+    beta: float
+    gamma: float
+
+    @classmethod
+    def from_rho(cls, rho: float) -> Coefficients:
+        am = (2.0 * rho - 1.0) / (rho + 1.0)
+        af = rho / (rho + 1.0)
+        g = 0.5 + af - am
+        return cls(am, af, 0.25 * (g + 0.5) ** 2, g)
+
+    @property
+    def error_constant(self) -> float:
+        return abs(self.beta - 0.5 * self.gamma + 1.0 / 12.0)
+
+
+class Integrator:
+    """One generalized-alpha step: Newton on (q, lam) with the scaled iteration matrix,
+    then the state corrected on all three constraint levels; its error estimate."""
+
+    def __init__(self, system: System, spec: Dynamic, stats: SolverStats):
+        self.system, self.spec, self.stats = system, spec, stats
+        self.c = Coefficients.from_rho(spec.rho_inf)
+        self.lu = None
+        self.lu_h = 0.0
+        self.tangent: tuple[np.ndarray, np.ndarray] | None = None
+        self.stale = False
+        self.stiff = bool(system.elements) or system.nz > 0  # modal stiffness, damping
+        self.eta = 1.0
+        self.singular: SolverFailure | None = None  # the last singular iteration matrix
+        self.scales: Scales | None = None  # set by the stepper from its first state
+        # the compiled Newton loop (mechlib.solvers.genalpha.compiled) serves steps with no active
+        # element: nothing of theirs to evaluate in Python between two iterations (the
+        # kernels are compiled by now: the model checks before solving called them)
+        self.arrays = None if system.states else system.packed_constraints()
+        self._factors: tuple = (None, None)  # (self.lu, its factor_data)
+
+    def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):
+        """Factor the iteration matrix at step h, state k and multipliers lam: the
+        elements' own tangents (compiled contacts, cheap) always at k; the finite-difference
+        part re-evaluated when `fresh`, else the last one reused; -dQ/dlam of the loads that
+        depend on the reactions (joint friction) beside phi_q^T."""
+        c, sys = self.c, self.system
+        count(jacobian_evaluations=1)
+        if not self.stiff:  # [[M, phi_q^T], [phi_q, 0]], gathered on its pattern
+            lu = rigid_saddle_factors(sys, k)
+            if lu is None:
+                raise singular_failure(sys, sys.phi_q(k), k.t, "dynamic analysis failed")
+            self.lu, self.lu_h = lu, h
+            return
+        bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
+        jac = sys.phi_q(k)
+        own = self.own
+        if fresh or self.tangent is None:
+            self.tangent = self._differenced_tangent(k, own, lam, jac, h)
+        stiffness, damping = (m.copy() for m in self.tangent) if own else self.tangent
+        if own:
+            view = sys.view(k)
+            for element in own:
+                element.tangent(view, stiffness, damping)
+        top = sys.mass(k) + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
+        lu = factor_saddle(top, jac, None, coupling=reaction_coupling(sys, k, lam, jac))
+        if lu is None:
+            raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
+        self.lu, self.lu_h = lu, h
+
+    @property
+    def own(self) -> list:
+        """The active elements that give their own tangent (`has_tangent`)."""
+        return [e for e in self.system.elements if e.active and getattr(e, "has_tangent", False)]
+
+    def _differenced_tangent(
+        self, k, own: list, lam: np.ndarray, jac: np.ndarray, h: float
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """(K, C) = (-dQ/dq, -dQ/dqd) of the applied forces but the elements with their
+        own tangent (`own`), by forward differences at multipliers `lam` (joint friction
+        is loaded by them). Element states (mechlib.elements.states) are re-advanced over the step h
+        at each perturbed state: the tangent then holds their response to q and qd (the
+        oil columns of a hydraulic actuator are a stiffness only through its pressures)."""
+        sys = self.system
+        skips = ColumnSkips(sys, {id(e) for e in own})  # a column: its body's elements
+        q, qd = sys.state_of(k)
+        states = sys.states
+        trial = states.trial.copy()
+
+        def forces(kp, skip, jac_p=None):
+            if states.drive_forces:
+                states.trial = trial.copy()
+                states.advance(sys.view(kp), h)
+            return sys.forces(kp, skip=skip, lam=lam, jac=jac_p)
+
+        base: dict[frozenset[int], np.ndarray] = {}
+        stiffness, damping = np.empty((sys.nq, sys.nq)), np.empty((sys.nq, sys.nq))
+        try:
+            for j in range(sys.nq):
+                body = skips.body(j)
+                skip = skips.skip(body)
+                if skip not in base:  # bodies that leave out the same elements share it
+                    base[skip] = sys.forces(k, skip=skip, lam=lam, jac=jac)
+                dq = np.zeros(sys.nq)
+                dq[j] = eps = 1e-7 * max(1.0, abs(q[j]))
+                stiffness[:, j] = -(forces(sys.kin(q + dq, qd, k.t), skip) - base[skip]) / eps
+                dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
+                damping[:, j] = -(forces(sys.kin(q, qd + dq, k.t), skip, jac) - base[skip]) / eps
+        finally:
+            states.trial = trial
+        return stiffness, damping
+
+    def step(self, t, h, q, qd, qdd, a, lam):
+        """One step; returns the new state or None when Newton does not converge."""
+        if self.arrays is not None and not any(e.active for e in self.system.elements):
+            return self._compiled_step(t, h, q, qd, qdd, a, lam)
+        c, sys = self.c, self.system
+        bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
+        # a step-size change refactors; elements with their own tangent (contacts:
+        # stiffness and friction slope change from step to step) have it re-evaluated at
+        # every step
+        rebuild = fresh or abs(h / self.lu_h - 1.0) > 0.25 or bool(self.own)
+        refreshed, prev, it = False, math.inf, 0
+        eta = self.eta
+        while it < MAX_ITER:
+            k = sys.kin(q1, qd1, t1)
+            if sys.states:
+                sys.states.advance(sys.view(k), h)
+            if rebuild:
+                try:
+                    self._iteration_matrix(k, h, fresh, lam1)
+                except SolverFailure as failure:  # singular here: reject, try a smaller step
+                    self.singular = failure
+                    break
+                refreshed = refreshed or fresh or not self.stiff
+                rebuild, prev = False, math.inf
+            phi, jac = sys.phi_and_jacobian(k)
+            res = np.concatenate(
+                [
+                    (sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k, lam=lam1, jac=jac))
+                    / bp,
+                    phi,
+                ]
+            )
+            dx = solve_factored(self.lu, -res)
+            dq = dx[: sys.nq]
+            correct(q1, qd1, qdd1, lam1, dx, gp, bp)
+            self.stats.newton_iterations += 1
+            it += 1
+            # acceleration level: a position increment small against the position tolerance
+            # is still large for qdd (x 1/(beta h^2)), i.e. for the forces and the energy
+            size = self.scales.newton_size(dq, q1, qdd1, bp)
+            if prev < math.inf:
+                theta = size / prev
+                eta = theta / (1.0 - theta) if theta < 1.0 else math.inf
+            # Newton error estimate eta*|dq| against a fraction of the local error tolerance
+            # (Hairer & Wanner, Solving ODEs II, IV.8); positions only, as the error test
+            if (
+                (eta * size <= NEWTON_KAPPA and size < 1.0)
+                or size < 1e-10
+                or self._noise(size, prev, dq, q1)
+            ):
+                self.eta = max(eta, ETA_MIN) ** 0.8
+                if it > SLOW_ITERATIONS:
+                    self.stale = True  # converging slowly: a fresh matrix for the next step
+                a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (
+                    1.0 - c.alpha_m
+                )
+                return (
+                    q1,
+                    qd1,
+                    qdd1,
+                    a1,
+                    lam1,
+                    self._true_acceleration(q1, qd1, t1, qdd1, lam1, jac),
+                )
+            if (prev < math.inf and size > 0.9 * prev) or it == MAX_ITER:
+                if refreshed:
+                    break
+                rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
+                it = 0
+            prev = size
+        self.drop()
+        return None
+
+    def _predicted(self, t, h, q, qd, qdd, a, lam) -> tuple:
+        """(beta', gamma', q1, qd1, qdd1, lam1, t + h, fresh): the predictor of a step h
+        from t and whether the differenced tangent is made afresh (no matrix, or the last
+        step failed or converged slowly)."""
+        c = self.c
+        bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
+        gp = c.gamma / (h * c.beta)
+        q1, qd1, qdd1 = predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
+        fresh = self.lu is None or self.stale
+        self.stale = False
+        return bp, gp, q1, qd1, qdd1, lam.copy(), t + h, fresh
+
+    def _compiled_step(self, t, h, q, qd, qdd, a, lam):
+        """`step` with the Newton iterations between factorisations and the three-level
+        correction compiled (mechlib.solvers.genalpha.compiled): the same iteration, decisions and
+        results (to round-off) for a system with no active element."""
+        c, sys, arrays = self.c, self.system, self.arrays
+        assert arrays is not None and self.scales is not None, "checked by step; set by init"
+        bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
+        rebuild = fresh or abs(h / self.lu_h - 1.0) > 0.25
+        refreshed, prev, it, eta = False, math.inf, 0, self.eta
+        ints, floats = arrays.packed()
+        functions, refs = arrays.functions(t1), arrays.references()
+        scales = self.scales
+        params = np.array(
+            [bp, gp, scales.tol, ROUNDOFF, NEWTON_KAPPA, STAGNANT, NOISE_POSITION, MAX_ITER]
+            + [c.alpha_m, c.alpha_f]
+        )
+        nq = sys.nq
+        true = np.empty(3 * nq + lam1.shape[0])  # qd, qdd, lam on three levels; a
+        while True:
+            if rebuild:
+                try:
+                    self._iteration_matrix(sys.kin(q1, qd1, t1), h, fresh, lam1)
+                except SolverFailure as failure:  # singular here: reject, try a smaller step
+                    self.singular = failure
+                    break
+                refreshed = refreshed or fresh or not self.stiff
+                rebuild, prev = False, math.inf
+            status, it, prev, eta, done = newton(
+                q1, qd1, qdd1, lam1, ints, floats, functions, refs, arrays.bodies(),
+                *self._factor_data(), scales.q_abs, scales.a_ref, params, it, prev, eta, qdd, a,
+                true,
+            )  # fmt: skip
+            self.stats.newton_iterations += done
+            if status == CONVERGED:
+                self.eta = max(eta, ETA_MIN) ** 0.8
+                if it > SLOW_ITERATIONS:
+                    self.stale = True
+                m = lam.size
+                consistent = (true[:nq], true[nq : 2 * nq], true[2 * nq : 2 * nq + m])
+                return q1, qd1, qdd1, true[2 * nq + m :], lam1, consistent
+            if refreshed:
+                break
+            rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
+            it = 0
+        self.drop()
+        return None
+
+    def drop(self) -> None:
+        """A step failed: the iteration matrix is dropped (the next step factors afresh),
+        the Newton rate estimate reset and the element states' trial values undone."""
+        self.lu = None
+        self.eta = 1.0
+        self.system.states.reject()
+
+    def adopt(self, ints: np.ndarray, floats: np.ndarray, h: float) -> None:
+        """Take flat factors (mechlib.linalg.flat_lu) made by a compiled run for the step size h
+        (s) as the iteration matrix's."""
+        self.lu, self.lu_h = factors(ints, floats), h
+        self._factors = (self.lu, (ints, floats))
+
+    def _factor_data(self) -> tuple[np.ndarray, np.ndarray]:
+        """The current factors as the compiled kernels take them (converted once)."""
+        lu, data = self._factors
+        if lu is not self.lu:
+            data = factor_data(self.lu)
+            self._factors = (self.lu, data)
+        return data
+
+    def _noise(self, size: float, prev: float, dq: np.ndarray, q1: np.ndarray) -> bool:
+        """Newton has reached its round-off floor: the increments stopped shrinking
+        (ratio above STAGNANT) while far below the position tolerance. Near a singular
+        position (the horizontal crossing of a chain of parallelogram four-bars) the
+        iteration matrix amplifies round-off in q by 1/sigma_min, and x beta' that noise
+        reads as a large acceleration increment no smaller step removes."""
+        assert self.scales is not None, "set by the stepper before its first step"
+        return (
+            prev < math.inf
+            and size > STAGNANT * prev
+            and self.scales.position_size(dq, q1) <= NOISE_POSITION
+        )
+
+    def _true_acceleration(self, q1, qd1, t1, qdd1, lam1, jac):
+        """The state on all three constraint levels, by corrections with the iteration
+        matrix: qd projected onto phi_q qd = nu (mass-weighted), then (qdd, lam) meeting
+        phi_q qdd = gamma too. Index-3 generalized-alpha leaves O(h) transients in its qdd
+        and lam and O(h^2) velocity-constraint errors; the error estimate and the outputs
+        (reactions) use these corrected values. `jac` is phi_q of the last Newton iterate
+        (one small increment away: good enough for corrections). Returns (qd, qdd, lam)."""
+        sys = self.system
+        k = sys.kin(q1, qd1, t1)
+        nq = sys.nq
+        drift = sys.nu(k) - jac @ qd1
+        qd = qd1 + solve_factored(self.lu, np.concatenate([np.zeros(nq), drift]))[:nq]
+        k = sys.kin(q1, qd, t1)
+        res = np.concatenate(
+            [
+                sys.mass_times(k, qdd1) + jac.T @ lam1 - sys.forces(k, lam=lam1, jac=jac),
+                jac @ qdd1 - sys.gamma(k),
+            ]
+        )
+        fix = solve_factored(self.lu, res)
+        return qd, qdd1 - fix[:nq], lam1 - fix[nq:]
+
+    def error(self, h, q1, acc0, acc1) -> float:
+        """Scaled norm of the local position error c h^2 (qdd_{n+1} - qdd_n), about
+        c h^3 d3q/dt3, from the true accelerations at both ends (accept when <= 1)."""
+        assert self.scales is not None, "set by the stepper before its first step"
+        scales = self.scales
+        return error_norm(self.c.error_constant * h * h, acc0, acc1, scales.q_abs, scales.tol, q1)

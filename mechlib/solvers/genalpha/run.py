@@ -1,0 +1,487 @@
+"""Runs of generalized-alpha steps in one compiled call.
+
+For a rigid system with no active force element, no element states, no joint friction and no
+time function in its equations (a free mechanism under gravity: the bench models, a free
+deployment phase), `run_steps` takes accepted steps one after another, landing on the output
+times (`output: steps`) or towards the end (dense output), as
+`GeneralizedAlphaStepper.step`, `accept` and `march` do them -- the step size from the error
+estimate, the Newton iterations (mechlib.solvers.genalpha.compiled.newton), the error estimate, the
+acceleration scales, the angles' unwrapping, the rows at the output times (a step's own
+state, or dense rows interpolated and projected by mechlib.solvers.dense_compiled.project_row) --
+without returning to Python between steps.
+
+Before a step that needs a new factorisation of the iteration matrix (a stale one, or a step
+size more than 25 % away from the factored one) it factors [[M, phi_q^T], [phi_q, 0]] at the
+step's predicted state, as the Python step does, with the kernel the Python path uses
+(mechlib.linalg.flat_lu.refactor: dense or band LU). For SuperLU's factors, or a matrix the kernel
+finds singular, it returns REFACTOR: `StepRun` factors it in Python (or fails the step as
+the Python step does) and calls it again for that step. At a new step size it takes the
+consistent accelerations as the Python step does (`_restart`: the saddle matrix at the
+step's start factored by the same kernel, into factors of its own; ctrl[RESTARTED] tells
+`StepRun` that the state it hands back has them). It stops, leaving the state where it was
+(but for those accelerations), before any step that needs what only the Python stepper
+does: consistent accelerations with SuperLU's factors or a singular matrix, a rejected
+step, Newton stalling, the step limit or a collapsing step size, a dense row the compiled
+projection gives back; and before recording a non-finite row.
+`march` then takes one step in Python and calls it again: the same steps, iterations and
+results as the Python loop to round-off (tests/mechlib/test_genalpha_run.py).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mechlib.core.jit import KERNEL, njit
+from mechlib.core.outcome import SolverFailure
+from mechlib.core.work import count
+from mechlib.kinematics import constraint_arrays as ca
+from mechlib.kinematics import kernels as kr
+from mechlib.kinematics.coordinates import AngleMeasure
+from mechlib.linalg.flat_lu import SUPERLU, lu_solve, refactor
+from mechlib.solvers.dense import PROJECTION
+from mechlib.solvers.dense_compiled import DONE, project_row, small_enough
+from mechlib.solvers.finite import all_finite
+from mechlib.solvers.genalpha import kernels as gk
+from mechlib.solvers.genalpha.compiled import CONVERGED, newton
+from mechlib.system.saddle import saddle_values
+
+__all__ = ["FAILED", "REFACTOR", "STOPPED", "StepRun", "run_steps", "substep", "towards"]
+
+STOPPED = 1  # the run stopped before a step (or a row) that Python must take
+REFACTOR = 2  # stopped before a step that needs a new iteration matrix (ctrl[NEXT_H]: its h)
+FAILED = 3  # Newton stalled on the step after a new iteration matrix: the step fails
+
+# slots of the control array `ctrl` (in: settings; in/out: the stepper's state)
+T, H, H_USED, LU_H, ETA, STALE = 0, 1, 2, 3, 4, 5
+MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT = 6, 7, 8, 9, 10
+ALPHA_M, ALPHA_F, BETA, GAMMA = 11, 12, 13, 14
+KAPPA, STAGNANT, NOISE, MAX_ITER, SLOW, ETA_MIN = 15, 16, 17, 18, 19, 20
+SAFETY, GROW, REGROW, ROUNDOFF, DENSE = 21, 22, 23, 24, 25
+FRESH, NEXT_H = 26, 27  # in: the matrix is new for the next step; out: that step's h
+REFACTORED = 28  # out: the iteration matrices factored in the call
+RESTARTED = 29  # out: consistent accelerations taken at a new step size (H_USED is that h)
+CTRL_SIZE = 30
+# slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
+STEPS, REJECTED, ITERATIONS, ROW_JACOBIANS, ROW_FACTORS = 0, 1, 2, 3, 4
+
+
+@njit(**KERNEL)
+def substep(interval, h):
+    """The size (s) of equal sub-steps of at most h (s) landing on an output time
+    `interval` s ahead (`output: steps`)."""
+    n = max(1, math.ceil(interval / h * (1.0 - 1e-9)))
+    return interval / n
+
+
+@njit(**KERNEL)
+def towards(interval, h):
+    """A dense step of h (s) towards a time `interval` s ahead: h itself while it leaves
+    more than h, so that the steps do not depend on how far the end is; then the rest in
+    one step, or in two equal ones when one would be longer than h."""
+    if interval <= h * (1.0 + 1e-9):
+        return interval
+    return 0.5 * interval if interval < 2.0 * h else h
+
+
+@njit(**KERNEL)
+def _reached(t_out, t):
+    return t_out - t <= 1e-12 * max(1.0, abs(t_out))
+
+
+@njit(**KERNEL)
+def run_steps(
+    own, own_lam, cons, cons_lam, ctrl, counts, outs, first, ints, floats, functions, body,
+    fi, ff, layout, q_abs, a_ref, angles, refs_all, block_angles, projection, rows_t,
+    rows_state, rows_refs, most_steps,
+):  # fmt: skip
+    """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
+    `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
+    consistent multipliers), in place, recording the rows at the output times outs[first:]
+    (rows_t, rows_state: q, qd, qdd, lam stacked, rows_refs: the angles' references): with
+    ctrl[DENSE], steps towards the end and rows projected within each step
+    (mechlib.solvers.dense_compiled, `projection` its parameters), else steps landing on each
+    output time and the rows their states. At most len(rows_t) rows and `most_steps`
+    steps. The iteration matrix's factors (fi, ff: mechlib.linalg.flat_lu) are refactored in
+    place when the saddle pattern's `layout` (its kind, rows, columns, and the flat
+    layout's places, rows and columns; kind -1: none) fits them. `angles` = (ai, aj, au, av)
+    of every angle measure, `refs_all` their references (in place), `block_angles` the
+    indices of the constraint rows' angles among them.
+    Returns (0, STOPPED, REFACTOR or FAILED; next output index, rows written)."""
+    ai, aj, au, av = angles
+    nq = own.shape[1]
+    m = own_lam.shape[0]
+    nb = nq // 7
+    dense = ctrl[DENSE] != 0.0
+    refs = np.empty(block_angles.shape[0])
+    for j in range(block_angles.shape[0]):
+        refs[j] = refs_all[block_angles[j]]
+    new_refs, new_block = refs_all.copy(), refs.copy()
+    true = np.empty(3 * nq + m)
+    ends = np.empty((6, nq))
+    params = np.empty(10)
+    params[2], params[3], params[4] = ctrl[TOL], ctrl[ROUNDOFF], ctrl[KAPPA]
+    params[5], params[6], params[7] = ctrl[STAGNANT], ctrl[NOISE], ctrl[MAX_ITER]
+    params[8], params[9] = ctrl[ALPHA_M], ctrl[ALPHA_F]
+    kind, prow, pcol, place, brow, bcol = layout
+    values = np.empty(prow.shape[0])
+    spare_i, spare_f = fi[:0].copy(), ff[:0].copy()  # the consistent accelerations' factors
+    i, written, taken = first, 0, 0
+    while True:
+        t = ctrl[T]
+        if dense:
+            if _reached(ctrl[END], t):
+                return 0, i, written
+            target = ctrl[END]
+        else:
+            if i == outs.shape[0]:
+                return 0, i, written
+            if _reached(outs[i], t):  # a step's end on an output time: its row
+                if written == rows_t.shape[0]:
+                    return 0, i, written
+                if not all_finite(own[0], cons[0], cons[1], cons_lam):
+                    return STOPPED, i, written
+                rows_t[written] = t
+                rows_state[written, :nq] = own[0]
+                rows_state[written, nq : 2 * nq] = cons[0]
+                rows_state[written, 2 * nq : 3 * nq] = cons[1]
+                rows_state[written, 3 * nq :] = cons_lam
+                rows_refs[written] = refs_all
+                written += 1
+                i += 1
+                continue
+            target = outs[i]
+        if taken == most_steps:
+            return 0, i, written
+        if counts[STEPS] + counts[REJECTED] >= ctrl[MAX_STEPS]:
+            return STOPPED, i, written
+        h_try = towards(target - t, ctrl[H]) if dense else substep(target - t, ctrl[H])
+        if ctrl[H_USED] != 0.0 and abs(h_try / ctrl[H_USED] - 1.0) > 1e-9:
+            # consistent accelerations at the new step size (GeneralizedAlphaStepper._attempt)
+            if kind < 0:
+                return STOPPED, i, written  # SuperLU's factors: Python's
+            if spare_i.shape[0] == 0:
+                spare_i, spare_f = fi.copy(), ff.copy()
+            if not _restart(
+                own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol,
+                values, place, brow, bcol, spare_i, spare_f,
+            ):  # fmt: skip
+                return STOPPED, i, written  # singular or not finite: Python's
+            counts[ROW_FACTORS] += 1
+            ctrl[H_USED], ctrl[RESTARTED] = h_try, 1.0
+        if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
+            return STOPPED, i, written  # the step-collapse watch
+        fresh = ctrl[FRESH] != 0.0
+        ctrl[FRESH] = 0.0
+        t_new = t + h_try
+        due = 0  # rows within the step (dense): output times up to its end
+        if dense:
+            while i + due < outs.shape[0] and outs[i + due] - t_new <= 1e-12 * max(1.0, abs(t_new)):
+                due += 1
+            if written + due > rows_t.shape[0]:
+                return (STOPPED if written == 0 else 0), i, written
+        am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
+        q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h_try, am, beta, gamma)
+        if not fresh and (ctrl[STALE] != 0.0 or abs(h_try / ctrl[LU_H] - 1.0) > 0.25):
+            # [[M, phi_q^T], [phi_q, 0]] at the predicted state (Integrator._iteration_matrix)
+            x, _ = ca.state_arrays(q1, q1, nb)
+            if fi[0] == kind:
+                saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
+            if fi[0] != kind or not refactor(values, place, brow, bcol, fi, ff):
+                ctrl[NEXT_H] = h_try  # StepRun factors it (or finds it singular)
+                return REFACTOR, i, written
+            counts[ROW_JACOBIANS] += 1
+            counts[ROW_FACTORS] += 1
+            ctrl[LU_H], ctrl[STALE], ctrl[H_USED] = h_try, 0.0, h_try
+            ctrl[REFACTORED] += 1.0
+            fresh = True
+        params[0] = (1.0 - am) / (h_try * h_try * beta * (1.0 - af))
+        params[1] = gamma / (h_try * beta)
+        lam1 = own_lam.copy()
+        status, it, _, eta, done = newton(
+            q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref,
+            params, 0, math.inf, ctrl[ETA], own[2], own[3], true,
+        )  # fmt: skip
+        if status != CONVERGED:
+            if not fresh:
+                return STOPPED, i, written  # Python refreshes the matrix, as it would
+            counts[ITERATIONS] += done
+            ctrl[NEXT_H] = h_try
+            return FAILED, i, written
+        new_qdd = true[nq : 2 * nq]
+        err = gk.error_norm(
+            ctrl[ERROR_CONSTANT] * h_try * h_try, cons[1], new_qdd, q_abs, ctrl[TOL], q1
+        )
+        if err > 1.0:
+            return STOPPED, i, written  # rejected: the Python stepper shrinks the step
+        # the angles unwrapped at the new state (settle), which the step's rows read
+        x, _ = ca.state_arrays(q1, q1, nb)
+        new_refs[:] = refs_all
+        ca.angle_values(x, ai, aj, au, av, new_refs)
+        for j in range(block_angles.shape[0]):
+            new_block[j] = new_refs[block_angles[j]]
+        fresh_rows = 0
+        if due:
+            ends[0], ends[1], ends[2] = own[0], cons[0], cons[1]
+            ends[3], ends[4], ends[5] = q1, true[:nq], new_qdd
+            span = t_new - t
+            for k in range(due):
+                t_row = outs[i + k]
+                at_end = abs(t_row - t_new) <= 1e-12 * max(1.0, abs(t_row))
+                s = 1.0 if at_end else (t_row - t) / span
+                status, fresh = project_row(
+                    ends, span, s, ints, floats, functions, new_block, body, projection,
+                    rows_state[written + k],
+                )  # fmt: skip
+                if status != DONE:  # the Python stepper takes this step and its rows
+                    return STOPPED, i, written
+                fresh_rows += fresh
+                rows_t[written + k] = t_row
+                rows_refs[written + k] = new_refs
+        # accepted (GeneralizedAlphaStepper._attempt, then settle)
+        counts[ITERATIONS] += done
+        counts[ROW_JACOBIANS] += fresh_rows
+        counts[ROW_FACTORS] += fresh_rows + due
+        ctrl[ETA] = max(eta, ctrl[ETA_MIN]) ** 0.8
+        if it > ctrl[SLOW]:
+            ctrl[STALE] = 1.0
+        grow = ctrl[GROW] if err == 0.0 else min(ctrl[GROW], ctrl[SAFETY] * err ** (-1.0 / 3.0))
+        if grow > ctrl[REGROW]:
+            ctrl[H] = min(ctrl[MAX_STEP], h_try * grow)
+        ctrl[H_USED] = h_try
+        ctrl[T] = t_new
+        own[0], own[1], own[2] = q1, qd1, qdd1
+        own[3] = true[2 * nq + m :]
+        own_lam[:] = lam1
+        cons[0], cons[1] = true[:nq], new_qdd
+        cons_lam[:] = true[2 * nq : 2 * nq + m]
+        counts[STEPS] += 1
+        taken += 1
+        for j in range(nq):
+            a_ref[j] = max(a_ref[j], abs(new_qdd[j]))
+        refs_all[:] = new_refs
+        refs[:] = new_block
+        written += due
+        i += due
+
+
+@njit(**KERNEL)
+def _restart(
+    own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol, values,
+    place, brow, bcol, fi, ff,
+):  # fmt: skip
+    """Consistent accelerations and multipliers at the state (own[0], own[1]) from
+    [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma] (mechlib.solvers.consistent, no force
+    element: Q is gravity and the velocity terms), factored into (fi, ff) by the kernel
+    of mechlib.system.saddle.rigid_saddle_factors; written as GeneralizedAlphaStepper._attempt
+    does (qdd, a, lam; the consistent qd is the raw one). False, nothing written, where
+    the matrix is taken for singular or the solution is not finite."""
+    nq = own.shape[1]
+    nb = nq // 7
+    x, xd = ca.state_arrays(own[0], own[1], nb)
+    saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
+    if not refactor(values, place, brow, bcol, fi, ff):
+        return False
+    m = own_lam.shape[0]
+    rhs = np.empty(nq + m)
+    gravity, masses, _, inertia = ca.body_terms(body, nb)
+    none = np.zeros((nb + 1, 3))
+    kr.body_forces(x, xd, masses, inertia, gravity, none, none, True, rhs[:nq])
+    nu = np.empty(m)
+    ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, rhs[nq:])
+    sol = lu_solve(fi, ff, rhs)
+    if not all_finite(sol, sol, sol, sol):
+        return False
+    own[2], own[3], own_lam[:] = sol[:nq], sol[:nq], sol[nq:]
+    cons[0], cons[1], cons_lam[:] = own[1], sol[:nq], sol[nq:]
+    return True
+
+
+class StepRun:
+    """`run_steps` for a generalized-alpha stepper in `march`: whether the system allows it
+    now, the stepper's state in and out, the rows recorded."""
+
+    CHUNK = 256  # rows per call: the progress bar and interrupts are served between calls
+
+    def __init__(self, stepper, settings: dict[int, float]):
+        self.stepper = stepper
+        self.settings = settings  # the stepper's and the integrator's constants, by slot
+        system = stepper.system
+        # system._angles' order: the angle measures in the order of system.measures
+        self.angle_keys = [k for k, m in system.measures.items() if isinstance(m, AngleMeasure)]
+        self._angle_args: tuple | None = None
+        self._block: tuple | None = None  # (coordinate block, its angles' indices)
+
+    @staticmethod
+    def eligible(stepper) -> bool:
+        """A stepper whose runs may be compiled at all (more is checked at each run)."""
+        return (
+            not stepper.spec.fixed_step
+            and not stepper.sticking
+            and stepper.integ.arrays is not None
+            and not stepper.system.states
+        )
+
+    def _ready(self) -> bool:
+        system = self.stepper.system
+        if self.stepper.integ.lu is None or any(e.active for e in system.elements):
+            return False
+        if self.stepper.dense and not small_enough(system):
+            return False  # its rows' dense Schur complement would cost more than Python's
+        block = system._coordinate_rows()
+        return all(block.equations[i].function is None for i in block._linear)
+
+    def run(self, s, outputs: np.ndarray, i: int, trajectory, progress) -> tuple:
+        """From state s, the steps and rows towards outputs[i:] that `run_steps` takes,
+        the iteration matrices it asks for factored here as the Python step factors them
+        (at the step's predicted state); returns (the state reached, the index of the next
+        output time)."""
+        if not self._ready():
+            return s, i
+        fresh = False
+        for _ in range(4 * self.CHUNK):  # calls (each a chunk of rows, or a factorisation)
+            s, i, status, h_next, fresh = self._call(s, outputs, i, trajectory, progress, fresh)
+            if status == FAILED:
+                self._fail(s, h_next)
+                return s, i
+            if status == REFACTOR:
+                fresh = self._refactor(s, h_next)
+                if not fresh:
+                    return s, i
+            elif status == STOPPED or i == len(outputs) or not fresh:
+                return s, i
+        return s, i
+
+    def _refactor(self, s, h: float) -> bool:
+        """The iteration matrix of the step h (s) from s factored at its predicted state
+        (GeneralizedAlphaStepper._attempt, Integrator._compiled_step); False when it is
+        singular (the step then fails as there)."""
+        stepper, system = self.stepper, self.stepper.system
+        integ = stepper.integ
+        stepper.h_used = h
+        _, _, q1, qd1, _, lam1, t1, fresh = integ._predicted(
+            s.t, h, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam
+        )
+        try:
+            integ._iteration_matrix(system.kin(q1, qd1, t1), h, fresh, lam1)
+        except SolverFailure as failure:  # singular here: the step fails, a smaller one next
+            integ.singular = failure
+            self._fail(s, h)
+            return False
+        return True
+
+    def _fail(self, s, h: float) -> None:
+        """The step h (s) from s failed with a new iteration matrix: as the Python stepper
+        (Integrator.step returning None, then GeneralizedAlphaStepper._attempt) -- the
+        matrix dropped, the step rejected, the next a quarter as long (below the step
+        floor: the stall's SolverFailure)."""
+        stepper = self.stepper
+        stepper.integ.drop()
+        stepper.h_used = h
+        stepper._shrink(s, 0.25 * h)
+
+    def _call(self, s, outputs: np.ndarray, i: int, trajectory, progress, fresh: bool) -> tuple:
+        """One `run_steps` call from s (`fresh`: the matrix was factored for its first
+        step): (the state reached, the next output index, the status, ctrl[NEXT_H], whether
+        the matrix is still new for the next step: the call ended before taking it)."""
+        stepper, system = self.stepper, self.stepper.system
+        integ, stats, spec = stepper.integ, stepper.stats, stepper.spec
+        arrays, scales, c = integ.arrays, integ.scales, integ.c
+        nq = system.nq
+        own = np.stack([s.q, s.raw_qd, s.raw_qdd, s.a])
+        own_lam = np.array(s.raw_lam, dtype=float)
+        cons = np.stack([s.qd, s.qdd])
+        cons_lam = np.array(s.lam, dtype=float)
+        ctrl = np.empty(CTRL_SIZE)
+        for slot, value in self.settings.items():
+            ctrl[slot] = value
+        ctrl[[T, H, H_USED, LU_H, ETA, STALE, FRESH]] = (
+            s.t,
+            stepper.h,
+            stepper.h_used,
+            integ.lu_h,
+            integ.eta,
+            float(integ.stale),
+            float(fresh),
+        )
+        ctrl[[MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT]] = (
+            stepper.max_step,
+            spec.end,
+            spec.max_steps,
+            scales.tol,
+            c.error_constant,
+        )
+        ctrl[[ALPHA_M, ALPHA_F, BETA, GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
+        ctrl[DENSE] = float(stepper.dense)
+        ctrl[REFACTORED] = ctrl[RESTARTED] = 0.0
+        counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
+        ints, floats = arrays.packed()
+        fi, ff, layout = self._factors()
+        if self._angle_args is None:
+            self._angle_args = ca.measure_args([m._sc for m in system._angles], 4)
+        refs_all = np.array([m.reference for m in system._angles], dtype=float)
+        block_angles = self._block_angles(system._coordinate_rows())
+        rows = min(self.CHUNK, len(outputs) - i)
+        rows_t, rows_refs = np.empty(rows), np.empty((rows, len(refs_all)))
+        rows_state = np.empty((rows, 3 * nq + own_lam.size))
+        status, i_next, written = run_steps(
+            own, own_lam, cons, cons_lam, ctrl, counts, outputs, i, ints, floats,
+            arrays.functions(s.t), arrays.bodies(), fi, ff, layout, scales.q_abs, scales.a_ref,
+            self._angle_args, refs_all, block_angles, PROJECTION, rows_t, rows_state, rows_refs,
+            10 * rows,
+        )  # fmt: skip
+        count(
+            factorizations=int(counts[ROW_FACTORS]), jacobian_evaluations=int(counts[ROW_JACOBIANS])
+        )
+        if ctrl[REFACTORED]:  # as StepRun._refactor leaves them
+            integ.adopt(fi, ff, float(ctrl[LU_H]))
+            integ.stale, stepper.h_used = bool(ctrl[STALE]), float(ctrl[H_USED])
+        taken = int(counts[STEPS]) - stats.steps
+        stats.steps = int(counts[STEPS])
+        stats.newton_iterations += int(counts[ITERATIONS])
+        for m, value in zip(system._angles, refs_all):
+            m.reference = float(value)
+        if taken or ctrl[RESTARTED]:  # the state moved, or took consistent accelerations
+            stepper.h, stepper.h_used = float(ctrl[H]), float(ctrl[H_USED])
+            integ.eta, integ.stale = float(ctrl[ETA]), bool(ctrl[STALE])
+            if taken:
+                stepper.collapse.since = None  # every step was well within max_steps
+            s = type(s)(
+                float(ctrl[T]), own[0], cons[0], cons[1], cons_lam,
+                raw_qd=own[1], raw_qdd=own[2], a=own[3], raw_lam=own_lam,
+            )  # fmt: skip
+        self._record(trajectory, rows_t[:written], rows_state[:written], rows_refs[:written])
+        if written and progress:
+            progress(float(rows_t[written - 1]), spec.end)
+        return s, i_next, status, float(ctrl[NEXT_H]), bool(ctrl[FRESH])
+
+    def _factors(self) -> tuple[np.ndarray, np.ndarray, tuple]:
+        """The iteration matrix's flat factors for the call (copies where the kernel may
+        refactor in them: the stepper's own stay as they are until the call returns) and
+        the saddle pattern's layout for `run_steps` (kind -1 where it does not fit them)."""
+        fi, ff = self.stepper.integ._factor_data()
+        pattern = self.stepper.system.saddle_pattern()
+        layout = pattern.layout
+        if fi[0] == SUPERLU or layout is None or layout.ints[0] != fi[0] or len(ff) != layout.size:
+            return fi, ff, (-1, *self._NO_LAYOUT)
+        return fi.copy(), ff.copy(), (fi[0], pattern.rows, pattern.cols, *layout.kernel_args())
+
+    _NO_LAYOUT = tuple(np.zeros(0, dtype=np.int64) for _ in range(5))
+
+    def _block_angles(self, block) -> np.ndarray:
+        """The indices of the constraint rows' angle measures among all of the system's
+        (found again only when an event changes the coordinate block)."""
+        if self._block is None or self._block[0] is not block:
+            position = {id(m): j for j, m in enumerate(self.stepper.system._angles)}
+            found = np.array([position[id(m)] for m in block._angles], dtype=np.int64)
+            self._block = (block, found)
+        return self._block[1]
+
+    def _record(self, trajectory, times, states, refs) -> None:
+        """The rows (found finite by the kernel), each with the system's snapshot and its
+        own angle references (made into a dict when read: mechlib.model.analysis.Snapshots)."""
+        if not len(times):
+            return
+        system = self.stepper.system
+        trajectory.extend(times, states, system.nq, system.snapshot(), self.angle_keys, refs)

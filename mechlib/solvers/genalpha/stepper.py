@@ -1,0 +1,271 @@
+"""Generalized-alpha as a stepper (mechlib.solvers.contract): step-size control on the error
+estimate, stick/slip location of joint friction, restarts, and the step-collapse watch
+around `mechlib.solvers.genalpha.integrator.Integrator`.
+
+The step size changes only when the error estimate asks for it (shrink, or growth by more
+than _REGROW); at each change the pseudo-acceleration restarts from the consistent
+acceleration, because generalized-alpha's `a` is tied to the step it was made with.
+Outputs carry consistent velocities, accelerations and reactions.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechlib.core.outcome import SolverFailure, SolverStats, Status
+from mechlib.model.analysis import Dynamic
+from mechlib.solvers.consistent import consistent_accelerations, consistent_state
+from mechlib.solvers.contract import DenseStepper, State, StepResult, StepUnresolved
+from mechlib.solvers.dense import HermiteRows, first_step, largest_step
+from mechlib.solvers.genalpha import run as run
+from mechlib.solvers.genalpha.integrator import (
+    ETA_MIN,
+    MAX_ITER,
+    NEWTON_KAPPA,
+    NOISE_POSITION,
+    SLOW_ITERATIONS,
+    STAGNANT,
+    Integrator,
+)
+from mechlib.solvers.genalpha.kernels import ROUNDOFF, Scales
+from mechlib.solvers.genalpha.run import StepRun, substep, towards
+from mechlib.solvers.runaway import StepCollapse, element_loads, fell_to, stall, step_floor
+from mechlib.solvers.stick import slip_stop, switch_sticking
+from mechlib.system.system import System
+
+__all__ = ["GeneralizedAlphaStepper"]
+
+_SAFETY = 0.9
+_GROW, _SHRINK = 4.0, 0.2
+_REGROW = 1.5
+# first step, as a fraction of the analysis span: small, because the start acceleration may
+# be one the motion leaves at once (joint friction at rest carries nothing until the joint
+# slips); the step grows x4 per accepted step, so this costs about five steps
+_FIRST_STEP = 1e-6
+
+
+@dataclass(kw_only=True)
+class _AlphaState(State):
+    """An accepted state with its consistent (qd, qdd, lam), which outputs and the error
+    estimate use, and the integrator's own values it continues from: raw_qd, raw_qdd, the
+    pseudo-acceleration a, raw_lam."""
+
+    raw_qd: np.ndarray
+    raw_qdd: np.ndarray
+    a: np.ndarray
+    raw_lam: np.ndarray
+
+
+def _alpha(state: State) -> _AlphaState:
+    """`state` as this stepper's own: every state it is handed is one it made."""
+    assert isinstance(state, _AlphaState), "a generalized-alpha stepper's own state"
+    return state
+
+
+def _state(t: float, new) -> _AlphaState:
+    """A state from Integrator.step's (q, qd, qdd, a, lam, consistent (qd, qdd, lam))."""
+    q, qd, qdd, a, lam, (c_qd, c_qdd, c_lam) = new
+    return _AlphaState(t, q, c_qd, c_qdd, c_lam, raw_qd=qd, raw_qdd=qdd, a=a, raw_lam=lam)
+
+
+class GeneralizedAlphaStepper(DenseStepper):
+    """Error-controlled generalized-alpha steps landing on the output times."""
+
+    def __init__(self, system: System, spec: Dynamic, stats: SolverStats):
+        super().__init__(system, spec, stats)
+        self.integ = Integrator(system, spec, stats)
+        self.rows = HermiteRows(system)
+        self.dense = spec.dense and not spec.fixed_step
+        if self.dense:  # steps from the problem's scales, not the output interval's
+            self.max_step, self.h = largest_step(system, spec), first_step(system, spec)
+        else:
+            self.max_step = min(spec.max_step or spec.step, spec.step)
+            span = spec.end - spec.start
+            self.h = (
+                self.max_step if spec.fixed_step else min(self.max_step, _FIRST_STEP * span or 1e-3)
+            )
+        # joint frictions that can stick: without any, no slip stops to look for
+        self.sticking = any(getattr(e, "can_stick", False) for e in system.elements)
+        self.h_min = step_floor(spec.end)
+        self.h_used = 0.0
+        self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
+        self.run = StepRun(self, _run_settings()) if StepRun.eligible(self) else None
+
+    def init(self, t: float, q0: np.ndarray, qd0: np.ndarray) -> State:
+        self.integ.scales = Scales(self.system, q0, self.spec.tolerance)
+        s = self._restart(t, q0.copy(), qd0.copy())
+        return self.restart(s) if self._switched(s) else s
+
+    def restart(self, state: State) -> State:
+        return self._restart(state.t, state.q, _alpha(state).raw_qd)
+
+    def _restart(self, t: float, q: np.ndarray, qd: np.ndarray) -> _AlphaState:
+        """Consistent accelerations (and velocities: a latch engaging is a plastic impact,
+        the mass-weighted projection) at t; the pseudo-acceleration starts from them."""
+        if self.system.states:
+            self.system.states.start(self.system.view(self.system.kin(q, qd, t)))
+        qd, qdd, lam = consistent_state(self.system, q, qd, t)
+        self.integ.lu, self.integ.eta = None, 1.0
+        return _AlphaState(t, q, qd, qdd, lam, raw_qd=qd, raw_qdd=qdd, a=qdd.copy(), raw_lam=lam)
+
+    def step(self, state: State, t_out: float) -> StepResult:
+        """One step towards t_out, shortened to where a sliding joint friction stops."""
+        s = _alpha(state)
+        new, err = self._attempt(s, t_out)
+        if new is None:
+            return StepResult(None, err, Status.STEP_REJECTED)
+        return StepResult(self._stop_slips(s, new), err, Status.SUCCESSFUL)
+
+    def _attempt(self, s: _AlphaState, t_out: float) -> tuple[_AlphaState | None, float]:
+        """One step towards t_out and its error; None when rejected (the step size is then
+        reduced)."""
+        spec = self.spec
+        h_try = towards(t_out - s.t, self.h) if self.dense else substep(t_out - s.t, self.h)
+        if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
+            qdd, lam = consistent_accelerations(self.system, s.q, s.raw_qd, s.t)
+            s.raw_qdd, s.a, s.raw_lam = qdd, qdd.copy(), lam
+            s.qd, s.qdd, s.lam = s.raw_qd, qdd, lam
+        self.h_used = h_try
+        new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam)
+        err = (
+            math.inf
+            if new is None
+            else 0.0
+            if spec.fixed_step
+            else self.integ.error(h_try, new[0], s.qdd, new[5][1])
+        )
+        if new is None or err > 1.0:
+            self.system.states.reject()
+            if spec.fixed_step:
+                raise _newton_failure(self.system, s.t, h_try)
+            self._shrink(
+                s, h_try * (0.25 if new is None else max(_SHRINK, _SAFETY * err ** (-1 / 3)))
+            )
+            return None, err
+        if not spec.fixed_step:
+            grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
+            if grow > _REGROW:
+                self.h = min(self.max_step, h_try * grow)
+        return _state(s.t + h_try, new), err
+
+    def _shrink(self, s: State, h: float) -> None:
+        """A rejected step from s: retry with step h (s); below h_min the run stalls (its
+        message names the joints of a singular position there)."""
+        self.stats.rejected_steps += 1
+        self.h = h
+        if self.h < self.h_min:  # a singular matrix says more than "no convergence"
+            why = self.integ.singular or _newton_failure(self.system, s.t, self.h)
+            raise stall(self.system, self.spec.name, s.t, s.q, fell_to(self.h, self.h_min), why)
+
+    def settle(self, state: State) -> State:
+        """Count the step, take its element states and memories, watch the step size."""
+        system = self.system
+        self.stats.steps += 1
+        assert self.integ.scales is not None, "set by init"
+        self.integ.scales.update(state.qdd)
+        k = system.kin(state.q, _alpha(state).raw_qd, state.t)
+        if system.states:
+            system.states.accept(system.view(k))
+        system.commit(k)
+        self.collapse.watch(
+            self.stats.steps + self.stats.rejected_steps,
+            state.t,
+            self.h_used,
+            lambda: element_loads(system, self.view(state)),
+        )
+        return state
+
+    def accept(self, state: State) -> State:
+        """Settle, then stick or free joint frictions there (a switch restarts)."""
+        self.settle(state)
+        return self.restart(state) if self._switched(_alpha(state)) else state
+
+    def dense_row(self, start: State, end: State, t: float, states) -> State:
+        """The row at t within start -> end: the quintic Hermite interpolant of both ends'
+        (q, qd, qdd) (`end`'s own at its time), projected (mechlib.solvers.dense): every row's
+        accelerations and reactions are those of the equations of motion at its state."""
+        return self.rows.row(start, end, t, states)
+
+    def _switched(self, s: _AlphaState) -> bool:
+        if not self.sticking:
+            return False
+        return switch_sticking(self.system, s.q, s.raw_qd, s.t, self.view(s), consistent_state)
+
+    def resolve(self, state: State, t: float) -> State:
+        """The step from `state` re-solved to end at t (s); StepUnresolved when Newton
+        fails."""
+        return self._resolve(_alpha(state), t)
+
+    def _resolve(self, s: _AlphaState, t: float) -> _AlphaState:
+        """`resolve` on this stepper's own state."""
+        new = self.integ.step(s.t, t - s.t, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam)
+        if new is None:
+            raise StepUnresolved(t)
+        return _state(t, new)
+
+    def _stop_slips(self, s: _AlphaState, new: _AlphaState) -> _AlphaState:
+        """`new`, or the state at the first instant within the step where a sliding joint
+        friction stops (its slip rate passes through zero: it may stick there)."""
+        sys = self.system
+        if not self.sticking:
+            return new
+        try:
+            t = slip_stop(
+                sys,
+                s.t,
+                new.t,
+                self.view(s),
+                self.view(new),
+                lambda tt: self.view(self._resolve(s, tt)),
+            )
+            if t is None:
+                return new
+            if t < new.t:
+                return self._resolve(s, t)
+        except (StepUnresolved, SolverFailure):  # a shorter step Newton cannot take: keep new
+            pass
+        # the re-solved steps moved the element states' trial values: back to new's
+        return self._resolve(s, new.t) if sys.states else new
+
+    def unresolved(self, state: State, new: State, failure: StepUnresolved, events) -> None:
+        """A load that jumps where an event condition's zero lies (a preloaded wire going
+        taut) defeats Newton on steps ending just past it; shorter steps resolve it, as for
+        any step Newton cannot take: the step is rejected, the next a quarter as long."""
+        self.system.states.reject()
+        if self.spec.fixed_step:
+            raise _newton_failure(
+                self.system, state.t, failure.t - state.t, f"locating event {events()}"
+            )
+        self._shrink(state, 0.25 * (new.t - state.t))
+
+
+def _run_settings() -> dict[int, float]:
+    """The constants of this stepper and its integrator, by slot of `run_steps`' control
+    array (mechlib.solvers.genalpha.run)."""
+    return {
+        run.KAPPA: NEWTON_KAPPA,
+        run.STAGNANT: STAGNANT,
+        run.NOISE: NOISE_POSITION,
+        run.MAX_ITER: MAX_ITER,
+        run.SLOW: SLOW_ITERATIONS,
+        run.ETA_MIN: ETA_MIN,
+        run.SAFETY: _SAFETY,
+        run.GROW: _GROW,
+        run.REGROW: _REGROW,
+        run.ROUNDOFF: ROUNDOFF,
+    }
+
+
+def _newton_failure(system: System, t: float, h: float, doing: str = "") -> SolverFailure:
+    while_ = f" {doing}" if doing else ""
+    return SolverFailure(
+        f"dynamic analysis failed at t = {t:.6g} s{while_}: Newton iterations "
+        f"did not converge even with a step of {h:.3g} s (an impact or a "
+        "stiffness too large for the step, a toggle position, or a load "
+        "discontinuity)",
+        time=t,
+        status=Status.NEWTON_FAILED,
+    )

@@ -1,0 +1,250 @@
+"""One entry point: `solve(mechanism, analysis, *, requests, ...) -> Solution`."""
+
+from __future__ import annotations
+
+import functools
+import time as _time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechlib.checks.model_check import MechanismCheck, check_model, inspect_mechanism
+from mechlib.checks.singularity import toggle_warnings
+from mechlib.core.outcome import ModelError, RunStatus, Solution, SolverFailure, SolverStats, Status
+from mechlib.core.work import tally
+from mechlib.flexible.guards import (
+    deformation_warnings,
+    spin_warnings,
+    unresolved_mode_warnings,
+)
+from mechlib.model.analysis import Dynamic, Kinematic, QuasiStatic, Static, Trajectory
+from mechlib.model.mechanism import Mechanism
+from mechlib.outputs.requests import JointReaction, evaluate_requests
+from mechlib.solvers.assembly import assemble
+from mechlib.solvers.contract import Stepper
+from mechlib.solvers.finite import check_recorded_state, explain_failure, nonfinite_channel
+from mechlib.solvers.genalpha.stepper import GeneralizedAlphaStepper
+from mechlib.solvers.kinematic import KinematicStepper
+from mechlib.solvers.march import march
+from mechlib.solvers.modes import ModalResult, Modes, modal_channels, normal_modes
+from mechlib.solvers.solve_copy import solve_copy
+from mechlib.solvers.static.analyses import QuasiStaticStepper, run_static
+from mechlib.system.planar import make_system
+from mechlib.system.system import System
+
+__all__ = ["MechanismCheck", "check_model", "inspect_mechanism", "solve"]
+
+Analysis = Kinematic | Static | QuasiStatic | Dynamic | Modes
+
+
+def _stepper(
+    system: System, analysis: Kinematic | QuasiStatic | Dynamic, stats: SolverStats
+) -> Stepper:
+    """The stepper of an analysis in time (mechlib.solvers.contract)."""
+    if isinstance(analysis, Kinematic):
+        return KinematicStepper(system, analysis, stats)
+    if isinstance(analysis, QuasiStatic):
+        return QuasiStaticStepper(system, analysis, stats)
+    if analysis.integrator == "radau":
+        from mechlib.solvers.radau import RadauStepper  # scipy.integrate, only for this integrator
+
+        return RadauStepper(system, analysis, stats)
+    return GeneralizedAlphaStepper(system, analysis, stats)
+
+
+def _check_events(analysis: Analysis, events: Sequence) -> None:
+    if events and isinstance(analysis, Static):
+        raise ModelError(
+            [("", "events need an analysis in time (a static analysis solves one instant)")]
+        )
+    if events and isinstance(analysis, Dynamic) and analysis.integrator == "radau":
+        raise ModelError(
+            [
+                (
+                    "",
+                    "events are located by the generalized-alpha integrator: "
+                    "drop 'integrator: radau' or the events",
+                )
+            ]
+        )
+
+
+@dataclass
+class _Run:
+    """What an analysis produced: rows (or modes), events, status and message."""
+
+    trajectory: Trajectory
+    stats: SolverStats
+    events: list
+    modes: ModalResult | None = None
+    result: Status = Status.SUCCESSFUL
+    message: str = "finished"
+
+
+def _analyse(
+    system: System, analysis: Analysis, run: _Run, initial, events, progress, warnings: list[str]
+) -> None:
+    """Assemble (notes on the initial values to `warnings`), then run the analysis into
+    `run`; SolverFailure leaves what was computed."""
+    start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
+    with tally(run.stats):
+        assembled = assemble(system, start, initial)
+        warnings += assembled.notes
+        system.begin(system.kin(assembled.q, assembled.qd, start))
+        run.stats.newton_iterations += assembled.newton_iterations
+        _check_events(analysis, events)
+        if isinstance(analysis, Modes):
+            run.modes = normal_modes(system, assembled.q, analysis.time, run.stats).first(
+                analysis.count
+            )
+            system.commit(system.kin(run.modes.q, None, analysis.time))
+        elif isinstance(analysis, Static):
+            run_static(system, analysis, assembled.q, run.trajectory, run.stats)
+        else:
+            run.result = march(
+                _stepper(system, analysis, run.stats),
+                assembled.q,
+                assembled.qd,
+                run.trajectory,
+                progress=progress,
+                events=events,
+                event_log=run.events,
+            )
+
+
+def _channels(system: System, run: _Run, requests) -> tuple[np.ndarray, dict]:
+    """Output times and channels: one row per mode for modes, else per recorded state."""
+    if run.modes is not None:
+        return (
+            np.full(len(run.modes.frequencies), run.modes.time),
+            modal_channels(system, run.modes, requests),
+        )
+    space, trajectory = system.in_space(run.trajectory)  # a planar one lifted to 3-D
+    channels = evaluate_requests(space, trajectory, requests) if len(trajectory) else {}
+    return np.array(run.trajectory.time), channels
+
+
+def _position_warnings(system: System, analysis: Analysis, run: _Run) -> list[str]:
+    """Warnings from the recorded positions: toggles, deformation, spin, unresolved modes."""
+    warnings: list[str] = []
+    if not isinstance(analysis, Modes):
+        warnings += toggle_warnings(system, run.trajectory)
+        warnings += deformation_warnings(system, run.trajectory)
+        warnings += spin_warnings(system, run.trajectory)
+    if isinstance(analysis, Dynamic) and len(run.trajectory):
+        duration = run.trajectory.time[-1] - run.trajectory.time[0]
+        warnings += unresolved_mode_warnings(system, duration, run.stats.steps)
+    return warnings
+
+
+def _summary_status(result: Status) -> RunStatus:
+    """`ok`, `interrupted` or `failed` (the summary's status)."""
+    if result.ok:
+        return "ok"
+    return "interrupted" if result is Status.INTERRUPTED else "failed"
+
+
+def _interrupt_of(error: BaseException) -> KeyboardInterrupt | None:
+    """The SIGINT/SIGTERM (loadcases.interrupts) behind `error`: itself, or the one a
+    compiled kernel's dispatcher met while it ran (numba then raises SystemError "returned
+    a result with an exception set", the interrupt as its context)."""
+    seen: BaseException | None = error
+    while seen is not None:
+        if isinstance(seen, KeyboardInterrupt):
+            return seen
+        seen = seen.__cause__ or seen.__context__
+    return None
+
+
+def _interrupted_message(analysis: Analysis, trajectory: Trajectory, signal_name: str) -> str:
+    """Where an interrupt stopped the run, and what was kept."""
+    by = f" by {signal_name}" if signal_name else ""
+    if not len(trajectory):
+        return f"{analysis.name} analysis interrupted{by} before its first output"
+    end = getattr(analysis, "end", None)
+    of = f" of {end:g} s" if isinstance(end, int | float) else ""
+    return (
+        f"{analysis.name} analysis interrupted{by} at t = {trajectory.time[-1]:.6g} s{of}; "
+        f"the {len(trajectory)} rows computed so far are kept"
+    )
+
+
+def solve(
+    mechanism: Mechanism,
+    analysis: Analysis,
+    *,
+    requests: Sequence = (),
+    initial: Sequence = (),
+    redundant: str = "error",
+    throw: bool = True,
+    events: Sequence = (),
+    progress: Callable[[float, float], None] | None = None,
+    checks: bool = True,
+) -> Solution:
+    """Check, assemble and solve; channels `REQUEST.COMPONENT` at the output times.
+
+    `checks` False leaves out the checks of the recorded positions after the run (toggles,
+    deformation, spin, unresolved modes: their warnings only) for a run whose warnings are
+    not kept, e.g. an accuracy companion; times, channels and status are the same.
+
+    The `mechanism` is left unchanged (the solve works on its own copy of the force
+    elements): solving it twice gives the same results. Raises ModelError for an ill-posed
+    model (always). A numerical failure raises SolverFailure when `throw`, else returns a
+    failed Solution holding what was computed (`Solution.result` says which failure,
+    `message` when, where and why). A non-finite state or column is such a failure.
+    """
+    cpu0 = _time.process_time()
+    system = make_system(solve_copy(mechanism))  # events and memories never change the caller's
+    warnings = check_model(system, analysis, redundant=redundant)
+    warnings += system.output_notes(any(isinstance(r, JointReaction) for r in requests))
+    run = _Run(
+        Trajectory(snapshot=system.snapshot, check=functools.partial(check_recorded_state, system)),
+        SolverStats(),
+        [],
+    )
+    if isinstance(analysis, Modes):
+        events = ()  # nothing moves: events have nothing to watch
+    try:
+        _analyse(system, analysis, run, initial, events, progress, warnings)
+    except SolverFailure as failure:
+        if throw:
+            raise
+        run.result = failure.status
+        run.message = explain_failure(system, run.trajectory, failure)
+    except (KeyboardInterrupt, SystemError) as stop:  # SIGINT/SIGTERM: keep the rows
+        interrupt = _interrupt_of(stop)
+        if throw or interrupt is None:
+            raise
+        run.trajectory.trim()
+        run.result = Status.INTERRUPTED
+        run.message = _interrupted_message(analysis, run.trajectory, str(interrupt))
+    try:
+        times, channels = _channels(system, run, requests)
+    except SolverFailure as failure:  # a request that cannot be evaluated (expression error)
+        if throw:
+            raise
+        run.result, run.message = failure.status, f"requests: {failure}"
+        times = np.array(run.trajectory.time)
+        channels = getattr(failure, "channels", {})  # the columns that did not fail
+    bad = nonfinite_channel(times, channels) if run.result.ok else None
+    if bad is not None:
+        run.result = Status.NOT_FINITE
+        run.message = f"column {bad[0]} is not finite ({bad[2]:g}) at t = {bad[1]:.6g} s"
+    if checks:
+        warnings += _position_warnings(system, analysis, run)
+    run.stats.cpu_seconds = _time.process_time() - cpu0
+    message = run.message
+    if run.events:
+        message += "; events: " + ", ".join(f"{e.name} at t = {e.time:.6g} s" for e in run.events)
+    return Solution(
+        _summary_status(run.result),
+        message,
+        analysis.name,
+        times,
+        channels,
+        run.stats,
+        warnings,
+        run.events,
+        run.result,
+    )

@@ -1,0 +1,108 @@
+"""Which force elements a forward-difference column of the tangent can change.
+
+A column perturbs one coordinate of q (or qd): of one body, or a modal coordinate. An
+element that knows the bodies its force depends on (`state_bodies()`: the body indices
+whose positions and rates it reads, and it reads no modal coordinate; None or no such
+method: unknown) is left out of the columns of every other body: its force is the same at
+the base and at the perturbed state. So are contacts and seals (their two bodies), springs,
+torsion springs, dampers, bushings and cable loops (the bodies they join), and point forces
+and torques (their body, their frame's body and the bodies their value's measures read).
+The others are evaluated in every column: joint friction (it reads the multipliers),
+elements with internal states, and a load whose value reads a motion's effort. A modal
+coordinate moves no body: its columns leave out every element with known bodies. Shared by
+the static stiffness (mechlib.solvers.static.balance) and the dynamic tangent
+(mechlib.solvers.genalpha.integrator).
+
+`JacobianClasses` (the static stiffness): a column of body b changes only the constraint
+Jacobian's rows of the equations that touch b. Bodies that share no equation are perturbed
+together in one Jacobian evaluation (a colouring of the bodies); each column takes that
+evaluation's rows of its own body's equations and the base Jacobian's others: the Jacobian
+the column's own evaluation gives, entry for entry, from nq / (coordinates per body) times
+fewer evaluations. The element forces are differenced column by column as before.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mechlib.system.system import System
+
+__all__ = ["ColumnSkips", "JacobianClasses", "element_bodies"]
+
+
+def element_bodies(element) -> frozenset[int] | None:
+    """The body indices (ground harmless) an element's force depends on; None: unknown."""
+    bodies = getattr(element, "state_bodies", None)
+    found = bodies() if bodies is not None else None
+    return None if found is None else frozenset(int(b) for b in found)
+
+
+class ColumnSkips:
+    """Per column of q: the ids of the elements its forward difference leaves out (those in
+    `always`, e.g. the elements that add their own tangent, and the elements whose force
+    depends on other bodies only)."""
+
+    def __init__(self, system: System, always: set[int] | frozenset[int] = frozenset()):
+        known = [(id(e), b) for e in system.elements if (b := element_bodies(e)) is not None]
+        self._per_body = system.per_body
+        self._rigid = system.per_body * system.nb
+        self._of_body = {
+            b: frozenset({i for i, bodies in known if b not in bodies} | set(always))
+            for b in range(system.nb)
+        }
+        self._of_body[-1] = frozenset({i for i, _ in known} | set(always))
+
+    def body(self, column: int) -> int:
+        """The body whose coordinate `column` is; -1 for a modal coordinate."""
+        return column // self._per_body if column < self._rigid else -1
+
+    def skip(self, body: int) -> frozenset[int]:
+        """The element ids a column of `body` (-1: modal) leaves out."""
+        return self._of_body[body]
+
+
+class JacobianClasses:
+    """Bodies whose forward-difference columns share one evaluation of the constraint
+    Jacobian (module docstring): `classes`, tuples of bodies no equation joins, and
+    `rows[b]`, the indices of the (active) equations that touch body b. `of(system)` is
+    None with modal coordinates or where no two bodies can share."""
+
+    def __init__(self, classes: list[tuple[int, ...]], rows: dict[int, np.ndarray]):
+        self.classes, self.rows = classes, rows
+
+    @classmethod
+    def of(cls, system: System) -> JacobianClasses | None:
+        nb, per_body = system.nb, system.per_body
+        if system.nz or nb < 2:
+            return None
+        touched: dict[int, list[int]] = {b: [] for b in range(nb)}
+        joined: list[set[int]] = [{b} for b in range(nb)]
+        for row, nonzero in enumerate(_jacobian_pattern(system)):
+            bodies = {int(c) // per_body for c in np.flatnonzero(nonzero)} & set(range(nb))
+            for b in bodies:
+                touched[b].append(row)
+                joined[b] |= bodies
+        classes: list[tuple[int, ...]] = []
+        for b in sorted(range(nb), key=lambda b: (-len(joined[b]), b)):
+            free = next((n for n, c in enumerate(classes) if not joined[b] & set(c)), None)
+            if free is None:
+                classes.append((b,))
+            else:
+                classes[free] += (b,)
+        if len(classes) == nb:
+            return None
+        rows = {b: np.array(found, dtype=int) for b, found in touched.items()}
+        return cls([tuple(sorted(c)) for c in classes], rows)
+
+
+def _jacobian_pattern(system: System) -> np.ndarray:
+    """The structural nonzeros of phi_q (m, nq) of the current equations: nonzero at either
+    of two generic poses (the design pose disturbed at random, as SaddlePattern)."""
+    rng = np.random.default_rng(7)
+    found = None
+    for _ in range(2):
+        q = system.design_q() + 0.1 * rng.standard_normal(system.nq)
+        nonzero = system.phi_q(system.kin(q, None, 0.0)) != 0.0
+        found = nonzero if found is None else found | nonzero
+    assert found is not None
+    return found
