@@ -145,7 +145,8 @@ def test_import_is_light(module: str) -> None:
     code = (
         f"import sys, {module}; print(sorted(({{m.split('.')[0] for m in sys.modules}} & "
         "{'matplotlib', 'openpyxl', 'pandas', 'numba', 'scipy'}) | "
-        "({m for m in sys.modules if m.startswith('mechlib')} - {'mechlib', 'mechlib.core', 'mechlib.core.lazy'})))"
+        "({m for m in sys.modules if m.startswith('mechlib')} - "
+        "{'mechlib', 'mechlib.core', 'mechlib.core.lazy'})))"
     )
     result = subprocess.run(
         [sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, check=True
