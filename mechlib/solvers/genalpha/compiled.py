@@ -16,8 +16,6 @@ operations but for summation order: results equal the Python loop's to round-off
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
@@ -25,6 +23,7 @@ from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
 from mechlib.linalg.flat_lu import lu_solve, lu_solve_into
 from mechlib.solvers.genalpha import kernels as gk
+from mechlib.solvers.genalpha import rules
 
 __all__ = ["CONVERGED", "STALLED", "newton"]
 
@@ -61,16 +60,14 @@ def newton(
 ):  # fmt: skip
     """Newton iterations on (q1, qd1, qdd1, lam1), in place, with fixed LU factors (fi, ff)
     from iteration `it` with the last increment size `prev` and rate estimate `eta`, as
-    mechlib.solvers.genalpha.integrator.Integrator.step does them; params: (beta', gamma',
-    tolerance,
-    round-off, kappa, stagnation ratio, noise position, most iterations, alpha_m, alpha_f).
+    mechlib.solvers.genalpha.integrator.Integrator.step does them, by the same rules
+    (mechlib.solvers.genalpha.rules); params: (beta', gamma', tolerance, alpha_m, alpha_f).
     Stops on convergence (CONVERGED: `true` then holds the state's (qd, qdd, lam) on all
     three constraint levels and the new pseudo-acceleration a from the step's start values
     (qdd, a), stacked) or when the increments stop shrinking fast enough or the
     iterations run out (STALLED: the caller refactors or gives up). Returns
     (status, it, prev, eta, iterations done)."""
-    bp, gp, tol, roundoff = params[0], params[1], params[2], params[3]
-    kappa, stagnant, noise_position, max_iter = params[4], params[5], params[6], params[7]
+    bp, gp, tol = params[0], params[1], params[2]
     nq, m = q1.shape[0], lam1.shape[0]
     nb = nq // 7
     nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
@@ -94,27 +91,19 @@ def newton(
         done += 1
         it += 1
         dq = dx[:nq]
-        size = gk._newton_size(dq, q1, qdd1, bp, q_abs, a_ref, tol, roundoff)
-        if prev < math.inf:
-            theta = size / prev
-            eta = theta / (1.0 - theta) if theta < 1.0 else math.inf
-        noise = False
-        if prev < math.inf and size > stagnant * prev:
-            acc = 0.0
-            for j in range(nq):
-                w = dq[j] / (q_abs[j] + tol * abs(q1[j]))
-                acc += w * w
-            noise = math.sqrt(acc / nq) <= noise_position
-        if (eta * size <= kappa and size < 1.0) or size < 1e-10 or noise:
+        size = gk._newton_size(dq, q1, qdd1, bp, q_abs, a_ref, tol, rules.ROUNDOFF)
+        eta = rules.newton_rate(size, prev, eta)
+        noise = rules.is_noise(size, prev, gk.position_size(dq, q1, q_abs, tol))
+        if rules.converged(eta, size, noise):
             _true_acceleration(
                 q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body,
                 work, fi, ff, true,
             )  # fmt: skip
-            am, af = params[8], params[9]
+            am, af = params[3], params[4]
             for j in range(nq):
                 true[2 * nq + m + j] = ((1.0 - af) * qdd1[j] + af * qdd[j] - am * a[j]) / (1.0 - am)
             return CONVERGED, it, size, eta, done
-        if (prev < math.inf and size > 0.9 * prev) or it >= max_iter:
+        if rules.stalled(size, prev, it):
             return STALLED, it, size, eta, done
         prev = size
 

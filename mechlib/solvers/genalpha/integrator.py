@@ -30,30 +30,15 @@ from mechlib.core.work import count
 from mechlib.linalg.factor import factor_saddle, singular_failure, solve_factored
 from mechlib.linalg.flat_lu import factor_data, factors
 from mechlib.model.analysis import Dynamic
+from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.compiled import CONVERGED, newton
-from mechlib.solvers.genalpha.kernels import ROUNDOFF, Scales, correct, error_norm, predict
+from mechlib.solvers.genalpha.kernels import Scales, correct, error_norm, predict
 from mechlib.system.fd_columns import ColumnSkips
 from mechlib.system.reaction_loads import reaction_coupling
 from mechlib.system.saddle import rigid_saddle_factors
 from mechlib.system.system import System
 
-__all__ = [
-    "ETA_MIN",
-    "MAX_ITER",
-    "NEWTON_KAPPA",
-    "NOISE_POSITION",
-    "SLOW_ITERATIONS",
-    "STAGNANT",
-    "Coefficients",
-    "Integrator",
-]
-
-MAX_ITER = 8
-NEWTON_KAPPA = 0.05
-ETA_MIN = 1e-3
-SLOW_ITERATIONS = 3
-STAGNANT = 0.5  # increment ratio of an iteration that no longer converges
-NOISE_POSITION = 1e-3  # position increment (x the position tolerance) that is round-off
+__all__ = ["Coefficients", "Integrator"]
 
 
 @dataclass(frozen=True)
@@ -178,10 +163,10 @@ class Integrator:
         # a step-size change refactors; elements with their own tangent (contacts:
         # stiffness and friction slope change from step to step) have it re-evaluated at
         # every step
-        rebuild = fresh or abs(h / self.lu_h - 1.0) > 0.25 or bool(self.own)
+        rebuild = fresh or rules.refactors(h, self.lu_h) or bool(self.own)
         refreshed, prev, it = False, math.inf, 0
         eta = self.eta
-        while it < MAX_ITER:
+        while it < rules.MAX_ITER:
             k = sys.kin(q1, qd1, t1)
             if sys.states:
                 sys.states.advance(sys.view(k), h)
@@ -209,18 +194,10 @@ class Integrator:
             # acceleration level: a position increment small against the position tolerance
             # is still large for qdd (x 1/(beta h^2)), i.e. for the forces and the energy
             size = self.scales.newton_size(dq, q1, qdd1, bp)
-            if prev < math.inf:
-                theta = size / prev
-                eta = theta / (1.0 - theta) if theta < 1.0 else math.inf
-            # Newton error estimate eta*|dq| against a fraction of the local error tolerance
-            # (Hairer & Wanner, Solving ODEs II, IV.8); positions only, as the error test
-            if (
-                (eta * size <= NEWTON_KAPPA and size < 1.0)
-                or size < 1e-10
-                or self._noise(size, prev, dq, q1)
-            ):
-                self.eta = max(eta, ETA_MIN) ** 0.8
-                if it > SLOW_ITERATIONS:
+            eta = rules.newton_rate(size, prev, eta)
+            if rules.converged(eta, size, self._noise(size, prev, dq, q1)):
+                self.eta = rules.carried_rate(eta)
+                if rules.slow(it):
                     self.stale = True  # converging slowly: a fresh matrix for the next step
                 a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (
                     1.0 - c.alpha_m
@@ -233,7 +210,7 @@ class Integrator:
                     lam1,
                     self._true_acceleration(q1, qd1, t1, qdd1, lam1, jac),
                 )
-            if (prev < math.inf and size > 0.9 * prev) or it == MAX_ITER:
+            if rules.stalled(size, prev, it):
                 if refreshed:
                     break
                 rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
@@ -261,15 +238,12 @@ class Integrator:
         c, sys, arrays = self.c, self.system, self.arrays
         assert arrays is not None and self.scales is not None, "checked by step; set by init"
         bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
-        rebuild = fresh or abs(h / self.lu_h - 1.0) > 0.25
+        rebuild = fresh or rules.refactors(h, self.lu_h)
         refreshed, prev, it, eta = False, math.inf, 0, self.eta
         ints, floats = arrays.packed()
         functions, refs = arrays.functions(t1), arrays.references()
         scales = self.scales
-        params = np.array(
-            [bp, gp, scales.tol, ROUNDOFF, NEWTON_KAPPA, STAGNANT, NOISE_POSITION, MAX_ITER]
-            + [c.alpha_m, c.alpha_f]
-        )
+        params = np.array([bp, gp, scales.tol, c.alpha_m, c.alpha_f])
         nq = sys.nq
         true = np.empty(3 * nq + lam1.shape[0])  # qd, qdd, lam on three levels; a
         while True:
@@ -288,8 +262,8 @@ class Integrator:
             )  # fmt: skip
             self.stats.newton_iterations += done
             if status == CONVERGED:
-                self.eta = max(eta, ETA_MIN) ** 0.8
-                if it > SLOW_ITERATIONS:
+                self.eta = rules.carried_rate(eta)
+                if rules.slow(it):
                     self.stale = True
                 m = lam.size
                 consistent = (true[:nq], true[nq : 2 * nq], true[2 * nq : 2 * nq + m])
@@ -323,17 +297,9 @@ class Integrator:
         return data
 
     def _noise(self, size: float, prev: float, dq: np.ndarray, q1: np.ndarray) -> bool:
-        """Newton has reached its round-off floor: the increments stopped shrinking
-        (ratio above STAGNANT) while far below the position tolerance. Near a singular
-        position (the horizontal crossing of a chain of parallelogram four-bars) the
-        iteration matrix amplifies round-off in q by 1/sigma_min, and x beta' that noise
-        reads as a large acceleration increment no smaller step removes."""
+        """Newton has reached its round-off floor (rules.is_noise)."""
         assert self.scales is not None, "set by the stepper before its first step"
-        return (
-            prev < math.inf
-            and size > STAGNANT * prev
-            and self.scales.position_size(dq, q1) <= NOISE_POSITION
-        )
+        return bool(rules.is_noise(size, prev, self.scales.position_size(dq, q1)))
 
     def _true_acceleration(self, q1, qd1, t1, qdd1, lam1, jac):
         """The state on all three constraint levels, by corrections with the iteration

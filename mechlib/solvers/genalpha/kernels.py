@@ -7,12 +7,11 @@ import math
 
 import numpy as np
 
-from mechlib.core.jit import njit
+from mechlib.core.jit import KERNEL, njit
+from mechlib.solvers.genalpha.rules import ROUNDOFF
 from mechlib.system.system import System
 
-__all__ = ["ROUNDOFF", "Scales", "correct", "error_norm", "predict"]
-
-ROUNDOFF = 1e3 * np.finfo(float).eps
+__all__ = ["Scales", "correct", "error_norm", "position_size", "predict"]
 
 
 class Scales:
@@ -43,10 +42,10 @@ class Scales:
 
     def position_size(self, dq: np.ndarray, q: np.ndarray) -> float:
         """RMS of a Newton increment against the position weights alone."""
-        return float(np.sqrt(np.mean((dq / (self.q_abs + self.tol * np.abs(q))) ** 2)))
+        return position_size(dq, q, self.q_abs, self.tol)
 
 
-@njit(cache=True)
+@njit(**KERNEL)
 def predict(q, qd, qdd, a, h, alpha_m, beta, gamma):
     """Predictor with qdd_{n+1} = qdd_n: (q, qd, qdd) at t + h."""
     a1 = (qdd - alpha_m * a) / (1.0 - alpha_m)
@@ -55,7 +54,7 @@ def predict(q, qd, qdd, a, h, alpha_m, beta, gamma):
     return q1, qd1, qdd.copy()
 
 
-@njit(cache=True)
+@njit(**KERNEL)
 def correct(q1, qd1, qdd1, lam1, dx, gp, bp):
     """Newton correction in place: dq into q, gamma' dq into qd, beta' dq into qdd."""
     nq = q1.shape[0]
@@ -67,7 +66,7 @@ def correct(q1, qd1, qdd1, lam1, dx, gp, bp):
         lam1[i] += bp * dx[nq + i]
 
 
-@njit(cache=True)
+@njit(**KERNEL)
 def _newton_size(dq, q, qdd, bp, q_abs, a_ref, tol, roundoff):  # see Scales.newton_size
     sq = sa = 0.0
     for i in range(dq.shape[0]):
@@ -82,7 +81,7 @@ def _newton_size(dq, q, qdd, bp, q_abs, a_ref, tol, roundoff):  # see Scales.new
     return math.sqrt(max(sq, sa) / dq.shape[0])
 
 
-@njit(cache=True)
+@njit(**KERNEL)
 def error_norm(scale, acc0, acc1, q_abs, tol, q1):
     """max_i |scale (acc1_i - acc0_i)| / (q_abs_i + tol |q1_i|): the scaled local error of
     a step (mechlib.solvers.genalpha.integrator.Integrator.error)."""
@@ -92,3 +91,13 @@ def error_norm(scale, acc0, acc1, q_abs, tol, q1):
         if e > worst or e != e:  # a NaN stays: the step is then rejected
             worst = e
     return worst
+
+
+@njit(**KERNEL)
+def position_size(dq, q, q_abs, tol):
+    """RMS of a Newton increment dq against the position weights q_abs + tol |q| alone."""
+    acc = 0.0
+    for j in range(dq.shape[0]):
+        w = dq[j] / (q_abs[j] + tol * abs(q[j]))
+        acc += w * w
+    return math.sqrt(acc / dq.shape[0])

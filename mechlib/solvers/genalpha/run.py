@@ -44,10 +44,11 @@ from mechlib.solvers.dense import PROJECTION
 from mechlib.solvers.dense_compiled import DONE, project_row, small_enough
 from mechlib.solvers.finite import all_finite
 from mechlib.solvers.genalpha import kernels as gk
+from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.compiled import CONVERGED, newton
 from mechlib.system.saddle import saddle_values
 
-__all__ = ["FAILED", "REFACTOR", "STOPPED", "StepRun", "run_steps", "substep", "towards"]
+__all__ = ["FAILED", "REFACTOR", "STOPPED", "StepRun", "run_steps"]
 
 STOPPED = 1  # the run stopped before a step (or a row) that Python must take
 REFACTOR = 2  # stopped before a step that needs a new iteration matrix (ctrl[NEXT_H]: its h)
@@ -56,33 +57,15 @@ FAILED = 3  # Newton stalled on the step after a new iteration matrix: the step 
 # slots of the control array `ctrl` (in: settings; in/out: the stepper's state)
 T, H, H_USED, LU_H, ETA, STALE = 0, 1, 2, 3, 4, 5
 MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT = 6, 7, 8, 9, 10
-ALPHA_M, ALPHA_F, BETA, GAMMA = 11, 12, 13, 14
-KAPPA, STAGNANT, NOISE, MAX_ITER, SLOW, ETA_MIN = 15, 16, 17, 18, 19, 20
-SAFETY, GROW, REGROW, ROUNDOFF, DENSE = 21, 22, 23, 24, 25
-FRESH, NEXT_H = 26, 27  # in: the matrix is new for the next step; out: that step's h
-REFACTORED = 28  # out: the iteration matrices factored in the call
-RESTARTED = 29  # out: consistent accelerations taken at a new step size (H_USED is that h)
-CTRL_SIZE = 30
+ALPHA_M, ALPHA_F, BETA, GAMMA, DENSE = 11, 12, 13, 14, 15
+FRESH, NEXT_H = 16, 17  # in: the matrix is new for the next step; out: that step's h
+REFACTORED = 18  # out: the iteration matrices factored in the call
+RESTARTED = 19  # out: consistent accelerations taken at a new step size (H_USED is that h)
+CTRL_SIZE = 20
+# the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
+# the rules of mechlib.solvers.genalpha.rules, as the Python stepper does
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
 STEPS, REJECTED, ITERATIONS, ROW_JACOBIANS, ROW_FACTORS = 0, 1, 2, 3, 4
-
-
-@njit(**KERNEL)
-def substep(interval, h):
-    """The size (s) of equal sub-steps of at most h (s) landing on an output time
-    `interval` s ahead (`output: steps`)."""
-    n = max(1, math.ceil(interval / h * (1.0 - 1e-9)))
-    return interval / n
-
-
-@njit(**KERNEL)
-def towards(interval, h):
-    """A dense step of h (s) towards a time `interval` s ahead: h itself while it leaves
-    more than h, so that the steps do not depend on how far the end is; then the rest in
-    one step, or in two equal ones when one would be longer than h."""
-    if interval <= h * (1.0 + 1e-9):
-        return interval
-    return 0.5 * interval if interval < 2.0 * h else h
 
 
 @njit(**KERNEL)
@@ -120,10 +103,8 @@ def run_steps(
     new_refs, new_block = refs_all.copy(), refs.copy()
     true = np.empty(3 * nq + m)
     ends = np.empty((6, nq))
-    params = np.empty(10)
-    params[2], params[3], params[4] = ctrl[TOL], ctrl[ROUNDOFF], ctrl[KAPPA]
-    params[5], params[6], params[7] = ctrl[STAGNANT], ctrl[NOISE], ctrl[MAX_ITER]
-    params[8], params[9] = ctrl[ALPHA_M], ctrl[ALPHA_F]
+    params = np.empty(5)
+    params[2], params[3], params[4] = ctrl[TOL], ctrl[ALPHA_M], ctrl[ALPHA_F]
     kind, prow, pcol, place, brow, bcol = layout
     values = np.empty(prow.shape[0])
     spare_i, spare_f = fi[:0].copy(), ff[:0].copy()  # the consistent accelerations' factors
@@ -156,7 +137,7 @@ def run_steps(
             return 0, i, written
         if counts[STEPS] + counts[REJECTED] >= ctrl[MAX_STEPS]:
             return STOPPED, i, written
-        h_try = towards(target - t, ctrl[H]) if dense else substep(target - t, ctrl[H])
+        h_try = rules.towards(target - t, ctrl[H]) if dense else rules.substep(target - t, ctrl[H])
         if ctrl[H_USED] != 0.0 and abs(h_try / ctrl[H_USED] - 1.0) > 1e-9:
             # consistent accelerations at the new step size (GeneralizedAlphaStepper._attempt)
             if kind < 0:
@@ -183,7 +164,7 @@ def run_steps(
                 return (STOPPED if written == 0 else 0), i, written
         am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
         q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h_try, am, beta, gamma)
-        if not fresh and (ctrl[STALE] != 0.0 or abs(h_try / ctrl[LU_H] - 1.0) > 0.25):
+        if not fresh and (ctrl[STALE] != 0.0 or rules.refactors(h_try, ctrl[LU_H])):
             # [[M, phi_q^T], [phi_q, 0]] at the predicted state (Integrator._iteration_matrix)
             x, _ = ca.state_arrays(q1, q1, nb)
             if fi[0] == kind:
@@ -243,12 +224,10 @@ def run_steps(
         counts[ITERATIONS] += done
         counts[ROW_JACOBIANS] += fresh_rows
         counts[ROW_FACTORS] += fresh_rows + due
-        ctrl[ETA] = max(eta, ctrl[ETA_MIN]) ** 0.8
-        if it > ctrl[SLOW]:
+        ctrl[ETA] = rules.carried_rate(eta)
+        if rules.slow(it):
             ctrl[STALE] = 1.0
-        grow = ctrl[GROW] if err == 0.0 else min(ctrl[GROW], ctrl[SAFETY] * err ** (-1.0 / 3.0))
-        if grow > ctrl[REGROW]:
-            ctrl[H] = min(ctrl[MAX_STEP], h_try * grow)
+        ctrl[H] = rules.grown_step(h_try, err, ctrl[H], ctrl[MAX_STEP])
         ctrl[H_USED] = h_try
         ctrl[T] = t_new
         own[0], own[1], own[2] = q1, qd1, qdd1
@@ -304,9 +283,8 @@ class StepRun:
 
     CHUNK = 256  # rows per call: the progress bar and interrupts are served between calls
 
-    def __init__(self, stepper, settings: dict[int, float]):
+    def __init__(self, stepper):
         self.stepper = stepper
-        self.settings = settings  # the stepper's and the integrator's constants, by slot
         system = stepper.system
         # system._angles' order: the angle measures in the order of system.measures
         self.angle_keys = [k for k, m in system.measures.items() if isinstance(m, AngleMeasure)]
@@ -379,7 +357,7 @@ class StepRun:
         stepper = self.stepper
         stepper.integ.drop()
         stepper.h_used = h
-        stepper._shrink(s, 0.25 * h)
+        stepper._shrink(s, rules.FAILED_SHRINK * h)
 
     def _call(self, s, outputs: np.ndarray, i: int, trajectory, progress, fresh: bool) -> tuple:
         """One `run_steps` call from s (`fresh`: the matrix was factored for its first
@@ -394,8 +372,6 @@ class StepRun:
         cons = np.stack([s.qd, s.qdd])
         cons_lam = np.array(s.lam, dtype=float)
         ctrl = np.empty(CTRL_SIZE)
-        for slot, value in self.settings.items():
-            ctrl[slot] = value
         ctrl[[T, H, H_USED, LU_H, ETA, STALE, FRESH]] = (
             s.t,
             stepper.h,

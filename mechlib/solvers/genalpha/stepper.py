@@ -2,10 +2,11 @@
 estimate, stick/slip location of joint friction, restarts, and the step-collapse watch
 around `mechlib.solvers.genalpha.integrator.Integrator`.
 
-The step size changes only when the error estimate asks for it (shrink, or growth by more
-than _REGROW); at each change the pseudo-acceleration restarts from the consistent
-acceleration, because generalized-alpha's `a` is tied to the step it was made with.
-Outputs carry consistent velocities, accelerations and reactions.
+The step size is chosen by mechlib.solvers.genalpha.rules: it changes only when the error
+estimate asks for it (shrink, or growth by more than rules.REGROW); at each change the
+pseudo-acceleration restarts from the consistent acceleration, because generalized-alpha's
+`a` is tied to the step it was made with. Outputs carry consistent velocities, accelerations
+and reactions.
 """
 
 from __future__ import annotations
@@ -20,31 +21,15 @@ from mechlib.model.analysis import Dynamic
 from mechlib.solvers.consistent import consistent_accelerations, consistent_state
 from mechlib.solvers.contract import DenseStepper, State, StepResult, StepUnresolved
 from mechlib.solvers.dense import HermiteRows, first_step, largest_step
-from mechlib.solvers.genalpha import run as run
-from mechlib.solvers.genalpha.integrator import (
-    ETA_MIN,
-    MAX_ITER,
-    NEWTON_KAPPA,
-    NOISE_POSITION,
-    SLOW_ITERATIONS,
-    STAGNANT,
-    Integrator,
-)
-from mechlib.solvers.genalpha.kernels import ROUNDOFF, Scales
-from mechlib.solvers.genalpha.run import StepRun, substep, towards
+from mechlib.solvers.genalpha import rules
+from mechlib.solvers.genalpha.integrator import Integrator
+from mechlib.solvers.genalpha.kernels import Scales
+from mechlib.solvers.genalpha.run import StepRun
 from mechlib.solvers.runaway import StepCollapse, element_loads, fell_to, stall, step_floor
 from mechlib.solvers.stick import slip_stop, switch_sticking
 from mechlib.system.system import System
 
 __all__ = ["GeneralizedAlphaStepper"]
-
-_SAFETY = 0.9
-_GROW, _SHRINK = 4.0, 0.2
-_REGROW = 1.5
-# first step, as a fraction of the analysis span: small, because the start acceleration may
-# be one the motion leaves at once (joint friction at rest carries nothing until the joint
-# slips); the step grows x4 per accepted step, so this costs about five steps
-_FIRST_STEP = 1e-6
 
 
 @dataclass(kw_only=True)
@@ -85,14 +70,16 @@ class GeneralizedAlphaStepper(DenseStepper):
             self.max_step = min(spec.max_step or spec.step, spec.step)
             span = spec.end - spec.start
             self.h = (
-                self.max_step if spec.fixed_step else min(self.max_step, _FIRST_STEP * span or 1e-3)
+                self.max_step
+                if spec.fixed_step
+                else min(self.max_step, rules.FIRST_STEP * span or 1e-3)
             )
         # joint frictions that can stick: without any, no slip stops to look for
         self.sticking = any(getattr(e, "can_stick", False) for e in system.elements)
         self.h_min = step_floor(spec.end)
         self.h_used = 0.0
         self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
-        self.run = StepRun(self, _run_settings()) if StepRun.eligible(self) else None
+        self.run = StepRun(self) if StepRun.eligible(self) else None
 
     def init(self, t: float, q0: np.ndarray, qd0: np.ndarray) -> State:
         self.integ.scales = Scales(self.system, q0, self.spec.tolerance)
@@ -123,7 +110,8 @@ class GeneralizedAlphaStepper(DenseStepper):
         """One step towards t_out and its error; None when rejected (the step size is then
         reduced)."""
         spec = self.spec
-        h_try = towards(t_out - s.t, self.h) if self.dense else substep(t_out - s.t, self.h)
+        gap = t_out - s.t
+        h_try = rules.towards(gap, self.h) if self.dense else rules.substep(gap, self.h)
         if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
             qdd, lam = consistent_accelerations(self.system, s.q, s.raw_qd, s.t)
             s.raw_qdd, s.a, s.raw_lam = qdd, qdd.copy(), lam
@@ -141,14 +129,13 @@ class GeneralizedAlphaStepper(DenseStepper):
             self.system.states.reject()
             if spec.fixed_step:
                 raise _newton_failure(self.system, s.t, h_try)
+            failed = new is None
             self._shrink(
-                s, h_try * (0.25 if new is None else max(_SHRINK, _SAFETY * err ** (-1 / 3)))
+                s, rules.FAILED_SHRINK * h_try if failed else rules.shrunk_step(h_try, err)
             )
             return None, err
         if not spec.fixed_step:
-            grow = _GROW if err == 0.0 else min(_GROW, _SAFETY * err ** (-1 / 3))
-            if grow > _REGROW:
-                self.h = min(self.max_step, h_try * grow)
+            self.h = rules.grown_step(h_try, err, self.h, self.max_step)
         return _state(s.t + h_try, new), err
 
     def _shrink(self, s: State, h: float) -> None:
@@ -239,24 +226,7 @@ class GeneralizedAlphaStepper(DenseStepper):
             raise _newton_failure(
                 self.system, state.t, failure.t - state.t, f"locating event {events()}"
             )
-        self._shrink(state, 0.25 * (new.t - state.t))
-
-
-def _run_settings() -> dict[int, float]:
-    """The constants of this stepper and its integrator, by slot of `run_steps`' control
-    array (mechlib.solvers.genalpha.run)."""
-    return {
-        run.KAPPA: NEWTON_KAPPA,
-        run.STAGNANT: STAGNANT,
-        run.NOISE: NOISE_POSITION,
-        run.MAX_ITER: MAX_ITER,
-        run.SLOW: SLOW_ITERATIONS,
-        run.ETA_MIN: ETA_MIN,
-        run.SAFETY: _SAFETY,
-        run.GROW: _GROW,
-        run.REGROW: _REGROW,
-        run.ROUNDOFF: ROUNDOFF,
-    }
+        self._shrink(state, rules.FAILED_SHRINK * (new.t - state.t))
 
 
 def _newton_failure(system: System, t: float, h: float, doing: str = "") -> SolverFailure:

@@ -1,0 +1,153 @@
+"""Generalized-alpha's rules, defined once: how the step size is chosen, when Newton has
+converged or stalled, how its rate is carried to the next step, and when the iteration
+matrix is factored again.
+
+The Python stepper (mechlib.solvers.genalpha.stepper, .integrator) and the compiled kernels
+(mechlib.solvers.genalpha.compiled: the Newton loop; .run: whole runs of steps) call these
+same functions; numba compiles the constants below into the kernels that call them, so a
+change here changes every path alike.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mechlib.core.jit import KERNEL, njit
+
+__all__ = [
+    "ETA_MIN",
+    "FAILED_SHRINK",
+    "FIRST_STEP",
+    "MAX_ITER",
+    "NEWTON_KAPPA",
+    "NOISE_POSITION",
+    "ROUNDOFF",
+    "SLOW_ITERATIONS",
+    "STAGNANT",
+    "carried_rate",
+    "converged",
+    "grown_step",
+    "is_noise",
+    "newton_rate",
+    "refactors",
+    "shrunk_step",
+    "slow",
+    "stalled",
+    "substep",
+    "towards",
+]
+
+# ---- Newton ------------------------------------------------------------------------------
+MAX_ITER = 8  # iterations with one iteration matrix before it is refreshed (or the step fails)
+NEWTON_KAPPA = 0.05  # Newton's error estimate eta |dq| against this fraction of the tolerance
+NEWTON_FLOOR = 1e-10  # an increment this small (x the weights) has converged whatever eta says
+DIVERGING = 0.9  # increments shrinking by less than this per iteration: stalled
+STAGNANT = 0.5  # increment ratio of an iteration that no longer converges
+NOISE_POSITION = 1e-3  # position increment (x the position tolerance) that is round-off
+ETA_MIN = 1e-3  # the smallest Newton rate carried to the next step
+RATE_MEMORY = 0.8  # the rate carried to the next step: max(eta, ETA_MIN) ** RATE_MEMORY
+SLOW_ITERATIONS = 3  # more iterations than this: a fresh iteration matrix for the next step
+ROUNDOFF = 1e3 * np.finfo(float).eps  # relative round-off floor of a Newton increment
+
+# ---- iteration matrix --------------------------------------------------------------------
+REFACTOR_CHANGE = 0.25  # a step size this far (relative) from the factored one refactors
+
+# ---- step size ---------------------------------------------------------------------------
+SAFETY = 0.9  # the error estimate's exponent law, aimed this much below the tolerance
+GROW, SHRINK = 4.0, 0.2  # the most a step grows after acceptance, shrinks after rejection
+REGROW = 1.5  # the step size changes only when it would grow by more than this
+FAILED_SHRINK = 0.25  # a step Newton could not take: the next is a quarter as long
+# first step, as a fraction of the analysis span: small, because the start acceleration may
+# be one the motion leaves at once (joint friction at rest carries nothing until the joint
+# slips); the step grows x4 per accepted step, so this costs about five steps
+FIRST_STEP = 1e-6
+
+
+@njit(**KERNEL)
+def grown_step(h_try: float, err: float, h: float, max_step: float) -> float:
+    """The step size (s) after a step h_try (s) accepted with scaled local error err <= 1:
+    h_try x min(GROW, SAFETY err^(-1/3)) up to max_step when that grows it by more than
+    REGROW, else h unchanged (a change restarts the pseudo-acceleration: not for less)."""
+    grow = GROW if err == 0.0 else min(GROW, SAFETY * err ** (-1.0 / 3.0))
+    if grow > REGROW:
+        return min(max_step, h_try * grow)
+    return h
+
+
+@njit(**KERNEL)
+def shrunk_step(h_try: float, err: float) -> float:
+    """The step size (s) after a step h_try (s) rejected by its error test (err > 1)."""
+    return h_try * max(SHRINK, SAFETY * err ** (-1.0 / 3.0))
+
+
+@njit(**KERNEL)
+def substep(interval: float, h: float) -> float:
+    """The size (s) of equal sub-steps of at most h (s) landing on an output time
+    `interval` s ahead (`output: steps`)."""
+    n = max(1, math.ceil(interval / h * (1.0 - 1e-9)))
+    return interval / n
+
+
+@njit(**KERNEL)
+def towards(interval: float, h: float) -> float:
+    """A dense step of h (s) towards a time `interval` s ahead: h itself while it leaves
+    more than h, so that the steps do not depend on how far the end is; then the rest in
+    one step, or in two equal ones when one would be longer than h."""
+    if interval <= h * (1.0 + 1e-9):
+        return interval
+    return 0.5 * interval if interval < 2.0 * h else h
+
+
+@njit(**KERNEL)
+def newton_rate(size: float, prev: float, eta: float) -> float:
+    """Newton's rate estimate eta = theta / (1 - theta), theta = size / prev, after an
+    increment of `size` following one of `prev` (inf: the first; eta is kept)."""
+    if prev < math.inf:
+        theta = size / prev
+        return theta / (1.0 - theta) if theta < 1.0 else math.inf
+    return eta
+
+
+@njit(**KERNEL)
+def is_noise(size: float, prev: float, position_size: float) -> bool:
+    """Newton has reached its round-off floor: the increments stopped shrinking (ratio
+    above STAGNANT) while far below the position tolerance (`position_size`: the increment
+    against the position weights alone). Near a singular position (the horizontal crossing
+    of a chain of parallelogram four-bars) the iteration matrix amplifies round-off in q by
+    1/sigma_min, and x beta' that noise reads as a large acceleration increment no smaller
+    step removes."""
+    return prev < math.inf and size > STAGNANT * prev and position_size <= NOISE_POSITION
+
+
+@njit(**KERNEL)
+def converged(eta: float, size: float, noise: bool) -> bool:
+    """Newton's error estimate eta |dq| within NEWTON_KAPPA of the local error tolerance
+    (Hairer & Wanner, Solving ODEs II, IV.8; positions only, as the error test), or an
+    increment at round-off."""
+    return (eta * size <= NEWTON_KAPPA and size < 1.0) or size < NEWTON_FLOOR or noise
+
+
+@njit(**KERNEL)
+def stalled(size: float, prev: float, it: int) -> bool:
+    """The increments stopped shrinking fast enough, or the iterations ran out."""
+    return (prev < math.inf and size > DIVERGING * prev) or it >= MAX_ITER
+
+
+@njit(**KERNEL)
+def carried_rate(eta: float) -> float:
+    """The rate estimate a converged step hands to the next."""
+    return max(eta, ETA_MIN) ** RATE_MEMORY
+
+
+@njit(**KERNEL)
+def slow(iterations: int) -> bool:
+    """A step converged slowly: the next factors a fresh iteration matrix."""
+    return iterations > SLOW_ITERATIONS
+
+
+@njit(**KERNEL)
+def refactors(h: float, lu_h: float) -> bool:
+    """A step h (s) needs the iteration matrix factored again: it was factored for lu_h."""
+    return abs(h / lu_h - 1.0) > REFACTOR_CHANGE
