@@ -49,9 +49,9 @@ ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "benchmarks" / "models" / "slider_crank.case.yaml"
 PARAMETER = "crank_rate"
 NOMINAL_RATE = 2.0 * math.pi  # rad/s, the bench model's initial crank rate
-EXUDYN_STEP = 1e-3  # s: Exudyn's step at the suite's 1e-4 accuracy target (README)
+EXUDYN_STEP = 1e-3  # s: Exudyn's step at the suite's 1e-4 accuracy target (benchmarks/README.md)
 SAMPLE_RUNS = 3  # runs timed stage by stage in this process
-# the loads setting the suite's calibration found at Exudyn's 1e-4 of range (README, Speed)
+# the loads setting the suite's calibration found at Exudyn's 1e-4 of range (results/suite.json)
 EQUAL_SETTING = "tolerance: 1.0e-04\n  output: steps\n"
 
 
