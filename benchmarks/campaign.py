@@ -18,7 +18,7 @@ a local Dask cluster of J workers (`loads run SET --scheduler local --jobs J`).
 `--accuracy-off` runs the case without its error estimate (`analysis.accuracy: off`: no
 companion run), as Exudyn runs. `--equal-accuracy` runs it as the suite's calibration
 found it meets Exudyn's 1e-4 of range (`tolerance: 1e-4`, `output: steps`, accuracy off:
-errors 9.7e-5 and 9.4e-5 in results-2026-11-28-v0.10.0-quiet.json): the solvers compared
+errors 9.7e-5 and 9.4e-5 in benchmarks/results/suite.json): the solvers compared
 at equal accuracy, each run still written as a user gets it.
 
 `--rounds N` runs both codes N times, the first to go alternating, and prints the median
@@ -49,9 +49,9 @@ ROOT = Path(__file__).resolve().parents[1]
 CASE = ROOT / "benchmarks" / "models" / "slider_crank.case.yaml"
 PARAMETER = "crank_rate"
 NOMINAL_RATE = 2.0 * math.pi  # rad/s, the bench model's initial crank rate
-EXUDYN_STEP = 1e-3  # s: Exudyn's step at the suite's 1e-4 accuracy target (README)
+EXUDYN_STEP = 1e-3  # s: Exudyn's step at the suite's 1e-4 accuracy target (benchmarks/README.md)
 SAMPLE_RUNS = 3  # runs timed stage by stage in this process
-# the loads setting the suite's calibration found at Exudyn's 1e-4 of range (README, Speed)
+# the loads setting the suite's calibration found at Exudyn's 1e-4 of range (results/suite.json)
 EQUAL_SETTING = "tolerance: 1.0e-04\n  output: steps\n"
 
 

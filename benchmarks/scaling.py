@@ -12,7 +12,9 @@ first short run per code compiles the kernels (not timed).
 
 Writes a log-log PNG (time per step and per simulated second against N, both codes; the
 solve's process CPU time, the measure on a shared machine, solid, and its wall time dashed)
-and a JSON of the figures with the machine, the date and the load average.
+and a JSON of the figures with the machine, the date and the load average, by default
+`benchmarks/results/scaling.png` and `benchmarks/results/scaling.json` (the latest figures;
+earlier ones are in the git history).
 
     python -m benchmarks.scaling [--links 5,10,20,50,100] [--end 0.5] [--repeat 2]
                                  [--png FILE] [--json FILE]
@@ -155,8 +157,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=2, help="timed runs, fastest kept")
     parser.add_argument("--no-accuracy", dest="accuracy", action="store_false")
     date = datetime.now(UTC).date().isoformat()
-    parser.add_argument("--png", type=Path, default=HERE / f"scaling-{date}.png")
-    parser.add_argument("--json", type=Path, default=HERE / f"results-scaling-{date}.json")
+    # the latest figures of the study, one stable name each (earlier ones: git history)
+    parser.add_argument("--png", type=Path, default=HERE / "results" / "scaling.png")
+    parser.add_argument("--json", type=Path, default=HERE / "results" / "scaling.json")
     args = parser.parse_args(argv)
     links = [int(n) for n in args.links.split(",") if n.strip()]
     exudyn_run(chain(2), args.step, 0.01), loads_run(chain(2), args.tolerance, 0.01)  # compile
@@ -184,6 +187,8 @@ def main(argv: list[str] | None = None) -> int:
         f"chain of N links, {args.end:g} s: Exudyn h = {args.step:g} s, loads tolerance "
         f"{args.tolerance:g}; load average {load_before[0]:.1f} -> {load_after[0]:.1f}, {date}"
     )
+    args.png.parent.mkdir(parents=True, exist_ok=True)
+    args.json.parent.mkdir(parents=True, exist_ok=True)
     plot(rows, args.png, title)
     payload = {
         "machine": machine_info(),

@@ -1,4 +1,4 @@
-"""Documented limits of the input (README "Input rules"): beyond them `loads` stops with
+"""Documented limits of the input (docs/user-guide.md "Input rules"): beyond them `loads` stops with
 an input error (exit 2) instead of hanging or running out of memory."""
 
 from __future__ import annotations

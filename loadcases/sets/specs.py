@@ -1,6 +1,6 @@
 """Compile a load-case set (`*.set.yaml`, SPEC 1.4) into frozen run specifications.
 
-Rules (also in README "Load-case sets"):
+Rules (also in docs/user-guide.md "Load-case sets: runs, envelope and workbook"):
 - The runs of one case file are the combinations of the set's `sweep:` lists (cartesian
   product, first listed parameter varying slowest) times the rows of its `zip:` lists
   (varied together), restricted to the parameters the case uses: those named in an
