@@ -73,6 +73,11 @@ class Dynamic(_Timed):
     up to `max_step` or the mechanism's natural time), the rows between them come from
     dense output (mechlib.solvers.dense). A case's dynamic analysis is dense unless it says
     `output: steps` (loadcases.build); this dataclass's own default stays False.
+    `compiled`: the compiled paths generalized-alpha may take where the model allows them,
+    all with the same steps and results to round-off (tests/mechlib/test_genalpha_run.py):
+    `runs` (whole runs of steps in one compiled call, mechlib.solvers.genalpha.run), `steps`
+    (every step from Python, its Newton loop and dense rows compiled) or `python` (none:
+    the reference the compiled paths are tested against).
     """
 
     tolerance: float = DEFAULT_TOLERANCE
@@ -81,7 +86,15 @@ class Dynamic(_Timed):
     rho_inf: float = 0.9
     fixed_step: bool = False
     dense: bool = False
+    compiled: str = "runs"
     name = "dynamic"
+
+    def __post_init__(self) -> None:
+        if self.compiled not in COMPILED_PATHS:
+            raise ValueError(f"Dynamic.compiled is one of {COMPILED_PATHS}, not {self.compiled!r}")
+
+
+COMPILED_PATHS = ("runs", "steps", "python")
 
 
 @dataclass(frozen=True)

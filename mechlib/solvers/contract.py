@@ -105,6 +105,20 @@ class Stepper(ABC):
     def restart(self, state: State) -> State:
         """The state to go on from after an event changed the model at `state`."""
 
+    def run_compiled(
+        self,
+        state: State,
+        outputs: np.ndarray,
+        i: int,
+        trajectory: Trajectory,
+        progress: Callable[[float, float], None] | None,
+    ) -> tuple[State, int]:
+        """Steps taken in compiled calls from `state` towards the output times outputs[i:]
+        (with `dense`, towards the end), their rows recorded in `trajectory`: (the state
+        reached, accepted and settled; the index of the next output time). `march` calls it
+        while no event is armed and steps in Python from where it stops. By default none."""
+        return state, i
+
     def accept(self, state: State) -> State:
         """Settle a step's state; a stepper that switches the model there (joint friction
         sticking) returns the state it restarts from."""

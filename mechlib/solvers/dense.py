@@ -72,10 +72,11 @@ def hermite(t0: float, t1: float, a: tuple, b: tuple, t: float) -> tuple:
 class HermiteRows:
     """Rows within generalized-alpha's accepted steps: the quintic Hermite interpolant of
     both ends' (q, qd, qdd), projected (`projected_row`); a row at a step's end takes the
-    end's own (q, qd). The ends are stacked once per step for the compiled rows."""
+    end's own (q, qd). The ends are stacked once per step for the compiled rows (`compiled`
+    False: every row projected in Python)."""
 
-    def __init__(self, system: System):
-        self.system = system
+    def __init__(self, system: System, compiled: bool = True):
+        self.system, self.compiled = system, compiled
         self._step: tuple[State, State, np.ndarray] | None = None
 
     def row(self, start: State, end: State, t: float, states) -> State:
@@ -85,7 +86,7 @@ class HermiteRows:
         if step is None or step[0] is not start or step[1] is not end:
             ends = np.stack((start.q, start.qd, start.qdd, end.q, end.qd, end.qdd))
             step = self._step = (start, end, ends)
-        return _projected(self.system, t, step[2], end.t - start.t, s, states)
+        return _projected(self.system, t, step[2], end.t - start.t, s, states, self.compiled)
 
 
 def projected_row(system: System, t: float, q, qd, states: np.ndarray | None) -> State:
@@ -98,12 +99,15 @@ def projected_row(system: System, t: float, q, qd, states: np.ndarray | None) ->
     return _projected(system, t, ends, 1.0, 1.0, states)
 
 
-def _projected(system: System, t: float, ends: np.ndarray, h: float, s: float, states) -> State:
-    """`projected_row` of the interpolant of `ends` at the fraction s of the step h (s)."""
+def _projected(
+    system: System, t: float, ends: np.ndarray, h: float, s: float, states, compiled: bool = True
+) -> State:
+    """`projected_row` of the interpolant of `ends` at the fraction s of the step h (s), in
+    one compiled call where `compiled` and the system allow it."""
     snapshot = system.snapshot()
-    compiled = None if states is not None else _compiled_row(system, t, ends, h, s)
-    if compiled is not None:
-        q, qd, qdd, lam = compiled
+    row = None if states is not None or not compiled else _compiled_row(system, t, ends, h, s)
+    if row is not None:
+        q, qd, qdd, lam = row
         return State(t, q, qd, qdd, lam, snapshot=snapshot)
     q, qd = interpolated(ends, h, s)
     kept = system.states.trial

@@ -26,10 +26,10 @@ from typing import Literal
 
 from mechlib.core.outcome import SolverFailure, SolverStats, Status
 from mechlib.model.analysis import Trajectory, output_times
-from mechlib.solvers.contract import DenseStepper, State, Stepper, StepUnresolved
+from mechlib.solvers.contract import DenseStepper, State, Stepper, StepResult, StepUnresolved
 from mechlib.solvers.events import EventMonitor, fire, first_events
 
-__all__ = ["check_step_limit", "march"]
+__all__ = ["accepted", "check_step_limit", "march"]
 
 
 def march(
@@ -54,17 +54,16 @@ def march(
     if isinstance(stepper, DenseStepper) and stepper.dense:
         return _march_dense(stepper, s, trajectory, monitor, progress, event_log)
     outputs = output_times(spec.start, spec.end, spec.step)[1:]
-    run = getattr(stepper, "run", None)  # steps in one compiled call (mechlib.solvers.genalpha.run)
     i = 0
     while i < len(outputs):
-        if run is not None and not monitor.armed:
-            s, i = run.run(s, outputs, i, trajectory, progress)
+        if not monitor.armed:  # steps in compiled calls, where the stepper has them
+            s, i = stepper.run_compiled(s, outputs, i, trajectory, progress)
             if i == len(outputs):
                 break
         t_out = outputs[i]
         if t_out - s.t > 1e-12 * max(1.0, abs(t_out)):  # one step in Python
             check_step_limit(spec, stats, s.t)
-            new = stepper.step(s, t_out).state
+            new = accepted(stepper.step(s, t_out), s.t)
             if new is None:
                 continue
             after = (
@@ -97,15 +96,14 @@ def _march_dense(
     within each accepted step (and before an event, within its step)."""
     spec, system = stepper.spec, stepper.system
     rows = _Rows(stepper, trajectory, output_times(spec.start, spec.end, spec.step)[1:], progress)
-    run = getattr(stepper, "run", None)  # steps in one compiled call (mechlib.solvers.genalpha.run)
     while spec.end - s.t > 1e-12 * max(1.0, abs(spec.end)):
-        if run is not None and not monitor.armed:
-            s, rows.next = run.run(s, rows.times, rows.next, trajectory, progress)
+        if not monitor.armed:  # steps in compiled calls, where the stepper has them
+            s, rows.next = stepper.run_compiled(s, rows.times, rows.next, trajectory, progress)
             if spec.end - s.t <= 1e-12 * max(1.0, abs(spec.end)):
                 break
         check_step_limit(spec, stepper.stats, s.t)
         z0 = system.states.z.copy() if system.states else None
-        new = stepper.step(s, spec.end).state
+        new = accepted(stepper.step(s, spec.end), s.t)
         if new is None:
             continue
         after = None
@@ -207,6 +205,27 @@ def _events(
     at = stepper.restart(at)
     monitor.arm(at.t, stepper.view(at))
     return at
+
+
+def accepted(result: StepResult, t: float) -> State | None:
+    """The state of a step to go on from, by its status and error estimate: None for a
+    rejected step (the stepper retries shorter); a status that is neither ends the run
+    (SolverFailure with that status, from time t, s). A step reported successful with an
+    error estimate above 1 breaks the contract: the stepper's error control is wrong."""
+    if result.status is Status.STEP_REJECTED:
+        return None
+    if result.status is not Status.SUCCESSFUL or result.state is None:
+        raise SolverFailure(
+            f"step from t = {t:.6g} s: {result.status.message}", time=t, status=result.status
+        )
+    if result.error is not None and not result.error <= 1.0:
+        raise SolverFailure(
+            f"step from t = {t:.6g} s accepted with a local error estimate of {result.error:.3g} "
+            "(above 1): the integrator's step-size control is at fault",
+            time=t,
+            status=Status.INTEGRATOR_FAILED,
+        )
+    return result.state
 
 
 def check_step_limit(spec, stats: SolverStats, t: float) -> None:

@@ -80,7 +80,8 @@ class Integrator:
         # the compiled Newton loop (mechlib.solvers.genalpha.compiled) serves steps with no active
         # element: nothing of theirs to evaluate in Python between two iterations (the
         # kernels are compiled by now: the model checks before solving called them)
-        self.arrays = None if system.states else system.packed_constraints()
+        python = system.states or spec.compiled == "python"
+        self.arrays = None if python else system.packed_constraints()
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
 
     def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):

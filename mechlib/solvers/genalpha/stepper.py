@@ -62,7 +62,7 @@ class GeneralizedAlphaStepper(DenseStepper):
     def __init__(self, system: System, spec: Dynamic, stats: SolverStats):
         super().__init__(system, spec, stats)
         self.integ = Integrator(system, spec, stats)
-        self.rows = HermiteRows(system)
+        self.rows = HermiteRows(system, compiled=spec.compiled != "python")
         self.dense = spec.dense and not spec.fixed_step
         if self.dense:  # steps from the problem's scales, not the output interval's
             self.max_step, self.h = largest_step(system, spec), first_step(system, spec)
@@ -79,7 +79,16 @@ class GeneralizedAlphaStepper(DenseStepper):
         self.h_min = step_floor(spec.end)
         self.h_used = 0.0
         self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
-        self.run = StepRun(self) if StepRun.eligible(self) else None
+        runs = spec.compiled == "runs" and StepRun.eligible(self)
+        self.whole_run = StepRun(self) if runs else None
+
+    def run_compiled(self, state: State, outputs: np.ndarray, i: int, trajectory, progress):
+        """The steps and rows `run_steps` takes in compiled calls from `state` towards
+        outputs[i:] (mechlib.solvers.genalpha.run), where the analysis and the system allow
+        them now."""
+        if self.whole_run is None:
+            return state, i
+        return self.whole_run.run(_alpha(state), outputs, i, trajectory, progress)
 
     def init(self, t: float, q0: np.ndarray, qd0: np.ndarray) -> State:
         self.integ.scales = Scales(self.system, q0, self.spec.tolerance)

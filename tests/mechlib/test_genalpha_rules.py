@@ -1,0 +1,82 @@
+"""Generalized-alpha's rules (mechlib.solvers.genalpha.rules), the one definition that the
+Python stepper and the compiled kernels share, against their formulas worked by hand, and
+the march's reading of a step's status and error (mechlib.solvers.march.accepted)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import mechlib
+from mechlib.core.outcome import SolverFailure, Status
+from mechlib.solvers.contract import State, StepResult
+from mechlib.solvers.genalpha import rules
+from mechlib.solvers.march import accepted
+
+
+def test_step_grows_by_the_error_law_and_only_past_regrow() -> None:
+    # err = 1/8: 0.9 * 8^(1/3) = 1.8 > 1.5 -> h_try * 1.8
+    assert rules.grown_step(0.01, 0.125, 0.01, 1.0) == pytest.approx(0.018, rel=1e-15)
+    # err = 0.5: 0.9 * 2^(1/3) = 1.134 < 1.5 -> the step size stays
+    assert rules.grown_step(0.01, 0.5, 0.007, 1.0) == 0.007
+    # err = 0: x4, capped by the largest step
+    assert rules.grown_step(0.01, 0.0, 0.01, 1.0) == pytest.approx(0.04)
+    assert rules.grown_step(0.01, 0.0, 0.01, 0.03) == 0.03
+
+
+def test_step_shrinks_by_the_error_law_down_to_a_fifth() -> None:
+    # err = 8: 0.9 / 2 = 0.45
+    assert rules.shrunk_step(0.01, 8.0) == pytest.approx(0.0045, rel=1e-15)
+    # err = 1e6: 0.9 / 100 = 0.009 < 0.2 -> a fifth
+    assert rules.shrunk_step(0.01, 1e6) == pytest.approx(0.002, rel=1e-15)
+
+
+def test_substeps_land_on_the_output_time() -> None:
+    assert rules.substep(0.01, 0.004) == pytest.approx(0.01 / 3)
+    assert rules.substep(0.01, 0.01) == 0.01  # one step, not two, at round-off
+    assert rules.towards(1.0, 0.3) == 0.3  # dense: h while it leaves more than h
+    assert rules.towards(0.5, 0.3) == 0.25  # then two equal steps
+    assert rules.towards(0.2, 0.3) == 0.2
+
+
+def test_newton_rate_convergence_and_stall() -> None:
+    assert rules.newton_rate(0.1, math.inf, 1.0) == 1.0  # first increment: kept
+    assert rules.newton_rate(0.1, 0.4, 1.0) == pytest.approx(0.25 / 0.75)
+    assert rules.newton_rate(0.5, 0.4, 1.0) == math.inf
+    assert rules.converged(0.1, 0.4, False)  # 0.04 <= 0.05
+    assert not rules.converged(0.2, 0.4, False)  # 0.08
+    assert rules.converged(math.inf, 1e-11, False)  # at the floor
+    assert rules.stalled(0.95, 1.0, 2) and not rules.stalled(0.85, 1.0, 2)
+    assert rules.stalled(0.1, 1.0, rules.MAX_ITER)
+    assert rules.carried_rate(1e-6) == pytest.approx(1e-3**0.8)
+    assert rules.slow(4) and not rules.slow(3)
+    assert rules.refactors(0.0126, 0.01) and not rules.refactors(0.0124, 0.01)
+    assert rules.is_noise(0.6, 1.0, 1e-4) and not rules.is_noise(0.4, 1.0, 1e-4)
+
+
+def _state(t: float) -> State:
+    zero = np.zeros(1)
+    return State(t, zero, zero, zero, zero)
+
+
+def test_march_reads_status_and_error() -> None:
+    """A rejected step is retried; a step reported successful with an error above 1, or a
+    failure status, ends the run with a SolverFailure that names it."""
+    assert accepted(StepResult(None, 3.0, Status.STEP_REJECTED), 0.1) is None
+    good = _state(0.2)
+    assert accepted(StepResult(good, 0.7, Status.SUCCESSFUL), 0.1) is good
+    assert accepted(StepResult(good, None, Status.SUCCESSFUL), 0.1) is good
+    with pytest.raises(SolverFailure, match="local error estimate of 2") as bad:
+        accepted(StepResult(good, 2.0, Status.SUCCESSFUL), 0.1)
+    assert bad.value.status is Status.INTEGRATOR_FAILED and bad.value.time == 0.1
+    with pytest.raises(SolverFailure, match="Newton") as failed:
+        accepted(StepResult(None, math.inf, Status.NEWTON_FAILED), 0.3)
+    assert failed.value.status is Status.NEWTON_FAILED
+
+
+def test_the_compiled_path_is_a_setting() -> None:
+    assert mechlib.Dynamic(1.0, 0.01).compiled == "runs"
+    with pytest.raises(ValueError, match="compiled"):
+        mechlib.Dynamic(1.0, 0.01, compiled="fast")
