@@ -10,6 +10,8 @@ keeps the kernels that call them in numba's disk cache. Matrices are column-majo
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from mechlib.core.jit import KERNEL, njit, on_compile
@@ -18,7 +20,10 @@ __all__ = ["gbtrf", "gbtrs", "gecon", "getrf"]
 
 # each routine's number of arguments (all pointers: Fortran passes by reference)
 _ROUTINES = {"dgetrf": 6, "dgecon": 9, "dgbtrf": 8, "dgbtrs": 11}
-_dgetrf = _dgecon = _dgbtrf = _dgbtrs = None  # bound by _bind
+_dgetrf: Any = None  # each bound by _bind
+_dgecon: Any = None
+_dgbtrf: Any = None
+_dgbtrs: Any = None
 _ONE_NORM, _NO_TRANSPOSE = ord("1"), ord("N")
 
 

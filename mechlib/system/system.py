@@ -9,6 +9,8 @@ labelled ``labels[i]`` and belongs to joint or motion ``owners[i]``.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from mechlib.core import jit
@@ -27,6 +29,9 @@ from mechlib.kinematics.view import StateView
 from mechlib.model.curves import Curve
 from mechlib.model.joints import ROTATIONAL, TRANSLATIONAL, expand_joint, joint_frame
 from mechlib.model.mechanism import GROUND, Mechanism
+
+if TYPE_CHECKING:
+    from mechlib.linalg.factor import SaddlePattern
 
 __all__ = ["System"]
 
@@ -60,6 +65,7 @@ class System:
     """The numerical form of a `Mechanism` (see module docstring for the symbols)."""
 
     per_body = 7  # coordinates of a rigid body in q (mechlib.system.planar: 3)
+    _pattern: SaddlePattern | None = None  # the saddle matrix's sparsity, found on first use
 
     @property
     def normalisations(self) -> int:
@@ -529,7 +535,7 @@ class System:
 
     def saddle_pattern(self):
         """Sparsity of [[M, phi_q^T], [phi_q, 0]], from a generic state (found once)."""
-        if getattr(self, "_pattern", None) is None:
+        if self._pattern is None:
             from mechlib.linalg.factor import SaddlePattern
 
             rng = np.random.default_rng(7)

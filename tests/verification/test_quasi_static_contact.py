@@ -16,7 +16,7 @@ from scipy.optimize import brentq
 import mechlib as ml
 from mechlib.elements.contact import Contact, ImpactLaw, SpherePlane
 from tests.mechlib._models import Ramp
-from tests.mechlib.elements.contact._contact_models import RADIUS, G, guided_ball
+from tests.mechlib.contact._contact_models import RADIUS, G, guided_ball
 
 MASS, EXPONENT, DEFLECTION = 1.0, 1.5, 1.0e-4
 """kg, -, m: x* = (m g / k)^(1/e), the penetration of one contact carrying the block."""

@@ -26,7 +26,7 @@ from mechlib.elements.contact import (
     hertz_stiffness,
     spherical_clearance,
 )
-from tests.mechlib.elements.contact._contact_models import G, guided_ball
+from tests.mechlib.contact._contact_models import G, guided_ball
 
 DEFLECTION = 1.0e-4
 """m: the static penetration x* every pad below is given (k = m g / x*^e, m = 1 kg)."""

@@ -194,6 +194,7 @@ class Integrator:
             it += 1
             # acceleration level: a position increment small against the position tolerance
             # is still large for qdd (x 1/(beta h^2)), i.e. for the forces and the energy
+            assert self.scales is not None, "set by the stepper before its first step"
             size = self.scales.newton_size(dq, q1, qdd1, bp)
             eta = rules.newton_rate(size, prev, eta)
             if rules.converged(eta, size, self._noise(size, prev, dq, q1)):

@@ -16,7 +16,7 @@ from mechlib.elements.contact import (
     hertz_stiffness,
     step,
 )
-from tests.mechlib.elements.contact._contact_models import G, guided_ball
+from tests.mechlib.contact._contact_models import G, guided_ball
 
 
 def test_step_function_of_seed_004_eq_3_10() -> None:
