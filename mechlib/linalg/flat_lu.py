@@ -154,42 +154,61 @@ def lu_solve(ints, floats, b):
 @njit(**KERNEL)
 def lu_solve_into(ints, floats, b, x):
     """`lu_solve` written into x (no allocation for dense factors); returns x."""
+    if ints[0] == BAND:
+        _band_solve(ints, floats, b, x)
+    elif ints[0] == DENSE:
+        _dense_solve(ints, floats, b, x)
+    else:
+        _superlu_solve(ints, floats, b, x)
+    return x
+
+
+@njit(**KERNEL)
+def _band_solve(ints, floats, b, x):
+    """R P A P^T = L U (LAPACK's band factors): x[perm] = (L U)^-1 R b[perm]."""
     n = ints[1]
-    if ints[0] == BAND:  # R P A P^T = L U (LAPACK's band factors); x[perm] = (L U)^-1 R b[perm]
-        kl, ku = ints[2], ints[3]
-        size = (2 * kl + ku + 1) * n
-        perm = ints[4 : 4 + n]
-        piv = np.empty(n, dtype=np.int32)
-        y = np.empty(n)
-        for i in range(n):
-            piv[i] = ints[4 + n + i] + 1
-            y[i] = floats[size + i] * b[perm[i]]
-        lapack.gbtrs(floats[:size], n, kl, ku, piv, y)
-        for i in range(n):
-            x[perm[i]] = y[i]
-        return x
-    if ints[0] == DENSE:  # (R A) = P L U: x = U^-1 L^-1 P^T (R b)
-        piv = ints[2 : 2 + n]
-        lu = floats[: n * n]
-        for i in range(n):
-            x[i] = floats[n * n + i] * b[i]
-        for i in range(n):
-            p = piv[i]
-            if p != i:
-                x[i], x[p] = x[p], x[i]
-        for j in range(n):  # unit lower triangle, by columns
-            xj = x[j]
-            if xj != 0.0:
-                for i in range(j + 1, n):
-                    x[i] -= lu[j * n + i] * xj
-        for j in range(n - 1, -1, -1):
-            x[j] /= lu[j * n + j]
-            xj = x[j]
-            if xj != 0.0:
-                for i in range(j):
-                    x[i] -= lu[j * n + i] * xj
-        return x
-    nl, nu = ints[2], ints[3]
+    kl, ku = ints[2], ints[3]
+    size = (2 * kl + ku + 1) * n
+    perm = ints[4 : 4 + n]
+    piv = np.empty(n, dtype=np.int32)
+    y = np.empty(n)
+    for i in range(n):
+        piv[i] = ints[4 + n + i] + 1
+        y[i] = floats[size + i] * b[perm[i]]
+    lapack.gbtrs(floats[:size], n, kl, ku, piv, y)
+    for i in range(n):
+        x[perm[i]] = y[i]
+
+
+@njit(**KERNEL)
+def _dense_solve(ints, floats, b, x):
+    """(R A) = P L U: x = U^-1 L^-1 P^T (R b)."""
+    n = ints[1]
+    piv = ints[2 : 2 + n]
+    lu = floats[: n * n]
+    for i in range(n):
+        x[i] = floats[n * n + i] * b[i]
+    for i in range(n):
+        p = piv[i]
+        if p != i:
+            x[i], x[p] = x[p], x[i]
+    for j in range(n):  # unit lower triangle, by columns
+        xj = x[j]
+        if xj != 0.0:
+            for i in range(j + 1, n):
+                x[i] -= lu[j * n + i] * xj
+    for j in range(n - 1, -1, -1):
+        x[j] /= lu[j * n + j]
+        xj = x[j]
+        if xj != 0.0:
+            for i in range(j):
+                x[i] -= lu[j * n + i] * xj
+
+
+@njit(**KERNEL)
+def _superlu_solve(ints, floats, b, x):
+    """Pr A Pc = L U (SuperLU's, CSC): L U y = Pr b, x = Pc y."""
+    n, nl, nu = ints[1], ints[2], ints[3]
     o = 4
     lp, li = ints[o : o + n + 1], ints[o + n + 1 : o + n + 1 + nl]
     o += n + 1 + nl
@@ -197,7 +216,7 @@ def lu_solve_into(ints, floats, b, x):
     o += n + 1 + nu
     perm_r, perm_c = ints[o : o + n], ints[o + n : o + 2 * n]
     lx, ux = floats[:nl], floats[nl : nl + nu]
-    y = np.empty(n)  # Pr A Pc = L U: L U y = Pr b, x = Pc y
+    y = np.empty(n)
     for i in range(n):
         y[perm_r[i]] = b[i]
     for j in range(n):  # unit lower triangle (CSC)
@@ -217,7 +236,6 @@ def lu_solve_into(ints, floats, b, x):
                     y[ui[k]] -= ux[k] * yj
     for i in range(n):
         x[i] = y[perm_c[i]]
-    return x
 
 
 @njit(**KERNEL)

@@ -285,7 +285,6 @@ def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str,
 
 def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndarray]:
     """Columns `REQUEST.COMPONENT` (SI) at the recorded times, in request order."""
-    per_request: dict[str, dict[str, list[float]]] = {r.name: {} for r in requests}
     loads = {
         r.name: [_gatherer(system, r)]
         for r in requests
@@ -297,16 +296,33 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
     stepwise = [
         r for r in requests if isinstance(r, (JointCoordinate, ElementOutput, ExpressionOutput))
     ]
-    failed: dict[str, SolverFailure] = {}
     gathered = bool(loads) and not stepwise and len(trajectory) > 0
     if gathered and system.packed_constraints() is not None:
         gather_in_batches(system, trajectory, [g for gs in loads.values() for g, _ in gs])
     else:
         gathered = False
-    for i, t in enumerate(trajectory.time if stepwise or (loads and not gathered) else ()):
+    per_request: dict[str, dict[str, list[float]]] = {r.name: {} for r in requests}
+    failed: dict[str, SolverFailure] = {}
+    if stepwise or (loads and not gathered):
+        _row_by_row(system, trajectory, stepwise, {} if gathered else loads, per_request, failed)
+    columns = per_request | _whole_columns(system, trajectory, requests, loads)
+    channels = {
+        f"{name}.{comp}": np.asarray(values, dtype=float)
+        for name, comps in columns.items()  # every request, in request order
+        for comp, values in comps.items()
+    }
+    if failed:
+        raise partial_columns(channels, failed, columns, len(trajectory))
+    return channels
+
+
+def _row_by_row(system: System, trajectory, stepwise, loads, per_request, failed) -> None:
+    """The stepwise requests' values row by row into `per_request` (a request failing at a
+    row stops there: `failed`), and the multipliers of the rows into the `loads` gatherers."""
+    for i, t in enumerate(trajectory.time):
         system.restore_snapshot(trajectory.references[i])  # as the solver had it then
         k = system.kin(trajectory.q[i], trajectory.qd[i], t)
-        if loads and not gathered:
+        if loads:
             jac = system.phi_q(k)
             for gatherers in loads.values():
                 for gatherer, _ in gatherers:
@@ -329,7 +345,12 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
                 continue
             for comp, value in values.items():
                 per_request[req.name].setdefault(comp, []).append(float(value))
-    series: dict[str, dict[str, np.ndarray]] = {}  # whole columns, in request order below
+
+
+def _whole_columns(system: System, trajectory, requests, loads) -> dict[str, dict]:
+    """The requests evaluated on whole columns at once, in request order, energy balances
+    after the others."""
+    series: dict[str, dict[str, np.ndarray]] = {}
     for req in requests:
         if isinstance(req, PointKinematics):
             series[req.name] = _point_series(system, trajectory, req)
@@ -346,15 +367,7 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
             series[req.name] = energy_columns(
                 system, trajectory, functools.partial(_row_views, system, trajectory)
             )
-    columns = per_request | series  # every request, in request order
-    channels = {
-        f"{name}.{comp}": np.asarray(values, dtype=float)
-        for name, comps in columns.items()
-        for comp, values in comps.items()
-    }
-    if failed:
-        raise partial_columns(channels, failed, columns, len(trajectory))
-    return channels
+    return series
 
 
 def _row_views(system: System, trajectory, i: int):

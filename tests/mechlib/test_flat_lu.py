@@ -20,12 +20,12 @@ import numpy as np
 import pytest
 import scipy.linalg.lapack as scipy_lapack
 
+from mechlib.linalg import lapack
 from mechlib.linalg.factor import (
     SaddlePattern,
     augmented,
     factor,
     factor_saddle,
-    lapack,
     solve_factored,
 )
 from mechlib.linalg.flat_lu import (

@@ -96,9 +96,7 @@ def gap(kind, x, xd, b1, b2, g, out):
     c1 = np.empty(3)
     c2 = np.empty(3)
     e = np.empty(3)
-    u = np.empty(3)
     point = np.empty(3)
-    radius, extra = g[9], g[10]
     _position(x, b1, g[0:3], c1)
     _position(x, b2, g[3:6], c2)
     for c in range(3):
@@ -106,43 +104,9 @@ def gap(kind, x, xd, b1, b2, g, out):
     if kind == CIRCLE_PROFILE:
         _profile_gap(x, b2, g, e, c2, point, out)
     elif kind == SPHERE_PLANE:
-        _rot(x[b2, 3:], g[6:9], u)  # the plane normal
-        d = e[0] * u[0] + e[1] * u[1] + e[2] * u[2]  # centre height over the plane
-        for c in range(3):
-            point[c] = c1[c] - 0.5 * (radius + d) * u[c]
-        if extra >= 0.0:
-            across = 0.0
-            for c in range(3):
-                across += (e[c] - d * u[c]) ** 2
-            if across > extra * extra:
-                d = max(d, radius)  # off the pad: no penetration
-        out[0] = radius - d
-        for c in range(3):
-            out[1 + c] = u[c]
-            out[10 + c] = 0.0
+        _plane_gap(x, b2, g, e, c1, point, out)
     else:
-        if kind == CYLINDER_IN_CYLINDER:
-            axis = np.empty(3)
-            _rot(x[b2, 3:], g[6:9], axis)
-            along = e[0] * axis[0] + e[1] * axis[1] + e[2] * axis[2]
-            for c in range(3):
-                e[c] -= along * axis[c]
-        length = math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
-        if length < _TINY:
-            u[0], u[1], u[2] = 1.0, 0.0, 0.0
-        else:
-            for c in range(3):
-                u[c] = e[c] / length
-        half = radius + 0.5 * extra
-        for c in range(3):
-            if kind == CYLINDER_IN_CYLINDER:
-                point[c] = c1[c] - 0.5 * e[c] + half * u[c]
-            else:  # ball surface c1 + R u, socket wall c2 + (R + clearance) u: the midpoint
-                point[c] = 0.5 * (c1[c] + c2[c]) + half * u[c]
-        out[0] = length - extra
-        for c in range(3):
-            out[1 + c] = -u[c]
-            out[10 + c] = e[c]
+        _round_gap(kind, x, b2, g, e, c1, c2, point, out)
     v1 = np.empty(3)
     v2 = np.empty(3)
     _material_velocity(x, xd, b1, point, v1)
@@ -150,6 +114,60 @@ def gap(kind, x, xd, b1, b2, g, out):
     for c in range(3):
         out[4 + c] = point[c]
         out[7 + c] = v1[c] - v2[c]
+
+
+@njit(**KERNEL)
+def _plane_gap(x, b2, g, e, c1, point, out):
+    """A sphere (centre c1, e = c1 less the plane origin) against a plane of body 2, or a pad
+    of radius g[10] >= 0 on it: penetration, normal and eccentricity (zero) into `out`, the
+    contact point into `point`."""
+    radius, extra = g[9], g[10]
+    u = np.empty(3)
+    _rot(x[b2, 3:], g[6:9], u)  # the plane normal
+    d = e[0] * u[0] + e[1] * u[1] + e[2] * u[2]  # centre height over the plane
+    for c in range(3):
+        point[c] = c1[c] - 0.5 * (radius + d) * u[c]
+    if extra >= 0.0:
+        across = 0.0
+        for c in range(3):
+            across += (e[c] - d * u[c]) ** 2
+        if across > extra * extra:
+            d = max(d, radius)  # off the pad: no penetration
+    out[0] = radius - d
+    for c in range(3):
+        out[1 + c] = u[c]
+        out[10 + c] = 0.0
+
+
+@njit(**KERNEL)
+def _round_gap(kind, x, b2, g, e, c1, c2, point, out):
+    """A sphere in a sphere, or a cylinder in a cylinder (e less its part along body 2's
+    axis g[6:9]), with clearance g[10]: penetration, normal and eccentricity into `out`, the
+    contact point into `point`."""
+    radius, extra = g[9], g[10]
+    u = np.empty(3)
+    if kind == CYLINDER_IN_CYLINDER:
+        axis = np.empty(3)
+        _rot(x[b2, 3:], g[6:9], axis)
+        along = e[0] * axis[0] + e[1] * axis[1] + e[2] * axis[2]
+        for c in range(3):
+            e[c] -= along * axis[c]
+    length = math.sqrt(e[0] * e[0] + e[1] * e[1] + e[2] * e[2])
+    if length < _TINY:
+        u[0], u[1], u[2] = 1.0, 0.0, 0.0
+    else:
+        for c in range(3):
+            u[c] = e[c] / length
+    half = radius + 0.5 * extra
+    for c in range(3):
+        if kind == CYLINDER_IN_CYLINDER:
+            point[c] = c1[c] - 0.5 * e[c] + half * u[c]
+        else:  # ball surface c1 + R u, socket wall c2 + (R + clearance) u: the midpoint
+            point[c] = 0.5 * (c1[c] + c2[c]) + half * u[c]
+    out[0] = length - extra
+    for c in range(3):
+        out[1 + c] = -u[c]
+        out[10 + c] = e[c]
 
 
 @njit(**KERNEL)

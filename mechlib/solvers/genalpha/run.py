@@ -92,10 +92,8 @@ def run_steps(
     of every angle measure, `refs_all` their references (in place), `block_angles` the
     indices of the constraint rows' angles among them.
     Returns (0, STOPPED, REFACTOR or FAILED; next output index, rows written)."""
-    ai, aj, au, av = angles
     nq = own.shape[1]
     m = own_lam.shape[0]
-    nb = nq // 7
     dense = ctrl[DENSE] != 0.0
     refs = np.empty(block_angles.shape[0])
     for j in range(block_angles.shape[0]):
@@ -107,7 +105,7 @@ def run_steps(
     params[2], params[3], params[4] = ctrl[TOL], ctrl[ALPHA_M], ctrl[ALPHA_F]
     kind, prow, pcol, place, brow, bcol = layout
     values = np.empty(prow.shape[0])
-    spare_i, spare_f = fi[:0].copy(), ff[:0].copy()  # the consistent accelerations' factors
+    spare_i, spare_f = fi.copy(), ff.copy()  # the consistent accelerations' factors
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[T]
@@ -116,39 +114,27 @@ def run_steps(
                 return 0, i, written
             target = ctrl[END]
         else:
-            if i == outs.shape[0]:
-                return 0, i, written
-            if _reached(outs[i], t):  # a step's end on an output time: its row
-                if written == rows_t.shape[0]:
-                    return 0, i, written
-                if not all_finite(own[0], cons[0], cons[1], cons_lam):
-                    return STOPPED, i, written
-                rows_t[written] = t
-                rows_state[written, :nq] = own[0]
-                rows_state[written, nq : 2 * nq] = cons[0]
-                rows_state[written, 2 * nq : 3 * nq] = cons[1]
-                rows_state[written, 3 * nq :] = cons_lam
-                rows_refs[written] = refs_all
+            row = _output_row(i, written, t, outs, own, cons, cons_lam, refs_all, rows_t,
+                              rows_state, rows_refs)  # fmt: skip
+            if row == _WRITTEN:
                 written += 1
                 i += 1
                 continue
+            if row != _STEP:
+                return (0 if row == _FULL else STOPPED), i, written
             target = outs[i]
-        if taken == most_steps:
-            return 0, i, written
-        if counts[STEPS] + counts[REJECTED] >= ctrl[MAX_STEPS]:
-            return STOPPED, i, written
-        h_try = rules.towards(target - t, ctrl[H]) if dense else rules.substep(target - t, ctrl[H])
-        if ctrl[H_USED] != 0.0 and abs(h_try / ctrl[H_USED] - 1.0) > 1e-9:
-            # consistent accelerations at the new step size (GeneralizedAlphaStepper._attempt)
-            if kind < 0:
-                return STOPPED, i, written  # SuperLU's factors: Python's
-            if spare_i.shape[0] == 0:
-                spare_i, spare_f = fi.copy(), ff.copy()
-            if not _restart(
+        limit = _limits(counts, ctrl, taken, most_steps)
+        if limit >= 0:
+            return limit, i, written
+        h_try = _trial_step(target - t, ctrl[H], dense)
+        if _new_size(ctrl, h_try):
+            # consistent accelerations at the new step size (GeneralizedAlphaStepper._attempt);
+            # SuperLU's factors (kind < 0), a singular matrix or a non-finite one: Python's
+            if kind < 0 or not _restart(
                 own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol,
                 values, place, brow, bcol, spare_i, spare_f,
             ):  # fmt: skip
-                return STOPPED, i, written  # singular or not finite: Python's
+                return STOPPED, i, written
             counts[ROW_FACTORS] += 1
             ctrl[H_USED], ctrl[RESTARTED] = h_try, 1.0
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
@@ -156,20 +142,15 @@ def run_steps(
         fresh = ctrl[FRESH] != 0.0
         ctrl[FRESH] = 0.0
         t_new = t + h_try
-        due = 0  # rows within the step (dense): output times up to its end
-        if dense:
-            while i + due < outs.shape[0] and outs[i + due] - t_new <= 1e-12 * max(1.0, abs(t_new)):
-                due += 1
-            if written + due > rows_t.shape[0]:
-                return (STOPPED if written == 0 else 0), i, written
+        due = _rows_due(outs, i, t_new) if dense else 0  # rows within the step
+        if written + due > rows_t.shape[0]:
+            return (STOPPED if written == 0 else 0), i, written
         am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
         q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h_try, am, beta, gamma)
-        if not fresh and (ctrl[STALE] != 0.0 or rules.refactors(h_try, ctrl[LU_H])):
+        if _matrix_due(ctrl, h_try, fresh):
             # [[M, phi_q^T], [phi_q, 0]] at the predicted state (Integrator._iteration_matrix)
-            x, _ = ca.state_arrays(q1, q1, nb)
-            if fi[0] == kind:
-                saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
-            if fi[0] != kind or not refactor(values, place, brow, bcol, fi, ff):
+            if not _refactored(q1, kind, ints, floats, functions, refs, body, prow, pcol,
+                               values, place, brow, bcol, fi, ff):  # fmt: skip
                 ctrl[NEXT_H] = h_try  # StepRun factors it (or finds it singular)
                 return REFACTOR, i, written
             counts[ROW_JACOBIANS] += 1
@@ -185,11 +166,7 @@ def run_steps(
             params, 0, math.inf, ctrl[ETA], own[2], own[3], true,
         )  # fmt: skip
         if status != CONVERGED:
-            if not fresh:
-                return STOPPED, i, written  # Python refreshes the matrix, as it would
-            counts[ITERATIONS] += done
-            ctrl[NEXT_H] = h_try
-            return FAILED, i, written
+            return _newton_stopped(ctrl, counts, fresh, done, h_try), i, written
         new_qdd = true[nq : 2 * nq]
         err = gk.error_norm(
             ctrl[ERROR_CONSTANT] * h_try * h_try, cons[1], new_qdd, q_abs, ctrl[TOL], q1
@@ -197,52 +174,189 @@ def run_steps(
         if err > 1.0:
             return STOPPED, i, written  # rejected: the Python stepper shrinks the step
         # the angles unwrapped at the new state (settle), which the step's rows read
-        x, _ = ca.state_arrays(q1, q1, nb)
-        new_refs[:] = refs_all
-        ca.angle_values(x, ai, aj, au, av, new_refs)
-        for j in range(block_angles.shape[0]):
-            new_block[j] = new_refs[block_angles[j]]
+        _unwrapped(q1, angles, refs_all, block_angles, new_refs, new_block)
         fresh_rows = 0
         if due:
             ends[0], ends[1], ends[2] = own[0], cons[0], cons[1]
             ends[3], ends[4], ends[5] = q1, true[:nq], new_qdd
-            span = t_new - t
-            for k in range(due):
-                t_row = outs[i + k]
-                at_end = abs(t_row - t_new) <= 1e-12 * max(1.0, abs(t_row))
-                s = 1.0 if at_end else (t_row - t) / span
-                status, fresh = project_row(
-                    ends, span, s, ints, floats, functions, new_block, body, projection,
-                    rows_state[written + k],
-                )  # fmt: skip
-                if status != DONE:  # the Python stepper takes this step and its rows
-                    return STOPPED, i, written
-                fresh_rows += fresh
-                rows_t[written + k] = t_row
-                rows_refs[written + k] = new_refs
+            fresh_rows = _dense_rows(
+                ends, t, t_new, outs[i : i + due], written, ints, floats, functions, new_block,
+                new_refs, body, projection, rows_t, rows_state, rows_refs,
+            )  # fmt: skip
+            if fresh_rows < 0:  # the Python stepper takes this step and its rows
+                return STOPPED, i, written
         # accepted (GeneralizedAlphaStepper._attempt, then settle)
         counts[ITERATIONS] += done
         counts[ROW_JACOBIANS] += fresh_rows
         counts[ROW_FACTORS] += fresh_rows + due
-        ctrl[ETA] = rules.carried_rate(eta)
-        if rules.slow(it):
-            ctrl[STALE] = 1.0
-        ctrl[H] = rules.grown_step(h_try, err, ctrl[H], ctrl[MAX_STEP])
-        ctrl[H_USED] = h_try
-        ctrl[T] = t_new
-        own[0], own[1], own[2] = q1, qd1, qdd1
-        own[3] = true[2 * nq + m :]
-        own_lam[:] = lam1
-        cons[0], cons[1] = true[:nq], new_qdd
-        cons_lam[:] = true[2 * nq : 2 * nq + m]
+        _accept_control(ctrl, h_try, err, eta, it)
+        _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref)
         counts[STEPS] += 1
         taken += 1
-        for j in range(nq):
-            a_ref[j] = max(a_ref[j], abs(new_qdd[j]))
         refs_all[:] = new_refs
         refs[:] = new_block
         written += due
         i += due
+
+
+_STEP, _WRITTEN, _FULL, _NOT_FINITE = 0, 1, 2, 3  # what `_output_row` found
+
+
+@njit(**KERNEL)
+def _output_row(i, written, t, outs, own, cons, cons_lam, refs_all, rows_t, rows_state, rows_refs):
+    """Steps landing on the output times: at t (s) the state's row when t is outs[i] and
+    there is room (_WRITTEN); _STEP where a step is to be taken towards outs[i]; _FULL when
+    no output time or no row is left; _NOT_FINITE for a state Python must look at."""
+    if i == outs.shape[0]:
+        return _FULL
+    if not _reached(outs[i], t):
+        return _STEP
+    if written == rows_t.shape[0]:
+        return _FULL
+    if not all_finite(own[0], cons[0], cons[1], cons_lam):
+        return _NOT_FINITE
+    _write_row(written, t, own[0], cons, cons_lam, refs_all, rows_t, rows_state, rows_refs)
+    return _WRITTEN
+
+
+@njit(**KERNEL)
+def _rows_due(outs, i, t_new):
+    """How many output times from outs[i] lie within a dense step ending at t_new (s)."""
+    due = 0
+    while i + due < outs.shape[0] and outs[i + due] - t_new <= 1e-12 * max(1.0, abs(t_new)):
+        due += 1
+    return due
+
+
+@njit(**KERNEL)
+def _matrix_due(ctrl, h, fresh):
+    """The step h (s) needs the iteration matrix factored anew (rules.refactors): not when
+    it was factored for this step (`fresh`)."""
+    return not fresh and (ctrl[STALE] != 0.0 or rules.refactors(h, ctrl[LU_H]))
+
+
+@njit(**KERNEL)
+def _limits(counts, ctrl, taken, most_steps):
+    """-1 while a step may be taken; 0 after the call's `most_steps`; STOPPED at the
+    analysis's step limit (Python's message)."""
+    if taken == most_steps:
+        return 0
+    if counts[STEPS] + counts[REJECTED] >= ctrl[MAX_STEPS]:
+        return STOPPED
+    return -1
+
+
+@njit(**KERNEL)
+def _trial_step(interval, h, dense):
+    """The step (s) towards a time `interval` s ahead with step size h (s) (rules)."""
+    return rules.towards(interval, h) if dense else rules.substep(interval, h)
+
+
+@njit(**KERNEL)
+def _new_size(ctrl, h):
+    """The step h (s) is a new step size: the pseudo-acceleration restarts."""
+    return ctrl[H_USED] != 0.0 and abs(h / ctrl[H_USED] - 1.0) > 1e-9
+
+
+@njit(**KERNEL)
+def _newton_stopped(ctrl, counts, fresh, done, h):
+    """Newton stopped on the step h (s): with an old matrix STOPPED (Python refreshes it, as
+    it would); with a new one FAILED (the step fails), its iterations counted."""
+    if not fresh:
+        return STOPPED
+    counts[ITERATIONS] += done
+    ctrl[NEXT_H] = h
+    return FAILED
+
+
+@njit(**KERNEL)
+def _unwrapped(q1, angles, refs_all, block_angles, new_refs, new_block):
+    """The angle measures' references at q1 (`new_refs`, from `refs_all`), and those of the
+    constraint rows' angles among them (`new_block`)."""
+    ai, aj, au, av = angles
+    x, _ = ca.state_arrays(q1, q1, q1.shape[0] // 7)
+    new_refs[:] = refs_all
+    ca.angle_values(x, ai, aj, au, av, new_refs)
+    for j in range(block_angles.shape[0]):
+        new_block[j] = new_refs[block_angles[j]]
+
+
+@njit(**KERNEL)
+def _accept_control(ctrl, h_try, err, eta, iterations):
+    """The control after an accepted step h_try (s) with error err: the Newton rate carried
+    on, a fresh matrix after slow convergence, the next step size (rules), the time."""
+    ctrl[ETA] = rules.carried_rate(eta)
+    if rules.slow(iterations):
+        ctrl[STALE] = 1.0
+    ctrl[H] = rules.grown_step(h_try, err, ctrl[H], ctrl[MAX_STEP])
+    ctrl[H_USED] = h_try
+    ctrl[T] += h_try
+
+
+@njit(**KERNEL)
+def _write_row(k, t, q, cons, cons_lam, refs_all, rows_t, rows_state, rows_refs):
+    """Row k: time t (s), the state (q, the consistent qd, qdd, lam) and the references."""
+    nq = q.shape[0]
+    rows_t[k] = t
+    rows_state[k, :nq] = q
+    rows_state[k, nq : 2 * nq] = cons[0]
+    rows_state[k, 2 * nq : 3 * nq] = cons[1]
+    rows_state[k, 3 * nq :] = cons_lam
+    rows_refs[k] = refs_all
+
+
+@njit(**KERNEL)
+def _dense_rows(
+    ends, t, t_new, times, first, ints, floats, functions, block_refs, refs, body, projection,
+    rows_t, rows_state, rows_refs,
+):  # fmt: skip
+    """The rows at `times` within the step t -> t_new (s), projected from the step's `ends`
+    (mechlib.solvers.dense_compiled) into rows first, first + 1, ...: the fresh Jacobians
+    they took, or -1 where a row is given back to Python."""
+    span = t_new - t
+    fresh_rows = 0
+    for k in range(times.shape[0]):
+        t_row = times[k]
+        at_end = abs(t_row - t_new) <= 1e-12 * max(1.0, abs(t_row))
+        s = 1.0 if at_end else (t_row - t) / span
+        status, fresh = project_row(
+            ends, span, s, ints, floats, functions, block_refs, body, projection,
+            rows_state[first + k],
+        )  # fmt: skip
+        if status != DONE:
+            return -1
+        fresh_rows += fresh
+        rows_t[first + k] = t_row
+        rows_refs[first + k] = refs
+    return fresh_rows
+
+
+@njit(**KERNEL)
+def _refactored(
+    q1, kind, ints, floats, functions, refs, body, prow, pcol, values, place, brow, bcol, fi, ff,
+):  # fmt: skip
+    """The iteration matrix [[M, phi_q^T], [phi_q, 0]] at q1 refactored in place into
+    (fi, ff) when the pattern's layout fits them (`kind`); False where it does not, or the
+    kernel finds the matrix singular (StepRun then factors it in Python)."""
+    if fi[0] != kind:
+        return False
+    x, _ = ca.state_arrays(q1, q1, q1.shape[0] // 7)
+    saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
+    return refactor(values, place, brow, bcol, fi, ff)
+
+
+@njit(**KERNEL)
+def _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref):
+    """The accepted step's state becomes the one to go on from: the integrator's own (q,
+    qd, qdd, a, lam) and the consistent (qd, qdd, lam); the acceleration scales raised."""
+    nq, m = own.shape[1], own_lam.shape[0]
+    own[0], own[1], own[2] = q1, qd1, qdd1
+    own[3] = true[2 * nq + m :]
+    own_lam[:] = lam1
+    cons[0], cons[1] = true[:nq], true[nq : 2 * nq]
+    cons_lam[:] = true[2 * nq : 2 * nq + m]
+    for j in range(nq):
+        a_ref[j] = max(a_ref[j], abs(cons[1][j]))
 
 
 @njit(**KERNEL)
