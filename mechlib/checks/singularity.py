@@ -326,7 +326,9 @@ def _compiled_measures(
     ints, floats = arrays.packed()
     angles = [m for _, m in free if isinstance(m, AngleMeasure)]
     travels = [m for _, m in free if isinstance(m, TravelMeasure)]
-    measures = measure_args([m._sc for m in angles], 4) + measure_args([m._d for m in travels], 5)
+    measures = measure_args([m.sine_cosine for m in angles], 4) + measure_args(
+        [m.distance for m in travels], 5
+    )
     order = {id(m): c for c, m in enumerate([*angles, *travels])}
     n, nq = qs.shape
     work = row_work(ints, nq, len(angles), len(travels))

@@ -260,11 +260,13 @@ class TorsionSpring:
     active: bool = True
     output_units: ClassVar[dict[str, str]] = {"value": "N*m", "angle": "rad"}
     # kernels.torsion_wrench's constants, taken at bind (as Spring's)
-    _linear: tuple = field(default=(), init=False, repr=False)
+    linear_constants: tuple = field(default=(), init=False, repr=False)
 
     def bind(self, system) -> None:
         self._m = system.measure(self.joint, "angle")
-        self._linear = tuple(map(float, (self.stiffness, self.damping, self.angle0, self.preload)))
+        self.linear_constants = tuple(
+            map(float, (self.stiffness, self.damping, self.angle0, self.preload))
+        )
         self._table = None  # kernels.torsion_table_wrench's arguments, for a table law
         if getattr(self.law, "compiled", False):  # a TableLaw (its module imports this one)
             m = self._m
@@ -291,7 +293,7 @@ class TorsionSpring:
         m, x, xd = self._m, view.kin.x, view.kin.xd
         if self.law is None:  # linear: compiled
             kernels.torsion_wrench(  # type: ignore[call-arg]
-                x, xd, m.bi, m.bj, m.f, m.g, m.axis_local, m.reference, *self._linear, N
+                x, xd, m.bi, m.bj, m.f, m.g, m.axis_local, m.reference, *self.linear_constants, N
             )
             return
         if self._table is not None:  # a table: compiled while the table takes the turn

@@ -67,7 +67,8 @@ class TorsionSpringGroup(_Group):
         super().__init__(members)
         self.ints = np.array([[s._m.bi, s._m.bj] for s in members], dtype=np.int64)
         self.floats = np.array(
-            [[*s._m.f, *s._m.g, *s._m.axis_local, *s._linear] for s in members], dtype=float
+            [[*s._m.f, *s._m.g, *s._m.axis_local, *s.linear_constants] for s in members],
+            dtype=float,
         )
 
     def apply(self, x: np.ndarray, xd: np.ndarray, skip, F: np.ndarray, N: np.ndarray) -> None:

@@ -67,12 +67,12 @@ class ConstraintArrays:
         kinds = (Normalization, Spherical, Dot1, Dot2)
         if not all(type(g) in kinds for g in system.groups):
             return False
-        return not system._coordinate_rows()._own
+        return not system.coordinate_rows().own
 
     def packed(self) -> tuple[np.ndarray, np.ndarray]:
         """(ints, floats) of the current block and active rows (`_unpack` reads them)."""
         system = self.system
-        block: CoordinateBlock = system._coordinate_rows()
+        block: CoordinateBlock = system.coordinate_rows()
         key = self._key  # the objects themselves: an id may be reused
         if not key or key[0] is not block or key[1] != block.size or key[2] is not system.active:
             self._packed, self._key = _pack(system, block), (block, block.size, system.active)
@@ -93,10 +93,10 @@ class ConstraintArrays:
         function of time at t, those named in `parts` (the others and equations without a
         function: zeros). The kernels read only what they need: phi the values, nu and
         gamma the rates and accelerations."""
-        block = self.system._coordinate_rows()
-        out = np.zeros((len(block._linear), 3))
+        block = self.system.coordinate_rows()
+        out = np.zeros((len(block.linear), 3))
         wanted = [(c, name) for c, name in enumerate(("value", "rate", "accel")) if name in parts]
-        for row, i in enumerate(block._linear):
+        for row, i in enumerate(block.linear):
             f = block.equations[i].function
             if f is not None:
                 for c, name in wanted:
@@ -109,7 +109,7 @@ class ConstraintArrays:
         if self._bodies is None:
             system = self.system
             self._bodies = np.concatenate(
-                [system.gravity, system.masses, system._pscale, system.inertia.ravel()]
+                [system.gravity, system.masses, system.pscale, system.inertia.ravel()]
             ).astype(float)
         return self._bodies
 
@@ -134,11 +134,11 @@ class ConstraintArrays:
     def commit_angles(self, k) -> None:
         """Every angle measure of the system takes its value at state k as its unwrapping
         reference (mechlib.kinematics.coordinates.AngleMeasure.commit, in one call)."""
-        angles = self.system._angles
+        angles = self.system.angle_measures
         if not angles:
             return
         if self._angle_args is None:
-            self._angle_args = measure_args([m._sc for m in angles], 4)
+            self._angle_args = measure_args([m.sine_cosine for m in angles], 4)
         refs = np.array([m.reference for m in angles])
         ai, aj, au, av = self._angle_args
         angle_values(k.x, ai, aj, au, av, refs)
@@ -147,7 +147,7 @@ class ConstraintArrays:
 
     def references(self) -> np.ndarray:
         """The angle measures' unwrapping references (rad), in the block's order."""
-        return np.array([m.reference for m in self.system._coordinate_rows()._angles])
+        return np.array([m.reference for m in self.system.coordinate_rows().angles])
 
 
 def measure_args(groups: list, width: int) -> tuple:
@@ -166,7 +166,7 @@ def _row_bodies(nb: int, sph, dot1, dot2, block: CoordinateBlock) -> np.ndarray:
     rows += [[int(i), int(j)] for i, j in zip(*sph[:2]) for _ in range(3)]
     rows += [[int(i), int(j)] for i, j in zip(*dot1[:2])]
     rows += [[int(i), int(j)] for i, j in zip(*dot2[:2])]
-    measures: list = [*block._angles, *block._travels]
+    measures: list = [*block.angles, *block.travels]
     for row in block._coefficients:
         rows.append([b for c, m in zip(row, measures) if c != 0.0 for b in (m.bi, m.bj)])
     out = np.full((len(rows), _ROW_BODIES), -1, dtype=np.int64)
@@ -190,13 +190,13 @@ def _pack(system, block: CoordinateBlock) -> tuple[np.ndarray, np.ndarray]:
     travels = (
         block._distances.args if block._distances is not None else (_NO_INT,) * 2 + (_NO_VEC,) * 3
     )
-    linear = np.asarray(block._linear, dtype=np.int64)
+    linear = np.asarray(block.linear, dtype=np.int64)
     header = [
         system.nb,
         len(sph[0]),
         len(dot1[0]),
         len(dot2[0]),
-        len(block._angles),
+        len(block.angles),
         len(travels[0]),
         len(linear),
         len(system.active),

@@ -34,28 +34,25 @@ class CoordinateBlock:
     def __init__(self, equations: list):
         self.equations = equations
         self.size = len(equations)
-        self._linear = [i for i, e in enumerate(equations) if isinstance(e, CoordinateEquation)]
-        self._own = [i for i, e in enumerate(equations) if not isinstance(e, CoordinateEquation)]
-        measures = {id(m): m for i in self._linear for _, m in equations[i].terms}
-        self._angles = [m for m in measures.values() if isinstance(m, AngleMeasure)]
-        self._travels = [m for m in measures.values() if isinstance(m, TravelMeasure)]
-        self._sines = _joined(Dot1, [m._sc for m in self._angles])
-        self._distances = _joined(Dot2, [m._d for m in self._travels])
-        ordered: list = [*self._angles, *self._travels]
+        self.linear = [i for i, e in enumerate(equations) if isinstance(e, CoordinateEquation)]
+        self.own = [i for i, e in enumerate(equations) if not isinstance(e, CoordinateEquation)]
+        measures = {id(m): m for i in self.linear for _, m in equations[i].terms}
+        self.angles = [m for m in measures.values() if isinstance(m, AngleMeasure)]
+        self.travels = [m for m in measures.values() if isinstance(m, TravelMeasure)]
+        self._sines = _joined(Dot1, [m.sine_cosine for m in self.angles])
+        self._distances = _joined(Dot2, [m.distance for m in self.travels])
+        ordered: list = [*self.angles, *self.travels]
         column = {id(m): j for j, m in enumerate(ordered)}
         # equations = coefficients @ measures
-        self._coefficients = np.zeros((len(self._linear), len(column)))
-        for row, i in enumerate(self._linear):
+        self._coefficients = np.zeros((len(self.linear), len(column)))
+        for row, i in enumerate(self.linear):
             for c, m in equations[i].terms:
                 self._coefficients[row, column[id(m)]] += c
 
     def _function(self, t: float, part: str) -> np.ndarray:
         """value, rate or accel of each linear equation's function of time (0 without)."""
         return np.array(
-            [
-                getattr(f, part)(t) if (f := self.equations[i].function) else 0.0
-                for i in self._linear
-            ]
+            [getattr(f, part)(t) if (f := self.equations[i].function) else 0.0 for i in self.linear]
         )
 
     def sines(self, k: Kin) -> np.ndarray | None:
@@ -69,8 +66,8 @@ class CoordinateBlock:
         if not self.size:
             return out
         values = np.concatenate((self._angle_values(k, sines), self._travel_values(k)))
-        out[self._linear] = self._coefficients @ values - self._function(k.t, "value")
-        for i in self._own:
+        out[self.linear] = self._coefficients @ values - self._function(k.t, "value")
+        for i in self.own:
             out[i] = self.equations[i].phi(k)
         return out
 
@@ -78,8 +75,8 @@ class CoordinateBlock:
         """The rows (size, ncol) into `out`; `sines` as for `phi`."""
         if not self.size:
             return
-        grads = np.empty((len(self._angles) + len(self._travels), k.ncol))
-        na = len(self._angles)
+        grads = np.empty((len(self.angles) + len(self.travels), k.ncol))
+        na = len(self.angles)
         if self._sines is not None:
             s, c = self._pairs(self._sines.phi(k) if sines is None else sines)
             rows = np.zeros((2 * na, k.ncol))
@@ -88,8 +85,8 @@ class CoordinateBlock:
         if self._distances is not None:
             grads[na:] = 0.0
             self._distances.jacobian(k, grads[na:])
-        out[self._linear] = self._coefficients @ grads
-        for i in self._own:
+        out[self.linear] = self._coefficients @ grads
+        for i in self.own:
             out[i] = self.equations[i].gradient(k)
 
     def gamma(self, k: Kin) -> np.ndarray:
@@ -97,8 +94,8 @@ class CoordinateBlock:
         if not self.size:
             return out
         quads = np.concatenate((self._angle_quads(k), self._travel_quads(k)))
-        out[self._linear] = self._function(k.t, "accel") - self._coefficients @ quads
-        for i in self._own:
+        out[self.linear] = self._function(k.t, "accel") - self._coefficients @ quads
+        for i in self.own:
             out[i] = self.equations[i].gamma(k)
         return out
 
@@ -113,7 +110,7 @@ class CoordinateBlock:
             return np.zeros(0)
         s, c = self._pairs(self._sines.phi(k) if sines is None else sines)
         raw = np.arctan2(s, c)
-        ref = np.array([m.reference for m in self._angles])
+        ref = np.array([m.reference for m in self.angles])
         return raw + TWO_PI * np.round((ref - raw) / TWO_PI)
 
     def _travel_values(self, k: Kin) -> np.ndarray:

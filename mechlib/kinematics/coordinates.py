@@ -36,13 +36,13 @@ class AngleMeasure:
     kind = "angle"
 
     def __init__(self, bi: int, bj: int, f: np.ndarray, g: np.ndarray, h: np.ndarray):
-        self._sc = Dot1([bi, bi], [bj, bj], [f, f], [g, f])
+        self.sine_cosine = Dot1([bi, bi], [bj, bj], [f, f], [g, f])
         self.bi, self.bj, self.axis_local = bi, bj, np.asarray(h, float)
         self.f, self.g = np.asarray(f, float), np.asarray(g, float)  # kernels.angle_state
         self.reference = 0.0
 
     def value(self, k: Kin) -> float:
-        s, c = self._sc.phi(k)
+        s, c = self.sine_cosine.phi(k)
         raw = math.atan2(s, c)
         return raw + TWO_PI * round((self.reference - raw) / TWO_PI)
 
@@ -52,21 +52,21 @@ class AngleMeasure:
 
     def gradient(self, k: Kin) -> np.ndarray:
         """d(theta)/dq, shape (7 (nb+1),)."""
-        s, c = self._sc.phi(k)
+        s, c = self.sine_cosine.phi(k)
         rows = np.zeros((2, k.ncol))
-        self._sc.jacobian(k, rows)
+        self.sine_cosine.jacobian(k, rows)
         return angle_gradient(s, c, rows[0], rows[1])
 
     def rate(self, k: Kin) -> float:
-        s, c = self._sc.phi(k)
-        sd, cd = self._sc.rate(k)
+        s, c = self.sine_cosine.phi(k)
+        sd, cd = self.sine_cosine.rate(k)
         return (c * sd - s * cd) / (s * s + c * c)
 
     def quad(self, k: Kin) -> float:
         """Part of d2(theta)/dt2 not multiplying qdd."""
-        s, c = self._sc.phi(k)
-        sd, cd = self._sc.rate(k)
-        sq, cq = -self._sc.gamma(k)
+        s, c = self.sine_cosine.phi(k)
+        sd, cd = self.sine_cosine.rate(k)
+        sq, cq = -self.sine_cosine.gamma(k)
         return angle_quad(s, c, sd, cd, sq, cq)
 
 
@@ -90,25 +90,25 @@ class TravelMeasure:
     kind = "travel"
 
     def __init__(self, bi: int, bj: int, h: np.ndarray, si: np.ndarray, sj: np.ndarray):
-        self._d = Dot2([bi], [bj], [h], [si], [sj])
+        self.distance = Dot2([bi], [bj], [h], [si], [sj])
         self.bi, self.bj, self.axis_local = bi, bj, np.asarray(h, float)
 
     def value(self, k: Kin) -> float:
-        return float(self._d.phi(k)[0])
+        return float(self.distance.phi(k)[0])
 
     def commit(self, k: Kin) -> None:
         """Travel needs no unwrapping reference."""
 
     def gradient(self, k: Kin) -> np.ndarray:
         rows = np.zeros((1, k.ncol))
-        self._d.jacobian(k, rows)
+        self.distance.jacobian(k, rows)
         return rows[0]
 
     def rate(self, k: Kin) -> float:
-        return float(self._d.rate(k)[0])
+        return float(self.distance.rate(k)[0])
 
     def quad(self, k: Kin) -> float:
-        return float(-self._d.gamma(k)[0])
+        return float(-self.distance.gamma(k)[0])
 
 
 @dataclass

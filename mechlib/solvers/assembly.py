@@ -220,7 +220,7 @@ def _given_positions(system: System, initial) -> list[tuple]:
     out = []
     for item in initial:
         if isinstance(item, InitialValue) and item.value is not None:
-            out.append((item, system._coordinate_of(item.joint, item.coordinate)))
+            out.append((item, system.coordinate_of(item.joint, item.coordinate)))
     return out
 
 
@@ -290,7 +290,7 @@ def _velocity_rows(system: System, k: Kin, initial) -> tuple[list, list, list]:
     rows, rhs, names = [], [], []
     for item in initial:
         if isinstance(item, InitialValue) and item.rate is not None:
-            m = system._coordinate_of(item.joint, item.coordinate)
+            m = system.coordinate_of(item.joint, item.coordinate)
             rows.append(system.coordinate_gradient(m, k))
             rhs.append(item.rate)
             names.append((f"rate of joint '{item.joint}'", rows[-1][None, :], [item.rate]))

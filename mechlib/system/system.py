@@ -96,7 +96,7 @@ class System:
             .reshape(-1, 3, 3)
         )
         self.gravity = np.asarray(mechanism.gravity, dtype=float)
-        self._pscale = 4.0 * np.trace(self.inertia, axis1=1, axis2=2) / 3.0
+        self.pscale = 4.0 * np.trace(self.inertia, axis1=1, axis2=2) / 3.0
         self.measures: dict[tuple[str, str], AngleMeasure | TravelMeasure] = {}
         self._build_constraints()
         self.elements = list(mechanism.forces.values())
@@ -183,7 +183,7 @@ class System:
                     self.measures[(joint.name, "angle")] = AngleMeasure(b1, b2, fr.f, fr.g, fr.h)
                 if joint.type in TRANSLATIONAL:
                     self.measures[(joint.name, "travel")] = TravelMeasure(b1, b2, fr.h, s1, s2)
-        self._angles = [m for m in self.measures.values() if isinstance(m, AngleMeasure)]
+        self.angle_measures = [m for m in self.measures.values() if isinstance(m, AngleMeasure)]
         self.norm = Normalization(self.nb)
         labels = [f"{n}: normalisation" for n in self.body_names]
         owners = list(self.body_names)
@@ -213,7 +213,7 @@ class System:
         self.owner_rank = {name: i for i, name in enumerate(order)}
         self.n_geometric = len(labels) - len(self.coordinates)
 
-    def _coordinate_of(self, joint: str, coordinate: str | None = None):
+    def coordinate_of(self, joint: str, coordinate: str | None = None):
         if coordinate is not None:
             return self.measure(joint, coordinate)
         kind = "angle" if (joint, "angle") in self.measures else "travel"
@@ -230,12 +230,12 @@ class System:
                 eqs.append(CoordinateEquation(terms, f"{j.name}: screw travel-angle", j.name))
             elif j.type in ("coupler", "gear"):
                 a, b = j.required(j.joints, "joints")
-                terms = [(-j.ratio, self._coordinate_of(a)), (1.0, self._coordinate_of(b))]
+                terms = [(-j.ratio, self.coordinate_of(a)), (1.0, self.coordinate_of(b))]
                 eqs.append(CoordinateEquation(terms, f"{j.name}: coupling {a}-{b}", j.name))
             elif j.type == "point_on_curve":
                 eqs += self._curve_equations(j)
         for m in self.mechanism.motions.values():
-            measure = self._coordinate_of(m.joint, m.coordinate)
+            measure = self.coordinate_of(m.joint, m.coordinate)
             label = f"{m.name}: {measure.kind} of {m.joint}"
             eqs.append(CoordinateEquation([(1.0, measure)], label, m.name, m.function))
         return eqs
@@ -286,7 +286,7 @@ class System:
 
     def lock(self, joint: str, k: Kin) -> None:
         """Freeze a joint's coordinate at its value in state `k` (a latch engaging)."""
-        measure = self._coordinate_of(joint)
+        measure = self.coordinate_of(joint)
         value = measure.value(k)
         eq = CoordinateEquation(
             [(1.0, measure)], f"{joint}: locked {measure.kind}", joint, _Held(value)
@@ -437,7 +437,7 @@ class System:
         """The active rows (all of them, without a copy, unless some were dropped)."""
         return rows if self.active.size == len(self._all_labels) else rows[self.active]
 
-    def _coordinate_rows(self) -> CoordinateBlock:
+    def coordinate_rows(self) -> CoordinateBlock:
         """The coordinate equations as one block, rebuilt when an event added one."""
         block = self._block
         if block is None or block.size != len(self.coordinates):
@@ -448,7 +448,7 @@ class System:
         arrays = self.packed_constraints()
         if arrays is not None:
             return arrays.phi(k)
-        parts = [g.phi(k) for g in self.groups] + [self._coordinate_rows().phi(k)]
+        parts = [g.phi(k) for g in self.groups] + [self.coordinate_rows().phi(k)]
         return self._select(np.concatenate(parts))
 
     def packed_constraints(self) -> ConstraintArrays | None:
@@ -479,7 +479,7 @@ class System:
             parts.append(g.phi(k))
             g.jacobian(k, out[row : row + g.size])
             row += g.size
-        block = self._coordinate_rows()
+        block = self.coordinate_rows()
         sines = block.sines(k)
         parts.append(block.phi(k, sines))
         block.jacobian(k, out[row:], sines)
@@ -494,7 +494,7 @@ class System:
         for g in self.groups:
             g.jacobian(k, out[row : row + g.size])
             row += g.size
-        self._coordinate_rows().jacobian(k, out[row:])
+        self.coordinate_rows().jacobian(k, out[row:])
         return self.body_columns(self._select(out))
 
     def nu(self, k: Kin) -> np.ndarray:
@@ -508,7 +508,7 @@ class System:
         if arrays is not None:
             return arrays.nu_and_gamma(k)[1]
         parts = [g.gamma(k) for g in self.groups]
-        parts.append(self._coordinate_rows().gamma(k))
+        parts.append(self.coordinate_rows().gamma(k))
         return self._select(np.concatenate(parts))
 
     def commit(self, k: Kin) -> None:
@@ -518,7 +518,7 @@ class System:
         if arrays is not None:
             arrays.commit_angles(k)
         else:
-            for m in self._angles:
+            for m in self.angle_measures:
                 m.commit(k)
         if self._remembering:
             view = self.view(k)
@@ -557,7 +557,7 @@ class System:
     def mass(self, k: Kin) -> np.ndarray:
         """Mass matrix M (nq, nq): m I for r; 4 G^T J' G (+ a p p^T term fixing |p|) for p."""
         out = np.zeros((self.nq, self.nq))
-        kernels.mass_matrix(k.x, self.masses, self.inertia, self._pscale, out)
+        kernels.mass_matrix(k.x, self.masses, self.inertia, self.pscale, out)
         for a in self.flexible:
             cols = a.columns(self.nb)
             out[np.ix_(cols, cols)] += a.mass(k)
@@ -568,7 +568,7 @@ class System:
         out = np.empty(self.nq)
         if self.nz:
             return self.mass(k) @ x
-        kernels.mass_times(k.x, self.masses, self.inertia, self._pscale, x, out)
+        kernels.mass_times(k.x, self.masses, self.inertia, self.pscale, x, out)
         return out
 
     def wrenches(

@@ -48,7 +48,7 @@ def _one_by_one(system: System, k) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _block(system: System, k) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    block = system._coordinate_rows()
+    block = system.coordinate_rows()
     rows = np.zeros((block.size, k.ncol))
     block.jacobian(k, rows)
     return block.phi(k), rows, block.gamma(k)
@@ -61,7 +61,7 @@ def test_block_matches_equations(seed: int) -> None:
     q = system.design_q() + 0.3 * rng.standard_normal(system.nq)
     qd = rng.standard_normal(system.nq)
     k = system.kin(q, qd, 0.7)
-    for m in system._angles:  # unwrap against references a turn or more away
+    for m in system.angle_measures:  # unwrap against references a turn or more away
         m.reference = float(rng.choice([-7.0, 0.0, 7.0]))
     for one, block in zip(_one_by_one(system, k), _block(system, k)):
         assert block.shape == one.shape
@@ -72,9 +72,9 @@ def test_block_follows_a_lock() -> None:
     """A lock appends an equation: the block is rebuilt and includes it."""
     system = System(_mechanism())
     k = system.kin(system.design_q(), np.zeros(system.nq), 0.0)
-    before = system._coordinate_rows().size
+    before = system.coordinate_rows().size
     system.lock("R2", k)
-    assert system._coordinate_rows().size == before + 1
+    assert system.coordinate_rows().size == before + 1
     q = system.design_q() + 0.1
     k = system.kin(q, np.ones(system.nq), 0.2)
     for one, block in zip(_one_by_one(system, k), _block(system, k)):

@@ -80,7 +80,7 @@ def test_kernels_match_the_system(seed: int) -> None:
     rng = np.random.default_rng(seed)
     q = system.design_q() + 0.3 * rng.standard_normal(system.nq)
     k = system.kin(q, rng.standard_normal(system.nq), 0.7)
-    for m in system._angles:  # unwrap against references a turn or more away
+    for m in system.angle_measures:  # unwrap against references a turn or more away
         m.reference = float(rng.choice([-7.0, 0.0, 7.0]))
     phi, jac = system.grouped_phi_and_jacobian(k)
     expected = (phi, jac, system.nu(k), system.gamma(k))
@@ -119,7 +119,7 @@ def test_the_system_evaluates_its_rows_in_one_call() -> None:
     assert np.abs(system.phi_q(k) - want_jac).max() < TOL
     assert np.abs(system.phi(k) - want_phi).max() < TOL
     groups = np.concatenate([g.gamma(k) for g in system.groups])
-    block = system._coordinate_rows().gamma(k)
+    block = system.coordinate_rows().gamma(k)
     want_gamma = np.concatenate([groups, block])[system.active]
     assert np.abs(system.gamma(k) - want_gamma).max() < TOL * np.abs(want_gamma).max()
 
@@ -303,15 +303,15 @@ def test_angles_commit_in_one_call() -> None:
     system = System(_kernel_mechanism())
     rng = np.random.default_rng(5)
     k = system.kin(system.design_q() + 0.3 * rng.standard_normal(system.nq), None, 0.0)
-    start = {id(m): float(rng.choice([-7.0, 0.0, 7.0])) for m in system._angles}
-    for m in system._angles:
+    start = {id(m): float(rng.choice([-7.0, 0.0, 7.0])) for m in system.angle_measures}
+    for m in system.angle_measures:
         m.reference = start[id(m)]
         m.commit(k)
-    want = [m.reference for m in system._angles]
-    for m in system._angles:
+    want = [m.reference for m in system.angle_measures]
+    for m in system.angle_measures:
         m.reference = start[id(m)]
     arrays = ConstraintArrays(system)
     arrays.commit_angles(k)
-    got = [m.reference for m in system._angles]
+    got = [m.reference for m in system.angle_measures]
     assert len(got) >= 3 and max(abs(a) for a in got) > math.pi
     assert np.abs(np.array(got) - np.array(want)).max() < TOL

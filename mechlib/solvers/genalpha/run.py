@@ -95,9 +95,7 @@ def run_steps(
     nq = own.shape[1]
     m = own_lam.shape[0]
     dense = ctrl[DENSE] != 0.0
-    refs = np.empty(block_angles.shape[0])
-    for j in range(block_angles.shape[0]):
-        refs[j] = refs_all[block_angles[j]]
+    refs = refs_all[block_angles]  # the constraint rows' angles' references (a copy)
     new_refs, new_block = refs_all.copy(), refs.copy()
     true = np.empty(3 * nq + m)
     ends = np.empty((6, nq))
@@ -109,20 +107,17 @@ def run_steps(
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[T]
-        if dense:
-            if _reached(ctrl[END], t):
-                return 0, i, written
-            target = ctrl[END]
-        else:
+        row = _FULL if dense and _reached(ctrl[END], t) else _STEP
+        if not dense:
             row = _output_row(i, written, t, outs, own, cons, cons_lam, refs_all, rows_t,
                               rows_state, rows_refs)  # fmt: skip
-            if row == _WRITTEN:
-                written += 1
-                i += 1
-                continue
-            if row != _STEP:
-                return (0 if row == _FULL else STOPPED), i, written
-            target = outs[i]
+        if row == _WRITTEN:
+            written += 1
+            i += 1
+            continue
+        if row != _STEP:
+            return (0 if row == _FULL else STOPPED), i, written
+        target = ctrl[END] if dense else outs[i]
         limit = _limits(counts, ctrl, taken, most_steps)
         if limit >= 0:
             return limit, i, written
@@ -130,9 +125,9 @@ def run_steps(
         if _new_size(ctrl, h_try):
             # consistent accelerations at the new step size (GeneralizedAlphaStepper._attempt);
             # SuperLU's factors (kind < 0), a singular matrix or a non-finite one: Python's
-            if kind < 0 or not _restart(
-                own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol,
-                values, place, brow, bcol, spare_i, spare_f,
+            if not _restart(
+                kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow,
+                pcol, values, place, brow, bcol, spare_i, spare_f,
             ):  # fmt: skip
                 return STOPPED, i, written
             counts[ROW_FACTORS] += 1
@@ -142,7 +137,7 @@ def run_steps(
         fresh = ctrl[FRESH] != 0.0
         ctrl[FRESH] = 0.0
         t_new = t + h_try
-        due = _rows_due(outs, i, t_new) if dense else 0  # rows within the step
+        due = _rows_due(outs, i, t_new, dense)  # rows within the step
         if written + due > rows_t.shape[0]:
             return (STOPPED if written == 0 else 0), i, written
         am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
@@ -175,16 +170,14 @@ def run_steps(
             return STOPPED, i, written  # rejected: the Python stepper shrinks the step
         # the angles unwrapped at the new state (settle), which the step's rows read
         _unwrapped(q1, angles, refs_all, block_angles, new_refs, new_block)
-        fresh_rows = 0
-        if due:
-            ends[0], ends[1], ends[2] = own[0], cons[0], cons[1]
-            ends[3], ends[4], ends[5] = q1, true[:nq], new_qdd
-            fresh_rows = _dense_rows(
-                ends, t, t_new, outs[i : i + due], written, ints, floats, functions, new_block,
-                new_refs, body, projection, rows_t, rows_state, rows_refs,
-            )  # fmt: skip
-            if fresh_rows < 0:  # the Python stepper takes this step and its rows
-                return STOPPED, i, written
+        ends[0], ends[1], ends[2] = own[0], cons[0], cons[1]
+        ends[3], ends[4], ends[5] = q1, true[:nq], new_qdd
+        fresh_rows = _dense_rows(
+            ends, t, t_new, outs[i : i + due], written, ints, floats, functions, new_block,
+            new_refs, body, projection, rows_t, rows_state, rows_refs,
+        )  # fmt: skip
+        if fresh_rows < 0:  # the Python stepper takes this step and its rows
+            return STOPPED, i, written
         # accepted (GeneralizedAlphaStepper._attempt, then settle)
         counts[ITERATIONS] += done
         counts[ROW_JACOBIANS] += fresh_rows
@@ -220,10 +213,13 @@ def _output_row(i, written, t, outs, own, cons, cons_lam, refs_all, rows_t, rows
 
 
 @njit(**KERNEL)
-def _rows_due(outs, i, t_new):
-    """How many output times from outs[i] lie within a dense step ending at t_new (s)."""
+def _rows_due(outs, i, t_new, dense):
+    """How many output times from outs[i] lie within a dense step ending at t_new (s);
+    none for a step landing on an output time (its row is recorded at its end)."""
     due = 0
-    while i + due < outs.shape[0] and outs[i + due] - t_new <= 1e-12 * max(1.0, abs(t_new)):
+    while (
+        dense and i + due < outs.shape[0] and outs[i + due] - t_new <= 1e-12 * max(1.0, abs(t_new))
+    ):
         due += 1
     return due
 
@@ -361,7 +357,7 @@ def _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref):
 
 @njit(**KERNEL)
 def _restart(
-    own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol, values,
+    kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol, values,
     place, brow, bcol, fi, ff,
 ):  # fmt: skip
     """Consistent accelerations and multipliers at the state (own[0], own[1]) from
@@ -369,7 +365,10 @@ def _restart(
     element: Q is gravity and the velocity terms), factored into (fi, ff) by the kernel
     of mechlib.system.saddle.rigid_saddle_factors; written as GeneralizedAlphaStepper._attempt
     does (qdd, a, lam; the consistent qd is the raw one). False, nothing written, where
-    the matrix is taken for singular or the solution is not finite."""
+    the matrix is taken for singular or the solution is not finite, or the factors are
+    SuperLU's (`kind` < 0: made in Python)."""
+    if kind < 0:
+        return False
     nq = own.shape[1]
     nb = nq // 7
     x, xd = ca.state_arrays(own[0], own[1], nb)
@@ -400,7 +399,7 @@ class StepRun:
     def __init__(self, stepper):
         self.stepper = stepper
         system = stepper.system
-        # system._angles' order: the angle measures in the order of system.measures
+        # system.angle_measures' order: the angle measures in the order of system.measures
         self.angle_keys = [k for k, m in system.measures.items() if isinstance(m, AngleMeasure)]
         self._angle_args: tuple | None = None
         self._block: tuple | None = None  # (coordinate block, its angles' indices)
@@ -421,8 +420,8 @@ class StepRun:
             return False
         if self.stepper.dense and not small_enough(system):
             return False  # its rows' dense Schur complement would cost more than Python's
-        block = system._coordinate_rows()
-        return all(block.equations[i].function is None for i in block._linear)
+        block = system.coordinate_rows()
+        return all(block.equations[i].function is None for i in block.linear)
 
     def run(self, s, outputs: np.ndarray, i: int, trajectory, progress) -> tuple:
         """From state s, the steps and rows towards outputs[i:] that `run_steps` takes,
@@ -509,9 +508,9 @@ class StepRun:
         ints, floats = arrays.packed()
         fi, ff, layout = self._factors()
         if self._angle_args is None:
-            self._angle_args = ca.measure_args([m._sc for m in system._angles], 4)
-        refs_all = np.array([m.reference for m in system._angles], dtype=float)
-        block_angles = self._block_angles(system._coordinate_rows())
+            self._angle_args = ca.measure_args([m.sine_cosine for m in system.angle_measures], 4)
+        refs_all = np.array([m.reference for m in system.angle_measures], dtype=float)
+        block_angles = self._block_angles(system.coordinate_rows())
         rows = min(self.CHUNK, len(outputs) - i)
         rows_t, rows_refs = np.empty(rows), np.empty((rows, len(refs_all)))
         rows_state = np.empty((rows, 3 * nq + own_lam.size))
@@ -530,7 +529,7 @@ class StepRun:
         taken = int(counts[STEPS]) - stats.steps
         stats.steps = int(counts[STEPS])
         stats.newton_iterations += int(counts[ITERATIONS])
-        for m, value in zip(system._angles, refs_all):
+        for m, value in zip(system.angle_measures, refs_all):
             m.reference = float(value)
         if taken or ctrl[RESTARTED]:  # the state moved, or took consistent accelerations
             stepper.h, stepper.h_used = float(ctrl[H]), float(ctrl[H_USED])
@@ -563,8 +562,8 @@ class StepRun:
         """The indices of the constraint rows' angle measures among all of the system's
         (found again only when an event changes the coordinate block)."""
         if self._block is None or self._block[0] is not block:
-            position = {id(m): j for j, m in enumerate(self.stepper.system._angles)}
-            found = np.array([position[id(m)] for m in block._angles], dtype=np.int64)
+            position = {id(m): j for j, m in enumerate(self.stepper.system.angle_measures)}
+            found = np.array([position[id(m)] for m in block.angles], dtype=np.int64)
             self._block = (block, found)
         return self._block[1]
 
