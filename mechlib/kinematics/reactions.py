@@ -14,6 +14,8 @@ from mechlib.core.rotation import cross, e_matrix, rotate, rotation_matrix
 from mechlib.kinematics import constraint_arrays as ca
 
 __all__ = [
+    "FORCE",
+    "TORQUE",
     "Gatherer",
     "effort_series",
     "gather_in_batches",
@@ -22,8 +24,9 @@ __all__ = [
     "reaction_series",
 ]
 
-_FORCE = ("fx", "fy", "fz")
-_TORQUE = ("tx", "ty", "tz")
+#: the column names of a reaction's force (N) and torque (N*m) components
+FORCE = ("fx", "fy", "fz")
+TORQUE = ("tx", "ty", "tz")
 
 
 class Gatherer:
@@ -151,7 +154,7 @@ def reaction_series(
     if axes is not None:
         force = np.einsum("nji,nj->ni", axes, force)
         torque = np.einsum("nji,nj->ni", axes, torque)
-    out = dict(zip(_FORCE, force.T)) | dict(zip(_TORQUE, torque.T))
+    out = dict(zip(FORCE, force.T)) | dict(zip(TORQUE, torque.T))
     out["f"], out["t"] = np.linalg.norm(force, axis=1), np.linalg.norm(torque, axis=1)
     return out
 

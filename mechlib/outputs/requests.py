@@ -19,7 +19,14 @@ import numpy as np
 from mechlib.core.outcome import SolverFailure
 from mechlib.core.rotation import d_rotate, rotate
 from mechlib.kinematics.coordinates import AngleMeasure, CoordinateEquation, TravelMeasure
-from mechlib.kinematics.reactions import Gatherer, effort_series, gather_in_batches, reaction_series
+from mechlib.kinematics.reactions import (
+    FORCE,
+    TORQUE,
+    Gatherer,
+    effort_series,
+    gather_in_batches,
+    reaction_series,
+)
 from mechlib.kinematics.view import StateView
 from mechlib.outputs.energy import EnergyBalance, energy_columns
 from mechlib.outputs.request_failure import partial_columns
@@ -38,9 +45,6 @@ __all__ = [
     "evaluate_requests",
 ]
 
-_FORCE = ("fx", "fy", "fz")
-_TORQUE = ("tx", "ty", "tz")
-
 
 @dataclass(frozen=True)
 class JointReaction:
@@ -50,7 +54,7 @@ class JointReaction:
     joint: str
     frame: str = "ground"
     units: ClassVar[dict[str, str]] = dict(
-        zip(_FORCE + _TORQUE + ("f", "t"), ("N",) * 3 + ("N*m",) * 3 + ("N", "N*m"))
+        zip(FORCE + TORQUE + ("f", "t"), ("N",) * 3 + ("N*m",) * 3 + ("N", "N*m"))
     )
 
 
@@ -226,7 +230,7 @@ def _in_frame(system, k, values: dict[str, float], frame: str) -> dict[str, floa
         return values
     axes = _frame_matrix(system, k, frame).T
     out = dict(values)
-    for names in (_FORCE, _TORQUE, ("ex", "ey", "ez"), ("px", "py", "pz")):
+    for names in (FORCE, TORQUE, ("ex", "ey", "ez"), ("px", "py", "pz")):
         if all(n in values for n in names):
             v = np.array([values[n] for n in names])
             if names[0] == "px":

@@ -33,7 +33,7 @@ from mechlib.elements.contact.laws import (
     impact_force,
     restitution_force,
 )
-from mechlib.kinematics.kernels import _brot, _gt_times, _rot
+from mechlib.kinematics.kernels import _brot, _gt_times, _rot, point_position
 
 __all__ = [
     "CIRCLE_PROFILE",
@@ -84,21 +84,12 @@ def _material_velocity(x, xd, b, point, out):
 
 
 @njit(**KERNEL)
-def _position(x, b, s, out):
-    _rot(x[b, 3:], s, out)
-    for c in range(3):
-        out[c] += x[b, c]
-
-
-@njit(**KERNEL)
 def gap(kind, x, xd, b1, b2, g, out):
     """The gap (layout in the module docstring) of geometry `kind` between b1 and b2."""
-    c1 = np.empty(3)
-    c2 = np.empty(3)
+    c1 = point_position(x, b1, g[0:3])
+    c2 = point_position(x, b2, g[3:6])
     e = np.empty(3)
     point = np.empty(3)
-    _position(x, b1, g[0:3], c1)
-    _position(x, b2, g[3:6], c2)
     for c in range(3):
         e[c] = c1[c] - c2[c]
     if kind == CIRCLE_PROFILE:
