@@ -18,8 +18,8 @@ import mechlib as ml
 from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_MAKERS, CONTACT_UNITS
 from loadcases.build.elements import ELEMENT_EFFECTS, ELEMENT_MAKERS
 from loadcases.build.events import build_events
-from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import CompiledExpression, ExpressionError, parse
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
 from loadcases.schema import FlexibleBody
 from mechlib.elements.hydraulics import ServoActuator

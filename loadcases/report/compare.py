@@ -20,7 +20,7 @@ import math
 from dataclasses import astuple, dataclass, fields
 from pathlib import Path
 
-from loadcases.atomic import atomic_path, atomic_write_text
+from loadcases.foundation.atomic import atomic_path, atomic_write_text
 
 __all__ = [
     "COMPARE_COLUMNS",

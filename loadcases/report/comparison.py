@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from loadcases.atomic import atomic_write_text
+from loadcases.foundation.atomic import atomic_write_text
 from loadcases.report.compare import NOISE_FLOOR
 from loadcases.results.saved import SavedRun
 

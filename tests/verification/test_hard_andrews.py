@@ -124,7 +124,7 @@ def test_tight_setting_reaches_1e6(tight) -> None:
     (the issue asks 1e-6; measured 1.4e-8), rates within 3e-7 of their peak (measured
     1.0e-7), the reaction at E within 2.5e-7 of its peak (measured 8.3e-8). At tolerance
     1e-6 the rates were 4.4e-7 to 2.3e-6 depending on round-off alone (BLAS threads: one
-    since version 0.10.0, loadcases.process_settings), which moves Radau's step sequence;
+    since version 0.10.0, loadcases.foundation.process_settings), which moves Radau's step sequence;
     at 3e-7 they are not near the limit."""
     q = _coordinates(tight)
     assert np.max(np.abs(q[-1] - Q_END) / np.abs(Q_END)) < 5e-8
