@@ -14,7 +14,7 @@ from loadcases.schema.types import AnySI, Dimensionless, Strict
 
 __all__ = ["Allowable", "Limits", "Report", "ReportUnits", "SetModel", "matches"]
 
-DEFAULT_NOISE_FLOOR = 1e-6  # loadcases.report.noise: below it (of the request's peak) ~0
+DEFAULT_NOISE_FLOOR = 1e-6  # loadcases.report.roundoff: below it (of the request's peak) ~0
 
 
 def matches(name: str, pattern: str) -> bool:
