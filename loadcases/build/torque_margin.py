@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import mechlib as ml
-from loadcases.build.model import Guarded
+from loadcases.build.context import Guarded
 from loadcases.expressions import ExpressionError, parse
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.schema.torque_margin import DEFAULT_FACTORS

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.build.requests import ABSCISSA_COLUMN
 from loadcases.report.envelope import EnvelopeRow
 from loadcases.report.roundoff import NOISE_FLOOR
 

@@ -12,7 +12,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.build.requests import ABSCISSA_COLUMN
 from loadcases.report.curves import EnvelopeCurve, envelope_curves
 from loadcases.report.envelope import EnvelopeRow, extract_envelope
 from loadcases.report.loads_matrix import LoadsMatrix, loads_matrix

@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.build.requests import ABSCISSA_COLUMN
 from loadcases.foundation.atomic import atomic_path
 from loadcases.report.comparison import comparison_rows, comparison_sheet
 from loadcases.report.curves import EnvelopeCurve
