@@ -217,18 +217,11 @@ def _add_contacts(mbs: Any, model: ModelSpec, bodies: dict[str, Any]) -> None:
         )
 
 
-def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
-    """Create the Exudyn system of `model` with the sensors its outputs need, and assemble it."""
-    exu = import_exudyn()
-    from exudyn.utilities import (  # type: ignore[import-not-found]
-        ObjectGround,
-        RigidBodyInertia,
-        SensorBody,
-        SensorObject,
-    )
+def _add_bodies(exu: ModuleType, mbs: Any, model: ModelSpec) -> dict[str, Any]:
+    """The ground and each body (at its centre of mass, with the spec's consistent initial
+    velocities); {name: body number}."""
+    from exudyn.utilities import ObjectGround, RigidBodyInertia  # type: ignore[import-not-found]
 
-    sc = exu.SystemContainer()
-    mbs = sc.AddSystem()
     ground = mbs.AddObject(ObjectGround())
     velocities, omegas = consistent_velocities(model)
     bodies: dict[str, Any] = {"ground": ground}
@@ -247,140 +240,168 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
             graphicsDataList=[],
             show=False,
         )
+    return bodies
 
-    _add_contacts(mbs, model, bodies)
-    joints: dict[str, Any] = {}
-    for j in model.joints:
-        items = [bodies[j.bodies[1]], bodies[j.bodies[0]]]  # marker 0: body 2, marker 1: body 1
-        at = [float(c) for c in j.at]
-        if j.type == "revolute":
-            joints[j.name] = mbs.CreateRevoluteJoint(
-                name=j.name, itemNumbers=items, position=at, axis=list(j.axis), show=False
-            )
-        elif j.type == "spherical":
-            joints[j.name] = mbs.CreateSphericalJoint(
-                name=j.name, itemNumbers=items, position=at, show=False
-            )
-        elif j.type == "prismatic":
-            joints[j.name] = mbs.CreatePrismaticJoint(
-                name=j.name, itemNumbers=items, position=at, axis=list(j.axis), show=False
-            )
-        elif j.type == "universal":
-            a1 = np.array(j.axes[0], dtype=float)  # fixed in body 1 = marker 1 (joint-1 z axis)
-            a2 = np.array(j.axes[1], dtype=float)  # fixed in body 2 = marker 0 (joint-0 y axis)
-            a1 /= np.linalg.norm(a1)
-            a2 /= np.linalg.norm(a2)
-            rot = np.column_stack([np.cross(a2, a1), a2, a1])
-            joints[j.name] = mbs.CreateGenericJoint(
-                name=j.name,
-                itemNumbers=items,
-                position=at,
-                rotationMatrixAxes=rot,
-                constrainedAxes=[1, 1, 1, 1, 0, 0],
-                show=False,
-            )
-        else:  # pragma: no cover - JointSpec.type is a Literal
-            raise ValueError(f"unsupported joint type {j.type}")
 
-    record_every_step = options.output_step is None
+def _add_joint(mbs: Any, j: Any, bodies: dict[str, Any]) -> Any:
+    """One joint of the spec (module notes: marker 0 on body 2, marker 1 on body 1)."""
+    items = [bodies[j.bodies[1]], bodies[j.bodies[0]]]  # marker 0: body 2, marker 1: body 1
+    at = [float(c) for c in j.at]
+    if j.type == "revolute":
+        return mbs.CreateRevoluteJoint(
+            name=j.name, itemNumbers=items, position=at, axis=list(j.axis), show=False
+        )
+    if j.type == "spherical":
+        return mbs.CreateSphericalJoint(name=j.name, itemNumbers=items, position=at, show=False)
+    if j.type == "prismatic":
+        return mbs.CreatePrismaticJoint(
+            name=j.name, itemNumbers=items, position=at, axis=list(j.axis), show=False
+        )
+    if j.type == "universal":
+        a1 = np.array(j.axes[0], dtype=float)  # fixed in body 1 = marker 1 (joint-1 z axis)
+        a2 = np.array(j.axes[1], dtype=float)  # fixed in body 2 = marker 0 (joint-0 y axis)
+        a1 /= np.linalg.norm(a1)
+        a2 /= np.linalg.norm(a2)
+        rot = np.column_stack([np.cross(a2, a1), a2, a1])
+        return mbs.CreateGenericJoint(
+            name=j.name,
+            itemNumbers=items,
+            position=at,
+            rotationMatrixAxes=rot,
+            constrainedAxes=[1, 1, 1, 1, 0, 0],
+            show=False,
+        )
+    raise ValueError(f"unsupported joint type {j.type}")  # pragma: no cover - a Literal
+
+
+_AXIS_INDEX = {"x": 0, "y": 1, "z": 2, "fx": 0, "fy": 1, "fz": 2}
+
+
+def _add_output_sensors(
+    exu: ModuleType, mbs: Any, model: ModelSpec, bodies: dict[str, Any], joints: dict[str, Any]
+) -> dict[str, tuple[int, int, float, np.ndarray | None]]:
+    """A sensor per output of the spec: {column: (sensor, component, sign, rotation)}."""
+    from exudyn.utilities import SensorBody, SensorObject  # type: ignore[import-not-found]
+
+    ovt = exu.OutputVariableType
     channel_sensors: dict[str, tuple[int, int, float, np.ndarray | None]] = {}
-    axis_index = {"x": 0, "y": 1, "z": 2, "fx": 0, "fy": 1, "fz": 2}
     for out in model.outputs:
         if out.kind == "point_position":
             p = model.point(out.target)
-            body = model.body(p.body)
-            local = (np.array(p.at) - np.array(body.cm)).tolist()
+            local = (np.array(p.at) - np.array(model.body(p.body).cm)).tolist()
             s = mbs.AddSensor(
                 SensorBody(
                     bodyNumber=bodies[p.body],
                     localPosition=local,
-                    outputVariableType=exu.OutputVariableType.Position,
+                    outputVariableType=ovt.Position,
                     storeInternal=True,
                     writeToFile=False,
                 )
             )
-            channel_sensors[out.column] = (int(s), axis_index[out.component], 1.0, None)
+            channel_sensors[out.column] = (int(s), _AXIS_INDEX[out.component], 1.0, None)
         elif out.kind == "joint_force":
-            joint = model.joint(out.target)
-            if joint.bodies[1] != "ground":
-                raise ValueError(
-                    f"{model.name}: a joint_force output needs a ground joint "
-                    f"(its marker 0 frame is then fixed), {joint.name} is not one"
-                )
-            marker0 = mbs.GetObject(joints[out.target])["markerNumbers"][0]
-            rot = np.array(mbs.GetMarker(marker0)["localHT"], dtype=float)[:3, :3]
-            s = mbs.AddSensor(
-                SensorObject(
-                    objectNumber=joints[out.target],
-                    outputVariableType=exu.OutputVariableType.ForceLocal,
-                    storeInternal=True,
-                    writeToFile=False,
-                )
-            )
-            channel_sensors[out.column] = (int(s), axis_index[out.component], REACTION_SIGN, rot)
+            s, rot = _joint_force_sensor(exu, mbs, model, out.target, joints)
+            channel_sensors[out.column] = (s, _AXIS_INDEX[out.component], REACTION_SIGN, rot)
         elif out.kind == "joint_angle":
             s = mbs.AddSensor(
                 SensorObject(
                     objectNumber=joints[out.target],
-                    outputVariableType=exu.OutputVariableType.Rotation,
+                    outputVariableType=ovt.Rotation,
                     storeInternal=True,
                     writeToFile=False,
                 )
             )
             channel_sensors[out.column] = (int(s), 2, 1.0, None)
+    return channel_sensors
 
+
+def _joint_force_sensor(
+    exu: ModuleType, mbs: Any, model: ModelSpec, name: str, joints: dict[str, Any]
+) -> tuple[int, np.ndarray]:
+    """The `ForceLocal` sensor of a ground joint and its marker-0 rotation to ground axes."""
+    from exudyn.utilities import SensorObject  # type: ignore[import-not-found]
+
+    joint = model.joint(name)
+    if joint.bodies[1] != "ground":
+        raise ValueError(
+            f"{model.name}: a joint_force output needs a ground joint "
+            f"(its marker 0 frame is then fixed), {joint.name} is not one"
+        )
+    marker0 = mbs.GetObject(joints[name])["markerNumbers"][0]
+    rot = np.array(mbs.GetMarker(marker0)["localHT"], dtype=float)[:3, :3]
+    s = mbs.AddSensor(
+        SensorObject(
+            objectNumber=joints[name],
+            outputVariableType=exu.OutputVariableType.ForceLocal,
+            storeInternal=True,
+            writeToFile=False,
+        )
+    )
+    return int(s), rot
+
+
+def _add_body_check_sensors(
+    exu: ModuleType, mbs: Any, model: ModelSpec, bodies: dict[str, Any]
+) -> dict[str, tuple[int, int, int, int]]:
+    """Position, velocity, angular velocity and rotation sensors of each body (energy)."""
+    from exudyn.utilities import SensorBody  # type: ignore[import-not-found]
+
+    ovt = exu.OutputVariableType
     body_sensors: dict[str, tuple[int, int, int, int]] = {}
+    for b in model.bodies:
+        ids = tuple(
+            int(
+                mbs.AddSensor(
+                    SensorBody(
+                        bodyNumber=bodies[b.name],
+                        outputVariableType=v,
+                        storeInternal=True,
+                        writeToFile=False,
+                    )
+                )
+            )
+            for v in (ovt.Position, ovt.Velocity, ovt.AngularVelocity, ovt.RotationMatrix)
+        )
+        body_sensors[b.name] = ids  # type: ignore[assignment]
+    return body_sensors
+
+
+def _add_joint_check_sensors(
+    exu: ModuleType, mbs: Any, model: ModelSpec, bodies: dict[str, Any]
+) -> list[tuple[str, int | None, int | None, np.ndarray, np.ndarray | None]]:
+    """Each joint's point on both of its bodies (None: the ground) and, for a prismatic
+    joint, its sliding axis: (joint, sensor 1, sensor 2, point, axis), for the gap check."""
+    from exudyn.utilities import SensorBody  # type: ignore[import-not-found]
+
     joint_point_sensors: list[
         tuple[str, int | None, int | None, np.ndarray, np.ndarray | None]
     ] = []
-    if options.check:
-        ovt = exu.OutputVariableType
-        for b in model.bodies:
-            ids = tuple(
-                int(
-                    mbs.AddSensor(
-                        SensorBody(
-                            bodyNumber=bodies[b.name],
-                            outputVariableType=v,
-                            storeInternal=True,
-                            writeToFile=False,
-                        )
-                    )
-                )
-                for v in (ovt.Position, ovt.Velocity, ovt.AngularVelocity, ovt.RotationMatrix)
+    for j in model.joints:
+        ids: list[int | None] = []
+        for name in j.bodies:
+            if name == "ground":
+                ids.append(None)
+                continue
+            local = (np.array(j.at) - np.array(model.body(name).cm)).tolist()
+            sensor = SensorBody(
+                bodyNumber=bodies[name],
+                localPosition=local,
+                outputVariableType=exu.OutputVariableType.Position,
+                storeInternal=True,
+                writeToFile=False,
             )
-            body_sensors[b.name] = ids  # type: ignore[assignment]
-        for j in model.joints:
-            ids: list[int | None] = []
-            for name in j.bodies:
-                if name == "ground":
-                    ids.append(None)
-                    continue
-                local = (np.array(j.at) - np.array(model.body(name).cm)).tolist()
-                ids.append(
-                    int(
-                        mbs.AddSensor(
-                            SensorBody(
-                                bodyNumber=bodies[name],
-                                localPosition=local,
-                                outputVariableType=ovt.Position,
-                                storeInternal=True,
-                                writeToFile=False,
-                            )
-                        )
-                    )
-                )
-            slide = None
-            if j.type == "prismatic":
-                if j.bodies[1] != "ground":
-                    raise ValueError(
-                        f"{model.name}: the gap check of {j.name} needs body 2 = ground"
-                    )
-                slide = np.array(j.axis, dtype=float) / np.linalg.norm(j.axis)
-            joint_point_sensors.append((j.name, ids[0], ids[1], np.array(j.at, dtype=float), slide))
+            ids.append(int(mbs.AddSensor(sensor)))
+        slide = None
+        if j.type == "prismatic":
+            if j.bodies[1] != "ground":
+                raise ValueError(f"{model.name}: the gap check of {j.name} needs body 2 = ground")
+            slide = np.array(j.axis, dtype=float) / np.linalg.norm(j.axis)
+        joint_point_sensors.append((j.name, ids[0], ids[1], np.array(j.at, dtype=float), slide))
+    return joint_point_sensors
 
-    mbs.Assemble()
 
+def _settings(exu: ModuleType, model: ModelSpec, options: ExudynOptions) -> Any:
+    """Exudyn's simulation settings for `options` (fixed steps of generalized-alpha)."""
     settings = exu.SimulationSettings()
     ti = settings.timeIntegration
     ti.numberOfSteps = round(options.end / options.step)
@@ -390,7 +411,7 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
     ti.generalizedAlpha.computeInitialAccelerations = True
     settings.solution.file.write = False
     settings.solution.sensors.writePeriod = (
-        options.step if record_every_step else options.output_step
+        options.step if options.output_step is None else options.output_step
     )
     if model.contacts:
         # Exudyn's step recommended at a contact switch drives the step to its 1e-8 s minimum
@@ -403,6 +424,27 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
         if options.linear_solver == "dense"
         else exu.LinearSolverType.EigenSparse
     )
+    return settings
+
+
+def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
+    """Create the Exudyn system of `model` with the sensors its outputs need, and assemble it."""
+    exu = import_exudyn()
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    bodies = _add_bodies(exu, mbs, model)
+    _add_contacts(mbs, model, bodies)
+    joints = {j.name: _add_joint(mbs, j, bodies) for j in model.joints}
+    channel_sensors = _add_output_sensors(exu, mbs, model, bodies, joints)
+    body_sensors: dict[str, tuple[int, int, int, int]] = {}
+    joint_point_sensors: list[
+        tuple[str, int | None, int | None, np.ndarray, np.ndarray | None]
+    ] = []
+    if options.check:
+        body_sensors = _add_body_check_sensors(exu, mbs, model, bodies)
+        joint_point_sensors = _add_joint_check_sensors(exu, mbs, model, bodies)
+    mbs.Assemble()
+    settings = _settings(exu, model, options)
     return _Built(sc, mbs, settings, channel_sensors, body_sensors, joint_point_sensors)
 
 

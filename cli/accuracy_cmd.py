@@ -95,7 +95,7 @@ def accuracy(
     measure every request's error against a much tighter run of the other integrator, and
     recommend the cheapest setting that meets the target. Writes NAME.accuracy.csv,
     NAME.accuracy-columns.csv, NAME.accuracy.png and NAME.accuracy.xlsx."""
-    from loadcases.diagnostics import InputError
+    from loadcases.foundation.diagnostics import InputError
     from loadcases.inputs.loader import load_case
     from loadcases.studies.accuracy import INTEGRATORS, accuracy_study
     from loadcases.studies.accuracy_files import recommendation_text, write_accuracy_files

@@ -164,14 +164,14 @@ def run(
     NAME.summary.json; a set SET also writes DIR/SET/envelope.csv and its workbook."""
     _require_files(files)
     engine = engine_of(ctx)
-    from loadcases.limits import capped_jobs
+    from loadcases.foundation.limits import capped_jobs
 
     overrides = _overrides(what_if or [])
     _preflight(files, output, scheduler)
     jobs, note = capped_jobs(jobs)
     if note is not None:
         typer.echo(f"loads: warning: {note}", err=True)
-    from loadcases import interrupts
+    from loadcases.foundation import interrupts
 
     code = EXIT_OK
     with interrupts.on_signals():
@@ -216,7 +216,7 @@ def _overrides(texts: list[str]) -> tuple[Any, ...]:
 
 def _kind(path: Path) -> str | None:
     """The kind of a file, None when it cannot be told (the runner reports why)."""
-    from loadcases.diagnostics import InputError
+    from loadcases.foundation.diagnostics import InputError
     from loadcases.inputs.kinds import file_kind
 
     try:

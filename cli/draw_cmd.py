@@ -154,8 +154,8 @@ def draw(
 ) -> int:
     """Solve a case, or one run of a set, and draw its mechanism (bodies, joints, springs,
     wires and contacts) as PNG pictures or as an interactive 3-D page."""
-    from loadcases.diagnostics import InputError
     from loadcases.draw.trajectory import solve_trajectory
+    from loadcases.foundation.diagnostics import InputError
 
     if not case.is_file():
         raise fail(f"{case}: no such file")

@@ -46,9 +46,9 @@ def check(
 ) -> int:
     """Read an imported flexible component (neutral npz, Matrix Market, NASTRAN OP4 or DMIG)
     and print its nodes, DOF, mass, interface and first free-free frequencies."""
-    from loadcases.diagnostics import InputError
     from loadcases.flexible.read import read_fe_model
     from loadcases.flexible.summary import free_free_frequencies, mass_properties
+    from loadcases.foundation.diagnostics import InputError
 
     if not file.is_file():
         raise fail(f"{file}: no such file")

@@ -10,7 +10,7 @@ from typing import TextIO
 
 import typer
 
-from loadcases.diagnostics import Diagnostic, sort_diagnostics
+from loadcases.foundation.diagnostics import Diagnostic, sort_diagnostics
 
 __all__ = [
     "ProgressBar",

@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from cli.engine import Engine
-from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 
 __all__ = ["FileReport", "RunLine", "run_all", "run_one"]
 
@@ -107,7 +107,7 @@ def run_all(
     `progress_for(path)` gives the progress callback of a file run in this process
     (worker processes run without one).
     """
-    from loadcases import interrupts
+    from loadcases.foundation import interrupts
 
     workers = min(jobs, len(paths))
     if workers <= 1:

@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, TextIO
 from cli.engine import RunSet
 from cli.render import TerminalLine
 from cli.runner import FileReport, RunLine
-from loadcases.diagnostics import InputError
+from loadcases.foundation.diagnostics import InputError
 
 if TYPE_CHECKING:
     from loadcases.sets.campaign import SetResult

@@ -46,9 +46,9 @@ def tune(
 ) -> int:
     """Find the value of a parameter that gives mode N the target frequency, by root
     finding on the case's modes analysis (as in latch-spring tuning)."""
-    from loadcases.diagnostics import InputError
+    from loadcases.foundation.diagnostics import InputError
+    from loadcases.foundation.units import UnitError, to_si
     from loadcases.studies.tune import TuneError, tune_parameter
-    from loadcases.units import UnitError, to_si
 
     if not case.is_file():
         raise fail(f"{case}: no such file")

@@ -3,7 +3,9 @@ envelopes and workbooks. This is its public API; the sub-packages hold the parts
 
 - `inputs/` the files (kind, validated models), `schema/`, `checks/`, `expressions/`;
 - `build/` a case -> a `mechlib` model; `run` one case end to end; `results/` its files;
-- `sets/` sets run as campaigns; `report/` envelopes, margins, plots, workbooks; `draw/`.
+- `sets/` sets run as campaigns; `report/` envelopes, margins, plots, workbooks; `draw/`;
+- `foundation/` diagnostics, limits, units, caches, signals; `yamlfiles/` YAML with
+  positions.
 
 Names are imported when first used (`loadcases.run_case` imports the solver stack,
 `loadcases.write_workbook` openpyxl), so `import loadcases` stays quick.
@@ -11,7 +13,7 @@ Names are imported when first used (`loadcases.run_case` imports the solver stac
 
 from __future__ import annotations
 
-from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from mechlib.core.lazy import lazy_names
 
 _WHERE = {

@@ -7,7 +7,7 @@ set's `report: {template: ...}` at its copy; see loadcases/report/workbook_templ
 
 from pathlib import Path
 
-from loadcases.atomic import atomic_path
+from loadcases.foundation.atomic import atomic_path
 from loadcases.report.workbook_template import build_template
 
 TARGET = Path(__file__).resolve().parent / "envelope.xlsx"

@@ -21,14 +21,12 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYERS: tuple[frozenset[str], ...] = tuple(
     frozenset(layer.split())
     for layer in (
-        "clip unit_table cache_env atomic",  # input quoted in messages (at most 80
-        # characters); the unit conversions pint made before; the folder named for every
-        # cache; files written whole
-        "diagnostics units limits engine_hash interrupts process_settings parse_cache",
-        # problems as data; quantities; input limits; the engine's source hash; signals; a
-        # solving process's BLAS threads and heap; parsed YAML trees
-        "source expressions flexible",  # YAML with positions; the expression language;
-        # stiffness and mass files of flexible components (readers, reduction cache)
+        "foundation",  # problems as data, input limits and quoting, quantities, files
+        # written whole, cache folders, the engine's source hash, signals, a solving
+        # process's settings
+        "yamlfiles expressions flexible",  # YAML with positions (and its parse cache); the
+        # expression language; stiffness and mass files of flexible components (readers,
+        # reduction cache)
         "schema",  # pydantic models of the files
         "checks",  # semantic checks of the models
         "inputs results",  # files -> validated models; the files of one run

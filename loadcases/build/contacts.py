@@ -1,10 +1,11 @@
-"""Builders of contact elements (impact, hertz, restitution between primitive geometries).
+"""Contact elements (impact, hertz, restitution between primitive geometries) of a case's
+model: `add_contacts` adds them as force elements of the contact's effect (`contact`), so
+that `effects: {contact: false}` removes them; a case with `effects: {friction: false}` gets
+its contacts without friction. `sphere_in_sphere` and `cylinder_in_cylinder` geometries make
+clearance joints (they report an eccentricity).
 
 `CONTACT_MAKERS[type](builder, name, model) -> mechlib element or None` (None after the
-builder recorded a diagnostic). `loadcases.build.model` adds the element as a force element of
-the contact's effect (`contact`), so that `effects: {contact: false}` removes it; a case
-with `effects: {friction: false}` gets its contacts without friction. `sphere_in_sphere` and
-`cylinder_in_cylinder` geometries make clearance joints (they report an eccentricity).
+builder recorded a diagnostic).
 """
 
 from __future__ import annotations
@@ -12,6 +13,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+import mechlib as ml
+from loadcases.build.context import NOT_YET, Builder
 from mechlib.elements import contact as mc
 
 __all__ = [
@@ -20,6 +23,7 @@ __all__ = [
     "CONTACT_COMPONENTS",
     "CONTACT_MAKERS",
     "CONTACT_UNITS",
+    "add_contacts",
 ]
 
 CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
@@ -133,3 +137,16 @@ CONTACT_MAKERS: dict[str, Callable[[Any, str, Any], Any]] = {
     "hertz": _hertz,
     "restitution": _restitution,
 }
+
+
+def add_contacts(b: Builder, m: ml.Mechanism) -> None:
+    """The contacts of the mechanism model, unless the case switches contact off."""
+    for name, c in b.mech.contacts.items() if b.effects.get("contact", True) else ():
+        maker = CONTACT_MAKERS.get(c.type)
+        element = maker(b, name, c) if maker else None
+        if element is not None:
+            element.active = c.active  # `active: false`: built, switched on by an event
+        if maker is None:
+            b.error("mechanism", f"contacts.{name}", f"{c.type} contacts {NOT_YET}")
+        elif element is not None:
+            m.add_force(element)

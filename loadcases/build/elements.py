@@ -1,7 +1,7 @@
 """Builders of the domain force elements (joint friction, seals, dampers, cable loops ...).
 
 `ELEMENT_MAKERS[type](builder, name, model) -> mechlib element or None` (None after the
-builder recorded a diagnostic with `builder.error(...)`). `loadcases.build.model` calls the
+builder recorded a diagnostic with `builder.error(...)`). `loadcases.build.forces` calls the
 maker of every force element type it does not build itself.
 """
 

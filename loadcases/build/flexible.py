@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from loadcases.flexible.cache import cached
-from loadcases.limits import local_path_problem
+from loadcases.foundation.limits import local_path_problem
 from loadcases.schema.flexible import BeamSection, FileSource, Flexible, MaterialModel
 from mechlib.core.rotation import frame_axes
 from mechlib.flexible.beam import Material, Section

@@ -1,11 +1,14 @@
 """Builder of the hydraulic servo-actuator (schema -> mechlib.elements.hydraulics.ServoActuator):
-keys given replace the library values, absent ones keep them."""
+keys given replace the library values, absent ones keep them; the analyses it cannot act in."""
 
 from __future__ import annotations
 
 from dataclasses import dataclass, fields, replace
 from typing import Any
 
+import mechlib as ml
+from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.inputs.loader import CaseFile
 from mechlib.elements.hydraulics import (
     Controller,
     Cylinder,
@@ -26,7 +29,7 @@ class Lag:
     damping: float = LAG_DAMPING
 
 
-__all__ = ["servo_actuator"]
+__all__ = ["servo_actuator", "servo_problems"]
 
 
 def _given(defaults, model, **renamed) -> Any:
@@ -76,3 +79,27 @@ def servo_actuator(builder, name: str, f) -> Any:
         lag_damping=lag.damping,
         initial_pressures=tuple(f.initial_pressures) if f.initial_pressures else None,
     )
+
+
+def servo_problems(cf: CaseFile, mechanism: ml.Mechanism, analysis) -> list[Diagnostic]:
+    """Servo actuators with valve dynamics in an equilibrium analysis: their chamber
+    pressures follow the piston flow, which an equilibrium (piston at rest) does not have,
+    so they cannot give a force there (docs/hydraulics.md, Analyses)."""
+    if not isinstance(analysis, (ml.QuasiStatic, ml.Static)):
+        return []
+    file, line, column = cf.where("case", "analysis.type")
+    return [
+        Diagnostic(
+            file,
+            line,
+            column,
+            "analysis.type",
+            f"servo actuator '{name}' ({element.fidelity}) cannot act in a {analysis.name} "
+            "analysis: its chamber pressures follow the piston flow, and an equilibrium has "
+            "the piston at rest",
+            hint="use a dynamic or kinematic analysis, the actuator's fidelity lag, "
+            "or effects: {hydraulics: false}",
+        )
+        for name, element in mechanism.forces.items()
+        if isinstance(element, ServoActuator) and element.fidelity != "lag"
+    ]

@@ -13,7 +13,7 @@ from __future__ import annotations
 import mechlib as ml
 from loadcases.build.model import build_run
 from loadcases.build.torque_margin import plan_torque_margin
-from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
 from mechlib.core.jit import interpreted
 

@@ -24,9 +24,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 import mechlib as ml
-from loadcases.build.model import Guarded
-from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.build.context import Guarded
 from loadcases.expressions import ExpressionError, parse
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.schema.torque_margin import DEFAULT_FACTORS
 from mechlib.model.tables import Table
 

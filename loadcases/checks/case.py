@@ -7,12 +7,12 @@ from collections.abc import Mapping
 from loadcases.checks.common import GROUND, Names, check_expressions, unknown
 from loadcases.checks.mechanism import mechanism_names
 from loadcases.checks.paths import check_name
-from loadcases.diagnostics import Diagnostic
-from loadcases.limits import rows_problem
+from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.foundation.limits import rows_problem
+from loadcases.foundation.units import UnitError, to_si
 from loadcases.schema import COORDINATE_DIMENSION, KNOWN_EFFECTS, CaseModel, MechanismModel
 from loadcases.schema.errors import did_you_mean
-from loadcases.source import KeyPath, Locator
-from loadcases.units import UnitError, to_si
+from loadcases.yamlfiles.source import KeyPath, Locator
 
 __all__ = ["check_case", "check_case_alone", "resolve_initial"]
 

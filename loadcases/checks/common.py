@@ -5,11 +5,11 @@ from __future__ import annotations
 import re
 from collections.abc import Collection, Iterable
 
-from loadcases.diagnostics import Diagnostic, Severity
 from loadcases.expressions import ExpressionError, parse
+from loadcases.foundation.diagnostics import Diagnostic, Severity
+from loadcases.foundation.units import RESERVED_NAMES, unit_constant
 from loadcases.schema.errors import did_you_mean
-from loadcases.source import KeyPath, Locator
-from loadcases.units import RESERVED_NAMES, unit_constant
+from loadcases.yamlfiles.source import KeyPath, Locator
 
 __all__ = ["GROUND", "Names", "check_expression", "check_expressions", "unknown"]
 

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from loadcases.diagnostics import Diagnostic
+from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import MechanismModel
-from loadcases.source import Locator
+from loadcases.yamlfiles.source import Locator
 from mechlib.model.joints import ROTATIONAL
 
 __all__ = ["check_elements"]

@@ -7,9 +7,9 @@ from collections.abc import Iterable
 import numpy as np
 
 from loadcases.checks.common import GROUND, Names, check_expressions, unknown
-from loadcases.diagnostics import Diagnostic
+from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import Body, FlexibleBody, MechanismModel
-from loadcases.source import KeyPath, Locator
+from loadcases.yamlfiles.source import KeyPath, Locator
 
 __all__ = ["check_mechanism", "mechanism_names", "node_bodies"]
 

@@ -6,9 +6,9 @@ from __future__ import annotations
 
 from pathlib import Path, PurePosixPath, PureWindowsPath
 
-from loadcases.clip import clip
-from loadcases.diagnostics import Diagnostic
-from loadcases.source import Locator
+from loadcases.foundation.clip import clip
+from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.yamlfiles.source import Locator
 
 __all__ = [
     "FORMULA_STARTS",

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from loadcases.diagnostics import Diagnostic
+from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import CaseModel, MechanismModel
 from loadcases.schema.elements import BodyTorque, PointForce
-from loadcases.source import Locator
+from loadcases.yamlfiles.source import Locator
 from mechlib.core.rotation import frame_axes
 from mechlib.model.plane import joint_problem, normal_name, plane_axes
 

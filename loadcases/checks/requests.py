@@ -4,9 +4,9 @@ from __future__ import annotations
 
 from loadcases.checks.common import Names, unknown
 from loadcases.checks.mechanism import node_bodies
-from loadcases.diagnostics import Diagnostic
+from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import COORDINATE_DIMENSION, CaseModel, MechanismModel
-from loadcases.source import Locator
+from loadcases.yamlfiles.source import Locator
 from mechlib.model.joints import ROTATIONAL, TRANSLATIONAL
 
 __all__ = ["check_requests"]

@@ -7,11 +7,11 @@ from typing import Any
 
 from loadcases.checks.common import unknown
 from loadcases.checks.paths import check_name, check_report_paths
-from loadcases.diagnostics import Diagnostic
-from loadcases.limits import pattern_problem, runs_problem
+from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.foundation.limits import pattern_problem, runs_problem
 from loadcases.schema import SetModel
 from loadcases.schema.setfile import matches
-from loadcases.source import Locator
+from loadcases.yamlfiles.source import Locator
 
 __all__ = ["check_set", "check_set_cases"]
 

@@ -14,11 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
-from loadcases.atomic import atomic_write_text
 from loadcases.draw.render import projection
 from loadcases.draw.scene import Scene, force_summary, frame_traces, scene_of
 from loadcases.draw.shapes import frame_indices
 from loadcases.draw.trajectory import Trajectory
+from loadcases.foundation.atomic import atomic_write_text
 
 __all__ = ["MAX_FRAMES", "figure_of", "html_page", "plotly_missing", "write_html"]
 

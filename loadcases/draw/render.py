@@ -18,9 +18,9 @@ from pathlib import Path
 
 import numpy as np
 
-from loadcases.atomic import atomic_path, atomic_write_bytes
 from loadcases.draw.shapes import frame_indices, outline_order, zigzag
 from loadcases.draw.trajectory import Trajectory
+from loadcases.foundation.atomic import atomic_path, atomic_write_bytes
 
 __all__ = ["DPI", "FIGURE_SIZE", "VIEWS", "projection", "slug", "write_animation", "write_pngs"]
 

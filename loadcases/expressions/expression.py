@@ -63,7 +63,7 @@ class Expression:
         unit_lookup: UnitLookup | None = None,
     ) -> CompiledExpression:
         """Resolve names (t, parameters, pi, then units via `unit_lookup`, by default
-        `loadcases.units.unit_constant`), fold constants and build the closure."""
+        `loadcases.foundation.units.unit_constant`), fold constants and build the closure."""
         resolver = Resolver(parameters, tables, unit_lookup)
         try:
             tree = fold(resolver.resolve(self.tree))

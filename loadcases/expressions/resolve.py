@@ -29,7 +29,9 @@ UnitLookup = Callable[[str], "float | None"]
 
 
 def _default_unit_lookup(name: str) -> float | None:
-    from ..units import unit_constant  # imported lazily: only expressions with units need it
+    from ..foundation.units import (
+        unit_constant,  # imported lazily: only expressions with units need it
+    )
 
     return unit_constant(name)
 

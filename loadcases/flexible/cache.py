@@ -25,9 +25,9 @@ import numpy as np
 import scipy
 import scipy.sparse as sp
 
-from loadcases.atomic import atomic_path
-from loadcases.cache_env import CACHE_ENV, shared_cache_folder
-from loadcases.engine_hash import engine_sha256
+from loadcases.foundation.atomic import atomic_path
+from loadcases.foundation.cache_env import CACHE_ENV, shared_cache_folder
+from loadcases.foundation.engine_hash import engine_sha256
 
 __all__ = ["CACHE_ENV", "CacheWarning", "cache_folder", "cache_key", "cached", "caching_under"]
 

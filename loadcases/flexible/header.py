@@ -14,8 +14,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from loadcases.diagnostics import Diagnostic, InputError, Severity
-from loadcases.limits import local_path_problem
+from loadcases.foundation.diagnostics import Diagnostic, InputError, Severity
+from loadcases.foundation.limits import local_path_problem
 
 __all__ = ["FORMATS", "HEADER_KEYS", "Header", "KeyPath", "load_header"]
 

@@ -17,9 +17,9 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from loadcases.atomic import atomic_path, atomic_write_text
 from loadcases.flexible.header import Header
 from loadcases.flexible.raw import RawModel
+from loadcases.foundation.atomic import atomic_path, atomic_write_text
 from mechlib.flexible.fe_model import FEModel
 
 __all__ = ["MATRICES", "npz_source", "write_neutral"]

@@ -15,13 +15,13 @@ from pathlib import Path
 
 import numpy as np
 
-from loadcases.diagnostics import Diagnostic
 from loadcases.flexible import checks
 from loadcases.flexible.header import Header, load_header
 from loadcases.flexible.neutral import npz_source
 from loadcases.flexible.raw import RawModel
 from loadcases.flexible.scales import Scales, read_scales, to_si_matrix
 from loadcases.flexible.sources import dmig_source, matrix_market_source, op4_source
+from loadcases.foundation.diagnostics import Diagnostic
 from mechlib.flexible.fe_model import FEModel
 
 __all__ = ["FEImport", "read_fe_model"]

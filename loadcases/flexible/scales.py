@@ -16,7 +16,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from loadcases.flexible.header import Header
-from loadcases.units import UnitError, check_unit_name, to_si
+from loadcases.foundation.units import UnitError, check_unit_name, to_si
 
 __all__ = ["UNIT_KEYS", "Scales", "read_scales", "to_si_matrix"]
 

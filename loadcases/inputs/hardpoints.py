@@ -19,11 +19,11 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-from loadcases.diagnostics import Diagnostic
-from loadcases.limits import MAX_HARDPOINT_BYTES, MAX_HARDPOINTS, local_path_problem
+from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.foundation.limits import MAX_HARDPOINT_BYTES, MAX_HARDPOINTS, local_path_problem
+from loadcases.foundation.units import SIValue, UnitError, check_unit_name, to_si
 from loadcases.schema.errors import did_you_mean
-from loadcases.source import Locator
-from loadcases.units import SIValue, UnitError, check_unit_name, to_si
+from loadcases.yamlfiles.source import Locator
 
 __all__ = ["COLUMNS", "FROM_KEY", "expand_hardpoints", "split_cells"]
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any, Literal
 
-from loadcases.diagnostics import Diagnostic
-from loadcases.source import load_yaml
+from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.yamlfiles.source import load_yaml
 
 __all__ = ["KIND_HINT", "FileKind", "file_kind", "unknown_kind"]
 

@@ -26,15 +26,15 @@ from loadcases.checks import (
     check_set_cases,
     resolve_initial,
 )
-from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.foundation.diagnostics import Diagnostic, InputError
+from loadcases.foundation.limits import local_path_problem, pattern_problem
 from loadcases.inputs.hardpoints import expand_hardpoints
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
 from loadcases.inputs.parameter_refs import ParameterRef, parameter_values, put_parameters
-from loadcases.limits import local_path_problem, pattern_problem
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import did_you_mean, validation_diagnostics
-from loadcases.source import KeyPath, Locator, SourceTree, load_yaml
+from loadcases.yamlfiles.source import KeyPath, Locator, SourceTree, load_yaml
 
 __all__ = [
     "CaseFile",

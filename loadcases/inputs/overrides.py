@@ -13,11 +13,11 @@ import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
-from loadcases.diagnostics import Diagnostic
+from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.foundation.units import UnitError, dimension_mismatch, to_si
 from loadcases.inputs.run_identity import Pairs
 from loadcases.schema.errors import did_you_mean
-from loadcases.source import Locator
-from loadcases.units import UnitError, dimension_mismatch, to_si
+from loadcases.yamlfiles.source import Locator
 
 __all__ = [
     "OPTION",

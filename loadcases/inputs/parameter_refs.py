@@ -8,7 +8,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from loadcases.units import SIValue, UnitError, to_si
+from loadcases.foundation.units import SIValue, UnitError, to_si
 
 __all__ = ["ParameterRef", "parameter_values", "put_parameters"]
 

@@ -7,9 +7,9 @@ import os
 from collections.abc import Iterable
 from pathlib import Path
 
-from loadcases.clip import clip
-from loadcases.diagnostics import Diagnostic, InputError
-from loadcases.source import load_yaml
+from loadcases.foundation.clip import clip
+from loadcases.foundation.diagnostics import Diagnostic, InputError
+from loadcases.yamlfiles.source import load_yaml
 
 __all__ = ["duplicate_case_names", "output_folder_problem"]
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 import yaml
 
-from loadcases.atomic import atomic_write_text
+from loadcases.foundation.atomic import atomic_write_text
 
 __all__ = [
     "SKELETONS",

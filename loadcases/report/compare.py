@@ -20,11 +20,11 @@ import math
 from dataclasses import astuple, dataclass, fields
 from pathlib import Path
 
-from loadcases.atomic import atomic_path, atomic_write_text
+from loadcases.foundation.atomic import atomic_path, atomic_write_text
+from loadcases.report.roundoff import NOISE_FLOOR
 
 __all__ = [
     "COMPARE_COLUMNS",
-    "NOISE_FLOOR",
     "SAME_TOLERANCE",
     "ComparedRow",
     "Peak",
@@ -35,7 +35,6 @@ __all__ = [
 ]
 
 SAME_TOLERANCE = 1e-9  # relative: below it a change is round-off, not a change of the design
-NOISE_FLOOR = 1e-6  # of the request's largest magnitude: below it a peak is round-off
 _STATUS_ORDER = {"changed": 0, "new": 1, "vanished": 2, "same": 3}
 
 

@@ -26,8 +26,8 @@ from typing import Any
 
 import numpy as np
 
-from loadcases.atomic import atomic_write_text
-from loadcases.report.compare import NOISE_FLOOR
+from loadcases.foundation.atomic import atomic_write_text
+from loadcases.report.roundoff import NOISE_FLOOR
 from loadcases.results.saved import SavedRun
 
 __all__ = [

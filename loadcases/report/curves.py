@@ -21,10 +21,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.build.requests import ABSCISSA_COLUMN
+from loadcases.foundation.units import is_load_unit
 from loadcases.results.files import TIME_COLUMN
 from loadcases.results.saved import SavedRun
-from loadcases.units import is_load_unit
 
 __all__ = [
     "MAIN_COLUMNS",

@@ -28,8 +28,8 @@ from pathlib import Path
 
 import numpy as np
 
-from loadcases.atomic import atomic_path, atomic_write_text
-from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.build.requests import ABSCISSA_COLUMN
+from loadcases.foundation.atomic import atomic_path, atomic_write_text
 from loadcases.results.saved import SavedRun, find_result_files, load_saved_run
 from loadcases.results.xlsx_text import text_cells
 

@@ -16,7 +16,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from loadcases.atomic import atomic_write_text
+from loadcases.foundation.atomic import atomic_write_text
 from loadcases.report.noise import NOISE_MARK
 from loadcases.report.peaks import RunPeak
 

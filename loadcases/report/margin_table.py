@@ -16,7 +16,7 @@ import math
 from dataclasses import astuple, dataclass, fields
 from pathlib import Path
 
-from loadcases.atomic import atomic_write_text
+from loadcases.foundation.atomic import atomic_write_text
 from loadcases.report.envelope import EnvelopeRow
 
 __all__ = ["MARGIN_COLUMNS", "MarginLine", "margin_csv_text", "margin_lines", "write_margin_csv"]

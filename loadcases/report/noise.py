@@ -15,11 +15,11 @@ from __future__ import annotations
 
 from collections.abc import Iterable
 
-from loadcases.build.model import ABSCISSA_COLUMN
-from loadcases.report.compare import NOISE_FLOOR
+from loadcases.build.requests import ABSCISSA_COLUMN
 from loadcases.report.envelope import EnvelopeRow
+from loadcases.report.roundoff import NOISE_FLOOR
 
-__all__ = ["NOISE_FLOOR", "NOISE_MARK", "noise_columns"]
+__all__ = ["NOISE_MARK", "noise_columns"]
 
 NOISE_MARK = "~0"
 

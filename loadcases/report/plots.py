@@ -27,7 +27,7 @@ from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
 from matplotlib.ticker import AutoMinorLocator
 
-from loadcases.atomic import atomic_path
+from loadcases.foundation.atomic import atomic_path
 from loadcases.results import saved
 from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN
 from loadcases.results.saved import SavedRun

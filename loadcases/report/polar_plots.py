@@ -20,7 +20,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from loadcases.atomic import atomic_path
+from loadcases.foundation.atomic import atomic_path
 from loadcases.report.plots import plot_file_name
 from loadcases.report.wear_map import SECTORS, PolarData, polar_data, polar_requests
 from loadcases.results.saved import SavedRun

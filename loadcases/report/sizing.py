@@ -12,13 +12,14 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
-from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.build.requests import ABSCISSA_COLUMN
 from loadcases.report.curves import EnvelopeCurve, envelope_curves
 from loadcases.report.envelope import EnvelopeRow, extract_envelope
 from loadcases.report.loads_matrix import LoadsMatrix, loads_matrix
 from loadcases.report.margins import ULTIMATE, apply_margins
-from loadcases.report.noise import NOISE_FLOOR, noise_columns
+from loadcases.report.noise import noise_columns
 from loadcases.report.peaks import run_peaks
+from loadcases.report.roundoff import NOISE_FLOOR
 from loadcases.results.saved import SavedRun
 
 __all__ = ["Sizing", "size_runs"]

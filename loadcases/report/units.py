@@ -5,8 +5,8 @@ angle: deg, length: mm}`); CSV and summary files stay SI.
 The report's data are converted copies, made once after the envelope, factors and margins are
 computed in SI (factors and margins are ratios: they do not change; times of extremes stay in
 s unless `time` is named). A column's kind comes from its SI unit text (`N` force, `N*m`
-torque, `rad` angle ...; `loadcases.units.REPORT_KINDS`); a column of a kind the report does
-not name, or of no known kind, stays SI.
+torque, `rad` angle ...; `loadcases.foundation.units.REPORT_KINDS`); a column of a kind the
+report does not name, or of no known kind, stays SI.
 """
 
 from __future__ import annotations
@@ -18,13 +18,13 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from loadcases.foundation.units import REPORT_KINDS, to_si
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.envelope import EnvelopeRow
 from loadcases.report.loads_matrix import LoadsMatrix
 from loadcases.report.peaks import RunPeak
 from loadcases.results.files import TIME_COLUMN
 from loadcases.results.saved import SavedRun
-from loadcases.units import REPORT_KINDS, to_si
 
 if TYPE_CHECKING:
     from loadcases.report.workbook import WorkbookData

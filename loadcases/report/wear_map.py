@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
+from loadcases.foundation.units import UnitError, to_si
 from loadcases.results.saved import SavedRun
-from loadcases.units import UnitError, to_si
 
 __all__ = [
     "POLAR_COMPONENTS",

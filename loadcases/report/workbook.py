@@ -38,8 +38,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from loadcases.atomic import atomic_path
-from loadcases.build.model import ABSCISSA_COLUMN
+from loadcases.build.requests import ABSCISSA_COLUMN
+from loadcases.foundation.atomic import atomic_path
 from loadcases.report.comparison import comparison_rows, comparison_sheet
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.decimate import CHART_ROWS, decimate_curve, decimate_run

@@ -5,7 +5,7 @@
 back to the same double; NaN as `nan`, infinities as `inf`, `-inf`). `NAME.summary.json`
 holds status, statistics and per-column extremes; numbers that are not finite are written
 as `null` so the file is strict JSON. Every file is written atomically (see
-`loadcases.atomic`); the summary is written last.
+`loadcases.foundation.atomic`); the summary is written last.
 """
 
 from __future__ import annotations
@@ -23,8 +23,8 @@ from typing import Any
 import numpy as np
 import orjson
 
-from loadcases import engine_hash
-from loadcases.atomic import atomic_path, atomic_write_bytes, atomic_write_text
+from loadcases.foundation import engine_hash
+from loadcases.foundation.atomic import atomic_path, atomic_write_bytes, atomic_write_text
 from loadcases.results.outcome import RunOutcome
 from loadcases.results.xlsx_text import text_cells
 from mechlib.core.outcome import Solution

@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from loadcases.diagnostics import Diagnostic
+from loadcases.foundation.diagnostics import Diagnostic
 from mechlib.core.outcome import Solution
 
 __all__ = ["RunOutcome"]

@@ -10,13 +10,13 @@ import mechlib as ml
 from loadcases.build.model import BuiltRun, build_mechanism, build_run
 from loadcases.build.precheck import case_problems, model_diagnostics
 from loadcases.build.torque_margin import plan_torque_margin
-from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.flexible.cache import caching_under
+from loadcases.foundation.diagnostics import Diagnostic, InputError
+from loadcases.foundation.process_settings import freeze_heap, one_blas_thread
 from loadcases.inputs.kinds import file_kind
 from loadcases.inputs.loader import CaseFile, load_case, load_mechanism
 from loadcases.inputs.overrides import Override, pairs
 from loadcases.inputs.run_identity import run_name
-from loadcases.process_settings import freeze_heap, one_blas_thread
 from loadcases.results.files import write_results
 from loadcases.results.outcome import RunOutcome
 from loadcases.run.global_error import DEFAULT_ACCURACY, AccuracyEstimate, solve_to_accuracy

@@ -10,8 +10,8 @@ from typing import Any, Union
 from pydantic import BaseModel, ValidationError
 from pydantic.fields import FieldInfo
 
-from loadcases.diagnostics import Diagnostic
-from loadcases.source import KeyPath, Locator
+from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.yamlfiles.source import KeyPath, Locator
 
 __all__ = ["did_you_mean", "validation_diagnostics"]
 

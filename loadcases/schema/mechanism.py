@@ -7,6 +7,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BeforeValidator, Discriminator, Field, Tag, model_validator
 from pydantic_core import PydanticCustomError
 
+from loadcases.foundation.units import FILE_UNIT_KINDS, UnitError, check_unit_name
 from loadcases.schema.elements import Contact, ForceElement, Table
 from loadcases.schema.flexible import Flexible
 from loadcases.schema.types import (
@@ -23,7 +24,6 @@ from loadcases.schema.types import (
     describe,
     vector,
 )
-from loadcases.units import FILE_UNIT_KINDS, UnitError, check_unit_name
 from mechlib.model.mechanism import JOINT_TYPES  # one list of joint types: the engine's
 
 __all__ = [

@@ -8,13 +8,13 @@ from typing import Annotated, Any, Literal
 from pydantic import BeforeValidator, Field, model_validator
 from pydantic_core import PydanticCustomError
 
+from loadcases.foundation.units import REPORT_KINDS
 from loadcases.schema.mechanism import FileUnits, unit_name
 from loadcases.schema.types import AnySI, Dimensionless, Strict
-from loadcases.units import REPORT_KINDS
 
 __all__ = ["Allowable", "Limits", "Report", "ReportUnits", "SetModel", "matches"]
 
-DEFAULT_NOISE_FLOOR = 1e-6  # loadcases.report.noise: below it (of the request's peak) ~0
+DEFAULT_NOISE_FLOOR = 1e-6  # loadcases.report.roundoff: below it (of the request's peak) ~0
 
 
 def matches(name: str, pattern: str) -> bool:

@@ -13,7 +13,7 @@ from typing import Annotated, Any
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo
 from pydantic_core import PydanticCustomError
 
-from loadcases.units import UnitError, finite, to_si, vector_to_si
+from loadcases.foundation.units import UnitError, finite, to_si, vector_to_si
 
 __all__ = [
     "SI_UNITS",

@@ -6,11 +6,11 @@ margin, lowest first), `loads-matrix.csv` (peaks per component and run), the wor
 (`report.output`, default `envelope.xlsx`) and, when `loadcases.report.plots` provides it, the
 envelope plots. A run whose summary in `DIR/SET/` has status `ok`, the run's input hash
 (case and mechanism bytes, parameters, engine version; see `loadcases.sets.specs`), the engine's
-source hash (`loadcases.engine_hash`) and the SHA-256 of the CSV next to it is reused,
+source hash (`loadcases.foundation.engine_hash`) and the SHA-256 of the CSV next to it is reused,
 not solved again, unless `force`. Failed runs are solved again (the failure may have been
 fixed elsewhere, e.g. in the engine). One failing run never stops the set: it is recorded
 with its message and left out of the envelope. An interrupt (SIGINT, SIGTERM:
-`loadcases.interrupts`) starts no further run; the runs finished stay valid, those under
+`loadcases.foundation.interrupts`) starts no further run; the runs finished stay valid, those under
 way are written with status `interrupted` and their rows so far, and no envelope or
 workbook is written (`SetResult.interrupted`).
 """
@@ -28,9 +28,9 @@ from pathlib import Path
 
 import numpy as np
 
-from loadcases import engine_hash, interrupts
-from loadcases.diagnostics import InputError
 from loadcases.flexible.cache import caching_under
+from loadcases.foundation import engine_hash, interrupts
+from loadcases.foundation.diagnostics import InputError
 from loadcases.inputs.overrides import Override
 from loadcases.report.curves import EnvelopeCurve, plot_curves
 from loadcases.report.envelope import EnvelopeRow, write_envelope_csv

@@ -9,7 +9,7 @@ Dask (`dask.distributed`, optional extra `dask`): workers solve and send the sol
 this process writes every result file, so workers need the input files (same paths, e.g.
 a shared file system) but no access to the output folder.
 
-Interrupts (`loadcases.interrupts`): after SIGINT or SIGTERM no new run starts; the runs
+Interrupts (`loadcases.foundation.interrupts`): after SIGINT or SIGTERM no new run starts; the runs
 being solved in local workers stop and come back with their rows (status `interrupted`);
 no worker outlives the pool. On Dask the runs under way are cancelled.
 """
@@ -24,7 +24,7 @@ from concurrent.futures import Future, ProcessPoolExecutor, as_completed
 from concurrent.futures import TimeoutError as FuturesTimeout
 from typing import Any, Protocol
 
-from loadcases import interrupts
+from loadcases.foundation import interrupts
 
 __all__ = [
     "LOCAL_SCHEDULER",

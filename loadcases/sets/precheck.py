@@ -8,7 +8,7 @@ from pathlib import Path
 
 from loadcases.build.model import build_mechanism
 from loadcases.build.precheck import case_problems, set_problems
-from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.loader import load_case, load_mechanism, validate_set
 from loadcases.sets.specs import compile_set

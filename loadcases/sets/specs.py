@@ -29,8 +29,8 @@ from typing import Any
 from loadcases.build.elements import ELEMENT_EFFECTS
 from loadcases.checks.common import unknown
 from loadcases.checks.sets import check_set_cases
-from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.expressions import ExpressionError, parse
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile, SetFile, load_case, load_set, load_set_cases
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
 from loadcases.inputs.run_identity import Pairs, run_hash, run_name

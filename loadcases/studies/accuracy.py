@@ -24,7 +24,7 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.build.model import build_run
-from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
 from loadcases.run.global_error import request_of, request_peaks
 

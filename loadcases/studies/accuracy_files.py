@@ -12,7 +12,7 @@ from pathlib import Path
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from loadcases.atomic import atomic_path, atomic_write_text
+from loadcases.foundation.atomic import atomic_path, atomic_write_text
 from loadcases.results.files import result_base
 from loadcases.studies.accuracy import AccuracyStudy
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from scipy.optimize import brentq
 
-from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 

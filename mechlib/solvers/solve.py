@@ -146,7 +146,7 @@ def _summary_status(result: Status) -> RunStatus:
 
 
 def _interrupt_of(error: BaseException) -> KeyboardInterrupt | None:
-    """The SIGINT/SIGTERM (loadcases.interrupts) behind `error`: itself, or the one a
+    """The SIGINT/SIGTERM (loadcases.foundation.interrupts) behind `error`: itself, or the one a
     compiled kernel's dispatcher met while it ran (numba then raises SystemError "returned
     a result with an exception set", the interrupt as its context)."""
     seen: BaseException | None = error

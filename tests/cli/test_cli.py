@@ -21,7 +21,7 @@ from cli.app import app
 from cli.engine import Engine
 from cli.render import ProgressBar
 from cli.set_runner import SetProgress
-from loadcases.diagnostics import Diagnostic, InputError
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.results.files import write_results
 from loadcases.results.outcome import RunOutcome
 from mechlib.core.outcome import Solution, SolverStats

@@ -58,7 +58,7 @@ _VALIDATE = _validate_script('{"exit": code, "loaded": sorted(m for m in %r if m
 _UNITS = _validate_script(
     '{"exit": code, "cache": None if (folder := units._registry().cache_folder) is None '
     "else str(folder)}",
-    "from loadcases import units",
+    "from loadcases.foundation import units",
 )
 _FROZEN = _validate_script('{"exit": code, "frozen": gc.get_freeze_count()}')
 
@@ -119,7 +119,7 @@ def test_validate_loads_no_scipy_submodule_or_solver(case: str) -> None:
 
 def test_second_validate_imports_no_pint(tmp_path: Path) -> None:
     """The first `loads validate` keeps pint's conversions in the user cache folder
-    (loadcases.unit_table); the next, meeting only those units, imports neither pint nor
+    (loadcases.foundation.unit_table); the next, meeting only those units, imports neither pint nor
     the dask pint's compat layer imports when installed."""
     env = os.environ | {"XDG_CACHE_HOME": str(tmp_path)}
     case = str(DOOR / "opening.case.yaml")

@@ -21,7 +21,7 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from loadcases.interrupts import exit_code
+from loadcases.foundation.interrupts import exit_code
 from tests.loadcases.set_fixtures import CRANK_CASE, CRANK_MECH
 from tests.mechlib._models import hinged_bar
 

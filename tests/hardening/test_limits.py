@@ -8,7 +8,7 @@ import os
 import time
 from pathlib import Path
 
-from loadcases.limits import MAX_ROWS, MAX_RUNS
+from loadcases.foundation.limits import MAX_ROWS, MAX_RUNS
 from tests.hardening.conftest import has_line, loads
 
 

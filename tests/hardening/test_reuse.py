@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-import loadcases.engine_hash as engine_hash
+import loadcases.foundation.engine_hash as engine_hash
 from loadcases.sets.campaign import run_set
 from tests.loadcases.set_fixtures import write_inputs
 

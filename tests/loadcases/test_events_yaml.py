@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from loadcases.diagnostics import InputError
+from loadcases.foundation.diagnostics import InputError
 from loadcases.run import run_file
 
 CASE = """\

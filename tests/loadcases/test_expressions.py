@@ -16,7 +16,7 @@ UNITS = {"deg": DEG, "mm": 1.0e-3, "kN": 1.0e3, "rad": 1.0, "s": 1.0}
 
 
 def units(name: str) -> float | None:
-    """A stand-in for loadcases.units.unit_constant."""
+    """A stand-in for loadcases.foundation.units.unit_constant."""
     return UNITS.get(name)
 
 

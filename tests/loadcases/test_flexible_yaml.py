@@ -12,7 +12,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from loadcases.diagnostics import InputError
+from loadcases.foundation.diagnostics import InputError
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 

@@ -13,7 +13,7 @@ import pytest
 from typer.testing import CliRunner
 
 from cli.app import app
-from loadcases.diagnostics import InputError
+from loadcases.foundation.diagnostics import InputError
 from loadcases.inputs.hardpoints import split_cells
 from loadcases.inputs.loader import load_case, load_mechanism
 from loadcases.run import run_case

@@ -25,9 +25,9 @@ def test_every_library_file_validates(folder: Path) -> None:
 def test_set_validation_loads_each_file_once(monkeypatch, tmp_path) -> None:
     """`loads validate` of the door set loads each of its 22 case files once and parses
     each file (set, cases, mechanism) once; a second validation, as another command would,
-    reads every tree from the cache folder (loadcases.parse_cache) and parses none."""
+    reads every tree from the cache folder (loadcases.yamlfiles.parse_cache) and parses none."""
     import loadcases.inputs.loader as loader
-    import loadcases.source as source
+    import loadcases.yamlfiles.source as source
 
     monkeypatch.setenv("LOADS_CACHE_DIR", str(tmp_path))  # nothing parsed before
     monkeypatch.setattr(source, "_PARSED", source.OrderedDict())

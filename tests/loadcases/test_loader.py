@@ -8,7 +8,7 @@ from pathlib import Path
 
 import pytest
 
-from loadcases.diagnostics import InputError, sort_diagnostics
+from loadcases.foundation.diagnostics import InputError, sort_diagnostics
 from loadcases.inputs.kinds import file_kind
 from loadcases.inputs.loader import load_case, load_mechanism, load_set, validate_files
 

@@ -1,7 +1,7 @@
-"""Parsed YAML trees kept in the cache folder (loadcases.parse_cache): a stored tree is the
-one the parser gives, to the last position and value; a broken, foreign or outdated entry is
-parsed again; the folder stays bounded; a cache that cannot be written costs only the
-parse."""
+"""Parsed YAML trees kept in the cache folder (loadcases.yamlfiles.parse_cache): a stored
+tree is the one the parser gives, to the last position and value; a broken, foreign or
+outdated entry is parsed again; the folder stays bounded; a cache that cannot be written
+costs only the parse."""
 
 from __future__ import annotations
 
@@ -10,9 +10,9 @@ from pathlib import Path
 
 import pytest
 
-import loadcases.source as source
-from loadcases import parse_cache
-from loadcases.source import load_yaml, parse_yaml
+import loadcases.yamlfiles.source as source
+from loadcases.yamlfiles import parse_cache
+from loadcases.yamlfiles.source import load_yaml, parse_yaml
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -173,7 +173,7 @@ def test_the_folder_keeps_the_entries_written_last(folder: Path, tmp_path, monke
     kept = [parse_cache.recall(f"f{n}.yaml", f"n: {n}\n", b"p") for n in range(5)]
     assert [k is not None for k in kept] == [False, False, True, True, True]
     assert len(list(folder.glob("*.tree"))) == 3
-    assert not list(folder.glob(".*.tmp"))  # no temporary file left (loadcases.atomic)
+    assert not list(folder.glob(".*.tmp"))  # no temporary file left (loadcases.foundation.atomic)
 
 
 def test_a_cache_that_cannot_be_written_costs_only_the_parse(parsed, tmp_path, monkeypatch):

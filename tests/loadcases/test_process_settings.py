@@ -1,6 +1,6 @@
-"""A solving process runs its BLAS on one thread (loadcases.process_settings): the limit is
-set through threadpoolctl on the BLAS numpy loaded, and a user's own thread setting in the
-environment is kept."""
+"""A solving process runs its BLAS on one thread (loadcases.foundation.process_settings):
+the limit is set through threadpoolctl on the BLAS numpy loaded, and a user's own thread
+setting in the environment is kept."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import sys
 
 _PROBE = (
     "import json, {before}threadpoolctl\n"
-    "from loadcases.process_settings import one_blas_thread\n"
+    "from loadcases.foundation.process_settings import one_blas_thread\n"
     "set_now = one_blas_thread()\n"
     "import numpy, scipy.linalg\n"
     "blas = [i['num_threads'] for i in threadpoolctl.threadpool_info() "

@@ -12,9 +12,9 @@ import openpyxl
 import pandas as pd
 import pytest
 
-import loadcases.atomic as atomic
-from loadcases.atomic import atomic_path, atomic_write_text
-from loadcases.diagnostics import Diagnostic
+import loadcases.foundation.atomic as atomic
+from loadcases.foundation.atomic import atomic_path, atomic_write_text
+from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.report.envelope import (
     ENVELOPE_COLUMNS,
     envelope_csv_text,

@@ -10,7 +10,7 @@ from pydantic import ValidationError
 
 from loadcases.schema import CaseModel, MechanismModel, SetModel, json_schema
 from loadcases.schema.errors import validation_diagnostics
-from loadcases.source import Locator, parse_yaml
+from loadcases.yamlfiles.source import Locator, parse_yaml
 
 MM = {"units": {"length": "mm", "angle": "deg"}}
 

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from loadcases.diagnostics import InputError
+from loadcases.foundation.diagnostics import InputError
 from tests.loadcases.set_fixtures import TM_PANEL_CASE as CASE
 
 SET = """\

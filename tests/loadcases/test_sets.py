@@ -7,7 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from loadcases.diagnostics import InputError
+from loadcases.foundation.diagnostics import InputError
 from loadcases.sets.campaign import run_set
 from loadcases.sets.executors import DaskExecutor, PoolExecutor
 from loadcases.sets.specs import load_and_compile_set, run_hash, run_name

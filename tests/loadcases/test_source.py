@@ -6,8 +6,8 @@ from pathlib import Path
 
 import pytest
 
-from loadcases.diagnostics import InputError
-from loadcases.source import Locator, format_key, load_yaml, parse_yaml
+from loadcases.foundation.diagnostics import InputError
+from loadcases.yamlfiles.source import Locator, format_key, load_yaml, parse_yaml
 
 TEXT = """\
 name: door
@@ -91,8 +91,8 @@ def test_format_key() -> None:
 def test_parsed_trees_kept_within_budget(tmp_path: Path, monkeypatch) -> None:
     """A tree read again is a copy of the kept one (not parsed again); the least recently
     read trees are forgotten beyond the byte budget, never the one just read."""
-    import loadcases.source as source
-    from loadcases import parse_cache
+    import loadcases.yamlfiles.source as source
+    from loadcases.yamlfiles import parse_cache
 
     monkeypatch.setattr(source, "_PARSED", source.OrderedDict())
     monkeypatch.setattr(source, "_parsed_size", 0)

@@ -287,7 +287,7 @@ def test_histories_all_or_none(tmp_path: Path, histories: str, sheets: int) -> N
 
 
 def test_allowables_limit_magnitude_and_one_ultimate_spelling(tmp_path: Path) -> None:
-    from loadcases.diagnostics import InputError
+    from loadcases.foundation.diagnostics import InputError
     from loadcases.inputs.loader import load_set
 
     folder = write_inputs(tmp_path)
@@ -311,7 +311,7 @@ def test_allowables_limit_magnitude_and_one_ultimate_spelling(tmp_path: Path) ->
 
 
 def test_a_case_factor_pattern_that_matches_no_case_is_an_error(tmp_path: Path) -> None:
-    from loadcases.diagnostics import InputError
+    from loadcases.foundation.diagnostics import InputError
     from loadcases.sets.specs import load_and_compile_set
 
     folder = write_inputs(tmp_path)

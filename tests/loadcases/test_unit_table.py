@@ -1,4 +1,4 @@
-"""The table of the unit conversions pint made before (loadcases.unit_table): a run that
+"""The table of the unit conversions pint made before (loadcases.foundation.unit_table): a run that
 meets only known units gives pint's numbers bit for bit and pint's messages, without
 importing pint."""
 
@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from loadcases.unit_table import UnitTable
+from loadcases.foundation.unit_table import UnitTable
 
 ROOT = Path(__file__).resolve().parents[2]
 QUANTITIES = [
@@ -27,7 +27,7 @@ CONSTANTS = ["deg", "mm", "kN", "crank_speed", "degC"]
 
 _CONVERT = """
 import json, sys
-from loadcases.units import UnitError, to_si, unit_constant
+from loadcases.foundation.units import UnitError, to_si, unit_constant
 quantities, header_units, wrong, constants = json.loads(sys.argv[1])
 out = {"quantities": [repr(to_si(q, "any")) for q in quantities], "numbers": [], "errors": []}
 for kind, names in header_units.items():

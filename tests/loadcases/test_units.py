@@ -6,8 +6,14 @@ import math
 
 import pytest
 
-from loadcases import units
-from loadcases.units import UnitError, check_unit_name, to_si, unit_constant, vector_to_si
+from loadcases.foundation import units
+from loadcases.foundation.units import (
+    UnitError,
+    check_unit_name,
+    to_si,
+    unit_constant,
+    vector_to_si,
+)
 
 MM_DEG = {"length": "mm", "angle": "deg"}
 
@@ -110,7 +116,7 @@ def test_unit_names_of_a_header() -> None:
         check_unit_name("mmm", "length")
 
 
-# pint's disk cache of the parsed definitions (loadcases.units._cached_registry)
+# pint's disk cache of the parsed definitions (loadcases.foundation.units._cached_registry)
 
 
 def _every_conversion(registry) -> dict[str, tuple[float, float, str]]:

@@ -99,7 +99,7 @@ def test_redundant_fourbar_is_refused(tmp_path) -> None:
     """Four revolutes in a planar loop: 20 equations, 18 coordinates, 1 degree of freedom,
     so 3 equations are redundant (translation along z, rotations about x and y). The run is
     refused with an input error that names them by joint and direction (SPEC 1.2)."""
-    from loadcases.diagnostics import InputError
+    from loadcases.foundation.diagnostics import InputError
     from loadcases.run import run_file
 
     with pytest.raises(InputError) as caught:

@@ -127,7 +127,7 @@ def test_tight_setting_reaches_1e6(tight) -> None:
     the reaction at E within 2.5e-7 of its peak (measured 8.3e-8). Radau's step sequence
     here moves with round-off alone: at tolerance 1e-6 the rates were 4.4e-7 to 2.3e-6
     depending on the BLAS's threads (one since version 0.10.0,
-    loadcases.process_settings), and 1e-7 gives no smaller error (measured 1.2e-7 in the
+    loadcases.foundation.process_settings), and 1e-7 gives no smaller error (measured 1.2e-7 in the
     coordinates): the projection onto the constraints at each output time, not the
     tolerance, bounds it."""
     q = _coordinates(tight)

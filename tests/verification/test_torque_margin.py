@@ -87,7 +87,7 @@ def test_weak_spring_fails_the_check() -> None:
 
 
 def test_bad_contributor_is_an_input_error(tmp_path) -> None:
-    from loadcases.diagnostics import InputError
+    from loadcases.foundation.diagnostics import InputError
     from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
 

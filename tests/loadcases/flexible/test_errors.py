@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import scipy.io
 
-from loadcases.diagnostics import Diagnostic, InputError
 from loadcases.flexible.read import read_fe_model
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from tests.loadcases.flexible import files
 from tests.loadcases.flexible.beam import FILE_BEAM, element
 

@@ -13,8 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from loadcases.diagnostics import InputError
 from loadcases.flexible.neutral import write_neutral
+from loadcases.foundation.diagnostics import InputError
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 from mechlib.flexible.beam import Material, Section

@@ -20,8 +20,8 @@ from typing import Any
 import yaml
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
-from loadcases.diagnostics import Diagnostic, InputError, Severity
-from loadcases.limits import MAX_YAML_DEPTH, MAX_YAML_VALUES
+from loadcases.foundation.diagnostics import Diagnostic, InputError, Severity
+from loadcases.foundation.limits import MAX_YAML_DEPTH, MAX_YAML_VALUES
 
 __all__ = ["KeyPath", "Locator", "SourceTree", "format_key", "load_yaml", "parse_yaml"]
 
@@ -297,9 +297,9 @@ def load_yaml(path: str | Path) -> SourceTree:
 
 
 def _stored_or_parsed(text: str, file: str) -> SourceTree:
-    """The tree of `text` from the user cache folder (`loadcases.parse_cache`), else parsed
-    and stored there."""
-    from loadcases import parse_cache
+    """The tree of `text` from the user cache folder (`loadcases.yamlfiles.parse_cache`),
+    else parsed and stored there."""
+    from loadcases.yamlfiles import parse_cache
 
     stored = parse_cache.recall(file, text, _parser_identity())
     if stored is not None:

@@ -4,7 +4,7 @@ PyYAML's pure-Python composer takes about 75 ms for the door's mechanism file, r
 stored tree back about 3 ms (2-core VM, 2026-11-28).
 
 An entry is named by the SHA-256 of the file's name and text, of the parser's identity (its
-own source, its limits and PyYAML's version: `loadcases.source`) and of Python's version:
+own source, its limits and PyYAML's version: `loadcases.yamlfiles.source`) and of Python's version:
 change any of them and another entry is made, so a stored tree is always the one the
 parser would give. It is written with `marshal`, which holds only Python's built-in
 values: reading an entry rebuilds no class of ours or anyone's, and runs no code. Trees
@@ -23,8 +23,8 @@ from contextlib import suppress
 from pathlib import Path
 from typing import Any
 
-from loadcases.atomic import atomic_path
-from loadcases.cache_env import shared_cache_folder
+from loadcases.foundation.atomic import atomic_path
+from loadcases.foundation.cache_env import shared_cache_folder
 
 __all__ = ["MAX_ENTRIES", "MAX_TEXT", "cache_folder", "recall", "store"]
 

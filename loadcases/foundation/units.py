@@ -22,8 +22,8 @@ from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from loadcases.clip import clip
-from loadcases.unit_table import UnitTable
+from loadcases.foundation.clip import clip
+from loadcases.foundation.unit_table import UnitTable
 
 __all__ = [
     "DIMENSIONS",
@@ -176,7 +176,7 @@ def _cache_stem(text: str) -> str:
 
 @lru_cache(maxsize=1)
 def _table() -> UnitTable:
-    """The table of the conversions pint made before (`loadcases.unit_table`)."""
+    """The table of the conversions pint made before (`loadcases.foundation.unit_table`)."""
     return UnitTable(_unit_cache_folder() / f"{_cache_stem(_definitions())}.table.json")
 
 

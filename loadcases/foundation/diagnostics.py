@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
-from loadcases.clip import clip, clip_quotes
+from loadcases.foundation.clip import clip, clip_quotes
 
 __all__ = ["Diagnostic", "InputError", "format_diagnostic", "sort_diagnostics"]
 

@@ -1,0 +1,53 @@
+"""The case's analysis settings as a mechlib analysis, and its initial values."""
+
+from __future__ import annotations
+
+import mechlib as ml
+from loadcases.build.context import Builder
+
+__all__ = ["build_analysis", "initial_values"]
+
+
+def build_analysis(b: Builder):
+    """The mechlib analysis of the case, or None after an error at its key."""
+    a = b.case.analysis
+    if a.type == "modes":
+        return ml.Modes(time=0.0)
+    if a.type == "static":
+        return ml.Static(time=0.0)
+    if a.end is None or a.step is None or a.step <= 0.0 or a.end <= 0.0:
+        b.error("case", "analysis", f"a {a.type} analysis needs 'end' and 'step' > 0 (seconds)")
+        return None
+    limit = {"max_steps": a.max_steps} if a.max_steps is not None else {}
+    if a.type == "kinematic":
+        return ml.Kinematic(end=a.end, step=a.step, **limit)
+    if a.type == "quasi-static":
+        return ml.QuasiStatic(end=a.end, step=a.step, **limit)
+    integrator = a.integrator or "generalized-alpha"
+    if integrator not in ("generalized-alpha", "radau"):
+        b.error(
+            "case",
+            "analysis.integrator",
+            f"unknown integrator '{integrator}': use generalized-alpha or radau",
+        )
+    options = {
+        key: value
+        for key, value in (("tolerance", a.tolerance), ("rho_inf", a.rho_inf))
+        if value is not None
+    }
+    if a.output != "steps":  # dense by default: the steps do not depend on the output
+        options["dense"] = True
+    return ml.Dynamic(
+        end=a.end, step=a.step, integrator=integrator, max_step=a.max_step, **options, **limit
+    )
+
+
+def initial_values(b: Builder) -> list:
+    """The case's initial joint values and body velocities."""
+    out: list[ml.InitialValue | ml.InitialBodyVelocity] = []
+    for name, v in b.case.initial.items():
+        if name in b.mech.joints:
+            out.append(ml.InitialValue(name, v.value, v.rate))
+        else:
+            out.append(ml.InitialBodyVelocity(name, v.omega, v.velocity))
+    return out
