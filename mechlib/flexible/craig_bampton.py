@@ -22,7 +22,7 @@ from mechlib.flexible.invariants import field_invariants
 from mechlib.flexible.modal_component import ModalComponent, damping_ratios
 from mechlib.flexible.stiffening import modal_geometric
 
-__all__ = ["ReductionError", "craig_bampton", "free_modes"]
+__all__ = ["ReductionError", "craig_bampton", "free_modes", "signed"]
 
 _RIGID_ENERGY = 1e-8  # |K R| / (|K| |R|) above this: the rigid motions strain the model
 _MECHANISM = 1e-12  # omega^2 / max(omega^2) below this: a zero-energy deformation
@@ -47,9 +47,22 @@ def _fixed_interface(k_ii, m_ii, count: int) -> np.ndarray:
         return np.zeros((n, 0))
     if n <= _DENSE_LIMIT or count >= n - 1:
         _, vec = sla.eigh(k_ii.toarray(), m_ii.toarray(), subset_by_index=[0, count - 1])
-        return vec
-    _, vec = spla.eigsh(k_ii.tocsc(), k=count, M=m_ii.tocsc(), sigma=0.0)
-    return vec
+        return signed(vec)
+    # ARPACK's own start vector is random (its generator's state depends on the calls made
+    # before in the process): the same model gave other mode shapes from run to run
+    start = np.full(n, 1.0 / np.sqrt(n))
+    _, vec = spla.eigsh(k_ii.tocsc(), k=count, M=m_ii.tocsc(), sigma=0.0, v0=start)
+    return signed(vec)
+
+
+def signed(vectors: np.ndarray) -> np.ndarray:
+    """The columns of `vectors` with the sign that makes each one's largest entry (the
+    first of them, in magnitude) positive: an eigenvector's sign is otherwise arbitrary."""
+    if vectors.size == 0:
+        return vectors
+    rows = np.argmax(np.abs(vectors), axis=0)
+    flip = np.sign(vectors[rows, np.arange(vectors.shape[1])])
+    return vectors * np.where(flip == 0.0, 1.0, flip)
 
 
 def _basis(model: FEModel, fixed_interface_modes: int) -> np.ndarray:
@@ -105,7 +118,8 @@ def _reduce(model: FEModel, fixed_interface_modes: int) -> tuple[np.ndarray, np.
             "the model is a mechanism (parts joined only through interface nodes, or too few "
             "interface DOF to hold them)"
         )
-    return np.sqrt(w2), t @ (complement @ vec), _held(model.dof_map[b, 0], k_hat, m_hat)
+    psi = signed(t @ (complement @ vec))
+    return np.sqrt(w2), psi, _held(model.dof_map[b, 0], k_hat, m_hat)
 
 
 def _held(boundary_nodes: np.ndarray, k_hat: np.ndarray, m_hat: np.ndarray) -> float:
