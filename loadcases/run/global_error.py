@@ -18,6 +18,11 @@ step halved (tolerance / 2^(p+1), largest step / 2), the previous run becoming t
 companion, up to `MAX_TIGHTENINGS` times; the summary says what was reached. Without
 `accuracy` the default target is only estimated against and warned about: tightening costs
 up to 7.5 runs, which a case asks for, not every case.
+
+A signal (SIGINT, SIGTERM) that stops the companion or a tighter run leaves the run written
+with status `interrupted` (a set never reuses it as good): its rows are those of the last
+run that finished, and its accuracy block claims nothing it did not compute (`met` null
+and no estimate when the companion was stopped).
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ from typing import Protocol
 import numpy as np
 
 import mechlib as ml
+from loadcases.foundation import interrupts
 
 __all__ = [
     "DEFAULT_ACCURACY",
@@ -69,9 +75,13 @@ class AccuracyEstimate:
     cpu_seconds: float  # of the companion and tightened runs
     note: str = ""
     warnings: list[str] = field(default_factory=list)
+    estimated: bool = True  # False: no companion finished, `requests` is empty
 
     @property
-    def met(self) -> bool:
+    def met(self) -> bool | None:
+        """Every envelope peak within the target; None when nothing was estimated."""
+        if not self.estimated:
+            return None
         return bool(_worst_peak(self.requests) <= self.target)
 
     def summary(self) -> dict:
@@ -190,22 +200,31 @@ def solve_to_accuracy(
     solve: Solver, analysis: ml.Dynamic, target: float, *, tighten: bool
 ) -> tuple[ml.Solution, AccuracyEstimate | None]:
     """The run (the first that meets `target` when `tighten`) and its error estimate
-    (None when the run itself failed: a failure says its own where and why)."""
+    (None when the run itself failed: a failure says its own where and why). A signal
+    during the companion or a tighter run: the last run that finished, as `interrupted`."""
     run = solve(analysis)
     if run.status != "ok":
         return run, None
     started = clock.process_time()
     order = _order(analysis.integrator)
-    companion = solve(coarser(analysis), checks=False)  # only its channels are used
-    note, tightenings = "", 0
+    companion = _further(solve, coarser(analysis), checks=False)  # only its channels are used
     if companion.status != "ok":
-        estimate = _estimate(analysis, target, {}, tightenings, started)
+        estimate = _estimate(analysis, target, {}, 0, started)
+        estimate.estimated = False
+        if companion.status == "interrupted":
+            estimate.note = f"not estimated: interrupted{_by()} while the companion run was solved"
+            return _interrupted(run, "its accuracy companion was solved", estimated=False), estimate
         estimate.note = f"not estimated: the companion run failed ({companion.message})"
         return run, estimate
     errors = request_errors(run, companion, order)
+    note, tightenings, stopped = "", 0, False
     while tighten and tightenings < MAX_TIGHTENINGS and _worst_peak(errors) > target:
         finer_analysis = finer(analysis)
-        finer_run = solve(finer_analysis)
+        finer_run = _further(solve, finer_analysis)
+        if finer_run.status == "interrupted":
+            note = f"tightening interrupted{_by()}: the estimate is of the run written"
+            stopped = True
+            break
         if finer_run.status != "ok":
             note = f"a tighter run failed ({finer_run.message}): the estimate is of this one"
             break
@@ -214,7 +233,38 @@ def solve_to_accuracy(
     estimate = _estimate(analysis, target, errors, tightenings, started)
     estimate.note = note
     estimate.warnings = _warnings(estimate, tighten)
+    if stopped:
+        run = _interrupted(run, "a tighter run was solved to meet the accuracy target")
     return run, estimate
+
+
+def _further(solve: Solver, analysis: ml.Dynamic, checks: bool = True) -> ml.Solution:
+    """A companion or tighter run; a signal met outside mechlib's solve loop (while the
+    system is built) stops it the same way: an interrupted run without rows."""
+    try:
+        return solve(analysis, checks=checks)
+    except KeyboardInterrupt as stop:
+        return ml.Solution(
+            "interrupted", str(stop), "dynamic", np.zeros(0), {}, result=ml.Status.INTERRUPTED
+        )
+
+
+def _by() -> str:
+    """` by SIGTERM`: the signal that stopped this process ("" for another interrupt)."""
+    signum = interrupts.received()
+    return "" if signum is None else f" by {interrupts.signal_name(signum)}"
+
+
+def _interrupted(run: ml.Solution, during: str, *, estimated: bool = True) -> ml.Solution:
+    """`run`, finished, saved as interrupted: a signal stopped the work on its accuracy."""
+    error = "with their estimated error" if estimated else "their error is not estimated"
+    return dataclasses.replace(
+        run,
+        status="interrupted",
+        result=ml.Status.INTERRUPTED,
+        message=f"{run.message}; then interrupted{_by()} while {during}: the run's "
+        f"{len(run.time)} rows are kept, {error}",
+    )
 
 
 def _worst_peak(errors: dict[str, RequestError]) -> float:

@@ -11,6 +11,7 @@ tolerance 1e-4 (2026-11-25); accepted within 15 %.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -125,3 +126,20 @@ def test_rho_inf_out_of_range_is_an_input_error(tmp_path: Path) -> None:
     path.write_text(text.replace("  type: dynamic\n", "  type: dynamic\n  rho_inf: 1.5\n"))
     (problem,) = [d for d in check_case_file(path) if d.severity == "error"]
     assert problem.key == "analysis.rho_inf" and problem.message == "must be between 0 and 1"
+
+
+def test_a_failed_companion_claims_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A companion that fails (here: 20 steps allowed) estimates nothing: the run stays ok,
+    its accuracy block says `met` null, no estimate, and why (it said `met: true`)."""
+    from loadcases.run import global_error
+
+    coarser = global_error.coarser
+    monkeypatch.setattr(
+        global_error, "coarser", lambda a: dataclasses.replace(coarser(a), max_steps=20)
+    )
+    outcome, _ = _run(tmp_path)
+    block = outcome.checks["accuracy"]
+    assert outcome.solution.status == "ok"
+    assert block["met"] is None and block["estimate"] == {}
+    assert block["note"].startswith("not estimated: the companion run failed (dynamic analysis")
+    assert "the limit of 20 steps" in block["note"]
