@@ -69,7 +69,7 @@ class AccuracyEstimate:
     target: float
     integrator: str
     tolerance: float
-    max_step: float
+    max_step: float  # the largest step in force (s): analysis.max_step or its default
     tightenings: int
     requests: dict[str, RequestError]
     cpu_seconds: float  # of the companion and tightened runs
@@ -115,8 +115,9 @@ def _local_factor(integrator: str) -> float:
 
 
 def _largest_step(analysis: ml.Dynamic) -> float:
-    """The largest step (s); with dense output and no max_step, 0: the mechanism's natural
-    time bounds the steps (mechlib.solvers.dense), the same in the companion and finer runs."""
+    """The largest step the analysis sets (s); with dense output and no max_step, 0: its
+    default, the mechanism's natural time, bounds the steps (mechlib.solvers.dense), the
+    same in the companion and finer runs (the run's own value: `Solution.max_step`)."""
     if analysis.dense:
         return analysis.max_step or 0.0
     return min(analysis.max_step or analysis.step, analysis.step)
@@ -209,7 +210,7 @@ def solve_to_accuracy(
     order = _order(analysis.integrator)
     companion = _further(solve, coarser(analysis), checks=False)  # only its channels are used
     if companion.status != "ok":
-        estimate = _estimate(analysis, target, {}, 0, started)
+        estimate = _estimate(analysis, run, target, {}, 0, started)
         estimate.estimated = False
         if companion.status == "interrupted":
             estimate.note = f"not estimated: interrupted{_by()} while the companion run was solved"
@@ -230,7 +231,7 @@ def solve_to_accuracy(
             break
         errors = request_errors(finer_run, run, order)
         run, analysis, tightenings = finer_run, finer_analysis, tightenings + 1
-    estimate = _estimate(analysis, target, errors, tightenings, started)
+    estimate = _estimate(analysis, run, target, errors, tightenings, started)
     estimate.note = note
     estimate.warnings = _warnings(estimate, tighten)
     if stopped:
@@ -273,16 +274,19 @@ def _worst_peak(errors: dict[str, RequestError]) -> float:
 
 def _estimate(
     analysis: ml.Dynamic,
+    run: ml.Solution,
     target: float,
     errors: dict[str, RequestError],
     tightenings: int,
     started: float,
 ) -> AccuracyEstimate:
+    """The estimate of `run`, solved with `analysis`: its largest step the one in force,
+    the default's value when the analysis sets none."""
     return AccuracyEstimate(
         target,
         analysis.integrator,
         analysis.tolerance,
-        _largest_step(analysis),
+        _largest_step(analysis) if run.max_step is None else run.max_step,
         tightenings,
         errors,
         clock.process_time() - started,
