@@ -8,9 +8,11 @@ reference): over the whole run, at the end, and of the envelope peak (the max an
 envelope would take). CPU time is the median of `repeats` warm runs. The cheapest setting
 whose worst error meets the target is recommended.
 
-When only one integrator can run the case (events are located by generalized-alpha only),
-its own tighter run is the reference, and the study says so. With both integrators the two
-references are also compared with each other: errors below that agreement are not resolved.
+When only one integrator can run the case (events, of its mechanism or of the case, are
+located by generalized-alpha only), its own tighter run is the reference, and the study
+says so; a study of Radau alone of such a case is an input error naming the events. With
+both integrators the two references are also compared with each other: errors below that
+agreement are not resolved.
 """
 
 from __future__ import annotations
@@ -19,11 +21,13 @@ import dataclasses
 import statistics
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 import mechlib as ml
-from loadcases.build.model import build_run
+from loadcases.build.model import BuiltRun, build_run
+from loadcases.build.precheck import model_diagnostics
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
 from loadcases.run.global_error import request_of, request_peaks
@@ -129,9 +133,8 @@ def column_errors(solution: ml.Solution, reference: ml.Solution) -> dict[str, Co
     return out
 
 
-def _solver(cf: CaseFile) -> Callable[[Setting], ml.Solution]:
-    """A function solving the case with a setting (the model built anew for every run, so
-    that no event or contact memory carries over from one run to the next)."""
+def _dynamic_run(cf: CaseFile) -> BuiltRun:
+    """The case built; an InputError at `analysis.type` unless it is dynamic."""
     built = build_run(cf)
     if not isinstance(built.analysis, ml.Dynamic):
         file, line, col = cf.where("case", "analysis.type")
@@ -148,25 +151,59 @@ def _solver(cf: CaseFile) -> Callable[[Setting], ml.Solution]:
                 )
             ]
         )
+    return built
+
+
+def _solver(cf: CaseFile) -> Callable[[Setting], ml.Solution]:
+    """A function solving the case with a setting (the model built anew for every run, so
+    that no event or contact memory carries over from one run to the next); a model the
+    engine refuses is an InputError placed as `loads run` places it."""
+    _dynamic_run(cf)
 
     def solve(setting: Setting) -> ml.Solution:
         run = build_run(cf)
         analysis = dataclasses.replace(
             run.analysis, integrator=setting.integrator, tolerance=setting.tolerance
         )
-        return run.solve(analysis)
+        try:
+            return run.solve(analysis)
+        except ml.ModelError as error:
+            raise InputError(model_diagnostics(cf, error)) from None
 
     return solve
 
 
-def _usable(cf: CaseFile, integrators: Sequence[str], notes: list[str]) -> list[str]:
-    if cf.mechanism.events and "radau" in integrators:
-        notes.append(
-            "radau left out: the case has events, which only generalized-alpha "
-            "locates; its reference is its own tighter run (not independent)"
+def _usable(
+    cf: CaseFile, events: Sequence[str], integrators: Sequence[str], notes: list[str]
+) -> list[str]:
+    """The integrators that can run the case: Radau locates no events (of the mechanism
+    or of the case, `events` their names); Radau alone for such a case is an InputError."""
+    if not events or "radau" not in integrators:
+        return list(integrators)
+    named = ", ".join(events)
+    kept = [i for i in integrators if i != "radau"]
+    if not kept:
+        kind = "case" if events[0] in cf.case.events else "mechanism"
+        file, line, col = cf.where(kind, f"events.{events[0]}")
+        of_case = "" if Path(file) == Path(cf.path) else f" (case {cf.path})"
+        raise InputError(
+            [
+                Diagnostic(
+                    file,
+                    line,
+                    col,
+                    f"events.{events[0]}",
+                    f"loads accuracy --integrators radau: the events of this case{of_case} "
+                    f"({named}) are located by generalized-alpha only: study it with "
+                    "--integrators generalized-alpha",
+                )
+            ]
         )
-        return [i for i in integrators if i != "radau"]
-    return list(integrators)
+    notes.append(
+        f"radau left out: the case's events ({named}) are located by generalized-alpha "
+        "only; its reference is its own tighter run (not independent)"
+    )
+    return kept
 
 
 def accuracy_study(
@@ -181,9 +218,10 @@ def accuracy_study(
 ) -> AccuracyStudy:
     """Solve the case at every (integrator, tolerance) and measure each against the
     reference (see the module docstring); `progress` is called after each setting."""
-    solve = _solver(cf)
+    events = [event.name for event in _dynamic_run(cf).events]  # mechanism's and case's
     notes: list[str] = []
-    methods = _usable(cf, integrators, notes)
+    methods = _usable(cf, events, integrators, notes)
+    solve = _solver(cf)
     ref_tol = reference_tolerance or min(tolerances) * REFERENCE_FACTOR
     solve(Setting(methods[0], max(tolerances)))  # warm-up: compiled kernels, caches
     ref_solutions = {m: solve(Setting(m, ref_tol)) for m in methods}
