@@ -45,6 +45,7 @@ __all__ = [
     "request_errors",
     "request_of",
     "request_peaks",
+    "shared_rows",
     "solve_to_accuracy",
 ]
 
@@ -157,8 +158,9 @@ def request_peaks(channels: dict[str, np.ndarray]) -> dict[str, float]:
     return peaks
 
 
-def _shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Row indices of the times `a` and `b` share (output times are rounded alike)."""
+def shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row indices of the times `a` and `b` share (output times are rounded alike; an
+    event's row, at each run's own event time, is shared only where the times agree)."""
     of_b = {round(float(t), 9): j for j, t in enumerate(b)}
     pairs = [(i, of_b[key]) for i, t in enumerate(a) if (key := round(float(t), 9)) in of_b]
     if not pairs:
@@ -169,7 +171,7 @@ def _shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def request_errors(run: ml.Solution, companion: ml.Solution, order: int) -> dict[str, RequestError]:
     """Estimated error of each request of `run` from a companion of steps twice as long."""
-    rows, rows_c = _shared_rows(run.time, companion.time)
+    rows, rows_c = shared_rows(run.time, companion.time)
     scale = 1.0 / (2.0**order - 1.0)
     peaks = request_peaks(run.channels)
     out: dict[str, RequestError] = {}

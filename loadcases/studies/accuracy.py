@@ -30,7 +30,7 @@ from loadcases.build.model import BuiltRun, build_run
 from loadcases.build.precheck import model_diagnostics
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
-from loadcases.run.global_error import request_of, request_peaks
+from loadcases.run.global_error import request_of, request_peaks, shared_rows
 
 __all__ = [
     "DEFAULT_TARGET",
@@ -112,22 +112,28 @@ class AccuracyStudy:
 
 
 def column_errors(solution: ml.Solution, reference: ml.Solution) -> dict[str, ColumnError]:
-    """Errors of every column of `solution` against `reference` at the common output times,
-    relative to the peak of the column's request in the reference (columns of a request
-    whose reference is zero throughout are left out: no scale to measure against)."""
+    """Errors of every column of `solution` against `reference`, relative to the peak of
+    the column's request in the reference (columns of a request whose reference is zero
+    throughout are left out: no scale to measure against). Over the run: at the output
+    times both share (an event's row is at each run's own event time, not compared row by
+    row with another time); at the end: the last rows when both have as many; of the
+    envelope: every row of each up to the last time they share."""
     peaks = request_peaks(reference.channels)
-    n = min(len(solution.time), len(reference.time))
+    rows, rows_ref = shared_rows(solution.time, reference.time)
+    if not len(rows):
+        return {}
+    same_end = len(solution.time) == len(reference.time)
+    upto, upto_ref = rows[-1] + 1, rows_ref[-1] + 1
     out = {}
     for column, ref in reference.channels.items():
         peak = peaks[request_of(column)]
         mine = solution.channels.get(column)
-        if mine is None or peak == 0.0 or n == 0:
+        if mine is None or peak == 0.0:
             continue
-        x, r = mine[:n], ref[:n]
-        same_end = len(solution.time) == len(reference.time)
+        x, r = mine[:upto], ref[:upto_ref]
         out[column] = ColumnError(
-            float(np.max(np.abs(x - r))) / peak,
-            float(abs(x[-1] - r[-1])) / peak if same_end else float("nan"),
+            float(np.max(np.abs(mine[rows] - ref[rows_ref]))) / peak,
+            float(abs(mine[-1] - ref[-1])) / peak if same_end else float("nan"),
             max(abs(float(x.max() - r.max())), abs(float(x.min() - r.min()))) / peak,
         )
     return out
