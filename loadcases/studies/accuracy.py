@@ -38,6 +38,7 @@ __all__ = [
     "INTEGRATORS",
     "AccuracyStudy",
     "ColumnError",
+    "ReferenceFailure",
     "Setting",
     "SettingResult",
     "accuracy_study",
@@ -48,6 +49,11 @@ INTEGRATORS = ("generalized-alpha", "radau")
 DEFAULT_TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
 DEFAULT_TARGET = 1e-3  # of each request's peak: the sizing accuracy
 REFERENCE_FACTOR = 1e-2  # the reference runs at the tightest tolerance x this
+
+
+class ReferenceFailure(ml.SolverFailure):
+    """A reference run failed: nothing can be measured against it (`loads accuracy` exits
+    1 with its message, as for a solver failure)."""
 
 
 @dataclass(frozen=True)
@@ -233,7 +239,7 @@ def accuracy_study(
     ref_solutions = {m: solve(Setting(m, ref_tol)) for m in methods}
     for method, reference in ref_solutions.items():
         if not reference.ok:
-            raise ml.SolverFailure(
+            raise ReferenceFailure(
                 f"the reference run ({Setting(method, ref_tol).describe()})"
                 f" failed: {reference.message}"
             )

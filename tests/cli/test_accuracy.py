@@ -251,3 +251,24 @@ def test_errors_are_measured_at_the_times_both_runs_share() -> None:
     assert math.isnan(error.at_end)  # not as many rows: no row to call the end's
     (error,) = column_errors(solution(grid), solution(with_event)).values()
     assert error.over_time == 0.0 and error.of_peak == 0.0
+
+
+def test_a_failed_reference_run_is_a_solver_failure(tmp_path: Path) -> None:
+    """The reference (tolerance 1e-6 here) needs more steps than `max_steps` allows: exit 1
+    with the case file and the reference's failure (it was an internal error)."""
+    text = (LIBRARY / "latch_spring.case.yaml").read_text(encoding="utf-8")
+    case = tmp_path / "latch.case.yaml"
+    case.write_text(text.replace("tolerance: 1.0e-9}", "tolerance: 1.0e-9, max_steps: 150}"))
+    result = CliRunner().invoke(
+        app,
+        ["accuracy", str(case), "-o", str(tmp_path / "out"), "--tolerances", "1e-3,1e-4"],
+        catch_exceptions=False,
+    )
+    assert result.exit_code == 1, result.output
+    assert (
+        f"loads: error: {case}: the reference run (generalized-alpha at tolerance 1e-06) "
+        "failed: dynamic analysis stopped at t = "
+    ) in result.output
+    assert "the limit of 150 steps" in result.output
+    assert "internal error" not in result.output
+    assert not (tmp_path / "out").exists()
