@@ -277,8 +277,12 @@ def _signal_in_solve(
 ) -> list[bool]:
     """Send `signum` to this process from the progress of the case's `solve_number`-th
     solve (2: the accuracy companion, 3: the first tighter run) once it reaches `at` s;
-    returns the `checks` of every solve, in order (False: the companion)."""
+    returns the `checks` of every solve, in order (False: the companion). The signal
+    recorded by loadcases.foundation.interrupts is forgotten after the test."""
     from loadcases.build.model import BuiltRun
+    from loadcases.foundation import interrupts
+
+    monkeypatch.setattr(interrupts, "_received", None)  # restored (None) at teardown
 
     plain = BuiltRun.solve
     calls: list[bool] = []
