@@ -97,7 +97,7 @@ def accuracy(
     NAME.accuracy-columns.csv, NAME.accuracy.png and NAME.accuracy.xlsx."""
     from loadcases.foundation.diagnostics import InputError
     from loadcases.inputs.loader import load_case
-    from loadcases.studies.accuracy import INTEGRATORS, accuracy_study
+    from loadcases.studies.accuracy import INTEGRATORS, ReferenceFailure, accuracy_study
     from loadcases.studies.accuracy_files import recommendation_text, write_accuracy_files
 
     if not case.is_file():
@@ -148,6 +148,8 @@ def accuracy(
     except InputError as error:
         print_diagnostics(error.diagnostics, err=True)
         return 2
+    except ReferenceFailure as failure:  # nothing to measure against: a solver failure
+        raise fail(f"{case}: {failure}", code=1) from None
     for note in study.notes:
         typer.echo(f"note: {note}")
     typer.echo(recommendation_text(study))

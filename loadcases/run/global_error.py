@@ -18,6 +18,11 @@ step halved (tolerance / 2^(p+1), largest step / 2), the previous run becoming t
 companion, up to `MAX_TIGHTENINGS` times; the summary says what was reached. Without
 `accuracy` the default target is only estimated against and warned about: tightening costs
 up to 7.5 runs, which a case asks for, not every case.
+
+A signal (SIGINT, SIGTERM) that stops the companion or a tighter run leaves the run written
+with status `interrupted` (a set never reuses it as good): its rows are those of the last
+run that finished, and its accuracy block claims nothing it did not compute (`met` null
+and no estimate when the companion was stopped).
 """
 
 from __future__ import annotations
@@ -30,6 +35,7 @@ from typing import Protocol
 import numpy as np
 
 import mechlib as ml
+from loadcases.foundation import interrupts
 
 __all__ = [
     "DEFAULT_ACCURACY",
@@ -39,6 +45,7 @@ __all__ = [
     "request_errors",
     "request_of",
     "request_peaks",
+    "shared_rows",
     "solve_to_accuracy",
 ]
 
@@ -63,15 +70,19 @@ class AccuracyEstimate:
     target: float
     integrator: str
     tolerance: float
-    max_step: float
+    max_step: float  # the largest step in force (s): analysis.max_step or its default
     tightenings: int
     requests: dict[str, RequestError]
     cpu_seconds: float  # of the companion and tightened runs
     note: str = ""
     warnings: list[str] = field(default_factory=list)
+    estimated: bool = True  # False: no companion finished, `requests` is empty
 
     @property
-    def met(self) -> bool:
+    def met(self) -> bool | None:
+        """Every envelope peak within the target; None when nothing was estimated."""
+        if not self.estimated:
+            return None
         return bool(_worst_peak(self.requests) <= self.target)
 
     def summary(self) -> dict:
@@ -105,8 +116,9 @@ def _local_factor(integrator: str) -> float:
 
 
 def _largest_step(analysis: ml.Dynamic) -> float:
-    """The largest step (s); with dense output and no max_step, 0: the mechanism's natural
-    time bounds the steps (mechlib.solvers.dense), the same in the companion and finer runs."""
+    """The largest step the analysis sets (s); with dense output and no max_step, 0: its
+    default, the mechanism's natural time, bounds the steps (mechlib.solvers.dense), the
+    same in the companion and finer runs (the run's own value: `Solution.max_step`)."""
     if analysis.dense:
         return analysis.max_step or 0.0
     return min(analysis.max_step or analysis.step, analysis.step)
@@ -146,8 +158,9 @@ def request_peaks(channels: dict[str, np.ndarray]) -> dict[str, float]:
     return peaks
 
 
-def _shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Row indices of the times `a` and `b` share (output times are rounded alike)."""
+def shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Row indices of the times `a` and `b` share (output times are rounded alike; an
+    event's row, at each run's own event time, is shared only where the times agree)."""
     of_b = {round(float(t), 9): j for j, t in enumerate(b)}
     pairs = [(i, of_b[key]) for i, t in enumerate(a) if (key := round(float(t), 9)) in of_b]
     if not pairs:
@@ -158,7 +171,7 @@ def _shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def request_errors(run: ml.Solution, companion: ml.Solution, order: int) -> dict[str, RequestError]:
     """Estimated error of each request of `run` from a companion of steps twice as long."""
-    rows, rows_c = _shared_rows(run.time, companion.time)
+    rows, rows_c = shared_rows(run.time, companion.time)
     scale = 1.0 / (2.0**order - 1.0)
     peaks = request_peaks(run.channels)
     out: dict[str, RequestError] = {}
@@ -190,31 +203,71 @@ def solve_to_accuracy(
     solve: Solver, analysis: ml.Dynamic, target: float, *, tighten: bool
 ) -> tuple[ml.Solution, AccuracyEstimate | None]:
     """The run (the first that meets `target` when `tighten`) and its error estimate
-    (None when the run itself failed: a failure says its own where and why)."""
+    (None when the run itself failed: a failure says its own where and why). A signal
+    during the companion or a tighter run: the last run that finished, as `interrupted`."""
     run = solve(analysis)
     if run.status != "ok":
         return run, None
     started = clock.process_time()
     order = _order(analysis.integrator)
-    companion = solve(coarser(analysis), checks=False)  # only its channels are used
-    note, tightenings = "", 0
+    companion = _further(solve, coarser(analysis), checks=False)  # only its channels are used
     if companion.status != "ok":
-        estimate = _estimate(analysis, target, {}, tightenings, started)
+        estimate = _estimate(analysis, run, target, {}, 0, started)
+        estimate.estimated = False
+        if companion.status == "interrupted":
+            estimate.note = f"not estimated: interrupted{_by()} while the companion run was solved"
+            return _interrupted(run, "its accuracy companion was solved", estimated=False), estimate
         estimate.note = f"not estimated: the companion run failed ({companion.message})"
         return run, estimate
     errors = request_errors(run, companion, order)
+    note, tightenings, stopped = "", 0, False
     while tighten and tightenings < MAX_TIGHTENINGS and _worst_peak(errors) > target:
         finer_analysis = finer(analysis)
-        finer_run = solve(finer_analysis)
+        finer_run = _further(solve, finer_analysis)
+        if finer_run.status == "interrupted":
+            note = f"tightening interrupted{_by()}: the estimate is of the run written"
+            stopped = True
+            break
         if finer_run.status != "ok":
             note = f"a tighter run failed ({finer_run.message}): the estimate is of this one"
             break
         errors = request_errors(finer_run, run, order)
         run, analysis, tightenings = finer_run, finer_analysis, tightenings + 1
-    estimate = _estimate(analysis, target, errors, tightenings, started)
+    estimate = _estimate(analysis, run, target, errors, tightenings, started)
     estimate.note = note
     estimate.warnings = _warnings(estimate, tighten)
+    if stopped:
+        run = _interrupted(run, "a tighter run was solved to meet the accuracy target")
     return run, estimate
+
+
+def _further(solve: Solver, analysis: ml.Dynamic, checks: bool = True) -> ml.Solution:
+    """A companion or tighter run; a signal met outside mechlib's solve loop (while the
+    system is built) stops it the same way: an interrupted run without rows."""
+    try:
+        return solve(analysis, checks=checks)
+    except KeyboardInterrupt as stop:
+        return ml.Solution(
+            "interrupted", str(stop), "dynamic", np.zeros(0), {}, result=ml.Status.INTERRUPTED
+        )
+
+
+def _by() -> str:
+    """` by SIGTERM`: the signal that stopped this process ("" for another interrupt)."""
+    signum = interrupts.received()
+    return "" if signum is None else f" by {interrupts.signal_name(signum)}"
+
+
+def _interrupted(run: ml.Solution, during: str, *, estimated: bool = True) -> ml.Solution:
+    """`run`, finished, saved as interrupted: a signal stopped the work on its accuracy."""
+    error = "with their estimated error" if estimated else "their error is not estimated"
+    return dataclasses.replace(
+        run,
+        status="interrupted",
+        result=ml.Status.INTERRUPTED,
+        message=f"{run.message}; then interrupted{_by()} while {during}: the run's "
+        f"{len(run.time)} rows are kept, {error}",
+    )
 
 
 def _worst_peak(errors: dict[str, RequestError]) -> float:
@@ -223,16 +276,19 @@ def _worst_peak(errors: dict[str, RequestError]) -> float:
 
 def _estimate(
     analysis: ml.Dynamic,
+    run: ml.Solution,
     target: float,
     errors: dict[str, RequestError],
     tightenings: int,
     started: float,
 ) -> AccuracyEstimate:
+    """The estimate of `run`, solved with `analysis`: its largest step the one in force,
+    the default's value when the analysis sets none."""
     return AccuracyEstimate(
         target,
         analysis.integrator,
         analysis.tolerance,
-        _largest_step(analysis),
+        _largest_step(analysis) if run.max_step is None else run.max_step,
         tightenings,
         errors,
         clock.process_time() - started,

@@ -8,9 +8,11 @@ reference): over the whole run, at the end, and of the envelope peak (the max an
 envelope would take). CPU time is the median of `repeats` warm runs. The cheapest setting
 whose worst error meets the target is recommended.
 
-When only one integrator can run the case (events are located by generalized-alpha only),
-its own tighter run is the reference, and the study says so. With both integrators the two
-references are also compared with each other: errors below that agreement are not resolved.
+When only one integrator can run the case (events, of its mechanism or of the case, are
+located by generalized-alpha only), its own tighter run is the reference, and the study
+says so; a study of Radau alone of such a case is an input error naming the events. With
+both integrators the two references are also compared with each other: errors below that
+agreement are not resolved.
 """
 
 from __future__ import annotations
@@ -19,14 +21,16 @@ import dataclasses
 import statistics
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 import mechlib as ml
-from loadcases.build.model import build_run
+from loadcases.build.model import BuiltRun, build_run
+from loadcases.build.precheck import model_diagnostics
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
-from loadcases.run.global_error import request_of, request_peaks
+from loadcases.run.global_error import request_of, request_peaks, shared_rows
 
 __all__ = [
     "DEFAULT_TARGET",
@@ -34,6 +38,7 @@ __all__ = [
     "INTEGRATORS",
     "AccuracyStudy",
     "ColumnError",
+    "ReferenceFailure",
     "Setting",
     "SettingResult",
     "accuracy_study",
@@ -44,6 +49,11 @@ INTEGRATORS = ("generalized-alpha", "radau")
 DEFAULT_TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
 DEFAULT_TARGET = 1e-3  # of each request's peak: the sizing accuracy
 REFERENCE_FACTOR = 1e-2  # the reference runs at the tightest tolerance x this
+
+
+class ReferenceFailure(ml.SolverFailure):
+    """A reference run failed: nothing can be measured against it (`loads accuracy` exits
+    1 with its message, as for a solver failure)."""
 
 
 @dataclass(frozen=True)
@@ -108,30 +118,35 @@ class AccuracyStudy:
 
 
 def column_errors(solution: ml.Solution, reference: ml.Solution) -> dict[str, ColumnError]:
-    """Errors of every column of `solution` against `reference` at the common output times,
-    relative to the peak of the column's request in the reference (columns of a request
-    whose reference is zero throughout are left out: no scale to measure against)."""
+    """Errors of every column of `solution` against `reference`, relative to the peak of
+    the column's request in the reference (columns of a request whose reference is zero
+    throughout are left out: no scale to measure against). Over the run: at the output
+    times both share (an event's row is at each run's own event time, not compared row by
+    row with another time); at the end: the last rows when both have as many; of the
+    envelope: every row of each up to the last time they share."""
     peaks = request_peaks(reference.channels)
-    n = min(len(solution.time), len(reference.time))
+    rows, rows_ref = shared_rows(solution.time, reference.time)
+    if not len(rows):
+        return {}
+    same_end = len(solution.time) == len(reference.time)
+    upto, upto_ref = rows[-1] + 1, rows_ref[-1] + 1
     out = {}
     for column, ref in reference.channels.items():
         peak = peaks[request_of(column)]
         mine = solution.channels.get(column)
-        if mine is None or peak == 0.0 or n == 0:
+        if mine is None or peak == 0.0:
             continue
-        x, r = mine[:n], ref[:n]
-        same_end = len(solution.time) == len(reference.time)
+        x, r = mine[:upto], ref[:upto_ref]
         out[column] = ColumnError(
-            float(np.max(np.abs(x - r))) / peak,
-            float(abs(x[-1] - r[-1])) / peak if same_end else float("nan"),
+            float(np.max(np.abs(mine[rows] - ref[rows_ref]))) / peak,
+            float(abs(mine[-1] - ref[-1])) / peak if same_end else float("nan"),
             max(abs(float(x.max() - r.max())), abs(float(x.min() - r.min()))) / peak,
         )
     return out
 
 
-def _solver(cf: CaseFile) -> Callable[[Setting], ml.Solution]:
-    """A function solving the case with a setting (the model built anew for every run, so
-    that no event or contact memory carries over from one run to the next)."""
+def _dynamic_run(cf: CaseFile) -> BuiltRun:
+    """The case built; an InputError at `analysis.type` unless it is dynamic."""
     built = build_run(cf)
     if not isinstance(built.analysis, ml.Dynamic):
         file, line, col = cf.where("case", "analysis.type")
@@ -148,25 +163,59 @@ def _solver(cf: CaseFile) -> Callable[[Setting], ml.Solution]:
                 )
             ]
         )
+    return built
+
+
+def _solver(cf: CaseFile) -> Callable[[Setting], ml.Solution]:
+    """A function solving the case with a setting (the model built anew for every run, so
+    that no event or contact memory carries over from one run to the next); a model the
+    engine refuses is an InputError placed as `loads run` places it."""
+    _dynamic_run(cf)
 
     def solve(setting: Setting) -> ml.Solution:
         run = build_run(cf)
         analysis = dataclasses.replace(
             run.analysis, integrator=setting.integrator, tolerance=setting.tolerance
         )
-        return run.solve(analysis)
+        try:
+            return run.solve(analysis)
+        except ml.ModelError as error:
+            raise InputError(model_diagnostics(cf, error)) from None
 
     return solve
 
 
-def _usable(cf: CaseFile, integrators: Sequence[str], notes: list[str]) -> list[str]:
-    if cf.mechanism.events and "radau" in integrators:
-        notes.append(
-            "radau left out: the case has events, which only generalized-alpha "
-            "locates; its reference is its own tighter run (not independent)"
+def _usable(
+    cf: CaseFile, events: Sequence[str], integrators: Sequence[str], notes: list[str]
+) -> list[str]:
+    """The integrators that can run the case: Radau locates no events (of the mechanism
+    or of the case, `events` their names); Radau alone for such a case is an InputError."""
+    if not events or "radau" not in integrators:
+        return list(integrators)
+    named = ", ".join(events)
+    kept = [i for i in integrators if i != "radau"]
+    if not kept:
+        kind = "case" if events[0] in cf.case.events else "mechanism"
+        file, line, col = cf.where(kind, f"events.{events[0]}")
+        of_case = "" if Path(file) == Path(cf.path) else f" (case {cf.path})"
+        raise InputError(
+            [
+                Diagnostic(
+                    file,
+                    line,
+                    col,
+                    f"events.{events[0]}",
+                    f"loads accuracy --integrators radau: the events of this case{of_case} "
+                    f"({named}) are located by generalized-alpha only: study it with "
+                    "--integrators generalized-alpha",
+                )
+            ]
         )
-        return [i for i in integrators if i != "radau"]
-    return list(integrators)
+    notes.append(
+        f"radau left out: the case's events ({named}) are located by generalized-alpha "
+        "only; its reference is its own tighter run (not independent)"
+    )
+    return kept
 
 
 def accuracy_study(
@@ -181,15 +230,16 @@ def accuracy_study(
 ) -> AccuracyStudy:
     """Solve the case at every (integrator, tolerance) and measure each against the
     reference (see the module docstring); `progress` is called after each setting."""
-    solve = _solver(cf)
+    events = [event.name for event in _dynamic_run(cf).events]  # mechanism's and case's
     notes: list[str] = []
-    methods = _usable(cf, integrators, notes)
+    methods = _usable(cf, events, integrators, notes)
+    solve = _solver(cf)
     ref_tol = reference_tolerance or min(tolerances) * REFERENCE_FACTOR
     solve(Setting(methods[0], max(tolerances)))  # warm-up: compiled kernels, caches
     ref_solutions = {m: solve(Setting(m, ref_tol)) for m in methods}
     for method, reference in ref_solutions.items():
         if not reference.ok:
-            raise ml.SolverFailure(
+            raise ReferenceFailure(
                 f"the reference run ({Setting(method, ref_tol).describe()})"
                 f" failed: {reference.message}"
             )

@@ -140,7 +140,9 @@ class Solution:
     array of shape (n,) in SI units. On failure, `status == "failed"`, `message` says when,
     where and why, and the arrays hold what was computed up to the failure; a run stopped
     by SIGINT or SIGTERM is `"interrupted"`, with the rows computed before. `result`: the
-    run's Status (mechlib.solvers.contract), next to the message.
+    run's Status (mechlib.solvers.contract), next to the message. `max_step`: of a dynamic
+    run, the largest step its integrator was allowed (s; `analysis.max_step`, else its
+    default: mechlib.solvers.dense.step_bound), None for other analyses.
     """
 
     status: RunStatus
@@ -152,6 +154,7 @@ class Solution:
     warnings: list[str] = field(default_factory=list)
     events: list[EventRecord] = field(default_factory=list)
     result: Status = Status.SUCCESSFUL
+    max_step: float | None = None
 
     @property
     def ok(self) -> bool:

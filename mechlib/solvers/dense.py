@@ -36,6 +36,7 @@ __all__ = [
     "hermite",
     "natural_time",
     "projected_row",
+    "step_bound",
 ]
 
 _FIRST_FRACTION = 1e-6  # of the natural time: the start acceleration may be left at once
@@ -56,6 +57,15 @@ def largest_step(system: System, spec) -> float:
     if spec.max_step:
         return float(spec.max_step)
     return natural_time(system)
+
+
+def step_bound(system: System, spec) -> float:
+    """The largest step a dynamic run may take (s): with dense output and error control
+    `largest_step`; else `analysis.max_step`, at most the output interval (the steps end
+    on the output times), the output interval when not given."""
+    if spec.dense and not spec.fixed_step:
+        return largest_step(system, spec)
+    return float(min(spec.max_step or spec.step, spec.step))
 
 
 def first_step(system: System, spec) -> float:

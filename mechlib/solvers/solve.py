@@ -23,6 +23,7 @@ from mechlib.model.mechanism import Mechanism
 from mechlib.outputs.requests import JointReaction, evaluate_requests
 from mechlib.solvers.assembly import assemble
 from mechlib.solvers.contract import Stepper
+from mechlib.solvers.dense import step_bound
 from mechlib.solvers.finite import check_recorded_state, explain_failure, nonfinite_channel
 from mechlib.solvers.genalpha.stepper import GeneralizedAlphaStepper
 from mechlib.solvers.kinematic import KinematicStepper
@@ -247,4 +248,5 @@ def solve(
         warnings,
         run.events,
         run.result,
+        step_bound(system, analysis) if isinstance(analysis, Dynamic) else None,
     )

@@ -252,3 +252,180 @@ def test_interrupt_met_inside_a_compiled_kernel_is_an_interrupt() -> None:
 
     with pytest.raises(SystemError):
         ml.solve(mech, analysis, initial=initial, throw=False, progress=kernel_fault)
+
+
+# Issue 35 item: a signal that arrives while the accuracy companion of a dynamic run is
+# solved (loadcases.run.global_error.solve_to_accuracy). The run itself finished; its error
+# estimate did not: the run is saved as interrupted (a set never reuses it as good), with
+# its own rows, and its accuracy block makes no claim (`met` null, no estimate).
+
+LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
+
+
+def _short_pendulum(folder: Path, analysis_lines: str = "") -> Path:
+    """The library pendulum over 1 s at 0.01 s outputs."""
+    text = (LIBRARY / "pendulum.case.yaml").read_text(encoding="utf-8")
+    text = text.replace("end: 4.0 ", "end: 1.0 ").replace("step: 0.001 ", "step: 0.01 ")
+    text = text.replace("  type: dynamic\n", "  type: dynamic\n" + analysis_lines)
+    path = folder / "pendulum.case.yaml"
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def _signal_in_solve(
+    monkeypatch: pytest.MonkeyPatch, signum: int, at: float, solve_number: int = 2
+) -> list[bool]:
+    """Send `signum` to this process from the progress of the case's `solve_number`-th
+    solve (2: the accuracy companion, 3: the first tighter run) once it reaches `at` s;
+    returns the `checks` of every solve, in order (False: the companion). The signal
+    recorded by loadcases.foundation.interrupts is forgotten after the test."""
+    from loadcases.build.model import BuiltRun
+    from loadcases.foundation import interrupts
+
+    monkeypatch.setattr(interrupts, "_received", None)  # restored (None) at teardown
+
+    plain = BuiltRun.solve
+    calls: list[bool] = []
+
+    def solve(self, analysis=None, *, progress=None, checks: bool = True):
+        calls.append(checks)
+        if len(calls) == solve_number:
+
+            def progress(t: float, end: float) -> None:
+                if t >= at:
+                    os.kill(os.getpid(), signum)
+                    time.sleep(30.0)  # the handler raises here, at once
+
+        return plain(self, analysis, progress=progress, checks=checks)
+
+    monkeypatch.setattr(BuiltRun, "solve", solve)
+    return calls
+
+
+def _columns(path: Path) -> dict[str, np.ndarray]:
+    """The columns of a result CSV by name."""
+    header = path.read_text().splitlines()[0].split(",")
+    table = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+    return {name: table[:, k] for k, name in enumerate(header)}
+
+
+def test_sigterm_during_the_accuracy_companion_saves_the_run_interrupted(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from loadcases.inputs.loader import load_case
+    from loadcases.run import run_case
+    from tests.hardening.conftest import loads
+
+    case = _short_pendulum(tmp_path)
+    (tmp_path / "off").mkdir()
+    off = run_case(load_case(_short_pendulum(tmp_path / "off", "  accuracy: off\n"))).solution
+    calls = _signal_in_solve(monkeypatch, signal.SIGTERM, 0.2)
+    result = loads("run", case, "-o", tmp_path / "out")
+    assert calls == [True, False]  # the run, then its companion; no tightening
+    assert result.exit_code == exit_code(signal.SIGTERM) == 143, result.output
+    assert "loads: interrupted by SIGTERM" in result.output
+    summary = _summary(tmp_path / "out", "pendulum-release-60deg")
+    assert summary["status"] == "interrupted"
+    assert summary["message"] == (
+        "finished; then interrupted by SIGTERM while its accuracy companion was solved: "
+        "the run's 101 rows are kept, their error is not estimated"
+    )
+    block = summary["accuracy"]
+    assert block["met"] is None and block["estimate"] == {}
+    assert block["note"].startswith("not estimated: interrupted by SIGTERM")
+    # the rows are the run's own, whole: those of the same case solved without an estimate
+    saved = _columns(tmp_path / "out" / "pendulum-release-60deg.csv")
+    assert len(saved["time"]) == len(off.time) == 101
+    assert np.array_equal(saved["time"], off.time)
+    assert set(saved) == {"time", *off.channels}
+    for column, values in off.channels.items():
+        assert np.allclose(saved[column], values, rtol=1e-14, atol=1e-300), column
+
+
+def test_sigint_during_a_tighter_run_keeps_the_run_before_it_as_interrupted(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """accuracy 1e-5 (the pendulum's default steps miss it: tightened): a SIGINT in the
+    first tighter run leaves the first run written, interrupted, with its own estimate
+    (missed, `met` false), and no tightening counted."""
+    from loadcases.inputs.loader import load_case
+    from loadcases.run import run_case
+    from tests.hardening.conftest import loads
+
+    case = _short_pendulum(tmp_path, "  accuracy: 1e-5\n")
+    (tmp_path / "off").mkdir()
+    off = run_case(load_case(_short_pendulum(tmp_path / "off", "  accuracy: off\n"))).solution
+    calls = _signal_in_solve(monkeypatch, signal.SIGINT, 0.2, solve_number=3)
+    result = loads("run", case, "-o", tmp_path / "out")
+    assert calls == [True, False, True]
+    assert result.exit_code == exit_code(signal.SIGINT) == 130, result.output
+    summary = _summary(tmp_path / "out", "pendulum-release-60deg")
+    assert summary["status"] == "interrupted"
+    assert summary["message"] == (
+        "finished; then interrupted by SIGINT while a tighter run was solved to meet the "
+        "accuracy target: the run's 101 rows are kept, with their estimated error"
+    )
+    block = summary["accuracy"]
+    assert block["met"] is False and block["tightenings"] == 0
+    assert block["tolerance"] == 1e-6  # the first run's
+    assert block["note"] == "tightening interrupted by SIGINT: the estimate is of the run written"
+    assert max(e["peak"] for e in block["estimate"].values()) > 1e-5  # why it tightened
+    saved = _columns(tmp_path / "out" / "pendulum-release-60deg.csv")
+    assert np.array_equal(saved["time"], off.time)
+    for column, values in off.channels.items():
+        assert np.allclose(saved[column], values, rtol=1e-14, atol=1e-300), column
+
+
+_COMPANION_WAITS = """\
+import sys, time
+from pathlib import Path
+from loadcases.build.model import BuiltRun
+
+plain = BuiltRun.solve
+marker = Path(sys.argv[1])
+
+
+def solve(self, analysis=None, *, progress=None, checks=True):
+    if not checks:  # the accuracy companion: say so, then wait for the signal
+
+        def progress(t, end):
+            marker.touch()
+            time.sleep(300.0)
+
+    return plain(self, analysis, progress=progress, checks=checks)
+
+
+BuiltRun.solve = solve
+sys.argv = ["loads", *sys.argv[2:]]
+from cli.app import main
+
+main()
+"""
+
+
+def test_sigterm_from_outside_during_the_accuracy_companion(tmp_path: Path) -> None:
+    """End to end: `loads run` in its own process is sent SIGTERM while its companion run
+    waits in a progress call (a marker file says when): exit 143, the run interrupted."""
+    case = _short_pendulum(tmp_path)
+    marker = tmp_path / "companion-running"
+    env = {**os.environ, "PYTHONPATH": str(Path(__file__).resolve().parents[2])}
+    process = subprocess.Popen(
+        [sys.executable, "-c", _COMPANION_WAITS, str(marker), "run", str(case), "-o", "out"],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        _wait_for(marker.exists, process)
+    finally:
+        process.send_signal(signal.SIGTERM)
+    stdout, stderr = process.communicate(timeout=120)
+    assert process.returncode == 143, stderr
+    assert "pendulum-release-60deg: interrupted" in stdout
+    assert "loads: interrupted by SIGTERM" in stderr
+    summary = _summary(tmp_path / "out", "pendulum-release-60deg")
+    assert summary["status"] == "interrupted" and summary["rows"] == 101
+    assert summary["accuracy"]["met"] is None and summary["accuracy"]["estimate"] == {}

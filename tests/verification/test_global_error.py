@@ -11,6 +11,7 @@ tolerance 1e-4 (2026-11-25); accepted within 15 %.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -69,12 +70,12 @@ def test_a_target_is_met_by_tightening_the_steps(tmp_path: Path) -> None:
     may); the error falls to 2.9e-5 (measured with the dense output of 0.7.0; 2.6e-5 with
     `output: steps`), the estimate follows it (2.7e-5), the envelope peaks meet the target
     (the reaction's 4.8e-6) and the summary says the time histories do not. The largest
-    step stays the natural time (max_step 0 in the summary: not set)."""
+    step stays the default, the natural time sqrt(0.5 m / g) (the summary's max_step)."""
     outcome, true = _run(tmp_path, "  accuracy: 1e-5\n")
     block = outcome.checks["accuracy"]
     assert block["tightenings"] == MAX_TIGHTENINGS == 2
     assert block["tolerance"] == pytest.approx(1e-6 / 64)
-    assert block["max_step"] == 0.0
+    assert block["max_step"] == pytest.approx(math.sqrt(0.5 / 9.81), rel=1e-12)
     assert true == pytest.approx(2.86e-5, rel=0.05)
     assert block["estimate"]["hinge_angle"]["history"] == pytest.approx(true, rel=0.3)
     assert block["met"] is True
@@ -125,3 +126,52 @@ def test_rho_inf_out_of_range_is_an_input_error(tmp_path: Path) -> None:
     path.write_text(text.replace("  type: dynamic\n", "  type: dynamic\n  rho_inf: 1.5\n"))
     (problem,) = [d for d in check_case_file(path) if d.severity == "error"]
     assert problem.key == "analysis.rho_inf" and problem.message == "must be between 0 and 1"
+
+
+def test_a_failed_companion_claims_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A companion that fails (here: 20 steps allowed) estimates nothing: the run stays ok,
+    its accuracy block says `met` null, no estimate, and why (it said `met: true`)."""
+    from loadcases.run import global_error
+
+    coarser = global_error.coarser
+    monkeypatch.setattr(
+        global_error, "coarser", lambda a: dataclasses.replace(coarser(a), max_steps=20)
+    )
+    outcome, _ = _run(tmp_path)
+    block = outcome.checks["accuracy"]
+    assert outcome.solution.status == "ok"
+    assert block["met"] is None and block["estimate"] == {}
+    assert block["note"].startswith("not estimated: the companion run failed (dynamic analysis")
+    assert "the limit of 20 steps" in block["note"]
+
+
+@pytest.mark.parametrize(
+    ("lines", "largest"),
+    [
+        # the default with dense output: the natural time sqrt(size / g); the pendulum's size
+        # is the extent of its bar's centre of mass (0, -0.5, 0) and the hinge at the origin
+        ("", math.sqrt(0.5 / 9.81)),
+        ("  accuracy: 1e-5\n", math.sqrt(0.5 / 9.81)),  # tightened twice: still the default
+        ("  output: steps\n", 0.01),  # the default with steps ending on the outputs: `step`
+        ("  output: steps\n  max_step: 0.05\n", 0.01),  # a larger max_step has no effect
+        ("  max_step: 0.02\n", 0.02),
+    ],
+    ids=["dense-default", "dense-tightened", "steps-default", "steps-capped", "given"],
+)
+def test_the_summary_states_the_largest_step_in_force(
+    tmp_path: Path, lines: str, largest: float
+) -> None:
+    """`accuracy.max_step` is the largest step the run's integrator was allowed (s), the
+    default's value when `analysis.max_step` is not given (it read 0.0)."""
+    outcome, _ = _run(tmp_path, lines)
+    assert outcome.checks["accuracy"]["max_step"] == pytest.approx(largest, rel=1e-12)
+
+
+def test_the_natural_time_follows_size_and_gravity(tmp_path: Path) -> None:
+    """Gravity off: g is floored at 1 m/s^2, the natural time is sqrt(0.5 m / 1 m/s^2)."""
+    text = (LIBRARY / "pendulum.case.yaml").read_text(encoding="utf-8")
+    text = text.replace("end: 4.0 ", "end: 0.5 ").replace("step: 0.001 ", "step: 0.01 ")
+    path = tmp_path / "pendulum.case.yaml"
+    path.write_text(text.replace("initial:", "effects: {gravity: false}\ninitial:"))
+    outcome = run_case(load_case(path))
+    assert outcome.checks["accuracy"]["max_step"] == pytest.approx(math.sqrt(0.5), rel=1e-12)

@@ -38,7 +38,7 @@ def _case(
         'when: "angle(trunnion) <= 0", then: [{activate: downstop}]',
         f'when: "{when}", then: {then}',
     )
-    if settings is not None:  # max_step 0: the natural time bounds the steps (dense output)
+    if settings is not None:  # max_step: the summary's, the largest step in force
         largest = f"max_step: {settings[1]!r}, " if settings[1] else ""
         text = text.replace(
             "analysis: {type: dynamic, ",

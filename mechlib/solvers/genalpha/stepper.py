@@ -20,7 +20,7 @@ from mechlib.core.outcome import SolverFailure, SolverStats, Status
 from mechlib.model.analysis import Dynamic
 from mechlib.solvers.consistent import consistent_accelerations, consistent_state
 from mechlib.solvers.contract import DenseStepper, State, StepResult, StepUnresolved
-from mechlib.solvers.dense import HermiteRows, first_step, largest_step
+from mechlib.solvers.dense import HermiteRows, first_step, step_bound
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.integrator import Integrator
 from mechlib.solvers.genalpha.kernels import Scales
@@ -64,10 +64,10 @@ class GeneralizedAlphaStepper(DenseStepper):
         self.integ = Integrator(system, spec, stats)
         self.rows = HermiteRows(system, compiled=spec.compiled != "python")
         self.dense = spec.dense and not spec.fixed_step
-        if self.dense:  # steps from the problem's scales, not the output interval's
-            self.max_step, self.h = largest_step(system, spec), first_step(system, spec)
+        self.max_step = step_bound(system, spec)  # dense: the problem's scales, not `step`
+        if self.dense:
+            self.h = first_step(system, spec)
         else:
-            self.max_step = min(spec.max_step or spec.step, spec.step)
             span = spec.end - spec.start
             self.h = (
                 self.max_step
