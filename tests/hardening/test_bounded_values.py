@@ -1,0 +1,87 @@
+"""Issue 39 item 2: expressions and quantity texts are bounded. Towers of powers, huge
+integers and long or deep texts end, promptly, in an input error at their key (exit 2),
+never in a hang, a RecursionError or an `internal error`."""
+
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from loadcases.expressions import ExpressionError, parse
+from loadcases.foundation.limits import MAX_EXPRESSION_CHARS, MAX_EXPRESSION_DEPTH
+from tests.hardening.conftest import has_line, loads
+
+DRIVE = 'value: "speed * t"'  # the case's line 4; the key at column 25, its text at 33
+
+
+def _validate(crank, **change: tuple[str, str]):
+    started = time.perf_counter()
+    result = loads("validate", crank(**change))
+    return result, time.perf_counter() - started
+
+
+def _refused(result, expected: str) -> None:
+    assert result.exit_code == 2, result.output
+    assert "internal error" not in result.output and "Traceback" not in result.output
+    assert has_line(result.output, expected), result.output
+
+
+def test_expression_longer_than_the_limit_is_refused(crank) -> None:
+    text = "+".join(["1"] * (MAX_EXPRESSION_CHARS // 2 + 1))
+    result, seconds = _validate(crank, case=(DRIVE, f'value: "{text}"'))
+    _refused(
+        result,
+        "crank.case.yaml:4:33: error: motions.drive.value: invalid expression: "
+        f"longer than {MAX_EXPRESSION_CHARS:,} characters ({len(text):,})",
+    )
+    assert seconds < 10
+
+
+@pytest.mark.parametrize(
+    ("text", "offset"),
+    [
+        # a sum: one level per operator; the operator that passes the limit is reported
+        ("+".join(["t"] * (MAX_EXPRESSION_DEPTH + 1)), 2 * MAX_EXPRESSION_DEPTH - 1),
+        ("+".join(["t"] * 1000), 2 * MAX_EXPRESSION_DEPTH - 1),
+        ("*".join(["t"] * 3000), 2 * MAX_EXPRESSION_DEPTH - 1),
+        # nested calls, negations, parentheses, powers: where the level past it starts
+        ("sin(" * 1000 + "t" + ")" * 1000, 4 * MAX_EXPRESSION_DEPTH),
+        ("-" * 5000 + "t", MAX_EXPRESSION_DEPTH),
+        ("(" * 1000 + "t" + ")" * 1000, MAX_EXPRESSION_DEPTH),
+        ("**".join(["t"] * 1000), 3 * MAX_EXPRESSION_DEPTH),
+    ],
+)
+def test_expression_nested_too_deeply_is_refused_at_its_key(crank, text, offset) -> None:
+    result, seconds = _validate(crank, case=(DRIVE, f'value: "{text}"'))
+    _refused(
+        result,
+        f"crank.case.yaml:4:{33 + offset}: error: motions.drive.value: invalid expression: "
+        f"nested more than {MAX_EXPRESSION_DEPTH} levels deep",
+    )
+    assert seconds < 10
+
+
+def test_expressions_at_the_limits_compile_with_their_derivatives() -> None:
+    """What the limits let through is compiled, differentiated twice and evaluated."""
+    depth = MAX_EXPRESSION_DEPTH
+    texts = [
+        "+".join(["t"] * depth),
+        "sin(" * (depth - 1) + "t" + ")" * (depth - 1),
+        "(" * (depth - 1) + "t" + ")" * (depth - 1),
+        "-" * (depth - 1) + "t",
+        "**".join(["t"] * (depth // 2)),
+        "atan(" * (depth - 1) + "t" + ")" * (depth - 1),
+    ]
+    for text in texts:
+        compiled = parse(text).compile()
+        second = compiled.derivative().derivative()
+        assert isinstance(compiled(0.5) + second(0.5), float), text
+
+
+def test_constant_folding_stays_in_floats_and_is_prompt() -> None:
+    for text in ("10**10**10", "9**9**9**9", "2**(2**1000)", "exp(exp(exp(10)))"):
+        started = time.perf_counter()
+        with pytest.raises(ExpressionError, match="overflow"):
+            parse(text + "*t").compile()
+        assert time.perf_counter() - started < 0.5, text
