@@ -10,9 +10,11 @@ in the file's unit (`units: {length: mm}`); for every other dimension a bare num
 
 A quantity text is bounded before pint reads it (`_pint_text`): at most MAX_QUANTITY_CHARS
 characters, digits 0-9 in decimal numbers, a plain space as its only space, no hidden
-character (`loadcases.foundation.clip`), balanced parentheses; and its numbers are given to
-pint as floats, so that its arithmetic cannot grow without bound (`10**10**10` would be a
-ten-billion-digit integer; in floats it overflows at once: "a number out of range").
+character (`loadcases.foundation.clip`), letters and the signs of a unit expression only
+(pint would read `1:30 kg` as 30 kg and `1,5 mm` as 15 mm), balanced parentheses; and its
+numbers are given to pint as floats, so that its arithmetic cannot grow without bound
+(`10**10**10` would be a ten-billion-digit integer; in floats it overflows at once: "a
+number out of range").
 """
 
 from __future__ import annotations
@@ -135,7 +137,7 @@ RESERVED_NAMES = frozenset(
         "vz",
     }
 )
-_NUMBER = re.compile(r"^ *[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)? *$")
+_NUMBER = re.compile(r"^ *[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)? *\Z")
 _LEADING_NUMBER = re.compile(r"^ *[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
 # a number as pint's tokenizer (Python's) gives it: decimal, without `_`, `0x`, `j`
 _DECIMAL = re.compile(r"(?:(?:0|[1-9][0-9]*)(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
@@ -292,15 +294,25 @@ def _matches(got: Mapping[str, float], dimension: str) -> bool:
     )
 
 
-def _character_problem(char: str) -> str | None:
-    """Why `char` cannot be part of a quantity text, or None."""
+# Characters of a quantity text besides letters and the digits 0-9 (`°`, `µm`, `m²`, `N·m`)
+_QUANTITY_SIGNS = frozenset(" .*/^()+-_%°·⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def _character_problem(char: str, quantity: bool = True) -> str | None:
+    """Why `char` cannot be part of a quantity text (`quantity`; else of a vector text
+    such as "[0, 0, 1] mm": only hidden characters, spaces and digits are checked), or
+    None."""
     if char == " ":
         return None
     if char.isspace() or hidden_character(char):
         return f"{describe_character(char)}: write a plain space or nothing"
     if not char.isascii() and unicodedata.category(char) == "Nd":
         return f"{describe_character(char)}: write numbers with the digits 0-9"
-    return None
+    if not quantity or char in _QUANTITY_SIGNS or char.isalpha() or "0" <= char <= "9":
+        return None
+    if char == ",":  # pint would read "1,5 mm" as 15 mm
+        return "',' is not part of a quantity: write 1500 for 1,500 and 1.5 for 1,5"
+    return f"'{char}' is not part of a quantity"  # pint reads "1:30 kg" as 30 kg
 
 
 def _text_problem(text: str) -> str | None:
@@ -552,7 +564,7 @@ def vector_to_si(
     """
     unit = ""
     if isinstance(value, str):
-        problem = next(filter(None, map(_character_problem, value)), None)
+        problem = next(filter(None, (_character_problem(c, False) for c in value)), None)
         if problem is not None:
             raise _cannot_read(value, problem)
         match = _VECTOR.match(value)

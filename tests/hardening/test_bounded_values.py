@@ -44,6 +44,9 @@ def _refused(result, expected: str) -> None:
         ("1 " + "(" * 60 + "kg" + ")" * 60, "longer than 100 characters"),
         ("0x10 kg", "unknown unit 'x10'"),
         ("1_000 kg", "'1_000' is not a decimal number"),
+        ("1,5 kg", "',' is not part of a quantity: write 1500 for 1,500 and 1.5 for 1,5"),
+        ("1:30 kg", "':' is not part of a quantity"),
+        ("1 kg # 2", "'#' is not part of a quantity"),
     ],
 )
 def test_a_quantity_text_out_of_bounds_is_refused_at_its_key(crank, text, reason) -> None:
@@ -68,7 +71,6 @@ def test_quantity_texts_are_read_in_floats_promptly() -> None:
     assert to_si("2 * 3 m", "length") == 6.0
     assert to_si("12 N*m/rad", "torsional_stiffness") == 12.0
     assert to_si("9.81 m/s^2", "acceleration") == 9.81
-    assert to_si("1,500 mm", "length") == 1.5
     assert to_si("1 kg*m^2", "inertia") == 1.0
     assert to_si("3 m**-1 * m**2", "length") == 3.0
     assert to_si("2 m²", "area") == 2.0
