@@ -2,12 +2,16 @@
 readable line whatever a file holds (a 10 kB key, a pasted table in a value). Characters
 that a terminal, a spreadsheet or a browser would not show as written (control
 characters such as a line break or NUL, bidirectional controls such as U+202E, zero-width
-characters) are found by `hidden_character` and written as escapes by `visible`."""
+characters) are found by `hidden_character` and written as escapes by `visible`; inside
+`plain_text_plots()` matplotlib shows a `$` of a name as written (no math text, whose
+parser fails on `a$^$b`)."""
 
 from __future__ import annotations
 
+import contextlib
 import re
 import unicodedata
+from collections.abc import Iterable, Iterator
 
 __all__ = [
     "QUOTE_LIMIT",
@@ -15,7 +19,9 @@ __all__ = [
     "clip_quotes",
     "describe_character",
     "hidden_character",
+    "plain_text_plots",
     "visible",
+    "visible_fields",
 ]
 
 QUOTE_LIMIT = 80  # characters of input a message quotes at most
@@ -56,7 +62,8 @@ def describe_character(char: str) -> str:
     name = unicodedata.name(char, "")
     if not name or unicodedata.category(char) == "Cc":
         return f"a control character ({code})"
-    return f"a {name.lower()} ({code})"
+    article = "an" if name[0] in "AEIOU" else "a"
+    return f"{article} {name.lower()} ({code})"
 
 
 _ESCAPES = {"\n": "\\n", "\r": "\\r", "\t": "\\t"}
@@ -75,3 +82,20 @@ def visible(text: str) -> str:
     if text.isascii() and not _ASCII_CONTROL.search(text):
         return text
     return "".join(_escape(char) if _hidden(char) else char for char in text)
+
+
+def visible_fields(row: Iterable[object]) -> list[object]:
+    """A CSV row with its text fields `visible`: a name or message from a file, written
+    into a CSV file, is one line read as written (a line break in a run name would split
+    its row for any reader that is not a CSV parser)."""
+    return [visible(value) if isinstance(value, str) else value for value in row]
+
+
+@contextlib.contextmanager
+def plain_text_plots() -> Iterator[None]:
+    """Within the block (or the function it decorates), matplotlib texts made are plain
+    text: `$` in a case, run or body name is a dollar sign, not the start of math text."""
+    import matplotlib  # only plotting code enters here
+
+    with matplotlib.rc_context({"text.parse_math": False}):
+        yield
