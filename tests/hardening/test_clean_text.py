@@ -6,6 +6,8 @@ CSV files and plots show hidden characters as escapes and never break the file."
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from loadcases.foundation.clip import hidden_character
@@ -259,3 +261,14 @@ def test_a_malformed_set_option_is_quoted_clipped(crank) -> None:
         f"loads: error: --set '{'x' * 77}...': expected NAME=VALUE, e.g. --set length=1.5 or "
         "--set 'length=1500 mm' (a parameter name, '=', a number with an optional unit)"
     ) in result.output.splitlines(), result.output
+
+
+def test_a_name_with_a_dollar_sign_is_plotted_as_written(crank, tmp_path: Path) -> None:
+    """matplotlib reads `$...$` as math text and fails on `$^$`: the set's plots show it."""
+    crank(case=("case: crank-turn", "case: 'crank$^$'"))
+    (tmp_path / "s.set.yaml").write_text(
+        "set: s\ncases: [crank.case.yaml]\nsweep: {speed: [1.0, 2.0]}\n", encoding="utf-8"
+    )
+    result = loads("run", tmp_path / "s.set.yaml", "-o", tmp_path / "out", "--jobs", "1")
+    assert result.exit_code == 0, result.output
+    assert list((tmp_path / "out" / "s").glob("envelope-*.png"))
