@@ -272,3 +272,28 @@ def test_a_name_with_a_dollar_sign_is_plotted_as_written(crank, tmp_path: Path) 
     result = loads("run", tmp_path / "s.set.yaml", "-o", tmp_path / "out", "--jobs", "1")
     assert result.exit_code == 0, result.output
     assert list((tmp_path / "out" / "s").glob("envelope-*.png"))
+
+
+def test_a_failed_runs_message_is_printed_as_escapes(crank) -> None:
+    """A solver's message or warning may quote anything: the status lines show hidden
+    characters as escapes."""
+    from typer.testing import CliRunner
+
+    from cli.app import app
+    from cli.engine import Engine
+    from tests.hardening.test_workbook_text import HIDDEN, SHOWN, _outcome
+
+    def run_file(path, **options):
+        outcome = _outcome("crank-turn", HIDDEN)
+        outcome.solution.status = "failed"
+        outcome.solution.warnings = [HIDDEN]
+        return [outcome]
+
+    case = crank()
+    result = CliRunner().invoke(
+        app, ["run", str(case), "-o", str(case.parent / "out")], obj=Engine(run_file=run_file)
+    )
+    assert result.exit_code == 1, result.output
+    assert f"  {SHOWN}" in result.output.splitlines()
+    assert f"  warning: {SHOWN}" in result.output.splitlines()
+    assert not [line for line in result.output.splitlines() if hidden_character(line)]
