@@ -21,6 +21,7 @@ from cli.engine import Engine, engine_of
 from cli.help_style import use_domain_names
 from cli.render import ProgressBar, error_line, fail, print_diagnostics, status_line
 from cli.runner import FileReport, run_all
+from loadcases.foundation.clip import visible
 
 __all__ = ["app", "main"]
 
@@ -325,9 +326,9 @@ def _print_report(report: FileReport) -> int:
     for line in report.runs:
         typer.echo(status_line(line.name, line.status, line.steps, line.cpu_seconds, line.where))
         if line.status != "ok":
-            typer.echo(f"  {line.message}")
+            typer.echo(f"  {visible(line.message)}")  # hidden characters shown as escapes
         for warning in [*(d.keyed_message() for d in line.warnings), *line.solver_warnings]:
-            typer.echo(f"  warning: {warning}")
+            typer.echo(f"  warning: {visible(warning)}")
     for text in report.footer:
         typer.echo(text)
     if report.input_errors:

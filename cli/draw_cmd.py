@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING, Annotated
 import typer
 
 from cli.render import error_line, fail, print_diagnostics
+from loadcases.foundation.clip import visible
 
 if TYPE_CHECKING:
     from loadcases.inputs.loader import CaseFile
@@ -169,12 +170,14 @@ def draw(
         return EXIT_INPUT
     traj = solve_trajectory(cf, forces=_joints_to_load(forces, cf), name=name)
     if len(traj.time) == 0:
-        typer.echo(f"{case}: the run failed before its first output: {traj.message}", err=True)
+        message = visible(traj.message)
+        typer.echo(f"{case}: the run failed before its first output: {message}", err=True)
         return EXIT_FAILED
     for line in _write(traj, at, view, output, gif=gif, html=html):
         typer.echo(line)
     if traj.status != "ok":
-        typer.echo(f"{case}: the run failed: {traj.message} (pictures up to the failure)", err=True)
+        message = visible(traj.message)
+        typer.echo(f"{case}: the run failed: {message} (pictures up to the failure)", err=True)
         return EXIT_FAILED
     return EXIT_OK
 

@@ -10,6 +10,7 @@ from typing import TextIO
 
 import typer
 
+from loadcases.foundation.clip import visible
 from loadcases.foundation.diagnostics import Diagnostic, sort_diagnostics
 
 __all__ = [
@@ -26,8 +27,9 @@ PROGRESS_INTERVAL = 0.1  # s between redraws: keeps a fast solver from waiting o
 
 
 def error_line(message: str) -> str:
-    """One-line error text, as every `loads` error starts."""
-    return f"loads: error: {message}"
+    """One-line error text, as every `loads` error starts (hidden characters of the input
+    it quotes shown as escapes: `\\n`, `\\u202e`)."""
+    return f"loads: error: {visible(message)}"
 
 
 def fail(message: str, code: int = 2) -> typer.Exit:

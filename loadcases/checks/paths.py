@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from pathlib import Path, PurePosixPath, PureWindowsPath
 
-from loadcases.foundation.clip import clip
+from loadcases.foundation.clip import clip, describe_character, hidden_character
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.yamlfiles.source import Locator
 
@@ -27,9 +27,9 @@ def path_problem(text: str) -> str | None:
     """Why a relative path `a/b.ext` cannot be used inside the output folder, or None."""
     if PurePosixPath(text).is_absolute() or PureWindowsPath(text).anchor:
         return "an absolute path"
-    bad = next((c for c in text if ord(c) < 32 or ord(c) == 127), None)
+    bad = hidden_character(text)
     if bad is not None:
-        return f"a control character (code {ord(bad)})"
+        return describe_character(bad)
     if "\\" in text:
         return "a backslash (use '/' for sub-folders)"
     parts = text.split("/")

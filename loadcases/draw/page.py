@@ -19,6 +19,7 @@ from loadcases.draw.scene import Scene, force_summary, frame_traces, scene_of
 from loadcases.draw.shapes import frame_indices
 from loadcases.draw.trajectory import Trajectory
 from loadcases.foundation.atomic import atomic_write_text
+from loadcases.foundation.clip import visible
 
 __all__ = ["MAX_FRAMES", "figure_of", "html_page", "plotly_missing", "write_html"]
 
@@ -113,8 +114,13 @@ def _controls(labels: list[str]) -> dict:
     }
 
 
+def _html(text: str) -> str:
+    """`text` for the page: markup escaped, hidden characters written as escapes."""
+    return html.escape(visible(text))
+
+
 def _title(traj: Trajectory, scene: Scene) -> str:
-    title = html.escape(traj.case)
+    title = _html(traj.case)
     if traj.reactions:
         title += (
             f"<br><sub>reaction forces on each joint's first body: arrows of "
@@ -123,7 +129,7 @@ def _title(traj: Trajectory, scene: Scene) -> str:
             else "<br><sub>reaction forces: zero throughout</sub>"
         )
     if traj.status != "ok":
-        title += f"<br><sub>the run failed: {html.escape(traj.message)}</sub>"
+        title += f"<br><sub>the run failed: {_html(traj.message)}</sub>"
     return title
 
 
@@ -163,7 +169,7 @@ def html_page(traj: Trajectory, *, view: str = "auto") -> str:
     )
     return (
         '<!DOCTYPE html>\n<html>\n<head>\n<meta charset="utf-8">\n'
-        f"<title>{html.escape(traj.case)}</title>\n"
+        f"<title>{_html(traj.case)}</title>\n"
         "<style>html, body { margin: 0; height: 100%; }</style>\n"
         f"{_QUIET_INTERRUPTED_ANIMATION}"
         f"</head>\n<body>\n{body}\n</body>\n</html>\n"

@@ -21,6 +21,7 @@ import numpy as np
 from loadcases.draw.shapes import frame_indices, outline_order, zigzag
 from loadcases.draw.trajectory import Trajectory
 from loadcases.foundation.atomic import atomic_path, atomic_write_bytes
+from loadcases.foundation.clip import plain_text_plots
 
 __all__ = ["DPI", "FIGURE_SIZE", "VIEWS", "projection", "slug", "write_animation", "write_pngs"]
 
@@ -197,6 +198,7 @@ def slug(text: str) -> str:
     return re.sub(r"[^A-Za-z0-9_.=\-]+", "_", text)
 
 
+@plain_text_plots()  # `$` in a name is a dollar sign
 def write_pngs(
     traj: Trajectory, times: list[float], out_dir: Path, *, view: str = "auto"
 ) -> list[Path]:
@@ -221,6 +223,7 @@ def write_pngs(
     return written
 
 
+@plain_text_plots()  # `$` in a name is a dollar sign
 def write_animation(
     traj: Trajectory, out_dir: Path, *, view: str = "auto"
 ) -> tuple[list[Path], str]:

@@ -1,4 +1,8 @@
-"""Tokenizer: numbers, names, operators; everything else is an error with its offset."""
+"""Tokenizer: numbers, names, operators; everything else is an error with its offset.
+
+Numbers are written with the digits 0-9 and space is ASCII (a space, tab or line break): an
+Arabic-Indic digit or a no-break space is an unexpected character, not a number or a gap.
+"""
 
 from __future__ import annotations
 
@@ -13,8 +17,8 @@ __all__ = ["KEYWORDS", "Token", "tokenize"]
 KEYWORDS = frozenset({"and", "or", "not"})
 
 _TOKEN = re.compile(
-    r"""(?P<space>\s+)
-      | (?P<num>(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?)
+    r"""(?P<space>[ \t\r\n]+)
+      | (?P<num>(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)
       | (?P<name>[^\W\d]\w*)
       | (?P<op>\*\*|<=|>=|==|!=|[-+*/^<>(),])""",
     re.VERBOSE,

@@ -120,10 +120,17 @@ def with_children(node: Node, args: tuple[Node, ...]) -> Node:
 
 
 def walk(node: Node) -> Iterator[Node]:
-    """Every node of a tree, parents before children, left to right."""
-    yield node
-    for child in children(node):
-        yield from walk(child)
+    """Every node of a tree, parents before children, left to right; a node shared by
+    several parents (derivatives share sub-trees) once."""
+    seen: set[int] = set()
+    stack = [node]
+    while stack:
+        item = stack.pop()
+        if id(item) in seen:
+            continue
+        seen.add(id(item))
+        yield item
+        stack.extend(reversed(children(item)))
 
 
 # Simplifying constructors, used to build derivatives (identities with 0 and 1 only).

@@ -2,6 +2,12 @@
 
 Precedence, lowest first: `or`, `and`, `not`, comparisons (not chained), `+ -`, `* /`,
 unary `- +`, `**` / `^` (right-associative, so -2**2 == -4 and 2**-1 == 0.5).
+
+Bounded (`loadcases.foundation.limits`): a text of at most MAX_EXPRESSION_CHARS characters,
+nested at most MAX_EXPRESSION_DEPTH levels, counted both as the parser descends
+(parentheses, calls, unary operators, the right side of `**`) and as the tree grows (each
+operator of a chain such as `a + b + c` is a level): the passes over a tree (names, folding,
+derivatives) recurse once per level, well inside Python's recursion limit.
 """
 
 from __future__ import annotations
@@ -11,14 +17,15 @@ import functools
 import keyword
 import math
 
+from ..foundation.limits import MAX_EXPRESSION_CHARS, MAX_EXPRESSION_DEPTH
 from .errors import ExpressionError
 from .functions import FUNCTIONS, MEASURES
 from .lexer import Token, tokenize
-from .nodes import COMPARISONS, Call, Measure, Name, Node, Num, Op, Table
+from .nodes import COMPARISONS, Call, Measure, Name, Node, Num, Op, Table, children
 
 __all__ = ["TOO_DEEP", "parse_tree"]
 
-TOO_DEEP = "expression is nested too deeply"
+TOO_DEEP = f"nested more than {MAX_EXPRESSION_DEPTH} levels deep"
 
 _INFIX = {"or": 10, "and": 20, "+": 50, "-": 50, "*": 60, "/": 60, "**": 80, "^": 80}
 _INFIX.update(dict.fromkeys(COMPARISONS, 40))
@@ -51,6 +58,10 @@ def parse_tree(text: str) -> Node:
     """The tree of `text`; raises ExpressionError (message, offset) on the first problem."""
     if not text.strip():
         raise ExpressionError("empty expression", 0, text)
+    if len(text) > MAX_EXPRESSION_CHARS:
+        raise ExpressionError(
+            f"longer than {MAX_EXPRESSION_CHARS:,} characters ({len(text):,})", 0, text
+        )
     try:
         return _Parser(text).parse()
     except ExpressionError as error:
@@ -74,6 +85,16 @@ class _Parser:
     def __init__(self, text: str) -> None:
         self.tokens = tokenize(text)
         self.next: Token | None = None
+        self.level = 0  # expression() calls under way
+        self.depths: dict[int, int] = {}  # id of each node made -> levels of its tree
+
+    def made(self, node: Node) -> Node:
+        """`node`, its depth recorded; ExpressionError at it if that is too deep."""
+        depth = 1 + max((self.depths.get(id(c), 1) for c in children(node)), default=0)
+        if depth > MAX_EXPRESSION_DEPTH:
+            raise ExpressionError(TOO_DEEP, node.offset)
+        self.depths[id(node)] = depth
+        return node
 
     def peek(self) -> Token:
         if self.next is None:
@@ -98,6 +119,15 @@ class _Parser:
         return node
 
     def expression(self, min_bp: int) -> Node:
+        self.level += 1
+        try:
+            if self.level > MAX_EXPRESSION_DEPTH:
+                raise ExpressionError(TOO_DEEP, self.peek().offset)
+            return self.operations(min_bp)
+        finally:
+            self.level -= 1
+
+    def operations(self, min_bp: int) -> Node:
         left = self.prefix(self.advance())
         compared = False
         while True:
@@ -122,7 +152,7 @@ class _Parser:
             self.advance()
             right = self.expression(bp - 1 if token.text in _RIGHT_ASSOCIATIVE else bp)
             op = "**" if token.text == "^" else token.text
-            left = Op(op, (left, right), token.offset)
+            left = self.made(Op(op, (left, right), token.offset))
 
     def prefix(self, token: Token) -> Node:
         if token.kind == "num":
@@ -140,11 +170,11 @@ class _Parser:
             self.expect_close()
             return node
         if token.text == "-":
-            return Op("neg", (self.expression(_UNARY_OPERAND),), token.offset)
+            return self.made(Op("neg", (self.expression(_UNARY_OPERAND),), token.offset))
         if token.text == "+":
             return self.expression(_UNARY_OPERAND)
         if token.text == "not":
-            return Op("not", (self.expression(_NOT_OPERAND),), token.offset)
+            return self.made(Op("not", (self.expression(_NOT_OPERAND),), token.offset))
         raise ExpressionError("expected an expression", token.offset)
 
     def arguments(self) -> list[tuple[int, Node]]:
@@ -175,14 +205,15 @@ class _Parser:
         if func in MEASURES:
             count, what = MEASURES[func]
             _check_count(func, count, False, len(args), name.offset)
-            return Measure(func, tuple(_bare(func, a, f"a {what} name") for a in args), name.offset)
+            names = tuple(_bare(func, a, f"a {what} name") for a in args)
+            return self.made(Measure(func, names, name.offset))
         if func == "table":
             _check_count(func, 2, False, len(args), name.offset)
             table = _bare(func, args[0], "a table name", "first ")
-            return Table(table, (args[1][1],), name.offset)
+            return self.made(Table(table, (args[1][1],), name.offset))
         spec = FUNCTIONS[func]
         _check_count(func, spec.arity, spec.variadic, len(args), name.offset)
-        return Call(func, tuple(node for _, node in args), name.offset)
+        return self.made(Call(func, tuple(node for _, node in args), name.offset))
 
 
 def _check_count(func: str, arity: int, variadic: bool, got: int, offset: int) -> None:

@@ -92,8 +92,25 @@ def _suggest(word: str, choices: list[str]) -> str | None:
 def fold(node: Node) -> Node:
     """The tree with every constant operation or function replaced by its value; a product
     with a constant factor 0 is 0 whatever the other factor (a switch parameter set to 0
-    turns a load off entirely: `pressure_on * ...`)."""
-    node = with_children(node, tuple(fold(child) for child in children(node)))
+    turns a load off entirely: `pressure_on * ...`). A sub-tree shared by several parents
+    (a derivative's) is folded once and stays shared."""
+    return _fold(node, {})
+
+
+def _fold(node: Node, done: dict[int, tuple[Node, Node]]) -> Node:
+    known = done.get(id(node))
+    if known is not None:
+        return known[1]
+    folded = _fold_node(node, done)
+    done[id(node)] = (node, folded)  # the node kept alive: its id stays its own
+    return folded
+
+
+def _fold_node(node: Node, done: dict[int, tuple[Node, Node]]) -> Node:
+    args = []
+    for child in children(node):  # a loop, not a generator: one frame less per level
+        args.append(_fold(child, done))
+    node = with_children(node, tuple(args))
     if isinstance(node, Call) and node.func == "step":
         _check_step(node)
     if isinstance(node, Op) and node.op == "/" and _is_zero(node.args[1]):

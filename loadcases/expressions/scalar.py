@@ -1,7 +1,8 @@
 """Trees to fast Python closures `f(t, state) -> float`.
 
 The tree is walked once here; each node becomes one closure that calls its children's
-closures, with constant operands captured as plain floats. Math errors are raised as
+closures, with constant operands captured as plain floats (a sub-tree shared by several
+parents, as in derivatives, becomes one closure). Math errors are raised as
 ExpressionError at the offset of the operation that failed.
 """
 
@@ -31,22 +32,34 @@ _COMPARE = {
 }
 
 
-def build_scalar(node: Node) -> Scalar:
-    """The closure computing `node` at (t, state)."""
+_Built = dict[int, tuple[Node, Scalar]]
+
+
+def build_scalar(node: Node, built: _Built | None = None) -> Scalar:
+    """The closure computing `node` at (t, state); `built` holds the closures made so far
+    in this build, by node id."""
+    if built is None:
+        built = {}
+    known = built.get(id(node))
+    if known is not None:
+        return known[1]
     if isinstance(node, Num):
         value = node.value
-        return lambda t, s: value
-    if isinstance(node, Time):
-        return lambda t, s: t
-    if isinstance(node, Op):
-        return _op(node)
-    if isinstance(node, Call):
-        return _step(node) if node.func == "step" else _call(node)
-    if isinstance(node, Measure):
-        return _measure(node)
-    if isinstance(node, Table):
-        return _table(node)
-    raise TypeError(f"cannot compile node {node!r}; names must be resolved first")
+        fn: Scalar = lambda t, s: value  # noqa: E731
+    elif isinstance(node, Time):
+        fn = lambda t, s: t  # noqa: E731
+    elif isinstance(node, Op):
+        fn = _op(node, built)
+    elif isinstance(node, Call):
+        fn = _step(node, built) if node.func == "step" else _call(node, built)
+    elif isinstance(node, Measure):
+        fn = _measure(node)
+    elif isinstance(node, Table):
+        fn = _table(node, built)
+    else:
+        raise TypeError(f"cannot compile node {node!r}; names must be resolved first")
+    built[id(node)] = (node, fn)  # the node kept alive: its id stays its own
+    return fn
 
 
 def _math_error(name: str, offset: int, error: Exception) -> ExpressionError:
@@ -55,15 +68,15 @@ def _math_error(name: str, offset: int, error: Exception) -> ExpressionError:
     return ExpressionError(f"math domain error in {name!r}", offset)
 
 
-def _op(node: Op) -> Scalar:
+def _op(node: Op, built: _Built) -> Scalar:
     if node.op in ("neg", "not"):
-        fa = build_scalar(node.args[0])
+        fa = build_scalar(node.args[0], built)
         if node.op == "neg":
             return lambda t, s: -fa(t, s)
         return lambda t, s: 1.0 if fa(t, s) == 0.0 else 0.0
     if node.op in _ARITHMETIC:
-        return _arithmetic(_ARITHMETIC[node.op], node)
-    fa, fb = build_scalar(node.args[0]), build_scalar(node.args[1])
+        return _arithmetic(_ARITHMETIC[node.op], node, built)
+    fa, fb = build_scalar(node.args[0], built), build_scalar(node.args[1], built)
     if node.op in _COMPARE:
         cmp = _COMPARE[node.op]
         return lambda t, s: 1.0 if cmp(fa(t, s), fb(t, s)) else 0.0
@@ -78,15 +91,15 @@ def _op(node: Op) -> Scalar:
     raise TypeError(f"unknown operator {node.op!r}")
 
 
-def _arithmetic(op: Callable[[float, float], float], node: Op) -> Scalar:
+def _arithmetic(op: Callable[[float, float], float], node: Op, built: _Built) -> Scalar:
     a, b = node.args
     if isinstance(a, Num):
-        ca, fb = a.value, build_scalar(b)
+        ca, fb = a.value, build_scalar(b, built)
         return lambda t, s: op(ca, fb(t, s))
     if isinstance(b, Num):
-        fa, cb = build_scalar(a), b.value
+        fa, cb = build_scalar(a, built), b.value
         return lambda t, s: op(fa(t, s), cb)
-    fa, fb = build_scalar(a), build_scalar(b)
+    fa, fb = build_scalar(a, built), build_scalar(b, built)
     return lambda t, s: op(fa(t, s), fb(t, s))
 
 
@@ -111,9 +124,9 @@ def _power(fa: Scalar, fb: Scalar, offset: int) -> Scalar:
     return power
 
 
-def _call(node: Call) -> Scalar:
+def _call(node: Call, built: _Built) -> Scalar:
     spec = FUNCTIONS.get(node.func) or INTERNAL[node.func]
-    f, args = spec.scalar, [build_scalar(a) for a in node.args]
+    f, args = spec.scalar, [build_scalar(a, built) for a in node.args]
     if len(args) == 1:
         (fa,) = args
         if not spec.guarded:
@@ -134,15 +147,15 @@ def _call(node: Call) -> Scalar:
     return lambda t, s: f(*[g(t, s) for g in args])
 
 
-def _step(node: Call) -> Scalar:
+def _step(node: Call, built: _Built) -> Scalar:
     x, *rest = node.args
     numbers = [a.value for a in rest if isinstance(a, Num)]
     if len(numbers) != len(rest):
-        fs = [build_scalar(a) for a in node.args]
+        fs = [build_scalar(a, built) for a in node.args]
         return lambda t, s: step(*[g(t, s) for g in fs])
     x0, h0, x1, h1 = numbers
     inv, dh = 1.0 / (x1 - x0), h1 - h0
-    fx = build_scalar(x)
+    fx = build_scalar(x, built)
 
     def cubic(t: float, s: object) -> float:
         v = fx(t, s)
@@ -167,8 +180,8 @@ def _measure(node: Measure) -> Scalar:
     return measure
 
 
-def _table(node: Table) -> Scalar:
-    fn, fa = node.fn, build_scalar(node.args[0])
+def _table(node: Table, built: _Built) -> Scalar:
+    fn, fa = node.fn, build_scalar(node.args[0], built)
     if fn is None:
         raise TypeError(f"table {node.name!r} is not resolved")
     return lambda t, s: float(fn(fa(t, s)))

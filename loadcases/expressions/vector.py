@@ -35,21 +35,36 @@ _BINARY: dict[str, Callable] = {
 _UNARY: dict[str, Callable] = {"neg": operator.neg, "not": lambda a: np.equal(a, 0.0)}
 
 
-def build_vector(node: Node) -> Vector:
-    """The closure computing a time-only `node` for an array of times."""
+_Built = dict[int, tuple[Node, Vector]]
+
+
+def build_vector(node: Node, built: _Built | None = None) -> Vector:
+    """The closure computing a time-only `node` for an array of times; `built` holds the
+    closures made so far in this build, by node id (a shared sub-tree becomes one)."""
+    if built is None:
+        built = {}
+    known = built.get(id(node))
+    if known is not None:
+        return known[1]
+    fn = _build(node, built)
+    built[id(node)] = (node, fn)  # the node kept alive: its id stays its own
+    return fn
+
+
+def _build(node: Node, built: _Built) -> Vector:
     if isinstance(node, Num):
         value = node.value
         return lambda t: value
     if isinstance(node, Time):
         return lambda t: t
     if isinstance(node, Op):
-        return _op(node)
+        return _op(node, built)
     if isinstance(node, Call):
         spec = FUNCTIONS.get(node.func) or INTERNAL[node.func]
-        f, args = spec.vector, [build_vector(a) for a in node.args]
+        f, args = spec.vector, [build_vector(a, built) for a in node.args]
         return lambda t: f(*[g(t) for g in args])
     if isinstance(node, Table):
-        fn, fa = node.fn, build_vector(node.args[0])
+        fn, fa = node.fn, build_vector(node.args[0], built)
         if fn is None:
             raise TypeError(f"table {node.name!r} is not resolved")
         each = np.vectorize(lambda x: float(fn(x)), otypes=[float])
@@ -57,8 +72,8 @@ def build_vector(node: Node) -> Vector:
     raise TypeError(f"cannot vectorise node {node!r}")
 
 
-def _op(node: Op) -> Vector:
-    args = [build_vector(a) for a in node.args]
+def _op(node: Op, built: _Built) -> Vector:
+    args = [build_vector(a, built) for a in node.args]
     if len(args) == 1:
         f1, (fa,) = _UNARY[node.op], args
         return lambda t: np.asarray(f1(fa(t)), dtype=float)

@@ -8,7 +8,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Literal
 
-from loadcases.foundation.clip import clip, clip_quotes
+from loadcases.foundation.clip import clip, clip_quotes, visible
 
 __all__ = ["Diagnostic", "InputError", "format_diagnostic", "sort_diagnostics"]
 
@@ -32,16 +32,21 @@ class Diagnostic:
     hint: str | None = None
 
     def format(self) -> str:
-        """gcc-style text: `file:line:col: error: key: message` (+ a `hint:` line)."""
-        where = f"{self.file}:{self.line}:{self.column}"
-        key = clip(self.key) + ": " if self.key else ""  # input is quoted, never in full
-        head = f"{where}: {self.severity}: {key}{clip_quotes(self.message)}"
-        return head if self.hint is None else f"{head}\n{where}: hint: {clip_quotes(self.hint)}"
+        """gcc-style text: `file:line:col: error: key: message` (+ a `hint:` line). Input is
+        quoted, never in full, and its hidden characters (a line break, U+202E) are shown
+        as escapes (`\\n`, `\\u202e`): each line is one line, read as written."""
+        where = visible(f"{self.file}:{self.line}:{self.column}")
+        key = visible(clip(self.key)) + ": " if self.key else ""
+        head = f"{where}: {self.severity}: {key}{visible(clip_quotes(self.message))}"
+        if self.hint is None:
+            return head
+        return f"{head}\n{where}: hint: {visible(clip_quotes(self.hint))}"
 
     def keyed_message(self) -> str:
         """`key: message` (the message alone without a key), without the place: how a run's
-        summary file and its status lines give the warnings of the input."""
-        return f"{self.key}: {self.message}" if self.key else self.message
+        summary file and its status lines give the warnings of the input (hidden characters
+        shown as escapes)."""
+        return visible(f"{self.key}: {self.message}" if self.key else self.message)
 
 
 def format_diagnostic(diagnostic: Diagnostic) -> str:

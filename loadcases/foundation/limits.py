@@ -10,8 +10,11 @@ from collections.abc import Sequence
 from pathlib import Path
 
 __all__ = [
+    "MAX_EXPRESSION_CHARS",
+    "MAX_EXPRESSION_DEPTH",
     "MAX_HARDPOINTS",
     "MAX_HARDPOINT_BYTES",
+    "MAX_QUANTITY_CHARS",
     "MAX_ROWS",
     "MAX_RUNS",
     "MAX_YAML_DEPTH",
@@ -29,6 +32,12 @@ MAX_YAML_VALUES = 1_000_000  # values of one YAML file once its aliases are expa
 MAX_YAML_DEPTH = 100  # nesting of mappings and lists in one YAML file
 MAX_HARDPOINTS = 100_000  # points of one hardpoint CSV file
 MAX_HARDPOINT_BYTES = 20_000_000  # size of one hardpoint CSV file (~200 bytes a point)
+MAX_EXPRESSION_CHARS = 10_000  # characters of one expression (the library's longest: 331)
+# levels of one expression: parentheses, calls, unary operators and each operator of a
+# chain such as `a + b + c` (the library's deepest: 12); its derivatives stay well inside
+# Python's recursion limit
+MAX_EXPRESSION_DEPTH = 64
+MAX_QUANTITY_CHARS = 100  # characters of one quantity text such as "12 N*m/rad"
 
 
 def rows_problem(end: float, step: float) -> str | None:

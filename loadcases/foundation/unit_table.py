@@ -44,20 +44,19 @@ _QUANTITY = re.compile(
     rf"^\s*(?P<number>[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s+"
     rf"(?P<unit>{_POWER}(?:\s*[*/]?\s*{_POWER})*)\s*$"
 )
-_INTEGER = re.compile(r"^[-+]?\d+$")
 
 Dimensionality = dict[str, float]
 
 
-def _number(text: str) -> int | float:
-    """The number as pint's parser reads it: an integer text is an int (so that `-0` is
-    +0.0 once converted, as with pint), any other a float."""
-    return int(text) if _INTEGER.match(text) else float(text)
+def _number(text: str) -> float:
+    """The number as pint reads it: a float, integers too (`units` gives pint its numbers
+    as floats: `-0 mm` is -0.0 m, as `-0` is -0.0)."""
+    return float(text)
 
 
 def _factor(number: float, factor: float) -> float | None:
-    """`number * factor` as pint computes it; None where Python cannot (an int too large
-    for a float: pint fails there, and its message is wanted)."""
+    """`number * factor` as pint computes it; None where Python cannot (a factor that is an
+    int too large for a float: pint fails there, and its message is wanted)."""
     try:
         return float(number * factor)
     except OverflowError:

@@ -7,22 +7,34 @@ stiffness) a value without it is taken per radian: `"50 N*m"` is accepted as 50 
 
 Bare numbers: for the five file-unit kinds (length, angle, mass, time, force) a bare number is
 in the file's unit (`units: {length: mm}`); for every other dimension a bare number is SI.
+
+A quantity text is bounded before pint reads it (`_pint_text`): at most MAX_QUANTITY_CHARS
+characters, digits 0-9 in decimal numbers, a plain space as its only space, no hidden
+character (`loadcases.foundation.clip`), letters and the signs of a unit expression only
+(pint would read `1:30 kg` as 30 kg and `1,5 mm` as 15 mm), balanced parentheses; and its
+numbers are given to pint as floats, so that its arithmetic cannot grow without bound
+(`10**10**10` would be a ten-billion-digit integer; in floats it overflows at once: "a
+number out of range").
 """
 
 from __future__ import annotations
 
 import hashlib
+import io
 import math
 import os
 import re
 import sys
+import tokenize
+import unicodedata
 from collections.abc import Mapping, Sequence
 from contextlib import suppress
 from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
-from loadcases.foundation.clip import clip
+from loadcases.foundation.clip import clip, describe_character, hidden_character
+from loadcases.foundation.limits import MAX_QUANTITY_CHARS
 from loadcases.foundation.unit_table import UnitTable
 
 __all__ = [
@@ -125,8 +137,12 @@ RESERVED_NAMES = frozenset(
         "vz",
     }
 )
-_NUMBER = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*$")
-_LEADING_NUMBER = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+_NUMBER = re.compile(r"^ *[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)? *\Z")
+_LEADING_NUMBER = re.compile(r"^ *[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
+# a number as pint's tokenizer (Python's) gives it: decimal, without `_`, `0x`, `j`
+_DECIMAL = re.compile(r"(?:(?:0|[1-9][0-9]*)(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
+_INTEGER = re.compile(r"[0-9]+")
+_MAX_POWER = 99  # of a base dimension in a quantity text
 _VECTOR = re.compile(r"^\s*\[(?P<items>[^\]]*)\]\s*(?P<unit>.*?)\s*$")
 _IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
@@ -278,15 +294,126 @@ def _matches(got: Mapping[str, float], dimension: str) -> bool:
     )
 
 
-def _quantity(text: str) -> Any:
-    """Parse `text` ("110 mm") into a pint quantity; raises UnitError if it is not one."""
+# Characters of a quantity text besides letters and the digits 0-9 (`°`, `µm`, `m²`, `N·m`)
+_QUANTITY_SIGNS = frozenset(" .*/^()+-_%°·⁰¹²³⁴⁵⁶⁷⁸⁹⁻")
+
+
+def _character_problem(char: str, quantity: bool = True) -> str | None:
+    """Why `char` cannot be part of a quantity text (`quantity`; else of a vector text
+    such as "[0, 0, 1] mm": only hidden characters, spaces and digits are checked), or
+    None."""
+    if char == " ":
+        return None
+    if char.isspace() or hidden_character(char):
+        return f"{describe_character(char)}: write a plain space or nothing"
+    if not char.isascii() and unicodedata.category(char) == "Nd":
+        return f"{describe_character(char)}: write numbers with the digits 0-9"
+    if not quantity or char in _QUANTITY_SIGNS or char.isalpha() or "0" <= char <= "9":
+        return None
+    if char == ",":  # pint would read "1,5 mm" as 15 mm
+        return "',' is not part of a quantity: write 1500 for 1,500 and 1.5 for 1,5"
+    return f"'{char}' is not part of a quantity"  # pint reads "1:30 kg" as 30 kg
+
+
+def _text_problem(text: str) -> str | None:
+    """Why the quantity text `text` is refused before pint reads it, or None."""
+    if len(text) > MAX_QUANTITY_CHARS:
+        return f"longer than {MAX_QUANTITY_CHARS} characters"
+    problem = next(filter(None, map(_character_problem, text)), None)
+    if problem is not None:
+        return problem
+    depth = 0
+    for char in text:
+        depth += (char == "(") - (char == ")")
+        if depth < 0:
+            break
+    return "unbalanced parentheses" if depth else None
+
+
+def _cannot_read(text: str, reason: str) -> UnitError:
+    return UnitError(f"cannot read '{clip(text)}': {reason}")
+
+
+def _check_text(text: str) -> None:
+    """UnitError if the quantity text `text` is refused before pint reads it."""
+    problem = _text_problem(text)
+    if problem is not None:
+        raise _cannot_read(text, problem)
+
+
+def _pint_text(text: str) -> str:
+    """`text` (checked by `_check_text`) as pint is to read it: pint's own preprocessing
+    (`^` to `**`, `2m` to `2*m`, `²`, thousands commas dropped), then each integer written
+    as a float, but an integer power of a unit (`m**2`, `s**-1`: at most two digits):
+    pint's arithmetic stays in floats and ends at once. UnitError for a number that is not
+    decimal (`0x10`, `1_000`, `010`)."""
+    from pint.util import string_preprocessor
+
+    prepared = string_preprocessor(text)
+    try:
+        tokens = [
+            token
+            for token in tokenize.generate_tokens(io.StringIO(prepared).readline)
+            if token.type not in (tokenize.NEWLINE, tokenize.NL, tokenize.ENDMARKER)
+        ]
+    except (tokenize.TokenError, SyntaxError):
+        raise _cannot_read(text, "not a quantity") from None
+    pieces, done = [], 0
+    for index, token in enumerate(tokens):
+        if token.type != tokenize.NUMBER:
+            continue
+        start, end = token.start[1], token.end[1]
+        after = tokens[index + 1] if index + 1 < len(tokens) else None
+        if after is not None and after.type == tokenize.NUMBER and after.start[1] == end:
+            end = after.end[1]  # `010` is read by Python as 0 then 10
+        written = prepared[start:end]
+        if not _DECIMAL.fullmatch(written):
+            raise _cannot_read(text, f"'{written}' is not a decimal number")
+        if _INTEGER.fullmatch(written) and not _unit_power(tokens, index):
+            pieces += [prepared[done:start], written + ".0"]
+            done = end
+    return "".join(pieces) + prepared[done:]
+
+
+def _unit_power(tokens: list[tokenize.TokenInfo], index: int) -> bool:
+    """Whether the integer token at `index` is a small power of a unit: `m**2`, `m**-2`,
+    `m**(2)` (pint writes `m²` so), not followed by another power."""
+    if len(tokens[index].string) > 2:
+        return False
+    k = index - 1
+    opened = k >= 0 and tokens[k].string == "("
+    k -= opened
+    if k >= 0 and tokens[k].string in ("-", "+"):
+        k -= 1
+    if k < 1 or tokens[k].string != "**" or tokens[k - 1].type != tokenize.NAME:
+        return False
+    after = index + 1
+    if opened:
+        if after >= len(tokens) or tokens[after].string != ")":
+            return False
+        after += 1
+    return after >= len(tokens) or tokens[after].string != "**"
+
+
+def _quantity(text: str) -> tuple[Any, Any]:
+    """Parse `text` ("110 mm") into a pint quantity and the same in base units; raises
+    UnitError if it is not one."""
     if not _LEADING_NUMBER.match(text):
-        raise UnitError(f"cannot read '{text}': expected a number with a unit, like '110 mm'")
+        raise UnitError(f"cannot read '{clip(text)}': expected a number with a unit, like '110 mm'")
+    _check_text(text)
     registry = _registry()
     import pint
 
     try:
-        quantity = registry.Quantity(text)
+        quantity = registry.Quantity(_pint_text(text))
+        if not isinstance(quantity, registry.Quantity) or isinstance(quantity.magnitude, complex):
+            raise _cannot_read(text, "not a quantity")
+        base = quantity.to_base_units()
+        float(base.magnitude)
+        if any(not abs(power) <= _MAX_POWER for power in base.dimensionality.values()):
+            raise OverflowError  # `m**99**99`: a unit to the power 3.7e197
+    except (OverflowError, RecursionError, MemoryError):
+        raise _cannot_read(text, "a number out of range") from None
     # pint's expression parser raises AssertionError on some malformed texts ("1 m/").
     except (
         pint.errors.PintError,
@@ -296,18 +423,18 @@ def _quantity(text: str) -> Any:
         AttributeError,
         KeyError,
         ZeroDivisionError,
-        OverflowError,
         AssertionError,
+        tokenize.TokenError,
     ) as error:
+        if isinstance(error, UnitError):
+            raise
         reason = (
             f"unknown unit '{error.unit_names[0]}'"
             if isinstance(error, pint.errors.UndefinedUnitError) and error.unit_names
             else "not a quantity"
         )
-        raise UnitError(f"cannot read '{text}': {reason}") from None
-    if not isinstance(quantity, registry.Quantity) or isinstance(quantity.magnitude, complex):
-        raise UnitError(f"cannot read '{text}': not a quantity")
-    return quantity
+        raise _cannot_read(text, reason) from None
+    return quantity, base
 
 
 def _file_unit(dimension: str, file_units: Mapping[str, str] | None) -> str | None:
@@ -376,11 +503,11 @@ def _number_in_unit(value: float, unit: str, negative: bool) -> float:
 def _text_magnitude(value: str, dimension: str) -> float:
     """SI magnitude of a quantity text of `dimension` ("any": of any); UnitError if it is
     not one."""
+    _check_text(value)  # before the table: it may hold texts read by an older `loads`
     known = _table().quantity(value)
     if known is not None and (dimension == "any" or _matches(known[1], dimension)):
         return known[0]
-    quantity = _quantity(value)
-    base = quantity.to_base_units()
+    quantity, base = _quantity(value)
     if known is None:
         _learn_quantity(value, quantity, base)
     if dimension != "any" and not _matches(base.dimensionality, dimension):
@@ -394,12 +521,13 @@ def _text_magnitude(value: str, dimension: str) -> float:
 def _learn_quantity(text: str, quantity: Any, base: Any) -> None:
     """Put pint's conversion of the quantity text `text` into the table."""
     registry = _registry()
+    try:
+        one = float(registry.Quantity(1.0, quantity.units).to_base_units().magnitude)
+        zero = float(registry.Quantity(0.0, quantity.units).to_base_units().magnitude)
+    except OverflowError:
+        return  # a unit out of float range: not kept (the text is refused as not finite)
     _table().learn_quantity(
-        text,
-        float(base.magnitude),
-        one=float(registry.Quantity(1, quantity.units).to_base_units().magnitude),
-        zero=float(registry.Quantity(0, quantity.units).to_base_units().magnitude),
-        dims=dict(base.dimensionality),
+        text, float(base.magnitude), one=one, zero=zero, dims=dict(base.dimensionality)
     )
 
 
@@ -436,10 +564,13 @@ def vector_to_si(
     """
     unit = ""
     if isinstance(value, str):
+        problem = next(filter(None, (_character_problem(c, False) for c in value)), None)
+        if problem is not None:
+            raise _cannot_read(value, problem)
         match = _VECTOR.match(value)
         if match is None:
             raise UnitError(
-                f"expected a list of values or a text like '[0, 0, 1] mm', got '{value}'"
+                f"expected a list of values or a text like '[0, 0, 1] mm', got '{clip(value)}'"
             )
         items: Sequence[Any] = [s.strip() for s in match["items"].split(",") if s.strip()]
         unit = match["unit"]
@@ -524,10 +655,10 @@ def dimension_mismatch(value: str, reference: Any) -> str | None:
     if not isinstance(reference, str) or _NUMBER.match(reference) or _NUMBER.match(value):
         return None
     try:
-        want = _quantity(reference).to_base_units()
+        want = _quantity(reference)[1]
     except UnitError:
         return None  # a bad definition is reported where it is written
-    got = _quantity(value).to_base_units()
+    got = _quantity(value)[1]
     if {k: v for k, v in got.dimensionality.items() if v} == {
         k: v for k, v in want.dimensionality.items() if v
     }:

@@ -19,6 +19,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
+from loadcases.foundation.clip import describe_character, hidden_character
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.limits import MAX_HARDPOINT_BYTES, MAX_HARDPOINTS, local_path_problem
 from loadcases.foundation.units import SIValue, UnitError, check_unit_name, to_si
@@ -126,6 +127,18 @@ class _Table:
     def _name(self, line: int, col: int, name: str) -> bool:
         if not name:
             self.problem(line, col, "name", "empty point name")
+            return False
+        hidden = hidden_character(name)
+        if hidden is not None:  # as in a key of the YAML files (loadcases.yamlfiles.source)
+            self.problem(
+                line,
+                col,
+                "name",
+                f"the point name holds {describe_character(hidden)}, a character not shown "
+                "as written",
+                hint="retype the name: names hold no control, bidirectional or zero-width "
+                "characters",
+            )
             return False
         if name in self.lines:
             self.problem(

@@ -33,7 +33,11 @@ from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
 from loadcases.inputs.parameter_refs import ParameterRef, parameter_values, put_parameters
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
-from loadcases.schema.errors import did_you_mean, validation_diagnostics
+from loadcases.schema.errors import (
+    did_you_mean,
+    plain_boolean_diagnostics,
+    validation_diagnostics,
+)
 from loadcases.yamlfiles.source import KeyPath, Locator, SourceTree, load_yaml
 
 __all__ = [
@@ -139,7 +143,8 @@ def _validate(
 ) -> tuple[Any, list[Diagnostic]]:
     """The validated model (None if invalid) and the diagnostics of validating it."""
     try:
-        return model.model_validate(locator.data, context={"units": units}), []
+        valid = model.model_validate(locator.data, context={"units": units})
+        return valid, plain_boolean_diagnostics(valid, locator)
     except ValidationError as error:
         found = validation_diagnostics(error, model, locator)
         # A bad `units:` header is reported once by _file_units.

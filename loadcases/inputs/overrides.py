@@ -1,6 +1,8 @@
 """What-if overrides: `loads run FILE --set NAME=VALUE` changes one parameter for one run.
 
 A value may carry a unit (`--set "length=1.5 m"`); a bare number is SI, as in `parameters:`.
+A value is read by the quantity parser of the files (`loadcases.foundation.units.to_si`):
+digits 0-9, a plain space, no line break; messages quote it once, at most 80 characters.
 The parameter must be defined (`parameters:` of the case, its mechanism or, for a set, the
 set) and a value must have the dimension of the definition when that has a unit. A run
 with overrides is named like a sweep run, `CASE[length=1.5]`, so it never takes the place
@@ -13,6 +15,7 @@ import re
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 
+from loadcases.foundation.clip import clip
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.units import UnitError, dimension_mismatch, to_si
 from loadcases.inputs.run_identity import Pairs
@@ -47,8 +50,8 @@ class Override:
 
     @property
     def option(self) -> str:
-        """The option as given, for messages: `--set length=1.5 m`."""
-        return f"{OPTION} {self.name}={self.text}"
+        """The option as given, for messages: `--set length=1.5 m` (clipped)."""
+        return f"{OPTION} {clip(self.name)}={clip(self.text)}"
 
 
 def parse_overrides(texts: Sequence[str]) -> tuple[Override, ...]:
@@ -57,30 +60,31 @@ def parse_overrides(texts: Sequence[str]) -> tuple[Override, ...]:
     found: dict[str, Override] = {}
     for text in texts:
         name, equals, value = text.partition("=")
-        name, value = name.strip(), value.strip()
+        name, value = name.strip(" "), value.strip(" ")
         if not equals or not _NAME.fullmatch(name) or not value:
             raise OverrideError(
-                f"{OPTION} '{text}': expected NAME=VALUE, e.g. {OPTION} length=1.5 or "
+                f"{OPTION} '{clip(text)}': expected NAME=VALUE, e.g. {OPTION} length=1.5 or "
                 f"{OPTION} 'length=1500 mm' (a parameter name, '=', a number with an "
                 "optional unit)"
             )
+        shown = f"{OPTION} {clip(name)}"
         if name in found:
-            raise OverrideError(f"{OPTION} {name}: given twice ({found[name].text}, {value})")
+            raise OverrideError(f"{shown}: given twice ({clip(found[name].text)}, {clip(value)})")
         try:
             si = to_si(_finite_number(value), "any")
-        except UnitError as error:
-            raise OverrideError(f"{OPTION} {name}={value}: {error}") from None
+        except UnitError as error:  # the error quotes the value
+            raise OverrideError(f"{shown}: {error}") from None
         found[name] = Override(name, value, si)
     return tuple(found.values())
 
 
+_NOT_FINITE = re.compile(r"[-+]?(?:nan|inf|infinity)", re.IGNORECASE)
+
+
 def _finite_number(value: str) -> str | float:
-    """`value`, or its float when it is a plain number (`nan` and `inf` too: refused by
-    `to_si` as not finite rather than as unreadable)."""
-    try:
-        return float(value)
-    except ValueError:
-        return value
+    """`value`, or its float for `nan` and `inf` (refused by `to_si` as not finite rather
+    than as unreadable); any other text, a plain number too, is read as files are."""
+    return float(value) if _NOT_FINITE.fullmatch(value) else value
 
 
 def pairs(overrides: Iterable[Override]) -> Pairs:

@@ -21,7 +21,9 @@ from dataclasses import astuple, dataclass, fields
 from pathlib import Path
 
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
+from loadcases.foundation.clip import visible_fields
 from loadcases.report.roundoff import NOISE_FLOOR
+from loadcases.results.xlsx_text import text_cells
 
 __all__ = [
     "COMPARE_COLUMNS",
@@ -222,10 +224,11 @@ def compare_csv_text(rows: list[ComparedRow]) -> str:
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(COMPARE_COLUMNS)
-    writer.writerows([_text(v) for v in astuple(row)] for row in rows)
+    writer.writerows(visible_fields(_text(v) for v in astuple(row)) for row in rows)
     return buffer.getvalue()
 
 
+@text_cells()  # names in runs' files are shown as written, never as formulas
 def write_compare(rows: list[ComparedRow], path: Path, *, old: str, new: str) -> Path:
     """Write the comparison atomically: `.csv`, or `.xlsx` with a `Compare` sheet (the
     changes as percentages, text cells always text) and a `Sources` sheet."""

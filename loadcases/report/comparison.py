@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from loadcases.foundation.atomic import atomic_write_text
+from loadcases.foundation.clip import visible_fields
 from loadcases.report.roundoff import NOISE_FLOOR
 from loadcases.results.saved import SavedRun
 
@@ -128,9 +129,8 @@ def write_comparison_csv(rows: Sequence[ComparedPeak], path: Path) -> Path:
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(_CSV_HEADER)
     for r in rows:
-        writer.writerow(
-            (r.comparison, r.column, r.unit, r.run, _text(r.peak), _text(r.time), _text(r.ratio))
-        )
+        names = (r.comparison, r.column, r.unit, r.run)
+        writer.writerow(visible_fields((*names, _text(r.peak), _text(r.time), _text(r.ratio))))
     atomic_write_text(path, out.getvalue())
     return path
 

@@ -30,6 +30,7 @@ import numpy as np
 
 from loadcases.build.requests import ABSCISSA_COLUMN
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
+from loadcases.foundation.clip import visible_fields
 from loadcases.results.saved import SavedRun, find_result_files, load_saved_run
 from loadcases.results.xlsx_text import text_cells
 
@@ -177,7 +178,7 @@ def envelope_csv_text(rows: list[EnvelopeRow]) -> str:
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(ENVELOPE_COLUMNS)
-    writer.writerows([_text(value) for value in astuple(row)] for row in rows)
+    writer.writerows(visible_fields(_text(value) for value in astuple(row)) for row in rows)
     return buffer.getvalue()
 
 

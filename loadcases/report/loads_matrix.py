@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from loadcases.foundation.atomic import atomic_write_text
+from loadcases.foundation.clip import visible_fields
 from loadcases.report.noise import NOISE_MARK
 from loadcases.report.peaks import RunPeak
 
@@ -105,7 +106,7 @@ def matrix_csv_text(matrix: LoadsMatrix) -> str:
     header = ["column", "unit", "noise", "critical_max", "critical_min"]
     for head in matrix.heads:
         header += [f"{head} max", f"{head} max at", f"{head} min", f"{head} min at"]
-    writer.writerow(header)
+    writer.writerow(visible_fields(header))
     for row in matrix.rows:
         line: list[object] = [row.column, row.unit, NOISE_MARK if row.noise else ""]
         line += [matrix.heads[k] if k is not None else "" for k in map(row.critical.get, SIDES)]
@@ -113,7 +114,7 @@ def matrix_csv_text(matrix: LoadsMatrix) -> str:
             for side in SIDES:
                 values = (None, None) if cell is None else (getattr(cell, side), cell.at(side))
                 line += ["" if v is None else v for v in values]
-        writer.writerow(line)
+        writer.writerow(visible_fields(line))
     return buffer.getvalue()
 
 

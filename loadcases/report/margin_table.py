@@ -17,6 +17,7 @@ from dataclasses import astuple, dataclass, fields
 from pathlib import Path
 
 from loadcases.foundation.atomic import atomic_write_text
+from loadcases.foundation.clip import visible_fields
 from loadcases.report.envelope import EnvelopeRow
 
 __all__ = ["MARGIN_COLUMNS", "MarginLine", "margin_csv_text", "margin_lines", "write_margin_csv"]
@@ -81,7 +82,8 @@ def margin_csv_text(lines: list[MarginLine]) -> str:
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(MARGIN_COLUMNS)
-    writer.writerows(["" if v is None else v for v in astuple(line)] for line in lines)
+    rows = (("" if v is None else v for v in astuple(line)) for line in lines)
+    writer.writerows(visible_fields(row) for row in rows)
     return buffer.getvalue()
 
 

@@ -28,6 +28,7 @@ from matplotlib.figure import Figure
 from matplotlib.ticker import AutoMinorLocator
 
 from loadcases.foundation.atomic import atomic_path
+from loadcases.foundation.clip import plain_text_plots
 from loadcases.results import saved
 from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN
 from loadcases.results.saved import SavedRun
@@ -234,6 +235,7 @@ def _minor_steps(axis: Any) -> list[float]:
     ]
 
 
+@plain_text_plots()  # `$` in a name is a dollar sign
 def _draw(
     panels: list[_Panel],
     *,
@@ -357,6 +359,7 @@ def _field(curve: Any, name: str, default: Any = None) -> Any:
     return getattr(curve, name, default)
 
 
+@plain_text_plots()  # `$` in a name is a dollar sign
 def write_envelope_plots(curves: Iterable[Any], out_dir: Path) -> list[Path]:
     """Write one PNG per envelope curve into `out_dir`; return the paths written.
 

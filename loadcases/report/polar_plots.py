@@ -21,6 +21,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from loadcases.foundation.atomic import atomic_path
+from loadcases.foundation.clip import plain_text_plots
 from loadcases.report.plots import plot_file_name
 from loadcases.report.wear_map import SECTORS, PolarData, polar_data, polar_requests
 from loadcases.results.saved import SavedRun
@@ -40,6 +41,7 @@ def polar_file_names(request: str, stem: str = "") -> tuple[str, str]:
     )
 
 
+@plain_text_plots()  # `$` in a name is a dollar sign
 def _polar_panels(data: list[PolarData], title: str, target: Path) -> Path:
     fig = Figure(figsize=(15.0, 5.6), dpi=_DPI, layout="constrained")
     FigureCanvasAgg(fig)
@@ -76,6 +78,7 @@ def _polar_panels(data: list[PolarData], title: str, target: Path) -> Path:
     return target
 
 
+@plain_text_plots()  # `$` in a name is a dollar sign
 def _wear_map(data: list[PolarData], title: str, target: Path) -> Path:
     fig = Figure(figsize=(8.5, 8.5), dpi=_DPI, layout="constrained")
     FigureCanvasAgg(fig)

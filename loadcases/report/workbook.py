@@ -40,6 +40,7 @@ from typing import Any
 
 from loadcases.build.requests import ABSCISSA_COLUMN
 from loadcases.foundation.atomic import atomic_path
+from loadcases.foundation.clip import hidden_character, visible
 from loadcases.report.comparison import comparison_rows, comparison_sheet
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.decimate import CHART_ROWS, decimate_curve, decimate_run
@@ -148,7 +149,9 @@ def file_sha256(path: str | Path) -> str:
 
 
 def sheet_title(text: str, used: set[str]) -> str:
-    """A valid, unused Excel sheet title from `text` (`[]` -> `()`, `:*?/\\` -> `_`)."""
+    """A valid, unused Excel sheet title from `text` (`[]` -> `()`, `:*?/\\` -> `_`, a
+    hidden character such as BEL or U+202E an escape, its backslash `_`)."""
+    text = visible(text)
     clean = _FORBIDDEN.sub(lambda m: {"[": "(", "]": ")"}.get(m.group(), "_"), text).strip("'")
     clean = clean or "sheet"
     title, k = clean[:SHEET_TITLE_LENGTH], 1
@@ -309,13 +312,16 @@ def _shown_curves(data: WorkbookData) -> list[EnvelopeCurve]:
 
 
 def _csv_links(data: WorkbookData, path: Path) -> dict[str, str]:
-    """{run: its CSV file relative to the workbook's folder} of the runs with a CSV."""
+    """{run: its CSV file relative to the workbook's folder} of the runs with a CSV (but a
+    file whose name holds a hidden character, which a link cannot hold: a saved run named
+    by hand; the csv column names it, escaped)."""
     folder = path.resolve().parent
-    return {
+    links = {
         r.name: Path(os.path.relpath(Path(r.csv_path).resolve(), folder)).as_posix()
         for r in data.records
         if r.csv_path and Path(r.csv_path).is_file()
     }
+    return {run: link for run, link in links.items() if hidden_character(link) is None}
 
 
 def _short(run: str, number: int) -> str:

@@ -16,6 +16,7 @@ from typing import Any
 
 from openpyxl.chart import Reference, ScatterChart, Series
 
+from loadcases.foundation.clip import visible
 from loadcases.report.curves import EnvelopeCurve, main_columns
 from loadcases.report.workbook_sheets import Block, header_text
 from loadcases.results.files import TIME_COLUMN
@@ -49,9 +50,11 @@ def curves_sheet(sheet: Any, curve: EnvelopeCurve) -> dict[str, tuple[int, int]]
 
 
 def _chart(title: str, x_title: str, y_title: str) -> ScatterChart:
+    """A chart; its titles hold names of runs and requests, hidden characters escaped (the
+    chart's XML cannot hold a control character)."""
     chart = ScatterChart()
-    chart.title, chart.style = title, 13
-    chart.x_axis.title, chart.y_axis.title = x_title, y_title
+    chart.title, chart.style = visible(title), 13
+    chart.x_axis.title, chart.y_axis.title = visible(x_title), visible(y_title)
     chart.x_axis.delete = chart.y_axis.delete = False  # openpyxl hides axes by default
     chart.width, chart.height = CHART_WIDTH, CHART_HEIGHT
     return chart
@@ -70,7 +73,7 @@ def _series(
         )
     else:
         series = Series(
-            Reference(sheet, min_col=y_col, min_row=first, max_row=last), x, title=title
+            Reference(sheet, min_col=y_col, min_row=first, max_row=last), x, title=visible(title)
         )
     series.marker.symbol = "none"
     series.smooth = False

@@ -13,7 +13,7 @@ from pydantic.fields import FieldInfo
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.yamlfiles.source import KeyPath, Locator
 
-__all__ = ["did_you_mean", "validation_diagnostics"]
+__all__ = ["did_you_mean", "plain_boolean_diagnostics", "validation_diagnostics"]
 
 _NUMBER_TYPES = (
     "float_type",
@@ -206,3 +206,64 @@ def validation_diagnostics(
         seen.add((path, message))
         result.append(locator.diagnostic(path, message, hint=hint))
     return result
+
+
+def _mentions_any(tp: Any) -> bool:
+    """Whether a field type holds raw data somewhere (`dict[str, Any]`): validated
+    elsewhere, as an inline mechanism is."""
+    return tp is Any or any(_mentions_any(arg) for arg in typing.get_args(tp))
+
+
+def _keyword(tp: Any, value: str) -> bool:
+    """Whether `value` is one of the words a field of type `tp` takes (`Literal["off"]`)."""
+    if typing.get_origin(tp) is typing.Literal:
+        return value in typing.get_args(tp)
+    return any(_keyword(arg, value) for arg in typing.get_args(tp))
+
+
+def _has(node: Any, part: str | int) -> bool:
+    """Whether `node[part]` is an item of a dict, list or tuple."""
+    if isinstance(node, dict):
+        return part in node
+    return isinstance(node, (list, tuple)) and isinstance(part, int) and 0 <= part < len(node)
+
+
+def _validated(model: BaseModel, path: KeyPath) -> tuple[bool, Any]:
+    """(found, value) at the data key `path` of a validated model: (False, None) where the
+    path leaves the models (raw data, a key the model does not keep)."""
+    node: Any = model
+    field_type: Any = None
+    for part in path:
+        if isinstance(node, BaseModel):
+            field = type(node).model_fields.get(part) if isinstance(part, str) else None
+            if field is None or _mentions_any(field.annotation):
+                return False, None
+            node, field_type = getattr(node, str(part)), field.annotation
+        elif _has(node, part):
+            node, field_type = node[part], None
+        else:
+            return False, None
+    if isinstance(node, str) and field_type is not None and _keyword(field_type, node):
+        return False, None  # `accuracy: off`: the word the key takes, whatever YAML 1.1 reads
+    return True, node
+
+
+def plain_boolean_diagnostics(model: BaseModel, locator: Locator) -> list[Diagnostic]:
+    """Errors for the plain `yes`, `no`, `on`, `off` of `locator`'s data that `model` (valid)
+    keeps as text: a YAML 1.1 reader takes them for booleans. Where a key takes true or
+    false they are booleans here too, and where it takes that word they mean it."""
+    found = []
+    prefix = locator.prefix
+    for path, text in locator.tree.plain_booleans.items():
+        if path[: len(prefix)] != prefix:
+            continue
+        known, value = _validated(model, path[len(prefix) :])
+        if known and not isinstance(value, bool):
+            found.append(
+                locator.diagnostic(
+                    path[len(prefix) :],
+                    locator.tree.plain_boolean(path) or text,
+                    hint=f"quote it ('{text}') if it is text",
+                )
+            )
+    return found

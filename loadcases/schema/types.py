@@ -80,10 +80,11 @@ SI_UNITS: dict[str, str] = {
     "force_or_torque": "N or N*m",
 }
 _FILE_KINDS = ("length", "angle", "mass", "time", "force")
-_QUANTITY_TEXT = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s*[A-Za-z°%µ]")
 # In an expression field a quantity text needs a space before its unit ("100 N"): "2t"
 # is then a malformed expression, not 2 tonnes.
-_EXPRESSION_QUANTITY = re.compile(r"^\s*[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?\s+[A-Za-z°%µ]")
+_EXPRESSION_QUANTITY = re.compile(
+    r"^ *[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)? +[A-Za-z°%µ]"
+)
 
 
 class Strict(BaseModel):

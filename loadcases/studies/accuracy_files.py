@@ -13,7 +13,9 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
+from loadcases.foundation.clip import plain_text_plots, visible_fields
 from loadcases.results.files import result_base
+from loadcases.results.xlsx_text import text_cells
 from loadcases.studies.accuracy import AccuracyStudy
 
 __all__ = [
@@ -97,7 +99,7 @@ def _csv(header: tuple[str, ...], rows: list[list[object]]) -> str:
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(header)
-    writer.writerows([["" if v is None else v for v in row] for row in rows])
+    writer.writerows(visible_fields("" if v is None else v for v in row) for row in rows)
     return buffer.getvalue()
 
 
@@ -117,6 +119,7 @@ def recommendation_text(study: AccuracyStudy) -> str:
     )
 
 
+@plain_text_plots()  # `$` in a name is a dollar sign
 def _diagram(study: AccuracyStudy, path: Path) -> None:
     figure = Figure(figsize=(8.0, 6.0), dpi=100)
     FigureCanvasAgg(figure)
@@ -155,6 +158,7 @@ def _diagram(study: AccuracyStudy, path: Path) -> None:
         figure.savefig(tmp, format="png")
 
 
+@text_cells()  # names from the case: text, hidden characters escaped
 def _workbook(study: AccuracyStudy, path: Path) -> None:
     from openpyxl import Workbook
     from openpyxl.cell import WriteOnlyCell

@@ -28,7 +28,7 @@ from loadcases.foundation.cache_env import shared_cache_folder
 
 __all__ = ["MAX_ENTRIES", "MAX_TEXT", "cache_folder", "recall", "store"]
 
-FORMAT = 1  # the layout of an entry; another layout is a foreign entry
+FORMAT = 2  # the layout of an entry; another layout is a foreign entry
 MAX_ENTRIES = 256  # entries kept (each edit of a file makes one)
 MAX_TEXT = 4 * 2**20  # characters of the largest text whose tree is stored
 _SUFFIX = ".tree"
@@ -53,9 +53,9 @@ def _entry(file: str, text: str, parser: bytes) -> Path:
     return cache_folder() / f"{digest.hexdigest()}{_SUFFIX}"
 
 
-def recall(file: str, text: str, parser: bytes) -> tuple[Any, dict, dict] | None:
-    """(data, keys, values) of the tree stored for `text` read as `file` by the parser
-    whose identity is `parser`, or None."""
+def recall(file: str, text: str, parser: bytes) -> tuple[Any, dict, dict, dict] | None:
+    """(data, keys, values, plain_booleans) of the tree stored for `text` read as `file`
+    by the parser whose identity is `parser`, or None."""
     if len(text) > MAX_TEXT:
         return None
     try:
@@ -64,23 +64,31 @@ def recall(file: str, text: str, parser: bytes) -> tuple[Any, dict, dict] | None
         return None
     if (
         not isinstance(stored, tuple)
-        or len(stored) != 5
+        or len(stored) != 6
         or stored[0] != FORMAT
         or stored[1] != file
-        or not isinstance(stored[3], dict)
-        or not isinstance(stored[4], dict)
+        or not all(isinstance(part, dict) for part in stored[3:])
     ):
         return None
-    return stored[2], stored[3], stored[4]
+    return stored[2], stored[3], stored[4], stored[5]
 
 
-def store(file: str, text: str, parser: bytes, data: Any, keys: dict, values: dict) -> None:
+def store(
+    file: str,
+    text: str,
+    parser: bytes,
+    data: Any,
+    keys: dict,
+    values: dict,
+    plain_booleans: dict | None = None,
+) -> None:
     """Keep the tree parsed from `text` read as `file` by the parser whose identity is
     `parser`; drop the oldest entries beyond `MAX_ENTRIES`."""
     if len(text) > MAX_TEXT:
         return
     try:
-        payload = marshal.dumps((FORMAT, file, data, keys, values))
+        entry = (FORMAT, file, data, keys, values, plain_booleans or {})
+        payload = marshal.dumps(entry)
         target = _entry(file, text, parser)
         with atomic_path(target) as temporary:  # no fsync: a lost entry is parsed again
             temporary.write_bytes(payload)

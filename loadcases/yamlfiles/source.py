@@ -1,9 +1,19 @@
 """Safe YAML reading that keeps the 1-based line and column of every key and item.
 
 Scalars follow the YAML 1.2 core schema (`true`/`false` only are booleans, `1.0e7` and `2e6`
-are numbers, dates stay text), so that `on`, `no` or `2024-01-01` never change type behind an
-engineer's back. Anchors, aliases and `<<` merge keys work; tags other than the core ones
-are refused by the safe loader.
+are numbers, integers are decimal or `0x` hexadecimal, dates stay text), so that `on`, `no`
+or `2024-01-01` never change type behind an engineer's back. Anchors, aliases and `<<` merge
+keys work; tags other than the core ones are refused by the safe loader.
+
+A file means what it says to every YAML reader: a plain (unquoted) scalar that a YAML 1.1
+reader (PyYAML's default, many tools) reads as another number is refused with a hint to
+quote it or write the number (`1:30` is 90 there, `010` is 8, `1_000` and `0b101` numbers);
+so is a plain key it reads as a number or a boolean (`on:`). A plain `yes`, `no`, `on`,
+`off` value (a boolean there) is kept in `SourceTree.plain_booleans`: the loader accepts it
+only where a key takes true or false (`loadcases.schema.errors.plain_boolean_diagnostics`).
+A key holding a hidden character (`loadcases.foundation.clip`: a control, bidirectional or
+zero-width character) is refused, and so is a text value holding one (line breaks and tabs
+aside): keys become names in files, messages and workbooks.
 """
 
 from __future__ import annotations
@@ -20,6 +30,7 @@ from typing import Any
 import yaml
 from yaml.nodes import MappingNode, Node, ScalarNode, SequenceNode
 
+from loadcases.foundation.clip import clip, describe_character, hidden_character
 from loadcases.foundation.diagnostics import Diagnostic, InputError, Severity
 from loadcases.foundation.limits import MAX_YAML_DEPTH, MAX_YAML_VALUES
 
@@ -41,12 +52,17 @@ _CoreLoader.yaml_implicit_resolvers = {
     first: [
         (tag, rx)
         for tag, rx in resolvers
-        if tag.rsplit(":", 1)[-1] not in ("bool", "float", "timestamp")
+        if tag.rsplit(":", 1)[-1] not in ("bool", "int", "float", "timestamp")
     ]
     for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
 }
 _CoreLoader.add_implicit_resolver(
     "tag:yaml.org,2002:bool", re.compile(r"^(?:true|True|TRUE|false|False|FALSE)$"), list("tTfF")
+)
+_CoreLoader.add_implicit_resolver(
+    "tag:yaml.org,2002:int",
+    re.compile(r"^(?:[-+]?(?:0|[1-9][0-9]*)|0x[0-9a-fA-F]+)$"),
+    list("-+0123456789"),
 )
 _CoreLoader.add_implicit_resolver(
     "tag:yaml.org,2002:float",
@@ -57,6 +73,38 @@ _CoreLoader.add_implicit_resolver(
     ),
     list("-+0123456789."),
 )
+
+
+# What a YAML 1.1 reader makes of a plain scalar (PyYAML's resolver and constructor).
+_YAML11_RESOLVER = yaml.resolver.Resolver()
+_YAML11_CONSTRUCTOR = yaml.constructor.SafeConstructor()
+
+
+def _yaml11_reading(node: Node, ours: Any) -> Any:
+    """What a YAML 1.1 reader makes of the plain scalar `node` (a boolean or a number)
+    when it is not `ours`, the value read here; else None."""
+    if not isinstance(node, ScalarNode) or node.style is not None:
+        return None
+    tag = _YAML11_RESOLVER.resolve(ScalarNode, node.value, (True, False))
+    if tag.rsplit(":", 1)[-1] not in ("bool", "int", "float"):
+        return None
+    theirs = _YAML11_CONSTRUCTOR.yaml_constructors[tag](
+        _YAML11_CONSTRUCTOR, ScalarNode(tag, node.value)
+    )
+    numbers = (int, float)
+    if isinstance(theirs, bool) or isinstance(ours, bool) or not isinstance(ours, numbers):
+        same = type(theirs) is type(ours) and theirs == ours
+    else:
+        same = theirs == ours or (theirs != theirs and ours != ours)  # nan is nan
+    return None if same else theirs
+
+
+def yaml11_text(text: str, reading: Any) -> str:
+    """`YAML 1.1 reads the plain on as the boolean true` (`reading` is True)."""
+    what = f"the boolean {str(reading).lower()}" if isinstance(reading, bool) else "the number"
+    if not isinstance(reading, bool):
+        what += f" {reading:g}" if isinstance(reading, float) else f" {reading}"
+    return f"YAML 1.1 reads the plain {clip(text)} as {what}"
 
 
 def format_key(path: KeyPath) -> str:
@@ -80,6 +128,8 @@ class SourceTree:
     keys: dict[KeyPath, tuple[int, int]] = field(default_factory=dict)
     values: dict[KeyPath, tuple[int, int]] = field(default_factory=dict)
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    # plain `yes`, `no`, `on`, `off` (booleans to YAML 1.1): path -> the text as written
+    plain_booleans: dict[KeyPath, str] = field(default_factory=dict)
 
     def position(self, path: KeyPath) -> tuple[int, int]:
         """(line, col) of the key or item at `path`, else of its nearest known ancestor."""
@@ -93,6 +143,20 @@ class SourceTree:
         """(line, col) of the first character of the value at `path` (inside any quotes)."""
         found = self.values.get(tuple(path))
         return found if found is not None else self.position(path)
+
+    def plain_boolean(self, path: KeyPath) -> str | None:
+        """`YAML 1.1 reads the plain on as the boolean true` when the value at `path` is
+        such a word, else None."""
+        text = self.plain_booleans.get(tuple(path))
+        return None if text is None else yaml11_text(text, text.lower() in ("yes", "on"))
+
+    def plain_boolean_hint(self, path: KeyPath) -> str | None:
+        """The hint for a problem of the value at `path` when it is a plain `on` & co."""
+        reading = self.plain_boolean(path)
+        if reading is None:
+            return None
+        text = self.plain_booleans[tuple(path)]
+        return f"{reading}: write the value you mean, or quote it ('{text}') if it is text"
 
 
 @dataclass(frozen=True)
@@ -126,6 +190,8 @@ class Locator:
     ) -> Diagnostic:
         """A diagnostic at the key `path`; with `offset`, at that character of its value."""
         full = (*self.prefix, *path)
+        if hint is None:
+            hint = self.tree.plain_boolean_hint(full)
         line, col = self.tree.position(full)
         if offset is not None and full in self.tree.values:
             line, col = self.tree.values[full]
@@ -141,6 +207,13 @@ class _Builder:
         self.constructor = _CoreLoader("")
         self.stack: set[int] = set()
         self.count = 0  # values built, aliases expanded
+        self.problems: list[Diagnostic] = []  # hidden characters, YAML 1.1 numbers
+
+    def problem(self, path: KeyPath, message: str, hint: str) -> None:
+        line, col = self.tree.position(path)
+        self.problems.append(
+            Diagnostic(self.tree.file, line, col, format_key(path), message, hint=hint)
+        )
 
     def build(self, node: Node, path: KeyPath) -> Any:
         if id(node) in self.stack:
@@ -185,7 +258,53 @@ class _Builder:
                 self.tree.keys[sub] = (item.start_mark.line + 1, item.start_mark.column + 1)
                 items.append(self.build(item, sub))
             return items
-        return self.constructor.construct_object(node, deep=True)
+        return self._scalar(node, path)
+
+    def _scalar(self, node: Node, path: KeyPath) -> Any:
+        value = self.constructor.construct_object(node, deep=True)
+        hidden = (
+            hidden_character(value.replace("\n", "").replace("\t", ""))
+            if isinstance(value, str)
+            else None
+        )
+        if hidden is not None:
+            self.problem(
+                path,
+                f"the value holds {describe_character(hidden)}, a character not shown as written",
+                "retype the value: text holds no control, bidirectional or zero-width "
+                "characters (line breaks and tabs aside)",
+            )
+        reading = _yaml11_reading(node, value)
+        if isinstance(reading, bool):
+            self.tree.plain_booleans[path] = node.value
+        elif reading is not None:
+            self.problem(
+                path,
+                yaml11_text(node.value, reading),
+                f"quote it ('{clip(node.value)}') if it is text, or write the number you mean",
+            )
+        return value
+
+    def _key(self, key_node: Node, path: KeyPath) -> str:
+        """The text of a mapping key (problems recorded at `path`, its own)."""
+        key = self.constructor.construct_object(key_node, deep=True)
+        text = key if isinstance(key, str) else str(key)
+        hidden = hidden_character(text)
+        if hidden is not None:
+            self.problem(
+                path,
+                f"the key holds {describe_character(hidden)}, a character not shown as written",
+                "retype the key: keys and names hold no control, bidirectional or zero-width "
+                "characters",
+            )
+        reading = _yaml11_reading(key_node, key)
+        if reading is not None:
+            self.problem(
+                path,
+                yaml11_text(key_node.value, reading).replace("plain", "plain key", 1),
+                f"quote it ('{clip(key_node.value)}')",
+            )
+        return text
 
     def _pairs(self, node: MappingNode) -> list[tuple[Node, Node, bool]]:
         """Own key/value pairs first, then those merged in by `<<` (flagged True)."""
@@ -215,6 +334,7 @@ class _Builder:
             first[key] = line
             sub = (*path, key)
             self.tree.keys[sub] = (line, col)
+            self._key(key_node, sub)
             result[key] = self.build(value_node, sub)
         return result
 
@@ -236,7 +356,10 @@ def parse_yaml(text: str, file: str) -> SourceTree:
     tree = SourceTree(file=file, data=None)
     try:
         node = yaml.compose(text, Loader=_CoreLoader)
-        tree.data = _Builder(tree).build(node, ()) if node is not None else None
+        builder = _Builder(tree)
+        tree.data = builder.build(node, ()) if node is not None else None
+        if builder.problems:  # before anything reads the names or numbers
+            raise InputError([*tree.diagnostics, *builder.problems])
     except RecursionError:  # the composer recurses once per nesting level
         raise InputError(
             [
@@ -303,11 +426,15 @@ def _stored_or_parsed(text: str, file: str) -> SourceTree:
 
     stored = parse_cache.recall(file, text, _parser_identity())
     if stored is not None:
-        data, keys, values = stored
-        return SourceTree(file=file, data=data, keys=keys, values=values)
+        data, keys, values, plain_booleans = stored
+        return SourceTree(
+            file=file, data=data, keys=keys, values=values, plain_booleans=plain_booleans
+        )
     tree = parse_yaml(text, file)
     if not tree.diagnostics:
-        parse_cache.store(file, text, _parser_identity(), tree.data, tree.keys, tree.values)
+        parse_cache.store(
+            file, text, _parser_identity(), tree.data, tree.keys, tree.values, tree.plain_booleans
+        )
     return tree
 
 

@@ -134,9 +134,9 @@ def test_set_runs_with_an_override_never_reuse_other_runs(folder: Path) -> None:
         ("length", "--set 'length': expected NAME=VALUE"),
         ("=2", "--set '=2': expected NAME=VALUE"),
         ("length=", "--set 'length=': expected NAME=VALUE"),
-        ("length=nan", "--set length=nan: expected a finite number, got NaN"),
-        ("length=1e999 m", "--set length=1e999 m: expected a finite number"),
-        ("length=two m", "--set length=two m: cannot read 'two m'"),
+        ("length=nan", "--set length: expected a finite number, got NaN"),
+        ("length=1e999 m", "--set length: expected a finite number, got '1e999 m'"),
+        ("length=two m", "--set length: cannot read 'two m'"),
     ],
 )
 def test_malformed_options_exit_2(folder: Path, option: str, message: str) -> None:

@@ -74,8 +74,8 @@ def test_report_template_missing_or_absolute_is_refused(crank, tmp_path: Path) -
         ("a/../../b", "it leaves the output folder ('..')"),
         ("/etc/x", "an absolute path"),
         ("a//b", "an empty folder name ('//')"),
-        ('"a\\0b"', "a control character (code 0)"),
-        ('"a\\nb"', "a control character (code 10)"),
+        ('"a\\tb"', "a tab (U+0009)"),  # other hidden characters: test_clean_text.py
+        ('"a\\nb"', "a line break (U+000A)"),
         ("a\\b", "a backslash (use '/' for sub-folders)"),
         ("x" * 201, "longer than 200 bytes (201)"),
         ("'=1+2'", "it starts with '=' (a formula in a spreadsheet)"),

@@ -498,11 +498,15 @@ def test_unit_lookup_is_only_asked_for_unknown_names():
 
 
 def test_deep_nesting_is_an_error_not_a_crash():
-    assert compile_text("(" * 200 + "t" + ")" * 200)(2.0) == 2.0
-    for text in ("-" * 5000 + "1", "+".join(["t"] * 5000)):
+    """Nesting is bounded (issue 39): the level past the limit is reported where it starts."""
+    assert compile_text("(" * 63 + "t" + ")" * 63)(2.0) == 2.0
+    for text, offset in (("-" * 5000 + "1", 64), ("+".join(["t"] * 5000), 127)):
         with pytest.raises(ExpressionError) as info:
             parse(text).compile()
-        assert (info.value.message, info.value.offset) == ("expression is nested too deeply", 0)
+        assert (info.value.message, info.value.offset) == (
+            "nested more than 64 levels deep",
+            offset,
+        )
 
 
 def test_parsed_text_reused_and_errors_raised_every_time() -> None:

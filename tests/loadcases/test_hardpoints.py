@@ -133,6 +133,11 @@ def test_a_changed_table_changes_the_input_hash(tmp_path: Path) -> None:
             TABLE + "pin2,crank,1\n",
             "hardpoints.csv:4:1: error: expected 6 cells, got 3",
         ),
+        (  # issue 39: names shown as written
+            TABLE + "pin\u202e2,crank,1,2,3,mm\n",
+            "hardpoints.csv:4:1: error: name: the point name holds a right-to-left override "
+            "(U+202E), a character not shown as written",
+        ),
         ("", "hardpoints.csv:1:1: error: header: empty file"),
     ],
 )

@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parents[2]
 # keys, empty values, nested lists, positions inside quotes.
 AWKWARD = """\
 name: "quoted: text"
-numbers: [.nan, .inf, -.inf, -0.0, 1.0e-300, 123456789012345678901234567890, 0x1F, 1_000]
+numbers: [.nan, .inf, -.inf, -0.0, 1.0e-300, 123456789012345678901234567890, 0x1F, +12]
 texts: ['1.0', "true", on, no, 2024-01-01, ~, null, '']
 länge: 1.5
 base: &base {mass: 2 kg, inertia: [1, 2, 3]}
@@ -63,7 +63,9 @@ def _fresh_process() -> None:
 def _whole(tree: source.SourceTree) -> str:
     """Every value, type and position of a tree (repr tells 1 from 1.0 from True, and NaN
     equals itself)."""
-    return repr((tree.file, tree.data, tree.keys, tree.values, tree.diagnostics))
+    return repr(
+        (tree.file, tree.data, tree.keys, tree.values, tree.diagnostics, tree.plain_booleans)
+    )
 
 
 def test_stored_trees_are_the_parsed_ones(folder: Path) -> None:
@@ -81,10 +83,15 @@ def test_stored_trees_are_the_parsed_ones(folder: Path) -> None:
             continue  # a bad test input: nothing to store
         if tree.diagnostics:
             continue
-        parse_cache.store(name, text, source._parser_identity(), tree.data, tree.keys, tree.values)
-        back = parse_cache.recall(name, text, source._parser_identity())
+        identity = source._parser_identity()
+        parse_cache.store(
+            name, text, identity, tree.data, tree.keys, tree.values, tree.plain_booleans
+        )
+        back = parse_cache.recall(name, text, identity)
         assert back is not None, name
-        assert _whole(source.SourceTree(name, *back)) == _whole(tree), name
+        data, keys, values, plain_booleans = back
+        again = source.SourceTree(name, data, keys, values, plain_booleans=plain_booleans)
+        assert _whole(again) == _whole(tree), name
         stored += 1
     assert stored >= 100
     assert len(list(folder.glob("*.tree"))) == stored
@@ -112,7 +119,7 @@ def test_a_file_is_parsed_once_across_commands(folder: Path, parsed: list[str], 
     [
         lambda b: b[: len(b) // 2],  # cut short (a full disk)
         lambda b: b"\x00" * len(b),  # garbage
-        lambda b: __import__("marshal").dumps((99, "other", {}, {}, {})),  # another layout
+        lambda b: __import__("marshal").dumps((99, "other", {}, {}, {}, {})),  # another layout
         lambda b: __import__("marshal").dumps([1, 2, 3]),  # not an entry at all
     ],
     ids=["truncated", "garbage", "foreign", "not-a-tuple"],
