@@ -1,4 +1,8 @@
-"""A user's landing gear passing the toggle of its drag brace is warned about, by joint.
+"""A user's landing gear whose leg turns back where its drag brace goes straight: no
+near-singular warning. Nothing drives the leg: the constraint Jacobian keeps its rank there
+(the leg's angle merely stops and reverses, as a four-bar's rocker at its limit), and the
+knee load peaks (the leg's momentum taken by the light brace) without growing without
+bound. Before, the leg's stationary angle gave a warning ("trunnion: angle cannot change").
 
 Reference: the brace is straight when the distance from its top pivot B = (900, -100) mm to
 the leg pin P (at (0, -700) mm on the leg at design, turning about the trunnion at the
@@ -9,7 +13,6 @@ closed form of the leg angle by root finding on that distance (brentq, 1e-12 rad
 from __future__ import annotations
 
 import math
-import re
 from pathlib import Path
 
 import numpy as np
@@ -39,17 +42,15 @@ def _straight_brace_leg_angle() -> float:
     return brentq(stretch, math.radians(-3.0), 0.0, xtol=1e-12)
 
 
-def test_freefall_through_the_brace_toggle_warns_naming_the_leg_and_brace() -> None:
+def test_freefall_to_the_straight_brace_has_no_warning() -> None:
     outcome = run_case(load_case(CASE))
     solution = outcome.solution
     assert solution.ok, solution.message
-    warnings = [w for w in solution.warnings if "near-singular" in w]
-    assert len(warnings) == 1, solution.warnings
-    t_warn = float(re.search(r"at t = ([0-9.e+-]+) s", warnings[0]).group(1))
     leg = solution.channels["leg_angle.value"]
     deepest = int(np.argmin(leg))
-    # the toggle is where the leg turns back; the brace is straight there
-    assert abs(t_warn - solution.time[deepest]) <= STEP
+    # the leg turns back where the brace is straight, and the knee load peaks there
+    assert 0 < deepest < len(leg) - 1
     assert abs(leg[deepest] - _straight_brace_leg_angle()) < math.radians(0.01)
-    assert abs(t_warn - solution.time[int(np.argmax(solution.channels["knee_force.f"]))]) <= STEP
-    assert "trunnion: angle cannot change, dependent on brace_leg, knee, brace_top" in warnings[0]
+    knee_peak = int(np.argmax(solution.channels["knee_force.f"]))
+    assert abs(solution.time[knee_peak] - solution.time[deepest]) <= STEP
+    assert not [w for w in solution.warnings if "near-singular" in w], solution.warnings

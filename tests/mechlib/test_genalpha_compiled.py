@@ -266,9 +266,10 @@ def test_pendulum_through_the_compiled_loop_meets_the_closed_form() -> None:
 
 
 def test_toggle_rows_from_the_kernels_equal_the_python_rows(monkeypatch) -> None:
-    """The free slider-crank passes its dead points: the toggle check's rank measures and
-    free-coordinate sines per recorded row from the compiled rows equal those of the
-    per-row Python path to 1e-12, and so do the warnings."""
+    """The free slider-crank passes its dead points: the toggle check's rank measures per
+    recorded row from the compiled rows equal those of the per-row Python path to 1e-12,
+    and so do the warnings: none, since the slider merely reverses there (the Jacobian
+    keeps its rank, its smallest singular value stays above 0.8 of its largest)."""
     import importlib
 
     import mechlib.checks.singularity as singularity
@@ -277,24 +278,30 @@ def test_toggle_rows_from_the_kernels_equal_the_python_rows(monkeypatch) -> None
 
     def both(system, trajectory, *args):
         assert system.packed_constraints() is not None
-        compiled = singularity._series(system, trajectory)
+        compiled = (
+            singularity._series(system, trajectory),
+            singularity.toggle_warnings(system, trajectory, *args),
+        )
         with monkeypatch.context() as patch:  # the per-row Python path
             patch.setattr(system, "packed_constraints", lambda: None)
-            captured.append((compiled, singularity._series(system, trajectory)))
-        return singularity.toggle_warnings(system, trajectory, *args)
+            python = (
+                singularity._series(system, trajectory),
+                singularity.toggle_warnings(system, trajectory, *args),
+            )
+        captured.append((compiled, python))
+        return compiled[1]
 
     monkeypatch.setattr(importlib.import_module("mechlib.solvers.solve"), "toggle_warnings", both)
     mech, initial, requests = _free_crank()
     sol = mechlib.solve(mech, mechlib.Dynamic(1.0, 0.002), initial=initial, requests=requests)
     assert sol.ok and captured
-    (ranks, sines), (ranks_py, sines_py) = captured[0]
+    (ranks, warnings), (ranks_py, warnings_py) = captured[0]
     assert len(ranks) == len(sol.time)
-    slide = np.array([row[("D", "travel")] for row in sines])  # 0 at the dead points
-    assert slide.min() < 0.1 * slide.max()
+    angle = sol.channels["A_angle.value"]
+    assert angle.max() - angle.min() > 2.0 * math.pi  # a full turn: both dead points passed
+    assert ranks.min() > 0.8 * ranks.max()
     assert np.abs(ranks - ranks_py).max() < TOL
-    assert [row.keys() for row in sines] == [row.keys() for row in sines_py]
-    assert max(abs(a[key] - b[key]) for a, b in zip(sines, sines_py) for key in a) < TOL
-    assert any("near-singular position" in w for w in sol.warnings)
+    assert warnings == warnings_py == sol.warnings == []
 
 
 def test_angles_commit_in_one_call() -> None:
