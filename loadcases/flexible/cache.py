@@ -5,7 +5,13 @@ The key covers the caller's `key_parts` (matrices by content, interface, mode se
 damping ...) and the engine's identity: the hash of its source (`engine_sha256`, the rule
 that keeps saved runs from being reused across engine changes) and the numpy and scipy
 versions. An entry is one `KEY.npz` file, written whole or not at all (temporary file, then
-rename); an unreadable entry is computed again with a warning. Nothing is ever evicted:
+rename); an unreadable entry is computed again with a warning.
+
+An entry is checked, never trusted: it holds its key and a SHA-256 of its arrays (names,
+types, shapes and values, in the canonical form of the key); it is used only when both
+match, so an entry whose arrays were changed in the folder (a matrix scaled), or one put
+under another key's name, is computed again with a warning and replaced. (The digest
+guards against damage and edits, not against a forger who recomputes it.) Nothing is ever evicted:
 delete the folder to clear it.
 """
 
@@ -32,6 +38,7 @@ from loadcases.foundation.engine_hash import engine_sha256
 __all__ = ["CACHE_ENV", "CacheWarning", "cache_folder", "cache_key", "cached", "caching_under"]
 
 _KEY_ARRAY = "__key__"
+_DIGEST_ARRAY = "__digest__"  # SHA-256 of the entry's other arrays (`_digest`)
 _OUTPUT: ContextVar[Path | None] = ContextVar("loads_cache_output", default=None)
 
 
@@ -119,12 +126,27 @@ def _warn(message: str) -> None:
     warnings.warn(message, CacheWarning, stacklevel=3)
 
 
+def _digest(arrays: Mapping[str, np.ndarray]) -> str:
+    """The SHA-256 (hex) of named arrays: names, dtypes, shapes and values."""
+    digest = hashlib.sha256()
+    _feed(digest, dict(arrays))
+    return digest.hexdigest()
+
+
 def _load(path: Path, key: str) -> dict[str, np.ndarray]:
-    """The arrays of a cache entry; ValueError (or the reader's error) if it is damaged."""
+    """The arrays of a cache entry; ValueError (or the reader's error) if it is damaged or
+    its arrays do not have the digest stored with them."""
     with np.load(path, allow_pickle=False) as entry:
         if _KEY_ARRAY not in entry.files or str(entry[_KEY_ARRAY]) != key:
             raise ValueError("its key does not match its name")
-        return {name: entry[name] for name in entry.files if name != _KEY_ARRAY}
+        if _DIGEST_ARRAY not in entry.files:
+            raise ValueError("it holds no digest of its arrays")
+        stored = str(entry[_DIGEST_ARRAY])
+        skip = (_KEY_ARRAY, _DIGEST_ARRAY)
+        arrays = {name: entry[name] for name in entry.files if name not in skip}
+    if _digest(arrays) != stored:
+        raise ValueError("its arrays do not match their digest")
+    return arrays
 
 
 def _checked(result: Any) -> dict[str, np.ndarray]:
@@ -149,8 +171,9 @@ def cached(
     warn: Callable[[str], None] = _warn,
 ) -> dict[str, np.ndarray]:
     """The arrays `compute()` returns for `key_parts`, read from the cache when an entry
-    exists, else computed and stored (`folder`, default `cache_folder()`). A damaged entry
-    is computed again and replaced; a cache that cannot be written only warns (`warn`,
+    exists and its key and the digest of its arrays match, else computed and stored
+    (`folder`, default `cache_folder()`). A damaged or changed entry is computed again and
+    replaced; a cache that cannot be written only warns (`warn`,
     default a `CacheWarning`)."""
     key = cache_key(key_parts)
     path = Path(folder if folder is not None else cache_folder()) / f"{key}.npz"
@@ -162,7 +185,11 @@ def cached(
     result = _checked(compute())
     try:
         with atomic_path(path) as tmp, open(tmp, "wb") as stream:
-            entry: dict[str, Any] = {_KEY_ARRAY: np.array(key), **result}
+            entry: dict[str, Any] = {
+                _KEY_ARRAY: np.array(key),
+                _DIGEST_ARRAY: np.array(_digest(result)),
+                **result,
+            }
             np.savez(stream, **entry)
     except OSError as error:
         warn(f"cache entry {path} not written ({error})")

@@ -83,7 +83,11 @@ class CaseFile:
     """A validated case with its mechanism (inline or from `mechanism_path`).
 
     `parameters` are the mechanism's parameters overridden by the case's (SI floats);
-    `input_sha256` hashes the case file bytes then the mechanism file bytes.
+    `input_sha256` hashes the case file bytes then the mechanism file bytes. It is the hash
+    of what the case was built from: a tree read from the parse cache is used only when its
+    entry records this text's SHA-256 and its payload its own digest
+    (loadcases.yamlfiles.parse_cache), so no cached tree that differs from the file is
+    ever run under the file's hash.
     """
 
     path: str

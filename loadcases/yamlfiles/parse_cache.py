@@ -8,8 +8,17 @@ own source, its limits and PyYAML's version: `loadcases.yamlfiles.source`) and o
 change any of them and another entry is made, so a stored tree is always the one the
 parser would give. It is written with `marshal`, which holds only Python's built-in
 values: reading an entry rebuilds no class of ours or anyone's, and runs no code. Trees
-with diagnostics (duplicate keys) and texts over `MAX_TEXT` characters are not stored. A
-missing, unreadable or foreign entry is parsed again. Entries are written whole (a new
+with diagnostics (duplicate keys) and texts over `MAX_TEXT` characters are not stored.
+
+An entry is checked, never trusted: it holds the SHA-256 of the text it was parsed from and
+the SHA-256 of its payload (the marshalled tree), and it is used only when the payload
+still has its digest and the text digest is that of the file's current text. An entry
+rewritten in the folder (a number changed in its tree), left from another text or put
+under another entry's name is a miss: the file is parsed again and the entry overwritten,
+so a tree read from the cache is the tree of the file as it is now. (The digests guard
+against damage and edits of the payload, not against a forger who recomputes them: the
+cache folder is the user's own.) A missing, unreadable, foreign or mismatched entry is
+parsed again. Entries are written whole (a new
 file, then an atomic rename); the folder keeps the `MAX_ENTRIES` written last. Nothing
 here is an error: a cache that cannot be read or written only costs the parse.
 """
@@ -28,7 +37,7 @@ from loadcases.foundation.cache_env import shared_cache_folder
 
 __all__ = ["MAX_ENTRIES", "MAX_TEXT", "cache_folder", "recall", "store"]
 
-FORMAT = 2  # the layout of an entry; another layout is a foreign entry
+FORMAT = 3  # the layout of an entry; another layout is a foreign entry
 MAX_ENTRIES = 256  # entries kept (each edit of a file makes one)
 MAX_TEXT = 4 * 2**20  # characters of the largest text whose tree is stored
 _SUFFIX = ".tree"
@@ -53,24 +62,42 @@ def _entry(file: str, text: str, parser: bytes) -> Path:
     return cache_folder() / f"{digest.hexdigest()}{_SUFFIX}"
 
 
+def _sha256(data: bytes) -> str:
+    return hashlib.sha256(data).hexdigest()
+
+
+def _text_sha256(text: str) -> str:
+    return _sha256(text.encode("utf-8", "surrogatepass"))
+
+
 def recall(file: str, text: str, parser: bytes) -> tuple[Any, dict, dict, dict] | None:
     """(data, keys, values, plain_booleans) of the tree stored for `text` read as `file`
-    by the parser whose identity is `parser`, or None."""
+    by the parser whose identity is `parser`, or None: also when the entry's payload does
+    not have the digest stored with it or the entry was parsed from another text."""
     if len(text) > MAX_TEXT:
         return None
     try:
         stored = marshal.loads(_entry(file, text, parser).read_bytes())
+        if (
+            not isinstance(stored, tuple)
+            or len(stored) != 5
+            or stored[0] != FORMAT
+            or stored[1] != file
+            or not isinstance(stored[4], bytes)
+            or stored[2] != _text_sha256(text)
+            or stored[3] != _sha256(stored[4])
+        ):
+            return None
+        tree = marshal.loads(stored[4])
     except (OSError, EOFError, ValueError, TypeError):
         return None
     if (
-        not isinstance(stored, tuple)
-        or len(stored) != 6
-        or stored[0] != FORMAT
-        or stored[1] != file
-        or not all(isinstance(part, dict) for part in stored[3:])
+        not isinstance(tree, tuple)
+        or len(tree) != 4
+        or not all(isinstance(part, dict) for part in tree[1:])
     ):
         return None
-    return stored[2], stored[3], stored[4], stored[5]
+    return tree[0], tree[1], tree[2], tree[3]
 
 
 def store(
@@ -83,12 +110,13 @@ def store(
     plain_booleans: dict | None = None,
 ) -> None:
     """Keep the tree parsed from `text` read as `file` by the parser whose identity is
-    `parser`; drop the oldest entries beyond `MAX_ENTRIES`."""
+    `parser`, with the digests of `text` and of the stored tree; drop the oldest entries
+    beyond `MAX_ENTRIES`."""
     if len(text) > MAX_TEXT:
         return
     try:
-        entry = (FORMAT, file, data, keys, values, plain_booleans or {})
-        payload = marshal.dumps(entry)
+        tree = marshal.dumps((data, keys, values, plain_booleans or {}))
+        payload = marshal.dumps((FORMAT, file, _text_sha256(text), _sha256(tree), tree))
         target = _entry(file, text, parser)
         with atomic_path(target) as temporary:  # no fsync: a lost entry is parsed again
             temporary.write_bytes(payload)

@@ -5,12 +5,16 @@ costs only the parse."""
 
 from __future__ import annotations
 
+import marshal
 import os
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import loadcases.yamlfiles.source as source
+from loadcases.inputs.loader import load_case
+from loadcases.run import run_case
 from loadcases.yamlfiles import parse_cache
 from loadcases.yamlfiles.source import load_yaml, parse_yaml
 
@@ -204,3 +208,87 @@ def test_a_long_text_is_not_stored(folder: Path, parsed, tmp_path, monkeypatch) 
     _fresh_process()
     load_yaml(path)
     assert parsed == [str(path)] * 2
+
+
+def _scaled(value: object, factor: float) -> object:
+    """`value` (an entry as marshal gives it back, whatever its layout) with the wire's
+    stiffness times `factor` wherever it is, in a tree or in a marshalled payload inside
+    it; every other byte (names, digests) as it was."""
+    if isinstance(value, bytes):
+        try:
+            inner = marshal.loads(value)
+        except (EOFError, ValueError, TypeError):
+            return value
+        return marshal.dumps(_scaled(inner, factor))
+    if isinstance(value, tuple):
+        return tuple(_scaled(part, factor) for part in value)
+    if isinstance(value, dict):
+        wire = value.get("wire")
+        if isinstance(wire, dict) and "stiffness" in wire:
+            return {**value, "wire": {**wire, "stiffness": wire["stiffness"] * factor}}
+        return {key: _scaled(part, factor) for key, part in value.items()}
+    return value
+
+
+def _crank(folder: Path) -> Path:
+    """The slider-crank case and its mechanism in `folder`, solved over 50 ms."""
+    good = ROOT / "tests" / "loadcases" / "good"
+    mech = (good / "slider-crank.mech.yaml").read_text(encoding="utf-8")
+    case = (good / "slider-crank.case.yaml").read_text(encoding="utf-8")
+    (folder / "slider-crank.mech.yaml").write_text(mech, encoding="utf-8")
+    path = folder / "slider-crank.case.yaml"
+    path.write_text(case.replace("end: 1.0", "end: 0.05"), encoding="utf-8")
+    return path
+
+
+def _wire_stiffness(case: Path) -> float:
+    return load_case(case).mechanism.forces["wire"].stiffness
+
+
+def test_a_rewritten_entry_is_not_used(folder: Path, parsed: list[str], tmp_path) -> None:
+    """Issue 39 item 7: an entry whose tree was changed in the cache folder (the wire ten
+    times stiffer, its digests left as they were) is a miss: the file is parsed again and
+    the entry overwritten; a run under the file's input hash is the file's run, the same
+    as a run with no cache at all."""
+    case = _crank(tmp_path)
+    plain = run_case(load_case(case))  # fills the cache
+    true = _wire_stiffness(case)
+    assert len(list(folder.glob("*.tree"))) == 2  # the case and its mechanism
+    mech = tmp_path / "slider-crank.mech.yaml"
+    entry = parse_cache._entry(str(mech), mech.read_text("utf-8"), source._parser_identity())
+    before = marshal.loads(entry.read_bytes())
+    entry.write_bytes(marshal.dumps(_scaled(before, 10.0)))
+    assert marshal.loads(entry.read_bytes()) != before
+    _fresh_process()
+    parsed.clear()
+    assert _wire_stiffness(case) == true  # not 10 x
+    assert len(parsed) == 1  # the mechanism, whose entry was changed
+    _fresh_process()
+    tampered = run_case(load_case(case))
+    assert len(parsed) == 1  # overwritten by the parse: read from the cache again
+    _fresh_process()
+    with pytest.MonkeyPatch.context() as patch:  # no cache: every file parsed
+        patch.setattr(parse_cache, "recall", lambda *args: None)
+        bare = run_case(load_case(case))
+    assert tampered.input_sha256 == plain.input_sha256 == bare.input_sha256
+    for outcome in (plain, tampered):
+        assert outcome.solution.channels.keys() == bare.solution.channels.keys()
+        for name, column in bare.solution.channels.items():
+            np.testing.assert_array_equal(outcome.solution.channels[name], column, name)
+
+
+def test_an_entry_of_another_text_is_not_used(folder: Path, parsed, tmp_path) -> None:
+    """An entry, whole and with its own digests, put under the name of another text's
+    entry (a stale tree of the file before an edit) is a miss."""
+    path = tmp_path / "a.yaml"
+    path.write_text("force: 1\n", encoding="utf-8")
+    load_yaml(path)
+    (old,) = folder.glob("*.tree")
+    path.write_text("force: 2\n", encoding="utf-8")
+    _fresh_process()
+    load_yaml(path)
+    (new,) = set(folder.glob("*.tree")) - {old}
+    new.write_bytes(old.read_bytes())
+    _fresh_process()
+    assert load_yaml(path).data == {"force": 2}
+    assert parsed == [str(path)] * 3

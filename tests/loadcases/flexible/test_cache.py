@@ -124,3 +124,37 @@ def test_cache_folder(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
     assert cache_folder(tmp_path) == tmp_path / ".cache" / "flexible"
     monkeypatch.setenv("LOADS_CACHE_DIR", str(tmp_path / "shared"))
     assert cache_folder(tmp_path / "out") == tmp_path / "shared" / "flexible"
+
+
+def _rewrite(entry: Path, change) -> None:
+    """Write `entry` again with `change` applied to its arrays, its key and digest kept."""
+    with np.load(entry, allow_pickle=False) as stored:
+        arrays = {name: stored[name] for name in stored.files}
+    with open(entry, "wb") as stream:
+        np.savez(stream, **change(arrays))
+
+
+@pytest.mark.parametrize(
+    "change",
+    [
+        lambda a: {**a, "frequencies": a["frequencies"] * 10.0},  # an array scaled
+        lambda a: {**a, "shape": a["shape"].T[:, :1]},  # another shape
+        lambda a: {k: v for k, v in a.items() if k != "shape"},  # an array dropped
+        lambda a: {k: v for k, v in a.items() if k != "__digest__"},  # the digest dropped
+    ],
+    ids=["scaled", "reshaped", "dropped", "no-digest"],
+)
+def test_changed_entry_is_not_used(tmp_path: Path, matrix: sp.csr_matrix, change) -> None:
+    """Issue 39 item 7: an entry whose arrays were changed in the folder, its key and
+    digest left as they were, is computed again with a warning and replaced."""
+    compute = Counter(matrix)
+    cached(_parts(matrix), compute, folder=tmp_path)
+    (entry,) = tmp_path.iterdir()
+    _rewrite(entry, change)
+    with pytest.warns(CacheWarning, match="digest"):
+        result = cached(_parts(matrix), compute, folder=tmp_path)
+    assert compute.calls == 2
+    assert np.array_equal(result["frequencies"], [2.0, 3.0, 4.0])
+    assert np.array_equal(result["shape"], np.eye(2))
+    again = cached(_parts(matrix), compute, folder=tmp_path)  # replaced: a hit
+    assert compute.calls == 2 and np.array_equal(again["frequencies"], [2.0, 3.0, 4.0])
