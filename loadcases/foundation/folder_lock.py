@@ -23,7 +23,7 @@ from pathlib import Path
 
 from loadcases.foundation.atomic import atomic_path
 
-__all__ = ["LOCK_FILE", "FolderBusy", "holding"]
+__all__ = ["LOCK_FILE", "FolderBusy", "holding", "stale_reason"]
 
 LOCK_FILE = ".loads.lock"
 _TAKE_OVER_TRIES = 3
