@@ -321,6 +321,9 @@ def _print_report(report: FileReport) -> int:
     if report.diagnostics:
         print_diagnostics(report.diagnostics, err=True)
         return EXIT_INPUT
+    if report.refused is not None:
+        typer.echo(error_line(report.refused), err=True)
+        return EXIT_FAILED
     for note in report.notes:
         typer.echo(note)
     for line in report.runs:

@@ -39,10 +39,11 @@ class FileReport:
     notes: list[str] = field(default_factory=list)
     footer: list[str] = field(default_factory=list)  # printed after the run lines
     input_errors: bool = False  # a run's own input (its parameter values) is invalid: exit 2
+    refused: str | None = None  # not run at all (another run writes its folder): exit 1
 
     @property
     def failed(self) -> bool:
-        return any(run.status != "ok" for run in self.runs)
+        return self.refused is not None or any(run.status != "ok" for run in self.runs)
 
 
 def run_one(

@@ -6,6 +6,8 @@ import time
 from pathlib import Path
 from typing import TYPE_CHECKING, TextIO
 
+import typer
+
 from cli.engine import RunSet
 from cli.render import TerminalLine
 from cli.runner import FileReport, RunLine
@@ -58,6 +60,7 @@ def run_set_file(
     """Run every run of a set file with `run_set` (loadcases'); one status line per run,
     failures and files listed. `what_if` are the `--set` overrides (passed on only when
     given, so that a test's own `run_set` need not take them)."""
+    from loadcases.foundation.folder_lock import FolderBusy
     from loadcases.sets.executors import make_executor
 
     progress = SetProgress(path.name) if show_progress else None
@@ -75,10 +78,13 @@ def run_set_file(
             on_report=progress.report if progress is not None else None,
             options=options,
             xlsx=xlsx,
+            on_warning=_warn,
             **({"what_if": what_if} if what_if else {}),
         )
     except InputError as error:
         return FileReport(path, diagnostics=list(error.diagnostics))
+    except FolderBusy as busy:  # another `loads run` writes DIR/SET: nothing touched
+        return FileReport(path, refused=str(busy))
     finally:
         if progress is not None:
             progress.close()
@@ -112,6 +118,11 @@ def run_set_file(
             + (" ..." if len(invalid) > 5 else "")
         )
     return FileReport(path, runs=lines, footer=footer, input_errors=bool(invalid))
+
+
+def _warn(text: str) -> None:
+    """`loads: warning: ...` on stderr, at once (e.g. a stale lock taken over)."""
+    typer.echo(f"loads: warning: {text}", err=True)
 
 
 def _interrupted_footer(result: SetResult) -> str:

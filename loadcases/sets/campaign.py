@@ -12,7 +12,9 @@ fixed elsewhere, e.g. in the engine). One failing run never stops the set: it is
 with its message and left out of the envelope. An interrupt (SIGINT, SIGTERM:
 `loadcases.foundation.interrupts`) starts no further run; the runs finished stay valid, those under
 way are written with status `interrupted` and their rows so far, and no envelope or
-workbook is written (`SetResult.interrupted`).
+workbook is written (`SetResult.interrupted`). One writer per folder: `DIR/SET/.loads.lock`
+(`loadcases.foundation.folder_lock`) is held from before the first file is written until the
+last one is, and removed on every way out; a second run into the same folder is refused.
 """
 
 from __future__ import annotations
@@ -29,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from loadcases.flexible.cache import caching_under
-from loadcases.foundation import engine_hash, interrupts
+from loadcases.foundation import engine_hash, folder_lock, interrupts
 from loadcases.foundation.diagnostics import InputError
 from loadcases.inputs.overrides import Override
 from loadcases.report.curves import EnvelopeCurve, plot_curves
@@ -339,6 +341,7 @@ def run_set(
     xlsx: bool = False,
     what_if: Sequence[Override] = (),
     on_report: OnReport | None = None,
+    on_warning: Callable[[str], None] | None = None,
 ) -> SetResult:
     """Run a set file into `output_dir/SET/`; InputError (nothing run) for invalid input.
 
@@ -347,24 +350,33 @@ def run_set(
     `options` (e.g. jobs, scheduler) are recorded on the workbook's Provenance sheet;
     `xlsx` also writes each solved run's `NAME.xlsx`; `what_if` (`--set`) overrides
     parameters in every run of a case that has them (runs `CASE[name=value]`).
+    One writer per folder: while it runs, `output_dir/SET/.loads.lock` names this process;
+    `FolderBusy` (nothing written) if another live process holds it; a stale lock (its
+    process gone) is taken over and `on_warning(text)` told so.
     """
     started = clock.time()
     compiled = load_and_compile_set(path, what_if=what_if)
     directory = result_base(Path(output_dir), compiled.name)
-    with caching_under(directory):  # flexible bodies reduced once for all runs
-        _prebuild(compiled)
-        solved: dict[str, SavedRun] = {}
-        records, interrupted = _solve_all(
-            compiled, directory, executor or SerialExecutor(), force, on_record, xlsx, solved
-        )
-    if interrupted or any(r.status == "interrupted" for r in records):
-        return SetResult(compiled, directory, records, interrupted=True)
-    runs = [solved.get(r.name) or load_saved_run(r.csv_path) for r in records if r.ok]
-    if on_report is not None:
-        on_report("envelope")
-    abscissae = {cf.case.case: cf.case.abscissa for cf in compiled.cases if cf.case.abscissa}
-    sizing = size_runs(runs, compiled.set_file.model, abscissae)
-    result = SetResult(compiled, directory, records, sizing.rows, sizing.curves, sizing=sizing)
-    info = {"force": str(force), "wall seconds": f"{clock.time() - started:.3g}", **(options or {})}
-    result.files = _report_files(result, runs, info, on_report)
+    with folder_lock.holding(directory, on_warning):  # FolderBusy: another run writes there
+        with caching_under(directory):  # flexible bodies reduced once for all runs
+            _prebuild(compiled)
+            solved: dict[str, SavedRun] = {}
+            records, interrupted = _solve_all(
+                compiled, directory, executor or SerialExecutor(), force, on_record, xlsx, solved
+            )
+        if interrupted or any(r.status == "interrupted" for r in records):
+            return SetResult(compiled, directory, records, interrupted=True)
+        # only this set's runs, as written or reused above: never other files of the folder
+        runs = [solved.get(r.name) or load_saved_run(r.csv_path) for r in records if r.ok]
+        if on_report is not None:
+            on_report("envelope")
+        abscissae = {cf.case.case: cf.case.abscissa for cf in compiled.cases if cf.case.abscissa}
+        sizing = size_runs(runs, compiled.set_file.model, abscissae)
+        result = SetResult(compiled, directory, records, sizing.rows, sizing.curves, sizing=sizing)
+        info = {
+            "force": str(force),
+            "wall seconds": f"{clock.time() - started:.3g}",
+            **(options or {}),
+        }
+        result.files = _report_files(result, runs, info, on_report)
     return result

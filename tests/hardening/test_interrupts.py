@@ -149,6 +149,7 @@ def test_sigint_of_a_serial_set_keeps_the_finished_run_and_saves_the_one_under_w
     _assert_interrupted(out, "slow-a", "SIGINT")
     assert not (out / "slow-b.summary.json").exists()
     assert not (out / "envelope.csv").exists()
+    assert not (out / ".loads.lock").exists()  # the set's folder is free again
 
 
 def test_sigterm_of_a_parallel_set_stops_its_workers_and_saves_their_rows(
@@ -168,6 +169,7 @@ def test_sigterm_of_a_parallel_set_stops_its_workers_and_saves_their_rows(
     for swing in ("0.5", "1"):
         _assert_interrupted(tmp_path / "out" / "two", f"slow-a[swing={swing}]", "SIGTERM")
     assert _gone(workers), "a worker outlived loads"
+    assert not (tmp_path / "out" / "two" / ".loads.lock").exists()
 
 
 def test_sigint_of_case_files_run_in_parallel(tmp_path: Path) -> None:
