@@ -351,15 +351,18 @@ def run_set(
     `xlsx` also writes each solved run's `NAME.xlsx`; `what_if` (`--set`) overrides
     parameters in every run of a case that has them (runs `CASE[name=value]`).
     One writer per folder: while it runs, `output_dir/SET/.loads.lock` names this process;
-    `FolderBusy` (nothing written) if another live process holds it; a stale lock (its
+    `FolderBusy` (no run file written; only the cases' checks ran, which may have put a
+    flexible body's content-addressed reduction in the folder's cache) if another live
+    process holds it; a stale lock (its
     process gone) is taken over and `on_warning(text)` told so.
     """
     started = clock.time()
     compiled = load_and_compile_set(path, what_if=what_if)
     directory = result_base(Path(output_dir), compiled.name)
+    with caching_under(directory):  # flexible bodies reduced once for all runs
+        _prebuild(compiled)  # InputError here: nothing written, not even the folder
     with folder_lock.holding(directory, on_warning):  # FolderBusy: another run writes there
-        with caching_under(directory):  # flexible bodies reduced once for all runs
-            _prebuild(compiled)
+        with caching_under(directory):
             solved: dict[str, SavedRun] = {}
             records, interrupted = _solve_all(
                 compiled, directory, executor or SerialExecutor(), force, on_record, xlsx, solved
