@@ -130,3 +130,47 @@ def test_contact_out_of_range(tmp_path: Path, old: str, new: str, expected: str)
     result = loads("validate", case)
     assert result.exit_code == 2, result.output
     assert has_line(result.output, f"{SOCKET.name}:{expected}"), result.output
+
+
+ELEMENTS = """\
+name: e
+bodies:
+  arm: {mass: 1.0, cm: [0.1, 0, 0], inertia: [0.001, 0.001, 0.001]}
+points:
+  tip: {body: arm, at: [0.2, 0, 0]}
+  base: {body: ground, at: [0.2, 0.1, 0]}
+joints:
+  pivot: {type: revolute, bodies: [arm, ground], at: [0, 0, 0], axis: [0, 0, 1]}
+forces:
+  spring: {type: spring, points: [tip, base], stiffness: 100, damping: -1}
+  hinge: {type: torsion_spring, joint: pivot, stiffness: -5}
+  friction: {type: joint_friction, joint: pivot, mu: -0.1, pin_radius: 0}
+  brake: {type: damper, joint: pivot, damping: -2}
+  mount: {type: bushing, bodies: [arm, ground], at: [0, 0, 0], stiffness: [1, -1, 1]}
+"""
+
+
+def test_element_parameters_out_of_range(tmp_path: Path) -> None:
+    mech = tmp_path / "e.mech.yaml"
+    mech.write_text(ELEMENTS, encoding="utf-8")
+    result = loads("validate", mech)
+    assert result.exit_code == 2, result.output
+    for expected in (
+        "e.mech.yaml:10:63: error: forces.spring.damping: must be >= 0, got -1",
+        "e.mech.yaml:11:47: error: forces.hinge.stiffness: must be >= 0, got -5",
+        "e.mech.yaml:12:50: error: forces.friction.mu: must be >= 0, got -0.1",
+        "e.mech.yaml:12:60: error: forces.friction.pin_radius: must be > 0, got 0",
+        "e.mech.yaml:13:39: error: forces.brake.damping: must be >= 0, got -2",
+    ):
+        assert has_line(result.output, expected), result.output
+
+
+def test_bushing_stiffness_component_out_of_range(tmp_path: Path) -> None:
+    mech = tmp_path / "e.mech.yaml"
+    lines = ELEMENTS.splitlines(keepends=True)
+    mech.write_text("".join(lines[:9] + lines[13:]), encoding="utf-8")
+    result = loads("validate", mech)
+    assert result.exit_code == 2, result.output
+    assert has_line(
+        result.output, "e.mech.yaml:10:79: error: forces.mount.stiffness[1]: must be >= 0, got -1"
+    ), result.output
