@@ -7,12 +7,14 @@ import numpy as np
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import MechanismModel
 from loadcases.yamlfiles.source import Locator
+from mechlib.elements.hydraulics.parameters import Supply
 from mechlib.model.joints import ROTATIONAL
 
 __all__ = ["check_elements"]
 
 _PIN_JOINTS = ("revolute", "cylindrical", "spherical")
 _ROTARY_JOINTS = ROTATIONAL
+_COINCIDENT = 1.0e-9  # m: attachment points closer than this coincide
 
 
 def _joint_elements(model: MechanismModel, at: Locator) -> list[Diagnostic]:
@@ -174,6 +176,96 @@ def _servo_actuators(model: MechanismModel, at: Locator) -> list[Diagnostic]:
                     f"expected two positive volumes [V1, V2], got {len(dead)} values",
                 )
             )
+        found += _servo_relations(model, name, force, at)
+    return found
+
+
+def _servo_relations(model: MechanismModel, name: str, force, at: Locator) -> list[Diagnostic]:
+    """Supply above return (library values where absent), two distinct attachment points,
+    non-negative (absolute) initial pressures."""
+    found = []
+    supply = force.supply
+    p_s = supply.pressure if supply and supply.pressure is not None else Supply.pressure
+    p_r = (
+        supply.return_pressure
+        if supply and supply.return_pressure is not None
+        else Supply.return_pressure
+    )
+    if p_s <= p_r:
+        key = "pressure" if supply and supply.pressure is not None else "return_pressure"
+        found.append(
+            at.diagnostic(
+                ("forces", name, "supply", key),
+                f"supply pressure must be > return pressure, got {p_s:g} <= {p_r:g} Pa",
+            )
+        )
+    first, second = (model.points.get(p) for p in force.points)
+    if force.points[0] == force.points[1] or (
+        first is not None
+        and second is not None
+        and np.linalg.norm(np.subtract(first.at, second.at)) <= _COINCIDENT
+    ):
+        found.append(
+            at.diagnostic(
+                ("forces", name, "points"),
+                f"the attachment points must be distinct, '{force.points[0]}' and "
+                f"'{force.points[1]}' coincide at design",
+            )
+        )
+    pressures = force.initial_pressures
+    if pressures is not None and min(pressures) < 0.0:
+        found.append(
+            at.diagnostic(
+                ("forces", name, "initial_pressures"),
+                "pressures are absolute and must be >= 0, got "
+                f"[{pressures[0]:g}, {pressures[1]:g}] Pa",
+            )
+        )
+    return found
+
+
+# vector parameters of force elements: (type, key, positive (> 0) or non-negative (>= 0))
+_VECTOR_RANGES = (
+    ("bushing", "stiffness", False),
+    ("bushing", "torsional_stiffness", False),
+    ("bushing", "damping", False),
+    ("bushing", "torsional_damping", False),
+    ("cable_loop", "radii", True),
+)
+
+
+def _vector_ranges(model: MechanismModel, at: Locator) -> list[Diagnostic]:
+    """Components of vector parameters in range; contact materials E > 0, -1 < nu <= 0.5."""
+    found = []
+    for name, force in model.forces.items():
+        for kind, key, positive in _VECTOR_RANGES:
+            values = getattr(force, key) if force.type == kind else ()
+            for i, value in enumerate(values):
+                if value < 0.0 or (positive and value == 0.0):
+                    found.append(
+                        at.diagnostic(
+                            ("forces", name, key, i),
+                            f"must be {'>' if positive else '>='} 0, got {value:g}",
+                        )
+                    )
+    for name, contact in model.contacts.items():
+        materials = getattr(contact, "materials", None)
+        if materials is None:
+            continue
+        for i, (e, nu) in enumerate(zip(materials.E, materials.nu, strict=True)):
+            if e <= 0.0:
+                found.append(
+                    at.diagnostic(
+                        ("contacts", name, "materials", "E", i), f"must be > 0, got {e:g} Pa"
+                    )
+                )
+            if not -1.0 < nu <= 0.5:
+                found.append(
+                    at.diagnostic(
+                        ("contacts", name, "materials", "nu", i),
+                        f"must be in (-1, 0.5], got {nu:g}",
+                    )
+                )
     return found
 
 
@@ -185,4 +277,5 @@ def check_elements(model: MechanismModel, at: Locator) -> list[Diagnostic]:
         + _couplers(model, at)
         + _tables(model, at)
         + _servo_actuators(model, at)
+        + _vector_ranges(model, at)
     )

@@ -59,6 +59,7 @@ class SpherePlane(Strict):
     normal: Direction = Field(description="plane normal, from body 2 to body 1")
     extent: Length | None = Field(
         None,
+        gt=0,
         description=describe(
             "radius of the plane's pad about plane_point (absent: an unbounded plane)", "length"
         ),
@@ -114,12 +115,14 @@ class ContactFriction(Strict):
     """Friction law of a contact: step-function Stribeck (seed 004 eq. 3.9) or Coulomb."""
 
     mu_static: Dimensionless | None = Field(
-        None, description="static coefficient (stribeck; absent: mu_dynamic)"
+        None, ge=0, description="static coefficient (stribeck; absent: mu_dynamic)"
     )
-    mu_dynamic: Dimensionless = Field(description="sliding coefficient [dimensionless]")
-    v_static: Velocity = Field(1.0e-3, description=describe("stiction speed", "velocity"))
-    v_dynamic: Velocity = Field(1.0e-2, description=describe("full sliding speed", "velocity"))
-    viscous: AnySI = Field(0.0, description="viscous coefficient mu_v [s/m, SI]")
+    mu_dynamic: Dimensionless = Field(ge=0, description="sliding coefficient [dimensionless]")
+    v_static: Velocity = Field(1.0e-3, gt=0, description=describe("stiction speed", "velocity"))
+    v_dynamic: Velocity = Field(
+        1.0e-2, gt=0, description=describe("full sliding speed", "velocity")
+    )
+    viscous: AnySI = Field(0.0, ge=0, description="viscous coefficient mu_v [s/m, SI]")
     model: Literal["stribeck", "coulomb"] = Field(
         "stribeck",
         description="stribeck (eq. 3.9) or coulomb (mu_dynamic, regularised below v_static)",
@@ -145,7 +148,7 @@ class _Contact(Strict):
         description="[body 1 (sphere, ball, pin, roller), body 2 (plane, socket, hole, profile)]"
     )
     geometry: Geometry
-    exponent: Dimensionless = Field(1.5, description="force exponent [dimensionless]")
+    exponent: Dimensionless = Field(1.5, gt=0, description="force exponent [dimensionless]")
     friction: ContactFriction | None = None
     active: bool = Field(True, description=_ACTIVE)
 
@@ -154,10 +157,10 @@ class ImpactContact(_Contact):
     """F = k x^e + step(x, 0, 0, depth, c_max) * x_dot."""
 
     type: Literal["impact"]
-    stiffness: AnySI = Field(description=_K)
-    damping: Damping = Field(0.0, description=describe("c_max reached at depth", "damping"))
+    stiffness: AnySI = Field(gt=0, description=_K)
+    damping: Damping = Field(0.0, ge=0, description=describe("c_max reached at depth", "damping"))
     depth: Length | None = Field(
-        None, description=describe("penetration of full damping", "length")
+        None, gt=0, description=describe("penetration of full damping", "length")
     )
 
 
@@ -165,7 +168,7 @@ class HertzContact(_Contact):
     """Hertz force with Lankarani-Nikravesh hysteresis damping from `restitution`."""
 
     type: Literal["hertz"]
-    stiffness: AnySI | None = Field(None, description=_K)
+    stiffness: AnySI | None = Field(None, gt=0, description=_K)
     materials: Materials | None = None
     restitution: Dimensionless | None = Field(None, description="coefficient of restitution")
 
@@ -182,7 +185,7 @@ class RestitutionContact(_Contact):
 
     type: Literal["restitution"]
     restitution: Dimensionless = Field(description="coefficient of restitution")
-    stiffness: AnySI | None = Field(None, description=_K + "; default 1e8")
+    stiffness: AnySI | None = Field(None, gt=0, description=_K + "; default 1e8")
 
 
 Contact = Annotated[ImpactContact | HertzContact | RestitutionContact, Field(discriminator="type")]

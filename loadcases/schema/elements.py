@@ -81,8 +81,8 @@ class Spring(Strict):
 
     type: Literal["spring"]
     points: NamePair = Field(description="[point 1, point 2]")
-    stiffness: Stiffness = Field(0.0, description=describe("stiffness", "stiffness"))
-    damping: Damping = Field(0.0, description=describe("damping", "damping"))
+    stiffness: Stiffness = Field(0.0, ge=0, description=describe("stiffness", "stiffness"))
+    damping: Damping = Field(0.0, ge=0, description=describe("damping", "damping"))
     free_length: Length | None = Field(
         None,
         description=describe("free length (absent and no preload: the design distance)", "length"),
@@ -106,9 +106,11 @@ class TorsionSpring(Strict):
     type: Literal["torsion_spring"]
     joint: Name
     stiffness: TorsionalStiffness = Field(
-        0.0, description=describe("stiffness", "torsional_stiffness")
+        0.0, ge=0, description=describe("stiffness", "torsional_stiffness")
     )
-    damping: TorsionalDamping = Field(0.0, description=describe("damping", "torsional_damping"))
+    damping: TorsionalDamping = Field(
+        0.0, ge=0, description=describe("damping", "torsional_damping")
+    )
     angle0: quantity("angle") | None = Field(
         None, description=describe("free angle (absent and no preload: 0)", "angle")
     )
@@ -190,12 +192,12 @@ class JointFriction(Strict):
 
     type: Literal["joint_friction"]
     joint: Name
-    mu: Dimensionless = Field(description="friction coefficient [dimensionless]")
+    mu: Dimensionless = Field(ge=0, description="friction coefficient [dimensionless]")
     pin_radius: Length | None = Field(
-        None, description=describe("pin (ball) radius; not for prismatic joints", "length")
+        None, gt=0, description=describe("pin (ball) radius; not for prismatic joints", "length")
     )
     preload: ForceOrTorque = Field(
-        0.0, description="torque (N*m) or, on a prismatic joint, force (N) [bare numbers SI]"
+        0.0, ge=0, description="torque (N*m) or, on a prismatic joint, force (N) [bare numbers SI]"
     )
     active: bool = Field(True, description=_ACTIVE)
 

@@ -34,6 +34,19 @@ _SIMPLE = {
     "bool_parsing": "expected true or false",
 }
 
+# a Field(gt=..., ge=..., lt=..., le=...) range: (operator, ctx key of the bound)
+_RANGES = {
+    "greater_than": (">", "gt"),
+    "greater_than_equal": (">=", "ge"),
+    "less_than": ("<", "lt"),
+    "less_than_equal": ("<=", "le"),
+}
+
+
+def _number(value: Any) -> str:
+    """A bound or value of a range error: floats as %g (values are SI after conversion)."""
+    return f"{value:g}" if isinstance(value, float) else _show(value)
+
 
 def did_you_mean(word: str | int, choices: typing.Iterable[str]) -> str | None:
     """`did you mean 'x'?` for the closest of `choices` (difflib), or None (`word` may be
@@ -172,6 +185,9 @@ def _message(error: Any, path: KeyPath, parent: Any) -> tuple[str, str | None, K
         return f"{_SIMPLE[kind]}, got {_show(value)}", None, path
     if kind == "string_too_short":
         return "must not be empty", None, path
+    if kind in _RANGES:
+        op, bound = _RANGES[kind]
+        return f"must be {op} {_number(ctx.get(bound))}, got {_number(value)}", None, path
     return str(error["msg"]).removeprefix("Value error, "), None, path
 
 

@@ -39,10 +39,11 @@ class Seal(Strict):
     springs: int = Field(7, ge=1, description="number of springs N spread along the line")
     stiffness: AnySI = Field(
         0.0,
+        ge=0,
         description="line stiffness k of the line load "
         "w = k x^exponent [N/m per metre of seal at exponent 1, SI]",
     )
-    exponent: Dimensionless = Field(1.0, description="exponent of the line load [-]")
+    exponent: Dimensionless = Field(1.0, gt=0, description="exponent of the line load [-]")
     law: Name | None = Field(
         None,
         description="table of line load [N/m] vs penetration "
@@ -51,9 +52,9 @@ class Seal(Strict):
     gap: Length = Field(
         0.0, description=describe("gap at design (negative: pre-compressed)", "length")
     )
-    mu: Dimensionless = Field(0.0, description="friction coefficient [dimensionless]")
+    mu: Dimensionless = Field(0.0, ge=0, description="friction coefficient [dimensionless]")
     v_threshold: Velocity = Field(
-        1.0e-3, description=describe("sliding speed of full friction", "velocity")
+        1.0e-3, gt=0, description=describe("sliding speed of full friction", "velocity")
     )
     active: bool = Field(True, description=_ACTIVE)
 
@@ -63,7 +64,7 @@ class Damper(Strict):
 
     type: Literal["damper"]
     joint: Name
-    damping: TorsionalDamping = Field(description=describe("damping c", "torsional_damping"))
+    damping: TorsionalDamping = Field(ge=0, description=describe("damping c", "torsional_damping"))
     active: bool = Field(True, description=_ACTIVE)
 
 
@@ -73,6 +74,8 @@ class CableLoop(Strict):
     type: Literal["cable_loop"]
     joints: tuple[Name, Name] = Field(description="[joint 1 (pulley r1), joint 2 (pulley r2)]")
     radii: vector("length", 2) = Field(description=describe("[r1, r2] pulley radii", "length"))
-    stiffness: Stiffness = Field(description=describe("stiffness of each strand", "stiffness"))
-    pretension: Force = Field(0.0, description=describe("strand tension at design", "force"))
+    stiffness: Stiffness = Field(
+        gt=0, description=describe("stiffness of each strand", "stiffness")
+    )
+    pretension: Force = Field(0.0, ge=0, description=describe("strand tension at design", "force"))
     active: bool = Field(True, description=_ACTIVE)

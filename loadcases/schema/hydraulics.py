@@ -38,50 +38,54 @@ _Rate = quantity("frequency")  # 1/s
 class CylinderInput(Strict):
     """Cylinder: chamber 1 (piston side) grows as the actuator extends."""
 
-    area_1: _Area | None = Field(None, description=describe("piston-side area A1", "area"))
-    area_2: _Area | None = Field(None, description=describe("rod-side area A2", "area"))
+    area_1: _Area | None = Field(None, gt=0, description=describe("piston-side area A1", "area"))
+    area_2: _Area | None = Field(None, gt=0, description=describe("rod-side area A2", "area"))
     dead_volumes: vector("volume", None) | None = Field(
         None, description=describe("[V1, V2] at the stroke end that empties each", "volume")
     )
     bulk_modulus: Pressure | None = Field(
-        None, description=describe("effective bulk modulus beta_e", "pressure")
+        None, gt=0, description=describe("effective bulk modulus beta_e", "pressure")
     )
     leakage: quantity("leakage") | None = Field(
-        None, description=describe("internal leakage coefficient C_ip", "leakage")
+        None, ge=0, description=describe("internal leakage coefficient C_ip", "leakage")
     )
-    viscous_friction: Damping | None = Field(None, description=describe("gamma", "damping"))
-    coulomb_friction: Force | None = Field(None, description=describe("F_c", "force"))
+    viscous_friction: Damping | None = Field(None, ge=0, description=describe("gamma", "damping"))
+    coulomb_friction: Force | None = Field(None, ge=0, description=describe("F_c", "force"))
     coulomb_speed: Velocity | None = Field(
-        None, description=describe("speed of full Coulomb friction (tanh)", "velocity")
+        None, gt=0, description=describe("speed of full Coulomb friction (tanh)", "velocity")
     )
-    stop_stiffness: Stiffness | None = Field(None, description=describe("end stops", "stiffness"))
-    stop_damping: Damping | None = Field(None, description=describe("end stops", "damping"))
+    stop_stiffness: Stiffness | None = Field(
+        None, ge=0, description=describe("end stops", "stiffness")
+    )
+    stop_damping: Damping | None = Field(None, ge=0, description=describe("end stops", "damping"))
 
 
 class SupplyInput(Strict):
     """Supply, return and vapour pressures (absolute)."""
 
-    pressure: Pressure | None = Field(None, description=describe("supply p_s", "pressure"))
-    return_pressure: Pressure | None = Field(None, description=describe("return p_r", "pressure"))
+    pressure: Pressure | None = Field(None, gt=0, description=describe("supply p_s", "pressure"))
+    return_pressure: Pressure | None = Field(
+        None, ge=0, description=describe("return p_r", "pressure")
+    )
     vapour_pressure: Pressure | None = Field(
-        None, description=describe("floor of the chamber pressures", "pressure")
+        None, ge=0, description=describe("floor of the chamber pressures", "pressure")
     )
 
 
 class ValveInput(Strict):
     """Servovalve: rated flow at rated current and valve drop; spool dynamics."""
 
-    rated_flow: _Flow | None = Field(None, description=describe("Q_R", "flow"))
+    rated_flow: _Flow | None = Field(None, gt=0, description=describe("Q_R", "flow"))
     rated_pressure_drop: Pressure | None = Field(
-        None, description=describe("dp_R (both lands)", "pressure")
+        None, gt=0, description=describe("dp_R (both lands)", "pressure")
     )
-    rated_current: _Current | None = Field(None, description=describe("i_R", "current"))
+    rated_current: _Current | None = Field(None, gt=0, description=describe("i_R", "current"))
     frequency: _Frequency | None = Field(
-        None, description=describe("spool natural frequency", "frequency")
+        None, gt=0, description=describe("spool natural frequency", "frequency")
     )
-    damping: Dimensionless | None = Field(None, description="spool damping ratio [1]")
+    damping: Dimensionless | None = Field(None, ge=0, description="spool damping ratio [1]")
     transition_pressure: Pressure | None = Field(
-        None, description=describe("laminar transition dp_tr of the orifice law", "pressure")
+        None, gt=0, description=describe("laminar transition dp_tr of the orifice law", "pressure")
     )
 
 
@@ -90,37 +94,37 @@ class ControllerInput(Strict):
 
     kp: quantity("current_gain") | None = Field(None, description=describe("K_p", "current_gain"))
     ki: quantity("integral_gain") | None = Field(None, description=describe("K_i", "integral_gain"))
-    current_limit: _Current | None = Field(None, description=describe("i_max", "current"))
+    current_limit: _Current | None = Field(None, gt=0, description=describe("i_max", "current"))
 
 
 class JetPipeInput(Strict):
     """Torque motor, jet pipe, receiver and spool (seed 004 eqs. 6.1-6.3)."""
 
-    jet_mass: Mass | None = None
-    hinge_stiffness: Stiffness | None = None
-    hinge_damping: Damping | None = None
+    jet_mass: Mass | None = Field(None, gt=0)
+    hinge_stiffness: Stiffness | None = Field(None, ge=0)
+    hinge_damping: Damping | None = Field(None, ge=0)
     motor_gain: quantity("any") | None = Field(None, description="k_t [N/A, SI]")
-    wire_stiffness: Stiffness | None = None
+    wire_stiffness: Stiffness | None = Field(None, ge=0)
     receiver_gain: quantity("any") | None = Field(None, description="K_jr [Pa/m, SI]")
-    receiver_pressure: Pressure | None = None
-    spool_area: _Area | None = None
-    spool_mass: Mass | None = None
-    spool_damping: Damping | None = None
-    rated_opening: Length | None = None
-    discharge: Dimensionless | None = None
-    density: quantity("any") | None = Field(None, description="oil density [kg/m^3, SI]")
+    receiver_pressure: Pressure | None = Field(None, gt=0)
+    spool_area: _Area | None = Field(None, gt=0)
+    spool_mass: Mass | None = Field(None, gt=0)
+    spool_damping: Damping | None = Field(None, ge=0)
+    rated_opening: Length | None = Field(None, gt=0)
+    discharge: Dimensionless | None = Field(None, gt=0)
+    density: quantity("any") | None = Field(None, gt=0, description="oil density [kg/m^3, SI]")
 
 
 class LagInput(Strict):
     """Ideal position servo: first-order lag on the stroke, rod tied by k and c."""
 
     velocity_gain: _Rate | None = Field(
-        None, description=describe("K_v (absent: the valve loop's)", "frequency")
+        None, gt=0, description=describe("K_v (absent: the valve loop's)", "frequency")
     )
     stiffness: Stiffness | None = Field(
-        None, description=describe("k (absent: k_h at design)", "stiffness")
+        None, ge=0, description=describe("k (absent: k_h at design)", "stiffness")
     )
-    damping: Damping | None = Field(None, description=describe("c", "damping"))
+    damping: Damping | None = Field(None, ge=0, description=describe("c", "damping"))
 
 
 class ServoActuator(Strict):
