@@ -10,21 +10,31 @@ wrap-up too.
 Worker processes of a pool run `worker_init()`: a signal stops the run a worker is solving
 in the same way (its rows come back as an interrupted run) and is ignored between runs; the
 parent forwards its signal to its workers (`forward`) and ends the ones that do not return
-within `GRACE_SECONDS`.
+within `GRACE_SECONDS`. The parent starts its workers within `deferred()`: a signal that
+reaches the parent or a new worker before the worker's `worker_init` is recorded, never
+raised there (no traceback from a worker's start-up), and the parent raises it once its
+workers are started. A worker ends with its parent, however the parent ends (SIGKILL too):
+on Linux the kernel kills it (`PR_SET_PDEATHSIG`), elsewhere (and as a second line on Linux)
+a thread of the worker sees its parent change within `WATCH_SECONDS` and ends the process.
 """
 
 from __future__ import annotations
 
+import ctypes
 import os
 import signal
+import sys
 import threading
+import time
 from collections.abc import Callable, Iterable, Iterator
 from contextlib import contextmanager, suppress
 from typing import Any
 
 __all__ = [
     "GRACE_SECONDS",
+    "WATCH_SECONDS",
     "Interrupted",
+    "deferred",
     "exit_code",
     "forward",
     "in_task",
@@ -35,6 +45,8 @@ __all__ = [
 ]
 
 GRACE_SECONDS = 20.0  # a worker's time to return its interrupted run before it is killed
+WATCH_SECONDS = 0.5  # how often a worker checks that its parent is alive
+_PR_SET_PDEATHSIG = 1  # prctl(2): the signal this process gets when its parent dies
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 _received: int | None = None
 _in_task = False  # worker processes: a run is being solved
@@ -87,6 +99,35 @@ def on_signals() -> Iterator[None]:
             signal.signal(s, handler)
 
 
+def _record(signum: int, _frame: Any) -> None:
+    global _received
+    _received = _received or signum
+
+
+@contextmanager
+def deferred() -> Iterator[None]:
+    """Within: SIGINT and SIGTERM are only recorded (main thread only; elsewhere a no-op).
+
+    Processes forked within inherit that, so a signal that reaches a new worker before its
+    `worker_init` is recorded there (the worker then starts no run) instead of raised in its
+    start-up. On leaving, a signal recorded within is raised as `Interrupted` if the
+    handlers outside raise (`on_signals`)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    before = {s: signal.getsignal(s) for s in _SIGNALS}
+    earlier = _received
+    for s in _SIGNALS:
+        signal.signal(s, _record)
+    try:
+        yield
+    finally:
+        for s, handler in before.items():
+            signal.signal(s, handler)
+    if earlier is None and _received is not None and before[signal.Signals(_received)] is _raise:
+        raise Interrupted(_received)
+
+
 def _worker_signal(signum: int, _frame: Any) -> None:
     global _received
     _received = _received or signum
@@ -96,19 +137,40 @@ def _worker_signal(signum: int, _frame: Any) -> None:
         raise Interrupted(signum)
 
 
-def worker_init() -> None:
-    """Initializer of pool workers: a signal stops the run under way, none is ignored."""
+def worker_init(parent: int | None = None) -> None:
+    """Initializer of pool workers: a signal stops the run under way, none is ignored; with
+    `parent` (the pid of the process making the pool) the worker ends when that one does."""
     for s in _SIGNALS:
         signal.signal(s, _worker_signal)
+    if parent is not None:
+        _end_with(parent)
+
+
+def _end_with(parent: int) -> None:
+    """End this process (`os._exit`) as soon as `parent` is no longer its parent."""
+    if sys.platform.startswith("linux"):
+        with suppress(OSError, AttributeError):
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(_PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+    if os.getppid() != parent:  # the parent died before it could be watched
+        os._exit(exit_code(signal.SIGKILL))
+    watcher = threading.Thread(target=_watch, args=(parent,), name="loads-parent", daemon=True)
+    watcher.start()
+
+
+def _watch(parent: int) -> None:
+    while os.getppid() == parent:
+        time.sleep(WATCH_SECONDS)
+    os._exit(exit_code(signal.SIGKILL))
 
 
 def in_task(fn: Callable[[Any], Any], item: Any) -> Any:
     """`fn(item)` in a pool worker, interruptible by a signal while it runs."""
     global _in_task
-    if _received is not None:  # interrupted before this run began: do not start it
-        raise Interrupted(_received)
-    _in_task = True
+    _in_task = True  # first: a signal from here on raises, one before is in `_received`
     try:
+        if _received is not None:  # interrupted before this run began: do not start it
+            raise Interrupted(_received)
         return fn(item)
     finally:
         _in_task = False

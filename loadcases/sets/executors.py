@@ -11,7 +11,8 @@ a shared file system) but no access to the output folder.
 
 Interrupts (`loadcases.foundation.interrupts`): after SIGINT or SIGTERM no new run starts; the runs
 being solved in local workers stop and come back with their rows (status `interrupted`);
-no worker outlives the pool. On Dask the runs under way are cancelled.
+no worker outlives the pool, and a worker ends with this process however it ends (SIGKILL
+too: `interrupts.worker_init`). On Dask the runs under way are cancelled.
 """
 
 from __future__ import annotations
@@ -86,12 +87,15 @@ class PoolExecutor:
             yield from SerialExecutor().map_unordered(fn, items)
             return
         others = {p.pid for p in multiprocessing.active_children()}
-        pool = ProcessPoolExecutor(max_workers=workers, initializer=interrupts.worker_init)
-        futures = {
-            pool.submit(interrupts.in_task, fn, item): index for index, item in enumerate(items)
-        }
+        pool = ProcessPoolExecutor(
+            max_workers=workers, initializer=interrupts.worker_init, initargs=(os.getpid(),)
+        )
+        futures: dict[Future, int] = {}
         finished = False
         try:
+            with interrupts.deferred():  # the workers start here: a signal waits till after
+                for index, item in enumerate(items):
+                    futures[pool.submit(interrupts.in_task, fn, item)] = index
             for future in as_completed(futures):
                 yield futures[future], future.result()
             finished = True
@@ -124,6 +128,8 @@ def _interrupted_runs(
 ) -> Iterator[tuple[int, Any]]:
     """After an interrupt: cancel the runs not started, stop the ones under way (the signal
     forwarded to the workers) and yield those that come back within the grace time."""
+    for future in futures:  # here, before waiting: a future the pool's thread cancels later
+        future.cancel()  # would never wake `as_completed`, which then waits the grace time out
     pool.shutdown(wait=False, cancel_futures=True)
     interrupts.forward(interrupts.received() or signal.SIGINT, workers.pids())
     running = [f for f in futures if not f.cancelled()]

@@ -138,7 +138,9 @@ def test_sigint_of_a_serial_set_keeps_the_finished_run_and_saves_the_one_under_w
     out = tmp_path / "out" / "mix"
     _wait_for(lambda: (out / "crank-turn.summary.json").exists(), process)
     cpu = _cpu_seconds(process.pid)
-    _wait_for(lambda: _cpu_seconds(process.pid) > cpu + SOLVING_CPU, process)
+    # twice the margin: the run under way loads, builds and may compile its kernels first
+    # (a busy machine stretched that past SOLVING_CPU: the stopped run had only its first row)
+    _wait_for(lambda: _cpu_seconds(process.pid) > cpu + 2 * SOLVING_CPU, process)
     os.killpg(process.pid, signal.SIGINT)  # as Ctrl-C in a terminal
     stdout, stderr = process.communicate(timeout=120)
     assert process.returncode == exit_code(signal.SIGINT) == 130, stderr

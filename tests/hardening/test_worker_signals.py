@@ -1,0 +1,114 @@
+"""Issue 39 item 4: signals at any instant.
+
+No pool worker outlives `loads`, however it ends (SIGKILL too: a worker would otherwise go
+on solving and hold the caller's stdout open), and SIGINT or SIGTERM at start-up or while
+the workers start gives the promised message and exit status promptly, with no traceback
+from any process.
+"""
+
+from __future__ import annotations
+
+import os
+import signal
+import time
+from pathlib import Path
+
+import pytest
+
+from loadcases.foundation.interrupts import exit_code
+from tests.hardening.test_interrupts import _children, _start, _wait_for, _write
+
+PROMPTLY = 10.0  # s: generous for a loaded machine; the work itself takes well under 5 s
+
+
+def _two_slow_runs(folder: Path) -> None:
+    """`two.set.yaml`: two runs of minutes each, one per worker with `-j 2`."""
+    _write(folder)
+    (folder / "two.set.yaml").write_text(
+        "set: two\ncases: [slow-a.case.yaml]\nsweep: {swing: [0.5, 1.0]}\n"
+    )
+
+
+def _alive(pid: int) -> bool:
+    """The process exists and is not a zombie (an orphan's new parent may not reap it)."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except (FileNotFoundError, ProcessLookupError):
+        return False
+    return stat.rsplit(")", 1)[1].split()[0] != "Z"
+
+
+def _ended(pids: list[int], timeout: float = PROMPTLY) -> bool:
+    deadline = time.monotonic() + timeout
+    while any(_alive(p) for p in pids) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    return not any(_alive(p) for p in pids)
+
+
+def _kill(pids: list[int]) -> None:
+    """Leave no process behind, whatever the test found."""
+    for pid in pids:
+        if _alive(pid):
+            os.kill(pid, signal.SIGKILL)
+
+
+def _catches(pid: int, signum: int) -> bool:
+    """The process has a handler of `signum` (its SigCgt mask in /proc)."""
+    try:
+        lines = Path(f"/proc/{pid}/status").read_text().splitlines()
+    except (FileNotFoundError, ProcessLookupError):
+        return False
+    mask = next(int(line.split()[1], 16) for line in lines if line.startswith("SigCgt:"))
+    return bool(mask >> (signum - 1) & 1)
+
+
+def test_sigkill_of_loads_ends_its_workers(tmp_path: Path) -> None:
+    _two_slow_runs(tmp_path)
+    process = _start(tmp_path, "run", "two.set.yaml", "-j", "2", "-o", "out")
+    workers: list[int] = []
+    try:
+        _wait_for(lambda: len(_children(process.pid)) == 2, process)
+        workers = _children(process.pid)
+        process.kill()
+        process.wait(timeout=PROMPTLY)
+        assert _ended(workers), "a worker outlived loads killed by SIGKILL"
+        # nothing holds the caller's pipes open: they reach EOF
+        _, stderr = process.communicate(timeout=PROMPTLY)
+        assert "Traceback" not in stderr
+    finally:
+        _kill([process.pid, *workers])
+
+
+@pytest.mark.parametrize(
+    ("signum", "moment"),
+    [
+        (signal.SIGTERM, "start-up"),
+        (signal.SIGTERM, "workers starting"),
+        (signal.SIGINT, "workers starting"),
+    ],
+)
+def test_signal_at_start_up_or_while_workers_start_exits_promptly(
+    tmp_path: Path, signum: int, moment: str
+) -> None:
+    _two_slow_runs(tmp_path)
+    process = _start(tmp_path, "run", "two.set.yaml", "-j", "2", "-o", "out")
+    seen: set[int] = set()
+    try:
+        if moment == "start-up":  # as soon as loads has its handler
+            _wait_for(lambda: _catches(process.pid, signum), process, timeout=60.0)
+        else:  # as soon as the first worker exists: before or while it starts
+            _wait_for(lambda: bool(seen.update(_children(process.pid)) or seen), process)
+        if signum == signal.SIGINT:
+            os.killpg(process.pid, signum)  # as Ctrl-C in a terminal: workers too
+        else:
+            process.send_signal(signum)
+        sent = time.monotonic()
+        stdout, stderr = process.communicate(timeout=60)
+        took = time.monotonic() - sent
+        assert process.returncode == exit_code(signum), stderr
+        assert f"loads: interrupted by {signal.Signals(signum).name}" in stderr
+        assert "Traceback" not in stderr and "Traceback" not in stdout
+        assert took < PROMPTLY, f"exit {took:.1f} s after the signal"
+        assert _ended(list(seen)), "a worker outlived loads"
+    finally:
+        _kill([process.pid, *seen])
