@@ -25,6 +25,7 @@ from .nodes import (
     mul,
     neg,
     num,
+    once,
     power,
     sub,
 )
@@ -71,9 +72,9 @@ class _Derivative:
         self.done: dict[int, tuple[Node, Node]] = {}
 
     def of(self, node: Node) -> Node:
-        known = self.done.get(id(node))
-        if known is not None:
-            return known[1]
+        return once(self.done, node, self._of)
+
+    def _of(self, node: Node) -> Node:
         if isinstance(node, Num):
             result: Node = num(0.0, node.offset)
         elif isinstance(node, Time):
@@ -93,7 +94,6 @@ class _Derivative:
             )
         else:
             raise TypeError(f"cannot differentiate {node!r}")
-        self.done[id(node)] = (node, result)  # the node kept alive: its id stays its own
         return result
 
     def op(self, node: Op) -> Node:

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
+from typing import TypeVar
 
 __all__ = [
     "COMPARISONS",
@@ -27,6 +28,7 @@ __all__ = [
     "mul",
     "neg",
     "num",
+    "once",
     "power",
     "sub",
     "walk",
@@ -206,3 +208,18 @@ def power(a: Node, b: Node, offset: int = 0) -> Node:
 def call(func: str, *args: Node, offset: int = 0) -> Call:
     """func(args...)."""
     return Call(func, tuple(args), offset)
+
+
+T = TypeVar("T")
+
+
+def once(memo: dict[int, tuple[Node, T]], node: Node, make: Callable[[Node], T]) -> T:
+    """`make(node)`, made once per node of a tree whose sub-trees may be shared (a
+    derivative's): kept in `memo` by the node's id, with the node itself, so that the id
+    stays its own while the memo lives."""
+    known = memo.get(id(node))
+    if known is not None:
+        return known[1]
+    made = make(node)
+    memo[id(node)] = (node, made)
+    return made

@@ -18,6 +18,7 @@ from .nodes import (
     Table,
     Time,
     children,
+    once,
     walk,
     with_children,
 )
@@ -98,12 +99,7 @@ def fold(node: Node) -> Node:
 
 
 def _fold(node: Node, done: dict[int, tuple[Node, Node]]) -> Node:
-    known = done.get(id(node))
-    if known is not None:
-        return known[1]
-    folded = _fold_node(node, done)
-    done[id(node)] = (node, folded)  # the node kept alive: its id stays its own
-    return folded
+    return once(done, node, lambda n: _fold_node(n, done))
 
 
 def _fold_node(node: Node, done: dict[int, tuple[Node, Node]]) -> Node:

@@ -15,7 +15,7 @@ from operator import methodcaller
 
 from .errors import ExpressionError
 from .functions import FUNCTIONS, INTERNAL, step
-from .nodes import Call, Measure, Node, Num, Op, Table, Time
+from .nodes import Call, Measure, Node, Num, Op, Table, Time, once
 
 __all__ = ["Scalar", "build_scalar"]
 
@@ -38,11 +38,12 @@ _Built = dict[int, tuple[Node, Scalar]]
 def build_scalar(node: Node, built: _Built | None = None) -> Scalar:
     """The closure computing `node` at (t, state); `built` holds the closures made so far
     in this build, by node id."""
-    if built is None:
-        built = {}
-    known = built.get(id(node))
-    if known is not None:
-        return known[1]
+    memo: _Built = {} if built is None else built
+    return once(memo, node, lambda n: _scalar(n, memo))
+
+
+def _scalar(node: Node, built: _Built) -> Scalar:
+    """`build_scalar` of one node (its operands through `build_scalar`, once each)."""
     if isinstance(node, Num):
         value = node.value
         fn: Scalar = lambda t, s: value  # noqa: E731
@@ -58,7 +59,6 @@ def build_scalar(node: Node, built: _Built | None = None) -> Scalar:
         fn = _table(node, built)
     else:
         raise TypeError(f"cannot compile node {node!r}; names must be resolved first")
-    built[id(node)] = (node, fn)  # the node kept alive: its id stays its own
     return fn
 
 

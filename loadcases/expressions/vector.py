@@ -11,7 +11,7 @@ from collections.abc import Callable
 import numpy as np
 
 from .functions import FUNCTIONS, INTERNAL
-from .nodes import Call, Node, Num, Op, Table, Time
+from .nodes import Call, Node, Num, Op, Table, Time, once
 
 __all__ = ["Vector", "build_vector"]
 
@@ -41,14 +41,8 @@ _Built = dict[int, tuple[Node, Vector]]
 def build_vector(node: Node, built: _Built | None = None) -> Vector:
     """The closure computing a time-only `node` for an array of times; `built` holds the
     closures made so far in this build, by node id (a shared sub-tree becomes one)."""
-    if built is None:
-        built = {}
-    known = built.get(id(node))
-    if known is not None:
-        return known[1]
-    fn = _build(node, built)
-    built[id(node)] = (node, fn)  # the node kept alive: its id stays its own
-    return fn
+    memo: _Built = {} if built is None else built
+    return once(memo, node, lambda n: _build(n, memo))
 
 
 def _build(node: Node, built: _Built) -> Vector:

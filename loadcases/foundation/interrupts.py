@@ -82,21 +82,28 @@ def _raise(signum: int, _frame: Any) -> None:
 
 
 @contextmanager
+def _handling(handler: Callable[[int, Any], None]) -> Iterator[dict]:
+    """Within: `handler` for SIGINT and SIGTERM; yields the handlers before, put back after."""
+    before = {s: signal.getsignal(s) for s in _SIGNALS}
+    for s in _SIGNALS:
+        signal.signal(s, handler)
+    try:
+        yield before
+    finally:
+        for s, previous in before.items():
+            signal.signal(s, previous)
+
+
+@contextmanager
 def on_signals() -> Iterator[None]:
     """Within: SIGINT and SIGTERM raise `Interrupted` (main thread only; elsewhere a no-op)."""
     global _received
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    before = {s: signal.getsignal(s) for s in _SIGNALS}
     _received = None
-    for s in _SIGNALS:
-        signal.signal(s, _raise)
-    try:
+    with _handling(_raise):
         yield
-    finally:
-        for s, handler in before.items():
-            signal.signal(s, handler)
 
 
 def _record(signum: int, _frame: Any) -> None:
@@ -115,15 +122,9 @@ def deferred() -> Iterator[None]:
     if threading.current_thread() is not threading.main_thread():
         yield
         return
-    before = {s: signal.getsignal(s) for s in _SIGNALS}
     earlier = _received
-    for s in _SIGNALS:
-        signal.signal(s, _record)
-    try:
+    with _handling(_record) as before:
         yield
-    finally:
-        for s, handler in before.items():
-            signal.signal(s, handler)
     if earlier is None and _received is not None and before[signal.Signals(_received)] is _raise:
         raise Interrupted(_received)
 
