@@ -18,19 +18,21 @@ from mechlib.solvers.march import accepted
 
 def test_step_grows_by_the_error_law_and_only_past_regrow() -> None:
     # err = 1/8: 0.9 * 8^(1/3) = 1.8 > 1.5 -> h_try * 1.8
-    assert rules.grown_step(0.01, 0.125, 0.01, 1.0) == pytest.approx(0.018, rel=1e-15)
+    assert rules.step_size(0.01, 0.125, 0.01, 1.0, True) == pytest.approx(0.018, rel=1e-15)
     # err = 0.5: 0.9 * 2^(1/3) = 1.134 < 1.5 -> the step size stays
-    assert rules.grown_step(0.01, 0.5, 0.007, 1.0) == 0.007
+    assert rules.step_size(0.01, 0.5, 0.007, 1.0, True) == 0.007
     # err = 0: x4, capped by the largest step
-    assert rules.grown_step(0.01, 0.0, 0.01, 1.0) == pytest.approx(0.04)
-    assert rules.grown_step(0.01, 0.0, 0.01, 0.03) == 0.03
+    assert rules.step_size(0.01, 0.0, 0.01, 1.0, True) == pytest.approx(0.04)
+    assert rules.step_size(0.01, 0.0, 0.01, 0.03, True) == 0.03
 
 
-def test_step_shrinks_by_the_error_law_down_to_a_fifth() -> None:
+def test_step_shrinks_by_the_error_law_down_to_a_fifth_or_a_quarter_after_newton() -> None:
     # err = 8: 0.9 / 2 = 0.45
-    assert rules.shrunk_step(0.01, 8.0) == pytest.approx(0.0045, rel=1e-15)
+    assert rules.step_size(0.01, 8.0, 0.01, 1.0, True) == pytest.approx(0.0045, rel=1e-15)
     # err = 1e6: 0.9 / 100 = 0.009 < 0.2 -> a fifth
-    assert rules.shrunk_step(0.01, 1e6) == pytest.approx(0.002, rel=1e-15)
+    assert rules.step_size(0.01, 1e6, 0.01, 1.0, True) == pytest.approx(0.002, rel=1e-15)
+    # Newton did not converge: a quarter, whatever the (infinite) error
+    assert rules.step_size(0.01, math.inf, 0.01, 1.0, False) == pytest.approx(0.0025)
 
 
 def test_substeps_land_on_the_output_time() -> None:

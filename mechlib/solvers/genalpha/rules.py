@@ -28,13 +28,12 @@ __all__ = [
     "STAGNANT",
     "carried_rate",
     "converged",
-    "grown_step",
     "is_noise",
     "newton_rate",
     "refactors",
-    "shrunk_step",
     "slow",
     "stalled",
+    "step_size",
     "substep",
     "towards",
 ]
@@ -66,20 +65,22 @@ FIRST_STEP = 1e-6
 
 
 @njit(**KERNEL)
-def grown_step(h_try: float, err: float, h: float, max_step: float) -> float:
-    """The step size (s) after a step h_try (s) accepted with scaled local error err <= 1:
-    h_try x min(GROW, SAFETY err^(-1/3)) up to max_step when that grows it by more than
-    REGROW, else h unchanged (a change restarts the pseudo-acceleration: not for less)."""
+def step_size(h_try: float, err: float, h: float, max_step: float, converged: bool) -> float:
+    """The step size (s) after a step h_try (s) with scaled local error err, the step size
+    having been h (s): the one place it is chosen.
+    - Newton did not converge (`converged` False): FAILED_SHRINK h_try.
+    - Rejected by its error (err > 1): h_try max(SHRINK, SAFETY err^(-1/3)).
+    - Accepted: h_try min(GROW, SAFETY err^(-1/3)) up to max_step when that grows it by
+      more than REGROW, else h unchanged (a change restarts the pseudo-acceleration: not for
+      less)."""
+    if not converged:
+        return FAILED_SHRINK * h_try
+    if err > 1.0:
+        return h_try * max(SHRINK, SAFETY * err ** (-1.0 / 3.0))
     grow = GROW if err == 0.0 else min(GROW, SAFETY * err ** (-1.0 / 3.0))
     if grow > REGROW:
         return min(max_step, h_try * grow)
     return h
-
-
-@njit(**KERNEL)
-def shrunk_step(h_try: float, err: float) -> float:
-    """The step size (s) after a step h_try (s) rejected by its error test (err > 1)."""
-    return h_try * max(SHRINK, SAFETY * err ** (-1.0 / 3.0))
 
 
 @njit(**KERNEL)

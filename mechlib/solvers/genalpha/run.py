@@ -284,7 +284,7 @@ def _accept_control(ctrl, h_try, err, eta, iterations):
     ctrl[ETA] = rules.carried_rate(eta)
     if rules.slow(iterations):
         ctrl[STALE] = 1.0
-    ctrl[H] = rules.grown_step(h_try, err, ctrl[H], ctrl[MAX_STEP])
+    ctrl[H] = rules.step_size(h_try, err, ctrl[H], ctrl[MAX_STEP], True)
     ctrl[H_USED] = h_try
     ctrl[T] += h_try
 
@@ -470,7 +470,7 @@ class StepRun:
         stepper = self.stepper
         stepper.integ.drop()
         stepper.h_used = h
-        stepper._shrink(s, rules.FAILED_SHRINK * h)
+        stepper._shrink(s, rules.step_size(h, math.inf, stepper.h, stepper.max_step, False))
 
     def _call(self, s, outputs: np.ndarray, i: int, trajectory, progress, fresh: bool) -> tuple:
         """One `run_steps` call from s (`fresh`: the matrix was factored for its first

@@ -138,13 +138,10 @@ class GeneralizedAlphaStepper(DenseStepper):
             self.system.states.reject()
             if spec.fixed_step:
                 raise _newton_failure(self.system, s.t, h_try)
-            failed = new is None
-            self._shrink(
-                s, rules.FAILED_SHRINK * h_try if failed else rules.shrunk_step(h_try, err)
-            )
+            self._shrink(s, rules.step_size(h_try, err, self.h, self.max_step, new is not None))
             return None, err
         if not spec.fixed_step:
-            self.h = rules.grown_step(h_try, err, self.h, self.max_step)
+            self.h = rules.step_size(h_try, err, self.h, self.max_step, True)
         return _state(s.t + h_try, new), err
 
     def _shrink(self, s: State, h: float) -> None:
@@ -235,7 +232,9 @@ class GeneralizedAlphaStepper(DenseStepper):
             raise _newton_failure(
                 self.system, state.t, failure.t - state.t, f"locating event {events()}"
             )
-        self._shrink(state, rules.FAILED_SHRINK * (new.t - state.t))
+        self._shrink(
+            state, rules.step_size(new.t - state.t, math.inf, self.h, self.max_step, False)
+        )
 
 
 def _newton_failure(system: System, t: float, h: float, doing: str = "") -> SolverFailure:
