@@ -37,7 +37,7 @@ from scipy.sparse.linalg import splu
 
 from mechlib.core.jit import njit
 from mechlib.kinematics import constraint_arrays as ca
-from mechlib.kinematics.constraint_arrays import ConstraintArrays, measure_args, row_work
+from mechlib.kinematics.constraint_arrays import ConstraintArrays, row_work
 from mechlib.linalg.rank import Redundancy
 from mechlib.system.system import System
 
@@ -290,31 +290,28 @@ def _compiled_measures(
 ) -> tuple[np.ndarray, np.ndarray]:
     """(lows, highs) of the rows at states `qs` (n, nq), in one compiled call: the
     measures `_Batch` takes of the scaled unit constraint rows, without keeping them
-    (mechlib.kinematics.constraint_arrays.scaled_row, asked for no coordinate's gradient)."""
+    (mechlib.kinematics.constraint_arrays.scaled_row)."""
     ints, floats = arrays.packed()
-    measures = measure_args([], 4) + measure_args([], 5)
     n, nq = qs.shape
-    work = row_work(ints, nq, 0, 0)
+    work = row_work(ints, nq)
     lows, highs = np.empty(n), np.empty(n)
     _rows_measures(
-        np.ascontiguousarray(qs), ints, floats, scale, measures, work, _GRAM_FLOOR, bounds,
-        lows, highs,
-    )  # fmt: skip
+        np.ascontiguousarray(qs), ints, floats, scale, work, _GRAM_FLOOR, bounds, lows, highs
+    )
     return lows, highs
 
 
 @njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
-def _rows_measures(qs, ints, floats, scale, measures, work, floor, bounds, lows, highs):
+def _rows_measures(qs, ints, floats, scale, work, floor, bounds, lows, highs):
     """Per state of qs: `_row_measures` of its scaled unit rows
     (mechlib.kinematics.constraint_arrays.scaled_row) into lows and highs."""
-    ai, aj, au, av, ti, tj, tv, tsi, tsj = measures
     nq = qs.shape[1]
     m = ints[7]
-    jac, grad = np.zeros((m, nq)), np.zeros((nq, 0))
+    jac = np.zeros((m, nq))
     gram, inverse, column = np.empty((m, m)), np.empty((m, m)), np.empty((2, m))
     packed = ca.unpack(ints, floats)
     for r in range(qs.shape[0]):
-        ca.scaled_row(qs[r], packed, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, work, jac, grad)
+        ca.scaled_row(qs[r], packed, scale, work, jac)
         lows[r], highs[r] = _row_measures(jac, floor, bounds, gram, inverse, column)
 
 

@@ -547,13 +547,12 @@ def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
 
 
 @njit(**KERNEL)
-def scaled_row(q, packed, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, work, jac, grad):
+def scaled_row(q, packed, scale, work, jac):
     """At state q (7 nb,): the active constraint rows scaled per column by `scale` and each
-    to unit length (jac (m, 7 nb): zero rows stay zero), and the gradients of the given
-    measures (angles, then travels) scaled the same way, as columns (grad (7 nb,
-    measures)): what mechlib.checks.singularity measures at a recorded row. `packed`: the
-    constraints unpacked (`unpack`); `work`: `row_work`'s arrays, reused from row to row."""
-    full, rows, measures, values, measure_refs, refs, functions = work
+    to unit length (jac (m, 7 nb): zero rows stay zero): what mechlib.checks.singularity
+    measures at a recorded row. `packed`: the constraints unpacked (`unpack`); `work`:
+    `row_work`'s arrays, reused from row to row."""
+    full, rows, refs, functions = work
     nq = q.shape[0]
     nb = nq // 7
     x, _ = state_arrays(q, q, nb)
@@ -569,26 +568,11 @@ def scaled_row(q, packed, scale, ai, aj, au, av, ti, tj, tv, tsi, tsj, work, jac
             reciprocal = 1.0 / math.sqrt(norm)
             for j in range(nq):
                 jac[i, j] *= reciprocal
-    if values.shape[0]:
-        measures[:, :] = 0.0
-        measure_rows(x, ai, aj, au, av, ti, tj, tv, tsi, tsj, measure_refs, values, measures)
-        for c in range(values.shape[0]):
-            for j in range(nq):
-                grad[j, c] = measures[c, j] * scale[j]
 
 
-def row_work(ints: np.ndarray, nq: int, angles: int, travels: int) -> tuple:
-    """Work arrays of `scaled_row` for a pack (`ConstraintArrays.packed`'s ints) and the
-    numbers of angle and travel measures: the rows start at zero (`constraint_rows`
-    fills only their bodies' blocks)."""
+def row_work(ints: np.ndarray, nq: int) -> tuple:
+    """Work arrays of `scaled_row` for a pack (`ConstraintArrays.packed`'s ints): the rows
+    start at zero (`constraint_rows` fills only their bodies' blocks)."""
     nb, ns, n1, n2, ne = ints[0], ints[1], ints[2], ints[3], ints[6]
     nall = nb + 3 * ns + n1 + n2 + ne
-    return (
-        np.zeros(nall),
-        np.zeros((nall, nq + 7)),
-        np.zeros((angles + travels, nq + 7)),
-        np.zeros(angles + travels),
-        np.zeros(angles),
-        np.zeros(ints[4]),
-        np.zeros((ne, 3)),
-    )
+    return np.zeros(nall), np.zeros((nall, nq + 7)), np.zeros(ints[4]), np.zeros((ne, 3))
