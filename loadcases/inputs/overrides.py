@@ -5,8 +5,8 @@ A value is read by the quantity parser of the files (`loadcases.foundation.units
 digits 0-9, a plain space, no line break; messages quote it once, at most 80 characters.
 The parameter must be defined (`parameters:` of the case, its mechanism or, for a set, the
 set) and a value must have the dimension of the definition when that has a unit. A run
-with overrides is named like a sweep run, `CASE[length=1.5]`, so it never takes the place
-(or the saved results) of the run without them.
+with overrides is named like a sweep run, `CASE[length=1.5m]` (the value as written), so
+it never takes the place (or the saved results) of the run without them.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from loadcases.foundation.clip import clip
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.units import UnitError, dimension_mismatch, to_si
-from loadcases.inputs.run_identity import Pairs
+from loadcases.inputs.run_identity import Labels, Pairs, value_label
 from loadcases.schema.errors import did_you_mean
 from loadcases.yamlfiles.source import Locator
 
@@ -27,6 +27,7 @@ __all__ = [
     "Override",
     "OverrideError",
     "defined_parameters",
+    "labels",
     "override_problems",
     "pairs",
     "parse_overrides",
@@ -85,6 +86,11 @@ def _finite_number(value: str) -> str | float:
     """`value`, or its float for `nan` and `inf` (refused by `to_si` as not finite rather
     than as unreadable); any other text, a plain number too, is read as files are."""
     return float(value) if _NOT_FINITE.fullmatch(value) else value
+
+
+def labels(overrides: Iterable[Override]) -> Labels:
+    """{(name, SI value): the value as written} of each override, for run names."""
+    return {(o.name, o.value): value_label(o.text) for o in overrides}
 
 
 def pairs(overrides: Iterable[Override]) -> Pairs:

@@ -15,7 +15,7 @@ from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.foundation.process_settings import freeze_heap, one_blas_thread
 from loadcases.inputs.kinds import file_kind
 from loadcases.inputs.loader import CaseFile, load_case, load_mechanism
-from loadcases.inputs.overrides import Override, pairs
+from loadcases.inputs.overrides import Override, labels, pairs
 from loadcases.inputs.run_identity import run_name
 from loadcases.results.files import write_results
 from loadcases.results.outcome import RunOutcome
@@ -59,12 +59,13 @@ def run_case(
         built.column_units.update(margin.units())
     freeze_heap()
     return RunOutcome(
-        name=name or run_name(cf.case.case, pairs(cf.what_if)),
+        name=name or run_name(cf.case.case, pairs(cf.what_if), labels(cf.what_if)),
         case_file=Path(cf.path),
         analysis=built.analysis.name,
         solution=solution,
         input_sha256=cf.input_sha256,
         column_units=built.column_units,
+        request_kinds=built.request_kinds,
         warnings=built.warnings,
         parameters=dict(cf.parameters),
         overrides=dict(pairs(cf.what_if)),

@@ -9,11 +9,13 @@ Rules (also in docs/user-guide.md "Load-case sets: runs, envelope and workbook")
   again would only add identical copies to the envelope.
 - Set `parameters:` override the case's for every run of a case that has them.
 - A run is named `CASE[p1=v1,p2=v2]`: the swept parameters in the order the set file lists
-  them (sweep and zip together), values in SI formatted `%g`; a run with no swept
-  parameter is named `CASE`.
+  them (sweep and zip together), each value as the set wrote it (`airspeed=250kt`; a bare
+  number `%g`; `loadcases.inputs.run_identity`); a run with no swept parameter is named
+  `CASE`.
 - `loads run SET --set NAME=VALUE` overrides NAME in every run of a case that has it
   (after the set's `parameters:`); the override names the run after the swept parameters
-  when the case uses it (`CASE[p1=v1,NAME=VALUE]`). A swept parameter cannot be overridden.
+  when the case uses it (`CASE[p1=v1,NAME=VALUE]`, VALUE as given). A swept parameter
+  cannot be overridden.
 - The input hash of a run covers the case and mechanism file bytes, every parameter value
   of the run and the engine version: a run is reused only when all of them are unchanged.
 """
@@ -32,8 +34,14 @@ from loadcases.checks.sets import check_set_cases
 from loadcases.expressions import ExpressionError, parse
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile, SetFile, load_case, load_set, load_set_cases
-from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
-from loadcases.inputs.run_identity import Pairs, run_hash, run_name
+from loadcases.inputs.overrides import (
+    Override,
+    defined_parameters,
+    labels,
+    override_problems,
+    pairs,
+)
+from loadcases.inputs.run_identity import Labels, Pairs, run_hash, run_name, value_label
 from loadcases.results.files import package_version
 
 __all__ = [
@@ -149,8 +157,27 @@ def _in_use(path: tuple[str, ...], mechanism: dict) -> bool:
     return path[2] in mechanism.get(path[1], {})
 
 
+def _written_values(set_file: SetFile) -> dict[tuple[str, float], str]:
+    """{(parameter, SI value): the value as the set wrote it} of its sweep and zip lists."""
+    raw = set_file.locator.data
+    found: dict[tuple[str, float], str] = {}
+    for section in ("sweep", "zip"):
+        written = raw.get(section) if isinstance(raw, dict) else None
+        for name, values in getattr(set_file.model, section).items():
+            texts = written.get(name) if isinstance(written, dict) else None
+            if isinstance(texts, list) and len(texts) == len(values):
+                for value, text in zip(values, texts):
+                    found.setdefault((name, float(value)), value_label(text))
+    return found
+
+
 def _case_runs(
-    set_file: SetFile, cf: CaseFile, order: list[str], version: str, what_if: Pairs
+    set_file: SetFile,
+    cf: CaseFile,
+    order: list[str],
+    version: str,
+    what_if: Pairs,
+    written: Labels,
 ) -> list[RunSpec]:
     """The runs of one case: combinations restricted to the parameters it uses."""
     fixed = {n: v for n, v in set_file.model.parameters.items() if n in cf.parameters}
@@ -166,7 +193,7 @@ def _case_runs(
         parameters = tuple({**cf.parameters, **fixed, **dict(swept), **dict(overrides)}.items())
         runs.append(
             RunSpec(
-                run_name(cf.case.case, swept + named),
+                run_name(cf.case.case, swept + named, written),
                 cf.case.case,
                 str(Path(cf.path).resolve()),
                 parameters,
@@ -179,7 +206,8 @@ def _case_runs(
 
 
 def _name_clashes(set_file: SetFile, runs: list[RunSpec]) -> list[Diagnostic]:
-    """Distinct values that print alike under `%g` would overwrite each other's results."""
+    """Distinct values that print alike (`%g` of bare numbers) would overwrite each other's
+    results."""
     found, seen = [], set()
     for spec in runs:
         if spec.name in seen:
@@ -190,8 +218,9 @@ def _name_clashes(set_file: SetFile, runs: list[RunSpec]) -> list[Diagnostic]:
                     *set_file.where((section, names[0])),
                     f"{section}.{names[0]}",
                     f"two runs are both named '{spec.name}'",
-                    hint="values that differ only beyond 6 significant "
-                    "digits print alike in run names (%g); space them wider",
+                    hint="bare numbers that differ only beyond 6 significant "
+                    "digits print alike in run names (%g); space them wider or write them "
+                    "with a unit",
                 )
             )
         seen.add(spec.name)
@@ -247,7 +276,10 @@ def compile_set(
     version = version or package_version()
     order = swept_order(set_file)
     given = pairs(what_if)
-    runs = [spec for cf in cases for spec in _case_runs(set_file, cf, order, version, given)]
+    written = {**_written_values(set_file), **labels(what_if)}
+    runs = [
+        spec for cf in cases for spec in _case_runs(set_file, cf, order, version, given, written)
+    ]
     found = _name_clashes(set_file, runs) + _compared_runs(set_file, runs)
     if found:
         raise InputError(found)

@@ -16,7 +16,7 @@ LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library"
 PRESS_SET = str(LIBRARY / "examples" / "press_sizing.set.yaml")
 FOURBAR = str(LIBRARY / "verification" / "fourbar_quasistatic.case.yaml")
 MODES = str(LIBRARY / "verification" / "solar_array" / "rotor_modes.case.yaml")
-RUN = "press-stroke[crank_speed=6.28319,press_force=1500]"
+RUN = "press-stroke[crank_speed=360deg_per_s,press_force=1500N]"
 
 
 def draw(*args: str):
@@ -31,10 +31,10 @@ def test_a_set_without_run_lists_its_runs() -> None:
 
 
 def test_a_wrong_run_lists_the_runs_and_the_closest(tmp_path: Path) -> None:
-    result = draw(PRESS_SET, "--run", "press-stroke[crank_speed=6.28319]", "-o", str(tmp_path))
+    result = draw(PRESS_SET, "--run", "press-stroke[crank_speed=360deg_per_s]", "-o", str(tmp_path))
     assert result.exit_code == 2
-    assert "has no run 'press-stroke[crank_speed=6.28319]'; its runs are:" in result.output
-    assert "hint: did you mean 'press-stroke[crank_speed=6.28319,press_force=" in result.output
+    assert "has no run 'press-stroke[crank_speed=360deg_per_s]'; its runs are:" in result.output
+    assert "hint: did you mean 'press-stroke[crank_speed=360deg_per_s,press_force=" in result.output
     assert not any(tmp_path.iterdir())
 
 
@@ -67,7 +67,7 @@ def test_html_of_one_run_of_a_set(tmp_path: Path) -> None:
     pytest.importorskip("plotly", reason="the HTML page needs the optional extra loads[html]")
     result = draw(PRESS_SET, "--run", RUN, "--html", "--forces", "pivot,big", "-o", str(tmp_path))
     assert result.exit_code == 0, result.output
-    page = tmp_path / "press-stroke_crank_speed=6.28319_press_force=1500_.html"
+    page = tmp_path / "press-stroke_crank_speed=360deg_per_s_press_force=1500N_.html"
     assert result.output == f"wrote {page}\n"
     text = page.read_text(encoding="utf-8")
     assert f"<title>{RUN}</title>" in text

@@ -22,7 +22,7 @@ def test_run_set_writes_runs_envelope_and_workbook(tmp_path: Path) -> None:
     )
     assert result.exit_code == 0, result.output
     set_dir = out / "crank-set"
-    assert (set_dir / "crank-turn[speed=2,load=20].csv").is_file()
+    assert (set_dir / "crank-turn[speed=2,load=20N].csv").is_file()
     with open(set_dir / "envelope.csv", newline="") as stream:
         header = next(csv.reader(stream))
     assert header[:7] == ["column", "max", "max_run", "max_time", "min", "min_run", "min_time"]

@@ -70,10 +70,10 @@ def test_override_reaches_the_solution_and_names_the_run(folder: Path) -> None:
         app, ["run", str(folder / "arm.case.yaml"), "-o", str(out), "--set", "length=1500 mm"]
     )
     assert result.exit_code == 0, result.output
-    assert "arm[length=1.5]: ok" in result.stdout
+    assert "arm[length=1500mm]: ok" in result.stdout  # the value as given
     plain, what_if = (
         _summary(out / "arm.summary.json"),
-        _summary(out / "arm[length=1.5].summary.json"),
+        _summary(out / "arm[length=1500mm].summary.json"),
     )
     assert _reaction(plain) == pytest.approx(MASS * 2.0**2 * 1.0, rel=1e-9)
     assert _reaction(what_if) == pytest.approx(MASS * 2.0**2 * 1.5, rel=1e-9)
@@ -112,7 +112,7 @@ def test_set_runs_with_an_override_never_reuse_other_runs(folder: Path) -> None:
     assert "2 runs, 0 failed, 0 reused" in first.stdout
     set_dir = folder / "res" / "arm-set"
     for omega in (2.0, 3.0):
-        summary = _summary(set_dir / f"arm[omega={omega:g},length=0.5].summary.json")
+        summary = _summary(set_dir / f"arm[omega={omega:g}rad_per_s,length=0.5m].summary.json")
         assert _reaction(summary) == pytest.approx(MASS * omega**2 * 0.5, rel=1e-9)
         assert summary["overrides"] == {"length": 0.5}
     again = runner.invoke(app, [*args, "--set", "length=0.5 m"])
@@ -120,7 +120,7 @@ def test_set_runs_with_an_override_never_reuse_other_runs(folder: Path) -> None:
     other = runner.invoke(app, [*args, "--set", "length=0.7 m"])
     assert "2 runs, 0 failed, 0 reused" in other.stdout
     envelope = (set_dir / "envelope.csv").read_text()
-    assert "arm[omega=3,length=0.7]" in envelope
+    assert "arm[omega=3rad_per_s,length=0.7m]" in envelope
     book = openpyxl.load_workbook(set_dir / "envelope.xlsx", read_only=True)
     provenance = [
         [c for c in row if c is not None] for row in book["Provenance"].iter_rows(values_only=True)

@@ -167,7 +167,7 @@ def test_the_lock_is_gone_after_failed_runs_and_after_an_error(
     monkeypatch.setattr(campaign, "size_runs", broken)
     with pytest.raises(RuntimeError, match="a bug in the report"):
         campaign.run_set(folder / "crank.set.yaml", output_dir=out)
-    assert (out / "crank-set" / "crank-turn[speed=1,load=10].csv").is_file()
+    assert (out / "crank-set" / "crank-turn[speed=1,load=10N].csv").is_file()
     assert not (out / "crank-set" / LOCK).exists()
 
 

@@ -13,7 +13,7 @@ import loadcases.foundation.engine_hash as engine_hash
 from loadcases.sets.campaign import run_set
 from tests.loadcases.set_fixtures import write_inputs
 
-FIRST = "crank-turn[speed=1,load=10]"
+FIRST = "crank-turn[speed=1,load=10N]"
 
 
 @pytest.fixture()
@@ -40,8 +40,8 @@ def test_truncated_or_foreign_csv_is_solved_again(inputs: Path) -> None:
     csv_path = first.directory / f"{FIRST}.csv"
     whole = csv_path.read_bytes()
     csv_path.write_bytes(whole[: len(whole) // 2])  # truncated
-    other = first.directory / "crank-turn[speed=3,load=20].csv"
-    other.write_bytes(csv_path.with_name("crank-turn[speed=2,load=10].csv").read_bytes())
+    other = first.directory / "crank-turn[speed=3,load=20N].csv"
+    other.write_bytes(csv_path.with_name("crank-turn[speed=2,load=10N].csv").read_bytes())
     again = run_set(inputs / "crank.set.yaml", output_dir=out)
     assert _reused(again) == [False, True, True, True, True, False]
     assert csv_path.read_bytes() == whole

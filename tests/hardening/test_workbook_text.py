@@ -90,7 +90,7 @@ def test_a_set_with_a_failed_runs_message_writes_its_workbook_plots_and_csv(
 
     def failing(spec):
         outcome = solve(spec)
-        if spec.name.endswith("[speed=2,load=10]"):
+        if spec.name.endswith("[speed=2,load=10N]"):
             return campaign._failed_outcome(spec, "kinematic", HIDDEN)
         return outcome
 

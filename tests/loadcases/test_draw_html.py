@@ -146,7 +146,7 @@ def test_text_of_the_case_is_escaped(tmp_path: Path) -> None:
 def test_run_of_a_set_is_loaded_with_its_values() -> None:
     """`case_of_run` loads the run's case with the run's swept values; a wrong name gives
     the names of the set's runs."""
-    run = "press-stroke[crank_speed=6.28319,press_force=1500]"
+    run = "press-stroke[crank_speed=360deg_per_s,press_force=1500N]"
     cf = case_of_run(PRESS_SET, run)
     assert not isinstance(cf, list)
     assert cf.parameters["press_force"] == 1500.0

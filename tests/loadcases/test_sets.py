@@ -30,7 +30,7 @@ def test_run_name_uses_percent_g_in_si() -> None:
 def test_sweep_is_a_cartesian_product_in_listed_order(inputs: Path) -> None:
     compiled = load_and_compile_set(inputs / "crank.set.yaml")
     assert [r.name for r in compiled.runs] == [
-        f"crank-turn[speed={s},load={f}]" for s in (1, 2, 3) for f in (10, 20)
+        f"crank-turn[speed={s},load={f}N]" for s in (1, 2, 3) for f in (10, 20)
     ]
     first = compiled.runs[0]
     assert dict(first.parameters) == {"speed": 1.0, "load": 10.0, "stroke": 0.05}
