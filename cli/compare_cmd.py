@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from cli.render import fail
+from cli.units_option import SET_OPTION, UNITS_OPTION, report_units
 
 __all__ = ["compare"]
 
@@ -53,18 +54,30 @@ def compare(
             help="The number of rows shown on the console, largest changes first.",
         ),
     ] = 40,
+    units: UNITS_OPTION = None,
+    set_file: SET_OPTION = None,
 ) -> int:
-    """Compare two envelopes row by row. Each row shows the old and new max and min (SI),
-    their difference in percent of the old magnitude and the governing run of each; rows
-    that are new or have vanished are listed too."""
-    from loadcases.report.compare import compare_envelopes, read_envelope, write_compare
+    """Compare two envelopes row by row. Each row shows the old and new max and min (SI, or
+    the units of --units / a set's report.units), their difference in percent of the old
+    peak of the row's request and the governing run of each; rows that are new or have
+    vanished are listed too, changes at round-off level last but one, marked (noise). A
+    CSV output stays SI; a workbook shows the units of the console."""
+    from loadcases.report.compare import (
+        STATUSES,
+        compare_envelopes,
+        in_report_units,
+        read_envelope,
+        write_compare,
+    )
 
     if output is not None and output.suffix.lower() not in (".csv", ".xlsx"):
         raise fail(f"{output}: output must end in .csv or .xlsx")
+    shown_units = report_units(set_file, units or [])
     try:
-        table = compare_envelopes(read_envelope(old), read_envelope(new))
+        si_table = compare_envelopes(read_envelope(old), read_envelope(new))
     except ValueError as error:
         raise fail(str(error)) from None
+    table = in_report_units(si_table, shown_units)
     typer.echo(
         _line(("column", "unit", "old max", "new max", "change", "old min", "new min", "change"))
     )
@@ -91,11 +104,14 @@ def compare(
                 f"    governing max: {row.old_max_run} -> {row.new_max_run}; "
                 f"min: {row.old_min_run} -> {row.new_min_run}"
             )
-    counts = {s: sum(r.status == s for r in table) for s in ("changed", "new", "vanished", "same")}
+    counts = {s: sum(r.status == s for r in table) for s in STATUSES}
+    if not counts["noise"]:
+        del counts["noise"]
     shown = min(len(table), max(rows, 0))
     more = f" ({len(table) - shown} more not shown)" if shown < len(table) else ""
     typer.echo(", ".join(f"{n} {s}" for s, n in counts.items()) + f" of {len(table)} rows" + more)
     if output is not None:
-        write_compare(table, output, old=str(old), new=str(new))
+        written = si_table if output.suffix.lower() == ".csv" else table
+        write_compare(written, output, old=str(old), new=str(new))
         typer.echo(f"-> {output}")
     return 0

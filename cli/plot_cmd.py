@@ -13,6 +13,7 @@ from typing import Annotated
 import typer
 
 from cli.render import fail
+from cli.units_option import SET_OPTION, UNITS_OPTION, report_units
 
 __all__ = ["new", "plot"]
 
@@ -50,6 +51,8 @@ def plot(
     output: Annotated[
         Path, typer.Option("-o", "--output", metavar="DIR", help="The folder of the PNG files.")
     ] = Path("plots"),
+    units: UNITS_OPTION = None,
+    set_file: SET_OPTION = None,
     polar: Annotated[
         list[str] | None,
         typer.Option(
@@ -62,7 +65,8 @@ def plot(
     ] = None,
 ) -> int:
     """Write PNG plots of requests against time or another column, one file per request
-    (with --polar: the polar plots and wear maps of clearance joints)."""
+    (with --polar: the polar plots and wear maps of clearance joints); values in SI, or in
+    the units of --units / a set's report.units."""
     from loadcases.report import plots
 
     missing = [path for path in results if not path.exists()]
@@ -76,11 +80,12 @@ def plot(
     patterns = [p.strip() for item in columns or [] for p in item.split(",") if p.strip()]
     if polar:
         return _polar(files, polar, output)
+    report = report_units(set_file, units or [])
     try:
-        runs = [plots.load_saved_run(path) for path in files]
-        units = {k: v for run in reversed(runs) for k, v in run.units.items()}
+        runs = [report.run(plots.load_saved_run(path)) for path in files]
+        shown = {k: v for run in reversed(runs) for k, v in run.units.items()}
         written = plots.plot_runs(
-            [run.as_run() for run in runs], patterns or None, x=x, units=units, out_dir=output
+            [run.as_run() for run in runs], patterns or None, x=x, units=shown, out_dir=output
         )
     except ValueError as error:
         raise fail(str(error)) from None

@@ -21,7 +21,12 @@ from loadcases.build.flexible_bodies import flexible_notes
 from loadcases.build.forces import add_forces
 from loadcases.build.hydraulics import servo_problems
 from loadcases.build.motions import add_motions
-from loadcases.build.requests import abscissa_request, build_requests, modal_requests
+from loadcases.build.requests import (
+    abscissa_request,
+    build_requests,
+    modal_requests,
+    request_kinds,
+)
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
 
@@ -40,6 +45,7 @@ class BuiltRun:
     column_units: dict[str, str] = field(default_factory=dict)
     warnings: list[Diagnostic] = field(default_factory=list)
     events: list = field(default_factory=list)
+    request_kinds: dict[str, str] = field(default_factory=dict)  # requests.request_kinds
 
     def solve(
         self, analysis: Any = None, *, progress: Any = None, checks: bool = True
@@ -142,5 +148,13 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
         events = []
     notes += flexible_notes(cf, mechanism)
     return BuiltRun(
-        mechanism, analysis, requests, initial, cf.case.analysis.redundant, units, notes, events
+        mechanism,
+        analysis,
+        requests,
+        initial,
+        cf.case.analysis.redundant,
+        units,
+        notes,
+        events,
+        request_kinds(b),
     )

@@ -10,6 +10,7 @@ from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_UNITS
 from loadcases.build.context import Builder
 from loadcases.build.elements import ELEMENT_EFFECTS
 from loadcases.build.flexible_bodies import flexible_output_units, flexible_request
+from mechlib.elements.friction import friction_units
 
 __all__ = [
     "ABSCISSA_COLUMN",
@@ -18,6 +19,7 @@ __all__ = [
     "abscissa_unit",
     "build_requests",
     "modal_requests",
+    "request_kinds",
 ]
 
 # A run of a set records the case's `abscissa:` expression as one more result column, so
@@ -62,6 +64,35 @@ def build_requests(b: Builder) -> tuple[list, dict[str, str]]:
         for comp, unit in _units_of(req, b).items():
             units[f"{name}.{comp}"] = unit
     return out, units
+
+
+# What each kind of request reports (`kinds` of a run's summary): the report charts the
+# loads (`loadcases.report.curves.LOAD_KINDS`), friction and energy only when asked.
+_KINDS = {
+    "MotionRequest": "effort",
+    "PointRequest": "kinematics",
+    "FlexibleRequest": "flexible",
+    "EnergyRequest": "energy",
+    "ExpressionRequest": "expression",
+}
+
+
+def request_kinds(b: Builder) -> dict[str, str]:
+    """{request: kind} of the case's requests: `reaction` (joint forces), `effort`
+    (motions), `element` (force elements), `friction` (joint friction), `contact`,
+    `kinematics`, `flexible`, `energy`, `expression`."""
+    kinds = {}
+    for name, r in b.case.requests.items():
+        kind = type(r).__name__
+        if kind == "JointRequest":
+            kinds[name] = "reaction" if r.quantity == "force" else "kinematics"
+        elif kind == "ElementRequest":
+            element = b.mech.forces.get(r.force)
+            friction = element is not None and element.type == "joint_friction"
+            kinds[name] = "friction" if friction else "element"
+        else:
+            kinds[name] = _KINDS.get(kind, "contact")
+    return kinds
 
 
 def _request(b: Builder, name: str, r):
@@ -132,8 +163,11 @@ def _units_of(req, b: Builder) -> dict[str, str]:
         return _effort_units(req, b)
     if isinstance(req, ml.ElementOutput) and req.components is not None:
         return {column: CONTACT_UNITS.get(key, "") for column, key in req.components}
-    if isinstance(req, ml.ElementOutput):  # an element that failed to build: its error stands
-        element = b.built.forces.get(req.element)
+    if isinstance(req, ml.ElementOutput):
+        force = b.mech.forces[req.element]
+        if force.type == "joint_friction":  # its units follow its joint, known once bound
+            return friction_units(b.mech.joints[force.joint].type)
+        element = b.built.forces.get(req.element)  # None if it failed to build: its error stands
         return dict(getattr(element, "output_units", {}))
     if isinstance(req, ml.EnergyBalance):
         return dict(req.units)

@@ -90,6 +90,12 @@ def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[
             for key in getattr(model, section)
             if key != ULTIMATE and key.split(".")[0] not in requests
         ]
+    charted = model.report.charts if model.report is not None else []
+    found += [
+        unknown(at, ("report", "charts", i), "request", key.split(".")[0], requests)
+        for i, key in enumerate(charted)
+        if key.split(".")[0] not in requests
+    ]
     for name, comparison in model.comparisons.items():
         found += [
             unknown(at, ("comparisons", name, "columns", i), "request", request, requests)

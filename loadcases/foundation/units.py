@@ -47,7 +47,6 @@ __all__ = [
     "check_unit_name",
     "dimension_mismatch",
     "finite",
-    "is_load_unit",
     "to_si",
     "unit_constant",
     "vector_to_si",
@@ -62,6 +61,7 @@ DIMENSIONS: dict[str, dict[str, int]] = {
     "time": {_T: 1},
     "force": {_M: 1, _L: 1, _T: -2},
     "torque": {_M: 1, _L: 2, _T: -2},
+    "energy": {_M: 1, _L: 2, _T: -2},
     "inertia": {_M: 1, _L: 2},
     "velocity": {_L: 1, _T: -1},
     "angular_velocity": {_A: 1, _T: -1},
@@ -102,6 +102,8 @@ REPORT_KINDS: dict[str, str] = {
     "stiffness": "N/m",
     "torsional_stiffness": "N*m/rad",
     "frequency": "Hz",
+    "energy": "J",
+    "flow": "m^3/s",
 }
 # Identifiers of the expression language that are never unit constants (`t` is not tonne).
 RESERVED_NAMES = frozenset(
@@ -620,19 +622,6 @@ def _pint_unit_constant(name: str) -> float | None:
     except (pint.errors.PintError, ValueError, TypeError, AttributeError, KeyError):
         return None
     return float(magnitude) if math.isfinite(magnitude) and offset == 0 else None
-
-
-@lru_cache(maxsize=256)
-def is_load_unit(unit: str) -> bool:
-    """A unit of force or torque (`N`, `kN`, `N*m`, `lbf*in`): the columns factors apply to
-    and the envelope charts show first."""
-    for kind in ("force", "torque"):
-        try:
-            to_si(f"1 {unit}", kind)
-            return True
-        except UnitError:
-            continue
-    return False
 
 
 def check_unit_name(unit: Any, kind: str) -> str:

@@ -4,12 +4,13 @@ is reviewed.
 Each side is an `envelope.csv`, a set's result folder holding one, or a folder of saved runs
 (its envelope is then computed as `loads envelope` computes it). Per result column: the old
 and new max and min (SI, the unit of the envelope's `unit` column) with their governing runs,
-the difference new - old and the relative change, difference / the column's old magnitude
-max(|old max|, |old min|), that magnitude floored at NOISE_FLOOR x the largest old magnitude
-of the same request in the same unit (so that the round-off components of a planar
-mechanism, 1e-37 N*m beside a 1.5 N*m torque, do not show as a 20 % change). A column
-only in NEW is `new`, only in OLD `vanished`; one whose max and min moved by no more than
-`tolerance` of its old magnitude is `same`, else `changed`.
+the difference new - old and the relative change, difference / the old peak of the column's
+request in the same unit (max |value| over its components: a 1 N change of a joint's fy
+carrying 100 kN is 1e-5, whatever fy was). A column only in NEW is `new`, only in OLD
+`vanished`; one whose max and min moved by no more than `tolerance` of that peak is `same`;
+one that moved but is round-off in both envelopes (`loadcases.report.roundoff`: 3e-13 ->
+5e-13 N*m beside a kN*m torque) is `noise`, listed after the real changes; else `changed`.
+Rows are ranked: changed (largest relative change first), new, vanished, noise, same.
 """
 
 from __future__ import annotations
@@ -17,27 +18,34 @@ from __future__ import annotations
 import csv
 import io
 import math
-from dataclasses import astuple, dataclass, fields
+from dataclasses import astuple, dataclass, fields, replace
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
 from loadcases.foundation.clip import visible_fields
-from loadcases.report.roundoff import NOISE_FLOOR
+from loadcases.report.roundoff import roundoff_columns
 from loadcases.results.xlsx_text import text_cells
+
+if TYPE_CHECKING:
+    from loadcases.report.units import ReportUnits
 
 __all__ = [
     "COMPARE_COLUMNS",
     "SAME_TOLERANCE",
+    "STATUSES",
     "ComparedRow",
     "Peak",
     "compare_csv_text",
     "compare_envelopes",
+    "in_report_units",
     "read_envelope",
     "write_compare",
 ]
 
 SAME_TOLERANCE = 1e-9  # relative: below it a change is round-off, not a change of the design
-_STATUS_ORDER = {"changed": 0, "new": 1, "vanished": 2, "same": 3}
+_STATUS_ORDER = {"changed": 0, "new": 1, "vanished": 2, "noise": 3, "same": 4}
+STATUSES = tuple(_STATUS_ORDER)
 
 
 @dataclass(frozen=True)
@@ -158,12 +166,20 @@ def _request_scales(peaks: dict[str, Peak]) -> dict[tuple[str, str], float]:
     return scales
 
 
+def _roundoff(peaks: dict[str, Peak]) -> set[str]:
+    """The columns of an envelope that are round-off (`roundoff_columns`)."""
+    return roundoff_columns(
+        {c: (c.rsplit(".", 1)[0], p.unit, p.magnitude) for c, p in peaks.items()}
+    )
+
+
 def _row(
-    column: str, old: Peak | None, new: Peak | None, tolerance: float, request_scale: float
+    column: str, old: Peak | None, new: Peak | None, tolerance: float, scale: float, noise: bool
 ) -> ComparedRow:
+    """One column compared; `scale`: the old peak of its request in its unit; `noise`: the
+    column is round-off in both envelopes."""
     blank = Peak(None, "", None, "")
     o, n = old or blank, new or blank
-    scale = max(o.magnitude, NOISE_FLOOR * request_scale)
     max_diff, max_change = _diff(o.max, n.max, scale)
     min_diff, min_change = _diff(o.min, n.min, scale)
     if old is None or new is None:
@@ -171,7 +187,8 @@ def _row(
     else:
         moved = [abs(c) for c in (max_change, min_change) if c is not None]
         from_zero = scale == 0.0 and any(d for d in (max_diff, min_diff))
-        status = "changed" if from_zero or any(c > tolerance for c in moved) else "same"
+        changed = from_zero or any(c > tolerance for c in moved)
+        status = ("noise" if noise else "changed") if changed else "same"
     return ComparedRow(
         column,
         n.unit or o.unit,
@@ -194,25 +211,40 @@ def _row(
 def compare_envelopes(
     old: dict[str, Peak], new: dict[str, Peak], *, tolerance: float = SAME_TOLERANCE
 ) -> list[ComparedRow]:
-    """Every column of either envelope: changed rows first (largest relative change
-    first), then new, vanished and unchanged rows in the envelopes' order."""
+    """Every column of either envelope: changed rows first (largest change relative to
+    their request's peak first), then new, vanished, noise and unchanged rows in the
+    envelopes' order."""
     columns = list(old) + [c for c in new if c not in old]
     scales = _request_scales(old)
+    noise = _roundoff(old) & _roundoff(new)
 
     def scale(column: str) -> float:
         peak = old.get(column)
         return scales[(column.rsplit(".", 1)[0], peak.unit)] if peak else 0.0
 
-    rows = [_row(c, old.get(c), new.get(c), tolerance, scale(c)) for c in columns]
+    rows = [_row(c, old.get(c), new.get(c), tolerance, scale(c), c in noise) for c in columns]
     order = {c: i for i, c in enumerate(columns)}
     return sorted(
         rows,
         key=lambda r: (
             _STATUS_ORDER[r.status],
-            -r.largest_change if r.status == "changed" else 0.0,
+            -r.largest_change if r.status in ("changed", "noise") else 0.0,
             order[r.column],
         ),
     )
+
+
+def in_report_units(rows: list[ComparedRow], units: ReportUnits) -> list[ComparedRow]:
+    """The rows with their values in report units (relative changes are ratios: kept)."""
+    out = []
+    for row in rows:
+        changes: dict[str, Any] = {
+            name: units.value(getattr(row, name), row.unit)
+            for name in ("old_max", "new_max", "max_diff", "old_min", "new_min", "min_diff")
+        }
+        changes["unit"] = units.unit(row.unit) or ""
+        out.append(replace(row, **changes))
+    return out
 
 
 def _text(value: object) -> object:

@@ -16,17 +16,17 @@ points covered by no run are NaN. Rows with a NaN abscissa or value are skipped.
 
 from __future__ import annotations
 
-from collections.abc import Collection, Iterable, Mapping
+from collections.abc import Collection, Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from loadcases.build.requests import ABSCISSA_COLUMN
-from loadcases.foundation.units import is_load_unit
 from loadcases.results.files import TIME_COLUMN
 from loadcases.results.saved import SavedRun
 
 __all__ = [
+    "LOAD_KINDS",
     "MAIN_COLUMNS",
     "MAX_GRID_POINTS",
     "EnvelopeCurve",
@@ -39,6 +39,9 @@ __all__ = [
 MAX_GRID_POINTS = 20_000  # more would only slow the workbook charts down
 MAIN_COLUMNS = 4  # columns charted and plotted per family
 LOAD_UNITS = frozenset({"N", "N*m"})
+# Request kinds (`loadcases.build.requests.request_kinds`) whose force and torque columns
+# are loads a sizing report charts; friction and energy are charted only when asked.
+LOAD_KINDS = frozenset({"reaction", "effort", "element", "contact"})
 
 
 @dataclass
@@ -53,6 +56,8 @@ class EnvelopeCurve:
     lower: dict[str, np.ndarray] = field(default_factory=dict)
     runs: tuple[str, ...] = ()
     units: dict[str, str] = field(default_factory=dict)
+    kinds: dict[str, str] = field(default_factory=dict)  # {request: kind} of the runs
+    charted: tuple[str, ...] = ()  # the columns charted, chosen in SI (`main_columns`)
 
 
 def _grid(xs: list[np.ndarray]) -> np.ndarray:
@@ -120,7 +125,11 @@ def _uncovered_nan(values: np.ndarray) -> np.ndarray:
 
 
 def _family_curve(
-    family: str, runs: list[SavedRun], expression: str | None, skip: Collection[str]
+    family: str,
+    runs: list[SavedRun],
+    expression: str | None,
+    skip: Collection[str],
+    asked: Sequence[str] = (),
 ) -> EnvelopeCurve:
     use_abscissa = all(ABSCISSA_COLUMN in run.channels for run in runs)
     name = ABSCISSA_COLUMN if use_abscissa else TIME_COLUMN
@@ -134,6 +143,7 @@ def _family_curve(
         grid,
         runs=tuple(run.name for run in runs),
         units=units,
+        kinds={k: v for run in runs for k, v in run.kinds.items()},
     )
     columns = list(
         dict.fromkeys(
@@ -158,6 +168,7 @@ def _family_curve(
     for n, column in enumerate(columns):
         curve.upper[column] = _uncovered_nan(upper[n])
         curve.lower[column] = _uncovered_nan(lower[n])
+    curve.charted = tuple(_chosen(curve, asked))
     return curve
 
 
@@ -165,31 +176,78 @@ def envelope_curves(
     runs: Iterable[SavedRun],
     abscissae: Mapping[str, str] | None = None,
     skip: Collection[str] = (),
+    asked: Sequence[str] = (),
 ) -> list[EnvelopeCurve]:
     """One curve set per family, families in first-seen order (give only `ok` runs);
     a family whose runs cover a single abscissa value (static runs) has none. A family's
     abscissa is named by its expression from `abscissae` {family: text} when given;
-    columns in `skip` (numerical noise) get no curve."""
+    columns in `skip` (numerical noise) get no curve; `asked` (`report.charts`) are
+    charted besides the main columns."""
     families: dict[str, list[SavedRun]] = {}
     for run in runs:
         families.setdefault(run.family, []).append(run)
     names = abscissae or {}
-    curves = [_family_curve(f, members, names.get(f), skip) for f, members in families.items()]
+    curves = [
+        _family_curve(f, members, names.get(f), skip, asked) for f, members in families.items()
+    ]
     return [curve for curve in curves if curve.x.size >= 2]  # one point is no curve
 
 
+def _peak(curve: EnvelopeCurve, column: str) -> float:
+    """The largest finite |envelope| value of a column (-1 when it has none)."""
+    values = np.concatenate([curve.upper[column], curve.lower[column]])
+    finite = np.abs(values[np.isfinite(values)])
+    return float(finite.max()) if finite.size else -1.0
+
+
+def _is_load(curve: EnvelopeCurve, column: str) -> bool:
+    """A column in N or N*m (SI) of a load request (of any request in runs saved without
+    kinds)."""
+    kind = curve.kinds.get(column.rsplit(".", 1)[0])
+    return curve.units.get(column) in LOAD_UNITS and (kind is None or kind in LOAD_KINDS)
+
+
+def _largest(curve: EnvelopeCurve, columns: list[str]) -> list[str]:
+    """Each request's column of largest peak (of each unit: a joint's force and moment),
+    ranked by its peak relative to the largest of its unit (N against N, N*m against N*m:
+    100 kN and 2 kN*m both rank first)."""
+    peaks = {c: _peak(curve, c) for c in columns}
+    best: dict[tuple[str, str], str] = {}
+    for column in columns:
+        key = (column.rsplit(".", 1)[0], curve.units.get(column) or "")
+        if key not in best or peaks[column] > peaks[best[key]]:
+            best[key] = column
+    top: dict[str, float] = {}
+    for column in best.values():
+        unit = curve.units.get(column) or ""
+        top[unit] = max(top.get(unit, 0.0), peaks[column])
+
+    def score(column: str) -> tuple[float, float]:
+        largest = top[curve.units.get(column) or ""]
+        return (peaks[column] / largest if largest > 0 else 0.0), peaks[column]
+
+    return sorted(best.values(), key=score, reverse=True)
+
+
+def _chosen(curve: EnvelopeCurve, asked: Sequence[str]) -> list[str]:
+    """The `MAIN_COLUMNS` largest loads (columns in N or N*m of joint reactions, motion
+    efforts, force elements and contacts: `LOAD_KINDS`), one per request and unit
+    (`_largest`); with no load, the largest other columns but friction and energy; then
+    the columns `asked` (`report.charts`: a request's every column, or one column)."""
+    columns = list(curve.upper)
+    loads = [c for c in columns if _is_load(curve, c)]
+    if not loads:
+        quiet = {"friction", "energy"}
+        loads = [c for c in columns if curve.kinds.get(c.rsplit(".", 1)[0]) not in quiet]
+    chosen = _largest(curve, loads)[:MAIN_COLUMNS]
+    chosen += [c for c in columns if c in asked or c.rsplit(".", 1)[0] in asked]
+    return list(dict.fromkeys(chosen))
+
+
 def main_columns(curve: EnvelopeCurve) -> list[str]:
-    """The columns charted and plotted for a family: its load columns (force or torque; all
-    columns if it has none) ranked by their largest |envelope| value, the first
-    `MAIN_COLUMNS`."""
-    loads = [c for c in curve.upper if is_load_unit(curve.units.get(c) or "")] or list(curve.upper)
-
-    def peak(column: str) -> float:
-        values = np.concatenate([curve.upper[column], curve.lower[column]])
-        finite = np.abs(values[np.isfinite(values)])
-        return float(finite.max()) if finite.size else -1.0
-
-    return sorted(loads, key=peak, reverse=True)[:MAIN_COLUMNS]
+    """The columns charted and plotted for a family: those chosen when its curves were
+    made in SI (`envelope_curves`), else chosen now (`_chosen`, units read as SI)."""
+    return list(curve.charted) if curve.charted else _chosen(curve, ())
 
 
 def plot_curves(curves: Iterable[EnvelopeCurve]) -> list[dict[str, object]]:

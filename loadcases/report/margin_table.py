@@ -20,7 +20,14 @@ from loadcases.foundation.atomic import atomic_write_text
 from loadcases.foundation.clip import visible_fields
 from loadcases.report.envelope import EnvelopeRow
 
-__all__ = ["MARGIN_COLUMNS", "MarginLine", "margin_csv_text", "margin_lines", "write_margin_csv"]
+__all__ = [
+    "MARGIN_COLUMNS",
+    "MarginLine",
+    "allowable_lines",
+    "margin_csv_text",
+    "margin_lines",
+    "write_margin_csv",
+]
 
 
 @dataclass(frozen=True)
@@ -90,3 +97,26 @@ def margin_csv_text(lines: list[MarginLine]) -> str:
 def write_margin_csv(lines: list[MarginLine], path: Path) -> Path:
     """Write `margins.csv` atomically."""
     return atomic_write_text(path, margin_csv_text(lines))
+
+
+def _side_text(kind: str, high: float | None, low: float | None, unit: str | None) -> str | None:
+    """`ultimate: max 40 kN, min -25 kN` (a side not given: `none`), or None when neither."""
+    if high is None and low is None:
+        return None
+    show = lambda v: "none" if v is None else f"{v:.6g} {unit or '-'}"  # noqa: E731
+    return f"{kind}: max {show(high)}, min {show(low)}"
+
+
+def allowable_lines(rows: list[EnvelopeRow]) -> list[tuple[str, str]]:
+    """(`allowable COLUMN`, `ultimate: max .., min ..; limit: max .., min ..`) of every row
+    given an allowable, in the rows' units (the Provenance sheet states what was given)."""
+    lines = []
+    for row in rows:
+        parts = [
+            _side_text("ultimate", row.allowable_max, row.allowable_min, row.unit),
+            _side_text("limit", row.limit_allowable_max, row.limit_allowable_min, row.unit),
+        ]
+        given = [p for p in parts if p is not None]
+        if given:
+            lines.append((f"allowable {row.column}", "; ".join(given)))
+    return lines

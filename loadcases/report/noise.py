@@ -17,7 +17,7 @@ from collections.abc import Iterable
 
 from loadcases.build.requests import ABSCISSA_COLUMN
 from loadcases.report.envelope import EnvelopeRow
-from loadcases.report.roundoff import NOISE_FLOOR
+from loadcases.report.roundoff import NOISE_FLOOR, roundoff_columns
 
 __all__ = ["NOISE_MARK", "noise_columns"]
 
@@ -35,15 +35,4 @@ def _magnitudes(rows: Iterable[EnvelopeRow]) -> dict[str, tuple[str, str, float]
 
 def noise_columns(rows: Iterable[EnvelopeRow], fraction: float = NOISE_FLOOR) -> set[str]:
     """The columns of `rows` (SI envelope rows) that are numerical noise (module notes)."""
-    magnitudes = _magnitudes(rows)
-    per_request: dict[tuple[str, str], float] = {}
-    per_unit: dict[str, float] = {}
-    for request, unit, size in magnitudes.values():
-        per_request[request, unit] = max(per_request.get((request, unit), 0.0), size)
-        if unit:
-            per_unit[unit] = max(per_unit.get(unit, 0.0), size)
-    return {
-        column
-        for column, (request, unit, size) in magnitudes.items()
-        if size <= fraction * max(per_request[request, unit], per_unit.get(unit, 0.0))
-    }
+    return roundoff_columns(_magnitudes(rows), fraction)

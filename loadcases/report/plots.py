@@ -2,9 +2,10 @@
 
 One PNG per request: with one run, the request's components are lines grouped in one panel
 per unit (`fx fy fz f` in N, `tx ty tz t` in N*m); with several runs, one panel per
-component and one line per run (legend = run name). Values are plotted in SI, as in the
-CSV files; axis labels carry the unit (from the run's `units` map in `NAME.summary.json`,
-else guessed from the column name, see `column_unit`). Matplotlib's Agg canvas is used
+component and one line per run (legend = run name). Values are plotted as given: SI, as in
+the CSV files, or converted by the caller to report units (`loads plot --units`); axis
+labels carry the unit (from the run's `units` map in `NAME.summary.json`, else guessed from
+the column name, see `column_unit`). Matplotlib's Agg canvas is used
 directly (no pyplot, no global backend switch), and every file is written atomically.
 
 Figure size: `FIG_WIDTH_IN` x `figure_height_in(panels)` inches at `DPI`, i.e. 1000 px

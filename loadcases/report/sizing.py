@@ -72,5 +72,5 @@ def size_runs(
         noise=noise,
         by=report.matrix if report else "runs",
     )
-    curves = envelope_curves(runs, names, skip=noise)
+    curves = envelope_curves(runs, names, skip=noise, asked=report.charts if report else ())
     return Sizing(rows, curves, matrix, float(factors.get(ULTIMATE, 1.0)), noise)

@@ -57,6 +57,25 @@ class ReportUnits:
         si_of = REPORT_KINDS
         return cls({si_of[k]: (u, to_si(f"1 {u}", k)) for k, u in (units or {}).items()})
 
+    @classmethod
+    def parse(cls, texts: list[str]) -> ReportUnits:
+        """From `KIND=UNIT` texts (`force=kN`, `angle=deg`; `loads plot --units`); ValueError
+        naming the first text that is not a known kind with a unit of its dimension."""
+        units = {}
+        for text in texts:
+            kind, equals, unit = (part.strip() for part in text.partition("="))
+            if not equals or kind not in REPORT_KINDS or not unit:
+                raise ValueError(
+                    f"--units {text!r}: expected KIND=UNIT with KIND one of "
+                    + ", ".join(REPORT_KINDS)
+                )
+            try:
+                to_si(f"1 {unit}", kind)
+            except ValueError as error:
+                raise ValueError(f"--units {text!r}: {error}") from None
+            units[kind] = unit
+        return cls.of(units)
+
     def __bool__(self) -> bool:
         return bool(self.table)
 

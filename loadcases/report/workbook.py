@@ -7,9 +7,10 @@ lowest first: `loadcases.report.margin_table`), `Loads matrix` (peaks per compon
 `loadcases.report.loads_matrix`; beyond 4,095 runs on `Loads matrix 2`, ...), `Torque
 margin` (when runs have one: loadcases/workbook_tm.py), `Comparison` (the set's
 `comparisons:`: loadcases.report.comparison), `Charts` (native line charts: per family
-the envelope curves of its main request columns and those columns against time for each
-run), one `Curves FAMILY` sheet per family (the envelope curves' numbers, without the
-columns marked `~0`), the time histories, `Provenance`.
+the envelope curves of its main load columns, `loadcases.report.curves.main_columns`, and
+those columns against time for each run), one `Curves FAMILY` sheet per family (the
+envelope curves' numbers, without the columns marked `~0`), the time histories,
+`Provenance` (with every allowable given).
 
 Time histories (`report.histories`): `envelope` (default) keeps the rows the charts need
 (`loadcases.report.decimate`: at most `CHART_ROWS` evenly spaced rows per run and curve, plus
@@ -19,10 +20,11 @@ govern an envelope row, so that a campaign's workbook grows with its envelope); 
 every output row (and the full curves); `none` no history sheets (and no per-run charts).
 Every run's full rows stay in its `NAME.csv`, linked from the Cases sheet. One sheet per run
 when the set has at most `MAX_RUN_SHEETS` runs, else one sheet per family with the runs
-stacked (first column `run`). Headers carry their units (`pivot_force.fx [N]`): SI, or the
-set's `report.units` (`loadcases.report.units` converts the data before they get here); SI
-values are the CSV's exactly (NaN becomes an empty cell: Excel has no NaN). The workbook is
-written atomically.
+stacked (first column `run`). Numbers show `number_format.SIGNIFICANT_DIGITS` significant
+digits of each row's or column's peak. Headers carry their units (`pivot_force.fx [N]`):
+SI, or the set's `report.units` (`loadcases.report.units` converts the data before they
+get here); SI values are the CSV's exactly (NaN becomes an empty cell: Excel has no NaN).
+The workbook is written atomically.
 """
 
 from __future__ import annotations
@@ -110,9 +112,6 @@ class WorkbookData:
         ]
         model = compiled.set_file.model
         settings += [(f"factor {k}", repr(v)) for k, v in model.factors.items()]
-        settings += [
-            (f"allowable {k}", f"max {a.max!r}, min {a.min!r}") for k, a in model.allowables.items()
-        ]
         settings += [(f"case factor {k}", repr(v)) for k, v in model.case_factors.items()]
         histories = model.report.histories if model.report is not None else "envelope"
         settings += [("histories", histories), *options.items()]
@@ -325,8 +324,9 @@ def _csv_links(data: WorkbookData, path: Path) -> dict[str, str]:
 
 
 def _short(run: str, number: int) -> str:
-    """`press-stroke[crank_speed=3.14159,press_force=500]` -> `press-stroke(3.14159,500)`,
-    the family cut to fit Excel's 31 characters; `run N` if the values alone do not fit."""
+    """`press-stroke[crank_speed=180deg_per_s,press_force=500N]` ->
+    `press-stroke(180deg_per_s,500N)`, the family cut to fit Excel's 31 characters; `run N`
+    if the values alone do not fit."""
     family = family_of(run)
     if family == run:
         return run

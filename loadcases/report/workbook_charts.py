@@ -18,7 +18,8 @@ from openpyxl.chart import Reference, ScatterChart, Series
 
 from loadcases.foundation.clip import visible
 from loadcases.report.curves import EnvelopeCurve, main_columns
-from loadcases.report.workbook_sheets import Block, header_text
+from loadcases.report.number_format import SIGNIFICANT_DIGITS
+from loadcases.report.workbook_sheets import Block, format_columns, header_text
 from loadcases.results.files import TIME_COLUMN
 
 __all__ = ["MAX_SERIES", "charts_sheet", "curves_sheet"]
@@ -32,8 +33,11 @@ def _value(v: float) -> float | None:
     return float(v) if math.isfinite(v) else None
 
 
-def curves_sheet(sheet: Any, curve: EnvelopeCurve) -> dict[str, tuple[int, int]]:
-    """Write a family's curves; return {column: (upper col, lower col)} (rows 2..n+1)."""
+def curves_sheet(
+    sheet: Any, curve: EnvelopeCurve, digits: int = SIGNIFICANT_DIGITS
+) -> dict[str, tuple[int, int]]:
+    """Write a family's curves (`digits` significant digits of each column's peak); return
+    {column: (upper col, lower col)} (rows 2..n+1)."""
     titles = [header_text(curve.abscissa, curve.abscissa_unit)]
     where: dict[str, tuple[int, int]] = {}
     for column in curve.upper:
@@ -45,6 +49,7 @@ def curves_sheet(sheet: Any, curve: EnvelopeCurve) -> dict[str, tuple[int, int]]
     data = [curve.x] + [a for c in curve.upper for a in (curve.upper[c], curve.lower[c])]
     for values in zip(*data):
         sheet.append([_value(v) for v in values])
+    format_columns(sheet, 2, curve.x.size + 1, 1, data, digits)
     sheet.freeze_panes = "B2"
     return where
 

@@ -19,6 +19,8 @@ from openpyxl.utils import get_column_letter
 from openpyxl.worksheet.hyperlink import Hyperlink
 
 from loadcases.report.envelope import ENVELOPE_COLUMNS, EnvelopeRow
+from loadcases.report.margin_table import allowable_lines
+from loadcases.report.number_format import SIGNIFICANT_DIGITS, number_format
 from loadcases.results.files import EXCEL_MAX_LINKS, EXCEL_MAX_ROWS, TIME_COLUMN
 from loadcases.results.saved import RunRecord, SavedRun
 
@@ -28,6 +30,7 @@ __all__ = [
     "Block",
     "cases_sheet",
     "envelope_sheet",
+    "format_columns",
     "header_text",
     "history_sheet",
     "provenance_sheet",
@@ -62,6 +65,7 @@ _NUMBER_COLUMNS = {
     "limit_allowable_max",
     "limit_allowable_min",
 }
+_ABSCISSA_COLUMNS = {"max_abscissa", "min_abscissa"}
 _TIME_COLUMNS = {"max_time", "min_time"}
 _MARGIN_COLUMNS = {"factor", "factor_min", "ms_max", "ms_min", "ms_limit_max", "ms_limit_min"}
 _HEADER_NOTES = {
@@ -185,8 +189,22 @@ def _cases_note(runs: int, shown: int, unlinked: bool) -> str | None:
     return "; ".join(notes) or None
 
 
-def envelope_sheet(sheet: Any, rows: list[EnvelopeRow], run_sheets: dict[str, str]) -> None:
-    """The envelope table: header = `envelope.csv`'s, frozen, formatted, margins flagged."""
+def _row_formats(row: EnvelopeRow, digits: int) -> tuple[str, str]:
+    """(format of the row's values, format of its abscissae): `digits` significant digits
+    of the row's peak (max, min; its ultimate loads and allowables share the decimals)
+    and of its largest abscissa, in the unit shown."""
+    at = (row.max_abscissa, row.min_abscissa)
+    return number_format((row.max, row.min), digits), number_format(at, digits)
+
+
+def envelope_sheet(
+    sheet: Any,
+    rows: list[EnvelopeRow],
+    run_sheets: dict[str, str],
+    digits: int = SIGNIFICANT_DIGITS,
+) -> None:
+    """The envelope table: header = `envelope.csv`'s, frozen, margins flagged, values with
+    `digits` significant digits of each row's peak."""
     _header(sheet, list(ENVELOPE_COLUMNS))
     for column, name in enumerate(ENVELOPE_COLUMNS, start=1):
         note = _HEADER_NOTES.get(
@@ -196,10 +214,12 @@ def envelope_sheet(sheet: Any, rows: list[EnvelopeRow], run_sheets: dict[str, st
             sheet.cell(row=1, column=column).comment = Comment(note, "loads")
     index = {name: k for k, name in enumerate(ENVELOPE_COLUMNS, start=1)}
     for r, row in enumerate(rows, start=2):
+        formats = _row_formats(row, digits)
         for name, value in zip(ENVELOPE_COLUMNS, astuple(row)):
             cell = sheet.cell(row=r, column=index[name], value=_cell(value))
             if name in _NUMBER_COLUMNS:
                 cell.style = "loads number"
+                cell.number_format = formats[name in _ABSCISSA_COLUMNS]
             elif name in _TIME_COLUMNS:
                 cell.style = "loads time"
             elif name in _MARGIN_COLUMNS:
@@ -219,12 +239,31 @@ def envelope_sheet(sheet: Any, rows: list[EnvelopeRow], run_sheets: dict[str, st
         sheet.column_dimensions[get_column_letter(index[name])].width = 30
 
 
+def format_columns(
+    sheet: Any, first: int, last: int, column: int, data: list[Any], digits: int
+) -> None:
+    """Rows `first`..`last` of the columns from `column` on, each with `digits`
+    significant digits of its largest magnitude there."""
+    for offset, values in enumerate(data):
+        number = number_format((float(v) for v in values), digits)
+        for (cell,) in sheet.iter_rows(
+            min_row=first, max_row=last, min_col=column + offset, max_col=column + offset
+        ):
+            cell.number_format = number
+
+
 def history_sheet(
-    sheet: Any, runs: list[SavedRun], *, stacked: bool, note: str | None = None
+    sheet: Any,
+    runs: list[SavedRun],
+    *,
+    stacked: bool,
+    note: str | None = None,
+    digits: int = SIGNIFICANT_DIGITS,
 ) -> dict[str, Block]:
     """Time histories of one run (or, `stacked`, of a family's runs one under the other,
     first column `run`); returns where each run's rows are. `note`: shown beside the
-    header (how the rows were chosen)."""
+    header (how the rows were chosen); values with `digits` significant digits of each
+    column's peak in the run."""
     columns = list(dict.fromkeys(c for run in runs for c in run.channels))
     units = {TIME_COLUMN: "s", **{k: v for run in runs for k, v in run.units.items()}}
     names = ["run"] * stacked + [TIME_COLUMN, *columns]
@@ -240,6 +279,7 @@ def history_sheet(
         ]
         for values in zip(*data):
             sheet.append(([run.name] if stacked else []) + [_cell(float(v)) for v in values])
+        format_columns(sheet, row, row + count - 1, stacked + 2, data[1:], digits)
         blocks[run.name] = Block(
             sheet.title, row, row + count - 1, {n: k for k, n in enumerate(names, start=1)}
         )
@@ -255,7 +295,8 @@ def history_sheet(
 
 
 def provenance_sheet(sheet: Any, data: Any, python_version: str) -> None:
-    """Engine version, date, inputs with SHA-256, solver settings and options."""
+    """Engine version, date, inputs with SHA-256, solver settings and options, every
+    allowable given (ultimate and limit, in the rows' units)."""
     now = dt.datetime.now(dt.UTC).strftime("%Y-%m-%d %H:%M:%S UTC")
     lines = [
         ("engine", "loads"),
@@ -270,7 +311,7 @@ def provenance_sheet(sheet: Any, data: Any, python_version: str) -> None:
         sheet.append([key, value])
     for path, sha in data.inputs:
         sheet.append(["input file", path, sha])
-    for key, value in data.settings:
+    for key, value in [*data.settings, *allowable_lines(data.rows)]:
         sheet.append([key, value])
     sheet.column_dimensions["A"].width = 32
     sheet.column_dimensions["B"].width = 70

@@ -19,6 +19,7 @@ from openpyxl.utils import get_column_letter
 from loadcases.report.loads_matrix import SIDES, LoadsMatrix
 from loadcases.report.margin_table import MARGIN_COLUMNS, MarginLine
 from loadcases.report.noise import NOISE_MARK
+from loadcases.report.number_format import SIGNIFICANT_DIGITS, number_format
 from loadcases.report.workbook_sheets import header_text
 from loadcases.results.files import EXCEL_MAX_COLUMNS
 
@@ -52,17 +53,21 @@ def _value(value: Any) -> Any:
     return None if isinstance(value, float) and not math.isfinite(value) else value
 
 
-def margins_sheet(sheet: Any, lines: list[MarginLine]) -> None:
-    """One row per margin, lowest first; negative margins filled red."""
+def margins_sheet(sheet: Any, lines: list[MarginLine], digits: int = SIGNIFICANT_DIGITS) -> None:
+    """One row per margin, lowest first; negative margins filled red; loads with `digits`
+    significant digits of the line's largest."""
     for k, name in enumerate(MARGIN_COLUMNS, start=1):
         sheet.cell(row=1, column=k, value=name).style = "loads header"
     ms_column = MARGIN_COLUMNS.index("ms") + 1
     for r, line in enumerate(lines, start=2):
+        loads = number_format((line.load, line.factored_load, line.allowable), digits)
         for k, name in enumerate(MARGIN_COLUMNS, start=1):
             value = getattr(line, name)
             cell = sheet.cell(row=r, column=k, value=_value(value))
             if name in _MARGIN_STYLES:
                 cell.style = _MARGIN_STYLES[name]
+            if _MARGIN_STYLES.get(name) == "loads number":
+                cell.number_format = loads
         ms = sheet.cell(row=r, column=ms_column)
         if ms.value is not None and ms.value < 0:
             ms.fill = _NEGATIVE
@@ -117,11 +122,16 @@ def matrix_sheets(new_sheet: Callable[[str], Any], matrix: LoadsMatrix) -> list[
     return sheets
 
 
-def _matrix_sheet(sheet: Any, matrix: LoadsMatrix, heads: range) -> None:
+def _matrix_sheet(
+    sheet: Any, matrix: LoadsMatrix, heads: range, digits: int = SIGNIFICANT_DIGITS
+) -> None:
     """The loads matrix's `heads` (the critical columns name the matrix's critical run,
     wherever it is): each row's critical max cell orange, critical min cell blue."""
     _heads(sheet, matrix, heads)
     for r, row in enumerate(matrix.rows, start=3):
+        loads = number_format(
+            (getattr(c, side) for c in row.cells if c is not None for side in SIDES), digits
+        )
         critical = [
             matrix.heads[k] if k is not None else None for k in map(row.critical.get, SIDES)
         ]
@@ -139,6 +149,7 @@ def _matrix_sheet(sheet: Any, matrix: LoadsMatrix, heads: range) -> None:
                     continue
                 peak.value = _value(getattr(cell, side))
                 peak.style = "loads number"
+                peak.number_format = loads
                 sheet.cell(row=r, column=column + 1, value=_value(cell.at(side)))
                 if row.critical.get(side) == g:
                     peak.fill = CRITICAL_FILL[side]

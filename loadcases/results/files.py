@@ -112,6 +112,7 @@ def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
         "case_file": str(outcome.case_file),
         "rows": int(time.size),
         "units": {TIME_COLUMN: "s", **outcome.column_units},
+        "kinds": dict(outcome.request_kinds),
         "warnings": [*(d.keyed_message() for d in outcome.warnings), *solution.warnings],
         "events": [
             {"name": e.name, "time": e.time, "actions": list(e.actions)} for e in solution.events

@@ -17,9 +17,11 @@ class RunOutcome:
 
     `name` is the case name (a `/` in it makes sub-folders of the output directory);
     `column_units` maps each result column (`REQUEST.COMPONENT`) to its SI unit text
-    (`N`, `N*m`, `rad/s` ...); `input_sha256` hashes the case, its mechanism file and the
-    parameters of the run (`overrides`: those `--set` changed); `warnings` are the input's
-    (validation and build) warnings, as data (the solver's are on the solution).
+    (`N`, `N*m`, `rad/s` ...), `request_kinds` each request's kind (`reaction`, `friction`,
+    ...: `loadcases.build.requests.request_kinds`); `input_sha256` hashes the case, its
+    mechanism file and the parameters of the run (`overrides`: those `--set` changed);
+    `warnings` are the input's (validation and build) warnings, as data (the solver's are
+    on the solution).
     """
 
     name: str
@@ -32,4 +34,5 @@ class RunOutcome:
     parameters: dict[str, float] = field(default_factory=dict)
     overrides: dict[str, float] = field(default_factory=dict)  # `--set` what-ifs (SI)
     checks: dict = field(default_factory=dict)  # e.g. {"torque_margin": {...}} for the summary
+    request_kinds: dict[str, str] = field(default_factory=dict)  # {request: kind}
     input_error: bool = False  # not solved: the run's parameter values make its input invalid

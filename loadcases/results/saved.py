@@ -49,6 +49,7 @@ class SavedRun:
     units: dict[str, str] = field(default_factory=dict)
     family: str = ""
     status: str = "ok"
+    kinds: dict[str, str] = field(default_factory=dict)  # {request: kind}, summary `kinds`
 
     def __post_init__(self) -> None:
         self.family = self.family or family_of(self.name)
@@ -129,7 +130,9 @@ def load_saved_run(csv_path: Path, directory: Path | None = None) -> SavedRun:
         base = csv_path.relative_to(directory) if directory is not None else Path(csv_path.name)
         name = base.as_posix()[: -len(".csv")]
     units = {str(k): str(v) for k, v in (summary.get("units") or {}).items()}
-    return SavedRun(name, time, channels, units, status=str(summary.get("status", "ok")))
+    kinds = {str(k): str(v) for k, v in (summary.get("kinds") or {}).items()}
+    status = str(summary.get("status", "ok"))
+    return SavedRun(name, time, channels, units, status=status, kinds=kinds)
 
 
 def saved_run_of(outcome: RunOutcome) -> SavedRun:
@@ -138,7 +141,14 @@ def saved_run_of(outcome: RunOutcome) -> SavedRun:
     the runs it has just solved from memory, not from disk."""
     time, channels = checked_arrays(outcome.solution)
     units = {TIME_COLUMN: "s", **outcome.column_units}
-    return SavedRun(outcome.name, time, channels, units, status=outcome.solution.status)
+    return SavedRun(
+        outcome.name,
+        time,
+        channels,
+        units,
+        status=outcome.solution.status,
+        kinds=dict(outcome.request_kinds),
+    )
 
 
 def find_result_files(directories: Iterable[Path]) -> list[tuple[Path, Path]]:

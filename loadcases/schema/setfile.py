@@ -98,6 +98,8 @@ _EXAMPLES = {
     "angular_velocity": "deg/s",
     "velocity": "mm/s",
     "pressure": "bar",
+    "energy": "kJ",
+    "flow": "L/min",
 }
 
 
@@ -119,6 +121,8 @@ class ReportUnits(Strict):
     stiffness: _report_unit("stiffness") = None
     torsional_stiffness: _report_unit("torsional_stiffness") = None
     frequency: _report_unit("frequency") = None
+    energy: _report_unit("energy") = None
+    flow: _report_unit("flow") = None
 
     def given(self) -> dict[str, str]:
         """{kind: unit} of the kinds given."""
@@ -146,6 +150,11 @@ class Report(Strict):
     )
     matrix: Literal["runs", "families"] = Field(
         "runs", description="columns of the loads matrix: one per run or per family (case)"
+    )
+    charts: Annotated[list[str], BeforeValidator(_as_list)] = Field(
+        default_factory=list,
+        description="requests (each of their columns) or columns REQUEST.COMPONENT charted "
+        "and plotted besides each family's largest loads, e.g. a joint friction or energy",
     )
 
 

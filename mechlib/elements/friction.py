@@ -27,10 +27,17 @@ from mechlib.elements.regularize import (
 from mechlib.kinematics.coordinates import AngleMeasure, TravelMeasure
 from mechlib.kinematics.view import StateView
 
-__all__ = ["FRICTION_JOINTS", "JointFriction"]
+__all__ = ["FRICTION_JOINTS", "JointFriction", "friction_units"]
 
 FRICTION_JOINTS = ("revolute", "cylindrical", "spherical", "prismatic")
 _NO_JACOBIAN, _NO_VALUES, _NO_ROWS = np.zeros((0, 0)), np.zeros(0), np.zeros(0, dtype=np.int64)
+
+
+def friction_units(joint_type: str) -> dict[str, str]:
+    """Units of a joint friction's outputs on a joint of `joint_type`: the friction effort
+    and its capacity in N on a prismatic joint, N*m on the others; the normal force in N."""
+    unit = "N" if joint_type == "prismatic" else "N*m"
+    return {"value": unit, "capacity": unit, "normal": "N"}
 
 
 @dataclass
@@ -53,8 +60,8 @@ class JointFriction(StaticSlipAnchor):
 
     @property
     def output_units(self) -> dict[str, str]:
-        unit = "N" if self._type == "prismatic" else "N*m"
-        return {"value": unit, "capacity": unit, "normal": "N"}
+        """The units of the outputs (known once bound to its joint: `friction_units`)."""
+        return friction_units(self._type)
 
     def bind(self, system) -> None:
         j = system.mechanism.joints[self.joint]

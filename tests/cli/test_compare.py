@@ -127,3 +127,53 @@ def test_version() -> None:
     result = runner.invoke(app, ["--version"])
     assert result.exit_code == 0
     assert result.stdout.startswith("loads ") and result.stdout.split()[1][0].isdigit()
+
+
+def test_changes_rank_against_the_request_peak_and_round_off_is_noise() -> None:
+    """A 3e-13 -> 5e-13 N*m moment beside a 5 kN*m torque (+67 % of itself) is `noise`,
+    listed after the real changes; a 100 N change of a joint's fx carrying 100 kN is 1e-3
+    of its request's peak, whatever fx was, and ranks below a 10 % torque change."""
+    old = {
+        "hinge.fx": Peak(1.0e3, "r", -1.0e3, "r", "N"),
+        "hinge.fy": Peak(1.0e5, "r", 0.0, "r", "N"),
+        "hinge.tx": Peak(3e-13, "r", 0.0, "r", "N*m"),
+        "drive.value": Peak(5.0e3, "r", -5.0e3, "r", "N*m"),
+    }
+    new = {
+        "hinge.fx": Peak(1.1e3, "r", -1.0e3, "r", "N"),
+        "hinge.fy": Peak(1.0e5, "r", 0.0, "r", "N"),
+        "hinge.tx": Peak(5e-13, "r", 0.0, "r", "N*m"),
+        "drive.value": Peak(5.5e3, "r", -5.0e3, "r", "N*m"),
+    }
+    rows = compare_envelopes(old, new)
+    assert [(r.column, r.status) for r in rows] == [
+        ("drive.value", "changed"),
+        ("hinge.fx", "changed"),
+        ("hinge.tx", "noise"),
+        ("hinge.fy", "same"),
+    ]
+    assert rows[0].max_change == pytest.approx(0.1, rel=1e-12)
+    assert rows[1].max_change == pytest.approx(100.0 / 1.0e5, rel=1e-12)
+    # round-off that becomes a load is a change
+    grown = {**new, "hinge.tx": Peak(50.0, "r", 0.0, "r", "N*m")}
+    assert {r.column: r.status for r in compare_envelopes(old, grown)}["hinge.tx"] == "changed"
+
+
+def test_compare_shows_report_units(two_results, tmp_path: Path) -> None:
+    """--units torque=N*mm: the console and the workbook in N*mm (x 1e3), percentages
+    unchanged, the CSV in SI."""
+    old, new = two_results
+    args = ["compare", str(old), str(new), "--units", "torque=N*mm"]
+    result = runner.invoke(app, [*args, "-o", str(tmp_path / "c.xlsx")])
+    assert result.exit_code == 0, result.output
+    line = next(x for x in result.stdout.splitlines() if x.startswith("drive_torque.value"))
+    assert line.split()[:5] == ["drive_torque.value", "N*mm", "1490.5", "2490.5", "+67.09%"]
+    sheet = openpyxl.load_workbook(tmp_path / "c.xlsx")["Compare"]
+    header = [c.value for c in sheet[1]]
+    values = {r[0].value: dict(zip(header, (c.value for c in r))) for r in sheet.iter_rows(2)}
+    assert values["drive_torque.value"]["unit"] == "N*mm"
+    assert values["drive_torque.value"]["max_diff"] == pytest.approx(1000.0, rel=1e-9)
+    runner.invoke(app, [*args, "-o", str(tmp_path / "c.csv")])
+    assert _rows(tmp_path / "c.csv")["drive_torque.value"]["unit"] == "N*m"
+    bad = runner.invoke(app, ["compare", str(old), str(new), "--units", "torque=mm"])
+    assert bad.exit_code == 2 and "--units 'torque=mm'" in bad.output
