@@ -35,11 +35,20 @@ from loadcases.foundation.atomic import atomic_path
 from loadcases.foundation.cache_env import CACHE_ENV, shared_cache_folder
 from loadcases.foundation.engine_hash import engine_sha256
 
-__all__ = ["CACHE_ENV", "CacheWarning", "cache_folder", "cache_key", "cached", "caching_under"]
+__all__ = [
+    "CACHE_ENV",
+    "CacheWarning",
+    "cache_folder",
+    "cache_key",
+    "cached",
+    "caching_under",
+    "reading_only",
+]
 
 _KEY_ARRAY = "__key__"
 _DIGEST_ARRAY = "__digest__"  # SHA-256 of the entry's other arrays (`_digest`)
 _OUTPUT: ContextVar[Path | None] = ContextVar("loads_cache_output", default=None)
+_STORING: ContextVar[bool] = ContextVar("loads_cache_storing", default=True)
 
 
 class CacheWarning(UserWarning):
@@ -55,6 +64,17 @@ def caching_under(output_folder: Path | str) -> Iterator[None]:
         yield
     finally:
         _OUTPUT.reset(token)
+
+
+@contextmanager
+def reading_only() -> Iterator[None]:
+    """Within the block, `cached` reads entries that exist but stores none (`loads
+    validate` writes nothing: a reduction it needs is computed and forgotten)."""
+    token = _STORING.set(False)
+    try:
+        yield
+    finally:
+        _STORING.reset(token)
 
 
 def cache_folder(output_folder: Path | None = None) -> Path:
@@ -172,9 +192,9 @@ def cached(
 ) -> dict[str, np.ndarray]:
     """The arrays `compute()` returns for `key_parts`, read from the cache when an entry
     exists and its key and the digest of its arrays match, else computed and stored
-    (`folder`, default `cache_folder()`). A damaged or changed entry is computed again and
-    replaced; a cache that cannot be written only warns (`warn`,
-    default a `CacheWarning`)."""
+    (`folder`, default `cache_folder()`; not stored within `reading_only`). A damaged or
+    changed entry is computed again and replaced; a cache that cannot be written only warns
+    (`warn`, default a `CacheWarning`)."""
     key = cache_key(key_parts)
     path = Path(folder if folder is not None else cache_folder()) / f"{key}.npz"
     if path.is_file():
@@ -183,6 +203,8 @@ def cached(
         except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
             warn(f"cache entry {path} unreadable ({error}): computed again")
     result = _checked(compute())
+    if not _STORING.get():
+        return result
     try:
         with atomic_path(path) as tmp, open(tmp, "wb") as stream:
             entry: dict[str, Any] = {

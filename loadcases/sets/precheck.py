@@ -1,6 +1,6 @@
 """`loads validate` of one file of any kind: the loader's schema and name checks, then the
 checks `loads run` makes before solving (`loadcases.build.precheck`): a case's model, a
-mechanism's build, every case of a set. Each file is loaded once."""
+mechanism's build, every case of a set. Each file is loaded once; nothing is written."""
 
 from __future__ import annotations
 
@@ -8,6 +8,7 @@ from pathlib import Path
 
 from loadcases.build.model import build_mechanism
 from loadcases.build.precheck import case_problems, set_problems
+from loadcases.flexible.cache import reading_only
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.loader import load_case, load_mechanism, validate_set
@@ -18,7 +19,12 @@ __all__ = ["file_problems"]
 
 def file_problems(path: str | Path) -> list[Diagnostic]:
     """Every diagnostic of one file of any kind (errors and warnings), as `loads validate`
-    prints them."""
+    prints them; nothing is written (a flexible body's reduction is not cached)."""
+    with reading_only():
+        return _file_problems(path)
+
+
+def _file_problems(path: str | Path) -> list[Diagnostic]:
     found: list[Diagnostic] = []
     try:
         kind = file_kind(path)

@@ -158,3 +158,32 @@ def test_changed_entry_is_not_used(tmp_path: Path, matrix: sp.csr_matrix, change
     assert np.array_equal(result["shape"], np.eye(2))
     again = cached(_parts(matrix), compute, folder=tmp_path)  # replaced: a hit
     assert compute.calls == 2 and np.array_equal(again["frequencies"], [2.0, 3.0, 4.0])
+
+
+def test_reading_only_reads_an_entry_but_stores_none(tmp_path: Path) -> None:
+    matrix = sp.csr_matrix(np.diag([4.0, 9.0]))
+    counter = Counter(matrix)
+    with cache.reading_only():
+        cached(_parts(matrix), counter, folder=tmp_path)
+    assert counter.calls == 1 and not list(tmp_path.iterdir())
+    cached(_parts(matrix), counter, folder=tmp_path)  # stored outside the block
+    assert counter.calls == 2 and len(list(tmp_path.iterdir())) == 1
+    with cache.reading_only():
+        cached(_parts(matrix), counter, folder=tmp_path)
+    assert counter.calls == 2  # read, not computed
+
+
+def test_loads_validate_of_a_flexible_case_writes_nothing(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Issue 36: `loads validate` wrote a reduction into `.cache/` of the working folder."""
+    from typer.testing import CliRunner
+
+    from cli.app import app
+
+    case = Path(__file__).resolve().parents[3] / "loadcases/library/examples/flexible"
+    monkeypatch.delenv("LOADS_CACHE_DIR", raising=False)
+    monkeypatch.chdir(tmp_path)
+    result = CliRunner().invoke(app, ["validate", str(case / "flexible_pendulum.case.yaml")])
+    assert result.exit_code == 0, result.output
+    assert not list(tmp_path.iterdir())
