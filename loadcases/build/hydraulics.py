@@ -82,11 +82,15 @@ def servo_actuator(builder, name: str, f) -> Any:
 
 
 def servo_problems(cf: CaseFile, mechanism: ml.Mechanism, analysis) -> list[Diagnostic]:
-    """Servo actuators with valve dynamics in an equilibrium analysis: their chamber
-    pressures follow the piston flow, which an equilibrium (piston at rest) does not have,
-    so they cannot give a force there (docs/hydraulics.md, Analyses)."""
-    if not isinstance(analysis, (ml.QuasiStatic, ml.Static)):
+    """Servo actuators with valve dynamics in an equilibrium analysis, or in a modes
+    analysis (linearised about one): their chamber pressures follow the piston flow, which
+    an equilibrium (piston at rest) does not have, so they cannot give a force there
+    (docs/hydraulics.md, Analyses)."""
+    if not isinstance(analysis, (ml.QuasiStatic, ml.Static, ml.Modes)):
         return []
+    modes = isinstance(analysis, ml.Modes)
+    where = "its modes are linearised about a static equilibrium, where" if modes else "and"
+    instead = "use a dynamic analysis" if modes else "use a dynamic or kinematic analysis"
     file, line, column = cf.where("case", "analysis.type")
     return [
         Diagnostic(
@@ -95,9 +99,9 @@ def servo_problems(cf: CaseFile, mechanism: ml.Mechanism, analysis) -> list[Diag
             column,
             "analysis.type",
             f"servo actuator '{name}' ({element.fidelity}) cannot act in a {analysis.name} "
-            "analysis: its chamber pressures follow the piston flow, and an equilibrium has "
-            "the piston at rest",
-            hint="use a dynamic or kinematic analysis, the actuator's fidelity lag, "
+            f"analysis: its chamber pressures follow the piston flow, {where} the piston is "
+            "at rest",
+            hint=f"{instead}, the actuator's fidelity lag (an oil column of stiffness k_h), "
             "or effects: {hydraulics: false}",
         )
         for name, element in mechanism.forces.items()
