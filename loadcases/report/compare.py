@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
 from loadcases.foundation.clip import visible_fields
+from loadcases.report.number_format import number_format
 from loadcases.report.roundoff import roundoff_columns
 from loadcases.results.xlsx_text import text_cells
 
@@ -263,7 +264,8 @@ def compare_csv_text(rows: list[ComparedRow]) -> str:
 @text_cells()  # names in runs' files are shown as written, never as formulas
 def write_compare(rows: list[ComparedRow], path: Path, *, old: str, new: str) -> Path:
     """Write the comparison atomically: `.csv`, or `.xlsx` with a `Compare` sheet (the
-    changes as percentages, text cells always text) and a `Sources` sheet."""
+    changes as percentages, values with the significant digits of the row's peak, text cells
+    always text) and a `Sources` sheet."""
     if path.suffix.lower() == ".csv":
         return atomic_write_text(path, compare_csv_text(rows))
     from openpyxl import Workbook
@@ -273,18 +275,22 @@ def write_compare(rows: list[ComparedRow], path: Path, *, old: str, new: str) ->
     sheet = workbook.create_sheet("Compare")
     sheet.freeze_panes = "B2"
 
-    def cell(value: object, percent: bool = False) -> WriteOnlyCell:
+    def cell(value: object, number: str | None = None) -> WriteOnlyCell:
         out = WriteOnlyCell(sheet, value=_text(value))
         if isinstance(value, str):
             out.data_type = "s"  # a run name is text, never a formula
-        elif percent and value is not None:
-            out.number_format = "0.00%"
+        elif number is not None and value is not None:
+            out.number_format = number
         return out
 
     sheet.append([cell(name) for name in COMPARE_COLUMNS])
     for row in rows:
+        loads = number_format((row.old_max, row.new_max, row.old_min, row.new_min))
         sheet.append(
-            [cell(getattr(row, name), name.endswith("_change")) for name in COMPARE_COLUMNS]
+            [
+                cell(getattr(row, name), "0.00%" if name.endswith("_change") else loads)
+                for name in COMPARE_COLUMNS
+            ]
         )
     sources = workbook.create_sheet("Sources")
     for label, where in (("old", old), ("new", new)):

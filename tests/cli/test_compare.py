@@ -173,6 +173,9 @@ def test_compare_shows_report_units(two_results, tmp_path: Path) -> None:
     values = {r[0].value: dict(zip(header, (c.value for c in r))) for r in sheet.iter_rows(2)}
     assert values["drive_torque.value"]["unit"] == "N*mm"
     assert values["drive_torque.value"]["max_diff"] == pytest.approx(1000.0, rel=1e-9)
+    torque_row = next(r for r in sheet.iter_rows(2) if r[0].value == "drive_torque.value")
+    formats = {header[c.column - 1]: c.number_format for c in torque_row}
+    assert (formats["new_max"], formats["max_change"]) == ("0", "0.00%")  # 2490.5 N*mm
     runner.invoke(app, [*args, "-o", str(tmp_path / "c.csv")])
     assert _rows(tmp_path / "c.csv")["drive_torque.value"]["unit"] == "N*m"
     bad = runner.invoke(app, ["compare", str(old), str(new), "--units", "torque=mm"])
