@@ -11,7 +11,6 @@ Main columns of a family: see `loadcases.report.curves.main_columns`.
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 from openpyxl.chart import Reference, ScatterChart, Series
@@ -19,7 +18,7 @@ from openpyxl.chart import Reference, ScatterChart, Series
 from loadcases.foundation.clip import visible
 from loadcases.report.curves import EnvelopeCurve, main_columns
 from loadcases.report.number_format import SIGNIFICANT_DIGITS
-from loadcases.report.workbook_sheets import Block, format_columns, header_text
+from loadcases.report.workbook_sheets import Block, append_columns, header_text
 from loadcases.results.files import TIME_COLUMN
 
 __all__ = ["MAX_SERIES", "charts_sheet", "curves_sheet"]
@@ -27,10 +26,6 @@ __all__ = ["MAX_SERIES", "charts_sheet", "curves_sheet"]
 MAX_SERIES = 12
 CHART_WIDTH, CHART_HEIGHT = 16.0, 7.5  # cm
 ROWS_PER_CHART, COLUMNS_PER_CHART = 16, 10  # anchor spacing on the Charts sheet
-
-
-def _value(v: float) -> float | None:
-    return float(v) if math.isfinite(v) else None
 
 
 def curves_sheet(
@@ -47,9 +42,7 @@ def curves_sheet(
     for k, title in enumerate(titles, start=1):
         sheet.cell(row=1, column=k, value=title).style = "loads header"
     data = [curve.x] + [a for c in curve.upper for a in (curve.upper[c], curve.lower[c])]
-    for values in zip(*data):
-        sheet.append([_value(v) for v in values])
-    format_columns(sheet, 2, curve.x.size + 1, 1, data, digits)
+    append_columns(sheet, data, digits)
     sheet.freeze_panes = "B2"
     return where
 

@@ -12,6 +12,7 @@ import math
 from dataclasses import astuple, dataclass
 from typing import Any
 
+from openpyxl.cell.cell import Cell
 from openpyxl.comments import Comment
 from openpyxl.formatting.rule import CellIsRule
 from openpyxl.styles import PatternFill
@@ -28,9 +29,9 @@ __all__ = [
     "CASES_COLUMNS",
     "EXCEL_MAX_LINKS",
     "Block",
+    "append_columns",
     "cases_sheet",
     "envelope_sheet",
-    "format_columns",
     "header_text",
     "history_sheet",
     "provenance_sheet",
@@ -239,17 +240,31 @@ def envelope_sheet(
         sheet.column_dimensions[get_column_letter(index[name])].width = 30
 
 
-def format_columns(
-    sheet: Any, first: int, last: int, column: int, data: list[Any], digits: int
+def append_columns(
+    sheet: Any,
+    columns: list[Any],
+    digits: int,
+    lead: list[Any] | None = None,
+    general: int = 0,
 ) -> None:
-    """Rows `first`..`last` of the columns from `column` on, each with `digits`
-    significant digits of its largest magnitude there."""
-    for offset, values in enumerate(data):
-        number = number_format((float(v) for v in values), digits)
-        for (cell,) in sheet.iter_rows(
-            min_row=first, max_row=last, min_col=column + offset, max_col=column + offset
-        ):
-            cell.number_format = number
+    """Append one row per entry of `columns` (equal-length sequences of numbers; NaN
+    and infinities become empty cells), each column shown with `digits` significant digits
+    of its largest magnitude but the first `general` (shown in full: time); `lead`: cells
+    put first in every row (a run's name), as they are. The format's style is made once
+    per column and given to each cell as it is made (setting it cell by cell afterwards
+    took three times as long)."""
+    styles = []
+    for k, values in enumerate(columns):
+        probe = Cell(sheet)
+        if k >= general:
+            probe.number_format = number_format((float(v) for v in values), digits)
+        styles.append(probe._style)
+    first = lead or []
+    for values in zip(*columns):
+        sheet.append(
+            first
+            + [Cell(sheet, value=_cell(float(v)), style_array=st) for v, st in zip(values, styles)]
+        )
 
 
 def history_sheet(
@@ -277,9 +292,7 @@ def history_sheet(
         data = [run.time[:count]] + [
             run.channels[c][:count] if c in run.channels else [math.nan] * count for c in columns
         ]
-        for values in zip(*data):
-            sheet.append(([run.name] if stacked else []) + [_cell(float(v)) for v in values])
-        format_columns(sheet, row, row + count - 1, stacked + 2, data[1:], digits)
+        append_columns(sheet, data, digits, [run.name] if stacked else None, general=1)
         blocks[run.name] = Block(
             sheet.title, row, row + count - 1, {n: k for k, n in enumerate(names, start=1)}
         )

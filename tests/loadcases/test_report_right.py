@@ -128,6 +128,17 @@ def test_workbook_numbers_show_four_significant_digits_in_the_report_unit(result
         value = row["max"].value
         if value and 1e-3 <= abs(value) < 1e7:
             assert "E" not in row["max"].number_format, row["column"].value
+    book = openpyxl.load_workbook(result / "u.xlsx")
+    history = book["crank-turn(20N)"]  # its time histories: time in full, loads in 4 digits
+    second = {c.value: cell for c, cell in zip(history[1], history[2])}
+    assert second["time [s]"].number_format == "General"
+    assert second["drive_torque.value [N*mm]"].number_format == "0"
+    assert second["drive_torque.value [N*mm]"].value == pytest.approx(DRIVE * 1e3, rel=1e-9)
+    assert second["rub.normal [kN]"].number_format == "0.00000"
+    curves = book["Curves crank-turn"]
+    assert {c.value: cell.number_format for c, cell in zip(curves[1], curves[2])}[
+        "drive_torque.value upper [N*mm]"
+    ] == "0"
 
 
 @pytest.mark.parametrize(
