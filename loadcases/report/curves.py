@@ -40,8 +40,9 @@ MAX_GRID_POINTS = 20_000  # more would only slow the workbook charts down
 MAIN_COLUMNS = 4  # columns charted and plotted per family
 LOAD_UNITS = frozenset({"N", "N*m"})
 # Request kinds (`loadcases.build.requests.request_kinds`) whose force and torque columns
-# are loads a sizing report charts; friction and energy are charted only when asked.
-LOAD_KINDS = frozenset({"reaction", "effort", "element", "contact"})
+# are loads a sizing report charts (an expression in N or N*m is a load the case defines:
+# the door's handle force); friction and energy are charted only when asked.
+LOAD_KINDS = frozenset({"reaction", "effort", "element", "contact", "expression"})
 
 
 @dataclass
@@ -231,7 +232,7 @@ def _largest(curve: EnvelopeCurve, columns: list[str]) -> list[str]:
 
 def _chosen(curve: EnvelopeCurve, asked: Sequence[str]) -> list[str]:
     """The `MAIN_COLUMNS` largest loads (columns in N or N*m of joint reactions, motion
-    efforts, force elements and contacts: `LOAD_KINDS`), one per request and unit
+    efforts, force elements, contacts and expressions: `LOAD_KINDS`), one per request and unit
     (`_largest`); with no load, the largest other columns but friction and energy; then
     the columns `asked` (`report.charts`: a request's every column, or one column)."""
     columns = list(curve.upper)
