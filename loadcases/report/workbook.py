@@ -212,6 +212,7 @@ def write_workbook(
     from loadcases.report import workbook_charts as charts
     from loadcases.report import workbook_sheets as sheets
     from loadcases.report import workbook_tables as tables
+    from loadcases.report.workbook_history import history_sheet
 
     say = progress or (lambda text: None)
     say("workbook: tables")
@@ -246,9 +247,7 @@ def write_workbook(
     for k, (name, group) in enumerate(groups, start=1):
         say(f"workbook: time histories {k}/{len(groups)}")
         sheet = workbook.create_sheet(titles[name])
-        blocks.update(
-            sheets.history_sheet(sheet, group, stacked=not per_run, note=_history_note(data))
-        )
+        blocks.update(history_sheet(sheet, group, stacked=not per_run, note=_history_note(data)))
     if chart_sheet is not None:
         charts.charts_sheet(chart_sheet, curves, curve_sheets, wheres, blocks)
     sheets.provenance_sheet(new("Provenance"), data, platform.python_version())

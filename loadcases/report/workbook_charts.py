@@ -18,7 +18,8 @@ from openpyxl.chart import Reference, ScatterChart, Series
 from loadcases.foundation.clip import visible
 from loadcases.report.curves import EnvelopeCurve, main_columns
 from loadcases.report.number_format import SIGNIFICANT_DIGITS
-from loadcases.report.workbook_sheets import Block, append_columns, header_text
+from loadcases.report.workbook_history import Block, append_columns
+from loadcases.report.workbook_sheets import header_text
 from loadcases.results.files import TIME_COLUMN
 
 __all__ = ["MAX_SERIES", "charts_sheet", "curves_sheet"]

@@ -1,4 +1,5 @@
-"""The table sheets of the sizing workbook: Cases, Envelope, time histories, Provenance.
+"""The table sheets of the sizing workbook: Cases, Envelope, Provenance (the time histories:
+`loadcases.report.workbook_history`).
 
 Styles are the template's named styles (`loads header`, `loads number` ...; see
 `loadcases.report.workbook_template`). Values are written as they are (SI floats); NaN and
@@ -9,10 +10,9 @@ from __future__ import annotations
 
 import datetime as dt
 import math
-from dataclasses import astuple, dataclass
+from dataclasses import astuple
 from typing import Any
 
-from openpyxl.cell.cell import Cell
 from openpyxl.comments import Comment
 from openpyxl.formatting.rule import CellIsRule
 from openpyxl.styles import PatternFill
@@ -22,19 +22,18 @@ from openpyxl.worksheet.hyperlink import Hyperlink
 from loadcases.report.envelope import ENVELOPE_COLUMNS, EnvelopeRow
 from loadcases.report.margin_table import allowable_lines
 from loadcases.report.number_format import SIGNIFICANT_DIGITS, number_format
-from loadcases.results.files import EXCEL_MAX_LINKS, EXCEL_MAX_ROWS, TIME_COLUMN
-from loadcases.results.saved import RunRecord, SavedRun
+from loadcases.results.files import EXCEL_MAX_LINKS, EXCEL_MAX_ROWS
+from loadcases.results.saved import RunRecord
 
 __all__ = [
     "CASES_COLUMNS",
     "EXCEL_MAX_LINKS",
-    "Block",
-    "append_columns",
     "cases_sheet",
     "envelope_sheet",
+    "excel_value",
     "header_text",
-    "history_sheet",
     "provenance_sheet",
+    "write_header",
 ]
 
 CASES_COLUMNS = (
@@ -87,17 +86,8 @@ _HEADER_NOTES = {
 }
 
 
-@dataclass(frozen=True)
-class Block:
-    """Where a run's time histories are: sheet, first/last data row, column of each name."""
-
-    sheet: str
-    first_row: int
-    last_row: int
-    columns: dict[str, int]
-
-
-def _cell(value: Any) -> Any:
+def excel_value(value: Any) -> Any:
+    """The value as a cell holds it: NaN and infinities empty (Excel has no such numbers)."""
     if isinstance(value, float) and not math.isfinite(value):
         return None
     return value
@@ -108,7 +98,8 @@ def header_text(name: str, unit: str | None) -> str:
     return f"{name} [{unit if unit not in (None, '', '1') else '-'}]"
 
 
-def _header(sheet: Any, titles: list[str], row: int = 1) -> None:
+def write_header(sheet: Any, titles: list[str], row: int = 1) -> None:
+    """Header cells in the template's `loads header` style, from column 1 of `row`."""
     for column, title in enumerate(titles, start=1):
         sheet.cell(row=row, column=column, value=title).style = "loads header"
 
@@ -132,7 +123,7 @@ def cases_sheet(
     (the links to the runs' sheets first, then to their CSV files, in run order); a note
     beside the header says what is left out (the CSV column still names every file)."""
     links = csv_links or {}
-    _header(sheet, list(CASES_COLUMNS))
+    write_header(sheet, list(CASES_COLUMNS))
     shown = records[: EXCEL_MAX_ROWS - 1]
     to_sheets = [r.name for r in shown if run_sheets.get(r.name)]
     to_files = [r.name for r in shown if r.name in links]
@@ -206,7 +197,7 @@ def envelope_sheet(
 ) -> None:
     """The envelope table: header = `envelope.csv`'s, frozen, margins flagged, values with
     `digits` significant digits of each row's peak."""
-    _header(sheet, list(ENVELOPE_COLUMNS))
+    write_header(sheet, list(ENVELOPE_COLUMNS))
     for column, name in enumerate(ENVELOPE_COLUMNS, start=1):
         note = _HEADER_NOTES.get(
             name, "unit: see column 'unit'" if name in _NUMBER_COLUMNS else None
@@ -217,7 +208,7 @@ def envelope_sheet(
     for r, row in enumerate(rows, start=2):
         formats = _row_formats(row, digits)
         for name, value in zip(ENVELOPE_COLUMNS, astuple(row)):
-            cell = sheet.cell(row=r, column=index[name], value=_cell(value))
+            cell = sheet.cell(row=r, column=index[name], value=excel_value(value))
             if name in _NUMBER_COLUMNS:
                 cell.style = "loads number"
                 cell.number_format = formats[name in _ABSCISSA_COLUMNS]
@@ -240,73 +231,6 @@ def envelope_sheet(
         sheet.column_dimensions[get_column_letter(index[name])].width = 30
 
 
-def append_columns(
-    sheet: Any,
-    columns: list[Any],
-    digits: int,
-    lead: list[Any] | None = None,
-    general: int = 0,
-) -> None:
-    """Append one row per entry of `columns` (equal-length sequences of numbers; NaN
-    and infinities become empty cells), each column shown with `digits` significant digits
-    of its largest magnitude but the first `general` (shown in full: time); `lead`: cells
-    put first in every row (a run's name), as they are. The format's style is made once
-    per column and given to each cell as it is made (setting it cell by cell afterwards
-    took three times as long)."""
-    styles = []
-    for k, values in enumerate(columns):
-        probe = Cell(sheet)
-        if k >= general:
-            probe.number_format = number_format((float(v) for v in values), digits)
-        styles.append(probe._style)
-    first = lead or []
-    for values in zip(*columns):
-        sheet.append(
-            first
-            + [Cell(sheet, value=_cell(float(v)), style_array=st) for v, st in zip(values, styles)]
-        )
-
-
-def history_sheet(
-    sheet: Any,
-    runs: list[SavedRun],
-    *,
-    stacked: bool,
-    note: str | None = None,
-    digits: int = SIGNIFICANT_DIGITS,
-) -> dict[str, Block]:
-    """Time histories of one run (or, `stacked`, of a family's runs one under the other,
-    first column `run`); returns where each run's rows are. `note`: shown beside the
-    header (how the rows were chosen); values with `digits` significant digits of each
-    column's peak in the run."""
-    columns = list(dict.fromkeys(c for run in runs for c in run.channels))
-    units = {TIME_COLUMN: "s", **{k: v for run in runs for k, v in run.units.items()}}
-    names = ["run"] * stacked + [TIME_COLUMN, *columns]
-    _header(sheet, [n if n == "run" else header_text(n, units.get(n)) for n in names])
-    sheet.freeze_panes = "C2" if stacked else "B2"
-    if note:
-        sheet.cell(row=1, column=len(names) + 2, value=note).style = "loads note"
-    blocks, row = {}, 2
-    for run in runs:
-        count = min(run.time.size, EXCEL_MAX_ROWS - row + 1)
-        data = [run.time[:count]] + [
-            run.channels[c][:count] if c in run.channels else [math.nan] * count for c in columns
-        ]
-        append_columns(sheet, data, digits, [run.name] if stacked else None, general=1)
-        blocks[run.name] = Block(
-            sheet.title, row, row + count - 1, {n: k for k, n in enumerate(names, start=1)}
-        )
-        row += count
-        if count < run.time.size:
-            sheet.cell(
-                row=1,
-                column=len(names) + 2,
-                value=(f"rows truncated to Excel's limit; {run.name}.csv holds every row"),
-            ).style = "loads note"
-            break
-    return blocks
-
-
 def provenance_sheet(sheet: Any, data: Any, python_version: str) -> None:
     """Engine version, date, inputs with SHA-256, solver settings and options, every
     allowable given (ultimate and limit, in the rows' units)."""
@@ -319,7 +243,7 @@ def provenance_sheet(sheet: Any, data: Any, python_version: str) -> None:
         ("set", data.title),
         ("set file", data.source),
     ]
-    _header(sheet, ["item", "value", "sha256"])
+    write_header(sheet, ["item", "value", "sha256"])
     for key, value in lines:
         sheet.append([key, value])
     for path, sha in data.inputs:

@@ -41,8 +41,9 @@ from loadcases.inputs.overrides import (
     override_problems,
     pairs,
 )
-from loadcases.inputs.run_identity import Labels, Pairs, run_hash, run_name, value_label
+from loadcases.inputs.run_identity import Labels, Pairs, run_hash, run_name
 from loadcases.results.files import package_version
+from loadcases.sets.run_names import name_clashes, written_values
 
 __all__ = [
     "CompiledSet",
@@ -157,20 +158,6 @@ def _in_use(path: tuple[str, ...], mechanism: dict) -> bool:
     return path[2] in mechanism.get(path[1], {})
 
 
-def _written_values(set_file: SetFile) -> dict[tuple[str, float], str]:
-    """{(parameter, SI value): the value as the set wrote it} of its sweep and zip lists."""
-    raw = set_file.locator.data
-    found: dict[tuple[str, float], str] = {}
-    for section in ("sweep", "zip"):
-        written = raw.get(section) if isinstance(raw, dict) else None
-        for name, values in getattr(set_file.model, section).items():
-            texts = written.get(name) if isinstance(written, dict) else None
-            if isinstance(texts, list) and len(texts) == len(values):
-                for value, text in zip(values, texts):
-                    found.setdefault((name, float(value)), value_label(text))
-    return found
-
-
 def _case_runs(
     set_file: SetFile,
     cf: CaseFile,
@@ -203,28 +190,6 @@ def _case_runs(
             )
         )
     return runs
-
-
-def _name_clashes(set_file: SetFile, runs: list[RunSpec]) -> list[Diagnostic]:
-    """Distinct values that print alike (`%g` of bare numbers) would overwrite each other's
-    results."""
-    found, seen = [], set()
-    for spec in runs:
-        if spec.name in seen:
-            names = [name for name, _ in spec.swept] or ["cases"]
-            section = "sweep" if names[0] in set_file.model.sweep else "zip"
-            found.append(
-                Diagnostic(
-                    *set_file.where((section, names[0])),
-                    f"{section}.{names[0]}",
-                    f"two runs are both named '{spec.name}'",
-                    hint="bare numbers that differ only beyond 6 significant "
-                    "digits print alike in run names (%g); space them wider or write them "
-                    "with a unit",
-                )
-            )
-        seen.add(spec.name)
-    return found
 
 
 def _what_if_problems(
@@ -276,11 +241,11 @@ def compile_set(
     version = version or package_version()
     order = swept_order(set_file)
     given = pairs(what_if)
-    written = {**_written_values(set_file), **labels(what_if)}
+    written = {**written_values(set_file), **labels(what_if)}
     runs = [
         spec for cf in cases for spec in _case_runs(set_file, cf, order, version, given, written)
     ]
-    found = _name_clashes(set_file, runs) + _compared_runs(set_file, runs)
+    found = name_clashes(set_file, runs) + _compared_runs(set_file, runs)
     if found:
         raise InputError(found)
     return CompiledSet(set_file, tuple(cases), tuple(runs), version)

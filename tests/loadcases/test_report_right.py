@@ -267,3 +267,16 @@ def test_loads_plot_shows_the_set_report_units(
     channels = drawn["runs"]["crank-turn[load=20N]"]
     assert channels["drive_torque.value"].max() == pytest.approx(DRIVE * 1e3, rel=1e-9)
     assert channels["abscissa.value"].max() == pytest.approx(0.5, rel=1e-12)
+
+
+def test_bare_numbers_that_print_alike_are_a_name_clash_at_their_sweep(tmp_path: Path) -> None:
+    text = SET.replace('sweep: {load: ["10 N", "20 N"]}', "sweep: {load: [10.0000001, 10.0000002]}")
+    folder = _write(tmp_path, text)
+    with pytest.raises(InputError) as error:
+        load_and_compile_set(folder / "u.set.yaml")
+    message = str(error.value)
+    assert "u.set.yaml:3:" in message and "both named 'crank-turn[load=10]'" in message
+    # the same value written two ways is one run, named as first written
+    text = SET.replace('sweep: {load: ["10 N", "20 N"]}', 'sweep: {load: ["10 N", "0.01 kN"]}')
+    names = [r.name for r in load_and_compile_set(_write(tmp_path, text) / "u.set.yaml").runs]
+    assert names == ["crank-turn[load=10N]"]
