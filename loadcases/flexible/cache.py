@@ -32,7 +32,7 @@ import scipy
 import scipy.sparse as sp
 
 from loadcases.foundation.atomic import atomic_path
-from loadcases.foundation.cache_env import CACHE_ENV, shared_cache_folder
+from loadcases.foundation.cache_env import CACHE_ENV, reading_only, shared_cache_folder, storing
 from loadcases.foundation.engine_hash import engine_sha256
 
 __all__ = [
@@ -48,7 +48,6 @@ __all__ = [
 _KEY_ARRAY = "__key__"
 _DIGEST_ARRAY = "__digest__"  # SHA-256 of the entry's other arrays (`_digest`)
 _OUTPUT: ContextVar[Path | None] = ContextVar("loads_cache_output", default=None)
-_STORING: ContextVar[bool] = ContextVar("loads_cache_storing", default=True)
 
 
 class CacheWarning(UserWarning):
@@ -64,17 +63,6 @@ def caching_under(output_folder: Path | str) -> Iterator[None]:
         yield
     finally:
         _OUTPUT.reset(token)
-
-
-@contextmanager
-def reading_only() -> Iterator[None]:
-    """Within the block, `cached` reads entries that exist but stores none (`loads
-    validate` writes nothing: a reduction it needs is computed and forgotten)."""
-    token = _STORING.set(False)
-    try:
-        yield
-    finally:
-        _STORING.reset(token)
 
 
 def cache_folder(output_folder: Path | None = None) -> Path:
@@ -203,7 +191,7 @@ def cached(
         except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
             warn(f"cache entry {path} unreadable ({error}): computed again")
     result = _checked(compute())
-    if not _STORING.get():
+    if not storing():
         return result
     try:
         with atomic_path(path) as tmp, open(tmp, "wb") as stream:

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from loadcases.build.model import build_mechanism
 from loadcases.build.precheck import case_problems, set_problems
-from loadcases.flexible.cache import reading_only
+from loadcases.foundation.cache_env import reading_only
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.loader import load_case, load_mechanism, validate_set
