@@ -26,6 +26,7 @@ from loadcases.results.files import TIME_COLUMN
 from loadcases.results.saved import SavedRun
 
 __all__ = [
+    "ASKED_ONLY",
     "LOAD_KINDS",
     "MAIN_COLUMNS",
     "MAX_GRID_POINTS",
@@ -43,6 +44,7 @@ LOAD_UNITS = frozenset({"N", "N*m"})
 # are loads a sizing report charts (an expression in N or N*m is a load the case defines:
 # the door's handle force); friction and energy are charted only when asked.
 LOAD_KINDS = frozenset({"reaction", "effort", "element", "contact", "expression"})
+ASKED_ONLY = frozenset({"friction", "energy"})
 
 
 @dataclass
@@ -232,14 +234,13 @@ def _largest(curve: EnvelopeCurve, columns: list[str]) -> list[str]:
 
 def _chosen(curve: EnvelopeCurve, asked: Sequence[str]) -> list[str]:
     """The `MAIN_COLUMNS` largest loads (columns in N or N*m of joint reactions, motion
-    efforts, force elements, contacts and expressions: `LOAD_KINDS`), one per request and unit
-    (`_largest`); with no load, the largest other columns but friction and energy; then
+    efforts, force elements, contacts and expressions: `LOAD_KINDS`), one per request and
+    unit (`_largest`); with no load, the largest other columns but `ASKED_ONLY`; then
     the columns `asked` (`report.charts`: a request's every column, or one column)."""
     columns = list(curve.upper)
     loads = [c for c in columns if _is_load(curve, c)]
     if not loads:
-        quiet = {"friction", "energy"}
-        loads = [c for c in columns if curve.kinds.get(c.rsplit(".", 1)[0]) not in quiet]
+        loads = [c for c in columns if curve.kinds.get(c.rsplit(".", 1)[0]) not in ASKED_ONLY]
     chosen = _largest(curve, loads)[:MAIN_COLUMNS]
     chosen += [c for c in columns if c in asked or c.rsplit(".", 1)[0] in asked]
     return list(dict.fromkeys(chosen))
