@@ -280,3 +280,16 @@ def test_bare_numbers_that_print_alike_are_a_name_clash_at_their_sweep(tmp_path:
     text = SET.replace('sweep: {load: ["10 N", "20 N"]}', 'sweep: {load: ["10 N", "0.01 kN"]}')
     names = [r.name for r in load_and_compile_set(_write(tmp_path, text) / "u.set.yaml").runs]
     assert names == ["crank-turn[load=10N]"]
+
+
+def test_report_charts_of_a_set_reaches_the_charted_columns(tmp_path: Path) -> None:
+    from loadcases.inputs.loader import load_set
+    from loadcases.report.sizing import size_runs
+
+    text = SET.replace("report: {output: u.xlsx,", "report: {output: u.xlsx, charts: [rub],")
+    model = load_set(_write(tmp_path, text) / "u.set.yaml").model
+    runs = [_run("a[x=1]", KINDS), _run("a[x=2]", KINDS)]
+    (curve,) = size_runs(runs, model).curves
+    assert list(curve.charted) == ["hinge.fx", "drive.value", "rod.value", "rub.value"]
+    (plain,) = size_runs(runs, None).curves
+    assert "rub.value" not in plain.charted
