@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Annotated
 
 import typer
 
-from cli.render import fail
+from cli.render import fail, print_diagnostics
 
 if TYPE_CHECKING:
     from loadcases.report.units import ReportUnits
@@ -46,7 +46,8 @@ def report_units(set_file: Path | None, texts: list[str]) -> ReportUnits:
         try:
             model = load_set(set_file).model
         except InputError as error:
-            raise fail(str(error)) from None
+            print_diagnostics(error.diagnostics, err=True)
+            raise typer.Exit(2) from None
         if model.report is not None:
             given = [f"{k}={v}" for k, v in model.report.units.given().items()] + given
     try:

@@ -293,3 +293,19 @@ def test_report_charts_of_a_set_reaches_the_charted_columns(tmp_path: Path) -> N
     assert list(curve.charted) == ["hinge.fx", "drive.value", "rod.value", "rub.value"]
     (plain,) = size_runs(runs, None).curves
     assert "rub.value" not in plain.charted
+
+
+def test_loads_plot_with_a_bad_unit_is_an_input_error(result: Path, tmp_path: Path) -> None:
+    bad = tmp_path / "bad.set.yaml"
+    bad.write_text(
+        "set: u\ncases: [x.case.yaml]\nreport: {output: u.xlsx, units: {force: mm}}\n",
+        encoding="utf-8",
+    )
+    outcome = runner.invoke(app, ["plot", str(result), "--set", str(bad), "-o", str(tmp_path)])
+    assert outcome.exit_code == 2
+    assert "bad.set.yaml:3:34: error: report.units.force: 'mm' is not a unit of force" in (
+        outcome.output
+    )
+    outcome = runner.invoke(app, ["plot", str(result), "--units", "forse=kN", "-o", str(tmp_path)])
+    assert outcome.exit_code == 2 and "expected KIND=UNIT with KIND one of force" in outcome.output
+    assert not list(tmp_path.glob("*.png"))
