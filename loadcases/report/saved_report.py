@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.envelope import EnvelopeRow
+from loadcases.report.number_format import SIGNIFICANT_DIGITS
 from loadcases.report.sizing import Sizing, size_runs
 from loadcases.results.files import package_version
 from loadcases.results.saved import (
@@ -45,6 +46,7 @@ class SavedReport:
     units: dict[str, str] = field(default_factory=dict)
     sizing: Sizing | None = None
     histories: str = "envelope"
+    digits: int = SIGNIFICANT_DIGITS
 
     def workbook_data(self, title: str, set_path: Path | None = None) -> WorkbookData:
         """The workbook of these results (Provenance lists each CSV with its hash)."""
@@ -68,6 +70,7 @@ class SavedReport:
                 ultimate=self.sizing.ultimate if self.sizing is not None else 1.0,
                 noise=self.sizing.noise if self.sizing is not None else frozenset(),
                 histories=self.histories,
+                digits=self.digits,
             )
         )
 
@@ -86,13 +89,16 @@ def saved_report(directories: Iterable[Path], *, set_path: Path | None = None) -
         records.append(_record(csv_path, run))
         if records[-1].ok:
             runs.append(run)
-    model, units, histories = None, {}, "envelope"
+    model, units, histories, digits = None, {}, "envelope", SIGNIFICANT_DIGITS
     if set_path is not None:
         from loadcases.inputs.loader import load_set
 
         model = load_set(set_path).model
         if model.report is not None:
             units, histories = model.report.units.given(), model.report.histories
+            digits = model.report.digits
     sizing = size_runs(runs, model)
     sources = [p for _, p in files]
-    return SavedReport(records, runs, sizing.rows, sizing.curves, sources, units, sizing, histories)
+    return SavedReport(
+        records, runs, sizing.rows, sizing.curves, sources, units, sizing, histories, digits
+    )

@@ -20,11 +20,12 @@ govern an envelope row, so that a campaign's workbook grows with its envelope); 
 every output row (and the full curves); `none` no history sheets (and no per-run charts).
 Every run's full rows stay in its `NAME.csv`, linked from the Cases sheet. One sheet per run
 when the set has at most `MAX_RUN_SHEETS` runs, else one sheet per family with the runs
-stacked (first column `run`). Numbers show `number_format.SIGNIFICANT_DIGITS` significant
-digits of each row's or column's peak. Headers carry their units (`pivot_force.fx [N]`):
-SI, or the set's `report.units` (`loadcases.report.units` converts the data before they
-get here); SI values are the CSV's exactly (NaN becomes an empty cell: Excel has no NaN).
-The workbook is written atomically.
+stacked (first column `run`). Numbers show `report.digits` (default
+`number_format.SIGNIFICANT_DIGITS`) significant digits of each row's or column's peak.
+Headers carry their units (`pivot_force.fx [N]`): SI, or the set's `report.units`
+(`loadcases.report.units` converts the data before they get here); SI values are the
+CSV's exactly (NaN becomes an empty cell: Excel has no NaN). The workbook is written
+atomically.
 """
 
 from __future__ import annotations
@@ -49,6 +50,7 @@ from loadcases.report.decimate import CHART_ROWS, decimate_curve, decimate_run
 from loadcases.report.envelope import EnvelopeRow
 from loadcases.report.loads_matrix import LoadsMatrix
 from loadcases.report.margin_table import margin_lines
+from loadcases.report.number_format import SIGNIFICANT_DIGITS
 from loadcases.report.wear_map import WEAR_SHEET, polar_requests, wear_map_sheet
 from loadcases.report.workbook_template import (
     COVER_FIELDS,
@@ -98,6 +100,7 @@ class WorkbookData:
     noise: frozenset[str] = frozenset()  # columns marked ~0
     histories: str = "envelope"  # report.histories: all | envelope | none
     comparisons: dict[str, Any] = field(default_factory=dict)  # the set's `comparisons:`
+    digits: int = SIGNIFICANT_DIGITS  # report.digits: significant digits shown
 
     @classmethod
     def from_set(cls, result: Any, runs: list[SavedRun], options: dict[str, str]) -> WorkbookData:
@@ -114,6 +117,7 @@ class WorkbookData:
         settings += [(f"factor {k}", repr(v)) for k, v in model.factors.items()]
         settings += [(f"case factor {k}", repr(v)) for k, v in model.case_factors.items()]
         histories = model.report.histories if model.report is not None else "envelope"
+        digits = model.report.digits if model.report is not None else SIGNIFICANT_DIGITS
         settings += [("histories", histories), *options.items()]
         sizing = result.sizing
         return cls(
@@ -131,6 +135,7 @@ class WorkbookData:
             noise=sizing.noise if sizing is not None else frozenset(),
             histories=histories,
             comparisons=dict(model.comparisons),
+            digits=digits,
         )
 
 
@@ -229,10 +234,11 @@ def write_workbook(
     run_sheets = {run.name: titles[run.name if per_run else run.family] for run in runs}
     sheets.cases_sheet(new("Cases"), data.records, run_sheets, _csv_links(data, Path(path)))
     shown = [row for row in data.rows if row.column != ABSCISSA_COLUMN]
-    sheets.envelope_sheet(new("Envelope"), shown, run_sheets)
-    tables.margins_sheet(new("Margins"), margin_lines(shown, data.ultimate))
+    digits = data.digits
+    sheets.envelope_sheet(new("Envelope"), shown, run_sheets, digits)
+    tables.margins_sheet(new("Margins"), margin_lines(shown, data.ultimate), digits)
     if data.matrix is not None:
-        tables.matrix_sheets(new, data.matrix)
+        tables.matrix_sheets(new, data.matrix, digits)
     if has_torque_margin(data.runs):
         torque_margin_sheet(new("Torque margin"), data.runs)
     if data.comparisons:
@@ -242,12 +248,13 @@ def write_workbook(
     curves = _shown_curves(data)
     chart_sheet = new("Charts") if curves else None
     curve_sheets = [new(f"Curves {c.family}") for c in curves]
-    wheres = [charts.curves_sheet(sheet, curve) for sheet, curve in zip(curve_sheets, curves)]
+    wheres = [charts.curves_sheet(s, c, digits) for s, c in zip(curve_sheets, curves)]
     blocks = {}
     for k, (name, group) in enumerate(groups, start=1):
         say(f"workbook: time histories {k}/{len(groups)}")
         sheet = workbook.create_sheet(titles[name])
-        blocks.update(history_sheet(sheet, group, stacked=not per_run, note=_history_note(data)))
+        note = _history_note(data)
+        blocks.update(history_sheet(sheet, group, stacked=not per_run, note=note, digits=digits))
     if chart_sheet is not None:
         charts.charts_sheet(chart_sheet, curves, curve_sheets, wheres, blocks)
     sheets.provenance_sheet(new("Provenance"), data, platform.python_version())

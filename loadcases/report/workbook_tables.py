@@ -99,7 +99,9 @@ def _heads(sheet: Any, matrix: LoadsMatrix, heads: range) -> None:
             sheet.cell(row=2, column=first + k, value=title).style = "loads header"
 
 
-def matrix_sheets(new_sheet: Callable[[str], Any], matrix: LoadsMatrix) -> list[Any]:
+def matrix_sheets(
+    new_sheet: Callable[[str], Any], matrix: LoadsMatrix, digits: int = SIGNIFICANT_DIGITS
+) -> list[Any]:
     """The loads matrix on sheets made by `new_sheet(title)`: `Loads matrix`, then, for more
     than HEADS_PER_SHEET runs (families), `Loads matrix 2`, ... with the next ones; below
     the rows of each sheet of several, a note of which runs are on which sheet."""
@@ -110,7 +112,7 @@ def matrix_sheets(new_sheet: Callable[[str], Any], matrix: LoadsMatrix) -> list[
     sheets = []
     for k, heads in enumerate(parts, start=1):
         sheet = new_sheet(MATRIX_TITLE if k == 1 else f"{MATRIX_TITLE} {k}")
-        _matrix_sheet(sheet, matrix, heads)
+        _matrix_sheet(sheet, matrix, heads, digits)
         sheets.append(sheet)
     if len(parts) > 1:
         note = "; ".join(

@@ -151,6 +151,13 @@ class Report(Strict):
     matrix: Literal["runs", "families"] = Field(
         "runs", description="columns of the loads matrix: one per run or per family (case)"
     )
+    digits: int = Field(
+        4,
+        ge=2,
+        le=15,
+        description="significant digits the workbook shows of each row's or column's peak "
+        "(the cells keep the full value)",
+    )
     charts: Annotated[list[str], BeforeValidator(_as_list)] = Field(
         default_factory=list,
         description="requests (each of their columns) or columns REQUEST.COMPONENT charted "

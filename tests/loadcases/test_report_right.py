@@ -309,3 +309,21 @@ def test_loads_plot_with_a_bad_unit_is_an_input_error(result: Path, tmp_path: Pa
     outcome = runner.invoke(app, ["plot", str(result), "--units", "forse=kN", "-o", str(tmp_path)])
     assert outcome.exit_code == 2 and "expected KIND=UNIT with KIND one of force" in outcome.output
     assert not list(tmp_path.glob("*.png"))
+
+
+def test_report_digits_sets_the_significant_digits_shown(result: Path, tmp_path: Path) -> None:
+    """`report.digits: 6` through `loads envelope --set` (the saved runs, no solving):
+    2550.12 N*mm shows `0.00`, 0.0298100 kN `0.0000000`."""
+    text = SET.replace("report: {output: u.xlsx,", "report: {output: u.xlsx, digits: 6,")
+    set_file = _write(tmp_path, text) / "u.set.yaml"
+    out = tmp_path / "six.xlsx"
+    outcome = runner.invoke(app, ["envelope", str(result), "-o", str(out), "--set", str(set_file)])
+    assert outcome.exit_code == 0, outcome.output
+    rows = _envelope(openpyxl.load_workbook(out))
+    assert rows["drive_torque.value"]["max"].number_format == "0.00"
+    assert rows["pivot_force.fy"]["max"].number_format == "0.0000000"
+    bad = _write(
+        tmp_path, SET.replace("report: {output: u.xlsx,", "report: {output: u.xlsx, digits: 1,")
+    )
+    with pytest.raises(InputError, match=r"report\.digits"):
+        load_and_compile_set(bad / "u.set.yaml")
