@@ -70,9 +70,9 @@ ABSCISSA = "abscissa"  # the request name of a case's abscissa in the results of
 
 def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:
     """Sweep, zip and parameter names must be parameters of at least one of the `cases`
-    (loaded CaseFile objects with `.parameters`); factor and allowable keys and compared
-    columns must name a request (`REQUEST` or `REQUEST.COMPONENT`) of one of them; case
-    names are unique."""
+    (loaded CaseFile objects with `.parameters`); factor and allowable keys, charted
+    (`report.charts`) and compared columns must name a request (`REQUEST` or
+    `REQUEST.COMPONENT`) of one of them; case names are unique."""
     if not cases:
         return []
     known = {name for case in cases for name in case.parameters}
