@@ -19,9 +19,17 @@ import typer
 
 from cli.engine import Engine, engine_of
 from cli.help_style import use_domain_names
-from cli.render import ProgressBar, error_line, fail, print_diagnostics, status_line
+from cli.render import (
+    ProgressBar,
+    error_line,
+    fail,
+    invalid_input,
+    print_diagnostics,
+    status_line,
+)
 from cli.runner import FileReport, run_all
 from loadcases.foundation.clip import visible
+from loadcases.foundation.diagnostics import InputError
 
 __all__ = ["app", "main"]
 
@@ -217,7 +225,6 @@ def _overrides(texts: list[str]) -> tuple[Any, ...]:
 
 def _kind(path: Path) -> str | None:
     """The kind of a file, None when it cannot be told (the runner reports why)."""
-    from loadcases.foundation.diagnostics import InputError
     from loadcases.inputs.kinds import file_kind
 
     try:
@@ -419,7 +426,11 @@ def envelope(
             raise fail(f"{directory}: no such folder")
     if set_file is not None:
         _require_files([set_file])
-    report = saved_report(dirs, set_path=set_file)
+    try:
+        report = saved_report(dirs, set_path=set_file)
+    except InputError as error:  # a saved file that is not what `loads run` writes
+        raise invalid_input(error.diagnostics) from None
+    print_diagnostics(report.warnings, err=True)
     if not report.records:
         raise fail("no results (NAME.csv with a 'time' column) under " + ", ".join(map(str, dirs)))
     for record in report.records:

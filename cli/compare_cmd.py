@@ -7,7 +7,8 @@ from typing import Annotated
 
 import typer
 
-from cli.render import fail
+from cli.render import fail, invalid_input
+from loadcases.foundation.diagnostics import InputError
 
 __all__ = ["compare"]
 
@@ -63,6 +64,8 @@ def compare(
         raise fail(f"{output}: output must end in .csv or .xlsx")
     try:
         table = compare_envelopes(read_envelope(old), read_envelope(new))
+    except InputError as error:  # a saved file that is not what `loads` writes
+        raise invalid_input(error.diagnostics) from None
     except ValueError as error:
         raise fail(str(error)) from None
     typer.echo(

@@ -38,6 +38,13 @@ def fail(message: str, code: int = 2) -> typer.Exit:
     return typer.Exit(code)
 
 
+def invalid_input(diagnostics: Iterable[Diagnostic]) -> typer.Exit:
+    """Print the problems of the input (a saved file read back, too) on stderr; return the
+    `typer.Exit` (status 2) to raise."""
+    print_diagnostics(diagnostics, err=True)
+    return typer.Exit(2)
+
+
 def print_diagnostics(diagnostics: Iterable[Diagnostic], *, err: bool) -> None:
     """Print diagnostics gcc style, sorted by file, line and column, duplicates once."""
     for diagnostic in sort_diagnostics(list(dict.fromkeys(diagnostics))):

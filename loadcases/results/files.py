@@ -26,6 +26,7 @@ import orjson
 from loadcases.foundation import engine_hash
 from loadcases.foundation.atomic import atomic_path, atomic_write_bytes, atomic_write_text
 from loadcases.results.outcome import RunOutcome
+from loadcases.results.reading import TIME_COLUMN, read_run_csv
 from loadcases.results.xlsx_text import text_cells
 from mechlib.core.outcome import Solution
 
@@ -42,7 +43,6 @@ __all__ = [
     "write_results",
 ]
 
-TIME_COLUMN = "time"
 SUMMARY_SUFFIX = ".summary.json"
 EXCEL_MAX_ROWS = 1_048_576  # rows per worksheet in Excel 2007 and later
 EXCEL_MAX_COLUMNS = 16_384  # columns per worksheet
@@ -160,22 +160,10 @@ def json_safe(value: Any) -> Any:
 def read_results(csv_path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Read a `NAME.csv` back: `(time (n,), {column: values (n,)})`, in file order.
 
-    Raises ValueError if the file is empty or its first column is not `time`.
-    """
-    with open(csv_path, encoding="utf-8") as stream:  # universal newlines: \r\n too
-        header = next(csv.reader([stream.readline()]), [])
-        body = stream.read()
-    if not header or header[0] != TIME_COLUMN:
-        raise ValueError(f"{csv_path}: not a results file (first column must be '{TIME_COLUMN}')")
-    if body.strip():
-        # numpy's C reader parses each number as float() does (correctly rounded, `nan`,
-        # `inf`), blank lines skipped: 5x faster than a list of csv rows
-        data = np.loadtxt(io.StringIO(body), delimiter=",", dtype=float, ndmin=2)
-    else:
-        data = np.empty((0, len(header)))
-    if data.shape[1] != len(header):
-        raise ValueError(f"{csv_path}: {data.shape[1]} values a row for {len(header)} columns")
-    return data[:, 0].copy(), {name: data[:, k].copy() for k, name in enumerate(header) if k}
+    Raises InputError naming the file, line and column if it is not a results table
+    (`loadcases.results.reading`)."""
+    names, data, _ = read_run_csv(csv_path)
+    return data[:, 0].copy(), {name: data[:, k].copy() for k, name in enumerate(names) if k}
 
 
 def _with_suffix(base: Path, suffix: str) -> Path:

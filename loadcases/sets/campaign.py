@@ -41,11 +41,11 @@ from loadcases.report.margin_table import margin_lines, write_margin_csv
 from loadcases.report.sizing import Sizing, size_runs
 from loadcases.results.files import result_base, write_results
 from loadcases.results.outcome import RunOutcome
+from loadcases.results.reading import read_checked_summary
 from loadcases.results.saved import (
     RunRecord,
     SavedRun,
     load_saved_run,
-    read_summary,
     record_from_summary,
     saved_run_of,
     summary_path,
@@ -145,7 +145,10 @@ def _reusable(directory: Path, spec: RunSpec) -> RunRecord | None:
     """The saved record of `spec` if its results are complete, ok, of the same input and
     engine, and its CSV is the one its summary was written with."""
     csv_path = _csv_path(directory, spec.name)
-    summary = read_summary(summary_path(csv_path))
+    try:
+        summary = read_checked_summary(summary_path(csv_path))
+    except InputError:  # not a summary `loads` wrote: solved again, the files rewritten
+        return None
     if (
         summary is None
         or not csv_path.is_file()
