@@ -10,6 +10,7 @@ as `null` so the file is strict JSON. Every file is written atomically (see
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import functools
 import hashlib
@@ -33,6 +34,7 @@ from mechlib.core.outcome import Solution
 __all__ = [
     "SUMMARY_SUFFIX",
     "TIME_COLUMN",
+    "ResultsNotWritten",
     "checked_arrays",
     "column_extremes",
     "json_safe",
@@ -69,30 +71,51 @@ def result_base(output_dir: Path, name: str) -> Path:
     return Path(output_dir).joinpath(*parts)
 
 
+class ResultsNotWritten(OSError):
+    """The files of a run could not be written (disk full, no permission): none of them is
+    left. `missing`: their paths; `reason`: the system's words (`errno` the system's)."""
+
+    def __init__(self, missing: list[Path], reason: str, code: int | None = None) -> None:
+        super().__init__(code, reason)
+        self.missing, self.reason = missing, reason
+
+    def __str__(self) -> str:
+        names = ", ".join(str(path) for path in self.missing)
+        return f"results not written ({self.reason}); missing: {names}"
+
+
 def write_results(
     outcome: RunOutcome, output_dir: Path, *, xlsx: bool = False, version: str | None = None
 ) -> list[Path]:
     """Write the result files of one run into `output_dir`; return their paths.
 
     `version` is the engine version recorded in the summary (default: the installed one).
-    Files: `NAME.csv`, then `NAME.xlsx` if `xlsx`, then `NAME.summary.json`.
+    Files: `NAME.csv`, then `NAME.xlsx` if `xlsx`, then `NAME.summary.json`. All or none:
+    if one cannot be written (OSError: disk full, permissions), those of this run already
+    written (and an older summary or CSV of the same name, which would no longer match) are
+    removed and ResultsNotWritten names them.
     """
     solution = outcome.solution
     time, channels = checked_arrays(solution)
     base = result_base(output_dir, outcome.name)
+    paths = [_with_suffix(base, suffix) for suffix in (".csv", ".xlsx", SUMMARY_SUFFIX)]
+    if not xlsx:
+        del paths[1]
     summary = summary_of(outcome, version=version or package_version())
-    csv_bytes = _csv_bytes(time, channels)
-    summary["csv_sha256"] = hashlib.sha256(csv_bytes).hexdigest()  # reuse checks the CSV
-    written = [atomic_write_bytes(_with_suffix(base, ".csv"), csv_bytes)]
-    if xlsx:
-        written.append(
-            _write_workbook(
-                _with_suffix(base, ".xlsx"), time, channels, summary, outcome.column_units
-            )
-        )
-    text = json.dumps(json_safe(summary), indent=2, allow_nan=False) + "\n"
-    written.append(atomic_write_text(_with_suffix(base, SUMMARY_SUFFIX), text))
-    return written
+    try:
+        csv_bytes = _csv_bytes(time, channels)
+        summary["csv_sha256"] = hashlib.sha256(csv_bytes).hexdigest()  # reuse checks the CSV
+        atomic_write_bytes(paths[0], csv_bytes)
+        if xlsx:
+            _write_workbook(paths[1], time, channels, summary, outcome.column_units)
+        text = json.dumps(json_safe(summary), indent=2, allow_nan=False) + "\n"
+        atomic_write_text(paths[-1], text)
+    except OSError as error:
+        for path in paths:
+            with contextlib.suppress(OSError):  # what cannot be removed is reported missing too
+                path.unlink(missing_ok=True)
+        raise ResultsNotWritten(paths, error.strerror or str(error), error.errno) from error
+    return paths
 
 
 def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
