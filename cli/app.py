@@ -24,6 +24,7 @@ from cli.render import (
     error_line,
     fail,
     invalid_input,
+    not_written,
     print_diagnostics,
     status_line,
 )
@@ -439,13 +440,16 @@ def envelope(
     if output is None:
         typer.echo(env.envelope_csv_text(report.rows), nl=False)
         return EXIT_OK
-    if output.suffix.lower() == ".xlsx":
-        from loadcases.report.workbook import write_workbook
+    try:
+        if output.suffix.lower() == ".xlsx":
+            from loadcases.report.workbook import write_workbook
 
-        title = set_file.stem if set_file else ", ".join(map(str, dirs))
-        write_workbook(report.workbook_data(title, set_file), output)
-    else:
-        env.write_envelope_csv(report.rows, output)
+            title = set_file.stem if set_file else ", ".join(map(str, dirs))
+            write_workbook(report.workbook_data(title, set_file), output)
+        else:
+            env.write_envelope_csv(report.rows, output)
+    except OSError as error:  # disk full, permissions: written whole or not at all
+        raise not_written(output, error) from None
     typer.echo(f"envelope of {len(report.runs)} runs, {len(report.rows)} columns -> {output}")
     return EXIT_OK
 

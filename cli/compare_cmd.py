@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from cli.render import fail, invalid_input
+from cli.render import fail, invalid_input, not_written
 from loadcases.foundation.diagnostics import InputError
 
 __all__ = ["compare"]
@@ -99,6 +99,9 @@ def compare(
     more = f" ({len(table) - shown} more not shown)" if shown < len(table) else ""
     typer.echo(", ".join(f"{n} {s}" for s, n in counts.items()) + f" of {len(table)} rows" + more)
     if output is not None:
-        write_compare(table, output, old=str(old), new=str(new))
+        try:
+            write_compare(table, output, old=str(old), new=str(new))
+        except OSError as error:  # disk full, permissions: written whole or not at all
+            raise not_written(output, error) from None
         typer.echo(f"-> {output}")
     return 0

@@ -45,6 +45,15 @@ def invalid_input(diagnostics: Iterable[Diagnostic]) -> typer.Exit:
     return typer.Exit(2)
 
 
+def not_written(path: Path, error: OSError) -> typer.Exit:
+    """Say that `path` could not be written (disk full, permissions) and is missing; return
+    the `typer.Exit` (status 1) to raise."""
+    typer.echo(
+        error_line(f"{path}: not written ({error.strerror or error}); missing: {path}"), err=True
+    )
+    return typer.Exit(1)
+
+
 def print_diagnostics(diagnostics: Iterable[Diagnostic], *, err: bool) -> None:
     """Print diagnostics gcc style, sorted by file, line and column, duplicates once."""
     for diagnostic in sort_diagnostics(list(dict.fromkeys(diagnostics))):

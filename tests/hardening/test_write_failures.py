@@ -140,3 +140,23 @@ def test_a_set_whose_report_does_not_fit_fails_naming_its_files(
     assert str(out / "two" / "envelope.xlsx") in result.output
     assert not (out / "two" / "envelope.csv").exists()
     assert _leftovers(out) == []
+
+
+def test_envelope_and_compare_outputs_that_do_not_fit(tmp_path: Path, monkeypatch) -> None:
+    """`loads envelope -o` and `loads compare -o` on a full disk: exit 1 naming the file,
+    which is not there (nor its temporary)."""
+    from loadcases.report import compare, envelope
+
+    out = tmp_path / "out"
+    assert loads("run", _two_run_set(tmp_path), "-o", out, "--jobs", "1").exit_code == 0
+    monkeypatch.setattr(envelope, "atomic_write_text", _no_space)
+    monkeypatch.setattr(compare, "atomic_write_text", _no_space)
+    for args in (("envelope", out / "two", "-o"), ("compare", out / "two", out / "two", "-o")):
+        target = tmp_path / f"{args[0]}.csv"
+        result = loads(*args, target)
+        assert result.exit_code == 1, result.output
+        assert f"{target}: not written (No space left on device); missing: {target}" in (
+            result.output
+        )
+        assert not target.exists() and "internal error" not in result.output
+    assert _leftovers(tmp_path) == []
