@@ -185,8 +185,9 @@ def read_results(csv_path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
 
     Raises InputError naming the file, line and column if it is not a results table
     (`loadcases.results.reading`)."""
-    names, data, _ = read_run_csv(csv_path)
-    return data[:, 0].copy(), {name: data[:, k].copy() for k, name in enumerate(names) if k}
+    table = read_run_csv(csv_path)
+    data = table.data
+    return data[:, 0].copy(), {name: data[:, k].copy() for k, name in enumerate(table.names) if k}
 
 
 def _with_suffix(base: Path, suffix: str) -> Path:

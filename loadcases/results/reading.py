@@ -19,6 +19,7 @@ import io
 import json
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -33,6 +34,7 @@ __all__ = [
     "MAX_SUMMARY_BYTES",
     "RUN_STATUSES",
     "TIME_COLUMN",
+    "RunTable",
     "SavedFileError",
     "check_against_csv",
     "input_text",
@@ -114,28 +116,41 @@ def _bad_row(path: Path, lines: list[str], names: list[str]) -> SavedFileError:
     return _problem(path, 0, 0, "", "not a table of numbers")
 
 
-def read_run_csv(path: Path) -> tuple[list[str], np.ndarray, list[int]]:
-    """A results CSV read and checked: (column names, values (rows, columns), the line of
-    each row). InputError naming the file, line and column of the first problem."""
+@dataclass(frozen=True)
+class RunTable:
+    """A results CSV read and checked: column names, values (rows, columns) and its body
+    (text after the header), kept to name the line of a row when one is found wrong."""
+
+    names: list[str]
+    data: np.ndarray
+    body: str = ""
+
+    def line_of(self, row: int) -> int:
+        """The line (1-based) of data row `row` (blank lines are skipped by the reader)."""
+        if "\n\n" not in self.body and not self.body.startswith("\n"):
+            return row + 2
+        numbers = (n for n, line in enumerate(self.body.split("\n"), 2) if line.strip())
+        return next(n for k, n in enumerate(numbers) if k == row)
+
+
+def read_run_csv(path: Path) -> RunTable:
+    """A results CSV read and checked. SavedFileError naming the file, line and column of
+    the first problem."""
     path = Path(path)
     text = input_text(path)
     first, _, body = text.partition("\n")
     names = _header(path, first)
-    lines = body.split("\n")
     if not body.strip():
-        return names, np.empty((0, len(names))), []
-    if len(body) > MAX_LINE_CHARS and max(map(len, lines)) > MAX_LINE_CHARS:
-        raise _bad_row(path, lines, names)
+        return RunTable(names, np.empty((0, len(names))))
     try:
         # numpy's C reader parses each number as float() does (correctly rounded, `nan`,
         # `inf`), blank lines skipped: 5x faster than a list of csv rows
         data = np.loadtxt(io.StringIO(body), delimiter=",", dtype=float, ndmin=2)
     except ValueError:
-        raise _bad_row(path, lines, names) from None
+        raise _bad_row(path, body.split("\n"), names) from None
     if data.shape[1] != len(names):
-        raise _bad_row(path, lines, names)
-    numbers = [n for n, line in enumerate(lines, start=2) if line.strip()]
-    return names, data, numbers
+        raise _bad_row(path, body.split("\n"), names)
+    return RunTable(names, data, body)
 
 
 def _line_of(text: str, key: str, after: int = 0) -> tuple[int, int]:
@@ -237,20 +252,20 @@ def check_against_csv(
     summary_file: Path,
     summary: dict[str, Any],
     csv_file: Path,
-    table: tuple[list[str], np.ndarray, list[int]],
+    table: RunTable,
 ) -> list[Diagnostic]:
     """The summary and its CSV agree: row count, columns (those it has extremes of); a CSV
     not the one the summary was written with (`csv_sha256`) has only finite numbers in a
     run whose status is `ok` (a run's own NaN, such as a torque margin's where nothing
     resists, is kept only in the file `loads` wrote). InputError naming the place
     otherwise; returns the warning that such a CSV was changed since."""
-    names, data, lines = table
+    names, data = table.names, table.data
     _check_rows(summary_file, summary, csv_file, data.shape[0])
     _check_columns(summary_file, summary, csv_file, names)
     recorded = summary.get("csv_sha256")
     changed = recorded is not None and recorded != file_sha256(csv_file)
     if summary.get("status") == "ok" and (changed or recorded is None):
-        _check_finite(csv_file, names, data, lines)
+        _check_finite(csv_file, table)
     if not changed:
         return []
     return [
@@ -307,13 +322,15 @@ def _check_rows(summary_file: Path, summary: dict[str, Any], csv_file: Path, row
         )
 
 
-def _check_finite(csv_file: Path, names: list[str], data: np.ndarray, lines: list[int]) -> None:
+def _check_finite(csv_file: Path, table: RunTable) -> None:
+    """SavedFileError at the first value that is not finite, if any."""
+    data = table.data
     if data.size and not np.isfinite(data).all():
         row, column = (int(i) for i in np.argwhere(~np.isfinite(data))[0])
         raise _problem(
             csv_file,
-            lines[row],
+            table.line_of(row),
             column + 1,
-            names[column],
+            table.names[column],
             f"{float(data[row, column])!r} in a run whose summary says ok (numbers must be finite)",
         )

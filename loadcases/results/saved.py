@@ -133,8 +133,9 @@ def load_saved_run(csv_path: Path, directory: Path | None = None) -> SavedRun:
     summary = read_checked_summary(summary_file) or {}
     table = read_run_csv(csv_path)
     notes = check_against_csv(summary_file, summary, csv_path, table) if summary else []
-    names, data, _ = table
-    time, channels = data[:, 0].copy(), {n: data[:, k].copy() for k, n in enumerate(names) if k}
+    data = table.data
+    time = data[:, 0].copy()
+    channels = {name: data[:, k].copy() for k, name in enumerate(table.names) if k}
     name = summary.get("case")
     if not name:
         base = csv_path.relative_to(directory) if directory is not None else Path(csv_path.name)

@@ -151,8 +151,10 @@ def test_huge_fields_are_refused_and_quoted_short(saved: Path) -> None:
     path = saved / "a.csv"
     _edit(path, "\n0.1,2.0,", "\n0.1," + "x" * 1_000_000 + ",")
     _refused(loads("envelope", saved), f"{path}:3:2: error: pin.fx", "is not a number")
-    _edit(path, "x" * 1_000_000, "9" * 20_000_000)
+    _edit(path, "x" * 1_000_000, "x" * 20_000_000)
     _refused(loads("envelope", saved), f"{path}:3:1: error", "line longer than")
+    _edit(path, "x" * 20_000_000, "9" * 20_000_000)  # a number beyond float range: inf
+    _refused(loads("envelope", saved), f"{path}:3:2: error: pin.fx", "inf in a run")
     path.write_text("time," + "y" * 5_000_000 + "\n0.0,1.0\n")
     _refused(loads("envelope", saved), f"{path}:1:1: error", "header longer than")
 
@@ -210,3 +212,13 @@ def test_summary_extremes_of_null_and_numbers_are_read(saved: Path) -> None:
     summary["extremes"]["pin.fx"] = dict.fromkeys(summary["extremes"]["pin.fx"])
     path.write_text(json.dumps(summary))
     assert loads("envelope", saved).exit_code == 0
+
+
+def test_a_row_after_blank_lines_is_named_at_its_line(tmp_path: Path) -> None:
+    from loadcases.results.reading import read_run_csv
+
+    path = tmp_path / "r.csv"
+    path.write_text("time,a.x\r\n0.0,1.0\r\n\r\n\r\n0.1,2.0\r\n0.2,3.0\r\n")
+    table = read_run_csv(path)
+    assert table.data.shape == (3, 2)
+    assert [table.line_of(row) for row in range(3)] == [2, 5, 6]
