@@ -222,3 +222,23 @@ def test_a_row_after_blank_lines_is_named_at_its_line(tmp_path: Path) -> None:
     table = read_run_csv(path)
     assert table.data.shape == (3, 2)
     assert [table.line_of(row) for row in range(3)] == [2, 5, 6]
+
+
+@pytest.mark.parametrize(
+    ("header", "column", "words"),
+    [
+        ("time,pin.f\x07x,pin.tz", 2, "control character (U+0007)"),
+        ("time,pin.fx,pin.fx", 3, "given twice"),
+        ("time,,pin.tz", 2, "empty column name"),
+        ("t,pin.fx,pin.tz", 1, "not a results file"),
+    ],
+)
+def test_a_bad_header_is_named(saved: Path, header: str, column: int, words: str) -> None:
+    path = saved / "a.csv"
+    lines = path.read_text().splitlines()
+    path.write_text("\n".join([header, *lines[1:]]) + "\n")
+    if header.startswith("t,"):  # no longer a results CSV: left out, as an envelope.csv
+        result = loads("envelope", saved)
+        assert result.exit_code == 0 and "pin.fx,6.0,b," in result.output
+        return
+    _refused(loads("envelope", saved), f"{path}:1:{column}: error", words)
