@@ -127,7 +127,7 @@ def test_a_missing_column_is_named(saved: Path) -> None:
         ("parameters", '"parameters": {}', '"parameters": [1]', "must be an object of finite"),
         ("case", '"case": "a"', '"case": 7', "must be a text"),
         ("rows", '"rows": 3', '"rows": "3"', "must be a whole number"),
-        ("case", '"case": "a"', '"case": "a\\u0007"', "run name contains a control"),
+        ("case", '"case": "a"', '"case": " "', "empty run name"),
     ],
 )
 def test_a_summary_field_of_the_wrong_type_is_named(
