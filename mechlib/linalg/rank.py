@@ -94,8 +94,9 @@ def peel_independent(phi_q: Jacobian, tol: float = RANK_TOLERANCE) -> np.ndarray
         cols = sorted({j for r in rows for j in row_cols[r] if col_rows[j] <= support})
         if len(cols) < len(rows):
             continue
-        smallest = float(np.linalg.svd(sparse.block(rows, cols), compute_uv=False)[-1])
-        if smallest <= _PEEL_MARGIN * tol * max(float(norms[rows].max()), scale):
+        if not _full_rank(
+            sparse.block(rows, cols), _PEEL_MARGIN * tol * max(norms[rows].max(), scale)
+        ):
             continue
         peeled[rows] = True
         for r in rows:
@@ -105,6 +106,18 @@ def peel_independent(phi_q: Jacobian, tol: float = RANK_TOLERANCE) -> np.ndarray
                     queue.append(j)
                     queued.add(j)
     return peeled
+
+
+def _full_rank(block: np.ndarray, threshold: float) -> bool:
+    """Whether `block` has full row rank with its smallest singular value above
+    `threshold`; a block with values that are not finite (a failing step's matrix, where the
+    dense test takes over, as before) never has."""
+    if not np.isfinite(block).all() or not np.isfinite(threshold):
+        return False
+    try:
+        return float(np.linalg.svd(block, compute_uv=False)[-1]) > threshold
+    except np.linalg.LinAlgError:  # SVD did not converge: left to the dense test
+        return False
 
 
 def _core(phi_q: SparseRows, rows: list[int]) -> tuple[np.ndarray, np.ndarray]:

@@ -144,3 +144,15 @@ def test_chain_check_is_linear_in_its_bodies() -> None:
     assert calls[1] - calls[0] == 4 * 1000
     assert calls[0] <= 4 * 1000
     assert seconds < 10.0
+
+
+def test_values_that_are_not_finite_are_left_to_the_dense_test() -> None:
+    """A failing step's Jacobian (inf, NaN: factor.singular_failure explains it): no block
+    with them is set aside and nothing raises (an SVD of inf does not converge)."""
+    matrix = _tree_with_loops(0)
+    matrix[3, 4], matrix[20, 30] = np.inf, np.nan
+    labels = [f"r{i}" for i in range(matrix.shape[0])]
+    peeled = rank.peel_independent(matrix)
+    assert not peeled[3] and not peeled[20]
+    rank.find_redundant(matrix, labels, labels)
+    rank.degrees_of_freedom(matrix)
