@@ -242,3 +242,11 @@ def test_a_bad_header_is_named(saved: Path, header: str, column: int, words: str
         assert result.exit_code == 0 and "pin.fx,6.0,b," in result.output
         return
     _refused(loads("envelope", saved), f"{path}:1:{column}: error", words)
+
+
+def test_an_empty_cell_and_a_long_row_are_named(saved: Path) -> None:
+    path = saved / "b.csv"
+    _edit(path, "\n0.1,4.0,", "\n0.1,,")
+    _refused(loads("envelope", saved), f"{path}:3:2: error: pin.fx", "'' is not a number")
+    _edit(path, "\n0.1,,", "\n0.1,4.0,1.0,")
+    _refused(loads("envelope", saved), f"{path}:3:1: error", "4 values for 3 columns")
