@@ -49,6 +49,7 @@ class SavedRun:
     units: dict[str, str] = field(default_factory=dict)
     family: str = ""
     status: str = "ok"
+    level: str = "limit"  # the level of the case's applied loads (limit or ultimate)
 
     def __post_init__(self) -> None:
         self.family = self.family or family_of(self.name)
@@ -76,6 +77,7 @@ class RunRecord:
     csv_path: Path
     reused: bool = False
     input_error: bool = False  # its parameter values make the input invalid (exit 2)
+    level: str = "limit"  # the level of its case's applied loads (limit or ultimate)
 
     @property
     def ok(self) -> bool:
@@ -117,6 +119,7 @@ def record_from_summary(
         input_sha256=str(summary.get("input_sha256", "")),
         csv_path=csv_path,
         reused=reused,
+        level="ultimate" if summary.get("level") == "ultimate" else "limit",
     )
 
 
@@ -129,7 +132,10 @@ def load_saved_run(csv_path: Path, directory: Path | None = None) -> SavedRun:
         base = csv_path.relative_to(directory) if directory is not None else Path(csv_path.name)
         name = base.as_posix()[: -len(".csv")]
     units = {str(k): str(v) for k, v in (summary.get("units") or {}).items()}
-    return SavedRun(name, time, channels, units, status=str(summary.get("status", "ok")))
+    level = "ultimate" if summary.get("level") == "ultimate" else "limit"
+    return SavedRun(
+        name, time, channels, units, status=str(summary.get("status", "ok")), level=level
+    )
 
 
 def saved_run_of(outcome: RunOutcome) -> SavedRun:
@@ -138,7 +144,9 @@ def saved_run_of(outcome: RunOutcome) -> SavedRun:
     the runs it has just solved from memory, not from disk."""
     time, channels = checked_arrays(outcome.solution)
     units = {TIME_COLUMN: "s", **outcome.column_units}
-    return SavedRun(outcome.name, time, channels, units, status=outcome.solution.status)
+    return SavedRun(
+        outcome.name, time, channels, units, status=outcome.solution.status, level=outcome.level
+    )
 
 
 def find_result_files(directories: Iterable[Path]) -> list[tuple[Path, Path]]:

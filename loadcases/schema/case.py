@@ -251,6 +251,12 @@ class CaseModel(Strict):
     mechanism: MechanismRef = Field(
         description="mechanism file relative to this file, or the mechanism inline"
     )
+    level: Literal["limit", "ultimate"] = Field(
+        "limit",
+        description="level of the case's applied loads: limit (a set's ultimate factor "
+        "multiplies its loads) or ultimate (its loads are ultimate as computed; limit = "
+        "computed / ultimate factor)",
+    )
     parameters: dict[str, AnySI] = Field(
         default_factory=dict, description="overrides of the mechanism's parameters [SI]"
     )

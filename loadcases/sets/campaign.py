@@ -173,6 +173,7 @@ def _record(outcome: RunOutcome, spec: RunSpec, csv_path: Path) -> RunRecord:
         input_sha256=spec.input_sha256,
         csv_path=csv_path,
         input_error=outcome.input_error,
+        level=outcome.level,
     )
 
 
