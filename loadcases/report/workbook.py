@@ -96,6 +96,7 @@ class WorkbookData:
     noise: frozenset[str] = frozenset()  # columns marked ~0
     histories: str = "envelope"  # report.histories: all | envelope | none
     comparisons: dict[str, Any] = field(default_factory=dict)  # the set's `comparisons:`
+    references: list[Any] = field(default_factory=list)  # reference_curves.Overlay, report units
 
     @classmethod
     def from_set(cls, result: Any, runs: list[SavedRun], options: dict[str, str]) -> WorkbookData:
@@ -237,6 +238,10 @@ def write_workbook(
         torque_margin_sheet(new("Torque margin"), data.runs)
     if data.comparisons:
         comparison_sheet(new("Comparison"), comparison_rows(data.comparisons, data.runs))
+    if data.references:
+        from loadcases.report.reference_sheet import REFERENCE_SHEET, reference_sheet
+
+        reference_sheet(new(REFERENCE_SHEET), data.references)
     if any(polar_requests(run) for run in data.runs):
         wear_map_sheet(new(WEAR_SHEET), data.runs)
     curves = _shown_curves(data)

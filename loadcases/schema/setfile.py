@@ -12,7 +12,7 @@ from loadcases.foundation.units import REPORT_KINDS
 from loadcases.schema.mechanism import FileUnits, unit_name
 from loadcases.schema.types import AnySI, Dimensionless, Strict
 
-__all__ = ["Allowable", "Limits", "Report", "ReportUnits", "SetModel", "matches"]
+__all__ = ["Allowable", "Limits", "ReferenceCurve", "Report", "ReportUnits", "SetModel", "matches"]
 
 DEFAULT_NOISE_FLOOR = 1e-6  # loadcases.report.roundoff: below it (of the request's peak) ~0
 
@@ -164,6 +164,26 @@ class Comparison(Strict):
     )
 
 
+class ReferenceCurve(Strict):
+    """`curves: NAME:` external curves (a spreadsheet's, a rig's) against a case's abscissa:
+    overlaid on the runs' curves, with their differences (`reference-curves.csv`, workbook
+    sheet `Reference curves`). The CSV's first column is the abscissa; every header is
+    `NAME [unit]`."""
+
+    file: str = Field(min_length=1, description="CSV file relative to this set file")
+    case: str = Field(
+        min_length=1, description="the case (every run of it) or one run CASE[p=v,...]"
+    )
+    x: str | None = Field(
+        None, description="the case's abscissa expression, as the case writes it (a check)"
+    )
+    columns: dict[str, str] = Field(
+        min_length=1,
+        description="{result column REQUEST.COMPONENT: CSV header 'NAME [unit]'}",
+    )
+    label: str = Field("reference", min_length=1, description="legend of the curves")
+
+
 class SetModel(Strict):
     """A load-case set: cases, sweeps, factors, allowables and report."""
 
@@ -197,5 +217,10 @@ class SetModel(Strict):
     comparisons: dict[str, Comparison] = Field(
         default_factory=dict,
         description="peaks of chosen columns run by run against a reference run, with ratios",
+    )
+    curves: dict[str, ReferenceCurve] = Field(
+        default_factory=dict,
+        description="reference curves (CSV, units in the header) overlaid on a case's "
+        "curves, with the differences tabulated",
     )
     report: Report | None = None

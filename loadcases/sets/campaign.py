@@ -253,6 +253,7 @@ def _report_files(
         write_comparison_csv,
     )
     from loadcases.report.units import ReportUnits
+    from loadcases.sets.references import reference_overlays, write_reference_files
 
     model = result.compiled.set_file.model
     units = ReportUnits.of(model.report.units.given() if model.report is not None else None)
@@ -275,6 +276,10 @@ def _report_files(
         if model.report is not None and model.report.template:
             template = Path(result.compiled.set_file.path).parent / model.report.template
         data = units.workbook_data(WorkbookData.from_set(result, runs, options))
+        if model.curves:
+            found = reference_overlays(result.compiled, runs)
+            data.references, written = write_reference_files(found, units, result.directory)
+            files += written
         write_workbook(data, workbook, template=template, progress=on_report)
         if on_report is not None:
             on_report("envelope plots")
