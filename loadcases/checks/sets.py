@@ -97,6 +97,10 @@ def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[
             for request in (side.strip(" -").split(".")[0] for side in key.split("="))
             if request not in requests
         ]
+    names = {case.case.case for case in cases}
+    wanted = model.mass_properties
+    if wanted is not None and wanted.case not in names:
+        found.append(unknown(at, ("mass_properties", "case"), "case", wanted.case, names))
     return found + _duplicate_names(at, cases) + _unmatched_case_factors(model, at, cases)
 
 

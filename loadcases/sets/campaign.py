@@ -253,6 +253,7 @@ def _report_files(
         write_comparison_csv,
     )
     from loadcases.report.units import ReportUnits
+    from loadcases.sets.mass import mass_table
     from loadcases.sets.references import reference_overlays, write_reference_files
 
     model = result.compiled.set_file.model
@@ -280,6 +281,9 @@ def _report_files(
             found = reference_overlays(result.compiled, runs)
             data.references, written = write_reference_files(found, units, result.directory)
             files += written
+        if model.mass_properties is not None:
+            data.mass = mass_table(result.compiled)
+            files.append(data.mass.write_csv(result.directory))
         write_workbook(data, workbook, template=template, progress=on_report)
         if on_report is not None:
             on_report("envelope plots")
