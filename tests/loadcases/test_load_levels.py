@@ -92,3 +92,30 @@ def test_without_ultimate_factor_limit_equals_computed():
     assert at_limit_level(runs, {})[0] is runs[0]
     row = next(r for r in size_runs(runs, _set()).rows if r.column == "rod.f")
     assert row.max == 1800.0 and row.ultimate_max == 1800.0
+
+
+def _level_set(folder, level: str, factors: str) -> list[str]:
+    from set_fixtures import write_inputs
+
+    from loadcases.inputs.loader import validate_files
+
+    write_inputs(folder)
+    case = (folder / "crank.case.yaml").read_text(encoding="utf-8")
+    case = case.replace("mechanism: crank.mech.yaml", f"mechanism: crank.mech.yaml\nlevel: {level}")
+    (folder / "crank.case.yaml").write_text(case, encoding="utf-8")
+    text = f"set: s\ncases: [crank.case.yaml]\n{factors}report: {{output: s.xlsx}}\n"
+    (folder / "s.set.yaml").write_text(text, encoding="utf-8")
+    return [d.format() for d in validate_files([folder / "s.set.yaml"])]
+
+
+def test_ultimate_case_without_ultimate_factor_warns(tmp_path):
+    (message,) = _level_set(tmp_path, "ultimate", "")
+    assert "warning" in message and "case 'crank-turn' gives its loads at ultimate level" in message
+    assert "s.set.yaml:2:" in message
+
+
+@pytest.mark.parametrize(
+    ("level", "factors"), [("ultimate", "factors: {ultimate: 1.5}\n"), ("limit", "")]
+)
+def test_no_level_warning_when_harmless(tmp_path, level, factors):
+    assert _level_set(tmp_path, level, factors) == []
