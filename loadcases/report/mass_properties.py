@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from loadcases.build.sections import inertia_tensor
 from loadcases.foundation.atomic import atomic_write_text
 from loadcases.foundation.clip import visible_fields
 
@@ -54,13 +55,6 @@ class BodyMass:
     mass: float
     cm: np.ndarray
     inertia: np.ndarray
-
-
-def inertia_tensor(values: Sequence[float]) -> np.ndarray:
-    """[Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz] (Ixy = -integral x y dm) -> (3, 3)."""
-    ixx, iyy, izz, *products = (float(v) for v in values)
-    ixy, ixz, iyz = products if products else (0.0, 0.0, 0.0)
-    return np.array([[ixx, ixy, ixz], [ixy, iyy, iyz], [ixz, iyz, izz]])
 
 
 def posed(body: BodyMass, rotation: np.ndarray, centre: np.ndarray) -> BodyMass:
