@@ -14,7 +14,7 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.build.model import build_run
-from loadcases.inputs.loader import CaseFile
+from loadcases.inputs.loader import CaseFile, load_case
 from loadcases.report.mass_properties import (
     MASS_FILE,
     BodyMass,
@@ -100,11 +100,17 @@ class MassTable:
 
 
 def mass_table(compiled: Any) -> MassTable:
-    """The mass properties a compiled set asks for (its `mass_properties:`)."""
+    """The mass properties a compiled set asks for (its `mass_properties:`), in the first
+    run of the case (with the set's parameters and first swept values); without rows
+    (and `where` saying why) when the case's solve fails before the time asked for."""
     wanted = compiled.set_file.model.mass_properties
-    cf = next(c for c in compiled.cases if c.case.case == wanted.case)
-    bodies, time, _ = body_masses_at(cf, float(wanted.at))
-    where = f"case {wanted.case} at t = {time:.6g} s (output time nearest {float(wanted.at):g} s)"
+    spec = next(r for r in compiled.runs if r.family == wanted.case)  # checked at load
+    cf = load_case(spec.case_path, overrides=dict(spec.parameters))
+    try:
+        bodies, time, _ = body_masses_at(cf, float(wanted.at))
+    except ValueError as error:  # the case failed before `at`: said on the sheet and CSV
+        return MassTable([], wanted.axis, f"not computed: {error}")
+    where = f"run {spec.name} at t = {time:.6g} s (output time nearest {float(wanted.at):g} s)"
     if wanted.axis is not None:
         a, n = wanted.axis.at, wanted.axis.direction
         where += f"; axis {wanted.axis.name}: through {tuple(a)} m along {tuple(n)}"

@@ -14,6 +14,7 @@ import csv
 
 import openpyxl
 import pytest
+from set_fixtures import write_inputs
 
 from loadcases.inputs.loader import validate_files
 from loadcases.sets.campaign import run_set
@@ -73,7 +74,7 @@ def test_mass_properties_against_hand_inertias(tmp_path):
     folder = tmp_path / "out" / "arm-mass"
     lines = (folder / "mass-properties.csv").read_text(encoding="utf-8").splitlines()
     rows = {row["body"]: row for row in csv.DictReader(lines)}
-    assert rows["arm"]["configuration"].startswith("case turn at t = 1 s")
+    assert rows["arm"]["configuration"].startswith("run turn at t = 1 s")
     for body, (mass, cm, inertia, about) in EXPECTED.items():
         row = rows[body]
         assert float(row["mass [kg]"]) == pytest.approx(mass, abs=1e-12)
@@ -95,3 +96,21 @@ def test_unknown_case_and_zero_axis_are_input_errors(tmp_path):
     path.write_text(SET.replace("{case}", "turn").replace("[0, 0, 2]", "[0, 0, 0]"))
     messages = [d.format() for d in validate_files([path]) if d.severity == "error"]
     assert any("direction must not be zero" in m for m in messages), messages
+
+
+def test_case_failing_before_the_time_gives_no_rows_and_says_why(tmp_path):
+    """The slider of set_fixtures pushed out of its crank's reach (stroke 0.2 m/s: the solve
+    fails before 1 s): the table is empty, its configuration says why, the set ends with
+    its failed run (exit 1, no traceback)."""
+    write_inputs(tmp_path)
+    text = (
+        "set: slider-mass\ncases: [slider.case.yaml]\nparameters: {stroke: 0.2}\n"
+        "mass_properties: {case: slider-push, at: 1 s}\nreport: {output: s.xlsx}\n"
+    )
+    (tmp_path / "m.set.yaml").write_text(text, encoding="utf-8")
+    result = run_set(tmp_path / "m.set.yaml", output_dir=tmp_path / "out")
+    assert [r.status for r in result.records] == ["failed"]
+    lines = (tmp_path / "out" / "slider-mass" / "mass-properties.csv").read_text().splitlines()
+    assert len(lines) == 1  # the header only
+    sheet = openpyxl.load_workbook(tmp_path / "out" / "slider-mass" / "s.xlsx")["Mass properties"]
+    assert sheet.cell(row=1, column=1).value.startswith("not computed: slider-push did not reach")
