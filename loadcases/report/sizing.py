@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
-from functools import partial
 from typing import Any
 
 from loadcases.build.requests import ABSCISSA_COLUMN
@@ -81,20 +80,35 @@ def size_runs(
         noise=noise,
         by=report.matrix if report else "runs",
         levels=levels,
-        factor=partial(_cell_factor, units, factors, allowables, case_factors),
+        factor=_CellFactor(units, factors, allowables, case_factors),
     )
     curves = envelope_curves(runs, names, skip=noise)
     return Sizing(rows, curves, matrix, float(factors.get(ULTIMATE, 1.0)), noise)
 
 
-def _cell_factor(
-    units: Mapping[str, str],
-    factors: Mapping[str, float],
-    allowables: Mapping[str, Any],
-    case_factors: Mapping[str, float],
-    column: str,
-    peak: RunPeak,
-) -> float | None:
-    """Ultimate x fitting x case factor of one run's peak of `column` (None: not a load)."""
-    factor = column_factor(column, units.get(column), factors, column in allowables)
-    return None if factor is None else factor * case_factor(peak.run, peak.family, case_factors)
+class _CellFactor:
+    """Ultimate x fitting x case factor of one run's peak of a column (None: not a load),
+    each column's and each run's part found once (a matrix of 1000 runs asks 10^5 times)."""
+
+    def __init__(
+        self,
+        units: Mapping[str, str],
+        factors: Mapping[str, float],
+        allowables: Mapping[str, Any],
+        case_factors: Mapping[str, float],
+    ) -> None:
+        self.units, self.factors = units, factors
+        self.allowables, self.case_factors = allowables, case_factors
+        self.columns: dict[str, float | None] = {}
+        self.runs: dict[str, float] = {}
+
+    def __call__(self, column: str, peak: RunPeak) -> float | None:
+        if column not in self.columns:
+            unit, named = self.units.get(column), column in self.allowables
+            self.columns[column] = column_factor(column, unit, self.factors, named)
+        factor = self.columns[column]
+        if factor is None:
+            return None
+        if peak.run not in self.runs:
+            self.runs[peak.run] = case_factor(peak.run, peak.family, self.case_factors)
+        return factor * self.runs[peak.run]

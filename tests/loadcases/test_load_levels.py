@@ -119,3 +119,21 @@ def test_ultimate_case_without_ultimate_factor_warns(tmp_path):
 )
 def test_no_level_warning_when_harmless(tmp_path, level, factors):
     assert _level_set(tmp_path, level, factors) == []
+
+
+def test_loads_matrix_ultimate_takes_case_and_fitting_factors():
+    """ult: 1800 N computed at ultimate level, case factor 1.25, fitting 1.15 on rod:
+    ultimate 1.25 x 1.15 x 1800 N; lim: 1000 N at limit level: 1.5 x 1.15 x 1000 N."""
+    model = SetModel.model_validate(
+        {
+            "set": "s",
+            "cases": ["x"],
+            "factors": {"ultimate": 1.5, "rod": 1.15},
+            "case_factors": {"ult": 1.25},
+        }
+    )
+    sizing = size_runs([_run("lim", 1000.0, "limit"), _run("ult", 1800.0, "ultimate")], model)
+    table = list(csv.DictReader(io.StringIO(matrix_csv_text(sizing.matrix))))
+    rod = next(line for line in table if line["column"] == "rod.f")
+    assert float(rod["ult ultimate max"]) == pytest.approx(1.25 * 1.15 * 1800.0, rel=1e-14)
+    assert float(rod["lim ultimate max"]) == pytest.approx(1.5 * 1.15 * 1000.0, rel=1e-14)
