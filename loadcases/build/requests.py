@@ -10,6 +10,7 @@ from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_UNITS
 from loadcases.build.context import Builder
 from loadcases.build.elements import ELEMENT_EFFECTS
 from loadcases.build.flexible_bodies import flexible_output_units, flexible_request
+from loadcases.build.sections import section_joint
 
 __all__ = [
     "ABSCISSA_COLUMN",
@@ -80,6 +81,9 @@ def _request(b: Builder, name: str, r):
         return flexible_request(b, name, r)
     if kind == "ElementRequest":
         return _element_request(b, name, r)
+    if kind == "SectionRequest":
+        frame = r.frame or b.mech.sections[r.section].body
+        return ml.JointReaction(name, section_joint(r.section), frame)
     if kind == "EnergyRequest":
         return ml.EnergyBalance(name)
     if kind == "ExpressionRequest":

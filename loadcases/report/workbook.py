@@ -96,6 +96,8 @@ class WorkbookData:
     noise: frozenset[str] = frozenset()  # columns marked ~0
     histories: str = "envelope"  # report.histories: all | envelope | none
     comparisons: dict[str, Any] = field(default_factory=dict)  # the set's `comparisons:`
+    references: list[Any] = field(default_factory=list)  # reference_curves.Overlay, report units
+    mass: Any | None = None  # loadcases.sets.mass.MassTable of `mass_properties:` (SI)
 
     @classmethod
     def from_set(cls, result: Any, runs: list[SavedRun], options: dict[str, str]) -> WorkbookData:
@@ -237,6 +239,14 @@ def write_workbook(
         torque_margin_sheet(new("Torque margin"), data.runs)
     if data.comparisons:
         comparison_sheet(new("Comparison"), comparison_rows(data.comparisons, data.runs))
+    if data.references:
+        from loadcases.report.reference_sheet import REFERENCE_SHEET, reference_sheet
+
+        reference_sheet(new(REFERENCE_SHEET), data.references)
+    if data.mass is not None:
+        from loadcases.report.mass_properties import MASS_SHEET, mass_sheet
+
+        mass_sheet(new(MASS_SHEET), data.mass.rows, data.mass.axis_name, data.mass.where)
     if any(polar_requests(run) for run in data.runs):
         wear_map_sheet(new(WEAR_SHEET), data.runs)
     curves = _shown_curves(data)

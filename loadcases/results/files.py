@@ -126,6 +126,7 @@ def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
         "case": outcome.name,
         "status": solution.status,
         "analysis": outcome.analysis,
+        "level": outcome.level,
         "message": solution.message,
         "stats": _stats(solution),
         "extremes": {name: column_extremes(time, values) for name, values in channels.items()},

@@ -33,4 +33,5 @@ class RunOutcome:
     overrides: dict[str, float] = field(default_factory=dict)  # `--set` what-ifs (SI)
     checks: dict = field(default_factory=dict)  # e.g. {"torque_margin": {...}} for the summary
     input_error: bool = False  # not solved: the run's parameter values make its input invalid
+    level: str = "limit"  # the level of the case's applied loads: "limit" or "ultimate"
     unwritten: str = ""  # why its files could not be written (then none is): a failed run

@@ -184,6 +184,7 @@ _FIELDS: dict[str, tuple[str, Callable[[Any], bool]]] = {
     "case": ("a text", lambda v: isinstance(v, str)),
     "status": (f"one of {', '.join(RUN_STATUSES)}", lambda v: v in RUN_STATUSES),
     "analysis": ("a text", lambda v: isinstance(v, str)),
+    "level": ("limit or ultimate", lambda v: v in ("limit", "ultimate")),
     "message": ("a text", lambda v: isinstance(v, str)),
     "input_sha256": ("a text", lambda v: isinstance(v, str)),
     "csv_sha256": ("a text", lambda v: isinstance(v, str)),

@@ -50,6 +50,7 @@ class SavedRun:
     units: dict[str, str] = field(default_factory=dict)
     family: str = ""
     status: str = "ok"
+    level: str = "limit"  # the level of the case's applied loads (limit or ultimate)
     summary: dict[str, Any] = field(default_factory=dict, repr=False)  # as read (checked)
     notes: list[Diagnostic] = field(default_factory=list, repr=False)  # warnings of reading
 
@@ -79,6 +80,7 @@ class RunRecord:
     csv_path: Path
     reused: bool = False
     input_error: bool = False  # its parameter values make the input invalid (exit 2)
+    level: str = "limit"  # the level of its case's applied loads (limit or ultimate)
 
     @property
     def ok(self) -> bool:
@@ -120,6 +122,7 @@ def record_from_summary(
         input_sha256=str(summary.get("input_sha256", "")),
         csv_path=csv_path,
         reused=reused,
+        level="ultimate" if summary.get("level") == "ultimate" else "limit",
     )
 
 
@@ -141,7 +144,8 @@ def load_saved_run(csv_path: Path, directory: Path | None = None) -> SavedRun:
         base = csv_path.relative_to(directory) if directory is not None else Path(csv_path.name)
         name = base.as_posix()[: -len(".csv")]
     units = dict(summary.get("units") or {})
-    run = SavedRun(name, time, channels, units, status=summary.get("status", "ok"))
+    level = "ultimate" if summary.get("level") == "ultimate" else "limit"
+    run = SavedRun(name, time, channels, units, status=summary.get("status", "ok"), level=level)
     run.summary, run.notes = summary, notes
     return run
 
@@ -152,7 +156,9 @@ def saved_run_of(outcome: RunOutcome) -> SavedRun:
     the runs it has just solved from memory, not from disk."""
     time, channels = checked_arrays(outcome.solution)
     units = {TIME_COLUMN: "s", **outcome.column_units}
-    return SavedRun(outcome.name, time, channels, units, status=outcome.solution.status)
+    return SavedRun(
+        outcome.name, time, channels, units, status=outcome.solution.status, level=outcome.level
+    )
 
 
 def find_result_files(directories: Iterable[Path]) -> list[tuple[Path, Path]]:

@@ -69,6 +69,7 @@ def run_case(
         parameters=dict(cf.parameters),
         overrides=dict(pairs(cf.what_if)),
         checks=checks,
+        level=cf.case.level,
     )
 
 

@@ -177,6 +177,7 @@ def _record(outcome: RunOutcome, spec: RunSpec, csv_path: Path) -> RunRecord:
         input_sha256=spec.input_sha256,
         csv_path=csv_path,
         input_error=outcome.input_error,
+        level=outcome.level,
     )
 
 
@@ -259,6 +260,8 @@ def _report_files(
         write_comparison_csv,
     )
     from loadcases.report.units import ReportUnits
+    from loadcases.sets.mass import mass_table
+    from loadcases.sets.references import reference_overlays, write_reference_files
 
     model = result.compiled.set_file.model
     units = ReportUnits.of(model.report.units.given() if model.report is not None else None)
@@ -281,6 +284,13 @@ def _report_files(
         if model.report is not None and model.report.template:
             template = Path(result.compiled.set_file.path).parent / model.report.template
         data = units.workbook_data(WorkbookData.from_set(result, runs, options))
+        if model.curves:
+            found = reference_overlays(result.compiled, runs)
+            data.references, written = write_reference_files(found, units, result.directory)
+            files += written
+        if model.mass_properties is not None:
+            data.mass = mass_table(result.compiled)
+            files.append(data.mass.write_csv(result.directory))
         write_workbook(data, workbook, template=template, progress=on_report)
         if on_report is not None:
             on_report("envelope plots")

@@ -250,3 +250,9 @@ def test_an_empty_cell_and_a_long_row_are_named(saved: Path) -> None:
     _refused(loads("envelope", saved), f"{path}:3:2: error: pin.fx", "'' is not a number")
     _edit(path, "\n0.1,,", "\n0.1,4.0,1.0,")
     _refused(loads("envelope", saved), f"{path}:3:1: error", "4 values for 3 columns")
+
+
+def test_a_summary_level_that_is_neither_limit_nor_ultimate_is_named(saved: Path) -> None:
+    path = saved / "a.summary.json"
+    _edit(path, '"level": "limit"', '"level": "ultimat"')
+    _refused(loads("envelope", saved), f"{path}:", "error: level: must be limit or ultimate")
