@@ -7,12 +7,17 @@ from typing import Annotated
 
 import typer
 
-from cli.render import fail, invalid_input, not_written
-from loadcases.foundation.diagnostics import InputError
+from cli.render import fail, invalid_input, not_written, print_diagnostics
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 
 __all__ = ["compare"]
 
 _WIDTHS = (34, 8, 12, 12, 9, 12, 12, 9)
+
+
+def _warn(warning: Diagnostic) -> None:
+    """A warning of a saved file read (on stderr, as it is found)."""
+    print_diagnostics([warning], err=True)
 
 
 def _g(value: float | None) -> str:
@@ -63,7 +68,7 @@ def compare(
     if output is not None and output.suffix.lower() not in (".csv", ".xlsx"):
         raise fail(f"{output}: output must end in .csv or .xlsx")
     try:
-        table = compare_envelopes(read_envelope(old), read_envelope(new))
+        table = compare_envelopes(read_envelope(old, _warn), read_envelope(new, _warn))
     except InputError as error:  # a saved file that is not what `loads` writes
         raise invalid_input(error.diagnostics) from None
     except ValueError as error:

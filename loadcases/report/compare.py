@@ -17,7 +17,7 @@ from __future__ import annotations
 import csv
 import io
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import astuple, dataclass, fields
 from pathlib import Path
 from typing import Any
@@ -163,22 +163,26 @@ def _envelope_file(path: Path) -> Path | None:
     return candidate if candidate.is_file() else None
 
 
-def read_envelope(path: Path) -> dict[str, Peak]:
+def read_envelope(path: Path, warn: Callable[[Diagnostic], None] | None = None) -> dict[str, Peak]:
     """Peaks by column from an envelope CSV, a folder holding `envelope.csv`, or a folder of
     saved runs. Raises ValueError when `path` holds none of these, InputError (file, line,
-    column) when a file it reads is not what `loads` writes."""
+    column) when a file it reads is not what `loads` writes; `warn` is told the warnings of
+    saved runs read (a CSV changed since its summary was written)."""
     source = _envelope_file(path)
     if source is None:
-        return _saved_envelope(path)
+        return _saved_envelope(path, warn)
     return _envelope_table(source)
 
 
-def _saved_envelope(folder: Path) -> dict[str, Peak]:
+def _saved_envelope(folder: Path, warn: Callable[[Diagnostic], None] | None) -> dict[str, Peak]:
     from loadcases.report.saved_report import saved_report
 
     if not folder.is_dir():
         raise ValueError(f"{folder}: no such file or folder")
     report = saved_report([folder])
+    if warn is not None:
+        for warning in report.warnings:  # a run's CSV changed since its summary was written
+            warn(warning)
     if not report.runs:
         raise ValueError(
             f"{folder}: no envelope.csv and no saved results (NAME.csv with a 'time' column)"

@@ -256,3 +256,13 @@ def test_a_summary_level_that_is_neither_limit_nor_ultimate_is_named(saved: Path
     path = saved / "a.summary.json"
     _edit(path, '"level": "limit"', '"level": "ultimat"')
     _refused(loads("envelope", saved), f"{path}:", "error: level: must be limit or ultimate")
+
+
+def test_compare_of_folders_warns_of_a_csv_changed_since_its_summary(saved: Path) -> None:
+    _edit(saved / "a.csv", "\n0.1,2.0,", "\n0.1,7.5,")
+    result = loads("compare", saved, saved)
+    assert result.exit_code == 0, result.output
+    assert f"{saved / 'a.csv'}:0:0: warning: changed since a.summary.json" in result.output
+    (saved / "b.csv").write_bytes((saved / "b.csv").read_bytes())  # touched, not changed
+    _edit(saved / "a.csv", "\n0.1,7.5,", "\n0.1,2.0,")  # back as written
+    assert "warning" not in loads("compare", saved, saved).output
