@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import csv
 import math
+from collections.abc import Sequence
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
@@ -66,7 +67,7 @@ def lifting_rows(angles: list[float]) -> list[tuple[float, float, float]]:
     return rows
 
 
-def write(name: str, header: list[str], rows: list[tuple[float, ...]]) -> Path:
+def write(name: str, header: list[str], rows: Sequence[tuple[float, ...]]) -> Path:
     path = HERE / name
     with open(path, "w", newline="", encoding="utf-8") as stream:
         writer = csv.writer(stream, lineterminator="\n")
