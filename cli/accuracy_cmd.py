@@ -24,13 +24,38 @@ _HEADER = (
 
 
 def _numbers(text: str, option: str) -> list[float]:
+    """The tolerances of `option`, each in [MIN_TOLERANCE, 1) (exit 2 otherwise)."""
+    from loadcases.foundation.limits import MIN_TOLERANCE
+
     try:
         values = [float(v) for v in text.split(",") if v.strip()]
     except ValueError:
         raise fail(f"{option}: '{text[:80]}' is not a comma-separated list of numbers") from None
-    if not values or any(not (0.0 < v < 1.0) for v in values):
-        raise fail(f"{option}: each tolerance must lie between 0 and 1 (got '{text[:80]}')")
+    if not values or any(not (MIN_TOLERANCE <= v < 1.0) for v in values):
+        raise fail(
+            f"{option}: each tolerance must lie between {MIN_TOLERANCE:g} and 1 (got '{text[:80]}')"
+        )
     return values
+
+
+def _settings_problem(
+    output: Path, repeats: int, ladder: list[float], reference: float | None
+) -> str | None:
+    """What makes `-o`, `--repeats` or `--reference-tolerance` unusable, or None."""
+    from loadcases.foundation.limits import MAX_REPEATS, MIN_TOLERANCE
+    from loadcases.inputs.preflight import output_folder_problem
+
+    problem = output_folder_problem(output)
+    if problem is not None:
+        return f"-o {output}: {problem}"
+    if not 1 <= repeats <= MAX_REPEATS:
+        return f"--repeats: {repeats} must be a whole number from 1 to {MAX_REPEATS}"
+    if reference is not None and not MIN_TOLERANCE <= reference < min(ladder):
+        return (
+            f"--reference-tolerance must be at least {MIN_TOLERANCE:g} and tighter than "
+            "every tolerance studied"
+        )
+    return None
 
 
 def _row(cells: tuple[object, ...]) -> str:
@@ -112,10 +137,9 @@ def accuracy(
     if not 0.0 < target < 1.0:
         raise fail(f"--target: {target:g} must lie between 0 and 1 (a fraction of the peak)")
     ladder = _numbers(tolerances, "--tolerances")
-    if reference_tolerance is not None and not 0.0 < reference_tolerance < min(ladder):
-        raise fail(
-            "--reference-tolerance must be positive and tighter than every tolerance studied"
-        )
+    problem = _settings_problem(output, repeats, ladder, reference_tolerance)
+    if problem is not None:
+        raise fail(problem)
     typer.echo(_row(_HEADER))
 
     def show(result) -> None:

@@ -19,9 +19,18 @@ import typer
 
 from cli.engine import Engine, engine_of
 from cli.help_style import use_domain_names
-from cli.render import ProgressBar, error_line, fail, print_diagnostics, status_line
+from cli.render import (
+    ProgressBar,
+    error_line,
+    fail,
+    invalid_input,
+    not_written,
+    print_diagnostics,
+    status_line,
+)
 from cli.runner import FileReport, run_all
 from loadcases.foundation.clip import visible
+from loadcases.foundation.diagnostics import InputError
 
 __all__ = ["app", "main"]
 
@@ -217,7 +226,6 @@ def _overrides(texts: list[str]) -> tuple[Any, ...]:
 
 def _kind(path: Path) -> str | None:
     """The kind of a file, None when it cannot be told (the runner reports why)."""
-    from loadcases.foundation.diagnostics import InputError
     from loadcases.inputs.kinds import file_kind
 
     try:
@@ -419,7 +427,11 @@ def envelope(
             raise fail(f"{directory}: no such folder")
     if set_file is not None:
         _require_files([set_file])
-    report = saved_report(dirs, set_path=set_file)
+    try:
+        report = saved_report(dirs, set_path=set_file)
+    except InputError as error:  # a saved file that is not what `loads run` writes
+        raise invalid_input(error.diagnostics) from None
+    print_diagnostics(report.warnings, err=True)
     if not report.records:
         raise fail("no results (NAME.csv with a 'time' column) under " + ", ".join(map(str, dirs)))
     for record in report.records:
@@ -428,13 +440,16 @@ def envelope(
     if output is None:
         typer.echo(env.envelope_csv_text(report.rows), nl=False)
         return EXIT_OK
-    if output.suffix.lower() == ".xlsx":
-        from loadcases.report.workbook import write_workbook
+    try:
+        if output.suffix.lower() == ".xlsx":
+            from loadcases.report.workbook import write_workbook
 
-        title = set_file.stem if set_file else ", ".join(map(str, dirs))
-        write_workbook(report.workbook_data(title, set_file), output)
-    else:
-        env.write_envelope_csv(report.rows, output)
+            title = set_file.stem if set_file else ", ".join(map(str, dirs))
+            write_workbook(report.workbook_data(title, set_file), output)
+        else:
+            env.write_envelope_csv(report.rows, output)
+    except OSError as error:  # disk full, permissions: written whole or not at all
+        raise not_written(output, error) from None
     typer.echo(f"envelope of {len(report.runs)} runs, {len(report.rows)} columns -> {output}")
     return EXIT_OK
 

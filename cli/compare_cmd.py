@@ -7,12 +7,18 @@ from typing import Annotated
 
 import typer
 
-from cli.render import fail
+from cli.render import fail, invalid_input, not_written, print_diagnostics
 from cli.units_option import SET_OPTION, UNITS_OPTION, report_units
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 
 __all__ = ["compare"]
 
 _WIDTHS = (34, 8, 12, 12, 9, 12, 12, 9)
+
+
+def _warn(warning: Diagnostic) -> None:
+    """A warning of a saved file read (on stderr, as it is found)."""
+    print_diagnostics([warning], err=True)
 
 
 def _g(value: float | None) -> str:
@@ -74,7 +80,9 @@ def compare(
         raise fail(f"{output}: output must end in .csv or .xlsx")
     shown_units = report_units(set_file, units or [])
     try:
-        si_table = compare_envelopes(read_envelope(old), read_envelope(new))
+        si_table = compare_envelopes(read_envelope(old, _warn), read_envelope(new, _warn))
+    except InputError as error:  # a saved file that is not what `loads` writes
+        raise invalid_input(error.diagnostics) from None
     except ValueError as error:
         raise fail(str(error)) from None
     table = in_report_units(si_table, shown_units)
@@ -112,6 +120,9 @@ def compare(
     typer.echo(", ".join(f"{n} {s}" for s, n in counts.items()) + f" of {len(table)} rows" + more)
     if output is not None:
         written = si_table if output.suffix.lower() == ".csv" else table
-        write_compare(written, output, old=str(old), new=str(new))
+        try:
+            write_compare(written, output, old=str(old), new=str(new))
+        except OSError as error:  # disk full, permissions: written whole or not at all
+            raise not_written(output, error) from None
         typer.echo(f"-> {output}")
     return 0

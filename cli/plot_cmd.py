@@ -12,8 +12,9 @@ from typing import Annotated
 
 import typer
 
-from cli.render import fail
+from cli.render import fail, invalid_input
 from cli.units_option import SET_OPTION, UNITS_OPTION, report_units
+from loadcases.foundation.diagnostics import InputError
 
 __all__ = ["new", "plot"]
 
@@ -87,6 +88,8 @@ def plot(
         written = plots.plot_runs(
             [run.as_run() for run in runs], patterns or None, x=x, units=shown, out_dir=output
         )
+    except InputError as error:  # a saved file that is not what `loads run` writes
+        raise invalid_input(error.diagnostics) from None
     except ValueError as error:
         raise fail(str(error)) from None
     typer.echo(
@@ -103,6 +106,8 @@ def _polar(files: list[Path], requests: list[str], output: Path) -> int:
     try:
         runs = [plots.load_saved_run(path) for path in files]
         written = write_runs_polar_plots(runs, output, requests)
+    except InputError as error:
+        raise invalid_input(error.diagnostics) from None
     except ValueError as error:
         raise fail(str(error)) from None
     typer.echo(

@@ -38,6 +38,22 @@ def fail(message: str, code: int = 2) -> typer.Exit:
     return typer.Exit(code)
 
 
+def invalid_input(diagnostics: Iterable[Diagnostic]) -> typer.Exit:
+    """Print the problems of the input (a saved file read back, too) on stderr; return the
+    `typer.Exit` (status 2) to raise."""
+    print_diagnostics(diagnostics, err=True)
+    return typer.Exit(2)
+
+
+def not_written(path: Path, error: OSError) -> typer.Exit:
+    """Say that `path` could not be written (disk full, permissions) and is missing; return
+    the `typer.Exit` (status 1) to raise."""
+    typer.echo(
+        error_line(f"{path}: not written ({error.strerror or error}); missing: {path}"), err=True
+    )
+    return typer.Exit(1)
+
+
 def print_diagnostics(diagnostics: Iterable[Diagnostic], *, err: bool) -> None:
     """Print diagnostics gcc style, sorted by file, line and column, duplicates once."""
     for diagnostic in sort_diagnostics(list(dict.fromkeys(diagnostics))):

@@ -40,10 +40,15 @@ class FileReport:
     footer: list[str] = field(default_factory=list)  # printed after the run lines
     input_errors: bool = False  # a run's own input (its parameter values) is invalid: exit 2
     refused: str | None = None  # not run at all (another run writes its folder): exit 1
+    unwritten: bool = False  # a set's report could not be written (disk full): exit 1
 
     @property
     def failed(self) -> bool:
-        return self.refused is not None or any(run.status != "ok" for run in self.runs)
+        return (
+            self.refused is not None
+            or self.unwritten
+            or any(run.status != "ok" for run in self.runs)
+        )
 
 
 def run_one(
@@ -81,8 +86,8 @@ def run_one(
         lines.append(
             RunLine(
                 outcome.name,
-                solution.status,
-                solution.message,
+                "failed" if outcome.unwritten else solution.status,
+                outcome.unwritten or solution.message,
                 int(solution.stats.steps),
                 float(solution.stats.cpu_seconds),
                 _where(output_dir, outcome.name),

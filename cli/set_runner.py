@@ -110,6 +110,8 @@ def run_set_file(
         footer.append(f"failed runs ({len(failed)}):")
         footer += [f"  {r.name}: {r.message}" for r in failed]
     footer += [f"  -> {file}" for file in result.files[:2]]
+    if result.unwritten:
+        footer.append(f"{result.compiled.name}: {result.unwritten}")
     invalid = [r.name for r in result.records if r.input_error]
     if invalid:
         footer.append(
@@ -117,7 +119,13 @@ def run_set_file(
             + ", ".join(invalid[:5])
             + (" ..." if len(invalid) > 5 else "")
         )
-    return FileReport(path, runs=lines, footer=footer, input_errors=bool(invalid))
+    return FileReport(
+        path,
+        runs=lines,
+        footer=footer,
+        input_errors=bool(invalid),
+        unwritten=bool(result.unwritten),
+    )
 
 
 def _warn(text: str) -> None:

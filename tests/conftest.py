@@ -29,5 +29,7 @@ def pytest_collection_modifyitems(config: pytest.Config, items: list[pytest.Item
 @pytest.fixture(autouse=True)
 def _reduction_cache(tmp_path_factory: pytest.TempPathFactory, monkeypatch: pytest.MonkeyPatch):
     """Flexible-body reductions cached in one temporary folder per session, never in the
-    working folder (loadcases.flexible.cache)."""
+    working folder (loadcases.flexible.cache); the caches' seal key in another, never in
+    the user's data folder (loadcases.foundation.cache_seal)."""
     monkeypatch.setenv("LOADS_CACHE_DIR", str(tmp_path_factory.getbasetemp() / "loads-cache"))
+    monkeypatch.setenv("LOADS_SEAL_KEY", str(tmp_path_factory.getbasetemp() / "seal" / "key"))

@@ -27,8 +27,10 @@ from loadcases.build.requests import (
     modal_requests,
     request_kinds,
 )
+from loadcases.build.sections import split_sections
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import CaseFile
+from loadcases.schema.case import SectionRequest
 
 __all__ = ["BuiltRun", "build_mechanism", "build_run"]
 
@@ -126,6 +128,13 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     everything the engine cannot build. With `abscissa`, the case's `abscissa:` expression
     (if any) becomes one more request, column `abscissa.value`."""
     b = Builder(cf.mechanism, cf.parameters, cf.where, cf.case)
+    cut = [
+        r.section
+        for r in cf.case.requests.values()
+        if isinstance(r, SectionRequest) and r.section in cf.mechanism.sections
+    ]
+    if cut:  # the bodies cut only for a case that asks (loadcases.build.sections)
+        b.mech = split_sections(b.mech, cut, lambda key, text: b.error("mechanism", key, text))
     mechanism = _mechanism(b)
     analysis = build_analysis(b)
     requests, units = build_requests(b)

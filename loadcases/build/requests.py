@@ -10,6 +10,7 @@ from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_UNITS
 from loadcases.build.context import Builder
 from loadcases.build.elements import ELEMENT_EFFECTS
 from loadcases.build.flexible_bodies import flexible_output_units, flexible_request
+from loadcases.build.sections import section_joint
 from mechlib.elements.friction import friction_units
 
 __all__ = [
@@ -70,6 +71,7 @@ def build_requests(b: Builder) -> tuple[list, dict[str, str]]:
 # loads (`loadcases.report.curves.LOAD_KINDS`), friction and energy only when asked.
 _KINDS = {
     "MotionRequest": "effort",
+    "SectionRequest": "reaction",  # the load a body carries at a section: a joint's reaction
     "PointRequest": "kinematics",
     "FlexibleRequest": "flexible",
     "EnergyRequest": "energy",
@@ -78,7 +80,7 @@ _KINDS = {
 
 
 def request_kinds(b: Builder) -> dict[str, str]:
-    """{request: kind} of the case's requests: `reaction` (joint forces), `effort`
+    """{request: kind} of the case's requests: `reaction` (joint and section forces), `effort`
     (motions), `element` (force elements), `friction` (joint friction), `contact`,
     `kinematics`, `flexible`, `energy`, `expression`."""
     kinds = {}
@@ -111,6 +113,9 @@ def _request(b: Builder, name: str, r):
         return flexible_request(b, name, r)
     if kind == "ElementRequest":
         return _element_request(b, name, r)
+    if kind == "SectionRequest":
+        frame = r.frame or b.mech.sections[r.section].body
+        return ml.JointReaction(name, section_joint(r.section), frame)
     if kind == "EnergyRequest":
         return ml.EnergyBalance(name)
     if kind == "ExpressionRequest":

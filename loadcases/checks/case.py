@@ -8,7 +8,7 @@ from loadcases.checks.common import GROUND, Names, check_expressions, unknown
 from loadcases.checks.mechanism import mechanism_names
 from loadcases.checks.paths import check_name
 from loadcases.foundation.diagnostics import Diagnostic
-from loadcases.foundation.limits import rows_problem
+from loadcases.foundation.limits import MIN_TOLERANCE, rows_problem
 from loadcases.foundation.units import UnitError, to_si
 from loadcases.schema import COORDINATE_DIMENSION, KNOWN_EFFECTS, CaseModel, MechanismModel
 from loadcases.schema.errors import did_you_mean
@@ -156,6 +156,15 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
         for key in ("tolerance", "max_step", "accuracy")
         if isinstance(getattr(analysis, key), int | float) and getattr(analysis, key) <= 0.0
     ]
+    tolerance = analysis.tolerance
+    if isinstance(tolerance, int | float) and 0.0 < tolerance < MIN_TOLERANCE:
+        found.append(
+            at.diagnostic(
+                ("analysis", "tolerance"),
+                f"must be at least {MIN_TOLERANCE:g} (got {tolerance:g}): below, round-off "
+                "of the state decides, not the tolerance",
+            )
+        )
     if kind != "dynamic":
         found += [
             at.diagnostic(

@@ -13,7 +13,17 @@ from loadcases.yamlfiles.source import KeyPath, Locator
 
 __all__ = ["check_mechanism", "mechanism_names", "node_bodies"]
 
-_SECTIONS = ("bodies", "points", "frames", "joints", "forces", "contacts", "tables", "events")
+_SECTIONS = (
+    "bodies",
+    "points",
+    "frames",
+    "joints",
+    "forces",
+    "contacts",
+    "sections",
+    "tables",
+    "events",
+)
 _RESERVED_PARAMETERS = ("t", "pi")  # bare names the expression language defines itself
 _TINY = 1.0e-12  # |vector| below this is a zero vector
 _PARALLEL = 1.0e-6  # |sin(angle)| below this: parallel axes
@@ -29,6 +39,7 @@ def mechanism_names(model: MechanismModel) -> Names:
         joints=model.joints,
         forces=model.forces,
         contacts=model.contacts,
+        sections=model.sections,
         tables=model.tables,
         events=model.events,
     )

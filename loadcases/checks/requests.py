@@ -22,6 +22,7 @@ _TARGETS = {
     "point": "points",
     "force": "forces",
     "contact": "contacts",
+    "section": "sections",
 }
 
 

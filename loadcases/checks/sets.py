@@ -103,7 +103,30 @@ def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[
             for request in (side.strip(" -").split(".")[0] for side in key.split("="))
             if request not in requests
         ]
+    found += _unfactored_levels(model, at, cases)
+    names = {case.case.case for case in cases}
+    wanted = model.mass_properties
+    if wanted is not None and wanted.case not in names:
+        found.append(unknown(at, ("mass_properties", "case"), "case", wanted.case, names))
     return found + _duplicate_names(at, cases) + _unmatched_case_factors(model, at, cases)
+
+
+def _unfactored_levels(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:
+    """An ultimate-level case in a set without an ultimate factor: its limit loads cannot be
+    told from its ultimate ones (both are shown as computed)."""
+    if ULTIMATE in model.factors:
+        return []
+    return [
+        at.diagnostic(
+            ("cases",),
+            f"case '{case.case.case}' gives its loads at ultimate level but the set has no "
+            "ultimate factor: its limit loads are shown equal to its ultimate loads",
+            hint="add factors: {ultimate: 1.5} (or the factor that applies)",
+            severity="warning",
+        )
+        for case in cases
+        if case.case.level == ULTIMATE
+    ]
 
 
 def _unmatched_case_factors(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:

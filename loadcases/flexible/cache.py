@@ -10,9 +10,11 @@ rename); an unreadable entry is computed again with a warning.
 An entry is checked, never trusted: it holds its key and a SHA-256 of its arrays (names,
 types, shapes and values, in the canonical form of the key); it is used only when both
 match, so an entry whose arrays were changed in the folder (a matrix scaled), or one put
-under another key's name, is computed again with a warning and replaced. (The digest
-guards against damage and edits, not against a forger who recomputes it.) Nothing is ever evicted:
-delete the folder to clear it.
+under another key's name, is computed again with a warning and replaced. Key and digest are
+sealed with the user's own key (`loadcases.foundation.cache_seal`, kept outside every cache
+folder): an entry whose arrays were changed and their digest recomputed, or one written by
+another account (a results folder on a shared drive), does not verify and is computed
+again too. Nothing is ever evicted: delete the folder to clear it.
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ import numpy as np
 import scipy
 import scipy.sparse as sp
 
+from loadcases.foundation import cache_seal
 from loadcases.foundation.atomic import atomic_path
 from loadcases.foundation.cache_env import CACHE_ENV, reading_only, shared_cache_folder, storing
 from loadcases.foundation.engine_hash import engine_sha256
@@ -47,6 +50,7 @@ __all__ = [
 
 _KEY_ARRAY = "__key__"
 _DIGEST_ARRAY = "__digest__"  # SHA-256 of the entry's other arrays (`_digest`)
+_SEAL_ARRAY = "__seal__"  # HMAC of key and digest under the user's key (cache_seal)
 _OUTPUT: ContextVar[Path | None] = ContextVar("loads_cache_output", default=None)
 
 
@@ -150,10 +154,13 @@ def _load(path: Path, key: str) -> dict[str, np.ndarray]:
         if _DIGEST_ARRAY not in entry.files:
             raise ValueError("it holds no digest of its arrays")
         stored = str(entry[_DIGEST_ARRAY])
-        skip = (_KEY_ARRAY, _DIGEST_ARRAY)
+        seal = str(entry[_SEAL_ARRAY]) if _SEAL_ARRAY in entry.files else None
+        skip = (_KEY_ARRAY, _DIGEST_ARRAY, _SEAL_ARRAY)
         arrays = {name: entry[name] for name in entry.files if name not in skip}
     if _digest(arrays) != stored:
         raise ValueError("its arrays do not match their digest")
+    if not cache_seal.verified(seal, key, stored):
+        raise ValueError("its seal does not verify: not written by this user's loads")
     return arrays
 
 
@@ -191,13 +198,18 @@ def cached(
         except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile) as error:
             warn(f"cache entry {path} unreadable ({error}): computed again")
     result = _checked(compute())
-    if not storing():
+    if not storing():  # `loads validate`: computed, used and forgotten
+        return result
+    digest = _digest(result)
+    seal = cache_seal.seal(key, digest)
+    if seal is None:  # no key: an entry could not be told from a forged one
         return result
     try:
         with atomic_path(path) as tmp, open(tmp, "wb") as stream:
             entry: dict[str, Any] = {
                 _KEY_ARRAY: np.array(key),
-                _DIGEST_ARRAY: np.array(_digest(result)),
+                _DIGEST_ARRAY: np.array(digest),
+                _SEAL_ARRAY: np.array(seal),
                 **result,
             }
             np.savez(stream, **entry)

@@ -15,10 +15,12 @@ __all__ = [
     "MAX_HARDPOINTS",
     "MAX_HARDPOINT_BYTES",
     "MAX_QUANTITY_CHARS",
+    "MAX_REPEATS",
     "MAX_ROWS",
     "MAX_RUNS",
     "MAX_YAML_DEPTH",
     "MAX_YAML_VALUES",
+    "MIN_TOLERANCE",
     "capped_jobs",
     "local_path_problem",
     "pattern_problem",
@@ -28,6 +30,10 @@ __all__ = [
 
 MAX_ROWS = 10_000_000  # output rows of one run (end / step): ~1 GB of CSV per column set
 MAX_RUNS = 100_000  # runs of one set (sweep x zip)
+# an integrator's tolerance: below it the error test divides by a scale at round-off (an
+# absolute tolerance of 1e-300 made Radau's matrix infinite, an internal error)
+MIN_TOLERANCE = 1e-14
+MAX_REPEATS = 100  # runs of one setting in `loads accuracy` (its CPU time is their median)
 MAX_YAML_VALUES = 1_000_000  # values of one YAML file once its aliases are expanded
 MAX_YAML_DEPTH = 100  # nesting of mappings and lists in one YAML file
 MAX_HARDPOINTS = 100_000  # points of one hardpoint CSV file

@@ -32,6 +32,7 @@ from loadcases.inputs.hardpoints import expand_hardpoints
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
 from loadcases.inputs.parameter_refs import ParameterRef, parameter_values, put_parameters
+from loadcases.inputs.reference_tables import check_reference_curves
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import (
     did_you_mean,
@@ -401,6 +402,7 @@ def validate_set(
     set_file = load_set(path)
     cases, found = load_set_cases(set_file, done)
     checks = check_set_cases(set_file.model, set_file.locator, cases)
+    checks += check_reference_curves(set_file.model, set_file.locator, set_file.path, cases)
     return set_file, cases, [*set_file.warnings, *found, *checks]
 
 

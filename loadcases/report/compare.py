@@ -18,14 +18,17 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections.abc import Callable, Sequence
 from dataclasses import astuple, dataclass, fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
-from loadcases.foundation.clip import visible_fields
+from loadcases.foundation.clip import describe_character, hidden_character, visible_fields
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.report.number_format import number_format
 from loadcases.report.roundoff import roundoff_columns
+from loadcases.results.reading import input_text
 from loadcases.results.xlsx_text import text_cells
 
 if TYPE_CHECKING:
@@ -44,6 +47,8 @@ __all__ = [
     "write_compare",
 ]
 
+Fields = Sequence[str]  # an envelope table's column names, as its header gives them
+_ENVELOPE_KEYS = ("column", "max", "max_run", "min", "min_run")
 SAME_TOLERANCE = 1e-9  # relative: below it a change is round-off, not a change of the design
 _STATUS_ORDER = {"changed": 0, "new": 1, "vanished": 2, "noise": 3, "same": 4}
 STATUSES = tuple(_STATUS_ORDER)
@@ -94,11 +99,68 @@ class ComparedRow:
 COMPARE_COLUMNS = tuple(f.name for f in fields(ComparedRow))
 
 
-def _number(text: str | None) -> float | None:
+def _number(source: Path, line: int, key: str, text: str | None, fields: Fields) -> float | None:
+    """A peak of an envelope row: empty (a column without finite values) or a finite
+    number; InputError naming the place otherwise (a peak edited to `nan` is no peak)."""
     if text is None or text.strip() == "":
         return None
-    value = float(text)
-    return value if math.isfinite(value) else None
+    try:
+        value = float(text)
+    except ValueError:
+        raise _problem(source, line, key, f"'{text}' is not a number", fields) from None
+    if not math.isfinite(value):
+        message = f"{text.strip()} is not finite (a peak is a number)"
+        raise _problem(source, line, key, message, fields)
+    return value
+
+
+def _problem(source: Path, line: int, key: str, message: str, fields: Fields = ()) -> InputError:
+    """The problem at `line` of `source`, in the column of `key` among `fields` (0 if none)."""
+    column = list(fields).index(key) + 1 if key in fields else 0
+    return InputError([Diagnostic(str(source), line, column, key, message)])
+
+
+def _peak(source: Path, line: int, row: dict[str | None, Any], fields: Fields) -> Peak:
+    """One row of an envelope table, checked."""
+    if None in row or any(row[key] is None for key in _ENVELOPE_KEYS):
+        raise _problem(source, line, "", "a short or long row (not the header's columns)")
+    return Peak(
+        _number(source, line, "max", row["max"], fields),
+        row["max_run"],
+        _number(source, line, "min", row["min"], fields),
+        row["min_run"],
+        row.get("unit") or "",
+    )
+
+
+def _envelope_table(source: Path) -> dict[str, Peak]:
+    """Peaks by column of an envelope CSV (`envelope.csv` of a set or of `loads envelope`),
+    every row checked: InputError naming the file, line and column otherwise."""
+    reader = csv.DictReader(io.StringIO(input_text(source)))
+    peaks: dict[str, Peak] = {}
+    try:
+        missing = set(_ENVELOPE_KEYS) - set(reader.fieldnames or ())
+        if missing:
+            raise _problem(
+                source, 1, "", f"not an envelope table (no column {', '.join(sorted(missing))})"
+            )
+        for row in reader:
+            peak = _peak(source, reader.line_num, row, reader.fieldnames or ())
+            column = row["column"]
+            hidden = hidden_character(column)
+            if not column.strip() or hidden is not None or column in peaks:
+                why = (
+                    "empty column name"
+                    if not column.strip()
+                    else f"contains {describe_character(hidden)}"
+                    if hidden is not None
+                    else "given twice"
+                )
+                raise _problem(source, reader.line_num, "column", why, reader.fieldnames or ())
+            peaks[column] = peak
+    except csv.Error as error:  # a field beyond csv's limit (128 KiB), a NUL
+        raise _problem(source, reader.line_num, "", f"not a CSV table: {error}") from None
+    return peaks
 
 
 def _envelope_file(path: Path) -> Path | None:
@@ -109,37 +171,26 @@ def _envelope_file(path: Path) -> Path | None:
     return candidate if candidate.is_file() else None
 
 
-def read_envelope(path: Path) -> dict[str, Peak]:
+def read_envelope(path: Path, warn: Callable[[Diagnostic], None] | None = None) -> dict[str, Peak]:
     """Peaks by column from an envelope CSV, a folder holding `envelope.csv`, or a folder of
-    saved runs. Raises ValueError when `path` holds none of these."""
+    saved runs. Raises ValueError when `path` holds none of these, InputError (file, line,
+    column) when a file it reads is not what `loads` writes; `warn` is told the warnings of
+    saved runs read (a CSV changed since its summary was written)."""
     source = _envelope_file(path)
     if source is None:
-        return _saved_envelope(path)
-    with open(source, newline="", encoding="utf-8") as handle:
-        reader = csv.DictReader(handle)
-        missing = {"column", "max", "max_run", "min", "min_run"} - set(reader.fieldnames or ())
-        if missing:
-            raise ValueError(
-                f"{source}: not an envelope table (no column {', '.join(sorted(missing))})"
-            )
-        return {
-            row["column"]: Peak(
-                _number(row["max"]),
-                row["max_run"] or "",
-                _number(row["min"]),
-                row["min_run"] or "",
-                row.get("unit") or "",
-            )
-            for row in reader
-        }
+        return _saved_envelope(path, warn)
+    return _envelope_table(source)
 
 
-def _saved_envelope(folder: Path) -> dict[str, Peak]:
+def _saved_envelope(folder: Path, warn: Callable[[Diagnostic], None] | None) -> dict[str, Peak]:
     from loadcases.report.saved_report import saved_report
 
     if not folder.is_dir():
         raise ValueError(f"{folder}: no such file or folder")
     report = saved_report([folder])
+    if warn is not None:
+        for warning in report.warnings:  # a run's CSV changed since its summary was written
+            warn(warning)
     if not report.runs:
         raise ValueError(
             f"{folder}: no envelope.csv and no saved results (NAME.csv with a 'time' column)"

@@ -10,7 +10,9 @@ component that is numerical noise: `loadcases.report.noise`), `factor_min` (the 
 min side; `factor` is the max side's), `ultimate_max_run`, `ultimate_min_run` (the runs whose
 factored loads govern: differ from max_run/min_run only with `case_factors`), the limit
 allowables and their margins `limit_allowable_max`, `limit_allowable_min`, `ms_limit_max`,
-`ms_limit_min`.
+`ms_limit_min`; `max_level`, `min_level`: the level (limit or ultimate) at which the case of
+max_run / min_run gives its loads (a set's envelope is at limit level: an ultimate-level
+run's loads are divided by the ultimate factor, `loadcases.report.levels`).
 
 Rules: NaN and infinite values are skipped (a failed run's missing rows never govern);
 ties keep the first run in the given order and, within a run, the earliest row. Runs whose
@@ -82,6 +84,8 @@ class EnvelopeRow:
     limit_allowable_min: float | None = None
     ms_limit_max: float | None = None
     ms_limit_min: float | None = None
+    max_level: str | None = None
+    min_level: str | None = None
 
 
 ENVELOPE_COLUMNS = tuple(f.name for f in fields(EnvelopeRow))

@@ -6,13 +6,18 @@ It is the table a stress office builds by hand from the runs' files: its numbers
 runs' own peaks (`loadcases.report.peaks`), SI in `loads-matrix.csv`, report units in the
 workbook. With `by="families"` a family's cell is the peak over its runs (first run on a
 tie). Rows of numerical noise (`loadcases.report.noise`) are kept and marked `~0`.
+
+Peaks are limit loads (`loadcases.report.levels`: an ultimate-level run's loads divided by
+the ultimate factor); `levels` says at which level each head's case gives its loads, and a
+row's `factors` (ultimate x fitting x case factor of each cell; None: not a load) give
+the ultimate loads, written after every head's limit columns in `loads-matrix.csv`.
 """
 
 from __future__ import annotations
 
 import csv
 import io
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -35,6 +40,14 @@ class MatrixRow:
     noise: bool
     cells: list[RunPeak | None]
     critical: dict[str, int | None] = field(default_factory=dict)
+    factors: list[float | None] = field(default_factory=list)  # per cell; None: not a load
+
+    def ultimate(self, k: int, side: str) -> float | None:
+        """The ultimate load of cell `k` on `side` (factor x limit peak), None if none."""
+        cell = self.cells[k]
+        factor = self.factors[k] if k < len(self.factors) and not self.noise else None
+        value = None if cell is None else getattr(cell, side)
+        return None if factor is None or value is None else factor * value
 
 
 @dataclass
@@ -45,6 +58,7 @@ class LoadsMatrix:
     at: list[tuple[str, str]]
     rows: list[MatrixRow]
     by: str = "runs"
+    levels: list[str] = field(default_factory=list)  # per head: limit or ultimate
 
 
 def _best(cells: Sequence[RunPeak | None], side: str) -> int | None:
@@ -80,9 +94,13 @@ def loads_matrix(
     at: Mapping[str, tuple[str, str]],
     noise: set[str] | frozenset[str] = frozenset(),
     by: str = "runs",
+    levels: Mapping[str, str] | None = None,
+    factor: Callable[[str, RunPeak], float | None] | None = None,
 ) -> LoadsMatrix:
     """The matrix of `peaks` ({column: [RunPeak]}) over `runs` [(run, family)] in order;
-    `units` {column: unit}; `at` {family: (abscissa name, unit)}, time for others."""
+    `units` {column: unit}; `at` {family: (abscissa name, unit)}, time for others;
+    `levels` {run: level} of the loads its case gives (default limit); `factor(column,
+    peak)`: the ultimate factor of a cell (None: not a load; default: no ultimate loads)."""
     key = 1 if by == "families" else 0
     heads = list(dict.fromkeys(run[key] for run in runs))
     family_of = {run[key]: run[1] for run in runs}
@@ -94,18 +112,28 @@ def loads_matrix(
             groups[peak.family if key else peak.run].append(peak)
         cells = [_family_cell(groups[h]) if key else next(iter(groups[h]), None) for h in heads]
         critical = {side: _best(cells, side) for side in SIDES}
-        rows.append(MatrixRow(column, units.get(column, ""), column in noise, cells, critical))
-    return LoadsMatrix(heads, where, rows, by)
+        factors = [None if c is None or factor is None else factor(column, c) for c in cells]
+        row = MatrixRow(column, units.get(column, ""), column in noise, cells, critical, factors)
+        rows.append(row)
+    first_run: dict[str, str] = {}
+    for run in runs:
+        first_run.setdefault(run[key], run[0])
+    head_levels = [(levels or {}).get(first_run[h], "limit") for h in heads]
+    return LoadsMatrix(heads, where, rows, by, head_levels)
 
 
 def matrix_csv_text(matrix: LoadsMatrix) -> str:
     """CSV: `column, unit, noise, critical_max, critical_min`, then per head `HEAD max`,
-    `HEAD max at`, `HEAD min`, `HEAD min at` (at: abscissa if the run has one, else time)."""
+    `HEAD max at`, `HEAD min`, `HEAD min at` (at: abscissa if the run has one, else time),
+    all limit loads; then per head `HEAD level` (of its case's loads), `HEAD ultimate max`,
+    `HEAD ultimate min` (empty for a column that is not a load)."""
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     header = ["column", "unit", "noise", "critical_max", "critical_min"]
     for head in matrix.heads:
         header += [f"{head} max", f"{head} max at", f"{head} min", f"{head} min at"]
+    for head in matrix.heads:
+        header += [f"{head} level", f"{head} ultimate max", f"{head} ultimate min"]
     writer.writerow(visible_fields(header))
     for row in matrix.rows:
         line: list[object] = [row.column, row.unit, NOISE_MARK if row.noise else ""]
@@ -114,6 +142,9 @@ def matrix_csv_text(matrix: LoadsMatrix) -> str:
             for side in SIDES:
                 values = (None, None) if cell is None else (getattr(cell, side), cell.at(side))
                 line += ["" if v is None else v for v in values]
+        for k, level in enumerate(matrix.levels):
+            ultimate = [row.ultimate(k, side) for side in SIDES]
+            line += [level, *("" if v is None else v for v in ultimate)]
         writer.writerow(visible_fields(line))
     return buffer.getvalue()
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.envelope import EnvelopeRow
 from loadcases.report.number_format import SIGNIFICANT_DIGITS
@@ -22,9 +23,7 @@ from loadcases.results.saved import (
     SavedRun,
     find_result_files,
     load_saved_run,
-    read_summary,
     record_from_summary,
-    summary_path,
 )
 
 if TYPE_CHECKING:
@@ -47,6 +46,7 @@ class SavedReport:
     sizing: Sizing | None = None
     histories: str = "envelope"
     digits: int = SIGNIFICANT_DIGITS
+    warnings: list[Diagnostic] = field(default_factory=list)  # of the files read
 
     def workbook_data(self, title: str, set_path: Path | None = None) -> WorkbookData:
         """The workbook of these results (Provenance lists each CSV with its hash)."""
@@ -76,19 +76,28 @@ class SavedReport:
 
 
 def _record(csv_path: Path, run: SavedRun) -> RunRecord:
-    summary = read_summary(summary_path(csv_path)) or {"case": run.name, "status": "ok"}
-    return record_from_summary({**summary, "case": run.name}, csv_path)
+    """The record of a run read back (its summary checked by `load_saved_run`)."""
+    return record_from_summary({"status": "ok", **run.summary, "case": run.name}, csv_path)
 
 
 def saved_report(directories: Iterable[Path], *, set_path: Path | None = None) -> SavedReport:
-    """Read every run below `directories`; factors/allowables from `set_path` if given."""
+    """Read every run below `directories`; factors/allowables from `set_path` if given.
+
+    InputError (every problem of every file, each naming the file, line and column) if a
+    saved file is not what `loads run` writes (`loadcases.results.reading`)."""
     files = find_result_files(directories)
-    records, runs = [], []
+    records, runs, problems = [], [], []
     for directory, csv_path in files:
-        run = load_saved_run(csv_path, directory)
+        try:
+            run = load_saved_run(csv_path, directory)
+        except InputError as error:
+            problems += error.diagnostics
+            continue
         records.append(_record(csv_path, run))
         if records[-1].ok:
             runs.append(run)
+    if problems:
+        raise InputError(problems)
     model, units, histories, digits = None, {}, "envelope", SIGNIFICANT_DIGITS
     if set_path is not None:
         from loadcases.inputs.loader import load_set
@@ -99,6 +108,16 @@ def saved_report(directories: Iterable[Path], *, set_path: Path | None = None) -
             digits = model.report.digits
     sizing = size_runs(runs, model)
     sources = [p for _, p in files]
+    warnings = [note for run in runs for note in run.notes]
     return SavedReport(
-        records, runs, sizing.rows, sizing.curves, sources, units, sizing, histories, digits
+        records,
+        runs,
+        sizing.rows,
+        sizing.curves,
+        sources,
+        units,
+        sizing,
+        histories,
+        digits=digits,
+        warnings=warnings,
     )

@@ -101,6 +101,8 @@ class WorkbookData:
     histories: str = "envelope"  # report.histories: all | envelope | none
     comparisons: dict[str, Any] = field(default_factory=dict)  # the set's `comparisons:`
     digits: int = SIGNIFICANT_DIGITS  # report.digits: significant digits shown
+    references: list[Any] = field(default_factory=list)  # reference_curves.Overlay, report units
+    mass: Any | None = None  # loadcases.sets.mass.MassTable of `mass_properties:` (SI)
 
     @classmethod
     def from_set(cls, result: Any, runs: list[SavedRun], options: dict[str, str]) -> WorkbookData:
@@ -243,6 +245,15 @@ def write_workbook(
         torque_margin_sheet(new("Torque margin"), data.runs)
     if data.comparisons:
         comparison_sheet(new("Comparison"), comparison_rows(data.comparisons, data.runs))
+    if data.references:
+        from loadcases.report.reference_sheet import REFERENCE_SHEET, reference_sheet
+
+        reference_sheet(new(REFERENCE_SHEET), data.references, digits)
+    if data.mass is not None:
+        from loadcases.report.mass_properties import MASS_SHEET, mass_sheet
+
+        mass = data.mass
+        mass_sheet(new(MASS_SHEET), mass.rows, mass.axis_name, mass.where, digits)
     if any(polar_requests(run) for run in data.runs):
         wear_map_sheet(new(WEAR_SHEET), data.runs)
     curves = _shown_curves(data)

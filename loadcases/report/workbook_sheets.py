@@ -50,6 +50,7 @@ CASES_COLUMNS = (
     "input_sha256",
     "sheet",
     "csv",
+    "level",
 )
 _NEGATIVE_FILL = PatternFill("solid", start_color="FF9999", end_color="FF9999")
 _NUMBER_COLUMNS = {
@@ -82,6 +83,10 @@ _HEADER_NOTES = {
     "ms_limit_max": "-: limit_allowable_max / (factor / ultimate x max) - 1",
     "ms_limit_min": "-: limit_allowable_min / (factor_min / ultimate x min) - 1",
     "max_abscissa": "unit of the case's abscissa (column abscissa.value)",
+    "max_level": "level of max_run's applied loads: limit, or ultimate (then max = its "
+    "computed load / ultimate factor)",
+    "min_level": "level of min_run's applied loads: limit, or ultimate (then min = its "
+    "computed load / ultimate factor)",
     "min_abscissa": "unit of the case's abscissa (column abscissa.value)",
 }
 
@@ -145,13 +150,14 @@ def cases_sheet(
             r.input_sha256,
             run_sheets.get(r.name, ""),
             links.get(r.name, ""),
+            r.level,
         )
         for column, value in enumerate(values, start=1):
             sheet.cell(row=row, column=column, value=value)
         if r.name in linked_sheets:
             _link(sheet.cell(row=row, column=1), run_sheets[r.name])
         if r.name in file_links:  # a file next to the workbook: opens in any spreadsheet program
-            csv_cell = sheet.cell(row=row, column=len(values))
+            csv_cell = sheet.cell(row=row, column=CASES_COLUMNS.index("csv") + 1)
             csv_cell.hyperlink, csv_cell.style = links[r.name], "Hyperlink"
         if not r.ok:
             for column in (6, 7):

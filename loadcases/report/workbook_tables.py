@@ -13,6 +13,7 @@ import math
 from collections.abc import Callable
 from typing import Any
 
+from openpyxl.comments import Comment
 from openpyxl.styles import Alignment, PatternFill
 from openpyxl.utils import get_column_letter
 
@@ -79,6 +80,10 @@ def margins_sheet(sheet: Any, lines: list[MarginLine], digits: int = SIGNIFICANT
 # a run's name centred across its four columns; not merged cells: openpyxl checks each new
 # merge against every earlier one (1000 runs: 0.6 s, growing with the square of the runs)
 _ACROSS = Alignment(horizontal="centerContinuous")
+_ULTIMATE_NOTE = (
+    "its case gives ultimate-level loads: shown at limit level (computed / ultimate "
+    "factor), as every run of the matrix; loads-matrix.csv has the ultimate loads"
+)
 
 
 def _heads(sheet: Any, matrix: LoadsMatrix, heads: range) -> None:
@@ -94,6 +99,8 @@ def _heads(sheet: Any, matrix: LoadsMatrix, heads: range) -> None:
             cell = sheet.cell(row=1, column=first + k, value=head if k == 0 else None)
             cell.style = "loads header"
             cell.alignment = _ACROSS
+        if g < len(matrix.levels) and matrix.levels[g] == "ultimate":
+            sheet.cell(row=1, column=first).comment = Comment(_ULTIMATE_NOTE, "loads")
         at = header_text(f"at {name}", unit)
         for k, title in enumerate(("max", at, "min", at)):
             sheet.cell(row=2, column=first + k, value=title).style = "loads header"

@@ -10,6 +10,7 @@ as `null` so the file is strict JSON. Every file is written atomically (see
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import functools
 import hashlib
@@ -26,12 +27,14 @@ import orjson
 from loadcases.foundation import engine_hash
 from loadcases.foundation.atomic import atomic_path, atomic_write_bytes, atomic_write_text
 from loadcases.results.outcome import RunOutcome
+from loadcases.results.reading import TIME_COLUMN, read_run_csv
 from loadcases.results.xlsx_text import text_cells
 from mechlib.core.outcome import Solution
 
 __all__ = [
     "SUMMARY_SUFFIX",
     "TIME_COLUMN",
+    "ResultsNotWritten",
     "checked_arrays",
     "column_extremes",
     "json_safe",
@@ -42,7 +45,6 @@ __all__ = [
     "write_results",
 ]
 
-TIME_COLUMN = "time"
 SUMMARY_SUFFIX = ".summary.json"
 EXCEL_MAX_ROWS = 1_048_576  # rows per worksheet in Excel 2007 and later
 EXCEL_MAX_COLUMNS = 16_384  # columns per worksheet
@@ -69,30 +71,51 @@ def result_base(output_dir: Path, name: str) -> Path:
     return Path(output_dir).joinpath(*parts)
 
 
+class ResultsNotWritten(OSError):
+    """The files of a run could not be written (disk full, no permission): none of them is
+    left. `missing`: their paths; `reason`: the system's words (`errno` the system's)."""
+
+    def __init__(self, missing: list[Path], reason: str, code: int | None = None) -> None:
+        super().__init__(code, reason)
+        self.missing, self.reason = missing, reason
+
+    def __str__(self) -> str:
+        names = ", ".join(str(path) for path in self.missing)
+        return f"results not written ({self.reason}); missing: {names}"
+
+
 def write_results(
     outcome: RunOutcome, output_dir: Path, *, xlsx: bool = False, version: str | None = None
 ) -> list[Path]:
     """Write the result files of one run into `output_dir`; return their paths.
 
     `version` is the engine version recorded in the summary (default: the installed one).
-    Files: `NAME.csv`, then `NAME.xlsx` if `xlsx`, then `NAME.summary.json`.
+    Files: `NAME.csv`, then `NAME.xlsx` if `xlsx`, then `NAME.summary.json`. All or none:
+    if one cannot be written (OSError: disk full, permissions), those of this run already
+    written (and an older summary or CSV of the same name, which would no longer match) are
+    removed and ResultsNotWritten names them.
     """
     solution = outcome.solution
     time, channels = checked_arrays(solution)
     base = result_base(output_dir, outcome.name)
+    paths = [_with_suffix(base, suffix) for suffix in (".csv", ".xlsx", SUMMARY_SUFFIX)]
+    if not xlsx:
+        del paths[1]
     summary = summary_of(outcome, version=version or package_version())
-    csv_bytes = _csv_bytes(time, channels)
-    summary["csv_sha256"] = hashlib.sha256(csv_bytes).hexdigest()  # reuse checks the CSV
-    written = [atomic_write_bytes(_with_suffix(base, ".csv"), csv_bytes)]
-    if xlsx:
-        written.append(
-            _write_workbook(
-                _with_suffix(base, ".xlsx"), time, channels, summary, outcome.column_units
-            )
-        )
-    text = json.dumps(json_safe(summary), indent=2, allow_nan=False) + "\n"
-    written.append(atomic_write_text(_with_suffix(base, SUMMARY_SUFFIX), text))
-    return written
+    try:
+        csv_bytes = _csv_bytes(time, channels)
+        summary["csv_sha256"] = hashlib.sha256(csv_bytes).hexdigest()  # reuse checks the CSV
+        atomic_write_bytes(paths[0], csv_bytes)
+        if xlsx:
+            _write_workbook(paths[1], time, channels, summary, outcome.column_units)
+        text = json.dumps(json_safe(summary), indent=2, allow_nan=False) + "\n"
+        atomic_write_text(paths[-1], text)
+    except OSError as error:
+        for path in paths:
+            with contextlib.suppress(OSError):  # what cannot be removed is reported missing too
+                path.unlink(missing_ok=True)
+        raise ResultsNotWritten(paths, error.strerror or str(error), error.errno) from error
+    return paths
 
 
 def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
@@ -103,6 +126,7 @@ def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
         "case": outcome.name,
         "status": solution.status,
         "analysis": outcome.analysis,
+        "level": outcome.level,
         "message": solution.message,
         "stats": _stats(solution),
         "extremes": {name: column_extremes(time, values) for name, values in channels.items()},
@@ -161,22 +185,11 @@ def json_safe(value: Any) -> Any:
 def read_results(csv_path: Path) -> tuple[np.ndarray, dict[str, np.ndarray]]:
     """Read a `NAME.csv` back: `(time (n,), {column: values (n,)})`, in file order.
 
-    Raises ValueError if the file is empty or its first column is not `time`.
-    """
-    with open(csv_path, encoding="utf-8") as stream:  # universal newlines: \r\n too
-        header = next(csv.reader([stream.readline()]), [])
-        body = stream.read()
-    if not header or header[0] != TIME_COLUMN:
-        raise ValueError(f"{csv_path}: not a results file (first column must be '{TIME_COLUMN}')")
-    if body.strip():
-        # numpy's C reader parses each number as float() does (correctly rounded, `nan`,
-        # `inf`), blank lines skipped: 5x faster than a list of csv rows
-        data = np.loadtxt(io.StringIO(body), delimiter=",", dtype=float, ndmin=2)
-    else:
-        data = np.empty((0, len(header)))
-    if data.shape[1] != len(header):
-        raise ValueError(f"{csv_path}: {data.shape[1]} values a row for {len(header)} columns")
-    return data[:, 0].copy(), {name: data[:, k].copy() for k, name in enumerate(header) if k}
+    Raises InputError naming the file, line and column if it is not a results table
+    (`loadcases.results.reading`)."""
+    table = read_run_csv(csv_path)
+    data = table.data
+    return data[:, 0].copy(), {name: data[:, k].copy() for k, name in enumerate(table.names) if k}
 
 
 def _with_suffix(base: Path, suffix: str) -> Path:

@@ -36,3 +36,5 @@ class RunOutcome:
     checks: dict = field(default_factory=dict)  # e.g. {"torque_margin": {...}} for the summary
     request_kinds: dict[str, str] = field(default_factory=dict)  # {request: kind}
     input_error: bool = False  # not solved: the run's parameter values make its input invalid
+    level: str = "limit"  # the level of the case's applied loads: "limit" or "ultimate"
+    unwritten: str = ""  # why its files could not be written (then none is): a failed run

@@ -6,7 +6,6 @@ Used by envelopes and workbooks, whether the runs were just solved or saved long
 
 from __future__ import annotations
 
-import csv
 import json
 import re
 from collections.abc import Iterable
@@ -16,8 +15,10 @@ from typing import Any
 
 import numpy as np
 
-from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN, checked_arrays, read_results
+from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN, checked_arrays
 from loadcases.results.outcome import RunOutcome
+from loadcases.results.reading import check_against_csv, read_checked_summary, read_run_csv
 
 __all__ = [
     "RunRecord",
@@ -50,6 +51,9 @@ class SavedRun:
     family: str = ""
     status: str = "ok"
     kinds: dict[str, str] = field(default_factory=dict)  # {request: kind}, summary `kinds`
+    level: str = "limit"  # the level of the case's applied loads (limit or ultimate)
+    summary: dict[str, Any] = field(default_factory=dict, repr=False)  # as read (checked)
+    notes: list[Diagnostic] = field(default_factory=list, repr=False)  # warnings of reading
 
     def __post_init__(self) -> None:
         self.family = self.family or family_of(self.name)
@@ -77,6 +81,7 @@ class RunRecord:
     csv_path: Path
     reused: bool = False
     input_error: bool = False  # its parameter values make the input invalid (exit 2)
+    level: str = "limit"  # the level of its case's applied loads (limit or ultimate)
 
     @property
     def ok(self) -> bool:
@@ -118,21 +123,34 @@ def record_from_summary(
         input_sha256=str(summary.get("input_sha256", "")),
         csv_path=csv_path,
         reused=reused,
+        level="ultimate" if summary.get("level") == "ultimate" else "limit",
     )
 
 
 def load_saved_run(csv_path: Path, directory: Path | None = None) -> SavedRun:
-    """Read one run back; named by its summary's `case`, else its path below `directory`."""
-    time, channels = read_results(csv_path)
-    summary = read_summary(summary_path(csv_path)) or {}
+    """Read one run back; named by its summary's `case`, else its path below `directory`.
+
+    The CSV and its summary are checked as input (`loadcases.results.reading`): InputError
+    naming the file, line and column of the first problem."""
+    csv_path = Path(csv_path)
+    summary_file = summary_path(csv_path)
+    summary = read_checked_summary(summary_file) or {}
+    table = read_run_csv(csv_path)
+    notes = check_against_csv(summary_file, summary, csv_path, table) if summary else []
+    data = table.data
+    time = data[:, 0].copy()
+    channels = {name: data[:, k].copy() for k, name in enumerate(table.names) if k}
     name = summary.get("case")
-    if not isinstance(name, str) or not name:
+    if not name:
         base = csv_path.relative_to(directory) if directory is not None else Path(csv_path.name)
         name = base.as_posix()[: -len(".csv")]
-    units = {str(k): str(v) for k, v in (summary.get("units") or {}).items()}
-    kinds = {str(k): str(v) for k, v in (summary.get("kinds") or {}).items()}
-    status = str(summary.get("status", "ok"))
-    return SavedRun(name, time, channels, units, status=status, kinds=kinds)
+    units = dict(summary.get("units") or {})
+    kinds = dict(summary.get("kinds") or {})  # checked: an object of texts
+    level = "ultimate" if summary.get("level") == "ultimate" else "limit"
+    status = summary.get("status", "ok")
+    run = SavedRun(name, time, channels, units, status=status, kinds=kinds, level=level)
+    run.summary, run.notes = summary, notes
+    return run
 
 
 def saved_run_of(outcome: RunOutcome) -> SavedRun:
@@ -148,6 +166,7 @@ def saved_run_of(outcome: RunOutcome) -> SavedRun:
         units,
         status=outcome.solution.status,
         kinds=dict(outcome.request_kinds),
+        level=outcome.level,
     )
 
 
@@ -165,7 +184,9 @@ def find_result_files(directories: Iterable[Path]) -> list[tuple[Path, Path]]:
     return found
 
 
-def _first_header_cell(path: Path) -> str | None:
-    with open(path, newline="", encoding="utf-8", errors="replace") as stream:
-        header = next(csv.reader(stream), None)
-    return header[0] if header else None
+def _first_header_cell(path: Path) -> str:
+    """The first cell of a CSV's first line, read no further than needed: a first line of
+    megabytes is left to `read_run_csv` to report, not parsed here."""
+    with open(path, encoding="utf-8", errors="replace") as stream:
+        first = stream.read(len(TIME_COLUMN) + 1)
+    return first.split(",", 1)[0].split("\n", 1)[0].strip()

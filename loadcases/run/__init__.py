@@ -17,7 +17,7 @@ from loadcases.inputs.kinds import file_kind
 from loadcases.inputs.loader import CaseFile, load_case, load_mechanism
 from loadcases.inputs.overrides import Override, labels, pairs
 from loadcases.inputs.run_identity import run_name
-from loadcases.results.files import write_results
+from loadcases.results.files import ResultsNotWritten, write_results
 from loadcases.results.outcome import RunOutcome
 from loadcases.run.global_error import DEFAULT_ACCURACY, AccuracyEstimate, solve_to_accuracy
 
@@ -70,6 +70,7 @@ def run_case(
         parameters=dict(cf.parameters),
         overrides=dict(pairs(cf.what_if)),
         checks=checks,
+        level=cf.case.level,
     )
 
 
@@ -103,13 +104,18 @@ def run_file(
     what_if: Sequence[Override] = (),
 ) -> list[RunOutcome]:
     """Run a case file and write its results into `output_dir` (SPEC section 3); `what_if`
-    (`--set`) overrides parameters and names the run `CASE[name=value]`."""
+    (`--set`) overrides parameters and names the run `CASE[name=value]`. Files that cannot
+    be written (disk full, permissions): none is left and the outcome's `unwritten` says
+    which are missing (the run failed)."""
     if file_kind(path) == "mechanism":
         raise ValueError(f"{path} is a mechanism file: use check_mechanism_file")
     cf = load_case(path, what_if=what_if)
     with caching_under(output_dir):
         outcome = run_case(cf, progress=progress)
-    write_results(outcome, Path(output_dir), xlsx=xlsx)
+    try:
+        write_results(outcome, Path(output_dir), xlsx=xlsx)
+    except ResultsNotWritten as error:  # the run failed: it delivers no files
+        outcome.unwritten = str(error)
     return [outcome]
 
 

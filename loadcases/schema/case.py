@@ -199,6 +199,19 @@ class FlexibleRequest(Strict):
     point: Name | None = None
 
 
+class SectionRequest(Strict):
+    """The internal loads of a body at a section of the mechanism (`fx fy fz tx ty tz f t`):
+    on the section's kept part from the rest of the body, at the section point."""
+
+    section: Name
+    quantity: Literal["loads"] = "loads"
+    frame: Name | None = Field(
+        None,
+        description="axes of the components: the section's body (default: they turn with "
+        "it), ground, another body or a frame",
+    )
+
+
 class ExpressionRequest(Strict):
     """Any expression of the state (`value`)."""
 
@@ -212,7 +225,16 @@ class EnergyRequest(Strict):
     quantity: Literal["energy"]
 
 
-REQUEST_KINDS = ("joint", "motion", "flexible", "point", "force", "contact", "expression")
+REQUEST_KINDS = (
+    "joint",
+    "motion",
+    "flexible",
+    "point",
+    "force",
+    "contact",
+    "section",
+    "expression",
+)
 
 
 def _request_kind(value: Any) -> str | None:
@@ -232,13 +254,14 @@ Request = Annotated[
     | Annotated[ElementRequest, Tag("force")]
     | Annotated[ContactRequest, Tag("contact")]
     | Annotated[FlexibleRequest, Tag("flexible")]
+    | Annotated[SectionRequest, Tag("section")]
     | Annotated[ExpressionRequest, Tag("expression")]
     | Annotated[EnergyRequest, Tag("energy")],
     Discriminator(
         _request_kind,
         custom_error_type="request_kind",
         custom_error_message="a request needs one of the keys joint, motion, point, "
-        "force, contact, flexible or expression, or is `quantity: energy`",
+        "force, contact, flexible, section or expression, or is `quantity: energy`",
     ),
 ]
 
@@ -250,6 +273,12 @@ class CaseModel(Strict):
     units: FileUnits = Field(default_factory=FileUnits)
     mechanism: MechanismRef = Field(
         description="mechanism file relative to this file, or the mechanism inline"
+    )
+    level: Literal["limit", "ultimate"] = Field(
+        "limit",
+        description="level of the case's applied loads: limit (a set's ultimate factor "
+        "multiplies its loads) or ultimate (its loads are ultimate as computed; limit = "
+        "computed / ultimate factor)",
     )
     parameters: dict[str, AnySI] = Field(
         default_factory=dict, description="overrides of the mechanism's parameters [SI]"

@@ -276,6 +276,40 @@ class Event(Strict):
     )
 
 
+class Section(Strict):
+    """A section of a rigid body: the plane through `at` normal to `normal`. Its loads are
+    the force and moment that the rest of the body applies to the kept part across the
+    plane: the part on the side of `side` (a point), else the part the normal points out
+    of (the normal is then the outward normal of its cut face: fx along it is tension).
+    `mass`, `cm`, `inertia`: the kept part's own mass properties (default: massless)."""
+
+    body: Name = Field(description="the rigid body cut")
+    at: Position = Field(
+        description=describe("a point of the section plane, global frame", "length")
+    )
+    normal: Direction = Field(description="normal of the plane, global frame [dimensionless]")
+    side: Position | None = Field(
+        None, description=describe("a point of the kept part, global frame", "length")
+    )
+    mass: Mass = Field(0.0, description=describe("mass of the kept part", "mass"))
+    cm: Position | None = Field(
+        None, description=describe("centre of mass of the kept part, global frame", "length")
+    )
+    inertia: Inertia = Field(
+        (0.0, 0.0, 0.0),
+        description="of the kept part about its cm, global axes, as a body's "
+        "[inertia: kg*m^2, bare numbers always SI]",
+    )
+
+    @model_validator(mode="after")
+    def _checked(self) -> Section:
+        if not any(self.normal):
+            raise PydanticCustomError("section", "the normal must not be zero")
+        if self.mass > 0.0 and self.cm is None:
+            raise PydanticCustomError("section", "give the cm of the kept part's mass")
+        return self
+
+
 class MechanismModel(Strict):
     """A mechanism: what exists. Positions and axes in the global frame at design."""
 
@@ -300,6 +334,10 @@ class MechanismModel(Strict):
     joints: dict[str, Joint] = Field(default_factory=dict)
     forces: dict[str, ForceElement] = Field(default_factory=dict)
     contacts: dict[str, Contact] = Field(default_factory=dict)
+    sections: dict[str, Section] = Field(
+        default_factory=dict,
+        description="sections of rigid bodies whose internal loads a case may request",
+    )
     tables: dict[str, Table] = Field(default_factory=dict)
     events: dict[str, Event] = Field(default_factory=dict)
 

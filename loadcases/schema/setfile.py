@@ -10,9 +10,19 @@ from pydantic_core import PydanticCustomError
 
 from loadcases.foundation.units import REPORT_KINDS
 from loadcases.schema.mechanism import FileUnits, unit_name
-from loadcases.schema.types import AnySI, Dimensionless, Strict
+from loadcases.schema.types import AnySI, Dimensionless, Direction, Position, Strict, Time
 
-__all__ = ["Allowable", "Limits", "Report", "ReportUnits", "SetModel", "matches"]
+__all__ = [
+    "Allowable",
+    "Limits",
+    "MassProperties",
+    "NamedAxis",
+    "ReferenceCurve",
+    "Report",
+    "ReportUnits",
+    "SetModel",
+    "matches",
+]
 
 DEFAULT_NOISE_FLOOR = 1e-6  # loadcases.report.roundoff: below it (of the request's peak) ~0
 
@@ -180,6 +190,51 @@ class Comparison(Strict):
     )
 
 
+class ReferenceCurve(Strict):
+    """`curves: NAME:` external curves (a spreadsheet's, a rig's) against a case's abscissa:
+    overlaid on the runs' curves, with their differences (`reference-curves.csv`, workbook
+    sheet `Reference curves`). The CSV's first column is the abscissa; every header is
+    `NAME [unit]`."""
+
+    file: str = Field(min_length=1, description="CSV file relative to this set file")
+    case: str = Field(
+        min_length=1, description="the case (every run of it) or one run CASE[p=v,...]"
+    )
+    x: str | None = Field(
+        None, description="the case's abscissa expression, as the case writes it (a check)"
+    )
+    columns: dict[str, str] = Field(
+        min_length=1,
+        description="{result column REQUEST.COMPONENT: CSV header 'NAME [unit]'}",
+    )
+    label: str = Field("reference", min_length=1, description="legend of the curves")
+
+
+class NamedAxis(Strict):
+    """An axis fixed in space: a name for the report, a point on it and its direction
+    (global axes)."""
+
+    name: str = Field(min_length=1, description="the axis' name in the report (hinge line)")
+    at: Position = Field(description="a point of the axis, global frame [length]")
+    direction: Direction = Field(description="its direction, global frame [dimensionless]")
+
+    @model_validator(mode="after")
+    def _some_direction(self) -> NamedAxis:
+        if not any(self.direction):
+            raise PydanticCustomError("axis", "the axis direction must not be zero")
+        return self
+
+
+class MassProperties(Strict):
+    """`mass_properties:` every rigid body's mass, centre of mass and inertia about its
+    centre and about `axis`, and the assembly's totals, with the bodies where the run of
+    `case` puts them at time `at` (sheet `Mass properties`, `mass-properties.csv`)."""
+
+    case: str = Field(min_length=1, description="the case whose configuration is used")
+    at: Time = Field(0.0, description="time of the configuration [time] (default 0: the start)")
+    axis: NamedAxis | None = Field(None, description="an axis to give the inertias about")
+
+
 class SetModel(Strict):
     """A load-case set: cases, sweeps, factors, allowables and report."""
 
@@ -213,5 +268,13 @@ class SetModel(Strict):
     comparisons: dict[str, Comparison] = Field(
         default_factory=dict,
         description="peaks of chosen columns run by run against a reference run, with ratios",
+    )
+    curves: dict[str, ReferenceCurve] = Field(
+        default_factory=dict,
+        description="reference curves (CSV, units in the header) overlaid on a case's "
+        "curves, with the differences tabulated",
+    )
+    mass_properties: MassProperties | None = Field(
+        None, description="mass properties of the bodies in a chosen configuration"
     )
     report: Report | None = None

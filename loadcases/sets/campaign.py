@@ -39,13 +39,13 @@ from loadcases.report.envelope import EnvelopeRow, write_envelope_csv
 from loadcases.report.loads_matrix import write_matrix_csv
 from loadcases.report.margin_table import margin_lines, write_margin_csv
 from loadcases.report.sizing import Sizing, size_runs
-from loadcases.results.files import result_base, write_results
+from loadcases.results.files import ResultsNotWritten, result_base, write_results
 from loadcases.results.outcome import RunOutcome
+from loadcases.results.reading import read_checked_summary
 from loadcases.results.saved import (
     RunRecord,
     SavedRun,
     load_saved_run,
-    read_summary,
     record_from_summary,
     saved_run_of,
     summary_path,
@@ -89,6 +89,7 @@ class SetResult:
     files: list[Path] = field(default_factory=list)
     interrupted: bool = False  # SIGINT/SIGTERM: runs missing, no envelope or report
     sizing: Sizing | None = None
+    unwritten: str = ""  # the report's files that could not be written (disk full) and why
 
     @property
     def failed(self) -> list[RunRecord]:
@@ -145,7 +146,10 @@ def _reusable(directory: Path, spec: RunSpec) -> RunRecord | None:
     """The saved record of `spec` if its results are complete, ok, of the same input and
     engine, and its CSV is the one its summary was written with."""
     csv_path = _csv_path(directory, spec.name)
-    summary = read_summary(summary_path(csv_path))
+    try:
+        summary = read_checked_summary(summary_path(csv_path))
+    except InputError:  # not a summary `loads` wrote: solved again, the files rewritten
+        return None
     if (
         summary is None
         or not csv_path.is_file()
@@ -166,13 +170,14 @@ def _record(outcome: RunOutcome, spec: RunSpec, csv_path: Path) -> RunRecord:
         case_file=spec.case_path,
         parameters=dict(spec.parameters),
         analysis=outcome.analysis,
-        status=solution.status,
-        message=solution.message,
+        status="failed" if outcome.unwritten else solution.status,
+        message=outcome.unwritten or solution.message,
         steps=int(solution.stats.steps),
         cpu_seconds=float(solution.stats.cpu_seconds),
         input_sha256=spec.input_sha256,
         csv_path=csv_path,
         input_error=outcome.input_error,
+        level=outcome.level,
     )
 
 
@@ -202,7 +207,10 @@ def _solve_all(
             if done == len(specs) - len(todo):  # the first solved run
                 _import_report_modules()
             spec = specs[todo[index]]
-            write_results(outcome, directory, version=compiled.version, xlsx=xlsx)
+            try:
+                write_results(outcome, directory, version=compiled.version, xlsx=xlsx)
+            except ResultsNotWritten as error:  # a failed run: out of the envelope
+                outcome.unwritten = str(error)
             finished = _record(outcome, spec, _csv_path(directory, spec.name))
             if solved is not None and finished.ok:
                 solved[finished.name] = saved_run_of(outcome)
@@ -252,6 +260,8 @@ def _report_files(
         write_comparison_csv,
     )
     from loadcases.report.units import ReportUnits
+    from loadcases.sets.mass import mass_table
+    from loadcases.sets.references import reference_overlays, write_reference_files
 
     model = result.compiled.set_file.model
     units = ReportUnits.of(model.report.units.given() if model.report is not None else None)
@@ -274,6 +284,13 @@ def _report_files(
         if model.report is not None and model.report.template:
             template = Path(result.compiled.set_file.path).parent / model.report.template
         data = units.workbook_data(WorkbookData.from_set(result, runs, options))
+        if model.curves:
+            found = reference_overlays(result.compiled, runs)
+            data.references, written = write_reference_files(found, units, result.directory)
+            files += written
+        if model.mass_properties is not None:
+            data.mass = mass_table(result.compiled)
+            files.append(data.mass.write_csv(result.directory))
         write_workbook(data, workbook, template=template, progress=on_report)
         if on_report is not None:
             on_report("envelope plots")
@@ -381,5 +398,20 @@ def run_set(
             "wall seconds": f"{clock.time() - started:.3g}",
             **(options or {}),
         }
-        result.files = _report_files(result, runs, info, on_report)
+        try:
+            result.files = _report_files(result, runs, info, on_report)
+        except OSError as error:  # disk full, permissions: say which files are missing
+            result.unwritten = _unwritten_report(result, error)
     return result
+
+
+def _unwritten_report(result: SetResult, error: OSError) -> str:
+    """What a report that could not be written leaves: its files missing, and why."""
+    model = result.compiled.set_file.model
+    names = [ENVELOPE_FILE, model.report.output if model.report is not None else DEFAULT_WORKBOOK]
+    names += [MARGINS_FILE, MATRIX_FILE]
+    missing = [str(result.directory / name) for name in names]
+    missing = [path for path in missing if not Path(path).is_file()]
+    return f"report not written ({error.strerror or error}); missing: " + (
+        ", ".join(missing) or "its plots"
+    )

@@ -41,6 +41,7 @@ from loadcases.inputs.overrides import (
     override_problems,
     pairs,
 )
+from loadcases.inputs.reference_tables import check_reference_curves
 from loadcases.inputs.run_identity import Labels, Pairs, run_hash, run_name
 from loadcases.results.files import package_version
 from loadcases.sets.run_names import name_clashes, written_values
@@ -234,6 +235,11 @@ def compile_set(
     `what_if` (`--set`) overrides parameters in every run of a case that has them."""
     found = [
         d for d in check_set_cases(set_file.model, set_file.locator, cases) if d.severity == "error"
+    ]
+    found += [
+        d
+        for d in check_reference_curves(set_file.model, set_file.locator, set_file.path, cases)
+        if d.severity == "error"
     ]
     found += _what_if_problems(set_file, cases, what_if)
     if found:

@@ -29,6 +29,7 @@ import mechlib as ml
 from loadcases.build.model import BuiltRun, build_run
 from loadcases.build.precheck import model_diagnostics
 from loadcases.foundation.diagnostics import Diagnostic, InputError
+from loadcases.foundation.limits import MIN_TOLERANCE
 from loadcases.inputs.loader import CaseFile
 from loadcases.run.global_error import request_of, request_peaks, shared_rows
 
@@ -234,7 +235,7 @@ def accuracy_study(
     notes: list[str] = []
     methods = _usable(cf, events, integrators, notes)
     solve = _solver(cf)
-    ref_tol = reference_tolerance or min(tolerances) * REFERENCE_FACTOR
+    ref_tol = reference_tolerance or max(min(tolerances) * REFERENCE_FACTOR, MIN_TOLERANCE)
     solve(Setting(methods[0], max(tolerances)))  # warm-up: compiled kernels, caches
     ref_solutions = {m: solve(Setting(m, ref_tol)) for m in methods}
     for method, reference in ref_solutions.items():

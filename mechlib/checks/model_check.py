@@ -12,7 +12,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from mechlib.core.outcome import ModelError
+from mechlib.kinematics.kin import Kin
 from mechlib.linalg.rank import degrees_of_freedom, find_redundant
+from mechlib.linalg.sparse_rows import SparseRows
 from mechlib.model.analysis import Dynamic, Kinematic, Modes, QuasiStatic, Static
 from mechlib.model.mechanism import Mechanism
 from mechlib.system.planar import make_system
@@ -23,7 +25,13 @@ __all__ = ["MechanismCheck", "check_model", "inspect_mechanism"]
 Analysis = Kinematic | Static | QuasiStatic | Dynamic | Modes
 
 
-def _redundant(system: System, jac: np.ndarray) -> list:
+def _jacobian(system: System, k: Kin) -> SparseRows:
+    """The constraint Jacobian at `k` as its non-zeros (a 3-D system never builds the
+    dense matrix; a planar one reduces its dense rows)."""
+    return system.phi_q_sparse(k)
+
+
+def _redundant(system: System, jac: SparseRows) -> list:
     """The dependent equations of the constraint Jacobian `jac`, named joint by joint."""
     return find_redundant(
         jac, system.labels, system.owners, set(system.body_names), owner_rank=system.owner_rank
@@ -39,7 +47,7 @@ def check_model(system: System, analysis: Analysis, *, redundant: str = "error")
     if isinstance(analysis, Modes) and system.mechanism.plane:
         raise ModelError([("", "a modes analysis needs the 3-D model: remove `plane`")])
     k = system.kin(system.design_q(), None, getattr(analysis, "start", 0.0))
-    jac = system.phi_q(k)
+    jac = _jacobian(system, k)
     found = _redundant(system, jac)
     warnings = []
     if found and redundant != "drop":
@@ -52,7 +60,7 @@ def check_model(system: System, analysis: Analysis, *, redundant: str = "error")
             for r in found
         ]
     if isinstance(analysis, Kinematic):
-        dof = degrees_of_freedom(system.phi_q(k))
+        dof = degrees_of_freedom(_jacobian(system, k))
         if dof != 0:
             raise ModelError([("", _kinematic_dof_message(system, dof))])
     return warnings
@@ -92,7 +100,7 @@ def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
     """Degrees of freedom and redundant equations (by joint and direction) at design."""
     system = make_system(mechanism)
     k = system.kin(system.design_q(), None, 0.0)
-    jac = system.phi_q(k)
+    jac = _jacobian(system, k)
     found = _redundant(system, jac)
     assembled = bool(np.abs(system.phi(k)).max(initial=0.0) < 1e-9)
     return MechanismCheck(

@@ -18,6 +18,16 @@ from mechlib.kinematics.kin import Kin
 __all__ = ["Dot1", "Dot2", "Normalization", "Spherical"]
 
 
+Entries = tuple[np.ndarray, np.ndarray, np.ndarray]  # rows, columns, values
+_CHUNK = 128  # items a group's kernel takes at once for `entries` (a small dense block)
+
+
+def _joined(parts: list[Entries]) -> Entries:
+    if not parts:
+        return np.empty(0, np.int64), np.empty(0, np.int64), np.empty(0)
+    return tuple(np.concatenate(column) for column in zip(*parts))  # type: ignore[return-value]
+
+
 def _ints(a) -> np.ndarray:
     return np.ascontiguousarray(np.asarray(a, dtype=np.int64).reshape(-1))
 
@@ -53,6 +63,32 @@ class _Group:
         out = np.empty(self.size)
         getattr(kr, self._names[2])(k.x, k.xd, *self.args, out)
         return out
+
+    def entries(self, k: Kin) -> Entries:
+        """The non-zeros of its Jacobian rows: (row in the group, column of the working
+        Jacobian, value), by the same kernel run on `_CHUNK` items at a time with only
+        their bodies' columns, never the dense (k, 7 (nb+1)) block (mechlib.linalg.rank)."""
+        bi, bj, *vectors = self.args
+        parts = []
+        for first in range(0, len(bi), _CHUNK):
+            items = slice(first, first + _CHUNK)
+            bodies = np.unique(np.concatenate([bi[items], bj[items]]))
+            local_i, local_j = (
+                np.searchsorted(bodies, bi[items]),
+                np.searchsorted(bodies, bj[items]),
+            )
+            out = np.zeros((self.rows_per_item * local_i.size, 7 * bodies.size))
+            args = (local_i, local_j, *(v[items] for v in vectors))
+            getattr(kr, self._names[1])(k.x[bodies], *args, out)
+            rows, cols = np.nonzero(out)
+            parts.append(
+                (
+                    rows + self.rows_per_item * first,
+                    7 * bodies[cols // 7] + cols % 7,
+                    out[rows, cols],
+                )
+            )
+        return _joined(parts)
 
     def rate(self, k: Kin) -> np.ndarray:
         """d(phi)/dt (k,)."""
@@ -103,6 +139,17 @@ class Normalization:
 
     def jacobian(self, k: Kin, out: np.ndarray) -> None:
         kr.norm_jac(k.x, self.nb, out)
+
+    def entries(self, k: Kin) -> Entries:
+        """The non-zeros of its Jacobian rows, as `_Group.entries`."""
+        parts = []
+        for first in range(0, self.nb, _CHUNK):
+            count = min(_CHUNK, self.nb - first)
+            out = np.zeros((count, 7 * count))
+            kr.norm_jac(k.x[first : first + count], count, out)
+            rows, cols = np.nonzero(out)
+            parts.append((rows + first, cols + 7 * first, out[rows, cols]))
+        return _joined(parts)
 
     def gamma(self, k: Kin) -> np.ndarray:
         out = np.empty(self.size)

@@ -23,10 +23,12 @@ import numpy as np
 
 from mechlib.core.outcome import ModelError
 from mechlib.kinematics.kin import GROUND_Q, Kin
+from mechlib.linalg.sparse_rows import SparseRows
 from mechlib.model.analysis import Trajectory
 from mechlib.model.mechanism import Mechanism
 from mechlib.model.plane import joint_problem, normal_name, plane_axes
 from mechlib.system.planar_kernels import planar_reduce, planar_state
+from mechlib.system.sparse_jacobian import planar_reduced
 from mechlib.system.system import System
 
 if TYPE_CHECKING:
@@ -161,8 +163,9 @@ class PlanarSystem:
         Jacobian at a generic planar state; refused when not satisfied at design."""
         rng = np.random.default_rng(11)
         q = self.design_q() + 0.1 * self.space.length * rng.standard_normal(self.nq)
-        jac = self.reduce(self.space.phi_q(self.kin(q)), self.kin(q))
-        size = np.abs(jac).max(axis=1) if jac.size else np.zeros(0)
+        jac = self.phi_q_sparse(self.kin(q))
+        size = np.zeros(jac.shape[0])
+        np.maximum.at(size, jac.rows, np.abs(jac.values))
         idle = np.flatnonzero(size <= _IN_PLANE * max(float(size.max(initial=0.0)), 1.0))
         residual = self.space.phi(self.kin(self.design_q()))[idle]
         off = [i for i, r in zip(idle, residual) if abs(r) > 1e-9 * self.space.length]
@@ -197,6 +200,10 @@ class PlanarSystem:
 
     def phi_q(self, k: Kin) -> np.ndarray:
         return self.reduce(self._space_jacobian(k), k)
+
+    def phi_q_sparse(self, k: Kin) -> SparseRows:
+        """`phi_q(k)` as its non-zeros, never the dense matrix (the checks of a large model)."""
+        return planar_reduced(self.space.phi_q_sparse(k), k.x, self._in, self.normal)
 
     def phi_and_jacobian(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
         phi, jac = self.space.phi_and_jacobian(k)

@@ -23,6 +23,7 @@ from mechlib.model.mechanism import Mechanism
 
 if TYPE_CHECKING:
     from mechlib.linalg.factor import SaddlePattern
+    from mechlib.linalg.sparse_rows import SparseRows
 
 from mechlib.system.topology import Topology
 
@@ -160,6 +161,12 @@ class System(Topology):
             row += g.size
         self.coordinate_rows().jacobian(k, out[row:])
         return self.body_columns(self._select(out))
+
+    def phi_q_sparse(self, k: Kin) -> SparseRows:
+        """`phi_q(k)` as its non-zeros, never the dense matrix (the checks of a large model)."""
+        from mechlib.system.sparse_jacobian import sparse_phi_q
+
+        return sparse_phi_q(self, k)
 
     def nu(self, k: Kin) -> np.ndarray:
         out = np.zeros(len(self._all_labels))

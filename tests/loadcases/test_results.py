@@ -282,7 +282,9 @@ def test_atomic_write_without_overwrite_keeps_a_file_made_meanwhile(tmp_path: Pa
 
 
 def test_write_results_failure_midway(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """The CSV is complete, the summary (written last) fails: no partial summary remains."""
+    """The CSV is complete, the summary (written last) fails: no partial summary remains,
+    and the CSV is removed too (a run's files are all written or none: a CSV without its
+    summary would read back as an ok run)."""
     calls = []
     real_fsync = os.fsync
 
@@ -293,9 +295,9 @@ def test_write_results_failure_midway(tmp_path: Path, monkeypatch: pytest.Monkey
         real_fsync(fd)
 
     monkeypatch.setattr(atomic.os, "fsync", fsync_failing_second)
-    with pytest.raises(OSError):
+    with pytest.raises(OSError, match=r"missing: .*c\.csv, .*c\.summary\.json"):
         write_results(make_outcome(name="c"), tmp_path, version="0")
-    assert (tmp_path / "c.csv").is_file()
+    assert not (tmp_path / "c.csv").exists()
     assert not (tmp_path / "c.summary.json").exists() and leftovers(tmp_path) == []
 
 
