@@ -35,7 +35,7 @@ def resolve_initial(
         if joint is None or dimension is None:
             continue
         update = {}
-        for key, dim in (("value", dimension), ("rate", _RATE[dimension])):
+        for key, dim in (("value", dimension), ("guess", dimension), ("rate", _RATE[dimension])):
             raw = getattr(entry, key)
             if raw is None:
                 continue
@@ -86,7 +86,11 @@ def _initial(
     found = []
     for name, entry in case.initial.items():
         joint, body = mechanism.joints.get(name), mechanism.bodies.get(name)
-        given = [k for k in ("value", "rate", "omega", "velocity") if getattr(entry, k) is not None]
+        given = [
+            k
+            for k in ("value", "guess", "rate", "omega", "velocity")
+            if getattr(entry, k) is not None
+        ]
         if joint is None and body is None:
             found.append(
                 unknown(
@@ -99,7 +103,9 @@ def _initial(
             )
         elif joint is not None and {"omega", "velocity"} & set(given):
             found.append(
-                at.diagnostic(("initial", name), f"'{name}' is a joint: give 'value' and/or 'rate'")
+                at.diagnostic(
+                    ("initial", name), f"'{name}' is a joint: give 'value', 'guess' and/or 'rate'"
+                )
             )
         elif joint is not None and joint.type not in COORDINATE_DIMENSION:
             found.append(
@@ -108,7 +114,7 @@ def _initial(
                     f"joint '{name}' is {joint.type}: it has no single coordinate to set",
                 )
             )
-        elif body is not None and {"value", "rate"} & set(given):
+        elif body is not None and {"value", "guess", "rate"} & set(given):
             found.append(
                 at.diagnostic(
                     ("initial", name), f"'{name}' is a body: give 'omega' and/or 'velocity'"
