@@ -202,3 +202,36 @@ def test_library_cases_that_assemble_normally_are_silent(tmp_path: Path, case: s
     for outcome in run_file(LIBRARY / case, output_dir=tmp_path / "out"):
         assert outcome.solution.ok
         assert _branch_warnings(outcome.solution) == []
+
+
+def test_loads_draw_shows_the_drawing_under_another_branch(tmp_path: Path) -> None:
+    """`loads draw` of the mirror assembly (guess far off: a branch warning) prints the
+    warning and draws the drawn geometry as a ghost: the grey crosses at the drawn joints
+    (projected on xy, to 1e-12 m); a run starting at its drawing gets no ghost."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from loadcases.draw.render import _draw_ghost
+    from loadcases.draw.trajectory import trajectory_of_file
+
+    body = f"initial:\n  trunnion: {{value: 90 deg}}\n  knee: {{guess: 60 deg}}\n{FREE_FALL}"
+    path = _write(tmp_path, "ghost", body)
+    result = CliRunner().invoke(app, ["draw", str(path), "-o", str(tmp_path / "pics")])
+    assert result.exit_code == 0, result.output
+    assert "warning: assembly branch changed at t = 0 s: joint 'knee' guess 60 deg" in (
+        result.output
+    )
+    assert len(list((tmp_path / "pics").glob("ghost-t*.png"))) >= 1
+    traj = trajectory_of_file(path)
+    fig, ax = plt.subplots()
+    try:
+        lines = _draw_ghost(ax, traj, np.eye(3)[:2])
+        crosses = sorted(tuple(line.get_xydata()[0]) for line in lines if line.get_marker() == "x")
+        drawn = sorted(tuple(traj.drawn(m)[:2]) for m in traj.skeleton.joints.values())
+        assert np.allclose(crosses, drawn, atol=1e-12)
+        at_drawing = trajectory_of_file(_write(tmp_path, "still", FREE_FALL))
+        assert _draw_ghost(ax, at_drawing, np.eye(3)[:2]) == []
+    finally:
+        plt.close(fig)
