@@ -376,6 +376,8 @@ def assemble(
     moved = any(abs(m.value(k0) - item.value) > _REPORT_CHANGE for _, (item, m) in driven)
     if given or guessed or moved:
         motions = [name for name, _ in driven]
+        held = {item.joint for item, _ in given}  # one target per joint: a repeated row is
+        driven = [(name, d) for name, d in driven if d[0].joint not in held]  # an SVD's cost
         for name in motions:  # their values at t become stage targets too
             system.set_active(name, False)
         try:
