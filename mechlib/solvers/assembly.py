@@ -55,6 +55,7 @@ MAX_NEWTON = 50
 _REPORT_CHANGE = 1e-8
 _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
 _SPLITS = 6  # a stage leaving the drawn branch is halved at most this many times
+_SLOW_NEWTON = 12  # iterations: a stage's Newton slower than this passes a singular position
 _MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
 _NORMAL_CHECK = 1e-6  # a normal-equations solution must meet its equations this well
 REUSE_BELOW = 1e-6  # a Newton step below this keeps its Jacobian for the next
@@ -295,9 +296,10 @@ class _Path:
     check: BranchCheck
     weights: np.ndarray
 
-    def targets(self, start: list[float], fraction: float) -> list[float]:
+    def targets(self, start: list[float], reached: int, units: int) -> list[float]:
+        """The targets `reached` / `units` of the way from `start`."""
         ends = [item.value for item, _ in self.given] + [g for _, g in self.guessed]
-        return [v + (end - v) * fraction for v, end in zip(start, ends)]
+        return [v + (end - v) * reached / units for v, end in zip(start, ends)]
 
     def solve(self, q: np.ndarray, targets: list[float]) -> tuple[np.ndarray, int]:
         rows = self.given + [(None, m) for m, _ in self.guessed]
@@ -311,52 +313,59 @@ class _Path:
         return q, n
 
 
-def _follow(path: _Path, q: np.ndarray) -> tuple[np.ndarray, int, list[BranchChange]]:
+def _follow(path: _Path, q: np.ndarray) -> tuple[np.ndarray, int, list[str]]:
     """q at the given values (and near the guesses), reached from the drawn geometry in
     stages of at most _STAGE rad, the unwrapping references committed between stages (one
-    Newton jump of 170 deg would wrap). Without guesses a stage that turns the loop's
-    orientation or makes a joint jump by more than the branch angle is halved (at most
-    _SPLITS times): the assembly stays on the drawn branch; what it cannot keep is a
-    BranchChange."""
+    Newton jump of 170 deg would wrap); also the joints that left the drawn branch. Without
+    guesses a stage that turns the loop's orientation, ends where it is singular (a toggle
+    or a bifurcation, where the branch is ambiguous: also where Newton needs more than
+    _SLOW_NEWTON iterations, as it does near one) or makes a joint jump by more than the
+    branch angle is halved (at most _SPLITS times): the assembly stays on the drawn branch;
+    the joints of a stage that cannot be kept so are returned (those that jumped, else
+    those that moved, the largest move first)."""
     system, t = path.system, path.t
     k = system.kin(q, None, t)
     measures = [m for _, m in path.given] + [m for m, _ in path.guessed]
     start = [m.value(k) for m in measures]
     ends = [item.value for item, _ in path.given] + [g for _, g in path.guessed]
     span = max(abs(end - v) for v, end in zip(start, ends))
-    full = 1.0 / max(1, math.ceil(span / _STAGE))
+    # the way in units of the smallest stage, counted in integers: the fraction of an
+    # unhalved stage is exactly stage / stages (IEEE division of exact integers)
+    full = 2**_SPLITS
+    units = max(1, math.ceil(span / _STAGE)) * full
     watch = not path.guessed  # guesses choose the branch themselves
     skip = {item.joint for item, _ in path.given}
     sign = orientation(system, k, [m for _, m in path.given]) if watch else 0
     angles = angle_values(system, k)
-    drawn = dict(angles)
-    done, step, its, changes = 0.0, full, 0, list[BranchChange]()
-    while done < 1.0:
-        fraction = min(1.0, done + step)
-        trial, n = path.solve(q, path.targets(start, fraction))
+    done, step, its, flagged = 0, full, 0, list[str]()
+    while done < units:
+        reached = min(units, done + step)
+        trial, n = path.solve(q, path.targets(start, reached, units))
         its += n
         k = system.kin(trial, None, t)
         now = angle_values(system, k)
-        turned = sign * orientation(system, k, [m for _, m in path.given]) < 0
+        now_sign = orientation(system, k, [m for _, m in path.given]) if watch else 0
+        turned = sign != 0 and sign != now_sign  # a sign of 0: on the singular position
+        turned |= watch and n > _SLOW_NEWTON  # no quadratic convergence: a singular Jacobian
         jumps = stage_jumps(angles, now, path.check.angle, skip) if watch else []
-        if (turned or jumps) and step > full / 2**_SPLITS:
-            step /= 2.0
+        if (turned or jumps) and step > 1:
+            step //= 2
             continue
         if turned or jumps:
             moved = jumps or stage_jumps(angles, now, 0.0, skip)
-            joints = tuple((j, drawn[j], now[j]) for j, _, _ in moved)
-            changes.append(BranchChange(t, joints, "drawn", _OFF_BRANCH))
-            sign = -sign
-        q, angles, done = trial, now, fraction
-        step = min(full, 2.0 * step)
+            flagged += [j for j, _, _ in moved if j not in flagged]
+        sign = now_sign or sign
+        q, angles, done = trial, now, reached
+        step = min(full, 2 * step)
         system.commit(k)
-    return q, its, changes
+    return q, its, flagged
 
 
 _OFF_BRANCH = (
-    "the given initial values cannot be reached from the drawn geometry without passing a "
-    "toggle (the loop snapped through to another assembly); give `guess:` values of these "
-    "joints in `initial:` to choose the branch, or check the given values"
+    "the given initial values (or the motions at the start) are not reached from the drawn "
+    "geometry without passing a toggle or a bifurcation, where the loop may snap through "
+    "to another assembly; give `guess:` values of these joints in `initial:` to choose the "
+    "branch, or check the given values"
 )
 
 
@@ -370,9 +379,10 @@ def assemble(
     guessed = [(system.coordinate_of(j), g) for j, g in _guesses(system, initial).items()]
     q = system.design_q()
     weights = _assembly_weights(system)
-    its, changes = 0, list[BranchChange]()
+    its, flagged = 0, list[str]()
     driven = _driven(system, t)
     k0 = system.kin(q, None, t)
+    drawn = angle_values(system, k0)
     moved = any(abs(m.value(k0) - item.value) > _REPORT_CHANGE for _, (item, m) in driven)
     if given or guessed or moved:
         motions = [name for name, _ in driven]
@@ -382,7 +392,7 @@ def assemble(
             system.set_active(name, False)
         try:
             path = _Path(system, t, given + [d for _, d in driven], guessed, check, weights)
-            q, its, changes = _follow(path, q)
+            q, its, flagged = _follow(path, q)
         finally:
             for name in motions:
                 system.set_active(name, True)
@@ -395,7 +405,11 @@ def assemble(
     k = system.kin(q, None, t)
     system.commit(k)
     notes = _position_notes(system, k, given)
-    changes += guess_changes(system, k, _guesses(system, initial), check)
+    changes = guess_changes(system, k, _guesses(system, initial), check)
+    if flagged:
+        final = angle_values(system, k)
+        joints = tuple((j, drawn[j], final[j]) for j in flagged)
+        changes.insert(0, BranchChange(t, joints, "drawn", _OFF_BRANCH))
     qd, vnotes = _initial_velocities(system, q, t, initial, weights)
     return Assembled(q, qd, its + its2, notes + vnotes, changes)
 

@@ -100,22 +100,26 @@ def angle_values(system: System, k: Kin) -> dict[str, float]:
 def stage_jumps(
     before: dict[str, float], after: dict[str, float], limit: float, skip=()
 ) -> list[tuple[str, float, float]]:
-    """Joints (not in `skip`) whose angle changed by more than `limit` (rad) over a stage."""
-    return [
+    """Joints (not in `skip`) whose angle changed by more than `limit` (rad) over a stage,
+    as (joint, before, after), the largest change first."""
+    moved = [
         (j, before[j], after[j])
         for j in before
         if j not in skip and abs(after[j] - before[j]) > limit
     ]
+    return sorted(moved, key=lambda m: -abs(m[2] - m[1]))
 
 
 def guess_changes(
     system: System, k: Kin, guesses: dict[str, float], check: BranchCheck
 ) -> list[BranchChange]:
-    """The guessed joints assembled more than `check.angle` from their guess."""
+    """The guessed joint angles assembled more than `check.angle` from their guess (a
+    guessed travel steers the assembly but has no angle to be judged by)."""
     far = []
     for joint, guess in guesses.items():
-        value = float(system.coordinate_of(joint).value(k))
-        if abs(value - guess) > check.angle:
+        measure = system.coordinate_of(joint)
+        value = float(measure.value(k))
+        if measure.kind == "angle" and abs(value - guess) > check.angle:
             far.append((joint, guess, value))
     if not far:
         return []

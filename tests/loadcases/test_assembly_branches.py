@@ -235,3 +235,53 @@ def test_loads_draw_shows_the_drawing_under_another_branch(tmp_path: Path) -> No
         assert _draw_ghost(ax, at_drawing, np.eye(3)[:2]) == []
     finally:
         plt.close(fig)
+
+
+PARALLELOGRAM = """\
+case: {name}
+units: {{length: mm, angle: deg}}
+mechanism:
+  plane: xy
+  bodies:
+    crank:  {{mass: 1, cm: [0, 250, 0], inertia: [0.02, 0.02, 0.03]}}
+    rocker: {{mass: 1, cm: [1000, 250, 0], inertia: [0.02, 0.02, 0.03]}}
+    coupler: {{mass: 1, cm: [500, 500, 0], inertia: [0.02, 0.08, 0.09]}}
+  joints:
+    a: {{type: revolute, bodies: [crank, ground], at: [0, 0, 0], axis: [0, 0, 1]}}
+    b: {{type: revolute, bodies: [coupler, crank], at: [0, 500, 0], axis: [0, 0, 1]}}
+    c: {{type: revolute, bodies: [coupler, rocker], at: [1000, 500, 0], axis: [0, 0, 1]}}
+    d: {{type: revolute, bodies: [rocker, ground], at: [1000, 0, 0], axis: [0, 0, 1]}}
+initial:
+  a: {{value: {angle} deg}}
+{branches}
+analysis: {{type: dynamic, end: 0.01, step: 0.01, accuracy: off}}
+requests:
+  d: {{joint: d, quantity: angle}}
+"""
+
+
+@pytest.mark.parametrize("angle", [60, 120])
+def test_a_parallelogram_past_its_bifurcation(tmp_path: Path, angle: int) -> None:
+    """A parallelogram four-bar (cranks 0.5 m, coupler and ground 1 m) drawn with upright
+    cranks, its crank given 60 or 120 deg. At 90 deg all four links align: a bifurcation,
+    where it may go on as a parallelogram or fold into an antiparallelogram (at 120 deg
+    the rocker at 79.79 deg: what the assembly gave before). It stays a parallelogram
+    (closed form: rocker angle = crank angle, 1e-8 rad); 60 deg is silent, 120 deg warns
+    that the way passed a singular position, naming the coupler's and rocker's joints."""
+    path = tmp_path / f"pg{angle}.case.yaml"
+    path.write_text(
+        PARALLELOGRAM.format(name=f"pg{angle}", angle=angle, branches=""), encoding="utf-8"
+    )
+    (outcome,) = run_file(path, output_dir=tmp_path / "out")
+    sol = outcome.solution
+    assert sol.channels["d.value"][0] == pytest.approx(math.radians(angle), abs=1e-8)
+    warnings = _branch_warnings(sol)
+    if angle < 90:
+        assert warnings == []
+    else:
+        (warning,) = warnings
+        assert warning.startswith(
+            "assembly branch changed at t = 0 s: joint 'c' drawn 0 deg, assembled -120 deg; "
+            "joint 'd' drawn 0 deg, assembled 120 deg; joint 'b' drawn 0 deg, assembled -120 deg"
+        )
+        assert "toggle or a bifurcation" in warning
