@@ -182,10 +182,8 @@ def orientation_changes(
     changes = []
     for i in flips:
         moved = sorted(angles, key=lambda j: -abs(angles[j][i] - angles[j][i - 1]))
-        joints = tuple(
-            (j, float(angles[j][i - 1]), float(angles[j][i]))
-            for j in moved
-            if abs(angles[j][i] - angles[j][i - 1]) > _SNAP_FLOOR
-        )
+        far = [j for j in moved if abs(angles[j][i] - angles[j][i - 1]) > _SNAP_FLOOR]
+        # a toggle passed slowly moves the joints little: then those that moved most
+        joints = tuple((j, float(angles[j][i - 1]), float(angles[j][i])) for j in far or moved[:3])
         changes.append(BranchChange(float(times[i]), joints, "previous row", why))
     return changes
