@@ -113,7 +113,7 @@ def _check_after(builder, kind: str, name: str) -> bool:
     while follows not in seen:
         if follows not in known:
             hint = did_you_mean(follows, [n for n in known if n != name])
-            builder.error(kind, key, f"unknown event '{follows}'" + (f" ({hint})" if hint else ""))
+            builder.error(kind, key, f"unknown event '{follows}'", hint=hint)
             return False
         seen.append(follows)
         if known[follows].after is None:

@@ -99,7 +99,7 @@ def test_a_delay_after_an_event_that_never_fires_does_nothing(tmp_path: Path) ->
         (
             "  halt: {after: {event: lok, delay: 0.1 s}, then: stop}\n"
             '  lock: {when: "t >= 0.1", then: [{lock: slide}]}\n',
-            "events.halt.after.event: unknown event 'lok' (did you mean 'lock'?)",
+            "events.halt.after.event: unknown event 'lok' | did you mean 'lock'?",
         ),
         (
             "  a: {after: {event: b, delay: 0.1 s}, then: stop}\n"
@@ -112,7 +112,10 @@ def test_a_delay_after_an_event_that_never_fires_does_nothing(tmp_path: Path) ->
 def test_bad_delays_are_named_at_their_keys(tmp_path: Path, events: str, expected: str) -> None:
     with pytest.raises(InputError) as caught:
         run_file(_write(tmp_path, "bad", events), output_dir=tmp_path / "out")
-    messages = [f"{d.key}: {d.message}" for d in caught.value.diagnostics]
+    messages = [
+        f"{d.key}: {d.message}" + (f" | {d.hint}" if d.hint else "")
+        for d in caught.value.diagnostics
+    ]
     assert expected in messages
 
 
