@@ -7,7 +7,8 @@ knee folded one way or the other). Two measures tell them apart:
   locks included) completed by the gradients of the given joint coordinates c, each row
   scaled to unit length. Where that matrix is square (the given values fix every degree of
   freedom) the sign changes only where it is singular: a toggle, where the given joints
-  can no longer drive the loop and it can fold either way;
+  can no longer drive the loop and it can fold either way, or a bifurcation (a
+  parallelogram four-bar with its links aligned, free to go on as an antiparallelogram);
 - a jump: a joint angle that changes by more than the branch angle within a step that
   small continuous motions take (an assembly stage), or far more than in the steps on
   either side of it (a row of a quasi-static or kinematic run): a snap-through.
