@@ -207,13 +207,15 @@ def test_library_cases_that_assemble_normally_are_silent(tmp_path: Path, case: s
 def test_loads_draw_shows_the_drawing_under_another_branch(tmp_path: Path) -> None:
     """`loads draw` of the mirror assembly (guess far off: a branch warning) prints the
     warning and draws the drawn geometry as a ghost: the grey crosses at the drawn joints
-    (projected on xy, to 1e-12 m); a run starting at its drawing gets no ghost."""
+    (projected on xy, to 1e-12 m), a grey dashed trace on the 3-D page; a run starting at
+    its drawing gets no ghost."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     from loadcases.draw.render import _draw_ghost
+    from loadcases.draw.scene import frame_traces, scene_of
     from loadcases.draw.trajectory import trajectory_of_file
 
     body = f"initial:\n  trunnion: {{value: 90 deg}}\n  knee: {{guess: 60 deg}}\n{FREE_FALL}"
@@ -235,6 +237,9 @@ def test_loads_draw_shows_the_drawing_under_another_branch(tmp_path: Path) -> No
         assert _draw_ghost(ax, at_drawing, np.eye(3)[:2]) == []
     finally:
         plt.close(fig)
+    names = [t["name"] for t in frame_traces(traj, scene_of(traj), 0)]  # the 3-D page
+    assert names[0] == "as drawn"
+    assert "as drawn" not in [t["name"] for t in frame_traces(at_drawing, scene_of(at_drawing), 0)]
 
 
 PARALLELOGRAM = """\
