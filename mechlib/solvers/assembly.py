@@ -388,8 +388,8 @@ def assemble(
         motions = [name for name, _ in driven]
         held = {item.joint for item, _ in given}  # one target per joint: a repeated row is
         driven = [(name, d) for name, d in driven if d[0].joint not in held]  # an SVD's cost
-        for name in motions:  # their values at t become stage targets too
-            system.set_active(name, False)
+        for name in motions:  # their values at t become stage targets too (every motion
+            system.set_active(name, False)  # is active at the start: no event has run yet)
         try:
             path = _Path(system, t, given + [d for _, d in driven], guessed, check, weights)
             q, its, flagged = _follow(path, q)
