@@ -120,7 +120,25 @@ def _initial(
                     ("initial", name), f"'{name}' is a body: give 'omega' and/or 'velocity'"
                 )
             )
+        elif joint is not None and entry.guess is not None:
+            found += _idle_guess(case, name, "value" in given, at)
     return found
+
+
+def _idle_guess(case: CaseModel, joint: str, valued: bool, at: Locator) -> list[Diagnostic]:
+    """A guess the joint's own `value` or a motion of it already fixes does nothing."""
+    driven = [m for m, motion in case.motions.items() if motion.joint == joint]
+    if not valued and not driven:
+        return []
+    by = "its 'value'" if valued else f"motion '{driven[0]}'"
+    return [
+        at.diagnostic(
+            ("initial", joint, "guess"),
+            f"the guess of joint '{joint}' does nothing: {by} sets its coordinate",
+            hint="give a guess for a joint the assembly solves for (a knee, a follower)",
+            severity="warning",
+        )
+    ]
 
 
 def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:

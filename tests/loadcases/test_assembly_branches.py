@@ -290,3 +290,23 @@ def test_a_parallelogram_past_its_bifurcation(tmp_path: Path, angle: int) -> Non
             "joint 'd' drawn 0 deg, assembled 120 deg; joint 'b' drawn 0 deg, assembled -120 deg"
         )
         assert "toggle or a bifurcation" in warning
+
+
+def test_a_guess_that_does_nothing_is_a_warning(tmp_path: Path) -> None:
+    """A guess of a joint whose value is given (or that a motion drives) is a warning at
+    its key; a guess of a joint the assembly solves for is not."""
+    from loadcases.inputs.loader import validate_files
+
+    idle = _write(
+        tmp_path, "idle", f"initial:\n  trunnion: {{value: 90 deg, guess: 80 deg}}\n{FREE_FALL}"
+    )
+    useful = _write(
+        tmp_path,
+        "useful",
+        f"initial:\n  trunnion: {{value: 90 deg}}\n  knee: {{guess: 150 deg}}\n{FREE_FALL}",
+    )
+    found = [f"{d.severity} {d.key}: {d.message}" for d in validate_files([idle, useful])]
+    assert found == [
+        "warning initial.trunnion.guess: the guess of joint 'trunnion' does nothing: its "
+        "'value' sets its coordinate"
+    ]
