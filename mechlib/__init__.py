@@ -19,6 +19,7 @@ if TYPE_CHECKING:
     from mechlib.kinematics.view import StateView
     from mechlib.model.analysis import (
         DEFAULT_MAX_STEPS,
+        BranchCheck,
         Dynamic,
         InitialBodyVelocity,
         InitialValue,
@@ -59,6 +60,7 @@ _HOMES = {
     "ExpressionOutput": "mechlib.outputs.requests",
     "FlexibleOutput": "mechlib.outputs.requests",
     "InitialBodyVelocity": "mechlib.model.analysis",
+    "BranchCheck": "mechlib.model.analysis",
     "InitialValue": "mechlib.model.analysis",
     "JointCoordinate": "mechlib.outputs.requests",
     "JointFriction": "mechlib.elements.friction",
@@ -95,6 +97,7 @@ __all__ = [
     "DEFAULT_MAX_STEPS",
     "GROUND",
     "Action",
+    "BranchCheck",
     "Bushing",
     "CableLoop",
     "CouplerEffort",

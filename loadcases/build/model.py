@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import mechlib as ml
-from loadcases.build.analysis import build_analysis, initial_values
+from loadcases.build.analysis import branch_check, build_analysis, initial_values
 from loadcases.build.bodies import add_bodies, add_joints
 from loadcases.build.contacts import add_contacts
 from loadcases.build.context import Builder
@@ -42,6 +42,7 @@ class BuiltRun:
     column_units: dict[str, str] = field(default_factory=dict)
     warnings: list[Diagnostic] = field(default_factory=list)
     events: list = field(default_factory=list)
+    branches: ml.BranchCheck = field(default_factory=ml.BranchCheck)
 
     def solve(
         self, analysis: Any = None, *, progress: Any = None, checks: bool = True
@@ -59,6 +60,7 @@ class BuiltRun:
             events=self.events,
             progress=progress,
             checks=checks,
+            branches=self.branches,
         )
 
 
@@ -151,5 +153,13 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
         events = []
     notes += flexible_notes(cf, mechanism)
     return BuiltRun(
-        mechanism, analysis, requests, initial, cf.case.analysis.redundant, units, notes, events
+        mechanism,
+        analysis,
+        requests,
+        initial,
+        cf.case.analysis.redundant,
+        units,
+        notes,
+        events,
+        branch_check(b),
     )

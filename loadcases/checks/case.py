@@ -35,7 +35,7 @@ def resolve_initial(
         if joint is None or dimension is None:
             continue
         update = {}
-        for key, dim in (("value", dimension), ("rate", _RATE[dimension])):
+        for key, dim in (("value", dimension), ("guess", dimension), ("rate", _RATE[dimension])):
             raw = getattr(entry, key)
             if raw is None:
                 continue
@@ -86,7 +86,11 @@ def _initial(
     found = []
     for name, entry in case.initial.items():
         joint, body = mechanism.joints.get(name), mechanism.bodies.get(name)
-        given = [k for k in ("value", "rate", "omega", "velocity") if getattr(entry, k) is not None]
+        given = [
+            k
+            for k in ("value", "guess", "rate", "omega", "velocity")
+            if getattr(entry, k) is not None
+        ]
         if joint is None and body is None:
             found.append(
                 unknown(
@@ -99,7 +103,9 @@ def _initial(
             )
         elif joint is not None and {"omega", "velocity"} & set(given):
             found.append(
-                at.diagnostic(("initial", name), f"'{name}' is a joint: give 'value' and/or 'rate'")
+                at.diagnostic(
+                    ("initial", name), f"'{name}' is a joint: give 'value', 'guess' and/or 'rate'"
+                )
             )
         elif joint is not None and joint.type not in COORDINATE_DIMENSION:
             found.append(
@@ -108,13 +114,31 @@ def _initial(
                     f"joint '{name}' is {joint.type}: it has no single coordinate to set",
                 )
             )
-        elif body is not None and {"value", "rate"} & set(given):
+        elif body is not None and {"value", "guess", "rate"} & set(given):
             found.append(
                 at.diagnostic(
                     ("initial", name), f"'{name}' is a body: give 'omega' and/or 'velocity'"
                 )
             )
+        elif joint is not None and entry.guess is not None:
+            found += _idle_guess(case, name, "value" in given, at)
     return found
+
+
+def _idle_guess(case: CaseModel, joint: str, valued: bool, at: Locator) -> list[Diagnostic]:
+    """A guess the joint's own `value` or a motion of it already fixes does nothing."""
+    driven = [m for m, motion in case.motions.items() if motion.joint == joint]
+    if not valued and not driven:
+        return []
+    by = "its 'value'" if valued else f"motion '{driven[0]}'"
+    return [
+        at.diagnostic(
+            ("initial", joint, "guess"),
+            f"the guess of joint '{joint}' does nothing: {by} sets its coordinate",
+            hint="give a guess for a joint the assembly solves for (a knee, a follower)",
+            severity="warning",
+        )
+    ]
 
 
 def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:

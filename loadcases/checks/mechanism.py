@@ -316,7 +316,7 @@ def check_mechanism(
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
     found += check_plane(model, at)
     expressions: list[tuple[KeyPath, str]] = [
-        (("events", n, "when"), e.when) for n, e in model.events.items()
+        (("events", n, "when"), e.when) for n, e in model.events.items() if e.when is not None
     ]
     for name, force in model.forces.items():
         expressions += [

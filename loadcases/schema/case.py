@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Discriminator, Field, Tag
@@ -62,6 +63,11 @@ class Initial(Strict):
     """
 
     value: RawQuantity | None = Field(None, description="joint coordinate [angle or length]")
+    guess: RawQuantity | None = Field(
+        None,
+        description="joint coordinate to assemble near, not imposed: chooses the branch of a "
+        "closed loop [angle or length]",
+    )
     rate: RawQuantity | None = Field(
         None, description="joint coordinate rate [angular velocity or velocity, bare numbers SI]"
     )
@@ -74,6 +80,24 @@ class Initial(Strict):
 
 
 _TIME = quantity("time")
+
+
+class Branches(Strict):
+    """When the assembly, or a quasi-static or kinematic run, is said to leave the branch
+    of the drawn geometry (or of the guesses), and what follows."""
+
+    angle: quantity("angle") = Field(
+        default=math.radians(30.0),
+        gt=0,
+        description=describe(
+            "largest distance of a joint from its guess, and of a joint's jump in one "
+            "assembly stage (default 30 deg)",
+            "angle",
+        ),
+    )
+    on_change: Literal["warn", "error"] = Field(
+        default="warn", description="warn (default), or error: the run fails (exit 1), rows kept"
+    )
 
 
 def _mechanism_ref(value: Any) -> Any:
@@ -289,6 +313,10 @@ class CaseModel(Strict):
     )
     loads: list[Name] | None = Field(None, description="active force elements by name; absent: all")
     initial: dict[str, Initial] = Field(default_factory=dict, description="by joint or body")
+    branches: Branches = Field(
+        Branches(),
+        description="assembly branches: {angle: 30 deg, on_change: warn | error}",
+    )
     analysis: Analysis
     requests: dict[str, Request] = Field(default_factory=dict)
     abscissa: Expression | None = Field(None, description="x-axis expression for envelopes")
