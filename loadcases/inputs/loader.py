@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import glob
 import hashlib
 import json
@@ -31,7 +32,12 @@ from loadcases.foundation.limits import local_path_problem, pattern_problem
 from loadcases.inputs.hardpoints import expand_hardpoints
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
-from loadcases.inputs.parameter_refs import ParameterRef, parameter_values, put_parameters
+from loadcases.inputs.parameter_refs import (
+    ParameterRef,
+    Unresolved,
+    parameter_values,
+    put_parameters,
+)
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import (
     did_you_mean,
@@ -213,12 +219,14 @@ def load_mechanism(path: str | Path) -> MechanismFile:
     units, found = _file_units(locator, {})
     tables, more = expand_hardpoints(locator, units)
     found += more
+    unresolved: dict[tuple, Unresolved] = {}
     if isinstance(locator.data, dict):
-        put_parameters(
-            locator.data, parameter_values(locator.data.get("parameters"), file_units=units)
-        )
+        values = parameter_values(locator.data.get("parameters"), file_units=units)
+        put_parameters(locator.data, values, unresolved=unresolved)
     model, more = _validate(MechanismModel, locator, units)
-    diagnostics += found + more
+    diagnostics += found + _name_unknown_parameters(
+        more, {"mechanism": unresolved}, {"mechanism": locator}
+    )
     if model is not None:
         diagnostics += check_mechanism(model, locator)
     _raise_on_errors(diagnostics)
@@ -292,16 +300,21 @@ def load_case(
         mech_units, found = _file_units(mech_locator, inherited)
         tables, more = expand_hardpoints(mech_locator, mech_units)
         diagnostics += found + more
-    refs = _put_parameters(case_locator, mech_locator, case_units, mech_units, overrides)
+    unresolved: dict[str, dict] = {"case": {}, "mechanism": {}}
+    refs = _put_parameters(
+        case_locator, mech_locator, case_units, mech_units, overrides, unresolved
+    )
     case, found = _validate(CaseModel, case_locator, case_units)
-    diagnostics += found
     mechanism = None
     if mech_locator is not None:
         mechanism, more = _validate(MechanismModel, mech_locator, mech_units)
-        diagnostics += more
-        if mechanism is not None:
-            motions, parameters = _raw_keys(case_locator.data, "motions", "parameters")
-            diagnostics += check_mechanism(mechanism, mech_locator, motions, parameters)
+        found += more
+    diagnostics += _name_unknown_parameters(
+        found, unresolved, {"case": case_locator, "mechanism": mech_locator}
+    )
+    if mechanism is not None and mech_locator is not None:
+        motions, parameters = _raw_keys(case_locator.data, "motions", "parameters")
+        diagnostics += check_mechanism(mechanism, mech_locator, motions, parameters)
     if case is not None and mechanism is not None:
         case, found = resolve_initial(case, mechanism, case_locator, case_units)
         diagnostics += found + check_case(case, mechanism, case_locator)
@@ -335,9 +348,11 @@ def _put_parameters(
     case_units: dict,
     mech_units: dict,
     overrides,
+    unresolved: Mapping[str, dict],
 ) -> set[ParameterRef]:
     """Parameter values (mechanism, then case, then overrides) put where a numeric field
-    names a parameter, in both raw trees; returns the fields so set (key path, name)."""
+    names a parameter, in both raw trees; returns the fields so set (key path, name). Texts
+    naming unknown parameters go to `unresolved["case"]` and `unresolved["mechanism"]`."""
     mech_data = mech_locator.data if mech_locator is not None else {}
     values = parameter_values(
         mech_data.get("parameters") if isinstance(mech_data, dict) else None, file_units=mech_units
@@ -347,10 +362,36 @@ def _put_parameters(
             case_locator.data.get("parameters"), file_units=case_units, overrides=overrides
         )
     )
-    used = put_parameters(case_locator.data, values)
+    used = put_parameters(case_locator.data, values, unresolved=unresolved["case"])
     if mech_locator is not None and mech_locator.data is not case_locator.data.get("mechanism"):
-        used |= put_parameters(mech_locator.data, values, ("mechanism",))
+        used |= put_parameters(
+            mech_locator.data, values, ("mechanism",), unresolved=unresolved["mechanism"]
+        )
     return used
+
+
+def _name_unknown_parameters(
+    diagnostics: list[Diagnostic], unresolved: Mapping[str, Mapping[tuple, Unresolved]], locators
+) -> list[Diagnostic]:
+    """Each field error about a text that could not be read and that names no known
+    parameter, said so: `unknown parameter 'mu_trunion'` with a `did you mean` hint."""
+    by_key: dict[tuple[str, str], Unresolved] = {}
+    for kind, found in unresolved.items():
+        locator = locators.get(kind)
+        if locator is None:
+            continue
+        for path, why in found.items():
+            key = ".".join(str(p) for p in locator.prefix)
+            for part in path:
+                key += f"[{part}]" if isinstance(part, int) else ("." if key else "") + part
+            by_key[(locator.tree.file, key)] = why
+    out = []
+    for d in diagnostics:
+        reason = by_key.get((d.file, d.key))
+        if reason is not None and d.severity == "error" and "cannot read" in d.message:
+            d = dataclasses.replace(d, message=reason.message, hint=reason.hint)
+        out.append(d)
+    return out
 
 
 def _expand_cases(model: SetModel, locator: Locator) -> tuple[list[str], list[Diagnostic]]:

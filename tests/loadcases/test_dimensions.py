@@ -1,0 +1,196 @@
+"""Parameters carry the dimension of their unit: checked where they are used (element
+values, expressions of parameters in numeric fields, `--set`), unknown names named with a
+hint, and expressions' dimensions inferred (sums, functions, powers)."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import pytest
+
+from loadcases.expressions.dimensions import DimensionScope, infer_dimension
+from loadcases.expressions.errors import ExpressionError
+from loadcases.expressions.parser import parse_tree
+from loadcases.foundation.diagnostics import InputError
+from loadcases.foundation.units import quantity_dimension, unit_dimension
+from loadcases.inputs.loader import load_case
+from loadcases.inputs.overrides import parse_overrides
+
+CASE = """\
+case: dims
+mechanism:
+  parameters:
+    airspeed: {airspeed}
+    m: 2 kg
+    r: 100 mm
+    E: 210 GPa
+    A: 10 mm^2
+    L: 1 m
+    mu_trunnion: 0.1
+  bodies:
+    arm: {{mass: m, cm: [0.5, 0, 0], inertia: ["0.5*m*r^2", "0.5*m*r^2", "m*r^2"]}}
+    slider: {{mass: 1, cm: [0.5, 0, 0], inertia: [1, 1, 1]}}
+  points:
+    tip: {{body: arm, at: [1.0, 0, 0]}}
+    s: {{body: slider, at: [1.0, 0, 0]}}
+  joints:
+    hinge: {{type: revolute, bodies: [arm, ground], at: [0, 0, 0], axis: [0, 0, 1]}}
+    guide: {{type: prismatic, bodies: [slider, ground], at: [0, 0, 0], axis: [1, 0, 0]}}
+  forces:
+    bar: {{type: spring, points: [tip, s], stiffness: {stiffness}, free_length: 0.5}}
+    rub: {{type: joint_friction, joint: hinge, mu: {mu}, pin_radius: 10 mm}}
+    push: {{type: force, point: s, value: [{push}, 0, 0]}}
+  contacts:
+    stop:
+      type: impact
+      bodies: [slider, ground]
+      geometry: {{shape: sphere_plane, center: [0.5, 0.01, 0], radius: 0.01,
+                 plane_point: [0.5, 0, 0], normal: [0, 1, 0]}}
+      stiffness: 1.0e7
+      exponent: 1.5
+      damping: 1000
+      depth: 1.0e-4
+      friction: {{mu_static: 0.3, mu_dynamic: 0.25, v_static: airspeed, v_dynamic: 1000}}
+motions:
+  lift: {{joint: hinge, value: "step(t, 0, 0, 1, 80*deg)"}}
+analysis: {{type: kinematic, end: 1, step: 0.01}}
+requests:
+  a: {{joint: hinge, quantity: angle}}
+"""
+GOOD = {
+    "airspeed": "250 knot",
+    "stiffness": '"E*A/L"',
+    "mu": "mu_trunnion",
+    "push": "0",
+}
+
+
+def _write(tmp_path: Path, **changes: str) -> Path:
+    path = tmp_path / "dims.case.yaml"
+    path.write_text(CASE.format(**{**GOOD, **changes}), encoding="utf-8")
+    return path
+
+
+def _errors(path: Path, **kwargs) -> list[str]:
+    with pytest.raises(InputError) as raised:
+        load_case(path, **kwargs)
+    return [
+        f"{d.line}:{d.column}: {d.key}: {d.message}" + (f" | {d.hint}" if d.hint else "")
+        for d in raised.value.diagnostics
+        if d.severity == "error"
+    ]
+
+
+def test_expressions_of_parameters_in_numeric_fields_are_their_si_values(tmp_path):
+    case = load_case(_write(tmp_path))
+    arm = case.mechanism.bodies["arm"]
+    # 0.5 m r^2 = 0.5 * 2 kg * (0.1 m)^2 = 0.01 kg m^2; m r^2 = 0.02
+    assert arm.inertia == pytest.approx((0.01, 0.01, 0.02), rel=1e-12)
+    # E A / L = 210e9 Pa * 10e-6 m^2 / 1 m = 2.1e6 N/m
+    assert case.mechanism.forces["bar"].stiffness == pytest.approx(2.1e6, rel=1e-12)
+    assert case.mechanism.contacts["stop"].friction.v_static == pytest.approx(250 * 1852 / 3600)
+
+
+def test_a_parameter_of_another_dimension_is_an_error_at_the_key_naming_both(tmp_path):
+    errors = _errors(_write(tmp_path, airspeed="250 kg"))
+    assert errors == [
+        "34:52: mechanism.contacts.stop.friction.v_static: expected a velocity, got "
+        "parameter 'airspeed' = '250 kg' (a mass)"
+    ]
+
+
+def test_an_expression_of_parameters_of_another_dimension_is_an_error(tmp_path):
+    errors = _errors(_write(tmp_path, stiffness='"E*A"'))
+    assert errors == [
+        "21:43: mechanism.forces.bar.stiffness: expected a stiffness, got 'E*A' (a force)"
+    ]
+
+
+def test_a_parameter_in_a_force_component_is_checked_as_a_force(tmp_path):
+    errors = _errors(_write(tmp_path, push="m"))
+    assert errors == [
+        "23:43: mechanism.forces.push.value[0]: expected a force, got parameter 'm' = "
+        "'2 kg' (a mass)"
+    ]
+
+
+def test_a_misspelt_parameter_is_named_with_the_closest_one(tmp_path):
+    errors = _errors(_write(tmp_path, mu="mu_trunion", stiffness='"E*A/Lx"'))
+    assert errors == [
+        "21:43: mechanism.forces.bar.stiffness: unknown parameter 'Lx' | did you mean 'L'?",
+        "22:47: mechanism.forces.rub.mu: unknown parameter 'mu_trunion' | "
+        "did you mean 'mu_trunnion'?",
+    ]
+
+
+def test_set_values_carry_their_dimension_to_the_fields(tmp_path):
+    path = _write(tmp_path, airspeed="100")  # bare: SI of an unknown dimension
+    assert load_case(path).mechanism.contacts["stop"].friction.v_static == 100.0
+    errors = _errors(path, what_if=parse_overrides(["airspeed=250 kg"]))
+    assert errors == [
+        "34:52: mechanism.contacts.stop.friction.v_static: expected a velocity, got "
+        "'--set airspeed=250 kg' (a mass)"
+    ]
+    fine = load_case(path, what_if=parse_overrides(["airspeed=250 knot"]))
+    assert fine.mechanism.contacts["stop"].friction.v_static == pytest.approx(128.611, 1e-5)
+
+
+_PARAMETERS = {
+    "rho": quantity_dimension("1.225 kg/m^3"),
+    "v": quantity_dimension("250 knot"),
+    "cda": quantity_dimension("0.45 m^2"),
+    "n": None,
+}
+
+
+def _infer(text: str, coefficients: bool = False):
+    def names(name: str):
+        return _PARAMETERS[name] if name in _PARAMETERS else unit_dimension(name)
+
+    return infer_dimension(parse_tree(text), DimensionScope(names, {}, coefficients))
+
+
+@pytest.mark.parametrize(
+    ("text", "dims"),
+    [
+        ("rho*v^2*cda", (("[length]", 1.0), ("[mass]", 1.0), ("[time]", -2.0))),
+        ("0.5*rho*v^2*cda", None),  # a number may carry a unit
+        ("sqrt(x(a)^2 + y(a)^2)", (("[length]", 1.0),)),
+        ("angle(j) / deg", ()),
+        ("omega(j)", (("[angle]", 1.0), ("[time]", -1.0))),
+        ("atan2(y(a), x(a))", (("[angle]", 1.0),)),
+        ("sin(2*pi*t) + cos(angle(j))", ()),
+        ("x(a) + 0.1", (("[length]", 1.0),)),
+        ("55*deg * t", None),
+    ],
+)
+def test_inferred_dimensions(text, dims):
+    assert _infer(text) == dims
+
+
+def test_numbers_are_coefficients_in_numeric_fields():
+    assert _infer("0.5*rho*v^2*cda", coefficients=True) == (
+        ("[length]", 1.0),
+        ("[mass]", 1.0),
+        ("[time]", -2.0),
+    )
+
+
+@pytest.mark.parametrize(
+    ("text", "message", "offset"),
+    [
+        ("x(a) + t", "cannot add a length and a time", 5),
+        ("angle(j) >= x(a)", "cannot compare an angle with a length", 9),
+        ("sin(t)", "the argument of 'sin' must be a plain number or an angle, not a time", 0),
+        ("exp(v)", "the argument of 'exp' must be a plain number or an angle, not a velocity", 0),
+        ("x(a)^n", "a power of a length needs a number as exponent", 4),
+        ("max(x(a), t)", "'max' needs arguments of one dimension, not a length and a time", 0),
+        ("2^x(a)", "an exponent must be a plain number or an angle, not a length", 1),
+    ],
+)
+def test_mismatched_dimensions_are_errors_at_the_operator(text, message, offset):
+    with pytest.raises(ExpressionError) as raised:
+        _infer(text)
+    assert (raised.value.message, raised.value.offset) == (message, offset)
+    assert math.isfinite(offset)
