@@ -7,6 +7,7 @@ from collections.abc import Mapping
 from loadcases.checks.common import GROUND, Names, check_expressions, unknown
 from loadcases.checks.mechanism import mechanism_names
 from loadcases.checks.paths import check_name
+from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.limits import rows_problem
 from loadcases.foundation.units import UnitError, to_si
@@ -211,8 +212,14 @@ def check_case_alone(case: CaseModel, at: Locator) -> list[Diagnostic]:
     )
 
 
-def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[Diagnostic]:
-    """All semantic problems of a case against its (valid) mechanism."""
+def check_case(
+    case: CaseModel,
+    mechanism: MechanismModel,
+    at: Locator,
+    scope: DimensionScope | None = None,
+) -> list[Diagnostic]:
+    """All semantic problems of a case against its (valid) mechanism; `scope` the dimensions
+    of names (expressions are dimension-checked when given)."""
     from loadcases.checks.planar import check_plane_initial
     from loadcases.checks.requests import check_requests
 
@@ -232,4 +239,9 @@ def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[
     ]
     if case.abscissa is not None:
         expressions.append((("abscissa",), case.abscissa))
-    return found + check_expressions(at, expressions, names, parameters)
+    expected = {}
+    for name, motion in case.motions.items():
+        joint = mechanism.joints.get(motion.joint)
+        if joint is not None and joint.type in ("revolute", "prismatic"):
+            expected[("motions", name, "value")] = COORDINATE_DIMENSION[joint.type]
+    return found + check_expressions(at, expressions, names, parameters, scope, expected)

@@ -3,15 +3,37 @@
 from __future__ import annotations
 
 import re
-from collections.abc import Collection, Iterable
+from collections.abc import Collection, Iterable, Mapping
+from typing import Any
 
 from loadcases.expressions import ExpressionError, parse
+from loadcases.expressions.dimensions import (
+    DimensionScope,
+    Dims,
+    infer_dimension,
+    same_dimension,
+)
 from loadcases.foundation.diagnostics import Diagnostic, Severity
-from loadcases.foundation.units import RESERVED_NAMES, unit_constant
+from loadcases.foundation.units import (
+    DIMENSIONS,
+    RESERVED_NAMES,
+    UnitError,
+    describe_dimension,
+    quantity_dimension,
+    unit_constant,
+    unit_dimension,
+)
 from loadcases.schema.errors import did_you_mean
 from loadcases.yamlfiles.source import KeyPath, Locator
 
-__all__ = ["GROUND", "Names", "check_expression", "check_expressions", "unknown"]
+__all__ = [
+    "GROUND",
+    "Names",
+    "check_expression",
+    "check_expressions",
+    "expression_scope",
+    "unknown",
+]
 
 GROUND = "ground"
 
@@ -69,10 +91,83 @@ _MEASURE_KINDS = {
 _SINGULAR = {"joints": "joint", "points": "point", "tables": "table"}
 
 
-def check_expression(
-    locator: Locator, path: KeyPath, text: str, names: Names, parameters: Collection[str]
+def expression_scope(
+    parameters: Mapping[str, Mapping[str, float] | None], raw_tables: Any
+) -> DimensionScope:
+    """What the names of expressions mean for dimensions: each parameter's (None when written
+    without a unit), then the unit names'; each table's x and y as written (`"[0, 30] deg"`,
+    or the first item with a unit; None for bare numbers)."""
+
+    def name(word: str) -> Dims | None:
+        if word in parameters:
+            dims = parameters[word]
+            return None if dims is None else tuple(sorted((k, float(v)) for k, v in dims.items()))
+        return unit_dimension(word)
+
+    tables = {}
+    for table, raw in (raw_tables or {}).items() if isinstance(raw_tables, dict) else ():
+        if isinstance(raw, dict):
+            tables[str(table)] = (_written(raw.get("x")), _written(raw.get("y")))
+    return DimensionScope(name, tables)
+
+
+def _written(values: Any) -> Dims | None:
+    """The dimension a table's data is written in, None if bare or unreadable."""
+    if isinstance(values, str):
+        match = _VECTOR_UNIT.match(values)
+        texts = [f"1 {match['unit']}"] if match and match["unit"] else []
+    elif isinstance(values, list):
+        texts = [v for v in values if isinstance(v, str)]
+    else:
+        texts = []
+    for text in texts:
+        try:
+            dims = quantity_dimension(text)
+        except UnitError:
+            return None
+        if dims is not None:
+            return dims
+    return None
+
+
+_VECTOR_UNIT = re.compile(r"^\s*\[[^\]]*\]\s*(?P<unit>.*?)\s*$")
+
+
+def _dimension_problems(
+    locator: Locator, path: KeyPath, expression: Any, scope: DimensionScope, expected: str | None
 ) -> list[Diagnostic]:
-    """Syntax errors and unknown identifiers, joints, points and tables of one expression."""
+    """The dimension error of one expression (two known dimensions that disagree, or a
+    result of another dimension than `expected`, a name of DIMENSIONS), if any."""
+    try:
+        dims = infer_dimension(expression.tree, scope)
+    except ExpressionError as error:
+        return [locator.diagnostic(path, error.message, offset=error.offset)]
+    if expected is None or dims is None:
+        return []
+    want = tuple(sorted((k, float(v)) for k, v in DIMENSIONS[expected].items()))
+    if same_dimension(dims, want):
+        return []
+    return [
+        locator.diagnostic(
+            path,
+            f"expected {describe_dimension(DIMENSIONS[expected])}, got "
+            f"{describe_dimension(dict(dims))}",
+        )
+    ]
+
+
+def check_expression(
+    locator: Locator,
+    path: KeyPath,
+    text: str,
+    names: Names,
+    parameters: Collection[str],
+    scope: DimensionScope | None = None,
+    expected: str | None = None,
+) -> list[Diagnostic]:
+    """Syntax errors and unknown identifiers, joints, points and tables of one expression;
+    then, given a `scope`, its dimensions (`expected`: the result's, a name of
+    DIMENSIONS)."""
     try:
         expression = parse(text)
     except ExpressionError as error:
@@ -117,6 +212,8 @@ def check_expression(
                     locator, path, "table", table, names.get("tables"), offset=_offset(text, table)
                 )
             )
+    if scope is not None and not found:
+        found += _dimension_problems(locator, path, expression, scope, expected)
     return found
 
 
@@ -125,8 +222,14 @@ def check_expressions(
     items: Iterable[tuple[KeyPath, str]],
     names: Names,
     parameters: Collection[str],
+    scope: DimensionScope | None = None,
+    expected: Mapping[KeyPath, str] | None = None,
 ) -> list[Diagnostic]:
-    """check_expression over (path, text) pairs."""
+    """check_expression over (path, text) pairs; `expected` the result dimension by path."""
     return [
-        d for path, text in items for d in check_expression(locator, path, text, names, parameters)
+        d
+        for path, text in items
+        for d in check_expression(
+            locator, path, text, names, parameters, scope, (expected or {}).get(path)
+        )
     ]

@@ -7,6 +7,7 @@ from collections.abc import Iterable
 import numpy as np
 
 from loadcases.checks.common import GROUND, Names, check_expressions, unknown
+from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import Body, FlexibleBody, MechanismModel
 from loadcases.yamlfiles.source import KeyPath, Locator
@@ -293,10 +294,12 @@ def check_mechanism(
     at: Locator,
     motions: Iterable[str] | None = None,
     parameters: Iterable[str] = (),
+    scope: DimensionScope | None = None,
 ) -> list[Diagnostic]:
     """All semantic problems of a mechanism; `motions` are the case's motion names (events
     may switch them), None when the mechanism is checked on its own; `parameters` are extra
-    parameter names a case defines."""
+    parameter names a case defines; `scope` the dimensions of names (expressions are
+    dimension-checked when given)."""
     from loadcases.checks.elements import check_elements
     from loadcases.checks.planar import check_plane
 
@@ -307,11 +310,15 @@ def check_mechanism(
     expressions: list[tuple[KeyPath, str]] = [
         (("events", n, "when"), e.when) for n, e in model.events.items()
     ]
+    expected: dict[KeyPath, str] = {}
     for name, force in model.forces.items():
-        expressions += [
-            (("forces", name, "value", i), v) for i, v in enumerate(getattr(force, "value", ()))
-        ]
+        for i, v in enumerate(getattr(force, "value", ())):
+            expressions.append((("forces", name, "value", i), v))
+            if force.type in ("force", "torque"):
+                expected[("forces", name, "value", i)] = force.type
         command = getattr(force, "command", None)  # a servo actuator's stroke demand
         if command is not None:
             expressions.append((("forces", name, "command"), command))
-    return found + check_expressions(at, expressions, names, {*model.parameters, *parameters})
+            expected[("forces", name, "command")] = "length"
+    known = {*model.parameters, *parameters}
+    return found + check_expressions(at, expressions, names, known, scope, expected)

@@ -50,6 +50,7 @@ __all__ = [
     "finite",
     "is_load_unit",
     "quantity_dimension",
+    "si_unit_text",
     "si_value_problem",
     "to_si",
     "unit_constant",
@@ -483,8 +484,51 @@ def si_value_problem(value: SIValue, dimension: str) -> str | None:
 
 def describe_dimension(dims: Mapping[str, float]) -> str:
     """Engineer's name of a base dimensionality: `a velocity`, `a mass`, or
-    `dimension [mass]^3 [length]^-1` when it has no name."""
-    return _describe(dims)
+    `units of kg^3/m` when it has no name."""
+    wanted = {k: v for k, v in dims.items() if v}
+    if any(wanted == d for d in DIMENSIONS.values()):
+        return _describe(wanted)
+    return f"units of {si_unit_text(wanted)}"
+
+
+_SI_SYMBOLS = {
+    "[mass]": "kg",
+    "[length]": "m",
+    "[time]": "s",
+    "[angle]": "rad",
+    "[current]": "A",
+    "[temperature]": "K",
+    "[substance]": "mol",
+    "[luminosity]": "cd",
+}
+
+
+def si_unit_text(dims: Mapping[str, float]) -> str:
+    """The SI unit of a base dimensionality as the engine writes units: the text of its
+    kind where it has one (`N`, `N*m`, `rad/s`: the units a report converts), else its base
+    units (`kg*m^3/(s^2*rad)`); `1` for a plain number."""
+    wanted = {k: v for k, v in dims.items() if v}
+    for kind, unit in REPORT_KINDS.items():
+        if DIMENSIONS[kind] == wanted:
+            return unit
+    if not wanted:
+        return "1"
+
+    def power(base: str, value: float) -> str:
+        symbol = _SI_SYMBOLS.get(base, base)
+        return symbol if value == 1 else f"{symbol}^{value:g}"
+
+    up = [power(b, v) for b, v in sorted(wanted.items(), key=_base_order) if v > 0]
+    down = [power(b, -v) for b, v in sorted(wanted.items(), key=_base_order) if v < 0]
+    text = "*".join(up) or "1"
+    if down:
+        text += "/" + (down[0] if len(down) == 1 else "(" + "*".join(down) + ")")
+    return text
+
+
+def _base_order(item: tuple[str, float]) -> int:
+    order = list(_SI_SYMBOLS)
+    return order.index(item[0]) if item[0] in order else len(order)
 
 
 @lru_cache(maxsize=4096)

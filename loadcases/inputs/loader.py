@@ -27,6 +27,7 @@ from loadcases.checks import (
     check_set_cases,
     resolve_initial,
 )
+from loadcases.checks.common import expression_scope
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.foundation.limits import local_path_problem, pattern_problem
 from loadcases.inputs.hardpoints import expand_hardpoints
@@ -220,6 +221,7 @@ def load_mechanism(path: str | Path) -> MechanismFile:
     tables, more = expand_hardpoints(locator, units)
     found += more
     unresolved: dict[tuple, Unresolved] = {}
+    values = {}
     if isinstance(locator.data, dict):
         values = parameter_values(locator.data.get("parameters"), file_units=units)
         put_parameters(locator.data, values, unresolved=unresolved)
@@ -228,11 +230,17 @@ def load_mechanism(path: str | Path) -> MechanismFile:
         more, {"mechanism": unresolved}, {"mechanism": locator}
     )
     if model is not None:
-        diagnostics += check_mechanism(model, locator)
+        scope = expression_scope({n: v.dims for n, v in values.items()}, model_tables(locator))
+        diagnostics += check_mechanism(model, locator, scope=scope)
     _raise_on_errors(diagnostics)
     return MechanismFile(
         str(path), model, _sha256(Path(path).read_bytes(), *tables), locator, tuple(diagnostics)
     )
+
+
+def model_tables(locator: Locator) -> Any:
+    """The raw `tables:` of a file (as written: their units tell their dimensions)."""
+    return locator.data.get("tables") if isinstance(locator.data, dict) else None
 
 
 def _mechanism_source(
@@ -301,8 +309,12 @@ def load_case(
         tables, more = expand_hardpoints(mech_locator, mech_units)
         diagnostics += found + more
     unresolved: dict[str, dict] = {"case": {}, "mechanism": {}}
+    dimensions: dict[str, Any] = {}
     refs = _put_parameters(
-        case_locator, mech_locator, case_units, mech_units, overrides, unresolved
+        case_locator, mech_locator, case_units, mech_units, overrides, unresolved, dimensions
+    )
+    scope = expression_scope(
+        dimensions, model_tables(mech_locator) if mech_locator is not None else None
     )
     case, found = _validate(CaseModel, case_locator, case_units)
     mechanism = None
@@ -314,10 +326,10 @@ def load_case(
     )
     if mechanism is not None and mech_locator is not None:
         motions, parameters = _raw_keys(case_locator.data, "motions", "parameters")
-        diagnostics += check_mechanism(mechanism, mech_locator, motions, parameters)
+        diagnostics += check_mechanism(mechanism, mech_locator, motions, parameters, scope)
     if case is not None and mechanism is not None:
         case, found = resolve_initial(case, mechanism, case_locator, case_units)
-        diagnostics += found + check_case(case, mechanism, case_locator)
+        diagnostics += found + check_case(case, mechanism, case_locator, scope)
     elif case is not None:
         diagnostics += check_case_alone(case, case_locator)
     _raise_on_errors(diagnostics)
@@ -349,10 +361,12 @@ def _put_parameters(
     mech_units: dict,
     overrides,
     unresolved: Mapping[str, dict],
+    dimensions: dict[str, Any],
 ) -> set[ParameterRef]:
     """Parameter values (mechanism, then case, then overrides) put where a numeric field
-    names a parameter, in both raw trees; returns the fields so set (key path, name). Texts
-    naming unknown parameters go to `unresolved["case"]` and `unresolved["mechanism"]`."""
+        names a parameter, in both raw trees; returns the fields so set (key path, name). Texts
+        naming unknown parameters go to `unresolved["case"]` and `unresolved["mechanism"]`, each
+    parameter's dimension (None: written without a unit) to `dimensions`."""
     mech_data = mech_locator.data if mech_locator is not None else {}
     values = parameter_values(
         mech_data.get("parameters") if isinstance(mech_data, dict) else None, file_units=mech_units
@@ -362,6 +376,7 @@ def _put_parameters(
             case_locator.data.get("parameters"), file_units=case_units, overrides=overrides
         )
     )
+    dimensions.update({name: value.dims for name, value in values.items()})
     used = put_parameters(case_locator.data, values, unresolved=unresolved["case"])
     if mech_locator is not None and mech_locator.data is not case_locator.data.get("mechanism"):
         used |= put_parameters(

@@ -162,7 +162,7 @@ def put_parameters(
             used.add((path, name))
             value = values[name]
             return SIValue(value, getattr(value, "dims", None), getattr(value, "source", ""))
-        if key in _STATE_EXPRESSION_KEYS and path[:1] in (("forces",), ("motions",)):
+        if key in _STATE_EXPRESSION_KEYS and path[-3:-2] in (("forces",), ("motions",)):
             return node
         return _constant_expression(node, values, path, located, used, missing)
 

@@ -4,7 +4,6 @@ hint, and expressions' dimensions inferred (sums, functions, powers)."""
 
 from __future__ import annotations
 
-import math
 from pathlib import Path
 
 import pytest
@@ -193,4 +192,43 @@ def test_mismatched_dimensions_are_errors_at_the_operator(text, message, offset)
     with pytest.raises(ExpressionError) as raised:
         _infer(text)
     assert (raised.value.message, raised.value.offset) == (message, offset)
-    assert math.isfinite(offset)
+
+
+EXPRESSIONS = """\
+case: expression-dims
+mechanism:
+  parameters:
+    k_t: 50 N*m/rad
+    span: 2 m
+  bodies:
+    arm: {mass: 2.0, cm: [0.5, 0, 0], inertia: [0.001, 0.17, 0.17]}
+  points:
+    tip: {body: arm, at: [1.0, 0, 0]}
+  joints:
+    hinge: {type: revolute, bodies: [arm, ground], at: [0, 0, 0], axis: [0, 0, 1]}
+  tables:
+    gust: {x: "[0, 1, 2] s", y: "[0, 5, 3] N", extrapolate: hold}
+  forces:
+    wind: {type: force, point: tip, value: [0, "table(gust, angle(hinge))", 0]}
+    lever: {type: torque, body: arm, value: [0, 0, "-k_t * span"]}
+motions:
+  lift: {joint: hinge, value: "span * t"}
+analysis: {type: kinematic, end: 1, step: 0.01}
+requests:
+  fine: {expression: "k_t * angle(hinge) + table(gust, t) * span"}
+  sum: {expression: "angle(hinge) + x(tip)"}
+  trig: {expression: "sin(t)"}
+"""
+
+
+def test_expressions_with_known_dimensions_that_disagree_are_errors_at_the_key(tmp_path):
+    path = tmp_path / "expr.case.yaml"
+    path.write_text(EXPRESSIONS, encoding="utf-8")
+    assert _errors(path) == [
+        "15:49: mechanism.forces.wind.value[1]: table 'gust' has x in a time, read at an angle",
+        "16:52: mechanism.forces.lever.value[2]: expected a torque, got units of kg*m^3/(s^2*rad)",
+        "18:24: motions.lift.value: expected an angle, got units of m*s",
+        "22:35: requests.sum.expression: cannot add an angle and a length",
+        "23:23: requests.trig.expression: the argument of 'sin' must be a plain number or an "
+        "angle, not a time",
+    ]
