@@ -239,7 +239,7 @@ def check_case(
     ]
     if case.abscissa is not None:
         expressions.append((("abscissa",), case.abscissa))
-    expected = {}
+    expected: dict[KeyPath, str] = {}
     for name, motion in case.motions.items():
         joint = mechanism.joints.get(motion.joint)
         if joint is not None and joint.type in ("revolute", "prismatic"):
