@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from loadcases.checks.common import GROUND, Names, check_expressions, unknown
+from loadcases.checks.common import GROUND, Expected, Names, check_expressions, unknown
 from loadcases.checks.mechanism import mechanism_names
 from loadcases.checks.paths import check_name
 from loadcases.expressions.dimensions import DimensionScope
@@ -239,9 +239,11 @@ def check_case(
     ]
     if case.abscissa is not None:
         expressions.append((("abscissa",), case.abscissa))
-    expected: dict[KeyPath, str] = {}
+    expected: dict[KeyPath, Expected] = {}
     for name, motion in case.motions.items():
         joint = mechanism.joints.get(motion.joint)
         if joint is not None and joint.type in ("revolute", "prismatic"):
-            expected[("motions", name, "value")] = COORDINATE_DIMENSION[joint.type]
+            # a warning: a motion written in plain SI numbers (`value: t`) is common and
+            # runs as written
+            expected[("motions", name, "value")] = (COORDINATE_DIMENSION[joint.type], "warning")
     return found + check_expressions(at, expressions, names, parameters, scope, expected)

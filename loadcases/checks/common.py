@@ -28,6 +28,7 @@ from loadcases.yamlfiles.source import KeyPath, Locator
 
 __all__ = [
     "GROUND",
+    "Expected",
     "Names",
     "check_expression",
     "check_expressions",
@@ -133,25 +134,39 @@ def _written(values: Any) -> Dims | None:
 _VECTOR_UNIT = re.compile(r"^\s*\[[^\]]*\]\s*(?P<unit>.*?)\s*$")
 
 
+Expected = tuple[str, Severity]  # the dimension of a result (a name of DIMENSIONS), and
+# how a result of another known dimension is reported
+
+
 def _dimension_problems(
-    locator: Locator, path: KeyPath, expression: Any, scope: DimensionScope, expected: str | None
+    locator: Locator,
+    path: KeyPath,
+    expression: Any,
+    scope: DimensionScope,
+    expected: Expected | None,
 ) -> list[Diagnostic]:
-    """The dimension error of one expression (two known dimensions that disagree, or a
-    result of another dimension than `expected`, a name of DIMENSIONS), if any."""
+    """The dimension error of one expression (two known dimensions that disagree), or the
+    problem of a result of another dimension than `expected`, if any."""
     try:
         dims = infer_dimension(expression.tree, scope)
     except ExpressionError as error:
         return [locator.diagnostic(path, error.message, offset=error.offset)]
     if expected is None or dims is None:
         return []
-    want = tuple(sorted((k, float(v)) for k, v in DIMENSIONS[expected].items()))
+    dimension, severity = expected
+    want = tuple(sorted((k, float(v)) for k, v in DIMENSIONS[dimension].items()))
     if same_dimension(dims, want):
         return []
     return [
         locator.diagnostic(
             path,
-            f"expected {describe_dimension(DIMENSIONS[expected])}, got "
+            f"expected {describe_dimension(DIMENSIONS[dimension])}, got "
             f"{describe_dimension(dict(dims))}",
+            severity=severity,
+            hint=None
+            if severity == "error"
+            else f"it is taken as {describe_dimension(DIMENSIONS[dimension])} in SI; write "
+            "the units that make it one (`crank_speed * t` with crank_speed in deg/s)",
         )
     ]
 
@@ -163,11 +178,11 @@ def check_expression(
     names: Names,
     parameters: Collection[str],
     scope: DimensionScope | None = None,
-    expected: str | None = None,
+    expected: Expected | None = None,
 ) -> list[Diagnostic]:
     """Syntax errors and unknown identifiers, joints, points and tables of one expression;
-    then, given a `scope`, its dimensions (`expected`: the result's, a name of
-    DIMENSIONS)."""
+    then, given a `scope`, its dimensions (`expected`: the result's, and the severity of
+    another)."""
     try:
         expression = parse(text)
     except ExpressionError as error:
@@ -223,7 +238,7 @@ def check_expressions(
     names: Names,
     parameters: Collection[str],
     scope: DimensionScope | None = None,
-    expected: Mapping[KeyPath, str] | None = None,
+    expected: Mapping[KeyPath, Expected] | None = None,
 ) -> list[Diagnostic]:
     """check_expression over (path, text) pairs; `expected` the result dimension by path."""
     return [

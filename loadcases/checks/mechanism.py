@@ -6,7 +6,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from loadcases.checks.common import GROUND, Names, check_expressions, unknown
+from loadcases.checks.common import GROUND, Expected, Names, check_expressions, unknown
 from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import Body, FlexibleBody, MechanismModel
@@ -310,15 +310,15 @@ def check_mechanism(
     expressions: list[tuple[KeyPath, str]] = [
         (("events", n, "when"), e.when) for n, e in model.events.items()
     ]
-    expected: dict[KeyPath, str] = {}
+    expected: dict[KeyPath, Expected] = {}
     for name, force in model.forces.items():
         for i, v in enumerate(getattr(force, "value", ())):
             expressions.append((("forces", name, "value", i), v))
             if force.type in ("force", "torque"):
-                expected[("forces", name, "value", i)] = force.type
+                expected[("forces", name, "value", i)] = (force.type, "error")
         command = getattr(force, "command", None)  # a servo actuator's stroke demand
         if command is not None:
             expressions.append((("forces", name, "command"), command))
-            expected[("forces", name, "command")] = "length"
+            expected[("forces", name, "command")] = ("length", "error")
     known = {*model.parameters, *parameters}
     return found + check_expressions(at, expressions, names, known, scope, expected)

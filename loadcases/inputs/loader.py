@@ -39,6 +39,7 @@ from loadcases.inputs.parameter_refs import (
     parameter_values,
     put_parameters,
 )
+from loadcases.inputs.partial import beside_removed, validated_in_part
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import (
     did_you_mean,
@@ -157,10 +158,51 @@ def _validate(
         valid = model.model_validate(locator.data, context={"units": units})
         return valid, plain_boolean_diagnostics(valid, locator)
     except ValidationError as error:
-        found = validation_diagnostics(error, model, locator)
-        # A bad `units:` header is reported once by _file_units.
-        units_key = ".".join(str(p) for p in (*locator.prefix, "units"))
-        return None, [d for d in found if not d.key.startswith(units_key)]
+        return None, _schema_diagnostics(error, model, locator)
+
+
+def _schema_diagnostics(
+    error: ValidationError, model: type[BaseModel], locator: Locator
+) -> list[Diagnostic]:
+    found = validation_diagnostics(error, model, locator)
+    # A bad `units:` header is reported once by _file_units.
+    units_key = ".".join(str(p) for p in (*locator.prefix, "units"))
+    return [d for d in found if not d.key.startswith(units_key)]
+
+
+def _validate_partly(
+    model: type[BaseModel], locator: Locator, units: dict[str, str]
+) -> tuple[Any, list[Diagnostic], Any, frozenset[str]]:
+    """`_validate`, and when the file is invalid, its model without the invalid items and
+    their names (loadcases.inputs.partial), for the checks of `validate`."""
+    try:
+        valid = model.model_validate(locator.data, context={"units": units})
+        return valid, plain_boolean_diagnostics(valid, locator), None, frozenset()
+    except ValidationError as error:
+        in_part, removed = validated_in_part(model, locator.data, units, error)
+        return None, _schema_diagnostics(error, model, locator), in_part, removed
+
+
+def _checked(
+    case: Any,
+    mechanism: Any,
+    locators: tuple[Locator, Locator | None],
+    case_units: dict[str, str],
+    scope: Any,
+) -> tuple[Any, list[Diagnostic]]:
+    """The case with its initial values resolved, and the semantic problems of a case and
+    its mechanism (each None when it could not be validated even in part)."""
+    case_locator, mech_locator = locators
+    found: list[Diagnostic] = []
+    if mechanism is not None and mech_locator is not None:
+        motions, parameters = _raw_keys(case_locator.data, "motions", "parameters")
+        found += check_mechanism(mechanism, mech_locator, motions, parameters, scope)
+    if case is not None and mechanism is not None:
+        case, more = resolve_initial(case, mechanism, case_locator, case_units)
+        found += more + check_case(case, mechanism, case_locator, scope)
+    elif case is not None:
+        found += check_case_alone(case, case_locator)
+    return case, found
 
 
 def _sha256(*contents: bytes) -> str:
@@ -225,13 +267,14 @@ def load_mechanism(path: str | Path) -> MechanismFile:
     if isinstance(locator.data, dict):
         values = parameter_values(locator.data.get("parameters"), file_units=units)
         put_parameters(locator.data, values, unresolved=unresolved)
-    model, more = _validate(MechanismModel, locator, units)
+    model, more, in_part, removed = _validate_partly(MechanismModel, locator, units)
     diagnostics += found + _name_unknown_parameters(
         more, {"mechanism": unresolved}, {"mechanism": locator}
     )
-    if model is not None:
+    if model is not None or in_part is not None:
         scope = expression_scope({n: v.dims for n, v in values.items()}, model_tables(locator))
-        diagnostics += check_mechanism(model, locator, scope=scope)
+        checks = check_mechanism(model or in_part, locator, scope=scope)
+        diagnostics += beside_removed(checks, removed)
     _raise_on_errors(diagnostics)
     return MechanismFile(
         str(path), model, _sha256(Path(path).read_bytes(), *tables), locator, tuple(diagnostics)
@@ -316,22 +359,27 @@ def load_case(
     scope = expression_scope(
         dimensions, model_tables(mech_locator) if mech_locator is not None else None
     )
-    case, found = _validate(CaseModel, case_locator, case_units)
-    mechanism = None
+    case, found, case_in_part, removed = _validate_partly(CaseModel, case_locator, case_units)
+    mechanism, mechanism_in_part = None, None
     if mech_locator is not None:
-        mechanism, more = _validate(MechanismModel, mech_locator, mech_units)
+        mechanism, more, mechanism_in_part, gone = _validate_partly(
+            MechanismModel, mech_locator, mech_units
+        )
         found += more
+        removed |= gone
     diagnostics += _name_unknown_parameters(
         found, unresolved, {"case": case_locator, "mechanism": mech_locator}
     )
-    if mechanism is not None and mech_locator is not None:
-        motions, parameters = _raw_keys(case_locator.data, "motions", "parameters")
-        diagnostics += check_mechanism(mechanism, mech_locator, motions, parameters, scope)
-    if case is not None and mechanism is not None:
-        case, found = resolve_initial(case, mechanism, case_locator, case_units)
-        diagnostics += found + check_case(case, mechanism, case_locator, scope)
-    elif case is not None:
-        diagnostics += check_case_alone(case, case_locator)
+    # the checks run on the valid part of each file too: every problem in one pass
+    checked, found = _checked(
+        case or case_in_part,
+        mechanism or mechanism_in_part,
+        (case_locator, mech_locator),
+        case_units,
+        scope,
+    )
+    diagnostics += beside_removed(found, removed)
+    case = checked if case is not None else None
     _raise_on_errors(diagnostics)
     if case is None or mechanism is None or mech_locator is None:
         raise InputError(diagnostics)  # not reached: each of them missing is an error above

@@ -227,8 +227,31 @@ def test_expressions_with_known_dimensions_that_disagree_are_errors_at_the_key(t
     assert _errors(path) == [
         "15:49: mechanism.forces.wind.value[1]: table 'gust' has x in a time, read at an angle",
         "16:52: mechanism.forces.lever.value[2]: expected a torque, got units of kg*m^3/(s^2*rad)",
-        "18:24: motions.lift.value: expected an angle, got units of m*s",
         "22:35: requests.sum.expression: cannot add an angle and a length",
         "23:23: requests.trig.expression: the argument of 'sin' must be a plain number or an "
         "angle, not a time",
     ]
+
+
+def test_a_motion_of_another_known_dimension_warns_and_one_with_units_does_not(tmp_path):
+    path = tmp_path / "motion.case.yaml"
+    text = (
+        EXPRESSIONS.split("requests:")[0]
+        .replace('"table(gust, angle(hinge))"', '"table(gust, t)"')
+        .replace('"-k_t * span"', '"-k_t * angle(hinge)"')
+    )
+    path.write_text(text + "requests:\n  a: {joint: hinge, quantity: angle}\n", encoding="utf-8")
+    warnings = [
+        (d.line, d.column, d.key, d.message)
+        for d in load_case(path).warnings
+        if "expected" in d.message
+    ]
+    assert warnings == [(18, 24, "motions.lift.value", "expected an angle, got units of m*s")]
+    path.write_text(
+        text.replace('"span * t"', '"rate * t"').replace(
+            "span: 2 m", "span: 2 m\n    rate: 2 deg/s"
+        )
+        + "requests:\n  a: {joint: hinge, quantity: angle}\n",
+        encoding="utf-8",
+    )
+    assert not [d for d in load_case(path).warnings if "expected" in d.message]
