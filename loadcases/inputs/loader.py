@@ -110,6 +110,8 @@ class CaseFile:
     # "mechanism" whether the mechanism is inline or in its own file
     parameter_refs: frozenset[ParameterRef] = frozenset()
     what_if: tuple[Override, ...] = ()  # `--set` overrides, in the order given
+    # each parameter's base dimensionality ({"[length]": 1}); None when written without a unit
+    parameter_dims: Mapping[str, Mapping[str, float] | None] = field(default_factory=dict)
 
     def where(self, kind: str, key_path: str | KeyPath) -> tuple[str, int, int]:
         """(file, line, col) of a key of the `"case"` or the `"mechanism"` (for messages)."""
@@ -399,6 +401,7 @@ def load_case(
         warnings=tuple(diagnostics),
         parameter_refs=frozenset(refs),
         what_if=tuple(what_if),
+        parameter_dims=dict(dimensions),
     )
 
 

@@ -255,3 +255,34 @@ def test_a_motion_of_another_known_dimension_warns_and_one_with_units_does_not(t
         encoding="utf-8",
     )
     assert not [d for d in load_case(path).warnings if "expected" in d.message]
+
+
+def test_a_swept_value_of_another_dimension_is_an_error_at_its_item(tmp_path):
+    from loadcases.inputs.loader import validate_files
+
+    case = tmp_path / "dims.case.yaml"
+    case.write_text(CASE.format(**GOOD), encoding="utf-8")
+    good_set = tmp_path / "good.set.yaml"
+    good_set.write_text(
+        "set: s\ncases: [dims.case.yaml]\nsweep: {airspeed: [100 knot, 50 m/s]}\n",
+        encoding="utf-8",
+    )
+    assert not [d for d in validate_files([good_set]) if d.severity == "error"]
+    bad_set = tmp_path / "bad.set.yaml"
+    bad_set.write_text(
+        "set: s\ncases: [dims.case.yaml]\nsweep: {airspeed: [100 knot, 250 kg]}\n",
+        encoding="utf-8",
+    )
+    errors = [
+        (d.line, d.column, d.key, d.message)
+        for d in validate_files([bad_set])
+        if d.severity == "error"
+    ]
+    assert errors == [
+        (
+            3,
+            30,
+            "sweep.airspeed[1]",
+            "expected a velocity (parameter 'airspeed' of case 'dims'), got '250 kg' (a mass)",
+        )
+    ]
