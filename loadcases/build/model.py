@@ -122,7 +122,7 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     b = Builder(cf.mechanism, cf.parameters, cf.where, cf.case)
     mechanism = _mechanism(b)
     analysis = build_analysis(b)
-    requests, units = build_requests(b)
+    requests, units = build_requests(b, cf.expression_units)
     if abscissa:
         abscissa_request(b, requests, units)
     initial = initial_values(b)

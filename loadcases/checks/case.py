@@ -221,7 +221,7 @@ def check_case(
     """All semantic problems of a case against its (valid) mechanism; `scope` the dimensions
     of names (expressions are dimension-checked when given)."""
     from loadcases.checks.planar import check_plane_initial
-    from loadcases.checks.requests import check_requests
+    from loadcases.checks.requests import check_requests, unit_problems
 
     names = mechanism_names(mechanism)
     parameters = {*mechanism.parameters, *case.parameters}
@@ -246,4 +246,5 @@ def check_case(
             # a warning: a motion written in plain SI numbers (`value: t`) is common and
             # runs as written
             expected[("motions", name, "value")] = (COORDINATE_DIMENSION[joint.type], "warning")
-    return found + check_expressions(at, expressions, names, parameters, scope, expected)
+    found += check_expressions(at, expressions, names, parameters, scope, expected)
+    return found + (unit_problems(case, at, scope) if scope is not None else [])

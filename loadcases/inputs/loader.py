@@ -28,6 +28,7 @@ from loadcases.checks import (
     resolve_initial,
 )
 from loadcases.checks.common import expression_scope
+from loadcases.checks.requests import expression_units
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.foundation.limits import local_path_problem, pattern_problem
 from loadcases.inputs.hardpoints import expand_hardpoints
@@ -112,6 +113,8 @@ class CaseFile:
     what_if: tuple[Override, ...] = ()  # `--set` overrides, in the order given
     # each parameter's base dimensionality ({"[length]": 1}); None when written without a unit
     parameter_dims: Mapping[str, Mapping[str, float] | None] = field(default_factory=dict)
+    # the SI unit of each expression request's column ("" when not known)
+    expression_units: Mapping[str, str] = field(default_factory=dict)
 
     def where(self, kind: str, key_path: str | KeyPath) -> tuple[str, int, int]:
         """(file, line, col) of a key of the `"case"` or the `"mechanism"` (for messages)."""
@@ -402,6 +405,7 @@ def load_case(
         parameter_refs=frozenset(refs),
         what_if=tuple(what_if),
         parameter_dims=dict(dimensions),
+        expression_units=expression_units(case, scope),
     )
 
 
@@ -422,10 +426,11 @@ def _put_parameters(
     values = parameter_values(
         mech_data.get("parameters") if isinstance(mech_data, dict) else None, file_units=mech_units
     )
-    values.update(
-        parameter_values(
-            case_locator.data.get("parameters"), file_units=case_units, overrides=overrides
-        )
+    values = parameter_values(
+        case_locator.data.get("parameters"),
+        file_units=case_units,
+        overrides=overrides,
+        earlier=values,
     )
     dimensions.update({name: value.dims for name, value in values.items()})
     used = put_parameters(case_locator.data, values, unresolved=unresolved["case"])

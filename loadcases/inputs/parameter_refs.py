@@ -82,11 +82,13 @@ def parameter_values(
     *sections: Any,
     file_units: Mapping[str, str] | None = None,
     overrides: Mapping[str, float] | None = None,
+    earlier: Mapping[str, SIValue] | None = None,
 ) -> dict[str, SIValue]:
-    """SI values of the raw `parameters:` mappings given (later ones override), then of
-    `overrides`, each with its dimension when written with a unit (an override without
-    one keeps its definition's); values that cannot be read are left to the validation."""
-    values: dict[str, SIValue] = {}
+    """SI values of `earlier` (another file's), then of the raw `parameters:` mappings given
+    (later ones override), then of `overrides`, each with its dimension when written with a
+    unit (a bare number keeps the dimension of the value it overrides); values that cannot
+    be read are left to the validation."""
+    values: dict[str, SIValue] = dict(earlier or {})
     for section in sections:
         for name, raw in (section or {}).items() if isinstance(section, dict) else ():
             try:
@@ -94,7 +96,10 @@ def parameter_values(
                 dims = quantity_dimension(raw) if isinstance(raw, str) else None
             except (UnitError, KeyError):
                 continue
-            values[str(name)] = SIValue(si, _dict(dims), _described(str(name), raw))
+            given = _dict(dims)
+            if given is None and str(name) in values:
+                given = values[str(name)].dims
+            values[str(name)] = SIValue(si, given, _described(str(name), raw))
     for name, value in (overrides or {}).items():
         given: Mapping[str, float] | None = getattr(value, "dims", None)
         if given is None and name in values:

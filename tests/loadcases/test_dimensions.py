@@ -286,3 +286,52 @@ def test_a_swept_value_of_another_dimension_is_an_error_at_its_item(tmp_path):
             "expected a velocity (parameter 'airspeed' of case 'dims'), got '250 kg' (a mass)",
         )
     ]
+
+
+UNITS = """\
+case: units
+mechanism:
+  parameters:
+    k_t: 50 N*m/rad
+    lever: 0.2 m
+  bodies:
+    arm: {mass: 2.0, cm: [0.5, 0, 0], inertia: [0.001, 0.17, 0.17]}
+  points:
+    tip: {body: arm, at: [1.0, 0, 0]}
+  joints:
+    hinge: {type: revolute, bodies: [arm, ground], at: [0, 0, 0], axis: [0, 0, 1]}
+motions:
+  lift: {joint: hinge, value: "step(t, 0, 0, 1, 80*deg)"}
+analysis: {type: kinematic, end: 1, step: 0.1}
+requests:
+  spring_torque: {expression: "k_t * angle(hinge)"}
+  handle: {expression: "effort(lift) / lever", unit: HANDLE}
+  height: {expression: "y(tip)"}
+  in_degrees: {expression: "angle(hinge) / deg"}
+  scaled: {expression: "2 * angle(hinge)"}
+"""
+
+
+def test_expression_columns_get_the_unit_given_or_inferred(tmp_path):
+    from loadcases.build.model import build_run
+
+    path = tmp_path / "units.case.yaml"
+    path.write_text(UNITS.replace("HANDLE", "kN"), encoding="utf-8")
+    units = build_run(load_case(path)).column_units
+    assert {k: v for k, v in units.items() if k.endswith(".value")} == {
+        "spring_torque.value": "N*m",  # N*m/rad * rad
+        "handle.value": "N",  # the dimension `kN` names, in SI (the column stays SI)
+        "height.value": "m",
+        "in_degrees.value": "1",  # a plain number
+        "scaled.value": "",  # a number may carry a unit: not known
+    }
+
+
+def test_a_unit_of_another_dimension_than_the_expression_is_an_error(tmp_path):
+    path = tmp_path / "units.case.yaml"
+    path.write_text(UNITS.replace("HANDLE", "kN").replace("effort(lift) / lever", "x(tip)"))
+    assert _errors(path) == [
+        "17:34: requests.handle.unit: the expression gives a length; unit 'kN' is a force"
+    ]
+    path.write_text(UNITS.replace("HANDLE", "kNx"), encoding="utf-8")
+    assert _errors(path) == ["17:48: requests.handle.unit: unknown unit 'kNx'"]
