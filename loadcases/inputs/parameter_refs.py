@@ -96,17 +96,24 @@ def parameter_values(
                 dims = quantity_dimension(raw) if isinstance(raw, str) else None
             except (UnitError, KeyError):
                 continue
-            given = _dict(dims)
-            if given is None and str(name) in values:
-                given = values[str(name)].dims
-            values[str(name)] = SIValue(si, given, _described(str(name), raw))
+            written = _dict(dims)
+            values[str(name)] = SIValue(
+                si, _or_earlier(written, values, str(name)), _described(str(name), raw)
+            )
     for name, value in (overrides or {}).items():
-        given: Mapping[str, float] | None = getattr(value, "dims", None)
-        if given is None and name in values:
-            given = values[name].dims
         shown = getattr(value, "source", "") or _described(name, float(value))
+        given = _or_earlier(getattr(value, "dims", None), values, name)
         values[name] = SIValue(float(value), given, shown)
     return values
+
+
+def _or_earlier(
+    dims: Mapping[str, float] | None, values: Mapping[str, SIValue], name: str
+) -> Mapping[str, float] | None:
+    """`dims`, or when not known (a bare number) those of the value `name` overrides."""
+    if dims is None and name in values:
+        return values[name].dims
+    return dims
 
 
 def _dict(dims: Any) -> dict[str, float] | None:
