@@ -302,11 +302,12 @@ def check_mechanism(
     dimension-checked when given)."""
     from loadcases.checks.elements import check_elements
     from loadcases.checks.planar import check_plane
+    from loadcases.checks.plausible import density_warnings
 
     names = mechanism_names(model)
     found = _unique(model, at) + _references(model, at, names) + _events(model, at, names, motions)
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
-    found += check_plane(model, at)
+    found += check_plane(model, at) + density_warnings(model, at)
     expressions: list[tuple[KeyPath, str]] = [
         (("events", n, "when"), e.when) for n, e in model.events.items()
     ]

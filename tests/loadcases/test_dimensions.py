@@ -335,3 +335,40 @@ def test_a_unit_of_another_dimension_than_the_expression_is_an_error(tmp_path):
     ]
     path.write_text(UNITS.replace("HANDLE", "kNx"), encoding="utf-8")
     assert _errors(path) == ["17:48: requests.handle.unit: unknown unit 'kNx'"]
+
+
+PENDULUM = (
+    Path(__file__).parents[2]
+    / "loadcases"
+    / "library"
+    / "examples"
+    / "flexible"
+    / "flexible_pendulum.case.yaml"
+)
+
+
+def _density_warnings(tmp_path: Path, density: str) -> list[tuple]:
+    path = tmp_path / "pendulum.case.yaml"
+    text = PENDULUM.read_text(encoding="utf-8")
+    assert "rho: 2700 kg/m^3" in text
+    path.write_text(text.replace("rho: 2700 kg/m^3", f"rho: {density}"), encoding="utf-8")
+    return [
+        (d.line, d.column, d.key, d.message, d.hint)
+        for d in load_case(path).warnings
+        if "density" in d.message
+    ]
+
+
+def test_an_implausible_density_warns_with_the_unit_slip_and_a_steel_one_does_not(tmp_path):
+    assert _density_warnings(tmp_path, "2700 kg/m^3") == []
+    assert _density_warnings(tmp_path, "7.85e-9 t/mm^3") == []  # N-mm-t units: 7850 kg/m^3
+    assert _density_warnings(tmp_path, "7850 kg/mm^3") == [
+        (
+            19,
+            43,
+            "mechanism.bodies.strip.flexible.beam.material.rho",
+            "implausible density 7.85e+12 kg/m^3 (solids and liquids: 10 to 30,000 kg/m^3)",
+            "written in kg/mm^3 where kg/m^3 was meant? 7850 kg/m^3 is 7.85e+12 kg/m^3 read "
+            "as kg/mm^3 (steel: 7850 kg/m^3 = 7.85e-9 t/mm^3)",
+        )
+    ]
