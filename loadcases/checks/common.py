@@ -17,6 +17,7 @@ from loadcases.foundation.diagnostics import Diagnostic, Severity
 from loadcases.foundation.units import (
     DIMENSIONS,
     RESERVED_NAMES,
+    SIValue,
     UnitError,
     describe_dimension,
     quantity_dimension,
@@ -33,6 +34,7 @@ __all__ = [
     "check_expression",
     "check_expressions",
     "expression_scope",
+    "table_dimension_problems",
     "unknown",
 ]
 
@@ -102,7 +104,7 @@ def expression_scope(
     def name(word: str) -> Dims | None:
         if word in parameters:
             dims = parameters[word]
-            return None if dims is None else tuple(sorted((k, float(v)) for k, v in dims.items()))
+            return None if dims is None else _sorted(dims)
         return unit_dimension(word)
 
     tables = {}
@@ -113,22 +115,57 @@ def expression_scope(
 
 
 def _written(values: Any) -> Dims | None:
-    """The dimension a table's data is written in, None if bare or unreadable."""
+    """The dimension a table's data is written in (its first item of known dimension), None
+    if bare or unreadable."""
+    return next((dims for _, dims in _item_dimensions(values)), None)
+
+
+def _item_dimensions(values: Any) -> list[tuple[int, Dims]]:
+    """(index, dimension) of each item of a table's `x` or `y` whose dimension is known: a
+    text with a unit, a parameter written with one, or every item of `"[...] unit"`."""
     if isinstance(values, str):
         match = _VECTOR_UNIT.match(values)
-        texts = [f"1 {match['unit']}"] if match and match["unit"] else []
-    elif isinstance(values, list):
-        texts = [v for v in values if isinstance(v, str)]
-    else:
-        texts = []
-    for text in texts:
-        try:
-            dims = quantity_dimension(text)
-        except UnitError:
-            return None
+        dims = _text_dimension(f"1 {match['unit']}") if match and match["unit"] else None
+        return [] if dims is None else [(0, dims)]
+    found = []
+    for index, value in enumerate(values if isinstance(values, list) else []):
+        if isinstance(value, SIValue):
+            dims = None if value.dims is None else _sorted(value.dims)
+        else:
+            dims = _text_dimension(value) if isinstance(value, str) else None
         if dims is not None:
-            return dims
-    return None
+            found.append((index, dims))
+    return found
+
+
+def _text_dimension(text: str) -> Dims | None:
+    try:
+        return quantity_dimension(text)
+    except UnitError:
+        return None
+
+
+def _sorted(dims: Mapping[str, float]) -> Dims:
+    return tuple(sorted((k, float(v)) for k, v in dims.items() if v))
+
+
+def table_dimension_problems(locator: Locator, raw_tables: Any) -> list[Diagnostic]:
+    """An item of a table's `x` or `y` of another dimension than the first item of known
+    dimension (`x: ["0 deg", "1 m"]`), at the item."""
+    found = []
+    for table, raw in (raw_tables or {}).items() if isinstance(raw_tables, dict) else ():
+        for axis in ("x", "y"):
+            items = _item_dimensions(raw.get(axis)) if isinstance(raw, dict) else []
+            for index, dims in items[1:]:
+                if not same_dimension(dims, items[0][1]):
+                    found.append(
+                        locator.diagnostic(
+                            ("tables", table, axis, index),
+                            f"expected {describe_dimension(dict(items[0][1]))} like item "
+                            f"{items[0][0] + 1}, got {describe_dimension(dict(dims))}",
+                        )
+                    )
+    return found
 
 
 _VECTOR_UNIT = re.compile(r"^\s*\[[^\]]*\]\s*(?P<unit>.*?)\s*$")

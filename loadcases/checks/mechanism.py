@@ -6,7 +6,14 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from loadcases.checks.common import GROUND, Expected, Names, check_expressions, unknown
+from loadcases.checks.common import (
+    GROUND,
+    Expected,
+    Names,
+    check_expressions,
+    table_dimension_problems,
+    unknown,
+)
 from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import Body, FlexibleBody, MechanismModel
@@ -308,6 +315,9 @@ def check_mechanism(
     found = _unique(model, at) + _references(model, at, names) + _events(model, at, names, motions)
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
     found += check_plane(model, at) + density_warnings(model, at)
+    found += table_dimension_problems(
+        at, at.data.get("tables") if isinstance(at.data, dict) else None
+    )
     expressions: list[tuple[KeyPath, str]] = [
         (("events", n, "when"), e.when) for n, e in model.events.items()
     ]

@@ -11,7 +11,7 @@ Angles: radian is a base dimension (`[angle]`) so that `angle(hinge)` reads in r
 `omega(hinge)` in rad/s, but, as in SI, an angle may meet a plain number: the agreement of
 two dimensions ignores the power of `[angle]` (`sin(omega * t)`, `k_t * angle(j)`).
 
-Numbers: in the expressions of motions, forces, events and requests a number is SI of
+Numbers (`pi` too): in the expressions of motions, forces, events and requests a number is SI of
 whatever the expression needs (`55*deg * t`: 55 is a rate; `100 * cos(angle(j))` in a force:
 100 is in N), so a product with a number has no known dimension. In a numeric field given as
 an expression of parameters (`inertia: ["0.5*m*r^2", ...]`), `coefficients=True`: a number
@@ -107,15 +107,14 @@ class _Inference:
         self.scope = scope
 
     def term(self, node: Node) -> _Term:
-        if isinstance(node, Num):
+        if isinstance(node, Num) or (isinstance(node, Name) and node.id == "pi"):
+            # a number (pi too) may carry a unit: `sin(pi * t)`, pi in rad/s
             return _Term(() if self.scope.coefficients else None, number=True)
         if isinstance(node, Time):
             return _Term(_TIME)
         if isinstance(node, Name):
             if node.id == "t":
                 return _Term(_TIME)
-            if node.id == "pi":
-                return _Term((), number=True)
             return _Term(self.scope.names(node.id))
         if isinstance(node, Measure):
             return _Term(_MEASURES.get(node.kind))

@@ -12,13 +12,13 @@ dimension is inferred with its numbers as plain coefficients
 
 from __future__ import annotations
 
-import re
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
+from loadcases.checks.common import expression_scope
 from loadcases.expressions import ExpressionError, parse
-from loadcases.expressions.dimensions import DimensionScope, infer_dimension
+from loadcases.expressions.dimensions import infer_dimension
 from loadcases.foundation.units import (
     RESERVED_NAMES,
     SIValue,
@@ -26,7 +26,6 @@ from loadcases.foundation.units import (
     quantity_dimension,
     to_si,
     unit_constant,
-    unit_dimension,
 )
 from loadcases.schema.errors import did_you_mean
 
@@ -136,7 +135,6 @@ class Unresolved:
 
 
 Located = tuple[str | int, ...]  # a key path with list indices, as diagnostics name it
-_PLAIN = re.compile(r"^ *[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)? *$")
 # Keys whose texts are expressions of time and state: a parameter name is put in place,
 # a longer expression is compiled with the run.
 _STATE_EXPRESSION_KEYS = frozenset({"value", "command"})
@@ -192,11 +190,9 @@ def _constant_expression(
 ) -> Any:
     """The SIValue of `text` if it is a constant expression of parameters (`"E*A/L"`), else
     `text` (noted in `missing` when it names no known parameter)."""
-    if _PLAIN.match(text) or not text.strip():
-        return text
     try:
         to_si(text, "any")
-        return text  # a quantity text: the field converts it
+        return text  # a number or a quantity text: the field converts it
     except UnitError:
         pass
     try:
@@ -228,15 +224,11 @@ def _evaluated(
 ) -> Any:
     """The SIValue of the constant expression `expression` with its inferred dimension."""
 
-    def dimension(name: str) -> Any:
-        if name in values:
-            dims = getattr(values[name], "dims", None)
-            return None if dims is None else tuple(sorted(dims.items()))
-        return unit_dimension(name)
-
+    dimensions = {name: getattr(value, "dims", None) for name, value in values.items()}
+    scope = replace(expression_scope(dimensions, None), coefficients=True)
     try:
         compiled = expression.compile(values)
-        dims = infer_dimension(expression.tree, DimensionScope(dimension, {}, coefficients=True))
+        dims = infer_dimension(expression.tree, scope)
     except ExpressionError as error:
         missing[located] = Unresolved(f"invalid expression '{text}': {error.message}")
         return text

@@ -160,6 +160,7 @@ def _infer(text: str, coefficients: bool = False):
         ("omega(j)", (("[angle]", 1.0), ("[time]", -1.0))),
         ("atan2(y(a), x(a))", (("[angle]", 1.0),)),
         ("sin(2*pi*t) + cos(angle(j))", ()),
+        ("sin(pi * t)", ()),  # pi, as any number, may carry a unit (here 1/s)
         ("x(a) + 0.1", (("[length]", 1.0),)),
         ("55*deg * t", None),
     ],
@@ -372,3 +373,20 @@ def test_an_implausible_density_warns_with_the_unit_slip_and_a_steel_one_does_no
             "as kg/mm^3 (steel: 7850 kg/m^3 = 7.85e-9 t/mm^3)",
         )
     ]
+
+
+def test_table_items_of_different_dimensions_are_an_error_at_the_item(tmp_path):
+    path = tmp_path / "expr.case.yaml"
+    fine = EXPRESSIONS.replace('"table(gust, angle(hinge))"', '"table(gust, t)"').replace(
+        '"-k_t * span"', '"0"'
+    )
+    mixed = fine.replace('x: "[0, 1, 2] s"', 'x: ["0 s", span, "3 s"]')
+    path.write_text(mixed.split("requests:")[0] + "requests: {}\n", encoding="utf-8")
+    assert _errors(path) == [
+        "13:23: mechanism.tables.gust.x[1]: expected a time like item 1, got a length"
+    ]
+    path.write_text(
+        mixed.replace("span: 2 m", "span: 2 s").split("requests:")[0] + "requests: {}\n",
+        encoding="utf-8",
+    )
+    assert load_case(path).mechanism.tables["gust"].x == (0.0, 2.0, 3.0)
