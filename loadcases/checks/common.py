@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import re
 from collections.abc import Collection, Iterable, Mapping
+from dataclasses import replace
 from typing import Any
 
 from loadcases.expressions import ExpressionError, parse
@@ -12,6 +13,7 @@ from loadcases.expressions.dimensions import (
     Dims,
     infer_dimension,
     same_dimension,
+    without_angle,
 )
 from loadcases.foundation.diagnostics import Diagnostic, Severity
 from loadcases.foundation.units import (
@@ -111,7 +113,7 @@ def expression_scope(
     for table, raw in (raw_tables or {}).items() if isinstance(raw_tables, dict) else ():
         if isinstance(raw, dict):
             tables[str(table)] = (_written(raw.get("x")), _written(raw.get("y")))
-    return DimensionScope(name, tables)
+    return DimensionScope(name, tables, parameters=frozenset(parameters))
 
 
 def _written(values: Any) -> Dims | None:
@@ -188,12 +190,14 @@ def _dimension_problems(
         dims = infer_dimension(expression.tree, scope)
     except ExpressionError as error:
         return [locator.diagnostic(path, error.message, offset=error.offset)]
-    if expected is None or dims is None:
+    if expected is None:
         return []
     dimension, severity = expected
     want = tuple(sorted((k, float(v)) for k, v in DIMENSIONS[dimension].items()))
-    if same_dimension(dims, want):
-        return []
+    if dims is None:
+        return _plain_number_warning(locator, path, expression, scope, dimension)
+    if same_dimension(dims, want) or not without_angle(dims):
+        return []  # a plain number (`exp(100*t)`, `cos(angle(j))`) is SI of what is expected
     return [
         locator.diagnostic(
             path,
@@ -204,6 +208,33 @@ def _dimension_problems(
             if severity == "error"
             else f"it is taken as {describe_dimension(DIMENSIONS[dimension])} in SI; write "
             "the units that make it one (`crank_speed * t` with crank_speed in deg/s)",
+        )
+    ]
+
+
+def _plain_number_warning(
+    locator: Locator, path: KeyPath, expression: Any, scope: DimensionScope, dimension: str
+) -> list[Diagnostic]:
+    """A warning when an expression of parameters with units has no known dimension only
+    because its numbers may carry units, and read with plain numbers gives another one than
+    expected (`-0.5*rho*airspeed^2*cda` with `airspeed: 250 kg`)."""
+    if not any(scope.names(name) for name in expression.names() & scope.parameters):
+        return []
+    try:
+        plain = infer_dimension(expression.tree, replace(scope, coefficients=True))
+    except ExpressionError:
+        return []
+    want = DIMENSIONS[dimension]
+    if plain is None or same_dimension(plain, _sorted(want)) or not without_angle(plain):
+        return []
+    return [
+        locator.diagnostic(
+            path,
+            f"with its numbers as plain coefficients this gives "
+            f"{describe_dimension(dict(plain))}, where {describe_dimension(want)} is expected",
+            severity="warning",
+            hint="a parameter may have the wrong unit; or a number carries one (9.81 for "
+            "m/s^2): write it with its unit (9.81*m/s^2) to have the formula checked",
         )
     ]
 

@@ -79,11 +79,13 @@ def _scaled(a: Dims, factor: float) -> Dims:
 class DimensionScope:
     """What names mean: `names(name)` the dimension of a parameter, `pi` or unit name
     (None: not known); `tables[name]` the (x, y) dimensions of a table; `coefficients`:
-    numbers in products are plain (see the module's docstring)."""
+    numbers in products are plain (see the module's docstring); `parameters` which names
+    are parameters."""
 
     names: Callable[[str], Dims | None]
     tables: Mapping[str, tuple[Dims | None, Dims | None]]
     coefficients: bool = False
+    parameters: frozenset[str] = frozenset()  # the names that are parameters
 
 
 @dataclass(frozen=True)

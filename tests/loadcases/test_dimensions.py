@@ -390,3 +390,55 @@ def test_table_items_of_different_dimensions_are_an_error_at_the_item(tmp_path):
         encoding="utf-8",
     )
     assert load_case(path).mechanism.tables["gust"].x == (0.0, 2.0, 3.0)
+
+
+DRAG = """\
+case: drag
+mechanism:
+  parameters:
+    airspeed: AIRSPEED
+    rho: 1.225 kg/m^3
+    cda: 0.45 m^2
+    m_payload: 50 kg
+  bodies:
+    leg: {mass: 180, cm: [0, 0, -1.3], inertia: [60, 62, 4]}
+  points:
+    axle: {body: leg, at: [0, 0, -1.8]}
+  joints:
+    trunnion: {type: revolute, bodies: [leg, ground], at: [0, 0, 0], axis: [0, -1, 0]}
+  forces:
+    drag: {type: force, point: axle, value: ["-0.5*rho*airspeed^2*cda*cos(angle(trunnion))", 0, 0]}
+    payload: {type: force, point: axle, value: [0, 0, "-m_payload * 9.81*m/s^2"]}
+    spin: {type: torque, body: leg, value: [0, "exp(-t/2)", "cos(angle(trunnion))"]}
+motions:
+  retract: {joint: trunnion, value: "step(t, 0, 0, 1, 90*deg)"}
+analysis: {type: kinematic, end: 1, step: 0.1}
+requests:
+  a: {joint: trunnion, quantity: angle}
+"""
+
+
+def test_a_formula_with_a_wrong_parameter_unit_warns_read_with_plain_numbers(tmp_path):
+    """The gear of issue 36: `airspeed: 250 kg` in a drag formula whose number 0.5 could
+    carry a unit: a warning, as the formula read with plain numbers is not a force; silent
+    with the airspeed in knots. A plain number (`exp(-t/2)`) is SI of a torque: silent."""
+    path = tmp_path / "drag.case.yaml"
+
+    def warnings(airspeed: str) -> list[tuple]:
+        path.write_text(DRAG.replace("AIRSPEED", airspeed), encoding="utf-8")
+        return [
+            (d.line, d.column, d.key, d.message)
+            for d in load_case(path).warnings
+            if "plain coefficients" in d.message
+        ]
+
+    assert warnings("250 knot") == []
+    assert warnings("250 kg") == [
+        (
+            15,
+            46,
+            "mechanism.forces.drag.value[0]",
+            "with its numbers as plain coefficients this gives units of kg^3/m, where a force "
+            "is expected",
+        )
+    ]
