@@ -97,11 +97,14 @@ _SINGULAR = {"joints": "joint", "points": "point", "tables": "table"}
 
 
 def expression_scope(
-    parameters: Mapping[str, Mapping[str, float] | None], raw_tables: Any
+    parameters: Mapping[str, Mapping[str, float] | None],
+    raw_tables: Any,
+    raw_efforts: Mapping[str, str] | None = None,
 ) -> DimensionScope:
     """What the names of expressions mean for dimensions: each parameter's (None when written
     without a unit), then the unit names'; each table's x and y as written (`"[0, 30] deg"`,
-    or the first item with a unit; None for bare numbers)."""
+    or the first item with a unit; None for bare numbers); `raw_efforts` the joint type of
+    each motion (`effort(M)` is a torque on a revolute, a force on a prismatic)."""
 
     def name(word: str) -> Dims | None:
         if word in parameters:
@@ -113,7 +116,12 @@ def expression_scope(
     for table, raw in (raw_tables or {}).items() if isinstance(raw_tables, dict) else ():
         if isinstance(raw, dict):
             tables[str(table)] = (_written(raw.get("x")), _written(raw.get("y")))
-    return DimensionScope(name, tables, parameters=frozenset(parameters))
+    efforts = {
+        motion: _sorted(DIMENSIONS[_EFFORTS[kind]])
+        for motion, kind in (raw_efforts or {}).items()
+        if kind in _EFFORTS
+    }
+    return DimensionScope(name, tables, parameters=frozenset(parameters), efforts=efforts)
 
 
 def _written(values: Any) -> Dims | None:
@@ -170,6 +178,7 @@ def table_dimension_problems(locator: Locator, raw_tables: Any) -> list[Diagnost
     return found
 
 
+_EFFORTS = {"revolute": "torque", "prismatic": "force"}  # by the motion's joint type
 _VECTOR_UNIT = re.compile(r"^\s*\[[^\]]*\]\s*(?P<unit>.*?)\s*$")
 
 

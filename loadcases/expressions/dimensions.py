@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from ..foundation.units import describe_dimension
 from .errors import ExpressionError
@@ -43,7 +43,7 @@ _MEASURES: dict[str, Dims | None] = {
     "dist": ((_L, 1.0),),
     **dict.fromkeys(("x", "y", "z"), ((_L, 1.0),)),
     **{f"v{axis}": ((_L, 1.0), (_T, -1.0)) for axis in ("x", "y", "z")},
-    "effort": None,  # a torque or a force, by the motion's joint
+    "effort": None,  # a torque or a force, by the motion's joint (`DimensionScope.efforts`)
 }
 _PLAIN_ARGUMENT = frozenset({"sin", "cos", "tan", "exp", "log", "asin", "acos", "atan"})
 _ANGLE_RESULT = frozenset({"asin", "acos", "atan", "atan2"})
@@ -80,12 +80,14 @@ class DimensionScope:
     """What names mean: `names(name)` the dimension of a parameter, `pi` or unit name
     (None: not known); `tables[name]` the (x, y) dimensions of a table; `coefficients`:
     numbers in products are plain (see the module's docstring); `parameters` which names
-    are parameters."""
+    are parameters; `efforts` the dimension of `effort(M)` of each motion (a torque or a
+    force, by its joint)."""
 
     names: Callable[[str], Dims | None]
     tables: Mapping[str, tuple[Dims | None, Dims | None]]
     coefficients: bool = False
     parameters: frozenset[str] = frozenset()  # the names that are parameters
+    efforts: Mapping[str, Dims] = field(default_factory=dict)  # `effort(M)` by motion
 
 
 @dataclass(frozen=True)
@@ -119,6 +121,8 @@ class _Inference:
                 return _Term(_TIME)
             return _Term(self.scope.names(node.id))
         if isinstance(node, Measure):
+            if node.kind == "effort" and node.names:
+                return _Term(self.scope.efforts.get(node.names[0]))
             return _Term(_MEASURES.get(node.kind))
         if isinstance(node, Table):
             return self.table(node)

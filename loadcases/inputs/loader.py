@@ -286,6 +286,20 @@ def load_mechanism(path: str | Path) -> MechanismFile:
     )
 
 
+def _motion_joint_types(case: Locator, mechanism: Locator | None) -> dict[str, str]:
+    """The type of the joint each motion of the raw case drives (as written)."""
+    motions = case.data.get("motions") if isinstance(case.data, dict) else None
+    raw = mechanism.data if mechanism is not None and isinstance(mechanism.data, dict) else {}
+    joints = raw.get("joints")
+    joints = joints if isinstance(joints, dict) else {}
+    found = {}
+    for name, motion in motions.items() if isinstance(motions, dict) else ():
+        joint = joints.get(motion.get("joint")) if isinstance(motion, dict) else None
+        if isinstance(joint, dict) and isinstance(joint.get("type"), str):
+            found[str(name)] = joint["type"]
+    return found
+
+
 def model_tables(locator: Locator) -> Any:
     """The raw `tables:` of a file (as written: their units tell their dimensions)."""
     return locator.data.get("tables") if isinstance(locator.data, dict) else None
@@ -362,7 +376,9 @@ def load_case(
         case_locator, mech_locator, case_units, mech_units, overrides, unresolved, dimensions
     )
     scope = expression_scope(
-        dimensions, model_tables(mech_locator) if mech_locator is not None else None
+        dimensions,
+        model_tables(mech_locator) if mech_locator is not None else None,
+        _motion_joint_types(case_locator, mech_locator),
     )
     case, found, case_in_part, removed = _validate_partly(CaseModel, case_locator, case_units)
     mechanism, mechanism_in_part = None, None

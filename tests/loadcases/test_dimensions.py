@@ -307,6 +307,7 @@ analysis: {type: kinematic, end: 1, step: 0.1}
 requests:
   spring_torque: {expression: "k_t * angle(hinge)"}
   handle: {expression: "effort(lift) / lever", unit: HANDLE}
+  handle_inferred: {expression: "effort(lift) / lever"}
   height: {expression: "y(tip)"}
   in_degrees: {expression: "angle(hinge) / deg"}
   scaled: {expression: "2 * angle(hinge)"}
@@ -322,6 +323,7 @@ def test_expression_columns_get_the_unit_given_or_inferred(tmp_path):
     assert {k: v for k, v in units.items() if k.endswith(".value")} == {
         "spring_torque.value": "N*m",  # N*m/rad * rad
         "handle.value": "N",  # the dimension `kN` names, in SI (the column stays SI)
+        "handle_inferred.value": "N",  # effort of a revolute motion (N*m) over a length
         "height.value": "m",
         "in_degrees.value": "1",  # a plain number
         "scaled.value": "",  # a number may carry a unit: not known
