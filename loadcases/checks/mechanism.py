@@ -6,14 +6,8 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from loadcases.checks.common import (
-    GROUND,
-    Expected,
-    Names,
-    check_expressions,
-    table_dimension_problems,
-    unknown,
-)
+from loadcases.checks.common import GROUND, Expected, Names, check_expressions, unknown
+from loadcases.checks.dimensions import table_dimension_problems
 from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import Body, FlexibleBody, MechanismModel

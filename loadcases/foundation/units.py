@@ -55,6 +55,7 @@ __all__ = [
     "to_si",
     "unit_constant",
     "unit_dimension",
+    "vector_text_unit",
     "vector_to_si",
 ]
 
@@ -704,6 +705,13 @@ def vector_to_si(
         except UnitError as error:
             raise UnitError(f"item {index + 1}: {error}") from None
     return tuple(result)
+
+
+def vector_text_unit(text: str) -> str | None:
+    """The unit written after the brackets of a vector text (`"[0, 30] deg"` -> `deg`), or
+    None when there is none or `text` is not a vector text."""
+    match = _VECTOR.match(text)
+    return match["unit"] or None if match else None
 
 
 @lru_cache(maxsize=512)

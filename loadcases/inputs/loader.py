@@ -27,7 +27,7 @@ from loadcases.checks import (
     check_set_cases,
     resolve_initial,
 )
-from loadcases.checks.common import expression_scope
+from loadcases.checks.dimensions import expression_scope
 from loadcases.checks.requests import expression_units
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.foundation.limits import local_path_problem, pattern_problem

@@ -16,7 +16,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
-from loadcases.checks.common import expression_scope
+from loadcases.checks.dimensions import expression_scope
 from loadcases.expressions import ExpressionError, parse
 from loadcases.expressions.dimensions import infer_dimension
 from loadcases.foundation.units import (
