@@ -31,6 +31,7 @@ from loadcases.checks.dimensions import expression_scope
 from loadcases.checks.requests import expression_units
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.foundation.limits import local_path_problem, pattern_problem
+from loadcases.foundation.units import UnitError, dimension_mismatch
 from loadcases.inputs.hardpoints import expand_hardpoints
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
@@ -286,6 +287,24 @@ def load_mechanism(path: str | Path) -> MechanismFile:
     )
 
 
+def _redefined_parameters(case: Locator, mechanism: Locator | None) -> list[Diagnostic]:
+    """A case parameter written with a unit of another dimension than the mechanism's
+    definition (the rule of `--set`), at the case's key."""
+    definitions = defined_parameters([mechanism])
+    raw = case.data.get("parameters") if isinstance(case.data, dict) else None
+    found = []
+    for name, value in raw.items() if isinstance(raw, dict) else ():
+        if name not in definitions or not isinstance(value, str):
+            continue
+        try:
+            problem = dimension_mismatch(value, definitions[name][1])
+        except UnitError:
+            continue  # an unreadable value is reported by the schema
+        if problem is not None:
+            found.append(case.diagnostic(("parameters", name), f"the mechanism's parameter of another dimension: {problem}"))
+    return found
+
+
 def _motion_joint_types(case: Locator, mechanism: Locator | None) -> dict[str, str]:
     """The type of the joint each motion of the raw case drives (as written)."""
     motions = case.data.get("motions") if isinstance(case.data, dict) else None
@@ -370,6 +389,7 @@ def load_case(
         mech_units, found = _file_units(mech_locator, inherited)
         tables, more = expand_hardpoints(mech_locator, mech_units)
         diagnostics += found + more
+    diagnostics += _redefined_parameters(case_locator, mech_locator)
     unresolved: dict[str, dict] = {"case": {}, "mechanism": {}}
     dimensions: dict[str, Any] = {}
     refs = _put_parameters(

@@ -444,3 +444,23 @@ def test_a_formula_with_a_wrong_parameter_unit_warns_read_with_plain_numbers(tmp
             "is expected",
         )
     ]
+
+
+def test_a_case_parameter_of_another_dimension_than_the_mechanisms_is_an_error(tmp_path):
+    mechanism = tmp_path / "dims.mech.yaml"
+    body = CASE.format(**GOOD).split("mechanism:\n")[1].split("motions:")[0]
+    mechanism.write_text("\n".join(line[2:] for line in body.splitlines()) + "\n", "utf-8")
+    rest = "motions:" + CASE.format(**GOOD).split("motions:")[1]
+    path = tmp_path / "dims.case.yaml"
+    path.write_text(
+        "case: dims\nmechanism: dims.mech.yaml\nparameters: {airspeed: 250 kg}\n" + rest, "utf-8"
+    )
+    errors = _errors(path)
+    assert errors[0] == (
+        "3:14: parameters.airspeed: the mechanism's parameter of another dimension: "
+        "expected a velocity like '250 knot', got a mass"
+    )
+    path.write_text(
+        "case: dims\nmechanism: dims.mech.yaml\nparameters: {airspeed: 100 m/s}\n" + rest, "utf-8"
+    )
+    assert load_case(path).mechanism.contacts["stop"].friction.v_static == 100.0
