@@ -301,7 +301,12 @@ def _redefined_parameters(case: Locator, mechanism: Locator | None) -> list[Diag
         except UnitError:
             continue  # an unreadable value is reported by the schema
         if problem is not None:
-            found.append(case.diagnostic(("parameters", name), f"the mechanism's parameter of another dimension: {problem}"))
+            found.append(
+                case.diagnostic(
+                    ("parameters", name),
+                    f"the mechanism's parameter of another dimension: {problem}",
+                )
+            )
     return found
 
 
