@@ -464,3 +464,11 @@ def test_a_case_parameter_of_another_dimension_than_the_mechanisms_is_an_error(t
         "case: dims\nmechanism: dims.mech.yaml\nparameters: {airspeed: 100 m/s}\n" + rest, "utf-8"
     )
     assert load_case(path).mechanism.contacts["stop"].friction.v_static == 100.0
+
+
+def test_an_expression_of_parameters_that_cannot_be_computed_says_why(tmp_path):
+    path = _write(tmp_path)
+    path.write_text(path.read_text(encoding="utf-8").replace("L: 1 m", "L: 0 m"), "utf-8")
+    assert _errors(path) == [
+        "21:43: mechanism.forces.bar.stiffness: invalid expression 'E*A/L': division by zero"
+    ]
