@@ -60,6 +60,7 @@ _NAME_KEYS = frozenset(
         "abscissa",
         "loads",
         "units",
+        "unit",
         "effects",
         "cases",
         "report",

@@ -318,11 +318,13 @@ def test_expression_columns_get_the_unit_given_or_inferred(tmp_path):
     from loadcases.build.model import build_run
 
     path = tmp_path / "units.case.yaml"
-    path.write_text(UNITS.replace("HANDLE", "kN"), encoding="utf-8")
+    # a parameter named like the unit (`N`) does not take its place
+    text = UNITS.replace("HANDLE", "N").replace("lever: 0.2 m", "lever: 0.2 m\n    N: 3")
+    path.write_text(text, encoding="utf-8")
     units = build_run(load_case(path)).column_units
     assert {k: v for k, v in units.items() if k.endswith(".value")} == {
         "spring_torque.value": "N*m",  # N*m/rad * rad
-        "handle.value": "N",  # the dimension `kN` names, in SI (the column stays SI)
+        "handle.value": "N",  # the dimension `N` names, in SI (the column stays SI)
         "handle_inferred.value": "N",  # effort of a revolute motion (N*m) over a length
         "height.value": "m",
         "in_degrees.value": "1",  # a plain number
