@@ -83,3 +83,29 @@ def test_a_wrong_required_key_still_reports_the_other_file_part(tmp_path):
         load_case(path)
     keys = [e.split(": ")[1] for e in _errors(raised.value)]
     assert "analysis.type" in keys and "mechanism.joints.hinge.bodies[1]" in keys
+
+
+def test_loads_validate_prints_every_error_of_the_file_once_with_exit_2(tmp_path):
+    from typer.testing import CliRunner
+
+    from cli.app import app
+
+    path = tmp_path / "several.case.yaml"
+    path.write_text(CASE, encoding="utf-8")
+    result = CliRunner().invoke(app, ["validate", str(path)])
+    assert result.exit_code == 2, result.output
+    errors = [
+        line.split("several.case.yaml:")[1]
+        for line in result.output.splitlines()
+        if ": error: " in line
+    ]
+    assert errors == [
+        "7:11: error: mechanism.bodies.arm.mass: mass must be positive",
+        "11:43: error: mechanism.joints.hinge.bodies[1]: unknown body 'grund'",
+        "13:47: error: mechanism.forces.rub.mu: unknown parameter 'mu_trunion'",
+        "14:48: error: mechanism.forces.coil.stiffness: expected a torsional stiffness, got "
+        "parameter 'k_arm' = '20 N/mm' (a stiffness)",
+        "19:33: error: requests.a.expression: cannot add an angle and a length",
+        "20:20: error: requests.b.expression: unknown name 'crank_sped' in expression",
+    ]
+    assert "hint: did you mean 'mu_trunnion'?" in result.output
