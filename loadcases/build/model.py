@@ -133,7 +133,7 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
         b.mech = split_sections(b.mech, cut, lambda key, text: b.error("mechanism", key, text))
     mechanism = _mechanism(b)
     analysis = build_analysis(b)
-    requests, units = build_requests(b)
+    requests, units = build_requests(b, cf.expression_units)
     if abscissa:
         abscissa_request(b, requests, units)
     initial = initial_values(b)

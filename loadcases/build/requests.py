@@ -4,6 +4,7 @@ records as one more request; what a modes analysis reports of them."""
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 
 import mechlib as ml
 from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_UNITS
@@ -52,14 +53,20 @@ _COORDINATE_UNITS = {
 _POINT_UNITS = {"position": "m", "velocity": "m/s", "acceleration": "m/s^2"}
 
 
-def build_requests(b: Builder) -> tuple[list, dict[str, str]]:
-    """The outputs of the case's requests (those with an error left out) and {column: unit}."""
+def build_requests(
+    b: Builder, expression_units: Mapping[str, str] | None = None
+) -> tuple[list, dict[str, str]]:
+    """The outputs of the case's requests (those with an error left out) and {column: unit};
+    `expression_units`: the unit of each expression request (`CaseFile.expression_units`)."""
     out, units = [], {}
     for name, r in b.case.requests.items():
         req = _request(b, name, r)
         if req is None:
             continue
         out.append(req)
+        if isinstance(req, ml.ExpressionOutput):
+            units[f"{name}.value"] = (expression_units or {}).get(name, "")
+            continue
         for comp, unit in _units_of(req, b).items():
             units[f"{name}.{comp}"] = unit
     return out, units

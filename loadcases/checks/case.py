@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from loadcases.checks.common import GROUND, Names, check_expressions, unknown
+from loadcases.checks.common import GROUND, Expected, Names, check_expressions, unknown
 from loadcases.checks.mechanism import mechanism_names
 from loadcases.checks.paths import check_name
+from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.limits import MIN_TOLERANCE, rows_problem
 from loadcases.foundation.units import UnitError, to_si
@@ -244,10 +245,16 @@ def check_case_alone(case: CaseModel, at: Locator) -> list[Diagnostic]:
     )
 
 
-def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[Diagnostic]:
-    """All semantic problems of a case against its (valid) mechanism."""
+def check_case(
+    case: CaseModel,
+    mechanism: MechanismModel,
+    at: Locator,
+    scope: DimensionScope | None = None,
+) -> list[Diagnostic]:
+    """All semantic problems of a case against its (valid) mechanism; `scope` the dimensions
+    of names (expressions are dimension-checked when given)."""
     from loadcases.checks.planar import check_plane_initial
-    from loadcases.checks.requests import check_requests
+    from loadcases.checks.requests import check_requests, unit_problems
 
     names = mechanism_names(mechanism)
     parameters = {*mechanism.parameters, *case.parameters}
@@ -265,4 +272,12 @@ def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[
     ]
     if case.abscissa is not None:
         expressions.append((("abscissa",), case.abscissa))
-    return found + check_expressions(at, expressions, names, parameters)
+    expected: dict[KeyPath, Expected] = {}
+    for name, motion in case.motions.items():
+        joint = mechanism.joints.get(motion.joint)
+        if joint is not None and joint.type in ("revolute", "prismatic"):
+            # a warning: a motion written in plain SI numbers (`value: t`) is common and
+            # runs as written
+            expected[("motions", name, "value")] = (COORDINATE_DIMENSION[joint.type], "warning")
+    found += check_expressions(at, expressions, names, parameters, scope, expected)
+    return found + (unit_problems(case, at, scope) if scope is not None else [])

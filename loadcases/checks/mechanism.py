@@ -6,7 +6,9 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from loadcases.checks.common import GROUND, Names, check_expressions, unknown
+from loadcases.checks.common import GROUND, Expected, Names, check_expressions, unknown
+from loadcases.checks.dimensions import table_dimension_problems
+from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import Body, FlexibleBody, MechanismModel
 from loadcases.yamlfiles.source import KeyPath, Locator
@@ -304,25 +306,35 @@ def check_mechanism(
     at: Locator,
     motions: Iterable[str] | None = None,
     parameters: Iterable[str] = (),
+    scope: DimensionScope | None = None,
 ) -> list[Diagnostic]:
     """All semantic problems of a mechanism; `motions` are the case's motion names (events
     may switch them), None when the mechanism is checked on its own; `parameters` are extra
-    parameter names a case defines."""
+    parameter names a case defines; `scope` the dimensions of names (expressions are
+    dimension-checked when given)."""
     from loadcases.checks.elements import check_elements
     from loadcases.checks.planar import check_plane
+    from loadcases.checks.plausible import density_warnings
 
     names = mechanism_names(model)
     found = _unique(model, at) + _references(model, at, names) + _events(model, at, names, motions)
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
-    found += check_plane(model, at)
+    found += check_plane(model, at) + density_warnings(model, at)
+    found += table_dimension_problems(
+        at, at.data.get("tables") if isinstance(at.data, dict) else None
+    )
     expressions: list[tuple[KeyPath, str]] = [
         (("events", n, "when"), e.when) for n, e in model.events.items() if e.when is not None
     ]
+    expected: dict[KeyPath, Expected] = {}
     for name, force in model.forces.items():
-        expressions += [
-            (("forces", name, "value", i), v) for i, v in enumerate(getattr(force, "value", ()))
-        ]
+        for i, v in enumerate(getattr(force, "value", ())):
+            expressions.append((("forces", name, "value", i), v))
+            if force.type in ("force", "torque"):
+                expected[("forces", name, "value", i)] = (force.type, "error")
         command = getattr(force, "command", None)  # a servo actuator's stroke demand
         if command is not None:
             expressions.append((("forces", name, "command"), command))
-    return found + check_expressions(at, expressions, names, {*model.parameters, *parameters})
+            expected[("forces", name, "command")] = ("length", "error")
+    known = {*model.parameters, *parameters}
+    return found + check_expressions(at, expressions, names, known, scope, expected)

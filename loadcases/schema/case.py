@@ -9,6 +9,7 @@ from pydantic import BeforeValidator, Discriminator, Field, Tag
 from pydantic_core import PydanticCustomError
 
 import mechlib as ml
+from loadcases.foundation.units import UnitError, to_si
 from loadcases.schema.mechanism import Event, FileUnits
 from loadcases.schema.torque_margin import TorqueMargin
 from loadcases.schema.types import (
@@ -236,10 +237,28 @@ class SectionRequest(Strict):
     )
 
 
+def _column_unit(value: Any) -> str:
+    """A unit name for an expression request's column (`kN`, `N*m`, `deg/s`)."""
+    if not isinstance(value, str) or not value.strip():
+        raise PydanticCustomError("unit", "expected a unit name such as 'kN'")
+    try:
+        to_si(f"1 {value.strip()}", "any")
+    except UnitError:
+        raise PydanticCustomError(
+            "unit", "unknown unit '{unit}'", {"unit": value.strip()}
+        ) from None
+    return value.strip()
+
+
 class ExpressionRequest(Strict):
-    """Any expression of the state (`value`)."""
+    """Any expression of the state (`value`, SI)."""
 
     expression: Expression
+    unit: Annotated[str, BeforeValidator(_column_unit)] | None = Field(
+        None,
+        description="the column's dimension, named by a unit of it (`kN` makes it a force, "
+        "shown in the report's force unit); absent: inferred from the expression",
+    )
 
 
 class EnergyRequest(Strict):

@@ -13,7 +13,7 @@ from typing import Annotated, Any
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo
 from pydantic_core import PydanticCustomError
 
-from loadcases.foundation.units import UnitError, finite, to_si, vector_to_si
+from loadcases.foundation.units import SIValue, UnitError, finite, to_si, vector_to_si
 
 __all__ = [
     "SI_UNITS",
@@ -180,6 +180,8 @@ def expression(dimension: str = "any") -> Any:
             raise PydanticCustomError("expression", "expected an expression text or a number")
         if not isinstance(value, str):
             try:
+                if isinstance(value, SIValue):  # a parameter put in place of its name
+                    return repr(to_si(value, dimension))
                 return repr(finite(float(value), value))
             except UnitError as error:
                 raise _fail(error) from None
