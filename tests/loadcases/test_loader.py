@@ -143,8 +143,9 @@ EXPECTED = {
         "planar.mech.yaml:16:44: error: forces.twist.value[0]: a torque component about an "
         "in-plane axis (1.0) leaves plane xy",
         "planar.mech.yaml:16:44: hint: make it 0, or remove `plane` to use the 3-D model",
-        "planar.mech.yaml:18:3: error: contacts.stop: contacts need the 3-D model",
-        "planar.mech.yaml:18:3: hint: remove `plane` to use the 3-D model",
+        "planar.mech.yaml:19:163: error: contacts.floor.geometry.normal: the plane's normal "
+        "must lie in plane xy: the contact would leave the plane",
+        "planar.mech.yaml:19:163: hint: remove `plane` to use the 3-D model",
     ],
     "vector_length.mech.yaml": [
         "vector_length.mech.yaml:4:65: error: joints.hinge.axis: expected 3 values, got 2",
