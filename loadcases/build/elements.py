@@ -12,7 +12,6 @@ from typing import Any
 
 import mechlib as ml
 from loadcases.build.hydraulics import servo_actuator
-from loadcases.build.limits import joint_limit
 
 __all__ = ["ELEMENT_EFFECTS", "ELEMENT_MAKERS"]
 
@@ -23,7 +22,6 @@ ELEMENT_EFFECTS = {
     "seal": "contact",
     "cable_loop": "springs",
     "servo_actuator": "hydraulics",
-    "joint_limit": "contact",
 }
 _ROTARY = ("revolute", "cylindrical", "inline")  # dampers: joints with an angle, screw aside
 
@@ -126,5 +124,4 @@ ELEMENT_MAKERS: dict[str, Callable[[Any, str, Any], Any]] = {
     "seal": _seal,
     "bushing": _bushing,
     "servo_actuator": servo_actuator,
-    "joint_limit": joint_limit,
 }

@@ -13,7 +13,17 @@ from loadcases.yamlfiles.source import KeyPath, Locator
 
 __all__ = ["check_mechanism", "mechanism_names", "node_bodies"]
 
-_SECTIONS = ("bodies", "points", "frames", "joints", "forces", "contacts", "tables", "events")
+_SECTIONS = (
+    "bodies",
+    "points",
+    "frames",
+    "joints",
+    "forces",
+    "contacts",
+    "limits",
+    "tables",
+    "events",
+)
 _RESERVED_PARAMETERS = ("t", "pi")  # bare names the expression language defines itself
 _TINY = 1.0e-12  # |vector| below this is a zero vector
 _PARALLEL = 1.0e-6  # |sin(angle)| below this: parallel axes
@@ -29,6 +39,7 @@ def mechanism_names(model: MechanismModel) -> Names:
         joints=model.joints,
         forces=model.forces,
         contacts=model.contacts,
+        limits=model.limits,
         tables=model.tables,
         events=model.events,
     )
@@ -65,7 +76,7 @@ def _unique(model: MechanismModel, at: Locator) -> list[Diagnostic]:
                         (section, name),
                         f"name '{name}' is already used in {first[name]}",
                         hint="names of bodies, points, "
-                        "joints, forces, contacts, tables and events must "
+                        "joints, forces, contacts, limits, tables and events must "
                         "be unique",
                     )
                 )
@@ -117,6 +128,7 @@ def _references(model: MechanismModel, at: Locator, names: Names) -> list[Diagno
             joints.append((("forces", name, "joint"), joint_name))
         if law := getattr(force, "law", None):
             tables.append((("forces", name, "law"), law))
+    joints += [(("limits", name, "joint"), limit.joint) for name, limit in model.limits.items()]
     for name, joint in model.joints.items():
         if joint.type in ("coupler", "gear"):
             joints += [(("joints", name, "joints", i), j) for i, j in enumerate(joint.joints)]
@@ -143,7 +155,9 @@ def _events(
     model: MechanismModel, at: Locator, names: Names, motions: Iterable[str] | None
 ) -> list[Diagnostic]:
     """Event targets: elements/contacts (or case motions) to switch, joints to release/lock."""
-    switchable = names.get("forces") | names.get("contacts") | set(motions or ())
+    switchable = (
+        names.get("forces") | names.get("contacts") | names.get("limits") | set(motions or ())
+    )
     found = []
     for name, event in model.events.items():
         for index, action in enumerate(event.then):
@@ -298,12 +312,13 @@ def check_mechanism(
     may switch them), None when the mechanism is checked on its own; `parameters` are extra
     parameter names a case defines."""
     from loadcases.checks.elements import check_elements
+    from loadcases.checks.limits import check_limits
     from loadcases.checks.planar import check_plane
 
     names = mechanism_names(model)
     found = _unique(model, at) + _references(model, at, names) + _events(model, at, names, motions)
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
-    found += check_plane(model, at)
+    found += check_plane(model, at) + check_limits(model, at)
     expressions: list[tuple[KeyPath, str]] = [
         (("events", n, "when"), e.when) for n, e in model.events.items()
     ]

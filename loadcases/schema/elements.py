@@ -7,7 +7,7 @@ from typing import Annotated, Literal
 from pydantic import Field, model_validator
 from pydantic_core import PydanticCustomError
 
-from loadcases.schema.forces_more import CableLoop, Damper, JointLimit, Seal
+from loadcases.schema.forces_more import CableLoop, Damper, Seal
 from loadcases.schema.hydraulics import ServoActuator
 from loadcases.schema.types import (
     Damping,
@@ -212,7 +212,6 @@ ForceElement = Annotated[
     | Seal
     | Damper
     | CableLoop
-    | JointLimit
     | ServoActuator,
     Field(discriminator="type"),
 ]

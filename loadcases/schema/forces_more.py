@@ -1,5 +1,5 @@
-"""Pydantic models of the domain force elements: seal, damper, cable loop (issue 3), joint
-limit (issue 36)."""
+"""Pydantic models of the domain force elements: seal, damper, cable loop (issue 3); a joint
+limit of `limits:` (issue 36)."""
 
 from __future__ import annotations
 
@@ -26,7 +26,7 @@ from loadcases.schema.types import (
     vector,
 )
 
-__all__ = ["CableLoop", "Damper", "JointLimit", "Seal"]
+__all__ = ["CableLoop", "Damper", "Limit", "Seal"]
 
 _ACTIVE = "false: the element starts switched off (an event may activate it)"
 
@@ -84,10 +84,10 @@ class CableLoop(Strict):
     active: bool = Field(True, description=_ACTIVE)
 
 
-class JointLimit(Strict):
-    """Stops on a joint coordinate with the IMPACT law (docs/elements.md, joint_limit)."""
+class Limit(Strict):
+    """A limit (stop) on a joint coordinate with the IMPACT law, an entry of a mechanism's
+    `limits:` (docs/elements.md, Joint limits)."""
 
-    type: Literal["joint_limit"]
     joint: Name = Field(description="a revolute, prismatic or cylindrical joint")
     coordinate: Literal["angle", "travel"] | None = Field(
         None, description="the coordinate stopped (cylindrical joints; default: angle)"
@@ -114,7 +114,7 @@ class JointLimit(Strict):
     active: bool = Field(True, description=_ACTIVE)
 
     @model_validator(mode="after")
-    def _complete(self) -> JointLimit:
+    def _complete(self) -> Limit:
         if self.min is None and self.max is None:
             raise PydanticCustomError("limit", "give 'min', 'max' or both")
         if self.restitution is not None and self.damping:

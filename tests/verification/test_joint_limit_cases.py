@@ -24,10 +24,9 @@ bodies:
 joints:
   hinge: {type: revolute, bodies: [bar, ground], at: [0, 0, 0], axis: [0, 0, 1]}
   slide: {type: prismatic, bodies: [block, ground], at: [2, 0, 0], axis: [0, 1, 0]}
-forces:
-  stop: {type: joint_limit, joint: hinge, min: 0, max: 30, stiffness: 1.0e4, exponent: 1.5,
-         damping: 50, depth: 0.1}
-  floor: {type: joint_limit, joint: slide, min: -5 mm, stiffness: 1.0e7 N/m, exponent: 1}
+limits:
+  stop: {joint: hinge, min: 0, max: 30, stiffness: 1.0e4, exponent: 1.5, damping: 50, depth: 0.1}
+  floor: {joint: slide, min: -5 mm, stiffness: 1.0e7 N/m, exponent: 1}
 """
 
 
@@ -55,7 +54,7 @@ analysis: {type: static}
 requests:
   a: {joint: hinge, quantity: angle}
   s: {joint: slide, quantity: travel}
-  stop: {force: stop}
+  stop: {limit: stop}
   floor: {force: floor}
 """,
     )
@@ -125,10 +124,54 @@ def test_modes_linearise_an_engaged_limit(tmp_path: Path) -> None:
         _BAR.replace("plane: xy\n", "")
         .replace("units: {angle: deg}\n", "")
         .replace(", max: 30", "")
-        .replace("exponent: 1.5,\n         damping: 50, depth: 0.1", "exponent: 1")
+        .replace("exponent: 1.5, damping: 50, depth: 0.1", "exponent: 1")
     )
     outcome = _solve(tmp_path, mech, "case: modes\nanalysis: {type: modes}\n")
     x = brentq(lambda x: 1.0e4 * x - G * math.cos(x), 0.0, 0.1, xtol=1e-15)
     inertia = 0.1666667 + 2.0 * 0.25
     expected = math.sqrt((1.0e4 + G * math.sin(x)) / inertia) / (2.0 * math.pi)
     assert outcome.solution.channels["mode.frequency"][0] == pytest.approx(expected, rel=1e-6)
+
+
+def test_a_limit_switched_on_by_an_event_from_a_case_file(tmp_path: Path) -> None:
+    """`limits:` with `active: false` and an event `activate`: the bar falls 0.1 rad from
+    rest onto a linear undamped limit (k = 1e4 N*m/rad) switched on as it reaches it.
+    Energy by hand: (1/2) k x^2 = m g L/2 (sin(0.1) + sin x) solved for the deepest x
+    (brentq, gravity work included), peak k x; read from the angle and the limit's value:
+    measured 1.1e-5, asserted to 1e-4 (output every 1e-4 s). `effects: {contact: false}`
+    removes the limit: its request is then an error at its key."""
+    mech = _BAR.replace(
+        "max: 30, stiffness: 1.0e4, exponent: 1.5, damping: 50, depth: 0.1",
+        "stiffness: 1.0e4, exponent: 1, active: false",
+    )
+    mech = mech.replace(
+        "plane: xy\n",
+        "plane: xy\nevents:\n  touch: {when: 'angle(hinge) <= 0', then: [{activate: stop}]}\n",
+    )
+    case = """case: fall
+initial: {hinge: {value: 0.1 rad}}
+analysis: {type: dynamic, end: 0.25, step: 1.0e-4, tolerance: 1.0e-7, accuracy: off}
+requests:
+  a: {joint: hinge, quantity: angle}
+  stop: {limit: stop}
+"""
+    ch = _solve(tmp_path, mech, case).solution.channels
+    torque = 2.0 * G * 0.5
+    # work of gravity from +0.1 down to -x (bar along x, gravity -y): torque (sin 0.1 + sin x)
+    x = brentq(
+        lambda x: 0.5e4 * x**2 - torque * (math.sin(0.1) + math.sin(x)), 1e-6, 0.5, xtol=1e-14
+    )
+    assert -ch["a.value"].min() == pytest.approx(x, rel=1e-4)
+    assert ch["stop.value"].max() == pytest.approx(1.0e4 * x, rel=1e-4)
+    assert ch["stop.value"][ch["a.value"] > 0].max() == 0.0  # off until it is reached
+
+    from loadcases.foundation.diagnostics import InputError
+    from loadcases.inputs.loader import load_case
+    from loadcases.run import run_case
+
+    (tmp_path / "c.case.yaml").write_text(
+        "mechanism: m.mech.yaml\n" + case + "effects: {contact: false}\n"
+    )
+    with pytest.raises(InputError) as caught:
+        run_case(load_case(tmp_path / "c.case.yaml"))
+    assert [d.key for d in caught.value.diagnostics] == ["requests.stop.limit"]
