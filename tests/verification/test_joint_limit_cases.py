@@ -175,3 +175,32 @@ requests:
     with pytest.raises(InputError) as caught:
         run_case(load_case(tmp_path / "c.case.yaml"))
     assert [d.key for d in caught.value.diagnostics] == ["requests.stop.limit"]
+
+
+def test_a_limit_at_a_parameter_keeps_the_parameters_unit(tmp_path: Path) -> None:
+    """`min: lock` with `lock: 10 deg` in a file whose bare angles are degrees: the limit is
+    at 10 deg (the parameter's SI value is not read again in the file's unit), and a set's
+    value (`--set lock=20deg`, a case parameter here) moves it. The bar rests on it:
+    k x = m g L/2 cos(lock - x) (brentq), to 1e-9."""
+    mech = """
+units: {angle: deg}
+gravity: [0, -9.81, 0]
+parameters: {lock: 10 deg}
+bodies:
+  bar: {mass: 2, cm: [0.5, 0, 0], inertia: [1e-4, 0.1666667, 0.1666667]}
+joints:
+  hinge: {type: revolute, bodies: [bar, ground], at: [0, 0, 0], axis: [0, 0, 1]}
+limits:
+  stop: {joint: hinge, min: lock, stiffness: 1.0e4, exponent: 1}
+"""
+    for lock, case in ((10.0, ""), (20.0, "parameters: {lock: 20 deg}\n")):
+        (tmp_path / str(lock)).mkdir()
+        ch = _solve(
+            tmp_path / str(lock),
+            mech,
+            case + "case: rest\nanalysis: {type: static}\n"
+            "requests:\n  a: {joint: hinge, quantity: angle}\n",
+        ).solution.channels
+        at = math.radians(lock)
+        x = brentq(lambda x, at=at: 1.0e4 * x - G * math.cos(at - x), 0.0, 0.1, xtol=1e-15)
+        assert ch["a.value"][0] == pytest.approx(at - x, rel=1e-9)
