@@ -14,7 +14,15 @@ from mechlib.core.lazy import lazy_names
 if TYPE_CHECKING:
     from mechlib.checks.model_check import MechanismCheck, check_model, inspect_mechanism
     from mechlib.core.outcome import ModelError, Solution, SolverFailure, SolverStats, Status
-    from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
+    from mechlib.elements import (
+        Bushing,
+        CableLoop,
+        JointFriction,
+        JointLimit,
+        RotationalDamper,
+        Seal,
+        TableLaw,
+    )
     from mechlib.elements.forces import PointForce, PointTorque, Spring, TorsionSpring
     from mechlib.kinematics.view import StateView
     from mechlib.model.analysis import (
@@ -64,6 +72,7 @@ _HOMES = {
     "InitialValue": "mechlib.model.analysis",
     "JointCoordinate": "mechlib.outputs.requests",
     "JointFriction": "mechlib.elements.friction",
+    "JointLimit": "mechlib.elements.joint_limit",
     "JointReaction": "mechlib.outputs.requests",
     "Kinematic": "mechlib.model.analysis",
     "Mechanism": "mechlib.model.mechanism",
@@ -111,6 +120,7 @@ __all__ = [
     "InitialValue",
     "JointCoordinate",
     "JointFriction",
+    "JointLimit",
     "JointReaction",
     "Kinematic",
     "Mechanism",

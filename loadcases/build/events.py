@@ -37,10 +37,12 @@ def _check_action(builder, kind: str, name: str, i: int, action) -> bool:
     mech, case = builder.mech, builder.case
     target = action.target
     if action.action in ("activate", "deactivate"):
-        known = set(mech.forces) | set(mech.contacts) | set(case.motions if case else ())
+        known = {*mech.forces, *mech.contacts, *mech.limits, *(case.motions if case else ())}
         if target not in known:
             builder.error(
-                kind, key, f"'{target}' is not a force element, contact or motion of this case"
+                kind,
+                key,
+                f"'{target}' is not a force element, contact, limit or motion of this case",
             )
             return False
     elif action.action in ("release", "lock"):

@@ -20,6 +20,7 @@ from loadcases.build.events import build_events
 from loadcases.build.flexible_bodies import flexible_notes
 from loadcases.build.forces import add_forces
 from loadcases.build.hydraulics import servo_problems
+from loadcases.build.limits import add_limits
 from loadcases.build.motions import add_motions
 from loadcases.build.requests import abscissa_request, build_requests, modal_requests
 from loadcases.build.sections import split_sections
@@ -65,8 +66,8 @@ class BuiltRun:
 
 
 def _mechanism(b: Builder) -> ml.Mechanism:
-    """The mechlib mechanism: bodies, points and frames, joints, force elements, contacts
-    and the case's motions, in this order (so are the diagnostics)."""
+    """The mechlib mechanism: bodies, points and frames, joints, force elements, contacts,
+    limits and the case's motions, in this order (so are the diagnostics)."""
     gravity = b.mech.gravity if b.effects.get("gravity", True) else (0.0, 0.0, 0.0)
     m = ml.Mechanism(name=b.mech.name or "mechanism", gravity=gravity, plane=b.mech.plane)
     b.built = m
@@ -74,6 +75,7 @@ def _mechanism(b: Builder) -> ml.Mechanism:
     add_joints(b, m)
     add_forces(b, m)
     add_contacts(b, m)
+    add_limits(b, m)
     add_motions(b, m)
     return m
 

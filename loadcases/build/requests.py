@@ -11,6 +11,7 @@ from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_UNITS
 from loadcases.build.context import Builder
 from loadcases.build.elements import ELEMENT_EFFECTS
 from loadcases.build.flexible_bodies import flexible_output_units, flexible_request
+from loadcases.build.limits import LIMIT_EFFECT
 from loadcases.build.sections import section_joint
 
 __all__ = [
@@ -87,10 +88,14 @@ def _request(b: Builder, name: str, r):
     if kind == "FlexibleRequest":
         return flexible_request(b, name, r)
     if kind == "ElementRequest":
+        if r.force in b.mech.limits:
+            return _limit_request(b, name, r.force, "force")
         return _element_request(b, name, r)
     if kind == "SectionRequest":
         frame = r.frame or b.mech.sections[r.section].body
         return ml.JointReaction(name, section_joint(r.section), frame)
+    if kind == "LimitRequest":
+        return _limit_request(b, name, r.limit, "limit")
     if kind == "EnergyRequest":
         return ml.EnergyBalance(name)
     if kind == "ExpressionRequest":
@@ -114,6 +119,18 @@ def _element_request(b: Builder, name: str, r) -> ml.ElementOutput | None:
         )
         return None
     return ml.ElementOutput(name, r.force, r.frame)
+
+
+def _limit_request(b: Builder, name: str, limit: str, key: str) -> ml.ElementOutput | None:
+    """A joint limit's output (`value`, `penetration`), or None after an error: contact off."""
+    if limit in b.mech.limits and b.effects.get(LIMIT_EFFECT, True):
+        return ml.ElementOutput(name, limit, "ground")
+    b.error(
+        "case",
+        f"requests.{name}.{key}",
+        f"limit '{limit}' is not simulated in this case (effects: {{{LIMIT_EFFECT}: false}})",
+    )
+    return None
 
 
 def _contact_request(b: Builder, name: str, r) -> ml.ElementOutput | None:

@@ -205,8 +205,16 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
 
 def _loads(case: CaseModel, at: Locator, names: Names) -> list[Diagnostic]:
     elements = names.get("forces") | names.get("contacts")
+    limits = names.get("limits")
     found = [
-        unknown(at, ("loads", i), "force element", name, elements)
+        at.diagnostic(
+            ("loads", i),
+            f"'{name}' is a limit: limits are not loads, they act unless "
+            "`effects: {contact: false}` or an `active: false` keeps them off",
+            hint=f"remove '{name}' from loads",
+        )
+        if name in limits
+        else unknown(at, ("loads", i), "force element", name, elements)
         for i, name in enumerate(case.loads or ())
         if name not in elements
     ]

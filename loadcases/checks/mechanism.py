@@ -23,6 +23,7 @@ _SECTIONS = (
     "forces",
     "contacts",
     "sections",
+    "limits",
     "tables",
     "events",
 )
@@ -42,6 +43,7 @@ def mechanism_names(model: MechanismModel) -> Names:
         forces=model.forces,
         contacts=model.contacts,
         sections=model.sections,
+        limits=model.limits,
         tables=model.tables,
         events=model.events,
     )
@@ -78,7 +80,7 @@ def _unique(model: MechanismModel, at: Locator) -> list[Diagnostic]:
                         (section, name),
                         f"name '{name}' is already used in {first[name]}",
                         hint="names of bodies, points, "
-                        "joints, forces, contacts, tables and events must "
+                        "joints, forces, contacts, limits, tables and events must "
                         "be unique",
                     )
                 )
@@ -130,6 +132,7 @@ def _references(model: MechanismModel, at: Locator, names: Names) -> list[Diagno
             joints.append((("forces", name, "joint"), joint_name))
         if law := getattr(force, "law", None):
             tables.append((("forces", name, "law"), law))
+    joints += [(("limits", name, "joint"), limit.joint) for name, limit in model.limits.items()]
     for name, joint in model.joints.items():
         if joint.type in ("coupler", "gear"):
             joints += [(("joints", name, "joints", i), j) for i, j in enumerate(joint.joints)]
@@ -156,7 +159,9 @@ def _events(
     model: MechanismModel, at: Locator, names: Names, motions: Iterable[str] | None
 ) -> list[Diagnostic]:
     """Event targets: elements/contacts (or case motions) to switch, joints to release/lock."""
-    switchable = names.get("forces") | names.get("contacts") | set(motions or ())
+    switchable = (
+        names.get("forces") | names.get("contacts") | names.get("limits") | set(motions or ())
+    )
     found = []
     for name, event in model.events.items():
         for index, action in enumerate(event.then):
@@ -313,13 +318,15 @@ def check_mechanism(
     parameter names a case defines; `scope` the dimensions of names (expressions are
     dimension-checked when given)."""
     from loadcases.checks.elements import check_elements
+    from loadcases.checks.limits import check_limits
     from loadcases.checks.planar import check_plane
     from loadcases.checks.plausible import density_warnings
 
     names = mechanism_names(model)
     found = _unique(model, at) + _references(model, at, names) + _events(model, at, names, motions)
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
-    found += check_plane(model, at) + density_warnings(model, at)
+    found += check_plane(model, at) + check_limits(model, at)
+    found += density_warnings(model, at)
     found += table_dimension_problems(
         at, at.data.get("tables") if isinstance(at.data, dict) else None
     )

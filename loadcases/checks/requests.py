@@ -29,6 +29,7 @@ _TARGETS = {
     "motion": "motions",
     "point": "points",
     "force": "forces",
+    "limit": "limits",
     "contact": "contacts",
     "section": "sections",
 }
@@ -83,6 +84,7 @@ def check_requests(
     """Unknown joints, motions, points, force elements, contacts and frames of requests."""
     found = []
     known = dict(names.kinds, motions=set(case.motions))
+    known["forces"] = names.get("forces") | names.get("limits")  # {force: LIMIT} reads it too
     frames = names.get("bodies") | node_bodies(mechanism) | names.get("frames")
     for name, request in case.requests.items():
         for key, section in _TARGETS.items():

@@ -193,6 +193,14 @@ class ElementRequest(Strict):
     frame: Name = Field("ground", description=_FRAME)
 
 
+class LimitRequest(Strict):
+    """Of a joint limit: `value`, its effort along the joint coordinate (N*m or N, positive
+    increases the coordinate), and `penetration` (rad or m, >= 0)."""
+
+    limit: Name
+    quantity: Literal["force"] = "force"
+
+
 class ContactRequest(Strict):
     """Contact `force` (normal, friction, fx fy fz on body 1), `penetration` (value, m),
     `point` (x y z, m, ground axes), `sliding_speed` (value, m/s), `wear` (F_N * v_rel,
@@ -274,6 +282,7 @@ REQUEST_KINDS = (
     "flexible",
     "point",
     "force",
+    "limit",
     "contact",
     "section",
     "expression",
@@ -295,6 +304,7 @@ Request = Annotated[
     | Annotated[MotionRequest, Tag("motion")]
     | Annotated[PointRequest, Tag("point")]
     | Annotated[ElementRequest, Tag("force")]
+    | Annotated[LimitRequest, Tag("limit")]
     | Annotated[ContactRequest, Tag("contact")]
     | Annotated[FlexibleRequest, Tag("flexible")]
     | Annotated[SectionRequest, Tag("section")]
@@ -304,7 +314,7 @@ Request = Annotated[
         _request_kind,
         custom_error_type="request_kind",
         custom_error_message="a request needs one of the keys joint, motion, point, "
-        "force, contact, flexible, section or expression, or is `quantity: energy`",
+        "force, limit, contact, flexible, section or expression, or is `quantity: energy`",
     ),
 ]
 

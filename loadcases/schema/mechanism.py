@@ -10,6 +10,7 @@ from pydantic_core import PydanticCustomError
 from loadcases.foundation.units import FILE_UNIT_KINDS, UnitError, check_unit_name
 from loadcases.schema.elements import Contact, ForceElement, Table
 from loadcases.schema.flexible import Flexible
+from loadcases.schema.forces_more import Limit
 from loadcases.schema.types import (
     AnySI,
     Direction,
@@ -365,6 +366,10 @@ class MechanismModel(Strict):
     sections: dict[str, Section] = Field(
         default_factory=dict,
         description="sections of rigid bodies whose internal loads a case may request",
+    )
+    limits: dict[str, Limit] = Field(
+        default_factory=dict,
+        description="stops on joint coordinates (IMPACT law), effect `contact`",
     )
     tables: dict[str, Table] = Field(default_factory=dict)
     events: dict[str, Event] = Field(default_factory=dict)

@@ -153,6 +153,16 @@ def first_events(
     return t_e, [e for e in fired if first[e.name] - t_e <= EVENT_TIME_TOLERANCE]
 
 
+def switch(system, name: str | None, on: bool, k) -> None:
+    """Switch an element or motion on or off at state `k`; an element switched on starts
+    from that state (`start_from`: a stop already penetrating, no step in its damping)."""
+    element = system.mechanism.forces.get(name)
+    was_on = element is not None and element.active
+    system.set_active(name, on)
+    if on and not was_on and hasattr(element, "start_from"):
+        element.start_from(system.view(k))
+
+
 def apply_actions(system, event: Event, k) -> tuple[EventRecord, bool]:
     """Carry out an event's actions on the compiled system at the state `k` (its time is
     the event's); returns (record, stop requested)."""
@@ -161,7 +171,7 @@ def apply_actions(system, event: Event, k) -> tuple[EventRecord, bool]:
         if action.kind == "stop":
             stop = True
         elif action.kind in ("activate", "deactivate"):
-            system.set_active(action.target, action.kind == "activate")
+            switch(system, action.target, action.kind == "activate", k)
         elif action.kind == "release":
             system.release(action.target)
         elif action.kind == "lock":
