@@ -169,6 +169,8 @@ def draw(
         print_diagnostics(error.diagnostics, err=True)
         return EXIT_INPUT
     traj = solve_trajectory(cf, forces=_joints_to_load(forces, cf), name=name)
+    for warning in traj.branch_warnings:
+        typer.echo(f"{case}: warning: {visible(warning)}", err=True)
     if len(traj.time) == 0:
         message = visible(traj.message)
         typer.echo(f"{case}: the run failed before its first output: {message}", err=True)

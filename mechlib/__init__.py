@@ -14,11 +14,20 @@ from mechlib.core.lazy import lazy_names
 if TYPE_CHECKING:
     from mechlib.checks.model_check import MechanismCheck, check_model, inspect_mechanism
     from mechlib.core.outcome import ModelError, Solution, SolverFailure, SolverStats, Status
-    from mechlib.elements import Bushing, CableLoop, JointFriction, RotationalDamper, Seal, TableLaw
+    from mechlib.elements import (
+        Bushing,
+        CableLoop,
+        JointFriction,
+        JointLimit,
+        RotationalDamper,
+        Seal,
+        TableLaw,
+    )
     from mechlib.elements.forces import PointForce, PointTorque, Spring, TorsionSpring
     from mechlib.kinematics.view import StateView
     from mechlib.model.analysis import (
         DEFAULT_MAX_STEPS,
+        BranchCheck,
         Dynamic,
         InitialBodyVelocity,
         InitialValue,
@@ -59,9 +68,11 @@ _HOMES = {
     "ExpressionOutput": "mechlib.outputs.requests",
     "FlexibleOutput": "mechlib.outputs.requests",
     "InitialBodyVelocity": "mechlib.model.analysis",
+    "BranchCheck": "mechlib.model.analysis",
     "InitialValue": "mechlib.model.analysis",
     "JointCoordinate": "mechlib.outputs.requests",
     "JointFriction": "mechlib.elements.friction",
+    "JointLimit": "mechlib.elements.joint_limit",
     "JointReaction": "mechlib.outputs.requests",
     "Kinematic": "mechlib.model.analysis",
     "Mechanism": "mechlib.model.mechanism",
@@ -95,6 +106,7 @@ __all__ = [
     "DEFAULT_MAX_STEPS",
     "GROUND",
     "Action",
+    "BranchCheck",
     "Bushing",
     "CableLoop",
     "CouplerEffort",
@@ -108,6 +120,7 @@ __all__ = [
     "InitialValue",
     "JointCoordinate",
     "JointFriction",
+    "JointLimit",
     "JointReaction",
     "Kinematic",
     "Mechanism",

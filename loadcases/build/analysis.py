@@ -5,7 +5,7 @@ from __future__ import annotations
 import mechlib as ml
 from loadcases.build.context import Builder
 
-__all__ = ["build_analysis", "initial_values"]
+__all__ = ["branch_check", "build_analysis", "initial_values"]
 
 
 def build_analysis(b: Builder):
@@ -47,7 +47,13 @@ def initial_values(b: Builder) -> list:
     out: list[ml.InitialValue | ml.InitialBodyVelocity] = []
     for name, v in b.case.initial.items():
         if name in b.mech.joints:
-            out.append(ml.InitialValue(name, v.value, v.rate))
+            out.append(ml.InitialValue(name, v.value, v.rate, guess=v.guess))
         else:
             out.append(ml.InitialBodyVelocity(name, v.omega, v.velocity))
     return out
+
+
+def branch_check(b: Builder) -> ml.BranchCheck:
+    """The case's `branches:` settings."""
+    branches = b.case.branches
+    return ml.BranchCheck(angle=branches.angle, error=branches.on_change == "error")

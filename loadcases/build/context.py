@@ -69,9 +69,9 @@ class Builder:
         }
         self.kept = _named_elsewhere(mechanism, case)
 
-    def error(self, kind: str, key: str, message: str) -> None:
+    def error(self, kind: str, key: str, message: str, hint: str | None = None) -> None:
         file, line, col = self.where(kind, key)
-        self.problems.append(Diagnostic(file, line, col, key, message))
+        self.problems.append(Diagnostic(file, line, col, key, message, hint=hint))
 
     def compile(self, text: str, what: str, kind: str = "mechanism") -> Guarded:
         return self.compile_tree(parse(text), what, kind)

@@ -9,6 +9,7 @@ from typing import Any
 import mechlib as ml
 from loadcases.expressions import Expression, ExpressionError, parse
 from loadcases.expressions.nodes import Op
+from loadcases.schema.errors import did_you_mean
 
 __all__ = ["build_events"]
 
@@ -36,10 +37,12 @@ def _check_action(builder, kind: str, name: str, i: int, action) -> bool:
     mech, case = builder.mech, builder.case
     target = action.target
     if action.action in ("activate", "deactivate"):
-        known = set(mech.forces) | set(mech.contacts) | set(case.motions if case else ())
+        known = {*mech.forces, *mech.contacts, *mech.limits, *(case.motions if case else ())}
         if target not in known:
             builder.error(
-                kind, key, f"'{target}' is not a force element, contact or motion of this case"
+                kind,
+                key,
+                f"'{target}' is not a force element, contact, limit or motion of this case",
             )
             return False
     elif action.action in ("release", "lock"):
@@ -75,13 +78,49 @@ def build_events(builder) -> list[ml.Event]:
                 )
                 continue
             checked = [_check_action(builder, kind, name, i, a) for i, a in enumerate(e.then)]
-            try:
-                condition = _condition(builder, e.when, f"events.{name}.when", kind)
-            except ExpressionError as error:
-                builder.error(kind, f"events.{name}.when", f"invalid condition: {error.message}")
+            condition = None
+            if e.when is not None:
+                try:
+                    condition = _condition(builder, e.when, f"events.{name}.when", kind)
+                except ExpressionError as error:
+                    builder.error(
+                        kind, f"events.{name}.when", f"invalid condition: {error.message}"
+                    )
+                    continue
+            elif not _check_after(builder, kind, name):
                 continue
             if not all(checked):
                 continue
             actions = tuple(ml.Action(a.action, a.target) for a in e.then)
-            events.append(ml.Event(name, condition, actions))
+            after, delay = (e.after.event, e.after.delay) if e.after else (None, 0.0)
+            events.append(ml.Event(name, condition, actions, after=after, delay=delay))
     return events
+
+
+def _all_events(builder) -> dict:
+    """The events of the mechanism and of the case by name."""
+    found = dict(builder.mech.events)
+    if builder.case is not None:
+        found.update(builder.case.events)
+    return found
+
+
+def _check_after(builder, kind: str, name: str) -> bool:
+    """An `after:` names another event, and the chain of events it follows starts at a
+    `when:` condition (a loop of delayed events would never fire)."""
+    known = _all_events(builder)
+    key = f"events.{name}.after.event"
+    seen = [name]
+    follows = known[name].after.event
+    while follows not in seen:
+        if follows not in known:
+            hint = did_you_mean(follows, [n for n in known if n != name])
+            builder.error(kind, key, f"unknown event '{follows}'", hint=hint)
+            return False
+        seen.append(follows)
+        if known[follows].after is None:
+            return True
+        follows = known[follows].after.event
+    chain = " -> ".join([*seen, follows])
+    builder.error(kind, key, f"events that follow each other in a loop never fire ({chain})")
+    return False

@@ -12,7 +12,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import mechlib as ml
-from loadcases.build.analysis import build_analysis, initial_values
+from loadcases.build.analysis import branch_check, build_analysis, initial_values
 from loadcases.build.bodies import add_bodies, add_joints
 from loadcases.build.contacts import add_contacts
 from loadcases.build.context import Builder
@@ -20,6 +20,7 @@ from loadcases.build.events import build_events
 from loadcases.build.flexible_bodies import flexible_notes
 from loadcases.build.forces import add_forces
 from loadcases.build.hydraulics import servo_problems
+from loadcases.build.limits import add_limits
 from loadcases.build.motions import add_motions
 from loadcases.build.requests import (
     abscissa_request,
@@ -48,6 +49,7 @@ class BuiltRun:
     warnings: list[Diagnostic] = field(default_factory=list)
     events: list = field(default_factory=list)
     request_kinds: dict[str, str] = field(default_factory=dict)  # requests.request_kinds
+    branches: ml.BranchCheck = field(default_factory=ml.BranchCheck)
 
     def solve(
         self, analysis: Any = None, *, progress: Any = None, checks: bool = True
@@ -65,12 +67,13 @@ class BuiltRun:
             events=self.events,
             progress=progress,
             checks=checks,
+            branches=self.branches,
         )
 
 
 def _mechanism(b: Builder) -> ml.Mechanism:
-    """The mechlib mechanism: bodies, points and frames, joints, force elements, contacts
-    and the case's motions, in this order (so are the diagnostics)."""
+    """The mechlib mechanism: bodies, points and frames, joints, force elements, contacts,
+    limits and the case's motions, in this order (so are the diagnostics)."""
     gravity = b.mech.gravity if b.effects.get("gravity", True) else (0.0, 0.0, 0.0)
     m = ml.Mechanism(name=b.mech.name or "mechanism", gravity=gravity, plane=b.mech.plane)
     b.built = m
@@ -78,6 +81,7 @@ def _mechanism(b: Builder) -> ml.Mechanism:
     add_joints(b, m)
     add_forces(b, m)
     add_contacts(b, m)
+    add_limits(b, m)
     add_motions(b, m)
     return m
 
@@ -137,7 +141,7 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
         b.mech = split_sections(b.mech, cut, lambda key, text: b.error("mechanism", key, text))
     mechanism = _mechanism(b)
     analysis = build_analysis(b)
-    requests, units = build_requests(b)
+    requests, units = build_requests(b, cf.expression_units)
     if abscissa:
         abscissa_request(b, requests, units)
     initial = initial_values(b)
@@ -166,4 +170,5 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
         notes,
         events,
         request_kinds(b),
+        branch_check(b),
     )

@@ -4,12 +4,14 @@ records as one more request; what a modes analysis reports of them."""
 from __future__ import annotations
 
 import re
+from collections.abc import Mapping
 
 import mechlib as ml
 from loadcases.build.contacts import CONTACT_COMPONENTS, CONTACT_UNITS
 from loadcases.build.context import Builder
 from loadcases.build.elements import ELEMENT_EFFECTS
 from loadcases.build.flexible_bodies import flexible_output_units, flexible_request
+from loadcases.build.limits import LIMIT_EFFECT
 from loadcases.build.sections import section_joint
 from mechlib.elements.friction import friction_units
 
@@ -54,14 +56,20 @@ _COORDINATE_UNITS = {
 _POINT_UNITS = {"position": "m", "velocity": "m/s", "acceleration": "m/s^2"}
 
 
-def build_requests(b: Builder) -> tuple[list, dict[str, str]]:
-    """The outputs of the case's requests (those with an error left out) and {column: unit}."""
+def build_requests(
+    b: Builder, expression_units: Mapping[str, str] | None = None
+) -> tuple[list, dict[str, str]]:
+    """The outputs of the case's requests (those with an error left out) and {column: unit};
+    `expression_units`: the unit of each expression request (`CaseFile.expression_units`)."""
     out, units = [], {}
     for name, r in b.case.requests.items():
         req = _request(b, name, r)
         if req is None:
             continue
         out.append(req)
+        if isinstance(req, ml.ExpressionOutput):
+            units[f"{name}.value"] = (expression_units or {}).get(name, "")
+            continue
         for comp, unit in _units_of(req, b).items():
             units[f"{name}.{comp}"] = unit
     return out, units
@@ -72,6 +80,7 @@ def build_requests(b: Builder) -> tuple[list, dict[str, str]]:
 _KINDS = {
     "MotionRequest": "effort",
     "SectionRequest": "reaction",  # the load a body carries at a section: a joint's reaction
+    "LimitRequest": "contact",  # a joint limit's stop load
     "PointRequest": "kinematics",
     "FlexibleRequest": "flexible",
     "EnergyRequest": "energy",
@@ -81,13 +90,15 @@ _KINDS = {
 
 def request_kinds(b: Builder) -> dict[str, str]:
     """{request: kind} of the case's requests: `reaction` (joint and section forces), `effort`
-    (motions), `element` (force elements), `friction` (joint friction), `contact`,
-    `kinematics`, `flexible`, `energy`, `expression`."""
+    (motions), `element` (force elements), `friction` (joint friction), `contact` (contacts
+    and joint limits), `kinematics`, `flexible`, `energy`, `expression`."""
     kinds = {}
     for name, r in b.case.requests.items():
         kind = type(r).__name__
         if kind == "JointRequest":
             kinds[name] = "reaction" if r.quantity == "force" else "kinematics"
+        elif kind == "ElementRequest" and r.force in b.mech.limits:
+            kinds[name] = "contact"  # a joint limit's stop load, as {limit: NAME}
         elif kind == "ElementRequest":
             element = b.mech.forces.get(r.force)
             friction = element is not None and element.type == "joint_friction"
@@ -112,10 +123,14 @@ def _request(b: Builder, name: str, r):
     if kind == "FlexibleRequest":
         return flexible_request(b, name, r)
     if kind == "ElementRequest":
+        if r.force in b.mech.limits:
+            return _limit_request(b, name, r.force, "force")
         return _element_request(b, name, r)
     if kind == "SectionRequest":
         frame = r.frame or b.mech.sections[r.section].body
         return ml.JointReaction(name, section_joint(r.section), frame)
+    if kind == "LimitRequest":
+        return _limit_request(b, name, r.limit, "limit")
     if kind == "EnergyRequest":
         return ml.EnergyBalance(name)
     if kind == "ExpressionRequest":
@@ -139,6 +154,18 @@ def _element_request(b: Builder, name: str, r) -> ml.ElementOutput | None:
         )
         return None
     return ml.ElementOutput(name, r.force, r.frame)
+
+
+def _limit_request(b: Builder, name: str, limit: str, key: str) -> ml.ElementOutput | None:
+    """A joint limit's output (`value`, `penetration`), or None after an error: contact off."""
+    if limit in b.mech.limits and b.effects.get(LIMIT_EFFECT, True):
+        return ml.ElementOutput(name, limit, "ground")
+    b.error(
+        "case",
+        f"requests.{name}.{key}",
+        f"limit '{limit}' is not simulated in this case (effects: {{{LIMIT_EFFECT}: false}})",
+    )
+    return None
 
 
 def _contact_request(b: Builder, name: str, r) -> ml.ElementOutput | None:
@@ -169,8 +196,8 @@ def _units_of(req, b: Builder) -> dict[str, str]:
     if isinstance(req, ml.ElementOutput) and req.components is not None:
         return {column: CONTACT_UNITS.get(key, "") for column, key in req.components}
     if isinstance(req, ml.ElementOutput):
-        force = b.mech.forces[req.element]
-        if force.type == "joint_friction":  # its units follow its joint, known once bound
+        force = b.mech.forces.get(req.element)  # None for a joint limit (`limits:`)
+        if force is not None and force.type == "joint_friction":  # units of its joint's type
             return friction_units(b.mech.joints[force.joint].type)
         element = b.built.forces.get(req.element)  # None if it failed to build: its error stands
         return dict(getattr(element, "output_units", {}))

@@ -4,9 +4,10 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from loadcases.checks.common import GROUND, Names, check_expressions, unknown
+from loadcases.checks.common import GROUND, Expected, Names, check_expressions, unknown
 from loadcases.checks.mechanism import mechanism_names
 from loadcases.checks.paths import check_name
+from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.limits import MIN_TOLERANCE, rows_problem
 from loadcases.foundation.units import UnitError, to_si
@@ -35,7 +36,7 @@ def resolve_initial(
         if joint is None or dimension is None:
             continue
         update = {}
-        for key, dim in (("value", dimension), ("rate", _RATE[dimension])):
+        for key, dim in (("value", dimension), ("guess", dimension), ("rate", _RATE[dimension])):
             raw = getattr(entry, key)
             if raw is None:
                 continue
@@ -86,7 +87,11 @@ def _initial(
     found = []
     for name, entry in case.initial.items():
         joint, body = mechanism.joints.get(name), mechanism.bodies.get(name)
-        given = [k for k in ("value", "rate", "omega", "velocity") if getattr(entry, k) is not None]
+        given = [
+            k
+            for k in ("value", "guess", "rate", "omega", "velocity")
+            if getattr(entry, k) is not None
+        ]
         if joint is None and body is None:
             found.append(
                 unknown(
@@ -99,7 +104,9 @@ def _initial(
             )
         elif joint is not None and {"omega", "velocity"} & set(given):
             found.append(
-                at.diagnostic(("initial", name), f"'{name}' is a joint: give 'value' and/or 'rate'")
+                at.diagnostic(
+                    ("initial", name), f"'{name}' is a joint: give 'value', 'guess' and/or 'rate'"
+                )
             )
         elif joint is not None and joint.type not in COORDINATE_DIMENSION:
             found.append(
@@ -108,13 +115,31 @@ def _initial(
                     f"joint '{name}' is {joint.type}: it has no single coordinate to set",
                 )
             )
-        elif body is not None and {"value", "rate"} & set(given):
+        elif body is not None and {"value", "guess", "rate"} & set(given):
             found.append(
                 at.diagnostic(
                     ("initial", name), f"'{name}' is a body: give 'omega' and/or 'velocity'"
                 )
             )
+        elif joint is not None and entry.guess is not None:
+            found += _idle_guess(case, name, "value" in given, at)
     return found
+
+
+def _idle_guess(case: CaseModel, joint: str, valued: bool, at: Locator) -> list[Diagnostic]:
+    """A guess the joint's own `value` or a motion of it already fixes does nothing."""
+    driven = [m for m, motion in case.motions.items() if motion.joint == joint]
+    if not valued and not driven:
+        return []
+    by = "its 'value'" if valued else f"motion '{driven[0]}'"
+    return [
+        at.diagnostic(
+            ("initial", joint, "guess"),
+            f"the guess of joint '{joint}' does nothing: {by} sets its coordinate",
+            hint="give a guess for a joint the assembly solves for (a knee, a follower)",
+            severity="warning",
+        )
+    ]
 
 
 def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
@@ -180,8 +205,16 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
 
 def _loads(case: CaseModel, at: Locator, names: Names) -> list[Diagnostic]:
     elements = names.get("forces") | names.get("contacts")
+    limits = names.get("limits")
     found = [
-        unknown(at, ("loads", i), "force element", name, elements)
+        at.diagnostic(
+            ("loads", i),
+            f"'{name}' is a limit: limits are not loads, they act unless "
+            "`effects: {contact: false}` or an `active: false` keeps them off",
+            hint=f"remove '{name}' from loads",
+        )
+        if name in limits
+        else unknown(at, ("loads", i), "force element", name, elements)
         for i, name in enumerate(case.loads or ())
         if name not in elements
     ]
@@ -220,10 +253,16 @@ def check_case_alone(case: CaseModel, at: Locator) -> list[Diagnostic]:
     )
 
 
-def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[Diagnostic]:
-    """All semantic problems of a case against its (valid) mechanism."""
+def check_case(
+    case: CaseModel,
+    mechanism: MechanismModel,
+    at: Locator,
+    scope: DimensionScope | None = None,
+) -> list[Diagnostic]:
+    """All semantic problems of a case against its (valid) mechanism; `scope` the dimensions
+    of names (expressions are dimension-checked when given)."""
     from loadcases.checks.planar import check_plane_initial
-    from loadcases.checks.requests import check_requests
+    from loadcases.checks.requests import check_requests, unit_problems
 
     names = mechanism_names(mechanism)
     parameters = {*mechanism.parameters, *case.parameters}
@@ -241,4 +280,12 @@ def check_case(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list[
     ]
     if case.abscissa is not None:
         expressions.append((("abscissa",), case.abscissa))
-    return found + check_expressions(at, expressions, names, parameters)
+    expected: dict[KeyPath, Expected] = {}
+    for name, motion in case.motions.items():
+        joint = mechanism.joints.get(motion.joint)
+        if joint is not None and joint.type in ("revolute", "prismatic"):
+            # a warning: a motion written in plain SI numbers (`value: t`) is common and
+            # runs as written
+            expected[("motions", name, "value")] = (COORDINATE_DIMENSION[joint.type], "warning")
+    found += check_expressions(at, expressions, names, parameters, scope, expected)
+    return found + (unit_problems(case, at, scope) if scope is not None else [])

@@ -6,7 +6,9 @@ from collections.abc import Iterable
 
 import numpy as np
 
-from loadcases.checks.common import GROUND, Names, check_expressions, unknown
+from loadcases.checks.common import GROUND, Expected, Names, check_expressions, unknown
+from loadcases.checks.dimensions import table_dimension_problems
+from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import Body, FlexibleBody, MechanismModel
 from loadcases.yamlfiles.source import KeyPath, Locator
@@ -21,6 +23,7 @@ _SECTIONS = (
     "forces",
     "contacts",
     "sections",
+    "limits",
     "tables",
     "events",
 )
@@ -40,6 +43,7 @@ def mechanism_names(model: MechanismModel) -> Names:
         forces=model.forces,
         contacts=model.contacts,
         sections=model.sections,
+        limits=model.limits,
         tables=model.tables,
         events=model.events,
     )
@@ -76,7 +80,7 @@ def _unique(model: MechanismModel, at: Locator) -> list[Diagnostic]:
                         (section, name),
                         f"name '{name}' is already used in {first[name]}",
                         hint="names of bodies, points, "
-                        "joints, forces, contacts, tables and events must "
+                        "joints, forces, contacts, limits, tables and events must "
                         "be unique",
                     )
                 )
@@ -128,6 +132,7 @@ def _references(model: MechanismModel, at: Locator, names: Names) -> list[Diagno
             joints.append((("forces", name, "joint"), joint_name))
         if law := getattr(force, "law", None):
             tables.append((("forces", name, "law"), law))
+    joints += [(("limits", name, "joint"), limit.joint) for name, limit in model.limits.items()]
     for name, joint in model.joints.items():
         if joint.type in ("coupler", "gear"):
             joints += [(("joints", name, "joints", i), j) for i, j in enumerate(joint.joints)]
@@ -154,7 +159,9 @@ def _events(
     model: MechanismModel, at: Locator, names: Names, motions: Iterable[str] | None
 ) -> list[Diagnostic]:
     """Event targets: elements/contacts (or case motions) to switch, joints to release/lock."""
-    switchable = names.get("forces") | names.get("contacts") | set(motions or ())
+    switchable = (
+        names.get("forces") | names.get("contacts") | names.get("limits") | set(motions or ())
+    )
     found = []
     for name, event in model.events.items():
         for index, action in enumerate(event.then):
@@ -304,25 +311,37 @@ def check_mechanism(
     at: Locator,
     motions: Iterable[str] | None = None,
     parameters: Iterable[str] = (),
+    scope: DimensionScope | None = None,
 ) -> list[Diagnostic]:
     """All semantic problems of a mechanism; `motions` are the case's motion names (events
     may switch them), None when the mechanism is checked on its own; `parameters` are extra
-    parameter names a case defines."""
+    parameter names a case defines; `scope` the dimensions of names (expressions are
+    dimension-checked when given)."""
     from loadcases.checks.elements import check_elements
+    from loadcases.checks.limits import check_limits
     from loadcases.checks.planar import check_plane
+    from loadcases.checks.plausible import density_warnings
 
     names = mechanism_names(model)
     found = _unique(model, at) + _references(model, at, names) + _events(model, at, names, motions)
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
-    found += check_plane(model, at)
+    found += check_plane(model, at) + check_limits(model, at)
+    found += density_warnings(model, at)
+    found += table_dimension_problems(
+        at, at.data.get("tables") if isinstance(at.data, dict) else None
+    )
     expressions: list[tuple[KeyPath, str]] = [
-        (("events", n, "when"), e.when) for n, e in model.events.items()
+        (("events", n, "when"), e.when) for n, e in model.events.items() if e.when is not None
     ]
+    expected: dict[KeyPath, Expected] = {}
     for name, force in model.forces.items():
-        expressions += [
-            (("forces", name, "value", i), v) for i, v in enumerate(getattr(force, "value", ()))
-        ]
+        for i, v in enumerate(getattr(force, "value", ())):
+            expressions.append((("forces", name, "value", i), v))
+            if force.type in ("force", "torque"):
+                expected[("forces", name, "value", i)] = (force.type, "error")
         command = getattr(force, "command", None)  # a servo actuator's stroke demand
         if command is not None:
             expressions.append((("forces", name, "command"), command))
-    return found + check_expressions(at, expressions, names, {*model.parameters, *parameters})
+            expected[("forces", name, "command")] = ("length", "error")
+    known = {*model.parameters, *parameters}
+    return found + check_expressions(at, expressions, names, known, scope, expected)

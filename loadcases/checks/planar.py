@@ -2,8 +2,9 @@
 
 Joints whose axis is not along the plane's normal (or a slide not in the plane), gravity
 and loads with out-of-plane components (a force along the normal, a torque about an
-in-plane axis), flexible bodies, contacts, and initial velocities out of the plane: each
-names its key. The joint rules are mechlib.model.plane's.
+in-plane axis), flexible bodies, contacts whose geometry leaves the plane, and initial
+velocities out of the plane: each names its key. The joint and contact rules are
+mechlib.model.plane's.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from loadcases.schema import CaseModel, MechanismModel
 from loadcases.schema.elements import BodyTorque, PointForce
 from loadcases.yamlfiles.source import Locator
 from mechlib.core.rotation import frame_axes
-from mechlib.model.plane import joint_problem, normal_name, plane_axes
+from mechlib.model.plane import contact_problem, joint_problem, normal_name, plane_axes
 
 __all__ = ["check_plane", "check_plane_initial"]
 
@@ -50,10 +51,16 @@ def check_plane(model: MechanismModel, at: Locator) -> list[Diagnostic]:
                     ("bodies", name, "flexible"), "flexible bodies need the 3-D model", hint=_HINT
                 )
             )
-    found += [
-        at.diagnostic(("contacts", name), "contacts need the 3-D model", hint=_HINT)
-        for name in model.contacts
-    ]
+    for name, contact in model.contacts.items():
+        problem = contact_problem(contact.geometry, plane)
+        if problem is not None:
+            found.append(
+                at.diagnostic(
+                    ("contacts", name, "geometry", problem[0]),
+                    f"{problem[1]}: the contact would leave the plane",
+                    hint=_HINT,
+                )
+            )
     return found + _loads(model, at, plane)
 
 

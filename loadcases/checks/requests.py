@@ -4,12 +4,20 @@ from __future__ import annotations
 
 from loadcases.checks.common import Names, unknown
 from loadcases.checks.mechanism import node_bodies
+from loadcases.expressions import ExpressionError, parse
+from loadcases.expressions.dimensions import DimensionScope, Dims, infer_dimension, same_dimension
 from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.foundation.units import (
+    UnitError,
+    describe_dimension,
+    quantity_dimension,
+    si_unit_text,
+)
 from loadcases.schema import COORDINATE_DIMENSION, CaseModel, MechanismModel
 from loadcases.yamlfiles.source import Locator
 from mechlib.model.joints import ROTATIONAL, TRANSLATIONAL
 
-__all__ = ["check_requests"]
+__all__ = ["check_requests", "expression_units", "unit_problems"]
 
 _ANGLE_QUANTITIES = ("angle", "omega", "alpha")
 _TRAVEL_QUANTITIES = ("travel", "speed")
@@ -21,6 +29,7 @@ _TARGETS = {
     "motion": "motions",
     "point": "points",
     "force": "forces",
+    "limit": "limits",
     "contact": "contacts",
     "section": "sections",
 }
@@ -75,6 +84,7 @@ def check_requests(
     """Unknown joints, motions, points, force elements, contacts and frames of requests."""
     found = []
     known = dict(names.kinds, motions=set(case.motions))
+    known["forces"] = names.get("forces") | names.get("limits")  # {force: LIMIT} reads it too
     frames = names.get("bodies") | node_bodies(mechanism) | names.get("frames")
     for name, request in case.requests.items():
         for key, section in _TARGETS.items():
@@ -89,3 +99,47 @@ def check_requests(
             found.append(unknown(at, ("requests", name, "frame"), "frame", frame, frames))
         found += _quantity_fits(case, mechanism, at, name, request)
     return found
+
+
+def _expression_dims(request: object, scope: DimensionScope) -> tuple[Dims | None, Dims | None]:
+    """(the dimension its `unit:` names, the one inferred from the expression) of an
+    expression request; None where not known."""
+    unit = getattr(request, "unit", None)
+    try:
+        named = quantity_dimension(f"1 {unit}") if unit else None
+    except UnitError:
+        named = None
+    try:
+        inferred = infer_dimension(parse(getattr(request, "expression", "")).tree, scope)
+    except ExpressionError:
+        inferred = None  # reported by the expression's own check
+    return named, inferred
+
+
+def unit_problems(case: CaseModel, at: Locator, scope: DimensionScope) -> list[Diagnostic]:
+    """An expression request whose `unit:` is not of the dimension its expression gives."""
+    found = []
+    for name, request in case.requests.items():
+        named, inferred = _expression_dims(request, scope)
+        if named is not None and inferred is not None and not same_dimension(named, inferred):
+            found.append(
+                at.diagnostic(
+                    ("requests", name, "unit"),
+                    f"the expression gives {describe_dimension(dict(inferred))}; unit "
+                    f"'{getattr(request, 'unit', '')}' is {describe_dimension(dict(named))}",
+                )
+            )
+    return found
+
+
+def expression_units(case: CaseModel, scope: DimensionScope) -> dict[str, str]:
+    """The SI unit of each expression request's `value` column: that of the dimension its
+    `unit:` names, else the one inferred from the expression (`""` when not known)."""
+    units = {}
+    for name, request in case.requests.items():
+        if not hasattr(request, "expression"):
+            continue
+        named, inferred = _expression_dims(request, scope)
+        dims = named if named is not None else inferred
+        units[name] = "" if dims is None else si_unit_text(dict(dims))
+    return units

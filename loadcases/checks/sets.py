@@ -9,6 +9,7 @@ from loadcases.checks.common import unknown
 from loadcases.checks.paths import check_name, check_report_paths
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.limits import pattern_problem, runs_problem
+from loadcases.foundation.units import UnitError, describe_dimension, quantity_dimension
 from loadcases.schema import SetModel
 from loadcases.schema.setfile import matches
 from loadcases.yamlfiles.source import Locator
@@ -83,6 +84,7 @@ def check_set_cases(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[
             for name in getattr(model, section)
             if name not in known
         ]
+    found += _value_dimensions(at, cases)
     requests = {name for case in cases for name in case.case.requests} | {ABSCISSA}
     for section in ("factors", "allowables"):
         found += [
@@ -127,6 +129,46 @@ def _unfactored_levels(model: SetModel, at: Locator, cases: Sequence[Any]) -> li
         for case in cases
         if case.case.level == ULTIMATE
     ]
+
+
+def _value_dimensions(at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:
+    """A value of the set's `parameters`, `sweep` or `zip` written with a unit must have the
+    dimension of the parameter where a case defines it with a unit (the rule of `--set`)."""
+    defined: dict[str, tuple[str, dict]] = {}
+    for case in cases:
+        for name, dims in getattr(case, "parameter_dims", {}).items():
+            if dims is not None:
+                defined.setdefault(name, (case.case.case, dict(dims)))
+    found = []
+    data = at.data if isinstance(at.data, dict) else {}
+    for section in ("parameters", "sweep", "zip"):
+        raw = data.get(section)
+        for name, values in raw.items() if isinstance(raw, dict) else ():
+            if name not in defined:
+                continue
+            items = values if isinstance(values, list) else [values]
+            key = (section, name) if not isinstance(values, list) else None
+            for index, value in enumerate(items):
+                problem = _dimension_problem(value, *defined[name], name)
+                if problem is not None:
+                    found.append(at.diagnostic(key or (section, name, index), problem))
+    return found
+
+
+def _dimension_problem(value: Any, case: str, want: dict, name: str) -> str | None:
+    """Why `value` as written cannot be parameter `name` of dimension `want`, or None."""
+    if not isinstance(value, str):
+        return None
+    try:
+        dims = quantity_dimension(value)
+    except UnitError:
+        return None  # an unreadable value is reported by the schema
+    if dims is None or dict(dims) == want:
+        return None
+    return (
+        f"expected {describe_dimension(want)} (parameter '{name}' of case '{case}'), "
+        f"got '{value}' ({describe_dimension(dict(dims))})"
+    )
 
 
 def _unmatched_case_factors(model: SetModel, at: Locator, cases: Sequence[Any]) -> list[Diagnostic]:

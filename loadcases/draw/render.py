@@ -6,7 +6,9 @@ global plane when its normal is within 15 degrees of a global axis, so that CAD-
 mechanisms keep their axes). Bodies are outlines through their joint and point markers,
 joints are circles with their names, points small dots, springs zigzags, wires dashed,
 seals thick translucent lines, contacts a circle (roller, sphere) with the plane or profile
-it runs on; a contact's name is printed next to its roller.
+it runs on; a contact's name is printed next to its roller. Where the run starts away from
+the drawn geometry (initial values, motions, another assembly branch), the drawing is shown
+under it as a ghost: grey dashed outlines, its joints as crosses.
 """
 
 from __future__ import annotations
@@ -112,6 +114,24 @@ def _draw_frame(ax, traj: Trajectory, k: int, basis: np.ndarray) -> list:
     return texts
 
 
+def _draw_ghost(ax, traj: Trajectory, basis: np.ndarray) -> list:
+    """The drawn (design) geometry in grey dashes under the run: body outlines and joints
+    as crosses; returns the lines drawn (none where the run starts at the drawing)."""
+    if not traj.assembled_off_drawing():
+        return []
+    sk, lines = traj.skeleton, []
+    at = {m: basis @ traj.drawn(m) for m in sk.markers}
+    for body, markers in sk.bodies.items():
+        if body == "ground":
+            continue
+        pts = np.array([at[m] for m in markers])
+        ring = pts[outline_order(pts)]
+        lines += ax.plot(ring[:, 0], ring[:, 1], "--", color="gray", lw=1.0, alpha=0.6)
+    for marker in sk.joints.values():
+        lines += ax.plot(*at[marker], "x", color="gray", ms=5, alpha=0.8)
+    return lines
+
+
 def _spread_labels(ax, texts: list, offsets: dict[str, np.ndarray] | None = None) -> None:
     """Move the name labels apart so that none hides another (adjustText), each joined to
     its anchor by a thin line when moved. With `offsets` (label -> data offset from its
@@ -184,11 +204,13 @@ def _figure(traj: Trajectory, view: str, *, steady_labels: bool = False):
         ax.set_xlim(*xlim)
         ax.set_ylim(*ylim)
         ax.set_aspect("equal", adjustable="box")
+        ghost = _draw_ghost(ax, traj, basis)
         texts = _draw_frame(ax, traj, k, basis)
         ax.set_xlabel(labels[0])
         ax.set_ylabel(labels[1])
         ax.grid(True, lw=0.3, alpha=0.5)
-        ax.set_title(f"{traj.case}   t = {traj.time[k]:.4g} s", fontsize=10)
+        drawn = "   (grey dashes: as drawn)" if ghost else ""
+        ax.set_title(f"{traj.case}   t = {traj.time[k]:.4g} s{drawn}", fontsize=10)
         _spread_labels(ax, texts, offsets)
 
     return fig, render

@@ -253,11 +253,24 @@ def force_summary(traj: Trajectory, k: int) -> str:
     )
 
 
+def _ghost(traj: Trajectory, scene: Scene) -> list[dict]:
+    """The drawn (design) geometry as one grey dashed trace, where the run starts away
+    from it (the same in every frame)."""
+    if not traj.assembled_off_drawing():
+        return []
+    points: list[np.ndarray | None] = []
+    for markers in scene.outlines.values():
+        points += [traj.drawn(m) for m in markers] + [None]
+    return [_lines(points, "as drawn", "gray", 2, line={"dash": "dash"}, opacity=0.5)]
+
+
 def frame_traces(traj: Trajectory, scene: Scene, k: int) -> list[dict]:
     """Every trace of the drawing at output index k, always the same traces in one order
-    (an animation updates trace i of each frame); the force arrows only with reactions."""
+    (an animation updates trace i of each frame): the drawing's ghost where the run starts
+    away from it; the force arrows only with reactions."""
     traces = (
-        _bodies(traj, scene, k)
+        _ghost(traj, scene)
+        + _bodies(traj, scene, k)
         + _links(traj, scene, k)
         + _contacts(traj, scene, k)
         + _joints_and_points(traj, scene, k)

@@ -7,7 +7,8 @@ force of the joints asked for. Result files are not touched. `loadcases.draw.ren
 the trajectory into PNG pictures and animations, `loadcases.draw.page` into a 3-D HTML page.
 
 Marker names are `<what>@<body>` (`hinge@door`, `wire#0@ground`); positions are in m,
-global axes.
+global axes. The skeleton keeps each marker's drawn (design) position: the pictures show it
+as a ghost where the run starts elsewhere, and the run's branch warnings travel along.
 """
 
 from __future__ import annotations
@@ -33,6 +34,7 @@ __all__ = [
 _PLANE_HALF_SIZE = 0.03
 """m: half size of the square drawn for the plane of a sphere-plane contact."""
 _PREFIX = "__draw_"
+_DRAWN_TOLERANCE = 1e-6  # of the mechanism's size: a first row this close is the drawing
 
 
 @dataclass
@@ -75,10 +77,25 @@ class Trajectory:
     status: str = "ok"
     message: str = ""
     reactions: dict[str, np.ndarray] = field(default_factory=dict)
+    branch_warnings: list[str] = field(default_factory=list)
 
     def index_at(self, t: float) -> int:
         """Index of the output time nearest to `t` (s)."""
         return int(np.argmin(np.abs(self.time - t)))
+
+    def drawn(self, marker: str) -> np.ndarray:
+        """The marker's position in the drawn (design) geometry, m."""
+        return np.array(self.skeleton.markers[marker][1])
+
+    def assembled_off_drawing(self) -> bool:
+        """The first row is not the drawn geometry: some marker moved more than
+        _DRAWN_TOLERANCE of the mechanism's size from its design position."""
+        if len(self.time) == 0 or not self.positions:
+            return False
+        drawn = np.array([self.drawn(m) for m in self.positions])
+        first = np.array([p[0] for p in self.positions.values()])
+        size = max(float(np.ptp(drawn, axis=0).max()), 1e-3)
+        return bool(np.abs(first - drawn).max() > _DRAWN_TOLERANCE * size)
 
 
 def _perpendiculars(normal) -> tuple[np.ndarray, np.ndarray]:
@@ -176,6 +193,7 @@ def solve_trajectory(
         redundant=built.redundant,
         throw=False,
         events=built.events,
+        branches=built.branches,
     )
 
     def columns(request: str, components: Sequence[str]) -> np.ndarray:
@@ -193,6 +211,7 @@ def solve_trajectory(
         solution.status,
         solution.message,
         reactions,
+        [w for w in solution.warnings if w.startswith("assembly branch changed")],
     )
 
 

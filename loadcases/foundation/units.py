@@ -45,10 +45,16 @@ __all__ = [
     "SIValue",
     "UnitError",
     "check_unit_name",
+    "describe_dimension",
     "dimension_mismatch",
     "finite",
+    "quantity_dimension",
+    "si_unit_text",
+    "si_value_problem",
     "to_si",
     "unit_constant",
+    "unit_dimension",
+    "vector_text_unit",
     "vector_to_si",
 ]
 
@@ -447,7 +453,114 @@ def _file_unit(dimension: str, file_units: Mapping[str, str] | None) -> str | No
 
 
 class SIValue(float):
-    """A value already in SI (a parameter put in place of its name): no file unit applies."""
+    """A value already in SI (a parameter, or an expression of parameters, put in place of
+    its text): no file unit applies. `dims` is its base dimensionality ({"[length]": 1}) when
+    known (a parameter written with a unit), None when not (a bare number: SI of whatever it
+    is); `source` says what it replaced, for messages (`parameter 'airspeed' = '250 kg'`)."""
+
+    dims: Mapping[str, float] | None
+    source: str
+
+    def __new__(
+        cls, value: float, dims: Mapping[str, float] | None = None, source: str = ""
+    ) -> SIValue:
+        made = super().__new__(cls, value)
+        made.dims = None if dims is None else {k: v for k, v in dims.items() if v}
+        made.source = source
+        return made
+
+    def __reduce__(self) -> tuple:
+        return (SIValue, (float(self), self.dims, self.source))
+
+
+def si_value_problem(value: SIValue, dimension: str) -> str | None:
+    """Why the SI value `value` (of a known dimension) cannot stand where `dimension` is
+    expected, or None: the rule of quantity texts (`_matches`), so a parameter written
+    `250 kg` is refused where the same text written in place would be."""
+    if dimension == "any" or value.dims is None or _matches(value.dims, dimension):
+        return None
+    return (
+        f"expected {_describe(DIMENSIONS[dimension])}, got {value.source or 'a value'} "
+        f"({describe_dimension(value.dims)})"
+    )
+
+
+def describe_dimension(dims: Mapping[str, float]) -> str:
+    """Engineer's name of a base dimensionality: `a velocity`, `a mass`, or
+    `units of kg^3/m` when it has no name."""
+    wanted = {k: v for k, v in dims.items() if v}
+    if any(wanted == d for d in DIMENSIONS.values()):
+        return _describe(wanted)
+    return f"units of {si_unit_text(wanted)}"
+
+
+_SI_SYMBOLS = {
+    "[mass]": "kg",
+    "[length]": "m",
+    "[time]": "s",
+    "[angle]": "rad",
+    "[current]": "A",
+    "[temperature]": "K",
+    "[substance]": "mol",
+    "[luminosity]": "cd",
+}
+
+
+def si_unit_text(dims: Mapping[str, float]) -> str:
+    """The SI unit of a base dimensionality as the engine writes units: the text of its
+    kind where it has one (`N`, `N*m`, `rad/s`: the units a report converts), else its base
+    units (`kg*m^3/(s^2*rad)`); `1` for a plain number."""
+    wanted = {k: v for k, v in dims.items() if v}
+    for kind, unit in REPORT_KINDS.items():
+        if DIMENSIONS[kind] == wanted:
+            return unit
+    if not wanted:
+        return "1"
+
+    def power(base: str, value: float) -> str:
+        symbol = _SI_SYMBOLS.get(base, base)
+        return symbol if value == 1 else f"{symbol}^{value:g}"
+
+    up = [power(b, v) for b, v in sorted(wanted.items(), key=_base_order) if v > 0]
+    down = [power(b, -v) for b, v in sorted(wanted.items(), key=_base_order) if v < 0]
+    text = "*".join(up) or "1"
+    if down:
+        text += "/" + (down[0] if len(down) == 1 else "(" + "*".join(down) + ")")
+    return text
+
+
+def _base_order(item: tuple[str, float]) -> int:
+    order = list(_SI_SYMBOLS)
+    return order.index(item[0]) if item[0] in order else len(order)
+
+
+@lru_cache(maxsize=4096)
+def quantity_dimension(text: str) -> tuple[tuple[str, float], ...] | None:
+    """Base dimensionality of the quantity text `text` ("250 knot") as sorted (base,
+    power) pairs; () for a dimensionless one, None for a bare number (SI of an unknown
+    dimension); UnitError if it is not a quantity."""
+    if _NUMBER.match(text):
+        return None
+    _check_text(text)
+    known = _table().quantity(text)
+    if known is not None:
+        dims = known[1]
+    else:
+        quantity, base = _quantity(text)
+        _learn_quantity(text, quantity, base)
+        dims = dict(base.dimensionality)
+    return tuple(sorted((k, float(v)) for k, v in dims.items() if v))
+
+
+def unit_dimension(name: str) -> tuple[tuple[str, float], ...] | None:
+    """Base dimensionality of the unit constant `name` of expressions (`deg` -> angle), or
+    None if `name` is not one (see `unit_constant`)."""
+    if unit_constant(name) is None:
+        return None
+    try:
+        return quantity_dimension(f"1 {name}")
+    except UnitError:
+        return None
 
 
 def to_si(value: Any, dimension: str, file_units: Mapping[str, str] | None = None) -> float:
@@ -461,6 +574,9 @@ def to_si(value: Any, dimension: str, file_units: Mapping[str, str] | None = Non
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         raise UnitError(f"expected a number or a quantity text, got {_show(value)}")
     if isinstance(value, SIValue):
+        problem = si_value_problem(value, dimension)
+        if problem is not None:
+            raise UnitError(problem)
         return float(value)
     return finite(_si_magnitude(value, dimension, file_units), value)
 
@@ -591,6 +707,13 @@ def vector_to_si(
         except UnitError as error:
             raise UnitError(f"item {index + 1}: {error}") from None
     return tuple(result)
+
+
+def vector_text_unit(text: str) -> str | None:
+    """The unit written after the brackets of a vector text (`"[0, 30] deg"` -> `deg`), or
+    None when there is none or `text` is not a vector text."""
+    match = _VECTOR.match(text)
+    return match["unit"] or None if match else None
 
 
 @lru_cache(maxsize=512)

@@ -6,6 +6,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import glob
 import hashlib
 import json
@@ -26,12 +27,21 @@ from loadcases.checks import (
     check_set_cases,
     resolve_initial,
 )
+from loadcases.checks.dimensions import expression_scope
+from loadcases.checks.requests import expression_units
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.foundation.limits import local_path_problem, pattern_problem
+from loadcases.foundation.units import UnitError, dimension_mismatch
 from loadcases.inputs.hardpoints import expand_hardpoints
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
-from loadcases.inputs.parameter_refs import ParameterRef, parameter_values, put_parameters
+from loadcases.inputs.parameter_refs import (
+    ParameterRef,
+    Unresolved,
+    parameter_values,
+    put_parameters,
+)
+from loadcases.inputs.partial import beside_removed, validated_in_part
 from loadcases.inputs.reference_tables import check_reference_curves
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
 from loadcases.schema.errors import (
@@ -103,6 +113,10 @@ class CaseFile:
     # "mechanism" whether the mechanism is inline or in its own file
     parameter_refs: frozenset[ParameterRef] = frozenset()
     what_if: tuple[Override, ...] = ()  # `--set` overrides, in the order given
+    # each parameter's base dimensionality ({"[length]": 1}); None when written without a unit
+    parameter_dims: Mapping[str, Mapping[str, float] | None] = field(default_factory=dict)
+    # the SI unit of each expression request's column ("" when not known)
+    expression_units: Mapping[str, str] = field(default_factory=dict)
 
     def where(self, kind: str, key_path: str | KeyPath) -> tuple[str, int, int]:
         """(file, line, col) of a key of the `"case"` or the `"mechanism"` (for messages)."""
@@ -151,10 +165,51 @@ def _validate(
         valid = model.model_validate(locator.data, context={"units": units})
         return valid, plain_boolean_diagnostics(valid, locator)
     except ValidationError as error:
-        found = validation_diagnostics(error, model, locator)
-        # A bad `units:` header is reported once by _file_units.
-        units_key = ".".join(str(p) for p in (*locator.prefix, "units"))
-        return None, [d for d in found if not d.key.startswith(units_key)]
+        return None, _schema_diagnostics(error, model, locator)
+
+
+def _schema_diagnostics(
+    error: ValidationError, model: type[BaseModel], locator: Locator
+) -> list[Diagnostic]:
+    found = validation_diagnostics(error, model, locator)
+    # A bad `units:` header is reported once by _file_units.
+    units_key = ".".join(str(p) for p in (*locator.prefix, "units"))
+    return [d for d in found if not d.key.startswith(units_key)]
+
+
+def _validate_partly(
+    model: type[BaseModel], locator: Locator, units: dict[str, str]
+) -> tuple[Any, list[Diagnostic], Any, frozenset[str]]:
+    """`_validate`, and when the file is invalid, its model without the invalid items and
+    their names (loadcases.inputs.partial), for the checks of `validate`."""
+    try:
+        valid = model.model_validate(locator.data, context={"units": units})
+        return valid, plain_boolean_diagnostics(valid, locator), None, frozenset()
+    except ValidationError as error:
+        in_part, removed = validated_in_part(model, locator.data, units, error)
+        return None, _schema_diagnostics(error, model, locator), in_part, removed
+
+
+def _checked(
+    case: Any,
+    mechanism: Any,
+    locators: tuple[Locator, Locator | None],
+    case_units: dict[str, str],
+    scope: Any,
+) -> tuple[Any, list[Diagnostic]]:
+    """The case with its initial values resolved, and the semantic problems of a case and
+    its mechanism (each None when it could not be validated even in part)."""
+    case_locator, mech_locator = locators
+    found: list[Diagnostic] = []
+    if mechanism is not None and mech_locator is not None:
+        motions, parameters = _raw_keys(case_locator.data, "motions", "parameters")
+        found += check_mechanism(mechanism, mech_locator, motions, parameters, scope)
+    if case is not None and mechanism is not None:
+        case, more = resolve_initial(case, mechanism, case_locator, case_units)
+        found += more + check_case(case, mechanism, case_locator, scope)
+    elif case is not None:
+        found += check_case_alone(case, case_locator)
+    return case, found
 
 
 def _sha256(*contents: bytes) -> str:
@@ -214,18 +269,65 @@ def load_mechanism(path: str | Path) -> MechanismFile:
     units, found = _file_units(locator, {})
     tables, more = expand_hardpoints(locator, units)
     found += more
+    unresolved: dict[tuple, Unresolved] = {}
+    values = {}
     if isinstance(locator.data, dict):
-        put_parameters(
-            locator.data, parameter_values(locator.data.get("parameters"), file_units=units)
-        )
-    model, more = _validate(MechanismModel, locator, units)
-    diagnostics += found + more
-    if model is not None:
-        diagnostics += check_mechanism(model, locator)
+        values = parameter_values(locator.data.get("parameters"), file_units=units)
+        put_parameters(locator.data, values, unresolved=unresolved)
+    model, more, in_part, removed = _validate_partly(MechanismModel, locator, units)
+    diagnostics += found + _name_unknown_parameters(
+        more, {"mechanism": unresolved}, {"mechanism": locator}
+    )
+    if model is not None or in_part is not None:
+        scope = expression_scope({n: v.dims for n, v in values.items()}, model_tables(locator))
+        checks = check_mechanism(model or in_part, locator, scope=scope)
+        diagnostics += beside_removed(checks, removed)
     _raise_on_errors(diagnostics)
     return MechanismFile(
         str(path), model, _sha256(Path(path).read_bytes(), *tables), locator, tuple(diagnostics)
     )
+
+
+def _redefined_parameters(case: Locator, mechanism: Locator | None) -> list[Diagnostic]:
+    """A case parameter written with a unit of another dimension than the mechanism's
+    definition (the rule of `--set`), at the case's key."""
+    definitions = defined_parameters([mechanism])
+    raw = case.data.get("parameters") if isinstance(case.data, dict) else None
+    found = []
+    for name, value in raw.items() if isinstance(raw, dict) else ():
+        if name not in definitions or not isinstance(value, str):
+            continue
+        try:
+            problem = dimension_mismatch(value, definitions[name][1])
+        except UnitError:
+            continue  # an unreadable value is reported by the schema
+        if problem is not None:
+            found.append(
+                case.diagnostic(
+                    ("parameters", name),
+                    f"the mechanism's parameter of another dimension: {problem}",
+                )
+            )
+    return found
+
+
+def _motion_joint_types(case: Locator, mechanism: Locator | None) -> dict[str, str]:
+    """The type of the joint each motion of the raw case drives (as written)."""
+    motions = case.data.get("motions") if isinstance(case.data, dict) else None
+    raw = mechanism.data if mechanism is not None and isinstance(mechanism.data, dict) else {}
+    joints = raw.get("joints")
+    joints = joints if isinstance(joints, dict) else {}
+    found = {}
+    for name, motion in motions.items() if isinstance(motions, dict) else ():
+        joint = joints.get(motion.get("joint")) if isinstance(motion, dict) else None
+        if isinstance(joint, dict) and isinstance(joint.get("type"), str):
+            found[str(name)] = joint["type"]
+    return found
+
+
+def model_tables(locator: Locator) -> Any:
+    """The raw `tables:` of a file (as written: their units tell their dimensions)."""
+    return locator.data.get("tables") if isinstance(locator.data, dict) else None
 
 
 def _mechanism_source(
@@ -293,21 +395,38 @@ def load_case(
         mech_units, found = _file_units(mech_locator, inherited)
         tables, more = expand_hardpoints(mech_locator, mech_units)
         diagnostics += found + more
-    refs = _put_parameters(case_locator, mech_locator, case_units, mech_units, overrides)
-    case, found = _validate(CaseModel, case_locator, case_units)
-    diagnostics += found
-    mechanism = None
+    diagnostics += _redefined_parameters(case_locator, mech_locator)
+    unresolved: dict[str, dict] = {"case": {}, "mechanism": {}}
+    dimensions: dict[str, Any] = {}
+    refs = _put_parameters(
+        case_locator, mech_locator, case_units, mech_units, overrides, unresolved, dimensions
+    )
+    scope = expression_scope(
+        dimensions,
+        model_tables(mech_locator) if mech_locator is not None else None,
+        _motion_joint_types(case_locator, mech_locator),
+    )
+    case, found, case_in_part, removed = _validate_partly(CaseModel, case_locator, case_units)
+    mechanism, mechanism_in_part = None, None
     if mech_locator is not None:
-        mechanism, more = _validate(MechanismModel, mech_locator, mech_units)
-        diagnostics += more
-        if mechanism is not None:
-            motions, parameters = _raw_keys(case_locator.data, "motions", "parameters")
-            diagnostics += check_mechanism(mechanism, mech_locator, motions, parameters)
-    if case is not None and mechanism is not None:
-        case, found = resolve_initial(case, mechanism, case_locator, case_units)
-        diagnostics += found + check_case(case, mechanism, case_locator)
-    elif case is not None:
-        diagnostics += check_case_alone(case, case_locator)
+        mechanism, more, mechanism_in_part, gone = _validate_partly(
+            MechanismModel, mech_locator, mech_units
+        )
+        found += more
+        removed |= gone
+    diagnostics += _name_unknown_parameters(
+        found, unresolved, {"case": case_locator, "mechanism": mech_locator}
+    )
+    # the checks run on the valid part of each file too: every problem in one pass
+    checked, found = _checked(
+        case or case_in_part,
+        mechanism or mechanism_in_part,
+        (case_locator, mech_locator),
+        case_units,
+        scope,
+    )
+    diagnostics += beside_removed(found, removed)
+    case = checked if case is not None else None
     _raise_on_errors(diagnostics)
     if case is None or mechanism is None or mech_locator is None:
         raise InputError(diagnostics)  # not reached: each of them missing is an error above
@@ -327,6 +446,8 @@ def load_case(
         warnings=tuple(diagnostics),
         parameter_refs=frozenset(refs),
         what_if=tuple(what_if),
+        parameter_dims=dict(dimensions),
+        expression_units=expression_units(case, scope),
     )
 
 
@@ -336,22 +457,54 @@ def _put_parameters(
     case_units: dict,
     mech_units: dict,
     overrides,
+    unresolved: Mapping[str, dict],
+    dimensions: dict[str, Any],
 ) -> set[ParameterRef]:
     """Parameter values (mechanism, then case, then overrides) put where a numeric field
-    names a parameter, in both raw trees; returns the fields so set (key path, name)."""
+        names a parameter, in both raw trees; returns the fields so set (key path, name). Texts
+        naming unknown parameters go to `unresolved["case"]` and `unresolved["mechanism"]`, each
+    parameter's dimension (None: written without a unit) to `dimensions`."""
     mech_data = mech_locator.data if mech_locator is not None else {}
     values = parameter_values(
         mech_data.get("parameters") if isinstance(mech_data, dict) else None, file_units=mech_units
     )
-    values.update(
-        parameter_values(
-            case_locator.data.get("parameters"), file_units=case_units, overrides=overrides
-        )
+    values = parameter_values(
+        case_locator.data.get("parameters"),
+        file_units=case_units,
+        overrides=overrides,
+        earlier=values,
     )
-    used = put_parameters(case_locator.data, values)
+    dimensions.update({name: value.dims for name, value in values.items()})
+    used = put_parameters(case_locator.data, values, unresolved=unresolved["case"])
     if mech_locator is not None and mech_locator.data is not case_locator.data.get("mechanism"):
-        used |= put_parameters(mech_locator.data, values, ("mechanism",))
+        used |= put_parameters(
+            mech_locator.data, values, ("mechanism",), unresolved=unresolved["mechanism"]
+        )
     return used
+
+
+def _name_unknown_parameters(
+    diagnostics: list[Diagnostic], unresolved: Mapping[str, Mapping[tuple, Unresolved]], locators
+) -> list[Diagnostic]:
+    """Each field error about a text that could not be read and that names no known
+    parameter, said so: `unknown parameter 'mu_trunion'` with a `did you mean` hint."""
+    by_key: dict[tuple[str, str], Unresolved] = {}
+    for kind, found in unresolved.items():
+        locator = locators.get(kind)
+        if locator is None:
+            continue
+        for path, why in found.items():
+            key = ".".join(str(p) for p in locator.prefix)
+            for part in path:
+                key += f"[{part}]" if isinstance(part, int) else ("." if key else "") + part
+            by_key[(locator.tree.file, key)] = why
+    out = []
+    for d in diagnostics:
+        reason = by_key.get((d.file, d.key))
+        if reason is not None and d.severity == "error" and "cannot read" in d.message:
+            d = dataclasses.replace(d, message=reason.message, hint=reason.hint)
+        out.append(d)
+    return out
 
 
 def _expand_cases(model: SetModel, locator: Locator) -> tuple[list[str], list[Diagnostic]]:

@@ -17,7 +17,13 @@ from dataclasses import dataclass
 
 from loadcases.foundation.clip import clip
 from loadcases.foundation.diagnostics import Diagnostic
-from loadcases.foundation.units import UnitError, dimension_mismatch, to_si
+from loadcases.foundation.units import (
+    SIValue,
+    UnitError,
+    dimension_mismatch,
+    quantity_dimension,
+    to_si,
+)
 from loadcases.inputs.run_identity import Labels, Pairs, value_label
 from loadcases.schema.errors import did_you_mean
 from loadcases.yamlfiles.source import Locator
@@ -72,11 +78,19 @@ def parse_overrides(texts: Sequence[str]) -> tuple[Override, ...]:
         if name in found:
             raise OverrideError(f"{shown}: given twice ({clip(found[name].text)}, {clip(value)})")
         try:
-            si = to_si(_finite_number(value), "any")
+            number = _finite_number(value)
+            si = to_si(number, "any")
+            dims = quantity_dimension(number) if isinstance(number, str) else None
         except UnitError as error:  # the error quotes the value
             raise OverrideError(f"{shown}: {error}") from None
-        found[name] = Override(name, value, si)
+        # the value carries its dimension to the fields that use the parameter
+        shown_value = f"{OPTION} {clip(name)}={clip(value)}"
+        found[name] = Override(name, value, SIValue(si, _dims(dims), f"'{shown_value}'"))
     return tuple(found.values())
+
+
+def _dims(dims: tuple[tuple[str, float], ...] | None) -> dict[str, float] | None:
+    return None if dims is None else dict(dims)
 
 
 _NOT_FINITE = re.compile(r"[-+]?(?:nan|inf|infinity)", re.IGNORECASE)

@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import math
 from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Discriminator, Field, Tag
 from pydantic_core import PydanticCustomError
 
 import mechlib as ml
+from loadcases.foundation.units import UnitError, to_si
 from loadcases.schema.mechanism import Event, FileUnits
 from loadcases.schema.torque_margin import TorqueMargin
 from loadcases.schema.types import (
@@ -62,6 +64,11 @@ class Initial(Strict):
     """
 
     value: RawQuantity | None = Field(None, description="joint coordinate [angle or length]")
+    guess: RawQuantity | None = Field(
+        None,
+        description="joint coordinate to assemble near, not imposed: chooses the branch of a "
+        "closed loop [angle or length]",
+    )
     rate: RawQuantity | None = Field(
         None, description="joint coordinate rate [angular velocity or velocity, bare numbers SI]"
     )
@@ -74,6 +81,24 @@ class Initial(Strict):
 
 
 _TIME = quantity("time")
+
+
+class Branches(Strict):
+    """When the assembly, or a quasi-static or kinematic run, is said to leave the branch
+    of the drawn geometry (or of the guesses), and what follows."""
+
+    angle: quantity("angle") = Field(
+        default=math.radians(30.0),
+        gt=0,
+        description=describe(
+            "largest distance of a joint from its guess, and of a joint's jump in one "
+            "assembly stage (default 30 deg)",
+            "angle",
+        ),
+    )
+    on_change: Literal["warn", "error"] = Field(
+        default="warn", description="warn (default), or error: the run fails (exit 1), rows kept"
+    )
 
 
 def _mechanism_ref(value: Any) -> Any:
@@ -168,6 +193,14 @@ class ElementRequest(Strict):
     frame: Name = Field("ground", description=_FRAME)
 
 
+class LimitRequest(Strict):
+    """Of a joint limit: `value`, its effort along the joint coordinate (N*m or N, positive
+    increases the coordinate), and `penetration` (rad or m, >= 0)."""
+
+    limit: Name
+    quantity: Literal["force"] = "force"
+
+
 class ContactRequest(Strict):
     """Contact `force` (normal, friction, fx fy fz on body 1), `penetration` (value, m),
     `point` (x y z, m, ground axes), `sliding_speed` (value, m/s), `wear` (F_N * v_rel,
@@ -212,10 +245,28 @@ class SectionRequest(Strict):
     )
 
 
+def _column_unit(value: Any) -> str:
+    """A unit name for an expression request's column (`kN`, `N*m`, `deg/s`)."""
+    if not isinstance(value, str) or not value.strip():
+        raise PydanticCustomError("unit", "expected a unit name such as 'kN'")
+    try:
+        to_si(f"1 {value.strip()}", "any")
+    except UnitError:
+        raise PydanticCustomError(
+            "unit", "unknown unit '{unit}'", {"unit": value.strip()}
+        ) from None
+    return value.strip()
+
+
 class ExpressionRequest(Strict):
-    """Any expression of the state (`value`)."""
+    """Any expression of the state (`value`, SI)."""
 
     expression: Expression
+    unit: Annotated[str, BeforeValidator(_column_unit)] | None = Field(
+        None,
+        description="the column's dimension, named by a unit of it (`kN` makes it a force, "
+        "shown in the report's force unit); absent: inferred from the expression",
+    )
 
 
 class EnergyRequest(Strict):
@@ -231,6 +282,7 @@ REQUEST_KINDS = (
     "flexible",
     "point",
     "force",
+    "limit",
     "contact",
     "section",
     "expression",
@@ -252,6 +304,7 @@ Request = Annotated[
     | Annotated[MotionRequest, Tag("motion")]
     | Annotated[PointRequest, Tag("point")]
     | Annotated[ElementRequest, Tag("force")]
+    | Annotated[LimitRequest, Tag("limit")]
     | Annotated[ContactRequest, Tag("contact")]
     | Annotated[FlexibleRequest, Tag("flexible")]
     | Annotated[SectionRequest, Tag("section")]
@@ -261,7 +314,7 @@ Request = Annotated[
         _request_kind,
         custom_error_type="request_kind",
         custom_error_message="a request needs one of the keys joint, motion, point, "
-        "force, contact, flexible, section or expression, or is `quantity: energy`",
+        "force, limit, contact, flexible, section or expression, or is `quantity: energy`",
     ),
 ]
 
@@ -289,6 +342,10 @@ class CaseModel(Strict):
     )
     loads: list[Name] | None = Field(None, description="active force elements by name; absent: all")
     initial: dict[str, Initial] = Field(default_factory=dict, description="by joint or body")
+    branches: Branches = Field(
+        Branches(),
+        description="assembly branches: {angle: 30 deg, on_change: warn | error}",
+    )
     analysis: Analysis
     requests: dict[str, Request] = Field(default_factory=dict)
     abscissa: Expression | None = Field(None, description="x-axis expression for envelopes")

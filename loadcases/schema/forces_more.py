@@ -1,10 +1,12 @@
-"""Pydantic models of the domain force elements: seal, damper, cable loop (issue 3)."""
+"""Pydantic models of the domain force elements: seal, damper, cable loop (issue 3); a joint
+limit of `limits:` (issue 36)."""
 
 from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
+from pydantic_core import PydanticCustomError
 
 from loadcases.schema.types import (
     AnySI,
@@ -15,6 +17,7 @@ from loadcases.schema.types import (
     Name,
     NamePair,
     Position,
+    RawQuantity,
     Stiffness,
     Strict,
     TorsionalDamping,
@@ -23,7 +26,7 @@ from loadcases.schema.types import (
     vector,
 )
 
-__all__ = ["CableLoop", "Damper", "Seal"]
+__all__ = ["CableLoop", "Damper", "Limit", "Seal"]
 
 _ACTIVE = "false: the element starts switched off (an event may activate it)"
 
@@ -79,3 +82,43 @@ class CableLoop(Strict):
     )
     pretension: Force = Field(0.0, ge=0, description=describe("strand tension at design", "force"))
     active: bool = Field(True, description=_ACTIVE)
+
+
+class Limit(Strict):
+    """A limit (stop) on a joint coordinate with the IMPACT law, an entry of a mechanism's
+    `limits:` (docs/elements.md, Joint limits)."""
+
+    joint: Name = Field(description="a revolute, prismatic or cylindrical joint")
+    coordinate: Literal["angle", "travel"] | None = Field(
+        None, description="the coordinate stopped (cylindrical joints; default: angle)"
+    )
+    min: RawQuantity | None = Field(
+        None, description="lower limit of the coordinate [angle or length]; absent: none"
+    )
+    max: RawQuantity | None = Field(
+        None, description="upper limit of the coordinate [angle or length]; absent: none"
+    )
+    stiffness: AnySI = Field(
+        gt=0, description="k of k x^e [N*m/rad^e (angle) or N/m^e (travel), bare numbers SI]"
+    )
+    exponent: Dimensionless = Field(1.5, gt=0, description="e of k x^e [dimensionless]")
+    damping: AnySI = Field(
+        0.0, ge=0, description="c_max [N*m*s/rad or N*s/m, bare numbers SI], full at `depth`"
+    )
+    depth: RawQuantity | None = Field(
+        None, description="penetration where the damping is full [angle or length]"
+    )
+    restitution: Dimensionless | None = Field(
+        None, gt=0, le=1, description="coefficient of restitution instead of `damping`"
+    )
+    active: bool = Field(True, description=_ACTIVE)
+
+    @model_validator(mode="after")
+    def _complete(self) -> Limit:
+        if self.min is None and self.max is None:
+            raise PydanticCustomError("limit", "give 'min', 'max' or both")
+        if self.restitution is not None and self.damping:
+            raise PydanticCustomError("exclusive", "give 'damping' or 'restitution', not both")
+        if self.damping and self.depth is None:
+            raise PydanticCustomError("limit", "'damping' needs 'depth' (full damping there)")
+        return self

@@ -10,6 +10,7 @@ from pydantic_core import PydanticCustomError
 from loadcases.foundation.units import FILE_UNIT_KINDS, UnitError, check_unit_name
 from loadcases.schema.elements import Contact, ForceElement, Table
 from loadcases.schema.flexible import Flexible
+from loadcases.schema.forces_more import Limit
 from loadcases.schema.types import (
     AnySI,
     Direction,
@@ -21,6 +22,7 @@ from loadcases.schema.types import (
     NamePair,
     Position,
     Strict,
+    Time,
     describe,
     vector,
 )
@@ -36,6 +38,7 @@ __all__ = [
     "Coupler",
     "Event",
     "EventAction",
+    "EventDelay",
     "FileUnits",
     "Fixed",
     "FlexibleBody",
@@ -265,15 +268,41 @@ class EventAction(Strict):
         return {"action": action, "target": target}
 
 
-class Event(Strict):
-    """`when` a condition on the state becomes true, do `then`."""
+class EventDelay(Strict):
+    """`delay` after the event named `event` fired."""
 
-    when: Expression = Field(description="condition expression, e.g. 'angle(hl2) >= 90*deg'")
-    then: list[EventAction] = Field(
+    event: Name = Field(description="the event this one follows")
+    delay: Time = Field(0.0, ge=0, description=describe("time after that event fired", "time"))
+
+
+def _action_list(value: Any) -> Any:
+    """`then: stop` or `then: {lock: knee}` as a list of one action."""
+    return value if isinstance(value, list) else [value]
+
+
+class Event(Strict):
+    """`when` a condition on the state becomes true (or `after` another event and a delay),
+    do `then`."""
+
+    when: Expression | None = Field(
+        None, description="condition expression, e.g. 'angle(hl2) >= 90*deg'"
+    )
+    after: EventDelay | None = Field(
+        None, description="instead of `when`: {event: NAME, delay: TIME} after that event fired"
+    )
+    then: Annotated[list[EventAction], BeforeValidator(_action_list)] = Field(
         min_length=1,
-        description="actions: stop, {activate: "
+        description="actions (one, or a list): stop, {activate: "
         "NAME}, {deactivate: NAME}, {release: JOINT}, {lock: JOINT}",
     )
+
+    @model_validator(mode="after")
+    def _when_or_after(self) -> Event:
+        if (self.when is None) == (self.after is None):
+            raise PydanticCustomError(
+                "event", "give either 'when' (a condition) or 'after' ({event: NAME, delay: TIME})"
+            )
+        return self
 
 
 class Section(Strict):
@@ -337,6 +366,10 @@ class MechanismModel(Strict):
     sections: dict[str, Section] = Field(
         default_factory=dict,
         description="sections of rigid bodies whose internal loads a case may request",
+    )
+    limits: dict[str, Limit] = Field(
+        default_factory=dict,
+        description="stops on joint coordinates (IMPACT law), effect `contact`",
     )
     tables: dict[str, Table] = Field(default_factory=dict)
     events: dict[str, Event] = Field(default_factory=dict)

@@ -10,10 +10,10 @@ import re
 from collections.abc import Callable, Mapping
 from typing import Annotated, Any
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, ValidationInfo
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PlainValidator, ValidationInfo
 from pydantic_core import PydanticCustomError
 
-from loadcases.foundation.units import UnitError, finite, to_si, vector_to_si
+from loadcases.foundation.units import SIValue, UnitError, finite, to_si, vector_to_si
 
 __all__ = [
     "SI_UNITS",
@@ -180,6 +180,8 @@ def expression(dimension: str = "any") -> Any:
             raise PydanticCustomError("expression", "expected an expression text or a number")
         if not isinstance(value, str):
             try:
+                if isinstance(value, SIValue):  # a parameter put in place of its name
+                    return repr(to_si(value, dimension))
                 return repr(finite(float(value), value))
             except UnitError as error:
                 raise _fail(error) from None
@@ -199,7 +201,8 @@ def expression(dimension: str = "any") -> Any:
 def _raw(value: Any) -> float | str:
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         raise PydanticCustomError("quantity", "expected a number or a quantity text")
-    return value if isinstance(value, str) else float(value)
+    # a parameter put in place keeps its SI marker: no file unit applies to it later
+    return value if isinstance(value, (str, SIValue)) else float(value)
 
 
 Length = quantity("length")
@@ -226,6 +229,7 @@ Inertia = Annotated[
 ]
 Expression = expression()
 # A joint coordinate or rate whose dimension depends on the joint type: converted by the loader.
-RawQuantity = Annotated[float | str, BeforeValidator(_raw)]
+# (PlainValidator: the value as `_raw` gives it, so a parameter's SIValue stays one)
+RawQuantity = Annotated[float | str, PlainValidator(_raw, json_schema_input_type=float | str)]
 Name = Annotated[str, Field(min_length=1)]
 NamePair = tuple[Name, Name]

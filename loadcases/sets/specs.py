@@ -133,7 +133,7 @@ def _mechanism_in_use(cf: CaseFile) -> dict:
         and effects.get(ELEMENT_EFFECTS.get(f.get("type", ""), ""), True)
     }
     if not effects.get("contact", True):
-        mech["contacts"] = {}
+        mech["contacts"], mech["limits"] = {}, {}
     return mech
 
 
@@ -154,7 +154,7 @@ def used_parameters(cf: CaseFile) -> set[str]:
 def _in_use(path: tuple[str, ...], mechanism: dict) -> bool:
     """Whether a field at `path` (case keys, or "mechanism", ...) is in the part of the
     mechanism the case uses: not under a left-out force element or contact."""
-    if len(path) < 3 or path[0] != "mechanism" or path[1] not in ("forces", "contacts"):
+    if len(path) < 3 or path[0] != "mechanism" or path[1] not in ("forces", "contacts", "limits"):
         return True
     return path[2] in mechanism.get(path[1], {})
 

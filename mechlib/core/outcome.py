@@ -58,6 +58,10 @@ class Status(enum.Enum):
         "an expression, a force element or a request could not be evaluated",
     )
     INTERRUPTED = ("interrupted", "interrupted by the user (SIGINT or SIGTERM)")
+    BRANCH_CHANGED = (
+        "branch_changed",
+        "the mechanism left the assembly branch of its drawn geometry (or of its guesses)",
+    )
 
     def __init__(self, code: str, message: str):
         self.code = code

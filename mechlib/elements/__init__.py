@@ -15,6 +15,7 @@ if TYPE_CHECKING:
     from mechlib.elements.cable_loop import CableLoop
     from mechlib.elements.damper import RotationalDamper
     from mechlib.elements.friction import JointFriction
+    from mechlib.elements.joint_limit import JointLimit
     from mechlib.elements.laws import TableLaw
     from mechlib.elements.seal import Seal
     from mechlib.elements.series import SeriesLaw, series_stiffness
@@ -23,6 +24,7 @@ _HOMES = {
     "Bushing": "mechlib.elements.bushing",
     "CableLoop": "mechlib.elements.cable_loop",
     "JointFriction": "mechlib.elements.friction",
+    "JointLimit": "mechlib.elements.joint_limit",
     "RotationalDamper": "mechlib.elements.damper",
     "Seal": "mechlib.elements.seal",
     "SeriesLaw": "mechlib.elements.series",
@@ -34,6 +36,7 @@ __all__ = [
     "Bushing",
     "CableLoop",
     "JointFriction",
+    "JointLimit",
     "RotationalDamper",
     "Seal",
     "SeriesLaw",

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import functools
+import math
 from bisect import bisect_right
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
@@ -12,6 +13,7 @@ import numpy as np
 __all__ = [
     "DEFAULT_MAX_STEPS",
     "DEFAULT_TOLERANCE",
+    "BranchCheck",
     "Dynamic",
     "InitialBodyVelocity",
     "InitialValue",
@@ -108,12 +110,25 @@ class Modes:
 
 @dataclass(frozen=True)
 class InitialValue:
-    """A joint coordinate (rad or m) and/or its rate given for the start of an analysis."""
+    """A joint coordinate (rad or m) and/or its rate given for the start of an analysis;
+    `guess`: a coordinate to assemble near (the branch of a loop), not imposed."""
 
     joint: str
     value: float | None = None
     rate: float | None = None
     coordinate: str | None = None
+    guess: float | None = None
+
+
+@dataclass(frozen=True)
+class BranchCheck:
+    """When a run is said to leave the assembly branch of its drawn geometry (or of the
+    guesses): a joint `angle` (rad) from its guess, a loop that cannot reach the given
+    values on that branch, a snap-through between rows; `error`: such a change fails the
+    run instead of a warning."""
+
+    angle: float = math.radians(30.0)
+    error: bool = False
 
 
 @dataclass(frozen=True)

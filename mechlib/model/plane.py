@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["PLANES", "joint_problem", "normal_name", "plane_axes"]
+__all__ = ["PLANES", "contact_problem", "joint_problem", "normal_name", "plane_axes"]
 
 PLANES = ("xy", "yz", "xz")
 _AXES = {"xy": (0, 1, 2), "yz": (1, 2, 0), "xz": (2, 0, 1)}  # e1, e2, n
@@ -63,4 +63,28 @@ def joint_problem(
         a1, a2 = axes
         if not ((_along(a1, n) and _across(a2, n)) or (_along(a2, n) and _across(a1, n))):
             return "axes", f"a universal joint needs one axis {along} and the other in the plane"
+    return None
+
+
+def contact_problem(geometry, plane: str) -> tuple[str, str] | None:
+    """(key, message) when a contact geometry would push its bodies out of `plane`, else
+    None (its force and friction then stay in the plane, its moments about the normal).
+    `geometry`: any object with the keys of its shape (`normal`, `axis`, `plane_normal`,
+    `offset`), the mechlib geometry or its schema model. A plane's normal must lie in the
+    plane, a hole's axis or a profile's plane normal be along the normal, a ball's assembly
+    offset lie in the plane (its component along the normal is constant in planar motion)."""
+    n = plane_axes(plane)[2]
+    along = f"along the normal of plane {plane} ({normal_name(plane)})"
+    normal = getattr(geometry, "normal", None)
+    if normal is not None and not _across(normal, n):
+        return "normal", f"the plane's normal must lie in plane {plane}"
+    axis = getattr(geometry, "axis", None)
+    if axis is not None and not _along(axis, n):
+        return "axis", f"the hole's axis must be {along}"
+    plane_normal = getattr(geometry, "plane_normal", None)
+    if plane_normal is not None and not _along(plane_normal, n):
+        return "plane_normal", f"the profile's plane_normal must be {along}"
+    offset = np.asarray(getattr(geometry, "offset", (0.0, 0.0, 0.0)), dtype=float)
+    if abs(float(offset @ n)) > 0.0:
+        return "offset", f"the ball's offset has a component along {normal_name(plane)}"
     return None

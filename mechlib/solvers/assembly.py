@@ -1,7 +1,9 @@
 """Assembly: positions on the constraints (Newton), consistent velocities and accelerations.
 
 Given initial values that the constraints contradict are projected onto them (least
-squares, smallest change from the design position) and reported. The modal coordinates of
+squares, smallest change from the design position) and reported. The way there keeps the
+assembly branch of the drawn geometry, or goes near the guesses given
+(mechlib.solvers.branches). The modal coordinates of
 flexible bodies weigh _MODAL_WEIGHT^-2 times more in that smallest change: a given angle is
 reached by rigid motion, and a body deforms only where the constraints need it (otherwise
 the least-squares step spreads the motion over the modes and starts a run strained).
@@ -25,7 +27,14 @@ from mechlib.core.outcome import SolverFailure, Status
 from mechlib.core.work import count
 from mechlib.kinematics.kin import Kin
 from mechlib.linalg.factor import SINGULAR_RATIO
-from mechlib.model.analysis import InitialBodyVelocity, InitialValue
+from mechlib.model.analysis import BranchCheck, InitialBodyVelocity, InitialValue
+from mechlib.solvers.branches import (
+    BranchChange,
+    angle_values,
+    guess_changes,
+    orientation,
+    stage_jumps,
+)
 from mechlib.system.system import System
 
 __all__ = [
@@ -45,6 +54,8 @@ POSITION_TOLERANCE = 1e-10
 MAX_NEWTON = 50
 _REPORT_CHANGE = 1e-8
 _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
+_SPLITS = 6  # a stage leaving the drawn branch is halved at most this many times
+_SLOW_NEWTON = 12  # iterations: a stage's Newton slower than this passes a singular position
 _MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
 _NORMAL_CHECK = 1e-6  # a normal-equations solution must meet its equations this well
 REUSE_BELOW = 1e-6  # a Newton step below this keeps its Jacobian for the next
@@ -64,6 +75,7 @@ class Assembled:
     qd: np.ndarray
     newton_iterations: int
     notes: list[str] = field(default_factory=list)
+    branches: list[BranchChange] = field(default_factory=list)
 
 
 def _assembly_weights(system: System) -> np.ndarray:
@@ -254,36 +266,152 @@ def _given_jacobian(system: System, given, t: float):
     return jacobian
 
 
-def assemble(system: System, t: float, initial: Sequence = ()) -> Assembled:
-    """Initial q, qd: design position moved onto the constraints and the given values."""
+def _driven(system: System, t: float) -> list[tuple[str, tuple]]:
+    """The motions as (name, (value at t, measure)) entries of the assembly's path."""
+    out = []
+    for name, motion in system.mechanism.motions.items():
+        item = InitialValue(motion.joint, motion.function.value(t), coordinate=motion.coordinate)
+        out.append((name, (item, system.coordinate_of(motion.joint, motion.coordinate))))
+    return out
+
+
+def _guesses(system: System, initial) -> dict[str, float]:
+    """The guessed joint coordinates by joint (rad or m)."""
+    return {
+        item.joint: item.guess
+        for item in initial
+        if isinstance(item, InitialValue) and item.guess is not None
+    }
+
+
+@dataclass
+class _Path:
+    """The assembly's way from the drawn geometry to the given values and guesses: stage
+    targets (given, then guessed coordinates) at a fraction of the way."""
+
+    system: System
+    t: float
+    given: list
+    guessed: list
+    check: BranchCheck
+    weights: np.ndarray
+
+    def targets(self, start: list[float], reached: int, units: int) -> list[float]:
+        """The targets `reached` / `units` of the way from `start`."""
+        ends = [item.value for item, _ in self.given] + [g for _, g in self.guessed]
+        return [v + (end - v) * reached / units for v, end in zip(start, ends)]
+
+    def solve(self, q: np.ndarray, targets: list[float]) -> tuple[np.ndarray, int]:
+        rows = self.given + [(None, m) for m, _ in self.guessed]
+        q, n, _ = _newton(
+            _given_residual(self.system, rows, targets, self.t),
+            _given_jacobian(self.system, rows, self.t),
+            q,
+            POSITION_TOLERANCE,
+            self.weights,
+        )
+        return q, n
+
+
+def _follow(path: _Path, q: np.ndarray) -> tuple[np.ndarray, int, list[str]]:
+    """q at the given values (and near the guesses), reached from the drawn geometry in
+    stages of at most _STAGE rad, the unwrapping references committed between stages (one
+    Newton jump of 170 deg would wrap); also the joints that left the drawn branch. Without
+    guesses a stage that turns the loop's orientation, ends where it is singular (a toggle
+    or a bifurcation, where the branch is ambiguous: also where Newton needs more than
+    _SLOW_NEWTON iterations, as it does near one) or makes a joint jump by more than the
+    branch angle is halved (at most _SPLITS times): the assembly stays on the drawn branch;
+    the joints of a stage that cannot be kept so are returned (those that jumped, else
+    those that moved, the largest move first)."""
+    system, t = path.system, path.t
+    k = system.kin(q, None, t)
+    measures = [m for _, m in path.given] + [m for m, _ in path.guessed]
+    start = [m.value(k) for m in measures]
+    ends = [item.value for item, _ in path.given] + [g for _, g in path.guessed]
+    span = max(abs(end - v) for v, end in zip(start, ends))
+    # the way in units of the smallest stage, counted in integers: the fraction of an
+    # unhalved stage is exactly stage / stages (IEEE division of exact integers)
+    full = 2**_SPLITS
+    units = max(1, math.ceil(span / _STAGE)) * full
+    watch = not path.guessed  # guesses choose the branch themselves
+    skip = {item.joint for item, _ in path.given}
+    sign = orientation(system, k, [m for _, m in path.given]) if watch else 0
+    angles = angle_values(system, k)
+    done, step, its, flagged = 0, full, 0, list[str]()
+    while done < units:
+        reached = min(units, done + step)
+        trial, n = path.solve(q, path.targets(start, reached, units))
+        its += n
+        k = system.kin(trial, None, t)
+        now = angle_values(system, k)
+        now_sign = orientation(system, k, [m for _, m in path.given]) if watch else 0
+        turned = sign != 0 and sign != now_sign  # a sign of 0: on the singular position
+        turned |= watch and n > _SLOW_NEWTON  # no quadratic convergence: a singular Jacobian
+        jumps = stage_jumps(angles, now, path.check.angle, skip) if watch else []
+        if (turned or jumps) and step > 1:
+            step //= 2
+            continue
+        if turned or jumps:
+            moved = jumps or stage_jumps(angles, now, 0.0, skip)
+            flagged += [j for j, _, _ in moved if j not in flagged]
+        sign = now_sign or sign
+        q, angles, done = trial, now, reached
+        step = min(full, 2 * step)
+        system.commit(k)
+    return q, its, flagged
+
+
+_OFF_BRANCH = (
+    "the given initial values (or the motions at the start) are not reached from the drawn "
+    "geometry without passing a toggle or a bifurcation, where the loop may snap through "
+    "to another assembly; give `guess:` values of these joints in `initial:` to choose the "
+    "branch, or check the given values"
+)
+
+
+def assemble(
+    system: System, t: float, initial: Sequence = (), check: BranchCheck | None = None
+) -> Assembled:
+    """Initial q, qd: design position moved onto the constraints and the given values,
+    on the branch of the drawn geometry or near the guesses (mechlib.solvers.branches)."""
+    check = check or BranchCheck()
     given = _given_positions(system, initial)
+    guessed = [(system.coordinate_of(j), g) for j, g in _guesses(system, initial).items()]
     q = system.design_q()
     weights = _assembly_weights(system)
-    its = 0
-    if given:
-        # approach large given angles in stages of at most _STAGE rad, committing the
-        # unwrapping references between stages: one Newton jump of 170 deg would wrap
-        k0 = system.kin(q, None, t)
-        start = [m.value(k0) for _, m in given]
-        span = max(abs(item.value - v) for (item, _), v in zip(given, start))
-        stages = max(1, math.ceil(span / _STAGE))
-        for stage in range(1, stages + 1):
-            targets = [v + (item.value - v) * stage / stages for (item, _), v in zip(given, start)]
-            q, n, _ = _newton(
-                _given_residual(system, given, targets, t),
-                _given_jacobian(system, given, t),
-                q,
-                POSITION_TOLERANCE,
-                weights,
+    its, flagged = 0, list[str]()
+    driven = _driven(system, t)
+    k0 = system.kin(q, None, t)
+    drawn = angle_values(system, k0)
+    moved = any(abs(m.value(k0) - item.value) > _REPORT_CHANGE for _, (item, m) in driven)
+    if given or guessed or moved:
+        motions = [name for name, _ in driven]
+        held = {item.joint for item, _ in given}  # one target per joint: a repeated row is
+        driven = [(name, d) for name, d in driven if d[0].joint not in held]  # an SVD's cost
+        for name in motions:  # their values at t become stage targets too (every motion
+            system.set_active(name, False)  # is active at the start: no event has run yet)
+        try:
+            path = _Path(system, t, given + [d for _, d in driven], guessed, check, weights)
+            q, its, flagged = _follow(path, q)
+        finally:
+            for name in motions:
+                system.set_active(name, True)
+        if guessed:  # the given values exactly, from the point nearest the guesses
+            q, n = _Path(system, t, given, [], check, weights).solve(
+                q, [item.value for item, _ in given]
             )
             its += n
-            system.commit(system.kin(q, None, t))
     q, its2 = solve_positions(system, q, t, weights=weights)
     k = system.kin(q, None, t)
     system.commit(k)
     notes = _position_notes(system, k, given)
+    changes = guess_changes(system, k, _guesses(system, initial), check)
+    if flagged:
+        final = angle_values(system, k)
+        joints = tuple((j, drawn[j], final[j]) for j in flagged)
+        changes.insert(0, BranchChange(t, joints, "drawn", _OFF_BRANCH))
     qd, vnotes = _initial_velocities(system, q, t, initial, weights)
-    return Assembled(q, qd, its + its2, notes + vnotes)
+    return Assembled(q, qd, its + its2, notes + vnotes, changes)
 
 
 def _velocity_rows(system: System, k: Kin, initial) -> tuple[list, list, list]:

@@ -7,12 +7,16 @@ to shorter ends (Illinois regula falsi; bisection for yes/no conditions) to with
 EVENT_TIME_TOLERANCE, record that state, carry out the actions and restart from there.
 Actions: `activate`/`deactivate` an element or a motion, `release` a joint (its equations
 go), `lock` a joint (its coordinate is frozen at the current value), `stop`.
+
+A delayed event (`after`, `delay`) waits until the event it follows has fired at t_f; it is
+then armed with g = t - (t_f + delay), located like any other, and fires `delay` s later (at
+once, with the event it follows, when the delay is zero).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from mechlib.core.outcome import EventRecord
 from mechlib.kinematics.view import StateView
@@ -46,30 +50,54 @@ class Action:
 
 @dataclass(frozen=True)
 class Event:
-    """Fires once, when `condition(t, view)` goes from < 0 to >= 0."""
+    """Fires once, when `condition(t, view)` goes from < 0 to >= 0; or, with `after`,
+    `delay` s (>= 0) after the event named `after` fired (`condition` then unused: None)."""
 
     name: str
-    condition: Callable[[float, StateView], float]
+    condition: Callable[[float, StateView], float] | None
     actions: tuple[Action, ...]
+    after: str | None = None
+    delay: float = 0.0
+
+
+def _timer(due: float) -> Callable[[float, StateView], float]:
+    """g = t - due (s): crosses zero at the time `due`."""
+    return lambda t, view: t - due
+
+
+def _g(event: Event, t: float, view: StateView) -> float:
+    """The condition value of an armed event (a delayed one is armed with its timer)."""
+    assert event.condition is not None, f"event '{event.name}' is not armed"
+    return float(event.condition(t, view))
 
 
 class EventMonitor:
-    """The armed events and their condition values at the last accepted state."""
+    """The armed events and their condition values at the last accepted state; the
+    delayed events waiting for the event they follow."""
 
     def __init__(self, events=()):
-        self.armed = list(events)
+        self.armed = [e for e in events if e.after is None]
+        self.waiting = [e for e in events if e.after is not None]
         self.values: dict[str, float] = {}
 
     def arm(self, t: float, view: StateView) -> None:
         """Remember g of every armed event at an accepted state."""
-        self.values = {e.name: float(e.condition(t, view)) for e in self.armed}
+        self.values = {e.name: _g(e, t, view) for e in self.armed}
 
     def crossed(self, t: float, view: StateView) -> list[Event]:
         """Armed events whose g went from < 0 to >= 0 since the last `arm`."""
-        return [e for e in self.armed if self.values[e.name] < 0.0 <= float(e.condition(t, view))]
+        return [e for e in self.armed if self.values[e.name] < 0.0 <= _g(e, t, view)]
 
-    def fired(self, events: list[Event]) -> None:
+    def fired(self, events: list[Event], t: float) -> list[Event]:
+        """Disarm `events` (fired at t, s); arm the delayed events that follow them, timed
+        to fire `delay` s later; returns those due at once (a zero delay)."""
         self.armed = [e for e in self.armed if e not in events]
+        names = {e.name for e in events}
+        started = [e for e in self.waiting if e.after in names]
+        self.waiting = [e for e in self.waiting if e.after not in names]
+        timed = [replace(e, condition=_timer(t + e.delay)) for e in started]
+        self.armed.extend(e for e in timed if e.delay > 0.0)
+        return [e for e in timed if e.delay <= 0.0]
 
 
 def locate(
@@ -118,11 +146,21 @@ def first_events(
     for e in fired:
 
         def g_at(t, e=e):
-            return float(e.condition(t, view_at(t)))
+            return _g(e, t, view_at(t))
 
-        first[e.name] = locate(monitor.values[e.name], float(e.condition(t1, view1)), t0, t1, g_at)
+        first[e.name] = locate(monitor.values[e.name], _g(e, t1, view1), t0, t1, g_at)
     t_e = min(first.values())
     return t_e, [e for e in fired if first[e.name] - t_e <= EVENT_TIME_TOLERANCE]
+
+
+def switch(system, name: str | None, on: bool, k) -> None:
+    """Switch an element or motion on or off at state `k`; an element switched on starts
+    from that state (`start_from`: a stop already penetrating, no step in its damping)."""
+    element = system.mechanism.forces.get(name)
+    was_on = element is not None and element.active
+    system.set_active(name, on)
+    if on and not was_on and hasattr(element, "start_from"):
+        element.start_from(system.view(k))
 
 
 def apply_actions(system, event: Event, k) -> tuple[EventRecord, bool]:
@@ -133,7 +171,7 @@ def apply_actions(system, event: Event, k) -> tuple[EventRecord, bool]:
         if action.kind == "stop":
             stop = True
         elif action.kind in ("activate", "deactivate"):
-            system.set_active(action.target, action.kind == "activate")
+            switch(system, action.target, action.kind == "activate", k)
         elif action.kind == "release":
             system.release(action.target)
         elif action.kind == "lock":
@@ -142,13 +180,14 @@ def apply_actions(system, event: Event, k) -> tuple[EventRecord, bool]:
 
 
 def fire(system, monitor: EventMonitor, events: list[Event], k, log: list | None) -> bool:
-    """Carry out `events` (fired together at state `k`), log them, disarm them; True when
-    one of them stops the analysis."""
+    """Carry out `events` (fired together at state `k`), log them, disarm them, then the
+    delayed events due at once after them; True when one of them stops the analysis."""
     stop = False
-    for e in events:
-        record, stops = apply_actions(system, e, k)
-        if log is not None:
-            log.append(record)
-        stop = stop or stops
-    monitor.fired(events)
+    while events:
+        for e in events:
+            record, stops = apply_actions(system, e, k)
+            if log is not None:
+                log.append(record)
+            stop = stop or stops
+        events = monitor.fired(events, k.t)
     return stop

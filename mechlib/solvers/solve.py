@@ -18,10 +18,11 @@ from mechlib.flexible.guards import (
     spin_warnings,
     unresolved_mode_warnings,
 )
-from mechlib.model.analysis import Dynamic, Kinematic, QuasiStatic, Static, Trajectory
+from mechlib.model.analysis import BranchCheck, Dynamic, Kinematic, QuasiStatic, Static, Trajectory
 from mechlib.model.mechanism import Mechanism
-from mechlib.outputs.requests import JointReaction, evaluate_requests
+from mechlib.outputs.requests import JointCoordinate, JointReaction, evaluate_requests
 from mechlib.solvers.assembly import assemble
+from mechlib.solvers.branches import BranchChange, orientation_changes, row_changes
 from mechlib.solvers.contract import Stepper
 from mechlib.solvers.dense import step_bound
 from mechlib.solvers.finite import check_recorded_state, explain_failure, nonfinite_channel
@@ -84,14 +85,23 @@ class _Run:
 
 
 def _analyse(
-    system: System, analysis: Analysis, run: _Run, initial, events, progress, warnings: list[str]
+    system: System,
+    analysis: Analysis,
+    run: _Run,
+    initial,
+    events,
+    progress,
+    warnings: list[str],
+    branches: BranchCheck,
 ) -> None:
-    """Assemble (notes on the initial values to `warnings`), then run the analysis into
-    `run`; SolverFailure leaves what was computed."""
+    """Assemble (notes on the initial values and branch changes to `warnings`; a branch
+    change fails the run when `branches.error`), then run the analysis into `run`;
+    SolverFailure leaves what was computed."""
     start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
     with tally(run.stats):
-        assembled = assemble(system, start, initial)
+        assembled = assemble(system, start, initial, branches)
         warnings += assembled.notes
+        _branch_outcome(assembled.branches, branches, warnings)
         system.begin(system.kin(assembled.q, assembled.qd, start))
         run.stats.newton_iterations += assembled.newton_iterations
         _check_events(analysis, events)
@@ -139,6 +149,48 @@ def _position_warnings(system: System, analysis: Analysis, run: _Run) -> list[st
     return warnings
 
 
+def _branch_outcome(changes: list[BranchChange], check: BranchCheck, warnings: list[str]) -> None:
+    """Branch changes as warnings, or (`check.error`) as the failure of the run."""
+    if not changes:
+        return
+    if check.error:
+        first = changes[0]
+        raise SolverFailure(
+            "; ".join(c.message() for c in changes) + " (`branches: {on_change: error}`)",
+            time=first.time,
+            where=tuple(j for j, _, _ in first.joints),
+            status=Status.BRANCH_CHANGED,
+        )
+    warnings += [c.message() for c in changes]
+
+
+def _row_branches(system: System, analysis: Analysis, run: _Run, check: BranchCheck) -> list:
+    """Snap-throughs between the recorded rows of a quasi-static or kinematic run."""
+    if not isinstance(analysis, Kinematic | QuasiStatic) or len(run.trajectory) < 2:
+        return []
+    joints = [joint for joint, kind in system.measures if kind == "angle"]
+    if not joints:
+        return []
+    space, trajectory = system.in_space(run.trajectory)
+    requests = [JointCoordinate(f"branch {j}", j, "angle") for j in joints]
+    channels = evaluate_requests(space, trajectory, requests)
+    angles = {j: channels[f"branch {j}.value"] for j in joints}
+    times = np.array(run.trajectory.time)
+    changes = row_changes(times, angles, check, [e.time for e in run.events])
+    if not run.events and _square(system, times[0], run.trajectory.q[0]):
+        turned = orientation_changes(system, times, np.array(run.trajectory.q), angles)
+        seen = {c.time for c in changes}
+        changes += [c for c in turned if c.time not in seen]
+        changes.sort(key=lambda c: c.time)
+    return changes
+
+
+def _square(system: System, t: float, q: np.ndarray) -> bool:
+    """The constraints, motions included, as many as the coordinates (no freedom left)."""
+    rows, columns = system.phi_q(system.kin(q, None, float(t))).shape
+    return bool(rows == columns)
+
+
 def _summary_status(result: Status) -> RunStatus:
     """`ok`, `interrupted` or `failed` (the summary's status)."""
     if result.ok:
@@ -182,12 +234,17 @@ def solve(
     events: Sequence = (),
     progress: Callable[[float, float], None] | None = None,
     checks: bool = True,
+    branches: BranchCheck | None = None,
 ) -> Solution:
     """Check, assemble and solve; channels `REQUEST.COMPONENT` at the output times.
 
     `checks` False leaves out the checks of the recorded positions after the run (toggles,
     deformation, spin, unresolved modes: their warnings only) for a run whose warnings are
     not kept, e.g. an accuracy companion; times, channels and status are the same.
+
+    `branches` (default BranchCheck()): when the assembly, or a quasi-static or kinematic
+    run, is said to leave the branch of the drawn geometry (mechlib.solvers.branches);
+    a warning, or with `error` a failed run that keeps its rows.
 
     The `mechanism` is left unchanged (the solve works on its own copy of the force
     elements): solving it twice gives the same results. Raises ModelError for an ill-posed
@@ -196,6 +253,7 @@ def solve(
     `message` when, where and why). A non-finite state or column is such a failure.
     """
     cpu0 = _time.process_time()
+    branch_check = branches or BranchCheck()
     system = make_system(solve_copy(mechanism))  # events and memories never change the caller's
     warnings = check_model(system, analysis, redundant=redundant)
     warnings += system.output_notes(any(isinstance(r, JointReaction) for r in requests))
@@ -207,7 +265,7 @@ def solve(
     if isinstance(analysis, Modes):
         events = ()  # nothing moves: events have nothing to watch
     try:
-        _analyse(system, analysis, run, initial, events, progress, warnings)
+        _analyse(system, analysis, run, initial, events, progress, warnings, branch_check)
     except SolverFailure as failure:
         if throw:
             raise
@@ -234,6 +292,14 @@ def solve(
         run.message = f"column {bad[0]} is not finite ({bad[2]:g}) at t = {bad[1]:.6g} s"
     if checks:
         warnings += _position_warnings(system, analysis, run)
+    if (checks or branch_check.error) and run.result.ok:
+        try:
+            changes = _row_branches(system, analysis, run, branch_check)
+            _branch_outcome(changes, branch_check, warnings)
+        except SolverFailure as failure:
+            if throw:
+                raise
+            run.result, run.message = failure.status, str(failure)
     run.stats.cpu_seconds = _time.process_time() - cpu0
     message = run.message
     if run.events:

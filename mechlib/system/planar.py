@@ -26,7 +26,7 @@ from mechlib.kinematics.kin import GROUND_Q, Kin
 from mechlib.linalg.sparse_rows import SparseRows
 from mechlib.model.analysis import Trajectory
 from mechlib.model.mechanism import Mechanism
-from mechlib.model.plane import joint_problem, normal_name, plane_axes
+from mechlib.model.plane import contact_problem, joint_problem, normal_name, plane_axes
 from mechlib.system.planar_kernels import planar_reduce, planar_state
 from mechlib.system.sparse_jacobian import planar_reduced
 from mechlib.system.system import System
@@ -59,6 +59,21 @@ def joint_problems(mechanism: Mechanism, plane: str) -> list[tuple[str, str]]:
     return out
 
 
+def _contact_problems(space: System, plane: str) -> list[tuple[str, str]]:
+    """(contact, message) of the contacts whose geometry leaves `plane`; the others are
+    kept, without their own tangent (it is in 3-D coordinates): the solvers difference
+    their forces in planar ones, as the other elements'."""
+    out = []
+    for e in space.elements:
+        if not hasattr(e, "geometry"):
+            continue
+        problem = contact_problem(e.geometry, plane)
+        if problem is not None:
+            out.append((e.name, f"contact {e.name}: {problem[1]}"))
+        e.own_tangent = False
+    return out
+
+
 class PlanarSystem:
     """The `System` interface in planar coordinates (3 per body, no modal ones): what the
     solvers call is reduced here; everything else (names, rows, events, elements, outputs)
@@ -76,11 +91,7 @@ class PlanarSystem:
             )
         if space.flexible:
             problems.append(("", "flexible bodies need the 3-D model: remove `plane`"))
-        problems += [
-            (e.name, "contacts need the 3-D model: remove `plane`")
-            for e in space.elements
-            if hasattr(e, "geometry")
-        ]
+        problems += _contact_problems(space, plane)
         if problems:
             raise ModelError(problems)
         self.space, self.plane = space, plane

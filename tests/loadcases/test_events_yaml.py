@@ -69,7 +69,7 @@ def test_bad_event_targets_are_named_at_their_keys(tmp_path: Path) -> None:
     messages = sorted(f"{d.key}: {d.message}" for d in caught.value.diagnostics)
     assert messages == [
         "events.a.then[0]: unknown joint 'hingee'",
-        "events.b.then[0]: 'nothing' is not a force element, contact or motion of this case",
+        "events.b.then[0]: 'nothing' is not a force element, contact, limit or motion of this case",
     ]
 
 

@@ -41,7 +41,7 @@ mechanism:
     twist: {type: torsion_spring, joint: h2, stiffness: 10}
     third: {type: force, point: on_far, value: [0, "10 * cos(angle(h1))", 0]}
     nested: {type: force, point: on_link, frame: arm,
-             value: ["step(dist(on_arm, on_far), 2, 0, 3, 1)", "vx(on_far) * t", 0]}
+             value: ["step(dist(on_arm, on_far), 2, 0, 3, 1)", "2 * vx(on_far) * t", 0]}
     plain: {type: torque, body: link, frame: far, value: [0, 0, "2 * t"]}
     pushed: {type: force, point: on_arm, value: [0, "0.1 * effort(hold)", 0]}
 motions:

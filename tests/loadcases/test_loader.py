@@ -23,7 +23,7 @@ EXPECTED = {
     "duplicate_name.mech.yaml": [
         "duplicate_name.mech.yaml:4:3: error: points.arm: name 'arm' is already used in bodies",
         "duplicate_name.mech.yaml:4:3: hint: names of bodies, points, joints, forces, contacts, "
-        "tables and events must be unique",
+        "limits, tables and events must be unique",
     ],
     "expressions.case.yaml": [
         "expressions.case.yaml:4:33: error: motions.drive.value: unknown name 'sped' in expression",
@@ -123,6 +123,33 @@ EXPECTED = {
         "planar.case.yaml:10:29: error: initial.arm.velocity: an initial velocity out of plane yz",
         "planar.case.yaml:10:29: hint: keep velocities in the plane and omega along x",
     ],
+    "limits.mech.yaml": [
+        "limits.mech.yaml:10:7: error: limits.a.joint: unknown joint 'hing'",
+        "limits.mech.yaml:10:7: hint: did you mean 'hinge'?",
+        "limits.mech.yaml:11:30: error: limits.b.max: must be > min, got max 10.0 <= min 20.0 "
+        "(0.174533 <= 0.349066 rad)",
+        "limits.mech.yaml:12:7: error: limits.c.joint: joint 'socket' is spherical; a limit needs "
+        "a revolute, prismatic or cylindrical joint",
+        "limits.mech.yaml:13:21: error: limits.d.coordinate: joint 'hinge' is revolute: it has no "
+        "travel coordinate",
+        "limits.mech.yaml:14:21: error: limits.e.max: expected an angle, got '5 mm' (a length)",
+        "limits.mech.yaml:15:60: error: limits.k.depth: must be > 0, got -1 deg",
+    ],
+    "limit_keys.mech.yaml": [
+        "limit_keys.mech.yaml:7:3: error: limits.f: give 'min', 'max' or both",
+        "limit_keys.mech.yaml:8:3: error: limits.g: 'damping' needs 'depth' (full damping there)",
+        "limit_keys.mech.yaml:9:47: error: limits.h.restitution: must be <= 1, got 1.5",
+        "limit_keys.mech.yaml:10:7: error: limits.i.type: unknown key",
+        "limit_keys.mech.yaml:10:7: hint: allowed keys: joint, coordinate, min, max, stiffness, "
+        "exponent, damping, depth, restitution, active",
+    ],
+    "limits.case.yaml": [
+        "limits.case.yaml:6:9: error: loads[0]: 'stop' is a limit: limits are not loads, they "
+        "act unless `effects: {contact: false}` or an `active: false` keeps them off",
+        "limits.case.yaml:6:9: hint: remove 'stop' from loads",
+        "limits.case.yaml:9:7: error: requests.r.limit: unknown limit 'stopp'",
+        "limits.case.yaml:9:7: hint: did you mean 'stop'?",
+    ],
     "planar.mech.yaml": [
         "planar.mech.yaml:4:1: error: gravity: gravity has a component along z, out of plane xy",
         "planar.mech.yaml:4:1: hint: set it to 0",
@@ -143,8 +170,9 @@ EXPECTED = {
         "planar.mech.yaml:16:44: error: forces.twist.value[0]: a torque component about an "
         "in-plane axis (1.0) leaves plane xy",
         "planar.mech.yaml:16:44: hint: make it 0, or remove `plane` to use the 3-D model",
-        "planar.mech.yaml:18:3: error: contacts.stop: contacts need the 3-D model",
-        "planar.mech.yaml:18:3: hint: remove `plane` to use the 3-D model",
+        "planar.mech.yaml:19:163: error: contacts.floor.geometry.normal: the plane's normal "
+        "must lie in plane xy: the contact would leave the plane",
+        "planar.mech.yaml:19:163: hint: remove `plane` to use the 3-D model",
     ],
     "vector_length.mech.yaml": [
         "vector_length.mech.yaml:4:65: error: joints.hinge.axis: expected 3 values, got 2",

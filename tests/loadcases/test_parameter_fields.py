@@ -34,10 +34,34 @@ def test_swept_clearance_reaches_the_geometry(tmp_path: Path) -> None:
     )
     assert result.exit_code == 0, result.output
     settled = {}
-    for clearance in (1e-4, 3e-4, 5e-4):
-        csv = tmp_path / "out" / "clearances" / f"ball-in-socket-drop[clearance={clearance:g}].csv"
+    for clearance, written in ((1e-4, "0.1mm"), (3e-4, "0.3mm"), (5e-4, "0.5mm")):
+        # the run name keeps the value as the set wrote it
+        csv = tmp_path / "out" / "clearances" / f"ball-in-socket-drop[clearance={written}].csv"
         _, channels = read_results(csv)
         settled[clearance] = channels["eccentricity.value"][-1]
     deflection = {c: e - c for c, e in settled.items()}
     assert all(d > 0 for d in deflection.values())
     assert np.ptp(list(deflection.values())) < 1e-7
+
+
+def test_initial_value_named_by_a_parameter_is_not_read_in_the_file_unit(
+    tmp_path: Path,
+) -> None:
+    """`initial: {hinge: {value: start}}` with `start: 30 deg` in a case whose bare angles
+    are degrees: 30 deg (0.5236 rad), not 0.5236 deg (the SI value read again in the
+    file's unit, as before 0.10.0)."""
+    import math
+
+    from loadcases.inputs.loader import load_case
+
+    (tmp_path / "c.case.yaml").write_text(
+        "case: start\nunits: {angle: deg}\nparameters: {start: 30 deg}\n"
+        "mechanism:\n"
+        "  bodies: {bar: {mass: 2, cm: [0.5, 0, 0], inertia: [1e-4, 0.2, 0.2]}}\n"
+        "  joints: {hinge: {type: revolute, bodies: [bar, ground], at: [0, 0, 0],"
+        " axis: [0, 0, 1]}}\n"
+        "initial: {hinge: {value: start}}\nanalysis: {type: static}\n",
+        encoding="utf-8",
+    )
+    case = load_case(tmp_path / "c.case.yaml").case
+    assert case.initial["hinge"].value == math.radians(30.0)

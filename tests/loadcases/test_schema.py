@@ -124,7 +124,7 @@ def test_case_messages() -> None:
         "f.yaml:5:17: error: requests.a.quantity: expected 'force', 'angle', 'omega', "
         "'alpha', 'travel' or 'speed', got 'forc'\nf.yaml:5:17: hint: did you mean 'force'?",
         "f.yaml:6:3: error: requests.b: a request needs one of the keys joint, motion, point, "
-        "force, contact, flexible, section or expression, or is `quantity: energy`",
+        "force, limit, contact, flexible, section or expression, or is `quantity: energy`",
     ]
 
 

@@ -27,6 +27,7 @@ import numpy as np
 from mechlib.elements.contact import kernels
 from mechlib.elements.contact.friction import NO_FRICTION
 from mechlib.elements.contact.geometry import Gap
+from mechlib.elements.contact.laws import IMPACT, MIN_APPROACH_SPEED
 from mechlib.elements.regularize import StaticSlipAnchor, at_rest
 from mechlib.kinematics.view import StateView
 
@@ -85,6 +86,9 @@ class Contact(StaticSlipAnchor):
     # from there (kernels.static_contact_wrench)
     _anchor: np.ndarray = field(default_factory=lambda: np.full((2, 12), np.nan), repr=False)
     slip_threshold: float = 1.0e-6  # m: static slip of full friction
+    own_tangent: bool = True  # False: the solvers difference its forces (planar systems)
+    # (time, start) of the impact law's damping ramp start (m), changed by `start_from`
+    _starts: tuple[list, list] = field(default_factory=lambda: ([], []), repr=False)
 
     def bind(self, system) -> None:
         self._b1, self._b2 = self.geometry.bind(system, *self.bodies)
@@ -101,8 +105,9 @@ class Contact(StaticSlipAnchor):
 
     @property
     def has_tangent(self) -> bool:
-        """True when `tangent` gives the stiffness and damping (compiled primitives)."""
-        return self._kernel is not None
+        """True when `tangent` gives the stiffness and damping (compiled primitives, in the
+        3-D coordinates: not in a planar system, which sets `own_tangent` False)."""
+        return self._kernel is not None and self.own_tangent
 
     def forces(self, view: StateView, approach: float | None = None) -> ContactForces:
         """The contact's forces in state `view` (`approach`: m/s, default the current one)."""
@@ -113,6 +118,24 @@ class Contact(StaticSlipAnchor):
         kernels.contact_force(
             *self._laws, float(self.geometry.radius), packed, float(approach), out
         )
+        return self._with_friction(view, gap, float(approach), out)
+
+    def recorded_forces(self, view: StateView) -> ContactForces:
+        """The forces of a recorded state, with the memory the integrator used at its time
+        (approach speed, impact ramp start)."""
+        if not self._starts[0]:
+            return self.forces(view, self.approach_at(view.t) if self.law.remembers else None)
+        params = self._laws[1]
+        now, params[4] = params[4], self._start_at(view.t)
+        try:
+            return self.forces(view)
+        finally:
+            params[4] = now
+
+    def _with_friction(
+        self, view: StateView, gap: Gap, approach: float, out: np.ndarray
+    ) -> ContactForces:
+        """`out` of contact_force with the static friction of a state at rest."""
         if self.friction is not None and out[0] > 0.0 and at_rest(view):
             kernels.static_contact_force(
                 *self._wrench_kernel(), float(approach), view.kin.x, view.kin.xd,
@@ -150,6 +173,36 @@ class Contact(StaticSlipAnchor):
             *self._kernel, self.approach, view.kin.x, view.kin.xd, self._nb, K, C
         )
 
+    def start_from(self, view: StateView) -> None:
+        """Switched on by an event at `view`: a contact already penetrating starts from its
+        state: the approach rate (hertz, restitution) is the rate now, and the damping of
+        the impact law ramps in from the penetration now (no step in the damping)."""
+        gap = self.geometry.gap(view)
+        x, xd = gap.penetration, gap.rate
+        self._memory = (x > 0.0, x, xd)
+        self._law_start(max(x, 0.0), view.t)
+        if self.law.remembers and x > 0.0:
+            self.approach = max(xd, MIN_APPROACH_SPEED)
+            self._record(view.t)
+
+    def _law_start(self, start: float, t: float) -> None:
+        """Set the impact law's ramp start (m; its kernel parameter 4), remembered by time."""
+        params = self._laws[1]
+        if self._laws[0] != IMPACT or params[4] == start:
+            return
+        params[4] = start  # the kernels' tuples share this array
+        times, values = self._starts
+        del values[bisect_left(times, t) :]
+        del times[bisect_left(times, t) :]
+        times.append(t)
+        values.append(start)
+
+    def _start_at(self, t: float) -> float:
+        """The impact ramp start (m) the integrator used at time t (s)."""
+        times, values = self._starts
+        i = bisect_left(times, t)
+        return values[i - 1] if i > 0 else 0.0
+
     def commit(self, view: StateView) -> None:
         """Remember the poses of the two bodies (static slip) and the approach speed when a
         contact begins: while apart, the rate of the latest state; at the first state in
@@ -159,20 +212,26 @@ class Contact(StaticSlipAnchor):
             self._anchor = np.array(
                 [np.r_[view.kin.r[b], view.rotation(b).ravel()] for b in (self._b1, self._b2)]
             )
-        if not self.law.remembers:
-            return
         gap = self.geometry.gap(view)
         x, xd = gap.penetration, gap.rate
+        if x <= 0.0:
+            self._law_start(0.0, view.t)
+        if not self.law.remembers:
+            return
         was_in, x0, xd0 = self._memory
         if x <= 0.0:
             self.approach = xd
         elif not was_in and x0 < 0.0:
             self.approach = xd0 + (xd - xd0) * (-x0) / (x - x0)
         self._memory = (x > 0.0, x, xd)
+        self._record(view.t)
+
+    def _record(self, t: float) -> None:
+        """Remember the approach speed from time t (s) on."""
         times, values = self._history
-        del values[bisect_left(times, view.t) :]  # a restart from an earlier time
-        del times[bisect_left(times, view.t) :]
-        times.append(view.t)
+        del values[bisect_left(times, t) :]  # a restart from an earlier time
+        del times[bisect_left(times, t) :]
+        times.append(t)
         values.append(self.approach)
 
     def potential(self, view: StateView) -> float:
@@ -183,7 +242,7 @@ class Contact(StaticSlipAnchor):
     def dissipation(self, view: StateView) -> float:
         """Power (W, >= 0) of the damping part of the normal force and of the friction, at
         the approach speed the integrator used for this state."""
-        f = self.forces(view, self.approach_at(view.t) if self.law.remembers else None)
+        f = self.recorded_forces(view)
         x = min(f.gap.penetration, float(self.geometry.radius))
         damping = f.normal - self.law.elastic_force(x)  # -k x^n where F_N is held at 0
         return damping * f.gap.rate + f.friction * f.sliding_speed
@@ -212,7 +271,7 @@ class Contact(StaticSlipAnchor):
         return values[i - 1] if i > 0 else (values[0] if values else self.approach)
 
     def output(self, view: StateView) -> dict[str, float]:
-        f = self.forces(view, self.approach_at(view.t) if self.law.remembers else None)
+        f = self.recorded_forces(view)
         px, py, pz = f.gap.point
         fx, fy, fz = f.force
         return {

@@ -212,7 +212,7 @@ def _profile_gap(x, b2, g, e, origin, point, out):
 @njit(**KERNEL)
 def _normal_force(law, lp, x, xd, approach):
     if law == IMPACT:
-        return impact_force(lp[0], lp[1], lp[2], lp[3], x, xd)
+        return impact_force(lp[0], lp[1], lp[2], lp[3], x, xd, lp[4])
     if law == HERTZ:
         return hertz_force(lp[0], lp[1], lp[2], x, xd, approach)
     return restitution_force(lp[0], lp[1], lp[2], x, xd, approach)

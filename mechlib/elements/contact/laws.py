@@ -58,12 +58,13 @@ def _rate_ratio(xd: float, approach: float) -> float:
 
 @njit(**KERNEL)
 def impact_force(
-    k: float, exponent: float, damping: float, depth: float, x: float, xd: float
+    k: float, exponent: float, damping: float, depth: float, x: float, xd: float, start: float
 ) -> float:
-    """`ImpactLaw` force (N)."""
+    """`ImpactLaw` force (N): the damping ramps in from penetration `start` (0, or where an
+    event switched the element on while penetrating) to `start` + `depth`."""
     if x <= 0.0:
         return 0.0
-    c = compiled_step(x, 0.0, 0.0, depth, damping) if damping != 0.0 else 0.0
+    c = compiled_step(x, start, 0.0, start + depth, damping) if damping != 0.0 else 0.0
     return max(k * x**exponent + c * xd, 0.0)
 
 
@@ -135,13 +136,16 @@ class ImpactLaw(PowerLaw):
     depth: float = 1.0e-4
     remembers = False
 
-    def force(self, x: float, xd: float, approach: float = 0.0) -> float:
-        return impact_force(
-            *map(float, (self.stiffness, self.exponent, self.damping, self.depth, x, xd))
-        )
+    def force(self, x: float, xd: float, approach: float = 0.0, start: float = 0.0) -> float:
+        """F (N) at penetration x (m), its rate xd (m/s); the damping ramps in from `start`."""
+        values = (self.stiffness, self.exponent, self.damping, self.depth, x, xd, start)
+        return impact_force(*map(float, values))
 
     def kernel(self) -> tuple[int, np.ndarray]:
-        return IMPACT, np.array([self.stiffness, self.exponent, self.damping, self.depth], float)
+        """(IMPACT, [k, e, c_max, depth, ramp start]); the last entry is the element's to set
+        (`Contact.start_from`)."""
+        params = [self.stiffness, self.exponent, self.damping, self.depth, 0.0]
+        return IMPACT, np.array(params, float)
 
 
 @dataclass(frozen=True)
