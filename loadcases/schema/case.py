@@ -207,7 +207,9 @@ class ContactRequest(Strict):
     value, W) or, of a clearance joint, `eccentricity` (ex ey ez in ground axes, value, m,
     and its polar angle, rad), `wear_work` (the integral of F_N * v_rel, value, J) and
     `polar` (radial, axial, m; angle, rad; clearance, m; normal, N; wear, W; wear_work, J:
-    what the polar plots and the wear map read)."""
+    what the polar plots and the wear map read); `force_split` (elastic, damping: the normal
+    force's elastic part k x^n and the rest, N; seed 004 fig. 5.13); `wear_depth` (a
+    clearance joint with a `wear:` law: the Archard depth, value, m)."""
 
     contact: Name
     quantity: Literal[
@@ -219,6 +221,8 @@ class ContactRequest(Strict):
         "eccentricity",
         "wear_work",
         "polar",
+        "force_split",
+        "wear_depth",
     ]
     frame: Name = Field("ground", description=_FRAME)
 
