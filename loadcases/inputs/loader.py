@@ -253,7 +253,8 @@ def _mechanism_source(
     the bytes of the files a mechanism file extends are added to `bases`."""
     raw = case_locator.data.get("mechanism")
     if isinstance(raw, dict):
-        return Locator(case_locator.tree, ("mechanism",)), None, case_units, []
+        inline = Locator(case_locator.tree, ("mechanism",))
+        return inline, None, case_units, _inline_extends(inline)
     if not isinstance(raw, str) or not raw.strip():
         return None, None, {}, []
     path = os.path.normpath(os.path.join(os.path.dirname(case_locator.tree.file), raw.strip()))
@@ -278,6 +279,17 @@ def _mechanism_source(
         return None, path, {}, list(error.diagnostics)
     bases += contents
     return Locator(tree), path, {}, diagnostics
+
+
+def _inline_extends(inline: Locator) -> list[Diagnostic]:
+    """`extends:`/`remove:` belong to a mechanism file: an error in an inline mechanism."""
+    return [
+        inline.diagnostic(
+            (key,), f"{key}: only in a mechanism file (write the mechanism to its own file)"
+        )
+        for key in ("extends", "remove")
+        if key in inline.data
+    ]
 
 
 def _raw_keys(data: dict[str, Any], *sections: str) -> list[list[str]]:

@@ -132,3 +132,18 @@ def test_the_base_is_part_of_the_input_hash(tmp_path: Path) -> None:
     first = load_case(case).input_sha256
     (tmp_path / "base.mech.yaml").write_text(BASE.replace("mass: 10", "mass: 11"), "utf-8")
     assert load_case(case).input_sha256 != first
+
+
+def test_extends_in_an_inline_mechanism_is_refused(tmp_path: Path) -> None:
+    """An inline mechanism cannot extend (never ignored): an error at its key."""
+    _files(tmp_path)
+    case = tmp_path / "inline.case.yaml"
+    case.write_text(
+        "case: inline\nmechanism:\n  extends: base.mech.yaml\n  bodies: {}\n"
+        "analysis: {type: static}\n",
+        encoding="utf-8",
+    )
+    with pytest.raises(InputError) as raised:
+        load_case(case)
+    keys = [d.key for d in raised.value.diagnostics if d.severity == "error"]
+    assert keys == ["mechanism.extends"]
