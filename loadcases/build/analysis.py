@@ -2,23 +2,49 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import mechlib as ml
 from loadcases.build.context import Builder
+from loadcases.checks.phases import phase_name
 
 __all__ = ["branch_check", "build_analysis", "initial_values"]
 
 
 def build_analysis(b: Builder):
-    """The mechlib analysis of the case, or None after an error at its key."""
-    a = b.case.analysis
+    """The mechlib analysis of the case (`mechlib.Phases` for `phases:`), or None after an
+    error at its key."""
+    if b.case.phases:
+        return _phases(b)
+    return _analysis(b, b.case.analysis, "analysis")
+
+
+def _phases(b: Builder):
+    """The case's phases, each starting at the time the one before it ends (s)."""
+    phases, start = [], 0.0
+    for index, phase in enumerate(b.case.phases or []):
+        analysis = _analysis(b, phase.analysis, f"phases[{index}].analysis", start)
+        if analysis is None:
+            return None
+        name = phase_name(b.case, index)
+        motions = None if phase.motions is None else tuple(phase.motions)
+        phases.append(ml.Phase(analysis, name, tuple(phase.locks), motions))
+        start = getattr(analysis, "end", start)
+    return ml.Phases(tuple(phases))
+
+
+def _analysis(b: Builder, a, key: str, start: float = 0.0):
+    """One mechlib analysis from its settings at `key`, starting at `start` (s)."""
     if a.type == "modes":
         return ml.Modes(time=0.0)
     if a.type == "static":
-        return ml.Static(time=0.0)
-    if a.end is None or a.step is None or a.step <= 0.0 or a.end <= 0.0:
-        b.error("case", "analysis", f"a {a.type} analysis needs 'end' and 'step' > 0 (seconds)")
+        return ml.Static(time=start)
+    if a.end is None or a.step is None or a.step <= 0.0 or a.end <= start:
+        b.error("case", key, f"a {a.type} analysis needs 'end' and 'step' > 0 (seconds)")
         return None
-    limit = {"max_steps": a.max_steps} if a.max_steps is not None else {}
+    limit: dict[str, Any] = {"max_steps": a.max_steps} if a.max_steps is not None else {}
+    if start:
+        limit["start"] = start
     if a.type == "kinematic":
         return ml.Kinematic(end=a.end, step=a.step, **limit)
     if a.type == "quasi-static":
@@ -27,12 +53,12 @@ def build_analysis(b: Builder):
     if integrator not in ("generalized-alpha", "radau"):
         b.error(
             "case",
-            "analysis.integrator",
+            f"{key}.integrator",
             f"unknown integrator '{integrator}': use generalized-alpha or radau",
         )
     options = {
-        key: value
-        for key, value in (("tolerance", a.tolerance), ("rho_inf", a.rho_inf))
+        option: value
+        for option, value in (("tolerance", a.tolerance), ("rho_inf", a.rho_inf))
         if value is not None
     }
     if a.output != "steps":  # dense by default: the steps do not depend on the output

@@ -15,6 +15,7 @@ from typing import Any
 
 import mechlib as ml
 from loadcases.build.context import NOT_YET, Builder
+from loadcases.schema.contacts import CLEARANCE_SHAPES
 from mechlib.elements import contact as mc
 
 __all__ = [
@@ -26,8 +27,6 @@ __all__ = [
     "add_contacts",
 ]
 
-CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
-"""Geometries that make a clearance joint (with the `eccentricity` request)."""
 
 # Request quantity -> (column component, key of the element's output), SPEC 1.2.1.
 CONTACT_COMPONENTS: dict[str, tuple[tuple[str, str], ...]] = {
@@ -50,6 +49,8 @@ CONTACT_COMPONENTS: dict[str, tuple[tuple[str, str], ...]] = {
         ("angle", "angle"),
     ),
     "wear_work": (("value", "wear_work"),),
+    "wear_depth": (("value", "wear_depth"),),
+    "force_split": (("elastic", "elastic"), ("damping", "damping")),
     "polar": (
         ("radial", "radial"),
         ("axial", "axial"),
@@ -60,7 +61,7 @@ CONTACT_COMPONENTS: dict[str, tuple[tuple[str, str], ...]] = {
         ("wear_work", "wear_work"),
     ),
 }
-CLEARANCE_QUANTITIES = ("eccentricity", "wear_work", "polar")
+CLEARANCE_QUANTITIES = ("eccentricity", "wear_work", "wear_depth", "polar")
 """Request quantities only a clearance joint has."""
 # Unit of each element output key: the contact's own, and the clearance joints' eccentricity.
 CONTACT_UNITS: dict[str, str] = {**mc.Contact.output_units, **mc.ClearanceJoint.output_units}
@@ -103,8 +104,10 @@ def _element(builder, name: str, model, law) -> Any:
     geometry, friction = _geometry(model.geometry), _friction(builder, model)
     if model.geometry.shape in CLEARANCE_SHAPES:
         axis = getattr(model.geometry, "polar_axis", (0.0, 0.0, 1.0))
+        w = model.wear
+        wear = None if w is None else mc.ArchardWear(w.coefficient, w.hardness, w.track_width)
         return mc.ClearanceJoint(
-            name, tuple(model.bodies), geometry, law, friction, polar_axis=axis
+            name, tuple(model.bodies), geometry, law, friction, polar_axis=axis, wear_law=wear
         )
     return mc.Contact(name, tuple(model.bodies), geometry, law, friction)
 

@@ -16,6 +16,7 @@ from mechlib.elements.hydraulics import (
     ServoActuator,
     ServoValve,
     Supply,
+    TorqueMotor,
 )
 from mechlib.elements.hydraulics.actuator import LAG_DAMPING
 
@@ -54,6 +55,13 @@ def _cylinder(f) -> Cylinder:
     )
 
 
+def _jet_pipe(f) -> JetPipe:
+    """The jet-pipe values given, with the torque motor's reluctance law when given."""
+    j = f.jet_pipe
+    motor = None if j is None or j.torque_motor is None else j.torque_motor.model_dump()
+    return replace(_given(JetPipe(), j), torque_motor=motor and TorqueMotor(**motor))
+
+
 def servo_actuator(builder, name: str, f) -> Any:
     """The element, or None after a diagnostic (unknown point; the stroke and volumes are
     checked by loadcases.checks.elements)."""
@@ -73,7 +81,7 @@ def servo_actuator(builder, name: str, f) -> Any:
         supply=_given(Supply(), f.supply),
         valve=_given(ServoValve(), f.valve),
         controller=_given(Controller(), f.controller),
-        jet_pipe=_given(JetPipe(), f.jet_pipe),
+        jet_pipe=_jet_pipe(f),
         velocity_gain=lag.velocity_gain,
         lag_stiffness=lag.stiffness,
         lag_damping=lag.damping,

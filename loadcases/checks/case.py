@@ -4,12 +4,13 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
+from loadcases.checks.analysis import analysis_problems
 from loadcases.checks.common import GROUND, Expected, Names, check_expressions, unknown
 from loadcases.checks.mechanism import mechanism_names
 from loadcases.checks.paths import check_name
+from loadcases.checks.phases import check_phase_names, check_phases
 from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
-from loadcases.foundation.limits import MIN_TOLERANCE, rows_problem
 from loadcases.foundation.units import UnitError, to_si
 from loadcases.schema import COORDINATE_DIMENSION, KNOWN_EFFECTS, CaseModel, MechanismModel
 from loadcases.schema.errors import did_you_mean
@@ -142,67 +143,6 @@ def _idle_guess(case: CaseModel, joint: str, valued: bool, at: Locator) -> list[
     ]
 
 
-def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
-    analysis, found = case.analysis, []
-    kind = analysis.type
-    if kind in _TIME_ANALYSES:
-        for key in ("end", "step"):
-            value = getattr(analysis, key)
-            if value is None:
-                found.append(
-                    at.diagnostic(("analysis", key), f"a {kind} analysis needs '{key}' (s)")
-                )
-            elif value <= 0.0:
-                found.append(at.diagnostic(("analysis", key), "must be positive"))
-        if analysis.max_steps is not None and analysis.max_steps <= 0:
-            found.append(
-                at.diagnostic(("analysis", "max_steps"), "must be a positive whole number of steps")
-            )
-        if analysis.end and analysis.step and analysis.step > analysis.end:
-            found.append(at.diagnostic(("analysis", "step"), "step is longer than end"))
-        elif (
-            analysis.end is not None
-            and analysis.end > 0.0
-            and analysis.step is not None
-            and analysis.step > 0.0
-            and (problem := rows_problem(analysis.end, analysis.step)) is not None
-        ):
-            found.append(at.diagnostic(("analysis", "step"), problem))
-    else:
-        found += [
-            at.diagnostic(
-                ("analysis", key), f"does nothing for a {kind} analysis", severity="warning"
-            )
-            for key in ("end", "step", "max_steps")
-            if getattr(analysis, key) is not None
-        ]
-    found += [
-        at.diagnostic(("analysis", key), "must be positive")
-        for key in ("tolerance", "max_step", "accuracy")
-        if isinstance(getattr(analysis, key), int | float) and getattr(analysis, key) <= 0.0
-    ]
-    tolerance = analysis.tolerance
-    if isinstance(tolerance, int | float) and 0.0 < tolerance < MIN_TOLERANCE:
-        found.append(
-            at.diagnostic(
-                ("analysis", "tolerance"),
-                f"must be at least {MIN_TOLERANCE:g} (got {tolerance:g}): below, round-off "
-                "of the state decides, not the tolerance",
-            )
-        )
-    if kind != "dynamic":
-        found += [
-            at.diagnostic(
-                ("analysis", key), f"does nothing for a {kind} analysis", severity="warning"
-            )
-            for key in ("tolerance", "integrator", "max_step", "accuracy", "rho_inf", "output")
-            if getattr(analysis, key) is not None
-        ]
-    if analysis.rho_inf is not None and not 0.0 <= analysis.rho_inf <= 1.0:
-        found.append(at.diagnostic(("analysis", "rho_inf"), "must be between 0 and 1"))
-    return found
-
-
 def _loads(case: CaseModel, at: Locator, names: Names) -> list[Diagnostic]:
     elements = names.get("forces") | names.get("contacts")
     limits = names.get("limits")
@@ -243,7 +183,7 @@ def _parameters(case: CaseModel, mechanism: MechanismModel, at: Locator) -> list
 def check_case_alone(case: CaseModel, at: Locator) -> list[Diagnostic]:
     """The problems of a case that do not need its mechanism (analysis, effects)."""
     return (
-        _analysis(case, at)
+        (check_phases(case, at) if case.phases else analysis_problems(case.analysis, at))
         + check_name(at, "case", case.case)
         + [
             unknown(at, ("effects", name), "effect", name, KNOWN_EFFECTS, severity="warning")
@@ -268,6 +208,7 @@ def check_case(
     parameters = {*mechanism.parameters, *case.parameters}
     found = _motions(case, mechanism, at, names) + _initial(case, mechanism, at, names)
     found += check_case_alone(case, at) + _loads(case, at, names)
+    found += check_phase_names(case, mechanism, at)
     found += check_plane_initial(case, mechanism, at)
     found += _parameters(case, mechanism, at) + check_requests(case, mechanism, at, names)
     expressions: list[tuple[KeyPath, str]] = [

@@ -6,6 +6,7 @@ import numpy as np
 
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.schema import MechanismModel
+from loadcases.schema.contacts import CLEARANCE_SHAPES
 from loadcases.yamlfiles.source import Locator
 from mechlib.elements.hydraulics.parameters import Supply
 from mechlib.model.joints import ROTATIONAL
@@ -62,7 +63,7 @@ def _joint_elements(model: MechanismModel, at: Locator) -> list[Diagnostic]:
 
 
 def _contacts(model: MechanismModel, at: Locator) -> list[Diagnostic]:
-    """Positive radii, damping needs a depth."""
+    """Positive radii, damping needs a depth, a wear law needs a clearance joint."""
     found = []
     for name, contact in model.contacts.items():
         geometry = contact.geometry
@@ -81,6 +82,14 @@ def _contacts(model: MechanismModel, at: Locator) -> list[Diagnostic]:
                 at.diagnostic(
                     ("contacts", name),
                     "impact damping needs 'depth' (the penetration of full damping)",
+                )
+            )
+        if contact.wear is not None and geometry.shape not in CLEARANCE_SHAPES:
+            found.append(
+                at.diagnostic(
+                    ("contacts", name, "wear"),
+                    f"a wear law needs a clearance joint, not a {geometry.shape}",
+                    hint="sphere_in_sphere or cylinder_in_cylinder",
                 )
             )
         found += _contact_laws(name, contact, at)

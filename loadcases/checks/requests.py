@@ -14,6 +14,7 @@ from loadcases.foundation.units import (
     si_unit_text,
 )
 from loadcases.schema import COORDINATE_DIMENSION, CaseModel, MechanismModel
+from loadcases.schema.contacts import CLEARANCE_SHAPES
 from loadcases.yamlfiles.source import Locator
 from mechlib.model.joints import ROTATIONAL, TRANSLATIONAL
 
@@ -22,8 +23,7 @@ __all__ = ["check_requests", "expression_units", "unit_problems"]
 _ANGLE_QUANTITIES = ("angle", "omega", "alpha")
 _TRAVEL_QUANTITIES = ("travel", "speed")
 _ANGLE_JOINTS, _TRAVEL_JOINTS = ROTATIONAL, TRANSLATIONAL
-_CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
-_CLEARANCE_QUANTITIES = ("eccentricity", "wear_work", "polar")  # as loadcases.build.contacts
+_CLEARANCE_QUANTITIES = ("eccentricity", "wear_work", "wear_depth", "polar")  # as build.contacts
 _TARGETS = {
     "joint": "joints",
     "motion": "motions",
@@ -64,7 +64,7 @@ def _quantity_fits(
     if (
         quantity in _CLEARANCE_QUANTITIES
         and contact is not None
-        and contact.geometry.shape not in _CLEARANCE_SHAPES
+        and contact.geometry.shape not in CLEARANCE_SHAPES
     ):
         return [
             at.diagnostic(
@@ -73,6 +73,14 @@ def _quantity_fits(
                 f"{contact.geometry.shape}, not a clearance joint: it has no "
                 f"{quantity}",
                 hint="sphere_in_sphere or cylinder_in_cylinder",
+            )
+        ]
+    if quantity == "wear_depth" and contact is not None and contact.wear is None:
+        return [
+            at.diagnostic(
+                path,
+                f"contact '{contact_name}' has no wear law: its wear_depth needs one",
+                hint="wear: {coefficient: 1.0e-4, hardness: 2 GPa, track_width: 2 mm}",
             )
         ]
     return []

@@ -32,6 +32,7 @@ from loadcases.checks.requests import expression_units
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.foundation.limits import local_path_problem, pattern_problem
 from loadcases.foundation.units import UnitError, dimension_mismatch
+from loadcases.inputs.extends import resolve_extends
 from loadcases.inputs.hardpoints import expand_hardpoints
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.overrides import Override, defined_parameters, override_problems, pairs
@@ -242,6 +243,23 @@ def _read_model(path: str | Path, model_class):
     return model, locator, units, diagnostics + found + more
 
 
+def _prepared_base(tree: SourceTree) -> tuple[list[bytes], list[Diagnostic]]:
+    """A base mechanism readied for `extends:`: its hardpoint table read in its own units
+    and folder (bytes read, problems)."""
+    locator = Locator(tree)
+    units, found = _file_units(locator, {})
+    tables, more = expand_hardpoints(locator, units)
+    return tables, found + more
+
+
+def _read_mechanism_tree(path: str | Path) -> tuple[SourceTree, list[bytes], list[Diagnostic]]:
+    """A mechanism file's tree with the bases it `extends:` merged in, the bytes of those
+    bases (for the input hash) and the problems of reading them all."""
+    tree, diagnostics = _read_tree(path)
+    extended = resolve_extends(tree, _prepared_base)
+    return extended.tree, extended.contents, diagnostics + extended.diagnostics
+
+
 def imported_model_bytes(mechanism: MechanismModel, folder: Path) -> list[bytes]:
     """The contents of the files of every imported flexible body (`flexible: file:`), so
     that a changed matrix is a changed input; files that cannot be read add nothing (the
@@ -263,8 +281,9 @@ def imported_model_bytes(mechanism: MechanismModel, folder: Path) -> list[bytes]
 
 def load_mechanism(path: str | Path) -> MechanismFile:
     """Validated mechanism file; raises InputError with every problem found. Its own
-    parameters named in numeric fields are put in place first (as a case does)."""
-    tree, diagnostics = _read_tree(path)
+    parameters named in numeric fields are put in place first (as a case does); `extends:`
+    merges its base in first (loadcases.inputs.extends)."""
+    tree, bases, diagnostics = _read_mechanism_tree(path)
     locator = Locator(tree)
     units, found = _file_units(locator, {})
     tables, more = expand_hardpoints(locator, units)
@@ -283,9 +302,8 @@ def load_mechanism(path: str | Path) -> MechanismFile:
         checks = check_mechanism(model or in_part, locator, scope=scope)
         diagnostics += beside_removed(checks, removed)
     _raise_on_errors(diagnostics)
-    return MechanismFile(
-        str(path), model, _sha256(Path(path).read_bytes(), *tables), locator, tuple(diagnostics)
-    )
+    digest = _sha256(Path(path).read_bytes(), *bases, *tables)
+    return MechanismFile(str(path), model, digest, locator, tuple(diagnostics))
 
 
 def _redefined_parameters(case: Locator, mechanism: Locator | None) -> list[Diagnostic]:
@@ -331,12 +349,14 @@ def model_tables(locator: Locator) -> Any:
 
 
 def _mechanism_source(
-    case_locator: Locator, case_units: dict[str, str]
+    case_locator: Locator, case_units: dict[str, str], bases: list[bytes]
 ) -> tuple[Locator | None, str | None, dict[str, str], list[Diagnostic]]:
-    """Locator of the case's mechanism (inline or file), its path and inherited units."""
+    """Locator of the case's mechanism (inline or file), its path and inherited units;
+    the bytes of the files a mechanism file extends are added to `bases`."""
     raw = case_locator.data.get("mechanism")
     if isinstance(raw, dict):
-        return Locator(case_locator.tree, ("mechanism",)), None, case_units, []
+        inline = Locator(case_locator.tree, ("mechanism",))
+        return inline, None, case_units, _inline_extends(inline)
     if not isinstance(raw, str) or not raw.strip():
         return None, None, {}, []
     path = os.path.normpath(os.path.join(os.path.dirname(case_locator.tree.file), raw.strip()))
@@ -356,10 +376,22 @@ def _mechanism_source(
             ],
         )
     try:
-        tree, diagnostics = _read_tree(path)
+        tree, contents, diagnostics = _read_mechanism_tree(path)
     except InputError as error:
         return None, path, {}, list(error.diagnostics)
+    bases += contents
     return Locator(tree), path, {}, diagnostics
+
+
+def _inline_extends(inline: Locator) -> list[Diagnostic]:
+    """`extends:`/`remove:` belong to a mechanism file: an error in an inline mechanism."""
+    return [
+        inline.diagnostic(
+            (key,), f"{key}: only in a mechanism file (write the mechanism to its own file)"
+        )
+        for key in ("extends", "remove")
+        if key in inline.data
+    ]
 
 
 def _raw_keys(data: dict[str, Any], *sections: str) -> list[list[str]]:
@@ -383,7 +415,8 @@ def load_case(
     tree, diagnostics = _read_tree(path)
     case_locator = Locator(tree)
     case_units, found = _file_units(case_locator, {})
-    mech_locator, mech_path, inherited, more = _mechanism_source(case_locator, case_units)
+    bases: list[bytes] = []  # files the mechanism file extends
+    mech_locator, mech_path, inherited, more = _mechanism_source(case_locator, case_units, bases)
     diagnostics += found + more
     if what_if:
         definitions = defined_parameters([mech_locator, case_locator])
@@ -431,7 +464,7 @@ def load_case(
     if case is None or mechanism is None or mech_locator is None:
         raise InputError(diagnostics)  # not reached: each of them missing is an error above
     contents = [Path(path).read_bytes()] + ([Path(mech_path).read_bytes()] if mech_path else [])
-    contents += tables  # hardpoint tables: a changed table is a changed input
+    contents += bases + tables  # bases and hardpoint tables: a changed one is a changed input
     contents += imported_model_bytes(mechanism, Path(mech_path or path).parent)
     if what_if:  # part of the run's identity: never mistaken for the run without them
         contents.append(json.dumps(pairs(what_if)).encode("utf-8"))

@@ -143,8 +143,26 @@ def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
         ],
         "parameters": dict(outcome.parameters),
         "overrides": dict(outcome.overrides),
+        **({"phases": _phases(solution)} if solution.phases else {}),
         **outcome.checks,
     }
+
+
+def _phases(solution: Any) -> list[dict[str, Any]]:
+    """The phases of a phased run: name, analysis, start and end (s), their rows of the
+    CSV (0-based, after the header) and whether an event's stop ended them."""
+    return [
+        {
+            "name": p.name,
+            "analysis": p.analysis,
+            "start": p.start,
+            "end": p.end,
+            "first_row": p.first_row,
+            "rows": p.rows,
+            "ended_by_event": p.ended_by_event,
+        }
+        for p in solution.phases
+    ]
 
 
 def column_extremes(time: np.ndarray, values: np.ndarray) -> dict[str, float | None]:
@@ -316,6 +334,9 @@ def _summary_sheet(
         values = [ext[k] for k in ("max", "time_of_max", "min", "time_of_min")]
         sheet.append([name, units.get(name, ""), *values])
     sheet.append([])
+    for phase in summary.get("phases", ()):
+        times = [_cell(phase["start"]), _cell(phase["end"])]
+        sheet.append(["phase", phase["name"], phase["analysis"], *times])
     for event in summary["events"]:
         sheet.append(["event", event["name"], _cell(event["time"]), ", ".join(event["actions"])])
     for text in [*summary["warnings"], *notes]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import math
 from typing import Annotated, Any, Literal
 
-from pydantic import BeforeValidator, Discriminator, Field, Tag
+from pydantic import BeforeValidator, Discriminator, Field, Tag, model_validator
 from pydantic_core import PydanticCustomError
 
 import mechlib as ml
@@ -162,6 +162,24 @@ class Analysis(Strict):
     )
 
 
+class Phase(Strict):
+    """One analysis of a sequence: it starts from the state where the previous one ended."""
+
+    name: Name | None = Field(None, description="the phase's name (default phase1, phase2, ...)")
+    analysis: Analysis = Field(
+        description="static, quasi-static or dynamic; `end` is the time the phase ends at "
+        "(s, from the case's start), after the previous phase's end"
+    )
+    locks: list[Name] = Field(
+        default_factory=list,
+        description="joints held at their coordinate of the phase's first state while the "
+        "phase lasts (hinges fixed for a static preload)",
+    )
+    motions: list[Name] | None = Field(
+        None, description="the case's motions driving in this phase; absent: all"
+    )
+
+
 class JointRequest(Strict):
     """A joint's reaction (`force`: fx fy fz tx ty tz f t) or coordinate (`value`)."""
 
@@ -207,7 +225,9 @@ class ContactRequest(Strict):
     value, W) or, of a clearance joint, `eccentricity` (ex ey ez in ground axes, value, m,
     and its polar angle, rad), `wear_work` (the integral of F_N * v_rel, value, J) and
     `polar` (radial, axial, m; angle, rad; clearance, m; normal, N; wear, W; wear_work, J:
-    what the polar plots and the wear map read)."""
+    what the polar plots and the wear map read); `force_split` (elastic, damping: the normal
+    force's elastic part k x^n and the rest, N; seed 004 fig. 5.13); `wear_depth` (a
+    clearance joint with a `wear:` law: the Archard depth, value, m)."""
 
     contact: Name
     quantity: Literal[
@@ -219,6 +239,8 @@ class ContactRequest(Strict):
         "eccentricity",
         "wear_work",
         "polar",
+        "force_split",
+        "wear_depth",
     ]
     frame: Name = Field("ground", description=_FRAME)
 
@@ -346,7 +368,13 @@ class CaseModel(Strict):
         Branches(),
         description="assembly branches: {angle: 30 deg, on_change: warn | error}",
     )
-    analysis: Analysis
+    analysis: Analysis = Field(description="what to solve; with `phases`, leave it out")
+    phases: list[Phase] | None = Field(
+        None,
+        description="analyses in sequence, each from the state where the last ended "
+        "(instead of `analysis`)",
+        json_schema_extra={"minItems": 1},
+    )
     requests: dict[str, Request] = Field(default_factory=dict)
     abscissa: Expression | None = Field(None, description="x-axis expression for envelopes")
     events: dict[str, Event] = Field(
@@ -361,3 +389,20 @@ class CaseModel(Strict):
         "sum D_j / sum R_j per hinge line (seed 003 "
         "eq. 2.1), reported along the run",
     )
+
+    @model_validator(mode="before")
+    @classmethod
+    def _phased(cls, data: Any) -> Any:
+        """A case with `phases` and no `analysis`: a stand-in until `_last_phase` (both
+        given: loadcases.checks.phases reports it at the key)."""
+        if isinstance(data, dict) and data.get("phases") and "analysis" not in data:
+            return {**data, "analysis": {"type": "static"}}
+        return data
+
+    @model_validator(mode="after")
+    def _last_phase(self) -> CaseModel:
+        """A phased case's `analysis` is its last phase's (the settings a run reads once:
+        `redundant`, and what a set records)."""
+        if self.phases:
+            object.__setattr__(self, "analysis", self.phases[-1].analysis)
+        return self

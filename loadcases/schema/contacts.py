@@ -27,6 +27,8 @@ from loadcases.schema.types import (
 )
 
 __all__ = [
+    "CLEARANCE_SHAPES",
+    "ArchardWearInput",
     "CircleVsProfile",
     "Contact",
     "ContactFriction",
@@ -143,6 +145,23 @@ Geometry = Annotated[
 _K = "contact stiffness k in F = k * x^exponent [N/m^exponent, SI]"
 
 
+CLEARANCE_SHAPES = ("sphere_in_sphere", "cylinder_in_cylinder")
+"""Geometries that make a clearance joint (eccentricity, wear work, wear depth)."""
+
+
+class ArchardWearInput(Strict):
+    """Archard wear law of a clearance joint: depth = k W / (H * 2 pi r * track_width), W
+    the wear work (J), r the socket or hole radius."""
+
+    coefficient: Dimensionless = Field(gt=0, description="Archard wear coefficient k [1]")
+    hardness: quantity("pressure") = Field(
+        gt=0, description=describe("hardness H of the softer surface", "pressure")
+    )
+    track_width: Length = Field(
+        gt=0, description=describe("width of the worn track round the socket", "length")
+    )
+
+
 class _Contact(Strict):
     bodies: NamePair = Field(
         description="[body 1 (sphere, ball, pin, roller), body 2 (plane, socket, hole, profile)]"
@@ -150,6 +169,9 @@ class _Contact(Strict):
     geometry: Geometry
     exponent: Dimensionless = Field(1.5, gt=0, description="force exponent [dimensionless]")
     friction: ContactFriction | None = None
+    wear: ArchardWearInput | None = Field(
+        None, description="Archard wear law (clearance joints): the wear_depth request"
+    )
     active: bool = Field(True, description=_ACTIVE)
 
 

@@ -6,7 +6,8 @@ from __future__ import annotations
 
 from typing import Literal
 
-from pydantic import Field
+from pydantic import Field, model_validator
+from pydantic_core import PydanticCustomError
 
 from loadcases.schema.types import (
     Damping,
@@ -97,6 +98,21 @@ class ControllerInput(Strict):
     current_limit: _Current | None = Field(None, gt=0, description=describe("i_max", "current"))
 
 
+class TorqueMotorInput(Strict):
+    """Push-pull torque motor by its reluctance force B^2 S / (2 mu0) per air gap (seed 004
+    eq. 6.1; docs/hydraulics.md)."""
+
+    pole_area: _Area = Field(gt=0, description=describe("pole (solenoid) area S", "area"))
+    air_gap: Length = Field(gt=0, description=describe("air gap g at the centre", "length"))
+    turns: quantity("any") = Field(gt=0, description="control coil turns N [1]")
+    magnet_mmf: _Current = Field(
+        gt=0, description=describe("polarising magnetomotive force M0 (ampere-turns)", "current")
+    )
+    gap_ratio: Dimensionless = Field(
+        1.0, gt=0, description="armature motion at the gaps per jet-tip motion [1]"
+    )
+
+
 class JetPipeInput(Strict):
     """Torque motor, jet pipe, receiver and spool (seed 004 eqs. 6.1-6.3)."""
 
@@ -113,6 +129,17 @@ class JetPipeInput(Strict):
     rated_opening: Length | None = Field(None, gt=0)
     discharge: Dimensionless | None = Field(None, gt=0)
     density: quantity("any") | None = Field(None, gt=0, description="oil density [kg/m^3, SI]")
+    torque_motor: TorqueMotorInput | None = Field(
+        None, description="the reluctance law of the torque motor (absent: k_t i)"
+    )
+
+    @model_validator(mode="after")
+    def _one_motor_law(self) -> JetPipeInput:
+        if self.motor_gain is not None and self.torque_motor is not None:
+            raise PydanticCustomError(
+                "motor", "give 'motor_gain' (linear law) or 'torque_motor', not both"
+            )
+        return self
 
 
 class LagInput(Strict):

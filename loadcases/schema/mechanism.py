@@ -343,6 +343,15 @@ class MechanismModel(Strict):
     """A mechanism: what exists. Positions and axes in the global frame at design."""
 
     name: str | None = None
+    extends: str | None = Field(
+        None,
+        description="a base mechanism file (relative to this file, inside its folder): its "
+        "items, those named here replaced whole (docs/user-guide.md); merged by the loader",
+    )
+    remove: list[str] = Field(
+        default_factory=list,
+        description="base items dropped: NAME (any section but parameters) or SECTION.NAME",
+    )
     units: FileUnits = Field(default_factory=FileUnits)
     plane: Literal["xy", "yz", "xz"] | None = Field(
         None,

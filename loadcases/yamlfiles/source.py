@@ -130,6 +130,16 @@ class SourceTree:
     diagnostics: list[Diagnostic] = field(default_factory=list)
     # plain `yes`, `no`, `on`, `off` (booleans to YAML 1.1): path -> the text as written
     plain_booleans: dict[KeyPath, str] = field(default_factory=dict)
+    # items merged in from another file (`extends:`): item path -> the file it was written in
+    origins: dict[KeyPath, str] = field(default_factory=dict)
+
+    def file_at(self, path: KeyPath) -> str:
+        """The file the key at `path` was written in (`file`, or a base file's)."""
+        for end in range(min(len(path), 2), 0, -1):
+            found = self.origins.get(tuple(path[:end]))
+            if found is not None:
+                return found
+        return self.file
 
     def position(self, path: KeyPath) -> tuple[int, int]:
         """(line, col) of the key or item at `path`, else of its nearest known ancestor."""
@@ -177,7 +187,8 @@ class Locator:
 
     def where(self, path: KeyPath) -> tuple[str, int, int]:
         """(file, line, col) of the key at `path` (relative to `prefix`)."""
-        return (self.tree.file, *self.tree.position((*self.prefix, *path)))
+        full = (*self.prefix, *path)
+        return (self.tree.file_at(full), *self.tree.position(full))
 
     def diagnostic(
         self,
@@ -196,7 +207,8 @@ class Locator:
         if offset is not None and full in self.tree.values:
             line, col = self.tree.values[full]
             col += offset
-        return Diagnostic(self.tree.file, line, col, format_key(full), message, severity, hint)
+        file = self.tree.file_at(full)
+        return Diagnostic(file, line, col, format_key(full), message, severity, hint)
 
 
 class _Builder:

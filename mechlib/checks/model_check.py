@@ -15,14 +15,14 @@ from mechlib.core.outcome import ModelError
 from mechlib.kinematics.kin import Kin
 from mechlib.linalg.rank import degrees_of_freedom, find_redundant
 from mechlib.linalg.sparse_rows import SparseRows
-from mechlib.model.analysis import Dynamic, Kinematic, Modes, QuasiStatic, Static
+from mechlib.model.analysis import Dynamic, Kinematic, Modes, Phases, QuasiStatic, Static
 from mechlib.model.mechanism import Mechanism
 from mechlib.system.planar import make_system
 from mechlib.system.system import System
 
 __all__ = ["MechanismCheck", "check_model", "inspect_mechanism"]
 
-Analysis = Kinematic | Static | QuasiStatic | Dynamic | Modes
+Analysis = Kinematic | Static | QuasiStatic | Dynamic | Modes | Phases
 
 
 def _jacobian(system: System, k: Kin) -> SparseRows:

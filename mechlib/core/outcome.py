@@ -137,6 +137,21 @@ class SolverFailure(Exception):
 
 
 @dataclass
+class PhaseSpan:
+    """A phase of a phased run (mechlib.Phases) in its Solution: name, analysis, start and
+    end times (s), its rows `first_row` to `first_row + rows - 1` of the channels, and
+    whether an event's stop ended it."""
+
+    name: str
+    analysis: str
+    start: float
+    end: float
+    first_row: int
+    rows: int
+    ended_by_event: bool = False
+
+
+@dataclass
 class Solution:
     """Result of `mechlib.solve`.
 
@@ -159,6 +174,7 @@ class Solution:
     events: list[EventRecord] = field(default_factory=list)
     result: Status = Status.SUCCESSFUL
     max_step: float | None = None
+    phases: list[PhaseSpan] = field(default_factory=list)
 
     @property
     def ok(self) -> bool:

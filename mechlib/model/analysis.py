@@ -19,6 +19,8 @@ __all__ = [
     "InitialValue",
     "Kinematic",
     "Modes",
+    "Phase",
+    "Phases",
     "QuasiStatic",
     "Static",
     "Trajectory",
@@ -97,6 +99,44 @@ class Dynamic(_Timed):
 
 
 COMPILED_PATHS = ("runs", "steps", "python")
+
+
+@dataclass(frozen=True)
+class Phase:
+    """One analysis of a sequence (`Phases`): a `Static` at its `time`, or a `QuasiStatic`
+    or `Dynamic` from its `start` to its `end` (s). `locks`: joints held at their
+    coordinate of the phase's first state while it lasts (hinges fixed for a preload);
+    `motions`: the motions driving in this phase (None: all; the others switched off)."""
+
+    analysis: Static | QuasiStatic | Dynamic
+    name: str = ""
+    locks: tuple[str, ...] = ()
+    motions: tuple[str, ...] | None = None
+
+    @property
+    def start(self) -> float:
+        """Time of the phase's first state (s)."""
+        return float(getattr(self.analysis, "start", getattr(self.analysis, "time", 0.0)))
+
+
+@dataclass(frozen=True)
+class Phases:
+    """Analyses in sequence, each starting from the state where the last ended: its
+    positions, its rates after a dynamic phase (after a static or quasi-static one, the
+    rates the motions prescribe: the bodies at rest), element states and events carried.
+    An event's `stop` ends the phase it fires in (the next starts there)."""
+
+    phases: tuple[Phase, ...]
+    name = "phases"
+
+    def __post_init__(self) -> None:
+        if not self.phases:
+            raise ValueError("Phases needs at least one phase")
+
+    @property
+    def start(self) -> float:
+        """Time of the first phase's first state (s)."""
+        return self.phases[0].start
 
 
 @dataclass(frozen=True)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import functools
 import time as _time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -18,7 +18,15 @@ from mechlib.flexible.guards import (
     spin_warnings,
     unresolved_mode_warnings,
 )
-from mechlib.model.analysis import BranchCheck, Dynamic, Kinematic, QuasiStatic, Static, Trajectory
+from mechlib.model.analysis import (
+    BranchCheck,
+    Dynamic,
+    Kinematic,
+    Phases,
+    QuasiStatic,
+    Static,
+    Trajectory,
+)
 from mechlib.model.mechanism import Mechanism
 from mechlib.outputs.requests import JointCoordinate, JointReaction, evaluate_requests
 from mechlib.solvers.assembly import assemble
@@ -30,6 +38,7 @@ from mechlib.solvers.genalpha.stepper import GeneralizedAlphaStepper
 from mechlib.solvers.kinematic import KinematicStepper
 from mechlib.solvers.march import march
 from mechlib.solvers.modes import ModalResult, Modes, modal_channels, normal_modes
+from mechlib.solvers.phases import PhaseRecord, phase_spans, run_phases
 from mechlib.solvers.solve_copy import solve_copy
 from mechlib.solvers.static.analyses import QuasiStaticStepper, run_static
 from mechlib.system.planar import make_system
@@ -37,7 +46,7 @@ from mechlib.system.system import System
 
 __all__ = ["MechanismCheck", "check_model", "inspect_mechanism", "solve"]
 
-Analysis = Kinematic | Static | QuasiStatic | Dynamic | Modes
+Analysis = Kinematic | Static | QuasiStatic | Dynamic | Modes | Phases
 
 
 def _stepper(
@@ -56,6 +65,11 @@ def _stepper(
 
 
 def _check_events(analysis: Analysis, events: Sequence) -> None:
+    if isinstance(analysis, Phases):
+        for phase in analysis.phases:
+            if not isinstance(phase.analysis, Static):  # a static phase has none to watch
+                _check_events(phase.analysis, events)
+        return
     if events and isinstance(analysis, Static):
         raise ModelError(
             [("", "events need an analysis in time (a static analysis solves one instant)")]
@@ -82,6 +96,14 @@ class _Run:
     modes: ModalResult | None = None
     result: Status = Status.SUCCESSFUL
     message: str = "finished"
+    phases: list[PhaseRecord] = field(default_factory=list)
+
+    def segments(self, analysis: Analysis) -> list[tuple[Analysis, Trajectory]]:
+        """(analysis, rows) of each phase of a phased run, else of the run itself."""
+        if not self.phases:
+            return [(analysis, self.trajectory)]
+        assert isinstance(analysis, Phases)
+        return [(p.analysis, r.trajectory) for p, r in zip(analysis.phases, self.phases)]
 
 
 def _analyse(
@@ -112,6 +134,20 @@ def _analyse(
             system.commit(system.kin(run.modes.q, None, analysis.time))
         elif isinstance(analysis, Static):
             run_static(system, analysis, assembled.q, run.trajectory, run.stats)
+        elif isinstance(analysis, Phases):
+            run.result = run_phases(
+                system,
+                analysis,
+                assembled.q,
+                assembled.qd,
+                stats=run.stats,
+                stepper=_stepper,
+                trajectory=lambda: _new_phase(system, run),
+                records=run.phases,
+                events=events,
+                event_log=run.events,
+                progress=progress,
+            )
         else:
             run.result = march(
                 _stepper(system, analysis, run.stats),
@@ -124,28 +160,45 @@ def _analyse(
             )
 
 
+def _new_phase(system: System, run: _Run) -> Trajectory:
+    """The trajectory of a phase about to begin, made the run's current one."""
+    run.trajectory = Trajectory(
+        snapshot=system.snapshot, check=functools.partial(check_recorded_state, system)
+    )
+    return run.trajectory
+
+
 def _channels(system: System, run: _Run, requests) -> tuple[np.ndarray, dict]:
-    """Output times and channels: one row per mode for modes, else per recorded state."""
+    """Output times and channels: one row per mode for modes, else per recorded state (the
+    phases of a phased run one after the other, each evaluated as its analysis ran)."""
     if run.modes is not None:
         return (
             np.full(len(run.modes.frequencies), run.modes.time),
             modal_channels(system, run.modes, requests),
         )
-    space, trajectory = system.in_space(run.trajectory)  # a planar one lifted to 3-D
-    channels = evaluate_requests(space, trajectory, requests) if len(trajectory) else {}
-    return np.array(run.trajectory.time), channels
+    parts = [r.trajectory for r in run.phases if len(r.trajectory)] or [run.trajectory]
+    times, columns = [], []
+    for rows in parts:
+        space, trajectory = system.in_space(rows)  # a planar one lifted to 3-D
+        columns.append(evaluate_requests(space, trajectory, requests) if len(trajectory) else {})
+        times.append(np.array(rows.time, dtype=float))
+    if len(parts) == 1:
+        return times[0], columns[0]
+    return np.concatenate(times), {k: np.concatenate([c[k] for c in columns]) for k in columns[0]}
 
 
-def _position_warnings(system: System, analysis: Analysis, run: _Run) -> list[str]:
+def _position_warnings(
+    system: System, analysis: Analysis, trajectory: Trajectory, stats: SolverStats
+) -> list[str]:
     """Warnings from the recorded positions: toggles, deformation, spin, unresolved modes."""
     warnings: list[str] = []
     if not isinstance(analysis, Modes):
-        warnings += toggle_warnings(system, run.trajectory)
-        warnings += deformation_warnings(system, run.trajectory)
-        warnings += spin_warnings(system, run.trajectory)
-    if isinstance(analysis, Dynamic) and len(run.trajectory):
-        duration = run.trajectory.time[-1] - run.trajectory.time[0]
-        warnings += unresolved_mode_warnings(system, duration, run.stats.steps)
+        warnings += toggle_warnings(system, trajectory)
+        warnings += deformation_warnings(system, trajectory)
+        warnings += spin_warnings(system, trajectory)
+    if isinstance(analysis, Dynamic) and len(trajectory):
+        duration = trajectory.time[-1] - trajectory.time[0]
+        warnings += unresolved_mode_warnings(system, duration, stats.steps)
     return warnings
 
 
@@ -164,21 +217,23 @@ def _branch_outcome(changes: list[BranchChange], check: BranchCheck, warnings: l
     warnings += [c.message() for c in changes]
 
 
-def _row_branches(system: System, analysis: Analysis, run: _Run, check: BranchCheck) -> list:
+def _row_branches(
+    system: System, analysis: Analysis, trajectory: Trajectory, events: list, check: BranchCheck
+) -> list:
     """Snap-throughs between the recorded rows of a quasi-static or kinematic run."""
-    if not isinstance(analysis, Kinematic | QuasiStatic) or len(run.trajectory) < 2:
+    if not isinstance(analysis, Kinematic | QuasiStatic) or len(trajectory) < 2:
         return []
     joints = [joint for joint, kind in system.measures if kind == "angle"]
     if not joints:
         return []
-    space, trajectory = system.in_space(run.trajectory)
+    space, lifted = system.in_space(trajectory)
     requests = [JointCoordinate(f"branch {j}", j, "angle") for j in joints]
-    channels = evaluate_requests(space, trajectory, requests)
+    channels = evaluate_requests(space, lifted, requests)
     angles = {j: channels[f"branch {j}.value"] for j in joints}
-    times = np.array(run.trajectory.time)
-    changes = row_changes(times, angles, check, [e.time for e in run.events])
-    if not run.events and _square(system, times[0], run.trajectory.q[0]):
-        turned = orientation_changes(system, times, np.array(run.trajectory.q), angles)
+    times = np.array(trajectory.time)
+    changes = row_changes(times, angles, check, [e.time for e in events])
+    if not events and _square(system, times[0], trajectory.q[0]):
+        turned = orientation_changes(system, times, np.array(trajectory.q), angles)
         seen = {c.time for c in changes}
         changes += [c for c in turned if c.time not in seen]
         changes.sort(key=lambda c: c.time)
@@ -189,6 +244,33 @@ def _square(system: System, t: float, q: np.ndarray) -> bool:
     """The constraints, motions included, as many as the coordinates (no freedom left)."""
     rows, columns = system.phi_q(system.kin(q, None, float(t))).shape
     return bool(rows == columns)
+
+
+def _check_rows(
+    system: System,
+    analysis: Analysis,
+    run: _Run,
+    warnings: list[str],
+    *,
+    checks: bool,
+    branches: BranchCheck,
+    throw: bool,
+) -> None:
+    """The checks of the recorded positions (`checks`) and of branch changes between rows,
+    phase by phase; a branch change under `branches.error` fails the run."""
+    segments = run.segments(analysis)
+    if checks:
+        for part, rows in segments:
+            warnings += _position_warnings(system, part, rows, run.stats)
+    if (checks or branches.error) and run.result.ok:
+        try:
+            for part, rows in segments:
+                changes = _row_branches(system, part, rows, run.events, branches)
+                _branch_outcome(changes, branches, warnings)
+        except SolverFailure as failure:
+            if throw:
+                raise
+            run.result, run.message = failure.status, str(failure)
 
 
 def _summary_status(result: Status) -> RunStatus:
@@ -290,16 +372,7 @@ def solve(
     if bad is not None:
         run.result = Status.NOT_FINITE
         run.message = f"column {bad[0]} is not finite ({bad[2]:g}) at t = {bad[1]:.6g} s"
-    if checks:
-        warnings += _position_warnings(system, analysis, run)
-    if (checks or branch_check.error) and run.result.ok:
-        try:
-            changes = _row_branches(system, analysis, run, branch_check)
-            _branch_outcome(changes, branch_check, warnings)
-        except SolverFailure as failure:
-            if throw:
-                raise
-            run.result, run.message = failure.status, str(failure)
+    _check_rows(system, analysis, run, warnings, checks=checks, branches=branch_check, throw=throw)
     run.stats.cpu_seconds = _time.process_time() - cpu0
     message = run.message
     if run.events:
@@ -315,4 +388,5 @@ def solve(
         run.events,
         run.result,
         step_bound(system, analysis) if isinstance(analysis, Dynamic) else None,
+        phase_spans(run.phases),
     )

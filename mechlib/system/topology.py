@@ -234,8 +234,9 @@ class Topology:
         self.active = np.setdiff1d(self.active, self._rows_owned(joint))
         self._pattern = None
 
-    def lock(self, joint: str, k: Kin) -> None:
-        """Freeze a joint's coordinate at its value in state `k` (a latch engaging)."""
+    def lock(self, joint: str, k: Kin) -> int:
+        """Freeze a joint's coordinate at its value in state `k` (a latch engaging); the
+        row of the new equation (`let_go` frees it)."""
         measure = self.coordinate_of(joint)
         value = measure.value(k)
         eq = CoordinateEquation(
@@ -246,6 +247,7 @@ class Topology:
         self._all_owners.append(joint)
         self.active = np.append(self.active, len(self._all_labels) - 1)
         self._pattern = None
+        return len(self._all_labels) - 1
 
     def held_coordinate(self, owner: str, measure) -> int:
         """A dormant equation `measure = held value`, owned by `owner` (a joint friction

@@ -9,6 +9,8 @@ point lies rho = R + c + delta/2 from the turning axis (midway between the surfa
 v_rel = rho phi' and the wear work is W(t) = K delta^1.5 rho phi(t). Tolerance 1e-6
 relative (the engine integrates F_N v_rel by the trapezoidal rule over each step; v_rel is
 linear in t here, so the rule is exact up to rounding: measured 2e-15).
+Archard depth (the `wear:` law): depth(t) = k W(t) / (H * 2 pi (R + c) b), the same
+closed form through the wear work (k = 1e-4, H = 2 GPa, b = 2 mm), 1e-6 relative.
 The wear map adds each output interval's wear-work increment to one sector: its sectors
 add up to the run's wear work to rounding (1e-12), and at polar angle 0 all of it lies in
 sector 0.
@@ -23,6 +25,7 @@ import numpy as np
 import pytest
 
 K, DELTA, R, C = 1.0e10, 1.0e-5, 0.01, 5.0e-4
+WEAR_K, HARDNESS, TRACK = 1.0e-4, 2.0e9, 2.0e-3
 RHO = R + C + DELTA / 2
 
 CASE = f"""
@@ -45,12 +48,14 @@ mechanism:
       stiffness: {K}
       restitution: 0.5
       friction: {{mu_static: 0.15, mu_dynamic: 0.1}}
+      wear: {{coefficient: {WEAR_K}, hardness: {HARDNESS}, track_width: {TRACK}}}
 motions:
   turn: {{joint: spin, value: "2 * t + 3 * t * t"}}
 analysis: {{type: kinematic, end: 1.0, step: 0.01}}
 requests:
   polar: {{contact: rod_end, quantity: polar}}
   work:  {{contact: rod_end, quantity: wear_work}}
+  depth: {{contact: rod_end, quantity: wear_depth}}
   angle: {{joint: spin, quantity: angle}}
 """
 
@@ -80,6 +85,15 @@ def test_wear_work_closed_form(solution) -> None:
     work = np.asarray(solution.channels["work.value"])
     assert work == pytest.approx(normal * RHO * phi, rel=1e-6, abs=1e-9)
     assert np.array_equal(work, np.asarray(solution.channels["polar.wear_work"]))
+
+
+def test_archard_depth_closed_form(solution) -> None:
+    """depth = k F_N rho phi / (H 2 pi (R + c) b) for the constant force sliding rho phi."""
+    t = np.asarray(solution.time)
+    work = K * DELTA**1.5 * RHO * (2 * t + 3 * t * t)
+    expected = WEAR_K * work / (HARDNESS * 2 * math.pi * (R + C) * TRACK)
+    depth = np.asarray(solution.channels["depth.value"])
+    assert depth == pytest.approx(expected, rel=1e-6, abs=1e-15)
 
 
 def test_polar_columns_of_the_offset_ball(solution) -> None:

@@ -7,6 +7,7 @@ element; clearance: ball-in-socket and pin-in-hole clearance joints with eccentr
 """
 
 from mechlib.elements.contact.clearance import (
+    ArchardWear,
     ClearanceJoint,
     revolute_clearance,
     spherical_clearance,
@@ -18,6 +19,7 @@ from mechlib.elements.contact.laws import HertzLaw, ImpactLaw, RestitutionLaw, h
 from mechlib.elements.contact.profile import CircleProfile
 
 __all__ = [
+    "ArchardWear",
     "CircleProfile",
     "ClearanceJoint",
     "Contact",

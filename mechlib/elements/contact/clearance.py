@@ -12,7 +12,8 @@ The wear indicator of seed 004 ch. 5 is the contact's `wear` output, F_N * |v_t|
 force times the tangential sliding speed at the contact point). A clearance joint also
 integrates it in time, as an element state (mechlib.elements.states: trapezoidal rule over each
 step of the analysis, with the mechanism), into the wear work `wear_work` = integral of
-F_N |v_t| dt (J) since the start of the analysis.
+F_N |v_t| dt (J) since the start of the analysis. With an Archard wear law (`ArchardWear`)
+it also reports the wear depth `wear_depth` (m) that work removes from the track.
 """
 
 from __future__ import annotations
@@ -27,7 +28,13 @@ from mechlib.elements.contact.element import Contact
 from mechlib.elements.contact.geometry import CylinderInCylinder, SphereInSphere, unit
 from mechlib.kinematics.view import StateView
 
-__all__ = ["ClearanceJoint", "polar_reference", "revolute_clearance", "spherical_clearance"]
+__all__ = [
+    "ArchardWear",
+    "ClearanceJoint",
+    "polar_reference",
+    "revolute_clearance",
+    "spherical_clearance",
+]
 
 _ECCENTRICITY_UNITS = {
     "ex": "m",
@@ -39,6 +46,7 @@ _ECCENTRICITY_UNITS = {
     "axial": "m",
     "clearance": "m",
     "wear_work": "J",
+    "wear_depth": "m",
 }
 _CLEARANCE_UNITS = {**Contact.output_units, **_ECCENTRICITY_UNITS}
 
@@ -52,11 +60,31 @@ def polar_reference(axis: np.ndarray) -> np.ndarray:
     raise ValueError("no reference direction")  # unreachable for a unit axis
 
 
+@dataclass(frozen=True)
+class ArchardWear:
+    """Archard's law: worn volume V = k W / H, W the wear work F_N * sliding distance (J),
+    k the dimensionless wear coefficient, H the hardness of the softer surface (Pa). The
+    depth is V over the worn area, a track of `track_width` (m) round the socket or hole
+    of radius r (m): depth = k W / (H * 2 pi r * track_width), the mean depth round it; a
+    sector of the track that took the fraction f of W is worn f * 2 pi / (its angle) times
+    as deep."""
+
+    coefficient: float
+    hardness: float
+    track_width: float
+
+    def depth(self, work: float, radius: float) -> float:
+        """Mean wear depth (m) round the track of radius `radius` (m) after wear work (J)."""
+        area = 2.0 * math.pi * radius * self.track_width
+        return self.coefficient * work / (self.hardness * area)
+
+
 @dataclass
 class ClearanceJoint(Contact):
     """A contact between a ball and its socket or a pin and its hole, with eccentricity."""
 
     polar_axis: Sequence[float] = (0.0, 0.0, 1.0)
+    wear_law: ArchardWear | None = None
     _polar: tuple = field(default=(), repr=False)
     n_states = 1  # the wear work (J), mechlib.elements.states
     states_drive_forces = False  # an output only: the contact force never reads it
@@ -102,6 +130,9 @@ class ClearanceJoint(Contact):
             clearance=float(self.geometry.clearance),
             wear_work=self._wear_work(view),
         )
+        if self.wear_law is not None:
+            socket = float(self.geometry.radius + self.geometry.clearance)
+            out["wear_depth"] = self.wear_law.depth(out["wear_work"], socket)
         return out
 
     def _wear_work(self, view: StateView) -> float:
@@ -124,6 +155,7 @@ def spherical_clearance(
     friction=None,
     polar_axis=(0.0, 0.0, 1.0),
     offset=(0.0, 0.0, 0.0),
+    wear_law: ArchardWear | None = None,
 ) -> ClearanceJoint:
     """Ball (radius, m) of body 1 in the socket (radius + clearance) of body 2 at `center`;
     the ball's centre at design is `center` + `offset` (m, an assembly error)."""
@@ -134,6 +166,7 @@ def spherical_clearance(
         law,
         friction,
         polar_axis=polar_axis,
+        wear_law=wear_law,
     )
 
 

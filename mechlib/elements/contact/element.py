@@ -45,6 +45,8 @@ _CONTACT_UNITS = {
     "pz": "m",
     "sliding_speed": "m/s",
     "wear": "W",
+    "elastic": "N",
+    "damping": "N",
 }
 _Laws = tuple[int, np.ndarray, int, np.ndarray]  # law, its parameters, friction, its parameters
 _Kernel = tuple[int, int, int, np.ndarray, int, np.ndarray, int, np.ndarray]
@@ -239,12 +241,19 @@ class Contact(StaticSlipAnchor):
         x = self.geometry.gap(view).penetration
         return self.law.potential(x, float(self.geometry.radius))
 
+    def normal_split(self, f: ContactForces) -> tuple[float, float]:
+        """(elastic part k x^n, damping part F_N - k x^n) of the normal force (N) of `f`
+        (seed 004 fig. 5.13); the penetration held at the radius as the kernels hold it. The
+        damping part is negative where the law clips F_N at 0 (separating fast)."""
+        x = min(f.gap.penetration, float(self.geometry.radius))
+        elastic = self.law.elastic_force(x)
+        return elastic, f.normal - elastic
+
     def dissipation(self, view: StateView) -> float:
         """Power (W, >= 0) of the damping part of the normal force and of the friction, at
         the approach speed the integrator used for this state."""
         f = self.recorded_forces(view)
-        x = min(f.gap.penetration, float(self.geometry.radius))
-        damping = f.normal - self.law.elastic_force(x)  # -k x^n where F_N is held at 0
+        damping = self.normal_split(f)[1]
         return damping * f.gap.rate + f.friction * f.sliding_speed
 
     def rest_dissipation(self, view: StateView, moving) -> float:
@@ -274,6 +283,7 @@ class Contact(StaticSlipAnchor):
         f = self.recorded_forces(view)
         px, py, pz = f.gap.point
         fx, fy, fz = f.force
+        elastic, damping = self.normal_split(f)
         return {
             "normal": f.normal,
             "friction": f.friction,
@@ -286,4 +296,6 @@ class Contact(StaticSlipAnchor):
             "pz": pz,
             "sliding_speed": f.sliding_speed,
             "wear": f.normal * f.sliding_speed,
+            "elastic": elastic,
+            "damping": damping,
         }

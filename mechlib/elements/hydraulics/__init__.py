@@ -3,7 +3,14 @@ equations per fidelity are in docs/hydraulics.md)."""
 
 from mechlib.elements.hydraulics.actuator import FIDELITIES, ServoActuator
 from mechlib.elements.hydraulics.orifice import floored, regularised_root, spool_flows
-from mechlib.elements.hydraulics.parameters import Controller, Cylinder, JetPipe, ServoValve, Supply
+from mechlib.elements.hydraulics.parameters import (
+    Controller,
+    Cylinder,
+    JetPipe,
+    ServoValve,
+    Supply,
+    TorqueMotor,
+)
 
 __all__ = [
     "FIDELITIES",
@@ -13,6 +20,7 @@ __all__ = [
     "ServoActuator",
     "ServoValve",
     "Supply",
+    "TorqueMotor",
     "floored",
     "regularised_root",
     "spool_flows",

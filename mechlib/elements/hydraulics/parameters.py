@@ -11,9 +11,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-__all__ = ["Controller", "Cylinder", "JetPipe", "ServoValve", "Supply"]
+__all__ = ["MU_0", "Controller", "Cylinder", "JetPipe", "ServoValve", "Supply", "TorqueMotor"]
 
 BAR = 1.0e5  # Pa
+MU_0 = 4.0e-7 * math.pi  # H/m, permeability of vacuum (the air gaps')
 
 
 @dataclass(frozen=True)
@@ -96,6 +97,48 @@ class Controller:
 
 
 @dataclass(frozen=True)
+class TorqueMotor:
+    """Push-pull torque motor of a jet-pipe servovalve by its reluctance force (seed 004 eq.
+    6.1, F = B^2 S / (2 mu0) per air gap): two gaps of `air_gap` g (m) and pole area
+    `pole_area` S (m^2), polarised by a magnet of `magnet_mmf` M0 (A, ampere-turns), the
+    control coils of `turns` N carrying the current i. The armature moves x = r x_j at the
+    gaps (`gap_ratio` r, 1: from the jet tip x_j), closing one gap and opening the other:
+    B1 = mu0 (M0 + N i) / (2 (g - x)), B2 = mu0 (M0 - N i) / (2 (g + x)) (Merritt,
+    Hydraulic control systems, 1967, 5.2), and the force at the jet tip (virtual work)
+    F = r S (B1^2 - B2^2) / (2 mu0) (N). About the centre it is k_i i + k_m x_j with
+    k_i = r mu0 S M0 N / (2 g^2) (N/A) and the magnetic spring k_m = r^2 mu0 S M0^2 / (2 g^3)
+    (N/m, negative stiffness)."""
+
+    pole_area: float
+    air_gap: float
+    turns: float
+    magnet_mmf: float
+    gap_ratio: float = 1.0
+
+    def force(self, current: float, jet: float) -> float:
+        """Force (N) on the jet tip at coil current `current` (A) and jet deflection `jet`
+        (m); the armature held off the poles at 0.99 of the gap (a touching pole would
+        give an infinite flux density)."""
+        g = self.air_gap
+        x = min(max(self.gap_ratio * jet, -0.99 * g), 0.99 * g)
+        b1 = MU_0 * (self.magnet_mmf + self.turns * current) / (2.0 * (g - x))
+        b2 = MU_0 * (self.magnet_mmf - self.turns * current) / (2.0 * (g + x))
+        return self.gap_ratio * self.pole_area * (b1 * b1 - b2 * b2) / (2.0 * MU_0)
+
+    @property
+    def current_gain(self) -> float:
+        """k_i (N/A): dF/di at the centre."""
+        g = self.air_gap
+        return self.gap_ratio * MU_0 * self.pole_area * self.magnet_mmf * self.turns / (2 * g * g)
+
+    @property
+    def magnetic_stiffness(self) -> float:
+        """k_m (N/m): dF/dx_j at the centre with no current (the force pulls outwards)."""
+        r, g = self.gap_ratio, self.air_gap
+        return r * r * MU_0 * self.pole_area * self.magnet_mmf**2 / (2.0 * g**3)
+
+
+@dataclass(frozen=True)
 class JetPipe:
     """Torque motor, jet pipe and spool of a jet-pipe servovalve (seed 004 eqs. 6.1-6.3).
 
@@ -106,7 +149,8 @@ class JetPipe:
     `receiver_pressure` (Pa). Spool: end area `spool_area` (m^2), mass `spool_mass` (kg),
     viscous friction `spool_damping` (N*s/m), opening at rated flow `rated_opening` (m);
     steady flow forces with discharge coefficient `discharge` and oil density `density`
-    (kg/m^3)."""
+    (kg/m^3). `torque_motor`: the reluctance law of the motor (`TorqueMotor`) instead of
+    the linear k_t i."""
 
     jet_mass: float = 2.0e-3
     hinge_stiffness: float = 1.0e4
@@ -121,3 +165,4 @@ class JetPipe:
     rated_opening: float = 5.0e-4
     discharge: float = 0.61
     density: float = 850.0
+    torque_motor: TorqueMotor | None = None  # None: the linear law F = motor_gain * i

@@ -11,7 +11,7 @@ import math
 
 from mechlib.elements.hydraulics.parameters import Controller, JetPipe, ServoValve
 
-__all__ = ["controller_current", "jet_pipe_rates", "motor_gain", "valve_rates"]
+__all__ = ["controller_current", "jet_pipe_rates", "motor_force", "motor_gain", "valve_rates"]
 
 _COS_JET = math.cos(math.radians(69.0))  # jet angle of a sharp-edged port (Merritt)
 _VELOCITY_COEFFICIENT = 0.98
@@ -45,6 +45,14 @@ def motor_gain(j: JetPipe, v: ServoValve) -> float:
     return j.wire_stiffness * j.rated_opening / v.rated_current
 
 
+def motor_force(j: JetPipe, v: ServoValve, current: float, jet: float) -> float:
+    """Torque-motor force (N) on the jet tip: the reluctance law of `j.torque_motor`, or
+    k_t i."""
+    if j.torque_motor is not None:
+        return j.torque_motor.force(current, jet)
+    return motor_gain(j, v) * current
+
+
 def port_width(j: JetPipe, v: ServoValve) -> float:
     """Port width w (m) that passes the rated flow at the rated opening:
     K = C_d w x_R sqrt(2/rho)."""
@@ -56,14 +64,15 @@ def jet_pipe_rates(
 ) -> tuple[list[float], float, dict[str, float]]:
     """Torque motor, jet pipe and spool (seed 004 eqs. 6.1-6.3), z = [x_j, x_j', x_s, x_s']:
 
-    m_j x_j'' = k_t i - k_f x_j - b_f x_j' - k_W (x_j + x_s)                       (6.2)
+    m_j x_j'' = F_tm(i, x_j) - k_f x_j - b_f x_j' - k_W (x_j + x_s)                (6.2)
     m_s x_s'' = A_s dP_r(x_j) - k_W (x_j + x_s) - b_s x_s' + F_fl                   (6.3)
     dP_r = P_max tanh(K_jr x_j / P_max) (receiver), F_fl = -2 C_d C_v cos 69 deg w x_s dp_v
-    (steady flow forces of both open lands, dp_v the drop across them).
+    (steady flow forces of both open lands, dp_v the drop across them), F_tm the torque
+    motor's force (`motor_force`: k_t i, or the reluctance law of eq. 6.1).
     Returns (rates, opening x_s / x_R, outputs)."""
     xj, vj, xs, vs = z
     wire = j.wire_stiffness * (xj + xs)
-    jet_acc = motor_gain(j, v) * current - j.hinge_stiffness * xj - j.hinge_damping * vj - wire
+    jet_acc = motor_force(j, v, current, xj) - j.hinge_stiffness * xj - j.hinge_damping * vj - wire
     receiver = j.receiver_pressure * math.tanh(j.receiver_gain * xj / j.receiver_pressure)
     flow_force = (
         -2.0 * j.discharge * _VELOCITY_COEFFICIENT * _COS_JET * port_width(j, v) * xs * valve_drop

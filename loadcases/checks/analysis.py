@@ -1,0 +1,68 @@
+"""The settings of one analysis (a case's `analysis`, or a phase's)."""
+
+from __future__ import annotations
+
+from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.foundation.limits import MIN_TOLERANCE, rows_problem
+from loadcases.yamlfiles.source import KeyPath, Locator
+
+__all__ = ["TIME_ANALYSES", "analysis_problems"]
+
+TIME_ANALYSES = ("kinematic", "quasi-static", "dynamic")
+_TIME_ANALYSES = TIME_ANALYSES
+
+
+def analysis_problems(analysis, at: Locator, where: KeyPath = ("analysis",)) -> list[Diagnostic]:
+    """The problems of an analysis's settings (at `where`: `analysis` or a phase's)."""
+    found: list[Diagnostic] = []
+    kind = analysis.type
+    if kind in _TIME_ANALYSES:
+        for key in ("end", "step"):
+            value = getattr(analysis, key)
+            if value is None:
+                found.append(at.diagnostic((*where, key), f"a {kind} analysis needs '{key}' (s)"))
+            elif value <= 0.0:
+                found.append(at.diagnostic((*where, key), "must be positive"))
+        if analysis.max_steps is not None and analysis.max_steps <= 0:
+            found.append(
+                at.diagnostic((*where, "max_steps"), "must be a positive whole number of steps")
+            )
+        if analysis.end and analysis.step and analysis.step > analysis.end:
+            found.append(at.diagnostic((*where, "step"), "step is longer than end"))
+        elif (
+            analysis.end is not None
+            and analysis.end > 0.0
+            and analysis.step is not None
+            and analysis.step > 0.0
+            and (problem := rows_problem(analysis.end, analysis.step)) is not None
+        ):
+            found.append(at.diagnostic((*where, "step"), problem))
+    else:
+        found += [
+            at.diagnostic((*where, key), f"does nothing for a {kind} analysis", severity="warning")
+            for key in ("end", "step", "max_steps")
+            if getattr(analysis, key) is not None
+        ]
+    found += [
+        at.diagnostic((*where, key), "must be positive")
+        for key in ("tolerance", "max_step", "accuracy")
+        if isinstance(getattr(analysis, key), int | float) and getattr(analysis, key) <= 0.0
+    ]
+    tolerance = analysis.tolerance
+    if isinstance(tolerance, int | float) and 0.0 < tolerance < MIN_TOLERANCE:
+        found.append(
+            at.diagnostic(
+                (*where, "tolerance"),
+                f"must be at least {MIN_TOLERANCE:g} (got {tolerance:g}): below, round-off "
+                "of the state decides, not the tolerance",
+            )
+        )
+    if kind != "dynamic":
+        found += [
+            at.diagnostic((*where, key), f"does nothing for a {kind} analysis", severity="warning")
+            for key in ("tolerance", "integrator", "max_step", "accuracy", "rho_inf", "output")
+            if getattr(analysis, key) is not None
+        ]
+    if analysis.rho_inf is not None and not 0.0 <= analysis.rho_inf <= 1.0:
+        found.append(at.diagnostic((*where, "rho_inf"), "must be between 0 and 1"))
+    return found
