@@ -110,7 +110,7 @@ class Builder:
         that node's rigid body) is on BODY."""
         for name, b in self.mech.bodies.items():
             if isinstance(b, FlexibleBody) and any(
-                body == f"{name}.{point}" for point in b.flexible.interface
+                body == f"{name}.{point}" for point in b.flexible.points()
             ):
                 return name
         return body

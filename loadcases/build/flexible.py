@@ -1,13 +1,15 @@
 """Flexible bodies of a mechanism file -> modal components (mechlib.flexible), issue 13.
 
-Each `interface:` point becomes a node of the FE model (and a point `BODY.NAME` of the
-mechanism: loadcases.schema.mechanism); the Craig-Bampton reduction keeps those nodes.
+Each `interface:` and `load_points:` point becomes a node of the FE model (and a point
+`BODY.NAME` of the mechanism: loadcases.schema.mechanism); the Craig-Bampton reduction holds
+the interface nodes (its boundary) and keeps the mode shapes of both.
 """
 
 from __future__ import annotations
 
 import importlib.util
 from dataclasses import fields as _fields
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +32,19 @@ __all__ = ["flexible_component"]
 
 _IN_PLANE = 1e-6  # m: interface points farther than this from the panel's plane are errors
 _AT_NODE = 1e-6  # m: an imported model's interface point lies this close to its node
+
+
+def _kind(f: Flexible, name: str) -> str:
+    """How the body names point `name` in messages."""
+    return "interface point" if name in f.interface else "load point"
+
+
+def _held_and_kept(named: NamedModel, f: Flexible) -> tuple[FEModel, list[int]]:
+    """The FE model with only the interface points' nodes as its (Craig-Bampton) boundary,
+    and the node indices of the load points, whose mode shapes are kept too."""
+    interface = tuple(dict.fromkeys(named.nodes[name] for name in f.interface))
+    kept = [named.nodes[name] for name in f.load_points if named.nodes[name] not in interface]
+    return replace(named.model, interface=interface), kept
 
 
 def _material(m: MaterialModel) -> Material:
@@ -89,17 +104,17 @@ def _imported(f: Flexible, folder: Path) -> NamedModel:
         raise ValueError(leaves)
     model = _placed(read_fe_model(folder / src.path).model, src)
     nodes = {}
-    for name, point in f.interface.items():
+    for name, point in f.points().items():
         gaps = np.linalg.norm(model.coordinates - np.asarray(point), axis=1)
         node = int(np.argmin(gaps))
         if gaps[node] > _AT_NODE:
             raise ValueError(
-                f"interface point {name} is at no node of {src.path} (nearest: node "
+                f"{_kind(f, name)} {name} is at no node of {src.path} (nearest: node "
                 f"{model.node_ids[node]}, {gaps[node]:.3g} m away)"
             )
         if int(np.count_nonzero(model.dof_map[:, 0] == node)) != 6:
             raise ValueError(
-                f"interface point {name}: node {model.node_ids[node]} must carry all six DOF"
+                f"{_kind(f, name)} {name}: node {model.node_ids[node]} must carry all six DOF"
             )
         nodes[name] = node
     interface = tuple(dict.fromkeys(nodes.values()))
@@ -129,7 +144,7 @@ def _fe_model(f: Flexible, folder: Path) -> NamedModel:
             _section(b.section),
             _material(b.material),
             b.elements,
-            dict(f.interface),
+            f.points(),
             b.y_axis,
         )
     return _panel(f)
@@ -142,10 +157,10 @@ def _panel(f: Flexible) -> NamedModel:
     assert g is not None
     axes = frame_axes(g.x, g.y).T
     local = {}
-    for name, point in f.interface.items():
+    for name, point in f.points().items():
         d = axes @ (np.asarray(point) - np.asarray(g.at))
         if abs(d[2]) > _IN_PLANE:
-            raise ValueError(f"interface point {name} is {d[2]:.3g} m off the panel's plane")
+            raise ValueError(f"{_kind(f, name)} {name} is {d[2]:.3g} m off the panel's plane")
         local[name] = (float(d[0]), float(d[1]))
     if f.plate is None:
         build = grillage
@@ -207,16 +222,16 @@ def flexible_component(f: Flexible, folder: Path) -> ModalComponent:
         "damping": f.damping,
         "stiffening": f.stiffening,
     }
-    model = _fe_model(f, folder).model if f.file is not None else None
+    imported = _held_and_kept(_fe_model(f, folder), f) if f.file is not None else None
     # the linear limit sets a warning only: a sweep of it reuses the reduction
     source = (
-        {"fe_model": model}
-        if model is not None
+        {"fe_model": imported[0], "kept": imported[1]}
+        if imported is not None
         else {"source": f.model_dump(exclude={"linear_limit"})}
     )
 
     def reduce() -> dict[str, np.ndarray]:
-        fe_model = model if model is not None else _fe_model(f, folder).model
-        return _arrays(craig_bampton(fe_model, **selection))
+        model, kept = imported if imported is not None else _held_and_kept(_fe_model(f, folder), f)
+        return _arrays(craig_bampton(model, keep_nodes=kept, **selection))
 
     return _component(cached({**source, **selection}, reduce))

@@ -39,31 +39,31 @@ def add_flexible_body(b: Builder, m: ml.Mechanism, name: str, f) -> None:
         return
     if b.effects.get("flexibility", True):
         flexible = m.add_flexible_body(name, component, linear_limit=f.linear_limit)
-        for point, at in f.interface.items():  # `BODY.POINT`: that node's rigid body
+        for point, at in f.points().items():  # `BODY.POINT`: that node's rigid body
             m.add_alias(f"{name}.{point}", node_at(flexible, at))
     else:  # `effects: {flexibility: false}`: the same body, rigid
         inertia = component.invariants.I7
         m.add_body(name, mass=component.mass, cm=component.origin, inertia=inertia)
-        for point in f.interface:
+        for point in f.points():
             m.add_alias(f"{name}.{point}", name)
 
 
 def at_interface(b: Builder, body: str, at, key: str) -> None:
     """An error at `key` when `at` (m) is on flexible `body` but at none of its interface
-    points: attachments and loads act at interface nodes only."""
+    or load points: attachments and loads act at kept nodes only."""
     flexible = b.mech.bodies.get(body)
     if not isinstance(flexible, FlexibleBody):
         return
     gaps = {
         name: float(np.linalg.norm(np.subtract(at, point)))
-        for name, point in flexible.flexible.interface.items()
+        for name, point in flexible.flexible.points().items()
     }
     nearest = min(gaps, key=gaps.__getitem__)
     if gaps[nearest] > 1e-6:
         b.error(
             "mechanism",
             key,
-            f"{body} is a flexible body: a point of it is at one of its interface points "
+            f"{body} is a flexible body: a point of it is at one of its interface or load points "
             f"or carried by one (nearest: {body}.{nearest}, {gaps[nearest]:.3g} m away; "
             f"to attach this point to that node by a rigid arm, name the body "
             f"'{body}.{nearest}')",
@@ -77,13 +77,13 @@ def flexible_request(b: Builder, name: str, r):
         b.error("case", f"requests.{name}.flexible", f"'{r.flexible}' is no flexible body")
         return None
     if r.quantity == "deformation" and (
-        r.point is None or r.point.removeprefix(f"{r.flexible}.") not in body.flexible.interface
+        r.point is None or r.point.removeprefix(f"{r.flexible}.") not in body.flexible.points()
     ):
         b.error(
             "case",
             f"requests.{name}.point",
-            f"a deformation needs one of the interface points of {r.flexible}: "
-            + ", ".join(f"{r.flexible}.{p}" for p in body.flexible.interface),
+            f"a deformation needs one of the points of {r.flexible}: "
+            + ", ".join(f"{r.flexible}.{p}" for p in body.flexible.points()),
         )
         return None
     return ml.FlexibleOutput(name, r.flexible, r.quantity, r.point)

@@ -56,7 +56,7 @@ def node_bodies(model: MechanismModel) -> set[str]:
         f"{name}.{point}"
         for name, body in model.bodies.items()
         if isinstance(body, FlexibleBody)
-        for point in body.flexible.interface
+        for point in body.flexible.points()
     }
 
 

@@ -125,6 +125,14 @@ class Flexible(Strict):
     interface: dict[str, Position] = Field(
         description=describe("named attachment points, global at design", "length")
     )
+    load_points: dict[str, Position] = Field(
+        default_factory=dict,
+        description=describe(
+            "named nodes kept for loads, points and requests but not held in the reduction "
+            "(not Craig-Bampton boundary), global at design",
+            "length",
+        ),
+    )
     modes: int | None = Field(None, ge=1, description="number of modes kept (lowest)")
     frequency_range: vector("frequency", 2) | None = Field(
         None, description=describe("[low, high]: the modes kept", "frequency")
@@ -159,7 +167,19 @@ class Flexible(Strict):
             raise PydanticCustomError("flexible", "give modes or frequency_range, not both")
         if not self.interface:
             raise PydanticCustomError("flexible", "name at least one interface point")
+        both = sorted(set(self.interface) & set(self.load_points))
+        if both:
+            raise PydanticCustomError(
+                "flexible",
+                "{names}: both an interface point and a load point",
+                {"names": ", ".join(both)},
+            )
         return self
+
+    def points(self) -> dict[str, tuple[float, float, float]]:
+        """The named nodes of the body (interface points, then load points): each is the
+        node body `BODY.NAME` of the mechanism."""
+        return {**self.interface, **self.load_points}
 
     def source_key(self) -> str:
         for key in ("file", "beam", "plate"):

@@ -388,11 +388,11 @@ class MechanismModel(Strict):
         """Each interface point of a flexible body is a point `BODY.NAME` of the mechanism."""
         for body, b in self.bodies.items():
             flexible = getattr(b, "flexible", None)
-            for name, at in (flexible.interface if flexible else {}).items():
+            for name, at in (flexible.points() if flexible else {}).items():
                 point = f"{body}.{name}"
                 if point in self.points:
                     raise PydanticCustomError(
-                        "points", f"point {point} is also an interface point of body {body}"
+                        "points", f"point {point} is also a point of flexible body {body}"
                     )
                 self.points[point] = Point(body=body, at=at)
         return self
