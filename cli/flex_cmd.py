@@ -43,6 +43,15 @@ def check(
             help="How many free-free modes to print (the rigid-body modes included).",
         ),
     ] = 12,
+    reduced: Annotated[
+        str,
+        typer.Option(
+            "--reduced",
+            metavar="N1,N2,...",
+            help="Fixed-interface mode counts of the Craig-Bampton reductions whose "
+            "frequencies are compared with the full model's ('' for none).",
+        ),
+    ] = "2,5,10",
 ) -> int:
     """Read an imported flexible component (neutral npz, Matrix Market, NASTRAN OP4 or DMIG)
     and print its nodes, DOF, mass, interface and first free-free frequencies."""
@@ -54,6 +63,12 @@ def check(
         raise fail(f"{file}: no such file")
     if modes < 1:
         raise fail(f"--modes {modes}: give at least 1")
+    try:
+        counts = [int(t) for t in reduced.split(",") if t.strip()]
+    except ValueError:
+        raise fail(f"--reduced {reduced}: give whole numbers, e.g. 2,5,10") from None
+    if any(c < 0 for c in counts):
+        raise fail(f"--reduced {reduced}: a count is 0 or more")
     try:
         imported = read_fe_model(file)
     except InputError as error:
@@ -80,4 +95,39 @@ def check(
     typer.echo("  free-free frequencies (Hz):")
     for number, (value, is_rigid) in enumerate(zip(hertz, rigid), start=1):
         typer.echo(f"    {number:4d}  {value:.9g}{'  rigid-body' if is_rigid else ''}")
+    if counts:
+        _print_reductions(model, counts, modes)
     return EXIT_OK
+
+
+def _cells(full: float, values: list) -> str:
+    cells = []
+    for value in values:
+        if value is None:
+            cells.append(f"{'-':>14} {'':>9}")
+        else:
+            cells.append(f"{value:14.9g} {100.0 * (value / full - 1.0):+8.4f}%")
+    return "  ".join(cells)
+
+
+def _print_reductions(model, counts: list[int], rows: int) -> None:
+    """The seed's Tables 3-2 and 3-3 in form: the full model's frequencies beside each
+    reduction's, with the relative difference."""
+    from loadcases.flexible.reduction_table import reduction_frequencies
+    from mechlib.flexible.craig_bampton import ReductionError
+
+    try:
+        table = reduction_frequencies(model, counts, rows)
+    except ReductionError as error:
+        typer.echo(f"  reduced models: none ({error})")
+        return
+    header = "  ".join(f"{f'{c} fixed-int.':>14} {'diff':>9}" for c in table.counts)
+    for title, first, full, reduced in (
+        ("free-free elastic modes", table.rigid + 1, table.full_free, table.reduced_free),
+        ("fixed-interface modes (interface nodes held)", 1, table.full_held, table.reduced_held),
+    ):
+        typer.echo(f"  {title} (Hz), full FE model against Craig-Bampton reductions:")
+        typer.echo(f"    {'mode':>4}  {'full FE':>14}  {header}")
+        for k, value in enumerate(full):
+            cells = [float(r[k]) if k < r.size else None for r in reduced]
+            typer.echo(f"    {first + k:4d}  {value:14.9g}  {_cells(float(value), cells)}")
