@@ -77,6 +77,16 @@ def converge(
         str,
         typer.Option("--tolerance", metavar="TOL", help="Relative tolerance, e.g. '1 %'."),
     ] = "1 %",
+    columns: Annotated[
+        str,
+        typer.Option(
+            "-c",
+            "--columns",
+            metavar="PATTERNS",
+            help="Result columns studied, comma-separated glob patterns "
+            "('latch_torque.*,sadm_force.f*'; a modes analysis: 'mode 1'); default all.",
+        ),
+    ] = "",
     output: Annotated[
         Path, typer.Option("-o", "--output", metavar="DIR", help="Folder of the table and plot.")
     ] = Path("results"),
@@ -106,7 +116,12 @@ def converge(
 
     try:
         study = run_study(
-            case, parameter=parameter, texts=texts, tolerance=fraction, progress=progress
+            case,
+            parameter=parameter,
+            texts=texts,
+            tolerance=fraction,
+            columns=[c.strip() for c in columns.split(",") if c.strip()],
+            progress=progress,
         )
     except InputError as error:
         print_diagnostics(error.diagnostics, err=True)

@@ -16,6 +16,7 @@ relative changes mean nothing.
 
 from __future__ import annotations
 
+import fnmatch
 import itertools
 import math
 from collections.abc import Sequence
@@ -131,6 +132,7 @@ def run_study(
     parameter: str,
     texts: Sequence[str],
     tolerance: float,
+    columns: Sequence[str] = (),
     progress=None,
 ) -> Convergence:
     """Run the case at each value of `parameter` (texts as on the command line, `"4"`,
@@ -139,7 +141,9 @@ def run_study(
     Raises InputError for an unknown parameter, a value of another dimension, values that
     do not increase or a case that is invalid at one of the values; a failed run is kept
     (its quantities NaN), `Convergence.failed` lists it. `progress(text, outcome)` is
-    called after each run.
+    called after each run. `columns`: glob patterns of the result columns studied (a
+    modes analysis: of `mode K`); none: all. A pattern that matches nothing is an
+    InputError, raised after the first run.
     """
     path = Path(path)
     try:
@@ -153,6 +157,8 @@ def run_study(
     for override in overrides:
         outcome = run_case(load_case(path, what_if=(override,)))
         outcomes.append(outcome)
+        if len(outcomes) == 1:
+            _check_patterns(path, columns, _names(outcome))
         if progress is not None:
             progress(override.text, outcome)
     first = outcomes[0]
@@ -174,7 +180,37 @@ def run_study(
         study.quantities = _mode_quantities(solved, tolerance)
     else:
         study.quantities = _peak_quantities(solved, tolerance)
+    if columns:
+        study.quantities = [
+            q
+            for q in study.quantities
+            if _matches(q.name.removesuffix(" max").removesuffix(" min"), columns)
+        ]
     return study
+
+
+def _names(outcome: RunOutcome) -> list[str]:
+    """The names `columns` patterns match in a run: its result columns, or `mode K`."""
+    channels = outcome.solution.channels
+    if outcome.analysis == "modes":
+        return [f"mode {k + 1}" for k in range(np.asarray(channels.get(MODE_FREQUENCY, ())).size)]
+    return [c for c in channels if c != TIME]
+
+
+def _base(name: str) -> str:
+    """The column of a quantity's name (`COLUMN max` -> `COLUMN`; `mode K` as it is)."""
+    return name.removesuffix(" max").removesuffix(" min")
+
+
+def _matches(name: str, patterns: Sequence[str]) -> bool:
+    return any(fnmatch.fnmatchcase(name, p) for p in patterns)
+
+
+def _check_patterns(path: Path, patterns: Sequence[str], names: list[str]) -> None:
+    for pattern in patterns:
+        if not any(fnmatch.fnmatchcase(n, pattern) for n in names):
+            shown = ", ".join(names[:12]) + (", ..." if len(names) > 12 else "")
+            raise _study_error(path, f"columns '{pattern}': matches no result ({shown})")
 
 
 def _mode_quantities(outcomes: list[RunOutcome | None], tolerance: float) -> list[Quantity]:

@@ -105,8 +105,14 @@ def test_static_tip_load_is_exact_at_every_mode_count(tmp_path: Path) -> None:
     1e-4: the floating frame's second-order geometry) and the study says converged at the
     first value; the files carry every value and the verdict."""
     study = run_study(
-        _case(tmp_path, "static"), parameter="n_fi", texts=["0", "3"], tolerance=0.001
+        _case(tmp_path, "static"),
+        parameter="n_fi",
+        texts=["0", "3"],
+        tolerance=0.001,
+        columns=["tip.*", "clamp_force.f?"],
     )
+    assert {q.name.split(".")[0] for q in study.quantities} == {"tip", "clamp_force"}
+    assert not any(q.name.startswith("clamp_force.t") for q in study.quantities)
     quantities = {q.name: q for q in study.quantities}
     bend = quantities["tip.z max"]
     assert bend.values[0] == pytest.approx(2.0 * LENGTH**3 / (3 * EI_SOFT), rel=1e-3)
@@ -129,6 +135,8 @@ def test_bad_study_input_names_the_problem(tmp_path: Path) -> None:
         run_study(path, parameter="n_fi", texts=["4", "2"], tolerance=0.01)
     with pytest.raises(InputError, match="no parameter 'n_modes'"):
         run_study(path, parameter="n_modes", texts=["2", "4"], tolerance=0.01)
+    with pytest.raises(InputError, match=r"columns 'tip\.w': matches no result"):
+        run_study(path, parameter="n_fi", texts=["0", "1"], tolerance=0.01, columns=["tip.w"])
     with pytest.raises(InputError, match="at least two"):
         run_study(path, parameter="n_fi", texts=["2"], tolerance=0.01)
     assert tolerance_fraction("1 %") == pytest.approx(0.01)
