@@ -32,9 +32,17 @@ def check(
         typer.Argument(
             metavar="FILE",
             help="The JSON header of the component (NAME.json; see "
-            "docs/flexible-bodies-import.md).",
+            "docs/flexible-bodies-import.md), or a mechanism file (*.mech.yaml) with --body.",
         ),
     ],
+    body: Annotated[
+        str | None,
+        typer.Option(
+            "--body",
+            metavar="NAME",
+            help="With a mechanism file: the flexible body (beam, grillage, plate or file).",
+        ),
+    ] = None,
     modes: Annotated[
         int,
         typer.Option(
@@ -55,7 +63,6 @@ def check(
 ) -> int:
     """Read an imported flexible component (neutral npz, Matrix Market, NASTRAN OP4 or DMIG)
     and print its nodes, DOF, mass, interface and first free-free frequencies."""
-    from loadcases.flexible.read import read_fe_model
     from loadcases.flexible.summary import free_free_frequencies, mass_properties
     from loadcases.foundation.diagnostics import InputError
 
@@ -70,14 +77,13 @@ def check(
     if any(c < 0 for c in counts):
         raise fail(f"--reduced {reduced}: a count is 0 or more")
     try:
-        imported = read_fe_model(file)
+        if file.suffix in (".yaml", ".yml"):
+            model, names = _mechanism_body(file, body)
+        else:
+            model, names = _imported(file)
     except InputError as error:
         print_diagnostics(error.diagnostics, err=True)
         return EXIT_INPUT
-    print_diagnostics(imported.warnings, err=True)
-    model = imported.model
-    typer.echo(f"{file}: {imported.description or 'no description'}")
-    typer.echo(f"  units: {imported.units}; WTMASS {imported.wtmass:g}; shown in SI")
     complete = sum(int((model.dof_map[:, 0] == i).sum() == 6) for i in range(len(model.node_ids)))
     typer.echo(
         f"  nodes: {len(model.node_ids)} ({complete} with six DOF); DOF: {len(model.dof_map)}"
@@ -86,7 +92,6 @@ def check(
     typer.echo(
         f"  mass: {_vector(props.mass)} kg (x, y, z); centre of mass: {_vector(props.centre)} m"
     )
-    names = {index: name for name, index in imported.node_names.items()}
     typer.echo(f"  interface: {len(model.interface)} nodes")
     for node in model.interface:
         label = f" ({names[node]})" if node in names else ""
@@ -98,6 +103,40 @@ def check(
     if counts:
         _print_reductions(model, counts, modes)
     return EXIT_OK
+
+
+def _imported(file: Path):
+    """The model of an imported component's header and its node names (index -> name),
+    its description printed; InputError for its files."""
+    from loadcases.flexible.read import read_fe_model
+
+    imported = read_fe_model(file)
+    print_diagnostics(imported.warnings, err=True)
+    typer.echo(f"{file}: {imported.description or 'no description'}")
+    typer.echo(f"  units: {imported.units}; WTMASS {imported.wtmass:g}; shown in SI")
+    return imported.model, {index: name for name, index in imported.node_names.items()}
+
+
+def _mechanism_body(file: Path, body: str | None):
+    """The full FE model of a mechanism's flexible body and its interface names; InputError
+    for the mechanism file, a usage error for a body that is not flexible."""
+    from loadcases.build.flexible import flexible_fe_model
+    from loadcases.inputs.loader import load_mechanism
+    from loadcases.schema.mechanism import FlexibleBody
+
+    mechanism = load_mechanism(file).model
+    flexible = sorted(n for n, b in mechanism.bodies.items() if isinstance(b, FlexibleBody))
+    chosen = mechanism.bodies.get(body) if body is not None else None
+    if not isinstance(chosen, FlexibleBody):
+        known = ", ".join(flexible) or "none"
+        raise fail(f"{file}: give --body, one of its flexible bodies: {known}")
+    try:
+        named = flexible_fe_model(chosen.flexible, file.parent)
+    except ValueError as error:
+        raise fail(f"{file}: body {body}: {error}") from None
+    typer.echo(f"{file}: flexible body {body}, its full FE model (before reduction)")
+    typer.echo("  units: SI")
+    return named.model, {index: name for name, index in named.nodes.items()}
 
 
 def _cells(full: float, values: list) -> str:
