@@ -8,7 +8,8 @@ relative difference from the last) and `note` (`round-off`, `not converged`); af
 rows `cost.steps [-]` and `cost.cpu_seconds [s]` of each run.
 
 `NAME.convergence.png`: each quantity's relative difference from its value at the last
-parameter value (%) against the parameter, the tolerance band shaded; round-off quantities
+parameter value (%, linear within the tolerance band, logarithmic beyond) against the
+parameter, the tolerance band shaded; round-off quantities
 left out. Lines are labelled for the quantities that leave the band (at most `_LABELLED`).
 """
 
@@ -75,11 +76,13 @@ def _largest_change(q: Quantity) -> float:
 def _write_png(study: Convergence, path: Path) -> None:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
+    from matplotlib.ticker import FuncFormatter
 
     shown = [q for q in study.quantities if not q.noise]
     moving = sorted(shown, key=lambda q: -_largest_change(q))
     labelled = {q.name for q in moving[:_LABELLED] if q.converged_at != 0}
-    figure = Figure(figsize=(10.0, 6.0), dpi=_DPI)
+    figure = Figure(figsize=(12.0, 6.0), dpi=_DPI)
+    figure.subplots_adjust(left=0.08, right=0.72)
     FigureCanvasAgg(figure)
     axes = figure.add_subplot(1, 1, 1)
     band = 100.0 * study.tolerance
@@ -89,13 +92,16 @@ def _write_png(study: Convergence, path: Path) -> None:
         label = q.name if q.name in labelled else None
         axes.plot(study.values, changes, marker="o", linewidth=1.0, label=label)
     axes.set_xlabel(f"{study.parameter} [SI]")
-    axes.set_ylabel("difference from the last value [%]")
+    axes.set_ylabel("difference from the last value [%] (symmetric log)")
     axes.set_title(
         f"{study.case}: convergence in {study.parameter} "
         f"({len(shown)} quantities, {len(study.unconverged())} not converged)"
     )
+    # symmetric log beyond the band: a 1 % band and a 5000 % outlier on one readable axis
+    axes.set_yscale("symlog", linthresh=band)
+    axes.yaxis.set_major_formatter(FuncFormatter(lambda value, _: f"{value:g}"))  # no math text
     axes.grid(True, linewidth=0.3)
-    axes.legend(fontsize="small", loc="best")
+    axes.legend(fontsize="small", loc="upper left", bbox_to_anchor=(1.01, 1.0))
     with atomic_path(path) as tmp:
         figure.savefig(tmp, format="png")
 
