@@ -17,7 +17,7 @@ import pytest
 from cli.converge_cmd import tolerance_fraction
 from loadcases.foundation.diagnostics import InputError
 from loadcases.studies.convergence import converged_index, run_study
-from loadcases.studies.convergence_files import write_convergence_files
+from loadcases.studies.convergence_files import convergence_csv_text, write_convergence_files
 
 E, RHO, WIDTH, HEIGHT, LENGTH = 70e9, 2700.0, 0.03, 0.01, 1.0
 EI_SOFT = E * WIDTH * HEIGHT**3 / 12.0  # bending in z (about y), N*m^2
@@ -143,3 +143,47 @@ def test_bad_study_input_names_the_problem(tmp_path: Path) -> None:
     assert tolerance_fraction("0.02") == pytest.approx(0.02)
     with pytest.raises(ValueError):
         tolerance_fraction("150 %")
+
+
+def test_command_prints_the_verdicts_and_writes_the_files(tmp_path: Path) -> None:
+    """`loads converge`: the table printed with a verdict per quantity, the two files
+    written, exit 0; an unreadable tolerance and an unknown parameter exit 2."""
+    from typer.testing import CliRunner
+
+    from cli.app import app
+
+    runner = CliRunner()
+    path, out = _case(tmp_path, "static"), tmp_path / "study"
+    base = ["converge", str(path), "--parameter", "n_fi", "-o", str(out)]
+    ok = runner.invoke(app, [*base, "--values", "0,2", "-c", "tip.z"])
+    assert ok.exit_code == 0, ok.output
+    assert "tip.z max" in ok.output and "converged at n_fi = 0" in ok.output
+    assert (out / "cantilever.convergence.csv").is_file()
+    assert (out / "cantilever.convergence.png").is_file()
+    bad = runner.invoke(app, [*base, "--values", "0,2", "--tolerance", "lots"])
+    assert bad.exit_code == 2 and "--tolerance lots" in bad.output
+    unknown = runner.invoke(app, ["converge", str(path), "--parameter", "n", "--values", "0,2"])
+    assert unknown.exit_code == 2 and "no parameter 'n'" in unknown.output
+
+
+def test_failed_runs_are_kept_and_named(tmp_path: Path) -> None:
+    """A run that fails (here: at most 3 steps) gives no value (its column empty), no
+    verdict across it, the failure in the table's last row; the command exits 1."""
+    from typer.testing import CliRunner
+
+    from cli.app import app
+
+    path = tmp_path / "short.case.yaml"
+    text = CASE.replace("ANALYSIS", "dynamic, end: 0.5, step: 0.01, max_steps: 3")
+    path.write_text(text, "utf-8")
+    study = run_study(path, parameter="n_fi", texts=["0", "1"], tolerance=0.01, columns=["tip.z"])
+    assert [r.ok for r in study.runs] == [False, False] and len(study.failed) == 2
+    assert all(math.isnan(v) for q in study.quantities for v in q.values)
+    assert all(q.converged_at is None for q in study.quantities)
+    text = convergence_csv_text(study)
+    assert text.splitlines()[-1].endswith('"failed: 0, 1"')
+    result = CliRunner().invoke(
+        app,
+        ["converge", str(path), "--parameter", "n_fi", "--values", "0,1", "-o", str(tmp_path)],
+    )
+    assert result.exit_code == 1 and "FAILED" in result.output
