@@ -20,6 +20,7 @@ from pathlib import Path
 
 from scipy.optimize import brentq
 
+from loadcases.build.system_margin import SYSTEM_LINE
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
@@ -121,7 +122,8 @@ def tune_margin(
 ) -> TuneResult:
     """The value of `parameter` (SI: a spring's stiffness, its wind-up angle) for which the
     minimum torque margin of `hinge_line` over the run is `target` (default: the case's
-    `required`); the restart TM with `restart`.
+    `required`); the restart TM with `restart`; `hinge_line="system"`: the system margin of
+    a case with `torque_margin: {system: true}`.
 
     Raises InputError for a case without that hinge line in `torque_margin:` or an unknown
     parameter; TuneError when no bracket is found, a run fails or its TM is undefined.
@@ -129,8 +131,11 @@ def tune_margin(
     path = Path(path)
     cf = load_case(path)
     tm = cf.case.torque_margin
-    if tm is None or hinge_line not in tm.hinge_lines:
-        known = ", ".join(tm.hinge_lines) if tm is not None else "none"
+    system = tm is not None and tm.system and hinge_line == SYSTEM_LINE
+    if tm is None or (hinge_line not in tm.hinge_lines and not system):
+        known = (
+            ", ".join([*tm.hinge_lines, *([SYSTEM_LINE] if tm.system else [])]) if tm else "none"
+        )
         raise _input_error(
             cf,
             "torque_margin" if tm is not None else "",
@@ -147,7 +152,8 @@ def tune_margin(
             raise TuneError(
                 f"{parameter} = {value:.10g}: the run failed: {outcome.solution.message}"
             )
-        found = outcome.checks["torque_margin"]["hinge_lines"][hinge_line][key]
+        block = outcome.checks["torque_margin"]
+        found = (block[SYSTEM_LINE] if system else block["hinge_lines"][hinge_line])[key]
         if found is None:
             raise TuneError(
                 f"{parameter} = {value:.10g}: no resistive torque on {hinge_line} at any "

@@ -127,3 +127,23 @@ def test_cli_margin_tuning_and_its_errors() -> None:
     assert both.exit_code == 2 and "one of them" in both.output
     bad = runner.invoke(app, [*base, "--margin", "HL1", "--target", "2 Hz"])
     assert bad.exit_code == 2 and "give a ratio" in bad.output
+
+
+def test_spring_for_a_target_system_margin(tmp_path) -> None:
+    """`--margin system` on the two-line case of test_system_margin: its minimum is at the
+    end (theta1 = 30 deg), D = k1 (pi/2 - pi/6) + 2 k2 (2 pi/3 - pi/3), R = 1.5 c w1 +
+    2 x 1.5 T: k1 = (2 R - 2 k2 pi/3) / (pi/3) within 1e-9."""
+    from loadcases.studies.tune import tune_margin
+    from tests.verification.test_system_margin import CASE
+
+    case = tmp_path / "two.case.yaml"
+    case.write_text(
+        CASE.replace("SYSTEM", "system: true")
+        .replace("stiffness: 1, angle0: 90", "stiffness: k1, angle0: 90")
+        .replace("mechanism:\n", "mechanism:\n  parameters: {k1: 1}\n"),
+        "utf-8",
+    )
+    result = tune_margin(case, parameter="k1", hinge_line="system", target=2.0)
+    r = 1.5 * 0.2 * math.pi / 6 + 2 * 1.5 * 0.3
+    assert result.value == pytest.approx((2 * r - 2 * 0.2 * math.pi / 3) / (math.pi / 3), rel=1e-9)
+    assert result.achieved >= 2.0
