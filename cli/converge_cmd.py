@@ -95,6 +95,7 @@ def converge(
     tabulate and plot every request's peak (a modes analysis: every frequency) against it,
     saying from which value on each stays within the tolerance."""
     from loadcases.foundation.diagnostics import InputError
+    from loadcases.inputs.preflight import output_folder_problem
     from loadcases.studies.convergence import run_study
     from loadcases.studies.convergence_files import write_convergence_files
 
@@ -104,6 +105,9 @@ def converge(
         fraction = tolerance_fraction(tolerance)
     except ValueError as error:
         raise fail(f"--tolerance {tolerance}: {error}") from None
+    problem = output_folder_problem(output)
+    if problem is not None:
+        raise fail(f"-o {output}: {problem}")
     texts = [t.strip() for t in values.split(",") if t.strip()]
 
     def progress(text: str, outcome) -> None:

@@ -162,6 +162,8 @@ def test_command_prints_the_verdicts_and_writes_the_files(tmp_path: Path) -> Non
     assert (out / "cantilever.convergence.png").is_file()
     bad = runner.invoke(app, [*base, "--values", "0,2", "--tolerance", "lots"])
     assert bad.exit_code == 2 and "--tolerance lots" in bad.output
+    blocked = runner.invoke(app, [*base[:4], "-o", str(path), "--values", "0,2"])
+    assert blocked.exit_code == 2 and "is a file, not a folder" in blocked.output
     unknown = runner.invoke(app, ["converge", str(path), "--parameter", "n", "--values", "0,2"])
     assert unknown.exit_code == 2 and "no parameter 'n'" in unknown.output
 
