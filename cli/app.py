@@ -554,6 +554,10 @@ from cli import tune_cmd  # noqa: E402  (tune: parameter for a target frequency,
 
 app.command("tune")(guarded(tune_cmd.tune))
 
+from cli import converge_cmd  # noqa: E402  (converge: a parameter's convergence study, via `guarded`)
+
+app.command("converge")(guarded(converge_cmd.converge))
+
 from cli import flex_cmd  # noqa: E402  (flex check: an imported flexible component, via `guarded`)
 
 flex_app = typer.Typer(

@@ -28,7 +28,7 @@ from mechlib.flexible.invariants import Invariants
 from mechlib.flexible.modal_component import ModalComponent
 from mechlib.flexible.stiffening import ModalGeometric
 
-__all__ = ["flexible_component"]
+__all__ = ["flexible_component", "flexible_fe_model"]
 
 _IN_PLANE = 1e-6  # m: interface points farther than this from the panel's plane are errors
 _AT_NODE = 1e-6  # m: an imported model's interface point lies this close to its node
@@ -129,6 +129,13 @@ def _imported(f: Flexible, folder: Path) -> NamedModel:
         ),
         nodes,
     )
+
+
+def flexible_fe_model(f: Flexible, folder: Path) -> NamedModel:
+    """The full FE model of a `flexible:` body before reduction (SI, global axes at design)
+    with its named interface nodes (`loads flex check MECH --body NAME`); ValueError or
+    InputError as `flexible_component`."""
+    return _fe_model(f, folder)
 
 
 def _fe_model(f: Flexible, folder: Path) -> NamedModel:

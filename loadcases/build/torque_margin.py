@@ -25,6 +25,7 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.build.context import Guarded
+from loadcases.build.system_margin import SYSTEM_LINE, reduced_to_first
 from loadcases.expressions import ExpressionError, parse
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.schema.torque_margin import DEFAULT_FACTORS
@@ -64,6 +65,7 @@ class _Line:
     sense: float
     angle_column: str
     terms: list[_Term] = field(default_factory=list)
+    rate_column: str = ""  # its deployment rate, read by the system margin only
 
 
 @dataclass
@@ -74,12 +76,12 @@ class MarginPlan:
     restart_friction: float
     lines: list[_Line]
     requests: list
+    system: bool = False  # also the system margin (loadcases.build.system_margin)
 
     def units(self) -> dict[str, str]:
         """Unit of every column the margin adds."""
-        return {
-            f"{TM_PREFIX}{line.name}.{c}": u for line in self.lines for c, u in TM_UNITS.items()
-        }
+        names = [line.name for line in self.lines] + ([SYSTEM_LINE] if self.system else [])
+        return {f"{TM_PREFIX}{name}.{c}": u for name in names for c, u in TM_UNITS.items()}
 
     def apply(self, solution: ml.Solution) -> tuple[ml.Solution, dict, list[str]]:
         """The solution with the margin columns (hidden ones removed), the summary block
@@ -88,12 +90,26 @@ class MarginPlan:
         hinge_lines: dict[str, dict] = {}
         block = {"required": self.required, "passed": True, "hinge_lines": hinge_lines}
         notes = []
+        sums = []
         for line in self.lines:
-            columns, summary = _line_margin(line, solution, self.required, self.restart_friction)
+            sums.append(_line_torques(line, solution, self.restart_friction))
+            angle = line.sense * solution.channels[line.angle_column]
+            columns, summary = _margin(*sums[-1], angle, solution.time, self.required)
             channels.update({f"{TM_PREFIX}{line.name}.{c}": v for c, v in columns.items()})
             hinge_lines[line.name] = summary
             block["passed"] = block["passed"] and summary["passed"] and solution.ok
             notes += _line_notes(line.name, summary, self.required)
+        if self.system:
+            # beside the per-line check of eq. 2.1, which alone decides `passed`
+            rates = [line.sense * solution.channels[line.rate_column] for line in self.lines]
+            first = self.lines[0]
+            angle = first.sense * solution.channels[first.angle_column]
+            columns, summary = _margin(
+                *reduced_to_first(sums, rates), angle, solution.time, self.required
+            )
+            channels.update({f"{TM_PREFIX}{SYSTEM_LINE}.{c}": v for c, v in columns.items()})
+            block[SYSTEM_LINE] = summary | {"reference": first.name}
+            notes += _line_notes(SYSTEM_LINE, summary, self.required)
         if not solution.ok:
             notes.append(
                 "torque margin: the run failed, its margins cover the rows computed "
@@ -102,9 +118,10 @@ class MarginPlan:
         return dataclasses.replace(solution, channels=channels), block, notes
 
 
-def _line_margin(
-    line: _Line, solution: ml.Solution, required: float, restart_friction: float
-) -> tuple[dict[str, np.ndarray], dict]:
+def _line_torques(
+    line: _Line, solution: ml.Solution, restart_friction: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The line's driving, factored resistive and restart resistive sums (N*m, per row)."""
     ch, n = solution.channels, solution.time.size
     driving, resistive, restart = np.zeros(n), np.zeros(n), np.zeros(n)
     for term in line.terms:
@@ -117,10 +134,21 @@ def _line_margin(
         resistive += resisting
         if term.kind not in _RATE_KINDS:
             restart += resisting * (restart_friction if term.friction else 1.0)
+    return driving, resistive, restart
+
+
+def _margin(
+    driving: np.ndarray,
+    resistive: np.ndarray,
+    restart: np.ndarray,
+    angle: np.ndarray,
+    time: np.ndarray,
+    required: float,
+) -> tuple[dict[str, np.ndarray], dict]:
+    """The margin columns (TM_UNITS) and summary of driving and resistive sums."""
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(resistive > 0.0, driving / resistive, np.nan)
         restart_ratio = np.where(restart > 0.0, driving / restart, np.nan)
-    angle = line.sense * ch[line.angle_column]
     columns = {
         "driving": driving,
         "resistive": resistive,
@@ -129,7 +157,7 @@ def _line_margin(
         "excess": driving - required * resistive,
         "angle": angle,
     }
-    return columns, _line_summary(solution.time, angle, ratio, restart_ratio, required)
+    return columns, _line_summary(time, angle, ratio, restart_ratio, required)
 
 
 def _line_summary(
@@ -216,11 +244,21 @@ def plan_torque_margin(cf, built) -> MarginPlan | None:
             )
             if term is not None:
                 line.terms.append(term)
+        if tm.system:
+            line.rate_column = f"{_HIDDEN}{name}_rate.value"
+            requests.append(ml.JointCoordinate(f"{_HIDDEN}{name}_rate", hl.joint, "omega"))
         lines.append(line)
+    if tm.system and SYSTEM_LINE in tm.hinge_lines:
+        error(
+            f"torque_margin.hinge_lines.{SYSTEM_LINE}",
+            f"'{SYSTEM_LINE}' names the system margin's columns: rename this hinge line",
+        )
+    if tm.system and len(tm.hinge_lines) < 2:
+        error("torque_margin.system", "a system margin needs two hinge lines or more")
     if problems:
         raise InputError(problems)
     built.requests.extend(requests)
-    return MarginPlan(tm.required, tm.restart_friction, lines, requests)
+    return MarginPlan(tm.required, tm.restart_friction, lines, requests, tm.system)
 
 
 def _term(cf, built, line: str, label: str, c, joint: str, key: str, error, requests):

@@ -84,3 +84,9 @@ class TorqueMargin(Strict):
         "friction times this)",
     )
     hinge_lines: dict[str, HingeLine] = Field(min_length=1)
+    system: bool = Field(
+        False,
+        description="also the system margin of hinge lines synchronised by cable loops: "
+        "every line's torques reduced to the first line by virtual work (columns "
+        "tm_system.*; reported beside the per-line check, which alone decides passed)",
+    )

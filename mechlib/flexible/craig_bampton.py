@@ -22,7 +22,7 @@ from mechlib.flexible.invariants import field_invariants
 from mechlib.flexible.modal_component import ModalComponent, damping_ratios
 from mechlib.flexible.stiffening import modal_geometric
 
-__all__ = ["ReductionError", "craig_bampton", "free_modes", "signed"]
+__all__ = ["ReductionError", "basis", "craig_bampton", "free_modes", "signed"]
 
 _RIGID_ENERGY = 1e-8  # |K R| / (|K| |R|) above this: the rigid motions strain the model
 _MECHANISM = 1e-12  # omega^2 / max(omega^2) below this: a zero-energy deformation
@@ -65,8 +65,10 @@ def signed(vectors: np.ndarray) -> np.ndarray:
     return vectors * np.where(flip == 0.0, 1.0, flip)
 
 
-def _basis(model: FEModel, fixed_interface_modes: int) -> np.ndarray:
-    """T (ndof, n_b + n_q)."""
+def basis(model: FEModel, fixed_interface_modes: int) -> np.ndarray:
+    """The Craig-Bampton basis T (ndof, n_b + n_q): the interface DOF's n_b constraint
+    modes, then the n_q = min(`fixed_interface_modes`, internal DOF) lowest
+    fixed-interface modes (mass-normalised)."""
     b, i = _split(model)
     k, m = model.stiffness.tocsr(), model.mass.tocsr()
     k_ii = k[i][:, i]
@@ -98,7 +100,7 @@ def _reduce(model: FEModel, fixed_interface_modes: int) -> tuple[np.ndarray, np.
     """`free_modes` and the held frequency (rad/s): the lowest frequency of the reduced
     model with one interface node's six boundary DOF held, the lowest over the nodes (a
     Rayleigh-Ritz value on the Craig-Bampton basis, exact when it is the only node)."""
-    t = _basis(model, fixed_interface_modes)
+    t = basis(model, fixed_interface_modes)
     k_hat, m_hat = t.T @ (model.stiffness @ t), t.T @ (model.mass @ t)
     b, _ = _split(model)
     rigid = np.zeros((t.shape[1], 6))  # rigid motion in reduced coordinates: [R_B; 0]
