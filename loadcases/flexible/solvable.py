@@ -1,0 +1,99 @@
+"""Checks that the eigen-solvers after an import will work, made on the SI matrices before
+any of them sees them (`loads flex check`'s free-free modes, the Craig-Bampton reduction):
+
+- K positive semi-definite, with the six rigid-body modes of a free-free component;
+- K and M positive definite on the interior DOF (the interface held): the constraint modes
+  need K_ii^-1 and the fixed-interface modes the eigenproblem (K_ii, M_ii); a failure names
+  the DOF that carries it;
+- mass on the translations, and a translational mass of a mechanism part's scale.
+
+Each returns why the model fails, or None."""
+
+from __future__ import annotations
+
+import numpy as np
+import scipy.sparse as sp
+
+from loadcases.flexible.checks import negative_pivots
+from loadcases.flexible.summary import mass_properties, rigid_modes
+from mechlib.flexible.fe_model import FEModel
+
+__all__ = [
+    "MASS_RANGE",
+    "RIGID_BODY_MODES",
+    "interior_problem",
+    "rigid_body_problem",
+    "translation_mass_problem",
+]
+
+RIGID_BODY_MODES = 6  # of a free-free component in space
+MASS_RANGE = (1e-9, 1e12)  # kg: translational mass of a mechanism part (1 ug to 1e9 t)
+SINGULAR = 1e-12  # lowest eigenvalue of the matrix scaled to a unit diagonal, at least
+_DENSE_LIMIT = 1500  # interior DOF up to which the lowest eigenvector is computed
+_COMPONENTS = ("ux", "uy", "uz", "rx", "ry", "rz")
+
+
+def _dof(model: FEModel, row: int) -> str:
+    """`node 202 rz`: the node id and component of a DOF row."""
+    node, component = model.dof_map[row]
+    return f"node {model.node_ids[node]} {_COMPONENTS[component]}"
+
+
+def interior_problem(model: FEModel, matrix: sp.spmatrix, what: str) -> str | None:
+    """Why `matrix` (K or M) is not positive definite on the interior DOF (the interface
+    nodes held), naming the DOF of a zero diagonal term or the largest term of the
+    eigenvector of the lowest eigenvalue (scaled to a unit diagonal), or None."""
+    interior = np.flatnonzero(~np.isin(model.dof_map[:, 0], model.interface))
+    if interior.size == 0:
+        return None
+    sub = sp.csr_matrix(matrix)[interior][:, interior]
+    diagonal = sub.diagonal()
+    held = "with the interface nodes held"
+    empty = np.flatnonzero(diagonal <= 0.0)
+    if empty.size:
+        return f"{what} is singular {held}: no term on {_dof(model, interior[empty[0]])}"
+    scale = sp.diags(1.0 / np.sqrt(diagonal))
+    scaled = scale @ sub @ scale
+    if interior.size <= _DENSE_LIMIT:
+        from scipy.linalg import eigh
+
+        dense = scaled.toarray()
+        values, vectors = eigh(0.5 * (dense + dense.T), subset_by_index=[0, 0])
+        if values[0] >= SINGULAR:
+            return None
+        row = interior[int(np.argmax(np.abs(vectors[:, 0])))]
+        return (
+            f"{what} is singular {held} (lowest eigenvalue {values[0]:.3g} of the matrix scaled "
+            f"to a unit diagonal), the deformation mostly on {_dof(model, row)}"
+        )
+    negative = negative_pivots(scaled - SINGULAR * sp.identity(interior.size))
+    if negative == 0:
+        return None
+    return f"{what} is not positive definite {held} ({negative or 'off-diagonal'} pivots)"
+
+
+def rigid_body_problem(model: FEModel) -> str | None:
+    """Why K does not leave the six rigid-body motions unloaded (a free-free component:
+    a DOF constrained or a spring to ground in the FE model), or None."""
+    found = rigid_modes(model)
+    if found == RIGID_BODY_MODES:
+        return None
+    return (
+        f"the stiffness matrix has {found} rigid-body modes where a free-free component has "
+        f"{RIGID_BODY_MODES}: export it without constraints (SPC) or springs to ground"
+    )
+
+
+def translation_mass_problem(model: FEModel) -> str | None:
+    """Why the translational mass (kg per direction) is absent or outside MASS_RANGE."""
+    mass = mass_properties(model).mass
+    low, high = MASS_RANGE
+    if not np.all(mass > 0.0):
+        shown = ", ".join(f"{m:.3g}" for m in mass)
+        return f"the mass matrix has no mass on translations ({shown} kg along x, y, z)"
+    if np.all((mass >= low) & (mass <= high)):
+        return None
+    return (
+        f"the translational mass {np.max(mass):.3g} kg is outside {low:g}-{high:g} kg, the "
+        "scale of a mechanism part: check the units of the header (and wtmass)"
+    )
