@@ -67,9 +67,12 @@ def interior_problem(model: FEModel, matrix: sp.spmatrix, what: str) -> str | No
             f"to a unit diagonal), the deformation mostly on {_dof(model, row)}"
         )
     negative = negative_pivots(scaled - SINGULAR * sp.identity(interior.size))
-    if negative == 0:
+    if not negative:  # None: off-diagonal pivots, no inertia to tell (the reduction says)
         return None
-    return f"{what} is not positive definite {held} ({negative or 'off-diagonal'} pivots)"
+    return (
+        f"{what} is not positive definite {held}: {negative} eigenvalues below {SINGULAR:g} "
+        "of the matrix scaled to a unit diagonal"
+    )
 
 
 def rigid_body_problem(model: FEModel) -> str | None:
