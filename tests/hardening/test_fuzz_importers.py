@@ -10,7 +10,8 @@ accepted component prints finite numbers only; a run that ends `ok` has finite n
 every column; and no example allocates more than PEAK_BYTES (traced by tracemalloc, which
 sees NumPy's buffers): sizes read from a file are checked before anything is allocated.
 Derandomized: CI sees the same inputs every time. Budget: LOADS_FUZZ_IMPORT_EXAMPLES
-examples per surface (default 15, a few seconds each); the long budget is
+examples per surface (default 8, a second or two each; a quarter of them for `--set`, whose
+examples are runs); the long budget is
 `LOADS_FUZZ_IMPORT_EXAMPLES=10000 pytest tests/hardening/test_fuzz_importers.py`.
 """
 
@@ -37,7 +38,7 @@ from tests.loadcases.flexible import files
 from tests.loadcases.flexible.beam import FILE_BEAM, element
 from tests.loadcases.set_fixtures import CRANK_CASE, CRANK_MECH
 
-EXAMPLES = int(os.environ.get("LOADS_FUZZ_IMPORT_EXAMPLES", "15"))
+EXAMPLES = int(os.environ.get("LOADS_FUZZ_IMPORT_EXAMPLES", "8"))
 SETTINGS = settings(
     max_examples=EXAMPLES,
     deadline=None,
@@ -187,6 +188,8 @@ def test_op4_binary(tmp_path_factory: Any, edits: list, layout: str) -> None:
     K, _ = element(FILE_BEAM)
     data = bytearray(files.op4_binary({"KAA": K}, layout))
     for kind, place, word in edits:
+        if len(data) < 4:  # cut to nothing: an empty or 1-3 byte file is the case
+            break
         if kind == "word":
             at = 4 * (place % (len(data) // 4))
             data[at : at + 4] = struct.pack("<i", word)
@@ -346,7 +349,7 @@ points:
 TABLE = "name,body,x,y,z,units\ncrank_pin,crank,100,0,0,mm\nslider_c,slider,400,0,0,\n"
 
 
-@settings(SETTINGS, max_examples=max(EXAMPLES // 2, 5))  # a validate of the press: 0.6 s
+@settings(SETTINGS, max_examples=max(EXAMPLES // 2, 4))  # a validate of the press: 0.6 s
 @given(edits=st.lists(TEXT_EDIT, min_size=1, max_size=3))
 def test_hardpoint_table(tmp_path_factory: Any, edits: list) -> None:
     folder = _folder(tmp_path_factory)
@@ -371,7 +374,7 @@ SET_VALUES = st.one_of(
 )
 
 
-@settings(SETTINGS, max_examples=max(EXAMPLES // 3, 5))
+@settings(SETTINGS, max_examples=max(EXAMPLES // 4, 2))
 @given(
     name=st.sampled_from(["speed", "load", "stroke", "nowhere", "", "speed=1"]), value=SET_VALUES
 )
