@@ -15,7 +15,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from loadcases.flexible.checks import negative_pivots
-from loadcases.flexible.summary import mass_properties, rigid_modes
+from loadcases.flexible.summary import mass_properties, rigid_fields, rigid_modes
 from mechlib.flexible.fe_model import FEModel
 
 __all__ = [
@@ -88,15 +88,43 @@ def rigid_body_problem(model: FEModel) -> str | None:
 
 
 def translation_mass_problem(model: FEModel) -> str | None:
-    """Why the translational mass (kg per direction) is absent or outside MASS_RANGE."""
+    """Why the translational mass (kg per direction) is absent or outside MASS_RANGE, or
+    a rigid-body motion has no inertia (the 6 x 6 rigid-body mass matrix about the nodes'
+    centroid, scaled to a unit diagonal, singular: a line of nodes without torsional
+    inertia), or None."""
     mass = mass_properties(model).mass
     low, high = MASS_RANGE
     if not np.all(mass > 0.0):
         shown = ", ".join(f"{m:.3g}" for m in mass)
         return f"the mass matrix has no mass on translations ({shown} kg along x, y, z)"
-    if np.all((mass >= low) & (mass <= high)):
-        return None
+    if not np.all((mass >= low) & (mass <= high)):
+        return (
+            f"the translational mass {np.max(mass):.3g} kg is outside {low:g}-{high:g} kg, "
+            "the scale of a mechanism part: check the units of the header (and wtmass)"
+        )
+    return _rigid_inertia_problem(model)
+
+
+_MOTIONS = ("x", "y", "z", "about x", "about y", "about z")
+
+
+def _rigid_inertia_problem(model: FEModel) -> str | None:
+    """Why a rigid-body motion (or a combination) has no kinetic energy, or None."""
+    gamma, r0 = rigid_fields(model)
+    centroid = np.mean(model.coordinates, axis=0)
+    fields = np.hstack([gamma, r0 - gamma @ np.cross(np.eye(3), centroid).T])
+    rigid = fields.T @ (sp.csr_matrix(model.mass) @ fields)
+    diagonal = np.diag(rigid)
+    if np.all(diagonal > 0.0):
+        d = 1.0 / np.sqrt(diagonal)
+        values, vectors = np.linalg.eigh(d[:, None] * rigid * d[None, :])
+        if values[0] >= SINGULAR:
+            return None
+        worst = int(np.argmax(np.abs(vectors[:, 0])))
+    else:
+        worst = int(np.flatnonzero(diagonal <= 0.0)[0])
+    motion = ("translation " if worst < 3 else "rotation ") + _MOTIONS[worst]
     return (
-        f"the translational mass {np.max(mass):.3g} kg is outside {low:g}-{high:g} kg, the "
-        "scale of a mechanism part: check the units of the header (and wtmass)"
+        f"the mass matrix gives the rigid-body {motion} no inertia: give the rotational "
+        "inertia of the nodes (a line of nodes needs it about its axis)"
     )

@@ -360,3 +360,20 @@ def test_mass_positive_definite_on_the_interior(tmp_path: Path) -> None:
 def test_mass_scale(tmp_path: Path) -> None:
     K, M = element(FILE_BEAM)
     _refused(_matrices(tmp_path, K, M * 1e-300), "M2.mtx", "kg")
+
+
+def test_eigen_solver_failure_after_the_checks(tmp_path: Path, monkeypatch) -> None:
+    """Should LAPACK still fail on a model that passed every check, `loads flex check`
+    says so and exits 1 (a solver failure), with the model's summary printed before."""
+    import numpy.linalg
+
+    import loadcases.flexible.summary as summary
+
+    def failing(model: object, count: int) -> None:
+        raise numpy.linalg.LinAlgError("leading minor of order 7 not positive definite")
+
+    monkeypatch.setattr(summary, "free_free_frequencies", failing)
+    result = loads("flex", "check", mm_beam(tmp_path))
+    assert result.exit_code == 1, result.output
+    assert "mass:" in result.output and "the free-free eigenproblem failed" in result.output
+    assert "internal error" not in result.output and "Traceback" not in result.output

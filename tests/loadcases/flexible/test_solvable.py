@@ -77,3 +77,13 @@ def test_rigid_and_mass_scale() -> None:
     rotations = np.tile([False] * 3 + [True] * 3, 4)
     only = np.where(np.outer(rotations, rotations), M, 0.0)
     assert "no mass on translations" in (translation_mass_problem(_model(3, M=only)) or "")
+
+
+def test_rigid_rotation_without_inertia() -> None:
+    """A beam along x without torsional inertia: every node on the axis, so the rigid
+    rotation about x has no kinetic energy (x^T M x = 0 for x the rotation field)."""
+    _, M, _ = assembled(SI_BEAM, 3)
+    rx = np.arange(3, M.shape[0], 6)
+    M[rx, :] = M[:, rx] = 0.0
+    problem = translation_mass_problem(_model(3, M=M))
+    assert problem is not None and "rotation about x no inertia" in problem
