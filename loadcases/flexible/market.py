@@ -63,7 +63,7 @@ def _number(text: str, integer: bool, line: int) -> float:
 
 def _index(text: str, size: int, what: str, line: int) -> int:
     """A 1-based row or column index, returned 0-based."""
-    if not text.isdigit() or not 1 <= int(text) <= size:
+    if not (text.isascii() and text.isdigit()) or not 1 <= int(text) <= size:
         raise FileFormatError(f"{what} '{text[:40]}': expected 1-{size}", line)
     return int(text) - 1
 
@@ -91,7 +91,7 @@ def read_matrix_market(path: Path) -> sp.csr_matrix:
         raise FileFormatError("no size line", len(lines))
     number, size = body[0]
     wanted = 3 if layout == "coordinate" else 2
-    if len(size) != wanted or not all(s.isdigit() for s in size):
+    if len(size) != wanted or not all(s.isascii() and s.isdigit() for s in size):
         raise FileFormatError(f"size line: expected {wanted} non-negative integers", number)
     rows, cols = int(size[0]), int(size[1])
     problem = shape_limit_problem(rows, cols)

@@ -81,6 +81,8 @@ def _number(
     header: Header, path: Path, line: int, text: str, column: str, integer: bool
 ) -> float | None:
     try:
+        if not text.isascii():  # Python reads Arabic-Indic and other digits as numbers
+            raise ValueError(text)
         value = int(text) if integer else float(text)
     except ValueError:
         kind = "an integer" if integer else "a number"

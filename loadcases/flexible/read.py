@@ -195,12 +195,15 @@ def _model(
     rotational = dof_map[:, 1] >= 3
     stiffness = to_si_matrix(raw.stiffness, rotational, scales, "stiffness")
     mass = to_si_matrix(raw.mass, rotational, scales, "mass") * wtmass
+    coordinates = np.asarray(raw.coordinates, dtype=float) * scales.length
+    _check_si(header, raw, (stiffness, mass, coordinates), scales)
+    if header.errors:
+        return None, {}, wtmass
     _check_matrices(header, raw, stiffness, mass)
     names = _names(header, raw, index)
     interface = _interface(header, raw, index, names, dof_map)
     if header.errors or interface is None:
         return None, names, wtmass
-    coordinates = np.asarray(raw.coordinates, dtype=float) * scales.length
     model = FEModel(ids, coordinates, dof_map, stiffness, mass, interface)
     _check_solvable(header, raw, model)
     return (None if header.errors else model), names, wtmass
@@ -220,6 +223,23 @@ def _check_nodes(header: Header, raw: RawModel, ids: np.ndarray) -> None:
         header.in_file(
             where, f"coordinates of node {int(ids[row])}: expected finite numbers, got {xyz[row]}"
         )
+
+
+def _check_si(header: Header, raw: RawModel, arrays: tuple, scales: Scales) -> None:
+    """The matrices and coordinates still finite once in SI (units such as `1e300 m`
+    scale finite file values beyond float range)."""
+    stiffness, mass, coordinates = arrays
+    for values, path, what in (
+        (stiffness.data, raw.stiffness_file, "the stiffness matrix"),
+        (mass.data, raw.mass_file, "the mass matrix"),
+        (coordinates, raw.files[-1] if raw.files else raw.stiffness_file, "the coordinates"),
+    ):
+        if not np.all(np.isfinite(values)):
+            header.problem(
+                ("units",),
+                f"{what} of {path.name} overflow once in SI (units {scales.text()}): "
+                "check the units",
+            )
 
 
 def _check_matrices(header: Header, raw: RawModel, stiffness: object, mass: object) -> None:

@@ -249,6 +249,12 @@ def test_header_unit_dividing_by_zero(tmp_path: Path) -> None:
     _refused(path, "part.json:", "units.length")
 
 
+def test_units_overflowing_in_si(tmp_path: Path) -> None:
+    """`1e300 mm` is a length unit: the stiffness, finite as written, is not once in SI."""
+    path = mm_beam(tmp_path, units={"length": "1e300 mm", "force": "N"})
+    _refused(path, "part.json:", "units", "overflow once in SI")
+
+
 def test_header_true_is_not_node_1(tmp_path: Path) -> None:
     _refused(mm_beam(tmp_path, interface=[True, 2]), "part.json:", "interface[0]")
 
@@ -268,6 +274,7 @@ def test_header_float_node_id(tmp_path: Path) -> None:
         ("id,x,y,z\n1,0,0,0\n2,nan,0,0\n", "nodes.csv:3:"),
         ("id,x,y,z\n1,0,0,0\n2,2,0," + "9" * 20_000_000 + "\n", "nodes.csv:3:"),
         ("id,x,y,z\n1,0,0,0\n-2,2,0,0\n", "nodes.csv:3:"),
+        ("id,x,y,z\n1,0,0,0\n\u0662,2,0,0\n", "nodes.csv:3:"),
     ],
 )
 def test_node_table(tmp_path: Path, table: str, words: str) -> None:
