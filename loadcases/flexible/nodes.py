@@ -17,6 +17,7 @@ import numpy as np
 
 from loadcases.flexible.bounds import node_id_problem
 from loadcases.flexible.header import Header
+from loadcases.foundation.clip import describe_character, hidden_character
 
 __all__ = ["NodeTable", "read_dofs", "read_nodes", "six_per_node"]
 
@@ -126,6 +127,12 @@ def read_nodes(header: Header, path: Path) -> NodeTable | None:
         ids.append(int(node))
         xyz.append([float(a) for a in at if a is not None])
         name = cells[index["name"]] if "name" in index else ""
+        hidden = hidden_character(name)
+        if hidden is not None:
+            header.in_file(
+                path, f"{describe_character(hidden)} in a node name", line=line, key="name"
+            )
+            continue
         if name:
             names[name] = int(node)
     if not ids:

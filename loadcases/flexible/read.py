@@ -22,6 +22,7 @@ from loadcases.flexible.neutral import npz_source
 from loadcases.flexible.raw import RawModel
 from loadcases.flexible.scales import Scales, read_scales, to_si_matrix
 from loadcases.flexible.sources import dmig_source, matrix_market_source, op4_source
+from loadcases.foundation.clip import describe_character, hidden_character, visible
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.limits import MAX_NODE_ID
 from mechlib.flexible.fe_model import FEModel
@@ -299,6 +300,13 @@ def _names(header: Header, raw: RawModel, index: dict[int, int]) -> dict[str, in
         given = {}
     names: dict[str, int] = {}
     for name, node in [*raw.node_names.items(), *given.items()]:
+        hidden = hidden_character(name)
+        if hidden is not None:
+            header.problem(
+                ("node_names",),
+                f"{describe_character(hidden)} in the node name '{visible(name)[:40]}'",
+            )
+            continue
         if isinstance(node, bool) or not isinstance(node, int) or node not in index:
             header.problem(("node_names", name), f"'{name}': no node {json.dumps(node)}")
             continue

@@ -244,15 +244,30 @@ def test_header_nul_in_a_file_name(tmp_path: Path) -> None:
     _refused(mm_beam(tmp_path, stiffness="K\u0000.mtx"), "part.json:", "stiffness", "control")
 
 
-def test_header_unit_dividing_by_zero(tmp_path: Path) -> None:
-    path = mm_beam(tmp_path, units={"length": "mm/0", "force": "N"})
-    _refused(path, "part.json:", "units.length")
+@pytest.mark.parametrize(
+    ("units", "key", "words"),
+    [
+        ({"length": "mm/0", "force": "N"}, "units.length", "unknown unit 'mm/0'"),
+        # were internal errors: mass = force * time^2 / length divided by zero
+        ({"length": "mm*0", "force": "N"}, "units.length", "expected a positive size"),
+        ({"length": "mm", "mass": "kg", "time": "s/1e400"}, "units.time", "positive size"),
+    ],
+)
+def test_header_unit_dividing_by_zero(tmp_path: Path, units: dict, key: str, words: str) -> None:
+    _refused(mm_beam(tmp_path, units=units), "part.json:", key, words)
 
 
 def test_units_overflowing_in_si(tmp_path: Path) -> None:
     """`1e300 mm` is a length unit: the stiffness, finite as written, is not once in SI."""
     path = mm_beam(tmp_path, units={"length": "1e300 mm", "force": "N"})
     _refused(path, "part.json:", "units", "overflow once in SI")
+
+
+def test_control_character_in_a_node_name(tmp_path: Path) -> None:
+    _refused(mm_beam(tmp_path, node_names={"hin\u0000ge": 1}), "part.json:", "U+0000")
+    path = mm_beam(tmp_path)
+    _nodes(tmp_path, "id,x,y,z,name\n1,0,0,0,hin\u202ege\n2,2,0,0,\n")
+    _refused(path, "nodes.csv:2:", "U+202E")
 
 
 def test_header_true_is_not_node_1(tmp_path: Path) -> None:
