@@ -399,3 +399,37 @@ def test_eigen_solver_failure_after_the_checks(tmp_path: Path, monkeypatch) -> N
     assert result.exit_code == 1, result.output
     assert "mass:" in result.output and "the free-free eigenproblem failed" in result.output
     assert "internal error" not in result.output and "Traceback" not in result.output
+
+
+def test_validate_and_run_refuse_what_flex_check_refuses(tmp_path: Path) -> None:
+    """A mechanism whose flexible body is an imported component with mass on rotations
+    only: `loads validate` and `loads run` stop with exit 2 naming the mass file."""
+    K, M = element(FILE_BEAM)
+    rotations = np.array([0, 0, 0, 1, 1, 1] * 2, dtype=bool)
+    M[~rotations, :] = M[:, ~rotations] = 0.0
+    M[rotations, rotations] = M[rotations, rotations] + 1.0
+    _matrices(tmp_path, K, M)
+    (tmp_path / "c.case.yaml").write_text(
+        """\
+case: imported
+mechanism:
+  units: {length: mm}
+  bodies:
+    part:
+      flexible:
+        file: {path: part.json}
+        interface: {root: [0, 0, 0]}
+        fixed_interface_modes: 2
+  joints:
+    clamp: {type: fixed, bodies: [part, ground], at: [0, 0, 0]}
+analysis: {type: static}
+requests:
+  root: {point: part.root, quantity: position}
+""",
+        encoding="utf-8",
+    )
+    for command in (("validate",), ("run", "-o", tmp_path / "out")):
+        result = loads(*command[:1], tmp_path / "c.case.yaml", *command[1:])
+        assert result.exit_code == 2, result.output
+        assert "M2.mtx" in result.output and "no mass on translations" in result.output
+        assert "internal error" not in result.output and "Traceback" not in result.output
