@@ -112,7 +112,8 @@ class _AsciiLines:
 
     def __init__(self, lines: list[str]) -> None:
         self.lines, self.at = lines, 0
-        # characters from line i to the end: how many values the rest can hold
+        # characters from line i to the end: how many values the rest can hold (a line
+        # holds ceil(len / width) cells at most)
         self.after = np.cumsum([len(line) for line in reversed(lines)])[::-1].tolist() + [0]
 
     def next(self) -> tuple[int, str]:
@@ -138,7 +139,8 @@ class _AsciiLines:
     def values(self, count: int, width: int) -> np.ndarray:
         """`count` fixed-width numbers from the following lines (at most what they can
         hold, checked first)."""
-        problem = terms_problem(count, self.after[self.at] // width, "values")
+        room = self.after[self.at] // width + len(self.lines) - self.at
+        problem = terms_problem(count, room, "values")
         if problem is not None:
             raise FileFormatError(problem, self.at)
         found: list[float] = []

@@ -17,6 +17,7 @@ import scipy.io
 import scipy.sparse as sp
 
 from loadcases.flexible.bulk import read_bulk
+from loadcases.flexible.op4 import read_op4
 from tests.hardening.conftest import loads
 from tests.loadcases.flexible import files
 from tests.loadcases.flexible.beam import FILE_BEAM, element
@@ -151,6 +152,16 @@ def test_op4_dense_count_beyond_the_file(tmp_path: Path) -> None:
     """NW of 10^8 - 1 values in a 3-line file: refused from the file's length, not read."""
     text = _op4_header(12, 12) + f"{1:8}{1:8}{99_999_999:8}\n" + " 1.0E+00" * 3 + "\n"
     _refused(op4_beam(tmp_path, text), "k.op4:2:", "99999999 values")
+
+
+def test_op4_short_cells_still_read(tmp_path: Path) -> None:
+    """The file-length check counts a line as holding at least one value: hand-written
+    values shorter than the format's width, one a line, are still read."""
+    text = _op4_header(1, 4) + f"{1:8}{1:8}{4:8}\n 4.0E+00\n-1.0E+00\n 2.0\n 3.\n"
+    text += f"{2:8}{1:8}{1:8}\n 1.0E+00\n"  # 38 characters after the column: 1 cell of 23
+    (tmp_path / "k.op4").write_text(text)
+    matrix = read_op4(tmp_path / "k.op4")["KAA"].matrix.toarray()
+    assert matrix.ravel().tolist() == [4.0, -1.0, 2.0, 3.0]
 
 
 def test_op4_binary_record_shorter_than_its_word_count(tmp_path: Path) -> None:
