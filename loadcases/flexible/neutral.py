@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
-from loadcases.flexible.bounds import file_size_problem, shape_limit_problem
+from loadcases.flexible.bounds import file_size_problem, shape_limit_problem, terms_problem
 from loadcases.flexible.header import Header
 from loadcases.flexible.raw import RawModel
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
@@ -44,6 +44,9 @@ def _csr(arrays: Any, name: str) -> sp.csr_matrix:
     if problem is not None:
         raise ValueError(f"{name}_shape: {problem}")
     data = np.asarray(arrays[f"{name}_data"])
+    too_many = terms_problem(data.size, data.size, "terms")
+    if too_many is not None:
+        raise ValueError(f"{name}_data: {too_many}")
     if data.dtype.kind not in "fiu":
         kind = "complex numbers" if data.dtype.kind == "c" else f"type {data.dtype}"
         raise ValueError(f"{name}_data: {kind}: expected real numbers")
