@@ -8,7 +8,8 @@ line or word by word (binary), and runs `loads flex check`, `loads validate` or 
 Whatever the input: the exit status is 0, 1 or 2; no "internal error", no traceback; an
 accepted component prints finite numbers only; a run that ends `ok` has finite numbers in
 every column; no example takes more than 30 s; and no example allocates more than
-PEAK_BYTES (traced by tracemalloc, which sees NumPy's buffers): sizes read from a file are checked before anything is allocated.
+PEAK_BYTES (traced by tracemalloc, which sees NumPy's buffers): sizes read from a file are
+checked before anything is allocated.
 Derandomized: CI sees the same inputs every time. Budget: LOADS_FUZZ_IMPORT_EXAMPLES
 examples per surface (default 8, a second or two each; a quarter of them for `--set`, whose
 examples are runs); the long budget is
