@@ -327,7 +327,10 @@ def test_npz_and_header(tmp_path_factory: Any, changes: list, key: str | None, v
         for name, kind in changes:
             if name not in arrays:  # removed by an earlier change
                 continue
-            made = _nasty_array(np.asarray(arrays[name]), kind)
+            try:
+                made = _nasty_array(np.asarray(arrays[name]), kind)
+            except (TypeError, ValueError):  # a change that cannot apply to an earlier one
+                continue
             if made is None:
                 arrays.pop(name, None)
             else:
