@@ -2,7 +2,8 @@
 what a user checks before using it: nodes, DOF, mass and centre of mass, the interface and
 the first free-free frequencies.
 
-Returns its exit status (0 read, 2 invalid input); `cli.app` registers it through its
+Returns its exit status (0 read, 1 the eigen-solver failed on a model that passed the
+import's checks, 2 invalid input); `cli.app` registers it through its
 `guarded` wrapper. The work is done by `loadcases.flexible` (`read.read_fe_model`,
 `summary`).
 """
@@ -18,7 +19,7 @@ from cli.render import fail, print_diagnostics
 
 __all__ = ["check"]
 
-EXIT_OK, EXIT_INPUT = 0, 2
+EXIT_OK, EXIT_SOLVER, EXIT_INPUT = 0, 1, 2
 _COMPONENTS = "123456"
 
 
@@ -63,6 +64,9 @@ def check(
 ) -> int:
     """Read an imported flexible component (neutral npz, Matrix Market, NASTRAN OP4 or DMIG)
     and print its nodes, DOF, mass, interface and first free-free frequencies."""
+    import numpy as np
+    from scipy.sparse.linalg import ArpackError
+
     from loadcases.flexible.summary import free_free_frequencies, mass_properties
     from loadcases.foundation.diagnostics import InputError
 
@@ -96,7 +100,11 @@ def check(
     for node in model.interface:
         label = f" ({names[node]})" if node in names else ""
         typer.echo(f"    {model.node_ids[node]}{label} at {_vector(model.coordinates[node])} m")
-    hertz, rigid = free_free_frequencies(model, modes)
+    try:
+        hertz, rigid = free_free_frequencies(model, modes)
+    except (np.linalg.LinAlgError, ArpackError) as error:  # the import checks passed
+        typer.echo(f"{file}: error: the free-free eigenproblem failed: {error}", err=True)
+        return EXIT_SOLVER
     typer.echo("  free-free frequencies (Hz):")
     for number, (value, is_rigid) in enumerate(zip(hertz, rigid), start=1):
         typer.echo(f"    {number:4d}  {value:.9g}{'  rigid-body' if is_rigid else ''}")

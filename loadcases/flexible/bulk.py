@@ -13,7 +13,9 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from loadcases.flexible.bounds import file_size_problem, node_id_problem
 from loadcases.flexible.values import FileFormatError, nastran_real
+from loadcases.foundation.limits import MAX_FE_DOF
 
 __all__ = ["BulkData", "Card", "DmigMatrix", "parse_cards", "read_bulk"]
 
@@ -62,7 +64,8 @@ def parse_cards(text: str) -> list[Card]:
             continue
         if "," in line:
             parts = [p.strip() for p in line.split(",")]
-            first, fields = parts[0], parts[1:9]
+            # missing trailing fields are blank, as in the fixed formats
+            first, fields = parts[0], (parts[1:9] + [""] * 8)[:8]
         else:
             first = line[:8].strip()
             large = first.endswith("*") or first.startswith("*")
@@ -83,6 +86,15 @@ def _integer(card: Card, text: str, what: str) -> int:
         raise FileFormatError(
             f"{card.name}: {what}: expected an integer, got '{text[:20]}'", card.line
         ) from None
+
+
+def _grid_id(card: Card, text: str, what: str) -> int:
+    """A grid id of the entry: an integer 1 to MAX_NODE_ID."""
+    value = _integer(card, text, what)
+    problem = node_id_problem(value)
+    if problem is not None:
+        raise FileFormatError(f"{card.name}: {what}: {problem}", card.line)
+    return value
 
 
 def _int(card: Card, index: int, what: str, default: int | None = None) -> int:
@@ -114,6 +126,8 @@ def _component(card: Card, text: str) -> int:
 def _dmig(card: Card, bulk: BulkData) -> None:
     name = card.fields[0].upper()
     column = _int(card, 1, "GJ")
+    if column != 0:
+        column = _grid_id(card, card.fields[1], "GJ")
     if column == 0:  # the header entry
         form, kind = _int(card, 2, "IFO"), _int(card, 3, "TIN")
         if kind not in (1, 2):
@@ -135,14 +149,14 @@ def _dmig(card: Card, bulk: BulkData) -> None:
             continue
         if not group[2]:
             raise FileFormatError(f"DMIG {name}: row {group[0]}: no value", card.line)
-        key = ((_integer(card, group[0], "G"), _component(card, group[1])), (column, cj))
+        key = ((_grid_id(card, group[0], "G"), _component(card, group[1])), (column, cj))
         if key in matrix.terms:
             raise FileFormatError(f"DMIG {name}: term {key} given twice", card.line)
         matrix.terms[key] = nastran_real(group[2], card.line)
 
 
 def _grid(card: Card, bulk: BulkData, file: str) -> None:
-    grid = _int(card, 0, "ID")
+    grid = _grid_id(card, card.fields[0] if card.fields else "", "ID")
     cp, cd = _int(card, 1, "CP", 0), _int(card, 5, "CD", 0)
     if cp != 0 or cd != 0:
         raise FileFormatError(
@@ -150,7 +164,9 @@ def _grid(card: Card, bulk: BulkData, file: str) -> None:
             "export the grid in basic coordinates",
             card.line,
         )
-    xyz = tuple(nastran_real(card.fields[k] or "0", card.line) for k in (2, 3, 4))
+    # blank (or missing) coordinates are 0.0, as NASTRAN reads them
+    cells = (card.fields + [""] * 5)[2:5]
+    xyz = tuple(nastran_real(cell or "0", card.line) for cell in cells)
     if grid in bulk.grids:
         raise FileFormatError(f"GRID {grid} given twice", card.line)
     bulk.grids[grid] = ((xyz[0], xyz[1], xyz[2]), file, card.line)
@@ -163,7 +179,7 @@ def _aset(card: Card, bulk: BulkData, file: str) -> None:
         for grid, text in pairs:
             if grid:
                 for c in _components(card, text):
-                    bulk.aset[(_integer(card, grid, "grid"), c)] = where
+                    bulk.aset[(_grid_id(card, grid, "grid"), c)] = where
         return
     comps = _components(card, card.fields[0])
     grids = [g for g in card.fields[1:] if g]
@@ -171,14 +187,34 @@ def _aset(card: Card, bulk: BulkData, file: str) -> None:
     k = 0
     while k < len(grids):
         if grids[k].upper() == "THRU" and ids and k + 1 < len(grids):
-            ids += range(ids[-1] + 1, _integer(card, grids[k + 1], "grid") + 1)
+            ids += _thru(card, ids[-1], _grid_id(card, grids[k + 1], "grid"))
             k += 2
             continue
-        ids.append(_integer(card, grids[k], "grid"))
+        ids.append(_grid_id(card, grids[k], "grid"))
         k += 1
     for node in ids:
         for c in comps:
             bulk.aset[(node, c)] = where
+    if len(bulk.aset) > MAX_FE_DOF:
+        raise FileFormatError(
+            f"{card.name}: the ASET entries name more than {MAX_FE_DOF:,} DOF (the input limit)",
+            card.line,
+        )
+
+
+def _thru(card: Card, first: int, last: int) -> range:
+    """The grids after `first` up to `last` of `first THRU last`, at most MAX_FE_DOF // 6."""
+    if last <= first:
+        raise FileFormatError(
+            f"{card.name}: {first} THRU {last}: expected THRU to a larger grid id", card.line
+        )
+    if last - first > MAX_FE_DOF // 6:
+        raise FileFormatError(
+            f"{card.name}: {first} THRU {last} names {last - first + 1:,} grids: at most "
+            f"{MAX_FE_DOF // 6:,} (the input limit of {MAX_FE_DOF:,} DOF)",
+            card.line,
+        )
+    return range(first + 1, last + 1)
 
 
 def read_bulk(paths: list[Path]) -> BulkData:
@@ -186,6 +222,9 @@ def read_bulk(paths: list[Path]) -> BulkData:
     FileFormatError naming the file and line of the first entry that cannot be read."""
     bulk = BulkData()
     for path in dict.fromkeys(paths):
+        too_large = file_size_problem(path)
+        if too_large is not None:
+            raise FileFormatError(too_large, 0, Path(path))
         text = Path(path).read_text(encoding="utf-8", errors="replace")
         try:
             for card in parse_cards(text):

@@ -94,8 +94,9 @@ def negative_pivots(matrix: sp.spmatrix) -> int | None:
     return int(np.count_nonzero(lu.U.diagonal() < 0.0))
 
 
-def definiteness_problem(mass: sp.spmatrix, what: str) -> str | None:
-    """Why the (symmetric) mass matrix is not positive semi-definite, or None. Scaled to a
+def definiteness_problem(mass: sp.spmatrix, what: str, quantity: str = "mass") -> str | None:
+    """Why the (symmetric) mass (or stiffness: `quantity`) matrix is not positive
+    semi-definite, or None. Scaled to a
     unit diagonal (S = D^-1/2 M D^-1/2, rows without mass left out), S + 1e-9 I must be
     positive definite: no eigenvalue of S below -1e-9. A zero matrix, or a row with
     coupling terms but no diagonal term, is refused too. Up to 1500 DOF the lowest
@@ -104,7 +105,7 @@ def definiteness_problem(mass: sp.spmatrix, what: str) -> str | None:
     mass = sp.csr_matrix(mass)
     diagonal = mass.diagonal()
     if not np.any(diagonal != 0.0):
-        return f"{what} has no diagonal term: the component has no mass"
+        return f"{what} has no diagonal term: the component has no {quantity}"
     empty = diagonal == 0.0
     coupled = np.flatnonzero(empty & (np.asarray(abs(mass).sum(axis=1)).ravel() > 0.0))
     if coupled.size:
@@ -118,7 +119,7 @@ def definiteness_problem(mass: sp.spmatrix, what: str) -> str | None:
             return None
         return (
             f"{what} is not positive semi-definite: eigenvalue {lowest:.6g} of the matrix "
-            "scaled to a unit diagonal (a negative mass or inertia)"
+            f"scaled to a unit diagonal (a negative {quantity})"
         )
     negative = negative_pivots(scaled + DEFINITENESS_TOLERANCE * sp.identity(len(kept)))
     if negative is None:

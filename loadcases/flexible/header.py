@@ -14,8 +14,11 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
+from loadcases.foundation.clip import describe_character, hidden_character
 from loadcases.foundation.diagnostics import Diagnostic, InputError, Severity
-from loadcases.foundation.limits import local_path_problem
+from loadcases.foundation.limits import MAX_YAML_DEPTH, local_path_problem
 
 __all__ = ["FORMATS", "HEADER_KEYS", "Header", "KeyPath", "load_header"]
 
@@ -35,6 +38,7 @@ HEADER_KEYS = (
     "bulk",
 )
 MAX_HEADER_BYTES = 10_000_000  # a header is a few lines; this refuses a matrix by mistake
+_STRING = re.compile(r'"(?:[^"\\]|\\.)*"')
 
 
 def _key_text(path: KeyPath) -> str:
@@ -108,7 +112,11 @@ class Header:
         """The file `name` (relative to the header's folder, staying inside it) given at
         `path`, or None with a problem if it is not a usable file name."""
         if not isinstance(name, str) or not name.strip():
-            self.problem(path, f"expected a file name, got {json.dumps(name)}")
+            self.problem(path, f"expected a file name, got {json.dumps(name)[:80]}")
+            return None
+        hidden = hidden_character(name)
+        if hidden is not None:
+            self.problem(path, f"{describe_character(hidden)} in a file name")
             return None
         folder = self.path.parent
         reason = local_path_problem(name.strip(), folder, "the header file")
@@ -132,6 +140,10 @@ def load_header(path: Path) -> Header:
         text = path.read_text(encoding="utf-8-sig")
     except (OSError, UnicodeDecodeError) as error:
         raise _error(path, f"cannot read the header: {error}") from None
+    deep = _too_deep(text)
+    if deep is not None:
+        line, column = deep
+        raise _error(path, f"nested more than {MAX_YAML_DEPTH} levels deep", line, column)
     try:
         data = json.loads(text)
     except json.JSONDecodeError as error:
@@ -148,6 +160,21 @@ def load_header(path: Path) -> Header:
         header.problem(("format",), f"format: one of {', '.join(FORMATS)} ({got})")
     header.stop_if_errors()
     return header
+
+
+def _too_deep(text: str) -> tuple[int, int] | None:
+    """(line, column) where the JSON text opens its (MAX_YAML_DEPTH + 1)th nested level,
+    or None: checked before the parser, whose recursion it would exhaust."""
+    blanked = _STRING.sub(lambda m: '""'.ljust(len(m.group(0))), text)
+    opens = np.frombuffer(blanked.encode("utf-32-le"), dtype=np.uint32)
+    steps = np.isin(opens, (ord("["), ord("{"))).astype(np.int64)
+    steps -= np.isin(opens, (ord("]"), ord("}")))
+    deep = np.flatnonzero(np.cumsum(steps) > MAX_YAML_DEPTH)
+    if deep.size == 0:
+        return None
+    at = int(deep[0])
+    line_start = text.rfind("\n", 0, at) + 1
+    return text.count("\n", 0, at) + 1, at - line_start + 1
 
 
 def _error(path: Path, message: str, line: int = 0, column: int = 0) -> InputError:

@@ -17,9 +17,11 @@ from typing import Any
 import numpy as np
 import scipy.sparse as sp
 
+from loadcases.flexible.bounds import file_size_problem, shape_limit_problem, terms_problem
 from loadcases.flexible.header import Header
 from loadcases.flexible.raw import RawModel
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
+from loadcases.foundation.limits import MAX_FE_FILE_BYTES, local_path_problem
 from mechlib.flexible.fe_model import FEModel
 
 __all__ = ["MATRICES", "npz_source", "write_neutral"]
@@ -34,12 +36,23 @@ def _csr(arrays: Any, name: str) -> sp.csr_matrix:
     missing = [f"{name}_{part}" for part in _CSR_PARTS if f"{name}_{part}" not in arrays]
     if missing:
         raise ValueError(f"missing arrays {', '.join(missing)}")
-    shape = tuple(int(s) for s in np.asarray(arrays[f"{name}_shape"]).ravel())
-    if len(shape) != 2:
-        raise ValueError(f"{name}_shape: expected 2 numbers, got {len(shape)}")
+    given = np.asarray(arrays[f"{name}_shape"])
+    if given.dtype.kind not in "iu" or given.size != 2:
+        raise ValueError(f"{name}_shape: expected 2 integers, got {given.dtype} {given.shape}")
+    shape = (int(given.ravel()[0]), int(given.ravel()[1]))
+    problem = shape_limit_problem(*shape)
+    if problem is not None:
+        raise ValueError(f"{name}_shape: {problem}")
+    data = np.asarray(arrays[f"{name}_data"])
+    too_many = terms_problem(data.size, data.size, "terms")
+    if too_many is not None:
+        raise ValueError(f"{name}_data: {too_many}")
+    if data.dtype.kind not in "fiu":
+        kind = "complex numbers" if data.dtype.kind == "c" else f"type {data.dtype}"
+        raise ValueError(f"{name}_data: {kind}: expected real numbers")
     matrix = sp.csr_matrix(
         (
-            np.asarray(arrays[f"{name}_data"], dtype=float),
+            data.astype(float),
             np.asarray(arrays[f"{name}_indices"]),
             np.asarray(arrays[f"{name}_indptr"]),
         ),
@@ -57,21 +70,43 @@ def _node_arrays(arrays: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     ids, xyz, dofs = (np.asarray(arrays[k]) for k in ("node_ids", "coordinates", "dof_map"))
     if ids.ndim != 1 or ids.dtype.kind not in "iu":
         raise ValueError(f"node_ids: expected integers (n,), got {ids.dtype} {ids.shape}")
-    if xyz.shape != (len(ids), 3):
-        raise ValueError(f"coordinates: expected ({len(ids)}, 3), got {xyz.shape}")
+    if xyz.shape != (len(ids), 3) or xyz.dtype.kind not in "fiu":
+        raise ValueError(
+            f"coordinates: expected real numbers ({len(ids)}, 3), got {xyz.dtype} {xyz.shape}"
+        )
     if dofs.ndim != 2 or dofs.shape[1] != 2 or dofs.dtype.kind not in "iu":
         raise ValueError(f"dof_map: expected integers (ndof, 2), got {dofs.dtype} {dofs.shape}")
     return ids.astype(np.int64), xyz.astype(float), dofs.astype(np.int64)
+
+
+def _check_members(path: Path) -> None:
+    """The npz file and each array it holds within MAX_FE_FILE_BYTES once unpacked, read
+    from the zip directory before anything is unpacked; ValueError otherwise."""
+    too_large = file_size_problem(path)
+    if too_large is not None:
+        raise ValueError(too_large)
+    with zipfile.ZipFile(path) as archive:
+        unpacked = sum(member.file_size for member in archive.infolist())
+    if unpacked > MAX_FE_FILE_BYTES:
+        raise ValueError(
+            f"its arrays unpack to {unpacked:,} bytes: at most {MAX_FE_FILE_BYTES:,} "
+            "(the input limit of one file)"
+        )
 
 
 def npz_source(header: Header) -> RawModel | None:
     """The arrays of `NAME.npz` beside the header `NAME.json`; None with a problem naming
     the npz file if they cannot be read."""
     path = header.path.with_suffix(".npz")
+    outside = local_path_problem(path.name, header.path.parent, "the header file")
+    if outside is not None:
+        header.problem(("format",), f"format npz: the arrays file {outside}")
+        return None
     if not path.is_file():
         header.problem(("format",), f"format npz: the arrays file {path} is missing")
         return None
     try:
+        _check_members(path)
         with np.load(path, allow_pickle=False) as arrays:
             ids, xyz, dofs = _node_arrays(arrays)
             stiffness, mass = (_csr(arrays, name) for name in MATRICES)

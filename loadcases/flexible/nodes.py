@@ -15,7 +15,9 @@ from pathlib import Path
 
 import numpy as np
 
+from loadcases.flexible.bounds import node_id_problem
 from loadcases.flexible.header import Header
+from loadcases.foundation.clip import describe_character, hidden_character
 
 __all__ = ["NodeTable", "read_dofs", "read_nodes", "six_per_node"]
 
@@ -43,9 +45,14 @@ def _rows(header: Header, path: Path) -> list[tuple[int, list[str]]] | None:
         header.in_file(path, f"not UTF-8 text ({error.reason})")
         return None
     rows = []
-    for number, cells in enumerate(csv.reader(text.splitlines()), start=1):
-        if cells and any(c.strip() for c in cells):
-            rows.append((number, [c.strip() for c in cells]))
+    reader = csv.reader(text.splitlines())
+    try:
+        for number, cells in enumerate(reader, start=1):
+            if cells and any(c.strip() for c in cells):
+                rows.append((number, [c.strip() for c in cells]))
+    except csv.Error as error:
+        header.in_file(path, f"not a CSV table: {error}", line=reader.line_num)
+        return None
     if not rows:
         header.in_file(path, "empty file: expected a header row")
         return None
@@ -75,13 +82,19 @@ def _number(
     header: Header, path: Path, line: int, text: str, column: str, integer: bool
 ) -> float | None:
     try:
+        if not text.isascii():  # Python reads Arabic-Indic and other digits as numbers
+            raise ValueError(text)
         value = int(text) if integer else float(text)
     except ValueError:
         kind = "an integer" if integer else "a number"
         header.in_file(path, f"expected {kind}, got '{text[:40]}'", line=line, key=column)
         return None
     if not math.isfinite(value):
-        header.in_file(path, f"expected a finite number, got '{text}'", line=line, key=column)
+        header.in_file(path, f"expected a finite number, got '{text[:40]}'", line=line, key=column)
+        return None
+    wrong = node_id_problem(value) if column in ("id", "node") else None
+    if wrong is not None:
+        header.in_file(path, wrong, line=line, key=column)
         return None
     return value
 
@@ -114,6 +127,12 @@ def read_nodes(header: Header, path: Path) -> NodeTable | None:
         ids.append(int(node))
         xyz.append([float(a) for a in at if a is not None])
         name = cells[index["name"]] if "name" in index else ""
+        hidden = hidden_character(name)
+        if hidden is not None:
+            header.in_file(
+                path, f"{describe_character(hidden)} in a node name", line=line, key="name"
+            )
+            continue
         if name:
             names[name] = int(node)
     if not ids:

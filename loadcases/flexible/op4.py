@@ -24,11 +24,13 @@ from pathlib import Path
 import numpy as np
 import scipy.sparse as sp
 
+from loadcases.flexible.bounds import file_size_problem, shape_limit_problem, terms_problem
 from loadcases.flexible.values import FileFormatError, nastran_real
 
 __all__ = ["Op4Matrix", "read_op4"]
 
 _FORMAT = re.compile(r"(\d+)\s*[EDGF]\s*(\d+)\.(\d+)", re.IGNORECASE)
+_INTEGER = re.compile(r"^\s*[-+]?\d+$")
 _INTEGERS = re.compile(r"^\s*[-+]?\d+(\s+[-+]?\d+)*\s*$")
 _DUMMY = re.compile(r"^[\s\d.EeDd+-]*[.EeDd][\s\d.EeDd+-]*$")  # real numbers only
 _REAL_TYPES = {1: "single", 2: "double"}
@@ -55,6 +57,10 @@ class _Terms:
 
     def add(self, first_row: int, col: int, values: np.ndarray, where: str) -> None:
         """Values of rows first_row, first_row+1, ... (1-based) of column col (1-based)."""
+        if not 1 <= col <= self.shape[1]:
+            raise FileFormatError(
+                f"{where}: matrix {self.name}: column {col} outside its {self.shape[1]} columns"
+            )
         if first_row < 1 or first_row - 1 + len(values) > self.shape[0]:
             raise FileFormatError(
                 f"{where}: matrix {self.name}: rows {first_row}-{first_row + len(values) - 1} "
@@ -74,6 +80,9 @@ class _Terms:
 def read_op4(path: Path) -> dict[str, Op4Matrix]:
     """Every matrix of the OP4 file by its upper-case name (the first of a repeated name);
     FileFormatError (with the line or byte where it went wrong) if the file is not one."""
+    too_large = file_size_problem(path)
+    if too_large is not None:
+        raise FileFormatError(too_large)
     data = Path(path).read_bytes()
     if len(data) >= 4 and _binary_layout(data) is not None:
         return _read_binary(data)
@@ -90,6 +99,9 @@ def read_op4(path: Path) -> dict[str, Op4Matrix]:
 def _ints(line: str, count: int, number: int) -> list[int]:
     """The first `count` integers of an integer line (fixed I8 fields or blank-separated)."""
     parts = line.split()
+    if len(parts) < count and _INTEGERS.match(line):  # I8 fields that fill their width
+        parts = [line[k : k + 8] for k in range(0, 8 * count, 8)]
+        parts = parts if all(_INTEGER.match(p) for p in parts) else line.split()
     if len(parts) < count or not _INTEGERS.match(line):
         raise FileFormatError(f"expected {count} integers, got '{line.strip()[:60]}'", number)
     return [int(p) for p in parts[:count]]
@@ -100,6 +112,9 @@ class _AsciiLines:
 
     def __init__(self, lines: list[str]) -> None:
         self.lines, self.at = lines, 0
+        # characters from line i to the end: how many values the rest can hold (a line
+        # holds ceil(len / width) cells at most)
+        self.after = np.cumsum([len(line) for line in reversed(lines)])[::-1].tolist() + [0]
 
     def next(self) -> tuple[int, str]:
         while self.at < len(self.lines) and not self.lines[self.at].strip():
@@ -122,7 +137,12 @@ class _AsciiLines:
             self.at = at + 1
 
     def values(self, count: int, width: int) -> np.ndarray:
-        """`count` fixed-width numbers from the following lines."""
+        """`count` fixed-width numbers from the following lines (at most what they can
+        hold, checked first)."""
+        room = self.after[self.at] // width + len(self.lines) - self.at
+        problem = terms_problem(count, room, "values")
+        if problem is not None:
+            raise FileFormatError(problem, self.at)
         found: list[float] = []
         while len(found) < count:
             number, line = self.next()
@@ -148,8 +168,12 @@ def _ascii_header(number: int, line: str) -> tuple[int, int, int, int, str, int]
         ) from None
     name = line[32:40].strip().upper()
     match = _FORMAT.search(line[40:])
-    if match is None:
-        raise FileFormatError(f"matrix {name}: no number format (like 1P,3E23.16)", number)
+    if match is None or int(match.group(2)) < 1:
+        raise FileFormatError(
+            f"matrix {name}: no usable number format (like 1P,3E23.16: a width of at least 1)",
+            number,
+        )
+    _check_sizes(name, ncol, nrow, number)
     return ncol, nrow, form, kind, name, int(match.group(2))
 
 
@@ -174,21 +198,42 @@ def _read_ascii(lines: list[str]) -> dict[str, Op4Matrix]:
             bigmat = nrow < 0 or abs(nrow) >= 65536
             while nw > 0:
                 number, line = source.next()
-                first, size, used = _string_header(line, number, bigmat)
+                first, size, used = _string_header(line, number, bigmat, words)
                 terms.add(first, col, source.values(size // words, width), f"line {number}")
                 nw -= used
         found.setdefault(name, Op4Matrix(name, form, terms.matrix()))
     return found
 
 
-def _string_header(line: str, number: int, bigmat: bool) -> tuple[int, int, int]:
+def _string_header(line: str, number: int, bigmat: bool, words: int) -> tuple[int, int, int]:
     """(first row, words of values, words used with the header) of a sparse string."""
     if bigmat:
         length, first = _ints(line, 2, number)
-        return first, length - 1, length + 1
-    (packed,) = _ints(line, 1, number)
-    length = (packed >> 16) - 1
-    return packed - ((length + 1) << 16), length, length + 1
+        size, used = length - 1, length + 1
+    else:
+        (packed,) = _ints(line, 1, number)
+        size = (packed >> 16) - 1
+        first, used = packed - ((size + 1) << 16), size + 1
+    if size < words or size % words:
+        raise FileFormatError(
+            f"a sparse string of {size} words: expected a positive multiple of {words} "
+            "(the words of one value)",
+            number,
+        )
+    return first, size, used
+
+
+def _check_sizes(name: str, ncol: int, nrow: int, where: int | str) -> None:
+    """NCOL and |NROW| of a matrix header within the input limits (before any allocation);
+    `where` a line number (ASCII) or a byte text (binary)."""
+    problem = shape_limit_problem(abs(nrow), ncol)
+    if problem is None:
+        return
+    if ncol < 1:
+        problem = f"NCOL {ncol}: expected a positive number of columns"
+    at = where if isinstance(where, int) else 0
+    prefix = "" if isinstance(where, int) else f"{where}: "
+    raise FileFormatError(f"{prefix}matrix {name}: {problem}", at)
 
 
 def _check_type(name: str, kind: int, where: int) -> None:
@@ -213,10 +258,11 @@ class _Records:
     """The Fortran records of a binary file."""
 
     def __init__(self, data: bytes, order: str) -> None:
-        self.data, self.order, self.at = data, order, 0
+        self.data, self.order, self.at, self.start = data, order, 0, 0
 
-    def next(self) -> bytes:
-        start = self.at
+    def next(self, least: int = 0) -> bytes:
+        """The next record (at least `least` bytes long); its offset in `self.start`."""
+        start = self.start = self.at
         if start + 4 > len(self.data):
             raise FileFormatError(f"file ends inside a matrix (byte {start})")
         (size,) = struct.unpack(self.order + "i", self.data[start : start + 4])
@@ -226,6 +272,10 @@ class _Records:
         (trailer,) = struct.unpack(self.order + "i", self.data[end : end + 4])
         if trailer != size:
             raise FileFormatError(f"record at byte {start}: length markers disagree")
+        if size < least:
+            raise FileFormatError(
+                f"record at byte {start}: {size} bytes, expected at least {least}"
+            )
         self.at = end + 4
         return self.data[start + 4 : end]
 
@@ -241,36 +291,53 @@ def _read_binary(data: bytes) -> dict[str, Op4Matrix]:
     records = _Records(data, order)
     found: dict[str, Op4Matrix] = {}
     while not records.done():
-        head = records.next()
+        head = records.next(4 * isize)
         ncol, nrow, form, kind = struct.unpack(f"{order}4{letter}", head[: 4 * isize])
         name = head[4 * isize :].decode("ascii", "replace").strip(" \0").upper()
-        _check_type(name, kind, 0)
+        where = f"record at byte {records.start}"
+        try:
+            _check_type(name, kind, 0)
+        except FileFormatError as error:
+            raise FileFormatError(f"{where}: {error.message}") from None
+        _check_sizes(name, ncol, nrow, where)
         real = np.dtype(order + ("f4" if kind == 1 and isize == 4 else "f8"))
         words = real.itemsize // isize  # words of one value
         terms = _Terms(name, abs(nrow), ncol)
         bigmat = nrow < 0 or abs(nrow) >= 65536
         while True:
-            body = records.next()
+            body = records.next(3 * isize)
             col, row, nw = struct.unpack(f"{order}3{letter}", body[: 3 * isize])
             if col > ncol:
                 break
             rest = body[3 * isize :]
+            where = f"record at byte {records.start}"
             if row > 0:
-                terms.add(row, col, np.frombuffer(rest, real, nw // words), f"column {col}")
+                if nw < 0 or nw // words * real.itemsize > len(rest):
+                    raise FileFormatError(
+                        f"{where}: column {col} of {nw} words, but the record holds "
+                        f"{len(rest) // isize} words of values"
+                    )
+                terms.add(row, col, np.frombuffer(rest, real, nw // words), where)
             else:
-                _binary_strings(terms, rest, col, (order, isize, real, words, bigmat))
+                _binary_strings(terms, rest, col, (order, isize, real, words, bigmat), where)
         found.setdefault(name, Op4Matrix(name, form, terms.matrix()))
     return found
 
 
 def _binary_strings(
-    terms: _Terms, rest: bytes, col: int, layout: tuple[str, int, np.dtype, int, bool]
+    terms: _Terms,
+    rest: bytes,
+    col: int,
+    layout: tuple[str, int, np.dtype, int, bool],
+    where: str,
 ) -> None:
-    """The sparse strings of one binary column record."""
+    """The sparse strings of one binary column record (`where` its byte offset)."""
     order, isize, real, words, bigmat = layout
     letter = "i" if isize == 4 else "q"
     at = 0
     while at < len(rest):
+        if at + (2 if bigmat else 1) * isize > len(rest):
+            raise FileFormatError(f"{where}: column {col}: a string header runs past the record")
         if bigmat:
             length, first = struct.unpack(f"{order}2{letter}", rest[at : at + 2 * isize])
             size, at = length - 1, at + 2 * isize
@@ -281,7 +348,7 @@ def _binary_strings(
         count = size // words
         if size < 0 or at + count * real.itemsize > len(rest):
             raise FileFormatError(
-                f"matrix {terms.name}: column {col}: a string runs past its record"
+                f"{where}: matrix {terms.name}: column {col}: a string runs past its record"
             )
-        terms.add(first, col, np.frombuffer(rest, real, count, at), f"column {col}")
+        terms.add(first, col, np.frombuffer(rest, real, count, at), where)
         at += count * real.itemsize

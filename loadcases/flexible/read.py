@@ -15,13 +15,16 @@ from pathlib import Path
 
 import numpy as np
 
-from loadcases.flexible import checks
+from loadcases.flexible import checks, solvable
+from loadcases.flexible.bounds import node_id_problem
 from loadcases.flexible.header import Header, load_header
 from loadcases.flexible.neutral import npz_source
 from loadcases.flexible.raw import RawModel
 from loadcases.flexible.scales import Scales, read_scales, to_si_matrix
 from loadcases.flexible.sources import dmig_source, matrix_market_source, op4_source
+from loadcases.foundation.clip import describe_character, hidden_character, visible
 from loadcases.foundation.diagnostics import Diagnostic
+from loadcases.foundation.limits import MAX_NODE_ID
 from mechlib.flexible.fe_model import FEModel
 
 __all__ = ["FEImport", "read_fe_model"]
@@ -170,6 +173,9 @@ def _model(
 ) -> tuple[FEModel | None, dict[str, int], float]:
     """The checked FEModel (SI), node names and WTMASS; problems recorded on the header."""
     ids = np.asarray(raw.node_ids, dtype=np.int64)
+    _check_nodes(header, raw, ids)
+    if header.errors:
+        return None, {}, 1.0
     index = {int(n): i for i, n in enumerate(ids)}
     if len(index) != len(ids):
         header.in_file(raw.stiffness_file, "a node id is given twice")
@@ -190,13 +196,51 @@ def _model(
     rotational = dof_map[:, 1] >= 3
     stiffness = to_si_matrix(raw.stiffness, rotational, scales, "stiffness")
     mass = to_si_matrix(raw.mass, rotational, scales, "mass") * wtmass
+    coordinates = np.asarray(raw.coordinates, dtype=float) * scales.length
+    _check_si(header, raw, (stiffness, mass, coordinates), scales)
+    if header.errors:
+        return None, {}, wtmass
     _check_matrices(header, raw, stiffness, mass)
     names = _names(header, raw, index)
     interface = _interface(header, raw, index, names, dof_map)
     if header.errors or interface is None:
         return None, names, wtmass
-    coordinates = np.asarray(raw.coordinates, dtype=float) * scales.length
-    return FEModel(ids, coordinates, dof_map, stiffness, mass, interface), names, wtmass
+    model = FEModel(ids, coordinates, dof_map, stiffness, mass, interface)
+    _check_solvable(header, raw, model)
+    return (None if header.errors else model), names, wtmass
+
+
+def _check_nodes(header: Header, raw: RawModel, ids: np.ndarray) -> None:
+    """Node ids in range and finite coordinates, whatever the format read them."""
+    where = raw.files[-1] if raw.files else raw.stiffness_file
+    bad = np.flatnonzero((ids < 1) | (ids > MAX_NODE_ID))
+    if bad.size:
+        header.in_file(where, f"node {node_id_problem(int(ids[bad[0]]))}")
+    xyz = np.asarray(raw.coordinates, dtype=float)
+    if xyz.shape != (len(ids), 3):
+        header.in_file(where, f"coordinates: expected ({len(ids)}, 3), got {xyz.shape}")
+    elif not np.all(np.isfinite(xyz)):
+        row = int(np.flatnonzero(~np.all(np.isfinite(xyz), axis=1))[0])
+        header.in_file(
+            where, f"coordinates of node {int(ids[row])}: expected finite numbers, got {xyz[row]}"
+        )
+
+
+def _check_si(header: Header, raw: RawModel, arrays: tuple, scales: Scales) -> None:
+    """The matrices and coordinates still finite once in SI (units such as `1e300 m`
+    scale finite file values beyond float range)."""
+    stiffness, mass, coordinates = arrays
+    for values, path, what in (
+        (stiffness.data, raw.stiffness_file, "the stiffness matrix"),
+        (mass.data, raw.mass_file, "the mass matrix"),
+        (coordinates, raw.files[-1] if raw.files else raw.stiffness_file, "the coordinates"),
+    ):
+        if not np.all(np.isfinite(values)):
+            header.problem(
+                ("units",),
+                f"{what} of {path.name} overflow once in SI (units {scales.text()}): "
+                "check the units",
+            )
 
 
 def _check_matrices(header: Header, raw: RawModel, stiffness: object, mass: object) -> None:
@@ -213,13 +257,39 @@ def _check_matrices(header: Header, raw: RawModel, stiffness: object, mass: obje
                 header.in_file(path, problem)
     if header.errors:
         return
-    try:
-        problem = checks.definiteness_problem(mass, "the mass matrix")
-    except (ArithmeticError, ValueError, RuntimeError) as error:  # ARPACK did not converge
-        header.warn(("mass",), f"the mass matrix could not be checked for definiteness: {error}")
+    for matrix, path, what, quantity in (
+        (mass, raw.mass_file, "the mass matrix", "mass or inertia"),
+        (stiffness, raw.stiffness_file, "the stiffness matrix", "stiffness"),
+    ):
+        try:
+            problem = checks.definiteness_problem(matrix, what, quantity)
+        except (ArithmeticError, ValueError, RuntimeError) as error:  # off-diagonal pivots
+            key = "mass" if matrix is mass else "stiffness"
+            header.warn((key,), f"{what} could not be checked for definiteness: {error}")
+            continue
+        if problem is not None:
+            header.in_file(path, problem)
+
+
+def _check_solvable(header: Header, raw: RawModel, model: FEModel) -> None:
+    """What the eigen-solvers after the import need (`solvable`), as problems of the
+    matrix files: six rigid-body modes, K and M definite with the interface held, mass on
+    the translations of a part's scale."""
+    for path, problem in (
+        (raw.stiffness_file, solvable.rigid_body_problem(model)),
+        (raw.mass_file, solvable.translation_mass_problem(model)),
+    ):
+        if problem is not None:
+            header.in_file(path, problem)
+    if header.errors:
         return
-    if problem is not None:
-        header.in_file(raw.mass_file, problem)
+    for matrix, path, what in (
+        (model.stiffness, raw.stiffness_file, "the stiffness matrix"),
+        (model.mass, raw.mass_file, "the mass matrix"),
+    ):
+        problem = solvable.interior_problem(model, matrix, what)
+        if problem is not None:
+            header.in_file(path, problem)
 
 
 def _names(header: Header, raw: RawModel, index: dict[int, int]) -> dict[str, int]:
@@ -230,6 +300,13 @@ def _names(header: Header, raw: RawModel, index: dict[int, int]) -> dict[str, in
         given = {}
     names: dict[str, int] = {}
     for name, node in [*raw.node_names.items(), *given.items()]:
+        hidden = hidden_character(name)
+        if hidden is not None:
+            header.problem(
+                ("node_names",),
+                f"{describe_character(hidden)} in the node name '{visible(name)[:40]}'",
+            )
+            continue
         if isinstance(node, bool) or not isinstance(node, int) or node not in index:
             header.problem(("node_names", name), f"'{name}': no node {json.dumps(node)}")
             continue
@@ -248,13 +325,11 @@ def _interface(
         return None
     found: list[int] = []
     for i, ref in enumerate(given):
-        node = (
-            names.get(ref)
-            if isinstance(ref, str)
-            else index.get(ref)
-            if isinstance(ref, int)
-            else None
-        )
+        wrong = None if isinstance(ref, str) else node_id_problem(ref)
+        if wrong is not None:
+            header.problem(("interface", i), f"{wrong} or a node name")
+            continue
+        node = names.get(ref) if isinstance(ref, str) else index.get(ref)
         if node is None:
             header.problem(("interface", i), f"no node {json.dumps(ref)}")
             continue

@@ -61,6 +61,12 @@ def read_scales(header: Header) -> Scales | None:
             sizes[kind] = to_si(f"1 {check_unit_name(name, kind)}", kind)
         except UnitError as error:
             header.problem(("units", kind), str(error))
+            continue
+        if not 0.0 < sizes[kind] < math.inf:  # '0 s', 'mm*0', 's/1e400': conversions divide by it
+            header.problem(
+                ("units", kind),
+                f"the unit '{str(name)[:40]}' is {sizes[kind]:g} in SI: expected a positive size",
+            )
     if "length" not in units:
         header.problem(("units",), "missing unit: length")
     if "force" not in units and "mass" not in units:

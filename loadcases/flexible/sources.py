@@ -12,6 +12,7 @@ import scipy.sparse as sp
 
 from loadcases.flexible.bulk import BulkData, DmigMatrix, read_bulk
 from loadcases.flexible.header import Header
+from loadcases.flexible.market import read_matrix_market
 from loadcases.flexible.nodes import NodeTable, read_dofs, read_nodes, six_per_node
 from loadcases.flexible.op4 import Op4Matrix, read_op4
 from loadcases.flexible.raw import RawModel
@@ -57,17 +58,17 @@ def _raw(
 
 def matrix_market_source(header: Header) -> RawModel | None:
     """`stiffness` and `mass` Matrix Market files, `nodes` (and `dofs`) tables."""
-    from scipy.io import mmread
-
     matrices = []
     for name in MATRICES:
         path = header.named_file((name,), header.data.get(name))
         if path is None:
             continue
         try:
-            matrices.append((sp.csr_matrix(mmread(path)), path))
-        except (ValueError, OSError, IndexError, TypeError) as error:
-            header.in_file(path, f"not a real Matrix Market matrix: {error}")
+            matrices.append((read_matrix_market(path), path))
+        except FileFormatError as error:
+            header.in_file(path, error.message, line=error.line)
+        except OSError as error:
+            header.in_file(path, f"cannot read: {error}")
     table, dofs, read = _node_table(header)
     if header.errors or table is None or len(matrices) != 2:
         return None

@@ -12,8 +12,12 @@ from pathlib import Path
 __all__ = [
     "MAX_EXPRESSION_CHARS",
     "MAX_EXPRESSION_DEPTH",
+    "MAX_FE_DOF",
+    "MAX_FE_FILE_BYTES",
+    "MAX_FE_TERMS",
     "MAX_HARDPOINTS",
     "MAX_HARDPOINT_BYTES",
+    "MAX_NODE_ID",
     "MAX_QUANTITY_CHARS",
     "MAX_REPEATS",
     "MAX_ROWS",
@@ -43,6 +47,12 @@ MAX_EXPRESSION_CHARS = 10_000  # characters of one expression (the library's lon
 # chain such as `a + b + c` (the library's deepest: 12); its derivatives stay well inside
 # Python's recursion limit
 MAX_EXPRESSION_DEPTH = 64
+# imported flexible components (docs/flexible-bodies-import.md "Limits"): checked against a
+# file's header before anything is allocated
+MAX_FE_DOF = 1_000_000  # rows (and columns) of one stiffness or mass matrix
+MAX_FE_TERMS = 50_000_000  # stored terms of one matrix (about 1.2 GB once read)
+MAX_FE_FILE_BYTES = 2_000_000_000  # size of one matrix, bulk-data or npz file (unpacked)
+MAX_NODE_ID = 2_147_483_647  # node and grid ids are 1 to this (NASTRAN's 32-bit integers)
 MAX_QUANTITY_CHARS = 100  # characters of one quantity text such as "12 N*m/rad"
 
 
