@@ -11,6 +11,7 @@ from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.limits import rows_problem
 from loadcases.foundation.units import UnitError, to_si
 from loadcases.schema import COORDINATE_DIMENSION, KNOWN_EFFECTS, CaseModel, MechanismModel
+from loadcases.schema.case import AccuracyTarget, Analysis
 from loadcases.schema.errors import did_you_mean
 from loadcases.yamlfiles.source import KeyPath, Locator
 
@@ -166,6 +167,28 @@ def _analysis(case: CaseModel, at: Locator) -> list[Diagnostic]:
         ]
     if analysis.rho_inf is not None and not 0.0 <= analysis.rho_inf <= 1.0:
         found.append(at.diagnostic(("analysis", "rho_inf"), "must be between 0 and 1"))
+    return found + _accuracy_target(analysis, at)
+
+
+def _accuracy_target(analysis: Analysis, at: Locator) -> list[Diagnostic]:
+    """`accuracy: {target, budget: {cpu, steps, refinements}}`: a positive target, a
+    positive CPU time and step count, refinements not negative."""
+    accuracy = analysis.accuracy
+    if not isinstance(accuracy, AccuracyTarget):
+        return []
+    path = ("analysis", "accuracy")
+    found = []
+    if accuracy.target <= 0.0:
+        found.append(at.diagnostic((*path, "target"), "must be positive"))
+    budget = accuracy.budget
+    if budget is not None:
+        found += [
+            at.diagnostic((*path, "budget", key), "must be positive")
+            for key in ("cpu", "steps")
+            if getattr(budget, key) is not None and getattr(budget, key) <= 0
+        ]
+        if budget.refinements is not None and budget.refinements < 0:
+            found.append(at.diagnostic((*path, "budget", "refinements"), "must be 0 or more"))
     return found
 
 

@@ -36,23 +36,79 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.foundation import interrupts
+from loadcases.run.peak_error import extremes, peak_error
+from loadcases.schema.case import AccuracyTarget
 
 __all__ = [
     "DEFAULT_ACCURACY",
     "MAX_TIGHTENINGS",
     "AccuracyEstimate",
+    "Budget",
     "RequestError",
     "request_errors",
     "request_of",
     "request_peaks",
     "shared_rows",
     "solve_to_accuracy",
+    "target_and_budget",
 ]
 
 DEFAULT_ACCURACY = 1e-3  # of each request's peak: the sizing accuracy
-MAX_TIGHTENINGS = 2  # each halves every step: at most 1 + 1/2 + 2 + 4 = 7.5 x one run's cost
+MAX_TIGHTENINGS = 8  # default refinements: each halves every step and costs twice the last
+DEFAULT_CPU_BUDGET = 600.0  # s of CPU for the companion and the tighter runs, by default
 _ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)
 _SKIPPED = ("abscissa",)  # a set's abscissa column is not a load
+
+
+@dataclass(frozen=True)
+class Budget:
+    """What meeting a target may cost: the companion and the tighter runs together (CPU
+    s, integrator steps accepted and rejected, tighter runs); None: no limit."""
+
+    cpu_seconds: float | None = DEFAULT_CPU_BUDGET
+    steps: int | None = None
+    refinements: int = MAX_TIGHTENINGS
+
+    def summary(self) -> dict:
+        """The summary's `accuracy.budget`."""
+        return {"cpu": self.cpu_seconds, "steps": self.steps, "refinements": self.refinements}
+
+
+@dataclass
+class Spent:
+    """What the estimate and the tightening have cost so far, and the last run's cost."""
+
+    cpu_seconds: float = 0.0
+    steps: int = 0
+    last_cpu: float = 0.0
+    last_steps: int = 0
+
+    def add(self, run: ml.Solution, cpu: float, *, counted: bool, last: bool) -> None:
+        """A run solved in `cpu` s: counted unless it is the first run, the `last` run
+        (whose cost the next halving doubles) unless it is the companion."""
+        steps = run.stats.steps + run.stats.rejected_steps
+        if last:
+            self.last_cpu, self.last_steps = cpu, steps
+        if counted:
+            self.cpu_seconds += cpu
+            self.steps += steps
+
+    def exhausts(self, budget: Budget, refinements: int) -> str:
+        """Why a tighter run (twice the last one's cost) would go over `budget`; ''."""
+        if refinements >= budget.refinements:
+            return f"budget exhausted: refinements ({budget.refinements})"
+        cpu, steps = self.cpu_seconds + 2.0 * self.last_cpu, self.steps + 2 * self.last_steps
+        if budget.cpu_seconds is not None and cpu > budget.cpu_seconds:
+            return (
+                f"budget exhausted: cpu ({budget.cpu_seconds:g} s; {self.cpu_seconds:.3g} s "
+                f"spent, the next halving would take about {2.0 * self.last_cpu:.3g} s)"
+            )
+        if budget.steps is not None and steps > budget.steps:
+            return (
+                f"budget exhausted: steps ({budget.steps}; {self.steps} spent, the next "
+                f"halving would take about {2 * self.last_steps})"
+            )
+        return ""
 
 
 @dataclass(frozen=True)
@@ -61,6 +117,7 @@ class RequestError:
 
     history: float  # the largest difference over the run
     peak: float  # of its envelope: max and min
+    sampling: float = 0.0  # the part of `peak` the output interval misses between rows
 
 
 @dataclass
@@ -77,6 +134,19 @@ class AccuracyEstimate:
     note: str = ""
     warnings: list[str] = field(default_factory=list)
     estimated: bool = True  # False: no companion finished, `requests` is empty
+    budget: Budget | None = None  # None: not tightened (no target set, or a tolerance)
+    stopped_by: str = ""  # why the tightening stopped short of the target
+
+    @property
+    def outcome(self) -> str:
+        """`met`, or `not met: ` and why (the budget, which; not tightened; a failure)."""
+        if self.met is None:
+            return f"not estimated: {self.note}" if self.note else "not estimated"
+        if self.met:
+            return "met"
+        if self.budget is None:
+            return "not met: not tightened (no accuracy target in the case, or a tolerance)"
+        return f"not met: {self.stopped_by or self.note}"
 
     @property
     def met(self) -> bool | None:
@@ -94,8 +164,11 @@ class AccuracyEstimate:
             "tolerance": self.tolerance,
             "max_step": self.max_step,
             "tightenings": self.tightenings,
+            "outcome": self.outcome,
+            "budget": None if self.budget is None else self.budget.summary(),
             "estimate": {
-                name: {"history": e.history, "peak": e.peak} for name, e in self.requests.items()
+                name: {"history": e.history, "peak": e.peak, "sampling": e.sampling}
+                for name, e in self.requests.items()
             },
             "method": (
                 "estimated (Richardson): this run against a companion run with every step "
@@ -181,13 +254,14 @@ def request_errors(run: ml.Solution, companion: ml.Solution, order: int) -> dict
             continue
         x, y = values[rows], other[rows_c]
         history = float(np.nanmax(np.abs(x - y), initial=0.0))
-        peak = max(
-            abs(np.nanmax(values) - np.nanmax(other)), abs(np.nanmin(values) - np.nanmin(other))
+        peak, sampling = peak_error(
+            extremes(run.time, values), extremes(companion.time, other), order
         )
         before = out.get(name, RequestError(0.0, 0.0))
         out[name] = RequestError(
             max(before.history, scale * history / peaks[name]),
-            max(before.peak, scale * float(peak) / peaks[name]),
+            max(before.peak, peak / peaks[name]),
+            max(before.sampling, sampling / peaks[name]),
         )
     return out
 
@@ -200,17 +274,19 @@ class Solver(Protocol):
 
 
 def solve_to_accuracy(
-    solve: Solver, analysis: ml.Dynamic, target: float, *, tighten: bool
+    solve: Solver, analysis: ml.Dynamic, target: float, *, budget: Budget | None
 ) -> tuple[ml.Solution, AccuracyEstimate | None]:
-    """The run (the first that meets `target` when `tighten`) and its error estimate
-    (None when the run itself failed: a failure says its own where and why). A signal
-    during the companion or a tighter run: the last run that finished, as `interrupted`."""
-    run = solve(analysis)
+    """The run (with a `budget`: the first that meets `target`, or the last the budget
+    allowed) and its error estimate (None when the run itself failed: a failure says its
+    own where and why). A signal during the companion or a tighter run: the last run that
+    finished, as `interrupted`."""
+    spent = Spent()
+    run = _timed(solve, analysis, spent, counted=False)
     if run.status != "ok":
         return run, None
     started = clock.process_time()
     order = _order(analysis.integrator)
-    companion = _further(solve, coarser(analysis), checks=False)  # only its channels are used
+    companion = _timed(solve, coarser(analysis), spent, companion=True)
     if companion.status != "ok":
         estimate = _estimate(analysis, run, target, {}, 0, started)
         estimate.estimated = False
@@ -220,10 +296,12 @@ def solve_to_accuracy(
         estimate.note = f"not estimated: the companion run failed ({companion.message})"
         return run, estimate
     errors = request_errors(run, companion, order)
-    note, tightenings, stopped = "", 0, False
-    while tighten and tightenings < MAX_TIGHTENINGS and _worst_peak(errors) > target:
+    note, tightenings, stopped, stopped_by = "", 0, False, ""
+    while budget is not None and _worst_peak(errors) > target:
+        if stopped_by := spent.exhausts(budget, tightenings) or _between_rows(errors, target):
+            break
         finer_analysis = finer(analysis)
-        finer_run = _further(solve, finer_analysis)
+        finer_run = _timed(solve, finer_analysis, spent)
         if finer_run.status == "interrupted":
             note = f"tightening interrupted{_by()}: the estimate is of the run written"
             stopped = True
@@ -234,11 +312,46 @@ def solve_to_accuracy(
         errors = request_errors(finer_run, run, order)
         run, analysis, tightenings = finer_run, finer_analysis, tightenings + 1
     estimate = _estimate(analysis, run, target, errors, tightenings, started)
-    estimate.note = note
-    estimate.warnings = _warnings(estimate, tighten)
+    estimate.note, estimate.budget, estimate.stopped_by = note, budget, stopped_by
+    estimate.warnings = _warnings(estimate, budget is not None)
     if stopped:
         run = _interrupted(run, "a tighter run was solved to meet the accuracy target")
     return run, estimate
+
+
+def _timed(
+    solve: Solver,
+    analysis: ml.Dynamic,
+    spent: Spent,
+    *,
+    counted: bool = True,
+    companion: bool = False,
+) -> ml.Solution:
+    """A run solved and its cost added to `spent` (the first run's not `counted`); the
+    companion without the position checks after the run (only its channels are used)."""
+    started = clock.process_time()
+    run = _further(solve, analysis, checks=not companion) if counted else solve(analysis)
+    spent.add(run, clock.process_time() - started, counted=counted, last=not companion)
+    return run
+
+
+def target_and_budget(accuracy: float | AccuracyTarget | None) -> tuple[float, Budget | None]:
+    """The case's `analysis.accuracy` as a target and a budget: absent, the default target
+    estimated against (no budget: not tightened); a number, that target within the default
+    budget; a mapping, its target and budget (keys not given: the default's)."""
+    if accuracy is None:
+        return DEFAULT_ACCURACY, None
+    if not isinstance(accuracy, AccuracyTarget):
+        return float(accuracy), Budget()
+    given = accuracy.budget
+    if given is None:
+        return accuracy.target, Budget()
+    default = Budget()
+    return accuracy.target, Budget(
+        default.cpu_seconds if given.cpu is None else given.cpu,
+        given.steps,
+        default.refinements if given.refinements is None else given.refinements,
+    )
 
 
 def _further(solve: Solver, analysis: ml.Dynamic, checks: bool = True) -> ml.Solution:
@@ -267,6 +380,19 @@ def _interrupted(run: ml.Solution, during: str, *, estimated: bool = True) -> ml
         result=ml.Status.INTERRUPTED,
         message=f"{run.message}; then interrupted{_by()} while {during}: the run's "
         f"{len(run.time)} rows are kept, {error}",
+    )
+
+
+def _between_rows(errors: dict[str, RequestError], target: float) -> str:
+    """Why shorter steps cannot meet `target`: the output interval alone misses a peak by
+    more (''  when it does not)."""
+    worst = max(errors.items(), key=lambda item: item[1].sampling, default=None)
+    if worst is None or worst[1].sampling <= target:
+        return ""
+    return (
+        f"the output interval misses {worst[0]}'s peak between rows by about "
+        f"{worst[1].sampling:.2g} of the peak, more than the target: shorter steps do not "
+        "reduce that, a shorter analysis.step does"
     )
 
 
@@ -299,7 +425,8 @@ def _warnings(estimate: AccuracyEstimate, tightened: bool) -> list[str]:
     """A warning when the envelope peaks miss the target, another when time histories do."""
     out = []
     how = (
-        f"after {estimate.tightenings} tightenings (tolerance {estimate.tolerance:.3g})"
+        f"after {estimate.tightenings} tightenings (tolerance {estimate.tolerance:.3g}"
+        f"{'; ' + estimate.stopped_by if estimate.stopped_by else ''})"
         if tightened
         else f"at tolerance {estimate.tolerance:.3g} (not tightened)"
     )
