@@ -11,13 +11,16 @@ of the true error (pendulum, heavy top, latch: tests/verification/test_global_er
 through impacts and chaotic motion it is an order of magnitude at best, and said to be.
 
 Two errors per request: `history`, the largest difference over the run (a time shift of a
-peak counts in full), and `peak`, the error of its envelope (largest max or min
-difference), the quantity sizing uses. When the case sets `accuracy` and leaves the
-tolerance to the engine, a run whose estimate misses the target is solved again with every
+peak counts in full; the column's range once the companion has lost the phase), and
+`peak`, the error of its envelope (loadcases.run.peak_error: the crest's error and the
+rows' miss of it), the quantity sizing uses. When the case sets `accuracy` and leaves the
+tolerance to the engine, a run whose envelope misses the target is solved again with every
 step halved (tolerance / 2^(p+1), largest step / 2), the previous run becoming the
-companion, up to `MAX_TIGHTENINGS` times; the summary says what was reached. Without
-`accuracy` the default target is only estimated against and warned about: tightening costs
-up to 7.5 runs, which a case asks for, not every case.
+companion, until it meets the target, the next halving would go over the budget (`Budget`:
+CPU, steps, refinements) or the output interval alone misses the target (no step helps);
+the summary's `outcome` says which. Without `accuracy` the default target is only
+estimated against and warned about: each halving costs twice the last run, which a case
+asks for, not every case.
 
 A signal (SIGINT, SIGTERM) that stops the companion or a tighter run leaves the run written
 with status `interrupted` (a set never reuses it as good): its rows are those of the last
@@ -58,6 +61,7 @@ MAX_TIGHTENINGS = 8  # default refinements: each halves every step and costs twi
 DEFAULT_CPU_BUDGET = 600.0  # s of CPU for the companion and the tighter runs, by default
 _ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)
 _SKIPPED = ("abscissa",)  # a set's abscissa column is not a load
+PHASE_LOST = 0.9  # of a column's range: the companion's difference past it, phase lost
 
 
 @dataclass(frozen=True)
@@ -252,18 +256,35 @@ def request_errors(run: ml.Solution, companion: ml.Solution, order: int) -> dict
         name, other = request_of(column), companion.channels.get(column)
         if name in _SKIPPED or other is None or peaks[name] == 0.0 or not len(rows):
             continue
-        x, y = values[rows], other[rows_c]
-        history = float(np.nanmax(np.abs(x - y), initial=0.0))
+        history = _history_error(values[rows], other[rows_c], scale)
         peak, sampling = peak_error(
             extremes(run.time, values), extremes(companion.time, other), order
         )
         before = out.get(name, RequestError(0.0, 0.0))
         out[name] = RequestError(
-            max(before.history, scale * history / peaks[name]),
+            max(before.history, history / peaks[name]),
             max(before.peak, peak / peaks[name]),
             max(before.sampling, sampling / peaks[name]),
         )
     return out
+
+
+def _history_error(run: np.ndarray, companion: np.ndarray, scale: float) -> float:
+    """The run's largest error over its rows (the column's unit): Richardson's
+    |run - companion| / (2^p - 1) while that difference stays below `PHASE_LOST` of the
+    column's range; beyond, the range. Richardson's premise (the companion's error 2^p
+    times the run's) holds for a phase error while it is small: for an oscillation of
+    amplitude A whose phase errors are f and 4 f, the difference is 2 A |sin(3 f / 2)| and
+    the error 2 A |sin(f / 2)|. When the difference reaches 0.9 of the range 2 A (3 f / 2 =
+    1.12 rad), Richardson reads 0.82 of the error and the range 2.7 times it; past that the
+    difference folds back (the companion a whole period off reads no error at all), and
+    the run's phase, hence its error, is known only to within the range (a steady offset
+    between the two on a column that hardly moves keeps Richardson's value: the larger)."""
+    difference = float(np.nanmax(np.abs(run - companion), initial=0.0))
+    finite = run[np.isfinite(run)]
+    spread = float(finite.max() - finite.min()) if len(finite) else 0.0
+    lost = difference >= PHASE_LOST * spread
+    return max(scale * difference, spread if lost else 0.0)
 
 
 class Solver(Protocol):
