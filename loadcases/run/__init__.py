@@ -85,12 +85,13 @@ def _solve(
     accuracy = cf.case.analysis.accuracy
     if not isinstance(built.analysis, ml.Dynamic) or accuracy == "off":
         return solve(built.analysis), None
-    target, budget = target_and_budget(accuracy)
+    target, budget, measure = target_and_budget(accuracy)
     return solve_to_accuracy(
         solve,
         built.analysis,
         target,
         budget=budget if cf.case.analysis.tolerance is None else None,
+        measure=measure,
     )
 
 

@@ -140,6 +140,7 @@ class AccuracyEstimate:
     estimated: bool = True  # False: no companion finished, `requests` is empty
     budget: Budget | None = None  # None: not tightened (no target set, or a tolerance)
     stopped_by: str = ""  # why the tightening stopped short of the target
+    measure: str = "peaks"  # what must meet the target: envelope peaks or time histories
 
     @property
     def outcome(self) -> str:
@@ -154,10 +155,11 @@ class AccuracyEstimate:
 
     @property
     def met(self) -> bool | None:
-        """Every envelope peak within the target; None when nothing was estimated."""
+        """Every envelope peak (or time history, as `measure` says) within the target; None
+        when nothing was estimated."""
         if not self.estimated:
             return None
-        return bool(_worst_peak(self.requests) <= self.target)
+        return bool(_worst(self.requests, self.measure) <= self.target)
 
     def summary(self) -> dict:
         """The summary's `accuracy` block."""
@@ -169,6 +171,7 @@ class AccuracyEstimate:
             "max_step": self.max_step,
             "tightenings": self.tightenings,
             "outcome": self.outcome,
+            "measure": self.measure,
             "budget": None if self.budget is None else self.budget.summary(),
             "estimate": {
                 name: {"history": e.history, "peak": e.peak, "sampling": e.sampling}
@@ -295,12 +298,17 @@ class Solver(Protocol):
 
 
 def solve_to_accuracy(
-    solve: Solver, analysis: ml.Dynamic, target: float, *, budget: Budget | None
+    solve: Solver,
+    analysis: ml.Dynamic,
+    target: float,
+    *,
+    budget: Budget | None,
+    measure: str = "peaks",
 ) -> tuple[ml.Solution, AccuracyEstimate | None]:
-    """The run (with a `budget`: the first that meets `target`, or the last the budget
-    allowed) and its error estimate (None when the run itself failed: a failure says its
-    own where and why). A signal during the companion or a tighter run: the last run that
-    finished, as `interrupted`."""
+    """The run (with a `budget`: the first whose envelope peaks, or time histories as
+    `measure` says, meet `target`, or the last the budget allowed) and its error estimate
+    (None when the run itself failed: a failure says its own where and why). A signal
+    during the companion or a tighter run: the last run that finished, as `interrupted`."""
     spent = Spent()
     run = _timed(solve, analysis, spent, counted=False)
     if run.status != "ok":
@@ -318,8 +326,11 @@ def solve_to_accuracy(
         return run, estimate
     errors = request_errors(run, companion, order)
     note, tightenings, stopped, stopped_by = "", 0, False, ""
-    while budget is not None and _worst_peak(errors) > target:
-        if stopped_by := spent.exhausts(budget, tightenings) or _between_rows(errors, target):
+    while budget is not None and _worst(errors, measure) > target:
+        stopped_by = spent.exhausts(budget, tightenings)
+        if measure == "peaks":
+            stopped_by = stopped_by or _between_rows(errors, target)
+        if stopped_by:
             break
         finer_analysis = finer(analysis)
         finer_run = _timed(solve, finer_analysis, spent)
@@ -334,6 +345,7 @@ def solve_to_accuracy(
         run, analysis, tightenings = finer_run, finer_analysis, tightenings + 1
     estimate = _estimate(analysis, run, target, errors, tightenings, started)
     estimate.note, estimate.budget, estimate.stopped_by = note, budget, stopped_by
+    estimate.measure = measure
     estimate.warnings = _warnings(estimate, budget is not None)
     if stopped:
         run = _interrupted(run, "a tighter run was solved to meet the accuracy target")
@@ -356,22 +368,29 @@ def _timed(
     return run
 
 
-def target_and_budget(accuracy: float | AccuracyTarget | None) -> tuple[float, Budget | None]:
-    """The case's `analysis.accuracy` as a target and a budget: absent, the default target
-    estimated against (no budget: not tightened); a number, that target within the default
-    budget; a mapping, its target and budget (keys not given: the default's)."""
+def target_and_budget(
+    accuracy: float | AccuracyTarget | None,
+) -> tuple[float, Budget | None, str]:
+    """The case's `analysis.accuracy` as a target, a budget and what must meet it: absent,
+    the default target estimated against (no budget: not tightened); a number, that target
+    of the envelope peaks within the default budget; a mapping, its target, budget (keys
+    not given: the default's) and measure."""
     if accuracy is None:
-        return DEFAULT_ACCURACY, None
+        return DEFAULT_ACCURACY, None, "peaks"
     if not isinstance(accuracy, AccuracyTarget):
-        return float(accuracy), Budget()
+        return float(accuracy), Budget(), "peaks"
     given = accuracy.budget
     if given is None:
-        return accuracy.target, Budget()
+        return accuracy.target, Budget(), accuracy.measure
     default = Budget()
-    return accuracy.target, Budget(
-        default.cpu_seconds if given.cpu is None else given.cpu,
-        given.steps,
-        default.refinements if given.refinements is None else given.refinements,
+    return (
+        accuracy.target,
+        Budget(
+            default.cpu_seconds if given.cpu is None else given.cpu,
+            given.steps,
+            default.refinements if given.refinements is None else given.refinements,
+        ),
+        accuracy.measure,
     )
 
 
@@ -417,8 +436,9 @@ def _between_rows(errors: dict[str, RequestError], target: float) -> str:
     )
 
 
-def _worst_peak(errors: dict[str, RequestError]) -> float:
-    return max((e.peak for e in errors.values()), default=0.0)
+def _worst(errors: dict[str, RequestError], measure: str) -> float:
+    """The largest estimated error of the envelope peaks (`peaks`) or time histories."""
+    return max((e.peak if measure == "peaks" else e.history for e in errors.values()), default=0)
 
 
 def _estimate(

@@ -119,6 +119,13 @@ class AccuracyTarget(Strict):
     budget: AccuracyBudget | None = Field(
         None, description="what meeting it may cost (default: 8 refinements, 600 s of CPU)"
     )
+    measure: Literal["peaks", "histories"] = Field(
+        "peaks",
+        description=(
+            "what must meet it: the envelope peaks (default) or the whole time histories "
+            "(a trajectory benchmark's error, a phase drift)"
+        ),
+    )
 
 
 def _accuracy_form(value: Any) -> str:
