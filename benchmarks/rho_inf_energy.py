@@ -5,7 +5,7 @@ velocity and height (the ball's own inertia, 1e-6 kg m^2, adds below 1e-6 of it)
 its initial 0, as a fraction of the well depth m g L = 9.81 J; and the angle's error
 against the closed form (benchmarks.error_table_long.A01).
 
-    python -m benchmarks.rho_inf_energy [--end 200] [-o FILE]
+    python -m benchmarks.rho_inf_energy [--end 200] [--rho-inf 1,0.95,0.9] [-o FILE]
 """
 
 from __future__ import annotations
@@ -23,7 +23,11 @@ from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
 WELL = 9.81  # J: m g L
-RHO_INF = (1.0, 0.95, 0.9, 0.8)
+RHO_INF = (1.0, 0.99, 0.98, 0.95, 0.9, 0.8)
+
+
+def _rhos(text: str) -> tuple[float, ...]:
+    return tuple(float(x) for x in text.split(","))
 
 
 def drift(rho_inf: float, end: float) -> dict[str, float | str]:
@@ -51,10 +55,11 @@ def drift(rho_inf: float, end: float) -> dict[str, float | str]:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--end", type=float, default=200.0)
+    parser.add_argument("--rho-inf", type=_rhos, default=RHO_INF, help="e.g. 0.95,0.9")
     parser.add_argument("-o", "--output", type=Path, default=None)
     args = parser.parse_args(argv)
     rows = []
-    for rho in RHO_INF:
+    for rho in args.rho_inf:
         rows.append(drift(rho, args.end))
         print(json.dumps(rows[-1]), flush=True)
     if args.output:
