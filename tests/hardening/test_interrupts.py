@@ -337,6 +337,7 @@ def test_sigterm_during_the_accuracy_companion_saves_the_run_interrupted(
     block = summary["accuracy"]
     assert block["met"] is None and block["estimate"] == {}
     assert block["note"].startswith("not estimated: interrupted by SIGTERM")
+    assert block["outcome"] == block["note"]
     # the rows are the run's own, whole: those of the same case solved without an estimate
     saved = _columns(tmp_path / "out" / "pendulum-release-60deg.csv")
     assert len(saved["time"]) == len(off.time) == 101
@@ -375,6 +376,7 @@ def test_sigint_during_a_tighter_run_keeps_the_run_before_it_as_interrupted(
     assert block["met"] is False and block["tightenings"] == 0
     assert block["tolerance"] == 1e-6  # the first run's
     assert block["note"] == "tightening interrupted by SIGINT: the estimate is of the run written"
+    assert block["outcome"] == f"not met: {block['note']}"
     assert max(e["peak"] for e in block["estimate"].values()) > 1e-5  # why it tightened
     saved = _columns(tmp_path / "out" / "pendulum-release-60deg.csv")
     assert np.array_equal(saved["time"], off.time)
