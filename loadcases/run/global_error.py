@@ -329,7 +329,7 @@ def solve_to_accuracy(
     errors = request_errors(run, companion, order)
     note, tightenings, stopped, stopped_by = "", 0, False, ""
     while budget is not None and _worst(errors, measure) > target:
-        stopped_by = spent.exhausts(budget, tightenings)
+        stopped_by = spent.exhausts(budget, tightenings) or _beyond_max_steps(spent, analysis)
         if measure == "peaks":
             stopped_by = stopped_by or _between_rows(errors, target)
         if stopped_by:
@@ -422,6 +422,18 @@ def _interrupted(run: ml.Solution, during: str, *, estimated: bool = True) -> ml
         result=ml.Status.INTERRUPTED,
         message=f"{run.message}; then interrupted{_by()} while {during}: the run's "
         f"{len(run.time)} rows are kept, {error}",
+    )
+
+
+def _beyond_max_steps(spent: Spent, analysis: ml.Dynamic) -> str:
+    """Why the next halving would fail: its steps (twice the last run's) beyond the run's
+    own limit, `analysis.max_steps` ('' when within it)."""
+    steps = 2 * spent.last_steps
+    if steps <= analysis.max_steps:
+        return ""
+    return (
+        f"the next halving would take about {steps} steps, beyond analysis.max_steps = "
+        f"{analysis.max_steps}: raise it if the run is sound"
     )
 
 

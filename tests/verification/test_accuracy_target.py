@@ -78,6 +78,22 @@ def test_a_budget_too_small_says_not_met_and_which(
     assert any(reason.removeprefix("not met: ") in w for w in outcome.solution.warnings)
 
 
+def test_a_halving_beyond_max_steps_is_not_started(tmp_path: Path) -> None:
+    """`max_steps: 1000`: after one halving (738 steps, accepted and rejected) the next
+    would take about 1476, beyond the run's own limit: it is not started (it would fail
+    after spending its steps; IFToMM A01 over 2000 s failed so at 500 000), and the
+    outcome says why."""
+    path = _case(tmp_path, "8e-6")
+    text = path.read_text(encoding="utf-8").replace("  accuracy:", "  max_steps: 1000\n  accuracy:")
+    path.write_text(text, encoding="utf-8")
+    block = run_case(load_case(path)).checks["accuracy"]
+    assert block["tightenings"] == 1 and block["met"] is False
+    assert block["outcome"].startswith("not met: the next halving would take about ")
+    assert block["outcome"].endswith(
+        "beyond analysis.max_steps = 1000: raise it if the run is sound"
+    )
+
+
 def test_a_peak_the_output_interval_misses_stops_the_tightening(tmp_path: Path) -> None:
     """At 0.01 s outputs the reaction's crest falls between rows by about 1.6e-4 of its
     peak (measured against a 1e-3 s reference: its envelope's true error 1.9e-4): shorter
