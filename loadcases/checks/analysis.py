@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.limits import MIN_TOLERANCE, rows_problem
+from loadcases.schema.case import AccuracyTarget
 from loadcases.yamlfiles.source import KeyPath, Locator
 
 __all__ = ["TIME_ANALYSES", "analysis_problems"]
@@ -65,4 +66,26 @@ def analysis_problems(analysis, at: Locator, where: KeyPath = ("analysis",)) -> 
         ]
     if analysis.rho_inf is not None and not 0.0 <= analysis.rho_inf <= 1.0:
         found.append(at.diagnostic((*where, "rho_inf"), "must be between 0 and 1"))
+    return found + _accuracy_target(analysis, at, where)
+
+
+def _accuracy_target(analysis, at: Locator, where: KeyPath) -> list[Diagnostic]:
+    """`accuracy: {target, budget: {cpu, steps, refinements}}`: a positive target, a
+    positive CPU time and step count, refinements not negative."""
+    accuracy = analysis.accuracy
+    if not isinstance(accuracy, AccuracyTarget):
+        return []
+    path = (*where, "accuracy")
+    found = []
+    if accuracy.target <= 0.0:
+        found.append(at.diagnostic((*path, "target"), "must be positive"))
+    budget = accuracy.budget
+    if budget is not None:
+        found += [
+            at.diagnostic((*path, "budget", key), "must be positive")
+            for key in ("cpu", "steps")
+            if getattr(budget, key) is not None and getattr(budget, key) <= 0
+        ]
+        if budget.refinements is not None and budget.refinements < 0:
+            found.append(at.diagnostic((*path, "budget", "refinements"), "must be 0 or more"))
     return found

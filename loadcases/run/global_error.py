@@ -11,13 +11,16 @@ of the true error (pendulum, heavy top, latch: tests/verification/test_global_er
 through impacts and chaotic motion it is an order of magnitude at best, and said to be.
 
 Two errors per request: `history`, the largest difference over the run (a time shift of a
-peak counts in full), and `peak`, the error of its envelope (largest max or min
-difference), the quantity sizing uses. When the case sets `accuracy` and leaves the
-tolerance to the engine, a run whose estimate misses the target is solved again with every
+peak counts in full; the column's range once the companion has lost the phase), and
+`peak`, the error of its envelope (loadcases.run.peak_error: the crest's error and the
+rows' miss of it), the quantity sizing uses. When the case sets `accuracy` and leaves the
+tolerance to the engine, a run whose envelope misses the target is solved again with every
 step halved (tolerance / 2^(p+1), largest step / 2), the previous run becoming the
-companion, up to `MAX_TIGHTENINGS` times; the summary says what was reached. Without
-`accuracy` the default target is only estimated against and warned about: tightening costs
-up to 7.5 runs, which a case asks for, not every case.
+companion, until it meets the target, the next halving would go over the budget (`Budget`:
+CPU, steps, refinements) or the output interval alone misses the target (no step helps);
+the summary's `outcome` says which. Without `accuracy` the default target is only
+estimated against and warned about: each halving costs twice the last run, which a case
+asks for, not every case.
 
 A signal (SIGINT, SIGTERM) that stops the companion or a tighter run leaves the run written
 with status `interrupted` (a set never reuses it as good): its rows are those of the last
@@ -36,23 +39,80 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.foundation import interrupts
+from loadcases.run.peak_error import extremes, peak_error
+from loadcases.schema.case import AccuracyTarget
 
 __all__ = [
     "DEFAULT_ACCURACY",
     "MAX_TIGHTENINGS",
     "AccuracyEstimate",
+    "Budget",
     "RequestError",
     "request_errors",
     "request_of",
     "request_peaks",
     "shared_rows",
     "solve_to_accuracy",
+    "target_and_budget",
 ]
 
 DEFAULT_ACCURACY = 1e-3  # of each request's peak: the sizing accuracy
-MAX_TIGHTENINGS = 2  # each halves every step: at most 1 + 1/2 + 2 + 4 = 7.5 x one run's cost
+MAX_TIGHTENINGS = 8  # default refinements: each halves every step and costs twice the last
+DEFAULT_CPU_BUDGET = 600.0  # s of CPU for the companion and the tighter runs, by default
 _ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)
 _SKIPPED = ("abscissa",)  # a set's abscissa column is not a load
+PHASE_LOST = 0.9  # of a column's range: the companion's difference past it, phase lost
+
+
+@dataclass(frozen=True)
+class Budget:
+    """What meeting a target may cost: the companion and the tighter runs together (CPU
+    s, integrator steps accepted and rejected, tighter runs); None: no limit."""
+
+    cpu_seconds: float | None = DEFAULT_CPU_BUDGET
+    steps: int | None = None
+    refinements: int = MAX_TIGHTENINGS
+
+    def summary(self) -> dict:
+        """The summary's `accuracy.budget`."""
+        return {"cpu": self.cpu_seconds, "steps": self.steps, "refinements": self.refinements}
+
+
+@dataclass
+class Spent:
+    """What the estimate and the tightening have cost so far, and the last run's cost."""
+
+    cpu_seconds: float = 0.0
+    steps: int = 0
+    last_cpu: float = 0.0
+    last_steps: int = 0
+
+    def add(self, run: ml.Solution, cpu: float, *, counted: bool, last: bool) -> None:
+        """A run solved in `cpu` s: counted unless it is the first run, the `last` run
+        (whose cost the next halving doubles) unless it is the companion."""
+        steps = run.stats.steps + run.stats.rejected_steps
+        if last:
+            self.last_cpu, self.last_steps = cpu, steps
+        if counted:
+            self.cpu_seconds += cpu
+            self.steps += steps
+
+    def exhausts(self, budget: Budget, refinements: int) -> str:
+        """Why a tighter run (twice the last one's cost) would go over `budget`; ''."""
+        if refinements >= budget.refinements:
+            return f"budget exhausted: refinements ({budget.refinements})"
+        cpu, steps = self.cpu_seconds + 2.0 * self.last_cpu, self.steps + 2 * self.last_steps
+        if budget.cpu_seconds is not None and cpu > budget.cpu_seconds:
+            return (
+                f"budget exhausted: cpu ({budget.cpu_seconds:g} s; {self.cpu_seconds:.3g} s "
+                f"spent, the next halving would take about {2.0 * self.last_cpu:.3g} s)"
+            )
+        if budget.steps is not None and steps > budget.steps:
+            return (
+                f"budget exhausted: steps ({budget.steps}; {self.steps} spent, the next "
+                f"halving would take about {2 * self.last_steps})"
+            )
+        return ""
 
 
 @dataclass(frozen=True)
@@ -61,6 +121,7 @@ class RequestError:
 
     history: float  # the largest difference over the run
     peak: float  # of its envelope: max and min
+    sampling: float = 0.0  # the part of `peak` the output interval misses between rows
 
 
 @dataclass
@@ -77,13 +138,28 @@ class AccuracyEstimate:
     note: str = ""
     warnings: list[str] = field(default_factory=list)
     estimated: bool = True  # False: no companion finished, `requests` is empty
+    budget: Budget | None = None  # None: not tightened (no target set, or a tolerance)
+    stopped_by: str = ""  # why the tightening stopped short of the target
+    measure: str = "peaks"  # what must meet the target: envelope peaks or time histories
+
+    @property
+    def outcome(self) -> str:
+        """`met`, or `not met: ` and why (the budget, which; not tightened; a failure)."""
+        if self.met is None:
+            return self.note or "not estimated"
+        if self.met:
+            return "met"
+        if self.budget is None:
+            return "not met: not tightened (no accuracy target in the case, or a tolerance)"
+        return f"not met: {self.stopped_by or self.note}"
 
     @property
     def met(self) -> bool | None:
-        """Every envelope peak within the target; None when nothing was estimated."""
+        """Every envelope peak (or time history, as `measure` says) within the target; None
+        when nothing was estimated."""
         if not self.estimated:
             return None
-        return bool(_worst_peak(self.requests) <= self.target)
+        return bool(_worst(self.requests, self.measure) <= self.target)
 
     def summary(self) -> dict:
         """The summary's `accuracy` block."""
@@ -94,12 +170,18 @@ class AccuracyEstimate:
             "tolerance": self.tolerance,
             "max_step": self.max_step,
             "tightenings": self.tightenings,
+            "outcome": self.outcome,
+            "measure": self.measure,
+            "budget": None if self.budget is None else self.budget.summary(),
             "estimate": {
-                name: {"history": e.history, "peak": e.peak} for name, e in self.requests.items()
+                name: {"history": e.history, "peak": e.peak, "sampling": e.sampling}
+                for name, e in self.requests.items()
             },
             "method": (
                 "estimated (Richardson): this run against a companion run with every step "
-                f"twice as long, difference / {2 ** _order(self.integrator) - 1}"
+                f"twice as long, difference / {2 ** _order(self.integrator) - 1} (a history "
+                "whose difference reaches 0.9 of its range: the range); envelope peaks: of "
+                "the peaks between rows, plus the rows' miss of them"
             ),
             "cpu_seconds": self.cpu_seconds,
             **({"note": self.note} if self.note else {}),
@@ -179,17 +261,35 @@ def request_errors(run: ml.Solution, companion: ml.Solution, order: int) -> dict
         name, other = request_of(column), companion.channels.get(column)
         if name in _SKIPPED or other is None or peaks[name] == 0.0 or not len(rows):
             continue
-        x, y = values[rows], other[rows_c]
-        history = float(np.nanmax(np.abs(x - y), initial=0.0))
-        peak = max(
-            abs(np.nanmax(values) - np.nanmax(other)), abs(np.nanmin(values) - np.nanmin(other))
+        history = _history_error(values[rows], other[rows_c], scale)
+        peak, sampling = peak_error(
+            extremes(run.time, values), extremes(companion.time, other), order
         )
         before = out.get(name, RequestError(0.0, 0.0))
         out[name] = RequestError(
-            max(before.history, scale * history / peaks[name]),
-            max(before.peak, scale * float(peak) / peaks[name]),
+            max(before.history, history / peaks[name]),
+            max(before.peak, peak / peaks[name]),
+            max(before.sampling, sampling / peaks[name]),
         )
     return out
+
+
+def _history_error(run: np.ndarray, companion: np.ndarray, scale: float) -> float:
+    """The run's largest error over its rows (the column's unit): Richardson's
+    |run - companion| / (2^p - 1) while that difference stays below `PHASE_LOST` of the
+    column's range; beyond, the range. Richardson's premise (the companion's error 2^p
+    times the run's) holds for a phase error while it is small: for an oscillation of
+    amplitude A whose phase errors are f and 4 f, the difference is 2 A |sin(3 f / 2)| and
+    the error 2 A |sin(f / 2)|. When the difference reaches 0.9 of the range 2 A (3 f / 2 =
+    1.12 rad), Richardson reads 0.82 of the error and the range 2.7 times it; past that the
+    difference folds back (the companion a whole period off reads no error at all), and
+    the run's phase, hence its error, is known only to within the range (a steady offset
+    between the two on a column that hardly moves keeps Richardson's value: the larger)."""
+    difference = float(np.nanmax(np.abs(run - companion), initial=0.0))
+    finite = run[np.isfinite(run)]
+    spread = float(finite.max() - finite.min()) if len(finite) else 0.0
+    lost = difference >= PHASE_LOST * spread
+    return max(scale * difference, spread if lost else 0.0)
 
 
 class Solver(Protocol):
@@ -200,17 +300,24 @@ class Solver(Protocol):
 
 
 def solve_to_accuracy(
-    solve: Solver, analysis: ml.Dynamic, target: float, *, tighten: bool
+    solve: Solver,
+    analysis: ml.Dynamic,
+    target: float,
+    *,
+    budget: Budget | None,
+    measure: str = "peaks",
 ) -> tuple[ml.Solution, AccuracyEstimate | None]:
-    """The run (the first that meets `target` when `tighten`) and its error estimate
+    """The run (with a `budget`: the first whose envelope peaks, or time histories as
+    `measure` says, meet `target`, or the last the budget allowed) and its error estimate
     (None when the run itself failed: a failure says its own where and why). A signal
     during the companion or a tighter run: the last run that finished, as `interrupted`."""
-    run = solve(analysis)
+    spent = Spent()
+    run = _timed(solve, analysis, spent, counted=False)
     if run.status != "ok":
         return run, None
     started = clock.process_time()
     order = _order(analysis.integrator)
-    companion = _further(solve, coarser(analysis), checks=False)  # only its channels are used
+    companion = _timed(solve, coarser(analysis), spent, companion=True)
     if companion.status != "ok":
         estimate = _estimate(analysis, run, target, {}, 0, started)
         estimate.estimated = False
@@ -220,10 +327,15 @@ def solve_to_accuracy(
         estimate.note = f"not estimated: the companion run failed ({companion.message})"
         return run, estimate
     errors = request_errors(run, companion, order)
-    note, tightenings, stopped = "", 0, False
-    while tighten and tightenings < MAX_TIGHTENINGS and _worst_peak(errors) > target:
+    note, tightenings, stopped, stopped_by = "", 0, False, ""
+    while budget is not None and _worst(errors, measure) > target:
+        stopped_by = spent.exhausts(budget, tightenings) or _beyond_max_steps(spent, analysis)
+        if measure == "peaks":
+            stopped_by = stopped_by or _between_rows(errors, target)
+        if stopped_by:
+            break
         finer_analysis = finer(analysis)
-        finer_run = _further(solve, finer_analysis)
+        finer_run = _timed(solve, finer_analysis, spent)
         if finer_run.status == "interrupted":
             note = f"tightening interrupted{_by()}: the estimate is of the run written"
             stopped = True
@@ -234,11 +346,54 @@ def solve_to_accuracy(
         errors = request_errors(finer_run, run, order)
         run, analysis, tightenings = finer_run, finer_analysis, tightenings + 1
     estimate = _estimate(analysis, run, target, errors, tightenings, started)
-    estimate.note = note
-    estimate.warnings = _warnings(estimate, tighten)
+    estimate.note, estimate.budget, estimate.stopped_by = note, budget, stopped_by
+    estimate.measure = measure
+    estimate.warnings = _warnings(estimate, budget is not None)
     if stopped:
         run = _interrupted(run, "a tighter run was solved to meet the accuracy target")
     return run, estimate
+
+
+def _timed(
+    solve: Solver,
+    analysis: ml.Dynamic,
+    spent: Spent,
+    *,
+    counted: bool = True,
+    companion: bool = False,
+) -> ml.Solution:
+    """A run solved and its cost added to `spent` (the first run's not `counted`); the
+    companion without the position checks after the run (only its channels are used)."""
+    started = clock.process_time()
+    run = _further(solve, analysis, checks=not companion) if counted else solve(analysis)
+    spent.add(run, clock.process_time() - started, counted=counted, last=not companion)
+    return run
+
+
+def target_and_budget(
+    accuracy: float | AccuracyTarget | None,
+) -> tuple[float, Budget | None, str]:
+    """The case's `analysis.accuracy` as a target, a budget and what must meet it: absent,
+    the default target estimated against (no budget: not tightened); a number, that target
+    of the envelope peaks within the default budget; a mapping, its target, budget (keys
+    not given: the default's) and measure."""
+    if accuracy is None:
+        return DEFAULT_ACCURACY, None, "peaks"
+    if not isinstance(accuracy, AccuracyTarget):
+        return float(accuracy), Budget(), "peaks"
+    given = accuracy.budget
+    if given is None:
+        return accuracy.target, Budget(), accuracy.measure
+    default = Budget()
+    return (
+        accuracy.target,
+        Budget(
+            default.cpu_seconds if given.cpu is None else given.cpu,
+            given.steps,
+            default.refinements if given.refinements is None else given.refinements,
+        ),
+        accuracy.measure,
+    )
 
 
 def _further(solve: Solver, analysis: ml.Dynamic, checks: bool = True) -> ml.Solution:
@@ -270,8 +425,34 @@ def _interrupted(run: ml.Solution, during: str, *, estimated: bool = True) -> ml
     )
 
 
-def _worst_peak(errors: dict[str, RequestError]) -> float:
-    return max((e.peak for e in errors.values()), default=0.0)
+def _beyond_max_steps(spent: Spent, analysis: ml.Dynamic) -> str:
+    """Why the next halving would fail: its steps (twice the last run's) beyond the run's
+    own limit, `analysis.max_steps` ('' when within it)."""
+    steps = 2 * spent.last_steps
+    if steps <= analysis.max_steps:
+        return ""
+    return (
+        f"the next halving would take about {steps} steps, beyond analysis.max_steps = "
+        f"{analysis.max_steps}: raise it if the run is sound"
+    )
+
+
+def _between_rows(errors: dict[str, RequestError], target: float) -> str:
+    """Why shorter steps cannot meet `target`: the output interval alone misses a peak by
+    more (''  when it does not)."""
+    worst = max(errors.items(), key=lambda item: item[1].sampling, default=None)
+    if worst is None or worst[1].sampling <= target:
+        return ""
+    return (
+        f"the output interval misses {worst[0]}'s peak between rows by about "
+        f"{worst[1].sampling:.2g} of the peak, more than the target: shorter steps do not "
+        "reduce that, a shorter analysis.step does"
+    )
+
+
+def _worst(errors: dict[str, RequestError], measure: str) -> float:
+    """The largest estimated error of the envelope peaks (`peaks`) or time histories."""
+    return max((e.peak if measure == "peaks" else e.history for e in errors.values()), default=0)
 
 
 def _estimate(
@@ -299,7 +480,8 @@ def _warnings(estimate: AccuracyEstimate, tightened: bool) -> list[str]:
     """A warning when the envelope peaks miss the target, another when time histories do."""
     out = []
     how = (
-        f"after {estimate.tightenings} tightenings (tolerance {estimate.tolerance:.3g})"
+        f"after {estimate.tightenings} tightenings (tolerance {estimate.tolerance:.3g}"
+        f"{'; ' + estimate.stopped_by if estimate.stopped_by else ''})"
         if tightened
         else f"at tolerance {estimate.tolerance:.3g} (not tightened)"
     )

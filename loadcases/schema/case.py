@@ -28,6 +28,8 @@ __all__ = [
     "ANALYSIS_TYPES",
     "KNOWN_EFFECTS",
     "REQUEST_KINDS",
+    "AccuracyBudget",
+    "AccuracyTarget",
     "Analysis",
     "CaseModel",
     "ContactRequest",
@@ -113,6 +115,59 @@ def _mechanism_ref(value: Any) -> Any:
 MechanismRef = Annotated[str | dict[str, Any], BeforeValidator(_mechanism_ref)]
 
 
+class AccuracyBudget(Strict):
+    """What the engine may spend to meet an accuracy target: the estimate's companion and
+    the tighter runs together (the first run is not counted). A tighter run that would go
+    over it (its cost predicted as twice the last run's) is not started."""
+
+    cpu: _TIME | None = Field(
+        None, description=describe("CPU time of the companion and the tighter runs", "time")
+    )
+    steps: int | None = Field(
+        None,
+        description="integrator steps of the companion and the tighter runs",
+        json_schema_extra={"minimum": 1},
+    )
+    refinements: int | None = Field(
+        None,
+        description="most tighter runs (each halves every step)",
+        json_schema_extra={"minimum": 0},
+    )
+
+
+class AccuracyTarget(Strict):
+    """`accuracy: {target: 1e-2, budget: {cpu: 60 s}}`: the target with its budget."""
+
+    target: Dimensionless = Field(
+        description="estimated global error of each request's envelope, of its peak"
+    )
+    budget: AccuracyBudget | None = Field(
+        None, description="what meeting it may cost (default: 8 refinements, 600 s of CPU)"
+    )
+    measure: Literal["peaks", "histories"] = Field(
+        "peaks",
+        description=(
+            "what must meet it: the envelope peaks (default) or the whole time histories "
+            "(a trajectory benchmark's error, a phase drift)"
+        ),
+    )
+
+
+def _accuracy_form(value: Any) -> str:
+    """`analysis.accuracy`'s form: a mapping (target and budget), `off`, or a number."""
+    if isinstance(value, dict | AccuracyTarget):
+        return "target"
+    return "off" if value == "off" else "number"
+
+
+Accuracy = Annotated[
+    Annotated[Dimensionless, Tag("number")]
+    | Annotated[Literal["off"], Tag("off")]
+    | Annotated[AccuracyTarget, Tag("target")],
+    Discriminator(_accuracy_form),
+]
+
+
 class Analysis(Strict):
     """What to solve and for how long."""
 
@@ -120,12 +175,13 @@ class Analysis(Strict):
     end: _TIME | None = Field(None, description=describe("end time", "time"))
     step: _TIME | None = Field(None, description=describe("output interval", "time"))
     tolerance: Dimensionless | None = Field(None, description="dynamic: local error tolerance")
-    accuracy: Dimensionless | Literal["off"] | None = Field(
+    accuracy: Accuracy | None = Field(
         None,
         description=(
             "dynamic: target of the estimated global error of each request, relative to its "
             "peak (default 1e-3, warned about); given without a tolerance, the engine "
-            "tightens its steps to meet it; off: no estimate (one solve)"
+            "tightens its steps to meet it, within a budget ({target: 1e-2, budget: {cpu: "
+            "60 s, steps: 1e6, refinements: 4}}); off: no estimate (one solve)"
         ),
     )
     integrator: str | None = Field(None, description="dynamic: e.g. generalized-alpha, radau")

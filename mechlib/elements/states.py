@@ -50,6 +50,10 @@ class ElementStates:
         self.drive_forces = any(getattr(e, "states_drive_forces", True) for e in self.owners)
         self._lu: tuple | None = None  # factored Newton matrix of `advance`, at step _lu_h
         self._lu_h = 0.0
+        self._h = 0.0  # the step (s) of the trial values
+        # (rates, step in s) of the accepted state before the current one: the local error
+        # estimate's history (None at the start and after a resume)
+        self._previous: tuple[np.ndarray, float] | None = None
 
     def __bool__(self) -> bool:
         return bool(self.owners)
@@ -80,6 +84,7 @@ class ElementStates:
         when it does not or h changed. Converged when each residual is within 1e-12 of its
         state (1e-14 absolute): a pressure of 1e7 Pa and a spool travel of 1e-5 m each at
         their own scale."""
+        self._h = h
         if not self.drive_forces:  # rates independent of z: the trapezoid is explicit
             self.trial = self.z + 0.5 * h * (self.rates_accepted + self.rates(view, self.z))
             return
@@ -124,7 +129,22 @@ class ElementStates:
                 ) / dz
         return jac
 
+    def local_error(self, h: float) -> np.ndarray | None:
+        """Estimated local error (nz,) of the trial values after a step h (s): the
+        trapezoidal rule's h^3/12 z(3) by Milne's device, its difference from the explicit
+        second-order predictor z_n + h f_n + h^2/2 (f_n - f_(n-1))/k (k the previous step)
+        times h / (3 (h + k)) (Taylor expansion of both about t_n). None without a previous
+        accepted step."""
+        if self._previous is None or self.rates_accepted is None:
+            return None
+        before, k = self._previous
+        f = self.rates_accepted
+        predicted = self.z + h * f + 0.5 * h * h * (f - before) / k
+        return (self.trial - predicted) * (h / (3.0 * (h + k)))
+
     def accept(self, view) -> None:
+        if self.rates_accepted is not None and self._h > 0.0:
+            self._previous = (self.rates_accepted, self._h)
         self.z = self.trial.copy()
         self.rates_accepted = self.rates(view, self.z)
 
@@ -139,3 +159,4 @@ class ElementStates:
         """Make a `mark` the accepted values (a step starts from there)."""
         self.z, self.rates_accepted = mark[0].copy(), mark[1]
         self.trial = self.z.copy()
+        self._previous = None

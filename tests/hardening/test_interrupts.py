@@ -266,10 +266,10 @@ def test_interrupt_met_inside_a_compiled_kernel_is_an_interrupt() -> None:
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
 
 
-def _short_pendulum(folder: Path, analysis_lines: str = "") -> Path:
-    """The library pendulum over 1 s at 0.01 s outputs."""
+def _short_pendulum(folder: Path, analysis_lines: str = "", step: float = 0.01) -> Path:
+    """The library pendulum over 1 s at 0.01 s outputs (or `step`)."""
     text = (LIBRARY / "pendulum.case.yaml").read_text(encoding="utf-8")
-    text = text.replace("end: 4.0 ", "end: 1.0 ").replace("step: 0.001 ", "step: 0.01 ")
+    text = text.replace("end: 4.0 ", "end: 1.0 ").replace("step: 0.001 ", f"step: {step} ")
     text = text.replace("  type: dynamic\n", "  type: dynamic\n" + analysis_lines)
     path = folder / "pendulum.case.yaml"
     path.write_text(text, encoding="utf-8")
@@ -337,6 +337,7 @@ def test_sigterm_during_the_accuracy_companion_saves_the_run_interrupted(
     block = summary["accuracy"]
     assert block["met"] is None and block["estimate"] == {}
     assert block["note"].startswith("not estimated: interrupted by SIGTERM")
+    assert block["outcome"] == block["note"]
     # the rows are the run's own, whole: those of the same case solved without an estimate
     saved = _columns(tmp_path / "out" / "pendulum-release-60deg.csv")
     assert len(saved["time"]) == len(off.time) == 101
@@ -349,16 +350,18 @@ def test_sigterm_during_the_accuracy_companion_saves_the_run_interrupted(
 def test_sigint_during_a_tighter_run_keeps_the_run_before_it_as_interrupted(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """accuracy 1e-5 (the pendulum's default steps miss it: tightened): a SIGINT in the
-    first tighter run leaves the first run written, interrupted, with its own estimate
-    (missed, `met` false), and no tightening counted."""
+    """accuracy 1e-5 at 0.005 s outputs (the pendulum's default steps miss it, its rows
+    miss the crests by less: tightened): a SIGINT in the first tighter run leaves the
+    first run written, interrupted, with its own estimate (missed, `met` false), and no
+    tightening counted."""
     from loadcases.inputs.loader import load_case
     from loadcases.run import run_case
     from tests.hardening.conftest import loads
 
-    case = _short_pendulum(tmp_path, "  accuracy: 1e-5\n")
+    case = _short_pendulum(tmp_path, "  accuracy: 1e-5\n", step=0.005)
     (tmp_path / "off").mkdir()
-    off = run_case(load_case(_short_pendulum(tmp_path / "off", "  accuracy: off\n"))).solution
+    off_case = _short_pendulum(tmp_path / "off", "  accuracy: off\n", step=0.005)
+    off = run_case(load_case(off_case)).solution
     calls = _signal_in_solve(monkeypatch, signal.SIGINT, 0.2, solve_number=3)
     result = loads("run", case, "-o", tmp_path / "out")
     assert calls == [True, False, True]
@@ -367,12 +370,13 @@ def test_sigint_during_a_tighter_run_keeps_the_run_before_it_as_interrupted(
     assert summary["status"] == "interrupted"
     assert summary["message"] == (
         "finished; then interrupted by SIGINT while a tighter run was solved to meet the "
-        "accuracy target: the run's 101 rows are kept, with their estimated error"
+        "accuracy target: the run's 201 rows are kept, with their estimated error"
     )
     block = summary["accuracy"]
     assert block["met"] is False and block["tightenings"] == 0
     assert block["tolerance"] == 1e-6  # the first run's
     assert block["note"] == "tightening interrupted by SIGINT: the estimate is of the run written"
+    assert block["outcome"] == f"not met: {block['note']}"
     assert max(e["peak"] for e in block["estimate"].values()) > 1e-5  # why it tightened
     saved = _columns(tmp_path / "out" / "pendulum-release-60deg.csv")
     assert np.array_equal(saved["time"], off.time)

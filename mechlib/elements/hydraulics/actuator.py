@@ -83,6 +83,26 @@ class ServoActuator:
     def n_states(self) -> int:
         return _N_STATES[self.fidelity]
 
+    def state_scales(self) -> list[float]:
+        """The size of each state for the integrator's error test (mechlib.solvers.
+        error_weights), from the actuator's data: the servo stroke (lag) and the
+        controller's integral (m s, over one second) by the stroke's span; the valve's
+        normalised opening by 1 and its rate by the valve's frequency (rad/s); the jet pipe
+        and spool positions by the rated opening (m), their rates by it times the valve's
+        frequency; the chamber pressures by the supply pressure (Pa)."""
+        lo, hi = self.cylinder.stroke
+        span = hi - lo
+        if self.fidelity == "lag":
+            return [span]
+        w = 2.0 * math.pi * self.valve.frequency
+        if self.fidelity == "valve":
+            stages = [1.0, w]
+        else:
+            x = self.jet_pipe.rated_opening
+            stages = [x, x * w, x, x * w]
+        p = self.supply.pressure
+        return [span * 1.0, *stages, p, p]
+
     @property
     def output_units(self) -> dict[str, str]:
         if self.fidelity == "lag":

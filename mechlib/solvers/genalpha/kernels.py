@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
+from mechlib.solvers.error_weights import coordinate_scales, element_state_scales
 from mechlib.solvers.genalpha.rules import ROUNDOFF
 from mechlib.system.system import System
 
@@ -15,20 +16,24 @@ __all__ = ["Scales", "correct", "error_norm", "position_size", "predict"]
 
 
 class Scales:
-    """Error weights: absolute parts from the mechanism's size, relative part = tolerance."""
+    """Error weights tol (scale + |q|) of each coordinate, the scales by one rule
+    (mechlib.solvers.error_weights); acceleration references scale g / size, raised to
+    the largest accelerations seen."""
 
     def __init__(self, system: System, q0: np.ndarray, tol: float):
-        length = system.length
         self.tol = tol
         g = max(float(np.linalg.norm(system.gravity)), 1.0)
-        # a modal coordinate (kg^0.5 m) weighs as a displacement times sqrt(body mass)
-        modal = np.concatenate(
-            [np.full(a.body.n, np.sqrt(a.body.component.mass)) for a in system.flexible]
-            or [np.zeros(0)]
-        )
-        self.q_abs = np.r_[np.tile(system.body_weights(length, 1.0), system.nb), modal * length]
-        self.q_abs *= tol
-        self.a_ref = np.r_[np.tile(system.body_weights(g, g / length), system.nb), modal * g]
+        scales = coordinate_scales(system)
+        self.q_abs = tol * scales
+        # bodies: g for translations, g / size for rotations; a modal coordinate likewise
+        self.a_ref = scales * (g / system.length)
+        # element states (mechlib.elements.states): weighed by their element's scales
+        self.z_abs = tol * element_state_scales(system.elements, system.states.z.size)
+
+    def state_error(self, error: np.ndarray, z: np.ndarray) -> float:
+        """max_i |error_i| / (z_abs_i + tol |z_i|): the scaled local error of the element
+        states z after a step (0 for states of infinite scale)."""
+        return float(np.max(np.abs(error) / (self.z_abs + self.tol * np.abs(z)), initial=0.0))
 
     def update(self, qdd: np.ndarray) -> None:
         """Raise the acceleration reference to the largest accelerations seen."""

@@ -132,7 +132,7 @@ class GeneralizedAlphaStepper(DenseStepper):
             if new is None
             else 0.0
             if spec.fixed_step
-            else self.integ.error(h_try, new[0], s.qdd, new[5][1])
+            else self._error(h_try, new[0], s.qdd, new[5][1])
         )
         if new is None or err > 1.0:
             self.system.states.reject()
@@ -143,6 +143,17 @@ class GeneralizedAlphaStepper(DenseStepper):
         if not spec.fixed_step:
             self.h = rules.step_size(h_try, err, self.h, self.max_step, True)
         return _state(s.t + h_try, new), err
+
+    def _error(self, h: float, q1: np.ndarray, acc0: np.ndarray, acc1: np.ndarray) -> float:
+        """The scaled local error of a step h (s): of the positions and, where the
+        mechanism has them, of its element states (each weighed by its own scale)."""
+        err = self.integ.error(h, q1, acc0, acc1)
+        states = self.system.states
+        estimate = states.local_error(h) if states else None
+        if estimate is None:
+            return err
+        assert self.integ.scales is not None, "set by init"
+        return max(err, self.integ.scales.state_error(estimate, states.trial))
 
     def _shrink(self, s: State, h: float) -> None:
         """A rejected step from s: retry with step h (s); below h_min the run stalls (its

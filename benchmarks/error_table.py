@@ -1,0 +1,145 @@
+"""The global error estimate against the true error (issue 35 item 2): per case and request,
+the run's own estimate (`accuracy.estimate` of its summary, relative to the request's peak)
+beside its true error, measured against a reference run of the same case at tolerance
+1e-9 with `output: steps` at a tenth of the output interval (generalized-alpha's error there
+is below 1e-6 of the peak on these cases): `history` the largest difference at the run's
+output rows, `peak` that of the run's envelope (max and min of its rows) from the true
+continuous one (the reference's, refined between its rows: a peak the run's rows miss
+counts), both of the request's peak |value|.
+
+    python -m benchmarks.error_table [--long] [-o benchmarks/results/error-table.json]
+
+The cheap cases run in CI (tests/verification/test_estimate_table.py); `--long` adds the
+library's other published cases (A02 with N = 3, A04, A05); A01 over 2000 s and A02 with
+N = 40 are in benchmarks/error_table_long.py, against closed forms.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from loadcases.inputs.loader import load_case
+from loadcases.run import run_case
+from loadcases.run.global_error import request_of
+from loadcases.run.peak_error import extremes
+
+LIBRARY = Path(__file__).resolve().parents[1] / "loadcases" / "library" / "verification"
+REFERENCE_TOLERANCE = 1e-9
+REFERENCE_ROWS = 10  # reference rows per output interval: its envelope is the continuous one
+
+#: name -> (case file under the verification library, analysis keys changed for the table)
+CHEAP: dict[str, tuple[str, dict[str, Any]]] = {
+    "pendulum 2 s": ("pendulum.case.yaml", {"end": 2.0, "step": 0.01}),
+    "servo closed valve": ("elements/servo_closed_valve.case.yaml", {}),
+    "A01 10 s": ("hard/iftomm_a01_pendulum.case.yaml", {}),
+    "Andrews": ("hard/andrews_squeezer.case.yaml", {}),
+}
+#: the library's other published cases (A01 over 2000 s and A02 with N = 40 against closed
+#: forms: benchmarks/error_table_long.py)
+LONG: dict[str, tuple[str, dict[str, Any]]] = {
+    "A02 N=3 3-D": ("hard/iftomm_a02_fourbar.case.yaml", {}),
+    "A02 N=3 planar": ("hard/iftomm_a02_fourbar_planar.case.yaml", {}),
+    "A04": ("hard/iftomm_a04_bricard.case.yaml", {}),
+    "A05": ("hard/iftomm_a05_flyball.case.yaml", {}),
+}
+
+
+def _with(case_file: Any, **analysis: Any) -> Any:
+    """The loaded case with its analysis keys changed."""
+    changed = case_file.case.analysis.model_copy(update=analysis)
+    case = case_file.case.model_copy(update={"analysis": changed})
+    return dataclasses.replace(case_file, case=case)
+
+
+def true_errors(run: Any, reference: Any) -> dict[str, tuple[float, float]]:
+    """Per request of `run`: (history, peak) errors against `reference`, of its peak."""
+    rows = np.isin(np.round(run.time, 9), np.round(reference.time, 9))
+    rows_ref = np.isin(np.round(reference.time, 9), np.round(run.time, 9))
+    out: dict[str, tuple[float, float]] = {}
+    peaks: dict[str, float] = {}
+    for column, values in run.channels.items():
+        name = request_of(column)
+        peaks[name] = max(peaks.get(name, 0.0), float(np.nanmax(np.abs(values), initial=0.0)))
+    for column, values in run.channels.items():
+        name, other = request_of(column), reference.channels.get(column)
+        if other is None or peaks[name] == 0.0:
+            continue
+        history = float(np.nanmax(np.abs(values[rows] - other[rows_ref]), initial=0.0))
+        exact = extremes(reference.time, other)
+        peak = max(abs(np.nanmax(values) - exact.max), abs(np.nanmin(values) - exact.min))
+        h0, p0 = out.get(name, (0.0, 0.0))
+        out[name] = (max(h0, history / peaks[name]), max(p0, float(peak) / peaks[name]))
+    return out
+
+
+def case_rows(name: str, file: str, analysis: dict[str, Any]) -> list[dict[str, Any]]:
+    """The table's rows of one case: per request estimate, true error and their ratio."""
+    case_file = load_case(LIBRARY / file)
+    started = time.process_time()
+    run = run_case(_with(case_file, **analysis))
+    cpu = time.process_time() - started
+    step: float = analysis.get("step") or case_file.case.analysis.step or 0.0
+    reference = run_case(
+        _with(
+            case_file,
+            **{**analysis, "step": step / REFERENCE_ROWS},
+            tolerance=REFERENCE_TOLERANCE,
+            output="steps",
+            accuracy="off",
+        )
+    )
+    block = run.checks.get("accuracy") or {}
+    estimate = block.get("estimate", {})
+    rows = []
+    for request, (history, peak) in true_errors(run.solution, reference.solution).items():
+        guess = estimate.get(request)
+        if guess is None:
+            continue
+        rows.append(
+            {
+                "case": name,
+                "request": request,
+                "estimate_history": guess["history"],
+                "true_history": history,
+                "ratio_history": guess["history"] / history if history else None,
+                "estimate_peak": guess["peak"],
+                "true_peak": peak,
+                "ratio_peak": guess["peak"] / peak if peak else None,
+                "cpu_s": cpu,
+            }
+        )
+    return rows
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--long", action="store_true", help="add A02 N = 3, A04, A05")
+    parser.add_argument("-o", "--output", type=Path, default=None)
+    args = parser.parse_args(argv)
+    cases = {**CHEAP, **(LONG if args.long else {})}
+    rows = [row for name, (file, keys) in cases.items() for row in case_rows(name, file, keys)]
+    print(
+        f"{'case':22s} {'request':14s} {'est. hist':>10s} {'true hist':>10s} {'ratio':>7s}"
+        f" {'est. peak':>10s} {'true peak':>10s} {'ratio':>7s}"
+    )
+    for r in rows:
+        ratios = [r[key] or float("nan") for key in ("ratio_history", "ratio_peak")]
+        print(
+            f"{r['case']:22s} {r['request']:14s} {r['estimate_history']:10.3g} "
+            f"{r['true_history']:10.3g} {ratios[0]:7.3g} "
+            f"{r['estimate_peak']:10.3g} {r['true_peak']:10.3g} {ratios[1]:7.3g}"
+        )
+    if args.output:
+        args.output.write_text(json.dumps(rows, indent=1) + "\n", encoding="utf-8")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

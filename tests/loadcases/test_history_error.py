@@ -1,0 +1,57 @@
+"""The history estimate of loadcases.run.global_error.request_errors against closed forms:
+an oscillation whose run drifts in phase as c t and whose companion (order 2: steps twice
+as long) drifts four times faster."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import mechlib as ml
+from loadcases.run.global_error import request_errors
+
+OMEGA = 3.0  # rad/s
+
+
+def _solutions(drift: float, end: float) -> tuple[ml.Solution, ml.Solution, float]:
+    """Run and companion of x = sin(omega t + phase error), the run's phase error drift t
+    (rad), the companion's 4 drift t; and the run's true largest error."""
+    time = np.linspace(0.0, end, 2001)
+    run = np.sin(OMEGA * time + drift * time)
+    companion = np.sin(OMEGA * time + 4.0 * drift * time)
+    true = float(np.abs(run - np.sin(OMEGA * time)).max())
+
+    def solution(values: np.ndarray) -> ml.Solution:
+        return ml.Solution("ok", "", "dynamic", time, {"x.value": values})
+
+    return solution(run), solution(companion), true
+
+
+def test_a_small_phase_error_is_richardsons() -> None:
+    """Phase error 0.05 rad at the end: |run - companion| / 3 within 1 % of the truth."""
+    run, companion, true = _solutions(0.05 / 20.0, 20.0)
+    estimate = request_errors(run, companion, order=2)["x"].history
+    assert estimate == pytest.approx(true, rel=0.01)
+
+
+@pytest.mark.parametrize(("phase", "richardson"), [(1.0, 0.70), (2.5, 0.35)])
+def test_a_lost_phase_is_bounded_by_the_range(phase: float, richardson: float) -> None:
+    """Phase error 1 or 2.5 rad at the end (true error 0.95 and 1.9): the companion's, 4
+    and 10 rad, has lost the phase and folded back; Richardson's difference / 3 reads 0.70
+    and 0.35 of the truth, the range (2) 2.1 and 1.05 times it."""
+    run, companion, true = _solutions(phase / 20.0, 20.0)
+    estimate = request_errors(run, companion, order=2)["x"].history
+    difference = float(np.abs(run.channels["x.value"] - companion.channels["x.value"]).max())
+    assert difference / 3.0 / true == pytest.approx(richardson, abs=0.01)
+    assert true <= estimate <= 3.0 * true
+    assert estimate == pytest.approx(2.0, rel=1e-3)
+
+
+def test_a_steady_offset_on_a_still_column_keeps_richardsons_value() -> None:
+    """A column that hardly moves (range 1e-9) whose companion is 3e-3 off: not a lost
+    phase; the estimate is the difference / 3 (the error's own order)."""
+    time = np.linspace(0.0, 1.0, 101)
+    still = 1.0 + 1e-9 * np.sin(time)
+    run = ml.Solution("ok", "", "dynamic", time, {"x.value": still})
+    companion = ml.Solution("ok", "", "dynamic", time, {"x.value": still + 3e-3})
+    assert request_errors(run, companion, order=2)["x"].history == pytest.approx(1e-3)

@@ -1,0 +1,77 @@
+"""The envelope peak's error estimate (loadcases.run.peak_error) against closed forms:
+a sine sampled at rows that miss its crest, and two runs whose peaks differ by a known
+amount."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from loadcases.run.peak_error import extremes, peak_error
+
+DT = 0.01  # s, output interval
+OMEGA = 2.0 * math.pi * 1.3  # rad/s
+
+
+def _rows(shift: float, amplitude: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
+    time = np.arange(0.0, 0.6 + DT / 2, DT)  # one crest and one trough
+    return time, amplitude * np.sin(OMEGA * time + shift)
+
+
+def test_the_continuous_peak_is_found_between_rows() -> None:
+    """sin's crest of 1 between rows: the rows miss it by up to (omega dt / 2)^2 / 2 =
+    8.3e-4; the parabola's vertex is within (omega dt)^3 / 16 = 3.3e-5 of it (order 3)."""
+    time, values = _rows(0.3)
+    found = extremes(time, values)
+    assert 1.0 - found.row_max > 1e-4  # the rows miss the crest
+    assert abs(found.max - 1.0) < (OMEGA * DT) ** 3 / 16
+    assert abs(found.min + 1.0) < (OMEGA * DT) ** 3 / 16
+    assert found.row_max == float(values.max()) and found.row_min == float(values.min())
+
+
+def test_an_end_row_or_a_kink_has_no_vertex() -> None:
+    """A ramp's peak at its last row, a triangle's apex on a row: the row is the peak."""
+    time = np.linspace(0.0, 1.0, 11)
+    ramp = extremes(time, 3.0 * time)
+    assert (ramp.max, ramp.min) == (3.0, 0.0)
+    tent = extremes(time, 1.0 - np.abs(time - 0.5))
+    # a kink's vertex: the parabola through a symmetric apex has zero slope there
+    assert tent.max == pytest.approx(1.0, abs=1e-15)
+
+
+def test_peak_error_bounds_richardson_on_continuous_peaks_plus_the_rows_miss() -> None:
+    """Run amplitude 1 + 1e-3, companion (order 2: 4 x its error) 1 + 4e-3, exact 1: the
+    Richardson part is 3e-3 / 3 = 1e-3 (within 5e-5), the sampling part the run's miss of
+    its own crest, computed exactly here; the estimate bounds the true error of the run's
+    row peak, which is their difference (they have opposite signs)."""
+    run_t, run_v = _rows(0.3, 1.0 + 1e-3)
+    comp_t = run_t[1::2]  # rows at 2 dt, not those of the run's crest
+    comp_v = (1.0 + 4e-3) * np.sin(OMEGA * comp_t + 0.3)
+    estimate, sampling = peak_error(extremes(run_t, run_v), extremes(comp_t, comp_v), order=2)
+    miss = (1.0 + 1e-3) * (1.0 - np.sin(OMEGA * run_t + 0.3).max())
+    assert miss > 1e-4
+    assert sampling == pytest.approx(miss, abs=(OMEGA * DT) ** 3 / 16)
+    assert estimate - miss == pytest.approx(1e-3, abs=5e-5)
+    true = max(abs(run_v.max() - 1.0), abs(run_v.min() + 1.0))
+    assert true <= estimate <= true + 2.0 * miss + 5e-5
+    # the companion's own missed crest (4x the run's) would enter the plain difference
+    naive = max(abs(run_v.max() - comp_v.max()), abs(run_v.min() - comp_v.min())) / 3
+    assert abs(naive - 1e-3) > abs(estimate - miss - 1e-3)
+
+
+def test_noise_on_the_rows_does_not_read_as_a_missed_crest() -> None:
+    """A flat crest (curvature 1e-3 /s^2, on a row) whose two neighbours carry noise of
+    -1e-6 and -1e-7: the three-row parabola reads a crest 7.8e-8 above the row
+    ((a - b)^2 / (8 (a + b)) with drops a, b), the rows two apart bound it by their
+    curvature to 1e-3 (dt / 2)^2 = 2.5e-8."""
+    time = np.arange(-0.05, 0.05 + DT / 2, DT)
+    values = 1.0 - 1e-3 * time**2
+    centre = len(time) // 2
+    values[centre - 1] -= 1e-6
+    values[centre + 1] -= 1e-7
+    a, b = values[centre] - values[centre - 1], values[centre] - values[centre + 1]
+    assert (a - b) ** 2 / (8.0 * (a + b)) > 7e-8  # what the three rows alone would say
+    found = extremes(time, values)
+    assert 0.0 <= found.max - found.row_max <= 2.5e-8 * 1.01
