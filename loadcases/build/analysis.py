@@ -53,9 +53,9 @@ def initial_values(b: Builder, mechanism: ml.Mechanism) -> list:
         if v.omega is not None or v.velocity is not None:
             out.append(ml.InitialBodyVelocity(name, v.omega, v.velocity))
         flexible = mechanism.flexible.get(name)
-        modal = v.modes is not None or v.rates is not None
+        modal = v.modes is not None or v.rates is not None or v.deformed is not None
         if flexible is not None and modal and _mode_counts(b, name, v, flexible.component.count):
-            out.append(ml.InitialModes(name, v.modes, v.rates))
+            out.append(ml.InitialModes(name, v.modes, v.rates, static=v.deformed == "static"))
     return out
 
 

@@ -90,7 +90,7 @@ def _motions(
 
 _JOINT_KEYS = {"value", "guess", "rate"}
 _BODY_KEYS = {"omega", "velocity"}
-_MODAL_KEYS = {"modes", "rates"}
+_MODAL_KEYS = {"modes", "rates", "deformed"}
 
 
 def _node_body(mechanism: MechanismModel, name: str) -> bool:
@@ -112,7 +112,7 @@ def _initial_entry(
         what = "a joint"
     elif flexible:
         wrong, allowed = given - _BODY_KEYS - _MODAL_KEYS, "'omega', 'velocity', 'modes'"
-        allowed, what = allowed + " and/or 'rates'", "a flexible body"
+        allowed, what = allowed + ", 'rates' and/or 'deformed'", "a flexible body"
     elif body is not None:
         wrong, allowed = given - _BODY_KEYS, "'omega' and/or 'velocity'"
         what = "a rigid body" if given & _MODAL_KEYS else "a body"
@@ -122,6 +122,13 @@ def _initial_entry(
     if wrong:
         key = ("initial", name, sorted(wrong)[0]) if wrong & _MODAL_KEYS else ("initial", name)
         return [at.diagnostic(key, f"'{name}' is {what}: give {allowed}")]
+    if {"modes", "deformed"} <= given:
+        return [
+            at.diagnostic(
+                ("initial", name, "deformed"),
+                "give either 'modes' or 'deformed: static' (the modal coordinates it finds)",
+            )
+        ]
     if joint is not None and joint.type not in COORDINATE_DIMENSION:
         return [
             at.diagnostic(
@@ -135,7 +142,7 @@ def _initial_entry(
 def _modal_values(entry, name: str, at: Locator) -> list[Diagnostic]:
     """Modal coordinates and rates: finite numbers."""
     found = []
-    for key in sorted(_MODAL_KEYS):
+    for key in ("modes", "rates"):
         values = getattr(entry, key)
         if values is not None and not all(math.isfinite(v) for v in values):
             found.append(at.diagnostic(("initial", name, key), "must be finite numbers"))

@@ -88,6 +88,11 @@ class Initial(Strict):
     rates: list[float] | None = Field(
         None, description="rates of a flexible body's modal coordinates, one per mode [kg^0.5*m/s]"
     )
+    deformed: Literal["static"] | None = Field(
+        None,
+        description="static: a flexible body starts a dynamic run in its quasi-static "
+        "deflection (elastic forces balancing the loads, reactions and inertia at the start)",
+    )
 
 
 _TIME = quantity("time")

@@ -52,6 +52,7 @@ __all__ = [
     "InitialBodyVelocity",
     "InitialValue",
     "assemble",
+    "reassemble",
     "solve_accelerations",
     "solve_positions",
     "solve_rates",
@@ -425,6 +426,23 @@ def assemble(
         changes.insert(0, BranchChange(t, joints, "drawn", _OFF_BRANCH))
     qd, vnotes = _initial_velocities(system, q, t, initial, weights)
     return Assembled(q, qd, its + its2, notes + vnotes, changes)
+
+
+def reassemble(
+    system: System, q: np.ndarray, t: float, initial: Sequence
+) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """(q, qd, notes) as `assemble` gives them, from a q already near (no path from the
+    drawing): on the constraints, the given joint values and modal coordinates and rates."""
+    weights = _assembly_weights(system)
+    given = _given_positions(system, initial)
+    modal = modal_targets(system, initial)
+    if modal:
+        q, _ = _reach_modes(system, q, t, given, modal, weights)
+    q, _ = solve_positions(system, q, t, weights=weights)
+    system.commit(system.kin(q, None, t))
+    notes = modal_notes(modal, q[[m.column for m in modal]], "modal coordinate")
+    qd, vnotes = _initial_velocities(system, q, t, initial, weights)
+    return q, qd, notes + vnotes
 
 
 def _reach_modes(

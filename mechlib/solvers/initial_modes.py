@@ -12,7 +12,7 @@ import numpy as np
 from mechlib.model.analysis import InitialModes
 from mechlib.system.system import System
 
-__all__ = ["ModalTarget", "modal_notes", "modal_rate_rows", "modal_targets"]
+__all__ = ["ModalTarget", "modal_columns", "modal_notes", "modal_rate_rows", "modal_targets"]
 
 _REPORT_CHANGE = 1e-8  # relative to the body's largest given value (its own scale)
 
@@ -30,19 +30,26 @@ class ModalTarget:
     scale: float
 
 
+def modal_columns(system: System, body: str) -> tuple[np.ndarray, np.ndarray]:
+    """(q columns (n,), modal stiffness omega^2 (n,) 1/s^2) of flexible body `body`'s modal
+    coordinates; ValueError when it is no flexible body of the system."""
+    for attached in getattr(system, "flexible", ()):
+        if attached.name == body:
+            columns = 7 * system.nb + attached.offset + np.arange(attached.body.n)
+            return columns, attached.body.component.stiffness
+    raise ValueError(f"initial modes: '{body}' is no flexible body of the mechanism")
+
+
 def _columns(system: System, item: InitialModes, values: Sequence[float]) -> np.ndarray:
     """The q columns of the body's modal coordinates; ValueError when the body is no
     flexible body of the system or `values` does not give one per mode."""
-    for attached in getattr(system, "flexible", ()):
-        if attached.name == item.body:
-            n = attached.body.n
-            if len(values) != n:
-                raise ValueError(
-                    f"initial modes of body '{item.body}': {len(values)} values given, "
-                    f"the body has {n} modes"
-                )
-            return 7 * system.nb + attached.offset + np.arange(n)
-    raise ValueError(f"initial modes: '{item.body}' is no flexible body of the mechanism")
+    columns, _ = modal_columns(system, item.body)
+    if len(values) != len(columns):
+        raise ValueError(
+            f"initial modes of body '{item.body}': {len(values)} values given, "
+            f"the body has {len(columns)} modes"
+        )
+    return columns
 
 
 def _targets(system: System, initial: Sequence, key: str) -> list[ModalTarget]:
