@@ -410,13 +410,9 @@ def assemble(
                 q, [item.value for item, _ in given]
             )
             its += n
-    modal = modal_targets(system, initial)
-    if modal:  # after the path: the modes' targets are small, and no branch hangs on them
-        q, n = _reach_modes(system, q, t, given, modal, weights)
-        its += n
-    q, its2 = solve_positions(system, q, t, weights=weights)
+    modal = modal_targets(system, initial)  # after the path: no branch hangs on the modes
+    q, its2 = _on_constraints(system, q, t, given, modal, weights)
     k = system.kin(q, None, t)
-    system.commit(k)
     notes = _position_notes(system, k, given)
     notes += modal_notes(modal, q[[m.column for m in modal]], "modal coordinate")
     changes = guess_changes(system, k, _guesses(system, initial), check)
@@ -434,15 +430,24 @@ def reassemble(
     """(q, qd, notes) as `assemble` gives them, from a q already near (no path from the
     drawing): on the constraints, the given joint values and modal coordinates and rates."""
     weights = _assembly_weights(system)
-    given = _given_positions(system, initial)
     modal = modal_targets(system, initial)
-    if modal:
-        q, _ = _reach_modes(system, q, t, given, modal, weights)
-    q, _ = solve_positions(system, q, t, weights=weights)
-    system.commit(system.kin(q, None, t))
+    q, _ = _on_constraints(system, q, t, _given_positions(system, initial), modal, weights)
     notes = modal_notes(modal, q[[m.column for m in modal]], "modal coordinate")
     qd, vnotes = _initial_velocities(system, q, t, initial, weights)
     return q, qd, notes + vnotes
+
+
+def _on_constraints(
+    system: System, q: np.ndarray, t: float, given, modal: list[ModalTarget], weights
+) -> tuple[np.ndarray, int]:
+    """(q, Newton iterations): the given modal coordinates reached (with the given joint
+    values), then the constraints met exactly; committed (the angles' references)."""
+    its = 0
+    if modal:
+        q, its = _reach_modes(system, q, t, given, modal, weights)
+    q, n = solve_positions(system, q, t, weights=weights)
+    system.commit(system.kin(q, None, t))
+    return q, its + n
 
 
 def _reach_modes(
