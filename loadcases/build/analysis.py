@@ -68,15 +68,37 @@ def _analysis(b: Builder, a, key: str, start: float = 0.0):
     )
 
 
-def initial_values(b: Builder) -> list:
-    """The case's initial joint values and body velocities."""
-    out: list[ml.InitialValue | ml.InitialBodyVelocity] = []
+def initial_values(b: Builder, mechanism: ml.Mechanism) -> list:
+    """The case's initial joint values, body velocities and modal coordinates (a flexible
+    body's `modes`/`rates`, one per mode as built; left out with the body's flexibility)."""
+    out: list[ml.InitialValue | ml.InitialBodyVelocity | ml.InitialModes] = []
     for name, v in b.case.initial.items():
         if name in b.mech.joints:
             out.append(ml.InitialValue(name, v.value, v.rate, guess=v.guess))
-        else:
+            continue
+        if v.omega is not None or v.velocity is not None:
             out.append(ml.InitialBodyVelocity(name, v.omega, v.velocity))
+        flexible = mechanism.flexible.get(name)
+        modal = v.modes is not None or v.rates is not None or v.deformed is not None
+        if flexible is not None and modal and _mode_counts(b, name, v, flexible.component.count):
+            out.append(ml.InitialModes(name, v.modes, v.rates, static=v.deformed == "static"))
     return out
+
+
+def _mode_counts(b: Builder, name: str, v, count: int) -> bool:
+    """True when `modes` and `rates` give one value per mode; else an error at each."""
+    fits = True
+    for key, unit in (("modes", "kg^0.5*m"), ("rates", "kg^0.5*m/s")):
+        values = getattr(v, key)
+        if values is not None and len(values) != count:
+            b.error(
+                "case",
+                f"initial.{name}.{key}",
+                f"{len(values)} values given: body '{name}' has {count} modes as built "
+                f"(one value per mode, {unit}; the `modes` request lists them as q1..q{count})",
+            )
+            fits = False
+    return fits
 
 
 def branch_check(b: Builder) -> ml.BranchCheck:

@@ -144,7 +144,7 @@ def build_run(cf: CaseFile, *, abscissa: bool = False) -> BuiltRun:
     requests, units = build_requests(b, cf.expression_units)
     if abscissa:
         abscissa_request(b, requests, units)
-    initial = initial_values(b)
+    initial = initial_values(b, mechanism)
     b.problems += servo_problems(cf, mechanism, analysis)
     if b.problems:
         raise InputError(b.problems)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 from loadcases.checks.analysis import analysis_problems
@@ -12,7 +13,13 @@ from loadcases.checks.phases import check_phase_names, check_phases
 from loadcases.expressions.dimensions import DimensionScope
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.units import UnitError, to_si
-from loadcases.schema import COORDINATE_DIMENSION, KNOWN_EFFECTS, CaseModel, MechanismModel
+from loadcases.schema import (
+    COORDINATE_DIMENSION,
+    KNOWN_EFFECTS,
+    CaseModel,
+    FlexibleBody,
+    MechanismModel,
+)
 from loadcases.schema.errors import did_you_mean
 from loadcases.yamlfiles.source import KeyPath, Locator
 
@@ -82,18 +89,76 @@ def _motions(
     return found
 
 
+_JOINT_KEYS = {"value", "guess", "rate"}
+_BODY_KEYS = {"omega", "velocity"}
+_MODAL_KEYS = {"modes", "rates", "deformed"}
+
+
+def _node_body(mechanism: MechanismModel, name: str) -> bool:
+    """`BODY.POINT`: the node body of interface point POINT of flexible body BODY."""
+    body, _, point = name.partition(".")
+    entry = mechanism.bodies.get(body)
+    return isinstance(entry, FlexibleBody) and point in entry.flexible.interface
+
+
+def _initial_entry(
+    mechanism: MechanismModel, name: str, given: set[str], at: Locator
+) -> list[Diagnostic]:
+    """The keys an entry gives against what its name is: a joint, a rigid body, a flexible
+    body or a flexible body's node body."""
+    joint, body = mechanism.joints.get(name), mechanism.bodies.get(name)
+    flexible = isinstance(body, FlexibleBody)
+    if joint is not None:
+        wrong, allowed = given - _JOINT_KEYS, "'value', 'guess' and/or 'rate'"
+        what = "a joint"
+    elif flexible:
+        wrong, allowed = given - _BODY_KEYS - _MODAL_KEYS, "'omega', 'velocity', 'modes'"
+        allowed, what = allowed + ", 'rates' and/or 'deformed'", "a flexible body"
+    elif body is not None:
+        wrong, allowed = given - _BODY_KEYS, "'omega' and/or 'velocity'"
+        what = "a rigid body" if given & _MODAL_KEYS else "a body"
+    else:  # the node body of an interface point
+        wrong, allowed = given - _BODY_KEYS, "'omega' and/or 'velocity'"
+        what = "an interface point's node body"
+    if wrong:
+        key = ("initial", name, sorted(wrong)[0]) if wrong & _MODAL_KEYS else ("initial", name)
+        return [at.diagnostic(key, f"'{name}' is {what}: give {allowed}")]
+    if {"modes", "deformed"} <= given:
+        return [
+            at.diagnostic(
+                ("initial", name, "deformed"),
+                "give either 'modes' or 'deformed: static' (the modal coordinates it finds)",
+            )
+        ]
+    if joint is not None and joint.type not in COORDINATE_DIMENSION:
+        return [
+            at.diagnostic(
+                ("initial", name),
+                f"joint '{name}' is {joint.type}: it has no single coordinate to set",
+            )
+        ]
+    return []
+
+
+def _modal_values(entry, name: str, at: Locator) -> list[Diagnostic]:
+    """Modal coordinates and rates: finite numbers."""
+    found = []
+    for key in ("modes", "rates"):
+        values = getattr(entry, key)
+        if values is not None and not all(math.isfinite(v) for v in values):
+            found.append(at.diagnostic(("initial", name, key), "must be finite numbers"))
+    return found
+
+
 def _initial(
     case: CaseModel, mechanism: MechanismModel, at: Locator, names: Names
 ) -> list[Diagnostic]:
     found = []
     for name, entry in case.initial.items():
-        joint, body = mechanism.joints.get(name), mechanism.bodies.get(name)
-        given = [
-            k
-            for k in ("value", "guess", "rate", "omega", "velocity")
-            if getattr(entry, k) is not None
-        ]
-        if joint is None and body is None:
+        keys = _JOINT_KEYS | _BODY_KEYS | _MODAL_KEYS
+        given = {k for k in keys if getattr(entry, k) is not None}
+        known = name in mechanism.joints or name in mechanism.bodies
+        if not known and not _node_body(mechanism, name):
             found.append(
                 unknown(
                     at,
@@ -103,26 +168,9 @@ def _initial(
                     names.get("joints") | (names.get("bodies") - {GROUND}),
                 )
             )
-        elif joint is not None and {"omega", "velocity"} & set(given):
-            found.append(
-                at.diagnostic(
-                    ("initial", name), f"'{name}' is a joint: give 'value', 'guess' and/or 'rate'"
-                )
-            )
-        elif joint is not None and joint.type not in COORDINATE_DIMENSION:
-            found.append(
-                at.diagnostic(
-                    ("initial", name),
-                    f"joint '{name}' is {joint.type}: it has no single coordinate to set",
-                )
-            )
-        elif body is not None and {"value", "guess", "rate"} & set(given):
-            found.append(
-                at.diagnostic(
-                    ("initial", name), f"'{name}' is a body: give 'omega' and/or 'velocity'"
-                )
-            )
-        elif joint is not None and entry.guess is not None:
+            continue
+        found += _initial_entry(mechanism, name, given, at) + _modal_values(entry, name, at)
+        if name in mechanism.joints and entry.guess is not None:
             found += _idle_guess(case, name, "value" in given, at)
     return found
 

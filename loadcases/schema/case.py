@@ -59,10 +59,12 @@ class Motion(Strict):
 
 
 class Initial(Strict):
-    """Initial state of a joint (`value`, `rate`) or of a body (`omega`, `velocity`).
+    """Initial state of a joint (`value`, `rate`), of a body (`omega`, `velocity`) or of a
+    flexible body's modes (`modes`, `rates`).
 
     `value` and `rate` are SI floats after loading (rad, rad/s for angular joints; m, m/s
-    for prismatic ones); in the file they may carry units (`10 deg`, `2 rad/s`).
+    for prismatic ones); in the file they may carry units (`10 deg`, `2 rad/s`). `modes`
+    and `rates` are bare SI numbers, one per mode (kg^0.5*m and kg^0.5*m/s).
     """
 
     value: RawQuantity | None = Field(None, description="joint coordinate [angle or length]")
@@ -79,6 +81,19 @@ class Initial(Strict):
     )
     velocity: vector("velocity") | None = Field(
         None, description=describe("body cm velocity, global axes", "velocity")
+    )
+    modes: list[float] | None = Field(
+        None,
+        description="modal coordinates of a flexible body, one per mode as built "
+        "(the `modes` request's q1..qn) [kg^0.5*m]",
+    )
+    rates: list[float] | None = Field(
+        None, description="rates of a flexible body's modal coordinates, one per mode [kg^0.5*m/s]"
+    )
+    deformed: Literal["static"] | None = Field(
+        None,
+        description="static: a flexible body starts a dynamic run in its quasi-static "
+        "deflection (elastic forces balancing the loads, reactions and inertia at the start)",
     )
 
 

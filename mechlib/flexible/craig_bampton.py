@@ -22,10 +22,11 @@ from mechlib.flexible.invariants import field_invariants
 from mechlib.flexible.modal_component import ModalComponent, damping_ratios
 from mechlib.flexible.stiffening import modal_geometric
 
-__all__ = ["ReductionError", "basis", "craig_bampton", "free_modes", "signed"]
+__all__ = ["ReductionError", "basis", "canonical", "craig_bampton", "free_modes", "signed"]
 
 _RIGID_ENERGY = 1e-8  # |K R| / (|K| |R|) above this: the rigid motions strain the model
 _MECHANISM = 1e-12  # omega^2 / max(omega^2) below this: a zero-energy deformation
+_DEGENERATE = 1e-8  # relative: eigenvalues this close are one group of modes (canonical)
 _DENSE_LIMIT = 600  # internal DOF up to which the fixed-interface modes come from eigh
 
 
@@ -63,6 +64,33 @@ def signed(vectors: np.ndarray) -> np.ndarray:
     rows = np.argmax(np.abs(vectors), axis=0)
     flip = np.sign(vectors[rows, np.arange(vectors.shape[1])])
     return vectors * np.where(flip == 0.0, 1.0, flip)
+
+
+def canonical(w2: np.ndarray, vectors: np.ndarray, mass) -> np.ndarray:
+    """`vectors` (ndof, n), mass-normalised eigenvectors of the eigenvalues `w2` (n,)
+    ascending, with a unique basis in each group of equal eigenvalues (within _DEGENERATE):
+    eigh returns any rotation of such a group (a square section's two bending modes), so
+    modal coordinates given by a user would mean another shape on another machine. The
+    group's basis is the one that is 1 at one and 0 at the others of the entries chosen by
+    QR with column pivoting (largest first: rotation-invariant choices), made
+    mass-orthonormal in the order of those entries."""
+    out = vectors.copy()
+    start = 0
+    while start < len(w2):
+        end = start + 1
+        while end < len(w2) and w2[end] - w2[start] <= _DEGENERATE * abs(w2[end]):
+            end += 1
+        if end - start > 1:
+            group = vectors[:, start:end]
+            pivots = np.sort(sla.qr(group.T, mode="r", pivoting=True)[1][: end - start])
+            unit = group @ np.linalg.inv(group[pivots])
+            for c in range(end - start):
+                v = unit[:, c] - out[:, start : start + c] @ (
+                    out[:, start : start + c].T @ (mass @ unit[:, c])
+                )
+                out[:, start + c] = v / np.sqrt(v @ (mass @ v))
+        start = end
+    return out
 
 
 def basis(model: FEModel, fixed_interface_modes: int) -> np.ndarray:
@@ -120,7 +148,7 @@ def _reduce(model: FEModel, fixed_interface_modes: int) -> tuple[np.ndarray, np.
             "the model is a mechanism (parts joined only through interface nodes, or too few "
             "interface DOF to hold them)"
         )
-    psi = signed(t @ (complement @ vec))
+    psi = signed(canonical(w2, t @ (complement @ vec), model.mass))
     return np.sqrt(w2), psi, _held(model.dof_map[b, 0], k_hat, m_hat)
 
 

@@ -16,6 +16,7 @@ __all__ = [
     "BranchCheck",
     "Dynamic",
     "InitialBodyVelocity",
+    "InitialModes",
     "InitialValue",
     "Kinematic",
     "Modes",
@@ -178,6 +179,20 @@ class InitialBodyVelocity:
     body: str
     omega: Sequence[float] | None = None
     velocity: Sequence[float] | None = None
+
+
+@dataclass(frozen=True)
+class InitialModes:
+    """A flexible body's modal coordinates `modes` (kg^0.5 m, one per mode) and/or their
+    rates `rates` (kg^0.5 m/s) given for the start of an analysis; `static`: its modal
+    coordinates instead those of its quasi-static deflection at the start (the elastic
+    forces balance the loads, reactions and inertia of the motion there: no modal
+    acceleration), in a dynamic analysis."""
+
+    body: str
+    modes: Sequence[float] | None = None
+    rates: Sequence[float] | None = None
+    static: bool = False
 
 
 def output_times(start: float, end: float, step: float) -> np.ndarray:

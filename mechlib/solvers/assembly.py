@@ -7,6 +7,8 @@ assembly branch of the drawn geometry, or goes near the guesses given
 flexible bodies weigh _MODAL_WEIGHT^-2 times more in that smallest change: a given angle is
 reached by rigid motion, and a body deforms only where the constraints need it (otherwise
 the least-squares step spreads the motion over the modes and starts a run strained).
+Given modal coordinates and rates (`InitialModes`) are targets like given joint values:
+reached exactly where the constraints allow, the rigid coordinates moving to meet them.
 """
 
 from __future__ import annotations
@@ -35,6 +37,12 @@ from mechlib.solvers.branches import (
     orientation,
     stage_jumps,
 )
+from mechlib.solvers.initial_modes import (
+    ModalTarget,
+    modal_notes,
+    modal_rate_rows,
+    modal_targets,
+)
 from mechlib.system.system import System
 
 __all__ = [
@@ -44,6 +52,7 @@ __all__ = [
     "InitialBodyVelocity",
     "InitialValue",
     "assemble",
+    "reassemble",
     "solve_accelerations",
     "solve_positions",
     "solve_rates",
@@ -401,10 +410,11 @@ def assemble(
                 q, [item.value for item, _ in given]
             )
             its += n
-    q, its2 = solve_positions(system, q, t, weights=weights)
+    modal = modal_targets(system, initial)  # after the path: no branch hangs on the modes
+    q, its2 = _on_constraints(system, q, t, given, modal, weights)
     k = system.kin(q, None, t)
-    system.commit(k)
     notes = _position_notes(system, k, given)
+    notes += modal_notes(modal, q[[m.column for m in modal]], "modal coordinate")
     changes = guess_changes(system, k, _guesses(system, initial), check)
     if flagged:
         final = angle_values(system, k)
@@ -412,6 +422,55 @@ def assemble(
         changes.insert(0, BranchChange(t, joints, "drawn", _OFF_BRANCH))
     qd, vnotes = _initial_velocities(system, q, t, initial, weights)
     return Assembled(q, qd, its + its2, notes + vnotes, changes)
+
+
+def reassemble(
+    system: System, q: np.ndarray, t: float, initial: Sequence
+) -> tuple[np.ndarray, np.ndarray, list[str]]:
+    """(q, qd, notes) as `assemble` gives them, from a q already near (no path from the
+    drawing): on the constraints, the given joint values and modal coordinates and rates."""
+    weights = _assembly_weights(system)
+    modal = modal_targets(system, initial)
+    q, _ = _on_constraints(system, q, t, _given_positions(system, initial), modal, weights)
+    notes = modal_notes(modal, q[[m.column for m in modal]], "modal coordinate")
+    qd, vnotes = _initial_velocities(system, q, t, initial, weights)
+    return q, qd, notes + vnotes
+
+
+def _on_constraints(
+    system: System, q: np.ndarray, t: float, given, modal: list[ModalTarget], weights
+) -> tuple[np.ndarray, int]:
+    """(q, Newton iterations): the given modal coordinates reached (with the given joint
+    values), then the constraints met exactly; committed (the angles' references)."""
+    its = 0
+    if modal:
+        q, its = _reach_modes(system, q, t, given, modal, weights)
+    q, n = solve_positions(system, q, t, weights=weights)
+    system.commit(system.kin(q, None, t))
+    return q, its + n
+
+
+def _reach_modes(
+    system: System, q: np.ndarray, t: float, given, modal: list[ModalTarget], weights
+) -> tuple[np.ndarray, int]:
+    """q on the constraints, the given joint values and the given modal coordinates
+    (least squares where they contradict each other). The modal rows are divided by
+    _MODAL_WEIGHT: unit rows in the scaled columns of the least squares."""
+    columns = np.array([m.column for m in modal])
+    targets = np.array([m.value for m in modal])
+    unit = np.zeros((len(modal), system.nq))
+    unit[np.arange(len(modal)), columns] = 1.0 / _MODAL_WEIGHT
+    joint_rows = _given_residual(system, given, [item.value for item, _ in given], t)
+    joint_jacobian = _given_jacobian(system, given, t)
+
+    def residual(x: np.ndarray) -> np.ndarray:
+        return np.concatenate([joint_rows(x), (x[columns] - targets) / _MODAL_WEIGHT])
+
+    def jacobian(x: np.ndarray) -> np.ndarray:
+        return np.vstack([joint_jacobian(x), unit])
+
+    q, n, _ = _newton(residual, jacobian, q, POSITION_TOLERANCE, weights)
+    return q, n
 
 
 def _velocity_rows(system: System, k: Kin, initial) -> tuple[list, list, list]:
@@ -441,6 +500,10 @@ def _initial_velocities(system: System, q: np.ndarray, t: float, initial, weight
     k = system.kin(q, None, t)
     phi_q, nu = system.phi_q(k), system.nu(k)
     rows, rhs, names = _velocity_rows(system, k, initial)
+    modal_rows, modal_rhs, modal = modal_rate_rows(system, initial)
+    if modal:  # unit rows in the scaled columns, as in _reach_modes
+        rows = [*rows, *(modal_rows / _MODAL_WEIGHT)]
+        rhs = [*rhs, *(modal_rhs / _MODAL_WEIGHT)]
     count(factorizations=2 if rows else 1)
     if rows:
         scaled, *_ = np.linalg.lstsq(
@@ -459,4 +522,5 @@ def _initial_velocities(system: System, q: np.ndarray, t: float, initial, weight
                 f"initial {what} changed from {np.round(wanted, 9).tolist()} to "
                 f"{np.round(actual, 9).tolist()} to satisfy the constraints"
             )
+    notes += modal_notes(modal, modal_rows @ qd, "modal rate")
     return qd, notes

@@ -41,6 +41,7 @@ from mechlib.solvers.modes import ModalResult, Modes, modal_channels, normal_mod
 from mechlib.solvers.phases import PhaseRecord, phase_spans, run_phases
 from mechlib.solvers.solve_copy import solve_copy
 from mechlib.solvers.static.analyses import QuasiStaticStepper, run_static
+from mechlib.solvers.static_start import settle_modes
 from mechlib.system.planar import make_system
 from mechlib.system.system import System
 
@@ -122,6 +123,8 @@ def _analyse(
     start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
     with tally(run.stats):
         assembled = assemble(system, start, initial, branches)
+        if isinstance(analysis, Dynamic):  # equilibrium analyses find the deflection anyway
+            assembled = settle_modes(system, assembled, start, initial)
         warnings += assembled.notes
         _branch_outcome(assembled.branches, branches, warnings)
         system.begin(system.kin(assembled.q, assembled.qd, start))

@@ -12,7 +12,7 @@ import scipy.linalg as sla
 import scipy.sparse as sp
 
 from mechlib.flexible.beam import Material, Section, assemble_beams
-from mechlib.flexible.craig_bampton import ReductionError, craig_bampton, free_modes
+from mechlib.flexible.craig_bampton import ReductionError, canonical, craig_bampton, free_modes
 from mechlib.flexible.fe_model import FEModel
 from mechlib.flexible.modal_component import default_damping
 
@@ -193,3 +193,28 @@ def test_reduction_is_the_same_whatever_arpack_did_before():
     _, psi = free_modes(model, 12)
     peak = psi[np.argmax(np.abs(psi), axis=0), np.arange(psi.shape[1])]
     assert np.all(peak > 0.0)
+
+
+def test_equal_frequencies_have_one_basis():
+    """A straight beam of square section bends alike about y and z: eigh returns any
+    rotation of each such pair. `canonical` makes the basis unique: a rotated pair gives the
+    same modes (1e-9), and here each is a pure bending mode (no z translation in the
+    in-plane one: 1e-9 of its largest entry), so modal coordinates given in a case mean the
+    same shape wherever they run."""
+    xyz = np.outer(np.linspace(0.0, 0.3, 9), [1.0, 0.0, 0.0])
+    square = Section.rectangle(0.008, 0.008)
+    elements = [(i, i + 1, square, STEEL, (0.0, 1.0, 0.0)) for i in range(8)]
+    model = assemble_beams(xyz, elements, interface=(0, 8))
+    omega, psi = free_modes(model, 4)
+    assert omega[1] - omega[0] < 1e-8 * omega[1]  # the pair, equal to round-off
+    m = model.mass
+    angle = 0.7
+    turn = np.array([[np.cos(angle), -np.sin(angle)], [np.sin(angle), np.cos(angle)]])
+    turned = psi.copy()
+    turned[:, :2] = psi[:, :2] @ turn
+    again = canonical(omega**2, turned, m)
+    assert np.abs(np.abs(again[:, :2]) - np.abs(psi[:, :2])).max() < 1e-9 * np.abs(psi).max()
+    y, z = model.dof_map[:, 1] == 1, model.dof_map[:, 1] == 2
+    for mode in psi[:, :2].T:
+        small = min(np.abs(mode[y]).max(), np.abs(mode[z]).max())
+        assert small < 1e-9 * np.abs(mode).max()
