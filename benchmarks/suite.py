@@ -484,7 +484,7 @@ def format_table(rows: list[dict[str, Any]], tol: float) -> str:
         f"{'ratio solve':>11} {'total':>7} {'cpu':>5}"
     )
     lines = [
-        f"accuracy target: error <= {tol:g} of the output's range (vs Exudyn reference)",
+        f"accuracy target: error <= {tol:g} of the output's range (vs the model's reference)",
         head,
         "-" * len(head),
     ]
