@@ -66,20 +66,21 @@ def test_mobility(name: str, dof: int) -> None:
 
 
 #: (horizon s, loads tolerance, Exudyn step s, bound on the relative error): horizons
-#: covering each model's first contacts, first latch, reversals and valve opening.
+#: covering each model's first contacts, first latch, reversals and valve opening; bounds
+#: about twice the errors measured on 2026-11-29 (6.3e-5, 2.4e-5, 2.3e-5, 7.0e-4: Exudyn's
+#: own error at these steps, first order in the step for its switched latch and valve).
 SHORT_RUNS = {
-    "socket_rattle": (0.02, 1e-10, 1e-6, 2e-3),
-    "flap_latches": (0.35, 1e-9, 2.5e-5, 1e-3),
-    "fourbar_friction": (0.5, 1e-9, 2.5e-4, 1e-3),
-    "hydraulic_ram": (0.03, 1e-9, 2.5e-5, 1e-3),
+    "socket_rattle": (0.02, 1e-10, 1e-6, 1.5e-4),
+    "flap_latches": (0.35, 1e-9, 2.5e-5, 5e-5),
+    "fourbar_friction": (0.5, 1e-9, 2.5e-4, 5e-5),
+    "hydraulic_ram": (0.03, 1e-9, 2.5e-5, 1.5e-3),
 }
 
 
 @needs_exudyn
 @pytest.mark.parametrize("name", KINDS)
 def test_both_codes_produce_the_same_motion(name: str) -> None:
-    """Measured (2026-11-29): socket 2.1e-4 over 0.05 s at 1 us, flaps 2.4e-5 over 1 s at
-    25 us, four-bar 1.2e-4 over 2 s at 0.25 ms, hydraulics 1.0e-4 over 0.2 s at 25 us."""
+    """Exudyn at a fine fixed step lands on `loads` at a tight tolerance (SHORT_RUNS)."""
     model = model_by_name(name)
     end, tolerance, step, bound = SHORT_RUNS[name]
     solution = _loads(model, end, tolerance)
