@@ -24,6 +24,7 @@ __all__ = [
     "CodeResult",
     "Reference",
     "load_reference",
+    "make_loads_reference",
     "make_reference",
     "reference_path",
     "relative_error",
@@ -38,6 +39,16 @@ REFERENCE_STEP: dict[str, float] = {
     "fourbar10": 2.5e-5,
     "ball_bounce": 1e-7,
     "chain100": 5e-5,
+}
+
+#: Tolerance of the `loads` run that is the reference of each bench model of
+#: `benchmarks.kinds` (Exudyn's fixed steps converge to it at first or second order; its own
+#: error is estimated from the run at ten times the tolerance).
+LOADS_REFERENCE_TOLERANCE: dict[str, float] = {
+    "socket_rattle": 1e-11,
+    "flap_latches": 1e-11,
+    "fourbar_friction": 1e-11,
+    "hydraulic_ram": 1e-11,
 }
 
 #: Exudyn's sparse solver (EigenSparse) is its faster one here: 4x to 6x on chain20 and
@@ -151,22 +162,70 @@ def make_reference(model: ModelSpec, log: Callable[[str], None] = print) -> Refe
         "date": datetime.now(UTC).isoformat(timespec="seconds"),
     }
     ref.meta = meta
-    REFERENCE_DIR.mkdir(parents=True, exist_ok=True)
-    values = np.column_stack([fine.channels[c] for c in columns])
-    np.savez_compressed(
-        reference_path(model),
-        time=fine.time,
-        values=values,
-        columns=np.array(columns),
-        meta=np.array(json.dumps(meta)),
-    )
+    _store(model, ref, columns)
     log(f"  reference {model.name}: stored, estimated error {self_error:.1e}")
     return ref
 
 
+def make_loads_reference(model: ModelSpec, log: Callable[[str], None] = print) -> Reference:
+    """Compute and store the `loads` reference of `model` (full end time, steps landing on
+    the output times) at LOADS_REFERENCE_TOLERANCE, with a self-error estimate: its
+    difference to the run at ten times that tolerance."""
+    import tempfile
+
+    from benchmarks.suite import _case_copy  # the suite's case writer (imports this module)
+    from loadcases.run import run_file
+
+    tolerance = LOADS_REFERENCE_TOLERANCE[model.name]
+    runs = {}
+    with tempfile.TemporaryDirectory(prefix=f"ref-{model.name}-") as tmp:
+        for tol in (10.0 * tolerance, tolerance):
+            log(f"  reference {model.name}: loads tolerance {tol:g}")
+            case = _case_copy(model, model.end, tol, Path(tmp), "steps")
+            solution = run_file(case, output_dir=Path(tmp) / "out")[0].solution
+            if not solution.ok:
+                raise RuntimeError(f"{model.name}: reference run failed: {solution.message}")
+            runs[tol] = solution
+    fine, coarse = runs[tolerance], runs[10.0 * tolerance]
+    columns = [o.column for o in model.outputs]
+    time = np.asarray(fine.time, dtype=float)
+    channels = {c: np.asarray(fine.channels[c], dtype=float) for c in columns}
+    ref = Reference(model.name, time, channels, {})
+    coarse_channels = {c: np.asarray(coarse.channels[c]) for c in columns}
+    self_error = relative_error(np.asarray(coarse.time), coarse_channels, ref, model.main)
+    ref.meta = {
+        "model": model.name,
+        "code": "loads",
+        "tolerance": tolerance,
+        "end": model.end,
+        "output_step": model.output_step,
+        "integrator": "generalized-alpha, output: steps",
+        "steps": int(fine.stats.steps),
+        "self_error": self_error,
+        "self_error_method": "error of the run at 10 x tolerance against this one",
+        "cpu_seconds": float(fine.stats.cpu_seconds),
+        "date": datetime.now(UTC).isoformat(timespec="seconds"),
+    }
+    _store(model, ref, columns)
+    log(f"  reference {model.name}: stored, estimated error {self_error:.1e}")
+    return ref
+
+
+def _store(model: ModelSpec, ref: Reference, columns: list[str]) -> None:
+    REFERENCE_DIR.mkdir(parents=True, exist_ok=True)
+    np.savez_compressed(
+        reference_path(model),
+        time=ref.time,
+        values=np.column_stack([ref.channels[c] for c in columns]),
+        columns=np.array(columns),
+        meta=np.array(json.dumps(ref.meta)),
+    )
+
+
 @dataclass
 class CodeResult:
-    """The figures of one code on one model (times in s, errors dimensionless)."""
+    """The figures of one code on one model (times in s, errors dimensionless; the CPU
+    seconds are the process time of the solve alone)."""
 
     status: str = "not run"
     setting: str = ""
@@ -175,6 +234,7 @@ class CodeResult:
     solve_seconds: float | None = None
     total_seconds: float | None = None
     build_seconds: float | None = None
+    cpu_seconds: float | None = None
     steps: int | None = None
     calibration: list[tuple[float, float | None]] = field(default_factory=list)
     message: str = ""

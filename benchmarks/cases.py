@@ -10,6 +10,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from benchmarks.kinds import kind_models
 from benchmarks.models import ModelSpec, all_models
 
 __all__ = ["DEFAULT_TOLERANCE", "MODELS_DIR", "case_path", "case_yaml", "main", "write_cases"]
@@ -68,6 +69,18 @@ def _contact_lines(model: ModelSpec) -> list[str]:
     return lines
 
 
+def _initial_lines(model: ModelSpec) -> list[str]:
+    """The `initial:` block: a joint rate, or bodies' cm velocities (none: at rest)."""
+    if model.initial_rate is not None:
+        joint, rate = model.initial_rate
+        return ["initial:", f"  {joint}: {{value: 0, rate: {_num(rate)}}}"]
+    if model.initial_velocity:
+        return ["initial:"] + [
+            f"  {b}: {{velocity: {_vector(v)}}}" for b, v in model.initial_velocity
+        ]
+    return []
+
+
 def case_yaml(
     model: ModelSpec, end: float | None = None, tolerance: float = DEFAULT_TOLERANCE
 ) -> str:
@@ -111,9 +124,7 @@ def case_yaml(
             f"at: {_vector(j.at)}{extra}}}"
         )
     lines += _contact_lines(model)
-    if model.initial_rate is not None:
-        joint, rate = model.initial_rate
-        lines += ["initial:", f"  {joint}: {{value: 0, rate: {_num(rate)}}}"]
+    lines += _initial_lines(model)
     lines += [
         "analysis:",
         "  type: dynamic",
@@ -135,14 +146,29 @@ def case_yaml(
             )
         elif out.kind == "joint_angle":
             lines.append(f"  {out.request}: {{joint: {out.target}, quantity: angle}}")
-    return "\n".join(lines) + "\n"
+    text = "\n".join(lines) + "\n"
+    return text if model.extension is None else _extended(model, lines, text)
+
+
+def _extended(model: ModelSpec, lines: list[str], text: str) -> str:
+    """`text` with what the model's extension module adds to the case (forces, events,
+    contacts), written back as YAML under the same header comments."""
+    import importlib
+
+    import yaml
+
+    data = yaml.safe_load(text)
+    importlib.import_module(model.extension or "").extend_case(data)
+    header = [line for line in lines if line.startswith("#")]
+    body = yaml.safe_dump(data, sort_keys=False, default_flow_style=None, width=100)
+    return "\n".join(header) + "\n" + body
 
 
 def write_cases(directory: Path = MODELS_DIR) -> list[Path]:
     """Write every model's case file into `directory`; returns the paths written."""
     directory.mkdir(parents=True, exist_ok=True)
     written = []
-    for model in all_models():
+    for model in all_models() + kind_models():
         path = directory / f"{model.name}.case.yaml"
         path.write_text(case_yaml(model), encoding="utf-8")
         written.append(path)

@@ -16,6 +16,10 @@ The joint's marker 0 is on body 2 of the spec (the ground for ground joints) and
 body 1, so joint outputs are in body-2 axes and joint rotations are those of body 1 relative to
 body 2, as in SPEC 1.3.
 
+A model with an `extension` (benchmarks.kinds) gets its force elements, events and other
+contacts from that module's `extend_exudyn`, which may return a pre-step function (Exudyn's
+`PreStepUserFunction`: called once before each step, for switching).
+
 A sphere-plane contact (`ContactSpec`, the `hertz` law of `loads`) is Exudyn's native
 `ObjectContactSphereSphere` between the ball and a ground sphere of radius GROUND_SPHERE_RADIUS
 whose surface touches the plane at the plane point: for a ball that moves along the normal
@@ -413,7 +417,7 @@ def _settings(exu: ModuleType, model: ModelSpec, options: ExudynOptions) -> Any:
     settings.solution.sensors.writePeriod = (
         options.step if options.output_step is None else options.output_step
     )
-    if model.contacts:
+    if model.contacts or model.extension is not None:
         # Exudyn's step recommended at a contact switch drives the step to its 1e-8 s minimum
         # and aborts on this stiff contact (1.13.6): fixed steps, as for the jointed models
         ti.discontinuous.useRecommendedStepSize = False
@@ -435,6 +439,11 @@ def build_system(model: ModelSpec, options: ExudynOptions) -> _Built:
     bodies = _add_bodies(exu, mbs, model)
     _add_contacts(mbs, model, bodies)
     joints = {j.name: _add_joint(mbs, j, bodies) for j in model.joints}
+    if model.extension is not None:  # the kinds' force elements, events, other contacts
+        extend = importlib.import_module(model.extension).extend_exudyn
+        pre_step = extend(exu, mbs, bodies, joints, options.step)
+        if pre_step is not None:
+            mbs.SetPreStepUserFunction(pre_step)
     channel_sensors = _add_output_sensors(exu, mbs, model, bodies, joints)
     body_sensors: dict[str, tuple[int, int, int, int]] = {}
     joint_point_sensors: list[

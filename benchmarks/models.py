@@ -157,6 +157,9 @@ class ModelSpec:
     `secondary` the columns also compared, for information. `end` is the simulated time (s),
     `quick_end` the shorter one of `--quick`, `output_step` the output interval (s).
     `contacts` lists the sphere-plane contacts (none in the jointed models).
+    `initial_velocity` gives `(body, cm velocity m/s)` pairs of a model without joints that
+    does not start at rest. `extension` names a module of `benchmarks.kinds` that adds what
+    the rigid spec cannot say (force elements, events, other contacts) to both codes.
     """
 
     name: str
@@ -174,6 +177,8 @@ class ModelSpec:
     contacts: tuple[ContactSpec, ...] = ()
     initial_rate: tuple[str, float] | None = None
     notes: tuple[str, ...] = field(default_factory=tuple)
+    initial_velocity: tuple[tuple[str, tuple[float, float, float]], ...] = ()
+    extension: str | None = None
 
     def body(self, name: str) -> BodySpec:
         """The body called `name`."""
@@ -452,12 +457,15 @@ def all_models() -> list[ModelSpec]:
 
 
 def model_by_name(name: str) -> ModelSpec:
-    """The model called `name` (`slider_crank`, `chain20`, `fourbar10`, `ball_bounce`,
-    `chain100`)."""
-    for m in all_models():
+    """The model called `name`: one of `all_models` (`slider_crank`, `chain20`, `fourbar10`,
+    `ball_bounce`, `chain100`) or of `benchmarks.kinds.kind_models` (`loads bench --kinds`)."""
+    from benchmarks.kinds import kind_models  # the kinds build on this module
+
+    known = all_models() + kind_models()
+    for m in known:
         if m.name == name:
             return m
-    raise KeyError(f"unknown model {name!r}; known: {[m.name for m in all_models()]}")
+    raise KeyError(f"unknown model {name!r}; known: {[m.name for m in known]}")
 
 
 # --------------------------------------------------------------------------------------
@@ -542,11 +550,15 @@ def consistent_velocities(model: ModelSpec) -> tuple[np.ndarray, np.ndarray]:
     that satisfy the constraints and give the joint named in `model.initial_rate` its rate.
 
     Requires a mechanism with exactly one DOF when `initial_rate` is set; a model without
-    `initial_rate` starts at rest (zeros).
+    `initial_rate` starts at rest, but for the cm velocities of `initial_velocity`.
     """
     nb = len(model.bodies)
     if model.initial_rate is None:
-        return np.zeros((nb, 3)), np.zeros((nb, 3))
+        velocities = np.zeros((nb, 3))
+        names = [b.name for b in model.bodies]
+        for body, v in model.initial_velocity:
+            velocities[names.index(body)] = v
+        return velocities, np.zeros((nb, 3))
     jac, _ = constraint_velocity_jacobian(model)
     name, rate = model.initial_rate
     joint = model.joint(name)

@@ -491,11 +491,21 @@ def bench(
             "and per simulated second against N, a log-log PNG (benchmarks/scaling.py).",
         ),
     ] = False,
+    kinds: Annotated[
+        bool,
+        typer.Option(
+            "--kinds",
+            help="Run the suite on the models of other kinds instead: a ball rattling in "
+            "its socket, flaps latching by events, a four-bar with springs and friction, a "
+            "hydraulic actuator (benchmarks/kinds/).",
+        ),
+    ] = False,
 ) -> int:
-    """Run the benchmark suite against Exudyn, or with --door time the door's load-case
-    set, with --startup the command's start-up, with --campaign a large sweep against
-    Exudyn, with --scaling the cost against the number of bodies. It needs a source
-    checkout (benchmarks/suite.py)."""
+    """Run the benchmark suite against Exudyn (with --kinds on contact, event, friction
+    and hydraulic models), or with --door time the door's load-case set, with --startup
+    the command's start-up, with --campaign a large sweep against Exudyn, with --scaling
+    the cost against the number of bodies. It needs a source checkout
+    (benchmarks/suite.py)."""
     suite = _find_bench_suite()
     if suite is None:
         raise fail(
@@ -508,7 +518,10 @@ def bench(
     entry = namespace.get("main")
     if not callable(entry):
         raise fail(f"{suite.with_name(module + '.py')}: no main(argv) function")
-    result = entry(["--quick"] if quick and module == "suite" else [])
+    argv = ["--quick"] if quick and module == "suite" else []
+    if kinds and module == "suite":
+        argv.append("--kinds")
+    result = entry(argv)
     return int(result or 0)
 
 

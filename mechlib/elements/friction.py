@@ -232,8 +232,11 @@ class JointFriction(StaticSlipAnchor):
             return None
         m, ints, floats = self._compiled
         lam, sign = view.lam, 1.0
-        if lam is None or len(lam) == 0:
-            jac, lam, rows = _NO_JACOBIAN, _NO_VALUES, _NO_ROWS  # no reaction known yet
+        # no reaction known yet, or none needed: with mu = 0 the capacity is the preload
+        # alone, and the constraint Jacobian a reaction needs would be evaluated for nothing
+        # (at every column of a differenced tangent)
+        if lam is None or len(lam) == 0 or self.mu == 0.0:
+            jac, lam, rows = _NO_JACOBIAN, _NO_VALUES, _NO_ROWS
         else:
             rows, ints[4], sign = self._system.joint_force_rows(self.joint)
             jac = view.jacobian()

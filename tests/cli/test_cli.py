@@ -254,6 +254,8 @@ def test_bench_runs_suite_main_or_reports_missing(
     monkeypatch.setattr(cli_app, "_find_bench_suite", lambda: suite)
     result = runner.invoke(app, ["bench", "--quick"])
     assert result.exit_code == 0 and "suite ['--quick']" in result.stdout
+    result = runner.invoke(app, ["bench", "--kinds", "--quick"])
+    assert result.exit_code == 0 and "suite ['--quick', '--kinds']" in result.stdout
     for module, flag, code in (
         ("door_set", "--door", 1),
         ("campaign", "--campaign", 0),

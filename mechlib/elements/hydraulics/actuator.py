@@ -236,11 +236,23 @@ class ServoActuator:
         out["value"] = -out["force"]
         return out, u
 
+    def _force(self, view: StateView) -> tuple[float, np.ndarray]:
+        """(F (N, extending positive), the unit vector of the line) at `view`: with
+        chambers, the piston force of the floored pressures alone (what `_evaluate` gives,
+        without the controller, valve and flows the states' rates need)."""
+        x, xd, u = self._line(view)
+        z = view.states(self)
+        if self.fidelity == "lag":
+            return self._evaluate(view.t, x, xd, z, view.at_rest)[1]["force"], u
+        s = self.supply
+        pf1, pf2 = (floored(p, s.vapour_pressure, s.floor_width) for p in (z[-2], z[-1]))
+        return self._piston_force(x, xd, pf1, pf2), u
+
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         b1, s1, b2, s2 = self._geometry
-        out, u = self._state(view)
+        actuator, u = self._force(view)
         for body, s, sign in ((b1, s1, 1.0), (b2, s2, -1.0)):
-            force = sign * out["force"] * u
+            force = sign * actuator * u
             F[body] += force
             N[body] += cross(view.point_position(body, s) - view.kin.r[body], force)
 
