@@ -74,7 +74,9 @@ def _cable_loop(builder, name: str, f) -> Any:
             "sharing exactly one body (the yoke) and positive radii",
         )
         return None
-    return ml.CableLoop(name, tuple(f.joints), tuple(f.radii), f.stiffness, f.pretension)
+    return ml.CableLoop(
+        name, tuple(f.joints), tuple(f.radii), f.stiffness, f.pretension, guided=f.guided
+    )
 
 
 def _seal(builder, name: str, f) -> Any:

@@ -596,20 +596,21 @@ def load_set_cases(
     set_file: SetFile, done: set[str] | None = None
 ) -> tuple[list[CaseFile], list[Diagnostic]]:
     """The set's case files that load, and the diagnostics of all of them (warnings, and
-    the errors of those that do not load), each file once; paths in `done` are skipped
-    and the others added to it."""
+    the errors of those that do not load), each file's once: paths in `done` were reported
+    already (their cases are still returned, for the set's own checks), the others are
+    added to it."""
     done = set() if done is None else done
     cases: list[CaseFile] = []
     found: list[Diagnostic] = []
     for case_path in set_file.case_paths:
-        if case_path in done:
-            continue
+        reported = case_path in done
         done.add(case_path)
         try:
             cases.append(load_case(case_path))
-            found += cases[-1].warnings
         except InputError as error:
-            found += error.diagnostics
+            found += [] if reported else error.diagnostics
+            continue
+        found += [] if reported else cases[-1].warnings
     return cases, found
 
 

@@ -81,6 +81,11 @@ class CableLoop(Strict):
         gt=0, description=describe("stiffness of each strand", "stiffness")
     )
     pretension: Force = Field(0.0, ge=0, description=describe("strand tension at design", "force"))
+    guided: bool = Field(
+        False,
+        description="strands guided along the yoke (seed 003 fig. 2.2.5-4): the yoke takes "
+        "the torque (F_a - F_b)(r1 - r2), no lateral force",
+    )
     active: bool = Field(True, description=_ACTIVE)
 
 

@@ -15,6 +15,11 @@ g(D) = L + (r1 - r2) asin((r1 - r2) / D), L = sqrt(D^2 - (r1 - r2)^2) the free s
     F_lat = (F_a - F_b) (r1 - r2) / D   normal to AB, a couple on the pulleys (2.6).
 The cable is massless: the loads on the two pulley bodies are in equilibrium, the yoke gets
 none (the lateral couple carries what the torques T1 + T2 leave unbalanced).
+Guided strands (`guided`, fig. 2.2.5-4): guides on the yoke hold each strand parallel to AB
+(offset r1 at A, r2 at B), so g(D) = D: F_ax = F_a + F_b, no lateral force, and the yoke
+takes the torque T_yoke = -(T1 + T2) = (F_a - F_b)(r1 - r2) about the hinge axis (each
+pulley torque's reaction at the yoke's side of its joint; on a flexible yoke, the node
+carrying that hinge).
 Energy (the energy request): the loads are those of the potential
 V = sum over the strands of (max(0, T0 + k e)^2 - T0^2) / (2 k) (`potential`, J; 0 at
 design), the integral of each strand's tension over its elongation.
@@ -37,13 +42,14 @@ __all__ = ["CableLoop"]
 @dataclass
 class CableLoop:
     """Cable loop over joints `joints` (revolute) with pulley `radii` (m), strand
-    `stiffness` (N/m) and `pretension` (N)."""
+    `stiffness` (N/m) and `pretension` (N); `guided`: strands guided along the yoke."""
 
     name: str
     joints: tuple[str, str]
     radii: tuple[float, float]
     stiffness: float
     pretension: float = 0.0
+    guided: bool = False
     effect: str = "springs"
     active: bool = True
     output_units: ClassVar[dict[str, str]] = {
@@ -51,6 +57,7 @@ class CableLoop:
         "t2": "N*m",
         "f_axial": "N",
         "f_lateral": "N",
+        "t_yoke": "N*m",
         "tension_a": "N",
         "tension_b": "N",
     }
@@ -86,7 +93,7 @@ class CableLoop:
         self._ints = np.array([b1, b2, m1.bi, m1.bj, m2.bi, m2.bj, yoke], dtype=np.int64)
         self._floats = np.concatenate(
             [s1, s2, m1.f, m1.g, m1.axis_local, m2.f, m2.g, m2.axis_local, self._sense]
-            + [[*self.radii, self.stiffness, self.pretension, self._g0]]
+            + [[*self.radii, self.stiffness, self.pretension, self._g0, float(self.guided)]]
         ).astype(float)
         assert self._ints.size == kernel.INTS and self._floats.size == kernel.FLOATS
 
@@ -102,6 +109,8 @@ class CableLoop:
                 f"cable_loop '{self.name}': hinge distance {d:.6g} m must exceed "
                 f"|r1 - r2| = {abs(dr):.6g} m"
             )
+        if self.guided:
+            return d  # strands parallel to AB between the guides
         return math.sqrt(d * d - dr * dr) + dr * math.asin(dr / d)
 
     def _distance(self, view: StateView) -> float:
@@ -131,12 +140,14 @@ class CableLoop:
         r1, r2 = self.radii
         fa = max(0.0, self.pretension + self.stiffness * ea)
         fb = max(0.0, self.pretension + self.stiffness * eb)
-        length = math.sqrt(d * d - (r1 - r2) ** 2)
+        length = d if self.guided else math.sqrt(d * d - (r1 - r2) ** 2)
+        lateral, on_yoke = (fa - fb) * (r1 - r2) / d, (fa - fb) * (r1 - r2)
         return {
             "t1": r1 * (fb - fa),
             "t2": r2 * (fa - fb),
             "f_axial": (fa + fb) * length / d,
-            "f_lateral": (fa - fb) * (r1 - r2) / d,
+            "f_lateral": 0.0 if self.guided else lateral,
+            "t_yoke": on_yoke if self.guided else 0.0,
             "tension_a": fa,
             "tension_b": fb,
             "a": a,
@@ -160,7 +171,8 @@ class CableLoop:
             )  # a non-finite state: non-finite loads (mechlib.solvers.finite)
 
     def output(self, view: StateView) -> dict[str, float]:
-        """t1, t2 (N*m, eqs. 2.3-2.4), f_axial, f_lateral (N, eqs. 2.5-2.6), strand
-        tensions tension_a, tension_b (N)."""
+        """t1, t2 (N*m, eqs. 2.3-2.4), f_axial, f_lateral (N, eqs. 2.5-2.6), the guided
+        strands' torque on the yoke t_yoke (N*m, about joint 1's axis in the sense of phi; 0
+        when free), strand tensions tension_a, tension_b (N)."""
         st = self._state(view)
         return {k: st[k] for k in self.output_units}

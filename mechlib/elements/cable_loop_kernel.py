@@ -19,10 +19,11 @@ __all__ = ["FLOATS", "INTS", "cable_loop_wrench"]
 INTS = 7
 """`ints`: pulley 1's body, pulley 2's body, joint 1's angle bodies (bi, bj), joint 2's
 (bi, bj), the yoke."""
-FLOATS = 31
+FLOATS = 32
 """`floats`: the hinge points A and B in their pulleys' bodies (2 x 3, m), joint 1's angle
 triad f, g and axis h (3 x 3), joint 2's (3 x 3), the senses of phi1 and phi2 (2), r1, r2
-(m), strand stiffness (N/m), pretension (N), g(D0) (m)."""
+(m), strand stiffness (N/m), pretension (N), g(D0) (m), guided (1.0: the strands guided
+along the yoke, 0.0: free between the pulleys)."""
 
 
 @njit(**KERNEL)
@@ -46,8 +47,10 @@ def cable_loop_wrench(x, xd, ints, floats, reference1, reference2, F, N):
     phi1 = floats[24] * state[0]
     angle_state(x, xd, ints[4], ints[5], floats[15:18], floats[18:21], reference2, state)
     phi2 = floats[25] * state[0]
-    length = math.sqrt(d * d - dr * dr)
-    wrap, common = r1 * phi1 - r2 * phi2, length + dr * math.asin(dr / d) - g0
+    guided = floats[31] != 0.0
+    length = d if guided else math.sqrt(d * d - dr * dr)
+    wrap = r1 * phi1 - r2 * phi2
+    common = (d if guided else length + dr * math.asin(dr / d)) - g0
     fa = max(0.0, pretension + stiffness * (wrap + common))
     fb = max(0.0, pretension + stiffness * (-wrap + common))
     carrier, pair = np.zeros(3), np.empty(3)  # what the joint-pair torques put on the yoke
@@ -63,12 +66,15 @@ def cable_loop_wrench(x, xd, ints, floats, reference1, reference2, F, N):
             carrier[c] += pair[c] if bi == yoke else -pair[c]
     for c in range(3):
         u[c] /= d
-    along = carrier[0] * u[0] + carrier[1] * u[1] + carrier[2] * u[2]
-    rest = np.empty(3)
-    for c in range(3):
-        rest[c] = carrier[c] - along * u[c]  # the yoke's share, but its part along AB
-        N[yoke, c] -= rest[c]
-    axial = (fa + fb) * length / d  # eq. 2.5
+    # free strands: the yoke's share moved to the pulleys as a couple of forces at A and B
+    # (its part along AB stays on the yoke); guided strands: the yoke keeps it (fig. 2.2.5-4)
+    rest = np.zeros(3)
+    if not guided:
+        along = carrier[0] * u[0] + carrier[1] * u[1] + carrier[2] * u[2]
+        for c in range(3):
+            rest[c] = carrier[c] - along * u[c]
+            N[yoke, c] -= rest[c]
+    axial = (fa + fb) * length / d  # eq. 2.5 (guided: L = D)
     on_b = np.empty(3)  # (B - A) x on_b = rest: a couple of forces at A and B
     on_b[0] = (rest[1] * u[2] - rest[2] * u[1]) / d
     on_b[1] = (rest[2] * u[0] - rest[0] * u[2]) / d

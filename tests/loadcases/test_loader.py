@@ -297,6 +297,30 @@ def test_load_mechanism_and_set(monkeypatch: pytest.MonkeyPatch, tmp_path: Path)
     assert validate_files([tmp_path / "a.set.yaml"]) == []
 
 
+def test_sets_sharing_a_case_validate_together(tmp_path: Path) -> None:
+    """Two sets naming the same case, validated in one call: the second set's columns are
+    checked against all its cases, the shared one included (it was once left out, so a
+    request only it had was reported unknown, and a set whose cases were all left out was
+    not checked at all), and the case's diagnostics come once."""
+    for name in ("slider-crank.case.yaml", "slider-crank.mech.yaml"):
+        shutil.copy(GOOD / name, tmp_path / name)
+    request = next(iter(load_case(tmp_path / "slider-crank.case.yaml").case.requests))
+    for name in ("a", "b"):
+        (tmp_path / f"{name}.set.yaml").write_text(
+            f"set: {name}\ncases: [slider-crank.case.yaml]\n"
+            f"report: {{output: o.xlsx, charts: [{request}]}}\n",
+            encoding="utf-8",
+        )
+    sets = [tmp_path / "a.set.yaml", tmp_path / "b.set.yaml"]
+    assert validate_files(sets) == []
+    (tmp_path / "b.set.yaml").write_text(
+        "set: b\ncases: [slider-crank.case.yaml]\n"
+        "report: {output: o.xlsx, charts: [no_such_request]}\n",
+        encoding="utf-8",
+    )
+    assert [d.key for d in validate_files(sets)] == ["report.charts[0]"]
+
+
 def test_file_kind(tmp_path: Path) -> None:
     """The suffix decides; a file without one of the suffixes is told by its top-level keys."""
     assert file_kind("x.case.yaml") == "case" and file_kind("X.SET.YML") == "set"

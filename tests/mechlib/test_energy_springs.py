@@ -131,20 +131,24 @@ def test_tabulated_spring_swings_to_its_closed_form_amplitude() -> None:
     assert np.abs(e["load_work"]).max() == 0.0
 
 
+@pytest.mark.parametrize("guided", [False, True], ids=["free", "guided"])
 @pytest.mark.parametrize("pretension", [200.0, 5.0])
-def test_cable_loop_work_is_its_strands_potential(pretension: float) -> None:
+def test_cable_loop_work_is_its_strands_potential(pretension: float, guided: bool) -> None:
     """The cable loop of tests/mechlib/elements/test_couplings.py (pulleys 50 and 40 mm,
     strands 1e4 N/m) on a free yoke and panel under gravity, the yoke launched at 1 rad/s:
     the loop's loads are those of its strands' potential, so nothing goes to load_work and
     the balance stays within 2e-5 of the 4.6 J of kinetic energy reached (measured 1.1e-5
-    with both strands taut, 1.3e-5 with a pretension of 5 N that lets one go slack)."""
+    with both strands taut, 1.3e-5 with a pretension of 5 N that lets one go slack); the
+    same with the strands guided along the yoke (its torque on the yoke included)."""
     mech = ml.Mechanism(name="ccl", gravity=(0.0, -9.81, 0.0))
     mech.add_body("yoke", mass=1.0, cm=(0.5, 0.0, 0.0), inertia=[0.01, 0.1, 0.1])
     mech.add_body("panel", mass=1.0, cm=(1.5, 0.0, 0.0), inertia=[0.01, 0.1, 0.1])
     z = (0.0, 0.0, 1.0)
     mech.add_joint("hl1", "revolute", bodies=("yoke", "ground"), at=(0, 0, 0), axis=z)
     mech.add_joint("hl2", "revolute", bodies=("panel", "yoke"), at=(1, 0, 0), axis=z)
-    mech.add_force(ml.CableLoop("ccl", ("hl1", "hl2"), (0.05, 0.04), 1.0e4, pretension))
+    mech.add_force(
+        ml.CableLoop("ccl", ("hl1", "hl2"), (0.05, 0.04), 1.0e4, pretension, guided=guided)
+    )
     sol = ml.solve(
         mech,
         ml.Dynamic(end=0.3, step=2e-3),

@@ -49,3 +49,27 @@ def test_cable_loop_case(tmp_path: Path) -> None:
     assert c["ccl.f_lateral"] == pytest.approx((fa - fb) * (r1 - r2) / d, rel=1e-9)
     assert c["hold1.value"] == pytest.approx(r1 * (fb - fa), rel=1e-9)
     assert c["hold2.value"] == pytest.approx(-r2 * (fa - fb), rel=1e-9)
+
+
+def test_guided_cable_loop_from_yaml(tmp_path: Path) -> None:
+    """The same case with `guided: true` (seed 003 fig. 2.2.5-4): the yoke takes
+    (F_a - F_b)(r1 - r2) = -2.443 N*m, no lateral force, F_ax = F_a + F_b; the holding
+    torques are unchanged (the wing's moment balance about hl1 holds either way).
+    Tolerance 1e-9 relative."""
+    from loadcases.run import run_file
+
+    r1, r2, k, t0 = 0.05, 0.04, 1e4, 200.0
+    e = r1 * math.radians(-10.0) - r2 * math.radians(5.0)
+    fa, fb = t0 + k * e, t0 - k * e
+    text = (LIBRARY / "elements" / "cable_loop.case.yaml").read_text("utf-8")
+    text = text.replace("pretension: 200}", "pretension: 200, guided: true}")
+    assert "guided: true" in text
+    path = tmp_path / "guided.case.yaml"
+    path.write_text(text, "utf-8")
+    (outcome,) = run_file(path, output_dir=tmp_path)
+    c = {key: v[0] for key, v in outcome.solution.channels.items()}
+    assert c["ccl.t_yoke"] == pytest.approx((fa - fb) * (r1 - r2), rel=1e-9)
+    assert c["ccl.f_lateral"] == 0.0
+    assert c["ccl.f_axial"] == pytest.approx(fa + fb, rel=1e-9)
+    assert c["hold1.value"] == pytest.approx(r1 * (fb - fa), rel=1e-9)
+    assert c["hold2.value"] == pytest.approx(-r2 * (fa - fb), rel=1e-9)

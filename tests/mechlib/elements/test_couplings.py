@@ -19,7 +19,7 @@ def _held(value: float) -> Ramp:
     return Ramp(value, 0.0)
 
 
-def _ccl(th1: float = TH1) -> mechlib.Mechanism:
+def _ccl(th1: float = TH1, guided: bool = False) -> mechlib.Mechanism:
     """Yoke hinged to ground at A = 0, panel hinged to the yoke at B = (1, 0, 0); pulley 1
     (r1) on ground at A, pulley 2 (r2) on the panel at B; both joints held by motions."""
     mech = mechlib.Mechanism(name="ccl", gravity=(0.0, 0.0, 0.0))
@@ -27,7 +27,7 @@ def _ccl(th1: float = TH1) -> mechlib.Mechanism:
     mech.add_body("panel", mass=1.0, cm=(1.5, 0.0, 0.0), inertia=[0.01, 0.1, 0.1])
     mech.add_joint("hl1", "revolute", bodies=("yoke", "ground"), at=(0, 0, 0), axis=(0, 0, 1))
     mech.add_joint("hl2", "revolute", bodies=("panel", "yoke"), at=(1, 0, 0), axis=(0, 0, 1))
-    mech.add_force(mechlib.CableLoop("ccl", ("hl1", "hl2"), (R1, R2), K, T0))
+    mech.add_force(mechlib.CableLoop("ccl", ("hl1", "hl2"), (R1, R2), K, T0, guided=guided))
     mech.add_motion("m1", joint="hl1", function=_held(th1))
     mech.add_motion("m2", joint="hl2", function=_held(TH2))
     return mech
@@ -86,6 +86,50 @@ def test_cable_loop_loads_by_hand(th1: float, analysis) -> None:
     force = np.array([c["hl2.fx"], c["hl2.fy"], c["hl2.fz"]])
     assert force @ u == pytest.approx(expected["f_axial"], rel=1e-9)
     assert abs(np.cross(u, force)[2]) == pytest.approx(abs(expected["f_lateral"]), rel=1e-9)
+
+
+@pytest.mark.parametrize("th1", [TH1, math.radians(40.0)], ids=["taut", "strand-a-slack"])
+def test_guided_cable_loop_torque_on_the_yoke_by_hand(th1: float) -> None:
+    """Guided strands (seed 003 fig. 2.2.5-4), the loop of the test above held statically.
+    By hand: the strands run parallel to AB, so F_a, F_b are those of e alone (D fixed),
+    F_ax = F_a + F_b along AB and no lateral force; the pulleys take T1 = r1 (F_b - F_a)
+    (ground) and T2 = r2 (F_a - F_b) (panel), the yoke the rest of the cable's balance,
+    T_yoke = -(T1 + T2) = (F_a - F_b)(r1 - r2) about +z in the sense of phi, i.e. -T_yoke
+    about +z here (phi1 = -theta1: pulley 1 is ground, body 2 of hl1). Free bodies: the
+    panel's hinge carries only F_ax (no lateral component); the yoke, with the hl2 reaction
+    and motion m2's effort from the panel, T_yoke from the guides and the hl1 reaction and
+    effort from ground, closes; the whole wing (yoke + panel) needs -T1 from m1 (the cable's
+    net moment on ground is T1 and the cable is in equilibrium). Tolerance 1e-9 relative."""
+    e = R1 * (-th1) - R2 * TH2
+    fa, fb = max(0.0, T0 + K * e), max(0.0, T0 - K * e)
+    t1, t2, t_yoke = R1 * (fb - fa), R2 * (fa - fb), (fa - fb) * (R1 - R2)
+    sol = mechlib.solve(
+        _ccl(th1, guided=True),
+        mechlib.Static(),
+        requests=[
+            mechlib.ElementOutput("ccl", "ccl"),
+            mechlib.MotionEffort("m1", "m1"),
+            mechlib.MotionEffort("m2", "m2"),
+            mechlib.JointReaction("hl2", "hl2"),
+            mechlib.JointReaction("hl1", "hl1"),
+        ],
+    )
+    assert sol.ok, sol.message
+    c = {k: v[-1] for k, v in sol.channels.items()}
+    expected = {"t1": t1, "t2": t2, "f_axial": fa + fb, "f_lateral": 0.0, "t_yoke": t_yoke}
+    for key, value in expected.items():
+        assert c[f"ccl.{key}"] == pytest.approx(value, rel=1e-9, abs=1e-9)
+    assert abs(t_yoke) > 1.0  # the check has teeth: 2.4 N*m taut, 1.2 N*m slack
+    # the whole wing: m1 holds the cable's net moment on yoke + panel, -(T2 + T_yoke) = T1
+    assert c["m1.value"] == pytest.approx(t1, rel=1e-9)
+    assert c["m2.value"] == pytest.approx(-t2, rel=1e-9)
+    u = np.array([math.cos(th1), math.sin(th1), 0.0])  # A -> B
+    hl2 = np.array([c["hl2.fx"], c["hl2.fy"], c["hl2.fz"]])
+    assert hl2 @ u == pytest.approx(fa + fb, rel=1e-9)
+    assert abs(np.cross(u, hl2)[2]) < 1e-9 * (fa + fb)  # no lateral force on the panel
+    # the wing's force balance: ground's reaction on the yoke equals the panel's pull
+    hl1 = np.array([c["hl1.fx"], c["hl1.fy"], c["hl1.fz"]])
+    np.testing.assert_allclose(hl1, hl2, rtol=1e-9, atol=1e-9 * (fa + fb))
 
 
 def test_damper_decays_a_free_rotor() -> None:
