@@ -20,7 +20,6 @@ ELEMENT_EFFECTS = {
     "joint_friction": "friction",
     "damper": "damping",
     "seal": "contact",
-    "cable_loop": "springs",
     "servo_actuator": "hydraulics",
 }
 _ROTARY = ("revolute", "cylindrical", "inline")  # dampers: joints with an angle, screw aside
