@@ -2,9 +2,9 @@
 
 Joints whose axis is not along the plane's normal (or a slide not in the plane), gravity
 and loads with out-of-plane components (a force along the normal, a torque about an
-in-plane axis), flexible bodies, contacts whose geometry leaves the plane, and initial
-velocities out of the plane: each names its key. The joint and contact rules are
-mechlib.model.plane's.
+in-plane axis), flexible bodies and contacts whose geometry leaves the plane, and initial
+velocities out of the plane: each names its key. The joint, contact and flexible-body
+rules are mechlib.model.plane's.
 """
 
 from __future__ import annotations
@@ -16,7 +16,13 @@ from loadcases.schema import CaseModel, MechanismModel
 from loadcases.schema.elements import BodyTorque, PointForce
 from loadcases.yamlfiles.source import Locator
 from mechlib.core.rotation import frame_axes
-from mechlib.model.plane import contact_problem, joint_problem, normal_name, plane_axes
+from mechlib.model.plane import (
+    contact_problem,
+    flexible_problem,
+    joint_problem,
+    normal_name,
+    plane_axes,
+)
 
 __all__ = ["check_plane", "check_plane_initial"]
 
@@ -45,11 +51,11 @@ def check_plane(model: MechanismModel, at: Locator) -> list[Diagnostic]:
             at.diagnostic(("gravity",), _along_normal("gravity", plane), hint="set it to 0")
         )
     for name, body in model.bodies.items():
-        if getattr(body, "flexible", None) is not None:
+        flexible = getattr(body, "flexible", None)
+        leaves = None if flexible is None else flexible_problem(flexible, plane)
+        if leaves is not None:
             found.append(
-                at.diagnostic(
-                    ("bodies", name, "flexible"), "flexible bodies need the 3-D model", hint=_HINT
-                )
+                at.diagnostic(("bodies", name, "flexible", *leaves[0]), leaves[1], hint=_HINT)
             )
     for name, contact in model.contacts.items():
         problem = contact_problem(contact.geometry, plane)

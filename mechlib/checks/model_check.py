@@ -17,7 +17,7 @@ from mechlib.linalg.rank import degrees_of_freedom, find_redundant
 from mechlib.linalg.sparse_rows import SparseRows
 from mechlib.model.analysis import Dynamic, Kinematic, Modes, Phases, QuasiStatic, Static
 from mechlib.model.mechanism import Mechanism
-from mechlib.system.planar import make_system
+from mechlib.system.planar import make_system, out_of_plane_rows
 from mechlib.system.system import System
 
 __all__ = ["MechanismCheck", "check_model", "inspect_mechanism"]
@@ -38,17 +38,29 @@ def _redundant(system: System, jac: SparseRows) -> list:
     )
 
 
+def _redundant_in_plane(system: System, k: Kin, found: list) -> list:
+    """`found` less the redundant equations out of the plane of a planar mechanism built
+    in 3-D (flexible bodies), which are dropped: the planar formulation has none."""
+    idle = out_of_plane_rows(system, k)
+    if not any(r.row in idle for r in found):
+        return found
+    system.drop_rows(sorted(r.row for r in found if r.row in idle))
+    return _redundant(system, _jacobian(system, k))
+
+
 def check_model(system: System, analysis: Analysis, *, redundant: str = "error") -> list[str]:
     """Redundant equations and degrees of freedom, before any solving.
 
     Raises ModelError naming joints and directions; with redundant="drop" removes the
-    dependent rows instead and returns warnings saying those reactions are not unique.
+    dependent rows instead and returns warnings saying those reactions are not unique. A
+    planar mechanism built in 3-D (flexible bodies) first drops, without a word, the
+    redundant equations out of its plane: the planar formulation has none of them.
     """
     if isinstance(analysis, Modes) and system.mechanism.plane:
         raise ModelError([("", "a modes analysis needs the 3-D model: remove `plane`")])
     k = system.kin(system.design_q(), None, getattr(analysis, "start", 0.0))
     jac = _jacobian(system, k)
-    found = _redundant(system, jac)
+    found = _redundant_in_plane(system, k, _redundant(system, jac))
     warnings = []
     if found and redundant != "drop":
         raise ModelError([(r.owner, "redundant constraint: " + r.describe()) for r in found])
@@ -100,8 +112,8 @@ def inspect_mechanism(mechanism: Mechanism) -> MechanismCheck:
     """Degrees of freedom and redundant equations (by joint and direction) at design."""
     system = make_system(mechanism)
     k = system.kin(system.design_q(), None, 0.0)
+    found = _redundant_in_plane(system, k, _redundant(system, _jacobian(system, k)))
     jac = _jacobian(system, k)
-    found = _redundant(system, jac)
     assembled = bool(np.abs(system.phi(k)).max(initial=0.0) < 1e-9)
     return MechanismCheck(
         system.nb,

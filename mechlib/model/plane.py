@@ -8,7 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["PLANES", "contact_problem", "joint_problem", "normal_name", "plane_axes"]
+__all__ = [
+    "PLANES",
+    "contact_problem",
+    "flexible_problem",
+    "joint_problem",
+    "normal_name",
+    "plane_axes",
+]
 
 PLANES = ("xy", "yz", "xz")
 _AXES = {"xy": (0, 1, 2), "yz": (1, 2, 0), "xz": (2, 0, 1)}  # e1, e2, n
@@ -87,4 +94,80 @@ def contact_problem(geometry, plane: str) -> tuple[str, str] | None:
     offset = np.asarray(getattr(geometry, "offset", (0.0, 0.0, 0.0)), dtype=float)
     if abs(float(offset @ n)) > 0.0:
         return "offset", f"the ball's offset has a component along {normal_name(plane)}"
+    return None
+
+
+def _level(point, n: np.ndarray) -> float:
+    return float(np.asarray(point, dtype=float) @ n)
+
+
+def _source_problem(flexible, n: np.ndarray, plane: str):
+    """(key path, message, level along n) of the source of a flexible body: a beam with
+    its ends at one level along n and a section axis along n or in the plane, a panel
+    with both edges in the plane; an imported model is refused (its elements may break
+    the mirror symmetry about the plane, which cannot be checked here)."""
+    beam = getattr(flexible, "beam", None)
+    if beam is not None:
+        level = _level(beam.start, n)
+        if abs(_level(beam.end, n) - level) > _ALIGNED * _size(beam.start, beam.end):
+            return (
+                ("beam", "end"),
+                f"the beam leaves plane {plane}: its ends differ along the normal",
+                level,
+            )
+        if not (_along(beam.y_axis, n) or _across(beam.y_axis, n)):
+            return (
+                ("beam", "y_axis"),
+                (
+                    f"the section's y_axis must be along the normal of plane {plane} "
+                    f"({normal_name(plane)}) or lie in the plane "
+                    "(a section symmetric about the plane)"
+                ),
+                level,
+            )
+        return None, "", level
+    for kind in ("grillage", "plate"):
+        panel = getattr(flexible, kind, None)
+        if panel is None:
+            continue
+        for key in ("x", "y"):
+            if not _across(getattr(panel, key), n):
+                return (kind, key), f"the panel's {key} edge must lie in plane {plane}", 0.0
+        return None, "", _level(panel.at, n)
+    return (
+        ("file",),
+        (
+            f"an imported FE model cannot be checked to stay in plane {plane} "
+            "(its elements may not be symmetric about it)"
+        ),
+        0.0,
+    )
+
+
+def _size(*points) -> float:
+    span = np.ptp(np.asarray(points, dtype=float), axis=0) if len(points) > 1 else np.zeros(3)
+    return max(float(np.linalg.norm(span)), 1.0)
+
+
+def flexible_problem(flexible, plane: str) -> tuple[tuple, str] | None:
+    """(key path, message) when a flexible body's geometry leaves `plane`, else None.
+    `flexible`: the schema's `Flexible` (or any object with its keys: `beam`, `grillage`,
+    `plate`, `file`, `interface`, `load_points`), positions in m. In the plane: the body's
+    FE model lies in one plane parallel to `plane`, symmetric about it, and its interface
+    and load points lie on that plane; its out-of-plane modes then stay unloaded and at
+    rest (mirror symmetry), and the 3-D model of it moves in the plane."""
+    n = plane_axes(plane)[2]
+    key, message, level = _source_problem(flexible, n, plane)
+    if key is not None:
+        return key, message
+    points = {**flexible.interface, **getattr(flexible, "load_points", {})}
+    size = _size(*points.values())
+    for group in ("interface", "load_points"):
+        for name, at in getattr(flexible, group, {}).items():
+            off = _level(at, n) - level
+            if abs(off) > _ALIGNED * size:
+                return (group, name), (
+                    f"point '{name}' is {off:.6g} m off the body's plane along "
+                    f"{normal_name(plane)}: it would leave plane {plane}"
+                )
     return None

@@ -34,18 +34,64 @@ from mechlib.system.system import System
 if TYPE_CHECKING:
     from mechlib.linalg.factor import SaddlePattern
 
-__all__ = ["PlanarSystem", "joint_problems", "make_system"]
+__all__ = ["PlanarSystem", "joint_problems", "make_system", "out_of_plane_rows"]
 
 _IN_PLANE = 1e-10  # |reduced Jacobian row| below this (relative): identically satisfied
 
 
 def make_system(mechanism: Mechanism) -> System:
     """The numerical form of `mechanism`: planar when it has a `plane`, else 3-D. A
-    `PlanarSystem` offers the `System` interface in planar coordinates (see there)."""
+    `PlanarSystem` offers the `System` interface in planar coordinates (see there). A
+    planar mechanism with flexible bodies is the 3-D `System` itself (the planar reduction
+    has no modal coordinates), after the same checks that it stays in its plane; the
+    redundant equations the plane avoids are left to `out_of_plane_rows`."""
     space = System(mechanism)
     if mechanism.plane is None:
         return space
+    if space.flexible:
+        problems = _plane_problems(space, mechanism.plane)
+        problems += [
+            (e.name, f"contact {e.name}: {p[1]}")
+            for e in space.elements
+            if hasattr(e, "geometry")
+            and (p := contact_problem(e.geometry, mechanism.plane)) is not None
+        ]
+        if problems:
+            raise ModelError(problems)
+        return space
     return cast(System, PlanarSystem(space, mechanism.plane))
+
+
+def _plane_problems(space: System, plane: str) -> list[tuple[str, str]]:
+    """(owner, message) of the joints and the gravity that leave `plane`."""
+    problems = joint_problems(space.mechanism, plane)
+    if abs(float(space.gravity @ plane_axes(plane)[2])) > 0.0:
+        problems.append(
+            ("", f"gravity has a component along {normal_name(plane)}, out of plane {plane}")
+        )
+    return problems
+
+
+def out_of_plane_rows(system: System, k: Kin) -> set[int]:
+    """The equations of a planar mechanism built in 3-D (flexible bodies: `make_system`)
+    that in-plane motion satisfies identically at state `k` (in the plane): their
+    Jacobian has no component along any body's in-plane motion (the translations along
+    e1, e2 and the rotation about n, the planar T). Those the planar formulation leaves
+    out, so a redundancy among them is not one of the planar model. Empty for a 3-D
+    mechanism or a `PlanarSystem` (it has none)."""
+    plane = system.mechanism.plane
+    if plane is None or system.per_body != 7:
+        return set()
+    e1, e2, normal = plane_axes(plane)
+    rigid = 7 * system.nb
+    dense = system.phi_q_sparse(k).toarray()[:, :rigid]
+    reduced = np.empty((dense.shape[0], 3 * system.nb))
+    planar_reduce(np.ascontiguousarray(dense), k.x, np.column_stack([e1, e2]), normal, reduced)
+    size = np.abs(reduced).max(axis=1)
+    scale = max(float(np.abs(dense).max(initial=0.0)), 1.0)
+    bodies = set(system.body_names)  # the Euler-parameter normalisations: not the joints'
+    idle = np.flatnonzero(size <= _IN_PLANE * scale)
+    return {int(i) for i in idle if system.owners[i] not in bodies}
 
 
 def joint_problems(mechanism: Mechanism, plane: str) -> list[tuple[str, str]]:
@@ -84,11 +130,7 @@ class PlanarSystem:
     normalisations = 0  # an angle per body: no Euler-parameter rows
 
     def __init__(self, space: System, plane: str):
-        problems = joint_problems(space.mechanism, plane)
-        if abs(float(space.gravity @ plane_axes(plane)[2])) > 0.0:
-            problems.append(
-                ("", f"gravity has a component along {normal_name(plane)}, out of plane {plane}")
-            )
+        problems = _plane_problems(space, plane)
         if space.flexible:
             problems.append(("", "flexible bodies need the 3-D model: remove `plane`"))
         problems += _contact_problems(space, plane)
