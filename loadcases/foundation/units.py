@@ -767,14 +767,12 @@ def dimension_mismatch(value: str, reference: Any) -> str | None:
     if not isinstance(reference, str) or _NUMBER.match(reference) or _NUMBER.match(value):
         return None
     try:
-        want = _quantity(reference)[1]
+        want_dims = quantity_dimension(reference)
     except UnitError:
         return None  # a bad definition is reported where it is written
-    got = _quantity(value)[1]
-    if {k: v for k, v in got.dimensionality.items() if v} == {
-        k: v for k, v in want.dimensionality.items() if v
-    }:
+    if quantity_dimension(value) == want_dims:  # the unit table's: pint only for new units
         return None
+    want, got = _quantity(reference)[1], _quantity(value)[1]
     return (
         f"expected {_describe(want.dimensionality, want.units)} like '{clip(reference)}', "
         f"got {_describe(got.dimensionality, got.units)}"
