@@ -20,9 +20,11 @@ from __future__ import annotations
 import multiprocessing
 import os
 import signal
+import threading
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import Future, ProcessPoolExecutor, as_completed
+from concurrent.futures import Future, InvalidStateError, ProcessPoolExecutor, as_completed
 from concurrent.futures import TimeoutError as FuturesTimeout
+from contextlib import contextmanager
 from typing import Any, Protocol
 
 from loadcases.foundation import interrupts
@@ -103,11 +105,30 @@ class PoolExecutor:
             yield from _interrupted_runs(pool, futures, _Workers(others))
             raise
         finally:
-            if not finished:  # interrupt, error or the caller stopped early: no worker left
-                pool.shutdown(wait=False, cancel_futures=True)
-                for process in _Workers(others).alive():
-                    process.kill()
-            pool.shutdown(wait=True)
+            with _quiet_broken_pool():
+                if not finished:  # interrupt, error or the caller stopped early: no worker left
+                    pool.shutdown(wait=False, cancel_futures=True)
+                    for process in _Workers(others).alive():
+                        process.kill()
+                pool.shutdown(wait=True)
+
+
+@contextmanager
+def _quiet_broken_pool() -> Iterator[None]:
+    """While the pool shuts down: its management thread, finding the workers killed, sets
+    an exception on futures already cancelled, and CPython 3.11 prints that thread's
+    InvalidStateError as a traceback (the runs are accounted for: not an error of ours)."""
+    previous = threading.excepthook
+
+    def hook(args: threading.ExceptHookArgs) -> None:
+        if not isinstance(args.exc_value, InvalidStateError):
+            previous(args)
+
+    threading.excepthook = hook
+    try:
+        yield
+    finally:
+        threading.excepthook = previous
 
 
 class _Workers:

@@ -112,3 +112,37 @@ def test_signal_at_start_up_or_while_workers_start_exits_promptly(
         assert _ended(list(seen)), "a worker outlived loads"
     finally:
         _kill([process.pid, *seen])
+
+
+def test_a_broken_pools_cancelled_future_prints_no_traceback() -> None:
+    """While a pool shuts down after its workers were killed, CPython 3.11's management
+    thread may set an exception on a future already cancelled; the InvalidStateError it
+    raises is silenced (no 'Thread-1: Traceback' on stderr), any other thread error still
+    reaches the hook that was in place, which is restored afterwards."""
+    import threading
+    from concurrent.futures import Future
+
+    from loadcases.sets.executors import _quiet_broken_pool
+
+    def cancelled_then_failed() -> None:
+        future: Future = Future()
+        future.cancel()
+        future.set_exception(RuntimeError("pool broken"))
+
+    def other_error() -> None:
+        raise ValueError("a real error")
+
+    seen: list[str] = []
+    before = threading.excepthook
+    threading.excepthook = lambda args: seen.append(type(args.exc_value).__name__)
+    recorder = threading.excepthook
+    try:
+        with _quiet_broken_pool():
+            for target in (cancelled_then_failed, other_error):
+                thread = threading.Thread(target=target)
+                thread.start()
+                thread.join()
+        assert threading.excepthook is recorder
+    finally:
+        threading.excepthook = before
+    assert seen == ["ValueError"]
