@@ -139,20 +139,28 @@ class NodeWelds:
     def node_loads(self, k: Kin, lam: np.ndarray, body: Attached) -> np.ndarray:
         """(k, 6): force (N) and torque (N m) on `body` at each of its kept nodes, body
         axes, from the multipliers `lam` (size,) of these equations (M qdd + phi_q^T lam
-        = Q): the position rows push the body with +lam, an orientation row
-        (A_n f).(A v) = 0 turns it with lam (A_n f) x (A v)."""
+        = Q): linear in them, `load_maps` @ the node's six multipliers."""
+        maps = self.load_maps(k, body)
+        rows = [i for i, (a, _, _) in enumerate(self.items) if a is body]
+        return np.einsum("kij,kj->ki", maps, lam.reshape(-1, 6)[rows])
+
+    def load_maps(self, k: Kin, body: Attached) -> np.ndarray:
+        """(k, 6, 6): d(node load)/d(its weld multipliers) of each kept node of `body`: the
+        position rows push the body with +lam (A^T lam in body axes), an orientation row
+        (A_n f).(A v) = 0 turns it with lam (A_n f) x (A v) (body axes: (A^T A_n f) x v)."""
         A = rotation_matrix(k.p[body.frame])
         out = []
-        for i, (a, row, node) in enumerate(self.items):
+        for a, row, node in self.items:
             if a is not body:
                 continue
             theta = a.body.component.phi_star[row] @ k.z[a.modes]
-            turn, rows = A.T @ rotation_matrix(k.p[node]), lam[6 * i : 6 * i + 6]
-            torque = np.zeros(3)  # body axes: (A^T A_n f) x v
+            turn = A.T @ rotation_matrix(k.p[node])
+            block = np.zeros((6, 6))
+            block[:3, :3] = A.T
             for c, (f, g) in enumerate(_PAIRS):
-                torque += rows[3 + c] * cross3(turn[:, f], _AXES[g] + cross3(theta, _AXES[g]))
-            out.append(np.r_[A.T @ rows[:3], torque])
-        return np.array(out)
+                block[3:, 3 + c] = cross3(turn[:, f], _AXES[g] + cross3(theta, _AXES[g]))
+            out.append(block)
+        return np.array(out).reshape(-1, 6, 6)
 
     def gamma(self, k: Kin) -> np.ndarray:
         """phi_q qdd = gamma: minus the terms of the second derivative without qdd."""

@@ -38,9 +38,10 @@ def reaction_coupling(
     or None when no active element depends on the reactions. Elements give it through
     `reaction_jacobian(view, out)`; forward differences over the rows they read are the
     fallback (and the test oracle)."""
+    stiffening = system.stiffening_coupling(k, lam) if system.nz else None
     users = [e for e in system.elements if e.active and getattr(e, "uses_reactions", False)]
     if not users:
-        return None
+        return stiffening
     view = system.view(k, lam, jac)
     space = view.system  # the elements' own (3-D for a planar system: mechlib.system.planar)
     out = np.zeros((space.nq, len(lam)))
@@ -53,7 +54,7 @@ def reaction_coupling(
     out = system.reaction_coupling(out, k)
     if differenced:
         out += differenced_coupling(system, k, lam, differenced, jac)
-    return out
+    return out if stiffening is None else out + stiffening
 
 
 def differenced_coupling(
