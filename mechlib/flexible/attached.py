@@ -15,12 +15,13 @@ T = diag(I, 2 G(p), I) (omega = 2 G pd), so M_q = T^T M_w T and Q_q = T^T f_w.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mechlib.core.rotation import cross3, g_matrix, omega_body, skew
+from mechlib.core.rotation import cross3, skew
+from mechlib.flexible import kernels
 from mechlib.kinematics.kernels import b_matrix as d_rotate
 from mechlib.kinematics.kernels import rotation_matrix
 from mechlib.kinematics.kin import Kin
@@ -32,6 +33,7 @@ __all__ = ["Attached", "NodeWelds"]
 
 _PAIRS = ((1, 2), (2, 0), (0, 1))  # (f, g) axes of the three orientation equations
 _AXES = np.eye(3)
+_NO_LOADS = np.zeros((0, 6))
 
 
 @dataclass
@@ -43,32 +45,25 @@ class Attached:
     frame: int
     offset: int
     nodes: list[int]  # body index of each kept node (rows of the component)
+    _columns: dict[int, np.ndarray] = field(default_factory=dict, repr=False)
 
     @property
     def modes(self) -> slice:
         return slice(self.offset, self.offset + self.body.n)
 
-    def velocity_map(self, k: Kin) -> np.ndarray:
-        """T (6 + n, 7 + n): w = T [xd, pd, zeta_d]."""
-        n = self.body.n
-        t = np.zeros((6 + n, 7 + n))
-        t[:3, :3] = np.eye(3)
-        t[3:6, 3:7] = 2.0 * g_matrix(k.p[self.frame])
-        t[6:, 7:] = np.eye(n)
-        return t
-
     def columns(self, nb: int) -> np.ndarray:
-        """Its coordinates' indices in q (7 + n,)."""
-        o = 7 * self.frame
-        return np.r_[o : o + 7, 7 * nb + self.offset + np.arange(self.body.n)]
+        """Its coordinates' indices in q (7 + n,) of a system of nb bodies (found once)."""
+        if nb not in self._columns:
+            o = 7 * self.frame
+            self._columns[nb] = np.r_[o : o + 7, 7 * nb + self.offset + np.arange(self.body.n)]
+        return self._columns[nb]
 
     def mass(self, k: Kin) -> np.ndarray:
         """M_q (7 + n, 7 + n), with the rigid body's p p^T term fixing |p|."""
+        body = self.body
+        out = np.empty((7 + body.n, 7 + body.n))
         p, zeta = k.p[self.frame], k.z[self.modes]
-        t = self.velocity_map(k)
-        out = t.T @ self.body.mass(rotation_matrix(p), zeta) @ t
-        scale = 4.0 * np.trace(self.body.theta(zeta)) / 3.0
-        out[3:7, 3:7] += scale * np.outer(p, p)
+        kernels.coordinate_mass(p, zeta, *body.arrays, body.scratch[0], out)
         return out
 
     def forces(
@@ -77,16 +72,16 @@ class Attached:
         """Q_q (7 + n): gravity, modal stiffness and damping, with `inertia` the quadratic
         velocity vector; with geometric stiffening, -K_G zeta of the spin and of the loads
         `node_loads` (k, 6) on the body at its kept nodes (body axes; None: unknown)."""
-        p, zeta, zeta_d = k.p[self.frame], k.z[self.modes], k.zd[self.modes]
-        A = rotation_matrix(p)
-        f = self.body.applied(A, zeta, zeta_d, gravity)
-        omega = omega_body(p, k.pd[self.frame])
-        if inertia:
-            f = f + self.body.quadratic(A, omega, zeta, zeta_d)
-        geometric = self.body.component.geometric
-        if geometric is not None:
-            f[6:] -= geometric.stiffness(omega, node_loads) @ zeta
-        return self.velocity_map(k).T @ f
+        body = self.body
+        i1, i2, i3, i4, i5, _, i7, i8, i9 = body.arrays
+        loads = _NO_LOADS if node_loads is None or not len(body.nodal) else node_loads
+        out = np.empty(7 + body.n)
+        kernels.coordinate_forces(
+            k.p[self.frame], k.pd[self.frame], k.z[self.modes], k.zd[self.modes], gravity,
+            inertia, i1, i2, i3, i4, i5, i7, i8, i9, body.stiffness, body.viscous, body.spin,
+            body.nodal, loads, body.scratch[1], out,
+        )  # fmt: skip
+        return out
 
 
 class NodeWelds:
@@ -145,22 +140,12 @@ class NodeWelds:
         return np.einsum("kij,kj->ki", maps, lam.reshape(-1, 6)[rows])
 
     def load_maps(self, k: Kin, body: Attached) -> np.ndarray:
-        """(k, 6, 6): d(node load)/d(its weld multipliers) of each kept node of `body`: the
-        position rows push the body with +lam (A^T lam in body axes), an orientation row
-        (A_n f).(A v) = 0 turns it with lam (A_n f) x (A v) (body axes: (A^T A_n f) x v)."""
-        A = rotation_matrix(k.p[body.frame])
-        out = []
-        for a, row, node in self.items:
-            if a is not body:
-                continue
-            theta = a.body.component.phi_star[row] @ k.z[a.modes]
-            turn = A.T @ rotation_matrix(k.p[node])
-            block = np.zeros((6, 6))
-            block[:3, :3] = A.T
-            for c, (f, g) in enumerate(_PAIRS):
-                block[3:, 3 + c] = cross3(turn[:, f], _AXES[g] + cross3(theta, _AXES[g]))
-            out.append(block)
-        return np.array(out).reshape(-1, 6, 6)
+        """(k, 6, 6): d(node load)/d(its weld multipliers) of each kept node of `body`
+        (mechlib.flexible.kernels.load_maps)."""
+        nodes = [node for a, _, node in self.items if a is body]
+        out = np.empty((len(nodes), 6, 6))
+        kernels.load_maps(k.p[body.frame], k.p[nodes], body.body.phi_star, k.z[body.modes], out)
+        return out
 
     def gamma(self, k: Kin) -> np.ndarray:
         """phi_q qdd = gamma: minus the terms of the second derivative without qdd."""
