@@ -20,10 +20,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mechlib.core.rotation import cross3, skew
 from mechlib.flexible import kernels
-from mechlib.kinematics.kernels import b_matrix as d_rotate
-from mechlib.kinematics.kernels import rotation_matrix
+from mechlib.flexible.weld_kernels import weld_gamma, weld_jacobian, weld_phi, weld_rate
 from mechlib.kinematics.kin import Kin
 
 if TYPE_CHECKING:
@@ -31,8 +29,6 @@ if TYPE_CHECKING:
 
 __all__ = ["Attached", "NodeWelds"]
 
-_PAIRS = ((1, 2), (2, 0), (0, 1))  # (f, g) axes of the three orientation equations
-_AXES = np.eye(3)
 _NO_LOADS = np.zeros((0, 6))
 
 
@@ -92,93 +88,66 @@ class NodeWelds:
         self.items = [(a, row, node) for a in bodies for row, node in enumerate(a.nodes)]
         self.size = 6 * len(self.items)
         self.z0 = 7 * (nb + 1)  # first modal column of a working Jacobian row
+        self.bodies: list[tuple[Attached, int, np.ndarray]] = []  # (body, first row, nodes)
+        row = 0
+        for a in bodies:
+            self.bodies.append((a, row, np.array(a.nodes, dtype=np.int64)))
+            row += 6 * len(a.nodes)
 
-    def _parts(self, k: Kin, a: Attached, row: int):
-        comp = a.body.component
-        zeta, zeta_d = k.z[a.modes], k.zd[a.modes]
-        phi, phis = comp.phi[row], comp.phi_star[row]
-        return comp.positions[row] + phi @ zeta, phi @ zeta_d, phis @ zeta, phis @ zeta_d
+    def _shapes(self, a: Attached) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        body = a.body
+        return body.positions, body.phi, body.phi_star
 
     def phi(self, k: Kin) -> np.ndarray:
         out = np.empty(self.size)
-        for i, (a, row, node) in enumerate(self.items):
-            u, _, theta, _ = self._parts(k, a, row)
-            A, An = rotation_matrix(k.p[a.frame]), rotation_matrix(k.p[node])
-            out[6 * i : 6 * i + 3] = k.r[node] - k.r[a.frame] - A @ u
-            for c, (f, g) in enumerate(_PAIRS):
-                v = _AXES[g] + cross3(theta, _AXES[g])
-                out[6 * i + 3 + c] = (An @ _AXES[f]) @ (A @ v)
+        for a, first, nodes in self.bodies:
+            rows = out[first : first + 6 * len(nodes)]
+            weld_phi(k.x, a.frame, nodes, *self._shapes(a), k.z[a.modes], rows)
         return out
 
     def jacobian(self, k: Kin, out: np.ndarray) -> None:
         """Add the rows into `out` (size, 7 (nb + 1) + nz)."""
-        for i, (a, row, node) in enumerate(self.items):
-            comp = a.body.component
-            u, _, theta, _ = self._parts(k, a, row)
-            p, pn = k.p[a.frame], k.p[node]
-            A, An = rotation_matrix(p), rotation_matrix(pn)
-            fb, nb_, zc = 7 * a.frame, 7 * node, self.z0 + a.offset + np.arange(a.body.n)
-            rows = out[6 * i : 6 * i + 3]
-            rows[:, nb_ : nb_ + 3] += np.eye(3)
-            rows[:, fb : fb + 3] -= np.eye(3)
-            rows[:, fb + 3 : fb + 7] -= d_rotate(p, u)
-            rows[:, zc] -= A @ comp.phi[row]
-            for c, (f, g) in enumerate(_PAIRS):
-                v = _AXES[g] + cross3(theta, _AXES[g])
-                an, b = An @ _AXES[f], A @ v
-                r = out[6 * i + 3 + c]
-                r[nb_ + 3 : nb_ + 7] += b @ d_rotate(pn, _AXES[f])
-                r[fb + 3 : fb + 7] += an @ d_rotate(p, v)
-                r[zc] += an @ A @ (-skew(_AXES[g]) @ comp.phi_star[row])
+        for a, first, nodes in self.bodies:
+            rows = out[first : first + 6 * len(nodes)]
+            z_col = self.z0 + a.offset
+            weld_jacobian(k.x, a.frame, nodes, *self._shapes(a), k.z[a.modes], z_col, rows)
 
     def node_loads(self, k: Kin, lam: np.ndarray, body: Attached) -> np.ndarray:
         """(k, 6): force (N) and torque (N m) on `body` at each of its kept nodes, body
         axes, from the multipliers `lam` (size,) of these equations (M qdd + phi_q^T lam
         = Q): linear in them, `load_maps` @ the node's six multipliers."""
-        maps = self.load_maps(k, body)
-        rows = [i for i, (a, _, _) in enumerate(self.items) if a is body]
-        return np.einsum("kij,kj->ki", maps, lam.reshape(-1, 6)[rows])
+        first, nodes = self._rows(body)
+        rows = lam[first : first + 6 * len(nodes)].reshape(-1, 6, 1)
+        return np.matmul(self.load_maps(k, body), rows)[:, :, 0]
 
     def load_maps(self, k: Kin, body: Attached) -> np.ndarray:
         """(k, 6, 6): d(node load)/d(its weld multipliers) of each kept node of `body`
         (mechlib.flexible.kernels.load_maps)."""
-        nodes = [node for a, _, node in self.items if a is body]
+        _, nodes = self._rows(body)
         out = np.empty((len(nodes), 6, 6))
         kernels.load_maps(k.p[body.frame], k.p[nodes], body.body.phi_star, k.z[body.modes], out)
         return out
 
+    def _rows(self, body: Attached) -> tuple[int, np.ndarray]:
+        """(first weld row, node body indices (k,)) of `body`."""
+        return next((first, nodes) for a, first, nodes in self.bodies if a is body)
+
     def gamma(self, k: Kin) -> np.ndarray:
         """phi_q qdd = gamma: minus the terms of the second derivative without qdd."""
         out = np.empty(self.size)
-        for i, (a, row, node) in enumerate(self.items):
-            u, u_d, theta, theta_d = self._parts(k, a, row)
-            p, pd, pn, pnd = k.p[a.frame], k.pd[a.frame], k.p[node], k.pd[node]
-            A = rotation_matrix(p)
-            out[6 * i : 6 * i + 3] = d_rotate(pd, u) @ pd + 2.0 * d_rotate(p, u_d) @ pd
-            for c, (f, g) in enumerate(_PAIRS):
-                v = _AXES[g] + cross3(theta, _AXES[g])
-                v_d = cross3(theta_d, _AXES[g])
-                an, b = rotation_matrix(pn) @ _AXES[f], A @ v
-                an_d = d_rotate(pn, _AXES[f]) @ pnd
-                b_d = d_rotate(p, v) @ pd + A @ v_d
-                quad = (d_rotate(pnd, _AXES[f]) @ pnd) @ b + 2.0 * an_d @ b_d
-                quad += an @ (d_rotate(pd, v) @ pd + 2.0 * d_rotate(p, v_d) @ pd)
-                out[6 * i + 3 + c] = -quad
+        for a, first, nodes in self.bodies:
+            rows = out[first : first + 6 * len(nodes)]
+            z, zd = k.z[a.modes], k.zd[a.modes]
+            weld_gamma(k.x, k.xd, a.frame, nodes, *self._shapes(a), z, zd, rows)
         return out
 
     def rate(self, k: Kin) -> np.ndarray:
         """d(phi)/dt (size,)."""
         out = np.empty(self.size)
-        for i, (a, row, node) in enumerate(self.items):
-            u, u_d, theta, theta_d = self._parts(k, a, row)
-            p, pd, pn, pnd = k.p[a.frame], k.pd[a.frame], k.p[node], k.pd[node]
-            A = rotation_matrix(p)
-            out[6 * i : 6 * i + 3] = k.rd[node] - k.rd[a.frame] - d_rotate(p, u) @ pd - A @ u_d
-            for c, (f, g) in enumerate(_PAIRS):
-                v = _AXES[g] + cross3(theta, _AXES[g])
-                an, b = rotation_matrix(pn) @ _AXES[f], A @ v
-                b_d = d_rotate(p, v) @ pd + A @ cross3(theta_d, _AXES[g])
-                out[6 * i + 3 + c] = (d_rotate(pn, _AXES[f]) @ pnd) @ b + an @ b_d
+        for a, first, nodes in self.bodies:
+            rows = out[first : first + 6 * len(nodes)]
+            z, zd = k.z[a.modes], k.zd[a.modes]
+            weld_rate(k.x, k.xd, a.frame, nodes, *self._shapes(a), z, zd, rows)
         return out
 
 

@@ -52,7 +52,10 @@ class ModalBody:
         geometric = component.geometric
         self.spin = np.zeros((0, n, n)) if geometric is None else c(geometric.spin, float)
         self.nodal = np.zeros((0, 6, n, n)) if geometric is None else c(geometric.nodal, float)
-        self.phi_star = c(component.phi_star, float)  # (k, 3, n) node rotations
+        # kept nodes: positions (k, 3) m, translations and rotations (k, 3, n) per mode
+        self.positions = c(component.positions, float)
+        self.phi = c(component.phi, float)
+        self.phi_star = c(component.phi_star, float)
         self.scratch = (np.empty((6 + n, 6 + n)), np.empty(6 + n))  # M_w, f_w
 
     def first_moment(self, zeta: np.ndarray) -> np.ndarray:

@@ -101,6 +101,9 @@ def solve_reaction_loaded(
         return x
     assert matrix is not None, "the reactions' Newton iteration needs the matrix"
     nq = system.nq
+    # without elements that read the reactions, only geometric stiffening does: its loads
+    # are affine in lam (the coupling does not depend on lam) and one Newton step is exact
+    affine = not any(e.active and getattr(e, "uses_reactions", False) for e in system.elements)
     for _ in range(MAX_REACTION_NEWTON):
         lam = x[lam_at]
         coupling = reaction_coupling(system, k, lam, jac)
@@ -114,7 +117,9 @@ def solve_reaction_loaded(
             return None
         dx = solve_factored(lu_n, rhs(lam) - matrix @ x)
         x = x + dx
-        if np.abs(dx[lam_at]).max(initial=0.0) <= _CONVERGED * (1.0 + np.abs(x[lam_at]).max()):
+        if affine or np.abs(dx[lam_at]).max(initial=0.0) <= _CONVERGED * (
+            1.0 + np.abs(x[lam_at]).max()
+        ):
             break
     return x
 
