@@ -5,7 +5,9 @@ multipliers. The formulas are those of mechlib.flexible.modal_body (its docstrin
 them); this module is their one definition, which ModalBody and Attached call.
 
 Invariants as mechlib.flexible.invariants (I1 kg, I2 (3,), I3 (3, n), I4 (3, n),
-I5 (n, 3, n), I6 (n, n), I7 (3, 3), I8 (n, 3, 3), I9 (n, n, 3, 3)). The kernels write into
+I5 (n, 3, n), I6 (n, n), I7 (3, 3)), I8 and I9 symmetrised: I8s = I8 + I8^T (n, 3, 3) and
+I9s = I9 + I9^T(jk) laid out (n, 9 n) (`symmetrised`), so that the terms quadratic in the
+modes cost one matrix-vector product. The kernels write into
 arrays given to them: a step allocates nothing per modal body but its scratch.
 """
 
@@ -24,6 +26,7 @@ __all__ = [
     "first_moment",
     "load_maps",
     "quadratic",
+    "symmetrised",
     "theta",
 ]
 
@@ -38,19 +41,35 @@ def _skew_times(v, x, out):
     out[2] = v[0] * x[1] - v[1] * x[0]
 
 
+def symmetrised(I8: np.ndarray, I9: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(I8s (n, 3, 3), I9s (n, 9 n)) of the invariants I8 (n, 3, 3) and I9 (n, n, 3, 3):
+    I8s_j = I8_j + I8_j^T, I9s[k, (j, a, b)] = I9_kj[a, b] + I9_jk[a, b]."""
+    n = I8.shape[0]
+    i8s = I8 + I8.transpose(0, 2, 1)
+    i9s = (I9 + I9.transpose(1, 0, 2, 3)).reshape(n, 9 * n)
+    return np.ascontiguousarray(i8s, dtype=float), np.ascontiguousarray(i9s, dtype=float)
+
+
 @njit(**KERNEL)
-def theta(zeta, I7, I8, I9, out):
-    """Inertia tensor (3, 3) about the frame origin, body axes (kg m^2): I7 - sum_j zeta_j
-    (I8_j + I8_j^T) - sum_jk zeta_j zeta_k I9_jk, into `out`."""
+def _contracted(zeta, I9s):
+    """S (n, 3, 3): S_j = sum_k zeta_k (I9_jk + I9_kj), one product with the symmetrised
+    I9s (n, 9 n) (rows k, columns (j, a, b))."""
+    return (zeta @ I9s).reshape((zeta.shape[0], 3, 3))
+
+
+@njit(**KERNEL)
+def _theta_of(zeta, I7, I8s, S, out):
+    """Theta = I7 - sum_j zeta_j (I8s_j + S_j / 2) into `out` (S: `_contracted`)."""
     n = zeta.shape[0]
-    for a in range(3):
-        for b in range(3):
-            s = I7[a, b]
-            for j in range(n):
-                s -= zeta[j] * (I8[j, a, b] + I8[j, b, a])
-                for k in range(n):
-                    s -= zeta[j] * zeta[k] * I9[j, k, a, b]
-            out[a, b] = s
+    out[:, :] = I7 - (zeta @ (I8s + 0.5 * S).reshape((n, 9))).reshape((3, 3))
+
+
+@njit(**KERNEL)
+def theta(zeta, I7, I8s, I9s, out):
+    """Inertia tensor (3, 3) about the frame origin, body axes (kg m^2): I7 - sum_j zeta_j
+    (I8_j + I8_j^T) - sum_jk zeta_j zeta_k I9_jk, into `out`; I8s = I8 + I8^T (n, 3, 3),
+    I9s (n, 9 n) as `_contracted`."""
+    _theta_of(zeta, I7, I8s, _contracted(zeta, I9s), out)
 
 
 @njit(**KERNEL)
@@ -63,13 +82,12 @@ def first_moment(zeta, I2, I3, out):
 @njit(**KERNEL)
 def _coupling(zeta, I4, I5, out):
     """Iwz = I4 + sum_j zeta_j I5_j (3, n)."""
-    out[:, :] = I4
-    for j in range(zeta.shape[0]):
-        out += zeta[j] * I5[j]
+    n = zeta.shape[0]
+    out[:, :] = I4 + (zeta @ I5.reshape((n, 3 * n))).reshape((3, n))
 
 
 @njit(**KERNEL)
-def body_mass(A, zeta, I1, I2, I3, I4, I5, I6, I7, I8, I9, out):
+def body_mass(A, zeta, I1, I2, I3, I4, I5, I6, I7, I8s, I9s, out):
     """M (6 + n, 6 + n) in velocities w, into `out`:
     [[m I, -A c~, A I3], [., Theta, Iwz], [., ., I6]]."""
     n = zeta.shape[0]
@@ -81,7 +99,7 @@ def body_mass(A, zeta, I1, I2, I3, I4, I5, I6, I7, I8, I9, out):
     cx = np.array([[0.0, -c[2], c[1]], [c[2], 0.0, -c[0]], [-c[1], c[0], 0.0]])
     out[:3, 3:6] = -(A @ cx)
     out[:3, 6:] = A @ I3
-    theta(zeta, I7, I8, I9, out[3:6, 3:6])
+    theta(zeta, I7, I8s, I9s, out[3:6, 3:6])
     _coupling(zeta, I4, I5, out[3:6, 6:])
     out[6:, 6:] = I6
     for i in range(3, 6 + n):
@@ -104,17 +122,17 @@ def _stiffening(zeta, omega, spin, nodal, loads, out):
             omega[2] * omega[0],
         ]
     )
-    for c in range(spin.shape[0]):
-        out -= products[c] * (spin[c] @ zeta)
-    for k in range(loads.shape[0]):
-        for c in range(6):
-            if loads[k, c] != 0.0:
-                out -= loads[k, c] * (nodal[k, c] @ zeta)
+    n = zeta.shape[0]
+    if spin.shape[0]:
+        out -= products @ (spin.reshape((6 * n, n)) @ zeta).reshape((6, n))
+    if loads.shape[0]:
+        rows = 6 * loads.shape[0]
+        out -= loads.ravel() @ (nodal.reshape((rows * n, n)) @ zeta).reshape((rows, n))
 
 
 @njit(**KERNEL)
 def body_forces(
-    A, omega, zeta, zeta_d, gravity, inertia, I1, I2, I3, I4, I5, I7, I8, I9,
+    A, omega, zeta, zeta_d, gravity, inertia, I1, I2, I3, I4, I5, I7, I8s, I9s,
     stiffness, viscous, spin, nodal, loads, out,
 ):  # fmt: skip
     """Forces f (6 + n) in velocities w, into `out`: gravity `gravity` (3,) m/s^2 (global),
@@ -129,34 +147,27 @@ def body_forces(
     out[3:6] = tmp
     out[6:] = I3.T @ g_body - stiffness * zeta - viscous * zeta_d
     if inertia:
-        quadratic(A, omega, zeta, zeta_d, I2, I3, I4, I5, I7, I8, I9, out)
+        quadratic(A, omega, zeta, zeta_d, I2, I3, I4, I5, I7, I8s, I9s, out)
     if spin.shape[0] or loads.shape[0]:
         _stiffening(zeta, omega, spin, nodal, loads, out[6:])
 
 
 @njit(**KERNEL)
-def quadratic(A, omega, zeta, zeta_d, I2, I3, I4, I5, I7, I8, I9, out):
+def quadratic(A, omega, zeta, zeta_d, I2, I3, I4, I5, I7, I8s, I9s, out):
     """out += the quadratic velocity vector f_v (6 + n) at body angular velocity `omega`
     (rad/s) (mechlib.flexible.modal_body)."""
     n = zeta.shape[0]
     c = np.empty(3)
     first_moment(zeta, I2, I3, c)
+    S = _contracted(zeta, I9s)
     th = np.empty((3, 3))
-    theta(zeta, I7, I8, I9, th)
+    _theta_of(zeta, I7, I8s, S, th)
     iwz = np.empty((3, n))
     _coupling(zeta, I4, I5, iwz)
-    rate = np.zeros((3, n))  # sum_j zeta_d_j I5_j
-    dth = np.empty((n, 3, 3))  # dTheta/dzeta_j
-    th_d = np.zeros((3, 3))  # sum_j zeta_d_j dTheta_j
-    for j in range(n):
-        rate += zeta_d[j] * I5[j]
-        for a in range(3):
-            for b in range(3):
-                s = -(I8[j, a, b] + I8[j, b, a])
-                for k in range(n):
-                    s -= zeta[k] * (I9[j, k, a, b] + I9[k, j, a, b])
-                dth[j, a, b] = s
-        th_d += zeta_d[j] * dth[j]
+    i5 = I5.reshape((n, 3 * n))
+    rate = (zeta_d @ i5).reshape((3, n))  # sum_j zeta_d_j I5_j
+    dth = -(I8s + S).reshape((n, 9))  # dTheta/dzeta_j, rows j
+    th_d = (zeta_d @ dth).reshape((3, 3))  # sum_j zeta_d_j dTheta_j
     wc, v, w2 = np.empty(3), np.empty(3), np.empty(3)
     _skew_times(omega, c, wc)
     _skew_times(omega, wc, w2)  # w~ w~ c
@@ -164,9 +175,8 @@ def quadratic(A, omega, zeta, zeta_d, I2, I3, I4, I5, I7, I8, I9, out):
     out[:3] -= A @ (w2 + 2.0 * v)
     _skew_times(omega, th @ omega + iwz @ zeta_d, v)
     out[3:6] -= v + th_d @ omega + rate @ zeta_d
-    rw = rate.T @ omega
-    for j in range(n):
-        out[6 + j] += 0.5 * (omega @ (dth[j] @ omega)) + omega @ (I5[j] @ zeta_d) - rw[j]
+    ww = np.outer(omega, omega).ravel()
+    out[6:] += 0.5 * (dth @ ww) + i5 @ np.outer(omega, zeta_d).ravel() - rate.T @ omega
 
 
 @njit(**KERNEL)
@@ -177,11 +187,11 @@ def _rate_map(p):
 
 
 @njit(**KERNEL)
-def coordinate_mass(p, zeta, I1, I2, I3, I4, I5, I6, I7, I8, I9, scratch, out):
+def coordinate_mass(p, zeta, I1, I2, I3, I4, I5, I6, I7, I8s, I9s, scratch, out):
     """M_q (7 + n, 7 + n) = T^T M_w T + (4 tr Theta / 3) p p^T (the term fixing |p|), with
     T = diag(I, 2 G(p), I), into `out`; `scratch` (6 + n, 6 + n) takes M_w."""
     n = zeta.shape[0]
-    body_mass(rotation_matrix(p), zeta, I1, I2, I3, I4, I5, I6, I7, I8, I9, scratch)
+    body_mass(rotation_matrix(p), zeta, I1, I2, I3, I4, I5, I6, I7, I8s, I9s, scratch)
     t = np.zeros((6 + n, 7 + n))
     for a in range(3):
         t[a, a] = 1.0
@@ -197,7 +207,7 @@ def coordinate_mass(p, zeta, I1, I2, I3, I4, I5, I6, I7, I8, I9, scratch, out):
 
 @njit(**KERNEL)
 def coordinate_forces(
-    p, pd, zeta, zeta_d, gravity, inertia, I1, I2, I3, I4, I5, I7, I8, I9,
+    p, pd, zeta, zeta_d, gravity, inertia, I1, I2, I3, I4, I5, I7, I8s, I9s,
     stiffness, viscous, spin, nodal, loads, scratch, out,
 ):  # fmt: skip
     """Q_q (7 + n) = T^T f_w (`body_forces` at omega = 2 G(p) pd), into `out`; `scratch`
@@ -206,7 +216,7 @@ def coordinate_forces(
     omega = 2.0 * (g @ pd)
     body_forces(
         rotation_matrix(p), omega, zeta, zeta_d, gravity, inertia, I1, I2, I3, I4, I5, I7,
-        I8, I9, stiffness, viscous, spin, nodal, loads, scratch,
+        I8s, I9s, stiffness, viscous, spin, nodal, loads, scratch,
     )  # fmt: skip
     out[:3] = scratch[:3]
     out[3:7] = 2.0 * (g.T @ scratch[3:6])

@@ -42,11 +42,18 @@ class ModalBody:
         inv = component.invariants
         self.n = n = component.count
         c = np.ascontiguousarray
+        i8s, i9s = kernels.symmetrised(inv.I8, inv.I9)
         self.arrays = (
-            float(inv.I1), c(inv.I2, float), c(inv.I3, float), c(inv.I4, float),
-            c(inv.I5, float), c(inv.I6, float), c(inv.I7, float), c(inv.I8, float),
-            c(inv.I9, float),
-        )  # fmt: skip
+            float(inv.I1),
+            c(inv.I2, float),
+            c(inv.I3, float),
+            c(inv.I4, float),
+            c(inv.I5, float),
+            c(inv.I6, float),
+            c(inv.I7, float),
+            i8s,
+            i9s,
+        )  # fmt: skip  (I8, I9 symmetrised: mechlib.flexible.kernels)
         self.stiffness = c(component.stiffness, float)
         self.viscous = c(component.viscous, float)
         geometric = component.geometric
