@@ -116,19 +116,19 @@ class NodeWelds:
         """(k, 6): force (N) and torque (N m) on `body` at each of its kept nodes, body
         axes, from the multipliers `lam` (size,) of these equations (M qdd + phi_q^T lam
         = Q): linear in them, `load_maps` @ the node's six multipliers."""
-        first, nodes = self._rows(body)
+        first, nodes = self.rows_of(body)
         rows = lam[first : first + 6 * len(nodes)].reshape(-1, 6, 1)
         return np.matmul(self.load_maps(k, body), rows)[:, :, 0]
 
     def load_maps(self, k: Kin, body: Attached) -> np.ndarray:
         """(k, 6, 6): d(node load)/d(its weld multipliers) of each kept node of `body`
         (mechlib.flexible.kernels.load_maps)."""
-        _, nodes = self._rows(body)
+        _, nodes = self.rows_of(body)
         out = np.empty((len(nodes), 6, 6))
         kernels.load_maps(k.p[body.frame], k.p[nodes], body.body.phi_star, k.z[body.modes], out)
         return out
 
-    def _rows(self, body: Attached) -> tuple[int, np.ndarray]:
+    def rows_of(self, body: Attached) -> tuple[int, np.ndarray]:
         """(first weld row, node body indices (k,)) of `body`."""
         return next((first, nodes) for a, first, nodes in self.bodies if a is body)
 

@@ -297,10 +297,10 @@ class System(Topology):
                 out = np.zeros((self.nq, len(lam)))
             gradient = geometric.load_gradient(k.z[a.modes])  # (k, 6, n)
             block = -np.einsum("kcn,kcj->nkj", gradient, welds.load_maps(k, a))
-            rows = first + 6 * np.array([i for i, item in enumerate(welds.items) if item[0] is a])
+            start, nodes = welds.rows_of(a)
             column = np.full(len(self._all_labels), -1)  # of each equation among lam
             column[self.active] = np.arange(self.active.size)
-            at = column[(rows[:, None] + np.arange(6)).ravel()]
+            at = column[first + start + np.arange(6 * len(nodes))]
             modal = 7 * self.nb + a.offset + np.arange(a.body.n)
             out[np.ix_(modal, at[at >= 0])] += block.reshape(a.body.n, -1)[:, at >= 0]
         return out
