@@ -133,6 +133,13 @@ class JointFriction(StaticSlipAnchor):
     def stuck(self) -> bool:
         return self._stick_row is not None and self._system.is_active(self._stick_row)
 
+    @property
+    def locked(self) -> bool:
+        """A lock (an event's `lock`, a phase's `locks`) holds the joint's coordinate: it
+        cannot slip, so the friction neither sticks nor acts (the lock's equation carries
+        the load) until the lock is released."""
+        return self._m is not None and self._system.locked(self._m)
+
     def slip_rate(self, view: StateView) -> float:
         """Rate (rad/s or m/s) of the joint coordinate."""
         return self._coordinate.rate(view.kin)
@@ -141,7 +148,9 @@ class JointFriction(StaticSlipAnchor):
         """Sliding, and the slip rate passed through zero over the last accepted step (or
         is within the regularised band): a candidate to stick."""
         rate = self.slip_rate(view)
-        return not self.stuck and (rate * self._rate_before <= 0.0 or abs(rate) < self.v_threshold)
+        return not (self.stuck or self.locked) and (
+            rate * self._rate_before <= 0.0 or abs(rate) < self.v_threshold
+        )
 
     def stick_effort(self, view: StateView) -> float:
         """Torque (N*m) or force (N) the stick equation applies to body 1 along the axis."""
@@ -217,7 +226,7 @@ class JointFriction(StaticSlipAnchor):
         N[self._bj] -= cross(at - view.kin.r[self._bj], load)
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
-        if self.stuck:  # a stuck joint is held by its stick equation instead
+        if self.stuck or self.locked:  # held by its stick equation, or by a lock, instead
             return
         arguments = self._kernel_arguments(view)
         if arguments is None:
@@ -248,7 +257,7 @@ class JointFriction(StaticSlipAnchor):
         capacity mu r |F_n| + preload, and F_n = P (-sign B^T lam) with B the force block
         of the joint's rows: dQ/dlam = Q(capacity 1) (x) mu r (-sign B u), u = F_n/|F_n|
         (nothing where F_n = 0, whose derivative is undefined)."""
-        if self.mu == 0.0 or self.stuck:
+        if self.mu == 0.0 or self.stuck or self.locked:
             return
         arguments = self._kernel_arguments(view)
         if arguments is not None:  # compiled: the same product
@@ -285,7 +294,7 @@ class JointFriction(StaticSlipAnchor):
             self.begin(view)
         elif self._m is not None:
             self._rate_before, self._rate = self._rate, self.slip_rate(view)
-            if abs(self._rate) >= self.v_threshold:
+            if abs(self._rate) >= self.v_threshold or self.locked:
                 self._impending = 0.0
 
     def output(self, view: StateView) -> dict[str, float]:
@@ -294,6 +303,8 @@ class JointFriction(StaticSlipAnchor):
         capacity, normal = self._capacity(view)
         if self.stuck:
             return {"value": -self.stick_effort(view), "capacity": capacity, "normal": normal}
+        if self.locked:  # the lock carries the load
+            return {"value": 0.0, "capacity": capacity, "normal": normal}
         direction = self._direction(view)
         if self._m is not None:
             value = capacity * float(direction @ self._axis(view))

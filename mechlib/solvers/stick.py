@@ -27,7 +27,9 @@ def switch_sticking(system, q, qd, t: float, view, consistent: Callable) -> bool
     """Stick or free the joint frictions at the accepted state (q, qd, t) whose consistent
     view (velocities and multipliers) is `view`; `consistent(system, q, qd, t)` gives
     (qd, qdd, lam). True when the model changed (the caller restarts)."""
-    frictions = [e for e in system.elements if e.active and getattr(e, "can_stick", False)]
+    frictions = [  # a locked joint cannot slip: its friction neither sticks nor lets go
+        e for e in system.elements if e.active and getattr(e, "can_stick", False) and not e.locked
+    ]
     switched = stale = False
     for e in frictions:
         if stale:  # an earlier joint stuck or let go: the multipliers' rows have changed
@@ -63,7 +65,7 @@ def slip_stop(
     through zero (located as events are), or None; `view_at(t)` re-solves the step to t."""
     first = None
     for e in system.elements:
-        if not (e.active and getattr(e, "can_stick", False)) or e.stuck:
+        if not (e.active and getattr(e, "can_stick", False)) or e.stuck or e.locked:
             continue
         r0, r1 = e.slip_rate(view0), e.slip_rate(view1)
         if r0 * r1 >= 0.0 or max(abs(r0), abs(r1)) < e.v_threshold:

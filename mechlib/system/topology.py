@@ -98,6 +98,7 @@ class Topology:
             getattr(e, "uses_reactions", False) for e in self.elements
         ) or any(a.body.component.geometric is not None for a in self.flexible)
         self._dormant: list[int] = []  # rows that elements switch on when they need them
+        self._locks: list[tuple[int, object]] = []  # (row, measure) of every lock made
         for element in self.elements:
             element.bind(self)
         self._groups, self._singles = element_groups.grouped(self.elements)
@@ -245,12 +246,13 @@ class Topology:
         eq = CoordinateEquation(
             [(1.0, measure)], f"{joint}: locked {measure.kind}", joint, _Held(value)
         )
-        self.coordinates.append(eq)
-        self._all_labels.append(eq.label)
-        self._all_owners.append(joint)
-        self.active = np.append(self.active, len(self._all_labels) - 1)
+        self.active = _with_lock(self, eq, measure)
         self._pattern = None
-        return len(self._all_labels) - 1
+        return self._locks[-1][0]
+
+    def locked(self, measure) -> bool:
+        """Whether a lock (an event's, a phase's) holds coordinate `measure` now."""
+        return any(m is measure and self.is_active(row) for row, m in self._locks)
 
     def held_coordinate(self, owner: str, measure) -> int:
         """A dormant equation `measure = held value`, owned by `owner` (a joint friction
@@ -350,6 +352,25 @@ class Topology:
             measure = self.measures[key]
             if isinstance(measure, AngleMeasure):
                 measure.reference = value
+
+
+def _with_lock(topology: Topology, eq: CoordinateEquation, measure) -> np.ndarray:
+    """Add lock `eq` of coordinate `measure` to `topology`'s equations (recorded in its
+    locks); the active rows with it, without the rows that held the coordinate (a joint
+    friction's stick): the lock supersedes them (the same equation twice; a locked joint
+    cannot slip)."""
+    topology.coordinates.append(eq)
+    topology._all_labels.append(eq.label)
+    topology._all_owners.append(eq.owner)
+    row = len(topology._all_labels) - 1
+    topology._locks.append((row, measure))
+    first = topology.n_geometric
+    held = []
+    for r in topology._dormant:
+        other = topology.coordinates[r - first]
+        if isinstance(other, CoordinateEquation) and other.terms[0][1] is measure:
+            held.append(r)
+    return np.append(np.setdiff1d(topology.active, held), row)
 
 
 def coordinate_equations(topology: Topology) -> list[CoordinateEquation | CurveEquation]:

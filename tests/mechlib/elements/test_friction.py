@@ -201,3 +201,98 @@ def test_a_joint_stopping_while_the_next_is_held_sticks_both() -> None:
     held = np.asarray(sol.time) > 1.5
     assert np.abs(shoulder[held] + stop).max() < 1e-4
     assert np.ptp(shoulder[held]) < 1e-12
+
+
+def _bar_with_friction(preload: float) -> mechlib.Mechanism:
+    mech = hinged_bar(BAR)
+    mech.add_force(mechlib.JointFriction("rub", "hinge", MU, RADIUS, preload))
+    return mech
+
+
+_LOCK_REQUESTS = [
+    mechlib.JointCoordinate("a", "hinge"),
+    mechlib.JointReaction("r", "hinge"),
+    mechlib.ElementOutput("rub", "rub"),
+]
+
+
+def _solve_with(mech, analysis, events=()) -> mechlib.Solution:
+    sol = mechlib.solve(mech, analysis, events=list(events), requests=_LOCK_REQUESTS)
+    assert sol.ok, sol.message
+    return sol
+
+
+def test_a_lock_holds_a_sliding_friction_joint_alone() -> None:
+    """The bar falls from horizontal against a 3 N*m friction preload (< its weight moment
+    9.81 N*m: it slides) and a latch locks the hinge at -30 deg. A locked joint cannot
+    slip: the friction neither sticks nor acts while the lock holds (before, its stick
+    equation duplicated the lock's and took 3.04 N*m of the 8.50 N*m hold). Up to the
+    lock the rows are those of the same fall without the latch (identical); after it the
+    angle stays at -30 deg (1e-9), the friction reports 0 and the lock alone carries the
+    weight moment m g L/2 cos(30 deg) = 8.4957 N*m (hand statics, 1e-6)."""
+    lock_at = -math.pi / 6
+    analysis = mechlib.Dynamic(end=0.6, step=0.01, tolerance=1e-10)
+    latch = mechlib.Event(
+        "latch",
+        lambda t, view: lock_at - view.angle("hinge"),
+        (mechlib.Action("lock", "hinge"),),
+    )
+    sol = _solve_with(_bar_with_friction(3.0), analysis, [latch])
+    free = _solve_with(_bar_with_friction(3.0), analysis)
+    assert [e.name for e in sol.events] == ["latch"]
+    t_lock, time = sol.events[0].time, np.asarray(sol.time)
+    before, after = time < t_lock - 1e-9, time > t_lock + 1e-9
+    assert before.sum() > 10 and after.sum() > 10
+    np.testing.assert_array_equal(time[before], np.asarray(free.time)[: before.sum()])
+    for channel in ("a.value", "r.tz", "rub.value"):
+        np.testing.assert_array_equal(
+            sol.channels[channel][before], free.channels[channel][: before.sum()]
+        )
+    assert np.abs(sol.channels["a.value"][after] - lock_at).max() < 1e-9
+    hold = BAR.weight_moment * math.cos(lock_at)
+    np.testing.assert_allclose(sol.channels["r.tz"][after], hold, atol=1e-6)
+    assert np.all(sol.channels["rub.value"][after] == 0.0)
+
+
+def test_a_lock_on_a_stuck_friction_joint_replaces_its_stick() -> None:
+    """The bar held horizontal by its friction (20 N*m preload > 9.81 N*m) is locked at
+    t = 0.1 s: the lock's equation replaces the stick's (before, the two made the system
+    redundant: 'rub: stick: stuck angle, dependent on hinge'). The hold moves from the
+    friction to the lock, m g L/2 = 9.81 N*m (1e-6); the bar never moves (1e-9)."""
+    lock = mechlib.Event("lock", lambda t, view: t - 0.1, (mechlib.Action("lock", "hinge"),))
+    sol = _solve_with(
+        _bar_with_friction(20.0), mechlib.Dynamic(end=0.3, step=0.01, tolerance=1e-10), [lock]
+    )
+    time = np.asarray(sol.time)
+    assert abs(sol.events[0].time - 0.1) < 1e-9
+    assert np.abs(sol.channels["a.value"]).max() < 1e-9
+    after = time > 0.1 + 1e-9
+    np.testing.assert_allclose(sol.channels["r.tz"][after], BAR.weight_moment, atol=1e-6)
+    assert np.all(sol.channels["rub.value"][after] == 0.0)
+    stuck = time < 0.1 - 1e-9
+    np.testing.assert_allclose(sol.channels["rub.value"][stuck], -BAR.weight_moment, atol=1e-6)
+
+
+def test_friction_resumes_from_the_actual_state_when_a_lock_is_released() -> None:
+    """A phase locks the hinge (bar horizontal) for 0.2 s, the next lets it go: the friction
+    (3 N*m preload) carries nothing while locked and then slides as in a fall from rest
+    without the lock (the same rows 0.2 s later, 1e-9 rad, 1e-9 N*m)."""
+    step = {"step": 0.01, "tolerance": 1e-10}
+    phases = mechlib.Phases(
+        (
+            mechlib.Phase(mechlib.Dynamic(start=0.0, end=0.2, **step), "held", ("hinge",)),
+            mechlib.Phase(mechlib.Dynamic(start=0.2, end=0.5, **step), "free"),
+        )
+    )
+    sol = _solve_with(_bar_with_friction(3.0), phases)
+    free = _solve_with(_bar_with_friction(3.0), mechlib.Dynamic(end=0.3, **step))
+    time = np.asarray(sol.time)
+    held = time < 0.2 - 1e-9
+    assert np.all(sol.channels["rub.value"][held] == 0.0)
+    np.testing.assert_allclose(sol.channels["r.tz"][held], BAR.weight_moment, atol=1e-6)
+    for t in (0.25, 0.3, 0.4, 0.5):
+        i, j = np.argmin(abs(time - t)), np.argmin(abs(np.asarray(free.time) - (t - 0.2)))
+        assert sol.channels["a.value"][i] == pytest.approx(free.channels["a.value"][j], abs=1e-9)
+        assert sol.channels["rub.value"][i] == pytest.approx(
+            free.channels["rub.value"][j], abs=1e-9
+        )
