@@ -24,7 +24,7 @@ import threading
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import Future, InvalidStateError, ProcessPoolExecutor, as_completed
 from concurrent.futures import TimeoutError as FuturesTimeout
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from typing import Any, Protocol
 
 from loadcases.foundation import interrupts
@@ -94,6 +94,7 @@ class PoolExecutor:
         )
         futures: dict[Future, int] = {}
         finished = False
+        quiet = ExitStack()  # from an interrupt until the pool has shut down
         try:
             with interrupts.deferred():  # the workers start here: a signal waits till after
                 for index, item in enumerate(items):
@@ -102,10 +103,11 @@ class PoolExecutor:
                 yield futures[future], future.result()
             finished = True
         except KeyboardInterrupt:
+            quiet.enter_context(_quiet_broken_pool())  # the workers die from here on
             yield from _interrupted_runs(pool, futures, _Workers(others))
             raise
         finally:
-            with _quiet_broken_pool():
+            with quiet, _quiet_broken_pool():
                 if not finished:  # interrupt, error or the caller stopped early: no worker left
                     pool.shutdown(wait=False, cancel_futures=True)
                     for process in _Workers(others).alive():
