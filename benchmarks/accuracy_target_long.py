@@ -9,7 +9,6 @@ CPU, and its true error against the closed form (benchmarks/error_table_long.py)
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import time
 from pathlib import Path
@@ -18,6 +17,7 @@ import numpy as np
 
 from benchmarks.error_table import _with
 from benchmarks.error_table_long import CASES
+from benchmarks.rows import stream_rows
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 from loadcases.schema.case import AccuracyTarget
@@ -57,12 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--target", type=float, default=1e-2)
     parser.add_argument("-o", "--output", type=Path, default=None)
     args = parser.parse_args(argv)
-    rows = []
-    for name in args.cases:
-        rows.append(measured(name, args.target))
-        print(json.dumps(rows[-1]), flush=True)
-    if args.output:
-        args.output.write_text(json.dumps(rows, indent=1) + "\n", encoding="utf-8")
+    stream_rows((measured(name, args.target) for name in args.cases), args.output)
     return 0
 
 

@@ -18,13 +18,13 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import time
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from benchmarks.rows import write_rows
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 from loadcases.run.global_error import request_of
@@ -136,8 +136,7 @@ def main(argv: list[str] | None = None) -> int:
             f"{r['true_history']:10.3g} {ratios[0]:7.3g} "
             f"{r['estimate_peak']:10.3g} {r['true_peak']:10.3g} {ratios[1]:7.3g}"
         )
-    if args.output:
-        args.output.write_text(json.dumps(rows, indent=1) + "\n", encoding="utf-8")
+    write_rows(rows, args.output)
     return 0
 
 

@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import json
 import math
 import os
 import time
@@ -27,6 +26,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from benchmarks.error_table import LIBRARY, _with
+from benchmarks.rows import stream_rows
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
@@ -136,14 +136,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("cases", nargs="*", default=list(CASES))
     parser.add_argument("-o", "--output", type=Path, default=None)
     args = parser.parse_args(argv)
-    rows = []
-    for name in args.cases:
-        rows_of_case = rows_of(name)
-        rows += rows_of_case
-        for r in rows_of_case:
-            print(json.dumps(r), flush=True)
-    if args.output:
-        args.output.write_text(json.dumps(rows, indent=1) + "\n", encoding="utf-8")
+    stream_rows((row for name in args.cases for row in rows_of(name)), args.output)
     return 0
 
 

@@ -11,7 +11,6 @@ against the closed form (benchmarks.error_table_long.A01).
 from __future__ import annotations
 
 import argparse
-import json
 import time
 from pathlib import Path
 
@@ -19,6 +18,7 @@ import numpy as np
 
 from benchmarks.error_table import LIBRARY, _with
 from benchmarks.error_table_long import A01
+from benchmarks.rows import stream_rows
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 
@@ -58,12 +58,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--rho-inf", type=_rhos, default=RHO_INF, help="e.g. 0.95,0.9")
     parser.add_argument("-o", "--output", type=Path, default=None)
     args = parser.parse_args(argv)
-    rows = []
-    for rho in args.rho_inf:
-        rows.append(drift(rho, args.end))
-        print(json.dumps(rows[-1]), flush=True)
-    if args.output:
-        args.output.write_text(json.dumps(rows, indent=1) + "\n", encoding="utf-8")
+    stream_rows((drift(rho, args.end) for rho in args.rho_inf), args.output)
     return 0
 
 
