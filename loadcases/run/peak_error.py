@@ -54,12 +54,13 @@ def _curvature(time: np.ndarray, values: np.ndarray, k: int) -> tuple[np.ndarray
 
 def _highest(time: np.ndarray, values: np.ndarray) -> tuple[float, float]:
     """(largest finite row, largest vertex or row): the vertex of the parabola through each
-    row at least as high as its two neighbours, where the three curve down and their times
-    increase (a peak between rows lower than an end row counts too). A smooth crest lies at
-    most half a row interval h from its highest row, so it rises at most |c| (h / 2)^2
-    above it; c is taken too from the rows two apart, which the rows' own noise (the
-    projections of dense output, 1e-5 of a reaction) sways four times less, and the
-    smaller rise kept."""
+    row higher than its two neighbours (a row level with one is a plateau or the corner of
+    a step, such as a friction torque switching on: no crest between rows), where the
+    three curve down and their times increase (a peak between rows lower than an end row
+    counts too). A smooth crest lies at most half a row interval h from its highest row,
+    so it rises at most |c| (h / 2)^2 above it; c is taken too from the rows two apart,
+    which the rows' own noise (the projections of dense output, 1e-5 of a reaction) sways
+    four times less, and the smaller rise kept."""
     row_max = float(np.max(values[np.isfinite(values)]))
     if len(values) < 3:
         return row_max, row_max
@@ -72,7 +73,7 @@ def _highest(time: np.ndarray, values: np.ndarray) -> tuple[float, float]:
             _, wide = _curvature(time, values, 2)
             bound[1:-1] = np.minimum(bound[1:-1], np.maximum(-wide, 0.0) * (0.5 * h[1:-1]) ** 2)
         v0, v1, v2 = values[:-2], values[1:-1], values[2:]
-        local = (v1 >= v0) & (v1 >= v2) & (np.diff(time)[:-1] > 0.0) & (np.diff(time)[1:] > 0.0)
+        local = (v1 > v0) & (v1 > v2) & (np.diff(time)[:-1] > 0.0) & (np.diff(time)[1:] > 0.0)
     local &= (c < 0.0) & np.isfinite(rise) & np.isfinite(bound)
     rise = np.minimum(rise, bound)
     return row_max, float(np.max(v1[local] + rise[local], initial=row_max))

@@ -75,3 +75,15 @@ def test_noise_on_the_rows_does_not_read_as_a_missed_crest() -> None:
     assert (a - b) ** 2 / (8.0 * (a + b)) > 7e-8  # what the three rows alone would say
     found = extremes(time, values)
     assert 0.0 <= found.max - found.row_max <= 2.5e-8 * 1.01
+
+
+def test_a_step_has_no_crest_between_rows() -> None:
+    """A column that steps from 0 to a constant (a friction torque switching on: the
+    repro wheel's `rub`, 0 then 0.981 N m) has no peak between its rows: the corner of the
+    step is not a vertex (it read 4.4 % of the peak and a false accuracy warning)."""
+    time = np.linspace(0.0, 1.0, 101)
+    values = np.full_like(time, 0.981)
+    values[0] = 0.0
+    found = extremes(time, values)
+    assert found.max == found.row_max == 0.981
+    assert found.min == found.row_min == 0.0
