@@ -20,7 +20,9 @@ from loadcases.foundation.diagnostics import Diagnostic, Severity
 from loadcases.foundation.units import (
     DIMENSIONS,
     RESERVED_NAMES,
+    UnitError,
     describe_dimension,
+    quantity_dimension,
     si_unit_text,
     unit_constant,
 )
@@ -177,6 +179,8 @@ def _plain_number_warning(
         if (needed := _needed_dimension(expression, plain_scope, name, want)) is not None
     }
     declared = locator.data.get("parameters") if isinstance(locator.data, dict) else None
+    if any(_overridden(declared, name, scope) for name in used):
+        return []  # a case, set or --set value of another dimension: an error at its own key
     if len(suspects) == 1 and isinstance(declared, dict):
         name, needed = next(iter(suspects.items()))
         if name in declared:
@@ -199,6 +203,20 @@ def _plain_number_warning(
             "unit (9.81*m/s^2) to have the formula checked",
         )
     ]
+
+
+def _overridden(declared: Any, name: str, scope: DimensionScope) -> bool:
+    """Whether parameter `name` has another dimension in `scope` than as written in this
+    file's `parameters` (a case, a set or `--set` gave it another)."""
+    text = declared.get(name) if isinstance(declared, dict) else None
+    if not isinstance(text, str):
+        return False
+    try:
+        written = quantity_dimension(text)
+    except UnitError:
+        return False
+    have = scope.names(name)
+    return written is not None and have is not None and not same_dimension(written, have)
 
 
 def _quotient(a: Dims, b: Dims) -> Dims:
