@@ -281,6 +281,30 @@ class System(Topology):
         full[self.active] = lam
         return welds.node_loads(k, full[first : first + welds.size], a)
 
+    def stiffening_coupling(self, k: Kin, lam: np.ndarray) -> np.ndarray | None:
+        """dQ/dlam (nq, m) of the geometric stiffening loaded by the node loads (the weld
+        multipliers among `lam`, the active rows), None without such a body: Q_zeta =
+        -K_G(node loads) zeta, the node loads linear in the multipliers."""
+        if self._welds is None or len(lam) != self.active.size:
+            return None
+        welds, first = self._welds
+        out: np.ndarray | None = None
+        for a in self.flexible:
+            geometric = a.body.component.geometric
+            if geometric is None:
+                continue
+            if out is None:
+                out = np.zeros((self.nq, len(lam)))
+            gradient = geometric.load_gradient(k.z[a.modes])  # (k, 6, n)
+            block = -np.einsum("kcn,kcj->nkj", gradient, welds.load_maps(k, a))
+            start, nodes = welds.rows_of(a)
+            column = np.full(len(self._all_labels), -1)  # of each equation among lam
+            column[self.active] = np.arange(self.active.size)
+            at = column[first + start + np.arange(6 * len(nodes))]
+            modal = 7 * self.nb + a.offset + np.arange(a.body.n)
+            out[np.ix_(modal, at[at >= 0])] += block.reshape(a.body.n, -1)[:, at >= 0]
+        return out
+
     def generalized(self, k: Kin, F: np.ndarray, N: np.ndarray) -> np.ndarray:
         """Q (nq,) of forces F and torques N (nb+1, 3) alone (no gravity, no inertia)."""
         out = np.zeros(self.nq)
