@@ -42,6 +42,7 @@ class System(Topology):
         self._arrays: ConstraintArrays | bool | None = False  # packed_constraints(), once
         self._no_wrench = np.zeros((len(mechanism.bodies) + 1, 3))
         self._no_wrench.flags.writeable = False
+        self.row_plans: dict[tuple[bytes, bytes], list] = {}  # mechlib.system.rows_jacobian
         super().__init__(mechanism)
 
     def frame_origin(self, name: str, k: Kin) -> np.ndarray:
@@ -161,6 +162,13 @@ class System(Topology):
             row += g.size
         self.coordinate_rows().jacobian(k, out[row:])
         return self.body_columns(self._select(out))
+
+    def phi_q_rows(self, k: Kin, rows: np.ndarray) -> np.ndarray:
+        """phi_q[rows] (len(rows), nq) of the active equations `rows`, without the
+        others (mechlib.system.rows_jacobian)."""
+        from mechlib.system.rows_jacobian import phi_q_rows
+
+        return phi_q_rows(self, k, rows)
 
     def phi_q_sparse(self, k: Kin) -> SparseRows:
         """`phi_q(k)` as its non-zeros, never the dense matrix (the checks of a large model)."""
