@@ -268,12 +268,14 @@ class System(Topology):
         skip=(),
         jac: np.ndarray | None = None,
     ) -> np.ndarray:
-        """Q (nq,): gravity, elements (but those whose id is in `skip`) and, with
-        `inertia`, the quadratic velocity terms (`lam`, `jac`: see `wrenches`)."""
+        """Q (nq,): gravity, elements and modal bodies (but those whose id is in `skip`)
+        and, with `inertia`, the quadratic velocity terms (`lam`, `jac`: see `wrenches`)."""
         F, N = self.wrenches(k, lam, skip, jac)
         out = np.zeros(self.nq)
         kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N, inertia, out)
         for a in self.flexible:
+            if skip and id(a) in skip:
+                continue
             stiff = a.body.component.geometric is not None
             loads = self.node_loads(k, lam, a) if stiff else None
             out[a.columns(self.nb)] += a.forces(k, self.gravity, inertia, loads)
