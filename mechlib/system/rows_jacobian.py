@@ -18,6 +18,7 @@ if TYPE_CHECKING:
 
 __all__ = ["Plan", "phi_q_rows"]
 
+_KEPT_PLANS = 64
 Plan = tuple[Any, int, np.ndarray, np.ndarray]  # group (None: the coordinate block), ...
 
 
@@ -53,5 +54,7 @@ def _plan(system: System, rows: np.ndarray) -> list[Plan]:
         if inside.size:
             found.append((group, end - start, wanted[inside] - start, inside))
         start = end
+    if len(system.row_plans) >= _KEPT_PLANS:  # sets of active rows change with events
+        system.row_plans.clear()
     system.row_plans[key] = found
     return found
