@@ -182,9 +182,8 @@ class GeneralizedAlphaStepper(DenseStepper):
         )
         return state
 
-    def accept(self, state: State) -> State:
-        """Settle, then stick or free joint frictions there (a switch restarts)."""
-        self.settle(state)
+    def switch(self, state: State) -> State:
+        """Stick or free joint frictions at the settled `state` (a switch restarts)."""
         return self.restart(state) if self._switched(_alpha(state)) else state
 
     def dense_row(self, start: State, end: State, t: float, states) -> State:
