@@ -78,7 +78,7 @@ def _exact_angle(times: np.ndarray, amplitude: float) -> np.ndarray:
         def stop(s, y, way=way, start=start):
             return y[1] if s > start + 1e-9 else way
 
-        stop.terminal, stop.direction = True, -way
+        stop.terminal, stop.direction = True, -way  # type: ignore[attr-defined]
         slide = solve_ivp(
             lambda s, y, way=way: [y[1], (_drive(s) - way * PRELOAD) / INERTIA],
             (start, END),
