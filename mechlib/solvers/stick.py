@@ -69,9 +69,8 @@ def slip_stop(
     for e in system.elements:
         if not (e.active and getattr(e, "can_stick", False)) or e.locked:
             continue
-        t = _let_go(e, t0, t1, view0, view1, view_at) if e.stuck else None
-        if not e.stuck:
-            t = _slip_reversal(e, t0, t1, view0, view1, view_at)
+        located = _let_go if e.stuck else _slip_reversal
+        t = located(e, t0, t1, view0, view1, view_at)
         if t is not None:
             first = t if first is None else min(first, t)
     return first

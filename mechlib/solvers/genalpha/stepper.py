@@ -211,7 +211,8 @@ class GeneralizedAlphaStepper(DenseStepper):
 
     def _stop_slips(self, s: _AlphaState, new: _AlphaState) -> _AlphaState:
         """`new`, or the state at the first instant within the step where a sliding joint
-        friction stops (its slip rate passes through zero: it may stick there)."""
+        friction stops (its slip rate passes through zero: it may stick there) or a held
+        one's effort passes its capacity (it lets go there)."""
         sys = self.system
         if not self.sticking:
             return new
