@@ -122,7 +122,15 @@ class Stepper(ABC):
     def accept(self, state: State) -> State:
         """Settle a step's state; a stepper that switches the model there (joint friction
         sticking) returns the state it restarts from."""
-        return self.settle(state)
+        self.settle(state)
+        return self.switch(state)
+
+    def switch(self, state: State) -> State:
+        """After `settle`: the state to go on from once the model is switched at the
+        settled `state` (joint friction sticking or letting go: a restart), else `state`.
+        Rows within the step that ended at `state` are recorded before, with the model
+        the step was solved with."""
+        return state
 
     def unresolved(
         self, state: State, new: State, failure: StepUnresolved, events: Callable[[], str]

@@ -114,8 +114,11 @@ def _march_dense(
         if after is Status.EVENT_STOP:
             return Status.EVENT_STOP
         if after is None:
-            after = stepper.accept(new)
+            # the rows within the step first, with the model the step was solved with: a
+            # joint friction sticking or letting go at `new` changes it (the restart)
+            stepper.settle(new)
             rows.upto(s, new, z0, True)
+            after = stepper.switch(new)
             if monitor.armed:
                 monitor.arm(after.t, stepper.view(after))
         elif after is not s:

@@ -182,9 +182,8 @@ class GeneralizedAlphaStepper(DenseStepper):
         )
         return state
 
-    def accept(self, state: State) -> State:
-        """Settle, then stick or free joint frictions there (a switch restarts)."""
-        self.settle(state)
+    def switch(self, state: State) -> State:
+        """Stick or free joint frictions at the settled `state` (a switch restarts)."""
         return self.restart(state) if self._switched(_alpha(state)) else state
 
     def dense_row(self, start: State, end: State, t: float, states) -> State:
@@ -212,7 +211,8 @@ class GeneralizedAlphaStepper(DenseStepper):
 
     def _stop_slips(self, s: _AlphaState, new: _AlphaState) -> _AlphaState:
         """`new`, or the state at the first instant within the step where a sliding joint
-        friction stops (its slip rate passes through zero: it may stick there)."""
+        friction stops (its slip rate passes through zero: it may stick there) or a held
+        one's effort passes its capacity (it lets go there)."""
         sys = self.system
         if not self.sticking:
             return new
