@@ -90,8 +90,9 @@ class PackedLoads:
         starts = [states.slices[id(a)].start for a in actuators]
         return cls(springs, actuators, starts, others)
 
-    def args(self, t: float) -> tuple[np.ndarray, np.ndarray] | None:
-        """The kernels' LoadArgs at time t (s): the active flags now, the demands at t;
+    def args(self, t: float, demands: bool = True) -> tuple[np.ndarray, np.ndarray] | None:
+        """The kernels' LoadArgs at time t (s): the active flags now, the demands at t
+        (`demands` False: left as they were, for the loads alone, which do not read them);
         None while another element is active."""
         if any(e.active for e in self.others):
             return None
@@ -99,7 +100,8 @@ class PackedLoads:
             self.ints[i] = spring.active
         for i, j, actuator in zip(self._actuator_on, self._demand, self.actuators):
             self.ints[i] = actuator.active
-            self.floats[j] = float(actuator.command(t))
+            if demands:
+                self.floats[j] = float(actuator.command(t))
         return self.ints, self.floats
 
 

@@ -106,6 +106,15 @@ class HermiteRows:
     def __init__(self, system: System, compiled: bool = True):
         self.system, self.compiled = system, compiled
         self._step: tuple[State, State, np.ndarray] | None = None
+        self._functions: tuple[object, bool] | None = None  # (coordinate block, timed)
+
+    def _timed(self, rows) -> bool:
+        """Whether the coordinate equations `rows` (System.coordinate_rows) hold a function
+        of time (found again only when an event changes them)."""
+        if self._functions is None or self._functions[0] is not rows:
+            timed = any(rows.equations[i].function is not None for i in rows.linear)
+            self._functions = (rows, timed)
+        return self._functions[1]
 
     def row(self, start: State, end: State, t: float, states) -> State:
         """The row at t (s) within start -> end, with the element states `states`."""
@@ -127,9 +136,8 @@ class HermiteRows:
         if not self.compiled or arrays is None or not small_enough(system):
             return None
         packed = system.packed_loads()
-        loads = None if packed is None else packed.args(float(times[0]))
-        rows = system.coordinate_rows()
-        if loads is None or any(rows.equations[i].function is not None for i in rows.linear):
+        loads = None if packed is None else packed.args(float(times[0]), demands=False)
+        if loads is None or self._timed(system.coordinate_rows()):
             return None
         nq, m, n = system.nq, system.active.size, len(times)
         z0 = np.zeros(0) if z0 is None else z0

@@ -149,9 +149,7 @@ class _Rows:
         """Record the output times up to end.t (inclusive or not) within start -> end: in
         one block where the stepper gives one (`dense_block`), the rest row by row."""
         system = self.stepper.system
-        due = self.next
-        while due < len(self.times) and self._is_due(self.times[due], end.t, inclusive):
-            due += 1
+        due = self._last_due(end.t, inclusive)
         if due > self.next:
             self._block(start, end, z0, due)
         while self._due(end.t, inclusive):
@@ -161,6 +159,20 @@ class _Rows:
                 w = (t - start.t) / (end.t - start.t)
                 states = (1.0 - w) * z0 + w * system.states.z
             self._record(self.stepper.dense_row(start, end, t, states))
+
+    def _last_due(self, t: float, inclusive: bool) -> int:
+        """The index after the last output time due by t (s) (`_is_due`): found by
+        bisection, then checked against the rule itself at its ends."""
+        tiny = 1e-12 * max(1.0, abs(t))
+        edge = t + tiny if inclusive else t - tiny
+        due = max(
+            self.next, int(np.searchsorted(self.times, edge, "right" if inclusive else "left"))
+        )
+        while due > self.next and not self._is_due(self.times[due - 1], t, inclusive):
+            due -= 1
+        while due < len(self.times) and self._is_due(self.times[due], t, inclusive):
+            due += 1
+        return due
 
     def _block(self, start: State, end: State, z0, due: int) -> None:
         """The rows up to output index `due` from the stepper's `dense_block`, if any."""
