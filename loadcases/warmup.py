@@ -5,7 +5,7 @@ install pay the compilation (numba compiles on one core: this warmup takes about
 from an empty cache, measured 2026-11-29 on the 2-core VM; a first kinematic run 17 s, a
 first dynamic run 45 s more). `pip install` alone does not run it: `make install` does.
 It solves a few library cases over their first instants: dynamic and quasi-static, every
-contact kernel. Nothing is written outside a temporary folder.
+contact kernel, a valve servo-actuator. Nothing is written outside a temporary folder.
 """
 
 from __future__ import annotations
@@ -27,6 +27,8 @@ CASES = (
     ("verification/ln_restitution.case.yaml", 0.02, 0.01),
     ("door/lifting_inner_let_go.case.yaml", 0.02, 0.01),
     ("door/lifting_inner.case.yaml", 0.1, 0.05),
+    # a valve servo-actuator: its compiled states, the packed loads' rows of a step
+    ("verification/elements/servo_closed_valve.case.yaml", 0.002, 0.0005),
 )
 
 
