@@ -160,3 +160,10 @@ class DenseStepper(Stepper):
     def dense_row(self, start: State, end: State, t: float, states) -> State:
         """The row at t (s) within the accepted step start -> end; `states`: the element
         states interpolated there (None without)."""
+
+    def dense_block(self, start: State, end: State, times: np.ndarray, z0):
+        """The rows at `times` (s) within the accepted step start -> end in one call, the
+        element states interpolated from z0 (at start; None without) to the accepted ones
+        (mechlib.solvers.dense.RowBlock: perhaps fewer rows than asked), or None: `march`
+        then takes them from `dense_row` one by one."""
+        return None

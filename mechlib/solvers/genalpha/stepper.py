@@ -192,6 +192,12 @@ class GeneralizedAlphaStepper(DenseStepper):
         accelerations and reactions are those of the equations of motion at its state."""
         return self.rows.row(start, end, t, states)
 
+    def dense_block(self, start: State, end: State, times: np.ndarray, z0):
+        """The rows at `times` within start -> end from one compiled call where the system
+        allows it (mechlib.solvers.dense.HermiteRows.block), else None."""
+        z1 = self.system.states.z if self.system.states else None
+        return self.rows.block(start, end, times, z0, z1)
+
     def _switched(self, s: _AlphaState) -> bool:
         if not self.sticking:
             return False
