@@ -89,12 +89,11 @@ def extremes(time: np.ndarray, values: np.ndarray) -> Extremes:
     return Extremes(row_max, -row_min, top, -bottom)
 
 
-def peak_error(run: Extremes, companion: Extremes, order: int) -> tuple[float, float]:
+def peak_error(run: Extremes, companion: Extremes, scale: float) -> tuple[float, float]:
     """Estimated error of the run's envelope (its rows' max and min, the worse), in the
-    column's unit: Richardson on the continuous peaks plus the run's sampling error; and
-    that sampling error alone (shorter steps do not reduce it, a shorter output interval
-    does)."""
-    scale = 1.0 / (2.0**order - 1.0)
+    column's unit: Richardson on the continuous peaks (their difference x `scale`,
+    1 / (r^p - 1)) plus the run's sampling error; and that sampling error alone (shorter
+    steps do not reduce it, a shorter output interval does)."""
     high, low = run.max - run.row_max, run.row_min - run.min
     return (
         max(

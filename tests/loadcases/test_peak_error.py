@@ -49,7 +49,8 @@ def test_peak_error_bounds_richardson_on_continuous_peaks_plus_the_rows_miss() -
     run_t, run_v = _rows(0.3, 1.0 + 1e-3)
     comp_t = run_t[1::2]  # rows at 2 dt, not those of the run's crest
     comp_v = (1.0 + 4e-3) * np.sin(OMEGA * comp_t + 0.3)
-    estimate, sampling = peak_error(extremes(run_t, run_v), extremes(comp_t, comp_v), order=2)
+    found = extremes(run_t, run_v), extremes(comp_t, comp_v)
+    estimate, sampling = peak_error(*found, scale=1.0 / 3.0)
     miss = (1.0 + 1e-3) * (1.0 - np.sin(OMEGA * run_t + 0.3).max())
     assert miss > 1e-4
     assert sampling == pytest.approx(miss, abs=(OMEGA * DT) ** 3 / 16)
