@@ -88,3 +88,20 @@ def test_a_step_has_no_crest_between_rows() -> None:
     found = extremes(time, values)
     assert found.max == found.row_max == 0.981
     assert found.min == found.row_min == 0.0
+
+
+def test_a_leap_at_the_start_is_not_a_crest() -> None:
+    """The IFToMM A05 flyball's spring tension in its first rows (N, 10 ms apart): 0 at
+    rest, then 44.28, 42.90, 44.90, 44.54. The parabola through the first three alone
+    reads a crest 5.0 N above 44.28 (its estimate was 4 times the true error); the
+    parabola through the rows after it curves up, so the leap is no crest: its row is its
+    value. A smooth crest (a sine sampled 10 times a period) keeps its vertex."""
+    time = np.arange(5) * 0.01
+    values = np.array([0.0, 44.28, 42.90, 44.90, 44.54])
+    assert extremes(time, values).max == 44.90  # row 3: the rows before it curve up
+    values[3:] = [42.0, 41.5]  # no later crest: the leap's row is the largest
+    assert extremes(time, values).max == 44.28
+    sine_t = np.linspace(0.0, 1.0, 11) + 0.03
+    sine = np.sin(2.0 * np.pi * sine_t)
+    found = extremes(sine_t, sine)
+    assert found.row_max < found.max <= 1.0 + 1e-3
