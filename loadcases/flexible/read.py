@@ -290,6 +290,10 @@ def _check_solvable(header: Header, raw: RawModel, model: FEModel) -> None:
         problem = solvable.interior_problem(model, matrix, what)
         if problem is not None:
             header.in_file(path, problem)
+    if not header.errors:
+        problem = solvable.elastic_mass_problem(model)
+        if problem is not None:
+            header.in_file(raw.mass_file, problem)
 
 
 def _names(header: Header, raw: RawModel, index: dict[int, int]) -> dict[str, int]:

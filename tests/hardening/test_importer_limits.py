@@ -390,6 +390,23 @@ def test_mass_positive_definite_on_the_interior(tmp_path: Path) -> None:
     _refused(_matrices(tmp_path, K, M), "M2.mtx", "node 2 rz")
 
 
+def test_mass_positive_definite_on_the_interface(tmp_path: Path) -> None:
+    """No mass at node 2 ux, both nodes interface nodes (no interior to check): the
+    reduction's eigenproblem has a massless DOF (found by fuzzing: a DMIG mass card's
+    name mistyped dropped that column; it was a LAPACK error, an internal error)."""
+    _, M = element(FILE_BEAM)
+    M[6, :] = M[:, 6] = 0.0
+    folder = tmp_path / "mm"
+    folder.mkdir()
+    scipy.io.mmwrite(folder / "M2.mtx", sp.coo_matrix(M), precision=17)
+    _refused(mm_beam(folder, mass="M2.mtx"), "M2.mtx", "node 2 ux", "not positive definite")
+    text = dmig_beam(tmp_path, "").with_name("se.pch")
+    card = "DMIG    M       2       1"
+    assert card in text.read_text()
+    text.write_text(text.read_text().replace(card, "DMIX    M       2       1"))
+    _refused(text.with_name("part.json"), "se.pch", "node 2 ux", "not positive definite")
+
+
 def test_mass_scale(tmp_path: Path) -> None:
     K, M = element(FILE_BEAM)
     _refused(_matrices(tmp_path, K, M * 1e-300), "M2.mtx", "kg")
