@@ -21,14 +21,17 @@ checking of the case; one in eight is run).
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import functools
 import json
 import math
 import os
 import re
+import signal
 import struct
 import tracemalloc
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -55,9 +58,10 @@ def _budget(short: int) -> int:
     return EXAMPLES if _ASKED else short
 
 
+HANG_SECONDS = 30  # issue 39's bound
 SETTINGS = settings(
     max_examples=EXAMPLES,
-    deadline=30_000,  # ms: an example past 30 s is a hang (issue 39's bound)
+    deadline=HANG_SECONDS * 1000,  # ms: an example past 30 s is a hang
     derandomize=True,
     database=None,
     suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
@@ -141,11 +145,29 @@ def _edit_text(text: str, edit: tuple) -> str:
     return "".join(lines)
 
 
+@contextlib.contextmanager
+def _hang_stopped() -> Iterator[None]:
+    """Stops the example with TimeoutError once it runs past HANG_SECONDS: hypothesis'
+    deadline judges only an example that ends, and a hang would never end the run."""
+
+    def stop(signum: int, frame: object) -> None:
+        raise TimeoutError(f"an example past {HANG_SECONDS} s: a hang")
+
+    previous = signal.signal(signal.SIGALRM, stop)
+    signal.setitimer(signal.ITIMER_REAL, HANG_SECONDS)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
 def _traced(*args: object) -> Any:
     """`loads *args` with its peak allocation checked against PEAK_BYTES."""
     tracemalloc.start()
     try:
-        result = loads(*args)
+        with _hang_stopped():
+            result = loads(*args)
         _, peak = tracemalloc.get_traced_memory()
     finally:
         tracemalloc.stop()
@@ -495,7 +517,8 @@ def test_set_value(tmp_path_factory: Any, name: str, value: str, solve: bool) ->
         assert not set(value) & set(OTHER_DIGITS + SPACES[1:] + CONTROLS), ascii(value)
         if not solve:
             try:
-                load_case(case, what_if=overrides)
+                with _hang_stopped():
+                    load_case(case, what_if=overrides)
             except InputError as error:
                 assert error.diagnostics
             return
