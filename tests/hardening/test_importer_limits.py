@@ -309,6 +309,17 @@ def test_node_table(tmp_path: Path, table: str, words: str) -> None:
     _refused(path, words)
 
 
+def test_node_table_coordinate_beyond_the_limit(tmp_path: Path) -> None:
+    """A node at 1e200 mm (found by fuzzing node tables): it was refused for a misleading
+    reason (4 rigid-body modes) after NumPy overflow warnings printed by the checks."""
+    header = mm_beam(tmp_path)
+    _nodes(tmp_path, "id,x,y,z\n1,0,0,0\n2,1e200,0,0\n")
+    output = _refused(header, "nodes.csv", "node 2 is 1e+197 m from the origin, beyond 1e+06 m")
+    assert "Warning" not in output, output
+    _nodes(tmp_path, "id,x,y,z\n1,0,0,0\n2,1e9,0,0\n")  # 1000 km in mm: at the limit
+    assert "origin" not in loads("flex", "check", header).output  # (refused for its K)
+
+
 # ---- npz -----------------------------------------------------------------------------------
 
 
