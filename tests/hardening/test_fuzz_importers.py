@@ -31,6 +31,7 @@ import re
 import signal
 import struct
 import tracemalloc
+import warnings
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -182,9 +183,15 @@ def _assert_clean(result: Any) -> None:
 
 
 def _check_component(header: Path) -> None:
-    """`loads flex check` exits 0/1/2 cleanly, and prints finite numbers when it accepts."""
-    result = _traced("flex", "check", header)
+    """`loads flex check` exits 0/1/2 cleanly, without a NumPy warning, and prints finite
+    numbers when it accepts."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = _traced("flex", "check", header)
     _assert_clean(result)
+    # a NumPy warning is a number cast (2+1j to 2), overflowed or made NaN unchecked
+    numeric = (RuntimeWarning, np.exceptions.ComplexWarning)
+    assert not [w for w in caught if issubclass(w.category, numeric)], [str(w) for w in caught]
     if result.exit_code == 0:
         shown = result.output.lower()
         assert not re.search(r"\b(nan|inf)\b", shown), result.output

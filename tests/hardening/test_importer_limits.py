@@ -356,6 +356,24 @@ def test_npz_link_out_of_the_folder(tmp_path: Path) -> None:
     _refused(path, "leaves the folder")
 
 
+@pytest.mark.parametrize("part", ["stiffness_indices", "mass_indptr"])
+@pytest.mark.parametrize("made", ["complex", "float", "nan"])
+def test_npz_index_arrays_of_integers_only(tmp_path: Path, part: str, made: str) -> None:
+    """CSR index arrays that are not integers (found by fuzzing npz arrays): scipy cast
+    2+2j and 2.5 to 2 without a word, and NaN with a NumPy warning."""
+
+    def change(arrays: dict) -> None:
+        index = np.asarray(arrays[part])
+        arrays[part] = {
+            "complex": lambda: index.astype(complex) * (1 + 1j),
+            "float": lambda: index.astype(float) + 0.5,
+            "nan": lambda: np.full(index.shape, np.nan),
+        }[made]()
+
+    output = _refused(npz_beam(tmp_path, change), "part.npz", f"{part}: expected integers")
+    assert "Warning" not in output, output
+
+
 # ---- matrices before an eigen-solver -------------------------------------------------------
 
 
