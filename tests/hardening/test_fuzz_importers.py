@@ -486,9 +486,13 @@ SET_EDIT = st.tuples(
 )
 
 
+MAX_SET_CHARS = 200_000  # a repeated value is cut here (repeats of repeats grew to 20 GB)
+
+
 def _edit_quantity(value: str, edit: tuple) -> str:
     """One character-level edit of a `--set` value: `piece` inserted or written over the
-    character at `place`, that character deleted, or the value repeated (a long value)."""
+    character at `place`, that character deleted, or the value repeated (a long value, at most
+    MAX_SET_CHARS)."""
     kind, place, piece = edit
     at = place % (len(value) + 1)
     if kind == "insert":
@@ -497,7 +501,8 @@ def _edit_quantity(value: str, edit: tuple) -> str:
         return value[:at] + piece + value[at + 1 :]
     if kind == "delete":
         return value[:at] + value[at + 1 :]
-    return value * (2 + place % 400)
+    times = min(2 + place % 400, MAX_SET_CHARS // max(len(value), 1) + 1)
+    return (value * times)[:MAX_SET_CHARS]
 
 
 SET_VALUES = st.builds(
