@@ -18,9 +18,11 @@ tolerance to the engine, a run whose envelope misses the target is solved again 
 step halved (tolerance / 2^(p+1), largest step / 2), the previous run becoming the
 companion, until it meets the target, the next halving would go over the budget (`Budget`:
 CPU, steps, refinements) or the output interval alone misses the target (no step helps);
-the summary's `outcome` says which. Without `accuracy` the default target is only
-estimated against and warned about: each halving costs twice the last run, which a case
-asks for, not every case.
+the summary's `outcome` says which. A tighter run's step limit grows with it (STEP_MARGIN
+times the steps it is expected to take, at least the analysis's `max_steps`): the budget,
+not a fixed `max_steps`, bounds a long run's tightening. Without `accuracy` the default
+target is only estimated against and warned about: each halving costs twice the last run,
+which a case asks for, not every case.
 
 A signal (SIGINT, SIGTERM) that stops the companion or a tighter run leaves the run written
 with status `interrupted` (a set never reuses it as good): its rows are those of the last
@@ -31,6 +33,7 @@ and no estimate when the companion was stopped).
 from __future__ import annotations
 
 import dataclasses
+import math
 import time as clock
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -62,6 +65,7 @@ DEFAULT_CPU_BUDGET = 600.0  # s of CPU for the companion and the tighter runs, b
 _ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)
 _SKIPPED = ("abscissa",)  # a set's abscissa column is not a load
 PHASE_LOST = 0.9  # of a column's range: the companion's difference past it, phase lost
+STEP_MARGIN = 2.0  # a tighter run's step limit: this many times the steps it is expected to take
 
 
 @dataclass(frozen=True)
@@ -132,6 +136,7 @@ class AccuracyEstimate:
     integrator: str
     tolerance: float
     max_step: float  # the largest step in force (s): analysis.max_step or its default
+    max_steps: int  # the run's step limit: analysis.max_steps, or a tighter run's (finer)
     tightenings: int
     requests: dict[str, RequestError]
     cpu_seconds: float  # of the companion and tightened runs
@@ -169,6 +174,7 @@ class AccuracyEstimate:
             "integrator": self.integrator,
             "tolerance": self.tolerance,
             "max_step": self.max_step,
+            "max_steps": self.max_steps,
             "tightenings": self.tightenings,
             "outcome": self.outcome,
             "measure": self.measure,
@@ -216,12 +222,15 @@ def coarser(analysis: ml.Dynamic) -> ml.Dynamic:
     )
 
 
-def finer(analysis: ml.Dynamic) -> ml.Dynamic:
-    """Every step half as long; the output interval unchanged."""
+def finer(analysis: ml.Dynamic, last_steps: int = 0) -> ml.Dynamic:
+    """Every step half as long; the output interval unchanged; the step limit the larger
+    of the analysis's and STEP_MARGIN times the steps expected (twice the `last_steps` of
+    the run it halves): a long run is limited by the budget, not by a fixed max_steps."""
     return dataclasses.replace(
         analysis,
         tolerance=analysis.tolerance / _local_factor(analysis.integrator),
         max_step=0.5 * _largest_step(analysis) or None,
+        max_steps=max(analysis.max_steps, math.ceil(STEP_MARGIN * 2 * last_steps)),
     )
 
 
@@ -329,12 +338,12 @@ def solve_to_accuracy(
     errors = request_errors(run, companion, order)
     note, tightenings, stopped, stopped_by = "", 0, False, ""
     while budget is not None and _worst(errors, measure) > target:
-        stopped_by = spent.exhausts(budget, tightenings) or _beyond_max_steps(spent, analysis)
+        stopped_by = spent.exhausts(budget, tightenings)
         if measure == "peaks":
             stopped_by = stopped_by or _between_rows(errors, target)
         if stopped_by:
             break
-        finer_analysis = finer(analysis)
+        finer_analysis = finer(analysis, spent.last_steps)
         finer_run = _timed(solve, finer_analysis, spent)
         if finer_run.status == "interrupted":
             note = f"tightening interrupted{_by()}: the estimate is of the run written"
@@ -425,18 +434,6 @@ def _interrupted(run: ml.Solution, during: str, *, estimated: bool = True) -> ml
     )
 
 
-def _beyond_max_steps(spent: Spent, analysis: ml.Dynamic) -> str:
-    """Why the next halving would fail: its steps (twice the last run's) beyond the run's
-    own limit, `analysis.max_steps` ('' when within it)."""
-    steps = 2 * spent.last_steps
-    if steps <= analysis.max_steps:
-        return ""
-    return (
-        f"the next halving would take about {steps} steps, beyond analysis.max_steps = "
-        f"{analysis.max_steps}: raise it if the run is sound"
-    )
-
-
 def _between_rows(errors: dict[str, RequestError], target: float) -> str:
     """Why shorter steps cannot meet `target`: the output interval alone misses a peak by
     more (''  when it does not)."""
@@ -470,6 +467,7 @@ def _estimate(
         analysis.integrator,
         analysis.tolerance,
         _largest_step(analysis) if run.max_step is None else run.max_step,
+        analysis.max_steps,
         tightenings,
         errors,
         clock.process_time() - started,
