@@ -1,0 +1,324 @@
+"""Exudyn's side of the flexible bench (issue 40): Kane's spin-up beam as an
+`ObjectFFRFreducedOrder` carrying the same Craig-Bampton modes and the same inertia as the
+`loads` model of `benchmarks.flexible` (without geometric stiffening: Exudyn's reduced FFRF
+object has none, so the unstiffened beam is the like-for-like comparison).
+
+The reduced object's constant matrices are Zwoelfer and Gerstmayr's (Exudyn's
+`ObjectFFRFreducedOrderInterface`): with M the FE mass matrix, Phit the translation field,
+xRefTilde the rigid-rotation field and PsiTilde_j the rotation field of mode j's
+translations, mPsiTildePsi = PsiTilde^T M Psi, and so on. Exudyn builds them for 3-DOF nodes;
+here they come from the beam's own consistent mass matrix, whose rotational DOF enter the
+fields as in `mechlib.flexible.invariants` (xRefTilde = -R0, PsiTilde_j = -R_j: rotation rows
+I and 0). So both codes integrate one kinetic energy, one modal stiffness, one frame (the
+centre of mass, modes orthogonal to rigid motion).
+
+The hub joint holds the beam's root node. The node's orientation is read from six massless
+mesh nodes at +-`ARM` along each axis around the root, moved by the root's modal rotation
+(Phi + Phi* x arm): Exudyn's `MarkerSuperElementRigid` takes their linearised rotation, as
+`loads` linearises the node rotation (A (I + theta~)). A driven rigid hub (its six
+coordinates held, the angle about z set before each step to the spin-up law at the step's
+end) is welded to that marker by a generic joint. All SI.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from mechlib.flexible.beam import Material, Section, assemble_beams
+from mechlib.flexible.craig_bampton import free_modes
+from mechlib.flexible.fe_model import FEModel
+
+__all__ = ["ARM", "FFRFTerms", "KaneRun", "ffrf_terms", "kane_beam_model", "run_kane_exudyn"]
+
+ARM = 0.05  # m, distance of the root's orientation nodes from the root
+LENGTH, ELEMENTS, MODES = 10.0, 6, 4  # m, beam elements, Craig-Bampton modes (as loads's)
+
+
+def kane_beam_model() -> FEModel:
+    """The FE beam of `benchmarks.flexible.spin_up_beam`: 10 m, E I = 1.4e4 N m^2,
+    rho A = 1.2 kg/m, 6 elements, root node 0 the interface."""
+    xyz = np.outer(np.linspace(0.0, LENGTH, ELEMENTS + 1), [1.0, 0.0, 0.0])
+    section = Section(4e-4, 2e-7, 2e-7, 4e-7, None, None)
+    aluminium = Material(7e10, 0.3, 3000.0)
+    beams = [(i, i + 1, section, aluminium, (0.0, 1.0, 0.0)) for i in range(ELEMENTS)]
+    return assemble_beams(xyz, beams, interface=(0,))
+
+
+@dataclass(frozen=True)
+class FFRFTerms:
+    """The constant matrices of Exudyn's ObjectFFRFreducedOrder (SI, mass-normalised
+    modes): `mass` kg, `inertia` (3, 3) kg m^2 and `center_of_mass` (3,) m about the frame
+    origin `origin` (3,) m in the FE model's axes; the rest as Exudyn names them;
+    `omega` (n,) rad/s the modes' frequencies, `psi` (ndof, n) the modes."""
+
+    origin: np.ndarray
+    mass: float
+    inertia: np.ndarray
+    center_of_mass: np.ndarray
+    mass_reduced: np.ndarray
+    stiffness_reduced: np.ndarray
+    m_psi_tilde_psi: np.ndarray
+    m_psi_tilde_psi_tilde: np.ndarray
+    m_phit_t_psi: np.ndarray
+    m_phit_t_psi_tilde: np.ndarray
+    m_xref_tilde_psi: np.ndarray
+    m_xref_tilde_psi_tilde: np.ndarray
+    omega: np.ndarray
+    psi: np.ndarray
+
+    def as_exudyn(self) -> dict[str, Any]:
+        """The keyword arguments of ObjectFFRFreducedOrder they set."""
+        return {
+            "mass": self.mass,
+            "inertia": self.inertia,
+            "centerOfMass": self.center_of_mass,
+            "mPsiTildePsi": self.m_psi_tilde_psi,
+            "mPsiTildePsiTilde": self.m_psi_tilde_psi_tilde,
+            "mPhitTPsi": self.m_phit_t_psi,
+            "mPhitTPsiTilde": self.m_phit_t_psi_tilde,
+            "mXRefTildePsi": self.m_xref_tilde_psi,
+            "mXRefTildePsiTilde": self.m_xref_tilde_psi_tilde,
+        }
+
+
+def ffrf_terms(model: FEModel, modes: int = MODES) -> FFRFTerms:
+    """Exudyn's reduced-FFRF matrices of `model`'s lowest `modes` Craig-Bampton modes
+    (`loads`'s reduction, `modes` fixed-interface modes), frame at the centre of mass."""
+    omega, psi = free_modes(model, modes)
+    omega, psi = omega[:modes], psi[:, :modes]
+    mass, origin, _ = model.rigid_properties()
+    m = model.mass
+    phit = model.translation_field()
+    xref_tilde = -model.skew_field(model.coordinates - origin, rotations=True)
+    nodes, trans = model.dof_map[:, 0], model.dof_map[:, 1] < 3
+    psi_tilde = np.zeros((len(model.dof_map), 3 * modes))
+    for j in range(modes):
+        shape = np.zeros((len(model.node_ids), 3))
+        shape[nodes[trans], model.dof_map[trans, 1]] = psi[trans, j]
+        psi_tilde[:, 3 * j : 3 * j + 3] = -model.skew_field(shape, rotations=False)
+    m_psi, m_psi_tilde = m @ psi, m @ psi_tilde
+    first = phit.T @ (m @ xref_tilde)  # m skew(c): c about the origin
+    return FFRFTerms(
+        origin=origin,
+        mass=mass,
+        inertia=xref_tilde.T @ (m @ xref_tilde),
+        center_of_mass=np.array([first[2, 1], first[0, 2], first[1, 0]]) / mass,
+        mass_reduced=psi.T @ m_psi,
+        stiffness_reduced=psi.T @ (model.stiffness @ psi),
+        m_psi_tilde_psi=psi_tilde.T @ m_psi,
+        m_psi_tilde_psi_tilde=psi_tilde.T @ m_psi_tilde,
+        m_phit_t_psi=phit.T @ m_psi,
+        m_phit_t_psi_tilde=phit.T @ m_psi_tilde,
+        m_xref_tilde_psi=xref_tilde.T @ m_psi,
+        m_xref_tilde_psi_tilde=xref_tilde.T @ m_psi_tilde,
+        omega=omega,
+        psi=psi,
+    )
+
+
+def _node_modes(model: FEModel, psi: np.ndarray, node: int) -> tuple[np.ndarray, np.ndarray]:
+    """(translations (3, n), rotations (3, n)) of `psi` at FE node index `node`."""
+    out = np.zeros((6, psi.shape[1]))
+    for dof in np.flatnonzero(model.dof_map[:, 0] == node):
+        out[model.dof_map[dof, 1]] = psi[dof]
+    return out[:3], out[3:]
+
+
+def mesh(model: FEModel, terms: FFRFTerms) -> tuple[np.ndarray, np.ndarray]:
+    """(reference positions (k, 3) m from the frame origin, mode basis (3 k, n)) of the mesh
+    nodes the markers use: six orientation nodes around the root (+-ARM along x, y, z; the
+    root's rigid section), then the tip."""
+    root, tip = 0, len(model.coordinates) - 1
+    u_root, rot_root = _node_modes(model, terms.psi, root)
+    positions, basis = [], []
+    for axis in range(3):
+        for sign in (1.0, -1.0):
+            arm = np.zeros(3)
+            arm[axis] = sign * ARM
+            positions.append(model.coordinates[root] - terms.origin + arm)
+            basis.append(u_root + np.cross(rot_root.T, arm).T)
+    positions.append(model.coordinates[tip] - terms.origin)
+    basis.append(_node_modes(model, terms.psi, tip)[0])
+    return np.array(positions), np.vstack(basis)
+
+
+@dataclass
+class KaneRun:
+    """One Exudyn run: output times (s), the tip's lag in the hub frame (m), CPU s of
+    SolveDynamic, steps, Newton iterations."""
+
+    time: np.ndarray
+    lag: np.ndarray
+    cpu_seconds: float
+    steps: int
+    newton_iterations: int | None = None
+    info: dict[str, Any] = field(default_factory=dict)
+
+
+def _add_beam(exu: Any, mbs: Any, model: FEModel, terms: FFRFTerms) -> tuple[int, int, int]:
+    """The reduced FFRF body; returns (object, root marker, tip marker)."""
+    from exudyn.utilities import (
+        MarkerSuperElementPosition,
+        MarkerSuperElementRigid,
+        NodeGenericODE2,
+        NodeRigidBodyEP,
+        ObjectFFRFreducedOrder,
+        VObjectFFRFreducedOrder,
+    )
+
+    n = len(terms.omega)
+    frame = mbs.AddNode(NodeRigidBodyEP(referenceCoordinates=[*terms.origin, 1.0, 0.0, 0.0, 0.0]))
+    modal = mbs.AddNode(
+        NodeGenericODE2(
+            numberOfODE2Coordinates=n,
+            referenceCoordinates=[0.0] * n,
+            initialCoordinates=[0.0] * n,
+            initialCoordinates_t=[0.0] * n,
+        )
+    )
+    positions, basis = mesh(model, terms)
+    stiffness, mass = exu.MatrixContainer(), exu.MatrixContainer()
+    stiffness.SetWithDenseMatrix(terms.stiffness_reduced, useDenseMatrix=False)
+    mass.SetWithDenseMatrix(terms.mass_reduced, useDenseMatrix=False)
+    body = mbs.AddObject(
+        ObjectFFRFreducedOrder(
+            nodeNumbers=[frame, modal],
+            massMatrixReduced=mass,
+            stiffnessMatrixReduced=stiffness,
+            modeBasis=basis,
+            referencePositions=positions.ravel(),
+            computeFFRFterms=True,
+            visualization=VObjectFFRFreducedOrder(show=False),
+            **terms.as_exudyn(),
+        )
+    )
+    root = mbs.AddMarker(
+        MarkerSuperElementRigid(
+            bodyNumber=body,
+            offset=[0.0, 0.0, 0.0],
+            meshNodeNumbers=list(range(6)),
+            weightingFactors=[1.0 / 6.0] * 6,
+            useAlternativeApproach=True,
+            rotationsExponentialMap=0,
+        )
+    )
+    tip = mbs.AddMarker(
+        MarkerSuperElementPosition(bodyNumber=body, meshNodeNumbers=[6], weightingFactors=[1.0])
+    )
+    return body, root, tip
+
+
+def _add_hub(mbs: Any, root: int) -> tuple[int, int]:
+    """A rigid hub at the origin, its six coordinates held (the angle about z driven),
+    welded to the beam's root marker; returns (hub node, the angle's constraint)."""
+    from exudyn.utilities import (
+        MarkerNodeCoordinate,
+        MarkerNodeRigid,
+        NodePointGround,
+        NodeRigidBodyRxyz,
+        ObjectConnectorCoordinate,
+        ObjectJointGeneric,
+        ObjectRigidBody,
+    )
+
+    hub = mbs.AddNode(NodeRigidBodyRxyz(referenceCoordinates=[0.0] * 6))
+    # the hub's mass is that of a driven part: its motion is prescribed, the value is moot
+    mbs.AddObject(ObjectRigidBody(nodeNumber=hub, mass=1.0, inertia=[1.0] * 3 + [0.0] * 3))
+    ground = mbs.AddMarker(
+        MarkerNodeCoordinate(nodeNumber=mbs.AddNode(NodePointGround()), coordinate=0)
+    )
+    held = [
+        mbs.AddObject(
+            ObjectConnectorCoordinate(
+                markerNumbers=[
+                    ground,
+                    mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=hub, coordinate=c)),
+                ]
+            )
+        )
+        for c in range(6)
+    ]
+    hub_marker = mbs.AddMarker(MarkerNodeRigid(nodeNumber=hub))
+    mbs.AddObject(ObjectJointGeneric(markerNumbers=[hub_marker, root], constrainedAxes=[1] * 6))
+    return hub, held[5]
+
+
+@dataclass
+class KaneSystem:
+    """The assembled Exudyn system: container, system, the tip sensor, the hub angle's
+    constraint, settings (fixed steps)."""
+
+    container: Any
+    mbs: Any
+    sensor: int
+    angle: int
+    settings: Any
+
+
+def build_kane_exudyn(step: float, end: float = 20.0, output_step: float = 0.1) -> KaneSystem:
+    """Kane's unstiffened spin-up beam in Exudyn, assembled, with generalized-alpha settings
+    (spectral radius 0.9, index 3, sparse solver: the suite's) at the fixed `step` (s)."""
+    from exudyn.utilities import SensorMarker
+
+    from benchmarks.exudyn_models import import_exudyn
+    from benchmarks.flexible import SpinUp
+
+    exu = import_exudyn()
+    sc = exu.SystemContainer()
+    mbs = sc.AddSystem()
+    model = kane_beam_model()
+    _, root, tip = _add_beam(exu, mbs, model, ffrf_terms(model))
+    _, angle = _add_hub(mbs, root)
+    spin = SpinUp()
+
+    def pre_step(mbs_: Any, t: float) -> bool:
+        # Exudyn passes the time of the step's end (measured: with t + step the hub led
+        # by one step, a lag error proportional to the step)
+        mbs_.SetObjectParameter(angle, "offset", spin.value(t))
+        return True
+
+    mbs.SetPreStepUserFunction(pre_step)
+    sensor = mbs.AddSensor(
+        SensorMarker(
+            markerNumber=tip,
+            outputVariableType=exu.OutputVariableType.Position,
+            storeInternal=True,
+            writeToFile=False,
+        )
+    )
+    mbs.Assemble()
+    settings = exu.SimulationSettings()
+    ti = settings.timeIntegration
+    ti.numberOfSteps = round(end / step)
+    ti.endTime = end
+    ti.verboseMode = 0
+    ti.generalizedAlpha.spectralRadius = 0.9
+    ti.generalizedAlpha.computeInitialAccelerations = True
+    settings.solution.file.write = False
+    settings.solution.sensors.writePeriod = output_step
+    settings.show.statistics = False
+    settings.show.computationTime = False
+    settings.linearSolver.solverType = exu.LinearSolverType.EigenSparse
+    return KaneSystem(sc, mbs, sensor, angle, settings)
+
+
+def run_kane_exudyn(step: float, end: float = 20.0, output_step: float = 0.1) -> KaneRun:
+    """Solve `build_kane_exudyn`; the tip's lag (m) in the hub frame at the output times."""
+    from benchmarks.flexible import SpinUp
+
+    built = build_kane_exudyn(step, end, output_step)
+    cpu = time.process_time()
+    ok = built.mbs.SolveDynamic(built.settings)
+    cpu = time.process_time() - cpu
+    if ok is False:
+        raise RuntimeError(f"Exudyn failed on Kane's beam with step {step} s")
+    data = np.asarray(built.mbs.GetSensorStoredData(built.sensor))
+    spin = SpinUp()
+    hub = np.array([spin.value(x) for x in data[:, 0]])
+    lag = -np.sin(hub) * data[:, 1] + np.cos(hub) * data[:, 2]
+    steps = int(built.settings.timeIntegration.numberOfSteps)
+    return KaneRun(time=data[:, 0], lag=lag, cpu_seconds=cpu, steps=steps)
