@@ -11,9 +11,11 @@ flexible models, each at a bench tolerance and against a tight run of its own.
   40 kHz), the crank driven at 150 rad/s from its design position (along +y, 90 deg
   from the slider's line), for 0.1 s. Compared: the slider's x.
 
-Error = max |y - y_ref| over the output times / the reference's range. No Exudyn side yet
-(its ObjectFFRFreducedOrder takes 3-DOF nodes: the beams' rotations would have to be
-condensed first). Run: `.venv/bin/python -m benchmarks.flexible [--json FILE]`. SI units.
+Error = max |y - y_ref| over the output times / the reference's range. The Exudyn side of
+the unstiffened Kane beam is `benchmarks.flexible_exudyn` (its ObjectFFRFreducedOrder given
+these modes and inertia invariants; no geometric stiffening there), compared at equal
+accuracy by `benchmarks.flexible_compare` in `loads bench --kinds`; the slider-crank has no
+Exudyn side yet. Run: `.venv/bin/python -m benchmarks.flexible [--json FILE]`. SI units.
 """
 
 from __future__ import annotations
