@@ -1,10 +1,11 @@
 """Kane's unstiffened spin-up beam in `loads` and in Exudyn at equal accuracy (issue 40).
 
-Both codes integrate the same reduced model (`benchmarks.flexible_exudyn`). Converged, they
-differ by about 2.4e-3 of the lag's range (the root node's linearised rotation is read by
-each code's own joint equations: `loads`'s perpendicularity rows against Exudyn's
-`MarkerSuperElementRigid` and generic joint), so each code is held to `TARGET` of the range
-against its own tight run: `loads` at tolerance 1e-8, Exudyn at the step `EXUDYN_REFERENCE_STEP`.
+Both codes integrate the same reduced model and joint equations
+(`benchmarks.flexible_exudyn`). Converged, their tip lags still differ by 1.3e-3 of its range
+at the bench's 4 rad/s (1.3e-4 at 1 rad/s: a term of higher order in the deformation that
+the two formulations evaluate differently, not located), so each code is held to `TARGET`
+of the range against its own tight run: `loads` at tolerance 1e-8, Exudyn at the step
+`EXUDYN_REFERENCE_STEP`.
 Calibration: Exudyn's fixed step halved from `EXUDYN_START_STEP`, `loads`'s tolerance
 tightened by decades from 1e-4, each until its error is within `TARGET`; then the chosen
 setting is timed `repeat` times (best process CPU kept). Ratio = loads / Exudyn CPU. SI.

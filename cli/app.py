@@ -504,7 +504,8 @@ def bench(
             "--kinds",
             help="Run the suite on the models of other kinds instead: a ball rattling in "
             "its socket, flaps latching by events, a four-bar with springs and friction, a "
-            "hydraulic actuator (benchmarks/kinds/).",
+            "hydraulic actuator (benchmarks/kinds/); then Kane's flexible spin-up beam against "
+            "Exudyn's reduced FFRF body (benchmarks/flexible_compare.py).",
         ),
     ] = False,
 ) -> int:
