@@ -11,11 +11,12 @@ flexible models, each at a bench tolerance and against a tight run of its own.
   40 kHz), the crank driven at 150 rad/s from its design position (along +y, 90 deg
   from the slider's line), for 0.1 s. Compared: the slider's x.
 
-Error = max |y - y_ref| over the output times / the reference's range. The Exudyn side of
-the unstiffened Kane beam is `benchmarks.flexible_exudyn` (its ObjectFFRFreducedOrder given
-these modes and inertia invariants; no geometric stiffening there), compared at equal
-accuracy by `benchmarks.flexible_compare` in `loads bench --kinds`; the slider-crank has no
-Exudyn side yet. Run: `.venv/bin/python -m benchmarks.flexible [--json FILE]`. SI units.
+Error = max |y - y_ref| over the output times / the reference's range. The Exudyn sides of
+the unstiffened Kane beam and of the slider-crank are `benchmarks.flexible_exudyn` and
+`benchmarks.flexible_exudyn_crank` (ObjectFFRFreducedOrder given these modes and inertia
+invariants; no geometric stiffening there), compared at equal accuracy by
+`benchmarks.flexible_compare` in `loads bench --kinds`.
+Run: `.venv/bin/python -m benchmarks.flexible [--json FILE]`. SI units.
 """
 
 from __future__ import annotations
@@ -33,8 +34,18 @@ import numpy as np
 import mechlib
 from mechlib.flexible.beam import Material, Section, assemble_beams
 from mechlib.flexible.craig_bampton import craig_bampton
+from mechlib.flexible.fe_model import FEModel
 
-__all__ = ["SpinUp", "flexible_slider_crank", "main", "spin_up_beam"]
+__all__ = [
+    "CRANK_PIN",
+    "CRANK_SPEED",
+    "SLIDER_PIN",
+    "SpinUp",
+    "flexible_slider_crank",
+    "main",
+    "slider_crank_rod",
+    "spin_up_beam",
+]
 
 RESULTS = Path(__file__).parent / "results" / "flexible.json"
 BENCH_TOLERANCE, TIGHT_TOLERANCE = 1e-5, 1e-8
@@ -100,16 +111,26 @@ def spin_up_beam(stiffening: bool) -> mechlib.Mechanism:
     return m
 
 
+CRANK, ROD, ROD_ELEMENTS = 0.15, 0.30, 20  # m, m, beam elements of the flexible rod
+CRANK_PIN = np.array([0.0, CRANK, 0.0])  # m, the rod's end on the crank at t = 0
+SLIDER_PIN = np.array([math.sqrt(ROD**2 - CRANK**2), 0.0, 0.0])  # m, its end on the slider
+CRANK_SPEED = 150.0  # rad/s
+
+
+def slider_crank_rod() -> FEModel:
+    """The flexible rod's FE model: steel, 8 x 8 mm, 20 beam elements from CRANK_PIN
+    (node 0) to SLIDER_PIN (node 20), both interface nodes."""
+    a, b = CRANK_PIN, SLIDER_PIN
+    xyz = a + np.outer(np.linspace(0.0, 1.0, ROD_ELEMENTS + 1), b - a)
+    steel, section = Material(2e11, 0.3, 7870.0), Section.rectangle(0.008, 0.008, False)
+    beams = [(i, i + 1, section, steel, (0, 0, 1)) for i in range(ROD_ELEMENTS)]
+    return assemble_beams(xyz, beams, interface=(0, ROD_ELEMENTS))
+
+
 def flexible_slider_crank() -> mechlib.Mechanism:
     """The slider-crank with a flexible rod (module docstring)."""
-    crank, rod, elements = 0.15, 0.30, 20
-    xs = math.sqrt(rod**2 - crank**2)
-    a, b = np.array([0.0, crank, 0.0]), np.array([xs, 0.0, 0.0])
-    xyz = a + np.outer(np.linspace(0.0, 1.0, elements + 1), b - a)
-    steel, section = Material(2e11, 0.3, 7870.0), Section.rectangle(0.008, 0.008, False)
-    beams = [(i, i + 1, section, steel, (0, 0, 1)) for i in range(elements)]
-    model = assemble_beams(xyz, beams, interface=(0, elements))
-    comp = craig_bampton(model, modes=34, fixed_interface_modes=34, damping=0.0)
+    crank, a, b = CRANK, CRANK_PIN, SLIDER_PIN
+    comp = craig_bampton(slider_crank_rod(), modes=34, fixed_interface_modes=34, damping=0.0)
     m = mechlib.Mechanism(name="flexible-slider-crank")
     m.add_body("crank", mass=0.38, cm=(0.0, crank / 2, 0.0), inertia=[7.1e-4, 1e-5, 7.1e-4])
     m.add_flexible_body("rod", comp)
@@ -120,7 +141,7 @@ def flexible_slider_crank() -> mechlib.Mechanism:
         "C", "universal", bodies=("rod", "slider"), at=tuple(b), axes=((0, 0, 1), (0, 1, 0))
     )
     m.add_joint("D", "prismatic", bodies=("slider", "ground"), at=tuple(b), axis=(1, 0, 0))
-    m.add_motion("drive", joint="A", function=Drive(0.0, 150.0))
+    m.add_motion("drive", joint="A", function=Drive(0.0, CRANK_SPEED))
     m.add_point("slider", body="slider", at=tuple(b))
     return m
 

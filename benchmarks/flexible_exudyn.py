@@ -27,7 +27,7 @@ weld's and 2.4e-3 from `loads`'s, against 1.3e-3 between the weld and `loads`. A
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -36,7 +36,20 @@ from mechlib.flexible.beam import Material, Section, assemble_beams
 from mechlib.flexible.craig_bampton import free_modes
 from mechlib.flexible.fe_model import FEModel
 
-__all__ = ["ARM", "FFRFTerms", "KaneRun", "ffrf_terms", "kane_beam_model", "run_kane_exudyn"]
+__all__ = [
+    "ARM",
+    "FFRFTerms",
+    "FlexRun",
+    "add_held_body",
+    "add_reduced_body",
+    "build_kane_exudyn",
+    "ffrf_terms",
+    "kane_beam_model",
+    "mesh_marker",
+    "node_modes",
+    "run_kane_exudyn",
+    "solver_settings",
+]
 
 ARM = 0.05  # m, distance of the root's orientation nodes from the root
 #: the arm nodes' offsets from the root (m): +x, +y, +z (the weld's), then +-x, +-y, +-z
@@ -129,7 +142,7 @@ def ffrf_terms(model: FEModel, modes: int = MODES) -> FFRFTerms:
     )
 
 
-def _node_modes(model: FEModel, psi: np.ndarray, node: int) -> tuple[np.ndarray, np.ndarray]:
+def node_modes(model: FEModel, psi: np.ndarray, node: int) -> tuple[np.ndarray, np.ndarray]:
     """(translations (3, n), rotations (3, n)) of `psi` at FE node index `node`."""
     out = np.zeros((6, psi.shape[1]))
     for dof in np.flatnonzero(model.dof_map[:, 0] == node):
@@ -143,33 +156,38 @@ def mesh(model: FEModel, terms: FFRFTerms) -> tuple[np.ndarray, np.ndarray]:
     x, y, z, moved as the root's rigid section: Phi + Phi* x arm), six more arm nodes at
     +-ARM (the rigid marker's), then the tip. Massless: the inertia is in `terms`."""
     root, tip = 0, len(model.coordinates) - 1
-    u_root, rot_root = _node_modes(model, terms.psi, root)
+    u_root, rot_root = node_modes(model, terms.psi, root)
     positions, basis = [model.coordinates[root] - terms.origin], [u_root]
     for arm in ARMS:
         positions.append(model.coordinates[root] - terms.origin + arm)
         basis.append(u_root + np.cross(rot_root.T, arm).T)
     positions.append(model.coordinates[tip] - terms.origin)
-    basis.append(_node_modes(model, terms.psi, tip)[0])
+    basis.append(node_modes(model, terms.psi, tip)[0])
     return np.array(positions), np.vstack(basis)
 
 
 @dataclass
-class KaneRun:
-    """One Exudyn run: output times (s), the tip's lag in the hub frame (m), CPU s of
-    SolveDynamic, steps, Newton iterations."""
+class FlexRun:
+    """One Exudyn run: output times (s), the compared signal (m: Kane's tip lag in the hub
+    frame, the slider-crank's slider x), CPU s of SolveDynamic, steps."""
 
     time: np.ndarray
-    lag: np.ndarray
+    signal: np.ndarray
     cpu_seconds: float
     steps: int
-    newton_iterations: int | None = None
-    info: dict[str, Any] = field(default_factory=dict)
 
 
-def _add_beam(exu: Any, mbs: Any, model: FEModel, terms: FFRFTerms) -> tuple[int, int]:
-    """The reduced FFRF body; returns (object, tip marker)."""
+def add_reduced_body(
+    exu: Any,
+    mbs: Any,
+    terms: FFRFTerms,
+    mesh_nodes: tuple[np.ndarray, np.ndarray],
+    velocity: tuple[float, float, float] = (0.0, 0.0, 0.0),
+) -> int:
+    """Add the ObjectFFRFreducedOrder of `terms` with `mesh_nodes` (reference positions
+    (k, 3) m from the frame origin, mode basis (3 k, n)), its frame moving at `velocity`
+    (m/s) and at rest otherwise; returns the object."""
     from exudyn.utilities import (
-        MarkerSuperElementPosition,
         NodeGenericODE2,
         NodeRigidBodyEP,
         ObjectFFRFreducedOrder,
@@ -177,7 +195,12 @@ def _add_beam(exu: Any, mbs: Any, model: FEModel, terms: FFRFTerms) -> tuple[int
     )
 
     n = len(terms.omega)
-    frame = mbs.AddNode(NodeRigidBodyEP(referenceCoordinates=[*terms.origin, 1.0, 0.0, 0.0, 0.0]))
+    frame = mbs.AddNode(
+        NodeRigidBodyEP(
+            referenceCoordinates=[*terms.origin, 1.0, 0.0, 0.0, 0.0],
+            initialVelocities=[*velocity, 0.0, 0.0, 0.0, 0.0],
+        )
+    )
     modal = mbs.AddNode(
         NodeGenericODE2(
             numberOfODE2Coordinates=n,
@@ -186,50 +209,101 @@ def _add_beam(exu: Any, mbs: Any, model: FEModel, terms: FFRFTerms) -> tuple[int
             initialCoordinates_t=[0.0] * n,
         )
     )
-    positions, basis = mesh(model, terms)
+    positions, basis = mesh_nodes
     stiffness, mass = exu.MatrixContainer(), exu.MatrixContainer()
     stiffness.SetWithDenseMatrix(terms.stiffness_reduced, useDenseMatrix=False)
     mass.SetWithDenseMatrix(terms.mass_reduced, useDenseMatrix=False)
-    body = mbs.AddObject(
-        ObjectFFRFreducedOrder(
-            nodeNumbers=[frame, modal],
-            massMatrixReduced=mass,
-            stiffnessMatrixReduced=stiffness,
-            modeBasis=basis,
-            referencePositions=positions.ravel(),
-            computeFFRFterms=True,
-            visualization=VObjectFFRFreducedOrder(show=False),
-            **terms.as_exudyn(),
+    return int(
+        mbs.AddObject(
+            ObjectFFRFreducedOrder(
+                nodeNumbers=[frame, modal],
+                massMatrixReduced=mass,
+                stiffnessMatrixReduced=stiffness,
+                modeBasis=basis,
+                referencePositions=positions.ravel(),
+                computeFFRFterms=True,
+                visualization=VObjectFFRFreducedOrder(show=False),
+                **terms.as_exudyn(),
+            )
         )
     )
-    tip = mbs.AddMarker(
-        MarkerSuperElementPosition(bodyNumber=body, meshNodeNumbers=[TIP], weightingFactors=[1.0])
+
+
+def mesh_marker(mbs: Any, body: int, node: int) -> int:
+    """A position marker on mesh node `node` of the reduced body `body`."""
+    from exudyn.utilities import MarkerSuperElementPosition
+
+    return int(
+        mbs.AddMarker(
+            MarkerSuperElementPosition(
+                bodyNumber=body, meshNodeNumbers=[node], weightingFactors=[1.0]
+            )
+        )
     )
-    return body, tip
 
 
-def _add_hub(mbs: Any) -> tuple[int, int]:
-    """A rigid hub at the origin, its six coordinates held (the angle about z driven);
-    returns (its rigid marker, the angle's constraint)."""
+def solver_settings(exu: Any, step: float, end: float, output_step: float) -> Any:
+    """Generalized-alpha (spectral radius 0.9, index 3, sparse solver: the suite's
+    settings) at the fixed `step` (s) to `end` (s), sensors every `output_step` (s)."""
+    settings = exu.SimulationSettings()
+    ti = settings.timeIntegration
+    ti.numberOfSteps = round(end / step)
+    ti.endTime = end
+    ti.verboseMode = 0
+    ti.generalizedAlpha.spectralRadius = 0.9
+    ti.generalizedAlpha.computeInitialAccelerations = True
+    settings.solution.file.write = False
+    settings.solution.sensors.writePeriod = output_step
+    settings.show.statistics = False
+    settings.show.computationTime = False
+    settings.linearSolver.solverType = exu.LinearSolverType.EigenSparse
+    return settings
+
+
+def add_held_body(
+    mbs: Any,
+    position: Any,
+    held: tuple[int, ...],
+    velocity: tuple[float, ...] = (0.0,) * 6,
+    mass: float = 1.0,
+    inertia: tuple[float, ...] = (1.0, 1.0, 1.0),
+) -> tuple[int, int, list[int]]:
+    """A rigid body (node [x, y, z, rx, ry, rz], at `position` m, rates `velocity`, `mass` kg,
+    principal `inertia` kg m^2) whose coordinates `held` are tied to the ground by
+    coordinate constraints (their offsets drive them); returns (node, body, constraints)."""
     from exudyn.utilities import (
         MarkerNodeCoordinate,
-        MarkerNodeRigid,
         NodePointGround,
         NodeRigidBodyRxyz,
         ObjectConnectorCoordinate,
         ObjectRigidBody,
     )
 
-    hub = mbs.AddNode(NodeRigidBodyRxyz(referenceCoordinates=[0.0] * 6))
-    # the hub's mass is that of a driven part: its motion is prescribed, the value is moot
-    mbs.AddObject(ObjectRigidBody(nodeNumber=hub, mass=1.0, inertia=[1.0] * 3 + [0.0] * 3))
+    node = mbs.AddNode(
+        NodeRigidBodyRxyz(
+            referenceCoordinates=[*position, 0.0, 0.0, 0.0], initialVelocities=list(velocity)
+        )
+    )
+    body = mbs.AddObject(ObjectRigidBody(nodeNumber=node, mass=mass, inertia=[*inertia, 0, 0, 0]))
     fixed = mbs.AddNode(NodePointGround())
     ground = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=fixed, coordinate=0))
-    held = []
-    for c in range(6):
-        coordinate = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=hub, coordinate=c))
-        held.append(mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[ground, coordinate])))
-    return mbs.AddMarker(MarkerNodeRigid(nodeNumber=hub)), held[5]
+    constraints = []
+    for c in held:
+        coordinate = mbs.AddMarker(MarkerNodeCoordinate(nodeNumber=node, coordinate=c))
+        constraints.append(
+            mbs.AddObject(ObjectConnectorCoordinate(markerNumbers=[ground, coordinate]))
+        )
+    return int(node), int(body), constraints
+
+
+def _add_hub(mbs: Any) -> tuple[int, int]:
+    """A rigid hub at the origin, its six coordinates held (the angle about z driven; its
+    mass is moot: its motion is prescribed); returns (its rigid marker, the angle's
+    constraint)."""
+    from exudyn.utilities import MarkerNodeRigid
+
+    node, _, held = add_held_body(mbs, (0.0, 0.0, 0.0), tuple(range(6)))
+    return mbs.AddMarker(MarkerNodeRigid(nodeNumber=node)), held[5]
 
 
 def _weld(mbs: Any, body: int, hub: int) -> None:
@@ -239,24 +313,18 @@ def _weld(mbs: Any, body: int, hub: int) -> None:
     each arm node carries a massless slider held to the hub's axes and free in that plane."""
     from exudyn.utilities import (
         MarkerNodeRigid,
-        MarkerSuperElementPosition,
         NodeRigidBodyEP,
         ObjectJointGeneric,
         ObjectJointSpherical,
         ObjectRigidBody,
     )
 
-    def node(k: int) -> int:
-        return mbs.AddMarker(
-            MarkerSuperElementPosition(bodyNumber=body, meshNodeNumbers=[k], weightingFactors=[1.0])
-        )
-
-    mbs.AddObject(ObjectJointSpherical(markerNumbers=[hub, node(0)]))
+    mbs.AddObject(ObjectJointSpherical(markerNumbers=[hub, mesh_marker(mbs, body, 0)]))
     for f, g in ((1, 2), (2, 0), (0, 1)):
         slider = mbs.AddNode(NodeRigidBodyEP(referenceCoordinates=[*ARMS[g], 1.0, 0.0, 0.0, 0.0]))
         mbs.AddObject(ObjectRigidBody(nodeNumber=slider, mass=0.0, inertia=[0.0] * 6))
         marker = mbs.AddMarker(MarkerNodeRigid(nodeNumber=slider))
-        mbs.AddObject(ObjectJointSpherical(markerNumbers=[marker, node(1 + g)]))
+        mbs.AddObject(ObjectJointSpherical(markerNumbers=[marker, mesh_marker(mbs, body, 1 + g)]))
         axes = [0, 0, 0, 1, 1, 1]
         axes[f] = 1
         mbs.AddObject(ObjectJointGeneric(markerNumbers=[hub, marker], constrainedAxes=axes))
@@ -308,7 +376,9 @@ def build_kane_exudyn(
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
     model = kane_beam_model()
-    body, tip = _add_beam(exu, mbs, model, ffrf_terms(model))
+    terms = ffrf_terms(model)
+    body = add_reduced_body(exu, mbs, terms, mesh(model, terms))
+    tip = mesh_marker(mbs, body, TIP)
     hub, angle = _add_hub(mbs)
     (_weld if joint == "weld" else _rigid_marker)(mbs, body, hub)
     spin = SpinUp()
@@ -329,24 +399,13 @@ def build_kane_exudyn(
         )
     )
     mbs.Assemble()
-    settings = exu.SimulationSettings()
-    ti = settings.timeIntegration
-    ti.numberOfSteps = round(end / step)
-    ti.endTime = end
-    ti.verboseMode = 0
-    ti.generalizedAlpha.spectralRadius = 0.9
-    ti.generalizedAlpha.computeInitialAccelerations = True
-    settings.solution.file.write = False
-    settings.solution.sensors.writePeriod = output_step
-    settings.show.statistics = False
-    settings.show.computationTime = False
-    settings.linearSolver.solverType = exu.LinearSolverType.EigenSparse
+    settings = solver_settings(exu, step, end, output_step)
     return KaneSystem(sc, mbs, sensor, angle, settings)
 
 
 def run_kane_exudyn(
     step: float, end: float = 20.0, output_step: float = 0.1, joint: str = "weld"
-) -> KaneRun:
+) -> FlexRun:
     """Solve `build_kane_exudyn`; the tip's lag (m) in the hub frame at the output times."""
     from benchmarks.flexible import SpinUp
 
@@ -361,4 +420,4 @@ def run_kane_exudyn(
     hub = np.array([spin.value(x) for x in data[:, 0]])
     lag = -np.sin(hub) * data[:, 1] + np.cos(hub) * data[:, 2]
     steps = int(built.settings.timeIntegration.numberOfSteps)
-    return KaneRun(time=data[:, 0], lag=lag, cpu_seconds=cpu, steps=steps)
+    return FlexRun(time=data[:, 0], signal=lag, cpu_seconds=cpu, steps=steps)
