@@ -21,7 +21,10 @@ each arm node g in the hub's plane normal to f (`_weld`). The hub is a rigid bod
 coordinates are held, the angle about z set before each step to the spin-up law. Exudyn's
 own way, a `MarkerSuperElementRigid` welded to the hub (`joint="marker"`), takes the root's
 rotation otherwise: converged (h = 1.25 ms), its tip lag is 2.8e-3 of the range from the
-weld's and 2.4e-3 from `loads`'s, against 1.3e-3 between the weld and `loads`. All SI.
+weld's and 2.4e-3 from `loads`'s, against 1.3e-3 between the weld and `loads`. The
+helpers (`ffrf_terms`, `add_reduced_body`, `add_held_body`, `mesh_marker`,
+`solver_settings`) build the flexible slider-crank too (`benchmarks.flexible_exudyn_crank`).
+All SI.
 """
 
 from __future__ import annotations
