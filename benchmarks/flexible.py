@@ -39,9 +39,11 @@ from mechlib.flexible.fe_model import FEModel
 __all__ = [
     "CRANK_PIN",
     "CRANK_SPEED",
+    "ROD_MODES",
     "SLIDER_PIN",
     "SpinUp",
     "flexible_slider_crank",
+    "kane_beam",
     "main",
     "slider_crank_rod",
     "spin_up_beam",
@@ -92,16 +94,28 @@ class Drive:
         return 0.0
 
 
-def spin_up_beam(stiffening: bool) -> mechlib.Mechanism:
-    """Kane's beam on its hub (revolute about z at the root, driven by `SpinUp`)."""
-    length, elements = 10.0, 6
-    xyz = np.outer(np.linspace(0.0, length, elements + 1), [1.0, 0.0, 0.0])
+KANE_LENGTH, KANE_ELEMENTS, KANE_MODES = 10.0, 6, 4  # m, beam elements, Craig-Bampton modes
+
+
+def kane_beam() -> FEModel:
+    """Kane's beam as an FE model: 10 m, E I = 1.4e4 N m^2, rho A = 1.2 kg/m, 6 elements,
+    root node 0 the interface."""
+    xyz = np.outer(np.linspace(0.0, KANE_LENGTH, KANE_ELEMENTS + 1), [1.0, 0.0, 0.0])
     section = Section(4e-4, 2e-7, 2e-7, 4e-7, None, None)
     aluminium = Material(7e10, 0.3, 3000.0)
-    beams = [(i, i + 1, section, aluminium, (0.0, 1.0, 0.0)) for i in range(elements)]
-    model = assemble_beams(xyz, beams, interface=(0,))
+    beams = [(i, i + 1, section, aluminium, (0.0, 1.0, 0.0)) for i in range(KANE_ELEMENTS)]
+    return assemble_beams(xyz, beams, interface=(0,))
+
+
+def spin_up_beam(stiffening: bool) -> mechlib.Mechanism:
+    """Kane's beam on its hub (revolute about z at the root, driven by `SpinUp`)."""
+    length, elements = KANE_LENGTH, KANE_ELEMENTS
     comp = craig_bampton(
-        model, damping=0.0, fixed_interface_modes=4, keep_nodes=(elements,), stiffening=stiffening
+        kane_beam(),
+        damping=0.0,
+        fixed_interface_modes=KANE_MODES,
+        keep_nodes=(elements,),
+        stiffening=stiffening,
     )
     m = mechlib.Mechanism(name="spin-up-beam")
     m.add_flexible_body("beam", comp)
@@ -115,6 +129,7 @@ CRANK, ROD, ROD_ELEMENTS = 0.15, 0.30, 20  # m, m, beam elements of the flexible
 CRANK_PIN = np.array([0.0, CRANK, 0.0])  # m, the rod's end on the crank at t = 0
 SLIDER_PIN = np.array([math.sqrt(ROD**2 - CRANK**2), 0.0, 0.0])  # m, its end on the slider
 CRANK_SPEED = 150.0  # rad/s
+ROD_MODES = 34  # Craig-Bampton modes of the rod, held at both ends
 
 
 def slider_crank_rod() -> FEModel:
@@ -130,7 +145,9 @@ def slider_crank_rod() -> FEModel:
 def flexible_slider_crank() -> mechlib.Mechanism:
     """The slider-crank with a flexible rod (module docstring)."""
     crank, a, b = CRANK, CRANK_PIN, SLIDER_PIN
-    comp = craig_bampton(slider_crank_rod(), modes=34, fixed_interface_modes=34, damping=0.0)
+    comp = craig_bampton(
+        slider_crank_rod(), modes=ROD_MODES, fixed_interface_modes=ROD_MODES, damping=0.0
+    )
     m = mechlib.Mechanism(name="flexible-slider-crank")
     m.add_body("crank", mass=0.38, cm=(0.0, crank / 2, 0.0), inertia=[7.1e-4, 1e-5, 7.1e-4])
     m.add_flexible_body("rod", comp)

@@ -21,8 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from benchmarks.flexible import CRANK_PIN, CRANK_SPEED, SLIDER_PIN, slider_crank_rod
-from benchmarks.flexible_exudyn import (
+from benchmarks.ffrf_exudyn import (
     ARM,
     FFRFTerms,
     FlexRun,
@@ -33,10 +32,10 @@ from benchmarks.flexible_exudyn import (
     node_modes,
     solver_settings,
 )
+from benchmarks.flexible import CRANK_PIN, CRANK_SPEED, ROD_MODES, SLIDER_PIN, slider_crank_rod
 
-__all__ = ["MODES", "rod_mesh", "run_crank_exudyn"]
+__all__ = ["rod_mesh", "run_crank_exudyn"]
 
-MODES = 34
 #: the rod and the slider's velocity at t = 0 (m/s): the crank pin's, omega x CRANK_PIN
 START_VELOCITY = (-CRANK_SPEED * CRANK_PIN[1], 0.0, 0.0)
 
@@ -109,7 +108,7 @@ def run_crank_exudyn(step: float, end: float = 0.1, output_step: float = 1e-3) -
     exu = import_exudyn()
     sc = exu.SystemContainer()
     mbs = sc.AddSystem()
-    terms = ffrf_terms(slider_crank_rod(), MODES)
+    terms = ffrf_terms(slider_crank_rod(), ROD_MODES)
     rod = add_reduced_body(exu, mbs, terms, rod_mesh(terms), START_VELOCITY)
     # the crank's mass is moot: its motion is prescribed
     _, crank, held = add_held_body(

@@ -12,7 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from benchmarks.flexible_exudyn import ffrf_terms, kane_beam_model
+from benchmarks.ffrf_exudyn import ffrf_terms
+from benchmarks.flexible import KANE_MODES, kane_beam
 from mechlib.flexible.craig_bampton import craig_bampton
 
 needs_exudyn = pytest.mark.skipif(
@@ -30,8 +31,8 @@ def _clamped(k: int) -> float:
 
 
 def test_ffrf_terms_are_the_loads_invariants():
-    model = kane_beam_model()
-    terms = ffrf_terms(model)
+    model = kane_beam()
+    terms = ffrf_terms(model, KANE_MODES)
     comp = craig_bampton(model, damping=0.0, fixed_interface_modes=4)
     inv, n = comp.invariants, comp.count
     np.testing.assert_allclose(terms.omega, comp.frequencies, rtol=1e-12)
@@ -68,7 +69,7 @@ def test_exudyn_beam_held_at_the_hub_has_the_clamped_frequencies(joint):
     assert omega[0] == pytest.approx(_clamped(0), rel=1e-4)
     assert omega[1] == pytest.approx(_clamped(0), rel=1e-4)
     assert omega[2] == pytest.approx(_clamped(1), rel=1e-3)
-    held = craig_bampton(kane_beam_model(), damping=0.0, fixed_interface_modes=4).held_frequency
+    held = craig_bampton(kane_beam(), damping=0.0, fixed_interface_modes=4).held_frequency
     assert omega[0] == pytest.approx(held, rel=1e-6)
 
 
@@ -87,10 +88,9 @@ def test_exudyn_tip_lag_follows_loads():
 
 
 def test_crank_rod_terms_are_the_loads_component():
-    from benchmarks.flexible import flexible_slider_crank, slider_crank_rod
-    from benchmarks.flexible_exudyn_crank import MODES
+    from benchmarks.flexible import ROD_MODES, flexible_slider_crank, slider_crank_rod
 
-    terms = ffrf_terms(slider_crank_rod(), MODES)
+    terms = ffrf_terms(slider_crank_rod(), ROD_MODES)
     comp = flexible_slider_crank().flexible["rod"].component
     np.testing.assert_allclose(terms.omega, comp.frequencies, rtol=1e-10)
     np.testing.assert_allclose(terms.inertia, comp.invariants.I7, atol=1e-12)
