@@ -194,6 +194,18 @@ def mesh_marker(mbs: Any, body: int, node: int) -> int:
     )
 
 
+def assembled(
+    exu: Any, mbs: Any, sensor: Any, pre_step: Any, step: float, end: float, output_step: float
+) -> tuple[int, Any]:
+    """Set the pre-step function (it receives the time of the step's end: a driven offset
+    set for t + step led by one step), add `sensor` (an Exudyn sensor item), assemble;
+    (sensor number, solver_settings)."""
+    mbs.SetPreStepUserFunction(pre_step)
+    number = mbs.AddSensor(sensor)
+    mbs.Assemble()
+    return number, solver_settings(exu, step, end, output_step)
+
+
 def solver_settings(exu: Any, step: float, end: float, output_step: float) -> Any:
     """Generalized-alpha (spectral radius 0.9, index 3, sparse solver: the suite's
     settings) at the fixed `step` (s) to `end` (s), sensors every `output_step` (s)."""

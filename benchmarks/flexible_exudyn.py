@@ -33,10 +33,10 @@ from benchmarks.ffrf_exudyn import (
     FlexRun,
     add_held_body,
     add_reduced_body,
+    assembled,
     ffrf_terms,
     mesh_marker,
     node_modes,
-    solver_settings,
 )
 from benchmarks.flexible import KANE_MODES, kane_beam
 from mechlib.flexible.fe_model import FEModel
@@ -159,17 +159,20 @@ def build_kane_exudyn(
         mbs_.SetObjectParameter(angle, "offset", spin.value(t))
         return True
 
-    mbs.SetPreStepUserFunction(pre_step)
-    sensor = mbs.AddSensor(
+    sensor, settings = assembled(
+        exu,
+        mbs,
         SensorMarker(
             markerNumber=tip,
             outputVariableType=exu.OutputVariableType.Position,
             storeInternal=True,
             writeToFile=False,
-        )
+        ),
+        pre_step,
+        step,
+        end,
+        output_step,
     )
-    mbs.Assemble()
-    settings = solver_settings(exu, step, end, output_step)
     return KaneSystem(sc, mbs, sensor, angle, settings)
 
 

@@ -27,10 +27,10 @@ from benchmarks.ffrf_exudyn import (
     FlexRun,
     add_held_body,
     add_reduced_body,
+    assembled,
     ffrf_terms,
     mesh_marker,
     node_modes,
-    solver_settings,
 )
 from benchmarks.flexible import CRANK_PIN, CRANK_SPEED, ROD_MODES, SLIDER_PIN, slider_crank_rod
 
@@ -125,17 +125,20 @@ def run_crank_exudyn(step: float, end: float = 0.1, output_step: float = 1e-3) -
         mbs_.SetObjectParameter(held[5], "offset", CRANK_SPEED * t)  # t: the step's end
         return True
 
-    mbs.SetPreStepUserFunction(pre_step)
-    sensor = mbs.AddSensor(
+    sensor, settings = assembled(
+        exu,
+        mbs,
         SensorNode(
             nodeNumber=slider_node,
             outputVariableType=exu.OutputVariableType.Position,
             storeInternal=True,
             writeToFile=False,
-        )
+        ),
+        pre_step,
+        step,
+        end,
+        output_step,
     )
-    mbs.Assemble()
-    settings = solver_settings(exu, step, end, output_step)
     cpu = time.process_time()
     ok = mbs.SolveDynamic(settings)
     cpu = time.process_time() - cpu
