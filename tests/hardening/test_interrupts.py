@@ -33,8 +33,9 @@ bodies:
   arm: {mass: 1.0, cm: [0.5, 0, 0], inertia: [0.001, 0.08, 0.08]}
 joints:
   pivot: {type: revolute, bodies: [arm, ground], at: [0, 0, 0], axis: [0, 0, 1]}
-forces:  # a force element keeps the solve in Python steps (minutes of them over 200 s)
-  return: {type: torsion_spring, joint: pivot, stiffness: 0.5 N*m/rad}
+forces:  # an applied torque keeps the solve in Python steps (minutes of them over 200 s): a
+  # torsion spring would now be compiled (mechlib.elements.compiled_forces)
+  return: {type: torque, body: arm, value: [0, 0, "-0.5 * angle(pivot)"]}
 """
 
 SLOW_CASE = """\

@@ -1,11 +1,13 @@
 """Generalized-alpha's Newton loop and state correction as compiled kernels.
 
-For a rigid system with no active force element and no element states (gravity, joints,
-motions: the bench models, a free deployment phase), everything a Newton iteration of
+For a rigid system with no element states whose active force elements all have a compiled
+form (mechlib.elements.compiled_forces: springs, torsion springs, rotational dampers, the
+friction of sliding revolute and cylindrical joints; or none: the bench models, a free
+deployment phase), everything a Newton iteration of
 `mechlib.solvers.genalpha.integrator.Integrator.step` does between two factorisations -- state
 arrays,
 constraint residual and Jacobian (mechlib.kinematics.constraint_arrays), mass times acceleration,
-gravity and velocity terms, the solve with the iteration matrix's LU factors
+gravity, velocity terms and the elements' loads, the solve with the iteration matrix's LU factors
 (mechlib.linalg.flat_lu: dense or band LAPACK, or SuperLU's L and U), the correction and the
 convergence test -- runs in one numba call, and so does the three-level correction of the
 accepted state. Here the factorisation, the step-size control and everything else stay in
@@ -19,6 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
+from mechlib.elements.compiled_forces import any_elements, element_wrenches
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
 from mechlib.linalg.flat_lu import lu_solve, lu_solve_into
@@ -32,22 +35,24 @@ CONVERGED, STALLED = 1, 2
 
 @njit(**KERNEL)
 def _residual_work(nq):
-    """Work arrays of `_dynamic_residual`: its three products (3, nq), and no applied
-    forces or torques (nb + 1, 3)."""
-    return np.empty((3, nq)), np.zeros((nq // 7 + 1, 3))
+    """Work arrays of `_dynamic_residual`: its three products (3, nq), the elements'
+    forces and torques (2, nb + 1, 3)."""
+    return np.empty((3, nq)), np.zeros((2, nq // 7 + 1, 3))
 
 
 @njit(**KERNEL)
-def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, work, out):
-    """out[:nq] = M qdd + phi_q^T lam - Q (gravity and velocity terms; no element);
-    work: `_residual_work`'s arrays."""
+def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, elements, work, out):
+    """out[:nq] = M qdd + phi_q^T lam - Q (gravity, velocity terms and the loads of the
+    packed `elements`, mechlib.elements.compiled_forces); work: `_residual_work`'s arrays."""
     nq = qdd.shape[0]
     nb = nq // 7
     gravity, masses, pscale, inertia = ca.body_terms(body, nb)
-    products, none = work
+    products, loads = work
     m_qdd, forces, reactions = products[0], products[1], products[2]
     kr.mass_times(x, masses, inertia, pscale, qdd, m_qdd)
-    kr.body_forces(x, xd, masses, inertia, gravity, none, none, True, forces)
+    if any_elements(elements):
+        element_wrenches(x, xd, elements, rows, active, lam, loads[0], loads[1])
+    kr.body_forces(x, xd, masses, inertia, gravity, loads[0], loads[1], True, forces)
     ca.transpose_times(rows, active, row_bodies, lam, reactions)
     for j in range(nq):
         out[j] = m_qdd[j] + reactions[j] - forces[j]
@@ -56,12 +61,13 @@ def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, work, out
 @njit(**KERNEL)
 def newton(
     q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
-    it, prev, eta, qdd, a, true,
+    it, prev, eta, qdd, a, true, elements,
 ):  # fmt: skip
     """Newton iterations on (q1, qd1, qdd1, lam1), in place, with fixed LU factors (fi, ff)
     from iteration `it` with the last increment size `prev` and rate estimate `eta`, as
     mechlib.solvers.genalpha.integrator.Integrator.step does them, by the same rules
-    (mechlib.solvers.genalpha.rules); params: (beta', gamma', tolerance, alpha_m, alpha_f).
+    (mechlib.solvers.genalpha.rules); params: (beta', gamma', tolerance, alpha_m, alpha_f);
+    `elements`: the packed force elements (mechlib.elements.compiled_forces).
     Stops on convergence (CONVERGED: `true` then holds the state's (qd, qdd, lam) on all
     three constraint levels and the new pseudo-acceleration a from the step's start values
     (qdd, a), stacked) or when the increments stop shrinking fast enough or the
@@ -81,7 +87,7 @@ def newton(
     while True:
         ca.state_into(q1, qd1, x, xd)
         active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
-        _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, work, res)
+        _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, elements, work, res)
         for j in range(nq):
             res[j] = -res[j] / bp
         for i in range(m):
@@ -97,7 +103,7 @@ def newton(
         if rules.converged(eta, size, noise):
             _true_acceleration(
                 q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body,
-                work, fi, ff, true,
+                elements, work, fi, ff, true,
             )  # fmt: skip
             am, af = params[3], params[4]
             for j in range(nq):
@@ -110,8 +116,8 @@ def newton(
 
 @njit(**KERNEL)
 def _true_acceleration(
-    q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, work, fi, ff,
-    out,
+    q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, elements, work,
+    fi, ff, out,
 ):  # fmt: skip
     """(qd, qdd, lam) on all three constraint levels, stacked into `out`, by two
     corrections with the iteration matrix
@@ -131,7 +137,7 @@ def _true_acceleration(
     qd = qd1 + fix[:nq]
     x, xd = ca.state_arrays(q1, qd, nb)
     ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
-    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, work, rhs)
+    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, elements, work, rhs)
     ca.times(rows, active, row_bodies, qdd1, product)
     for i in range(m):
         rhs[nq + i] = product[i] - gamma[i]

@@ -27,6 +27,7 @@ import numpy as np
 
 from mechlib.core.outcome import SolverFailure, SolverStats
 from mechlib.core.work import count
+from mechlib.elements.compiled_forces import CompiledForces
 from mechlib.linalg.factor import factor_saddle, singular_failure, solve_factored
 from mechlib.linalg.flat_lu import factor_data, factors
 from mechlib.model.analysis import Dynamic
@@ -83,6 +84,25 @@ class Integrator:
         python = system.states or spec.compiled == "python"
         self.arrays = None if python else system.packed_constraints()
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
+        self._packed: tuple = ((), None)  # (the elements' switches, their CompiledForces)
+
+    def elements(self) -> CompiledForces | None:
+        """The active force elements packed for the compiled kernels
+        (mechlib.elements.compiled_forces), their moving values refreshed; None where one
+        has no compiled form. Packed anew only when an element is switched, sticks or is
+        locked, or the active equations change."""
+        system = self.system
+        switches = (
+            (e.active, getattr(e, "stuck", False), getattr(e, "locked", False))
+            for e in system.elements
+        )
+        key = (id(getattr(system, "active", None)), *switches)
+        if key != self._packed[0]:
+            self._packed = (key, CompiledForces.of(system))
+        packed = self._packed[1]
+        if packed is not None:
+            packed.refresh(system)
+        return packed
 
     def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):
         """Factor the iteration matrix at step h, state k and multipliers lam: the
@@ -157,8 +177,9 @@ class Integrator:
 
     def step(self, t, h, q, qd, qdd, a, lam):
         """One step; returns the new state or None when Newton does not converge."""
-        if self.arrays is not None and not any(e.active for e in self.system.elements):
-            return self._compiled_step(t, h, q, qd, qdd, a, lam)
+        elements = self.elements() if self.arrays is not None else None
+        if elements is not None:
+            return self._compiled_step(t, h, q, qd, qdd, a, lam, elements)
         c, sys = self.c, self.system
         bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
         # a step-size change refactors; elements with their own tangent (contacts:
@@ -233,10 +254,10 @@ class Integrator:
         self.stale = False
         return bp, gp, q1, qd1, qdd1, lam.copy(), t + h, fresh
 
-    def _compiled_step(self, t, h, q, qd, qdd, a, lam):
+    def _compiled_step(self, t, h, q, qd, qdd, a, lam, elements: CompiledForces):
         """`step` with the Newton iterations between factorisations and the three-level
         correction compiled (mechlib.solvers.genalpha.compiled): the same iteration, decisions and
-        results (to round-off) for a system with no active element."""
+        results (to round-off) for a system whose active elements are all `elements`."""
         c, sys, arrays = self.c, self.system, self.arrays
         assert arrays is not None and self.scales is not None, "checked by step; set by init"
         bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
@@ -260,7 +281,7 @@ class Integrator:
             status, it, prev, eta, done = newton(
                 q1, qd1, qdd1, lam1, ints, floats, functions, refs, arrays.bodies(),
                 *self._factor_data(), scales.q_abs, scales.a_ref, params, it, prev, eta, qdd, a,
-                true,
+                true, elements.args,
             )  # fmt: skip
             self.stats.newton_iterations += done
             if status == CONVERGED:
