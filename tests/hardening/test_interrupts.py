@@ -207,7 +207,9 @@ def test_solve_keeps_the_rows_before_an_interrupt() -> None:
     t = 0.3 s) gives status `interrupted` and the rows 0..0.3 s, equal to those of the
     whole run; with `throw=True` it propagates."""
     mech = hinged_bar()
-    analysis = ml.Dynamic(end=1.0, step=0.1)
+    # Python steps (their Newton loop compiled) report each row; a compiled whole run
+    # reports once per call (a chunk of up to 256 rows), where an interrupt then lands
+    analysis = ml.Dynamic(end=1.0, step=0.1, compiled="steps")
     requests = [ml.JointReaction("f", "hinge")]
     initial = [ml.InitialValue("hinge", 1.0)]
 
@@ -235,7 +237,7 @@ def test_interrupt_met_inside_a_compiled_kernel_is_an_interrupt() -> None:
     under load in the SIGTERM test above): still status `interrupted` with the rows so far;
     any other SystemError propagates."""
     mech = hinged_bar()
-    analysis = ml.Dynamic(end=1.0, step=0.1)
+    analysis = ml.Dynamic(end=1.0, step=0.1, compiled="steps")  # a row each (above)
     initial = [ml.InitialValue("hinge", 1.0)]
 
     def kernel_stop(t: float, end: float) -> None:
