@@ -133,11 +133,6 @@ class CompiledForces:
                 return None
         return cls(system, springs, torsions, frictions)
 
-    @classmethod
-    def none(cls, system) -> CompiledForces:
-        """No element: the kernels' arguments of a system with no active force element."""
-        return cls(system, [], [], [])
-
     @property
     def empty(self) -> bool:
         return not self.columns.size
