@@ -113,6 +113,18 @@ def _require_files(paths: list[Path]) -> None:
         raise typer.Exit(EXIT_INPUT)
 
 
+WhatIf = Annotated[
+    list[str] | None,
+    typer.Option(
+        "--set",
+        metavar="NAME=VALUE",
+        help="Override the parameter NAME for this run, e.g. --set 'length=1.5 m' (a bare "
+        "number is SI). Repeat it for more parameters. The run is named CASE[NAME=VALUE] "
+        "and its summary lists the overrides.",
+    ),
+]
+
+
 @app.command()
 @guarded
 def run(
@@ -159,16 +171,7 @@ def run(
             "same input.",
         ),
     ] = False,
-    what_if: Annotated[
-        list[str] | None,
-        typer.Option(
-            "--set",
-            metavar="NAME=VALUE",
-            help="Override the parameter NAME for this run, e.g. --set 'length=1.5 m' (a bare "
-            "number is SI). Repeat it for more parameters. The run is named CASE[NAME=VALUE] "
-            "and its summary lists the overrides.",
-        ),
-    ] = None,
+    what_if: WhatIf = None,
 ) -> int:
     """Run case or set files and write their results. Each run writes NAME.csv and
     NAME.summary.json; a set SET also writes DIR/SET/envelope.csv and its workbook."""
@@ -355,14 +358,18 @@ def validate(
         list[Path],
         typer.Argument(metavar="FILE", help="The mechanism, case or set files to check."),
     ],
+    what_if: WhatIf = None,
 ) -> int:
     """Check files without solving them. Each problem is printed as
-    `file:line:col: error: key: message`, and each good file as `file: ok`."""
+    `file:line:col: error: key: message`, and each good file as `file: ok`. With `--set`,
+    the case and set files are checked as `loads run --set` would run them."""
     _require_files(files)
     check_file = engine_of(ctx).check_file
+    overrides = _overrides(what_if or [])
+    options = {"what_if": overrides} if overrides else {}
     found, ok_files = [], []
     for path in files:
-        diagnostics = check_file(path)
+        diagnostics = check_file(path, **options)
         found.extend(diagnostics)
         if not any(d.severity == "error" for d in diagnostics):
             ok_files.append(path)

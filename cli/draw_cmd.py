@@ -192,7 +192,8 @@ def _write(traj, at: list[float] | None, view: str, output: Path, *, gif: bool, 
     if html:
         yield f"wrote {write_html(traj, output, view=view)}"
     else:
-        times = at or [float(traj.time[k]) for k in (0, len(traj.time) // 2, -1)]
+        # the first, middle and last rows: one picture of a static case's single row
+        times = at or sorted({float(traj.time[k]) for k in (0, len(traj.time) // 2, -1)})
         for path in write_pngs(traj, times, output, view=view):
             yield f"wrote {path}"
     if gif:

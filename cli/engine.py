@@ -18,7 +18,7 @@ __all__ = ["Engine", "engine_of"]
 RunFile = Callable[..., list[Any]]  # (path, *, output_dir, xlsx, progress) -> [RunOutcome]
 RunSet = Callable[..., Any]  # (path, *, output_dir, executor, ...) -> SetResult
 CheckMechanism = Callable[[Path], list[str]]
-CheckFile = Callable[[Path], list[Any]]  # (path) -> [Diagnostic]
+CheckFile = Callable[..., list[Any]]  # (path, *, what_if) -> [Diagnostic]
 
 
 # loadcases' functions, imported when first called: the solver stack is slow to import and
@@ -41,10 +41,10 @@ def _check_mechanism_file(path: Path) -> list[str]:
     return check_mechanism_file(path)
 
 
-def _check_file(path: Path) -> list[Any]:
+def _check_file(path: Path, **options: Any) -> list[Any]:
     from loadcases.sets.precheck import file_problems
 
-    return file_problems(path)
+    return file_problems(path, **options)
 
 
 @dataclass(frozen=True)

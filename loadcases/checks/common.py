@@ -11,6 +11,7 @@ from loadcases.checks.dimensions import sorted_dims
 from loadcases.expressions import ExpressionError, parse
 from loadcases.expressions.dimensions import (
     DimensionScope,
+    Dims,
     infer_dimension,
     same_dimension,
     without_angle,
@@ -19,11 +20,14 @@ from loadcases.foundation.diagnostics import Diagnostic, Severity
 from loadcases.foundation.units import (
     DIMENSIONS,
     RESERVED_NAMES,
+    UnitError,
     describe_dimension,
+    quantity_dimension,
+    si_unit_text,
     unit_constant,
 )
 from loadcases.schema.errors import did_you_mean
-from loadcases.yamlfiles.source import KeyPath, Locator
+from loadcases.yamlfiles.source import KeyPath, Locator, format_key
 
 __all__ = [
     "GROUND",
@@ -129,31 +133,127 @@ def _dimension_problems(
     ]
 
 
+_PROBE = "[parameter]"  # a base dimension standing for one parameter's, to find its power
+
+
 def _plain_number_warning(
     locator: Locator, path: KeyPath, expression: Any, scope: DimensionScope, dimension: str
 ) -> list[Diagnostic]:
-    """A warning when an expression of parameters with units has no known dimension only
-    because its numbers may carry units, and read with plain numbers gives another one than
-    expected (`-0.5*rho*airspeed^2*cda` with `airspeed: 250 kg`)."""
-    if not any(scope.names(name) for name in expression.names() & scope.parameters):
+    """The problem of an expression of parameters with units that has no known dimension only
+    because its numbers may carry units, read once more with plain numbers
+    (`-0.5*rho*airspeed^2*cda` with `airspeed: 250 kg`).
+
+    A number may carry a unit an engineer writes (9.81 in m/s^2, 1000 in N/s): when the
+    factor missing to the expected dimension is such a named dimension, a warning. When it
+    is not (kg^-2*m^2/s^2 for the drag above), no one number explains the formula: an error,
+    at the parameter whose unit does when exactly one does (`airspeed` as a velocity), else
+    at the expression."""
+    used = sorted(name for name in expression.names() & scope.parameters if scope.names(name))
+    if not used:
         return []
+    plain_scope = replace(scope, coefficients=True)
     try:
-        plain = infer_dimension(expression.tree, replace(scope, coefficients=True))
+        plain = infer_dimension(expression.tree, plain_scope)
     except ExpressionError:
         return []
-    want = DIMENSIONS[dimension]
-    if plain is None or same_dimension(plain, sorted_dims(want)) or not without_angle(plain):
+    want = sorted_dims(DIMENSIONS[dimension])
+    if plain is None or same_dimension(plain, want) or not without_angle(plain):
         return []
+    message = (
+        f"with its numbers as plain coefficients this gives "
+        f"{describe_dimension(dict(plain))}, where {describe_dimension(dict(want))} is expected"
+    )
+    if _named(_quotient(want, plain)):
+        return [
+            locator.diagnostic(
+                path,
+                message,
+                severity="warning",
+                hint="a parameter may have the wrong unit; or a number carries one (9.81 for "
+                "m/s^2): write it with its unit (9.81*m/s^2) to have the formula checked",
+            )
+        ]
+    suspects = {
+        name: needed
+        for name in used
+        if (needed := _needed_dimension(expression, plain_scope, name, want)) is not None
+    }
+    declared = locator.data.get("parameters") if isinstance(locator.data, dict) else None
+    if any(_overridden(declared, name, scope) for name in used):
+        return []  # a case, set or --set value of another dimension: an error at its own key
+    if len(suspects) == 1 and isinstance(declared, dict):
+        name, needed = next(iter(suspects.items()))
+        if name in declared:
+            have = scope.names(name) or ()
+            where = format_key((*locator.prefix, *path))
+            return [
+                locator.diagnostic(
+                    ("parameters", name),
+                    f"'{name}' is {describe_dimension(dict(have))}, but "
+                    f"{where} needs {describe_dimension(dict(needed))} "
+                    f"({si_unit_text(dict(needed))}): {message}",
+                    hint=f"write '{name}' in a unit of {describe_dimension(dict(needed))}",
+                )
+            ]
     return [
         locator.diagnostic(
             path,
-            f"with its numbers as plain coefficients this gives "
-            f"{describe_dimension(dict(plain))}, where {describe_dimension(want)} is expected",
-            severity="warning",
-            hint="a parameter may have the wrong unit; or a number carries one (9.81 for "
-            "m/s^2): write it with its unit (9.81*m/s^2) to have the formula checked",
+            message,
+            hint="a parameter has the wrong unit, or a number carries one: write it with its "
+            "unit (9.81*m/s^2) to have the formula checked",
         )
     ]
+
+
+def _overridden(declared: Any, name: str, scope: DimensionScope) -> bool:
+    """Whether parameter `name` has another dimension in `scope` than as written in this
+    file's `parameters` (a case, a set or `--set` gave it another)."""
+    text = declared.get(name) if isinstance(declared, dict) else None
+    if not isinstance(text, str):
+        return False
+    try:
+        written = quantity_dimension(text)
+    except UnitError:
+        return False
+    have = scope.names(name)
+    return written is not None and have is not None and not same_dimension(written, have)
+
+
+def _quotient(a: Dims, b: Dims) -> Dims:
+    """`a / b`, the power of the radian aside."""
+    powers = dict(without_angle(a))
+    for base, power in without_angle(b):
+        powers[base] = powers.get(base, 0.0) - power
+    return tuple(sorted((k, v) for k, v in powers.items() if abs(v) > 1e-12))
+
+
+def _named(dims: Dims) -> bool:
+    """Whether `dims` is a dimension with a name (a force, an acceleration, ...), the kind a
+    number written without its unit may carry; a plain number is not."""
+    return bool(dims) and any(
+        same_dimension(dims, sorted_dims(known)) for known in DIMENSIONS.values() if known
+    )
+
+
+def _needed_dimension(expression: Any, scope: DimensionScope, name: str, want: Dims) -> Dims | None:
+    """The named dimension parameter `name` would need for the expression (numbers plain) to
+    be of dimension `want`, other parameters as declared; None if no named one does."""
+
+    def probed(word: str) -> Dims | None:
+        return ((_PROBE, 1.0),) if word == name else scope.names(word)
+
+    try:
+        dims = infer_dimension(expression.tree, replace(scope, names=probed))
+    except ExpressionError:
+        return None
+    if dims is None:
+        return None
+    power = dict(dims).pop(_PROBE, 0.0)
+    rest = tuple(pair for pair in dims if pair[0] != _PROBE)
+    if abs(power) < 1e-12:
+        return None
+    needed = tuple(sorted((k, v / power) for k, v in _quotient(want, rest)))
+    return needed if _named(needed) else None
 
 
 def check_expression(

@@ -326,7 +326,7 @@ def check_mechanism(
     found = _unique(model, at) + _references(model, at, names) + _events(model, at, names, motions)
     found += _vector_checks(model, at) + _bodies(model, at) + check_elements(model, at)
     found += check_plane(model, at) + check_limits(model, at)
-    found += density_warnings(model, at)
+    found += density_warnings(model, at, scope)
     found += table_dimension_problems(
         at, at.data.get("tables") if isinstance(at.data, dict) else None
     )

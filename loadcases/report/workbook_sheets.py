@@ -40,7 +40,7 @@ CASES_COLUMNS = (
     "run",
     "case",
     "file",
-    "parameters",
+    "parameters (SI)",
     "analysis",
     "status",
     "message",

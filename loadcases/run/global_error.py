@@ -4,7 +4,8 @@ The integrator controls the local error of each step; what a sizing engineer nee
 error of the results (each request, over the whole run, relative to its peak). It is
 estimated the way Richardson did for whole solutions: the run is compared with a companion
 run whose every step is twice as long (tolerance x 2^(p+1), largest step and output
-interval x 2), at their shared output times. For a method of order p the companion's error
+interval x 2, its rows thinned further to about one per step: loadcases.run.companion), at
+their shared output times. For a method of order p the companion's error
 is 2^p times the run's, so the run's error is about |run - companion| / (2^p - 1)
 (generalized-alpha: p = 2, the difference / 3). On smooth runs the estimate is within 10 %
 of the true error (pendulum, heavy top, latch: tests/verification/test_global_error.py);
@@ -39,6 +40,14 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.foundation import interrupts
+from loadcases.run.companion import (
+    coarser,
+    divisor,
+    finer,
+    largest_step,
+    order,
+    sparser,
+)
 from loadcases.run.peak_error import extremes, peak_error
 from loadcases.schema.case import AccuracyTarget
 
@@ -59,7 +68,6 @@ __all__ = [
 DEFAULT_ACCURACY = 1e-3  # of each request's peak: the sizing accuracy
 MAX_TIGHTENINGS = 8  # default refinements: each halves every step and costs twice the last
 DEFAULT_CPU_BUDGET = 600.0  # s of CPU for the companion and the tighter runs, by default
-_ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)
 _SKIPPED = ("abscissa",)  # a set's abscissa column is not a load
 PHASE_LOST = 0.9  # of a column's range: the companion's difference past it, phase lost
 
@@ -179,50 +187,13 @@ class AccuracyEstimate:
             },
             "method": (
                 "estimated (Richardson): this run against a companion run with every step "
-                f"twice as long, difference / {2 ** _order(self.integrator) - 1} (a history "
-                "whose difference reaches 0.9 of its range: the range); envelope peaks: of "
-                "the peaks between rows, plus the rows' miss of them"
+                f"twice as long, difference / {divisor(self.integrator):g} (a history whose "
+                "difference reaches 0.9 of its range: the range); envelope peaks: of the "
+                "peaks between rows, plus the rows' miss of them"
             ),
             "cpu_seconds": self.cpu_seconds,
             **({"note": self.note} if self.note else {}),
         }
-
-
-def _order(integrator: str) -> int:
-    return _ORDER.get(integrator, 2)
-
-
-def _local_factor(integrator: str) -> float:
-    """Tolerance factor that doubles the steps: the local error goes as h^(p+1)."""
-    return 2.0 ** (_order(integrator) + 1)
-
-
-def _largest_step(analysis: ml.Dynamic) -> float:
-    """The largest step the analysis sets (s); with dense output and no max_step, 0: its
-    default, the mechanism's natural time, bounds the steps (mechlib.solvers.dense), the
-    same in the companion and finer runs (the run's own value: `Solution.max_step`)."""
-    if analysis.dense:
-        return analysis.max_step or 0.0
-    return min(analysis.max_step or analysis.step, analysis.step)
-
-
-def coarser(analysis: ml.Dynamic) -> ml.Dynamic:
-    """The companion: every step twice as long (output interval too)."""
-    return dataclasses.replace(
-        analysis,
-        tolerance=analysis.tolerance * _local_factor(analysis.integrator),
-        max_step=2.0 * _largest_step(analysis) or None,
-        step=2.0 * analysis.step,
-    )
-
-
-def finer(analysis: ml.Dynamic) -> ml.Dynamic:
-    """Every step half as long; the output interval unchanged."""
-    return dataclasses.replace(
-        analysis,
-        tolerance=analysis.tolerance / _local_factor(analysis.integrator),
-        max_step=0.5 * _largest_step(analysis) or None,
-    )
 
 
 def request_of(column: str) -> str:
@@ -252,7 +223,8 @@ def shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def request_errors(run: ml.Solution, companion: ml.Solution, order: int) -> dict[str, RequestError]:
-    """Estimated error of each request of `run` from a companion of steps twice as long."""
+    """Estimated error of each request of `run` from a companion of steps twice as long
+    (its rows at some of the run's output times)."""
     rows, rows_c = shared_rows(run.time, companion.time)
     scale = 1.0 / (2.0**order - 1.0)
     peaks = request_peaks(run.channels)
@@ -263,7 +235,7 @@ def request_errors(run: ml.Solution, companion: ml.Solution, order: int) -> dict
             continue
         history = _history_error(values[rows], other[rows_c], scale)
         peak, sampling = peak_error(
-            extremes(run.time, values), extremes(companion.time, other), order
+            extremes(run.time, values), extremes(companion.time, other), scale
         )
         before = out.get(name, RequestError(0.0, 0.0))
         out[name] = RequestError(
@@ -316,8 +288,8 @@ def solve_to_accuracy(
     if run.status != "ok":
         return run, None
     started = clock.process_time()
-    order = _order(analysis.integrator)
-    companion = _timed(solve, coarser(analysis), spent, companion=True)
+    p = order(analysis.integrator)
+    companion = _timed(solve, sparser(coarser(analysis), run), spent, companion=True)
     if companion.status != "ok":
         estimate = _estimate(analysis, run, target, {}, 0, started)
         estimate.estimated = False
@@ -326,7 +298,7 @@ def solve_to_accuracy(
             return _interrupted(run, "its accuracy companion was solved", estimated=False), estimate
         estimate.note = f"not estimated: the companion run failed ({companion.message})"
         return run, estimate
-    errors = request_errors(run, companion, order)
+    errors = request_errors(run, companion, p)
     note, tightenings, stopped, stopped_by = "", 0, False, ""
     while budget is not None and _worst(errors, measure) > target:
         stopped_by = spent.exhausts(budget, tightenings) or _beyond_max_steps(spent, analysis)
@@ -343,7 +315,7 @@ def solve_to_accuracy(
         if finer_run.status != "ok":
             note = f"a tighter run failed ({finer_run.message}): the estimate is of this one"
             break
-        errors = request_errors(finer_run, run, order)
+        errors = request_errors(finer_run, run, p)
         run, analysis, tightenings = finer_run, finer_analysis, tightenings + 1
     estimate = _estimate(analysis, run, target, errors, tightenings, started)
     estimate.note, estimate.budget, estimate.stopped_by = note, budget, stopped_by
@@ -469,7 +441,7 @@ def _estimate(
         target,
         analysis.integrator,
         analysis.tolerance,
-        _largest_step(analysis) if run.max_step is None else run.max_step,
+        largest_step(analysis) if run.max_step is None else run.max_step,
         tightenings,
         errors,
         clock.process_time() - started,

@@ -4,6 +4,7 @@ mechanism's build, every case of a set. Each file is loaded once; nothing is wri
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 from loadcases.build.model import build_mechanism
@@ -12,19 +13,21 @@ from loadcases.foundation.cache_env import reading_only
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.loader import load_case, load_mechanism, validate_set
+from loadcases.inputs.overrides import Override
 from loadcases.sets.specs import compile_set
 
 __all__ = ["file_problems"]
 
 
-def file_problems(path: str | Path) -> list[Diagnostic]:
+def file_problems(path: str | Path, what_if: Sequence[Override] = ()) -> list[Diagnostic]:
     """Every diagnostic of one file of any kind (errors and warnings), as `loads validate`
-    prints them; nothing is written (a flexible body's reduction is not cached)."""
+    prints them; nothing is written (a flexible body's reduction is not cached). `what_if`
+    (`--set`) overrides parameters of a case, or of a set's cases, as `loads run` does."""
     with reading_only():
-        return _file_problems(path)
+        return _file_problems(path, what_if)
 
 
-def _file_problems(path: str | Path) -> list[Diagnostic]:
+def _file_problems(path: str | Path, what_if: Sequence[Override]) -> list[Diagnostic]:
     found: list[Diagnostic] = []
     try:
         kind = file_kind(path)
@@ -35,24 +38,24 @@ def _file_problems(path: str | Path) -> list[Diagnostic]:
             found += mechanism.warnings
             build_mechanism(mechanism)
         elif kind == "case":
-            case = load_case(path)
+            case = load_case(path, what_if=what_if)
             found += case.warnings
             found += case_problems(case)
         else:
-            found += _set_file_problems(path)
+            found += _set_file_problems(path, what_if)
     except InputError as error:
         found += error.diagnostics
     return list(dict.fromkeys(found))
 
 
-def _set_file_problems(path: str | Path) -> list[Diagnostic]:
+def _set_file_problems(path: str | Path, what_if: Sequence[Override]) -> list[Diagnostic]:
     """A set's diagnostics and those of its case files; the run checks of every case once
     the files load without error."""
     set_file, cases, found = validate_set(path)
     if any(d.severity == "error" for d in found):
         return found
     try:
-        compiled = compile_set(set_file, cases)
+        compiled = compile_set(set_file, cases, what_if=what_if)
     except InputError as error:
         return found + list(error.diagnostics)
     return found + set_problems(list(compiled.cases))

@@ -1,4 +1,6 @@
-"""A system's force elements packed by type for the compiled Newton loop and whole runs.
+"""A system's force elements packed by type for the compiled kernels: the generalized-alpha
+Newton loop (step by step and whole runs) and the dense rows. The one packer of compiled
+element loads.
 
 `CompiledForces.of(system)` packs the active force elements that have a compiled form, each
 type into its own arrays (the design rule: elements grouped by type, one loop per type):
@@ -8,15 +10,20 @@ type into its own arrays (the design rule: elements grouped by type, one loop pe
 - joint friction of revolute and cylindrical joints that slide (not stuck, not locked):
   mechlib.elements.friction_kernel.rotation_friction_wrench, whose regularised law is
   mechlib.elements.regularize.coulomb_factor, the one the Python path and Exudyn's bench
-  model call.
-It gives None when an active element has none (a table law, a contact, a point force...):
-the caller then keeps the Python path. The kernels take the packed arrays as one tuple
-(`args`); `element_wrenches` adds every group's loads, `element_forces` their generalized
-forces and `element_tangent` (K, C) = -(dQ/dq, dQ/dqd) by forward differences with the step
-of the Python path's tangent (mechlib.solvers.genalpha.integrator).
+  model call;
+- servo-actuators of the `valve` fidelity, active or not (their states advance either way),
+  with their element states: mechlib.elements.hydraulics.valve_group.
+It gives None when an active element has none (a table law, a contact, a point force...) or
+element states belong to another element: the caller then keeps the Python path. The
+kernels take the packed arrays as one tuple (`args`); `element_wrenches` adds every group's
+loads at element states z, `advance_states` advances those states over a step,
+`element_forces` gives the loads' generalized forces and `element_tangent` (K, C) =
+-(dQ/dq, dQ/dqd) by forward differences with the step of the Python path's tangent
+(mechlib.solvers.genalpha.integrator).
 
-Adding a group (hydraulics...): pack its arrays in `_pack`, append them to `args`, call its
-kernel in `element_wrenches`; the solvers need nothing else.
+Adding a group: pack its arrays in `__init__`, append them to `args` (and to `no_forces`),
+call its kernel in `element_wrenches` (and `advance_states` for its states); the solvers
+need nothing else.
 """
 
 from __future__ import annotations
@@ -31,16 +38,27 @@ from mechlib.elements.damper import RotationalDamper
 from mechlib.elements.forces import Spring, TorsionSpring
 from mechlib.elements.friction import JointFriction
 from mechlib.elements.groups import springs_wrench, torsion_springs_wrench
+from mechlib.elements.hydraulics.actuator import ServoActuator
+from mechlib.elements.hydraulics.valve_group import (
+    VALVE_FLOATS,
+    VALVE_INTS,
+    advance_valves,
+    refresh_valves,
+    valve_arrays,
+    valves_wrench,
+)
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics.kernels import angle_state, body_forces
 
 __all__ = [
     "ROW_COUNT",
     "CompiledForces",
+    "advance_states",
     "any_elements",
     "element_forces",
     "element_tangent",
     "element_wrenches",
+    "no_forces",
     "slip_rates",
     "slipping_on",
     "update_references",
@@ -58,8 +76,8 @@ class CompiledForces:
     friction is loaded by its joint's reaction (`reactions`) and the coordinates the
     elements act on (`columns`, for the tangent and the iteration matrix's pattern)."""
 
-    def __init__(self, system, springs, torsions, frictions) -> None:
-        self.frictions = frictions
+    def __init__(self, system, springs, torsions, frictions, actuators=()) -> None:
+        self.frictions, self.actuators = frictions, list(actuators)
         self.reactions = any(f.mu != 0.0 for f in frictions)
         position = {id(m): j for j, m in enumerate(system.angle_measures)}
         bodies: set[int] = set()
@@ -94,6 +112,10 @@ class CompiledForces:
             fric_v.append([sign, m.reference, f.v_threshold, f.impending])
             refs.append(position[id(m)])
             bodies |= {int(ints[0]), int(ints[1]), m.bi, m.bj}
+        for a in self.actuators:
+            bodies |= {a._geometry[0], a._geometry[2]}
+        starts = [system.states.slices[id(a)].start for a in self.actuators]
+        valve_i, valve_f = valve_arrays(self.actuators, starts)
         nb = system.nb
         self.columns = np.array(
             [7 * b + c for b in sorted(bodies) if b < nb for c in range(7)], dtype=np.int64
@@ -109,17 +131,23 @@ class CompiledForces:
             np.array(fric_v, dtype=float).reshape(-1, friction_kernel.VARYING),
             np.array(refs, dtype=np.int64),
             np.ones(max(len(springs), len(torsions)), dtype=np.bool_),  # the groups' `on`
+            valve_i,
+            valve_f,
         )
 
     @classmethod
     def of(cls, system) -> CompiledForces | None:
         """The system's active elements packed, or None when one of them has no compiled
-        form (or a friction sticks: its stick equation and release stay in Python)."""
-        springs, torsions, frictions = [], [], []
+        form (or a friction sticks: its stick equation and release stay in Python) or
+        element states belong to elements not packed."""
+        springs, torsions, frictions, actuators = [], [], [], []
         for e in system.elements:
+            kind = type(e)
+            if kind is ServoActuator and e.fidelity == "valve":
+                actuators.append(e)
+                continue
             if not e.active:
                 continue
-            kind = type(e)
             if kind is Spring and e.law is None:
                 springs.append(e)
             elif (kind is TorsionSpring and e.law is None) or kind is RotationalDamper:
@@ -131,15 +159,29 @@ class CompiledForces:
                     frictions.append(e)
             else:
                 return None
-        return cls(system, springs, torsions, frictions)
+        if len(system.states.owners) != len(actuators):
+            return None
+        return cls(system, springs, torsions, frictions, actuators)
+
+    @staticmethod
+    def switches(system) -> tuple:
+        """What `of` depends on beyond the bound system: the active equations and each
+        element's active, stuck and locked flags (packed anew when they change)."""
+        flags = (
+            (e.active, getattr(e, "stuck", False), getattr(e, "locked", False))
+            for e in system.elements
+        )
+        return (id(getattr(system, "active", None)), *flags)
 
     @property
     def empty(self) -> bool:
         return not self.columns.size
 
-    def refresh(self, system) -> None:
-        """The values that move between steps: the angles' unwrapping references (rad)
-        and the frictions' impending slip directions."""
+    def refresh(self, system, t: float | None = None) -> None:
+        """The values that move between steps: the angles' unwrapping references (rad),
+        the frictions' impending slip directions, the actuators' on flags and, with a time
+        t (s), their stroke demands at t."""
+        refresh_valves(self.actuators, self.args[10], self.args[11], t)
         torsion_refs, varying, index = self.args[4], self.args[7], self.args[8]
         measures = system.angle_measures
         nt = torsion_refs.size
@@ -169,17 +211,36 @@ class CompiledForces:
 
 
 @njit(**KERNEL)
+def no_forces():
+    """The `args` of a system without packed elements."""
+    return (
+        np.zeros((0, 3), dtype=np.int64),
+        np.zeros((0, 10)),
+        np.zeros((0, 2), dtype=np.int64),
+        np.zeros((0, 13)),
+        np.zeros(0),
+        np.zeros((0, _F_INTS), dtype=np.int64),
+        np.zeros((0, friction_kernel.FLOATS)),
+        np.zeros((0, friction_kernel.VARYING)),
+        np.zeros(0, dtype=np.int64),
+        np.ones(0, dtype=np.bool_),
+        np.zeros((0, VALVE_INTS), dtype=np.int64),
+        np.zeros((0, VALVE_FLOATS)),
+    )
+
+
+@njit(**KERNEL)
 def any_elements(forces):
-    """Any element is packed (springs, or angle elements: torsion springs, dampers,
-    frictions)."""
-    return forces[0].shape[0] > 0 or forces[8].shape[0] > 0
+    """Any element is packed (springs, angle elements: torsion springs, dampers,
+    frictions; actuators)."""
+    return forces[0].shape[0] > 0 or forces[8].shape[0] > 0 or forces[10].shape[0] > 0
 
 
 @njit(**KERNEL)
 def update_references(forces, refs_all):
     """The angle elements' unwrapping references (rad) from all of the system's angle
     measures' (`refs_all`, in the order of system.angle_measures)."""
-    _, _, torsion_i, _, torsion_refs, _, _, fric_v, index, _ = forces
+    torsion_i, torsion_refs, fric_v, index = forces[2], forces[4], forces[7], forces[8]
     nt = torsion_i.shape[0]
     for j in range(nt):
         torsion_refs[j] = refs_all[index[j]]
@@ -188,14 +249,17 @@ def update_references(forces, refs_all):
 
 
 @njit(**KERNEL)
-def element_wrenches(x, xd, forces, rows, active, lam, F, N):
-    """F, N (nb+1, 3) = the loads of the packed elements at the state x, xd (nb+1, 7);
-    `rows`, `active`: the constraint rows' blocks and active rows
+def element_wrenches(x, xd, z, forces, rows, active, lam, F, N):
+    """F, N (nb+1, 3) = the loads of the packed elements at the state x, xd (nb+1, 7) with
+    element states z; `rows`, `active`: the constraint rows' blocks and active rows
     (mechlib.kinematics.constraint_arrays.unpacked_rows) and `lam` the multipliers, read by
     the frictions loaded by their joint's reaction."""
-    spring_i, spring_f, torsion_i, torsion_f, torsion_refs, fric_i, fric_f, fric_v, _, on = forces
+    spring_i, spring_f, torsion_i, torsion_f, torsion_refs = forces[:5]
+    fric_i, fric_f, fric_v, on = forces[5], forces[6], forces[7], forces[9]
     F[:] = 0.0
     N[:] = 0.0
+    if forces[10].shape[0]:
+        valves_wrench(x, xd, z, forces[10], forces[11], F, N)
     if spring_i.shape[0]:
         springs_wrench(x, xd, spring_i, spring_f, on, F, N)
     if torsion_i.shape[0]:
@@ -219,39 +283,48 @@ def element_wrenches(x, xd, forces, rows, active, lam, F, N):
 
 
 @njit(**KERNEL)
-def element_forces(x, xd, forces, masses, inertia, rows, active, lam, out):
+def advance_states(x, xd, z0, f0, h, forces, z):
+    """The packed elements' states over a step h (s) from z0 (rates f0) to the state
+    x, xd, in place in z (the actuators': valve_group.advance_valves)."""
+    if forces[10].shape[0]:
+        advance_valves(x, xd, z0, f0, h, forces[10], forces[11], z)
+
+
+@njit(**KERNEL)
+def element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, out):
     """out (nq,) = the generalized forces of the packed elements alone (no gravity, no
     velocity terms) at x, xd (`element_wrenches`' arguments)."""
     F, N = np.empty((x.shape[0], 3)), np.empty((x.shape[0], 3))
-    element_wrenches(x, xd, forces, rows, active, lam, F, N)
+    element_wrenches(x, xd, z, forces, rows, active, lam, F, N)
     body_forces(x, xd, masses, inertia, np.zeros(3), F, N, False, out)
 
 
 @njit(**KERNEL)
-def element_tangent(q, qd, forces, columns, masses, inertia, rows, active, lam, K, C):
+def element_tangent(q, qd, z, forces, columns, masses, inertia, rows, active, lam, K, C):
     """K = -dQ/dq and C = -dQ/dqd (nq, nq, zero outside `columns`) of the packed elements
-    at (q, qd), by forward differences of step 1e-7 max(1, |q_j|) (as the Python path's
-    tangent, mechlib.solvers.genalpha.integrator.Integrator._differenced_tangent)."""
+    at (q, qd) and element states z (held), by forward differences of step
+    1e-7 max(1, |q_j|) (as the Python path's tangent,
+    mechlib.solvers.genalpha.integrator.Integrator._differenced_tangent)."""
     nq = q.shape[0]
     nb = nq // 7
     K[:] = 0.0
     C[:] = 0.0
     base, moved = np.empty(nq), np.empty(nq)
     x, xd = ca.state_arrays(q, qd, nb)
-    element_forces(x, xd, forces, masses, inertia, rows, active, lam, base)
+    element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, base)
     qp, qdp = q.copy(), qd.copy()
     for j in columns:
         eps = 1e-7 * max(1.0, abs(q[j]))
         qp[j] = q[j] + eps
         x, xd = ca.state_arrays(qp, qd, nb)
-        element_forces(x, xd, forces, masses, inertia, rows, active, lam, moved)
+        element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved)
         for i in range(nq):
             K[i, j] = -(moved[i] - base[i]) / eps
         qp[j] = q[j]
         eps = 1e-7 * max(1.0, abs(qd[j]))
         qdp[j] = qd[j] + eps
         x, xd = ca.state_arrays(q, qdp, nb)
-        element_forces(x, xd, forces, masses, inertia, rows, active, lam, moved)
+        element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved)
         for i in range(nq):
             C[i, j] = -(moved[i] - base[i]) / eps
         qdp[j] = qd[j]

@@ -228,15 +228,19 @@ class JointFriction(StaticSlipAnchor):
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         if self.stuck or self.locked:  # held by its stick equation, or by a lock, instead
             return
-        arguments = self._kernel_arguments(view)
+        arguments = self._kernel_arguments(view, whole=False)
         if arguments is None:
             self._add_wrench(view, self._capacity(view)[0], F, N)
             return
         kernel.rotation_friction_wrench(*arguments, N)  # type: ignore[call-arg]
 
-    def _kernel_arguments(self, view: StateView) -> tuple | None:
+    def _kernel_arguments(self, view: StateView, whole: bool = True) -> tuple | None:
         """The compiled kernels' state arguments (mechlib.elements.friction_kernel) for a
-        revolute or cylindrical joint in a moving state, else None (the Python path)."""
+        revolute or cylindrical joint in a moving state, else None (the Python path). With
+        `whole`, the constraint Jacobian and multipliers of all equations (the coupling
+        writes the joint's columns among them); else the joint's own rows alone, which
+        are all the wrench reads (a state whose phi_q is not known, such as a column of
+        a differenced tangent, computes no other rows: StateView.jacobian_rows)."""
         if self._compiled is None or at_rest(view):
             return None
         m, ints, floats = self._compiled
@@ -248,7 +252,10 @@ class JointFriction(StaticSlipAnchor):
             jac, lam, rows = _NO_JACOBIAN, _NO_VALUES, _NO_ROWS
         else:
             rows, ints[4], sign = self._system.joint_force_rows(self.joint)
-            jac = view.jacobian()
+            if whole:
+                jac = view.jacobian()
+            else:
+                jac, lam, rows = view.jacobian_rows(rows), lam[rows], np.arange(rows.size)
         varying = np.array([sign, m.reference, self.v_threshold, self._impending])
         return view.kin.x, view.kin.xd, jac, lam, rows, ints, floats, varying
 

@@ -19,10 +19,26 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["ElementStates"]
+from mechlib.core.jit import KERNEL, njit
 
-_NEWTON = 20
-_FD = 1e-7
+__all__ = ["FD_STEP", "NEWTON_ITERATIONS", "ElementStates", "residual_size"]
+
+NEWTON_ITERATIONS = 20  # the most iterations of the states' Newton in one advance
+FD_STEP = 1e-7  # forward-difference step of a state, relative (absolute below 1)
+_RTOL, _ATOL = 1e-12, 1e-14  # converged: each residual within 1e-12 of its state (1e-14 abs)
+
+
+@njit(**KERNEL)
+def residual_size(res, z):
+    """max_i |res_i| / (1e-12 |z_i| + 1e-14): the states' Newton has converged at or below
+    1 (the one rule of the Python advance and of compiled ones,
+    mechlib.elements.hydraulics.valve_states)."""
+    worst = 0.0
+    for i in range(res.shape[0]):
+        size = abs(res[i]) / (_RTOL * abs(z[i]) + _ATOL)
+        if size > worst or size != size:  # a NaN stays: never converged
+            worst = size
+    return worst
 
 
 class ElementStates:
@@ -48,6 +64,11 @@ class ElementStates:
         # output, e.g. a clearance joint's wear work) have rates independent of z: one
         # explicit trapezoid per advance, and no part in the mechanism's tangent
         self.drive_forces = any(getattr(e, "states_drive_forces", True) for e in self.owners)
+        # every owner advances its own states in one compiled call (`advance_trial`): the
+        # Jacobian is block diagonal, so the blocks' Newtons are the one Newton's
+        self.compiled = bool(self.owners) and all(
+            getattr(e, "compiled_states", False) for e in self.owners
+        )
         self._lu: tuple | None = None  # factored Newton matrix of `advance`, at step _lu_h
         self._lu_h = 0.0
         self._h = 0.0  # the step (s) of the trial values
@@ -88,16 +109,24 @@ class ElementStates:
         if not self.drive_forces:  # rates independent of z: the trapezoid is explicit
             self.trial = self.z + 0.5 * h * (self.rates_accepted + self.rates(view, self.z))
             return
+        if self.compiled:
+            assert self.rates_accepted is not None, "start() gives the accepted rates"
+            trial = self.trial.copy()
+            for e in self.owners:
+                block = self.slices[id(e)]
+                e.advance_trial(view, self.z[block], self.rates_accepted[block], trial[block], h)
+            self.trial = trial
+            return
         # LAPACK's getrf / getrs directly: the routines scipy's lu_factor / lu_solve call
         # (the same numbers), without their checks, about 35 us a call on these few states
         from scipy.linalg.lapack import dgetrf, dgetrs  # here: a System without states needs none
 
         z = self.trial.copy()
         prev, fresh = np.inf, False
-        for _ in range(_NEWTON):
+        for _ in range(NEWTON_ITERATIONS):
             rates = self.rates(view, z)
             res = z - self.z - 0.5 * h * (self.rates_accepted + rates)
-            size = np.max(np.abs(res) / (1e-12 * np.abs(z) + 1e-14), initial=0.0)
+            size = residual_size(res, z)
             if size <= 1.0:
                 break
             if self._lu is None or self._lu_h != h or (size > 0.25 * prev and not fresh):
@@ -111,6 +140,11 @@ class ElementStates:
             z = z - dgetrs(*self._lu, res)[0]
             prev = size
         self.trial = z
+
+    def compiled_step(self, h: float) -> None:
+        """A compiled caller advances the trial values in place over a step h (s)
+        (mechlib.solvers.genalpha.compiled.loaded_newton, with this class's rule)."""
+        self._h = h
 
     def jacobian(self, view, z: np.ndarray, rates: np.ndarray) -> np.ndarray:
         """d(dz/dt)/dz at `z` (rates: dz/dt there), block diagonal: an element's rates
@@ -126,7 +160,7 @@ class ElementStates:
                 continue
             base = rates[block]
             for i in range(ze.size):
-                dz = _FD * max(1.0, abs(ze[i]))
+                dz = FD_STEP * max(1.0, abs(ze[i]))
                 zi = ze.copy()
                 zi[i] += dz
                 jac[block, block.start + i] = (

@@ -15,14 +15,13 @@ T = diag(I, 2 G(p), I) (omega = 2 G pd), so M_q = T^T M_w T and Q_q = T^T f_w.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mechlib.core.rotation import cross3, g_matrix, omega_body, skew
-from mechlib.kinematics.kernels import b_matrix as d_rotate
-from mechlib.kinematics.kernels import rotation_matrix
+from mechlib.flexible import kernels
+from mechlib.flexible.weld_kernels import weld_gamma, weld_jacobian, weld_phi, weld_rate
 from mechlib.kinematics.kin import Kin
 
 if TYPE_CHECKING:
@@ -30,8 +29,7 @@ if TYPE_CHECKING:
 
 __all__ = ["Attached", "NodeWelds"]
 
-_PAIRS = ((1, 2), (2, 0), (0, 1))  # (f, g) axes of the three orientation equations
-_AXES = np.eye(3)
+_NO_LOADS = np.zeros((0, 6))
 
 
 @dataclass
@@ -43,32 +41,25 @@ class Attached:
     frame: int
     offset: int
     nodes: list[int]  # body index of each kept node (rows of the component)
+    _columns: dict[int, np.ndarray] = field(default_factory=dict, repr=False)
 
     @property
     def modes(self) -> slice:
         return slice(self.offset, self.offset + self.body.n)
 
-    def velocity_map(self, k: Kin) -> np.ndarray:
-        """T (6 + n, 7 + n): w = T [xd, pd, zeta_d]."""
-        n = self.body.n
-        t = np.zeros((6 + n, 7 + n))
-        t[:3, :3] = np.eye(3)
-        t[3:6, 3:7] = 2.0 * g_matrix(k.p[self.frame])
-        t[6:, 7:] = np.eye(n)
-        return t
-
     def columns(self, nb: int) -> np.ndarray:
-        """Its coordinates' indices in q (7 + n,)."""
-        o = 7 * self.frame
-        return np.r_[o : o + 7, 7 * nb + self.offset + np.arange(self.body.n)]
+        """Its coordinates' indices in q (7 + n,) of a system of nb bodies (found once)."""
+        if nb not in self._columns:
+            o = 7 * self.frame
+            self._columns[nb] = np.r_[o : o + 7, 7 * nb + self.offset + np.arange(self.body.n)]
+        return self._columns[nb]
 
     def mass(self, k: Kin) -> np.ndarray:
         """M_q (7 + n, 7 + n), with the rigid body's p p^T term fixing |p|."""
+        body = self.body
+        out = np.empty((7 + body.n, 7 + body.n))
         p, zeta = k.p[self.frame], k.z[self.modes]
-        t = self.velocity_map(k)
-        out = t.T @ self.body.mass(rotation_matrix(p), zeta) @ t
-        scale = 4.0 * np.trace(self.body.theta(zeta)) / 3.0
-        out[3:7, 3:7] += scale * np.outer(p, p)
+        kernels.coordinate_mass(p, zeta, *body.arrays, body.scratch[0], out)
         return out
 
     def forces(
@@ -77,16 +68,16 @@ class Attached:
         """Q_q (7 + n): gravity, modal stiffness and damping, with `inertia` the quadratic
         velocity vector; with geometric stiffening, -K_G zeta of the spin and of the loads
         `node_loads` (k, 6) on the body at its kept nodes (body axes; None: unknown)."""
-        p, zeta, zeta_d = k.p[self.frame], k.z[self.modes], k.zd[self.modes]
-        A = rotation_matrix(p)
-        f = self.body.applied(A, zeta, zeta_d, gravity)
-        omega = omega_body(p, k.pd[self.frame])
-        if inertia:
-            f = f + self.body.quadratic(A, omega, zeta, zeta_d)
-        geometric = self.body.component.geometric
-        if geometric is not None:
-            f[6:] -= geometric.stiffness(omega, node_loads) @ zeta
-        return self.velocity_map(k).T @ f
+        body = self.body
+        i1, i2, i3, i4, i5, _, i7, i8, i9 = body.arrays
+        loads = _NO_LOADS if node_loads is None or not len(body.nodal) else node_loads
+        out = np.empty(7 + body.n)
+        kernels.coordinate_forces(
+            k.p[self.frame], k.pd[self.frame], k.z[self.modes], k.zd[self.modes], gravity,
+            inertia, i1, i2, i3, i4, i5, i7, i8, i9, body.stiffness, body.viscous, body.spin,
+            body.nodal, loads, body.scratch[1], out,
+        )  # fmt: skip
+        return out
 
 
 class NodeWelds:
@@ -97,95 +88,66 @@ class NodeWelds:
         self.items = [(a, row, node) for a in bodies for row, node in enumerate(a.nodes)]
         self.size = 6 * len(self.items)
         self.z0 = 7 * (nb + 1)  # first modal column of a working Jacobian row
+        self.bodies: list[tuple[Attached, int, np.ndarray]] = []  # (body, first row, nodes)
+        row = 0
+        for a in bodies:
+            self.bodies.append((a, row, np.array(a.nodes, dtype=np.int64)))
+            row += 6 * len(a.nodes)
 
-    def _parts(self, k: Kin, a: Attached, row: int):
-        comp = a.body.component
-        zeta, zeta_d = k.z[a.modes], k.zd[a.modes]
-        phi, phis = comp.phi[row], comp.phi_star[row]
-        return comp.positions[row] + phi @ zeta, phi @ zeta_d, phis @ zeta, phis @ zeta_d
+    def _shapes(self, a: Attached) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        body = a.body
+        return body.positions, body.phi, body.phi_star
 
     def phi(self, k: Kin) -> np.ndarray:
         out = np.empty(self.size)
-        for i, (a, row, node) in enumerate(self.items):
-            u, _, theta, _ = self._parts(k, a, row)
-            A, An = rotation_matrix(k.p[a.frame]), rotation_matrix(k.p[node])
-            out[6 * i : 6 * i + 3] = k.r[node] - k.r[a.frame] - A @ u
-            for c, (f, g) in enumerate(_PAIRS):
-                v = _AXES[g] + cross3(theta, _AXES[g])
-                out[6 * i + 3 + c] = (An @ _AXES[f]) @ (A @ v)
+        for a, first, nodes in self.bodies:
+            rows = out[first : first + 6 * len(nodes)]
+            weld_phi(k.x, a.frame, nodes, *self._shapes(a), k.z[a.modes], rows)
         return out
 
     def jacobian(self, k: Kin, out: np.ndarray) -> None:
         """Add the rows into `out` (size, 7 (nb + 1) + nz)."""
-        for i, (a, row, node) in enumerate(self.items):
-            comp = a.body.component
-            u, _, theta, _ = self._parts(k, a, row)
-            p, pn = k.p[a.frame], k.p[node]
-            A, An = rotation_matrix(p), rotation_matrix(pn)
-            fb, nb_, zc = 7 * a.frame, 7 * node, self.z0 + a.offset + np.arange(a.body.n)
-            rows = out[6 * i : 6 * i + 3]
-            rows[:, nb_ : nb_ + 3] += np.eye(3)
-            rows[:, fb : fb + 3] -= np.eye(3)
-            rows[:, fb + 3 : fb + 7] -= d_rotate(p, u)
-            rows[:, zc] -= A @ comp.phi[row]
-            for c, (f, g) in enumerate(_PAIRS):
-                v = _AXES[g] + cross3(theta, _AXES[g])
-                an, b = An @ _AXES[f], A @ v
-                r = out[6 * i + 3 + c]
-                r[nb_ + 3 : nb_ + 7] += b @ d_rotate(pn, _AXES[f])
-                r[fb + 3 : fb + 7] += an @ d_rotate(p, v)
-                r[zc] += an @ A @ (-skew(_AXES[g]) @ comp.phi_star[row])
+        for a, first, nodes in self.bodies:
+            rows = out[first : first + 6 * len(nodes)]
+            z_col = self.z0 + a.offset
+            weld_jacobian(k.x, a.frame, nodes, *self._shapes(a), k.z[a.modes], z_col, rows)
 
     def node_loads(self, k: Kin, lam: np.ndarray, body: Attached) -> np.ndarray:
         """(k, 6): force (N) and torque (N m) on `body` at each of its kept nodes, body
         axes, from the multipliers `lam` (size,) of these equations (M qdd + phi_q^T lam
-        = Q): the position rows push the body with +lam, an orientation row
-        (A_n f).(A v) = 0 turns it with lam (A_n f) x (A v)."""
-        A = rotation_matrix(k.p[body.frame])
-        out = []
-        for i, (a, row, node) in enumerate(self.items):
-            if a is not body:
-                continue
-            theta = a.body.component.phi_star[row] @ k.z[a.modes]
-            turn, rows = A.T @ rotation_matrix(k.p[node]), lam[6 * i : 6 * i + 6]
-            torque = np.zeros(3)  # body axes: (A^T A_n f) x v
-            for c, (f, g) in enumerate(_PAIRS):
-                torque += rows[3 + c] * cross3(turn[:, f], _AXES[g] + cross3(theta, _AXES[g]))
-            out.append(np.r_[A.T @ rows[:3], torque])
-        return np.array(out)
+        = Q): linear in them, `load_maps` @ the node's six multipliers."""
+        first, nodes = self.rows_of(body)
+        rows = lam[first : first + 6 * len(nodes)].reshape(-1, 6, 1)
+        return np.matmul(self.load_maps(k, body), rows)[:, :, 0]
+
+    def load_maps(self, k: Kin, body: Attached) -> np.ndarray:
+        """(k, 6, 6): d(node load)/d(its weld multipliers) of each kept node of `body`
+        (mechlib.flexible.kernels.load_maps)."""
+        _, nodes = self.rows_of(body)
+        out = np.empty((len(nodes), 6, 6))
+        kernels.load_maps(k.p[body.frame], k.p[nodes], body.body.phi_star, k.z[body.modes], out)
+        return out
+
+    def rows_of(self, body: Attached) -> tuple[int, np.ndarray]:
+        """(first weld row, node body indices (k,)) of `body`."""
+        return next((first, nodes) for a, first, nodes in self.bodies if a is body)
 
     def gamma(self, k: Kin) -> np.ndarray:
         """phi_q qdd = gamma: minus the terms of the second derivative without qdd."""
         out = np.empty(self.size)
-        for i, (a, row, node) in enumerate(self.items):
-            u, u_d, theta, theta_d = self._parts(k, a, row)
-            p, pd, pn, pnd = k.p[a.frame], k.pd[a.frame], k.p[node], k.pd[node]
-            A = rotation_matrix(p)
-            out[6 * i : 6 * i + 3] = d_rotate(pd, u) @ pd + 2.0 * d_rotate(p, u_d) @ pd
-            for c, (f, g) in enumerate(_PAIRS):
-                v = _AXES[g] + cross3(theta, _AXES[g])
-                v_d = cross3(theta_d, _AXES[g])
-                an, b = rotation_matrix(pn) @ _AXES[f], A @ v
-                an_d = d_rotate(pn, _AXES[f]) @ pnd
-                b_d = d_rotate(p, v) @ pd + A @ v_d
-                quad = (d_rotate(pnd, _AXES[f]) @ pnd) @ b + 2.0 * an_d @ b_d
-                quad += an @ (d_rotate(pd, v) @ pd + 2.0 * d_rotate(p, v_d) @ pd)
-                out[6 * i + 3 + c] = -quad
+        for a, first, nodes in self.bodies:
+            rows = out[first : first + 6 * len(nodes)]
+            z, zd = k.z[a.modes], k.zd[a.modes]
+            weld_gamma(k.x, k.xd, a.frame, nodes, *self._shapes(a), z, zd, rows)
         return out
 
     def rate(self, k: Kin) -> np.ndarray:
         """d(phi)/dt (size,)."""
         out = np.empty(self.size)
-        for i, (a, row, node) in enumerate(self.items):
-            u, u_d, theta, theta_d = self._parts(k, a, row)
-            p, pd, pn, pnd = k.p[a.frame], k.pd[a.frame], k.p[node], k.pd[node]
-            A = rotation_matrix(p)
-            out[6 * i : 6 * i + 3] = k.rd[node] - k.rd[a.frame] - d_rotate(p, u) @ pd - A @ u_d
-            for c, (f, g) in enumerate(_PAIRS):
-                v = _AXES[g] + cross3(theta, _AXES[g])
-                an, b = rotation_matrix(pn) @ _AXES[f], A @ v
-                b_d = d_rotate(p, v) @ pd + A @ cross3(theta_d, _AXES[g])
-                out[6 * i + 3 + c] = (d_rotate(pn, _AXES[f]) @ pnd) @ b + an @ b_d
+        for a, first, nodes in self.bodies:
+            rows = out[first : first + 6 * len(nodes)]
+            z, zd = k.z[a.modes], k.zd[a.modes]
+            weld_rate(k.x, k.xd, a.frame, nodes, *self._shapes(a), z, zd, rows)
         return out
 
 

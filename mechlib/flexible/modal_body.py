@@ -17,17 +17,21 @@ mass matrix, rotary inertia included:
 
 with Theta_d = sum_j zeta_d_j dTheta/dzeta_j. Elastic and damping forces -K zeta - D zeta_d,
 K = diag(omega_i^2), D = diag(2 xi_i omega_i); gravity g: m g, c~ A^T g, I3^T A^T g.
-The tests check M and f against nodal sums over particles (the notes' oracle).
+The tests check M and f against nodal sums over particles (the notes' oracle). The terms are
+compiled (mechlib.flexible.kernels, their one definition); this class hands them the
+invariants and the scratch arrays they write into.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from mechlib.core.rotation import skew
+from mechlib.flexible import kernels
 from mechlib.flexible.modal_component import ModalComponent
 
 __all__ = ["ModalBody"]
+
+_NO_LOADS = np.zeros((0, 6))
 
 
 class ModalBody:
@@ -36,69 +40,67 @@ class ModalBody:
     def __init__(self, component: ModalComponent):
         self.component = component
         inv = component.invariants
-        self.n = component.count
-        self._i8s = inv.I8 + inv.I8.transpose(0, 2, 1)  # (n, 3, 3)
-        self._i9s = inv.I9 + inv.I9.transpose(1, 0, 2, 3)  # (n, n, 3, 3)
+        self.n = n = component.count
+        c = np.ascontiguousarray
+        i8s, i9s = kernels.symmetrised(inv.I8, inv.I9)
+        self.arrays = (
+            float(inv.I1),
+            c(inv.I2, float),
+            c(inv.I3, float),
+            c(inv.I4, float),
+            c(inv.I5, float),
+            c(inv.I6, float),
+            c(inv.I7, float),
+            i8s,
+            i9s,
+        )  # fmt: skip  (I8, I9 symmetrised: mechlib.flexible.kernels)
+        self.stiffness = c(component.stiffness, float)
+        self.viscous = c(component.viscous, float)
+        geometric = component.geometric
+        self.spin = np.zeros((0, n, n)) if geometric is None else c(geometric.spin, float)
+        self.nodal = np.zeros((0, 6, n, n)) if geometric is None else c(geometric.nodal, float)
+        # kept nodes: positions (k, 3) m, translations and rotations (k, 3, n) per mode
+        self.positions = c(component.positions, float)
+        self.phi = c(component.phi, float)
+        self.phi_star = c(component.phi_star, float)
+        self.scratch = (np.empty((6 + n, 6 + n)), np.empty(6 + n))  # M_w, f_w
 
     def first_moment(self, zeta: np.ndarray) -> np.ndarray:
-        inv = self.component.invariants
-        return inv.I2 + inv.I3 @ zeta
+        """c = I2 + I3 zeta (3,) (kg m), body axes."""
+        out = np.empty(3)
+        kernels.first_moment(zeta, self.arrays[1], self.arrays[2], out)
+        return out
 
     def theta(self, zeta: np.ndarray) -> np.ndarray:
         """Inertia tensor about the frame origin, body axes (kg m^2)."""
-        inv = self.component.invariants
-        out = inv.I7 - np.einsum("j,jab->ab", zeta, inv.I8 + inv.I8.transpose(0, 2, 1))
-        return out - np.einsum("j,k,jkab->ab", zeta, zeta, inv.I9)
-
-    def d_theta(self, zeta: np.ndarray) -> np.ndarray:
-        """dTheta/dzeta_j (n, 3, 3)."""
-        return -self._i8s - np.einsum("k,jkab->jab", zeta, self._i9s)
-
-    def coupling(self, zeta: np.ndarray) -> np.ndarray:
-        """Iwz = I4 + sum_j zeta_j I5_j (3, n)."""
-        inv = self.component.invariants
-        return inv.I4 + np.einsum("j,jan->an", zeta, inv.I5)
+        i7, i8, i9 = self.arrays[6:]
+        out = np.empty((3, 3))
+        kernels.theta(zeta, i7, i8, i9, out)
+        return out
 
     def mass(self, A: np.ndarray, zeta: np.ndarray) -> np.ndarray:
         """M (6 + n, 6 + n) in velocities w."""
-        inv, n = self.component.invariants, self.n
-        out = np.zeros((6 + n, 6 + n))
-        out[:3, :3] = inv.I1 * np.eye(3)
-        out[:3, 3:6] = -A @ skew(self.first_moment(zeta))
-        out[:3, 6:] = A @ inv.I3
-        out[3:6, 3:6] = self.theta(zeta)
-        out[3:6, 6:] = self.coupling(zeta)
-        out[6:, 6:] = inv.I6
-        out[3:, :3] = out[:3, 3:].T
-        out[6:, 3:6] = out[3:6, 6:].T
+        out = np.empty((6 + self.n, 6 + self.n))
+        kernels.body_mass(A, zeta, *self.arrays, out)
         return out
 
     def quadratic(
         self, A: np.ndarray, omega: np.ndarray, zeta: np.ndarray, zeta_d: np.ndarray
     ) -> np.ndarray:
         """The quadratic velocity vector f_v (6 + n)."""
-        inv = self.component.invariants
-        c, theta, iwz = self.first_moment(zeta), self.theta(zeta), self.coupling(zeta)
-        dtheta = self.d_theta(zeta)
-        i5_rate = np.einsum("j,jan->an", zeta_d, inv.I5)  # sum_j zeta_d_j I5_j (3, n)
-        wx = skew(omega)
-        f_t = -A @ (wx @ (wx @ c) + 2.0 * wx @ (inv.I3 @ zeta_d))
-        f_w = -wx @ (theta @ omega + iwz @ zeta_d)
-        f_w -= np.einsum("j,jab->ab", zeta_d, dtheta) @ omega + i5_rate @ zeta_d
-        f_z = 0.5 * np.einsum("a,jab,b->j", omega, dtheta, omega)
-        f_z += np.einsum("a,jan,n->j", omega, inv.I5, zeta_d) - i5_rate.T @ omega
-        return np.concatenate([f_t, f_w, f_z])
+        _, i2, i3, i4, i5, _, i7, i8, i9 = self.arrays
+        out = np.zeros(6 + self.n)
+        kernels.quadratic(A, omega, zeta, zeta_d, i2, i3, i4, i5, i7, i8, i9, out)
+        return out
 
     def applied(
         self, A: np.ndarray, zeta: np.ndarray, zeta_d: np.ndarray, gravity: np.ndarray
     ) -> np.ndarray:
         """Gravity, modal stiffness and damping forces (6 + n)."""
-        comp = self.component
-        g_body = A.T @ gravity
-        return np.concatenate(
-            [
-                comp.mass * gravity,
-                skew(self.first_moment(zeta)) @ g_body,
-                comp.invariants.I3.T @ g_body - comp.stiffness * zeta - comp.viscous * zeta_d,
-            ]
-        )
+        i1, i2, i3, i4, i5, _, i7, i8, i9 = self.arrays
+        out = np.empty(6 + self.n)
+        kernels.body_forces(
+            A, np.zeros(3), zeta, zeta_d, gravity, False, i1, i2, i3, i4, i5, i7, i8, i9,
+            self.stiffness, self.viscous, self.spin[:0], self.nodal[:0], _NO_LOADS, out,
+        )  # fmt: skip
+        return out

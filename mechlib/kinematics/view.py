@@ -68,6 +68,20 @@ class StateView:
             self._jac = self.system.phi_q(self.kin)
         return self._jac
 
+    def jacobian_rows(self, rows: np.ndarray) -> np.ndarray:
+        """phi_q[rows] (len(rows), nq) of this state, for the active equations `rows`: from
+        the whole phi_q when known, else from the equation groups that hold them only
+        (System.phi_q_rows; a joint's reaction at a column of a differenced tangent)."""
+        if self._jac is not None:
+            return self._jac[rows]
+        key = ("rows", rows.tobytes())  # kept writeable: the compiled friction reads it
+        found = None if self._memo is None else self._memo.get(key)
+        if found is None:
+            found = self.system.phi_q_rows(self.kin, rows)
+            if self._memo is not None:
+                self._memo[key] = found
+        return found
+
     @property
     def t(self) -> float:
         return self.kin.t
@@ -119,7 +133,7 @@ class StateView:
         if self.lam is None or len(self.lam) == 0:
             return np.zeros(3)
         rows, body, sign = self.system.joint_force_rows(joint)
-        block = self.jacobian()[rows, 7 * body : 7 * body + 3]
+        block = self.jacobian_rows(rows)[:, 7 * body : 7 * body + 3]
         return -sign * (block.T @ self.lam[rows])
 
     def effort(self, motion: str) -> float:

@@ -224,13 +224,14 @@ def _stack(rows: list) -> np.ndarray:
 class Snapshots:
     """The system snapshot of each recorded row (`System.snapshot`: active equations, angle
     references...): dicts appended one by one, or the rows of a compiled run, which share
-    one base snapshot and differ only in their angle references, kept as an array and made
-    into a dict when a row's is read (most are never read: the outputs restore one per
-    batch of rows)."""
+    one base snapshot and differ only in their angle references (and element states), kept
+    as arrays and made into a dict when a row's is read (most are never read: the outputs
+    restore one per batch of rows)."""
 
     def __init__(self) -> None:
         self._rows: list[dict | None] = []  # None: in a block, not made yet
-        self._blocks: list[tuple[int, dict, tuple, np.ndarray]] = []  # (first, base, keys, refs)
+        # (first, base, keys, refs, element states per row or None)
+        self._blocks: list[tuple[int, dict, tuple, np.ndarray, np.ndarray | None]] = []
         self._firsts: list[int] = []  # of the blocks
 
     def __len__(self) -> int:
@@ -242,20 +243,28 @@ class Snapshots:
     def extend(self, snapshots) -> None:
         self._rows.extend(snapshots)
 
-    def extend_block(self, base: dict, keys: Sequence, refs: np.ndarray) -> None:
+    def extend_block(
+        self, base: dict, keys: Sequence, refs: np.ndarray, states: np.ndarray | None = None
+    ) -> None:
         """Rows whose snapshots are `base` with the angle references `keys` set to each
-        row of `refs` (rows, keys)."""
-        self._blocks.append((len(self._rows), base, tuple(keys), np.array(refs, dtype=float)))
+        row of `refs` (rows, keys), and its element states to each row of `states` (rows,
+        nz) when given."""
+        kept = None if states is None else np.array(states, dtype=float)
+        self._blocks.append((len(self._rows), base, tuple(keys), np.array(refs, dtype=float), kept))
         self._firsts.append(len(self._rows))
         self._rows.extend([None] * len(refs))
 
     def __getitem__(self, i: int) -> dict:
         found = self._rows[i]
         if found is None:
-            first, base, keys, refs = self._block(i)
+            first, base, keys, refs, states = self._block(i)
+            row = i % len(self._rows) - first
             angles = dict(base["angles"])
-            angles.update(zip(keys, refs[i % len(self._rows) - first].tolist()))
-            found = self._rows[i] = dict(base, angles=angles)
+            angles.update(zip(keys, refs[row].tolist()))
+            found = dict(base, angles=angles)
+            if states is not None:
+                found["states"] = states[row].copy()
+            self._rows[i] = found
         return found
 
     def active(self, i: int):
@@ -272,7 +281,7 @@ class Snapshots:
         while end < limit:
             found = self._rows[end]
             if found is None:
-                start, base, _, refs = self._block(end)
+                start, base, _, refs, _ = self._block(end)
                 if base["active"] is not active:
                     break
                 end = min(start + len(refs), limit)
@@ -282,7 +291,7 @@ class Snapshots:
                 end += 1
         return end
 
-    def _block(self, i: int) -> tuple[int, dict, tuple, np.ndarray]:
+    def _block(self, i: int) -> tuple[int, dict, tuple, np.ndarray, np.ndarray | None]:
         return self._blocks[bisect_right(self._firsts, i % len(self._rows)) - 1]
 
     def __delitem__(self, rows: slice) -> None:
@@ -292,7 +301,11 @@ class Snapshots:
         n = len(range(*rows.indices(len(self._rows))))
         end = len(self._rows) - n
         del self._rows[end:]
-        self._blocks = [(k, b, keys, r[: end - k]) for k, b, keys, r in self._blocks if k < end]
+        self._blocks = [
+            (k, b, keys, r[: end - k], None if z is None else z[: end - k])
+            for k, b, keys, r, z in self._blocks
+            if k < end
+        ]
         self._firsts = [b[0] for b in self._blocks]
 
     def __iter__(self) -> Iterator[dict]:
@@ -337,14 +350,22 @@ class Trajectory:
         self.lam.append(np.array(lam, dtype=float))
 
     def extend(
-        self, times, states: np.ndarray, nq: int, snapshot: dict, keys: Sequence, refs
+        self,
+        times,
+        states: np.ndarray,
+        nq: int,
+        snapshot: dict,
+        keys: Sequence,
+        refs,
+        element_states: np.ndarray | None = None,
     ) -> None:
         """Append rows found finite already (a compiled run's): times (n,), states (n,
         3 nq + m) with q, qd, qdd, lam stacked; their snapshots are `snapshot` with the
-        angle references `keys` set to each row of `refs` (n, keys)."""
+        angle references `keys` set to each row of `refs` (n, keys) and the element states
+        to each row of `element_states` (n, nz) when given."""
         block = np.array(states, dtype=float)  # one copy; the rows are views of it
         self._blocks.append((len(self.time), block, nq))
-        self.references.extend_block(snapshot, keys, refs)
+        self.references.extend_block(snapshot, keys, refs, element_states)
         self.time.extend(float(t) for t in times)
         self.q.extend(block[:, :nq])
         self.qd.extend(block[:, nq : 2 * nq])

@@ -122,7 +122,15 @@ class Stepper(ABC):
     def accept(self, state: State) -> State:
         """Settle a step's state; a stepper that switches the model there (joint friction
         sticking) returns the state it restarts from."""
-        return self.settle(state)
+        self.settle(state)
+        return self.switch(state)
+
+    def switch(self, state: State) -> State:
+        """After `settle`: the state to go on from once the model is switched at the
+        settled `state` (joint friction sticking or letting go: a restart), else `state`.
+        Rows within the step that ended at `state` are recorded before, with the model
+        the step was solved with."""
+        return state
 
     def unresolved(
         self, state: State, new: State, failure: StepUnresolved, events: Callable[[], str]
@@ -152,3 +160,10 @@ class DenseStepper(Stepper):
     def dense_row(self, start: State, end: State, t: float, states) -> State:
         """The row at t (s) within the accepted step start -> end; `states`: the element
         states interpolated there (None without)."""
+
+    def dense_block(self, start: State, end: State, times: np.ndarray, z0):
+        """The rows at `times` (s) within the accepted step start -> end in one call, the
+        element states interpolated from z0 (at start; None without) to the accepted ones
+        (mechlib.solvers.dense.RowBlock: perhaps fewer rows than asked), or None: `march`
+        then takes them from `dense_row` one by one."""
+        return None

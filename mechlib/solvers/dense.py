@@ -19,6 +19,7 @@ Events still end a step where they happen, and their rows are recorded as before
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -26,12 +27,19 @@ from mechlib.core.work import count
 from mechlib.solvers.assembly import MAX_NEWTON, POSITION_TOLERANCE, REUSE_BELOW, solve_positions
 from mechlib.solvers.consistent import consistent_state
 from mechlib.solvers.contract import State
-from mechlib.solvers.dense_compiled import DONE, interpolated, project_row, small_enough
+from mechlib.solvers.dense_compiled import (
+    DONE,
+    interpolated,
+    project_loaded_row,
+    project_loaded_rows,
+    small_enough,
+)
 from mechlib.system.system import System
 
 __all__ = [
     "PROJECTION",
     "HermiteRows",
+    "RowBlock",
     "first_step",
     "hermite",
     "natural_time",
@@ -79,6 +87,16 @@ def hermite(t0: float, t1: float, a: tuple, b: tuple, t: float) -> tuple:
     return interpolated(np.stack((*a, *b)), t1 - t0, (t - t0) / (t1 - t0))
 
 
+@dataclass(frozen=True)
+class RowBlock:
+    """Rows of one step from one compiled call: how many, their (q, qd, qdd, lam) stacked
+    (rows, 3 nq + m) and their element states (rows, nz; None without states)."""
+
+    rows: int
+    states: np.ndarray
+    element_states: np.ndarray | None
+
+
 class HermiteRows:
     """Rows within generalized-alpha's accepted steps: the quintic Hermite interpolant of
     both ends' (q, qd, qdd), projected (`projected_row`); a row at a step's end takes the
@@ -88,6 +106,15 @@ class HermiteRows:
     def __init__(self, system: System, compiled: bool = True):
         self.system, self.compiled = system, compiled
         self._step: tuple[State, State, np.ndarray] | None = None
+        self._functions: tuple[object, bool] | None = None  # (coordinate block, timed)
+
+    def _timed(self, rows) -> bool:
+        """Whether the coordinate equations `rows` (System.coordinate_rows) hold a function
+        of time (found again only when an event changes them)."""
+        if self._functions is None or self._functions[0] is not rows:
+            timed = any(rows.equations[i].function is not None for i in rows.linear)
+            self._functions = (rows, timed)
+        return self._functions[1]
 
     def row(self, start: State, end: State, t: float, states) -> State:
         """The row at t (s) within start -> end, with the element states `states`."""
@@ -97,6 +124,45 @@ class HermiteRows:
             ends = np.stack((start.q, start.qd, start.qdd, end.q, end.qd, end.qdd))
             step = self._step = (start, end, ends)
         return _projected(self.system, t, step[2], end.t - start.t, s, states, self.compiled)
+
+    def block(self, start: State, end: State, times: np.ndarray, z0, z1) -> RowBlock | None:
+        """The rows at `times` (s) within start -> end, the element states interpolated
+        from z0 to z1 (None without), in one compiled call (dense_compiled.
+        project_loaded_rows: each row as `row` gives it); None where the system does not
+        allow it (`_compiled_row`'s conditions, or a time function in its equations). The
+        block may hold fewer rows than asked (the kernel gave one back: `row` takes it)."""
+        system = self.system
+        arrays = system.packed_constraints()
+        if not self.compiled or arrays is None or not small_enough(system):
+            return None
+        elements = row_elements(system)
+        if elements is None or self._timed(system.coordinate_rows()):
+            return None
+        nq, m, n = system.nq, system.active.size, len(times)
+        z0 = np.zeros(0) if z0 is None else z0
+        z1 = system.states.z if z1 is None else z1
+        ends = np.stack((start.q, start.qd, start.qdd, end.q, end.qd, end.qdd))
+        out, zs = np.empty((n, 3 * nq + m)), np.empty((n, z0.size))
+        ints, floats = arrays.packed()
+        done, fresh = project_loaded_rows(
+            ends, start.t, end.t, np.asarray(times, dtype=float), ints, floats,
+            arrays.functions(float(times[0])), arrays.references(), arrays.bodies(), PROJECTION,
+            z0, z1, elements, out, zs,
+        )  # fmt: skip
+        count(factorizations=fresh + done, jacobian_evaluations=fresh)
+        return RowBlock(done, out[:done], zs[:done] if z0.size else None)
+
+
+def row_elements(system: System) -> tuple | None:
+    """The packed force elements' `args` for the compiled rows (System.compiled_forces,
+    their references refreshed), or None where the Python rows take them: an element with
+    no compiled form, or a joint friction (its law reads the reactions and the slip history
+    the rows solve for)."""
+    elements = system.compiled_forces()
+    if elements is None or elements.frictions:
+        return None
+    elements.refresh(system)
+    return elements.args
 
 
 def projected_row(system: System, t: float, q, qd, states: np.ndarray | None) -> State:
@@ -115,7 +181,9 @@ def _projected(
     """`projected_row` of the interpolant of `ends` at the fraction s of the step h (s), in
     one compiled call where `compiled` and the system allow it."""
     snapshot = system.snapshot()
-    row = None if states is not None or not compiled else _compiled_row(system, t, ends, h, s)
+    if states is not None:
+        snapshot["states"] = states.copy()
+    row = _compiled_row(system, t, ends, h, s, states) if compiled else None
     if row is not None:
         q, qd, qdd, lam = row
         return State(t, q, qd, qdd, lam, snapshot=snapshot)
@@ -123,7 +191,6 @@ def _projected(
     kept = system.states.trial
     if states is not None:
         system.states.trial = states
-        snapshot["states"] = states.copy()
     try:
         q, _ = solve_positions(system, q, t)
         qd, qdd, lam = consistent_state(system, q, qd, t)
@@ -133,23 +200,26 @@ def _projected(
 
 
 def _compiled_row(
-    system: System, t: float, ends: np.ndarray, h: float, s: float
+    system: System, t: float, ends: np.ndarray, h: float, s: float, states=None
 ) -> tuple[np.ndarray, ...] | None:
     """(q, qd, qdd, lam) of `_projected` from one compiled call (mechlib.solvers.dense_compiled)
-    for a small packed system with no active element and no element states; None where
-    the Python path must take the row (a larger system, or the kernel gave up: near a
-    toggle, no convergence)."""
+    for a small packed system whose active elements are packed ones (`row_elements`), at
+    element states `states`; None where the Python
+    path must take the row (a larger system, another element, or the kernel gave up:
+    near a toggle, no convergence)."""
     arrays = system.packed_constraints()
-    if arrays is None or system.states or not small_enough(system):
+    if arrays is None or not small_enough(system):
         return None
-    if any(e.active for e in system.elements):
+    elements = row_elements(system)
+    if elements is None:
         return None
+    z = system.states.trial if states is None else states
     nq, m = system.nq, system.active.size
     out = np.empty(3 * nq + m)
     ints, floats = arrays.packed()
-    status, fresh = project_row(
+    status, fresh = project_loaded_row(
         ends, h, s, ints, floats, arrays.functions(t), arrays.references(), arrays.bodies(),
-        PROJECTION, out,
+        PROJECTION, z, elements, out,
     )  # fmt: skip
     count(factorizations=fresh, jacobian_evaluations=fresh)
     if status != DONE:

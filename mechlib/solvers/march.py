@@ -24,6 +24,8 @@ import functools
 from collections.abc import Callable
 from typing import Literal
 
+import numpy as np
+
 from mechlib.core.outcome import SolverFailure, SolverStats, Status
 from mechlib.model.analysis import Trajectory, output_times
 from mechlib.solvers.contract import DenseStepper, State, Stepper, StepResult, StepUnresolved
@@ -114,8 +116,11 @@ def _march_dense(
         if after is Status.EVENT_STOP:
             return Status.EVENT_STOP
         if after is None:
-            after = stepper.accept(new)
+            # the rows within the step first, with the model the step was solved with: a
+            # joint friction sticking or letting go at `new` changes it (the restart)
+            stepper.settle(new)
             rows.upto(s, new, z0, True)
+            after = stepper.switch(new)
             if monitor.armed:
                 monitor.arm(after.t, stepper.view(after))
         elif after is not s:
@@ -134,13 +139,22 @@ class _Rows:
     def _due(self, t: float, inclusive: bool) -> bool:
         if self.next >= len(self.times):
             return False
-        gap = self.times[self.next] - t
+        return self._is_due(self.times[self.next], t, inclusive)
+
+    @staticmethod
+    def _is_due(time: float, t: float, inclusive: bool) -> bool:
+        """The output time `time` (s) lies before t (s) (or at it, `inclusive`)."""
+        gap = time - t
         tiny = 1e-12 * max(1.0, abs(t))
         return gap <= tiny if inclusive else gap < -tiny
 
     def upto(self, start: State, end: State, z0, inclusive: bool) -> None:
-        """Record the output times up to end.t (inclusive or not) within start -> end."""
+        """Record the output times up to end.t (inclusive or not) within start -> end: in
+        one block where the stepper gives one (`dense_block`), the rest row by row."""
         system = self.stepper.system
+        due = self._last_due(end.t, inclusive)
+        if due > self.next:
+            self._block(start, end, z0, due)
         while self._due(end.t, inclusive):
             t = float(self.times[self.next])
             states = None
@@ -148,6 +162,35 @@ class _Rows:
                 w = (t - start.t) / (end.t - start.t)
                 states = (1.0 - w) * z0 + w * system.states.z
             self._record(self.stepper.dense_row(start, end, t, states))
+
+    def _last_due(self, t: float, inclusive: bool) -> int:
+        """The index after the last output time due by t (s) (`_is_due`): found by
+        bisection, then checked against the rule itself at its ends."""
+        tiny = 1e-12 * max(1.0, abs(t))
+        edge = t + tiny if inclusive else t - tiny
+        due = max(
+            self.next, int(np.searchsorted(self.times, edge, "right" if inclusive else "left"))
+        )
+        while due > self.next and not self._is_due(self.times[due - 1], t, inclusive):
+            due -= 1
+        while due < len(self.times) and self._is_due(self.times[due], t, inclusive):
+            due += 1
+        return due
+
+    def _block(self, start: State, end: State, z0, due: int) -> None:
+        """The rows up to output index `due` from the stepper's `dense_block`, if any."""
+        times = self.times[self.next : due]
+        block = self.stepper.dense_block(start, end, times, z0)
+        if block is None or not block.rows:
+            return
+        system, n = self.stepper.system, block.rows
+        self.trajectory.extend(
+            times[:n], block.states, system.nq, system.snapshot(), (), np.zeros((n, 0)),
+            block.element_states,
+        )  # fmt: skip
+        self.next += n
+        if self.progress:
+            self.progress(float(times[n - 1]), self.stepper.spec.end)
 
     def before(self, start: State, z0, event: State) -> None:
         """Record the output times before an event's instant within start -> event."""

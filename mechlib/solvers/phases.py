@@ -25,7 +25,8 @@ __all__ = ["PhaseRecord", "phase_spans", "run_phases"]
 
 @dataclasses.dataclass
 class PhaseRecord:
-    """A phase as it ran: its name, analysis, start and end times (s) and its rows."""
+    """A phase as it ran: its name, analysis, start and end times (s), its rows and the
+    steps it accepted (the run's `SolverStats.steps` counts all phases together)."""
 
     name: str
     analysis: str
@@ -33,6 +34,7 @@ class PhaseRecord:
     end: float
     trajectory: Trajectory
     ended_by_event: bool = False
+    steps: int = 0
 
 
 def _timed(phase: Phase, start: float) -> Static | QuasiStatic | Dynamic:
@@ -80,6 +82,7 @@ def run_phases(
         k = system.kin(q, qd, t)
         held = [system.lock(joint, k) for joint in phase.locks]
         _switch_motions(system, phase, motions, False)
+        steps_before = stats.steps
         try:
             if isinstance(analysis, Static):
                 run_static(system, analysis, q, rows, stats)
@@ -94,6 +97,7 @@ def run_phases(
                     event_log=event_log,
                 )
         finally:
+            records[-1].steps = stats.steps - steps_before
             for row in held:
                 system.let_go(row)
             _switch_motions(system, phase, motions, True)

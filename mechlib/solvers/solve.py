@@ -87,6 +87,17 @@ def _check_events(analysis: Analysis, events: Sequence) -> None:
         )
 
 
+@dataclass(frozen=True)
+class _Segment:
+    """A stretch of a run checked on its own: a phase's name ("" for an unphased run), its
+    analysis, its rows and the steps its integrator accepted."""
+
+    name: str
+    analysis: Analysis
+    rows: Trajectory
+    steps: int
+
+
 @dataclass
 class _Run:
     """What an analysis produced: rows (or modes), events, status and message."""
@@ -99,12 +110,15 @@ class _Run:
     message: str = "finished"
     phases: list[PhaseRecord] = field(default_factory=list)
 
-    def segments(self, analysis: Analysis) -> list[tuple[Analysis, Trajectory]]:
-        """(analysis, rows) of each phase of a phased run, else of the run itself."""
+    def segments(self, analysis: Analysis) -> list[_Segment]:
+        """Each phase of a phased run as it ran, else the run itself as one segment."""
         if not self.phases:
-            return [(analysis, self.trajectory)]
+            return [_Segment("", analysis, self.trajectory, self.stats.steps)]
         assert isinstance(analysis, Phases)
-        return [(p.analysis, r.trajectory) for p, r in zip(analysis.phases, self.phases)]
+        return [
+            _Segment(r.name or str(i + 1), p.analysis, r.trajectory, r.steps)
+            for i, (p, r) in enumerate(zip(analysis.phases, self.phases))
+        ]
 
 
 def _analyse(
@@ -190,18 +204,20 @@ def _channels(system: System, run: _Run, requests) -> tuple[np.ndarray, dict]:
     return np.concatenate(times), {k: np.concatenate([c[k] for c in columns]) for k in columns[0]}
 
 
-def _position_warnings(
-    system: System, analysis: Analysis, trajectory: Trajectory, stats: SolverStats
-) -> list[str]:
-    """Warnings from the recorded positions: toggles, deformation, spin, unresolved modes."""
+def _position_warnings(system: System, segment: _Segment) -> list[str]:
+    """Warnings from the recorded positions: toggles, deformation, spin, unresolved modes
+    (the mean step of the segment: its duration over its own steps)."""
     warnings: list[str] = []
+    analysis, trajectory = segment.analysis, segment.rows
     if not isinstance(analysis, Modes):
         warnings += toggle_warnings(system, trajectory)
         warnings += deformation_warnings(system, trajectory)
         warnings += spin_warnings(system, trajectory)
     if isinstance(analysis, Dynamic) and len(trajectory):
         duration = trajectory.time[-1] - trajectory.time[0]
-        warnings += unresolved_mode_warnings(system, duration, stats.steps)
+        unresolved = unresolved_mode_warnings(system, duration, segment.steps)
+        where = f"phase {segment.name}: " if segment.name else ""
+        warnings += [where + w for w in unresolved]
     return warnings
 
 
@@ -263,12 +279,14 @@ def _check_rows(
     phase by phase; a branch change under `branches.error` fails the run."""
     segments = run.segments(analysis)
     if checks:
-        for part, rows in segments:
-            warnings += _position_warnings(system, part, rows, run.stats)
+        for segment in segments:
+            warnings += _position_warnings(system, segment)
     if (checks or branches.error) and run.result.ok:
         try:
-            for part, rows in segments:
-                changes = _row_branches(system, part, rows, run.events, branches)
+            for segment in segments:
+                changes = _row_branches(
+                    system, segment.analysis, segment.rows, run.events, branches
+                )
                 _branch_outcome(changes, branches, warnings)
         except SolverFailure as failure:
             if throw:

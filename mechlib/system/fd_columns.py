@@ -9,7 +9,9 @@ torsion springs, dampers, bushings and cable loops (the bodies they join), and p
 and torques (their body, their frame's body and the bodies their value's measures read).
 The others are evaluated in every column: joint friction (it reads the multipliers),
 elements with internal states, and a load whose value reads a motion's effort. A modal
-coordinate moves no body: its columns leave out every element with known bodies. Shared by
+coordinate moves no body: its columns leave out every element with known bodies and the
+other modal bodies; a modal body's forces (inertia, elastic, gravity, stiffening) are left out
+of the columns of the bodies they do not read (`flexible_bodies`). Shared by
 the static stiffness (mechlib.solvers.static.balance) and the dynamic tangent
 (mechlib.solvers.genalpha.integrator).
 
@@ -27,7 +29,7 @@ import numpy as np
 
 from mechlib.system.system import System
 
-__all__ = ["ColumnSkips", "JacobianClasses", "element_bodies"]
+__all__ = ["ColumnSkips", "JacobianClasses", "element_bodies", "flexible_bodies"]
 
 
 def element_bodies(element) -> frozenset[int] | None:
@@ -40,25 +42,44 @@ def element_bodies(element) -> frozenset[int] | None:
 class ColumnSkips:
     """Per column of q: the ids of the elements its forward difference leaves out (those in
     `always`, e.g. the elements that add their own tangent, and the elements whose force
-    depends on other bodies only)."""
+    depends on other bodies only), and the ids of the modal bodies (`System.flexible`)
+    whose forces it cannot change (`flexible_bodies`)."""
 
     def __init__(self, system: System, always: set[int] | frozenset[int] = frozenset()):
         known = [(id(e), b) for e in system.elements if (b := element_bodies(e)) is not None]
+        modal = [(id(a), flexible_bodies(a)) for a in system.flexible]
         self._per_body = system.per_body
         self._rigid = system.per_body * system.nb
         self._of_body = {
-            b: frozenset({i for i, bodies in known if b not in bodies} | set(always))
+            b: frozenset({i for i, bodies in known + modal if b not in bodies} | set(always))
             for b in range(system.nb)
         }
-        self._of_body[-1] = frozenset({i for i, _ in known} | set(always))
+        every = {i for i, _ in known} | set(always)
+        self._modal_ends = []  # (last modal index + 1, key) per modal body
+        for n, a in enumerate(system.flexible):
+            others = {i for i, _ in modal if i != id(a)}
+            self._of_body[-1 - n] = frozenset(every | others)
+            self._modal_ends.append((a.offset + a.body.n, -1 - n))
+        self._of_body.setdefault(-1, frozenset(every))  # no modal body: no such column
 
     def body(self, column: int) -> int:
-        """The body whose coordinate `column` is; -1 for a modal coordinate."""
-        return column // self._per_body if column < self._rigid else -1
+        """The body whose coordinate `column` is; -1 - n for a modal coordinate of the
+        n-th modal body."""
+        if column < self._rigid:
+            return column // self._per_body
+        modal = column - self._rigid
+        return next(key for end, key in self._modal_ends if modal < end)
 
     def skip(self, body: int) -> frozenset[int]:
-        """The element ids a column of `body` (-1: modal) leaves out."""
+        """The ids a column of `body` (-1 - n: of the n-th modal body's modes) leaves out."""
         return self._of_body[body]
+
+
+def flexible_bodies(attached) -> frozenset[int]:
+    """The bodies a modal body's forces read besides its own modes: its frame, and with
+    geometric stiffening its node bodies (the node loads are read in the nodes' axes)."""
+    nodes = attached.nodes if attached.body.component.geometric is not None else ()
+    return frozenset({attached.frame, *nodes})
 
 
 class JacobianClasses:

@@ -38,9 +38,10 @@ def reaction_coupling(
     or None when no active element depends on the reactions. Elements give it through
     `reaction_jacobian(view, out)`; forward differences over the rows they read are the
     fallback (and the test oracle)."""
+    stiffening = system.stiffening_coupling(k, lam) if system.nz else None
     users = [e for e in system.elements if e.active and getattr(e, "uses_reactions", False)]
     if not users:
-        return None
+        return stiffening
     view = system.view(k, lam, jac)
     space = view.system  # the elements' own (3-D for a planar system: mechlib.system.planar)
     out = np.zeros((space.nq, len(lam)))
@@ -53,7 +54,7 @@ def reaction_coupling(
     out = system.reaction_coupling(out, k)
     if differenced:
         out += differenced_coupling(system, k, lam, differenced, jac)
-    return out
+    return out if stiffening is None else out + stiffening
 
 
 def differenced_coupling(
@@ -100,6 +101,9 @@ def solve_reaction_loaded(
         return x
     assert matrix is not None, "the reactions' Newton iteration needs the matrix"
     nq = system.nq
+    # without elements that read the reactions, only geometric stiffening does: its loads
+    # are affine in lam (the coupling does not depend on lam) and one Newton step is exact
+    affine = not any(e.active and getattr(e, "uses_reactions", False) for e in system.elements)
     for _ in range(MAX_REACTION_NEWTON):
         lam = x[lam_at]
         coupling = reaction_coupling(system, k, lam, jac)
@@ -113,7 +117,9 @@ def solve_reaction_loaded(
             return None
         dx = solve_factored(lu_n, rhs(lam) - matrix @ x)
         x = x + dx
-        if np.abs(dx[lam_at]).max(initial=0.0) <= _CONVERGED * (1.0 + np.abs(x[lam_at]).max()):
+        if affine or np.abs(dx[lam_at]).max(initial=0.0) <= _CONVERGED * (
+            1.0 + np.abs(x[lam_at]).max()
+        ):
             break
     return x
 

@@ -15,6 +15,7 @@ import numpy as np
 
 from mechlib.core import jit
 from mechlib.core.rotation import e_matrix
+from mechlib.elements.compiled_forces import CompiledForces
 from mechlib.kinematics import kernels
 from mechlib.kinematics.constraint_arrays import ConstraintArrays
 from mechlib.kinematics.kin import Kin
@@ -40,8 +41,10 @@ class System(Topology):
 
     def __init__(self, mechanism: Mechanism):
         self._arrays: ConstraintArrays | bool | None = False  # packed_constraints(), once
+        self._forces: tuple = ((), None)  # (the elements' switches, compiled_forces())
         self._no_wrench = np.zeros((len(mechanism.bodies) + 1, 3))
         self._no_wrench.flags.writeable = False
+        self.row_plans: dict[tuple[bytes, bytes], list] = {}  # mechlib.system.rows_jacobian
         super().__init__(mechanism)
 
     def frame_origin(self, name: str, k: Kin) -> np.ndarray:
@@ -127,6 +130,16 @@ class System(Topology):
             self._arrays = ConstraintArrays(self) if ConstraintArrays.eligible(self) else None
         return self._arrays  # type: ignore[return-value]
 
+    def compiled_forces(self) -> CompiledForces | None:
+        """The active force elements packed for the compiled kernels
+        (mechlib.elements.compiled_forces; their moving values as last refreshed); None
+        where one has no compiled form. Packed anew only when an element is switched,
+        sticks or is locked, or the active equations change."""
+        key = CompiledForces.switches(self)
+        if key != self._forces[0]:
+            self._forces = (key, CompiledForces.of(self))
+        return self._forces[1]
+
     def phi_and_jacobian(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
         """(phi, phi_q): one compiled call (`packed_constraints`) or one pass over the
         primitive groups."""
@@ -161,6 +174,13 @@ class System(Topology):
             row += g.size
         self.coordinate_rows().jacobian(k, out[row:])
         return self.body_columns(self._select(out))
+
+    def phi_q_rows(self, k: Kin, rows: np.ndarray) -> np.ndarray:
+        """phi_q[rows] (len(rows), nq) of the active equations `rows`, without the
+        others (mechlib.system.rows_jacobian)."""
+        from mechlib.system.rows_jacobian import phi_q_rows
+
+        return phi_q_rows(self, k, rows)
 
     def phi_q_sparse(self, k: Kin) -> SparseRows:
         """`phi_q(k)` as its non-zeros, never the dense matrix (the checks of a large model)."""
@@ -260,12 +280,14 @@ class System(Topology):
         skip=(),
         jac: np.ndarray | None = None,
     ) -> np.ndarray:
-        """Q (nq,): gravity, elements (but those whose id is in `skip`) and, with
-        `inertia`, the quadratic velocity terms (`lam`, `jac`: see `wrenches`)."""
+        """Q (nq,): gravity, elements and modal bodies (but those whose id is in `skip`)
+        and, with `inertia`, the quadratic velocity terms (`lam`, `jac`: see `wrenches`)."""
         F, N = self.wrenches(k, lam, skip, jac)
         out = np.zeros(self.nq)
         kernels.body_forces(k.x, k.xd, self.masses, self.inertia, self.gravity, F, N, inertia, out)
         for a in self.flexible:
+            if skip and id(a) in skip:
+                continue
             stiff = a.body.component.geometric is not None
             loads = self.node_loads(k, lam, a) if stiff else None
             out[a.columns(self.nb)] += a.forces(k, self.gravity, inertia, loads)
@@ -280,6 +302,30 @@ class System(Topology):
         full = np.zeros(len(self._all_labels))
         full[self.active] = lam
         return welds.node_loads(k, full[first : first + welds.size], a)
+
+    def stiffening_coupling(self, k: Kin, lam: np.ndarray) -> np.ndarray | None:
+        """dQ/dlam (nq, m) of the geometric stiffening loaded by the node loads (the weld
+        multipliers among `lam`, the active rows), None without such a body: Q_zeta =
+        -K_G(node loads) zeta, the node loads linear in the multipliers."""
+        if self._welds is None or len(lam) != self.active.size:
+            return None
+        welds, first = self._welds
+        out: np.ndarray | None = None
+        for a in self.flexible:
+            geometric = a.body.component.geometric
+            if geometric is None:
+                continue
+            if out is None:
+                out = np.zeros((self.nq, len(lam)))
+            gradient = geometric.load_gradient(k.z[a.modes])  # (k, 6, n)
+            block = -np.einsum("kcn,kcj->nkj", gradient, welds.load_maps(k, a))
+            start, nodes = welds.rows_of(a)
+            column = np.full(len(self._all_labels), -1)  # of each equation among lam
+            column[self.active] = np.arange(self.active.size)
+            at = column[first + start + np.arange(6 * len(nodes))]
+            modal = 7 * self.nb + a.offset + np.arange(a.body.n)
+            out[np.ix_(modal, at[at >= 0])] += block.reshape(a.body.n, -1)[:, at >= 0]
+        return out
 
     def generalized(self, k: Kin, F: np.ndarray, N: np.ndarray) -> np.ndarray:
         """Q (nq,) of forces F and torques N (nb+1, 3) alone (no gravity, no inertia)."""

@@ -95,7 +95,10 @@ class Topology:
         self.elements = list(mechanism.forces.values())
         self._remembering = [e for e in self.elements if hasattr(e, "commit")]
         self.states = ElementStates(self.elements)
-        self.reaction_dependent = any(getattr(e, "uses_reactions", False) for e in self.elements)
+        # geometric stiffening is loaded by the interface loads, the weld multipliers
+        self.reaction_dependent = any(
+            getattr(e, "uses_reactions", False) for e in self.elements
+        ) or any(a.body.component.geometric is not None for a in self.flexible)
         self._dormant: list[int] = []  # rows that elements switch on when they need them
         self._locks: list[tuple[int, object]] = []  # (row, measure) of every lock made
         for element in self.elements:

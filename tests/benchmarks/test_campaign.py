@@ -17,7 +17,7 @@ from loadcases.inputs.loader import load_case
 from loadcases.inputs.overrides import Override
 from loadcases.results.files import write_results
 from loadcases.run import run_file
-from loadcases.run.global_error import coarser
+from loadcases.run.companion import coarser
 from loadcases.sets.campaign import solve_spec
 from loadcases.sets.executors import Executor, PoolExecutor, SerialExecutor
 from loadcases.sets.specs import load_and_compile_set

@@ -80,3 +80,12 @@ def test_help_shows_the_install_command_and_a_run_name() -> None:
     assert result.exit_code == 0
     text = " ".join(result.output.replace("│", " ").split())
     assert "pip install 'loads[html]'" in text and "opening[angle=1.2]" in text
+
+
+def test_a_static_case_is_drawn_once(tmp_path: Path) -> None:
+    """A static run has one row: one picture and one `wrote` line, not the first, middle
+    and last row of the same instant three times."""
+    result = draw(str(LIBRARY / "examples" / "press_hold.case.yaml"), "-o", str(tmp_path))
+    assert result.exit_code == 0, result.output
+    assert result.output.count("wrote ") == 1, result.output
+    assert len(list(tmp_path.glob("*.png"))) == 1

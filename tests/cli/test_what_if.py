@@ -197,3 +197,16 @@ def test_same_name_twice_is_refused(folder: Path) -> None:
     )
     assert result.exit_code == 2
     assert "--set length: given twice (1, 2)" in result.output
+
+
+def test_validate_checks_a_case_as_run_set_would_run_it(tmp_path: Path) -> None:
+    """`loads validate FILE --set NAME=VALUE` checks the overridden case (exit 2 for a value
+    of another dimension, naming the option; 0 for a good one), and writes nothing."""
+    case = tmp_path / "arm.case.yaml"
+    case.write_text(ARM, encoding="utf-8")
+    good = runner.invoke(app, ["validate", str(case), "--set", "length=1.5 m"])
+    assert good.exit_code == 0, good.output
+    bad = runner.invoke(app, ["validate", str(case), "--set", "length=2 kg"])
+    assert bad.exit_code == 2, bad.output
+    assert "--set length=2 kg: expected a length" in bad.output
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["arm.case.yaml"]

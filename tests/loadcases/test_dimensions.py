@@ -422,28 +422,55 @@ requests:
 """
 
 
-def test_a_formula_with_a_wrong_parameter_unit_warns_read_with_plain_numbers(tmp_path):
-    """The gear of issue 36: `airspeed: 250 kg` in a drag formula whose number 0.5 could
-    carry a unit: a warning, as the formula read with plain numbers is not a force; silent
-    with the airspeed in knots. A plain number (`exp(-t/2)`) is SI of a torque: silent."""
+def test_a_formula_with_a_wrong_parameter_unit_is_an_error_at_the_parameter(tmp_path):
+    """The gear of issue 36: `airspeed: 250 kg` in a drag formula. Read with its number 0.5
+    plain, the formula gives kg^3/m where a force is expected; the missing factor
+    (m^2/(kg^2*s^2)) is no dimension a number written without its unit carries, and only
+    `airspeed` as a velocity (sqrt(N/(kg/m^3 * m^2)) = m/s) makes it a force: exit 2 at
+    `airspeed`'s key (line 4 of the case). Silent with the airspeed in knots."""
     path = tmp_path / "drag.case.yaml"
+    path.write_text(DRAG.replace("AIRSPEED", "250 knot"), encoding="utf-8")
+    assert [d for d in load_case(path).warnings if "plain coefficients" in d.message] == []
+    path.write_text(DRAG.replace("AIRSPEED", "250 kg"), encoding="utf-8")
+    assert _errors(path) == [
+        "4:5: mechanism.parameters.airspeed: 'airspeed' is a mass, but "
+        "mechanism.forces.drag.value[0] needs a velocity (m/s): with its numbers as plain "
+        "coefficients this gives units of kg^3/m, where a force is expected | write "
+        "'airspeed' in a unit of a velocity"
+    ]
 
-    def warnings(airspeed: str) -> list[tuple]:
-        path.write_text(DRAG.replace("AIRSPEED", airspeed), encoding="utf-8")
-        return [
-            (d.line, d.column, d.key, d.message)
-            for d in load_case(path).warnings
-            if "plain coefficients" in d.message
-        ]
 
-    assert warnings("250 knot") == []
-    assert warnings("250 kg") == [
+def test_a_formula_two_parameters_could_explain_is_an_error_at_the_formula(tmp_path):
+    """`rho: 1.225 kg/m^2`: the drag reads as a torque; rho as a density or cda as a length
+    would each make it a force, so the error stays at the formula (line 15, column 46)."""
+    path = tmp_path / "drag.case.yaml"
+    text = DRAG.replace("AIRSPEED", "250 knot").replace("1.225 kg/m^3", "1.225 kg/m^2")
+    path.write_text(text, encoding="utf-8")
+    assert _errors(path) == [
+        "15:46: mechanism.forces.drag.value[0]: with its numbers as plain coefficients this "
+        "gives a torque, where a force is expected | a parameter has the wrong unit, or a "
+        "number carries one: write it with its unit (9.81*m/s^2) to have the formula checked"
+    ]
+
+
+def test_a_number_that_may_carry_a_named_unit_only_warns(tmp_path):
+    """`m_payload * 9.81` in a force: 9.81 may be m/s^2 (the missing factor is an
+    acceleration, a named dimension): a warning, not an error; a plain number (`exp(-t/2)`)
+    is SI of a torque: silent."""
+    path = tmp_path / "drag.case.yaml"
+    text = DRAG.replace("AIRSPEED", "250 knot").replace("9.81*m/s^2", "9.81")
+    path.write_text(text, encoding="utf-8")
+    assert [
+        (d.line, d.column, d.key, d.severity, d.message)
+        for d in load_case(path).warnings
+        if "plain coefficients" in d.message
+    ] == [
         (
-            15,
-            46,
-            "mechanism.forces.drag.value[0]",
-            "with its numbers as plain coefficients this gives units of kg^3/m, where a force "
-            "is expected",
+            16,
+            55,
+            "mechanism.forces.payload.value[2]",
+            "warning",
+            "with its numbers as plain coefficients this gives a mass, where a force is expected",
         )
     ]
 
@@ -474,3 +501,37 @@ def test_an_expression_of_parameters_that_cannot_be_computed_says_why(tmp_path):
     assert _errors(path) == [
         "21:43: mechanism.forces.bar.stiffness: invalid expression 'E*A/L': division by zero"
     ]
+
+
+def test_a_density_parameter_in_kg_per_mm3_warns_and_the_air_does_not(tmp_path):
+    """The gear's air density written 1.225 kg/mm^3 (1.225e9 kg/m^3) validated silently and
+    ended the retraction in a singular matrix: a warning at the parameter naming the slip;
+    the air at sea level (1.225 kg/m^3) and at 30 km (0.018 kg/m^3) are silent."""
+    path = tmp_path / "drag.case.yaml"
+
+    def density_warnings(rho: str) -> list[tuple]:
+        text = DRAG.replace("AIRSPEED", "250 knot").replace("1.225 kg/m^3", rho)
+        path.write_text(text, encoding="utf-8")
+        found = load_case(path).warnings
+        return [(d.line, d.key, d.message) for d in found if "density" in d.message]
+
+    assert density_warnings("1.225 kg/m^3") == []
+    assert density_warnings("0.018 kg/m^3") == []
+    assert density_warnings("1.225 kg/mm^3") == [
+        (
+            5,
+            "mechanism.parameters.rho",
+            "implausible density 1.225e+09 kg/m^3 (gases, liquids and solids: 0.001 to 30,000 "
+            "kg/m^3)",
+        )
+    ]
+
+
+def test_a_case_override_of_another_dimension_is_one_error_at_the_override(tmp_path):
+    """`--set airspeed=250kg` on a mechanism that says 250 knot: one error, at the override;
+    the drag formula's check does not blame the mechanism's parameter as well."""
+    path = tmp_path / "drag.case.yaml"
+    path.write_text(DRAG.replace("AIRSPEED", "250 knot"), encoding="utf-8")
+    errors = _errors(path, what_if=parse_overrides(["airspeed=250kg"]))
+    assert len(errors) == 1, errors
+    assert "--set airspeed=250kg: expected a velocity" in errors[0]

@@ -190,3 +190,54 @@ def test_analysis_beside_phases_is_refused(tmp_path: Path) -> None:
         load_case(path)
     (error,) = [d for d in raised.value.diagnostics if d.severity == "error"]
     assert error.key == "analysis" and "not both" in error.message
+
+
+BEAM_PHASES = """\
+case: beam-phases
+mechanism:
+  units: {length: mm}
+  bodies:
+    beam:
+      flexible:
+        beam: {start: [0, 0, 0], end: [800, 0, 0], section: {width: 30, height: 10},
+               material: {E: 70 GPa, nu: 0.33, rho: 2700 kg/m^3}, elements: 4,
+               y_axis: [0, 1, 0]}
+        interface: {root: [0, 0, 0], tip: [800, 0, 0]}
+        fixed_interface_modes: 2
+        modes: 1
+        damping: 0
+  joints:
+    clamp: {type: fixed, bodies: [beam, ground], at: [0, 0, 0]}
+  forces:
+    load: {type: force, point: beam.tip, value: [0, 0, 5]}
+phases:
+  - {name: fine, analysis: {type: dynamic, end: 0.02, step: 0.001, max_step: 5.0e-5,
+                            tolerance: 1.0e-4, accuracy: off}}
+  - {name: second, analysis: {type: dynamic, end: 0.12, step: 0.01, max_step: MAX_STEP,
+                              tolerance: 1.0e-2, accuracy: off}}
+requests:
+  tip: {point: beam.tip, quantity: position}
+"""
+
+
+@pytest.mark.parametrize("max_step, fires", [(0.01, True), (0.0005, False)])
+def test_unresolved_mode_warning_per_phase(tmp_path: Path, max_step: float, fires: bool) -> None:
+    """The mean step of the unresolved-mode warning is each phase's own (its duration over
+    its own steps), not the phase's duration over the steps of all phases. The beam's one
+    kept mode is 82.06 Hz (20 steps a period: steps up to 0.609 ms). The first phase
+    resolves it (0.02 s in 400 steps of 0.05 ms); the second, 0.1 s with steps of up to
+    10 ms, does not: warned, naming the phase and its own mean step (at least 5 ms; the
+    whole run's step count gave 0.24 ms and no warning). With steps of at most 0.5 ms the
+    second phase resolves it too: no warning."""
+    case = BEAM_PHASES.replace("MAX_STEP", str(max_step))
+    path = tmp_path / "beam.case.yaml"
+    path.write_text(case, encoding="utf-8")
+    solution = _run(path, tmp_path / "out")
+    unresolved = [w for w in solution.warnings if "not resolved by the mean step" in w]
+    if not fires:
+        assert unresolved == []
+        return
+    (message,) = unresolved
+    assert message.startswith("phase second: flexible body beam: 1 of its 1 modes")
+    mean = float(message.split("mean step ")[1].split(" s")[0])
+    assert 0.005 <= mean <= 0.01

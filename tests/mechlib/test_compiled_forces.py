@@ -86,7 +86,7 @@ def test_packed_loads_equal_the_elements_own() -> None:
         x, ints, floats, arrays.functions(0.0), arrays.references(), full, rows
     )
     F2, N2 = np.empty_like(F), np.empty_like(N)
-    element_wrenches(x, xd, packed.args, rows, active, lam, F2, N2)
+    element_wrenches(x, xd, np.zeros(0), packed.args, rows, active, lam, F2, N2)
     scale = np.abs(N).max() + np.abs(F).max()
     assert scale > 1.0
     np.testing.assert_allclose(F2[:-1], F[:-1], rtol=0, atol=1e-12 * scale)

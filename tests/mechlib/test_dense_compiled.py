@@ -76,12 +76,12 @@ def _driven_crank() -> tuple[mechlib.Mechanism, list, list]:
 
 
 def _run(model, analysis, monkeypatch, *, compiled: bool) -> tuple[mechlib.Solution, dict]:
-    """The dense run of `model`, row by row (`Dynamic.compiled = "steps"`: no compiled runs
-    of steps, which project their rows in the same kernel), its rows from the kernel or
-    (compiled False: `"python"`) from Python; also how many rows asked the kernel and how
-    many it took."""
+    """The dense run of `model`, step by step (`Dynamic.compiled = "steps"`: no compiled
+    runs of steps, which project their rows in the same kernel), its rows from the kernel
+    (a step's rows in one call, or one by one) or (compiled False: `"python"`) from
+    Python; also how many rows asked the kernel and how many it took."""
     taken = {"asked": 0, "done": 0}
-    original = dense._compiled_row
+    original, original_block = dense._compiled_row, dense.HermiteRows.block
 
     def row(*args):
         taken["asked"] += 1
@@ -89,9 +89,16 @@ def _run(model, analysis, monkeypatch, *, compiled: bool) -> tuple[mechlib.Solut
         taken["done"] += got is not None
         return got
 
+    def block(self, start, end, times, z0, z1):  # a step's rows in one call
+        got = original_block(self, start, end, times, z0, z1)
+        taken["asked"] += len(times) if got is not None else 0
+        taken["done"] += got.rows if got is not None else 0
+        return got
+
     analysis = dataclasses.replace(analysis, compiled="steps" if compiled else "python")
     with monkeypatch.context() as patch:
         patch.setattr(dense, "_compiled_row", row)  # counts; the path is the analysis's
+        patch.setattr(dense.HermiteRows, "block", block)
         mech, initial, requests = model()
         return mechlib.solve(mech, analysis, initial=initial, requests=requests), taken
 

@@ -76,12 +76,15 @@ def _state(system: System) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 def roundoff(system: System, k, lam: np.ndarray) -> float:
     """4 eps sum_e max |Q_e| / h: the round-off bound of a difference quotient of a sum of
-    the element forces Q_e (N or N*m) taken in another order."""
+    the element and modal-body forces Q_e (N or N*m) taken in another order (modal bodies'
+    forces are left out of the columns that cannot change them, as elements are)."""
     view, total = system.view(k, lam), 0.0
     for element in system.elements:
         F, N = np.zeros((system.nb + 1, 3)), np.zeros((system.nb + 1, 3))
         element.apply(view, F, N)
         total += np.abs(system.generalized(k, F, N)).max()
+    for body in system.flexible:
+        total += np.abs(body.forces(k, system.gravity, False, None)).max()
     return 4.0 * np.finfo(float).eps * total / FD_STEP
 
 

@@ -1,13 +1,12 @@
 """AMOS-3-like wing, hybrid (loadcases/library/solar_array/amos3_hybrid.mech.yaml, seed 003
 3.4.3.3): the full-flexible wing with a rigid yoke, the yoke's stiffness as latch springs at
-HL1 and HL2 (figure 3.4.3-5).
+HL1 and HL2 (figure 3.4.3-5), tuned on the full-flexible wing's pairs
+(tests/verification/test_amos3_hybrid_tuning.py checks the tuning).
 
-References: the latch springs are the flexible yoke's end-moment stiffness, a cantilever's
-closed form E I / L (the end rotation under an end moment M is M L / (E I)), taken from the
-full-flexible file's yoke so that the two files cannot drift apart (1e-12); the HL1
-latch-up run conserves energy: the energy request's balance (kinetic + elastic + dissipated
-against the work done) stays below 1e-3 of the wing's kinetic energy (measured 2.1e-4),
-which checks the switched-on springs, the HL3 lock and the flexible panels together.
+References: the HL1 latch-up run conserves energy: the energy request's balance (kinetic +
+elastic + dissipated against the work done) stays below 1e-3 of the wing's kinetic energy
+(measured 2.1e-4 with the yoke's E I / L springs), which checks the switched-on springs,
+the HL3 lock and the flexible panels together.
 """
 
 from __future__ import annotations
@@ -24,31 +23,20 @@ from loadcases.schema.mechanism import Body, FlexibleBody
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "solar_array"
 
 
-def test_hybrid_yoke_is_rigid_and_its_latch_springs_are_the_yokes_e_i_over_l() -> None:
+def test_hybrid_yoke_is_rigid_and_its_latch_springs_wait_for_latch_up() -> None:
     hybrid = load_case(LIBRARY / "amos3_hybrid_latchup_hl1.case.yaml").mechanism
-    flexible = load_case(LIBRARY / "amos3_flex_latchup_hl1.case.yaml").mechanism
     yoke = hybrid.bodies["yoke"]
     assert isinstance(yoke, Body) and yoke.mass == 3.0
     assert all(isinstance(hybrid.bodies[p], FlexibleBody) for p in ("panel_1", "panel_2"))
-    flexible_yoke = flexible.bodies["yoke"]
-    assert isinstance(flexible_yoke, FlexibleBody)
-    beam = flexible_yoke.flexible.beam
-    assert beam is not None
-    length = float(np.linalg.norm(np.subtract(beam.end, beam.start)))
-    e_modulus, i_z = beam.material.E, beam.section.Iz  # bending in the wing's plane
-    assert e_modulus is not None and i_z is not None
-    e_i_over_l = float(e_modulus) * float(i_z) / length
     for latch in ("latch_hl1", "latch_hl2"):
-        spring = hybrid.forces[latch]
-        assert getattr(spring, "stiffness", None) == pytest.approx(e_i_over_l, rel=1e-12)
-        assert spring.active is False  # switched on by its latch event
+        assert hybrid.forces[latch].active is False  # switched on by its latch event
     assert "latch_hl3" not in hybrid.forces  # HL3, between flexible panels, locks
 
 
 def test_hybrid_hl1_latch_up_conserves_energy(tmp_path: Path) -> None:
-    """The HL1 latch-up to 0.30 s (its latch torque peaks at 0.265 s): the latch spring
+    """The HL1 latch-up to 0.30 s (its latch torque peaks at 0.237 s): the latch spring
     resists the overshoot (positive), the balance within 1e-3 of the kinetic energy, and a
-    regression guard at the measured peak (108.36 N*m, 2026-11-29)."""
+    regression guard at the measured peak (137.20 N*m with the tuned springs, 2026-11-29)."""
     case = "amos3_hybrid_latchup_hl1.case.yaml"
     text = (LIBRARY / case).read_text("utf-8")
     text = text.replace(
@@ -61,6 +49,6 @@ def test_hybrid_hl1_latch_up_conserves_energy(tmp_path: Path) -> None:
     c = solution.channels
     latch = c["latch_hl1.value"]
     assert latch[np.argmax(np.abs(latch))] > 0.0
-    assert float(np.max(latch)) == pytest.approx(108.36, rel=0.005)
+    assert float(np.max(latch)) == pytest.approx(137.20, rel=0.005)
     kinetic = float(np.max(c["energy.kinetic"]))
     assert np.max(np.abs(c["energy.balance"])) < 1e-3 * kinetic

@@ -22,9 +22,17 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from mechlib.core.rotation import cross
+from mechlib.elements.hydraulics.laws import chamber_rates, pack, piston_force, stop_force
 from mechlib.elements.hydraulics.orifice import floored, spool_flows
 from mechlib.elements.hydraulics.parameters import Controller, Cylinder, JetPipe, ServoValve, Supply
 from mechlib.elements.hydraulics.stages import controller_current, jet_pipe_rates, valve_rates
+from mechlib.elements.hydraulics.valve_states import (
+    N_VALVE,
+    advance_valve,
+    chamber_wrench,
+    stroke_line,
+)
+from mechlib.elements.hydraulics.valve_states import valve_rates as compiled_valve_rates
 from mechlib.kinematics.view import StateView
 
 __all__ = ["FIDELITIES", "LAG_DAMPING", "ServoActuator"]
@@ -74,10 +82,21 @@ class ServoActuator:
     _geometry: tuple = field(default=(), repr=False)
     _design_length: float = field(default=math.nan, init=False, repr=False)
     _seen: tuple | None = field(default=None, init=False, repr=False)  # (view, x, x')
+    _params: np.ndarray = field(default_factory=lambda: np.zeros(0), init=False, repr=False)
 
     def __post_init__(self) -> None:
         if self.fidelity not in FIDELITIES:
             raise ValueError(f"servo actuator {self.name}: fidelity must be one of {FIDELITIES}")
+        self._pack()
+
+    def _pack(self) -> None:
+        """The parameters as the laws' kernels take them (mechlib.elements.hydraulics.laws)."""
+        self._params = pack(self.cylinder, self.supply, self.valve, self.controller)
+
+    @property
+    def compiled_states(self) -> bool:
+        """The states advance in one compiled call (`advance_trial`): the `valve` fidelity."""
+        return self.fidelity == "valve"
 
     @property
     def n_states(self) -> int:
@@ -121,6 +140,7 @@ class ServoActuator:
         (b1, at1), (b2, at2) = self.points
         self._geometry = (*system.body_point(b1, at1), *system.body_point(b2, at2))
         self._design_length = float(np.linalg.norm(np.subtract(at1, at2)))
+        self._pack()
         self._lag_gain = self.velocity_gain or self.loop_gain()
         self._lag_stiffness = self.lag_stiffness or self.cylinder.hydraulic_stiffness(0.0)
 
@@ -142,27 +162,35 @@ class ServoActuator:
     def _line(self, view: StateView) -> tuple[float, float, np.ndarray]:
         """(stroke x (m), stroke rate x' (m/s), unit vector from point 2 to point 1)."""
         b1, s1, b2, s2 = self._geometry
-        d = view.point_position(b1, s1) - view.point_position(b2, s2)
-        length = float(np.linalg.norm(d))
-        u = d / length if length > 0.0 else np.zeros(3)
-        rate = float(u @ (view.point_velocity(b1, s1) - view.point_velocity(b2, s2)))
-        return length - self._design_length, rate, u
+        line = np.empty(5)
+        stroke_line(view.kin.x, view.kin.xd, b1, s1, b2, s2, self._design_length, line)
+        return float(line[0]), float(line[1]), line[2:5]
 
     def _stop_force(self, x: float, xd: float) -> float:
-        """End stops (N, extending positive): one-sided spring-damper beyond the stroke
-        limits, pushing back only (no pull from the damper on the way out)."""
-        c, (lo, hi) = self.cylinder, self.cylinder.stroke
-        if x < lo:
-            return max(c.stop_stiffness * (lo - x) - c.stop_damping * xd, 0.0)
-        if x > hi:
-            return min(-c.stop_stiffness * (x - hi) - c.stop_damping * xd, 0.0)
-        return 0.0
+        """End stops (N, extending positive): laws.stop_force."""
+        return stop_force(self._params, x, xd)
 
     # ---- states -----------------------------------------------------------------------
-    def state_rates(self, view: StateView, z) -> list[float]:
-        if self._seen is None or self._seen[0] is not view:  # one line per Newton iterate
+    def _stroke(self, view: StateView) -> tuple[float, float]:
+        """(x (m), x' (m/s)) at `view`, found once per view (one line per Newton iterate)."""
+        if self._seen is None or self._seen[0] is not view:
             self._seen = (view, *self._line(view)[:2])
-        return self._evaluate(view.t, self._seen[1], self._seen[2], z, view.at_rest)[0]
+        return self._seen[1], self._seen[2]
+
+    def state_rates(self, view: StateView, z) -> list[float] | np.ndarray:
+        x, xd = self._stroke(view)
+        if self.fidelity == "valve":  # the compiled rates: the same laws as `_evaluate`'s
+            out = np.empty(N_VALVE)
+            demand = float(self.command(view.t))
+            compiled_valve_rates(self._params, demand, x, xd, np.asarray(z, dtype=float), out)
+            return out
+        return self._evaluate(view.t, x, xd, z, view.at_rest)[0]
+
+    def advance_trial(self, view: StateView, z0, f0, z: np.ndarray, h: float) -> None:
+        """The `valve` states over a step h (s) from z0 (rates f0) to the iterate `view`:
+        the trapezoidal rule solved in place in z (valve_states.advance_valve)."""
+        x, xd = self._stroke(view)
+        advance_valve(self._params, float(self.command(view.t)), x, xd, z0, f0, h, z)
 
     def _evaluate(
         self, t: float, x: float, xd: float, z, at_rest: bool = False
@@ -214,20 +242,13 @@ class ServoActuator:
 
     def _chamber_rates(self, x, xd, p1, p2, q1, q2) -> list[float]:
         """p1' = beta/V1 (q1 - A1 x' - q_L), p2' = beta/V2 (-q2 + A2 x' + q_L), q_L the
-        leakage C_ip (p1 - p2) across the piston (seed 004 eqs. 6.8-6.12)."""
-        c = self.cylinder
-        v1, v2 = c.volumes(x)
-        leak = c.leakage * (p1 - p2)
-        return [
-            c.bulk_modulus / v1 * (q1 - c.area_1 * xd - leak),
-            c.bulk_modulus / v2 * (-q2 + c.area_2 * xd + leak),
-        ]
+        leakage C_ip (p1 - p2) across the piston (seed 004 eqs. 6.8-6.12; laws.chamber_rates)."""
+        return list(chamber_rates(self._params, x, xd, p1, p2, q1, q2))
 
     def _piston_force(self, x: float, xd: float, p1: float, p2: float) -> float:
-        """p1 A1 - p2 A2 - gamma x' - F_c tanh(x'/v_c) + end stops (N, eq. 6.13)."""
-        c = self.cylinder
-        friction = c.viscous_friction * xd + c.coulomb_friction * math.tanh(xd / c.coulomb_speed)
-        return p1 * c.area_1 - p2 * c.area_2 - friction + self._stop_force(x, xd)
+        """p1 A1 - p2 A2 - gamma x' - F_c tanh(x'/v_c) + end stops (N, eq. 6.13;
+        laws.piston_force)."""
+        return piston_force(self._params, x, xd, p1, p2)
 
     # ---- element interface ------------------------------------------------------------
     def _state(self, view: StateView) -> tuple[dict[str, float], np.ndarray]:
@@ -250,6 +271,11 @@ class ServoActuator:
 
     def apply(self, view: StateView, F: np.ndarray, N: np.ndarray) -> None:
         b1, s1, b2, s2 = self._geometry
+        if self.fidelity != "lag":  # the chambers' piston force, in one compiled call
+            z = view.states(self)
+            kin, length = view.kin, self._design_length
+            chamber_wrench(kin.x, kin.xd, b1, s1, b2, s2, length, self._params, z[-2], z[-1], F, N)
+            return
         actuator, u = self._force(view)
         for body, s, sign in ((b1, s1, 1.0), (b2, s2, -1.0)):
             force = sign * actuator * u

@@ -11,6 +11,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from mechlib.elements.hydraulics.laws import chamber_volumes
+
 __all__ = ["MU_0", "Controller", "Cylinder", "JetPipe", "ServoValve", "Supply", "TorqueMotor"]
 
 BAR = 1.0e5  # Pa
@@ -54,11 +56,10 @@ class Cylinder:
 
     def volumes(self, x: float) -> tuple[float, float]:
         """Chamber volumes (m^3) at stroke x (m), each at least a tenth of its dead volume
-        (an end stop overrun never empties a chamber)."""
+        (an end stop overrun never empties a chamber; laws.chamber_volumes)."""
         lo, hi = self.stroke
-        v1 = self.dead_volume_1 + self.area_1 * (x - lo)
-        v2 = self.dead_volume_2 + self.area_2 * (hi - x)
-        return max(v1, 0.1 * self.dead_volume_1), max(v2, 0.1 * self.dead_volume_2)
+        a1, a2, d1, d2 = self.area_1, self.area_2, self.dead_volume_1, self.dead_volume_2
+        return chamber_volumes(x, lo, hi, a1, a2, d1, d2)
 
     def hydraulic_stiffness(self, x: float) -> float:
         """k_h = beta (A1^2/V1 + A2^2/V2) (N/m): the oil columns with the valve closed."""

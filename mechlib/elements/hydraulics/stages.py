@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 
+from mechlib.elements.hydraulics.laws import saturated_current, spool_acceleration
 from mechlib.elements.hydraulics.parameters import Controller, JetPipe, ServoValve
 
 __all__ = ["controller_current", "jet_pipe_rates", "motor_force", "motor_gain", "valve_rates"]
@@ -20,21 +21,18 @@ _VELOCITY_COEFFICIENT = 0.98
 def controller_current(c: Controller, error: float, integral: float) -> tuple[float, float]:
     """(current i (A), d(integral)/dt (m)): i = sat(kp e + ki I, +-limit); anti-windup by
     conditional integration: I stands still while the demand is beyond the limit and the
-    error would drive it further (Astrom & Hagglund, PID controllers, 1995, sec. 3.5)."""
-    demand = c.kp * error + c.ki * integral
-    current = min(max(demand, -c.current_limit), c.current_limit)
-    winding = current != demand and error * demand > 0.0
-    return current, 0.0 if winding or c.ki == 0.0 else error
+    error would drive it further (Astrom & Hagglund, PID controllers, 1995, sec. 3.5;
+    laws.saturated_current)."""
+    return saturated_current(c.kp, c.ki, c.current_limit, error, integral)
 
 
 def valve_rates(v: ServoValve, current: float, z) -> tuple[list[float], float]:
     """Spool of a servovalve as a second-order transfer function of the current:
     x'' + 2 zeta w x' + w^2 x = w^2 i / i_R, x the opening normalised by its rated value.
-    z = [x, x'] -> ([x', x''], x)."""
-    w = 2.0 * math.pi * v.frequency
+    z = [x, x'] -> ([x', x''], x) (laws.spool_acceleration)."""
     x, xd = z[0], z[1]
-    xdd = w * w * (current / v.rated_current - x) - 2.0 * v.damping * w * xd
-    return [xd, xdd], x
+    w = 2.0 * math.pi * v.frequency
+    return [xd, spool_acceleration(w, v.damping, current / v.rated_current, x, xd)], x
 
 
 def motor_gain(j: JetPipe, v: ServoValve) -> float:

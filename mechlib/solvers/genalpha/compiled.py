@@ -1,12 +1,13 @@
 """Generalized-alpha's Newton loop and state correction as compiled kernels.
 
-For a rigid system with no element states whose active force elements all have a compiled
-form (mechlib.elements.compiled_forces: springs, torsion springs, rotational dampers, the
-friction of sliding revolute and cylindrical joints; or none: the bench models, a free
-deployment phase), everything a Newton iteration of
+For a rigid system with no element states but the packed elements', whose active force
+elements all have a compiled form (the one packer: mechlib.elements.compiled_forces:
+springs, torsion springs, rotational dampers, the friction of sliding revolute and
+cylindrical joints, `valve` servo-actuators with their states; or none: the bench models, a
+free deployment phase), everything a Newton iteration of
 `mechlib.solvers.genalpha.integrator.Integrator.step` does between two factorisations -- state
-arrays,
-constraint residual and Jacobian (mechlib.kinematics.constraint_arrays), mass times acceleration,
+arrays, the element states' advance over the step (ElementStates.advance), constraint
+residual and Jacobian (mechlib.kinematics.constraint_arrays), mass times acceleration,
 gravity, velocity terms and the elements' loads, the solve with the iteration matrix's LU factors
 (mechlib.linalg.flat_lu: dense or band LAPACK, or SuperLU's L and U), the correction and the
 convergence test -- runs in one numba call, and so does the three-level correction of the
@@ -21,14 +22,14 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
-from mechlib.elements.compiled_forces import any_elements, element_wrenches
+from mechlib.elements.compiled_forces import advance_states, any_elements, element_wrenches
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
 from mechlib.linalg.flat_lu import lu_solve, lu_solve_into
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
 
-__all__ = ["CONVERGED", "STALLED", "newton"]
+__all__ = ["CONVERGED", "STALLED", "loaded_newton", "newton"]
 
 CONVERGED, STALLED = 1, 2
 
@@ -41,9 +42,10 @@ def _residual_work(nq):
 
 
 @njit(**KERNEL)
-def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, elements, work, out):
+def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, z, elements, work, out):
     """out[:nq] = M qdd + phi_q^T lam - Q (gravity, velocity terms and the loads of the
-    packed `elements`, mechlib.elements.compiled_forces); work: `_residual_work`'s arrays."""
+    packed `elements` at element states z, mechlib.elements.compiled_forces); work:
+    `_residual_work`'s arrays."""
     nq = qdd.shape[0]
     nb = nq // 7
     gravity, masses, pscale, inertia = ca.body_terms(body, nb)
@@ -51,7 +53,7 @@ def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, elements,
     m_qdd, forces, reactions = products[0], products[1], products[2]
     kr.mass_times(x, masses, inertia, pscale, qdd, m_qdd)
     if any_elements(elements):
-        element_wrenches(x, xd, elements, rows, active, lam, loads[0], loads[1])
+        element_wrenches(x, xd, z, elements, rows, active, lam, loads[0], loads[1])
     kr.body_forces(x, xd, masses, inertia, gravity, loads[0], loads[1], True, forces)
     ca.transpose_times(rows, active, row_bodies, lam, reactions)
     for j in range(nq):
@@ -63,15 +65,31 @@ def newton(
     q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
     it, prev, eta, qdd, a, true, elements,
 ):  # fmt: skip
+    """`loaded_newton` for a system without element states (`elements`: its packed force
+    elements, mechlib.elements.compiled_forces)."""
+    none = np.zeros(0)
+    return loaded_newton(
+        q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
+        it, prev, eta, qdd, a, true, 0.0, none, none, none, elements,
+    )  # fmt: skip
+
+
+@njit(**KERNEL)
+def loaded_newton(
+    q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
+    it, prev, eta, qdd, a, true, h, z0, f0, z, elements,
+):  # fmt: skip
     """Newton iterations on (q1, qd1, qdd1, lam1), in place, with fixed LU factors (fi, ff)
     from iteration `it` with the last increment size `prev` and rate estimate `eta`, as
     mechlib.solvers.genalpha.integrator.Integrator.step does them, by the same rules
-    (mechlib.solvers.genalpha.rules); params: (beta', gamma', tolerance, alpha_m, alpha_f);
-    `elements`: the packed force elements (mechlib.elements.compiled_forces).
+    (mechlib.solvers.genalpha.rules); params: (beta', gamma', tolerance, alpha_m, alpha_f).
     Stops on convergence (CONVERGED: `true` then holds the state's (qd, qdd, lam) on all
     three constraint levels and the new pseudo-acceleration a from the step's start values
     (qdd, a), stacked) or when the increments stop shrinking fast enough or the
-    iterations run out (STALLED: the caller refactors or gives up). Returns
+    iterations run out (STALLED: the caller refactors or gives up). At each iterate the
+    element states z (in place) advance over the step h (s) from z0 (rates f0), and the
+    packed force elements (`elements`: CompiledForces.args, mechlib.elements.compiled_forces)
+    load the bodies. Returns
     (status, it, prev, eta, iterations done)."""
     bp, gp, tol = params[0], params[1], params[2]
     nq, m = q1.shape[0], lam1.shape[0]
@@ -86,8 +104,12 @@ def newton(
     done = 0
     while True:
         ca.state_into(q1, qd1, x, xd)
+        if z.shape[0]:
+            advance_states(x, xd, z0, f0, h, elements, z)
         active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
-        _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, elements, work, res)
+        _dynamic_residual(
+            x, xd, qdd1, lam1, rows, active, row_bodies, body, z, elements, work, res
+        )  # fmt: skip
         for j in range(nq):
             res[j] = -res[j] / bp
         for i in range(m):
@@ -103,7 +125,7 @@ def newton(
         if rules.converged(eta, size, noise):
             _true_acceleration(
                 q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body,
-                elements, work, fi, ff, true,
+                z, elements, work, fi, ff, true,
             )  # fmt: skip
             am, af = params[3], params[4]
             for j in range(nq):
@@ -116,8 +138,8 @@ def newton(
 
 @njit(**KERNEL)
 def _true_acceleration(
-    q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, elements, work,
-    fi, ff, out,
+    q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, z, elements,
+    work, fi, ff, out,
 ):  # fmt: skip
     """(qd, qdd, lam) on all three constraint levels, stacked into `out`, by two
     corrections with the iteration matrix
@@ -137,7 +159,7 @@ def _true_acceleration(
     qd = qd1 + fix[:nq]
     x, xd = ca.state_arrays(q1, qd, nb)
     ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
-    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, elements, work, rhs)
+    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, z, elements, work, rhs)
     ca.times(rows, active, row_bodies, qdd1, product)
     for i in range(m):
         rhs[nq + i] = product[i] - gamma[i]

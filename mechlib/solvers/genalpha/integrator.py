@@ -32,7 +32,7 @@ from mechlib.linalg.factor import factor_saddle, singular_failure, solve_factore
 from mechlib.linalg.flat_lu import factor_data, factors
 from mechlib.model.analysis import Dynamic
 from mechlib.solvers.genalpha import rules
-from mechlib.solvers.genalpha.compiled import CONVERGED, newton
+from mechlib.solvers.genalpha.compiled import CONVERGED, loaded_newton
 from mechlib.solvers.genalpha.kernels import Scales, correct, error_norm, predict
 from mechlib.system.fd_columns import ColumnSkips
 from mechlib.system.reaction_loads import reaction_coupling
@@ -78,30 +78,21 @@ class Integrator:
         self.eta = 1.0
         self.singular: SolverFailure | None = None  # the last singular iteration matrix
         self.scales: Scales | None = None  # set by the stepper from its first state
-        # the compiled Newton loop (mechlib.solvers.genalpha.compiled) serves steps with no active
-        # element: nothing of theirs to evaluate in Python between two iterations (the
-        # kernels are compiled by now: the model checks before solving called them)
-        python = system.states or spec.compiled == "python"
+        # the compiled Newton loop (mechlib.solvers.genalpha.compiled) serves steps whose
+        # active elements are all packed (mechlib.elements.compiled_forces, with the valve
+        # actuators' states): nothing of theirs to evaluate in Python between two
+        # iterations (the kernels are compiled by now: the model checks called them)
+        python = spec.compiled == "python"
         self.arrays = None if python else system.packed_constraints()
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
-        self._packed: tuple = ((), None)  # (the elements' switches, their CompiledForces)
 
-    def elements(self) -> CompiledForces | None:
+    def elements(self, t: float | None = None) -> CompiledForces | None:
         """The active force elements packed for the compiled kernels
-        (mechlib.elements.compiled_forces), their moving values refreshed; None where one
-        has no compiled form. Packed anew only when an element is switched, sticks or is
-        locked, or the active equations change."""
-        system = self.system
-        switches = (
-            (e.active, getattr(e, "stuck", False), getattr(e, "locked", False))
-            for e in system.elements
-        )
-        key = (id(getattr(system, "active", None)), *switches)
-        if key != self._packed[0]:
-            self._packed = (key, CompiledForces.of(system))
-        packed = self._packed[1]
+        (System.compiled_forces), their moving values refreshed (the actuators' demands at
+        t, s, when given); None where one has no compiled form."""
+        packed = self.system.compiled_forces()
         if packed is not None:
-            packed.refresh(system)
+            packed.refresh(self.system, t)
         return packed
 
     def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):
@@ -177,7 +168,7 @@ class Integrator:
 
     def step(self, t, h, q, qd, qdd, a, lam):
         """One step; returns the new state or None when Newton does not converge."""
-        elements = self.elements() if self.arrays is not None else None
+        elements = None if self.arrays is None else self.elements(t + h)
         if elements is not None:
             return self._compiled_step(t, h, q, qd, qdd, a, lam, elements)
         c, sys = self.c, self.system
@@ -258,7 +249,7 @@ class Integrator:
         """`step` with the Newton iterations between factorisations and the three-level
         correction compiled (mechlib.solvers.genalpha.compiled): the same iteration, decisions and
         results (to round-off) for a system whose active elements are all `elements`."""
-        c, sys, arrays = self.c, self.system, self.arrays
+        c, sys, arrays, states = self.c, self.system, self.arrays, self.system.states
         assert arrays is not None and self.scales is not None, "checked by step; set by init"
         bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
         rebuild = fresh or rules.refactors(h, self.lu_h)
@@ -269,19 +260,24 @@ class Integrator:
         params = np.array([bp, gp, scales.tol, c.alpha_m, c.alpha_f])
         nq = sys.nq
         true = np.empty(3 * nq + lam1.shape[0])  # qd, qdd, lam on three levels; a
+        states.compiled_step(h)
+        rates = states.z if states.rates_accepted is None else states.rates_accepted
         while True:
             if rebuild:
+                k = sys.kin(q1, qd1, t1)
+                if states:  # the tangent's base at the iterate's states, as in `step`
+                    states.advance(sys.view(k), h)
                 try:
-                    self._iteration_matrix(sys.kin(q1, qd1, t1), h, fresh, lam1)
+                    self._iteration_matrix(k, h, fresh, lam1)
                 except SolverFailure as failure:  # singular here: reject, try a smaller step
                     self.singular = failure
                     break
                 refreshed = refreshed or fresh or not self.stiff
                 rebuild, prev = False, math.inf
-            status, it, prev, eta, done = newton(
+            status, it, prev, eta, done = loaded_newton(
                 q1, qd1, qdd1, lam1, ints, floats, functions, refs, arrays.bodies(),
                 *self._factor_data(), scales.q_abs, scales.a_ref, params, it, prev, eta, qdd, a,
-                true, elements.args,
+                true, h, states.z, rates, states.trial, elements.args,
             )  # fmt: skip
             self.stats.newton_iterations += done
             if status == CONVERGED:

@@ -419,8 +419,8 @@ def _differenced(q1, qd1, lam, ints, floats, functions, refs, body, elements, co
     nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
     full, rows = np.empty(nall), np.zeros((nall, nq + 7))
     active, _ = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)
-    element_tangent(q1, qd1, elements, columns, masses, inertia, rows, active, lam, tangent[0],
-                    tangent[1])  # fmt: skip
+    element_tangent(q1, qd1, _NO_STATES, elements, columns, masses, inertia, rows, active, lam,
+                    tangent[0], tangent[1])  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -512,7 +512,7 @@ def _restart(
     gravity, masses, _, inertia = ca.body_terms(body, nb)
     F, N = np.zeros((nb + 1, 3)), np.zeros((nb + 1, 3))
     if any_elements(elements):
-        element_wrenches(x, xd, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, F, N)
+        element_wrenches(x, xd, _NO_STATES, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, F, N)
     kr.body_forces(x, xd, masses, inertia, gravity, F, N, True, rhs[:nq])
     nu = np.empty(m)
     ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, rhs[nq:])
@@ -525,6 +525,7 @@ def _restart(
 
 
 _NO_BLOCK, _NO_ACTIVE, _NO_LAM = np.zeros((0, 0)), np.zeros(0, np.int64), np.zeros(0)
+_NO_STATES = np.zeros(0)  # a run's system has no element states (`eligible`)
 
 
 @njit(**KERNEL)

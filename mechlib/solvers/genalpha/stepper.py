@@ -182,9 +182,8 @@ class GeneralizedAlphaStepper(DenseStepper):
         )
         return state
 
-    def accept(self, state: State) -> State:
-        """Settle, then stick or free joint frictions there (a switch restarts)."""
-        self.settle(state)
+    def switch(self, state: State) -> State:
+        """Stick or free joint frictions at the settled `state` (a switch restarts)."""
         return self.restart(state) if self._switched(_alpha(state)) else state
 
     def dense_row(self, start: State, end: State, t: float, states) -> State:
@@ -192,6 +191,12 @@ class GeneralizedAlphaStepper(DenseStepper):
         (q, qd, qdd) (`end`'s own at its time), projected (mechlib.solvers.dense): every row's
         accelerations and reactions are those of the equations of motion at its state."""
         return self.rows.row(start, end, t, states)
+
+    def dense_block(self, start: State, end: State, times: np.ndarray, z0):
+        """The rows at `times` within start -> end from one compiled call where the system
+        allows it (mechlib.solvers.dense.HermiteRows.block), else None."""
+        z1 = self.system.states.z if self.system.states else None
+        return self.rows.block(start, end, times, z0, z1)
 
     def _switched(self, s: _AlphaState) -> bool:
         if not self.sticking:
@@ -212,7 +217,8 @@ class GeneralizedAlphaStepper(DenseStepper):
 
     def _stop_slips(self, s: _AlphaState, new: _AlphaState) -> _AlphaState:
         """`new`, or the state at the first instant within the step where a sliding joint
-        friction stops (its slip rate passes through zero: it may stick there)."""
+        friction stops (its slip rate passes through zero: it may stick there) or a held
+        one's effort passes its capacity (it lets go there)."""
         sys = self.system
         if not self.sticking:
             return new

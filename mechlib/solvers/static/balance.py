@@ -126,13 +126,18 @@ class Balance:
         w[: self.system.nq] = self.scale
         return float(np.linalg.norm(res / w))
 
-    def converged(self, res: np.ndarray, step: np.ndarray, tol: float) -> bool:
-        """Forces below tol * scale, constraints below tol, position step below 1e-8."""
+    def balanced(self, res: np.ndarray, tol: float) -> bool:
+        """Forces below tol * scale and constraints below tol."""
         nq = self.system.nq
         return bool(
             np.abs(res[:nq]).max(initial=0) < tol * self.scale
             and np.abs(res[nq:]).max(initial=0) < tol
-            and np.abs(step[:nq]).max(initial=0) < 1e-8
+        )
+
+    def converged(self, res: np.ndarray, step: np.ndarray, tol: float) -> bool:
+        """Balanced (above) and the position step below 1e-8."""
+        return self.balanced(res, tol) and bool(
+            np.abs(step[: self.system.nq]).max(initial=0) < 1e-8
         )
 
 

@@ -185,6 +185,7 @@ def _newton(
     res, jac = balance.residual(q, lam)
     tangent, fresh = reused or Tangent(), 0
     resume = _Abandoned(q, lam, taken)
+    unsettled = None  # the last step taken from a balanced iterate without settling
     for iteration in range(taken + 1, _MAX_NEWTON + 1):
         stats.newton_iterations += 1
         moved = None
@@ -197,6 +198,8 @@ def _newton(
                 break
             moved = _fresh_step(balance, tangent, q, lam, res, jac)
         assert moved is not None, "a fresh step always moves"
+        if balance.balanced(res, tol):
+            unsettled = moved[4]
         q, lam, res, jac, step = moved
         if balance.converged(res, step, tol):
             return _polished(balance, tangent, q, lam, res, jac) if reused else (q, lam)
@@ -204,6 +207,8 @@ def _newton(
             resume = _Abandoned(q, lam, iteration)
     if reused is not None:
         raise resume
+    if unsettled is not None:
+        raise _unsettled(balance, unsettled)
     raise _no_equilibrium(balance, res)
 
 
@@ -219,5 +224,27 @@ def _no_equilibrium(balance: Balance, res: np.ndarray) -> SolverFailure:
         "hold, or an unloaded free degree of freedom)",
         time=t,
         where=where,
+        status=Status.NEWTON_FAILED,
+    )
+
+
+def _unsettled(balance: Balance, step: np.ndarray) -> SolverFailure:
+    """The failure of a Newton that reached an iterate whose forces balance but whose
+    position step from it, `step`, stayed above the 1e-8 test: a direction held by a
+    stiffness too small for the forward-difference tangent to resolve (about 1e-9 of its
+    largest entry), along which each step is noise."""
+    system, t = balance.system, balance.t
+    frames = np.abs(step[: system.per_body * system.nb])  # the bodies' frames, not modes
+    worst = int(np.argmax(frames))
+    name = system.body_names[worst // system.per_body]
+    return SolverFailure(
+        f"static equilibrium did not settle at t = {t:.6g} s: the forces and constraints "
+        f"came to balance within the tolerance, but the position steps stayed at "
+        f"{float(frames[worst]):.3g} (above 1e-8) on body '{name}': a direction held "
+        "by a stiffness too small for the tangent (forward differences) to resolve against "
+        "the model's stiffest ones (a soft hold of a free motion): stiffen that hold, or "
+        "hold the motion with a joint",
+        time=t,
+        where=(name,),
         status=Status.NEWTON_FAILED,
     )

@@ -1,0 +1,101 @@
+"""The accuracy companion of a dynamic run: a run of steps twice as long, and the factor
+that turns the difference of the two into the run's error (Richardson).
+
+The companion takes every step twice as long as the run: tolerance x 2^(p+1) (the local
+error goes as h^(p+1)), largest step and output interval x 2. For a method of order p its
+error is 2^p times the run's, so the run's is the difference / (2^p - 1)
+(generalized-alpha: p = 2, the difference / 3).
+
+Its rows are thinned: with dense output a row costs about half a step (its projection onto
+the constraints and its reactions: the bench slider-crank's 1001 rows are 2/3 of its run),
+and the run's rows may far outnumber the companion's steps. The companion's output interval
+is doubled further until its rows are at most its expected steps (the run's accepted steps
+/ 2): the difference of the two runs varies no faster than the motion the companion's
+steps resolve, so a row per step samples it. Its rows still fall on the run's own output
+times (every k-th), where the two are compared; the continuous peaks (the parabola's
+vertex through a crest's rows, loadcases.run.peak_error) are found on the thinner rows as
+on the run's. Measured on the estimate/true table (benchmarks/error_table.py) the ratios
+stay within a few per cent of those with every second row, and the companion of the bench
+slider-crank costs 0.31 of its run instead of 0.52 (docs/performance.md).
+
+Steps four times as long would cost half as much again, but are outside Richardson's
+asymptotic range on the IFToMM A01 pendulum: its error grows 8.3 times from tolerance 1e-6 to
+8e-6 and 35 times from 8e-6 to 6.4e-5 (0.32 rad), and the estimate read 16-22 times the
+true error; not used.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import mechlib as ml
+
+__all__ = [
+    "STEP_RATIO",
+    "coarser",
+    "divisor",
+    "finer",
+    "largest_step",
+    "order",
+    "sparser",
+]
+
+STEP_RATIO = 2  # the companion's steps over the run's
+_ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)
+
+
+def order(integrator: str) -> int:
+    """The global order p assumed for `integrator`."""
+    return _ORDER.get(integrator, 2)
+
+
+def _local_factor(integrator: str, ratio: float) -> float:
+    """Tolerance factor that makes the steps `ratio` times as long: the local error goes
+    as h^(p+1)."""
+    return float(ratio) ** (order(integrator) + 1)
+
+
+def largest_step(analysis: ml.Dynamic) -> float:
+    """The largest step the analysis sets (s); with dense output and no max_step, 0: its
+    default, the mechanism's natural time, bounds the steps (mechlib.solvers.dense), the
+    same in the companion and finer runs (the run's own value: `Solution.max_step`)."""
+    if analysis.dense:
+        return analysis.max_step or 0.0
+    return min(analysis.max_step or analysis.step, analysis.step)
+
+
+def coarser(analysis: ml.Dynamic) -> ml.Dynamic:
+    """The companion: every step `STEP_RATIO` times as long (output interval too)."""
+    return dataclasses.replace(
+        analysis,
+        tolerance=analysis.tolerance * _local_factor(analysis.integrator, STEP_RATIO),
+        max_step=STEP_RATIO * largest_step(analysis) or None,
+        step=STEP_RATIO * analysis.step,
+    )
+
+
+def sparser(companion: ml.Dynamic, run: ml.Solution) -> ml.Dynamic:
+    """The companion with dense output and its output interval doubled until its rows are
+    at most its expected steps (the run's accepted steps / STEP_RATIO); with steps ending
+    on the outputs (`output: steps`) the interval bounds the steps: unchanged."""
+    if not companion.dense or len(run.time) < 2:
+        return companion
+    steps = max(run.stats.steps / STEP_RATIO, 1.0)
+    rows = (len(run.time) - 1) / STEP_RATIO
+    doublings = max(0, math.ceil(math.log2(rows / steps))) if rows > steps else 0
+    return dataclasses.replace(companion, step=companion.step * 2**doublings)
+
+
+def finer(analysis: ml.Dynamic) -> ml.Dynamic:
+    """Every step half as long; the output interval unchanged."""
+    return dataclasses.replace(
+        analysis,
+        tolerance=analysis.tolerance / _local_factor(analysis.integrator, 2),
+        max_step=0.5 * largest_step(analysis) or None,
+    )
+
+
+def divisor(integrator: str, ratio: float = STEP_RATIO) -> float:
+    """Richardson's r^p - 1 for a companion of steps `ratio` times as long."""
+    return float(ratio) ** order(integrator) - 1.0
