@@ -37,7 +37,12 @@ from mechlib.elements import friction_kernel
 from mechlib.elements.damper import RotationalDamper
 from mechlib.elements.forces import Spring, TorsionSpring
 from mechlib.elements.friction import JointFriction
-from mechlib.elements.groups import springs_wrench, torsion_springs_wrench
+from mechlib.elements.groups import (
+    spring_rows,
+    springs_wrench,
+    torsion_rows,
+    torsion_springs_wrench,
+)
 from mechlib.elements.hydraulics.actuator import ServoActuator
 from mechlib.elements.hydraulics.valve_group import (
     VALVE_FLOATS,
@@ -80,23 +85,14 @@ class CompiledForces:
         self.frictions, self.actuators = frictions, list(actuators)
         self.reactions = any(f.mu != 0.0 for f in frictions)
         position = {id(m): j for j, m in enumerate(system.angle_measures)}
-        bodies: set[int] = set()
-        spring_i, spring_f = [], []
-        for s in springs:  # groups.SpringGroup's layout
-            b1, s1, b2, s2, stiffness, damping, free_length, preload, slack = s._compiled
-            spring_i.append([b1, b2, int(slack)])
-            spring_f.append([*s1, *s2, stiffness, damping, free_length, preload])
-            bodies |= {b1, b2}
-        torsion_i, torsion_f, refs = [], [], []
-        for e in torsions:  # groups.TorsionSpringGroup's layout
-            m = e._m
-            constants = (
-                e.linear_constants if isinstance(e, TorsionSpring) else (0.0, e.damping, 0.0, 0.0)
-            )
-            torsion_i.append([m.bi, m.bj])
-            torsion_f.append([*m.f, *m.g, *m.axis_local, *constants])
-            refs.append(position[id(m)])
-            bodies |= {m.bi, m.bj}
+        spring_i, spring_f = spring_rows(springs)
+        constants = [  # a damper: a torsion spring of no stiffness
+            e.linear_constants if isinstance(e, TorsionSpring) else (0.0, e.damping, 0.0, 0.0)
+            for e in torsions
+        ]
+        torsion_i, torsion_f = torsion_rows(torsions, constants)
+        refs = [position[id(e._m)] for e in torsions]
+        bodies = {int(b) for b in (*spring_i[:, :2].ravel(), *torsion_i.ravel())}
         fric_i = np.zeros((len(frictions), _F_INTS), dtype=np.int64)
         fric_f, fric_v = [], []
         for i, f in enumerate(frictions):
@@ -121,10 +117,10 @@ class CompiledForces:
             [7 * b + c for b in sorted(bodies) if b < nb for c in range(7)], dtype=np.int64
         )
         self.args = (
-            np.array(spring_i, dtype=np.int64).reshape(-1, 3),
-            np.array(spring_f, dtype=float).reshape(-1, 10),
-            np.array(torsion_i, dtype=np.int64).reshape(-1, 2),
-            np.array(torsion_f, dtype=float).reshape(-1, 13),
+            spring_i,
+            spring_f,
+            torsion_i,
+            torsion_f,
             np.array([system.angle_measures[j].reference for j in refs[: len(torsions)]]),
             fric_i,
             np.array(fric_f, dtype=float).reshape(-1, friction_kernel.FLOATS),
