@@ -11,9 +11,12 @@ flexible models, each at a bench tolerance and against a tight run of its own.
   40 kHz), the crank driven at 150 rad/s from its design position (along +y, 90 deg
   from the slider's line), for 0.1 s. Compared: the slider's x.
 
-Error = max |y - y_ref| over the output times / the reference's range. No Exudyn side yet
-(its ObjectFFRFreducedOrder takes 3-DOF nodes: the beams' rotations would have to be
-condensed first). Run: `.venv/bin/python -m benchmarks.flexible [--json FILE]`. SI units.
+Error = max |y - y_ref| over the output times / the reference's range. The Exudyn sides of
+the unstiffened Kane beam and of the slider-crank are `benchmarks.flexible_exudyn` and
+`benchmarks.flexible_exudyn_crank` (ObjectFFRFreducedOrder given these modes and inertia
+invariants; no geometric stiffening there), compared at equal accuracy by
+`benchmarks.flexible_compare` in `loads bench --kinds`.
+Run: `.venv/bin/python -m benchmarks.flexible [--json FILE]`. SI units.
 """
 
 from __future__ import annotations
@@ -31,8 +34,20 @@ import numpy as np
 import mechlib
 from mechlib.flexible.beam import Material, Section, assemble_beams
 from mechlib.flexible.craig_bampton import craig_bampton
+from mechlib.flexible.fe_model import FEModel
 
-__all__ = ["SpinUp", "flexible_slider_crank", "main", "spin_up_beam"]
+__all__ = [
+    "CRANK_PIN",
+    "CRANK_SPEED",
+    "ROD_MODES",
+    "SLIDER_PIN",
+    "SpinUp",
+    "flexible_slider_crank",
+    "kane_beam",
+    "main",
+    "slider_crank_rod",
+    "spin_up_beam",
+]
 
 RESULTS = Path(__file__).parent / "results" / "flexible.json"
 BENCH_TOLERANCE, TIGHT_TOLERANCE = 1e-5, 1e-8
@@ -79,16 +94,28 @@ class Drive:
         return 0.0
 
 
-def spin_up_beam(stiffening: bool) -> mechlib.Mechanism:
-    """Kane's beam on its hub (revolute about z at the root, driven by `SpinUp`)."""
-    length, elements = 10.0, 6
-    xyz = np.outer(np.linspace(0.0, length, elements + 1), [1.0, 0.0, 0.0])
+KANE_LENGTH, KANE_ELEMENTS, KANE_MODES = 10.0, 6, 4  # m, beam elements, Craig-Bampton modes
+
+
+def kane_beam() -> FEModel:
+    """Kane's beam as an FE model: 10 m, E I = 1.4e4 N m^2, rho A = 1.2 kg/m, 6 elements,
+    root node 0 the interface."""
+    xyz = np.outer(np.linspace(0.0, KANE_LENGTH, KANE_ELEMENTS + 1), [1.0, 0.0, 0.0])
     section = Section(4e-4, 2e-7, 2e-7, 4e-7, None, None)
     aluminium = Material(7e10, 0.3, 3000.0)
-    beams = [(i, i + 1, section, aluminium, (0.0, 1.0, 0.0)) for i in range(elements)]
-    model = assemble_beams(xyz, beams, interface=(0,))
+    beams = [(i, i + 1, section, aluminium, (0.0, 1.0, 0.0)) for i in range(KANE_ELEMENTS)]
+    return assemble_beams(xyz, beams, interface=(0,))
+
+
+def spin_up_beam(stiffening: bool) -> mechlib.Mechanism:
+    """Kane's beam on its hub (revolute about z at the root, driven by `SpinUp`)."""
+    length, elements = KANE_LENGTH, KANE_ELEMENTS
     comp = craig_bampton(
-        model, damping=0.0, fixed_interface_modes=4, keep_nodes=(elements,), stiffening=stiffening
+        kane_beam(),
+        damping=0.0,
+        fixed_interface_modes=KANE_MODES,
+        keep_nodes=(elements,),
+        stiffening=stiffening,
     )
     m = mechlib.Mechanism(name="spin-up-beam")
     m.add_flexible_body("beam", comp)
@@ -98,16 +125,29 @@ def spin_up_beam(stiffening: bool) -> mechlib.Mechanism:
     return m
 
 
+CRANK, ROD, ROD_ELEMENTS = 0.15, 0.30, 20  # m, m, beam elements of the flexible rod
+CRANK_PIN = np.array([0.0, CRANK, 0.0])  # m, the rod's end on the crank at t = 0
+SLIDER_PIN = np.array([math.sqrt(ROD**2 - CRANK**2), 0.0, 0.0])  # m, its end on the slider
+CRANK_SPEED = 150.0  # rad/s
+ROD_MODES = 34  # Craig-Bampton modes of the rod, held at both ends
+
+
+def slider_crank_rod() -> FEModel:
+    """The flexible rod's FE model: steel, 8 x 8 mm, 20 beam elements from CRANK_PIN
+    (node 0) to SLIDER_PIN (node 20), both interface nodes."""
+    a, b = CRANK_PIN, SLIDER_PIN
+    xyz = a + np.outer(np.linspace(0.0, 1.0, ROD_ELEMENTS + 1), b - a)
+    steel, section = Material(2e11, 0.3, 7870.0), Section.rectangle(0.008, 0.008, False)
+    beams = [(i, i + 1, section, steel, (0, 0, 1)) for i in range(ROD_ELEMENTS)]
+    return assemble_beams(xyz, beams, interface=(0, ROD_ELEMENTS))
+
+
 def flexible_slider_crank() -> mechlib.Mechanism:
     """The slider-crank with a flexible rod (module docstring)."""
-    crank, rod, elements = 0.15, 0.30, 20
-    xs = math.sqrt(rod**2 - crank**2)
-    a, b = np.array([0.0, crank, 0.0]), np.array([xs, 0.0, 0.0])
-    xyz = a + np.outer(np.linspace(0.0, 1.0, elements + 1), b - a)
-    steel, section = Material(2e11, 0.3, 7870.0), Section.rectangle(0.008, 0.008, False)
-    beams = [(i, i + 1, section, steel, (0, 0, 1)) for i in range(elements)]
-    model = assemble_beams(xyz, beams, interface=(0, elements))
-    comp = craig_bampton(model, modes=34, fixed_interface_modes=34, damping=0.0)
+    crank, a, b = CRANK, CRANK_PIN, SLIDER_PIN
+    comp = craig_bampton(
+        slider_crank_rod(), modes=ROD_MODES, fixed_interface_modes=ROD_MODES, damping=0.0
+    )
     m = mechlib.Mechanism(name="flexible-slider-crank")
     m.add_body("crank", mass=0.38, cm=(0.0, crank / 2, 0.0), inertia=[7.1e-4, 1e-5, 7.1e-4])
     m.add_flexible_body("rod", comp)
@@ -118,7 +158,7 @@ def flexible_slider_crank() -> mechlib.Mechanism:
         "C", "universal", bodies=("rod", "slider"), at=tuple(b), axes=((0, 0, 1), (0, 1, 0))
     )
     m.add_joint("D", "prismatic", bodies=("slider", "ground"), at=tuple(b), axis=(1, 0, 0))
-    m.add_motion("drive", joint="A", function=Drive(0.0, 150.0))
+    m.add_motion("drive", joint="A", function=Drive(0.0, CRANK_SPEED))
     m.add_point("slider", body="slider", at=tuple(b))
     return m
 

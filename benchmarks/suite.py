@@ -2,7 +2,9 @@
 
 For each model of `benchmarks.models` (slider_crank, chain20, fourbar10, ball_bounce, chain100),
 or with `--kinds` of `benchmarks.kinds` (socket_rattle, flap_latches, fourbar_friction,
-hydraulic_ram: contact, events, springs with friction, hydraulics):
+hydraulic_ram: contact, events, springs with friction, hydraulics; then Kane's unstiffened
+spin-up beam and the flexible slider-crank against Exudyn's ObjectFFRFreducedOrder,
+`benchmarks.flexible_compare`):
 
 1. Reference: Exudyn's solution with a very fine fixed step (`REFERENCE_STEP`, 10x to 100x
    below the step the benchmark ends up using), stored in `benchmarks/reference/<model>.npz`
@@ -677,6 +679,15 @@ def main(argv: list[str] | None = None) -> int:
 
     print()
     print(format_table(rows, args.tol))
+    flexible = None
+    if args.kinds and args.models is None and not args.exudyn_only:
+        from benchmarks.flexible_compare import compare_all, format_rows
+
+        log("")
+        flexible = compare_all(repeat, log)
+        print(format_rows(flexible))
+        if any("ratio_cpu" not in row for row in flexible):
+            exit_code = 1
     if args.json:
         payload = {
             "machine": info,
@@ -693,6 +704,7 @@ def main(argv: list[str] | None = None) -> int:
                 "error": "max_t |y - y_ref| (norm over main columns) / range of y_ref",
             },
             "checks": checks,
+            "flexible": flexible,
             "models": [
                 {
                     **{k: v for k, v in r.items() if k not in ("exudyn", "loads")},

@@ -504,7 +504,9 @@ def bench(
             "--kinds",
             help="Run the suite on the models of other kinds instead: a ball rattling in "
             "its socket, flaps latching by events, a four-bar with springs and friction, a "
-            "hydraulic actuator (benchmarks/kinds/).",
+            "hydraulic actuator (benchmarks/kinds/); then Kane's flexible spin-up beam and a "
+            "flexible slider-crank against Exudyn's reduced FFRF body "
+            "(benchmarks/flexible_compare.py).",
         ),
     ] = False,
 ) -> int:

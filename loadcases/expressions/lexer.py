@@ -10,6 +10,8 @@ import re
 from collections.abc import Iterator
 from dataclasses import dataclass
 
+from loadcases.foundation.number_text import UNSIGNED_NUMBER
+
 from .errors import ExpressionError
 
 __all__ = ["KEYWORDS", "Token", "tokenize"]
@@ -17,8 +19,8 @@ __all__ = ["KEYWORDS", "Token", "tokenize"]
 KEYWORDS = frozenset({"and", "or", "not"})
 
 _TOKEN = re.compile(
-    r"""(?P<space>[ \t\r\n]+)
-      | (?P<num>(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][+-]?[0-9]+)?)
+    rf"""(?P<space>[ \t\r\n]+)
+      | (?P<num>{UNSIGNED_NUMBER})
       | (?P<name>[^\W\d]\w*)
       | (?P<op>\*\*|<=|>=|==|!=|[-+*/^<>(),])""",
     re.VERBOSE,

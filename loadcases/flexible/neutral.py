@@ -50,14 +50,13 @@ def _csr(arrays: Any, name: str) -> sp.csr_matrix:
     if data.dtype.kind not in "fiu":
         kind = "complex numbers" if data.dtype.kind == "c" else f"type {data.dtype}"
         raise ValueError(f"{name}_data: {kind}: expected real numbers")
-    matrix = sp.csr_matrix(
-        (
-            data.astype(float),
-            np.asarray(arrays[f"{name}_indices"]),
-            np.asarray(arrays[f"{name}_indptr"]),
-        ),
-        shape=shape,
-    )
+    indices, indptr = (np.asarray(arrays[f"{name}_{part}"]) for part in ("indices", "indptr"))
+    for part, index in (("indices", indices), ("indptr", indptr)):
+        if index.ndim != 1 or index.dtype.kind not in "iu":  # scipy would cast 2.5 or 2+1j
+            raise ValueError(
+                f"{name}_{part}: expected integers (n,), got {index.dtype} {index.shape}"
+            )
+    matrix = sp.csr_matrix((data.astype(float), indices, indptr), shape=shape)
     matrix.check_format(full_check=True)
     return matrix
 

@@ -24,7 +24,7 @@ from loadcases.flexible.scales import Scales, read_scales, to_si_matrix
 from loadcases.flexible.sources import dmig_source, matrix_market_source, op4_source
 from loadcases.foundation.clip import describe_character, hidden_character, visible
 from loadcases.foundation.diagnostics import Diagnostic
-from loadcases.foundation.limits import MAX_NODE_ID
+from loadcases.foundation.limits import MAX_NODE_DISTANCE, MAX_NODE_ID
 from mechlib.flexible.fe_model import FEModel
 
 __all__ = ["FEImport", "read_fe_model"]
@@ -228,7 +228,8 @@ def _check_nodes(header: Header, raw: RawModel, ids: np.ndarray) -> None:
 
 def _check_si(header: Header, raw: RawModel, arrays: tuple, scales: Scales) -> None:
     """The matrices and coordinates still finite once in SI (units such as `1e300 m`
-    scale finite file values beyond float range)."""
+    scale finite file values beyond float range), and the nodes within MAX_NODE_DISTANCE
+    of the origin."""
     stiffness, mass, coordinates = arrays
     for values, path, what in (
         (stiffness.data, raw.stiffness_file, "the stiffness matrix"),
@@ -241,6 +242,16 @@ def _check_si(header: Header, raw: RawModel, arrays: tuple, scales: Scales) -> N
                 f"{what} of {path.name} overflow once in SI (units {scales.text()}): "
                 "check the units",
             )
+            return
+    far = np.flatnonzero(np.max(np.abs(coordinates), axis=1, initial=0.0) > MAX_NODE_DISTANCE)
+    if far.size:
+        node, distance = int(raw.node_ids[far[0]]), np.max(np.abs(coordinates[far[0]]))
+        header.in_file(
+            raw.files[-1] if raw.files else raw.stiffness_file,
+            f"node {node} is {distance:.3g} m from the origin, "
+            f"beyond {MAX_NODE_DISTANCE:g} m (a mechanism part): check the coordinates and "
+            "the units of the header",
+        )
 
 
 def _check_matrices(header: Header, raw: RawModel, stiffness: object, mass: object) -> None:
@@ -290,6 +301,10 @@ def _check_solvable(header: Header, raw: RawModel, model: FEModel) -> None:
         problem = solvable.interior_problem(model, matrix, what)
         if problem is not None:
             header.in_file(path, problem)
+    if not header.errors:
+        problem = solvable.elastic_mass_problem(model)
+        if problem is not None:
+            header.in_file(raw.mass_file, problem)
 
 
 def _names(header: Header, raw: RawModel, index: dict[int, int]) -> dict[str, int]:

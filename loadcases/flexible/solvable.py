@@ -5,7 +5,9 @@ any of them sees them (`loads flex check`'s free-free modes, the Craig-Bampton r
 - K and M positive definite on the interior DOF (the interface held): the constraint modes
   need K_ii^-1 and the fixed-interface modes the eigenproblem (K_ii, M_ii); a failure names
   the DOF that carries it;
-- mass on the translations, and a translational mass of a mechanism part's scale.
+- mass on the translations, and a translational mass of a mechanism part's scale;
+- M positive definite off the rigid-body motions on the interface-reduced space (the
+  constraint modes' basis): the free-free modes and the reduction's eigenproblem need it.
 
 Each returns why the model fails, or None."""
 
@@ -16,11 +18,14 @@ import scipy.sparse as sp
 
 from loadcases.flexible.checks import negative_pivots
 from loadcases.flexible.summary import mass_properties, rigid_fields, rigid_modes
+from mechlib.flexible.craig_bampton import ReductionError
+from mechlib.flexible.craig_bampton import elastic_mass_problem as _guyan
 from mechlib.flexible.fe_model import FEModel
 
 __all__ = [
     "MASS_RANGE",
     "RIGID_BODY_MODES",
+    "elastic_mass_problem",
     "interior_problem",
     "rigid_body_problem",
     "translation_mass_problem",
@@ -128,3 +133,13 @@ def _rigid_inertia_problem(model: FEModel) -> str | None:
         f"the mass matrix gives the rigid-body {motion} no inertia: give the rotational "
         "inertia of the nodes (a line of nodes needs it about its axis)"
     )
+
+
+def elastic_mass_problem(model: FEModel) -> str | None:
+    """Why M is not positive definite off the six rigid-body motions on the interface DOF
+    with the interior following them statically (Guyan), naming the DOF that moves most in
+    a deformation without kinetic energy; or None (`craig_bampton.elastic_mass_problem`)."""
+    try:
+        return _guyan(model)
+    except ReductionError as error:  # K with the interface held checked before: a safeguard
+        return str(error)

@@ -6,10 +6,12 @@ import math
 import re
 from pathlib import Path
 
+from loadcases.foundation.number_text import SIGNED_DECIMAL
+
 __all__ = ["FileFormatError", "nastran_real"]
 
 # NASTRAN's real numbers: 1.5E+3, 1.5D+3, and the short form 1.5+3 (exponent without E)
-_SHORT_EXPONENT = re.compile(r"^([+-]?(?:\d+\.?\d*|\.\d+))([+-]\d+)$")
+_SHORT_EXPONENT = re.compile(rf"^({SIGNED_DECIMAL})([+-][0-9]+)$")
 
 
 class FileFormatError(ValueError):

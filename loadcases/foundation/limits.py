@@ -53,6 +53,9 @@ MAX_FE_DOF = 1_000_000  # rows (and columns) of one stiffness or mass matrix
 MAX_FE_TERMS = 50_000_000  # stored terms of one matrix (about 1.2 GB once read)
 MAX_FE_FILE_BYTES = 2_000_000_000  # size of one matrix, bulk-data or npz file (unpacked)
 MAX_NODE_ID = 2_147_483_647  # node and grid ids are 1 to this (NASTRAN's 32-bit integers)
+# m: a node of an imported component at most this far from its file's origin (1000 km; the
+# rigid-body checks square coordinates times masses, which overflow far beyond)
+MAX_NODE_DISTANCE = 1e6
 MAX_QUANTITY_CHARS = 100  # characters of one quantity text such as "12 N*m/rad"
 
 

@@ -33,6 +33,8 @@ from contextlib import suppress
 from pathlib import Path
 from typing import Any
 
+from loadcases.foundation.number_text import SIGNED_NUMBER
+
 __all__ = ["UnitTable"]
 
 FORMAT = 1  # the layout of the file; another layout is a foreign file
@@ -41,7 +43,7 @@ SECTIONS = ("quantities", "units", "constants")
 _WORD = r"[^\W\d_]+"
 _POWER = rf"{_WORD}(?:(?:\^|\*\*)-?\d+)?"
 _QUANTITY = re.compile(
-    rf"^\s*(?P<number>[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s+"
+    rf"^\s*(?P<number>{SIGNED_NUMBER})\s+"
     rf"(?P<unit>{_POWER}(?:\s*[*/]?\s*{_POWER})*)\s*$"
 )
 

@@ -35,6 +35,7 @@ from typing import Any
 
 from loadcases.foundation.clip import clip, describe_character, hidden_character
 from loadcases.foundation.limits import MAX_QUANTITY_CHARS
+from loadcases.foundation.number_text import SIGNED_NUMBER
 from loadcases.foundation.unit_table import UnitTable
 
 __all__ = [
@@ -145,8 +146,8 @@ RESERVED_NAMES = frozenset(
         "vz",
     }
 )
-_NUMBER = re.compile(r"^ *[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)? *\Z")
-_LEADING_NUMBER = re.compile(r"^ *[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
+_NUMBER = re.compile(rf"^ *{SIGNED_NUMBER} *\Z")
+_LEADING_NUMBER = re.compile(rf"^ *{SIGNED_NUMBER}")
 # a number as pint's tokenizer (Python's) gives it: decimal, without `_`, `0x`, `j`
 _DECIMAL = re.compile(r"(?:(?:0|[1-9][0-9]*)(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
 _INTEGER = re.compile(r"[0-9]+")

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from loadcases.foundation.number_text import SIGNED_NUMBER
 from loadcases.foundation.units import REPORT_KINDS, to_si
 from loadcases.report.curves import EnvelopeCurve
 from loadcases.report.envelope import EnvelopeRow
@@ -42,7 +43,7 @@ _VALUE_FIELDS = (
     "limit_allowable_max",
     "limit_allowable_min",
 )
-_CONCURRENT = re.compile(r"([A-Za-z_]\w*)=([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?|nan|-?inf)")
+_CONCURRENT = re.compile(rf"([A-Za-z_]\w*)=({SIGNED_NUMBER}|nan|-?inf)")
 
 
 @dataclasses.dataclass(frozen=True)

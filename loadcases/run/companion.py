@@ -87,12 +87,18 @@ def sparser(companion: ml.Dynamic, run: ml.Solution) -> ml.Dynamic:
     return dataclasses.replace(companion, step=companion.step * 2**doublings)
 
 
-def finer(analysis: ml.Dynamic) -> ml.Dynamic:
-    """Every step half as long; the output interval unchanged."""
+STEP_MARGIN = 2.0  # a tighter run's step limit: this many times the steps it is expected to take
+
+
+def finer(analysis: ml.Dynamic, last_steps: int = 0) -> ml.Dynamic:
+    """Every step half as long; the output interval unchanged; the step limit the larger
+    of the analysis's and STEP_MARGIN times the steps expected (twice the `last_steps` of
+    the run it halves): a long run is limited by the budget, not by a fixed max_steps."""
     return dataclasses.replace(
         analysis,
         tolerance=analysis.tolerance / _local_factor(analysis.integrator, 2),
         max_step=0.5 * largest_step(analysis) or None,
+        max_steps=max(analysis.max_steps, math.ceil(STEP_MARGIN * 2 * last_steps)),
     )
 
 

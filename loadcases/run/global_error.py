@@ -19,9 +19,11 @@ tolerance to the engine, a run whose envelope misses the target is solved again 
 step halved (tolerance / 2^(p+1), largest step / 2), the previous run becoming the
 companion, until it meets the target, the next halving would go over the budget (`Budget`:
 CPU, steps, refinements) or the output interval alone misses the target (no step helps);
-the summary's `outcome` says which. Without `accuracy` the default target is only
-estimated against and warned about: each halving costs twice the last run, which a case
-asks for, not every case.
+the summary's `outcome` says which. A tighter run's step limit grows with it (STEP_MARGIN
+times the steps it is expected to take, at least the analysis's `max_steps`): the budget,
+not a fixed `max_steps`, bounds a long run's tightening. Without `accuracy` the default
+target is only estimated against and warned about: each halving costs twice the last run,
+which a case asks for, not every case.
 
 A signal (SIGINT, SIGTERM) that stops the companion or a tighter run leaves the run written
 with status `interrupted` (a set never reuses it as good): its rows are those of the last
@@ -140,6 +142,7 @@ class AccuracyEstimate:
     integrator: str
     tolerance: float
     max_step: float  # the largest step in force (s): analysis.max_step or its default
+    max_steps: int  # the run's step limit: analysis.max_steps, or a tighter run's (finer)
     tightenings: int
     requests: dict[str, RequestError]
     cpu_seconds: float  # of the companion and tightened runs
@@ -177,6 +180,7 @@ class AccuracyEstimate:
             "integrator": self.integrator,
             "tolerance": self.tolerance,
             "max_step": self.max_step,
+            "max_steps": self.max_steps,
             "tightenings": self.tightenings,
             "outcome": self.outcome,
             "measure": self.measure,
@@ -301,12 +305,12 @@ def solve_to_accuracy(
     errors = request_errors(run, companion, p)
     note, tightenings, stopped, stopped_by = "", 0, False, ""
     while budget is not None and _worst(errors, measure) > target:
-        stopped_by = spent.exhausts(budget, tightenings) or _beyond_max_steps(spent, analysis)
+        stopped_by = spent.exhausts(budget, tightenings)
         if measure == "peaks":
             stopped_by = stopped_by or _between_rows(errors, target)
         if stopped_by:
             break
-        finer_analysis = finer(analysis)
+        finer_analysis = finer(analysis, spent.last_steps)
         finer_run = _timed(solve, finer_analysis, spent)
         if finer_run.status == "interrupted":
             note = f"tightening interrupted{_by()}: the estimate is of the run written"
@@ -397,18 +401,6 @@ def _interrupted(run: ml.Solution, during: str, *, estimated: bool = True) -> ml
     )
 
 
-def _beyond_max_steps(spent: Spent, analysis: ml.Dynamic) -> str:
-    """Why the next halving would fail: its steps (twice the last run's) beyond the run's
-    own limit, `analysis.max_steps` ('' when within it)."""
-    steps = 2 * spent.last_steps
-    if steps <= analysis.max_steps:
-        return ""
-    return (
-        f"the next halving would take about {steps} steps, beyond analysis.max_steps = "
-        f"{analysis.max_steps}: raise it if the run is sound"
-    )
-
-
 def _between_rows(errors: dict[str, RequestError], target: float) -> str:
     """Why shorter steps cannot meet `target`: the output interval alone misses a peak by
     more (''  when it does not)."""
@@ -442,6 +434,7 @@ def _estimate(
         analysis.integrator,
         analysis.tolerance,
         largest_step(analysis) if run.max_step is None else run.max_step,
+        analysis.max_steps,
         tightenings,
         errors,
         clock.process_time() - started,

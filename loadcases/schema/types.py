@@ -13,6 +13,7 @@ from typing import Annotated, Any
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PlainValidator, ValidationInfo
 from pydantic_core import PydanticCustomError
 
+from loadcases.foundation.number_text import SIGNED_NUMBER
 from loadcases.foundation.units import SIValue, UnitError, finite, to_si, vector_to_si
 
 __all__ = [
@@ -82,9 +83,7 @@ SI_UNITS: dict[str, str] = {
 _FILE_KINDS = ("length", "angle", "mass", "time", "force")
 # In an expression field a quantity text needs a space before its unit ("100 N"): "2t"
 # is then a malformed expression, not 2 tonnes.
-_EXPRESSION_QUANTITY = re.compile(
-    r"^ *[-+]?(?:[0-9]+\.?[0-9]*|\.[0-9]+)(?:[eE][-+]?[0-9]+)? +[A-Za-z°%µ]"
-)
+_EXPRESSION_QUANTITY = re.compile(rf"^ *{SIGNED_NUMBER} +[A-Za-z°%µ]")
 
 
 class Strict(BaseModel):

@@ -17,12 +17,20 @@ import numpy as np
 import scipy.linalg as sla
 import scipy.sparse.linalg as spla
 
-from mechlib.flexible.fe_model import FEModel
+from mechlib.flexible.fe_model import COMPONENTS, FEModel
 from mechlib.flexible.invariants import field_invariants
 from mechlib.flexible.modal_component import ModalComponent, damping_ratios
 from mechlib.flexible.stiffening import modal_geometric
 
-__all__ = ["ReductionError", "basis", "canonical", "craig_bampton", "free_modes", "signed"]
+__all__ = [
+    "ReductionError",
+    "basis",
+    "canonical",
+    "craig_bampton",
+    "elastic_mass_problem",
+    "free_modes",
+    "signed",
+]
 
 _RIGID_ENERGY = 1e-8  # |K R| / (|K| |R|) above this: the rigid motions strain the model
 _MECHANISM = 1e-12  # omega^2 / max(omega^2) below this: a zero-energy deformation
@@ -131,8 +139,7 @@ def _reduce(model: FEModel, fixed_interface_modes: int) -> tuple[np.ndarray, np.
     t = basis(model, fixed_interface_modes)
     k_hat, m_hat = t.T @ (model.stiffness @ t), t.T @ (model.mass @ t)
     b, _ = _split(model)
-    rigid = np.zeros((t.shape[1], 6))  # rigid motion in reduced coordinates: [R_B; 0]
-    rigid[: len(b)] = np.hstack([model.translation_field(), _rotation_field(model)])[b]
+    rigid = _rigid(model, t)
     strain = np.linalg.norm(k_hat @ rigid) / (np.linalg.norm(k_hat) * np.linalg.norm(rigid))
     if strain > _RIGID_ENERGY:
         raise ReductionError(
@@ -140,7 +147,11 @@ def _reduce(model: FEModel, fixed_interface_modes: int) -> tuple[np.ndarray, np.
             "in the model?); fewer than six rigid-body modes"
         )
     complement = sla.null_space(rigid.T @ m_hat)
-    w2, vec = sla.eigh(complement.T @ k_hat @ complement, complement.T @ m_hat @ complement)
+    m_elastic = complement.T @ m_hat @ complement
+    problem = _mass_problem(model, t @ complement, m_elastic)
+    if problem is not None:
+        raise ReductionError(problem)
+    w2, vec = sla.eigh(complement.T @ k_hat @ complement, m_elastic)
     zero = int(np.count_nonzero(w2 < _MECHANISM * w2.max(initial=0.0)))
     if zero:
         raise ReductionError(
@@ -150,6 +161,42 @@ def _reduce(model: FEModel, fixed_interface_modes: int) -> tuple[np.ndarray, np.
         )
     psi = signed(canonical(w2, t @ (complement @ vec), model.mass))
     return np.sqrt(w2), psi, _held(model.dof_map[b, 0], k_hat, m_hat)
+
+
+def elastic_mass_problem(model: FEModel, fixed_interface_modes: int = 0) -> str | None:
+    """Why the reduced mass off the six rigid motions is not positive definite (the
+    eigenproblem of the reduction needs it), naming the DOF that moves most in a
+    deformation without kinetic energy; or None. With no fixed-interface modes the basis
+    is the constraint modes alone (Guyan): a check before any eigensolver."""
+    t = basis(model, fixed_interface_modes)
+    m_hat = t.T @ (model.mass @ t)
+    complement = sla.null_space(_rigid(model, t).T @ m_hat)
+    return _mass_problem(model, t @ complement, complement.T @ m_hat @ complement)
+
+
+def _rigid(model: FEModel, t: np.ndarray) -> np.ndarray:
+    """(k, 6): the rigid motions in reduced coordinates, [R_B; 0]."""
+    b, _ = _split(model)
+    rigid = np.zeros((t.shape[1], 6))
+    rigid[: len(b)] = np.hstack([model.translation_field(), _rotation_field(model)])[b]
+    return rigid
+
+
+def _mass_problem(model: FEModel, motions: np.ndarray, m_elastic: np.ndarray) -> str | None:
+    """`elastic_mass_problem` of `m_elastic` (k, k), whose coordinates move the DOF by
+    `motions` (ndof, k)."""
+    try:
+        sla.cholesky(m_elastic, lower=True)  # what eigh does first with its B
+        return None
+    except np.linalg.LinAlgError:
+        pass
+    _, vectors = np.linalg.eigh(0.5 * (m_elastic + m_elastic.T))
+    node, component = model.dof_map[int(np.argmax(np.abs(motions @ vectors[:, 0])))]
+    return (
+        "the mass matrix is not positive definite off the rigid-body motions: a deformation "
+        f"has no kinetic energy, mostly on node {model.node_ids[node]} "
+        f"{COMPONENTS[component]} (a DOF without mass, or a mass term missing from the file?)"
+    )
 
 
 def _held(boundary_nodes: np.ndarray, k_hat: np.ndarray, m_hat: np.ndarray) -> float:

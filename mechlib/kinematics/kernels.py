@@ -36,6 +36,7 @@ __all__ = [
     "norm_jac",
     "norm_phi",
     "point_force",
+    "point_pair",
     "point_position",
     "point_velocity",
     "positive_cholesky",
@@ -450,19 +451,27 @@ def point_force(x, b, s, force, F, N):
 
 
 @njit(**KERNEL)
-def spring_state(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, out):
-    """out (5,) = [tension (N), length (m), unit vector (3) from point 2 to point 1] of a
-    linear spring-damper between the body-fixed points s1 of b1 and s2 of b2: stiffness
-    (N/m) x (length - free_length) + damping (N*s/m) x rate + preload; with `slack` (a
-    wire) none while shorter than its free length or pushing."""
+def point_pair(x, xd, b1, s1, b2, s2, unit):
+    """(length (m), rate (m/s)) of the line from the body-fixed point s2 of b2 to s1 of b1;
+    its unit vector into `unit` (3,), zero at zero length."""
     p1, p2 = point_position(x, b1, s1), point_position(x, b2, s2)
     v1, v2 = point_velocity(x, xd, b1, s1), point_velocity(x, xd, b2, s2)
     d = p1 - p2
     length = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
     rate = 0.0
     for c in range(3):
-        out[2 + c] = d[c] / length if length > 0.0 else 0.0
-        rate += out[2 + c] * (v1[c] - v2[c])
+        unit[c] = d[c] / length if length > 0.0 else 0.0
+        rate += unit[c] * (v1[c] - v2[c])
+    return length, rate
+
+
+@njit(**KERNEL)
+def spring_state(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, out):
+    """out (5,) = [tension (N), length (m), unit vector (3) from point 2 to point 1] of a
+    linear spring-damper between the body-fixed points s1 of b1 and s2 of b2: stiffness
+    (N/m) x (length - free_length) + damping (N*s/m) x rate + preload; with `slack` (a
+    wire) none while shorter than its free length or pushing."""
+    length, rate = point_pair(x, xd, b1, s1, b2, s2, out[2:5])
     stretch = length - free_length
     tension = stiffness * stretch + damping * rate + preload
     if slack and (stretch < 0.0 or tension < 0.0):

@@ -3,10 +3,14 @@
 
 A load that grows without bound (a force exp(100 t), an unstable controller) makes the
 error-controlled step shrink as the motion speeds up; the run would grind on until its step
-limit, minutes later. `StepCollapse` watches the accepted steps: once the rest of the run
-at the current step size would need more steps than `max_steps` leaves, and the step keeps
-shrinking over the next COLLAPSE_STEPS accepted steps (an impact resolves in far fewer, and
-the step then grows again), the run fails naming the force element whose load grew most.
+limit, minutes later. `StepCollapse` watches the pace of the accepted steps: once the rest
+of the run at the current step size would need more steps than `max_steps` leaves, the mean
+step of each following window of COLLAPSE_STEPS accepted steps is compared with that of the
+first window; when it has fallen below COLLAPSE_RATIO of it (the steps really shrink, not
+merely vary over a swing, and an impact resolves in far fewer steps), the run fails naming
+what grew over those steps: a force element's load, the motion's speed, or neither. A run
+whose pace is steady but too slow for `max_steps` (a long run of a swinging pendulum) is
+not a collapse: it goes on to its step limit, whose failure says so.
 
 A run stalls when the step size falls below STALL_FLOOR times the time scale max(1, |end|)
 s: time no longer advances (a motion driven beyond a dead point, a singular position the
@@ -15,6 +19,9 @@ equations closest to dependence there (mechlib.checks.singularity.weakest_equati
 """
 
 from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -25,13 +32,17 @@ __all__ = [
     "COLLAPSE_STEPS",
     "NAMED_MEASURE",
     "STALL_FLOOR",
+    "Snapshot",
     "StepCollapse",
     "fell_to",
+    "snapshot",
     "stall",
     "step_floor",
 ]
 
-COLLAPSE_STEPS = 1000  # accepted steps over which a step too small for the limit must shrink
+COLLAPSE_STEPS = 1000  # accepted steps per window whose mean step the watch compares
+COLLAPSE_RATIO = 0.5  # a window's mean step below this fraction of the first's: collapsing
+SPED_UP = 2.0  # the largest coordinate rate grown this much: the motion speeds up
 STALL_FLOOR = 1e-12  # smallest step, relative to the time scale max(1, |end|) s
 NAMED_MEASURE = 0.5  # toggle measure (mechlib.checks.singularity) below which a stall names joints
 
@@ -83,53 +94,94 @@ def element_loads(system, view) -> dict[str, float]:
     return loads
 
 
+@dataclass(frozen=True)
+class Snapshot:
+    """What may grow while the steps shrink: each active force element's largest load
+    component (N or N*m, `element_loads`) and the motion's largest coordinate rate (m/s
+    or, for the rotation parameters, 1/s)."""
+
+    loads: dict[str, float]
+    speed: float
+
+
+def snapshot(system, view, qd: np.ndarray) -> Snapshot:
+    """The `Snapshot` of the state seen by `view`, with coordinate rates qd."""
+    return Snapshot(element_loads(system, view), float(np.max(np.abs(qd), initial=0.0)))
+
+
+@dataclass(frozen=True)
+class _Window:
+    """The start of a window of accepted steps: steps taken, time (s), what may grow."""
+
+    taken: int
+    t: float
+    seen: Snapshot
+
+
 class StepCollapse:
     """Watches (t, h) of the accepted steps of a run from `start` to `end` (s)."""
 
     def __init__(self, analysis: str, end: float, max_steps: int):
         self.analysis, self.end, self.max_steps = analysis, end, max_steps
-        self.since: tuple[int, float, dict[str, float]] | None = None
+        self.first: _Window | None = None  # where the steps were first too short
+        self.since: _Window | None = None  # the start of the current window
+        self.pace = 0.0  # mean step (s) of the first full window
 
-    def watch(self, taken: int, t: float, h: float, loads) -> None:
+    def watch(self, taken: int, t: float, h: float, seen: Callable[[], Snapshot]) -> None:
         """After an accepted step of size h (s) ending at t (s), `taken` steps so far;
-        `loads()` gives `element_loads` now. Raises SolverFailure on a collapse."""
-        need = (self.end - t) / h
-        if taken + need <= self.max_steps:
-            self.since = None
-            return
+        `seen()` gives the `Snapshot` now. Raises SolverFailure on a collapse."""
         if self.since is None:
-            self.since = (taken, h, loads())
+            if taken + (self.end - t) / h <= self.max_steps:
+                return
+            self.first = self.since = _Window(taken, t, seen())
             return
-        n0, h0, loads0 = self.since
-        if taken - n0 < COLLAPSE_STEPS:
+        start = self.since
+        if taken - start.taken < COLLAPSE_STEPS:
             return
-        if h >= h0:  # not shrinking any more: watch a new window
-            self.since = (taken, h, loads())
+        mean = (t - start.t) / (taken - start.taken)
+        if taken + (self.end - t) / mean <= self.max_steps:  # the pace fits the limit again
+            self.first, self.since, self.pace = None, None, 0.0
             return
+        self.since = _Window(taken, t, start.seen)
+        if not self.pace:
+            self.pace = mean
+            return
+        if mean >= COLLAPSE_RATIO * self.pace:  # steady or varying over a swing: go on
+            return
+        assert self.first is not None, "set with since"
         raise SolverFailure(
             f"{self.analysis} analysis failed at t = {t:.6g} s: the step size collapsed to "
-            f"{h:.3g} s (from {h0:.3g} s {taken - n0} steps before); the remaining "
-            f"{self.end - t:.3g} s would need {need:.3g} more steps, beyond analysis.max_steps "
-            f"= {self.max_steps}: {_grown(loads0, loads())}",
+            f"{mean:.3g} s on average over the last {COLLAPSE_STEPS} steps (from "
+            f"{self.pace:.3g} s over the first {COLLAPSE_STEPS} after t = "
+            f"{self.first.t:.6g} s); the remaining "
+            f"{self.end - t:.3g} s would need {(self.end - t) / mean:.3g} more steps, beyond "
+            f"analysis.max_steps = {self.max_steps}: {_grown(self.first.seen, seen())}",
             time=t,
             status=Status.STEP_COLLAPSE,
         )
 
 
-def _grown(before: dict[str, float], now: dict[str, float]) -> str:
-    """The likely cause: the element whose load grew the most, or what else to check."""
+def _grown(before: Snapshot, now: Snapshot) -> str:
+    """The likely cause: the element whose load grew the most, the motion's speed, or
+    what else to check."""
     ratios = {
-        name: now[name] / before[name]
-        for name in now
-        if before.get(name, 0.0) > 0.0 and now[name] > before[name]
+        name: now.loads[name] / before.loads[name]
+        for name in now.loads
+        if before.loads.get(name, 0.0) > 0.0 and now.loads[name] > before.loads[name]
     }
-    if not ratios:
+    if ratios:
+        name = max(ratios, key=ratios.__getitem__)
         return (
-            "no force element grows: the motion speeds up without bound (an unstable "
-            "model, a motion or initial value out of range?)"
+            f"the force '{name}' grew from {before.loads[name]:.3g} to "
+            f"{now.loads[name]:.3g} (SI) over those steps: does it grow without bound?"
         )
-    name = max(ratios, key=ratios.__getitem__)
+    if now.speed > SPED_UP * before.speed:
+        return (
+            f"no force element grows, the motion speeds up (its largest coordinate rate "
+            f"from {before.speed:.3g} to {now.speed:.3g}, SI): an unstable model, a motion "
+            "or initial value out of range?"
+        )
     return (
-        f"the force '{name}' grew from {before[name]:.3g} to {now[name]:.3g} (SI) over "
-        "those steps: does it grow without bound?"
+        "neither a force element's load nor the motion's speed grows: a stiffness, a "
+        "singular position or a discontinuity the steps cannot follow?"
     )

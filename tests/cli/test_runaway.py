@@ -124,3 +124,32 @@ def test_max_steps_must_be_positive(tmp_path: Path) -> None:
     text = json.dumps(schema)
     assert '"max_steps": {"anyOf": [{"type": "integer"}, {"type": "null"}]' in text
     assert '"minimum": 1' in text[text.index('"max_steps"') :][:400]
+
+
+def test_a_pendulum_too_long_for_max_steps_is_not_called_a_runaway(tmp_path: Path) -> None:
+    """IFToMM A01 (a 1 m pendulum released horizontal) over 100 s with max_steps 10 000
+    (it needs about 17 000): its step varies over each swing, it neither collapses nor
+    speeds up. Before, the step-collapse watch compared two instants 1000 steps apart and
+    failed at 39.8 s with "the step size collapsed ... the motion speeds up without
+    bound"; now the run goes on to its step limit and says so. The claim is checked
+    against the physics: the rows' largest rate stays within 1 % of the closed form's
+    sqrt(2 g / L) = 4.43 rad/s (energy conserved, no speed-up)."""
+    for name in ("iftomm_a01_pendulum.mech.yaml", "iftomm_a01_pendulum.case.yaml"):
+        shutil.copy(LIBRARY / "hard" / name, tmp_path)
+    case = tmp_path / "iftomm_a01_pendulum.case.yaml"
+    text = case.read_text(encoding="utf-8")
+    case.write_text(
+        text.replace("end: 10.0", "end: 100.0\n  max_steps: 10000\n  accuracy: off"),
+        encoding="utf-8",
+    )
+    result = runner.invoke(app, ["run", str(case), "-o", str(tmp_path / "out")])
+    assert result.exit_code == 1, result.output
+    summary = json.loads((tmp_path / "out" / "iftomm-a01-pendulum.summary.json").read_text())
+    message = summary["message"]
+    assert message.startswith("dynamic analysis stopped at t = "), message
+    assert "the limit of 10000 steps (analysis.max_steps, accepted and rejected)" in message
+    assert "collapsed" not in message and "speeds up" not in message
+    reached = float(message.split("stopped at t = ")[1].split(" s")[0])
+    assert 40.0 < reached < 100.0
+    rates = _rows(tmp_path / "out" / "iftomm-a01-pendulum.csv")["rate.value"]
+    assert np.abs(rates).max() < 1.01 * math.sqrt(2 * 9.81 / 1.0)

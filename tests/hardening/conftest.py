@@ -2,9 +2,14 @@
 
 from __future__ import annotations
 
+import functools
 from pathlib import Path
+from typing import Any
+from unittest import mock
 
 import pytest
+import typer.testing
+from typer.main import get_command
 from typer.testing import CliRunner
 
 from cli.app import app
@@ -13,9 +18,18 @@ from tests.loadcases.set_fixtures import CRANK_CASE, CRANK_MECH
 _runner = CliRunner()
 
 
-def loads(*args: str):
+def loads(*args: object) -> Any:
     """Run the `loads` command line; returns the click Result (exit_code, output)."""
-    return _runner.invoke(app, [str(a) for a in args])
+    # typer's CliRunner builds the click command from `app` on every call (0.13 s, most of
+    # a fuzz example); `loads` builds it once per process, and so do these tests
+    with mock.patch.object(typer.testing, "_get_command", _command):
+        return _runner.invoke(app, [str(a) for a in args])
+
+
+@functools.cache
+def _command(typer_app: Any) -> Any:
+    """The click command of `typer_app`, built once."""
+    return get_command(typer_app)
 
 
 @pytest.fixture

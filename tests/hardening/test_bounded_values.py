@@ -9,8 +9,10 @@ import time
 import pytest
 
 from loadcases.expressions import ExpressionError, parse
+from loadcases.flexible.values import FileFormatError, nastran_real
 from loadcases.foundation.limits import MAX_EXPRESSION_CHARS, MAX_EXPRESSION_DEPTH
 from loadcases.foundation.units import UnitError, to_si
+from loadcases.inputs.overrides import OverrideError, parse_overrides
 from tests.hardening.conftest import has_line, loads
 
 MASS = "crank: {mass: 1.0,"
@@ -136,3 +138,32 @@ def test_constant_folding_stays_in_floats_and_is_prompt() -> None:
         with pytest.raises(ExpressionError, match="overflow"):
             parse(text + "*t").compile()
         assert time.perf_counter() - started < 0.5, text
+
+
+# A run of digits that a reader does not take whole: each reader had a number pattern that
+# could split it in every way (`[0-9]+\.?[0-9]*`), quadratic in its length (fuzzing found a
+# `--set` value of 2.7 million digits and an `=` that ran for hours; 40 000 digits: 23 s).
+DIGITS = "2" * 100_000
+
+
+@pytest.mark.parametrize(
+    ("read", "error", "words"),
+    [
+        (lambda: parse_overrides([f"speed={DIGITS}=1"]), OverrideError, "longer than 100"),
+        (lambda: to_si(f"{DIGITS}=", "any"), UnitError, "longer than 100"),
+        (lambda: nastran_real(f"{DIGITS}X"), FileFormatError, "expected a real number"),
+    ],
+)
+def test_a_long_digit_run_is_refused_promptly(read, error, words: str) -> None:
+    started = time.perf_counter()
+    with pytest.raises(error, match=words):
+        read()
+    assert time.perf_counter() - started < 1.0
+
+
+def test_a_long_digit_run_in_an_expression_field_is_refused_promptly(crank) -> None:
+    result, seconds = _validate(crank, case=(DRIVE, f'value: "{DIGITS}t"'))
+    assert result.exit_code == 2, result.output
+    assert "internal error" not in result.output and "Traceback" not in result.output
+    assert "crank.case.yaml:4:33: error: motions.drive.value:" in result.output, result.output
+    assert seconds < 5

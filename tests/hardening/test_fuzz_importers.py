@@ -11,21 +11,28 @@ every column; no example takes more than 30 s; and no example allocates more tha
 PEAK_BYTES (traced by tracemalloc, which sees NumPy's buffers): sizes read from a file are
 checked before anything is allocated.
 Derandomized: CI sees the same inputs every time. Budget: LOADS_FUZZ_IMPORT_EXAMPLES
-examples per surface (default 5, a second or two each; a quarter of them for `--set`, whose
-examples are runs); the long budget is
-`LOADS_FUZZ_IMPORT_EXAMPLES=10000 pytest tests/hardening/test_fuzz_importers.py`.
+examples for every surface; unset, a short budget (5 per importer, 4 hardpoint tables, 6
+`--set` values) for `make test`. The long budget is
+`LOADS_FUZZ_IMPORT_EXAMPLES=10000 pytest tests/hardening/test_fuzz_importers.py -k SURFACE`
+(about 15 min or less per surface on one core: examples call the CLI in-process on the
+smallest inputs that exercise each parser, and most `--set` values stop at the parsing and
+checking of the case; one in eight is run).
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
+import functools
 import json
 import math
 import os
 import re
-import shutil
+import signal
 import struct
 import tracemalloc
+import warnings
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
 
@@ -33,13 +40,26 @@ import numpy as np
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
+from loadcases.foundation.clip import QUOTE_LIMIT
+from loadcases.foundation.diagnostics import InputError
+from loadcases.inputs.loader import load_case
+from loadcases.inputs.overrides import OverrideError, parse_overrides
 from tests.hardening.conftest import loads
 from tests.hardening.test_importer_limits import dmig_beam, mm_beam, npz_beam, op4_beam
 from tests.loadcases.flexible import files
 from tests.loadcases.flexible.beam import FILE_BEAM, element
 from tests.loadcases.set_fixtures import CRANK_CASE, CRANK_MECH
 
-EXAMPLES = int(os.environ.get("LOADS_FUZZ_IMPORT_EXAMPLES", "5"))
+_ASKED = os.environ.get("LOADS_FUZZ_IMPORT_EXAMPLES")
+EXAMPLES = int(_ASKED or "5")
+
+
+def _budget(short: int) -> int:
+    """Examples of one surface: LOADS_FUZZ_IMPORT_EXAMPLES when given, else `short`."""
+    return EXAMPLES if _ASKED else short
+
+
+HANG_SECONDS = 120  # an example still running then is stopped (a cold kernel cache: ~60 s)
 SETTINGS = settings(
     max_examples=EXAMPLES,
     deadline=30_000,  # ms: an example past 30 s is a hang (issue 39's bound)
@@ -48,7 +68,6 @@ SETTINGS = settings(
     suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
 )
 PEAK_BYTES = 200_000_000  # no example of these few-kB files may allocate more
-LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "examples"
 
 # Tokens a user could mistype or an attacker could try in a numeric file.
 TOKENS = st.one_of(
@@ -127,11 +146,29 @@ def _edit_text(text: str, edit: tuple) -> str:
     return "".join(lines)
 
 
+@contextlib.contextmanager
+def _hang_stopped() -> Iterator[None]:
+    """Stops the example with TimeoutError once it runs past HANG_SECONDS: hypothesis'
+    deadline (30 s) judges only an example that ends, and a hang would never end the run."""
+
+    def stop(signum: int, frame: object) -> None:
+        raise TimeoutError(f"an example past {HANG_SECONDS} s: a hang")
+
+    previous = signal.signal(signal.SIGALRM, stop)
+    signal.setitimer(signal.ITIMER_REAL, HANG_SECONDS)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
 def _traced(*args: object) -> Any:
     """`loads *args` with its peak allocation checked against PEAK_BYTES."""
     tracemalloc.start()
     try:
-        result = loads(*args)
+        with _hang_stopped():
+            result = loads(*args)
         _, peak = tracemalloc.get_traced_memory()
     finally:
         tracemalloc.stop()
@@ -146,9 +183,15 @@ def _assert_clean(result: Any) -> None:
 
 
 def _check_component(header: Path) -> None:
-    """`loads flex check` exits 0/1/2 cleanly, and prints finite numbers when it accepts."""
-    result = _traced("flex", "check", header)
+    """`loads flex check` exits 0/1/2 cleanly, without a NumPy warning, and prints finite
+    numbers when it accepts."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = _traced("flex", "check", header)
     _assert_clean(result)
+    # a NumPy warning is a number cast (2+1j to 2), overflowed or made NaN unchecked
+    numeric = (RuntimeWarning, np.exceptions.ComplexWarning)
+    assert not [w for w in caught if issubclass(w.category, numeric)], [str(w) for w in caught]
     if result.exit_code == 0:
         shown = result.output.lower()
         assert not re.search(r"\b(nan|inf)\b", shown), result.output
@@ -347,52 +390,162 @@ def test_npz_and_header(tmp_path_factory: Any, changes: list, key: str | None, v
 
 # ---- hardpoint tables and --set ------------------------------------------------------------
 
-INLINE_POINTS = """\
-points:
-  crank_pin: {body: crank, at: [100, 0, 0]}
-  slider_c:  {body: slider, at: [400, 0, 0]}
-"""
-TABLE = "name,body,x,y,z,units\ncrank_pin,crank,100,0,0,mm\nslider_c,slider,400,0,0,\n"
+CRANK_POINTS = "points:\n  tip: {body: crank, at: [0.1, 0, 0]}\n"
+# the crank's point from a table, and a second row of the other body with SI values
+TABLE = "name,body,x,y,z,units\ntip,crank,100,0,0,mm\nspare,ground,0.4,0,0,\n"
 
 
-@settings(SETTINGS, max_examples=max(EXAMPLES // 2, 4))  # a validate of the press: 0.6 s
+def _crank(folder: Path, mech: str = CRANK_MECH) -> Path:
+    """The tiny crank case (tests/loadcases/set_fixtures) written in `folder`; its path."""
+    (folder / "crank.mech.yaml").write_text(mech, encoding="utf-8")
+    (folder / "crank.case.yaml").write_text(CRANK_CASE, encoding="utf-8")
+    return folder / "crank.case.yaml"
+
+
+@settings(SETTINGS, max_examples=_budget(4))
 @given(edits=st.lists(TEXT_EDIT, min_size=1, max_size=3))
 def test_hardpoint_table(tmp_path_factory: Any, edits: list) -> None:
     folder = _folder(tmp_path_factory)
-    mech = (LIBRARY / "press.mech.yaml").read_text()
-    assert INLINE_POINTS in mech
-    (folder / "press.mech.yaml").write_text(
-        mech.replace(INLINE_POINTS, "points: {from: hardpoints.csv}\n")
-    )
-    shutil.copy(LIBRARY / "press_stroke.case.yaml", folder / "press_stroke.case.yaml")
+    assert CRANK_POINTS in CRANK_MECH
+    case = _crank(folder, CRANK_MECH.replace(CRANK_POINTS, "points: {from: hardpoints.csv}\n"))
     table = TABLE
     for edit in edits:
         table = _edit_text(table, edit)
     (folder / "hardpoints.csv").write_text(table, encoding="utf-8")
-    _assert_clean(_traced("validate", folder / "press_stroke.case.yaml"))
+    _assert_clean(_traced("validate", case))
 
 
-SET_VALUES = st.one_of(
-    TOKENS.map(str),
-    st.sampled_from(
-        ["2 rad/s", "1e999 rad/s", "2(50", "\u0661\u0662", "12\u00a0rad/s", "1\n2", "x" * 3000]
-    ),
+# A valid quantity of each crank parameter (speed rad/s, load N, stroke m), mutated below.
+QUANTITIES = ["2", "2 rad/s", "1.5e-3", "10 N", "-0.25 kN", "1500 mm", "3 deg/s", "2.5E+2 N"]
+# Decimal digits of other scripts (Arabic-Indic, extended Arabic-Indic, Devanagari, Bengali,
+# Thai, Myanmar, Mongolian, fullwidth, mathematical bold): refused in a number.
+OTHER_DIGITS = "\u0660\u0661\u06f2\u0967\u09e8\u0e53\u1043\u1814\uff11\U0001d7d0"
+# Superscript, subscript and circled forms: a superscript is a power, as in files
+# ("2 m\u00b2"), the others are refused as characters no quantity holds.
+DIGIT_FORMS = "\u00b2\u00b3\u2081\u2460"
+# Every Unicode space (category Zs), the other white space of str.split and zero-width ones.
+SPACES = (
+    " \u00a0\u1680" + "".join(chr(c) for c in range(0x2000, 0x200B)) + "\u202f\u205f\u3000"
+    "\t\n\r\x0b\x0c\x1c\x1d\x1e\x1f\x85\u2028\u2029\u200b\u2060\ufeff"
+)
+CONTROLS = "\x00\x01\x07\x08\x1b\x7f\x9b\u202e\u2066\u061c\u200f"
+PIECES = [
+    "m",
+    "mm",
+    "rad/s",
+    "N",
+    "kN*m",
+    "deg",
+    "1/s",
+    "s^-1",
+    "m/s^2",
+    "furlong",
+    "rad/s/0",
+    "(m",
+    "m)",
+    "2(50",
+    "((",
+    "))",
+    "**",
+    "^",
+    "^999",
+    "/",
+    "%",
+    "e999",
+    "e-999",
+    "e308",
+    "E+99999999999999999999",
+    "e",
+    "1e400",
+    "-",
+    "+",
+    ".",
+    "..",
+    "_",
+    "=",
+    ",",
+    "'",
+    '"',
+    "nan",
+    "inf",
+    "-inf",
+    "j",
+    "0x1F",
+    "1_000",
+    "\u2212",
+    "\u00b5m",
+    "\u00b0",
+]
+SET_PIECE = st.one_of(
+    st.sampled_from(list(OTHER_DIGITS + DIGIT_FORMS + SPACES + CONTROLS) + PIECES),
+    st.characters(),
+    st.text(max_size=3),
+)
+SET_EDIT = st.tuples(
+    st.sampled_from(["insert", "replace", "delete", "repeat"]), st.integers(min_value=0), SET_PIECE
 )
 
 
-@settings(SETTINGS, max_examples=max(EXAMPLES // 4, 2))
-@given(
-    name=st.sampled_from(["speed", "load", "stroke", "nowhere", "", "speed=1"]), value=SET_VALUES
+MAX_SET_CHARS = 200_000  # a repeated value is cut here (repeats of repeats grew to 20 GB)
+
+
+def _edit_quantity(value: str, edit: tuple) -> str:
+    """One character-level edit of a `--set` value: `piece` inserted or written over the
+    character at `place`, that character deleted, or the value repeated (a long value, at most
+    MAX_SET_CHARS)."""
+    kind, place, piece = edit
+    at = place % (len(value) + 1)
+    if kind == "insert":
+        return value[:at] + piece + value[at:]
+    if kind == "replace":
+        return value[:at] + piece + value[at + 1 :]
+    if kind == "delete":
+        return value[:at] + value[at + 1 :]
+    times = min(2 + place % 400, MAX_SET_CHARS // max(len(value), 1) + 1)
+    return (value * times)[:MAX_SET_CHARS]
+
+
+SET_VALUES = st.builds(
+    lambda base, edits: functools.reduce(_edit_quantity, edits, base),
+    st.sampled_from(QUANTITIES),
+    st.lists(SET_EDIT, max_size=4),
 )
-def test_set_value(tmp_path_factory: Any, name: str, value: str) -> None:
+SET_NAMES = st.sampled_from(["speed", "load", "stroke", "nowhere", "", "speed=1", " load"])
+
+
+@settings(SETTINGS, max_examples=_budget(6))
+@given(name=SET_NAMES, value=SET_VALUES, solve=st.integers(0, 7).map(lambda n: n == 0))
+def test_set_value(tmp_path_factory: Any, name: str, value: str, solve: bool) -> None:
+    """A value the option parser refuses is the CLI's exit 2; one it reads is checked with
+    the case (unknown parameter, other dimension) and, one time in eight, run: an `ok` run
+    has finite numbers in every column."""
     folder = _folder(tmp_path_factory)
-    (folder / "crank.mech.yaml").write_text(CRANK_MECH, encoding="utf-8")
-    (folder / "crank.case.yaml").write_text(CRANK_CASE, encoding="utf-8")
-    result = _traced(
-        "run", folder / "crank.case.yaml", "--set", f"{name}={value}", "-o", folder / "out"
-    )
+    case = _crank(folder)
+    option = f"{name}={value}"
+    try:
+        overrides = parse_overrides([option])
+    except OverrideError:
+        solve = True  # the CLI stops at the option: exit 2, nothing solved
+    else:
+        assert all(math.isfinite(o.value) for o in overrides), overrides
+        # read as files are: ASCII digits, plain spaces, no control characters
+        assert not set(value) & set(OTHER_DIGITS + SPACES[1:] + CONTROLS), ascii(value)
+        if not solve:
+            try:
+                with _hang_stopped():
+                    load_case(case, what_if=overrides)
+            except InputError as error:
+                assert error.diagnostics
+            return
+    result = _traced("run", case, "--set", option, "-o", folder / "out")
     _assert_clean(result)
-    for summary in (folder / "out").glob("*.summary.json"):
+    assert len(value) <= QUOTE_LIMIT or value not in result.output, result.output
+    _assert_finite_ok_runs(folder / "out")
+
+
+def _assert_finite_ok_runs(folder: Path) -> None:
+    """Every run of `folder` whose summary says `ok` has finite numbers in every column."""
+    for summary in folder.glob("*.summary.json"):
         if json.loads(summary.read_text(encoding="utf-8"))["status"] != "ok":
             continue
         table = summary.with_name(summary.name.replace(".summary.json", ".csv"))

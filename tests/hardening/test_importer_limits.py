@@ -309,6 +309,17 @@ def test_node_table(tmp_path: Path, table: str, words: str) -> None:
     _refused(path, words)
 
 
+def test_node_table_coordinate_beyond_the_limit(tmp_path: Path) -> None:
+    """A node at 1e200 mm (found by fuzzing node tables): it was refused for a misleading
+    reason (4 rigid-body modes) after NumPy overflow warnings printed by the checks."""
+    header = mm_beam(tmp_path)
+    _nodes(tmp_path, "id,x,y,z\n1,0,0,0\n2,1e200,0,0\n")
+    output = _refused(header, "nodes.csv", "node 2 is 1e+197 m from the origin, beyond 1e+06 m")
+    assert "Warning" not in output, output
+    _nodes(tmp_path, "id,x,y,z\n1,0,0,0\n2,1e9,0,0\n")  # 1000 km in mm: at the limit
+    assert "origin" not in loads("flex", "check", header).output  # (refused for its K)
+
+
 # ---- npz -----------------------------------------------------------------------------------
 
 
@@ -343,6 +354,24 @@ def test_npz_link_out_of_the_folder(tmp_path: Path) -> None:
     (inside / "part.npz").unlink()
     os.symlink(outside / "part.npz", inside / "part.npz")
     _refused(path, "leaves the folder")
+
+
+@pytest.mark.parametrize("part", ["stiffness_indices", "mass_indptr"])
+@pytest.mark.parametrize("made", ["complex", "float", "nan"])
+def test_npz_index_arrays_of_integers_only(tmp_path: Path, part: str, made: str) -> None:
+    """CSR index arrays that are not integers (found by fuzzing npz arrays): scipy cast
+    2+2j and 2.5 to 2 without a word, and NaN with a NumPy warning."""
+
+    def change(arrays: dict) -> None:
+        index = np.asarray(arrays[part])
+        arrays[part] = {
+            "complex": lambda: index.astype(complex) * (1 + 1j),
+            "float": lambda: index.astype(float) + 0.5,
+            "nan": lambda: np.full(index.shape, np.nan),
+        }[made]()
+
+    output = _refused(npz_beam(tmp_path, change), "part.npz", f"{part}: expected integers")
+    assert "Warning" not in output, output
 
 
 # ---- matrices before an eigen-solver -------------------------------------------------------
@@ -388,6 +417,23 @@ def test_mass_positive_definite_on_the_interior(tmp_path: Path) -> None:
     K, M = element(FILE_BEAM)
     M[11, :] = M[:, 11] = 0.0
     _refused(_matrices(tmp_path, K, M), "M2.mtx", "node 2 rz")
+
+
+def test_mass_positive_definite_on_the_interface(tmp_path: Path) -> None:
+    """No mass at node 2 ux, both nodes interface nodes (no interior to check): the
+    reduction's eigenproblem has a massless DOF (found by fuzzing: a DMIG mass card's
+    name mistyped dropped that column; it was a LAPACK error, an internal error)."""
+    _, M = element(FILE_BEAM)
+    M[6, :] = M[:, 6] = 0.0
+    folder = tmp_path / "mm"
+    folder.mkdir()
+    scipy.io.mmwrite(folder / "M2.mtx", sp.coo_matrix(M), precision=17)
+    _refused(mm_beam(folder, mass="M2.mtx"), "M2.mtx", "node 2 ux", "not positive definite")
+    text = dmig_beam(tmp_path, "").with_name("se.pch")
+    card = "DMIG    M       2       1"
+    assert card in text.read_text()
+    text.write_text(text.read_text().replace(card, "DMIX    M       2       1"))
+    _refused(text.with_name("part.json"), "se.pch", "node 2 ux", "not positive definite")
 
 
 def test_mass_scale(tmp_path: Path) -> None:

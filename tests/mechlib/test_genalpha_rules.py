@@ -55,7 +55,10 @@ def test_newton_rate_convergence_and_stall() -> None:
     assert rules.carried_rate(1e-6) == pytest.approx(1e-3**0.8)
     assert rules.slow(4) and not rules.slow(3)
     assert rules.refactors(0.0126, 0.01) and not rules.refactors(0.0124, 0.01)
-    assert rules.is_noise(0.6, 1.0, 1e-4) and not rules.is_noise(0.4, 1.0, 1e-4)
+    assert rules.is_noise(0.6, 1.0, 1e-4, 1e-6) and not rules.is_noise(0.4, 1.0, 1e-4, 1e-6)
+    # round-off at any tolerance: 1e-11 of scale + |q|; at 1e-6 the tolerance's 1e-3 rules
+    assert not rules.is_noise(0.6, 1.0, 0.002, 1e-6) and not rules.is_noise(0.6, 1.0, 0.05, 2e-10)
+    assert rules.is_noise(0.6, 1.0, 0.03, 2.5e-10) and rules.is_noise(1.3, 1.0, 0.3, 3e-11)
 
 
 def _state(t: float) -> State:

@@ -9,8 +9,6 @@ mechlib.elements.hydraulics.laws, which the element's Python evaluation calls to
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
@@ -80,14 +78,7 @@ def stroke_line(x, xd, b1, s1, b2, s2, design_length, out):
     """out (5,) = [stroke (m) from the design length, its rate (m/s), unit vector (3) from
     point 2 to point 1] of the body-fixed points s1 of b1 and s2 of b2 (state arrays x,
     xd: mechlib.kinematics)."""
-    p1, p2 = kr.point_position(x, b1, s1), kr.point_position(x, b2, s2)
-    v1, v2 = kr.point_velocity(x, xd, b1, s1), kr.point_velocity(x, xd, b2, s2)
-    d = p1 - p2
-    length = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
-    rate = 0.0
-    for c in range(3):
-        out[2 + c] = d[c] / length if length > 0.0 else 0.0
-        rate += out[2 + c] * (v1[c] - v2[c])
+    length, rate = kr.point_pair(x, xd, b1, s1, b2, s2, out[2:5])
     out[0], out[1] = length - design_length, rate
 
 

@@ -121,7 +121,7 @@ def loaded_newton(
         dq = dx[:nq]
         size = gk._newton_size(dq, q1, qdd1, bp, q_abs, a_ref, tol, rules.ROUNDOFF)
         eta = rules.newton_rate(size, prev, eta)
-        noise = rules.is_noise(size, prev, gk.position_size(dq, q1, q_abs, tol))
+        noise = rules.is_noise(size, prev, gk.position_size(dq, q1, q_abs, tol), tol)
         if rules.converged(eta, size, noise):
             _true_acceleration(
                 q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body,

@@ -318,7 +318,8 @@ class Integrator:
     def _noise(self, size: float, prev: float, dq: np.ndarray, q1: np.ndarray) -> bool:
         """Newton has reached its round-off floor (rules.is_noise)."""
         assert self.scales is not None, "set by the stepper before its first step"
-        return bool(rules.is_noise(size, prev, self.scales.position_size(dq, q1)))
+        scales = self.scales
+        return bool(rules.is_noise(size, prev, scales.position_size(dq, q1), scales.tol))
 
     def _true_acceleration(self, q1, qd1, t1, qdd1, lam1, jac):
         """The state on all three constraint levels, by corrections with the iteration

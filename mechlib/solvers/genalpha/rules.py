@@ -23,6 +23,7 @@ __all__ = [
     "MAX_ITER",
     "NEWTON_KAPPA",
     "NOISE_POSITION",
+    "POSITION_ROUNDOFF",
     "ROUNDOFF",
     "SLOW_ITERATIONS",
     "STAGNANT",
@@ -45,6 +46,10 @@ NEWTON_FLOOR = 1e-10  # an increment this small (x the weights) has converged wh
 DIVERGING = 0.9  # increments shrinking by less than this per iteration: stalled
 STAGNANT = 0.5  # increment ratio of an iteration that no longer converges
 NOISE_POSITION = 1e-3  # position increment (x the position tolerance) that is round-off
+# position increment (x scale + |q|) that is round-off at any tolerance: 45 000 eps, round-off
+# amplified by a near-singular iteration matrix (toggle measure down to about 1e-3); above
+# NOISE_POSITION's only at tolerances below 1e-8
+POSITION_ROUNDOFF = 1e-11
 ETA_MIN = 1e-3  # the smallest Newton rate carried to the next step
 RATE_MEMORY = 0.8  # the rate carried to the next step: max(eta, ETA_MIN) ** RATE_MEMORY
 SLOW_ITERATIONS = 3  # more iterations than this: a fresh iteration matrix for the next step
@@ -112,14 +117,20 @@ def newton_rate(size: float, prev: float, eta: float) -> float:
 
 
 @njit(**KERNEL)
-def is_noise(size: float, prev: float, position_size: float) -> bool:
+def is_noise(size: float, prev: float, position_size: float, tol: float) -> bool:
     """Newton has reached its round-off floor: the increments stopped shrinking (ratio
     above STAGNANT) while far below the position tolerance (`position_size`: the increment
-    against the position weights alone). Near a singular position (the horizontal crossing
-    of a chain of parallelogram four-bars) the iteration matrix amplifies round-off in q by
-    1/sigma_min, and x beta' that noise reads as a large acceleration increment no smaller
-    step removes."""
-    return prev < math.inf and size > STAGNANT * prev and position_size <= NOISE_POSITION
+    against the position weights tol (scale + |q|) alone, at most NOISE_POSITION) or at
+    round-off in q whatever the tolerance (at most POSITION_ROUNDOFF of scale + |q|). Near
+    a singular position (the horizontal crossing of a chain of parallelogram four-bars)
+    the iteration matrix amplifies round-off in q by 1/sigma_min, and x beta' that noise
+    reads as a large acceleration increment no smaller step removes: IFToMM A02 (N = 40)
+    stagnates at increments of 1e-12 (3-D, tolerance 2.4e-10) to 2e-12 (planar, 3.1e-11)
+    of scale + |q|, the same at every step size, and stalled there while only
+    NOISE_POSITION of the tolerance counted as noise."""
+    if prev == math.inf or size <= STAGNANT * prev:
+        return False
+    return position_size <= max(NOISE_POSITION, POSITION_ROUNDOFF / tol)
 
 
 @njit(**KERNEL)

@@ -25,7 +25,7 @@ from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.integrator import Integrator
 from mechlib.solvers.genalpha.kernels import Scales
 from mechlib.solvers.genalpha.run import StepRun
-from mechlib.solvers.runaway import StepCollapse, element_loads, fell_to, stall, step_floor
+from mechlib.solvers.runaway import StepCollapse, fell_to, snapshot, stall, step_floor
 from mechlib.solvers.stick import slip_stop, switch_sticking
 from mechlib.system.system import System
 
@@ -178,7 +178,7 @@ class GeneralizedAlphaStepper(DenseStepper):
             self.stats.steps + self.stats.rejected_steps,
             state.t,
             self.h_used,
-            lambda: element_loads(system, self.view(state)),
+            lambda: snapshot(system, self.view(state), state.qd),
         )
         return state
 
