@@ -31,7 +31,7 @@ CASES = (
     ("door/lifting_inner_let_go.case.yaml", 0.02, 0.01),
     ("door/lifting_inner.case.yaml", 0.1, 0.05),
     ("examples/flexible/spin_up_beam.case.yaml", 0.02, 0.01),  # modal body, welds, stiffening
-    # a valve servo-actuator: its compiled states, the packed loads' rows of a step
+    # a valve servo-actuator: its compiled states, the packed force elements' rows of a step
     ("verification/elements/servo_closed_valve.case.yaml", 0.002, 0.0005),
 )
 

@@ -20,7 +20,7 @@ from mechlib.core.jit import KERNEL, njit
 from mechlib.elements.forces import Spring, TorsionSpring
 from mechlib.kinematics.kernels import spring_wrench, torsion_wrench
 
-__all__ = ["SpringGroup", "TorsionSpringGroup", "grouped"]
+__all__ = ["SpringGroup", "TorsionSpringGroup", "grouped", "spring_rows", "torsion_rows"]
 
 _MIN_MEMBERS = 2  # one element alone is as cheap on its own
 
@@ -44,17 +44,39 @@ class _Group(ABC):
         the state x, xd (nb+1, 7) to F and N (nb+1, 3)."""
 
 
+def spring_rows(springs: Sequence[Spring]) -> tuple[np.ndarray, np.ndarray]:
+    """(ints (n, 3), floats (n, 10)) of bound linear springs, `springs_wrench`'s layout:
+    bodies and wire (slack) flag; points (m), stiffness (N/m), damping (N*s/m), free length
+    (m), preload (N): kernels.spring_wrench's arguments, taken at bind."""
+    ints, floats = [], []
+    for spring in springs:
+        b1, s1, b2, s2, stiffness, damping, free_length, preload, slack = spring._compiled
+        ints.append([b1, b2, int(slack)])
+        floats.append([*s1, *s2, stiffness, damping, free_length, preload])
+    return (
+        np.array(ints, dtype=np.int64).reshape(-1, 3),
+        np.array(floats, dtype=float).reshape(-1, 10),
+    )
+
+
+def torsion_rows(elements: Sequence, constants: Sequence) -> tuple[np.ndarray, np.ndarray]:
+    """(ints (n, 2), floats (n, 13)) of bound angle elements, `torsion_springs_wrench`'s
+    layout: their angle measure's bodies; its frames and axis, then each element's
+    `constants` (kernels.torsion_wrench's: TorsionSpring.linear_constants)."""
+    ints = [[e._m.bi, e._m.bj] for e in elements]
+    floats = [[*e._m.f, *e._m.g, *e._m.axis_local, *c] for e, c in zip(elements, constants)]
+    return (
+        np.array(ints, dtype=np.int64).reshape(-1, 2),
+        np.array(floats, dtype=float).reshape(-1, 13),
+    )
+
+
 class SpringGroup(_Group):
     """Linear springs (no table law): kernels.spring_wrench of each, in one call."""
 
     def __init__(self, members: Sequence[Spring]) -> None:
         super().__init__(members)
-        ints, floats = [], []
-        for spring in members:  # kernels.spring_wrench's arguments, taken at bind
-            b1, s1, b2, s2, stiffness, damping, free_length, preload, slack = spring._compiled
-            ints.append([b1, b2, int(slack)])
-            floats.append([*s1, *s2, stiffness, damping, free_length, preload])
-        self.ints, self.floats = np.array(ints, dtype=np.int64), np.array(floats, dtype=float)
+        self.ints, self.floats = spring_rows(members)
 
     def apply(self, x: np.ndarray, xd: np.ndarray, skip, F: np.ndarray, N: np.ndarray) -> None:
         springs_wrench(x, xd, self.ints, self.floats, self._on(skip), F, N)
@@ -65,11 +87,7 @@ class TorsionSpringGroup(_Group):
 
     def __init__(self, members: Sequence[TorsionSpring]) -> None:
         super().__init__(members)
-        self.ints = np.array([[s._m.bi, s._m.bj] for s in members], dtype=np.int64)
-        self.floats = np.array(
-            [[*s._m.f, *s._m.g, *s._m.axis_local, *s.linear_constants] for s in members],
-            dtype=float,
-        )
+        self.ints, self.floats = torsion_rows(members, [s.linear_constants for s in members])
 
     def apply(self, x: np.ndarray, xd: np.ndarray, skip, F: np.ndarray, N: np.ndarray) -> None:
         references = np.array([s._m.reference for s in self.members])

@@ -79,7 +79,9 @@ class Dynamic(_Timed):
     dense output (mechlib.solvers.dense). A case's dynamic analysis is dense unless it says
     `output: steps` (loadcases.build); this dataclass's own default stays False.
     `compiled`: the compiled paths generalized-alpha may take where the model allows them,
-    all with the same steps and results to round-off (tests/mechlib/test_genalpha_run.py):
+    all with the same steps and results to round-off (tests/mechlib/test_genalpha_run.py;
+    with force elements a whole run's iteration matrix differs, its results agree to the
+    Newton tolerance):
     `runs` (whole runs of steps in one compiled call, mechlib.solvers.genalpha.run), `steps`
     (every step from Python, its Newton loop and dense rows compiled) or `python` (none:
     the reference the compiled paths are tested against).

@@ -135,9 +135,8 @@ class HermiteRows:
         arrays = system.packed_constraints()
         if not self.compiled or arrays is None or not small_enough(system):
             return None
-        packed = system.packed_loads()
-        loads = None if packed is None else packed.args(float(times[0]), demands=False)
-        if loads is None or self._timed(system.coordinate_rows()):
+        elements = row_elements(system)
+        if elements is None or self._timed(system.coordinate_rows()):
             return None
         nq, m, n = system.nq, system.active.size, len(times)
         z0 = np.zeros(0) if z0 is None else z0
@@ -148,10 +147,22 @@ class HermiteRows:
         done, fresh = project_loaded_rows(
             ends, start.t, end.t, np.asarray(times, dtype=float), ints, floats,
             arrays.functions(float(times[0])), arrays.references(), arrays.bodies(), PROJECTION,
-            z0, z1, *loads, out, zs,
+            z0, z1, elements, out, zs,
         )  # fmt: skip
         count(factorizations=fresh + done, jacobian_evaluations=fresh)
         return RowBlock(done, out[:done], zs[:done] if z0.size else None)
+
+
+def row_elements(system: System) -> tuple | None:
+    """The packed force elements' `args` for the compiled rows (System.compiled_forces,
+    their references refreshed), or None where the Python rows take them: an element with
+    no compiled form, or a joint friction (its law reads the reactions and the slip history
+    the rows solve for)."""
+    elements = system.compiled_forces()
+    if elements is None or elements.frictions:
+        return None
+    elements.refresh(system)
+    return elements.args
 
 
 def projected_row(system: System, t: float, q, qd, states: np.ndarray | None) -> State:
@@ -192,16 +203,15 @@ def _compiled_row(
     system: System, t: float, ends: np.ndarray, h: float, s: float, states=None
 ) -> tuple[np.ndarray, ...] | None:
     """(q, qd, qdd, lam) of `_projected` from one compiled call (mechlib.solvers.dense_compiled)
-    for a small packed system whose active elements are packed ones
-    (mechlib.elements.packed_loads), at element states `states`; None where the Python
+    for a small packed system whose active elements are packed ones (`row_elements`), at
+    element states `states`; None where the Python
     path must take the row (a larger system, another element, or the kernel gave up:
     near a toggle, no convergence)."""
     arrays = system.packed_constraints()
     if arrays is None or not small_enough(system):
         return None
-    packed = system.packed_loads()
-    loads = None if packed is None else packed.args(t)
-    if loads is None:
+    elements = row_elements(system)
+    if elements is None:
         return None
     z = system.states.trial if states is None else states
     nq, m = system.nq, system.active.size
@@ -209,7 +219,7 @@ def _compiled_row(
     ints, floats = arrays.packed()
     status, fresh = project_loaded_row(
         ends, h, s, ints, floats, arrays.functions(t), arrays.references(), arrays.bodies(),
-        PROJECTION, z, *loads, out,
+        PROJECTION, z, elements, out,
     )  # fmt: skip
     count(factorizations=fresh, jacobian_evaluations=fresh)
     if status != DONE:

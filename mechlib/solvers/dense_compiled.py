@@ -1,10 +1,10 @@
 """A dense output row's projection as one compiled call (mechlib.solvers.dense.projected_row).
 
-For a small rigid system with no active force element but packed ones (linear springs and
-`valve` servo-actuators with their states: mechlib.elements.packed_loads) (the
-slider-crank of a campaign, a free deployment phase, a hydraulic ram), the row's
-interpolated (q, qd) is interpolated and projected in one numba call instead of about
-0.2 ms of Python per row:
+For a small rigid system with no active force element but packed ones (springs, torsion
+springs, rotational dampers and `valve` servo-actuators with their states:
+mechlib.elements.compiled_forces; no joint friction) (the slider-crank of a campaign, a
+free deployment phase, a hydraulic ram), the row's interpolated (q, qd) is projected in
+one numba call instead of about 0.2 ms of Python per row:
 
 - (q, qd) from the quintic Hermite interpolant of the step's two ends (generalized-alpha)
   or as given (`s` = 1: Radau's dense output, a step's end);
@@ -28,7 +28,7 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
-from mechlib.elements.packed_loads import loads_wrench, no_loads
+from mechlib.elements.compiled_forces import any_elements, element_wrenches, no_forces
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
 
@@ -56,6 +56,7 @@ SCHUR_ROWS = 64
 
 # quintic Hermite basis on s in [0, 1], coefficients of 1, s, .., s^5: the weights of q0,
 # h qd0, h^2 qdd0, q1, h qd1, h^2 qdd1
+_NO_BLOCK, _NO_ACTIVE, _NO_LAM = np.zeros((0, 0)), np.zeros(0, np.int64), np.zeros(0)
 HERMITE_BASIS = np.array(
     [
         [1, 0, 0, -10, 15, -6],
@@ -193,19 +194,16 @@ def project_row(ends, h, s, ints, floats, functions, refs, body, params, out):
     `interpolated`; the module docstring for the projection); params: (position tolerance,
     Jacobian reuse step, most Newton iterations). Writes (q, qd, qdd, lam) stacked into
     `out`; returns (DONE or FALLBACK, Jacobians evaluated). No force element."""
-    load_ints, load_floats = no_loads()
     return project_loaded_row(
-        ends, h, s, ints, floats, functions, refs, body, params, np.zeros(0), load_ints,
-        load_floats, out,
-    )  # fmt: skip
+        ends, h, s, ints, floats, functions, refs, body, params, np.zeros(0), no_forces(), out
+    )
 
 
 @njit(**KERNEL)
-def project_loaded_row(
-    ends, h, s, ints, floats, functions, refs, body, params, z, load_ints, load_floats, out
-):
-    """`project_row` with the packed force elements (LoadArgs load_ints, load_floats:
-    mechlib.elements.packed_loads) at element states z (the row's, interpolated)."""
+def project_loaded_row(ends, h, s, ints, floats, functions, refs, body, params, z, elements, out):
+    """`project_row` with the packed force elements (`elements`: CompiledForces.args,
+    mechlib.elements.compiled_forces, no joint friction) at element states z (the row's,
+    interpolated)."""
     q, qd = interpolated(ends, h, s)
     nq = q.shape[0]
     nb, m = nq // 7, ints[7]
@@ -238,7 +236,8 @@ def project_loaded_row(
         ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
     forces = np.empty(nq)
     wrench_f, wrench_n = np.zeros((nb + 1, 3)), np.zeros((nb + 1, 3))
-    loads_wrench(x, xd, z, load_ints, load_floats, wrench_f, wrench_n)
+    if any_elements(elements):
+        element_wrenches(x, xd, z, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, wrench_f, wrench_n)
     gravity, masses, _, inertia = ca.body_terms(body, nb)
     kr.body_forces(x, xd, masses, inertia, gravity, wrench_f, wrench_n, True, forces)
     lam = _cho_solve(low, weighted @ forces - gamma)
@@ -257,8 +256,8 @@ def project_loaded_row(
 
 @njit(**KERNEL)
 def project_loaded_rows(
-    ends, t0, t1, times, ints, floats, functions, refs, body, params, z0, z1, load_ints,
-    load_floats, rows_state, rows_z,
+    ends, t0, t1, times, ints, floats, functions, refs, body, params, z0, z1, elements,
+    rows_state, rows_z,
 ):  # fmt: skip
     """`project_loaded_row` of each time in `times` (s) within the step t0 -> t1 (s) with
     ends (6, nq), the element states interpolated linearly from z0 (at t0) to z1 (at t1),
@@ -274,8 +273,8 @@ def project_loaded_rows(
         for i in range(z0.shape[0]):
             rows_z[k, i] = (1.0 - w) * z0[i] + w * z1[i]
         status, more = project_loaded_row(
-            ends, h, s, ints, floats, functions, refs, body, params, rows_z[k], load_ints,
-            load_floats, rows_state[k],
+            ends, h, s, ints, floats, functions, refs, body, params, rows_z[k], elements,
+            rows_state[k],
         )  # fmt: skip
         fresh += more
         if status != DONE:

@@ -19,9 +19,25 @@ from mechlib.core.jit import KERNEL, njit
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
 from mechlib.kinematics.kin import Kin
-from mechlib.linalg.factor import augmented, factor_saddle, pattern_factors
+from mechlib.linalg.factor import SaddlePattern, augmented, factor_saddle, pattern_factors
 
-__all__ = ["rigid_saddle_factors"]
+__all__ = ["coupled_pattern", "rigid_saddle_factors"]
+
+
+def coupled_pattern(system, columns: np.ndarray):
+    """The sparsity of [[M + T, phi_q^T], [phi_q, 0]] (mechlib.linalg.factor.SaddlePattern),
+    T full over the coordinates `columns` (a force element's tangent couples them: the
+    compiled runs' iteration matrix, mechlib.solvers.genalpha.run)."""
+    rigid = system.saddle_pattern()
+    nq = system.nq
+    top = np.zeros((nq, nq))
+    top[np.ix_(columns, columns)] = 1.0
+    inner = (rigid.rows < nq) & (rigid.cols < nq)
+    top[rigid.rows[inner], rigid.cols[inner]] = 1.0
+    jac = np.zeros((rigid.shape[0] - nq, nq))
+    lower = (rigid.rows >= nq) & (rigid.cols < nq)
+    jac[rigid.rows[lower] - nq, rigid.cols[lower]] = 1.0
+    return SaddlePattern(top, jac)
 
 
 def rigid_saddle_factors(system, k: Kin):

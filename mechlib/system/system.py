@@ -15,7 +15,7 @@ import numpy as np
 
 from mechlib.core import jit
 from mechlib.core.rotation import e_matrix
-from mechlib.elements.packed_loads import PackedLoads
+from mechlib.elements.compiled_forces import CompiledForces
 from mechlib.kinematics import kernels
 from mechlib.kinematics.constraint_arrays import ConstraintArrays
 from mechlib.kinematics.kin import Kin
@@ -41,7 +41,7 @@ class System(Topology):
 
     def __init__(self, mechanism: Mechanism):
         self._arrays: ConstraintArrays | bool | None = False  # packed_constraints(), once
-        self._loads: PackedLoads | bool | None = False  # packed_loads(), once
+        self._forces: tuple = ((), None)  # (the elements' switches, compiled_forces())
         self._no_wrench = np.zeros((len(mechanism.bodies) + 1, 3))
         self._no_wrench.flags.writeable = False
         self.row_plans: dict[tuple[bytes, bytes], list] = {}  # mechlib.system.rows_jacobian
@@ -130,12 +130,15 @@ class System(Topology):
             self._arrays = ConstraintArrays(self) if ConstraintArrays.eligible(self) else None
         return self._arrays  # type: ignore[return-value]
 
-    def packed_loads(self) -> PackedLoads | None:
-        """The force elements packed for compiled kernels (mechlib.elements.packed_loads),
-        found once; None where element states belong to elements it does not pack."""
-        if self._loads is False:
-            self._loads = PackedLoads.of(self)
-        return self._loads  # type: ignore[return-value]
+    def compiled_forces(self) -> CompiledForces | None:
+        """The active force elements packed for the compiled kernels
+        (mechlib.elements.compiled_forces; their moving values as last refreshed); None
+        where one has no compiled form. Packed anew only when an element is switched,
+        sticks or is locked, or the active equations change."""
+        key = CompiledForces.switches(self)
+        if key != self._forces[0]:
+            self._forces = (key, CompiledForces.of(self))
+        return self._forces[1]
 
     def phi_and_jacobian(self, k: Kin) -> tuple[np.ndarray, np.ndarray]:
         """(phi, phi_q): one compiled call (`packed_constraints`) or one pass over the

@@ -37,6 +37,8 @@ _MIN_LENGTH = 1e-3  # m
 class _Held:
     """A coordinate held at a constant value (rad or m): the function of a lock."""
 
+    constant = True  # no function of time: a compiled run reads its value once per call
+
     def __init__(self, value: float):
         self._value = value
 

@@ -33,8 +33,9 @@ bodies:
   arm: {mass: 1.0, cm: [0.5, 0, 0], inertia: [0.001, 0.08, 0.08]}
 joints:
   pivot: {type: revolute, bodies: [arm, ground], at: [0, 0, 0], axis: [0, 0, 1]}
-forces:  # a force element keeps the solve in Python steps (minutes of them over 200 s)
-  return: {type: torsion_spring, joint: pivot, stiffness: 0.5 N*m/rad}
+forces:  # an applied torque keeps the solve in Python steps (minutes of them over 200 s): a
+  # torsion spring would now be compiled (mechlib.elements.compiled_forces)
+  return: {type: torque, body: arm, value: [0, 0, "-0.5 * angle(pivot)"]}
 """
 
 SLOW_CASE = """\
@@ -206,7 +207,9 @@ def test_solve_keeps_the_rows_before_an_interrupt() -> None:
     t = 0.3 s) gives status `interrupted` and the rows 0..0.3 s, equal to those of the
     whole run; with `throw=True` it propagates."""
     mech = hinged_bar()
-    analysis = ml.Dynamic(end=1.0, step=0.1)
+    # Python steps (their Newton loop compiled) report each row; a compiled whole run
+    # reports once per call (a chunk of up to 256 rows), where an interrupt then lands
+    analysis = ml.Dynamic(end=1.0, step=0.1, compiled="steps")
     requests = [ml.JointReaction("f", "hinge")]
     initial = [ml.InitialValue("hinge", 1.0)]
 
@@ -234,7 +237,7 @@ def test_interrupt_met_inside_a_compiled_kernel_is_an_interrupt() -> None:
     under load in the SIGTERM test above): still status `interrupted` with the rows so far;
     any other SystemError propagates."""
     mech = hinged_bar()
-    analysis = ml.Dynamic(end=1.0, step=0.1)
+    analysis = ml.Dynamic(end=1.0, step=0.1, compiled="steps")  # a row each (above)
     initial = [ml.InitialValue("hinge", 1.0)]
 
     def kernel_stop(t: float, end: float) -> None:

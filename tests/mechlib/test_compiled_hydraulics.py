@@ -1,6 +1,7 @@
 """The `valve` servo-actuator in compiled kernels (issue 40 item 2, hydraulics): its states'
-rates and advance (mechlib.elements.hydraulics.valve_states), the packed loads of the
-compiled Newton loop and dense rows (mechlib.elements.packed_loads), against the element's
+rates and advance (mechlib.elements.hydraulics.valve_states), the actuators packed with the
+other force elements for the compiled Newton loop and dense rows
+(mechlib.elements.compiled_forces), against the element's
 Python evaluation and the Python path (`compiled="python"`). The physics is checked against
 closed forms by tests/mechlib/test_servo_actuator.py and tests/verification/
 test_servo_closed_valve.py, whose runs now take these kernels."""
@@ -14,9 +15,9 @@ import numpy as np
 import pytest
 
 import mechlib as ml
+from mechlib.elements.compiled_forces import CompiledForces
 from mechlib.elements.hydraulics import Controller, Cylinder, ServoActuator
 from mechlib.elements.hydraulics.valve_states import advance_valve, valve_rates
-from mechlib.elements.packed_loads import PackedLoads
 from mechlib.elements.states import residual_size
 from mechlib.system.system import System
 from tests.mechlib.hydraulic_rig import REQUESTS, crossings, rig
@@ -87,26 +88,25 @@ def test_advance_solves_the_trapezoidal_rule() -> None:
     assert residual_size(z - z0 - 0.5 * h * (f0 + f), z) <= 1.0
 
 
-def test_packed_loads_serve_actuators_and_their_springs_only() -> None:
-    """The ram (actuator and spring) is packed; a spring beside an actuator of another
-    fidelity (whose states the kernels do not advance) is not, nor a spring alone while
-    it is active (the Python path takes those)."""
+def test_one_packer_takes_actuators_with_their_springs() -> None:
+    """The ram (actuator and spring) is packed by the one packer of compiled element
+    loads, the actuator with its states; a spring beside an actuator of another fidelity
+    (whose states the kernels do not advance) is not; a switched-off actuator stays
+    packed (its states still advance) but loads nothing."""
     system = System(_ram())
-    packed = system.packed_loads()
-    assert packed is not None and packed.args(0.0) is not None
-    assert len(packed.springs) == 1 and len(packed.actuators) == 1
+    packed = system.compiled_forces()
+    assert packed is not None
+    assert len(packed.actuators) == 1 and packed.args[0].shape[0] == 1  # one spring
     lag = rig(lambda t: 0.0, fidelity="lag")
     lag.add_force(ml.Spring("spring", SPRING_POINTS, 1e5, free_length=0.5))
-    assert PackedLoads.of(System(lag)) is None
-    alone = ml.Mechanism()
-    alone.add_body("rod", mass=1.0, cm=(0, 0, 0), inertia=[1, 1, 1])
-    alone.add_joint("slide", "prismatic", bodies=("rod", "ground"), at=(0, 0, 0), axis=(1, 0, 0))
-    alone.add_force(ml.Spring("spring", SPRING_POINTS, 1e5, free_length=0.4))
-    system = System(alone)
-    packed = PackedLoads.of(system)
-    assert packed is not None and packed.args(0.0) is None
-    alone.forces["spring"].active = False
-    assert packed.args(0.0) is not None  # nothing active: the rigid system's path
+    assert CompiledForces.of(System(lag)) is None
+    off = _ram(spring=False)
+    system = System(off)
+    off.forces["act"].active = False
+    packed = system.compiled_forces()
+    assert packed is not None and len(packed.actuators) == 1
+    packed.refresh(system, 0.0)
+    assert packed.args[10][0, 3] == 0  # its `on` flag
 
 
 @pytest.mark.parametrize("dense", [True, False])

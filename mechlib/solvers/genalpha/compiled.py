@@ -1,13 +1,14 @@
 """Generalized-alpha's Newton loop and state correction as compiled kernels.
 
-For a rigid system with no active force element and no element states (gravity, joints,
-motions: the bench models, a free deployment phase), or whose elements are packed ones
-(`valve` servo-actuators and springs beside them, with the actuators' states:
-mechlib.elements.packed_loads), everything a Newton iteration of
+For a rigid system with no element states but the packed elements', whose active force
+elements all have a compiled form (the one packer: mechlib.elements.compiled_forces:
+springs, torsion springs, rotational dampers, the friction of sliding revolute and
+cylindrical joints, `valve` servo-actuators with their states; or none: the bench models, a
+free deployment phase), everything a Newton iteration of
 `mechlib.solvers.genalpha.integrator.Integrator.step` does between two factorisations -- state
 arrays, the element states' advance over the step (ElementStates.advance), constraint
 residual and Jacobian (mechlib.kinematics.constraint_arrays), mass times acceleration,
-gravity, velocity terms and packed loads, the solve with the iteration matrix's LU factors
+gravity, velocity terms and the elements' loads, the solve with the iteration matrix's LU factors
 (mechlib.linalg.flat_lu: dense or band LAPACK, or SuperLU's L and U), the correction and the
 convergence test -- runs in one numba call, and so does the three-level correction of the
 accepted state. Here the factorisation, the step-size control and everything else stay in
@@ -21,7 +22,7 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
-from mechlib.elements.packed_loads import advance_states, loads_wrench, no_loads
+from mechlib.elements.compiled_forces import advance_states, any_elements, element_wrenches
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
 from mechlib.linalg.flat_lu import lu_solve, lu_solve_into
@@ -35,26 +36,25 @@ CONVERGED, STALLED = 1, 2
 
 @njit(**KERNEL)
 def _residual_work(nq):
-    """Work arrays of `_dynamic_residual`: its three products (3, nq), the applied forces
-    and torques (nb + 1, 3)."""
-    return np.empty((3, nq)), np.zeros((nq // 7 + 1, 3)), np.zeros((nq // 7 + 1, 3))
+    """Work arrays of `_dynamic_residual`: its three products (3, nq), the elements'
+    forces and torques (2, nb + 1, 3)."""
+    return np.empty((3, nq)), np.zeros((2, nq // 7 + 1, 3))
 
 
 @njit(**KERNEL)
-def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, work, z, loads, out):
-    """out[:nq] = M qdd + phi_q^T lam - Q (gravity, velocity terms and the packed elements'
-    loads at element states z: mechlib.elements.packed_loads, `loads` their LoadArgs);
-    work: `_residual_work`'s arrays."""
+def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, z, elements, work, out):
+    """out[:nq] = M qdd + phi_q^T lam - Q (gravity, velocity terms and the loads of the
+    packed `elements` at element states z, mechlib.elements.compiled_forces); work:
+    `_residual_work`'s arrays."""
     nq = qdd.shape[0]
     nb = nq // 7
     gravity, masses, pscale, inertia = ca.body_terms(body, nb)
-    products, applied_f, applied_n = work
+    products, loads = work
     m_qdd, forces, reactions = products[0], products[1], products[2]
     kr.mass_times(x, masses, inertia, pscale, qdd, m_qdd)
-    applied_f[:] = 0.0
-    applied_n[:] = 0.0
-    loads_wrench(x, xd, z, loads[0], loads[1], applied_f, applied_n)
-    kr.body_forces(x, xd, masses, inertia, gravity, applied_f, applied_n, True, forces)
+    if any_elements(elements):
+        element_wrenches(x, xd, z, elements, rows, active, lam, loads[0], loads[1])
+    kr.body_forces(x, xd, masses, inertia, gravity, loads[0], loads[1], True, forces)
     ca.transpose_times(rows, active, row_bodies, lam, reactions)
     for j in range(nq):
         out[j] = m_qdd[j] + reactions[j] - forces[j]
@@ -63,21 +63,21 @@ def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, work, z, 
 @njit(**KERNEL)
 def newton(
     q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
-    it, prev, eta, qdd, a, true,
+    it, prev, eta, qdd, a, true, elements,
 ):  # fmt: skip
-    """`loaded_newton` for a system without packed elements or element states."""
+    """`loaded_newton` for a system without element states (`elements`: its packed force
+    elements, mechlib.elements.compiled_forces)."""
     none = np.zeros(0)
-    load_ints, load_floats = no_loads()
     return loaded_newton(
         q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
-        it, prev, eta, qdd, a, true, 0.0, none, none, none, load_ints, load_floats,
+        it, prev, eta, qdd, a, true, 0.0, none, none, none, elements,
     )  # fmt: skip
 
 
 @njit(**KERNEL)
 def loaded_newton(
     q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
-    it, prev, eta, qdd, a, true, h, z0, f0, z, load_ints, load_floats,
+    it, prev, eta, qdd, a, true, h, z0, f0, z, elements,
 ):  # fmt: skip
     """Newton iterations on (q1, qd1, qdd1, lam1), in place, with fixed LU factors (fi, ff)
     from iteration `it` with the last increment size `prev` and rate estimate `eta`, as
@@ -88,11 +88,10 @@ def loaded_newton(
     (qdd, a), stacked) or when the increments stop shrinking fast enough or the
     iterations run out (STALLED: the caller refactors or gives up). At each iterate the
     element states z (in place) advance over the step h (s) from z0 (rates f0), and the
-    packed elements (LoadArgs load_ints, load_floats: mechlib.elements.packed_loads) load
-    the bodies. Returns
+    packed force elements (`elements`: CompiledForces.args, mechlib.elements.compiled_forces)
+    load the bodies. Returns
     (status, it, prev, eta, iterations done)."""
     bp, gp, tol = params[0], params[1], params[2]
-    loads = (load_ints, load_floats)
     nq, m = q1.shape[0], lam1.shape[0]
     nb = nq // 7
     nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
@@ -106,10 +105,10 @@ def loaded_newton(
     while True:
         ca.state_into(q1, qd1, x, xd)
         if z.shape[0]:
-            advance_states(x, xd, z0, f0, h, load_ints, load_floats, z)
+            advance_states(x, xd, z0, f0, h, elements, z)
         active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
         _dynamic_residual(
-            x, xd, qdd1, lam1, rows, active, row_bodies, body, work, z, loads, res
+            x, xd, qdd1, lam1, rows, active, row_bodies, body, z, elements, work, res
         )  # fmt: skip
         for j in range(nq):
             res[j] = -res[j] / bp
@@ -126,7 +125,7 @@ def loaded_newton(
         if rules.converged(eta, size, noise):
             _true_acceleration(
                 q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body,
-                work, fi, ff, z, loads, true,
+                z, elements, work, fi, ff, true,
             )  # fmt: skip
             am, af = params[3], params[4]
             for j in range(nq):
@@ -139,8 +138,8 @@ def loaded_newton(
 
 @njit(**KERNEL)
 def _true_acceleration(
-    q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, work, fi, ff,
-    z, loads, out,
+    q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, z, elements,
+    work, fi, ff, out,
 ):  # fmt: skip
     """(qd, qdd, lam) on all three constraint levels, stacked into `out`, by two
     corrections with the iteration matrix
@@ -160,7 +159,7 @@ def _true_acceleration(
     qd = qd1 + fix[:nq]
     x, xd = ca.state_arrays(q1, qd, nb)
     ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
-    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, work, z, loads, rhs)
+    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, z, elements, work, rhs)
     ca.times(rows, active, row_bodies, qdd1, product)
     for i in range(m):
         rhs[nq + i] = product[i] - gamma[i]

@@ -27,6 +27,7 @@ import numpy as np
 
 from mechlib.core.outcome import SolverFailure, SolverStats
 from mechlib.core.work import count
+from mechlib.elements.compiled_forces import CompiledForces
 from mechlib.linalg.factor import factor_saddle, singular_failure, solve_factored
 from mechlib.linalg.flat_lu import factor_data, factors
 from mechlib.model.analysis import Dynamic
@@ -78,13 +79,21 @@ class Integrator:
         self.singular: SolverFailure | None = None  # the last singular iteration matrix
         self.scales: Scales | None = None  # set by the stepper from its first state
         # the compiled Newton loop (mechlib.solvers.genalpha.compiled) serves steps whose
-        # active elements are all packed (none, or valve servo-actuators with their states:
-        # mechlib.elements.packed_loads): nothing of theirs to evaluate in Python between two
+        # active elements are all packed (mechlib.elements.compiled_forces, with the valve
+        # actuators' states): nothing of theirs to evaluate in Python between two
         # iterations (the kernels are compiled by now: the model checks called them)
         python = spec.compiled == "python"
         self.arrays = None if python else system.packed_constraints()
-        self.packed = None if self.arrays is None else system.packed_loads()
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
+
+    def elements(self, t: float | None = None) -> CompiledForces | None:
+        """The active force elements packed for the compiled kernels
+        (System.compiled_forces), their moving values refreshed (the actuators' demands at
+        t, s, when given); None where one has no compiled form."""
+        packed = self.system.compiled_forces()
+        if packed is not None:
+            packed.refresh(self.system, t)
+        return packed
 
     def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):
         """Factor the iteration matrix at step h, state k and multipliers lam: the
@@ -159,10 +168,9 @@ class Integrator:
 
     def step(self, t, h, q, qd, qdd, a, lam):
         """One step; returns the new state or None when Newton does not converge."""
-        packed = None if self.arrays is None else self.packed
-        loads = None if packed is None else packed.args(t + h)
-        if loads is not None:
-            return self._compiled_step(t, h, q, qd, qdd, a, lam, loads)
+        elements = None if self.arrays is None else self.elements(t + h)
+        if elements is not None:
+            return self._compiled_step(t, h, q, qd, qdd, a, lam, elements)
         c, sys = self.c, self.system
         bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
         # a step-size change refactors; elements with their own tangent (contacts:
@@ -237,11 +245,10 @@ class Integrator:
         self.stale = False
         return bp, gp, q1, qd1, qdd1, lam.copy(), t + h, fresh
 
-    def _compiled_step(self, t, h, q, qd, qdd, a, lam, loads):
+    def _compiled_step(self, t, h, q, qd, qdd, a, lam, elements: CompiledForces):
         """`step` with the Newton iterations between factorisations and the three-level
         correction compiled (mechlib.solvers.genalpha.compiled): the same iteration, decisions and
-        results (to round-off) for a system whose active elements are packed (`loads`:
-        their LoadArgs, mechlib.elements.packed_loads)."""
+        results (to round-off) for a system whose active elements are all `elements`."""
         c, sys, arrays, states = self.c, self.system, self.arrays, self.system.states
         assert arrays is not None and self.scales is not None, "checked by step; set by init"
         bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
@@ -270,7 +277,7 @@ class Integrator:
             status, it, prev, eta, done = loaded_newton(
                 q1, qd1, qdd1, lam1, ints, floats, functions, refs, arrays.bodies(),
                 *self._factor_data(), scales.q_abs, scales.a_ref, params, it, prev, eta, qdd, a,
-                true, h, states.z, rates, states.trial, *loads,
+                true, h, states.z, rates, states.trial, elements.args,
             )  # fmt: skip
             self.stats.newton_iterations += done
             if status == CONVERGED:

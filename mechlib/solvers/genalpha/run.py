@@ -1,8 +1,9 @@
 """Runs of generalized-alpha steps in one compiled call.
 
-For a rigid system with no active force element, no element states, no joint friction and no
-time function in its equations (a free mechanism under gravity: the bench models, a free
-deployment phase), `run_steps` takes accepted steps one after another, landing on the output
+For a rigid system with no element states, no force element without a compiled form, no
+stuck joint friction and no time function in its equations (a free mechanism under gravity,
+with springs, dampers and sliding joint friction: the bench models, a free deployment
+phase), `run_steps` takes accepted steps one after another, landing on the output
 times (`output: steps`) or towards the end (dense output), as
 `GeneralizedAlphaStepper.step`, `accept` and `march` do them -- the step size from the error
 estimate, the Newton iterations (mechlib.solvers.genalpha.compiled.newton), the error estimate, the
@@ -36,6 +37,16 @@ import numpy as np
 from mechlib.core.jit import KERNEL, njit
 from mechlib.core.outcome import SolverFailure
 from mechlib.core.work import count
+from mechlib.elements.compiled_forces import (
+    ROW_COUNT,
+    CompiledForces,
+    any_elements,
+    element_tangent,
+    element_wrenches,
+    slip_rates,
+    slipping_on,
+    update_references,
+)
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
 from mechlib.kinematics.coordinates import AngleMeasure
@@ -46,7 +57,7 @@ from mechlib.solvers.finite import all_finite
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.compiled import CONVERGED, newton
-from mechlib.system.saddle import saddle_values
+from mechlib.system.saddle import coupled_pattern, saddle_values
 
 __all__ = ["FAILED", "REFACTOR", "STOPPED", "StepRun", "run_steps"]
 
@@ -61,7 +72,8 @@ ALPHA_M, ALPHA_F, BETA, GAMMA, DENSE = 11, 12, 13, 14, 15
 FRESH, NEXT_H = 16, 17  # in: the matrix is new for the next step; out: that step's h
 REFACTORED = 18  # out: the iteration matrices factored in the call
 RESTARTED = 19  # out: consistent accelerations taken at a new step size (H_USED is that h)
-CTRL_SIZE = 20
+H_MIN = 20  # in: the run's step floor (s)
+CTRL_SIZE = 21
 # the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
 # the rules of mechlib.solvers.genalpha.rules, as the Python stepper does
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
@@ -77,7 +89,7 @@ def _reached(t_out, t):
 def run_steps(
     own, own_lam, cons, cons_lam, ctrl, counts, outs, first, ints, floats, functions, body,
     fi, ff, layout, q_abs, a_ref, angles, refs_all, block_angles, projection, rows_t,
-    rows_state, rows_refs, most_steps,
+    rows_state, rows_refs, most_steps, elements, columns, rates,
 ):  # fmt: skip
     """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
     `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
@@ -90,7 +102,10 @@ def run_steps(
     place when the saddle pattern's `layout` (its kind, rows, columns, and the flat
     layout's places, rows and columns; kind -1: none) fits them. `angles` = (ai, aj, au, av)
     of every angle measure, `refs_all` their references (in place), `block_angles` the
-    indices of the constraint rows' angles among them.
+    indices of the constraint rows' angles among them. `elements`: the packed force elements
+    (mechlib.elements.compiled_forces; their tangent over `columns` enters the iteration
+    matrix), `rates` (n, 2) their frictions' slip rates (rad/s) at the last two accepted
+    states (in place); it stops before a step in which a friction may stick.
     Returns (0, STOPPED, REFACTOR or FAILED; next output index, rows written)."""
     nq = own.shape[1]
     m = own_lam.shape[0]
@@ -104,34 +119,31 @@ def run_steps(
     kind, prow, pcol, place, brow, bcol = layout
     values = np.empty(prow.shape[0])
     spare_i, spare_f = fi.copy(), ff.copy()  # the consistent accelerations' factors
+    slips = np.empty(rates.shape[0])  # the frictions' slip rates at a state
+    tangent = np.full((2, nq, nq), np.nan)  # the elements' (K, C), made at a refactor
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[T]
-        row = _FULL if dense and _reached(ctrl[END], t) else _STEP
-        if not dense:
-            row = _output_row(i, written, t, outs, own, cons, cons_lam, refs_all, rows_t,
-                              rows_state, rows_refs)  # fmt: skip
+        row = _row_at(dense, i, written, t, ctrl, outs, own, cons, cons_lam, refs_all, rows_t,
+                      rows_state, rows_refs)  # fmt: skip
         if row == _WRITTEN:
             written += 1
             i += 1
             continue
-        if row != _STEP:
-            return (0 if row == _FULL else STOPPED), i, written
+        if row != _STEP:  # done (0), or a row Python must look at
+            return STOPPED * (row != _FULL), i, written
         target = ctrl[END] if dense else outs[i]
         limit = _limits(counts, ctrl, taken, most_steps)
         if limit >= 0:
             return limit, i, written
         h_try = _trial_step(target - t, ctrl[H], dense)
-        if _new_size(ctrl, h_try):
-            # consistent accelerations at the new step size (GeneralizedAlphaStepper._attempt);
-            # SuperLU's factors (kind < 0), a singular matrix or a non-finite one: Python's
-            if not _restart(
-                kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow,
-                pcol, values, place, brow, bcol, spare_i, spare_f,
-            ):  # fmt: skip
-                return STOPPED, i, written
-            counts[ROW_FACTORS] += 1
-            ctrl[H_USED], ctrl[RESTARTED] = h_try, 1.0
+        # consistent accelerations at a new step size (GeneralizedAlphaStepper._attempt);
+        # SuperLU's factors (kind < 0), a singular matrix or a non-finite one: Python's
+        if not _restarted(
+            h_try, ctrl, counts, kind, own, own_lam, cons, cons_lam, ints, floats, functions,
+            refs, body, prow, pcol, values, place, brow, bcol, spare_i, spare_f, elements,
+        ):  # fmt: skip
+            return STOPPED, i, written
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
             return STOPPED, i, written  # the step-collapse watch
         fresh = ctrl[FRESH] != 0.0
@@ -144,8 +156,9 @@ def run_steps(
         q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h_try, am, beta, gamma)
         if _matrix_due(ctrl, h_try, fresh):
             # [[M, phi_q^T], [phi_q, 0]] at the predicted state (Integrator._iteration_matrix)
-            if not _refactored(q1, kind, ints, floats, functions, refs, body, prow, pcol,
-                               values, place, brow, bcol, fi, ff):  # fmt: skip
+            if not _refactored(q1, qd1, own_lam, h_try, ctrl, kind, ints, floats,
+                               functions, refs, body, prow, pcol, values, place, brow, bcol,
+                               fi, ff, elements, columns, tangent):  # fmt: skip
                 ctrl[NEXT_H] = h_try  # StepRun factors it (or finds it singular)
                 return REFACTOR, i, written
             counts[ROW_JACOBIANS] += 1
@@ -158,7 +171,7 @@ def run_steps(
         lam1 = own_lam.copy()
         status, it, _, eta, done = newton(
             q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref,
-            params, 0, math.inf, ctrl[ETA], own[2], own[3], true,
+            params, 0, math.inf, ctrl[ETA], own[2], own[3], true, elements,
         )  # fmt: skip
         if status != CONVERGED:
             return _newton_stopped(ctrl, counts, fresh, done, h_try), i, written
@@ -166,8 +179,12 @@ def run_steps(
         err = gk.error_norm(
             ctrl[ERROR_CONSTANT] * h_try * h_try, cons[1], new_qdd, q_abs, ctrl[TOL], q1
         )
-        if err > 1.0:
-            return STOPPED, i, written  # rejected: the Python stepper shrinks the step
+        if err > 1.0:  # rejected: the step shrunk as the Python stepper shrinks it
+            if not _rejected(ctrl, counts, h_try, err, eta, it, done):
+                return STOPPED, i, written  # below the step floor: Python's stall
+            continue
+        if not _slipping(own[0], cons[0], q1, qd1, true[:nq], rates, slips, elements):
+            return STOPPED, i, written  # a friction may stop: Python locates it, may hold it
         # the angles unwrapped at the new state (settle), which the step's rows read
         _unwrapped(q1, angles, refs_all, block_angles, new_refs, new_block)
         ends[0], ends[1], ends[2] = own[0], cons[0], cons[1]
@@ -188,11 +205,44 @@ def run_steps(
         taken += 1
         refs_all[:] = new_refs
         refs[:] = new_block
+        _after_step(rates, slips, elements, refs_all)
         written += due
         i += due
 
 
 _STEP, _WRITTEN, _FULL, _NOT_FINITE = 0, 1, 2, 3  # what `_output_row` found
+
+
+@njit(**KERNEL)
+def _row_at(
+    dense, i, written, t, ctrl, outs, own, cons, cons_lam, refs_all, rows_t, rows_state, rows_refs
+):  # fmt: skip
+    """What to do at t (s): dense output steps on until the end (_FULL there, else
+    _STEP); steps landing on the output times record a row there (`_output_row`)."""
+    if dense:
+        return _FULL if _reached(ctrl[END], t) else _STEP
+    return _output_row(
+        i, written, t, outs, own, cons, cons_lam, refs_all, rows_t, rows_state, rows_refs
+    )
+
+
+@njit(**KERNEL)
+def _rejected(ctrl, counts, h_try, err, eta, iterations, done):
+    """A step h_try (s) whose error err exceeds 1, rejected as GeneralizedAlphaStepper.
+    _attempt and _shrink reject it (the Newton rate carried on, a fresh matrix after slow
+    convergence, the step shrunk by the error's law, counted); False, nothing changed,
+    where the new step would fall below the run's floor (ctrl[H_MIN]: Python then fails
+    the run)."""
+    h = rules.step_size(h_try, err, ctrl[H], ctrl[MAX_STEP], True)
+    if h < ctrl[H_MIN]:
+        return False
+    ctrl[ETA] = rules.carried_rate(eta)
+    if rules.slow(iterations):
+        ctrl[STALE] = 1.0
+    ctrl[H], ctrl[H_USED] = h, h_try
+    counts[REJECTED] += 1
+    counts[ITERATIONS] += done
+    return True
 
 
 @njit(**KERNEL)
@@ -329,16 +379,78 @@ def _dense_rows(
 
 @njit(**KERNEL)
 def _refactored(
-    q1, kind, ints, floats, functions, refs, body, prow, pcol, values, place, brow, bcol, fi, ff,
+    q1, qd1, lam, h, ctrl, kind, ints, floats, functions, refs, body, prow, pcol, values, place,
+    brow, bcol, fi, ff, elements, columns, tangent,
 ):  # fmt: skip
-    """The iteration matrix [[M, phi_q^T], [phi_q, 0]] at q1 refactored in place into
-    (fi, ff) when the pattern's layout fits them (`kind`); False where it does not, or the
-    kernel finds the matrix singular (StepRun then factors it in Python)."""
+    """The iteration matrix [[M + (gamma' C + K) / beta', phi_q^T], [phi_q, 0]] of the step
+    h (s) at (q1, qd1) refactored in place into (fi, ff) when the pattern's layout fits them
+    (`kind`); K, C the packed elements' tangent (mechlib.elements.compiled_forces, over
+    `columns`; none without elements), kept in `tangent` and differenced anew, as the Python
+    path does, only for a stale matrix (or the call's first). False where the layout does
+    not fit, or the kernel finds the matrix singular (StepRun then factors it in Python)."""
     if fi[0] != kind:
         return False
-    x, _ = ca.state_arrays(q1, q1, q1.shape[0] // 7)
+    nq = q1.shape[0]
+    x, _ = ca.state_arrays(q1, q1, nq // 7)
     saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
+    if columns.shape[0]:
+        if ctrl[STALE] != 0.0 or math.isnan(tangent[0, 0, 0]):
+            _differenced(q1, qd1, lam, ints, floats, functions, refs, body, elements, columns,
+                         tangent)  # fmt: skip
+        am, af, beta = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA]
+        bp = (1.0 - am) / (h * h * beta * (1.0 - af))
+        gp = ctrl[GAMMA] / (h * beta)
+        stiffness, damping = tangent[0], tangent[1]
+        for e in range(prow.shape[0]):
+            r, c = prow[e], pcol[e]
+            if r < nq and c < nq:
+                values[e] += (gp * damping[r, c] + stiffness[r, c]) / bp
     return refactor(values, place, brow, bcol, fi, ff)
+
+
+@njit(**KERNEL)
+def _differenced(q1, qd1, lam, ints, floats, functions, refs, body, elements, columns, tangent):
+    """tangent = (K, C) of the packed elements at (q1, qd1) with multipliers `lam`
+    (mechlib.elements.compiled_forces.element_tangent)."""
+    nq = q1.shape[0]
+    nb = nq // 7
+    _, masses, _, inertia = ca.body_terms(body, nb)
+    x, _ = ca.state_arrays(q1, qd1, nb)
+    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    full, rows = np.empty(nall), np.zeros((nall, nq + 7))
+    active, _ = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)
+    element_tangent(q1, qd1, _NO_STATES, elements, columns, masses, inertia, rows, active, lam,
+                    tangent[0], tangent[1])  # fmt: skip
+
+
+@njit(**KERNEL)
+def _slipping(q0, qd0, q1, qd1, qd1_true, rates, slips, elements):
+    """Every packed friction slides on through the step (q0, qd0) -> (q1, qd1 raw,
+    qd1_true consistent) (mechlib.elements.compiled_forces.slipping_on, against the rate of
+    the last accepted state too): nothing for mechlib.solvers.stick to locate or hold.
+    `slips` (out): the raw slip rates at the step's end."""
+    if not slips.shape[0]:
+        return True
+    before, after = np.empty(slips.shape[0]), np.empty(slips.shape[0])
+    slip_rates(q0, qd0, elements, before)
+    slip_rates(q1, qd1_true, elements, after)
+    if not slipping_on(before, after, elements):
+        return False
+    slip_rates(q1, qd1, elements, slips)
+    return slipping_on(rates[:, 1], slips, elements) and slipping_on(after, slips, elements)
+
+
+@njit(**KERNEL)
+def _after_step(rates, slips, elements, refs_all):
+    """An accepted step: the frictions' slip rates (raw, as JointFriction.commit keeps
+    them: `slips`, found by `_slipping`) shifted into `rates`, their impending directions
+    cleared (they slide above v_threshold), the angle elements' references unwrapped."""
+    varying = elements[7]
+    for i in range(slips.shape[0]):
+        rates[i, 0], rates[i, 1] = rates[i, 1], slips[i]
+        varying[i, 3] = 0.0
+    if any_elements(elements):
+        update_references(elements, refs_all)
 
 
 @njit(**KERNEL)
@@ -356,18 +468,38 @@ def _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref):
 
 
 @njit(**KERNEL)
+def _restarted(
+    h, ctrl, counts, kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body,
+    prow, pcol, values, place, brow, bcol, fi, ff, elements,
+):  # fmt: skip
+    """At a new step size h (s) the consistent accelerations taken (`_restart`), counted
+    and noted in ctrl; False where `_restart` cannot take them."""
+    if not _new_size(ctrl, h):
+        return True
+    if not _restart(
+        kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol,
+        values, place, brow, bcol, fi, ff, elements,
+    ):  # fmt: skip
+        return False
+    counts[ROW_FACTORS] += 1
+    ctrl[H_USED], ctrl[RESTARTED] = h, 1.0
+    return True
+
+
+@njit(**KERNEL)
 def _restart(
     kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol, values,
-    place, brow, bcol, fi, ff,
+    place, brow, bcol, fi, ff, elements,
 ):  # fmt: skip
     """Consistent accelerations and multipliers at the state (own[0], own[1]) from
-    [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma] (mechlib.solvers.consistent, no force
-    element: Q is gravity and the velocity terms), factored into (fi, ff) by the kernel
+    [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma] (mechlib.solvers.consistent; Q:
+    gravity, the velocity terms and the packed `elements`' loads; a friction loaded by its
+    reaction makes Q depend on lam: Python's), factored into (fi, ff) by the kernel
     of mechlib.system.saddle.rigid_saddle_factors; written as GeneralizedAlphaStepper._attempt
     does (qdd, a, lam; the consistent qd is the raw one). False, nothing written, where
     the matrix is taken for singular or the solution is not finite, or the factors are
     SuperLU's (`kind` < 0: made in Python)."""
-    if kind < 0:
+    if kind < 0 or _reaction_loaded(elements):
         return False
     nq = own.shape[1]
     nb = nq // 7
@@ -378,8 +510,10 @@ def _restart(
     m = own_lam.shape[0]
     rhs = np.empty(nq + m)
     gravity, masses, _, inertia = ca.body_terms(body, nb)
-    none = np.zeros((nb + 1, 3))
-    kr.body_forces(x, xd, masses, inertia, gravity, none, none, True, rhs[:nq])
+    F, N = np.zeros((nb + 1, 3)), np.zeros((nb + 1, 3))
+    if any_elements(elements):
+        element_wrenches(x, xd, _NO_STATES, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, F, N)
+    kr.body_forces(x, xd, masses, inertia, gravity, F, N, True, rhs[:nq])
     nu = np.empty(m)
     ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, rhs[nq:])
     sol = lu_solve(fi, ff, rhs)
@@ -388,6 +522,16 @@ def _restart(
     own[2], own[3], own_lam[:] = sol[:nq], sol[:nq], sol[nq:]
     cons[0], cons[1], cons_lam[:] = own[1], sol[:nq], sol[nq:]
     return True
+
+
+_NO_BLOCK, _NO_ACTIVE, _NO_LAM = np.zeros((0, 0)), np.zeros(0, np.int64), np.zeros(0)
+_NO_STATES = np.zeros(0)  # a run's system has no element states (`eligible`)
+
+
+@njit(**KERNEL)
+def _reaction_loaded(elements):
+    """A packed friction is loaded by its joint's reaction (its rows counted)."""
+    return bool((elements[5][:, ROW_COUNT] != 0).any())
 
 
 class StepRun:
@@ -403,25 +547,32 @@ class StepRun:
         self.angle_keys = [k for k, m in system.measures.items() if isinstance(m, AngleMeasure)]
         self._angle_args: tuple | None = None
         self._block: tuple | None = None  # (coordinate block, its angles' indices)
+        self._patterns: dict[tuple, object] = {}  # the coupled saddle patterns, by columns
+        self.elements: CompiledForces | None = None  # packed for the run (`_ready`)
 
     @staticmethod
     def eligible(stepper) -> bool:
         """A stepper whose runs may be compiled at all (more is checked at each run)."""
         return (
             not stepper.spec.fixed_step
-            and not stepper.sticking
             and stepper.integ.arrays is not None
             and not stepper.system.states
         )
 
     def _ready(self) -> bool:
         system = self.stepper.system
-        if self.stepper.integ.lu is None or any(e.active for e in system.elements):
+        if self.stepper.integ.lu is None:
             return False
-        if self.stepper.dense and not small_enough(system):
-            return False  # its rows' dense Schur complement would cost more than Python's
-        block = system.coordinate_rows()
-        return all(block.equations[i].function is None for i in block.linear)
+        self.elements = self.stepper.integ.elements()
+        if self.elements is None:  # an element with no compiled form, or a stuck friction
+            return False
+        if self.stepper.dense and not (self.elements.empty and small_enough(system)):
+            # its rows' dense Schur complement would cost more than Python's; the compiled
+            # rows' projection knows no force element
+            return False
+        block = system.coordinate_rows()  # no function of time (a hold's value is constant)
+        functions = (block.equations[i].function for i in block.linear)
+        return all(f is None or getattr(f, "constant", False) for f in functions)
 
     def run(self, s, outputs: np.ndarray, i: int, trajectory, progress) -> tuple:
         """From state s, the steps and rows towards outputs[i:] that `run_steps` takes,
@@ -440,7 +591,7 @@ class StepRun:
                 fresh = self._refactor(s, h_next)
                 if not fresh:
                     return s, i
-            elif status == STOPPED or i == len(outputs) or not fresh:
+            elif status == STOPPED or i == len(outputs):  # else a chunk done: the next
                 return s, i
         return s, i
 
@@ -503,6 +654,7 @@ class StepRun:
         )
         ctrl[[ALPHA_M, ALPHA_F, BETA, GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
         ctrl[DENSE] = float(stepper.dense)
+        ctrl[H_MIN] = stepper.h_min
         ctrl[REFACTORED] = ctrl[RESTARTED] = 0.0
         counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
         ints, floats = arrays.packed()
@@ -514,11 +666,14 @@ class StepRun:
         rows = min(self.CHUNK, len(outputs) - i)
         rows_t, rows_refs = np.empty(rows), np.empty((rows, len(refs_all)))
         rows_state = np.empty((rows, 3 * nq + own_lam.size))
+        elements = self.elements
+        assert elements is not None, "packed by _ready"
+        rates = elements.start_rates()
         status, i_next, written = run_steps(
             own, own_lam, cons, cons_lam, ctrl, counts, outputs, i, ints, floats,
             arrays.functions(s.t), arrays.bodies(), fi, ff, layout, scales.q_abs, scales.a_ref,
             self._angle_args, refs_all, block_angles, PROJECTION, rows_t, rows_state, rows_refs,
-            10 * rows,
+            10 * rows, elements.args, elements.columns, rates,
         )  # fmt: skip
         count(
             factorizations=int(counts[ROW_FACTORS]), jacobian_evaluations=int(counts[ROW_JACOBIANS])
@@ -527,11 +682,13 @@ class StepRun:
             integ.adopt(fi, ff, float(ctrl[LU_H]))
             integ.stale, stepper.h_used = bool(ctrl[STALE]), float(ctrl[H_USED])
         taken = int(counts[STEPS]) - stats.steps
-        stats.steps = int(counts[STEPS])
+        rejected = int(counts[REJECTED]) - stats.rejected_steps
+        elements.read_back(rates, taken > 0)
+        stats.steps, stats.rejected_steps = int(counts[STEPS]), int(counts[REJECTED])
         stats.newton_iterations += int(counts[ITERATIONS])
         for m, value in zip(system.angle_measures, refs_all):
             m.reference = float(value)
-        if taken or ctrl[RESTARTED]:  # the state moved, or took consistent accelerations
+        if taken or rejected or ctrl[RESTARTED]:  # moved, shrunk, or took new accelerations
             stepper.h, stepper.h_used = float(ctrl[H]), float(ctrl[H_USED])
             integ.eta, integ.stale = float(ctrl[ETA]), bool(ctrl[STALE])
             if taken:
@@ -550,11 +707,23 @@ class StepRun:
         refactor in them: the stepper's own stay as they are until the call returns) and
         the saddle pattern's layout for `run_steps` (kind -1 where it does not fit them)."""
         fi, ff = self.stepper.integ._factor_data()
-        pattern = self.stepper.system.saddle_pattern()
+        pattern = self._pattern()
         layout = pattern.layout
         if fi[0] == SUPERLU or layout is None or layout.ints[0] != fi[0] or len(ff) != layout.size:
             return fi, ff, (-1, *self._NO_LAYOUT)
         return fi.copy(), ff.copy(), (fi[0], pattern.rows, pattern.cols, *layout.kernel_args())
+
+    def _pattern(self):
+        """The saddle pattern of the iteration matrix: the system's, with the blocks the
+        elements' tangent couples (their `columns`) added (found once per columns)."""
+        system = self.stepper.system
+        coupled = np.zeros(0, np.int64) if self.elements is None else self.elements.columns
+        if not coupled.size:
+            return system.saddle_pattern()
+        key = tuple(coupled)
+        if key not in self._patterns:
+            self._patterns[key] = coupled_pattern(system, coupled)
+        return self._patterns[key]
 
     _NO_LAYOUT = tuple(np.zeros(0, dtype=np.int64) for _ in range(5))
 
