@@ -42,6 +42,7 @@ class Attached:
     offset: int
     nodes: list[int]  # body index of each kept node (rows of the component)
     _columns: dict[int, np.ndarray] = field(default_factory=dict, repr=False)
+    _blocks: dict[int, tuple[np.ndarray, ...]] = field(default_factory=dict, repr=False)
 
     @property
     def modes(self) -> slice:
@@ -53,6 +54,14 @@ class Attached:
             o = 7 * self.frame
             self._columns[nb] = np.r_[o : o + 7, 7 * nb + self.offset + np.arange(self.body.n)]
         return self._columns[nb]
+
+    def block(self, nb: int) -> tuple[np.ndarray, ...]:
+        """The open-mesh index (np.ix_) of its (7 + n, 7 + n) block in M of a system of nb
+        bodies (found once: a mass matrix is formed at every Newton iteration)."""
+        if nb not in self._blocks:
+            cols = self.columns(nb)
+            self._blocks[nb] = np.ix_(cols, cols)
+        return self._blocks[nb]
 
     def mass(self, k: Kin) -> np.ndarray:
         """M_q (7 + n, 7 + n), with the rigid body's p p^T term fixing |p|."""

@@ -240,8 +240,7 @@ class System(Topology):
         out = np.zeros((self.nq, self.nq))
         kernels.mass_matrix(k.x, self.masses, self.inertia, self.pscale, out)
         for a in self.flexible:
-            cols = a.columns(self.nb)
-            out[np.ix_(cols, cols)] += a.mass(k)
+            out[a.block(self.nb)] += a.mass(k)
         return out
 
     def mass_times(self, k: Kin, x: np.ndarray) -> np.ndarray:
