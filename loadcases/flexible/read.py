@@ -194,9 +194,11 @@ def _model(
     if header.errors:
         return None, {}, wtmass
     rotational = dof_map[:, 1] >= 3
-    stiffness = to_si_matrix(raw.stiffness, rotational, scales, "stiffness")
-    mass = to_si_matrix(raw.mass, rotational, scales, "mass") * wtmass
-    coordinates = np.asarray(raw.coordinates, dtype=float) * scales.length
+    # a finite file value may overflow once scaled (1e308 in mm): _check_si reports it
+    with np.errstate(over="ignore", invalid="ignore"):
+        stiffness = to_si_matrix(raw.stiffness, rotational, scales, "stiffness")
+        mass = to_si_matrix(raw.mass, rotational, scales, "mass") * wtmass
+        coordinates = np.asarray(raw.coordinates, dtype=float) * scales.length
     _check_si(header, raw, (stiffness, mass, coordinates), scales)
     if header.errors:
         return None, {}, wtmass

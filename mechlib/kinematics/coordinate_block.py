@@ -48,12 +48,40 @@ class CoordinateBlock:
         for row, i in enumerate(self.linear):
             for c, m in equations[i].terms:
                 self._coefficients[row, column[id(m)]] += c
+        na = len(self.angles)
+        # the equations on angles alone: they fix the turn of the angles they hold
+        self._angle_rows = np.flatnonzero(
+            ~self._coefficients[:, na:].any(axis=1) & self._coefficients[:, :na].any(axis=1)
+        )
 
     def _function(self, t: float, part: str) -> np.ndarray:
         """value, rate or accel of each linear equation's function of time (0 without)."""
         return np.array(
             [getattr(f, part)(t) if (f := self.equations[i].function) else 0.0 for i in self.linear]
         )
+
+    def aim_references(self, t: float, limit: float) -> list[tuple[str, float]]:
+        """Move the angles' unwrapping references (rad) by the least change that meets the
+        equations on angles alone at time t (a drive's value, a gear's ratio), so that
+        Newton at t unwraps each held angle on its own turn: from the reference before, an
+        angle more than pi away could not be reached (a drive turning thousands of radians
+        between two solved states). Angles no such equation holds keep theirs. Returns
+        (label, target) of the equations whose target is not finite or beyond `limit` (rad),
+        the references then unchanged."""
+        rows = self._angle_rows
+        if not rows.size:
+            return []
+        target = self._function(t, "value")[rows]
+        beyond = ~(np.abs(target) <= limit)
+        if beyond.any():
+            labels = [self.equations[self.linear[r]].label for r in rows[beyond]]
+            return list(zip(labels, target[beyond].tolist()))
+        matrix = self._coefficients[rows, : len(self.angles)]
+        ref = np.array([m.reference for m in self.angles])
+        change, *_ = np.linalg.lstsq(matrix, target - matrix @ ref, rcond=None)
+        for m, value in zip(self.angles, ref + change):
+            m.reference = float(value)
+        return []
 
     def sines(self, k: Kin) -> np.ndarray | None:
         """The angles' interleaved (sine, cosine) rows at k, for `phi` and `jacobian` to

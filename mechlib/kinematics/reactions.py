@@ -155,7 +155,8 @@ def reaction_series(
         force = np.einsum("nji,nj->ni", axes, force)
         torque = np.einsum("nji,nj->ni", axes, torque)
     out = dict(zip(FORCE, force.T)) | dict(zip(TORQUE, torque.T))
-    out["f"], out["t"] = np.linalg.norm(force, axis=1), np.linalg.norm(torque, axis=1)
+    # hypot, not the root of the squares: a component above 1e154 must not overflow
+    out["f"], out["t"] = np.hypot.reduce(force, axis=1), np.hypot.reduce(torque, axis=1)
     return out
 
 

@@ -60,6 +60,10 @@ __all__ = [
 ]
 
 POSITION_TOLERANCE = 1e-10
+# rad: the largest angle a coordinate equation may set. Beyond it the spacing of doubles
+# (2.2e-16 x angle) exceeds the residual a position analysis accepts (1e3 x tolerance):
+# 4.5e8 rad, 72 million turns.
+ANGLE_LIMIT = 1e3 * POSITION_TOLERANCE / float(np.finfo(float).eps)
 MAX_NEWTON = 50
 _REPORT_CHANGE = 1e-8
 _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
@@ -174,7 +178,19 @@ def solve_positions(
     weights: np.ndarray | None = None,
 ) -> tuple[np.ndarray, int]:
     """q with phi(q, t) = 0 from the guess q (`weights`: see _newton); raises SolverFailure
-    naming the worst rows."""
+    naming the worst rows. The angles that equations on angles hold (drives, gears) are
+    first aimed at their values at t (CoordinateBlock.aim_references)."""
+    beyond = system.coordinate_rows().aim_references(t, ANGLE_LIMIT)
+    if beyond:
+        label, value = beyond[0]
+        raise SolverFailure(
+            f"position analysis at t = {t:.6g} s: {label} is set to {value:.6g} rad, beyond "
+            f"+-{ANGLE_LIMIT:.3g} rad, where a double no longer holds an angle to the "
+            "position tolerance (a speed, an angle or a time far too large?)",
+            time=t,
+            where=tuple(label for label, _ in beyond),
+            status=Status.NEWTON_FAILED,
+        )
     q, its, worst = _newton(
         lambda x: system.phi(system.kin(x, None, t)),
         lambda x: system.phi_q(system.kin(x, None, t)),

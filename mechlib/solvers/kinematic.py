@@ -12,15 +12,42 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.core.outcome import SolverFailure, SolverStats, Status
+from mechlib.core.rotation import omega_global
 from mechlib.linalg.factor import factor, singular_failure, solve_factored
 from mechlib.solvers.assembly import solve_positions
 from mechlib.solvers.contract import State, Stepper, StepResult
 from mechlib.system.reaction_loads import solve_reaction_loaded
 from mechlib.system.system import System
 
-__all__ = ["KinematicStepper", "kinematic_state"]
+__all__ = ["KinematicStepper", "kinematic_state", "predicted_positions"]
 
 _MAX_SUBDIVISIONS = 10
+
+
+def predicted_positions(system: System, state: State, h: float) -> np.ndarray:
+    """Position guess (nq,) at state.t + h: q + h qd + h^2/2 qdd, but each body's Euler
+    parameters (3-D systems) turned by the rotation vector h omega + h^2/2 alpha (rad,
+    global): added to linearly, they leave unit length and aim at a half turn when a body
+    turns a radian or more per step, and Newton then fails or crawls."""
+    guess = state.q + h * state.qd + 0.5 * h * h * state.qdd
+    nb = system.nb
+    if system.nq != 7 * nb + system.nz or not nb:  # planar: the angle is a coordinate
+        return guess
+    body = slice(0, 7 * nb)
+    p = state.q[body].reshape(nb, 7)[:, 3:]
+    turn = h * omega_global(p, state.qd[body].reshape(nb, 7)[:, 3:])
+    turn += 0.5 * h * h * omega_global(p, state.qdd[body].reshape(nb, 7)[:, 3:])
+    angle = np.linalg.norm(turn, axis=1)
+    half = 0.5 * angle
+    # sin(half) / angle, its limit 1/2 at rest
+    scale = np.where(angle > 1e-8, np.sin(half) / np.where(angle > 0.0, angle, 1.0), 0.5)
+    r0, r = np.cos(half), scale[:, None] * turn
+    e0, e = p[:, 0], p[:, 1:]
+    turned = np.empty_like(p)  # the product (r0, r) (e0, e)
+    turned[:, 0] = r0 * e0 - np.einsum("ij,ij->i", r, e)
+    turned[:, 1:] = r0[:, None] * e + e0[:, None] * r + np.cross(r, e)
+    guess[body].reshape(nb, 7)[:, 3:] = turned
+    return guess
 
 
 def kinematic_state(
@@ -90,13 +117,13 @@ class KinematicStepper(Stepper):
         return self._advance(state, state.t)
 
     def _advance(self, state: State, t1: float, depth: int = 0) -> State:
-        """State at t1 from `state`; a step Newton cannot take is halved (10 times at most),
-        since the position guess extrapolates Euler parameters linearly."""
+        """State at t1 from `state`; a step Newton cannot take is halved (10 times at most):
+        the position guess (predicted_positions) extrapolates from `state`."""
         h = t1 - state.t
         if self.system.states:
             assert state.elements is not None, "marked by _mark when there are states"
             self.system.states.resume(state.elements)
-        guess = state.q + h * state.qd + 0.5 * h * h * state.qdd
+        guess = predicted_positions(self.system, state, h)
         try:
             new = State(t1, *kinematic_state(self.system, guess, t1, self.stats, states_step=h))
             new.elements = self._mark(new)

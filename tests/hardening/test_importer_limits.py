@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import os
 import struct
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 
@@ -272,6 +273,21 @@ def test_units_overflowing_in_si(tmp_path: Path) -> None:
     """`1e300 mm` is a length unit: the stiffness, finite as written, is not once in SI."""
     path = mm_beam(tmp_path, units={"length": "1e300 mm", "force": "N"})
     _refused(path, "part.json:", "units", "overflow once in SI")
+
+
+def test_file_value_overflowing_in_si_is_refused_without_a_numpy_warning(
+    tmp_path: Path,
+) -> None:
+    """Fuzzing (issue 39, op4_binary, example 878: a byte of an exponent set to 0xff): a
+    stiffness of 1.5e308 N/mm is finite as written and 1.5e311 N/m in SI. It was refused,
+    but the scaling printed NumPy's overflow warning first; now only the refusal."""
+    K, _ = element(FILE_BEAM)
+    K = K.copy()
+    K[0, 0] = 1.5e308
+    path = op4_beam(tmp_path, files.op4_binary({"KAA": K}, "sparse"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        _refused(path, "part.json:", "units", "stiffness matrix of k.op4 overflow once in SI")
 
 
 def test_control_character_in_a_node_name(tmp_path: Path) -> None:

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 
 import numpy as np
 import pytest
@@ -163,3 +164,77 @@ def test_coarse_output_step_on_a_fast_crank() -> None:
     )
     assert sol.ok, sol.message
     assert sol.channels["angle.value"][-1] == pytest.approx(4.8 * math.pi, abs=1e-9)
+
+
+def _matches_newton_euler(sol: mechlib.Solution, motion, tolerance: float) -> None:
+    """Angle (rad, unwrapped), hinge force and drive torque of `sol` against Newton-Euler
+    (module docstring) of `motion`'s exact rates, `tolerance` of the peak load."""
+    t = sol.time
+    theta = np.array([motion.value(x) for x in t])
+    omega = np.array([motion.rate(x) for x in t])
+    alpha = np.array([motion.accel(x) for x in t])
+    fx, fy, tau = _hand_reactions(theta, omega, alpha)
+    peak = max(np.abs(fx).max(), np.abs(fy).max(), np.abs(tau).max())
+    ch = sol.channels
+    assert np.abs(ch["angle.value"] - theta).max() <= 1e-9 * np.abs(theta).max()
+    for got, hand in ((ch["R.fx"], fx), (ch["R.fy"], fy), (ch["E.value"], tau)):
+        assert np.abs(got - hand).max() < tolerance * peak
+
+
+@pytest.mark.parametrize(
+    ("motion", "per_step"),
+    [(Ramp(0.2, -25000.0), 3), (Sine(0.0, 1000.0, 400.0), 8)],
+    ids=["ramp-25000rad/s", "sine-1000rad-400rad/s"],
+)
+def test_drive_turning_hundreds_of_turns_per_output_step(motion, per_step: int) -> None:
+    """Issue 39 (`--set 'speed=-025 kN'`): a drive turning 1250 rad (199 turns) between two
+    output times was solved only by halving the step about 1000 times per output time (the
+    angle unwraps within pi of the state before; 13 s CPU for 11 steps). The drive now sets
+    its angle's turn and the guess turns the body by its rates: no step halved, at most
+    `per_step` Newton iterations per output time (measured 2.4 and 6.2), the angle
+    continuous and the loads as Newton-Euler to 1e-10 of the peak (measured 3e-12 of
+    6.25e8 N and 4e-14: the angle's own round-off, 25000 rad x 1.1e-16)."""
+    sol = _driven(motion)
+    assert sol.status == "ok", sol.message
+    assert sol.stats.rejected_steps == 0
+    assert sol.stats.newton_iterations <= per_step * len(sol.time)
+    _matches_newton_euler(sol, motion, 1e-10)
+
+
+def test_drive_angle_beyond_double_resolution_fails_by_name_without_noise(capfd) -> None:
+    """Issue 39 (`--set speed=1e150`): a drive asking for 1e148 rad reached LAPACK with
+    overflowing positions (NumPy's overflow warning, 'DLASCL parameter number 4 had an
+    illegal value' on stderr). Beyond ANGLE_LIMIT (4.5e8 rad: 2.2e-16 x angle above 1e3 x
+    the position tolerance) the run fails naming the motion, the angle and the time, with
+    nothing printed and no warning."""
+    mech = hinged_bar(BAR)
+    mech.add_motion("drive", joint="hinge", function=Ramp(0.0, 1e150))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        sol = mechlib.solve(mech, mechlib.Kinematic(1.0, 0.05), throw=False)
+    assert sol.status == "failed"
+    assert "drive: angle of hinge is set to " in sol.message
+    assert "rad, beyond +-4.5e+08 rad" in sol.message and " at t = " in sol.message
+    assert sol.time.tolist() == [0.0]
+    printed = capfd.readouterr()
+    assert printed.out == "" and printed.err == ""
+
+
+def test_drive_angle_limit_keeps_every_angle_newton_meets() -> None:
+    """Just below ANGLE_LIMIT (4e8 rad at t = 0.5 s, 8e8 rad/s) the drive is still solved:
+    no halved step, the loads as Newton-Euler to 1e-6 of the peak (1.6e17 N; the angle's
+    round-off, 4e8 rad x 1.1e-16 = 4.4e-8 rad, is what is left)."""
+    mech = hinged_bar(BAR)
+    motion = Ramp(0.0, 8e8)
+    mech.add_motion("drive", joint="hinge", function=motion)
+    sol = mechlib.solve(
+        mech,
+        mechlib.Kinematic(0.5, 0.05),
+        requests=[
+            mechlib.JointReaction("R", "hinge"),
+            mechlib.MotionEffort("E", "drive"),
+            mechlib.JointCoordinate("angle", "hinge"),
+        ],
+    )
+    assert sol.stats.rejected_steps == 0
+    _matches_newton_euler(sol, motion, 1e-6)
