@@ -49,9 +49,20 @@ class CoordinateBlock:
             for c, m in equations[i].terms:
                 self._coefficients[row, column[id(m)]] += c
         na = len(self.angles)
-        # the equations on angles alone: they fix the turn of the angles they hold
+        # the equations on angles alone driven by a function of time fix the turn of the
+        # angles they hold; a constant one (a lock, a stick anchor: a held value read on
+        # the angle's own turn) and a gear without a function leave the angle continuous
+        driven = np.array(
+            [
+                (f := equations[i].function) is not None and not getattr(f, "constant", False)
+                for i in self.linear
+            ],
+            dtype=bool,
+        )
         self._angle_rows = np.flatnonzero(
-            ~self._coefficients[:, na:].any(axis=1) & self._coefficients[:, :na].any(axis=1)
+            ~self._coefficients[:, na:].any(axis=1)
+            & self._coefficients[:, :na].any(axis=1)
+            & driven
         )
 
     def _function(self, t: float, part: str) -> np.ndarray:
@@ -62,7 +73,7 @@ class CoordinateBlock:
 
     def aim_references(self, t: float, limit: float) -> list[tuple[str, float]]:
         """Move the angles' unwrapping references (rad) by the least change that meets the
-        equations on angles alone at time t (a drive's value, a gear's ratio), so that
+        motions on angles alone at time t (a drive's value), so that
         Newton at t unwraps each held angle on its own turn: from the reference before, an
         angle more than pi away could not be reached (a drive turning thousands of radians
         between two solved states). Angles no such equation holds keep theirs. Returns
