@@ -116,7 +116,7 @@ def _dimension_problems(
     dimension, severity = expected
     want = tuple(sorted((k, float(v)) for k, v in DIMENSIONS[dimension].items()))
     if dims is None:
-        return _plain_number_warning(locator, path, expression, scope, dimension)
+        return _plain_number_problems(locator, path, expression, scope, dimension)
     if same_dimension(dims, want) or not without_angle(dims):
         return []  # a plain number (`exp(100*t)`, `cos(angle(j))`) is SI of what is expected
     return [
@@ -136,7 +136,7 @@ def _dimension_problems(
 _PROBE = "[parameter]"  # a base dimension standing for one parameter's, to find its power
 
 
-def _plain_number_warning(
+def _plain_number_problems(
     locator: Locator, path: KeyPath, expression: Any, scope: DimensionScope, dimension: str
 ) -> list[Diagnostic]:
     """The problem of an expression of parameters with units that has no known dimension only
@@ -173,14 +173,14 @@ def _plain_number_warning(
                 "m/s^2): write it with its unit (9.81*m/s^2) to have the formula checked",
             )
         ]
+    declared = locator.data.get("parameters") if isinstance(locator.data, dict) else None
+    if any(_overridden(declared, name, scope) for name in used):
+        return []  # a case, set or --set value of another dimension: an error at its own key
     suspects = {
         name: needed
         for name in used
         if (needed := _needed_dimension(expression, plain_scope, name, want)) is not None
     }
-    declared = locator.data.get("parameters") if isinstance(locator.data, dict) else None
-    if any(_overridden(declared, name, scope) for name in used):
-        return []  # a case, set or --set value of another dimension: an error at its own key
     if len(suspects) == 1 and isinstance(declared, dict):
         name, needed = next(iter(suspects.items()))
         if name in declared:

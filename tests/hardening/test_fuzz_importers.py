@@ -121,6 +121,18 @@ TEXT_EDIT = st.tuples(
 )
 
 
+def _edited(text: str, edits: list) -> str:
+    """`text` after each edit of `edits` in turn (_edit_text)."""
+    for edit in edits:
+        text = _edit_text(text, edit)
+    return text
+
+
+def _edit_file(path: Path, edits: list) -> None:
+    """Apply `edits` to the text file at `path`, in place."""
+    path.write_text(_edited(path.read_text(), edits))
+
+
 def _edit_text(text: str, edit: tuple) -> str:
     """One edit of a text file: a blank-separated token replaced, characters overwritten in
     place (fixed-width formats), a line deleted or duplicated, the file cut."""
@@ -208,9 +220,7 @@ def _folder(factory: Any) -> Path:
 @given(edits=st.lists(TEXT_EDIT, min_size=1, max_size=3))
 def test_op4_ascii(tmp_path_factory: Any, edits: list) -> None:
     K, _ = element(FILE_BEAM)
-    text = files.op4_ascii({"KAA": K}, "sparse")
-    for edit in edits:
-        text = _edit_text(text, edit)
+    text = _edited(files.op4_ascii({"KAA": K}, "sparse"), edits)
     _check_component(op4_beam(_folder(tmp_path_factory), text))
 
 
@@ -252,10 +262,7 @@ def test_op4_binary(tmp_path_factory: Any, edits: list, layout: str) -> None:
 def test_dmig(tmp_path_factory: Any, edits: list, extra: str) -> None:
     folder = _folder(tmp_path_factory)
     header = dmig_beam(folder, extra)
-    text = (folder / "se.pch").read_text()
-    for edit in edits:
-        text = _edit_text(text, edit)
-    (folder / "se.pch").write_text(text)
+    _edit_file(folder / "se.pch", edits)
     _check_component(header)
 
 
@@ -264,10 +271,7 @@ def test_dmig(tmp_path_factory: Any, edits: list, extra: str) -> None:
 def test_matrix_market(tmp_path_factory: Any, edits: list) -> None:
     folder = _folder(tmp_path_factory)
     header = mm_beam(folder)
-    text = (folder / "K.mtx").read_text()
-    for edit in edits:
-        text = _edit_text(text, edit)
-    (folder / "K.mtx").write_text(text)
+    _edit_file(folder / "K.mtx", edits)
     _check_component(header)
 
 
@@ -276,10 +280,7 @@ def test_matrix_market(tmp_path_factory: Any, edits: list) -> None:
 def test_node_table(tmp_path_factory: Any, edits: list) -> None:
     folder = _folder(tmp_path_factory)
     header = mm_beam(folder)
-    text = (folder / "nodes.csv").read_text()
-    for edit in edits:
-        text = _edit_text(text, edit)
-    (folder / "nodes.csv").write_text(text)
+    _edit_file(folder / "nodes.csv", edits)
     _check_component(header)
 
 
@@ -408,10 +409,7 @@ def test_hardpoint_table(tmp_path_factory: Any, edits: list) -> None:
     folder = _folder(tmp_path_factory)
     assert CRANK_POINTS in CRANK_MECH
     case = _crank(folder, CRANK_MECH.replace(CRANK_POINTS, "points: {from: hardpoints.csv}\n"))
-    table = TABLE
-    for edit in edits:
-        table = _edit_text(table, edit)
-    (folder / "hardpoints.csv").write_text(table, encoding="utf-8")
+    (folder / "hardpoints.csv").write_text(_edited(TABLE, edits), encoding="utf-8")
     _assert_clean(_traced("validate", case))
 
 
