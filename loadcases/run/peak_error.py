@@ -147,14 +147,30 @@ def _excess(
     (candidates as (time, value, kind) rows, higher more extreme; C the companion's highest
     candidate of the same kind within `window` s: a crest's or an end row's; a candidate
     the companion has none near is left out)."""
-    if not len(run) or not len(companion):
-        return 0.0
-    near = np.abs(run[:, :1] - companion[:, 0]) <= window
-    near &= run[:, 2:3] == companion[:, 2]
-    shared = near.any(axis=1)
-    match = np.max(np.where(near, companion[:, 1], -np.inf), axis=1)[shared]
-    values = run[shared, 1]
-    return float(np.max(values + scale * (values - match) - top, initial=0.0))
+    excess = 0.0
+    for kind in (0.0, END):
+        mine, theirs = run[run[:, 2] == kind], companion[companion[:, 2] == kind]
+        if not len(mine) or not len(theirs):
+            continue
+        match = _highest_near(mine[:, 0], theirs[theirs[:, 0].argsort()], window)
+        shared = np.isfinite(match)
+        values = mine[shared, 1]
+        extrapolated = values + scale * (values - match[shared])
+        excess = max(excess, float(np.max(extrapolated - top, initial=0.0)))
+    return excess
+
+
+def _highest_near(times: np.ndarray, others: np.ndarray, window: float) -> np.ndarray:
+    """Per time: the highest value of `others` ((time, value) rows sorted by time) within
+    `window` s of it, -inf where none (by bisection: a noisy column's thousands of crests
+    against as many, in memory that grows with their number, not its square)."""
+    low = np.searchsorted(others[:, 0], times - window, side="left")
+    high = np.searchsorted(others[:, 0], times + window, side="right")
+    best = np.full(len(times), -np.inf)
+    for k in range(int(np.max(high - low, initial=0))):
+        inside = low + k < high
+        best[inside] = np.maximum(best[inside], others[low[inside] + k, 1])
+    return best
 
 
 def _competing(run: Extremes, companion: Extremes, scale: float) -> tuple[float, float]:
