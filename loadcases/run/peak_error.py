@@ -186,16 +186,19 @@ def _competing(run: Extremes, companion: Extremes, scale: float) -> tuple[float,
     return over, under
 
 
-def peak_error(run: Extremes, companion: Extremes, scale: float) -> tuple[float, float]:
+def peak_error(
+    run: Extremes, companion: Extremes, scale: float, *, crests: bool = True
+) -> tuple[float, float]:
     """Estimated error of the run's envelope (its rows' max and min, the worse), in the
     column's unit: Richardson on the continuous peaks (their difference x |`scale`|,
     1 / (r^p - 1) for another run of steps r times the run's: negative for a finer
     one), or the largest excess of a competing candidate's extrapolated value
-    over the run's peak where larger, plus the run's sampling error; and that sampling
-    error alone (shorter steps do not reduce it, a shorter output interval does)."""
+    over the run's peak where larger (`crests` False: not compared crest by crest, the
+    two runs' phases apart), plus the run's sampling error; and that sampling error alone
+    (shorter steps do not reduce it, a shorter output interval does)."""
     high, low = run.max - run.row_max, run.row_min - run.min
     size = abs(scale)
-    over, under = _competing(run, companion, scale)
+    over, under = _competing(run, companion, scale) if crests else (0.0, 0.0)
     return (
         max(
             max(size * abs(run.max - companion.max), over) + high,
