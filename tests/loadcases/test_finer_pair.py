@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from loadcases.run.global_error import solve_to_accuracy
+from loadcases.run.global_error import Budget, Solver, solve_to_accuracy
 from mechlib.checks.singularity import NEAR_SINGULAR
 
 TIME = np.linspace(0.0, 2.0, 201)
@@ -25,7 +25,7 @@ def _relative(error: float, run_error: float) -> float:
     return error * float(np.abs(np.sin(TIME)).max()) / peak
 
 
-def _solver(errors: dict[float, float], warning: str) -> tuple[list[float], object]:
+def _solver(errors: dict[float, float], warning: str) -> tuple[list[float], Solver]:
     """A solver whose run at tolerance t is sin(omega t) + errors[t] sin(t) (the error a
     smooth function of time, as Richardson assumes per pair) and warns `warning`; with
     the tolerances it was called at."""
@@ -74,3 +74,26 @@ def test_without_a_singular_position_only_the_companion_is_solved() -> None:
     assert calls == pytest.approx([TOLERANCE, 8 * TOLERANCE])
     assert estimate.requests["x"].history == pytest.approx(_relative(0.1, 0.1))
     assert "observed_order" not in estimate.summary()
+
+
+def test_a_tightening_starts_from_the_finer_run() -> None:
+    """With a target of 0.01 the estimates miss (0.093 from the finer pair, then the finer
+    run's 0.023 against the run), the finer run already solved is the first tighter run
+    (not solved again): tolerances 1, 8, 1/8 and then 1/64 of the run's; the run written is
+    the last, estimated against the one before (its companion): (0.03 - 0.0075) / 3."""
+    errors = {1.0: 0.1, 8.0: 0.11, 0.125: 0.03, 0.015625: 0.0075}
+    calls, solve = _solver(errors, f"{NEAR_SINGULAR} 0.9 s: toggle measure 0.006")
+    run, estimate = solve_to_accuracy(
+        solve,
+        ml.Dynamic(end=2.0, step=0.01, tolerance=TOLERANCE),
+        0.01,
+        budget=Budget(cpu_seconds=None, refinements=2),
+        measure="histories",
+    )
+    assert estimate is not None
+    assert calls == pytest.approx([TOLERANCE, 8 * TOLERANCE, TOLERANCE / 8, TOLERANCE / 64])
+    assert estimate.tightenings == 2 and estimate.tolerance == pytest.approx(TOLERANCE / 64)
+    assert estimate.requests["x"].history == pytest.approx(_relative(0.0075, 0.0075))
+    assert estimate.met and estimate.observed_order is None  # of the first run only
+    written = np.sin(OMEGA * TIME) + 0.0075 * np.sin(TIME)  # the tolerance-1/64 run's
+    assert np.array_equal(run.channels["x.value"], written)
