@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from benchmarks.error_table import LIBRARY, _with
+from benchmarks.error_table import LIBRARY, _with, at_target
 from benchmarks.rows import stream_rows
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
@@ -125,6 +125,9 @@ def rows_of(name: str) -> list[dict[str, Any]]:
                 "estimate_peak": guess["peak"],
                 "true_peak": envelope,
                 "ratio_peak": guess["peak"] / envelope if envelope else None,
+                "at_target_history": at_target(guess["history"], history),
+                "at_target_peak": at_target(guess["peak"], envelope),
+                "observed_order": (outcome.checks.get("accuracy") or {}).get("observed_order"),
                 "load_average": os.getloadavg()[0],
             }
         )

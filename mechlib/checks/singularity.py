@@ -41,9 +41,17 @@ from mechlib.kinematics.constraint_arrays import ConstraintArrays, row_work
 from mechlib.linalg.rank import Redundancy
 from mechlib.system.system import System
 
-__all__ = ["TOGGLE_THRESHOLD", "Toggle", "toggle_detail", "toggle_warnings", "weakest_equations"]
+__all__ = [
+    "NEAR_SINGULAR",
+    "TOGGLE_THRESHOLD",
+    "Toggle",
+    "toggle_detail",
+    "toggle_warnings",
+    "weakest_equations",
+]
 
 TOGGLE_THRESHOLD = 0.1
+NEAR_SINGULAR = "near-singular position (toggle or dead point) at t ="  # each warning's start
 _NAMED_SHARE = 0.1  # an equation is named when its weight is this share of the largest
 _MAX_ITERATIONS = 50
 _ITERATION_TOLERANCE = 1e-6
@@ -476,7 +484,7 @@ def toggle_warnings(system: System, trajectory, threshold: float = TOGGLE_THRESH
 
 def _message(toggle: Toggle, t: float, start: float, end: float, threshold: float) -> str:
     return (
-        f"near-singular position (toggle or dead point) at t = {t:.6g} s: toggle measure "
+        f"{NEAR_SINGULAR} {t:.6g} s: toggle measure "
         f"{toggle.measure:.3g} (below {threshold:g} from t = {start:.6g} to {end:.6g} s); "
         f"{toggle.describe()}; the constraints, motions included, are close to losing rank: "
         "reactions there grow like 1/measure; check the geometry (a brace or link going "

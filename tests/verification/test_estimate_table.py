@@ -25,7 +25,7 @@ from benchmarks.error_table import CHEAP, case_rows
 
 LOW, HIGH = 1.0 / 3.0, 3.0
 MEASURABLE = 1e-5  # of the peak: true errors below it are the reference's own
-PEAKS_HOLD = ("pendulum 2 s", "servo closed valve", "A01 10 s")
+SINGULAR = ("A02 N=3 3-D",)  # passes a singular position: estimated from a finer run
 
 
 @pytest.mark.parametrize("name", list(CHEAP))
@@ -36,6 +36,11 @@ def test_estimate_within_a_factor_three_of_the_true_error(name: str) -> None:
     for row in rows:
         ratio = row["ratio_history"]
         assert ratio is not None and LOW <= ratio <= HIGH, (name, row["request"], ratio)
-        if name in PEAKS_HOLD and row["true_peak"] >= MEASURABLE:
+        if row["true_peak"] >= MEASURABLE:
             ratio = row["ratio_peak"]
             assert LOW <= ratio <= HIGH, (name, row["request"], "peak", ratio)
+        # at the target's scale (benchmarks.error_table.at_target), every row, the errors
+        # far below the target included
+        for key in ("at_target_history", "at_target_peak"):
+            assert LOW <= row[key] <= HIGH, (name, row["request"], key, row[key])
+        assert (row["observed_order"] is not None) == (name in SINGULAR), (name, row)
