@@ -135,6 +135,45 @@ def _cho_solve(low, b):
 
 
 @njit(**KERNEL)
+def _times(a, x):
+    """a (m, n) x (n,) in loops (numba's @ calls BLAS, which costs more than these few
+    products)."""
+    out = np.zeros(a.shape[0])
+    for i in range(a.shape[0]):
+        acc = 0.0
+        for j in range(a.shape[1]):
+            acc += a[i, j] * x[j]
+        out[i] = acc
+    return out
+
+
+@njit(**KERNEL)
+def _transpose_times(a, y):
+    """a (m, n)^T y (m,) in loops (`_times`)."""
+    out = np.zeros(a.shape[1])
+    for i in range(a.shape[0]):
+        w = y[i]
+        for j in range(a.shape[1]):
+            out[j] += a[i, j] * w
+    return out
+
+
+@njit(**KERNEL)
+def _lower_product(a, b):
+    """The lower triangle of a b^T (m, m) (a, b (m, n)), the rest zeros: what `_cholesky`
+    reads of a symmetric product."""
+    m = a.shape[0]
+    out = np.zeros((m, m))
+    for i in range(m):
+        for k in range(i + 1):
+            acc = 0.0
+            for j in range(a.shape[1]):
+                acc += a[i, j] * b[k, j]
+            out[i, k] = acc
+    return out
+
+
+@njit(**KERNEL)
 def _positions(q, phi, jac, ints, floats, functions, refs, tol, reuse, most):
     """q (copied, then moved) onto phi = 0 by minimum-norm Newton (mechlib.solvers.assembly._newton
     with unit weights) from phi and its Jacobian jac at q (evaluated by the caller: the
@@ -155,14 +194,14 @@ def _positions(q, phi, jac, ints, floats, functions, refs, tol, reuse, most):
     for _ in range(most):
         if not have:
             jac[:] = at_iterate
-            ok, low = _cholesky(jac @ jac.T)
+            ok, low = _cholesky(_lower_product(jac, jac))
             if not ok:
                 return FALLBACK, q, fresh, at_iterate
             fresh += 1
             have = True
         if not np.isfinite(phi).all():
             return FALLBACK, q, fresh, at_iterate
-        step = jac.T @ _cho_solve(low, -phi)
+        step = _transpose_times(jac, _cho_solve(low, -phi))
         size = 0.0
         for j in range(nq):
             q[j] += step[j]
@@ -224,7 +263,7 @@ def _schur(x, jac, body, nb):
                 for d in range(3, 7):
                     acc += jac[i, o + d] * minv[b, d, c]
                 weighted[i, o + c] = acc
-    ok, low = _cholesky(weighted @ jac.T)
+    ok, low = _cholesky(_lower_product(weighted, jac))
     return ok, minv, weighted, low
 
 
@@ -291,10 +330,10 @@ def _dynamics(q, qd, x, xd, jac, minv, weighted, low, ints, floats, functions, r
     nq, nb, m = q.shape[0], q.shape[0] // 7, jac.shape[0]
     nu, gamma = np.empty(m), np.empty(m)
     ca.nu_values(ints, floats, functions, nu)
-    drift = nu - jac @ qd
+    drift = nu - _times(jac, qd)
     v = qd.copy()
     if m and np.abs(drift).max() > 0.0:
-        v += weighted.T @ _cho_solve(low, drift)
+        v += _transpose_times(weighted, _cho_solve(low, drift))
         ca.state_into(q, v, x, xd)
     ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
     forces = np.empty(nq)
@@ -303,8 +342,8 @@ def _dynamics(q, qd, x, xd, jac, minv, weighted, low, ints, floats, functions, r
         element_wrenches(x, xd, z, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, wrench_f, wrench_n)
     gravity, masses, _, inertia = ca.body_terms(body, nb)
     kr.body_forces(x, xd, masses, inertia, gravity, wrench_f, wrench_n, True, forces)
-    lam = _cho_solve(low, weighted @ forces - gamma)
-    free = forces - jac.T @ lam
+    lam = _cho_solve(low, _times(weighted, forces) - gamma)
+    free = forces - _transpose_times(jac, lam)
     for b in range(nb):
         o = 7 * b
         for c in range(3):
