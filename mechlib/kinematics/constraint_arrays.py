@@ -514,7 +514,6 @@ def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
     ns, n1, n2 = 3 * sbi.shape[0], d1i.shape[0], d2i.shape[0]
     first = nb + ns + n1 + n2
     full = np.zeros(first + linear.shape[0])
-    full_nu = np.zeros(first + linear.shape[0])
     kr.norm_gamma(xd, nb, full[:nb])
     kr.sph_gamma(x, xd, sbi, sbj, ssi, ssj, full[nb : nb + ns])
     kr.dot1_gamma(x, xd, d1i, d1j, d1u, d1v, full[nb + ns : nb + ns + n1])
@@ -540,9 +539,31 @@ def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
             for m in range(na + nt):
                 acc += coef[e, m] * quads[m]
             full[first + linear[e]] = functions[e, 2] - acc
-            full_nu[first + linear[e]] = functions[e, 1]
     for i in range(active.shape[0]):
         gamma[i] = full[active[i]]
+    _active_nu(full.shape[0], first, linear, active, functions, nu)
+
+
+@njit(**KERNEL)
+def nu_values(ints, floats, functions, nu):
+    """nu (m,) of the active rows: `nu_and_gamma`'s nu without its gamma (it reads no
+    state: the time functions' rates of the coordinate rows, zero elsewhere)."""
+    (
+        nb, sbi, _, _, _, d1i, _, _, _, d2i, _, _, _, _,
+        _, _, _, _, _, _, _, _, _, _, linear, active, _,
+    ) = unpack(ints, floats)  # fmt: skip
+    first = nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0]
+    _active_nu(first + linear.shape[0], first, linear, active, functions, nu)
+
+
+@njit(**KERNEL)
+def _active_nu(rows, first, linear, active, functions, nu):
+    """nu (m,) of the active rows among `rows`: the rate functions[e, 1] of coordinate
+    equation e (row first + linear[e]), zero for every other row."""
+    full_nu = np.zeros(rows)
+    for e in range(linear.shape[0]):
+        full_nu[first + linear[e]] = functions[e, 1]
+    for i in range(active.shape[0]):
         nu[i] = full_nu[active[i]]
 
 

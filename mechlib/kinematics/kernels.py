@@ -29,6 +29,7 @@ __all__ = [
     "dot2_jac",
     "dot2_phi",
     "dot2_rate",
+    "inverse_mass_blocks",
     "mass_blocks",
     "mass_matrix",
     "mass_times",
@@ -365,6 +366,30 @@ def mass_blocks(x, masses, inertia, scale, out):
             _gt_times(p, jw, 1.0, g4)
             for e in range(4):
                 out[b, 3 + e, 3 + d] = 4.0 * g4[e] + scale[b] * p[e] * p[d]
+
+
+@njit(**KERNEL)
+def inverse_mass_blocks(x, masses, inverse_inertia, scale, out):
+    """The inverses (nb, 7, 7) of `mass_blocks`: I / m for r and, as P = [G; p^T] has
+    P P^T = P^T P = |p|^2 I, (G^T J'^-1 G / 4 + p p^T / scale) / |p|^4 for p;
+    `inverse_inertia` (nb, 3, 3): each J'^-1."""
+    unit = np.zeros(4)
+    w, jw = np.empty(3), np.empty(3)
+    g4 = np.empty(4)
+    for b in range(masses.shape[0]):
+        out[b] = 0.0
+        for c in range(3):
+            out[b, c, c] = 1.0 / masses[b]
+        p = x[b, 3:]
+        norm4 = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]) ** 2
+        for d in range(4):
+            unit[:] = 0.0
+            unit[d] = 1.0
+            _g_times(p, unit, w)
+            _inertia_times(inverse_inertia[b], w, jw)
+            _gt_times(p, jw, 1.0, g4)
+            for e in range(4):
+                out[b, 3 + e, 3 + d] = (0.25 * g4[e] + p[e] * p[d] / scale[b]) / norm4
 
 
 @njit(**KERNEL)

@@ -9,14 +9,19 @@ one numba call instead of about 0.2 ms of Python per row:
 - (q, qd) from the quintic Hermite interpolant of the step's two ends (generalized-alpha)
   or as given (`s` = 1: Radau's dense output, a step's end);
 - q onto phi(q, t) = 0 by minimum-norm Newton, the Jacobian kept after a step below
-  `REUSE_BELOW` (mechlib.solvers.assembly.solve_positions, the same iteration);
+  `REUSE_BELOW` (mechlib.solvers.assembly.solve_positions, the same iteration and the
+  same iterates); the row takes the Jacobian of the iterate before Newton's last step,
+  which is shorter than the position tolerance (1e-10): evaluated with that iterate's
+  residual, not once more at q;
 - qd onto phi_q qd = nu, mass-weighted, then qdd and lam from
   [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma] (mechlib.solvers.consistent.consistent_state;
   Q with the packed elements' loads at the row's element states),
   here through the Schur complement S = phi_q M^-1 phi_q^T: M is block diagonal with
   positive definite 7 x 7 blocks (m I, and 4 G^T J G + s p p^T for the Euler parameters).
 
-Same equations, so the same row to round-off. Where a matrix is not clearly well
+Same equations, so the same row to the position tolerance: the Jacobian (and the
+velocities, accelerations and reactions through it) is taken up to 1e-10 in q away from the
+row's q. Where a matrix is not clearly well
 conditioned (Cholesky pivots of S or of phi_q phi_q^T below `WELL_CONDITIONED` of the
 largest: near a toggle), where Newton does not converge, or where a number is not finite,
 the kernel gives up (`FALLBACK`) and the Python path takes the row: it names singular
@@ -76,15 +81,31 @@ def small_enough(system) -> bool:
 
 @njit(**KERNEL)
 def _cholesky(a):
-    """(ok, L): the Cholesky factor of a (symmetric); ok when a is finite and positive
-    definite with pivots not below WELL_CONDITIONED of the largest."""
-    ok, low = kr.positive_cholesky(a)
-    if not ok:
-        return False, a
-    pivots = np.diag(low) ** 2
-    if pivots.shape[0] == 0:
-        return True, low
-    ok = np.isfinite(pivots).all() and pivots.min() > WELL_CONDITIONED * pivots.max()
+    """(ok, L): the Cholesky factor of a (symmetric, its lower triangle read); ok when a is
+    finite and positive definite with pivots not below WELL_CONDITIONED of the largest.
+    Loops, not LAPACK: for the few tens of rows taken here its call costs more than the
+    factorisation."""
+    n = a.shape[0]
+    for v in a.ravel():
+        if not np.isfinite(v):
+            return False, a
+    low = np.zeros((n, n))
+    largest, least = 0.0, np.inf
+    for j in range(n):
+        acc = a[j, j]
+        for k in range(j):
+            acc -= low[j, k] * low[j, k]
+        if not acc > 0.0:
+            return False, a
+        pivot = np.sqrt(acc)
+        low[j, j] = pivot
+        largest, least = max(largest, acc), min(least, acc)
+        for i in range(j + 1, n):
+            acc = a[i, j]
+            for k in range(j):
+                acc -= low[i, k] * low[j, k]
+            low[i, j] = acc / pivot
+    ok = n == 0 or (np.isfinite(largest) and least > WELL_CONDITIONED * largest)
     return ok, low
 
 
@@ -114,62 +135,136 @@ def _cho_solve(low, b):
 
 
 @njit(**KERNEL)
-def _positions(q, ints, floats, functions, refs, tol, reuse, most):
+def _times(a, x):
+    """a (m, n) x (n,) in loops (numba's @ calls BLAS, which costs more than these few
+    products)."""
+    out = np.zeros(a.shape[0])
+    for i in range(a.shape[0]):
+        acc = 0.0
+        for j in range(a.shape[1]):
+            acc += a[i, j] * x[j]
+        out[i] = acc
+    return out
+
+
+@njit(**KERNEL)
+def _transpose_times(a, y):
+    """a (m, n)^T y (m,) in loops (`_times`)."""
+    out = np.zeros(a.shape[1])
+    for i in range(a.shape[0]):
+        w = y[i]
+        for j in range(a.shape[1]):
+            out[j] += a[i, j] * w
+    return out
+
+
+@njit(**KERNEL)
+def _lower_product(a, b):
+    """The lower triangle of a b^T (m, m) (a, b (m, n)), the rest zeros: what `_cholesky`
+    reads of a symmetric product."""
+    m = a.shape[0]
+    out = np.zeros((m, m))
+    for i in range(m):
+        for k in range(i + 1):
+            acc = 0.0
+            for j in range(a.shape[1]):
+                acc += a[i, j] * b[k, j]
+            out[i, k] = acc
+    return out
+
+
+@njit(**KERNEL)
+def _positions(q, phi, jac, ints, floats, functions, refs, tol, reuse, most):
     """q (copied, then moved) onto phi = 0 by minimum-norm Newton (mechlib.solvers.assembly._newton
-    with unit weights). Returns (status, q, fresh Jacobians)."""
+    with unit weights) from phi and its Jacobian jac at q (evaluated by the caller: the
+    first of the fresh Jacobians). Returns (status, q, fresh Jacobians: those the iteration
+    factored, the Jacobian at the iterate before the last step: within that step, shorter
+    than `tol`, of q). Each iterate a further step follows gets its Jacobian with its
+    residual (phi_and_jacobian's phi is phi_values'): the iteration's next where the step
+    was not below `reuse`, else kept for the row (the one a row evaluates besides those it
+    factors, as consistent_state's)."""
     nq = q.shape[0]
     nb = nq // 7
     m = ints[7]
     q = q.copy()
-    x, _ = ca.state_arrays(q, q, nb)
-    phi = np.empty(m)
-    jac = np.empty((m, nq))
+    x, rates = ca.state_arrays(q, q, nb)  # rates: unread
     low = np.empty((m, m))
+    at_iterate = jac.copy()  # the Jacobian at the latest iterate
     fresh, have = 0, False
     for _ in range(most):
-        if not have:  # phi at q too: the same equations, so the same residual at the start
-            ca.phi_and_jacobian(
-                x, ints, floats, functions, refs, phi if fresh == 0 else np.empty(m), jac
-            )
-            ok, low = _cholesky(jac @ jac.T)
+        if not have:
+            jac[:] = at_iterate
+            ok, low = _cholesky(_lower_product(jac, jac))
             if not ok:
-                return FALLBACK, q, fresh
+                return FALLBACK, q, fresh, at_iterate
             fresh += 1
             have = True
         if not np.isfinite(phi).all():
-            return FALLBACK, q, fresh
-        step = jac.T @ _cho_solve(low, -phi)
+            return FALLBACK, q, fresh, at_iterate
+        step = _transpose_times(jac, _cho_solve(low, -phi))
         size = 0.0
         for j in range(nq):
             q[j] += step[j]
             size = max(size, abs(step[j]))
-        x, _ = ca.state_arrays(q, q, nb)
-        ca.phi_values(x, ints, floats, functions, refs, phi)
+        ca.state_into(q, q, x, rates)
         if size < tol:
+            ca.phi_values(x, ints, floats, functions, refs, phi)
             worst = np.abs(phi).max() if m else 0.0
-            return (DONE if worst <= 1e3 * tol else FALLBACK), q, fresh
+            return (DONE if worst <= 1e3 * tol else FALLBACK), q, fresh, at_iterate
+        ca.phi_and_jacobian(x, ints, floats, functions, refs, phi, at_iterate)
         if size >= reuse:
             have = False
-    return FALLBACK, q, fresh
+    return FALLBACK, q, fresh, at_iterate
 
 
 @njit(**KERNEL)
 def _inverse_mass(x, body, nb):
-    """M^-1's diagonal blocks (nb, 7, 7) at x, or an empty array where a block is not
-    well conditioned (a body without inertia)."""
+    """M^-1's diagonal blocks (nb, 7, 7) at x in closed form
+    (mechlib.kinematics.kernels.inverse_mass_blocks), or an empty array where a block is
+    not well conditioned (a body without inertia: m, the Euler parameters' scale and the
+    Cholesky pivots of 4 J' not within WELL_CONDITIONED of each other)."""
     _, masses, pscale, inertia = ca.body_terms(body, nb)
-    blocks = np.empty((nb, 7, 7))
-    kr.mass_blocks(x, masses, inertia, pscale, blocks)
-    unit = np.zeros(7)
+    inverse_inertia = np.empty((nb, 3, 3))
+    unit = np.zeros(3)
     for b in range(nb):
-        ok, low = _cholesky(blocks[b])
+        ok, low = _cholesky(4.0 * inertia[b])
         if not ok:
             return np.empty((0, 7, 7))
-        for c in range(7):
+        pivots = np.diag(low) ** 2
+        largest = max(pivots.max(), masses[b], pscale[b])
+        if not min(pivots.min(), masses[b], pscale[b]) > WELL_CONDITIONED * largest:
+            return np.empty((0, 7, 7))
+        for c in range(3):
             unit[:] = 0.0
-            unit[c] = 1.0
-            blocks[b, :, c] = _cho_solve(low, unit)
+            unit[c] = 4.0  # (4 J')^-1 4 e_c = J'^-1 e_c
+            inverse_inertia[b, :, c] = _cho_solve(low, unit)
+    blocks = np.empty((nb, 7, 7))
+    kr.inverse_mass_blocks(x, masses, inverse_inertia, pscale, blocks)
     return blocks
+
+
+@njit(**KERNEL)
+def _schur(x, jac, body, nb):
+    """(ok, M^-1's blocks, phi_q M^-1 (m, nq), the Cholesky factor of the Schur complement
+    phi_q M^-1 phi_q^T) at x with the Jacobian jac; ok False where M or the complement is
+    not well conditioned (`_inverse_mass`, `_cholesky`)."""
+    m = jac.shape[0]
+    minv = _inverse_mass(x, body, nb)
+    weighted = np.empty((m, 7 * nb))
+    if minv.shape[0] != nb:
+        return False, minv, weighted, weighted
+    for b in range(nb):
+        o = 7 * b
+        for i in range(m):
+            for c in range(3):
+                weighted[i, o + c] = jac[i, o + c] * minv[b, c, c]
+            for c in range(3, 7):
+                acc = 0.0
+                for d in range(3, 7):
+                    acc += jac[i, o + d] * minv[b, d, c]
+                weighted[i, o + c] = acc
+    ok, low = _cholesky(_lower_product(weighted, jac))
+    return ok, minv, weighted, low
 
 
 @njit(**KERNEL)
@@ -203,55 +298,68 @@ def project_row(ends, h, s, ints, floats, functions, refs, body, params, out):
 def project_loaded_row(ends, h, s, ints, floats, functions, refs, body, params, z, elements, out):
     """`project_row` with the packed force elements (`elements`: CompiledForces.args,
     mechlib.elements.compiled_forces, no joint friction) at element states z (the row's,
-    interpolated)."""
+    interpolated). The row's Jacobian is that of Newton's last iterate before its last
+    step (`_positions`), within the position tolerance of q."""
     q, qd = interpolated(ends, h, s)
     nq = q.shape[0]
     nb, m = nq // 7, ints[7]
     if not (np.isfinite(q).all() and np.isfinite(qd).all()):
         return FALLBACK, 0
-    tol, reuse, most = params[0], params[1], int(params[2])
-    status, q, fresh = _positions(q, ints, floats, functions, refs, tol, reuse, most)
-    if status != DONE:
-        return FALLBACK, fresh
     x, xd = ca.state_arrays(q, qd, nb)
     phi, jac = np.empty(m), np.empty((m, nq))
     ca.phi_and_jacobian(x, ints, floats, functions, refs, phi, jac)
-    minv = _inverse_mass(x, body, nb)
-    if minv.shape[0] != nb:
+    tol, reuse, most = params[0], params[1], int(params[2])
+    status, q, fresh, jac = _positions(q, phi, jac, ints, floats, functions, refs, tol, reuse, most)
+    if status != DONE:
         return FALLBACK, fresh
-    weighted = np.empty((m, nq))  # phi_q M^-1
-    for b in range(nb):
-        o = 7 * b
-        weighted[:, o : o + 7] = np.ascontiguousarray(jac[:, o : o + 7]) @ minv[b]
-    ok, low = _cholesky(weighted @ jac.T)  # the Schur complement phi_q M^-1 phi_q^T
+    ca.state_into(q, qd, x, xd)
+    ok, minv, weighted, low = _schur(x, jac, body, nb)
     if not ok:
         return FALLBACK, fresh
+    return _dynamics(q, qd, x, xd, jac, minv, weighted, low, ints, floats, functions, refs,
+                     body, z, elements, out), fresh  # fmt: skip
+
+
+@njit(**KERNEL)
+def _dynamics(q, qd, x, xd, jac, minv, weighted, low, ints, floats, functions, refs, body, z,
+              elements, out):  # fmt: skip
+    """The row at position q (x: its state arrays, xd qd's, rewritten) with the Jacobian,
+    M^-1 blocks, phi_q M^-1 and the Schur complement's factor there (`_schur`): qd onto
+    phi_q qd = nu (mass-weighted), then qdd and lam; (q, qd, qdd, lam) stacked into out.
+    DONE, or FALLBACK where a number is not finite."""
+    nq, nb, m = q.shape[0], q.shape[0] // 7, jac.shape[0]
     nu, gamma = np.empty(m), np.empty(m)
-    ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
-    drift = nu - jac @ qd
+    ca.nu_values(ints, floats, functions, nu)
+    drift = nu - _times(jac, qd)
     v = qd.copy()
     if m and np.abs(drift).max() > 0.0:
-        v += weighted.T @ _cho_solve(low, drift)
-        x, xd = ca.state_arrays(q, v, nb)
-        ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
+        v += _transpose_times(weighted, _cho_solve(low, drift))
+        ca.state_into(q, v, x, xd)
+    ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
     forces = np.empty(nq)
     wrench_f, wrench_n = np.zeros((nb + 1, 3)), np.zeros((nb + 1, 3))
     if any_elements(elements):
         element_wrenches(x, xd, z, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, wrench_f, wrench_n)
     gravity, masses, _, inertia = ca.body_terms(body, nb)
     kr.body_forces(x, xd, masses, inertia, gravity, wrench_f, wrench_n, True, forces)
-    lam = _cho_solve(low, weighted @ forces - gamma)
-    free = forces - jac.T @ lam
+    lam = _cho_solve(low, _times(weighted, forces) - gamma)
+    free = forces - _transpose_times(jac, lam)
     for b in range(nb):
         o = 7 * b
-        out[2 * nq + o : 2 * nq + o + 7] = minv[b] @ free[o : o + 7]
+        for c in range(3):
+            out[2 * nq + o + c] = minv[b, c, c] * free[o + c]
+        for c in range(3, 7):
+            acc = 0.0
+            for d in range(3, 7):
+                acc += minv[b, c, d] * free[o + d]
+            out[2 * nq + o + c] = acc
     out[:nq] = q
     out[nq : 2 * nq] = v
     out[3 * nq : 3 * nq + m] = lam
     for v_ in out:
         if not np.isfinite(v_):
-            return FALLBACK, fresh
-    return DONE, fresh
+            return FALLBACK
+    return DONE
 
 
 @njit(**KERNEL)

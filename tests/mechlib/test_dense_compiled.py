@@ -4,9 +4,11 @@ consistent_state), and the motion it gives against closed forms.
 
 - Whole dense runs with the compiled rows and with the Python rows (`_compiled_row`
   switched off) take the same steps, Newton iterations, factorisations and Jacobian
-  evaluations, and give every output to 1e-9 of its peak (measured 8.1e-15 and 4.4e-14): the
-  free slider-crank through its dead points, a driven crank (a motion: the coordinate
-  rows and their time functions); every row of both took the compiled path.
+  evaluations, and give every output to 1e-9 of its peak (measured 3.5e-10 and 2.3e-10: the
+  compiled row takes the Jacobian of Newton's iterate before its last step, within the
+  position tolerance 1e-10 of q; 1.8e-11 and 4.5e-14 when it was evaluated at q once
+  more): the free slider-crank through its dead points, a driven crank (a motion: the
+  coordinate rows and their time functions); every row of both took the compiled path.
 - The rows of the free slider-crank meet the equations of motion they claim: phi = 0 to
   1e-10, phi_q qd = nu and phi_q qdd = gamma to 1e-9, M qdd + phi_q^T lam = Q to 1e-9 of
   the largest load (residuals computed by the Python System, not the kernel).
@@ -14,6 +16,8 @@ consistent_state), and the motion it gives against closed forms.
   2e-5 of m g L (measured 1.3e-5) and its period meets the elliptic integral to 4e-6
   (measured 2.6e-6).
 - The kernel's interpolant is the quintic Hermite of both ends (exact for a quintic).
+- Its M^-1 in closed form times M is the identity to 1e-12 (|p| = 1 or not); its Cholesky
+  factor (loops) is LAPACK's; its nu alone is `nu_and_gamma`'s.
 - Where the kernel cannot vouch for its solve (a singular or non-finite matrix, Newton
   not converging) it gives up and the Python path takes the row.
 """
@@ -29,10 +33,14 @@ import pytest
 import mechlib
 import mechlib.solvers.dense as dense
 from mechlib.core import jit
+from mechlib.kinematics import constraint_arrays as ca
+from mechlib.kinematics import kernels as kr
 from mechlib.kinematics.constraint_arrays import ConstraintArrays
 from mechlib.solvers.dense_compiled import (
     DONE,
     FALLBACK,
+    _cholesky,
+    _inverse_mass,
     _well_conditioned,
     interpolated,
     project_row,
@@ -41,7 +49,7 @@ from mechlib.system.system import System
 
 from ._models import PENDULUM_REQUESTS, Bar, falling_slider_crank, hinged_bar, pendulum_errors
 
-TOL_SAME = 1e-9  # of each output's peak; measured 8.1e-15 (free) and 4.4e-14 (driven)
+TOL_SAME = 1e-9  # of each output's peak; measured 3.5e-10 (free) and 2.3e-10 (driven)
 TOL_PERIOD = 4e-6  # measured 2.6e-6 (generalized-alpha's phase error at 1e-8)
 TOL_ENERGY = 2e-5  # measured 1.3e-5 (generalized-alpha's numerical damping)
 
@@ -171,6 +179,49 @@ def test_conditioning_check() -> None:
     assert not _well_conditioned(np.diag([1.0, 1e-10]))  # below WELL_CONDITIONED
     assert not _well_conditioned(np.diag([1.0, -1.0]))  # not positive definite
     assert not _well_conditioned(np.array([[1.0, np.nan], [np.nan, 1.0]]))
+
+
+def test_inverse_mass_in_closed_form() -> None:
+    """The kernel's M^-1 blocks, (G^T J'^-1 G / 4 + p p^T / s) / |p|^4 for the Euler
+    parameters, times `mass_blocks`' M: the identity to round-off (1e-12), on the
+    constraints and off them (|p| = 1.01: the form is exact for any p); its Cholesky factor
+    (loops) against LAPACK's."""
+    system, arrays = _packed_system()
+    rng = np.random.default_rng(5)
+    nb, body = system.nq // 7, arrays.bodies()
+    _, masses, pscale, inertia = ca.body_terms(body, nb)
+    for stretch in (1.0, 1.01):
+        q = system.design_q() + 1e-2 * rng.standard_normal(system.nq)
+        for b in range(nb):
+            q[7 * b + 3 : 7 * b + 7] *= stretch / np.linalg.norm(q[7 * b + 3 : 7 * b + 7])
+        x, _ = ca.state_arrays(q, q, nb)
+        blocks = np.empty((nb, 7, 7))
+        kr.mass_blocks(x, masses, inertia, pscale, blocks)
+        inverse = _inverse_mass(x, body, nb)
+        for b in range(nb):
+            assert np.abs(inverse[b] @ blocks[b] - np.eye(7)).max() < 1e-12
+    a = rng.standard_normal((20, 21))
+    a = a @ a.T
+    ok, low = _cholesky(a)
+    assert ok and np.abs(low - np.linalg.cholesky(a)).max() < 1e-12 * np.abs(low).max()
+
+
+def test_nu_without_gamma() -> None:
+    """`nu_values` is `nu_and_gamma`'s nu: the driven crank's motion rate in its row."""
+    jit.compile_all()
+    mech, _, _ = _driven_crank()
+    system = System(mech)
+    arrays = system.packed_constraints()
+    assert arrays is not None
+    ints, floats = arrays.packed()
+    m, nb = system.active.size, system.nq // 7
+    x, xd = ca.state_arrays(system.design_q(), np.ones(system.nq), nb)
+    nu, gamma, alone = np.empty(m), np.empty(m), np.full(m, np.nan)
+    functions = arrays.functions(0.4)
+    ca.nu_and_gamma(x, xd, ints, floats, functions, arrays.references(), nu, gamma)
+    ca.nu_values(ints, floats, functions, alone)
+    assert np.abs(nu).max() > 0.0  # the motion's rate
+    assert np.array_equal(alone, nu)
 
 
 def test_the_kernel_gives_up_and_python_takes_the_row() -> None:
