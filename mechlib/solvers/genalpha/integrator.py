@@ -11,8 +11,9 @@ across iterations and steps while it converges (modified Newton). K = -dQ/dq and
 C = -dQ/dqd are kept apart, so that a new step size only refactors; elements that give their
 own tangent (compiled contacts) have it re-evaluated at every step, the rest of K and C
 (forward differences, 2 nq force evaluations, a column leaving out the elements whose
-forces depend on other bodies only: mechlib.system.fd_columns) only after slow or failed
-convergence.
+forces depend on other bodies only, and none for the exactly zero columns of massless node
+bodies: mechlib.system.fd_columns) only after slow or failed convergence (for modal bodies
+a slow step is first answered by a refactorisation with the tangent kept: rules.retangents).
 Local error estimate e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading term of the
 position update, h^3/12 q''' for the trapezoidal case), steps controlled on it and landing
 on output times (the stepper around it: mechlib.solvers.genalpha.stepper).
@@ -34,6 +35,7 @@ from mechlib.model.analysis import Dynamic
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.compiled import CONVERGED, loaded_newton
 from mechlib.solvers.genalpha.kernels import Scales, correct, error_norm, predict
+from mechlib.solvers.genalpha.tangent import differenced_tangent
 from mechlib.system.fd_columns import ColumnSkips
 from mechlib.system.reaction_loads import reaction_coupling
 from mechlib.system.saddle import rigid_saddle_factors
@@ -74,6 +76,8 @@ class Integrator:
         self.lu_h = 0.0
         self.tangent: tuple[np.ndarray, np.ndarray] | None = None
         self.stale = False
+        self.retangent = False  # the next factorisation takes a new tangent (rules.retangents)
+        self.refactor = False  # the next step factors the matrix again (set by _predicted)
         self.stiff = bool(system.elements) or system.nz > 0  # modal stiffness, damping
         self.eta = 1.0
         self.singular: SolverFailure | None = None  # the last singular iteration matrix
@@ -132,39 +136,10 @@ class Integrator:
     def _differenced_tangent(
         self, k, own: list, lam: np.ndarray, jac: np.ndarray, h: float
     ) -> tuple[np.ndarray, np.ndarray]:
-        """(K, C) = (-dQ/dq, -dQ/dqd) of the applied forces but the elements with their
-        own tangent (`own`), by forward differences at multipliers `lam` (joint friction
-        is loaded by them). Element states (mechlib.elements.states) are re-advanced over the step h
-        at each perturbed state: the tangent then holds their response to q and qd (the
-        oil columns of a hydraulic actuator are a stiffness only through its pressures)."""
-        sys = self.system
-        skips = ColumnSkips(sys, {id(e) for e in own})  # a column: its body's elements
-        q, qd = sys.state_of(k)
-        states = sys.states
-        trial = states.trial.copy()
-
-        def forces(kp, skip, jac_p=None):
-            if states.drive_forces:
-                states.trial = trial.copy()
-                states.advance(sys.view(kp), h)
-            return sys.forces(kp, skip=skip, lam=lam, jac=jac_p)
-
-        base: dict[frozenset[int], np.ndarray] = {}
-        stiffness, damping = np.empty((sys.nq, sys.nq)), np.empty((sys.nq, sys.nq))
-        try:
-            for j in range(sys.nq):
-                body = skips.body(j)
-                skip = skips.skip(body)
-                if skip not in base:  # bodies that leave out the same elements share it
-                    base[skip] = sys.forces(k, skip=skip, lam=lam, jac=jac)
-                dq = np.zeros(sys.nq)
-                dq[j] = eps = 1e-7 * max(1.0, abs(q[j]))
-                stiffness[:, j] = -(forces(sys.kin(q + dq, qd, k.t), skip) - base[skip]) / eps
-                dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
-                damping[:, j] = -(forces(sys.kin(q, qd + dq, k.t), skip, jac) - base[skip]) / eps
-        finally:
-            states.trial = trial
-        return stiffness, damping
+        """(K, C) of the applied forces but the elements with their own tangent (`own`),
+        by forward differences at multipliers `lam` (mechlib.solvers.genalpha.tangent)."""
+        skips = ColumnSkips(self.system, {id(e) for e in own})  # a column: its body's elements
+        return differenced_tangent(self.system, k, skips, lam, jac, h)
 
     def step(self, t, h, q, qd, qdd, a, lam):
         """One step; returns the new state or None when Newton does not converge."""
@@ -176,7 +151,8 @@ class Integrator:
         # a step-size change refactors; elements with their own tangent (contacts:
         # stiffness and friction slope change from step to step) have it re-evaluated at
         # every step
-        rebuild = fresh or rules.refactors(h, self.lu_h) or bool(self.own)
+        rebuild = fresh or self.refactor or rules.refactors(h, self.lu_h) or bool(self.own)
+        tried = self.refactor and not fresh  # refactored for slowness, the tangent kept
         refreshed, prev, it = False, math.inf, 0
         eta = self.eta
         while it < rules.MAX_ITER:
@@ -211,8 +187,7 @@ class Integrator:
             eta = rules.newton_rate(size, prev, eta)
             if rules.converged(eta, size, self._noise(size, prev, dq, q1)):
                 self.eta = rules.carried_rate(eta)
-                if rules.slow(it):
-                    self.stale = True  # converging slowly: a fresh matrix for the next step
+                self.converged_in(it, tried)
                 a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (
                     1.0 - c.alpha_m
                 )
@@ -228,7 +203,7 @@ class Integrator:
                 if refreshed:
                     break
                 rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
-                it = 0
+                tried, it = False, 0
             prev = size
         self.drop()
         return None
@@ -241,9 +216,19 @@ class Integrator:
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
         gp = c.gamma / (h * c.beta)
         q1, qd1, qdd1 = predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
-        fresh = self.lu is None or self.stale
-        self.stale = False
+        fresh = self.lu is None or (self.stale and self.retangent)
+        self.refactor, self.stale = self.stale, False
         return bp, gp, q1, qd1, qdd1, lam.copy(), t + h, fresh
+
+    def converged_in(self, iterations: int, tried: bool) -> None:
+        """A step converged in `iterations`, its matrix refactored for the last step's
+        slowness with the tangent kept (`tried`) or not: slow convergence asks for a new
+        matrix for the next step (rules.slow), with a new differenced tangent as
+        rules.retangents says (modal bodies; every other system takes one at once: the
+        whole-run path, which factors its tangent afresh, takes their steps alike)."""
+        slow = rules.slow(iterations)
+        self.stale = slow
+        self.retangent = slow and (not self.system.nz or rules.retangents(tried))
 
     def _compiled_step(self, t, h, q, qd, qdd, a, lam, elements: CompiledForces):
         """`step` with the Newton iterations between factorisations and the three-level
@@ -252,7 +237,8 @@ class Integrator:
         c, sys, arrays, states = self.c, self.system, self.arrays, self.system.states
         assert arrays is not None and self.scales is not None, "checked by step; set by init"
         bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
-        rebuild = fresh or rules.refactors(h, self.lu_h)
+        rebuild = fresh or self.refactor or rules.refactors(h, self.lu_h)
+        tried = self.refactor and not fresh
         refreshed, prev, it, eta = False, math.inf, 0, self.eta
         ints, floats = arrays.packed()
         functions, refs = arrays.functions(t1), arrays.references()
@@ -282,15 +268,14 @@ class Integrator:
             self.stats.newton_iterations += done
             if status == CONVERGED:
                 self.eta = rules.carried_rate(eta)
-                if rules.slow(it):
-                    self.stale = True
+                self.converged_in(it, tried)
                 m = lam.size
                 consistent = (true[:nq], true[nq : 2 * nq], true[2 * nq : 2 * nq + m])
                 return q1, qd1, qdd1, true[2 * nq + m :], lam1, consistent
             if refreshed:
                 break
             rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
-            it = 0
+            tried, it = False, 0
         self.drop()
         return None
 
