@@ -29,12 +29,14 @@ import numpy as np
 from mechlib.core.outcome import SolverFailure, SolverStats
 from mechlib.core.work import count
 from mechlib.elements.compiled_forces import CompiledForces
+from mechlib.flexible.packed import modal_arrays
 from mechlib.linalg.factor import factor_saddle, singular_failure, solve_factored
 from mechlib.linalg.flat_lu import factor_data, factors
 from mechlib.model.analysis import Dynamic
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.compiled import CONVERGED, loaded_newton
 from mechlib.solvers.genalpha.kernels import Scales, correct, error_norm, predict
+from mechlib.solvers.genalpha.modal_step import modal_step
 from mechlib.solvers.genalpha.tangent import differenced_tangent
 from mechlib.system.fd_columns import ColumnSkips
 from mechlib.system.reaction_loads import reaction_coupling
@@ -88,6 +90,8 @@ class Integrator:
         # iterations (the kernels are compiled by now: the model checks called them)
         python = spec.compiled == "python"
         self.arrays = None if python else system.packed_constraints()
+        # modal bodies: their own compiled loop (mechlib.solvers.genalpha.modal_step)
+        self.modal = None if python or self.arrays is not None else modal_arrays(system)
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
 
     def elements(self, t: float | None = None) -> CompiledForces | None:
@@ -143,6 +147,8 @@ class Integrator:
 
     def step(self, t, h, q, qd, qdd, a, lam):
         """One step; returns the new state or None when Newton does not converge."""
+        if self.modal is not None:
+            return modal_step(self, self.modal, t, h, q, qd, qdd, a, lam)
         elements = None if self.arrays is None else self.elements(t + h)
         if elements is not None:
             return self._compiled_step(t, h, q, qd, qdd, a, lam, elements)
