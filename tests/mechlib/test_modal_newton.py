@@ -5,7 +5,8 @@ Python step it replaces.
 - Its parts at a random deformed, moving state of the flexible slider-crank
   (benchmarks.flexible: a rigid crank and slider, a rod of 34 modes welded at both ends) and
   of Kane's stiffened beam (random weld multipliers load its stiffening): the constraint
-  residual and Jacobian, M qdd + phi_q^T lam - Q and gamma equal System's to round-off
+  residual and Jacobian, M qdd + phi_q^T lam - Q, gamma and the matrices factored (M,
+  phi_q) equal System's to round-off
   (1e-12 of each array's largest entry: the same kernels summed in another order).
 - Whole runs: Kane's beam (unstiffened and stiffened, 4 s at 1e-6) and the slider-crank
   (0.02 s at 1e-4) take the same steps, rejections and Newton iterations compiled as in
@@ -74,6 +75,11 @@ def test_kernels_equal_the_system(model):
     mn._nu_and_gamma(x, xd, q, qd, packed, functions, refs, bodies, welds, active, nu, gamma)
     _close(nu, system.nu(k))
     _close(gamma, system.gamma(k))
+    mass, phi_q = np.empty((nq, nq)), np.empty((lam.size, nq))
+    args = (ints, floats, functions, refs, arrays.bodies(), bodies, welds, active)
+    mn.modal_matrices(q, *args, mass, phi_q)
+    _close(mass, system.mass(k))
+    _close(phi_q, jac)
 
 
 def _run(name: str, compiled: str) -> tuple[mechlib.Solution, np.ndarray]:

@@ -103,11 +103,12 @@ class Integrator:
             packed.refresh(self.system, t)
         return packed
 
-    def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):
+    def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray, matrices=None):
         """Factor the iteration matrix at step h, state k and multipliers lam: the
         elements' own tangents (compiled contacts, cheap) always at k; the finite-difference
         part re-evaluated when `fresh`, else the last one reused; -dQ/dlam of the loads that
-        depend on the reactions (joint friction) beside phi_q^T."""
+        depend on the reactions (joint friction) beside phi_q^T. `matrices`: (M, phi_q) at
+        k when known (mechlib.solvers.genalpha.modal_step computes them compiled)."""
         c, sys = self.c, self.system
         count(jacobian_evaluations=1)
         if not self.stiff:  # [[M, phi_q^T], [phi_q, 0]], gathered on its pattern
@@ -117,7 +118,7 @@ class Integrator:
             self.lu, self.lu_h = lu, h
             return
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
-        jac = sys.phi_q(k)
+        mass, jac = (sys.mass(k), sys.phi_q(k)) if matrices is None else matrices
         own = self.own
         if fresh or self.tangent is None:
             self.tangent = self._differenced_tangent(k, own, lam, jac, h)
@@ -126,7 +127,7 @@ class Integrator:
             view = sys.view(k)
             for element in own:
                 element.tangent(view, stiffness, damping)
-        top = sys.mass(k) + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
+        top = mass + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
         lu = factor_saddle(top, jac, None, coupling=reaction_coupling(sys, k, lam, jac))
         if lu is None:
             raise singular_failure(sys, jac, k.t, "dynamic analysis failed")

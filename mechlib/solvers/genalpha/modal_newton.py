@@ -29,7 +29,7 @@ from mechlib.linalg.flat_lu import lu_solve, lu_solve_into
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
 
-__all__ = ["CONVERGED", "STALLED", "modal_newton", "modal_rows"]
+__all__ = ["CONVERGED", "STALLED", "modal_matrices", "modal_newton", "modal_rows"]
 
 CONVERGED, STALLED = 1, 2
 
@@ -274,3 +274,38 @@ def _true_acceleration(
     out[:nq] = qd
     out[nq : 2 * nq] = qdd1 - fix[:nq]
     out[2 * nq : 2 * nq + m] = lam1 - fix[nq:]
+
+
+@njit(**KERNEL)
+def modal_matrices(q, ints, floats, functions, refs, body, bodies, welds, active, mass, jac):
+    """M (nq, nq) and phi_q (m, nq) of the active rows at q, into `mass` and `jac` (what
+    System.mass and System.phi_q give, for the iteration matrix's factorisation)."""
+    nq = q.shape[0]
+    packed = ca.unpack(ints, floats)
+    nb = packed[0]
+    g = 7 * nb
+    nall = packed[25].shape[0] + welds[1]
+    full, rows = np.empty(nall), np.empty((nall, nq + 7))
+    x, _ = ca.state_arrays(q, q, nb)
+    modal_rows(x, q[g:], packed, functions, refs, bodies, welds, full, rows)
+    for i in range(active.shape[0]):
+        r = active[i]
+        for c in range(g):
+            jac[i, c] = rows[r, c]
+        for c in range(g + 7, nq + 7):
+            jac[i, c - 7] = rows[r, c]
+    _, masses, pscale, inertia = ca.body_terms(body, nb)
+    mass[:, :] = 0.0
+    kr.mass_matrix(x, masses, inertia, pscale, mass)
+    for item in bodies:
+        frame, offset, n = item[0][0], item[0][1], item[0][2]
+        block = item[20]
+        coordinate_mass(
+            x[frame, 3:], q[g + offset : g + offset + n], item[2][0], item[3], item[4],
+            item[5], item[6], item[7], item[8], item[9], item[10], item[18], block,
+        )  # fmt: skip
+        f0, z0 = 7 * frame, g + offset
+        for a in range(7 + n):
+            row = f0 + a if a < 7 else z0 + a - 7
+            for b in range(7 + n):
+                mass[row, f0 + b if b < 7 else z0 + b - 7] += block[a, b]

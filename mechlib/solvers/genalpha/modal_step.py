@@ -13,7 +13,7 @@ import numpy as np
 from mechlib.core.outcome import SolverFailure
 from mechlib.flexible.packed import ModalArrays
 from mechlib.solvers.genalpha import rules
-from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_newton
+from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_matrices, modal_newton
 
 if TYPE_CHECKING:
     from mechlib.solvers.genalpha.integrator import Integrator
@@ -39,7 +39,12 @@ def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam)
     while True:
         if rebuild:
             try:
-                integ._iteration_matrix(sys.kin(q1, qd1, t1), h, fresh, lam1)
+                matrices = (np.empty((nq, nq)), np.empty((m, nq)))
+                modal_matrices(
+                    q1, ints, floats, functions, refs, arrays.bodies(), bodies, welds, active,
+                    *matrices,
+                )  # fmt: skip
+                integ._iteration_matrix(sys.kin(q1, qd1, t1), h, fresh, lam1, matrices)
             except SolverFailure as failure:  # singular here: reject, try a smaller step
                 integ.singular = failure
                 break
