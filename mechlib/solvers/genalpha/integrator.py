@@ -160,7 +160,7 @@ class Integrator:
         # every step
         rebuild = fresh or self.refactor or rules.refactors(h, self.lu_h) or bool(self.own)
         tried = self.refactor and not fresh  # refactored for slowness, the tangent kept
-        refreshed, prev, it = False, math.inf, 0
+        refreshed, rebuilt, prev, it = False, rebuild, math.inf, 0
         eta = self.eta
         while it < rules.MAX_ITER:
             k = sys.kin(q1, qd1, t1)
@@ -207,10 +207,12 @@ class Integrator:
                     self._true_acceleration(q1, qd1, t1, qdd1, lam1, jac),
                 )
             if rules.stalled(size, prev, it):
-                if refreshed:
+                again = self.restalled(refreshed, rebuilt)
+                if again is None:
                     break
-                rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
-                tried, it = False, 0
+                fresh, tried = again
+                rebuild = rebuilt = True
+                it = 0
             prev = size
         self.drop()
         return None
@@ -236,6 +238,13 @@ class Integrator:
         slow = rules.slow(iterations)
         self.stale = slow
         self.retangent = slow and (not self.system.nz or rules.retangents(tried))
+
+    def restalled(self, refreshed: bool, rebuilt: bool) -> tuple[bool, bool] | None:
+        """Newton stalled in a step (`refreshed`: on a matrix of a fresh tangent; `rebuilt`:
+        one factored in this step): None, give the step up; else (fresh, tried) of the
+        matrix to factor at the iterate (rules.restalled)."""
+        again = rules.restalled(refreshed, rebuilt, bool(self.system.nz))
+        return None if again == rules.GIVE_UP else (again == rules.FRESH, again == rules.KEPT)
 
     def _compiled_step(self, t, h, q, qd, qdd, a, lam, elements: CompiledForces):
         """`step` with the Newton iterations between factorisations and the three-level

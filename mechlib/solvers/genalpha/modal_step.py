@@ -29,7 +29,7 @@ def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam)
     bp, gp, q1, qd1, qdd1, lam1, t1, fresh = integ._predicted(t, h, q, qd, qdd, a, lam)
     rebuild = fresh or integ.refactor or rules.refactors(h, integ.lu_h)
     tried = integ.refactor and not fresh  # refactored for slowness, the tangent kept
-    refreshed, prev, it, eta = False, math.inf, 0, integ.eta
+    refreshed, rebuilt, prev, it, eta = False, rebuild, math.inf, 0, integ.eta
     ints, floats = arrays.packed()
     functions, refs = arrays.functions(t1), arrays.references()
     bodies, welds, active = arrays.modal(), np.array(arrays.welds()), arrays.active()
@@ -61,9 +61,11 @@ def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam)
             integ.converged_in(it, tried)
             consistent = (true[:nq], true[nq : 2 * nq], true[2 * nq : 2 * nq + m])
             return q1, qd1, qdd1, true[2 * nq + m :], lam1, consistent
-        if refreshed:
+        again = integ.restalled(refreshed, rebuilt)  # stalled
+        if again is None:
             break
-        rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
-        tried, it = False, 0
+        fresh, tried = again
+        rebuild = rebuilt = True
+        it = 0
     integ.drop()
     return None

@@ -32,6 +32,7 @@ __all__ = [
     "is_noise",
     "newton_rate",
     "refactors",
+    "restalled",
     "retangents",
     "slow",
     "stalled",
@@ -175,3 +176,18 @@ def retangents(tried: bool) -> bool:
     took a new tangent at 980 of 2421 steps, and with a refactorisation instead at 240
     (8238 Newton iterations instead of 8350, the same steps)."""
     return tried
+
+
+GIVE_UP, KEPT, FRESH = 0, 1, 2  # `restalled`: what a stalled step does next
+
+
+def restalled(refreshed: bool, rebuilt: bool, modal: bool) -> int:
+    """What a step whose Newton iterations stalled does next: GIVE_UP when its matrix had
+    a fresh differenced tangent (`refreshed`); KEPT: a modal body's matrix not factored in
+    this step (`rebuilt`) is factored again at the iterate with its tangent kept (Kane's
+    beam at 1e-6: each of its 239 stalls took a new tangent, and with a refactorisation
+    instead the run took the same steps and the same 8238 iterations from one tangent);
+    else FRESH, a new tangent."""
+    if refreshed:
+        return GIVE_UP
+    return KEPT if modal and not rebuilt else FRESH
