@@ -21,7 +21,7 @@ from __future__ import annotations
 import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
-from mechlib.flexible.kernels import coordinate_forces, coordinate_mass, load_maps
+from mechlib.flexible.kernels import body_mass, coordinate_forces, coordinate_mass, load_maps
 from mechlib.flexible.weld_kernels import weld_gamma, weld_jacobian, weld_phi
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
@@ -119,12 +119,10 @@ def _modal_terms(x, xd, q, qd, qdd, lam_full, bodies, gravity, m_qdd, forces):
         frame, offset, n = ints[0], ints[1], ints[2]
         z0 = g + offset
         zeta, zeta_d = q[z0 : z0 + n], qd[z0 : z0 + n]
-        mass, force = body[20], body[21]
+        force = body[21]
         loads = body[22] if ints[4] else body[24]  # no node loads: an empty array
-        coordinate_mass(
-            x[frame, 3:], zeta, body[2][0], body[3], body[4], body[5], body[6], body[7],
-            body[8], body[9], body[10], body[18], mass,
-        )  # fmt: skip
+        f0 = 7 * frame
+        _mass_times(x[frame, 3:], zeta, body, qdd, f0, z0, m_qdd)
         if ints[4]:
             _node_loads(x, zeta, lam_full, body, loads)
         coordinate_forces(
@@ -132,14 +130,51 @@ def _modal_terms(x, xd, q, qd, qdd, lam_full, bodies, gravity, m_qdd, forces):
             body[4], body[5], body[6], body[8], body[9], body[10], body[11], body[12],
             body[13], body[14], loads, body[19], force,
         )  # fmt: skip
-        f0 = 7 * frame
         for a in range(7 + n):
-            col = f0 + a if a < 7 else z0 + a - 7
-            acc = 0.0
-            for b in range(7 + n):
-                acc += mass[a, b] * qdd[f0 + b if b < 7 else z0 + b - 7]
-            m_qdd[col] += acc
-            forces[col] += force[a]
+            forces[f0 + a if a < 7 else z0 + a - 7] += force[a]
+
+
+@njit(**KERNEL)
+def _mass_times(p, zeta, body, qdd, f0, z0, out):
+    """out += M_q qdd over a modal body's columns (frame f0, modes z0) without forming
+    M_q = T^T M_w T + (4 tr Theta / 3) p p^T (mechlib.flexible.kernels.coordinate_mass):
+    M_w (body_mass) times T qdd, then T^T, and the term fixing |p|."""
+    n = zeta.shape[0]
+    m_w = body[18]
+    body_mass(
+        kr.rotation_matrix(p), zeta, body[2][0], body[3], body[4], body[5], body[6], body[7],
+        body[8], body[9], body[10], m_w,
+    )  # fmt: skip
+    e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
+    rate = np.array([[-e1, e0, e3, -e2], [-e2, -e3, e0, e1], [-e3, e2, -e1, e0]])  # G(p)
+    w, f = np.empty(6 + n), np.empty(6 + n)
+    pqdd = 0.0
+    for c in range(3):
+        w[c] = qdd[f0 + c]
+    for r in range(3):
+        acc = 0.0
+        for c in range(4):
+            acc += rate[r, c] * qdd[f0 + 3 + c]
+        w[3 + r] = 2.0 * acc
+    for c in range(4):
+        pqdd += p[c] * qdd[f0 + 3 + c]
+    for j in range(n):
+        w[6 + j] = qdd[z0 + j]
+    for a in range(6 + n):
+        acc = 0.0
+        for b in range(6 + n):
+            acc += m_w[a, b] * w[b]
+        f[a] = acc
+    scale = 4.0 * (m_w[3, 3] + m_w[4, 4] + m_w[5, 5]) / 3.0
+    for c in range(3):
+        out[f0 + c] += f[c]
+    for c in range(4):
+        acc = 0.0
+        for r in range(3):
+            acc += rate[r, c] * f[3 + r]
+        out[f0 + 3 + c] += 2.0 * acc + scale * p[c] * pqdd
+    for j in range(n):
+        out[z0 + j] += f[6 + j]
 
 
 @njit(**KERNEL)
