@@ -72,7 +72,7 @@ class ModalArrays(ConstraintArrays):
     def __init__(self, system):
         super().__init__(system)
         welds, first = system._welds
-        self._welds = (first, welds.size)
+        self._welds = np.array([first, welds.size], dtype=np.int64)
         self._modal = tuple(_body_args(a, first + row) for a, row, _ in welds.bodies)
 
     @staticmethod
@@ -95,8 +95,8 @@ class ModalArrays(ConstraintArrays):
         """The system's active rows (indices into all rows, welds among them)."""
         return np.asarray(self.system.active, dtype=np.int64)
 
-    def welds(self) -> tuple[int, int]:
-        """(first weld row, number of weld rows)."""
+    def welds(self) -> np.ndarray:
+        """(first weld row, number of weld rows) (2,)."""
         return self._welds
 
     def modal(self) -> tuple:

@@ -57,7 +57,7 @@ def test_kernels_equal_the_system(model):
     k = system.kin(q, qd, t)
     ints, floats = arrays.packed()
     packed = ca.unpack(ints, floats)
-    bodies, welds, active = arrays.modal(), np.array(arrays.welds()), arrays.active()
+    bodies, welds, active = arrays.modal(), arrays.welds(), arrays.active()
     functions, refs = arrays.functions(t), arrays.references()
     nall = packed[25].shape[0] + welds[1]
     full, rows = np.empty(nall), np.empty((nall, nq + 7))

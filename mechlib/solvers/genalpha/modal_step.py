@@ -32,7 +32,7 @@ def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam)
     refreshed, rebuilt, prev, it, eta = False, rebuild, math.inf, 0, integ.eta
     ints, floats = arrays.packed()
     functions, refs = arrays.functions(t1), arrays.references()
-    bodies, welds, active = arrays.modal(), np.array(arrays.welds()), arrays.active()
+    bodies, welds, active = arrays.modal(), arrays.welds(), arrays.active()
     params = np.array([bp, gp, scales.tol, c.alpha_m, c.alpha_f])
     nq, m = sys.nq, lam1.shape[0]
     true = np.empty(3 * nq + m)  # qd, qdd, lam on three levels; a
