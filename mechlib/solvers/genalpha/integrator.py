@@ -79,6 +79,8 @@ class Integrator:
         self.tangent: tuple[np.ndarray, np.ndarray] | None = None
         self.stale = False
         self.retangent = False  # the next factorisation takes a new tangent (rules.retangents)
+        # modal bodies and no force elements: a tangent that changes with the spin alone
+        self.spun = bool(system.nz) and not system.elements
         self.refactor = False  # the next step factors the matrix again (set by _predicted)
         self.stiff = bool(system.elements) or system.nz > 0  # modal stiffness, damping
         self.eta = 1.0
@@ -233,17 +235,18 @@ class Integrator:
         """A step converged in `iterations`, its matrix refactored for the last step's
         slowness with the tangent kept (`tried`) or not: slow convergence asks for a new
         matrix for the next step (rules.slow), with a new differenced tangent as
-        rules.retangents says (modal bodies; every other system takes one at once: the
+        rules.retangents says (`spun`: modal bodies without force elements; every other
+        system takes one at once: contacts and friction change theirs fast, and the
         whole-run path, which factors its tangent afresh, takes their steps alike)."""
         slow = rules.slow(iterations)
         self.stale = slow
-        self.retangent = slow and (not self.system.nz or rules.retangents(tried))
+        self.retangent = slow and (not self.spun or rules.retangents(tried))
 
     def restalled(self, refreshed: bool, rebuilt: bool) -> tuple[bool, bool] | None:
         """Newton stalled in a step (`refreshed`: on a matrix of a fresh tangent; `rebuilt`:
         one factored in this step): None, give the step up; else (fresh, tried) of the
         matrix to factor at the iterate (rules.restalled)."""
-        again = rules.restalled(refreshed, rebuilt, bool(self.system.nz))
+        again = rules.restalled(refreshed, rebuilt, self.spun)
         return None if again == rules.GIVE_UP else (again == rules.FRESH, again == rules.KEPT)
 
     def _compiled_step(self, t, h, q, qd, qdd, a, lam, elements: CompiledForces):
