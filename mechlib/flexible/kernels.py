@@ -76,7 +76,10 @@ def theta(zeta, I7, I8s, I9s, out):
 def first_moment(zeta, I2, I3, out):
     """c = I2 + I3 zeta (3,) (kg m)."""
     for a in range(3):
-        out[a] = I2[a] + I3[a] @ zeta
+        acc = I2[a]
+        for j in range(zeta.shape[0]):
+            acc += I3[a, j] * zeta[j]
+        out[a] = acc
 
 
 @njit(**KERNEL)
@@ -138,14 +141,16 @@ def body_forces(
     """Forces f (6 + n) in velocities w, into `out`: gravity `gravity` (3,) m/s^2 (global),
     modal stiffness and damping, with `inertia` the quadratic velocity vector, minus the
     geometric stiffening K_G zeta (`_stiffening`) of body angular velocity `omega` (rad/s)."""
-    c = np.empty(3)
+    c, g_body, tmp = np.empty(3), np.empty(3), np.empty(3)
     first_moment(zeta, I2, I3, c)
-    g_body = A.T @ gravity
-    tmp = np.empty(3)
-    out[:3] = I1 * gravity
+    for a in range(3):
+        g_body[a] = A[0, a] * gravity[0] + A[1, a] * gravity[1] + A[2, a] * gravity[2]
+        out[a] = I1 * gravity[a]
     _skew_times(c, g_body, tmp)
     out[3:6] = tmp
-    out[6:] = I3.T @ g_body - stiffness * zeta - viscous * zeta_d
+    for j in range(zeta.shape[0]):
+        weight = I3[0, j] * g_body[0] + I3[1, j] * g_body[1] + I3[2, j] * g_body[2]
+        out[6 + j] = weight - stiffness[j] * zeta[j] - viscous[j] * zeta_d[j]
     if inertia:
         quadratic(A, omega, zeta, zeta_d, I2, I3, I4, I5, I7, I8s, I9s, out)
     if spin.shape[0] or loads.shape[0]:
@@ -155,28 +160,58 @@ def body_forces(
 @njit(**KERNEL)
 def quadratic(A, omega, zeta, zeta_d, I2, I3, I4, I5, I7, I8s, I9s, out):
     """out += the quadratic velocity vector f_v (6 + n) at body angular velocity `omega`
-    (rad/s) (mechlib.flexible.modal_body)."""
+    (rad/s) (mechlib.flexible.modal_body). Written as loops over the invariants, no
+    matrix products (a Newton iteration calls it: each product of numpy's cost about as
+    much as the whole loop at these sizes)."""
     n = zeta.shape[0]
     c = np.empty(3)
     first_moment(zeta, I2, I3, c)
     S = _contracted(zeta, I9s)
     th = np.empty((3, 3))
     _theta_of(zeta, I7, I8s, S, th)
-    iwz = np.empty((3, n))
-    _coupling(zeta, I4, I5, iwz)
-    i5 = I5.reshape((n, 3 * n))
-    rate = (zeta_d @ i5).reshape((3, n))  # sum_j zeta_d_j I5_j
-    dth = -(I8s + S).reshape((n, 9))  # dTheta/dzeta_j, rows j
-    th_d = (zeta_d @ dth).reshape((3, 3))  # sum_j zeta_d_j dTheta_j
+    # dTheta/dzeta_j = -(I8s_j + S_j); th_d = sum_j zeta_d_j dTheta_j; rate = sum_j zeta_d_j I5_j
+    th_d = np.zeros((3, 3))
+    iwz_zd, rate_zd, i3_zd = np.zeros(3), np.zeros(3), np.zeros(3)
+    rate_t_omega = np.zeros(n)
+    for j in range(n):
+        zdj = zeta_d[j]
+        for a in range(3):
+            for b in range(3):
+                th_d[a, b] -= zdj * (I8s[j, a, b] + S[j, a, b])
+    for a in range(3):
+        for k in range(n):
+            iwz = I4[a, k]
+            rate = 0.0
+            for j in range(n):
+                iwz += zeta[j] * I5[j, a, k]
+                rate += zeta_d[j] * I5[j, a, k]
+            iwz_zd[a] += iwz * zeta_d[k]
+            rate_zd[a] += rate * zeta_d[k]
+            rate_t_omega[k] += rate * omega[a]
+            i3_zd[a] += I3[a, k] * zeta_d[k]
     wc, v, w2 = np.empty(3), np.empty(3), np.empty(3)
     _skew_times(omega, c, wc)
     _skew_times(omega, wc, w2)  # w~ w~ c
-    _skew_times(omega, I3 @ zeta_d, v)
-    out[:3] -= A @ (w2 + 2.0 * v)
-    _skew_times(omega, th @ omega + iwz @ zeta_d, v)
-    out[3:6] -= v + th_d @ omega + rate @ zeta_d
-    ww = np.outer(omega, omega).ravel()
-    out[6:] += 0.5 * (dth @ ww) + i5 @ np.outer(omega, zeta_d).ravel() - rate.T @ omega
+    _skew_times(omega, i3_zd, v)
+    for a in range(3):
+        w2[a] += 2.0 * v[a]
+    for a in range(3):
+        out[a] -= A[a, 0] * w2[0] + A[a, 1] * w2[1] + A[a, 2] * w2[2]
+    h = np.empty(3)
+    for a in range(3):
+        h[a] = th[a, 0] * omega[0] + th[a, 1] * omega[1] + th[a, 2] * omega[2] + iwz_zd[a]
+    _skew_times(omega, h, v)
+    for a in range(3):
+        thd_w = th_d[a, 0] * omega[0] + th_d[a, 1] * omega[1] + th_d[a, 2] * omega[2]
+        out[3 + a] -= v[a] + thd_w + rate_zd[a]
+    for j in range(n):
+        acc = 0.0
+        for a in range(3):
+            for b in range(3):
+                acc -= 0.5 * (I8s[j, a, b] + S[j, a, b]) * omega[a] * omega[b]
+            for k in range(n):
+                acc += I5[j, a, k] * omega[a] * zeta_d[k]
+        out[6 + j] += acc - rate_t_omega[j]
 
 
 @njit(**KERNEL)
@@ -213,13 +248,16 @@ def coordinate_forces(
     """Q_q (7 + n) = T^T f_w (`body_forces` at omega = 2 G(p) pd), into `out`; `scratch`
     (6 + n,) takes f_w."""
     g = _rate_map(p)
-    omega = 2.0 * (g @ pd)
+    omega = np.empty(3)
+    for a in range(3):
+        omega[a] = 2.0 * (g[a, 0] * pd[0] + g[a, 1] * pd[1] + g[a, 2] * pd[2] + g[a, 3] * pd[3])
     body_forces(
         rotation_matrix(p), omega, zeta, zeta_d, gravity, inertia, I1, I2, I3, I4, I5, I7,
         I8s, I9s, stiffness, viscous, spin, nodal, loads, scratch,
     )  # fmt: skip
     out[:3] = scratch[:3]
-    out[3:7] = 2.0 * (g.T @ scratch[3:6])
+    for c in range(4):
+        out[3 + c] = 2.0 * (g[0, c] * scratch[3] + g[1, c] * scratch[4] + g[2, c] * scratch[5])
     out[7:] = scratch[6:]
 
 

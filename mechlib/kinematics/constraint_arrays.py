@@ -24,7 +24,7 @@ from mechlib.kinematics.constraints import Dot1, Dot2, Normalization, Spherical
 from mechlib.kinematics.coordinate_block import CoordinateBlock
 from mechlib.kinematics.kin import GROUND_Q
 
-__all__ = ["DENSE_ROW", "ConstraintArrays"]
+__all__ = ["DENSE_ROW", "ConstraintArrays", "pack_rows"]
 
 _TWO_PI = 2.0 * math.pi
 _NO_INT = np.zeros(0, dtype=np.int64)
@@ -51,7 +51,7 @@ class ConstraintArrays:
     references). Few arguments, because numba's dispatch costs about 0.2 us per array."""
 
     def __init__(self, system):
-        assert ConstraintArrays.eligible(system), "checked by the caller"
+        assert self.eligible(system), "checked by the caller"
         self.system = system
         self._key: tuple = ()  # what `packed` was made from
         self._angle_args: tuple | None = None
@@ -177,6 +177,13 @@ def _row_bodies(nb: int, sph, dot1, dot2, block: CoordinateBlock) -> np.ndarray:
         else:
             out[r, : len(moving)] = moving
     return out
+
+
+def pack_rows(system, block: CoordinateBlock) -> tuple[np.ndarray, np.ndarray]:
+    """`ConstraintArrays.packed`'s (ints, floats) of any object with a system's `groups`,
+    `nb` and `active` rows, and coordinate block `block` (mechlib.flexible.packed: the rigid
+    rows of a system with modal bodies)."""
+    return _pack(system, block)
 
 
 def _pack(system, block: CoordinateBlock) -> tuple[np.ndarray, np.ndarray]:

@@ -11,7 +11,12 @@ The others are evaluated in every column: joint friction (it reads the multiplie
 elements with internal states, and a load whose value reads a motion's effort. A modal
 coordinate moves no body: its columns leave out every element with known bodies and the
 other modal bodies; a modal body's forces (inertia, elastic, gravity, stiffening) are left out
-of the columns of the bodies they do not read (`flexible_bodies`). Shared by
+of the columns of the bodies they do not read (`flexible_bodies`). A column that leaves out
+every element and every modal body, of a body without mass and inertia (a flexible body's
+node body that nothing but joints reads), is exactly zero (`inert`): what remains of Q is
+each rigid body's own gravity and velocity terms, of which the perturbed body's are zero
+(m g and its inertia terms with m = 0, J = 0) and the others' are the same numbers at the
+base and the perturbed state; it is not evaluated. Shared by
 the static stiffness (mechlib.solvers.static.balance) and the dynamic tangent
 (mechlib.solvers.genalpha.integrator).
 
@@ -61,6 +66,7 @@ class ColumnSkips:
             self._of_body[-1 - n] = frozenset(every | others)
             self._modal_ends.append((a.offset + a.body.n, -1 - n))
         self._of_body.setdefault(-1, frozenset(every))  # no modal body: no such column
+        self._inert = _inert_bodies(system, self._of_body)
 
     def body(self, column: int) -> int:
         """The body whose coordinate `column` is; -1 - n for a modal coordinate of the
@@ -73,6 +79,26 @@ class ColumnSkips:
     def skip(self, body: int) -> frozenset[int]:
         """The ids a column of `body` (-1 - n: of the n-th modal body's modes) leaves out."""
         return self._of_body[body]
+
+    def inert(self, body: int) -> bool:
+        """The columns of `body` are exactly zero (module docstring): no mass, no inertia,
+        every element and modal body left out."""
+        return body in self._inert
+
+
+def _inert_bodies(system: System, of_body: dict[int, frozenset[int]]) -> frozenset[int]:
+    """The bodies whose forward-difference columns are exactly zero (`ColumnSkips.inert`):
+    rigid bodies of 7 coordinates (System.forces' own kernel) with zero mass and inertia
+    whose columns leave out every element and every modal body."""
+    if system.per_body != 7:
+        return frozenset()
+    everything = {id(e) for e in system.elements} | {id(a) for a in system.flexible}
+    inertia = np.asarray(system.inertia).reshape(system.nb, -1)
+    return frozenset(
+        b
+        for b in range(system.nb)
+        if system.masses[b] == 0.0 and not inertia[b].any() and everything <= of_body[b]
+    )
 
 
 def flexible_bodies(attached) -> frozenset[int]:

@@ -98,6 +98,9 @@ class EveryColumn(ColumnSkips):
     def skip(self, body: int) -> frozenset[int]:
         return self._every
 
+    def inert(self, body: int) -> bool:
+        return False  # every column evaluated
+
 
 @pytest.fixture(scope="module")
 def system() -> System:

@@ -11,8 +11,9 @@ across iterations and steps while it converges (modified Newton). K = -dQ/dq and
 C = -dQ/dqd are kept apart, so that a new step size only refactors; elements that give their
 own tangent (compiled contacts) have it re-evaluated at every step, the rest of K and C
 (forward differences, 2 nq force evaluations, a column leaving out the elements whose
-forces depend on other bodies only: mechlib.system.fd_columns) only after slow or failed
-convergence.
+forces depend on other bodies only, and none for the exactly zero columns of massless node
+bodies: mechlib.system.fd_columns) only after slow or failed convergence (for modal bodies
+a slow step is first answered by a refactorisation with the tangent kept: rules.retangents).
 Local error estimate e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading term of the
 position update, h^3/12 q''' for the trapezoidal case), steps controlled on it and landing
 on output times (the stepper around it: mechlib.solvers.genalpha.stepper).
@@ -28,12 +29,15 @@ import numpy as np
 from mechlib.core.outcome import SolverFailure, SolverStats
 from mechlib.core.work import count
 from mechlib.elements.compiled_forces import CompiledForces
+from mechlib.flexible.packed import modal_arrays
 from mechlib.linalg.factor import factor_saddle, singular_failure, solve_factored
 from mechlib.linalg.flat_lu import factor_data, factors
 from mechlib.model.analysis import Dynamic
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.compiled import CONVERGED, loaded_newton
 from mechlib.solvers.genalpha.kernels import Scales, correct, error_norm, predict
+from mechlib.solvers.genalpha.modal_step import modal_step
+from mechlib.solvers.genalpha.tangent import differenced_tangent
 from mechlib.system.fd_columns import ColumnSkips
 from mechlib.system.reaction_loads import reaction_coupling
 from mechlib.system.saddle import rigid_saddle_factors
@@ -74,6 +78,10 @@ class Integrator:
         self.lu_h = 0.0
         self.tangent: tuple[np.ndarray, np.ndarray] | None = None
         self.stale = False
+        self.retangent = False  # the next factorisation takes a new tangent (rules.retangents)
+        # modal bodies and no force elements: a tangent that changes with the spin alone
+        self.spun = bool(system.nz) and not system.elements
+        self.refactor = False  # the next step factors the matrix again (set by _predicted)
         self.stiff = bool(system.elements) or system.nz > 0  # modal stiffness, damping
         self.eta = 1.0
         self.singular: SolverFailure | None = None  # the last singular iteration matrix
@@ -84,6 +92,8 @@ class Integrator:
         # iterations (the kernels are compiled by now: the model checks called them)
         python = spec.compiled == "python"
         self.arrays = None if python else system.packed_constraints()
+        # modal bodies: their own compiled loop (mechlib.solvers.genalpha.modal_step)
+        self.modal = None if python or self.arrays is not None else modal_arrays(system)
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
 
     def elements(self, t: float | None = None) -> CompiledForces | None:
@@ -95,11 +105,12 @@ class Integrator:
             packed.refresh(self.system, t)
         return packed
 
-    def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray):
+    def _iteration_matrix(self, k, h: float, fresh: bool, lam: np.ndarray, matrices=None):
         """Factor the iteration matrix at step h, state k and multipliers lam: the
         elements' own tangents (compiled contacts, cheap) always at k; the finite-difference
         part re-evaluated when `fresh`, else the last one reused; -dQ/dlam of the loads that
-        depend on the reactions (joint friction) beside phi_q^T."""
+        depend on the reactions (joint friction) beside phi_q^T. `matrices`: (M, phi_q) at
+        k when known (mechlib.solvers.genalpha.modal_step computes them compiled)."""
         c, sys = self.c, self.system
         count(jacobian_evaluations=1)
         if not self.stiff:  # [[M, phi_q^T], [phi_q, 0]], gathered on its pattern
@@ -109,7 +120,7 @@ class Integrator:
             self.lu, self.lu_h = lu, h
             return
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
-        jac = sys.phi_q(k)
+        mass, jac = (sys.mass(k), sys.phi_q(k)) if matrices is None else matrices
         own = self.own
         if fresh or self.tangent is None:
             self.tangent = self._differenced_tangent(k, own, lam, jac, h)
@@ -118,7 +129,7 @@ class Integrator:
             view = sys.view(k)
             for element in own:
                 element.tangent(view, stiffness, damping)
-        top = sys.mass(k) + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
+        top = mass + (stiffness + (c.gamma / (h * c.beta)) * damping) / bp
         lu = factor_saddle(top, jac, None, coupling=reaction_coupling(sys, k, lam, jac))
         if lu is None:
             raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
@@ -132,42 +143,15 @@ class Integrator:
     def _differenced_tangent(
         self, k, own: list, lam: np.ndarray, jac: np.ndarray, h: float
     ) -> tuple[np.ndarray, np.ndarray]:
-        """(K, C) = (-dQ/dq, -dQ/dqd) of the applied forces but the elements with their
-        own tangent (`own`), by forward differences at multipliers `lam` (joint friction
-        is loaded by them). Element states (mechlib.elements.states) are re-advanced over the step h
-        at each perturbed state: the tangent then holds their response to q and qd (the
-        oil columns of a hydraulic actuator are a stiffness only through its pressures)."""
-        sys = self.system
-        skips = ColumnSkips(sys, {id(e) for e in own})  # a column: its body's elements
-        q, qd = sys.state_of(k)
-        states = sys.states
-        trial = states.trial.copy()
-
-        def forces(kp, skip, jac_p=None):
-            if states.drive_forces:
-                states.trial = trial.copy()
-                states.advance(sys.view(kp), h)
-            return sys.forces(kp, skip=skip, lam=lam, jac=jac_p)
-
-        base: dict[frozenset[int], np.ndarray] = {}
-        stiffness, damping = np.empty((sys.nq, sys.nq)), np.empty((sys.nq, sys.nq))
-        try:
-            for j in range(sys.nq):
-                body = skips.body(j)
-                skip = skips.skip(body)
-                if skip not in base:  # bodies that leave out the same elements share it
-                    base[skip] = sys.forces(k, skip=skip, lam=lam, jac=jac)
-                dq = np.zeros(sys.nq)
-                dq[j] = eps = 1e-7 * max(1.0, abs(q[j]))
-                stiffness[:, j] = -(forces(sys.kin(q + dq, qd, k.t), skip) - base[skip]) / eps
-                dq[j] = eps = 1e-7 * max(1.0, abs(qd[j]))
-                damping[:, j] = -(forces(sys.kin(q, qd + dq, k.t), skip, jac) - base[skip]) / eps
-        finally:
-            states.trial = trial
-        return stiffness, damping
+        """(K, C) of the applied forces but the elements with their own tangent (`own`),
+        by forward differences at multipliers `lam` (mechlib.solvers.genalpha.tangent)."""
+        skips = ColumnSkips(self.system, {id(e) for e in own})  # a column: its body's elements
+        return differenced_tangent(self.system, k, skips, lam, jac, h)
 
     def step(self, t, h, q, qd, qdd, a, lam):
         """One step; returns the new state or None when Newton does not converge."""
+        if self.modal is not None:
+            return modal_step(self, self.modal, t, h, q, qd, qdd, a, lam)
         elements = None if self.arrays is None else self.elements(t + h)
         if elements is not None:
             return self._compiled_step(t, h, q, qd, qdd, a, lam, elements)
@@ -176,8 +160,9 @@ class Integrator:
         # a step-size change refactors; elements with their own tangent (contacts:
         # stiffness and friction slope change from step to step) have it re-evaluated at
         # every step
-        rebuild = fresh or rules.refactors(h, self.lu_h) or bool(self.own)
-        refreshed, prev, it = False, math.inf, 0
+        rebuild = fresh or self.refactor or rules.refactors(h, self.lu_h) or bool(self.own)
+        tried = self.refactor and not fresh  # refactored for slowness, the tangent kept
+        refreshed, rebuilt, prev, it = False, rebuild, math.inf, 0
         eta = self.eta
         while it < rules.MAX_ITER:
             k = sys.kin(q1, qd1, t1)
@@ -211,8 +196,7 @@ class Integrator:
             eta = rules.newton_rate(size, prev, eta)
             if rules.converged(eta, size, self._noise(size, prev, dq, q1)):
                 self.eta = rules.carried_rate(eta)
-                if rules.slow(it):
-                    self.stale = True  # converging slowly: a fresh matrix for the next step
+                self.converged_in(it, tried)
                 a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (
                     1.0 - c.alpha_m
                 )
@@ -225,9 +209,11 @@ class Integrator:
                     self._true_acceleration(q1, qd1, t1, qdd1, lam1, jac),
                 )
             if rules.stalled(size, prev, it):
-                if refreshed:
+                again = self.restalled(refreshed, rebuilt)
+                if again is None:
                     break
-                rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
+                fresh, tried = again
+                rebuild = rebuilt = True
                 it = 0
             prev = size
         self.drop()
@@ -241,9 +227,27 @@ class Integrator:
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
         gp = c.gamma / (h * c.beta)
         q1, qd1, qdd1 = predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
-        fresh = self.lu is None or self.stale
-        self.stale = False
+        fresh = self.lu is None or (self.stale and self.retangent)
+        self.refactor, self.stale = self.stale, False
         return bp, gp, q1, qd1, qdd1, lam.copy(), t + h, fresh
+
+    def converged_in(self, iterations: int, tried: bool) -> None:
+        """A step converged in `iterations`, its matrix refactored for the last step's
+        slowness with the tangent kept (`tried`) or not: slow convergence asks for a new
+        matrix for the next step (rules.slow), with a new differenced tangent as
+        rules.retangents says (`spun`: modal bodies without force elements; every other
+        system takes one at once: contacts and friction change theirs fast, and the
+        whole-run path, which factors its tangent afresh, takes their steps alike)."""
+        slow = rules.slow(iterations)
+        self.stale = slow
+        self.retangent = slow and (not self.spun or rules.retangents(tried))
+
+    def restalled(self, refreshed: bool, rebuilt: bool) -> tuple[bool, bool] | None:
+        """Newton stalled in a step (`refreshed`: on a matrix of a fresh tangent; `rebuilt`:
+        one factored in this step): None, give the step up; else (fresh, tried) of the
+        matrix to factor at the iterate (rules.restalled)."""
+        again = rules.restalled(refreshed, rebuilt, self.spun)
+        return None if again == rules.GIVE_UP else (again == rules.FRESH, again == rules.KEPT)
 
     def _compiled_step(self, t, h, q, qd, qdd, a, lam, elements: CompiledForces):
         """`step` with the Newton iterations between factorisations and the three-level
@@ -252,7 +256,8 @@ class Integrator:
         c, sys, arrays, states = self.c, self.system, self.arrays, self.system.states
         assert arrays is not None and self.scales is not None, "checked by step; set by init"
         bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
-        rebuild = fresh or rules.refactors(h, self.lu_h)
+        rebuild = fresh or self.refactor or rules.refactors(h, self.lu_h)
+        tried = self.refactor and not fresh
         refreshed, prev, it, eta = False, math.inf, 0, self.eta
         ints, floats = arrays.packed()
         functions, refs = arrays.functions(t1), arrays.references()
@@ -282,15 +287,14 @@ class Integrator:
             self.stats.newton_iterations += done
             if status == CONVERGED:
                 self.eta = rules.carried_rate(eta)
-                if rules.slow(it):
-                    self.stale = True
+                self.converged_in(it, tried)
                 m = lam.size
                 consistent = (true[:nq], true[nq : 2 * nq], true[2 * nq : 2 * nq + m])
                 return q1, qd1, qdd1, true[2 * nq + m :], lam1, consistent
             if refreshed:
                 break
             rebuild = fresh = True  # an old iteration matrix: refresh it once, go on
-            it = 0
+            tried, it = False, 0
         self.drop()
         return None
 

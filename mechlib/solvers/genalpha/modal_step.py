@@ -1,0 +1,71 @@
+"""Integrator.step for a system with modal bodies whose Newton iterations run compiled
+(mechlib.solvers.genalpha.modal_newton, the system packed by mechlib.flexible.packed): the
+same predictor, iteration matrices (the differenced tangent included), rules and results
+(to round-off) as the Python step, as Integrator._compiled_step is for rigid systems."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from mechlib.core.outcome import SolverFailure
+from mechlib.flexible.packed import ModalArrays
+from mechlib.solvers.genalpha import rules
+from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_matrices, modal_newton
+
+if TYPE_CHECKING:
+    from mechlib.solvers.genalpha.integrator import Integrator
+
+__all__ = ["modal_step"]
+
+
+def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam):
+    """One step of Integrator `integ` from t over h (s); the new state as Integrator.step
+    returns it, or None when Newton does not converge."""
+    c, sys, scales = integ.c, integ.system, integ.scales
+    assert scales is not None, "set by the stepper before its first step"
+    bp, gp, q1, qd1, qdd1, lam1, t1, fresh = integ._predicted(t, h, q, qd, qdd, a, lam)
+    rebuild = fresh or integ.refactor or rules.refactors(h, integ.lu_h)
+    tried = integ.refactor and not fresh  # refactored for slowness, the tangent kept
+    refreshed, rebuilt, prev, it, eta = False, rebuild, math.inf, 0, integ.eta
+    ints, floats = arrays.packed()
+    functions, refs = arrays.functions(t1), arrays.references()
+    bodies, welds, active = arrays.modal(), arrays.welds(), arrays.active()
+    params = np.array([bp, gp, scales.tol, c.alpha_m, c.alpha_f])
+    nq, m = sys.nq, lam1.shape[0]
+    true = np.empty(3 * nq + m)  # qd, qdd, lam on three levels; a
+    while True:
+        if rebuild:
+            try:
+                matrices = (np.empty((nq, nq)), np.empty((m, nq)))
+                modal_matrices(
+                    q1, ints, floats, functions, refs, arrays.bodies(), bodies, welds, active,
+                    *matrices,
+                )  # fmt: skip
+                integ._iteration_matrix(sys.kin(q1, qd1, t1), h, fresh, lam1, matrices)
+            except SolverFailure as failure:  # singular here: reject, try a smaller step
+                integ.singular = failure
+                break
+            refreshed = refreshed or fresh or not integ.stiff
+            rebuild, prev = False, math.inf
+        fi, ff = integ._factor_data()
+        status, it, prev, eta, done = modal_newton(
+            q1, qd1, qdd1, lam1, ints, floats, functions, refs, arrays.bodies(), bodies, welds,
+            active, fi, ff, scales.q_abs, scales.a_ref, params, it, prev, eta, qdd, a, true,
+        )  # fmt: skip
+        integ.stats.newton_iterations += done
+        if status == CONVERGED:
+            integ.eta = rules.carried_rate(eta)
+            integ.converged_in(it, tried)
+            consistent = (true[:nq], true[nq : 2 * nq], true[2 * nq : 2 * nq + m])
+            return q1, qd1, qdd1, true[2 * nq + m :], lam1, consistent
+        again = integ.restalled(refreshed, rebuilt)  # stalled
+        if again is None:
+            break
+        fresh, tried = again
+        rebuild = rebuilt = True
+        it = 0
+    integ.drop()
+    return None
