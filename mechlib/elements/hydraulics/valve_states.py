@@ -150,7 +150,7 @@ def chamber_wrench(x, xd, b1, s1, b2, s2, design_length, p, p1, p2, F, N):
     pf1 = lw.floored(p1, p[lw.VAPOUR], p[lw.FLOOR_WIDTH])
     pf2 = lw.floored(p2, p[lw.VAPOUR], p[lw.FLOOR_WIDTH])
     force = lw.piston_force(p, line[0], line[1], pf1, pf2)
-    push = force * line[2:5]
-    kr.point_force(x, b1, s1, push, F, N)
-    kr.point_force(x, b2, s2, -push, F, N)
+    f0, f1, f2 = force * line[2], force * line[3], force * line[4]
+    kr.point_force3(x, b1, s1, f0, f1, f2, F, N)
+    kr.point_force3(x, b2, s2, -f0, -f1, -f2, F, N)
     return force
