@@ -12,6 +12,7 @@ from loadcases.inputs.loader import CaseFile
 from mechlib.elements.hydraulics import (
     Controller,
     Cylinder,
+    HeldDemand,
     JetPipe,
     ServoActuator,
     ServoValve,
@@ -62,6 +63,15 @@ def _jet_pipe(f) -> JetPipe:
     return replace(_given(JetPipe(), j), torque_motor=motor and TorqueMotor(**motor))
 
 
+def _demand(command) -> Any:
+    """The stroke demand of a compiled `command` expression: held at its value when it
+    folds to a number (a compiled run reads it once, mechlib.elements.hydraulics.command),
+    else the expression called at each time."""
+    if command.compiled.is_constant:
+        return HeldDemand(float(command.compiled.value))
+    return lambda t: command(t)
+
+
 def servo_actuator(builder, name: str, f) -> Any:
     """The element, or None after a diagnostic (unknown point; the stroke and volumes are
     checked by loadcases.checks.elements)."""
@@ -71,11 +81,10 @@ def servo_actuator(builder, name: str, f) -> Any:
         return None
     p1, p2 = (builder.mech.points[p] for p in f.points)
     lag = _given(Lag(), f.lag)
-    command = builder.compile(f.command, f"forces.{name}.command")
     return ServoActuator(
         name,
         ((p1.body, p1.at), (p2.body, p2.at)),
-        lambda t: command(t),
+        _demand(builder.compile(f.command, f"forces.{name}.command")),
         f.fidelity,
         cylinder=_cylinder(f),
         supply=_given(Supply(), f.supply),

@@ -50,6 +50,7 @@ from mechlib.elements.hydraulics.valve_group import (
     advance_valves,
     refresh_valves,
     valve_arrays,
+    valves_rates,
     valves_wrench,
 )
 from mechlib.kinematics import constraint_arrays as ca
@@ -61,6 +62,7 @@ __all__ = [
     "advance_states",
     "any_elements",
     "element_forces",
+    "element_rates",
     "element_tangent",
     "element_wrenches",
     "no_forces",
@@ -296,11 +298,14 @@ def element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, out):
 
 
 @njit(**KERNEL)
-def element_tangent(q, qd, z, forces, columns, masses, inertia, rows, active, lam, K, C):
+def element_tangent(q, qd, z, forces, columns, masses, inertia, rows, active, lam, K, C, moved_z):
     """K = -dQ/dq and C = -dQ/dqd (nq, nq, zero outside `columns`) of the packed elements
-    at (q, qd) and element states z (held), by forward differences of step
-    1e-7 max(1, |q_j|) (as the Python path's tangent,
-    mechlib.solvers.genalpha.integrator.Integrator._differenced_tangent)."""
+    at (q, qd) and element states z, by forward differences of step 1e-7 max(1, |q_j|) (as
+    the Python path's tangent, mechlib.solvers.genalpha.integrator.Integrator.
+    _differenced_tangent). `moved_z` = (z0, f0, h, zp): with element states, z is the
+    trial advanced at (q, qd) over the step h (s) from z0 (rates f0), and at each moved
+    state the states are advanced again from z into zp (the oil columns are a stiffness
+    only through their pressures); without (z empty) they are held."""
     nq = q.shape[0]
     nb = nq // 7
     K[:] = 0.0
@@ -313,17 +318,38 @@ def element_tangent(q, qd, z, forces, columns, masses, inertia, rows, active, la
         eps = 1e-7 * max(1.0, abs(q[j]))
         qp[j] = q[j] + eps
         x, xd = ca.state_arrays(qp, qd, nb)
-        element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved)
+        _moved_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved_z, moved)
         for i in range(nq):
             K[i, j] = -(moved[i] - base[i]) / eps
         qp[j] = q[j]
         eps = 1e-7 * max(1.0, abs(qd[j]))
         qdp[j] = qd[j] + eps
         x, xd = ca.state_arrays(q, qdp, nb)
-        element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved)
+        _moved_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved_z, moved)
         for i in range(nq):
             C[i, j] = -(moved[i] - base[i]) / eps
         qdp[j] = qd[j]
+
+
+@njit(**KERNEL)
+def _moved_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved_z, out):
+    """`element_forces` at a moved state x, xd, the element states advanced there anew from
+    z (`element_tangent`'s moved_z) when there are any."""
+    if not z.shape[0]:
+        element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, out)
+        return
+    z0, f0, h, zp = moved_z
+    zp[:] = z
+    advance_states(x, xd, z0, f0, h, forces, zp)
+    element_forces(x, xd, zp, forces, masses, inertia, rows, active, lam, out)
+
+
+@njit(**KERNEL)
+def element_rates(x, xd, z, forces, out):
+    """out (nz,) = the packed elements' state rates at the state x, xd with element states
+    z (the actuators': valve_group.valves_rates)."""
+    if forces[10].shape[0]:
+        valves_rates(x, xd, z, forces[10], forces[11], out)
 
 
 @njit(**KERNEL)

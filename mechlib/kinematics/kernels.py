@@ -37,6 +37,7 @@ __all__ = [
     "norm_jac",
     "norm_phi",
     "point_force",
+    "point_force3",
     "point_pair",
     "point_position",
     "point_velocity",
@@ -58,12 +59,21 @@ def _dot3(a, b):
 
 @njit(**KERNEL)
 def _rot(p, s, out):
+    """out = A(p) s (`_rotated`)."""
+    out[0], out[1], out[2] = _rotated(p, s)
+
+
+@njit(**KERNEL)
+def _rotated(p, s):
+    """The components of A(p) s as three numbers: no array made (the hot loops' arms)."""
     e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
     es = e1 * s[0] + e2 * s[1] + e3 * s[2]
     c = e0 * e0 - (e1 * e1 + e2 * e2 + e3 * e3)
-    out[0] = c * s[0] + 2.0 * e1 * es + 2.0 * e0 * (e2 * s[2] - e3 * s[1])
-    out[1] = c * s[1] + 2.0 * e2 * es + 2.0 * e0 * (e3 * s[0] - e1 * s[2])
-    out[2] = c * s[2] + 2.0 * e3 * es + 2.0 * e0 * (e1 * s[1] - e2 * s[0])
+    return (
+        c * s[0] + 2.0 * e1 * es + 2.0 * e0 * (e2 * s[2] - e3 * s[1]),
+        c * s[1] + 2.0 * e2 * es + 2.0 * e0 * (e3 * s[0] - e1 * s[2]),
+        c * s[2] + 2.0 * e3 * es + 2.0 * e0 * (e1 * s[1] - e2 * s[0]),
+    )
 
 
 @njit(**KERNEL)
@@ -466,27 +476,43 @@ def rotation_matrix(p):
 def point_force(x, b, s, force, F, N):
     """Add a force (N, global) at the body-fixed point s of body b to F[b] and its moment
     about the cm, A(p_b) s x force, to N[b]."""
-    arm = np.empty(3)
-    _rot(x[b, 3:], s, arm)
-    for c in range(3):
-        F[b, c] += force[c]
-    N[b, 0] += arm[1] * force[2] - arm[2] * force[1]
-    N[b, 1] += arm[2] * force[0] - arm[0] * force[2]
-    N[b, 2] += arm[0] * force[1] - arm[1] * force[0]
+    point_force3(x, b, s, force[0], force[1], force[2], F, N)
+
+
+@njit(**KERNEL)
+def point_force3(x, b, s, f0, f1, f2, F, N):
+    """`point_force` of the force (f0, f1, f2) (N, global): no array made."""
+    a0, a1, a2 = _rotated(x[b, 3:], s)
+    F[b, 0] += f0
+    F[b, 1] += f1
+    F[b, 2] += f2
+    N[b, 0] += a1 * f2 - a2 * f1
+    N[b, 1] += a2 * f0 - a0 * f2
+    N[b, 2] += a0 * f1 - a1 * f0
 
 
 @njit(**KERNEL)
 def point_pair(x, xd, b1, s1, b2, s2, unit):
     """(length (m), rate (m/s)) of the line from the body-fixed point s2 of b2 to s1 of b1;
     its unit vector into `unit` (3,), zero at zero length."""
-    p1, p2 = point_position(x, b1, s1), point_position(x, b2, s2)
-    v1, v2 = point_velocity(x, xd, b1, s1), point_velocity(x, xd, b2, s2)
-    d = p1 - p2
-    length = math.sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+    w = np.empty(12)  # A s of both points, then B w s: one array, not six
+    _rot(x[b1, 3:], s1, w[0:3])
+    _rot(x[b2, 3:], s2, w[3:6])
+    _brot(x[b1, 3:], xd[b1, 3:], s1, w[6:9])
+    _brot(x[b2, 3:], xd[b2, 3:], s2, w[9:12])
+    for c in range(3):  # positions and velocities: r + A s and rd + B w s
+        w[c] += x[b1, c]
+        w[3 + c] += x[b2, c]
+        w[6 + c] += xd[b1, c]
+        w[9 + c] += xd[b2, c]
+    d0, d1, d2 = w[0] - w[3], w[1] - w[4], w[2] - w[5]
+    length = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    unit[0] = d0 / length if length > 0.0 else 0.0
+    unit[1] = d1 / length if length > 0.0 else 0.0
+    unit[2] = d2 / length if length > 0.0 else 0.0
     rate = 0.0
     for c in range(3):
-        unit[c] = d[c] / length if length > 0.0 else 0.0
-        rate += unit[c] * (v1[c] - v2[c])
+        rate += unit[c] * (w[6 + c] - w[9 + c])
     return length, rate
 
 
@@ -510,9 +536,9 @@ def spring_wrench(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preloa
     at point 1, +tension at point 2, with their moments about the cms, to F and N."""
     state = np.empty(5)
     spring_state(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, state)
-    force = state[0] * state[2:5]
-    point_force(x, b1, s1, -force, F, N)
-    point_force(x, b2, s2, force, F, N)
+    f0, f1, f2 = state[0] * state[2], state[0] * state[3], state[0] * state[4]
+    point_force3(x, b1, s1, -f0, -f1, -f2, F, N)
+    point_force3(x, b2, s2, f0, f1, f2, F, N)
 
 
 @njit(**KERNEL)

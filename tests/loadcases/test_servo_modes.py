@@ -22,6 +22,7 @@ from loadcases.build.model import build_run
 from loadcases.foundation.diagnostics import InputError
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
+from mechlib.elements.hydraulics.command import held_value
 
 RIG = (
     Path(__file__).resolve().parents[2]
@@ -68,3 +69,28 @@ def test_a_valve_actuator_in_an_equilibrium_analysis_is_refused_at_validate(
     result = CliRunner().invoke(app, ["validate", str(path)])
     assert result.exit_code == 2
     assert "fidelity lag" in result.output and "singular" not in result.output
+
+
+@pytest.mark.parametrize(
+    ("command", "held", "at_half"),
+    [
+        ('"step_size"', 0.001, 0.001),
+        ('"2 * step_size"', 0.002, 0.002),
+        ('"step(t, 0, 0, 1, step_size)"', None, 5e-4),
+    ],
+)
+def test_a_constant_command_is_held_and_one_in_time_is_not(
+    tmp_path: Path, command: str, held: float | None, at_half: float
+) -> None:
+    """A command that folds to a number (a parameter, arithmetic of parameters) is built as
+    a HeldDemand, which the compiled whole runs read once (mechlib.elements.hydraulics.
+    command); one in time stays a function of time: both give the demand (m) at t."""
+    text = RIG.read_text(encoding="utf-8").replace('command: "step_size"', f"command: {command}")
+    path = tmp_path / "rig.case.yaml"
+    path.write_text(text, encoding="utf-8")
+    actuator = build_run(load_case(path)).mechanism.forces["actuator"]
+    if held is None:
+        assert held_value(actuator.command) is None
+    else:
+        assert held_value(actuator.command) == pytest.approx(held, rel=1e-15)
+    assert actuator.command(0.5) == pytest.approx(at_half, rel=1e-12)

@@ -2,6 +2,7 @@
 equations per fidelity are in docs/hydraulics.md)."""
 
 from mechlib.elements.hydraulics.actuator import FIDELITIES, ServoActuator
+from mechlib.elements.hydraulics.command import HeldDemand
 from mechlib.elements.hydraulics.orifice import floored, regularised_root, spool_flows
 from mechlib.elements.hydraulics.parameters import (
     Controller,
@@ -16,6 +17,7 @@ __all__ = [
     "FIDELITIES",
     "Controller",
     "Cylinder",
+    "HeldDemand",
     "JetPipe",
     "ServoActuator",
     "ServoValve",

@@ -21,6 +21,7 @@ from mechlib.elements.hydraulics.valve_states import (
     advance_valve,
     chamber_wrench,
     stroke_line,
+    valve_rates,
 )
 
 __all__ = [
@@ -29,6 +30,7 @@ __all__ = [
     "advance_valves",
     "refresh_valves",
     "valve_arrays",
+    "valves_rates",
     "valves_wrench",
 ]
 
@@ -82,3 +84,15 @@ def advance_valves(x, xd, z0, f0, h, ints, floats, z):
         advance_valve(
             f[7 : 7 + N_PARAMS], f[_DEMAND], line[0], line[1], z0[block], f0[block], h, z[block]
         )
+
+
+@njit(**KERNEL)
+def valves_rates(x, xd, z, ints, floats, out):
+    """Every actuator's state rates (on or not, as ElementStates.rates gives them) at the
+    state x, xd with element states z, into `out` (the system's element states' layout)."""
+    line = np.empty(5)
+    for i in range(ints.shape[0]):
+        f = floats[i]
+        stroke_line(x, xd, ints[i, 0], f[0:3], ints[i, 1], f[3:6], f[6], line)
+        block = slice(ints[i, 2], ints[i, 2] + N_VALVE)
+        valve_rates(f[7 : 7 + N_PARAMS], f[_DEMAND], line[0], line[1], z[block], out[block])

@@ -46,31 +46,89 @@ def valve_rates(p, demand, x, xd, z, out):
 @njit(**KERNEL)
 def advance_valve(p, demand, x, xd, z0, f0, h, z):
     """The trapezoidal rule z = z0 + h/2 (f0 + f(z)) over a step h (s) from the accepted
-    states z0 with rates f0, solved in place in `z` (its start values in) by Newton with
-    the forward-differenced Jacobian at each iterate (mechlib.elements.states: the same
-    difference step and convergence rule). Returns the iterations taken."""
+    states z0 with rates f0, solved in place in `z` (its start values in) by modified
+    Newton with the rule of mechlib.elements.states.ElementStates.advance: the matrix
+    I - h/2 df/dz (forward differences, the same difference step) factored at the first
+    iterate and again only where the residual shrank less than 4x since the last
+    iterate; the same convergence test. Returns the iterations taken."""
     n = z.shape[0]
     rates, shifted, res = np.empty(n), np.empty(n), np.empty(n)
-    matrix = np.empty((n, n))
+    matrix, pivots = np.empty((n, n)), np.empty(n, dtype=np.int64)
+    prev, have, fresh = np.inf, False, False
     for it in range(NEWTON_ITERATIONS):
         valve_rates(p, demand, x, xd, z, rates)
         for i in range(n):
             res[i] = z[i] - z0[i] - 0.5 * h * (f0[i] + rates[i])
-        if residual_size(res, z) <= 1.0:
+        size = residual_size(res, z)
+        if size <= 1.0:
             return it
-        for j in range(n):
-            dz = FD_STEP * max(1.0, abs(z[j]))
-            keep = z[j]
-            z[j] = keep + dz
-            valve_rates(p, demand, x, xd, z, shifted)
-            z[j] = keep
-            for i in range(n):
-                matrix[i, j] = -0.5 * h * (shifted[i] - rates[i]) / dz
-            matrix[j, j] += 1.0
-        step = np.linalg.solve(matrix, res)
+        if not have or (size > _CONTRACTION * prev and not fresh):
+            _newton_matrix(p, demand, x, xd, z, rates, h, shifted, matrix)
+            _factor(matrix, pivots)
+            have, fresh = True, True
+        else:
+            fresh = False
+        _solve(matrix, pivots, res)
         for i in range(n):
-            z[i] -= step[i]
+            z[i] -= res[i]
+        prev = size
     return NEWTON_ITERATIONS
+
+
+_CONTRACTION = 0.25  # a kept matrix while the residual shrinks at least 4x an iteration
+
+
+@njit(**KERNEL)
+def _newton_matrix(p, demand, x, xd, z, rates, h, shifted, matrix):
+    """matrix = I - h/2 df/dz at z (rates: f there), df/dz by forward differences of
+    step FD_STEP max(1, |z_j|) (mechlib.elements.states)."""
+    n = z.shape[0]
+    for j in range(n):
+        dz = FD_STEP * max(1.0, abs(z[j]))
+        keep = z[j]
+        z[j] = keep + dz
+        valve_rates(p, demand, x, xd, z, shifted)
+        z[j] = keep
+        for i in range(n):
+            matrix[i, j] = -0.5 * h * (shifted[i] - rates[i]) / dz
+        matrix[j, j] += 1.0
+
+
+@njit(**KERNEL)
+def _factor(a, pivots):
+    """LU factors of the small square a in place, partial pivoting (row i swapped with
+    pivots[i]); a zero pivot is left to give non-finite steps (never converged)."""
+    n = a.shape[0]
+    for k in range(n):
+        best, row = abs(a[k, k]), k
+        for i in range(k + 1, n):
+            if abs(a[i, k]) > best:
+                best, row = abs(a[i, k]), i
+        pivots[k] = row
+        if row != k:
+            for j in range(n):
+                a[k, j], a[row, j] = a[row, j], a[k, j]
+        for i in range(k + 1, n):
+            a[i, k] /= a[k, k]
+            for j in range(k + 1, n):
+                a[i, j] -= a[i, k] * a[k, j]
+
+
+@njit(**KERNEL)
+def _solve(lu, pivots, b):
+    """b := A^-1 b in place with A's factors from `_factor`."""
+    n = b.shape[0]
+    for k in range(n):
+        r = pivots[k]
+        if r != k:
+            b[k], b[r] = b[r], b[k]
+    for i in range(n):
+        for j in range(i):
+            b[i] -= lu[i, j] * b[j]
+    for i in range(n - 1, -1, -1):
+        for j in range(i + 1, n):
+            b[i] -= lu[i, j] * b[j]
+        b[i] /= lu[i, i]
 
 
 @njit(**KERNEL)
@@ -92,7 +150,7 @@ def chamber_wrench(x, xd, b1, s1, b2, s2, design_length, p, p1, p2, F, N):
     pf1 = lw.floored(p1, p[lw.VAPOUR], p[lw.FLOOR_WIDTH])
     pf2 = lw.floored(p2, p[lw.VAPOUR], p[lw.FLOOR_WIDTH])
     force = lw.piston_force(p, line[0], line[1], pf1, pf2)
-    push = force * line[2:5]
-    kr.point_force(x, b1, s1, push, F, N)
-    kr.point_force(x, b2, s2, -push, F, N)
+    f0, f1, f2 = force * line[2], force * line[3], force * line[4]
+    kr.point_force3(x, b1, s1, f0, f1, f2, F, N)
+    kr.point_force3(x, b2, s2, -f0, -f1, -f2, F, N)
     return force

@@ -40,6 +40,7 @@ from mechlib.core.work import count
 from mechlib.elements.compiled_forces import (
     ROW_COUNT,
     CompiledForces,
+    advance_states,
     any_elements,
     element_tangent,
     element_wrenches,
@@ -52,11 +53,19 @@ from mechlib.kinematics import kernels as kr
 from mechlib.kinematics.coordinates import AngleMeasure
 from mechlib.linalg.flat_lu import SUPERLU, lu_solve, refactor
 from mechlib.solvers.dense import PROJECTION
-from mechlib.solvers.dense_compiled import DONE, project_row, small_enough
+from mechlib.solvers.dense_compiled import DONE, project_loaded_row, small_enough
 from mechlib.solvers.finite import all_finite
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
-from mechlib.solvers.genalpha.compiled import CONVERGED, newton
+from mechlib.solvers.genalpha.compiled import CONVERGED, loaded_newton
+from mechlib.solvers.genalpha.run_states import (
+    RunStates,
+    accept_states,
+    interpolate_states,
+    record_states,
+    states_error,
+    trial_start,
+)
 from mechlib.system.saddle import coupled_pattern, saddle_values
 
 __all__ = ["FAILED", "REFACTOR", "STOPPED", "StepRun", "run_steps"]
@@ -89,7 +98,7 @@ def _reached(t_out, t):
 def run_steps(
     own, own_lam, cons, cons_lam, ctrl, counts, outs, first, ints, floats, functions, body,
     fi, ff, layout, q_abs, a_ref, angles, refs_all, block_angles, projection, rows_t,
-    rows_state, rows_refs, most_steps, elements, columns, rates,
+    rows_state, rows_refs, most_steps, elements, columns, rates, states, tangent,
 ):  # fmt: skip
     """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
     `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
@@ -105,7 +114,12 @@ def run_steps(
     indices of the constraint rows' angles among them. `elements`: the packed force elements
     (mechlib.elements.compiled_forces; their tangent over `columns` enters the iteration
     matrix), `rates` (n, 2) their frictions' slip rates (rad/s) at the last two accepted
-    states (in place); it stops before a step in which a friction may stick.
+    states (in place); it stops before a step in which a friction may stick. `states`: the
+    element states (mechlib.solvers.genalpha.run_states: accepted, trial, rates, history,
+    error weights, the rows' states), advanced in each step's Newton iterations and
+    tangent, tested by the step's error, accepted with it, interpolated into the rows.
+    `tangent` (2, nq, nq): the elements' (K, C) of the last refactor (in place; NaN: none
+    yet), kept from call to call as the Python stepper keeps its tangent.
     Returns (0, STOPPED, REFACTOR or FAILED; next output index, rows written)."""
     nq = own.shape[1]
     m = own_lam.shape[0]
@@ -120,13 +134,13 @@ def run_steps(
     values = np.empty(prow.shape[0])
     spare_i, spare_f = fi.copy(), ff.copy()  # the consistent accelerations' factors
     slips = np.empty(rates.shape[0])  # the frictions' slip rates at a state
-    tangent = np.full((2, nq, nq), np.nan)  # the elements' (K, C), made at a refactor
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[T]
         row = _row_at(dense, i, written, t, ctrl, outs, own, cons, cons_lam, refs_all, rows_t,
                       rows_state, rows_refs)  # fmt: skip
         if row == _WRITTEN:
+            record_states(states, written)
             written += 1
             i += 1
             continue
@@ -142,6 +156,7 @@ def run_steps(
         if not _restarted(
             h_try, ctrl, counts, kind, own, own_lam, cons, cons_lam, ints, floats, functions,
             refs, body, prow, pcol, values, place, brow, bcol, spare_i, spare_f, elements,
+            states[0],
         ):  # fmt: skip
             return STOPPED, i, written
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
@@ -154,11 +169,12 @@ def run_steps(
             return (STOPPED if written == 0 else 0), i, written
         am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
         q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h_try, am, beta, gamma)
+        trial_start(states)
         if _matrix_due(ctrl, h_try, fresh):
             # [[M, phi_q^T], [phi_q, 0]] at the predicted state (Integrator._iteration_matrix)
             if not _refactored(q1, qd1, own_lam, h_try, ctrl, kind, ints, floats,
                                functions, refs, body, prow, pcol, values, place, brow, bcol,
-                               fi, ff, elements, columns, tangent):  # fmt: skip
+                               fi, ff, elements, columns, tangent, states):  # fmt: skip
                 ctrl[NEXT_H] = h_try  # StepRun factors it (or finds it singular)
                 return REFACTOR, i, written
             counts[ROW_JACOBIANS] += 1
@@ -169,9 +185,10 @@ def run_steps(
         params[0] = (1.0 - am) / (h_try * h_try * beta * (1.0 - af))
         params[1] = gamma / (h_try * beta)
         lam1 = own_lam.copy()
-        status, it, _, eta, done = newton(
+        status, it, _, eta, done = loaded_newton(
             q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref,
-            params, 0, math.inf, ctrl[ETA], own[2], own[3], true, elements,
+            params, 0, math.inf, ctrl[ETA], own[2], own[3], true, h_try, states[0], states[2],
+            states[1], elements,
         )  # fmt: skip
         if status != CONVERGED:
             return _newton_stopped(ctrl, counts, fresh, done, h_try), i, written
@@ -179,6 +196,7 @@ def run_steps(
         err = gk.error_norm(
             ctrl[ERROR_CONSTANT] * h_try * h_try, cons[1], new_qdd, q_abs, ctrl[TOL], q1
         )
+        err = states_error(err, h_try, states, ctrl[TOL])
         if err > 1.0:  # rejected: the step shrunk as the Python stepper shrinks it
             if not _rejected(ctrl, counts, h_try, err, eta, it, done):
                 return STOPPED, i, written  # below the step floor: Python's stall
@@ -191,7 +209,7 @@ def run_steps(
         ends[3], ends[4], ends[5] = q1, true[:nq], new_qdd
         fresh_rows = _dense_rows(
             ends, t, t_new, outs[i : i + due], written, ints, floats, functions, new_block,
-            new_refs, body, projection, rows_t, rows_state, rows_refs,
+            new_refs, body, projection, rows_t, rows_state, rows_refs, elements, states,
         )  # fmt: skip
         if fresh_rows < 0:  # the Python stepper takes this step and its rows
             return STOPPED, i, written
@@ -201,6 +219,7 @@ def run_steps(
         counts[ROW_FACTORS] += fresh_rows + due
         _accept_control(ctrl, h_try, err, eta, it)
         _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref)
+        accept_states(q1, qd1, h_try, elements, states)
         counts[STEPS] += 1
         taken += 1
         refs_all[:] = new_refs
@@ -354,19 +373,23 @@ def _write_row(k, t, q, cons, cons_lam, refs_all, rows_t, rows_state, rows_refs)
 @njit(**KERNEL)
 def _dense_rows(
     ends, t, t_new, times, first, ints, floats, functions, block_refs, refs, body, projection,
-    rows_t, rows_state, rows_refs,
+    rows_t, rows_state, rows_refs, elements, states,
 ):  # fmt: skip
     """The rows at `times` within the step t -> t_new (s), projected from the step's `ends`
-    (mechlib.solvers.dense_compiled) into rows first, first + 1, ...: the fresh Jacobians
-    they took, or -1 where a row is given back to Python."""
+    (mechlib.solvers.dense_compiled, with the packed `elements` at the rows' element
+    states, interpolated into `states`' rows: run_states.interpolate_states) into rows
+    first, first + 1, ...: the fresh Jacobians they took, or -1 where a row is given back
+    to Python."""
     span = t_new - t
     fresh_rows = 0
     for k in range(times.shape[0]):
         t_row = times[k]
         at_end = abs(t_row - t_new) <= 1e-12 * max(1.0, abs(t_row))
-        s = 1.0 if at_end else (t_row - t) / span
-        status, fresh = project_row(
-            ends, span, s, ints, floats, functions, block_refs, body, projection,
+        w = (t_row - t) / span
+        s = 1.0 if at_end else w
+        z = interpolate_states(states, w, first + k)
+        status, fresh = project_loaded_row(
+            ends, span, s, ints, floats, functions, block_refs, body, projection, z, elements,
             rows_state[first + k],
         )  # fmt: skip
         if status != DONE:
@@ -380,14 +403,16 @@ def _dense_rows(
 @njit(**KERNEL)
 def _refactored(
     q1, qd1, lam, h, ctrl, kind, ints, floats, functions, refs, body, prow, pcol, values, place,
-    brow, bcol, fi, ff, elements, columns, tangent,
+    brow, bcol, fi, ff, elements, columns, tangent, states,
 ):  # fmt: skip
     """The iteration matrix [[M + (gamma' C + K) / beta', phi_q^T], [phi_q, 0]] of the step
     h (s) at (q1, qd1) refactored in place into (fi, ff) when the pattern's layout fits them
     (`kind`); K, C the packed elements' tangent (mechlib.elements.compiled_forces, over
     `columns`; none without elements), kept in `tangent` and differenced anew, as the Python
-    path does, only for a stale matrix (or the call's first). False where the layout does
-    not fit, or the kernel finds the matrix singular (StepRun then factors it in Python)."""
+    path does, only for a stale matrix (or none yet), with the element `states`' trial
+    values advanced at (q1, qd1) first (Integrator._compiled_step). False where the layout
+    does not fit, or the kernel finds the matrix singular (StepRun then factors it in
+    Python)."""
     if fi[0] != kind:
         return False
     nq = q1.shape[0]
@@ -395,8 +420,8 @@ def _refactored(
     saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
     if columns.shape[0]:
         if ctrl[STALE] != 0.0 or math.isnan(tangent[0, 0, 0]):
-            _differenced(q1, qd1, lam, ints, floats, functions, refs, body, elements, columns,
-                         tangent)  # fmt: skip
+            _differenced(q1, qd1, lam, h, ints, floats, functions, refs, body, elements,
+                         columns, tangent, states)  # fmt: skip
         am, af, beta = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA]
         bp = (1.0 - am) / (h * h * beta * (1.0 - af))
         gp = ctrl[GAMMA] / (h * beta)
@@ -409,18 +434,25 @@ def _refactored(
 
 
 @njit(**KERNEL)
-def _differenced(q1, qd1, lam, ints, floats, functions, refs, body, elements, columns, tangent):
+def _differenced(
+    q1, qd1, lam, h, ints, floats, functions, refs, body, elements, columns, tangent, states
+):  # fmt: skip
     """tangent = (K, C) of the packed elements at (q1, qd1) with multipliers `lam`
-    (mechlib.elements.compiled_forces.element_tangent)."""
+    (mechlib.elements.compiled_forces.element_tangent), their element states (`states`)
+    advanced over the step h (s) at (q1, qd1) and anew at each moved state."""
     nq = q1.shape[0]
     nb = nq // 7
     _, masses, _, inertia = ca.body_terms(body, nb)
-    x, _ = ca.state_arrays(q1, qd1, nb)
+    x, xd = ca.state_arrays(q1, qd1, nb)
     nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
     full, rows = np.empty(nall), np.zeros((nall, nq + 7))
     active, _ = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)
-    element_tangent(q1, qd1, _NO_STATES, elements, columns, masses, inertia, rows, active, lam,
-                    tangent[0], tangent[1])  # fmt: skip
+    z0, trial, f0 = states[0], states[1], states[2]
+    if trial.shape[0]:
+        advance_states(x, xd, z0, f0, h, elements, trial)
+    moved = (z0, f0, h, np.empty(trial.shape[0]))
+    element_tangent(q1, qd1, trial, elements, columns, masses, inertia, rows, active, lam,
+                    tangent[0], tangent[1], moved)  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -470,15 +502,16 @@ def _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref):
 @njit(**KERNEL)
 def _restarted(
     h, ctrl, counts, kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body,
-    prow, pcol, values, place, brow, bcol, fi, ff, elements,
+    prow, pcol, values, place, brow, bcol, fi, ff, elements, z,
 ):  # fmt: skip
-    """At a new step size h (s) the consistent accelerations taken (`_restart`), counted
-    and noted in ctrl; False where `_restart` cannot take them."""
+    """At a new step size h (s) the consistent accelerations taken (`_restart`, the
+    elements' loads at the accepted element states z), counted and noted in ctrl; False
+    where `_restart` cannot take them."""
     if not _new_size(ctrl, h):
         return True
     if not _restart(
         kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol,
-        values, place, brow, bcol, fi, ff, elements,
+        values, place, brow, bcol, fi, ff, elements, z,
     ):  # fmt: skip
         return False
     counts[ROW_FACTORS] += 1
@@ -489,16 +522,16 @@ def _restarted(
 @njit(**KERNEL)
 def _restart(
     kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol, values,
-    place, brow, bcol, fi, ff, elements,
+    place, brow, bcol, fi, ff, elements, z,
 ):  # fmt: skip
     """Consistent accelerations and multipliers at the state (own[0], own[1]) from
     [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma] (mechlib.solvers.consistent; Q:
-    gravity, the velocity terms and the packed `elements`' loads; a friction loaded by its
-    reaction makes Q depend on lam: Python's), factored into (fi, ff) by the kernel
-    of mechlib.system.saddle.rigid_saddle_factors; written as GeneralizedAlphaStepper._attempt
-    does (qdd, a, lam; the consistent qd is the raw one). False, nothing written, where
-    the matrix is taken for singular or the solution is not finite, or the factors are
-    SuperLU's (`kind` < 0: made in Python)."""
+    gravity, the velocity terms and the packed `elements`' loads at element states z; a
+    friction loaded by its reaction makes Q depend on lam: Python's), factored into (fi, ff)
+    by the kernel of mechlib.system.saddle.rigid_saddle_factors; written as
+    GeneralizedAlphaStepper._attempt does (qdd, a, lam; the consistent qd is the raw
+    one). False, nothing written, where the matrix is taken for singular or the solution is
+    not finite, or the factors are SuperLU's (`kind` < 0: made in Python)."""
     if kind < 0 or _reaction_loaded(elements):
         return False
     nq = own.shape[1]
@@ -512,7 +545,7 @@ def _restart(
     gravity, masses, _, inertia = ca.body_terms(body, nb)
     F, N = np.zeros((nb + 1, 3)), np.zeros((nb + 1, 3))
     if any_elements(elements):
-        element_wrenches(x, xd, _NO_STATES, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, F, N)
+        element_wrenches(x, xd, z, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, F, N)
     kr.body_forces(x, xd, masses, inertia, gravity, F, N, True, rhs[:nq])
     nu = np.empty(m)
     ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, rhs[nq:])
@@ -525,7 +558,6 @@ def _restart(
 
 
 _NO_BLOCK, _NO_ACTIVE, _NO_LAM = np.zeros((0, 0)), np.zeros(0, np.int64), np.zeros(0)
-_NO_STATES = np.zeros(0)  # a run's system has no element states (`eligible`)
 
 
 @njit(**KERNEL)
@@ -548,7 +580,11 @@ class StepRun:
         self._angle_args: tuple | None = None
         self._block: tuple | None = None  # (coordinate block, its angles' indices)
         self._patterns: dict[tuple, object] = {}  # the coupled saddle patterns, by columns
+        # the elements' tangent (K, C) the calls keep, and the Python stepper's tangent it
+        # was made beside (a new one there: this one is made anew too)
+        self._tangent: tuple[np.ndarray, object, object] | None = None
         self.elements: CompiledForces | None = None  # packed for the run (`_ready`)
+        self.states = RunStates(system)  # the element states, in and out of each call
 
     @staticmethod
     def eligible(stepper) -> bool:
@@ -556,19 +592,21 @@ class StepRun:
         return (
             not stepper.spec.fixed_step
             and stepper.integ.arrays is not None
-            and not stepper.system.states
+            and RunStates.servable(stepper.system)
         )
 
-    def _ready(self) -> bool:
+    def _ready(self, t: float) -> bool:
+        """Whether a run may start at t (s) now; the elements packed, their values
+        refreshed (the actuators' held demands)."""
         system = self.stepper.system
         if self.stepper.integ.lu is None:
             return False
-        self.elements = self.stepper.integ.elements()
+        self.elements = self.stepper.integ.elements(t)
         if self.elements is None:  # an element with no compiled form, or a stuck friction
             return False
-        if self.stepper.dense and not (self.elements.empty and small_enough(system)):
+        if self.stepper.dense and not (small_enough(system) and not self.elements.frictions):
             # its rows' dense Schur complement would cost more than Python's; the compiled
-            # rows' projection knows no force element
+            # rows' projection knows no joint friction (its load reads the reactions)
             return False
         block = system.coordinate_rows()  # no function of time (a hold's value is constant)
         functions = (block.equations[i].function for i in block.linear)
@@ -579,7 +617,7 @@ class StepRun:
         the iteration matrices it asks for factored here as the Python step factors them
         (at the step's predicted state); returns (the state reached, the index of the next
         output time)."""
-        if not self._ready():
+        if not self._ready(s.t):
             return s, i
         fresh = False
         for _ in range(4 * self.CHUNK):  # calls (each a chunk of rows, or a factorisation)
@@ -605,8 +643,11 @@ class StepRun:
         _, _, q1, qd1, _, lam1, t1, fresh = integ._predicted(
             s.t, h, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam
         )
+        k = system.kin(q1, qd1, t1)
+        if system.states:  # the tangent's base at the iterate's states, as in `step`
+            system.states.advance(system.view(k), h)
         try:
-            integ._iteration_matrix(system.kin(q1, qd1, t1), h, fresh, lam1)
+            integ._iteration_matrix(k, h, fresh, lam1)
         except SolverFailure as failure:  # singular here: the step fails, a smaller one next
             integ.singular = failure
             self._fail(s, h)
@@ -669,11 +710,12 @@ class StepRun:
         elements = self.elements
         assert elements is not None, "packed by _ready"
         rates = elements.start_rates()
+        states = self.states.pack(scales.z_abs, rows)
         status, i_next, written = run_steps(
             own, own_lam, cons, cons_lam, ctrl, counts, outputs, i, ints, floats,
             arrays.functions(s.t), arrays.bodies(), fi, ff, layout, scales.q_abs, scales.a_ref,
             self._angle_args, refs_all, block_angles, PROJECTION, rows_t, rows_state, rows_refs,
-            10 * rows, elements.args, elements.columns, rates,
+            10 * rows, elements.args, elements.columns, rates, states, self._kept_tangent(nq),
         )  # fmt: skip
         count(
             factorizations=int(counts[ROW_FACTORS]), jacobian_evaluations=int(counts[ROW_JACOBIANS])
@@ -684,6 +726,7 @@ class StepRun:
         taken = int(counts[STEPS]) - stats.steps
         rejected = int(counts[REJECTED]) - stats.rejected_steps
         elements.read_back(rates, taken > 0)
+        self.states.unpack(states, taken > 0)
         stats.steps, stats.rejected_steps = int(counts[STEPS]), int(counts[REJECTED])
         stats.newton_iterations += int(counts[ITERATIONS])
         for m, value in zip(system.angle_measures, refs_all):
@@ -697,10 +740,23 @@ class StepRun:
                 float(ctrl[T]), own[0], cons[0], cons[1], cons_lam,
                 raw_qd=own[1], raw_qdd=own[2], a=own[3], raw_lam=own_lam,
             )  # fmt: skip
-        self._record(trajectory, rows_t[:written], rows_state[:written], rows_refs[:written])
+        self._record(
+            trajectory, rows_t[:written], rows_state[:written], rows_refs[:written],
+            states[-1][:written] if system.states else None,
+        )  # fmt: skip
         if written and progress:
             progress(float(rows_t[written - 1]), spec.end)
         return s, i_next, status, float(ctrl[NEXT_H]), bool(ctrl[FRESH])
+
+    def _kept_tangent(self, nq: int) -> np.ndarray:
+        """The elements' tangent (2, nq, nq) the calls share: NaN (made at the next
+        refactor) at first, after the Python stepper made a tangent of its own, and for
+        elements packed anew."""
+        made, packed = self.stepper.integ.tangent, self.elements
+        kept = self._tangent
+        if kept is None or kept[1] is not made or kept[2] is not packed:
+            self._tangent = kept = (np.full((2, nq, nq), np.nan), made, packed)
+        return kept[0]
 
     def _factors(self) -> tuple[np.ndarray, np.ndarray, tuple]:
         """The iteration matrix's flat factors for the call (copies where the kernel may
@@ -736,10 +792,13 @@ class StepRun:
             self._block = (block, found)
         return self._block[1]
 
-    def _record(self, trajectory, times, states, refs) -> None:
-        """The rows (found finite by the kernel), each with the system's snapshot and its
-        own angle references (made into a dict when read: mechlib.model.analysis.Snapshots)."""
+    def _record(self, trajectory, times, states, refs, element_states=None) -> None:
+        """The rows (found finite by the kernel), each with the system's snapshot, its own
+        angle references and element states (made into a dict when read:
+        mechlib.model.analysis.Snapshots)."""
         if not len(times):
             return
         system = self.stepper.system
-        trajectory.extend(times, states, system.nq, system.snapshot(), self.angle_keys, refs)
+        trajectory.extend(
+            times, states, system.nq, system.snapshot(), self.angle_keys, refs, element_states
+        )
