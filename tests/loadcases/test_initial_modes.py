@@ -187,13 +187,15 @@ def test_an_interface_node_body_takes_a_velocity(tmp_path: Path) -> None:
 
 def test_a_loaded_body_started_in_its_static_deflection_stays_there(tmp_path: Path) -> None:
     """The tip load on from t = 0: `deformed: static` starts the tip at delta (8.2e-5, the
-    static run's own error) and it stays there (measured 3e-12 of delta over half a
-    period); started straight, the same body swings to about 2 delta (1.97 measured)."""
+    static run's own error) and it stays there (measured 2.1e-9 of delta over half a
+    period since the step grows whenever the error law allows, 3e-12 before: round-off of
+    the steps growing from rest); started straight, the same body swings to about 2 delta
+    (1.97 measured)."""
     run = "analysis: {type: dynamic, end: 0.045, step: 5e-4}"
     still = _run(tmp_path, f"initial:\n  beam: {{deformed: static}}\n{run}").channels["tip.z"]
     swing = _run(tmp_path, run).channels["tip.z"]
     assert still[0] == pytest.approx(DELTA, rel=1e-3)
-    assert np.abs(still - still[0]).max() < 1e-9 * DELTA
+    assert np.abs(still - still[0]).max() < 1e-8 * DELTA
     assert swing.max() > 1.9 * DELTA
 
 

@@ -135,9 +135,10 @@ def test_rows_do_not_depend_on_the_end_time(fine) -> None:
     """The pendulum to 0.5 s and to 1 s, output step 1e-3: the longer run takes the same
     steps over the shorter one's time but for the last two (the steps no longer spread
     over the span to land on its end: mechlib.solvers.genalpha.stepper._towards), so their rows
-    on [0, 0.5] s agree: the same to 1e-12 of each channel's peak up to 0.495 s, where
-    the shorter run's last two steps begin, within 3e-4 after (measured 1.7e-4, the
-    hinge reaction: the integration error of steps of another size)."""
+    on [0, 0.5] s agree: the same to 1e-12 of each channel's peak up to 0.489 s, where
+    the shorter run's last two steps begin (0.4894 s; 0.495 s before the step grew
+    whenever the error law allows), within 3e-4 after (measured 1.7e-4, the hinge
+    reaction: the integration error of steps of another size)."""
     longer = ml.solve(_pendulum(), ml.Dynamic(end=1.0, step=1e-3, dense=True), requests=_REQUESTS)
     assert longer.ok, longer.message
     n = len(fine.time)
@@ -146,7 +147,7 @@ def test_rows_do_not_depend_on_the_end_time(fine) -> None:
         peak = max(np.abs(values).max(), 1e-9)
         gap = np.abs(longer.channels[name][:n] - values) / peak
         assert gap.max() < 3e-4, name
-        assert gap[fine.time < 0.495 - 1e-9].max() <= 1e-12, name
+        assert gap[fine.time < 0.489 - 1e-9].max() <= 1e-12, name
 
 
 @pytest.mark.parametrize(("rows", "columns"), [(20, 21), (150, 210), (300, 420)])

@@ -141,9 +141,10 @@ X0 = 0.01  # m, initial travel
 OMEGA_N = math.sqrt(K_SPRING / MASS)
 
 
-def _oscillator(zeta: float) -> mechlib.Solution:
+def _oscillator(zeta: float, tolerance: float | None = None) -> mechlib.Solution:
     """A mass on a prismatic joint along x, spring (k, c = 2 zeta omega_n m) to the
-    origin, released from travel X0: 1 s with outputs every 1 ms."""
+    origin, released from travel X0: 1 s with outputs every 1 ms (steps landing on them;
+    dense at `tolerance` when given)."""
     mech = mechlib.Mechanism()
     mech.add_body("mass", mass=MASS, cm=(0.5, 0.0, 0.0), inertia=[1e-2] * 3)
     mech.add_joint(
@@ -159,7 +160,9 @@ def _oscillator(zeta: float) -> mechlib.Solution:
     )
     return mechlib.solve(
         mech,
-        mechlib.Dynamic(1.0, 0.001),
+        mechlib.Dynamic(1.0, 0.001)
+        if tolerance is None
+        else mechlib.Dynamic(1.0, 0.001, dense=True, tolerance=tolerance),
         initial=[mechlib.InitialValue("slide", X0, 0.0)],
         requests=[mechlib.JointCoordinate("x", "slide", "travel")],
     )

@@ -16,11 +16,13 @@ from mechlib.solvers.genalpha import rules
 from mechlib.solvers.march import accepted
 
 
-def test_step_grows_by_the_error_law_and_only_past_regrow() -> None:
-    # err = 1/8: 0.9 * 8^(1/3) = 1.8 > 1.5 -> h_try * 1.8
+def test_step_grows_by_the_error_law_whenever_it_grows() -> None:
+    # err = 1/8: 0.9 * 8^(1/3) = 1.8 -> h_try * 1.8
     assert rules.step_size(0.01, 0.125, 0.01, 1.0, True) == pytest.approx(0.018, rel=1e-15)
-    # err = 0.5: 0.9 * 2^(1/3) = 1.134 < 1.5 -> the step size stays
-    assert rules.step_size(0.01, 0.5, 0.007, 1.0, True) == 0.007
+    # err = 0.5: 0.9 * 2^(1/3) = 1.134 > 1 -> h_try * 1.134 (no hysteresis: REGROW 1)
+    assert rules.step_size(0.01, 0.5, 0.007, 1.0, True) == pytest.approx(0.01134, rel=1e-3)
+    # err = 0.8: 0.9 / 0.8^(1/3) = 0.969 < 1 -> an accepted step keeps the step size
+    assert rules.step_size(0.01, 0.8, 0.007, 1.0, True) == 0.007
     # err = 0: x4, capped by the largest step
     assert rules.step_size(0.01, 0.0, 0.01, 1.0, True) == pytest.approx(0.04)
     assert rules.step_size(0.01, 0.0, 0.01, 0.03, True) == 0.03
@@ -33,6 +35,16 @@ def test_step_shrinks_by_the_error_law_down_to_a_fifth_or_a_quarter_after_newton
     assert rules.step_size(0.01, 1e6, 0.01, 1.0, True) == pytest.approx(0.002, rel=1e-15)
     # Newton did not converge: a quarter, whatever the (infinite) error
     assert rules.step_size(0.01, math.inf, 0.01, 1.0, False) == pytest.approx(0.0025)
+
+
+def test_pseudo_acceleration_is_carried_to_the_new_step() -> None:
+    """qdd + min(ratio, 1) (a - qdd): the offset of a from the acceleration scales with a
+    shorter step; the same step or a longer one keeps a, a step of zero length has a = qdd."""
+    qdd, a = np.array([1.0, -2.0]), np.array([1.5, -1.0])
+    np.testing.assert_allclose(rules.pseudo_acceleration(qdd, a, 0.5), [1.25, -1.5])
+    np.testing.assert_allclose(rules.pseudo_acceleration(qdd, a, 1.0), a)
+    np.testing.assert_allclose(rules.pseudo_acceleration(qdd, a, 3.0), a)
+    np.testing.assert_allclose(rules.pseudo_acceleration(qdd, a, 0.0), qdd)
 
 
 def test_substeps_land_on_the_output_time() -> None:

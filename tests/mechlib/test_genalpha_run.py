@@ -107,12 +107,24 @@ def test_compiled_runs_equal_the_python_loop(model, analysis, monkeypatch, reque
         return original(self, *args)
 
     monkeypatch.setattr(genalpha_run.StepRun, "_refactor", refactor)
+    handed = {"steps": 0}  # calls that handed the next step to Python
+    call = genalpha_run.StepRun._call
+
+    def count_handed(self, *args):
+        out = call(self, *args)
+        handed["steps"] += out[2] in (genalpha_run.STOPPED, genalpha_run.FAILED)
+        return out
+
+    monkeypatch.setattr(genalpha_run.StepRun, "_call", count_handed)
     fast, in_kernel = _run(model, analysis, monkeypatch, compiled=True)
     slow, none = _run(model, analysis, monkeypatch, compiled=False)
     assert fast.ok and slow.ok
-    # the rest: the first step, and steps after a rejection in Python or a row given back;
-    # with SuperLU's factors, also the steps at a new step size (measured 94 %)
-    least = 0.9 * fast.stats.steps if superlu else fast.stats.steps - 2
+    # the rest: the first step, and the step after each call that hands one to Python (a
+    # rejection below the floor, Newton stalling with an old matrix or failing with a new
+    # one, a row given back: the slider-crank at 1e-4 through its dead centres, 6 of 149
+    # since the step grows whenever the error law allows); with SuperLU's factors, also
+    # the steps at a new step size (measured 94 %)
+    least = 0.9 * fast.stats.steps if superlu else fast.stats.steps - 2 - handed["steps"]
     assert none == 0 and in_kernel >= least
     # dense and band LU factors are refactored in the kernel, SuperLU's in Python
     assert (in_python["factors"] > 0) if superlu else (in_python["factors"] == 0)

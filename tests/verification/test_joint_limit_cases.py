@@ -140,7 +140,10 @@ def test_a_limit_switched_on_by_an_event_from_a_case_file(tmp_path: Path) -> Non
     rest onto a linear undamped limit (k = 1e4 N*m/rad) switched on as it reaches it.
     Energy by hand: (1/2) k x^2 = m g L/2 (sin(0.1) + sin x) solved for the deepest x
     (brentq, gravity work included), peak k x; read from the angle and the limit's value:
-    measured 1.1e-5, asserted to 1e-4 (output every 1e-4 s). `effects: {contact: false}`
+    measured 7.2e-4 in 183 steps, asserted to 1e-3 (output every 1e-4 s; 1.1e-5 before the
+    step grew whenever the error law allows, issue 35 item 3: the bounce at 122 rad/s
+    peaks between -3.9e-4 and +7.2e-4 of x over the step-size rules tried, by where its
+    steps fall). `effects: {contact: false}`
     removes the limit: its request is then an error at its key."""
     mech = _BAR.replace(
         "max: 30, stiffness: 1.0e4, exponent: 1.5, damping: 50, depth: 0.1",
@@ -163,8 +166,8 @@ requests:
     x = brentq(
         lambda x: 0.5e4 * x**2 - torque * (math.sin(0.1) + math.sin(x)), 1e-6, 0.5, xtol=1e-14
     )
-    assert -ch["a.value"].min() == pytest.approx(x, rel=1e-4)
-    assert ch["stop.value"].max() == pytest.approx(1.0e4 * x, rel=1e-4)
+    assert -ch["a.value"].min() == pytest.approx(x, rel=1e-3)
+    assert ch["stop.value"].max() == pytest.approx(1.0e4 * x, rel=1e-3)
     assert ch["stop.value"][ch["a.value"] > 0].max() == 0.0  # off until it is reached
 
     from loadcases.foundation.diagnostics import InputError

@@ -31,6 +31,7 @@ __all__ = [
     "converged",
     "is_noise",
     "newton_rate",
+    "pseudo_acceleration",
     "refactors",
     "restalled",
     "retangents",
@@ -63,7 +64,12 @@ REFACTOR_CHANGE = 0.25  # a step size this far (relative) from the factored one 
 # ---- step size ---------------------------------------------------------------------------
 SAFETY = 0.9  # the error estimate's exponent law, aimed this much below the tolerance
 GROW, SHRINK = 4.0, 0.2  # the most a step grows after acceptance, shrinks after rejection
-REGROW = 1.5  # the step size changes only when it would grow by more than this
+# an accepted step grows the step size whenever the error law allows (no hysteresis): a
+# change costs nothing since the pseudo-acceleration is carried to it (pseudo_acceleration);
+# a hysteresis of 1.5 (while each change restarted it) shrank the step on a swing's way down
+# and grew it back elsewhere: loops that drained a pendulum's energy (IFToMM A01, 50 s at
+# tolerance 1e-6: 0.070 m against the closed form, now 0.0057 m in 10 % fewer steps)
+REGROW = 1.0
 FAILED_SHRINK = 0.25  # a step Newton could not take: the next is a quarter as long
 # first step, as a fraction of the analysis span: small, because the start acceleration may
 # be one the motion leaves at once (joint friction at rest carries nothing until the joint
@@ -78,8 +84,7 @@ def step_size(h_try: float, err: float, h: float, max_step: float, converged: bo
     - Newton did not converge (`converged` False): FAILED_SHRINK h_try.
     - Rejected by its error (err > 1): h_try max(SHRINK, SAFETY err^(-1/3)).
     - Accepted: h_try min(GROW, SAFETY err^(-1/3)) up to max_step when that grows it by
-      more than REGROW, else h unchanged (a change restarts the pseudo-acceleration: not for
-      less)."""
+      more than REGROW, else h unchanged (an accepted step does not shrink the next)."""
     if not converged:
         return FAILED_SHRINK * h_try
     if err > 1.0:
@@ -88,6 +93,20 @@ def step_size(h_try: float, err: float, h: float, max_step: float, converged: bo
     if grow > REGROW:
         return min(max_step, h_try * grow)
     return h
+
+
+@njit(**KERNEL)
+def pseudo_acceleration(qdd: np.ndarray, a: np.ndarray, ratio: float) -> np.ndarray:
+    """The pseudo-acceleration a (the coordinates' units per s^2) carried to a step `ratio`
+    times as long as the one it was made for, from the acceleration qdd of the step's start:
+    qdd + min(ratio, 1) (a - qdd). Generalized-alpha's a_n is the acceleration at
+    t_n + (alpha_m - alpha_f) h to O(h^2) (Arnold & Bruls 2007; measured in
+    tests/mechlib/test_genalpha_order.py): its offset from qdd_n scales with the step. A
+    longer step keeps a: the offset also holds the method's decaying transients (of stiff
+    contacts), which scaling up would amplify (the rod-end rattle: 17 834 rejected steps in
+    0.2 s, against 179). Restarting a from qdd at each change, as done before, left an O(h)
+    error in a and an O(h^2) error in the velocity at every change."""
+    return qdd + min(ratio, 1.0) * (a - qdd)
 
 
 @njit(**KERNEL)

@@ -16,14 +16,13 @@ size more than 25 % away from the factored one) it factors [[M, phi_q^T], [phi_q
 step's predicted state, as the Python step does, with the kernel the Python path uses
 (mechlib.linalg.flat_lu.refactor: dense or band LU). For SuperLU's factors, or a matrix the kernel
 finds singular, it returns REFACTOR: `StepRun` factors it in Python (or fails the step as
-the Python step does) and calls it again for that step. At a new step size it takes the
-consistent accelerations as the Python step does (`_restart`: the saddle matrix at the
-step's start factored by the same kernel, into factors of its own; ctrl[RESTARTED] tells
-`StepRun` that the state it hands back has them). It stops, leaving the state where it was
-(but for those accelerations), before any step that needs what only the Python stepper
-does: consistent accelerations with SuperLU's factors or a singular matrix, a rejected
-step, Newton stalling, the step limit or a collapsing step size, a dense row the compiled
-projection gives back; and before recording a non-finite row.
+the Python step does) and calls it again for that step. At a new step size it carries the
+pseudo-acceleration to it as the Python step does (rules.pseudo_acceleration;
+ctrl[RESTARTED] tells `StepRun` that the state it hands back has it). It stops, leaving the
+state where it was (but for that pseudo-acceleration), before any step that needs what only
+the Python stepper does: a step below the step floor, Newton stalling, the step limit or a
+collapsing step size, a dense row the compiled projection gives back; and before recording
+a non-finite row.
 `march` then takes one step in Python and calls it again: the same steps, iterations and
 results as the Python loop to round-off (tests/mechlib/test_genalpha_run.py).
 """
@@ -38,20 +37,17 @@ from mechlib.core.jit import KERNEL, njit
 from mechlib.core.outcome import SolverFailure
 from mechlib.core.work import count
 from mechlib.elements.compiled_forces import (
-    ROW_COUNT,
     CompiledForces,
     advance_states,
     any_elements,
     element_tangent,
-    element_wrenches,
     slip_rates,
     slipping_on,
     update_references,
 )
 from mechlib.kinematics import constraint_arrays as ca
-from mechlib.kinematics import kernels as kr
 from mechlib.kinematics.coordinates import AngleMeasure
-from mechlib.linalg.flat_lu import SUPERLU, lu_solve, refactor
+from mechlib.linalg.flat_lu import SUPERLU, refactor
 from mechlib.solvers.dense import PROJECTION
 from mechlib.solvers.dense_compiled import DONE, project_loaded_row, small_enough
 from mechlib.solvers.finite import all_finite
@@ -80,7 +76,7 @@ MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT = 6, 7, 8, 9, 10
 ALPHA_M, ALPHA_F, BETA, GAMMA, DENSE = 11, 12, 13, 14, 15
 FRESH, NEXT_H = 16, 17  # in: the matrix is new for the next step; out: that step's h
 REFACTORED = 18  # out: the iteration matrices factored in the call
-RESTARTED = 19  # out: consistent accelerations taken at a new step size (H_USED is that h)
+RESTARTED = 19  # out: the pseudo-acceleration carried to a new step size (H_USED is that h)
 H_MIN = 20  # in: the run's step floor (s)
 CTRL_SIZE = 21
 # the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
@@ -132,7 +128,6 @@ def run_steps(
     params[2], params[3], params[4] = ctrl[TOL], ctrl[ALPHA_M], ctrl[ALPHA_F]
     kind, prow, pcol, place, brow, bcol = layout
     values = np.empty(prow.shape[0])
-    spare_i, spare_f = fi.copy(), ff.copy()  # the consistent accelerations' factors
     slips = np.empty(rates.shape[0])  # the frictions' slip rates at a state
     i, written, taken = first, 0, 0
     while True:
@@ -151,14 +146,7 @@ def run_steps(
         if limit >= 0:
             return limit, i, written
         h_try = _trial_step(target - t, ctrl[H], dense)
-        # consistent accelerations at a new step size (GeneralizedAlphaStepper._attempt);
-        # SuperLU's factors (kind < 0), a singular matrix or a non-finite one: Python's
-        if not _restarted(
-            h_try, ctrl, counts, kind, own, own_lam, cons, cons_lam, ints, floats, functions,
-            refs, body, prow, pcol, values, place, brow, bcol, spare_i, spare_f, elements,
-            states[0],
-        ):  # fmt: skip
-            return STOPPED, i, written
+        _carried(h_try, ctrl, own)  # GeneralizedAlphaStepper._attempt
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
             return STOPPED, i, written  # the step-collapse watch
         fresh = ctrl[FRESH] != 0.0
@@ -500,70 +488,13 @@ def _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref):
 
 
 @njit(**KERNEL)
-def _restarted(
-    h, ctrl, counts, kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body,
-    prow, pcol, values, place, brow, bcol, fi, ff, elements, z,
-):  # fmt: skip
-    """At a new step size h (s) the consistent accelerations taken (`_restart`, the
-    elements' loads at the accepted element states z), counted and noted in ctrl; False
-    where `_restart` cannot take them."""
+def _carried(h, ctrl, own):
+    """At a new step size h (s) the pseudo-acceleration own[3] carried to it from the
+    integrator's acceleration own[2] (rules.pseudo_acceleration), noted in ctrl."""
     if not _new_size(ctrl, h):
-        return True
-    if not _restart(
-        kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol,
-        values, place, brow, bcol, fi, ff, elements, z,
-    ):  # fmt: skip
-        return False
-    counts[ROW_FACTORS] += 1
+        return
+    own[3] = rules.pseudo_acceleration(own[2], own[3], h / ctrl[H_USED])
     ctrl[H_USED], ctrl[RESTARTED] = h, 1.0
-    return True
-
-
-@njit(**KERNEL)
-def _restart(
-    kind, own, own_lam, cons, cons_lam, ints, floats, functions, refs, body, prow, pcol, values,
-    place, brow, bcol, fi, ff, elements, z,
-):  # fmt: skip
-    """Consistent accelerations and multipliers at the state (own[0], own[1]) from
-    [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma] (mechlib.solvers.consistent; Q:
-    gravity, the velocity terms and the packed `elements`' loads at element states z; a
-    friction loaded by its reaction makes Q depend on lam: Python's), factored into (fi, ff)
-    by the kernel of mechlib.system.saddle.rigid_saddle_factors; written as
-    GeneralizedAlphaStepper._attempt does (qdd, a, lam; the consistent qd is the raw
-    one). False, nothing written, where the matrix is taken for singular or the solution is
-    not finite, or the factors are SuperLU's (`kind` < 0: made in Python)."""
-    if kind < 0 or _reaction_loaded(elements):
-        return False
-    nq = own.shape[1]
-    nb = nq // 7
-    x, xd = ca.state_arrays(own[0], own[1], nb)
-    saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
-    if not refactor(values, place, brow, bcol, fi, ff):
-        return False
-    m = own_lam.shape[0]
-    rhs = np.empty(nq + m)
-    gravity, masses, _, inertia = ca.body_terms(body, nb)
-    F, N = np.zeros((nb + 1, 3)), np.zeros((nb + 1, 3))
-    if any_elements(elements):
-        element_wrenches(x, xd, z, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, F, N)
-    kr.body_forces(x, xd, masses, inertia, gravity, F, N, True, rhs[:nq])
-    nu = np.empty(m)
-    ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, rhs[nq:])
-    sol = lu_solve(fi, ff, rhs)
-    if not all_finite(sol, sol, sol, sol):
-        return False
-    own[2], own[3], own_lam[:] = sol[:nq], sol[:nq], sol[nq:]
-    cons[0], cons[1], cons_lam[:] = own[1], sol[:nq], sol[nq:]
-    return True
-
-
-_NO_BLOCK, _NO_ACTIVE, _NO_LAM = np.zeros((0, 0)), np.zeros(0, np.int64), np.zeros(0)
-
-
-@njit(**KERNEL)
-def _reaction_loaded(elements):
-    """A packed friction is loaded by its joint's reaction (its rows counted)."""
-    return bool((elements[5][:, ROW_COUNT] != 0).any())
 
 
 class StepRun:
@@ -731,7 +662,7 @@ class StepRun:
         stats.newton_iterations += int(counts[ITERATIONS])
         for m, value in zip(system.angle_measures, refs_all):
             m.reference = float(value)
-        if taken or rejected or ctrl[RESTARTED]:  # moved, shrunk, or took new accelerations
+        if taken or rejected or ctrl[RESTARTED]:  # moved, shrunk, or carried a to a new h
             stepper.h, stepper.h_used = float(ctrl[H]), float(ctrl[H_USED])
             integ.eta, integ.stale = float(ctrl[ETA]), bool(ctrl[STALE])
             if taken:

@@ -2,11 +2,11 @@
 estimate, stick/slip location of joint friction, restarts, and the step-collapse watch
 around `mechlib.solvers.genalpha.integrator.Integrator`.
 
-The step size is chosen by mechlib.solvers.genalpha.rules: it changes only when the error
-estimate asks for it (shrink, or growth by more than rules.REGROW); at each change the
-pseudo-acceleration restarts from the consistent acceleration, because generalized-alpha's
-`a` is tied to the step it was made with. Outputs carry consistent velocities, accelerations
-and reactions.
+The step size is chosen by mechlib.solvers.genalpha.rules: a rejected step shrinks it, an
+accepted one grows it as far as the error estimate allows (rules.step_size); at each change the
+pseudo-acceleration is carried to the new step (rules.pseudo_acceleration), because
+generalized-alpha's `a` is tied to the step it was made with. Outputs carry consistent
+velocities, accelerations and reactions.
 """
 
 from __future__ import annotations
@@ -18,7 +18,7 @@ import numpy as np
 
 from mechlib.core.outcome import SolverFailure, SolverStats, Status
 from mechlib.model.analysis import Dynamic
-from mechlib.solvers.consistent import consistent_accelerations, consistent_state
+from mechlib.solvers.consistent import consistent_state
 from mechlib.solvers.contract import DenseStepper, State, StepResult, StepUnresolved
 from mechlib.solvers.dense import HermiteRows, first_step, step_bound
 from mechlib.solvers.genalpha import rules
@@ -122,9 +122,7 @@ class GeneralizedAlphaStepper(DenseStepper):
         gap = t_out - s.t
         h_try = rules.towards(gap, self.h) if self.dense else rules.substep(gap, self.h)
         if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
-            qdd, lam = consistent_accelerations(self.system, s.q, s.raw_qd, s.t)
-            s.raw_qdd, s.a, s.raw_lam = qdd, qdd.copy(), lam
-            s.qd, s.qdd, s.lam = s.raw_qd, qdd, lam
+            s.a = rules.pseudo_acceleration(s.raw_qdd, s.a, h_try / self.h_used)
         self.h_used = h_try
         new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam)
         err = (
@@ -209,8 +207,11 @@ class GeneralizedAlphaStepper(DenseStepper):
         return self._resolve(_alpha(state), t)
 
     def _resolve(self, s: _AlphaState, t: float) -> _AlphaState:
-        """`resolve` on this stepper's own state."""
-        new = self.integ.step(s.t, t - s.t, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam)
+        """`resolve` on this stepper's own state (its pseudo-acceleration carried to the
+        shorter step)."""
+        h = t - s.t
+        a = rules.pseudo_acceleration(s.raw_qdd, s.a, h / self.h_used) if self.h_used else s.a
+        new = self.integ.step(s.t, h, s.q, s.raw_qd, s.raw_qdd, a, s.raw_lam)
         if new is None:
             raise StepUnresolved(t)
         return _state(t, new)
@@ -234,7 +235,9 @@ class GeneralizedAlphaStepper(DenseStepper):
             if t is None:
                 return new
             if t < new.t:
-                return self._resolve(s, t)
+                stopped = self._resolve(s, t)
+                self.h_used = t - s.t  # the step its pseudo-acceleration was made for
+                return stopped
         except (StepUnresolved, SolverFailure):  # a shorter step Newton cannot take: keep new
             pass
         # the re-solved steps moved the element states' trial values: back to new's
