@@ -60,7 +60,9 @@ def test_force_overflowing_in_a_dynamic_run_names_the_element(crank, tmp_path: P
         "; force element 'push' gives inf (not finite) at t = 0.1 s"
     ), summary["message"]
     time, channels = read_results(tmp_path / "out" / "crank-turn.csv")
-    assert time[-1] <= 0.1 + 1e-12 and time.size == 3  # rows at 0, 0.05 and 0.1 s kept
+    # rows at 0 and 0.05 s kept, and 0.1 s where a step happens to end on it (dense rows
+    # come from the steps across them; the steps across 0.1 s fail): never one after it
+    assert time[-1] <= 0.1 + 1e-12 and time.size in (2, 3) and time[:2].tolist() == [0.0, 0.05]
     assert all(np.isfinite(values).all() for values in channels.values())
 
 

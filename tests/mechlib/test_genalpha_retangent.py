@@ -3,8 +3,8 @@
 is refactored at its state with the tangent kept, and a new tangent is differenced only when
 that refactorisation did not help. On Kane's spin-up beam (benchmarks.flexible, not
 stiffened, 8 s at tolerance 1e-6) the rule takes the same steps as the old one (a new
-tangent at every slow step: 141 tangents) from one tangent (the first), in 3 % more Newton
-iterations (1112 against 1082; over the bench's 20 s 8238 against 8350, fewer), and the tip
+tangent at every slow step: 139 tangents) from one tangent (the first), in 3 % more Newton
+iterations (1094 against 1065), and the tip
 lag moves by 4e-10 of its range (bound 1e-6, against the run's own error of about 1e-3 of
 the range at this tolerance, benchmarks.flexible_compare)."""
 
@@ -53,13 +53,16 @@ def test_a_refactorisation_before_a_new_tangent(monkeypatch):
 
 def test_a_stall_refactors_before_a_new_tangent(monkeypatch):
     """rules.restalled: a modal body's stall on a matrix not factored in its step first
-    refactors it with the tangent kept. Over the bench's 20 s, measured: the same 2421
-    steps and 8238 iterations from 1 tangent against 240, the tip lag 5e-8 of its range
-    apart (bound 1e-6)."""
+    refactors it with the tangent kept. Over the bench's 20 s, measured: the same 2275
+    steps and 7973 iterations (7979 with the old rule) from 1 tangent against 6, the tip
+    lag 6e-8 of its range apart (bound 1e-6). With generalized-alpha's step-size rule
+    before the pseudo-acceleration was carried (a restart at each change, the step grown
+    only by 1.5 or more) it was 2421 steps from 1 tangent against 240: the stalls are
+    fewer since."""
     new, new_lag, new_made = _run(monkeypatch, old_rule=False, end=20.0)
     old, old_lag, old_made = _run(monkeypatch, old_rule=False, old_stall=True, end=20.0)
     assert new.stats.steps == old.stats.steps
     assert new.stats.newton_iterations <= 1.05 * old.stats.newton_iterations
-    assert new_made < 0.1 * old_made
+    assert new_made == 1 and new_made < old_made / 3
     assert np.abs(new_lag - old_lag).max() <= 1e-6 * np.ptp(old_lag)
     assert (rules.GIVE_UP, rules.FRESH) == (0, 2)  # the codes the old rule above returns
