@@ -41,6 +41,18 @@ def test_an_end_row_or_a_kink_has_no_vertex() -> None:
     assert tent.max == pytest.approx(1.0, abs=1e-15)
 
 
+def test_a_crest_between_the_end_row_and_the_row_beside_it_is_found() -> None:
+    """sin's crest of 1 a fifth of a row interval before the last row (and, mirrored, after
+    the first): no row is a crest, the end row misses it by (omega dt / 5)^2 / 2, and the
+    cubic through the four end rows finds it (order 4: within (omega dt)^4 of it)."""
+    time = np.arange(0.0, 0.3 + DT / 2, DT)
+    last = extremes(time, np.sin(OMEGA * (time - time[-1] + 0.2 * DT) + math.pi / 2))
+    first = extremes(time, np.sin(OMEGA * (time[0] + 0.2 * DT - time) + math.pi / 2))
+    for found in (last, first):
+        assert 1.0 - found.row_max > 1e-5  # the end row misses the crest
+        assert abs(found.max - 1.0) < (OMEGA * DT) ** 4
+
+
 def test_peak_error_bounds_richardson_on_continuous_peaks_plus_the_rows_miss() -> None:
     """Run amplitude 1 + 1e-3, companion (order 2: 4 x its error) 1 + 4e-3, exact 1: the
     Richardson part is 3e-3 / 3 = 1e-3 (within 5e-5), the sampling part the run's miss of
