@@ -27,10 +27,14 @@ from benchmarks.error_table import CHEAP, case_rows
 LOW, HIGH = 1.0 / 3.0, 3.0
 MEASURABLE = 1e-5  # of the peak: true errors below it are the reference's own
 SINGULAR = ("A02 N=3 3-D",)  # passes a singular position: estimated from a finer run
-# overestimates let through, with their measured ratio: the servo's stroke peak, 4.4 for a
-# true 3.6e-5 of the peak since the step grows whenever the error law allows (issue 35
-# item 3; 2.3 at most before, for a larger true error): tightening at worst, never a miss
-HIGH_PEAK = {("servo closed valve", "stroke"): 5.0}
+# overestimates let through, with their measured ratio: the servo's stroke peak, 4.4 (3.97
+# measured again) for a true 3.6e-5 of the peak since the step grows whenever the error law
+# allows (issue 35 item 3; 2.3 at most before, for a larger true error), and its actuator's
+# pressures and force, 3.32 (0.66 before, by one lucky companion crest): the closed valve's
+# crests are all equal, so the envelope's error is that of the run's best crest, and the
+# per-crest errors scatter 5x from crest to crest (docs/performance.md): tightening at
+# worst, never a miss
+HIGH_PEAK = {("servo closed valve", "stroke"): 5.0, ("servo closed valve", "actuator"): 3.5}
 
 
 @pytest.mark.parametrize("name", list(CHEAP))

@@ -4,8 +4,8 @@ For a rigid system with no element states but those of `valve` actuators with a 
 command (mechlib.solvers.genalpha.run_states), no force element without a compiled form, no
 stuck joint friction and no time function in its equations (a free mechanism under gravity,
 with springs, dampers and sliding joint friction: the bench models, a free deployment
-phase; a ram driven by its servo-actuator), `run_steps` takes accepted steps one after another, landing on the output
-times (`output: steps`) or towards the end (dense output), as
+phase; a ram driven by its servo-actuator), `run_steps` takes accepted steps one after
+another, landing on the output times (`output: steps`) or towards the end (dense output), as
 `GeneralizedAlphaStepper.step`, `accept` and `march` do them -- the step size from the error
 estimate, the Newton iterations (mechlib.solvers.genalpha.compiled.newton), the error estimate, the
 acceleration scales, the angles' unwrapping, the rows at the output times (a step's own
