@@ -158,8 +158,9 @@ def _end_rise(time: np.ndarray, values: np.ndarray, end: int) -> float:
     slope, bend = cubic.deriv(1), cubic.deriv(2)
     rise = 0.0
     for root in slope.roots():
-        if abs(root.imag) < 1e-12 and -1.0 < root.real < 0.0 and bend(root.real) < 0.0:
-            rise = max(rise, float(cubic(root.real)) - float(v[-1]))
+        at = float(np.real(root))
+        if abs(float(np.imag(root))) < 1e-12 and -1.0 < at < 0.0 and bend(at) < 0.0:
+            rise = max(rise, float(cubic(at)) - float(v[-1]))
     return min(rise, float(-c[0]) * h**2)
 
 

@@ -358,24 +358,29 @@ def mass_times(x, masses, inertia, scale, vec, out):
 
 
 @njit(**KERNEL)
+def _rotation_block(p, inertia, quarter, along, divisor, out, unit, w, jw, g4):
+    """out (4, 4) = (quarter G^T J G + along p p^T) / divisor for Euler parameters p and a
+    (3, 3) `inertia` J: the one loop of `mass_blocks` and `inverse_mass_blocks` (unit, g4:
+    work 4-vectors, w, jw: 3-vectors)."""
+    for d in range(4):
+        unit[:] = 0.0
+        unit[d] = 1.0
+        _g_times(p, unit, w)
+        _inertia_times(inertia, w, jw)
+        _gt_times(p, jw, 1.0, g4)
+        for e in range(4):
+            out[e, d] = (quarter * g4[e] + along * p[e] * p[d]) / divisor
+
+
+@njit(**KERNEL)
 def mass_blocks(x, masses, inertia, scale, out):
     """The diagonal blocks (nb, 7, 7) of M(q): m I for r, 4 G^T J' G + scale p p^T for p."""
-    unit = np.zeros(4)
-    w, jw = np.empty(3), np.empty(3)
-    g4 = np.empty(4)
+    unit, w, jw, g4 = np.zeros(4), np.empty(3), np.empty(3), np.empty(4)
     for b in range(masses.shape[0]):
         out[b] = 0.0
         for c in range(3):
             out[b, c, c] = masses[b]
-        p = x[b, 3:]
-        for d in range(4):
-            unit[:] = 0.0
-            unit[d] = 1.0
-            _g_times(p, unit, w)
-            _inertia_times(inertia[b], w, jw)
-            _gt_times(p, jw, 1.0, g4)
-            for e in range(4):
-                out[b, 3 + e, 3 + d] = 4.0 * g4[e] + scale[b] * p[e] * p[d]
+        _rotation_block(x[b, 3:], inertia[b], 4.0, scale[b], 1.0, out[b, 3:, 3:], unit, w, jw, g4)
 
 
 @njit(**KERNEL)
@@ -383,23 +388,17 @@ def inverse_mass_blocks(x, masses, inverse_inertia, scale, out):
     """The inverses (nb, 7, 7) of `mass_blocks`: I / m for r and, as P = [G; p^T] has
     P P^T = P^T P = |p|^2 I, (G^T J'^-1 G / 4 + p p^T / scale) / |p|^4 for p;
     `inverse_inertia` (nb, 3, 3): each J'^-1."""
-    unit = np.zeros(4)
-    w, jw = np.empty(3), np.empty(3)
-    g4 = np.empty(4)
+    unit, w, jw, g4 = np.zeros(4), np.empty(3), np.empty(3), np.empty(4)
     for b in range(masses.shape[0]):
         out[b] = 0.0
         for c in range(3):
             out[b, c, c] = 1.0 / masses[b]
         p = x[b, 3:]
         norm4 = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]) ** 2
-        for d in range(4):
-            unit[:] = 0.0
-            unit[d] = 1.0
-            _g_times(p, unit, w)
-            _inertia_times(inverse_inertia[b], w, jw)
-            _gt_times(p, jw, 1.0, g4)
-            for e in range(4):
-                out[b, 3 + e, 3 + d] = (0.25 * g4[e] + p[e] * p[d] / scale[b]) / norm4
+        rotation = out[b, 3:, 3:]
+        _rotation_block(
+            p, inverse_inertia[b], 0.25, 1.0 / scale[b], norm4, rotation, unit, w, jw, g4
+        )
 
 
 @njit(**KERNEL)
