@@ -73,7 +73,7 @@ def stall(
         if measure < NAMED_MEASURE
         else "no near-singular position there"
     )
-    last = f"; last attempt: {why}" if str(why) else ""
+    last = f"; last attempt: {_attempt(why, measure)}" if str(why) else ""
     return SolverFailure(
         f"{analysis} analysis stalled at t = {t:.6g} s: no progress, {how}; {where}{last}. "
         "A motion driven beyond a dead point, a singular position the integrator cannot "
@@ -81,6 +81,17 @@ def stall(
         time=getattr(why, "time", None) or t,
         status=Status.STALLED,
     )
+
+
+def _attempt(why: SolverFailure | str, measure: float) -> str:
+    """The last attempt's failure as a stall reports it: a singular matrix at a position
+    nearer to singular than NAMED_MEASURE is that position (named before it), not the
+    generic "a body with no mass or stiffness" of mechlib.linalg.factor.singular_failure."""
+    if measure < NAMED_MEASURE and getattr(why, "status", None) is Status.SINGULAR:
+        at = getattr(why, "time", None)
+        when = f" at t = {at:.6g} s" if at is not None else ""
+        return f"singular system matrix{when}, at that near-singular position"
+    return str(why)
 
 
 def element_loads(system, view) -> dict[str, float]:

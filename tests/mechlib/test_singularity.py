@@ -413,3 +413,20 @@ def test_a_rank_toggle_is_measured_exactly(monkeypatch) -> None:
     assert len(_toggle_times(toggles)) == 1 and toggles == exact
     (branch,) = [w for w in warnings if w.startswith("assembly branch changed")]
     assert branch.startswith(f"assembly branch changed at t = {_toggle_times(toggles)[0]:g} s")
+
+
+def test_a_dynamic_run_driven_onto_a_dead_centre_names_it() -> None:
+    """The slider driven exactly onto the crank's dead centre (t* = 0.25 s, on the output
+    grid) in a dynamic run: the constraints, the motion included, lose rank there, so the
+    run stalls (exit 1 from the CLI) naming the travel and the loop joints, and its last
+    attempt's singular matrix is that position, not a body with no mass or stiffness (the
+    message said so before)."""
+    omega = 2.0 * math.pi
+    mech, _ = slider_crank(R, L)
+    mech.add_motion("push", joint="D", function=SliderOfTurningCrank(omega))
+    sol = mechlib.solve(mech, mechlib.Dynamic(end=0.5, step=STEP), throw=False)
+    assert not sol.ok
+    assert "near-singular position" in sol.message and "push" in sol.message, sol.message
+    assert all(name in sol.message for name in ("A", "B", "C")), sol.message
+    assert "no mass or stiffness" not in sol.message, sol.message
+    assert abs(sol.time[-1] - 0.25) <= STEP + 1e-12
