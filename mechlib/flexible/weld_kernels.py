@@ -54,18 +54,9 @@ def _turned_into(theta, g, out):
 
 
 @njit(**KERNEL)
-def _modal(shapes, zeta, out):
-    """out = shapes @ zeta (3,) for shapes (3, n)."""
-    for a in range(3):
-        total = 0.0
-        for j in range(zeta.shape[0]):
-            total += shapes[a, j] * zeta[j]
-        out[a] = total
-
-
-@njit(**KERNEL)
 def _times(m, v, out):
-    """out = m @ v (rows,) for m (rows, cols)."""
+    """out = m @ v (rows,) for m (rows, cols): a node's displacement or rotation from the
+    modal coordinates, shapes (3, n) @ zeta."""
     for a in range(m.shape[0]):
         total = 0.0
         for d in range(m.shape[1]):
@@ -86,10 +77,10 @@ def weld_phi(x, frame, nodes, positions, phi, phi_star, zeta, out):
     u, theta, au, v, b = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     for i in range(nodes.shape[0]):
         node = nodes[i]
-        _modal(phi[i], zeta, u)
+        _times(phi[i], zeta, u)
         for a in range(3):
             u[a] += positions[i, a]
-        _modal(phi_star[i], zeta, theta)
+        _times(phi_star[i], zeta, theta)
         An = rotation_matrix(x[node, 3:])
         _times(A, u, au)
         for a in range(3):
@@ -113,10 +104,10 @@ def weld_jacobian(x, frame, nodes, positions, phi, phi_star, zeta, z_col, out):
         node = nodes[i]
         pn = x[node, 3:]
         An = rotation_matrix(pn)
-        _modal(phi[i], zeta, u)
+        _times(phi[i], zeta, u)
         for a in range(3):
             u[a] += positions[i, a]
-        _modal(phi_star[i], zeta, theta)
+        _times(phi_star[i], zeta, theta)
         nb_ = 7 * node
         r0 = 6 * i
         _bmat(p, u, bu)
@@ -176,12 +167,12 @@ def weld_gamma(x, xd, frame, nodes, positions, phi, phi_star, zeta, zeta_d, out)
     w1, w2, work = np.empty(3), np.empty(3), np.empty((3, 4))
     for i in range(nodes.shape[0]):
         pn, pnd = x[nodes[i], 3:], xd[nodes[i], 3:]
-        _modal(phi[i], zeta, u)
+        _times(phi[i], zeta, u)
         for a in range(3):
             u[a] += positions[i, a]
-        _modal(phi[i], zeta_d, u_d)
-        _modal(phi_star[i], zeta, theta)
-        _modal(phi_star[i], zeta_d, theta_d)
+        _times(phi[i], zeta_d, u_d)
+        _times(phi_star[i], zeta, theta)
+        _times(phi_star[i], zeta_d, theta_d)
         _b_times(pd, u, pd, work, w1)
         _b_times(p, u_d, pd, work, w2)
         for a in range(3):

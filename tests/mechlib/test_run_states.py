@@ -23,8 +23,8 @@ import pytest
 import mechlib as ml
 from mechlib.elements.hydraulics import Controller, Cylinder, HeldDemand, ServoActuator
 from mechlib.elements.hydraulics.command import held_value
-from mechlib.solvers.genalpha import run as genalpha_run
 from tests.mechlib.hydraulic_rig import REQUESTS, crossings, rig
+from tests.mechlib.test_compiled_forces import _kernel_steps
 
 SPRING_POINTS = (("rod", (0, 0, 0)), ("ground", (0.5, 0, 0)))
 RAM = Cylinder(stroke=(-0.05, 0.1), leakage=0.0, stop_stiffness=0.0, stop_damping=0.0)
@@ -43,22 +43,9 @@ def _ram(command=None) -> ml.Mechanism:
     return m
 
 
-def _solve(mechanism, analysis, monkeypatch, **kwargs) -> tuple[ml.Solution, int]:
+def _solve(mechanism, analysis, monkeypatch, initial=()) -> tuple[ml.Solution, int]:
     """The solution and the accepted steps the compiled runs took."""
-    taken = {"steps": 0}
-    original = genalpha_run.StepRun.run
-
-    def run(self, s, *args):
-        before = self.stepper.stats.steps
-        out = original(self, s, *args)
-        taken["steps"] += self.stepper.stats.steps - before
-        return out
-
-    with monkeypatch.context() as patch:
-        patch.setattr(genalpha_run.StepRun, "run", run)
-        sol = ml.solve(mechanism, analysis, requests=REQUESTS, **kwargs)
-    assert sol.ok, sol.message
-    return sol, taken["steps"]
+    return _kernel_steps(mechanism, analysis, initial, REQUESTS, monkeypatch)
 
 
 def test_a_held_demand_is_read_once_and_a_function_of_time_is_not() -> None:
