@@ -19,13 +19,14 @@ import csv
 import io
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import astuple, dataclass, fields, replace
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
-from loadcases.foundation.clip import describe_character, hidden_character, visible_fields
+from loadcases.foundation.clip import describe_character, hidden_character
 from loadcases.foundation.diagnostics import Diagnostic, InputError
+from loadcases.report.csv_rows import rows_csv_text
 from loadcases.report.number_format import number_format
 from loadcases.report.roundoff import roundoff_columns
 from loadcases.results.reading import input_text
@@ -299,17 +300,9 @@ def in_report_units(rows: list[ComparedRow], units: ReportUnits) -> list[Compare
     return out
 
 
-def _text(value: object) -> object:
-    return "" if value is None else value
-
-
 def compare_csv_text(rows: list[ComparedRow]) -> str:
     """The comparison as CSV (SI values at full precision, missing values empty)."""
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(COMPARE_COLUMNS)
-    writer.writerows(visible_fields(_text(v) for v in astuple(row)) for row in rows)
-    return buffer.getvalue()
+    return rows_csv_text(COMPARE_COLUMNS, rows)
 
 
 @text_cells()  # names in runs' files are shown as written, never as formulas
@@ -327,7 +320,7 @@ def write_compare(rows: list[ComparedRow], path: Path, *, old: str, new: str) ->
     sheet.freeze_panes = "B2"
 
     def cell(value: object, number: str | None = None) -> WriteOnlyCell:
-        out = WriteOnlyCell(sheet, value=_text(value))
+        out = WriteOnlyCell(sheet, value="" if value is None else value)
         if isinstance(value, str):
             out.data_type = "s"  # a run name is text, never a formula
         elif number is not None and value is not None:

@@ -22,8 +22,6 @@ values just before a solver failure are often numerical, not loads.
 
 from __future__ import annotations
 
-import csv
-import io
 from collections.abc import Iterable
 from dataclasses import astuple, dataclass, fields
 from pathlib import Path
@@ -32,7 +30,7 @@ import numpy as np
 
 from loadcases.build.requests import ABSCISSA_COLUMN
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
-from loadcases.foundation.clip import visible_fields
+from loadcases.report.csv_rows import rows_csv_text
 from loadcases.results.saved import SavedRun, find_result_files, load_saved_run
 from loadcases.results.xlsx_text import text_cells
 
@@ -173,17 +171,9 @@ def load_saved_runs(files: Iterable[tuple[Path, Path]]) -> list[SavedRun]:
     return [load_saved_run(path, directory) for directory, path in files]
 
 
-def _text(value: object) -> object:
-    return "" if value is None else value
-
-
 def envelope_csv_text(rows: list[EnvelopeRow]) -> str:
     """The envelope as CSV text (floats at full precision, missing values empty)."""
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(ENVELOPE_COLUMNS)
-    writer.writerows(visible_fields(_text(value) for value in astuple(row)) for row in rows)
-    return buffer.getvalue()
+    return rows_csv_text(ENVELOPE_COLUMNS, rows)
 
 
 def write_envelope_csv(rows: list[EnvelopeRow], path: Path) -> Path:

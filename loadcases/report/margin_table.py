@@ -10,14 +10,12 @@ rows marked `~0` have no line.
 
 from __future__ import annotations
 
-import csv
-import io
 import math
-from dataclasses import astuple, dataclass, fields
+from dataclasses import dataclass, fields
 from pathlib import Path
 
 from loadcases.foundation.atomic import atomic_write_text
-from loadcases.foundation.clip import visible_fields
+from loadcases.report.csv_rows import rows_csv_text
 from loadcases.report.envelope import EnvelopeRow
 
 __all__ = [
@@ -86,12 +84,7 @@ def margin_lines(rows: list[EnvelopeRow], ultimate: float = 1.0) -> list[MarginL
 
 def margin_csv_text(lines: list[MarginLine]) -> str:
     """The margin table as CSV text (full precision, missing values empty)."""
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(MARGIN_COLUMNS)
-    rows = (("" if v is None else v for v in astuple(line)) for line in lines)
-    writer.writerows(visible_fields(row) for row in rows)
-    return buffer.getvalue()
+    return rows_csv_text(MARGIN_COLUMNS, lines)
 
 
 def write_margin_csv(lines: list[MarginLine], path: Path) -> Path:

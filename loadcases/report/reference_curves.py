@@ -17,10 +17,8 @@ curves themselves are drawn by `loadcases.report.reference_plots` and the sheet'
 
 from __future__ import annotations
 
-import csv
-import io
 from collections.abc import Mapping, Sequence
-from dataclasses import astuple, dataclass, fields, replace
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -28,9 +26,9 @@ import numpy as np
 
 from loadcases.build.requests import ABSCISSA_COLUMN
 from loadcases.foundation.atomic import atomic_write_text
-from loadcases.foundation.clip import visible_fields
 from loadcases.foundation.units import dimension_mismatch
 from loadcases.inputs.reference_tables import ReferenceTable
+from loadcases.report.csv_rows import rows_csv_text
 from loadcases.results.saved import SavedRun
 
 __all__ = [
@@ -195,18 +193,9 @@ def overlays(
     return out
 
 
-def _cell(value: Any) -> Any:
-    return "" if value is None else value
-
-
 def reference_csv_text(rows: Sequence[CurveDifference]) -> str:
     """`reference-curves.csv`: one line per curve, column and run (SI)."""
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(DIFFERENCE_COLUMNS)
-    for row in rows:
-        writer.writerow(visible_fields([_cell(v) for v in astuple(row)]))
-    return buffer.getvalue()
+    return rows_csv_text(DIFFERENCE_COLUMNS, rows)
 
 
 def write_reference_csv(rows: Sequence[CurveDifference], path: Path) -> Path:
