@@ -52,15 +52,20 @@ class BuiltRun:
     branches: ml.BranchCheck = field(default_factory=ml.BranchCheck)
 
     def solve(
-        self, analysis: Any = None, *, progress: Any = None, checks: bool = True
+        self,
+        analysis: Any = None,
+        *,
+        requests: list | None = None,
+        progress: Any = None,
+        checks: bool = True,
     ) -> ml.Solution:
         """`mechlib.solve` of this run (a failure is a failed Solution, never raised; an
-        ill-posed model raises ml.ModelError); `analysis` replaces the case's; `checks`
-        False: no position checks after the run (mechlib.solve)."""
+        ill-posed model raises ml.ModelError); `analysis` replaces the case's, `requests`
+        its requests; `checks` False: no position checks after the run (mechlib.solve)."""
         return ml.solve(
             self.mechanism,
             self.analysis if analysis is None else analysis,
-            requests=self.requests,
+            requests=self.requests if requests is None else requests,
             initial=self.initial,
             redundant=self.redundant,
             throw=False,

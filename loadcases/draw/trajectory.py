@@ -185,16 +185,7 @@ def solve_trajectory(
         built.mechanism.add_point(point, body=body, at=at)
         requests.append(ml.PointKinematics(point, point, "position"))
     requests += [ml.JointReaction(f"{_PREFIX}force_{j}", j) for j in forces]
-    solution = ml.solve(
-        built.mechanism,
-        built.analysis,
-        requests=requests,
-        initial=built.initial,
-        redundant=built.redundant,
-        throw=False,
-        events=built.events,
-        branches=built.branches,
-    )
+    solution = built.solve(requests=requests)
 
     def columns(request: str, components: Sequence[str]) -> np.ndarray:
         return np.column_stack(

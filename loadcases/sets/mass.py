@@ -61,15 +61,7 @@ def body_masses_at(cf: CaseFile, at: float) -> tuple[list[BodyMass], float, str]
             point = f"{_PREFIX}{k}{tag}"
             built.mechanism.add_point(point, body=body.name, at=tuple(body.cm + offset))
             requests.append(ml.PointKinematics(point, point, "position"))
-    solution = ml.solve(
-        built.mechanism,
-        built.analysis,
-        requests=requests,
-        initial=built.initial,
-        redundant=built.redundant,
-        throw=False,
-        events=built.events,
-    )
+    solution = built.solve(requests=requests)
     time = np.asarray(solution.time)
     if time.size == 0 or (not solution.ok and at > time[-1]):
         raise ValueError(f"{cf.case.case} did not reach t = {at:g} s: {solution.message}")
