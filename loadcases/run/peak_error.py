@@ -54,6 +54,7 @@ __all__ = ["Extremes", "extremes", "peak_error"]
 
 END = 1.0  # a candidate's kind: an end row (0: a crest)
 _FLIP = np.array([1.0, -1.0, 1.0])  # a minimum's candidates as a maximum's
+_NEWTON = 4  # Newton steps from the parabola's vertex to the quartic's (order 6: 1e-12)
 SPARSEST = 2.0 * (1.0 + 1e-6)  # the other run's row interval over the run's, at most,
 # for competing crests to be compared one by one (the companion's STEP_RATIO, unthinned)
 
@@ -99,7 +100,12 @@ def _highest(time: np.ndarray, values: np.ndarray) -> tuple[float, float, np.nda
     (one row earlier and one later) must curve down as well, by the same rule: a smooth
     crest curves them alike, where a jump does not (the IFToMM A05 flyball's spring
     tension leaps from 0 to 44 N in its first row, and the parabola through that corner read
-    a crest 5 N above it: an estimate 4 times its true error)."""
+    a crest 5 N above it: an estimate 4 times its true error). A crest with two rows on
+    either side is read by the quartic through those five (`_quartic_rise`; within the same
+    bounds): the parabola's vertex is order 4 in the row interval, and a companion thinned
+    to 15 rows a period (the closed-valve servo) read its crest up to 7e-4 low, where its
+    integrator's error is 1e-5 (the stroke's estimate 3.97 times its true error, 1.42 with
+    the quartic, whose miss there is at most 2.3e-5)."""
     row_max = float(np.max(values[np.isfinite(values)]))
     ends = np.array(
         [
@@ -123,11 +129,36 @@ def _highest(time: np.ndarray, values: np.ndarray) -> tuple[float, float, np.nda
         v0, v1, v2 = values[:-2], values[1:-1], values[2:]
         crest = (v1 > v0) & (v1 > v2) & (np.diff(time)[:-1] > 0.0) & (np.diff(time)[1:] > 0.0)
     local = crest & (c < 0.0) & np.isfinite(rise) & np.isfinite(bound)
+    inner = np.flatnonzero(local[1:-1]) + 1  # crests with two rows either side
+    if len(inner):
+        fine = _quartic_rise(time, values, inner + 1)
+        rise[inner] = np.where(np.isfinite(fine), fine, rise[inner])
     rise = np.where(local, np.minimum(rise, bound), 0.0)
     crests = np.column_stack((time[1:-1][crest], (v1 + rise)[crest], np.zeros(crest.sum())))
     top = float(np.max(v1[local] + rise[local], initial=row_max))
     top = float(np.max(ends.reshape(-1, 3)[:, 1], initial=top))
     return row_max, top, np.concatenate((crests, ends.reshape(-1, 3)))
+
+
+def _quartic_rise(time: np.ndarray, values: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """Per crest row (indices into `values`, two rows at least from either end): the rise
+    above it of the highest point of the quartic through it and the two rows either side,
+    between its neighbours; nan where that quartic has no maximum there."""
+    offsets = np.arange(-2, 3)
+    h = 0.5 * (time[rows + 1] - time[rows - 1])
+    s = (time[rows[:, None] + offsets] - time[rows, None]) / h[:, None]
+    v = values[rows[:, None] + offsets] - values[rows, None]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        coef = np.linalg.solve(s[:, :, None] ** np.arange(5), v[:, :, None])[:, :, 0]
+        at = -coef[:, 1] / (2.0 * coef[:, 2])  # the parabola's vertex, then Newton on p' = 0
+        for _ in range(_NEWTON):
+            slope = coef[:, 1] + at * (2 * coef[:, 2] + at * (3 * coef[:, 3] + 4 * coef[:, 4] * at))
+            bend = 2 * coef[:, 2] + at * (6 * coef[:, 3] + 12 * coef[:, 4] * at)
+            at = at - slope / bend
+        bend = 2 * coef[:, 2] + at * (6 * coef[:, 3] + 12 * coef[:, 4] * at)
+        rise = at * (coef[:, 1] + at * (coef[:, 2] + at * (coef[:, 3] + at * coef[:, 4])))
+    inside = np.isfinite(rise) & (bend < 0.0) & (np.abs(at) < 1.0) & (rise >= 0.0)
+    return np.where(inside, rise, np.nan)
 
 
 def _end_rise(time: np.ndarray, values: np.ndarray, end: int) -> float:

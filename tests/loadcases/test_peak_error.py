@@ -169,3 +169,26 @@ def test_a_noisy_long_column_is_compared_in_linear_memory() -> None:
     assert len(run.tops) > 60_000
     estimate, _ = peak_error(run, extremes(time[::2], values[::2]), scale=1.0 / 3.0)
     assert estimate < 1e-8
+
+
+def test_a_sparse_crest_is_read_by_the_quartic_through_five_rows() -> None:
+    """A cosine sampled 15 rows a period (the closed-valve servo's companion: its 84 Hz
+    ringing at 0.8 ms rows), its crest at every phase between two rows: the parabola
+    through three rows misses the crest by up to 7.1e-4 of the amplitude (measured here: 7e-4
+    of an error the integrator makes below 1e-5, the stroke's estimate 4 times its true
+    error), the quartic through five rows by at most 2.3e-5 (order 6 in the row interval;
+    closed form: the crest is 1)."""
+    h = 2.0 * math.pi / 15.0
+    worst_quartic = worst_parabola = 0.0
+    # crests up to 0.45 of a row interval from a row: nearer half way the bound from the
+    # curvature of the rows beside (the leap's guard, the same as before) caps the rise
+    for phase in np.linspace(-0.45, 0.45, 37):
+        time = (np.arange(-3, 4) + phase) * h
+        values = np.cos(time)
+        worst_quartic = max(worst_quartic, abs(extremes(time, values).max - 1.0))
+        slope = (values[4] - values[2]) / (2.0 * h)
+        c = (values[4] - 2.0 * values[3] + values[2]) / (2.0 * h * h)
+        parabola = values[3] - slope**2 / (4.0 * c)
+        worst_parabola = max(worst_parabola, abs(parabola - 1.0))
+    assert worst_parabola > 5e-4  # what the crest's three rows alone say
+    assert worst_quartic < 3e-5
