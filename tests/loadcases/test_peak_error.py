@@ -192,3 +192,19 @@ def test_a_sparse_crest_is_read_by_the_quartic_through_five_rows() -> None:
         worst_parabola = max(worst_parabola, abs(parabola - 1.0))
     assert worst_parabola > 5e-4  # what the crest's three rows alone say
     assert worst_quartic < 3e-5
+
+
+def test_the_run_s_peak_is_compared_with_the_same_crest_of_the_companion() -> None:
+    """The truth's crests 1.0 (t = 0.24 s) and 0.99 (0.76 s); the run's errors +1e-4 at
+    both, the companion's +4e-4 at the first (Richardson's range: 4 times) and +0.02 at the
+    second (outside it, as a stiff spring's unresolved ringing: IFToMM A05's hinge force),
+    so the companion's peak is its second crest. The run's peak is its first crest, whose
+    error (1e-4) is Richardson on that crest in both runs, (1.0004 - 1.0001) / 3; the two
+    peaks' difference would read 0.0099 / 3 = 3.3e-3, 33 times it. The second crest's
+    extrapolation (0.9901 - 0.0199 / 3) competes with nothing."""
+    run = extremes(*_two_crests(0.01, 1.0001, 0.9901))
+    companion = extremes(*_two_crests(0.02, 1.0004, 1.01))
+    estimate, sampling = peak_error(run, companion, scale=1.0 / 3.0)
+    assert sampling == 0.0
+    assert estimate == pytest.approx(1e-4, abs=1e-9)
+    assert abs(run.max - companion.max) / 3.0 == pytest.approx(3.3e-3, abs=1e-9)
