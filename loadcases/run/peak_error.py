@@ -30,10 +30,15 @@ companion's highest candidate within the two runs' row intervals of it; the peak
 is the larger of the top's estimate and the largest excess of an extrapolated candidate
 over the top (measured: Andrews 0.30 -> 2.0 on the four requests). Single crests are
 compared only where the companion's rows are at most twice as far apart as the run's: a
-vertex's own error is order 3 in the row interval, and a companion thinned to 8 times the
-run's interval (the closed-valve servo: 15 rows per period of its 84 Hz ringing) reads
-each crest up to 4e-3 low, which the extrapolation took for the integrator's error (the
-stroke's estimate 12 times its true error, against 2.3 with the top alone). Even at twice
+companion thinned to 8 times the run's interval (the closed-valve servo: 15 rows per
+period of its 84 Hz ringing) read each crest up to 4e-3 low by the parabola's vertex,
+which the extrapolation took for the integrator's error (the stroke's estimate 12 times
+its true error, against 2.3 with the top alone); the quartic reads a smooth crest there
+within 2.3e-5, but element states are linear between steps (mechlib.solvers.dense), so
+the servo's pressures and force in rows sparser than the companion's steps miss each
+crest by a different amount, up to (omega h)^2 / 8 = 7.7e-3 of it (the crest against
+the same crest there: 5.3 times the true error, the extremes 3.4; IFToMM A04's rates,
+thinned 4 times: 3.35 against 1.69). Even at twice
 the interval a vertex's difference holds its fit error beside the integrator's: it is
 what finds Andrews' trough (the run's vertex 0.040853, the companion's 0.041385, the
 truth 0.040635), and it overestimates an error of 2e-6 (Andrews' delta, docs/performance.md).
