@@ -154,10 +154,15 @@ def _highest(time: np.ndarray, values: np.ndarray) -> tuple[float, float, np.nda
 def _quartic_rise(time: np.ndarray, values: np.ndarray, rows: np.ndarray) -> np.ndarray:
     """Per crest row (indices into `values`, two rows at least from either end): the rise
     above it of the highest point of the quartic through it and the two rows either side,
-    between its neighbours; nan where that quartic has no maximum there."""
+    between its neighbours; nan where that quartic has no maximum there, or the five times
+    do not increase (an event's row repeats a time)."""
+    rise = np.full(len(rows), np.nan)
     offsets = np.arange(-2, 3)
-    h = 0.5 * (time[rows + 1] - time[rows - 1])
-    s = (time[rows[:, None] + offsets] - time[rows, None]) / h[:, None]
+    times = time[rows[:, None] + offsets]
+    fitted = np.all(np.diff(times, axis=1) > 0.0, axis=1)
+    rows, times = rows[fitted], times[fitted]
+    h = 0.5 * (times[:, 3] - times[:, 1])
+    s = (times - time[rows, None]) / h[:, None]
     v = values[rows[:, None] + offsets] - values[rows, None]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         coef = np.linalg.solve(s[:, :, None] ** np.arange(5), v[:, :, None])[:, :, 0]
@@ -167,9 +172,10 @@ def _quartic_rise(time: np.ndarray, values: np.ndarray, rows: np.ndarray) -> np.
             bend = 2 * coef[:, 2] + at * (6 * coef[:, 3] + 12 * coef[:, 4] * at)
             at = at - slope / bend
         bend = 2 * coef[:, 2] + at * (6 * coef[:, 3] + 12 * coef[:, 4] * at)
-        rise = at * (coef[:, 1] + at * (coef[:, 2] + at * (coef[:, 3] + at * coef[:, 4])))
-    inside = np.isfinite(rise) & (bend < 0.0) & (np.abs(at) < 1.0) & (rise >= 0.0)
-    return np.where(inside, rise, np.nan)
+        up = at * (coef[:, 1] + at * (coef[:, 2] + at * (coef[:, 3] + at * coef[:, 4])))
+    inside = np.isfinite(up) & (bend < 0.0) & (s[:, 1] < at) & (at < s[:, 3]) & (up >= 0.0)
+    rise[fitted] = np.where(inside, up, np.nan)
+    return rise
 
 
 def _end_rise(time: np.ndarray, values: np.ndarray, end: int) -> float:

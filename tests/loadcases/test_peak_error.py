@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from loadcases.run.peak_error import extremes, peak_error
+from loadcases.run.peak_error import _quartic_rise, extremes, peak_error
 
 DT = 0.01  # s, output interval
 OMEGA = 2.0 * math.pi * 1.3  # rad/s
@@ -208,3 +208,16 @@ def test_the_run_s_peak_is_compared_with_the_same_crest_of_the_companion() -> No
     assert sampling == 0.0
     assert estimate == pytest.approx(1e-4, abs=1e-9)
     assert abs(run.max - companion.max) / 3.0 == pytest.approx(3.3e-3, abs=1e-9)
+
+
+def test_a_repeated_time_among_a_crest_s_five_rows_is_no_quartic() -> None:
+    """An event's row repeats a time two rows before a crest: the five rows have no
+    interpolating quartic (its matrix is singular); the rise is nan, for the parabola to be
+    used, not an error (extremes itself leaves such a crest to the parabola's rules: the
+    parabola beside it through the repeated time has no curvature)."""
+    time = np.array([0.0, 0.1, 0.1, 0.2, 0.3, 0.4, 0.5])
+    values = np.sin(np.pi * time / 0.5 + 0.3)
+    rise = _quartic_rise(time, values, np.array([3, 4]))
+    assert np.isnan(rise[0])
+    assert np.isfinite(rise[1])  # rows 2-6: distinct times
+    assert extremes(time, values).row_max == float(values.max())
