@@ -302,8 +302,10 @@ def peak_error(
     top, bottom = companion.max, companion.min
     if crests and _single_crests(run, companion):
         window = run.interval + companion.interval
-        top = _partner(run.tops, companion.tops, window, top)
-        bottom = -_partner(run.bottoms * _FLIP, companion.bottoms * _FLIP, window, -bottom)
+        top = _partner(run.tops, run.max, companion.tops, window, top)
+        bottom = -_partner(
+            run.bottoms * _FLIP, -run.min, companion.bottoms * _FLIP, window, -bottom
+        )
     return (
         max(
             max(size * abs(run.max - top), over) + high,
@@ -313,16 +315,19 @@ def peak_error(
     )
 
 
-def _partner(run: np.ndarray, companion: np.ndarray, window: float, extreme: float) -> float:
-    """The companion's value of the crest (or end row) that is the run's peak: its highest
+def _partner(
+    run: np.ndarray, peak: float, companion: np.ndarray, window: float, extreme: float
+) -> float:
+    """The companion's value of the crest (or end row) that is the run's `peak`: its highest
     candidate of the same kind within `window` s of the run's highest (candidates as (time,
     value, kind) rows, higher more extreme); the companion's `extreme` where it has none
-    there. Richardson compares one quantity in two runs: the run's peak and the companion's
-    may be different crests, each with an error of its own (IFToMM A05's hinge force: the
-    run's lowest trough at 3.56 s, 0.45 N from the truth, the companion's at 0.48 s, where
-    a stiff spring's unresolved ringing is 12 times the run's, not 4; the top against the
-    top read 3.7 times the true error, the crest against itself 1.4)."""
-    if not len(run):
+    there, or the run's peak is no candidate (a plateau's row). Richardson compares one
+    quantity in two runs: the run's peak and the companion's may be different crests, each
+    with an error of its own (IFToMM A05's hinge force |F|: the run's lowest trough at
+    3.56 s, 0.45 N from the truth, the companion's at 0.48 s, where a stiff spring's
+    unresolved ringing is 12 times the run's, not 4; the top against the top read 3.7
+    times the true error, the trough against itself 1.4)."""
+    if not len(run) or run[:, 1].max() < peak:
         return extreme
     best = run[np.argmax(run[:, 1])]
     same = companion[companion[:, 2] == best[2]]

@@ -221,3 +221,18 @@ def test_a_repeated_time_among_a_crest_s_five_rows_is_no_quartic() -> None:
     assert np.isnan(rise[0])
     assert np.isfinite(rise[1])  # rows 2-6: distinct times
     assert extremes(time, values).row_max == float(values.max())
+
+
+def test_a_peak_on_a_plateau_is_compared_with_the_companion_s_peak() -> None:
+    """The run's peak on a plateau (two equal rows: no crest, its row its value; 1.0 at
+    0.5-0.51 s) above a lower crest (0.9 at 0.2 s): the plateau is no candidate, so the
+    companion's value there is its own peak (0.997: Richardson 1e-3), not its value at the
+    lower crest (0.9 + 3e-3, which would read 0.0323)."""
+    time = np.round(np.arange(0.0, 1.0 + 0.005, 0.01), 12)
+    crest = 0.9 - 50.0 * (time - 0.2) ** 2
+    run_v = np.maximum(crest, np.where((time >= 0.5) & (time <= 0.51), 1.0, 0.5))
+    comp_t = time[::2]
+    comp_v = np.maximum(crest[::2] + 3e-3, np.where(comp_t == 0.5, 0.997, 0.5))
+    estimate, sampling = peak_error(extremes(time, run_v), extremes(comp_t, comp_v), 1.0 / 3.0)
+    assert sampling == 0.0
+    assert estimate == pytest.approx(1e-3, abs=1e-9)
