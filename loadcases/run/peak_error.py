@@ -67,7 +67,8 @@ END = 1.0  # a candidate's kind: an end row (0: a crest)
 _FLIP = np.array([1.0, -1.0, 1.0])  # a minimum's candidates as a maximum's
 _NEWTON = 4  # Newton steps from the parabola's vertex to the quartic's (order 6: 1e-12)
 SPARSEST = 2.0 * (1.0 + 1e-6)  # the other run's row interval over the run's, at most,
-# for competing crests to be compared one by one (the companion's STEP_RATIO, unthinned)
+# for single crests to be compared (competing crests; the run's peak against the same
+# crest): the companion's STEP_RATIO, unthinned
 
 
 @dataclass(frozen=True)
@@ -290,12 +291,13 @@ def peak_error(
     run: Extremes, companion: Extremes, scale: float, *, crests: bool = True
 ) -> tuple[float, float]:
     """Estimated error of the run's envelope (its rows' max and min, the worse), in the
-    column's unit: Richardson on the continuous peaks (their difference x |`scale`|,
-    1 / (r^p - 1) for another run of steps r times the run's: negative for a finer
-    one), or the largest excess of a competing candidate's extrapolated value
-    over the run's peak where larger (`crests` False: not compared crest by crest, the
-    two runs' phases apart), plus the run's sampling error; and that sampling error alone
-    (shorter steps do not reduce it, a shorter output interval does)."""
+    column's unit: Richardson on the continuous peaks (the run's peak against the other
+    run's value at the same crest where single crests are compared, its peak otherwise:
+    their difference x |`scale`|, 1 / (r^p - 1) for another run of steps r times the
+    run's: negative for a finer one), or the largest excess of a competing candidate's
+    extrapolated value over the run's peak where larger (`crests` False: not compared
+    crest by crest, the two runs' phases apart), plus the run's sampling error; and that
+    sampling error alone (shorter steps do not reduce it, a shorter output interval does)."""
     high, low = run.max - run.row_max, run.row_min - run.min
     size = abs(scale)
     over, under = _competing(run, companion, scale) if crests else (0.0, 0.0)
