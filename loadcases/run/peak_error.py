@@ -30,14 +30,25 @@ companion's highest candidate within the two runs' row intervals of it; the peak
 is the larger of the top's estimate and the largest excess of an extrapolated candidate
 over the top (measured: Andrews 0.30 -> 2.0 on the four requests). Single crests are
 compared only where the companion's rows are at most twice as far apart as the run's: a
-vertex's own error is order 3 in the row interval, and a companion thinned to 8 times the
-run's interval (the closed-valve servo: 15 rows per period of its 84 Hz ringing) reads
-each crest up to 4e-3 low, which the extrapolation took for the integrator's error (the
-stroke's estimate 12 times its true error, against 2.3 with the top alone). Even at twice
+companion thinned to 8 times the run's interval (the closed-valve servo: 15 rows per
+period of its 84 Hz ringing) read each crest up to 4e-3 low by the parabola's vertex,
+which the extrapolation took for the integrator's error (the stroke's estimate 12 times
+its true error, against 2.3 with the top alone); the quartic reads a smooth crest there
+within 2.3e-5, but element states are linear between steps (mechlib.solvers.dense), so
+the servo's pressures and force in rows sparser than the companion's steps miss each
+crest by a different amount, up to (omega h)^2 / 8 = 7.7e-3 of it (the crest against
+the same crest there: 5.3 times the true error, the extremes 3.4; IFToMM A04's rates,
+thinned 4 times: 3.35 against 1.69). Even at twice
 the interval a vertex's difference holds its fit error beside the integrator's: it is
 what finds Andrews' trough (the run's vertex 0.040853, the companion's 0.041385, the
 truth 0.040635), and it overestimates an error of 2e-6 (Andrews' delta, docs/performance.md).
-Crests pair only where the two runs keep their phase: once the history's difference
+The run's peak is compared with the companion's candidate at the same crest (or end row),
+not with the companion's own peak, which may be another crest with an error of its own
+(IFToMM A05's hinge force: the run's lowest trough at 3.56 s, the companion's at 0.48 s,
+where a stiff spring's unresolved ringing is 12 times the run's; 3.7 times the true error
+against 2.85 matched), under the same rule: the companion's rows at most twice as far
+apart as the run's, its extreme otherwise. Crests pair only where the two runs keep their
+phase: once the history's difference
 reaches 0.9 of the range (loadcases.run.global_error), the extremes alone are compared
 (IFToMM A01 over 2000 s paired crests of different swings: 0.28 of the rate's peak for a
 true 3.4e-4). Crests are matched by bisection, an end row with an end row only.
@@ -54,8 +65,10 @@ __all__ = ["Extremes", "extremes", "peak_error"]
 
 END = 1.0  # a candidate's kind: an end row (0: a crest)
 _FLIP = np.array([1.0, -1.0, 1.0])  # a minimum's candidates as a maximum's
+_NEWTON = 4  # Newton steps from the parabola's vertex to the quartic's (order 6: 1e-12)
 SPARSEST = 2.0 * (1.0 + 1e-6)  # the other run's row interval over the run's, at most,
-# for competing crests to be compared one by one (the companion's STEP_RATIO, unthinned)
+# for single crests to be compared (competing crests; the run's peak against the same
+# crest): the companion's STEP_RATIO, unthinned
 
 
 @dataclass(frozen=True)
@@ -99,7 +112,12 @@ def _highest(time: np.ndarray, values: np.ndarray) -> tuple[float, float, np.nda
     (one row earlier and one later) must curve down as well, by the same rule: a smooth
     crest curves them alike, where a jump does not (the IFToMM A05 flyball's spring
     tension leaps from 0 to 44 N in its first row, and the parabola through that corner read
-    a crest 5 N above it: an estimate 4 times its true error)."""
+    a crest 5 N above it: an estimate 4 times its true error). A crest with two rows on
+    either side is read by the quartic through those five (`_quartic_rise`; within the same
+    bounds): the parabola's vertex is order 4 in the row interval, and a companion thinned
+    to 15 rows a period (the closed-valve servo) read its crest up to 7e-4 low, where its
+    integrator's error is 1e-5 (the stroke's estimate 3.97 times its true error, 1.42 with
+    the quartic, whose miss there is at most 2.3e-5)."""
     row_max = float(np.max(values[np.isfinite(values)]))
     ends = np.array(
         [
@@ -123,11 +141,42 @@ def _highest(time: np.ndarray, values: np.ndarray) -> tuple[float, float, np.nda
         v0, v1, v2 = values[:-2], values[1:-1], values[2:]
         crest = (v1 > v0) & (v1 > v2) & (np.diff(time)[:-1] > 0.0) & (np.diff(time)[1:] > 0.0)
     local = crest & (c < 0.0) & np.isfinite(rise) & np.isfinite(bound)
+    inner = np.flatnonzero(local[1:-1]) + 1  # crests with two rows either side
+    if len(inner):
+        fine = _quartic_rise(time, values, inner + 1)
+        rise[inner] = np.where(np.isfinite(fine), fine, rise[inner])
     rise = np.where(local, np.minimum(rise, bound), 0.0)
     crests = np.column_stack((time[1:-1][crest], (v1 + rise)[crest], np.zeros(crest.sum())))
     top = float(np.max(v1[local] + rise[local], initial=row_max))
     top = float(np.max(ends.reshape(-1, 3)[:, 1], initial=top))
     return row_max, top, np.concatenate((crests, ends.reshape(-1, 3)))
+
+
+def _quartic_rise(time: np.ndarray, values: np.ndarray, rows: np.ndarray) -> np.ndarray:
+    """Per crest row (indices into `values`, two rows at least from either end): the rise
+    above it of the highest point of the quartic through it and the two rows either side,
+    between its neighbours; nan where that quartic has no maximum there, or the five times
+    do not increase (an event's row repeats a time)."""
+    rise = np.full(len(rows), np.nan)
+    offsets = np.arange(-2, 3)
+    times = time[rows[:, None] + offsets]
+    fitted = np.all(np.diff(times, axis=1) > 0.0, axis=1)
+    rows, times = rows[fitted], times[fitted]
+    h = 0.5 * (times[:, 3] - times[:, 1])
+    s = (times - time[rows, None]) / h[:, None]
+    v = values[rows[:, None] + offsets] - values[rows, None]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        coef = np.linalg.solve(s[:, :, None] ** np.arange(5), v[:, :, None])[:, :, 0]
+        at = -coef[:, 1] / (2.0 * coef[:, 2])  # the parabola's vertex, then Newton on p' = 0
+        for _ in range(_NEWTON):
+            slope = coef[:, 1] + at * (2 * coef[:, 2] + at * (3 * coef[:, 3] + 4 * coef[:, 4] * at))
+            bend = 2 * coef[:, 2] + at * (6 * coef[:, 3] + 12 * coef[:, 4] * at)
+            at = at - slope / bend
+        bend = 2 * coef[:, 2] + at * (6 * coef[:, 3] + 12 * coef[:, 4] * at)
+        up = at * (coef[:, 1] + at * (coef[:, 2] + at * (coef[:, 3] + at * coef[:, 4])))
+    inside = np.isfinite(up) & (bend < 0.0) & (s[:, 1] < at) & (at < s[:, 3]) & (up >= 0.0)
+    rise[fitted] = np.where(inside, up, np.nan)
+    return rise
 
 
 def _end_rise(time: np.ndarray, values: np.ndarray, end: int) -> float:
@@ -218,12 +267,19 @@ def _highest_near(times: np.ndarray, others: np.ndarray, window: float) -> np.nd
     return best
 
 
+def _single_crests(run: Extremes, companion: Extremes) -> bool:
+    """Whether the companion's crests are read well enough to be compared one by one: its
+    rows at most SPARSEST times as far apart as the run's (a thinned companion's single
+    crests carry a fit error up to k^6 times the run's at k times the interval, the
+    closed-valve servo's element states a miss between its steps, which are linear there:
+    only its extreme crest is compared)."""
+    return companion.interval <= SPARSEST * run.interval
+
+
 def _competing(run: Extremes, companion: Extremes, scale: float) -> tuple[float, float]:
     """The competing candidates' excess over the run's max and under its min; none where
-    the other run's rows are more than STEP_RATIO times as far apart as the run's (a
-    thinned companion: its single crests carry a vertex error up to k^3 times the run's
-    at k times the interval, and only its extreme crest is compared)."""
-    if companion.interval > SPARSEST * run.interval:
+    the companion's single crests are not compared (`_single_crests`)."""
+    if not _single_crests(run, companion):
         return 0.0, 0.0
     window = run.interval + companion.interval
     over = _excess(run.tops, run.max, companion.tops, window, scale)
@@ -235,19 +291,47 @@ def peak_error(
     run: Extremes, companion: Extremes, scale: float, *, crests: bool = True
 ) -> tuple[float, float]:
     """Estimated error of the run's envelope (its rows' max and min, the worse), in the
-    column's unit: Richardson on the continuous peaks (their difference x |`scale`|,
-    1 / (r^p - 1) for another run of steps r times the run's: negative for a finer
-    one), or the largest excess of a competing candidate's extrapolated value
-    over the run's peak where larger (`crests` False: not compared crest by crest, the
-    two runs' phases apart), plus the run's sampling error; and that sampling error alone
-    (shorter steps do not reduce it, a shorter output interval does)."""
+    column's unit: Richardson on the continuous peaks (the run's peak against the other
+    run's value at the same crest where single crests are compared, its peak otherwise:
+    their difference x |`scale`|, 1 / (r^p - 1) for another run of steps r times the
+    run's: negative for a finer one), or the largest excess of a competing candidate's
+    extrapolated value over the run's peak where larger (`crests` False: not compared
+    crest by crest, the two runs' phases apart), plus the run's sampling error; and that
+    sampling error alone (shorter steps do not reduce it, a shorter output interval does)."""
     high, low = run.max - run.row_max, run.row_min - run.min
     size = abs(scale)
     over, under = _competing(run, companion, scale) if crests else (0.0, 0.0)
+    top, bottom = companion.max, companion.min
+    if crests and _single_crests(run, companion):
+        window = run.interval + companion.interval
+        top = _partner(run.tops, run.max, companion.tops, window, top)
+        bottom = -_partner(
+            run.bottoms * _FLIP, -run.min, companion.bottoms * _FLIP, window, -bottom
+        )
     return (
         max(
-            max(size * abs(run.max - companion.max), over) + high,
-            max(size * abs(run.min - companion.min), under) + low,
+            max(size * abs(run.max - top), over) + high,
+            max(size * abs(run.min - bottom), under) + low,
         ),
         max(high, low),
     )
+
+
+def _partner(
+    run: np.ndarray, peak: float, companion: np.ndarray, window: float, extreme: float
+) -> float:
+    """The companion's value of the crest (or end row) that is the run's `peak`: its highest
+    candidate of the same kind within `window` s of the run's highest (candidates as (time,
+    value, kind) rows, higher more extreme); the companion's `extreme` where it has none
+    there, or the run's peak is no candidate (a plateau's row). Richardson compares one
+    quantity in two runs: the run's peak and the companion's may be different crests, each
+    with an error of its own (IFToMM A05's hinge force |F|: the run's lowest trough at
+    3.56 s, 0.45 N from the truth, the companion's at 0.48 s, where a stiff spring's
+    unresolved ringing is 12 times the run's, not 4; the top against the top read 3.7
+    times the true error, the trough against itself 1.4)."""
+    if not len(run) or run[:, 1].max() < peak:
+        return extreme
+    best = run[np.argmax(run[:, 1])]
+    same = companion[companion[:, 2] == best[2]]
+    near = _highest_near(np.array([best[0]]), same[same[:, 0].argsort()], window)[0]
+    return float(near) if np.isfinite(near) else extreme
