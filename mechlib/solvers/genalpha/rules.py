@@ -96,27 +96,17 @@ def step_size(h_try: float, err: float, h: float, max_step: float, converged: bo
 
 
 @njit(**KERNEL)
-def pseudo_acceleration(
-    qdd: np.ndarray, raw_qdd: np.ndarray, a: np.ndarray, ratio: float
-) -> tuple[np.ndarray, np.ndarray]:
-    """The integrator's own acceleration and pseudo-acceleration (raw_qdd, a; the
-    coordinates' units per s^2) carried to a step `ratio` times as long as the one they
-    were made for, each as qdd + min(ratio, 1) (x - qdd) from the true (consistent)
-    acceleration qdd of the step's start. Generalized-alpha's a_n is the acceleration at
+def pseudo_acceleration(qdd: np.ndarray, a: np.ndarray, ratio: float) -> np.ndarray:
+    """The pseudo-acceleration a (the coordinates' units per s^2) carried to a step `ratio`
+    times as long as the one it was made for, from the acceleration qdd of the step's start:
+    qdd + min(ratio, 1) (a - qdd). Generalized-alpha's a_n is the acceleration at
     t_n + (alpha_m - alpha_f) h to O(h^2) (Arnold & Bruls 2007; measured in
-    tests/mechlib/test_genalpha_order.py): its offset from qdd_n scales with the step. So
-    does the index-3 transient the method leaves in its own acceleration (O(h), Arnold &
-    Bruls; the constraint's share of a step's correction, x 1/(beta h^2)): carried whole to
-    a shorter step it was amplified at each shrink and fed back into a through the
-    recursion (a bar hinged beside a bouncing block: +-3.3 rad/s^2 on its 14.7 after the
-    block's contact steps, then a velocity jump of 4e-3 rad/s at the next long step,
-    tests/verification/test_joint_limit_cases.py). A longer step keeps both: the offset
-    also holds the method's decaying transients (of stiff contacts), which scaling up
-    would amplify (the rod-end rattle: 17 834 rejected steps in 0.2 s, against 179).
-    Restarting both from qdd at each change, as done before, left an O(h) error in a and
-    an O(h^2) error in the velocity at every change."""
-    r = min(ratio, 1.0)
-    return qdd + r * (raw_qdd - qdd), qdd + r * (a - qdd)
+    tests/mechlib/test_genalpha_order.py): its offset from qdd_n scales with the step. A
+    longer step keeps a: the offset also holds the method's decaying transients (of stiff
+    contacts), which scaling up would amplify (the rod-end rattle: 17 834 rejected steps in
+    0.2 s, against 179). Restarting a from qdd at each change, as done before, left an O(h)
+    error in a and an O(h^2) error in the velocity at every change."""
+    return qdd + min(ratio, 1.0) * (a - qdd)
 
 
 @njit(**KERNEL)

@@ -18,12 +18,12 @@ step's predicted state, as the Python step does, with the kernel the Python path
 (mechlib.linalg.flat_lu.refactor: dense or band LU). For SuperLU's factors, or a matrix the kernel
 finds singular, it returns REFACTOR: `StepRun` factors it in Python (or fails the step as
 the Python step does) and calls it again for that step. At a new step size it carries the
-pseudo-acceleration and its own acceleration to it as the Python step does
-(rules.pseudo_acceleration; ctrl[RESTARTED] tells `StepRun` that the state it hands back has
-them). It stops, leaving the state where it was (but for those accelerations), before any
-step that needs what only the Python stepper does: a step below the step floor, Newton
-stalling, the step limit or a collapsing step size, a dense row the compiled projection
-gives back; and before recording a non-finite row.
+pseudo-acceleration to it as the Python step does (rules.pseudo_acceleration;
+ctrl[RESTARTED] tells `StepRun` that the state it hands back has it). It stops, leaving the
+state where it was (but for that pseudo-acceleration), before any step that needs what only
+the Python stepper does: a step below the step floor, Newton stalling, the step limit or a
+collapsing step size, a dense row the compiled projection gives back; and before recording
+a non-finite row.
 `march` then takes one step in Python and calls it again: the same steps, iterations and
 results as the Python loop to round-off (tests/mechlib/test_genalpha_run.py).
 """
@@ -147,7 +147,7 @@ def run_steps(
         if limit >= 0:
             return limit, i, written
         h_try = _trial_step(target - t, ctrl[H], dense)
-        _carried(h_try, ctrl, own, cons)  # GeneralizedAlphaStepper._attempt
+        _carried(h_try, ctrl, own)  # GeneralizedAlphaStepper._attempt
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
             return STOPPED, i, written  # the step-collapse watch
         fresh = ctrl[FRESH] != 0.0
@@ -489,14 +489,12 @@ def _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref):
 
 
 @njit(**KERNEL)
-def _carried(h, ctrl, own, cons):
-    """At a new step size h (s) the integrator's acceleration own[2] and pseudo-acceleration
-    own[3] carried to it from the consistent acceleration cons[1]
-    (rules.pseudo_acceleration), noted in ctrl."""
+def _carried(h, ctrl, own):
+    """At a new step size h (s) the pseudo-acceleration own[3] carried to it from the
+    integrator's acceleration own[2] (rules.pseudo_acceleration), noted in ctrl."""
     if not _new_size(ctrl, h):
         return
-    raw_qdd, a = rules.pseudo_acceleration(cons[1], own[2], own[3], h / ctrl[H_USED])
-    own[2], own[3] = raw_qdd, a
+    own[3] = rules.pseudo_acceleration(own[2], own[3], h / ctrl[H_USED])
     ctrl[H_USED], ctrl[RESTARTED] = h, 1.0
 
 
