@@ -74,7 +74,9 @@ def test_flexible_pendulum_conserves_energy():
     2.5e-4 since the step grows whenever the error law allows, issue 35 item 3; 1.4e-5
     before, with the hysteresis REGROW 1.5, and 4.8e-6 at tolerance 1e-7: the
     integrator's error, not the model's; at rho_inf 0.9 1.9e-5 on the Python path, 2.3e-5
-    before), and the strip bends. The
+    before; the same undamped index-3 transient of the integrator's own acceleration as
+    tests/verification/test_joint_limit_cases.py's bar: carried like `a` at a change,
+    2.7e-5), and the strip bends. The
     energy request on the same rows finds the same stored energy (modal strain energy
     included) and its balance closes as well."""
     comp = craig_bampton(_beam(), modes=3, damping=0.0)
