@@ -43,6 +43,7 @@ from mechlib.solvers.dense_compiled import (
     _inverse_mass,
     _well_conditioned,
     interpolated,
+    inverse_inertia,
     project_row,
 )
 from mechlib.system.system import System
@@ -197,7 +198,7 @@ def test_inverse_mass_in_closed_form() -> None:
         x, _ = ca.state_arrays(q, q, nb)
         blocks = np.empty((nb, 7, 7))
         kr.mass_blocks(x, masses, inertia, pscale, blocks)
-        inverse = _inverse_mass(x, body, nb)
+        inverse = _inverse_mass(x, body, inverse_inertia(body, nb))
         for b in range(nb):
             assert np.abs(inverse[b] @ blocks[b] - np.eye(7)).max() < 1e-12
     a = rng.standard_normal((20, 21))
