@@ -12,12 +12,16 @@ one numba call instead of about 0.2 ms of Python per row:
   `REUSE_BELOW` (mechlib.solvers.assembly.solve_positions, the same iteration and the
   same iterates); the row takes the Jacobian of the iterate before Newton's last step,
   which is shorter than the position tolerance (1e-10): evaluated with that iterate's
-  residual, not once more at q;
+  residual, not once more at q; converged once a step is below that tolerance, as the
+  Python rows take it (no residual evaluated at q: `_positions`);
 - qd onto phi_q qd = nu, mass-weighted, then qdd and lam from
   [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma] (mechlib.solvers.consistent.consistent_state;
   Q with the packed elements' loads at the row's element states),
   here through the Schur complement S = phi_q M^-1 phi_q^T: M is block diagonal with
   positive definite 7 x 7 blocks (m I, and 4 G^T J G + s p p^T for the Euler parameters).
+
+A step's rows take the constraints unpacked (constraint_arrays.unpack) and each body's
+J'^-1 (`inverse_inertia`) once for all of them (`project_unpacked_row`).
 
 Same equations, so the same row to the position tolerance: the Jacobian (and the
 velocities, accelerations and reactions through it) is taken up to 1e-10 in q away from the
