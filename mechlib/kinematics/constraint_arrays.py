@@ -380,10 +380,17 @@ def unpack(ints, floats):
 def phi_and_jacobian(x, ints, floats, functions, refs, phi, jac):
     """phi (m,) and phi_q (m, 7 nb) of the active rows at x (nb+1, 7), into phi and jac;
     (ints, floats) from `ConstraintArrays.packed`, `functions` and `refs` at the time."""
+    unpacked_phi_and_jacobian(x, unpack(ints, floats), functions, refs, phi, jac)
+
+
+@njit(**KERNEL)
+def unpacked_phi_and_jacobian(x, packed, functions, refs, phi, jac):
+    """`phi_and_jacobian` of the pack unpacked once (`unpack`: about 1 us a call, as much
+    as a third of the Jacobian of a few bodies)."""
     (
         nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
         ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, _,
-    ) = unpack(ints, floats)  # fmt: skip
+    ) = packed  # fmt: skip
     nall = nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0] + linear.shape[0]
     full = np.zeros(nall)
     rows = np.zeros((nall, x.shape[0] * 7))
@@ -403,10 +410,16 @@ def phi_and_jacobian(x, ints, floats, functions, refs, phi, jac):
 @njit(**KERNEL)
 def phi_values(x, ints, floats, functions, refs, phi):
     """phi (m,) of the active rows at x (nb+1, 7), without the Jacobian rows."""
+    unpacked_phi_values(x, unpack(ints, floats), functions, refs, phi)
+
+
+@njit(**KERNEL)
+def unpacked_phi_values(x, packed, functions, refs, phi):
+    """`phi_values` of the pack unpacked once (`unpack`)."""
     (
         nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
         ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, _,
-    ) = unpack(ints, floats)  # fmt: skip
+    ) = packed  # fmt: skip
     ns, n1, n2 = 3 * sbi.shape[0], d1i.shape[0], d2i.shape[0]
     first = nb + ns + n1 + n2
     full = np.empty(first + linear.shape[0])
@@ -555,10 +568,16 @@ def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
 def nu_values(ints, floats, functions, nu):
     """nu (m,) of the active rows: `nu_and_gamma`'s nu without its gamma (it reads no
     state: the time functions' rates of the coordinate rows, zero elsewhere)."""
+    unpacked_nu_values(unpack(ints, floats), functions, nu)
+
+
+@njit(**KERNEL)
+def unpacked_nu_values(packed, functions, nu):
+    """`nu_values` of the pack unpacked once (`unpack`)."""
     (
         nb, sbi, _, _, _, d1i, _, _, _, d2i, _, _, _, _,
         _, _, _, _, _, _, _, _, _, _, linear, active, _,
-    ) = unpack(ints, floats)  # fmt: skip
+    ) = packed  # fmt: skip
     first = nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0]
     _active_nu(first + linear.shape[0], first, linear, active, functions, nu)
 

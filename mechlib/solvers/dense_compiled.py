@@ -12,12 +12,16 @@ one numba call instead of about 0.2 ms of Python per row:
   `REUSE_BELOW` (mechlib.solvers.assembly.solve_positions, the same iteration and the
   same iterates); the row takes the Jacobian of the iterate before Newton's last step,
   which is shorter than the position tolerance (1e-10): evaluated with that iterate's
-  residual, not once more at q;
+  residual, not once more at q; converged once a step is below that tolerance, as the
+  Python rows take it (no residual evaluated at q: `_positions`);
 - qd onto phi_q qd = nu, mass-weighted, then qdd and lam from
   [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma] (mechlib.solvers.consistent.consistent_state;
   Q with the packed elements' loads at the row's element states),
   here through the Schur complement S = phi_q M^-1 phi_q^T: M is block diagonal with
   positive definite 7 x 7 blocks (m I, and 4 G^T J G + s p p^T for the Euler parameters).
+
+A step's rows take the constraints unpacked (constraint_arrays.unpack) and each body's
+J'^-1 (`inverse_inertia`) once for all of them (`project_unpacked_row`).
 
 Same equations, so the same row to the position tolerance: the Jacobian (and the
 velocities, accelerations and reactions through it) is taken up to 1e-10 in q away from the
@@ -44,9 +48,11 @@ __all__ = [
     "SCHUR_ROWS",
     "WELL_CONDITIONED",
     "interpolated",
+    "inverse_inertia",
     "project_loaded_row",
     "project_loaded_rows",
     "project_row",
+    "project_unpacked_row",
     "small_enough",
 ]
 
@@ -174,7 +180,7 @@ def _lower_product(a, b):
 
 
 @njit(**KERNEL)
-def _positions(q, phi, jac, ints, floats, functions, refs, tol, reuse, most):
+def _positions(q, phi, jac, packed, functions, refs, tol, reuse, most):
     """q (copied, then moved) onto phi = 0 by minimum-norm Newton (mechlib.solvers.assembly._newton
     with unit weights) from phi and its Jacobian jac at q (evaluated by the caller: the
     first of the fresh Jacobians). Returns (status, q, fresh Jacobians: those the iteration
@@ -182,10 +188,15 @@ def _positions(q, phi, jac, ints, floats, functions, refs, tol, reuse, most):
     than `tol`, of q). Each iterate a further step follows gets its Jacobian with its
     residual (phi_and_jacobian's phi is phi_values'): the iteration's next where the step
     was not below `reuse`, else kept for the row (the one a row evaluates besides those it
-    factors, as consistent_state's)."""
+    factors, as consistent_state's). Converged once a step is below `tol`, as the Python
+    path's rows take it (dense._projected reads no residual): the step solves
+    phi_q step = -phi with phi_q J J^T's factor well conditioned (`_cholesky`), so the
+    residual before it was at most |phi_q| |step| and the one after it is of the order of
+    |step|^2 (at most 3.3e-16 on 2000 rows of the campaign's slider-crank); evaluating it (1.4 us
+    of a row's 17) bought nothing."""
     nq = q.shape[0]
     nb = nq // 7
-    m = ints[7]
+    m = phi.shape[0]
     q = q.copy()
     x, rates = ca.state_arrays(q, q, nb)  # rates: unread
     low = np.empty((m, m))
@@ -207,52 +218,60 @@ def _positions(q, phi, jac, ints, floats, functions, refs, tol, reuse, most):
             q[j] += step[j]
             size = max(size, abs(step[j]))
         ca.state_into(q, q, x, rates)
-        if size < tol:
-            ca.phi_values(x, ints, floats, functions, refs, phi)
-            worst = np.abs(phi).max() if m else 0.0
-            return (DONE if worst <= 1e3 * tol else FALLBACK), q, fresh, at_iterate
-        ca.phi_and_jacobian(x, ints, floats, functions, refs, phi, at_iterate)
+        if size < tol:  # converged: no residual evaluated at q (`_positions`' docstring)
+            return DONE, q, fresh, at_iterate
+        ca.unpacked_phi_and_jacobian(x, packed, functions, refs, phi, at_iterate)
         if size >= reuse:
             have = False
     return FALLBACK, q, fresh, at_iterate
 
 
 @njit(**KERNEL)
-def _inverse_mass(x, body, nb):
-    """M^-1's diagonal blocks (nb, 7, 7) at x in closed form
-    (mechlib.kinematics.kernels.inverse_mass_blocks), or an empty array where a block is
+def inverse_inertia(body, nb):
+    """Each body's J'^-1 (nb, 3, 3) from `body` (ConstraintArrays.bodies: constant over a
+    run, so a block of rows takes it once), or an empty array where a body's mass terms are
     not well conditioned (a body without inertia: m, the Euler parameters' scale and the
     Cholesky pivots of 4 J' not within WELL_CONDITIONED of each other)."""
     _, masses, pscale, inertia = ca.body_terms(body, nb)
-    inverse_inertia = np.empty((nb, 3, 3))
+    inverse = np.empty((nb, 3, 3))
     unit = np.zeros(3)
     for b in range(nb):
         ok, low = _cholesky(4.0 * inertia[b])
         if not ok:
-            return np.empty((0, 7, 7))
+            return np.empty((0, 3, 3))
         pivots = np.diag(low) ** 2
         largest = max(pivots.max(), masses[b], pscale[b])
         if not min(pivots.min(), masses[b], pscale[b]) > WELL_CONDITIONED * largest:
-            return np.empty((0, 7, 7))
+            return np.empty((0, 3, 3))
         for c in range(3):
             unit[:] = 0.0
             unit[c] = 4.0  # (4 J')^-1 4 e_c = J'^-1 e_c
-            inverse_inertia[b, :, c] = _cho_solve(low, unit)
+            inverse[b, :, c] = _cho_solve(low, unit)
+    return inverse
+
+
+@njit(**KERNEL)
+def _inverse_mass(x, body, inverse):
+    """M^-1's diagonal blocks (nb, 7, 7) at x in closed form
+    (mechlib.kinematics.kernels.inverse_mass_blocks) from each body's J'^-1 `inverse`
+    (nb, 3, 3: `inverse_inertia`, well conditioned)."""
+    nb = inverse.shape[0]
+    _, masses, pscale, _ = ca.body_terms(body, nb)
     blocks = np.empty((nb, 7, 7))
-    kr.inverse_mass_blocks(x, masses, inverse_inertia, pscale, blocks)
+    kr.inverse_mass_blocks(x, masses, inverse, pscale, blocks)
     return blocks
 
 
 @njit(**KERNEL)
-def _schur(x, jac, body, nb):
+def _schur(x, jac, body, inverse):
     """(ok, M^-1's blocks, phi_q M^-1 (m, nq), the Cholesky factor of the Schur complement
-    phi_q M^-1 phi_q^T) at x with the Jacobian jac; ok False where M or the complement is
-    not well conditioned (`_inverse_mass`, `_cholesky`)."""
+    phi_q M^-1 phi_q^T) at x with the Jacobian jac and each body's J'^-1 `inverse`
+    (`inverse_inertia`); ok False where the complement is not well conditioned
+    (`_cholesky`)."""
     m = jac.shape[0]
-    minv = _inverse_mass(x, body, nb)
+    nb = inverse.shape[0]
+    minv = _inverse_mass(x, body, inverse)
     weighted = np.empty((m, 7 * nb))
-    if minv.shape[0] != nb:
-        return False, minv, weighted, weighted
     for b in range(nb):
         o = 7 * b
         for i in range(m):
@@ -300,28 +319,40 @@ def project_loaded_row(ends, h, s, ints, floats, functions, refs, body, params, 
     mechlib.elements.compiled_forces, no joint friction) at element states z (the row's,
     interpolated). The row's Jacobian is that of Newton's last iterate before its last
     step (`_positions`), within the position tolerance of q."""
+    nb = ends.shape[1] // 7
+    return project_unpacked_row(ends, h, s, ca.unpack(ints, floats), functions, refs, body,
+                inverse_inertia(body, nb), params, z, elements, out)  # fmt: skip
+
+
+@njit(**KERNEL)
+def project_unpacked_row(
+    ends, h, s, packed, functions, refs, body, inverse, params, z, elements, out
+):
+    """`project_loaded_row` with the constraints unpacked (`packed`: constraint_arrays.
+    unpack) and each body's J'^-1 (`inverse`: `inverse_inertia`) taken by the caller: both
+    constant over a step's rows (1-2 us a row each)."""
     q, qd = interpolated(ends, h, s)
     nq = q.shape[0]
-    nb, m = nq // 7, ints[7]
-    if not (np.isfinite(q).all() and np.isfinite(qd).all()):
+    nb, m = nq // 7, out.shape[0] - 3 * nq  # out: (q, qd, qdd, lam)
+    if inverse.shape[0] != nb or not (np.isfinite(q).all() and np.isfinite(qd).all()):
         return FALLBACK, 0
     x, xd = ca.state_arrays(q, qd, nb)
     phi, jac = np.empty(m), np.empty((m, nq))
-    ca.phi_and_jacobian(x, ints, floats, functions, refs, phi, jac)
+    ca.unpacked_phi_and_jacobian(x, packed, functions, refs, phi, jac)
     tol, reuse, most = params[0], params[1], int(params[2])
-    status, q, fresh, jac = _positions(q, phi, jac, ints, floats, functions, refs, tol, reuse, most)
+    status, q, fresh, jac = _positions(q, phi, jac, packed, functions, refs, tol, reuse, most)
     if status != DONE:
         return FALLBACK, fresh
     ca.state_into(q, qd, x, xd)
-    ok, minv, weighted, low = _schur(x, jac, body, nb)
+    ok, minv, weighted, low = _schur(x, jac, body, inverse)
     if not ok:
         return FALLBACK, fresh
-    return _dynamics(q, qd, x, xd, jac, minv, weighted, low, ints, floats, functions, refs,
+    return _dynamics(q, qd, x, xd, jac, minv, weighted, low, packed, functions, refs,
                      body, z, elements, out), fresh  # fmt: skip
 
 
 @njit(**KERNEL)
-def _dynamics(q, qd, x, xd, jac, minv, weighted, low, ints, floats, functions, refs, body, z,
+def _dynamics(q, qd, x, xd, jac, minv, weighted, low, packed, functions, refs, body, z,
               elements, out):  # fmt: skip
     """The row at position q (x: its state arrays, xd qd's, rewritten) with the Jacobian,
     M^-1 blocks, phi_q M^-1 and the Schur complement's factor there (`_schur`): qd onto
@@ -329,13 +360,13 @@ def _dynamics(q, qd, x, xd, jac, minv, weighted, low, ints, floats, functions, r
     DONE, or FALLBACK where a number is not finite."""
     nq, nb, m = q.shape[0], q.shape[0] // 7, jac.shape[0]
     nu, gamma = np.empty(m), np.empty(m)
-    ca.nu_values(ints, floats, functions, nu)
+    ca.unpacked_nu_values(packed, functions, nu)
     drift = nu - _times(jac, qd)
     v = qd.copy()
     if m and np.abs(drift).max() > 0.0:
         v += _transpose_times(weighted, _cho_solve(low, drift))
         ca.state_into(q, v, x, xd)
-    ca.nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma)
+    ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
     forces = np.empty(nq)
     wrench_f, wrench_n = np.zeros((nb + 1, 3)), np.zeros((nb + 1, 3))
     if any_elements(elements):
@@ -374,14 +405,15 @@ def project_loaded_rows(
     the Jacobians evaluated)."""
     h = t1 - t0
     fresh = 0
+    packed, inverse = ca.unpack(ints, floats), inverse_inertia(body, ends.shape[1] // 7)
     for k in range(times.shape[0]):
         t = times[k]
         w = (t - t0) / h
         s = 1.0 if abs(t - t1) <= 1e-12 * max(1.0, abs(t)) else w
         for i in range(z0.shape[0]):
             rows_z[k, i] = (1.0 - w) * z0[i] + w * z1[i]
-        status, more = project_loaded_row(
-            ends, h, s, ints, floats, functions, refs, body, params, rows_z[k], elements,
+        status, more = project_unpacked_row(
+            ends, h, s, packed, functions, refs, body, inverse, params, rows_z[k], elements,
             rows_state[k],
         )  # fmt: skip
         fresh += more

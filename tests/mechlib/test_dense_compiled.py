@@ -33,6 +33,7 @@ import pytest
 import mechlib
 import mechlib.solvers.dense as dense
 from mechlib.core import jit
+from mechlib.elements.compiled_forces import no_forces
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
 from mechlib.kinematics.constraint_arrays import ConstraintArrays
@@ -43,6 +44,9 @@ from mechlib.solvers.dense_compiled import (
     _inverse_mass,
     _well_conditioned,
     interpolated,
+    inverse_inertia,
+    project_loaded_row,
+    project_loaded_rows,
     project_row,
 )
 from mechlib.system.system import System
@@ -197,7 +201,7 @@ def test_inverse_mass_in_closed_form() -> None:
         x, _ = ca.state_arrays(q, q, nb)
         blocks = np.empty((nb, 7, 7))
         kr.mass_blocks(x, masses, inertia, pscale, blocks)
-        inverse = _inverse_mass(x, body, nb)
+        inverse = _inverse_mass(x, body, inverse_inertia(body, nb))
         for b in range(nb):
             assert np.abs(inverse[b] @ blocks[b] - np.eye(7)).max() < 1e-12
     a = rng.standard_normal((20, 21))
@@ -222,6 +226,44 @@ def test_nu_without_gamma() -> None:
     ca.nu_values(ints, floats, functions, alone)
     assert np.abs(nu).max() > 0.0  # the motion's rate
     assert np.array_equal(alone, nu)
+
+
+def test_a_steps_rows_take_their_constants_once() -> None:
+    """A step's rows in one call (the constraints unpacked and each body's J'^-1 taken
+    once for all of them) are the rows of one call each, bit for bit; J'^-1 times J' is
+    the identity to round-off (1e-12); a body without rotary inertia has no J'^-1 and its
+    rows go back to Python (FALLBACK) rather than divide by zero."""
+    system, arrays = _packed_system()
+    rng = np.random.default_rng(7)
+    nq, m, nb = system.nq, system.active.size, system.nq // 7
+    q0 = system.design_q() + 1e-4 * rng.standard_normal(nq)
+    ends = np.stack([q0, *rng.standard_normal((2, nq)), q0 + 1e-3, *rng.standard_normal((2, nq))])
+    ints, floats = arrays.packed()
+    times = np.array([0.1e-3, 0.4e-3, 0.9e-3, 1e-3])
+    together, z = np.empty((len(times), 3 * nq + m)), np.empty((len(times), 0))
+    args = (ints, floats, arrays.functions(0.0), arrays.references(), arrays.bodies())
+    done, _ = project_loaded_rows(
+        ends, 0.0, 1e-3, times, *args, dense.PROJECTION, np.zeros(0), np.zeros(0), no_forces(),
+        together, z,
+    )  # fmt: skip
+    assert done == len(times)
+    for k, t in enumerate(times):
+        alone = np.empty(3 * nq + m)
+        s = 1.0 if t == times[-1] else t / 1e-3
+        status, _ = project_loaded_row(
+            ends, 1e-3, s, *args, dense.PROJECTION, np.zeros(0), no_forces(), alone
+        )
+        assert status == DONE and np.array_equal(alone, together[k])
+    body = arrays.bodies()
+    _, _, _, inertia = ca.body_terms(body, nb)
+    for b, inverse in enumerate(inverse_inertia(body, nb)):
+        assert np.abs(inverse @ inertia[b] - np.eye(3)).max() < 1e-12
+    flat = body.copy()
+    flat[3 + 2 * nb : 3 + 2 * nb + 9] = 0.0  # the first body's inertia tensor
+    assert inverse_inertia(flat, nb).shape == (0, 3, 3)
+    out = np.empty(3 * nq + m)
+    status, _ = project_row(ends, 1e-3, 0.5, *args[:-1], flat, dense.PROJECTION, out)
+    assert status == FALLBACK
 
 
 def test_the_kernel_gives_up_and_python_takes_the_row() -> None:

@@ -50,7 +50,12 @@ from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics.coordinates import AngleMeasure
 from mechlib.linalg.flat_lu import SUPERLU, refactor
 from mechlib.solvers.dense import PROJECTION
-from mechlib.solvers.dense_compiled import DONE, project_loaded_row, small_enough
+from mechlib.solvers.dense_compiled import (
+    DONE,
+    inverse_inertia,
+    project_unpacked_row,
+    small_enough,
+)
 from mechlib.solvers.finite import all_finite
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
@@ -371,15 +376,16 @@ def _dense_rows(
     to Python."""
     span = t_new - t
     fresh_rows = 0
+    packed, inverse = ca.unpack(ints, floats), inverse_inertia(body, ends.shape[1] // 7)
     for k in range(times.shape[0]):
         t_row = times[k]
         at_end = abs(t_row - t_new) <= 1e-12 * max(1.0, abs(t_row))
         w = (t_row - t) / span
         s = 1.0 if at_end else w
         z = interpolate_states(states, w, first + k)
-        status, fresh = project_loaded_row(
-            ends, span, s, ints, floats, functions, block_refs, body, projection, z, elements,
-            rows_state[first + k],
+        status, fresh = project_unpacked_row(
+            ends, span, s, packed, functions, block_refs, body, inverse, projection, z,
+            elements, rows_state[first + k],
         )  # fmt: skip
         if status != DONE:
             return -1
