@@ -53,16 +53,20 @@ def test_a_refactorisation_before_a_new_tangent(monkeypatch):
 
 def test_a_stall_refactors_before_a_new_tangent(monkeypatch):
     """rules.restalled: a modal body's stall on a matrix not factored in its step first
-    refactors it with the tangent kept. Over the bench's 20 s, measured: the same 2275
-    steps and 7973 iterations (7979 with the old rule) from 1 tangent against 6, the tip
-    lag 6e-8 of its range apart (bound 1e-6). With generalized-alpha's step-size rule
+    refactors it with the tangent kept. Over the bench's 20 s, measured: 2278 steps and
+    7998 iterations (2275 and 7989 with the old rule; the same 2275 steps before Newton's
+    acceleration test was floored at 10 eps instead of 1e3 eps, rules.ROUNDOFF: which
+    steps stall moved) from 1 tangent against 6, the tip lag 1.0e-4 of its range apart
+    (bound 3e-4: the runs no longer take the same steps, and differ by about their own
+    error at this tolerance, 1e-3 of the range; with the same steps, before, 6e-8). With
+    generalized-alpha's step-size rule
     before the pseudo-acceleration was carried (a restart at each change, the step grown
     only by 1.5 or more) it was 2421 steps from 1 tangent against 240: the stalls are
     fewer since."""
     new, new_lag, new_made = _run(monkeypatch, old_rule=False, end=20.0)
     old, old_lag, old_made = _run(monkeypatch, old_rule=False, old_stall=True, end=20.0)
-    assert new.stats.steps == old.stats.steps
+    assert new.stats.steps <= 1.005 * old.stats.steps
     assert new.stats.newton_iterations <= 1.05 * old.stats.newton_iterations
     assert new_made == 1 and new_made < old_made / 3
-    assert np.abs(new_lag - old_lag).max() <= 1e-6 * np.ptp(old_lag)
+    assert np.abs(new_lag - old_lag).max() <= 3e-4 * np.ptp(old_lag)
     assert (rules.GIVE_UP, rules.FRESH) == (0, 2)  # the codes the old rule above returns

@@ -15,6 +15,7 @@ steps`, 0.6.0: angle 1.5e-3, reaction 2.5e-3, energy 2.7e-4); tight angle 3.4e-9
 
 from __future__ import annotations
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -144,3 +145,50 @@ def test_2000_seconds(tmp_path: Path) -> None:
     assert outcome.solution.time[-1] == pytest.approx(2000.0)
     assert _energy_drift(outcome) < 0.16
     assert _period(outcome) == pytest.approx(pendulum_period(THETA0, BALL), rel=PERIOD_2000)
+
+
+def _tightened(tolerance: float):
+    """The 10 s default case at `tolerance` (generalized-alpha, dense output), one solve."""
+    from loadcases.inputs.loader import load_case
+    from loadcases.run import run_case
+
+    cf = load_case(HARD / "iftomm_a01_pendulum.case.yaml")
+    analysis = cf.case.analysis.model_copy(update={"tolerance": tolerance, "accuracy": "off"})
+    case = cf.case.model_copy(update={"analysis": analysis})
+    outcome = run_case(dataclasses.replace(cf, case=case))
+    assert outcome.solution.ok, outcome.solution.message
+    return outcome
+
+
+@pytest.fixture(scope="module")
+def tightened():
+    """The case at tolerances 3e-11 and 3.75e-12 (a halving of every step apart)."""
+    return {tolerance: _tightened(tolerance) for tolerance in (3e-11, 3.75e-12)}
+
+
+def _energy_trend(outcome) -> float:
+    """The energy's least-squares slope over the run, of m g L per s (negative: lost)."""
+    t = np.asarray(outcome.solution.time, float)
+    y = channel(outcome, "bob_pos.y")
+    v = vector(outcome, "bob_vel")
+    w = channel(outcome, "rate.value")
+    energy = BALL.mass * (G * y + 0.5 * np.sum(v**2, axis=1)) + 0.5 * BALL.izz_cm * w**2
+    return float(np.polyfit(t, energy, 1)[0]) / (BALL.mass * G * BALL.cm_distance)
+
+
+def test_error_falls_with_tolerance_below_newton_floor(tightened) -> None:
+    """Generalized-alpha at tolerances 3e-11 and 3.75e-12 over 10 s (issue 35, the error
+    floor of IFToMM A01 over 2000 s), against the closed form: the energy's trend within
+    1.5e-8 m g L per s at both (measured -5.0e-9 and -2.9e-9), the angle's error falling
+    at least 2.5 times with the halving of the steps (measured 2.5e-6 to 5.9e-7 of its
+    peak, 4.2 times: second order) and the mean period within 3e-8 of 2.3678 s at the
+    tighter one (measured -6.8e-9). Before, with Newton's acceleration test floored at
+    1e3 eps of q (rules.ROUNDOFF), the energy's trend was -3.3e-8 and -2.2e-7, the angle's
+    error rose from 3.0e-6 to 4.0e-6 and the period was 1.5e-7 off: the remainder Newton
+    left in each step, a velocity error of every step (x gamma'), grew as the steps
+    shrank."""
+    coarse, fine = tightened[3e-11], tightened[3.75e-12]
+    assert abs(_energy_trend(coarse)) < 1.5e-8
+    assert abs(_energy_trend(fine)) < 1.5e-8
+    assert _angle_error(fine) < _angle_error(coarse) / 2.5
+    assert _period(fine) == pytest.approx(pendulum_period(THETA0, BALL), rel=3e-8)

@@ -56,7 +56,16 @@ POSITION_ROUNDOFF = 1e-11
 ETA_MIN = 1e-3  # the smallest Newton rate carried to the next step
 RATE_MEMORY = 0.8  # the rate carried to the next step: max(eta, ETA_MIN) ** RATE_MEMORY
 SLOW_ITERATIONS = 3  # more iterations than this: a fresh iteration matrix for the next step
-ROUNDOFF = 1e3 * np.finfo(float).eps  # relative round-off floor of a Newton increment
+# relative round-off floor of a Newton increment's acceleration part (kernels._newton_size):
+# Newton stops once its estimated remainder is within NEWTON_KAPPA of it. That remainder is
+# no round-off but a systematic part of each step's correction (modified Newton converging
+# linearly from a biased predictor), and x gamma' a velocity error of every step: an energy
+# drift of O(ROUNDOFF / h^2) per second, which grows as the steps shrink. At 1e3 eps IFToMM
+# A01 (10 s) lost 3.3e-8 m g L per s at tolerance 3e-11 and 2.2e-7 at 3.75e-12, against
+# the truncation's 4e-9 and 6e-10, and that drift was the floor of its error over 2000 s;
+# at 10 eps 5.0e-9 and 2.9e-9 (4 % and 14 % more Newton iterations; 1 eps gave 4.5e-9 and
+# 2.8e-9). An increment that stagnates at round-off above it is taken by `is_noise`.
+ROUNDOFF = 10.0 * np.finfo(float).eps
 
 # ---- iteration matrix --------------------------------------------------------------------
 REFACTOR_CHANGE = 0.25  # a step size this far (relative) from the factored one refactors
