@@ -9,8 +9,9 @@ where the straight line between the two values misses a crest by up to h^2 / 8 m
 a different amount at every crest. The one definition of the rows' element states: the
 Python rows (mechlib.solvers.march), the compiled blocks (mechlib.solvers.dense_compiled.
 project_loaded_rows) and the compiled whole runs (mechlib.solvers.genalpha.run_states)
-call `hermite_states`. Without rates at both ends (a stepper that does not advance the
-states: Radau's keep their values) `states_between` interpolates linearly.
+call `hermite_states`. Without rates at both ends, or where the states were not advanced
+over the step (Radau does not integrate them and refuses a model that has them:
+mechlib.solvers.solve), `states_between` interpolates linearly.
 """
 
 from __future__ import annotations

@@ -115,3 +115,16 @@ def test_closed_valve_pressures_between_steps_follow_the_closed_form(compiled: s
     miss, amplitude = _pressure_misses(_closed_valve(compiled))
     assert amplitude > 2e5
     assert miss <= 1e-3 * amplitude, (miss, amplitude)
+
+
+def test_radau_refuses_element_states() -> None:
+    """Radau's right-hand side holds positions and velocities only: with a servo-actuator
+    its chamber pressures stayed at their initial values (the oil column no spring, the
+    rod coasting at its initial 0.01 m/s, reported ok); now a model error naming the
+    element. Generalized-alpha solves the same model."""
+    mechanism = rig(HeldDemand(0.0), controller=Controller(kp=0.0, ki=0.0), cylinder=CYLINDER)
+    start = [ml.InitialValue("slide", value=0.0, rate=0.01)]
+    with pytest.raises(ml.ModelError, match=r"'act'.*drop 'integrator: radau'"):
+        ml.solve(mechanism, ml.Dynamic(end=0.002, step=1e-3, integrator="radau"), initial=start)
+    sol = ml.solve(mechanism, ml.Dynamic(end=0.002, step=1e-3), initial=start)
+    assert sol.ok and sol.stats.steps > 0
