@@ -34,11 +34,11 @@ companion thinned to 8 times the run's interval (the closed-valve servo: 15 rows
 period of its 84 Hz ringing) read each crest up to 4e-3 low by the parabola's vertex,
 which the extrapolation took for the integrator's error (the stroke's estimate 12 times
 its true error, against 2.3 with the top alone); the quartic reads a smooth crest there
-within 2.3e-5, but element states are linear between steps (mechlib.solvers.dense), so
-the servo's pressures and force in rows sparser than the companion's steps miss each
-crest by a different amount, up to (omega h)^2 / 8 = 7.7e-3 of it (the crest against
-the same crest there: 5.3 times the true error, the extremes 3.4; IFToMM A04's rates,
-thinned 4 times: 3.35 against 1.69). Even at twice
+within 2.3e-5, and with element states linear between steps (before mechlib.solvers.
+dense_states) the servo's pressures and force in rows sparser than the companion's steps
+missed each crest by a different amount, up to (omega h)^2 / 8 = 7.7e-3 of it (the crest
+against the same crest there: 5.3 times the true error, the extremes 3.4; IFToMM A04's
+rates, thinned 4 times: 3.35 against 1.69). Even at twice
 the interval a vertex's difference holds its fit error beside the integrator's: it is
 what finds Andrews' trough (the run's vertex 0.040853, the companion's 0.041385, the
 truth 0.040635), and it overestimates an error of 2e-6 (Andrews' delta, docs/performance.md).

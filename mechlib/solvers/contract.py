@@ -163,7 +163,8 @@ class DenseStepper(Stepper):
 
     def dense_block(self, start: State, end: State, times: np.ndarray, z0):
         """The rows at `times` (s) within the accepted step start -> end in one call, the
-        element states interpolated from z0 (at start; None without) to the accepted ones
+        element states interpolated from z0 (their values and rates at start: mechlib.
+        solvers.dense_states.state_end; None without) to the accepted ones
         (mechlib.solvers.dense.RowBlock: perhaps fewer rows than asked), or None: `march`
         then takes them from `dense_row` one by one."""
         return None

@@ -10,8 +10,9 @@ interval; each output time within an accepted step gets a row from the step's tw
   velocity constraints (mass-weighted), and the accelerations and multipliers solved from
   the equations of motion there (`consistent_state`): the row's reactions are those of the
   equations of motion at the row's state, as at a step's end;
-- element states (mechlib.elements.states) interpolated linearly between the step's ends (they are
-  advanced by the trapezoidal rule, itself linear in time over a step).
+- element states (mechlib.elements.states) by the cubic Hermite interpolant of their values
+  and rates at the step's ends (mechlib.solvers.dense_states: error O(h^4), where a straight
+  line between the values missed each crest by up to h^2 / 8 of its curvature).
 
 Events still end a step where they happen, and their rows are recorded as before.
 """
@@ -34,6 +35,7 @@ from mechlib.solvers.dense_compiled import (
     project_loaded_rows,
     small_enough,
 )
+from mechlib.solvers.dense_states import StateEnd, advanced
 from mechlib.system.system import System
 
 __all__ = [
@@ -125,12 +127,16 @@ class HermiteRows:
             step = self._step = (start, end, ends)
         return _projected(self.system, t, step[2], end.t - start.t, s, states, self.compiled)
 
-    def block(self, start: State, end: State, times: np.ndarray, z0, z1) -> RowBlock | None:
+    def block(
+        self, start: State, end: State, times: np.ndarray, z0: StateEnd | None, z1: StateEnd | None
+    ) -> RowBlock | None:
         """The rows at `times` (s) within start -> end, the element states interpolated
-        from z0 to z1 (None without), in one compiled call (dense_compiled.
-        project_loaded_rows: each row as `row` gives it); None where the system does not
-        allow it (`_compiled_row`'s conditions, or a time function in its equations). The
-        block may hold fewer rows than asked (the kernel gave one back: `row` takes it)."""
+        between their values and rates z0 and z1 (mechlib.solvers.dense_states; None
+        without), in one compiled call (dense_compiled.project_loaded_rows: each row as
+        `row` gives it); None where the system does not allow it (`_compiled_row`'s
+        conditions, a time function in its equations, or states without rates at both
+        ends). The block may hold fewer rows than asked (the kernel gave one back: `row`
+        takes it)."""
         system = self.system
         arrays = system.packed_constraints()
         if not self.compiled or arrays is None or not small_enough(system):
@@ -138,19 +144,32 @@ class HermiteRows:
         elements = row_elements(system)
         if elements is None or self._timed(system.coordinate_rows()):
             return None
+        ends_z = _state_ends(z0, z1)
+        if ends_z is None:
+            return None
         nq, m, n = system.nq, system.active.size, len(times)
-        z0 = np.zeros(0) if z0 is None else z0
-        z1 = system.states.z if z1 is None else z1
         ends = np.stack((start.q, start.qd, start.qdd, end.q, end.qd, end.qdd))
-        out, zs = np.empty((n, 3 * nq + m)), np.empty((n, z0.size))
+        out, zs = np.empty((n, 3 * nq + m)), np.empty((n, ends_z.shape[1]))
         ints, floats = arrays.packed()
         done, fresh = project_loaded_rows(
             ends, start.t, end.t, np.asarray(times, dtype=float), ints, floats,
             arrays.functions(float(times[0])), arrays.references(), arrays.bodies(), PROJECTION,
-            z0, z1, elements, out, zs,
+            ends_z, elements, out, zs,
         )  # fmt: skip
         count(factorizations=fresh + done, jacobian_evaluations=fresh)
-        return RowBlock(done, out[:done], zs[:done] if z0.size else None)
+        return RowBlock(done, out[:done], zs[:done] if ends_z.shape[1] else None)
+
+
+def _state_ends(z0: StateEnd | None, z1: StateEnd | None) -> np.ndarray | None:
+    """The element states' (z0, f0, z1, f1) stacked (4, nz) for the compiled rows ((4, 0)
+    without states), or None where an end has no rates (`states_between` then interpolates
+    them linearly, row by row)."""
+    if z0 is None or z1 is None:
+        return np.zeros((4, 0))
+    (v0, f0), (v1, f1) = z0, z1
+    if f0 is None or f1 is None or not advanced(z0, z1):
+        return None
+    return np.stack((v0, f0, v1, f1))
 
 
 def row_elements(system: System) -> tuple | None:

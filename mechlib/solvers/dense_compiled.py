@@ -40,6 +40,7 @@ from mechlib.core.jit import KERNEL, njit
 from mechlib.elements.compiled_forces import any_elements, element_wrenches, no_forces
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
+from mechlib.solvers.dense_states import hermite_states
 
 __all__ = [
     "DONE",
@@ -395,14 +396,15 @@ def _dynamics(q, qd, x, xd, jac, minv, weighted, low, packed, functions, refs, b
 
 @njit(**KERNEL)
 def project_loaded_rows(
-    ends, t0, t1, times, ints, floats, functions, refs, body, params, z0, z1, elements,
+    ends, t0, t1, times, ints, floats, functions, refs, body, params, ends_z, elements,
     rows_state, rows_z,
 ):  # fmt: skip
     """`project_loaded_row` of each time in `times` (s) within the step t0 -> t1 (s) with
-    ends (6, nq), the element states interpolated linearly from z0 (at t0) to z1 (at t1),
-    as mechlib.solvers.march records rows one by one, into rows_state[k] (q, qd, qdd, lam)
-    and rows_z[k]. Returns (the rows done: the first row the kernel gives back stops it,
-    the Jacobians evaluated)."""
+    ends (6, nq), the element states from their values and rates at both ends, ends_z
+    (4, nz) = (z0, f0, z1, f1), by the cubic Hermite interpolant (mechlib.solvers.
+    dense_states.hermite_states), as mechlib.solvers.march records rows one by one, into
+    rows_state[k] (q, qd, qdd, lam) and rows_z[k]. Returns (the rows done: the first row
+    the kernel gives back stops it, the Jacobians evaluated)."""
     h = t1 - t0
     fresh = 0
     packed, inverse = ca.unpack(ints, floats), inverse_inertia(body, ends.shape[1] // 7)
@@ -410,8 +412,7 @@ def project_loaded_rows(
         t = times[k]
         w = (t - t0) / h
         s = 1.0 if abs(t - t1) <= 1e-12 * max(1.0, abs(t)) else w
-        for i in range(z0.shape[0]):
-            rows_z[k, i] = (1.0 - w) * z0[i] + w * z1[i]
+        hermite_states(ends_z[0], ends_z[1], ends_z[2], ends_z[3], h, w, rows_z[k])
         status, more = project_unpacked_row(
             ends, h, s, packed, functions, refs, body, inverse, params, rows_z[k], elements,
             rows_state[k],

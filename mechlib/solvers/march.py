@@ -29,6 +29,7 @@ import numpy as np
 from mechlib.core.outcome import SolverFailure, SolverStats, Status
 from mechlib.model.analysis import Trajectory, output_times
 from mechlib.solvers.contract import DenseStepper, State, Stepper, StepResult, StepUnresolved
+from mechlib.solvers.dense_states import StateEnd, state_end, states_between
 from mechlib.solvers.events import EventMonitor, fire, first_events
 
 __all__ = ["accepted", "check_step_limit", "march"]
@@ -104,7 +105,7 @@ def _march_dense(
             if spec.end - s.t <= 1e-12 * max(1.0, abs(spec.end)):
                 break
         check_step_limit(spec, stepper.stats, s.t)
-        z0 = system.states.z.copy() if system.states else None
+        z0 = state_end(system.states)  # the element states and rates at the step's start
         new = accepted(stepper.step(s, spec.end), s.t)
         if new is None:
             continue
@@ -148,19 +149,21 @@ class _Rows:
         tiny = 1e-12 * max(1.0, abs(t))
         return gap <= tiny if inclusive else gap < -tiny
 
-    def upto(self, start: State, end: State, z0, inclusive: bool) -> None:
+    def upto(self, start: State, end: State, z0: StateEnd | None, inclusive: bool) -> None:
         """Record the output times up to end.t (inclusive or not) within start -> end: in
-        one block where the stepper gives one (`dense_block`), the rest row by row."""
-        system = self.stepper.system
+        one block where the stepper gives one (`dense_block`), the rest row by row; z0 the
+        element states and their rates at start (None without), those at end the accepted
+        ones now (mechlib.solvers.dense_states)."""
+        z1 = state_end(self.stepper.system.states) if z0 is not None else None
         due = self._last_due(end.t, inclusive)
         if due > self.next:
             self._block(start, end, z0, due)
         while self._due(end.t, inclusive):
             t = float(self.times[self.next])
             states = None
-            if z0 is not None:
-                w = (t - start.t) / (end.t - start.t)
-                states = (1.0 - w) * z0 + w * system.states.z
+            if z0 is not None and z1 is not None:
+                h = end.t - start.t
+                states = states_between(z0, z1, h, (t - start.t) / h)
             self._record(self.stepper.dense_row(start, end, t, states))
 
     def _last_due(self, t: float, inclusive: bool) -> int:
@@ -177,7 +180,7 @@ class _Rows:
             due += 1
         return due
 
-    def _block(self, start: State, end: State, z0, due: int) -> None:
+    def _block(self, start: State, end: State, z0: StateEnd | None, due: int) -> None:
         """The rows up to output index `due` from the stepper's `dense_block`, if any."""
         times = self.times[self.next : due]
         block = self.stepper.dense_block(start, end, times, z0)
@@ -192,7 +195,7 @@ class _Rows:
         if self.progress:
             self.progress(float(times[n - 1]), self.stepper.spec.end)
 
-    def before(self, start: State, z0, event: State) -> None:
+    def before(self, start: State, z0: StateEnd | None, event: State) -> None:
         """Record the output times before an event's instant within start -> event."""
         self.upto(start, event, z0, False)
 

@@ -59,6 +59,17 @@ def _stepper(
     if isinstance(analysis, QuasiStatic):
         return QuasiStaticStepper(system, analysis, stats)
     if analysis.integrator == "radau":
+        if system.states:  # its right-hand side holds q and qd only: the states would freeze
+            names = ", ".join(f"'{e.name}'" for e in system.states.owners)
+            raise ModelError(
+                [
+                    (
+                        "",
+                        f"the element states of {names} need the generalized-alpha "
+                        "integrator: drop 'integrator: radau'",
+                    )
+                ]
+            )
         from mechlib.solvers.radau import RadauStepper  # scipy.integrate, only for this integrator
 
         return RadauStepper(system, analysis, stats)

@@ -63,6 +63,7 @@ from mechlib.solvers.genalpha.compiled import CONVERGED, loaded_newton
 from mechlib.solvers.genalpha.run_states import (
     RunStates,
     accept_states,
+    end_rates,
     interpolate_states,
     record_states,
     states_error,
@@ -119,7 +120,8 @@ def run_steps(
     states (in place); it stops before a step in which a friction may stick. `states`: the
     element states (mechlib.solvers.genalpha.run_states: accepted, trial, rates, history,
     error weights, the rows' states), advanced in each step's Newton iterations and
-    tangent, tested by the step's error, accepted with it, interpolated into the rows.
+    tangent, tested by the step's error, their rates at its end evaluated once (for the rows
+    and the next step), accepted with it, interpolated into the rows (cubic Hermite).
     `tangent` (2, nq, nq): the elements' (K, C) of the last refactor (in place; NaN: none
     yet), kept from call to call as the Python stepper keeps its tangent.
     Returns (0, STOPPED, REFACTOR or FAILED; next output index, rows written)."""
@@ -201,6 +203,7 @@ def run_steps(
         _unwrapped(q1, angles, refs_all, block_angles, new_refs, new_block)
         ends[0], ends[1], ends[2] = own[0], cons[0], cons[1]
         ends[3], ends[4], ends[5] = q1, true[:nq], new_qdd
+        end_rates(q1, qd1, elements, states)
         fresh_rows = _dense_rows(
             ends, t, t_new, outs[i : i + due], written, ints, floats, functions, new_block,
             new_refs, body, projection, rows_t, rows_state, rows_refs, elements, states,
@@ -213,7 +216,7 @@ def run_steps(
         counts[ROW_FACTORS] += fresh_rows + due
         _accept_control(ctrl, h_try, err, eta, it)
         _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref)
-        accept_states(q1, qd1, h_try, elements, states)
+        accept_states(h_try, states)
         counts[STEPS] += 1
         taken += 1
         refs_all[:] = new_refs
@@ -371,7 +374,8 @@ def _dense_rows(
 ):  # fmt: skip
     """The rows at `times` within the step t -> t_new (s), projected from the step's `ends`
     (mechlib.solvers.dense_compiled, with the packed `elements` at the rows' element
-    states, interpolated into `states`' rows: run_states.interpolate_states) into rows
+    states, interpolated into `states`' rows: run_states.interpolate_states, cubic Hermite
+    from both ends' values and rates) into rows
     first, first + 1, ...: the fresh Jacobians they took, or -1 where a row is given back
     to Python."""
     span = t_new - t
@@ -382,7 +386,7 @@ def _dense_rows(
         at_end = abs(t_row - t_new) <= 1e-12 * max(1.0, abs(t_row))
         w = (t_row - t) / span
         s = 1.0 if at_end else w
-        z = interpolate_states(states, w, first + k)
+        z = interpolate_states(states, span, w, first + k)
         status, fresh = project_unpacked_row(
             ends, span, s, packed, functions, block_refs, body, inverse, projection, z,
             elements, rows_state[first + k],

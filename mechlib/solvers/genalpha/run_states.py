@@ -2,13 +2,15 @@
 servo-actuators' five states each, advanced at every Newton iterate of a step by the
 trapezoidal rule (mechlib.elements.states.ElementStates, whose rules these kernels follow),
 their local error in the step's error test, their accepted values and rates, and the rows'
-states interpolated within a step (mechlib.solvers.march).
+states within a step by the cubic Hermite interpolant of both ends' values and rates
+(mechlib.solvers.dense_states, as mechlib.solvers.march interpolates them).
 
 The states travel as one tuple (`RunStates.pack`): z (accepted, nz), trial (the step under
 way, nz), rates (dz/dt at the accepted state, nz), before (the rates of the accepted state
 before it, nz), memo ([previous step (s), 1 when `before` holds, 0 otherwise]), weights
-(tol x each state's scale: Scales.z_abs), rows (the rows' states, (rows, nz)). A system
-without element states has nz = 0 and every kernel here does nothing.
+(tol x each state's scale: Scales.z_abs), ends (the rates at the step's end, nz:
+`end_rates`), rows (the rows' states, (rows, nz)). A system without element states has
+nz = 0 and every kernel here does nothing.
 
 A run serves actuators whose stroke demand is held constant (mechlib.elements.hydraulics.
 command.HeldDemand): the kernels read it once, exactly; a demand that is a function of time
@@ -23,17 +25,19 @@ from mechlib.core.jit import KERNEL, njit
 from mechlib.elements.compiled_forces import element_rates
 from mechlib.elements.hydraulics.command import held_value
 from mechlib.kinematics import constraint_arrays as ca
+from mechlib.solvers.dense_states import hermite_states
 
 __all__ = [
     "RunStates",
     "accept_states",
+    "end_rates",
     "interpolate_states",
     "record_states",
     "states_error",
     "trial_start",
 ]
 
-Z, TRIAL, RATES, BEFORE, MEMO, WEIGHTS, ROWS = 0, 1, 2, 3, 4, 5, 6
+Z, TRIAL, RATES, BEFORE, MEMO, WEIGHTS, ENDS, ROWS = 0, 1, 2, 3, 4, 5, 6, 7
 PREVIOUS_H, HAS_BEFORE = 0, 1  # slots of memo
 
 
@@ -65,29 +69,38 @@ def states_error(err, h, states, tol):
 
 
 @njit(**KERNEL)
-def accept_states(q1, qd1, h, elements, states):
-    """An accepted step h (s) ending at (q1, qd1 raw): its trial values become the accepted
-    ones, their rates there the trapezoidal rule's next first half, the last rates kept
-    for the error estimate (ElementStates.accept)."""
+def end_rates(q1, qd1, elements, states):
+    """The rates of the trial values at the end (q1, qd1 raw) of a step that passed its
+    error test, into states[ENDS]: what the rows within it and `accept_states` read (the
+    one evaluation of the states' equations an accepted step makes)."""
+    if states[Z].shape[0]:
+        x, xd = ca.state_arrays(q1, qd1, q1.shape[0] // 7)
+        element_rates(x, xd, states[TRIAL], elements, states[ENDS])
+
+
+@njit(**KERNEL)
+def accept_states(h, states):
+    """An accepted step h (s) (its end's rates from `end_rates`): its trial values become
+    the accepted ones, their rates there the trapezoidal rule's next first half, the last
+    rates kept for the error estimate (ElementStates.accept)."""
     z, trial, f, before, memo = states[:5]
     if not z.shape[0]:
         return
     before[:] = f
     memo[PREVIOUS_H], memo[HAS_BEFORE] = h, 1.0
     z[:] = trial
-    x, xd = ca.state_arrays(q1, qd1, q1.shape[0] // 7)
-    element_rates(x, xd, z, elements, f)
+    f[:] = states[ENDS]
 
 
 @njit(**KERNEL)
-def interpolate_states(states, w, row):
+def interpolate_states(states, h, w, row):
     """Row `row`'s element states (returned, a view of the rows' array) at the fraction w
-    of the step under way: linear from the accepted values at its start to the trial
-    values at its end (mechlib.solvers.march._Rows.upto)."""
-    z0, z1, rows = states[Z], states[TRIAL], states[ROWS]
-    for i in range(z1.shape[0]):
-        rows[row, i] = (1.0 - w) * z0[i] + w * z1[i]
-    return rows[row]
+    of the step h (s) under way: the cubic Hermite interpolant (mechlib.solvers.
+    dense_states.hermite_states) of the accepted values and rates at its start and the
+    trial values and their rates (`end_rates`) at its end (mechlib.solvers.march._Rows.upto)."""
+    return hermite_states(
+        states[Z], states[RATES], states[TRIAL], states[ENDS], h, w, states[ROWS][row]
+    )
 
 
 @njit(**KERNEL)
@@ -122,14 +135,14 @@ class RunStates:
         nz = states.z.size
         if not nz:
             empty = np.zeros(0)
-            return (empty, empty, empty, empty, np.zeros(2), empty, np.zeros((rows, 0)))
+            return (empty, empty, empty, empty, np.zeros(2), empty, empty, np.zeros((rows, 0)))
         previous = states._previous
         memo = np.array([previous[1], 1.0] if previous is not None else [0.0, 0.0])
         before = previous[0].copy() if previous is not None else np.zeros(nz)
         assert states.rates_accepted is not None, "a run starts from an accepted state"
         return (
             states.z.copy(), states.z.copy(), np.array(states.rates_accepted, dtype=float),
-            before, memo, np.asarray(weights, dtype=float), np.empty((rows, nz)),
+            before, memo, np.asarray(weights, dtype=float), np.empty(nz), np.empty((rows, nz)),
         )  # fmt: skip
 
     def unpack(self, packed: tuple, taken: bool) -> None:

@@ -21,6 +21,7 @@ from mechlib.model.analysis import Dynamic
 from mechlib.solvers.consistent import consistent_state
 from mechlib.solvers.contract import DenseStepper, State, StepResult, StepUnresolved
 from mechlib.solvers.dense import HermiteRows, first_step, step_bound
+from mechlib.solvers.dense_states import state_end
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.integrator import Integrator
 from mechlib.solvers.genalpha.kernels import Scales
@@ -193,8 +194,7 @@ class GeneralizedAlphaStepper(DenseStepper):
     def dense_block(self, start: State, end: State, times: np.ndarray, z0):
         """The rows at `times` within start -> end from one compiled call where the system
         allows it (mechlib.solvers.dense.HermiteRows.block), else None."""
-        z1 = self.system.states.z if self.system.states else None
-        return self.rows.block(start, end, times, z0, z1)
+        return self.rows.block(start, end, times, z0, state_end(self.system.states))
 
     def _switched(self, s: _AlphaState) -> bool:
         if not self.sticking:
