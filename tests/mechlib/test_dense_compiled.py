@@ -243,7 +243,7 @@ def test_a_steps_rows_take_their_constants_once() -> None:
     together, z = np.empty((len(times), 3 * nq + m)), np.empty((len(times), 0))
     args = (ints, floats, arrays.functions(0.0), arrays.references(), arrays.bodies())
     done, _ = project_loaded_rows(
-        ends, 0.0, 1e-3, times, *args, dense.PROJECTION, np.zeros(0), np.zeros(0), no_forces(),
+        ends, 0.0, 1e-3, times, *args, dense.PROJECTION, np.zeros((4, 0)), no_forces(),
         together, z,
     )  # fmt: skip
     assert done == len(times)
