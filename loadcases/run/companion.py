@@ -18,12 +18,6 @@ on the run's. Measured on the estimate/true table (benchmarks/error_table.py) th
 stay within a few per cent of those with every second row, and the companion of the bench
 slider-crank costs 0.31 of its run instead of 0.52 (docs/performance.md).
 
-Its rows are not projected onto the position constraints (`ml.Dynamic.project_rows`,
-mechlib.solvers.dense_unprojected: the interpolant's positions, their velocities,
-accelerations and reactions solved there): they move its columns by at most 5e-3 of a
-peak (A05's hinge force at the springs' first leap; 1e-6 elsewhere) and its estimates by
-at most 4.5 % of themselves, and cost 2-7 % of a run less (docs/performance.md).
-
 Steps four times as long would cost half as much again, but are outside Richardson's
 asymptotic range on the IFToMM A01 pendulum: its error grows 8.3 times from tolerance 1e-6 to
 8e-6 and 35 times from 8e-6 to 6.4e-5 (0.32 rad), and the estimate read 16-22 times the
@@ -90,15 +84,12 @@ def largest_step(analysis: ml.Dynamic) -> float:
 
 
 def coarser(analysis: ml.Dynamic) -> ml.Dynamic:
-    """The companion: every step `STEP_RATIO` times as long (output interval too), its
-    dense rows not projected onto the position constraints (`ml.Dynamic.project_rows`:
-    they only serve the comparison)."""
+    """The companion: every step `STEP_RATIO` times as long (output interval too)."""
     return dataclasses.replace(
         analysis,
         tolerance=analysis.tolerance * _local_factor(analysis.integrator, STEP_RATIO),
         max_step=STEP_RATIO * largest_step(analysis) or None,
         step=STEP_RATIO * analysis.step,
-        project_rows=False,
     )
 
 

@@ -85,11 +85,6 @@ class Dynamic(_Timed):
     `runs` (whole runs of steps in one compiled call, mechlib.solvers.genalpha.run), `steps`
     (every step from Python, its Newton loop and dense rows compiled) or `python` (none:
     the reference the compiled paths are tested against).
-    `project_rows`: False leaves the dense rows of compiled whole runs where the
-    interpolant puts them, not projected onto the position constraints (their velocities,
-    accelerations and reactions still those of the equations of motion there:
-    mechlib.solvers.dense_unprojected), for a run whose rows only serve a comparison (an
-    accuracy companion, loadcases.run.companion); rows taken in Python are projected.
     """
 
     tolerance: float = DEFAULT_TOLERANCE
@@ -99,7 +94,6 @@ class Dynamic(_Timed):
     fixed_step: bool = False
     dense: bool = False
     compiled: str = "runs"
-    project_rows: bool = True
     name = "dynamic"
 
     def __post_init__(self) -> None:

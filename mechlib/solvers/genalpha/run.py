@@ -52,8 +52,7 @@ from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics.coordinates import AngleMeasure
 from mechlib.linalg.flat_lu import SUPERLU, refactor
 from mechlib.solvers.dense import PROJECTION
-from mechlib.solvers.dense_compiled import DONE, FALLBACK, project_loaded_row, small_enough
-from mechlib.solvers.dense_unprojected import unprojected_row
+from mechlib.solvers.dense_compiled import DONE, project_loaded_row, small_enough
 from mechlib.solvers.finite import all_finite
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
@@ -82,8 +81,7 @@ FRESH, NEXT_H = 16, 17  # in: the matrix is new for the next step; out: that ste
 REFACTORED = 18  # out: the iteration matrices factored in the call
 RESTARTED = 19  # out: the pseudo-acceleration carried to a new step size (H_USED is that h)
 H_MIN = 20  # in: the run's step floor (s)
-PROJECT = 21  # in: dense rows projected onto the position constraints (Dynamic.project_rows)
-CTRL_SIZE = 22
+CTRL_SIZE = 21
 # the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
 # the rules of mechlib.solvers.genalpha.rules, as the Python stepper does
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
@@ -208,7 +206,6 @@ def run_steps(
         fresh_rows = _dense_rows(
             ends, t, t_new, outs[i : i + due], written, ints, floats, functions, new_block,
             new_refs, body, projection, rows_t, rows_state, rows_refs, elements, states,
-            ctrl[PROJECT] != 0.0,
         )  # fmt: skip
         if fresh_rows < 0:  # the Python stepper takes this step and its rows
             return STOPPED, i, written
@@ -410,14 +407,13 @@ def _write_row(k, t, q, cons, cons_lam, refs_all, rows_t, rows_state, rows_refs)
 @njit(**KERNEL)
 def _dense_rows(
     ends, t, t_new, times, first, ints, floats, functions, block_refs, refs, body, projection,
-    rows_t, rows_state, rows_refs, elements, states, project,
+    rows_t, rows_state, rows_refs, elements, states,
 ):  # fmt: skip
     """The rows at `times` within the step t -> t_new (s), projected from the step's `ends`
     (mechlib.solvers.dense_compiled, with the packed `elements` at the rows' element
     states, interpolated into `states`' rows: run_states.interpolate_states) into rows
     first, first + 1, ...: the fresh Jacobians they took, or -1 where a row is given back
-    to Python. Not `project`: the rows' positions as interpolated
-    (mechlib.solvers.dense_unprojected), projected where that kernel gives up."""
+    to Python."""
     span = t_new - t
     fresh_rows = 0
     for k in range(times.shape[0]):
@@ -426,18 +422,10 @@ def _dense_rows(
         w = (t_row - t) / span
         s = 1.0 if at_end else w
         z = interpolate_states(states, w, first + k)
-        status, fresh = FALLBACK, 0
-        if not project:
-            status, fresh = unprojected_row(
-                ends, span, s, ints, floats, functions, block_refs, body, z, elements,
-                rows_state[first + k],
-            )  # fmt: skip
-        if status != DONE:
-            status, more = project_loaded_row(
-                ends, span, s, ints, floats, functions, block_refs, body, projection, z,
-                elements, rows_state[first + k],
-            )  # fmt: skip
-            fresh += more
+        status, fresh = project_loaded_row(
+            ends, span, s, ints, floats, functions, block_refs, body, projection, z, elements,
+            rows_state[first + k],
+        )  # fmt: skip
         if status != DONE:
             return -1
         fresh_rows += fresh
@@ -685,7 +673,6 @@ class StepRun:
         ctrl[[ALPHA_M, ALPHA_F, BETA, GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
         ctrl[DENSE] = float(stepper.dense)
         ctrl[H_MIN] = stepper.h_min
-        ctrl[PROJECT] = float(spec.project_rows)
         ctrl[REFACTORED] = ctrl[RESTARTED] = 0.0
         counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
         ints, floats = arrays.packed()
