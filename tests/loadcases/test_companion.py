@@ -5,6 +5,7 @@ w0 t | k^2)), released at rest from 60 deg)."""
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from pathlib import Path
 
@@ -16,6 +17,8 @@ from loadcases.inputs.loader import load_case
 from loadcases.run import build_run, run_case
 from loadcases.run.companion import STEP_RATIO, coarser, sparser
 from loadcases.run.global_error import shared_rows
+from mechlib.solvers.genalpha.stepper import GeneralizedAlphaStepper
+from tests.verification.flyball import THETA0, Z0, flyball_solve
 from tests.verification.references import pendulum_angle
 
 PENDULUM = (
@@ -25,6 +28,8 @@ PENDULUM = (
     / "verification"
     / "pendulum.case.yaml"
 )
+
+FLYBALL = PENDULUM.parent / "hard" / "iftomm_a05_flyball.case.yaml"
 
 
 def _run_of(steps: int, rows: int) -> ml.Solution:
@@ -72,3 +77,35 @@ def test_thinned_companion_rows_lie_on_the_run_rows_and_keep_the_estimate(
     true = np.abs(outcome.solution.channels["hinge_angle.value"] - exact).max() / theta0
     estimate = outcome.checks["accuracy"]["estimate"]["hinge_angle"]["history"]
     assert estimate == pytest.approx(true, rel=0.15)
+
+
+def test_companion_steps_stay_compiled_where_newton_stalls_on_an_old_matrix(monkeypatch) -> None:
+    """IFToMM A05's stiff springs (8e5 N/m, 4e4 N s/m): at the companion's steps Newton
+    stalls on the iteration matrix of an earlier step at most steps. The whole-run kernel
+    refreshes it at the iterate, as the Python step does, and goes on
+    (mechlib.solvers.genalpha.run), instead of handing each such step to Python: over
+    0.6 s 3 of the companion's 78 steps are Python's (61 before; over 10 s 825 of 1051,
+    the companion then 3 times the run's CPU, now 0.74: docs/performance.md). The same
+    steps (73 accepted, 5 rejected) and motion against the minimal-coordinate reference
+    (tests/verification/flyball.py; measured 6.5e-4 of the travel's peak, 6.0e-4 of the
+    angle's, 3.2e-4 of the spin rate's, about 3 times the run's as Richardson expects)."""
+    python = {"steps": 0}
+    step = GeneralizedAlphaStepper.step
+
+    def counted(self, *args):
+        python["steps"] += 1
+        return step(self, *args)
+
+    monkeypatch.setattr(GeneralizedAlphaStepper, "step", counted)
+    built = build_run(load_case(FLYBALL))
+    companion = dataclasses.replace(coarser(built.analysis), end=0.6)
+    solved = built.solve(companion, checks=False)
+    assert solved.ok and python["steps"] <= 5
+    reference = flyball_solve(np.asarray(solved.time))
+    for column, exact, bound in (
+        ("travel.value", reference[1] - Z0, 1e-3),
+        ("angle1.value", reference[0] - THETA0, 1e-3),
+        ("spin_rate.value", reference[2], 5e-4),
+    ):
+        error = np.abs(solved.channels[column] - exact).max() / np.abs(exact).max()
+        assert error < bound, (column, error)

@@ -21,7 +21,9 @@ the Python step does) and calls it again for that step. At a new step size it ca
 pseudo-acceleration to it as the Python step does (rules.pseudo_acceleration;
 ctrl[RESTARTED] tells `StepRun` that the state it hands back has it). It stops, leaving the
 state where it was (but for that pseudo-acceleration), before any step that needs what only
-the Python stepper does: a step below the step floor, Newton stalling, the step limit or a
+the Python stepper does: a step below the step floor, Newton stalling on a matrix it cannot
+refresh (one made for an earlier step is refreshed at Newton's iterate and the iteration
+goes on, as the Python step does: `_refreshed`), the step limit or a
 collapsing step size, a dense row the compiled projection gives back; and before recording
 a non-finite row.
 `march` then takes one step in Python and calls it again: the same steps, iterations and
@@ -186,8 +188,13 @@ def run_steps(
             params, 0, math.inf, ctrl[ETA], own[2], own[3], true, h_try, states[0], states[2],
             states[1], elements,
         )  # fmt: skip
+        status, it, eta, done, fresh = _refreshed(
+            status, it, eta, done, fresh, q1, qd1, qdd1, lam1, own, true, h_try, ctrl, counts,
+            params, kind, ints, floats, functions, refs, body, prow, pcol, values, place,
+            brow, bcol, fi, ff, q_abs, a_ref, elements, columns, tangent, states,
+        )  # fmt: skip
         if status != CONVERGED:
-            return _newton_stopped(ctrl, counts, fresh, done, h_try), i, written
+            return _newton_stopped(ctrl, counts, fresh, done, h_try, status), i, written
         new_qdd = true[nq : 2 * nq]
         err = gk.error_norm(
             ctrl[ERROR_CONSTANT] * h_try * h_try, cons[1], new_qdd, q_abs, ctrl[TOL], q1
@@ -320,10 +327,48 @@ def _new_size(ctrl, h):
     return ctrl[H_USED] != 0.0 and abs(h / ctrl[H_USED] - 1.0) > 1e-9
 
 
+_SINGULAR = -1  # `_refreshed`: the iteration matrix is singular at Newton's iterate
+
+
 @njit(**KERNEL)
-def _newton_stopped(ctrl, counts, fresh, done, h):
+def _refreshed(
+    status, it, eta, done, fresh, q1, qd1, qdd1, lam1, own, true, h, ctrl, counts, params, kind,
+    ints, floats, functions, refs, body, prow, pcol, values, place, brow, bcol, fi, ff, q_abs,
+    a_ref, elements, columns, tangent, states,
+):  # fmt: skip
+    """Newton stalled on the step h (s) with an old iteration matrix: refreshed at the
+    iterate, its tangent anew, Newton goes on from there (Integrator._compiled_step), in
+    this call. Returns (status, it, eta, done, fresh) as they are after it (as given where
+    Newton converged, the matrix was new, or the layout does not fit the factors: Python
+    then takes the step); status _SINGULAR where the refreshed matrix is singular."""
+    if status == CONVERGED or fresh or fi[0] != kind:
+        return status, it, eta, done, fresh
+    stale, ctrl[STALE] = ctrl[STALE], 1.0
+    if not _refactored(q1, qd1, lam1, h, ctrl, kind, ints, floats, functions, refs, body,
+                       prow, pcol, values, place, brow, bcol, fi, ff, elements, columns,
+                       tangent, states):  # fmt: skip
+        ctrl[STALE] = stale
+        return _SINGULAR, it, eta, done, fresh
+    counts[ROW_JACOBIANS] += 1
+    counts[ROW_FACTORS] += 1
+    ctrl[LU_H], ctrl[STALE], ctrl[H_USED] = h, 0.0, h
+    ctrl[REFACTORED] += 1.0
+    status, it, _, eta, more = loaded_newton(
+        q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
+        0, math.inf, eta, own[2], own[3], true, h, states[0], states[2], states[1], elements,
+    )  # fmt: skip
+    return status, it, eta, done + more, True
+
+
+@njit(**KERNEL)
+def _newton_stopped(ctrl, counts, fresh, done, h, status):
     """Newton stopped on the step h (s): with an old matrix STOPPED (Python refreshes it, as
-    it would); with a new one FAILED (the step fails), its iterations counted."""
+    it would: where the kernel cannot, `_refreshed`); with a new one FAILED (the step
+    fails), its iterations counted; REFACTOR where the refreshed matrix is singular
+    (StepRun factors one for the step in Python, or fails it)."""
+    if status == _SINGULAR:
+        ctrl[NEXT_H] = h
+        return REFACTOR
     if not fresh:
         return STOPPED
     counts[ITERATIONS] += done
