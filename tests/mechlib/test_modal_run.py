@@ -27,20 +27,13 @@ from benchmarks.flexible import SpinUp, _kane_lag, flexible_slider_crank, spin_u
 from mechlib.kinematics.time_functions import NO_CALL, calling, functions_at
 from mechlib.solvers.genalpha import modal_run
 
+from .test_compiled_forces import _kernel_steps
+
 TOL_SAME = 1e-9  # of each signal's range
 
 
 def _run(name: str, compiled: str, monkeypatch) -> tuple[mechlib.Solution, np.ndarray, int]:
     """The run, its compared signal and the steps the kernel took."""
-    taken = {"steps": 0}
-    original = modal_run.ModalRun.run
-
-    def counted(self, s, *args):
-        before = self.stepper.stats.steps
-        out = original(self, s, *args)
-        taken["steps"] += self.stepper.stats.steps - before
-        return out
-
     if name == "crank":
         mech, end, step, tol = flexible_slider_crank(), 0.02, 1e-3, 1e-4
         requests: list = [mechlib.PointKinematics("slider", "slider")]
@@ -48,12 +41,9 @@ def _run(name: str, compiled: str, monkeypatch) -> tuple[mechlib.Solution, np.nd
         mech, end, step, tol = spin_up_beam(name == "stiffened"), 4.0, 0.1, 1e-6
         requests = [mechlib.PointKinematics("tip", "tip"), mechlib.JointCoordinate("hub", "hub")]
     spec = mechlib.Dynamic(end=end, step=step, tolerance=tol, compiled=compiled)
-    with monkeypatch.context() as patch:
-        patch.setattr(modal_run.ModalRun, "run", counted)
-        sol = mechlib.solve(mech, spec, requests=requests)
-    assert sol.ok, sol.message
+    sol, taken = _kernel_steps(mech, spec, (), requests, monkeypatch, modal_run.ModalRun)
     signal = sol.channels["slider.x"] if name == "crank" else _kane_lag(sol)
-    return sol, np.asarray(signal), taken["steps"]
+    return sol, np.asarray(signal), taken
 
 
 @pytest.mark.parametrize("name", ["plain", "stiffened", "crank"])
