@@ -13,11 +13,16 @@ each step from Python, its Newton loop compiled, mechlib.solvers.genalpha.modal_
 - The driven hub follows its motion, a closed form: the hub angle recorded equals
   SpinUp's f(t) to 1e-9 rad at every output time (the function of time the kernel reads
   at each attempt's end; benchmarks.flexible_compare holds the tip lag against Exudyn).
+- A motion whose function fails mid-run (a SolverFailure at t > 2.05 s): the compiled run
+  stops before the step and the Python step raises it, so the run fails with the same
+  message and keeps the same rows as the Python-stepped run.
 - `functions_at` fills the functions at the time asked through the registered filler, and
   leaves them for NO_CALL.
 """
 
 from __future__ import annotations
+
+import dataclasses
 
 import numpy as np
 import pytest
@@ -72,3 +77,26 @@ def test_functions_at_calls_the_filler():
     assert out.tolist() == [[0.5, 1.0, 0.0], [1.0, 2.0, 0.0]]
     functions_at(NO_CALL, 3.0, out)
     assert out.tolist() == [[0.5, 1.0, 0.0], [1.0, 2.0, 0.0]]
+
+
+class _Failing(SpinUp):
+    """SpinUp until 2.05 s, then a failure (an expression's math error, as
+    loadcases.build.context.Guarded reports it)."""
+
+    def value(self, t: float) -> float:
+        if t > 2.05:
+            raise mechlib.SolverFailure(f"motion spin: math domain error at t = {t:.6g} s", time=t)
+        return super().value(t)
+
+
+def test_a_failing_motion_keeps_the_rows_before_it(monkeypatch):
+    runs = []
+    for compiled in ("runs", "steps"):
+        mech = spin_up_beam(False)
+        mech.motions["spin"] = dataclasses.replace(mech.motions["spin"], function=_Failing())
+        spec = mechlib.Dynamic(end=4.0, step=0.1, tolerance=1e-6, compiled=compiled)
+        runs.append(mechlib.solve(mech, spec, requests=[], throw=False))
+    fast, slow = runs
+    assert not fast.ok and fast.message == slow.message
+    assert fast.message.endswith("math domain error at t = 2.1 s")  # the first step past it
+    assert len(fast.time) == len(slow.time) == 21  # 0 to 2.0 s

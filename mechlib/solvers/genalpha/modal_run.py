@@ -150,6 +150,8 @@ def run_modal(
         if counts[rr.STEPS] + counts[rr.REJECTED] + (ctrl[rr.END] - t) / h > ctrl[rr.MAX_STEPS]:
             return rr.STOPPED, i, written  # the step-collapse watch
         functions_at(handle, t + h, system[2])
+        if not np.isfinite(system[2]).all():
+            return rr.STOPPED, i, written  # a function failed there: Python's step says why
         am, beta, gamma = ctrl[rr.ALPHA_M], ctrl[rr.BETA], ctrl[rr.GAMMA]
         q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h, am, beta, gamma)
         lam1 = own_lam.copy()
@@ -203,7 +205,12 @@ class ModalRun(rr.StepRun):
         varying = any(not getattr(f, "constant", False) for f in self._functions())
 
         def fill(t: float, out: np.ndarray) -> None:
-            out[:] = arrays.functions(t)
+            try:
+                out[:] = arrays.functions(t)
+            except Exception:  # noqa: BLE001 -- not swallowed: the kernel stops before the
+                # step, and the Python step evaluates the function again and raises it there,
+                # with the rows before it recorded (a failure keeps its results)
+                out[:] = math.nan
 
         with calling(fill) as handle:
             for _ in range(self.CHUNK):
