@@ -282,3 +282,21 @@ def load_maps(p, p_nodes, phi_star, zeta, out):
             v[g] += 1.0
             _skew_times(turn[:, f].copy(), v, axis)
             out[i, 3:, 3 + c] = axis
+
+
+@njit(**KERNEL)
+def weld_coupling(nodal, zeta, maps, out):
+    """out (n, k, 6) += dQ_zeta/d(weld multipliers) of a stiffened body's geometric
+    stiffening, Q_zeta = -K_G(node loads) zeta with the node loads linear in its weld
+    multipliers through `maps` (`load_maps`'): out[i, node, j] -= sum_c (K_c zeta)_i
+    maps[node, c, j], K_c = nodal[node, c] the stiffening per unit load c at the node
+    (mechlib.flexible.stiffening, (k, 6, n, n)); zeta (n,)."""
+    n = zeta.shape[0]
+    for node in range(nodal.shape[0]):
+        for c in range(6):
+            for i in range(n):
+                g = 0.0
+                for j in range(n):
+                    g += nodal[node, c, i, j] * zeta[j]
+                for col in range(6):
+                    out[i, node, col] -= g * maps[node, c, col]

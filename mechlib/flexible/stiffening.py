@@ -60,11 +60,6 @@ class ModalGeometric:
             out += np.einsum("kc,kcij->ij", node_loads, self.nodal)
         return out
 
-    def load_gradient(self, zeta: np.ndarray) -> np.ndarray:
-        """(k, 6, n): d(K_G zeta)/d(node load), per unit force (1/N) and torque (1/(N m))
-        at each kept node: K_G is linear in the node loads."""
-        return np.einsum("kcij,j->kci", self.nodal, zeta)
-
 
 _PLANE = np.array(  # (v1, theta1, v2, theta2) of plane bending, times L^(r_i + r_j) / 30 L
     [

@@ -16,6 +16,7 @@ import numpy as np
 from mechlib.core import jit
 from mechlib.core.rotation import e_matrix
 from mechlib.elements.compiled_forces import CompiledForces
+from mechlib.flexible.kernels import weld_coupling
 from mechlib.kinematics import kernels
 from mechlib.kinematics.constraint_arrays import ConstraintArrays
 from mechlib.kinematics.kin import Kin
@@ -316,8 +317,8 @@ class System(Topology):
                 continue
             if out is None:
                 out = np.zeros((self.nq, len(lam)))
-            gradient = geometric.load_gradient(k.z[a.modes])  # (k, 6, n)
-            block = -np.einsum("kcn,kcj->nkj", gradient, welds.load_maps(k, a))
+            block = np.zeros((a.body.n, len(a.nodes), 6))
+            weld_coupling(a.body.nodal, k.z[a.modes], welds.load_maps(k, a), block)
             start, nodes = welds.rows_of(a)
             column = np.full(len(self._all_labels), -1)  # of each equation among lam
             column[self.active] = np.arange(self.active.size)

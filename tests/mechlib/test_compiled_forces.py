@@ -31,10 +31,11 @@ def _disc(**forces) -> mechlib.Mechanism:
     return mech
 
 
-def _kernel_steps(mech, analysis, initial, requests, monkeypatch) -> tuple:
-    """(solution, the steps taken in compiled runs)."""
+def _kernel_steps(mech, analysis, initial, requests, monkeypatch, runner=None) -> tuple:
+    """(solution, the steps taken in compiled runs: `runner`'s, StepRun's by default)."""
     taken = {"steps": 0}
-    original = genalpha_run.StepRun.run
+    runner = runner or genalpha_run.StepRun
+    original = runner.run
 
     def run(self, s, *args):
         before = self.stepper.stats.steps
@@ -43,7 +44,7 @@ def _kernel_steps(mech, analysis, initial, requests, monkeypatch) -> tuple:
         return out
 
     with monkeypatch.context() as patch:
-        patch.setattr(genalpha_run.StepRun, "run", run)
+        patch.setattr(runner, "run", run)
         sol = mechlib.solve(mech, analysis, initial=initial, requests=requests)
     assert sol.ok, sol.message
     return sol, taken["steps"]

@@ -33,7 +33,9 @@ def _run(monkeypatch, old_rule: bool, old_stall: bool = False, end: float = 8.0)
             patch.setattr(rules, "restalled", lambda refreshed, rebuilt, modal: 2 - 2 * refreshed)
         sol = mechlib.solve(
             spin_up_beam(False),
-            mechlib.Dynamic(end=end, step=0.1, tolerance=1e-6),
+            # each step from Python, where the patched rules are read (the whole runs of
+            # mechlib.solvers.genalpha.modal_run have the rules compiled in; the same steps)
+            mechlib.Dynamic(end=end, step=0.1, tolerance=1e-6, compiled="steps"),
             requests=[mechlib.PointKinematics("tip", "tip")],
         )
     assert sol.ok, sol.message

@@ -19,9 +19,11 @@ operations but for summation order: results equal the Python loop's to round-off
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 
-from mechlib.core.jit import KERNEL, njit
+from mechlib.core.jit import KERNEL, njit, on_compile
 from mechlib.elements.compiled_forces import advance_states, any_elements, element_wrenches
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
@@ -29,9 +31,65 @@ from mechlib.linalg.flat_lu import lu_solve, lu_solve_into
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
 
-__all__ = ["CONVERGED", "STALLED", "loaded_newton", "newton"]
+__all__ = ["CONVERGED", "STALLED", "loaded_newton", "newton", "newton_loop"]
 
 CONVERGED, STALLED = 1, 2
+
+# the Newton parts of each kind of system, by the length of its `ctx` tuple (`newton_parts`)
+_PARTS: dict[int, tuple[Callable[..., None], Callable[..., None]]] = {}
+
+
+def newton_parts(size: int, residual: Callable[..., None], consistent: Callable[..., None]):
+    """Register the Newton parts of a kind of system whose `newton_loop` arrays `ctx` are
+    tuples of `size` items: residual(ctx, q1, qd1, qdd1, lam1, res) fills res = (M qdd +
+    phi_q^T lam - Q, phi of the active rows) at the iterate; consistent(ctx, q1, qd1,
+    qdd1, lam1, fi, ff, out) the state's (qd, qdd, lam) on all three constraint levels
+    (both kernels)."""
+    assert size not in _PARTS, "one kind of system per ctx length"
+    _PARTS[size] = (residual, consistent)
+
+
+def system_residual(ctx, q1, qd1, qdd1, lam1, res):
+    """The residual part of `ctx`'s kind of system (`newton_parts`); compiled, the choice is
+    made when `newton_loop` compiles for that kind (`_bind_parts`): no call through Python."""
+    _PARTS[len(ctx)][0](ctx, q1, qd1, qdd1, lam1, res)
+
+
+def system_consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, out):
+    """The consistent-state part of `ctx`'s kind of system (`system_residual`)."""
+    _PARTS[len(ctx)][1](ctx, q1, qd1, qdd1, lam1, fi, ff, out)
+
+
+def _compiled(kernel):
+    """A registered kernel as numba calls it (its dispatcher once compiled)."""
+    return getattr(kernel, "dispatcher", None) or kernel
+
+
+def _bind_parts() -> None:
+    """numba's overloads of `system_residual` and `system_consistent`: the registered
+    kernels of the ctx's kind, resolved by its length when a caller compiles."""
+    from numba.extending import overload
+
+    @overload(system_residual)
+    def _residual(ctx, q1, qd1, qdd1, lam1, res):
+        kernel = _compiled(_PARTS[len(ctx)][0])
+
+        def residual(ctx, q1, qd1, qdd1, lam1, res):
+            kernel(ctx, q1, qd1, qdd1, lam1, res)
+
+        return residual
+
+    @overload(system_consistent)
+    def _consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, out):
+        kernel = _compiled(_PARTS[len(ctx)][1])
+
+        def consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, out):
+            kernel(ctx, q1, qd1, qdd1, lam1, fi, ff, out)
+
+        return consistent
+
+
+on_compile(_bind_parts)
 
 
 @njit(**KERNEL)
@@ -79,41 +137,72 @@ def loaded_newton(
     q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
     it, prev, eta, qdd, a, true, h, z0, f0, z, elements,
 ):  # fmt: skip
+    """`newton_loop` for a rigid system: at each iterate the element states z (in place)
+    advance over the step h (s) from z0 (rates f0), and the packed force elements
+    (`elements`: CompiledForces.args, mechlib.elements.compiled_forces) load the bodies;
+    (ints, floats): the constraints' pack (constraint_arrays), `body` the bodies' mass terms."""
+    nq = q1.shape[0]
+    nb = nq // 7
+    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    x, xd = np.empty((nb + 1, 7)), np.empty((nb + 1, 7))
+    rows = np.empty((nall, nq + 7))  # each iteration fills its rows' blocks only
+    ctx = (ca.unpack(ints, floats), functions, refs, body, h, z0, f0, z, elements,
+           np.empty(nall), rows, _residual_work(nq), x, xd)  # fmt: skip
+    return newton_loop(
+        ctx, q1, qd1, qdd1, lam1, fi, ff, q_abs, a_ref, params, it, prev, eta, qdd, a, true
+    )
+
+
+@njit(**KERNEL)
+def _rigid_residual(ctx, q1, qd1, qdd1, lam1, res):
+    """res = (M qdd + phi_q^T lam - Q, phi) of the active rows at the iterate
+    (`loaded_newton`'s ctx: its rows left for `_rigid_consistent`)."""
+    packed, functions, refs, body, h, z0, f0, z, elements, full, rows, work, x, xd = ctx
+    ca.state_into(q1, qd1, x, xd)
+    if z.shape[0]:
+        advance_states(x, xd, z0, f0, h, elements, z)
+    active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
+    _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, z, elements, work, res)
+    nq = q1.shape[0]
+    for i in range(active.shape[0]):
+        res[nq + i] = full[active[i]]
+
+
+@njit(**KERNEL)
+def _rigid_consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, out):
+    """`_true_acceleration` with `loaded_newton`'s ctx."""
+    packed, functions, refs, body, _, _, _, z, elements, _, rows, work, _, _ = ctx
+    _true_acceleration(
+        q1, qd1, qdd1, lam1, rows, packed[25], packed[26], packed, functions, refs, body, z,
+        elements, work, fi, ff, out,
+    )  # fmt: skip
+
+
+@njit(**KERNEL)
+def newton_loop(
+    ctx, q1, qd1, qdd1, lam1, fi, ff, q_abs, a_ref, params, it, prev, eta, qdd, a, true
+):
     """Newton iterations on (q1, qd1, qdd1, lam1), in place, with fixed LU factors (fi, ff)
     from iteration `it` with the last increment size `prev` and rate estimate `eta`, as
     mechlib.solvers.genalpha.integrator.Integrator.step does them, by the same rules
     (mechlib.solvers.genalpha.rules); params: (beta', gamma', tolerance, alpha_m, alpha_f).
+    The system's part is chosen by its Newton arrays `ctx` when compiled (`newton_parts`:
+    the rigid system's here, the modal bodies' in mechlib.solvers.genalpha.modal_newton).
     Stops on convergence (CONVERGED: `true` then holds the state's (qd, qdd, lam) on all
     three constraint levels and the new pseudo-acceleration a from the step's start values
-    (qdd, a), stacked) or when the increments stop shrinking fast enough or the
-    iterations run out (STALLED: the caller refactors or gives up). At each iterate the
-    element states z (in place) advance over the step h (s) from z0 (rates f0), and the
-    packed force elements (`elements`: CompiledForces.args, mechlib.elements.compiled_forces)
-    load the bodies. Returns
-    (status, it, prev, eta, iterations done)."""
+    (qdd, a), stacked) or when the increments stop shrinking fast enough or the iterations
+    run out (STALLED: the caller refactors or gives up). Returns (status, it, prev, eta,
+    iterations done)."""
     bp, gp, tol = params[0], params[1], params[2]
     nq, m = q1.shape[0], lam1.shape[0]
-    nb = nq // 7
-    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
-    full = np.empty(nall)
-    rows = np.empty((nall, nq + 7))  # each iteration fills its rows' blocks only
-    res = np.empty(nq + m)
-    packed = ca.unpack(ints, floats)
-    work = _residual_work(nq)
-    x, xd, dx = np.empty((nb + 1, 7)), np.empty((nb + 1, 7)), np.empty(nq + m)
+    res, dx = np.empty(nq + m), np.empty(nq + m)
     done = 0
     while True:
-        ca.state_into(q1, qd1, x, xd)
-        if z.shape[0]:
-            advance_states(x, xd, z0, f0, h, elements, z)
-        active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
-        _dynamic_residual(
-            x, xd, qdd1, lam1, rows, active, row_bodies, body, z, elements, work, res
-        )  # fmt: skip
+        system_residual(ctx, q1, qd1, qdd1, lam1, res)
         for j in range(nq):
             res[j] = -res[j] / bp
         for i in range(m):
-            res[nq + i] = -full[active[i]]
+            res[nq + i] = -res[nq + i]
         lu_solve_into(fi, ff, res, dx)
         gk.correct(q1, qd1, qdd1, lam1, dx, gp, bp)
         done += 1
@@ -123,10 +212,7 @@ def loaded_newton(
         eta = rules.newton_rate(size, prev, eta)
         noise = rules.is_noise(size, prev, gk.position_size(dq, q1, q_abs, tol), tol)
         if rules.converged(eta, size, noise):
-            _true_acceleration(
-                q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body,
-                z, elements, work, fi, ff, true,
-            )  # fmt: skip
+            system_consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, true)
             am, af = params[3], params[4]
             for j in range(nq):
                 true[2 * nq + m + j] = ((1.0 - af) * qdd1[j] + af * qdd[j] - am * a[j]) / (1.0 - am)
@@ -167,3 +253,6 @@ def _true_acceleration(
     out[:nq] = qd
     out[nq : 2 * nq] = qdd1 - fix[:nq]
     out[2 * nq : 2 * nq + m] = lam1 - fix[nq:]
+
+
+newton_parts(14, _rigid_residual, _rigid_consistent)  # loaded_newton's ctx

@@ -25,13 +25,10 @@ from mechlib.flexible.kernels import body_mass, coordinate_forces, coordinate_ma
 from mechlib.flexible.weld_kernels import weld_gamma, weld_jacobian, weld_phi
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
-from mechlib.linalg.flat_lu import lu_solve, lu_solve_into
-from mechlib.solvers.genalpha import kernels as gk
-from mechlib.solvers.genalpha import rules
+from mechlib.linalg.flat_lu import lu_solve
+from mechlib.solvers.genalpha.compiled import CONVERGED, STALLED, newton_loop, newton_parts
 
 __all__ = ["CONVERGED", "STALLED", "modal_matrices", "modal_newton", "modal_rows"]
-
-CONVERGED, STALLED = 1, 2
 
 
 @njit(**KERNEL)
@@ -230,54 +227,44 @@ def modal_newton(
     q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, bodies, welds, active, fi, ff,
     q_abs, a_ref, params, it, prev, eta, qdd, a, true,
 ):  # fmt: skip
-    """Newton iterations on (q1, qd1, qdd1, lam1), in place, with fixed LU factors (fi, ff),
-    from iteration `it` with the last increment size `prev` and rate estimate `eta`, as
-    Integrator.step does them; params: (beta', gamma', tolerance, alpha_m, alpha_f);
-    (ints, floats): the rigid rows' pack, `body` the rigid bodies' mass terms
-    (ConstraintArrays.bodies), `bodies`, `welds`, `active`: mechlib.flexible.packed.ModalArrays'.
-    CONVERGED: `true` holds the state's (qd, qdd, lam) on all three constraint levels and
-    the new pseudo-acceleration a from the step's start values (qdd, a), stacked; STALLED:
-    the caller refactors or gives up. Returns (status, it, prev, eta, iterations done)."""
-    bp, gp, tol = params[0], params[1], params[2]
-    nq, m = q1.shape[0], lam1.shape[0]
+    """mechlib.solvers.genalpha.compiled.newton_loop (its arguments, rules and returns) for a
+    system with modal bodies: (ints, floats) the rigid rows' pack, `body` the rigid bodies'
+    mass terms (ConstraintArrays.bodies), `bodies`, `welds`, `active`:
+    mechlib.flexible.packed.ModalArrays'."""
+    nq = q1.shape[0]
     nb = ints[0]
     packed = ca.unpack(ints, floats)
     nall = packed[25].shape[0] + welds[1]
-    full = np.empty(nall)
-    rows = np.empty((nall, nq + 7))
     work = (np.empty((3, nq)), np.empty(nall), np.zeros((nb + 1, 3)))
-    res = np.empty(nq + m)
-    x, xd, dx = np.empty((nb + 1, 7)), np.empty((nb + 1, 7)), np.empty(nq + m)
-    z = q1[7 * nb :]
-    done = 0
-    while True:
-        ca.state_into(q1, qd1, x, xd)
-        modal_rows(x, z, packed, functions, refs, bodies, welds, full, rows)
-        _residual(x, xd, q1, qd1, qdd1, lam1, rows, active, body, bodies, work, res)
-        for j in range(nq):
-            res[j] = -res[j] / bp
-        for i in range(m):
-            res[nq + i] = -full[active[i]]
-        lu_solve_into(fi, ff, res, dx)
-        gk.correct(q1, qd1, qdd1, lam1, dx, gp, bp)
-        done += 1
-        it += 1
-        dq = dx[:nq]
-        size = gk._newton_size(dq, q1, qdd1, bp, q_abs, a_ref, tol, rules.ROUNDOFF)
-        eta = rules.newton_rate(size, prev, eta)
-        noise = rules.is_noise(size, prev, gk.position_size(dq, q1, q_abs, tol), tol)
-        if rules.converged(eta, size, noise):
-            _true_acceleration(
-                q1, qd1, qdd1, lam1, rows, active, packed, functions, refs, body, bodies,
-                welds, work, fi, ff, true,
-            )  # fmt: skip
-            am, af = params[3], params[4]
-            for j in range(nq):
-                true[2 * nq + m + j] = ((1.0 - af) * qdd1[j] + af * qdd[j] - am * a[j]) / (1.0 - am)
-            return CONVERGED, it, size, eta, done
-        if rules.stalled(size, prev, it):
-            return STALLED, it, size, eta, done
-        prev = size
+    x, xd = np.empty((nb + 1, 7)), np.empty((nb + 1, 7))
+    ctx = (packed, functions, refs, body, bodies, welds, active, np.empty(nall),
+           np.empty((nall, nq + 7)), work, x, xd)  # fmt: skip
+    return newton_loop(
+        ctx, q1, qd1, qdd1, lam1, fi, ff, q_abs, a_ref, params, it, prev, eta, qdd, a, true
+    )
+
+
+@njit(**KERNEL)
+def _modal_residual(ctx, q1, qd1, qdd1, lam1, res):
+    """res = (M qdd + phi_q^T lam - Q, phi) of the active rows at the iterate
+    (`modal_newton`'s ctx: its rows left for `_modal_consistent`)."""
+    packed, functions, refs, body, bodies, welds, active, full, rows, work, x, xd = ctx
+    nq, nb = q1.shape[0], x.shape[0] - 1
+    ca.state_into(q1, qd1, x, xd)
+    modal_rows(x, q1[7 * nb :], packed, functions, refs, bodies, welds, full, rows)
+    _residual(x, xd, q1, qd1, qdd1, lam1, rows, active, body, bodies, work, res)
+    for i in range(active.shape[0]):
+        res[nq + i] = full[active[i]]
+
+
+@njit(**KERNEL)
+def _modal_consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, out):
+    """`_true_acceleration` with `modal_newton`'s ctx."""
+    packed, functions, refs, body, bodies, welds, active, _, rows, work, _, _ = ctx
+    _true_acceleration(
+        q1, qd1, qdd1, lam1, rows, active, packed, functions, refs, body, bodies, welds, work,
+        fi, ff, out,
+    )  # fmt: skip
 
 
 @njit(**KERNEL)
@@ -344,3 +331,6 @@ def modal_matrices(q, ints, floats, functions, refs, body, bodies, welds, active
             row = f0 + a if a < 7 else z0 + a - 7
             for b in range(7 + n):
                 mass[row, f0 + b if b < 7 else z0 + b - 7] += block[a, b]
+
+
+newton_parts(12, _modal_residual, _modal_consistent)  # modal_newton's ctx

@@ -11,8 +11,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from mechlib.core.outcome import SolverFailure
+from mechlib.core.work import count
 from mechlib.flexible.packed import ModalArrays
 from mechlib.solvers.genalpha import rules
+from mechlib.solvers.genalpha.modal_matrix import dense_layout, factored
 from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_matrices, modal_newton
 
 if TYPE_CHECKING:
@@ -38,13 +40,9 @@ def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam)
     true = np.empty(3 * nq + m)  # qd, qdd, lam on three levels; a
     while True:
         if rebuild:
+            system = (ints, floats, functions, refs, arrays.bodies(), bodies, welds, active)
             try:
-                matrices = (np.empty((nq, nq)), np.empty((m, nq)))
-                modal_matrices(
-                    q1, ints, floats, functions, refs, arrays.bodies(), bodies, welds, active,
-                    *matrices,
-                )  # fmt: skip
-                integ._iteration_matrix(sys.kin(q1, qd1, t1), h, fresh, lam1, matrices)
+                _factor(integ, system, q1, qd1, t1, h, fresh, lam1)
             except SolverFailure as failure:  # singular here: reject, try a smaller step
                 integ.singular = failure
                 break
@@ -69,3 +67,25 @@ def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam)
         it = 0
     integ.drop()
     return None
+
+
+def _factor(integ: Integrator, system: tuple, q1, qd1, t1, h, fresh: bool, lam1) -> None:
+    """The iteration matrix of the step h (s) at (q1, qd1) factored: with the tangent kept
+    in one compiled call (modal_matrix.factored, which modal_run uses too), with a new
+    differenced tangent (`fresh`, or none yet) or where the kernel finds it singular by
+    Integrator._iteration_matrix (the failure naming the joints)."""
+    sys, c = integ.system, integ.c
+    nq, m = sys.nq, lam1.shape[0]
+    if not fresh and integ.tangent is not None:
+        n = nq + m
+        fi, ff = np.zeros(2 + n, dtype=np.int64), np.empty(n * n + n)
+        fi[1] = n
+        bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
+        if factored(q1, bp, c.gamma / (h * c.beta), system, integ.tangent, dense_layout(n), fi, ff):
+            count(jacobian_evaluations=1, factorizations=1)
+            integ.adopt(fi, ff, h)
+            return
+    ints, floats, functions, refs, body, bodies, welds, active = system
+    matrices = (np.empty((nq, nq)), np.empty((m, nq)))
+    modal_matrices(q1, ints, floats, functions, refs, body, bodies, welds, active, *matrices)
+    integ._iteration_matrix(sys.kin(q1, qd1, t1), h, fresh, lam1, matrices)

@@ -195,6 +195,7 @@ def refactors(h: float, lu_h: float) -> bool:
     return abs(h / lu_h - 1.0) > REFACTOR_CHANGE
 
 
+@njit(**KERNEL)
 def retangents(tried: bool) -> bool:
     """A step of a system of modal bodies without force elements (a tangent that changes
     with the spin alone) that converged slowly asks for a new differenced tangent
@@ -210,6 +211,7 @@ def retangents(tried: bool) -> bool:
 GIVE_UP, KEPT, FRESH = 0, 1, 2  # `restalled`: what a stalled step does next
 
 
+@njit(**KERNEL)
 def restalled(refreshed: bool, rebuilt: bool, modal: bool) -> int:
     """What a step whose Newton iterations stalled does next: GIVE_UP when its matrix had
     a fresh differenced tangent (`refreshed`); KEPT: the matrix of a system of modal

@@ -207,7 +207,7 @@ def run_steps(
         if not _slipping(own[0], cons[0], q1, qd1, true[:nq], rates, slips, elements):
             return STOPPED, i, written  # a friction may stop: Python locates it, may hold it
         # the angles unwrapped at the new state (settle), which the step's rows read
-        _unwrapped(q1, angles, refs_all, block_angles, new_refs, new_block)
+        _unwrapped(q1, nq // 7, angles, refs_all, block_angles, new_refs, new_block)
         ends[0], ends[1], ends[2] = own[0], cons[0], cons[1]
         ends[3], ends[4], ends[5] = q1, true[:nq], new_qdd
         end_rates(q1, qd1, elements, states)
@@ -377,11 +377,11 @@ def _newton_stopped(ctrl, counts, fresh, done, h, status):
 
 
 @njit(**KERNEL)
-def _unwrapped(q1, angles, refs_all, block_angles, new_refs, new_block):
-    """The angle measures' references at q1 (`new_refs`, from `refs_all`), and those of the
-    constraint rows' angles among them (`new_block`)."""
+def _unwrapped(q1, nb, angles, refs_all, block_angles, new_refs, new_block):
+    """The angle measures' references at q1 (nb rigid bodies first in it: `new_refs`, from
+    `refs_all`), and those of the constraint rows' angles among them (`new_block`)."""
     ai, aj, au, av = angles
-    x, _ = ca.state_arrays(q1, q1, q1.shape[0] // 7)
+    x, _ = ca.state_arrays(q1, q1, nb)
     new_refs[:] = refs_all
     ca.angle_values(x, ai, aj, au, av, new_refs)
     for j in range(block_angles.shape[0]):

@@ -25,6 +25,7 @@ from mechlib.solvers.dense_states import state_end
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.integrator import Integrator
 from mechlib.solvers.genalpha.kernels import Scales
+from mechlib.solvers.genalpha.modal_run import ModalRun
 from mechlib.solvers.genalpha.run import StepRun
 from mechlib.solvers.runaway import StepCollapse, fell_to, snapshot, stall, step_floor
 from mechlib.solvers.stick import slip_stop, switch_sticking
@@ -80,8 +81,14 @@ class GeneralizedAlphaStepper(DenseStepper):
         self.h_min = step_floor(spec.end)
         self.h_used = 0.0
         self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
-        runs = spec.compiled == "runs" and StepRun.eligible(self)
-        self.whole_run = StepRun(self) if runs else None
+        runs = spec.compiled == "runs"
+        self.whole_run = (
+            StepRun(self)
+            if runs and StepRun.eligible(self)
+            else ModalRun(self)
+            if runs and ModalRun.eligible(self)
+            else None
+        )
 
     def run_compiled(self, state: State, outputs: np.ndarray, i: int, trajectory, progress):
         """The steps and rows `run_steps` takes in compiled calls from `state` towards
