@@ -35,7 +35,7 @@ class Gatherer:
 
     def __init__(self, system, owners: set[str], body: int):
         self.system, self.owners, self.body = system, owners, body
-        self.values: list[np.ndarray] = []
+        self.values: list[np.ndarray] = []  # rows (7,) or blocks of rows (n, 7), in order
         self._rows: tuple[int, np.ndarray] | None = None
 
     def _current_rows(self) -> np.ndarray:
@@ -59,7 +59,7 @@ class Gatherer:
 
     def wrench(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Force and torque about the cm (n, 3) given the body's Euler parameters (n, 4)."""
-        g = np.array(self.values).reshape(-1, 7)
+        g = np.concatenate([np.reshape(v, (-1, 7)) for v in self.values] or [np.zeros((0, 7))])
         return g[:, :3], 0.5 * np.einsum("nij,nj->ni", e_matrix(p), g[:, 3:])
 
 
@@ -88,7 +88,7 @@ def gather_in_batches(system, trajectory, gatherers: list[Gatherer]) -> None:
             arrays.references(), rows_of, starts, bodies, out,
         )  # fmt: skip
         for g, gatherer in enumerate(gatherers):
-            gatherer.values.extend(out[:, g, :])
+            gatherer.values.append(out[:, g, :])  # a block: not a row at a time
         i = end
     system.restore_snapshot(trajectory.references[n - 1])
 
