@@ -190,12 +190,15 @@ def _quartic_rise(
     offsets = np.arange(-2, 3)
     times = time[rows[:, None] + offsets]
     fitted = np.all(np.diff(times, axis=1) > 0.0, axis=1)
-    rows, columns, times = rows[fitted], columns[fitted], times[fitted]
-    h = 0.5 * (times[:, 3] - times[:, 1])
-    s = (times - time[rows, None]) / h[:, None]
+    rows, columns = rows[fitted], columns[fitted]
+    # the five times' powers once a row: its crests in several columns share them
+    unique, each = np.unique(rows, return_inverse=True)
+    near = time[unique[:, None] + offsets]
+    scaled = (near - time[unique, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
+    s, powers = scaled[each], (scaled[:, :, None] ** np.arange(5))[each]
     v = table[rows[:, None] + offsets, columns[:, None]] - table[rows, columns][:, None]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        coef = np.linalg.solve(s[:, :, None] ** np.arange(5), v[:, :, None])[:, :, 0]
+        coef = np.linalg.solve(powers, v[:, :, None])[:, :, 0]
         at = -coef[:, 1] / (2.0 * coef[:, 2])  # the parabola's vertex, then Newton on p' = 0
         for _ in range(_NEWTON):
             slope = coef[:, 1] + at * (2 * coef[:, 2] + at * (3 * coef[:, 3] + 4 * coef[:, 4] * at))
