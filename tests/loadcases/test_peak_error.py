@@ -239,15 +239,17 @@ def test_a_peak_on_a_plateau_is_compared_with_the_companion_s_peak() -> None:
 
 
 def test_columns_at_once_are_the_columns_one_by_one() -> None:
-    """`extremes_of` over a table (crests, troughs, an end crest, a column with a nan row,
-    one without a finite row) gives each column's extremes bit for bit as `extremes` of
-    that column alone does: numpy over the columns changes no arithmetic."""
+    """`extremes_of` over a table (crests, troughs, two columns cresting on the same rows,
+    an end crest, a column with a nan row, one without a finite row) gives each column's
+    extremes bit for bit as `extremes` of that column alone does: numpy over the columns
+    changes no arithmetic."""
     time = np.round(np.arange(0.0, 0.6 + DT / 2, DT), 12)
     gappy = np.cos(OMEGA * time)
     gappy[7] = np.nan
     table = np.column_stack(
         (
             np.sin(OMEGA * time + 0.3),
+            0.5 * np.sin(OMEGA * time + 0.3) + 0.2,  # its crests on the same rows
             2.0 * np.sin(OMEGA * (time - time[-1] + 0.2 * DT) + math.pi / 2),  # end crest
             gappy,
             np.full(len(time), np.nan),
