@@ -57,7 +57,7 @@ from loadcases.run.companion import (
     passed_singular,
     sparser,
 )
-from loadcases.run.peak_error import extremes, peak_error
+from loadcases.run.peak_error import extremes_of, peak_error
 from loadcases.schema.case import AccuracyTarget
 
 __all__ = [
@@ -243,8 +243,12 @@ def request_peaks(channels: dict[str, np.ndarray]) -> dict[str, float]:
 def shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Row indices of the times `a` and `b` share (output times are rounded alike; an
     event's row, at each run's own event time, is shared only where the times agree)."""
-    of_b = {round(float(t), 9): j for j, t in enumerate(b)}
-    pairs = [(i, of_b[key]) for i, t in enumerate(a) if (key := round(float(t), 9)) in of_b]
+    of_b = {round(t, 9): j for j, t in enumerate(np.asarray(b, dtype=float).tolist())}
+    pairs = [
+        (i, of_b[key])
+        for i, t in enumerate(np.asarray(a, dtype=float).tolist())
+        if (key := round(t, 9)) in of_b
+    ]
     if not pairs:
         return np.zeros(0, int), np.zeros(0, int)
     rows_a, rows_b = np.array(pairs).T
@@ -260,15 +264,21 @@ def request_errors(
     rows, rows_c = shared_rows(run.time, companion.time)
     scale = 1.0 / (float(ratio) ** order - 1.0)
     peaks = request_peaks(run.channels)
+    columns = [
+        column
+        for column in run.channels
+        if request_of(column) not in _SKIPPED
+        and column in companion.channels
+        and peaks[request_of(column)] != 0.0
+        and len(rows)
+    ]
+    mine = extremes_of(run.time, _table(run.channels, columns, len(run.time)))
+    theirs = extremes_of(companion.time, _table(companion.channels, columns, len(companion.time)))
     out: dict[str, RequestError] = {}
-    for column, values in run.channels.items():
-        name, other = request_of(column), companion.channels.get(column)
-        if name in _SKIPPED or other is None or peaks[name] == 0.0 or not len(rows):
-            continue
-        history, lost = _history_error(values[rows], other[rows_c], abs(scale))
-        peak, sampling = peak_error(
-            extremes(run.time, values), extremes(companion.time, other), scale, crests=not lost
-        )
+    for column, found, other in zip(columns, mine, theirs):
+        name, values = request_of(column), run.channels[column]
+        history, lost = _history_error(values[rows], companion.channels[column][rows_c], abs(scale))
+        peak, sampling = peak_error(found, other, scale, crests=not lost)
         before = out.get(name, RequestError(0.0, 0.0))
         out[name] = RequestError(
             max(before.history, history / peaks[name]),
@@ -276,6 +286,14 @@ def request_errors(
             max(before.sampling, sampling / peaks[name]),
         )
     return out
+
+
+def _table(channels: dict[str, np.ndarray], columns: list[str], rows: int) -> np.ndarray:
+    """The `columns` of `channels` side by side, (rows, columns)."""
+    table = np.empty((rows, len(columns)))
+    for j, column in enumerate(columns):
+        table[:, j] = channels[column]
+    return table
 
 
 def _history_error(run: np.ndarray, companion: np.ndarray, scale: float) -> tuple[float, bool]:

@@ -56,11 +56,12 @@ true 3.4e-4). Crests are matched by bisection, an end row with an end row only.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Extremes", "extremes", "peak_error"]
+__all__ = ["Extremes", "extremes", "extremes_of", "peak_error"]
 
 
 END = 1.0  # a candidate's kind: an end row (0: a crest)
@@ -86,10 +87,13 @@ class Extremes:
 
 def _curvature(time: np.ndarray, values: np.ndarray, k: int) -> tuple[np.ndarray, ...]:
     """Per interior row i (rows k to n-k-1): the parabola through rows i-k, i, i+k, as its
-    slope at row i and its curvature coefficient c (v = v_i + slope dt + c dt^2)."""
+    slope at row i and its curvature coefficient c (v = v_i + slope dt + c dt^2); `values`
+    one column (n,) or several (n, columns), each column on its own."""
     n = len(values)
     h1 = time[k : n - k] - time[: n - 2 * k]
     h2 = time[2 * k :] - time[k : n - k]
+    if values.ndim == 2:
+        h1, h2 = h1[:, None], h2[:, None]
     v0, v1, v2 = values[: n - 2 * k], values[k : n - k], values[2 * k :]
     with np.errstate(divide="ignore", invalid="ignore"):
         d1, d2 = (v1 - v0) / h1, (v2 - v1) / h2
@@ -97,10 +101,14 @@ def _curvature(time: np.ndarray, values: np.ndarray, k: int) -> tuple[np.ndarray
     return d1 + c * h1, c
 
 
-def _highest(time: np.ndarray, values: np.ndarray) -> tuple[float, float, np.ndarray]:
-    """(largest finite row, largest vertex or row, the candidates: (time, value, kind) of
-    each local crest, its vertex or its row (kind 0), and of the two end rows (kind END)).
-    The vertex of the
+def _highest(
+    time: np.ndarray, values: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, list[np.ndarray]]:
+    """Per column of `values` (n, columns), each with a finite row: (largest finite row,
+    largest vertex or row, the candidates: (time, value, kind) of each local crest, its
+    vertex or its row (kind 0), and of the two end rows (kind END)), the columns at once
+    (numpy over the rows and columns: the same values as column by column). The vertex
+    of the
     parabola through each
     row higher than its two neighbours (a row level with one is a plateau or the corner of
     a step, such as a friction torque switching on: no crest between rows), where the
@@ -118,18 +126,12 @@ def _highest(time: np.ndarray, values: np.ndarray) -> tuple[float, float, np.nda
     to 15 rows a period (the closed-valve servo) read its crest up to 7e-4 low, where its
     integrator's error is 1e-5 (the stroke's estimate 3.97 times its true error, 1.42 with
     the quartic, whose miss there is at most 2.3e-5)."""
-    row_max = float(np.max(values[np.isfinite(values)]))
-    ends = np.array(
-        [
-            [time[i], values[i] + _end_rise(time, values, i), END]
-            for i in (0, -1)
-            if np.isfinite(values[i])
-        ]
-    )
+    row_max = np.max(np.where(np.isfinite(values), values, -np.inf), axis=0)
+    ends = _ends(time, values)
     if len(values) < 3:
-        return row_max, row_max, ends.reshape(-1, 3)
+        return row_max, row_max.copy(), ends
     slope, c = _curvature(time, values, 1)
-    h = np.maximum(np.diff(time)[:-1], np.diff(time)[1:])
+    h = np.maximum(np.diff(time)[:-1], np.diff(time)[1:])[:, None]
     with np.errstate(divide="ignore", invalid="ignore"):
         rise = -(slope**2) / (4.0 * c)
         bound = -c * (0.5 * h) ** 2
@@ -139,34 +141,64 @@ def _highest(time: np.ndarray, values: np.ndarray) -> tuple[float, float, np.nda
         if len(values) >= 4:
             bound = np.minimum(bound, _beside(c) * (0.5 * h) ** 2)
         v0, v1, v2 = values[:-2], values[1:-1], values[2:]
-        crest = (v1 > v0) & (v1 > v2) & (np.diff(time)[:-1] > 0.0) & (np.diff(time)[1:] > 0.0)
+        rising = (np.diff(time)[:-1] > 0.0) & (np.diff(time)[1:] > 0.0)
+        crest = (v1 > v0) & (v1 > v2) & rising[:, None]
     local = crest & (c < 0.0) & np.isfinite(rise) & np.isfinite(bound)
-    inner = np.flatnonzero(local[1:-1]) + 1  # crests with two rows either side
+    inner, columns = np.nonzero(local[1:-1])  # crests with two rows either side
     if len(inner):
-        fine = _quartic_rise(time, values, inner + 1)
-        rise[inner] = np.where(np.isfinite(fine), fine, rise[inner])
+        fine = _quartic_rise(time, values, inner + 2, columns)
+        rise[inner + 1, columns] = np.where(np.isfinite(fine), fine, rise[inner + 1, columns])
     rise = np.where(local, np.minimum(rise, bound), 0.0)
-    crests = np.column_stack((time[1:-1][crest], (v1 + rise)[crest], np.zeros(crest.sum())))
-    top = float(np.max(v1[local] + rise[local], initial=row_max))
-    top = float(np.max(ends.reshape(-1, 3)[:, 1], initial=top))
-    return row_max, top, np.concatenate((crests, ends.reshape(-1, 3)))
+    crests = v1 + rise
+    top = np.maximum(np.max(np.where(local, crests, -np.inf), axis=0), row_max)
+    candidates = []
+    for j, end in enumerate(ends):
+        top[j] = np.max(end[:, 1], initial=top[j])
+        at = crest[:, j]
+        found = np.column_stack((time[1:-1][at], crests[at, j], np.zeros(at.sum())))
+        candidates.append(np.concatenate((found, end)))
+    return row_max, top, candidates
 
 
-def _quartic_rise(time: np.ndarray, values: np.ndarray, rows: np.ndarray) -> np.ndarray:
-    """Per crest row (indices into `values`, two rows at least from either end): the rise
+def _ends(time: np.ndarray, values: np.ndarray) -> list[np.ndarray]:
+    """Per column of `values` (n, columns): its end rows' candidates (time, value with the
+    rise of `_end_rises`, END), (k, 3): its finite end rows."""
+    rises = {end: _end_rises(time, values, end) for end in (0, -1)}
+    return [
+        np.array(
+            [
+                [time[end], values[end, j] + rises[end][j], END]
+                for end in (0, -1)
+                if np.isfinite(values[end, j])
+            ]
+        ).reshape(-1, 3)
+        for j in range(values.shape[1])
+    ]
+
+
+def _quartic_rise(
+    time: np.ndarray, values: np.ndarray, rows: np.ndarray, columns: np.ndarray | None = None
+) -> np.ndarray:
+    """Per crest row (indices into `values`, two rows at least from either end; of column
+    `columns` of values (n, columns), or of values (n,)): the rise
     above it of the highest point of the quartic through it and the two rows either side,
     between its neighbours; nan where that quartic has no maximum there, or the five times
     do not increase (an event's row repeats a time)."""
+    table = values.reshape(len(values), -1)
+    columns = np.zeros(len(rows), dtype=int) if columns is None else columns
     rise = np.full(len(rows), np.nan)
     offsets = np.arange(-2, 3)
     times = time[rows[:, None] + offsets]
     fitted = np.all(np.diff(times, axis=1) > 0.0, axis=1)
-    rows, times = rows[fitted], times[fitted]
-    h = 0.5 * (times[:, 3] - times[:, 1])
-    s = (times - time[rows, None]) / h[:, None]
-    v = values[rows[:, None] + offsets] - values[rows, None]
+    rows, columns = rows[fitted], columns[fitted]
+    # the five times' powers once a row: its crests in several columns share them
+    unique, each = np.unique(rows, return_inverse=True)
+    near = time[unique[:, None] + offsets]
+    scaled = (near - time[unique, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
+    s, powers = scaled[each], (scaled[:, :, None] ** np.arange(5))[each]
+    v = table[rows[:, None] + offsets, columns[:, None]] - table[rows, columns][:, None]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        coef = np.linalg.solve(s[:, :, None] ** np.arange(5), v[:, :, None])[:, :, 0]
+        coef = np.linalg.solve(powers, v[:, :, None])[:, :, 0]
         at = -coef[:, 1] / (2.0 * coef[:, 2])  # the parabola's vertex, then Newton on p' = 0
         for _ in range(_NEWTON):
             slope = coef[:, 1] + at * (2 * coef[:, 2] + at * (3 * coef[:, 3] + 4 * coef[:, 4] * at))
@@ -179,8 +211,9 @@ def _quartic_rise(time: np.ndarray, values: np.ndarray, rows: np.ndarray) -> np.
     return rise
 
 
-def _end_rise(time: np.ndarray, values: np.ndarray, end: int) -> float:
-    """The rise above an end row (`end` 0 or -1) of a crest between it and the row beside
+def _end_rises(time: np.ndarray, values: np.ndarray, end: int) -> np.ndarray:
+    """Per column of `values` (n, columns): the rise above an end row (`end` 0 or -1) of a
+    crest between it and the row beside
     it, 0 where none. The rows end before the crest is reached on both sides, so no row
     is higher than its two neighbours (Andrews' squeezer: Theta_rate's trough at 0.02997 s,
     0.76 below the last row at 0.03 s, 0.3 ms rows), and the parabola through the three
@@ -190,27 +223,44 @@ def _end_rise(time: np.ndarray, values: np.ndarray, end: int) -> float:
     as the IFToMM A05 flyball's spring tension in its first row, curves it the other way),
     the cubic's highest point strictly between the two end rows, its rise at most the
     parabola's curvature over a whole row interval (|c| h^2)."""
+    rises = np.zeros(values.shape[1])
     order = slice(None, 4) if end == 0 else slice(-4, None)
     t, v = time[order], values[order]
     if end == 0:
         t, v = -t[::-1], v[::-1]  # the first rows as the last, in time mirrored
-    if len(v) < 4 or not np.isfinite(v).all() or not (np.diff(t) > 0.0).all():
-        return 0.0
-    if not v[-1] > v[-2]:
-        return 0.0
+    if len(v) < 4 or not (np.diff(t) > 0.0).all():
+        return rises
     _, c = _curvature(t[1:], v[1:], 1)
+    crest = np.isfinite(v).all(axis=0) & (v[-1] > v[-2]) & (c[0] < 0.0)
+    for j in np.flatnonzero(crest):
+        rises[j] = _cubic_rise(t, v[:, j], float(-c[0, j]))
+    return rises
+
+
+def _cubic_rise(t: np.ndarray, v: np.ndarray, down: float) -> float:
+    """The highest point's rise above the last of four rows (t, v) of the cubic through
+    them, strictly between the last two rows, at most `down` (the parabola's -c) times
+    the last row interval squared; 0 where the cubic has no maximum there."""
     h = t[-1] - t[-2]
-    if not c[0] < 0.0:
-        return 0.0
     s = (t - t[-1]) / h  # the last row at 0, the one beside it at -1
-    cubic = np.polynomial.Polynomial.fit(s, v, 3, domain=[-1.0, 1.0], window=[-1.0, 1.0])
-    slope, bend = cubic.deriv(1), cubic.deriv(2)
+    a = np.linalg.solve(s[:, None] ** np.arange(4), v)  # the cubic's coefficients in s
     rise = 0.0
-    for root in slope.roots():
-        at = float(np.real(root))
-        if abs(float(np.imag(root))) < 1e-12 and -1.0 < at < 0.0 and bend(at) < 0.0:
-            rise = max(rise, float(cubic(at)) - float(v[-1]))
-    return min(rise, float(-c[0]) * h**2)
+    for at in _quadratic_roots(3.0 * a[3], 2.0 * a[2], a[1]):  # of the slope
+        if -1.0 < at < 0.0 and 2.0 * a[2] + 6.0 * a[3] * at < 0.0:
+            rise = max(rise, float(a[0] + at * (a[1] + at * (a[2] + at * a[3]))) - float(v[-1]))
+    return min(rise, down * h**2)
+
+
+def _quadratic_roots(a: float, b: float, c: float) -> list[float]:
+    """The real roots of a x^2 + b x + c (of b x + c where a is 0; none where both are),
+    by the formula that does not subtract nearly equal numbers."""
+    if a == 0.0:
+        return [-c / b] if b != 0.0 else []
+    discriminant = b * b - 4.0 * a * c
+    if not discriminant >= 0.0:
+        return []
+    q = -0.5 * (b + math.copysign(math.sqrt(discriminant), b))
+    return [q / a, c / q] if q != 0.0 else [0.0]
 
 
 def _beside(c: np.ndarray) -> np.ndarray:
@@ -226,12 +276,32 @@ def _beside(c: np.ndarray) -> np.ndarray:
 def extremes(time: np.ndarray, values: np.ndarray) -> Extremes:
     """The column's extremes at its rows and between them (rows that are not finite are
     ignored)."""
-    if not np.isfinite(values).any():
-        return Extremes(0.0, 0.0, 0.0, 0.0)
-    row_max, top, tops = _highest(time, values)
-    row_min, bottom, bottoms = _highest(time, -values)
+    return extremes_of(time, values[:, None])[0]
+
+
+def extremes_of(time: np.ndarray, table: np.ndarray) -> list[Extremes]:
+    """`extremes` of each column of `table` (n, columns), in one pass over the columns."""
+    table = np.asarray(table, dtype=float)
+    finite = np.isfinite(table).any(axis=0)
+    columns = np.flatnonzero(finite)
     interval = float(np.median(np.diff(time))) if len(time) > 1 else 0.0
-    return Extremes(row_max, -row_min, top, -bottom, tops, bottoms * _FLIP, interval)
+    out = [Extremes(0.0, 0.0, 0.0, 0.0)] * table.shape[1]
+    if not len(columns):
+        return out
+    both = table[:, columns]
+    row_max, top, tops = _highest(time, np.concatenate((both, -both), axis=1))
+    m = len(columns)
+    for k, j in enumerate(columns):
+        out[j] = Extremes(
+            float(row_max[k]),
+            -float(row_max[m + k]),
+            float(top[k]),
+            -float(top[m + k]),
+            tops[k],
+            tops[m + k] * _FLIP,
+            interval,
+        )
+    return out
 
 
 def _excess(

@@ -24,7 +24,7 @@ from mechlib.kinematics.constraints import Dot1, Dot2, Normalization, Spherical
 from mechlib.kinematics.coordinate_block import CoordinateBlock
 from mechlib.kinematics.kin import GROUND_Q
 
-__all__ = ["DENSE_ROW", "ConstraintArrays", "pack_rows"]
+__all__ = ["DENSE_ROW", "ConstraintArrays", "pack_rows", "selected_pack"]
 
 _TWO_PI = 2.0 * math.pi
 _NO_INT = np.zeros(0, dtype=np.int64)
@@ -220,6 +220,39 @@ def _pack(system, block: CoordinateBlock) -> tuple[np.ndarray, np.ndarray]:
         + [np.asarray(block._coefficients, dtype=float).ravel()]
     )
     return ints, floats
+
+
+class _Selection:
+    """The groups, size and active rows `_pack` reads, of a system's rows cut to some."""
+
+    def __init__(self, groups: list, nb: int, active: np.ndarray):
+        self.groups, self.nb, self.active = groups, nb, active
+
+
+def selected_pack(system, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(ints, floats) of a pack (`ConstraintArrays.packed`) of only the items of the
+    geometric groups that fill the system's `rows` (indices into all its rows), beside every
+    normalisation and the whole coordinate block; its active rows are `rows`, renumbered:
+    `unpacked_rows` of it fills those rows alone, each by the same kernel and arithmetic
+    as the whole pack (a joint's reactions read its own rows: mechlib.kinematics.reactions)."""
+    block: CoordinateBlock = system.coordinate_rows()
+    nb = system.nb
+    groups, renumbered = [], np.asarray(rows, dtype=np.int64).copy()
+    start, new_start = nb, nb
+    for kind in (Spherical, Dot1, Dot2):
+        found = [g for g in system.groups if type(g) is kind]
+        per = kind.rows_per_item
+        count = len(found[0].args[0]) if found else 0
+        inside = (rows >= start) & (rows < start + per * count)
+        items = np.unique((rows[inside] - start) // per)
+        if len(items):
+            groups.append(kind(*(a[items] for a in found[0].args)))
+            position = np.searchsorted(items, (rows[inside] - start) // per)
+            renumbered[inside] = new_start + per * position + (rows[inside] - start) % per
+        start, new_start = start + per * count, new_start + per * len(items)
+    coordinate = rows >= start
+    renumbered[coordinate] = rows[coordinate] - start + new_start
+    return _pack(_Selection(groups, nb, renumbered), block)
 
 
 @njit(**KERNEL)

@@ -12,6 +12,7 @@ import numpy as np
 from mechlib.core.jit import KERNEL, njit
 from mechlib.core.rotation import cross, e_matrix, rotate, rotation_matrix
 from mechlib.kinematics import constraint_arrays as ca
+from mechlib.kinematics.constraint_arrays import selected_pack
 
 __all__ = [
     "FORCE",
@@ -34,7 +35,7 @@ class Gatherer:
 
     def __init__(self, system, owners: set[str], body: int):
         self.system, self.owners, self.body = system, owners, body
-        self.values: list[np.ndarray] = []
+        self.values: list[np.ndarray] = []  # rows (7,) or blocks of rows (n, 7), in order
         self._rows: tuple[int, np.ndarray] | None = None
 
     def _current_rows(self) -> np.ndarray:
@@ -58,15 +59,16 @@ class Gatherer:
 
     def wrench(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Force and torque about the cm (n, 3) given the body's Euler parameters (n, 4)."""
-        g = np.array(self.values).reshape(-1, 7)
+        g = np.concatenate([np.reshape(v, (-1, 7)) for v in self.values] or [np.zeros((0, 7))])
         return g[:, :3], 0.5 * np.einsum("nij,nj->ni", e_matrix(p), g[:, 3:])
 
 
 def gather_in_batches(system, trajectory, gatherers: list[Gatherer]) -> None:
     """Every recorded row's `Gatherer.gather` for `gatherers` of a packed system
     (mechlib.kinematics.constraint_arrays), in one compiled call per run of rows with the same
-    active equations instead of a Jacobian per row in Python: the same products. Leaves the
-    system restored to the last row, as the row loop does."""
+    active equations instead of a Jacobian per row in Python: the same products, of only
+    the gatherers' own constraint rows (`selected_pack`: a joint's reaction needs its rows,
+    not the mechanism's). Leaves the system restored to the last row, as the row loop does."""
     arrays = system.packed_constraints()
     assert arrays is not None, "the caller checks that the system is packed"
     n, i = len(trajectory), 0
@@ -78,7 +80,7 @@ def gather_in_batches(system, trajectory, gatherers: list[Gatherer]) -> None:
         rows_of = np.concatenate([np.zeros(0, dtype=np.int64), *rows]).astype(np.int64)
         bodies = np.array([g.body for g in gatherers], dtype=np.int64)
         out = np.empty((end - i, len(gatherers), 7))
-        ints, floats = arrays.packed()
+        ints, floats = selected_pack(system, np.asarray(system.active, dtype=np.int64)[rows_of])
         m = system.active.size
         lams = np.ascontiguousarray(trajectory.stacked("lam", i, end).reshape(end - i, m))
         gathered_loads(
@@ -86,7 +88,7 @@ def gather_in_batches(system, trajectory, gatherers: list[Gatherer]) -> None:
             arrays.references(), rows_of, starts, bodies, out,
         )  # fmt: skip
         for g, gatherer in enumerate(gatherers):
-            gatherer.values.extend(out[:, g, :])
+            gatherer.values.append(out[:, g, :])  # a block: not a row at a time
         i = end
     system.restore_snapshot(trajectory.references[n - 1])
 
@@ -95,8 +97,9 @@ def gather_in_batches(system, trajectory, gatherers: list[Gatherer]) -> None:
 def gathered_loads(qs, lams, ints, floats, refs, rows_of, starts, bodies, out):
     """out (n, gatherers, 7): per recorded state (qs (n, nq), lams (n, m)) and gatherer g,
     -phi_q[rows, body g's columns]^T lam[rows] over its active rows
-    rows_of[starts[g]:starts[g + 1]] (zeros for a body < 0). The Jacobian rows read no
-    time function, so none is given."""
+    rows_of[starts[g]:starts[g + 1]] (zeros for a body < 0). (ints, floats): a pack whose
+    e-th active row is the Jacobian row of rows_of[e] (`selected_pack`). The Jacobian rows
+    read no time function, so none is given."""
     n, nq = qs.shape
     nb = nq // 7
     nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
@@ -113,7 +116,7 @@ def gathered_loads(qs, lams, ints, floats, refs, rows_of, starts, bodies, out):
             if b < 0:
                 continue
             for e in range(starts[g], starts[g + 1]):
-                r = active[rows_of[e]]
+                r = active[e]
                 # a row fills only its bodies' blocks (constraint_rows): elsewhere it is 0
                 if row_bodies[r, 0] != ca.DENSE_ROW and not _touches(row_bodies[r], b):
                     continue

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from loadcases.run.peak_error import _quartic_rise, extremes, peak_error
+from loadcases.run.peak_error import _cubic_rise, _quartic_rise, extremes, extremes_of, peak_error
 
 DT = 0.01  # s, output interval
 OMEGA = 2.0 * math.pi * 1.3  # rad/s
@@ -236,3 +236,42 @@ def test_a_peak_on_a_plateau_is_compared_with_the_companion_s_peak() -> None:
     estimate, sampling = peak_error(extremes(time, run_v), extremes(comp_t, comp_v), 1.0 / 3.0)
     assert sampling == 0.0
     assert estimate == pytest.approx(1e-3, abs=1e-9)
+
+
+def test_columns_at_once_are_the_columns_one_by_one() -> None:
+    """`extremes_of` over a table (crests, troughs, two columns cresting on the same rows,
+    an end crest, a column with a nan row, one without a finite row) gives each column's
+    extremes bit for bit as `extremes` of that column alone does: numpy over the columns
+    changes no arithmetic."""
+    time = np.round(np.arange(0.0, 0.6 + DT / 2, DT), 12)
+    gappy = np.cos(OMEGA * time)
+    gappy[7] = np.nan
+    table = np.column_stack(
+        (
+            np.sin(OMEGA * time + 0.3),
+            0.5 * np.sin(OMEGA * time + 0.3) + 0.2,  # its crests on the same rows
+            2.0 * np.sin(OMEGA * (time - time[-1] + 0.2 * DT) + math.pi / 2),  # end crest
+            gappy,
+            np.full(len(time), np.nan),
+            3.0 * time,
+        )
+    )
+    together = extremes_of(time, table)
+    for j, found in enumerate(together):
+        alone = extremes(time, table[:, j])
+        for name in ("row_max", "row_min", "max", "min", "interval"):
+            assert getattr(found, name) == getattr(alone, name)
+        assert np.array_equal(found.tops, alone.tops)
+        assert np.array_equal(found.bottoms, alone.bottoms)
+
+
+def test_the_end_crest_s_cubic_reads_a_cubic_s_maximum() -> None:
+    """Four rows (s = -3 to 0, rows 0.01 s apart) of the cubic v = 1 + (s + 0.4)^2 (s - 2)
+    / 4, whose slope -- (s + 0.4)(3 s - 3.6) / 4 -- vanishes at s = -0.4 (its maximum, v = 1)
+    and s = 1.2 (past the last row): the rise above the last row (v = 0.92) is 0.08 by the
+    closed form, read within 1e-12; and capped at `down` times the row interval squared."""
+    s = np.array([-3.0, -2.0, -1.0, 0.0])
+    v = 1.0 + (s + 0.4) ** 2 * (s - 2.0) / 4.0
+    assert _cubic_rise(0.01 * s, v, down=1e9) == pytest.approx(0.08, abs=1e-12)
+    assert _cubic_rise(0.01 * s, v, down=0.5) == pytest.approx(0.5 * 0.01**2, abs=1e-15)
+    assert _cubic_rise(0.01 * s, -v, down=1e9) == 0.0  # a trough: no crest

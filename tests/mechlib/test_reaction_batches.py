@@ -124,3 +124,35 @@ def test_batches_equal_the_row_loop(monkeypatch, mech, requests, initial) -> Non
         monkeypatch, mech, ml.Dynamic(0.5, 0.005, tolerance=1e-6), requests, initial=initial
     )
     _same(fast, slow)
+
+
+@pytest.mark.parametrize(
+    "rows", [[4, 5, 3, 12, 13], [0, 7], [18, 19, 15], [20], [1, 20, 9], []], ids=str
+)
+def test_a_selected_pack_fills_its_rows_as_the_whole_pack(rows) -> None:
+    """The pack of some of the driven slider-crank's rows (`selected_pack`: joint A's
+    spherical and dot-1 rows, a normalisation beside B's spherical row, D's dot-1 and
+    dot-2 rows, the motion's coordinate row, mixed, none) fills each of them bit for bit
+    as the whole pack does, at a displaced position (a reaction reads its joint's rows)."""
+    from mechlib.kinematics import constraint_arrays as ca
+    from mechlib.system.planar import make_system
+
+    system = make_system(_driven_crank())
+    arrays = system.packed_constraints()
+    assert arrays is not None
+    nq = 7 * system.nb
+    q = system.design_q() + 0.01 * np.sin(np.arange(nq))
+    x, _ = ca.state_arrays(q, q, system.nb)
+
+    def filled(ints: np.ndarray, floats: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        full, rows, _, functions = ca.row_work(ints, nq)
+        active, _ = ca.constraint_rows(x, ints, floats, functions, arrays.references(), full, rows)
+        return active, rows
+
+    every_active, every = filled(*arrays.packed())
+    chosen = every_active[np.array(rows, dtype=np.int64)]
+    active, some = filled(*ca.selected_pack(system, chosen))
+    assert len(active) == len(rows)
+    for k, row in enumerate(chosen):
+        assert np.array_equal(some[active[k]], every[row])
+        assert np.any(every[row] != 0.0)
