@@ -595,6 +595,17 @@ def main() -> None:
     """Console entry point `loads`."""
     try:
         app()
+    except SystemExit as stop:
+        from loadcases.foundation import interrupts
+
+        if interrupts.received() is None:
+            raise
+        # Interrupted: every file is written and every worker gone. CPython 3.11's process
+        # pools' exit hook can still write to a wake-up pipe its shut-down pool has closed
+        # and print that OSError as a traceback; the exit hooks have nothing left to do.
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(stop.code if isinstance(stop.code, int) else EXIT_FAILED)
     except Exception as exc:  # failures outside any command (e.g. while importing)
         if os.environ.get(DEBUG_ENV) == "1":
             raise

@@ -279,7 +279,9 @@ def test_a_lock_on_a_stuck_friction_joint_replaces_its_stick() -> None:
 def test_friction_resumes_from_the_actual_state_when_a_lock_is_released() -> None:
     """A phase locks the hinge (bar horizontal) for 0.2 s, the next lets it go: the friction
     (3 N*m preload) carries nothing while locked and then slides as in a fall from rest
-    without the lock (the same rows 0.2 s later, 1e-9 rad, 1e-9 N*m)."""
+    without the lock (the same rows 0.2 s later, 1e-9 rad, 3e-9 N*m: the two runs' steps
+    differ at round-off, 1.6e-9 N*m measured since Newton's acceleration floor is 10 eps,
+    5e-10 of the torque at tolerance 1e-10)."""
     step = {"step": 0.01, "tolerance": 1e-10}
     phases = mechlib.Phases(
         (
@@ -297,5 +299,5 @@ def test_friction_resumes_from_the_actual_state_when_a_lock_is_released() -> Non
         i, j = np.argmin(abs(time - t)), np.argmin(abs(np.asarray(free.time) - (t - 0.2)))
         assert sol.channels["a.value"][i] == pytest.approx(free.channels["a.value"][j], abs=1e-9)
         assert sol.channels["rub.value"][i] == pytest.approx(
-            free.channels["rub.value"][j], abs=1e-9
+            free.channels["rub.value"][j], abs=3e-9
         )
