@@ -223,6 +223,24 @@ def newton_loop(
 
 
 @njit(**KERNEL)
+def level_fix(fi, ff, rhs, a, b, nq):
+    """The iteration matrix's (fi, ff) correction of one constraint level: rhs's constraint
+    rows set to a - b (the level's target less its product with phi_q), solved."""
+    for i in range(a.shape[0]):
+        rhs[nq + i] = a[i] - b[i]
+    return lu_solve(fi, ff, rhs)
+
+
+@njit(**KERNEL)
+def stack_levels(qd, qdd1, lam1, fix, out):
+    """(qd, qdd1 - fix's coordinates, lam1 - fix's multipliers) stacked into `out`."""
+    nq, m = qd.shape[0], lam1.shape[0]
+    out[:nq] = qd
+    out[nq : 2 * nq] = qdd1 - fix[:nq]
+    out[2 * nq : 2 * nq + m] = lam1 - fix[nq:]
+
+
+@njit(**KERNEL)
 def _true_acceleration(
     q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, z, elements,
     work, fi, ff, out,
@@ -239,20 +257,12 @@ def _true_acceleration(
     ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
     rhs = np.zeros(nq + m)
     ca.times(rows, active, row_bodies, qd1, product)
-    for i in range(m):
-        rhs[nq + i] = nu[i] - product[i]
-    fix = lu_solve(fi, ff, rhs)
-    qd = qd1 + fix[:nq]
+    qd = qd1 + level_fix(fi, ff, rhs, nu, product, nq)[:nq]
     x, xd = ca.state_arrays(q1, qd, nb)
     ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
     _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, z, elements, work, rhs)
     ca.times(rows, active, row_bodies, qdd1, product)
-    for i in range(m):
-        rhs[nq + i] = product[i] - gamma[i]
-    fix = lu_solve(fi, ff, rhs)
-    out[:nq] = qd
-    out[nq : 2 * nq] = qdd1 - fix[:nq]
-    out[2 * nq : 2 * nq + m] = lam1 - fix[nq:]
+    stack_levels(qd, qdd1, lam1, level_fix(fi, ff, rhs, product, gamma, nq), out)
 
 
 newton_parts(14, _rigid_residual, _rigid_consistent)  # loaded_newton's ctx

@@ -25,8 +25,14 @@ from mechlib.flexible.kernels import body_mass, coordinate_forces, coordinate_ma
 from mechlib.flexible.weld_kernels import weld_gamma, weld_jacobian, weld_phi
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics import kernels as kr
-from mechlib.linalg.flat_lu import lu_solve
-from mechlib.solvers.genalpha.compiled import CONVERGED, STALLED, newton_loop, newton_parts
+from mechlib.solvers.genalpha.compiled import (
+    CONVERGED,
+    STALLED,
+    level_fix,
+    newton_loop,
+    newton_parts,
+    stack_levels,
+)
 
 __all__ = ["CONVERGED", "STALLED", "modal_matrices", "modal_newton", "modal_rows"]
 
@@ -282,20 +288,12 @@ def _true_acceleration(
     _nu_and_gamma(x, xd, q1, qd1, packed, functions, refs, bodies, welds, active, nu, gamma)
     rhs = np.zeros(nq + m)
     _times(rows, active, qd1, nb, product)
-    for i in range(m):
-        rhs[nq + i] = nu[i] - product[i]
-    fix = lu_solve(fi, ff, rhs)
-    qd = qd1 + fix[:nq]
+    qd = qd1 + level_fix(fi, ff, rhs, nu, product, nq)[:nq]
     x, xd = ca.state_arrays(q1, qd, nb)
     _nu_and_gamma(x, xd, q1, qd, packed, functions, refs, bodies, welds, active, nu, gamma)
     _residual(x, xd, q1, qd, qdd1, lam1, rows, active, body, bodies, work, rhs)
     _times(rows, active, qdd1, nb, product)
-    for i in range(m):
-        rhs[nq + i] = product[i] - gamma[i]
-    fix = lu_solve(fi, ff, rhs)
-    out[:nq] = qd
-    out[nq : 2 * nq] = qdd1 - fix[:nq]
-    out[2 * nq : 2 * nq + m] = lam1 - fix[nq:]
+    stack_levels(qd, qdd1, lam1, level_fix(fi, ff, rhs, product, gamma, nq), out)
 
 
 @njit(**KERNEL)
