@@ -87,7 +87,8 @@ FRESH, NEXT_H = 16, 17  # in: the matrix is new for the next step; out: that ste
 REFACTORED = 18  # out: the iteration matrices factored in the call
 RESTARTED = 19  # out: the pseudo-acceleration carried to a new step size (H_USED is that h)
 H_MIN = 20  # in: the run's step floor (s)
-CTRL_SIZE = 21
+CEILING = 21  # in/out: the steps' ceiling after a Newton failure (s; rules.step_size)
+CTRL_SIZE = 22
 # the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
 # the rules of mechlib.solvers.genalpha.rules, as the Python stepper does
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
@@ -256,13 +257,13 @@ def _rejected(ctrl, counts, h_try, err, eta, iterations, done):
     convergence, the step shrunk by the error's law, counted); False, nothing changed,
     where the new step would fall below the run's floor (ctrl[H_MIN]: Python then fails
     the run)."""
-    h = rules.step_size(h_try, err, ctrl[H], ctrl[MAX_STEP], True)
+    h, ceiling = rules.step_size(h_try, err, ctrl[H], ctrl[MAX_STEP], True, ctrl[CEILING])
     if h < ctrl[H_MIN]:
         return False
     ctrl[ETA] = rules.carried_rate(eta)
     if rules.slow(iterations):
         ctrl[STALE] = 1.0
-    ctrl[H], ctrl[H_USED] = h, h_try
+    ctrl[H], ctrl[H_USED], ctrl[CEILING] = h, h_try, ceiling
     counts[REJECTED] += 1
     counts[ITERATIONS] += done
     return True
@@ -395,7 +396,9 @@ def _accept_control(ctrl, h_try, err, eta, iterations):
     ctrl[ETA] = rules.carried_rate(eta)
     if rules.slow(iterations):
         ctrl[STALE] = 1.0
-    ctrl[H] = rules.step_size(h_try, err, ctrl[H], ctrl[MAX_STEP], True)
+    ctrl[H], ctrl[CEILING] = rules.step_size(
+        h_try, err, ctrl[H], ctrl[MAX_STEP], True, ctrl[CEILING]
+    )
     ctrl[H_USED] = h_try
     ctrl[T] += h_try
 
@@ -649,7 +652,10 @@ class StepRun:
         stepper = self.stepper
         stepper.integ.drop()
         stepper.h_used = h
-        stepper._shrink(s, rules.step_size(h, math.inf, stepper.h, stepper.max_step, False))
+        h, stepper.ceiling = rules.step_size(
+            h, math.inf, stepper.h, stepper.max_step, False, stepper.ceiling
+        )
+        stepper._shrink(s, h)
 
     def _call(self, s, outputs: np.ndarray, i: int, trajectory, progress, fresh: bool) -> tuple:
         """One `run_steps` call from s (`fresh`: the matrix was factored for its first
@@ -683,6 +689,7 @@ class StepRun:
         ctrl[[ALPHA_M, ALPHA_F, BETA, GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
         ctrl[DENSE] = float(stepper.dense)
         ctrl[H_MIN] = stepper.h_min
+        ctrl[CEILING] = stepper.ceiling
         ctrl[REFACTORED] = ctrl[RESTARTED] = 0.0
         counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
         ints, floats = arrays.packed()
@@ -720,6 +727,7 @@ class StepRun:
             m.reference = float(value)
         if taken or rejected or ctrl[RESTARTED]:  # moved, shrunk, or carried a to a new h
             stepper.h, stepper.h_used = float(ctrl[H]), float(ctrl[H_USED])
+            stepper.ceiling = float(ctrl[CEILING])
             integ.eta, integ.stale = float(ctrl[ETA]), bool(ctrl[STALE])
             if taken:
                 stepper.collapse.since = None  # every step was well within max_steps
