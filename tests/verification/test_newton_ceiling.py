@@ -8,8 +8,9 @@ the size Newton had failed at (rules.step_size; issue 35).
 Measured 2026-11-29 (Python stepper: a planar system has no compiled runs, so the counts
 are exact and repeatable): before the ceiling after a Newton failure 313 steps, 128
 rejected (31 Newton failures, 97 by the error test), 2205 Newton iterations; with it 281,
-85 (none by Newton), 1760. Over 20 s (benchmarks.estimate_cost): 1499 steps, 736 rejected
-(224 Newton failures) -> see docs/performance.md. Guards at the measured counts + ~10 %.
+85 (none by Newton), 1760. Over 20 s: 1499 steps, 736 rejected (224 Newton failures), 11 323
+iterations -> 1023, 439 (56), 7118 (docs/performance.md). Guards at the measured counts
++ about 10 %.
 """
 
 from __future__ import annotations
