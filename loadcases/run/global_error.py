@@ -21,8 +21,9 @@ rows' miss of it), the quantity sizing uses. When the case sets `accuracy` and l
 tolerance to the engine, a run whose envelope misses the target is solved again with every
 step halved (tolerance / 2^(p+1), largest step / 2), the previous run becoming the
 companion, until it meets the target, the next halving would go over the budget (`Budget`:
-CPU, steps, refinements) or the output interval alone misses the target (no step helps);
-the summary's `outcome` says which. A tighter run's step limit grows with it (STEP_MARGIN
+CPU, steps, refinements) or the output interval alone misses the target by more than the
+integrator's part of the estimate (no step helps: `_between_rows`); the summary's
+`outcome` says which. A tighter run's step limit grows with it (STEP_MARGIN
 times the steps it is expected to take, at least the analysis's `max_steps`): the budget,
 not a fixed `max_steps`, bounds a long run's tightening. Without `accuracy` the default
 target is only estimated against and warned about: each halving costs twice the last run,
