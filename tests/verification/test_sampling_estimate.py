@@ -12,7 +12,7 @@ distance from the nearest row, squared, which 2.5 ms rows share with 5 ms rows (
 1.17e-5 of the peak: fx's crest at 0.6239 s, 1.1 ms from the row at 0.625 s).
 
 At tolerance 1e-9 the rows carry no error to speak of and the estimate is the closed
-form's miss within 5 % (measured 1.17e-5 for 1.17e-5 at 2.5 ms, 1.09e-7 for 1.04e-7 at
+form's miss within 12 % (measured 1.17e-5 for 1.17e-5 at 2.5 ms, 1.09e-7 for 1.04e-7 at
 0.5 ms). At the default tolerance (1e-6) the rows carry the integrator's error too, a
 wave of its steps' length (about 6 ms) interpolated between them (mechlib.solvers.dense),
 and the crest read through them is off by about that error (measured 2.1e-4 for 2.4e-4
@@ -64,30 +64,48 @@ def _true_miss(rows: np.ndarray) -> float:
     return max(misses) / peak
 
 
-@pytest.mark.parametrize(
-    ("step", "lines", "true", "within"),
-    [
-        (0.0025, "  tolerance: 1e-9\n", 1.17e-5, 0.05),
-        (0.0005, "  tolerance: 1e-9\n", 1.04e-7, 0.1),
-        (0.01, "", 2.39e-4, 3.0),
-        (0.001, "", 3.25e-6, 3.0),
-    ],
-    ids=["2.5ms-tight", "0.5ms-tight", "10ms-default", "1ms-default"],
-)
-def test_the_rows_miss_estimated_against_the_closed_form(
-    tmp_path: Path, step: float, lines: str, true: float, within: float
+# output interval (s), the closed form's miss (of the peak), the estimate measured at the
+# default tolerance and at 1e-9 (2026-11-29, docs/performance.md)
+TABLE = [
+    (0.01, 2.39e-4, 2.13e-4, 2.11e-4),
+    (0.005, 1.17e-5, 8.61e-6, 1.17e-5),
+    (0.004, 9.46e-6, 1.26e-5, 9.40e-6),
+    (0.0025, 1.17e-5, 8.05e-6, 1.17e-5),
+    (0.001, 3.25e-6, 2.11e-6, 3.09e-6),
+    (0.0005, 1.04e-7, 1.47e-6, 1.09e-7),
+]
+
+
+@pytest.mark.parametrize(("step", "true", "_", "measured"), TABLE, ids=lambda v: f"{v:g}")
+def test_the_rows_miss_is_the_closed_forms_where_the_rows_hold_no_error(
+    tmp_path: Path, step: float, true: float, _: float, measured: float
 ) -> None:
-    """The reaction's `sampling` against the closed form's miss: within 5 % and 10 % at
-    tolerance 1e-9 (measured 1.00 and 1.05), within a factor 3 at the default tolerance
-    (measured 0.89 and 0.65), where the rows' own error is about 1e-6 of the peak."""
-    block = _run(tmp_path, step, lines)
+    """At tolerance 1e-9 the reaction's `sampling` is the closed form's miss within 15 %
+    at every interval (measured 0.88 at 10 ms, where the quartic reads fx's trough within
+    0.2 % but the bound by the parabolas beside it, whose curvature is 9 % below the
+    trough's, caps it; 0.95-1.05 below)."""
+    block = _run(tmp_path, step, "  tolerance: 1e-9\n")
     miss = _true_miss(block["time"])
     assert miss == pytest.approx(true, rel=0.02)  # the reference itself, as measured
-    estimate = block["estimate"]["hinge_force"]["sampling"]
-    if within < 1.0:
-        assert estimate == pytest.approx(miss, rel=within)
+    assert block["estimate"]["hinge_force"]["sampling"] == pytest.approx(miss, rel=0.15)
+
+
+@pytest.mark.parametrize(("step", "true", "measured", "_"), TABLE, ids=lambda v: f"{v:g}")
+def test_the_rows_miss_at_the_default_tolerance(
+    tmp_path: Path, step: float, true: float, measured: float, _: float
+) -> None:
+    """At the default tolerance: within a factor 3 of the closed form's miss down to 1 ms
+    rows (measured 0.65-1.33); at 0.5 ms the rows' own error (1.5e-6 read for 1.0e-7),
+    below the rest of the peak's estimate, so it does not stop a tightening."""
+    block = _run(tmp_path, step)
+    miss = _true_miss(block["time"])
+    assert miss == pytest.approx(true, rel=0.02)
+    reaction = block["estimate"]["hinge_force"]
+    assert reaction["sampling"] == pytest.approx(measured, rel=0.3)  # as measured
+    if step >= 0.001:
+        assert miss / 3.0 <= reaction["sampling"] <= 3.0 * miss
     else:
-        assert miss / within <= estimate <= miss * within
+        assert reaction["sampling"] < reaction["peak"] - reaction["sampling"]
 
 
 def test_the_rows_miss_falls_with_the_interval_where_the_rows_hold_no_error(
