@@ -12,8 +12,8 @@ differenced tangent (K, C) kept, the Newton iterations (modal_newton), the error
 estimate, the acceleration scales, the angles' unwrapping and the rows at the output
 times. The motions' functions of time are read at each attempt's end through
 mechlib.kinematics.time_functions. It stops, the state where it was (but for the
-pseudo-acceleration carried to a new step size, as `run_steps` does), before a step that
-needs what only the Python step does: a new differenced tangent (after a failed step, a
+velocity and pseudo-acceleration carried to a new step size, as `run_steps` does), before
+a step that needs what only the Python step does: a new differenced tangent (after a failed step, a
 slow step on a matrix already refactored for slowness: rules.retangents, or a stall on a
 matrix factored in the step: rules.restalled FRESH), a matrix the kernel finds singular,
 a step below the floor, the step limit or a collapsing step size, a non-finite row.
@@ -146,7 +146,7 @@ def run_modal(
         if ctrl[rr.STALE] != 0.0 and ctrl[RETANGENT] != 0.0:
             return rr.STOPPED, i, written  # a new differenced tangent: Python's step
         h = rr._trial_step(outs[i] - t, ctrl[rr.H], False)
-        rr._carried(h, ctrl, own)  # GeneralizedAlphaStepper._attempt
+        rr._carried(h, ctrl, own, cons)  # GeneralizedAlphaStepper._attempt
         if counts[rr.STEPS] + counts[rr.REJECTED] + (ctrl[rr.END] - t) / h > ctrl[rr.MAX_STEPS]:
             return rr.STOPPED, i, written  # the step-collapse watch
         functions_at(handle, t + h, system[2])

@@ -18,12 +18,12 @@ step's predicted state, as the Python step does, with the kernel the Python path
 (mechlib.linalg.flat_lu.refactor: dense or band LU). For SuperLU's factors, or a matrix the kernel
 finds singular, it returns REFACTOR: `StepRun` factors it in Python (or fails the step as
 the Python step does) and calls it again for that step. At a new step size it carries the
-pseudo-acceleration to it as the Python step does (rules.pseudo_acceleration;
-ctrl[RESTARTED] tells `StepRun` that the state it hands back has it). It stops, leaving the
-state where it was (but for that pseudo-acceleration), before any step that needs what only
-the Python stepper does: a step below the step floor, Newton stalling on a matrix it cannot
-refresh (one made for an earlier step is refreshed at Newton's iterate and the iteration
-goes on, as the Python step does: `_refreshed`), the step limit or a
+integrator's velocity and pseudo-acceleration to it as the Python step does (rules.carried;
+ctrl[RESTARTED] tells `StepRun` that the state it hands back has them). It stops, leaving the
+state where it was (but for those two), before any step that needs what only the Python
+stepper does: a step below the step floor, Newton stalling on a matrix it cannot refresh (one
+made for an earlier step is refreshed at Newton's iterate and the iteration goes on, as the
+Python step does: `_refreshed`), the step limit or a
 collapsing step size, a dense row the compiled projection gives back; and before recording
 a non-finite row.
 `march` then takes one step in Python and calls it again: the same steps, iterations and
@@ -85,7 +85,7 @@ MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT = 6, 7, 8, 9, 10
 ALPHA_M, ALPHA_F, BETA, GAMMA, DENSE = 11, 12, 13, 14, 15
 FRESH, NEXT_H = 16, 17  # in: the matrix is new for the next step; out: that step's h
 REFACTORED = 18  # out: the iteration matrices factored in the call
-RESTARTED = 19  # out: the pseudo-acceleration carried to a new step size (H_USED is that h)
+RESTARTED = 19  # out: velocity and pseudo-acceleration carried to a new step size (H_USED: h)
 H_MIN = 20  # in: the run's step floor (s)
 CTRL_SIZE = 21
 # the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
@@ -156,7 +156,7 @@ def run_steps(
         if limit >= 0:
             return limit, i, written
         h_try = _trial_step(target - t, ctrl[H], dense)
-        _carried(h_try, ctrl, own)  # GeneralizedAlphaStepper._attempt
+        _carried(h_try, ctrl, own, cons)  # GeneralizedAlphaStepper._attempt
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
             return STOPPED, i, written  # the step-collapse watch
         fresh = ctrl[FRESH] != 0.0
@@ -544,12 +544,13 @@ def _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref):
 
 
 @njit(**KERNEL)
-def _carried(h, ctrl, own):
-    """At a new step size h (s) the pseudo-acceleration own[3] carried to it from the
-    integrator's acceleration own[2] (rules.pseudo_acceleration), noted in ctrl."""
+def _carried(h, ctrl, own, cons):
+    """At a new step size h (s) the integrator's velocity own[1] and pseudo-acceleration
+    own[3] carried to it from the consistent velocity cons[0] and the integrator's
+    acceleration own[2] (rules.carried), noted in ctrl."""
     if not _new_size(ctrl, h):
         return
-    own[3] = rules.pseudo_acceleration(own[2], own[3], h / ctrl[H_USED])
+    own[1], own[3] = rules.carried(cons[0], own[1], own[2], own[3], h / ctrl[H_USED])
     ctrl[H_USED], ctrl[RESTARTED] = h, 1.0
 
 
@@ -718,7 +719,7 @@ class StepRun:
         stats.newton_iterations += int(counts[ITERATIONS])
         for m, value in zip(system.angle_measures, refs_all):
             m.reference = float(value)
-        if taken or rejected or ctrl[RESTARTED]:  # moved, shrunk, or carried a to a new h
+        if taken or rejected or ctrl[RESTARTED]:  # moved, shrunk, or carried to a new h
             stepper.h, stepper.h_used = float(ctrl[H]), float(ctrl[H_USED])
             integ.eta, integ.stale = float(ctrl[ETA]), bool(ctrl[STALE])
             if taken:
