@@ -14,7 +14,7 @@ from mechlib.core.outcome import SolverFailure
 from mechlib.core.work import count
 from mechlib.flexible.packed import ModalArrays
 from mechlib.solvers.genalpha import rules
-from mechlib.solvers.genalpha.modal_matrix import dense_layout, factored
+from mechlib.solvers.genalpha.modal_matrix import factored
 from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_matrices, modal_newton
 
 if TYPE_CHECKING:
@@ -81,7 +81,7 @@ def _factor(integ: Integrator, system: tuple, q1, qd1, t1, h, fresh: bool, lam1)
         fi, ff = np.zeros(2 + n, dtype=np.int64), np.empty(n * n + n)
         fi[1] = n
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
-        if factored(q1, bp, c.gamma / (h * c.beta), system, integ.tangent, dense_layout(n), fi, ff):
+        if factored(q1, bp, c.gamma / (h * c.beta), system, integ.tangent, fi, ff):
             count(jacobian_evaluations=1, factorizations=1)
             integ.adopt(fi, ff, h)
             return
