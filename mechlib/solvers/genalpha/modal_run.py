@@ -107,7 +107,7 @@ def _settled(ctrl, factors, working, h, it, tried):
 @njit(**KERNEL)
 def run_modal(
     own, own_lam, cons, cons_lam, ctrl, counts, outs, first, system, handle, tangent, factors,
-    scales, angles, refs_all, block_angles, rows_t, rows_state, rows_refs, most_steps,
+    scales, angles, refs_all, block_angles, rows_t, rows_state, rows_refs, most_steps, past,
 ):  # fmt: skip
     """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
     `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
@@ -120,7 +120,8 @@ def run_modal(
     `refs_all`, in place, `angles` their args). `tangent`: the kept (K, C); `factors`:
     the committed flat LU (fi, ff, in place) and a working pair of their size; `scales`:
     (q_abs, a_ref (in place)). ctrl: mechlib.solvers.genalpha.run's slots and RETANGENT.
-    Returns (0, STOPPED; next output index, rows written)."""
+    `past`: the predictor's memory (the Integrator's past_t, past: kernels.predict_swing),
+    in place. Returns (0, STOPPED; next output index, rows written)."""
     nq = own.shape[1]
     nb = system[0][0]
     refs = system[3]
@@ -150,8 +151,10 @@ def run_modal(
         functions_at(handle, t + h, system[2])
         if not np.isfinite(system[2]).all():
             return rr.STOPPED, i, written  # a function failed there: Python's step says why
-        am, beta, gamma = ctrl[rr.ALPHA_M], ctrl[rr.BETA], ctrl[rr.GAMMA]
-        q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h, am, beta, gamma)
+        am, af, beta, gamma = ctrl[rr.ALPHA_M], ctrl[rr.ALPHA_F], ctrl[rr.BETA], ctrl[rr.GAMMA]
+        q1, qd1, qdd1 = gk.predict_swing(
+            own[0], own[1], own[2], own[3], cons[1], t, h, past[0], past[1], am, af, beta, gamma
+        )  # fmt: skip
         lam1 = own_lam.copy()
         ok, working, it, eta, done, tried = _solved(
             q1, qd1, qdd1, lam1, h, ctrl, counts, system, tangent, factors, scales,
@@ -251,7 +254,7 @@ class ModalRun(rr.StepRun):
         status, i_next, written = run_modal(
             own, own_lam, cons, cons_lam, ctrl, counts, outputs, i, packed, handle,
             integ.tangent, factors, (scales.q_abs, scales.a_ref), self._angle_args, refs_all,
-            block_angles, rows_t, rows_state, rows_refs, 10 * rows,
+            block_angles, rows_t, rows_state, rows_refs, 10 * rows, (integ.past_t, integ.past),
         )  # fmt: skip
         count(
             factorizations=int(counts[rr.ROW_FACTORS]),

@@ -23,12 +23,13 @@ if TYPE_CHECKING:
 __all__ = ["modal_step"]
 
 
-def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam):
-    """One step of Integrator `integ` from t over h (s); the new state as Integrator.step
-    returns it, or None when Newton does not converge."""
+def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam, cons=None):
+    """One step of Integrator `integ` from t over h (s) (`cons`: the consistent
+    acceleration at t, for the predictor); the new state as Integrator.step returns it, or
+    None when Newton does not converge."""
     c, sys, scales = integ.c, integ.system, integ.scales
     assert scales is not None, "set by the stepper before its first step"
-    bp, gp, q1, qd1, qdd1, lam1, t1, fresh = integ._predicted(t, h, q, qd, qdd, a, lam)
+    bp, gp, q1, qd1, qdd1, lam1, t1, fresh = integ._predicted(t, h, q, qd, qdd, a, lam, cons)
     rebuild = fresh or integ.refactor or rules.refactors(h, integ.lu_h)
     tried = integ.refactor and not fresh  # refactored for slowness, the tangent kept
     refreshed, rebuilt, prev, it, eta = False, rebuild, math.inf, 0, integ.eta

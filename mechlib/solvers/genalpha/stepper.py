@@ -132,7 +132,7 @@ class GeneralizedAlphaStepper(DenseStepper):
         if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
             s.a = rules.pseudo_acceleration(s.raw_qdd, s.a, h_try / self.h_used)
         self.h_used = h_try
-        new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam)
+        new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam, s.qdd)
         err = (
             math.inf
             if new is None
@@ -218,7 +218,7 @@ class GeneralizedAlphaStepper(DenseStepper):
         shorter step)."""
         h = t - s.t
         a = rules.pseudo_acceleration(s.raw_qdd, s.a, h / self.h_used) if self.h_used else s.a
-        new = self.integ.step(s.t, h, s.q, s.raw_qd, s.raw_qdd, a, s.raw_lam)
+        new = self.integ.step(s.t, h, s.q, s.raw_qd, s.raw_qdd, a, s.raw_lam, s.qdd)
         if new is None:
             raise StepUnresolved(t)
         return _state(t, new)
