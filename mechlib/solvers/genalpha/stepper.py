@@ -133,7 +133,7 @@ class GeneralizedAlphaStepper(DenseStepper):
         if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
             s.raw_qd, s.a = rules.carried(s.qd, s.raw_qd, s.raw_qdd, s.a, h_try / self.h_used)
         self.h_used = h_try
-        new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam)
+        new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam, s.qdd)
         err = (
             math.inf
             if new is None
@@ -221,7 +221,7 @@ class GeneralizedAlphaStepper(DenseStepper):
         raw_qd, a = s.raw_qd, s.a
         if self.h_used:
             raw_qd, a = rules.carried(s.qd, raw_qd, s.raw_qdd, a, h / self.h_used)
-        new = self.integ.step(s.t, h, s.q, raw_qd, s.raw_qdd, a, s.raw_lam)
+        new = self.integ.step(s.t, h, s.q, raw_qd, s.raw_qdd, a, s.raw_lam, s.qdd)
         if new is None:
             raise StepUnresolved(t)
         return _state(t, new)
