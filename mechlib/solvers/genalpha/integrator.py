@@ -12,8 +12,9 @@ C = -dQ/dqd are kept apart, so that a new step size only refactors; elements tha
 own tangent (compiled contacts) have it re-evaluated at every step, the rest of K and C
 (forward differences, 2 nq force evaluations, a column leaving out the elements whose
 forces depend on other bodies only, and none for the exactly zero columns of massless node
-bodies: mechlib.system.fd_columns) only after slow or failed convergence (for modal bodies
-a slow step is first answered by a refactorisation with the tangent kept: rules.retangents).
+bodies: mechlib.system.fd_columns) only after slow or failed convergence (a slow step is
+first answered by a refactorisation with the tangent kept but for modal bodies with force
+elements: rules.keeps_tangent, rules.retangents).
 Local error estimate e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading term of the
 position update, h^3/12 q''' for the trapezoidal case), steps controlled on it and landing
 on output times (the stepper around it: mechlib.solvers.genalpha.stepper).
@@ -81,6 +82,8 @@ class Integrator:
         self.retangent = False  # the next factorisation takes a new tangent (rules.retangents)
         # modal bodies and no force elements: a tangent that changes with the spin alone
         self.spun = bool(system.nz) and not system.elements
+        # a slow step refactors with the tangent kept before a new one (rules.keeps_tangent)
+        self.kept_first = bool(rules.keeps_tangent(bool(system.nz), bool(system.elements)))
         self.refactor = False  # the next step factors the matrix again (set by _predicted)
         self.stiff = bool(system.elements) or system.nz > 0  # modal stiffness, damping
         self.eta = 1.0
@@ -248,12 +251,12 @@ class Integrator:
         """A step converged in `iterations`, its matrix refactored for the last step's
         slowness with the tangent kept (`tried`) or not: slow convergence asks for a new
         matrix for the next step (rules.slow), with a new differenced tangent as
-        rules.retangents says (`spun`: modal bodies without force elements; every other
-        system takes one at once: contacts and friction change theirs fast, and the
-        whole-run path, which factors its tangent afresh, takes their steps alike)."""
+        rules.retangents says where the system keeps its tangent first (rules.keeps_tangent:
+        all but modal bodies with force elements, which take one at once; the compiled
+        whole runs, mechlib.solvers.genalpha.run and .modal_run, decide alike)."""
         slow = rules.slow(iterations)
         self.stale = slow
-        self.retangent = slow and (not self.spun or rules.retangents(tried))
+        self.retangent = slow and (not self.kept_first or rules.retangents(tried))
 
     def restalled(self, refreshed: bool, rebuilt: bool) -> tuple[bool, bool] | None:
         """Newton stalled in a step (`refreshed`: on a matrix of a fresh tangent; `rebuilt`:

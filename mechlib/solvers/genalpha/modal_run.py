@@ -39,8 +39,8 @@ from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_newton
 
 __all__ = ["ModalRun", "run_modal"]
 
-RETANGENT = rr.CTRL_SIZE  # ctrl slot (in/out): a slow step asks for a new tangent
-CTRL_SIZE = rr.CTRL_SIZE + 1
+RETANGENT = rr.RETANGENT  # ctrl slot (in/out): a slow step asks for a new tangent
+CTRL_SIZE = rr.CTRL_SIZE
 
 
 @njit(**KERNEL)
@@ -88,20 +88,16 @@ def _solved(
 
 
 @njit(**KERNEL)
-def _settled(ctrl, factors, working, h, it, tried):
-    """A step h (s) that converged in `it` iterations (`tried`: on a matrix refactored
-    for slowness with the tangent kept): the working factors committed (made for h), the
-    next step's matrix stale after slow convergence and its tangent new as
-    rules.retangents says (Integrator.converged_in)."""
+def _settled(ctrl, factors, working, h):
+    """A step h (s) that converged: the working factors committed (made for h; the next
+    step's matrix stale after slow convergence and its tangent new as rules.retangents
+    says: run._converged_in, called by run._rejected and run._accept_control)."""
     if working:
         fi, ff, wi, wf = factors
         fi[:] = wi
         ff[:] = wf
         ctrl[rr.LU_H] = h
         ctrl[rr.REFACTORED] += 1.0
-    slow = rules.slow(it)
-    ctrl[rr.STALE] = 1.0 if slow else 0.0
-    ctrl[RETANGENT] = 1.0 if slow and rules.retangents(tried) else 0.0
 
 
 @njit(**KERNEL)
@@ -166,14 +162,14 @@ def run_modal(
             ctrl[rr.ERROR_CONSTANT] * h * h, cons[1], true[nq : 2 * nq], scales[0], ctrl[rr.TOL], q1
         )  # fmt: skip
         if err > 1.0:  # rejected: the step shrunk as the Python stepper shrinks it
-            if not rr._rejected(ctrl, counts, h, err, eta, it, done):
+            if not rr._rejected(ctrl, counts, h, err, eta, it, tried, done):
                 return rr.STOPPED, i, written  # below the step floor: Python's stall
-            _settled(ctrl, factors, working, h, it, tried)
+            _settled(ctrl, factors, working, h)
             continue
         rr._unwrapped(q1, nb, angles, refs_all, block_angles, new_refs, new_block)
         counts[rr.ITERATIONS] += done
-        rr._accept_control(ctrl, h, err, eta, it)
-        _settled(ctrl, factors, working, h, it, tried)
+        rr._accept_control(ctrl, h, err, eta, it, tried)
+        _settled(ctrl, factors, working, h)
         rr._take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, scales[1])
         counts[rr.STEPS] += 1
         taken += 1
