@@ -32,6 +32,7 @@ from typing import Any
 
 __all__ = [
     "GRACE_SECONDS",
+    "REDELIVER_SECONDS",
     "WATCH_SECONDS",
     "Interrupted",
     "deferred",
@@ -46,6 +47,7 @@ __all__ = [
 
 GRACE_SECONDS = 20.0  # a worker's time to return its interrupted run before it is killed
 WATCH_SECONDS = 0.5  # how often a worker checks that its parent is alive
+REDELIVER_SECONDS = 0.001  # an interrupt lost in a finaliser is sent again this much later
 _PR_SET_PDEATHSIG = 1  # prctl(2): the signal this process gets when its parent dies
 _SIGNALS = (signal.SIGINT, signal.SIGTERM)
 _received: int | None = None
@@ -102,8 +104,40 @@ def on_signals() -> Iterator[None]:
         yield
         return
     _received = None
-    with _handling(_raise):
+    with _handling(_raise), _redelivering(_raise):
         yield
+
+
+@contextmanager
+def _redelivering(handler: Callable[[int, Any], None]) -> Iterator[None]:
+    """Within: an `Interrupted` raised where Python cannot propagate it (a weakref callback
+    or `__del__` that the signal's handler happened to run in: CPython prints it as
+    "Exception ignored in ..." with a traceback and goes on) is delivered again, by the
+    same signal to this process with `handler` installed: it then raises at the next
+    instruction, in the code that was running."""
+    previous = sys.unraisablehook
+    sys.unraisablehook = _redeliver_hook(handler, previous)
+    try:
+        yield
+    finally:
+        sys.unraisablehook = previous
+
+
+def _redeliver_hook(handler: Callable[[int, Any], None], previous: Any) -> Any:
+    def hook(args: Any) -> None:
+        if not isinstance(args.exc_value, Interrupted):
+            previous(args)
+            return
+        for s in _SIGNALS:
+            signal.signal(s, handler)
+        # sent again from a thread a moment later: its handler then runs in the code that
+        # was running (sent or marked from here, it would run inside this hook, where it is
+        # ignored again)
+        later = threading.Timer(REDELIVER_SECONDS, os.kill, (os.getpid(), args.exc_value.signum))
+        later.daemon = True
+        later.start()
+
+    return hook
 
 
 def _record(signum: int, _frame: Any) -> None:
@@ -133,8 +167,12 @@ def _worker_signal(signum: int, _frame: Any) -> None:
     global _received
     _received = _received or signum
     if _in_task:
-        for s in _SIGNALS:  # one stop per run: the wrap-up (requests, pickling) goes on
-            signal.signal(s, signal.SIG_IGN)
+        # one stop per run: the wrap-up (requests, pickling) goes on. Recorded, not
+        # SIG_IGN: a signal already pending (the pool's SIGTERM to a worker it finds
+        # broken) would meet SIG_IGN as CPython's "Signal 15 ignored due to race
+        # condition" OSError, raised anywhere in the worker and printed as a traceback
+        for s in _SIGNALS:
+            signal.signal(s, _record)
         raise Interrupted(signum)
 
 
@@ -143,6 +181,9 @@ def worker_init(parent: int | None = None) -> None:
     `parent` (the pid of the process making the pool) the worker ends when that one does."""
     for s in _SIGNALS:
         signal.signal(s, _worker_signal)
+    # a run's interrupt that lands in a callback is raised again (`_redelivering`); for the
+    # worker's life, which ends with os._exit
+    sys.unraisablehook = _redeliver_hook(_worker_signal, sys.unraisablehook)
     if parent is not None:
         _end_with(parent)
 

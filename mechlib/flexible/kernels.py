@@ -52,16 +52,28 @@ def symmetrised(I8: np.ndarray, I9: np.ndarray) -> tuple[np.ndarray, np.ndarray]
 
 @njit(**KERNEL)
 def _contracted(zeta, I9s):
-    """S (n, 3, 3): S_j = sum_k zeta_k (I9_jk + I9_kj), one product with the symmetrised
-    I9s (n, 9 n) (rows k, columns (j, a, b))."""
-    return (zeta @ I9s).reshape((zeta.shape[0], 3, 3))
+    """S (n, 3, 3): S_j = sum_k zeta_k (I9_jk + I9_kj), from the symmetrised I9s (n, 9 n)
+    (rows k, columns (j, a, b)); a loop, not numpy's product (module docstring)."""
+    n = zeta.shape[0]
+    S = np.zeros((n, 3, 3))
+    for k in range(n):
+        zk = zeta[k]
+        for j in range(n):
+            for a in range(3):
+                for b in range(3):
+                    S[j, a, b] += zk * I9s[k, 9 * j + 3 * a + b]
+    return S
 
 
 @njit(**KERNEL)
 def _theta_of(zeta, I7, I8s, S, out):
     """Theta = I7 - sum_j zeta_j (I8s_j + S_j / 2) into `out` (S: `_contracted`)."""
-    n = zeta.shape[0]
-    out[:, :] = I7 - (zeta @ (I8s + 0.5 * S).reshape((n, 9))).reshape((3, 3))
+    for a in range(3):
+        for b in range(3):
+            acc = 0.0
+            for j in range(zeta.shape[0]):
+                acc += zeta[j] * (I8s[j, a, b] + 0.5 * S[j, a, b])
+            out[a, b] = I7[a, b] - acc
 
 
 @njit(**KERNEL)
@@ -86,7 +98,12 @@ def first_moment(zeta, I2, I3, out):
 def _coupling(zeta, I4, I5, out):
     """Iwz = I4 + sum_j zeta_j I5_j (3, n)."""
     n = zeta.shape[0]
-    out[:, :] = I4 + (zeta @ I5.reshape((n, 3 * n))).reshape((3, n))
+    for a in range(3):
+        for k in range(n):
+            acc = 0.0
+            for j in range(n):
+                acc += zeta[j] * I5[j, a, k]
+            out[a, k] = I4[a, k] + acc
 
 
 @njit(**KERNEL)
@@ -99,9 +116,12 @@ def body_mass(A, zeta, I1, I2, I3, I4, I5, I6, I7, I8s, I9s, out):
     out[:, :] = 0.0
     for a in range(3):
         out[a, a] = I1
-    cx = np.array([[0.0, -c[2], c[1]], [c[2], 0.0, -c[0]], [-c[1], c[0], 0.0]])
-    out[:3, 3:6] = -(A @ cx)
-    out[:3, 6:] = A @ I3
+    for a in range(3):  # -(A c~), c~ the cross-product matrix of c; then A I3
+        out[a, 3] = -(A[a, 1] * c[2] - A[a, 2] * c[1])
+        out[a, 4] = -(A[a, 2] * c[0] - A[a, 0] * c[2])
+        out[a, 5] = -(A[a, 0] * c[1] - A[a, 1] * c[0])
+        for j in range(n):
+            out[a, 6 + j] = A[a, 0] * I3[0, j] + A[a, 1] * I3[1, j] + A[a, 2] * I3[2, j]
     theta(zeta, I7, I8s, I9s, out[3:6, 3:6])
     _coupling(zeta, I4, I5, out[3:6, 6:])
     out[6:, 6:] = I6
@@ -126,11 +146,20 @@ def _stiffening(zeta, omega, spin, nodal, loads, out):
         ]
     )
     n = zeta.shape[0]
-    if spin.shape[0]:
-        out -= products @ (spin.reshape((6 * n, n)) @ zeta).reshape((6, n))
-    if loads.shape[0]:
-        rows = 6 * loads.shape[0]
-        out -= loads.ravel() @ (nodal.reshape((rows * n, n)) @ zeta).reshape((rows, n))
+    for i in range(n):
+        total = 0.0
+        for c in range(spin.shape[0]):
+            acc = 0.0
+            for j in range(n):
+                acc += spin[c, i, j] * zeta[j]
+            total += products[c] * acc
+        for node in range(loads.shape[0]):
+            for c in range(6):
+                acc = 0.0
+                for j in range(n):
+                    acc += nodal[node, c, i, j] * zeta[j]
+                total += loads[node, c] * acc
+        out[i] -= total
 
 
 @njit(**KERNEL)

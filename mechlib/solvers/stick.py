@@ -77,10 +77,15 @@ def slip_stop(
 
 
 def _slip_reversal(e, t0: float, t1: float, view0, view1, view_at) -> float | None:
-    """When the sliding friction `e`'s slip rate passes through zero within (t0, t1]."""
+    """When the sliding friction `e`'s slip rate passes through zero within (t0, t1]. A
+    slide starting from within the regularised band has none: its stick was tried at t0,
+    an accepted state (`may_stick`; after an event's restart it is tried at t1, the rate
+    having changed sign), and the zero of its start rate's noise (2e-8 rad/s) was a sliver
+    of a step (4e-10 s) whose velocity read the position round-off
+    (tests/mechlib/test_slip_stop.py)."""
     r0, r1 = e.slip_rate(view0), e.slip_rate(view1)
-    if r0 * r1 >= 0.0 or max(abs(r0), abs(r1)) < e.v_threshold:
-        return None  # no reversal, or one within the regularised band (velocity noise)
+    if r0 * r1 >= 0.0 or abs(r0) < e.v_threshold:
+        return None  # no reversal, or a slide starting from within the regularised band
     sign = -1.0 if r0 > 0.0 else 1.0
     return locate(sign * r0, sign * r1, t0, t1, lambda tt: sign * e.slip_rate(view_at(tt)))
 

@@ -107,7 +107,7 @@ def test_signal_at_start_up_or_while_workers_start_exits_promptly(
         took = time.monotonic() - sent
         assert process.returncode == exit_code(signum), stderr
         assert f"loads: interrupted by {signal.Signals(signum).name}" in stderr
-        assert "Traceback" not in stderr and "Traceback" not in stdout
+        assert "Traceback" not in stderr and "Traceback" not in stdout, stderr + stdout
         assert took < PROMPTLY, f"exit {took:.1f} s after the signal"
         assert _ended(list(seen)), "a worker outlived loads"
     finally:
@@ -146,3 +146,30 @@ def test_a_broken_pools_cancelled_future_prints_no_traceback() -> None:
     finally:
         threading.excepthook = before
     assert seen == ["ValueError"]
+
+
+def test_an_interrupt_that_lands_in_a_finaliser_is_raised_again(capsys) -> None:
+    """A signal whose handler runs inside `__del__` (or a weakref callback: seen in a
+    worker's import, CI 2026-11-29) raises where CPython cannot propagate it: it printed
+    "Exception ignored in ..." with a traceback and the work went on. Within `on_signals`
+    the interrupt is delivered again and raised in the code that was running."""
+    from loadcases.foundation import interrupts
+
+    class Dropped:
+        def __del__(self) -> None:
+            os.kill(os.getpid(), signal.SIGINT)
+            for _ in range(10_000):  # the handler runs here, inside the finaliser
+                pass
+
+    raised = False
+    try:
+        with interrupts.on_signals():
+            Dropped()  # finalised at once
+            deadline = time.monotonic() + PROMPTLY
+            while time.monotonic() < deadline:  # the work going on
+                pass
+    except interrupts.Interrupted as stop:
+        raised = stop.signum == signal.SIGINT
+    assert raised
+    assert interrupts.received() == signal.SIGINT
+    assert "Exception ignored" not in capsys.readouterr().err

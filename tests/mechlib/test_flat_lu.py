@@ -37,6 +37,7 @@ from mechlib.linalg.flat_lu import (
     factors,
     lu_solve,
     refactor,
+    refactor_dense,
 )
 from mechlib.system.system import System
 
@@ -155,3 +156,31 @@ def test_singular_matrices_are_refused(links: int, defect: str) -> None:
     ints, floats = layout.new()
     assert not refactor(pattern.values(top, jac), *layout.kernel_args(), ints, floats)
     assert factor_saddle(top, jac, pattern) is None  # the dense path's verdict
+
+
+@pytest.mark.parametrize("defect", ["none", "zero row", "repeated row", "not finite"])
+def test_dense_refactor_in_place_equals_refactor(defect: str) -> None:
+    """refactor_dense (the matrix already in the factors' store, by columns: the modal
+    runs' factorisation) gives refactor's factors bit for bit, and its singular verdicts."""
+    top, jac, _ = _chain_saddle(4)
+    if defect == "zero row":
+        jac[2] = 0.0
+    elif defect == "repeated row":
+        jac[3] = jac[2]
+    elif defect == "not finite":
+        top[0, 0] = np.nan
+    pattern = SaddlePattern(*_chain_saddle(4)[:2])
+    layout = pattern.layout
+    assert layout is not None and layout.ints[0] == DENSE
+    ints, floats = layout.new()
+    ok = refactor(pattern.values(top, jac), *layout.kernel_args(), ints, floats)
+    assert ok == (defect == "none")
+    matrix = augmented(top, jac)
+    n = matrix.shape[0]
+    ints_in, floats_in = np.zeros(2 + n, dtype=np.int64), np.empty(n * n + n)
+    ints_in[1] = n
+    floats_in[: n * n] = matrix.ravel(order="F")
+    assert refactor_dense(ints_in, floats_in) == ok
+    if ok:
+        np.testing.assert_array_equal(ints_in, ints)
+        np.testing.assert_array_equal(floats_in, floats)

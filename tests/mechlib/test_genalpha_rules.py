@@ -74,6 +74,24 @@ def test_pseudo_acceleration_is_carried_to_the_new_step() -> None:
     np.testing.assert_allclose(rules.pseudo_acceleration(qdd, a, 0.0), qdd)
 
 
+def test_own_velocity_and_pseudo_acceleration_are_carried_together() -> None:
+    """rules.carried: the integrator's velocity's offset from the consistent one (its
+    velocity-constraint violation) scales with a shorter step like a's offset from the
+    integrator's acceleration; the same step or a longer one keeps both, a step of zero
+    length has raw_qd = qd and a = raw_qdd."""
+    qd, raw_qd = np.array([0.0, 1.0]), np.array([0.2, 1.0])
+    raw_qdd, a = np.array([1.0, -2.0]), np.array([1.5, -1.0])
+
+    def carried(ratio: float) -> list:
+        return [list(x) for x in rules.carried(qd, raw_qd, raw_qdd, a, ratio)]
+
+    np.testing.assert_allclose(carried(0.5), [[0.1, 1.0], [1.25, -1.5]])
+    np.testing.assert_allclose(carried(1.0), [raw_qd, a])
+    np.testing.assert_allclose(carried(3.0), [raw_qd, a])
+    np.testing.assert_allclose(carried(0.0), [qd, raw_qdd])
+    np.testing.assert_allclose(rules.constraint_velocity(qd, raw_qd, 0.25), [0.05, 1.0])
+
+
 def test_substeps_land_on_the_output_time() -> None:
     assert rules.substep(0.01, 0.004) == pytest.approx(0.01 / 3)
     assert rules.substep(0.01, 0.01) == 0.01  # one step, not two, at round-off

@@ -45,18 +45,21 @@ def _run(tmp_path: Path, analysis_lines: str = "", step: float = 0.01):
 
 @pytest.mark.parametrize(
     ("lines", "measured_true", "within", "met"),
-    [("", 5.03e-4, 0.15, True), ("  tolerance: 1e-4\n", 6.44e-3, 0.6, False)],
+    [("", 5.00e-4, 0.15, True), ("  tolerance: 1e-4\n", 9.41e-3, 0.6, False)],
     ids=["default", "tolerance-1e-4"],
 )
 def test_estimate_equals_the_error_against_the_closed_form(
     tmp_path: Path, lines: str, measured_true: float, within: float, met: bool
 ) -> None:
     """The estimate of the angle's error within 15 % of its error against the closed form
-    at the default tolerance, 60 % at 1e-4 (measured 4.52e-4 for 5.03e-4 in 327 steps,
-    9.5e-3 for 6.4e-3 in 85 steps, whose time histories miss the target; with the
-    step-size rules before 0.10.0's fix, 4.16e-4 for 4.11e-4 in 356 steps and 9.6e-3 for
-    8.4e-3: about the same error per step squared, docs/performance.md; with `output:
-    steps` the errors were 3.26e-4 and 1.33e-3)."""
+    at the default tolerance, 60 % at 1e-4 (measured 4.62e-4 for 5.00e-4 in 327 steps,
+    8.1e-3 for 9.4e-3 in 80 steps, whose time histories miss the target; 6.4e-3 in 85
+    steps while a step change carried the integrator's own velocity whole, a lucky point:
+    its errors at 3e-5, 5e-5, 1e-4, 2e-4, 4e-4 were 0.0039, 0.0054, 0.0064, 0.0278, 0.0759
+    with 31 rejections at 1e-4, now 0.0044, 0.0060, 0.0094, 0.0137, 0.0227 with 16,
+    rules.constraint_velocity; with the step-size rules before 0.10.0's fix, 4.16e-4 for
+    4.11e-4 in 356 steps and 9.6e-3 for 8.4e-3: about the same error per step squared,
+    docs/performance.md; with `output: steps` the errors were 3.26e-4 and 1.33e-3)."""
     outcome, true = _run(tmp_path, lines)
     block = outcome.checks["accuracy"]
     assert true == pytest.approx(measured_true, rel=0.02)  # the run itself is unchanged
@@ -69,22 +72,22 @@ def test_estimate_equals_the_error_against_the_closed_form(
 
 def test_a_target_is_met_by_tightening_the_steps(tmp_path: Path) -> None:
     """accuracy 1e-5 without a tolerance, at 0.002 s outputs: the engine halves every step
-    three times; the error falls to 8.3e-6 (2521 steps), the estimate follows it (8.1e-6),
-    the envelope peaks meet the target (at most 7.2e-6, of which the rows' miss of the
-    crests 6.4e-6; at 0.01 s outputs that alone is 1.6e-4 and the target cannot be met:
-    test_accuracy_target.py) and the summary says whether the time histories do (the
-    rate's 1.00e-5: just not). After two halvings (1263 steps, angle 3.3e-5) the rate's
-    and the reaction's peaks are estimated at 1.29e-5 and 1.11e-5, against a true 9.5e-6
-    and 7.6e-6 (Radau at 1e-11): not met. Before Newton's acceleration test was floored
-    at 10 eps instead of 1e3 eps (rules.ROUNDOFF), two halvings ended `met` with those
-    peaks estimated at 5.8e-6 at most. The largest step stays the default, the natural
-    time sqrt(0.5 m / g) (the summary's max_step)."""
+    twice; the error falls to 3.3e-5 (1261 steps), the estimate follows it (3.1e-5), the
+    envelope peaks meet the target (estimated at most 9.0e-6, the reaction's; of which the
+    rows' miss of the crests 6.1e-6; at 0.01 s outputs that alone is 1.6e-4 and the target
+    cannot be met: test_accuracy_target.py) and the summary says the time histories do not
+    (3.9e-5). With Newton's acceleration floor at 10 eps and the velocity carried at step
+    changes (rules.ROUNDOFF, rules.constraint_velocity; measured 2026-11-29 15:20 on main):
+    before the carry rule, two halvings left the rate's and the reaction's peaks estimated
+    at 1.29e-5 and 1.11e-5 (true 9.5e-6 and 7.6e-6 against Radau at 1e-11) and a third was
+    taken. The largest step stays the default, the natural time sqrt(0.5 m / g) (the
+    summary's max_step)."""
     outcome, true = _run(tmp_path, "  accuracy: 1e-5\n", step=0.002)
     block = outcome.checks["accuracy"]
-    assert block["tightenings"] == 3 and block["outcome"] == "met"
-    assert block["tolerance"] == pytest.approx(1e-6 / 512)
+    assert block["tightenings"] == 2 and block["outcome"] == "met"
+    assert block["tolerance"] == pytest.approx(1e-6 / 64)
     assert block["max_step"] == pytest.approx(math.sqrt(0.5 / 9.81), rel=1e-12)
-    assert true == pytest.approx(8.33e-6, rel=0.05)
+    assert true == pytest.approx(3.26e-5, rel=0.05)
     assert block["estimate"]["hinge_angle"]["history"] == pytest.approx(true, rel=0.3)
     assert block["met"] is True
     histories = max(e["history"] for e in block["estimate"].values())
@@ -108,7 +111,7 @@ def test_accuracy_off_solves_once_without_an_estimate(tmp_path: Path) -> None:
     off, true = _run(tmp_path, "  accuracy: off\n")
     assert "accuracy" not in off.checks
     assert off.solution.stats.steps == default.solution.stats.steps
-    assert true == pytest.approx(5.03e-4, rel=0.02)
+    assert true == pytest.approx(5.00e-4, rel=0.02)
 
 
 @pytest.mark.parametrize("rho_inf", [0.0, 1.0])
@@ -119,14 +122,15 @@ def test_rho_inf_from_the_case_reaches_the_integrator(tmp_path: Path, rho_inf: f
     1e-4 with the dense output of 0.7.0: rho_inf 0 gives 2.2e-2 of the peak, estimated
     1.6e-2; rho_inf 1 1.6e-2, estimated 7.7e-3 (the estimate only within a factor 2 at this
     loose tolerance, 84 steps in 2 s: within 15 % with `output: steps`, where rho_inf 0
-    gave 7.0e-3 and 0.9 (default) 1.3e-3); rho_inf 0.9 8.4e-3. Since Newton's acceleration
-    test is floored at 10 eps instead of 1e3 eps (rules.ROUNDOFF), rho_inf 1 gives 2.1e-2,
-    estimated 8.2e-3 (0.39 of it, within the factor 3 the estimate is held to): undamped,
-    the start's transient (of the first, 2e-6 s, steps, where that floor counts) is never
-    lost, and moved with it."""
+    gave 7.0e-3 and 0.9 (default) 1.3e-3); rho_inf 0.9 8.4e-3. With Newton's acceleration
+    floor at 10 eps (rules.ROUNDOFF) and the integrator's velocity carried at step changes
+    (rules.constraint_velocity; main, 2026-11-29 15:20): rho_inf 0 2.0e-2, estimated 1.7e-2;
+    rho_inf 1 8.1e-3 (1.6e-2 before), estimated 1.8e-2 (2.25 times: undamped, the
+    companion's twice-as-long steps are not yet in the error's asymptotic range here; the
+    estimate errs on the safe side, within the factor 3 it is held to)."""
     outcome, true = _run(tmp_path, f"  rho_inf: {rho_inf}\n  tolerance: 1e-4\n")
     estimate = outcome.checks["accuracy"]["estimate"]["hinge_angle"]["history"]
-    assert true / 3.0 < estimate < 1.1 * true
+    assert true / 3.0 < estimate < 3.0 * true
     assert true < 2.5e-2
     _, default_true = _run(tmp_path, "  tolerance: 1e-4\n")
     assert true != default_true

@@ -16,7 +16,13 @@ holds and two slides.
   error 2.1 % of the peak, now 0.63 % against the exact stick/slip motion below; with
   A = 1.2, 13.8 % before, 4.6 % now. What is left is the start of each slide: the run's
   rate is 0.007 rad/s ahead of the exact one 3 ms after the let-go and stays so (the
-  friction law's start of slip, not located here); guarded at the measured values.
+  friction law's start of slip, not located here); guarded at the measured values. That
+  error follows the steps taken at each slide's start, not the tolerance: at tolerances
+  0.7, 0.85, 1, 1.2, 1.4 x 1e-6 (the case's 1e-6 in the middle) A = 2 gave 0.42, 0.46,
+  0.62, 0.54, 0.58 % and A = 1.2 4.2, 4.6, 4.6, 5.5, 5.9 %; since a step change carries
+  the integrator's own velocity with the step (rules.constraint_velocity) 0.42, 0.46,
+  0.50, 0.54, 0.75 % and 3.9, 4.6, 5.0, 5.0, 5.4 % (means 0.52 -> 0.53 %, 5.0 -> 4.8 %).
+  So A = 1.2 is bounded at 6 % (it read 4.6 % below the former 5 % at 1e-6 by luck).
 
 Reference: an independent integration (SciPy DOP853, rtol 1e-12) with exact switching:
 held while |T| <= 1 N*m, I w' = T - sign(w) 1 N*m while sliding, a stop where w = 0.
@@ -95,7 +101,7 @@ def _exact_angle(times: np.ndarray, amplitude: float) -> np.ndarray:
     return out
 
 
-@pytest.mark.parametrize("amplitude, bound, measured", [(2.0, 0.01, 0.0063), (1.2, 0.05, 0.046)])
+@pytest.mark.parametrize("amplitude, bound, measured", [(2.0, 0.01, 0.0050), (1.2, 0.06, 0.050)])
 def test_rows_carry_the_friction_state_of_their_step_and_the_let_go_is_located(
     tmp_path: Path, amplitude: float, bound: float, measured: float
 ) -> None:

@@ -12,8 +12,9 @@ C = -dQ/dqd are kept apart, so that a new step size only refactors; elements tha
 own tangent (compiled contacts) have it re-evaluated at every step, the rest of K and C
 (forward differences, 2 nq force evaluations, a column leaving out the elements whose
 forces depend on other bodies only, and none for the exactly zero columns of massless node
-bodies: mechlib.system.fd_columns) only after slow or failed convergence (for modal bodies
-a slow step is first answered by a refactorisation with the tangent kept: rules.retangents).
+bodies: mechlib.system.fd_columns) only after slow or failed convergence (a slow step is
+first answered by a refactorisation with the tangent kept but for modal bodies with force
+elements: rules.keeps_tangent, rules.retangents).
 Local error estimate e = h^2 (beta - gamma/2 + 1/12)(a_{n+1} - a_n) (leading term of the
 position update, h^3/12 q''' for the trapezoidal case), steps controlled on it and landing
 on output times (the stepper around it: mechlib.solvers.genalpha.stepper).
@@ -35,7 +36,7 @@ from mechlib.linalg.flat_lu import factor_data, factors
 from mechlib.model.analysis import Dynamic
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.compiled import CONVERGED, loaded_newton
-from mechlib.solvers.genalpha.kernels import Scales, correct, error_norm, predict
+from mechlib.solvers.genalpha.kernels import Scales, correct, error_norm, predict, predict_swing
 from mechlib.solvers.genalpha.modal_step import modal_step
 from mechlib.solvers.genalpha.tangent import differenced_tangent
 from mechlib.system.fd_columns import ColumnSkips
@@ -81,6 +82,8 @@ class Integrator:
         self.retangent = False  # the next factorisation takes a new tangent (rules.retangents)
         # modal bodies and no force elements: a tangent that changes with the spin alone
         self.spun = bool(system.nz) and not system.elements
+        # a slow step refactors with the tangent kept before a new one (rules.keeps_tangent)
+        self.kept_first = bool(rules.keeps_tangent(bool(system.nz), bool(system.elements)))
         self.refactor = False  # the next step factors the matrix again (set by _predicted)
         self.stiff = bool(system.elements) or system.nz > 0  # modal stiffness, damping
         self.eta = 1.0
@@ -94,6 +97,10 @@ class Integrator:
         self.arrays = None if python else system.packed_constraints()
         # modal bodies: their own compiled loop (mechlib.solvers.genalpha.modal_step)
         self.modal = None if python or self.arrays is not None else modal_arrays(system)
+        # the predictor's memory of systems with modal bodies and no force elements
+        # (kernels.predict_swing): the last two step starts' times and consistent accelerations
+        self.past_t = np.full(2, np.nan)
+        self.past = np.zeros((2, system.nq if self.spun else 0))
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
 
     def elements(self, t: float | None = None) -> CompiledForces | None:
@@ -148,15 +155,17 @@ class Integrator:
         skips = ColumnSkips(self.system, {id(e) for e in own})  # a column: its body's elements
         return differenced_tangent(self.system, k, skips, lam, jac, h)
 
-    def step(self, t, h, q, qd, qdd, a, lam):
-        """One step; returns the new state or None when Newton does not converge."""
+    def step(self, t, h, q, qd, qdd, a, lam, cons=None):
+        """One step; returns the new state or None when Newton does not converge. `cons`:
+        the consistent acceleration at t, which the predictor of systems with modal bodies
+        and no force elements reads (kernels.predict_swing)."""
         if self.modal is not None:
-            return modal_step(self, self.modal, t, h, q, qd, qdd, a, lam)
+            return modal_step(self, self.modal, t, h, q, qd, qdd, a, lam, cons)
         elements = None if self.arrays is None else self.elements(t + h)
         if elements is not None:
-            return self._compiled_step(t, h, q, qd, qdd, a, lam, elements)
+            return self._compiled_step(t, h, q, qd, qdd, a, lam, elements, cons)
         c, sys = self.c, self.system
-        bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
+        bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam, cons)
         # a step-size change refactors; elements with their own tangent (contacts:
         # stiffness and friction slope change from step to step) have it re-evaluated at
         # every step
@@ -219,14 +228,21 @@ class Integrator:
         self.drop()
         return None
 
-    def _predicted(self, t, h, q, qd, qdd, a, lam) -> tuple:
+    def _predicted(self, t, h, q, qd, qdd, a, lam, cons=None) -> tuple:
         """(beta', gamma', q1, qd1, qdd1, lam1, t + h, fresh): the predictor of a step h
-        from t and whether the differenced tangent is made afresh (no matrix, or the last
-        step failed or converged slowly)."""
+        from t (of systems with modal bodies and no force elements given the consistent
+        acceleration `cons`: kernels.predict_swing) and whether the differenced tangent is
+        made afresh (no matrix, or the last step failed or converged slowly)."""
         c = self.c
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
         gp = c.gamma / (h * c.beta)
-        q1, qd1, qdd1 = predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
+        if cons is not None and self.spun:
+            q1, qd1, qdd1 = predict_swing(
+                q, qd, qdd, a, cons, t, h, self.past_t, self.past, c.alpha_m, c.alpha_f,
+                c.beta, c.gamma,
+            )  # fmt: skip
+        else:
+            q1, qd1, qdd1 = predict(q, qd, qdd, a, h, c.alpha_m, c.beta, c.gamma)
         fresh = self.lu is None or (self.stale and self.retangent)
         self.refactor, self.stale = self.stale, False
         return bp, gp, q1, qd1, qdd1, lam.copy(), t + h, fresh
@@ -235,12 +251,12 @@ class Integrator:
         """A step converged in `iterations`, its matrix refactored for the last step's
         slowness with the tangent kept (`tried`) or not: slow convergence asks for a new
         matrix for the next step (rules.slow), with a new differenced tangent as
-        rules.retangents says (`spun`: modal bodies without force elements; every other
-        system takes one at once: contacts and friction change theirs fast, and the
-        whole-run path, which factors its tangent afresh, takes their steps alike)."""
+        rules.retangents says where the system keeps its tangent first (rules.keeps_tangent:
+        all but modal bodies with force elements, which take one at once; the compiled
+        whole runs, mechlib.solvers.genalpha.run and .modal_run, decide alike)."""
         slow = rules.slow(iterations)
         self.stale = slow
-        self.retangent = slow and (not self.spun or rules.retangents(tried))
+        self.retangent = slow and (not self.kept_first or rules.retangents(tried))
 
     def restalled(self, refreshed: bool, rebuilt: bool) -> tuple[bool, bool] | None:
         """Newton stalled in a step (`refreshed`: on a matrix of a fresh tangent; `rebuilt`:
@@ -249,13 +265,13 @@ class Integrator:
         again = rules.restalled(refreshed, rebuilt, self.spun)
         return None if again == rules.GIVE_UP else (again == rules.FRESH, again == rules.KEPT)
 
-    def _compiled_step(self, t, h, q, qd, qdd, a, lam, elements: CompiledForces):
+    def _compiled_step(self, t, h, q, qd, qdd, a, lam, elements: CompiledForces, cons=None):
         """`step` with the Newton iterations between factorisations and the three-level
         correction compiled (mechlib.solvers.genalpha.compiled): the same iteration, decisions and
         results (to round-off) for a system whose active elements are all `elements`."""
         c, sys, arrays, states = self.c, self.system, self.arrays, self.system.states
         assert arrays is not None and self.scales is not None, "checked by step; set by init"
-        bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam)
+        bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam, cons)
         rebuild = fresh or self.refactor or rules.refactors(h, self.lu_h)
         tried = self.refactor and not fresh
         refreshed, prev, it, eta = False, math.inf, 0, self.eta

@@ -12,7 +12,7 @@ from mechlib.solvers.error_weights import coordinate_scales, element_state_scale
 from mechlib.solvers.genalpha.rules import ROUNDOFF
 from mechlib.system.system import System
 
-__all__ = ["Scales", "correct", "error_norm", "position_size", "predict"]
+__all__ = ["Scales", "correct", "error_norm", "position_size", "predict", "predict_swing"]
 
 
 class Scales:
@@ -57,6 +57,38 @@ def predict(q, qd, qdd, a, h, alpha_m, beta, gamma):
     q1 = q + h * qd + h * h * ((0.5 - beta) * a + beta * a1)
     qd1 = qd + h * ((1.0 - gamma) * a + gamma * a1)
     return q1, qd1, qdd.copy()
+
+
+@njit(**KERNEL)
+def predict_swing(q, qd, qdd, a, cons, t, h, past_t, past, alpha_m, alpha_f, beta, gamma):
+    """Predictor of a system whose integrator acceleration qdd swings step to step about
+    the consistent one `cons` (modal bodies: the index-3 scheme leaves its modal
+    accelerations alternating about the consistent ones, +-3.6 m/s^2 on Kane's beam, each
+    step -0.98 times the last): qdd_{n+1} = cons + h (cons - cons_past) / (t - t_past) -
+    (qdd - cons), the consistent acceleration's trend with the swing reversed, and
+    (q, qd) at t + h by the Newmark relations of that qdd_{n+1}: (q1, qd1, qdd1). The
+    Newton iterations that follow reach the same solution as from `predict`'s (to their
+    tolerance) in fewer iterations (Kane's beam at 1e-6: 7203 against 7998, the same
+    steps). `past_t` (2,) and `past` (2, nq): the times and consistent accelerations of
+    the last two step starts (NaN: none), in place: a start at a new t (the last one
+    accepted) shifts them."""
+    if past_t[1] != t:
+        past_t[0] = past_t[1]
+        past[0, :] = past[1]
+        past_t[1] = t
+    past[1, :] = cons
+    slope = h / (t - past_t[0]) if past_t[0] < t else 0.0  # NaN: no trend
+    nq = q.shape[0]
+    qdd1, q1, qd1 = np.empty(nq), np.empty(nq), np.empty(nq)
+    for i in range(nq):
+        guess = 2.0 * cons[i] - qdd[i]
+        if slope != 0.0:
+            guess += slope * (cons[i] - past[0, i])
+        a1 = ((1.0 - alpha_f) * guess + alpha_f * qdd[i] - alpha_m * a[i]) / (1.0 - alpha_m)
+        qdd1[i] = guess
+        q1[i] = q[i] + h * qd[i] + h * h * ((0.5 - beta) * a[i] + beta * a1)
+        qd1[i] = qd[i] + h * ((1.0 - gamma) * a[i] + gamma * a1)
+    return q1, qd1, qdd1
 
 
 @njit(**KERNEL)

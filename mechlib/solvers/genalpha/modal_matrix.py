@@ -13,45 +13,42 @@ import numpy as np
 from mechlib.core.jit import KERNEL, njit
 from mechlib.flexible.kernels import load_maps, weld_coupling
 from mechlib.kinematics import constraint_arrays as ca
-from mechlib.linalg.flat_lu import refactor
+from mechlib.linalg.flat_lu import DENSE, refactor_dense
 from mechlib.solvers.genalpha.modal_newton import modal_matrices
 
-__all__ = ["dense_layout", "factored"]
+__all__ = ["factored"]
 
 
 @njit(**KERNEL)
-def dense_layout(n):
-    """(place, row, col) of every entry of an n x n matrix stored by columns (the DENSE
-    flat layout of mechlib.linalg.flat_lu: FlatLayout.dense of the full pattern)."""
-    place = np.arange(n * n)
-    return place, place % n, place // n
-
-
-@njit(**KERNEL)
-def factored(q1, bp, gp, system, tangent, layout, fi, ff):
+def factored(q1, bp, gp, system, tangent, fi, ff):
     """[[M + (K + gamma' C) / beta', phi_q^T - dQ/dlam], [phi_q, 0]] at q1 factored into
-    (fi, ff) (DENSE flat LU by mechlib.linalg.flat_lu.refactor: mechlib.linalg.factor.factor's
-    arithmetic; `layout`: `dense_layout`'s), M and phi_q by modal_matrices, (K, C) =
-    `tangent` (nq, nq each, kept from the last differenced tangent), dQ/dlam of the
-    geometric stiffening (`_coupled`); what Integrator._iteration_matrix factors. False
-    where it is singular. `system`: (ints, floats, functions, refs, body, bodies, welds,
-    active) as modal_step passes them to modal_newton; beta' (1/s^2), gamma' (1/s)."""
+    the DENSE flat factors (fi, ff) (mechlib.linalg.flat_lu.refactor_dense, written in
+    place of the factors: mechlib.linalg.factor.factor's arithmetic), M and phi_q by
+    modal_matrices, (K, C) = `tangent` (nq, nq each, kept from the last differenced
+    tangent), dQ/dlam of the geometric stiffening (`_coupled`); what
+    Integrator._iteration_matrix factors. False where it is singular. `system`: (ints,
+    floats, functions, refs, body, bodies, welds, active) as modal_step passes them to
+    modal_newton; beta' (1/s^2), gamma' (1/s). False too for factors not DENSE of this
+    size (Python's factorisation then makes them)."""
     ints, floats, functions, refs, body, bodies, welds, active = system
     nq, m = q1.shape[0], active.shape[0]
     n = nq + m
+    if fi[0] != DENSE or fi[1] != n or ff.shape[0] != n * n + n:
+        return False  # not DENSE factors of this matrix: Python's factorisation makes them
     mass, jac = np.empty((nq, nq)), np.empty((m, nq))
     modal_matrices(q1, ints, floats, functions, refs, body, bodies, welds, active, mass, jac)
     stiffness, damping = tangent
-    values = np.zeros(n * n)  # by columns
+    values = ff[: n * n]  # by columns
     for c in range(nq):
         for r in range(nq):
             values[r + n * c] = mass[r, c] + (stiffness[r, c] + gp * damping[r, c]) / bp
         for i in range(m):
             values[nq + i + n * c] = jac[i, c]
             values[c + n * (nq + i)] = jac[i, c]
+    for c in range(nq, n):
+        values[nq + n * c : n * (c + 1)] = 0.0
     _coupled(q1, system, n, values)
-    place, row, col = layout
-    return refactor(values, place, row, col, fi, ff)
+    return refactor_dense(fi, ff)
 
 
 @njit(**KERNEL)

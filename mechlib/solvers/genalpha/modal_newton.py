@@ -229,6 +229,21 @@ def _nu_and_gamma(x, xd, q, qd, packed, functions, refs, bodies, welds, active, 
 
 
 @njit(**KERNEL)
+def _modal_nu(packed, functions, welds, active, nu):
+    """nu (m,) of the active rows: `_nu_and_gamma`'s nu without its gamma (the coordinate
+    rows' rates of their time functions, zero elsewhere: the welds do not move)."""
+    nr = packed[25].shape[0]
+    nu_r = np.empty(nr)
+    ca.unpacked_nu_values(packed, functions, nu_r)
+    first, nw = welds[0], welds[1]
+    full_nu = np.zeros(nr + nw)
+    for r in range(nr):
+        full_nu[r if r < first else r + nw] = nu_r[r]
+    for i in range(active.shape[0]):
+        nu[i] = full_nu[active[i]]
+
+
+@njit(**KERNEL)
 def modal_newton(
     q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, bodies, welds, active, fi, ff,
     q_abs, a_ref, params, it, prev, eta, qdd, a, true,
@@ -283,9 +298,8 @@ def _true_acceleration(
     iterate)."""
     nq, m = q1.shape[0], lam1.shape[0]
     nb = packed[0]
-    x, xd = ca.state_arrays(q1, qd1, nb)
     nu, gamma, product = np.empty(m), np.empty(m), np.empty(m)
-    _nu_and_gamma(x, xd, q1, qd1, packed, functions, refs, bodies, welds, active, nu, gamma)
+    _modal_nu(packed, functions, welds, active, nu)
     rhs = np.zeros(nq + m)
     _times(rows, active, qd1, nb, product)
     qd = qd1 + level_fix(fi, ff, rhs, nu, product, nq)[:nq]

@@ -12,8 +12,8 @@ differenced tangent (K, C) kept, the Newton iterations (modal_newton), the error
 estimate, the acceleration scales, the angles' unwrapping and the rows at the output
 times. The motions' functions of time are read at each attempt's end through
 mechlib.kinematics.time_functions. It stops, the state where it was (but for the
-pseudo-acceleration carried to a new step size, as `run_steps` does), before a step that
-needs what only the Python step does: a new differenced tangent (after a failed step, a
+velocity and pseudo-acceleration carried to a new step size, as `run_steps` does), before
+a step that needs what only the Python step does: a new differenced tangent (after a failed step, a
 slow step on a matrix already refactored for slowness: rules.retangents, or a stall on a
 matrix factored in the step: rules.restalled FRESH), a matrix the kernel finds singular,
 a step below the floor, the step limit or a collapsing step size, a non-finite row.
@@ -34,24 +34,23 @@ from mechlib.kinematics.time_functions import NO_CALL, calling, functions_at
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha import run as rr
-from mechlib.solvers.genalpha.modal_matrix import dense_layout, factored
+from mechlib.solvers.genalpha.modal_matrix import factored
 from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_newton
 
 __all__ = ["ModalRun", "run_modal"]
 
-RETANGENT = rr.CTRL_SIZE  # ctrl slot (in/out): a slow step asks for a new tangent
-CTRL_SIZE = rr.CTRL_SIZE + 1
+RETANGENT = rr.RETANGENT  # ctrl slot (in/out): a slow step asks for a new tangent
+CTRL_SIZE = rr.CTRL_SIZE
 
 
 @njit(**KERNEL)
 def _solved(
-    q1, qd1, qdd1, lam1, h, ctrl, counts, system, tangent, layout, factors, scales, start, true
+    q1, qd1, qdd1, lam1, h, ctrl, counts, system, tangent, factors, scales, start, true
 ):  # fmt: skip
     """Newton on the step h (s) from its predicted (q1, qd1, qdd1, lam1), in place, as
     modal_step iterates it: the matrix refactored at the start when stale or off the step
     size, at the iterate after a stall on a matrix not factored in the step (with the
-    tangent kept; `layout`: modal_matrix.dense_layout's). `factors`: the committed (fi, ff)
-    and a working pair; `scales`: (q_abs,
+    tangent kept). `factors`: the committed (fi, ff) and a working pair; `scales`: (q_abs,
     a_ref); `start`: the step's start (qdd, a). Returns (converged, the last factors used
     are the working pair, iterations of the last matrix, eta, iterations done, tried: the
     matrix was refactored for slowness with the tangent kept); not converged: a new
@@ -69,7 +68,7 @@ def _solved(
     prev, it, eta, done = math.inf, 0, ctrl[rr.ETA], 0
     while True:
         if rebuild:
-            if not factored(q1, params[0], params[1], system, tangent, layout, wi, wf):
+            if not factored(q1, params[0], params[1], system, tangent, wi, wf):
                 return False, working, it, eta, done, tried
             working, rebuild, prev = True, False, math.inf
             counts[rr.ROW_JACOBIANS] += 1
@@ -89,26 +88,22 @@ def _solved(
 
 
 @njit(**KERNEL)
-def _settled(ctrl, factors, working, h, it, tried):
-    """A step h (s) that converged in `it` iterations (`tried`: on a matrix refactored
-    for slowness with the tangent kept): the working factors committed (made for h), the
-    next step's matrix stale after slow convergence and its tangent new as
-    rules.retangents says (Integrator.converged_in)."""
+def _settled(ctrl, factors, working, h):
+    """A step h (s) that converged: the working factors committed (made for h; the next
+    step's matrix stale after slow convergence and its tangent new as rules.retangents
+    says: run._converged_in, called by run._rejected and run._accept_control)."""
     if working:
         fi, ff, wi, wf = factors
         fi[:] = wi
         ff[:] = wf
         ctrl[rr.LU_H] = h
         ctrl[rr.REFACTORED] += 1.0
-    slow = rules.slow(it)
-    ctrl[rr.STALE] = 1.0 if slow else 0.0
-    ctrl[RETANGENT] = 1.0 if slow and rules.retangents(tried) else 0.0
 
 
 @njit(**KERNEL)
 def run_modal(
     own, own_lam, cons, cons_lam, ctrl, counts, outs, first, system, handle, tangent, factors,
-    scales, angles, refs_all, block_angles, rows_t, rows_state, rows_refs, most_steps,
+    scales, angles, refs_all, block_angles, rows_t, rows_state, rows_refs, most_steps, past,
 ):  # fmt: skip
     """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
     `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
@@ -121,13 +116,13 @@ def run_modal(
     `refs_all`, in place, `angles` their args). `tangent`: the kept (K, C); `factors`:
     the committed flat LU (fi, ff, in place) and a working pair of their size; `scales`:
     (q_abs, a_ref (in place)). ctrl: mechlib.solvers.genalpha.run's slots and RETANGENT.
-    Returns (0, STOPPED; next output index, rows written)."""
+    `past`: the predictor's memory (the Integrator's past_t, past: kernels.predict_swing),
+    in place. Returns (0, STOPPED; next output index, rows written)."""
     nq = own.shape[1]
     nb = system[0][0]
     refs = system[3]
     new_refs, new_block = refs_all.copy(), refs.copy()
     true = np.empty(3 * nq + own_lam.shape[0])
-    layout = dense_layout(nq + own_lam.shape[0])
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[rr.T]
@@ -146,17 +141,19 @@ def run_modal(
         if ctrl[rr.STALE] != 0.0 and ctrl[RETANGENT] != 0.0:
             return rr.STOPPED, i, written  # a new differenced tangent: Python's step
         h = rr._trial_step(outs[i] - t, ctrl[rr.H], False)
-        rr._carried(h, ctrl, own)  # GeneralizedAlphaStepper._attempt
+        rr._carried(h, ctrl, own, cons)  # GeneralizedAlphaStepper._attempt
         if counts[rr.STEPS] + counts[rr.REJECTED] + (ctrl[rr.END] - t) / h > ctrl[rr.MAX_STEPS]:
             return rr.STOPPED, i, written  # the step-collapse watch
         functions_at(handle, t + h, system[2])
         if not np.isfinite(system[2]).all():
             return rr.STOPPED, i, written  # a function failed there: Python's step says why
-        am, beta, gamma = ctrl[rr.ALPHA_M], ctrl[rr.BETA], ctrl[rr.GAMMA]
-        q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h, am, beta, gamma)
+        am, af, beta, gamma = ctrl[rr.ALPHA_M], ctrl[rr.ALPHA_F], ctrl[rr.BETA], ctrl[rr.GAMMA]
+        q1, qd1, qdd1 = gk.predict_swing(
+            own[0], own[1], own[2], own[3], cons[1], t, h, past[0], past[1], am, af, beta, gamma
+        )  # fmt: skip
         lam1 = own_lam.copy()
         ok, working, it, eta, done, tried = _solved(
-            q1, qd1, qdd1, lam1, h, ctrl, counts, system, tangent, layout, factors, scales,
+            q1, qd1, qdd1, lam1, h, ctrl, counts, system, tangent, factors, scales,
             (own[2], own[3]), true,
         )  # fmt: skip
         if not ok:
@@ -165,14 +162,14 @@ def run_modal(
             ctrl[rr.ERROR_CONSTANT] * h * h, cons[1], true[nq : 2 * nq], scales[0], ctrl[rr.TOL], q1
         )  # fmt: skip
         if err > 1.0:  # rejected: the step shrunk as the Python stepper shrinks it
-            if not rr._rejected(ctrl, counts, h, err, eta, it, done):
+            if not rr._rejected(ctrl, counts, h, err, eta, it, tried, done):
                 return rr.STOPPED, i, written  # below the step floor: Python's stall
-            _settled(ctrl, factors, working, h, it, tried)
+            _settled(ctrl, factors, working, h)
             continue
         rr._unwrapped(q1, nb, angles, refs_all, block_angles, new_refs, new_block)
         counts[rr.ITERATIONS] += done
-        rr._accept_control(ctrl, h, err, eta, it)
-        _settled(ctrl, factors, working, h, it, tried)
+        rr._accept_control(ctrl, h, err, eta, it, tried)
+        _settled(ctrl, factors, working, h)
         rr._take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, scales[1])
         counts[rr.STEPS] += 1
         taken += 1
@@ -253,7 +250,7 @@ class ModalRun(rr.StepRun):
         status, i_next, written = run_modal(
             own, own_lam, cons, cons_lam, ctrl, counts, outputs, i, packed, handle,
             integ.tangent, factors, (scales.q_abs, scales.a_ref), self._angle_args, refs_all,
-            block_angles, rows_t, rows_state, rows_refs, 10 * rows,
+            block_angles, rows_t, rows_state, rows_refs, 10 * rows, (integ.past_t, integ.past),
         )  # fmt: skip
         count(
             factorizations=int(counts[rr.ROW_FACTORS]),

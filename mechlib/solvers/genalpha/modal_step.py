@@ -14,7 +14,7 @@ from mechlib.core.outcome import SolverFailure
 from mechlib.core.work import count
 from mechlib.flexible.packed import ModalArrays
 from mechlib.solvers.genalpha import rules
-from mechlib.solvers.genalpha.modal_matrix import dense_layout, factored
+from mechlib.solvers.genalpha.modal_matrix import factored
 from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_matrices, modal_newton
 
 if TYPE_CHECKING:
@@ -23,12 +23,13 @@ if TYPE_CHECKING:
 __all__ = ["modal_step"]
 
 
-def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam):
-    """One step of Integrator `integ` from t over h (s); the new state as Integrator.step
-    returns it, or None when Newton does not converge."""
+def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam, cons=None):
+    """One step of Integrator `integ` from t over h (s) (`cons`: the consistent
+    acceleration at t, for the predictor); the new state as Integrator.step returns it, or
+    None when Newton does not converge."""
     c, sys, scales = integ.c, integ.system, integ.scales
     assert scales is not None, "set by the stepper before its first step"
-    bp, gp, q1, qd1, qdd1, lam1, t1, fresh = integ._predicted(t, h, q, qd, qdd, a, lam)
+    bp, gp, q1, qd1, qdd1, lam1, t1, fresh = integ._predicted(t, h, q, qd, qdd, a, lam, cons)
     rebuild = fresh or integ.refactor or rules.refactors(h, integ.lu_h)
     tried = integ.refactor and not fresh  # refactored for slowness, the tangent kept
     refreshed, rebuilt, prev, it, eta = False, rebuild, math.inf, 0, integ.eta
@@ -81,7 +82,7 @@ def _factor(integ: Integrator, system: tuple, q1, qd1, t1, h, fresh: bool, lam1)
         fi, ff = np.zeros(2 + n, dtype=np.int64), np.empty(n * n + n)
         fi[1] = n
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
-        if factored(q1, bp, c.gamma / (h * c.beta), system, integ.tangent, dense_layout(n), fi, ff):
+        if factored(q1, bp, c.gamma / (h * c.beta), system, integ.tangent, fi, ff):
             count(jacobian_evaluations=1, factorizations=1)
             integ.adopt(fi, ff, h)
             return

@@ -18,12 +18,12 @@ step's predicted state, as the Python step does, with the kernel the Python path
 (mechlib.linalg.flat_lu.refactor: dense or band LU). For SuperLU's factors, or a matrix the kernel
 finds singular, it returns REFACTOR: `StepRun` factors it in Python (or fails the step as
 the Python step does) and calls it again for that step. At a new step size it carries the
-pseudo-acceleration to it as the Python step does (rules.pseudo_acceleration;
-ctrl[RESTARTED] tells `StepRun` that the state it hands back has it). It stops, leaving the
-state where it was (but for that pseudo-acceleration), before any step that needs what only
-the Python stepper does: a step below the step floor, Newton stalling on a matrix it cannot
-refresh (one made for an earlier step is refreshed at Newton's iterate and the iteration
-goes on, as the Python step does: `_refreshed`), the step limit or a
+integrator's velocity and pseudo-acceleration to it as the Python step does (rules.carried;
+ctrl[RESTARTED] tells `StepRun` that the state it hands back has them). It stops, leaving the
+state where it was (but for those two), before any step that needs what only the Python
+stepper does: a step below the step floor, Newton stalling on a matrix it cannot refresh (one
+made for an earlier step is refreshed at Newton's iterate and the iteration goes on, as the
+Python step does: `_refreshed`), the step limit or a
 collapsing step size, a dense row the compiled projection gives back; and before recording
 a non-finite row.
 `march` then takes one step in Python and calls it again: the same steps, iterations and
@@ -85,10 +85,12 @@ MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT = 6, 7, 8, 9, 10
 ALPHA_M, ALPHA_F, BETA, GAMMA, DENSE = 11, 12, 13, 14, 15
 FRESH, NEXT_H = 16, 17  # in: the matrix is new for the next step; out: that step's h
 REFACTORED = 18  # out: the iteration matrices factored in the call
-RESTARTED = 19  # out: the pseudo-acceleration carried to a new step size (H_USED is that h)
+RESTARTED = 19  # out: velocity and pseudo-acceleration carried to a new step size (H_USED: h)
 H_MIN = 20  # in: the run's step floor (s)
-CEILING = 21  # in/out: the steps' ceiling after a Newton failure (s; rules.step_size)
-CTRL_SIZE = 22
+RETANGENT = 21  # in/out: a slow step's next matrix takes a new tangent (rules.retangents)
+TRIED = 22  # in: the matrix new for the next step (FRESH) was refactored for slowness
+CEILING = 23  # in/out: the steps' ceiling after a Newton failure (s; rules.step_size)
+CTRL_SIZE = 24
 # the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
 # the rules of mechlib.solvers.genalpha.rules, as the Python stepper does
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
@@ -157,7 +159,7 @@ def run_steps(
         if limit >= 0:
             return limit, i, written
         h_try = _trial_step(target - t, ctrl[H], dense)
-        _carried(h_try, ctrl, own)  # GeneralizedAlphaStepper._attempt
+        _carried(h_try, ctrl, own, cons)  # GeneralizedAlphaStepper._attempt
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
             return STOPPED, i, written  # the step-collapse watch
         fresh = ctrl[FRESH] != 0.0
@@ -169,18 +171,23 @@ def run_steps(
         am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
         q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h_try, am, beta, gamma)
         trial_start(states)
+        # refactored for slowness with the tangent kept (Integrator.step's `tried`)
+        tried = fresh and ctrl[TRIED] != 0.0
         if _matrix_due(ctrl, h_try, fresh):
             # [[M, phi_q^T], [phi_q, 0]] at the predicted state (Integrator._iteration_matrix)
+            stale = ctrl[STALE] != 0.0
+            retangent = stale and ctrl[RETANGENT] != 0.0
             if not _refactored(q1, qd1, own_lam, h_try, ctrl, kind, ints, floats,
                                functions, refs, body, prow, pcol, values, place, brow, bcol,
-                               fi, ff, elements, columns, tangent, states):  # fmt: skip
+                               fi, ff, elements, columns, tangent, states,
+                               retangent):  # fmt: skip
                 ctrl[NEXT_H] = h_try  # StepRun factors it (or finds it singular)
                 return REFACTOR, i, written
             counts[ROW_JACOBIANS] += 1
             counts[ROW_FACTORS] += 1
             ctrl[LU_H], ctrl[STALE], ctrl[H_USED] = h_try, 0.0, h_try
             ctrl[REFACTORED] += 1.0
-            fresh = True
+            fresh, tried = True, stale and not retangent
         params[0] = (1.0 - am) / (h_try * h_try * beta * (1.0 - af))
         params[1] = gamma / (h_try * beta)
         lam1 = own_lam.copy()
@@ -189,8 +196,9 @@ def run_steps(
             params, 0, math.inf, ctrl[ETA], own[2], own[3], true, h_try, states[0], states[2],
             states[1], elements,
         )  # fmt: skip
-        status, it, eta, done, fresh = _refreshed(
-            status, it, eta, done, fresh, q1, qd1, qdd1, lam1, own, true, h_try, ctrl, counts,
+        status, it, eta, done, fresh, tried = _refreshed(
+            status, it, eta, done, fresh, tried, q1, qd1, qdd1, lam1, own, true, h_try, ctrl,
+            counts,
             params, kind, ints, floats, functions, refs, body, prow, pcol, values, place,
             brow, bcol, fi, ff, q_abs, a_ref, elements, columns, tangent, states,
         )  # fmt: skip
@@ -202,7 +210,7 @@ def run_steps(
         )
         err = states_error(err, h_try, states, ctrl[TOL])
         if err > 1.0:  # rejected: the step shrunk as the Python stepper shrinks it
-            if not _rejected(ctrl, counts, h_try, err, eta, it, done):
+            if not _rejected(ctrl, counts, h_try, err, eta, it, tried, done):
                 return STOPPED, i, written  # below the step floor: Python's stall
             continue
         if not _slipping(own[0], cons[0], q1, qd1, true[:nq], rates, slips, elements):
@@ -222,7 +230,7 @@ def run_steps(
         counts[ITERATIONS] += done
         counts[ROW_JACOBIANS] += fresh_rows
         counts[ROW_FACTORS] += fresh_rows + due
-        _accept_control(ctrl, h_try, err, eta, it)
+        _accept_control(ctrl, h_try, err, eta, it, tried)
         _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref)
         accept_states(h_try, states)
         counts[STEPS] += 1
@@ -251,7 +259,7 @@ def _row_at(
 
 
 @njit(**KERNEL)
-def _rejected(ctrl, counts, h_try, err, eta, iterations, done):
+def _rejected(ctrl, counts, h_try, err, eta, iterations, tried, done):
     """A step h_try (s) whose error err exceeds 1, rejected as GeneralizedAlphaStepper.
     _attempt and _shrink reject it (the Newton rate carried on, a fresh matrix after slow
     convergence, the step shrunk by the error's law, counted); False, nothing changed,
@@ -261,8 +269,7 @@ def _rejected(ctrl, counts, h_try, err, eta, iterations, done):
     if h < ctrl[H_MIN]:
         return False
     ctrl[ETA] = rules.carried_rate(eta)
-    if rules.slow(iterations):
-        ctrl[STALE] = 1.0
+    _converged_in(ctrl, iterations, tried)
     ctrl[H], ctrl[H_USED], ctrl[CEILING] = h, h_try, ceiling
     counts[REJECTED] += 1
     counts[ITERATIONS] += done
@@ -333,23 +340,22 @@ _SINGULAR = -1  # `_refreshed`: the iteration matrix is singular at Newton's ite
 
 @njit(**KERNEL)
 def _refreshed(
-    status, it, eta, done, fresh, q1, qd1, qdd1, lam1, own, true, h, ctrl, counts, params, kind,
-    ints, floats, functions, refs, body, prow, pcol, values, place, brow, bcol, fi, ff, q_abs,
-    a_ref, elements, columns, tangent, states,
+    status, it, eta, done, fresh, tried, q1, qd1, qdd1, lam1, own, true, h, ctrl, counts,
+    params, kind, ints, floats, functions, refs, body, prow, pcol, values, place, brow, bcol,
+    fi, ff, q_abs, a_ref, elements, columns, tangent, states,
 ):  # fmt: skip
     """Newton stalled on the step h (s) with an old iteration matrix: refreshed at the
     iterate, its tangent anew, Newton goes on from there (Integrator._compiled_step), in
-    this call. Returns (status, it, eta, done, fresh) as they are after it (as given where
-    Newton converged, the matrix was new, or the layout does not fit the factors: Python
-    then takes the step); status _SINGULAR where the refreshed matrix is singular."""
+    this call. Returns (status, it, eta, done, fresh, tried) as they are after it (as given
+    where Newton converged, the matrix was new, or the layout does not fit the factors:
+    Python then takes the step); status _SINGULAR where the refreshed matrix is
+    singular."""
     if status == CONVERGED or fresh or fi[0] != kind:
-        return status, it, eta, done, fresh
-    stale, ctrl[STALE] = ctrl[STALE], 1.0
+        return status, it, eta, done, fresh, tried
     if not _refactored(q1, qd1, lam1, h, ctrl, kind, ints, floats, functions, refs, body,
                        prow, pcol, values, place, brow, bcol, fi, ff, elements, columns,
-                       tangent, states):  # fmt: skip
-        ctrl[STALE] = stale
-        return _SINGULAR, it, eta, done, fresh
+                       tangent, states, True):  # fmt: skip
+        return _SINGULAR, it, eta, done, fresh, tried
     counts[ROW_JACOBIANS] += 1
     counts[ROW_FACTORS] += 1
     ctrl[LU_H], ctrl[STALE], ctrl[H_USED] = h, 0.0, h
@@ -358,7 +364,7 @@ def _refreshed(
         q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
         0, math.inf, eta, own[2], own[3], true, h, states[0], states[2], states[1], elements,
     )  # fmt: skip
-    return status, it, eta, done + more, True
+    return status, it, eta, done + more, True, False
 
 
 @njit(**KERNEL)
@@ -390,12 +396,23 @@ def _unwrapped(q1, nb, angles, refs_all, block_angles, new_refs, new_block):
 
 
 @njit(**KERNEL)
-def _accept_control(ctrl, h_try, err, eta, iterations):
-    """The control after an accepted step h_try (s) with error err: the Newton rate carried
-    on, a fresh matrix after slow convergence, the next step size (rules), the time."""
+def _converged_in(ctrl, iterations, tried):
+    """A step converged in `iterations` on a matrix refactored for the last step's slowness
+    with the tangent kept (`tried`) or not: after slow convergence the next matrix is
+    stale, its tangent new as rules.retangents says (Integrator.converged_in; the whole
+    runs serve rigid systems, which keep their tangent first: rules.keeps_tangent)."""
+    slow = rules.slow(iterations)
+    ctrl[STALE] = 1.0 if slow else 0.0
+    ctrl[RETANGENT] = 1.0 if slow and rules.retangents(tried) else 0.0
+
+
+@njit(**KERNEL)
+def _accept_control(ctrl, h_try, err, eta, iterations, tried):
+    """The control after an accepted step h_try (s) with error err on a matrix `tried`
+    (`_converged_in`): the Newton rate carried on, a fresh matrix after slow convergence,
+    the next step size (rules), the time."""
     ctrl[ETA] = rules.carried_rate(eta)
-    if rules.slow(iterations):
-        ctrl[STALE] = 1.0
+    _converged_in(ctrl, iterations, tried)
     ctrl[H], ctrl[CEILING] = rules.step_size(
         h_try, err, ctrl[H], ctrl[MAX_STEP], True, ctrl[CEILING]
     )
@@ -450,15 +467,16 @@ def _dense_rows(
 @njit(**KERNEL)
 def _refactored(
     q1, qd1, lam, h, ctrl, kind, ints, floats, functions, refs, body, prow, pcol, values, place,
-    brow, bcol, fi, ff, elements, columns, tangent, states,
+    brow, bcol, fi, ff, elements, columns, tangent, states, retangent,
 ):  # fmt: skip
     """The iteration matrix [[M + (gamma' C + K) / beta', phi_q^T], [phi_q, 0]] of the step
     h (s) at (q1, qd1) refactored in place into (fi, ff) when the pattern's layout fits them
     (`kind`); K, C the packed elements' tangent (mechlib.elements.compiled_forces, over
     `columns`; none without elements), kept in `tangent` and differenced anew, as the Python
-    path does, only for a stale matrix (or none yet), with the element `states`' trial
-    values advanced at (q1, qd1) first (Integrator._compiled_step). False where the layout
-    does not fit, or the kernel finds the matrix singular (StepRun then factors it in
+    path does, only where asked (`retangent`: after a stall, or a slow step as
+    rules.retangents says) or none is kept yet, with the element `states`' trial values
+    advanced at (q1, qd1) first (Integrator._compiled_step). False where the layout does
+    not fit, or the kernel finds the matrix singular (StepRun then factors it in
     Python)."""
     if fi[0] != kind:
         return False
@@ -466,7 +484,7 @@ def _refactored(
     x, _ = ca.state_arrays(q1, q1, nq // 7)
     saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
     if columns.shape[0]:
-        if ctrl[STALE] != 0.0 or math.isnan(tangent[0, 0, 0]):
+        if retangent or math.isnan(tangent[0, 0, 0]):
             _differenced(q1, qd1, lam, h, ints, floats, functions, refs, body, elements,
                          columns, tangent, states)  # fmt: skip
         am, af, beta = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA]
@@ -547,12 +565,13 @@ def _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref):
 
 
 @njit(**KERNEL)
-def _carried(h, ctrl, own):
-    """At a new step size h (s) the pseudo-acceleration own[3] carried to it from the
-    integrator's acceleration own[2] (rules.pseudo_acceleration), noted in ctrl."""
+def _carried(h, ctrl, own, cons):
+    """At a new step size h (s) the integrator's velocity own[1] and pseudo-acceleration
+    own[3] carried to it from the consistent velocity cons[0] and the integrator's
+    acceleration own[2] (rules.carried), noted in ctrl."""
     if not _new_size(ctrl, h):
         return
-    own[3] = rules.pseudo_acceleration(own[2], own[3], h / ctrl[H_USED])
+    own[1], own[3] = rules.carried(cons[0], own[1], own[2], own[3], h / ctrl[H_USED])
     ctrl[H_USED], ctrl[RESTARTED] = h, 1.0
 
 
@@ -575,6 +594,8 @@ class StepRun:
         self._tangent: tuple[np.ndarray, object, object] | None = None
         self.elements: CompiledForces | None = None  # packed for the run (`_ready`)
         self.states = RunStates(system)  # the element states, in and out of each call
+        # the matrix `_refactor` made was refactored for slowness with the tangent kept
+        self._tried = False
 
     @staticmethod
     def eligible(stepper) -> bool:
@@ -633,6 +654,7 @@ class StepRun:
         _, _, q1, qd1, _, lam1, t1, fresh = integ._predicted(
             s.t, h, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam
         )
+        self._tried = integ.refactor and not fresh  # as Integrator._compiled_step's
         k = system.kin(q1, qd1, t1)
         if system.states:  # the tangent's base at the iterate's states, as in `step`
             system.states.advance(system.view(k), h)
@@ -690,6 +712,7 @@ class StepRun:
         ctrl[DENSE] = float(stepper.dense)
         ctrl[H_MIN] = stepper.h_min
         ctrl[CEILING] = stepper.ceiling
+        ctrl[RETANGENT], ctrl[TRIED] = float(integ.retangent), float(fresh and self._tried)
         ctrl[REFACTORED] = ctrl[RESTARTED] = 0.0
         counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
         ints, floats = arrays.packed()
@@ -717,6 +740,7 @@ class StepRun:
         if ctrl[REFACTORED]:  # as StepRun._refactor leaves them
             integ.adopt(fi, ff, float(ctrl[LU_H]))
             integ.stale, stepper.h_used = bool(ctrl[STALE]), float(ctrl[H_USED])
+            integ.retangent = bool(ctrl[RETANGENT])
         taken = int(counts[STEPS]) - stats.steps
         rejected = int(counts[REJECTED]) - stats.rejected_steps
         elements.read_back(rates, taken > 0)
@@ -725,10 +749,11 @@ class StepRun:
         stats.newton_iterations += int(counts[ITERATIONS])
         for m, value in zip(system.angle_measures, refs_all):
             m.reference = float(value)
-        if taken or rejected or ctrl[RESTARTED]:  # moved, shrunk, or carried a to a new h
+        if taken or rejected or ctrl[RESTARTED]:  # moved, shrunk, or carried to a new h
             stepper.h, stepper.h_used = float(ctrl[H]), float(ctrl[H_USED])
             stepper.ceiling = float(ctrl[CEILING])
             integ.eta, integ.stale = float(ctrl[ETA]), bool(ctrl[STALE])
+            integ.retangent = bool(ctrl[RETANGENT])
             if taken:
                 stepper.collapse.since = None  # every step was well within max_steps
             s = type(s)(

@@ -5,9 +5,10 @@ around `mechlib.solvers.genalpha.integrator.Integrator`.
 The step size is chosen by mechlib.solvers.genalpha.rules: a rejected step shrinks it, an
 accepted one grows it as far as the error estimate allows, up to a ceiling after a Newton
 failure (rules.step_size); at each change the
-pseudo-acceleration is carried to the new step (rules.pseudo_acceleration), because
-generalized-alpha's `a` is tied to the step it was made with. Outputs carry consistent
-velocities, accelerations and reactions.
+pseudo-acceleration and the integrator's own velocity are carried to the new step
+(rules.carried), because generalized-alpha's `a` and its velocity's constraint violation are
+tied to the step they were made with. Outputs carry consistent velocities, accelerations and
+reactions.
 """
 
 from __future__ import annotations
@@ -132,9 +133,9 @@ class GeneralizedAlphaStepper(DenseStepper):
         gap = t_out - s.t
         h_try = rules.towards(gap, self.h) if self.dense else rules.substep(gap, self.h)
         if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
-            s.a = rules.pseudo_acceleration(s.raw_qdd, s.a, h_try / self.h_used)
+            s.raw_qd, s.a = rules.carried(s.qd, s.raw_qd, s.raw_qdd, s.a, h_try / self.h_used)
         self.h_used = h_try
-        new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam)
+        new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam, s.qdd)
         err = (
             math.inf
             if new is None
@@ -221,11 +222,13 @@ class GeneralizedAlphaStepper(DenseStepper):
         return self._resolve(_alpha(state), t)
 
     def _resolve(self, s: _AlphaState, t: float) -> _AlphaState:
-        """`resolve` on this stepper's own state (its pseudo-acceleration carried to the
-        shorter step)."""
+        """`resolve` on this stepper's own state (its own velocity and pseudo-acceleration
+        carried to the shorter step)."""
         h = t - s.t
-        a = rules.pseudo_acceleration(s.raw_qdd, s.a, h / self.h_used) if self.h_used else s.a
-        new = self.integ.step(s.t, h, s.q, s.raw_qd, s.raw_qdd, a, s.raw_lam)
+        raw_qd, a = s.raw_qd, s.a
+        if self.h_used:
+            raw_qd, a = rules.carried(s.qd, raw_qd, s.raw_qdd, a, h / self.h_used)
+        new = self.integ.step(s.t, h, s.q, raw_qd, s.raw_qdd, a, s.raw_lam, s.qdd)
         if new is None:
             raise StepUnresolved(t)
         return _state(t, new)
