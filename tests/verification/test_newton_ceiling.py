@@ -6,11 +6,12 @@ accepted retry (a quarter as long, its error far below the tolerance) x4 straigh
 the size Newton had failed at (rules.step_size; issue 35).
 
 Measured 2026-11-29 (Python stepper: a planar system has no compiled runs, so the counts
-are exact and repeatable): before the ceiling after a Newton failure 313 steps, 128
-rejected (31 Newton failures, 97 by the error test), 2205 Newton iterations; with it 281,
-85 (none by Newton), 1760. Over 20 s: 1499 steps, 736 rejected (224 Newton failures), 11 323
-iterations -> 1023, 439 (56), 7118 (docs/performance.md). Guards at the measured counts
-+ about 10 %.
+are exact and repeatable). On main 92306ed: 313 steps, 128 rejected (31 Newton failures,
+97 by the error test), 2205 Newton iterations; with the ceiling 281, 85 (none by Newton),
+1760 (over 20 s: 1499, 736 (224 Newton), 11 323 -> 1023, 439 (56), 7118). With main's
+carried velocity (rules.carried, merged at afd8c21) the companion fails Newton twice in
+these 6 s without the ceiling (221 steps, 40 rejected, 1119 iterations) and once with it
+(222, 38, 1126): the test now guards the pair. Guards at the measured counts + ~15 %.
 """
 
 from __future__ import annotations
@@ -35,6 +36,6 @@ def test_companion_does_not_regrow_to_the_size_newton_failed_at() -> None:
     solution = built.solve(companion, checks=False)
     assert solution.status == "ok", solution.message
     stats = solution.stats
-    assert stats.rejected_steps <= 95, stats  # 85 measured (128 before)
-    assert stats.newton_iterations <= 1950, stats  # 1760 measured (2205 before)
-    assert stats.steps <= 310, stats  # 281 measured (313 before)
+    assert stats.rejected_steps <= 45, stats  # 38 measured (128 on 92306ed)
+    assert stats.newton_iterations <= 1300, stats  # 1126 measured (2205 on 92306ed)
+    assert stats.steps <= 255, stats  # 222 measured (313 on 92306ed)
