@@ -16,25 +16,52 @@ from mechlib.solvers.genalpha import rules
 from mechlib.solvers.march import accepted
 
 
+def _size(h_try: float, err: float, h: float, max_step: float, converged: bool) -> float:
+    """rules.step_size's step size with no Newton ceiling in force (inf), which it keeps
+    (inf x CEILING_RISE)."""
+    size, ceiling = rules.step_size(h_try, err, h, max_step, converged, math.inf)
+    assert ceiling == math.inf or not converged
+    return size
+
+
 def test_step_grows_by_the_error_law_whenever_it_grows() -> None:
     # err = 1/8: 0.9 * 8^(1/3) = 1.8 -> h_try * 1.8
-    assert rules.step_size(0.01, 0.125, 0.01, 1.0, True) == pytest.approx(0.018, rel=1e-15)
+    assert _size(0.01, 0.125, 0.01, 1.0, True) == pytest.approx(0.018, rel=1e-15)
     # err = 0.5: 0.9 * 2^(1/3) = 1.134 > 1 -> h_try * 1.134 (no hysteresis: REGROW 1)
-    assert rules.step_size(0.01, 0.5, 0.007, 1.0, True) == pytest.approx(0.01134, rel=1e-3)
+    assert _size(0.01, 0.5, 0.007, 1.0, True) == pytest.approx(0.01134, rel=1e-3)
     # err = 0.8: 0.9 / 0.8^(1/3) = 0.969 < 1 -> an accepted step keeps the step size
-    assert rules.step_size(0.01, 0.8, 0.007, 1.0, True) == 0.007
+    assert _size(0.01, 0.8, 0.007, 1.0, True) == 0.007
     # err = 0: x4, capped by the largest step
-    assert rules.step_size(0.01, 0.0, 0.01, 1.0, True) == pytest.approx(0.04)
-    assert rules.step_size(0.01, 0.0, 0.01, 0.03, True) == 0.03
+    assert _size(0.01, 0.0, 0.01, 1.0, True) == pytest.approx(0.04)
+    assert _size(0.01, 0.0, 0.01, 0.03, True) == 0.03
 
 
 def test_step_shrinks_by_the_error_law_down_to_a_fifth_or_a_quarter_after_newton() -> None:
     # err = 8: 0.9 / 2 = 0.45
-    assert rules.step_size(0.01, 8.0, 0.01, 1.0, True) == pytest.approx(0.0045, rel=1e-15)
+    assert _size(0.01, 8.0, 0.01, 1.0, True) == pytest.approx(0.0045, rel=1e-15)
     # err = 1e6: 0.9 / 100 = 0.009 < 0.2 -> a fifth
-    assert rules.step_size(0.01, 1e6, 0.01, 1.0, True) == pytest.approx(0.002, rel=1e-15)
+    assert _size(0.01, 1e6, 0.01, 1.0, True) == pytest.approx(0.002, rel=1e-15)
     # Newton did not converge: a quarter, whatever the (infinite) error
-    assert rules.step_size(0.01, math.inf, 0.01, 1.0, False) == pytest.approx(0.0025)
+    assert _size(0.01, math.inf, 0.01, 1.0, False) == pytest.approx(0.0025)
+
+
+def test_steps_after_a_newton_failure_grow_to_a_rising_ceiling() -> None:
+    # Newton failed at 0.01: the retry a quarter as long, the ceiling half the failed step
+    assert rules.step_size(0.01, math.inf, 0.01, 1.0, False, math.inf) == pytest.approx(
+        (0.0025, 0.005)
+    )
+    # the retry accepted with err 1e-3 (the law: x4 -> 0.01): to the ceiling 0.005, which
+    # rises x1.25 (REFACTOR_CHANGE) with each accepted step
+    h, ceiling = rules.step_size(0.0025, 1e-3, 0.0025, 1.0, True, 0.005)
+    assert (h, ceiling) == pytest.approx((0.005, 0.00625))
+    h, ceiling = rules.step_size(h, 1e-3, h, 1.0, True, ceiling)
+    assert (h, ceiling) == pytest.approx((0.00625, 0.0078125))
+    # a step already above the ceiling keeps its size (the ceiling never shrinks it) ...
+    assert rules.step_size(0.008, 1e-3, 0.008, 1.0, True, 0.005)[0] == 0.008
+    # ... and one the law grows less than to the ceiling takes the law's size
+    assert rules.step_size(0.001, 0.125, 0.001, 1.0, True, 0.005)[0] == pytest.approx(0.0018)
+    # a rejection by the error keeps the ceiling as it is
+    assert rules.step_size(0.005, 8.0, 0.005, 1.0, True, 0.004)[1] == 0.004
 
 
 def test_pseudo_acceleration_is_carried_to_the_new_step() -> None:

@@ -285,12 +285,14 @@ class ModalRun(rr.StepRun):
         )  # fmt: skip
         ctrl[[rr.ALPHA_M, rr.ALPHA_F, rr.BETA, rr.GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
         ctrl[rr.H_MIN] = stepper.h_min
+        ctrl[rr.CEILING] = stepper.ceiling
         return ctrl
 
     def _moved(self, s, ctrl, own, own_lam, cons, cons_lam, taken: int):
         """The stepper's state after a call that moved, shrunk or carried a to a new h."""
         stepper, integ = self.stepper, self.stepper.integ
         stepper.h, stepper.h_used = float(ctrl[rr.H]), float(ctrl[rr.H_USED])
+        stepper.ceiling = float(ctrl[rr.CEILING])
         integ.eta, integ.stale = float(ctrl[rr.ETA]), bool(ctrl[rr.STALE])
         integ.retangent = bool(ctrl[RETANGENT])
         if taken:

@@ -21,6 +21,7 @@ __all__ = [
     "FAILED_SHRINK",
     "FIRST_STEP",
     "MAX_ITER",
+    "NEWTON_CEILING",
     "NEWTON_KAPPA",
     "NOISE_POSITION",
     "POSITION_ROUNDOFF",
@@ -83,6 +84,11 @@ GROW, SHRINK = 4.0, 0.2  # the most a step grows after acceptance, shrinks after
 # tolerance 1e-6: 0.070 m against the closed form, now 0.0057 m in 10 % fewer steps)
 REGROW = 1.0
 FAILED_SHRINK = 0.25  # a step Newton could not take: the next is a quarter as long
+# ... and the steps after it grow at most to a ceiling: half the failed step, rising by the
+# step change an iteration matrix is kept for (REFACTOR_CHANGE) with each accepted step
+# (`step_size`)
+NEWTON_CEILING = 0.5
+CEILING_RISE = 1.0 + REFACTOR_CHANGE
 # first step, as a fraction of the analysis span: small, because the start acceleration may
 # be one the motion leaves at once (joint friction at rest carries nothing until the joint
 # slips); the step grows x4 per accepted step, so this costs about five steps
@@ -90,21 +96,35 @@ FIRST_STEP = 1e-6
 
 
 @njit(**KERNEL)
-def step_size(h_try: float, err: float, h: float, max_step: float, converged: bool) -> float:
+def step_size(
+    h_try: float, err: float, h: float, max_step: float, converged: bool, ceiling: float
+) -> tuple[float, float]:
     """The step size (s) after a step h_try (s) with scaled local error err, the step size
-    having been h (s): the one place it is chosen.
-    - Newton did not converge (`converged` False): FAILED_SHRINK h_try.
+    having been h (s), and the ceiling (s; inf: none) of the steps after the last Newton
+    failure, as (step size, ceiling): the one place they are chosen.
+    - Newton did not converge (`converged` False): FAILED_SHRINK h_try, and the ceiling
+      NEWTON_CEILING h_try.
     - Rejected by its error (err > 1): h_try max(SHRINK, SAFETY err^(-1/3)).
-    - Accepted: h_try min(GROW, SAFETY err^(-1/3)) up to max_step when that grows it by
-      more than REGROW, else h unchanged (an accepted step does not shrink the next)."""
+    - Accepted: h_try min(GROW, SAFETY err^(-1/3)) up to max_step and to the ceiling (or
+      h_try, where that is above it) when that grows it by more than REGROW, else h
+      unchanged (an accepted step does not shrink the next); the ceiling rises by
+      CEILING_RISE.
+    Newton's failure bounds the step where the error law does not: the retry's error, far
+    below the tolerance, let the law grow the step x4 straight back to the size Newton had
+    failed at (near the horizontal crossings of IFToMM A02's chain of four-bars: planar
+    N = 40's error-estimate companion failed Newton 224 times in 20 s, 56 with the
+    ceiling; docs/performance.md). A ceiling, not Hairer's "no growth after a rejection"
+    for every rejection: that changed the steps of runs without Newton failures (IFToMM
+    A01 over 50 s at 1e-6: 0.0057 -> 0.0082 m), the ceiling leaves them as they were."""
     if not converged:
-        return FAILED_SHRINK * h_try
+        return FAILED_SHRINK * h_try, NEWTON_CEILING * h_try
     if err > 1.0:
-        return h_try * max(SHRINK, SAFETY * err ** (-1.0 / 3.0))
+        return h_try * max(SHRINK, SAFETY * err ** (-1.0 / 3.0)), ceiling
     grow = GROW if err == 0.0 else min(GROW, SAFETY * err ** (-1.0 / 3.0))
+    grow = min(grow, max(1.0, ceiling / h_try))
     if grow > REGROW:
-        return min(max_step, h_try * grow)
-    return h
+        return min(max_step, h_try * grow), ceiling * CEILING_RISE
+    return h, ceiling * CEILING_RISE
 
 
 @njit(**KERNEL)

@@ -89,7 +89,8 @@ RESTARTED = 19  # out: velocity and pseudo-acceleration carried to a new step si
 H_MIN = 20  # in: the run's step floor (s)
 RETANGENT = 21  # in/out: a slow step's next matrix takes a new tangent (rules.retangents)
 TRIED = 22  # in: the matrix new for the next step (FRESH) was refactored for slowness
-CTRL_SIZE = 23
+CEILING = 23  # in/out: the steps' ceiling after a Newton failure (s; rules.step_size)
+CTRL_SIZE = 24
 # the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
 # the rules of mechlib.solvers.genalpha.rules, as the Python stepper does
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
@@ -264,12 +265,12 @@ def _rejected(ctrl, counts, h_try, err, eta, iterations, tried, done):
     convergence, the step shrunk by the error's law, counted); False, nothing changed,
     where the new step would fall below the run's floor (ctrl[H_MIN]: Python then fails
     the run)."""
-    h = rules.step_size(h_try, err, ctrl[H], ctrl[MAX_STEP], True)
+    h, ceiling = rules.step_size(h_try, err, ctrl[H], ctrl[MAX_STEP], True, ctrl[CEILING])
     if h < ctrl[H_MIN]:
         return False
     ctrl[ETA] = rules.carried_rate(eta)
     _converged_in(ctrl, iterations, tried)
-    ctrl[H], ctrl[H_USED] = h, h_try
+    ctrl[H], ctrl[H_USED], ctrl[CEILING] = h, h_try, ceiling
     counts[REJECTED] += 1
     counts[ITERATIONS] += done
     return True
@@ -412,7 +413,9 @@ def _accept_control(ctrl, h_try, err, eta, iterations, tried):
     the next step size (rules), the time."""
     ctrl[ETA] = rules.carried_rate(eta)
     _converged_in(ctrl, iterations, tried)
-    ctrl[H] = rules.step_size(h_try, err, ctrl[H], ctrl[MAX_STEP], True)
+    ctrl[H], ctrl[CEILING] = rules.step_size(
+        h_try, err, ctrl[H], ctrl[MAX_STEP], True, ctrl[CEILING]
+    )
     ctrl[H_USED] = h_try
     ctrl[T] += h_try
 
@@ -671,7 +674,10 @@ class StepRun:
         stepper = self.stepper
         stepper.integ.drop()
         stepper.h_used = h
-        stepper._shrink(s, rules.step_size(h, math.inf, stepper.h, stepper.max_step, False))
+        h, stepper.ceiling = rules.step_size(
+            h, math.inf, stepper.h, stepper.max_step, False, stepper.ceiling
+        )
+        stepper._shrink(s, h)
 
     def _call(self, s, outputs: np.ndarray, i: int, trajectory, progress, fresh: bool) -> tuple:
         """One `run_steps` call from s (`fresh`: the matrix was factored for its first
@@ -705,6 +711,7 @@ class StepRun:
         ctrl[[ALPHA_M, ALPHA_F, BETA, GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
         ctrl[DENSE] = float(stepper.dense)
         ctrl[H_MIN] = stepper.h_min
+        ctrl[CEILING] = stepper.ceiling
         ctrl[RETANGENT], ctrl[TRIED] = float(integ.retangent), float(fresh and self._tried)
         ctrl[REFACTORED] = ctrl[RESTARTED] = 0.0
         counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
@@ -744,6 +751,7 @@ class StepRun:
             m.reference = float(value)
         if taken or rejected or ctrl[RESTARTED]:  # moved, shrunk, or carried to a new h
             stepper.h, stepper.h_used = float(ctrl[H]), float(ctrl[H_USED])
+            stepper.ceiling = float(ctrl[CEILING])
             integ.eta, integ.stale = float(ctrl[ETA]), bool(ctrl[STALE])
             integ.retangent = bool(ctrl[RETANGENT])
             if taken:

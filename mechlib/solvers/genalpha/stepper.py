@@ -3,7 +3,8 @@ estimate, stick/slip location of joint friction, restarts, and the step-collapse
 around `mechlib.solvers.genalpha.integrator.Integrator`.
 
 The step size is chosen by mechlib.solvers.genalpha.rules: a rejected step shrinks it, an
-accepted one grows it as far as the error estimate allows (rules.step_size); at each change the
+accepted one grows it as far as the error estimate allows, up to a ceiling after a Newton
+failure (rules.step_size); at each change the
 pseudo-acceleration and the integrator's own velocity are carried to the new step
 (rules.carried), because generalized-alpha's `a` and its velocity's constraint violation are
 tied to the step they were made with. Outputs carry consistent velocities, accelerations and
@@ -81,6 +82,7 @@ class GeneralizedAlphaStepper(DenseStepper):
         self.sticking = any(getattr(e, "can_stick", False) for e in system.elements)
         self.h_min = step_floor(spec.end)
         self.h_used = 0.0
+        self.ceiling = math.inf  # the steps' ceiling after a Newton failure (s; rules.step_size)
         self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
         runs = spec.compiled == "runs"
         self.whole_run = (
@@ -145,10 +147,15 @@ class GeneralizedAlphaStepper(DenseStepper):
             self.system.states.reject()
             if spec.fixed_step:
                 raise _newton_failure(self.system, s.t, h_try)
-            self._shrink(s, rules.step_size(h_try, err, self.h, self.max_step, new is not None))
+            h, self.ceiling = rules.step_size(
+                h_try, err, self.h, self.max_step, new is not None, self.ceiling
+            )
+            self._shrink(s, h)
             return None, err
         if not spec.fixed_step:
-            self.h = rules.step_size(h_try, err, self.h, self.max_step, True)
+            self.h, self.ceiling = rules.step_size(
+                h_try, err, self.h, self.max_step, True, self.ceiling
+            )
         return _state(s.t + h_try, new), err
 
     def _error(self, h: float, q1: np.ndarray, acc0: np.ndarray, acc1: np.ndarray) -> float:
@@ -262,9 +269,10 @@ class GeneralizedAlphaStepper(DenseStepper):
             raise _newton_failure(
                 self.system, state.t, failure.t - state.t, f"locating event {events()}"
             )
-        self._shrink(
-            state, rules.step_size(new.t - state.t, math.inf, self.h, self.max_step, False)
+        h, self.ceiling = rules.step_size(
+            new.t - state.t, math.inf, self.h, self.max_step, False, self.ceiling
         )
+        self._shrink(state, h)
 
 
 def _newton_failure(system: System, t: float, h: float, doing: str = "") -> SolverFailure:
