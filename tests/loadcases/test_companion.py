@@ -84,8 +84,10 @@ def test_companion_steps_stay_compiled_where_newton_stalls_on_an_old_matrix(monk
     stalls on the iteration matrix of an earlier step at most steps. The whole-run kernel
     refreshes it at the iterate, as the Python step does, and goes on
     (mechlib.solvers.genalpha.run), instead of handing each such step to Python: over
-    0.6 s 3 of the companion's 78 steps are Python's (61 before; over 10 s 825 of 1051,
-    the companion then 3 times the run's CPU, now 0.74: docs/performance.md). The same
+    0.6 s 3 of the companion's 78 steps were Python's (61 before; over 10 s 825 of 1051,
+    the companion then 3 times the run's CPU, now 0.74: docs/performance.md); 6 since a
+    slow step first refactors with the tangent kept (rules.keeps_tangent: a new
+    differenced tangent, taken when the next step is slow too, is a Python step). The same
     steps (73 accepted, 5 rejected) and motion against the minimal-coordinate reference
     (tests/verification/flyball.py; measured 6.5e-4 of the travel's peak, 6.0e-4 of the
     angle's, 3.2e-4 of the spin rate's, about 3 times the run's as Richardson expects)."""
@@ -100,7 +102,7 @@ def test_companion_steps_stay_compiled_where_newton_stalls_on_an_old_matrix(monk
     built = build_run(load_case(FLYBALL))
     companion = dataclasses.replace(coarser(built.analysis), end=0.6)
     solved = built.solve(companion, checks=False)
-    assert solved.ok and python["steps"] <= 5
+    assert solved.ok and python["steps"] <= 7
     reference = flyball_solve(np.asarray(solved.time))
     for column, exact, bound in (
         ("travel.value", reference[1] - Z0, 1e-3),

@@ -203,7 +203,7 @@ class Integrator:
             assert self.scales is not None, "set by the stepper before its first step"
             size = self.scales.newton_size(dq, q1, qdd1, bp)
             eta = rules.newton_rate(size, prev, eta)
-            if rules.converged(eta, size, self._noise(size, prev, dq, q1)):
+            if rules.converged(eta, size, _noise(self.scales, size, prev, dq, q1)):
                 self.eta = rules.carried_rate(eta)
                 self.converged_in(it, tried)
                 a1 = ((1.0 - c.alpha_f) * qdd1 + c.alpha_f * qdd - c.alpha_m * a) / (
@@ -335,12 +335,6 @@ class Integrator:
             self._factors = (self.lu, data)
         return data
 
-    def _noise(self, size: float, prev: float, dq: np.ndarray, q1: np.ndarray) -> bool:
-        """Newton has reached its round-off floor (rules.is_noise)."""
-        assert self.scales is not None, "set by the stepper before its first step"
-        scales = self.scales
-        return bool(rules.is_noise(size, prev, scales.position_size(dq, q1), scales.tol))
-
     def _true_acceleration(self, q1, qd1, t1, qdd1, lam1, jac):
         """The state on all three constraint levels, by corrections with the iteration
         matrix: qd projected onto phi_q qd = nu (mass-weighted), then (qdd, lam) meeting
@@ -369,3 +363,8 @@ class Integrator:
         assert self.scales is not None, "set by the stepper before its first step"
         scales = self.scales
         return error_norm(self.c.error_constant * h * h, acc0, acc1, scales.q_abs, scales.tol, q1)
+
+
+def _noise(scales: Scales, size: float, prev: float, dq: np.ndarray, q1: np.ndarray) -> bool:
+    """Newton has reached its round-off floor (rules.is_noise)."""
+    return bool(rules.is_noise(size, prev, scales.position_size(dq, q1), scales.tol))
