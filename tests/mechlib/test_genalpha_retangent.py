@@ -18,16 +18,21 @@ from benchmarks.flexible import SpinUp, spin_up_beam
 from mechlib.solvers.genalpha import integrator, rules
 
 
-def _run(monkeypatch, old_rule: bool, old_stall: bool = False, end: float = 8.0):
-    made = [0]
+def _count_tangents(patch, made: list[int]) -> None:
+    """Within `patch`: each differenced tangent the integrator makes counted in made[0]."""
     differenced = integrator.Integrator._differenced_tangent
 
     def counted(self, *args):
         made[0] += 1
         return differenced(self, *args)
 
+    patch.setattr(integrator.Integrator, "_differenced_tangent", counted)
+
+
+def _run(monkeypatch, old_rule: bool, old_stall: bool = False, end: float = 8.0):
+    made = [0]
     with monkeypatch.context() as patch:
-        patch.setattr(integrator.Integrator, "_differenced_tangent", counted)
+        _count_tangents(patch, made)
         if old_rule:
             patch.setattr(rules, "retangents", lambda tried: True)
         if old_stall:  # every stall on an old matrix took a new tangent
@@ -94,14 +99,8 @@ def _coiled_disc() -> mechlib.Mechanism:
 
 def _disc_run(monkeypatch, compiled: str, kept_first: bool = True):
     made = [0]
-    differenced = integrator.Integrator._differenced_tangent
-
-    def counted(self, *args):
-        made[0] += 1
-        return differenced(self, *args)
-
     with monkeypatch.context() as patch:
-        patch.setattr(integrator.Integrator, "_differenced_tangent", counted)
+        _count_tangents(patch, made)
         if not kept_first:  # the rule before: a new tangent at every slow step
             patch.setattr(rules, "keeps_tangent", lambda modal, elements: False)
         sol = mechlib.solve(

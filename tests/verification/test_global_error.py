@@ -21,6 +21,7 @@ import pytest
 
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
+from tests.verification.library_pendulum import run_pendulum
 from tests.verification.references import pendulum_angle
 
 LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
@@ -32,12 +33,7 @@ def _exact_angle(t: np.ndarray) -> np.ndarray:
 
 
 def _run(tmp_path: Path, analysis_lines: str = "", step: float = 0.01):
-    text = (LIBRARY / "pendulum.case.yaml").read_text(encoding="utf-8")
-    text = text.replace("end: 4.0 ", "end: 2.0 ").replace("step: 0.001 ", f"step: {step} ")
-    text = text.replace("  type: dynamic\n", "  type: dynamic\n" + analysis_lines)
-    path = tmp_path / "pendulum.case.yaml"
-    path.write_text(text, encoding="utf-8")
-    outcome = run_case(load_case(path))
+    outcome = run_pendulum(tmp_path, 2.0, step, analysis_lines)
     solution = outcome.solution
     true = np.abs(solution.channels["hinge_angle.value"] - _exact_angle(solution.time)).max()
     return outcome, float(true) / THETA0

@@ -28,23 +28,16 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from loadcases.inputs.loader import load_case
-from loadcases.run import run_case
 from loadcases.run.global_error import RequestError, _between_rows
+from tests.verification.library_pendulum import run_pendulum
 from tests.verification.references import pendulum_angle, pendulum_hinge_reaction
 
-LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
 THETA0 = math.radians(60.0)
 
 
 def _run(tmp_path: Path, step: float, lines: str = "") -> dict:
     """The library pendulum over 1 s at `step` s outputs: its summary's accuracy block."""
-    text = (LIBRARY / "pendulum.case.yaml").read_text(encoding="utf-8")
-    text = text.replace("end: 4.0 ", "end: 1.0 ").replace("step: 0.001 ", f"step: {step} ")
-    text = text.replace("  type: dynamic\n", "  type: dynamic\n" + lines)
-    path = tmp_path / "pendulum.case.yaml"
-    path.write_text(text, encoding="utf-8")
-    outcome = run_case(load_case(path))
+    outcome = run_pendulum(tmp_path, 1.0, step, lines)
     return {"time": outcome.solution.time, **outcome.checks["accuracy"]}
 
 
