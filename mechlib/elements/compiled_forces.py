@@ -15,8 +15,9 @@ type into its own arrays (the design rule: elements grouped by type, one loop pe
   with their element states: mechlib.elements.hydraulics.valve_group;
 - contacts of a primitive geometry (sphere on plane, ball in socket, pin in hole), with a
   clearance joint's wear work as its element state: mechlib.elements.contact.group. Their
-  tangent stays the elements' own (Contact.tangent, re-evaluated at every step by the
-  integrator); the compiled whole run (mechlib.solvers.genalpha.run) does not take them.
+  tangent stays the elements' own (Contact.tangent, re-evaluated by the integrator at each
+  refactorisation); the compiled whole run (mechlib.solvers.genalpha.run) does not take
+  them (a contact's memory is committed in Python at each accepted step).
 It gives None when an active element has none (a table law, a profile contact, a point
 force...) or element states belong to another element, or a clearance joint's wear states
 come with actuators' states: the caller then keeps the Python path. The

@@ -9,7 +9,7 @@ Newton on (q, lam) with the scaled iteration matrix [[M + (C gamma' + K)/beta', 
 [phi_q, 0]] (beta' = (1-alpha_m)/(h^2 beta (1-alpha_f)), gamma' = gamma/(h beta)), kept
 across iterations and steps while it converges (modified Newton). K = -dQ/dq and
 C = -dQ/dqd are kept apart, so that a new step size only refactors; elements that give their
-own tangent (compiled contacts) have it re-evaluated at every step, the rest of K and C
+own tangent (compiled contacts) have it re-evaluated at each factorisation, the rest of K and C
 (forward differences, 2 nq force evaluations, a column leaving out the elements whose
 forces depend on other bodies only, and none for the exactly zero columns of massless node
 bodies: mechlib.system.fd_columns) only after slow or failed convergence (a slow step is
@@ -142,8 +142,8 @@ class Integrator:
         self.lu, self.lu_h = lu, h
 
     def _rebuilds(self, h: float, fresh: bool) -> bool:
-        """A step factors its matrix anew (at every step with `own` elements: contacts)."""
-        return fresh or self.refactor or rules.refactors(h, self.lu_h) or bool(self.own)
+        """A step factors its matrix anew (`own` tangents too: kept with the rest, cheaper)."""
+        return fresh or self.refactor or rules.refactors(h, self.lu_h)
 
     @property
     def own(self) -> list:
