@@ -12,9 +12,15 @@ type into its own arrays (the design rule: elements grouped by type, one loop pe
   mechlib.elements.regularize.coulomb_factor, the one the Python path and Exudyn's bench
   model call;
 - servo-actuators of the `valve` fidelity, active or not (their states advance either way),
-  with their element states: mechlib.elements.hydraulics.valve_group.
-It gives None when an active element has none (a table law, a contact, a point force...) or
-element states belong to another element: the caller then keeps the Python path. The
+  with their element states: mechlib.elements.hydraulics.valve_group;
+- contacts of a primitive geometry (sphere on plane, ball in socket, pin in hole), with a
+  clearance joint's wear work as its element state: mechlib.elements.contact.group. Their
+  tangent stays the elements' own (Contact.tangent, re-evaluated by the integrator at each
+  refactorisation); the compiled whole run (mechlib.solvers.genalpha.run) does not take
+  them (a contact's memory is committed in Python at each accepted step).
+It gives None when an active element has none (a table law, a profile contact, a point
+force...) or element states belong to another element, or a clearance joint's wear states
+come with actuators' states: the caller then keeps the Python path. The
 kernels take the packed arrays as one tuple (`args`); `element_wrenches` adds every group's
 loads at element states z, `advance_states` advances those states over a step,
 `element_forces` gives the loads' generalized forces and `element_tangent` (K, C) =
@@ -34,6 +40,9 @@ import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
 from mechlib.elements import friction_kernel
+from mechlib.elements.contact import group as contact_group
+from mechlib.elements.contact.element import Contact
+from mechlib.elements.contact.group import advance_wear, contacts_rates, contacts_wrench
 from mechlib.elements.damper import RotationalDamper
 from mechlib.elements.forces import Spring, TorsionSpring
 from mechlib.elements.friction import JointFriction
@@ -83,8 +92,8 @@ class CompiledForces:
     friction is loaded by its joint's reaction (`reactions`) and the coordinates the
     elements act on (`columns`, for the tangent and the iteration matrix's pattern)."""
 
-    def __init__(self, system, springs, torsions, frictions, actuators=()) -> None:
-        self.frictions, self.actuators = frictions, list(actuators)
+    def __init__(self, system, springs, torsions, frictions, actuators=(), contacts=()) -> None:
+        self.frictions, self.actuators, self.contacts = frictions, list(actuators), list(contacts)
         self.reactions = any(f.mu != 0.0 for f in frictions)
         position = {id(m): j for j, m in enumerate(system.angle_measures)}
         spring_i, spring_f = spring_rows(springs)
@@ -112,6 +121,10 @@ class CompiledForces:
             bodies |= {int(ints[0]), int(ints[1]), m.bi, m.bj}
         for a in self.actuators:
             bodies |= {a._geometry[0], a._geometry[2]}
+        for c in self.contacts:
+            bodies |= set(c.body_pair())
+        slices = system.states.slices
+        wear = [slices[id(c)].start if id(c) in slices else -1 for c in self.contacts]
         starts = [system.states.slices[id(a)].start for a in self.actuators]
         valve_i, valve_f = valve_arrays(self.actuators, starts)
         nb = system.nb
@@ -131,6 +144,7 @@ class CompiledForces:
             np.ones(max(len(springs), len(torsions)), dtype=np.bool_),  # the groups' `on`
             valve_i,
             valve_f,
+            *contact_group.contact_arrays(self.contacts, wear),
         )
 
     @classmethod
@@ -138,7 +152,7 @@ class CompiledForces:
         """The system's active elements packed, or None when one of them has no compiled
         form (or a friction sticks: its stick equation and release stay in Python) or
         element states belong to elements not packed."""
-        springs, torsions, frictions, actuators = [], [], [], []
+        springs, torsions, frictions, actuators, contacts = [], [], [], [], []
         for e in system.elements:
             kind = type(e)
             if kind is ServoActuator and e.fidelity == "valve":
@@ -155,11 +169,14 @@ class CompiledForces:
                     if e.mu != 0.0 and len(system.joint_force_rows(e.joint)[0]) > MAX_ROWS:
                         return None
                     frictions.append(e)
+            elif isinstance(e, Contact) and contact_group.packable(e):
+                contacts.append(e)
             else:
                 return None
-        if len(system.states.owners) != len(actuators):
+        wear = sum(id(c) in system.states.slices for c in contacts)
+        if len(system.states.owners) != len(actuators) + wear or (wear and actuators):
             return None
-        return cls(system, springs, torsions, frictions, actuators)
+        return cls(system, springs, torsions, frictions, actuators, contacts)
 
     @staticmethod
     def switches(system) -> tuple:
@@ -180,6 +197,8 @@ class CompiledForces:
         the frictions' impending slip directions, the actuators' on flags and, with a time
         t (s), their stroke demands at t."""
         refresh_valves(self.actuators, self.args[10], self.args[11], t)
+        if self.contacts:
+            contact_group.refresh_contacts(self.contacts, self.args[12:18])
         torsion_refs, varying, index = self.args[4], self.args[7], self.args[8]
         measures = system.angle_measures
         nt = torsion_refs.size
@@ -224,14 +243,25 @@ def no_forces():
         np.ones(0, dtype=np.bool_),
         np.zeros((0, VALVE_INTS), dtype=np.int64),
         np.zeros((0, VALVE_FLOATS)),
+        np.zeros((0, contact_group.CONTACT_INTS), dtype=np.int64),
+        np.zeros((0, contact_group.GEOMETRY)),
+        np.zeros((0, contact_group.PARAMETERS)),
+        np.zeros((0, contact_group.PARAMETERS)),
+        np.zeros((0, contact_group.MOVING)),
+        np.zeros((0, 2, 12)),
     )
 
 
 @njit(**KERNEL)
 def any_elements(forces):
     """Any element is packed (springs, angle elements: torsion springs, dampers,
-    frictions; actuators)."""
-    return forces[0].shape[0] > 0 or forces[8].shape[0] > 0 or forces[10].shape[0] > 0
+    frictions; actuators; contacts)."""
+    return (
+        forces[0].shape[0] > 0
+        or forces[8].shape[0] > 0
+        or forces[10].shape[0] > 0
+        or forces[12].shape[0] > 0
+    )
 
 
 @njit(**KERNEL)
@@ -262,6 +292,10 @@ def element_wrenches(x, xd, z, forces, rows, active, lam, F, N):
         springs_wrench(x, xd, spring_i, spring_f, on, F, N)
     if torsion_i.shape[0]:
         torsion_springs_wrench(x, xd, torsion_i, torsion_f, torsion_refs, on, N)
+    if forces[12].shape[0]:
+        contacts_wrench(
+            x, xd, forces[12], forces[13], forces[14], forces[15], forces[16], forces[17], F, N
+        )
     k = friction_kernel.INTS
     for i in range(fric_i.shape[0]):
         count = fric_i[i, k]
@@ -286,6 +320,10 @@ def advance_states(x, xd, z0, f0, h, forces, z):
     x, xd, in place in z (the actuators': valve_group.advance_valves)."""
     if forces[10].shape[0]:
         advance_valves(x, xd, z0, f0, h, forces[10], forces[11], z)
+    if forces[12].shape[0]:
+        advance_wear(
+            x, xd, z0, f0, h, forces[12], forces[13], forces[14], forces[15], forces[16], z
+        )
 
 
 @njit(**KERNEL)
@@ -350,6 +388,8 @@ def element_rates(x, xd, z, forces, out):
     z (the actuators': valve_group.valves_rates)."""
     if forces[10].shape[0]:
         valves_rates(x, xd, z, forces[10], forces[11], out)
+    if forces[12].shape[0]:
+        contacts_rates(x, xd, forces[12], forces[13], forces[14], forces[15], forces[16], out)
 
 
 @njit(**KERNEL)

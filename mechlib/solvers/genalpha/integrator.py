@@ -9,7 +9,7 @@ Newton on (q, lam) with the scaled iteration matrix [[M + (C gamma' + K)/beta', 
 [phi_q, 0]] (beta' = (1-alpha_m)/(h^2 beta (1-alpha_f)), gamma' = gamma/(h beta)), kept
 across iterations and steps while it converges (modified Newton). K = -dQ/dq and
 C = -dQ/dqd are kept apart, so that a new step size only refactors; elements that give their
-own tangent (compiled contacts) have it re-evaluated at every step, the rest of K and C
+own tangent (compiled contacts) have it re-evaluated at each factorisation, the rest of K and C
 (forward differences, 2 nq force evaluations, a column leaving out the elements whose
 forces depend on other bodies only, and none for the exactly zero columns of massless node
 bodies: mechlib.system.fd_columns) only after slow or failed convergence (a slow step is
@@ -104,9 +104,8 @@ class Integrator:
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
 
     def elements(self, t: float | None = None) -> CompiledForces | None:
-        """The active force elements packed for the compiled kernels
-        (System.compiled_forces), their moving values refreshed (the actuators' demands at
-        t, s, when given); None where one has no compiled form."""
+        """The active force elements packed (System.compiled_forces), their moving values
+        refreshed (the actuators' demands at t, s, when given); None: one is not packable."""
         packed = self.system.compiled_forces()
         if packed is not None:
             packed.refresh(self.system, t)
@@ -142,6 +141,10 @@ class Integrator:
             raise singular_failure(sys, jac, k.t, "dynamic analysis failed")
         self.lu, self.lu_h = lu, h
 
+    def _rebuilds(self, h: float, fresh: bool) -> bool:
+        """A step factors its matrix anew (`own` tangents too: kept with the rest, cheaper)."""
+        return fresh or self.refactor or rules.refactors(h, self.lu_h)
+
     @property
     def own(self) -> list:
         """The active elements that give their own tangent (`has_tangent`)."""
@@ -166,10 +169,7 @@ class Integrator:
             return self._compiled_step(t, h, q, qd, qdd, a, lam, elements, cons)
         c, sys = self.c, self.system
         bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam, cons)
-        # a step-size change refactors; elements with their own tangent (contacts:
-        # stiffness and friction slope change from step to step) have it re-evaluated at
-        # every step
-        rebuild = fresh or self.refactor or rules.refactors(h, self.lu_h) or bool(self.own)
+        rebuild = self._rebuilds(h, fresh)
         tried = self.refactor and not fresh  # refactored for slowness, the tangent kept
         refreshed, rebuilt, prev, it = False, rebuild, math.inf, 0
         eta = self.eta
@@ -266,13 +266,12 @@ class Integrator:
         return None if again == rules.GIVE_UP else (again == rules.FRESH, again == rules.KEPT)
 
     def _compiled_step(self, t, h, q, qd, qdd, a, lam, elements: CompiledForces, cons=None):
-        """`step` with the Newton iterations between factorisations and the three-level
-        correction compiled (mechlib.solvers.genalpha.compiled): the same iteration, decisions and
-        results (to round-off) for a system whose active elements are all `elements`."""
+        """`step` with the Newton iterations and three-level correction compiled
+        (genalpha.compiled): the same steps and results (to round-off) for `elements`."""
         c, sys, arrays, states = self.c, self.system, self.arrays, self.system.states
         assert arrays is not None and self.scales is not None, "checked by step; set by init"
         bp, gp, q1, qd1, qdd1, lam1, t1, fresh = self._predicted(t, h, q, qd, qdd, a, lam, cons)
-        rebuild = fresh or self.refactor or rules.refactors(h, self.lu_h)
+        rebuild = self._rebuilds(h, fresh)
         tried = self.refactor and not fresh
         refreshed, prev, it, eta = False, math.inf, 0, self.eta
         ints, floats = arrays.packed()

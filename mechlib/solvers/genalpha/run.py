@@ -613,7 +613,9 @@ class StepRun:
         if self.stepper.integ.lu is None:
             return False
         self.elements = self.stepper.integ.elements(t)
-        if self.elements is None:  # an element with no compiled form, or a stuck friction
+        if self.elements is None or self.elements.contacts:
+            # an element with no compiled form, or a stuck friction; a contact's memory
+            # (its approach speed) is committed at each accepted step in Python
             return False
         if self.stepper.dense and not (small_enough(system) and not self.elements.frictions):
             # its rows' dense Schur complement would cost more than Python's; the compiled
