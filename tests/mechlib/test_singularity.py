@@ -417,16 +417,27 @@ def test_a_rank_toggle_is_measured_exactly(monkeypatch) -> None:
 
 def test_a_dynamic_run_driven_onto_a_dead_centre_names_it() -> None:
     """The slider driven exactly onto the crank's dead centre (t* = 0.25 s, on the output
-    grid) in a dynamic run: the constraints, the motion included, lose rank there, so the
-    run stalls (exit 1 from the CLI) naming the travel and the loop joints, and its last
-    attempt's singular matrix is that position, not a body with no mass or stiffness (the
-    message said so before)."""
+    grid) in a dynamic run: the constraints, the motion included, lose rank there. The
+    run used to stall there (exit 1, naming the travel and the loop joints; still so with
+    the carry rule at shrinks); since the ceiling after a Newton failure and the kept
+    contact tangent were merged (2026-11-29 18:00, which of the two not traced) it goes
+    through on the branch the crank's own motion takes, the crank's angle
+    omega t within 1e-6 rad after the dead centre (measured 2.5e-7 at t*, 1e-14 after),
+    and the near-singular warning names the position, the travel and the loop joints."""
     omega = 2.0 * math.pi
     mech, _ = slider_crank(R, L)
     mech.add_motion("push", joint="D", function=SliderOfTurningCrank(omega))
-    sol = mechlib.solve(mech, mechlib.Dynamic(end=0.5, step=STEP), throw=False)
-    assert not sol.ok
-    assert "near-singular position" in sol.message and "push" in sol.message, sol.message
-    assert all(name in sol.message for name in ("A", "B", "C")), sol.message
-    assert "no mass or stiffness" not in sol.message, sol.message
-    assert abs(sol.time[-1] - 0.25) <= STEP + 1e-12
+    sol = mechlib.solve(
+        mech,
+        mechlib.Dynamic(end=0.5, step=STEP),
+        throw=False,
+        requests=[mechlib.JointCoordinate("a", "A")],
+    )
+    assert sol.ok, sol.message
+    after = np.asarray(sol.time) > 0.25 + STEP / 2
+    angle = np.asarray(sol.channels["a.value"])[after]
+    assert np.abs(angle - omega * np.asarray(sol.time)[after]).max() < 1e-6
+    warning = next(w for w in sol.warnings if "near-singular position" in w)
+    assert "t = 0.25 s" in warning and "push" in warning, warning
+    assert all(name in warning for name in ("A", "B", "C")), warning
+    assert "no mass or stiffness" not in warning, warning
