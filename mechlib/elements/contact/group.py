@@ -95,18 +95,18 @@ def _at_rest(xd):
 
 
 @njit(**KERNEL)
+def _codes(ints, i):
+    """(kind, body 1, body 2, law code, friction code) of packed contact i."""
+    return ints[i, 0], ints[i, 1], ints[i, 2], ints[i, 3], ints[i, 4]
+
+
+@njit(**KERNEL)
 def contacts_wrench(x, xd, ints, geometry, law, friction, moving, anchor, F, N):
     """Add the loads of the packed contacts at the state x, xd (nb+1, 7) to F and N
     (nb+1, 3), as Contact.apply."""
     rest = ints.shape[0] > 0 and _at_rest(xd)
     for i in range(ints.shape[0]):
-        kind, b1, b2, law_code, friction_code = (
-            ints[i, 0],
-            ints[i, 1],
-            ints[i, 2],
-            ints[i, 3],
-            ints[i, 4],
-        )
+        kind, b1, b2, law_code, friction_code = _codes(ints, i)
         approach = moving[i, _APPROACH]
         if friction_code != 0 and rest:
             static_contact_wrench(
@@ -126,13 +126,7 @@ def _wear_rate(x, xd, ints, geometry, law, friction, moving, i, rest):
     if rest:
         return 0.0
     gp, out = np.empty(GAP_SIZE), np.empty(6)
-    kind, b1, b2, law_code, friction_code = (
-        ints[i, 0],
-        ints[i, 1],
-        ints[i, 2],
-        ints[i, 3],
-        ints[i, 4],
-    )
+    kind, b1, b2, law_code, friction_code = _codes(ints, i)
     gap(kind, x, xd, b1, b2, geometry[i], gp)
     contact_force(law_code, law[i], friction_code, friction[i], geometry[i, 9], gp,
                   moving[i, _APPROACH], out)  # fmt: skip
