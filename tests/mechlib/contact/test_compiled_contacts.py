@@ -8,8 +8,6 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import mechlib as ml
-from mechlib.core.rotation import quaternion_from_rotvec
 from mechlib.elements import compiled_forces as cf
 from mechlib.elements.compiled_forces import CompiledForces, element_rates, element_wrenches
 from mechlib.elements.contact import (
@@ -17,15 +15,12 @@ from mechlib.elements.contact import (
     HertzLaw,
     ImpactLaw,
     SpherePlane,
-    StribeckFriction,
-    hertz_stiffness,
     revolute_clearance,
     spherical_clearance,
 )
 from mechlib.kinematics import constraint_arrays as ca
+from tests.mechlib.contact._contact_models import FRICTION, K_STEEL, posed_pair
 
-K_STEEL = hertz_stiffness(210e9, 0.3, 210e9, 0.3, 0.01 * 0.0105 / 0.0005)
-FRICTION = StribeckFriction(0.15, 0.1)
 _NO_ROWS, _NO_ACTIVE = np.zeros((0, 21)), np.zeros(0, dtype=np.int64)
 
 
@@ -46,25 +41,6 @@ def _elements():
     ]  # fmt: skip
 
 
-def _pair(element):
-    """A ball and a free socket body, both turned, the ball 0.5 um into the other surface
-    and moving at 1-10 mm/s and rad/s."""
-    m = ml.Mechanism(name="pair", gravity=(0, -9.81, 0))
-    m.add_body("ball", mass=0.2, cm=(0.001, 0.002, 0.0), inertia=[8e-6] * 3)
-    m.add_body("socket", mass=1.0, cm=(0.0, -0.01, 0.003), inertia=[1e-3, 2e-3, 3e-3])
-    m.add_force(element)
-    system = ml.System(m)
-    q = system.design_q().reshape(-1, 7)
-    for b, rotvec in enumerate(([0.3, -0.2, 0.5], [-0.1, 0.4, 0.2])):
-        q[b, 3:] = quaternion_from_rotvec(np.array(rotvec))
-    q[0, :3] += [2e-4, -4e-4, 1e-4]
-    qd = np.random.default_rng(5).uniform(-1.0, 1.0, q.shape) * np.r_[[1e-2] * 3, [1.0] * 4]
-    for _ in range(20):
-        gap = element.geometry.gap(system.view(system.kin(q.ravel(), qd.ravel(), 0.0)))
-        q[0, :3] -= (5e-7 - gap.penetration) * gap.normal
-    return system, q.ravel(), qd.ravel()
-
-
 @pytest.mark.parametrize("which", range(3))
 @pytest.mark.parametrize("moving", [True, False])
 def test_packed_contact_loads_equal_the_elements_own(which: int, moving: bool) -> None:
@@ -74,7 +50,7 @@ def test_packed_contact_loads_equal_the_elements_own(which: int, moving: bool) -
     friction from the anchor of the last accepted state), and a clearance joint's packed
     wear rate equals its state_rates."""
     element = _elements()[which]
-    system, q, qd = _pair(element)
+    system, q, qd = posed_pair(element, gravity=9.81, seed=5)
     element.approach = 0.05
     element.commit(system.view(system.kin(q - 1e-6, qd, 0.0)))  # an anchor to slip from
     if not moving:
@@ -103,7 +79,7 @@ def test_packed_contact_loads_equal_the_elements_own(which: int, moving: bool) -
 def test_profile_contacts_keep_the_python_path() -> None:
     """A contact without a primitive geometry has no packed form: `of` gives None."""
     element = _elements()[2]
-    system, _, _ = _pair(element)
+    system, _, _ = posed_pair(element, gravity=9.81, seed=5)
     element._kernel = None  # as a profile contact's bind leaves it
     assert CompiledForces.of(system) is None
 

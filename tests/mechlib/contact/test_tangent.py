@@ -6,35 +6,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import mechlib as ml
-from mechlib.core.rotation import quaternion_from_rotvec
 from mechlib.elements.contact import (
     Contact,
     HertzLaw,
     ImpactLaw,
     SpherePlane,
-    StribeckFriction,
-    hertz_stiffness,
     revolute_clearance,
     spherical_clearance,
 )
-
-K_STEEL = hertz_stiffness(210e9, 0.3, 210e9, 0.3, 0.01 * 0.0105 / 0.0005)
-FRICTION = StribeckFriction(0.15, 0.1)
-
-
-def _state(system, element, rng, depth: float):
-    """Both bodies turned, random velocities of 1-10 mm/s and rad/s, and the ball moved
-    along the contact normal until it is `depth` (m) into the other surface."""
-    q = system.design_q().reshape(-1, 7)
-    for b, rotvec in enumerate(([0.3, -0.2, 0.5], [-0.1, 0.4, 0.2])):
-        q[b, 3:] = quaternion_from_rotvec(np.array(rotvec))
-    q[0, :3] += [2e-4, -4e-4, 1e-4]
-    qd = rng.uniform(-1.0, 1.0, q.shape) * np.r_[[1e-2] * 3, [1.0] * 4]
-    for _ in range(20):
-        gap = element.geometry.gap(system.view(system.kin(q.ravel(), qd.ravel(), 0.0)))
-        q[0, :3] -= (depth - gap.penetration) * gap.normal
-    return q.ravel(), qd.ravel()
+from tests.mechlib.contact._contact_models import FRICTION, K_STEEL, posed_pair
 
 
 def _central(system, q, qd, t, which: int) -> np.ndarray:
@@ -88,13 +68,8 @@ def test_contact_tangent_matches_central_differences(element) -> None:
     `Contact.tangent` equal central differences of `System.forces` (increments 1e-11 m,
     1e-9 for Euler parameters and rates) within 1e-4 of their largest entry (the kernel's
     forward differences of about 1e-11 m over a 5e-7 m deflection: measured 1.2e-5)."""
-    m = ml.Mechanism(name="tangent", gravity=(0, 0, 0))
-    m.add_body("ball", mass=0.2, cm=(0.001, 0.002, 0.0), inertia=[8e-6] * 3)
-    m.add_body("socket", mass=1.0, cm=(0.0, -0.01, 0.003), inertia=[1e-3, 2e-3, 3e-3])
-    m.add_force(element)
-    system = ml.System(m)
+    system, q, qd = posed_pair(element, gravity=0.0, seed=3)
     element.approach = 0.05
-    q, qd = _state(system, element, np.random.default_rng(3), 5e-7)
     k = system.kin(q, qd, 0.0)
     assert element.forces(system.view(k)).friction > 0.0
     stiffness, damping = np.zeros((14, 14)), np.zeros((14, 14))
