@@ -419,9 +419,10 @@ def test_a_dynamic_run_driven_onto_a_dead_centre_names_it() -> None:
     """The slider driven exactly onto the crank's dead centre (t* = 0.25 s, on the output
     grid) in a dynamic run: the constraints, the motion included, lose rank there. The
     run used to stall there (exit 1, naming the travel and the loop joints; still so with
-    the carry rule at shrinks); since the ceiling after a Newton failure and the kept
-    contact tangent were merged (2026-11-29 18:00, which of the two not traced) it goes
-    through on the branch the crank's own motion takes, the crank's angle
+    the carry rule at shrinks); since the ceiling after a Newton failure
+    (rules.step_size) it goes through on the branch the crank's own motion takes (traced
+    with numba off: the same run with the ceiling lifted stalls at 0.25 s, the step
+    size falling to its 1e-12 s floor there), the crank's angle
     omega t within 1e-6 rad after the dead centre (measured 2.5e-7 at t*, 1e-14 after),
     and the near-singular warning names the position, the travel and the loop joints."""
     omega = 2.0 * math.pi
