@@ -20,14 +20,18 @@ class StepGrid:
     `middles` (n,): the end of the first of the two steps that each end's step merges
     (NaN where it is a single step). A step goes from t to the first end after t; where
     Newton cannot take it, to its middle, then on to its end (the split: the two steps of
-    the run the grid was made from). No error test: the grid is the step size's rule
+    the run the grid was made from); `most_splits`: the splits allowed (None: any), one
+    more fails the run. No error test: the grid is the step size's rule
     (mechlib.solvers.genalpha.rules.on_grid)."""
 
     ends: np.ndarray
     middles: np.ndarray
+    most_splits: int | None = None
 
     @classmethod
-    def paired(cls, step_ends: Sequence[float], stops: Sequence[float] = ()) -> StepGrid:
+    def paired(
+        cls, step_ends: Sequence[float], stops: Sequence[float] = (), most_splits: int | None = None
+    ) -> StepGrid:
         """Every two consecutive steps of a run merged into one (its accepted steps' end
         times `step_ends`, s, increasing), within each stretch between the `stops` (s:
         its event times), which stay step ends as the last end does; a stretch of an odd
@@ -42,8 +46,8 @@ class StepGrid:
                 ends.append(stretch[-1:])
                 middles.append(np.array([np.nan]))
         if not ends:
-            return cls(np.zeros(0), np.zeros(0))
-        return cls(np.concatenate(ends), np.concatenate(middles))
+            return cls(np.zeros(0), np.zeros(0), most_splits)
+        return cls(np.concatenate(ends), np.concatenate(middles), most_splits)
 
     @property
     def steps(self) -> int:

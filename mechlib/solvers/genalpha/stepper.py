@@ -165,20 +165,31 @@ class GeneralizedAlphaStepper(DenseStepper):
 
     def newton_failed(self, s: State, h: float, doing: str = "") -> None:
         """The step h (s) from s that Newton could not take (`doing`: while locating an
-        event): rejected, the next a quarter as long (rules.step_size); along a grid, split
-        into the two steps it merges (counted as a rejected step); a fixed step, or a grid
-        step that cannot be split, fails the run."""
-        grid = self.grid
-        if grid is not None and not self.split:
-            whole = rules.on_grid(s.t, math.inf, grid.ends, grid.middles, False)
-            self.split = rules.on_grid(s.t, math.inf, grid.ends, grid.middles, True) < whole
-        if self.spec.fixed_step or (grid is not None and not self.split):
+        event): rejected, the next a quarter as long (rules.step_size); along a grid,
+        split (`_split`); a fixed step fails the run."""
+        if self.grid is not None:
+            self._split(s, h, doing)
+            return
+        if self.spec.fixed_step:
             raise _newton_failure(self.system, s.t, h, doing)
         self.stats.rejected_steps += 1
-        if grid is not None:
-            return
         h, self.ceiling = rules.step_size(h, math.inf, self.h, self.max_step, False, self.ceiling)
         self._shrink(s, h, counted=True)
+
+    def _split(self, s: State, h: float, doing: str) -> None:
+        """The grid's step h (s) from s failed Newton: split into the two steps it merges
+        (counted as a rejected step); one that cannot be split (a single step, or its
+        middle's), or a split more than the grid allows, fails the run."""
+        grid = self.grid
+        assert grid is not None, "a grid's step"
+        whole = rules.on_grid(s.t, math.inf, grid.ends, grid.middles, False)
+        halved = rules.on_grid(s.t, math.inf, grid.ends, grid.middles, True)
+        if self.split or halved >= whole:
+            raise _newton_failure(self.system, s.t, h, doing)
+        if grid.most_splits is not None and self.stats.rejected_steps >= grid.most_splits:
+            raise _too_many_splits(s.t, grid.most_splits)
+        self.split = True
+        self.stats.rejected_steps += 1
 
     def _error(self, h: float, q1: np.ndarray, acc0: np.ndarray, acc1: np.ndarray) -> float:
         """The scaled local error of a step h (s): of the positions and, where the
@@ -293,6 +304,16 @@ class GeneralizedAlphaStepper(DenseStepper):
         if self.spec.fixed_step:
             raise _newton_failure(self.system, state.t, failure.t - state.t, doing)
         self.newton_failed(state, new.t - state.t, doing)
+
+
+def _too_many_splits(t: float, most: int) -> SolverFailure:
+    return SolverFailure(
+        f"dynamic analysis stopped at t = {t:.6g} s: Newton could not take a step of the "
+        f"prescribed grid after {most} splits of its steps into two (the most the grid "
+        "allows)",
+        time=t,
+        status=Status.NEWTON_FAILED,
+    )
 
 
 def _newton_failure(system: System, t: float, h: float, doing: str = "") -> SolverFailure:
