@@ -114,3 +114,35 @@ def test_the_summary_says_which_companion() -> None:
     block = run.checks["accuracy"]
     assert block["companion"] == "grid"
     assert "own steps two at a time" in block["method"]
+
+
+def test_a_grid_companion_that_stops_falls_back_to_the_adaptive_one(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """No split allowed and a doubled step Newton cannot take (made so: Newton's first
+    doubled step fails): the grid companion stops, the adaptive one estimates, and the
+    summary says so."""
+    from loadcases.run import global_error
+    from mechlib.solvers.genalpha.stepper import GeneralizedAlphaStepper
+
+    on_grid_of = global_error.on_grid
+
+    def no_splits(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic | None:
+        grid = on_grid_of(analysis, run)
+        assert grid is not None and grid.grid is not None
+        strict = ml.StepGrid(grid.grid.ends, grid.grid.middles, most_splits=0)
+        return ml.Dynamic(**{**grid.__dict__, "grid": strict})
+
+    attempt = GeneralizedAlphaStepper._attempt
+
+    def failing(self, s, t_out):  # type: ignore[no-untyped-def]
+        if self.grid is not None:  # the grid companion's first step: Newton fails
+            self.newton_failed(s, 1e-3)
+        return attempt(self, s, t_out)
+
+    monkeypatch.setattr(global_error, "on_grid", no_splits)
+    monkeypatch.setattr(GeneralizedAlphaStepper, "_attempt", failing)
+    block = run_case(load_case(PENDULUM)).checks["accuracy"]
+    assert block["companion"] == "adaptive" and block["estimate"]
+    assert "the companion on the run's own steps failed" in block["note"]
+    assert "after 0 splits" in block["note"]

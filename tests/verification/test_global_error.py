@@ -143,13 +143,17 @@ def test_rho_inf_out_of_range_is_an_input_error(tmp_path: Path) -> None:
 
 
 def test_a_failed_companion_claims_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """A companion that fails (here: 20 steps allowed) estimates nothing: the run stays ok,
-    its accuracy block says `met` null, no estimate, and why (it said `met: true`)."""
+    """A companion that fails (here: 20 steps allowed, the grid companion's and then the
+    adaptive one it falls back to) estimates nothing: the run stays ok, its accuracy block
+    says `met` null, no estimate, and why (it said `met: true`)."""
     from loadcases.run import global_error
 
-    coarser = global_error.coarser
+    coarser, on_grid = global_error.coarser, global_error.on_grid
     monkeypatch.setattr(
         global_error, "coarser", lambda a: dataclasses.replace(coarser(a), max_steps=20)
+    )
+    monkeypatch.setattr(
+        global_error, "on_grid", lambda a, r: dataclasses.replace(on_grid(a, r), max_steps=20)
     )
     outcome, _ = _run(tmp_path)
     block = outcome.checks["accuracy"]
