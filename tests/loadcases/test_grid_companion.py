@@ -135,7 +135,7 @@ def test_a_grid_companion_that_stops_falls_back_to_the_adaptive_one(
 
     attempt = GeneralizedAlphaStepper._attempt
 
-    def failing(self, s, t_out):  # type: ignore[no-untyped-def]
+    def failing(self, s, t_out):  # the stepper's own signature
         if self.grid is not None:  # the grid companion's first step: Newton fails
             self.newton_failed(s, 1e-3)
         return attempt(self, s, t_out)

@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import mechlib as ml
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 from tests.verification.library_pendulum import run_pendulum
@@ -152,9 +153,13 @@ def test_a_failed_companion_claims_nothing(tmp_path: Path, monkeypatch: pytest.M
     monkeypatch.setattr(
         global_error, "coarser", lambda a: dataclasses.replace(coarser(a), max_steps=20)
     )
-    monkeypatch.setattr(
-        global_error, "on_grid", lambda a, r: dataclasses.replace(on_grid(a, r), max_steps=20)
-    )
+
+    def grid_of_20(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic:
+        grid = on_grid(analysis, run)
+        assert grid is not None, "the pendulum's run: dense generalized-alpha"
+        return dataclasses.replace(grid, max_steps=20)
+
+    monkeypatch.setattr(global_error, "on_grid", grid_of_20)
     outcome, _ = _run(tmp_path)
     block = outcome.checks["accuracy"]
     assert outcome.solution.status == "ok"
