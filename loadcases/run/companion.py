@@ -141,8 +141,12 @@ def on_grid(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic | None:
         return None
     if analysis.fixed_step or analysis.grid is not None or not ends:
         return None
-    if len(ends) != run.stats.steps or not np.isclose(ends[-1], analysis.end, 0.0, 1e-9):
-        return None
+    last = run.events[-1].time if run.events else analysis.end
+    if (
+        len(ends) != run.stats.steps
+        or not np.isclose(ends[-1], [analysis.end, last], 0.0, 1e-9).any()
+    ):
+        return None  # its steps not all recorded, or it ended neither at the end nor an event
     most = math.ceil(SPLIT_SHARE * len(ends) / STEP_RATIO)
     grid = ml.StepGrid.paired(ends, [event.time for event in run.events], most)
     return dataclasses.replace(sparser(coarser(analysis), run), grid=grid)

@@ -65,6 +65,19 @@ def test_a_split_step_goes_to_its_middle_first() -> None:
     assert rules.on_grid(0.0, 9.0, grid.ends, grid.middles, True) == 1.0
     assert rules.on_grid(1.0, 9.0, grid.ends, grid.middles, True) == 1.0  # on to the end
     assert rules.on_grid(2.0, 1.5, grid.ends, grid.middles, False) == 1.5  # the analysis's end
+    # past the last end (the grid's run stopped at an event this one meets later): steps
+    # of the grid's last length
+    assert rules.on_grid(4.0, 9.0, grid.ends, grid.middles, False) == 2.0
+
+
+def test_a_run_stopped_by_an_event_has_a_grid_companion() -> None:
+    """The door jettison stops at its `release` event (0.497 s of 1.5 s): its steps end
+    there, and the companion follows them (`disconnect` at 1 ms a step end of both)."""
+    door = PENDULUM.parents[1] / "door" / "jettison.case.yaml"
+    outcome = run_case(load_case(door))
+    assert outcome.solution.events[-1].time < 0.5
+    block = outcome.checks["accuracy"]
+    assert block["companion"] == "grid" and block["estimate"]
 
 
 @pytest.mark.parametrize("compiled", ["runs", "python"])
