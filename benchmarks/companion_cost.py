@@ -1,7 +1,8 @@
 """What the accuracy estimate costs (issue 35 item 2: at most 25 % of a run): per case, the
-CPU of the run as `run_case` solves it and of its accuracy companion
-(loadcases.run.companion: steps twice as long, rows thinned), best of `--repeat`, the two
-alternating in one process, with the companion's cost split: its setup (the system built,
+CPU of the run as `run_case` solves it and of its accuracy companions
+(loadcases.run.companion: steps twice as long, rows thinned; `grid` on the run's own steps
+two at a time, `adaptive` error-controlled), best of `--repeat`, all alternating in one
+process, with each companion's cost split: the setup (the system built,
 the model checked, the initial state assembled, as `mechlib.solve` does them), the same
 companion with the end's row only (its steps alone: the difference is its rows), and its
 steps' work (accepted and rejected steps, Newton iterations, factorisations) beside the
@@ -25,7 +26,7 @@ import numpy as np
 from benchmarks.rows import stream_rows
 from loadcases.build.model import build_run
 from loadcases.inputs.loader import load_case
-from loadcases.run.companion import coarser, sparser
+from loadcases.run.companion import coarser, on_grid, sparser
 from mechlib.checks.model_check import check_model
 from mechlib.solvers.assembly import assemble
 from mechlib.solvers.solve_copy import solve_copy
@@ -110,30 +111,59 @@ def _work(solution: Any) -> dict[str, int]:
     }
 
 
+def companions(analysis: Any, run: Any) -> dict[str, Any]:
+    """The two companions of `run` (loadcases.run.companion): on its own steps (`grid`,
+    where they are known) and error-controlled (`adaptive`)."""
+    out = {"adaptive": sparser(coarser(analysis), run)}
+    grid = on_grid(analysis, run)
+    if grid is not None:
+        out["grid"] = grid
+    return out
+
+
+def _engine(b: Any, kinds: dict[str, Any]) -> tuple[Any, str]:
+    """The companion as loadcases.run.global_error solves it, and its kind: on the run's
+    steps where they are known, the adaptive one where that is not or fails."""
+    if "grid" in kinds:
+        solution = b.solve(kinds["grid"], checks=False)
+        if solution.ok:
+            return solution, "grid"
+    return b.solve(kinds["adaptive"], checks=False), "adaptive"
+
+
 def case_row(name: str, repeat: int, with_profile: bool) -> dict[str, Any]:
-    """The run's and its companion's CPU (best of `repeat`, alternating), the companion's
-    setup and steps alone, and the work of both."""
+    """The run's and its companions' CPU (best of `repeat`, all alternating), each
+    companion's steps alone, the setup, and the work of each."""
     b = built(name)
     run = b.solve()  # imports and compiled kernels loaded
-    companion = sparser(coarser(b.analysis), run)
-    alone = dataclasses.replace(companion, step=companion.end - companion.start)
-    b.solve(companion, checks=False)
-    best = dict.fromkeys(("run", "companion", "steps", "setup"), np.inf)
+    kinds = companions(b.analysis, run)
+    alone = {k: dataclasses.replace(c, step=c.end - c.start) for k, c in kinds.items()}
+    for companion in kinds.values():
+        b.solve(companion, checks=False)
+    best: dict[str, float] = {}
     solved: dict[str, Any] = {}
+
+    def timed(key: str, fn: Any, *args: Any, **kwargs: Any) -> Any:
+        out, cpu = _cpu(fn, *args, **kwargs)
+        best[key] = min(best.get(key, np.inf), cpu)
+        return out
+
     for _ in range(repeat):
-        solved["run"], cpu = _cpu(b.solve)
-        best["run"] = min(best["run"], cpu)
-        solved["companion"], cpu = _cpu(b.solve, companion, checks=False)
-        best["companion"] = min(best["companion"], cpu)
-        _, cpu = _cpu(b.solve, alone, checks=False)  # the same steps, the end's row only
-        best["steps"] = min(best["steps"], cpu)
-        _, cpu = _cpu(_setup, b, companion)
-        best["setup"] = min(best["setup"], cpu)
+        solved["run"] = timed("run", b.solve)
+        for kind, companion in kinds.items():
+            solved[kind] = timed(kind, b.solve, companion, checks=False)
+            # the same steps, the end's row only
+            timed(f"{kind} steps", b.solve, alone[kind], checks=False)
+        timed("setup", _setup, b, kinds["adaptive"])
+        # as the engine estimates: the grid companion, the adaptive one where that failed
+        solved["engine"], engine = timed("engine", _engine, b, kinds)
     row: dict[str, Any] = {"case": name, **{f"{k}_ms": round(1e3 * v, 2) for k, v in best.items()}}
-    row["ratio"] = round(best["companion"] / best["run"], 3)
-    row["run"], row["companion"] = _work(solved["run"]), _work(solved["companion"])
+    for kind in (*kinds, "engine"):
+        row[f"{kind} ratio"] = round(best[kind] / best["run"], 3)
+    row["engine's companion"] = engine
+    row.update({key: _work(solution) for key, solution in solved.items()})
     if with_profile:
-        row["companion_profile_s"] = profile(b, companion)
+        row["companion_profile_s"] = {k: profile(b, c) for k, c in kinds.items()}
     return row
 
 

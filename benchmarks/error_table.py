@@ -7,7 +7,8 @@ output rows, `peak` that of the run's envelope (max and min of its rows) from th
 continuous one (the reference's, refined between its rows: a peak the run's rows miss
 counts), both of the request's peak |value|.
 
-    python -m benchmarks.error_table [--long | --flexible] [-o benchmarks/results/error-table.json]
+    python -m benchmarks.error_table [--long | --flexible] [--companion adaptive]
+        [-o benchmarks/results/error-table.json]
 
 The cheap cases run in CI (tests/verification/test_estimate_table.py; IFToMM A05 among
 them); `--long` adds the library's other published cases (A02 with N = 3 planar, A04); A01
@@ -26,6 +27,7 @@ from typing import Any
 
 import numpy as np
 
+from benchmarks.companion_choice import add_companion_option, use_companion
 from benchmarks.rows import write_rows
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
@@ -135,6 +137,7 @@ def case_rows(name: str, file: str, analysis: dict[str, Any]) -> list[dict[str, 
                 "at_target_history": at_target(guess["history"], history),
                 "at_target_peak": at_target(guess["peak"], peak),
                 "observed_order": block.get("observed_order"),
+                "companion": block.get("companion"),
                 "cpu_s": cpu,
             }
         )
@@ -146,7 +149,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--long", action="store_true", help="add A02 N = 3 planar, A04")
     parser.add_argument("--flexible", action="store_true", help="the flexible examples only")
     parser.add_argument("-o", "--output", type=Path, default=None)
+    add_companion_option(parser)
     args = parser.parse_args(argv)
+    use_companion(args.companion)
     cases = FLEXIBLE if args.flexible else {**CHEAP, **(LONG if args.long else {})}
     rows = [row for name, (file, keys) in cases.items() for row in case_rows(name, file, keys)]
     print(

@@ -8,7 +8,8 @@ G = g ((N+1)/2 + N), theta(0) = pi/2, theta'(0) = -1 rad/s; integrated by DOP853
 difference over the run (`history`) and that of its envelope (max and min of the run's
 rows against the exact continuous ones, `peak`), of its peak |value|.
 
-    python -m benchmarks.error_table_long [A01|A02|A02-planar ...] [-o FILE]
+    python -m benchmarks.error_table_long [A01|A02|A02-planar ...] [--companion adaptive]
+        [-o FILE]
 """
 
 from __future__ import annotations
@@ -25,6 +26,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from benchmarks.companion_choice import add_companion_option, use_companion
 from benchmarks.error_table import LIBRARY, _with, at_target
 from benchmarks.rows import stream_rows
 from loadcases.inputs.loader import load_case
@@ -138,7 +140,9 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("cases", nargs="*", default=list(CASES))
     parser.add_argument("-o", "--output", type=Path, default=None)
+    add_companion_option(parser)
     args = parser.parse_args(argv)
+    use_companion(args.companion)
     stream_rows((row for name in args.cases for row in rows_of(name)), args.output)
     return 0
 

@@ -40,6 +40,7 @@ if TYPE_CHECKING:
         Static,
     )
     from mechlib.model.mechanism import GROUND, Mechanism
+    from mechlib.model.step_grid import StepGrid
     from mechlib.outputs.energy import EnergyBalance
     from mechlib.outputs.requests import (
         CouplerEffort,
@@ -65,6 +66,7 @@ _HOMES = {
     "CableLoop": "mechlib.elements.cable_loop",
     "CouplerEffort": "mechlib.outputs.requests",
     "Dynamic": "mechlib.model.analysis",
+    "StepGrid": "mechlib.model.step_grid",
     "ElementOutput": "mechlib.outputs.requests",
     "EnergyBalance": "mechlib.outputs.energy",
     "Event": "mechlib.solvers.events",
@@ -150,6 +152,7 @@ __all__ = [
     "StateView",
     "Static",
     "Status",
+    "StepGrid",
     "System",
     "TableLaw",
     "TorsionSpring",

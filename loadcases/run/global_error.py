@@ -3,8 +3,9 @@
 The integrator controls the local error of each step; what a sizing engineer needs is the
 error of the results (each request, over the whole run, relative to its peak). It is
 estimated the way Richardson did for whole solutions: the run is compared with a companion
-run whose every step is twice as long (tolerance x 2^(p+1), largest step and output
-interval x 2, its rows thinned further to about one per step: loadcases.run.companion), at
+run whose every step is twice as long (the run's own steps two at a time where they are
+known, else an error-controlled run at tolerance x 2^(p+1), largest step and output
+interval x 2; its rows thinned further to about one per step: loadcases.run.companion), at
 their shared output times. For a method of order p the companion's error
 is 2^p times the run's, so the run's error is about |run - companion| / (2^p - 1)
 (generalized-alpha: p = 2, the difference / 3); a run that passed a near-singular position
@@ -54,6 +55,7 @@ from loadcases.run.companion import (
     divisor,
     finer,
     largest_step,
+    on_grid,
     order,
     passed_singular,
     sparser,
@@ -162,6 +164,8 @@ class AccuracyEstimate:
     measure: str = "peaks"  # what must meet the target: envelope peaks or time histories
     finer: bool = False  # estimated from a finer run (the run passed a singular position)
     observed_order: float | None = None  # of the run, its companion and the finer run
+    companion: str = "adaptive"  # on the run's own steps (`grid`) or error-controlled
+    splits: int = 0  # the grid companion's doubled steps split where Newton failed
 
     @property
     def outcome(self) -> str:
@@ -190,6 +194,12 @@ class AccuracyEstimate:
                 "the run passed a near-singular position, where its error need not fall "
                 "with the step: this run against a finer one with every step half as long, "
                 f"difference x {-1.0 / divisor(self.integrator, FINER_RATIO):.4g}"
+            )
+        elif self.companion == "grid" and self.tightenings == 0:
+            pair = (
+                "this run against a companion on the run's own steps two at a time (no "
+                f"error test; {self.splits} split back where Newton failed), difference / "
+                f"{divisor(self.integrator):g}"
             )
         else:
             pair = (
@@ -220,6 +230,7 @@ class AccuracyEstimate:
                 for name, e in self.requests.items()
             },
             "method": self.method,
+            "companion": self.companion,
             **({} if self.observed_order is None else {"observed_order": self.observed_order}),
             "cpu_seconds": self.cpu_seconds,
             **({"note": self.note} if self.note else {}),
@@ -343,10 +354,10 @@ def solve_to_accuracy(
         return run, None
     started = clock.process_time()
     p = order(analysis.integrator)
-    companion = _timed(solve, sparser(coarser(analysis), run), spent, companion=True)
+    companion, kind, fallback = _companion(solve, analysis, run, spent)
     if companion.status != "ok":
         estimate = _estimate(analysis, run, target, {}, 0, started)
-        estimate.estimated = False
+        estimate.estimated, estimate.companion = False, kind
         if companion.status == "interrupted":
             estimate.note = f"not estimated: interrupted{_by()} while the companion run was solved"
             return _interrupted(run, "its accuracy companion was solved", estimated=False), estimate
@@ -357,7 +368,7 @@ def solve_to_accuracy(
     if pair is not None:
         errors = pair.errors
     pending = pair.solved if pair is not None else None
-    note, tightenings, stopped_by = "", 0, ""
+    note, tightenings, stopped_by = fallback, 0, ""
     stopped = pair is not None and pair.interrupted
     during = "a finer run at a singular position was solved for its error estimate"
     while budget is not None and not stopped and _worst(errors, measure) > target:
@@ -369,24 +380,52 @@ def solve_to_accuracy(
         finer_analysis, finer_run = pending or _solved_finer(solve, analysis, spent)
         pending = None
         if finer_run.status == "interrupted":
-            note = f"tightening interrupted{_by()}: the estimate is of the run written"
+            why = f"tightening interrupted{_by()}: the estimate is of the run written"
+            note = _joined(note, why)
             stopped, during = True, "a tighter run was solved to meet the accuracy target"
             break
         if finer_run.status != "ok":
-            note = f"a tighter run failed ({finer_run.message}): the estimate is of this one"
+            why = f"a tighter run failed ({finer_run.message}): the estimate is of this one"
+            note = _joined(note, why)
             break
         errors = request_errors(finer_run, run, p)
         run, analysis, tightenings = finer_run, finer_analysis, tightenings + 1
     estimate = _estimate(analysis, run, target, errors, tightenings, started)
     estimate.note, estimate.budget, estimate.stopped_by = note, budget, stopped_by
-    estimate.measure = measure
+    estimate.measure, estimate.companion = measure, kind
+    estimate.splits = companion.stats.rejected_steps if kind == "grid" else 0
+    if estimate.splits:
+        estimate.note = _joined(
+            f"{estimate.splits} of the grid companion's doubled steps split back into the "
+            "run's two (Newton failed on them)",
+            estimate.note,
+        )
     if pair is not None:
-        estimate.finer, estimate.note = not pair.note, "; ".join(filter(None, (pair.note, note)))
+        estimate.finer, estimate.note = not pair.note, _joined(pair.note, estimate.note)
         estimate.observed_order = pair.observed_order if tightenings == 0 else None
     estimate.warnings = _warnings(estimate, budget is not None)
     if stopped:
         run = _interrupted(run, during)
     return run, estimate
+
+
+def _companion(
+    solve: Solver, analysis: ml.Dynamic, run: ml.Solution, spent: Spent
+) -> tuple[ml.Solution, str, str]:
+    """The run's companion solved: on the run's own steps (`grid`) where they are known,
+    else, or where that one fails, the adaptive one (a note says why); with its kind."""
+    grid = on_grid(analysis, run)
+    note = ""
+    if grid is not None:
+        companion = _timed(solve, grid, spent, companion=True)
+        if companion.status in ("ok", "interrupted"):
+            return companion, "grid", ""
+        note = (
+            f"the companion on the run's own steps failed ({companion.message}): "
+            "estimated with an error-controlled companion"
+        )
+    adaptive = _timed(solve, sparser(coarser(analysis), run), spent, companion=True)
+    return adaptive, "adaptive", note
 
 
 def _timed(
@@ -485,6 +524,11 @@ def _further(solve: Solver, analysis: ml.Dynamic, checks: bool = True) -> ml.Sol
         return ml.Solution(
             "interrupted", str(stop), "dynamic", np.zeros(0), {}, result=ml.Status.INTERRUPTED
         )
+
+
+def _joined(*notes: str) -> str:
+    """The notes given, in order, those not empty."""
+    return "; ".join(filter(None, notes))
 
 
 def _by() -> str:

@@ -89,7 +89,11 @@ class SolverStats:
     """Work counters of one analysis (docs/analyses.md, Statistics, says what each counts
     per analysis): accepted and rejected steps, Newton iterations, matrix factorisations
     (LU, sparse LU, least squares), Jacobian evaluations (the derivatives a Newton or
-    integrator matrix is made of), and the processor time of the whole solve (s)."""
+    integrator matrix is made of), and the processor time of the whole solve (s).
+    `step_ends`: generalized-alpha's accepted steps' end times (s), in order, of the steps
+    taken in Python and by the rigid whole-run kernel (not the modal one's, which serves
+    steps landing on the output times: then fewer than `steps`); the step grid of an
+    accuracy companion (mechlib.model.step_grid); not a counter."""
 
     steps: int = 0
     rejected_steps: int = 0
@@ -97,6 +101,7 @@ class SolverStats:
     factorizations: int = 0
     jacobian_evaluations: int = 0
     cpu_seconds: float = 0.0
+    step_ends: list[float] = field(default_factory=list, repr=False)
 
     def as_dict(self) -> dict[str, float]:
         return {

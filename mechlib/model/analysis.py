@@ -10,6 +10,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mechlib.model.step_grid import StepGrid
+
 __all__ = [
     "DEFAULT_MAX_STEPS",
     "DEFAULT_TOLERANCE",
@@ -74,6 +76,8 @@ class Dynamic(_Timed):
     (scipy Radau IIA on the index-1 form with projection, for cross-checks); `max_step` (s);
     `rho_inf`: spectral radius at infinity of generalized-alpha (numerical damping);
     `fixed_step`: take exactly `step` per step, no error control (for convergence studies);
+    `grid`: with dense output and generalized-alpha, the steps follow these step ends
+    instead of the error control (mechlib.model.step_grid.StepGrid: no error test);
     `dense`: the steps do not land on the output times (their size is the error control's,
     up to `max_step` or the mechanism's natural time), the rows between them come from
     dense output (mechlib.solvers.dense). A case's dynamic analysis is dense unless it says
@@ -94,11 +98,16 @@ class Dynamic(_Timed):
     fixed_step: bool = False
     dense: bool = False
     compiled: str = "runs"
+    grid: StepGrid | None = None
     name = "dynamic"
 
     def __post_init__(self) -> None:
         if self.compiled not in COMPILED_PATHS:
             raise ValueError(f"Dynamic.compiled is one of {COMPILED_PATHS}, not {self.compiled!r}")
+        if self.grid is not None and not (
+            self.dense and not self.fixed_step and self.integrator == "generalized-alpha"
+        ):
+            raise ValueError("Dynamic.grid needs dense output and generalized-alpha steps")
 
 
 COMPILED_PATHS = ("runs", "steps", "python")

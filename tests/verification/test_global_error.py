@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import mechlib as ml
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 from tests.verification.library_pendulum import run_pendulum
@@ -143,14 +144,22 @@ def test_rho_inf_out_of_range_is_an_input_error(tmp_path: Path) -> None:
 
 
 def test_a_failed_companion_claims_nothing(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
-    """A companion that fails (here: 20 steps allowed) estimates nothing: the run stays ok,
-    its accuracy block says `met` null, no estimate, and why (it said `met: true`)."""
+    """A companion that fails (here: 20 steps allowed, the grid companion's and then the
+    adaptive one it falls back to) estimates nothing: the run stays ok, its accuracy block
+    says `met` null, no estimate, and why (it said `met: true`)."""
     from loadcases.run import global_error
 
-    coarser = global_error.coarser
+    coarser, on_grid = global_error.coarser, global_error.on_grid
     monkeypatch.setattr(
         global_error, "coarser", lambda a: dataclasses.replace(coarser(a), max_steps=20)
     )
+
+    def grid_of_20(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic:
+        grid = on_grid(analysis, run)
+        assert grid is not None, "the pendulum's run: dense generalized-alpha"
+        return dataclasses.replace(grid, max_steps=20)
+
+    monkeypatch.setattr(global_error, "on_grid", grid_of_20)
     outcome, _ = _run(tmp_path)
     block = outcome.checks["accuracy"]
     assert outcome.solution.status == "ok"

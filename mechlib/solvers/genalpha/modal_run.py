@@ -140,7 +140,7 @@ def run_modal(
             return limit, i, written
         if ctrl[rr.STALE] != 0.0 and ctrl[RETANGENT] != 0.0:
             return rr.STOPPED, i, written  # a new differenced tangent: Python's step
-        h = rr._trial_step(outs[i] - t, ctrl[rr.H], False)
+        h = rr._trial_step(t, outs[i] - t, ctrl, False, rr._NO_GRID)  # no grid: ctrl[GRID] 0
         rr._carried(h, ctrl, own, cons)  # GeneralizedAlphaStepper._attempt
         if counts[rr.STEPS] + counts[rr.REJECTED] + (ctrl[rr.END] - t) / h > ctrl[rr.MAX_STEPS]:
             return rr.STOPPED, i, written  # the step-collapse watch

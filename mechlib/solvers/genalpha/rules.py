@@ -35,6 +35,7 @@ __all__ = [
     "is_noise",
     "keeps_tangent",
     "newton_rate",
+    "on_grid",
     "pseudo_acceleration",
     "refactors",
     "restalled",
@@ -191,6 +192,27 @@ def towards(interval: float, h: float) -> float:
     if interval <= h * (1.0 + 1e-9):
         return interval
     return 0.5 * interval if interval < 2.0 * h else h
+
+
+@njit(**KERNEL)
+def on_grid(t: float, interval: float, ends: np.ndarray, middles: np.ndarray, split: bool) -> float:
+    """The step (s) from t along a prescribed grid (mechlib.model.step_grid.StepGrid: its
+    `ends` and `middles`, s), at most `interval` s (to the analysis's end): to the first
+    end after t; after that step failed Newton (`split`), to its middle where that lies
+    ahead (the first of the two steps it merges); past the last end (a run the grid's run
+    stopped at an event: this one's may come later), steps as long as the grid's last.
+    No error test decides it: on a grid of
+    another run's steps two at a time, Richardson compares two runs on a fixed mesh pair
+    of ratio 2 (Hairer, Norsett & Wanner I, II.9; loadcases.run.companion)."""
+    tiny = 1e-12 * max(1.0, abs(t))
+    k = np.searchsorted(ends, t + tiny)
+    n = ends.shape[0]
+    if k == n:
+        last = ends[n - 1] - ends[n - 2] if n > 1 else interval
+        return min(interval, last)
+    if split and middles[k] - t > tiny:
+        return min(interval, middles[k] - t)
+    return min(interval, ends[k] - t)
 
 
 @njit(**KERNEL)

@@ -75,6 +75,8 @@ from mechlib.system.saddle import coupled_pattern, saddle_values
 
 __all__ = ["FAILED", "REFACTOR", "STOPPED", "StepRun", "run_steps"]
 
+_NO_GRID = np.zeros((2, 0))  # `run_steps`'s grid where the steps follow the error control
+
 STOPPED = 1  # the run stopped before a step (or a row) that Python must take
 REFACTOR = 2  # stopped before a step that needs a new iteration matrix (ctrl[NEXT_H]: its h)
 FAILED = 3  # Newton stalled on the step after a new iteration matrix: the step fails
@@ -90,7 +92,9 @@ H_MIN = 20  # in: the run's step floor (s)
 RETANGENT = 21  # in/out: a slow step's next matrix takes a new tangent (rules.retangents)
 TRIED = 22  # in: the matrix new for the next step (FRESH) was refactored for slowness
 CEILING = 23  # in/out: the steps' ceiling after a Newton failure (s; rules.step_size)
-CTRL_SIZE = 24
+GRID = 24  # in: the steps follow `grid` (rules.on_grid), no error test
+SPLIT = 25  # in/out: the grid's step from here failed Newton: to its middle first
+CTRL_SIZE = 26
 # the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
 # the rules of mechlib.solvers.genalpha.rules, as the Python stepper does
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
@@ -106,7 +110,7 @@ def _reached(t_out, t):
 def run_steps(
     own, own_lam, cons, cons_lam, ctrl, counts, outs, first, ints, floats, functions, body,
     fi, ff, layout, q_abs, a_ref, angles, refs_all, block_angles, projection, rows_t,
-    rows_state, rows_refs, most_steps, elements, columns, rates, states, tangent,
+    rows_state, rows_refs, most_steps, elements, columns, rates, states, tangent, grid, steps_t,
 ):  # fmt: skip
     """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
     `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
@@ -128,7 +132,9 @@ def run_steps(
     tangent, tested by the step's error, their rates at its end evaluated once (for the rows
     and the next step), accepted with it, interpolated into the rows (cubic Hermite).
     `tangent` (2, nq, nq): the elements' (K, C) of the last refactor (in place; NaN: none
-    yet), kept from call to call as the Python stepper keeps its tangent.
+    yet), kept from call to call as the Python stepper keeps its tangent. `grid` (2, n):
+    with ctrl[GRID], the step ends to follow and their middles (mechlib.model.step_grid;
+    no error test); `steps_t` (most_steps,): out, the accepted steps' end times (s).
     Returns (0, STOPPED, REFACTOR or FAILED; next output index, rows written)."""
     nq = own.shape[1]
     m = own_lam.shape[0]
@@ -158,7 +164,7 @@ def run_steps(
         limit = _limits(counts, ctrl, taken, most_steps)
         if limit >= 0:
             return limit, i, written
-        h_try = _trial_step(target - t, ctrl[H], dense)
+        h_try = _trial_step(t, target - t, ctrl, dense, grid)
         _carried(h_try, ctrl, own, cons)  # GeneralizedAlphaStepper._attempt
         if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
             return STOPPED, i, written  # the step-collapse watch
@@ -205,10 +211,12 @@ def run_steps(
         if status != CONVERGED:
             return _newton_stopped(ctrl, counts, fresh, done, h_try, status), i, written
         new_qdd = true[nq : 2 * nq]
-        err = gk.error_norm(
-            ctrl[ERROR_CONSTANT] * h_try * h_try, cons[1], new_qdd, q_abs, ctrl[TOL], q1
-        )
-        err = states_error(err, h_try, states, ctrl[TOL])
+        err = 0.0
+        if ctrl[GRID] == 0.0:
+            err = gk.error_norm(
+                ctrl[ERROR_CONSTANT] * h_try * h_try, cons[1], new_qdd, q_abs, ctrl[TOL], q1
+            )
+            err = states_error(err, h_try, states, ctrl[TOL])
         if err > 1.0:  # rejected: the step shrunk as the Python stepper shrinks it
             if not _rejected(ctrl, counts, h_try, err, eta, it, tried, done):
                 return STOPPED, i, written  # below the step floor: Python's stall
@@ -233,6 +241,8 @@ def run_steps(
         _accept_control(ctrl, h_try, err, eta, it, tried)
         _take(own, own_lam, cons, cons_lam, q1, qd1, qdd1, lam1, true, a_ref)
         accept_states(h_try, states)
+        steps_t[taken] = ctrl[T]
+        ctrl[SPLIT] = 0.0
         counts[STEPS] += 1
         taken += 1
         refs_all[:] = new_refs
@@ -324,8 +334,12 @@ def _limits(counts, ctrl, taken, most_steps):
 
 
 @njit(**KERNEL)
-def _trial_step(interval, h, dense):
-    """The step (s) towards a time `interval` s ahead with step size h (s) (rules)."""
+def _trial_step(t, interval, ctrl, dense, grid):
+    """The step (s) from t towards a time `interval` s ahead: along the grid with
+    ctrl[GRID], else with step size ctrl[H] (GeneralizedAlphaStepper.trial_step)."""
+    if ctrl[GRID] != 0.0:
+        return rules.on_grid(t, interval, grid[0], grid[1], ctrl[SPLIT] != 0.0)
+    h = ctrl[H]
     return rules.towards(interval, h) if dense else rules.substep(interval, h)
 
 
@@ -596,6 +610,8 @@ class StepRun:
         self.states = RunStates(system)  # the element states, in and out of each call
         # the matrix `_refactor` made was refactored for slowness with the tangent kept
         self._tried = False
+        grid = stepper.grid  # the step ends the steps follow (mechlib.model.step_grid)
+        self._grid = _NO_GRID if grid is None else np.stack([grid.ends, grid.middles])
 
     @staticmethod
     def eligible(stepper) -> bool:
@@ -676,10 +692,7 @@ class StepRun:
         stepper = self.stepper
         stepper.integ.drop()
         stepper.h_used = h
-        h, stepper.ceiling = rules.step_size(
-            h, math.inf, stepper.h, stepper.max_step, False, stepper.ceiling
-        )
-        stepper._shrink(s, h)
+        stepper.newton_failed(s, h)
 
     def _call(self, s, outputs: np.ndarray, i: int, trajectory, progress, fresh: bool) -> tuple:
         """One `run_steps` call from s (`fresh`: the matrix was factored for its first
@@ -714,6 +727,7 @@ class StepRun:
         ctrl[DENSE] = float(stepper.dense)
         ctrl[H_MIN] = stepper.h_min
         ctrl[CEILING] = stepper.ceiling
+        ctrl[GRID], ctrl[SPLIT] = float(stepper.grid is not None), float(stepper.split)
         ctrl[RETANGENT], ctrl[TRIED] = float(integ.retangent), float(fresh and self._tried)
         ctrl[REFACTORED] = ctrl[RESTARTED] = 0.0
         counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
@@ -726,6 +740,7 @@ class StepRun:
         rows = min(self.CHUNK, len(outputs) - i)
         rows_t, rows_refs = np.empty(rows), np.empty((rows, len(refs_all)))
         rows_state = np.empty((rows, 3 * nq + own_lam.size))
+        steps_t = np.empty(10 * rows)  # the accepted steps' end times
         elements = self.elements
         assert elements is not None, "packed by _ready"
         rates = elements.start_rates()
@@ -735,6 +750,7 @@ class StepRun:
             arrays.functions(s.t), arrays.bodies(), fi, ff, layout, scales.q_abs, scales.a_ref,
             self._angle_args, refs_all, block_angles, PROJECTION, rows_t, rows_state, rows_refs,
             10 * rows, elements.args, elements.columns, rates, states, self._kept_tangent(nq),
+            self._grid, steps_t,
         )  # fmt: skip
         count(
             factorizations=int(counts[ROW_FACTORS]), jacobian_evaluations=int(counts[ROW_JACOBIANS])
@@ -748,6 +764,8 @@ class StepRun:
         elements.read_back(rates, taken > 0)
         self.states.unpack(states, taken > 0)
         stats.steps, stats.rejected_steps = int(counts[STEPS]), int(counts[REJECTED])
+        stats.step_ends.extend(steps_t[:taken].tolist())
+        stepper.split = bool(ctrl[SPLIT])
         stats.newton_iterations += int(counts[ITERATIONS])
         for m, value in zip(system.angle_measures, refs_all):
             m.reference = float(value)

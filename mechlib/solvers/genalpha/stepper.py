@@ -83,6 +83,8 @@ class GeneralizedAlphaStepper(DenseStepper):
         self.h_min = step_floor(spec.end)
         self.h_used = 0.0
         self.ceiling = math.inf  # the steps' ceiling after a Newton failure (s; rules.step_size)
+        self.grid = spec.grid  # step ends to follow instead of the error control (or None)
+        self.split = False  # the grid's step from here failed Newton: to its middle first
         self.collapse = StepCollapse(spec.name, spec.end, spec.max_steps)
         runs = spec.compiled == "runs"
         self.whole_run = (
@@ -131,32 +133,63 @@ class GeneralizedAlphaStepper(DenseStepper):
         reduced)."""
         spec = self.spec
         gap = t_out - s.t
-        h_try = rules.towards(gap, self.h) if self.dense else rules.substep(gap, self.h)
+        h_try = self.trial_step(s.t, gap)
         if self.h_used and abs(h_try / self.h_used - 1.0) > 1e-9:
             s.raw_qd, s.a = rules.carried(s.qd, s.raw_qd, s.raw_qdd, s.a, h_try / self.h_used)
         self.h_used = h_try
         new = self.integ.step(s.t, h_try, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam, s.qdd)
-        err = (
-            math.inf
-            if new is None
-            else 0.0
-            if spec.fixed_step
-            else self._error(h_try, new[0], s.qdd, new[5][1])
-        )
-        if new is None or err > 1.0:
+        if new is None:
             self.system.states.reject()
-            if spec.fixed_step:
-                raise _newton_failure(self.system, s.t, h_try)
-            h, self.ceiling = rules.step_size(
-                h_try, err, self.h, self.max_step, new is not None, self.ceiling
-            )
+            self.newton_failed(s, h_try)
+            return None, math.inf
+        err = 0.0 if spec.fixed_step or self.grid else self._error(h_try, new[0], s.qdd, new[5][1])
+        if err > 1.0:
+            self.system.states.reject()
+            h, self.ceiling = rules.step_size(h_try, err, self.h, self.max_step, True, self.ceiling)
             self._shrink(s, h)
             return None, err
+        self.split = False
         if not spec.fixed_step:
             self.h, self.ceiling = rules.step_size(
                 h_try, err, self.h, self.max_step, True, self.ceiling
             )
         return _state(s.t + h_try, new), err
+
+    def trial_step(self, t: float, gap: float) -> float:
+        """The step (s) from t towards a time `gap` s ahead: along the grid where one is
+        given (rules.on_grid), else of the step size, landing on the output times unless
+        the output is dense (rules.towards, rules.substep)."""
+        if self.grid is not None:
+            return rules.on_grid(t, gap, self.grid.ends, self.grid.middles, self.split)
+        return rules.towards(gap, self.h) if self.dense else rules.substep(gap, self.h)
+
+    def newton_failed(self, s: State, h: float, doing: str = "") -> None:
+        """The step h (s) from s that Newton could not take (`doing`: while locating an
+        event): rejected, the next a quarter as long (rules.step_size); along a grid,
+        split (`_split`); a fixed step fails the run."""
+        if self.grid is not None:
+            self._split(s, h, doing)
+            return
+        if self.spec.fixed_step:
+            raise _newton_failure(self.system, s.t, h, doing)
+        self.stats.rejected_steps += 1
+        h, self.ceiling = rules.step_size(h, math.inf, self.h, self.max_step, False, self.ceiling)
+        self._shrink(s, h, counted=True)
+
+    def _split(self, s: State, h: float, doing: str) -> None:
+        """The grid's step h (s) from s failed Newton: split into the two steps it merges
+        (counted as a rejected step); one that cannot be split (a single step, or its
+        middle's), or a split more than the grid allows, fails the run."""
+        grid = self.grid
+        assert grid is not None, "a grid's step"
+        whole = rules.on_grid(s.t, math.inf, grid.ends, grid.middles, False)
+        halved = rules.on_grid(s.t, math.inf, grid.ends, grid.middles, True)
+        if self.split or halved >= whole:
+            raise _newton_failure(self.system, s.t, h, doing)
+        if grid.most_splits is not None and self.stats.rejected_steps >= grid.most_splits:
+            raise _too_many_splits(s.t, grid.most_splits)
+        self.split = True
+        self.stats.rejected_steps += 1
 
     def _error(self, h: float, q1: np.ndarray, acc0: np.ndarray, acc1: np.ndarray) -> float:
         """The scaled local error of a step h (s): of the positions and, where the
@@ -169,10 +202,11 @@ class GeneralizedAlphaStepper(DenseStepper):
         assert self.integ.scales is not None, "set by init"
         return max(err, self.integ.scales.state_error(estimate, states.trial))
 
-    def _shrink(self, s: State, h: float) -> None:
-        """A rejected step from s: retry with step h (s); below h_min the run stalls (its
-        message names the joints of a singular position there)."""
-        self.stats.rejected_steps += 1
+    def _shrink(self, s: State, h: float, *, counted: bool = False) -> None:
+        """A rejected step from s (`counted` already): retry with step h (s); below h_min
+        the run stalls (its message names the joints of a singular position there)."""
+        if not counted:
+            self.stats.rejected_steps += 1
         self.h = h
         if self.h < self.h_min:  # a singular matrix says more than "no convergence"
             why = self.integ.singular or _newton_failure(self.system, s.t, self.h)
@@ -182,6 +216,7 @@ class GeneralizedAlphaStepper(DenseStepper):
         """Count the step, take its element states and memories, watch the step size."""
         system = self.system
         self.stats.steps += 1
+        self.stats.step_ends.append(state.t)
         assert self.integ.scales is not None, "set by init"
         self.integ.scales.update(state.qdd)
         k = system.kin(state.q, _alpha(state).raw_qd, state.t)
@@ -265,14 +300,20 @@ class GeneralizedAlphaStepper(DenseStepper):
         taut) defeats Newton on steps ending just past it; shorter steps resolve it, as for
         any step Newton cannot take: the step is rejected, the next a quarter as long."""
         self.system.states.reject()
+        doing = f"locating event {events()}"
         if self.spec.fixed_step:
-            raise _newton_failure(
-                self.system, state.t, failure.t - state.t, f"locating event {events()}"
-            )
-        h, self.ceiling = rules.step_size(
-            new.t - state.t, math.inf, self.h, self.max_step, False, self.ceiling
-        )
-        self._shrink(state, h)
+            raise _newton_failure(self.system, state.t, failure.t - state.t, doing)
+        self.newton_failed(state, new.t - state.t, doing)
+
+
+def _too_many_splits(t: float, most: int) -> SolverFailure:
+    return SolverFailure(
+        f"dynamic analysis stopped at t = {t:.6g} s: Newton could not take a step of the "
+        f"prescribed grid after {most} splits of its steps into two (the most the grid "
+        "allows)",
+        time=t,
+        status=Status.NEWTON_FAILED,
+    )
 
 
 def _newton_failure(system: System, t: float, h: float, doing: str = "") -> SolverFailure:

@@ -1,0 +1,66 @@
+"""A prescribed step grid: the step ends a generalized-alpha run follows instead of choosing
+its steps by its error estimate (the accuracy companion on another run's own steps,
+loadcases.run.companion)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["StepGrid"]
+
+_SAME_TIME = 1e-12  # relative: a stop this close to a step end is that end
+
+
+@dataclass(frozen=True, eq=False)
+class StepGrid:
+    """Step ends (s) to follow: `ends` (n,) increasing, the last the analysis's end;
+    `middles` (n,): the end of the first of the two steps that each end's step merges
+    (NaN where it is a single step). A step goes from t to the first end after t; where
+    Newton cannot take it, to its middle, then on to its end (the split: the two steps of
+    the run the grid was made from); `most_splits`: the splits allowed (None: any), one
+    more fails the run. No error test: the grid is the step size's rule
+    (mechlib.solvers.genalpha.rules.on_grid)."""
+
+    ends: np.ndarray
+    middles: np.ndarray
+    most_splits: int | None = None
+
+    @classmethod
+    def paired(
+        cls, step_ends: Sequence[float], stops: Sequence[float] = (), most_splits: int | None = None
+    ) -> StepGrid:
+        """Every two consecutive steps of a run merged into one (its accepted steps' end
+        times `step_ends`, s, increasing), within each stretch between the `stops` (s:
+        its event times), which stay step ends as the last end does; a stretch of an odd
+        number of steps ends with a single one."""
+        t = np.asarray(step_ends, dtype=float)
+        ends, middles = [], []
+        for stretch in np.split(t, _stop_indices(t, stops)):
+            pairs = len(stretch) // 2
+            ends.append(stretch[1 : 2 * pairs : 2])
+            middles.append(stretch[0 : 2 * pairs : 2])
+            if len(stretch) % 2:
+                ends.append(stretch[-1:])
+                middles.append(np.array([np.nan]))
+        if not ends:
+            return cls(np.zeros(0), np.zeros(0), most_splits)
+        return cls(np.concatenate(ends), np.concatenate(middles), most_splits)
+
+    @property
+    def steps(self) -> int:
+        """The grid's steps (without splits)."""
+        return len(self.ends)
+
+
+def _stop_indices(t: np.ndarray, stops: Sequence[float]) -> list[int]:
+    """The positions after which `t` is cut: just after each step end that is a stop."""
+    cuts = []
+    for stop in stops:
+        k = int(np.searchsorted(t, stop))
+        for j in (k - 1, k):
+            if 0 <= j < len(t) - 1 and abs(t[j] - stop) <= _SAME_TIME * max(1.0, abs(stop)):
+                cuts.append(j + 1)
+    return sorted(set(cuts))
