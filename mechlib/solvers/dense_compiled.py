@@ -193,12 +193,12 @@ def _positions(q, phi, jac, packed, functions, refs, tol, reuse, most, once):
     as consistent_state's). Converged once a step is below `tol`, as the Python path's rows
     take it (dense._projected reads no residual), or once an exact step (its Jacobian
     evaluated at the iterate it starts from) is below `once` (`ONE_STEP`): Newton's next
-    step would be of the order of its square (below 1e-14 of the mechanism's size for
-    `once` = 1e-8, far below `tol`), so the iterate after it is the converged one to that
-    order, and evaluating phi and its Jacobian once more there (5.5 us of a row's 17)
-    bought nothing. Either way the step solves phi_q step = -phi with phi_q phi_q^T's
-    factor well conditioned (`_cholesky`), so the residual after it is of the order of
-    |step|^2 (at most 3.3e-16 on 2000 rows of the campaign's slider-crank)."""
+    step would be of the order of its square (about 1e-18 for `once` = 1e-9, far below
+    `tol`), so the iterate after it is the converged one to that order, and evaluating
+    phi and its Jacobian once more there (5.5 us) bought nothing. Either way the step
+    solves phi_q step = -phi with phi_q phi_q^T's factor well conditioned (`_cholesky`),
+    so the residual after it is of the order of |step|^2 (at most 3.3e-16 on 2000 rows of
+    the campaign's slider-crank)."""
     nq = q.shape[0]
     nb = nq // 7
     m = phi.shape[0]
