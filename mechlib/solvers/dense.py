@@ -50,8 +50,12 @@ __all__ = [
 ]
 
 _FIRST_FRACTION = 1e-6  # of the natural time: the start acceleration may be left at once
-# mechlib.solvers.dense_compiled.project_row's parameters: solve_positions' tolerance and iterations
-PROJECTION = np.array([POSITION_TOLERANCE, REUSE_BELOW, MAX_NEWTON], dtype=float)
+# the position Newton's exact step below which a compiled row takes it as converged (m, or
+# rad/Euler parameter: q's own units; mechlib.solvers.dense_compiled._positions)
+ONE_STEP = 1e-9
+# mechlib.solvers.dense_compiled.project_row's parameters: solve_positions' tolerance, its
+# Jacobian reuse step and iterations, and `ONE_STEP`
+PROJECTION = np.array([POSITION_TOLERANCE, REUSE_BELOW, MAX_NEWTON, ONE_STEP], dtype=float)
 
 
 def natural_time(system: System) -> float:

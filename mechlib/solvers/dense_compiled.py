@@ -10,10 +10,11 @@ one numba call instead of about 0.2 ms of Python per row:
   or as given (`s` = 1: Radau's dense output, a step's end);
 - q onto phi(q, t) = 0 by minimum-norm Newton, the Jacobian kept after a step below
   `REUSE_BELOW` (mechlib.solvers.assembly.solve_positions, the same iteration and the
-  same iterates); the row takes the Jacobian of the iterate before Newton's last step,
-  which is shorter than the position tolerance (1e-10): evaluated with that iterate's
-  residual, not once more at q; converged once a step is below that tolerance, as the
-  Python rows take it (no residual evaluated at q: `_positions`);
+  same iterates); converged once a step is below that tolerance (1e-10), as the Python
+  rows take it, or once an exact step is below `once` (mechlib.solvers.dense.ONE_STEP,
+  1e-9: `_positions`); the row takes the Jacobian of the iterate before Newton's last
+  step, evaluated with that iterate's residual, not once more at q (no residual evaluated
+  at q);
 - qd onto phi_q qd = nu, mass-weighted, then qdd and lam from
   [[M, phi_q^T], [phi_q, 0]] [qdd; lam] = [Q; gamma] (mechlib.solvers.consistent.consistent_state;
   Q with the packed elements' loads at the row's element states),
@@ -23,8 +24,8 @@ one numba call instead of about 0.2 ms of Python per row:
 A step's rows take the constraints unpacked (constraint_arrays.unpack) and each body's
 J'^-1 (`inverse_inertia`) once for all of them (`project_unpacked_row`).
 
-Same equations, so the same row to the position tolerance: the Jacobian (and the
-velocities, accelerations and reactions through it) is taken up to 1e-10 in q away from the
+Same equations, so the same row to Newton's last step: the Jacobian (and the
+velocities, accelerations and reactions through it) is taken up to 1e-9 in q away from the
 row's q. Where a matrix is not clearly well
 conditioned (Cholesky pivots of S or of phi_q phi_q^T below `WELL_CONDITIONED` of the
 largest: near a toggle), where Newton does not converge, or where a number is not finite,
@@ -181,20 +182,23 @@ def _lower_product(a, b):
 
 
 @njit(**KERNEL)
-def _positions(q, phi, jac, packed, functions, refs, tol, reuse, most):
+def _positions(q, phi, jac, packed, functions, refs, tol, reuse, most, once):
     """q (copied, then moved) onto phi = 0 by minimum-norm Newton (mechlib.solvers.assembly._newton
     with unit weights) from phi and its Jacobian jac at q (evaluated by the caller: the
     first of the fresh Jacobians). Returns (status, q, fresh Jacobians: those the iteration
-    factored, the Jacobian at the iterate before the last step: within that step, shorter
-    than `tol`, of q). Each iterate a further step follows gets its Jacobian with its
-    residual (phi_and_jacobian's phi is phi_values'): the iteration's next where the step
-    was not below `reuse`, else kept for the row (the one a row evaluates besides those it
-    factors, as consistent_state's). Converged once a step is below `tol`, as the Python
-    path's rows take it (dense._projected reads no residual): the step solves
-    phi_q step = -phi with phi_q J J^T's factor well conditioned (`_cholesky`), so the
-    residual before it was at most |phi_q| |step| and the one after it is of the order of
-    |step|^2 (at most 3.3e-16 on 2000 rows of the campaign's slider-crank); evaluating it (1.4 us
-    of a row's 17) bought nothing."""
+    factored, the Jacobian at the iterate before the last step: within that step of q).
+    Each iterate a further step follows gets its Jacobian with its residual
+    (phi_and_jacobian's phi is phi_values'): the iteration's next where the step was not
+    below `reuse`, else kept for the row (the one a row evaluates besides those it factors,
+    as consistent_state's). Converged once a step is below `tol`, as the Python path's rows
+    take it (dense._projected reads no residual), or once an exact step (its Jacobian
+    evaluated at the iterate it starts from) is below `once` (`ONE_STEP`): Newton's next
+    step would be of the order of its square (about 1e-18 for `once` = 1e-9, far below
+    `tol`), so the iterate after it is the converged one to that order, and evaluating
+    phi and its Jacobian once more there (5.5 us) bought nothing. Either way the step
+    solves phi_q step = -phi with phi_q phi_q^T's factor well conditioned (`_cholesky`),
+    so the residual after it is of the order of |step|^2 (at most 3.3e-16 on 2000 rows of
+    the campaign's slider-crank)."""
     nq = q.shape[0]
     nb = nq // 7
     m = phi.shape[0]
@@ -204,6 +208,7 @@ def _positions(q, phi, jac, packed, functions, refs, tol, reuse, most):
     at_iterate = jac.copy()  # the Jacobian at the latest iterate
     fresh, have = 0, False
     for _ in range(most):
+        exact = not have  # factored at the iterate this step starts from
         if not have:
             jac[:] = at_iterate
             ok, low = _cholesky(_lower_product(jac, jac))
@@ -219,7 +224,7 @@ def _positions(q, phi, jac, packed, functions, refs, tol, reuse, most):
             q[j] += step[j]
             size = max(size, abs(step[j]))
         ca.state_into(q, q, x, rates)
-        if size < tol:  # converged: no residual evaluated at q (`_positions`' docstring)
+        if size < tol or (exact and size < once):  # converged (the docstring)
             return DONE, q, fresh, at_iterate
         ca.unpacked_phi_and_jacobian(x, packed, functions, refs, phi, at_iterate)
         if size >= reuse:
@@ -307,7 +312,8 @@ def interpolated(ends, h, s):
 def project_row(ends, h, s, ints, floats, functions, refs, body, params, out):
     """The projected row at the fraction s of a step of h (s) with ends (6, nq) (see
     `interpolated`; the module docstring for the projection); params: (position tolerance,
-    Jacobian reuse step, most Newton iterations). Writes (q, qd, qdd, lam) stacked into
+    Jacobian reuse step, most Newton iterations, and the exact step taken as converged:
+    `_positions`' `once`, 0 or left out for none). Writes (q, qd, qdd, lam) stacked into
     `out`; returns (DONE or FALLBACK, Jacobians evaluated). No force element."""
     return project_loaded_row(
         ends, h, s, ints, floats, functions, refs, body, params, np.zeros(0), no_forces(), out
@@ -341,7 +347,8 @@ def project_unpacked_row(
     phi, jac = np.empty(m), np.empty((m, nq))
     ca.unpacked_phi_and_jacobian(x, packed, functions, refs, phi, jac)
     tol, reuse, most = params[0], params[1], int(params[2])
-    status, q, fresh, jac = _positions(q, phi, jac, packed, functions, refs, tol, reuse, most)
+    once = params[3] if params.shape[0] > 3 else 0.0
+    status, q, fresh, jac = _positions(q, phi, jac, packed, functions, refs, tol, reuse, most, once)
     if status != DONE:
         return FALLBACK, fresh
     ca.state_into(q, qd, x, xd)
