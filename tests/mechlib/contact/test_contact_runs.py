@@ -38,16 +38,18 @@ _REQUESTS = {
 }
 
 
-def _socket_case(tmp_path, output: str, friction: bool):
-    """The bench's socket_rattle for 0.012 s at tolerance 1e-7 (its first impacts against
-    the wall) with the contact channels requested; Stribeck friction mu 0.15 / 0.1 when
-    `friction`."""
+def _socket_case(tmp_path, output: str, friction: bool, end=0.012, tolerance=1e-7, max_steps=None):
+    """The bench's socket_rattle for `end` s (0.012: its first impacts against the wall)
+    at `tolerance` with the contact channels requested; Stribeck friction mu 0.15 / 0.1
+    when `friction`; analysis.max_steps when given."""
     from benchmarks.models import model_by_name
     from benchmarks.suite import _case_copy
 
-    case = _case_copy(model_by_name("socket_rattle"), 0.012, 1e-7, tmp_path, output)
+    case = _case_copy(model_by_name("socket_rattle"), end, tolerance, tmp_path, output)
     data = yaml.safe_load(case.read_text(encoding="utf-8"))
     data["requests"].update(_REQUESTS)
+    if max_steps is not None:
+        data["analysis"]["max_steps"] = max_steps
     if friction:
         data["mechanism"]["contacts"]["socket"]["friction"] = {
             "mu_static": 0.15,
@@ -103,6 +105,39 @@ def test_socket_runs_as_the_python_steps(tmp_path, monkeypatch, output, friction
         np.testing.assert_allclose(
             fast.channels[name], values, rtol=0, atol=TOL_SAME * span + 1e-300, err_msg=name
         )
+
+
+def test_runs_go_on_within_a_step_collapse_window(tmp_path, monkeypatch) -> None:
+    """analysis.max_steps 2500 for 0.06 s at tolerance 3e-10: the impacts' steps (about
+    1e-7 s) put the pace beyond the limit, so the step-collapse watch opens a window
+    (mechlib.solvers.runaway.StepCollapse) and, COLLAPSE_STEPS later, looks at it. Within
+    the window the run goes on in the kernel, stopping only where the watch may close it:
+    the same counts as the Python steps, which watch the same windows (measured: two
+    windows started, two looks), and at least 0.9 of the steps in the kernel (2021 of 2028)."""
+    from mechlib.solvers import runaway
+
+    case = _socket_case(tmp_path, "steps", False, end=0.06, tolerance=3e-10, max_steps=2500)
+    original = runaway.StepCollapse.watch
+    seen: dict[str, int] = {}
+
+    def watch(self, taken, *args):
+        if self.since is not None and taken - self.since.taken >= runaway.COLLAPSE_STEPS:
+            seen["looked"] = seen.get("looked", 0) + 1
+        original(self, taken, *args)
+        if self.since is not None and self.since.taken == taken:
+            seen["opened"] = seen.get("opened", 0) + 1
+
+    monkeypatch.setattr(runaway.StepCollapse, "watch", watch)
+    counts, windows = [], []
+    for runs in (True, False):
+        seen.clear()
+        sol, kernel = _solve(case, tmp_path / str(runs), monkeypatch, runs=runs)
+        counts.append((sol.stats.steps, sol.stats.rejected_steps, sol.stats.newton_iterations))
+        windows.append(dict(seen))
+        if runs:
+            assert kernel >= 0.9 * sol.stats.steps
+    assert counts[0] == counts[1]
+    assert windows[0] == windows[1] and windows[0]["opened"] >= 1 and windows[0]["looked"] >= 1
 
 
 def test_what_the_runs_carry_of_contacts() -> None:
