@@ -10,8 +10,10 @@ friction, dense and steps output, takes the same accepted and rejected steps and
 iterations, and every channel the case requests (the contact force, its elastic and
 damping parts, which divide by the remembered approach speed, the penetration, the
 sliding speed, the wear work, the energy balance) agrees to round-off: measured bit for
-bit without friction; with friction (the contact's tangent then couples the ball's
-rotation) the Newton iterates part in the last bits at the first impact, positions by
+bit without friction; with friction the ball spins from its first impact, and the Python
+path's differenced tangent holds its quadratic velocity terms while the run's leaves them
+out (docs/analyses.md: with the iteration matrices factored in Python the run is bit for
+bit again), so the Newton iterates part in the last bits there, positions by
 3e-14 (steps) to 1.2e-13 (dense) of their range, the sliding speed (near zero between
 impacts) by 6e-12 to 5.9e-10 and the energy balance by 8.8e-12 to 8.0e-10.
 """
