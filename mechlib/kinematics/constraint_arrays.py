@@ -585,8 +585,9 @@ def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
     kr.norm_gamma(xd, nb, full[:nb])
     kr.sph_gamma(x, xd, sbi, sbj, ssi, ssj, full[nb : nb + ns])
     kr.dot1_gamma(x, xd, d1i, d1j, d1u, d1v, full[nb + ns : nb + ns + n1])
-    kr.dot2_gamma(x, xd, d2i, d2j, d2v, d2si, d2sj, full[nb + ns + n1 : first])
-    if linear.shape[0]:
+    if n2:  # its kernel makes its work arrays before the loop
+        kr.dot2_gamma(x, xd, d2i, d2j, d2v, d2si, d2sj, full[nb + ns + n1 : first])
+    if _any_from(active, first):  # an active coordinate equation (`unpacked_rows`)
         na, nt = refs.shape[0], ti.shape[0]
         sc, scd, scq = np.empty(2 * na), np.empty(2 * na), np.empty(2 * na)
         kr.dot1_phi(x, ai, aj, au, av, sc)

@@ -189,11 +189,9 @@ def sph_jac(x, bi, bj, si, sj, out):
 
 @njit(**KERNEL)
 def sph_gamma(x, xd, bi, bj, si, sj, out):
-    a = np.empty(3)
-    b = np.empty(3)
     for k in range(bi.shape[0]):
-        _rot(xd[bi[k], 3:], si[k], a)
-        _rot(xd[bj[k], 3:], sj[k], b)
+        a = _rotated(xd[bi[k], 3:], si[k])
+        b = _rotated(xd[bj[k], 3:], sj[k])
         for c in range(3):
             out[3 * k + c] = -2.0 * (a[c] - b[c])
 
@@ -233,20 +231,11 @@ def dot1_rate(x, xd, bi, bj, u, v, out):
 
 @njit(**KERNEL)
 def dot1_gamma(x, xd, bi, bj, u, v, out):
-    a = np.empty(3)
-    b = np.empty(3)
-    ad = np.empty(3)
-    bd = np.empty(3)
-    add = np.empty(3)
-    bdd = np.empty(3)
     for k in range(bi.shape[0]):
         pi, pj, wi, wj = x[bi[k], 3:], x[bj[k], 3:], xd[bi[k], 3:], xd[bj[k], 3:]
-        _rot(pi, u[k], a)
-        _rot(pj, v[k], b)
-        _brot(pi, wi, u[k], ad)
-        _brot(pj, wj, v[k], bd)
-        _rot(wi, u[k], add)
-        _rot(wj, v[k], bdd)
+        a, b = _rotated(pi, u[k]), _rotated(pj, v[k])
+        ad, bd = _brotated(pi, wi, u[k]), _brotated(pj, wj, v[k])
+        add, bdd = _rotated(wi, u[k]), _rotated(wj, v[k])
         out[k] = -(2.0 * _dot3(add, b) + 2.0 * _dot3(ad, bd) + 2.0 * _dot3(a, bdd))
 
 
