@@ -78,7 +78,7 @@ def _bind_parts() -> None:
     kernels of the ctx's kind, resolved by its length when a caller compiles."""
     from numba.extending import overload
 
-    @overload(system_residual)
+    @overload(system_residual, inline="always")
     def _residual(ctx, q1, qd1, qdd1, lam1, res):
         kernel = _compiled(_PARTS[len(ctx)][0])
 
@@ -87,7 +87,7 @@ def _bind_parts() -> None:
 
         return residual
 
-    @overload(system_consistent)
+    @overload(system_consistent, inline="always")
     def _consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, out):
         kernel = _compiled(_PARTS[len(ctx)][1])
 
@@ -182,7 +182,11 @@ def worked_newton(
     )
 
 
-@njit(**KERNEL)
+# The rigid system's parts are inlined into `newton_loop` (numba's IR inlining, as the
+# overloads that choose them): a call handing on `ctx`, a tuple of about 50 arrays, by value
+# cost 1.3 us of a four-bar's 4.7 us residual at every Newton iteration
+# (benchmarks/kinds/fourbar_friction.py; docs/performance.md).
+@njit(**KERNEL, inline="always")
 def _rigid_residual(ctx, q1, qd1, qdd1, lam1, res):
     """res = (M qdd + phi_q^T lam - Q, phi) of the active rows at the iterate
     (`loaded_newton`'s ctx: its rows left for `_rigid_consistent`)."""
@@ -197,7 +201,7 @@ def _rigid_residual(ctx, q1, qd1, qdd1, lam1, res):
         res[nq + i] = full[active[i]]
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def _rigid_consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, out):
     """`_true_acceleration` with `loaded_newton`'s ctx."""
     packed, functions, refs, body, _, _, _, z, elements, _, rows, work, _, _ = ctx
