@@ -65,7 +65,7 @@ from mechlib.elements.hydraulics.valve_group import (
     valves_wrench,
 )
 from mechlib.kinematics import constraint_arrays as ca
-from mechlib.kinematics.kernels import angle_state, body_forces
+from mechlib.kinematics.kernels import angle_rate, body_forces
 
 __all__ = [
     "ROW_COUNT",
@@ -407,11 +407,9 @@ def slip_rates(q, qd, forces, out):
     """out (n,) = the slip rate (rad/s) of each packed friction's joint at (q, qd)."""
     fric_i, fric_f, fric_v = forces[5], forces[6], forces[7]
     x, xd = ca.state_arrays(q, qd, q.shape[0] // 7)
-    state = np.empty(2)
     for i in range(fric_i.shape[0]):
         f = fric_f[i]
-        angle_state(x, xd, fric_i[i, 2], fric_i[i, 3], f[0:3], f[3:6], fric_v[i, 1], state)
-        out[i] = state[1]
+        _, out[i] = angle_rate(x, xd, fric_i[i, 2], fric_i[i, 3], f[0:3], f[3:6], fric_v[i, 1])
 
 
 @njit(**KERNEL)

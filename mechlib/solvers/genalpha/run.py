@@ -68,7 +68,7 @@ from mechlib.solvers.dense_compiled import (
 from mechlib.solvers.finite import all_finite
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
-from mechlib.solvers.genalpha.compiled import CONVERGED, loaded_newton
+from mechlib.solvers.genalpha.compiled import CONVERGED, rigid_work, worked_newton
 from mechlib.solvers.genalpha.run_states import (
     RunStates,
     accept_states,
@@ -166,6 +166,7 @@ def run_steps(
     kind, prow, pcol, place, brow, bcol = layout
     values = np.empty(prow.shape[0])
     slips = np.empty(rates.shape[0])  # the frictions' slip rates at a state
+    work = rigid_work(ints, floats, nq)  # Newton's arrays, made once for the call's steps
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[T]
@@ -217,16 +218,15 @@ def run_steps(
         params[0] = (1.0 - am) / (h_try * h_try * beta * (1.0 - af))
         params[1] = gamma / (h_try * beta)
         lam1 = own_lam.copy()
-        status, it, _, eta, done = loaded_newton(
-            q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref,
-            params, 0, math.inf, ctrl[ETA], own[2], own[3], true, h_try, states[0], states[2],
-            states[1], elements,
+        status, it, _, eta, done = worked_newton(
+            q1, qd1, qdd1, lam1, work, functions, refs, body, fi, ff, q_abs, a_ref, params, 0,
+            math.inf, ctrl[ETA], own[2], own[3], true, h_try, states[0], states[2], states[1],
+            elements,
         )  # fmt: skip
         status, it, eta, done, renewed, tried = _refreshed(
             status, it, eta, done, renewed, tried, q1, qd1, qdd1, lam1, own, true, h_try, ctrl,
-            counts,
-            params, kind, ints, floats, functions, refs, body, prow, pcol, values, place,
-            brow, bcol, fi, ff, q_abs, a_ref, elements, rest, tangent, states,
+            counts, params, kind, ints, floats, work, functions, refs, body, prow, pcol, values,
+            place, brow, bcol, fi, ff, q_abs, a_ref, elements, rest, tangent, states,
         )  # fmt: skip
         if status != CONVERGED:
             return _newton_stopped(ctrl, counts, renewed, done, h_try, status), i, written
@@ -391,8 +391,8 @@ _SINGULAR = -1  # `_refreshed`: the iteration matrix is singular at Newton's ite
 @njit(**KERNEL)
 def _refreshed(
     status, it, eta, done, renewed, tried, q1, qd1, qdd1, lam1, own, true, h, ctrl, counts,
-    params, kind, ints, floats, functions, refs, body, prow, pcol, values, place, brow, bcol,
-    fi, ff, q_abs, a_ref, elements, rest, tangent, states,
+    params, kind, ints, floats, work, functions, refs, body, prow, pcol, values, place, brow,
+    bcol, fi, ff, q_abs, a_ref, elements, rest, tangent, states,
 ):  # fmt: skip
     """Newton stalled on the step h (s) with an iteration matrix made for an earlier step,
     or for this one with the differenced tangent kept (not `renewed`): refreshed at the
@@ -411,9 +411,9 @@ def _refreshed(
     counts[ROW_FACTORS] += 1
     ctrl[LU_H], ctrl[STALE], ctrl[H_USED] = h, 0.0, h
     ctrl[REFACTORED] += 1.0
-    status, it, _, eta, more = loaded_newton(
-        q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
-        0, math.inf, eta, own[2], own[3], true, h, states[0], states[2], states[1], elements,
+    status, it, _, eta, more = worked_newton(
+        q1, qd1, qdd1, lam1, work, functions, refs, body, fi, ff, q_abs, a_ref, params, 0,
+        math.inf, eta, own[2], own[3], true, h, states[0], states[2], states[1], elements,
     )  # fmt: skip
     return status, it, eta, done + more, True, False
 
@@ -494,6 +494,8 @@ def _dense_rows(
     from both ends' values and rates) into rows
     first, first + 1, ...: the fresh Jacobians they took, or -1 where a row is given back
     to Python."""
+    if not times.shape[0]:  # no row within the step: nothing to unpack
+        return 0
     span = t_new - t
     fresh_rows = 0
     packed, inverse = ca.unpack(ints, floats), inverse_inertia(body, ends.shape[1] // 7)
