@@ -25,6 +25,12 @@ grid-companion; docs/performance.md, "The companion on the run's own steps"): hi
 peaks 0.86-1.21 on the pendulum, 2.12 on the servo's stroke (its thinned rows' crests),
 0.97-1.67 on A01, 0.75-1.97 on Andrews; A02 N = 3 (the finer pair) and A05 (the adaptive
 companion) as above.
+
+A run with events, the door jettison (its rod disconnected at 1 ms, a stop at 113 deg;
+2026-11-29 20:10 UTC, branch grid-events; the other event cases in benchmarks/
+error_table_events.py, docs/performance.md): histories 0.93-1.11, peaks 0.80-1.78 (its
+hinge rate 8.61 before an end's cubic stopped spanning an event), its top acceleration
+4.44 (`HIGH_PEAK`).
 """
 
 from __future__ import annotations
