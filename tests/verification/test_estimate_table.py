@@ -67,9 +67,13 @@ HIGH_PEAK = {
     ("door jettison", "top_acceleration"): 4.6,
 }
 # the companion each case's estimate is made with (loadcases.run.companion): on the run's
-# own steps two at a time, but on A05, whose doubled steps fail Newton at the stiff springs
-# past the grid's split limit (27 of its 1317 steps: stopped at 0.77 s of 10 s), error-controlled
-ADAPTIVE = ("A05",)
+# own steps two at a time, or error-controlled (none of the cheap cases now). A05's doubled
+# steps failed Newton at the stiff springs past the grid's split limit (27 of its 1317
+# steps: stopped at 0.77 s of 10 s) on main 736b23b; on main 85ba0ce (after the rows-interp
+# and socket-run merges, the latter's Newton refresh at a stalled kept-tangent iterate the
+# likely cause, not traced) its grid companion runs through (2026-11-29 20:19 UTC, branch
+# grid-events, no event in A05: untouched by it): histories 0.99-1.32, peaks 0.85-2.51
+ADAPTIVE: tuple[str, ...] = ()
 
 
 @pytest.mark.parametrize("name", list(CHEAP))
