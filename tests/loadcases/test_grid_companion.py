@@ -16,6 +16,7 @@ from loadcases.run import run_case
 from loadcases.run.companion import divisor, on_grid
 from loadcases.run.global_error import shared_rows
 from mechlib.solvers.genalpha import rules
+from tests.mechlib._models import sprung_slider
 
 K_SPRING, MASS, X0 = 400.0, 1.0, 0.01  # N/m, kg, m: omega_n 20 rad/s, 3.2 periods in 1 s
 OMEGA_N = math.sqrt(K_SPRING / MASS)
@@ -26,19 +27,7 @@ PENDULUM = (
 
 def _oscillator() -> ml.Mechanism:
     """A mass on a prismatic joint along x, a spring to the origin."""
-    mech = ml.Mechanism()
-    mech.add_body("mass", mass=MASS, cm=(0.5, 0.0, 0.0), inertia=[1e-2] * 3)
-    mech.add_joint(
-        "slide", "prismatic", bodies=("mass", "ground"), at=(0.5, 0.0, 0.0), axis=(1.0, 0.0, 0.0)
-    )
-    mech.add_force(
-        ml.Spring(
-            "spring",
-            points=(("mass", (0.5, 0.0, 0.0)), ("ground", (0.0, 0.0, 0.0))),
-            stiffness=K_SPRING,
-        )
-    )
-    return mech
+    return sprung_slider(MASS, K_SPRING)
 
 
 def _solved(analysis: ml.Dynamic) -> ml.Solution:

@@ -120,6 +120,26 @@ def slider_crank(crank: float = 0.1, rod: float = 0.3) -> tuple[mechlib.Mechanis
     return mech, xs
 
 
+def sprung_slider(mass: float, stiffness: float, damping: float = 0.0) -> mechlib.Mechanism:
+    """A mass (kg) on a prismatic joint `slide` along x, a spring `spring` of `stiffness`
+    (N/m) and `damping` (N s/m) from its centre (0.5, 0, 0) m to the origin: a linear
+    oscillator along the travel."""
+    mech = mechlib.Mechanism()
+    mech.add_body("mass", mass=mass, cm=(0.5, 0.0, 0.0), inertia=[1e-2] * 3)
+    mech.add_joint(
+        "slide", "prismatic", bodies=("mass", "ground"), at=(0.5, 0.0, 0.0), axis=(1.0, 0.0, 0.0)
+    )
+    mech.add_force(
+        mechlib.Spring(
+            "spring",
+            points=(("mass", (0.5, 0.0, 0.0)), ("ground", (0.0, 0.0, 0.0))),
+            stiffness=stiffness,
+            damping=damping,
+        )
+    )
+    return mech
+
+
 def rz(angle: float) -> np.ndarray:
     """Rotation matrix about +z by `angle` (rad)."""
     c, s = math.cos(angle), math.sin(angle)

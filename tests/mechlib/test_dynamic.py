@@ -18,7 +18,7 @@ import mechlib
 from mechlib.core.rotation import omega_global, rotation_matrix
 from mechlib.kinematics.view import StateView
 
-from ._models import Bar, G, hinged_bar
+from ._models import Bar, G, hinged_bar, sprung_slider
 
 BAR = Bar()
 
@@ -145,19 +145,7 @@ def _oscillator(zeta: float, tolerance: float | None = None) -> mechlib.Solution
     """A mass on a prismatic joint along x, spring (k, c = 2 zeta omega_n m) to the
     origin, released from travel X0: 1 s with outputs every 1 ms (steps landing on them;
     dense at `tolerance` when given)."""
-    mech = mechlib.Mechanism()
-    mech.add_body("mass", mass=MASS, cm=(0.5, 0.0, 0.0), inertia=[1e-2] * 3)
-    mech.add_joint(
-        "slide", "prismatic", bodies=("mass", "ground"), at=(0.5, 0.0, 0.0), axis=(1.0, 0.0, 0.0)
-    )
-    mech.add_force(
-        mechlib.Spring(
-            "spring",
-            points=(("mass", (0.5, 0.0, 0.0)), ("ground", (0.0, 0.0, 0.0))),
-            stiffness=K_SPRING,
-            damping=2.0 * zeta * OMEGA_N * MASS,
-        )
-    )
+    mech = sprung_slider(MASS, K_SPRING, 2.0 * zeta * OMEGA_N * MASS)
     return mechlib.solve(
         mech,
         mechlib.Dynamic(1.0, 0.001)

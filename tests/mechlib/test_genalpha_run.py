@@ -35,6 +35,7 @@ import mechlib
 from mechlib.linalg import factor as linalg
 from mechlib.solvers.genalpha import run as genalpha_run
 
+from ._kernel_steps import count_kernel_steps
 from ._models import PENDULUM_REQUESTS, Bar, falling_slider_crank, hinged_bar, pendulum_errors
 from .test_genalpha_compiled import _chain, _free_crank
 
@@ -55,18 +56,10 @@ def _driven_crank() -> tuple[mechlib.Mechanism, list, list]:
 def _run(model, analysis, monkeypatch, *, compiled: bool, **kwargs):
     """The run of `model` with compiled runs (`Dynamic.compiled = "runs"`) or without
     (`"steps"`: every step from Python); also the steps the kernel took."""
-    taken = {"steps": 0}
-    original_run = genalpha_run.StepRun.run
-
-    def run(self, s, *args):
-        before = self.stepper.stats.steps
-        out = original_run(self, s, *args)
-        taken["steps"] += self.stepper.stats.steps - before
-        return out
 
     analysis = dataclasses.replace(analysis, compiled="runs" if compiled else "steps")
     with monkeypatch.context() as patch:
-        patch.setattr(genalpha_run.StepRun, "run", run)  # counts; the path is the analysis's
+        taken = count_kernel_steps(patch)  # counts; the path is the analysis's
         mech, initial, requests = model()
         sol = mechlib.solve(mech, analysis, initial=initial, requests=requests, **kwargs)
     return sol, taken["steps"]

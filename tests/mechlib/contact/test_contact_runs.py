@@ -27,6 +27,7 @@ import yaml
 from mechlib.elements.contact import Contact, ImpactLaw, SpherePlane
 from mechlib.elements.contact import group as contact_group
 from mechlib.solvers.genalpha import run as genalpha_run
+from tests.mechlib._kernel_steps import count_kernel_steps
 from tests.mechlib.contact._contact_models import posed_pair
 
 TOL_SAME = 1e-9  # of each channel's range (the compiled Newton loop's test's; measured above)
@@ -66,17 +67,8 @@ def _solve(case, out, monkeypatch, *, runs: bool):
     runs, or every step from Python (StepRun refused)."""
     from loadcases.run import run_file
 
-    taken = {"steps": 0}
-    original = genalpha_run.StepRun.run
-
-    def run(self, s, *args):
-        before = self.stepper.stats.steps
-        found = original(self, s, *args)
-        taken["steps"] += self.stepper.stats.steps - before
-        return found
-
     with monkeypatch.context() as patch:
-        patch.setattr(genalpha_run.StepRun, "run", run)
+        taken = count_kernel_steps(patch)
         if not runs:
             patch.setattr(genalpha_run.StepRun, "eligible", staticmethod(lambda stepper: False))
         sol = run_file(case, output_dir=out)[0].solution
