@@ -35,7 +35,7 @@ from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha import run as rr
 from mechlib.solvers.genalpha.modal_matrix import factored
-from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_newton
+from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_newton, row_arrays
 
 __all__ = ["ModalRun", "run_modal"]
 
@@ -66,9 +66,10 @@ def _solved(
     params[1] = ctrl[rr.GAMMA] / (h * beta)
     params[2], params[3], params[4] = ctrl[rr.TOL], am, af
     prev, it, eta, done = math.inf, 0, ctrl[rr.ETA], 0
+    lent = row_arrays(q1.shape[0], ints, floats, welds)  # the factorisation's rows for Newton
     while True:
         if rebuild:
-            if not factored(q1, params[0], params[1], system, tangent, wi, wf):
+            if not factored(q1, params[0], params[1], system, tangent, wi, wf, lent):
                 return False, working, it, eta, done, tried
             working, rebuild, prev = True, False, math.inf
             counts[rr.ROW_JACOBIANS] += 1
@@ -76,7 +77,7 @@ def _solved(
         gi, gf = (wi, wf) if working else (fi, ff)
         status, it, prev, eta, more = modal_newton(
             q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, bodies, welds, active,
-            gi, gf, scales[0], scales[1], params, it, prev, eta, start[0], start[1], true,
+            gi, gf, scales[0], scales[1], params, it, prev, eta, start[0], start[1], true, lent,
         )  # fmt: skip
         done += more
         if status == CONVERGED:
