@@ -6,11 +6,13 @@ as long), to measure one against the other."""
 from __future__ import annotations
 
 import argparse
+from collections.abc import Iterator
+from contextlib import contextmanager
 from typing import Any
 
 from loadcases.run import global_error
 
-__all__ = ["KINDS", "add_companion_option", "use_companion"]
+__all__ = ["KINDS", "add_companion_option", "companion_kind", "use_companion"]
 
 KINDS = ("grid", "adaptive")
 
@@ -27,6 +29,18 @@ def use_companion(kind: str) -> None:
     companion off (loadcases.run.global_error.on_grid then finds none)."""
     if kind == "adaptive":
         global_error.on_grid = _none  # type: ignore[assignment]
+
+
+@contextmanager
+def companion_kind(kind: str) -> Iterator[None]:
+    """Estimates made with the `kind` companion within the block only (the two measured
+    in one process)."""
+    saved = global_error.on_grid
+    use_companion(kind)
+    try:
+        yield
+    finally:
+        global_error.on_grid = saved
 
 
 def _none(*_: Any) -> None:

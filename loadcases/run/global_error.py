@@ -284,8 +284,12 @@ def request_errors(
         and peaks[request_of(column)] != 0.0
         and len(rows)
     ]
-    mine = extremes_of(run.time, _table(run.channels, columns, len(run.time)))
-    theirs = extremes_of(companion.time, _table(companion.channels, columns, len(companion.time)))
+    mine = extremes_of(run.time, _table(run.channels, columns, len(run.time)), _times(run))
+    theirs = extremes_of(
+        companion.time,
+        _table(companion.channels, columns, len(companion.time)),
+        _times(companion),
+    )
     out: dict[str, RequestError] = {}
     for column, found, other in zip(columns, mine, theirs):
         name, values = request_of(column), run.channels[column]
@@ -298,6 +302,11 @@ def request_errors(
             max(before.sampling, sampling / peaks[name]),
         )
     return out
+
+
+def _times(solution: ml.Solution) -> list[float]:
+    """The times (s) of the events that fired in `solution`."""
+    return [event.time for event in solution.events]
 
 
 def _table(channels: dict[str, np.ndarray], columns: list[str], rows: int) -> np.ndarray:

@@ -15,9 +15,10 @@ type into its own arrays (the design rule: elements grouped by type, one loop pe
   with their element states: mechlib.elements.hydraulics.valve_group;
 - contacts of a primitive geometry (sphere on plane, ball in socket, pin in hole), with a
   clearance joint's wear work as its element state: mechlib.elements.contact.group. Their
-  tangent stays the elements' own (Contact.tangent, re-evaluated by the integrator at each
-  refactorisation); the compiled whole run (mechlib.solvers.genalpha.run) does not take
-  them (a contact's memory is committed in Python at each accepted step).
+  tangent stays the elements' own (Contact.tangent, re-evaluated at each refactorisation:
+  `rest` is `args` without them, for the differenced rest); their memory is committed on
+  each accepted state by one compiled rule (mechlib.elements.contact.memory), in Python
+  (Contact.commit) or in the compiled whole run (mechlib.solvers.genalpha.run).
 It gives None when an active element has none (a table law, a profile contact, a point
 force...) or element states belong to another element, or a clearance joint's wear states
 come with actuators' states: the caller then keeps the Python path. The
@@ -43,6 +44,7 @@ from mechlib.elements import friction_kernel
 from mechlib.elements.contact import group as contact_group
 from mechlib.elements.contact.element import Contact
 from mechlib.elements.contact.group import advance_wear, contacts_rates, contacts_wrench
+from mechlib.elements.contact.memory import MEMORY
 from mechlib.elements.damper import RotationalDamper
 from mechlib.elements.forces import Spring, TorsionSpring
 from mechlib.elements.friction import JointFriction
@@ -63,7 +65,7 @@ from mechlib.elements.hydraulics.valve_group import (
     valves_wrench,
 )
 from mechlib.kinematics import constraint_arrays as ca
-from mechlib.kinematics.kernels import angle_state, body_forces
+from mechlib.kinematics.kernels import angle_rate, body_forces
 
 __all__ = [
     "ROW_COUNT",
@@ -90,7 +92,9 @@ class CompiledForces:
     """The packed groups of a system's active force elements (`args`, the kernels' tuple),
     the frictions among them (slip rates read back after a compiled run), whether any
     friction is loaded by its joint's reaction (`reactions`) and the coordinates the
-    elements act on (`columns`, for the tangent and the iteration matrix's pattern)."""
+    elements act on (`columns`, for the tangent and the iteration matrix's pattern); `rest`
+    the packed elements but the contacts, which give their own tangent, and `rest_columns`
+    the coordinates those act on (the differenced tangent's columns)."""
 
     def __init__(self, system, springs, torsions, frictions, actuators=(), contacts=()) -> None:
         self.frictions, self.actuators, self.contacts = frictions, list(actuators), list(contacts)
@@ -121,6 +125,7 @@ class CompiledForces:
             bodies |= {int(ints[0]), int(ints[1]), m.bi, m.bj}
         for a in self.actuators:
             bodies |= {a._geometry[0], a._geometry[2]}
+        rest_bodies = set(bodies)
         for c in self.contacts:
             bodies |= set(c.body_pair())
         slices = system.states.slices
@@ -128,8 +133,9 @@ class CompiledForces:
         starts = [system.states.slices[id(a)].start for a in self.actuators]
         valve_i, valve_f = valve_arrays(self.actuators, starts)
         nb = system.nb
-        self.columns = np.array(
-            [7 * b + c for b in sorted(bodies) if b < nb for c in range(7)], dtype=np.int64
+        self.columns, self.rest_columns = (
+            np.array([7 * b + c for b in sorted(found) if b < nb for c in range(7)], np.int64)
+            for found in (bodies, rest_bodies)
         )
         self.args = (
             spring_i,
@@ -146,6 +152,7 @@ class CompiledForces:
             valve_f,
             *contact_group.contact_arrays(self.contacts, wear),
         )
+        self.rest = (*self.args[:12], *(a[:0] for a in self.args[12:]))
 
     @classmethod
     def of(cls, system) -> CompiledForces | None:
@@ -198,7 +205,7 @@ class CompiledForces:
         t (s), their stroke demands at t."""
         refresh_valves(self.actuators, self.args[10], self.args[11], t)
         if self.contacts:
-            contact_group.refresh_contacts(self.contacts, self.args[12:18])
+            contact_group.refresh_contacts(self.contacts, self.args[12:19])
         torsion_refs, varying, index = self.args[4], self.args[7], self.args[8]
         measures = system.angle_measures
         nt = torsion_refs.size
@@ -208,12 +215,14 @@ class CompiledForces:
             varying[i, 1] = measures[index[nt + i]].reference
             varying[i, 3] = f.impending
 
-    def read_back(self, rates: np.ndarray, taken: bool) -> None:
-        """After a compiled run that took steps (`taken`): each friction's slip rates
+    def read_back(self, rates: np.ndarray, taken: int, history: tuple) -> None:
+        """After a compiled run that took `taken` steps: each friction's slip rates
         (rates[i] = (before, last), rad/s, of the last two accepted states) and its
-        impending direction cleared, as JointFriction.commit leaves them."""
+        impending direction cleared, as JointFriction.commit leaves them; the contacts'
+        memories and the approach speeds committed (`history`: contact_group.history)."""
         if not taken:
             return
+        contact_group.read_back_contacts(self.contacts, self.args[12:19], history, taken)
         for f, (before, last) in zip(self.frictions, rates):
             f._rate_before, f._rate = float(before), float(last)
             if abs(f._rate) >= f.v_threshold:
@@ -249,6 +258,7 @@ def no_forces():
         np.zeros((0, contact_group.PARAMETERS)),
         np.zeros((0, contact_group.MOVING)),
         np.zeros((0, 2, 12)),
+        np.zeros((0, MEMORY)),
     )
 
 
@@ -397,11 +407,9 @@ def slip_rates(q, qd, forces, out):
     """out (n,) = the slip rate (rad/s) of each packed friction's joint at (q, qd)."""
     fric_i, fric_f, fric_v = forces[5], forces[6], forces[7]
     x, xd = ca.state_arrays(q, qd, q.shape[0] // 7)
-    state = np.empty(2)
     for i in range(fric_i.shape[0]):
         f = fric_f[i]
-        angle_state(x, xd, fric_i[i, 2], fric_i[i, 3], f[0:3], f[3:6], fric_v[i, 1], state)
-        out[i] = state[1]
+        _, out[i] = angle_rate(x, xd, fric_i[i, 2], fric_i[i, 3], f[0:3], f[3:6], fric_v[i, 1])
 
 
 @njit(**KERNEL)

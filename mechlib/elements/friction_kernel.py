@@ -16,7 +16,7 @@ import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
 from mechlib.elements.regularize import coulomb_factor
-from mechlib.kinematics.kernels import _rot, angle_state, body_forces
+from mechlib.kinematics.kernels import _rotated, angle_rate, body_forces
 
 __all__ = ["FLOATS", "INTS", "VARYING", "rotation_friction_coupling", "rotation_friction_wrench"]
 
@@ -35,24 +35,24 @@ v_threshold (rad/s), the impending slip direction (+1, -1 or 0)."""
 def _friction_state(x, xd, jac, lam, rows, ints, floats, varying):
     """(F_r, the reaction force (N, global) on body 1 normal to the axis; the axis (unit,
     global); the regularised fraction of the full friction, signed with the joint's rate)
-    at the state (the arguments of rotation_friction_wrench)."""
+    at the state (the arguments of rotation_friction_wrench); the vectors as tuples: no
+    array made (the loads are evaluated at every Newton iteration)."""
     body = ints[4]
-    force = np.zeros(3)
+    f0 = f1 = f2 = 0.0
     for r in range(rows.size):
         row = rows[r]
-        for c in range(3):
-            force[c] += jac[row, 7 * body + c] * lam[row]
-    axis = np.empty(3)
-    _rot(x[ints[3], 3:], floats[6:9], axis)
+        f0 += jac[row, 7 * body] * lam[row]
+        f1 += jac[row, 7 * body + 1] * lam[row]
+        f2 += jac[row, 7 * body + 2] * lam[row]
+    axis = _rotated(x[ints[3], 3:], floats[6:9])
+    f0, f1, f2 = f0 * -varying[0], f1 * -varying[0], f2 * -varying[0]
     along = 0.0
-    for c in range(3):
-        force[c] *= -varying[0]
-        along += force[c] * axis[c]
-    for c in range(3):
-        force[c] -= along * axis[c]
-    state = np.empty(2)
-    angle_state(x, xd, ints[2], ints[3], floats[0:3], floats[3:6], varying[1], state)
-    return force, axis, coulomb_factor(state[1] / varying[2] + varying[3], 1.0)
+    along += f0 * axis[0]
+    along += f1 * axis[1]
+    along += f2 * axis[2]
+    force = (f0 - along * axis[0], f1 - along * axis[1], f2 - along * axis[2])
+    _, rate = angle_rate(x, xd, ints[2], ints[3], floats[0:3], floats[3:6], varying[1])
+    return force, axis, coulomb_factor(rate / varying[2] + varying[3], 1.0)
 
 
 @njit(**KERNEL)

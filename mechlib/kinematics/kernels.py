@@ -18,6 +18,7 @@ from mechlib.core.jit import KERNEL, njit
 from mechlib.model.table_kernel import table_value
 
 __all__ = [
+    "angle_rate",
     "angle_state",
     "b_matrix",
     "body_forces",
@@ -36,6 +37,7 @@ __all__ = [
     "norm_gamma",
     "norm_jac",
     "norm_phi",
+    "pair_state",
     "point_force",
     "point_force3",
     "point_pair",
@@ -79,46 +81,76 @@ def _rotated(p, s):
 @njit(**KERNEL)
 def _brot(p, w, s, out):
     """out = B(p, s) w = 2 b(p, w) s (the rate of A(p) s for pd = w)."""
+    out[0], out[1], out[2] = _brotated(p, w, s)
+
+
+@njit(**KERNEL)
+def _brotated(p, w, s):
+    """The components of B(p, s) w as three numbers (`_brot` without an array)."""
     e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
     w0, f1, f2, f3 = w[0], w[1], w[2], w[3]
     c = e0 * w0 - (e1 * f1 + e2 * f2 + e3 * f3)
     fs = f1 * s[0] + f2 * s[1] + f3 * s[2]
     es = e1 * s[0] + e2 * s[1] + e3 * s[2]
-    out[0] = 2.0 * (
-        c * s[0] + e1 * fs + f1 * es + e0 * (f2 * s[2] - f3 * s[1]) + w0 * (e2 * s[2] - e3 * s[1])
-    )
-    out[1] = 2.0 * (
-        c * s[1] + e2 * fs + f2 * es + e0 * (f3 * s[0] - f1 * s[2]) + w0 * (e3 * s[0] - e1 * s[2])
-    )
-    out[2] = 2.0 * (
-        c * s[2] + e3 * fs + f3 * es + e0 * (f1 * s[1] - f2 * s[0]) + w0 * (e1 * s[1] - e2 * s[0])
+    return (
+        2.0
+        * (
+            c * s[0]
+            + e1 * fs
+            + f1 * es
+            + e0 * (f2 * s[2] - f3 * s[1])
+            + w0 * (e2 * s[2] - e3 * s[1])
+        ),
+        2.0
+        * (
+            c * s[1]
+            + e2 * fs
+            + f2 * es
+            + e0 * (f3 * s[0] - f1 * s[2])
+            + w0 * (e3 * s[0] - e1 * s[2])
+        ),
+        2.0
+        * (
+            c * s[2]
+            + e3 * fs
+            + f3 * es
+            + e0 * (f1 * s[1] - f2 * s[0])
+            + w0 * (e1 * s[1] - e2 * s[0])
+        ),
     )
 
 
 @njit(**KERNEL)
 def _bmat(p, s, out):
-    """out (3, 4) = B(p, s) = d(A(p) s)/dp."""
+    """out (3, 4) = B(p, s) = d(A(p) s)/dp (`_bmatrix`'s entries)."""
+    m = _bmatrix(p, s)
+    for a in range(3):
+        for b in range(4):
+            out[a, b] = m[4 * a + b]
+
+
+@njit(**KERNEL)
+def _bmatrix(p, s):
+    """B(p, s) = d(A(p) s)/dp as 12 numbers, row by row: no array made (the constraint
+    rows are evaluated at every Newton iteration; a small array costs about 30 ns there).
+    Columns 1-3: 2 (e s^T - s e^T + (e.s) I - e0 [s]x)."""
     e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
     s0, s1, s2 = s[0], s[1], s[2]
     es = e1 * s0 + e2 * s1 + e3 * s2
-    out[0, 0] = 2.0 * (e0 * s0 + e2 * s2 - e3 * s1)
-    out[1, 0] = 2.0 * (e0 * s1 + e3 * s0 - e1 * s2)
-    out[2, 0] = 2.0 * (e0 * s2 + e1 * s1 - e2 * s0)
-    e = (e1, e2, e3)
-    sv = (s0, s1, s2)
-    for a in range(3):
-        for b in range(3):
-            v = e[a] * sv[b] - sv[a] * e[b]
-            if a == b:
-                v += es
-            out[a, 1 + b] = 2.0 * v
-    # - e0 [s]x
-    out[0, 2] += 2.0 * e0 * s2
-    out[0, 3] -= 2.0 * e0 * s1
-    out[1, 1] -= 2.0 * e0 * s2
-    out[1, 3] += 2.0 * e0 * s0
-    out[2, 1] += 2.0 * e0 * s1
-    out[2, 2] -= 2.0 * e0 * s0
+    return (
+        2.0 * (e0 * s0 + e2 * s2 - e3 * s1),
+        2.0 * (e1 * s0 - s0 * e1 + es),
+        2.0 * (e1 * s1 - s0 * e2) + 2.0 * e0 * s2,
+        2.0 * (e1 * s2 - s0 * e3) - 2.0 * e0 * s1,
+        2.0 * (e0 * s1 + e3 * s0 - e1 * s2),
+        2.0 * (e2 * s0 - s1 * e1) - 2.0 * e0 * s2,
+        2.0 * (e2 * s1 - s1 * e2 + es),
+        2.0 * (e2 * s2 - s1 * e3) + 2.0 * e0 * s0,
+        2.0 * (e0 * s2 + e1 * s1 - e2 * s0),
+        2.0 * (e3 * s0 - s2 * e1) + 2.0 * e0 * s1,
+        2.0 * (e3 * s1 - s2 * e2) - 2.0 * e0 * s0,
+        2.0 * (e3 * s2 - s2 * e3 + es),
+    )
 
 
 @njit(**KERNEL)
@@ -131,68 +163,56 @@ def b_matrix(p, s):
 
 @njit(**KERNEL)
 def sph_phi(x, bi, bj, si, sj, out):
-    a = np.empty(3)
-    b = np.empty(3)
     for k in range(bi.shape[0]):
-        _rot(x[bi[k], 3:], si[k], a)
-        _rot(x[bj[k], 3:], sj[k], b)
+        a = _rotated(x[bi[k], 3:], si[k])
+        b = _rotated(x[bj[k], 3:], sj[k])
         for c in range(3):
             out[3 * k + c] = x[bi[k], c] + a[c] - x[bj[k], c] - b[c]
 
 
 @njit(**KERNEL)
 def sph_jac(x, bi, bj, si, sj, out):
-    m = np.empty((3, 4))
     for k in range(bi.shape[0]):
         ci, cj = 7 * bi[k], 7 * bj[k]
         for c in range(3):
             out[3 * k + c, ci + c] += 1.0
             out[3 * k + c, cj + c] -= 1.0
-        _bmat(x[bi[k], 3:], si[k], m)
+        m = _bmatrix(x[bi[k], 3:], si[k])
         for c in range(3):
             for d in range(4):
-                out[3 * k + c, ci + 3 + d] += m[c, d]
-        _bmat(x[bj[k], 3:], sj[k], m)
+                out[3 * k + c, ci + 3 + d] += m[4 * c + d]
+        m = _bmatrix(x[bj[k], 3:], sj[k])
         for c in range(3):
             for d in range(4):
-                out[3 * k + c, cj + 3 + d] -= m[c, d]
+                out[3 * k + c, cj + 3 + d] -= m[4 * c + d]
 
 
 @njit(**KERNEL)
 def sph_gamma(x, xd, bi, bj, si, sj, out):
-    a = np.empty(3)
-    b = np.empty(3)
     for k in range(bi.shape[0]):
-        _rot(xd[bi[k], 3:], si[k], a)
-        _rot(xd[bj[k], 3:], sj[k], b)
+        a = _rotated(xd[bi[k], 3:], si[k])
+        b = _rotated(xd[bj[k], 3:], sj[k])
         for c in range(3):
             out[3 * k + c] = -2.0 * (a[c] - b[c])
 
 
 @njit(**KERNEL)
 def dot1_phi(x, bi, bj, u, v, out):
-    a = np.empty(3)
-    b = np.empty(3)
     for k in range(bi.shape[0]):
-        _rot(x[bi[k], 3:], u[k], a)
-        _rot(x[bj[k], 3:], v[k], b)
-        out[k] = a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+        out[k] = _dot3(_rotated(x[bi[k], 3:], u[k]), _rotated(x[bj[k], 3:], v[k]))
 
 
 @njit(**KERNEL)
 def dot1_jac(x, bi, bj, u, v, out):
-    a = np.empty(3)
-    b = np.empty(3)
-    m = np.empty((3, 4))
     for k in range(bi.shape[0]):
-        _rot(x[bi[k], 3:], u[k], a)
-        _rot(x[bj[k], 3:], v[k], b)
-        _bmat(x[bi[k], 3:], u[k], m)
+        a = _rotated(x[bi[k], 3:], u[k])
+        b = _rotated(x[bj[k], 3:], v[k])
+        m = _bmatrix(x[bi[k], 3:], u[k])
         for d in range(4):
-            out[k, 7 * bi[k] + 3 + d] += b[0] * m[0, d] + b[1] * m[1, d] + b[2] * m[2, d]
-        _bmat(x[bj[k], 3:], v[k], m)
+            out[k, 7 * bi[k] + 3 + d] += b[0] * m[d] + b[1] * m[4 + d] + b[2] * m[8 + d]
+        m = _bmatrix(x[bj[k], 3:], v[k])
         for d in range(4):
-            out[k, 7 * bj[k] + 3 + d] += a[0] * m[0, d] + a[1] * m[1, d] + a[2] * m[2, d]
+            out[k, 7 * bj[k] + 3 + d] += a[0] * m[d] + a[1] * m[4 + d] + a[2] * m[8 + d]
 
 
 @njit(**KERNEL)
@@ -211,20 +231,11 @@ def dot1_rate(x, xd, bi, bj, u, v, out):
 
 @njit(**KERNEL)
 def dot1_gamma(x, xd, bi, bj, u, v, out):
-    a = np.empty(3)
-    b = np.empty(3)
-    ad = np.empty(3)
-    bd = np.empty(3)
-    add = np.empty(3)
-    bdd = np.empty(3)
     for k in range(bi.shape[0]):
         pi, pj, wi, wj = x[bi[k], 3:], x[bj[k], 3:], xd[bi[k], 3:], xd[bj[k], 3:]
-        _rot(pi, u[k], a)
-        _rot(pj, v[k], b)
-        _brot(pi, wi, u[k], ad)
-        _brot(pj, wj, v[k], bd)
-        _rot(wi, u[k], add)
-        _rot(wj, v[k], bdd)
+        a, b = _rotated(pi, u[k]), _rotated(pj, v[k])
+        ad, bd = _brotated(pi, wi, u[k]), _brotated(pj, wj, v[k])
+        add, bdd = _rotated(wi, u[k]), _rotated(wj, v[k])
         out[k] = -(2.0 * _dot3(add, b) + 2.0 * _dot3(ad, bd) + 2.0 * _dot3(a, bdd))
 
 
@@ -316,42 +327,63 @@ def norm_gamma(xd, nb, out):
 @njit(**KERNEL)
 def _g_times(p, w, out):
     """out (3) = G(p) w."""
+    out[0], out[1], out[2] = _g_of(p, w)
+
+
+@njit(**KERNEL)
+def _g_of(p, w):
+    """G(p) w as three numbers (no array made)."""
     e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
-    out[0] = -w[0] * e1 + e0 * w[1] - (e2 * w[3] - e3 * w[2])
-    out[1] = -w[0] * e2 + e0 * w[2] - (e3 * w[1] - e1 * w[3])
-    out[2] = -w[0] * e3 + e0 * w[3] - (e1 * w[2] - e2 * w[1])
+    return (
+        -w[0] * e1 + e0 * w[1] - (e2 * w[3] - e3 * w[2]),
+        -w[0] * e2 + e0 * w[2] - (e3 * w[1] - e1 * w[3]),
+        -w[0] * e3 + e0 * w[3] - (e1 * w[2] - e2 * w[1]),
+    )
 
 
 @njit(**KERNEL)
 def _gt_times(p, y, sign, out):
     """out (4) = G(p)^T y (sign = +1) or E(p)^T y (sign = -1)."""
+    out[0], out[1], out[2], out[3] = _gt_of(p, y, sign)
+
+
+@njit(**KERNEL)
+def _gt_of(p, y, sign):
+    """`_gt_times` as four numbers (no array made)."""
     e0, e1, e2, e3 = p[0], p[1], p[2], p[3]
-    out[0] = -(e1 * y[0] + e2 * y[1] + e3 * y[2])
-    out[1] = sign * (e2 * y[2] - e3 * y[1]) + e0 * y[0]
-    out[2] = sign * (e3 * y[0] - e1 * y[2]) + e0 * y[1]
-    out[3] = sign * (e1 * y[1] - e2 * y[0]) + e0 * y[2]
+    return (
+        -(e1 * y[0] + e2 * y[1] + e3 * y[2]),
+        sign * (e2 * y[2] - e3 * y[1]) + e0 * y[0],
+        sign * (e3 * y[0] - e1 * y[2]) + e0 * y[1],
+        sign * (e1 * y[1] - e2 * y[0]) + e0 * y[2],
+    )
 
 
 @njit(**KERNEL)
 def _inertia_times(inertia, w, out):
     """out (3) = inertia (3, 3) w, inline (numba's @ calls BLAS and allocates)."""
-    for a in range(3):
-        out[a] = inertia[a, 0] * w[0] + inertia[a, 1] * w[1] + inertia[a, 2] * w[2]
+    out[0], out[1], out[2] = _inertia_of(inertia, w)
+
+
+@njit(**KERNEL)
+def _inertia_of(inertia, w):
+    """inertia (3, 3) w as three numbers (no array made)."""
+    return (
+        inertia[0, 0] * w[0] + inertia[0, 1] * w[1] + inertia[0, 2] * w[2],
+        inertia[1, 0] * w[0] + inertia[1, 1] * w[1] + inertia[1, 2] * w[2],
+        inertia[2, 0] * w[0] + inertia[2, 1] * w[1] + inertia[2, 2] * w[2],
+    )
 
 
 @njit(**KERNEL)
 def mass_times(x, masses, inertia, scale, vec, out):
     """out = M(q) vec; M_p = 4 G^T J' G + scale p p^T (the last term only fixes |p|)."""
-    w, jw = np.empty(3), np.empty(3)
-    g4 = np.empty(4)
     for b in range(masses.shape[0]):
         o = 7 * b
         for c in range(3):
             out[o + c] = masses[b] * vec[o + c]
         p = x[b, 3:]
-        _g_times(p, vec[o + 3 : o + 7], w)
-        _inertia_times(inertia[b], w, jw)
-        _gt_times(p, jw, 1.0, g4)
+        g4 = _gt_of(p, _inertia_of(inertia[b], _g_of(p, vec[o + 3 : o + 7])), 1.0)
         pv = p[0] * vec[o + 3] + p[1] * vec[o + 4] + p[2] * vec[o + 5] + p[3] * vec[o + 6]
         for d in range(4):
             out[o + 3 + d] = 4.0 * g4[d] + scale[b] * p[d] * pv
@@ -417,22 +449,17 @@ def mass_matrix(x, masses, inertia, scale, out):
 def body_forces(x, xd, masses, inertia, gravity, F, N, with_inertia, out):
     """Q (nq): forces F and torques N (global, through the cm, gravity added here) and, with
     `with_inertia`, the quadratic velocity term -8 G(pd)^T J' G(p) pd."""
-    w, jw = np.empty(3), np.empty(3)
-    g4 = np.empty(4)
     for b in range(masses.shape[0]):
         o = 7 * b
         for c in range(3):
             out[o + c] = F[b, c] + masses[b] * gravity[c]
         p, pd = x[b, 3:], xd[b, 3:]
-        _gt_times(p, N[b], -1.0, g4)
+        g4 = _gt_of(p, N[b], -1.0)
         for d in range(4):
             out[o + 3 + d] = 2.0 * g4[d]
         if with_inertia:
-            _g_times(p, pd, w)
-            for c in range(3):
-                w[c] *= 2.0
-            _inertia_times(inertia[b], w, jw)
-            _gt_times(pd, jw, 1.0, g4)
+            w0, w1, w2 = _g_of(p, pd)
+            g4 = _gt_of(pd, _inertia_of(inertia[b], (w0 * 2.0, w1 * 2.0, w2 * 2.0)), 1.0)
             for d in range(4):
                 out[o + 3 + d] -= 4.0 * g4[d]
 
@@ -493,49 +520,64 @@ def point_force3(x, b, s, f0, f1, f2, F, N):
 @njit(**KERNEL)
 def point_pair(x, xd, b1, s1, b2, s2, unit):
     """(length (m), rate (m/s)) of the line from the body-fixed point s2 of b2 to s1 of b1;
-    its unit vector into `unit` (3,), zero at zero length."""
-    w = np.empty(12)  # A s of both points, then B w s: one array, not six
-    _rot(x[b1, 3:], s1, w[0:3])
-    _rot(x[b2, 3:], s2, w[3:6])
-    _brot(x[b1, 3:], xd[b1, 3:], s1, w[6:9])
-    _brot(x[b2, 3:], xd[b2, 3:], s2, w[9:12])
-    for c in range(3):  # positions and velocities: r + A s and rd + B w s
-        w[c] += x[b1, c]
-        w[3 + c] += x[b2, c]
-        w[6 + c] += xd[b1, c]
-        w[9 + c] += xd[b2, c]
-    d0, d1, d2 = w[0] - w[3], w[1] - w[4], w[2] - w[5]
-    length = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-    unit[0] = d0 / length if length > 0.0 else 0.0
-    unit[1] = d1 / length if length > 0.0 else 0.0
-    unit[2] = d2 / length if length > 0.0 else 0.0
-    rate = 0.0
-    for c in range(3):
-        rate += unit[c] * (w[6 + c] - w[9 + c])
+    its unit vector into `unit` (3,), zero at zero length (`pair_state`)."""
+    length, rate, unit[0], unit[1], unit[2] = pair_state(x, xd, b1, s1, b2, s2)
     return length, rate
+
+
+@njit(**KERNEL)
+def pair_state(x, xd, b1, s1, b2, s2):
+    """`point_pair` as five numbers (length (m), rate (m/s), the unit vector's three): no
+    array made (the elements' loads are evaluated at every Newton iteration)."""
+    a1, a2 = _rotated(x[b1, 3:], s1), _rotated(x[b2, 3:], s2)
+    v1, v2 = _brotated(x[b1, 3:], xd[b1, 3:], s1), _brotated(x[b2, 3:], xd[b2, 3:], s2)
+    # positions and velocities: r + A s and rd + B w s
+    d0 = (a1[0] + x[b1, 0]) - (a2[0] + x[b2, 0])
+    d1 = (a1[1] + x[b1, 1]) - (a2[1] + x[b2, 1])
+    d2 = (a1[2] + x[b1, 2]) - (a2[2] + x[b2, 2])
+    length = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
+    u0 = d0 / length if length > 0.0 else 0.0
+    u1 = d1 / length if length > 0.0 else 0.0
+    u2 = d2 / length if length > 0.0 else 0.0
+    rate = 0.0
+    rate += u0 * ((v1[0] + xd[b1, 0]) - (v2[0] + xd[b2, 0]))
+    rate += u1 * ((v1[1] + xd[b1, 1]) - (v2[1] + xd[b2, 1]))
+    rate += u2 * ((v1[2] + xd[b1, 2]) - (v2[2] + xd[b2, 2]))
+    return length, rate, u0, u1, u2
 
 
 @njit(**KERNEL)
 def spring_state(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, out):
     """out (5,) = [tension (N), length (m), unit vector (3) from point 2 to point 1] of a
-    linear spring-damper between the body-fixed points s1 of b1 and s2 of b2: stiffness
-    (N/m) x (length - free_length) + damping (N*s/m) x rate + preload; with `slack` (a
-    wire) none while shorter than its free length or pushing."""
-    length, rate = point_pair(x, xd, b1, s1, b2, s2, out[2:5])
+    linear spring-damper between the body-fixed points s1 of b1 and s2 of b2
+    (`_spring_tension`)."""
+    tension, length, u0, u1, u2 = _spring_tension(
+        x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack
+    )
+    out[0], out[1], out[2], out[3], out[4] = tension, length, u0, u1, u2
+
+
+@njit(**KERNEL)
+def _spring_tension(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack):
+    """(tension (N), length (m), unit vector (3) from point 2 to point 1): stiffness (N/m) x
+    (length - free_length) + damping (N*s/m) x rate + preload; with `slack` (a wire) none
+    while shorter than its free length or pushing."""
+    length, rate, u0, u1, u2 = pair_state(x, xd, b1, s1, b2, s2)
     stretch = length - free_length
     tension = stiffness * stretch + damping * rate + preload
     if slack and (stretch < 0.0 or tension < 0.0):
         tension = 0.0
-    out[0], out[1] = tension, length
+    return tension, length, u0, u1, u2
 
 
 @njit(**KERNEL)
 def spring_wrench(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, F, N):
     """Add a linear spring-damper's forces (spring_state): -tension along the unit vector
     at point 1, +tension at point 2, with their moments about the cms, to F and N."""
-    state = np.empty(5)
-    spring_state(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack, state)
-    f0, f1, f2 = state[0] * state[2], state[0] * state[3], state[0] * state[4]
+    tension, _, u0, u1, u2 = _spring_tension(
+        x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preload, slack
+    )
+    f0, f1, f2 = tension * u0, tension * u1, tension * u2
     point_force3(x, b1, s1, -f0, -f1, -f2, F, N)
     point_force3(x, b2, s2, f0, f1, f2, F, N)
 
@@ -543,32 +585,33 @@ def spring_wrench(x, xd, b1, s1, b2, s2, stiffness, damping, free_length, preloa
 @njit(**KERNEL)
 def angle_state(x, xd, bi, bj, f, g, reference, out):
     """out (2,) = [angle (rad), rate (rad/s)] of body bi relative to body bj about a joint
-    axis with body-fixed triad vectors f, g (mechlib.kinematics.coordinates.AngleMeasure): atan2(
-    f_i . g_j, f_i . f_j), unwrapped to the turn nearest `reference` (rad)."""
-    fi, gj, fj = np.empty(3), np.empty(3), np.empty(3)
-    fid, gjd, fjd = np.empty(3), np.empty(3), np.empty(3)
-    _rot(x[bi, 3:], f, fi)
-    _rot(x[bj, 3:], g, gj)
-    _rot(x[bj, 3:], f, fj)
-    _brot(x[bi, 3:], xd[bi, 3:], f, fid)
-    _brot(x[bj, 3:], xd[bj, 3:], g, gjd)
-    _brot(x[bj, 3:], xd[bj, 3:], f, fjd)
+    axis (`angle_rate`)."""
+    out[0], out[1] = angle_rate(x, xd, bi, bj, f, g, reference)
+
+
+@njit(**KERNEL)
+def angle_rate(x, xd, bi, bj, f, g, reference):
+    """(angle (rad), rate (rad/s)) of body bi relative to body bj about a joint axis with
+    body-fixed triad vectors f, g (mechlib.kinematics.coordinates.AngleMeasure): atan2(
+    f_i . g_j, f_i . f_j), unwrapped to the turn nearest `reference` (rad); no array made."""
+    pi, pj, wi, wj = x[bi, 3:], x[bj, 3:], xd[bi, 3:], xd[bj, 3:]
+    fi, gj, fj = _rotated(pi, f), _rotated(pj, g), _rotated(pj, f)
+    fid, gjd, fjd = _brotated(pi, wi, f), _brotated(pj, wj, g), _brotated(pj, wj, f)
     s, c = _dot3(fi, gj), _dot3(fi, fj)
     sd, cd = _dot3(fid, gj) + _dot3(fi, gjd), _dot3(fid, fj) + _dot3(fi, fjd)
     raw = math.atan2(s, c)
     turns = (reference - raw) / (2.0 * math.pi)
-    out[0] = raw + 2.0 * math.pi * np.round(turns)  # half-way ties to even, as Python's
-    out[1] = (c * sd - s * cd) / (s * s + c * c)
+    # half-way ties to even, as Python's
+    return raw + 2.0 * math.pi * np.round(turns), (c * sd - s * cd) / (s * s + c * c)
 
 
 @njit(**KERNEL)
 def torsion_wrench(x, xd, bi, bj, f, g, axis, reference, stiffness, damping, angle0, preload, N):
     """Add a linear torsion spring-damper's moments to N: moment = stiffness (N*m/rad) x
     (angle - angle0) + damping (N*m*s/rad) x rate + preload (N*m) about the joint axis
-    (body-fixed `axis` of bj), -moment on bi, +moment on bj (angle_state)."""
-    state = np.empty(2)
-    angle_state(x, xd, bi, bj, f, g, reference, state)
-    moment = stiffness * (state[0] - angle0) + damping * state[1] + preload
+    (body-fixed `axis` of bj), -moment on bi, +moment on bj (angle_rate)."""
+    angle, rate = angle_rate(x, xd, bi, bj, f, g, reference)
+    moment = stiffness * (angle - angle0) + damping * rate + preload
     _resist_rotation(x, bi, bj, axis, moment, N)
 
 
@@ -593,8 +636,7 @@ def torsion_table_wrench(x, xd, ints, floats, reference, breaks, coefs, ends, fl
 def _resist_rotation(x, bi, bj, axis, moment, N):
     """A moment (N*m) resisting bi's rotation about the body-fixed `axis` of bj: -moment
     on bi, +moment on bj (mechlib.elements.forces.resist_rotation)."""
-    a = np.empty(3)
-    _rot(x[bj, 3:], axis, a)
+    a = _rotated(x[bj, 3:], axis)
     for c in range(3):
         N[bi, c] -= moment * a[c]
         N[bj, c] += moment * a[c]

@@ -119,6 +119,22 @@ def test_a_leap_at_the_start_is_not_a_crest() -> None:
     assert found.row_max < found.max <= 1.0 + 1e-3
 
 
+def test_an_end_across_an_event_has_no_crest() -> None:
+    """The door jettison's hinge rate (rad/s) in its first rows: 0 until its rod is
+    disconnected at 1 ms (an event, its row the state before), then rising. The cubic
+    through the four first rows spans that kink and reads a trough 3.3e-3 below the
+    first row (the envelope's estimate was 8.6 times its true error, 1.0 without); with
+    the event known the end is its row. A stop at the last row is no break: its end's
+    cubic is kept (the same trough read when the only event is the last row's)."""
+    time = np.array([0.0, 0.001, 0.002, 0.004, 0.006, 0.008])
+    rate = np.array([0.0, 2.4e-16, 0.0191057833, 0.0572220371, 0.0954446939, 0.133447104])
+    assert extremes(time, rate).min < -3e-3
+    assert extremes(time, rate, [0.001]).min == 0.0
+    assert extremes(time, rate, [0.008]).min == extremes(time, rate).min
+    mirrored = extremes(-time[::-1], rate[::-1], [-0.001])  # the same at the last rows
+    assert mirrored.min == 0.0 and extremes(-time[::-1], rate[::-1]).min < -3e-3
+
+
 def _two_crests(rows: float, first: float, second: float) -> tuple[np.ndarray, np.ndarray]:
     """Rows `rows` s apart over 1 s of two parabolic crests, heights `first` (t = 0.24 s)
     and `second` (t = 0.76 s), above a floor of 0.5: the crests lie on every grid used

@@ -25,6 +25,12 @@ grid-companion; docs/performance.md, "The companion on the run's own steps"): hi
 peaks 0.86-1.21 on the pendulum, 2.12 on the servo's stroke (its thinned rows' crests),
 0.97-1.67 on A01, 0.75-1.97 on Andrews; A02 N = 3 (the finer pair) and A05 (the adaptive
 companion) as above.
+
+A run with events, the door jettison (its rod disconnected at 1 ms, a stop at 113 deg;
+2026-11-29 20:10 UTC, branch grid-events; the other event cases in benchmarks/
+error_table_events.py, docs/performance.md): histories 0.93-1.11, peaks 0.80-1.78 (its
+hinge rate 8.61 before an end's cubic stopped spanning an event), its top acceleration
+4.44 (`HIGH_PEAK`).
 """
 
 from __future__ import annotations
@@ -50,11 +56,24 @@ SINGULAR = ("A02 N=3 3-D",)  # passes a singular position: estimated from a fine
 # 2.33, spring1_force 2.15, travel and the crank angles 0.48-0.50, hinge1_force 0.67;
 # with it held off (main afd8c21's steps) spin_rate read 5.74 and rate1 5.32: the
 # companion's steps after its Newton failures at the spring's leap. Pins kept as they were
-HIGH_PEAK = {("A05", "rate1"): 4.2, ("A05", "hinge1_force"): 3.2}
+# The door jettison's top acceleration, 4.44 (both companions; 2026-11-29 20:10 UTC, branch
+# grid-events): its largest value just after the rod's disconnection at 1 ms, where the
+# accelerations jump and then fall; the run's row at 2 ms reads it, the companion's rows,
+# thinned to 16 ms, do not (18.76 for 19.14 m/s^2), and the difference / 3 is 0.125 for a
+# true 0.028 (2.85 at the target's scale)
+HIGH_PEAK = {
+    ("A05", "rate1"): 4.2,
+    ("A05", "hinge1_force"): 3.2,
+    ("door jettison", "top_acceleration"): 4.6,
+}
 # the companion each case's estimate is made with (loadcases.run.companion): on the run's
-# own steps two at a time, but on A05, whose doubled steps fail Newton at the stiff springs
-# past the grid's split limit (27 of its 1317 steps: stopped at 0.77 s of 10 s), error-controlled
-ADAPTIVE = ("A05",)
+# own steps two at a time, or error-controlled (none of the cheap cases now). A05's doubled
+# steps failed Newton at the stiff springs past the grid's split limit (27 of its 1317
+# steps: stopped at 0.77 s of 10 s) on main 736b23b; on main 85ba0ce (after the rows-interp
+# and socket-run merges, the latter's Newton refresh at a stalled kept-tangent iterate the
+# likely cause, not traced) its grid companion runs through (2026-11-29 20:19 UTC, branch
+# grid-events, no event in A05: untouched by it): histories 0.99-1.32, peaks 0.85-2.51
+ADAPTIVE: tuple[str, ...] = ()
 
 
 @pytest.mark.parametrize("name", list(CHEAP))

@@ -28,6 +28,7 @@ from mechlib.elements.contact import kernels
 from mechlib.elements.contact.friction import NO_FRICTION
 from mechlib.elements.contact.geometry import Gap
 from mechlib.elements.contact.laws import IMPACT, MIN_APPROACH_SPEED
+from mechlib.elements.contact.memory import MEMORY, commit_memory
 from mechlib.elements.regularize import StaticSlipAnchor, at_rest
 from mechlib.kinematics.view import StateView
 
@@ -79,7 +80,8 @@ class Contact(StaticSlipAnchor):
     active: bool = True
     output_units = _CONTACT_UNITS
     approach: float = 0.0  # m/s, penetration rate when the current contact began
-    _memory: tuple = field(default=(False, 0.0, 0.0), repr=False)  # in contact, x, xd
+    # in contact (1.0 or 0.0), x (m), xd (m/s) at the last accepted state (memory.MEMORY)
+    _memory: np.ndarray = field(default_factory=lambda: np.zeros(MEMORY), repr=False)
     # (time, approach) at every accepted state: outputs are read after the solve, and a
     # recorded state must see the approach speed the integrator used for it
     _history: tuple[list, list] = field(default_factory=lambda: ([], []), repr=False)
@@ -181,7 +183,7 @@ class Contact(StaticSlipAnchor):
         the impact law ramps in from the penetration now (no step in the damping)."""
         gap = self.geometry.gap(view)
         x, xd = gap.penetration, gap.rate
-        self._memory = (x > 0.0, x, xd)
+        self._memory = np.array([1.0 if x > 0.0 else 0.0, x, xd])
         self._law_start(max(x, 0.0), view.t)
         if self.law.remembers and x > 0.0:
             self.approach = max(xd, MIN_APPROACH_SPEED)
@@ -207,34 +209,47 @@ class Contact(StaticSlipAnchor):
 
     def commit(self, view: StateView) -> None:
         """Remember the poses of the two bodies (static slip) and the approach speed when a
-        contact begins: while apart, the rate of the latest state; at the first state in
-        contact, the rate interpolated to x = 0 between that state and the last one apart
-        (the step across the impact is not resolved)."""
-        if self.friction is not None:  # a new array: recorded snapshots keep the old ones
-            self._anchor = np.array(
-                [np.r_[view.kin.r[b], view.rotation(b).ravel()] for b in (self._b1, self._b2)]
-            )
-        gap = self.geometry.gap(view)
-        x, xd = gap.penetration, gap.rate
+        contact begins (mechlib.elements.contact.memory, the rule the compiled whole run
+        commits by too)."""
+        kind, b1, b2, g = self._wrench_kernel()[:4]
+        posed = self.friction is not None
+        # new arrays: recorded snapshots keep the old anchor, copies the old memory
+        anchor = np.empty((2, 12)) if posed else self._anchor
+        memory = self._memory.copy()
+        approach, x = commit_memory(
+            kind, b1, b2, g, self.law.remembers, posed, view.kin.x, view.kin.xd, memory,
+            float(self.approach), anchor,
+        )  # fmt: skip
+        self._anchor = anchor
         if x <= 0.0:
             self._law_start(0.0, view.t)
         if not self.law.remembers:
             return
-        was_in, x0, xd0 = self._memory
-        if x <= 0.0:
-            self.approach = xd
-        elif not was_in and x0 < 0.0:
-            self.approach = xd0 + (xd - xd0) * (-x0) / (x - x0)
-        self._memory = (x > 0.0, x, xd)
+        self.approach, self._memory = approach, memory
         self._record(view.t)
 
     def _record(self, t: float) -> None:
         """Remember the approach speed from time t (s) on."""
-        times, values = self._history
-        del values[bisect_left(times, t) :]  # a restart from an earlier time
-        del times[bisect_left(times, t) :]
+        times, values = self._cut(t)
         times.append(t)
         values.append(self.approach)
+
+    def extend_history(self, times: np.ndarray, approaches: np.ndarray) -> None:
+        """The approach speeds (m/s) a compiled run committed at its accepted states at
+        `times` (s, rising), as `_record` remembers them one by one."""
+        if not self.law.remembers or not len(times):
+            return
+        kept, values = self._cut(float(times[0]))
+        kept.extend(times.tolist())
+        values.extend(approaches.tolist())
+
+    def _cut(self, t: float) -> tuple[list, list]:
+        """The history, what it held from time t (s) on dropped (a restart from an earlier
+        time)."""
+        times, values = self._history
+        del values[bisect_left(times, t) :]
+        del times[bisect_left(times, t) :]
+        return times, values
 
     def potential(self, view: StateView) -> float:
         """Elastic energy (J) stored in the penetration (0 apart)."""

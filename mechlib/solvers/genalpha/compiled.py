@@ -31,7 +31,15 @@ from mechlib.linalg.flat_lu import lu_solve, lu_solve_into
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
 
-__all__ = ["CONVERGED", "STALLED", "loaded_newton", "newton", "newton_loop"]
+__all__ = [
+    "CONVERGED",
+    "STALLED",
+    "loaded_newton",
+    "newton",
+    "newton_loop",
+    "rigid_work",
+    "worked_newton",
+]
 
 CONVERGED, STALLED = 1, 2
 
@@ -70,7 +78,7 @@ def _bind_parts() -> None:
     kernels of the ctx's kind, resolved by its length when a caller compiles."""
     from numba.extending import overload
 
-    @overload(system_residual)
+    @overload(system_residual, inline="always")
     def _residual(ctx, q1, qd1, qdd1, lam1, res):
         kernel = _compiled(_PARTS[len(ctx)][0])
 
@@ -79,7 +87,7 @@ def _bind_parts() -> None:
 
         return residual
 
-    @overload(system_consistent)
+    @overload(system_consistent, inline="always")
     def _consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, out):
         kernel = _compiled(_PARTS[len(ctx)][1])
 
@@ -141,19 +149,44 @@ def loaded_newton(
     advance over the step h (s) from z0 (rates f0), and the packed force elements
     (`elements`: CompiledForces.args, mechlib.elements.compiled_forces) load the bodies;
     (ints, floats): the constraints' pack (constraint_arrays), `body` the bodies' mass terms."""
-    nq = q1.shape[0]
+    return worked_newton(
+        q1, qd1, qdd1, lam1, rigid_work(ints, floats, q1.shape[0]), functions, refs, body, fi,
+        ff, q_abs, a_ref, params, it, prev, eta, qdd, a, true, h, z0, f0, z, elements,
+    )  # fmt: skip
+
+
+@njit(**KERNEL)
+def rigid_work(ints, floats, nq):
+    """The arrays a rigid system's Newton iterations work in (`worked_newton`): the
+    constraints' pack unpacked (ca.unpack), the residuals and Jacobian rows of all rows
+    (each iteration fills its rows' blocks only), `_residual_work`'s, x and xd (nb+1, 7).
+    A whole run (mechlib.solvers.genalpha.run) makes them once, not at every step."""
     nb = nq // 7
     nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
-    x, xd = np.empty((nb + 1, 7)), np.empty((nb + 1, 7))
-    rows = np.empty((nall, nq + 7))  # each iteration fills its rows' blocks only
-    ctx = (ca.unpack(ints, floats), functions, refs, body, h, z0, f0, z, elements,
-           np.empty(nall), rows, _residual_work(nq), x, xd)  # fmt: skip
+    return (
+        ca.unpack(ints, floats), np.empty(nall), np.empty((nall, nq + 7)), _residual_work(nq),
+        np.empty((nb + 1, 7)), np.empty((nb + 1, 7)),
+    )  # fmt: skip
+
+
+@njit(**KERNEL)
+def worked_newton(
+    q1, qd1, qdd1, lam1, work, functions, refs, body, fi, ff, q_abs, a_ref, params, it, prev,
+    eta, qdd, a, true, h, z0, f0, z, elements,
+):  # fmt: skip
+    """`loaded_newton` in the arrays `work` (`rigid_work`)."""
+    packed, full, rows, residual, x, xd = work
+    ctx = (packed, functions, refs, body, h, z0, f0, z, elements, full, rows, residual, x, xd)
     return newton_loop(
         ctx, q1, qd1, qdd1, lam1, fi, ff, q_abs, a_ref, params, it, prev, eta, qdd, a, true
     )
 
 
-@njit(**KERNEL)
+# The rigid system's parts are inlined into `newton_loop` (numba's IR inlining, as the
+# overloads that choose them): a call handing on `ctx`, a tuple of about 50 arrays, by value
+# cost 1.3 us of a four-bar's 4.7 us residual at every Newton iteration
+# (benchmarks/kinds/fourbar_friction.py; docs/performance.md).
+@njit(**KERNEL, inline="always")
 def _rigid_residual(ctx, q1, qd1, qdd1, lam1, res):
     """res = (M qdd + phi_q^T lam - Q, phi) of the active rows at the iterate
     (`loaded_newton`'s ctx: its rows left for `_rigid_consistent`)."""
@@ -168,7 +201,7 @@ def _rigid_residual(ctx, q1, qd1, qdd1, lam1, res):
         res[nq + i] = full[active[i]]
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def _rigid_consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, out):
     """`_true_acceleration` with `loaded_newton`'s ctx."""
     packed, functions, refs, body, _, _, _, z, elements, _, rows, work, _, _ = ctx

@@ -53,9 +53,13 @@ class Scales:
 @njit(**KERNEL)
 def predict(q, qd, qdd, a, h, alpha_m, beta, gamma):
     """Predictor with qdd_{n+1} = qdd_n: (q, qd, qdd) at t + h."""
-    a1 = (qdd - alpha_m * a) / (1.0 - alpha_m)
-    q1 = q + h * qd + h * h * ((0.5 - beta) * a + beta * a1)
-    qd1 = qd + h * ((1.0 - gamma) * a + gamma * a1)
+    nq = q.shape[0]
+    q1, qd1 = np.empty(nq), np.empty(nq)
+    hh = h * h
+    for i in range(nq):  # one loop: no temporary arrays
+        a1 = (qdd[i] - alpha_m * a[i]) / (1.0 - alpha_m)
+        q1[i] = q[i] + h * qd[i] + hh * ((0.5 - beta) * a[i] + beta * a1)
+        qd1[i] = qd[i] + h * ((1.0 - gamma) * a[i] + gamma * a1)
     return q1, qd1, qdd.copy()
 
 

@@ -144,7 +144,7 @@ def run_modal(
             return rr.STOPPED, i, written  # a new differenced tangent: Python's step
         h = rr._trial_step(t, outs[i] - t, ctrl, False, rr._NO_GRID)  # no grid: ctrl[GRID] 0
         rr._carried(h, ctrl, own, cons)  # GeneralizedAlphaStepper._attempt
-        if counts[rr.STEPS] + counts[rr.REJECTED] + (ctrl[rr.END] - t) / h > ctrl[rr.MAX_STEPS]:
+        if rr._watched(counts, ctrl, t, h):
             return rr.STOPPED, i, written  # the step-collapse watch
         functions_at(handle, t + h, system[2])
         if not np.isfinite(system[2]).all():
@@ -267,7 +267,7 @@ class ModalRun(rr.StepRun):
         for m, value in zip(system.angle_measures, refs_all):
             m.reference = float(value)
         if taken or rejected or ctrl[rr.RESTARTED]:
-            s = self._moved(s, ctrl, own, own_lam, cons, cons_lam, taken)
+            s = self._moved(s, ctrl, own, own_lam, cons, cons_lam)
         self._record(trajectory, rows_t[:written], rows_state[:written], rows_refs[:written])
         if written and progress:
             progress(float(rows_t[written - 1]), stepper.spec.end)
@@ -288,17 +288,17 @@ class ModalRun(rr.StepRun):
         ctrl[[rr.ALPHA_M, rr.ALPHA_F, rr.BETA, rr.GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
         ctrl[rr.H_MIN] = stepper.h_min
         ctrl[rr.CEILING] = stepper.ceiling
+        window = stepper.collapse.since
+        ctrl[rr.WATCH] = -1.0 if window is None else float(window.taken)
         return ctrl
 
-    def _moved(self, s, ctrl, own, own_lam, cons, cons_lam, taken: int):
+    def _moved(self, s, ctrl, own, own_lam, cons, cons_lam):
         """The stepper's state after a call that moved, shrunk or carried a to a new h."""
         stepper, integ = self.stepper, self.stepper.integ
         stepper.h, stepper.h_used = float(ctrl[rr.H]), float(ctrl[rr.H_USED])
         stepper.ceiling = float(ctrl[rr.CEILING])
         integ.eta, integ.stale = float(ctrl[rr.ETA]), bool(ctrl[rr.STALE])
         integ.retangent = bool(ctrl[RETANGENT])
-        if taken:
-            stepper.collapse.since = None  # every step was well within max_steps
         return type(s)(
             float(ctrl[rr.T]), own[0], cons[0], cons[1], cons_lam,
             raw_qd=own[1], raw_qdd=own[2], a=own[3], raw_lam=own_lam,

@@ -1,16 +1,19 @@
 """Runs of generalized-alpha steps in one compiled call.
 
 For a rigid system with no element states but those of `valve` actuators with a constant
-command (mechlib.solvers.genalpha.run_states), no force element without a compiled form, no
-stuck joint friction and no time function in its equations (a free mechanism under gravity,
-with springs, dampers and sliding joint friction: the bench models, a free deployment
-phase; a ram driven by its servo-actuator), `run_steps` takes accepted steps one after
+command (mechlib.solvers.genalpha.run_states) or a clearance joint's wear work, no force
+element without a compiled form, no stuck joint friction and no time function in its
+equations (a free mechanism under gravity, with springs, dampers, sliding joint friction and
+primitive contacts: the bench models, a free deployment phase; a ram driven by its
+servo-actuator; a ball rattling in its socket), `run_steps` takes accepted steps one after
 another, landing on the output times (`output: steps`) or towards the end (dense output), as
 `GeneralizedAlphaStepper.step`, `accept` and `march` do them -- the step size from the error
-estimate, the Newton iterations (mechlib.solvers.genalpha.compiled.newton), the error estimate, the
-acceleration scales, the angles' unwrapping, the rows at the output times (a step's own
-state, or dense rows interpolated and projected by mechlib.solvers.dense_compiled.project_row) --
-without returning to Python between steps.
+estimate, the Newton iterations (mechlib.solvers.genalpha.compiled.newton), the error
+estimate, the acceleration scales, the angles' unwrapping, the contacts' memories committed
+(mechlib.elements.contact.memory, before the step's rows, as `march` settles a step before
+its rows), the rows at the output times (a step's own state, or dense rows interpolated and
+projected by mechlib.solvers.dense_compiled.project_row) -- without returning to Python
+between steps.
 
 Before a step that needs a new factorisation of the iteration matrix (a stale one, or a step
 size more than 25 % away from the factored one) it factors [[M, phi_q^T], [phi_q, 0]] at the
@@ -22,12 +25,14 @@ integrator's velocity and pseudo-acceleration to it as the Python step does (rul
 ctrl[RESTARTED] tells `StepRun` that the state it hands back has them). It stops, leaving the
 state where it was (but for those two), before any step that needs what only the Python
 stepper does: a step below the step floor, Newton stalling on a matrix it cannot refresh (one
-made for an earlier step is refreshed at Newton's iterate and the iteration goes on, as the
-Python step does: `_refreshed`), the step limit or a
-collapsing step size, a dense row the compiled projection gives back; and before recording
-a non-finite row.
+made for an earlier step, or for this one with the differenced tangent kept, is refreshed at
+Newton's iterate and the iteration goes on, as the Python step does: `_refreshed`), the step
+limit, a step the step-collapse watch must see (`_watched`: where a window opens or may
+close), a dense row the compiled projection gives back; and before recording a non-finite
+row.
 `march` then takes one step in Python and calls it again: the same steps, iterations and
-results as the Python loop to round-off (tests/mechlib/test_genalpha_run.py).
+results as the Python loop to round-off (tests/mechlib/test_genalpha_run.py,
+tests/mechlib/contact/test_contact_runs.py).
 """
 
 from __future__ import annotations
@@ -48,6 +53,8 @@ from mechlib.elements.compiled_forces import (
     slipping_on,
     update_references,
 )
+from mechlib.elements.contact import group as contact_group
+from mechlib.elements.contact.group import commit_contacts, contacts_tangent
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.kinematics.coordinates import AngleMeasure
 from mechlib.linalg.flat_lu import SUPERLU, refactor
@@ -61,7 +68,7 @@ from mechlib.solvers.dense_compiled import (
 from mechlib.solvers.finite import all_finite
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
-from mechlib.solvers.genalpha.compiled import CONVERGED, loaded_newton
+from mechlib.solvers.genalpha.compiled import CONVERGED, rigid_work, worked_newton
 from mechlib.solvers.genalpha.run_states import (
     RunStates,
     accept_states,
@@ -71,6 +78,7 @@ from mechlib.solvers.genalpha.run_states import (
     states_error,
     trial_start,
 )
+from mechlib.solvers.runaway import COLLAPSE_STEPS
 from mechlib.system.saddle import coupled_pattern, saddle_values
 
 __all__ = ["FAILED", "REFACTOR", "STOPPED", "StepRun", "run_steps"]
@@ -94,7 +102,12 @@ TRIED = 22  # in: the matrix new for the next step (FRESH) was refactored for sl
 CEILING = 23  # in/out: the steps' ceiling after a Newton failure (s; rules.step_size)
 GRID = 24  # in: the steps follow `grid` (rules.on_grid), no error test
 SPLIT = 25  # in/out: the grid's step from here failed Newton: to its middle first
-CTRL_SIZE = 26
+# in: the matrix new for the next step (FRESH) took a new differenced tangent, or the
+# system has none (Integrator.stiff False): Newton stalling on it fails the step
+RENEWED = 26
+STIFF = 27  # in: 1.0 where the iteration matrix holds a tangent (Integrator.stiff)
+WATCH = 28  # in: the step-collapse watch's open window: its first step count (-1: none)
+CTRL_SIZE = 29
 # the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
 # the rules of mechlib.solvers.genalpha.rules, as the Python stepper does
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
@@ -110,7 +123,8 @@ def _reached(t_out, t):
 def run_steps(
     own, own_lam, cons, cons_lam, ctrl, counts, outs, first, ints, floats, functions, body,
     fi, ff, layout, q_abs, a_ref, angles, refs_all, block_angles, projection, rows_t,
-    rows_state, rows_refs, most_steps, elements, columns, rates, states, tangent, grid, steps_t,
+    rows_state, rows_refs, most_steps, elements, rest, rates, states, tangent, kept, grid,
+    steps_t,
 ):  # fmt: skip
     """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
     `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
@@ -124,9 +138,13 @@ def run_steps(
     layout's places, rows and columns; kind -1: none) fits them. `angles` = (ai, aj, au, av)
     of every angle measure, `refs_all` their references (in place), `block_angles` the
     indices of the constraint rows' angles among them. `elements`: the packed force elements
-    (mechlib.elements.compiled_forces; their tangent over `columns` enters the iteration
-    matrix), `rates` (n, 2) their frictions' slip rates (rad/s) at the last two accepted
-    states (in place); it stops before a step in which a friction may stick. `states`: the
+    (mechlib.elements.compiled_forces; their tangent enters the iteration matrix: the
+    contacts' own, the differenced tangent of `rest` = (the elements but the contacts,
+    the columns they act on)), `rates` (n, 2) their frictions' slip rates (rad/s) at the
+    last two accepted states (in place); it stops before a step in which a friction may
+    stick. The contacts' memories are committed on each accepted state, in place in
+    `elements` (mechlib.elements.contact.group.commit_contacts), the time and approach
+    speeds of each accepted step kept in `kept` (contact_group.history). `states`: the
     element states (mechlib.solvers.genalpha.run_states: accepted, trial, rates, history,
     error weights, the rows' states), advanced in each step's Newton iterations and
     tangent, tested by the step's error, their rates at its end evaluated once (for the rows
@@ -148,6 +166,7 @@ def run_steps(
     kind, prow, pcol, place, brow, bcol = layout
     values = np.empty(prow.shape[0])
     slips = np.empty(rates.shape[0])  # the frictions' slip rates at a state
+    work = rigid_work(ints, floats, nq)  # Newton's arrays, made once for the call's steps
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[T]
@@ -166,7 +185,7 @@ def run_steps(
             return limit, i, written
         h_try = _trial_step(t, target - t, ctrl, dense, grid)
         _carried(h_try, ctrl, own, cons)  # GeneralizedAlphaStepper._attempt
-        if counts[STEPS] + counts[REJECTED] + (ctrl[END] - t) / h_try > ctrl[MAX_STEPS]:
+        if _watched(counts, ctrl, t, h_try):
             return STOPPED, i, written  # the step-collapse watch
         fresh = ctrl[FRESH] != 0.0
         ctrl[FRESH] = 0.0
@@ -179,13 +198,14 @@ def run_steps(
         trial_start(states)
         # refactored for slowness with the tangent kept (Integrator.step's `tried`)
         tried = fresh and ctrl[TRIED] != 0.0
+        renewed = fresh and ctrl[RENEWED] != 0.0  # Integrator._compiled_step's `refreshed`
         if _matrix_due(ctrl, h_try, fresh):
             # [[M, phi_q^T], [phi_q, 0]] at the predicted state (Integrator._iteration_matrix)
             stale = ctrl[STALE] != 0.0
             retangent = stale and ctrl[RETANGENT] != 0.0
             if not _refactored(q1, qd1, own_lam, h_try, ctrl, kind, ints, floats,
                                functions, refs, body, prow, pcol, values, place, brow, bcol,
-                               fi, ff, elements, columns, tangent, states,
+                               fi, ff, elements, rest, tangent, states,
                                retangent):  # fmt: skip
                 ctrl[NEXT_H] = h_try  # StepRun factors it (or finds it singular)
                 return REFACTOR, i, written
@@ -194,22 +214,22 @@ def run_steps(
             ctrl[LU_H], ctrl[STALE], ctrl[H_USED] = h_try, 0.0, h_try
             ctrl[REFACTORED] += 1.0
             fresh, tried = True, stale and not retangent
+            renewed = retangent or ctrl[STIFF] == 0.0
         params[0] = (1.0 - am) / (h_try * h_try * beta * (1.0 - af))
         params[1] = gamma / (h_try * beta)
         lam1 = own_lam.copy()
-        status, it, _, eta, done = loaded_newton(
-            q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref,
-            params, 0, math.inf, ctrl[ETA], own[2], own[3], true, h_try, states[0], states[2],
-            states[1], elements,
+        status, it, _, eta, done = worked_newton(
+            q1, qd1, qdd1, lam1, work, functions, refs, body, fi, ff, q_abs, a_ref, params, 0,
+            math.inf, ctrl[ETA], own[2], own[3], true, h_try, states[0], states[2], states[1],
+            elements,
         )  # fmt: skip
-        status, it, eta, done, fresh, tried = _refreshed(
-            status, it, eta, done, fresh, tried, q1, qd1, qdd1, lam1, own, true, h_try, ctrl,
-            counts,
-            params, kind, ints, floats, functions, refs, body, prow, pcol, values, place,
-            brow, bcol, fi, ff, q_abs, a_ref, elements, columns, tangent, states,
+        status, it, eta, done, renewed, tried = _refreshed(
+            status, it, eta, done, renewed, tried, q1, qd1, qdd1, lam1, own, true, h_try, ctrl,
+            counts, params, kind, ints, floats, work, functions, refs, body, prow, pcol, values,
+            place, brow, bcol, fi, ff, q_abs, a_ref, elements, rest, tangent, states,
         )  # fmt: skip
         if status != CONVERGED:
-            return _newton_stopped(ctrl, counts, fresh, done, h_try, status), i, written
+            return _newton_stopped(ctrl, counts, renewed, done, h_try, status), i, written
         new_qdd = true[nq : 2 * nq]
         err = 0.0
         if ctrl[GRID] == 0.0:
@@ -228,11 +248,14 @@ def run_steps(
         ends[0], ends[1], ends[2] = own[0], cons[0], cons[1]
         ends[3], ends[4], ends[5] = q1, true[:nq], new_qdd
         end_rates(q1, qd1, elements, states)
+        # the contacts' memories first: the Python stepper settles a step before its rows
+        saved = _committed(q1, qd1, t_new, elements, kept, taken, due)
         fresh_rows = _dense_rows(
             ends, t, t_new, outs[i : i + due], written, ints, floats, functions, new_block,
             new_refs, body, projection, rows_t, rows_state, rows_refs, elements, states,
         )  # fmt: skip
         if fresh_rows < 0:  # the Python stepper takes this step and its rows
+            _uncommitted(elements, saved)
             return STOPPED, i, written
         # accepted (GeneralizedAlphaStepper._attempt, then settle)
         counts[ITERATIONS] += done
@@ -334,6 +357,19 @@ def _limits(counts, ctrl, taken, most_steps):
 
 
 @njit(**KERNEL)
+def _watched(counts, ctrl, t, h):
+    """The step h (s) from t (s) is one the step-collapse watch must see
+    (mechlib.solvers.runaway.StepCollapse.watch, in Python after each accepted step): with
+    no window open, a step at whose pace the run would pass analysis.max_steps (the watch
+    opens one); with a window open (ctrl[WATCH]), a step that may close it (COLLAPSE_STEPS
+    from its start). Within a window the watch does nothing: the steps go on here."""
+    taken = counts[STEPS] + counts[REJECTED]
+    if ctrl[WATCH] < 0.0:
+        return taken + (ctrl[END] - t) / h > ctrl[MAX_STEPS]
+    return taken + 1 - ctrl[WATCH] >= COLLAPSE_STEPS
+
+
+@njit(**KERNEL)
 def _trial_step(t, interval, ctrl, dense, grid):
     """The step (s) from t towards a time `interval` s ahead: along the grid with
     ctrl[GRID], else with step size ctrl[H] (GeneralizedAlphaStepper.trial_step)."""
@@ -354,43 +390,44 @@ _SINGULAR = -1  # `_refreshed`: the iteration matrix is singular at Newton's ite
 
 @njit(**KERNEL)
 def _refreshed(
-    status, it, eta, done, fresh, tried, q1, qd1, qdd1, lam1, own, true, h, ctrl, counts,
-    params, kind, ints, floats, functions, refs, body, prow, pcol, values, place, brow, bcol,
-    fi, ff, q_abs, a_ref, elements, columns, tangent, states,
+    status, it, eta, done, renewed, tried, q1, qd1, qdd1, lam1, own, true, h, ctrl, counts,
+    params, kind, ints, floats, work, functions, refs, body, prow, pcol, values, place, brow,
+    bcol, fi, ff, q_abs, a_ref, elements, rest, tangent, states,
 ):  # fmt: skip
-    """Newton stalled on the step h (s) with an old iteration matrix: refreshed at the
+    """Newton stalled on the step h (s) with an iteration matrix made for an earlier step,
+    or for this one with the differenced tangent kept (not `renewed`): refreshed at the
     iterate, its tangent anew, Newton goes on from there (Integrator._compiled_step), in
-    this call. Returns (status, it, eta, done, fresh, tried) as they are after it (as given
-    where Newton converged, the matrix was new, or the layout does not fit the factors:
-    Python then takes the step); status _SINGULAR where the refreshed matrix is
+    this call. Returns (status, it, eta, done, renewed, tried) as they are after it (as
+    given where Newton converged, the matrix was renewed, or the layout does not fit the
+    factors: Python then takes the step); status _SINGULAR where the refreshed matrix is
     singular."""
-    if status == CONVERGED or fresh or fi[0] != kind:
-        return status, it, eta, done, fresh, tried
+    if status == CONVERGED or renewed or fi[0] != kind:
+        return status, it, eta, done, renewed, tried
     if not _refactored(q1, qd1, lam1, h, ctrl, kind, ints, floats, functions, refs, body,
-                       prow, pcol, values, place, brow, bcol, fi, ff, elements, columns,
+                       prow, pcol, values, place, brow, bcol, fi, ff, elements, rest,
                        tangent, states, True):  # fmt: skip
-        return _SINGULAR, it, eta, done, fresh, tried
+        return _SINGULAR, it, eta, done, renewed, tried
     counts[ROW_JACOBIANS] += 1
     counts[ROW_FACTORS] += 1
     ctrl[LU_H], ctrl[STALE], ctrl[H_USED] = h, 0.0, h
     ctrl[REFACTORED] += 1.0
-    status, it, _, eta, more = loaded_newton(
-        q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, fi, ff, q_abs, a_ref, params,
-        0, math.inf, eta, own[2], own[3], true, h, states[0], states[2], states[1], elements,
+    status, it, _, eta, more = worked_newton(
+        q1, qd1, qdd1, lam1, work, functions, refs, body, fi, ff, q_abs, a_ref, params, 0,
+        math.inf, eta, own[2], own[3], true, h, states[0], states[2], states[1], elements,
     )  # fmt: skip
     return status, it, eta, done + more, True, False
 
 
 @njit(**KERNEL)
-def _newton_stopped(ctrl, counts, fresh, done, h, status):
-    """Newton stopped on the step h (s): with an old matrix STOPPED (Python refreshes it, as
-    it would: where the kernel cannot, `_refreshed`); with a new one FAILED (the step
-    fails), its iterations counted; REFACTOR where the refreshed matrix is singular
+def _newton_stopped(ctrl, counts, renewed, done, h, status):
+    """Newton stopped on the step h (s): on a matrix not `renewed` STOPPED (Python
+    refreshes it, as it would: where the kernel cannot, `_refreshed`); on a renewed one
+    FAILED (the step fails), its iterations counted; REFACTOR where the refreshed matrix is singular
     (StepRun factors one for the step in Python, or fails it)."""
     if status == _SINGULAR:
         ctrl[NEXT_H] = h
         return REFACTOR
-    if not fresh:
+    if not renewed:
         return STOPPED
     counts[ITERATIONS] += done
     ctrl[NEXT_H] = h
@@ -457,6 +494,8 @@ def _dense_rows(
     from both ends' values and rates) into rows
     first, first + 1, ...: the fresh Jacobians they took, or -1 where a row is given back
     to Python."""
+    if not times.shape[0]:  # no row within the step: nothing to unpack
+        return 0
     span = t_new - t
     fresh_rows = 0
     packed, inverse = ca.unpack(ints, floats), inverse_inertia(body, ends.shape[1] // 7)
@@ -481,30 +520,33 @@ def _dense_rows(
 @njit(**KERNEL)
 def _refactored(
     q1, qd1, lam, h, ctrl, kind, ints, floats, functions, refs, body, prow, pcol, values, place,
-    brow, bcol, fi, ff, elements, columns, tangent, states, retangent,
+    brow, bcol, fi, ff, elements, rest, tangent, states, retangent,
 ):  # fmt: skip
     """The iteration matrix [[M + (gamma' C + K) / beta', phi_q^T], [phi_q, 0]] of the step
     h (s) at (q1, qd1) refactored in place into (fi, ff) when the pattern's layout fits them
-    (`kind`); K, C the packed elements' tangent (mechlib.elements.compiled_forces, over
-    `columns`; none without elements), kept in `tangent` and differenced anew, as the Python
-    path does, only where asked (`retangent`: after a stall, or a slow step as
-    rules.retangents says) or none is kept yet, with the element `states`' trial values
-    advanced at (q1, qd1) first (Integrator._compiled_step). False where the layout does
-    not fit, or the kernel finds the matrix singular (StepRun then factors it in
-    Python)."""
+    (`kind`); K, C the packed elements' tangent (mechlib.elements.compiled_forces; none
+    without elements): the differenced tangent of `rest` (the elements but the contacts,
+    over their columns), kept in `tangent` and differenced anew, as the Python path does,
+    only where asked (`retangent`: after a stall, or a slow step as rules.retangents says)
+    or none is kept yet, with the element `states`' trial values advanced at (q1, qd1)
+    first (Integrator._compiled_step); plus the contacts' own tangent at (q1, qd1) each
+    time (Integrator._iteration_matrix). False where the layout does not fit, or the
+    kernel finds the matrix singular (StepRun then factors it in Python)."""
     if fi[0] != kind:
         return False
     nq = q1.shape[0]
     x, _ = ca.state_arrays(q1, q1, nq // 7)
     saddle_values(x, ints, floats, functions, refs, body, prow, pcol, values)
-    if columns.shape[0]:
+    rest_elements, columns = rest
+    contacts = elements[12].shape[0] > 0
+    if columns.shape[0] or contacts:
         if retangent or math.isnan(tangent[0, 0, 0]):
-            _differenced(q1, qd1, lam, h, ints, floats, functions, refs, body, elements,
+            _differenced(q1, qd1, lam, h, ints, floats, functions, refs, body, rest_elements,
                          columns, tangent, states)  # fmt: skip
         am, af, beta = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA]
         bp = (1.0 - am) / (h * h * beta * (1.0 - af))
         gp = ctrl[GAMMA] / (h * beta)
-        stiffness, damping = tangent[0], tangent[1]
+        stiffness, damping = _with_contacts(q1, qd1, elements, tangent)
         for e in range(prow.shape[0]):
             r, c = prow[e], pcol[e]
             if r < nq and c < nq:
@@ -513,13 +555,56 @@ def _refactored(
 
 
 @njit(**KERNEL)
+def _committed(q1, qd1, t, elements, kept, step, due):
+    """The accepted state (q1, qd1 raw) at t (s) committed into the packed contacts
+    (contact_group.commit_contacts, Contact.commit's rule), the step's approach speeds
+    kept in row `step` of `kept`. Returns what a step with rows (`due`) may have to undo
+    (`_uncommitted`): the approach speeds, memories and anchors before."""
+    ints, moving, anchor, memory = elements[12], elements[16], elements[17], elements[18]
+    n = ints.shape[0] if due else 0
+    saved = (moving[:n, 0].copy(), memory[:n].copy(), anchor[:n].copy())
+    if ints.shape[0]:
+        x, xd = ca.state_arrays(q1, qd1, q1.shape[0] // 7)
+        commit_contacts(x, xd, t, ints, elements[13], moving, anchor, memory, kept, step)
+    return saved
+
+
+@njit(**KERNEL)
+def _uncommitted(elements, saved):
+    """The contacts' memories as `_committed` found them (its step given back)."""
+    approaches, memories, anchors = saved
+    n = approaches.shape[0]
+    elements[16][:n, 0] = approaches
+    elements[18][:n] = memories
+    elements[17][:n] = anchors
+
+
+@njit(**KERNEL)
+def _with_contacts(q1, qd1, elements, tangent):
+    """(K, C): the kept differenced tangent, plus the packed contacts' own at (q1, qd1)
+    (copies then) as Integrator._iteration_matrix adds them."""
+    if not elements[12].shape[0]:
+        return tangent[0], tangent[1]
+    stiffness, damping = tangent[0].copy(), tangent[1].copy()
+    nb = q1.shape[0] // 7
+    x, xd = ca.state_arrays(q1, qd1, nb)
+    contacts_tangent(x, xd, elements[12], elements[13], elements[14], elements[15], elements[16],
+                     nb, stiffness, damping)  # fmt: skip
+    return stiffness, damping
+
+
+@njit(**KERNEL)
 def _differenced(
     q1, qd1, lam, h, ints, floats, functions, refs, body, elements, columns, tangent, states
 ):  # fmt: skip
     """tangent = (K, C) of the packed elements at (q1, qd1) with multipliers `lam`
-    (mechlib.elements.compiled_forces.element_tangent), their element states (`states`)
-    advanced over the step h (s) at (q1, qd1) and anew at each moved state."""
+    (mechlib.elements.compiled_forces.element_tangent, over `columns`; zero without any),
+    their element states (`states`) advanced over the step h (s) at (q1, qd1) and anew at
+    each moved state."""
     nq = q1.shape[0]
+    if not columns.shape[0]:  # every column inert (mechlib.system.fd_columns.ColumnSkips)
+        tangent[:] = 0.0
+        return
     nb = nq // 7
     _, masses, _, inertia = ca.body_terms(body, nb)
     x, xd = ca.state_arrays(q1, qd1, nb)
@@ -608,8 +693,9 @@ class StepRun:
         self._tangent: tuple[np.ndarray, object, object] | None = None
         self.elements: CompiledForces | None = None  # packed for the run (`_ready`)
         self.states = RunStates(system)  # the element states, in and out of each call
-        # the matrix `_refactor` made was refactored for slowness with the tangent kept
-        self._tried = False
+        # the matrix `_refactor` made was refactored for slowness with the tangent kept; it
+        # took a new differenced tangent (or the system has none)
+        self._tried = self._renewed = False
         grid = stepper.grid  # the step ends the steps follow (mechlib.model.step_grid)
         self._grid = _NO_GRID if grid is None else np.stack([grid.ends, grid.middles])
 
@@ -629,9 +715,9 @@ class StepRun:
         if self.stepper.integ.lu is None:
             return False
         self.elements = self.stepper.integ.elements(t)
-        if self.elements is None or self.elements.contacts:
-            # an element with no compiled form, or a stuck friction; a contact's memory
-            # (its approach speed) is committed at each accepted step in Python
+        if self.elements is None or not contact_group.runnable(self.elements.contacts):
+            # an element with no compiled form, or a stuck friction; a contact without its
+            # own tangent, or whose commit would move an impact law's ramp
             return False
         if self.stepper.dense and not (small_enough(system) and not self.elements.frictions):
             # its rows' dense Schur complement would cost more than Python's; the compiled
@@ -673,6 +759,7 @@ class StepRun:
             s.t, h, s.q, s.raw_qd, s.raw_qdd, s.a, s.raw_lam
         )
         self._tried = integ.refactor and not fresh  # as Integrator._compiled_step's
+        self._renewed = fresh or not integ.stiff
         k = system.kin(q1, qd1, t1)
         if system.states:  # the tangent's base at the iterate's states, as in `step`
             system.states.advance(system.view(k), h)
@@ -729,6 +816,9 @@ class StepRun:
         ctrl[CEILING] = stepper.ceiling
         ctrl[GRID], ctrl[SPLIT] = float(stepper.grid is not None), float(stepper.split)
         ctrl[RETANGENT], ctrl[TRIED] = float(integ.retangent), float(fresh and self._tried)
+        ctrl[RENEWED], ctrl[STIFF] = float(fresh and self._renewed), float(integ.stiff)
+        window = stepper.collapse.since
+        ctrl[WATCH] = -1.0 if window is None else float(window.taken)
         ctrl[REFACTORED] = ctrl[RESTARTED] = 0.0
         counts = np.array([stats.steps, stats.rejected_steps, 0, 0, 0], dtype=np.int64)
         ints, floats = arrays.packed()
@@ -745,12 +835,13 @@ class StepRun:
         assert elements is not None, "packed by _ready"
         rates = elements.start_rates()
         states = self.states.pack(scales.z_abs, rows)
+        kept = contact_group.history(10 * rows, len(elements.contacts))
         status, i_next, written = run_steps(
             own, own_lam, cons, cons_lam, ctrl, counts, outputs, i, ints, floats,
             arrays.functions(s.t), arrays.bodies(), fi, ff, layout, scales.q_abs, scales.a_ref,
             self._angle_args, refs_all, block_angles, PROJECTION, rows_t, rows_state, rows_refs,
-            10 * rows, elements.args, elements.columns, rates, states, self._kept_tangent(nq),
-            self._grid, steps_t,
+            10 * rows, elements.args, (elements.rest, elements.rest_columns), rates, states,
+            self._kept_tangent(nq), kept, self._grid, steps_t,
         )  # fmt: skip
         count(
             factorizations=int(counts[ROW_FACTORS]), jacobian_evaluations=int(counts[ROW_JACOBIANS])
@@ -761,7 +852,7 @@ class StepRun:
             integ.retangent = bool(ctrl[RETANGENT])
         taken = int(counts[STEPS]) - stats.steps
         rejected = int(counts[REJECTED]) - stats.rejected_steps
-        elements.read_back(rates, taken > 0)
+        elements.read_back(rates, taken, kept)
         self.states.unpack(states, taken > 0)
         stats.steps, stats.rejected_steps = int(counts[STEPS]), int(counts[REJECTED])
         stats.step_ends.extend(steps_t[:taken].tolist())
@@ -774,8 +865,6 @@ class StepRun:
             stepper.ceiling = float(ctrl[CEILING])
             integ.eta, integ.stale = float(ctrl[ETA]), bool(ctrl[STALE])
             integ.retangent = bool(ctrl[RETANGENT])
-            if taken:
-                stepper.collapse.since = None  # every step was well within max_steps
             s = type(s)(
                 float(ctrl[T]), own[0], cons[0], cons[1], cons_lam,
                 raw_qd=own[1], raw_qdd=own[2], a=own[3], raw_lam=own_lam,

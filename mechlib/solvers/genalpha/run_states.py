@@ -1,9 +1,11 @@
 """Element states in the compiled whole runs (mechlib.solvers.genalpha.run): the `valve`
-servo-actuators' five states each, advanced at every Newton iterate of a step by the
-trapezoidal rule (mechlib.elements.states.ElementStates, whose rules these kernels follow),
-their local error in the step's error test, their accepted values and rates, and the rows'
-states within a step by the cubic Hermite interpolant of both ends' values and rates
-(mechlib.solvers.dense_states, as mechlib.solvers.march interpolates them).
+servo-actuators' five states each, or the packed contacts' wear work (a clearance joint's
+one state, mechlib.elements.contact.group.advance_wear), advanced at every Newton iterate
+of a step by the trapezoidal rule (mechlib.elements.states.ElementStates, whose rules
+these kernels follow), their local error in the step's error test, their accepted values
+and rates, and the rows' states within a step by the cubic Hermite interpolant of both
+ends' values and rates (mechlib.solvers.dense_states, as mechlib.solvers.march
+interpolates them).
 
 The states travel as one tuple (`RunStates.pack`): z (accepted, nz), trial (the step under
 way, nz), rates (dz/dt at the accepted state, nz), before (the rates of the accepted state
@@ -117,10 +119,12 @@ class RunStates:
 
     @staticmethod
     def servable(system) -> bool:
-        """Whether a run can carry the system's element states: none, or only the packed
-        `valve` actuators' (compiled advance) with demands held constant."""
+        """Whether a run can carry the system's element states: none, integrals no force
+        reads (a clearance joint's wear work: StepRun finds whether its contact is packed),
+        or only the packed `valve` actuators' (compiled advance) with demands held
+        constant."""
         states = system.states
-        if not states:
+        if not states or not states.drive_forces:
             return True
         return (
             states.compiled
