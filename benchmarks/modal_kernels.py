@@ -59,7 +59,7 @@ def _loops() -> dict[str, Callable[..., Any]]:
         nq, nb = q1.shape[0], ints[0]
         packed = ca.unpack(ints, floats)
         nall = packed[25].shape[0] + welds[1]
-        work = (np.empty((3, nq)), np.empty(nall), np.zeros((nb + 1, 3)))
+        work = (np.empty((3, nq)), np.empty(nall), np.zeros((nb + 1, 3)), np.zeros(1))
         x, xd = np.empty((nb + 1, 7)), np.empty((nb + 1, 7))
         return (packed, functions, refs, body, bodies, welds, active, np.empty(nall),
                 np.empty((nall, nq + 7)), work, x, xd)  # fmt: skip
@@ -147,8 +147,9 @@ def _step_loops(newton_ctx) -> dict[str, Callable[..., Any]]:
     @numba.njit
     def factorisation(n, state, system, factors):
         fi, ff, tangent = factors[0].copy(), factors[1].copy(), factors[2]
+        lent = mn.row_arrays(state[0].shape[0], system[0], system[1], system[6])
         for _ in range(n):
-            mm.factored(state[0], 1e4, 1e2, system, tangent, fi, ff)
+            mm.factored(state[0], 1e4, 1e2, system, tangent, fi, ff, lent)
         return ff[0]
 
     @numba.njit

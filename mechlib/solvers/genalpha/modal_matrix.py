@@ -14,13 +14,13 @@ from mechlib.core.jit import KERNEL, njit
 from mechlib.flexible.kernels import load_maps, weld_coupling
 from mechlib.kinematics import constraint_arrays as ca
 from mechlib.linalg.flat_lu import DENSE, refactor_dense
-from mechlib.solvers.genalpha.modal_newton import modal_matrices
+from mechlib.solvers.genalpha.modal_newton import modal_matrices_into
 
 __all__ = ["factored"]
 
 
 @njit(**KERNEL)
-def factored(q1, bp, gp, system, tangent, fi, ff):
+def factored(q1, bp, gp, system, tangent, fi, ff, lent):
     """[[M + (K + gamma' C) / beta', phi_q^T - dQ/dlam], [phi_q, 0]] at q1 factored into
     the DENSE flat factors (fi, ff) (mechlib.linalg.flat_lu.refactor_dense, written in
     place of the factors: mechlib.linalg.factor.factor's arithmetic), M and phi_q by
@@ -29,14 +29,18 @@ def factored(q1, bp, gp, system, tangent, fi, ff):
     Integrator._iteration_matrix factors. False where it is singular. `system`: (ints,
     floats, functions, refs, body, bodies, welds, active) as modal_step passes them to
     modal_newton; beta' (1/s^2), gamma' (1/s). False too for factors not DENSE of this
-    size (Python's factorisation then makes them)."""
+    size (Python's factorisation then makes them). `lent`: modal_newton.row_arrays', the
+    rows at q1 left there and flagged for Newton's first residual where it returns True."""
     ints, floats, functions, refs, body, bodies, welds, active = system
     nq, m = q1.shape[0], active.shape[0]
     n = nq + m
     if fi[0] != DENSE or fi[1] != n or ff.shape[0] != n * n + n:
         return False  # not DENSE factors of this matrix: Python's factorisation makes them
     mass, jac = np.empty((nq, nq)), np.empty((m, nq))
-    modal_matrices(q1, ints, floats, functions, refs, body, bodies, welds, active, mass, jac)
+    full, rows, fresh = lent
+    modal_matrices_into(
+        q1, ints, floats, functions, refs, body, bodies, welds, active, mass, jac, full, rows
+    )  # fmt: skip
     stiffness, damping = tangent
     values = ff[: n * n]  # by columns
     for c in range(nq):
@@ -48,7 +52,10 @@ def factored(q1, bp, gp, system, tangent, fi, ff):
     for c in range(nq, n):
         values[nq + n * c : n * (c + 1)] = 0.0
     _coupled(q1, system, n, values)
-    return refactor_dense(fi, ff)
+    if not refactor_dense(fi, ff):
+        return False
+    fresh[0] = 1.0
+    return True
 
 
 @njit(**KERNEL)

@@ -34,7 +34,15 @@ from mechlib.solvers.genalpha.compiled import (
     stack_levels,
 )
 
-__all__ = ["CONVERGED", "STALLED", "modal_matrices", "modal_newton", "modal_rows"]
+__all__ = [
+    "CONVERGED",
+    "STALLED",
+    "modal_matrices",
+    "modal_matrices_into",
+    "modal_newton",
+    "modal_rows",
+    "row_arrays",
+]
 
 
 @njit(**KERNEL)
@@ -188,7 +196,7 @@ def _residual(x, xd, q, qd, qdd, lam, rows, active, body, bodies, work, out):
     nb = x.shape[0] - 1
     g = 7 * nb
     gravity, masses, pscale, inertia = ca.body_terms(body, nb)
-    products, lam_full, no_loads = work
+    products, lam_full, no_loads = work[0], work[1], work[2]
     m_qdd, forces, reactions = products[0], products[1], products[2]
     kr.mass_times(x, masses, inertia, pscale, qdd, m_qdd)
     kr.body_forces(x, xd, masses, inertia, gravity, no_loads, no_loads, True, forces)
@@ -246,20 +254,20 @@ def _modal_nu(packed, functions, welds, active, nu):
 @njit(**KERNEL)
 def modal_newton(
     q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, bodies, welds, active, fi, ff,
-    q_abs, a_ref, params, it, prev, eta, qdd, a, true,
+    q_abs, a_ref, params, it, prev, eta, qdd, a, true, lent,
 ):  # fmt: skip
     """mechlib.solvers.genalpha.compiled.newton_loop (its arguments, rules and returns) for a
     system with modal bodies: (ints, floats) the rigid rows' pack, `body` the rigid bodies'
     mass terms (ConstraintArrays.bodies), `bodies`, `welds`, `active`:
-    mechlib.flexible.packed.ModalArrays'."""
+    mechlib.flexible.packed.ModalArrays'; `lent`: `row_arrays`' (the rows at q1 already
+    there when its flag says so: the factorisation's at this q1)."""
     nq = q1.shape[0]
     nb = ints[0]
     packed = ca.unpack(ints, floats)
-    nall = packed[25].shape[0] + welds[1]
-    work = (np.empty((3, nq)), np.empty(nall), np.zeros((nb + 1, 3)))
+    full, rows, fresh = lent
+    work = (np.empty((3, nq)), np.empty(full.shape[0]), np.zeros((nb + 1, 3)), fresh)
     x, xd = np.empty((nb + 1, 7)), np.empty((nb + 1, 7))
-    ctx = (packed, functions, refs, body, bodies, welds, active, np.empty(nall),
-           np.empty((nall, nq + 7)), work, x, xd)  # fmt: skip
+    ctx = (packed, functions, refs, body, bodies, welds, active, full, rows, work, x, xd)
     return newton_loop(
         ctx, q1, qd1, qdd1, lam1, fi, ff, q_abs, a_ref, params, it, prev, eta, qdd, a, true
     )
@@ -268,11 +276,17 @@ def modal_newton(
 @njit(**KERNEL)
 def _modal_residual(ctx, q1, qd1, qdd1, lam1, res):
     """res = (M qdd + phi_q^T lam - Q, phi) of the active rows at the iterate
-    (`modal_newton`'s ctx: its rows left for `_modal_consistent`)."""
+    (`modal_newton`'s ctx: its rows left for `_modal_consistent`). The rows are taken as
+    they are where work[3]'s flag says the factorisation just made them at this q1 (the
+    same values: they depend on q1 and the functions only), and the flag cleared."""
     packed, functions, refs, body, bodies, welds, active, full, rows, work, x, xd = ctx
     nq, nb = q1.shape[0], x.shape[0] - 1
     ca.state_into(q1, qd1, x, xd)
-    modal_rows(x, q1[7 * nb :], packed, functions, refs, bodies, welds, full, rows)
+    fresh = work[3]
+    if fresh[0] != 0.0:
+        fresh[0] = 0.0
+    else:
+        modal_rows(x, q1[7 * nb :], packed, functions, refs, bodies, welds, full, rows)
     _residual(x, xd, q1, qd1, qdd1, lam1, rows, active, body, bodies, work, res)
     for i in range(active.shape[0]):
         res[nq + i] = full[active[i]]
@@ -311,15 +325,32 @@ def _true_acceleration(
 
 
 @njit(**KERNEL)
+def row_arrays(nq, ints, floats, welds):
+    """(residuals (all rows), Jacobian rows (all rows, nq + 7), flag (1,) = 0): the rows
+    `modal_matrices_into` leaves for `modal_newton`'s first residual (flag 1: made at its q1)."""
+    nall = ca.unpack(ints, floats)[25].shape[0] + welds[1]
+    return np.empty(nall), np.empty((nall, nq + 7)), np.zeros(1)
+
+
+@njit(**KERNEL)
 def modal_matrices(q, ints, floats, functions, refs, body, bodies, welds, active, mass, jac):
     """M (nq, nq) and phi_q (m, nq) of the active rows at q, into `mass` and `jac` (what
     System.mass and System.phi_q give, for the iteration matrix's factorisation)."""
+    full, rows, _ = row_arrays(q.shape[0], ints, floats, welds)
+    modal_matrices_into(
+        q, ints, floats, functions, refs, body, bodies, welds, active, mass, jac, full, rows
+    )  # fmt: skip
+
+
+@njit(**KERNEL)
+def modal_matrices_into(
+    q, ints, floats, functions, refs, body, bodies, welds, active, mass, jac, full, rows
+):  # fmt: skip
+    """`modal_matrices` with the rows at q (`modal_rows`) left in `full` and `rows`."""
     nq = q.shape[0]
     packed = ca.unpack(ints, floats)
     nb = packed[0]
     g = 7 * nb
-    nall = packed[25].shape[0] + welds[1]
-    full, rows = np.empty(nall), np.empty((nall, nq + 7))
     x, _ = ca.state_arrays(q, q, nb)
     modal_rows(x, q[g:], packed, functions, refs, bodies, welds, full, rows)
     for i in range(active.shape[0]):

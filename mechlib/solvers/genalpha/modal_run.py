@@ -35,7 +35,7 @@ from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha import run as rr
 from mechlib.solvers.genalpha.modal_matrix import factored
-from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_newton
+from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_newton, row_arrays
 
 __all__ = ["ModalRun", "run_modal"]
 
@@ -45,13 +45,14 @@ CTRL_SIZE = rr.CTRL_SIZE
 
 @njit(**KERNEL)
 def _solved(
-    q1, qd1, qdd1, lam1, h, ctrl, counts, system, tangent, factors, scales, start, true
+    q1, qd1, qdd1, lam1, h, ctrl, counts, system, tangent, factors, scales, start, true, lent
 ):  # fmt: skip
     """Newton on the step h (s) from its predicted (q1, qd1, qdd1, lam1), in place, as
     modal_step iterates it: the matrix refactored at the start when stale or off the step
     size, at the iterate after a stall on a matrix not factored in the step (with the
     tangent kept). `factors`: the committed (fi, ff) and a working pair; `scales`: (q_abs,
-    a_ref); `start`: the step's start (qdd, a). Returns (converged, the last factors used
+    a_ref); `start`: the step's start (qdd, a); `lent`: modal_newton.row_arrays' (the
+    factorisation's rows for Newton's first residual). Returns (converged, the last factors used
     are the working pair, iterations of the last matrix, eta, iterations done, tried: the
     matrix was refactored for slowness with the tangent kept); not converged: a new
     tangent or a singular matrix is Python's to make (nothing changed)."""
@@ -68,7 +69,7 @@ def _solved(
     prev, it, eta, done = math.inf, 0, ctrl[rr.ETA], 0
     while True:
         if rebuild:
-            if not factored(q1, params[0], params[1], system, tangent, wi, wf):
+            if not factored(q1, params[0], params[1], system, tangent, wi, wf, lent):
                 return False, working, it, eta, done, tried
             working, rebuild, prev = True, False, math.inf
             counts[rr.ROW_JACOBIANS] += 1
@@ -76,7 +77,7 @@ def _solved(
         gi, gf = (wi, wf) if working else (fi, ff)
         status, it, prev, eta, more = modal_newton(
             q1, qd1, qdd1, lam1, ints, floats, functions, refs, body, bodies, welds, active,
-            gi, gf, scales[0], scales[1], params, it, prev, eta, start[0], start[1], true,
+            gi, gf, scales[0], scales[1], params, it, prev, eta, start[0], start[1], true, lent,
         )  # fmt: skip
         done += more
         if status == CONVERGED:
@@ -123,6 +124,7 @@ def run_modal(
     refs = system[3]
     new_refs, new_block = refs_all.copy(), refs.copy()
     true = np.empty(3 * nq + own_lam.shape[0])
+    lent = row_arrays(nq, system[0], system[1], system[6])  # the factorisation's rows
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[rr.T]
@@ -154,7 +156,7 @@ def run_modal(
         lam1 = own_lam.copy()
         ok, working, it, eta, done, tried = _solved(
             q1, qd1, qdd1, lam1, h, ctrl, counts, system, tangent, factors, scales,
-            (own[2], own[3]), true,
+            (own[2], own[3]), true, lent,
         )  # fmt: skip
         if not ok:
             return rr.STOPPED, i, written  # Python takes the step from its start

@@ -15,7 +15,12 @@ from mechlib.core.work import count
 from mechlib.flexible.packed import ModalArrays
 from mechlib.solvers.genalpha import rules
 from mechlib.solvers.genalpha.modal_matrix import factored
-from mechlib.solvers.genalpha.modal_newton import CONVERGED, modal_matrices, modal_newton
+from mechlib.solvers.genalpha.modal_newton import (
+    CONVERGED,
+    modal_matrices,
+    modal_newton,
+    row_arrays,
+)
 
 if TYPE_CHECKING:
     from mechlib.solvers.genalpha.integrator import Integrator
@@ -39,11 +44,12 @@ def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam,
     params = np.array([bp, gp, scales.tol, c.alpha_m, c.alpha_f])
     nq, m = sys.nq, lam1.shape[0]
     true = np.empty(3 * nq + m)  # qd, qdd, lam on three levels; a
+    lent = row_arrays(nq, ints, floats, welds)  # the factorisation's rows for Newton
     while True:
         if rebuild:
             system = (ints, floats, functions, refs, arrays.bodies(), bodies, welds, active)
             try:
-                _factor(integ, system, q1, qd1, t1, h, fresh, lam1)
+                _factor(integ, system, q1, qd1, t1, h, fresh, lam1, lent)
             except SolverFailure as failure:  # singular here: reject, try a smaller step
                 integ.singular = failure
                 break
@@ -52,7 +58,7 @@ def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam,
         fi, ff = integ._factor_data()
         status, it, prev, eta, done = modal_newton(
             q1, qd1, qdd1, lam1, ints, floats, functions, refs, arrays.bodies(), bodies, welds,
-            active, fi, ff, scales.q_abs, scales.a_ref, params, it, prev, eta, qdd, a, true,
+            active, fi, ff, scales.q_abs, scales.a_ref, params, it, prev, eta, qdd, a, true, lent,
         )  # fmt: skip
         integ.stats.newton_iterations += done
         if status == CONVERGED:
@@ -70,11 +76,12 @@ def modal_step(integ: Integrator, arrays: ModalArrays, t, h, q, qd, qdd, a, lam,
     return None
 
 
-def _factor(integ: Integrator, system: tuple, q1, qd1, t1, h, fresh: bool, lam1) -> None:
+def _factor(integ: Integrator, system: tuple, q1, qd1, t1, h, fresh: bool, lam1, lent) -> None:
     """The iteration matrix of the step h (s) at (q1, qd1) factored: with the tangent kept
     in one compiled call (modal_matrix.factored, which modal_run uses too), with a new
     differenced tangent (`fresh`, or none yet) or where the kernel finds it singular by
-    Integrator._iteration_matrix (the failure naming the joints)."""
+    Integrator._iteration_matrix (the failure naming the joints). `lent`:
+    modal_newton.row_arrays', flagged where the compiled call made the rows at q1."""
     sys, c = integ.system, integ.c
     nq, m = sys.nq, lam1.shape[0]
     if not fresh and integ.tangent is not None:
@@ -82,7 +89,7 @@ def _factor(integ: Integrator, system: tuple, q1, qd1, t1, h, fresh: bool, lam1)
         fi, ff = np.zeros(2 + n, dtype=np.int64), np.empty(n * n + n)
         fi[1] = n
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
-        if factored(q1, bp, c.gamma / (h * c.beta), system, integ.tangent, fi, ff):
+        if factored(q1, bp, c.gamma / (h * c.beta), system, integ.tangent, fi, ff, lent):
             count(jacobian_evaluations=1, factorizations=1)
             integ.adopt(fi, ff, h)
             return
