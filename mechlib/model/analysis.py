@@ -276,6 +276,18 @@ class Snapshots:
             self._rows[i] = found
         return found
 
+    def angle_references(self, key) -> np.ndarray:
+        """The unwrapping reference (rad) of joint angle `key` ((joint, "angle")) in every
+        row's snapshot (n,), read from the blocks' arrays without making their dicts."""
+        out = np.empty(len(self._rows))
+        for i, found in enumerate(self._rows):
+            if found is not None:
+                out[i] = found["angles"][key]
+        for first, base, keys, refs, _ in self._blocks:
+            rows = slice(first, first + len(refs))
+            out[rows] = refs[:, keys.index(key)] if key in keys else base["angles"][key]
+        return out
+
     def active(self, i: int):
         """Row i's active equations (the snapshot's `active`), without making its dict."""
         found = self._rows[i]

@@ -28,6 +28,7 @@ from mechlib.kinematics.reactions import (
     reaction_series,
 )
 from mechlib.kinematics.view import StateView
+from mechlib.outputs.coordinate_columns import coordinate_column
 from mechlib.outputs.energy import EnergyBalance, energy_columns
 from mechlib.outputs.request_failure import partial_columns
 from mechlib.system.system import System
@@ -239,25 +240,6 @@ def _in_frame(system, k, values: dict[str, float], frame: str) -> dict[str, floa
     return out
 
 
-_ANGULAR = {
-    "angle": "angle",
-    "omega": "angle",
-    "alpha": "angle",
-    "travel": "travel",
-    "speed": "travel",
-    "accel": "travel",
-}
-
-
-def _coordinate(system, k, req: JointCoordinate, qdd) -> float:
-    m = system.measure(req.joint, _ANGULAR[req.quantity])
-    if req.quantity in ("angle", "travel"):
-        return m.value(k)
-    if req.quantity in ("omega", "speed"):
-        return m.rate(k)
-    return float(system.coordinate_gradient(m, k) @ qdd + m.quad(k))
-
-
 def _point_series(system: System, trajectory, req: PointKinematics) -> dict[str, np.ndarray]:
     """Point kinematics at all recorded times at once (ground axes), then into `frame`."""
     b, s = system.point(req.point)
@@ -297,9 +279,7 @@ def evaluate_requests(system: System, trajectory, requests) -> dict[str, np.ndar
     loads |= {
         r.name: _coupler_gatherers(system, r) for r in requests if isinstance(r, CouplerEffort)
     }
-    stepwise = [
-        r for r in requests if isinstance(r, (JointCoordinate, ElementOutput, ExpressionOutput))
-    ]
+    stepwise = [r for r in requests if isinstance(r, (ElementOutput, ExpressionOutput))]
     gathered = bool(loads) and not stepwise and len(trajectory) > 0
     if gathered and system.packed_constraints() is not None:
         gather_in_batches(system, trajectory, [g for gs in loads.values() for g, _ in gs])
@@ -343,7 +323,7 @@ def _row_by_row(system: System, trajectory, stepwise, loads, per_request, failed
             if req.name in failed:
                 continue
             try:
-                values = _evaluate(system, k, req, seen, trajectory.qdd[i])
+                values = _evaluate(system, k, req, seen)
             except SolverFailure as failure:  # this column stops here, the others go on
                 failed[req.name] = failure
                 continue
@@ -366,6 +346,9 @@ def _whole_columns(system: System, trajectory, requests, loads) -> dict[str, dic
             series[req.name] = _coupler_columns(system, trajectory, req, loads[req.name])
         elif isinstance(req, FlexibleOutput):
             series[req.name] = _flexible_columns(system, trajectory, req)
+        elif isinstance(req, JointCoordinate) and len(trajectory):
+            value = coordinate_column(system, trajectory, req.joint, req.quantity)
+            series[req.name] = {"value": value}
     for req in requests:
         if isinstance(req, EnergyBalance):
             series[req.name] = energy_columns(
@@ -384,9 +367,7 @@ def _row_views(system: System, trajectory, i: int):
     return k, system.view(rest, lam)
 
 
-def _evaluate(system, k, req, view, qdd) -> dict[str, float]:
-    if isinstance(req, JointCoordinate):
-        return {"value": _coordinate(system, k, req, qdd)}
+def _evaluate(system, k, req, view) -> dict[str, float]:
     if isinstance(req, ElementOutput):
         element = system.mechanism.forces[req.element]
         values = _in_frame(system, k, element.output(view), req.frame)
