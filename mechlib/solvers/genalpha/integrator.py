@@ -35,6 +35,7 @@ from mechlib.linalg.factor import factor_saddle, singular_failure, solve_factore
 from mechlib.linalg.flat_lu import factor_data, factors
 from mechlib.model.analysis import Dynamic
 from mechlib.solvers.genalpha import rules
+from mechlib.solvers.genalpha.applied_tangent import packed_tangent
 from mechlib.solvers.genalpha.compiled import CONVERGED, loaded_newton
 from mechlib.solvers.genalpha.kernels import Scales, correct, error_norm, predict, predict_swing
 from mechlib.solvers.genalpha.modal_step import modal_step
@@ -154,9 +155,11 @@ class Integrator:
         self, k, own: list, lam: np.ndarray, jac: np.ndarray, h: float
     ) -> tuple[np.ndarray, np.ndarray]:
         """(K, C) of the applied forces but the elements with their own tangent (`own`),
-        by forward differences at multipliers `lam` (mechlib.solvers.genalpha.tangent)."""
+        by forward differences at multipliers `lam` (mechlib.solvers.genalpha.tangent), in
+        one compiled call where the kernel covers the system (applied_tangent)."""
         skips = ColumnSkips(self.system, {id(e) for e in own})  # a column: its body's elements
-        return differenced_tangent(self.system, k, skips, lam, jac, h)
+        packed = packed_tangent(self.system, self.arrays, k, skips, own, lam)  # compiled
+        return differenced_tangent(self.system, k, skips, lam, jac, h) if packed is None else packed
 
     def step(self, t, h, q, qd, qdd, a, lam, cons=None):
         """One step; returns the new state or None when Newton does not converge. `cons`:
