@@ -39,6 +39,7 @@ import math
 
 import numpy as np
 
+from mechlib.core.differences import fd_step
 from mechlib.core.jit import KERNEL, njit
 from mechlib.elements import friction_kernel
 from mechlib.elements.contact import group as contact_group
@@ -363,14 +364,14 @@ def element_tangent(q, qd, z, forces, columns, masses, inertia, rows, active, la
     element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, base)
     qp, qdp = q.copy(), qd.copy()
     for j in columns:
-        eps = 1e-7 * max(1.0, abs(q[j]))
+        eps = fd_step(q[j])
         qp[j] = q[j] + eps
         x, xd = ca.state_arrays(qp, qd, nb)
         _moved_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved_z, moved)
         for i in range(nq):
             K[i, j] = -(moved[i] - base[i]) / eps
         qp[j] = q[j]
-        eps = 1e-7 * max(1.0, abs(qd[j]))
+        eps = fd_step(qd[j])
         qdp[j] = qd[j] + eps
         x, xd = ca.state_arrays(q, qdp, nb)
         _moved_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved_z, moved)

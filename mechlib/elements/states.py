@@ -19,12 +19,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib.core.differences import fd_step
 from mechlib.core.jit import KERNEL, njit
 
-__all__ = ["FD_STEP", "NEWTON_ITERATIONS", "ElementStates", "residual_size"]
+__all__ = ["NEWTON_ITERATIONS", "ElementStates", "residual_size"]
 
 NEWTON_ITERATIONS = 20  # the most iterations of the states' Newton in one advance
-FD_STEP = 1e-7  # forward-difference step of a state, relative (absolute below 1)
 _RTOL, _ATOL = 1e-12, 1e-14  # converged: each residual within 1e-12 of its state (1e-14 abs)
 
 
@@ -160,7 +160,7 @@ class ElementStates:
                 continue
             base = rates[block]
             for i in range(ze.size):
-                dz = FD_STEP * max(1.0, abs(ze[i]))
+                dz = fd_step(ze[i])
                 zi = ze.copy()
                 zi[i] += dz
                 jac[block, block.start + i] = (

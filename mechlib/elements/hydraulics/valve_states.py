@@ -11,9 +11,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib.core.differences import fd_step
 from mechlib.core.jit import KERNEL, njit
 from mechlib.elements.hydraulics import laws as lw
-from mechlib.elements.states import FD_STEP, NEWTON_ITERATIONS, residual_size
+from mechlib.elements.states import NEWTON_ITERATIONS, residual_size
 from mechlib.kinematics import kernels as kr
 
 __all__ = ["advance_valve", "chamber_wrench", "stroke_line", "valve_rates"]
@@ -81,10 +82,10 @@ _CONTRACTION = 0.25  # a kept matrix while the residual shrinks at least 4x an i
 @njit(**KERNEL)
 def _newton_matrix(p, demand, x, xd, z, rates, h, shifted, matrix):
     """matrix = I - h/2 df/dz at z (rates: f there), df/dz by forward differences of
-    step FD_STEP max(1, |z_j|) (mechlib.elements.states)."""
+    step FD_STEP max(1, |z_j|) (mechlib.core.differences.fd_step)."""
     n = z.shape[0]
     for j in range(n):
-        dz = FD_STEP * max(1.0, abs(z[j]))
+        dz = fd_step(z[j])
         keep = z[j]
         z[j] = keep + dz
         valve_rates(p, demand, x, xd, z, shifted)

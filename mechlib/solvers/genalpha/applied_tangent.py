@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib.core.differences import fd_step
 from mechlib.core.jit import KERNEL, njit
 from mechlib.elements import friction_kernel
 from mechlib.elements.compiled_forces import element_wrenches
@@ -60,7 +61,7 @@ def applied_tangent(
     moved_rows = rows.copy() if reads else rows
     qp, qdp = q.copy(), qd.copy()
     for j in columns:
-        eps = 1e-7 * max(1.0, abs(q[j]))
+        eps = fd_step(q[j])
         qp[j] = q[j] + eps
         x, xd = ca.state_arrays(qp, qd, nb)
         if reads:
@@ -69,7 +70,7 @@ def applied_tangent(
         for i in range(nq):
             K[i, j] = -(moved[i] - base[i]) / eps
         qp[j] = q[j]
-        eps = 1e-7 * max(1.0, abs(qd[j]))
+        eps = fd_step(qd[j])
         qdp[j] = qd[j] + eps
         x, xd = ca.state_arrays(q, qdp, nb)
         _applied(x, xd, elements, masses, inertia, gravity, rows, active, lam, moved)

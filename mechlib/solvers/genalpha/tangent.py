@@ -7,12 +7,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from mechlib.core.differences import fd_step
 from mechlib.system.fd_columns import ColumnSkips
 from mechlib.system.system import System
 
 __all__ = ["differenced_tangent"]
-
-FD_STEP = 1e-7  # a column's relative forward-difference step (of max(1, |q_j|) or |qd_j|)
 
 
 def differenced_tangent(
@@ -46,9 +45,9 @@ def differenced_tangent(
             if skip not in base:  # bodies that leave out the same elements share it
                 base[skip] = sys.forces(k, skip=skip, lam=lam, jac=jac)
             dq = np.zeros(sys.nq)
-            dq[j] = eps = FD_STEP * max(1.0, abs(q[j]))
+            dq[j] = eps = fd_step(q[j])
             stiffness[:, j] = -(forces(sys.kin(q + dq, qd, k.t), skip) - base[skip]) / eps
-            dq[j] = eps = FD_STEP * max(1.0, abs(qd[j]))
+            dq[j] = eps = fd_step(qd[j])
             damping[:, j] = -(forces(sys.kin(q, qd + dq, k.t), skip, jac) - base[skip]) / eps
     finally:
         states.trial = trial

@@ -12,13 +12,13 @@ import weakref
 
 import numpy as np
 
+from mechlib.core.differences import FD_STEP
 from mechlib.core.work import count
 from mechlib.system.fd_columns import ColumnSkips, JacobianClasses
 from mechlib.system.system import System
 
 __all__ = ["FD_STEP", "Balance"]
 
-FD_STEP = 1e-7
 """Forward-difference step of the stiffness, relative to max(1, |q_j|)."""
 
 # per system: the Jacobian classes of its current equations (by their labels)
