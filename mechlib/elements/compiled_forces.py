@@ -26,7 +26,9 @@ kernels take the packed arrays as one tuple (`args`); `element_wrenches` adds ev
 loads at element states z, `advance_states` advances those states over a step,
 `element_forces` gives the loads' generalized forces and `element_tangent` (K, C) =
 -(dQ/dq, dQ/dqd) by forward differences with the step of the Python path's tangent
-(mechlib.solvers.genalpha.integrator).
+(mechlib.solvers.genalpha.integrator), through `differenced_forces`, the one column
+differencer of the compiled tangents (the Python steps' applied_tangent takes it too, with
+gravity and the velocity terms).
 
 Adding a group: pack its arrays in `__init__`, append them to `args` (and to `no_forces`),
 call its kernel in `element_wrenches` (and `advance_states` for its states); the solvers
@@ -73,6 +75,8 @@ __all__ = [
     "CompiledForces",
     "advance_states",
     "any_elements",
+    "applied_forces",
+    "differenced_forces",
     "element_forces",
     "element_rates",
     "element_tangent",
@@ -341,9 +345,18 @@ def advance_states(x, xd, z0, f0, h, forces, z):
 def element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, out):
     """out (nq,) = the generalized forces of the packed elements alone (no gravity, no
     velocity terms) at x, xd (`element_wrenches`' arguments)."""
+    applied_forces(x, xd, z, forces, masses, inertia, np.zeros(3), False, rows, active, lam, out)
+
+
+@njit(**KERNEL)
+def applied_forces(x, xd, z, forces, masses, inertia, gravity, body_terms, rows, active, lam,
+                   out):  # fmt: skip
+    """out (nq,) = the generalized forces of the packed elements at x, xd with element
+    states z, and with `body_terms` gravity `gravity` (m/s^2) and the bodies' quadratic
+    velocity terms (System.forces)."""
     F, N = np.empty((x.shape[0], 3)), np.empty((x.shape[0], 3))
     element_wrenches(x, xd, z, forces, rows, active, lam, F, N)
-    body_forces(x, xd, masses, inertia, np.zeros(3), F, N, False, out)
+    body_forces(x, xd, masses, inertia, gravity, F, N, body_terms, out)
 
 
 @njit(**KERNEL)
@@ -355,42 +368,66 @@ def element_tangent(q, qd, z, forces, columns, masses, inertia, rows, active, la
     trial advanced at (q, qd) over the step h (s) from z0 (rates f0), and at each moved
     state the states are advanced again from z into zp (the oil columns are a stiffness
     only through their pressures); without (z empty) they are held."""
+    differenced_forces(q, qd, z, forces, columns, masses, inertia, np.zeros(3), False, rows,
+                       active, lam, moved_z, None, K, C)  # fmt: skip
+
+
+@njit(**KERNEL)
+def differenced_forces(q, qd, z, forces, columns, masses, inertia, gravity, body_terms, rows,
+                       active, lam, moved_z, anew, K, C):  # fmt: skip
+    """K = -dQ/dq and C = -dQ/dqd (nq, nq, zero outside `columns`) of `applied_forces` at
+    (q, qd), by forward differences of step `fd_step` (mechlib.core.differences): the one
+    column differencer of the compiled tangents. `moved_z` as `element_tangent`'s; `anew`
+    None (the constraint rows `rows` held at every moved state) or (ints, floats,
+    functions, refs, full, moved_rows) to evaluate the rows anew at each moved position
+    (a friction loaded by its joint's reaction; the velocity columns keep `rows`)."""
     nq = q.shape[0]
     nb = nq // 7
     K[:] = 0.0
     C[:] = 0.0
     base, moved = np.empty(nq), np.empty(nq)
     x, xd = ca.state_arrays(q, qd, nb)
-    element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, base)
+    applied_forces(x, xd, z, forces, masses, inertia, gravity, body_terms, rows, active, lam,
+                   base)  # fmt: skip
     qp, qdp = q.copy(), qd.copy()
     for j in columns:
         eps = fd_step(q[j])
         qp[j] = q[j] + eps
         x, xd = ca.state_arrays(qp, qd, nb)
-        _moved_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved_z, moved)
+        at = rows
+        if anew is not None:
+            ints, floats, functions, refs, full, moved_rows = anew
+            ca.constraint_rows(x, ints, floats, functions, refs, full, moved_rows)
+            at = moved_rows
+        _moved_forces(x, xd, z, forces, masses, inertia, gravity, body_terms, at, active, lam,
+                      moved_z, moved)  # fmt: skip
         for i in range(nq):
             K[i, j] = -(moved[i] - base[i]) / eps
         qp[j] = q[j]
         eps = fd_step(qd[j])
         qdp[j] = qd[j] + eps
         x, xd = ca.state_arrays(q, qdp, nb)
-        _moved_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved_z, moved)
+        _moved_forces(x, xd, z, forces, masses, inertia, gravity, body_terms, rows, active, lam,
+                      moved_z, moved)  # fmt: skip
         for i in range(nq):
             C[i, j] = -(moved[i] - base[i]) / eps
         qdp[j] = qd[j]
 
 
 @njit(**KERNEL)
-def _moved_forces(x, xd, z, forces, masses, inertia, rows, active, lam, moved_z, out):
-    """`element_forces` at a moved state x, xd, the element states advanced there anew from
-    z (`element_tangent`'s moved_z) when there are any."""
+def _moved_forces(x, xd, z, forces, masses, inertia, gravity, body_terms, rows, active, lam,
+                  moved_z, out):  # fmt: skip
+    """`applied_forces` at a moved state x, xd, the element states advanced there anew
+    from z (`element_tangent`'s moved_z) when there are any."""
     if not z.shape[0]:
-        element_forces(x, xd, z, forces, masses, inertia, rows, active, lam, out)
+        applied_forces(x, xd, z, forces, masses, inertia, gravity, body_terms, rows, active,
+                       lam, out)  # fmt: skip
         return
     z0, f0, h, zp = moved_z
     zp[:] = z
     advance_states(x, xd, z0, f0, h, forces, zp)
-    element_forces(x, xd, zp, forces, masses, inertia, rows, active, lam, out)
+    applied_forces(x, xd, zp, forces, masses, inertia, gravity, body_terms, rows, active, lam,
+                   out)  # fmt: skip
 
 
 @njit(**KERNEL)

@@ -13,23 +13,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from mechlib.core.differences import fd_step
 from mechlib.core.jit import KERNEL, njit
 from mechlib.elements import friction_kernel
-from mechlib.elements.compiled_forces import element_wrenches
+from mechlib.elements.compiled_forces import differenced_forces
 from mechlib.kinematics import constraint_arrays as ca
-from mechlib.kinematics import kernels
 
 __all__ = ["applied_tangent"]
-
-
-@njit(**KERNEL)
-def _applied(x, xd, elements, masses, inertia, gravity, rows, active, lam, out):
-    """out (nq,) = System.forces of the packed `elements` at x, xd: their loads, gravity
-    `gravity` (m/s^2) and the quadratic velocity terms."""
-    F, N = np.empty((x.shape[0], 3)), np.empty((x.shape[0], 3))
-    element_wrenches(x, xd, np.empty(0), elements, rows, active, lam, F, N)
-    kernels.body_forces(x, xd, masses, inertia, gravity, F, N, True, out)
 
 
 @njit(**KERNEL)
@@ -44,39 +33,24 @@ def applied_tangent(
     q, qd, elements, columns, masses, inertia, gravity, ints, floats, functions, refs, lam, K, C
 ):  # fmt: skip
     """K = -dQ/dq and C = -dQ/dqd (nq, nq; zero outside `columns`) of the applied forces
-    Q (`_applied`) at (q, qd), multipliers `lam` of the packed constraints (ints, floats,
+    Q (System.forces: the packed `elements`' loads, gravity (m/s^2) and the quadratic
+    velocity terms) at (q, qd), multipliers `lam` of the packed constraints (ints, floats,
     functions at the state's time, refs: mechlib.kinematics.constraint_arrays), by
-    forward differences of step 1e-7 max(1, |q_j|) and 1e-7 max(1, |qd_j|)."""
-    nq = q.shape[0]
-    nb = nq // 7
-    K[:] = 0.0
-    C[:] = 0.0
+    compiled_forces.differenced_forces: forward differences of step 1e-7 max(1, |q_j|)
+    and 1e-7 max(1, |qd_j|)."""
+    nb = q.shape[0] // 7
     nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
-    full, rows = np.empty(nall), np.zeros((nall, nq + 7))
-    x, xd = ca.state_arrays(q, qd, nb)
+    full, rows = np.empty(nall), np.zeros((nall, q.shape[0] + 7))
+    x, _ = ca.state_arrays(q, qd, nb)
     active, _ = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)
-    base, moved = np.empty(nq), np.empty(nq)
-    _applied(x, xd, elements, masses, inertia, gravity, rows, active, lam, base)
-    reads = _reads_reactions(elements)
-    moved_rows = rows.copy() if reads else rows
-    qp, qdp = q.copy(), qd.copy()
-    for j in columns:
-        eps = fd_step(q[j])
-        qp[j] = q[j] + eps
-        x, xd = ca.state_arrays(qp, qd, nb)
-        if reads:
-            ca.constraint_rows(x, ints, floats, functions, refs, full, moved_rows)
-        _applied(x, xd, elements, masses, inertia, gravity, moved_rows, active, lam, moved)
-        for i in range(nq):
-            K[i, j] = -(moved[i] - base[i]) / eps
-        qp[j] = q[j]
-        eps = fd_step(qd[j])
-        qdp[j] = qd[j] + eps
-        x, xd = ca.state_arrays(q, qdp, nb)
-        _applied(x, xd, elements, masses, inertia, gravity, rows, active, lam, moved)
-        for i in range(nq):
-            C[i, j] = -(moved[i] - base[i]) / eps
-        qdp[j] = qd[j]
+    held = (np.empty(0), np.empty(0), 0.0, np.empty(0))  # no element states
+    if _reads_reactions(elements):
+        anew = (ints, floats, functions, refs, full, rows.copy())
+        differenced_forces(q, qd, np.empty(0), elements, columns, masses, inertia, gravity,
+                           True, rows, active, lam, held, anew, K, C)  # fmt: skip
+    else:
+        differenced_forces(q, qd, np.empty(0), elements, columns, masses, inertia, gravity,
+                           True, rows, active, lam, held, None, K, C)  # fmt: skip
 
 
 def packed_tangent(system, arrays, k, skips, own: list, lam: np.ndarray):
