@@ -60,7 +60,7 @@ import math
 import numpy as np
 
 import mechlib as ml
-from loadcases.run.peak_error import extremes_of, row_peaks
+from loadcases.run.peak_error import SPIKE, extremes_of, row_peaks
 from mechlib.checks.singularity import NEAR_SINGULAR
 
 __all__ = [
@@ -138,6 +138,18 @@ SPIKE_ROWS = (0.25, 0.5, 0.75)  # the companion's rows either side of a spike's,
 NEGLIGIBLE = 1e-6
 
 
+def _standing_out(table: np.ndarray) -> np.ndarray:
+    """Per column of `table` (rows, columns): whether a row stands out from both its
+    neighbours, above or below, by more than peak_error.SPIKE of the column's range (the
+    columns `row_peaks` may find a spike in)."""
+    with np.errstate(invalid="ignore"):
+        spread = np.nanmax(table, axis=0) - np.nanmin(table, axis=0)
+        change, margin = np.diff(table, axis=0), SPIKE * spread
+        up = (change[:-1] > margin) & (change[1:] < -margin)
+        down = (change[:-1] < -margin) & (change[1:] > margin)
+    return np.asarray((up | down).any(axis=0))
+
+
 def spikes(run: ml.Solution) -> list[float]:
     """The times (s) of the companion's rows at the run's one-row spikes: each row where a
     column's largest or smallest value is a row with no crest between rows
@@ -163,6 +175,9 @@ def spikes(run: ml.Solution) -> list[float]:
     if len(run.time) < 3 or not names:
         return []
     table = np.column_stack([run.channels[c] for c in names])
+    table = table[:, _standing_out(table)]  # the only columns that may hold one: cheap
+    if not table.shape[1]:
+        return []
     events = np.array([event.time for event in run.events])
     found = extremes_of(run.time, table, events.tolist())
     kept = {t for column in found for t in row_peaks(column)}
