@@ -28,6 +28,7 @@ __all__ = [
     "Static",
     "Trajectory",
     "output_times",
+    "row_times",
 ]
 
 DEFAULT_TOLERANCE = 1e-6
@@ -82,6 +83,8 @@ class Dynamic(_Timed):
     up to `max_step` or the mechanism's natural time), the rows between them come from
     dense output (mechlib.solvers.dense). A case's dynamic analysis is dense unless it says
     `output: steps` (loadcases.build); this dataclass's own default stays False.
+    `rows`: output times (s) recorded besides every `step` (`row_times`): the accuracy
+    companion's rows at another run's one-row spikes (loadcases.run.companion.sparser).
     `compiled`: the compiled paths generalized-alpha may take where the model allows them,
     all with the same steps and results to round-off (tests/mechlib/test_genalpha_run.py;
     with force elements a whole run's iteration matrix differs, its results agree to the
@@ -99,6 +102,7 @@ class Dynamic(_Timed):
     dense: bool = False
     compiled: str = "runs"
     grid: StepGrid | None = None
+    rows: tuple[float, ...] = ()
     name = "dynamic"
 
     def __post_init__(self) -> None:
@@ -210,6 +214,21 @@ def output_times(start: float, end: float, step: float) -> np.ndarray:
     """Output grid start, start+step, ..., end (end always included), read-only: the
     grids of a campaign's runs are the same and made once per process."""
     return _output_times(float(start), float(end), float(step))
+
+
+def row_times(spec: _Timed) -> np.ndarray:
+    """The output times of `spec` after its start: every `step` and, for a `Dynamic`, its
+    extra `rows` (s) within the run, sorted, those within 1e-9 s of another left out."""
+    times = output_times(spec.start, spec.end, spec.step)[1:]
+    extra = np.asarray(getattr(spec, "rows", ()), dtype=float)
+    extra = extra[(extra > spec.start) & (extra < spec.end)]
+    if not len(extra):
+        return times
+    near = np.searchsorted(times, extra)
+    before = np.abs(extra - times[np.maximum(near - 1, 0)])
+    after = np.abs(times[np.minimum(near, len(times) - 1)] - extra)
+    extra = np.unique(extra[np.minimum(before, after) > 1e-9])
+    return np.sort(np.concatenate((times, extra)))
 
 
 @functools.lru_cache(maxsize=8)  # a set's runs share a few grids; long grids weigh MB each

@@ -27,7 +27,7 @@ from typing import Literal
 import numpy as np
 
 from mechlib.core.outcome import SolverFailure, SolverStats, Status
-from mechlib.model.analysis import Trajectory, output_times
+from mechlib.model.analysis import Trajectory, row_times
 from mechlib.solvers.contract import DenseStepper, State, Stepper, StepResult, StepUnresolved
 from mechlib.solvers.dense_states import StateEnd, state_end, states_between
 from mechlib.solvers.events import EventMonitor, fire, first_events
@@ -56,7 +56,7 @@ def march(
     monitor.arm(s.t, stepper.view(s))
     if isinstance(stepper, DenseStepper) and stepper.dense:
         return _march_dense(stepper, s, trajectory, monitor, progress, event_log)
-    outputs = output_times(spec.start, spec.end, spec.step)[1:]
+    outputs = row_times(spec)
     i = 0
     while i < len(outputs):
         if not monitor.armed:  # steps in compiled calls, where the stepper has them
@@ -98,7 +98,7 @@ def _march_dense(
     """`march` for a dense stepper: steps towards the end, rows at the output times
     within each accepted step (and before an event, within its step)."""
     spec, system = stepper.spec, stepper.system
-    rows = _Rows(stepper, trajectory, output_times(spec.start, spec.end, spec.step)[1:], progress)
+    rows = _Rows(stepper, trajectory, row_times(spec), progress)
     while spec.end - s.t > 1e-12 * max(1.0, abs(spec.end)):
         if not monitor.armed:  # steps in compiled calls, where the stepper has them
             s, rows.next = stepper.run_compiled(s, rows.times, rows.next, trajectory, progress)

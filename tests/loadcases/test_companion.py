@@ -111,3 +111,46 @@ def test_companion_steps_stay_compiled_where_newton_stalls_on_an_old_matrix(monk
     ):
         error = np.abs(solved.channels[column] - exact).max() / np.abs(exact).max()
         assert error < bound, (column, error)
+
+
+def _spiky_run() -> ml.Solution:
+    """The door let go's contact force in its first rows (N, every 10 ms): 0, then one row
+    of 3834 N at 0.05 s, 0 again at 0.06 s; beside it a smooth crest between rows."""
+    time = np.round(np.arange(0.0, 0.2 + 0.005, 0.01), 12)
+    force = np.where(np.isclose(time, 0.05), 3834.0, 0.0)
+    force[time >= 0.07] = 450.0 + 100.0 * np.sin(40.0 * time[time >= 0.07])
+    run = ml.Solution(
+        "ok", "", "dynamic", time, {"stop.normal": force, "x.value": np.sin(7.0 * time)}
+    )
+    run.stats.steps = 20
+    return run
+
+
+def test_a_one_row_spike_gets_a_companion_row_and_a_smooth_crest_none() -> None:
+    """The companion's rows, every 20 ms, would step over the run's one-row spike at 50 ms
+    (and Richardson compare 3834 N with another place's value): it gets a row there and
+    rows every quarter of the run's interval beside it (what the run's rows miss of the
+    spike; the 0 N held over several rows is no spike). The
+    smooth crests (x's at 0.224 s between rows, the force's later ones) keep none: their
+    vertex is read on the companion's rows as on the run's."""
+    analysis = ml.Dynamic(end=0.2, step=0.01, dense=True)
+    run = _spiky_run()
+    rows = sparser(coarser(analysis), run).rows
+    assert rows == pytest.approx([0.05 + k * 0.0025 for k in range(-3, 4)], abs=1e-15)
+    run.channels["stop.normal"] = np.where(run.time < 0.07, 0.0, run.channels["stop.normal"])
+    assert sparser(coarser(analysis), run).rows == ()
+
+
+def test_a_companion_row_at_a_spike_is_the_dense_row_there(tmp_path: Path) -> None:
+    """Rows at extra times (`Dynamic.rows`) come from the same dense steps as the others:
+    the pendulum's rows every 20 ms plus 10 and 30 ms equal those of the same run every
+    10 ms (its steps do not depend on the output times) to round-off."""
+    built = build_run(load_case(PENDULUM))
+    every = dataclasses.replace(built.analysis, end=0.1, step=0.01)
+    extra = dataclasses.replace(every, step=0.02, rows=(0.01, 0.03, 0.02))
+    fine, sparse = built.solve(every, checks=False), built.solve(extra, checks=False)
+    assert sparse.time.tolist() == pytest.approx([0.0, 0.01, 0.02, 0.03, 0.04, 0.06, 0.08, 0.1])
+    rows, rows_s = shared_rows(fine.time, sparse.time)
+    assert len(rows_s) == len(sparse.time)
+    for column, values in fine.channels.items():
+        np.testing.assert_allclose(sparse.channels[column][rows_s], values[rows], atol=1e-12)

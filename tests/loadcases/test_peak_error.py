@@ -291,3 +291,56 @@ def test_the_end_crest_s_cubic_reads_a_cubic_s_maximum() -> None:
     assert _cubic_rise(0.01 * s, v, down=1e9) == pytest.approx(0.08, abs=1e-12)
     assert _cubic_rise(0.01 * s, v, down=0.5) == pytest.approx(0.5 * 0.01**2, abs=1e-15)
     assert _cubic_rise(0.01 * s, -v, down=1e9) == 0.0  # a trough: no crest
+
+
+def test_the_value_just_after_an_event_between_rows_is_read() -> None:
+    """The door jettison's top acceleration (m/s^2): 0 until its rod is disconnected at
+    1 ms, an event between the rows at 0 and 2 ms (its row the state before), then
+    19.168 - 27.8 (t - 0.001) + 300 (t - 0.001)^2 (a parabola: read exactly). The rows' top
+    is 19.140 at 2 ms; the peak is the jump's top at the event, from the parabola through
+    the first three rows after it. Harmless cases: the same rows with the event's row
+    after its actions as well (an output time at the event) or a value rising after the
+    event (its top is a later row) or continuous at it (a kink: its top is the event's
+    row) read their rows' top, and so do rows without events."""
+    time = np.array([0.0, 0.001, 0.002, 0.004, 0.006, 0.008])
+    after = 19.168 - 27.8 * (time - 0.001) + 300.0 * (time - 0.001) ** 2
+    values = np.where(time > 0.001, after, 0.0)
+    found = extremes(time, values, [0.001])
+    assert found.row_max == pytest.approx(19.1405, abs=1e-9)
+    assert found.max == pytest.approx(19.168, abs=1e-12)
+    assert extremes(time, values).max == found.row_max  # no event known: its rows
+    both = extremes(np.insert(time, 2, 0.001), np.insert(values, 2, 19.168), [0.001])
+    assert both.max == pytest.approx(19.168, abs=1e-12) == both.row_max
+    rising = extremes(time, np.where(time > 0.001, 19.0 + 27.8 * time, 0.0), [0.001])
+    assert rising.max == rising.row_max
+    continuous = np.where(time > 0.001, after - 19.168, 0.0) + 1.0 + 1e-4 * time  # a kink
+    assert extremes(time, continuous, [0.001]).max == extremes(time, continuous).row_max
+
+
+def _pulse(time: np.ndarray, error: float) -> np.ndarray:
+    """A contact pulse of 1335 N at 0.648 s, 3 ms wide (the door let go's guide force),
+    with a relative error `error`."""
+    return 1335.0 * (1.0 + error) * np.exp(-(((time - 0.648) / 0.003) ** 2))
+
+
+def test_a_one_row_spike_is_compared_at_its_row_and_its_miss_read_on_the_companion() -> None:
+    """Rows every 10 ms see the pulse at one row (855 N at 0.65 s, 1 N beside): its
+    envelope misses the crest by 480 N, which no parabola through the rows can read. The
+    companion (error 4 times the run's, 1e-3) with rows every 20 ms and at quarters of the
+    run's intervals about 0.65 s (loadcases.run.companion.spikes) reads the crest there:
+    the estimate is within 10 % of the true error (the run's row against the truth's
+    crest); with the companion's rows only every 20 ms the spike's row is compared with
+    another place's value (the companion's largest row, 25 N at 0.64 s)."""
+    time = np.round(np.arange(0.6, 0.7 + 1e-9, 0.01), 12)
+    run = extremes(time, _pulse(time, 1e-3))
+    true = 1335.0 - run.row_max
+    assert true > 400.0 and run.max == run.row_max  # the rows miss it; no crest read
+    fine = np.round(0.65 + 0.0025 * np.arange(-3, 4), 12)
+    sparse = np.round(np.arange(0.6, 0.7 + 1e-9, 0.02), 12)
+    rows = np.union1d(sparse, fine)
+    estimate, sampling = peak_error(run, extremes(rows, _pulse(rows, 4e-3)), 1.0 / 3.0)
+    assert estimate == pytest.approx(true, rel=0.1)
+    assert sampling > 0.9 * (estimate - 3e-3 * 855.0)  # the miss, beside Richardson's part
+    other = extremes(sparse, _pulse(sparse, 4e-3))
+    without, _ = peak_error(run, other, 1.0 / 3.0)  # the spike against another place
+    assert without == pytest.approx((run.row_max - other.max) / 3.0)

@@ -56,15 +56,15 @@ SINGULAR = ("A02 N=3 3-D",)  # passes a singular position: estimated from a fine
 # 2.33, spring1_force 2.15, travel and the crank angles 0.48-0.50, hinge1_force 0.67;
 # with it held off (main afd8c21's steps) spin_rate read 5.74 and rate1 5.32: the
 # companion's steps after its Newton failures at the spring's leap. Pins kept as they were
-# The door jettison's top acceleration, 4.44 (both companions; 2026-11-29 20:10 UTC, branch
-# grid-events): its largest value just after the rod's disconnection at 1 ms, where the
-# accelerations jump and then fall; the run's row at 2 ms reads it, the companion's rows,
-# thinned to 16 ms, do not (18.76 for 19.14 m/s^2), and the difference / 3 is 0.125 for a
-# true 0.028 (2.85 at the target's scale)
+# The door jettison's top acceleration read 4.44 (both companions; 2026-11-29 20:10 UTC,
+# branch grid-events): its largest value is the jump at the rod's disconnection (1 ms, between
+# the rows at 0 and 2 ms), which the rows see only at 2 ms (19.140 for 19.168 m/s^2), and the
+# companion's rows, thinned to 16 ms, read 18.76 there. With the value just after an event
+# read from the rows after it (loadcases/run/peak_error.py, `_after_events`; branch evpeaks,
+# 2026-11-29): 1.19, no pin
 HIGH_PEAK = {
     ("A05", "rate1"): 4.2,
     ("A05", "hinge1_force"): 3.2,
-    ("door jettison", "top_acceleration"): 4.6,
 }
 # the companion each case's estimate is made with (loadcases.run.companion): on the run's
 # own steps two at a time, or error-controlled (none of the cheap cases now). A05's doubled
@@ -95,3 +95,18 @@ def test_estimate_within_a_factor_three_of_the_true_error(name: str) -> None:
             assert LOW <= row[key] <= high, (name, row["request"], key, row[key])
         assert (row["observed_order"] is not None) == (name in SINGULAR), (name, row)
         assert row["companion"] == ("adaptive" if name in ADAPTIVE else "grid"), (name, row)
+
+
+def test_a_one_row_contact_spike_is_estimated_within_a_factor_three() -> None:
+    """The door lifted by its inner handle (benchmarks/error_table_events.py, `door let go`)
+    over its first 0.1 s: the Stop1 contact pulse, about 11 ms long, is one row of 3834 N at
+    0.05 s between rows of 0 (the reference at 1e-9: crest 3904 N at 0.051 s). The
+    companion's rows, 20 ms apart, stepped over it (estimate / true 14.4); with its rows at
+    the spike (loadcases.run.companion.spikes) 0.741 (2026-11-29, branch evpeaks; 5 s)."""
+    rows = case_rows("door let go 0.1 s", "../door/lifting_inner_let_go.case.yaml", {"end": 0.1})
+    stop = [row for row in rows if row["request"].startswith("stop1")]
+    assert len(stop) == 2
+    for row in stop:
+        assert row["companion"] == "grid" and row["true_peak"] > 1e-2, row
+        assert LOW <= row["ratio_peak"] <= HIGH, (row["request"], row["ratio_peak"])
+        assert LOW <= row["ratio_history"] <= HIGH, (row["request"], row["ratio_history"])
