@@ -291,3 +291,20 @@ def test_the_end_crest_s_cubic_reads_a_cubic_s_maximum() -> None:
     assert _cubic_rise(0.01 * s, v, down=1e9) == pytest.approx(0.08, abs=1e-12)
     assert _cubic_rise(0.01 * s, v, down=0.5) == pytest.approx(0.5 * 0.01**2, abs=1e-15)
     assert _cubic_rise(0.01 * s, -v, down=1e9) == 0.0  # a trough: no crest
+
+
+def test_the_quartic_s_powers_are_numpy_s_to_the_last_bit() -> None:
+    """The five scaled times' powers of each crest (`_powers`: powers 0 and 1 and the
+    crest's own row set, the others by numpy's power) are `scaled[:, :, None] **
+    np.arange(5)` bit for bit, on 100 runs of 500 rows with uneven intervals (+-30 %)."""
+    from loadcases.run.peak_error import _powers
+
+    rng = np.random.default_rng(5)
+    for _ in range(100):
+        steps = rng.uniform(1e-4, 1e-2) * (1.0 + 0.3 * rng.uniform(-1.0, 1.0, 500))
+        time = np.cumsum(steps) + rng.uniform(0.0, 100.0)
+        rows = np.arange(2, 498)
+        near = time[rows[:, None] + np.arange(-2, 3)]
+        scaled = (near - time[rows, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
+        expected = scaled[:, :, None] ** np.arange(5)
+        assert np.array_equal(_powers(scaled).view(np.int64), expected.view(np.int64))
