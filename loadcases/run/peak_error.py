@@ -154,12 +154,13 @@ def _highest(
     rise = np.where(local, np.minimum(rise, bound), 0.0)
     crests = v1 + rise
     top = np.maximum(np.max(np.where(local, crests, -np.inf), axis=0), row_max)
+    columns, rows = np.nonzero(crest.T)  # column by column, each's rows in order
+    found = np.column_stack((time[1:-1][rows], crests[rows, columns], np.zeros(len(rows))))
+    counts = np.bincount(columns, minlength=crest.shape[1])
     candidates = []
-    for j, end in enumerate(ends):
+    for j, (mine, end) in enumerate(zip(np.split(found, np.cumsum(counts)[:-1]), ends)):
         top[j] = np.max(end[:, 1], initial=top[j])
-        at = crest[:, j]
-        found = np.column_stack((time[1:-1][at], crests[at, j], np.zeros(at.sum())))
-        candidates.append(np.concatenate((found, end)))
+        candidates.append(np.concatenate((mine, end)))
     return row_max, top, candidates
 
 
