@@ -54,6 +54,7 @@ if TYPE_CHECKING:
     )
     from mechlib.solvers.events import Action, Event
     from mechlib.solvers.solve import solve
+    from mechlib.solvers.solve_memo import SolveMemo
     from mechlib.system.planar import make_system
     from mechlib.system.system import System
 
@@ -97,6 +98,7 @@ _HOMES = {
     "Solution": "mechlib.core.outcome",
     "SolverFailure": "mechlib.core.outcome",
     "SolverStats": "mechlib.core.outcome",
+    "SolveMemo": "mechlib.solvers.solve_memo",
     "Spring": "mechlib.elements.forces",
     "StateView": "mechlib.kinematics.view",
     "Static": "mechlib.model.analysis",
@@ -146,6 +148,7 @@ __all__ = [
     "RotationalDamper",
     "Seal",
     "Solution",
+    "SolveMemo",
     "SolverFailure",
     "SolverStats",
     "Spring",

@@ -50,6 +50,9 @@ class BuiltRun:
     events: list = field(default_factory=list)
     request_kinds: dict[str, str] = field(default_factory=dict)  # requests.request_kinds
     branches: ml.BranchCheck = field(default_factory=ml.BranchCheck)
+    # the model check and assembled start of the first solve, for the companion and tighter
+    # runs (the same mechanism and initial values: mechlib.solvers.solve_memo)
+    memo: ml.SolveMemo = field(default_factory=ml.SolveMemo)
 
     def solve(
         self,
@@ -61,7 +64,8 @@ class BuiltRun:
     ) -> ml.Solution:
         """`mechlib.solve` of this run (a failure is a failed Solution, never raised; an
         ill-posed model raises ml.ModelError); `analysis` replaces the case's, `requests`
-        its requests; `checks` False: no position checks after the run (mechlib.solve)."""
+        its requests; `checks` False: no position checks after the run (mechlib.solve).
+        Every solve after the first reuses its model check and assembled start (`memo`)."""
         return ml.solve(
             self.mechanism,
             self.analysis if analysis is None else analysis,
@@ -73,6 +77,7 @@ class BuiltRun:
             progress=progress,
             checks=checks,
             branches=self.branches,
+            memo=self.memo,
         )
 
 

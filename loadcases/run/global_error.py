@@ -252,9 +252,35 @@ def request_peaks(channels: dict[str, np.ndarray]) -> dict[str, float]:
     return peaks
 
 
+_SAME_TIME = 4e-9  # s: two times that round alike to 1e-9 s are at most 2e-9 s apart
+
+
 def shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Row indices of the times `a` and `b` share (output times are rounded alike; an
-    event's row, at each run's own event time, is shared only where the times agree)."""
+    """Row indices of the times `a` and `b` share (output times are rounded alike, to 1e-9
+    s; an event's row, at each run's own event time, is shared only where the times agree;
+    a time of `a` shared by several rows of `b` pairs with the last). Times of `b` in
+    order are looked up by bisection, only those within _SAME_TIME of a time of `a`
+    rounded (the same pairs as `_shared_by_keys`, which takes others)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if not bool(np.all(np.diff(b) >= 0.0)):
+        return _shared_by_keys(a, b)
+    low = np.searchsorted(b, a - _SAME_TIME, side="left")
+    high = np.searchsorted(b, a + _SAME_TIME, side="right")
+    pairs = []
+    for i in np.flatnonzero(high > low).tolist():
+        key = round(float(a[i]), 9)
+        near = range(int(high[i]) - 1, int(low[i]) - 1, -1)  # the last first
+        last = next((j for j in near if round(float(b[j]), 9) == key), None)
+        if last is not None:
+            pairs.append((i, last))
+    if not pairs:
+        return np.zeros(0, int), np.zeros(0, int)
+    rows_a, rows_b = np.array(pairs).T
+    return rows_a, rows_b
+
+
+def _shared_by_keys(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """`shared_rows` by every time's rounded key (times of `b` in any order)."""
     of_b = {round(t, 9): j for j, t in enumerate(np.asarray(b, dtype=float).tolist())}
     pairs = [
         (i, of_b[key])

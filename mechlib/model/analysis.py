@@ -406,7 +406,7 @@ class Trajectory:
         block = np.array(states, dtype=float)  # one copy; the rows are views of it
         self._blocks.append((len(self.time), block, nq))
         self.references.extend_block(snapshot, keys, refs, element_states)
-        self.time.extend(float(t) for t in times)
+        self.time.extend(np.asarray(times, dtype=float).tolist())
         self.q.extend(block[:, :nq])
         self.qd.extend(block[:, nq : 2 * nq])
         self.qdd.extend(block[:, 2 * nq : 3 * nq])

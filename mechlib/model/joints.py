@@ -67,7 +67,15 @@ def joint_frame(axis) -> JointFrame:
             f = e - (e @ h) * h
             break
     f = f / np.linalg.norm(f)
-    return JointFrame(f, np.cross(h, f), h)
+    return JointFrame(f, cross(h, f), h)
+
+
+def cross(u, v) -> np.ndarray:
+    """u x v of two 3-vectors: np.cross's products and differences (the same values to the
+    last bit), without its axis handling (15 us a call; a model's joints call it often)."""
+    u1, u2, u3 = (float(c) for c in u)
+    v1, v2, v3 = (float(c) for c in v)
+    return np.array([u2 * v3 - u3 * v2, u3 * v1 - u1 * v3, u1 * v2 - u2 * v1])
 
 
 def direction_name(v: np.ndarray) -> str:
@@ -84,7 +92,7 @@ def _dot1(joint: str, u, v) -> Row:
     return Row(
         "dot1",
         (np.asarray(u), np.asarray(v)),
-        f"{joint}: rotation about {direction_name(np.cross(u, v))}",
+        f"{joint}: rotation about {direction_name(cross(u, v))}",
     )
 
 
@@ -129,17 +137,29 @@ def expand_joint(joint: Joint, s1: np.ndarray, s2: np.ndarray) -> list[Row]:
             rows = [_dot1(n, fr.f, fr.h), _dot1(n, fr.g, fr.h)] + rows
         return rows
     fr = joint_frame(joint.axis if joint.axis is not None else (0.0, 0.0, 1.0))
-    parallel = [_dot1(n, fr.f, fr.h), _dot1(n, fr.g, fr.h)]
-    twist = [_dot1(n, fr.f, fr.g)]
-    on_line = [_dot2(n, fr.f, s1, s2), _dot2(n, fr.g, s1, s2)]
-    table = {
-        "revolute": [_sph(n, s1, s2)] + parallel,
-        "fixed": [_sph(n, s1, s2)] + parallel + twist,
-        "cylindrical": parallel + on_line,
-        "screw": parallel + on_line,
-        "prismatic": parallel + on_line + twist,
-        "inline": on_line,
-        "parallel": parallel,
-        "orientation": parallel + twist,
-    }
-    return table[t]
+    return [row for part in _PARTS[t] for row in _part(part, n, fr, s1, s2)]
+
+
+# the rows of the joints about an axis, in order, by part (only a joint's own are built)
+_PARTS = {
+    "revolute": ("point", "parallel"),
+    "fixed": ("point", "parallel", "twist"),
+    "cylindrical": ("parallel", "on_line"),
+    "screw": ("parallel", "on_line"),
+    "prismatic": ("parallel", "on_line", "twist"),
+    "inline": ("on_line",),
+    "parallel": ("parallel",),
+    "orientation": ("parallel", "twist"),
+}
+
+
+def _part(part: str, n: str, fr: JointFrame, s1: np.ndarray, s2: np.ndarray) -> list[Row]:
+    """The rows of one part of joint `n` about its triad `fr`: its point (`point`), its
+    axis kept parallel (`parallel`), no twist about it (`twist`), on its line (`on_line`)."""
+    if part == "point":
+        return [_sph(n, s1, s2)]
+    if part == "parallel":
+        return [_dot1(n, fr.f, fr.h), _dot1(n, fr.g, fr.h)]
+    if part == "twist":
+        return [_dot1(n, fr.f, fr.g)]
+    return [_dot2(n, fr.f, s1, s2), _dot2(n, fr.g, s1, s2)]

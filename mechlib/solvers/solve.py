@@ -29,7 +29,7 @@ from mechlib.model.analysis import (
 )
 from mechlib.model.mechanism import Mechanism
 from mechlib.outputs.requests import JointCoordinate, JointReaction, evaluate_requests
-from mechlib.solvers.assembly import assemble
+from mechlib.solvers.assembly import Assembled, assemble
 from mechlib.solvers.branches import BranchChange, orientation_changes, row_changes
 from mechlib.solvers.contract import Stepper
 from mechlib.solvers.dense import step_bound
@@ -40,6 +40,7 @@ from mechlib.solvers.march import march
 from mechlib.solvers.modes import ModalResult, Modes, modal_channels, normal_modes
 from mechlib.solvers.phases import PhaseRecord, phase_spans, run_phases
 from mechlib.solvers.solve_copy import solve_copy
+from mechlib.solvers.solve_memo import SolveMemo
 from mechlib.solvers.static.analyses import QuasiStaticStepper, run_static
 from mechlib.solvers.static_start import settle_modes
 from mechlib.system.planar import make_system
@@ -141,15 +142,14 @@ def _analyse(
     progress,
     warnings: list[str],
     branches: BranchCheck,
+    memo: SolveMemo | None = None,
 ) -> None:
     """Assemble (notes on the initial values and branch changes to `warnings`; a branch
-    change fails the run when `branches.error`), then run the analysis into `run`;
-    SolverFailure leaves what was computed."""
+    change fails the run when `branches.error`; the start `memo` keeps, when given), then
+    run the analysis into `run`; SolverFailure leaves what was computed."""
     start = getattr(analysis, "start", getattr(analysis, "time", 0.0))
     with tally(run.stats):
-        assembled = assemble(system, start, initial, branches)
-        if isinstance(analysis, Dynamic):  # equilibrium analyses find the deflection anyway
-            assembled = settle_modes(system, assembled, start, initial)
+        assembled = _assembled(system, analysis, start, initial, branches, run.stats, memo)
         warnings += assembled.notes
         _branch_outcome(assembled.branches, branches, warnings)
         system.begin(system.kin(assembled.q, assembled.qd, start))
@@ -186,6 +186,40 @@ def _analyse(
                 events=events,
                 event_log=run.events,
             )
+
+
+def _assembled(
+    system: System,
+    analysis: Analysis,
+    start: float,
+    initial,
+    branches: BranchCheck,
+    stats: SolverStats,
+    memo: SolveMemo | None,
+) -> Assembled:
+    """The initial state at `start` (s): assembled, its flexible bodies' modes settled for a
+    dynamic run (equilibrium analyses find the deflection anyway); kept by `memo`."""
+
+    def found() -> Assembled:
+        assembled = assemble(system, start, initial, branches)
+        if isinstance(analysis, Dynamic):
+            assembled = settle_modes(system, assembled, start, initial)
+        return assembled
+
+    if memo is None:
+        return found()
+    return memo.assembled((isinstance(analysis, Dynamic), start), stats, found)
+
+
+def _checked(
+    system: System, analysis: Analysis, redundant: str, memo: SolveMemo | None
+) -> list[str]:
+    """The model check's warnings (mechlib.checks.model_check; kept by `memo` per analysis
+    kind and start time, s)."""
+    if memo is None:
+        return check_model(system, analysis, redundant=redundant)
+    key = (type(analysis).__name__, getattr(analysis, "start", 0.0))
+    return memo.checked(system, key, lambda: check_model(system, analysis, redundant=redundant))
 
 
 def _new_phase(system: System, run: _Run) -> Trajectory:
@@ -349,6 +383,7 @@ def solve(
     progress: Callable[[float, float], None] | None = None,
     checks: bool = True,
     branches: BranchCheck | None = None,
+    memo: SolveMemo | None = None,
 ) -> Solution:
     """Check, assemble and solve; channels `REQUEST.COMPONENT` at the output times.
 
@@ -365,11 +400,17 @@ def solve(
     model (always). A numerical failure raises SolverFailure when `throw`, else returns a
     failed Solution holding what was computed (`Solution.result` says which failure,
     `message` when, where and why). A non-finite state or column is such a failure.
+
+    `memo` (mechlib.solvers.solve_memo): the model check and the assembled start of the
+    first solve given it, reused by the next ones of the same mechanism, initial values,
+    branch check and `redundant` (a run's accuracy companion): the same results.
     """
     cpu0 = _time.process_time()
     branch_check = branches or BranchCheck()
     system = make_system(solve_copy(mechanism))  # events and memories never change the caller's
-    warnings = check_model(system, analysis, redundant=redundant)
+    if memo is not None and not memo.serves(mechanism, initial, branches, redundant):
+        memo = None
+    warnings = _checked(system, analysis, redundant, memo)
     warnings += system.output_notes(any(isinstance(r, JointReaction) for r in requests))
     run = _Run(
         Trajectory(snapshot=system.snapshot, check=functools.partial(check_recorded_state, system)),
@@ -379,7 +420,7 @@ def solve(
     if isinstance(analysis, Modes):
         events = ()  # nothing moves: events have nothing to watch
     try:
-        _analyse(system, analysis, run, initial, events, progress, warnings, branch_check)
+        _analyse(system, analysis, run, initial, events, progress, warnings, branch_check, memo)
     except SolverFailure as failure:
         if throw:
             raise

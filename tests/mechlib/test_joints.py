@@ -336,3 +336,17 @@ def test_joint_frame_is_a_right_handed_triad_about_the_axis() -> None:
     assert np.allclose(h, AXIS, atol=1e-15)
     assert np.allclose(np.cross(f, g), h, atol=1e-15)
     assert abs(f @ h) < 1e-15 and abs(np.linalg.norm(f) - 1.0) < 1e-15
+
+
+def test_cross_is_numpy_s_to_the_last_bit() -> None:
+    """`joints.cross` (a joint triad's g = h x f, the labels' rotation axes) against
+    np.cross on 20 000 random float vectors of mixed scales and on integer axes: the same
+    values bit for bit."""
+    from mechlib.model.joints import cross
+
+    rng = np.random.default_rng(11)
+    u = rng.normal(size=(20_000, 3)) * 10.0 ** rng.integers(-8, 8, size=(20_000, 1))
+    v = rng.normal(size=(20_000, 3)) * 10.0 ** rng.integers(-8, 8, size=(20_000, 1))
+    ours = np.array([cross(a, b) for a, b in zip(u, v)])
+    assert np.array_equal(ours.view(np.int64), np.cross(u, v).view(np.int64))
+    assert cross((0, 0, 1), (1, 0, 0)).tolist() == np.cross((0, 0, 1), (1, 0, 0)).tolist()

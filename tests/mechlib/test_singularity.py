@@ -442,3 +442,67 @@ def test_a_dynamic_run_driven_onto_a_dead_centre_names_it() -> None:
     assert "t = 0.25 s" in warning and "push" in warning, warning
     assert all(name in warning for name in ("A", "B", "C")), warning
     assert "no mass or stiffness" not in warning, warning
+
+
+def test_strided_bounds_hold_at_every_row(monkeypatch) -> None:
+    """The toggle check's bounds taken at every _STRIDE-th row only, the rows between
+    bounded from the two measured rows around them by Weyl's inequality (`_between`): at
+    every row of the flywheel slider-crank lower bound <= smallest singular value (an
+    independent SVD) <= upper bound, to round-off (1e-12); the measured rows' bounds are
+    those of the walk measuring every row, bit for bit. Its rows 0.063 rad of crank apart
+    move the scaled Jacobian by up to 0.11 between measured rows, and a row between
+    whose bound that takes below the threshold (0.1 of the largest upper bound) is
+    measured too: the check stays conclusive (every row's lower bound above 0.1 of the
+    largest upper bound, no eigenvalues needed; measured 0.235, guarded at 0.2). Without
+    the rows measured again it would not be (0.088)."""
+    from mechlib.checks import singularity
+
+    system, trajectory, rows = _flywheel_rows_by_svd(monkeypatch)
+    every = singularity._walk(system, trajectory, bounds=True)
+    stride, level = singularity._STRIDE, singularity.TOGGLE_THRESHOLD
+    lows, highs = singularity._walk(system, trajectory, True, stride, level)
+    for i, sigma in enumerate(rows):
+        assert lows[i] - 1e-12 <= sigma[-1] <= highs[i] + 1e-12
+    measured = np.r_[np.arange(0, len(trajectory), stride), len(trajectory) - 1]
+    assert np.array_equal(lows[measured], every[0][measured])
+    assert np.array_equal(highs[measured], every[1][measured])
+    assert (lows / highs.max()).min() > 0.2
+    weyl_only, highs_only = singularity._walk(system, trajectory, True, stride)
+    assert (weyl_only / highs_only.max()).min() < level
+
+
+def test_a_crossing_between_sampled_rows_still_warns(monkeypatch) -> None:
+    """The slider driven through the crank's dead centre at t* = 0.2778 s, on row 6 of rows
+    t* / 6 apart (0.26 rad of crank): midway between rows 4 and 8, which the strided
+    bounds measure. Those rows' own bounds alone would pass the check (lower bounds 0.34
+    of the largest upper bound, above the threshold 0.1: sampling them would miss the
+    dead centre), but the Weyl bounds of the rows between them (`_between`) fall below
+    it, so the rows are measured exactly: one warning, the exact measures' word for word,
+    at t* (exact measure 0 there; closed form: crank and rod folded)."""
+    from mechlib.checks import singularity
+
+    omega = 0.9 * 2.0 * math.pi
+    t_star = 0.5 * math.pi / omega
+    mech, _ = slider_crank(R, L)
+    mech.add_motion("push", joint="D", function=SliderOfTurningCrank(omega))
+    captured = _capture_toggle_checks(monkeypatch)
+    sol = mechlib.solve(mech, mechlib.Kinematic(end=2 * t_star, step=t_star / 6), throw=False)
+    assert sol.ok, sol.message
+    system, trajectory = captured[0]
+    ranks = singularity._series(system, trajectory)
+    assert len(trajectory) == 13 and ranks[6] / ranks.max() < 1e-6
+    every_lows, every_highs = singularity._walk(system, trajectory, bounds=True)
+    sampled = np.arange(0, len(trajectory), singularity._STRIDE)
+    assert (every_lows[sampled] / every_highs.max()).min() > 0.3
+    lows, highs = singularity._walk(system, trajectory, True, singularity._STRIDE)
+    assert (lows / highs.max()).min() < singularity.TOGGLE_THRESHOLD
+    with monkeypatch.context() as patch:
+        exact_measures = lambda system, trajectory, threshold: singularity._relative(  # noqa: E731
+            singularity._series(system, trajectory)
+        )
+        patch.setattr(singularity, "_toggle_measures", exact_measures)
+        exact = singularity.toggle_warnings(system, trajectory)
+    toggles = [w for w in sol.warnings if w.startswith(singularity.NEAR_SINGULAR)]
+    assert toggles == exact
+    (time,) = _toggle_times(toggles)
+    assert abs(time - t_star) <= 1e-6  # printed to 6 digits
