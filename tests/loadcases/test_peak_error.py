@@ -344,6 +344,8 @@ def test_a_one_row_spike_is_compared_at_its_row_and_its_miss_read_on_the_compani
     other = extremes(sparse, _pulse(sparse, 4e-3))
     without, _ = peak_error(run, other, 1.0 / 3.0)  # the spike against another place
     assert without == pytest.approx((run.row_max - other.max) / 3.0)
+
+
 def test_the_quartic_s_powers_are_numpy_s_to_the_last_bit() -> None:
     """The five scaled times' powers of each crest (`_powers`: powers 0 and 1 and the
     crest's own row set, the others by numpy's power) are `scaled[:, :, None] **
