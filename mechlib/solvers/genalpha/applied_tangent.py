@@ -51,7 +51,7 @@ def applied_tangent(
     nb = nq // 7
     K[:] = 0.0
     C[:] = 0.0
-    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    nall = ca.row_count(ints)
     full, rows = np.empty(nall), np.zeros((nall, nq + 7))
     x, xd = ca.state_arrays(q, qd, nb)
     active, _ = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)
