@@ -160,36 +160,64 @@ def _cho_solve_into(low, b, y):
 
 
 @njit(**KERNEL)
-def _times(a, x, out):
+def _times(a, x, touched, out):
     """out (m,) = a (m, n) x (n,) in loops (numba's @ calls BLAS, which costs more than
-    these few products)."""
+    these few products), row i over the blocks of 7 columns of the bodies it touches
+    (`touched` (m, nb): `row_work`), in order: the terms left out are zeros, so the sum
+    is the full one's, bit for bit."""
     for i in range(a.shape[0]):
         acc = 0.0
-        for j in range(a.shape[1]):
-            acc += a[i, j] * x[j]
+        for b in range(touched.shape[1]):
+            if touched[i, b]:
+                for j in range(7 * b, 7 * b + 7):
+                    acc += a[i, j] * x[j]
         out[i] = acc
 
 
 @njit(**KERNEL)
-def _transpose_times(a, y, out):
-    """out (n,) = a (m, n)^T y (m,) in loops (`_times`)."""
+def _transpose_times(a, y, touched, out):
+    """out (n,) = a (m, n)^T y (m,) in loops over the touched blocks (`_times`)."""
     out[:] = 0.0
     for i in range(a.shape[0]):
         w = y[i]
-        for j in range(a.shape[1]):
-            out[j] += a[i, j] * w
+        for b in range(touched.shape[1]):
+            if touched[i, b]:
+                for j in range(7 * b, 7 * b + 7):
+                    out[j] += a[i, j] * w
 
 
 @njit(**KERNEL)
-def _lower_product(a, b, out):
-    """The lower triangle of a b^T (m, m) (a, b (m, n)) into out's (the rest not written):
-    what `_factored` reads of a symmetric product."""
+def _lower_product(a, b, touched, out):
+    """The lower triangle of a b^T (m, m) (a, b (m, n), rows over the blocks they touch:
+    `_times`) into out's (the rest not written): what `_factored` reads of a symmetric
+    product. Entry (i, k) sums over the blocks both rows touch, in order."""
     for i in range(a.shape[0]):
         for k in range(i + 1):
             acc = 0.0
-            for j in range(a.shape[1]):
-                acc += a[i, j] * b[k, j]
+            for c in range(touched.shape[1]):
+                if touched[i, c] and touched[k, c]:
+                    for j in range(7 * c, 7 * c + 7):
+                        acc += a[i, j] * b[k, j]
             out[i, k] = acc
+
+
+@njit(**KERNEL)
+def _touched(packed, m, nb):
+    """(m, nb): whether active row i's Jacobian row has a column in body b's block (the
+    pack's row bodies, constraint_arrays.unpack; a row over more bodies than it records
+    touches all): elsewhere its entries are zeros."""
+    active, row_bodies = packed[25], packed[26]
+    touched = np.zeros((m, nb), np.bool_)
+    for i in range(m):
+        r = active[i]
+        if row_bodies[r, 0] == ca.DENSE_ROW:
+            touched[i, :] = True
+            continue
+        for c in range(row_bodies.shape[1]):
+            b = row_bodies[r, c]
+            if 0 <= b < nb:
+                touched[i, b] = True
+    return touched
 
 
 @njit(**KERNEL)
@@ -210,14 +238,16 @@ def row_work(ints, floats, body, nq, m):
     x, xd (2, nb+1, 7); the Jacobian, that of the latest iterate and phi_q M^-1 (3, m, nq);
     the symmetric product and its Cholesky factor (2, m, m: their upper triangles stay
     zero); M^-1's blocks (nb, 7, 7); the elements' forces and torques (2, nb+1, 3); the
-    constraints' residuals and rows (constraint_arrays.phi_and_jacobian_in)."""
+    constraints' residuals and rows (constraint_arrays.phi_and_jacobian_in); the bodies
+    each active row touches (m, nb: `_touched`), which the products read."""
     nb = nq // 7
     nall = ca.row_count(ints) if nq else 0  # nq = 0: no row to work in
+    packed = ca.unpack(ints, floats)
     return (
-        ca.unpack(ints, floats), inverse_inertia(body, nb), np.empty((6, nq)),
+        packed, inverse_inertia(body, nb), np.empty((6, nq)),
         np.empty((7, m)), np.empty((2, nb + 1, 7)), np.empty((3, m, nq)), np.zeros((2, m, m)),
         np.empty((nb, 7, 7)), np.zeros((2, nb + 1, 3)), np.empty(nall),
-        np.empty((nall, 7 * (nb + 1))),
+        np.empty((nall, 7 * (nb + 1))), _touched(packed, m, nb),
     )  # fmt: skip
 
 
@@ -240,7 +270,7 @@ def _positions(work, functions, refs, tol, reuse, most, once):
     solves phi_q step = -phi with phi_q phi_q^T's factor well conditioned (`_factored`),
     so the residual after it is of the order of |step|^2 (at most 3.3e-16 on 2000 rows of
     the campaign's slider-crank)."""
-    packed, _, state, vectors, xs, mats, squares, _, _, full, rows = work
+    packed, _, state, vectors, xs, mats, squares, _, _, full, rows, touched = work
     q, step, phi, neg, solved = state[0], state[3], vectors[0], vectors[5], vectors[1]
     x, rates = xs[0], xs[1]  # rates: unread
     jac, at_iterate, product, low = mats[0], mats[1], squares[0], squares[1]
@@ -251,7 +281,7 @@ def _positions(work, functions, refs, tol, reuse, most, once):
         exact = not have  # factored at the iterate this step starts from
         if not have:
             jac[:] = at_iterate
-            _lower_product(jac, jac, product)
+            _lower_product(jac, jac, touched, product)
             if not _factored(product, low):
                 return FALLBACK, fresh
             fresh += 1
@@ -261,7 +291,7 @@ def _positions(work, functions, refs, tol, reuse, most, once):
         for i in range(m):
             neg[i] = -phi[i]
         _cho_solve_into(low, neg, solved)
-        _transpose_times(jac, solved, step)
+        _transpose_times(jac, solved, touched, step)
         size = 0.0
         for j in range(nq):
             q[j] += step[j]
@@ -314,10 +344,11 @@ def _inverse_mass(x, body, inverse):
 @njit(**KERNEL)
 def _schur(work, body):
     """Into work: M^-1's blocks at x (xs[0]) from each body's J'^-1 (`inverse_inertia`),
-    phi_q M^-1 (m, nq) with the row's Jacobian (the latest iterate's), and the Cholesky
+    phi_q M^-1 (m, nq, in the blocks each row touches) with the row's Jacobian (the latest
+    iterate's), and the Cholesky
     factor of the Schur complement phi_q M^-1 phi_q^T; False where the complement is not
     well conditioned (`_factored`)."""
-    _, inverse, _, _, xs, mats, squares, minv, _, _, _ = work
+    _, inverse, _, _, xs, mats, squares, minv, _, _, _, touched = work
     jac, weighted = mats[1], mats[2]
     m, nb = jac.shape[0], inverse.shape[0]
     _, masses, pscale, _ = ca.body_terms(body, nb)
@@ -325,6 +356,8 @@ def _schur(work, body):
     for b in range(nb):
         o = 7 * b
         for i in range(m):
+            if not touched[i, b]:  # zeros there, which no product reads
+                continue
             for c in range(3):
                 weighted[i, o + c] = jac[i, o + c] * minv[b, c, c]
             for c in range(3, 7):
@@ -332,7 +365,7 @@ def _schur(work, body):
                 for d in range(3, 7):
                     acc += jac[i, o + d] * minv[b, d, c]
                 weighted[i, o + c] = acc
-    _lower_product(weighted, jac, squares[0])
+    _lower_product(weighted, jac, touched, squares[0])
     return _factored(squares[0], squares[1])
 
 
@@ -391,7 +424,7 @@ def project_worked_row(ends, h, s, work, functions, refs, body, params, z, eleme
     """`project_loaded_row` in the arrays `work` (`row_work`: the constraints unpacked,
     each body's J'^-1 and the row's arrays made once for a block of rows, 1-2 us a row
     each)."""
-    packed, inverse, state, vectors, xs, mats, _, _, _, full, rows = work
+    packed, inverse, state, vectors, xs, mats, _, _, _, full, rows, _ = work
     q, qd = state[0], state[1]
     _interpolate(ends, h, s, q, qd)
     nq = q.shape[0]
@@ -418,7 +451,7 @@ def _dynamics(work, functions, refs, body, z, elements, out):
     Jacobian, M^-1 blocks, phi_q M^-1 and the Schur complement's factor there (`_schur`):
     qd onto phi_q qd = nu (mass-weighted), then qdd and lam; (q, qd, qdd, lam) stacked into
     out. DONE, or FALLBACK where a number is not finite."""
-    packed, _, state, vectors, xs, mats, squares, minv, wrenches, _, _ = work
+    packed, _, state, vectors, xs, mats, squares, minv, wrenches, _, _, touched = work
     q, qd, v, forces, free = state[0], state[1], state[2], state[4], state[5]
     solved, nu, gamma = vectors[1], vectors[2], vectors[3]
     drift, rhs, lam = vectors[4], vectors[5], vectors[6]
@@ -426,7 +459,7 @@ def _dynamics(work, functions, refs, body, z, elements, out):
     x, xd = xs[0], xs[1]
     nq, nb, m = q.shape[0], q.shape[0] // 7, jac.shape[0]
     ca.unpacked_nu_values(packed, functions, nu)
-    _times(jac, qd, drift)
+    _times(jac, qd, touched, drift)
     largest = 0.0
     for i in range(m):
         drift[i] = nu[i] - drift[i]
@@ -434,7 +467,7 @@ def _dynamics(work, functions, refs, body, z, elements, out):
     v[:] = qd
     if m and largest > 0.0:
         _cho_solve_into(low, drift, solved)
-        _transpose_times(weighted, solved, free)
+        _transpose_times(weighted, solved, touched, free)
         for j in range(nq):
             v[j] += free[j]
         ca.state_into(q, v, x, xd)
@@ -444,11 +477,11 @@ def _dynamics(work, functions, refs, body, z, elements, out):
         element_wrenches(x, xd, z, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, wrench_f, wrench_n)
     gravity, masses, _, inertia = ca.body_terms(body, nb)
     kr.body_forces(x, xd, masses, inertia, gravity, wrench_f, wrench_n, True, forces)
-    _times(weighted, forces, rhs)
+    _times(weighted, forces, touched, rhs)
     for i in range(m):
         rhs[i] -= gamma[i]
     _cho_solve_into(low, rhs, lam)
-    _transpose_times(jac, lam, free)
+    _transpose_times(jac, lam, touched, free)
     for j in range(nq):
         free[j] = forces[j] - free[j]
     for b in range(nb):
