@@ -364,6 +364,13 @@ def _coordinate_rows(
 
 
 @njit(**KERNEL)
+def row_count(ints):
+    """The pack's rows, active or not (`ConstraintArrays.packed`'s ints): Euler-parameter
+    norms, 3 a spherical group, the dot-1 and dot-2 rows, the coordinate equations."""
+    return ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+
+
+@njit(**KERNEL)
 def unpack(ints, floats):
     """The arrays `_pack` laid out: (nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j,
     d2v, d2si, d2sj, ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active,
@@ -421,13 +428,23 @@ def phi_and_jacobian(x, ints, floats, functions, refs, phi, jac):
 def unpacked_phi_and_jacobian(x, packed, functions, refs, phi, jac):
     """`phi_and_jacobian` of the pack unpacked once (`unpack`: about 1 us a call, as much
     as a third of the Jacobian of a few bodies)."""
+    nb, sbi, d1i, d2i, linear = packed[0], packed[1], packed[5], packed[9], packed[24]
+    nall = nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0] + linear.shape[0]
+    full = np.empty(nall)
+    rows = np.empty((nall, x.shape[0] * 7))
+    phi_and_jacobian_in(x, packed, functions, refs, phi, jac, full, rows)
+
+
+@njit(**KERNEL)
+def phi_and_jacobian_in(x, packed, functions, refs, phi, jac, full, rows):
+    """`unpacked_phi_and_jacobian` in the work arrays full (`row_count`,) and rows
+    (`row_count`, 7 (nb+1)), zeroed here: a loop of rows makes them once."""
     (
         nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
         ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, _,
     ) = packed  # fmt: skip
-    nall = nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0] + linear.shape[0]
-    full = np.zeros(nall)
-    rows = np.zeros((nall, x.shape[0] * 7))
+    full[:] = 0.0
+    rows[:] = 0.0
     first = _full_rows(
         x, nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj, full, rows
     )
@@ -669,6 +686,5 @@ def scaled_row(q, packed, scale, work, jac):
 def row_work(ints: np.ndarray, nq: int) -> tuple:
     """Work arrays of `scaled_row` for a pack (`ConstraintArrays.packed`'s ints): the rows
     start at zero (`constraint_rows` fills only their bodies' blocks)."""
-    nb, ns, n1, n2, ne = ints[0], ints[1], ints[2], ints[3], ints[6]
-    nall = nb + 3 * ns + n1 + n2 + ne
+    nall, ne = row_count(ints), ints[6]
     return np.zeros(nall), np.zeros((nall, nq + 7)), np.zeros(ints[4]), np.zeros((ne, 3))

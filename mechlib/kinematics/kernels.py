@@ -240,67 +240,72 @@ def dot1_gamma(x, xd, bi, bj, u, v, out):
 
 
 @njit(**KERNEL)
-def _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, rates, tmp):
+def _dot2_arms(x, k, bi, bj, v, si, sj):
+    """Dot-2 row k's b = A_j v and d = r_i + A_i s_i - r_j - A_j s_j as tuples (no array
+    made: the rows are evaluated at every Newton iteration and every dense row)."""
     pi, pj = x[bi[k], 3:], x[bj[k], 3:]
-    _rot(pj, v[k], b)
-    _rot(pi, si[k], d)
-    _rot(pj, sj[k], tmp)
-    for c in range(3):
-        d[c] += x[bi[k], c] - x[bj[k], c] - tmp[c]
-    if rates:
-        _brot(pj, xd[bj[k], 3:], v[k], bd)
-        _brot(pi, xd[bi[k], 3:], si[k], dd)
-        _brot(pj, xd[bj[k], 3:], sj[k], tmp)
-        for c in range(3):
-            dd[c] += xd[bi[k], c] - xd[bj[k], c] - tmp[c]
+    b = _rotated(pj, v[k])
+    d0, d1, d2 = _rotated(pi, si[k])
+    t0, t1, t2 = _rotated(pj, sj[k])
+    xi, xj = x[bi[k]], x[bj[k]]
+    d = (d0 + (xi[0] - xj[0] - t0), d1 + (xi[1] - xj[1] - t1), d2 + (xi[2] - xj[2] - t2))
+    return b, d
+
+
+@njit(**KERNEL)
+def _dot2_rates(x, xd, k, bi, bj, v, si, sj):
+    """The rates of `_dot2_arms`' b and d for xd, as tuples."""
+    pi, pj = x[bi[k], 3:], x[bj[k], 3:]
+    bd = _brotated(pj, xd[bj[k], 3:], v[k])
+    d0, d1, d2 = _brotated(pi, xd[bi[k], 3:], si[k])
+    t0, t1, t2 = _brotated(pj, xd[bj[k], 3:], sj[k])
+    vi, vj = xd[bi[k]], xd[bj[k]]
+    dd = (d0 + (vi[0] - vj[0] - t0), d1 + (vi[1] - vj[1] - t1), d2 + (vi[2] - vj[2] - t2))
+    return bd, dd
 
 
 @njit(**KERNEL)
 def dot2_phi(x, bi, bj, v, si, sj, out):
-    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     for k in range(bi.shape[0]):
-        _dot2_parts(x, x, k, bi, bj, v, si, sj, b, d, bd, dd, False, tmp)
+        b, d = _dot2_arms(x, k, bi, bj, v, si, sj)
         out[k] = _dot3(b, d)
 
 
 @njit(**KERNEL)
 def dot2_jac(x, bi, bj, v, si, sj, out):
-    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    m = np.empty((3, 4))
     for k in range(bi.shape[0]):
-        _dot2_parts(x, x, k, bi, bj, v, si, sj, b, d, bd, dd, False, tmp)
+        b, d = _dot2_arms(x, k, bi, bj, v, si, sj)
         ci, cj = 7 * bi[k], 7 * bj[k]
         for c in range(3):
             out[k, ci + c] += b[c]
             out[k, cj + c] -= b[c]
-        _bmat(x[bi[k], 3:], si[k], m)
+        m = _bmatrix(x[bi[k], 3:], si[k])
         for e in range(4):
-            out[k, ci + 3 + e] += b[0] * m[0, e] + b[1] * m[1, e] + b[2] * m[2, e]
-        _bmat(x[bj[k], 3:], v[k], m)
+            out[k, ci + 3 + e] += b[0] * m[e] + b[1] * m[4 + e] + b[2] * m[8 + e]
+        m = _bmatrix(x[bj[k], 3:], v[k])
         for e in range(4):
-            out[k, cj + 3 + e] += d[0] * m[0, e] + d[1] * m[1, e] + d[2] * m[2, e]
-        _bmat(x[bj[k], 3:], sj[k], m)
+            out[k, cj + 3 + e] += d[0] * m[e] + d[1] * m[4 + e] + d[2] * m[8 + e]
+        m = _bmatrix(x[bj[k], 3:], sj[k])
         for e in range(4):
-            out[k, cj + 3 + e] -= b[0] * m[0, e] + b[1] * m[1, e] + b[2] * m[2, e]
+            out[k, cj + 3 + e] -= b[0] * m[e] + b[1] * m[4 + e] + b[2] * m[8 + e]
 
 
 @njit(**KERNEL)
 def dot2_rate(x, xd, bi, bj, v, si, sj, out):
-    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
     for k in range(bi.shape[0]):
-        _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, True, tmp)
+        b, d = _dot2_arms(x, k, bi, bj, v, si, sj)
+        bd, dd = _dot2_rates(x, xd, k, bi, bj, v, si, sj)
         out[k] = _dot3(bd, d) + _dot3(b, dd)
 
 
 @njit(**KERNEL)
 def dot2_gamma(x, xd, bi, bj, v, si, sj, out):
-    b, d, bd, dd, tmp = np.empty(3), np.empty(3), np.empty(3), np.empty(3), np.empty(3)
-    bdd, t1, t2 = np.empty(3), np.empty(3), np.empty(3)
     for k in range(bi.shape[0]):
-        _dot2_parts(x, xd, k, bi, bj, v, si, sj, b, d, bd, dd, True, tmp)
-        _rot(xd[bj[k], 3:], v[k], bdd)
-        _rot(xd[bi[k], 3:], si[k], t1)
-        _rot(xd[bj[k], 3:], sj[k], t2)
+        b, d = _dot2_arms(x, k, bi, bj, v, si, sj)
+        bd, dd = _dot2_rates(x, xd, k, bi, bj, v, si, sj)
+        bdd = _rotated(xd[bj[k], 3:], v[k])
+        t1 = _rotated(xd[bi[k], 3:], si[k])
+        t2 = _rotated(xd[bj[k], 3:], sj[k])
         ddd = 2.0 * (_dot3(b, t1) - _dot3(b, t2))
         out[k] = -(2.0 * _dot3(bdd, d) + 2.0 * _dot3(bd, dd) + ddd)
 

@@ -102,7 +102,7 @@ def gathered_loads(qs, lams, ints, floats, refs, rows_of, starts, bodies, out):
     read no time function, so none is given."""
     n, nq = qs.shape
     nb = nq // 7
-    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    nall = ca.row_count(ints)
     full = np.empty(nall)
     rows = np.zeros((nall, nq + 7))
     functions = np.zeros((ints[6], 3))

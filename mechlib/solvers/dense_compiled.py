@@ -21,8 +21,10 @@ one numba call instead of about 0.2 ms of Python per row:
   here through the Schur complement S = phi_q M^-1 phi_q^T: M is block diagonal with
   positive definite 7 x 7 blocks (m I, and 4 G^T J G + s p p^T for the Euler parameters).
 
-A step's rows take the constraints unpacked (constraint_arrays.unpack) and each body's
-J'^-1 (`inverse_inertia`) once for all of them (`project_unpacked_row`).
+A block of rows (a step's, a whole run's) takes the constraints unpacked
+(constraint_arrays.unpack), each body's J'^-1 (`inverse_inertia`) and the arrays a row
+works in once for all of them (`row_work`, `project_worked_row`): a row allocates no
+array.
 
 Same equations, so the same row to Newton's last step: the Jacobian (and the
 velocities, accelerations and reactions through it) is taken up to 1e-9 in q away from the
@@ -54,7 +56,8 @@ __all__ = [
     "project_loaded_row",
     "project_loaded_rows",
     "project_row",
-    "project_unpacked_row",
+    "project_worked_row",
+    "row_work",
     "small_enough",
 ]
 
@@ -90,21 +93,29 @@ def small_enough(system) -> bool:
 @njit(**KERNEL)
 def _cholesky(a):
     """(ok, L): the Cholesky factor of a (symmetric, its lower triangle read); ok when a is
-    finite and positive definite with pivots not below WELL_CONDITIONED of the largest.
-    Loops, not LAPACK: for the few tens of rows taken here its call costs more than the
-    factorisation."""
+    finite and positive definite with pivots not below WELL_CONDITIONED of the largest
+    (`_factored`)."""
+    low = np.zeros(a.shape)
+    return _factored(a, low), low
+
+
+@njit(**KERNEL)
+def _factored(a, low):
+    """Whether a (symmetric, its lower triangle read) is finite and positive definite with
+    pivots not below WELL_CONDITIONED of the largest; its Cholesky factor into the lower
+    triangle of `low` (n, n; the rest not written). Loops, not LAPACK: for the few tens of
+    rows taken here its call costs more than the factorisation."""
     n = a.shape[0]
     for v in a.ravel():
         if not np.isfinite(v):
-            return False, a
-    low = np.zeros((n, n))
+            return False
     largest, least = 0.0, np.inf
     for j in range(n):
         acc = a[j, j]
         for k in range(j):
             acc -= low[j, k] * low[j, k]
         if not acc > 0.0:
-            return False, a
+            return False
         pivot = np.sqrt(acc)
         low[j, j] = pivot
         largest, least = max(largest, acc), min(least, acc)
@@ -113,8 +124,7 @@ def _cholesky(a):
             for k in range(j):
                 acc -= low[i, k] * low[j, k]
             low[i, j] = acc / pivot
-    ok = n == 0 or (np.isfinite(largest) and least > WELL_CONDITIONED * largest)
-    return ok, low
+    return n == 0 or (np.isfinite(largest) and least > WELL_CONDITIONED * largest)
 
 
 @njit(**KERNEL)
@@ -125,10 +135,18 @@ def _well_conditioned(a):
 
 @njit(**KERNEL)
 def _cho_solve(low, b):
-    """x with L L^T x = b, by the two triangular substitutions (numba has no triangular
-    solve; np.linalg.solve would factor the matrix again)."""
+    """x with L L^T x = b (`_cho_solve_into`)."""
+    y = np.empty(b.shape[0])
+    _cho_solve_into(low, b, y)
+    return y
+
+
+@njit(**KERNEL)
+def _cho_solve_into(low, b, y):
+    """y (n,) with L L^T y = b, by the two triangular substitutions (numba has no
+    triangular solve; np.linalg.solve would factor the matrix again); L the lower triangle
+    of `low`."""
     n = b.shape[0]
-    y = np.empty(n)
     for i in range(n):
         acc = b[i]
         for j in range(i):
@@ -139,54 +157,107 @@ def _cho_solve(low, b):
         for j in range(i + 1, n):
             acc -= low[j, i] * y[j]
         y[i] = acc / low[i, i]
-    return y
 
 
 @njit(**KERNEL)
-def _times(a, x):
-    """a (m, n) x (n,) in loops (numba's @ calls BLAS, which costs more than these few
-    products)."""
-    out = np.zeros(a.shape[0])
+def _times(a, x, touched, out):
+    """out (m,) = a (m, n) x (n,) in loops (numba's @ calls BLAS, which costs more than
+    these few products), row i over the blocks of 7 columns of the bodies it touches
+    (`touched` (m, nb): `row_work`), in order: the terms left out are zeros, so the sum
+    is the full one's, bit for bit."""
     for i in range(a.shape[0]):
         acc = 0.0
-        for j in range(a.shape[1]):
-            acc += a[i, j] * x[j]
+        for b in range(touched.shape[1]):
+            if touched[i, b]:
+                for j in range(7 * b, 7 * b + 7):
+                    acc += a[i, j] * x[j]
         out[i] = acc
-    return out
 
 
 @njit(**KERNEL)
-def _transpose_times(a, y):
-    """a (m, n)^T y (m,) in loops (`_times`)."""
-    out = np.zeros(a.shape[1])
+def _transpose_times(a, y, touched, out):
+    """out (n,) = a (m, n)^T y (m,) in loops over the touched blocks (`_times`)."""
+    out[:] = 0.0
     for i in range(a.shape[0]):
         w = y[i]
-        for j in range(a.shape[1]):
-            out[j] += a[i, j] * w
-    return out
+        for b in range(touched.shape[1]):
+            if touched[i, b]:
+                for j in range(7 * b, 7 * b + 7):
+                    out[j] += a[i, j] * w
 
 
 @njit(**KERNEL)
-def _lower_product(a, b):
-    """The lower triangle of a b^T (m, m) (a, b (m, n)), the rest zeros: what `_cholesky`
-    reads of a symmetric product."""
-    m = a.shape[0]
-    out = np.zeros((m, m))
-    for i in range(m):
+def _lower_product(a, b, touched, out):
+    """The lower triangle of a b^T (m, m) (a, b (m, n), rows over the blocks they touch:
+    `_times`) into out's (the rest not written): what `_factored` reads of a symmetric
+    product. Entry (i, k) sums over the blocks both rows touch, in order."""
+    for i in range(a.shape[0]):
         for k in range(i + 1):
             acc = 0.0
-            for j in range(a.shape[1]):
-                acc += a[i, j] * b[k, j]
+            for c in range(touched.shape[1]):
+                if touched[i, c] and touched[k, c]:
+                    for j in range(7 * c, 7 * c + 7):
+                        acc += a[i, j] * b[k, j]
             out[i, k] = acc
-    return out
 
 
 @njit(**KERNEL)
-def _positions(q, phi, jac, packed, functions, refs, tol, reuse, most, once):
-    """q (copied, then moved) onto phi = 0 by minimum-norm Newton (mechlib.solvers.assembly._newton
-    with unit weights) from phi and its Jacobian jac at q (evaluated by the caller: the
-    first of the fresh Jacobians). Returns (status, q, fresh Jacobians: those the iteration
-    factored, the Jacobian at the iterate before the last step: within that step of q).
+def _touched(packed, m, nb):
+    """(m, nb): whether active row i's Jacobian row has a column in body b's block (the
+    pack's row bodies, constraint_arrays.unpack; a row over more bodies than it records
+    touches all): elsewhere its entries are zeros."""
+    active, row_bodies = packed[25], packed[26]
+    touched = np.zeros((m, nb), np.bool_)
+    for i in range(m):
+        r = active[i]
+        if row_bodies[r, 0] == ca.DENSE_ROW:
+            touched[i, :] = True
+            continue
+        for c in range(row_bodies.shape[1]):
+            b = row_bodies[r, c]
+            if 0 <= b < nb:
+                touched[i, b] = True
+    return touched
+
+
+@njit(**KERNEL)
+def _finite(a):
+    """Every entry of the 1-d array a is finite (no temporary array, as np.isfinite's)."""
+    for v in a:  # noqa: SIM110 -- numba compiles no generator in all()
+        if not np.isfinite(v):
+            return False
+    return True
+
+
+@njit(**KERNEL)
+def row_work(ints, floats, body, nq, m):
+    """The arrays a block of rows works in, made once for all of them (a step's rows,
+    a whole run's): the constraints unpacked (constraint_arrays.unpack) and each body's
+    J'^-1 (`inverse_inertia`), both constant over a run; the state (q, qd, v, step, Q,
+    Q - phi_q^T lam) (6, nq); the m-vectors (phi, solve, nu, gamma, drift, rhs, lam) (7, m);
+    x, xd (2, nb+1, 7); the Jacobian, that of the latest iterate and phi_q M^-1 (3, m, nq);
+    the symmetric product and its Cholesky factor (2, m, m: their upper triangles stay
+    zero); M^-1's blocks (nb, 7, 7); the elements' forces and torques (2, nb+1, 3); the
+    constraints' residuals and rows (constraint_arrays.phi_and_jacobian_in); the bodies
+    each active row touches (m, nb: `_touched`), which the products read."""
+    nb = nq // 7
+    nall = ca.row_count(ints) if nq else 0  # nq = 0: no row to work in
+    packed = ca.unpack(ints, floats)
+    return (
+        packed, inverse_inertia(body, nb), np.empty((6, nq)),
+        np.empty((7, m)), np.empty((2, nb + 1, 7)), np.empty((3, m, nq)), np.zeros((2, m, m)),
+        np.empty((nb, 7, 7)), np.zeros((2, nb + 1, 3)), np.empty(nall),
+        np.empty((nall, 7 * (nb + 1))), _touched(packed, m, nb),
+    )  # fmt: skip
+
+
+@njit(**KERNEL)
+def _positions(work, functions, refs, tol, reuse, most, once):
+    """work's q (moved in place) onto phi = 0 by minimum-norm Newton (mechlib.solvers.
+    assembly._newton with unit weights) from phi and its Jacobian at q in work's phi and
+    latest-iterate Jacobian (evaluated by the caller: the first of the fresh Jacobians).
+    Returns (status, fresh Jacobians: those the iteration factored); the latest-iterate
+    Jacobian is then the one at the iterate before the last step (within that step of q).
     Each iterate a further step follows gets its Jacobian with its residual
     (phi_and_jacobian's phi is phi_values'): the iteration's next where the step was not
     below `reuse`, else kept for the row (the one a row evaluates besides those it factors,
@@ -196,40 +267,42 @@ def _positions(q, phi, jac, packed, functions, refs, tol, reuse, most, once):
     step would be of the order of its square (about 1e-18 for `once` = 1e-9, far below
     `tol`), so the iterate after it is the converged one to that order, and evaluating
     phi and its Jacobian once more there (5.5 us) bought nothing. Either way the step
-    solves phi_q step = -phi with phi_q phi_q^T's factor well conditioned (`_cholesky`),
+    solves phi_q step = -phi with phi_q phi_q^T's factor well conditioned (`_factored`),
     so the residual after it is of the order of |step|^2 (at most 3.3e-16 on 2000 rows of
     the campaign's slider-crank)."""
-    nq = q.shape[0]
-    nb = nq // 7
-    m = phi.shape[0]
-    q = q.copy()
-    x, rates = ca.state_arrays(q, q, nb)  # rates: unread
-    low = np.empty((m, m))
-    at_iterate = jac.copy()  # the Jacobian at the latest iterate
+    packed, _, state, vectors, xs, mats, squares, _, _, full, rows, touched = work
+    q, step, phi, neg, solved = state[0], state[3], vectors[0], vectors[5], vectors[1]
+    x, rates = xs[0], xs[1]  # rates: unread
+    jac, at_iterate, product, low = mats[0], mats[1], squares[0], squares[1]
+    nq, m = q.shape[0], phi.shape[0]
+    ca.state_into(q, q, x, rates)
     fresh, have = 0, False
     for _ in range(most):
         exact = not have  # factored at the iterate this step starts from
         if not have:
             jac[:] = at_iterate
-            ok, low = _cholesky(_lower_product(jac, jac))
-            if not ok:
-                return FALLBACK, q, fresh, at_iterate
+            _lower_product(jac, jac, touched, product)
+            if not _factored(product, low):
+                return FALLBACK, fresh
             fresh += 1
             have = True
-        if not np.isfinite(phi).all():
-            return FALLBACK, q, fresh, at_iterate
-        step = _transpose_times(jac, _cho_solve(low, -phi))
+        if not _finite(phi):
+            return FALLBACK, fresh
+        for i in range(m):
+            neg[i] = -phi[i]
+        _cho_solve_into(low, neg, solved)
+        _transpose_times(jac, solved, touched, step)
         size = 0.0
         for j in range(nq):
             q[j] += step[j]
             size = max(size, abs(step[j]))
         ca.state_into(q, q, x, rates)
         if size < tol or (exact and size < once):  # converged (the docstring)
-            return DONE, q, fresh, at_iterate
-        ca.unpacked_phi_and_jacobian(x, packed, functions, refs, phi, at_iterate)
+            return DONE, fresh
+        ca.phi_and_jacobian_in(x, packed, functions, refs, phi, at_iterate, full, rows)
         if size >= reuse:
             have = False
-    return FALLBACK, q, fresh, at_iterate
+    return FALLBACK, fresh
 
 
 @njit(**KERNEL)
@@ -269,18 +342,22 @@ def _inverse_mass(x, body, inverse):
 
 
 @njit(**KERNEL)
-def _schur(x, jac, body, inverse):
-    """(ok, M^-1's blocks, phi_q M^-1 (m, nq), the Cholesky factor of the Schur complement
-    phi_q M^-1 phi_q^T) at x with the Jacobian jac and each body's J'^-1 `inverse`
-    (`inverse_inertia`); ok False where the complement is not well conditioned
-    (`_cholesky`)."""
-    m = jac.shape[0]
-    nb = inverse.shape[0]
-    minv = _inverse_mass(x, body, inverse)
-    weighted = np.empty((m, 7 * nb))
+def _schur(work, body):
+    """Into work: M^-1's blocks at x (xs[0]) from each body's J'^-1 (`inverse_inertia`),
+    phi_q M^-1 (m, nq, in the blocks each row touches) with the row's Jacobian (the latest
+    iterate's), and the Cholesky
+    factor of the Schur complement phi_q M^-1 phi_q^T; False where the complement is not
+    well conditioned (`_factored`)."""
+    _, inverse, _, _, xs, mats, squares, minv, _, _, _, touched = work
+    jac, weighted = mats[1], mats[2]
+    m, nb = jac.shape[0], inverse.shape[0]
+    _, masses, pscale, _ = ca.body_terms(body, nb)
+    kr.inverse_mass_blocks(xs[0], masses, inverse, pscale, minv)
     for b in range(nb):
         o = 7 * b
         for i in range(m):
+            if not touched[i, b]:  # zeros there, which no product reads
+                continue
             for c in range(3):
                 weighted[i, o + c] = jac[i, o + c] * minv[b, c, c]
             for c in range(3, 7):
@@ -288,8 +365,8 @@ def _schur(x, jac, body, inverse):
                 for d in range(3, 7):
                     acc += jac[i, o + d] * minv[b, d, c]
                 weighted[i, o + c] = acc
-    ok, low = _cholesky(_lower_product(weighted, jac))
-    return ok, minv, weighted, low
+    _lower_product(weighted, jac, touched, squares[0])
+    return _factored(squares[0], squares[1])
 
 
 @njit(**KERNEL)
@@ -297,15 +374,26 @@ def interpolated(ends, h, s):
     """(q, qd) at the fraction s of a step of h (s) from the quintic Hermite interpolant
     of ends (6, nq) = (q0, qd0, qdd0, q1, qd1, qdd1) (mechlib.solvers.dense.hermite's formula);
     s = 1 gives the end's own (q1, qd1)."""
+    q, qd = np.empty(ends.shape[1]), np.empty(ends.shape[1])
+    _interpolate(ends, h, s, q, qd)
+    return q, qd
+
+
+@njit(**KERNEL)
+def _interpolate(ends, h, s, q, qd):
+    """`interpolated` into q, qd (nq,)."""
     if s == 1.0:
-        return ends[3].copy(), ends[4].copy()
+        q[:] = ends[3]
+        qd[:] = ends[4]
+        return
     s2 = s * s
     s3, s4 = s2 * s, s2 * s2
     p = np.array((1.0, s, s2, s3, s4, s4 * s))
     dp = np.array((0.0, 1.0, 2.0 * s, 3.0 * s2, 4.0 * s3, 5.0 * s4))
     scale = np.array((1.0, h, h * h, 1.0, h, h * h))
     values, slopes = (HERMITE_BASIS @ p) * scale, (HERMITE_BASIS @ dp) * scale / h
-    return values @ ends, slopes @ ends
+    q[:] = values @ ends
+    qd[:] = slopes @ ends
 
 
 @njit(**KERNEL)
@@ -326,63 +414,76 @@ def project_loaded_row(ends, h, s, ints, floats, functions, refs, body, params, 
     mechlib.elements.compiled_forces, no joint friction) at element states z (the row's,
     interpolated). The row's Jacobian is that of Newton's last iterate before its last
     step (`_positions`), within the position tolerance of q."""
-    nb = ends.shape[1] // 7
-    return project_unpacked_row(ends, h, s, ca.unpack(ints, floats), functions, refs, body,
-                inverse_inertia(body, nb), params, z, elements, out)  # fmt: skip
+    nq = ends.shape[1]
+    work = row_work(ints, floats, body, nq, out.shape[0] - 3 * nq)
+    return project_worked_row(ends, h, s, work, functions, refs, body, params, z, elements, out)
 
 
 @njit(**KERNEL)
-def project_unpacked_row(
-    ends, h, s, packed, functions, refs, body, inverse, params, z, elements, out
-):
-    """`project_loaded_row` with the constraints unpacked (`packed`: constraint_arrays.
-    unpack) and each body's J'^-1 (`inverse`: `inverse_inertia`) taken by the caller: both
-    constant over a step's rows (1-2 us a row each)."""
-    q, qd = interpolated(ends, h, s)
+def project_worked_row(ends, h, s, work, functions, refs, body, params, z, elements, out):
+    """`project_loaded_row` in the arrays `work` (`row_work`: the constraints unpacked,
+    each body's J'^-1 and the row's arrays made once for a block of rows, 1-2 us a row
+    each)."""
+    packed, inverse, state, vectors, xs, mats, _, _, _, full, rows, _ = work
+    q, qd = state[0], state[1]
+    _interpolate(ends, h, s, q, qd)
     nq = q.shape[0]
-    nb, m = nq // 7, out.shape[0] - 3 * nq  # out: (q, qd, qdd, lam)
-    if inverse.shape[0] != nb or not (np.isfinite(q).all() and np.isfinite(qd).all()):
+    nb = nq // 7
+    if inverse.shape[0] != nb or not (_finite(q) and _finite(qd)):
         return FALLBACK, 0
-    x, xd = ca.state_arrays(q, qd, nb)
-    phi, jac = np.empty(m), np.empty((m, nq))
-    ca.unpacked_phi_and_jacobian(x, packed, functions, refs, phi, jac)
+    x, xd = xs[0], xs[1]
+    ca.state_into(q, qd, x, xd)
+    ca.phi_and_jacobian_in(x, packed, functions, refs, vectors[0], mats[1], full, rows)
     tol, reuse, most = params[0], params[1], int(params[2])
     once = params[3] if params.shape[0] > 3 else 0.0
-    status, q, fresh, jac = _positions(q, phi, jac, packed, functions, refs, tol, reuse, most, once)
+    status, fresh = _positions(work, functions, refs, tol, reuse, most, once)
     if status != DONE:
         return FALLBACK, fresh
     ca.state_into(q, qd, x, xd)
-    ok, minv, weighted, low = _schur(x, jac, body, inverse)
-    if not ok:
+    if not _schur(work, body):
         return FALLBACK, fresh
-    return _dynamics(q, qd, x, xd, jac, minv, weighted, low, packed, functions, refs,
-                     body, z, elements, out), fresh  # fmt: skip
+    return _dynamics(work, functions, refs, body, z, elements, out), fresh
 
 
 @njit(**KERNEL)
-def _dynamics(q, qd, x, xd, jac, minv, weighted, low, packed, functions, refs, body, z,
-              elements, out):  # fmt: skip
-    """The row at position q (x: its state arrays, xd qd's, rewritten) with the Jacobian,
-    M^-1 blocks, phi_q M^-1 and the Schur complement's factor there (`_schur`): qd onto
-    phi_q qd = nu (mass-weighted), then qdd and lam; (q, qd, qdd, lam) stacked into out.
-    DONE, or FALLBACK where a number is not finite."""
+def _dynamics(work, functions, refs, body, z, elements, out):
+    """The row at work's position q (x, xd: its state arrays, rewritten) with the
+    Jacobian, M^-1 blocks, phi_q M^-1 and the Schur complement's factor there (`_schur`):
+    qd onto phi_q qd = nu (mass-weighted), then qdd and lam; (q, qd, qdd, lam) stacked into
+    out. DONE, or FALLBACK where a number is not finite."""
+    packed, _, state, vectors, xs, mats, squares, minv, wrenches, _, _, touched = work
+    q, qd, v, forces, free = state[0], state[1], state[2], state[4], state[5]
+    solved, nu, gamma = vectors[1], vectors[2], vectors[3]
+    drift, rhs, lam = vectors[4], vectors[5], vectors[6]
+    jac, weighted, low = mats[1], mats[2], squares[1]
+    x, xd = xs[0], xs[1]
     nq, nb, m = q.shape[0], q.shape[0] // 7, jac.shape[0]
-    nu, gamma = np.empty(m), np.empty(m)
     ca.unpacked_nu_values(packed, functions, nu)
-    drift = nu - _times(jac, qd)
-    v = qd.copy()
-    if m and np.abs(drift).max() > 0.0:
-        v += _transpose_times(weighted, _cho_solve(low, drift))
+    _times(jac, qd, touched, drift)
+    largest = 0.0
+    for i in range(m):
+        drift[i] = nu[i] - drift[i]
+        largest = max(largest, abs(drift[i]))
+    v[:] = qd
+    if m and largest > 0.0:
+        _cho_solve_into(low, drift, solved)
+        _transpose_times(weighted, solved, touched, free)
+        for j in range(nq):
+            v[j] += free[j]
         ca.state_into(q, v, x, xd)
     ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
-    forces = np.empty(nq)
-    wrench_f, wrench_n = np.zeros((nb + 1, 3)), np.zeros((nb + 1, 3))
+    wrench_f, wrench_n = wrenches[0], wrenches[1]  # zero without elements
     if any_elements(elements):
         element_wrenches(x, xd, z, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, wrench_f, wrench_n)
     gravity, masses, _, inertia = ca.body_terms(body, nb)
     kr.body_forces(x, xd, masses, inertia, gravity, wrench_f, wrench_n, True, forces)
-    lam = _cho_solve(low, _times(weighted, forces) - gamma)
-    free = forces - _transpose_times(jac, lam)
+    _times(weighted, forces, touched, rhs)
+    for i in range(m):
+        rhs[i] -= gamma[i]
+    _cho_solve_into(low, rhs, lam)
+    _transpose_times(jac, lam, touched, free)
+    for j in range(nq):
+        free[j] = forces[j] - free[j]
     for b in range(nb):
         o = 7 * b
         for c in range(3):
@@ -414,16 +515,16 @@ def project_loaded_rows(
     the kernel gives back stops it, the Jacobians evaluated)."""
     h = t1 - t0
     fresh = 0
-    packed, inverse = ca.unpack(ints, floats), inverse_inertia(body, ends.shape[1] // 7)
+    nq = ends.shape[1]
+    work = row_work(ints, floats, body, nq, rows_state.shape[1] - 3 * nq)
     for k in range(times.shape[0]):
         t = times[k]
         w = (t - t0) / h
         s = 1.0 if abs(t - t1) <= 1e-12 * max(1.0, abs(t)) else w
         hermite_states(ends_z[0], ends_z[1], ends_z[2], ends_z[3], h, w, rows_z[k])
-        status, more = project_unpacked_row(
-            ends, h, s, packed, functions, refs, body, inverse, params, rows_z[k], elements,
-            rows_state[k],
-        )  # fmt: skip
+        status, more = project_worked_row(
+            ends, h, s, work, functions, refs, body, params, rows_z[k], elements, rows_state[k]
+        )
         fresh += more
         if status != DONE:
             return k, fresh

@@ -65,7 +65,7 @@ def saddle_values(x, ints, floats, functions, refs, body, prow, pcol, out):
     diagonal blocks, phi_q's (and its transpose's) from the constraint rows' blocks."""
     nb = ints[0]
     nq = 7 * nb
-    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    nall = ca.row_count(ints)
     _, masses, pscale, inertia = ca.body_terms(body, nb)
     blocks = np.empty((nb, 7, 7))
     kr.mass_blocks(x, masses, inertia, pscale, blocks)

@@ -18,6 +18,8 @@ consistent_state), and the motion it gives against closed forms.
 - The kernel's interpolant is the quintic Hermite of both ends (exact for a quintic).
 - Its M^-1 in closed form times M is the identity to 1e-12 (|p| = 1 or not); its Cholesky
   factor (loops) is LAPACK's; its nu alone is `nu_and_gamma`'s.
+- The rows' products over the Jacobian blocks each row touches (`row_work`) are the full
+  products bit for bit: the entries left out are zeros at any state.
 - Where the kernel cannot vouch for its solve (a singular or non-finite matrix, Newton
   not converging) it gives up and the Python path takes the row.
 """
@@ -42,12 +44,16 @@ from mechlib.solvers.dense_compiled import (
     FALLBACK,
     _cholesky,
     _inverse_mass,
+    _lower_product,
+    _times,
+    _transpose_times,
     _well_conditioned,
     interpolated,
     inverse_inertia,
     project_loaded_row,
     project_loaded_rows,
     project_row,
+    row_work,
 )
 from mechlib.system.system import System
 
@@ -347,3 +353,42 @@ def test_interpolant_in_the_kernel_is_the_quintic_hermite() -> None:
         assert abs(got_q[0] - q(t)) < 1e-12 and abs(got_qd[0] - qd(t)) < 1e-12
     at_end = interpolated(ends + 1e-3, t1 - t0, 1.0)  # not a quintic: the end as given
     assert at_end[0][0] == ends[3, 0] + 1e-3 and at_end[1][0] == ends[4, 0] + 1e-3
+
+
+@pytest.mark.parametrize("model", [_free_crank, _driven_crank], ids=["free", "driven"])
+def test_rows_products_over_the_blocks_they_touch(model) -> None:
+    """The rows' products skip the Jacobian's blocks a row does not touch (`row_work`'s
+    `touched`): at a random state every entry outside them is zero, and the products over
+    the touched blocks are the full products bit for bit (the sums left out are zeros)
+    and numpy's to round-off (1e-13 of the largest)."""
+    jit.compile_all()
+    mech, _, _ = model()
+    system = System(mech)
+    arrays = system.packed_constraints()
+    assert arrays is not None
+    ints, floats = arrays.packed()
+    nq, m, nb = system.nq, system.active.size, system.nq // 7
+    work = row_work(ints, floats, arrays.bodies(), nq, m)
+    packed, touched = work[0], work[-1]
+    rng = np.random.default_rng(11)
+    x, _ = ca.state_arrays(system.design_q() + 0.1 * rng.standard_normal(nq), np.zeros(nq), nb)
+    phi, jac = np.empty(m), np.empty((m, nq))
+    ca.phi_and_jacobian_in(x, packed, arrays.functions(0.3), arrays.references(), phi, jac,
+                           work[-3], work[-2])  # fmt: skip
+    assert touched.shape == (m, nb) and 0 < touched.sum() < m * nb  # the crank's rows: sparse
+    outside = np.repeat(~touched, 7, axis=1)
+    assert np.abs(jac[outside]).max() == 0.0 and np.abs(jac[~outside]).max() > 0.0
+    every = np.ones_like(touched)
+    v, y = rng.standard_normal(nq), rng.standard_normal(m)
+    products = []
+    for blocks in (touched, every):
+        square, out_m, out_q = np.zeros((m, m)), np.empty(m), np.empty(nq)
+        _lower_product(jac, jac, blocks, square)
+        _times(jac, v, blocks, out_m)
+        _transpose_times(jac, y, blocks, out_q)
+        products.append((square, out_m, out_q))
+    for ours, full in zip(*products, strict=True):
+        assert np.array_equal(ours, full)
+    square, out_m, out_q = products[0]
+    for ours, exact in ((square, np.tril(jac @ jac.T)), (out_m, jac @ v), (out_q, jac.T @ y)):
+        assert np.abs(ours - exact).max() <= 1e-13 * np.abs(exact).max()

@@ -39,7 +39,7 @@ def applied_tangent(
     compiled_forces.differenced_forces: forward differences of step 1e-7 max(1, |q_j|)
     and 1e-7 max(1, |qd_j|)."""
     nb = q.shape[0] // 7
-    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    nall = ca.row_count(ints)
     full, rows = np.empty(nall), np.zeros((nall, q.shape[0] + 7))
     x, _ = ca.state_arrays(q, qd, nb)
     active, _ = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)

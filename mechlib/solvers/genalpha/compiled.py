@@ -162,7 +162,7 @@ def rigid_work(ints, floats, nq):
     (each iteration fills its rows' blocks only), `_residual_work`'s, x and xd (nb+1, 7).
     A whole run (mechlib.solvers.genalpha.run) makes them once, not at every step."""
     nb = nq // 7
-    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    nall = ca.row_count(ints)
     return (
         ca.unpack(ints, floats), np.empty(nall), np.empty((nall, nq + 7)), _residual_work(nq),
         np.empty((nb + 1, 7)), np.empty((nb + 1, 7)),

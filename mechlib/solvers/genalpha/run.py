@@ -61,8 +61,8 @@ from mechlib.linalg.flat_lu import SUPERLU, refactor
 from mechlib.solvers.dense import PROJECTION
 from mechlib.solvers.dense_compiled import (
     DONE,
-    inverse_inertia,
-    project_unpacked_row,
+    project_worked_row,
+    row_work,
     small_enough,
 )
 from mechlib.solvers.finite import all_finite
@@ -167,6 +167,9 @@ def run_steps(
     values = np.empty(prow.shape[0])
     slips = np.empty(rates.shape[0])  # the frictions' slip rates at a state
     work = rigid_work(ints, floats, nq)  # Newton's arrays, made once for the call's steps
+    # and the dense rows' (empty without dense rows: a large system's rows never come here)
+    rows_nq, rows_m = (nq, m) if dense else (0, 0)
+    row_arrays = row_work(ints, floats, body, rows_nq, rows_m)
     i, written, taken = first, 0, 0
     while True:
         t = ctrl[T]
@@ -251,7 +254,7 @@ def run_steps(
         # the contacts' memories first: the Python stepper settles a step before its rows
         saved = _committed(q1, qd1, t_new, elements, kept, taken, due)
         fresh_rows = _dense_rows(
-            ends, t, t_new, outs[i : i + due], written, ints, floats, functions, new_block,
+            ends, t, t_new, outs[i : i + due], written, row_arrays, functions, new_block,
             new_refs, body, projection, rows_t, rows_state, rows_refs, elements, states,
         )  # fmt: skip
         if fresh_rows < 0:  # the Python stepper takes this step and its rows
@@ -485,7 +488,7 @@ def _write_row(k, t, q, cons, cons_lam, refs_all, rows_t, rows_state, rows_refs)
 
 @njit(**KERNEL)
 def _dense_rows(
-    ends, t, t_new, times, first, ints, floats, functions, block_refs, refs, body, projection,
+    ends, t, t_new, times, first, work, functions, block_refs, refs, body, projection,
     rows_t, rows_state, rows_refs, elements, states,
 ):  # fmt: skip
     """The rows at `times` within the step t -> t_new (s), projected from the step's `ends`
@@ -493,21 +496,18 @@ def _dense_rows(
     states, interpolated into `states`' rows: run_states.interpolate_states, cubic Hermite
     from both ends' values and rates) into rows
     first, first + 1, ...: the fresh Jacobians they took, or -1 where a row is given back
-    to Python."""
-    if not times.shape[0]:  # no row within the step: nothing to unpack
-        return 0
+    to Python. `work`: dense_compiled.row_work's arrays, made once for the call's steps."""
     span = t_new - t
     fresh_rows = 0
-    packed, inverse = ca.unpack(ints, floats), inverse_inertia(body, ends.shape[1] // 7)
     for k in range(times.shape[0]):
         t_row = times[k]
         at_end = abs(t_row - t_new) <= 1e-12 * max(1.0, abs(t_row))
         w = (t_row - t) / span
         s = 1.0 if at_end else w
         z = interpolate_states(states, span, w, first + k)
-        status, fresh = project_unpacked_row(
-            ends, span, s, packed, functions, block_refs, body, inverse, projection, z,
-            elements, rows_state[first + k],
+        status, fresh = project_worked_row(
+            ends, span, s, work, functions, block_refs, body, projection, z, elements,
+            rows_state[first + k],
         )  # fmt: skip
         if status != DONE:
             return -1
@@ -608,7 +608,7 @@ def _differenced(
     nb = nq // 7
     _, masses, _, inertia = ca.body_terms(body, nb)
     x, xd = ca.state_arrays(q1, qd1, nb)
-    nall = ints[0] + 3 * ints[1] + ints[2] + ints[3] + ints[6]
+    nall = ca.row_count(ints)
     full, rows = np.empty(nall), np.zeros((nall, nq + 7))
     active, _ = ca.constraint_rows(x, ints, floats, functions, refs, full, rows)
     z0, trial, f0 = states[0], states[1], states[2]
