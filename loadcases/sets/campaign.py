@@ -50,6 +50,7 @@ from loadcases.results.saved import (
     saved_run_of,
     summary_path,
 )
+from loadcases.sets.collector import collector_paused
 from loadcases.sets.executors import Executor, PoolExecutor, SerialExecutor
 from loadcases.sets.specs import CompiledSet, RunSpec, load_and_compile_set
 from loadcases.sets.warm import warm_kernels
@@ -233,7 +234,8 @@ def _warmed(executor: Executor, specs: list[RunSpec]) -> bool:
     """Load the kernels of `specs` here when `executor` forks workers to solve them, which
     then inherit them (`loadcases.sets.warm`); False when an interrupt came meanwhile."""
     if isinstance(executor, PoolExecutor) and executor.forks(len(specs)):
-        return warm_kernels(specs)
+        with collector_paused():
+            return warm_kernels(specs)
     return True
 
 
@@ -302,7 +304,8 @@ def _report_files(
         if model.mass_properties is not None:
             data.mass = mass_table(result.compiled)
             files.append(data.mass.write_csv(result.directory))
-        write_workbook(data, workbook, template=template, progress=on_report)
+        with collector_paused():  # after the plots' processes are forked: theirs stays on
+            write_workbook(data, workbook, template=template, progress=on_report)
         if on_report is not None:
             on_report("envelope plots")
         files += plots()

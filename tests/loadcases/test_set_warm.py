@@ -80,3 +80,23 @@ def test_a_pool_forks_only_for_more_than_one_worker() -> None:
     fork = multiprocessing.get_start_method() == "fork"
     assert not PoolExecutor(2).forks(1) and not PoolExecutor(1).forks(5)
     assert PoolExecutor(2).forks(2) == fork
+
+
+def test_the_collector_is_paused_within_the_block_and_as_it_was_after() -> None:
+    import gc
+
+    from loadcases.sets.collector import collector_paused
+
+    was_on = gc.isenabled()
+    try:
+        for state in (True, False):
+            (gc.enable if state else gc.disable)()
+            with collector_paused():
+                assert not gc.isenabled()
+            assert gc.isenabled() is state
+        gc.enable()
+        with pytest.raises(RuntimeError), collector_paused():
+            raise RuntimeError("a failing step")
+        assert gc.isenabled()
+    finally:
+        (gc.enable if was_on else gc.disable)()
