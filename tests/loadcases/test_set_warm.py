@@ -67,7 +67,7 @@ def test_an_interrupt_while_warming_starts_no_run(
     def solve(spec: object) -> None:
         started.append(spec)
 
-    monkeypatch.setattr(campaign, "solve_spec", solve)
+    monkeypatch.setattr(campaign, "solve_spec", solve)  # a run started fails the test
     monkeypatch.setattr(interrupts, "received", lambda: 2)  # SIGINT met while warming
     result = campaign.run_set(
         tmp_path / "crank.set.yaml", output_dir=tmp_path / "out", executor=PoolExecutor(2)
@@ -100,3 +100,10 @@ def test_the_collector_is_paused_within_the_block_and_as_it_was_after() -> None:
         assert gc.isenabled()
     finally:
         (gc.enable if was_on else gc.disable)()
+
+
+def test_a_warm_run_that_cannot_be_solved_costs_its_time_only(tmp_path: Path) -> None:
+    from loadcases.sets.specs import RunSpec
+
+    missing = RunSpec("gone", "gone", str(tmp_path / "gone.case.yaml"), (), (), "0" * 64)
+    assert warm.warm_kernels([missing, missing])  # no error: the real run reports it
