@@ -50,8 +50,10 @@ from loadcases.results.saved import (
     saved_run_of,
     summary_path,
 )
-from loadcases.sets.executors import Executor, SerialExecutor
+from loadcases.sets.collector import collector_paused
+from loadcases.sets.executors import Executor, PoolExecutor, SerialExecutor
 from loadcases.sets.specs import CompiledSet, RunSpec, load_and_compile_set
+from loadcases.sets.warm import warm_kernels
 from mechlib.core.outcome import Solution
 
 __all__ = [
@@ -203,6 +205,8 @@ def _solve_all(
                 on_record(record, done, len(specs))
     todo = [k for k, record in enumerate(records) if record is None]
     try:
+        if not _warmed(executor, [specs[k] for k in todo]):  # interrupted: no run starts
+            return [record for record in records if record is not None], True
         for index, outcome in executor.map_unordered(solve_spec, [specs[k] for k in todo]):
             if done == len(specs) - len(todo):  # the first solved run
                 _import_report_modules()
@@ -224,6 +228,15 @@ def _solve_all(
         return [record for record in records if record is not None], True
     kept = [record for record in records if record is not None]
     return kept, len(kept) < len(specs) or interrupts.received() is not None
+
+
+def _warmed(executor: Executor, specs: list[RunSpec]) -> bool:
+    """Load the kernels of `specs` here when `executor` forks workers to solve them, which
+    then inherit them (`loadcases.sets.warm`); False when an interrupt came meanwhile."""
+    if isinstance(executor, PoolExecutor) and executor.forks(len(specs)):
+        with collector_paused():
+            return warm_kernels(specs)
+    return True
 
 
 def _import_report_modules() -> None:
@@ -291,7 +304,8 @@ def _report_files(
         if model.mass_properties is not None:
             data.mass = mass_table(result.compiled)
             files.append(data.mass.write_csv(result.directory))
-        write_workbook(data, workbook, template=template, progress=on_report)
+        with collector_paused():  # after the plots' processes are forked: theirs stays on
+            write_workbook(data, workbook, template=template, progress=on_report)
         if on_report is not None:
             on_report("envelope plots")
         files += plots()

@@ -81,6 +81,11 @@ class PoolExecutor:
             raise ValueError(f"jobs must be at least 1, got {jobs}")
         self.jobs = jobs
 
+    def forks(self, count: int) -> bool:
+        """Whether `map_unordered` over `count` items starts worker processes that inherit
+        this process's memory (forked: what it has loaded, they need not load again)."""
+        return min(self.jobs, count) > 1 and multiprocessing.get_start_method() == "fork"
+
     def map_unordered(
         self, fn: Callable[[Any], Any], items: list[Any]
     ) -> Iterator[tuple[int, Any]]:
