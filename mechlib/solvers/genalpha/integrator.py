@@ -98,10 +98,12 @@ class Integrator:
         self.arrays = None if python else system.packed_constraints()
         # modal bodies: their own compiled loop (mechlib.solvers.genalpha.modal_step)
         self.modal = None if python or self.arrays is not None else modal_arrays(system)
-        # the predictor's memory of systems with modal bodies and no force elements
-        # (kernels.predict_swing): the last two step starts' times and consistent accelerations
+        # the predictor of systems with modal bodies and no force elements, and of steps
+        # along a prescribed grid (the accuracy companion's): kernels.predict_swing
+        self.swings = self.spun or spec.grid is not None
+        # its memory: the last two step starts' times and consistent accelerations
         self.past_t = np.full(2, np.nan)
-        self.past = np.zeros((2, system.nq if self.spun else 0))
+        self.past = np.zeros((2, system.nq if self.swings else 0))
         self._factors: tuple = (None, None)  # (self.lu, its factor_data)
 
     def elements(self, t: float | None = None) -> CompiledForces | None:
@@ -233,13 +235,14 @@ class Integrator:
 
     def _predicted(self, t, h, q, qd, qdd, a, lam, cons=None) -> tuple:
         """(beta', gamma', q1, qd1, qdd1, lam1, t + h, fresh): the predictor of a step h
-        from t (of systems with modal bodies and no force elements given the consistent
-        acceleration `cons`: kernels.predict_swing) and whether the differenced tangent is
-        made afresh (no matrix, or the last step failed or converged slowly)."""
+        from t (of systems with modal bodies and no force elements, and of steps along a
+        grid, given the consistent acceleration `cons`: kernels.predict_swing) and whether
+        the differenced tangent is made afresh (no matrix, or the last step failed or
+        converged slowly)."""
         c = self.c
         bp = (1.0 - c.alpha_m) / (h * h * c.beta * (1.0 - c.alpha_f))
         gp = c.gamma / (h * c.beta)
-        if cons is not None and self.spun:
+        if cons is not None and self.swings:
             q1, qd1, qdd1 = predict_swing(
                 q, qd, qdd, a, cons, t, h, self.past_t, self.past, c.alpha_m, c.alpha_f,
                 c.beta, c.gamma,
