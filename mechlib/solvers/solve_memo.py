@@ -17,13 +17,16 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
-from mechlib.core.outcome import SolverStats
-from mechlib.model.mechanism import Mechanism
-from mechlib.solvers.assembly import Assembled
-from mechlib.system.system import System
+if TYPE_CHECKING:  # types only: `loads validate` builds a BuiltRun (and its memo) without
+    # importing the solvers (tests/cli/test_startup.py)
+    from mechlib.core.outcome import SolverStats
+    from mechlib.model.mechanism import Mechanism
+    from mechlib.solvers.assembly import Assembled
+    from mechlib.system.system import System
 
 __all__ = ["SolveMemo"]
 
