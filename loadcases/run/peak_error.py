@@ -285,7 +285,16 @@ def _powers(scaled: np.ndarray) -> np.ndarray:
     own (the middle) exactly 0: powers 0 and 1 and the middle's are exact and set (x ** 0
     = 1, x ** 1 = x, +0 ** k = +0), the others taken as numpy's power takes them, the same
     values to the last bit (tests/loadcases/test_peak_error.py) in half the calls of
-    libm's pow (0.5 of the 2.3 ms of a 1000-row run's 4000 crests)."""
+    libm's pow (0.5 of the 2.3 ms of a 1000-row run's 4000 crests). Rows of the same bits
+    (a run's even rows: 32 distinct ones among the campaign's 973) are taken once, the
+    same bits again (0.35 -> 0.08 ms)."""
+    keys = np.ascontiguousarray(scaled).view(np.dtype((np.void, 8 * scaled.shape[1])))[:, 0]
+    _, first, each = np.unique(keys, return_index=True, return_inverse=True)
+    return _distinct_powers(scaled[first])[each]
+
+
+def _distinct_powers(scaled: np.ndarray) -> np.ndarray:
+    """`_powers` of every row of `scaled` (n, 5), each taken on its own."""
     powers = np.empty((*scaled.shape, 5))
     powers[:, :, 0] = 1.0
     powers[:, :, 1] = scaled

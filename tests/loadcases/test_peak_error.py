@@ -361,3 +361,22 @@ def test_the_quartic_s_powers_are_numpy_s_to_the_last_bit() -> None:
         scaled = (near - time[rows, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
         expected = scaled[:, :, None] ** np.arange(5)
         assert np.array_equal(_powers(scaled).view(np.int64), expected.view(np.int64))
+
+
+def test_the_quartic_s_powers_of_repeated_rows_are_the_same_bits() -> None:
+    """Rows of the same bits are taken once (`_powers`): even output rows (the same scaled
+    times again and again, as a run's dense rows give them) among uneven ones, a signed
+    zero and none at all give `scaled[:, :, None] ** np.arange(5)` bit for bit."""
+    from loadcases.run.peak_error import _powers
+
+    rng = np.random.default_rng(11)
+    time = np.concatenate((np.arange(300) * 1e-3, 0.3 + np.cumsum(rng.uniform(5e-4, 2e-3, 200))))
+    rows = np.arange(2, len(time) - 2)
+    near = time[rows[:, None] + np.arange(-2, 3)]
+    scaled = (near - time[rows, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
+    scaled[7, 0] = -0.0  # the bits of -0.0 kept apart from those of +0.0 (cubes differ)
+    scaled[8, 0] = 0.0
+    assert len(np.unique(scaled, axis=0)) < len(scaled) // 2  # the rows do repeat
+    for table in (scaled, scaled[:0]):
+        expected = table[:, :, None] ** np.arange(5)
+        assert np.array_equal(_powers(table).view(np.int64), expected.view(np.int64))
