@@ -205,21 +205,15 @@ def _ends(time: np.ndarray, values: np.ndarray, events: np.ndarray) -> list[np.n
         for end in (0, -1)
     }
     after = _after_events(time, values, events)
-    return [
-        np.concatenate(
-            (
-                np.array(
-                    [
-                        [time[end], values[end, j] + rises[end][j], END]
-                        for end in (0, -1)
-                        if np.isfinite(values[end, j])
-                    ]
-                ).reshape(-1, 3),
-                *(np.array([[t, start[j], END]]) for t, start in after if np.isfinite(start[j])),
-            )
-        )
-        for j in range(values.shape[1])
-    ]
+    # every column's candidates side by side (columns, 2 + events, 3), then each its own
+    rows = [(time[end], values[end] + rises[end], np.isfinite(values[end])) for end in (0, -1)]
+    rows += [(t, start, np.isfinite(start)) for t, start in after]
+    table = np.empty((values.shape[1], len(rows), 3))
+    for k, (t, value, _) in enumerate(rows):
+        table[:, k] = t, 0.0, END
+        table[:, k, 1] = value
+    kept = np.column_stack([finite for _, _, finite in rows])
+    return [table[j][kept[j]] for j in range(values.shape[1])]
 
 
 def _after_events(

@@ -438,3 +438,51 @@ def test_crest_rises_taken_at_the_crests_are_those_over_every_row(monkeypatch, q
         expected_local, expected_rise = _rises_over_every_row(time, values, crest)
         assert np.array_equal(local, expected_local)
         assert np.array_equal(rise.view(np.int64), expected_rise.view(np.int64))
+
+
+def test_end_candidates_gathered_at_once_are_those_column_by_column() -> None:
+    """`_ends` gathers every column's end rows and rows after events at once: the same
+    candidates, bit for bit and in the same order, as built column by column, on 500
+    random tables with events between rows and rows that are not finite."""
+    from loadcases.run import peak_error
+
+    rng = np.random.default_rng(23)
+    seen_after = 0
+    for _ in range(500):
+        n, columns = int(rng.integers(1, 40)), int(rng.integers(1, 5))
+        time = np.arange(n) * 1e-3
+        events = np.array([], dtype=float)
+        if n > 8 and rng.random() < 0.6:  # an event's row, then the rows after its actions
+            at = int(rng.integers(2, n - 5))
+            time = np.insert(time, at + 1, time[at] + 1e-4)
+            events = np.array([time[at + 1]])
+        values = np.sin(time[:, None] * rng.uniform(50.0, 900.0, columns))
+        if len(events):
+            values[int(np.flatnonzero(time == events[0])[0]) + 1 :] += 1.0  # a jump
+        values[rng.integers(0, len(time)), 0] = [np.nan, 0.5][int(rng.integers(0, 2))]
+        rises = {e: peak_error._end_rises(time, values, e) for e in (0, -1)}
+        after = peak_error._after_events(time, values, events)
+        seen_after += sum(np.isfinite(start).sum() for _, start in after)
+        expected = [
+            np.concatenate(
+                (
+                    np.array(
+                        [
+                            [time[e], values[e, j] + rises[e][j], peak_error.END]
+                            for e in (0, -1)
+                            if np.isfinite(values[e, j])
+                        ]
+                    ).reshape(-1, 3),
+                    *(
+                        np.array([[t, start[j], peak_error.END]])
+                        for t, start in after
+                        if np.isfinite(start[j])
+                    ),
+                )
+            )
+            for j in range(columns)
+        ]
+        got = peak_error._ends(time, values, events)
+        for a, b in zip(got, expected, strict=True):
+            assert a.shape == b.shape and np.array_equal(a.view(np.int64), b.view(np.int64))
+    assert seen_after > 50  # rows after events were among the candidates
