@@ -266,8 +266,12 @@ def shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return _shared_by_keys(a, b)
     low = np.searchsorted(b, a - _SAME_TIME, side="left")
     high = np.searchsorted(b, a + _SAME_TIME, side="right")
-    pairs = []
-    for i in np.flatnonzero(high > low).tolist():
+    found = np.flatnonzero(high > low)
+    # the last candidate is looked at first: where it is the very time, it is the pair
+    # (equal times round alike); the companion's rows are at the run's own times
+    exact = b[high[found] - 1] == a[found]
+    pairs = list(zip(found[exact].tolist(), (high[found[exact]] - 1).tolist()))
+    for i in found[~exact].tolist():
         key = round(float(a[i]), 9)
         near = range(int(high[i]) - 1, int(low[i]) - 1, -1)  # the last first
         last = next((j for j in near if round(float(b[j]), 9) == key), None)
@@ -275,7 +279,7 @@ def shared_rows(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
             pairs.append((i, last))
     if not pairs:
         return np.zeros(0, int), np.zeros(0, int)
-    rows_a, rows_b = np.array(pairs).T
+    rows_a, rows_b = np.array(sorted(pairs)).T
     return rows_a, rows_b
 
 

@@ -410,6 +410,8 @@ def solve(
     system = make_system(solve_copy(mechanism))  # events and memories never change the caller's
     if memo is not None and not memo.serves(mechanism, initial, branches, redundant):
         memo = None
+    if memo is not None:
+        memo.patterns.attach(system)
     warnings = _checked(system, analysis, redundant, memo)
     warnings += system.output_notes(any(isinstance(r, JointReaction) for r in requests))
     run = _Run(

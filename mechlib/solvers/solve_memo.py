@@ -5,7 +5,8 @@ initial values with other steps, tolerances and output intervals: the redundancy
 (the equations dropped, their warnings) and the assembled initial state (positions,
 velocities, their notes, branch changes) are the run's own. `SolveMemo` keeps them from
 the first solve and puts them in place in the next ones, instead of finding them again
-(1.6 and 1.1 ms of the campaign slider-crank's 61 ms run). Only what is a function of
+(1.6 and 1.1 ms of the campaign slider-crank's 61 ms run); the systems it serves share
+their saddle patterns (mechlib.system.known_patterns: 0.2 ms a solve). Only what is a function of
 the mechanism, the initial values, the branch check, `redundant` and the analysis's kind
 and start time is kept; the analysis's own steps are never. Work counted during the
 assembly (factorisations, Jacobian evaluations, Newton iterations) is counted again in
@@ -20,6 +21,8 @@ from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING
 
 import numpy as np
+
+from mechlib.system.known_patterns import KnownPatterns
 
 if TYPE_CHECKING:  # types only: `loads validate` builds a BuiltRun (and its memo) without
     # importing the solvers (tests/cli/test_startup.py)
@@ -59,6 +62,7 @@ class SolveMemo:
         self._owner: tuple | None = None
         self._checked: dict[tuple, _Checked] = {}
         self._starts: dict[tuple, _Start] = {}
+        self.patterns = KnownPatterns()  # the saddle patterns, by active rows
 
     def serves(self, mechanism: Mechanism, initial: Sequence, branches, redundant: str) -> bool:
         """Whether this memo may serve a solve of these inputs (the first one binds it)."""

@@ -27,6 +27,7 @@ from mechlib.linalg.sparse_rows import SparseRows
 from mechlib.model.analysis import Trajectory
 from mechlib.model.mechanism import Mechanism
 from mechlib.model.plane import contact_problem, joint_problem, normal_name, plane_axes
+from mechlib.system.known_patterns import known_pattern
 from mechlib.system.planar_kernels import planar_reduce, planar_state
 from mechlib.system.sparse_jacobian import planar_reduced
 from mechlib.system.system import System
@@ -313,12 +314,7 @@ class PlanarSystem:
     def saddle_pattern(self) -> SaddlePattern:
         """Sparsity of [[M, phi_q^T], [phi_q, 0]] for the current rows (found once each)."""
         if self._pattern is None or self._pattern[0] is not self.space.active:
-            from mechlib.linalg.factor import SaddlePattern
-
-            rng = np.random.default_rng(7)
-            q = self.design_q() + 0.1 * rng.standard_normal(self.nq)
-            k = self.kin(q, rng.standard_normal(self.nq))
-            self._pattern = (self.space.active, SaddlePattern(self.mass(k), self.phi_q(k)))
+            self._pattern = (self.space.active, known_pattern(self))
         return self._pattern[1]
 
     def output_notes(self, reactions: bool) -> list[str]:

@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from mechlib.linalg.factor import SaddlePattern
     from mechlib.linalg.sparse_rows import SparseRows
 
+from mechlib.system.known_patterns import known_pattern
 from mechlib.system.topology import Topology
 
 __all__ = ["System"]
@@ -228,12 +229,7 @@ class System(Topology):
     def saddle_pattern(self):
         """Sparsity of [[M, phi_q^T], [phi_q, 0]], from a generic state (found once)."""
         if self._pattern is None:
-            from mechlib.linalg.factor import SaddlePattern
-
-            rng = np.random.default_rng(7)
-            q = self.design_q() + 0.1 * rng.standard_normal(self.nq)
-            k = self.kin(q, rng.standard_normal(self.nq), 0.0)
-            self._pattern = SaddlePattern(self.mass(k), self.phi_q(k))
+            self._pattern = known_pattern(self)
         return self._pattern
 
     def mass(self, k: Kin) -> np.ndarray:

@@ -361,3 +361,128 @@ def test_the_quartic_s_powers_are_numpy_s_to_the_last_bit() -> None:
         scaled = (near - time[rows, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
         expected = scaled[:, :, None] ** np.arange(5)
         assert np.array_equal(_powers(scaled).view(np.int64), expected.view(np.int64))
+
+
+def test_the_quartic_s_powers_of_repeated_rows_are_the_same_bits() -> None:
+    """Rows of the same bits are taken once (`_powers`): even output rows (the same scaled
+    times again and again, as a run's dense rows give them) among uneven ones, a signed
+    zero and none at all give `scaled[:, :, None] ** np.arange(5)` bit for bit."""
+    from loadcases.run.peak_error import _powers
+
+    rng = np.random.default_rng(11)
+    time = np.concatenate((np.arange(300) * 1e-3, 0.3 + np.cumsum(rng.uniform(5e-4, 2e-3, 200))))
+    rows = np.arange(2, len(time) - 2)
+    near = time[rows[:, None] + np.arange(-2, 3)]
+    scaled = (near - time[rows, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
+    scaled[7, 0] = -0.0  # the bits of -0.0 kept apart from those of +0.0 (cubes differ)
+    scaled[8, 0] = 0.0
+    assert len(np.unique(scaled, axis=0)) < len(scaled) // 2  # the rows do repeat
+    for table in (scaled, scaled[:0]):
+        expected = table[:, :, None] ** np.arange(5)
+        assert np.array_equal(_powers(table).view(np.int64), expected.view(np.int64))
+
+
+def _rises_over_every_row(time: np.ndarray, values: np.ndarray, crest: np.ndarray):
+    """The crests' rises as `_highest` took them before, over every row (the reference)."""
+    from loadcases.run import peak_error
+
+    _beside, _curvature = peak_error._beside, peak_error._curvature
+    slope, c = _curvature(time, values, 1)
+    h = np.maximum(np.diff(time)[:-1], np.diff(time)[1:])[:, None]
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        rise = -(slope**2) / (4.0 * c)
+        bound = -c * (0.5 * h) ** 2
+        if len(values) >= 5:
+            _, wide = _curvature(time, values, 2)
+            bound[1:-1] = np.minimum(bound[1:-1], np.maximum(-wide, 0.0) * (0.5 * h[1:-1]) ** 2)
+        if len(values) >= 4:
+            bound = np.minimum(bound, _beside(c) * (0.5 * h) ** 2)
+    local = crest & (c < 0.0) & np.isfinite(rise) & np.isfinite(bound)
+    inner, columns = np.nonzero(local[1:-1])
+    if len(inner):
+        fine = peak_error._quartic_rise(time, values, inner + 2, columns)
+        rise[inner + 1, columns] = np.where(np.isfinite(fine), fine, rise[inner + 1, columns])
+    return local, np.where(local, np.minimum(rise, bound), 0.0)
+
+
+@pytest.mark.parametrize("quartic", [True, False])
+def test_crest_rises_taken_at_the_crests_are_those_over_every_row(monkeypatch, quartic) -> None:
+    """`_crest_rises` works on the crest rows alone: the same crests and rises, bit for
+    bit, as over every row, on 1000 random tables (noisy sines, zig-zags, plateaus, rows that are
+    not finite, an event's repeated time, 3 to 60 rows); without the quartic too (its
+    rises nan: the parabola's, which the bounds cap more often, the wide one included)."""
+    import loadcases.run.peak_error as module
+
+    if not quartic:
+        monkeypatch.setattr(
+            module, "_quartic_rise", lambda t, v, rows, c: np.full(len(rows), np.nan)
+        )
+    _crest_rises = module._crest_rises
+    rng = np.random.default_rng(17)
+    for _ in range(1000):
+        n, columns = int(rng.integers(3, 60)), int(rng.integers(1, 6))
+        time = np.cumsum(rng.uniform(0.5, 1.5, n)) if rng.random() < 0.5 else np.arange(n) * 1e-3
+        if n > 4 and rng.random() < 0.3:
+            time[n // 2] = time[n // 2 - 1]
+        values = np.sin(time[:, None] * rng.uniform(0.5, 9.0, columns))
+        values += [0.0, 1e-3, 0.3][int(rng.integers(0, 3))] * rng.standard_normal((n, columns))
+        values[rng.integers(0, n), 0] = [np.nan, np.inf, 0.5][int(rng.integers(0, 3))]
+        if rng.random() < 0.2:
+            values[:, -1] = np.round(values[:, -1], 1)
+        if rng.random() < 0.3:  # a zig-zag on a slope: the rows two apart curve less
+            values[:, 0] = rng.uniform(-1.0, 1.0) * time + 0.01 * (-1.0) ** np.arange(n)
+        v1 = values[1:-1]
+        crest = (v1 > values[:-2]) & (v1 > values[2:])
+        crest &= ((np.diff(time)[:-1] > 0.0) & (np.diff(time)[1:] > 0.0))[:, None]
+        local, rise = _crest_rises(time, values, crest)
+        expected_local, expected_rise = _rises_over_every_row(time, values, crest)
+        assert np.array_equal(local, expected_local)
+        assert np.array_equal(rise.view(np.int64), expected_rise.view(np.int64))
+
+
+def test_end_candidates_gathered_at_once_are_those_column_by_column() -> None:
+    """`_ends` gathers every column's end rows and rows after events at once: the same
+    candidates, bit for bit and in the same order, as built column by column, on 500
+    random tables with events between rows and rows that are not finite."""
+    from loadcases.run import peak_error
+
+    rng = np.random.default_rng(23)
+    seen_after = 0
+    for _ in range(500):
+        n, columns = int(rng.integers(1, 40)), int(rng.integers(1, 5))
+        time = np.arange(n) * 1e-3
+        events = np.array([], dtype=float)
+        if n > 8 and rng.random() < 0.6:  # an event's row, then the rows after its actions
+            at = int(rng.integers(2, n - 5))
+            time = np.insert(time, at + 1, time[at] + 1e-4)
+            events = np.array([time[at + 1]])
+        values = np.sin(time[:, None] * rng.uniform(50.0, 900.0, columns))
+        if len(events):
+            values[int(np.flatnonzero(time == events[0])[0]) + 1 :] += 1.0  # a jump
+        values[rng.integers(0, len(time)), 0] = [np.nan, 0.5][int(rng.integers(0, 2))]
+        rises = {e: peak_error._end_rises(time, values, e) for e in (0, -1)}
+        after = peak_error._after_events(time, values, events)
+        seen_after += sum(np.isfinite(start).sum() for _, start in after)
+        expected = [
+            np.concatenate(
+                (
+                    np.array(
+                        [
+                            [time[e], values[e, j] + rises[e][j], peak_error.END]
+                            for e in (0, -1)
+                            if np.isfinite(values[e, j])
+                        ]
+                    ).reshape(-1, 3),
+                    *(
+                        np.array([[t, start[j], peak_error.END]])
+                        for t, start in after
+                        if np.isfinite(start[j])
+                    ),
+                )
+            )
+            for j in range(columns)
+        ]
+        got = peak_error._ends(time, values, events)
+        for a, b in zip(got, expected, strict=True):
+            assert a.shape == b.shape and np.array_equal(a.view(np.int64), b.view(np.int64))
+    assert seen_after > 50  # rows after events were among the candidates

@@ -36,3 +36,17 @@ def test_shared_rows_are_the_rounded_keys_pairs() -> None:
     assert found > 10_000
     shuffled = np.array([0.2, 0.1, 0.3])
     assert [r.tolist() for r in shared_rows(np.array([0.1, 0.3]), shuffled)] == [[0, 1], [1, 2]]
+
+
+def test_a_companion_at_the_run_s_own_times_pairs_its_last_row_of_a_time() -> None:
+    """A companion's rows at the run's very times (every other one, as `sparser` thins
+    them) with an event's time twice in both: each pairs with the same time of the other,
+    an event's twice with the companion's later row (the last, as the rounded keys'), the
+    same pairs as `_shared_by_keys`."""
+    a = np.insert(np.arange(40) * 0.0025, 11, 10 * 0.0025)  # rows 10 and 11: an event's
+    b = a[::2][:-1]
+    b = np.insert(b, 6, b[5])  # the companion's event row: b[5] and b[6] are 0.025 s
+    rows, rows_b = shared_rows(a, b)
+    expected = _shared_by_keys(a, b)
+    assert np.array_equal(rows, expected[0]) and np.array_equal(rows_b, expected[1])
+    assert np.array_equal(a[rows], b[rows_b]) and rows_b[rows.tolist().index(10)] == 6

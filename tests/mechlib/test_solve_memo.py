@@ -122,3 +122,60 @@ def test_a_memo_serves_only_its_own_mechanism_and_initial_values(monkeypatch) ->
     assert calls == {"check_model": 3, "assemble": 3}
     _same(solved, mechlib.solve(other, analysis, initial=spin))
     _same(again, mechlib.solve(mech, analysis, initial=faster))
+
+
+def _counted_patterns(monkeypatch) -> list[int]:
+    """One entry per saddle pattern found from now on (not taken from a memo)."""
+    module = importlib.import_module("mechlib.system.known_patterns")
+    found: list[int] = []
+    original = module.generic_pattern
+
+    def counting(system):
+        found.append(1)
+        return original(system)
+
+    monkeypatch.setattr(module, "generic_pattern", counting)
+    return found
+
+
+def test_a_companion_shares_the_run_s_saddle_pattern(monkeypatch) -> None:
+    """The run finds the saddle pattern of its rows, its companion (the same memo) takes
+    it, where without a memo each solve finds its own; the solves are bit for bit the
+    same (the pattern is the mechanism's and its active rows' alone: the one kept has the
+    nonzeros a system finds anew)."""
+    from mechlib.system.known_patterns import KnownPatterns, generic_pattern
+    from mechlib.system.planar import make_system
+
+    mech, _ = slider_crank()
+    initial = [InitialValue("A", value=0.3, rate=2.0 * math.pi)]
+    run = mechlib.Dynamic(end=0.1, step=0.005, tolerance=1e-6)
+    companion = dataclasses.replace(run, step=0.01)
+    alone = [mechlib.solve(mech, a, initial=initial) for a in (run, companion)]
+    found = _counted_patterns(monkeypatch)
+    [mechlib.solve(mech, a, initial=initial) for a in (run, companion)]
+    assert len(found) == 2
+    found.clear()
+    memo = mechlib.SolveMemo()
+    shared = [mechlib.solve(mech, a, initial=initial, memo=memo) for a in (run, companion)]
+    assert len(found) == 1
+    for a, b in zip(alone, shared):
+        _same(a, b)
+    (kept,) = memo.patterns.found.values()
+    fresh = generic_pattern(make_system(mech))
+    for name in ("rows", "cols", "indptr", "indices"):
+        assert np.array_equal(getattr(kept, name), getattr(fresh, name)), name
+    # a system that made a lock finds its own and keeps none (a lock's row is numbered in
+    # the order of events: the same rows may be another joint's lock in another solve)
+    system = make_system(mech)
+    KnownPatterns().attach(system)
+    store = system.known_patterns[0]
+    first = system.saddle_pattern()
+    other = make_system(mech)
+    store.attach(other)
+    assert other.saddle_pattern() is first
+    locked = make_system(mech)
+    store.attach(locked)
+    locked.lock("A", locked.kin(locked.design_q()))
+    found.clear()
+    assert locked.saddle_pattern() is not first and len(found) == 1
+    assert list(store.found.values()) == [first]
