@@ -592,42 +592,64 @@ def nu_and_gamma(x, xd, ints, floats, functions, refs, nu, gamma):
 @njit(**KERNEL)
 def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
     """`nu_and_gamma` of the pack unpacked once (`unpack`)."""
+    unpacked_gamma(x, xd, packed, functions, refs, gamma, np.empty(row_count_unpacked(packed)))
+    unpacked_nu_values(packed, functions, nu)
+
+
+@njit(**KERNEL)
+def row_count_unpacked(packed):
+    """The number of rows (active or not) of the pack unpacked (`unpack`)."""
+    nb, sbi, d1i, d2i, linear = packed[0], packed[1], packed[5], packed[9], packed[24]
+    return nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0] + linear.shape[0]
+
+
+@njit(**KERNEL)
+def unpacked_gamma(x, xd, packed, functions, refs, gamma, full):
+    """gamma (m,) of the active rows at (x, xd): `nu_and_gamma`'s gamma without its nu, in
+    the work array `full` (`row_count_unpacked` rows; each row it reads is written first)."""
     (
         nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
-        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, _,
+        _, _, _, _, _, _, _, _, _, _, _, active, _,
     ) = packed  # fmt: skip
     ns, n1, n2 = 3 * sbi.shape[0], d1i.shape[0], d2i.shape[0]
     first = nb + ns + n1 + n2
-    full = np.zeros(first + linear.shape[0])
     kr.norm_gamma(xd, nb, full[:nb])
     kr.sph_gamma(x, xd, sbi, sbj, ssi, ssj, full[nb : nb + ns])
     kr.dot1_gamma(x, xd, d1i, d1j, d1u, d1v, full[nb + ns : nb + ns + n1])
-    if n2:  # its kernel makes its work arrays before the loop
-        kr.dot2_gamma(x, xd, d2i, d2j, d2v, d2si, d2sj, full[nb + ns + n1 : first])
+    kr.dot2_gamma(x, xd, d2i, d2j, d2v, d2si, d2sj, full[nb + ns + n1 : first])
     if _any_from(active, first):  # an active coordinate equation (`unpacked_rows`)
-        na, nt = refs.shape[0], ti.shape[0]
-        sc, scd, scq = np.empty(2 * na), np.empty(2 * na), np.empty(2 * na)
-        kr.dot1_phi(x, ai, aj, au, av, sc)
-        kr.dot1_rate(x, xd, ai, aj, au, av, scd)
-        kr.dot1_gamma(x, xd, ai, aj, au, av, scq)
-        quads = np.empty(na + nt)
-        for i in range(na):
-            s, c, sd, cd = sc[2 * i], sc[2 * i + 1], scd[2 * i], scd[2 * i + 1]
-            sq, cq = -scq[2 * i], -scq[2 * i + 1]
-            r2 = s * s + c * c
-            rate = (c * sd - s * cd) / r2
-            quads[i] = (c * sq - s * cq) / r2 - 2.0 * rate * (s * sd + c * cd) / r2
-        kr.dot2_gamma(x, xd, ti, tj, tv, tsi, tsj, quads[na:])
-        for m in range(nt):
-            quads[na + m] = -quads[na + m]
-        for e in range(linear.shape[0]):
-            acc = 0.0
-            for m in range(na + nt):
-                acc += coef[e, m] * quads[m]
-            full[first + linear[e]] = functions[e, 2] - acc
+        _coordinate_gamma(x, xd, packed, functions, refs, first, full)
     for i in range(active.shape[0]):
         gamma[i] = full[active[i]]
-    _active_nu(full.shape[0], first, linear, active, functions, nu)
+
+
+@njit(**KERNEL)
+def _coordinate_gamma(x, xd, packed, functions, refs, first, full):
+    """gamma of the coordinate equations into full[first:] (`unpacked_gamma`)."""
+    (
+        _, _, _, _, _, _, _, _, _, _, _, _, _, _,
+        ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, _, _,
+    ) = packed  # fmt: skip
+    na, nt = refs.shape[0], ti.shape[0]
+    sc, scd, scq = np.empty(2 * na), np.empty(2 * na), np.empty(2 * na)
+    kr.dot1_phi(x, ai, aj, au, av, sc)
+    kr.dot1_rate(x, xd, ai, aj, au, av, scd)
+    kr.dot1_gamma(x, xd, ai, aj, au, av, scq)
+    quads = np.empty(na + nt)
+    for i in range(na):
+        s, c, sd, cd = sc[2 * i], sc[2 * i + 1], scd[2 * i], scd[2 * i + 1]
+        sq, cq = -scq[2 * i], -scq[2 * i + 1]
+        r2 = s * s + c * c
+        rate = (c * sd - s * cd) / r2
+        quads[i] = (c * sq - s * cq) / r2 - 2.0 * rate * (s * sd + c * cd) / r2
+    kr.dot2_gamma(x, xd, ti, tj, tv, tsi, tsj, quads[na:])
+    for m in range(nt):
+        quads[na + m] = -quads[na + m]
+    for e in range(linear.shape[0]):
+        acc = 0.0
+        for m in range(na + nt):
+            acc += coef[e, m] * quads[m]
+        full[first + linear[e]] = functions[e, 2] - acc
 
 
 @njit(**KERNEL)
@@ -645,18 +667,19 @@ def unpacked_nu_values(packed, functions, nu):
         _, _, _, _, _, _, _, _, _, _, linear, active, _,
     ) = packed  # fmt: skip
     first = nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0]
-    _active_nu(first + linear.shape[0], first, linear, active, functions, nu)
+    _active_nu(first, linear, active, functions, nu)
 
 
 @njit(**KERNEL)
-def _active_nu(rows, first, linear, active, functions, nu):
-    """nu (m,) of the active rows among `rows`: the rate functions[e, 1] of coordinate
-    equation e (row first + linear[e]), zero for every other row."""
-    full_nu = np.zeros(rows)
-    for e in range(linear.shape[0]):
-        full_nu[first + linear[e]] = functions[e, 1]
+def _active_nu(first, linear, active, functions, nu):
+    """nu (m,) of the active rows: the rate functions[e, 1] of coordinate
+    equation e (row first + linear[e]; the last such e where two share a row), zero for
+    every other row (no array made)."""
     for i in range(active.shape[0]):
-        nu[i] = full_nu[active[i]]
+        nu[i] = 0.0
+        for e in range(linear.shape[0]):
+            if first + linear[e] == active[i]:
+                nu[i] = functions[e, 1]
 
 
 @njit(**KERNEL)

@@ -395,16 +395,18 @@ def mass_times(x, masses, inertia, scale, vec, out):
 
 
 @njit(**KERNEL)
-def _rotation_block(p, inertia, quarter, along, divisor, out, unit, w, jw, g4):
+def _rotation_block(p, inertia, quarter, along, divisor, out):
     """out (4, 4) = (quarter G^T J G + along p p^T) / divisor for Euler parameters p and a
-    (3, 3) `inertia` J: the one loop of `mass_blocks` and `inverse_mass_blocks` (unit, g4:
-    work 4-vectors, w, jw: 3-vectors)."""
+    (3, 3) `inertia` J: the one loop of `mass_blocks` and `inverse_mass_blocks`, column d
+    from the unit vector e_d as numbers (no array made: a dense row takes M^-1's blocks)."""
     for d in range(4):
-        unit[:] = 0.0
-        unit[d] = 1.0
-        _g_times(p, unit, w)
-        _inertia_times(inertia, w, jw)
-        _gt_times(p, jw, 1.0, g4)
+        unit = (
+            1.0 if d == 0 else 0.0,
+            1.0 if d == 1 else 0.0,
+            1.0 if d == 2 else 0.0,
+            1.0 if d == 3 else 0.0,
+        )
+        g4 = _gt_of(p, _inertia_of(inertia, _g_of(p, unit)), 1.0)
         for e in range(4):
             out[e, d] = (quarter * g4[e] + along * p[e] * p[d]) / divisor
 
@@ -412,12 +414,11 @@ def _rotation_block(p, inertia, quarter, along, divisor, out, unit, w, jw, g4):
 @njit(**KERNEL)
 def mass_blocks(x, masses, inertia, scale, out):
     """The diagonal blocks (nb, 7, 7) of M(q): m I for r, 4 G^T J' G + scale p p^T for p."""
-    unit, w, jw, g4 = np.zeros(4), np.empty(3), np.empty(3), np.empty(4)
     for b in range(masses.shape[0]):
         out[b] = 0.0
         for c in range(3):
             out[b, c, c] = masses[b]
-        _rotation_block(x[b, 3:], inertia[b], 4.0, scale[b], 1.0, out[b, 3:, 3:], unit, w, jw, g4)
+        _rotation_block(x[b, 3:], inertia[b], 4.0, scale[b], 1.0, out[b, 3:, 3:])
 
 
 @njit(**KERNEL)
@@ -425,17 +426,13 @@ def inverse_mass_blocks(x, masses, inverse_inertia, scale, out):
     """The inverses (nb, 7, 7) of `mass_blocks`: I / m for r and, as P = [G; p^T] has
     P P^T = P^T P = |p|^2 I, (G^T J'^-1 G / 4 + p p^T / scale) / |p|^4 for p;
     `inverse_inertia` (nb, 3, 3): each J'^-1."""
-    unit, w, jw, g4 = np.zeros(4), np.empty(3), np.empty(3), np.empty(4)
     for b in range(masses.shape[0]):
         out[b] = 0.0
         for c in range(3):
             out[b, c, c] = 1.0 / masses[b]
         p = x[b, 3:]
         norm4 = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2] + p[3] * p[3]) ** 2
-        rotation = out[b, 3:, 3:]
-        _rotation_block(
-            p, inverse_inertia[b], 0.25, 1.0 / scale[b], norm4, rotation, unit, w, jw, g4
-        )
+        _rotation_block(p, inverse_inertia[b], 0.25, 1.0 / scale[b], norm4, out[b, 3:, 3:])
 
 
 @njit(**KERNEL)

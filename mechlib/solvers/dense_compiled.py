@@ -106,9 +106,10 @@ def _factored(a, low):
     triangle of `low` (n, n; the rest not written). Loops, not LAPACK: for the few tens of
     rows taken here its call costs more than the factorisation."""
     n = a.shape[0]
-    for v in a.ravel():
-        if not np.isfinite(v):
-            return False
+    for i in range(n):  # the lower triangle: all that is read
+        for j in range(i + 1):
+            if not np.isfinite(a[i, j]):
+                return False
     largest, least = 0.0, np.inf
     for j in range(n):
         acc = a[j, j]
@@ -239,7 +240,8 @@ def row_work(ints, floats, body, nq, m):
     the symmetric product and its Cholesky factor (2, m, m: their upper triangles stay
     zero); M^-1's blocks (nb, 7, 7); the elements' forces and torques (2, nb+1, 3); the
     constraints' residuals and rows (constraint_arrays.phi_and_jacobian_in); the bodies
-    each active row touches (m, nb: `_touched`), which the products read."""
+    each active row touches (m, nb: `_touched`), which the products read; the Hermite
+    interpolant's weights (5, 6: `_interpolate`)."""
     nb = nq // 7
     nall = ca.row_count(ints) if nq else 0  # nq = 0: no row to work in
     packed = ca.unpack(ints, floats)
@@ -247,7 +249,7 @@ def row_work(ints, floats, body, nq, m):
         packed, inverse_inertia(body, nb), np.empty((6, nq)),
         np.empty((7, m)), np.empty((2, nb + 1, 7)), np.empty((3, m, nq)), np.zeros((2, m, m)),
         np.empty((nb, 7, 7)), np.zeros((2, nb + 1, 3)), np.empty(nall),
-        np.empty((nall, 7 * (nb + 1))), _touched(packed, m, nb),
+        np.empty((nall, 7 * (nb + 1))), _touched(packed, m, nb), np.empty((5, 6)),
     )  # fmt: skip
 
 
@@ -270,7 +272,7 @@ def _positions(work, functions, refs, tol, reuse, most, once):
     solves phi_q step = -phi with phi_q phi_q^T's factor well conditioned (`_factored`),
     so the residual after it is of the order of |step|^2 (at most 3.3e-16 on 2000 rows of
     the campaign's slider-crank)."""
-    packed, _, state, vectors, xs, mats, squares, _, _, full, rows, touched = work
+    packed, _, state, vectors, xs, mats, squares, _, _, full, rows, touched, _ = work
     q, step, phi, neg, solved = state[0], state[3], vectors[0], vectors[5], vectors[1]
     x, rates = xs[0], xs[1]  # rates: unread
     jac, at_iterate, product, low = mats[0], mats[1], squares[0], squares[1]
@@ -348,7 +350,7 @@ def _schur(work, body):
     iterate's), and the Cholesky
     factor of the Schur complement phi_q M^-1 phi_q^T; False where the complement is not
     well conditioned (`_factored`)."""
-    _, inverse, _, _, xs, mats, squares, minv, _, _, _, touched = work
+    _, inverse, _, _, xs, mats, squares, minv, _, _, _, touched, _ = work
     jac, weighted = mats[1], mats[2]
     m, nb = jac.shape[0], inverse.shape[0]
     _, masses, pscale, _ = ca.body_terms(body, nb)
@@ -375,25 +377,34 @@ def interpolated(ends, h, s):
     of ends (6, nq) = (q0, qd0, qdd0, q1, qd1, qdd1) (mechlib.solvers.dense.hermite's formula);
     s = 1 gives the end's own (q1, qd1)."""
     q, qd = np.empty(ends.shape[1]), np.empty(ends.shape[1])
-    _interpolate(ends, h, s, q, qd)
+    _interpolate(ends, h, s, q, qd, np.empty((5, 6)))
     return q, qd
 
 
 @njit(**KERNEL)
-def _interpolate(ends, h, s, q, qd):
-    """`interpolated` into q, qd (nq,)."""
+def _interpolate(ends, h, s, q, qd, weights):
+    """`interpolated` into q, qd (nq,), its weights in `weights` (5, 6: the powers of s and
+    their derivatives, the ends' scales, then the weights of q and of qd): no array made.
+    The products are numba's BLAS ones (np.dot into an array: the same calls as `@`, bit
+    for bit); sums in loops round the slopes' cancelling terms differently (up to 1.5e-13
+    of qd's peak on the campaign's slider-crank)."""
     if s == 1.0:
         q[:] = ends[3]
         qd[:] = ends[4]
         return
     s2 = s * s
     s3, s4 = s2 * s, s2 * s2
-    p = np.array((1.0, s, s2, s3, s4, s4 * s))
-    dp = np.array((0.0, 1.0, 2.0 * s, 3.0 * s2, 4.0 * s3, 5.0 * s4))
-    scale = np.array((1.0, h, h * h, 1.0, h, h * h))
-    values, slopes = (HERMITE_BASIS @ p) * scale, (HERMITE_BASIS @ dp) * scale / h
-    q[:] = values @ ends
-    qd[:] = slopes @ ends
+    p, dp, scale, values, slopes = weights[0], weights[1], weights[2], weights[3], weights[4]
+    p[0], p[1], p[2], p[3], p[4], p[5] = 1.0, s, s2, s3, s4, s4 * s
+    dp[0], dp[1], dp[2], dp[3], dp[4], dp[5] = 0.0, 1.0, 2.0 * s, 3.0 * s2, 4.0 * s3, 5.0 * s4
+    scale[0], scale[1], scale[2], scale[3], scale[4], scale[5] = 1.0, h, h * h, 1.0, h, h * h
+    np.dot(HERMITE_BASIS, p, values)
+    np.dot(HERMITE_BASIS, dp, slopes)
+    for k in range(6):
+        values[k] = values[k] * scale[k]
+        slopes[k] = slopes[k] * scale[k] / h
+    np.dot(values, ends, q)
+    np.dot(slopes, ends, qd)
 
 
 @njit(**KERNEL)
@@ -424,9 +435,9 @@ def project_worked_row(ends, h, s, work, functions, refs, body, params, z, eleme
     """`project_loaded_row` in the arrays `work` (`row_work`: the constraints unpacked,
     each body's J'^-1 and the row's arrays made once for a block of rows, 1-2 us a row
     each)."""
-    packed, inverse, state, vectors, xs, mats, _, _, _, full, rows, _ = work
+    packed, inverse, state, vectors, xs, mats, _, _, _, full, rows, _, weights = work
     q, qd = state[0], state[1]
-    _interpolate(ends, h, s, q, qd)
+    _interpolate(ends, h, s, q, qd, weights)
     nq = q.shape[0]
     nb = nq // 7
     if inverse.shape[0] != nb or not (_finite(q) and _finite(qd)):
@@ -451,7 +462,7 @@ def _dynamics(work, functions, refs, body, z, elements, out):
     Jacobian, M^-1 blocks, phi_q M^-1 and the Schur complement's factor there (`_schur`):
     qd onto phi_q qd = nu (mass-weighted), then qdd and lam; (q, qd, qdd, lam) stacked into
     out. DONE, or FALLBACK where a number is not finite."""
-    packed, _, state, vectors, xs, mats, squares, minv, wrenches, _, _, touched = work
+    packed, _, state, vectors, xs, mats, squares, minv, wrenches, full, _, touched, _ = work
     q, qd, v, forces, free = state[0], state[1], state[2], state[4], state[5]
     solved, nu, gamma = vectors[1], vectors[2], vectors[3]
     drift, rhs, lam = vectors[4], vectors[5], vectors[6]
@@ -471,7 +482,7 @@ def _dynamics(work, functions, refs, body, z, elements, out):
         for j in range(nq):
             v[j] += free[j]
         ca.state_into(q, v, x, xd)
-    ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
+    ca.unpacked_gamma(x, xd, packed, functions, refs, gamma, full)  # nu is the one above
     wrench_f, wrench_n = wrenches[0], wrenches[1]  # zero without elements
     if any_elements(elements):
         element_wrenches(x, xd, z, elements, _NO_BLOCK, _NO_ACTIVE, _NO_LAM, wrench_f, wrench_n)

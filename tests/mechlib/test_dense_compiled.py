@@ -43,6 +43,7 @@ from mechlib.solvers.dense_compiled import (
     DONE,
     FALLBACK,
     _cholesky,
+    _factored,
     _inverse_mass,
     _lower_product,
     _times,
@@ -274,6 +275,47 @@ def test_nu_without_gamma() -> None:
     assert np.array_equal(alone, nu)
 
 
+def test_gamma_alone_in_a_work_array() -> None:
+    """`unpacked_gamma` (the dense rows' and the step's consistent state's gamma, without
+    nu, in a reused work array) is the constraint groups' own gamma (Python formulas,
+    1e-12 of its largest) on the driven crank at a random velocity, with the work array
+    full of NaN before: every row it reads it writes first; `unpacked_nu_values` then
+    gives the motion's rate as before."""
+    jit.compile_all()
+    mech, _, _ = _driven_crank()
+    system = System(mech)
+    arrays = system.packed_constraints()
+    assert arrays is not None
+    ints, floats = arrays.packed()
+    packed = ca.unpack(ints, floats)
+    m, nb = system.active.size, system.nq // 7
+    rng = np.random.default_rng(11)
+    q, qd = system.design_q(), rng.standard_normal(system.nq)
+    k = system.kin(q, qd, 0.4)
+    parts = [g.gamma(k) for g in system.groups] + [system.coordinate_rows().gamma(k)]
+    want = np.concatenate(parts)[np.asarray(system.active)]
+    x, xd = ca.state_arrays(q, qd, nb)
+    functions = arrays.functions(0.4)
+    gamma, work = np.full(m, np.nan), np.full(ca.row_count_unpacked(packed), np.nan)
+    ca.unpacked_gamma(x, xd, packed, functions, arrays.references(), gamma, work)
+    assert np.abs(gamma - want).max() <= 1e-12 * np.abs(want).max()
+    nu = np.full(m, np.nan)
+    ca.unpacked_nu_values(packed, functions, nu)
+    assert np.array_equal(nu, system.nu(k))
+
+
+def test_factored_reads_the_lower_triangle_only() -> None:
+    """`_factored` checks finiteness where it reads (the lower triangle, the products'
+    upper triangles stay zero): a NaN there refuses the matrix, one above it does not."""
+    a = np.array([[4.0, 0.0], [2.0, 3.0]])
+    low = np.zeros((2, 2))
+    assert _factored(a, low)
+    a[0, 1] = np.nan
+    assert _factored(a, low)
+    a[1, 0] = np.nan
+    assert not _factored(a, low)
+
+
 def test_a_steps_rows_take_their_constants_once() -> None:
     """A step's rows in one call (the constraints unpacked and each body's J'^-1 taken
     once for all of them) are the rows of one call each, bit for bit; J'^-1 times J' is
@@ -369,12 +411,12 @@ def test_rows_products_over_the_blocks_they_touch(model) -> None:
     ints, floats = arrays.packed()
     nq, m, nb = system.nq, system.active.size, system.nq // 7
     work = row_work(ints, floats, arrays.bodies(), nq, m)
-    packed, touched = work[0], work[-1]
+    packed, touched = work[0], work[11]
     rng = np.random.default_rng(11)
     x, _ = ca.state_arrays(system.design_q() + 0.1 * rng.standard_normal(nq), np.zeros(nq), nb)
     phi, jac = np.empty(m), np.empty((m, nq))
     ca.phi_and_jacobian_in(x, packed, arrays.functions(0.3), arrays.references(), phi, jac,
-                           work[-3], work[-2])  # fmt: skip
+                           work[9], work[10])  # fmt: skip
     assert touched.shape == (m, nb) and 0 < touched.sum() < m * nb  # the crank's rows: sparse
     outside = np.repeat(~touched, 7, axis=1)
     assert np.abs(jac[outside]).max() == 0.0 and np.abs(jac[~outside]).max() > 0.0

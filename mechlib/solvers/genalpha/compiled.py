@@ -203,11 +203,12 @@ def _rigid_residual(ctx, q1, qd1, qdd1, lam1, res):
 
 @njit(**KERNEL, inline="always")
 def _rigid_consistent(ctx, q1, qd1, qdd1, lam1, fi, ff, out):
-    """`_true_acceleration` with `loaded_newton`'s ctx."""
-    packed, functions, refs, body, _, _, _, z, elements, _, rows, work, _, _ = ctx
+    """`_true_acceleration` with `loaded_newton`'s ctx (its residuals' and state arrays
+    worked in: the iterations that wrote them are over)."""
+    packed, functions, refs, body, _, _, _, z, elements, full, rows, work, x, xd = ctx
     _true_acceleration(
         q1, qd1, qdd1, lam1, rows, packed[25], packed[26], packed, functions, refs, body, z,
-        elements, work, fi, ff, out,
+        elements, work, fi, ff, out, full, x, xd,
     )  # fmt: skip
 
 
@@ -276,26 +277,39 @@ def stack_levels(qd, qdd1, lam1, fix, out):
 @njit(**KERNEL)
 def _true_acceleration(
     q1, qd1, qdd1, lam1, rows, active, row_bodies, packed, functions, refs, body, z, elements,
-    work, fi, ff, out,
+    work, fi, ff, out, full, x, xd,
 ):  # fmt: skip
     """(qd, qdd, lam) on all three constraint levels, stacked into `out`, by two
     corrections with the iteration matrix
     (mechlib.solvers.genalpha.integrator.Integrator._true_acceleration;
     `rows`: phi_q of the last iterate, as `constraint_rows` left them; `packed`: the
-    constraints unpacked, mechlib.kinematics.constraint_arrays.unpack; work: `_residual_work`'s)."""
+    constraints unpacked, mechlib.kinematics.constraint_arrays.unpack; work: `_residual_work`'s;
+    full (the pack's rows), x, xd (nb+1, 7): work arrays, overwritten). The velocity level's
+    nu reads no state; gamma is evaluated at the corrected velocity only (what
+    `level_fix` and `stack_levels` do, in four arrays made here)."""
     nq, m = q1.shape[0], lam1.shape[0]
-    nb = nq // 7
-    x, xd = ca.state_arrays(q1, qd1, nb)
-    nu, gamma, product = np.empty(m), np.empty(m), np.empty(m)
-    ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
-    rhs = np.zeros(nq + m)
+    levels = np.empty((3, m))
+    nu, gamma, product = levels[0], levels[1], levels[2]
+    rhs, fix, qd = np.zeros(nq + m), np.empty(nq + m), np.empty(nq)
+    ca.unpacked_nu_values(packed, functions, nu)
     ca.times(rows, active, row_bodies, qd1, product)
-    qd = qd1 + level_fix(fi, ff, rhs, nu, product, nq)[:nq]
-    x, xd = ca.state_arrays(q1, qd, nb)
-    ca.unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma)
+    for i in range(m):
+        rhs[nq + i] = nu[i] - product[i]
+    lu_solve_into(fi, ff, rhs, fix)
+    for j in range(nq):
+        qd[j] = qd1[j] + fix[j]
+    ca.state_into(q1, qd, x, xd)
+    ca.unpacked_gamma(x, xd, packed, functions, refs, gamma, full)
     _dynamic_residual(x, xd, qdd1, lam1, rows, active, row_bodies, body, z, elements, work, rhs)
     ca.times(rows, active, row_bodies, qdd1, product)
-    stack_levels(qd, qdd1, lam1, level_fix(fi, ff, rhs, product, gamma, nq), out)
+    for i in range(m):
+        rhs[nq + i] = product[i] - gamma[i]
+    lu_solve_into(fi, ff, rhs, fix)
+    for j in range(nq):
+        out[j] = qd[j]
+        out[nq + j] = qdd1[j] - fix[j]
+    for i in range(m):
+        out[2 * nq + i] = lam1[i] - fix[nq + i]
 
 
 newton_parts(14, _rigid_residual, _rigid_consistent)  # loaded_newton's ctx

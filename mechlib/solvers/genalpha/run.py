@@ -227,20 +227,17 @@ def run_steps(
             math.inf, ctrl[ETA], own[2], own[3], true, h_try, states[0], states[2], states[1],
             elements,
         )  # fmt: skip
-        status, it, eta, done, renewed, tried = _refreshed(
-            status, it, eta, done, renewed, tried, q1, qd1, qdd1, lam1, own, true, h_try, ctrl,
-            counts, params, kind, ints, floats, work, functions, refs, body, prow, pcol, values,
-            place, brow, bcol, fi, ff, q_abs, a_ref, elements, rest, tangent, states,
-        )  # fmt: skip
+        if status != CONVERGED:  # a converged step hands its ~40 arguments to no call
+            status, it, eta, done, renewed, tried = _refreshed(
+                status, it, eta, done, renewed, tried, q1, qd1, qdd1, lam1, own, true, h_try,
+                ctrl, counts, params, kind, ints, floats, work, functions, refs, body, prow,
+                pcol, values, place, brow, bcol, fi, ff, q_abs, a_ref, elements, rest, tangent,
+                states,
+            )  # fmt: skip
         if status != CONVERGED:
             return _newton_stopped(ctrl, counts, renewed, done, h_try, status), i, written
         new_qdd = true[nq : 2 * nq]
-        err = 0.0
-        if ctrl[GRID] == 0.0:
-            err = gk.error_norm(
-                ctrl[ERROR_CONSTANT] * h_try * h_try, cons[1], new_qdd, q_abs, ctrl[TOL], q1
-            )
-            err = states_error(err, h_try, states, ctrl[TOL])
+        err = _step_error(ctrl, h_try, cons, new_qdd, q_abs, q1, states)
         if err > 1.0:  # rejected: the step shrunk as the Python stepper shrinks it
             if not _rejected(ctrl, counts, h_try, err, eta, it, tried, done):
                 return STOPPED, i, written  # below the step floor: Python's stall
@@ -277,6 +274,16 @@ def run_steps(
         _after_step(rates, slips, elements, refs_all)
         written += due
         i += due
+
+
+@njit(**KERNEL)
+def _step_error(ctrl, h, cons, new_qdd, q_abs, q1, states):
+    """The scaled local error of the step h (s) (gk.error_norm of the coordinates, then the
+    element states': run_states.states_error); 0 along a grid (ctrl[GRID]: no error test)."""
+    if ctrl[GRID] != 0.0:
+        return 0.0
+    err = gk.error_norm(ctrl[ERROR_CONSTANT] * h * h, cons[1], new_qdd, q_abs, ctrl[TOL], q1)
+    return states_error(err, h, states, ctrl[TOL])
 
 
 @njit(**KERNEL)
