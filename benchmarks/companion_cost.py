@@ -100,7 +100,8 @@ def profile(run_built: Any, analysis: Any) -> dict[str, float]:
     return {k: round(v, 5) for k, v in out.items()}
 
 
-def _work(solution: Any) -> dict[str, int]:
+def work(solution: Any) -> dict[str, int]:
+    """A solve's work: steps, rejected steps, Newton iterations, factorisations, rows."""
     s = solution.stats
     return {
         "steps": s.steps,
@@ -161,7 +162,7 @@ def case_row(name: str, repeat: int, with_profile: bool) -> dict[str, Any]:
     for kind in (*kinds, "engine"):
         row[f"{kind} ratio"] = round(best[kind] / best["run"], 3)
     row["engine's companion"] = engine
-    row.update({key: _work(solution) for key, solution in solved.items()})
+    row.update({key: work(solution) for key, solution in solved.items()})
     if with_profile:
         row["companion_profile_s"] = {k: profile(b, c) for k, c in kinds.items()}
     return row

@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from benchmarks.companion_cost import CASES, built
+from benchmarks.companion_cost import CASES, built, work
 from benchmarks.rows import stream_rows
 from loadcases.run.companion import on_grid, order
 from loadcases.run.global_error import request_errors
@@ -181,14 +181,9 @@ def case_row(name: str) -> dict[str, Any]:
 
 
 def _work(solution: Any) -> dict[str, Any]:
-    s = solution.stats
-    return {
-        "status": solution.status,
-        "steps": s.steps,
-        "splits or rejected": s.rejected_steps,
-        "newton": s.newton_iterations,
-        "factorizations": s.factorizations,
-    }
+    """The solve's status and its work (`companion_cost.work`: a grid companion's splits
+    are its rejected steps)."""
+    return {"status": solution.status, **work(solution)}
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from typing import Any
 
 import numpy as np
 import pytest
@@ -95,6 +96,14 @@ def _free_crank() -> tuple[mechlib.Mechanism, list, list]:
 def _driven_crank() -> tuple[mechlib.Mechanism, list, list]:
     requests = [mechlib.JointReaction("A_force", "A"), mechlib.MotionEffort("drive", "drive")]
     return falling_slider_crank(drive=3.0), [], requests
+
+
+def _crank_packed() -> tuple[System, Any, tuple[np.ndarray, np.ndarray]]:
+    """The driven crank's system, its packed constraints and their (ints, floats)."""
+    system = System(_driven_crank()[0])
+    arrays = system.packed_constraints()
+    assert arrays is not None
+    return system, arrays, arrays.packed()
 
 
 def _run(model, analysis, monkeypatch, *, compiled: bool) -> tuple[mechlib.Solution, dict]:
@@ -260,11 +269,7 @@ def test_inverse_mass_in_closed_form() -> None:
 def test_nu_without_gamma() -> None:
     """`nu_values` is `nu_and_gamma`'s nu: the driven crank's motion rate in its row."""
     jit.compile_all()
-    mech, _, _ = _driven_crank()
-    system = System(mech)
-    arrays = system.packed_constraints()
-    assert arrays is not None
-    ints, floats = arrays.packed()
+    system, arrays, (ints, floats) = _crank_packed()
     m, nb = system.active.size, system.nq // 7
     x, xd = ca.state_arrays(system.design_q(), np.ones(system.nq), nb)
     nu, gamma, alone = np.empty(m), np.empty(m), np.full(m, np.nan)
@@ -282,11 +287,7 @@ def test_gamma_alone_in_a_work_array() -> None:
     full of NaN before: every row it reads it writes first; `unpacked_nu_values` then
     gives the motion's rate as before."""
     jit.compile_all()
-    mech, _, _ = _driven_crank()
-    system = System(mech)
-    arrays = system.packed_constraints()
-    assert arrays is not None
-    ints, floats = arrays.packed()
+    system, arrays, (ints, floats) = _crank_packed()
     packed = ca.unpack(ints, floats)
     m, nb = system.active.size, system.nq // 7
     rng = np.random.default_rng(11)
