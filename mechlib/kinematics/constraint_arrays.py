@@ -428,8 +428,7 @@ def phi_and_jacobian(x, ints, floats, functions, refs, phi, jac):
 def unpacked_phi_and_jacobian(x, packed, functions, refs, phi, jac):
     """`phi_and_jacobian` of the pack unpacked once (`unpack`: about 1 us a call, as much
     as a third of the Jacobian of a few bodies)."""
-    nb, sbi, d1i, d2i, linear = packed[0], packed[1], packed[5], packed[9], packed[24]
-    nall = nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0] + linear.shape[0]
+    nall = row_count_unpacked(packed)
     full = np.empty(nall)
     rows = np.empty((nall, x.shape[0] * 7))
     phi_and_jacobian_in(x, packed, functions, refs, phi, jac, full, rows)
@@ -599,8 +598,15 @@ def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
 @njit(**KERNEL)
 def row_count_unpacked(packed):
     """The number of rows (active or not) of the pack unpacked (`unpack`)."""
-    nb, sbi, d1i, d2i, linear = packed[0], packed[1], packed[5], packed[9], packed[24]
-    return nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0] + linear.shape[0]
+    return _coordinates_first(packed) + packed[24].shape[0]
+
+
+@njit(**KERNEL)
+def _coordinates_first(packed):
+    """The first coordinate equation's row of the pack unpacked (`unpack`): after the
+    Euler-parameter norms, 3 rows a spherical group, the dot-1 and dot-2 rows."""
+    nb, sbi, d1i, d2i = packed[0], packed[1], packed[5], packed[9]
+    return nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0]
 
 
 @njit(**KERNEL)
@@ -662,12 +668,7 @@ def nu_values(ints, floats, functions, nu):
 @njit(**KERNEL)
 def unpacked_nu_values(packed, functions, nu):
     """`nu_values` of the pack unpacked once (`unpack`)."""
-    (
-        nb, sbi, _, _, _, d1i, _, _, _, d2i, _, _, _, _,
-        _, _, _, _, _, _, _, _, _, _, linear, active, _,
-    ) = packed  # fmt: skip
-    first = nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0]
-    _active_nu(first, linear, active, functions, nu)
+    _active_nu(_coordinates_first(packed), packed[24], packed[25], functions, nu)
 
 
 @njit(**KERNEL)
