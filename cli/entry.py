@@ -12,14 +12,15 @@ points) are off unless the environment says otherwise (`PYDANTIC_DISABLE_PLUGINS
 looking for them reads every installed package's metadata, about 15 ms of each command,
 and no plugin has a part in checking a case file.
 
-When the console script itself runs `main` (its `__main__` module, a script file, calls
-this `main`: nothing of that process runs after it), the process ends with `os._exit` as
-soon as the interpreter's exit hooks registered since `main` began have run (the pools'
-and multiprocessing's, logging's): every file is closed by then (`with`), the workers are
-gone, stdout and stderr are flushed here. What is skipped is the teardown that frees every
-object and LLVM module the command loaded: 0.09-0.16 s of wall after a 200-run set
-(2026-11-30, `loads run SET -j 2`), in which nothing is written. Called any other way
-(`python -c`, a test that catches the SystemExit and goes on), the interpreter ends as usual.
+When the console script itself runs `main` (its `__main__` module is pip's script file
+`loads`, which calls this `main`: nothing of that process runs after it), the process
+ends with `os._exit` as soon as the interpreter's exit hooks registered since `main` began
+have run (the pools' and multiprocessing's, logging's): every file is closed by then
+(`with`), the workers are gone, stdout and stderr are flushed here. What is skipped is the
+teardown that frees every object and LLVM module the command loaded: 0.09-0.16 s of wall
+after a 200-run set (2026-11-30, `loads run SET -j 2`), in which nothing is written.
+Called any other way (`python -c`, another script, a test that catches the SystemExit and
+goes on), the interpreter ends as usual, with every exit hook.
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ import sys
 
 __all__ = ["main"]
 
+_CONSOLE_SCRIPTS = ("loads", "loads-script")  # the names pip gives the console script
 _status: list[int] = []  # the command's exit status, once main has it
 
 
@@ -51,10 +53,14 @@ def main() -> None:
 
 
 def _run_by_console_script() -> bool:
-    """Whether `__main__` is a script file whose `main` is this function: the console
-    script (`from cli.entry import main; sys.exit(main())`), after which nothing runs."""
+    """Whether `__main__` is the console script pip wrote (a file named `loads`, or
+    `loads-script.py` on Windows, whose `main` is this function: `from cli.entry import
+    main; sys.exit(main())`), after which nothing runs."""
     script = sys.modules.get("__main__")
-    return getattr(script, "__file__", None) is not None and getattr(script, "main", None) is main
+    file = getattr(script, "__file__", None)
+    if file is None or getattr(script, "main", None) is not main:
+        return False
+    return os.path.basename(file).removesuffix(".py") in _CONSOLE_SCRIPTS
 
 
 def _leave() -> None:

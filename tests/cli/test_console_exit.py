@@ -30,10 +30,12 @@ if __name__ == "__main__":
 """
 
 
-def _command(tmp_path: Path, *args: str, script: bool = True) -> subprocess.CompletedProcess:
-    """`loads ARGS` through a console script in `tmp_path` (script=True), else the same
-    code given with `python -c` (no script file: `main` called another way)."""
-    path = tmp_path / "loads"
+def _command(
+    tmp_path: Path, *args: str, script: bool = True, name: str = "loads"
+) -> subprocess.CompletedProcess:
+    """`loads ARGS` through a console script `name` in `tmp_path` (script=True), else the
+    same code given with `python -c` (no script file: `main` called another way)."""
+    path = tmp_path / name
     path.write_text(_SCRIPT, encoding="utf-8")
     start = [str(path)] if script else ["-c", _SCRIPT]
     env = os.environ | {"PYTHONPATH": str(ROOT)}
@@ -56,6 +58,8 @@ def test_the_console_script_skips_the_teardown_with_the_same_output(tmp_path: Pa
     assert "TEARDOWN" in usual.stderr  # `main` not run by the console script: as before
     assert fast.stdout == usual.stdout
     assert fast.stdout.strip()
+    other = _command(tmp_path, "validate", case, name="other_tool.py")  # not pip's script
+    assert other.returncode == 0 and "TEARDOWN" in other.stderr
 
 
 def test_the_console_script_keeps_an_input_errors_status_and_message(tmp_path: Path) -> None:
