@@ -56,30 +56,48 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
 import mechlib as ml
 from loadcases.run.peak_error import SPIKE, extremes_of, row_peaks
 from mechlib.checks.singularity import NEAR_SINGULAR
+from mechlib.flexible.guards import STEPS_PER_PERIOD, resolves
 
 __all__ = [
     "FINER_RATIO",
+    "FOUR",
+    "GRID_RATIOS",
     "SPIKE_ROWS",
     "SPLIT_SHARE",
     "STEP_RATIO",
     "coarser",
     "divisor",
     "finer",
+    "grid_divisor",
     "largest_step",
+    "observed_order",
     "on_grid",
     "order",
     "passed_singular",
+    "pulses_resolved",
+    "resolved",
     "sparser",
+    "spike_rows",
     "spikes",
 ]
 
 STEP_RATIO = 2  # the companion's steps over the run's
+FOUR = 4  # a grid companion's steps four of the run's at a time: measured, not used
+# the grid companion's ratios, tried in turn (loadcases.run.global_error._companion): two
+# at a time. Four at a time (FOUR, 4^p - 1 = 15) costs 0.16-0.27 of a run against 0.26-0.56
+# and holds the estimate/true table where it runs, but on the flap latches (three stiff
+# latch springs switched on by events) its latch forces' peaks read 4.7-8.9 times the true
+# error (two at a time 1.5-2.7) and no test of Richardson's range found in the run found
+# it (docs/performance.md, "Four at a time"); with (FOUR, STEP_RATIO) the engine tries it
+# first where `resolved` and `pulses_resolved` allow, two at a time where Newton fails
+GRID_RATIOS: tuple[int, ...] = (STEP_RATIO,)
 _ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)
 
 
@@ -103,25 +121,25 @@ def largest_step(analysis: ml.Dynamic) -> float:
     return min(analysis.max_step or analysis.step, analysis.step)
 
 
-def coarser(analysis: ml.Dynamic) -> ml.Dynamic:
-    """The companion: every step `STEP_RATIO` times as long (output interval too)."""
+def coarser(analysis: ml.Dynamic, ratio: int = STEP_RATIO) -> ml.Dynamic:
+    """The companion: every step `ratio` times as long (output interval too)."""
     return dataclasses.replace(
         analysis,
-        tolerance=analysis.tolerance * _local_factor(analysis.integrator, STEP_RATIO),
-        max_step=STEP_RATIO * largest_step(analysis) or None,
-        step=STEP_RATIO * analysis.step,
+        tolerance=analysis.tolerance * _local_factor(analysis.integrator, ratio),
+        max_step=ratio * largest_step(analysis) or None,
+        step=ratio * analysis.step,
     )
 
 
-def sparser(companion: ml.Dynamic, run: ml.Solution) -> ml.Dynamic:
-    """The companion with dense output and its output interval doubled until its rows are
-    at most its expected steps (the run's accepted steps / STEP_RATIO), and a row at each
-    of the run's `spikes`; with steps ending on the outputs (`output: steps`) the interval
-    bounds the steps: unchanged."""
+def sparser(companion: ml.Dynamic, run: ml.Solution, ratio: int = STEP_RATIO) -> ml.Dynamic:
+    """The companion (of steps `ratio` times the run's) with dense output and its output
+    interval doubled until its rows are at most its expected steps (the run's accepted
+    steps / `ratio`), and a row at each of the run's `spikes`; with steps ending on the
+    outputs (`output: steps`) the interval bounds the steps: unchanged."""
     if not companion.dense or len(run.time) < 2:
         return companion
-    steps = max(run.stats.steps / STEP_RATIO, 1.0)
-    rows = (len(run.time) - 1) / STEP_RATIO
+    steps = max(run.stats.steps / ratio, 1.0)
+    rows = (len(run.time) - 1) / ratio
     doublings = max(0, math.ceil(math.log2(rows / steps))) if rows > steps else 0
     return dataclasses.replace(
         companion, step=companion.step * 2**doublings, rows=tuple(spikes(run))
@@ -162,6 +180,20 @@ def spikes(run: ml.Solution) -> list[float]:
     rows miss of the spike (loadcases.run.peak_error._at_row_peak). A smooth crest's peak
     is its vertex between rows, read on the companion's rows as on the run's: no row kept
     for it (the campaign's slider-crank keeps none)."""
+    events = np.array([event.time for event in run.events])
+    times = []
+    for i in spike_rows(run):
+        t = float(run.time[i])
+        times.append(t)
+        for side in (run.time[i - 1], run.time[i + 1]):
+            if not ((events > min(t, side)) & (events < max(t, side))).any():
+                times.extend(t + f * (side - t) for f in SPIKE_ROWS)
+    return [float(t) for t in sorted(set(times))]
+
+
+def spike_rows(run: ml.Solution) -> list[int]:
+    """The rows of the run's one-row spikes (`spikes`), increasing: neither end row nor
+    an event's."""
     peaks: dict[str, float] = {}
     for column, values in run.channels.items():
         name = column.rsplit(".", 1)[0]
@@ -181,16 +213,29 @@ def spikes(run: ml.Solution) -> list[float]:
     events = np.array([event.time for event in run.events])
     found = extremes_of(run.time, table, events.tolist())
     kept = {t for column in found for t in row_peaks(column)}
-    times = []
+    rows = set()
     for t in sorted(kept):
         i = int(np.searchsorted(run.time, t))
-        if not 0 < i < len(run.time) - 1 or np.isin(t, events):
-            continue
-        times.append(t)
-        for side in (run.time[i - 1], run.time[i + 1]):
-            if not ((events > min(t, side)) & (events < max(t, side))).any():
-                times.extend(t + f * (side - t) for f in SPIKE_ROWS)
-    return [float(t) for t in sorted(set(times))]
+        if 0 < i < len(run.time) - 1 and not np.isin(t, events):
+            rows.add(i)
+    return sorted(rows)
+
+
+def pulses_resolved(run: ml.Solution, ratio: int) -> bool:
+    """Whether steps `ratio` of the run's at a time resolve each one-row spike's pulse
+    (`spike_rows`: a load that rises and falls within the two row intervals about it):
+    at least STEPS_PER_PERIOD / 2 of them within those two intervals, the pulse taken as
+    half a period (mechlib.flexible.guards.resolves' rule for a mode). A pulse the
+    companion's steps cross in a few is no C h^p error: the door let go's contact
+    (3834 N at 0.05 s, rows 10 ms apart), 18 of the run's steps within 0.04-0.06 s, 4.5
+    four at a time: its stop force's peak estimate 16.7 times the true error, two at a
+    time (9 steps) 0.74."""
+    ends = np.asarray(run.stats.step_ends, dtype=float)
+    for i in spike_rows(run):
+        steps = np.count_nonzero((ends > run.time[i - 1]) & (ends <= run.time[i + 1]))
+        if steps < ratio * STEPS_PER_PERIOD / 2:
+            return False
+    return True
 
 
 # the grid companion's splits allowed, of its steps: a split pair is two steps of the run's
@@ -202,11 +247,13 @@ def spikes(run: ml.Solution) -> list[float]:
 SPLIT_SHARE = 0.02
 
 
-def on_grid(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic | None:
-    """The grid companion of `run` (solved with `analysis`): its accepted steps two at a
-    time, its events' times kept as step ends, rows and Newton tolerance as the adaptive
-    companion's (`sparser(coarser(...))`); None where the run's steps are not all known
-    (then the adaptive companion)."""
+def on_grid(analysis: ml.Dynamic, run: ml.Solution, ratio: int = STEP_RATIO) -> ml.Dynamic | None:
+    """The grid companion of `run` (solved with `analysis`): its accepted steps `ratio` (2
+    or 4) at a time, its events' times kept as step ends, rows and Newton tolerance as
+    the adaptive companion's of that ratio (`sparser(coarser(...))`); None where the
+    run's steps are not all known (then the adaptive companion), or for steps longer than
+    two of the run's that do not resolve its flexible bodies' modes (`resolved`) or a
+    one-row spike's pulse (`pulses_resolved`)."""
     ends = run.stats.step_ends
     if not (analysis.dense and analysis.integrator == "generalized-alpha"):
         return None
@@ -218,9 +265,44 @@ def on_grid(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic | None:
         or not np.isclose(ends[-1], [analysis.end, last], 0.0, 1e-9).any()
     ):
         return None  # its steps not all recorded, or it ended neither at the end nor an event
-    most = math.ceil(SPLIT_SHARE * len(ends) / STEP_RATIO)
-    grid = ml.StepGrid.paired(ends, [event.time for event in run.events], most)
-    return dataclasses.replace(sparser(coarser(analysis), run), grid=grid)
+    if ratio > STEP_RATIO and not (
+        resolved(run, ratio * (ends[-1] - analysis.start) / len(ends))
+        and pulses_resolved(run, ratio)
+    ):
+        return None
+    most = math.ceil(SPLIT_SHARE * len(ends) / ratio)
+    grid = ml.StepGrid.grouped(ends, [event.time for event in run.events], most, ratio)
+    return dataclasses.replace(sparser(coarser(analysis, ratio), run, ratio), grid=grid)
+
+
+def resolved(run: ml.Solution, step: float) -> bool:
+    """Whether a mean step of `step` s resolves every mode the run's flexible bodies keep
+    (mechlib.flexible.guards.resolves: STEPS_PER_PERIOD steps a period). A mode it does
+    not resolve is damped by the integrator's numerical dissipation, an error that is no
+    C h^p: Richardson's premise fails (the library's flexible pendulum, 3 of its 4 modes
+    unresolved by its own steps: its tip deformation's difference four at a time 1.47
+    times the one two at a time where C h^p makes it 5, observed order -1.1; its history
+    estimate 0.11 of the true error, two at a time 0.47)."""
+    return bool(resolves(run.fastest_mode, step))
+
+
+def grid_divisor(
+    integrator: str, run_ends: Sequence[float], companion_ends: Sequence[float]
+) -> float:
+    """Richardson's divisor for a grid companion that took the steps ending at
+    `companion_ends` (s) on a run of steps ending at `run_ends` (s): the mean over the
+    run's steps of m^p - 1, m the run's steps within the companion's step that holds it.
+    A companion step of m of the run's steps makes m^(p+1) times their local error where
+    the run makes m times it: their difference m (m^p - 1) of one step's, so a merged
+    step of 4 counts 15 a run's step (p = 2), of 2 (a stretch's leftover, a split
+    half) 3, a single one 0; on a grid of only `ratio`-step merges, ratio^p - 1."""
+    run_t, comp_t = np.asarray(run_ends, float), np.asarray(companion_ends, float)
+    if not len(run_t) or not len(comp_t):
+        return 0.0
+    tiny = 1e-12 * max(1.0, float(np.abs(run_t).max()))
+    counts = np.diff(np.searchsorted(run_t, comp_t + tiny), prepend=0)
+    p = order(integrator)
+    return float(np.sum(counts * (counts.astype(float) ** p - 1.0)) / max(counts.sum(), 1))
 
 
 STEP_MARGIN = 2.0  # a tighter run's step limit: this many times the steps it is expected to take
@@ -245,6 +327,22 @@ def divisor(integrator: str, ratio: float = STEP_RATIO) -> float:
 
 
 FINER_RATIO = 0.5  # the third run's steps over the run's, at a singular position
+
+
+def observed_order(coarse: float, fine: float, ratio: int) -> float | None:
+    """The observed order p of a run, its companion of steps `ratio` (2 or 4) times as long
+    and a finer run of steps half as long, from the two differences (`coarse`: companion -
+    run, `fine`: run - finer; None where either is 0): with errors C h^p they are
+    C h^p (ratio^p - 1) and C h^p (1 - 2^-p), whose quotient is 2^p for ratio 2 and
+    2^p (2^p + 1) for ratio 4."""
+    if not (coarse > 0.0 < fine):
+        return None
+    quotient = coarse / fine
+    if ratio == 2:
+        return math.log2(quotient)
+    if ratio == 4:
+        return math.log2((math.sqrt(1.0 + 4.0 * quotient) - 1.0) / 2.0)
+    raise ValueError(f"a companion of steps 2 or 4 times the run's, not {ratio}")
 
 
 def passed_singular(run: ml.Solution) -> bool:
