@@ -194,19 +194,10 @@ def spikes(run: ml.Solution) -> list[float]:
 def spike_rows(run: ml.Solution) -> list[int]:
     """The rows of the run's one-row spikes (`spikes`), increasing: neither end row nor
     an event's."""
-    peaks: dict[str, float] = {}
-    for column, values in run.channels.items():
-        name = column.rsplit(".", 1)[0]
-        peaks[name] = max(peaks.get(name, 0.0), float(np.nanmax(np.abs(values), initial=0.0)))
-    names = [
-        c
-        for c, v in run.channels.items()
-        if v.shape == run.time.shape
-        and np.nanmax(np.abs(v), initial=0.0) > NEGLIGIBLE * peaks[c.rsplit(".", 1)[0]]
-    ]
-    if len(run.time) < 3 or not names:
+    columns = _significant(run)
+    if len(run.time) < 3 or not columns:
         return []
-    table = np.column_stack([run.channels[c] for c in names])
+    table = np.column_stack(columns)
     table = table[:, _standing_out(table)]  # the only columns that may hold one: cheap
     if not table.shape[1]:
         return []
@@ -219,6 +210,21 @@ def spike_rows(run: ml.Solution) -> list[int]:
         if 0 < i < len(run.time) - 1 and not np.isin(t, events):
             rows.add(i)
     return sorted(rows)
+
+
+def _significant(run: ml.Solution) -> list[np.ndarray]:
+    """The run's columns (one value per row) larger than NEGLIGIBLE of their request's
+    peak (the others are round-off)."""
+    peaks: dict[str, float] = {}
+    for column, values in run.channels.items():
+        name = column.rsplit(".", 1)[0]
+        peaks[name] = max(peaks.get(name, 0.0), float(np.nanmax(np.abs(values), initial=0.0)))
+    return [
+        v
+        for c, v in run.channels.items()
+        if v.shape == run.time.shape
+        and np.nanmax(np.abs(v), initial=0.0) > NEGLIGIBLE * peaks[c.rsplit(".", 1)[0]]
+    ]
 
 
 def pulses_resolved(run: ml.Solution, ratio: int) -> bool:
