@@ -4,7 +4,7 @@ that turns the difference of the two into the run's error (Richardson).
 The companion takes every step twice as long as the run. For a method of order p its
 error is 2^p times the run's, so the run's is the difference / (2^p - 1)
 (generalized-alpha: p = 2, the difference / 3). Two kinds (the summary's accuracy block
-says which was used):
+says which was used, `companion`, and its steps over the run's, `step_ratio`):
 - `grid` (`on_grid`): the run's own accepted steps two at a time (t0 -> t2 -> t4 ...
   within each stretch between events, an event's time and the end staying step ends:
   mechlib.model.step_grid.StepGrid.paired), with no error test and no rejected attempts:
@@ -31,10 +31,32 @@ on the run's. Measured on the estimate/true table (benchmarks/error_table.py) th
 stay within a few per cent of those with every second row, and the companion of the bench
 slider-crank costs 0.31 of its run instead of 0.52 (docs/performance.md).
 
-Steps four times as long would cost half as much again, but are outside Richardson's
-asymptotic range on the IFToMM A01 pendulum: its error grows 8.3 times from tolerance 1e-6 to
-8e-6 and 35 times from 8e-6 to 6.4e-5 (0.32 rad), and the estimate read 16-22 times the
-true error; not used.
+Steps four times as long (`FOUR`: the run's steps four at a time, StepGrid.grouped, a
+stretch's leftovers two and one at a time, Richardson's divisor 4^p - 1 = 15 of a merged
+step of four, `grid_divisor` of the steps taken) were measured on 2026-11-30 (branch
+grid4; docs/performance.md, "Four at a time"): they cost 0.16-0.27 of a run of 30 ms or
+more (the 12 ms pendulum's 0.41) against 0.26-0.66 two at a time, and hold the
+estimate/true table on the smooth cases (the oscillator's estimate 0.82-0.95 of the closed
+form's error, nearing 1 as the steps shrink; histories 0.42-1.1, lowest on Andrews' rates
+and reaction, 0.42-0.67, where the observed order of the run, two and four at a time is
+below 1.2 against 1.8-2.1 elsewhere), but not on IFToMM A05 (Newton fails the stiff
+springs' steps: two at a time used), the flexible pendulum (modes unresolved by the run:
+its tip deformation's history 0.11 of the true error; `resolved`), the door let go's
+contact spike (16.7; `pulses_resolved`) nor the flap latches (three stiff latch springs
+switched on by events: their latch and hinge forces' peaks 2.8-8.9 times the true error,
+two at a time 1.4-2.7). No test the run itself allows separated the last (the difference against the
+motion's range: the servo's 0.51 and the flexible pendulum's 0.46 on either side; a short
+stretch two at a time: too few rows in 10 % of the run, 0.1 of a run's cost in 25 %; the
+run's steps a swing: the bench slider-crank 8, the flap latches 10), so the grid companion
+takes the run's steps two at a time (GRID_RATIOS); with (FOUR, STEP_RATIO) the engine
+tries four at a time first where `resolved` and `pulses_resolved` allow it.
+
+The grid companion's error is the run's Richardson multiple only where it merged as many
+steps as its ratio: `grid_divisor` counts, of each step the companion took, the run's steps
+it merged (m), and divides the difference by the mean over the run's steps of m^p - 1: a
+stretch's odd last step taken alone, or a split pair, counts 0 (the companion made the
+run's error there), so a companion with splits no longer leans low by their share
+(the oscillator's divisor 2.967 and 2.992 for 3).
 
 A run that passed a near-singular position (a warning of its own: the constraints close to
 losing rank, mechlib.checks.singularity) gets a third run, of steps half as long (`finer`),
@@ -93,9 +115,9 @@ FOUR = 4  # a grid companion's steps four of the run's at a time: measured, not 
 # the grid companion's ratios, tried in turn (loadcases.run.global_error._companion): two
 # at a time. Four at a time (FOUR, 4^p - 1 = 15) costs 0.16-0.27 of a run against 0.26-0.56
 # and holds the estimate/true table where it runs, but on the flap latches (three stiff
-# latch springs switched on by events) its latch forces' peaks read 4.7-8.9 times the true
-# error (two at a time 1.5-2.7) and no test of Richardson's range found in the run found
-# it (docs/performance.md, "Four at a time"); with (FOUR, STEP_RATIO) the engine tries it
+# latch springs switched on by events) its latch and hinge forces' peaks read 2.8-8.9 times
+# the true error (two at a time 1.4-2.7) and no test of Richardson's range found in the run
+# found it (docs/performance.md, "Four at a time"); with (FOUR, STEP_RATIO) the engine tries it
 # first where `resolved` and `pulses_resolved` allow, two at a time where Newton fails
 GRID_RATIOS: tuple[int, ...] = (STEP_RATIO,)
 _ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)

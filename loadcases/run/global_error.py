@@ -212,9 +212,7 @@ class AccuracyEstimate:
             pair = (
                 "this run against a companion on the run's own steps "
                 f"{_AT_A_TIME[self.step_ratio]} (no error test; {self.splits} split in two "
-                f"where Newton failed), difference / {self.richardson:.4g} (of its steps: "
-                f"{divisor(self.integrator, self.step_ratio):g} a step of "
-                f"{self.step_ratio} of the run's, 3 of 2, 0 of 1)"
+                f"where Newton failed), difference / {self.richardson:.4g} ({_counts(self)})"
             )
         else:
             pair = (
@@ -514,6 +512,14 @@ def _companion(
 
 
 _AT_A_TIME = {2: "two at a time", 4: "four at a time"}
+
+
+def _counts(estimate: AccuracyEstimate) -> str:
+    """What each of the grid companion's steps counts in its divisor, per run step merged."""
+    merged = sorted({estimate.step_ratio, 2, 1}, reverse=True)
+    return "per run step, " + ", ".join(
+        f"{divisor(estimate.integrator, m):g} in a step of {m} of the run's" for m in merged
+    )
 
 
 def _timed(
