@@ -12,45 +12,16 @@ from typing import Any
 
 from loadcases.run import global_error
 
-__all__ = [
-    "KINDS",
-    "add_companion_option",
-    "companion_kind",
-    "ratios",
-    "use_companion",
-    "use_grid_ratios",
-]
+__all__ = ["KINDS", "add_companion_option", "companion_kind", "use_companion"]
 
 KINDS = ("grid", "adaptive")
 
 
 def add_companion_option(parser: argparse.ArgumentParser) -> None:
-    """`--companion grid|adaptive` on `parser` (default grid, the engine's) and
-    `--grid-ratios 4,2` (the grid companion's steps over the run's, tried in turn; default
-    the engine's, loadcases.run.companion.GRID_RATIOS)."""
+    """`--companion grid|adaptive` on `parser` (default grid, the engine's)."""
     parser.add_argument(
         "--companion", choices=KINDS, default="grid", help="the accuracy companion to use"
     )
-    parser.add_argument(
-        "--grid-ratios",
-        type=ratios,
-        default=None,
-        help="the grid companion's ratios tried in turn, e.g. 4,2 (default: the engine's)",
-    )
-
-
-def ratios(text: str) -> tuple[int, ...]:
-    """`4,2` -> (4, 2): grid ratios, each 2 or 4."""
-    out = tuple(int(part) for part in text.split(","))
-    if not out or any(r not in (2, 4) for r in out):
-        raise argparse.ArgumentTypeError(f"grid ratios are 2 or 4, not {text!r}")
-    return out
-
-
-def use_grid_ratios(grid_ratios: tuple[int, ...] | None) -> None:
-    """Make this process's grid companions try `grid_ratios` in turn (None: the engine's)."""
-    if grid_ratios is not None:
-        global_error.GRID_RATIOS = grid_ratios
 
 
 def use_companion(kind: str) -> None:

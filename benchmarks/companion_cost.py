@@ -1,17 +1,14 @@
 """What the accuracy estimate costs (issue 35 item 2: at most 25 % of a run): per case, the
 CPU of the run as `run_case` solves it and of its accuracy companions
-(loadcases.run.companion: rows thinned; `grid4` and `grid2` on the run's own steps four and
-two at a time, `adaptive` error-controlled, steps twice as long; `engine`: the first that
-finishes of those the engine tries, `--grid-ratios` (default its GRID_RATIOS), then the
-adaptive one), best of `--repeat`, all alternating in one
+(loadcases.run.companion: steps twice as long, rows thinned; `grid` on the run's own steps
+two at a time, `adaptive` error-controlled), best of `--repeat`, all alternating in one
 process, with each companion's cost split: the setup (the system built,
 the model checked, the initial state assembled, as `mechlib.solve` does them), the same
 companion with the end's row only (its steps alone: the difference is its rows), and its
 steps' work (accepted and rejected steps, Newton iterations, factorisations) beside the
 run's. `--profile` adds cProfile's cumulative CPU of one companion by phase.
 
-    python -m benchmarks.companion_cost [--repeat 5] [--profile] [--case NAME ...]
-        [--grid-ratios 4,2] [-o FILE]
+    python -m benchmarks.companion_cost [--repeat 5] [--profile] [--case NAME ...] [-o FILE]
 """
 
 from __future__ import annotations
@@ -26,12 +23,10 @@ from typing import Any
 
 import numpy as np
 
-from benchmarks.companion_choice import ratios, use_grid_ratios
 from benchmarks.rows import stream_rows
 from loadcases.build.model import build_run
 from loadcases.inputs.loader import load_case
-from loadcases.run import global_error
-from loadcases.run.companion import FOUR, STEP_RATIO, coarser, on_grid, sparser
+from loadcases.run.companion import coarser, on_grid, sparser
 from mechlib.checks.model_check import check_model
 from mechlib.solvers.assembly import assemble
 from mechlib.solvers.solve_copy import solve_copy
@@ -118,28 +113,23 @@ def work(solution: Any) -> dict[str, int]:
 
 
 def companions(analysis: Any, run: Any) -> dict[str, Any]:
-    """The companions of `run` (loadcases.run.companion): on its own steps four and two at
-    a time (`grid4`, `grid2`, where they are known and, four at a time, resolve its
-    modes and pulses) and error-controlled (`adaptive`), in the engine's order of trial."""
-    out = {}
-    for ratio in (FOUR, STEP_RATIO):
-        grid = on_grid(analysis, run, ratio)
-        if grid is not None:
-            out[f"grid{ratio}"] = grid
-    out["adaptive"] = sparser(coarser(analysis), run)
+    """The two companions of `run` (loadcases.run.companion): on its own steps (`grid`,
+    where they are known) and error-controlled (`adaptive`)."""
+    out = {"adaptive": sparser(coarser(analysis), run)}
+    grid = on_grid(analysis, run)
+    if grid is not None:
+        out["grid"] = grid
     return out
 
 
 def _engine(b: Any, kinds: dict[str, Any]) -> tuple[Any, str]:
-    """The companion as loadcases.run.global_error solves it, and its kind: the first of
-    the grids the engine tries (global_error.GRID_RATIOS) and the adaptive one that
-    finishes."""
-    tried = [f"grid{r}" for r in global_error.GRID_RATIOS if f"grid{r}" in kinds]
-    for kind in [*tried, "adaptive"]:
-        solution = b.solve(kinds[kind], checks=False)
-        if solution.ok or kind == "adaptive":
-            return solution, kind
-    raise AssertionError("the adaptive companion is always tried")
+    """The companion as loadcases.run.global_error solves it, and its kind: on the run's
+    steps where they are known, the adaptive one where that is not or fails."""
+    if "grid" in kinds:
+        solution = b.solve(kinds["grid"], checks=False)
+        if solution.ok:
+            return solution, "grid"
+    return b.solve(kinds["adaptive"], checks=False), "adaptive"
 
 
 def case_row(name: str, repeat: int, with_profile: bool) -> dict[str, Any]:
@@ -184,9 +174,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--profile", action="store_true")
     parser.add_argument("--case", action="append", choices=list(CASES))
     parser.add_argument("-o", "--output", type=Path, default=None)
-    parser.add_argument("--grid-ratios", type=ratios, default=None, help="the engine's: e.g. 4,2")
     args = parser.parse_args(argv)
-    use_grid_ratios(args.grid_ratios)
     names = args.case or list(CASES)
     stream_rows((case_row(n, args.repeat, args.profile) for n in names), args.output)
     return 0

@@ -8,7 +8,7 @@ continuous one (the reference's, refined between its rows: a peak the run's rows
 counts), both of the request's peak |value|.
 
     python -m benchmarks.error_table [--long | --flexible] [--companion adaptive]
-        [--grid-ratios 4,2] [-o benchmarks/results/error-table.json]
+        [-o benchmarks/results/error-table.json]
 
 The cheap cases run in CI (tests/verification/test_estimate_table.py; IFToMM A05 among
 them); `--long` adds the library's other published cases (A02 with N = 3 planar, A04); A01
@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from benchmarks.companion_choice import add_companion_option, use_companion, use_grid_ratios
+from benchmarks.companion_choice import add_companion_option, use_companion
 from benchmarks.rows import write_rows
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
@@ -184,7 +184,6 @@ def main(argv: list[str] | None = None) -> int:
     add_companion_option(parser)
     args = parser.parse_args(argv)
     use_companion(args.companion)
-    use_grid_ratios(args.grid_ratios)
     cases = FLEXIBLE if args.flexible else {**CHEAP, **(LONG if args.long else {})}
     rows = [row for name, (file, keys) in cases.items() for row in case_rows(name, file, keys)]
     print(

@@ -8,7 +8,7 @@ has converged (`reference_error`, of the request's peak: it must be well below t
 errors it measures).
 
     python -m benchmarks.error_table_events [-o benchmarks/results/error-table-events.json]
-                                            [--gear FILE] [--grid-ratios 4,2]
+                                            [--gear FILE]
 
 The cases: the door jettison (a time event, then a stop at the hinge angle), the door
 lifted by the inner handle until let go (the handle's motion switched off, then a stop),
@@ -26,7 +26,7 @@ from typing import Any
 
 import yaml
 
-from benchmarks.companion_choice import companion_kind, ratios, use_grid_ratios
+from benchmarks.companion_choice import companion_kind
 from benchmarks.error_table import _with, at_target, true_errors
 from benchmarks.rows import write_rows
 from loadcases.inputs.loader import load_case
@@ -146,9 +146,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("cases", nargs="*", help="of: " + ", ".join([*CASES, GEAR]))
     parser.add_argument("-o", "--output", type=Path, default=None)
     parser.add_argument("--gear", type=Path, default=None, help="the gear free fall's case file")
-    parser.add_argument("--grid-ratios", type=ratios, default=None, help="e.g. 4,2")
     args = parser.parse_args(argv)
-    use_grid_ratios(args.grid_ratios)
     cases = dict(CASES)
     if args.gear is not None:
         cases[GEAR] = (args.gear, {})

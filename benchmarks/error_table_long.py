@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from benchmarks.companion_choice import add_companion_option, use_companion, use_grid_ratios
+from benchmarks.companion_choice import add_companion_option, use_companion
 from benchmarks.error_table import LIBRARY, _with, at_target
 from benchmarks.rows import stream_rows
 from loadcases.inputs.loader import load_case
@@ -143,7 +143,6 @@ def main(argv: list[str] | None = None) -> int:
     add_companion_option(parser)
     args = parser.parse_args(argv)
     use_companion(args.companion)
-    use_grid_ratios(args.grid_ratios)
     stream_rows((row for name in args.cases for row in rows_of(name)), args.output)
     return 0
 

@@ -4,7 +4,8 @@ that turns the difference of the two into the run's error (Richardson).
 The companion takes every step twice as long as the run. For a method of order p its
 error is 2^p times the run's, so the run's is the difference / (2^p - 1)
 (generalized-alpha: p = 2, the difference / 3). Two kinds (the summary's accuracy block
-says which was used, `companion`, and its steps over the run's, `step_ratio`):
+says which was used, `companion`, and the compared run's steps over the run's,
+`step_ratio`):
 - `grid` (`on_grid`): the run's own accepted steps two at a time (t0 -> t2 -> t4 ...
   within each stretch between events, an event's time and the end staying step ends:
   mechlib.model.step_grid.StepGrid.paired), with no error test and no rejected attempts:
@@ -31,33 +32,19 @@ on the run's. Measured on the estimate/true table (benchmarks/error_table.py) th
 stay within a few per cent of those with every second row, and the companion of the bench
 slider-crank costs 0.31 of its run instead of 0.52 (docs/performance.md).
 
-Steps four times as long (`FOUR`: the run's steps four at a time, StepGrid.grouped, a
-stretch's leftovers two and one at a time, Richardson's divisor 4^p - 1 = 15 of a merged
-step of four, `grid_divisor` of the steps taken) were measured on 2026-11-30 (branch
-grid4; docs/performance.md, "Four at a time"): they cost 0.16-0.27 of a run of 30 ms or
-more (the 12 ms pendulum's 0.41) against 0.26-0.66 two at a time, and hold the
-estimate/true table on the smooth cases (the oscillator's estimate 0.82-0.95 of the closed
-form's error, nearing 1 as the steps shrink; histories 0.42-1.1, lowest on Andrews' rates
-and reaction, 0.42-0.67, where the observed order of the run, two and four at a time is
-below 1.2 against 1.8-2.1 elsewhere), but not on IFToMM A05 (Newton fails the stiff
-springs' steps: two at a time used), the flexible pendulum (modes unresolved by the run:
-its tip deformation's history 0.11 of the true error; `resolved`), the door let go's
-contact spike (16.7; `pulses_resolved`) nor the flap latches (three stiff latch springs
-switched on by events: their latch and hinge forces' peaks 2.8-8.9 times the true error,
-two at a time 1.4-2.7; with rows as dense as two at a time's, 0.62-2.31, but latch2's
-history 3.26). No test the run itself allows separated the last (the difference against the
-motion's range: the servo's 0.51 and the flexible pendulum's 0.46 on either side; a short
-stretch two at a time: too few rows in 10 % of the run, 0.1 of a run's cost in 25 %; the
-run's steps a swing: the bench slider-crank 8, the flap latches 10), so the grid companion
-takes the run's steps two at a time (GRID_RATIOS); with (FOUR, STEP_RATIO) the engine
-tries four at a time first where `resolved` and `pulses_resolved` allow it.
-
-The grid companion's error is the run's Richardson multiple only where it merged as many
-steps as its ratio: `grid_divisor` counts, of each step the companion took, the run's steps
-it merged (m), and divides the difference by the mean over the run's steps of m^p - 1: a
+The grid companion's error is the run's Richardson multiple only where it merged two of
+the run's steps: `grid_divisor` counts, of each step the companion took, the run's steps it
+merged (m), and divides the difference by the mean over the run's steps of m^p - 1: a
 stretch's odd last step taken alone, or a split pair, counts 0 (the companion made the
-run's error there), so a companion with splits no longer leans low by their share
-(the oscillator's divisor 2.967 and 2.992 for 3).
+run's error there), so a companion with splits no longer leans low by their share (the
+oscillator's divisor 2.967 and 2.992 for 3).
+
+The run's steps four at a time (Richardson's 4^p - 1 = 15) were measured on 2026-11-30
+(docs/performance.md, "Four at a time"): they cost 0.16-0.27 of a run against 0.26-0.66
+two at a time and hold the estimate/true table on the smooth cases, but read the flap
+latches' latch and hinge forces' peaks 2.8-9.2 times the true error (two at a time
+1.1-2.7) and no test the run itself allows separated that case from the good ones: not
+used.
 
 A run that passed a near-singular position (a warning of its own: the constraints close to
 losing rank, mechlib.checks.singularity) gets a third run, of steps half as long (`finer`),
@@ -86,12 +73,9 @@ import numpy as np
 import mechlib as ml
 from loadcases.run.peak_error import SPIKE, extremes_of, row_peaks
 from mechlib.checks.singularity import NEAR_SINGULAR
-from mechlib.flexible.guards import STEPS_PER_PERIOD, resolves
 
 __all__ = [
     "FINER_RATIO",
-    "FOUR",
-    "GRID_RATIOS",
     "SPIKE_ROWS",
     "SPLIT_SHARE",
     "STEP_RATIO",
@@ -100,27 +84,14 @@ __all__ = [
     "finer",
     "grid_divisor",
     "largest_step",
-    "observed_order",
     "on_grid",
     "order",
     "passed_singular",
-    "pulses_resolved",
-    "resolved",
     "sparser",
-    "spike_rows",
     "spikes",
 ]
 
 STEP_RATIO = 2  # the companion's steps over the run's
-FOUR = 4  # a grid companion's steps four of the run's at a time: measured, not used
-# the grid companion's ratios, tried in turn (loadcases.run.global_error._companion): two
-# at a time. Four at a time (FOUR, 4^p - 1 = 15) costs 0.16-0.27 of a run against 0.26-0.56
-# and holds the estimate/true table where it runs, but on the flap latches (three stiff
-# latch springs switched on by events) its latch and hinge forces' peaks read 2.8-8.9 times
-# the true error (two at a time 1.4-2.7) and no test of Richardson's range found in the run
-# found it (docs/performance.md, "Four at a time"); with (FOUR, STEP_RATIO) the engine tries it
-# first where `resolved` and `pulses_resolved` allow, two at a time where Newton fails
-GRID_RATIOS: tuple[int, ...] = (STEP_RATIO,)
 _ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)
 
 
@@ -144,25 +115,25 @@ def largest_step(analysis: ml.Dynamic) -> float:
     return min(analysis.max_step or analysis.step, analysis.step)
 
 
-def coarser(analysis: ml.Dynamic, ratio: int = STEP_RATIO) -> ml.Dynamic:
-    """The companion: every step `ratio` times as long (output interval too)."""
+def coarser(analysis: ml.Dynamic) -> ml.Dynamic:
+    """The companion: every step `STEP_RATIO` times as long (output interval too)."""
     return dataclasses.replace(
         analysis,
-        tolerance=analysis.tolerance * _local_factor(analysis.integrator, ratio),
-        max_step=ratio * largest_step(analysis) or None,
-        step=ratio * analysis.step,
+        tolerance=analysis.tolerance * _local_factor(analysis.integrator, STEP_RATIO),
+        max_step=STEP_RATIO * largest_step(analysis) or None,
+        step=STEP_RATIO * analysis.step,
     )
 
 
-def sparser(companion: ml.Dynamic, run: ml.Solution, ratio: int = STEP_RATIO) -> ml.Dynamic:
-    """The companion (of steps `ratio` times the run's) with dense output and its output
-    interval doubled until its rows are at most its expected steps (the run's accepted
-    steps / `ratio`), and a row at each of the run's `spikes`; with steps ending on the
-    outputs (`output: steps`) the interval bounds the steps: unchanged."""
+def sparser(companion: ml.Dynamic, run: ml.Solution) -> ml.Dynamic:
+    """The companion with dense output and its output interval doubled until its rows are
+    at most its expected steps (the run's accepted steps / STEP_RATIO), and a row at each
+    of the run's `spikes`; with steps ending on the outputs (`output: steps`) the interval
+    bounds the steps: unchanged."""
     if not companion.dense or len(run.time) < 2:
         return companion
-    steps = max(run.stats.steps / ratio, 1.0)
-    rows = (len(run.time) - 1) / ratio
+    steps = max(run.stats.steps / STEP_RATIO, 1.0)
+    rows = (len(run.time) - 1) / STEP_RATIO
     doublings = max(0, math.ceil(math.log2(rows / steps))) if rows > steps else 0
     return dataclasses.replace(
         companion, step=companion.step * 2**doublings, rows=tuple(spikes(run))
@@ -203,68 +174,35 @@ def spikes(run: ml.Solution) -> list[float]:
     rows miss of the spike (loadcases.run.peak_error._at_row_peak). A smooth crest's peak
     is its vertex between rows, read on the companion's rows as on the run's: no row kept
     for it (the campaign's slider-crank keeps none)."""
-    events = np.array([event.time for event in run.events])
-    times = []
-    for i in spike_rows(run):
-        t = float(run.time[i])
-        times.append(t)
-        for side in (run.time[i - 1], run.time[i + 1]):
-            if not ((events > min(t, side)) & (events < max(t, side))).any():
-                times.extend(t + f * (side - t) for f in SPIKE_ROWS)
-    return [float(t) for t in sorted(set(times))]
-
-
-def spike_rows(run: ml.Solution) -> list[int]:
-    """The rows of the run's one-row spikes (`spikes`), increasing: neither end row nor
-    an event's."""
-    columns = _significant(run)
-    if len(run.time) < 3 or not columns:
+    peaks: dict[str, float] = {}
+    for column, values in run.channels.items():
+        name = column.rsplit(".", 1)[0]
+        peaks[name] = max(peaks.get(name, 0.0), float(np.nanmax(np.abs(values), initial=0.0)))
+    names = [
+        c
+        for c, v in run.channels.items()
+        if v.shape == run.time.shape
+        and np.nanmax(np.abs(v), initial=0.0) > NEGLIGIBLE * peaks[c.rsplit(".", 1)[0]]
+    ]
+    if len(run.time) < 3 or not names:
         return []
-    table = np.column_stack(columns)
+    table = np.column_stack([run.channels[c] for c in names])
     table = table[:, _standing_out(table)]  # the only columns that may hold one: cheap
     if not table.shape[1]:
         return []
     events = np.array([event.time for event in run.events])
     found = extremes_of(run.time, table, events.tolist())
     kept = {t for column in found for t in row_peaks(column)}
-    rows = set()
+    times = []
     for t in sorted(kept):
         i = int(np.searchsorted(run.time, t))
-        if 0 < i < len(run.time) - 1 and not np.isin(t, events):
-            rows.add(i)
-    return sorted(rows)
-
-
-def _significant(run: ml.Solution) -> list[np.ndarray]:
-    """The run's columns (one value per row) larger than NEGLIGIBLE of their request's
-    peak (the others are round-off)."""
-    peaks: dict[str, float] = {}
-    for column, values in run.channels.items():
-        name = column.rsplit(".", 1)[0]
-        peaks[name] = max(peaks.get(name, 0.0), float(np.nanmax(np.abs(values), initial=0.0)))
-    return [
-        v
-        for c, v in run.channels.items()
-        if v.shape == run.time.shape
-        and np.nanmax(np.abs(v), initial=0.0) > NEGLIGIBLE * peaks[c.rsplit(".", 1)[0]]
-    ]
-
-
-def pulses_resolved(run: ml.Solution, ratio: int) -> bool:
-    """Whether steps `ratio` of the run's at a time resolve each one-row spike's pulse
-    (`spike_rows`: a load that rises and falls within the two row intervals about it):
-    at least STEPS_PER_PERIOD / 2 of them within those two intervals, the pulse taken as
-    half a period (mechlib.flexible.guards.resolves' rule for a mode). A pulse the
-    companion's steps cross in a few is no C h^p error: the door let go's contact
-    (3834 N at 0.05 s, rows 10 ms apart), 18 of the run's steps within 0.04-0.06 s, 4.5
-    four at a time: its stop force's peak estimate 16.7 times the true error, two at a
-    time (9 steps) 0.74."""
-    ends = np.asarray(run.stats.step_ends, dtype=float)
-    for i in spike_rows(run):
-        steps = np.count_nonzero((ends > run.time[i - 1]) & (ends <= run.time[i + 1]))
-        if steps < ratio * STEPS_PER_PERIOD / 2:
-            return False
-    return True
+        if not 0 < i < len(run.time) - 1 or np.isin(t, events):
+            continue
+        times.append(t)
+        for side in (run.time[i - 1], run.time[i + 1]):
+            if not ((events > min(t, side)) & (events < max(t, side))).any():
+                times.extend(t + f * (side - t) for f in SPIKE_ROWS)
+    return [float(t) for t in sorted(set(times))]
 
 
 # the grid companion's splits allowed, of its steps: a split pair is two steps of the run's
@@ -276,13 +214,11 @@ def pulses_resolved(run: ml.Solution, ratio: int) -> bool:
 SPLIT_SHARE = 0.02
 
 
-def on_grid(analysis: ml.Dynamic, run: ml.Solution, ratio: int = STEP_RATIO) -> ml.Dynamic | None:
-    """The grid companion of `run` (solved with `analysis`): its accepted steps `ratio` (2
-    or 4) at a time, its events' times kept as step ends, rows and Newton tolerance as
-    the adaptive companion's of that ratio (`sparser(coarser(...))`); None where the
-    run's steps are not all known (then the adaptive companion), or for steps longer than
-    two of the run's that do not resolve its flexible bodies' modes (`resolved`) or a
-    one-row spike's pulse (`pulses_resolved`)."""
+def on_grid(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic | None:
+    """The grid companion of `run` (solved with `analysis`): its accepted steps two at a
+    time, its events' times kept as step ends, rows and Newton tolerance as the adaptive
+    companion's (`sparser(coarser(...))`); None where the run's steps are not all known
+    (then the adaptive companion)."""
     ends = run.stats.step_ends
     if not (analysis.dense and analysis.integrator == "generalized-alpha"):
         return None
@@ -294,25 +230,9 @@ def on_grid(analysis: ml.Dynamic, run: ml.Solution, ratio: int = STEP_RATIO) -> 
         or not np.isclose(ends[-1], [analysis.end, last], 0.0, 1e-9).any()
     ):
         return None  # its steps not all recorded, or it ended neither at the end nor an event
-    if ratio > STEP_RATIO and not (
-        resolved(run, ratio * (ends[-1] - analysis.start) / len(ends))
-        and pulses_resolved(run, ratio)
-    ):
-        return None
-    most = math.ceil(SPLIT_SHARE * len(ends) / ratio)
-    grid = ml.StepGrid.grouped(ends, [event.time for event in run.events], most, ratio)
-    return dataclasses.replace(sparser(coarser(analysis, ratio), run, ratio), grid=grid)
-
-
-def resolved(run: ml.Solution, step: float) -> bool:
-    """Whether a mean step of `step` s resolves every mode the run's flexible bodies keep
-    (mechlib.flexible.guards.resolves: STEPS_PER_PERIOD steps a period). A mode it does
-    not resolve is damped by the integrator's numerical dissipation, an error that is no
-    C h^p: Richardson's premise fails (the library's flexible pendulum, 3 of its 4 modes
-    unresolved by its own steps: its tip deformation's difference four at a time 1.47
-    times the one two at a time where C h^p makes it 5, observed order -1.1; its history
-    estimate 0.11 of the true error, two at a time 0.47)."""
-    return bool(resolves(run.fastest_mode, step))
+    most = math.ceil(SPLIT_SHARE * len(ends) / STEP_RATIO)
+    grid = ml.StepGrid.paired(ends, [event.time for event in run.events], most)
+    return dataclasses.replace(sparser(coarser(analysis), run), grid=grid)
 
 
 def grid_divisor(
@@ -323,8 +243,8 @@ def grid_divisor(
     run's steps of m^p - 1, m the run's steps within the companion's step that holds it.
     A companion step of m of the run's steps makes m^(p+1) times their local error where
     the run makes m times it: their difference m (m^p - 1) of one step's, so a merged
-    step of 4 counts 15 a run's step (p = 2), of 2 (a stretch's leftover, a split
-    half) 3, a single one 0; on a grid of only `ratio`-step merges, ratio^p - 1."""
+    pair counts 3 a run's step (p = 2), a single one (a stretch's odd last step, a split
+    half) 0; on a grid of pairs only, 2^p - 1; 0 where either has no step."""
     run_t, comp_t = np.asarray(run_ends, float), np.asarray(companion_ends, float)
     if not len(run_t) or not len(comp_t):
         return 0.0
@@ -356,22 +276,6 @@ def divisor(integrator: str, ratio: float = STEP_RATIO) -> float:
 
 
 FINER_RATIO = 0.5  # the third run's steps over the run's, at a singular position
-
-
-def observed_order(coarse: float, fine: float, ratio: int) -> float | None:
-    """The observed order p of a run, its companion of steps `ratio` (2 or 4) times as long
-    and a finer run of steps half as long, from the two differences (`coarse`: companion -
-    run, `fine`: run - finer; None where either is 0): with errors C h^p they are
-    C h^p (ratio^p - 1) and C h^p (1 - 2^-p), whose quotient is 2^p for ratio 2 and
-    2^p (2^p + 1) for ratio 4."""
-    if not (coarse > 0.0 < fine):
-        return None
-    quotient = coarse / fine
-    if ratio == 2:
-        return math.log2(quotient)
-    if ratio == 4:
-        return math.log2((math.sqrt(1.0 + 4.0 * quotient) - 1.0) / 2.0)
-    raise ValueError(f"a companion of steps 2 or 4 times the run's, not {ratio}")
 
 
 def passed_singular(run: ml.Solution) -> bool:

@@ -39,6 +39,7 @@ and no estimate when the companion was stopped).
 from __future__ import annotations
 
 import dataclasses
+import math
 import time as clock
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -49,14 +50,12 @@ import mechlib as ml
 from loadcases.foundation import interrupts
 from loadcases.run.companion import (
     FINER_RATIO,
-    GRID_RATIOS,
     STEP_RATIO,
     coarser,
     divisor,
     finer,
     grid_divisor,
     largest_step,
-    observed_order,
     on_grid,
     order,
     passed_singular,
@@ -168,7 +167,6 @@ class AccuracyEstimate:
     observed_order: float | None = None  # of the run, its companion and the finer run
     companion: str = "adaptive"  # on the run's own steps (`grid`) or error-controlled
     splits: int = 0  # the grid companion's doubled steps split where Newton failed
-    step_ratio: int = 2  # the companion's steps over the run's (a grid's leftovers fewer)
     richardson: float = 3.0  # the divisor of the companion's difference (a grid's: its steps')
 
     @property
@@ -191,13 +189,11 @@ class AccuracyEstimate:
         return bool(_worst(self.requests, self.measure) <= self.target)
 
     @property
-    def ratio_used(self) -> float:
-        """The steps of the run the estimate compares this one with, over this one's: the
-        companion's (`step_ratio`), a finer run's (1/2), or the previous run's after a
-        tightening (2)."""
-        if self.tightenings:
-            return STEP_RATIO
-        return FINER_RATIO if self.finer else self.step_ratio
+    def step_ratio(self) -> float:
+        """The steps of the run the estimate compares this one with, over this one's: a
+        finer run's (1/2), else the companion's or, after a tightening, the previous
+        run's (2)."""
+        return FINER_RATIO if self.finer and not self.tightenings else STEP_RATIO
 
     @property
     def method(self) -> str:
@@ -210,9 +206,10 @@ class AccuracyEstimate:
             )
         elif self.companion == "grid" and self.tightenings == 0:
             pair = (
-                "this run against a companion on the run's own steps "
-                f"{_AT_A_TIME[self.step_ratio]} (no error test; {self.splits} split in two "
-                f"where Newton failed), difference / {self.richardson:.4g} ({_counts(self)})"
+                "this run against a companion on the run's own steps two at a time (no "
+                f"error test; {self.splits} split back where Newton failed), difference / "
+                f"{self.richardson:.4g} (per run step, {divisor(self.integrator):g} in a "
+                "companion step of two of the run's, 0 in one of one)"
             )
         else:
             pair = (
@@ -244,7 +241,7 @@ class AccuracyEstimate:
             },
             "method": self.method,
             "companion": self.companion,
-            "step_ratio": self.ratio_used,
+            "step_ratio": self.step_ratio,
             **({} if self.observed_order is None else {"observed_order": self.observed_order}),
             "cpu_seconds": self.cpu_seconds,
             **({"note": self.note} if self.note else {}),
@@ -413,16 +410,16 @@ def solve_to_accuracy(
         return run, None
     started = clock.process_time()
     p = order(analysis.integrator)
-    companion, kind, ratio, fallback = _companion(solve, analysis, run, spent)
+    companion, kind, fallback = _companion(solve, analysis, run, spent)
     if companion.status != "ok":
         estimate = _estimate(analysis, run, target, {}, 0, started)
-        estimate.estimated, estimate.companion, estimate.step_ratio = False, kind, ratio
+        estimate.estimated, estimate.companion = False, kind
         if companion.status == "interrupted":
             estimate.note = f"not estimated: interrupted{_by()} while the companion run was solved"
             return _interrupted(run, "its accuracy companion was solved", estimated=False), estimate
         estimate.note = f"not estimated: the companion run failed ({companion.message})"
         return run, estimate
-    coarse = _coarse(analysis, run, companion, kind, ratio)
+    coarse = _coarse(analysis, run, companion, kind)
     errors = coarse.errors
     pair = _finer_pair(solve, analysis, run, coarse, spent) if passed_singular(run) else None
     if pair is not None:
@@ -453,7 +450,7 @@ def solve_to_accuracy(
     estimate = _estimate(analysis, run, target, errors, tightenings, started)
     estimate.note, estimate.budget, estimate.stopped_by = note, budget, stopped_by
     estimate.measure, estimate.companion = measure, kind
-    estimate.step_ratio, estimate.richardson = coarse.ratio, coarse.divisor
+    estimate.richardson = coarse.divisor
     estimate.splits = companion.stats.rejected_steps if kind == "grid" else 0
     if estimate.splits:
         estimate.note = _joined(
@@ -470,56 +467,35 @@ def solve_to_accuracy(
     return run, estimate
 
 
-def _coarse(
-    analysis: ml.Dynamic, run: ml.Solution, companion: ml.Solution, kind: str, ratio: int
-) -> Coarse:
-    """The estimate of a companion of steps `ratio` times the run's: a grid companion's
-    Richardson divisor from the steps it took (its leftovers and splits merging fewer of
-    the run's: loadcases.run.companion.grid_divisor), the adaptive one's 2^p - 1."""
+def _coarse(analysis: ml.Dynamic, run: ml.Solution, companion: ml.Solution, kind: str) -> Coarse:
+    """The companion's estimate: a grid companion's Richardson divisor from the steps it
+    took (a stretch's odd last step and its splits merging fewer of the run's:
+    loadcases.run.companion.grid_divisor), the adaptive one's 2^p - 1."""
     p = order(analysis.integrator)
     found = 0.0
     if kind == "grid":
         found = grid_divisor(analysis.integrator, run.stats.step_ends, companion.stats.step_ends)
-    richardson = found if found > 0.0 else divisor(analysis.integrator, ratio)
-    return Coarse(request_errors(run, companion, p, richardson=richardson), ratio, richardson)
+    richardson = found if found > 0.0 else divisor(analysis.integrator)
+    return Coarse(request_errors(run, companion, p, richardson=richardson), richardson)
 
 
 def _companion(
     solve: Solver, analysis: ml.Dynamic, run: ml.Solution, spent: Spent
-) -> tuple[ml.Solution, str, int, str]:
-    """The run's companion solved, its kind and its steps over the run's (`ratio`): on
-    the run's own steps (`grid`) where they are known, four at a time, or two at a time
-    where Newton cannot take those (more splits than the grid allows: steps four times
-    as long past the motion's resolved time scales, IFToMM A05's stiff springs); else,
-    or where that fails too, the adaptive one (a note says why)."""
+) -> tuple[ml.Solution, str, str]:
+    """The run's companion solved: on the run's own steps (`grid`) where they are known,
+    else, or where that one fails, the adaptive one (a note says why); with its kind."""
+    grid = on_grid(analysis, run)
     note = ""
-    for ratio in GRID_RATIOS:
-        grid = on_grid(analysis, run, ratio)
-        if grid is None:
-            continue
+    if grid is not None:
         companion = _timed(solve, grid, spent, companion=True)
         if companion.status in ("ok", "interrupted"):
-            return companion, "grid", ratio, note
-        note = _joined(
-            note,
-            f"the companion on the run's own steps {_AT_A_TIME[ratio]} failed "
-            f"({companion.message})",
+            return companion, "grid", ""
+        note = (
+            f"the companion on the run's own steps failed ({companion.message}): "
+            "estimated with an error-controlled companion"
         )
-    if note:
-        note += ": estimated with an error-controlled companion"
     adaptive = _timed(solve, sparser(coarser(analysis), run), spent, companion=True)
-    return adaptive, "adaptive", STEP_RATIO, note
-
-
-_AT_A_TIME = {2: "two at a time", 4: "four at a time"}
-
-
-def _counts(estimate: AccuracyEstimate) -> str:
-    """What each of the grid companion's steps counts in its divisor, per run step merged."""
-    merged = sorted({estimate.step_ratio, 2, 1}, reverse=True)
-    return "per run step, " + ", ".join(
-        f"{divisor(estimate.integrator, m):g} in a step of {m} of the run's" for m in merged
-    )
+    return adaptive, "adaptive", note
 
 
 def _timed(
@@ -573,17 +549,15 @@ def _finer_pair(
     errors = request_errors(run, fine, order(analysis.integrator), FINER_RATIO)
     coarse_diff = _worst(coarse.errors, "history") * coarse.divisor
     fine_diff = _worst(errors, "history") * -divisor(analysis.integrator, FINER_RATIO)
-    observed = observed_order(coarse_diff, fine_diff, coarse.ratio)
+    observed = math.log2(coarse_diff / fine_diff) if coarse_diff > 0 < fine_diff else None
     return FinerPair(errors, (finer_analysis, fine), observed)
 
 
 @dataclass(frozen=True)
 class Coarse:
-    """The companion's estimate: its errors, its steps over the run's (`ratio`) and the
-    Richardson divisor they were made with."""
+    """The companion's estimate: its errors and the Richardson divisor they were made with."""
 
     errors: dict[str, RequestError]
-    ratio: int
     divisor: float
 
 

@@ -166,9 +166,7 @@ class Solution:
     by SIGINT or SIGTERM is `"interrupted"`, with the rows computed before. `result`: the
     run's Status (mechlib.solvers.contract), next to the message. `max_step`: of a dynamic
     run, the largest step its integrator was allowed (s; `analysis.max_step`, else its
-    default: mechlib.solvers.dense.step_bound), None for other analyses. `fastest_mode`:
-    the highest frequency (Hz) of the modes its flexible bodies keep, 0 without any
-    (mechlib.flexible.guards.fastest_mode: which steps resolve them).
+    default: mechlib.solvers.dense.step_bound), None for other analyses.
     """
 
     status: RunStatus
@@ -182,7 +180,6 @@ class Solution:
     result: Status = Status.SUCCESSFUL
     max_step: float | None = None
     phases: list[PhaseSpan] = field(default_factory=list)
-    fastest_mode: float = 0.0
 
     @property
     def ok(self) -> bool:

@@ -14,13 +14,7 @@ import numpy as np
 
 from mechlib.core.rotation import omega_body
 
-__all__ = [
-    "deformation_warnings",
-    "fastest_mode",
-    "resolves",
-    "spin_warnings",
-    "unresolved_mode_warnings",
-]
+__all__ = ["deformation_warnings", "spin_warnings", "unresolved_mode_warnings"]
 
 LINEAR_LIMIT = 0.1  # default share of the characteristic length: Adams' CHAR_LEN (10 %)
 ROTATION_LIMIT = 0.1  # rad: the linearised node rotation I + theta~ errs by theta^2/2
@@ -70,21 +64,6 @@ def deformation_warnings(system, trajectory) -> list[str]:
     return out
 
 
-def resolves(frequency: np.ndarray | float, step: float) -> np.ndarray | bool:
-    """Whether a mean step of `step` s resolves a mode of `frequency` Hz: at least
-    STEPS_PER_PERIOD steps per period (else generalized-alpha damps it numerically)."""
-    return np.asarray(frequency) * step * STEPS_PER_PERIOD <= 1.0
-
-
-def fastest_mode(system) -> float:
-    """The highest frequency (Hz) of the modes the flexible bodies of `system` keep (0
-    without any)."""
-    return max(
-        (float(a.body.component.frequencies.max(initial=0.0)) for a in system.flexible),
-        default=0.0,
-    ) / (2.0 * np.pi)
-
-
 def unresolved_mode_warnings(system, duration: float, steps: int) -> list[str]:
     """A warning per flexible body keeping modes whose period spans fewer than
     STEPS_PER_PERIOD of the mean step taken (`duration` s over `steps` accepted steps):
@@ -95,7 +74,7 @@ def unresolved_mode_warnings(system, duration: float, steps: int) -> list[str]:
     out = []
     for a in system.flexible:
         f = a.body.component.frequencies / (2.0 * np.pi)
-        fast = f[~resolves(f, h)]
+        fast = f[f * h * STEPS_PER_PERIOD > 1.0]
         if fast.size:
             out.append(
                 f"flexible body {a.name}: {fast.size} of its {f.size} modes ({fast.min():.4g} "

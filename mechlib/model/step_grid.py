@@ -17,58 +17,37 @@ _SAME_TIME = 1e-12  # relative: a stop this close to a step end is that end
 @dataclass(frozen=True, eq=False)
 class StepGrid:
     """Step ends (s) to follow: `ends` (n,) increasing, the last the analysis's end;
-    `middles` (n,): the run's step end halfway through each end's step (NaN where it is a
-    single step of the run); `ratio`: the run's steps each end merges (2 or 4; a stretch's
-    leftovers fewer: `grouped`). A step goes from t to the first end after t; where
-    Newton cannot take it, to its middle, then on to its end (the split: two steps of the
-    run's for ratio 2, two of two of the run's for ratio 4); `most_splits`: the splits
-    allowed (None: any), one more fails the run. No error test: the grid is the step
-    size's rule (mechlib.solvers.genalpha.rules.on_grid)."""
+    `middles` (n,): the end of the first of the two steps that each end's step merges
+    (NaN where it is a single step). A step goes from t to the first end after t; where
+    Newton cannot take it, to its middle, then on to its end (the split: the two steps of
+    the run the grid was made from); `most_splits`: the splits allowed (None: any), one
+    more fails the run. No error test: the grid is the step size's rule
+    (mechlib.solvers.genalpha.rules.on_grid)."""
 
     ends: np.ndarray
     middles: np.ndarray
     most_splits: int | None = None
-    ratio: int = 2  # the run's steps each grid step merges (a stretch's leftovers fewer)
 
     @classmethod
     def paired(
         cls, step_ends: Sequence[float], stops: Sequence[float] = (), most_splits: int | None = None
     ) -> StepGrid:
-        """Every two consecutive steps of a run merged into one: `grouped` with ratio 2."""
-        return cls.grouped(step_ends, stops, most_splits, ratio=2)
-
-    @classmethod
-    def grouped(
-        cls,
-        step_ends: Sequence[float],
-        stops: Sequence[float] = (),
-        most_splits: int | None = None,
-        ratio: int = 2,
-    ) -> StepGrid:
-        """Every `ratio` (2 or 4) consecutive steps of a run merged into one (its accepted
-        steps' end times `step_ends`, s, increasing), within each stretch between the
-        `stops` (s: its event times), which stay step ends as the last end does; each
-        merged step's middle the run's step end halfway through it. A stretch's leftover
-        steps (fewer than `ratio`) end it: two merged (ratio 4: and a third single), one
-        single."""
-        if ratio not in (2, 4):
-            raise ValueError(f"a step grid merges 2 or 4 steps, not {ratio}")
+        """Every two consecutive steps of a run merged into one (its accepted steps' end
+        times `step_ends`, s, increasing), within each stretch between the `stops` (s:
+        its event times), which stay step ends as the last end does; a stretch of an odd
+        number of steps ends with a single one."""
         t = np.asarray(step_ends, dtype=float)
         ends, middles = [], []
         for stretch in np.split(t, _stop_indices(t, stops)):
-            whole = len(stretch) // ratio * ratio
-            ends.append(stretch[ratio - 1 : whole : ratio])
-            middles.append(stretch[ratio // 2 - 1 : whole : ratio])
-            left = stretch[whole:]
-            if len(left) >= 2:
-                ends.append(left[1:2])
-                middles.append(left[0:1])
-            if len(left) % 2:
-                ends.append(left[-1:])
+            pairs = len(stretch) // 2
+            ends.append(stretch[1 : 2 * pairs : 2])
+            middles.append(stretch[0 : 2 * pairs : 2])
+            if len(stretch) % 2:
+                ends.append(stretch[-1:])
                 middles.append(np.array([np.nan]))
         if not ends:
-            return cls(np.zeros(0), np.zeros(0), most_splits, ratio)
-        return cls(np.concatenate(ends), np.concatenate(middles), most_splits, ratio)
+            return cls(np.zeros(0), np.zeros(0), most_splits)
+        return cls(np.concatenate(ends), np.concatenate(middles), most_splits)
 
     @property
     def steps(self) -> int:

@@ -15,7 +15,6 @@ from mechlib.core.outcome import ModelError, RunStatus, Solution, SolverFailure,
 from mechlib.core.work import tally
 from mechlib.flexible.guards import (
     deformation_warnings,
-    fastest_mode,
     spin_warnings,
     unresolved_mode_warnings,
 )
@@ -465,5 +464,4 @@ def solve(
         run.result,
         step_bound(system, analysis) if isinstance(analysis, Dynamic) else None,
         phase_spans(run.phases),
-        fastest_mode(system),
     )

@@ -1,7 +1,7 @@
-"""The grid companion (loadcases.run.companion.on_grid) of ratio 2: the run's own accepted
-steps two at a time, no error test; its steps are the run's pairs, and its Richardson
-estimate against a linear oscillator's closed form, x(t) = X0 cos(omega_n t) (four at a
-time, measured and not used by default: tests/loadcases/test_grid_companion_four.py)."""
+"""The grid companion (loadcases.run.companion.on_grid): the run's own accepted steps two at
+a time, no error test; its steps are the run's pairs, Richardson's divisor that of the
+steps it took (grid_divisor), and its estimate against a linear oscillator's closed form,
+x(t) = X0 cos(omega_n t)."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import pytest
 import mechlib as ml
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
-from loadcases.run.companion import STEP_RATIO, divisor, grid_divisor, on_grid
+from loadcases.run.companion import divisor, grid_divisor, on_grid
 from loadcases.run.global_error import shared_rows
 from mechlib.solvers.genalpha import rules
 from tests.mechlib._models import sprung_slider
@@ -61,6 +61,19 @@ def test_a_split_step_goes_to_its_middle_first() -> None:
     assert rules.on_grid(4.0, 9.0, grid.ends, grid.middles, False) == 2.0
 
 
+def test_the_divisor_counts_the_run_steps_each_companion_step_merged() -> None:
+    """Mean over the run's steps of m^p - 1 (p = 2): all pairs 3; pairs with a split pair
+    (two single steps) and a stretch's odd last step single, (4 pairs x 2 steps x 3) / 11;
+    a companion of the run's own steps 0, as one without steps."""
+    run = [float(k) for k in range(1, 12)]
+    assert grid_divisor("generalized-alpha", run[:10], run[1:10:2]) == pytest.approx(3.0)
+    # 1-2 and 3-4 pairs, 5 and 6 a split pair, 7-8 and 9-10 pairs, 11 single
+    taken = [2.0, 4.0, 5.0, 6.0, 8.0, 10.0, 11.0]
+    assert grid_divisor("generalized-alpha", run, taken) == pytest.approx(24.0 / 11.0)
+    assert grid_divisor("generalized-alpha", run, run) == 0.0
+    assert grid_divisor("generalized-alpha", run, []) == 0.0
+
+
 def test_a_run_stopped_by_an_event_has_a_grid_companion() -> None:
     """The door jettison stops at its `release` event (0.497 s of 1.5 s): its steps end
     there, and the companion follows them (`disconnect` at 1 ms a step end of both). Its
@@ -83,7 +96,7 @@ def test_the_companions_steps_are_the_runs_pairs(compiled: str) -> None:
     run = _solved(analysis)
     assert run.ok and len(run.stats.step_ends) == run.stats.steps
     assert run.stats.step_ends[-1] == pytest.approx(1.0, abs=1e-12)
-    companion_analysis = on_grid(analysis, run, STEP_RATIO)
+    companion_analysis = on_grid(analysis, run)
     assert companion_analysis is not None and companion_analysis.grid is not None
     companion = _solved(companion_analysis)
     assert companion.ok
@@ -105,7 +118,7 @@ def test_grid_richardson_estimates_the_oscillators_error(
     and 0.0053 of X0; the adaptive companion read 0.823 and 0.909)."""
     analysis = ml.Dynamic(1.0, 0.001, dense=True, tolerance=tolerance)
     run = _solved(analysis)
-    companion_analysis = on_grid(analysis, run, STEP_RATIO)
+    companion_analysis = on_grid(analysis, run)
     assert companion_analysis is not None
     companion = _solved(companion_analysis)
     rows, rows_c = shared_rows(run.time, companion.time)
@@ -135,8 +148,8 @@ def test_a_grid_companion_that_stops_falls_back_to_the_adaptive_one(
 
     on_grid_of = global_error.on_grid
 
-    def no_splits(analysis: ml.Dynamic, run: ml.Solution, ratio: int) -> ml.Dynamic | None:
-        grid = on_grid_of(analysis, run, ratio)
+    def no_splits(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic | None:
+        grid = on_grid_of(analysis, run)
         assert grid is not None and grid.grid is not None
         strict = dataclasses.replace(grid.grid, most_splits=0)
         return ml.Dynamic(**{**grid.__dict__, "grid": strict})
@@ -152,7 +165,7 @@ def test_a_grid_companion_that_stops_falls_back_to_the_adaptive_one(
     monkeypatch.setattr(GeneralizedAlphaStepper, "_attempt", failing)
     block = run_case(load_case(PENDULUM)).checks["accuracy"]
     assert block["companion"] == "adaptive" and block["estimate"]
-    assert "the companion on the run's own steps two at a time failed" in block["note"]
+    assert "the companion on the run's own steps failed" in block["note"]
     assert "after 0 splits" in block["note"]
 
 
@@ -184,7 +197,7 @@ def test_the_grid_predictor_moves_the_estimate_within_newtons_tolerance(
     iterations, the same rows."""
     analysis = ml.Dynamic(1.0, 0.001, dense=True, tolerance=1e-6, compiled="python")
     run = _solved(analysis)
-    grid = on_grid(analysis, run, STEP_RATIO)
+    grid = on_grid(analysis, run)
     assert grid is not None
     swung, compiled = _solved(grid), _solved(dataclasses.replace(grid, compiled="runs"))
     _plain_predictor(monkeypatch)
