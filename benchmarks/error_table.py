@@ -169,6 +169,7 @@ def case_rows(name: str, file: str, analysis: dict[str, Any]) -> list[dict[str, 
                 "at_target_peak": at_target(guess["peak"], peak),
                 "observed_order": block.get("observed_order"),
                 "companion": block.get("companion"),
+                "step_ratio": block.get("step_ratio"),
                 "cpu_s": cpu,
             }
         )

@@ -4,7 +4,8 @@ that turns the difference of the two into the run's error (Richardson).
 The companion takes every step twice as long as the run. For a method of order p its
 error is 2^p times the run's, so the run's is the difference / (2^p - 1)
 (generalized-alpha: p = 2, the difference / 3). Two kinds (the summary's accuracy block
-says which was used):
+says which was used, `companion`, and the compared run's steps over the run's,
+`step_ratio`):
 - `grid` (`on_grid`): the run's own accepted steps two at a time (t0 -> t2 -> t4 ...
   within each stretch between events, an event's time and the end staying step ends:
   mechlib.model.step_grid.StepGrid.paired), with no error test and no rejected attempts:
@@ -31,10 +32,19 @@ on the run's. Measured on the estimate/true table (benchmarks/error_table.py) th
 stay within a few per cent of those with every second row, and the companion of the bench
 slider-crank costs 0.31 of its run instead of 0.52 (docs/performance.md).
 
-Steps four times as long would cost half as much again, but are outside Richardson's
-asymptotic range on the IFToMM A01 pendulum: its error grows 8.3 times from tolerance 1e-6 to
-8e-6 and 35 times from 8e-6 to 6.4e-5 (0.32 rad), and the estimate read 16-22 times the
-true error; not used.
+The grid companion's error is the run's Richardson multiple only where it merged two of
+the run's steps: `grid_divisor` counts, of each step the companion took, the run's steps it
+merged (m), and divides the difference by the mean over the run's steps of m^p - 1: a
+stretch's odd last step taken alone, or a split pair, counts 0 (the companion made the
+run's error there), so a companion with splits no longer leans low by their share (the
+oscillator's divisor 2.967 and 2.992 for 3).
+
+The run's steps four at a time (Richardson's 4^p - 1 = 15) were measured on 2026-11-30
+(docs/performance.md, "Four at a time"): they cost 0.16-0.27 of a run against 0.26-0.66
+two at a time and hold the estimate/true table on the smooth cases, but read the flap
+latches' latch and hinge forces' peaks 2.8-9.2 times the true error (two at a time
+1.1-2.7) and no test the run itself allows separated that case from the good ones: not
+used.
 
 A run that passed a near-singular position (a warning of its own: the constraints close to
 losing rank, mechlib.checks.singularity) gets a third run, of steps half as long (`finer`),
@@ -56,6 +66,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -71,6 +82,7 @@ __all__ = [
     "coarser",
     "divisor",
     "finer",
+    "grid_divisor",
     "largest_step",
     "on_grid",
     "order",
@@ -221,6 +233,25 @@ def on_grid(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic | None:
     most = math.ceil(SPLIT_SHARE * len(ends) / STEP_RATIO)
     grid = ml.StepGrid.paired(ends, [event.time for event in run.events], most)
     return dataclasses.replace(sparser(coarser(analysis), run), grid=grid)
+
+
+def grid_divisor(
+    integrator: str, run_ends: Sequence[float], companion_ends: Sequence[float]
+) -> float:
+    """Richardson's divisor for a grid companion that took the steps ending at
+    `companion_ends` (s) on a run of steps ending at `run_ends` (s): the mean over the
+    run's steps of m^p - 1, m the run's steps within the companion's step that holds it.
+    A companion step of m of the run's steps makes m^(p+1) times their local error where
+    the run makes m times it: their difference m (m^p - 1) of one step's, so a merged
+    pair counts 3 a run's step (p = 2), a single one (a stretch's odd last step, a split
+    half) 0; on a grid of pairs only, 2^p - 1; 0 where either has no step."""
+    run_t, comp_t = np.asarray(run_ends, float), np.asarray(companion_ends, float)
+    if not len(run_t) or not len(comp_t):
+        return 0.0
+    tiny = 1e-12 * max(1.0, float(np.abs(run_t).max()))
+    counts = np.diff(np.searchsorted(run_t, comp_t + tiny), prepend=0)
+    p = order(integrator)
+    return float(np.sum(counts * (counts.astype(float) ** p - 1.0)) / max(counts.sum(), 1))
 
 
 STEP_MARGIN = 2.0  # a tighter run's step limit: this many times the steps it is expected to take

@@ -54,6 +54,7 @@ from loadcases.run.companion import (
     coarser,
     divisor,
     finer,
+    grid_divisor,
     largest_step,
     on_grid,
     order,
@@ -166,6 +167,7 @@ class AccuracyEstimate:
     observed_order: float | None = None  # of the run, its companion and the finer run
     companion: str = "adaptive"  # on the run's own steps (`grid`) or error-controlled
     splits: int = 0  # the grid companion's doubled steps split where Newton failed
+    richardson: float = 3.0  # the divisor of the companion's difference (a grid's: its steps')
 
     @property
     def outcome(self) -> str:
@@ -187,6 +189,13 @@ class AccuracyEstimate:
         return bool(_worst(self.requests, self.measure) <= self.target)
 
     @property
+    def step_ratio(self) -> float:
+        """The steps of the run the estimate compares this one with, over this one's: a
+        finer run's (1/2), else the companion's or, after a tightening, the previous
+        run's (2)."""
+        return FINER_RATIO if self.finer and not self.tightenings else STEP_RATIO
+
+    @property
     def method(self) -> str:
         """How the estimate was made, as the summary says it."""
         if self.finer and self.tightenings == 0:
@@ -199,7 +208,8 @@ class AccuracyEstimate:
             pair = (
                 "this run against a companion on the run's own steps two at a time (no "
                 f"error test; {self.splits} split back where Newton failed), difference / "
-                f"{divisor(self.integrator):g}"
+                f"{self.richardson:.4g} (per run step, {divisor(self.integrator):g} in a "
+                "companion step of two of the run's, 0 in one of one)"
             )
         else:
             pair = (
@@ -231,6 +241,7 @@ class AccuracyEstimate:
             },
             "method": self.method,
             "companion": self.companion,
+            "step_ratio": self.step_ratio,
             **({} if self.observed_order is None else {"observed_order": self.observed_order}),
             "cpu_seconds": self.cpu_seconds,
             **({"note": self.note} if self.note else {}),
@@ -298,13 +309,19 @@ def _shared_by_keys(a: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarra
 
 
 def request_errors(
-    run: ml.Solution, companion: ml.Solution, order: int, ratio: float = STEP_RATIO
+    run: ml.Solution,
+    companion: ml.Solution,
+    order: int,
+    ratio: float = STEP_RATIO,
+    *,
+    richardson: float | None = None,
 ) -> dict[str, RequestError]:
     """Estimated error of each request of `run` from another run of steps `ratio` times as
     long (a companion, its rows at some of the run's output times; or a finer run, ratio
-    1/2), Richardson's (other - run) / (ratio^p - 1)."""
+    1/2), Richardson's (other - run) / (ratio^p - 1), or / `richardson` where given (a
+    grid companion's: loadcases.run.companion.grid_divisor)."""
     rows, rows_c = shared_rows(run.time, companion.time)
-    scale = 1.0 / (float(ratio) ** order - 1.0)
+    scale = 1.0 / (float(ratio) ** order - 1.0 if richardson is None else richardson)
     peaks = request_peaks(run.channels)
     columns = [
         column
@@ -402,8 +419,9 @@ def solve_to_accuracy(
             return _interrupted(run, "its accuracy companion was solved", estimated=False), estimate
         estimate.note = f"not estimated: the companion run failed ({companion.message})"
         return run, estimate
-    errors = request_errors(run, companion, p)
-    pair = _finer_pair(solve, analysis, run, errors, spent) if passed_singular(run) else None
+    coarse = _coarse(analysis, run, companion, kind)
+    errors = coarse.errors
+    pair = _finer_pair(solve, analysis, run, coarse, spent) if passed_singular(run) else None
     if pair is not None:
         errors = pair.errors
     pending = pair.solved if pair is not None else None
@@ -432,6 +450,7 @@ def solve_to_accuracy(
     estimate = _estimate(analysis, run, target, errors, tightenings, started)
     estimate.note, estimate.budget, estimate.stopped_by = note, budget, stopped_by
     estimate.measure, estimate.companion = measure, kind
+    estimate.richardson = coarse.divisor
     estimate.splits = companion.stats.rejected_steps if kind == "grid" else 0
     if estimate.splits:
         estimate.note = _joined(
@@ -446,6 +465,18 @@ def solve_to_accuracy(
     if stopped:
         run = _interrupted(run, during)
     return run, estimate
+
+
+def _coarse(analysis: ml.Dynamic, run: ml.Solution, companion: ml.Solution, kind: str) -> Coarse:
+    """The companion's estimate: a grid companion's Richardson divisor from the steps it
+    took (a stretch's odd last step and its splits merging fewer of the run's:
+    loadcases.run.companion.grid_divisor), the adaptive one's 2^p - 1."""
+    p = order(analysis.integrator)
+    found = 0.0
+    if kind == "grid":
+        found = grid_divisor(analysis.integrator, run.stats.step_ends, companion.stats.step_ends)
+    richardson = found if found > 0.0 else divisor(analysis.integrator)
+    return Coarse(request_errors(run, companion, p, richardson=richardson), richardson)
 
 
 def _companion(
@@ -501,7 +532,7 @@ def _finer_pair(
     solve: Solver,
     analysis: ml.Dynamic,
     run: ml.Solution,
-    coarse: dict[str, RequestError],
+    coarse: Coarse,
     spent: Spent,
 ) -> FinerPair:
     """The finer pair's estimate; the companion's (`coarse`) with a note when the finer
@@ -511,13 +542,23 @@ def _finer_pair(
         why = "interrupted" + _by() if fine.status == "interrupted" else fine.message
         note = f"the finer run at a singular position did not finish ({why}): estimated "
         return FinerPair(
-            coarse, note=note + "from the companion only", interrupted=fine.status == "interrupted"
+            coarse.errors,
+            note=note + "from the companion only",
+            interrupted=fine.status == "interrupted",
         )
     errors = request_errors(run, fine, order(analysis.integrator), FINER_RATIO)
-    coarse_diff = _worst(coarse, "history") * divisor(analysis.integrator)
+    coarse_diff = _worst(coarse.errors, "history") * coarse.divisor
     fine_diff = _worst(errors, "history") * -divisor(analysis.integrator, FINER_RATIO)
     observed = math.log2(coarse_diff / fine_diff) if coarse_diff > 0 < fine_diff else None
     return FinerPair(errors, (finer_analysis, fine), observed)
+
+
+@dataclass(frozen=True)
+class Coarse:
+    """The companion's estimate: its errors and the Richardson divisor they were made with."""
+
+    errors: dict[str, RequestError]
+    divisor: float
 
 
 def _solved_finer(

@@ -58,7 +58,7 @@ def test_a_singular_crossing_is_estimated_from_the_finer_pair() -> None:
     assert estimate.requests["x"].history == pytest.approx(_relative(0.07 * 4 / 3, 0.1))
     assert estimate.observed_order == pytest.approx(math.log2(0.01 / 0.07))
     summary = estimate.summary()
-    assert summary["observed_order"] == estimate.observed_order
+    assert summary["observed_order"] == estimate.observed_order and summary["step_ratio"] == 0.5
     assert "finer one with every step half as long" in summary["method"]
 
 
@@ -73,7 +73,7 @@ def test_without_a_singular_position_only_the_companion_is_solved() -> None:
     assert estimate is not None
     assert calls == pytest.approx([TOLERANCE, 8 * TOLERANCE])
     assert estimate.requests["x"].history == pytest.approx(_relative(0.1, 0.1))
-    assert "observed_order" not in estimate.summary()
+    assert "observed_order" not in estimate.summary() and estimate.summary()["step_ratio"] == 2
 
 
 def test_a_tightening_starts_from_the_finer_run() -> None:
@@ -95,5 +95,6 @@ def test_a_tightening_starts_from_the_finer_run() -> None:
     assert estimate.tightenings == 2 and estimate.tolerance == pytest.approx(TOLERANCE / 64)
     assert estimate.requests["x"].history == pytest.approx(_relative(0.0075, 0.0075))
     assert estimate.met and estimate.observed_order is None  # of the first run only
+    assert estimate.step_ratio == 2  # against the run before it, of steps twice as long
     written = np.sin(OMEGA * TIME) + 0.0075 * np.sin(TIME)  # the tolerance-1/64 run's
     assert np.array_equal(run.channels["x.value"], written)
