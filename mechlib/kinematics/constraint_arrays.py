@@ -690,11 +690,10 @@ def scaled_row(q, packed, scale, work, jac):
     """At state q (7 nb,): the active constraint rows scaled per column by `scale` and each
     to unit length (jac (m, 7 nb): zero rows stay zero): what mechlib.checks.singularity
     measures at a recorded row. `packed`: the constraints unpacked (`unpack`); `work`:
-    `row_work`'s arrays, reused from row to row."""
-    full, rows, refs, functions = work
+    `row_work`'s arrays, reused from row to row (no array made: two a row before)."""
+    full, rows, refs, functions, x, xd = work
     nq = q.shape[0]
-    nb = nq // 7
-    x, _ = state_arrays(q, q, nb)
+    state_into(q, q, x, xd)
     active, _ = unpacked_rows(x, packed, functions, refs, full, rows)
     for i in range(active.shape[0]):
         r = active[i]
@@ -711,6 +710,8 @@ def scaled_row(q, packed, scale, work, jac):
 
 def row_work(ints: np.ndarray, nq: int) -> tuple:
     """Work arrays of `scaled_row` for a pack (`ConstraintArrays.packed`'s ints): the rows
-    start at zero (`constraint_rows` fills only their bodies' blocks)."""
+    start at zero (`constraint_rows` fills only their bodies' blocks); then the state
+    arrays x, xd (nb+1, 7: `state_into`)."""
     nall, ne = row_count(ints), ints[6]
-    return np.zeros(nall), np.zeros((nall, nq + 7)), np.zeros(ints[4]), np.zeros((ne, 3))
+    x, xd = np.empty((nq // 7 + 1, 7)), np.empty((nq // 7 + 1, 7))
+    return np.zeros(nall), np.zeros((nall, nq + 7)), np.zeros(ints[4]), np.zeros((ne, 3)), x, xd
