@@ -4,9 +4,15 @@ call `project_loaded_rows` (mechlib.solvers.dense.DenseRows.block); those calls 
 and replayed, all of them `--repeat` times, the best per-row time (us, CPU of this
 process) printed with the rows' count. `--save FILE` writes the rows (npz), `--compare
 FILE` reads them back and prints the largest difference of each part of the rows (q, qd,
-qdd, lam) against them: 0 where the kernel's results are bit-identical.
+qdd, lam) against them: 0 where the kernel's results are bit-identical. `--parts`: where a
+row's time goes (each part's added time, us a row, in a compiled loop over the kept rows
+stopped after that part: interpolation, the constraints at the interpolated q, the position
+Newton, the Schur complement's factor, the velocity, acceleration and reaction solves) and
+the position Newton's steps per row with its first step's sizes (the kernel's iteration run
+as Python, its inner kernels compiled).
 
     python -m benchmarks.row_kernel [--repeat 20] [--save rows.npz | --compare rows.npz]
+                                    [--parts]
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ from typing import Any
 
 import numpy as np
 
+from benchmarks import row_parts
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
 from mechlib.solvers import dense
@@ -66,8 +73,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--repeat", type=int, default=20)
     parser.add_argument("--save", type=Path)
     parser.add_argument("--compare", type=Path)
+    parser.add_argument("--parts", action="store_true")
     args = parser.parse_args(argv)
     calls = captured_calls()
+    if args.parts:
+        row_parts.report(calls)
     best, rows, done = min((replay(calls) for _ in range(args.repeat)), key=lambda r: r[0])
     print(f"{done} rows in {len(calls)} calls: {1e6 * best / max(done, 1):.2f} us a row (best)")
     stacked = np.concatenate(rows)

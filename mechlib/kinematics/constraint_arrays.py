@@ -267,13 +267,11 @@ def _full_rows(x, nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2s
     kr.sph_jac(x, sbi, sbj, ssi, ssj, rows[r : r + n])
     r += n
     n = d1i.shape[0]
-    kr.dot1_phi(x, d1i, d1j, d1u, d1v, phi[r : r + n])
-    kr.dot1_jac(x, d1i, d1j, d1u, d1v, rows[r : r + n])
+    kr.dot1_phi_jac(x, d1i, d1j, d1u, d1v, phi[r : r + n], rows[r : r + n])
     r += n
     n = d2i.shape[0]
     if n:  # its kernels make their work arrays before the loop
-        kr.dot2_phi(x, d2i, d2j, d2v, d2si, d2sj, phi[r : r + n])
-        kr.dot2_jac(x, d2i, d2j, d2v, d2si, d2sj, rows[r : r + n])
+        kr.dot2_phi_jac(x, d2i, d2j, d2v, d2si, d2sj, phi[r : r + n], rows[r : r + n])
     return r + n
 
 
@@ -437,7 +435,9 @@ def unpacked_phi_and_jacobian(x, packed, functions, refs, phi, jac):
 @njit(**KERNEL)
 def phi_and_jacobian_in(x, packed, functions, refs, phi, jac, full, rows):
     """`unpacked_phi_and_jacobian` in the work arrays full (`row_count`,) and rows
-    (`row_count`, 7 (nb+1)), zeroed here: a loop of rows makes them once."""
+    (`row_count`, 7 (nb+1)), zeroed here: a loop of rows makes them once. The coordinate
+    equations are evaluated only when one of them is active (a call with 17 arguments
+    costs 0.17 us even when it returns at once: at every dense row's Newton iterate)."""
     (
         nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj,
         ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, active, _,
@@ -447,9 +447,11 @@ def phi_and_jacobian_in(x, packed, functions, refs, phi, jac, full, rows):
     first = _full_rows(
         x, nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj, full, rows
     )
-    _coordinate_rows(
-        x, ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, functions, refs, first, full, rows
-    )
+    if _any_from(active, first):  # only active rows are read (`unpacked_rows`)
+        _coordinate_rows(
+            x, ai, aj, au, av, ti, tj, tv, tsi, tsj, coef, linear, functions, refs, first, full,
+            rows,
+        )  # fmt: skip
     nq = 7 * nb
     for i in range(active.shape[0]):
         phi[i] = full[active[i]]
@@ -688,11 +690,10 @@ def scaled_row(q, packed, scale, work, jac):
     """At state q (7 nb,): the active constraint rows scaled per column by `scale` and each
     to unit length (jac (m, 7 nb): zero rows stay zero): what mechlib.checks.singularity
     measures at a recorded row. `packed`: the constraints unpacked (`unpack`); `work`:
-    `row_work`'s arrays, reused from row to row."""
-    full, rows, refs, functions = work
+    `row_work`'s arrays, reused from row to row (no array made: two a row before)."""
+    full, rows, refs, functions, x, xd = work
     nq = q.shape[0]
-    nb = nq // 7
-    x, _ = state_arrays(q, q, nb)
+    state_into(q, q, x, xd)
     active, _ = unpacked_rows(x, packed, functions, refs, full, rows)
     for i in range(active.shape[0]):
         r = active[i]
@@ -709,6 +710,8 @@ def scaled_row(q, packed, scale, work, jac):
 
 def row_work(ints: np.ndarray, nq: int) -> tuple:
     """Work arrays of `scaled_row` for a pack (`ConstraintArrays.packed`'s ints): the rows
-    start at zero (`constraint_rows` fills only their bodies' blocks)."""
+    start at zero (`constraint_rows` fills only their bodies' blocks); then the state
+    arrays x, xd (nb+1, 7: `state_into`)."""
     nall, ne = row_count(ints), ints[6]
-    return np.zeros(nall), np.zeros((nall, nq + 7)), np.zeros(ints[4]), np.zeros((ne, 3))
+    x, xd = np.empty((nq // 7 + 1, 7)), np.empty((nq // 7 + 1, 7))
+    return np.zeros(nall), np.zeros((nall, nq + 7)), np.zeros(ints[4]), np.zeros((ne, 3)), x, xd

@@ -25,10 +25,12 @@ __all__ = [
     "dot1_gamma",
     "dot1_jac",
     "dot1_phi",
+    "dot1_phi_jac",
     "dot1_rate",
     "dot2_gamma",
     "dot2_jac",
     "dot2_phi",
+    "dot2_phi_jac",
     "dot2_rate",
     "inverse_mass_blocks",
     "mass_blocks",
@@ -207,12 +209,29 @@ def dot1_jac(x, bi, bj, u, v, out):
     for k in range(bi.shape[0]):
         a = _rotated(x[bi[k], 3:], u[k])
         b = _rotated(x[bj[k], 3:], v[k])
-        m = _bmatrix(x[bi[k], 3:], u[k])
-        for d in range(4):
-            out[k, 7 * bi[k] + 3 + d] += b[0] * m[d] + b[1] * m[4 + d] + b[2] * m[8 + d]
-        m = _bmatrix(x[bj[k], 3:], v[k])
-        for d in range(4):
-            out[k, 7 * bj[k] + 3 + d] += a[0] * m[d] + a[1] * m[4 + d] + a[2] * m[8 + d]
+        _dot1_row(x, k, bi, bj, u, v, a, b, out)
+
+
+@njit(**KERNEL)
+def dot1_phi_jac(x, bi, bj, u, v, phi, out):
+    """`dot1_phi` and `dot1_jac` in one loop: each row's arms A_i u, A_j v taken once
+    (the same products, bit for bit)."""
+    for k in range(bi.shape[0]):
+        a = _rotated(x[bi[k], 3:], u[k])
+        b = _rotated(x[bj[k], 3:], v[k])
+        phi[k] = _dot3(a, b)
+        _dot1_row(x, k, bi, bj, u, v, a, b, out)
+
+
+@njit(**KERNEL)
+def _dot1_row(x, k, bi, bj, u, v, a, b, out):
+    """Dot-1 row k's Jacobian entries added into out[k] from its arms a = A_i u, b = A_j v."""
+    m = _bmatrix(x[bi[k], 3:], u[k])
+    for d in range(4):
+        out[k, 7 * bi[k] + 3 + d] += b[0] * m[d] + b[1] * m[4 + d] + b[2] * m[8 + d]
+    m = _bmatrix(x[bj[k], 3:], v[k])
+    for d in range(4):
+        out[k, 7 * bj[k] + 3 + d] += a[0] * m[d] + a[1] * m[4 + d] + a[2] * m[8 + d]
 
 
 @njit(**KERNEL)
@@ -275,19 +294,35 @@ def dot2_phi(x, bi, bj, v, si, sj, out):
 def dot2_jac(x, bi, bj, v, si, sj, out):
     for k in range(bi.shape[0]):
         b, d = _dot2_arms(x, k, bi, bj, v, si, sj)
-        ci, cj = 7 * bi[k], 7 * bj[k]
-        for c in range(3):
-            out[k, ci + c] += b[c]
-            out[k, cj + c] -= b[c]
-        m = _bmatrix(x[bi[k], 3:], si[k])
-        for e in range(4):
-            out[k, ci + 3 + e] += b[0] * m[e] + b[1] * m[4 + e] + b[2] * m[8 + e]
-        m = _bmatrix(x[bj[k], 3:], v[k])
-        for e in range(4):
-            out[k, cj + 3 + e] += d[0] * m[e] + d[1] * m[4 + e] + d[2] * m[8 + e]
-        m = _bmatrix(x[bj[k], 3:], sj[k])
-        for e in range(4):
-            out[k, cj + 3 + e] -= b[0] * m[e] + b[1] * m[4 + e] + b[2] * m[8 + e]
+        _dot2_row(x, k, bi, bj, v, si, sj, b, d, out)
+
+
+@njit(**KERNEL)
+def dot2_phi_jac(x, bi, bj, v, si, sj, phi, out):
+    """`dot2_phi` and `dot2_jac` in one loop: each row's arms (`_dot2_arms`) taken once
+    (the same products, bit for bit)."""
+    for k in range(bi.shape[0]):
+        b, d = _dot2_arms(x, k, bi, bj, v, si, sj)
+        phi[k] = _dot3(b, d)
+        _dot2_row(x, k, bi, bj, v, si, sj, b, d, out)
+
+
+@njit(**KERNEL)
+def _dot2_row(x, k, bi, bj, v, si, sj, b, d, out):
+    """Dot-2 row k's Jacobian entries added into out[k] from its arms b, d (`_dot2_arms`)."""
+    ci, cj = 7 * bi[k], 7 * bj[k]
+    for c in range(3):
+        out[k, ci + c] += b[c]
+        out[k, cj + c] -= b[c]
+    m = _bmatrix(x[bi[k], 3:], si[k])
+    for e in range(4):
+        out[k, ci + 3 + e] += b[0] * m[e] + b[1] * m[4 + e] + b[2] * m[8 + e]
+    m = _bmatrix(x[bj[k], 3:], v[k])
+    for e in range(4):
+        out[k, cj + 3 + e] += d[0] * m[e] + d[1] * m[4 + e] + d[2] * m[8 + e]
+    m = _bmatrix(x[bj[k], 3:], sj[k])
+    for e in range(4):
+        out[k, cj + 3 + e] -= b[0] * m[e] + b[1] * m[4 + e] + b[2] * m[8 + e]
 
 
 @njit(**KERNEL)

@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 from mechlib.core.rotation import rotation_matrix
+from mechlib.kinematics import kernels as kr
 from mechlib.kinematics.constraints import Dot1, Dot2, Normalization, Spherical
 from mechlib.kinematics.kin import Kin
 
@@ -146,3 +147,32 @@ def test_normalization_values(rng: np.random.Generator) -> None:
     assert np.abs(norm.phi(k)).max() < 1e-14
     expected = -2.0 * np.sum(qd.reshape(NB, 7)[:, 3:] ** 2, axis=1)
     assert np.abs(norm.gamma(k) - expected).max() < 1e-14
+
+
+@pytest.mark.parametrize("kind", ["dot1", "dot2"])
+def test_residual_and_jacobian_in_one_loop_equal_the_two_kernels(
+    kind: str, rng: np.random.Generator
+) -> None:
+    """kernels.dot1_phi_jac / dot2_phi_jac (the packed rows' one loop, each row's arms taken
+    once) give the residuals of dot1_phi / dot2_phi and the rows of dot1_jac / dot2_jac bit
+    for bit, added into rows that already hold values (the Jacobian kernels add)."""
+    k = len(BODY_I)
+    bi, bj = np.array(BODY_I), np.array(BODY_J)
+    u, v, w = (rng.normal(size=(k, 3)) for _ in range(3))
+    args = (bi, bj, u, v) if kind == "dot1" else (bi, bj, u, v, w)
+    kernels: dict[str, tuple[Callable[..., None], ...]] = {
+        "dot1": (kr.dot1_phi, kr.dot1_jac, kr.dot1_phi_jac),
+        "dot2": (kr.dot2_phi, kr.dot2_jac, kr.dot2_phi_jac),
+    }
+    phi_of, jac_of, both = kernels[kind]
+    for _ in range(5):
+        q, _, _ = _random_state(rng)
+        x = Kin.from_state(q).x
+        start = rng.normal(size=(k, 7 * (NB + 1)))
+        phi, jac = np.full(k, np.nan), start.copy()
+        phi_of(x, *args, phi)
+        jac_of(x, *args, jac)
+        fused_phi, fused_jac = np.full(k, np.nan), start.copy()
+        both(x, *args, fused_phi, fused_jac)
+        assert np.array_equal(phi, fused_phi) and np.array_equal(jac, fused_jac)
+        assert not np.array_equal(jac, start)  # the rows were added to

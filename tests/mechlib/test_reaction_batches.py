@@ -145,7 +145,7 @@ def test_a_selected_pack_fills_its_rows_as_the_whole_pack(rows) -> None:
     x, _ = ca.state_arrays(q, q, system.nb)
 
     def filled(ints: np.ndarray, floats: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        full, rows, _, functions = ca.row_work(ints, nq)
+        full, rows, _, functions, _, _ = ca.row_work(ints, nq)
         active, _ = ca.constraint_rows(x, ints, floats, functions, arrays.references(), full, rows)
         return active, rows
 
