@@ -1,0 +1,85 @@
+"""A sweep's runs in one process share what their inputs share, and nothing else: a variant
+solved after another gives the same results, bit for bit (every channel, warning,
+statistic but CPU time, the accuracy block), as the same variant solved alone in a fresh
+process (mechlib.solvers.start_memo, mechlib.linalg.rank's kept checks). The campaign's
+rate sweep reuses the placed start; a sweep of a length, a mass, a joint's place or the
+initial angle places each variant anew."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from loadcases.inputs.loader import load_case
+from loadcases.results.outcome import RunOutcome
+from loadcases.run import run_case
+from mechlib.linalg import rank
+from mechlib.solvers.start_memo import PLACED
+
+CASE = Path(__file__).parent / "cases" / "sweep_crank.case.yaml"
+
+
+def _forget() -> None:
+    """A fresh worker's memory: nothing kept."""
+    PLACED.clear()
+    rank._FOUND.clear()
+
+
+def _run(parameters: dict[str, float]) -> RunOutcome:
+    return run_case(load_case(CASE, overrides=parameters))
+
+
+def _bits(outcome: RunOutcome) -> dict:
+    """Everything a run reports but its CPU times; arrays as bytes (bit for bit)."""
+    solution = outcome.solution
+    stats = {k: v for k, v in vars(solution.stats).items() if k != "cpu_seconds"}
+    accuracy = {k: v for k, v in outcome.checks["accuracy"].items() if k != "cpu_seconds"}
+    return {
+        "status": solution.status,
+        "message": solution.message,
+        "time": np.asarray(solution.time).tobytes(),
+        "channels": {k: np.asarray(v).tobytes() for k, v in solution.channels.items()},
+        "warnings": list(solution.warnings),
+        "notes": [str(w) for w in outcome.warnings],
+        "stats": stats,
+        "accuracy": repr(accuracy),
+    }
+
+
+# parameter: (first value, second value, the second's start placed from memory)
+SWEEPS = {
+    "crank_rate": (5.0, 7.5, True),  # the campaign's sweep: positions unchanged
+    "crank_len": (0.1, 0.11, False),  # geometry: the crank pin and its joint
+    "rod_mass": (0.8, 0.9, False),  # a mass: the mechanism differs, placed anew
+    "guide_y": (0.0, 0.01, False),  # a joint's place
+    "crank_angle": (0.0, 0.3, False),  # an initial position
+}
+
+
+@pytest.mark.parametrize("name", list(SWEEPS))
+def test_a_variant_after_another_is_the_variant_alone(name: str) -> None:
+    first_value, second_value, shared = SWEEPS[name]
+    _forget()
+    first = _run({name: first_value})
+    placed, checked = PLACED.hits, rank._FOUND.hits
+    after = _bits(_run({name: second_value}))
+    assert (PLACED.hits > placed) is shared
+    _forget()
+    alone = _bits(_run({name: second_value}))
+    assert PLACED.hits == 0  # alone: nothing to reuse
+    assert after == alone
+    # the variants differ where it shows: a wrong reuse would not go unseen
+    assert _bits(first)["channels"] != alone["channels"]
+    assert placed == 0 and checked == 0  # the first run reused nothing
+
+
+def test_the_rate_sweep_checks_and_places_once() -> None:
+    _forget()
+    for rate in (5.0, 6.0, 7.0):
+        outcome = _run({"crank_rate": rate})
+        assert outcome.solution.status == "ok"
+    assert rank._FOUND.hits == 2  # the model check of the second and third runs
+    assert PLACED.hits == 2  # and their placed start (each companion: the run's memo)
+    assert len(PLACED) == 1 and len(rank._FOUND) == 1
