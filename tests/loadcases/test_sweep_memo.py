@@ -9,6 +9,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import shutil
+
 import numpy as np
 import pytest
 
@@ -19,6 +21,8 @@ from mechlib.linalg import rank
 from mechlib.solvers.start_memo import PLACED
 
 CASE = Path(__file__).parent / "cases" / "sweep_crank.case.yaml"
+A02 = Path(__file__).parents[2] / "loadcases/library/verification/hard"
+A02_CASE = "iftomm_a02_fourbar_planar.case.yaml"
 
 
 def _forget() -> None:
@@ -27,8 +31,8 @@ def _forget() -> None:
     rank._FOUND.clear()
 
 
-def _run(parameters: dict[str, float]) -> RunOutcome:
-    return run_case(load_case(CASE, overrides=parameters))
+def _run(parameters: dict[str, float], case: Path = CASE) -> RunOutcome:
+    return run_case(load_case(case, overrides=parameters))
 
 
 def _bits(outcome: RunOutcome) -> dict:
@@ -83,3 +87,34 @@ def test_the_rate_sweep_checks_and_places_once() -> None:
     assert rank._FOUND.hits == 2  # the model check of the second and third runs
     assert PLACED.hits == 2  # and their placed start (each companion: the run's memo)
     assert len(PLACED) == 1 and len(rank._FOUND) == 1
+
+
+@pytest.fixture
+def planar_case(tmp_path: Path) -> Path:
+    """The IFToMM A02 planar four-bar (N = 3; a planar system, a near-singular crossing and
+    its warning), its initial angle and rate parameters."""
+    shutil.copy(A02 / "iftomm_a02_fourbar_planar.mech.yaml", tmp_path)
+    text = (A02 / A02_CASE).read_text(encoding="utf-8")
+    given = "  a0: {value: 0, rate: -4.0}\n"
+    assert given in text
+    text = text.replace(given, "  a0: {value: angle0, rate: rate0}\n")
+    text = text.replace("initial:", "parameters: {angle0: 0.0, rate0: -4.0}\ninitial:", 1)
+    (tmp_path / A02_CASE).write_text(text, encoding="utf-8")
+    return tmp_path / A02_CASE
+
+
+@pytest.mark.parametrize(
+    ("name", "values", "shared"), [("rate0", (-4.0, -3.5), True), ("angle0", (0.0, 0.05), False)]
+)
+def test_a_planar_variant_after_another_is_the_variant_alone(
+    planar_case: Path, name: str, values: tuple[float, float], shared: bool
+) -> None:
+    _forget()
+    first = _bits(_run({name: values[0]}, planar_case))
+    after = _bits(_run({name: values[1]}, planar_case))
+    assert (PLACED.hits > 0) is shared
+    _forget()
+    alone = _bits(_run({name: values[1]}, planar_case))
+    assert after == alone
+    assert first["channels"] != alone["channels"]
+    assert any("near-singular" in w for w in alone["warnings"])  # the warnings compared too
