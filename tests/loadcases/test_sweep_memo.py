@@ -7,9 +7,8 @@ initial angle places each variant anew."""
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
