@@ -11,6 +11,7 @@ is bounded: the least recently used result goes first.
 from __future__ import annotations
 
 import dataclasses
+import struct
 from collections import OrderedDict
 from collections.abc import Callable, Hashable
 from enum import Enum
@@ -26,16 +27,21 @@ T = TypeVar("T")
 def value_key(*parts: object) -> tuple:
     """A hashable key of `parts` by value: arrays as (dtype, shape, bytes); tuples, lists
     and dicts item by item in their order; sets sorted; dataclasses by class and every
-    attribute the instance holds (private ones too); numbers, strings, enums and None as
-    they are. Anything else (a function, an object of unknown state) raises TypeError: a
-    key that cannot see every value read is no key."""
+    attribute the instance holds (private ones too); floats by their bits (-0.0 is not
+    0.0); integers, strings, enums and None as they are. Anything else (a function, an
+    object of unknown state) raises TypeError: a key that cannot see every value read is
+    no key."""
     return tuple(_part(part) for part in parts)
 
 
 def _part(part: object) -> Hashable:
     if isinstance(part, np.ndarray):
         return ("array", part.dtype.str, part.shape, part.tobytes())
-    if isinstance(part, float | int | str | bool | np.generic) or part is None:
+    if isinstance(part, np.generic):  # before float: numpy's float64 is one
+        return ("scalar", part.dtype.str, part.tobytes())
+    if isinstance(part, float):  # by its bits: -0.0 is not 0.0 (atan2 tells them apart)
+        return ("float", struct.pack("<d", part))
+    if isinstance(part, int | str | bool) or part is None:
         return (type(part).__name__, part)
     if isinstance(part, tuple | list):
         return (type(part).__name__, *(_part(p) for p in part))

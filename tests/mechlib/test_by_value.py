@@ -21,6 +21,9 @@ def test_value_key_tells_values_apart_not_identities() -> None:
     assert value_key(a) != value_key(a.astype(np.float32))
     assert value_key(a) != value_key(a.reshape(2, 1))
     assert value_key({"a": 1}) != value_key({"a": 2})
+    assert value_key(0.0) != value_key(-0.0)  # equal numbers, other bits: atan2 differs
+    assert value_key(1) != value_key(1.0) != value_key(np.float64(1.0))
+    assert value_key(np.float64(-0.0)) != value_key(np.float64(0.0))
     assert value_key(frozenset({"b", "a"})) == value_key({"a", "b"})
     with pytest.raises(TypeError, match="not keyed by value"):
         value_key(object())  # no identity-keyed values: a miss never hides behind an id
