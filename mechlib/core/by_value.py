@@ -31,33 +31,45 @@ def value_key(*parts: object) -> tuple:
     0.0); integers, strings, enums and None as they are. Anything else (a function, an
     object of unknown state) raises TypeError: a key that cannot see every value read is
     no key."""
-    return tuple(_part(part) for part in parts)
+    return tuple(_part(part, set()) for part in parts)
 
 
-def _part(part: object) -> Hashable:
+def _part(part: object, path: set[int]) -> Hashable:
+    """The key of `part`; `path`: the ids of the containers it is inside (a cycle is
+    refused: it has no finite key)."""
     if isinstance(part, np.ndarray):
         return ("array", part.dtype.str, part.shape, part.tobytes())
     if isinstance(part, np.generic):  # before float: numpy's float64 is one
         return ("scalar", part.dtype.str, part.tobytes())
     if isinstance(part, float):  # by its bits: -0.0 is not 0.0 (atan2 tells them apart)
         return ("float", struct.pack("<d", part))
-    if isinstance(part, int | str | bool) or part is None:
-        return (type(part).__name__, part)
-    if isinstance(part, tuple | list):
-        return (type(part).__name__, *(_part(p) for p in part))
-    if isinstance(part, dict):
-        return ("dict", *((_part(k), _part(v)) for k, v in part.items()))
-    if isinstance(part, set | frozenset):
-        return ("set", *sorted((_part(p) for p in part), key=repr))
     if isinstance(part, Enum):
         return (type(part).__qualname__, part.name)
+    if isinstance(part, int | str | bool) or part is None:
+        return (type(part).__name__, part)
+    if id(part) in path:
+        raise TypeError(f"value_key: a {type(part).__name__} inside itself")
+    path.add(id(part))
+    try:
+        return _container(part, path)
+    finally:
+        path.discard(id(part))
+
+
+def _container(part: object, path: set[int]) -> Hashable:
+    """The key of a tuple, list, dict, set or dataclass instance, item by item."""
+    if isinstance(part, tuple | list):
+        return (type(part).__name__, *(_part(p, path) for p in part))
+    if isinstance(part, dict):
+        return ("dict", *((_part(k, path), _part(v, path)) for k, v in part.items()))
+    if isinstance(part, set | frozenset):
+        return ("set", *sorted((_part(p, path) for p in part), key=repr))
     if dataclasses.is_dataclass(part) and not isinstance(part, type):
         kind = type(part)
-        names = (
-            vars(part) if hasattr(part, "__dict__") else [f.name for f in dataclasses.fields(part)]
-        )
+        declared = [f.name for f in dataclasses.fields(part)]
         # every attribute the instance holds, declared or set later (a cache, a memory)
-        fields = ((name, _part(getattr(part, name))) for name in names)
+        names = list(vars(part)) if hasattr(part, "__dict__") else declared
+        fields = ((name, _part(getattr(part, name), path)) for name in names)
         return (kind.__module__, kind.__qualname__, *fields)
     raise TypeError(f"value_key: {type(part).__name__} is not keyed by value")
 

@@ -65,17 +65,18 @@ def _key(system, t: float, initial: Sequence, check: BranchCheck) -> tuple | Non
             positions.append(replace(item, rate=None))  # the rate: the velocity stage's
         elif not isinstance(item, InitialBodyVelocity):
             return None  # modal coordinates, or what this memo does not know
-    try:
-        return value_key(
+    mechanism = system.mechanism
+    try:  # the motions and force elements first: what refuses a key is found there
+        return value_key(mechanism.motions, mechanism.forces) + value_key(
             type(system).__qualname__,
-            system.mechanism,
+            mechanism,
             system.active,
             system.references(),
             float(t),
             positions,
             check,
         )
-    except TypeError:  # a motion's function, an element of unknown state
+    except (TypeError, RecursionError):  # a motion's function, an element of unknown state
         return None
 
 

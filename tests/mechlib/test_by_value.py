@@ -27,6 +27,12 @@ def test_value_key_tells_values_apart_not_identities() -> None:
     assert value_key(frozenset({"b", "a"})) == value_key({"a", "b"})
     with pytest.raises(TypeError, match="not keyed by value"):
         value_key(object())  # no identity-keyed values: a miss never hides behind an id
+    looped: list = [1.0]
+    looped.append(looped)
+    with pytest.raises(TypeError, match="inside itself"):
+        value_key(looped)  # no finite key (and no RecursionError)
+    shared = [1.0]
+    assert value_key([shared, shared]) == value_key([[1.0], [1.0]])  # shared is no cycle
 
 
 def test_by_value_keeps_the_last_few() -> None:
