@@ -13,11 +13,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from loadcases.build.model import build_run
 from loadcases.inputs.loader import load_case
 from loadcases.results.outcome import RunOutcome
 from loadcases.run import run_case
 from mechlib.linalg import rank
-from mechlib.solvers.start_memo import PLACED
+from mechlib.solvers.solve_copy import solve_copy
+from mechlib.solvers.start_memo import PLACED, _key
+from mechlib.system.planar import make_system
 
 CASE = Path(__file__).parent / "cases" / "sweep_crank.case.yaml"
 A02 = Path(__file__).parents[2] / "loadcases/library/verification/hard"
@@ -117,3 +120,23 @@ def test_a_planar_variant_after_another_is_the_variant_alone(
     assert after == alone
     assert first["channels"] != alone["channels"]
     assert any("near-singular" in w for w in alone["warnings"])  # the warnings compared too
+
+
+LIBRARY = Path(__file__).parents[2] / "loadcases/library/verification"
+
+
+@pytest.mark.parametrize(
+    "case",
+    [
+        "slider_crank.case.yaml",  # a motion: its function has no value to key by
+        "elements/pin_friction.case.yaml",  # a joint friction's memory (stick anchor)
+    ],
+)
+def test_what_is_not_keyed_by_value_is_placed_every_time(case: str) -> None:
+    built = build_run(load_case(LIBRARY / case))
+    system = make_system(solve_copy(built.mechanism))
+    assert _key(system, 0.0, built.initial, built.branches) is None
+    _forget()
+    for _ in range(2):
+        run_case(load_case(LIBRARY / case))
+    assert PLACED.hits == 0 and len(PLACED) == 0
