@@ -92,8 +92,14 @@ def placed_start(
 
     def found() -> _Kept:
         work = SolverStats()
-        with tally(work):
-            placed = place()
+        try:
+            with tally(work):
+                placed = place()
+        except BaseException:  # a failed assembly: nothing kept, its work counted as ever
+            count(
+                factorizations=work.factorizations, jacobian_evaluations=work.jacobian_evaluations
+            )
+            raise
         refs = system.references()
         return _Kept(_copied(placed), refs, work.factorizations, work.jacobian_evaluations)
 
