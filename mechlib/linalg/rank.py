@@ -19,6 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from mechlib.core.by_value import ByValue, value_key
 from mechlib.linalg.sparse_rows import SparseRows
 
 __all__ = [
@@ -36,6 +37,8 @@ _PEEL_ROWS = 12  # rows a block set aside at once has at most (a body's joints, 
 # threshold (tol x the larger of its row norm and the matrix scale) by this factor: a row
 # near the threshold is left to the dense test, which decides it as it always has.
 _PEEL_MARGIN = 1e3
+# a sweep's runs in one worker: the Jacobians at their starts (a few models at a time)
+_FOUND: ByValue[tuple[Redundancy, ...]] = ByValue(size=8)
 
 
 @dataclass(frozen=True)
@@ -165,13 +168,29 @@ def find_redundant(
     """Dependent rows of `phi_q`, each with the joints/motions it depends on.
 
     Rows are taken owner by owner in `owner_rank` order (default: first appearance), so
-    that the later joint of a loop is the one named.
+    that the later joint of a loop is the one named. Kept per process by the values of
+    every argument (mechlib.core.by_value): a sweep's runs that start with the same
+    Jacobian (bit for bit) and names find its rows once.
     """
-    rank = dict(owner_rank or {})
+    sparse = _sparse(phi_q)
+    inputs = (labels, owners, frozenset(body_names), tol, owner_rank or {})
+    key = value_key(sparse.rows, sparse.cols, sparse.values, sparse.shape, *inputs)
+    return list(_FOUND.get(key, lambda: _redundant_rows(sparse, *inputs)))
+
+
+def _redundant_rows(
+    sparse: SparseRows,
+    labels: list[str],
+    owners: list[str],
+    body_names: AbstractSet[str],
+    tol: float,
+    owner_rank: dict[str, int],
+) -> tuple[Redundancy, ...]:
+    """find_redundant, computed."""
+    rank = dict(owner_rank)
     for o in owners:
         rank.setdefault(o, len(rank) + 10**6)
     order = sorted(range(len(owners)), key=lambda i: (rank[owners[i]], i))
-    sparse = _sparse(phi_q)
     # the peeled rows are independent of every other: no dependent row needs them
     independent, dependent = _independent_rows(sparse, tol, peel_independent(sparse, tol), order)
     found = []
@@ -185,7 +204,7 @@ def find_redundant(
             if owner not in names and owner != owners[i] and owner not in body_names:
                 names.append(owner)
         found.append(Redundancy(i, labels[i], owners[i], tuple(names)))
-    return found
+    return tuple(found)
 
 
 def degrees_of_freedom(phi_q: Jacobian, tol: float = RANK_TOLERANCE) -> int:

@@ -43,6 +43,7 @@ from mechlib.solvers.initial_modes import (
     modal_rate_rows,
     modal_targets,
 )
+from mechlib.solvers.start_memo import Placed, placed_start
 from mechlib.system.system import System
 
 __all__ = [
@@ -398,8 +399,18 @@ def assemble(
     system: System, t: float, initial: Sequence = (), check: BranchCheck | None = None
 ) -> Assembled:
     """Initial q, qd: design position moved onto the constraints and the given values,
-    on the branch of the drawn geometry or near the guesses (mechlib.solvers.branches)."""
+    on the branch of the drawn geometry or near the guesses (mechlib.solvers.branches).
+    The positions are kept per process by the values they are found from
+    (mechlib.solvers.start_memo: a sweep of initial rates places its mechanism once)."""
     check = check or BranchCheck()
+    placed = placed_start(system, t, initial, check, lambda: _placed(system, t, initial, check))
+    qd, vnotes = _initial_velocities(system, placed.q, t, initial, _assembly_weights(system))
+    return Assembled(placed.q, qd, placed.iterations, placed.notes + vnotes, placed.changes)
+
+
+def _placed(system: System, t: float, initial: Sequence, check: BranchCheck) -> Placed:
+    """The positions of `assemble` (m, Euler parameters, modal coordinates), its Newton
+    iterations, notes and branch changes."""
     given = _given_positions(system, initial)
     guessed = [(system.coordinate_of(j), g) for j, g in _guesses(system, initial).items()]
     q = system.design_q()
@@ -436,8 +447,7 @@ def assemble(
         final = angle_values(system, k)
         joints = tuple((j, drawn[j], final[j]) for j in flagged)
         changes.insert(0, BranchChange(t, joints, "drawn", _OFF_BRANCH))
-    qd, vnotes = _initial_velocities(system, q, t, initial, weights)
-    return Assembled(q, qd, its + its2, notes + vnotes, changes)
+    return Placed(q, its + its2, notes, changes)
 
 
 def reassemble(
