@@ -474,8 +474,8 @@ def test_the_campaign_rows_are_chained_far_from_the_threshold(monkeypatch) -> No
     crank at 1 rev/s; 0.2 s of its 1001 rows of 1 ms, 0.0063 rad of crank apart): the
     scaled Jacobian moves 0.007-0.010 a row (at most 0.0103 over the 1001), the rank
     measure's lower bound at the first row is 0.14 (0.45 of the largest upper bound), so a
-    measured row bounds the rows after it until they have moved about 0.07: at most a
-    third of the rows are measured (measured 15 of 201; every 4th before, 51), every
+    measured row bounds the rows after it until they have moved about 0.07: at most an
+    eighth of the rows are measured (measured 15 of 201; every 4th before, 51), every
     row's bounds hold against an independent SVD (1e-12) and the check stays conclusive
     (no warning, no eigenvalue)."""
     from mechlib.checks import singularity
@@ -509,7 +509,7 @@ def test_the_campaign_rows_are_chained_far_from_the_threshold(monkeypatch) -> No
         sigma = np.linalg.svd(jac, compute_uv=False)[-1]
         assert lows[i] - 1e-12 <= sigma <= highs[i] + 1e-12
     measured = np.count_nonzero((lows == every[0]) & (highs == every[1]))
-    assert len(trajectory) == 201 and measured <= len(trajectory) // 3
+    assert len(trajectory) == 201 and measured <= len(trajectory) // 8
     assert (lows / highs.max()).min() >= singularity._REACH * singularity.TOGGLE_THRESHOLD
 
 
