@@ -352,9 +352,9 @@ def _rows_measures(qs, ints, floats, scale, work, floor, bounds, level, lows, hi
 @njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
 def _chained(qs, packed, scale, work, floor, level, lows, highs, jac, gram, inverse, column):
     """Bounds of each row's rank measure, the first row's measured (`_rank_bounds`), each
-    later row's from the last measured row's by Weyl's inequality (`_weyl`) while its
-    lower bound stays at least _REACH times `level` of the largest upper bound so far,
-    else measured (and bounding the rows after it); then the rows whose lower bound is
+    later row's from the last measured row's by Weyl's inequality (`_frobenius_distance`)
+    while its lower bound stays at least _REACH times `level` of the largest upper bound so
+    far, else measured (and bounding the rows after it); then the rows whose lower bound is
     below `level` of the largest upper bound of all are measured too (the tighter of the
     two bounds kept). Each row's scaled unit rows are made once (jac, the measured row's
     in `kept`); gram, inverse (m, m) and column (2, m): work arrays."""
