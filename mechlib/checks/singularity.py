@@ -60,9 +60,10 @@ _DENSE_ROWS = 150  # up to this many equations a dense LU of J J^T is the faster
 _BATCH_ROWS = 60  # up to this many equations, the rows of a run are measured in batches
 _BATCH_SIZE = 256  # rows per batch (bounds the memory of many coordinates, long runs)
 _RUN_ROWS = 4096  # rows per compiled call (it keeps one row's Jacobian at a time)
-# rows: the toggle check's bounds of the rank measure taken at every _STRIDE-th row, the
-# rows between bounded from them (`_between`): their Jacobian only, no Gram matrix, no inverse
-_STRIDE = 4
+# rows: the toggle check's bounds of a row from the last measured row's (`_chained`) while
+# its lower bound stays at least this times the threshold of the largest upper bound: the
+# check conclusive by a factor 2 where it needs no eigenvalue (the bounds are 2x apart)
+_REACH = 2.0
 _REASSOCIATE = {"reassoc", "contract"}  # sums in any order: vectorised loops
 _RECOVERED = 2.0  # an event ends where the measure is back above this times the threshold
 _NAMED_JOINTS = 5  # joints named per warning at most, the others counted
@@ -254,12 +255,12 @@ def _series(system: System, trajectory) -> np.ndarray:
 
 
 def _walk(
-    system: System, trajectory, bounds: bool, stride: int = 1, level: float = 0.0
+    system: System, trajectory, bounds: bool, level: float = 0.0
 ) -> tuple[np.ndarray, np.ndarray]:
     """Per recorded row: (lower, upper) bounds of the rank measure -- with `bounds`, from
     the trace and a diagonal of (J J^T)^-1 (`_rank_bounds`) for the rows measured in
-    batches (in the compiled calls, of every `stride`-th row, the rows between bounded
-    from them, `_between`, and measured too where that bound is below `level` of the
+    batches (in the compiled calls with a `level`, of the rows `_chained` measures, the
+    others bounded from them and measured too where that bound is below `level` of the
     call's largest), else both the measure itself. Rows of up to _BATCH_ROWS equations are
     measured together: in one compiled call per run of rows with the same active equations
     where the system packs its constraints (`_compiled_measures`), else in batches
@@ -280,7 +281,7 @@ def _walk(
             end = trajectory.same_active(i, _RUN_ROWS)
             rows = np.arange(i, end)
             ranks[rows], highs[rows] = _compiled_measures(
-                arrays, trajectory.stacked("q", i, end), scale, bounds, stride, level
+                arrays, trajectory.stacked("q", i, end), scale, bounds, level
             )
             i = end
             continue
@@ -305,13 +306,12 @@ def _compiled_measures(
     qs: np.ndarray,
     scale: np.ndarray,
     bounds: bool,
-    stride: int = 1,
     level: float = 0.0,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(lows, highs) of the rows at states `qs` (n, nq), in one compiled call: the
     measures `_Batch` takes of the scaled unit constraint rows, without keeping them
-    (mechlib.kinematics.constraint_arrays.scaled_row); bounds of every `stride`-th row,
-    those between from them (`_between`) unless below `level` of the largest."""
+    (mechlib.kinematics.constraint_arrays.scaled_row); with `bounds` and a `level`, the
+    rows chained from the measured ones (`_chained`)."""
     ints, floats = arrays.packed()
     n, nq = qs.shape
     work = row_work(ints, nq)
@@ -324,7 +324,6 @@ def _compiled_measures(
         work,
         _GRAM_FLOOR,
         bounds,
-        stride,
         level,
         lows,
         highs,
@@ -333,62 +332,69 @@ def _compiled_measures(
 
 
 @njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
-def _rows_measures(qs, ints, floats, scale, work, floor, bounds, stride, level, lows, highs):
+def _rows_measures(qs, ints, floats, scale, work, floor, bounds, level, lows, highs):
     """Per state of qs: `_row_measures` of its scaled unit rows
     (mechlib.kinematics.constraint_arrays.scaled_row) into lows and highs; with `bounds`
-    and a `stride` above 1, those of every stride-th row and the last, the rows between
-    bounded from them (`_between`), and measured too where that lower bound is below
-    `level` times the largest upper bound (the tighter of the two bounds kept)."""
+    and a `level` above 0, the rows chained instead (`_chained`)."""
     nq = qs.shape[1]
     m = ints[7]
     jac = np.zeros((m, nq))
     gram, inverse, column = np.empty((m, m)), np.empty((m, m)), np.empty((2, m))
     packed = ca.unpack(ints, floats)
-    if not bounds or stride <= 1:
-        for r in range(qs.shape[0]):
-            ca.scaled_row(qs[r], packed, scale, work, jac)
-            lows[r], highs[r] = _row_measures(jac, floor, bounds, gram, inverse, column)
+    if bounds and level > 0.0:
+        _chained(qs, packed, scale, work, floor, level, lows, highs, jac, gram, inverse, column)
         return
-    first, last = np.zeros((m, nq)), np.zeros((m, nq))
-    ca.scaled_row(qs[0], packed, scale, work, first)
-    lows[0], highs[0] = _row_measures(first, floor, bounds, gram, inverse, column)
-    s = 0
-    while s < qs.shape[0] - 1:
-        e = min(s + stride, qs.shape[0] - 1)
-        ca.scaled_row(qs[e], packed, scale, work, last)
-        lows[e], highs[e] = _row_measures(last, floor, bounds, gram, inverse, column)
-        for r in range(s + 1, e):
-            ca.scaled_row(qs[r], packed, scale, work, jac)
-            _between(jac, first, last, r, s, e, lows, highs)
-        first, last = last, first
-        s = e
-    near = level * highs.max()
     for r in range(qs.shape[0]):
-        if lows[r] < near and r % stride != 0 and r != qs.shape[0] - 1:
+        ca.scaled_row(qs[r], packed, scale, work, jac)
+        lows[r], highs[r] = _row_measures(jac, floor, bounds, gram, inverse, column)
+
+
+@njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
+def _chained(qs, packed, scale, work, floor, level, lows, highs, jac, gram, inverse, column):
+    """Bounds of each row's rank measure, the first row's measured (`_rank_bounds`), each
+    later row's from the last measured row's by Weyl's inequality (`_frobenius_distance`)
+    while its lower bound stays at least _REACH times `level` of the largest upper bound so
+    far, else measured (and bounding the rows after it); then the rows whose lower bound is
+    below `level` of the largest upper bound of all are measured too (the tighter of the
+    two bounds kept). Each row's scaled unit rows are made once (jac, the measured row's
+    in `kept`); gram, inverse (m, m) and column (2, m): work arrays."""
+    n = qs.shape[0]
+    kept = np.zeros_like(jac)
+    measured = np.zeros(n, np.bool_)
+    ca.scaled_row(qs[0], packed, scale, work, kept)
+    lows[0], highs[0] = _row_measures(kept, floor, True, gram, inverse, column)
+    measured[0] = True
+    low, high, top = lows[0], highs[0], highs[0]
+    for r in range(1, n):
+        ca.scaled_row(qs[r], packed, scale, work, jac)
+        moved = _frobenius_distance(jac, kept)
+        if low - moved >= _REACH * level * top:
+            lows[r], highs[r] = low - moved, high + moved
+        else:
+            lows[r], highs[r] = _row_measures(jac, floor, True, gram, inverse, column)
+            measured[r] = True
+            kept, jac = jac, kept
+            low, high = lows[r], highs[r]
+        top = max(top, highs[r])
+    near = level * highs.max()
+    for r in range(n):
+        if lows[r] < near and not measured[r]:
             ca.scaled_row(qs[r], packed, scale, work, jac)
-            low, high = _row_measures(jac, floor, bounds, gram, inverse, column)
+            low, high = _row_measures(jac, floor, True, gram, inverse, column)
             lows[r], highs[r] = max(lows[r], low), min(highs[r], high)
 
 
 @njit(cache=True, nogil=True, fastmath=_REASSOCIATE)
-def _between(jac, first, last, r, s, e, lows, highs):
-    """Bounds of row r's measure (the scaled unit rows jac) from those of the measured
-    rows s and e around it (their rows first and last), by Weyl's inequality: a singular
-    value moves at most by the spectral norm of the matrix's change, at most its
-    Frobenius norm d, so sigma_r >= low_s - d and sigma_r <= high_s + d; the tighter of
-    the two rows' bounds kept. Exact bounds whatever the motion between the rows: a
-    crossing between two measured rows leaves its row's lower bound below the threshold,
-    as its measure, and the exact measures are taken then (`_toggle_measures`)."""
-    to_first, to_last = 0.0, 0.0
-    for i in range(jac.shape[0]):
-        for j in range(jac.shape[1]):
-            a = jac[i, j] - first[i, j]
-            b = jac[i, j] - last[i, j]
-            to_first += a * a
-            to_last += b * b
-    to_first, to_last = math.sqrt(to_first), math.sqrt(to_last)
-    lows[r] = max(lows[s] - to_first, lows[e] - to_last, 0.0)
-    highs[r] = min(highs[s] + to_first, highs[e] + to_last)
+def _frobenius_distance(a, b):
+    """||a - b||_F of two (m, nq) arrays: by Weyl's inequality no singular value of a is
+    more than this from b's (the spectral norm of a - b is at most its Frobenius norm),
+    whatever the motion between the two rows."""
+    acc = 0.0
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            d = a[i, j] - b[i, j]
+            acc += d * d
+    return math.sqrt(acc)
 
 
 class _Batch:
@@ -522,10 +528,10 @@ def _relative(ranks: np.ndarray) -> np.ndarray:
 def _toggle_measures(system: System, trajectory, threshold: float) -> np.ndarray | None:
     """The toggle measure of each row, or None where the rank measure's bounds show that
     no row's is below `threshold` (then no row warns). The bounds take about a third of
-    the eigenvalues' time (`_rank_bounds`); taken at every _STRIDE-th row, the rows
-    between bounded from them (`_between`) and measured only where that bound comes
-    below the threshold, they cost a third of that again on the campaign slider-crank."""
-    lows, highs = _walk(system, trajectory, bounds=True, stride=_STRIDE, level=threshold)
+    the eigenvalues' time (`_rank_bounds`); taken at the rows `_chained` measures, the
+    others bounded from them, on the campaign slider-crank's 1001 rows at 93 (the scaled
+    Jacobian of every row is most of what is left)."""
+    lows, highs = _walk(system, trajectory, bounds=True, level=threshold)
     if not np.any(lows / max(float(highs.max()), _GRAM_FLOOR) < threshold):
         return None
     return _relative(_series(system, trajectory))
