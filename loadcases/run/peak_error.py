@@ -62,13 +62,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mechlib.outputs.crests import quartic_rises
+
 __all__ = ["Extremes", "extremes", "extremes_of", "peak_error", "row_peaks"]
 
 
 END = 1.0  # a candidate's kind: an end row (0: a crest)
 _FLIP = np.array([1.0, -1.0, 1.0])  # a minimum's candidates as a maximum's
 _BESIDE = [0, 1, 3, 4]  # a crest's five rows but its own
-_NEWTON = 4  # Newton steps from the parabola's vertex to the quartic's (order 6: 1e-12)
 SPARSEST = 2.0 * (1.0 + 1e-6)  # the other run's row interval over the run's, at most,
 # for single crests to be compared (competing crests; the run's peak against the same
 # crest): the companion's STEP_RATIO, unthinned
@@ -279,19 +280,11 @@ def _quartic_rise(
     unique, each = np.unique(rows, return_inverse=True)
     near = time[unique[:, None] + offsets]
     scaled = (near - time[unique, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
-    s, powers = scaled[each], _powers(scaled)[each]
-    v = table[rows[:, None] + offsets, columns[:, None]] - table[rows, columns][:, None]
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        coef = np.linalg.solve(powers, v[:, :, None])[:, :, 0]
-        at = -coef[:, 1] / (2.0 * coef[:, 2])  # the parabola's vertex, then Newton on p' = 0
-        for _ in range(_NEWTON):
-            slope = coef[:, 1] + at * (2 * coef[:, 2] + at * (3 * coef[:, 3] + 4 * coef[:, 4] * at))
-            bend = 2 * coef[:, 2] + at * (6 * coef[:, 3] + 12 * coef[:, 4] * at)
-            at = at - slope / bend
-        bend = 2 * coef[:, 2] + at * (6 * coef[:, 3] + 12 * coef[:, 4] * at)
-        up = at * (coef[:, 1] + at * (coef[:, 2] + at * (coef[:, 3] + at * coef[:, 4])))
-    inside = np.isfinite(up) & (bend < 0.0) & (s[:, 1] < at) & (at < s[:, 3]) & (up >= 0.0)
-    rise[fitted] = np.where(inside, up, np.nan)
+    first, distinct = _distinct(scaled)
+    rise[fitted] = quartic_rises(
+        np.ascontiguousarray(table), rows, columns, _distinct_powers(scaled[first]),
+        scaled[first], distinct[each],
+    )  # fmt: skip
     return rise
 
 
@@ -300,12 +293,18 @@ def _powers(scaled: np.ndarray) -> np.ndarray:
     own (the middle) exactly 0: powers 0 and 1 and the middle's are exact and set (x ** 0
     = 1, x ** 1 = x, +0 ** k = +0), the others taken as numpy's power takes them, the same
     values to the last bit (tests/loadcases/test_peak_error.py) in half the calls of
-    libm's pow (0.5 of the 2.3 ms of a 1000-row run's 4000 crests). Rows of the same bits
-    (a run's even rows: 32 distinct ones among the campaign's 973) are taken once, the
-    same bits again (0.35 -> 0.08 ms)."""
+    libm's pow. Rows of the same bits (a run's even rows: 32 distinct ones among the
+    campaign's 973) are taken once, the same bits again (0.35 -> 0.08 ms)."""
+    first, each = _distinct(scaled)
+    return _distinct_powers(scaled[first])[each]
+
+
+def _distinct(scaled: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(a row of each distinct row of `scaled` (n, k), told apart by their bits (a signed
+    zero kept apart), and each row's among them)."""
     keys = np.ascontiguousarray(scaled).view(np.dtype((np.void, 8 * scaled.shape[1])))[:, 0]
     _, first, each = np.unique(keys, return_index=True, return_inverse=True)
-    return _distinct_powers(scaled[first])[each]
+    return first, each
 
 
 def _distinct_powers(scaled: np.ndarray) -> np.ndarray:
