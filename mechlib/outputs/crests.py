@@ -1,5 +1,7 @@
-"""The rise of a column's crest between its output rows: the quartic through the crest's row
-and the two rows either side, compiled (one pass over the crests, no LAPACK call each).
+"""The rise of a column's crest between its output rows, compiled: the parabola's rise and its
+bounds at the crest rows alone (`crest_bounds`, numpy's arithmetic bit for bit), and the
+quartic through the crest's row and the two rows either side (`quartic_rises`, one pass
+over the crests, no LAPACK call each).
 
 Used by the envelope's error estimate (loadcases.run.peak_error). The 5 x 5 system of each
 crest is solved by Gaussian elimination with partial pivoting, as LAPACK's dgesv does, but
@@ -13,9 +15,78 @@ import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
 
-__all__ = ["quartic_rises"]
+__all__ = ["crest_bounds", "quartic_rises"]
 
 _NEWTON = 4  # Newton steps from the parabola's vertex to the quartic's (order 6: 1e-12)
+#: numpy's division (inf and nan, no ZeroDivisionError: repeated times divide by 0) and no
+#: other change: the same IEEE operations as numpy's arrays under np.errstate(ignore)
+_ARRAYS = {**KERNEL, "error_model": "numpy"}
+
+
+@njit(**_ARRAYS)
+def _maximum(a, b):
+    """np.maximum of two floats: nan where either is, b where they are equal (numpy's
+    choice between -0.0 and 0.0)."""
+    if a != a or b != b:
+        return np.nan
+    return a if a > b else b
+
+
+@njit(**_ARRAYS)
+def _minimum(a, b):
+    """np.minimum of two floats: nan where either is, b where they are equal."""
+    if a != a or b != b:
+        return np.nan
+    return a if a < b else b
+
+
+@njit(**_ARRAYS)
+def _bend(time, values, row, column, k):
+    """(slope at `row`, curvature coefficient c) of the parabola through rows row - k, row,
+    row + k of column `column` of values (v = v_row + slope dt + c dt^2): numpy's
+    arithmetic of loadcases.run.peak_error's `_curvature`, nan at a repeated time."""
+    h1 = time[row] - time[row - k]
+    h2 = time[row + k] - time[row]
+    v1 = values[row, column]
+    d1 = (v1 - values[row - k, column]) / h1
+    d2 = (values[row + k, column] - v1) / h2
+    c = (d2 - d1) / (h1 + h2)
+    return d1 + c * h1, c
+
+
+@njit(**_ARRAYS)
+def crest_bounds(time, values, rows, columns):
+    """Per crest k (row rows[k] of column columns[k] of values (n, columns), 1 <= row <=
+    n - 2): the parabola's rise above the row through it and its neighbours, -slope^2 /
+    (4 c), and its bound: -c (h / 2)^2 with h the longer neighbouring interval, the smaller
+    with the parabola through the rows two apart (at least 0; rows 2 to n - 3) and the
+    smaller downward curvature of the parabolas through the rows beside (at least 0; n >=
+    4). The rise nan where the parabola does not curve down (c >= 0 or nan). numpy's
+    arithmetic bit for bit (loadcases.run.peak_error's `_crest_rises` over every row)."""
+    n = len(values)
+    rise, bound = np.empty(len(rows)), np.empty(len(rows))
+    for k in range(len(rows)):
+        row, column = rows[k], columns[k]
+        slope, bend = _bend(time, values, row, column, 1)
+        if not bend < 0.0:
+            rise[k], bound[k] = np.nan, np.nan
+            continue
+        h = _maximum(time[row] - time[row - 1], time[row + 1] - time[row])
+        half = (0.5 * h) * (0.5 * h)
+        rise[k] = -(slope * slope) / (4.0 * bend)
+        bound[k] = -bend * half
+        if n >= 5 and 2 <= row <= n - 3:
+            wide = _bend(time, values, row, column, 2)[1]
+            bound[k] = _minimum(bound[k], _maximum(-wide, 0.0) * half)
+        if n >= 4:
+            beside = np.inf
+            if row >= 2:
+                beside = _maximum(-_bend(time, values, row - 1, column, 1)[1], 0.0)
+            if row <= n - 3:
+                after = _maximum(-_bend(time, values, row + 1, column, 1)[1], 0.0)
+                beside = _minimum(beside, after)
+            bound[k] = _minimum(bound[k], beside * half)
+    return rise, bound
 
 
 @njit(**KERNEL)
