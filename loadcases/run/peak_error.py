@@ -261,8 +261,10 @@ def _quartic_rise(
     columns = np.zeros(len(rows), dtype=int) if columns is None else columns
     rise = np.full(len(rows), np.nan)
     offsets = np.arange(-2, 3)
-    times = time[rows[:, None] + offsets]
-    fitted = np.all(np.diff(times, axis=1) > 0.0, axis=1)
+    rising = np.diff(time) > 0.0  # the five times of row r increase: rising[r-2:r+2]
+    increasing = np.zeros(len(time), dtype=bool)
+    increasing[2:-2] = rising[:-3] & rising[1:-2] & rising[2:-1] & rising[3:]
+    fitted = increasing[rows]
     rows, columns = rows[fitted], columns[fitted]
     # the five times' powers once a row: its crests in several columns share them
     unique, each = np.unique(rows, return_inverse=True)

@@ -90,34 +90,56 @@ def crest_bounds(time, values, rows, columns):
 
 
 @njit(**KERNEL)
-def _solve5(a, b):
-    """x with a x = b of the 5 x 5 matrix `a` and (5,) `b`, both overwritten; nan where a
-    pivot is exactly zero."""
+def _eliminations(powers):
+    """Gaussian elimination with partial pivoting of each 5 x 5 matrix powers[d], recorded
+    to be replayed on right-hand sides (`_solved`): (upper triangles (d, 5, 5), the pivot
+    row of each step (d, 5), each step's row factors (d, 5, 5): [step, row], whether a
+    pivot was exactly zero (d,))."""
+    count, n = powers.shape[0], 5
+    upper = powers.copy()
+    pivots = np.zeros((count, n), dtype=np.int64)
+    factors = np.zeros((count, n, n))
+    singular = np.zeros(count, dtype=np.bool_)
+    for d in range(count):
+        a = upper[d]
+        for c in range(n):
+            p = c
+            for r in range(c + 1, n):
+                if abs(a[r, c]) > abs(a[p, c]):
+                    p = r
+            pivots[d, c] = p
+            if a[p, c] == 0.0:
+                singular[d] = True
+                break
+            if p != c:
+                for j in range(n):
+                    a[c, j], a[p, j] = a[p, j], a[c, j]
+            inverse = 1.0 / a[c, c]
+            for r in range(c + 1, n):
+                factor = a[r, c] * inverse
+                factors[d, c, r] = factor
+                for j in range(c + 1, n):
+                    a[r, j] -= factor * a[c, j]
+    return upper, pivots, factors, singular
+
+
+@njit(**KERNEL)
+def _solved(upper, pivots, factors, b, x):
+    """x with a x = b of the matrix whose elimination is (upper, pivots, factors) (5 x 5,
+    `_eliminations`): its row swaps and factors replayed on b (overwritten), then back
+    substitution."""
     n = 5
     for c in range(n):
-        p = c
-        for r in range(c + 1, n):
-            if abs(a[r, c]) > abs(a[p, c]):
-                p = r
-        if a[p, c] == 0.0:
-            return np.full(n, np.nan)
+        p = pivots[c]
         if p != c:
-            for j in range(n):
-                a[c, j], a[p, j] = a[p, j], a[c, j]
             b[c], b[p] = b[p], b[c]
-        inverse = 1.0 / a[c, c]
         for r in range(c + 1, n):
-            factor = a[r, c] * inverse
-            for j in range(c + 1, n):
-                a[r, j] -= factor * a[c, j]
-            b[r] -= factor * b[c]
-    x = np.empty(n)
+            b[r] -= factors[c, r] * b[c]
     for r in range(n - 1, -1, -1):
         total = b[r]
         for j in range(r + 1, n):
-            total -= a[r, j] * x[j]
-        x[r] = total / a[r, r]
-    return x
+            total -= upper[r, j] * x[j]
+        x[r] = total / upper[r, r]
 
 
 @njit(**KERNEL)
@@ -148,15 +170,19 @@ def quartic_rises(table, rows, columns, powers, scaled, which):
     least from either end): the rise above its row of the highest point of the quartic
     through it and the two rows either side, between its neighbours; nan where none. The
     five rows' scaled times are scaled[which[k]] (the crest's own 0) and their powers 0-4
-    powers[which[k]] (5, 5): crests of one row in several columns share them."""
+    powers[which[k]] (5, 5): crests of one row in several columns share them, and the rows
+    of the same scaled times their elimination (made once a matrix, replayed on each
+    crest's values: the same operations as eliminating the crest's system whole)."""
     out = np.empty(len(rows))
-    a = np.empty((5, 5))
-    b = np.empty(5)
+    upper, pivots, factors, singular = _eliminations(powers)
+    b, coef = np.empty(5), np.empty(5)
     for k in range(len(rows)):
         row, column, shared = rows[k], columns[k], which[k]
+        if singular[shared]:
+            out[k] = np.nan
+            continue
         for i in range(5):
             b[i] = table[row + i - 2, column] - table[row, column]
-            for j in range(5):
-                a[i, j] = powers[shared, i, j]
-        out[k] = _rise(_solve5(a, b), scaled[shared, 1], scaled[shared, 3])
+        _solved(upper[shared], pivots[shared], factors[shared], b, coef)
+        out[k] = _rise(coef, scaled[shared, 1], scaled[shared, 3])
     return out
