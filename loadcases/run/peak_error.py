@@ -567,8 +567,10 @@ def _at_row_peak(
     crest, 52 N). None elsewhere."""
     row = run.row_max if sign > 0 else run.row_min
     peak = run.max if sign > 0 else run.min
+    if peak != row or not len(companion.time):  # a crest between rows: no row peak
+        return None
     times = [t for t in row_peaks(run) if run.values[np.searchsorted(run.time, t)] == row]
-    if peak != row or not times or not len(companion.time):
+    if not times:
         return None
     t = times[0]
     at = np.flatnonzero(np.abs(companion.time - t) <= 1e-9 * max(1.0, abs(t)))
