@@ -475,8 +475,10 @@ def peak_error(
         max(size * abs(run.min - bottom), under) + low,
     ]
     if crests:
+        at_rows = run.max == run.row_max or run.min == run.row_min
+        spikes = row_peaks(run) if at_rows and len(companion.time) else []
         for k, (sign, beside) in enumerate(((1.0, over), (-1.0, under))):
-            spike = _at_row_peak(run, companion, sign, size)
+            spike = _at_row_peak(run, companion, sign, size, spikes)
             if spike is not None:
                 sides[k], missed = max(spike[0], beside), spike[1]
                 high, low = (missed, low) if sign > 0 else (high, missed)
@@ -547,7 +549,7 @@ def _smooth(found: Extremes, t: float, sign: float) -> bool:
 
 
 def _at_row_peak(
-    run: Extremes, companion: Extremes, sign: float, scale: float
+    run: Extremes, companion: Extremes, sign: float, scale: float, spikes: list[float]
 ) -> tuple[float, float] | None:
     """Where the run's largest value (`sign` 1; its smallest: -1) is one row with no crest
     between rows (`row_peaks`: a one-row spike) and the companion has a row at its time
@@ -564,12 +566,13 @@ def _at_row_peak(
     Richardson's range (its stop's force at 0.05 s: the run's row 47 N below the
     reference, the companion's 5 N above it, its pulse's onset between its rows: the miss
     read 0 and Richardson 17 N of a true 70 N; the run's row against the companion's
-    crest, 52 N). None elsewhere."""
+    crest, 52 N). None elsewhere. `spikes`: the run's `row_peaks` (taken once for both
+    signs)."""
     row = run.row_max if sign > 0 else run.row_min
     peak = run.max if sign > 0 else run.min
     if peak != row or not len(companion.time):  # a crest between rows: no row peak
         return None
-    times = [t for t in row_peaks(run) if run.values[np.searchsorted(run.time, t)] == row]
+    times = [t for t in spikes if run.values[np.searchsorted(run.time, t)] == row]
     if not times:
         return None
     t = times[0]
