@@ -62,13 +62,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mechlib.outputs.crests import crest_bounds, quartic_rises
+
 __all__ = ["Extremes", "extremes", "extremes_of", "peak_error", "row_peaks"]
 
 
 END = 1.0  # a candidate's kind: an end row (0: a crest)
 _FLIP = np.array([1.0, -1.0, 1.0])  # a minimum's candidates as a maximum's
 _BESIDE = [0, 1, 3, 4]  # a crest's five rows but its own
-_NEWTON = 4  # Newton steps from the parabola's vertex to the quartic's (order 6: 1e-12)
 SPARSEST = 2.0 * (1.0 + 1e-6)  # the other run's row interval over the run's, at most,
 # for single crests to be compared (competing crests; the run's peak against the same
 # crest): the companion's STEP_RATIO, unthinned
@@ -156,24 +157,12 @@ def _crest_rises(
 ) -> tuple[np.ndarray, np.ndarray]:
     """(local, rise), each (n - 2, columns): which `crest` rows (of values (n, columns),
     n >= 3, the interior rows) curve down with a finite rise and bound (`_highest`), and
-    the rise read there (0 elsewhere). Taken at the crest rows alone: each the same
-    arithmetic on the same numbers as over every row (a 1000-row run's 22 columns, 4000
-    crests: 0.65 -> 0.3 ms)."""
-    slope, c = _curvature(time, values, 1)
-    h = np.maximum(np.diff(time)[:-1], np.diff(time)[1:])
-    rows, columns = np.nonzero(crest & (c < 0.0))
-    s, bend = slope[rows, columns], c[rows, columns]
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        half = (0.5 * h[rows]) ** 2
-        rise = -(s**2) / (4.0 * bend)
-        bound = -bend * half
-        if len(values) >= 5:
-            _, wide = _curvature(time, values, 2)  # its row i - 1 at the crest's row i
-            inside = (rows >= 1) & (rows <= len(values) - 4)
-            tighter = np.maximum(-wide[rows[inside] - 1, columns[inside]], 0.0) * half[inside]
-            bound[inside] = np.minimum(bound[inside], tighter)
-        if len(values) >= 4:
-            bound = np.minimum(bound, _beside(c)[rows, columns] * half)
+    the rise read there (0 elsewhere). Taken at the crest rows alone, compiled
+    (mechlib.outputs.crests): each the same arithmetic on the same numbers as over every
+    row (a 1000-row run's 22 columns, 4000 crests: 0.65 -> 0.3 ms in numpy at the crests,
+    about 0.1 ms compiled)."""
+    rows, columns = np.nonzero(crest)
+    rise, bound = crest_bounds(time, np.ascontiguousarray(values), rows + 1, columns)
     kept = np.isfinite(rise) & np.isfinite(bound)
     rows, columns, rise, bound = rows[kept], columns[kept], rise[kept], bound[kept]
     inner = (rows >= 1) & (rows <= len(values) - 4)  # crests with two rows either side
@@ -272,26 +261,20 @@ def _quartic_rise(
     columns = np.zeros(len(rows), dtype=int) if columns is None else columns
     rise = np.full(len(rows), np.nan)
     offsets = np.arange(-2, 3)
-    times = time[rows[:, None] + offsets]
-    fitted = np.all(np.diff(times, axis=1) > 0.0, axis=1)
+    rising = np.diff(time) > 0.0  # the five times of row r increase: rising[r-2:r+2]
+    increasing = np.zeros(len(time), dtype=bool)
+    increasing[2:-2] = rising[:-3] & rising[1:-2] & rising[2:-1] & rising[3:]
+    fitted = increasing[rows]
     rows, columns = rows[fitted], columns[fitted]
     # the five times' powers once a row: its crests in several columns share them
     unique, each = np.unique(rows, return_inverse=True)
     near = time[unique[:, None] + offsets]
     scaled = (near - time[unique, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
-    s, powers = scaled[each], _powers(scaled)[each]
-    v = table[rows[:, None] + offsets, columns[:, None]] - table[rows, columns][:, None]
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        coef = np.linalg.solve(powers, v[:, :, None])[:, :, 0]
-        at = -coef[:, 1] / (2.0 * coef[:, 2])  # the parabola's vertex, then Newton on p' = 0
-        for _ in range(_NEWTON):
-            slope = coef[:, 1] + at * (2 * coef[:, 2] + at * (3 * coef[:, 3] + 4 * coef[:, 4] * at))
-            bend = 2 * coef[:, 2] + at * (6 * coef[:, 3] + 12 * coef[:, 4] * at)
-            at = at - slope / bend
-        bend = 2 * coef[:, 2] + at * (6 * coef[:, 3] + 12 * coef[:, 4] * at)
-        up = at * (coef[:, 1] + at * (coef[:, 2] + at * (coef[:, 3] + at * coef[:, 4])))
-    inside = np.isfinite(up) & (bend < 0.0) & (s[:, 1] < at) & (at < s[:, 3]) & (up >= 0.0)
-    rise[fitted] = np.where(inside, up, np.nan)
+    first, distinct = _distinct(scaled)
+    rise[fitted] = quartic_rises(
+        np.ascontiguousarray(table), rows, columns, _distinct_powers(scaled[first]),
+        scaled[first], distinct[each],
+    )  # fmt: skip
     return rise
 
 
@@ -300,12 +283,18 @@ def _powers(scaled: np.ndarray) -> np.ndarray:
     own (the middle) exactly 0: powers 0 and 1 and the middle's are exact and set (x ** 0
     = 1, x ** 1 = x, +0 ** k = +0), the others taken as numpy's power takes them, the same
     values to the last bit (tests/loadcases/test_peak_error.py) in half the calls of
-    libm's pow (0.5 of the 2.3 ms of a 1000-row run's 4000 crests). Rows of the same bits
-    (a run's even rows: 32 distinct ones among the campaign's 973) are taken once, the
-    same bits again (0.35 -> 0.08 ms)."""
+    libm's pow. Rows of the same bits (a run's even rows: 32 distinct ones among the
+    campaign's 973) are taken once, the same bits again (0.35 -> 0.08 ms)."""
+    first, each = _distinct(scaled)
+    return _distinct_powers(scaled[first])[each]
+
+
+def _distinct(scaled: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(a row of each distinct row of `scaled` (n, k), told apart by their bits (a signed
+    zero kept apart), and each row's among them)."""
     keys = np.ascontiguousarray(scaled).view(np.dtype((np.void, 8 * scaled.shape[1])))[:, 0]
     _, first, each = np.unique(keys, return_index=True, return_inverse=True)
-    return _distinct_powers(scaled[first])[each]
+    return first, each
 
 
 def _distinct_powers(scaled: np.ndarray) -> np.ndarray:
@@ -368,16 +357,6 @@ def _quadratic_roots(a: float, b: float, c: float) -> list[float]:
         return []
     q = -0.5 * (b + math.copysign(math.sqrt(discriminant), b))
     return [q / a, c / q] if q != 0.0 else [0.0]
-
-
-def _beside(c: np.ndarray) -> np.ndarray:
-    """Per interior row: the smaller downward curvature -c (at least 0) of the parabolas
-    through the row before and the row after (one of them at the first and last)."""
-    down = np.maximum(-c, 0.0)
-    out = np.full_like(down, np.inf)
-    out[1:] = down[:-1]
-    out[:-1] = np.minimum(out[:-1], down[1:])
-    return out
 
 
 def extremes(time: np.ndarray, values: np.ndarray, events: Sequence[float] = ()) -> Extremes:
@@ -496,8 +475,10 @@ def peak_error(
         max(size * abs(run.min - bottom), under) + low,
     ]
     if crests:
+        at_rows = run.max == run.row_max or run.min == run.row_min
+        spikes = row_peaks(run) if at_rows and len(companion.time) else []
         for k, (sign, beside) in enumerate(((1.0, over), (-1.0, under))):
-            spike = _at_row_peak(run, companion, sign, size)
+            spike = _at_row_peak(run, companion, sign, size, spikes)
             if spike is not None:
                 sides[k], missed = max(spike[0], beside), spike[1]
                 high, low = (missed, low) if sign > 0 else (high, missed)
@@ -568,7 +549,7 @@ def _smooth(found: Extremes, t: float, sign: float) -> bool:
 
 
 def _at_row_peak(
-    run: Extremes, companion: Extremes, sign: float, scale: float
+    run: Extremes, companion: Extremes, sign: float, scale: float, spikes: list[float]
 ) -> tuple[float, float] | None:
     """Where the run's largest value (`sign` 1; its smallest: -1) is one row with no crest
     between rows (`row_peaks`: a one-row spike) and the companion has a row at its time
@@ -585,11 +566,14 @@ def _at_row_peak(
     Richardson's range (its stop's force at 0.05 s: the run's row 47 N below the
     reference, the companion's 5 N above it, its pulse's onset between its rows: the miss
     read 0 and Richardson 17 N of a true 70 N; the run's row against the companion's
-    crest, 52 N). None elsewhere."""
+    crest, 52 N). None elsewhere. `spikes`: the run's `row_peaks` (taken once for both
+    signs)."""
     row = run.row_max if sign > 0 else run.row_min
     peak = run.max if sign > 0 else run.min
-    times = [t for t in row_peaks(run) if run.values[np.searchsorted(run.time, t)] == row]
-    if peak != row or not times or not len(companion.time):
+    if peak != row or not len(companion.time):  # a crest between rows: no row peak
+        return None
+    times = [t for t in spikes if run.values[np.searchsorted(run.time, t)] == row]
+    if not times:
         return None
     t = times[0]
     at = np.flatnonzero(np.abs(companion.time - t) <= 1e-9 * max(1.0, abs(t)))

@@ -107,8 +107,9 @@ def gathered_loads(qs, lams, ints, floats, refs, rows_of, starts, bodies, out):
     rows = np.zeros((nall, nq + 7))
     functions = np.zeros((ints[6], 3))
     packed = ca.unpack(ints, floats)
+    x, xd = np.empty((nb + 1, 7)), np.empty((nb + 1, 7))  # once: not a row's allocations
     for i in range(n):
-        x, _ = ca.state_arrays(qs[i], qs[i], nb)
+        ca.state_into(qs[i], qs[i], x, xd)
         active, row_bodies = ca.unpacked_rows(x, packed, functions, refs, full, rows)
         for g in range(bodies.shape[0]):
             b = bodies[g]

@@ -382,11 +382,22 @@ def test_the_quartic_s_powers_of_repeated_rows_are_the_same_bits() -> None:
         assert np.array_equal(_powers(table).view(np.int64), expected.view(np.int64))
 
 
+def _beside(c: np.ndarray) -> np.ndarray:
+    """Per interior row: the smaller downward curvature -c (at least 0) of the parabolas
+    through the row before and the row after (one of them at the first and last)."""
+    down = np.maximum(-c, 0.0)
+    out = np.full_like(down, np.inf)
+    out[1:] = down[:-1]
+    out[:-1] = np.minimum(out[:-1], down[1:])
+    return out
+
+
 def _rises_over_every_row(time: np.ndarray, values: np.ndarray, crest: np.ndarray):
-    """The crests' rises as `_highest` took them before, over every row (the reference)."""
+    """The crests' rises as `_highest` took them before, over every row in numpy (the
+    reference of the compiled mechlib.outputs.crests.crest_bounds)."""
     from loadcases.run import peak_error
 
-    _beside, _curvature = peak_error._beside, peak_error._curvature
+    _curvature = peak_error._curvature
     slope, c = _curvature(time, values, 1)
     h = np.maximum(np.diff(time)[:-1], np.diff(time)[1:])[:, None]
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):

@@ -1,0 +1,188 @@
+"""The rise of a column's crest between its output rows, compiled: the parabola's rise and its
+bounds at the crest rows alone (`crest_bounds`, numpy's arithmetic bit for bit), and the
+quartic through the crest's row and the two rows either side (`quartic_rises`, one pass
+over the crests, no LAPACK call each).
+
+Used by the envelope's error estimate (loadcases.run.peak_error). The 5 x 5 system of each
+crest is solved by Gaussian elimination with partial pivoting, as LAPACK's dgesv does, but
+not in its order of operations: the coefficients agree with numpy's `linalg.solve` to the
+last few bits (tests/mechlib/test_crests.py), not bit for bit.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mechlib.core.jit import KERNEL, njit
+
+__all__ = ["crest_bounds", "quartic_rises"]
+
+_NEWTON = 4  # Newton steps from the parabola's vertex to the quartic's (order 6: 1e-12)
+#: numpy's division (inf and nan, no ZeroDivisionError: repeated times divide by 0) and no
+#: other change: the same IEEE operations as numpy's arrays under np.errstate(ignore)
+_ARRAYS = {**KERNEL, "error_model": "numpy"}
+
+
+@njit(**_ARRAYS)
+def _maximum(a, b):
+    """np.maximum of two floats: nan where either is, b where they are equal (numpy's
+    choice between -0.0 and 0.0)."""
+    if a != a or b != b:
+        return np.nan
+    return a if a > b else b
+
+
+@njit(**_ARRAYS)
+def _minimum(a, b):
+    """np.minimum of two floats: nan where either is, b where they are equal."""
+    if a != a or b != b:
+        return np.nan
+    return a if a < b else b
+
+
+@njit(**_ARRAYS)
+def _bend(time, values, row, column, k):
+    """(slope at `row`, curvature coefficient c) of the parabola through rows row - k, row,
+    row + k of column `column` of values (v = v_row + slope dt + c dt^2): numpy's
+    arithmetic of loadcases.run.peak_error's `_curvature`, nan at a repeated time."""
+    h1 = time[row] - time[row - k]
+    h2 = time[row + k] - time[row]
+    v1 = values[row, column]
+    d1 = (v1 - values[row - k, column]) / h1
+    d2 = (values[row + k, column] - v1) / h2
+    c = (d2 - d1) / (h1 + h2)
+    return d1 + c * h1, c
+
+
+@njit(**_ARRAYS)
+def crest_bounds(time, values, rows, columns):
+    """Per crest k (row rows[k] of column columns[k] of values (n, columns), 1 <= row <=
+    n - 2): the parabola's rise above the row through it and its neighbours, -slope^2 /
+    (4 c), and its bound: -c (h / 2)^2 with h the longer neighbouring interval, the smaller
+    with the parabola through the rows two apart (at least 0; rows 2 to n - 3) and the
+    smaller downward curvature of the parabolas through the rows beside (at least 0; n >=
+    4). The rise nan where the parabola does not curve down (c >= 0 or nan). numpy's
+    arithmetic bit for bit (loadcases.run.peak_error's `_crest_rises` over every row)."""
+    n = len(values)
+    rise, bound = np.empty(len(rows)), np.empty(len(rows))
+    for k in range(len(rows)):
+        row, column = rows[k], columns[k]
+        slope, bend = _bend(time, values, row, column, 1)
+        if not bend < 0.0:
+            rise[k], bound[k] = np.nan, np.nan
+            continue
+        h = _maximum(time[row] - time[row - 1], time[row + 1] - time[row])
+        half = (0.5 * h) * (0.5 * h)
+        rise[k] = -(slope * slope) / (4.0 * bend)
+        bound[k] = -bend * half
+        if n >= 5 and 2 <= row <= n - 3:
+            wide = _bend(time, values, row, column, 2)[1]
+            bound[k] = _minimum(bound[k], _maximum(-wide, 0.0) * half)
+        if n >= 4:
+            beside = np.inf
+            if row >= 2:
+                beside = _maximum(-_bend(time, values, row - 1, column, 1)[1], 0.0)
+            if row <= n - 3:
+                after = _maximum(-_bend(time, values, row + 1, column, 1)[1], 0.0)
+                beside = _minimum(beside, after)
+            bound[k] = _minimum(bound[k], beside * half)
+    return rise, bound
+
+
+@njit(**KERNEL)
+def _eliminations(powers):
+    """Gaussian elimination with partial pivoting of each 5 x 5 matrix powers[d], recorded
+    to be replayed on right-hand sides (`_solved`): (upper triangles (d, 5, 5), the pivot
+    row of each step (d, 5), each step's row factors (d, 5, 5): [step, row], whether a
+    pivot was exactly zero (d,))."""
+    count, n = powers.shape[0], 5
+    upper = powers.copy()
+    pivots = np.zeros((count, n), dtype=np.int64)
+    factors = np.zeros((count, n, n))
+    singular = np.zeros(count, dtype=np.bool_)
+    for d in range(count):
+        a = upper[d]
+        for c in range(n):
+            p = c
+            for r in range(c + 1, n):
+                if abs(a[r, c]) > abs(a[p, c]):
+                    p = r
+            pivots[d, c] = p
+            if a[p, c] == 0.0:
+                singular[d] = True
+                break
+            if p != c:
+                for j in range(n):
+                    a[c, j], a[p, j] = a[p, j], a[c, j]
+            inverse = 1.0 / a[c, c]
+            for r in range(c + 1, n):
+                factor = a[r, c] * inverse
+                factors[d, c, r] = factor
+                for j in range(c + 1, n):
+                    a[r, j] -= factor * a[c, j]
+    return upper, pivots, factors, singular
+
+
+@njit(**KERNEL)
+def _solved(upper, pivots, factors, b, x):
+    """x with a x = b of the matrix whose elimination is (upper, pivots, factors) (5 x 5,
+    `_eliminations`): its row swaps and factors replayed on b (overwritten), then back
+    substitution."""
+    n = 5
+    for c in range(n):
+        p = pivots[c]
+        if p != c:
+            b[c], b[p] = b[p], b[c]
+        for r in range(c + 1, n):
+            b[r] -= factors[c, r] * b[c]
+    for r in range(n - 1, -1, -1):
+        total = b[r]
+        for j in range(r + 1, n):
+            total -= upper[r, j] * x[j]
+        x[r] = total / upper[r, r]
+
+
+@njit(**KERNEL)
+def _rise(coef, low, high):
+    """The rise above s = 0 of the highest point of the quartic sum coef[k] s^k strictly
+    between `low` and `high` (scaled times), by Newton on its slope from the parabola's
+    vertex; nan where it has none there (no maximum, or a division by an exact zero)."""
+    c1, c2, c3, c4 = coef[1], coef[2], coef[3], coef[4]
+    if c2 == 0.0:
+        return np.nan
+    at = -c1 / (2.0 * c2)
+    for _ in range(_NEWTON):
+        slope = c1 + at * (2.0 * c2 + at * (3.0 * c3 + 4.0 * c4 * at))
+        bend = 2.0 * c2 + at * (6.0 * c3 + 12.0 * c4 * at)
+        if bend == 0.0:
+            return np.nan
+        at = at - slope / bend
+    bend = 2.0 * c2 + at * (6.0 * c3 + 12.0 * c4 * at)
+    up = at * (c1 + at * (c2 + at * (c3 + at * c4)))
+    if np.isfinite(up) and bend < 0.0 and low < at and at < high and up >= 0.0:
+        return up
+    return np.nan
+
+
+@njit(**KERNEL)
+def quartic_rises(table, rows, columns, powers, scaled, which):
+    """Per crest k (row rows[k] of column columns[k] of `table` (n, columns), two rows at
+    least from either end): the rise above its row of the highest point of the quartic
+    through it and the two rows either side, between its neighbours; nan where none. The
+    five rows' scaled times are scaled[which[k]] (the crest's own 0) and their powers 0-4
+    powers[which[k]] (5, 5): crests of one row in several columns share them, and the rows
+    of the same scaled times their elimination (made once a matrix, replayed on each
+    crest's values: the same operations as eliminating the crest's system whole)."""
+    out = np.empty(len(rows))
+    upper, pivots, factors, singular = _eliminations(powers)
+    b, coef = np.empty(5), np.empty(5)
+    for k in range(len(rows)):
+        row, column, shared = rows[k], columns[k], which[k]
+        if singular[shared]:
+            out[k] = np.nan
+            continue
+        for i in range(5):
+            b[i] = table[row + i - 2, column] - table[row, column]
+        _solved(upper[shared], pivots[shared], factors[shared], b, coef)
+        out[k] = _rise(coef, scaled[shared, 1], scaled[shared, 3])
+    return out
