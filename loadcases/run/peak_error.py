@@ -278,17 +278,6 @@ def _quartic_rise(
     return rise
 
 
-def _powers(scaled: np.ndarray) -> np.ndarray:
-    """scaled[:, :, None] ** np.arange(5) of five scaled times a crest (n, 5), the crest's
-    own (the middle) exactly 0: powers 0 and 1 and the middle's are exact and set (x ** 0
-    = 1, x ** 1 = x, +0 ** k = +0), the others taken as numpy's power takes them, the same
-    values to the last bit (tests/loadcases/test_peak_error.py) in half the calls of
-    libm's pow. Rows of the same bits (a run's even rows: 32 distinct ones among the
-    campaign's 973) are taken once, the same bits again (0.35 -> 0.08 ms)."""
-    first, each = _distinct(scaled)
-    return _distinct_powers(scaled[first])[each]
-
-
 def _distinct(scaled: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(a row of each distinct row of `scaled` (n, k), told apart by their bits (a signed
     zero kept apart), and each row's among them)."""
@@ -298,7 +287,12 @@ def _distinct(scaled: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def _distinct_powers(scaled: np.ndarray) -> np.ndarray:
-    """`_powers` of every row of `scaled` (n, 5), each taken on its own."""
+    """scaled[:, :, None] ** np.arange(5) of five scaled times a crest (n, 5), the crest's
+    own (the middle) exactly 0: powers 0 and 1 and the middle's are exact and set (x ** 0
+    = 1, x ** 1 = x, +0 ** k = +0), the others taken as numpy's power takes them, the same
+    values to the last bit (tests/loadcases/test_peak_error.py) in half the calls of
+    libm's pow. `_quartic_rise` takes them once a distinct row (`_distinct`: a run's even
+    rows, 32 distinct ones among the campaign's 973; 0.35 -> 0.08 ms)."""
     powers = np.empty((*scaled.shape, 5))
     powers[:, :, 0] = 1.0
     powers[:, :, 1] = scaled

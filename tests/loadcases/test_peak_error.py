@@ -346,12 +346,19 @@ def test_a_one_row_spike_is_compared_at_its_row_and_its_miss_read_on_the_compani
     assert without == pytest.approx((run.row_max - other.max) / 3.0)
 
 
+def _powers(scaled: np.ndarray) -> np.ndarray:
+    """The powers `_quartic_rise` takes: once a distinct row of `scaled` (`_distinct`),
+    each row's from its distinct row's (`_distinct_powers`)."""
+    from loadcases.run.peak_error import _distinct, _distinct_powers
+
+    first, each = _distinct(scaled)
+    return _distinct_powers(scaled[first])[each]
+
+
 def test_the_quartic_s_powers_are_numpy_s_to_the_last_bit() -> None:
     """The five scaled times' powers of each crest (`_powers`: powers 0 and 1 and the
     crest's own row set, the others by numpy's power) are `scaled[:, :, None] **
     np.arange(5)` bit for bit, on 100 runs of 500 rows with uneven intervals (+-30 %)."""
-    from loadcases.run.peak_error import _powers
-
     rng = np.random.default_rng(5)
     for _ in range(100):
         steps = rng.uniform(1e-4, 1e-2) * (1.0 + 0.3 * rng.uniform(-1.0, 1.0, 500))
@@ -367,8 +374,6 @@ def test_the_quartic_s_powers_of_repeated_rows_are_the_same_bits() -> None:
     """Rows of the same bits are taken once (`_powers`): even output rows (the same scaled
     times again and again, as a run's dense rows give them) among uneven ones, a signed
     zero and none at all give `scaled[:, :, None] ** np.arange(5)` bit for bit."""
-    from loadcases.run.peak_error import _powers
-
     rng = np.random.default_rng(11)
     time = np.concatenate((np.arange(300) * 1e-3, 0.3 + np.cumsum(rng.uniform(5e-4, 2e-3, 200))))
     rows = np.arange(2, len(time) - 2)
