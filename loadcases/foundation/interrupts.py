@@ -61,6 +61,11 @@ class Interrupted(KeyboardInterrupt):
         super().__init__(signal_name(signum))
         self.signum = signum
 
+    def __reduce__(self) -> tuple[type[Interrupted], tuple[int]]:
+        # a worker sends its run's interrupt back to the parent pickled: rebuilt from the
+        # number (from its args, the name, it could not be rebuilt and the pool would break)
+        return (Interrupted, (int(self.signum),))
+
 
 def received() -> int | None:
     """The first signal this process received (None: not interrupted)."""
@@ -128,14 +133,23 @@ def _redeliver_hook(handler: Callable[[int, Any], None], previous: Any) -> Any:
         if not isinstance(args.exc_value, Interrupted):
             previous(args)
             return
-        for s in _SIGNALS:
-            signal.signal(s, handler)
-        # sent again from a thread a moment later: its handler then runs in the code that
-        # was running (sent or marked from here, it would run inside this hook, where it is
-        # ignored again)
-        later = threading.Timer(REDELIVER_SECONDS, os.kill, (os.getpid(), args.exc_value.signum))
-        later.daemon = True
-        later.start()
+        signum = args.exc_value.signum
+        later: threading.Timer | None = None
+        while True:  # a further signal may raise in here too: then armed again, once
+            try:
+                if later is not None:
+                    later.cancel()
+                for s in _SIGNALS:
+                    signal.signal(s, handler)
+                # sent again from a thread a moment later: its handler then runs in the code
+                # that was running (sent or marked from here, it would run inside this hook,
+                # where it is ignored again)
+                later = threading.Timer(REDELIVER_SECONDS, os.kill, (os.getpid(), signum))
+                later.daemon = True
+                later.start()
+                return
+            except Interrupted as again:
+                signum = again.signum
 
     return hook
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import os
 import signal
+import sys
 import time
 from pathlib import Path
 
@@ -173,3 +174,66 @@ def test_an_interrupt_that_lands_in_a_finaliser_is_raised_again(capsys) -> None:
     assert raised
     assert interrupts.received() == signal.SIGINT
     assert "Exception ignored" not in capsys.readouterr().err
+
+
+def _interrupted_before_it_began(_item: object) -> None:
+    """A pool task as `interrupts.in_task` ends when the worker's signal came before it."""
+    from loadcases.foundation import interrupts
+
+    raise interrupts.Interrupted(signal.SIGINT)
+
+
+def test_a_workers_interrupt_reaches_the_parent_as_an_interrupt() -> None:
+    """CI 2026-11-30: Ctrl-C while the workers started. A worker whose signal came before
+    its run began sends `Interrupted` back; it was pickled by its name and could not be
+    rebuilt, so the pool broke ('internal error: BrokenProcessPool', exit 1, not 130)."""
+    import pickle
+    from concurrent.futures import ProcessPoolExecutor
+
+    from loadcases.foundation import interrupts
+
+    again = pickle.loads(pickle.dumps(interrupts.Interrupted(signal.SIGTERM)))
+    assert isinstance(again, interrupts.Interrupted) and again.signum == signal.SIGTERM
+    with ProcessPoolExecutor(max_workers=1) as pool:
+        future = pool.submit(_interrupted_before_it_began, None)
+        with pytest.raises(interrupts.Interrupted) as stop:
+            future.result(timeout=60)
+    assert stop.value.signum == signal.SIGINT
+
+
+def test_a_second_signal_while_an_interrupt_is_sent_again_is_not_lost(monkeypatch) -> None:
+    """A further signal that lands while the hook arms the interrupt's redelivery (seen in
+    a worker: killpg's SIGINT and the parent's forwarded one) raised inside the hook:
+    'Exception ignored in sys.unraisablehook' and a traceback. It is armed again instead,
+    and raised once in the code that was running."""
+    import threading
+    from types import SimpleNamespace
+
+    from loadcases.foundation import interrupts
+
+    started: list[threading.Timer] = []
+
+    class SignalledWhileStarting(threading.Timer):
+        def start(self) -> None:
+            super().start()
+            started.append(self)
+            if len(started) == 1:
+                os.kill(os.getpid(), signal.SIGTERM)  # its handler runs here, in the hook
+                for _ in range(10_000):
+                    pass
+
+    monkeypatch.setattr(threading, "Timer", SignalledWhileStarting)
+    armed = False
+    caught: list[int] = []
+    try:
+        with interrupts.on_signals():
+            sys.unraisablehook(SimpleNamespace(exc_value=interrupts.Interrupted(signal.SIGINT)))
+            armed = True
+            deadline = time.monotonic() + PROMPTLY
+            while time.monotonic() < deadline:  # the work going on
+                pass
+    except interrupts.Interrupted as stop:
+        caught.append(stop.signum)
+    assert armed, "the second signal escaped the hook"
+    assert caught == [signal.SIGTERM]  # the last signal, raised in the running code
+    assert len(started) == 2
