@@ -62,7 +62,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mechlib.outputs.crests import crest_bounds, quartic_rises
+from mechlib.outputs.crests import crest_table, crest_tops, quartic_rises, scaled_groups
 
 __all__ = ["Extremes", "extremes", "extremes_of", "peak_error", "row_peaks"]
 
@@ -112,7 +112,8 @@ def _highest(
     """Per column of `values` (n, columns), each with a finite row: (largest finite row,
     largest vertex or row, the candidates: (time, value, kind) of each local crest, its
     vertex or its row (kind 0), and of the two end rows (kind END)), the columns at once
-    (numpy over the rows and columns: the same values as column by column). The vertex
+    (compiled over the rows and columns: mechlib.outputs.crests; the same values as
+    numpy's arrays, tests/loadcases/test_peak_error.py). The vertex
     of the
     parabola through each
     row higher than its two neighbours (a row level with one is a plateau or the corner of
@@ -132,19 +133,17 @@ def _highest(
     integrator's error is 1e-5 (the stroke's estimate 3.97 times its true error, 1.42 with
     the quartic, whose miss there is at most 2.3e-5). An end whose four rows hold an event
     (`events`, s) between them is its row (`_ends`)."""
-    row_max = np.max(np.where(np.isfinite(values), values, -np.inf), axis=0)
     ends = _ends(time, values, events)
     if len(values) < 3:
+        row_max = np.max(np.where(np.isfinite(values), values, -np.inf), axis=0)
         return row_max, row_max.copy(), ends
-    v0, v1, v2 = values[:-2], values[1:-1], values[2:]
-    rising = (np.diff(time)[:-1] > 0.0) & (np.diff(time)[1:] > 0.0)
-    crest = (v1 > v0) & (v1 > v2) & rising[:, None]
-    local, rise = _crest_rises(time, values, crest)
-    crests = v1 + rise
-    top = np.maximum(np.max(np.where(local, crests, -np.inf), axis=0), row_max)
-    columns, rows = np.nonzero(crest.T)  # column by column, each's rows in order
-    found = np.column_stack((time[1:-1][rows], crests[rows, columns], np.zeros(len(rows))))
-    counts = np.bincount(columns, minlength=crest.shape[1])
+    table = np.ascontiguousarray(values)
+    row_max, rows, columns, rise, bound = crest_table(time, table)
+    top, found = crest_tops(
+        time, table, rows, columns, _quartic_rises(time, table, rows, columns, rise, bound),
+        bound, row_max,
+    )  # fmt: skip
+    counts = np.bincount(columns, minlength=values.shape[1])
     candidates = []
     for j, (mine, end) in enumerate(zip(np.split(found, np.cumsum(counts)[:-1]), ends)):
         top[j] = np.max(end[:, 1], initial=top[j])
@@ -152,28 +151,25 @@ def _highest(
     return row_max, top, candidates
 
 
-def _crest_rises(
-    time: np.ndarray, values: np.ndarray, crest: np.ndarray
-) -> tuple[np.ndarray, np.ndarray]:
-    """(local, rise), each (n - 2, columns): which `crest` rows (of values (n, columns),
-    n >= 3, the interior rows) curve down with a finite rise and bound (`_highest`), and
-    the rise read there (0 elsewhere). Taken at the crest rows alone, compiled
-    (mechlib.outputs.crests): each the same arithmetic on the same numbers as over every
-    row (a 1000-row run's 22 columns, 4000 crests: 0.65 -> 0.3 ms in numpy at the crests,
-    about 0.1 ms compiled)."""
-    rows, columns = np.nonzero(crest)
-    rise, bound = crest_bounds(time, np.ascontiguousarray(values), rows + 1, columns)
-    kept = np.isfinite(rise) & np.isfinite(bound)
-    rows, columns, rise, bound = rows[kept], columns[kept], rise[kept], bound[kept]
-    inner = (rows >= 1) & (rows <= len(values) - 4)  # crests with two rows either side
-    if inner.any():
-        fine = _quartic_rise(time, values, rows[inner] + 1, columns[inner])
-        rise[inner] = np.where(np.isfinite(fine), fine, rise[inner])
-    local = np.zeros(crest.shape, dtype=bool)
-    local[rows, columns] = True
-    out = np.zeros(crest.shape)
-    out[rows, columns] = np.minimum(rise, bound)
-    return local, out
+def _quartic_rises(
+    time: np.ndarray,
+    values: np.ndarray,
+    rows: np.ndarray,
+    columns: np.ndarray,
+    rise: np.ndarray,
+    bound: np.ndarray,
+) -> np.ndarray:
+    """The crests' rises (crest rows `rows` of columns `columns` of values (n, columns), with
+    their parabola's `rise` and `bound`: mechlib.outputs.crests.crest_table): the quartic's
+    (`_quartic_rise`) where a crest has a finite rise and bound and two rows either side and
+    the quartic a maximum between its neighbours, the parabola's elsewhere."""
+    inner = np.isfinite(rise) & np.isfinite(bound) & (rows >= 2) & (rows <= len(values) - 3)
+    if not inner.any():
+        return rise
+    fine = _quartic_rise(time, values, rows[inner], columns[inner])
+    out = rise.copy()
+    out[inner] = np.where(np.isfinite(fine), fine, rise[inner])
+    return out
 
 
 def _ends(time: np.ndarray, values: np.ndarray, events: np.ndarray) -> list[np.ndarray]:
@@ -257,33 +253,14 @@ def _quartic_rise(
     above it of the highest point of the quartic through it and the two rows either side,
     between its neighbours; nan where that quartic has no maximum there, or the five times
     do not increase (an event's row repeats a time)."""
-    table = values.reshape(len(values), -1)
-    columns = np.zeros(len(rows), dtype=int) if columns is None else columns
+    table = np.ascontiguousarray(values.reshape(len(values), -1))
+    columns = np.zeros(len(rows), dtype=np.int64) if columns is None else columns
     rise = np.full(len(rows), np.nan)
-    offsets = np.arange(-2, 3)
-    rising = np.diff(time) > 0.0  # the five times of row r increase: rising[r-2:r+2]
-    increasing = np.zeros(len(time), dtype=bool)
-    increasing[2:-2] = rising[:-3] & rising[1:-2] & rising[2:-1] & rising[3:]
-    fitted = increasing[rows]
-    rows, columns = rows[fitted], columns[fitted]
-    # the five times' powers once a row: its crests in several columns share them
-    unique, each = np.unique(rows, return_inverse=True)
-    near = time[unique[:, None] + offsets]
-    scaled = (near - time[unique, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
-    first, distinct = _distinct(scaled)
+    fitted, scaled, which = scaled_groups(time, rows.astype(np.int64))
     rise[fitted] = quartic_rises(
-        np.ascontiguousarray(table), rows, columns, _distinct_powers(scaled[first]),
-        scaled[first], distinct[each],
-    )  # fmt: skip
+        table, rows[fitted], columns[fitted], _distinct_powers(scaled), scaled, which
+    )
     return rise
-
-
-def _distinct(scaled: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(a row of each distinct row of `scaled` (n, k), told apart by their bits (a signed
-    zero kept apart), and each row's among them)."""
-    keys = np.ascontiguousarray(scaled).view(np.dtype((np.void, 8 * scaled.shape[1])))[:, 0]
-    _, first, each = np.unique(keys, return_index=True, return_inverse=True)
-    return first, each
 
 
 def _distinct_powers(scaled: np.ndarray) -> np.ndarray:
@@ -291,8 +268,9 @@ def _distinct_powers(scaled: np.ndarray) -> np.ndarray:
     own (the middle) exactly 0: powers 0 and 1 and the middle's are exact and set (x ** 0
     = 1, x ** 1 = x, +0 ** k = +0), the others taken as numpy's power takes them, the same
     values to the last bit (tests/loadcases/test_peak_error.py) in half the calls of
-    libm's pow. `_quartic_rise` takes them once a distinct row (`_distinct`: a run's even
-    rows, 32 distinct ones among the campaign's 973; 0.35 -> 0.08 ms)."""
+    libm's pow. `_quartic_rise` takes them once a distinct row (mechlib.outputs.crests.
+    scaled_groups: a run's even rows, 32 distinct ones among the campaign's 973; 0.35 ->
+    0.08 ms)."""
     powers = np.empty((*scaled.shape, 5))
     powers[:, :, 0] = 1.0
     powers[:, :, 1] = scaled

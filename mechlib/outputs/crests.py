@@ -1,7 +1,8 @@
-"""The rise of a column's crest between its output rows, compiled: the parabola's rise and its
-bounds at the crest rows alone (`crest_bounds`, numpy's arithmetic bit for bit), and the
-quartic through the crest's row and the two rows either side (`quartic_rises`, one pass
-over the crests, no LAPACK call each).
+"""The rise of a column's crest between its output rows, compiled: the crests of every column
+found and their parabola's rise and bounds taken at the crest rows alone (`crest_table`,
+`crest_bounds`, numpy's arithmetic bit for bit), the quartic through the crest's row and
+the two rows either side (`scaled_groups`, `quartic_rises`, one pass over the crests, no
+LAPACK call each), and each column's highest crest and its candidates (`crest_tops`).
 
 Used by the envelope's error estimate (loadcases.run.peak_error). The 5 x 5 system of each
 crest is solved by Gaussian elimination with partial pivoting, as LAPACK's dgesv does, but
@@ -15,7 +16,7 @@ import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
 
-__all__ = ["crest_bounds", "quartic_rises"]
+__all__ = ["crest_bounds", "crest_table", "crest_tops", "quartic_rises", "scaled_groups"]
 
 _NEWTON = 4  # Newton steps from the parabola's vertex to the quartic's (order 6: 1e-12)
 #: numpy's division (inf and nan, no ZeroDivisionError: repeated times divide by 0) and no
@@ -186,3 +187,101 @@ def quartic_rises(table, rows, columns, powers, scaled, which):
         _solved(upper[shared], pivots[shared], factors[shared], b, coef)
         out[k] = _rise(coef, scaled[shared, 1], scaled[shared, 3])
     return out
+
+
+@njit(**_ARRAYS)
+def crest_table(time, values):
+    """The crests of every column of values (n, columns), n >= 3, at once: (each column's
+    largest finite row, -inf where none (columns,); the crest rows' indices into values
+    (rows 1 to n - 2) and their columns, column by column and each's rows in order; each
+    crest's parabola rise and bound, `crest_bounds`). A crest: a row higher than both its
+    neighbours, the three times increasing (loadcases.run.peak_error's `_highest`). One
+    pass a column, without branches on the values (a noisy column's crests come at random:
+    each branch a misprediction)."""
+    n, count = values.shape
+    row_max = np.full(count, -np.inf)
+    rising = np.zeros(n, np.bool_)
+    for i in range(1, n - 1):
+        rising[i] = (time[i] - time[i - 1] > 0.0) & (time[i + 1] - time[i] > 0.0)
+    rows, columns = np.empty(count * (n - 2), np.int64), np.empty(count * (n - 2), np.int64)
+    column = np.empty(n)
+    total = 0
+    for j in range(count):
+        top = -np.inf
+        for i in range(n):
+            v = values[i, j]
+            column[i] = v
+            if np.isfinite(v):
+                top = _maximum(top, v)
+        row_max[j] = top
+        for i in range(1, n - 1):
+            v = column[i]
+            rows[total], columns[total] = i, j
+            total += (v > column[i - 1]) & (v > column[i + 1]) & rising[i]
+    rows, columns = rows[:total].copy(), columns[:total].copy()
+    rise, bound = crest_bounds(time, values, rows, columns)
+    return row_max, rows, columns, rise, bound
+
+
+@njit(**_ARRAYS)
+def scaled_groups(time, rows):
+    """The quartic's five scaled times of each crest row in `rows` (indices into the rows):
+    (which of them the quartic fits: two rows at least from either end, the five times
+    increasing; the distinct scaled rows (g, 5), told apart by their bits; each fitted
+    crest's among them). The scaled times of row i: (t_{i+k} - t_i) / ((t_{i+1} - t_{i-1})
+    / 2), k = -2..2 (numpy's arithmetic: the same bits)."""
+    fitted = np.zeros(len(rows), np.bool_)
+    which = np.empty(len(rows), np.int64)
+    group = np.full(len(time), -1, np.int64)  # per row of the table, its distinct row
+    seen = {}
+    distinct = np.empty((len(rows), 5))
+    row = np.empty(5)
+    bits = row.view(np.int64)
+    found = 0
+    for k in range(len(rows)):
+        i = rows[k]
+        if not (
+            2 <= i <= len(time) - 3
+            and time[i - 1] - time[i - 2] > 0.0
+            and time[i] - time[i - 1] > 0.0
+            and time[i + 1] - time[i] > 0.0
+            and time[i + 2] - time[i + 1] > 0.0
+        ):
+            continue
+        fitted[k] = True
+        if group[i] < 0:
+            half = 0.5 * (time[i + 1] - time[i - 1])
+            for c in range(5):
+                row[c] = (time[i + c - 2] - time[i]) / half
+            key = (bits[0], bits[1], bits[2], bits[3], bits[4])
+            if key not in seen:
+                seen[key] = found
+                distinct[found] = row
+                found += 1
+            group[i] = seen[key]
+        which[k] = group[i]
+    return fitted, distinct[:found].copy(), which[fitted]
+
+
+@njit(**_ARRAYS)
+def crest_tops(time, values, rows, columns, rise, bound, row_max):
+    """Each column's highest crest or row and its crests as candidates, from the crests of
+    `crest_table` (rows, columns) with their rises (the quartic's where it has one, else
+    the parabola's; nan: none) and bounds: a crest with a finite rise and bound is `local`
+    and reads its row plus the smaller of the two, others their row (+ 0.0). Returns (the
+    top of each column: np.maximum of its highest local crest and row_max; the candidates
+    (time, value, 0) of every crest (k, 3), column by column)."""
+    count = row_max.shape[0]
+    highest = np.full(count, -np.inf)
+    found = np.empty((len(rows), 3))
+    for k in range(len(rows)):
+        i, j = rows[k], columns[k]
+        local = np.isfinite(rise[k]) and np.isfinite(bound[k])
+        value = values[i, j] + (_minimum(rise[k], bound[k]) if local else 0.0)
+        if local:
+            highest[j] = _maximum(highest[j], value)
+        found[k, 0], found[k, 1], found[k, 2] = time[i], value, 0.0
+    top = np.empty(count)
+    for j in range(count):
+        top[j] = _maximum(highest[j], row_max[j])
+    return top, found

@@ -347,12 +347,42 @@ def test_a_one_row_spike_is_compared_at_its_row_and_its_miss_read_on_the_compani
 
 
 def _powers(scaled: np.ndarray) -> np.ndarray:
-    """The powers `_quartic_rise` takes: once a distinct row of `scaled` (`_distinct`),
-    each row's from its distinct row's (`_distinct_powers`)."""
-    from loadcases.run.peak_error import _distinct, _distinct_powers
+    """The powers `_quartic_rise` takes: once a distinct row of `scaled` (told apart by
+    their bits, as mechlib.outputs.crests.scaled_groups does), each row's from its
+    distinct row's (`_distinct_powers`)."""
+    from loadcases.run.peak_error import _distinct_powers
 
-    first, each = _distinct(scaled)
+    keys = np.ascontiguousarray(scaled).view(np.dtype((np.void, 8 * scaled.shape[1])))[:, 0]
+    _, first, each = np.unique(keys, return_index=True, return_inverse=True)
     return _distinct_powers(scaled[first])[each]
+
+
+def test_the_quartic_s_scaled_times_are_grouped_by_their_bits() -> None:
+    """`scaled_groups` (compiled) gives each crest row's five scaled times as numpy's arrays
+    compute them, bit for bit, from its group of equal bits (even rows share one; a row
+    whose five times do not all increase, an event's repeated time, or that lies within
+    two rows of an end is not fitted)."""
+    from mechlib.outputs.crests import scaled_groups
+
+    rng = np.random.default_rng(23)
+    for _ in range(50):
+        even = np.arange(int(rng.integers(5, 200))) * 1e-3
+        time = np.concatenate((even, even[-1] + np.cumsum(rng.uniform(5e-4, 2e-3, 100))))
+        if rng.random() < 0.5:
+            time[len(time) // 2] = time[len(time) // 2 - 1]  # an event's two rows of one time
+        rows = rng.integers(0, len(time), 300)
+        fitted, distinct, which = scaled_groups(time, rows)
+        inside = (rows >= 2) & (rows <= len(time) - 3)
+        steps = np.diff(time) > 0.0
+        increasing = np.zeros(len(rows), dtype=bool)
+        r = rows[inside]
+        increasing[inside] = steps[r - 2] & steps[r - 1] & steps[r] & steps[r + 1]
+        assert np.array_equal(fitted, increasing)
+        kept = rows[fitted]
+        near = time[kept[:, None] + np.arange(-2, 3)]
+        scaled = (near - time[kept, None]) / (0.5 * (near[:, 3] - near[:, 1]))[:, None]
+        assert np.array_equal(distinct[which].view(np.int64), scaled.view(np.int64))
+        assert len(distinct) == len(np.unique(scaled.view(np.int64), axis=0))
 
 
 def test_the_quartic_s_powers_are_numpy_s_to_the_last_bit() -> None:
@@ -421,20 +451,49 @@ def _rises_over_every_row(time: np.ndarray, values: np.ndarray, crest: np.ndarra
     return local, np.where(local, np.minimum(rise, bound), 0.0)
 
 
+def _highest_over_every_row(time: np.ndarray, values: np.ndarray, events: np.ndarray):
+    """`_highest` as numpy took it before, over every row and column at once (the reference
+    of the compiled mechlib.outputs.crests.crest_table and crest_tops)."""
+    from loadcases.run import peak_error
+
+    row_max = np.max(np.where(np.isfinite(values), values, -np.inf), axis=0)
+    ends = peak_error._ends(time, values, events)
+    v1 = values[1:-1]
+    crest = (v1 > values[:-2]) & (v1 > values[2:])
+    crest &= ((np.diff(time)[:-1] > 0.0) & (np.diff(time)[1:] > 0.0))[:, None]
+    local, rise = _rises_over_every_row(time, values, crest)
+    crests = v1 + rise
+    top = np.maximum(np.max(np.where(local, crests, -np.inf), axis=0), row_max)
+    columns, rows = np.nonzero(crest.T)
+    found = np.column_stack((time[1:-1][rows], crests[rows, columns], np.zeros(len(rows))))
+    counts = np.bincount(columns, minlength=crest.shape[1])
+    candidates = []
+    for j, (mine, end) in enumerate(zip(np.split(found, np.cumsum(counts)[:-1]), ends)):
+        top[j] = np.max(end[:, 1], initial=top[j])
+        candidates.append(np.concatenate((mine, end)))
+    return row_max, top, candidates
+
+
+def _bits(a: np.ndarray) -> np.ndarray:
+    """The values' bits, a zero's sign aside (numpy's max takes -0.0 or 0.0 by its loop)."""
+    return (np.asarray(a, dtype=float) + 0.0).view(np.int64)
+
+
 @pytest.mark.parametrize("quartic", [True, False])
-def test_crest_rises_taken_at_the_crests_are_those_over_every_row(monkeypatch, quartic) -> None:
-    """`_crest_rises` works on the crest rows alone: the same crests and rises, bit for
-    bit, as over every row, on 1000 random tables (noisy sines, zig-zags, plateaus, rows that are
-    not finite, an event's repeated time, 3 to 60 rows); without the quartic too (its
-    rises nan: the parabola's, which the bounds cap more often, the wide one included)."""
+def test_crests_compiled_are_those_numpy_took_over_every_row(monkeypatch, quartic) -> None:
+    """`_highest` finds and reads the crests compiled, at the crest rows alone: the same
+    largest rows, tops and candidates, bit for bit (a zero's sign aside), as numpy over
+    every row, on 1000 random tables (noisy sines, zig-zags, plateaus, rows that are not
+    finite, an event's repeated time, 3 to 60 rows); without the quartic too (its rises
+    nan: the parabola's, which the bounds cap more often, the wide one included)."""
     import loadcases.run.peak_error as module
 
     if not quartic:
         monkeypatch.setattr(
             module, "_quartic_rise", lambda t, v, rows, c: np.full(len(rows), np.nan)
         )
-    _crest_rises = module._crest_rises
     rng = np.random.default_rng(17)
+    none = np.zeros(0)
     for _ in range(1000):
         n, columns = int(rng.integers(3, 60)), int(rng.integers(1, 6))
         time = np.cumsum(rng.uniform(0.5, 1.5, n)) if rng.random() < 0.5 else np.arange(n) * 1e-3
@@ -447,13 +506,12 @@ def test_crest_rises_taken_at_the_crests_are_those_over_every_row(monkeypatch, q
             values[:, -1] = np.round(values[:, -1], 1)
         if rng.random() < 0.3:  # a zig-zag on a slope: the rows two apart curve less
             values[:, 0] = rng.uniform(-1.0, 1.0) * time + 0.01 * (-1.0) ** np.arange(n)
-        v1 = values[1:-1]
-        crest = (v1 > values[:-2]) & (v1 > values[2:])
-        crest &= ((np.diff(time)[:-1] > 0.0) & (np.diff(time)[1:] > 0.0))[:, None]
-        local, rise = _crest_rises(time, values, crest)
-        expected_local, expected_rise = _rises_over_every_row(time, values, crest)
-        assert np.array_equal(local, expected_local)
-        assert np.array_equal(rise.view(np.int64), expected_rise.view(np.int64))
+        row_max, top, candidates = module._highest(time, values, none)
+        expected = _highest_over_every_row(time, values, none)
+        assert np.array_equal(_bits(row_max), _bits(expected[0]))
+        assert np.array_equal(_bits(top), _bits(expected[1]))
+        for found, reference in zip(candidates, expected[2], strict=True):
+            assert np.array_equal(_bits(found), _bits(reference))
 
 
 def test_end_candidates_gathered_at_once_are_those_column_by_column() -> None:
