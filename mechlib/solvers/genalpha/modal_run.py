@@ -212,7 +212,7 @@ class ModalRun(rr.StepRun):
                 out[:] = math.nan
 
         with calling(fill) as handle:
-            for _ in range(self.CHUNK):
+            for _ in range(self.MOST_CALLS):
                 s, i, status = self._chunk(s, outputs, i, trajectory, progress,
                                            functions, handle if varying else NO_CALL)  # fmt: skip
                 if status or i == len(outputs):
@@ -246,7 +246,7 @@ class ModalRun(rr.StepRun):
         ints, floats = arrays.packed()
         packed = (ints, floats, functions, refs_all[block_angles], arrays.bodies(),
                   arrays.modal(), arrays.welds(), arrays.active())  # fmt: skip
-        rows = min(self.CHUNK, len(outputs) - i)
+        rows = min(self.calls.rows(3 * system.nq + own_lam.size), len(outputs) - i)
         rows_t, rows_refs = np.empty(rows), np.empty((rows, len(refs_all)))
         rows_state = np.empty((rows, 3 * system.nq + own_lam.size))
         status, i_next, written = run_modal(
@@ -254,6 +254,7 @@ class ModalRun(rr.StepRun):
             integ.tangent, factors, (scales.q_abs, scales.a_ref), self._angle_args, refs_all,
             block_angles, rows_t, rows_state, rows_refs, 10 * rows, (integ.past_t, integ.past),
         )  # fmt: skip
+        self.calls.done(written)
         count(
             factorizations=int(counts[rr.ROW_FACTORS]),
             jacobian_evaluations=int(counts[rr.ROW_JACOBIANS]),

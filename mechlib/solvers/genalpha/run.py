@@ -68,6 +68,7 @@ from mechlib.solvers.dense_compiled import (
 from mechlib.solvers.finite import all_finite
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
+from mechlib.solvers.genalpha.call_rows import CallRows
 from mechlib.solvers.genalpha.compiled import CONVERGED, rigid_work, worked_newton
 from mechlib.solvers.genalpha.run_states import (
     RunStates,
@@ -702,7 +703,7 @@ class StepRun:
     """`run_steps` for a generalized-alpha stepper in `march`: whether the system allows it
     now, the stepper's state in and out, the rows recorded."""
 
-    CHUNK = 256  # rows per call: the progress bar and interrupts are served between calls
+    MOST_CALLS = 1024  # kernel calls of one `run` (a chunk of rows or a factorisation each)
 
     def __init__(self, stepper):
         self.stepper = stepper
@@ -717,6 +718,7 @@ class StepRun:
         self._tangent: tuple[np.ndarray, object, object] | None = None
         self.elements: CompiledForces | None = None  # packed for the run (`_ready`)
         self.states = RunStates(system)  # the element states, in and out of each call
+        self.calls = CallRows()  # the rows of each call (mechlib.solvers.genalpha.call_rows)
         # the matrix `_refactor` made was refactored for slowness with the tangent kept; it
         # took a new differenced tangent (or the system has none)
         self._tried = self._renewed = False
@@ -759,7 +761,7 @@ class StepRun:
         if not self._ready(s.t):
             return s, i
         fresh = False
-        for _ in range(4 * self.CHUNK):  # calls (each a chunk of rows, or a factorisation)
+        for _ in range(self.MOST_CALLS):
             s, i, status, h_next, fresh = self._call(s, outputs, i, trajectory, progress, fresh)
             if status == FAILED:
                 self._fail(s, h_next)
@@ -851,7 +853,7 @@ class StepRun:
             self._angle_args = ca.measure_args([m.sine_cosine for m in system.angle_measures], 4)
         refs_all = np.array([m.reference for m in system.angle_measures], dtype=float)
         block_angles = self._block_angles(system.coordinate_rows())
-        rows = min(self.CHUNK, len(outputs) - i)
+        rows = min(self.calls.rows(3 * nq + own_lam.size), len(outputs) - i)
         rows_t, rows_refs = np.empty(rows), np.empty((rows, len(refs_all)))
         rows_state = np.empty((rows, 3 * nq + own_lam.size))
         steps_t = np.empty(10 * rows)  # the accepted steps' end times
@@ -867,6 +869,7 @@ class StepRun:
             10 * rows, elements.args, (elements.rest, elements.rest_columns), rates, states,
             self._kept_tangent(nq), kept, self._grid, steps_t, (integ.past_t, integ.past),
         )  # fmt: skip
+        self.calls.done(written)
         count(
             factorizations=int(counts[ROW_FACTORS]), jacobian_evaluations=int(counts[ROW_JACOBIANS])
         )
