@@ -25,7 +25,7 @@ import os
 import time as clock
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ProcessPoolExecutor
-from contextlib import contextmanager
+from contextlib import ExitStack, closing, contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -52,6 +52,7 @@ from loadcases.results.saved import (
     summary_path,
 )
 from loadcases.sets.collector import collector_paused
+from loadcases.sets.drawing import PLOT_MODULE, Drawing
 from loadcases.sets.executors import Executor, PoolExecutor, SerialExecutor
 from loadcases.sets.specs import CompiledSet, RunSpec, load_and_compile_set
 from loadcases.sets.warm import warm_kernels
@@ -192,10 +193,12 @@ def _solve_all(
     on_record: OnRecord | None,
     xlsx: bool = False,
     solved: dict[str, SavedRun] | None = None,
+    drawing: Drawing | None = None,
 ) -> tuple[list[RunRecord], bool]:
     """Records in run order (solved runs' results are written here as they arrive), and
     whether an interrupt stopped the set; `solved` gets each run solved ok, by name, as
-    read back from its files (saved_run_of)."""
+    read back from its files (saved_run_of); `drawing` is started before the warm-up when
+    the set draws its plots aside (`_plot_processes`)."""
     specs = list(compiled.runs)
     records: list[RunRecord | None] = [None if force else _reusable(directory, s) for s in specs]
     done = 0
@@ -206,11 +209,13 @@ def _solve_all(
                 on_record(record, done, len(specs))
     todo = [k for k, record in enumerate(records) if record is None]
     try:
-        if not _warmed(executor, [specs[k] for k in todo]):  # interrupted: no run starts
+        if drawing is not None and _plot_processes(2, len(specs)) == 0:
+            drawing = None  # its plots are drawn here, after the workbook
+        if not _warmed(executor, [specs[k] for k in todo], drawing):  # interrupted: no run
             return [record for record in records if record is not None], True
         for index, outcome in executor.map_unordered(solve_spec, [specs[k] for k in todo]):
             if done == len(specs) - len(todo):  # the first solved run
-                _import_report_modules()
+                _import_report_modules(plots=drawing is None or drawing.pool is None)
             spec = specs[todo[index]]
             try:
                 write_results(outcome, directory, version=compiled.version, xlsx=xlsx)
@@ -231,17 +236,20 @@ def _solve_all(
     return kept, len(kept) < len(specs) or interrupts.received() is not None
 
 
-def _warmed(executor: Executor, specs: list[RunSpec]) -> bool:
+def _warmed(executor: Executor, specs: list[RunSpec], drawing: Drawing | None = None) -> bool:
     """Load the kernels of `specs` here when `executor` forks workers to solve them, which
-    then inherit them (`loadcases.sets.warm`); False when an interrupt came meanwhile."""
+    then inherit them (`loadcases.sets.warm`), `drawing`'s process started just before (it
+    imports matplotlib on the core the warm-up leaves idle: `loadcases.sets.drawing`);
+    False when an interrupt came meanwhile."""
     if isinstance(executor, PoolExecutor) and executor.forks(len(specs)):
+        if drawing is not None:
+            drawing.start()
         with collector_paused():
             return warm_kernels(specs)
     return True
 
 
 REPORT_MODULES = (
-    "loadcases.report.plots",  # matplotlib
     "loadcases.report.workbook",
     # write_workbook imports these (and with them openpyxl) only when called
     "loadcases.report.workbook_sheets",
@@ -253,14 +261,15 @@ REPORT_MODULES = (
 )
 
 
-def _import_report_modules() -> None:
-    """Import what the report draws and writes with (REPORT_MODULES: matplotlib, openpyxl)
-    while the workers solve, the cores busy anyway, instead of after the last run, when
-    this process alone works (openpyxl and the workbook's sheet modules: 0.07 s of CPU of
-    the campaign's serial report, 2026-11-29); the plot processes forked then inherit them.
-    Called once the first run is back, when the solving processes have started (none is
-    forked later)."""
-    for module in REPORT_MODULES:
+def _import_report_modules(*, plots: bool = True) -> None:
+    """Import what the report writes with (REPORT_MODULES: openpyxl) and, with `plots`,
+    draws with (PLOT_MODULE: matplotlib; not when a process started before the warm-up
+    draws the plots: `loadcases.sets.drawing`) while the workers solve, the cores busy
+    anyway, instead of after the last run, when this process alone works (openpyxl and the
+    workbook's sheet modules: 0.07 s of CPU of the campaign's serial report, 2026-11-29);
+    the plot processes forked then inherit them. Called once the first run is back, when
+    the solving processes have started (none is forked later)."""
+    for module in (PLOT_MODULE, *REPORT_MODULES) if plots else REPORT_MODULES:
         importlib.import_module(module)
 
 
@@ -279,10 +288,11 @@ def _report_files(
     runs: list[SavedRun],
     options: dict[str, str],
     on_report: OnReport | None = None,
+    drawing: Drawing | None = None,
 ) -> list[Path]:
     """envelope.csv, margins.csv, loads-matrix.csv, comparisons.csv (with `comparisons:`),
-    the workbook and (if available) the plots of a set; `on_report(text)` says what is
-    being written."""
+    the workbook and (if available) the plots of a set (`drawing`: its plots' process, if
+    started); `on_report(text)` says what is being written."""
     from loadcases.report.comparison import (
         COMPARISON_FILE,
         comparison_rows,
@@ -295,7 +305,8 @@ def _report_files(
     model = result.compiled.set_file.model
     units = ReportUnits.of(model.report.units.given() if model.report is not None else None)
     curves = [units.curve(curve) for curve in result.curves]  # as the workbook's
-    with _plots(curves, result.directory) as plots:  # drawn while the rest is written
+    early = drawing.pool if drawing is not None else None
+    with _plots(curves, result.directory, early) as plots:  # drawn while the rest is written
         from loadcases.report.workbook import WorkbookData, write_workbook  # openpyxl: after
 
         files = [write_envelope_csv(result.envelope, result.directory / ENVELOPE_FILE)]
@@ -331,36 +342,58 @@ def _report_files(
 def _polar_plots(runs: list[SavedRun], directory: Path) -> list[Path]:
     """Polar plots and wear maps of the runs' clearance joints (`polar` requests), per run
     and overlaid per family, in `directory/polar/`."""
-    from loadcases.report.polar_plots import write_runs_polar_plots  # matplotlib: here only
     from loadcases.report.wear_map import polar_requests
 
     with_polar = [run for run in runs if polar_requests(run)]
-    return write_runs_polar_plots(with_polar, directory / "polar") if with_polar else []
+    if not with_polar:  # matplotlib not imported: a large set's plots are drawn aside
+        return []
+    from loadcases.report.polar_plots import write_runs_polar_plots  # matplotlib: here only
+
+    return write_runs_polar_plots(with_polar, directory / "polar")
+
+
+def _plot_processes(plots: int, runs: int) -> int:
+    """Processes that draw `plots` envelope plots of a set of `runs` runs beside its
+    workbook: up to one per core for many plots, one for a few of a large sweep, none
+    (drawn here, after the workbook: a process would cost more than they take) else."""
+    cores = os.cpu_count() or 1
+    workers = min(cores, plots // _PLOTS_PER_PROCESS)
+    if workers == 0 and cores > 1 and plots > 1 and runs >= _RUNS_PER_PROCESS:
+        workers = 1  # a few plots of a large sweep: one process, beside the workbook
+    return workers
 
 
 @contextmanager
-def _plots(curves: list[EnvelopeCurve], directory: Path) -> Iterator[Callable[[], list[Path]]]:
+def _plots(
+    curves: list[EnvelopeCurve], directory: Path, early: ProcessPoolExecutor | None = None
+) -> Iterator[Callable[[], list[Path]]]:
     """PNG envelope plots of each family's main columns next to the workbook; yields the
-    function that returns their paths. A large set's plots (many plots, or a few of a
-    sweep of many runs) are drawn by up to one process per core (about 0.07-0.12 s
-    each), forked on entry after this process has imported matplotlib (already
-    done while the runs were solved: _import_report_modules): they draw while the caller
-    writes the CSV files and the workbook, and the function waits for them. A small set's
-    are drawn here, after the workbook (a process would cost more than they take)."""
+    function that returns their paths. A large set's plots (`_plot_processes`: about
+    0.07-0.12 s each) are drawn by processes while the caller writes the CSV files and the
+    workbook, and the function waits for them: `early`'s (one process started before the
+    runs, matplotlib imported: `loadcases.sets.drawing`) draws a share, and those still
+    wanted are forked on entry after this process has imported matplotlib (already done
+    while the runs were solved when no `early`: _import_report_modules). A small set's
+    are drawn here, after the workbook."""
     chosen = plot_curves(curves)
-    cores = os.cpu_count() or 1
-    workers = min(cores, len(chosen) // _PLOTS_PER_PROCESS)
-    runs = sum(len(curve.runs) for curve in curves)
-    if workers == 0 and cores > 1 and len(chosen) > 1 and runs >= _RUNS_PER_PROCESS:
-        workers = 1  # a few plots of a large sweep: one process, beside the workbook
+    workers = _plot_processes(len(chosen), sum(len(curve.runs) for curve in curves))
+    if early is not None and chosen:
+        workers = max(workers, 1)
     if workers == 0:
         yield lambda: _draw_plots(chosen, directory)
         return
-    import loadcases.report.plots  # noqa: F401  (matplotlib once, here: the workers inherit it)
-
     chunks = [chosen[i::workers] for i in range(workers)]
-    with ProcessPoolExecutor(max_workers=workers) as pool:
-        futures = [pool.submit(_draw_plots, chunk, directory) for chunk in chunks]
+    with ExitStack() as stack:
+        pools = [early] if early is not None else []
+        if workers > len(pools):
+            import loadcases.report.plots  # noqa: F401  (matplotlib once: the workers inherit it)
+
+            pools.append(stack.enter_context(ProcessPoolExecutor(max_workers=workers - len(pools))))
+        # chunk 0 to the first pool (`early`'s process, if any), the others to the last
+        futures = [
+            pools[min(k, len(pools) - 1)].submit(_draw_plots, chunk, directory)
+            for k, chunk in enumerate(chunks)
+        ]
 
         def drawn() -> list[Path]:
             done = [future.result() for future in futures]
@@ -408,11 +441,19 @@ def run_set(
     directory = result_base(Path(output_dir), compiled.name)
     with caching_under(directory):  # flexible bodies reduced once for all runs
         _prebuild(compiled)  # InputError here: nothing written, not even the folder
-    with folder_lock.holding(directory, on_warning):  # FolderBusy: another run writes there
-        with caching_under(directory):
+    drawing = Drawing()  # started by _solve_all if the set draws its plots aside
+    with folder_lock.holding(directory, on_warning), closing(drawing):  # FolderBusy: another
+        with caching_under(directory):  # run writes there
             solved: dict[str, SavedRun] = {}
             records, interrupted = _solve_all(
-                compiled, directory, executor or SerialExecutor(), force, on_record, xlsx, solved
+                compiled,
+                directory,
+                executor or SerialExecutor(),
+                force,
+                on_record,
+                xlsx,
+                solved,
+                drawing,
             )
         if interrupted or any(r.status == "interrupted" for r in records):
             return SetResult(compiled, directory, records, interrupted=True)
@@ -429,7 +470,7 @@ def run_set(
             **(options or {}),
         }
         try:
-            result.files = _report_files(result, runs, info, on_report)
+            result.files = _report_files(result, runs, info, on_report, drawing)
         except OSError as error:  # disk full, permissions: say which files are missing
             result.unwritten = _unwritten_report(result, error)
     return result

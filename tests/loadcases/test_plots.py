@@ -243,17 +243,9 @@ def test_minor_grid_at_matplotlibs_minor_ticks(xlim: tuple, ylim: tuple) -> None
         np.testing.assert_allclose(drawn_x[:4], [0.05, 0.1, 0.15, 0.25], atol=1e-12)
 
 
-@pytest.mark.parametrize(
-    ("plots_count", "runs", "cores", "processes"),
-    [(4, 1000, 2, 1), (4, 3, 2, 0), (40, 1, 2, 2), (4, 1000, 1, 0), (1, 1000, 2, 0)],
-)
-def test_envelope_plots_drawn_beside_the_workbook_when_large(
-    tmp_path: Path, monkeypatch, plots_count: int, runs: int, cores: int, processes: int
-) -> None:
-    """A set's envelope plots are drawn by forked processes when they are many, or a few
-    of a sweep of many runs, and there is more than one core; else in this process.
-    Either way each plot is written, in the curves' order."""
-    from loadcases.report.curves import EnvelopeCurve
+def _recorded_pools(monkeypatch, cores: int) -> list[int]:
+    """The processes of each pool `campaign._plots` forks, recorded in the list returned,
+    on a machine of `cores` cores."""
     from loadcases.sets import campaign
 
     started: list[int] = []
@@ -265,7 +257,15 @@ def test_envelope_plots_drawn_beside_the_workbook_when_large(
 
     monkeypatch.setattr(campaign, "ProcessPoolExecutor", recording)
     monkeypatch.setattr(campaign.os, "cpu_count", lambda: cores)
-    x = np.linspace(0.0, 1.0, 200)
+    return started
+
+
+def _sine_curves(plots_count: int, runs: int, rows: int) -> list:
+    """Envelope curves of `plots_count` columns (four a family) over `rows` rows, each
+    naming `runs` runs."""
+    from loadcases.report.curves import EnvelopeCurve
+
+    x = np.linspace(0.0, 1.0, rows)
     curves = []
     for n in range((plots_count + 3) // 4):
         columns = {f"j{c}.fx": np.sin(x + c) * (10 + c) for c in range(min(4, plots_count))}
@@ -274,9 +274,51 @@ def test_envelope_plots_drawn_beside_the_workbook_when_large(
         curve.lower = {k: v - 1 for k, v in columns.items()}
         curve.units = dict.fromkeys(columns, "N")
         curves.append(curve)
+    return curves
+
+
+@pytest.mark.parametrize(
+    ("plots_count", "runs", "cores", "processes"),
+    [(4, 1000, 2, 1), (4, 3, 2, 0), (40, 1, 2, 2), (4, 1000, 1, 0), (1, 1000, 2, 0)],
+)
+def test_envelope_plots_drawn_beside_the_workbook_when_large(
+    tmp_path: Path, monkeypatch, plots_count: int, runs: int, cores: int, processes: int
+) -> None:
+    """A set's envelope plots are drawn by forked processes when they are many, or a few
+    of a sweep of many runs, and there is more than one core; else in this process.
+    Either way each plot is written, in the curves' order."""
+    from loadcases.sets import campaign
+
+    started = _recorded_pools(monkeypatch, cores)
+    curves = _sine_curves(plots_count, runs, 200)
     with campaign._plots(curves, tmp_path) as drawn:
         paths = drawn()
     assert started == ([processes] if processes else [])
     assert len(paths) == plots_count and all(p.stat().st_size > 1000 for p in paths)
     chosen = campaign.plot_curves(curves)
     assert [p.stem for p in paths] == [f"envelope-{c['family']}-{c['column']}" for c in chosen]
+
+
+@pytest.mark.parametrize(("plots_count", "runs", "forked"), [(4, 3, []), (40, 1, [1])])
+def test_envelope_plots_drawn_by_the_process_started_before_the_runs(
+    tmp_path: Path, monkeypatch, plots_count: int, runs: int, forked: list[int]
+) -> None:
+    """With the set's plots process (`loadcases.sets.drawing`), it draws every plot of a
+    small set too, and its share of many, the others' processes forked as before; each
+    plot written, in the curves' order."""
+    from loadcases.sets import campaign
+    from loadcases.sets.drawing import Drawing
+
+    started = _recorded_pools(monkeypatch, 2)
+    curves = _sine_curves(plots_count, runs, 50)
+    drawing = Drawing()
+    drawing.start()
+    try:
+        with campaign._plots(curves, tmp_path, drawing.pool) as drawn:
+            paths = drawn()
+    finally:
+        drawing.close()
+    assert started == forked
+    chosen = campaign.plot_curves(curves)
+    assert [p.stem for p in paths] == [f"envelope-{c['family']}-{c['column']}" for c in chosen]
+    assert all(p.stat().st_size > 1000 for p in paths)
