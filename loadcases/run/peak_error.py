@@ -143,12 +143,21 @@ def _highest(
         time, table, rows, columns, _quartic_rises(time, table, rows, columns, rise, bound),
         bound, row_max,
     )  # fmt: skip
-    counts = np.bincount(columns, minlength=values.shape[1])
+    return row_max, top, _with_ends(found, columns, ends, top)
+
+
+def _with_ends(
+    found: np.ndarray, columns: np.ndarray, ends: list[np.ndarray], top: np.ndarray
+) -> list[np.ndarray]:
+    """Each column's candidates: its crests' (the rows of `found` (k, 3) of that column, by
+    `columns`, in order) then its end rows' (`ends`); `top` (columns,) raised in place to
+    the end rows' values."""
+    counts = np.bincount(columns, minlength=len(ends))
     candidates = []
     for j, (mine, end) in enumerate(zip(np.split(found, np.cumsum(counts)[:-1]), ends)):
         top[j] = np.max(end[:, 1], initial=top[j])
         candidates.append(np.concatenate((mine, end)))
-    return row_max, top, candidates
+    return candidates
 
 
 def _quartic_rises(

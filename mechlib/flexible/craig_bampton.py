@@ -36,6 +36,7 @@ _RIGID_ENERGY = 1e-8  # |K R| / (|K| |R|) above this: the rigid motions strain t
 _MECHANISM = 1e-12  # omega^2 / max(omega^2) below this: a zero-energy deformation
 _DEGENERATE = 1e-8  # relative: eigenvalues this close are one group of modes (canonical)
 _DENSE_LIMIT = 600  # internal DOF up to which the fixed-interface modes come from eigh
+_TIE = 1e-6  # relative: entries this close to a mode's largest in magnitude tie with it (`signed`)
 
 
 class ReductionError(ValueError):
@@ -65,11 +66,17 @@ def _fixed_interface(k_ii, m_ii, count: int) -> np.ndarray:
 
 
 def signed(vectors: np.ndarray) -> np.ndarray:
-    """The columns of `vectors` with the sign that makes each one's largest entry (the
-    first of them, in magnitude) positive: an eigenvector's sign is otherwise arbitrary."""
+    """The columns of `vectors` with the sign that makes each one's largest entry in
+    magnitude positive, the first of those within _TIE of the largest where several are: an
+    eigenvector's sign is otherwise arbitrary, and a symmetric structure's mode has entries
+    equal but for round-off (the Test Set crank's rod at its quarter points), which the
+    LAPACK kernels of one machine and another order differently (two of its 24 modes came
+    out flipped on an AVX-512 machine, and a case's modal initial values meant other
+    shapes there)."""
     if vectors.size == 0:
         return vectors
-    rows = np.argmax(np.abs(vectors), axis=0)
+    size = np.abs(vectors)
+    rows = np.argmax(size >= (1.0 - _TIE) * size.max(axis=0), axis=0)
     flip = np.sign(vectors[rows, np.arange(vectors.shape[1])])
     return vectors * np.where(flip == 0.0, 1.0, flip)
 
@@ -80,8 +87,8 @@ def canonical(w2: np.ndarray, vectors: np.ndarray, mass) -> np.ndarray:
     eigh returns any rotation of such a group (a square section's two bending modes), so
     modal coordinates given by a user would mean another shape on another machine. The
     group's basis is the one that is 1 at one and 0 at the others of the entries chosen by
-    QR with column pivoting (largest first: rotation-invariant choices), made
-    mass-orthonormal in the order of those entries."""
+    QR with column pivoting (`_pivots`: largest first, rotation-invariant choices, ties to
+    the first entry), made mass-orthonormal in the order of those entries."""
     out = vectors.copy()
     start = 0
     while start < len(w2):
@@ -90,7 +97,7 @@ def canonical(w2: np.ndarray, vectors: np.ndarray, mass) -> np.ndarray:
             end += 1
         if end - start > 1:
             group = vectors[:, start:end]
-            pivots = np.sort(sla.qr(group.T, mode="r", pivoting=True)[1][: end - start])
+            pivots = _pivots(group)
             unit = group @ np.linalg.inv(group[pivots])
             for c in range(end - start):
                 v = unit[:, c] - out[:, start : start + c] @ (
@@ -99,6 +106,25 @@ def canonical(w2: np.ndarray, vectors: np.ndarray, mass) -> np.ndarray:
                 out[:, start + c] = v / np.sqrt(v @ (mass @ v))
         start = end
     return out
+
+
+def _pivots(group: np.ndarray) -> np.ndarray:
+    """The k entries (rows of `group` (ndof, k)) that QR with column pivoting of group.T
+    chooses (the largest remaining norm first), in ascending order; a tie within _TIE goes
+    to the first entry. A symmetric structure's group ties exactly but for round-off (a
+    square section's bending pair: an interface node's y and z displacements), and LAPACK's
+    pivoting then chose by the machine's kernels (the Test Set crank's rod: another basis,
+    and its case's modal initial values other shapes, on an AVX-512 machine)."""
+    rest = np.array(group.T, dtype=float)  # (k, ndof): each entry's column
+    chosen: list[int] = []
+    for _ in range(group.shape[1]):
+        norms = np.einsum("ij,ij->j", rest, rest)
+        norms[chosen] = -1.0
+        j = int(np.argmax(norms >= (1.0 - _TIE) ** 2 * norms.max()))
+        chosen.append(j)
+        unit = rest[:, j] / np.sqrt(norms[j])
+        rest -= np.outer(unit, unit @ rest)
+    return np.sort(np.array(chosen))
 
 
 def basis(model: FEModel, fixed_interface_modes: int) -> np.ndarray:

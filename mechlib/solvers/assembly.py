@@ -364,9 +364,12 @@ def _follow(path: _Path, q: np.ndarray) -> tuple[np.ndarray, int, list[str]]:
     sign = orientation(system, k, [m for _, m in path.given]) if watch else 0
     angles = angle_values(system, k)
     done, step, its, flagged = 0, full, 0, list[str]()
+    before: tuple[np.ndarray, int] | None = None  # the last stage's start, once near one
     while done < units:
         reached = min(units, done + step)
-        trial, n = path.solve(q, path.targets(start, reached, units))
+        trial, n = path.solve(
+            _predicted(q, done, reached, before), path.targets(start, reached, units)
+        )
         its += n
         k = system.kin(trial, None, t)
         now = angle_values(system, k)
@@ -376,15 +379,34 @@ def _follow(path: _Path, q: np.ndarray) -> tuple[np.ndarray, int, list[str]]:
         jumps = stage_jumps(angles, now, path.check.angle, skip) if watch else []
         if (turned or jumps) and step > 1:
             step //= 2
+            before = before or (q, done)  # near a singular position: predicted from here on
             continue
         if turned or jumps:
             moved = jumps or stage_jumps(angles, now, 0.0, skip)
             flagged += [j for j, _, _ in moved if j not in flagged]
         sign = now_sign or sign
+        before = (q, done) if before is not None or turned or jumps else None
         q, angles, done = trial, now, reached
         step = min(full, 2 * step)
         system.commit(k)
     return q, its, flagged
+
+
+def _predicted(
+    q: np.ndarray, done: int, reached: int, before: tuple[np.ndarray, int] | None
+) -> np.ndarray:
+    """Newton's start for the stage from `done` to `reached` (units of the way) at q: q
+    itself, or near a singular position (`before`: the last stage's start q and units,
+    kept once a stage was halved or flagged there) the secant through the last two stages
+    carried on. At a bifurcation two branches cross (a parallelogram four-bar with its four
+    links aligned: it may fold into an antiparallelogram) and Newton from q converges to
+    either, as round-off in its nearly singular steps decides (another machine's LAPACK
+    kernels took the other branch); the secant continues the way the mechanism came, on the
+    drawn branch."""
+    if before is None or before[1] >= done:
+        return q
+    previous, at = before
+    return q + (q - previous) * ((reached - done) / (done - at))
 
 
 _OFF_BRANCH = (

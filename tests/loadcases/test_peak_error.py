@@ -466,12 +466,7 @@ def _highest_over_every_row(time: np.ndarray, values: np.ndarray, events: np.nda
     top = np.maximum(np.max(np.where(local, crests, -np.inf), axis=0), row_max)
     columns, rows = np.nonzero(crest.T)
     found = np.column_stack((time[1:-1][rows], crests[rows, columns], np.zeros(len(rows))))
-    counts = np.bincount(columns, minlength=crest.shape[1])
-    candidates = []
-    for j, (mine, end) in enumerate(zip(np.split(found, np.cumsum(counts)[:-1]), ends)):
-        top[j] = np.max(end[:, 1], initial=top[j])
-        candidates.append(np.concatenate((mine, end)))
-    return row_max, top, candidates
+    return row_max, top, peak_error._with_ends(found, columns, ends, top)
 
 
 def _bits(a: np.ndarray) -> np.ndarray:
