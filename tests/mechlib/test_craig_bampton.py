@@ -218,3 +218,36 @@ def test_equal_frequencies_have_one_basis():
     for mode in psi[:, :2].T:
         small = min(np.abs(mode[y]).max(), np.abs(mode[z]).max())
         assert small < 1e-9 * np.abs(mode).max()
+
+
+def test_a_mode_s_sign_is_the_same_whatever_round_off_ties_its_largest_entries() -> None:
+    """A symmetric structure's mode has entries equal but for round-off (CI 2026-11-30: an
+    AVX-512 machine's LAPACK flipped two of the Test Set crank rod's modes): the first of
+    the entries within 1e-6 of the largest sets the sign, whichever of them round-off made
+    larger, and of either sign the mode comes out the same."""
+    from mechlib.flexible.craig_bampton import signed
+
+    for wobble in (1e-15, -1e-15, 0.0):
+        mode = np.array([[0.1], [-0.7071067811865476 * (1.0 + wobble)], [0.7071067811865476]])
+        for given in (mode, -mode):
+            assert np.array_equal(signed(given), -mode)  # the first tied entry made positive
+    clear = np.array([[0.2], [-0.9], [0.8]])  # a largest entry of its own: it sets the sign
+    assert np.array_equal(signed(clear), -clear)
+
+
+def test_equal_frequencies_basis_chosen_the_same_whatever_round_off_ties() -> None:
+    """The entries `_pivots` chooses for a group of equal frequencies (QR with column
+    pivoting, ties within 1e-6 to the first entry): a pair whose candidate entries tie but
+    for round-off gives the same entries whichever round-off made larger."""
+    from mechlib.flexible.craig_bampton import _pivots
+
+    rng = np.random.default_rng(3)
+    base = rng.standard_normal((8, 2))
+    base[2] = base[5] = [3.0, 1.0]  # the largest entries, of equal norm: a symmetric pair
+    chosen = set()
+    for wobble in (1e-15, -1e-15):
+        group = base.copy()
+        group[5] *= 1.0 + wobble
+        rotation = np.array([[0.6, -0.8], [0.8, 0.6]])  # any basis of the group
+        chosen.add(tuple(_pivots(group @ rotation)))
+    assert len(chosen) == 1
