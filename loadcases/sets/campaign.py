@@ -209,8 +209,10 @@ def _solve_all(
                 on_record(record, done, len(specs))
     todo = [k for k, record in enumerate(records) if record is None]
     try:
-        if drawing is not None and _plot_processes(2, len(specs)) == 0:
-            drawing = None  # its plots are drawn here, after the workbook
+        # the plots are not counted yet: a set whose fewest plots that go aside (two) would
+        # not go aside has them drawn here, after the workbook
+        if drawing is not None and _plot_processes(plots=2, runs=len(specs)) == 0:
+            drawing = None
         if not _warmed(executor, [specs[k] for k in todo], drawing):  # interrupted: no run
             return [record for record in records if record is not None], True
         for index, outcome in executor.map_unordered(solve_spec, [specs[k] for k in todo]):
