@@ -87,6 +87,7 @@ __all__ = [
     "on_grid",
     "order",
     "passed_singular",
+    "significant",
     "sparser",
     "spikes",
 ]
@@ -150,6 +151,14 @@ SPIKE_ROWS = (0.25, 0.5, 0.75)  # the companion's rows either side of a spike's,
 NEGLIGIBLE = 1e-6
 
 
+def significant(values: np.ndarray, peak: float) -> bool:
+    """Whether a column's `values` reach NEGLIGIBLE of its request's `peak` (the largest
+    |value| of any of the request's columns, in their unit): below, its rows are round-off
+    (a planar slider-crank's out-of-plane reactions, 1e-50 N beside a 58 N peak), with a
+    crest at almost every row and no error of the integrator's to estimate."""
+    return bool(np.nanmax(np.abs(values), initial=0.0) > NEGLIGIBLE * peak)
+
+
 def _standing_out(table: np.ndarray) -> np.ndarray:
     """Per column of `table` (rows, columns): whether a row stands out from both its
     neighbours, above or below, by more than peak_error.SPIKE of the column's range (the
@@ -181,8 +190,7 @@ def spikes(run: ml.Solution) -> list[float]:
     names = [
         c
         for c, v in run.channels.items()
-        if v.shape == run.time.shape
-        and np.nanmax(np.abs(v), initial=0.0) > NEGLIGIBLE * peaks[c.rsplit(".", 1)[0]]
+        if v.shape == run.time.shape and significant(v, peaks[c.rsplit(".", 1)[0]])
     ]
     if len(run.time) < 3 or not names:
         return []
