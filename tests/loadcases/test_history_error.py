@@ -84,3 +84,28 @@ def test_a_lost_phase_pairs_no_crests() -> None:
     error = request_errors(run, companion, order=2)["x"]
     assert error.history == pytest.approx(2.0, rel=1e-3)  # the range
     assert error.peak < 0.01
+
+
+@pytest.mark.parametrize(("level", "counted"), [(0.9e-6, False), (1.1e-6, True)])
+def test_a_column_of_round_off_beside_its_requests_peak_has_no_error(
+    level: float, counted: bool
+) -> None:
+    """A reaction's force at 50 N, the same in run and companion (no error of its history),
+    and its out-of-plane moment at `level` of that peak, the companion's half the run's
+    (round-off: a crest at almost every row): below NEGLIGIBLE (1e-6) of the peak it is
+    left out, and the request's estimate is the force's alone (history and envelope); above, its difference
+    counts, Richardson's third of it (level / 2 / 3 of the peak)."""
+    time = np.linspace(0.0, 2.0, 1001)
+    force = 50.0 * np.sin(OMEGA * time)
+    noise = np.random.default_rng(7).standard_normal(len(time))
+    moment = level * 50.0 * noise / np.abs(noise).max()
+
+    def solution(tz: np.ndarray | None) -> ml.Solution:
+        channels = {"f.fx": force} if tz is None else {"f.fx": force, "f.tz": tz}
+        return ml.Solution("ok", "", "dynamic", time, channels)
+
+    found = request_errors(solution(moment), solution(0.5 * moment), order=2)["f"]
+    alone = request_errors(solution(None), solution(None), order=2)["f"]
+    assert found.history == pytest.approx(level / 6.0 if counted else 0.0, rel=1e-9)
+    if not counted:
+        assert found == alone
