@@ -1,6 +1,7 @@
 """Where a peak stops being a load: the round-off threshold and rule shared by the
 envelope's noise marks (`noise`), `loads compare` (`compare`) and a set's comparisons
-(`comparison`). Imports nothing: the report modules that read it stay a DAG.
+(`comparison`). Imports only its threshold (loadcases.foundation.noise_floor): the report
+modules that read it stay a DAG.
 
 A column is round-off when its largest magnitude is at most `fraction` (default
 `NOISE_FLOOR`) times the largest magnitude of its request in the same unit, or of any
@@ -12,9 +13,9 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-__all__ = ["NOISE_FLOOR", "roundoff_columns"]
+from loadcases.foundation.noise_floor import NOISE_FLOOR
 
-NOISE_FLOOR = 1e-6  # of the request's largest magnitude: below it a peak is round-off
+__all__ = ["NOISE_FLOOR", "roundoff_columns"]
 
 
 def roundoff_columns(

@@ -71,6 +71,7 @@ from collections.abc import Sequence
 import numpy as np
 
 import mechlib as ml
+from loadcases.foundation.noise_floor import NOISE_FLOOR
 from loadcases.run.peak_error import SPIKE, extremes_of, row_peaks
 from mechlib.checks.singularity import NEAR_SINGULAR
 
@@ -146,17 +147,13 @@ SPIKE_ROWS = (0.25, 0.5, 0.75)  # the companion's rows either side of a spike's,
 # 10 ms rows) is read to within a few per cent of its crest
 
 
-# a column this small beside its request's peak is left out: its rows are round-off (the
-# door jettison's out-of-plane velocity, 1e-15 of the in-plane one), each a "spike"
-NEGLIGIBLE = 1e-6
-
-
 def significant(values: np.ndarray, peak: float) -> bool:
-    """Whether a column's `values` reach NEGLIGIBLE of its request's `peak` (the largest
-    |value| of any of the request's columns, in their unit): below, its rows are round-off
-    (a planar slider-crank's out-of-plane reactions, 1e-50 N beside a 58 N peak), with a
-    crest at almost every row and no error of the integrator's to estimate."""
-    return bool(np.nanmax(np.abs(values), initial=0.0) > NEGLIGIBLE * peak)
+    """Whether a column's `values` exceed NOISE_FLOOR of its request's `peak` (the largest
+    |value| of any of the request's columns): below, its rows are round-off (a planar
+    slider-crank's out-of-plane reactions, 1e-50 N beside a 58 N peak; the door
+    jettison's out-of-plane velocity, 1e-15 of the in-plane one), with a crest or a
+    "spike" at almost every row and no error of the integrator's to estimate."""
+    return bool(np.nanmax(np.abs(values), initial=0.0) > NOISE_FLOOR * peak)
 
 
 def _standing_out(table: np.ndarray) -> np.ndarray:

@@ -8,6 +8,7 @@ from typing import Annotated, Any, Literal
 from pydantic import BeforeValidator, Field, model_validator
 from pydantic_core import PydanticCustomError
 
+from loadcases.foundation.noise_floor import NOISE_FLOOR
 from loadcases.foundation.units import REPORT_KINDS
 from loadcases.schema.mechanism import FileUnits, unit_name
 from loadcases.schema.types import AnySI, Dimensionless, Direction, Position, Strict, Time
@@ -23,8 +24,6 @@ __all__ = [
     "SetModel",
     "matches",
 ]
-
-DEFAULT_NOISE_FLOOR = 1e-6  # loadcases.report.roundoff: below it (of the request's peak) ~0
 
 
 def matches(name: str, pattern: str) -> bool:
@@ -152,7 +151,7 @@ class Report(Strict):
         "charts need, every column's max and min rows kept exactly) or none",
     )
     noise_floor: float = Field(
-        DEFAULT_NOISE_FLOOR,
+        NOISE_FLOOR,
         ge=0.0,
         lt=1.0,
         description="a component whose peak is below this fraction of its request's (or the "

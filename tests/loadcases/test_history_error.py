@@ -92,9 +92,9 @@ def test_a_column_of_round_off_beside_its_requests_peak_has_no_error(
 ) -> None:
     """A reaction's force at 50 N, the same in run and companion (no error of its history),
     and its out-of-plane moment at `level` of that peak, the companion's half the run's
-    (round-off: a crest at almost every row): below NEGLIGIBLE (1e-6) of the peak it is
-    left out, and the request's estimate is the force's alone (history and envelope); above, its difference
-    counts, Richardson's third of it (level / 2 / 3 of the peak)."""
+    (round-off: a crest at almost every row): below NOISE_FLOOR (1e-6) of the peak it is
+    left out, and the request's estimate is the force's alone (history and envelope);
+    above, its difference counts, Richardson's third of it (level / 2 / 3 of the peak)."""
     time = np.linspace(0.0, 2.0, 1001)
     force = 50.0 * np.sin(OMEGA * time)
     noise = np.random.default_rng(7).standard_normal(len(time))
