@@ -322,8 +322,8 @@ def request_errors(
     1/2), Richardson's (other - run) / (ratio^p - 1), or / `richardson` where given (a
     grid companion's: loadcases.run.companion.grid_divisor). A column of round-off beside
     its request's peak (not `significant`) has no error of its own: it is left out (a
-    planar run's out-of-plane columns, half its columns, held 4070 of the campaign's 4117
-    crests and half the estimate's cost)."""
+    planar run's out-of-plane columns held 4070 of the campaign's 4117 crests: this
+    comparison took 2.4 ms instead of 1.0)."""
     rows, rows_c = shared_rows(run.time, companion.time)
     scale = 1.0 / (float(ratio) ** order - 1.0 if richardson is None else richardson)
     peaks = request_peaks(run.channels)
