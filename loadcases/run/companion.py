@@ -88,6 +88,8 @@ __all__ = [
     "on_grid",
     "order",
     "passed_singular",
+    "request_of",
+    "request_peaks",
     "significant",
     "sparser",
     "spikes",
@@ -147,6 +149,21 @@ SPIKE_ROWS = (0.25, 0.5, 0.75)  # the companion's rows either side of a spike's,
 # 10 ms rows) is read to within a few per cent of its crest
 
 
+def request_of(column: str) -> str:
+    """`pivot_force.fx` -> `pivot_force`."""
+    return column.rsplit(".", 1)[0]
+
+
+def request_peaks(channels: dict[str, np.ndarray]) -> dict[str, float]:
+    """Per request: the largest finite |value| of any of its columns."""
+    peaks: dict[str, float] = {}
+    for column, values in channels.items():
+        finite = np.abs(values[np.isfinite(values)])
+        name = request_of(column)
+        peaks[name] = max(peaks.get(name, 0.0), float(finite.max(initial=0.0)))
+    return peaks
+
+
 def significant(values: np.ndarray, peak: float) -> bool:
     """Whether a column's `values` exceed NOISE_FLOOR of its request's `peak` (the largest
     |value| of any of the request's columns): below, its rows are round-off (a planar
@@ -180,14 +197,11 @@ def spikes(run: ml.Solution) -> list[float]:
     rows miss of the spike (loadcases.run.peak_error._at_row_peak). A smooth crest's peak
     is its vertex between rows, read on the companion's rows as on the run's: no row kept
     for it (the campaign's slider-crank keeps none)."""
-    peaks: dict[str, float] = {}
-    for column, values in run.channels.items():
-        name = column.rsplit(".", 1)[0]
-        peaks[name] = max(peaks.get(name, 0.0), float(np.nanmax(np.abs(values), initial=0.0)))
+    peaks = request_peaks(run.channels)
     names = [
         c
         for c, v in run.channels.items()
-        if v.shape == run.time.shape and significant(v, peaks[c.rsplit(".", 1)[0]])
+        if v.shape == run.time.shape and significant(v, peaks[request_of(c)])
     ]
     if len(run.time) < 3 or not names:
         return []

@@ -59,6 +59,8 @@ from loadcases.run.companion import (
     on_grid,
     order,
     passed_singular,
+    request_of,
+    request_peaks,
     significant,
     sparser,
 )
@@ -247,21 +249,6 @@ class AccuracyEstimate:
             "cpu_seconds": self.cpu_seconds,
             **({"note": self.note} if self.note else {}),
         }
-
-
-def request_of(column: str) -> str:
-    """`pivot_force.fx` -> `pivot_force`."""
-    return column.rsplit(".", 1)[0]
-
-
-def request_peaks(channels: dict[str, np.ndarray]) -> dict[str, float]:
-    """Per request: the largest finite |value| of any of its columns."""
-    peaks: dict[str, float] = {}
-    for column, values in channels.items():
-        finite = np.abs(values[np.isfinite(values)])
-        name = request_of(column)
-        peaks[name] = max(peaks.get(name, 0.0), float(finite.max(initial=0.0)))
-    return peaks
 
 
 _SAME_TIME = 4e-9  # s: two times that round alike to 1e-9 s are at most 2e-9 s apart
