@@ -165,12 +165,15 @@ def request_peaks(channels: dict[str, np.ndarray]) -> dict[str, float]:
 
 
 def significant(values: np.ndarray, peak: float) -> bool:
-    """Whether a column's `values` exceed NOISE_FLOOR of its request's `peak` (the largest
-    |value| of any of the request's columns): below, its rows are round-off (a planar
-    slider-crank's out-of-plane reactions, 1e-50 N beside a 58 N peak; the door
+    """Whether a column's finite `values` exceed NOISE_FLOOR of its request's `peak` (the
+    largest finite |value| of any of the request's columns, whatever their units; not a
+    set's `report.noise_floor`): at or below, its rows are round-off (a planar
+    slider-crank's out-of-plane reactions, 1e-50 N beside tens of newtons; the door
     jettison's out-of-plane velocity, 1e-15 of the in-plane one), with a crest or a
-    "spike" at almost every row and no error of the integrator's to estimate."""
-    return bool(np.nanmax(np.abs(values), initial=0.0) > NOISE_FLOOR * peak)
+    "spike" at almost every row and no error of the integrator's to estimate. False
+    where the peak is 0."""
+    largest = float(np.abs(values[np.isfinite(values)]).max(initial=0.0))
+    return peak > 0.0 and largest > NOISE_FLOOR * peak
 
 
 def _standing_out(table: np.ndarray) -> np.ndarray:

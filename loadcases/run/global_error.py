@@ -308,9 +308,8 @@ def request_errors(
     long (a companion, its rows at some of the run's output times; or a finer run, ratio
     1/2), Richardson's (other - run) / (ratio^p - 1), or / `richardson` where given (a
     grid companion's: loadcases.run.companion.grid_divisor). A column of round-off beside
-    its request's peak (not `significant`) has no error of its own: it is left out (a
-    planar run's out-of-plane columns held 4070 of the campaign's 4117 crests: this
-    comparison took 2.4 ms instead of 1.0)."""
+    its request's peak in both runs (`significant` in neither) has no error of its own: it
+    is left out (a planar run's out-of-plane columns: docs/performance.md)."""
     rows, rows_c = shared_rows(run.time, companion.time)
     scale = 1.0 / (float(ratio) ** order - 1.0 if richardson is None else richardson)
     peaks = request_peaks(run.channels)
@@ -319,7 +318,10 @@ def request_errors(
         for column in run.channels
         if request_of(column) not in _SKIPPED
         and column in companion.channels
-        and significant(run.channels[column], peaks[request_of(column)])
+        and (
+            significant(run.channels[column], peaks[request_of(column)])
+            or significant(companion.channels[column], peaks[request_of(column)])
+        )
         and len(rows)
     ]
     mine = extremes_of(run.time, _table(run.channels, columns, len(run.time)), _times(run))

@@ -109,3 +109,18 @@ def test_a_column_of_round_off_beside_its_requests_peak_has_no_error(
     assert found.history == pytest.approx(level / 6.0 if counted else 0.0, rel=1e-9)
     if not counted:
         assert found == alone
+
+
+def test_a_column_still_in_the_run_but_moving_in_the_companion_counts() -> None:
+    """A reaction's fx, the same in both runs, and its fy: 0 in the run, 0.1 fx in the
+    companion (no round-off: the companion moved where the run did not). The column
+    counts though the run alone would call it round-off: its history estimate is
+    Richardson's third of the difference, a tenth of the request's peak (both columns
+    sampled at the same rows): 1/30."""
+    time = np.linspace(0.0, 2.0, 1001)
+    force = 50.0 * np.sin(OMEGA * time)
+    run = ml.Solution("ok", "", "dynamic", time, {"f.fx": force, "f.fy": 0.0 * time})
+    moving = 0.1 * force
+    companion = ml.Solution("ok", "", "dynamic", time, {"f.fx": force, "f.fy": moving})
+    found = request_errors(run, companion, order=2)["f"]
+    assert found.history == pytest.approx(1.0 / 30.0, rel=1e-12)
