@@ -62,7 +62,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from mechlib.outputs.crests import crest_table, crest_tops, quartic_rises, scaled_groups
+from mechlib.outputs.crests import (
+    crest_match,
+    crest_table,
+    crest_tops,
+    quartic_rises,
+    scaled_groups,
+)
 
 __all__ = ["Extremes", "extremes", "extremes_of", "peak_error", "row_peaks"]
 
@@ -152,11 +158,12 @@ def _with_ends(
     """Each column's candidates: its crests' (the rows of `found` (k, 3) of that column, by
     `columns`, in order) then its end rows' (`ends`); `top` (columns,) raised in place to
     the end rows' values."""
-    counts = np.bincount(columns, minlength=len(ends))
+    bounds = np.cumsum(np.bincount(columns, minlength=len(ends))).tolist()
     candidates = []
-    for j, (mine, end) in enumerate(zip(np.split(found, np.cumsum(counts)[:-1]), ends)):
-        top[j] = np.max(end[:, 1], initial=top[j])
-        candidates.append(np.concatenate((mine, end)))
+    for j, (first, last, end) in enumerate(zip([0, *bounds[:-1]], bounds, ends)):
+        if len(end):
+            top[j] = max(top[j], end[:, 1].max())
+        candidates.append(np.concatenate((found[first:last], end)))
     return candidates
 
 
@@ -308,24 +315,38 @@ def _end_rises(time: np.ndarray, values: np.ndarray, end: int) -> np.ndarray:
     if len(v) < 4 or not (np.diff(t) > 0.0).all():
         return rises
     _, c = _curvature(t[1:], v[1:], 1)
-    crest = np.isfinite(v).all(axis=0) & (v[-1] > v[-2]) & (c[0] < 0.0)
-    for j in np.flatnonzero(crest):
-        rises[j] = _cubic_rise(t, v[:, j], float(-c[0, j]))
+    crest = np.flatnonzero(np.isfinite(v).all(axis=0) & (v[-1] > v[-2]) & (c[0] < 0.0))
+    if len(crest):  # one solve for every column's cubic: the four times are the same
+        h = float(t[-1] - t[-2])
+        found = zip(_cubics(t, v[:, crest]).T.tolist(), v[-1, crest].tolist(), -c[0, crest])
+        for j, (a, last, down) in zip(crest.tolist(), found):
+            rises[j] = _cubic_top(a, last, float(down), h)
     return rises
+
+
+def _cubics(t: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """The coefficients (4,) or (4, columns), in s = (t - t[-1]) / (t[-1] - t[-2]), of the
+    cubic through four rows (t, v) of one column (4,) or several (4, columns)."""
+    s = (t - t[-1]) / (t[-1] - t[-2])  # the last row at 0, the one beside it at -1
+    return np.linalg.solve(s[:, None] ** np.arange(4), v)
+
+
+def _cubic_top(a: list[float], last: float, down: float, h: float) -> float:
+    """The highest point's rise above the last row's value `last` of the cubic of
+    coefficients `a` (`_cubics`), strictly between the last two rows, at most `down` times
+    the last row interval `h` (s) squared; 0 where the cubic has no maximum there."""
+    rise = 0.0
+    for at in _quadratic_roots(3.0 * a[3], 2.0 * a[2], a[1]):  # of the slope
+        if -1.0 < at < 0.0 and 2.0 * a[2] + 6.0 * a[3] * at < 0.0:
+            rise = max(rise, a[0] + at * (a[1] + at * (a[2] + at * a[3])) - last)
+    return min(rise, down * h**2)
 
 
 def _cubic_rise(t: np.ndarray, v: np.ndarray, down: float) -> float:
     """The highest point's rise above the last of four rows (t, v) of the cubic through
     them, strictly between the last two rows, at most `down` (the parabola's -c) times
     the last row interval squared; 0 where the cubic has no maximum there."""
-    h = t[-1] - t[-2]
-    s = (t - t[-1]) / h  # the last row at 0, the one beside it at -1
-    a = np.linalg.solve(s[:, None] ** np.arange(4), v)  # the cubic's coefficients in s
-    rise = 0.0
-    for at in _quadratic_roots(3.0 * a[3], 2.0 * a[2], a[1]):  # of the slope
-        if -1.0 < at < 0.0 and 2.0 * a[2] + 6.0 * a[3] * at < 0.0:
-            rise = max(rise, float(a[0] + at * (a[1] + at * (a[2] + at * a[3]))) - float(v[-1]))
-    return min(rise, down * h**2)
+    return _cubic_top(_cubics(t, v).tolist(), float(v[-1]), down, float(t[-1] - t[-2]))
 
 
 def _quadratic_roots(a: float, b: float, c: float) -> list[float]:
@@ -377,39 +398,6 @@ def extremes_of(
     return out
 
 
-def _excess(
-    run: np.ndarray, top: float, companion: np.ndarray, window: float, scale: float
-) -> float:
-    """The largest excess over `top` of a candidate's extrapolated value, P + scale (P - C)
-    (candidates as (time, value, kind) rows, higher more extreme; C the companion's highest
-    candidate of the same kind within `window` s: a crest's or an end row's; a candidate
-    the companion has none near is left out)."""
-    excess = 0.0
-    for kind in (0.0, END):
-        mine, theirs = run[run[:, 2] == kind], companion[companion[:, 2] == kind]
-        if not len(mine) or not len(theirs):
-            continue
-        match = _highest_near(mine[:, 0], theirs[theirs[:, 0].argsort()], window)
-        shared = np.isfinite(match)
-        values = mine[shared, 1]
-        extrapolated = values + scale * (values - match[shared])
-        excess = max(excess, float(np.max(extrapolated - top, initial=0.0)))
-    return excess
-
-
-def _highest_near(times: np.ndarray, others: np.ndarray, window: float) -> np.ndarray:
-    """Per time: the highest value of `others` ((time, value) rows sorted by time) within
-    `window` s of it, -inf where none (by bisection: a noisy column's thousands of crests
-    against as many, in memory that grows with their number, not its square)."""
-    low = np.searchsorted(others[:, 0], times - window, side="left")
-    high = np.searchsorted(others[:, 0], times + window, side="right")
-    best = np.full(len(times), -np.inf)
-    for k in range(int(np.max(high - low, initial=0))):
-        inside = low + k < high
-        best[inside] = np.maximum(best[inside], others[low[inside] + k, 1])
-    return best
-
-
 def _single_crests(run: Extremes, companion: Extremes) -> bool:
     """Whether the companion's crests are read well enough to be compared one by one: its
     rows at most SPARSEST times as far apart as the run's (a thinned companion's single
@@ -417,17 +405,6 @@ def _single_crests(run: Extremes, companion: Extremes) -> bool:
     closed-valve servo's element states a miss between its steps, which are linear there:
     only its extreme crest is compared)."""
     return companion.interval <= SPARSEST * run.interval
-
-
-def _competing(run: Extremes, companion: Extremes, scale: float) -> tuple[float, float]:
-    """The competing candidates' excess over the run's max and under its min; none where
-    the companion's single crests are not compared (`_single_crests`)."""
-    if not _single_crests(run, companion):
-        return 0.0, 0.0
-    window = run.interval + companion.interval
-    over = _excess(run.tops, run.max, companion.tops, window, scale)
-    under = _excess(run.bottoms * _FLIP, -run.min, companion.bottoms * _FLIP, window, scale)
-    return over, under
 
 
 def peak_error(
@@ -443,14 +420,15 @@ def peak_error(
     sampling error alone (shorter steps do not reduce it, a shorter output interval does)."""
     high, low = run.max - run.row_max, run.row_min - run.min
     size = abs(scale)
-    over, under = _competing(run, companion, scale) if crests else (0.0, 0.0)
+    over, under = 0.0, 0.0
     top, bottom = companion.max, companion.min
     if crests and _single_crests(run, companion):
         window = run.interval + companion.interval
-        top = _partner(run.tops, run.max, companion.tops, window, top)
-        bottom = -_partner(
-            run.bottoms * _FLIP, -run.min, companion.bottoms * _FLIP, window, -bottom
+        over, top = crest_match(run.tops, run.max, companion.tops, window, scale, top)
+        under, bottom = crest_match(
+            run.bottoms * _FLIP, -run.min, companion.bottoms * _FLIP, window, scale, -bottom
         )
+        bottom = -bottom
     sides = [
         max(size * abs(run.max - top), over) + high,
         max(size * abs(run.min - bottom), under) + low,
@@ -464,26 +442,6 @@ def peak_error(
                 sides[k], missed = max(spike[0], beside), spike[1]
                 high, low = (missed, low) if sign > 0 else (high, missed)
     return max(sides), max(high, low)
-
-
-def _partner(
-    run: np.ndarray, peak: float, companion: np.ndarray, window: float, extreme: float
-) -> float:
-    """The companion's value of the crest (or end row) that is the run's `peak`: its highest
-    candidate of the same kind within `window` s of the run's highest (candidates as (time,
-    value, kind) rows, higher more extreme); the companion's `extreme` where it has none
-    there, or the run's peak is no candidate (a plateau's row). Richardson compares one
-    quantity in two runs: the run's peak and the companion's may be different crests, each
-    with an error of its own (IFToMM A05's hinge force |F|: the run's lowest trough at
-    3.56 s, 0.45 N from the truth, the companion's at 0.48 s, where a stiff spring's
-    unresolved ringing is 12 times the run's, not 4; the top against the top read 3.7
-    times the true error, the trough against itself 1.4)."""
-    if not len(run) or run[:, 1].max() < peak:
-        return extreme
-    best = run[np.argmax(run[:, 1])]
-    same = companion[companion[:, 2] == best[2]]
-    near = _highest_near(np.array([best[0]]), same[same[:, 0].argsort()], window)[0]
-    return float(near) if np.isfinite(near) else extreme
 
 
 SPIKE = 0.1  # of a column's range: a one-row spike stands out from both its neighbours by more

@@ -2,7 +2,8 @@
 found and their parabola's rise and bounds taken at the crest rows alone (`crest_table`,
 `crest_bounds`, numpy's arithmetic bit for bit), the quartic through the crest's row and
 the two rows either side (`scaled_groups`, `quartic_rises`, one pass over the crests, no
-LAPACK call each), and each column's highest crest and its candidates (`crest_tops`).
+LAPACK call each), each column's highest crest and its candidates (`crest_tops`), and a
+run's candidates against another run's (`crest_match`).
 
 Used by the envelope's error estimate (loadcases.run.peak_error). The 5 x 5 system of each
 crest is solved by Gaussian elimination with partial pivoting, as LAPACK's dgesv does, but
@@ -16,7 +17,14 @@ import numpy as np
 
 from mechlib.core.jit import KERNEL, njit
 
-__all__ = ["crest_bounds", "crest_table", "crest_tops", "quartic_rises", "scaled_groups"]
+__all__ = [
+    "crest_bounds",
+    "crest_match",
+    "crest_table",
+    "crest_tops",
+    "quartic_rises",
+    "scaled_groups",
+]
 
 _NEWTON = 4  # Newton steps from the parabola's vertex to the quartic's (order 6: 1e-12)
 #: numpy's division (inf and nan, no ZeroDivisionError: repeated times divide by 0) and no
@@ -285,3 +293,41 @@ def crest_tops(time, values, rows, columns, rise, bound, row_max):
     for j in range(count):
         top[j] = _maximum(highest[j], row_max[j])
     return top, found
+
+
+@njit(**_ARRAYS)
+def _highest_within(times, values, kinds, t, kind, window):
+    """The highest of `values` of kind `kind` whose time lies within `window` s of t (times
+    increasing: bisection to the first, then those within), -inf where none."""
+    best = -np.inf
+    for j in range(np.searchsorted(times, t - window, side="left"), len(times)):
+        if times[j] > t + window:
+            break
+        if kinds[j] == kind:
+            best = _maximum(best, values[j])
+    return best
+
+
+@njit(**_ARRAYS)
+def crest_match(run, top, companion, window, scale, extreme):
+    """A column's candidates in a run (rows (time s, value, kind), higher more extreme; its
+    peak `top`) against those of another run of the same motion (`companion`), each paired
+    with the other's highest of the same kind within `window` s (loadcases.run.peak_error,
+    where the rule is): (the largest excess over `top` of a run candidate's value
+    extrapolated by Richardson, P + scale (P - C), C its partner, 0 where none exceeds it;
+    the partner of the run's highest candidate, `extreme` where it has none or `top` is
+    above every candidate). The candidates finite, as the envelope's are."""
+    order = np.argsort(companion[:, 0])
+    times, values, kinds = companion[order, 0], companion[order, 1], companion[order, 2]
+    excess, best = 0.0, -1
+    for i in range(run.shape[0]):
+        if best < 0 or run[i, 1] > run[best, 1]:
+            best = i
+        value = run[i, 1]
+        near = _highest_within(times, values, kinds, run[i, 0], run[i, 2], window)
+        if np.isfinite(near):
+            excess = max(excess, (value + scale * (value - near)) - top)
+    if best < 0 or run[best, 1] < top:
+        return excess, extreme
+    near = _highest_within(times, values, kinds, run[best, 0], run[best, 2], window)
+    return excess, (near if np.isfinite(near) else extreme)

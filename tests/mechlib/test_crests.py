@@ -1,5 +1,6 @@
 """The compiled quartic rise of a crest between rows (mechlib.outputs.crests) against closed
-forms, and against numpy's LAPACK solve of the same systems (the path it replaced)."""
+forms, and against numpy's LAPACK solve of the same systems (the path it replaced); a run's
+crests matched with another run's (`crest_match`) against values worked by hand."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import numpy as np
 # the solver's kernels marked before this file's first call compiles the marked ones
 # (tests/loadcases/test_set_warm.py counts only those, whichever test runs first)
 import mechlib.solvers.solve  # noqa: F401
-from mechlib.outputs.crests import quartic_rises
+from mechlib.outputs.crests import crest_match, quartic_rises
 
 OFFSETS = np.arange(-2, 3)
 
@@ -86,3 +87,42 @@ def test_the_rises_are_lapack_s_to_the_last_bits() -> None:
         assert np.all(difference <= 1e-11 * np.abs(theirs[kept]))
         worst = max(worst, float(np.max(difference, initial=0.0)))
     assert worst < 1e-16
+
+
+CREST, END_ROW = 0.0, 1.0  # a candidate's kind (loadcases.run.peak_error.END: an end row)
+
+
+def test_crests_pair_with_the_highest_of_their_kind_within_the_window() -> None:
+    """The run's crests at 0.1 s (its top, 1.0) and 0.5 s (0.99) and its end row at 1 s
+    against the companion's: the top's partner is the companion's crest at 0.11 s (1.02),
+    not its end row at 0.12 s (3.0: another kind) nor its crest at 0.3 s (outside 0.05 s);
+    the crest at 0.5 s, extrapolated 0.99 + (0.99 - 0.95) / 3 = 1.003333, exceeds the top
+    by 0.003333; its lower partner at 0.53 s (0.90) is not the highest within the window."""
+    run = np.array([[0.1, 1.0, CREST], [0.5, 0.99, CREST], [1.0, 0.8, END_ROW]])
+    companion = np.array(
+        [
+            [0.3, 7.0, CREST],
+            [0.12, 3.0, END_ROW],
+            [0.53, 0.90, CREST],
+            [0.11, 1.02, CREST],
+            [0.52, 0.95, CREST],
+            [1.0, 0.81, END_ROW],
+        ]
+    )
+    excess, partner = crest_match(run, 1.0, companion, 0.05, 1.0 / 3.0, -5.0)
+    assert partner == 1.02
+    assert excess == (0.99 + (0.99 - 0.95) / 3.0) - 1.0
+    assert abs(excess - 1.0 / 300.0) < 1e-15
+
+
+def test_no_partner_and_no_excess() -> None:
+    """A top above every candidate (a plateau's row) or a crest with no partner of its kind
+    near it gives the companion's extreme; extrapolations below the top give no excess (0,
+    not negative); a finer run's negative scale extrapolates the other way."""
+    run = np.array([[0.1, 1.0, CREST], [0.5, 0.9, CREST]])
+    companion = np.array([[0.1, 0.98, END_ROW], [0.48, 0.95, CREST]])
+    assert crest_match(run, 1.0, companion, 0.05, 1.0 / 3.0, -5.0) == (0.0, -5.0)
+    assert crest_match(run, 1.2, companion, 0.05, 1.0 / 3.0, -5.0) == (0.0, -5.0)
+    excess, _ = crest_match(run, 0.9, companion, 0.05, -4.0 / 3.0, -5.0)
+    assert excess == (0.9 - 4.0 / 3.0 * (0.9 - 0.95)) - 0.9  # 0.0667: the finer run's
+    assert crest_match(np.zeros((0, 3)), 1.0, companion, 0.05, 1.0 / 3.0, 2.0) == (0.0, 2.0)
