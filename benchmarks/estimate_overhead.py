@@ -6,16 +6,20 @@ alternated.
   file written as a user gets them): `loads run SET -j J --force` as written and without
   the estimate, `--rounds` times each, the first to go alternating; CPU a run of the
   command and its workers (getrusage), and the estimate's share, (as written - off) / off,
-  per round and their median.
+  per round and their median (`--rounds 0`: not run).
 - `--cases`: per case of the companion cost table (benchmarks.companion_cost.CASES),
   `run_case` in this process as written and with accuracy off, alternated `--repeat`
   times, best CPU of each: the whole run (validation aside) with its rows, requests and
   checks, which `companion_cost` leaves out of its companion / solve ratio.
+- `--command`: per case of the cost table, `loads run CASE` as a user runs one case (a
+  fresh process: start-up, validation, the solve, its files), as written and with
+  accuracy off, alternated `--repeat` times, the median CPU (the command's) and wall time;
+  `--long` adds IFToMM A01 over 2000 s (200 001 rows).
 
 CPU times on a shared machine move with its load: compare the two columns of one run.
 
     python -m benchmarks.estimate_overhead [--runs 200] [--jobs 2] [--rounds 3] [--cases]
-                                           [--repeat 5] [--json FILE]
+                                           [--command [--long]] [--repeat 5] [--json FILE]
 """
 
 from __future__ import annotations
@@ -24,16 +28,22 @@ import argparse
 import dataclasses
 import json
 import os
+import shutil
 import statistics
 import tempfile
 import time
 from pathlib import Path
 from typing import Any
 
-from benchmarks.campaign import run_loads, sweep_rates, write_sweep
-from benchmarks.companion_cost import CASES
+import yaml
 
-__all__ = ["campaign_overhead", "case_overhead", "main", "variants"]
+from benchmarks.campaign import run_loads, sweep_rates, write_sweep
+from benchmarks.companion_cost import CASES, LIBRARY
+
+#: `--long`: a long run for `--command` (the error table's A01: benchmarks.error_table_long)
+LONG = {"A01 2000 s": (LIBRARY / "hard" / "iftomm_a01_pendulum.case.yaml", {"end": 2000.0})}
+
+__all__ = ["campaign_overhead", "case_overhead", "command_overhead", "main", "variants"]
 
 
 def campaign_overhead(runs: int, jobs: int, rounds: int) -> dict[str, Any]:
@@ -107,20 +117,67 @@ def case_overhead(name: str, repeat: int) -> dict[str, Any]:
     }
 
 
+def command_files(name: str, folder: Path) -> dict[str, Path]:
+    """A cost-table case as two case files (`as_written`, `off`: `analysis.accuracy: off`),
+    each with its analysis keys (benchmarks.companion_cost.CASES, or `LONG`), beside a copy of the
+    case's folder in `folder` (its mechanism files found as the original finds them)."""
+    file, keys = {**CASES, **LONG}[name]
+    copy = folder / file.stem
+    shutil.copytree(file.parent, copy)
+    case = yaml.safe_load(file.read_text(encoding="utf-8"))
+    out = {}
+    for kind, extra in (("as_written", {}), ("off", {"accuracy": "off"})):
+        changed = {**case, "analysis": {**case["analysis"], **keys, **extra}}
+        out[kind] = copy / f"{file.name.removesuffix('.case.yaml')}-{kind}.case.yaml"
+        out[kind].write_text(yaml.safe_dump(changed, sort_keys=False), encoding="utf-8")
+    return out
+
+
+def command_overhead(name: str, repeat: int) -> dict[str, Any]:
+    """`loads run CASE` of a cost-table case as written and with accuracy off, alternating
+    which goes first, `repeat` times each: the median CPU ms (the command's) and wall s of
+    each and the estimate's share of the command."""
+    spent: dict[str, list[tuple[float, float]]] = {"as_written": [], "off": []}
+    with tempfile.TemporaryDirectory() as tmp:
+        files = command_files(name, Path(tmp))
+        for k in range(max(1, repeat)):
+            order = ("as_written", "off") if k % 2 == 0 else ("off", "as_written")
+            for kind in order:
+                done = run_loads(files[kind], 1, [])
+                if done["exit"] != 0 or done["runs"] != 1:
+                    raise RuntimeError(f"{name} {kind}: {done['stderr_tail']}")
+                spent[kind].append((done["cpu_ms_per_run"], done["wall_s"]))
+    cpu = {kind: statistics.median(c for c, _ in rows) for kind, rows in spent.items()}
+    wall = {kind: statistics.median(w for _, w in rows) for kind, rows in spent.items()}
+    return {
+        "case": name,
+        "as_written_cpu_ms": cpu["as_written"],
+        "off_cpu_ms": cpu["off"],
+        "as_written_wall_s": wall["as_written"],
+        "off_wall_s": wall["off"],
+        "overhead": round(cpu["as_written"] / cpu["off"] - 1.0, 4),
+    }
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=200)
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--rounds", type=int, default=3)
     parser.add_argument("--cases", action="store_true", help="also the cost table's cases")
+    parser.add_argument(
+        "--command", action="store_true", help="also `loads run CASE` of each of them"
+    )
+    parser.add_argument("--long", action="store_true", help="--command on A01 over 2000 s too")
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
     from benchmarks.suite import machine_info
 
     result: dict[str, Any] = {"machine": machine_info(), "load_before": os.getloadavg()}
-    result["campaign"] = campaign_overhead(args.runs, args.jobs, args.rounds)
-    print(f"campaign: the estimate {result['campaign']['overhead']:.1%} of a run (median)")
+    if args.rounds > 0:  # --rounds 0: the cases alone
+        result["campaign"] = campaign_overhead(args.runs, args.jobs, args.rounds)
+        print(f"campaign: the estimate {result['campaign']['overhead']:.1%} of a run (median)")
     if args.cases:
         result["cases"] = []
         for name in CASES:
@@ -129,6 +186,17 @@ def main(argv: list[str] | None = None) -> int:
             print(
                 f"{name}: run_case {row['as_written_ms']:.1f} ms as written, "
                 f"{row['off_ms']:.1f} off: the estimate {row['overhead']:.1%}",
+                flush=True,
+            )
+    if args.command:
+        result["command"] = []
+        for name in [*CASES, *(LONG if args.long else ())]:
+            row = command_overhead(name, args.repeat)
+            result["command"].append(row)
+            print(
+                f"{name}: loads run {row['as_written_cpu_ms']:.0f} ms of CPU as written, "
+                f"{row['off_cpu_ms']:.0f} off ({row['as_written_wall_s']:.2f} / "
+                f"{row['off_wall_s']:.2f} s): the estimate {row['overhead']:.1%}",
                 flush=True,
             )
     result["load_after"] = os.getloadavg()

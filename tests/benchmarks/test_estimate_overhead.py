@@ -19,3 +19,20 @@ def test_the_variants_differ_by_the_estimate_alone() -> None:
     assert "accuracy" not in off.checks
     for column, values in off.solution.channels.items():
         np.testing.assert_array_equal(written.solution.channels[column], values)
+
+
+def test_the_command_files_load_with_their_keys(tmp_path) -> None:
+    """`--command`'s two case files load with their cost-table keys: the pendulum cut to
+    2 s, as written and off; A01 with its mechanism file found beside its copy."""
+    from benchmarks.estimate_overhead import command_files
+    from loadcases.inputs.loader import load_case
+
+    files = command_files("pendulum 2 s", tmp_path / "pendulum")
+    written, off = (load_case(files[kind]) for kind in ("as_written", "off"))
+    assert written.case.analysis.end == off.case.analysis.end == 2.0
+    assert written.case.analysis.accuracy != "off"
+    assert off.case.analysis.accuracy == "off"
+    a01 = command_files("A01 10 s", tmp_path / "a01")
+    loaded = load_case(a01["off"])
+    assert loaded.case.analysis.end == 10.0 and loaded.case.analysis.accuracy == "off"
+    assert loaded.mechanism_path is not None
