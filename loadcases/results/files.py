@@ -137,7 +137,7 @@ def summary_of(outcome: RunOutcome, *, version: str) -> dict[str, Any]:
         "rows": int(time.size),
         "units": {TIME_COLUMN: "s", **outcome.column_units},
         "kinds": dict(outcome.request_kinds),
-        "warnings": [*(d.keyed_message() for d in outcome.warnings), *solution.warnings],
+        "warnings": outcome.all_warnings,
         "events": [
             {"name": e.name, "time": e.time, "actions": list(e.actions)} for e in solution.events
         ],

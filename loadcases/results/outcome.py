@@ -38,3 +38,9 @@ class RunOutcome:
     input_error: bool = False  # not solved: the run's parameter values make its input invalid
     level: str = "limit"  # the level of the case's applied loads: "limit" or "ultimate"
     unwritten: str = ""  # why its files could not be written (then none is): a failed run
+
+    @property
+    def all_warnings(self) -> list[str]:
+        """The input's warnings (each with its key) then the solver's: the summary's
+        `warnings`, as a set's run reports them too."""
+        return [*(d.keyed_message() for d in self.warnings), *self.solution.warnings]

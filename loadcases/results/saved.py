@@ -82,6 +82,7 @@ class RunRecord:
     reused: bool = False
     input_error: bool = False  # its parameter values make the input invalid (exit 2)
     level: str = "limit"  # the level of its case's applied loads (limit or ultimate)
+    warnings: tuple[str, ...] = ()  # its summary's: the input's, then the solver's
 
     @property
     def ok(self) -> bool:
@@ -124,6 +125,7 @@ def record_from_summary(
         csv_path=csv_path,
         reused=reused,
         level="ultimate" if summary.get("level") == "ultimate" else "limit",
+        warnings=tuple(str(w) for w in summary.get("warnings") or ()),
     )
 
 

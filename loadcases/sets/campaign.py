@@ -182,6 +182,7 @@ def _record(outcome: RunOutcome, spec: RunSpec, csv_path: Path) -> RunRecord:
         csv_path=csv_path,
         input_error=outcome.input_error,
         level=outcome.level,
+        warnings=tuple(outcome.all_warnings),
     )
 
 

@@ -104,3 +104,30 @@ def test_file_kind_decided_alike_by_run_and_validate(tmp_path: Path) -> None:
     assert ran.exit_code == 2 and ran.stderr.splitlines() == expected
     checked = runner.invoke(app, ["validate", str(unknown)])
     assert checked.exit_code == 2 and checked.stdout.splitlines() == expected
+
+
+def test_a_set_prints_each_runs_warnings_as_a_case_run_does(tmp_path: Path) -> None:
+    """A set of the library's pendulum at tolerance 1e-3 with an accuracy target of 1e-6:
+    its run misses the target (not tightened: a tolerance fixes the steps), and the set
+    prints the run's accuracy warning under its status line, as `loads run` of the case
+    file does; a reused run prints it again (from its summary)."""
+    import yaml
+
+    library = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
+    case = yaml.safe_load((library / "pendulum.case.yaml").read_text(encoding="utf-8"))
+    case["analysis"].update(end=0.5, step=0.01, tolerance=1e-3, accuracy=1e-6)
+    (tmp_path / "pend.case.yaml").write_text(yaml.safe_dump(case), encoding="utf-8")
+    (tmp_path / "pend.set.yaml").write_text(
+        "set: pend-set\ncases: [pend.case.yaml]\n", encoding="utf-8"
+    )
+    alone = runner.invoke(app, ["run", str(tmp_path / "pend.case.yaml"), "-o", str(tmp_path)])
+    warned = [line for line in alone.stdout.splitlines() if line.startswith("  warning: ")]
+    assert alone.exit_code == 0 and any("accuracy: estimated error" in w for w in warned)
+    for _ in range(2):  # solved, then reused
+        result = runner.invoke(
+            app, ["run", str(tmp_path / "pend.set.yaml"), "-o", str(tmp_path / "res")]
+        )
+        assert result.exit_code == 0, result.output
+        lines = result.stdout.splitlines()
+        first = next(i for i, line in enumerate(lines) if line.startswith(case["case"]))
+        assert lines[first + 1 : first + 1 + len(warned)] == warned
