@@ -63,9 +63,12 @@ from loadcases.run.companion import (
     request_peaks,
     significant,
     sparser,
+    thinning,
 )
 from loadcases.run.peak_error import extremes_of, peak_error
 from loadcases.schema.case import AccuracyTarget
+from mechlib.checks.singularity import NAMED_AT_MOST
+from mechlib.core.jit import compile_seconds
 
 __all__ = [
     "DEFAULT_ACCURACY",
@@ -303,13 +306,16 @@ def request_errors(
     ratio: float = STEP_RATIO,
     *,
     richardson: float | None = None,
+    interval: float | None = None,
 ) -> dict[str, RequestError]:
     """Estimated error of each request of `run` from another run of steps `ratio` times as
     long (a companion, its rows at some of the run's output times; or a finer run, ratio
     1/2), Richardson's (other - run) / (ratio^p - 1), or / `richardson` where given (a
     grid companion's: loadcases.run.companion.grid_divisor). A column of round-off beside
     its request's peak in both runs (`significant` in neither) has no error of its own: it
-    is left out (a planar run's out-of-plane columns: docs/performance.md)."""
+    is left out (a planar run's out-of-plane columns: docs/performance.md). `interval`: the
+    companion's output interval (s) where its rows were thinned (its rows beside the run's
+    crests aside: loadcases.run.companion.crest_rows), else the median of its rows'."""
     rows, rows_c = shared_rows(run.time, companion.time)
     scale = 1.0 / (float(ratio) ** order - 1.0 if richardson is None else richardson)
     peaks = request_peaks(run.channels)
@@ -329,6 +335,7 @@ def request_errors(
         companion.time,
         _table(companion.channels, columns, len(companion.time)),
         _times(companion),
+        interval,
     )
     out: dict[str, RequestError] = {}
     for column, found, other in zip(columns, mine, theirs):
@@ -401,7 +408,7 @@ def solve_to_accuracy(
     run = _timed(solve, analysis, spent, counted=False)
     if run.status != "ok":
         return run, None
-    started = clock.process_time()
+    started = _cpu()
     p = order(analysis.integrator)
     companion, kind, fallback = _companion(solve, analysis, run, spent)
     if companion.status != "ok":
@@ -469,7 +476,9 @@ def _coarse(analysis: ml.Dynamic, run: ml.Solution, companion: ml.Solution, kind
     if kind == "grid":
         found = grid_divisor(analysis.integrator, run.stats.step_ends, companion.stats.step_ends)
     richardson = found if found > 0.0 else divisor(analysis.integrator)
-    return Coarse(request_errors(run, companion, p, richardson=richardson), richardson)
+    interval = coarser(analysis).step * 2 ** thinning(run) if analysis.dense else None
+    errors = request_errors(run, companion, p, richardson=richardson, interval=interval)
+    return Coarse(errors, richardson)
 
 
 def _companion(
@@ -499,12 +508,20 @@ def _timed(
     counted: bool = True,
     companion: bool = False,
 ) -> ml.Solution:
-    """A run solved and its cost added to `spent` (the first run's not `counted`); the
-    companion without the position checks after the run (only its channels are used)."""
-    started = clock.process_time()
+    """A run solved and its cost (`_cpu`) added to `spent` (the first run's not `counted`);
+    the companion without the position checks after the run (only its channels are
+    used)."""
+    started = _cpu()
     run = _further(solve, analysis, checks=not companion) if counted else solve(analysis)
-    spent.add(run, clock.process_time() - started, counted=counted, last=not companion)
+    spent.add(run, _cpu() - started, counted=counted, last=not companion)
     return run
+
+
+def _cpu() -> float:
+    """The process's CPU time (s) but what it spent making kernels (mechlib.core.jit.
+    compile_seconds): the first run of a process loads or compiles them, once; a tighter
+    run would not, and the estimate's own cost is not theirs."""
+    return clock.process_time() - compile_seconds()
 
 
 @dataclass
@@ -674,12 +691,14 @@ def _estimate(
         analysis.max_steps,
         tightenings,
         errors,
-        clock.process_time() - started,
+        _cpu() - started,
     )
 
 
 def _warnings(estimate: AccuracyEstimate, tightened: bool) -> list[str]:
-    """A warning when the envelope peaks miss the target, another when time histories do."""
+    """A warning when the envelope peaks miss the target, another when time histories do:
+    the worst requests named with their estimates, at most NAMED_AT_MOST, the others
+    counted."""
     out = []
     how = (
         f"after {estimate.tightenings} tightenings (tolerance {estimate.tolerance:.3g}"
@@ -694,7 +713,9 @@ def _warnings(estimate: AccuracyEstimate, tightened: bool) -> list[str]:
         values = {n: float(getattr(e, measure)) for n, e in estimate.requests.items()}
         missed = sorted(((v, n) for n, v in values.items() if v > estimate.target), reverse=True)
         if missed:
-            listed = ", ".join(f"{n} {value:.2g}" for value, n in missed[:3])
+            listed = ", ".join(f"{n} {value:.2g}" for value, n in missed[:NAMED_AT_MOST])
+            if len(missed) > NAMED_AT_MOST:
+                listed += f" and {len(missed) - NAMED_AT_MOST} other requests"
             out.append(
                 f"accuracy: estimated error of the {text} above the target {estimate.target:g} "
                 f"of the peak {how}: {listed}"

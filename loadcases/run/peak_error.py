@@ -368,13 +368,18 @@ def extremes(time: np.ndarray, values: np.ndarray, events: Sequence[float] = ())
 
 
 def extremes_of(
-    time: np.ndarray, table: np.ndarray, events: Sequence[float] = ()
+    time: np.ndarray,
+    table: np.ndarray,
+    events: Sequence[float] = (),
+    interval: float | None = None,
 ) -> list[Extremes]:
-    """`extremes` of each column of `table` (n, columns), in one pass over the columns."""
+    """`extremes` of each column of `table` (n, columns), in one pass over the columns;
+    their typical row `interval` (s) given, or the median one."""
     table = np.asarray(table, dtype=float)
     finite = np.isfinite(table).any(axis=0)
     columns = np.flatnonzero(finite)
-    interval = float(np.median(np.diff(time))) if len(time) > 1 else 0.0
+    if interval is None:
+        interval = float(np.median(np.diff(time))) if len(time) > 1 else 0.0
     out = [Extremes(0.0, 0.0, 0.0, 0.0)] * table.shape[1]
     if not len(columns):
         return out
@@ -429,6 +434,13 @@ def peak_error(
             run.bottoms * _FLIP, -run.min, companion.bottoms * _FLIP, window, scale, -bottom
         )
         bottom = -bottom
+    elif crests:  # a thinned companion: its crest where it kept the run's rows about it
+        window = BESIDE * run.interval
+        if dense_beside(run, companion, run.tops, run.max, 1.0):
+            top = crest_match(run.tops, run.max, companion.tops, window, scale, top)[1]
+        if dense_beside(run, companion, run.bottoms * _FLIP, -run.min, -1.0):
+            flipped = (run.bottoms * _FLIP, -run.min, companion.bottoms * _FLIP)
+            bottom = -crest_match(*flipped, window, scale, -bottom)[1]
     sides = [
         max(size * abs(run.max - top), over) + high,
         max(size * abs(run.min - bottom), under) + low,
@@ -442,6 +454,30 @@ def peak_error(
                 sides[k], missed = max(spike[0], beside), spike[1]
                 high, low = (missed, low) if sign > 0 else (high, missed)
     return max(sides), max(high, low)
+
+
+BESIDE = 1.5  # of the run's row interval: a thinned companion's crest within it is the run's
+
+
+def dense_beside(
+    run: Extremes, companion: Extremes, candidates: np.ndarray, peak: float, sign: float
+) -> bool:
+    """Whether the run's `peak` is a crest's vertex above its row among its `candidates`
+    ((time, value, kind), higher more extreme; `sign` -1: a minimum's, flipped) whose row
+    and the run's two rows either side are rows of the `companion` too (loadcases.run.
+    companion.crest_rows keeps them in a thinned one): its crest there is read through the
+    rows the run's is, and compared with it (the run's rows, 1e-9 s apart at most), not
+    the companion's extreme through its thinned rows."""
+    if not len(candidates) or not len(companion.time):
+        return False
+    best = candidates[np.argmax(candidates[:, 1])]
+    i = int(np.searchsorted(run.time, best[0]))
+    if best[1] < peak or best[2] == END or not best[1] > sign * run.values[i]:
+        return False
+    near = run.time[max(i - 2, 0) : i + 3]
+    after = np.clip(np.searchsorted(companion.time, near), 1, len(companion.time) - 1)
+    gap = np.minimum(np.abs(companion.time[after] - near), np.abs(companion.time[after - 1] - near))
+    return bool(np.all(gap <= 1e-9 * np.maximum(1.0, np.abs(near))))
 
 
 SPIKE = 0.1  # of a column's range: a one-row spike stands out from both its neighbours by more

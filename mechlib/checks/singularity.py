@@ -20,7 +20,7 @@ on the arrangement: a 3D model with nearly parallel axes is weakly conditioned
 everywhere). Reactions grow like 1/measure near a toggle. Checked at the recorded output
 rows, after the analysis (docs/analyses.md): one warning per event (rows below the
 threshold, those between two such runs of rows joined unless the measure recovers to
-_RECOVERED times the threshold between them), naming at most _NAMED_JOINTS joints.
+_RECOVERED times the threshold between them), naming at most NAMED_AT_MOST joints.
 """
 
 from __future__ import annotations
@@ -42,6 +42,7 @@ from mechlib.linalg.rank import Redundancy
 from mechlib.system.system import System
 
 __all__ = [
+    "NAMED_AT_MOST",
     "NEAR_SINGULAR",
     "TOGGLE_THRESHOLD",
     "Toggle",
@@ -66,7 +67,7 @@ _RUN_ROWS = 4096  # rows per compiled call (it keeps one row's Jacobian at a tim
 _REACH = 2.0
 _REASSOCIATE = {"reassoc", "contract"}  # sums in any order: vectorised loops
 _RECOVERED = 2.0  # an event ends where the measure is back above this times the threshold
-_NAMED_JOINTS = 5  # joints named per warning at most, the others counted
+NAMED_AT_MOST = 5  # joints (requests) named per warning at most, the others counted
 
 
 @dataclass(frozen=True)
@@ -77,10 +78,10 @@ class Toggle:
     found: Redundancy
 
     def describe(self) -> str:
-        """The equation and the joints it depends on, at most _NAMED_JOINTS joints named in
+        """The equation and the joints it depends on, at most NAMED_AT_MOST joints named in
         all (the equation's own joint among them) and the others counted."""
         r = self.found
-        shown = max(_NAMED_JOINTS - (1 if r.owner else 0), 0)
+        shown = max(NAMED_AT_MOST - (1 if r.owner else 0), 0)
         names, rest = r.depends_on[:shown], len(r.depends_on) - shown
         if not names:
             return f"{r.label}, dependent on itself"

@@ -4,6 +4,9 @@ as long) drifts four times faster."""
 
 from __future__ import annotations
 
+import time
+import types
+
 import numpy as np
 import pytest
 
@@ -124,3 +127,51 @@ def test_a_column_still_in_the_run_but_moving_in_the_companion_counts() -> None:
     companion = ml.Solution("ok", "", "dynamic", time, {"f.fx": force, "f.fy": moving})
     found = request_errors(run, companion, order=2)["f"]
     assert found.history == pytest.approx(1.0 / 30.0, rel=1e-12)
+
+
+def test_an_accuracy_warning_names_five_requests_and_counts_the_others() -> None:
+    """Seven requests miss the target 1e-3 in their histories, none in their peaks: one
+    warning, the five worst named with their estimates (largest first), the two others
+    counted; three missing name all three."""
+    from loadcases.run.global_error import AccuracyEstimate, RequestError, _warnings
+
+    errors = {f"r{k}": RequestError(history=k * 1e-3 + 1e-4, peak=1e-4) for k in range(1, 8)}
+    estimate = AccuracyEstimate(1e-3, "generalized-alpha", 1e-6, 0.1, 1000, 0, errors, 0.0)
+    (warning,) = _warnings(estimate, tightened=False)
+    assert warning.endswith(
+        "r7 0.0071, r6 0.0061, r5 0.0051, r4 0.0041, r3 0.0031 and 2 other requests"
+    )
+    assert "time histories" in warning and "(not tightened)" in warning
+    estimate.requests = {k: v for k, v in errors.items() if k in ("r1", "r2", "r3")}
+    (warning,) = _warnings(estimate, tightened=False)
+    assert warning.endswith("r3 0.0031, r2 0.0021, r1 0.0011")
+
+
+def _burn(seconds: float) -> float:
+    """Spin for about `seconds` of CPU; the CPU s spent."""
+    started = time.process_time()
+    while time.process_time() - started < seconds:
+        pass
+    return time.process_time() - started
+
+
+def test_a_runs_cost_leaves_out_the_kernels_it_made(monkeypatch) -> None:
+    """The first solve of a process also loads (or compiles) the kernels: 0.6 s of CPU for
+    0.01 s of steps on the pendulum, which a CPU budget doubled for the next halving
+    (`budget: {cpu: 0.5 s}` refused a first tightening that took 0.04 s). A solve that
+    spends 0.2 s making kernels (mechlib.core.jit.compile_seconds) and 0.02 s on its
+    steps costs 0.02 s to the budget, and predicts 0.04 s for a halving."""
+    from loadcases.run import global_error
+
+    made = [0.0]
+    monkeypatch.setattr(global_error, "compile_seconds", lambda: made[0])
+
+    def solve(analysis, checks=True):
+        made[0] += _burn(0.2)  # the kernels made
+        _burn(0.02)  # the steps
+        return types.SimpleNamespace(stats=types.SimpleNamespace(steps=100, rejected_steps=0))
+
+    spent = global_error.Spent()
+    global_error._timed(solve, None, spent, counted=False)
+    assert 0.015 < spent.last_cpu < 0.1
+    assert spent.exhausts(global_error.Budget(cpu_seconds=0.3), 0) == ""

@@ -555,3 +555,41 @@ def test_end_candidates_gathered_at_once_are_those_column_by_column() -> None:
         for a, b in zip(got, expected, strict=True):
             assert a.shape == b.shape and np.array_equal(a.view(np.int64), b.view(np.int64))
     assert seen_after > 50  # rows after events were among the candidates
+
+
+def _sharp_crest(time: np.ndarray, error: float) -> np.ndarray:
+    """A crest of 100 about 10 ms wide at 0.2513 s (between rows), scaled by 1 + `error`:
+    an integrator's error proportional to the motion."""
+    return (1.0 + error) * 100.0 * np.exp(-(((time - 0.2513) / 0.01) ** 2))
+
+
+def test_a_sharp_crest_is_compared_on_the_rows_the_companion_kept_about_it() -> None:
+    """A run's rows every 2 ms with an error of 1e-3 of the motion, a companion of four times
+    that error (Richardson, p = 2) thinned to rows every 16 ms: through its own rows the
+    companion's crest reads 80.5 for 100.4 (the parabola's miss, 19.9, not the
+    integrator's), and the estimate is 18 times the true error of the run's envelope (its
+    row 99.611 against the crest's 100: 0.389). With the run's rows about the crest kept
+    (loadcases.run.companion.crest_rows: the crest's row and three either side) the two
+    vertices are read alike: 0.587, 1.51 times the true error."""
+    run_t = np.round(np.arange(0.0, 0.5 + 1e-12, 0.002), 12)
+    sparse = np.round(np.arange(0.0, 0.5 + 1e-12, 0.016), 12)
+    crest = int(np.argmax(_sharp_crest(run_t, 0.0)))
+    kept = np.union1d(sparse, run_t[crest - 3 : crest + 4])
+    run = extremes(run_t, _sharp_crest(run_t, 1e-3))
+    true = abs(run.row_max - 100.0)
+    assert true == pytest.approx(0.38929, abs=1e-5)
+    estimates = {}
+    for name, rows in (("thinned", sparse), ("kept", kept)):
+        companion = extremes_of(rows, _sharp_crest(rows, 4e-3)[:, None], interval=0.016)[0]
+        estimates[name] = peak_error(run, companion, 1.0 / 3.0)[0] / true
+    assert estimates["thinned"] == pytest.approx(18.03, abs=0.01)
+    assert estimates["kept"] == pytest.approx(1.508, abs=0.001)
+    # a second, broader crest at 0.4 s, 99 high in the run and 101 in the companion: the
+    # companion's highest, but not the crest of the run's peak, which is compared with its
+    # partner on the kept rows (loadcases.run.peak_error.dense_beside), not with it
+    second = 99.0 * np.exp(-(((run_t - 0.4) / 0.05) ** 2))
+    run = extremes(run_t, _sharp_crest(run_t, 1e-3) + second)
+    other = 101.0 * np.exp(-(((kept - 0.4) / 0.05) ** 2))
+    companion = extremes_of(kept, (_sharp_crest(kept, 4e-3) + other)[:, None], interval=0.016)
+    assert companion[0].max > 100.9
+    assert peak_error(run, companion[0], 1.0 / 3.0)[0] / true == pytest.approx(1.508, abs=0.01)

@@ -53,6 +53,7 @@ EQUATIONS = {
 # case file -> (degrees of freedom before motions by the Gruebler count, number of motions)
 MOBILITY = {
     "slider_crank.case.yaml": (1, 1),
+    "slider_crank_free.case.yaml": (1, 0),  # let go spinning: no motion
     "pendulum.case.yaml": (1, 0),
     "fourbar_quasistatic.case.yaml": (1, 1),
     "static_spring_bar.case.yaml": (1, 0),
