@@ -72,7 +72,7 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.foundation.noise_floor import NOISE_FLOOR
-from loadcases.run.peak_error import SPIKE, extremes_of, row_peaks
+from loadcases.run.peak_error import SPIKE, Extremes, extremes_of, row_peaks
 from mechlib.checks.singularity import NEAR_SINGULAR
 
 __all__ = [
@@ -92,6 +92,7 @@ __all__ = [
     "passed_singular",
     "request_of",
     "request_peaks",
+    "run_extremes",
     "significant",
     "sparser",
     "spikes",
@@ -132,14 +133,16 @@ def coarser(analysis: ml.Dynamic) -> ml.Dynamic:
     )
 
 
-def sparser(companion: ml.Dynamic, run: ml.Solution) -> ml.Dynamic:
+def sparser(
+    companion: ml.Dynamic, run: ml.Solution, found: dict[str, Extremes] | None = None
+) -> ml.Dynamic:
     """The companion with dense output and its output interval doubled until its rows are
     at most its expected steps (the run's accepted steps / STEP_RATIO), and a row at each
     of the run's `spikes`; with steps ending on the outputs (`output: steps`) the interval
     bounds the steps: unchanged."""
     if not companion.dense or len(run.time) < 2:
         return companion
-    rows = sorted(set(spikes(run) + crest_rows(run)))
+    rows = sorted(set(spikes(run) + crest_rows(run, found)))
     return dataclasses.replace(
         companion, step=companion.step * 2 ** thinning(run), rows=tuple(rows)
     )
@@ -156,7 +159,23 @@ def thinning(run: ml.Solution) -> int:
 CREST_ROWS = 3  # the run's rows either side of a column's extreme crest a thinned companion keeps
 
 
-def crest_rows(run: ml.Solution) -> list[float]:
+def run_extremes(run: ml.Solution) -> dict[str, Extremes]:
+    """The extremes (loadcases.run.peak_error) of each of the run's columns above round-off
+    (`significant`), by column: what the companion's rows and the estimate read of the
+    run, found once."""
+    peaks = request_peaks(run.channels)
+    names = [
+        c
+        for c, v in run.channels.items()
+        if v.shape == run.time.shape and significant(v, peaks[request_of(c)])
+    ]
+    if not len(run.time) or not names:
+        return {}
+    table = np.column_stack([run.channels[c] for c in names])
+    return dict(zip(names, extremes_of(run.time, table, [e.time for e in run.events])))
+
+
+def crest_rows(run: ml.Solution, found: dict[str, Extremes] | None = None) -> list[float]:
     """The times (s) of the rows a companion keeps at the run's envelope crests: per column
     (above round-off), where its largest or its smallest value is a smooth crest's vertex
     between rows, the crest's row and CREST_ROWS of the run's rows either side (none where
@@ -169,19 +188,13 @@ def crest_rows(run: ml.Solution) -> list[float]:
     (a kink, a contact's onset) has no vertex whose fit the two share: the companion's other
     rows are kept there (the door let go's handle torque, a row at 0.27 s 3.6 N below its
     true peak: read on the run's rows the two runs agree within 0.8 N, an estimate of 0.08
-    of the true error; through the companion's own rows 0.35)."""
-    peaks = request_peaks(run.channels)
-    names = [
-        c
-        for c, v in run.channels.items()
-        if v.shape == run.time.shape and significant(v, peaks[request_of(c)])
-    ]
-    if len(run.time) < 3 or not names:
+    of the true error; through the companion's own rows 0.35). `found`: the run's
+    `run_extremes`, when known."""
+    if len(run.time) < 3:
         return []
     events = np.array([event.time for event in run.events])
-    table = np.column_stack([run.channels[c] for c in names])
     times: set[float] = set()
-    for column in extremes_of(run.time, table, events.tolist()):
+    for column in (run_extremes(run) if found is None else found).values():
         for candidates, sign in ((column.tops, 1.0), (column.bottoms, -1.0)):
             if not len(candidates):
                 continue
@@ -288,7 +301,9 @@ def spikes(run: ml.Solution) -> list[float]:
 SPLIT_SHARE = 0.02
 
 
-def on_grid(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic | None:
+def on_grid(
+    analysis: ml.Dynamic, run: ml.Solution, found: dict[str, Extremes] | None = None
+) -> ml.Dynamic | None:
     """The grid companion of `run` (solved with `analysis`): its accepted steps two at a
     time, its events' times kept as step ends, rows and Newton tolerance as the adaptive
     companion's (`sparser(coarser(...))`); None where the run's steps are not all known
@@ -306,7 +321,7 @@ def on_grid(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic | None:
         return None  # its steps not all recorded, or it ended neither at the end nor an event
     most = math.ceil(SPLIT_SHARE * len(ends) / STEP_RATIO)
     grid = ml.StepGrid.paired(ends, [event.time for event in run.events], most)
-    return dataclasses.replace(sparser(coarser(analysis), run), grid=grid)
+    return dataclasses.replace(sparser(coarser(analysis), run, found), grid=grid)
 
 
 def grid_divisor(

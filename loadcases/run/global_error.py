@@ -61,11 +61,12 @@ from loadcases.run.companion import (
     passed_singular,
     request_of,
     request_peaks,
+    run_extremes,
     significant,
     sparser,
     thinning,
 )
-from loadcases.run.peak_error import extremes_of, peak_error
+from loadcases.run.peak_error import Extremes, extremes_of, peak_error
 from loadcases.schema.case import AccuracyTarget
 from mechlib.checks.singularity import NAMED_AT_MOST
 from mechlib.core.jit import compile_seconds
@@ -307,6 +308,7 @@ def request_errors(
     *,
     richardson: float | None = None,
     interval: float | None = None,
+    known: dict[str, Extremes] | None = None,
 ) -> dict[str, RequestError]:
     """Estimated error of each request of `run` from another run of steps `ratio` times as
     long (a companion, its rows at some of the run's output times; or a finer run, ratio
@@ -314,8 +316,9 @@ def request_errors(
     grid companion's: loadcases.run.companion.grid_divisor). A column of round-off beside
     its request's peak in both runs (`significant` in neither) has no error of its own: it
     is left out (a planar run's out-of-plane columns: docs/performance.md). `interval`: the
-    companion's output interval (s) where its rows were thinned (its rows beside the run's
-    crests aside: loadcases.run.companion.crest_rows), else the median of its rows'."""
+    companion's output interval (s), its rows beside the run's crests aside (loadcases.run.
+    companion.crest_rows); None: the median of its rows'. `known`: the run's extremes
+    found already (loadcases.run.companion.run_extremes)."""
     rows, rows_c = shared_rows(run.time, companion.time)
     scale = 1.0 / (float(ratio) ** order - 1.0 if richardson is None else richardson)
     peaks = request_peaks(run.channels)
@@ -330,7 +333,11 @@ def request_errors(
         )
         and len(rows)
     ]
-    mine = extremes_of(run.time, _table(run.channels, columns, len(run.time)), _times(run))
+    known = known or {}
+    missing = [c for c in columns if c not in known]
+    table = _table(run.channels, missing, len(run.time))
+    computed = dict(zip(missing, extremes_of(run.time, table, _times(run)))) if missing else {}
+    mine = [known.get(c) or computed[c] for c in columns]
     theirs = extremes_of(
         companion.time,
         _table(companion.channels, columns, len(companion.time)),
@@ -410,7 +417,8 @@ def solve_to_accuracy(
         return run, None
     started = _cpu()
     p = order(analysis.integrator)
-    companion, kind, fallback = _companion(solve, analysis, run, spent)
+    found = run_extremes(run)
+    companion, kind, fallback = _companion(solve, analysis, run, spent, found)
     if companion.status != "ok":
         estimate = _estimate(analysis, run, target, {}, 0, started)
         estimate.estimated, estimate.companion = False, kind
@@ -419,7 +427,7 @@ def solve_to_accuracy(
             return _interrupted(run, "its accuracy companion was solved", estimated=False), estimate
         estimate.note = f"not estimated: the companion run failed ({companion.message})"
         return run, estimate
-    coarse = _coarse(analysis, run, companion, kind)
+    coarse = _coarse(analysis, run, companion, kind, found)
     errors = coarse.errors
     pair = _finer_pair(solve, analysis, run, coarse, spent) if passed_singular(run) else None
     if pair is not None:
@@ -467,7 +475,13 @@ def solve_to_accuracy(
     return run, estimate
 
 
-def _coarse(analysis: ml.Dynamic, run: ml.Solution, companion: ml.Solution, kind: str) -> Coarse:
+def _coarse(
+    analysis: ml.Dynamic,
+    run: ml.Solution,
+    companion: ml.Solution,
+    kind: str,
+    extremes: dict[str, Extremes] | None = None,
+) -> Coarse:
     """The companion's estimate: a grid companion's Richardson divisor from the steps it
     took (a stretch's odd last step and its splits merging fewer of the run's:
     loadcases.run.companion.grid_divisor), the adaptive one's 2^p - 1."""
@@ -477,16 +491,23 @@ def _coarse(analysis: ml.Dynamic, run: ml.Solution, companion: ml.Solution, kind
         found = grid_divisor(analysis.integrator, run.stats.step_ends, companion.stats.step_ends)
     richardson = found if found > 0.0 else divisor(analysis.integrator)
     interval = coarser(analysis).step * 2 ** thinning(run) if analysis.dense else None
-    errors = request_errors(run, companion, p, richardson=richardson, interval=interval)
+    errors = request_errors(
+        run, companion, p, richardson=richardson, interval=interval, known=extremes
+    )
     return Coarse(errors, richardson)
 
 
 def _companion(
-    solve: Solver, analysis: ml.Dynamic, run: ml.Solution, spent: Spent
+    solve: Solver,
+    analysis: ml.Dynamic,
+    run: ml.Solution,
+    spent: Spent,
+    found: dict[str, Extremes] | None = None,
 ) -> tuple[ml.Solution, str, str]:
     """The run's companion solved: on the run's own steps (`grid`) where they are known,
-    else, or where that one fails, the adaptive one (a note says why); with its kind."""
-    grid = on_grid(analysis, run)
+    else, or where that one fails, the adaptive one (a note says why); with its kind
+    (`found`: the run's extremes, loadcases.run.companion.run_extremes)."""
+    grid = on_grid(analysis, run, found)
     note = ""
     if grid is not None:
         companion = _timed(solve, grid, spent, companion=True)
@@ -496,7 +517,7 @@ def _companion(
             f"the companion on the run's own steps failed ({companion.message}): "
             "estimated with an error-controlled companion"
         )
-    adaptive = _timed(solve, sparser(coarser(analysis), run), spent, companion=True)
+    adaptive = _timed(solve, sparser(coarser(analysis), run, found), spent, companion=True)
     return adaptive, "adaptive", note
 
 

@@ -148,8 +148,8 @@ def test_a_grid_companion_that_stops_falls_back_to_the_adaptive_one(
 
     on_grid_of = global_error.on_grid
 
-    def no_splits(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic | None:
-        grid = on_grid_of(analysis, run)
+    def no_splits(analysis: ml.Dynamic, run: ml.Solution, found=None) -> ml.Dynamic | None:
+        grid = on_grid_of(analysis, run, found)
         assert grid is not None and grid.grid is not None
         strict = dataclasses.replace(grid.grid, most_splits=0)
         return ml.Dynamic(**{**grid.__dict__, "grid": strict})

@@ -154,8 +154,8 @@ def test_a_failed_companion_claims_nothing(tmp_path: Path, monkeypatch: pytest.M
         global_error, "coarser", lambda a: dataclasses.replace(coarser(a), max_steps=20)
     )
 
-    def grid_of_20(analysis: ml.Dynamic, run: ml.Solution) -> ml.Dynamic:
-        grid = on_grid(analysis, run)
+    def grid_of_20(analysis: ml.Dynamic, run: ml.Solution, found=None) -> ml.Dynamic:
+        grid = on_grid(analysis, run, found)
         assert grid is not None, "the pendulum's run: dense generalized-alpha"
         return dataclasses.replace(grid, max_steps=20)
 
