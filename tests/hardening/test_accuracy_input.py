@@ -1,5 +1,6 @@
-"""`loads run` prints the projected initial values (0.10.0 trial, item 12), a joint's rate
-as a number."""
+"""The accuracy block and warnings as a user reads them (0.10.0 trial, items 11-12): the
+outcome of a run not tightened says why; `loads run` prints the projected initial values,
+a joint's rate as a number."""
 
 from __future__ import annotations
 
@@ -9,7 +10,59 @@ from pathlib import Path
 
 import pytest
 
+from loadcases.run.global_error import DEFAULT_ACCURACY, accuracy_aim
 from tests.hardening.conftest import loads
+
+PENDULUM = """\
+case: pendulum
+mechanism:
+  name: pendulum
+  gravity: [0, -9.81, 0]
+  bodies: {bar: {mass: 3.0, cm: [0, -0.5, 0], inertia: [0.25, 0.001, 0.25]}}
+  joints: {hinge: {type: revolute, bodies: [bar, ground], at: [0, 0, 0], axis: [0, 0, 1]}}
+initial: {hinge: {value: 60 deg, rate: 0}}
+analysis:
+  accuracy: ACCURACY
+  type: dynamic
+  end: 0.5
+  step: 0.01
+requests:
+  hinge_force: {joint: hinge, quantity: force, frame: ground}
+"""
+
+
+def _pendulum(tmp_path: Path, accuracy: str, extra: str = "") -> Path:
+    """The pendulum case with `analysis.accuracy: ACCURACY` (line 9) and `extra` lines of
+    its analysis."""
+    path = tmp_path / "pendulum.case.yaml"
+    text = PENDULUM.replace("ACCURACY", accuracy).replace(
+        "  type: dynamic\n", f"  type: dynamic\n{extra}"
+    )
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+def test_a_target_with_a_tolerance_says_the_tolerance_fixes_the_steps(tmp_path: Path) -> None:
+    out = tmp_path / "out"
+    case = _pendulum(tmp_path, "1e-5", "  tolerance: 1e-6\n")
+    result = loads("run", case, "-o", out)
+    assert result.exit_code == 0, result.output
+    block = json.loads((out / "pendulum.summary.json").read_text())["accuracy"]
+    assert block["met"] is False and block["budget"] is None and block["tightenings"] == 0
+    assert block["outcome"] == (
+        "not met: not tightened (the case sets a tolerance, which fixes the steps: drop "
+        "`tolerance` to let the engine tighten them)"
+    )
+
+
+def test_no_target_in_the_case_says_so() -> None:
+    aim = accuracy_aim(None, 1e-3)
+    assert (aim.target, aim.budget) == (DEFAULT_ACCURACY, None)
+    assert aim.untightened == (
+        "no accuracy target in the case: the default one is estimated against only"
+    )
+    assert accuracy_aim(2e-3, None).untightened == ""
+
 
 SLIDER_CRANK = """\
 name: sc90
