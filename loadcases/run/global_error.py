@@ -48,6 +48,7 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.foundation import interrupts
+from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY
 from loadcases.run.companion import (
     FINER_RATIO,
     STEP_RATIO,
@@ -82,7 +83,6 @@ __all__ = [
     "solve_to_accuracy",
 ]
 
-DEFAULT_ACCURACY = 1e-3  # of each request's peak: the sizing accuracy
 MAX_TIGHTENINGS = 8  # default refinements: each halves every step and costs twice the last
 DEFAULT_CPU_BUDGET = 600.0  # s of CPU for the companion and the tighter runs, by default
 _SKIPPED = ("abscissa",)  # a set's abscissa column is not a load
