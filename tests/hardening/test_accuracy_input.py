@@ -17,6 +17,7 @@ from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY
 from loadcases.inputs.loader import load_case
 from loadcases.run.global_error import Aim, Budget, accuracy_aim
 from tests.hardening.conftest import has_line, loads
+from tests.loadcases.set_fixtures import SLIDER_MECH
 
 PENDULUM = """\
 case: pendulum
@@ -84,40 +85,51 @@ def test_a_run_without_a_target_is_judged_against_the_default(tmp_path: Path) ->
     assert block["budget"] == {"cpu": 60.0, "steps": None, "refinements": 8}
 
 
+BOUNDS = "must lie between 0 and 1 (a fraction of the peak)"
+
+
 @pytest.mark.parametrize(
-    ("accuracy", "where", "key", "got"),
+    ("accuracy", "where", "key", "message"),
     [
-        ("{target: 1e-2, budget: {steps: 1.5}}", "9:37", "budget.steps", "1.5"),
-        ("{budget: {refinements: 2.5}}", "9:23", "budget.refinements", "2.5"),
-        ("{budget: {steps: many}}", "9:23", "budget.steps", "'many'"),
+        (
+            "{target: 1e-2, budget: {steps: 1.5}}",
+            "9:37",
+            ".budget.steps",
+            "expected a whole number, got 1.5",
+        ),
+        (
+            "{budget: {refinements: 2.5}}",
+            "9:23",
+            ".budget.refinements",
+            "expected a whole number, got 2.5",
+        ),
+        ("{budget: {steps: many}}", "9:23", ".budget.steps", "expected a whole number, got 'many'"),
+        ("false", "9:3", "", f"{FORMS}, got false"),
+        ('"OFF"', "9:3", "", f"{FORMS}, got 'OFF'"),
+        ("none", "9:3", "", f"{FORMS}, got 'none'"),
+        ("[1e-3]", "9:3", "", f"{FORMS}, got a list of 1 values"),
+        ("'on'", "9:3", "", f"{FORMS}, got 'on'"),
+        ("2", "9:3", "", f"2 {BOUNDS}"),
+        ("1", "9:3", "", f"1 {BOUNDS}"),
+        ("0", "9:3", "", f"0 {BOUNDS}"),
+        ("{target: 1.5}", "9:14", ".target", f"1.5 {BOUNDS}"),
+        ("{target: -1e-3}", "9:14", ".target", f"-0.001 {BOUNDS}"),
     ],
 )
-def test_a_fraction_of_a_count_asks_for_a_whole_number(
-    tmp_path: Path, accuracy: str, where: str, key: str, got: str
+def test_a_bad_accuracy_is_refused_at_its_key_saying_what_it_takes(
+    tmp_path: Path, accuracy: str, where: str, key: str, message: str
 ) -> None:
+    """A fraction where a count is needed asks for a whole number; a word that is none
+    of the accuracy's forms names them; a target outside 0 and 1 is refused as `loads
+    accuracy --target` refuses it."""
     _refused(
-        tmp_path,
-        accuracy,
-        f"pendulum.case.yaml:{where}: error: analysis.accuracy.{key}: expected a whole "
-        f"number, got {got}",
-    )
-
-
-@pytest.mark.parametrize(
-    ("accuracy", "got"),
-    [("false", "false"), ('"OFF"', "'OFF'"), ("none", "'none'"), ("[1e-3]", "a list of 1 values")],
-)
-def test_a_word_that_is_no_accuracy_form_names_the_forms(
-    tmp_path: Path, accuracy: str, got: str
-) -> None:
-    _refused(
-        tmp_path, accuracy, f"pendulum.case.yaml:9:3: error: analysis.accuracy: {FORMS}, got {got}"
+        tmp_path, accuracy, f"pendulum.case.yaml:{where}: error: analysis.accuracy{key}: {message}"
     )
 
 
 def test_a_plain_on_is_refused_without_a_hint_to_quote_it(tmp_path: Path) -> None:
     """YAML 1.1 reads `on` as true; quoted, 'on' is the same text to `loads` and is
-    refused alike, so the hint does not suggest quoting it."""
+    refused alike (above), so the hint does not suggest quoting it."""
     output = _refused(
         tmp_path,
         "on",
@@ -126,29 +138,14 @@ def test_a_plain_on_is_refused_without_a_hint_to_quote_it(tmp_path: Path) -> Non
         "write the value you mean",
     )
     assert "quote" not in output
-    _refused(
-        tmp_path, "'on'", f"pendulum.case.yaml:9:3: error: analysis.accuracy: {FORMS}, got 'on'"
-    )
 
 
-@pytest.mark.parametrize(
-    ("accuracy", "where", "key", "shown"),
-    [
-        ("2", "9:3", "analysis.accuracy", "2"),
-        ("1", "9:3", "analysis.accuracy", "1"),
-        ("0", "9:3", "analysis.accuracy", "0"),
-        ("{target: 1.5}", "9:14", "analysis.accuracy.target", "1.5"),
-        ("{target: -1e-3}", "9:14", "analysis.accuracy.target", "-0.001"),
-    ],
-)
-def test_a_target_outside_0_and_1_is_refused_as_loads_accuracy_refuses_it(
-    tmp_path: Path, accuracy: str, where: str, key: str, shown: str
-) -> None:
-    bounds = f"{shown} must lie between 0 and 1 (a fraction of the peak)"
-    _refused(tmp_path, accuracy, f"pendulum.case.yaml:{where}: error: {key}: {bounds}")
-    result = loads("accuracy", _pendulum(tmp_path, "off"), "--target", shown, "-o", tmp_path / "o")
-    assert result.exit_code == 2 and f"--target: {bounds}" in result.output, result.output
-    assert not (tmp_path / "o").exists()
+@pytest.mark.parametrize("target", ["2", "1", "0", "-0.001"])
+def test_loads_accuracy_refuses_the_targets_a_case_refuses(tmp_path: Path, target: str) -> None:
+    case, out = _pendulum(tmp_path, "off"), tmp_path / "o"
+    result = loads("accuracy", case, "--target", target, "-o", out)
+    assert result.exit_code == 2 and f"--target: {target} {BOUNDS}" in result.output, result.output
+    assert not out.exists()
 
 
 def test_a_target_within_0_and_1_is_taken(tmp_path: Path) -> None:
@@ -191,24 +188,9 @@ def test_no_target_in_the_case_says_so() -> None:
     assert accuracy_aim(2e-3, None).untightened == ""
 
 
-SLIDER_CRANK = """\
-name: sc90
-plane: xy
-units: {length: mm, angle: deg}
-gravity: [0, -9.81, 0]
-bodies:
-  crank:  {mass: 1.2, cm: [0, 50, 0],  inertia: [0.001, 0.0001, 0.001]}
-  rod:    {mass: 0.8, cm: [141.42, 50, 0], inertia: [0.0001, 0.006, 0.006]}
-  slider: {mass: 2.0, cm: [282.84, 0, 0], inertia: [0.001, 0.001, 0.001]}
-joints:
-  pivot: {type: revolute,  bodies: [crank, ground], at: [0, 0, 0],   axis: [0, 0, 1]}
-  big:   {type: revolute,  bodies: [rod, crank],    at: [0, 100, 0], axis: [0, 0, 1]}
-  small: {type: revolute,  bodies: [slider, rod],   at: [282.8427, 0, 0], axis: [0, 0, 1]}
-  guide: {type: prismatic, bodies: [slider, ground], at: [282.8427, 0, 0], axis: [1, 0, 0]}
-"""
 PROJECTED = """\
 case: proj
-mechanism: sc90.mech.yaml
+mechanism: slider.mech.yaml
 initial:
   pivot: {value: 30 deg, rate: 1}
   guide: {value: 0.05, rate: 5}
@@ -222,7 +204,7 @@ def test_loads_run_prints_the_projected_rates_as_numbers(tmp_path: Path) -> None
     """A slider-crank given both joints' values and rates: one degree of freedom, so the
     constraints change them, and `loads run` prints each change (SI), a joint's rate as
     a number, not a list of one."""
-    (tmp_path / "sc90.mech.yaml").write_text(SLIDER_CRANK, encoding="utf-8")
+    (tmp_path / "slider.mech.yaml").write_text(SLIDER_MECH, encoding="utf-8")
     (tmp_path / "proj.case.yaml").write_text(PROJECTED, encoding="utf-8")
     result = loads("run", tmp_path / "proj.case.yaml", "-o", tmp_path / "out")
     assert result.exit_code == 0, result.output
@@ -230,8 +212,8 @@ def test_loads_run_prints_the_projected_rates_as_numbers(tmp_path: Path) -> None
         r"warning: initial rate of joint '(\w+)' changed from (\S+) to (\S+) ", result.output
     )
     assert [(name, given) for name, given, _ in rates] == [("pivot", "1.0"), ("guide", "5.0")]
-    assert float(rates[0][2]) == pytest.approx(1.230385908, abs=1e-8)
-    assert float(rates[1][2]) == pytest.approx(-0.088005497, abs=1e-8)
+    assert float(rates[0][2]) == pytest.approx(-0.292840586, abs=1e-8)
+    assert float(rates[1][2]) == pytest.approx(0.021493842, abs=1e-8)
     assert "warning: initial travel of joint 'guide' changed from 0.05 to " in result.output
     summary = json.loads((tmp_path / "out" / "proj.summary.json").read_text())
     assert sum("changed from" in w for w in summary["warnings"]) == 4
