@@ -8,6 +8,7 @@ from typing import Annotated
 import typer
 
 from cli.render import fail, print_diagnostics
+from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY, target_problem
 
 __all__ = ["accuracy"]
 
@@ -83,7 +84,7 @@ def accuracy(
             metavar="FRACTION",
             help="The error wanted, as a fraction of each request's peak.",
         ),
-    ] = 1e-3,
+    ] = DEFAULT_ACCURACY,
     tolerances: Annotated[
         str,
         typer.Option(
@@ -134,8 +135,9 @@ def accuracy(
             f"--integrators: unknown '{', '.join(unknown)[:80]}' (choose from "
             f"{', '.join(INTEGRATORS)})"
         )
-    if not 0.0 < target < 1.0:
-        raise fail(f"--target: {target:g} must lie between 0 and 1 (a fraction of the peak)")
+    problem = target_problem(target)
+    if problem is not None:
+        raise fail(f"--target: {problem}")
     ladder = _numbers(tolerances, "--tolerances")
     problem = _settings_problem(output, repeats, ladder, reference_tolerance)
     if problem is not None:

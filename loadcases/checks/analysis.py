@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from loadcases.foundation.accuracy_target import target_problem
 from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.foundation.limits import MIN_TOLERANCE, rows_problem
 from loadcases.schema.case import AccuracyTarget
@@ -46,7 +47,7 @@ def analysis_problems(analysis, at: Locator, where: KeyPath = ("analysis",)) -> 
         ]
     found += [
         at.diagnostic((*where, key), "must be positive")
-        for key in ("tolerance", "max_step", "accuracy")
+        for key in ("tolerance", "max_step")
         if isinstance(getattr(analysis, key), int | float) and getattr(analysis, key) <= 0.0
     ]
     tolerance = analysis.tolerance
@@ -70,15 +71,19 @@ def analysis_problems(analysis, at: Locator, where: KeyPath = ("analysis",)) -> 
 
 
 def _accuracy_target(analysis, at: Locator, where: KeyPath) -> list[Diagnostic]:
-    """`accuracy: {target, budget: {cpu, steps, refinements}}`: a positive target, a
-    positive CPU time and step count, refinements not negative."""
+    """`accuracy: TARGET` or `{target, budget: {cpu, steps, refinements}}`: the target
+    within its bounds (those of `loads accuracy --target`), a positive CPU time and step
+    count, refinements not negative."""
     accuracy = analysis.accuracy
+    path = (*where, "accuracy")
+    if isinstance(accuracy, int | float):
+        problem = target_problem(accuracy)
+        return [] if problem is None else [at.diagnostic(path, problem)]
     if not isinstance(accuracy, AccuracyTarget):
         return []
-    path = (*where, "accuracy")
     found = []
-    if accuracy.target <= 0.0:
-        found.append(at.diagnostic((*path, "target"), "must be positive"))
+    if (problem := target_problem(accuracy.target)) is not None:
+        found.append(at.diagnostic((*path, "target"), problem))
     budget = accuracy.budget
     if budget is not None:
         found += [

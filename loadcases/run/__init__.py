@@ -19,7 +19,7 @@ from loadcases.inputs.overrides import Override, labels, pairs
 from loadcases.inputs.run_identity import run_name
 from loadcases.results.files import ResultsNotWritten, write_results
 from loadcases.results.outcome import RunOutcome
-from loadcases.run.global_error import AccuracyEstimate, solve_to_accuracy, target_and_budget
+from loadcases.run.global_error import AccuracyEstimate, accuracy_aim, solve_to_accuracy
 
 __all__ = ["check_case_file", "check_mechanism_file", "run_case", "run_file"]
 
@@ -92,13 +92,14 @@ def _solve(
     accuracy = cf.case.analysis.accuracy
     if not isinstance(built.analysis, ml.Dynamic) or accuracy == "off":
         return solve(built.analysis), None
-    target, budget, measure = target_and_budget(accuracy)
+    aim = accuracy_aim(accuracy, cf.case.analysis.tolerance)
     return solve_to_accuracy(
         solve,
         built.analysis,
-        target,
-        budget=budget if cf.case.analysis.tolerance is None else None,
-        measure=measure,
+        aim.target,
+        budget=aim.budget,
+        measure=aim.measure,
+        untightened=aim.untightened,
     )
 
 

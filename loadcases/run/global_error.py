@@ -48,6 +48,7 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.foundation import interrupts
+from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY
 from loadcases.run.companion import (
     FINER_RATIO,
     STEP_RATIO,
@@ -67,7 +68,7 @@ from loadcases.run.companion import (
     thinning,
 )
 from loadcases.run.peak_error import Extremes, extremes_of, peak_error
-from loadcases.schema.case import AccuracyTarget
+from loadcases.schema.case import AccuracyBudget, AccuracyTarget
 from mechlib.checks.singularity import NAMED_AT_MOST
 from mechlib.core.jit import compile_seconds
 
@@ -75,21 +76,27 @@ __all__ = [
     "DEFAULT_ACCURACY",
     "MAX_TIGHTENINGS",
     "AccuracyEstimate",
+    "Aim",
     "Budget",
     "RequestError",
+    "accuracy_aim",
     "request_errors",
     "request_of",
     "request_peaks",
     "shared_rows",
     "solve_to_accuracy",
-    "target_and_budget",
 ]
 
-DEFAULT_ACCURACY = 1e-3  # of each request's peak: the sizing accuracy
 MAX_TIGHTENINGS = 8  # default refinements: each halves every step and costs twice the last
 DEFAULT_CPU_BUDGET = 600.0  # s of CPU for the companion and the tighter runs, by default
 _SKIPPED = ("abscissa",)  # a set's abscissa column is not a load
 PHASE_LOST = 0.9  # of a column's range: the companion's difference past it, phase lost
+# why a run is not tightened to its target (the summary's outcome says it)
+_NO_TARGET = "no accuracy target in the case: the default one is estimated against only"
+_TOLERANCE_SET = (
+    "the case sets a tolerance, which fixes the steps: drop `tolerance` to let the engine "
+    "tighten them"
+)
 
 
 @dataclass(frozen=True)
@@ -167,7 +174,8 @@ class AccuracyEstimate:
     note: str = ""
     warnings: list[str] = field(default_factory=list)
     estimated: bool = True  # False: no companion finished, `requests` is empty
-    budget: Budget | None = None  # None: not tightened (no target set, or a tolerance)
+    budget: Budget | None = None  # None: not tightened, `untightened` says why
+    untightened: str = ""  # why not: no target in the case, or its tolerance
     stopped_by: str = ""  # why the tightening stopped short of the target
     measure: str = "peaks"  # what must meet the target: envelope peaks or time histories
     finer: bool = False  # estimated from a finer run (the run passed a singular position)
@@ -184,7 +192,8 @@ class AccuracyEstimate:
         if self.met:
             return "met"
         if self.budget is None:
-            return "not met: not tightened (no accuracy target in the case, or a tolerance)"
+            why = f" ({self.untightened})" if self.untightened else ""
+            return f"not met: not tightened{why}"
         return f"not met: {self.stopped_by or self.note}"
 
     @property
@@ -406,11 +415,13 @@ def solve_to_accuracy(
     *,
     budget: Budget | None,
     measure: str = "peaks",
+    untightened: str = "",
 ) -> tuple[ml.Solution, AccuracyEstimate | None]:
     """The run (with a `budget`: the first whose envelope peaks, or time histories as
     `measure` says, meet `target`, or the last the budget allowed) and its error estimate
-    (None when the run itself failed: a failure says its own where and why). A signal
-    during the companion or a tighter run: the last run that finished, as `interrupted`."""
+    (None when the run itself failed: a failure says its own where and why; without a
+    budget, its outcome says why by `untightened`). A signal during the companion or a
+    tighter run: the last run that finished, as `interrupted`."""
     spent = Spent()
     run = _timed(solve, analysis, spent, counted=False)
     if run.status != "ok":
@@ -457,6 +468,7 @@ def solve_to_accuracy(
         run, analysis, tightenings = finer_run, finer_analysis, tightenings + 1
     estimate = _estimate(analysis, run, target, errors, tightenings, started)
     estimate.note, estimate.budget, estimate.stopped_by = note, budget, stopped_by
+    estimate.untightened = untightened
     estimate.measure, estimate.companion = measure, kind
     estimate.richardson = coarse.divisor
     estimate.splits = companion.stats.rejected_steps if kind == "grid" else 0
@@ -600,29 +612,39 @@ def _solved_finer(
     return finer_analysis, _timed(solve, finer_analysis, spent)
 
 
-def target_and_budget(
-    accuracy: float | AccuracyTarget | None,
-) -> tuple[float, Budget | None, str]:
-    """The case's `analysis.accuracy` as a target, a budget and what must meet it: absent,
-    the default target estimated against (no budget: not tightened); a number, that target
-    of the envelope peaks within the default budget; a mapping, its target, budget (keys
-    not given: the default's) and measure."""
+@dataclass(frozen=True)
+class Aim:
+    """What a dynamic run's estimate is judged against, and what meeting it may cost."""
+
+    target: float  # of each request's peak
+    budget: Budget | None  # None: the steps are not tightened; `untightened` says why
+    measure: str = "peaks"  # what must meet the target: envelope peaks or time histories
+    untightened: str = ""
+
+
+def accuracy_aim(accuracy: float | AccuracyTarget | None, tolerance: float | None) -> Aim:
+    """The case's `analysis.accuracy` (and `tolerance`) as an aim: absent, the default
+    target estimated against, not tightened; a number, that target of the envelope peaks
+    within the default budget; a mapping, its target, budget (keys not given: the
+    default's) and measure. A tolerance fixes the steps: then nothing is tightened."""
     if accuracy is None:
-        return DEFAULT_ACCURACY, None, "peaks"
+        return Aim(DEFAULT_ACCURACY, None, untightened=_NO_TARGET)
     if not isinstance(accuracy, AccuracyTarget):
-        return float(accuracy), Budget(), "peaks"
-    given = accuracy.budget
-    if given is None:
-        return accuracy.target, Budget(), accuracy.measure
+        accuracy = AccuracyTarget.model_validate({"target": accuracy})  # the number's mapping
+    if tolerance is not None:
+        return Aim(accuracy.target, None, accuracy.measure, _TOLERANCE_SET)
+    return Aim(accuracy.target, _budget(accuracy.budget), accuracy.measure)
+
+
+def _budget(given: AccuracyBudget | None) -> Budget:
+    """The budget a case gives (`accuracy.budget`), keys not given the default's."""
     default = Budget()
-    return (
-        accuracy.target,
-        Budget(
-            default.cpu_seconds if given.cpu is None else given.cpu,
-            given.steps,
-            default.refinements if given.refinements is None else given.refinements,
-        ),
-        accuracy.measure,
+    if given is None:
+        return default
+    return Budget(
+        default.cpu_seconds if given.cpu is None else given.cpu,
+        given.steps,
+        default.refinements if given.refinements is None else given.refinements,
     )
 
 

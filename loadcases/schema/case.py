@@ -6,9 +6,11 @@ import math
 from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Discriminator, Field, Tag, model_validator
+from pydantic.json_schema import JsonDict
 from pydantic_core import PydanticCustomError
 
 import mechlib as ml
+from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY, TARGET_ABOVE, TARGET_BELOW
 from loadcases.foundation.units import UnitError, to_si
 from loadcases.schema.mechanism import Event, FileUnits
 from loadcases.schema.torque_margin import TorqueMargin
@@ -150,11 +152,37 @@ class AccuracyBudget(Strict):
     )
 
 
+# `loads schema` states the target's bounds (loadcases.checks.analysis refuses the rest)
+_TARGET_BOUNDS: JsonDict = {"exclusiveMinimum": TARGET_ABOVE, "exclusiveMaximum": TARGET_BELOW}
+_ACCURACY_FORMS = (
+    f"expected a target such as {DEFAULT_ACCURACY:g} (a fraction of each request's peak, "
+    f"between {TARGET_ABOVE:g} and {TARGET_BELOW:g}), off, or a mapping "
+    "{target, budget, measure}"
+)
+
+
+def _target_number(value: Any) -> Any:
+    """`analysis.accuracy` as a number or a quantity text (then read as dimensionless); a
+    word holding no digit (`false`, `none`, `OFF`) or a list is none of its forms."""
+    if (
+        isinstance(value, bool)
+        or not isinstance(value, int | float | str)
+        or (isinstance(value, str) and not any(character.isdigit() for character in value))
+    ):
+        raise PydanticCustomError("expected", _ACCURACY_FORMS)
+    return value
+
+
 class AccuracyTarget(Strict):
     """`accuracy: {target: 1e-2, budget: {cpu: 60 s}}`: the target with its budget."""
 
     target: Dimensionless = Field(
-        description="estimated global error of each request's envelope, of its peak"
+        DEFAULT_ACCURACY,
+        description=(
+            "estimated global error of each request's envelope, of its peak "
+            f"(default {DEFAULT_ACCURACY:g})"
+        ),
+        json_schema_extra=_TARGET_BOUNDS,
     )
     budget: AccuracyBudget | None = Field(
         None, description="what meeting it may cost (default: 8 refinements, 600 s of CPU)"
@@ -176,7 +204,7 @@ def _accuracy_form(value: Any) -> str:
 
 
 Accuracy = Annotated[
-    Annotated[Dimensionless, Tag("number")]
+    Annotated[Dimensionless, BeforeValidator(_target_number), Tag("number")]
     | Annotated[Literal["off"], Tag("off")]
     | Annotated[AccuracyTarget, Tag("target")],
     Discriminator(_accuracy_form),
@@ -194,10 +222,12 @@ class Analysis(Strict):
         None,
         description=(
             "dynamic: target of the estimated global error of each request, relative to its "
-            "peak (default 1e-3, warned about); given without a tolerance, the engine "
+            f"peak, between {TARGET_ABOVE:g} and {TARGET_BELOW:g} (default "
+            f"{DEFAULT_ACCURACY:g}, warned about); given without a tolerance, the engine "
             "tightens its steps to meet it, within a budget ({target: 1e-2, budget: {cpu: "
             "60 s, steps: 1e6, refinements: 4}}); off: no estimate (one solve)"
         ),
+        json_schema_extra=_TARGET_BOUNDS,
     )
     integrator: str | None = Field(None, description="dynamic: e.g. generalized-alpha, radau")
     rho_inf: Dimensionless | None = Field(

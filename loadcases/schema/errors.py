@@ -15,14 +15,8 @@ from loadcases.yamlfiles.source import KeyPath, Locator
 
 __all__ = ["did_you_mean", "plain_boolean_diagnostics", "validation_diagnostics"]
 
-_NUMBER_TYPES = (
-    "float_type",
-    "float_parsing",
-    "int_type",
-    "int_parsing",
-    "int_from_float",
-    "finite_number",
-)
+_NUMBER_TYPES = ("float_type", "float_parsing", "finite_number")
+_WHOLE_NUMBER_TYPES = ("int_type", "int_parsing", "int_parsing_size", "int_from_float")
 _SIMPLE = {
     "string_type": "expected a text",
     "dict_type": "expected a mapping of keys",
@@ -181,6 +175,10 @@ def _message(error: Any, path: KeyPath, parent: Any) -> tuple[str, str | None, K
         return _length_message(kind, ctx, value), None, path
     if kind in _NUMBER_TYPES:
         return f"expected a number, got {_show(value)}", None, path
+    if kind in _WHOLE_NUMBER_TYPES:
+        return f"expected a whole number, got {_show(value)}", None, path
+    if kind == "expected":  # a validator's own `expected ...`: the value shown as above
+        return f"{error['msg']}, got {_show(value)}", None, path
     if kind in _SIMPLE:
         return f"{_SIMPLE[kind]}, got {_show(value)}", None, path
     if kind == "string_too_short":

@@ -28,13 +28,13 @@ import numpy as np
 import mechlib as ml
 from loadcases.build.model import BuiltRun, build_run
 from loadcases.build.precheck import model_diagnostics
+from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.foundation.limits import MIN_TOLERANCE
 from loadcases.inputs.loader import CaseFile
 from loadcases.run.global_error import request_of, request_peaks, shared_rows
 
 __all__ = [
-    "DEFAULT_TARGET",
     "DEFAULT_TOLERANCES",
     "INTEGRATORS",
     "AccuracyStudy",
@@ -48,7 +48,6 @@ __all__ = [
 
 INTEGRATORS = ("generalized-alpha", "radau")
 DEFAULT_TOLERANCES = (1e-3, 1e-4, 1e-5, 1e-6, 1e-7)
-DEFAULT_TARGET = 1e-3  # of each request's peak: the sizing accuracy
 REFERENCE_FACTOR = 1e-2  # the reference runs at the tightest tolerance x this
 
 
@@ -224,7 +223,7 @@ def accuracy_study(
     *,
     tolerances: Sequence[float] = DEFAULT_TOLERANCES,
     integrators: Sequence[str] = INTEGRATORS,
-    target: float = DEFAULT_TARGET,
+    target: float = DEFAULT_ACCURACY,
     repeats: int = 3,
     reference_tolerance: float | None = None,
     progress: Callable[[SettingResult], None] | None = None,

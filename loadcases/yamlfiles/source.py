@@ -161,12 +161,11 @@ class SourceTree:
         return None if text is None else yaml11_text(text, text.lower() in ("yes", "on"))
 
     def plain_boolean_hint(self, path: KeyPath) -> str | None:
-        """The hint for a problem of the value at `path` when it is a plain `on` & co."""
+        """The hint for a problem of the value at `path` when it is a plain `on` & co.
+        Quoting it is no remedy: this reader takes it as that text already, and the text
+        is what was refused."""
         reading = self.plain_boolean(path)
-        if reading is None:
-            return None
-        text = self.plain_booleans[tuple(path)]
-        return f"{reading}: write the value you mean, or quote it ('{text}') if it is text"
+        return None if reading is None else f"{reading}: write the value you mean"
 
 
 @dataclass(frozen=True)

@@ -567,8 +567,15 @@ def _initial_velocities(system: System, q: np.ndarray, t: float, initial, weight
         actual = block @ qd
         if np.abs(actual - wanted).max() > _REPORT_CHANGE * max(1.0, np.abs(wanted).max()):
             notes.append(
-                f"initial {what} changed from {np.round(wanted, 9).tolist()} to "
-                f"{np.round(actual, 9).tolist()} to satisfy the constraints"
+                f"initial {what} changed from {_shown(wanted)} to {_shown(actual)} to "
+                "satisfy the constraints"
             )
     notes += modal_notes(modal, modal_rows @ qd, "modal rate")
     return qd, notes
+
+
+def _shown(values: Sequence[float] | np.ndarray) -> str:
+    """A given or projected initial rate as its note shows it (SI, to 9 decimals): a
+    joint's rate as a number, a body's velocity or omega as a list."""
+    rounded = np.round(np.asarray(values, dtype=float), 9).tolist()
+    return str(rounded[0]) if len(rounded) == 1 else str(rounded)

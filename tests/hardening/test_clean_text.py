@@ -184,7 +184,7 @@ def test_a_line_break_in_a_value_is_shown_as_an_escape(crank) -> None:
             "crank.mech.yaml:5:11: error: bodies.crank.mass: cannot read 'on': expected a "
             "number with a unit, like '110 mm'",
             "crank.mech.yaml:5:11: hint: YAML 1.1 reads the plain on as the boolean true: "
-            "write the value you mean, or quote it ('on') if it is text",
+            "write the value you mean",
         ),
     ],
 )

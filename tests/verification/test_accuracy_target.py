@@ -134,7 +134,11 @@ def test_the_plain_form_and_the_mapping_agree(tmp_path: Path) -> None:
 @pytest.mark.parametrize(
     ("accuracy", "key", "message"),
     [
-        ("{target: 0}", "analysis.accuracy.target", "must be positive"),
+        (
+            "{target: 0}",
+            "analysis.accuracy.target",
+            "0 must lie between 0 and 1 (a fraction of the peak)",
+        ),
         ("{target: 1e-3, budget: {cpu: 0 s}}", "analysis.accuracy.budget.cpu", "must be positive"),
         (
             "{target: 1e-3, budget: {refinements: -1}}",
