@@ -19,6 +19,7 @@ from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN, checked_arrays
 from loadcases.results.outcome import RunOutcome
 from loadcases.results.reading import check_against_csv, read_checked_summary, read_run_csv
+from loadcases.results.verdict import AccuracyVerdict
 
 __all__ = [
     "RunRecord",
@@ -82,6 +83,7 @@ class RunRecord:
     reused: bool = False
     input_error: bool = False  # its parameter values make the input invalid (exit 2)
     level: str = "limit"  # the level of its case's applied loads (limit or ultimate)
+    accuracy: AccuracyVerdict | None = None  # a dynamic run's, from its summary's `accuracy`
 
     @property
     def ok(self) -> bool:
@@ -124,6 +126,7 @@ def record_from_summary(
         csv_path=csv_path,
         reused=reused,
         level="ultimate" if summary.get("level") == "ultimate" else "limit",
+        accuracy=AccuracyVerdict.of(summary.get("accuracy")),
     )
 
 
