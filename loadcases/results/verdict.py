@@ -8,18 +8,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-__all__ = ["ESTIMATE_HEADER", "AccuracyVerdict", "accuracy_rows"]
+__all__ = ["AccuracyVerdict", "accuracy_rows"]
 
-ESTIMATE_HEADER = ("request", "history (of peak)", "peak (of peak)", "sampling (of peak)")
+_ESTIMATE_HEADER = ("request", "history (of peak)", "peak (of peak)", "sampling (of peak)")
 _ESTIMATES = ("history", "peak", "sampling")
-# the settings of the run written, after the verdict, with their units
-_SETTINGS = {
-    "measure": "",
-    "integrator": "",
-    "tolerance": "",
-    "tightenings": "",
-    "cpu_seconds": "s",
-}
+_SETTINGS = ("measure", "integrator", "tolerance", "tightenings")  # of the run written
 
 
 @dataclass(frozen=True)
@@ -50,7 +43,8 @@ class AccuracyVerdict:
 def accuracy_rows(block: dict[str, Any] | None) -> list[list[Any]]:
     """The Summary sheet's lines of a run's accuracy: `accuracy.KEY`, value (and its unit)
     for the verdict and the settings of the run written, a blank line, then one line per
-    request under ESTIMATE_HEADER; no lines without an `accuracy` block."""
+    request under its header (`request`, `history (of peak)`, ...), fractions of the
+    request's peak; no lines without an `accuracy` block."""
     verdict = AccuracyVerdict.of(block)
     if verdict is None or block is None:
         return []
@@ -59,15 +53,13 @@ def accuracy_rows(block: dict[str, Any] | None) -> list[list[Any]]:
         ["accuracy.met", verdict.met_text],
         ["accuracy.outcome", verdict.outcome],
     ]
-    rows += [
-        [f"accuracy.{key}", block[key], *([unit] if unit else [])]
-        for key, unit in _SETTINGS.items()
-        if key in block
-    ]
+    rows += [[f"accuracy.{key}", block[key]] for key in _SETTINGS if key in block]
+    if "cpu_seconds" in block:  # of the companion and the tighter runs
+        rows.append(["accuracy.cpu_seconds", block["cpu_seconds"], "s"])
     if block.get("note"):
         rows.append(["accuracy.note", str(block["note"])])
     estimates = block.get("estimate") or {}
     if estimates:
-        rows += [[], list(ESTIMATE_HEADER)]
+        rows += [[], list(_ESTIMATE_HEADER)]
         rows += [[name, *(e.get(k) for k in _ESTIMATES)] for name, e in estimates.items()]
     return rows
