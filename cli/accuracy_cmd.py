@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from cli.render import fail, print_diagnostics
+from cli.render import fail, invalid_input
 from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY, target_problem
 
 __all__ = ["accuracy"]
@@ -123,7 +123,12 @@ def accuracy(
     NAME.accuracy-columns.csv, NAME.accuracy.png and NAME.accuracy.xlsx."""
     from loadcases.foundation.diagnostics import InputError
     from loadcases.inputs.loader import load_case
-    from loadcases.studies.accuracy import INTEGRATORS, ReferenceFailure, accuracy_study
+    from loadcases.studies.accuracy import (
+        INTEGRATORS,
+        ReferenceFailure,
+        accuracy_study,
+        check_study,
+    )
     from loadcases.studies.accuracy_files import recommendation_text, write_accuracy_files
 
     if not case.is_file():
@@ -142,6 +147,11 @@ def accuracy(
     problem = _settings_problem(output, repeats, ladder, reference_tolerance)
     if problem is not None:
         raise fail(problem)
+    try:
+        cf = load_case(case)
+        check_study(cf, methods)  # an input error exits before the table starts
+    except InputError as error:
+        raise invalid_input(error.diagnostics) from None
     typer.echo(_row(_HEADER))
 
     def show(result) -> None:
@@ -163,7 +173,7 @@ def accuracy(
 
     try:
         study = accuracy_study(
-            load_case(case),
+            cf,
             tolerances=ladder,
             integrators=methods,
             target=target,
@@ -171,9 +181,8 @@ def accuracy(
             progress=show,
             reference_tolerance=reference_tolerance,
         )
-    except InputError as error:
-        print_diagnostics(error.diagnostics, err=True)
-        return 2
+    except InputError as error:  # a model the engine refuses when it is solved
+        raise invalid_input(error.diagnostics) from None
     except ReferenceFailure as failure:  # nothing to measure against: a solver failure
         raise fail(f"{case}: {failure}", code=1) from None
     for note in study.notes:

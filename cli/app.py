@@ -13,6 +13,7 @@ import runpy
 import sys
 from collections.abc import Callable
 from pathlib import Path
+from textwrap import indent
 from typing import Annotated, Any
 
 import typer
@@ -341,7 +342,9 @@ def _print_report(report: FileReport) -> int:
         typer.echo(status_line(line.name, line.status, line.steps, line.cpu_seconds, line.where))
         if line.status != "ok":
             typer.echo(f"  {visible(line.message)}")  # hidden characters shown as escapes
-        for warning in [*(d.keyed_message() for d in line.warnings), *line.solver_warnings]:
+        for diagnostic in line.warnings:  # as `loads validate` prints it: file:line:col
+            typer.echo(indent(diagnostic.format(), "  "))
+        for warning in line.solver_warnings:
             typer.echo(f"  warning: {visible(warning)}")
     for text in report.footer:
         typer.echo(text)

@@ -4,7 +4,7 @@ that a terminal, a spreadsheet or a browser would not show as written (control
 characters such as a line break or NUL, bidirectional controls such as U+202E, zero-width
 characters) are found by `hidden_character` and written as escapes by `visible`; inside
 `plain_text_plots()` matplotlib shows a `$` of a name as written (no math text, whose
-parser fails on `a$^$b`)."""
+parser fails on `a$^$b`), and `plain_log_ticks` labels log axes in plain numbers there."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ import contextlib
 import re
 import unicodedata
 from collections.abc import Iterable, Iterator
+from typing import Any
 
 __all__ = [
     "QUOTE_LIMIT",
@@ -19,6 +20,7 @@ __all__ = [
     "clip_quotes",
     "describe_character",
     "hidden_character",
+    "plain_log_ticks",
     "plain_text_plots",
     "visible",
     "visible_fields",
@@ -99,3 +101,16 @@ def plain_text_plots() -> Iterator[None]:
 
     with matplotlib.rc_context({"text.parse_math": False}):
         yield
+
+
+def plain_log_ticks(axes: Any) -> None:
+    """The tick labels of the log-scale axes of `axes` (a matplotlib Axes) written as plain
+    numbers (`1e-2`, `0.03`). Matplotlib's own log labels are math text
+    (`$\\mathdefault{10^{-2}}$`), which `plain_text_plots()` shows as written; its choice of
+    which minor ticks to label (all of them only on less than a decade) is kept."""
+    from matplotlib.ticker import LogFormatter
+
+    for axis in (axes.xaxis, axes.yaxis):
+        if axis.get_scale() == "log":
+            axis.set_major_formatter(LogFormatter())
+            axis.set_minor_formatter(LogFormatter(labelOnlyBase=False))

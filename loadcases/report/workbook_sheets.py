@@ -24,6 +24,7 @@ from loadcases.report.margin_table import allowable_lines
 from loadcases.report.number_format import SIGNIFICANT_DIGITS, number_format
 from loadcases.results.files import EXCEL_MAX_LINKS, EXCEL_MAX_ROWS
 from loadcases.results.saved import RunRecord
+from loadcases.results.verdict import AccuracyVerdict
 
 __all__ = [
     "CASES_COLUMNS",
@@ -51,6 +52,9 @@ CASES_COLUMNS = (
     "sheet",
     "csv",
     "level",
+    "accuracy target (of peak)",
+    "accuracy met",
+    "accuracy outcome",
 )
 _NEGATIVE_FILL = PatternFill("solid", start_color="FF9999", end_color="FF9999")
 _NUMBER_COLUMNS = {
@@ -123,7 +127,8 @@ def cases_sheet(
     csv_links: dict[str, str] | None = None,
 ) -> None:
     """One row per run: case, file, parameters, analysis, status, message, CPU time, hash,
-    its time-history sheet and its CSV file (`csv_links` {run: path from the workbook}).
+    its time-history sheet and its CSV file (`csv_links` {run: path from the workbook}),
+    level, and a dynamic run's accuracy verdict (target, met, outcome; empty without one).
     Within Excel's limits: at most EXCEL_MAX_ROWS - 1 runs and EXCEL_MAX_LINKS hyperlinks
     (the links to the runs' sheets first, then to their CSV files, in run order); a note
     beside the header says what is left out (the CSV column still names every file)."""
@@ -151,6 +156,7 @@ def cases_sheet(
             run_sheets.get(r.name, ""),
             links.get(r.name, ""),
             r.level,
+            *_verdict_cells(r.accuracy),
         )
         for column, value in enumerate(values, start=1):
             sheet.cell(row=row, column=column, value=value)
@@ -169,6 +175,15 @@ def cases_sheet(
     sheet.freeze_panes = "B2"
     for letter, width in zip("ABCDEFG", (36, 24, 40, 30, 12, 8, 60)):
         sheet.column_dimensions[letter].width = width
+    outcome = get_column_letter(CASES_COLUMNS.index("accuracy outcome") + 1)
+    sheet.column_dimensions[outcome].width = 60
+
+
+def _verdict_cells(verdict: AccuracyVerdict | None) -> tuple[float | None, str, str]:
+    """The Cases sheet's accuracy target, met and outcome of a run (empty without)."""
+    if verdict is None:
+        return None, "", ""
+    return verdict.target, verdict.met_text, verdict.outcome
 
 
 def _cases_note(runs: int, shown: int, unlinked: bool) -> str | None:

@@ -28,6 +28,8 @@ from loadcases.foundation import engine_hash
 from loadcases.foundation.atomic import atomic_path, atomic_write_bytes, atomic_write_text
 from loadcases.results.outcome import RunOutcome
 from loadcases.results.reading import TIME_COLUMN, read_run_csv
+from loadcases.results.verdict import accuracy_rows
+from loadcases.results.xlsx_floats import exact_floats
 from loadcases.results.xlsx_text import text_cells
 from mechlib.core.outcome import Solution
 
@@ -275,6 +277,7 @@ def _cell(value: float) -> float | None:
 
 
 @text_cells()  # input text is never a formula
+@exact_floats()  # 17 significant digits, as the CSV: a write-only sheet writes rows as appended
 def _write_workbook(
     path: Path,
     time: np.ndarray,
@@ -307,9 +310,7 @@ def _write_workbook(
         ]
     )
     _summary_sheet(workbook.create_sheet("Summary"), summary, units, notes)
-    from loadcases.results.xlsx_floats import exact_floats  # 17 significant digits, as the CSV
-
-    with atomic_path(path) as tmp, exact_floats():
+    with atomic_path(path) as tmp:
         workbook.save(tmp)
     return path
 
@@ -322,7 +323,8 @@ def _styled(cell: Any, font: Any) -> Any:
 def _summary_sheet(
     sheet: Any, summary: dict[str, Any], units: dict[str, str], notes: list[str]
 ) -> None:
-    """Key/value lines, statistics, extremes table, events, warnings and notes."""
+    """Key/value lines, statistics, extremes table, accuracy (the verdict and the estimate
+    per request, as the summary's `accuracy`), events, warnings and notes."""
     for key in ("case", "status", "analysis", "message", "input_sha256", "version", "case_file"):
         sheet.append([key, str(summary[key])])
     for key, value in summary["stats"].items():
@@ -335,6 +337,11 @@ def _summary_sheet(
         values = [ext[k] for k in ("max", "time_of_max", "min", "time_of_min")]
         sheet.append([name, units.get(name, ""), *values])
     sheet.append([])
+    accuracy = accuracy_rows(summary.get("accuracy"))
+    for row in accuracy:
+        sheet.append([_cell(v) if isinstance(v, float) else v for v in row])
+    if accuracy:
+        sheet.append([])
     for phase in summary.get("phases", ()):
         times = [_cell(phase["start"]), _cell(phase["end"])]
         sheet.append(["phase", phase["name"], phase["analysis"], *times])

@@ -179,6 +179,17 @@ def _number_or_null(value: Any) -> bool:
     return value is None or (_is_number(value) and math.isfinite(value))
 
 
+def _accuracy_verdict(value: Any) -> bool:
+    """The part of an `accuracy` block a workbook reads (loadcases.results.verdict)."""
+    return (
+        isinstance(value, dict)
+        and _is_number(value.get("target"))
+        and math.isfinite(value["target"])
+        and (value.get("met") is None or isinstance(value["met"], bool))
+        and isinstance(value.get("outcome", ""), str)
+    )
+
+
 # field: (what it must be, the check); fields not listed are not read
 _FIELDS: dict[str, tuple[str, Callable[[Any], bool]]] = {
     "case": ("a text", lambda v: isinstance(v, str)),
@@ -201,6 +212,10 @@ _FIELDS: dict[str, tuple[str, Callable[[Any], bool]]] = {
     "extremes": (
         "an object of {max, time_of_max, min, time_of_min} numbers",
         _mapping_of(_mapping_of(_number_or_null)),
+    ),
+    "accuracy": (
+        "an object with a finite number target, met true, false or null, a text outcome",
+        _accuracy_verdict,
     ),
     "warnings": (
         "a list of texts",

@@ -19,6 +19,7 @@ from loadcases.foundation.diagnostics import Diagnostic
 from loadcases.results.files import SUMMARY_SUFFIX, TIME_COLUMN, checked_arrays
 from loadcases.results.outcome import RunOutcome
 from loadcases.results.reading import check_against_csv, read_checked_summary, read_run_csv
+from loadcases.results.verdict import AccuracyVerdict
 
 __all__ = [
     "RunRecord",
@@ -83,6 +84,7 @@ class RunRecord:
     input_error: bool = False  # its parameter values make the input invalid (exit 2)
     level: str = "limit"  # the level of its case's applied loads (limit or ultimate)
     warnings: tuple[str, ...] = ()  # its summary's: the input's, then the solver's
+    accuracy: AccuracyVerdict | None = None  # a dynamic run's, from its summary's `accuracy`
 
     @property
     def ok(self) -> bool:
@@ -126,6 +128,7 @@ def record_from_summary(
         reused=reused,
         level="ultimate" if summary.get("level") == "ultimate" else "limit",
         warnings=tuple(str(w) for w in summary.get("warnings") or ()),
+        accuracy=AccuracyVerdict.of(summary.get("accuracy")),
     )
 
 

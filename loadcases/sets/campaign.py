@@ -51,6 +51,7 @@ from loadcases.results.saved import (
     saved_run_of,
     summary_path,
 )
+from loadcases.results.verdict import AccuracyVerdict
 from loadcases.sets.collector import collector_paused
 from loadcases.sets.drawing import PLOT_MODULE, Drawing
 from loadcases.sets.executors import Executor, PoolExecutor, SerialExecutor
@@ -183,6 +184,7 @@ def _record(outcome: RunOutcome, spec: RunSpec, csv_path: Path) -> RunRecord:
         input_error=outcome.input_error,
         level=outcome.level,
         warnings=tuple(outcome.all_warnings),
+        accuracy=AccuracyVerdict.of(outcome.checks.get("accuracy")),
     )
 
 

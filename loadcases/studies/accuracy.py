@@ -27,7 +27,7 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.build.model import BuiltRun, build_run
-from loadcases.build.precheck import model_diagnostics
+from loadcases.build.precheck import case_problems, model_diagnostics
 from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.foundation.limits import MIN_TOLERANCE
@@ -43,6 +43,7 @@ __all__ = [
     "Setting",
     "SettingResult",
     "accuracy_study",
+    "check_study",
     "column_errors",
 ]
 
@@ -218,6 +219,23 @@ def _usable(
     return kept
 
 
+def _studied(cf: CaseFile, integrators: Sequence[str], notes: list[str]) -> list[str]:
+    """The integrators that can study the case (see `_usable`); an InputError unless its
+    analysis is dynamic."""
+    events = [event.name for event in _dynamic_run(cf).events]  # mechanism's and case's
+    return _usable(cf, events, integrators, notes)
+
+
+def check_study(cf: CaseFile, integrators: Sequence[str] = INTEGRATORS) -> None:
+    """Raise InputError for what a study of the case with `integrators` refuses, short of
+    solving: what `loads run` refuses (loadcases.build.precheck), an analysis that is not
+    dynamic, Radau alone on a case with events."""
+    errors = [d for d in case_problems(cf) if d.severity == "error"]
+    if errors:
+        raise InputError(errors)
+    _studied(cf, integrators, [])
+
+
 def accuracy_study(
     cf: CaseFile,
     *,
@@ -230,9 +248,8 @@ def accuracy_study(
 ) -> AccuracyStudy:
     """Solve the case at every (integrator, tolerance) and measure each against the
     reference (see the module docstring); `progress` is called after each setting."""
-    events = [event.name for event in _dynamic_run(cf).events]  # mechanism's and case's
     notes: list[str] = []
-    methods = _usable(cf, events, integrators, notes)
+    methods = _studied(cf, integrators, notes)
     solve = _solver(cf)
     ref_tol = reference_tolerance or max(min(tolerances) * REFERENCE_FACTOR, MIN_TOLERANCE)
     solve(Setting(methods[0], max(tolerances)))  # warm-up: compiled kernels, caches

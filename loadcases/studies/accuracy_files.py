@@ -13,7 +13,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from loadcases.foundation.atomic import atomic_path, atomic_write_text
-from loadcases.foundation.clip import plain_text_plots, visible_fields
+from loadcases.foundation.clip import plain_log_ticks, plain_text_plots, visible_fields
 from loadcases.results.files import result_base
 from loadcases.results.xlsx_text import text_cells
 from loadcases.studies.accuracy import AccuracyStudy
@@ -121,7 +121,7 @@ def recommendation_text(study: AccuracyStudy) -> str:
 
 @plain_text_plots()  # `$` in a name is a dollar sign
 def _diagram(study: AccuracyStudy, path: Path) -> None:
-    figure = Figure(figsize=(8.0, 6.0), dpi=100)
+    figure = Figure(figsize=(8.0, 6.0), dpi=100, layout="constrained")  # labels on the canvas
     FigureCanvasAgg(figure)
     ax = figure.add_subplot()
     for method in dict.fromkeys(r.setting.integrator for r in study.results):
@@ -149,6 +149,7 @@ def _diagram(study: AccuracyStudy, path: Path) -> None:
         ax.axhline(
             study.reference_agreement, color="grey", linestyle=":", label="reference agreement"
         )
+    plain_log_ticks(ax)
     ax.set_xlabel("CPU time (s)")
     ax.set_ylabel("largest error over the run (fraction of the request's peak)")
     ax.set_title(f"{study.case}: work-precision (labels: tolerance)")

@@ -78,11 +78,20 @@ def test_run_ok_prints_status_and_writes_results(tmp_path: Path) -> None:
 
 
 def test_run_prints_input_and_solver_warnings(tmp_path: Path) -> None:
-    """The input's warnings reach the CLI as data (rendered `key: message`), the solver's as
-    its messages; both under the run's status line."""
+    """The input's warnings reach the CLI as data, printed as `loads validate` prints them
+    (`file:line:col: warning: key: message`, and the hint's line), the solver's as its
+    messages; both under the run's status line."""
     run = outcome("a")
     run.warnings.append(
-        Diagnostic("a.case.yaml", 3, 27, "effects.friktion", "unknown effect 'friktion'", "warning")
+        Diagnostic(
+            "a.case.yaml",
+            3,
+            27,
+            "effects.friktion",
+            "unknown effect 'friktion'",
+            "warning",
+            "did you mean 'friction'?",
+        )
     )
     run.solution.warnings.append("near-singular at t = 0.05 s")
     result = runner.invoke(
@@ -92,7 +101,8 @@ def test_run_prints_input_and_solver_warnings(tmp_path: Path) -> None:
     )
     assert result.exit_code == 0, result.output
     assert result.stdout.splitlines()[1:] == [
-        "  warning: effects.friktion: unknown effect 'friktion'",
+        "  a.case.yaml:3:27: warning: effects.friktion: unknown effect 'friktion'",
+        "  a.case.yaml:3:27: hint: did you mean 'friction'?",
         "  warning: near-singular at t = 0.05 s",
     ]
 

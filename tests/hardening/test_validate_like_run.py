@@ -125,3 +125,17 @@ def test_set_case_with_degrees_of_freedom_left_is_refused_before_solving(
         assert result.exit_code == 2, (command, result.output)
         assert expected in result.output.splitlines(), (command, result.output)
     assert not (tmp_path / "out" / "s").exists()
+
+
+def test_run_prints_a_case_warning_as_validate_does(crank, tmp_path: Path) -> None:
+    """A warning of the case file (`accuracy` on a kinematic analysis) is printed by
+    `loads run` under the run's status line as `loads validate` prints it: with its file,
+    line and column."""
+    case = crank(case=(ANALYSIS, ANALYSIS[:-1] + ", accuracy: 1e-2}"))
+    expected = f"{case}:5:51: warning: analysis.accuracy: does nothing for a kinematic analysis"
+    checked = loads("validate", case)
+    assert checked.exit_code == 0, checked.output
+    assert expected in checked.stdout.splitlines()
+    ran = loads("run", case, "-o", tmp_path / "out")
+    assert ran.exit_code == 0, ran.output
+    assert "  " + expected in ran.stdout.splitlines()

@@ -225,6 +225,7 @@ def test_workbook_has_units_frozen_header_and_summary(tmp_path: Path) -> None:
     assert rows[0] == ("time [s]", "pivot_force.fx [N]", "pivot_force.tz [N*m]")
     assert [r[0] for r in rows[1:]] == list(TIME)
     assert [r[1] for r in rows[1:]] == [FX[0], FX[1], FX[2], None, FX[4]]
+    assert [r[2] for r in rows[1:]] == list(TZ)  # 0.30000000000000004: 17 digits, exactly
     summary = {r[0]: r[1] for r in book["Summary"].iter_rows(values_only=True) if r}
     assert summary["status"] == "ok" and summary["steps"] == 42
 
