@@ -218,7 +218,8 @@ def output_times(start: float, end: float, step: float) -> np.ndarray:
 
 def row_times(spec: _Timed) -> np.ndarray:
     """The output times of `spec` after its start: every `step` and, for a `Dynamic`, its
-    extra `rows` (s) within the run, sorted, those within 1e-9 s of another left out."""
+    extra `rows` (s) within the run, sorted, those within 1e-9 s of another left out;
+    read-only."""
     times = output_times(spec.start, spec.end, spec.step)[1:]
     extra = np.asarray(getattr(spec, "rows", ()), dtype=float)
     extra = extra[(extra > spec.start) & (extra < spec.end)]
@@ -228,7 +229,11 @@ def row_times(spec: _Timed) -> np.ndarray:
     before = np.abs(extra - times[np.maximum(near - 1, 0)])
     after = np.abs(times[np.minimum(near, len(times) - 1)] - extra)
     extra = np.unique(extra[np.minimum(before, after) > 1e-9])
-    return np.sort(np.concatenate((times, extra)))
+    merged = np.sort(np.concatenate((times, extra)))
+    # read-only as the plain grid: the compiled run's kernels take one array type (a
+    # writable one compiled, and each process loaded, a second run_steps: 0.14 s)
+    merged.flags.writeable = False
+    return merged
 
 
 @functools.lru_cache(maxsize=8)  # a set's runs share a few grids; long grids weigh MB each
