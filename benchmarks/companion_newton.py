@@ -37,7 +37,7 @@ import numpy as np
 
 from benchmarks.companion_cost import CASES, built, work
 from benchmarks.rows import stream_rows
-from loadcases.run.companion import on_grid, order
+from loadcases.run.companion import on_grid, order, output_interval
 from loadcases.run.global_error import request_errors
 from mechlib.solvers.genalpha import integrator as gi
 from mechlib.solvers.genalpha import stepper as gs
@@ -174,7 +174,8 @@ def case_row(name: str) -> dict[str, Any]:
     for variant in VARIANTS:
         with _variant(variant, kept):
             solved = b.solve(companion, checks=False)
-        errors = request_errors(run, solved, p) if solved.ok else {}
+        interval = output_interval(analysis, run)
+        errors = request_errors(run, solved, p, interval=interval) if solved.ok else {}
         base = base or errors
         row[variant] = {**_work(solved), "estimate change": round(_change(base, errors), 5)}
     return row

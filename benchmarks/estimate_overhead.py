@@ -10,7 +10,8 @@ alternated.
 - `--cases`: per case of the companion cost table (benchmarks.companion_cost.CASES),
   `run_case` in this process as written and with accuracy off, alternated `--repeat`
   times, best CPU of each: the whole run (validation aside) with its rows, requests and
-  checks, which `companion_cost` leaves out of its companion / solve ratio.
+  checks, which `companion_cost` leaves out of its companion / solve ratio; and as
+  written without the companion's rows about the run's crests (what they cost).
 - `--command`: per case of the cost table, `loads run CASE` as a user runs one case (a
   fresh process: start-up, validation, the solve, its files), as written and with
   accuracy off, alternated `--repeat` times, the median CPU (the command's) and wall time;
@@ -95,26 +96,42 @@ def variants(name: str) -> dict[str, Any]:
 
 
 def case_overhead(name: str, repeat: int) -> dict[str, Any]:
-    """`run_case` of a cost-table case as written and with accuracy off (`variants`),
-    alternating, best CPU ms of `repeat` each, and the estimate's share."""
-    from loadcases.run import run_case
+    """`run_case` of a cost-table case as written, as written without the companion's rows
+    about the run's crests (loadcases.run.companion.crest_rows: none kept) and with
+    accuracy off (`variants`), alternating, best CPU ms of `repeat` each, and the
+    estimate's share of each."""
+    from loadcases.run import companion, run_case
 
     files = variants(name)
-    best = {kind: float("inf") for kind in files}
+    kinds = {"as_written": files["as_written"], "no_crest_rows": files["as_written"]}
+    kinds["off"] = files["off"]
+    best = {kind: float("inf") for kind in kinds}
+    kept = companion.crest_rows
     for case_file in files.values():
         run_case(case_file)  # its kernels loaded
-    for _ in range(max(1, repeat)):
-        for kind, case_file in files.items():
-            started = time.process_time()
-            run_case(case_file)
-            best[kind] = min(best[kind], time.process_time() - started)
-    on, off = best["as_written"] * 1e3, best["off"] * 1e3
+    try:
+        for _ in range(max(1, repeat)):
+            for kind, case_file in kinds.items():
+                companion.crest_rows = kept if kind != "no_crest_rows" else _no_rows
+                started = time.process_time()
+                run_case(case_file)
+                best[kind] = min(best[kind], time.process_time() - started)
+    finally:
+        companion.crest_rows = kept
+    on, without, off = (best[kind] * 1e3 for kind in ("as_written", "no_crest_rows", "off"))
     return {
         "case": name,
         "as_written_ms": round(on, 2),
+        "no_crest_rows_ms": round(without, 2),
         "off_ms": round(off, 2),
         "overhead": round(on / off - 1.0, 4),
+        "overhead_no_crest_rows": round(without / off - 1.0, 4),
     }
+
+
+def _no_rows(run: Any, found: Any = None) -> list[float]:
+    """`crest_rows` keeping none (the companion's rows as before them)."""
+    return []
 
 
 def command_files(name: str, folder: Path) -> dict[str, Path]:
@@ -185,7 +202,8 @@ def main(argv: list[str] | None = None) -> int:
             result["cases"].append(row)
             print(
                 f"{name}: run_case {row['as_written_ms']:.1f} ms as written, "
-                f"{row['off_ms']:.1f} off: the estimate {row['overhead']:.1%}",
+                f"{row['off_ms']:.1f} off: the estimate {row['overhead']:.1%} "
+                f"({row['overhead_no_crest_rows']:.1%} without the crest rows)",
                 flush=True,
             )
     if args.command:

@@ -26,7 +26,7 @@ class RunLine:
     cpu_seconds: float
     where: Path
     warnings: tuple[Diagnostic, ...] = ()  # the input's, as data
-    solver_warnings: tuple[str, ...] = ()  # mechlib's messages (a set's run: all its summary's)
+    solver_warnings: tuple[str, ...] = ()  # mechlib's messages (a reused run: its summary's)
 
 
 @dataclass

@@ -96,6 +96,7 @@ def run_set_file(
             r.steps,
             r.cpu_seconds,
             r.csv_path if r.csv_path.is_file() else result.directory,
+            warnings=r.input_warnings,
             solver_warnings=r.warnings,
         )
         for r in result.records

@@ -42,5 +42,5 @@ class RunOutcome:
     @property
     def all_warnings(self) -> list[str]:
         """The input's warnings (each with its key) then the solver's: the summary's
-        `warnings`, as a set's run reports them too."""
+        `warnings` (a reused run of a set prints these)."""
         return [*(d.keyed_message() for d in self.warnings), *self.solution.warnings]

@@ -83,7 +83,9 @@ class RunRecord:
     reused: bool = False
     input_error: bool = False  # its parameter values make the input invalid (exit 2)
     level: str = "limit"  # the level of its case's applied loads (limit or ultimate)
-    warnings: tuple[str, ...] = ()  # its summary's: the input's, then the solver's
+    # the solver's warnings, the input's as data (a reused run: its summary's, all as text)
+    warnings: tuple[str, ...] = ()
+    input_warnings: tuple[Diagnostic, ...] = ()
     accuracy: AccuracyVerdict | None = None  # a dynamic run's, from its summary's `accuracy`
 
     @property

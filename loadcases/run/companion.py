@@ -72,12 +72,13 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.foundation.noise_floor import NOISE_FLOOR
-from loadcases.run.peak_error import SPIKE, Extremes, extremes_of, row_peaks
+from loadcases.run.peak_error import END, SPIKE, Extremes, extremes_of, row_peaks
 from mechlib.checks.singularity import NEAR_SINGULAR
 
 __all__ = [
     "CREST_ROWS",
     "FINER_RATIO",
+    "NOT_LOADS",
     "SPIKE_ROWS",
     "SPLIT_SHARE",
     "STEP_RATIO",
@@ -89,6 +90,7 @@ __all__ = [
     "largest_step",
     "on_grid",
     "order",
+    "output_interval",
     "passed_singular",
     "request_of",
     "request_peaks",
@@ -100,6 +102,7 @@ __all__ = [
 ]
 
 STEP_RATIO = 2  # the companion's steps over the run's
+NOT_LOADS = ("abscissa",)  # requests of no error to estimate: a set's abscissa column
 _ORDER = {"generalized-alpha": 2, "radau": 3}  # global order assumed (Radau's index-1 parts: 3)
 
 
@@ -137,15 +140,23 @@ def sparser(
     companion: ml.Dynamic, run: ml.Solution, found: dict[str, Extremes] | None = None
 ) -> ml.Dynamic:
     """The companion with dense output and its output interval doubled until its rows are
-    at most its expected steps (the run's accepted steps / STEP_RATIO), and a row at each
-    of the run's `spikes`; with steps ending on the outputs (`output: steps`) the interval
-    bounds the steps: unchanged."""
+    at most its expected steps (the run's accepted steps / STEP_RATIO: `thinning`), rows at
+    each of the run's `spikes` and the run's rows about its columns' extreme crests
+    (`crest_rows`; `found`: the run's `run_extremes`, when known); with steps ending on the
+    outputs (`output: steps`) the interval bounds the steps: unchanged."""
     if not companion.dense or len(run.time) < 2:
         return companion
     rows = sorted(set(spikes(run) + crest_rows(run, found)))
     return dataclasses.replace(
         companion, step=companion.step * 2 ** thinning(run), rows=tuple(rows)
     )
+
+
+def output_interval(analysis: ml.Dynamic, run: ml.Solution) -> float | None:
+    """The companion's output interval (s) for `run` solved with `analysis` (`sparser`: its
+    rows beside the run's crests and spikes aside, which the estimate does not count as
+    its interval); None without dense output (its rows are its steps')."""
+    return coarser(analysis).step * 2 ** thinning(run) if analysis.dense else None
 
 
 def thinning(run: ml.Solution) -> int:
@@ -167,7 +178,9 @@ def run_extremes(run: ml.Solution) -> dict[str, Extremes]:
     names = [
         c
         for c, v in run.channels.items()
-        if v.shape == run.time.shape and significant(v, peaks[request_of(c)])
+        if request_of(c) not in NOT_LOADS
+        and v.shape == run.time.shape
+        and significant(v, peaks[request_of(c)])
     ]
     if not len(run.time) or not names:
         return {}
@@ -198,7 +211,9 @@ def crest_rows(run: ml.Solution, found: dict[str, Extremes] | None = None) -> li
         for candidates, sign in ((column.tops, 1.0), (column.bottoms, -1.0)):
             if not len(candidates):
                 continue
-            at, value = candidates[np.argmax(sign * candidates[:, 1]), :2]
+            at, value, kind = candidates[np.argmax(sign * candidates[:, 1])]
+            if kind == END:  # an end row's peak is compared on the end rows both runs have
+                continue
             i = int(np.searchsorted(run.time, at))
             near = run.time[max(i - CREST_ROWS, 0) : i + CREST_ROWS + 1]
             if (

@@ -51,6 +51,7 @@ from loadcases.foundation import interrupts
 from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY
 from loadcases.run.companion import (
     FINER_RATIO,
+    NOT_LOADS,
     STEP_RATIO,
     coarser,
     divisor,
@@ -59,13 +60,13 @@ from loadcases.run.companion import (
     largest_step,
     on_grid,
     order,
+    output_interval,
     passed_singular,
     request_of,
     request_peaks,
     run_extremes,
     significant,
     sparser,
-    thinning,
 )
 from loadcases.run.peak_error import Extremes, extremes_of, peak_error
 from loadcases.schema.case import AccuracyBudget, AccuracyTarget
@@ -89,7 +90,6 @@ __all__ = [
 
 MAX_TIGHTENINGS = 8  # default refinements: each halves every step and costs twice the last
 DEFAULT_CPU_BUDGET = 600.0  # s of CPU for the companion and the tighter runs, by default
-_SKIPPED = ("abscissa",)  # a set's abscissa column is not a load
 PHASE_LOST = 0.9  # of a column's range: the companion's difference past it, phase lost
 # why a run is not tightened to its target (the summary's outcome says it)
 _NO_TARGET = "no accuracy target in the case: the default one is estimated against only"
@@ -334,7 +334,7 @@ def request_errors(
     columns = [
         column
         for column in run.channels
-        if request_of(column) not in _SKIPPED
+        if request_of(column) not in NOT_LOADS
         and column in companion.channels
         and (
             significant(run.channels[column], peaks[request_of(column)])
@@ -346,7 +346,7 @@ def request_errors(
     missing = [c for c in columns if c not in known]
     table = _table(run.channels, missing, len(run.time))
     computed = dict(zip(missing, extremes_of(run.time, table, _times(run)))) if missing else {}
-    mine = [known.get(c) or computed[c] for c in columns]
+    mine = [known[c] if c in known else computed[c] for c in columns]
     theirs = extremes_of(
         companion.time,
         _table(companion.channels, columns, len(companion.time)),
@@ -502,9 +502,13 @@ def _coarse(
     if kind == "grid":
         found = grid_divisor(analysis.integrator, run.stats.step_ends, companion.stats.step_ends)
     richardson = found if found > 0.0 else divisor(analysis.integrator)
-    interval = coarser(analysis).step * 2 ** thinning(run) if analysis.dense else None
     errors = request_errors(
-        run, companion, p, richardson=richardson, interval=interval, known=extremes
+        run,
+        companion,
+        p,
+        richardson=richardson,
+        interval=output_interval(analysis, run),
+        known=extremes,
     )
     return Coarse(errors, richardson)
 
@@ -758,7 +762,8 @@ def _warnings(estimate: AccuracyEstimate, tightened: bool) -> list[str]:
         if missed:
             listed = ", ".join(f"{n} {value:.2g}" for value, n in missed[:NAMED_AT_MOST])
             if len(missed) > NAMED_AT_MOST:
-                listed += f" and {len(missed) - NAMED_AT_MOST} other requests"
+                others = len(missed) - NAMED_AT_MOST
+                listed += f" and {others} other request{'s' if others > 1 else ''}"
             out.append(
                 f"accuracy: estimated error of the {text} above the target {estimate.target:g} "
                 f"of the peak {how}: {listed}"

@@ -435,7 +435,7 @@ def peak_error(
         )
         bottom = -bottom
     elif crests:  # a thinned companion: its crest where it kept the run's rows about it
-        window = BESIDE * run.interval
+        window = PARTNER_WINDOW * run.interval
         if dense_beside(run, companion, run.tops, run.max, 1.0):
             top = crest_match(run.tops, run.max, companion.tops, window, scale, top)[1]
         if dense_beside(run, companion, run.bottoms * _FLIP, -run.min, -1.0):
@@ -456,7 +456,7 @@ def peak_error(
     return max(sides), max(high, low)
 
 
-BESIDE = 1.5  # of the run's row interval: a thinned companion's crest within it is the run's
+PARTNER_WINDOW = 1.5  # of the run's row interval: a companion's crest within it is the run's
 
 
 def dense_beside(

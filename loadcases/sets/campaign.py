@@ -183,7 +183,8 @@ def _record(outcome: RunOutcome, spec: RunSpec, csv_path: Path) -> RunRecord:
         csv_path=csv_path,
         input_error=outcome.input_error,
         level=outcome.level,
-        warnings=tuple(outcome.all_warnings),
+        warnings=tuple(solution.warnings),
+        input_warnings=tuple(outcome.warnings),
         accuracy=AccuracyVerdict.of(outcome.checks.get("accuracy")),
     )
 

@@ -66,6 +66,7 @@ _compiled = False
 _interpreting = 0  # depth of `interpreted()` blocks
 _hooks: list[Callable[[], None]] = []
 _making = [0.0]  # CPU s this process spent making kernels (`compile_seconds`)
+_making_lock = threading.Lock()
 
 
 class Kernel:
@@ -131,9 +132,6 @@ def compile_all() -> None:
         started = time.process_time()
         drop_stale_caches(Path(__file__).resolve().parents[1])
         import numba
-        from numba.core import event
-
-        event.register("numba:compiler_lock", _timer(event.Listener))
 
         for hook in _hooks:
             hook()
@@ -148,6 +146,9 @@ def compile_all() -> None:
                         namespace[key] = value.dispatcher
         _compiled = True
         _making[0] += time.process_time() - started
+        from numba.core import event  # after the hooks: their compilations counted above
+
+        event.register("numba:compiler_lock", _timer(event.Listener))
 
 
 def compile_seconds() -> float:
@@ -160,23 +161,27 @@ def compile_seconds() -> float:
 
 
 def _timer(listener: type) -> Any:
-    """A numba event listener adding the time the global compiler lock is held (compiling
-    or loading a kernel; re-entered by the kernels it calls: the outermost counts) to
-    `_making`."""
+    """A numba event listener adding the CPU time of each thread within the global compiler
+    lock (compiling or loading a kernel; re-entered by the kernels it calls: the outermost
+    counts; its events come before the lock is taken and after it is left, so each thread
+    keeps its own depth and its own CPU clock: a wait for another thread's compilation
+    costs none) to `_making`."""
 
     class CompilerLockTimer(listener):
         def __init__(self) -> None:
-            self.depth, self.started = 0, 0.0
+            self.local = threading.local()
 
         def on_start(self, event: Any) -> None:
-            if self.depth == 0:
-                self.started = time.process_time()
-            self.depth += 1
+            depth = getattr(self.local, "depth", 0)
+            if depth == 0:
+                self.local.started = time.thread_time()
+            self.local.depth = depth + 1
 
         def on_end(self, event: Any) -> None:
-            self.depth -= 1
-            if self.depth == 0:
-                _making[0] += time.process_time() - self.started
+            self.local.depth -= 1
+            if self.local.depth == 0:
+                with _making_lock:
+                    _making[0] += time.thread_time() - self.local.started
 
     return CompilerLockTimer()
 

@@ -84,7 +84,8 @@ class Dynamic(_Timed):
     dense output (mechlib.solvers.dense). A case's dynamic analysis is dense unless it says
     `output: steps` (loadcases.build); this dataclass's own default stays False.
     `rows`: output times (s) recorded besides every `step` (`row_times`): the accuracy
-    companion's rows at another run's one-row spikes (loadcases.run.companion.sparser).
+    companion's rows at another run's one-row spikes and about its extreme crests
+    (loadcases.run.companion.sparser).
     `compiled`: the compiled paths generalized-alpha may take where the model allows them,
     all with the same steps and results to round-off (tests/mechlib/test_genalpha_run.py;
     with force elements a whole run's iteration matrix differs, its results agree to the

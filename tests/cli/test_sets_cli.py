@@ -107,27 +107,56 @@ def test_file_kind_decided_alike_by_run_and_validate(tmp_path: Path) -> None:
 
 
 def test_a_set_prints_each_runs_warnings_as_a_case_run_does(tmp_path: Path) -> None:
-    """A set of the library's pendulum at tolerance 1e-3 with an accuracy target of 1e-6:
-    its run misses the target (not tightened: a tolerance fixes the steps), and the set
-    prints the run's accuracy warning under its status line, as `loads run` of the case
-    file does; a reused run prints it again (from its summary)."""
+    """A set of two library cases, each with a warning: the pendulum at tolerance 1e-3 with
+    an accuracy target of 1e-6 misses it (not tightened: a tolerance fixes the steps: the
+    solver's warning), the kinematic slider-crank with an accuracy target (an input
+    warning, with its place in the case file). The set prints each run's warnings under
+    its status line as `loads run` of the case file prints them; a reused run prints its
+    summary's (the input's as `key: message`)."""
+    import shutil
+
     import yaml
 
     library = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
-    case = yaml.safe_load((library / "pendulum.case.yaml").read_text(encoding="utf-8"))
-    case["analysis"].update(end=0.5, step=0.01, tolerance=1e-3, accuracy=1e-6)
-    (tmp_path / "pend.case.yaml").write_text(yaml.safe_dump(case), encoding="utf-8")
-    (tmp_path / "pend.set.yaml").write_text(
-        "set: pend-set\ncases: [pend.case.yaml]\n", encoding="utf-8"
+    shutil.copy(library / "slider_crank.mech.yaml", tmp_path)
+    cases = {"pendulum": {"end": 0.5, "step": 0.01, "tolerance": 1e-3, "accuracy": 1e-6}}
+    cases["slider_crank"] = {"accuracy": 1e-2}
+    names = {}
+    for stem, keys in cases.items():
+        case = yaml.safe_load((library / f"{stem}.case.yaml").read_text(encoding="utf-8"))
+        case["analysis"].update(keys)
+        names[stem] = case["case"]
+        (tmp_path / f"{stem}.case.yaml").write_text(yaml.safe_dump(case), encoding="utf-8")
+    (tmp_path / "two.set.yaml").write_text(
+        "set: two\ncases: [pendulum.case.yaml, slider_crank.case.yaml]\n", encoding="utf-8"
     )
-    alone = runner.invoke(app, ["run", str(tmp_path / "pend.case.yaml"), "-o", str(tmp_path)])
-    warned = [line for line in alone.stdout.splitlines() if line.startswith("  warning: ")]
-    assert alone.exit_code == 0 and any("accuracy: estimated error" in w for w in warned)
-    for _ in range(2):  # solved, then reused
+
+    def warned(output: str, name: str) -> list[str]:
+        lines = output.splitlines()
+        first = next(i for i, line in enumerate(lines) if line.startswith(name))
+        after = lines[first + 1 :]
+        ends = [i for i, line in enumerate(after) if not line.startswith("  ")]
+        return after[: ends[0] if ends else len(after)]
+
+    alone = {}
+    for stem, name in names.items():
         result = runner.invoke(
-            app, ["run", str(tmp_path / "pend.set.yaml"), "-o", str(tmp_path / "res")]
+            app, ["run", str(tmp_path / f"{stem}.case.yaml"), "-o", str(tmp_path / "a")]
         )
         assert result.exit_code == 0, result.output
-        lines = result.stdout.splitlines()
-        first = next(i for i, line in enumerate(lines) if line.startswith(case["case"]))
-        assert lines[first + 1 : first + 1 + len(warned)] == warned
+        alone[stem] = warned(result.stdout, name)
+    assert any("accuracy: estimated error" in line for line in alone["pendulum"])
+    assert any(
+        "slider_crank.case.yaml:" in line and "analysis.accuracy" in line
+        for line in alone["slider_crank"]
+    )
+    solved = runner.invoke(app, ["run", str(tmp_path / "two.set.yaml"), "-o", str(tmp_path / "b")])
+    assert solved.exit_code == 0, solved.output
+    for stem, name in names.items():
+        assert warned(solved.stdout, name) == alone[stem]
+    reused = runner.invoke(app, ["run", str(tmp_path / "two.set.yaml"), "-o", str(tmp_path / "b")])
+    assert warned(reused.stdout, names["pendulum"]) == alone["pendulum"]
+    assert any(
+        line.startswith("  warning: analysis.accuracy")
+        for line in warned(reused.stdout, names["slider_crank"])
+    )

@@ -132,14 +132,19 @@ def test_a_one_row_spike_gets_a_companion_row_and_a_smooth_crest_its_rows() -> N
     rows every quarter of the run's interval beside it (what the run's rows miss of the
     spike; the 0 N held over several rows is no spike, nor a crest's vertex: no rows; x,
     rising to its last row, has no crest). Without the spike the force's largest value is
-    its smooth crest at 0.196 s, between the rows at 0.19 and 0.2 s: the companion keeps
-    the run's rows there, the crest's row and three before it (the end after it)."""
+    its smooth crest at 0.196 s, between the last two rows: an end row's, compared on the
+    end rows both runs have (no rows kept). Shifted to 0.166 s, between the rows at 0.16
+    and 0.17 s, it gets the run's rows there: the crest's row and three either side."""
     analysis = ml.Dynamic(end=0.2, step=0.01, dense=True)
     run = _spiky_run()
     rows = sparser(coarser(analysis), run).rows
     assert rows == pytest.approx([0.05 + k * 0.0025 for k in range(-3, 4)], abs=1e-15)
     run.channels["stop.normal"] = np.where(run.time < 0.07, 0.0, run.channels["stop.normal"])
-    assert sparser(coarser(analysis), run).rows == pytest.approx([0.17, 0.18, 0.19, 0.2])
+    assert sparser(coarser(analysis), run).rows == ()
+    shifted = 450.0 + 100.0 * np.sin(40.0 * (run.time + 0.03))
+    run.channels["stop.normal"] = np.where(run.time < 0.07, 0.0, shifted)
+    rows = sparser(coarser(analysis), run).rows
+    assert rows == pytest.approx([0.14, 0.15, 0.16, 0.17, 0.18, 0.19, 0.2])
 
 
 def test_a_companion_row_at_a_spike_is_the_dense_row_there(tmp_path: Path) -> None:

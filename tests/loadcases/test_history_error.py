@@ -175,3 +175,26 @@ def test_a_runs_cost_leaves_out_the_kernels_it_made(monkeypatch) -> None:
     global_error._timed(solve, None, spent, counted=False)
     assert 0.015 < spent.last_cpu < 0.1
     assert spent.exhausts(global_error.Budget(cpu_seconds=0.3), 0) == ""
+
+
+def test_making_a_kernel_is_counted_in_compile_seconds() -> None:
+    """A kernel compiled in this process (a new numba function: its compilation holds
+    numba's compiler lock) adds its CPU to mechlib.core.jit.compile_seconds, which a run's
+    cost to the budget leaves out (loadcases.run.global_error._cpu): the compilation's
+    CPU is nearly all counted, and a second call, compiled already, adds nothing."""
+    from loadcases.run.global_error import _cpu
+    from mechlib.core import jit
+
+    jit.compile_all()
+    made, cpu, clean = jit.compile_seconds(), time.process_time(), _cpu()
+
+    @jit.njit(cache=False)
+    def twice(x):
+        return 2.0 * x + 3.0
+
+    assert twice(1.5) == 6.0
+    spent, counted = time.process_time() - cpu, jit.compile_seconds() - made
+    assert spent > 0.01 and counted > 0.8 * spent
+    assert _cpu() - clean < 0.2 * spent
+    again = jit.compile_seconds()
+    assert twice(2.5) == 8.0 and jit.compile_seconds() == again
