@@ -176,6 +176,30 @@ def command_overhead(name: str, repeat: int) -> dict[str, Any]:
     }
 
 
+def _measured(names: Any, measure: Any) -> list[dict[str, Any]]:
+    """`measure(name)` of each case, each row printed as it comes."""
+    rows = []
+    for name in names:
+        rows.append(measure(name))
+        print(_line(rows[-1]), flush=True)
+    return rows
+
+
+def _line(row: dict[str, Any]) -> str:
+    """A `case_overhead` or `command_overhead` row as a line."""
+    if "as_written_ms" in row:
+        return (
+            f"{row['case']}: run_case {row['as_written_ms']:.1f} ms as written, "
+            f"{row['off_ms']:.1f} off: the estimate {row['overhead']:.1%} "
+            f"({row['overhead_no_crest_rows']:.1%} without the crest rows)"
+        )
+    return (
+        f"{row['case']}: loads run {row['as_written_cpu_ms']:.0f} ms of CPU as written, "
+        f"{row['off_cpu_ms']:.0f} off ({row['as_written_wall_s']:.2f} / "
+        f"{row['off_wall_s']:.2f} s): the estimate {row['overhead']:.1%}"
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=200)
@@ -196,27 +220,10 @@ def main(argv: list[str] | None = None) -> int:
         result["campaign"] = campaign_overhead(args.runs, args.jobs, args.rounds)
         print(f"campaign: the estimate {result['campaign']['overhead']:.1%} of a run (median)")
     if args.cases:
-        result["cases"] = []
-        for name in CASES:
-            row = case_overhead(name, args.repeat)
-            result["cases"].append(row)
-            print(
-                f"{name}: run_case {row['as_written_ms']:.1f} ms as written, "
-                f"{row['off_ms']:.1f} off: the estimate {row['overhead']:.1%} "
-                f"({row['overhead_no_crest_rows']:.1%} without the crest rows)",
-                flush=True,
-            )
+        result["cases"] = _measured(CASES, lambda name: case_overhead(name, args.repeat))
     if args.command:
-        result["command"] = []
-        for name in [*CASES, *(LONG if args.long else ())]:
-            row = command_overhead(name, args.repeat)
-            result["command"].append(row)
-            print(
-                f"{name}: loads run {row['as_written_cpu_ms']:.0f} ms of CPU as written, "
-                f"{row['off_cpu_ms']:.0f} off ({row['as_written_wall_s']:.2f} / "
-                f"{row['off_wall_s']:.2f} s): the estimate {row['overhead']:.1%}",
-                flush=True,
-            )
+        names = [*CASES, *(LONG if args.long else ())]
+        result["command"] = _measured(names, lambda name: command_overhead(name, args.repeat))
     result["load_after"] = os.getloadavg()
     if args.json:
         args.json.write_text(json.dumps(result, indent=2), encoding="utf-8")
