@@ -141,6 +141,10 @@ def json_schema() -> dict[str, Any]:
         "anyOf": [{"type": "string"}, {"$ref": "#/$defs/MechanismModel"}],
         "description": "mechanism file relative to the case file, or the mechanism inline",
     }
+    # `off` is a string too: oneOf (exactly one branch) would refuse it; the engine tells
+    # the forms apart itself (loadcases.schema.case._accuracy_form)
+    accuracy = defs["Analysis"]["properties"]["accuracy"]["anyOf"][0]
+    accuracy["anyOf"] = accuracy.pop("oneOf")
     defs["MechanismModel"]["properties"]["points"]["properties"] = {
         "from": {
             "type": "string",

@@ -350,3 +350,15 @@ def test_set_progress_says_which_part_of_the_report_it_writes(tmp_path: Path) ->
     assert drawn[0] == "crank.set.yaml: writing the report: envelope (0 s)"
     assert any("workbook: time histories 6/6" in line for line in drawn)
     assert drawn[-1].startswith("crank.set.yaml: writing the report: envelope plots (")
+
+
+def test_schema_lets_accuracy_off_through() -> None:
+    """`analysis.accuracy: off` is a string as well as the const `off`: under `oneOf`
+    (exactly one branch) a schema validator refused it (an editor marked every
+    `accuracy: off` as an error); the forms are `anyOf` (the engine tells them apart)."""
+    result = runner.invoke(app, ["schema"])
+    accuracy = json.loads(result.stdout)["$defs"]["Analysis"]["properties"]["accuracy"]
+    forms = accuracy["anyOf"][0]
+    assert "oneOf" not in forms
+    assert {"const": "off", "type": "string"} in forms["anyOf"]
+    assert {"$ref": "#/$defs/AccuracyTarget"} in forms["anyOf"]
