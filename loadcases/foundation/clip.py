@@ -105,7 +105,8 @@ def plain_text_plots() -> Iterator[None]:
 
 def plain_log_ticks(axes: Any) -> None:
     """The tick labels of the log-scale axes of `axes` (a matplotlib Axes) written as plain
-    numbers (`1e-2`, `0.03`). Matplotlib's own log labels are math text
+    numbers (`1e-02`, `3e-02`, matplotlib's minus sign a true minus). Matplotlib's own log
+    labels are math text
     (`$\\mathdefault{10^{-2}}$`), which `plain_text_plots()` shows as written; its choice of
     which minor ticks to label (all of them only on less than a decade) is kept."""
     from matplotlib.ticker import LogFormatter
