@@ -146,7 +146,8 @@ def sparser(
     outputs (`output: steps`) the interval bounds the steps: unchanged."""
     if not companion.dense or len(run.time) < 2:
         return companion
-    rows = sorted(set(spikes(run) + crest_rows(run, found)))
+    found = run_extremes(run) if found is None else found
+    rows = sorted(set(spikes(run, found) + crest_rows(run, found)))
     return dataclasses.replace(
         companion, step=companion.step * 2 ** thinning(run), rows=tuple(rows)
     )
@@ -182,13 +183,13 @@ def run_extremes(run: ml.Solution) -> dict[str, Extremes]:
         and v.shape == run.time.shape
         and significant(v, peaks[request_of(c)])
     ]
-    if not len(run.time) or not names:
+    if len(run.time) < 3 or not names:
         return {}
     table = np.column_stack([run.channels[c] for c in names])
     return dict(zip(names, extremes_of(run.time, table, [e.time for e in run.events])))
 
 
-def crest_rows(run: ml.Solution, found: dict[str, Extremes] | None = None) -> list[float]:
+def crest_rows(run: ml.Solution, found: dict[str, Extremes]) -> list[float]:
     """The times (s) of the rows a companion keeps at the run's envelope crests: per column
     (above round-off), where its largest or its smallest value is a smooth crest's vertex
     between rows, the crest's row and CREST_ROWS of the run's rows either side (none where
@@ -202,12 +203,10 @@ def crest_rows(run: ml.Solution, found: dict[str, Extremes] | None = None) -> li
     rows are kept there (the door let go's handle torque, a row at 0.27 s 3.6 N below its
     true peak: read on the run's rows the two runs agree within 0.8 N, an estimate of 0.08
     of the true error; through the companion's own rows 0.35). `found`: the run's
-    `run_extremes`, when known."""
-    if len(run.time) < 3:
-        return []
+    `run_extremes`."""
     events = np.array([event.time for event in run.events])
     times: set[float] = set()
-    for column in (run_extremes(run) if found is None else found).values():
+    for column in found.values():
         for candidates, sign in ((column.tops, 1.0), (column.bottoms, -1.0)):
             if not len(candidates):
                 continue
@@ -268,7 +267,7 @@ def _standing_out(table: np.ndarray) -> np.ndarray:
     return np.asarray((up | down).any(axis=0))
 
 
-def spikes(run: ml.Solution) -> list[float]:
+def spikes(run: ml.Solution, found: dict[str, Extremes]) -> list[float]:
     """The times (s) of the companion's rows at the run's one-row spikes: each row where a
     column's largest or smallest value is a row with no crest between rows
     (`peak_error.row_peaks`: a spike, a jump's corner), and rows at SPIKE_ROWS of the
@@ -278,23 +277,19 @@ def spikes(run: ml.Solution) -> list[float]:
     door let go's contact spike, 3834 N at 0.05 s, 0 at 0.04 and 0.06 s, the companion's
     rows 0.02 s apart: 14 times its true error); the rows beside it read what the run's
     rows miss of the spike (loadcases.run.peak_error._at_row_peak). A smooth crest's peak
-    is its vertex between rows, read on the companion's rows as on the run's: no row kept
-    for it (the campaign's slider-crank keeps none)."""
-    peaks = request_peaks(run.channels)
-    names = [
-        c
-        for c, v in run.channels.items()
-        if v.shape == run.time.shape and significant(v, peaks[request_of(c)])
-    ]
-    if len(run.time) < 3 or not names:
+    is its vertex between rows: its rows are `crest_rows`'. `found`: the run's
+    `run_extremes` (its columns above round-off)."""
+    if not found:
         return []
-    table = np.column_stack([run.channels[c] for c in names])
-    table = table[:, _standing_out(table)]  # the only columns that may hold one: cheap
-    if not table.shape[1]:
-        return []
+    table = np.column_stack([run.channels[c] for c in found])
+    # the only columns that may hold one: cheap
+    kept = {
+        t
+        for column, standing in zip(found.values(), _standing_out(table))
+        if standing
+        for t in row_peaks(column)
+    }
     events = np.array([event.time for event in run.events])
-    found = extremes_of(run.time, table, events.tolist())
-    kept = {t for column in found for t in row_peaks(column)}
     times = []
     for t in sorted(kept):
         i = int(np.searchsorted(run.time, t))

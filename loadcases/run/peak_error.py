@@ -474,10 +474,12 @@ def dense_beside(
     i = int(np.searchsorted(run.time, best[0]))
     if best[1] < peak or best[2] == END or not best[1] > sign * run.values[i]:
         return False
-    near = run.time[max(i - 2, 0) : i + 3]
-    after = np.clip(np.searchsorted(companion.time, near), 1, len(companion.time) - 1)
-    gap = np.minimum(np.abs(companion.time[after] - near), np.abs(companion.time[after - 1] - near))
-    return bool(np.all(gap <= 1e-9 * np.maximum(1.0, np.abs(near))))
+    return all(len(_rows_at(companion.time, t)) for t in run.time[max(i - 2, 0) : i + 3])
+
+
+def _rows_at(time: np.ndarray, t: float) -> np.ndarray:
+    """The indices of the rows of `time` at t (s): within 1e-9 of it, relative above 1 s."""
+    return np.flatnonzero(np.abs(time - t) <= 1e-9 * max(1.0, abs(t)))
 
 
 SPIKE = 0.1  # of a column's range: a one-row spike stands out from both its neighbours by more
@@ -551,7 +553,7 @@ def _at_row_peak(
     if not times:
         return None
     t = times[0]
-    at = np.flatnonzero(np.abs(companion.time - t) <= 1e-9 * max(1.0, abs(t)))
+    at = _rows_at(companion.time, t)
     if len(at) != 1:
         return None
     i = int(np.searchsorted(run.time, t))
