@@ -96,11 +96,20 @@ class TerminalLine:
 
 
 class ProgressBar(TerminalLine):
-    """A one-line progress bar on a terminal, fed by `run_file(progress=...)` as (t, t_end)."""
+    """A one-line progress bar on a terminal, fed by `run_file(progress=...)` as (t, t_end):
+    the run, then each further solve of its accuracy estimate as its stage (`staged`)."""
 
     def __init__(self, label: str, stream: TextIO | None = None) -> None:
         super().__init__(stream)
         self._label = label
+        self._stage = ""
+
+    def staged(self, stage: str) -> ProgressBar:
+        """This bar, drawing the solves that follow as `stage` (the accuracy companion, a
+        tighter run: loadcases.run.staged) after the file's name, the first at once."""
+        self._stage = stage
+        self._last_draw = float("-inf")
+        return self
 
     def __call__(self, t_current: float, t_end: float) -> None:
         if not self.due(final=t_current >= t_end):
@@ -108,4 +117,5 @@ class ProgressBar(TerminalLine):
         fraction = min(max(t_current / t_end, 0.0), 1.0) if t_end > 0 else 1.0
         filled = round(fraction * PROGRESS_WIDTH)
         bar = "#" * filled + "." * (PROGRESS_WIDTH - filled)
-        self.draw(f"{self._label} [{bar}] {fraction:4.0%}  t = {t_current:.4g} / {t_end:.4g} s")
+        label = f"{self._label} ({self._stage})" if self._stage else self._label
+        self.draw(f"{label} [{bar}] {fraction:4.0%}  t = {t_current:.4g} / {t_end:.4g} s")

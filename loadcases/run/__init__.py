@@ -21,7 +21,7 @@ from loadcases.results.files import ResultsNotWritten, write_results
 from loadcases.results.outcome import RunOutcome
 from loadcases.run.global_error import AccuracyEstimate, accuracy_aim, solve_to_accuracy
 
-__all__ = ["check_case_file", "check_mechanism_file", "run_case", "run_file"]
+__all__ = ["check_case_file", "check_mechanism_file", "run_case", "run_file", "staged"]
 
 Progress = Callable[[float, float], None]
 
@@ -83,11 +83,11 @@ def _solve(
     cf: CaseFile, built: BuiltRun, progress: Progress | None
 ) -> tuple[ml.Solution, AccuracyEstimate | None]:
     """The case's solution and, for a dynamic analysis, its global error estimate (with the
-    steps tightened to meet the target when the case sets `accuracy` and no tolerance)."""
-    first = [progress]  # the progress bar follows the first solve only
+    steps tightened to meet the target when the case sets `accuracy` and no tolerance).
+    `progress` follows the run, then each further run as its stage (`staged`)."""
 
-    def solve(analysis, checks: bool = True) -> ml.Solution:
-        return built.solve(analysis, progress=first.pop() if first else None, checks=checks)
+    def solve(analysis, checks: bool = True, stage: str = "") -> ml.Solution:
+        return built.solve(analysis, progress=staged(progress, stage), checks=checks)
 
     accuracy = cf.case.analysis.accuracy
     if not isinstance(built.analysis, ml.Dynamic) or accuracy == "off":
@@ -101,6 +101,17 @@ def _solve(
         measure=aim.measure,
         untightened=aim.untightened,
     )
+
+
+def staged(progress: Progress | None, stage: str) -> Progress | None:
+    """The progress callback of a solve of the run's `stage` (loadcases.run.global_error.
+    Solver: "" for the run itself): the callback's own `staged(stage)` where it has one
+    (the command's bar names the stage: a long run's companion or tighter runs would
+    otherwise sit at 100 %), else none: a plain callback follows the run alone."""
+    if not stage or progress is None:
+        return progress
+    made = getattr(progress, "staged", None)
+    return made(stage) if callable(made) else None
 
 
 def run_file(

@@ -74,7 +74,9 @@ from mechlib.checks.singularity import NAMED_AT_MOST
 from mechlib.core.jit import compile_seconds
 
 __all__ = [
+    "COMPANION_STAGE",
     "DEFAULT_ACCURACY",
+    "FINER_STAGE",
     "MAX_TIGHTENINGS",
     "AccuracyEstimate",
     "Aim",
@@ -86,6 +88,7 @@ __all__ = [
     "request_peaks",
     "shared_rows",
     "solve_to_accuracy",
+    "tighter_stage",
 ]
 
 MAX_TIGHTENINGS = 8  # default refinements: each halves every step and costs twice the last
@@ -403,9 +406,22 @@ def _history_error(run: np.ndarray, companion: np.ndarray, scale: float) -> tupl
 
 class Solver(Protocol):
     """Solves the run with an analysis; `checks` False: without the position checks after
-    the run (their warnings), for a companion whose warnings are not kept."""
+    the run (their warnings), for a companion whose warnings are not kept; `stage`: what a
+    solve after the run's own is for (COMPANION_STAGE, FINER_STAGE, `tighter_stage`),
+    which a progress bar shows ("" for the run itself)."""
 
-    def __call__(self, analysis: ml.Dynamic, checks: bool = True) -> ml.Solution: ...
+    def __call__(
+        self, analysis: ml.Dynamic, checks: bool = True, stage: str = ""
+    ) -> ml.Solution: ...
+
+
+COMPANION_STAGE = "accuracy: companion run"
+FINER_STAGE = "accuracy: finer run at a singular position"
+
+
+def tighter_stage(n: int) -> str:
+    """The stage of the n-th (1, 2, ...) run tightened to meet the accuracy target."""
+    return f"accuracy: tighter run {n}"
 
 
 def solve_to_accuracy(
@@ -453,7 +469,9 @@ def solve_to_accuracy(
             stopped_by = stopped_by or _between_rows(errors, target)
         if stopped_by:
             break
-        finer_analysis, finer_run = pending or _solved_finer(solve, analysis, spent)
+        finer_analysis, finer_run = pending or _solved_finer(
+            solve, analysis, spent, tighter_stage(tightenings + 1)
+        )
         pending = None
         if finer_run.status == "interrupted":
             why = f"tightening interrupted{_by()}: the estimate is of the run written"
@@ -526,14 +544,16 @@ def _companion(
     grid = on_grid(analysis, run, found)
     note = ""
     if grid is not None:
-        companion = _timed(solve, grid, spent, companion=True)
+        companion = _timed(solve, grid, spent, companion=True, stage=COMPANION_STAGE)
         if companion.status in ("ok", "interrupted"):
             return companion, "grid", ""
         note = (
             f"the companion on the run's own steps failed ({companion.message}): "
             "estimated with an error-controlled companion"
         )
-    adaptive = _timed(solve, sparser(coarser(analysis), run, found), spent, companion=True)
+    adaptive = _timed(
+        solve, sparser(coarser(analysis), run, found), spent, companion=True, stage=COMPANION_STAGE
+    )
     return adaptive, "adaptive", note
 
 
@@ -544,12 +564,16 @@ def _timed(
     *,
     counted: bool = True,
     companion: bool = False,
+    stage: str = "",
 ) -> ml.Solution:
     """A run solved and its cost (`_cpu`) added to `spent` (the first run's not `counted`);
     the companion without the position checks after the run (only its channels are
-    used)."""
+    used); `stage`: what a further run is for (`Solver`)."""
     started = _cpu()
-    run = _further(solve, analysis, checks=not companion) if counted else solve(analysis)
+    if counted:
+        run = _further(solve, analysis, checks=not companion, stage=stage)
+    else:
+        run = solve(analysis)
     spent.add(run, _cpu() - started, counted=counted, last=not companion)
     return run
 
@@ -584,7 +608,7 @@ def _finer_pair(
 ) -> FinerPair:
     """The finer pair's estimate; the companion's (`coarse`) with a note when the finer
     run failed or was interrupted."""
-    finer_analysis, fine = _solved_finer(solve, analysis, spent)
+    finer_analysis, fine = _solved_finer(solve, analysis, spent, FINER_STAGE)
     if fine.status != "ok":
         why = "interrupted" + _by() if fine.status == "interrupted" else fine.message
         note = f"the finer run at a singular position did not finish ({why}): estimated "
@@ -609,11 +633,12 @@ class Coarse:
 
 
 def _solved_finer(
-    solve: Solver, analysis: ml.Dynamic, spent: Spent
+    solve: Solver, analysis: ml.Dynamic, spent: Spent, stage: str
 ) -> tuple[ml.Dynamic, ml.Solution]:
-    """The run with every step half as long (`companion.finer`), solved and counted."""
+    """The run with every step half as long (`companion.finer`), solved (as `stage`) and
+    counted."""
     finer_analysis = finer(analysis, spent.last_steps)
-    return finer_analysis, _timed(solve, finer_analysis, spent)
+    return finer_analysis, _timed(solve, finer_analysis, spent, stage=stage)
 
 
 @dataclass(frozen=True)
@@ -652,11 +677,14 @@ def _budget(given: AccuracyBudget | None) -> Budget:
     )
 
 
-def _further(solve: Solver, analysis: ml.Dynamic, checks: bool = True) -> ml.Solution:
-    """A companion or tighter run; a signal met outside mechlib's solve loop (while the
-    system is built) stops it the same way: an interrupted run without rows."""
+def _further(
+    solve: Solver, analysis: ml.Dynamic, checks: bool = True, stage: str = ""
+) -> ml.Solution:
+    """A companion or tighter run (`stage`: which, `Solver`); a signal met outside mechlib's
+    solve loop (while the system is built) stops it the same way: an interrupted run
+    without rows."""
     try:
-        return solve(analysis, checks=checks)
+        return solve(analysis, checks=checks, stage=stage)
     except KeyboardInterrupt as stop:
         return ml.Solution(
             "interrupted", str(stop), "dynamic", np.zeros(0), {}, result=ml.Status.INTERRUPTED

@@ -319,6 +319,21 @@ def test_progress_bar_draws_and_erases() -> None:
     assert stream.getvalue().endswith("\r" + " " * len(drawn[0].rstrip()) + "\r")
 
 
+def test_progress_bar_names_the_stage_of_a_further_solve() -> None:
+    """After the run, the bar draws its accuracy estimate's solves (the companion, a
+    tighter run) named after the file's, from 0 % again, not a bar stuck at 100 %."""
+    stream = io.StringIO()
+    bar = ProgressBar("a.case.yaml", stream=stream)
+    bar(1.0, 1.0)
+    assert bar.staged("accuracy: companion run") is bar
+    bar(1.0, 2.0)  # drawn at once: a new stage
+    drawn = stream.getvalue().split("\r")[1:]
+    assert drawn[0].startswith("a.case.yaml [" + "#" * 30 + "] 100%")
+    assert drawn[1].startswith(
+        "a.case.yaml (accuracy: companion run) [" + "#" * 15 + "." * 15 + "]  50%  t = 1 / 2 s"
+    )
+
+
 def test_set_progress_counts_every_failure_and_draws_the_end() -> None:
     """The set's progress line shares the bar's redrawing: failures are counted on every
     call, the line is redrawn only after the interval or at the end."""

@@ -11,7 +11,14 @@ import numpy as np
 import pytest
 
 import mechlib as ml
-from loadcases.run.global_error import Budget, Solver, solve_to_accuracy
+from loadcases.run.global_error import (
+    COMPANION_STAGE,
+    FINER_STAGE,
+    Budget,
+    Solver,
+    solve_to_accuracy,
+    tighter_stage,
+)
 from mechlib.checks.singularity import NEAR_SINGULAR
 
 TIME = np.linspace(0.0, 2.0, 201)
@@ -25,14 +32,18 @@ def _relative(error: float, run_error: float) -> float:
     return error * float(np.abs(np.sin(TIME)).max()) / peak
 
 
-def _solver(errors: dict[float, float], warning: str) -> tuple[list[float], Solver]:
+def _solver(
+    errors: dict[float, float], warning: str, stages: list[str] | None = None
+) -> tuple[list[float], Solver]:
     """A solver whose run at tolerance t is sin(omega t) + errors[t] sin(t) (the error a
     smooth function of time, as Richardson assumes per pair) and warns `warning`; with
-    the tolerances it was called at."""
+    the tolerances it was called at (and the stages, into `stages`)."""
     calls: list[float] = []
 
-    def solve(analysis: ml.Dynamic, checks: bool = True) -> ml.Solution:
+    def solve(analysis: ml.Dynamic, checks: bool = True, stage: str = "") -> ml.Solution:
         calls.append(analysis.tolerance)
+        if stages is not None:
+            stages.append(stage)
         error = errors[round(analysis.tolerance / TOLERANCE, 6)]
         values = np.sin(OMEGA * TIME) + error * np.sin(TIME)
         stats = ml.SolverStats(steps=100)
@@ -82,7 +93,8 @@ def test_a_tightening_starts_from_the_finer_run() -> None:
     (not solved again): tolerances 1, 8, 1/8 and then 1/64 of the run's; the run written is
     the last, estimated against the one before (its companion): (0.03 - 0.0075) / 3."""
     errors = {1.0: 0.1, 8.0: 0.11, 0.125: 0.03, 0.015625: 0.0075}
-    calls, solve = _solver(errors, f"{NEAR_SINGULAR} 0.9 s: toggle measure 0.006")
+    stages: list[str] = []
+    calls, solve = _solver(errors, f"{NEAR_SINGULAR} 0.9 s: toggle measure 0.006", stages)
     run, estimate = solve_to_accuracy(
         solve,
         ml.Dynamic(end=2.0, step=0.01, tolerance=TOLERANCE),
@@ -92,6 +104,9 @@ def test_a_tightening_starts_from_the_finer_run() -> None:
     )
     assert estimate is not None
     assert calls == pytest.approx([TOLERANCE, 8 * TOLERANCE, TOLERANCE / 8, TOLERANCE / 64])
+    # what a progress bar names each solve: the finer run is the first tighter one
+    assert stages == ["", COMPANION_STAGE, FINER_STAGE, tighter_stage(2)]
+    assert tighter_stage(2) == "accuracy: tighter run 2"
     assert estimate.tightenings == 2 and estimate.tolerance == pytest.approx(TOLERANCE / 64)
     assert estimate.requests["x"].history == pytest.approx(_relative(0.0075, 0.0075))
     assert estimate.met and estimate.observed_order is None  # of the first run only
