@@ -360,7 +360,7 @@ def request_errors(
     for column, found, other in zip(columns, mine, theirs):
         name, values = request_of(column), run.channels[column]
         history, lost = _history_error(values[rows], companion.channels[column][rows_c], abs(scale))
-        peak, sampling = peak_error(found, other, scale, crests=not lost)
+        peak, sampling = peak_error(found, other, scale, crests=not lost, bound=history)
         before = out.get(name, RequestError(0.0, 0.0))
         out[name] = RequestError(
             max(before.history, history / peaks[name]),
