@@ -35,10 +35,8 @@ analysis:
 requests:
   hinge_force: {joint: hinge, quantity: force, frame: ground}
 """
-FORMS = (
-    "expected a target such as 0.001 (a fraction of each request's peak, between 0 and 1), "
-    "off, or a mapping {target, budget, measure}"
-)
+TARGET = "expected a target such as 0.001 (a fraction of each request's peak, between 0 and 1)"
+FORMS = f"{TARGET}, off, or a mapping {{target, budget, measure}}"
 
 
 def _pendulum(tmp_path: Path, accuracy: str, extra: str = "") -> Path:
@@ -108,6 +106,10 @@ BOUNDS = "must lie between 0 and 1 (a fraction of the peak)"
         ('"OFF"', "9:3", "", f"{FORMS}, got 'OFF'"),
         ("none", "9:3", "", f"{FORMS}, got 'none'"),
         ("[1e-3]", "9:3", "", f"{FORMS}, got a list of 1 values"),
+        ("off2", "9:3", "", f"{FORMS}, got 'off2'"),
+        ("1e-3 x", "9:3", "", f"{FORMS}, got '1e-3 x'"),
+        ("1 mm", "9:3", "", "expected a dimensionless number, got '1 mm' (a length)"),
+        ("{target: off2}", "9:14", ".target", f"{TARGET}, got 'off2'"),
         ("'on'", "9:3", "", f"{FORMS}, got 'on'"),
         ("2", "9:3", "", f"2 {BOUNDS}"),
         ("1", "9:3", "", f"1 {BOUNDS}"),
@@ -119,8 +121,8 @@ BOUNDS = "must lie between 0 and 1 (a fraction of the peak)"
 def test_a_bad_accuracy_is_refused_at_its_key_saying_what_it_takes(
     tmp_path: Path, accuracy: str, where: str, key: str, message: str
 ) -> None:
-    """A fraction where a count is needed asks for a whole number; a word that is none
-    of the accuracy's forms names them; a target outside 0 and 1 is refused as `loads
+    """A fraction where a count is needed asks for a whole number; a text that is none
+    of the accuracy's forms (no quantity at all) names them; a target outside 0 and 1 is refused as `loads
     accuracy --target` refuses it."""
     _refused(
         tmp_path, accuracy, f"pendulum.case.yaml:{where}: error: analysis.accuracy{key}: {message}"
