@@ -14,8 +14,8 @@ reached exactly where the constraints allow, the rigid coordinates moving to mee
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
-from contextlib import suppress
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -99,8 +99,30 @@ def _assembly_weights(system: System) -> np.ndarray:
     return weights
 
 
+class _BeyondDoubles(ArithmeticError):
+    """Newton met equations, or a Jacobian's normal matrix, beyond the range of doubles
+    (inf or nan): no step can be solved from there (LAPACK would print its own complaints
+    and fail)."""
+
+
 def _newton(
     residual, jacobian, q: np.ndarray, tol: float, weights: np.ndarray | None = None
+) -> tuple[np.ndarray, int, float]:
+    """_solved_newton with numpy's overflow warnings off: a value beyond doubles raises
+    _BeyondDoubles, which the caller turns into a failure saying why."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _solved_newton(residual, jacobian, q, tol, weights)
+
+
+def _finite(values: np.ndarray) -> np.ndarray:
+    """`values` if all are finite, else _BeyondDoubles."""
+    if not np.isfinite(values).all():
+        raise _BeyondDoubles
+    return values
+
+
+def _solved_newton(
+    residual, jacobian, q: np.ndarray, tol: float, weights: np.ndarray | None
 ) -> tuple[np.ndarray, int, float]:
     """Minimum-norm Newton (Gauss-Newton when over-determined), the norm of the step
     divided by `weights` per column; returns q, iterations, |res| once a step is below
@@ -110,7 +132,7 @@ def _newton(
     REUSE_BELOW the Jacobian is kept (its change is of the order of that step, so the
     next step converges as fast as with a fresh one): a dense row, already on the
     constraints to 1e-9, is polished with one Jacobian instead of two."""
-    res = residual(q)
+    res = _finite(residual(q))
     w = np.ones(len(q)) if weights is None else weights
     solver: _MinimumNorm | None = None
     for it in range(1, MAX_NEWTON + 1):
@@ -119,7 +141,7 @@ def _newton(
             solver = _MinimumNorm(jacobian(q) * w)
         step = w * solver(-res)
         q = q + step
-        res = residual(q)
+        res = _finite(residual(q))
         size = np.abs(step).max(initial=0.0)
         if size < tol:  # converged, or (residual above tol) stuck: Gauss-Newton's fixed point
             return q, it, float(np.abs(res).max(initial=0.0))
@@ -139,15 +161,19 @@ class _MinimumNorm:
         self.a = a
         self.solve: Callable[[np.ndarray], np.ndarray] | None = None
         if a.shape[0] == 0 or a.shape[0] > a.shape[1]:
+            _finite(a)  # least squares alone (an SVD): LAPACK refuses inf and nan
             return
         if a.shape[0] >= _SPARSE_NORMAL_FROM:
             sparse = sp.csr_matrix(a)
+            normal = (sparse @ sparse.T).tocsc()
+            _finite(normal.data)
             with suppress(RuntimeError):  # exactly singular: dependent rows
-                factors = splu((sparse @ sparse.T).tocsc(), permc_spec="COLAMD")
+                factors = splu(normal, permc_spec="COLAMD")
                 if _well_pivoted(factors.U.diagonal()):
                     self.solve = factors.solve
             return
-        lu, pivots, info = dgetrf(a @ a.T)  # LAPACK directly: its wrappers cost more
+        # LAPACK directly: its wrappers cost more
+        lu, pivots, info = dgetrf(_finite(a @ a.T))
         if info == 0 and _well_pivoted(np.diag(lu)):
             self.solve = lambda rhs: dgetrs(lu, pivots, rhs)[0]
 
@@ -192,13 +218,21 @@ def solve_positions(
             where=tuple(label for label, _ in beyond),
             status=Status.NEWTON_FAILED,
         )
-    q, its, worst = _newton(
-        lambda x: system.phi(system.kin(x, None, t)),
-        lambda x: system.phi_q(system.kin(x, None, t)),
-        q,
-        tol,
-        weights,
-    )
+    try:
+        q, its, worst = _newton(
+            lambda x: system.phi(system.kin(x, None, t)),
+            lambda x: system.phi_q(system.kin(x, None, t)),
+            q,
+            tol,
+            weights,
+        )
+    except _BeyondDoubles:
+        raise SolverFailure(
+            f"position analysis at t = {t:.6g} s: the constraint equations exceed the range "
+            "of double-precision numbers on the way (a value far too large?)",
+            time=t,
+            status=Status.NEWTON_FAILED,
+        ) from None
     if worst > 1e3 * tol:
         res = system.phi(system.kin(q, None, t))
         rows = np.argsort(-np.abs(res))[:3]
@@ -425,9 +459,43 @@ def assemble(
     The positions are kept per process by the values they are found from
     (mechlib.solvers.start_memo: a sweep of initial rates places its mechanism once)."""
     check = check or BranchCheck()
-    placed = placed_start(system, t, initial, check, lambda: _placed(system, t, initial, check))
+    with _within_doubles(system, t, initial):
+        placed = placed_start(system, t, initial, check, lambda: _placed(system, t, initial, check))
     qd, vnotes = _initial_velocities(system, placed.q, t, initial, _assembly_weights(system))
     return Assembled(placed.q, qd, placed.iterations, placed.notes + vnotes, placed.changes)
+
+
+@contextmanager
+def _within_doubles(system: System, t: float, initial: Sequence) -> Iterator[None]:
+    """The assembly's _BeyondDoubles as the run's failure: the initial positions could not
+    be assembled, with the largest given value (the likely culprit, e.g. a modal coordinate
+    of 1e300)."""
+    try:
+        yield
+    except _BeyondDoubles:
+        raise SolverFailure(
+            "the initial positions could not be assembled: the constraint equations on the "
+            "way to the given values exceed the range of double-precision numbers"
+            f"{_largest_given(system, initial)}; give values the mechanism can reach",
+            time=t,
+            status=Status.NEWTON_FAILED,
+        ) from None
+
+
+def _largest_given(system: System, initial: Sequence) -> str:
+    """` (the largest given value: modal coordinate 1 of flexible body 'strip', 1e+300)`,
+    or nothing when no position is given."""
+    given = [
+        (abs(item.value), f"joint '{item.joint}' at {item.value:.6g}")
+        for item, _ in _given_positions(system, initial)
+    ]
+    given += [
+        (abs(m.value), f"modal coordinate {m.mode + 1} of flexible body '{m.body}', {m.value:.6g}")
+        for m in modal_targets(system, initial)
+    ]
+    if not given:
+        return ""
+    return f" (the largest given value: {max(given, key=lambda pair: pair[0])[1]})"
 
 
 def _placed(system: System, t: float, initial: Sequence, check: BranchCheck) -> Placed:
@@ -479,7 +547,8 @@ def reassemble(
     drawing): on the constraints, the given joint values and modal coordinates and rates."""
     weights = _assembly_weights(system)
     modal = modal_targets(system, initial)
-    q, _ = _on_constraints(system, q, t, _given_positions(system, initial), modal, weights)
+    with _within_doubles(system, t, initial):
+        q, _ = _on_constraints(system, q, t, _given_positions(system, initial), modal, weights)
     notes = modal_notes(modal, q[[m.column for m in modal]], "modal coordinate")
     qd, vnotes = _initial_velocities(system, q, t, initial, weights)
     return q, qd, notes + vnotes
