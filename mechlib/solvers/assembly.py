@@ -48,6 +48,7 @@ from mechlib.system.system import System
 
 __all__ = [
     "MAX_NEWTON",
+    "MAX_STAGES",
     "POSITION_TOLERANCE",
     "REUSE_BELOW",
     "InitialBodyVelocity",
@@ -68,6 +69,9 @@ ANGLE_LIMIT = 1e3 * POSITION_TOLERANCE / float(np.finfo(float).eps)
 MAX_NEWTON = 50
 _REPORT_CHANGE = 1e-8
 _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
+# stages of _STAGE the way from the drawn geometry may take: 5236 rad (833 turns) or 5.2 km,
+# some 2 s of CPU on a one-joint mechanism
+MAX_STAGES = 10_000
 _SPLITS = 6  # a stage leaving the drawn branch is halved at most this many times
 _SLOW_NEWTON = 12  # iterations: a stage's Newton slower than this passes a singular position
 _MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
@@ -347,7 +351,8 @@ def _guesses(system: System, initial) -> dict[str, float]:
 @dataclass
 class _Path:
     """The assembly's way from the drawn geometry to the given values and guesses: stage
-    targets (given, then guessed coordinates) at a fraction of the way."""
+    targets (given, then guessed coordinates) at a fraction of the way. `given` and
+    `guessed` are (InitialValue, measure) pairs, a guess as the value its pair aims at."""
 
     system: System
     t: float
@@ -356,13 +361,18 @@ class _Path:
     check: BranchCheck
     weights: np.ndarray
 
+    @property
+    def aims(self) -> list:
+        """The (InitialValue, measure) pairs the way ends at: given, then guessed."""
+        return self.given + self.guessed
+
     def targets(self, start: list[float], reached: int, units: int) -> list[float]:
         """The targets `reached` / `units` of the way from `start`."""
-        ends = [item.value for item, _ in self.given] + [g for _, g in self.guessed]
+        ends = [item.value for item, _ in self.aims]
         return [v + (end - v) * reached / units for v, end in zip(start, ends)]
 
     def solve(self, q: np.ndarray, targets: list[float]) -> tuple[np.ndarray, int]:
-        rows = self.given + [(None, m) for m, _ in self.guessed]
+        rows = self.aims
         q, n, _ = _newton(
             _given_residual(self.system, rows, targets, self.t),
             _given_jacobian(self.system, rows, self.t),
@@ -385,14 +395,11 @@ def _follow(path: _Path, q: np.ndarray) -> tuple[np.ndarray, int, list[str]]:
     those that moved, the largest move first)."""
     system, t = path.system, path.t
     k = system.kin(q, None, t)
-    measures = [m for _, m in path.given] + [m for m, _ in path.guessed]
-    start = [m.value(k) for m in measures]
-    ends = [item.value for item, _ in path.given] + [g for _, g in path.guessed]
-    span = max(abs(end - v) for v, end in zip(start, ends))
+    start = [m.value(k) for _, m in path.aims]
     # the way in units of the smallest stage, counted in integers: the fraction of an
     # unhalved stage is exactly stage / stages (IEEE division of exact integers)
     full = 2**_SPLITS
-    units = max(1, math.ceil(span / _STAGE)) * full
+    units = _stages(path, start) * full
     watch = not path.guessed  # guesses choose the branch themselves
     skip = {item.joint for item, _ in path.given}
     sign = orientation(system, k, [m for _, m in path.given]) if watch else 0
@@ -424,6 +431,29 @@ def _follow(path: _Path, q: np.ndarray) -> tuple[np.ndarray, int, list[str]]:
         step = min(full, 2 * step)
         system.commit(k)
     return q, its, flagged
+
+
+def _stages(path: _Path, start: list[float]) -> int:
+    """The stages of _STAGE (rad, or m for a travel) the way from `start` takes at least;
+    SolverFailure beyond MAX_STAGES: a value so far from the drawn geometry (a unit slip
+    of 1e6 m) would take hours to follow, or for ever."""
+    spans = [abs(item.value - v) for (item, _), v in zip(path.aims, start)]
+    far = max(range(len(spans)), key=spans.__getitem__)
+    stages = max(1, math.ceil(spans[far] / _STAGE))
+    if stages <= MAX_STAGES:
+        return stages
+    item, measure = path.aims[far]
+    unit = "rad" if measure.kind == "angle" else "m"
+    raise SolverFailure(
+        f"the initial positions could not be assembled: joint '{item.joint}' is given "
+        f"{item.value:.6g} {unit}, {spans[far]:.6g} {unit} from the drawn geometry "
+        f"({start[far]:.6g} {unit}), too far to assemble: the assembly follows the drawn "
+        f"geometry in stages of at most {_STAGE:.3g} {unit}, and it would take {stages:.3g} "
+        f"stages, more than {MAX_STAGES}; give a value nearer the drawn geometry",
+        time=path.t,
+        where=(item.joint,),
+        status=Status.NEWTON_FAILED,
+    )
 
 
 def _predicted(
@@ -502,7 +532,9 @@ def _placed(system: System, t: float, initial: Sequence, check: BranchCheck) -> 
     """The positions of `assemble` (m, Euler parameters, modal coordinates), its Newton
     iterations, notes and branch changes."""
     given = _given_positions(system, initial)
-    guessed = [(system.coordinate_of(j), g) for j, g in _guesses(system, initial).items()]
+    guessed = [
+        (InitialValue(j, g), system.coordinate_of(j)) for j, g in _guesses(system, initial).items()
+    ]
     q = system.design_q()
     weights = _assembly_weights(system)
     its, flagged = 0, list[str]()
