@@ -104,9 +104,8 @@ def _assembly_weights(system: System) -> np.ndarray:
 
 
 class _BeyondDoubles(ArithmeticError):
-    """Newton met equations, or a Jacobian's normal matrix, beyond the range of doubles
-    (inf or nan): no step can be solved from there (LAPACK would print its own complaints
-    and fail)."""
+    """Newton met equations or a Jacobian beyond the range of doubles (inf or nan): no step
+    can be solved from there (LAPACK would print its own complaints and fail)."""
 
 
 def _newton(
@@ -162,22 +161,24 @@ class _MinimumNorm:
     (dependent rows, a singular position, more rows than columns)."""
 
     def __init__(self, a: np.ndarray):
-        self.a = a
+        self.a = _finite(a)  # LAPACK's least squares refuses inf and nan, printing why
         self.solve: Callable[[np.ndarray], np.ndarray] | None = None
         if a.shape[0] == 0 or a.shape[0] > a.shape[1]:
-            _finite(a)  # least squares alone (an SVD): LAPACK refuses inf and nan
             return
         if a.shape[0] >= _SPARSE_NORMAL_FROM:
             sparse = sp.csr_matrix(a)
             normal = (sparse @ sparse.T).tocsc()
-            _finite(normal.data)
+            if not np.isfinite(normal.data).all():  # overflowed: least squares scales a
+                return
             with suppress(RuntimeError):  # exactly singular: dependent rows
                 factors = splu(normal, permc_spec="COLAMD")
                 if _well_pivoted(factors.U.diagonal()):
                     self.solve = factors.solve
             return
-        # LAPACK directly: its wrappers cost more
-        lu, pivots, info = dgetrf(_finite(a @ a.T))
+        normal = a @ a.T
+        if not np.isfinite(normal).all():  # overflowed: least squares scales a
+            return
+        lu, pivots, info = dgetrf(normal)  # LAPACK directly: its wrappers cost more
         if info == 0 and _well_pivoted(np.diag(lu)):
             self.solve = lambda rhs: dgetrs(lu, pivots, rhs)[0]
 

@@ -122,8 +122,8 @@ def test_a_bad_accuracy_is_refused_at_its_key_saying_what_it_takes(
     tmp_path: Path, accuracy: str, where: str, key: str, message: str
 ) -> None:
     """A fraction where a count is needed asks for a whole number; a text that is none
-    of the accuracy's forms (no quantity at all) names them; a target outside 0 and 1 is refused as `loads
-    accuracy --target` refuses it."""
+    of the accuracy's forms (no quantity at all) names them; a target outside 0 and 1 is
+    refused as `loads accuracy --target` refuses it."""
     _refused(
         tmp_path, accuracy, f"pendulum.case.yaml:{where}: error: analysis.accuracy{key}: {message}"
     )

@@ -9,21 +9,14 @@ from pathlib import Path
 
 import pytest
 
-from tests.hardening.conftest import has_line, loads
+from tests.hardening.conftest import SPRING_MASS, has_line, loads
 
-PHASED = """\
+PHASED = (
+    """\
 case: sm-phases
-mechanism:
-  name: sm
-  bodies:
-    mass: {mass: 1.0, cm: [0, 0, 0], inertia: [0.01, 0.01, 0.01]}
-  points:
-    m_eye: {body: mass, at: [0, 0, 0]}
-    anchor: {body: ground, at: [-1, 0, 0]}
-  joints:
-    slide: {type: prismatic, bodies: [mass, ground], at: [0, 0, 0], axis: [1, 0, 0]}
-  forces:
-    spring: {type: spring, points: [m_eye, anchor], stiffness: 1000, free_length: 1.0}
+"""
+    + SPRING_MASS
+    + """\
 initial:
   slide: {value: 0.1, rate: 0}
 phases:
@@ -35,6 +28,7 @@ phases:
 requests:
   x: {joint: slide, quantity: travel}
 """
+)
 NOT_ESTIMATED = (
     "sm.case.yaml:20:54: warning: phases[1].analysis.accuracy: the global error is not "
     "estimated for a phased case: set the phase's tolerance instead"

@@ -11,27 +11,21 @@ from pathlib import Path
 import pytest
 
 from mechlib.solvers.assembly import MAX_STAGES
-from tests.hardening.conftest import loads
+from tests.hardening.conftest import SPRING_MASS, loads
 
-SPRING_MASS = """\
+FAR = (
+    """\
 case: spring-mass-far
-mechanism:
-  name: sm
-  bodies:
-    mass: {mass: 1.0, cm: [0, 0, 0], inertia: [0.01, 0.01, 0.01]}
-  points:
-    m_eye: {body: mass, at: [0, 0, 0]}
-    anchor: {body: ground, at: [-1, 0, 0]}
-  joints:
-    slide: {type: prismatic, bodies: [mass, ground], at: [0, 0, 0], axis: [1, 0, 0]}
-  forces:
-    spring: {type: spring, points: [m_eye, anchor], stiffness: 1000, free_length: 1.0}
+"""
+    + SPRING_MASS
+    + """\
 initial:
   slide: {value: VALUE, rate: 0}
 analysis: {type: dynamic, end: 0.01, step: 0.001}
 requests:
   x: {joint: slide, quantity: travel}
 """
+)
 
 
 @pytest.mark.parametrize(
@@ -41,7 +35,7 @@ def test_a_value_too_far_from_the_drawing_fails_at_once_with_the_numbers(
     tmp_path: Path, value: str, shown: str, stages: str
 ) -> None:
     case = tmp_path / "far.case.yaml"
-    case.write_text(SPRING_MASS.replace("VALUE", value), encoding="utf-8")
+    case.write_text(FAR.replace("VALUE", value), encoding="utf-8")
     began = time.process_time()
     result = loads("run", case, "-o", tmp_path / "out")
     assert time.process_time() - began < 30.0  # was hours (1e6 m) or for ever (1e300 m)

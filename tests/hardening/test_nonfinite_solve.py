@@ -13,6 +13,7 @@ import numpy as np
 
 from loadcases.results.files import read_results
 from tests.hardening.conftest import loads
+from tests.loadcases.test_initial_modes import COUNT, _text
 
 PUSH = '"-load"'
 
@@ -110,53 +111,25 @@ def test_request_turning_infinite_is_a_failure_naming_column(crank, tmp_path: Pa
     assert summary["message"] == "column big.value is not finite (inf) at t = 0.05 s"
 
 
-FREE_BEAM = """\
-name: free-beam
-units: {length: mm}
-bodies:
-  strip:
-    flexible:
-      beam:
-        start: [0, 0, 0]
-        end: [1000, 0, 0]
-        section: {width: 20, height: 5}
-        material: {E: 70 GPa, nu: 0.33, rho: 2700 kg/m^3}
-        elements: 10
-        y_axis: [0, 1, 0]
-      interface: {a: [0, 0, 0], b: [1000, 0, 0]}
-      modes: 2
-      damping: 0
-points:
-  pb: {body: strip.b, at: [1000, 0, 0]}
-"""
-BEAM_CASE = """\
-case: beam-huge
-mechanism: beam.mech.yaml
-initial:
-  strip: {modes: [1e300, 0]}
-analysis: {type: dynamic, end: 0.01, step: 0.001}
-requests:
-  pb: {point: pb, quantity: position}
-"""
-
-
 def test_a_huge_initial_modal_coordinate_fails_cleanly_saying_why(tmp_path: Path) -> None:
     """A modal coordinate of 1e300 (finite: no input error) takes the assembly's equations
     beyond doubles: the run fails (exit 1) saying the initial positions could not be
     assembled and which given value is the largest; no internal error, no RuntimeWarning."""
-    (tmp_path / "beam.mech.yaml").write_text(FREE_BEAM, encoding="utf-8")
-    (tmp_path / "beam.case.yaml").write_text(BEAM_CASE, encoding="utf-8")
+    modes = "[1e300" + ", 0" * (COUNT - 1) + "]"
+    case = tmp_path / "beam.case.yaml"
+    analysis = "analysis: {type: dynamic, end: 0.01, step: 0.001}"
+    case.write_text(_text(f"initial:\n  beam: {{modes: {modes}}}\n{analysis}"), encoding="utf-8")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        result = loads("run", tmp_path / "beam.case.yaml", "-o", tmp_path / "out")
+        result = loads("run", case, "-o", tmp_path / "out")
     assert result.exit_code == 1, result.output
     assert "internal error" not in result.output and "Warning" not in result.output
     assert not [w for w in caught if issubclass(w.category, RuntimeWarning)], caught
-    summary = _summary(tmp_path / "out", "beam-huge")
+    summary = _summary(tmp_path / "out", "flexible-cantilever")
     assert summary["status"] == "failed"
     assert summary["message"] == (
         "the initial positions could not be assembled: the constraint equations on the way "
         "to the given values exceed the range of double-precision numbers (the largest given "
-        "value: modal coordinate 1 of flexible body 'strip', 1e+300); give values the "
+        "value: modal coordinate 1 of flexible body 'beam', 1e+300); give values the "
         "mechanism can reach"
     )
