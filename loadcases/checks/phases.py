@@ -53,7 +53,7 @@ def check_phases(case: CaseModel, at: Locator) -> list[Diagnostic]:
                     )
                 )
             end = max(end, a.end)
-        if a.accuracy is not None:
+        if a.accuracy is not None and a.accuracy != "off":  # off asks for what a phase does
             found.append(
                 at.diagnostic(
                     (*where, "accuracy"),

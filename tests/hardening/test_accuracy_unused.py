@@ -1,6 +1,7 @@
-"""`analysis.accuracy` where it is not used: a phase's, in any of its forms, is warned that
-the global error of a phased case is not estimated; the documented `off` where it does
-nothing (a kinematic analysis, a static phase) gets that warning and no YAML 1.1 hint."""
+"""`analysis.accuracy` where it is not used: a phase's target, as a number or a mapping, is
+warned that the global error of a phased case is not estimated (a phase's `off` asks for
+just that: no warning); the documented `off` where it does nothing (a kinematic analysis, a
+static phase) gets that warning and no YAML 1.1 hint."""
 
 from __future__ import annotations
 
@@ -43,13 +44,19 @@ def _phased(tmp_path: Path, accuracy: str) -> Path:
 
 
 @pytest.mark.parametrize(
-    "accuracy", ["1e-4", "{target: 1e-4}", "{budget: {cpu: 60 s}}", "{measure: histories}", "off"]
+    "accuracy", ["1e-4", "{target: 1e-4}", "{budget: {cpu: 60 s}}", "{measure: histories}"]
 )
 def test_a_phase_accuracy_in_any_form_is_warned_by_validate(tmp_path: Path, accuracy: str) -> None:
     result = loads("validate", _phased(tmp_path, accuracy))
     assert result.exit_code == 0, result.output
     assert has_line(result.output, NOT_ESTIMATED), result.output
     assert HINT not in result.output
+
+
+def test_a_dynamic_phase_accuracy_off_is_quiet(tmp_path: Path) -> None:
+    result = loads("validate", _phased(tmp_path, "off"))
+    assert result.exit_code == 0, result.output
+    assert "warning" not in result.output and "hint" not in result.output, result.output
 
 
 def test_a_phase_accuracy_mapping_is_warned_by_run_and_in_the_summary(tmp_path: Path) -> None:
