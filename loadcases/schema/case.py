@@ -31,6 +31,7 @@ __all__ = [
     "ANALYSIS_TYPES",
     "KNOWN_EFFECTS",
     "REQUEST_KINDS",
+    "TARGET_FORM",
     "AccuracyBudget",
     "AccuracyTarget",
     "Analysis",
@@ -155,11 +156,12 @@ class AccuracyBudget(Strict):
 
 # `loads schema` states the target's bounds (loadcases.checks.analysis refuses the rest)
 _TARGET_BOUNDS: JsonDict = {"exclusiveMinimum": TARGET_ABOVE, "exclusiveMaximum": TARGET_BELOW}
-_TARGET_FORM = (
+# how a text that is no target starts to be refused (the number form adds `off` and the mapping)
+TARGET_FORM = (
     f"expected a target such as {DEFAULT_ACCURACY:g} (a fraction of each request's peak, "
     f"between {TARGET_ABOVE:g} and {TARGET_BELOW:g})"
 )
-_ACCURACY_FORMS = f"{_TARGET_FORM}, off, or a mapping {{target, budget, measure}}"
+_ACCURACY_FORMS = f"{TARGET_FORM}, off, or a mapping {{target, budget, measure}}"
 
 
 def _target_reader(forms: str) -> Callable[[Any], Any]:
@@ -185,7 +187,7 @@ def _target_reader(forms: str) -> Callable[[Any], Any]:
 class AccuracyTarget(Strict):
     """`accuracy: {target: 1e-2, budget: {cpu: 60 s}}`: the target with its budget."""
 
-    target: Annotated[Dimensionless, BeforeValidator(_target_reader(_TARGET_FORM))] = Field(
+    target: Annotated[Dimensionless, BeforeValidator(_target_reader(TARGET_FORM))] = Field(
         DEFAULT_ACCURACY,
         description=(
             "estimated global error of each request's envelope, of its peak "

@@ -129,6 +129,24 @@ def test_a_bad_accuracy_is_refused_at_its_key_saying_what_it_takes(
     )
 
 
+@pytest.mark.parametrize(("accuracy", "where"), [("tgtt", "9:3"), ("{target: tgtt}", "9:14")])
+def test_a_mistyped_parameter_name_is_named_as_such(
+    tmp_path: Path, accuracy: str, where: str
+) -> None:
+    """A text naming no parameter but close to one is an unknown parameter, in the number
+    form as in the mapping's target (not a text that is none of the forms)."""
+    path = _pendulum(tmp_path, accuracy)
+    path.write_text(path.read_text(encoding="utf-8") + "parameters: {tgt: 1e-3}\n", "utf-8")
+    result = loads("validate", path)
+    assert result.exit_code == 2, result.output
+    key = "analysis.accuracy" + (".target" if "target" in accuracy else "")
+    for line in (
+        f"pendulum.case.yaml:{where}: error: {key}: unknown parameter 'tgtt'",
+        f"pendulum.case.yaml:{where}: hint: did you mean 'tgt'?",
+    ):
+        assert has_line(result.output, line), (line, result.output)
+
+
 def test_a_plain_on_is_refused_without_a_hint_to_quote_it(tmp_path: Path) -> None:
     """YAML 1.1 reads `on` as true; quoted, 'on' is the same text to `loads` and is
     refused alike (above), so the hint does not suggest quoting it."""
