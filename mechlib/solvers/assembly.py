@@ -437,7 +437,7 @@ def _follow(path: _Path, q: np.ndarray) -> tuple[np.ndarray, int, list[str]]:
 def _stages(path: _Path, start: list[float]) -> int:
     """The stages of _STAGE (rad, or m for a travel) the way from `start` takes at least;
     SolverFailure beyond MAX_STAGES: a value so far from the drawn geometry (a unit slip
-    of 1e6 m) would take hours to follow, or for ever."""
+    of 1e6 m) would take minutes to follow, or for ever."""
     spans = [abs(item.value - v) for (item, _), v in zip(path.aims, start)]
     far = max(range(len(spans)), key=spans.__getitem__)
     stages = max(1, math.ceil(spans[far] / _STAGE))
