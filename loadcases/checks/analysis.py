@@ -40,11 +40,7 @@ def analysis_problems(analysis, at: Locator, where: KeyPath = ("analysis",)) -> 
         ):
             found.append(at.diagnostic((*where, "step"), problem))
     else:
-        found += [
-            at.diagnostic((*where, key), f"does nothing for a {kind} analysis", severity="warning")
-            for key in ("end", "step", "max_steps")
-            if getattr(analysis, key) is not None
-        ]
+        found += _does_nothing(analysis, at, where, ("end", "step", "max_steps"))
     found += [
         at.diagnostic((*where, key), "must be positive")
         for key in ("tolerance", "max_step")
@@ -60,14 +56,29 @@ def analysis_problems(analysis, at: Locator, where: KeyPath = ("analysis",)) -> 
             )
         )
     if kind != "dynamic":
-        found += [
-            at.diagnostic((*where, key), f"does nothing for a {kind} analysis", severity="warning")
-            for key in ("tolerance", "integrator", "max_step", "accuracy", "rho_inf", "output")
-            if getattr(analysis, key) is not None
-        ]
+        found += _does_nothing(
+            analysis,
+            at,
+            where,
+            ("tolerance", "integrator", "max_step", "accuracy", "rho_inf", "output"),
+        )
     if analysis.rho_inf is not None and not 0.0 <= analysis.rho_inf <= 1.0:
         found.append(at.diagnostic((*where, "rho_inf"), "must be between 0 and 1"))
     return found + _accuracy_target(analysis, at, where)
+
+
+def _does_nothing(analysis, at: Locator, where: KeyPath, keys: tuple[str, ...]) -> list[Diagnostic]:
+    """A warning at each of `keys` given in an analysis whose type does not use it."""
+    return [
+        at.diagnostic(
+            (*where, key),
+            f"does nothing for a {analysis.type} analysis",
+            severity="warning",
+            of_value=False,
+        )
+        for key in keys
+        if getattr(analysis, key) is not None
+    ]
 
 
 def _accuracy_target(analysis, at: Locator, where: KeyPath) -> list[Diagnostic]:

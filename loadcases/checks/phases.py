@@ -53,13 +53,14 @@ def check_phases(case: CaseModel, at: Locator) -> list[Diagnostic]:
                     )
                 )
             end = max(end, a.end)
-        if isinstance(a.accuracy, int | float):
+        if a.accuracy is not None and a.accuracy != "off":  # off asks for what a phase does
             found.append(
                 at.diagnostic(
                     (*where, "accuracy"),
                     "the global error is not estimated for a phased case: set the "
                     "phase's tolerance instead",
                     severity="warning",
+                    of_value=False,
                 )
             )
         name = phase_name(case, index)

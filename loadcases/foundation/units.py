@@ -45,6 +45,7 @@ __all__ = [
     "RESERVED_NAMES",
     "SIValue",
     "UnitError",
+    "UnreadableError",
     "check_unit_name",
     "describe_dimension",
     "dimension_mismatch",
@@ -158,6 +159,10 @@ _IDENTIFIER = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 
 class UnitError(ValueError):
     """A value that is not a quantity of the expected dimension; `str()` says why."""
+
+
+class UnreadableError(UnitError):
+    """A text that is no quantity at all (`cannot read 'off2': ...`), whatever its dimension."""
 
 
 @lru_cache(maxsize=1)
@@ -339,8 +344,8 @@ def _text_problem(text: str) -> str | None:
     return "unbalanced parentheses" if depth else None
 
 
-def _cannot_read(text: str, reason: str) -> UnitError:
-    return UnitError(f"cannot read '{clip(text)}': {reason}")
+def _cannot_read(text: str, reason: str) -> UnreadableError:
+    return UnreadableError(f"cannot read '{clip(text)}': {reason}")
 
 
 def _check_text(text: str) -> None:
@@ -408,7 +413,7 @@ def _quantity(text: str) -> tuple[Any, Any]:
     """Parse `text` ("110 mm") into a pint quantity and the same in base units; raises
     UnitError if it is not one."""
     if not _LEADING_NUMBER.match(text):
-        raise UnitError(f"cannot read '{clip(text)}': expected a number with a unit, like '110 mm'")
+        raise _cannot_read(text, "expected a number with a unit, like '110 mm'")
     _check_text(text)
     registry = _registry()
     import pint
@@ -754,9 +759,9 @@ def check_unit_name(unit: Any, kind: str) -> str:
         raise UnitError(f"expected a unit name such as 'mm', got {_show(unit)}")
     try:
         to_si(f"1 {unit}", kind)
-    except UnitError as error:
-        if "cannot read" in str(error):
-            raise UnitError(f"unknown unit '{unit}'") from None
+    except UnreadableError:
+        raise UnitError(f"unknown unit '{unit}'") from None
+    except UnitError:
         raise UnitError(f"'{unit}' is not a unit of {kind}") from None
     return unit.strip()
 

@@ -45,6 +45,7 @@ from loadcases.inputs.parameter_refs import (
 from loadcases.inputs.partial import beside_removed, validated_in_part
 from loadcases.inputs.reference_tables import check_reference_curves
 from loadcases.schema import CaseModel, FileUnits, MechanismModel, SetModel
+from loadcases.schema.case import TARGET_FORM
 from loadcases.schema.errors import (
     did_you_mean,
     plain_boolean_diagnostics,
@@ -534,7 +535,8 @@ def _name_unknown_parameters(
     out = []
     for d in diagnostics:
         reason = by_key.get((d.file, d.key))
-        if reason is not None and d.severity == "error" and "cannot read" in d.message:
+        unreadable = "cannot read" in d.message or d.message.startswith(TARGET_FORM)
+        if reason is not None and d.severity == "error" and unreadable:
             d = dataclasses.replace(d, message=reason.message, hint=reason.hint)
         out.append(d)
     return out

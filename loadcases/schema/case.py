@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import Annotated, Any, Literal
 
 from pydantic import BeforeValidator, Discriminator, Field, Tag, model_validator
@@ -11,7 +12,7 @@ from pydantic_core import PydanticCustomError
 
 import mechlib as ml
 from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY, TARGET_ABOVE, TARGET_BELOW
-from loadcases.foundation.units import UnitError, to_si
+from loadcases.foundation.units import UnitError, UnreadableError, to_si
 from loadcases.schema.mechanism import Event, FileUnits
 from loadcases.schema.torque_margin import TorqueMargin
 from loadcases.schema.types import (
@@ -30,6 +31,7 @@ __all__ = [
     "ANALYSIS_TYPES",
     "KNOWN_EFFECTS",
     "REQUEST_KINDS",
+    "TARGET_FORM",
     "AccuracyBudget",
     "AccuracyTarget",
     "Analysis",
@@ -154,29 +156,38 @@ class AccuracyBudget(Strict):
 
 # `loads schema` states the target's bounds (loadcases.checks.analysis refuses the rest)
 _TARGET_BOUNDS: JsonDict = {"exclusiveMinimum": TARGET_ABOVE, "exclusiveMaximum": TARGET_BELOW}
-_ACCURACY_FORMS = (
+# how a text that is no target starts to be refused (the number form adds `off` and the mapping)
+TARGET_FORM = (
     f"expected a target such as {DEFAULT_ACCURACY:g} (a fraction of each request's peak, "
-    f"between {TARGET_ABOVE:g} and {TARGET_BELOW:g}), off, or a mapping "
-    "{target, budget, measure}"
+    f"between {TARGET_ABOVE:g} and {TARGET_BELOW:g})"
 )
+_ACCURACY_FORMS = f"{TARGET_FORM}, off, or a mapping {{target, budget, measure}}"
 
 
-def _target_number(value: Any) -> Any:
-    """`analysis.accuracy` as a number or a quantity text (then read as dimensionless); a
-    word holding no digit (`false`, `none`, `OFF`) or a list is none of its forms."""
-    if (
-        isinstance(value, bool)
-        or not isinstance(value, int | float | str)
-        or (isinstance(value, str) and not any(character.isdigit() for character in value))
-    ):
-        raise PydanticCustomError("expected", _ACCURACY_FORMS)
-    return value
+def _target_reader(forms: str) -> Callable[[Any], Any]:
+    """The check of a target as a number or a quantity text (then read as dimensionless):
+    a text that is no quantity (`false`, `none`, `OFF`, `off2`) or a list is refused
+    naming `forms`; a quantity of another dimension (`1 mm`) is left to say so."""
+
+    def check(value: Any) -> Any:
+        if isinstance(value, bool) or not isinstance(value, int | float | str):
+            raise PydanticCustomError("expected", forms)
+        if isinstance(value, str):
+            try:
+                to_si(value, "dimensionless")
+            except UnreadableError:
+                raise PydanticCustomError("expected", forms) from None
+            except UnitError:
+                pass
+        return value
+
+    return check
 
 
 class AccuracyTarget(Strict):
     """`accuracy: {target: 1e-2, budget: {cpu: 60 s}}`: the target with its budget."""
 
-    target: Dimensionless = Field(
+    target: Annotated[Dimensionless, BeforeValidator(_target_reader(TARGET_FORM))] = Field(
         DEFAULT_ACCURACY,
         description=(
             "estimated global error of each request's envelope, of its peak "
@@ -204,7 +215,7 @@ def _accuracy_form(value: Any) -> str:
 
 
 Accuracy = Annotated[
-    Annotated[Dimensionless, BeforeValidator(_target_number), Tag("number")]
+    Annotated[Dimensionless, BeforeValidator(_target_reader(_ACCURACY_FORMS)), Tag("number")]
     | Annotated[Literal["off"], Tag("off")]
     | Annotated[AccuracyTarget, Tag("target")],
     Discriminator(_accuracy_form),

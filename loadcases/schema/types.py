@@ -14,7 +14,14 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, PlainValidat
 from pydantic_core import PydanticCustomError
 
 from loadcases.foundation.number_text import SIGNED_NUMBER
-from loadcases.foundation.units import SIValue, UnitError, finite, to_si, vector_to_si
+from loadcases.foundation.units import (
+    SIValue,
+    UnitError,
+    UnreadableError,
+    finite,
+    to_si,
+    vector_to_si,
+)
 
 __all__ = [
     "SI_UNITS",
@@ -189,9 +196,10 @@ def expression(dimension: str = "any") -> Any:
         if _EXPRESSION_QUANTITY.match(value):
             try:
                 return repr(to_si(value, dimension))
+            except UnreadableError:
+                pass  # no quantity: the expression checks say what is wrong with it
             except UnitError as error:
-                if "cannot read" not in str(error):
-                    raise _fail(error) from None
+                raise _fail(error) from None
         return value.strip()
 
     return Annotated[str, BeforeValidator(convert, json_schema_input_type=float | str)]

@@ -197,10 +197,13 @@ class Locator:
         hint: str | None = None,
         severity: Severity = "error",
         offset: int | None = None,
+        of_value: bool = True,
     ) -> Diagnostic:
-        """A diagnostic at the key `path`; with `offset`, at that character of its value."""
+        """A diagnostic at the key `path`; with `offset`, at that character of its value.
+        `of_value` False: the problem is the key being given at all (a setting that does
+        nothing there), so a plain `off` written as its value earns no YAML 1.1 hint."""
         full = (*self.prefix, *path)
-        if hint is None:
+        if hint is None and of_value:
             hint = self.tree.plain_boolean_hint(full)
         line, col = self.tree.position(full)
         if offset is not None and full in self.tree.values:

@@ -14,8 +14,8 @@ reached exactly where the constraints allow, the rigid coordinates moving to mee
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Sequence
-from contextlib import suppress
+from collections.abc import Callable, Iterator, Sequence
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -48,6 +48,7 @@ from mechlib.system.system import System
 
 __all__ = [
     "MAX_NEWTON",
+    "MAX_STAGES",
     "POSITION_TOLERANCE",
     "REUSE_BELOW",
     "InitialBodyVelocity",
@@ -68,6 +69,9 @@ ANGLE_LIMIT = 1e3 * POSITION_TOLERANCE / float(np.finfo(float).eps)
 MAX_NEWTON = 50
 _REPORT_CHANGE = 1e-8
 _STAGE = math.pi / 6  # rad: largest change of a given angle per assembly stage
+# stages of _STAGE the way from the drawn geometry may take: 5236 rad (833 turns) or 5.2 km,
+# some 2 s of CPU on a one-joint mechanism
+MAX_STAGES = 10_000
 _SPLITS = 6  # a stage leaving the drawn branch is halved at most this many times
 _SLOW_NEWTON = 12  # iterations: a stage's Newton slower than this passes a singular position
 _MODAL_WEIGHT = 1e-6  # column scale of modal coordinates in the assembly's least squares
@@ -99,8 +103,29 @@ def _assembly_weights(system: System) -> np.ndarray:
     return weights
 
 
+class _BeyondDoubles(ArithmeticError):
+    """Newton met equations or a Jacobian beyond the range of doubles (inf or nan): no step
+    can be solved from there (LAPACK would print its own complaints and fail)."""
+
+
 def _newton(
     residual, jacobian, q: np.ndarray, tol: float, weights: np.ndarray | None = None
+) -> tuple[np.ndarray, int, float]:
+    """_solved_newton with numpy's overflow warnings off: a value beyond doubles raises
+    _BeyondDoubles, which the caller turns into a failure saying why."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return _solved_newton(residual, jacobian, q, tol, weights)
+
+
+def _finite(values: np.ndarray) -> np.ndarray:
+    """`values` if all are finite, else _BeyondDoubles."""
+    if not np.isfinite(values).all():
+        raise _BeyondDoubles
+    return values
+
+
+def _solved_newton(
+    residual, jacobian, q: np.ndarray, tol: float, weights: np.ndarray | None
 ) -> tuple[np.ndarray, int, float]:
     """Minimum-norm Newton (Gauss-Newton when over-determined), the norm of the step
     divided by `weights` per column; returns q, iterations, |res| once a step is below
@@ -110,7 +135,7 @@ def _newton(
     REUSE_BELOW the Jacobian is kept (its change is of the order of that step, so the
     next step converges as fast as with a fresh one): a dense row, already on the
     constraints to 1e-9, is polished with one Jacobian instead of two."""
-    res = residual(q)
+    res = _finite(residual(q))
     w = np.ones(len(q)) if weights is None else weights
     solver: _MinimumNorm | None = None
     for it in range(1, MAX_NEWTON + 1):
@@ -119,7 +144,7 @@ def _newton(
             solver = _MinimumNorm(jacobian(q) * w)
         step = w * solver(-res)
         q = q + step
-        res = residual(q)
+        res = _finite(residual(q))
         size = np.abs(step).max(initial=0.0)
         if size < tol:  # converged, or (residual above tol) stuck: Gauss-Newton's fixed point
             return q, it, float(np.abs(res).max(initial=0.0))
@@ -136,18 +161,24 @@ class _MinimumNorm:
     (dependent rows, a singular position, more rows than columns)."""
 
     def __init__(self, a: np.ndarray):
-        self.a = a
+        self.a = _finite(a)  # LAPACK's least squares refuses inf and nan, printing why
         self.solve: Callable[[np.ndarray], np.ndarray] | None = None
         if a.shape[0] == 0 or a.shape[0] > a.shape[1]:
             return
         if a.shape[0] >= _SPARSE_NORMAL_FROM:
             sparse = sp.csr_matrix(a)
+            normal = (sparse @ sparse.T).tocsc()
+            if not np.isfinite(normal.data).all():  # overflowed: least squares scales a
+                return
             with suppress(RuntimeError):  # exactly singular: dependent rows
-                factors = splu((sparse @ sparse.T).tocsc(), permc_spec="COLAMD")
+                factors = splu(normal, permc_spec="COLAMD")
                 if _well_pivoted(factors.U.diagonal()):
                     self.solve = factors.solve
             return
-        lu, pivots, info = dgetrf(a @ a.T)  # LAPACK directly: its wrappers cost more
+        normal = a @ a.T
+        if not np.isfinite(normal).all():  # overflowed: least squares scales a
+            return
+        lu, pivots, info = dgetrf(normal)  # LAPACK directly: its wrappers cost more
         if info == 0 and _well_pivoted(np.diag(lu)):
             self.solve = lambda rhs: dgetrs(lu, pivots, rhs)[0]
 
@@ -192,13 +223,21 @@ def solve_positions(
             where=tuple(label for label, _ in beyond),
             status=Status.NEWTON_FAILED,
         )
-    q, its, worst = _newton(
-        lambda x: system.phi(system.kin(x, None, t)),
-        lambda x: system.phi_q(system.kin(x, None, t)),
-        q,
-        tol,
-        weights,
-    )
+    try:
+        q, its, worst = _newton(
+            lambda x: system.phi(system.kin(x, None, t)),
+            lambda x: system.phi_q(system.kin(x, None, t)),
+            q,
+            tol,
+            weights,
+        )
+    except _BeyondDoubles:
+        raise SolverFailure(
+            f"position analysis at t = {t:.6g} s: the constraint equations exceed the range "
+            "of double-precision numbers on the way (a value far too large?)",
+            time=t,
+            status=Status.NEWTON_FAILED,
+        ) from None
     if worst > 1e3 * tol:
         res = system.phi(system.kin(q, None, t))
         rows = np.argsort(-np.abs(res))[:3]
@@ -313,7 +352,8 @@ def _guesses(system: System, initial) -> dict[str, float]:
 @dataclass
 class _Path:
     """The assembly's way from the drawn geometry to the given values and guesses: stage
-    targets (given, then guessed coordinates) at a fraction of the way."""
+    targets (given, then guessed coordinates) at a fraction of the way. `given` and
+    `guessed` are (InitialValue, measure) pairs, a guess as the value its pair aims at."""
 
     system: System
     t: float
@@ -322,13 +362,18 @@ class _Path:
     check: BranchCheck
     weights: np.ndarray
 
+    @property
+    def aims(self) -> list:
+        """The (InitialValue, measure) pairs the way ends at: given, then guessed."""
+        return self.given + self.guessed
+
     def targets(self, start: list[float], reached: int, units: int) -> list[float]:
         """The targets `reached` / `units` of the way from `start`."""
-        ends = [item.value for item, _ in self.given] + [g for _, g in self.guessed]
+        ends = [item.value for item, _ in self.aims]
         return [v + (end - v) * reached / units for v, end in zip(start, ends)]
 
     def solve(self, q: np.ndarray, targets: list[float]) -> tuple[np.ndarray, int]:
-        rows = self.given + [(None, m) for m, _ in self.guessed]
+        rows = self.aims
         q, n, _ = _newton(
             _given_residual(self.system, rows, targets, self.t),
             _given_jacobian(self.system, rows, self.t),
@@ -351,14 +396,11 @@ def _follow(path: _Path, q: np.ndarray) -> tuple[np.ndarray, int, list[str]]:
     those that moved, the largest move first)."""
     system, t = path.system, path.t
     k = system.kin(q, None, t)
-    measures = [m for _, m in path.given] + [m for m, _ in path.guessed]
-    start = [m.value(k) for m in measures]
-    ends = [item.value for item, _ in path.given] + [g for _, g in path.guessed]
-    span = max(abs(end - v) for v, end in zip(start, ends))
+    start = [m.value(k) for _, m in path.aims]
     # the way in units of the smallest stage, counted in integers: the fraction of an
     # unhalved stage is exactly stage / stages (IEEE division of exact integers)
     full = 2**_SPLITS
-    units = max(1, math.ceil(span / _STAGE)) * full
+    units = _stages(path, start) * full
     watch = not path.guessed  # guesses choose the branch themselves
     skip = {item.joint for item, _ in path.given}
     sign = orientation(system, k, [m for _, m in path.given]) if watch else 0
@@ -390,6 +432,29 @@ def _follow(path: _Path, q: np.ndarray) -> tuple[np.ndarray, int, list[str]]:
         step = min(full, 2 * step)
         system.commit(k)
     return q, its, flagged
+
+
+def _stages(path: _Path, start: list[float]) -> int:
+    """The stages of _STAGE (rad, or m for a travel) the way from `start` takes at least;
+    SolverFailure beyond MAX_STAGES: a value so far from the drawn geometry (a unit slip
+    of 1e6 m) would take minutes to follow, or for ever."""
+    spans = [abs(item.value - v) for (item, _), v in zip(path.aims, start)]
+    far = max(range(len(spans)), key=spans.__getitem__)
+    stages = max(1, math.ceil(spans[far] / _STAGE))
+    if stages <= MAX_STAGES:
+        return stages
+    item, measure = path.aims[far]
+    unit = "rad" if measure.kind == "angle" else "m"
+    raise SolverFailure(
+        f"the initial positions could not be assembled: joint '{item.joint}' is given "
+        f"{item.value:.6g} {unit}, {spans[far]:.6g} {unit} from the drawn geometry "
+        f"({start[far]:.6g} {unit}), too far to assemble: the assembly follows the drawn "
+        f"geometry in stages of at most {_STAGE:.3g} {unit}, and it would take {stages:.3g} "
+        f"stages, more than {MAX_STAGES}; give a value nearer the drawn geometry",
+        time=path.t,
+        where=(item.joint,),
+        status=Status.NEWTON_FAILED,
+    )
 
 
 def _predicted(
@@ -425,16 +490,52 @@ def assemble(
     The positions are kept per process by the values they are found from
     (mechlib.solvers.start_memo: a sweep of initial rates places its mechanism once)."""
     check = check or BranchCheck()
-    placed = placed_start(system, t, initial, check, lambda: _placed(system, t, initial, check))
+    with _within_doubles(system, t, initial):
+        placed = placed_start(system, t, initial, check, lambda: _placed(system, t, initial, check))
     qd, vnotes = _initial_velocities(system, placed.q, t, initial, _assembly_weights(system))
     return Assembled(placed.q, qd, placed.iterations, placed.notes + vnotes, placed.changes)
+
+
+@contextmanager
+def _within_doubles(system: System, t: float, initial: Sequence) -> Iterator[None]:
+    """The assembly's _BeyondDoubles as the run's failure: the initial positions could not
+    be assembled, with the largest given value (the likely culprit, e.g. a modal coordinate
+    of 1e300)."""
+    try:
+        yield
+    except _BeyondDoubles:
+        raise SolverFailure(
+            "the initial positions could not be assembled: the constraint equations on the "
+            "way to the given values exceed the range of double-precision numbers"
+            f"{_largest_given(system, initial)}; give values the mechanism can reach",
+            time=t,
+            status=Status.NEWTON_FAILED,
+        ) from None
+
+
+def _largest_given(system: System, initial: Sequence) -> str:
+    """` (the largest given value: modal coordinate 1 of flexible body 'strip', 1e+300)`,
+    or nothing when no position is given."""
+    given = [
+        (abs(item.value), f"joint '{item.joint}' at {item.value:.6g}")
+        for item, _ in _given_positions(system, initial)
+    ]
+    given += [
+        (abs(m.value), f"modal coordinate {m.mode + 1} of flexible body '{m.body}', {m.value:.6g}")
+        for m in modal_targets(system, initial)
+    ]
+    if not given:
+        return ""
+    return f" (the largest given value: {max(given, key=lambda pair: pair[0])[1]})"
 
 
 def _placed(system: System, t: float, initial: Sequence, check: BranchCheck) -> Placed:
     """The positions of `assemble` (m, Euler parameters, modal coordinates), its Newton
     iterations, notes and branch changes."""
     given = _given_positions(system, initial)
-    guessed = [(system.coordinate_of(j), g) for j, g in _guesses(system, initial).items()]
+    guessed = [
+        (InitialValue(j, g), system.coordinate_of(j)) for j, g in _guesses(system, initial).items()
+    ]
     q = system.design_q()
     weights = _assembly_weights(system)
     its, flagged = 0, list[str]()
@@ -479,7 +580,8 @@ def reassemble(
     drawing): on the constraints, the given joint values and modal coordinates and rates."""
     weights = _assembly_weights(system)
     modal = modal_targets(system, initial)
-    q, _ = _on_constraints(system, q, t, _given_positions(system, initial), modal, weights)
+    with _within_doubles(system, t, initial):
+        q, _ = _on_constraints(system, q, t, _given_positions(system, initial), modal, weights)
     notes = modal_notes(modal, q[[m.column for m in modal]], "modal coordinate")
     qd, vnotes = _initial_velocities(system, q, t, initial, weights)
     return q, qd, notes + vnotes

@@ -16,6 +16,20 @@ from cli.app import app
 from tests.loadcases.set_fixtures import CRANK_CASE, CRANK_MECH
 
 _runner = CliRunner()
+# a case's inline mechanism (lines 2-12): a 1 kg mass on a slide, a 1000 N/m spring
+SPRING_MASS = """\
+mechanism:
+  name: sm
+  bodies:
+    mass: {mass: 1.0, cm: [0, 0, 0], inertia: [0.01, 0.01, 0.01]}
+  points:
+    m_eye: {body: mass, at: [0, 0, 0]}
+    anchor: {body: ground, at: [-1, 0, 0]}
+  joints:
+    slide: {type: prismatic, bodies: [mass, ground], at: [0, 0, 0], axis: [1, 0, 0]}
+  forces:
+    spring: {type: spring, points: [m_eye, anchor], stiffness: 1000, free_length: 1.0}
+"""
 
 
 def loads(*args: object) -> Any:

@@ -35,10 +35,8 @@ analysis:
 requests:
   hinge_force: {joint: hinge, quantity: force, frame: ground}
 """
-FORMS = (
-    "expected a target such as 0.001 (a fraction of each request's peak, between 0 and 1), "
-    "off, or a mapping {target, budget, measure}"
-)
+TARGET = "expected a target such as 0.001 (a fraction of each request's peak, between 0 and 1)"
+FORMS = f"{TARGET}, off, or a mapping {{target, budget, measure}}"
 
 
 def _pendulum(tmp_path: Path, accuracy: str, extra: str = "") -> Path:
@@ -108,6 +106,10 @@ BOUNDS = "must lie between 0 and 1 (a fraction of the peak)"
         ('"OFF"', "9:3", "", f"{FORMS}, got 'OFF'"),
         ("none", "9:3", "", f"{FORMS}, got 'none'"),
         ("[1e-3]", "9:3", "", f"{FORMS}, got a list of 1 values"),
+        ("off2", "9:3", "", f"{FORMS}, got 'off2'"),
+        ("1e-3 x", "9:3", "", f"{FORMS}, got '1e-3 x'"),
+        ("1 mm", "9:3", "", "expected a dimensionless number, got '1 mm' (a length)"),
+        ("{target: off2}", "9:14", ".target", f"{TARGET}, got 'off2'"),
         ("'on'", "9:3", "", f"{FORMS}, got 'on'"),
         ("2", "9:3", "", f"2 {BOUNDS}"),
         ("1", "9:3", "", f"1 {BOUNDS}"),
@@ -119,12 +121,30 @@ BOUNDS = "must lie between 0 and 1 (a fraction of the peak)"
 def test_a_bad_accuracy_is_refused_at_its_key_saying_what_it_takes(
     tmp_path: Path, accuracy: str, where: str, key: str, message: str
 ) -> None:
-    """A fraction where a count is needed asks for a whole number; a word that is none
-    of the accuracy's forms names them; a target outside 0 and 1 is refused as `loads
-    accuracy --target` refuses it."""
+    """A fraction where a count is needed asks for a whole number; a text that is none
+    of the accuracy's forms (no quantity at all) names them; a target outside 0 and 1 is
+    refused as `loads accuracy --target` refuses it."""
     _refused(
         tmp_path, accuracy, f"pendulum.case.yaml:{where}: error: analysis.accuracy{key}: {message}"
     )
+
+
+@pytest.mark.parametrize(("accuracy", "where"), [("tgtt", "9:3"), ("{target: tgtt}", "9:14")])
+def test_a_mistyped_parameter_name_is_named_as_such(
+    tmp_path: Path, accuracy: str, where: str
+) -> None:
+    """A text naming no parameter but close to one is an unknown parameter, in the number
+    form as in the mapping's target (not a text that is none of the forms)."""
+    path = _pendulum(tmp_path, accuracy)
+    path.write_text(path.read_text(encoding="utf-8") + "parameters: {tgt: 1e-3}\n", "utf-8")
+    result = loads("validate", path)
+    assert result.exit_code == 2, result.output
+    key = "analysis.accuracy" + (".target" if "target" in accuracy else "")
+    for line in (
+        f"pendulum.case.yaml:{where}: error: {key}: unknown parameter 'tgtt'",
+        f"pendulum.case.yaml:{where}: hint: did you mean 'tgt'?",
+    ):
+        assert has_line(result.output, line), (line, result.output)
 
 
 def test_a_plain_on_is_refused_without_a_hint_to_quote_it(tmp_path: Path) -> None:

@@ -6,12 +6,14 @@ from __future__ import annotations
 
 import json
 import math
+import warnings
 from pathlib import Path
 
 import numpy as np
 
 from loadcases.results.files import read_results
 from tests.hardening.conftest import loads
+from tests.loadcases.test_initial_modes import COUNT, _text
 
 PUSH = '"-load"'
 
@@ -107,3 +109,27 @@ def test_request_turning_infinite_is_a_failure_naming_column(crank, tmp_path: Pa
     summary = _summary(tmp_path / "out")
     assert summary["status"] == "failed"
     assert summary["message"] == "column big.value is not finite (inf) at t = 0.05 s"
+
+
+def test_a_huge_initial_modal_coordinate_fails_cleanly_saying_why(tmp_path: Path) -> None:
+    """A modal coordinate of 1e300 (finite: no input error) takes the assembly's equations
+    beyond doubles: the run fails (exit 1) saying the initial positions could not be
+    assembled and which given value is the largest; no internal error, no RuntimeWarning."""
+    modes = "[1e300" + ", 0" * (COUNT - 1) + "]"
+    case = tmp_path / "beam.case.yaml"
+    analysis = "analysis: {type: dynamic, end: 0.01, step: 0.001}"
+    case.write_text(_text(f"initial:\n  beam: {{modes: {modes}}}\n{analysis}"), encoding="utf-8")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = loads("run", case, "-o", tmp_path / "out")
+    assert result.exit_code == 1, result.output
+    assert "internal error" not in result.output and "Warning" not in result.output
+    assert not [w for w in caught if issubclass(w.category, RuntimeWarning)], caught
+    summary = _summary(tmp_path / "out", "flexible-cantilever")
+    assert summary["status"] == "failed"
+    assert summary["message"] == (
+        "the initial positions could not be assembled: the constraint equations on the way "
+        "to the given values exceed the range of double-precision numbers (the largest given "
+        "value: modal coordinate 1 of flexible body 'beam', 1e+300); give values the "
+        "mechanism can reach"
+    )

@@ -139,3 +139,40 @@ def test_run_prints_a_case_warning_as_validate_does(crank, tmp_path: Path) -> No
     ran = loads("run", case, "-o", tmp_path / "out")
     assert ran.exit_code == 0, ran.output
     assert "  " + expected in ran.stdout.splitlines()
+
+
+@pytest.mark.parametrize(
+    ("extra", "sweep", "expected"),
+    [
+        (
+            ", accuracy: {target: tgt}",
+            "tgt: [1e-2, 2, 1e-4]",
+            "crank.case.yaml:3:60: error: analysis.accuracy.target: 2 must lie between 0 and 1 "
+            "(a fraction of the peak)",
+        ),
+        (
+            ", tolerance: tgt",
+            "tgt: [1e-6, -1, 1e-5]",
+            "crank.case.yaml:3:49: error: analysis.tolerance: must be positive",
+        ),
+    ],
+)
+def test_a_set_whose_swept_value_makes_a_run_invalid_is_refused_by_validate(
+    crank, tmp_path: Path, extra: str, sweep: str, expected: str
+) -> None:
+    """`loads validate SET` refuses, at the case's key, what `loads run` refuses a run of
+    the set for (exit 2), naming the runs: the value swept into a numeric field."""
+    case = _dynamic(crank, extra)
+    case.write_text(
+        case.read_text(encoding="utf-8") + "parameters: {tgt: 1e-3}\n", encoding="utf-8"
+    )
+    (tmp_path / "s.set.yaml").write_text(
+        f"set: s\ncases: [crank.case.yaml]\nsweep:\n  {sweep}\n  load: [10, 20]\n",
+        encoding="utf-8",
+    )
+    bad = sweep.split("[")[1].split(", ")[1]
+    runs = f"runs crank-turn[tgt={bad},load=10], crank-turn[tgt={bad},load=20]"
+    checked = loads("validate", tmp_path / "s.set.yaml")
+    assert checked.exit_code == 2, checked.output
+    assert has_line(checked.output, f"{expected}, in {runs}"), checked.output
+    assert "s.set.yaml: ok" not in checked.output
