@@ -504,7 +504,7 @@ def constraint_rows(x, ints, floats, functions, refs, full, rows):
     return unpacked_rows(x, unpack(ints, floats), functions, refs, full, rows)
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def unpacked_rows(x, packed, functions, refs, full, rows):
     """`constraint_rows` of the pack unpacked once (`unpack`: a loop of Newton
     iterations unpacks it once, not at every iteration)."""
@@ -597,13 +597,13 @@ def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
     unpacked_nu_values(packed, functions, nu)
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def row_count_unpacked(packed):
     """The number of rows (active or not) of the pack unpacked (`unpack`)."""
     return _coordinates_first(packed) + packed[24].shape[0]
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def _coordinates_first(packed):
     """The first coordinate equation's row of the pack unpacked (`unpack`): after the
     Euler-parameter norms, 3 rows a spherical group, the dot-1 and dot-2 rows."""
@@ -667,7 +667,7 @@ def nu_values(ints, floats, functions, nu):
     unpacked_nu_values(unpack(ints, floats), functions, nu)
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def unpacked_nu_values(packed, functions, nu):
     """`nu_values` of the pack unpacked once (`unpack`)."""
     _active_nu(_coordinates_first(packed), packed[24], packed[25], functions, nu)
