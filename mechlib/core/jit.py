@@ -17,6 +17,14 @@ kernel of another module would keep the callee's old machine code after that mod
 (a crash or a wrong number after a partial update such as `git pull`). So before the first
 compilation every mechlib kernel cache is dropped when any mechlib source file with kernels
 changed since the caches were written (`drop_stale_caches`).
+
+A call from one compiled kernel to another counts a reference (numba's NRT_incref, then
+NRT_decref) to each array it hands on, every member of a tuple: the packed constraints are
+27 arrays, the packed force elements 19, a dense row's work arrays 39. So the kernels that
+take such tuples at every Newton iterate or dense row are marked `inline="always"` (numba
+inlines their IR into the caller, where the counts within one function are pruned): the
+campaign's `run_steps` calls 7-9 % faster (docs/performance.md). Each caller compiles an
+inlined kernel again, so only those hot helpers are.
 """
 
 from __future__ import annotations

@@ -267,7 +267,7 @@ def no_forces():
     )
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def any_elements(forces):
     """Any element is packed (springs, angle elements: torsion springs, dampers,
     frictions; actuators; contacts)."""

@@ -255,7 +255,7 @@ def selected_pack(system, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return _pack(_Selection(groups, nb, renumbered), block)
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def _full_rows(x, nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2si, d2sj, phi, rows):
     """Residuals and Jacobian rows (nall, 7 (nb+1)) of the geometric groups, in the
     system's row order; `rows` zeroed by the caller. Returns the first coordinate row."""
@@ -275,7 +275,7 @@ def _full_rows(x, nb, sbi, sbj, ssi, ssj, d1i, d1j, d1u, d1v, d2i, d2j, d2v, d2s
     return r + n
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def body_terms(body, nb):
     """(gravity (3,), masses (nb,), Euler-parameter scales (nb,), inertia tensors (nb, 3,
     3)): views of `ConstraintArrays.bodies`' array."""
@@ -432,7 +432,7 @@ def unpacked_phi_and_jacobian(x, packed, functions, refs, phi, jac):
     phi_and_jacobian_in(x, packed, functions, refs, phi, jac, full, rows)
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def phi_and_jacobian_in(x, packed, functions, refs, phi, jac, full, rows):
     """`unpacked_phi_and_jacobian` in the work arrays full (`row_count`,) and rows
     (`row_count`, 7 (nb+1)), zeroed here: a loop of rows makes them once. The coordinate
@@ -504,7 +504,7 @@ def constraint_rows(x, ints, floats, functions, refs, full, rows):
     return unpacked_rows(x, unpack(ints, floats), functions, refs, full, rows)
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def unpacked_rows(x, packed, functions, refs, full, rows):
     """`constraint_rows` of the pack unpacked once (`unpack`: a loop of Newton
     iterations unpacks it once, not at every iteration)."""
@@ -597,13 +597,13 @@ def unpacked_nu_and_gamma(x, xd, packed, functions, refs, nu, gamma):
     unpacked_nu_values(packed, functions, nu)
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def row_count_unpacked(packed):
     """The number of rows (active or not) of the pack unpacked (`unpack`)."""
     return _coordinates_first(packed) + packed[24].shape[0]
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def _coordinates_first(packed):
     """The first coordinate equation's row of the pack unpacked (`unpack`): after the
     Euler-parameter norms, 3 rows a spherical group, the dot-1 and dot-2 rows."""
@@ -611,7 +611,7 @@ def _coordinates_first(packed):
     return nb + 3 * sbi.shape[0] + d1i.shape[0] + d2i.shape[0]
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def unpacked_gamma(x, xd, packed, functions, refs, gamma, full):
     """gamma (m,) of the active rows at (x, xd): `nu_and_gamma`'s gamma without its nu, in
     the work array `full` (`row_count_unpacked` rows; each row it reads is written first)."""
@@ -667,7 +667,7 @@ def nu_values(ints, floats, functions, nu):
     unpacked_nu_values(unpack(ints, floats), functions, nu)
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def unpacked_nu_values(packed, functions, nu):
     """`nu_values` of the pack unpacked once (`unpack`)."""
     _active_nu(_coordinates_first(packed), packed[24], packed[25], functions, nu)

@@ -265,7 +265,7 @@ def row_work(ints, floats, body, nq, m):
     )  # fmt: skip
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def _positions(work, functions, refs, tol, reuse, most, once):
     """work's q (moved in place) onto phi = 0 by minimum-norm Newton (mechlib.solvers.
     assembly._newton with unit weights) from phi and its Jacobian at q in work's phi and
@@ -357,7 +357,7 @@ def _inverse_mass(x, body, inverse):
     return blocks
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def _schur(work, body):
     """Into work: M^-1's blocks at x (xs[0]) from each body's J'^-1 (`inverse_inertia`),
     phi_q M^-1 (m, nq, in the blocks each row touches) with the row's Jacobian (the latest
@@ -480,7 +480,7 @@ def project_worked_row(ends, h, s, work, functions, refs, body, params, z, eleme
     return _dynamics(work, functions, refs, body, z, elements, out), fresh
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def _dynamics(work, functions, refs, body, z, elements, out):
     """The row at work's position q (x, xd: its state arrays, rewritten) with the
     Jacobian, M^-1 blocks, phi_q M^-1 and the Schur complement's factor there (`_schur`):

@@ -107,7 +107,7 @@ def _residual_work(nq):
     return np.empty((3, nq)), np.zeros((2, nq // 7 + 1, 3))
 
 
-@njit(**KERNEL)
+@njit(**KERNEL, inline="always")
 def _dynamic_residual(x, xd, qdd, lam, rows, active, row_bodies, body, z, elements, work, out):
     """out[:nq] = M qdd + phi_q^T lam - Q (gravity, velocity terms and the loads of the
     packed `elements` at element states z, mechlib.elements.compiled_forces); work:
