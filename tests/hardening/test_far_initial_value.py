@@ -48,3 +48,35 @@ def test_a_value_too_far_from_the_drawing_fails_at_once_with_the_numbers(
         f"the drawn geometry in stages of at most 0.524 m, and it would take {stages} stages, "
         f"more than {MAX_STAGES}; give a value nearer the drawn geometry"
     )
+
+
+PENDULUM = """\
+case: pendulum-far
+mechanism:
+  name: pendulum
+  gravity: [0, -9.81, 0]
+  bodies:
+    bar: {mass: 1.0, cm: [0, -0.5, 0], inertia: [0.1, 0.001, 0.1]}
+  joints:
+    hinge: {type: revolute, bodies: [bar, ground], at: [0, 0, 0], axis: [0, 0, 1]}
+initial:
+  hinge: {value: 1e5, rate: 0}
+analysis: {type: dynamic, end: 0.01, step: 0.001}
+requests:
+  angle: {joint: hinge, quantity: angle}
+"""
+
+
+def test_an_angle_too_far_from_the_drawing_fails_in_radians(tmp_path: Path) -> None:
+    """1e5 rad (16 000 turns) takes 190 986 stages of 30 deg: refused at once, in rad."""
+    case = tmp_path / "far.case.yaml"
+    case.write_text(PENDULUM, encoding="utf-8")
+    result = loads("run", case, "-o", tmp_path / "out")
+    assert result.exit_code == 1, result.output
+    summary = json.loads((tmp_path / "out" / "pendulum-far.summary.json").read_text())
+    assert summary["message"] == (
+        "the initial positions could not be assembled: joint 'hinge' is given 100000 rad, "
+        "100000 rad from the drawn geometry (0 rad), too far to assemble: the assembly "
+        "follows the drawn geometry in stages of at most 0.524 rad, and it would take "
+        f"1.91e+05 stages, more than {MAX_STAGES}; give a value nearer the drawn geometry"
+    )
