@@ -11,7 +11,7 @@ import typer
 from cli.engine import RunSet
 from cli.render import TerminalLine
 from cli.runner import FileReport, RunLine
-from loadcases.foundation.diagnostics import InputError
+from loadcases.foundation.diagnostics import SHOWN_RUNS, InputError
 
 if TYPE_CHECKING:
     from loadcases.sets.campaign import SetResult
@@ -118,8 +118,8 @@ def run_set_file(
     if invalid:
         footer.append(
             f"runs whose parameter values make the input invalid ({len(invalid)}, exit 2): "
-            + ", ".join(invalid[:5])
-            + (" ..." if len(invalid) > 5 else "")
+            + ", ".join(invalid[:SHOWN_RUNS])
+            + (" ..." if len(invalid) > SHOWN_RUNS else "")
         )
     return FileReport(
         path,

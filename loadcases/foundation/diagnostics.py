@@ -10,9 +10,10 @@ from typing import Literal
 
 from loadcases.foundation.clip import clip, clip_quotes, visible
 
-__all__ = ["Diagnostic", "InputError", "format_diagnostic", "sort_diagnostics"]
+__all__ = ["SHOWN_RUNS", "Diagnostic", "InputError", "format_diagnostic", "sort_diagnostics"]
 
 Severity = Literal["error", "warning"]
+SHOWN_RUNS = 5  # a set's runs a message names (`loads validate`'s problems, `loads run`'s footer)
 
 
 @dataclass(frozen=True)

@@ -459,9 +459,10 @@ def peak_error(
         if dense_beside(run, companion, run.bottoms * _FLIP, -run.min, -1.0):
             flipped = (run.bottoms * _FLIP, -run.min, companion.bottoms * _FLIP)
             bottom = -crest_match(*flipped, window, scale, -bottom)[1]
+    over, under = min(over, bound), min(under, bound)
     sides = [
-        min(max(size * abs(run.max - top), over), bound) + high,
-        min(max(size * abs(run.min - bottom), under), bound) + low,
+        max(min(size * abs(run.max - top), bound), over) + high,
+        max(min(size * abs(run.min - bottom), bound), under) + low,
     ]
     if crests:
         at_rows = run.max == run.row_max or run.min == run.row_min
@@ -469,7 +470,7 @@ def peak_error(
         for k, (sign, beside) in enumerate(((1.0, over), (-1.0, under))):
             spike = _at_row_peak(run, companion, sign, size, spikes)
             if spike is not None:
-                sides[k], missed = max(spike[0], min(beside, bound)), spike[1]
+                sides[k], missed = max(spike[0], beside), spike[1]
                 high, low = (missed, low) if sign > 0 else (high, missed)
     return max(sides), max(high, low)
 

@@ -12,15 +12,13 @@ from pathlib import Path
 from loadcases.build.model import build_mechanism
 from loadcases.build.precheck import case_problems, set_problems
 from loadcases.foundation.cache_env import reading_only
-from loadcases.foundation.diagnostics import Diagnostic, InputError
+from loadcases.foundation.diagnostics import SHOWN_RUNS, Diagnostic, InputError
 from loadcases.inputs.kinds import file_kind, unknown_kind
 from loadcases.inputs.loader import load_case, load_mechanism, validate_set
 from loadcases.inputs.overrides import Override
 from loadcases.sets.specs import CompiledSet, compile_set
 
-__all__ = ["SHOWN_RUNS", "file_problems", "run_input_problems"]
-
-SHOWN_RUNS = 5  # runs a problem names, then how many more (as `loads run`'s footer)
+__all__ = ["file_problems", "run_input_problems"]
 
 
 def file_problems(path: str | Path, what_if: Sequence[Override] = ()) -> list[Diagnostic]:
