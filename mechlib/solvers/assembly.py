@@ -43,6 +43,7 @@ from mechlib.solvers.initial_modes import (
     modal_rate_rows,
     modal_targets,
 )
+from mechlib.solvers.least_energy import least_energy_velocities, velocity_metric
 from mechlib.solvers.start_memo import Placed, placed_start
 from mechlib.system.system import System
 
@@ -646,7 +647,8 @@ def _velocity_rows(system: System, k: Kin, initial) -> tuple[list, list, list]:
 
 
 def _initial_velocities(system: System, q: np.ndarray, t: float, initial, weights: np.ndarray):
-    """qd on the velocity constraints and the given rates, smallest in the `weights` norm."""
+    """qd on the velocity constraints and the given rates, smallest in the `weights` norm
+    (with flexible bodies: of least kinetic energy, mechlib.solvers.least_energy)."""
     k = system.kin(q, None, t)
     phi_q, nu = system.phi_q(k), system.nu(k)
     rows, rhs, names = _velocity_rows(system, k, initial)
@@ -655,15 +657,14 @@ def _initial_velocities(system: System, q: np.ndarray, t: float, initial, weight
         rows = [*rows, *(modal_rows / _MODAL_WEIGHT)]
         rhs = [*rhs, *(modal_rhs / _MODAL_WEIGHT)]
     count(factorizations=2 if rows else 1)
-    if rows:
-        scaled, *_ = np.linalg.lstsq(
-            np.vstack([phi_q, np.array(rows)]) * weights, np.concatenate([nu, rhs]), rcond=None
+    given, values = np.array(rows).reshape(len(rows), system.nq), np.array(rhs, dtype=float)
+    if system.nz:
+        metric = velocity_metric(system, k, weights)
+        qd = weights * least_energy_velocities(
+            phi_q * weights, nu, given * weights, values, metric
         )
-        qd = weights * scaled
     else:
-        qd = np.zeros(system.nq)
-    fix, *_ = np.linalg.lstsq(phi_q * weights, nu - phi_q @ qd, rcond=None)
-    qd = qd + weights * fix
+        qd = _smallest_velocities(phi_q, nu, given, values, weights)
     notes = []
     for what, block, wanted in names:
         actual = block @ qd
@@ -674,6 +675,21 @@ def _initial_velocities(system: System, q: np.ndarray, t: float, initial, weight
             )
     notes += modal_notes(modal, modal_rows @ qd, "modal rate")
     return qd, notes
+
+
+def _smallest_velocities(
+    phi_q: np.ndarray, nu: np.ndarray, rows: np.ndarray, rhs: np.ndarray, weights: np.ndarray
+) -> np.ndarray:
+    """qd of a rigid mechanism: the constraints and the given `rows` in one least squares,
+    smallest in the `weights` column norm, then moved onto the constraints."""
+    qd = np.zeros(len(weights))
+    if len(rows):
+        scaled, *_ = np.linalg.lstsq(
+            np.vstack([phi_q, rows]) * weights, np.concatenate([nu, rhs]), rcond=None
+        )
+        qd = weights * scaled
+    fix, *_ = np.linalg.lstsq(phi_q * weights, nu - phi_q @ qd, rcond=None)
+    return qd + weights * fix
 
 
 def _shown(values: Sequence[float] | np.ndarray) -> str:
