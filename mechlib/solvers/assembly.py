@@ -660,9 +660,7 @@ def _initial_velocities(system: System, q: np.ndarray, t: float, initial, weight
     given, values = np.array(rows).reshape(len(rows), system.nq), np.array(rhs, dtype=float)
     if system.nz:
         metric = velocity_metric(system, k, weights)
-        qd = weights * least_energy_velocities(
-            phi_q * weights, nu, given * weights, values, metric
-        )
+        qd = weights * least_energy_velocities(phi_q * weights, nu, given * weights, values, metric)
     else:
         qd = _smallest_velocities(phi_q, nu, given, values, weights)
     notes = []

@@ -23,7 +23,7 @@ from scipy.linalg import cho_factor, solve_triangular
 from mechlib.kinematics.kin import Kin
 from mechlib.system.system import System
 
-__all__ = ["velocity_metric", "least_energy_velocities"]
+__all__ = ["least_energy_velocities", "velocity_metric"]
 
 _RANK = 1e-10  # a singular value of phi_q below this x the largest is a dependent row
 _RIDGE = 1e-12  # x the metric's largest diagonal: keeps a free massless direction defined
