@@ -1,18 +1,18 @@
 """Initial velocities of a mechanism with flexible bodies: on the velocity constraints,
 the given rates met in least squares, and of the remaining freedom the velocities of least
-kinetic energy for each flexible body.
+kinetic energy.
 
 A rigid mechanism's initial velocities are the smallest in the assembly's column norm
 (mechlib.solvers.assembly). A flexible body's kept nodes are massless node bodies welded to
 it (mechlib.flexible.attached): counted in that norm they pulled the body's frame along to
 cancel their modal velocities, and a free beam given only a modal rate started with a rigid
 spin and drift of the same order (0.0165 m/s on a free 0.8 m beam given 0.01 kg^0.5 m/s in
-its first bending mode). Here the node bodies weigh nothing (the welds set their
-velocities), and a flexible body weighs by its own mass matrix over its mass (its frame and
-its modes together): what is left free is chosen for least kinetic energy, so a free body
-given only modal rates keeps its momentum zero (its centre of mass at rest). The rigid
-bodies keep their weights, and a mechanism without flexible bodies takes the rigid path,
-unchanged.
+its first bending mode). Here the norm is the kinetic energy (the mechanism's mass matrix:
+the node bodies weigh nothing, the welds set their velocities), so a free mechanism given
+only modal rates keeps its momentum zero, its centre of mass at rest, whatever rigid parts
+it carries. The modal coordinates that are not given keep the rigid path's weight besides
+(they move only where the constraints need it, as in the positions); a mechanism without
+flexible bodies takes the rigid path, unchanged.
 """
 
 from __future__ import annotations
@@ -31,19 +31,16 @@ _RIDGE = 1e-12  # x the metric's largest diagonal: keeps a free massless directi
 
 def velocity_metric(system: System, k: Kin, weights: np.ndarray) -> np.ndarray:
     """The metric (nq, nq) of the remaining freedom in the assembly's scaled columns
-    s = qd / weights: the identity on the rigid bodies' and the modal coordinates' columns
-    (the column norm of the rigid path), a flexible body's own mass matrix over its mass
-    (kg/kg, kg m^2/kg) on its frame, coupled to its modes, and 0 on its node bodies."""
-    metric = np.eye(system.nq)
-    for attached in system.flexible:
-        block = attached.mass(k)
-        columns = attached.columns(system.nb)
-        scale = weights[columns]
-        own = block / (float(np.trace(block[:3, :3])) / 3.0) * np.outer(scale, scale)
-        own[7:, 7:] += np.eye(len(columns) - 7)
-        metric[np.ix_(columns, columns)] = own
-        for node in attached.nodes:
-            metric[7 * node : 7 * node + 7, 7 * node : 7 * node + 7] = 0.0
+    s = qd / weights: the mechanism's mass matrix over its mass (kg/kg, kg m^2/kg: every
+    body's, the flexible bodies' frames coupled to their modes, the massless node bodies 0),
+    and on the modal coordinates the identity of the rigid path's column norm besides, so
+    that a modal coordinate not given moves only where the constraints need it."""
+    mass = system.mass(k)
+    translations = (7 * np.arange(system.nb)[:, None] + np.arange(3)).ravel()
+    total = float(np.trace(mass[np.ix_(translations, translations)])) / 3.0
+    metric = mass / max(total, 1e-300) * np.outer(weights, weights)
+    modal = np.arange(system.nq - system.nz, system.nq)
+    metric[modal, modal] += 1.0
     return metric
 
 
