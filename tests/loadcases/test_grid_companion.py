@@ -15,7 +15,7 @@ import pytest
 import mechlib as ml
 from loadcases.inputs.loader import load_case
 from loadcases.run import run_case
-from loadcases.run.companion import divisor, grid_divisor, on_grid
+from loadcases.run.companion import grid_divisor, on_grid
 from loadcases.run.global_error import shared_rows
 from mechlib.solvers.genalpha import rules
 from tests.mechlib._models import sprung_slider
@@ -167,52 +167,3 @@ def test_a_grid_companion_that_stops_falls_back_to_the_adaptive_one(
     assert block["companion"] == "adaptive" and block["estimate"]
     assert "the companion on the run's own steps failed" in block["note"]
     assert "after 0 splits" in block["note"]
-
-
-def _plain_predictor(monkeypatch: pytest.MonkeyPatch) -> None:
-    """The grid's steps predicted as the error-controlled ones are (kernels.predict: the
-    acceleration kept), on the Python steps."""
-    from mechlib.solvers.genalpha.integrator import Integrator
-
-    made = Integrator.__init__
-
-    def plain(self: Integrator, *args: object) -> None:
-        made(self, *args)  # type: ignore[arg-type]
-        self.swings = False
-
-    monkeypatch.setattr(Integrator, "__init__", plain)
-
-
-def test_the_grid_predictor_moves_the_estimate_within_newtons_tolerance(
-    monkeypatch: pytest.MonkeyPatch,
-) -> None:
-    """The grid companion's Newton iterations start from kernels.predict_swing (the
-    acceleration's step-to-step swing about the consistent one reversed); started as the
-    run's steps are (the acceleration kept) they reach the same solution to Newton's
-    tolerance. On the oscillator at 1e-6 (measured 2026-11-29, branch comppred): the
-    companions' rows differ by 1.6e-9 m, within NEWTON_KAPPA of the companion's local
-    tolerance on the amplitude (4e-9 m); the estimate |run - companion| / 3 by 1.3e-6 of
-    itself, 0.936 of the closed form's largest error either way; 236 Newton iterations
-    against 250. The whole-run kernel follows the Python steps' predictor: the same
-    iterations, the same rows."""
-    analysis = ml.Dynamic(1.0, 0.001, dense=True, tolerance=1e-6, compiled="python")
-    run = _solved(analysis)
-    grid = on_grid(analysis, run)
-    assert grid is not None
-    swung, compiled = _solved(grid), _solved(dataclasses.replace(grid, compiled="runs"))
-    _plain_predictor(monkeypatch)
-    plain = _solved(grid)
-    rows, rows_c = shared_rows(run.time, swung.time)
-    x = run.channels["x.value"]
-    true = np.abs(x - X0 * np.cos(OMEGA_N * run.time)).max()
-    swung_estimate, plain_estimate = (
-        np.abs(x[rows] - c.channels["x.value"][rows_c]).max() / divisor("generalized-alpha")
-        for c in (swung, plain)
-    )
-    newton = rules.NEWTON_KAPPA * grid.tolerance * X0
-    assert np.abs(swung.channels["x.value"] - plain.channels["x.value"]).max() <= newton
-    assert swung_estimate == pytest.approx(plain_estimate, rel=1e-5)
-    assert 0.9 <= swung_estimate / true <= 1.0
-    assert swung.stats.newton_iterations < plain.stats.newton_iterations
-    assert compiled.stats.newton_iterations == swung.stats.newton_iterations
-    np.testing.assert_allclose(compiled.channels["x.value"], swung.channels["x.value"], atol=1e-12)

@@ -125,7 +125,7 @@ def run_steps(
     own, own_lam, cons, cons_lam, ctrl, counts, outs, first, ints, floats, functions, body,
     fi, ff, layout, q_abs, a_ref, angles, refs_all, block_angles, projection, rows_t,
     rows_state, rows_refs, most_steps, elements, rest, rates, states, tangent, kept, grid,
-    steps_t, past,
+    steps_t,
 ):  # fmt: skip
     """Accepted steps from the state (`own` (4, nq): q, qd, qdd, a of the integrator,
     `own_lam` its multipliers; `cons` (2, nq): the consistent qd, qdd, `cons_lam` the
@@ -153,9 +153,8 @@ def run_steps(
     `tangent` (2, nq, nq): the elements' (K, C) of the last refactor (in place; NaN: none
     yet), kept from call to call as the Python stepper keeps its tangent. `grid` (2, n):
     with ctrl[GRID], the step ends to follow and their middles (mechlib.model.step_grid;
-    no error test; the steps' predictor then kernels.predict_swing, `past` = (past_t, past)
-    its memory, in place: `_predicted`); `steps_t` (most_steps,): out, the accepted steps'
-    end times (s). Returns (0, STOPPED, REFACTOR or FAILED; next output index, rows written)."""
+    no error test); `steps_t` (most_steps,): out, the accepted steps' end times (s).
+    Returns (0, STOPPED, REFACTOR or FAILED; next output index, rows written)."""
     nq = own.shape[1]
     m = own_lam.shape[0]
     dense = ctrl[DENSE] != 0.0
@@ -199,7 +198,7 @@ def run_steps(
         if written + due > rows_t.shape[0]:
             return (STOPPED if written == 0 else 0), i, written
         am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
-        q1, qd1, qdd1 = _predicted(own, cons, t, h_try, ctrl, past)
+        q1, qd1, qdd1 = gk.predict(own[0], own[1], own[2], own[3], h_try, am, beta, gamma)
         trial_start(states)
         # refactored for slowness with the tangent kept (Integrator.step's `tried`)
         tried = fresh and ctrl[TRIED] != 0.0
@@ -285,22 +284,6 @@ def _step_error(ctrl, h, cons, new_qdd, q_abs, q1, states):
         return 0.0
     err = gk.error_norm(ctrl[ERROR_CONSTANT] * h * h, cons[1], new_qdd, q_abs, ctrl[TOL], q1)
     return states_error(err, h, states, ctrl[TOL])
-
-
-@njit(**KERNEL)
-def _predicted(own, cons, t, h, ctrl, past):
-    """(q1, qd1, qdd1): the predictor of the step h (s) from t (s), as
-    Integrator._predicted's: along a grid (ctrl[GRID]) kernels.predict_swing (the consistent
-    acceleration cons[1] and the memory `past` = (past_t, past), in place), else
-    kernels.predict. The grid companion's doubled steps start nearer their solution from
-    it: IFToMM A05's companion took 21 % fewer Newton iterations (benchmarks/
-    companion_newton.py)."""
-    am, af, beta, gamma = ctrl[ALPHA_M], ctrl[ALPHA_F], ctrl[BETA], ctrl[GAMMA]
-    if ctrl[GRID] != 0.0:
-        return gk.predict_swing(
-            own[0], own[1], own[2], own[3], cons[1], t, h, past[0], past[1], am, af, beta, gamma
-        )
-    return gk.predict(own[0], own[1], own[2], own[3], h, am, beta, gamma)
 
 
 _STEP, _WRITTEN, _FULL, _NOT_FINITE = 0, 1, 2, 3  # what `_output_row` found
@@ -867,7 +850,7 @@ class StepRun:
             arrays.functions(s.t), arrays.bodies(), fi, ff, layout, scales.q_abs, scales.a_ref,
             self._angle_args, refs_all, block_angles, PROJECTION, rows_t, rows_state, rows_refs,
             10 * rows, elements.args, (elements.rest, elements.rest_columns), rates, states,
-            self._kept_tangent(nq), kept, self._grid, steps_t, (integ.past_t, integ.past),
+            self._kept_tangent(nq), kept, self._grid, steps_t,
         )  # fmt: skip
         self.calls.done(written)
         count(
