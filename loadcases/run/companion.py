@@ -72,7 +72,14 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.foundation.noise_floor import NOISE_FLOOR
-from loadcases.run.peak_error import END, SPIKE, Extremes, extremes_of, row_peaks
+from loadcases.run.peak_error import (
+    END,
+    SPIKE,
+    Extremes,
+    extremes_of,
+    row_peaks,
+    standing_out,
+)
 from mechlib.checks.singularity import NEAR_SINGULAR
 
 __all__ = [
@@ -261,10 +268,7 @@ def _standing_out(table: np.ndarray) -> np.ndarray:
     columns `row_peaks` may find a spike in)."""
     with np.errstate(invalid="ignore"):
         spread = np.nanmax(table, axis=0) - np.nanmin(table, axis=0)
-        change, margin = np.diff(table, axis=0), SPIKE * spread
-        up = (change[:-1] > margin) & (change[1:] < -margin)
-        down = (change[:-1] < -margin) & (change[1:] > margin)
-    return np.asarray((up | down).any(axis=0))
+    return np.asarray(standing_out(table, SPIKE * spread).any(axis=0))
 
 
 def spikes(run: ml.Solution, found: dict[str, Extremes]) -> list[float]:
