@@ -502,7 +502,8 @@ def _rows_at(time: np.ndarray, t: float) -> np.ndarray:
 
 
 SPIKE = 0.1  # of a column's range: a one-row spike stands out from both its neighbours by more
-RINGING = 0.1  # of a column's rows standing out like a spike: the column rings, no spike in it
+# a row among ZIGZAG_ROWS or more standing out within ZIGZAG_REACH rows either side: no spike
+ZIGZAG_REACH, ZIGZAG_ROWS = 5, 4
 
 
 def row_peaks(found: Extremes) -> list[float]:
@@ -513,12 +514,10 @@ def row_peaks(found: Extremes) -> list[float]:
     door let go's contact forces: 3834 N between two rows of 0, its guide's 1241 N between
     631 and 432 N; not a ringing spring's rows, the IFToMM A05 hinge force's 116.92 N
     between 117.21 and 117.27 N, 0.4 % of its range, which the companion's own ringing
-    would read as a miss 4 times the true error); none in a column whose rows zigzag
-    (`_rings`)."""
+    would read as a miss 4 times the true error); not a row whose neighbours stand out too
+    (`_zigzag`)."""
     times: list[float] = []
     spread = found.row_max - found.row_min
-    if _rings(found.values, SPIKE * spread):
-        return times
     for candidates, peak, row, sign in (
         (found.tops, found.max, found.row_max, 1.0),
         (found.bottoms * _FLIP, -found.min, -found.row_min, -1.0),
@@ -533,19 +532,26 @@ def row_peaks(found: Extremes) -> list[float]:
             continue
         i = int(np.searchsorted(found.time, best[0]))
         beside = sign * found.values[[i - 1, i + 1]]
-        if np.all(row - beside > SPIKE * spread) and not _smooth(found, best[0], sign):
+        if (
+            np.all(row - beside > SPIKE * spread)
+            and not _smooth(found, best[0], sign)
+            and not _zigzag(found.values, i, SPIKE * spread)
+        ):
             times.append(float(best[0]))
     return times
 
 
-def _rings(values: np.ndarray, margin: float) -> bool:
-    """Whether more than RINGING of a column's rows stand out from both their neighbours
-    by more than `margin` (the column's unit): a motion faster than the rows sample it
-    (modes the steps do not resolve), whose largest row is one swing of many, not a spike:
-    the flexible pendulum's tip deformation, 49 of its 101 rows (its estimate read 5.46
-    times the true error through the companion's own ringing beside that row, 1.03 as a
-    crest); the door let go's contact and guide forces at most 4 of 76."""
-    return bool(np.count_nonzero(standing_out(values, margin)) > RINGING * len(values))
+def _zigzag(values: np.ndarray, i: int, margin: float) -> bool:
+    """Whether at least ZIGZAG_ROWS of the rows within ZIGZAG_REACH of row i stand out
+    from both their neighbours by more than `margin` (the column's unit): the rows zigzag, a
+    motion faster than they sample it (modes the steps do not resolve), and row i is one
+    swing of many, not a spike. The flexible pendulum's tip deformation (49 of its 101 rows
+    standing out) read 5.46 times its true error as a spike, through the companion's own
+    ringing beside its row; 1.29 as a crest. A contact pulse stands out alone, or with the
+    row after it (the door let go's 3834 N between rows of 0 N, then the next contact's
+    483 N: two rows)."""
+    window = values[max(i - ZIGZAG_REACH - 1, 0) : i + ZIGZAG_REACH + 2]
+    return int(np.count_nonzero(standing_out(window, margin))) >= ZIGZAG_ROWS
 
 
 def standing_out(values: np.ndarray, margin: np.ndarray | float) -> np.ndarray:

@@ -356,9 +356,9 @@ def test_a_one_row_spike_is_compared_at_its_row_and_its_miss_read_on_the_compani
 def test_a_column_ringing_faster_than_its_rows_has_no_one_row_spike() -> None:
     """A motion the rows do not resolve zigzags from row to row (modes the steps do not
     resolve: the flexible pendulum's tip deformation, 49 of 101 rows standing out): its
-    largest row is one swing of many, not a spike, and is estimated as a crest (that
-    pendulum's envelope estimate 5.46 -> 1.29 times its true error). An isolated pulse
-    among the same rows stays a spike."""
+    largest row is one swing of many (4 or more rows standing out within 5 either side),
+    not a spike, and is estimated as a crest (that pendulum's envelope estimate 5.46 ->
+    1.29 times its true error). An isolated pulse among the same rows stays a spike."""
     time = np.round(np.arange(0.0, 1.0 + 1e-9, 0.01), 12)
     ringing = np.sin(2.0 * np.pi * 47.0 * time) * (1.0 + 0.3 * time)  # 47 Hz at 100 rows/s
     assert row_peaks(extremes(time, ringing)) == []

@@ -98,11 +98,8 @@ class Integrator:
         self.arrays = None if python else system.packed_constraints()
         # modal bodies: their own compiled loop (mechlib.solvers.genalpha.modal_step)
         self.modal = None if python or self.arrays is not None else modal_arrays(system)
-        # the predictor of systems with modal bodies and no force elements:
-        # kernels.predict_swing. Not along a prescribed grid (the accuracy companion's):
-        # started from it, the companion of IFToMM A01 over 2000 s gained energy after
-        # 1600 s (its swings past the horizontal, 0.044 rad: a false envelope estimate 190
-        # times the true error), started as the run's steps are it does not
+        # the predictor of modal bodies without force elements (kernels.predict_swing); not
+        # along a grid: A01's companion over 2000 s gained energy from it (analyses.md)
         self.swings = self.spun
         # its memory: the last two step starts' times and consistent accelerations
         self.past_t = np.full(2, np.nan)
