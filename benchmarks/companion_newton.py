@@ -8,10 +8,12 @@ largest relative change of the estimate (Richardson's history and peak of every 
 loadcases.run.global_error.request_errors) against the companion as it is.
 
 Variants (the Python path patched for the companion only; nothing here changes the code).
-As it is, the grid's steps start from kernels.predict_swing (the integrator's acceleration's
-step-to-step swing about the consistent one reversed, its trend added); then:
-- `plain`: from the error-controlled steps' predictor (kernels.predict: the acceleration
-  kept), as before branch comppred;
+As it is, the grid's steps start from the error-controlled steps' predictor (kernels.predict:
+the acceleration kept); then:
+- `swing`: from kernels.predict_swing (the integrator's acceleration's step-to-step swing
+  about the consistent one reversed, its trend added), the grid's predictor from branch
+  comppred (2026-11-29) until 2026-11-30, dropped: IFToMM A01's companion over 2000 s gained
+  energy from it (docs/performance.md);
 - `run's change`: Newton starts at the companion's state plus the run's change over the
   pair, q(t_k+2) - q(t_k) (qd, qdd by the Newmark relations of that q), and the run's
   change of the integrator's multipliers;
@@ -118,20 +120,21 @@ def _predictor(variant: str, kept: Kept) -> Callable[[Any], Any]:
     return make
 
 
-def _plain(original: Any) -> Any:
-    """Integrator.__init__ with the grid's predictor kernels.predict (swings off)."""
+def _swing(original: Any) -> Any:
+    """Integrator.__init__ with the grid's predictor kernels.predict_swing (swings on)."""
 
     def made(self: Any, *args: Any) -> None:
         original(self, *args)
-        self.swings = self.spun
+        self.swings = True
+        self.past = np.zeros((2, self.system.nq))
 
     return made
 
 
 def _variant(variant: str, kept: Kept) -> contextlib.AbstractContextManager:
     """The Python path patched as `variant` says (as it is: nothing)."""
-    if variant == "plain":
-        return _patched(gi.Integrator, "__init__", _plain)
+    if variant == "swing":
+        return _patched(gi.Integrator, "__init__", _swing)
     if variant == "refresh":
         return _patched(gi.Integrator, "_rebuilds", lambda original: lambda self, h, fresh: True)
     if variant == "keep":
@@ -145,7 +148,7 @@ def _variant(variant: str, kept: Kept) -> contextlib.AbstractContextManager:
     return _patched(gi.Integrator, "_predicted", _predictor(variant, kept))
 
 
-VARIANTS = ("as is", "plain", "run's change", "run's trend, swing", "refresh", "keep")
+VARIANTS = ("as is", "swing", "run's change", "run's trend, swing", "refresh", "keep")
 
 
 def _change(before: dict, after: dict) -> float:

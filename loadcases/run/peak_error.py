@@ -549,7 +549,8 @@ def _zigzag(values: np.ndarray, i: int, margin: float) -> bool:
     standing out) read 5.46 times its true error as a spike, through the companion's own
     ringing beside its row; 1.29 as a crest. A contact pulse stands out alone, or with the
     row after it (the door let go's 3834 N between rows of 0 N, then the next contact's
-    483 N: two rows)."""
+    483 N: two rows). So a pulse on a column that also rings by more than SPIKE of its
+    range between rows is read as a crest, not a spike."""
     window = values[max(i - ZIGZAG_REACH - 1, 0) : i + ZIGZAG_REACH + 2]
     return int(np.count_nonzero(standing_out(window, margin))) >= ZIGZAG_ROWS
 

@@ -26,7 +26,7 @@ from mechlib.system.system import System
 __all__ = ["least_energy_velocities", "velocity_metric"]
 
 _RANK = 1e-10  # a singular value of phi_q below this x the largest is a dependent row
-_RIDGE = 1e-12  # x the metric's largest diagonal: keeps a free massless direction defined
+_RIDGE = 1e-12  # x the largest diagonal of the free directions' Gram matrix: massless ones defined
 
 
 def velocity_metric(system: System, k: Kin, weights: np.ndarray) -> np.ndarray:

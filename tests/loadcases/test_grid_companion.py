@@ -167,3 +167,15 @@ def test_a_grid_companion_that_stops_falls_back_to_the_adaptive_one(
     assert block["companion"] == "adaptive" and block["estimate"]
     assert "the companion on the run's own steps failed" in block["note"]
     assert "after 0 splits" in block["note"]
+
+
+def test_the_whole_run_kernel_follows_the_python_steps_along_a_grid() -> None:
+    """Along a grid the compiled whole run and the Python steps start Newton from the same
+    predictor (kernels.predict, as the error-controlled steps do): the same Newton
+    iterations and the same rows, to round-off, on the oscillator's grid companion."""
+    analysis = ml.Dynamic(1.0, 0.001, dense=True, tolerance=1e-6, compiled="python")
+    grid = on_grid(analysis, _solved(analysis))
+    assert grid is not None
+    python, compiled = _solved(grid), _solved(dataclasses.replace(grid, compiled="runs"))
+    assert compiled.stats.newton_iterations == python.stats.newton_iterations
+    np.testing.assert_allclose(compiled.channels["x.value"], python.channels["x.value"], atol=1e-12)

@@ -365,6 +365,10 @@ def test_a_column_ringing_faster_than_its_rows_has_no_one_row_spike() -> None:
     pulse = np.zeros_like(time)
     pulse[50] = 855.0
     assert row_peaks(extremes(time, pulse)) == [0.5]
+    pulse[52] = 300.0  # a second, smaller contact row after the pulse: 3 rows stand out
+    assert row_peaks(extremes(time, pulse)) == [0.5]
+    pulse[48] = 300.0  # and one before it: 4 standing out within 5 rows of it, a zigzag
+    assert row_peaks(extremes(time, pulse)) == []
 
 
 def _powers(scaled: np.ndarray) -> np.ndarray:
