@@ -207,8 +207,13 @@ def main(argv: list[str] | None = None) -> int:
     add_companion_option(parser)
     args = parser.parse_args(argv)
     use_companion(args.companion)
-    cases = FLEXIBLE if args.flexible else {**CHEAP, **(LONG if args.long else {})}
-    cases = MISSES if args.misses else cases
+    cases = (
+        MISSES
+        if args.misses
+        else FLEXIBLE
+        if args.flexible
+        else {**CHEAP, **(LONG if args.long else {})}
+    )
     rows = [row for name, (file, keys) in cases.items() for row in case_rows(name, file, keys)]
     print(
         f"{'case':22s} {'request':14s} {'est. hist':>10s} {'true hist':>10s} {'ratio':>7s}"

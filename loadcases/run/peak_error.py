@@ -514,7 +514,7 @@ def row_peaks(found: Extremes) -> list[float]:
     door let go's contact forces: 3834 N between two rows of 0, its guide's 1241 N between
     631 and 432 N; not a ringing spring's rows, the IFToMM A05 hinge force's 116.92 N
     between 117.21 and 117.27 N, 0.4 % of its range, which the companion's own ringing
-    would read as a miss 4 times the true error); not a row whose neighbours stand out too
+    would read as a miss 4 times the true error); not a row among zigzagging rows
     (`_zigzag`)."""
     times: list[float] = []
     spread = found.row_max - found.row_min

@@ -656,8 +656,6 @@ def _initial_velocities(system: System, q: np.ndarray, t: float, initial, weight
     if modal:  # unit rows in the scaled columns, as in _reach_modes
         rows = [*rows, *(modal_rows / _MODAL_WEIGHT)]
         rhs = [*rhs, *(modal_rhs / _MODAL_WEIGHT)]
-    # rigid: one least squares, two with given rows; flexible: an SVD, a Cholesky, a least squares
-    count(factorizations=(3 if rows else 2) if system.nz else (2 if rows else 1))
     given, values = np.array(rows).reshape(len(rows), system.nq), np.array(rhs, dtype=float)
     if system.nz:
         metric = velocity_metric(system, k, weights)
@@ -681,6 +679,7 @@ def _smallest_velocities(
 ) -> np.ndarray:
     """qd of a rigid mechanism: the constraints and the given `rows` in one least squares,
     smallest in the `weights` column norm, then moved onto the constraints."""
+    count(factorizations=2 if len(rows) else 1)
     qd = np.zeros(len(weights))
     if len(rows):
         scaled, *_ = np.linalg.lstsq(

@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.linalg import cho_factor, solve_triangular
 
+from mechlib.core.work import count
 from mechlib.kinematics.kin import Kin
 from mechlib.system.system import System
 
@@ -54,6 +55,7 @@ def least_energy_velocities(
     """qd (nq,) with jacobian qd = nu (least squares where the rows contradict or repeat
     each other), the given `rows` qd = `rhs` in least squares within that, and of what
     remains free the smallest qd^T metric qd."""
+    count(factorizations=3 if len(rows) else 2)  # the SVD, the Cholesky, the least squares
     u, s, vt = np.linalg.svd(jacobian, full_matrices=True)
     rank = int(np.sum(s > _RANK * s[0])) if s.size else 0
     particular = vt[:rank].T @ ((u[:, :rank].T @ nu) / s[:rank])
