@@ -15,7 +15,12 @@ alternated.
 - `--command`: per case of the cost table, `loads run CASE` as a user runs one case (a
   fresh process: start-up, validation, the solve, its files), as written and with
   accuracy off, alternated `--repeat` times, the median CPU (the command's) and wall time;
-  `--long` adds IFToMM A01 over 2000 s (200 001 rows).
+  `--long` adds IFToMM A01 over 2000 s (200 001 rows) and A05 over 50 s.
+- `--beside`: per case of the cost table and the long ones, `run_case` in this process
+  with the companion after the run, beside it (loads run's default on two cores:
+  loadcases.run.beside) and with accuracy off, alternated `--repeat` times: the best wall
+  time and process CPU of each, whether the companion followed the run, and whether the
+  two estimates are the same to the last bit.
 
 CPU times on a shared machine move with its load: compare the two columns of one run.
 
@@ -42,9 +47,19 @@ from benchmarks.campaign import run_loads, sweep_rates, write_sweep
 from benchmarks.companion_cost import CASES, LIBRARY
 
 #: `--long`: a long run for `--command` (the error table's A01: benchmarks.error_table_long)
-LONG = {"A01 2000 s": (LIBRARY / "hard" / "iftomm_a01_pendulum.case.yaml", {"end": 2000.0})}
+LONG = {
+    "A01 2000 s": (LIBRARY / "hard" / "iftomm_a01_pendulum.case.yaml", {"end": 2000.0}),
+    "A05 50 s": (LIBRARY / "hard" / "iftomm_a05_flyball.case.yaml", {"end": 50.0}),
+}
 
-__all__ = ["campaign_overhead", "case_overhead", "command_overhead", "main", "variants"]
+__all__ = [
+    "beside_overhead",
+    "campaign_overhead",
+    "case_overhead",
+    "command_overhead",
+    "main",
+    "variants",
+]
 
 
 def campaign_overhead(runs: int, jobs: int, rounds: int) -> dict[str, Any]:
@@ -81,7 +96,7 @@ def variants(name: str) -> dict[str, Any]:
     `as_written` and `off` (`analysis.accuracy: off`)."""
     from loadcases.inputs.loader import load_case
 
-    file, keys = CASES[name]
+    file, keys = {**CASES, **LONG}[name]
     written = load_case(file)
     analyses = {
         "as_written": written.case.analysis.model_copy(update=keys),
@@ -126,6 +141,44 @@ def case_overhead(name: str, repeat: int) -> dict[str, Any]:
         "off_ms": round(off, 2),
         "overhead": round(on / off - 1.0, 4),
         "overhead_no_crest_rows": round(without / off - 1.0, 4),
+    }
+
+
+def beside_overhead(name: str, repeat: int) -> dict[str, Any]:
+    """`run_case` of a case with its companion after the run, beside it and with accuracy
+    off, alternating, `repeat` times each: the best wall s and process CPU s of each, the
+    estimate's share of each (of the wall time), whether the companion followed the run,
+    and whether the two estimates are the same to the last bit."""
+    from loadcases.run import run_case
+
+    files = variants(name)
+    kinds = {"after": (files["as_written"], False), "beside": (files["as_written"], True)}
+    kinds["off"] = (files["off"], False)
+    wall = {kind: float("inf") for kind in kinds}
+    cpu = dict(wall)
+    estimates: dict[str, Any] = {}
+    run_case(files["as_written"])  # its kernels loaded
+    for _ in range(max(1, repeat)):
+        for kind, (case_file, beside) in kinds.items():
+            started, used = (time.perf_counter(), time.process_time())
+            outcome = run_case(case_file, beside=beside)
+            wall[kind] = min(wall[kind], time.perf_counter() - started)
+            cpu[kind] = min(cpu[kind], time.process_time() - used)
+            estimates[kind] = outcome.checks.get("accuracy")
+    followed = bool(estimates["beside"]["beside"])
+    same = estimates["after"]["estimate"] == estimates["beside"]["estimate"]
+    return {
+        "case": name,
+        "off_wall_s": round(wall["off"], 4),
+        "after_wall_s": round(wall["after"], 4),
+        "beside_wall_s": round(wall["beside"], 4),
+        "off_cpu_s": round(cpu["off"], 4),
+        "after_cpu_s": round(cpu["after"], 4),
+        "beside_cpu_s": round(cpu["beside"], 4),
+        "after_overhead": round(wall["after"] / wall["off"] - 1.0, 4),
+        "beside_overhead": round(wall["beside"] / wall["off"] - 1.0, 4),
+        "followed": followed,
+        "same_estimate": same,
     }
 
 
@@ -187,6 +240,14 @@ def _measured(names: Any, measure: Any) -> list[dict[str, Any]]:
 
 def _line(row: dict[str, Any]) -> str:
     """A `case_overhead` or `command_overhead` row as a line."""
+    if "beside_wall_s" in row:
+        return (
+            f"{row['case']}: run_case wall {row['off_wall_s']:.3f} s off, "
+            f"{row['after_wall_s']:.3f} companion after (+{row['after_overhead']:.0%}), "
+            f"{row['beside_wall_s']:.3f} beside (+{row['beside_overhead']:.0%}; followed "
+            f"{row['followed']}, same estimate {row['same_estimate']}); CPU "
+            f"{row['off_cpu_s']:.3f} / {row['after_cpu_s']:.3f} / {row['beside_cpu_s']:.3f} s"
+        )
     if "as_written_ms" in row:
         return (
             f"{row['case']}: run_case {row['as_written_ms']:.1f} ms as written, "
@@ -209,7 +270,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--command", action="store_true", help="also `loads run CASE` of each of them"
     )
-    parser.add_argument("--long", action="store_true", help="--command on A01 over 2000 s too")
+    parser.add_argument(
+        "--long", action="store_true", help="--command on A01 over 2000 s and A05 over 50 s too"
+    )
+    parser.add_argument(
+        "--beside", action="store_true", help="the companion after and beside the run, wall time"
+    )
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
@@ -224,6 +290,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.command:
         names = [*CASES, *(LONG if args.long else ())]
         result["command"] = _measured(names, lambda name: command_overhead(name, args.repeat))
+    if args.beside:
+        names = [*CASES, *LONG]
+        result["beside"] = _measured(names, lambda name: beside_overhead(name, args.repeat))
     result["load_after"] = os.getloadavg()
     if args.json:
         args.json.write_text(json.dumps(result, indent=2), encoding="utf-8")

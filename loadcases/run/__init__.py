@@ -19,6 +19,7 @@ from loadcases.inputs.overrides import Override, labels, pairs
 from loadcases.inputs.run_identity import run_name
 from loadcases.results.files import ResultsNotWritten, write_results
 from loadcases.results.outcome import RunOutcome
+from loadcases.run.beside import beside_by_default
 from loadcases.run.global_error import AccuracyEstimate, accuracy_aim, solve_to_accuracy
 
 __all__ = ["check_case_file", "check_mechanism_file", "run_case", "run_file", "staged"]
@@ -32,8 +33,12 @@ def run_case(
     progress: Progress | None = None,
     abscissa: bool = False,
     name: str | None = None,
+    beside: bool = False,
 ) -> RunOutcome:
     """Solve one loaded case; a solver failure gives a failed outcome with what was computed.
+
+    `beside`: a dynamic run's accuracy companion solved beside it, in a second thread
+    (loadcases.run.beside: the same estimate, in less wall time where a core is free).
 
     `abscissa` adds the case's `abscissa:` expression as column `abscissa.value` (runs of a
     set); `name` names the run (default: the case name, with its `--set` overrides as in
@@ -46,7 +51,7 @@ def run_case(
     margin = plan_torque_margin(cf, built)
     checks: dict = {}
     try:
-        solution, estimate = _solve(cf, built, progress)
+        solution, estimate = _solve(cf, built, progress, beside)
     except ml.ModelError as error:
         raise InputError(model_diagnostics(cf, error)) from None
     # the accepted steps' end times are the accuracy companion's grid and nothing else's:
@@ -80,14 +85,15 @@ def run_case(
 
 
 def _solve(
-    cf: CaseFile, built: BuiltRun, progress: Progress | None
+    cf: CaseFile, built: BuiltRun, progress: Progress | None, beside: bool = False
 ) -> tuple[ml.Solution, AccuracyEstimate | None]:
     """The case's solution and, for a dynamic analysis, its global error estimate (with the
     steps tightened to meet the target when the case sets `accuracy` and no tolerance).
     `progress` follows the run, then each further run as its stage (`staged`)."""
 
-    def solve(analysis, checks: bool = True, stage: str = "") -> ml.Solution:
-        return built.solve(analysis, progress=staged(progress, stage), checks=checks)
+    def solve(analysis, checks: bool = True, stage: str = "", quiet: bool = False) -> ml.Solution:
+        follow = None if quiet else staged(progress, stage)
+        return built.solve(analysis, progress=follow, checks=checks)
 
     accuracy = cf.case.analysis.accuracy
     if not isinstance(built.analysis, ml.Dynamic) or accuracy == "off":
@@ -100,6 +106,7 @@ def _solve(
         budget=aim.budget,
         measure=aim.measure,
         untightened=aim.untightened,
+        beside=beside,
     )
 
 
@@ -121,16 +128,20 @@ def run_file(
     xlsx: bool = False,
     progress: Progress | None = None,
     what_if: Sequence[Override] = (),
+    beside: bool | None = None,
 ) -> list[RunOutcome]:
     """Run a case file and write its results into `output_dir` (SPEC section 3); `what_if`
     (`--set`) overrides parameters and names the run `CASE[name=value]`. Files that cannot
     be written (disk full, permissions): none is left and the outcome's `unwritten` says
-    which are missing (the run failed)."""
+    which are missing (the run failed). `beside`: the accuracy companion solved beside the
+    run (`run_case`; None: where two cores are free, loadcases.run.beside)."""
     if file_kind(path) == "mechanism":
         raise ValueError(f"{path} is a mechanism file: use check_mechanism_file")
     cf = load_case(path, what_if=what_if)
     with caching_under(output_dir):
-        outcome = run_case(cf, progress=progress)
+        if beside is None:
+            beside = beside_by_default()
+        outcome = run_case(cf, progress=progress, beside=beside)
     try:
         write_results(outcome, Path(output_dir), xlsx=xlsx)
     except ResultsNotWritten as error:  # the run failed: it delivers no files

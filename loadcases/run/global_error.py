@@ -49,6 +49,7 @@ import numpy as np
 import mechlib as ml
 from loadcases.foundation import interrupts
 from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY
+from loadcases.run.beside import CompanionBeside, eligible
 from loadcases.run.companion import (
     FINER_RATIO,
     NOT_LOADS,
@@ -186,6 +187,7 @@ class AccuracyEstimate:
     companion: str = "adaptive"  # on the run's own steps (`grid`) or error-controlled
     splits: int = 0  # the grid companion's doubled steps split where Newton failed
     richardson: float = 3.0  # the divisor of the companion's difference (a grid's: its steps')
+    beside: bool = False  # the companion was solved beside the run (loadcases.run.beside)
 
     @property
     def outcome(self) -> str:
@@ -260,6 +262,7 @@ class AccuracyEstimate:
             },
             "method": self.method,
             "companion": self.companion,
+            "beside": self.beside,
             "step_ratio": self.step_ratio,
             **({} if self.observed_order is None else {"observed_order": self.observed_order}),
             "cpu_seconds": self.cpu_seconds,
@@ -408,10 +411,11 @@ class Solver(Protocol):
     """Solves the run with an analysis; `checks` False: without the position checks after
     the run (their warnings), for a companion whose warnings are not kept; `stage`: what a
     solve after the run's own is for (COMPANION_STAGE, FINER_STAGE, `tighter_stage`),
-    which a progress bar shows ("" for the run itself)."""
+    which a progress bar shows ("" for the run itself); `quiet`: no progress at all (a
+    companion solved beside the run, in another thread)."""
 
     def __call__(
-        self, analysis: ml.Dynamic, checks: bool = True, stage: str = ""
+        self, analysis: ml.Dynamic, checks: bool = True, stage: str = "", quiet: bool = False
     ) -> ml.Solution: ...
 
 
@@ -432,20 +436,24 @@ def solve_to_accuracy(
     budget: Budget | None,
     measure: str = "peaks",
     untightened: str = "",
+    beside: bool = False,
 ) -> tuple[ml.Solution, AccuracyEstimate | None]:
     """The run (with a `budget`: the first whose envelope peaks, or time histories as
     `measure` says, meet `target`, or the last the budget allowed) and its error estimate
     (None when the run itself failed: a failure says its own where and why; without a
     budget, its outcome says why by `untightened`). A signal during the companion or a
-    tighter run: the last run that finished, as `interrupted`."""
+    tighter run: the last run that finished, as `interrupted`. `beside`: the grid
+    companion solved beside the run, in another thread (loadcases.run.beside)."""
     spent = Spent()
-    run = _timed(solve, analysis, spent, counted=False)
+    run, twin = _first_run(solve, analysis, spent, beside)
     if run.status != "ok":
         return run, None
     started = _cpu()
     p = order(analysis.integrator)
     found = run_extremes(run)
-    companion, kind, fallback = _companion(solve, analysis, run, spent, found)
+    companion, kind, fallback = _companion(solve, analysis, run, spent, found, twin)
+    if twin is not None:  # its CPU, in the other thread, is the estimate's too
+        started -= twin.cpu_seconds
     if companion.status != "ok":
         estimate = _estimate(analysis, run, target, {}, 0, started)
         estimate.estimated, estimate.companion = False, kind
@@ -488,6 +496,7 @@ def solve_to_accuracy(
     estimate.note, estimate.budget, estimate.stopped_by = note, budget, stopped_by
     estimate.untightened = untightened
     estimate.measure, estimate.companion = measure, kind
+    estimate.beside = twin is not None and twin.used
     estimate.richardson = coarse.divisor
     estimate.splits = companion.stats.rejected_steps if kind == "grid" else 0
     if estimate.splits:
@@ -537,14 +546,20 @@ def _companion(
     run: ml.Solution,
     spent: Spent,
     found: dict[str, Extremes] | None = None,
+    twin: CompanionBeside | None = None,
 ) -> tuple[ml.Solution, str, str]:
-    """The run's companion solved: on the run's own steps (`grid`) where they are known,
-    else, or where that one fails, the adaptive one (a note says why); with its kind
-    (`found`: the run's extremes, loadcases.run.companion.run_extremes)."""
+    """The run's companion solved: on the run's own steps (`grid`) where they are known
+    (`twin`: the one solved beside the run, where it could be), else, or where that one
+    fails, the adaptive one (a note says why); with its kind (`found`: the run's
+    extremes, loadcases.run.companion.run_extremes)."""
     grid = on_grid(analysis, run, found)
     note = ""
+    if twin is not None and grid is None:
+        twin.withdraw("the run has no grid companion")
     if grid is not None:
-        companion = _timed(solve, grid, spent, companion=True, stage=COMPANION_STAGE)
+        companion = _followed(twin, grid, spent) if twin is not None else None
+        if companion is None:
+            companion = _timed(solve, grid, spent, companion=True, stage=COMPANION_STAGE)
         if companion.status in ("ok", "interrupted"):
             return companion, "grid", ""
         note = (
@@ -555,6 +570,38 @@ def _companion(
         solve, sparser(coarser(analysis), run, found), spent, companion=True, stage=COMPANION_STAGE
     )
     return adaptive, "adaptive", note
+
+
+def _first_run(
+    solve: Solver, analysis: ml.Dynamic, spent: Spent, beside: bool
+) -> tuple[ml.Solution, CompanionBeside | None]:
+    """The run solved, with its grid companion beside it (`beside`, where it may have
+    one); the companion withdrawn where the run did not finish."""
+    twin = CompanionBeside(solve, analysis) if beside and eligible(analysis) else None
+    try:
+        run = _timed(solve, analysis if twin is None else twin.run_analysis, spent, counted=False)
+    except BaseException:
+        if twin is not None:
+            twin.withdraw("the run stopped")
+        raise
+    if run.status != "ok" and twin is not None:
+        twin.withdraw("the run did not finish")
+    return run, twin
+
+
+def _followed(twin: CompanionBeside, grid: ml.Dynamic, spent: Spent) -> ml.Solution | None:
+    """The companion solved beside the run, on `grid` (`on_grid`'s), counted; None where
+    it could not be (the caller solves it now); a signal while it is awaited: an
+    interrupted companion, as `_further` makes one."""
+    try:
+        companion = twin.finish(grid)
+    except KeyboardInterrupt as stop:
+        return ml.Solution(
+            "interrupted", str(stop), "dynamic", np.zeros(0), {}, result=ml.Status.INTERRUPTED
+        )
+    if companion is not None:
+        spent.add(companion, twin.cpu_seconds, counted=True, last=False)
+    return companion
 
 
 def _timed(
@@ -579,10 +626,11 @@ def _timed(
 
 
 def _cpu() -> float:
-    """The process's CPU time (s) but what it spent making kernels (mechlib.core.jit.
-    compile_seconds): the first run of a process loads or compiles them, once; a tighter
-    run would not, and the estimate's own cost is not theirs."""
-    return clock.process_time() - compile_seconds()
+    """This thread's CPU time (s: a companion beside the run counts its own) but what the
+    process spent making kernels (mechlib.core.jit.compile_seconds): the first run of a
+    process loads or compiles them, once; a tighter run would not, and the estimate's own
+    cost is not theirs."""
+    return clock.thread_time() - compile_seconds()
 
 
 @dataclass

@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from mechlib.model.step_feed import GrowingGrid, StepFeed
 from mechlib.model.step_grid import StepGrid
 
 __all__ = [
@@ -78,7 +79,10 @@ class Dynamic(_Timed):
     `rho_inf`: spectral radius at infinity of generalized-alpha (numerical damping);
     `fixed_step`: take exactly `step` per step, no error control (for convergence studies);
     `grid`: with dense output and generalized-alpha, the steps follow these step ends
-    instead of the error control (mechlib.model.step_grid.StepGrid: no error test);
+    instead of the error control (mechlib.model.step_grid.StepGrid: no error test; or a
+    GrowingGrid, mechlib.model.step_feed: another run's, made as that run is solved);
+    `feed`: a StepFeed the run records its step ends and events in as it goes (what a
+    GrowingGrid follows);
     `dense`: the steps do not land on the output times (their size is the error control's,
     up to `max_step` or the mechanism's natural time), the rows between them come from
     dense output (mechlib.solvers.dense). A case's dynamic analysis is dense unless it says
@@ -102,7 +106,8 @@ class Dynamic(_Timed):
     fixed_step: bool = False
     dense: bool = False
     compiled: str = "runs"
-    grid: StepGrid | None = None
+    grid: StepGrid | GrowingGrid | None = None
+    feed: StepFeed | None = None
     rows: tuple[float, ...] = ()
     name = "dynamic"
 
@@ -337,6 +342,11 @@ class Snapshots:
                 end += 1
         return end
 
+    def block_of(self, i: int) -> tuple[int, dict, tuple, np.ndarray, np.ndarray | None]:
+        """The block row i is in: (its first row, base snapshot, angle keys, their
+        references by row, element states by row or None)."""
+        return self._block(i)
+
     def _block(self, i: int) -> tuple[int, dict, tuple, np.ndarray, np.ndarray | None]:
         return self._blocks[bisect_right(self._firsts, i % len(self._rows)) - 1]
 
@@ -444,6 +454,38 @@ class Trajectory:
         """The end of the rows from `first` on (at most `most`) recorded with the same
         active equations (the same array, as a run keeps it between events)."""
         return self.references.same_active(first, most)
+
+    def without(self, times: np.ndarray) -> Trajectory:
+        """These rows but those at `times` (s, sorted; within 1e-12 relative), in a new
+        trajectory: the rows of a compiled run's blocks kept in blocks."""
+        t = np.asarray(self.time, dtype=float)
+        times = np.asarray(times, dtype=float)
+        keep = np.arange(len(t))
+        if len(times):
+            k = np.searchsorted(times, t)
+            before = np.abs(times[np.maximum(k - 1, 0)] - t)
+            near = np.minimum(before, np.abs(times[np.minimum(k, len(times) - 1)] - t))
+            keep = np.flatnonzero(near > 1e-12 * np.maximum(1.0, np.abs(t)))
+        owner = np.full(len(t), -1)
+        for b, (first, block, _) in enumerate(self._blocks):
+            owner[first : first + len(block)] = b
+        out = Trajectory(self.snapshot, self.check, self.at_rest)
+        if not len(keep):
+            return out
+        for rows in np.split(keep, np.flatnonzero(np.diff(owner[keep])) + 1):
+            if owner[rows[0]] < 0:
+                for i in rows.tolist():
+                    out.references.append(self.references[i])
+                    out.time.append(self.time[i])
+                    for name in ("q", "qd", "qdd", "lam"):
+                        getattr(out, name).append(getattr(self, name)[i])
+                continue
+            first, block, nq = self._blocks[owner[rows[0]]]
+            _, base, keys, refs, states = self.references.block_of(int(rows[0]))
+            local = rows - first
+            chosen = None if states is None else states[local]
+            out.extend(t[rows], block[local], nq, base, keys, refs[local], chosen)
+        return out
 
     def trim(self) -> None:
         """Drop a row that an interrupt left half-appended (all lists to the shortest)."""

@@ -4,6 +4,7 @@ loadcases.run.companion)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
@@ -30,7 +31,10 @@ class StepGrid:
 
     @classmethod
     def paired(
-        cls, step_ends: Sequence[float], stops: Sequence[float] = (), most_splits: int | None = None
+        cls,
+        step_ends: Sequence[float] | np.ndarray,
+        stops: Sequence[float] | np.ndarray = (),
+        most_splits: int | None = None,
     ) -> StepGrid:
         """Every two consecutive steps of a run merged into one (its accepted steps' end
         times `step_ends`, s, increasing), within each stretch between the `stops` (s:
@@ -54,8 +58,24 @@ class StepGrid:
         """The grid's steps (without splits)."""
         return len(self.ends)
 
+    # what a stepper asks of any grid it follows (this one, or a GrowingGrid:
+    # mechlib.model.step_feed, whose answers wait for the run it is made from)
 
-def _stop_indices(t: np.ndarray, stops: Sequence[float]) -> list[int]:
+    def covering(self, t: float) -> tuple[np.ndarray, np.ndarray, float]:
+        """The ends and middles (s) to step along from t (s), all of them, and how far (s)
+        the steps may go: to the analysis's end (inf)."""
+        return self.ends, self.middles, math.inf
+
+    def allows_split(self, splits: int) -> bool:
+        """Whether one more split may follow `splits` already made (`most_splits`)."""
+        return self.most_splits is None or splits < self.most_splits
+
+    def dropped_rows(self) -> np.ndarray | None:
+        """Output times (s) whose rows the run leaves out of its results: none."""
+        return None
+
+
+def _stop_indices(t: np.ndarray, stops: Sequence[float] | np.ndarray) -> list[int]:
     """The positions after which `t` is cut: just after each step end that is a stop."""
     cuts = []
     for stop in stops:

@@ -339,6 +339,14 @@ def _check_rows(
             run.result, run.message = failure.status, str(failure)
 
 
+def _dropped_rows(analysis: Analysis) -> np.ndarray | None:
+    """Output times (s) whose rows the results leave out: an accuracy companion solved
+    beside its run records a row at each of the run's output times, and keeps those its
+    estimate reads (mechlib.model.step_feed.GrowingGrid.dropped_rows)."""
+    grid = getattr(analysis, "grid", None)
+    return None if grid is None else grid.dropped_rows()
+
+
 def _summary_status(result: Status) -> RunStatus:
     """`ok`, `interrupted` or `failed` (the summary's status)."""
     if result.ok:
@@ -405,7 +413,7 @@ def solve(
     first solve given it, reused by the next ones of the same mechanism, initial values,
     branch check and `redundant` (a run's accuracy companion): the same results.
     """
-    cpu0 = _time.process_time()
+    cpu0 = _time.thread_time()  # this solve's: a companion may be solved beside it
     branch_check = branches or BranchCheck()
     system = make_system(solve_copy(mechanism))  # events and memories never change the caller's
     if memo is not None and not memo.serves(mechanism, initial, branches, redundant):
@@ -414,10 +422,11 @@ def solve(
         memo.patterns.attach(system)
     warnings = _checked(system, analysis, redundant, memo)
     warnings += system.output_notes(any(isinstance(r, JointReaction) for r in requests))
+    feed = getattr(analysis, "feed", None)  # a companion beside the run follows its steps
     run = _Run(
         Trajectory(snapshot=system.snapshot, check=functools.partial(check_recorded_state, system)),
-        SolverStats(),
-        [],
+        SolverStats() if feed is None else SolverStats(step_ends=feed.ends),
+        [] if feed is None else feed.events,
     )
     if isinstance(analysis, Modes):
         events = ()  # nothing moves: events have nothing to watch
@@ -435,6 +444,9 @@ def solve(
         run.trajectory.trim()
         run.result = Status.INTERRUPTED
         run.message = _interrupted_message(analysis, run.trajectory, str(interrupt))
+    dropped = _dropped_rows(analysis)
+    if dropped is not None:
+        run.trajectory = run.trajectory.without(dropped)
     try:
         times, channels = _channels(system, run, requests)
     except SolverFailure as failure:  # a request that cannot be evaluated (expression error)
@@ -448,7 +460,7 @@ def solve(
         run.result = Status.NOT_FINITE
         run.message = f"column {bad[0]} is not finite ({bad[2]:g}) at t = {bad[1]:.6g} s"
     _check_rows(system, analysis, run, warnings, checks=checks, branches=branch_check, throw=throw)
-    run.stats.cpu_seconds = _time.process_time() - cpu0
+    run.stats.cpu_seconds = _time.thread_time() - cpu0
     message = run.message
     if run.events:
         message += "; events: " + ", ".join(f"{e.name} at t = {e.time:.6g} s" for e in run.events)

@@ -68,7 +68,7 @@ from mechlib.solvers.dense_compiled import (
 from mechlib.solvers.finite import all_finite
 from mechlib.solvers.genalpha import kernels as gk
 from mechlib.solvers.genalpha import rules
-from mechlib.solvers.genalpha.call_rows import CallRows
+from mechlib.solvers.genalpha.call_rows import FED_ROWS, FED_SECONDS, CallRows
 from mechlib.solvers.genalpha.compiled import CONVERGED, rigid_work, worked_newton
 from mechlib.solvers.genalpha.run_states import (
     RunStates,
@@ -701,12 +701,15 @@ class StepRun:
         self._tangent: tuple[np.ndarray, object, object] | None = None
         self.elements: CompiledForces | None = None  # packed for the run (`_ready`)
         self.states = RunStates(system)  # the element states, in and out of each call
-        self.calls = CallRows()  # the rows of each call (mechlib.solvers.genalpha.call_rows)
+        # the rows of each call (mechlib.solvers.genalpha.call_rows), fewer where a
+        # companion follows the run's steps beside it
+        self._feed = getattr(stepper.spec, "feed", None)
+        self.calls = CallRows(FED_ROWS, FED_SECONDS) if self._feed else CallRows()
         # the matrix `_refactor` made was refactored for slowness with the tangent kept; it
         # took a new differenced tangent (or the system has none)
         self._tried = self._renewed = False
-        grid = stepper.grid  # the step ends the steps follow (mechlib.model.step_grid)
-        self._grid = _NO_GRID if grid is None else np.stack([grid.ends, grid.middles])
+        self._grid = _NO_GRID  # the step ends the steps follow and their middles (`_grid_at`)
+        self._grid_of: object = None  # the grid's ends it was stacked from
 
     @staticmethod
     def eligible(stepper) -> bool:
@@ -743,9 +746,14 @@ class StepRun:
         output time)."""
         if not self._ready(s.t):
             return s, i
-        fresh = False
-        for _ in range(self.MOST_CALLS):
-            s, i, status, h_next, fresh = self._call(s, outputs, i, trajectory, progress, fresh)
+        fresh, calls = False, 0
+        while calls < self.MOST_CALLS:
+            end = self._grid_at(s.t)
+            s, i, status, h_next, fresh = self._call(
+                s, outputs, i, trajectory, progress, fresh, end
+            )
+            # a call that reached the end of a grid still growing waits for more, uncounted
+            calls += status != 0 or end == self.stepper.spec.end or not _reached(end, s.t)
             if status == FAILED:
                 self._fail(s, h_next)
                 return s, i
@@ -756,6 +764,18 @@ class StepRun:
             elif status == STOPPED or i == len(outputs):  # else a chunk done: the next
                 return s, i
         return s, i
+
+    def _grid_at(self, t: float) -> float:
+        """How far (s) a call from t (s) may step: the analysis's end, or the last end of a
+        grid made as its run is solved (mechlib.model.step_feed), whose arrays it then
+        takes (waiting for an end after t)."""
+        grid, end = self.stepper.grid, self.stepper.spec.end
+        if grid is None:
+            return end
+        ends, middles, reach = grid.covering(t)
+        if self._grid_of is not ends:
+            self._grid, self._grid_of = np.stack([ends, middles]), ends
+        return min(end, reach)
 
     def _refactor(self, s, h: float) -> bool:
         """The iteration matrix of the step h (s) from s factored at its predicted state
@@ -790,10 +810,13 @@ class StepRun:
         stepper.h_used = h
         stepper.newton_failed(s, h)
 
-    def _call(self, s, outputs: np.ndarray, i: int, trajectory, progress, fresh: bool) -> tuple:
+    def _call(
+        self, s, outputs: np.ndarray, i: int, trajectory, progress, fresh: bool, end: float
+    ) -> tuple:
         """One `run_steps` call from s (`fresh`: the matrix was factored for its first
-        step): (the state reached, the next output index, the status, ctrl[NEXT_H], whether
-        the matrix is still new for the next step: the call ended before taking it)."""
+        step) towards `end` (s): (the state reached, the next output index, the status,
+        ctrl[NEXT_H], whether the matrix is still new for the next step: the call ended
+        before taking it)."""
         stepper, system = self.stepper, self.stepper.system
         integ, stats, spec = stepper.integ, stepper.stats, stepper.spec
         arrays, scales, c = integ.arrays, integ.scales, integ.c
@@ -814,7 +837,7 @@ class StepRun:
         )
         ctrl[[MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT]] = (
             stepper.max_step,
-            spec.end,
+            end,
             spec.max_steps,
             scales.tol,
             c.error_constant,
@@ -865,6 +888,10 @@ class StepRun:
         elements.read_back(rates, taken, kept)
         self.states.unpack(states, taken > 0)
         stats.steps, stats.rejected_steps = int(counts[STEPS]), int(counts[REJECTED])
+        if self._feed is not None:  # counted before the ends are handed on
+            self._feed.compiled_steps += taken
+            if not self._feed.followed:
+                self.calls.relax()
         stats.step_ends.extend(steps_t[:taken].tolist())
         stepper.split = bool(ctrl[SPLIT])
         stats.newton_iterations += int(counts[ITERATIONS])

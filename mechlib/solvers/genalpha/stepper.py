@@ -160,7 +160,8 @@ class GeneralizedAlphaStepper(DenseStepper):
         given (rules.on_grid), else of the step size, landing on the output times unless
         the output is dense (rules.towards, rules.substep)."""
         if self.grid is not None:
-            return rules.on_grid(t, gap, self.grid.ends, self.grid.middles, self.split)
+            ends, middles, _ = self.grid.covering(t)
+            return rules.on_grid(t, gap, ends, middles, self.split)
         return rules.towards(gap, self.h) if self.dense else rules.substep(gap, self.h)
 
     def newton_failed(self, s: State, h: float, doing: str = "") -> None:
@@ -182,12 +183,13 @@ class GeneralizedAlphaStepper(DenseStepper):
         middle's), or a split more than the grid allows, fails the run."""
         grid = self.grid
         assert grid is not None, "a grid's step"
-        whole = rules.on_grid(s.t, math.inf, grid.ends, grid.middles, False)
-        halved = rules.on_grid(s.t, math.inf, grid.ends, grid.middles, True)
+        ends, middles, _ = grid.covering(s.t)
+        whole = rules.on_grid(s.t, math.inf, ends, middles, False)
+        halved = rules.on_grid(s.t, math.inf, ends, middles, True)
         if self.split or halved >= whole:
             raise _newton_failure(self.system, s.t, h, doing)
-        if grid.most_splits is not None and self.stats.rejected_steps >= grid.most_splits:
-            raise _too_many_splits(s.t, grid.most_splits)
+        if not grid.allows_split(self.stats.rejected_steps):
+            raise _too_many_splits(s.t, grid.most_splits or 0)
         self.split = True
         self.stats.rejected_steps += 1
 

@@ -1,0 +1,163 @@
+"""The grid companion solved beside its run, in a second thread: the estimate in the run's time.
+
+`loads run CASE` on a machine with two cores or more (`beside_by_default`) starts the
+accuracy companion on the run's own steps (loadcases.run.companion.on_grid) with the run,
+not after it: the run records its steps as it takes them (mechlib.model.step_feed.StepFeed)
+and the companion, in another thread, takes them two at a time as they come, waiting for
+the run where it catches up (the compiled kernels release the GIL). When the run ends the
+companion's grid is completed with the one `on_grid` makes of the whole run, and the
+companion keeps the rows `sparser` would have given it: it records a row at each of the
+run's output times (which rows the estimate reads is known only from the whole run: its
+crests and spikes, its thinning), and its results leave out the others before its
+requests are evaluated (row-integrated columns such as `energy.dissipated` then sum the
+same rows). The companion is the one solved after the run, step for step and row for row:
+its estimate is the same to the last bit (tests/loadcases/test_companion_beside.py).
+
+Its CPU is the same as after the run, and more by its extra rows (each of the run's rows,
+not one per step); what it saves is wall time, on a core the run leaves idle: a set's runs
+already fill the cores, so a set solves its companions after their runs. Where the run
+cannot have a grid companion (its steps not all recorded, a failed run, or pairs that are
+not the whole run's) the companion beside it is withdrawn and the estimate is made as
+before, after the run.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import threading
+import time
+
+import numpy as np
+
+import mechlib as ml
+from loadcases.run.companion import coarser
+from mechlib.model.analysis import row_times
+from mechlib.model.step_feed import GridWithdrawn, GrowingGrid, StepFeed
+
+__all__ = ["CompanionBeside", "beside_by_default"]
+
+JOIN_SECONDS = 0.05  # how often the wait for the companion lets a signal through
+# The companion follows a run whose first FOLLOW_AFTER steps show it worth following: most
+# of them taken by the compiled whole-run kernel (which releases the GIL: steps taken in
+# Python hold it, and the two threads would take turns), at a pace that would take the run
+# at least FOLLOW_SECONDS of wall time (below, the thread and the companion's extra rows
+# cost about what they save; docs/performance.md). Else it is solved after the run.
+FOLLOW_AFTER = 64
+FOLLOW_SECONDS = 0.1
+
+
+def beside_by_default() -> bool:
+    """Whether a single run's companion is solved beside it: two cores or more free to
+    this process."""
+    try:
+        cores = len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        cores = os.cpu_count() or 1
+    return cores >= 2
+
+
+def eligible(analysis: ml.Dynamic) -> bool:
+    """Whether the run may have a grid companion at all (loadcases.run.companion.on_grid
+    checks the rest once the run is done)."""
+    return (
+        analysis.dense
+        and analysis.integrator == "generalized-alpha"
+        and not analysis.fixed_step
+        and analysis.grid is None
+    )
+
+
+class CompanionBeside:
+    """The grid companion of one run, solved in a thread as the run is: `run_analysis`
+    is the run's (it records its steps), `finish` completes the companion's grid once the
+    run is done and waits for it, `withdraw` stops it."""
+
+    def __init__(self, solve, analysis: ml.Dynamic) -> None:
+        self.feed = feed = StepFeed()
+        self.run_analysis = dataclasses.replace(analysis, feed=feed)
+        self.grid = GrowingGrid(feed)
+        # every row of the run's: those it does not read are left out at the end (`finish`)
+        self.analysis = dataclasses.replace(
+            coarser(analysis), step=analysis.step, rows=(), grid=self.grid
+        )
+        self.solution: ml.Solution | None = None
+        self.cpu_seconds = 0.0
+        self.used = False  # `finish` gave its solution
+        self._thread = threading.Thread(
+            target=self._solve, args=(solve,), name="accuracy companion", daemon=True
+        )
+        self._thread.start()
+
+    def _solve(self, solve) -> None:
+        started = time.thread_time()
+        try:
+            if not self._worth_following():
+                self.grid.withdraw("not worth following")
+                return
+            self.solution = solve(self.analysis, checks=False, quiet=True)
+        except GridWithdrawn:
+            self.solution = None
+        except Exception as error:  # noqa: BLE001 - the estimate falls back to the companion after the run
+            self.grid.withdraw(f"failed: {error}")
+            self.solution = None
+        finally:
+            self.cpu_seconds = time.thread_time() - started
+
+    def _worth_following(self) -> bool:
+        """Whether the run's first FOLLOW_AFTER steps were mostly compiled, at a pace that
+        takes the run at least the least seconds (False: the run ended first)."""
+        started, feed, spec = time.perf_counter(), self.feed, self.analysis
+        with feed.changed:
+            while len(feed.ends) < FOLLOW_AFTER and not self.grid.completed:
+                if self.grid.withdrawn:
+                    return False
+                feed.changed.wait(JOIN_SECONDS)
+        if self.grid.completed or 2 * feed.compiled_steps < len(feed.ends):
+            return False
+        done = (feed.ends[-1] - spec.start) / (spec.end - spec.start)
+        return (time.perf_counter() - started) >= done * FOLLOW_SECONDS
+
+    def finish(self, grid_analysis: ml.Dynamic | None) -> ml.Solution | None:
+        """The companion on the grid of `grid_analysis` (`on_grid`'s for the run: None
+        where the run has none), its rows those `grid_analysis` asks for; None where it
+        cannot be (withdrawn: the caller solves one after the run). A signal while it is
+        awaited withdraws it and is raised."""
+        if self.grid.withdrawn:  # it did not follow the run
+            self._thread.join()
+            return None
+        if grid_analysis is None or grid_analysis.grid is None:
+            self.withdraw("the run has no grid companion")
+            return None
+        recorded, kept = row_times(self.analysis), row_times(grid_analysis)
+        if len(_dropped(kept, recorded)):  # a row the run's output times do not hold
+            self.withdraw("the companion's rows are not among the run's")
+            return None
+        assert isinstance(grid_analysis.grid, ml.StepGrid), "on_grid's"
+        if not self.grid.complete(grid_analysis.grid, _dropped(recorded, kept)):
+            self.withdraw("its pairs are not the run's grid")
+            return None
+        try:
+            while self._thread.is_alive():
+                self._thread.join(JOIN_SECONDS)
+        except KeyboardInterrupt:
+            self.withdraw("interrupted")
+            raise
+        self.used = self.solution is not None
+        return self.solution
+
+    def withdraw(self, why: str) -> None:
+        """Stop the companion (a step waiting for the run, or its next) and wait for it."""
+        self.grid.withdraw(why)
+        self._thread.join()
+
+
+def _dropped(recorded: np.ndarray, kept: np.ndarray) -> np.ndarray:
+    """The output times (s) among `recorded` that are not `kept` (within 1e-12 relative)."""
+    if not len(kept):
+        return np.asarray(recorded, dtype=float)
+    k = np.searchsorted(kept, recorded)
+    before = kept[np.maximum(k - 1, 0)]
+    after = kept[np.minimum(k, len(kept) - 1)]
+    near = np.minimum(np.abs(before - recorded), np.abs(after - recorded))
+    return np.asarray(recorded)[near > 1e-12 * np.maximum(1.0, np.abs(recorded))]

@@ -1,0 +1,184 @@
+"""The accuracy companion solved beside its run, in a second thread (loadcases.run.beside):
+its grid paired as the run's steps come is the whole run's, and its estimate is the one
+the companion solved after the run gives, to the last bit."""
+
+from __future__ import annotations
+
+import dataclasses
+import threading
+from pathlib import Path
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+import mechlib as ml
+from loadcases.build.model import build_run
+from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY
+from loadcases.inputs.loader import load_case
+from loadcases.run import beside as beside_module
+from loadcases.run.global_error import solve_to_accuracy
+from mechlib.model.step_feed import GridWithdrawn, GrowingGrid, StepFeed
+
+LIBRARY = Path(__file__).resolve().parents[2] / "loadcases" / "library" / "verification"
+BENCH = Path(__file__).resolve().parents[2] / "benchmarks" / "models" / "slider_crank.case.yaml"
+
+
+def _walk(grid: GrowingGrid, walked: list[float], end: float) -> None:
+    """A companion's steps along `grid`: to the first end after t, until `end`."""
+    t = 0.0
+    try:
+        while t < end:
+            ends, _, _ = grid.covering(t)
+            t = float(ends[np.searchsorted(ends, t + 1e-12)])
+            walked.append(t)
+    except GridWithdrawn:
+        walked.append(-1.0)
+
+
+@pytest.mark.parametrize("batch", [1, 3, 7])
+def test_the_pairs_made_as_the_steps_come_are_the_whole_runs(batch: int) -> None:
+    """A run's 40 step ends recorded `batch` at a time, an event at the 11th and the
+    24th (a stretch of 11 steps: its odd last one alone), walked by a companion in
+    another thread: the ends it steps to are StepGrid.paired's of the whole run."""
+    rng = np.random.default_rng(batch)
+    ends = np.cumsum(rng.uniform(0.5, 1.5, 40))
+    stops = [ends[10], ends[23]]
+    feed = StepFeed()
+    grid = GrowingGrid(feed)
+    walked: list[float] = []
+    walker = threading.Thread(target=_walk, args=(grid, walked, ends[-1]))
+    walker.start()
+    for first in range(0, len(ends), batch):
+        for t in ends[first : first + batch]:
+            feed.ends.append(float(t))
+            if t in stops:
+                feed.events.append(SimpleNamespace(time=float(t)))
+        threading.Event().wait(0.003)
+    whole = ml.StepGrid.paired(ends, stops)
+    assert grid.complete(whole)
+    walker.join(5.0)
+    assert not walker.is_alive()
+    assert walked == whole.ends.tolist()
+    assert np.isnan(whole.middles[5])  # the stretch of 11: its last end alone (the case's check)
+
+
+def test_a_grid_whose_pairs_differ_is_refused_and_its_steps_stop() -> None:
+    feed = StepFeed()
+    grid = GrowingGrid(feed)
+    feed.ends.extend([1.0, 2.0, 3.0])
+    ends, middles, reach = grid.covering(0.0)
+    assert ends.tolist() == [2.0] and middles.tolist() == [1.0] and reach == 2.0
+    assert not grid.complete(ml.StepGrid.paired([1.5, 2.0, 3.0]))  # another run's
+    grid.withdraw("refused")
+    with pytest.raises(GridWithdrawn, match="refused"):
+        grid.covering(2.0)
+
+
+def _solver(file: Path, **changes):
+    case_file = load_case(file)
+    if changes:
+        analysis = case_file.case.analysis.model_copy(update=changes)
+        case_file = dataclasses.replace(
+            case_file, case=case_file.case.model_copy(update={"analysis": analysis})
+        )
+    built = build_run(case_file)
+
+    def solve(analysis, checks=True, stage="", quiet=False):
+        return built.solve(analysis, checks=checks)
+
+    return solve, built.analysis
+
+
+@pytest.fixture(autouse=True)
+def _follow_short_runs(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The companion follows these short runs too (loads run leaves it after the run
+    where the run's steps take under FOLLOW_SECONDS)."""
+    monkeypatch.setattr(beside_module, "FOLLOW_SECONDS", 0.0)
+
+
+def _estimates(file: Path, **changes):
+    solve, analysis = _solver(file, **changes)
+    out = []
+    for beside in (False, True):
+        run, estimate = solve_to_accuracy(
+            solve, analysis, DEFAULT_ACCURACY, budget=None, beside=beside
+        )
+        out.append((run, estimate))
+    assert not [t for t in threading.enumerate() if t.name == "accuracy companion"]
+    return out
+
+
+@pytest.mark.parametrize(
+    ("file", "changes"),
+    [
+        (LIBRARY / "pendulum.case.yaml", {"end": 2.0, "step": 0.01}),
+        (BENCH, {}),
+        # a stiff spring-damper's dissipated energy: a column summed over the rows
+        (LIBRARY / "hard" / "iftomm_a05_flyball.case.yaml", {"end": 2.0}),
+    ],
+    ids=["pendulum", "bench slider-crank", "A05 2 s"],
+)
+def test_the_estimate_beside_the_run_is_the_one_after_it(file: Path, changes: dict) -> None:
+    """Every request's history and envelope estimates the same to the last bit, from the
+    companion on the run's own steps; the runs written the same."""
+    (run_after, after), (run_beside, beside) = _estimates(file, **changes)
+    assert after.companion == beside.companion == "grid"
+    assert beside.beside and not after.beside and beside.summary()["beside"] is True
+    assert after.requests == beside.requests
+    assert after.richardson == beside.richardson and after.splits == beside.splits
+    for column, values in run_after.channels.items():
+        assert np.array_equal(values, run_beside.channels[column], equal_nan=True), column
+    assert beside.cpu_seconds > 0.0
+
+
+def test_a_run_without_a_grid_companion_withdraws_the_one_beside() -> None:
+    """Steps landing on the output times (`output: steps`): no grid companion; the one
+    started beside the run is withdrawn and the adaptive one solved after it, as without."""
+    (_, after), (_, beside) = _estimates(
+        LIBRARY / "pendulum.case.yaml", end=1.0, step=0.01, output="steps"
+    )
+    assert after.companion == beside.companion == "adaptive" and not beside.beside
+    assert after.requests == beside.requests
+
+
+def test_a_failed_run_leaves_no_companion_running() -> None:
+    solve, analysis = _solver(LIBRARY / "pendulum.case.yaml", end=2.0, step=0.01)
+    run, estimate = solve_to_accuracy(
+        solve, dataclasses.replace(analysis, max_steps=20), DEFAULT_ACCURACY, budget=None,
+        beside=True,
+    )  # fmt: skip
+    assert run.status == "failed" and estimate is None
+    assert not [t for t in threading.enumerate() if t.name == "accuracy companion"]
+
+
+def test_a_signal_while_the_companion_is_awaited_saves_the_run_interrupted(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """As a signal during the companion after the run: the run kept, `interrupted`, its
+    error not estimated; the companion stopped."""
+    finish = beside_module.CompanionBeside.finish
+
+    def interrupted(self, grid):
+        self.grid.withdraw("test")
+        finish(self, grid)  # the thread ends
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(beside_module.CompanionBeside, "finish", interrupted)
+    solve, analysis = _solver(LIBRARY / "pendulum.case.yaml", end=2.0, step=0.01)
+    run, estimate = solve_to_accuracy(solve, analysis, DEFAULT_ACCURACY, budget=None, beside=True)
+    assert run.status == "interrupted" and len(run.time) == 201
+    assert estimate is not None and not estimate.estimated
+    assert not [t for t in threading.enumerate() if t.name == "accuracy companion"]
+
+
+def test_the_companion_follows_only_runs_worth_it(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Not a run whose steps are taken in Python (Andrews' squeezer: the two threads would
+    take turns at the GIL), nor, at the default FOLLOW_SECONDS, a run of a few hundredths
+    of a second: both estimated by the companion after the run, the same estimate."""
+    (_, after), (_, beside) = _estimates(LIBRARY / "hard" / "andrews_squeezer.case.yaml")
+    assert after.companion == beside.companion == "grid" and not beside.beside
+    assert after.requests == beside.requests
+    monkeypatch.setattr(beside_module, "FOLLOW_SECONDS", 0.5)
+    (_, after), (_, beside) = _estimates(LIBRARY / "pendulum.case.yaml", end=2.0, step=0.01)
+    assert not beside.beside and after.requests == beside.requests
