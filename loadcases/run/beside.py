@@ -57,17 +57,6 @@ def beside_by_default() -> bool:
     return cores >= 2
 
 
-def eligible(analysis: ml.Dynamic) -> bool:
-    """Whether the run may have a grid companion at all (loadcases.run.companion.on_grid
-    checks the rest once the run is done)."""
-    return (
-        analysis.dense
-        and analysis.integrator == "generalized-alpha"
-        and not analysis.fixed_step
-        and analysis.grid is None
-    )
-
-
 class CompanionBeside:
     """The grid companion of one run, solved in a thread as the run is: `run_analysis`
     is the run's (it records its steps), `finish` completes the companion's grid once the
@@ -84,6 +73,7 @@ class CompanionBeside:
         self.solution: ml.Solution | None = None
         self.cpu_seconds = 0.0
         self.used = False  # `finish` gave its solution
+        self._paced = 0.0  # wall s the run took to its first FOLLOW_AFTER steps
         self._thread = threading.Thread(
             target=self._solve, args=(solve,), name="accuracy companion", daemon=True
         )
@@ -92,6 +82,9 @@ class CompanionBeside:
     def _solve(self, solve) -> None:
         started = time.thread_time()
         try:
+            # the run's first steps: its setup done (the memo the two share filled:
+            # mechlib.solvers.solve_memo), and what `_worth_following` reads
+            self._await_steps(FOLLOW_AFTER)
             if not self._worth_following():
                 self.grid.withdraw("not worth following")
                 return
@@ -104,19 +97,25 @@ class CompanionBeside:
         finally:
             self.cpu_seconds = time.thread_time() - started
 
+    def _await_steps(self, count: int) -> None:
+        """Wait until the run has recorded `count` step ends, or is done, or the grid is
+        withdrawn; the wall time (s) it took is kept as `_paced`."""
+        started, feed = time.perf_counter(), self.feed
+        with feed.changed:
+            while len(feed.ends) < count and not self.grid.completed:
+                if self.grid.withdrawn:
+                    raise GridWithdrawn(self.grid.withdrawn)
+                feed.changed.wait(JOIN_SECONDS)
+        self._paced = time.perf_counter() - started
+
     def _worth_following(self) -> bool:
         """Whether the run's first FOLLOW_AFTER steps were mostly compiled, at a pace that
-        takes the run at least the least seconds (False: the run ended first)."""
-        started, feed, spec = time.perf_counter(), self.feed, self.analysis
-        with feed.changed:
-            while len(feed.ends) < FOLLOW_AFTER and not self.grid.completed:
-                if self.grid.withdrawn:
-                    return False
-                feed.changed.wait(JOIN_SECONDS)
+        takes the run at least FOLLOW_SECONDS of wall time (False: the run ended first)."""
+        feed, spec = self.feed, self.analysis
         if self.grid.completed or 2 * feed.compiled_steps < len(feed.ends):
             return False
         done = (feed.ends[-1] - spec.start) / (spec.end - spec.start)
-        return (time.perf_counter() - started) >= done * FOLLOW_SECONDS
+        return self._paced >= done * FOLLOW_SECONDS
 
     def finish(self, grid_analysis: ml.Dynamic | None) -> ml.Solution | None:
         """The companion on the grid of `grid_analysis` (`on_grid`'s for the run: None

@@ -94,6 +94,7 @@ __all__ = [
     "divisor",
     "finer",
     "grid_divisor",
+    "grid_eligible",
     "largest_step",
     "on_grid",
     "order",
@@ -323,9 +324,7 @@ def on_grid(
     companion's (`sparser(coarser(...))`); None where the run's steps are not all known
     (then the adaptive companion)."""
     ends = run.stats.step_ends
-    if not (analysis.dense and analysis.integrator == "generalized-alpha"):
-        return None
-    if analysis.fixed_step or analysis.grid is not None or not ends:
+    if not grid_eligible(analysis) or not ends:
         return None
     last = run.events[-1].time if run.events else analysis.end
     if (
@@ -336,6 +335,17 @@ def on_grid(
     most = math.ceil(SPLIT_SHARE * len(ends) / STEP_RATIO)
     grid = ml.StepGrid.paired(ends, [event.time for event in run.events], most)
     return dataclasses.replace(sparser(coarser(analysis), run, found), grid=grid)
+
+
+def grid_eligible(analysis: ml.Dynamic) -> bool:
+    """Whether a run solved with `analysis` may have a grid companion (`on_grid` checks
+    the rest on the run): generalized-alpha's dense steps, of its own error control."""
+    return (
+        analysis.dense
+        and analysis.integrator == "generalized-alpha"
+        and not analysis.fixed_step
+        and analysis.grid is None
+    )
 
 
 def grid_divisor(

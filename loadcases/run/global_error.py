@@ -49,7 +49,7 @@ import numpy as np
 import mechlib as ml
 from loadcases.foundation import interrupts
 from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY
-from loadcases.run.beside import CompanionBeside, eligible
+from loadcases.run.beside import CompanionBeside
 from loadcases.run.companion import (
     FINER_RATIO,
     NOT_LOADS,
@@ -58,6 +58,7 @@ from loadcases.run.companion import (
     divisor,
     finer,
     grid_divisor,
+    grid_eligible,
     largest_step,
     on_grid,
     order,
@@ -577,7 +578,7 @@ def _first_run(
 ) -> tuple[ml.Solution, CompanionBeside | None]:
     """The run solved, with its grid companion beside it (`beside`, where it may have
     one); the companion withdrawn where the run did not finish."""
-    twin = CompanionBeside(solve, analysis) if beside and eligible(analysis) else None
+    twin = CompanionBeside(solve, analysis) if beside and grid_eligible(analysis) else None
     try:
         run = _timed(solve, analysis if twin is None else twin.run_analysis, spent, counted=False)
     except BaseException:

@@ -182,3 +182,32 @@ def test_the_companion_follows_only_runs_worth_it(monkeypatch: pytest.MonkeyPatc
     monkeypatch.setattr(beside_module, "FOLLOW_SECONDS", 0.5)
     (_, after), (_, beside) = _estimates(LIBRARY / "pendulum.case.yaml", end=2.0, step=0.01)
     assert not beside.beside and after.requests == beside.requests
+
+
+def _always_followed(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setattr(beside_module.CompanionBeside, "_worth_following", lambda self: True)
+
+
+def test_a_run_with_events_followed_in_python_steps(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The door jettison (its steps in Python while its events are armed; it stops at its
+    `release` event, 0.497 s of 1.5 s), followed nonetheless: its events' times stay step
+    ends of the pairs made as they come; the same estimate."""
+    _always_followed(monkeypatch)
+    (run_after, after), (_, beside) = _estimates(LIBRARY.parent / "door" / "jettison.case.yaml")
+    assert run_after.events and beside.beside and after.companion == "grid"
+    assert after.requests == beside.requests and after.richardson == beside.richardson
+
+
+def test_the_python_steps_follow_a_growing_grid(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The pendulum with every step taken in Python (`compiled: python`), run and
+    companion: the companion's steps wait for the run's in `trial_step`; the same estimate."""
+    _always_followed(monkeypatch)
+    solve, analysis = _solver(LIBRARY / "pendulum.case.yaml", end=1.0, step=0.01)
+    analysis = dataclasses.replace(analysis, compiled="python")
+    found = []
+    for beside in (False, True):
+        _, estimate = solve_to_accuracy(
+            solve, analysis, DEFAULT_ACCURACY, budget=None, beside=beside
+        )
+        found.append(estimate)
+    assert found[1].beside and found[0].requests == found[1].requests
