@@ -38,23 +38,26 @@ from mechlib.model.step_feed import GridWithdrawn, GrowingGrid, StepFeed
 __all__ = ["CompanionBeside", "beside_by_default"]
 
 JOIN_SECONDS = 0.05  # how often the wait for the companion lets a signal through
-# The companion follows a run whose first FOLLOW_AFTER steps show it worth following: most
-# of them taken by the compiled whole-run kernel (which releases the GIL: steps taken in
-# Python hold it, and the two threads would take turns), at a pace that would take the run
-# at least FOLLOW_SECONDS of wall time (below, the thread and the companion's extra rows
-# cost about what they save; docs/performance.md). Else it is solved after the run.
+GRACE_SECONDS = 1.0  # a signal's wait for the companion to stop
+# The companion follows a run whose FOLLOW_AFTER steps after its first ones (its setup and
+# its kernels' loading before them) were mostly taken by the compiled whole-run kernel
+# (which releases the GIL: steps taken in Python hold it, and the two threads would take
+# turns), at a pace that would take the rest of the run at least FOLLOW_SECONDS of wall
+# time (below, the thread and the companion's extra rows cost about what they save:
+# docs/performance.md). Else it is solved after the run.
 FOLLOW_AFTER = 64
 FOLLOW_SECONDS = 0.1
 
 
 def beside_by_default() -> bool:
-    """Whether a single run's companion is solved beside it: two cores or more free to
-    this process."""
+    """Whether a single run's companion is solved beside it: a core free, the machine's
+    load (its 1-minute average) at least one below the cores this process may use (a
+    test suite's or a script's other solves keep it after the run)."""
     try:
         cores = len(os.sched_getaffinity(0))
     except AttributeError:  # not Linux
         cores = os.cpu_count() or 1
-    return cores >= 2
+    return cores - os.getloadavg()[0] >= 1.0
 
 
 class CompanionBeside:
@@ -73,7 +76,7 @@ class CompanionBeside:
         self.solution: ml.Solution | None = None
         self.cpu_seconds = 0.0
         self.used = False  # `finish` gave its solution
-        self._paced = 0.0  # wall s the run took to its first FOLLOW_AFTER steps
+        self.failure = ""  # what stopped it where it failed (the estimate's note says)
         self._thread = threading.Thread(
             target=self._solve, args=(solve,), name="accuracy companion", daemon=True
         )
@@ -83,39 +86,43 @@ class CompanionBeside:
         started = time.thread_time()
         try:
             # the run's first steps: its setup done (the memo the two share filled:
-            # mechlib.solvers.solve_memo), and what `_worth_following` reads
-            self._await_steps(FOLLOW_AFTER)
-            if not self._worth_following():
+            # mechlib.solvers.solve_memo) and its kernels loaded; then its pace
+            first = self._await_steps(1)
+            paced = time.perf_counter()
+            self._await_steps(first + FOLLOW_AFTER)
+            if not self._worth_following(first, time.perf_counter() - paced):
                 self.grid.withdraw("not worth following")
                 return
             self.solution = solve(self.analysis, checks=False, quiet=True)
         except GridWithdrawn:
             self.solution = None
         except Exception as error:  # noqa: BLE001 - the estimate falls back to the companion after the run
-            self.grid.withdraw(f"failed: {error}")
+            self.failure = f"{type(error).__name__}: {error}"
+            self.grid.withdraw(f"failed: {self.failure}")
             self.solution = None
         finally:
             self.cpu_seconds = time.thread_time() - started
 
-    def _await_steps(self, count: int) -> None:
-        """Wait until the run has recorded `count` step ends, or is done, or the grid is
-        withdrawn; the wall time (s) it took is kept as `_paced`."""
-        started, feed = time.perf_counter(), self.feed
+    def _await_steps(self, count: int) -> int:
+        """Wait until the run has recorded `count` step ends, or is done; how many it has
+        recorded (GridWithdrawn where the grid is withdrawn)."""
+        feed = self.feed
         with feed.changed:
             while len(feed.ends) < count and not self.grid.completed:
                 if self.grid.withdrawn:
                     raise GridWithdrawn(self.grid.withdrawn)
                 feed.changed.wait(JOIN_SECONDS)
-        self._paced = time.perf_counter() - started
+            return len(feed.ends)
 
-    def _worth_following(self) -> bool:
-        """Whether the run's first FOLLOW_AFTER steps were mostly compiled, at a pace that
-        takes the run at least FOLLOW_SECONDS of wall time (False: the run ended first)."""
-        feed, spec = self.feed, self.analysis
-        if self.grid.completed or 2 * feed.compiled_steps < len(feed.ends):
+    def _worth_following(self, first: int, took: float) -> bool:
+        """Whether the run's steps after its first `first` ones, which took `took` s of
+        wall time, were mostly compiled, at a pace that takes the rest of the run at least
+        FOLLOW_SECONDS (False: the run ended first)."""
+        feed, end = self.feed, self.analysis.end
+        ends = feed.ends[first - 1 :]
+        if self.grid.completed or 2 * feed.compiled_steps < len(feed.ends) or len(ends) < 2:
             return False
-        done = (feed.ends[-1] - spec.start) / (spec.end - spec.start)
-        return self._paced >= done * FOLLOW_SECONDS
+        return took * (end - ends[0]) >= (ends[-1] - ends[0]) * FOLLOW_SECONDS
 
     def finish(self, grid_analysis: ml.Dynamic | None) -> ml.Solution | None:
         """The companion on the grid of `grid_analysis` (`on_grid`'s for the run: None
@@ -140,15 +147,17 @@ class CompanionBeside:
             while self._thread.is_alive():
                 self._thread.join(JOIN_SECONDS)
         except KeyboardInterrupt:
-            self.withdraw("interrupted")
+            self.withdraw("interrupted", GRACE_SECONDS)
             raise
         self.used = self.solution is not None
         return self.solution
 
-    def withdraw(self, why: str) -> None:
-        """Stop the companion (a step waiting for the run, or its next) and wait for it."""
+    def withdraw(self, why: str, within: float | None = None) -> None:
+        """Stop the companion (a step waiting for the run, or its next) and wait for it
+        (at most `within` s: a signal's exit does not wait on its requests; the thread, a
+        daemon, stops at its next step or ends with the process)."""
         self.grid.withdraw(why)
-        self._thread.join()
+        self._thread.join(within)
 
 
 def _dropped(recorded: np.ndarray, kept: np.ndarray) -> np.ndarray:

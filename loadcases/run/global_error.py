@@ -470,6 +470,10 @@ def solve_to_accuracy(
         errors = pair.errors
     pending = pair.solved if pair is not None else None
     note, tightenings, stopped_by = fallback, 0, ""
+    if twin is not None and twin.failure:
+        note = _joined(
+            f"the companion beside the run failed ({twin.failure}): solved after it", note
+        )
     stopped = pair is not None and pair.interrupted
     during = "a finer run at a singular position was solved for its error estimate"
     while budget is not None and not stopped and _worst(errors, measure) > target:

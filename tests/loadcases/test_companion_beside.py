@@ -185,7 +185,9 @@ def test_the_companion_follows_only_runs_worth_it(monkeypatch: pytest.MonkeyPatc
 
 
 def _always_followed(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.setattr(beside_module.CompanionBeside, "_worth_following", lambda self: True)
+    monkeypatch.setattr(
+        beside_module.CompanionBeside, "_worth_following", lambda self, first, took: True
+    )
 
 
 def test_a_run_with_events_followed_in_python_steps(monkeypatch: pytest.MonkeyPatch) -> None:
@@ -211,3 +213,17 @@ def test_the_python_steps_follow_a_growing_grid(monkeypatch: pytest.MonkeyPatch)
         )
         found.append(estimate)
     assert found[1].beside and found[0].requests == found[1].requests
+
+
+def test_a_companion_beside_that_fails_says_so_and_is_solved_after(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    def fails(self, first, took):
+        raise RuntimeError("boom")
+
+    monkeypatch.setattr(beside_module.CompanionBeside, "_worth_following", fails)
+    (_, after), (_, beside) = _estimates(LIBRARY / "pendulum.case.yaml", end=2.0, step=0.01)
+    assert not beside.beside and after.requests == beside.requests
+    assert "the companion beside the run failed (RuntimeError: boom): solved after it" in (
+        beside.note
+    )
