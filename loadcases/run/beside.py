@@ -39,6 +39,7 @@ __all__ = ["CompanionBeside", "beside_by_default"]
 
 JOIN_SECONDS = 0.05  # how often the wait for the companion lets a signal through
 GRACE_SECONDS = 1.0  # a signal's wait for the companion to stop
+FREE_CORES = 1.5  # cores less the load average that `beside_by_default` asks for
 # The companion follows a run whose FOLLOW_AFTER steps after its first ones (its setup and
 # its kernels' loading before them) were mostly taken by the compiled whole-run kernel
 # (which releases the GIL: steps taken in Python hold it, and the two threads would take
@@ -50,14 +51,19 @@ FOLLOW_SECONDS = 0.1
 
 
 def beside_by_default() -> bool:
-    """Whether a single run's companion is solved beside it: a core free, the machine's
-    load (its 1-minute average) at least one below the cores this process may use (a
-    test suite's or a script's other solves keep it after the run)."""
+    """Whether a single run's companion is solved beside it: two cores or more that this
+    process may use, the machine's load (its 1-minute average) leaving FREE_CORES of
+    them free, one for the run and most of one for the companion (a test suite's or a
+    script's other solves keep it after the run)."""
     try:
         cores = len(os.sched_getaffinity(0))
     except AttributeError:  # not Linux
         cores = os.cpu_count() or 1
-    return cores - os.getloadavg()[0] >= 1.0
+    try:
+        load = os.getloadavg()[0]
+    except (AttributeError, OSError):  # not a Unix: the cores alone
+        load = 0.0
+    return cores >= 2 and cores - load >= FREE_CORES
 
 
 class CompanionBeside:

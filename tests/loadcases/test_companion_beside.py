@@ -227,3 +227,15 @@ def test_a_companion_beside_that_fails_says_so_and_is_solved_after(
     assert "the companion beside the run failed (RuntimeError: boom): solved after it" in (
         beside.note
     )
+
+
+@pytest.mark.parametrize(
+    ("cores", "load", "beside"),
+    [(2, 0.3, True), (2, 1.2, False), (1, 0.0, False), (8, 5.0, True), (8, 7.0, False)],
+)
+def test_loads_run_solves_it_beside_where_a_core_is_free(
+    monkeypatch: pytest.MonkeyPatch, cores: int, load: float, beside: bool
+) -> None:
+    monkeypatch.setattr(beside_module.os, "sched_getaffinity", lambda pid: set(range(cores)))
+    monkeypatch.setattr(beside_module.os, "getloadavg", lambda: (load, load, load))
+    assert beside_module.beside_by_default() is beside
