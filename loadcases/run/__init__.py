@@ -134,7 +134,7 @@ def run_file(
     (`--set`) overrides parameters and names the run `CASE[name=value]`. Files that cannot
     be written (disk full, permissions): none is left and the outcome's `unwritten` says
     which are missing (the run failed). `beside`: the accuracy companion solved beside the
-    run (`run_case`; None: where two cores are free, loadcases.run.beside)."""
+    run (`run_case`; None: where a second core is free, loadcases.run.beside)."""
     if file_kind(path) == "mechanism":
         raise ValueError(f"{path} is a mechanism file: use check_mechanism_file")
     cf = load_case(path, what_if=what_if)

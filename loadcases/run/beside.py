@@ -1,24 +1,27 @@
 """The grid companion solved beside its run, in a second thread: the estimate in the run's time.
 
-`loads run CASE` on a machine with two cores or more (`beside_by_default`) starts the
-accuracy companion on the run's own steps (loadcases.run.companion.on_grid) with the run,
-not after it: the run records its steps as it takes them (mechlib.model.step_feed.StepFeed)
-and the companion, in another thread, takes them two at a time as they come, waiting for
-the run where it catches up (the compiled kernels release the GIL). When the run ends the
-companion's grid is completed with the one `on_grid` makes of the whole run, and the
-companion keeps the rows `sparser` would have given it: it records a row at each of the
-run's output times (which rows the estimate reads is known only from the whole run: its
-crests and spikes, its thinning), and its results leave out the others before its
-requests are evaluated (row-integrated columns such as `energy.dissipated` then sum the
-same rows). The companion is the one solved after the run, step for step and row for row:
-its estimate is the same to the last bit (tests/loadcases/test_companion_beside.py).
+`loads run CASE` where a second core is free (`beside_by_default`) starts the accuracy
+companion on the run's own steps (loadcases.run.companion.on_grid) with the run, not after
+it: the run records its steps as it takes them (mechlib.model.step_feed.StepFeed) and the
+companion, in another thread, takes them two at a time as they come, waiting for the run
+where it catches up (the compiled kernels release the GIL). When the run ends the
+companion's grid is completed with the one `on_grid` makes of the whole run. The companion
+records a row at each of the run's output times (which rows the estimate reads is known
+only from the whole run: its crests, its thinning), and its results leave out, before its
+requests are evaluated, the output rows the companion after the run would not have had
+(its events' rows stay; row-integrated columns such as `energy.dissipated` then sum the
+same rows). It is then the companion solved after the run, step for step and row for row,
+and its estimate is the same to the last bit (tests/loadcases/test_companion_beside.py).
+A run whose one-row spikes ask for companion rows between its own (loadcases.run.companion.
+spikes: the door let go's contact, a block on its stop) cannot be served so: its companion
+beside is dropped when the run ends and solved again after it (the CPU of both spent).
 
-Its CPU is the same as after the run, and more by its extra rows (each of the run's rows,
-not one per step); what it saves is wall time, on a core the run leaves idle: a set's runs
-already fill the cores, so a set solves its companions after their runs. Where the run
-cannot have a grid companion (its steps not all recorded, a failed run, or pairs that are
-not the whole run's) the companion beside it is withdrawn and the estimate is made as
-before, after the run.
+Its CPU is the same as after the run, and more by its extra rows; what it saves is wall
+time, on a core the run leaves idle: a set's runs already fill the cores, so a set solves
+its companions after their runs. It follows only a run worth following (FOLLOW_AFTER,
+FOLLOW_SECONDS). Where the run cannot have a grid companion (its steps not all recorded,
+a failed run, or pairs that are not the whole run's) the companion beside it is withdrawn
+and the estimate is made as before, after the run.
 """
 
 from __future__ import annotations
@@ -32,14 +35,14 @@ import numpy as np
 
 import mechlib as ml
 from loadcases.run.companion import coarser
-from mechlib.model.analysis import row_times
+from mechlib.model.analysis import row_times, same_times
 from mechlib.model.step_feed import GridWithdrawn, GrowingGrid, StepFeed
 
 __all__ = ["CompanionBeside", "beside_by_default"]
 
 JOIN_SECONDS = 0.05  # how often the wait for the companion lets a signal through
 GRACE_SECONDS = 1.0  # a signal's wait for the companion to stop
-FREE_CORES = 1.5  # cores less the load average that `beside_by_default` asks for
+FREE_CORES = 1.0  # cores less the load average that `beside_by_default` asks for
 # The companion follows a run whose FOLLOW_AFTER steps after its first ones (its setup and
 # its kernels' loading before them) were mostly taken by the compiled whole-run kernel
 # (which releases the GIL: steps taken in Python hold it, and the two threads would take
@@ -158,6 +161,11 @@ class CompanionBeside:
         self.used = self.solution is not None
         return self.solution
 
+    def close(self) -> None:
+        """Withdraw it if it is still solved (the estimate goes on without it)."""
+        if self._thread.is_alive():
+            self.withdraw("the estimate goes on without it", GRACE_SECONDS)
+
     def withdraw(self, why: str, within: float | None = None) -> None:
         """Stop the companion (a step waiting for the run, or its next) and wait for it
         (at most `within` s: a signal's exit does not wait on its requests; the thread, a
@@ -167,11 +175,6 @@ class CompanionBeside:
 
 
 def _dropped(recorded: np.ndarray, kept: np.ndarray) -> np.ndarray:
-    """The output times (s) among `recorded` that are not `kept` (within 1e-12 relative)."""
-    if not len(kept):
-        return np.asarray(recorded, dtype=float)
-    k = np.searchsorted(kept, recorded)
-    before = kept[np.maximum(k - 1, 0)]
-    after = kept[np.minimum(k, len(kept) - 1)]
-    near = np.minimum(np.abs(before - recorded), np.abs(after - recorded))
-    return np.asarray(recorded)[near > 1e-12 * np.maximum(1.0, np.abs(recorded))]
+    """The output times (s) among `recorded` that are not `kept` (sorted)."""
+    recorded = np.asarray(recorded, dtype=float)
+    return recorded[~same_times(recorded, np.asarray(kept, dtype=float))]

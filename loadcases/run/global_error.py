@@ -450,11 +450,36 @@ def solve_to_accuracy(
     if run.status != "ok":
         return run, None
     started = _cpu()
+    aim = Aim(target, budget, measure, untightened)
+    try:
+        return _estimated(solve, analysis, run, twin, spent, aim, started)
+    except KeyboardInterrupt:  # a signal outside the runs (the estimate's own work)
+        if twin is not None:
+            twin.close()
+        estimate = _estimate(analysis, run, target, {}, 0, started)
+        estimate.estimated = False
+        estimate.note = f"not estimated: interrupted{_by()} while its error was estimated"
+        return _interrupted(run, "its error was estimated", estimated=False), estimate
+
+
+def _estimated(
+    solve: Solver,
+    analysis: ml.Dynamic,
+    run: ml.Solution,
+    twin: CompanionBeside | None,
+    spent: Spent,
+    aim: Aim,
+    started: float,
+) -> tuple[ml.Solution, AccuracyEstimate]:
+    """`solve_to_accuracy` after the run: its companion (the one beside it, `twin`, where
+    it followed), the finer pair, the tightening, the estimate."""
+    target, budget, measure, untightened = aim.target, aim.budget, aim.measure, aim.untightened
     p = order(analysis.integrator)
-    found = run_extremes(run)
-    companion, kind, fallback = _companion(solve, analysis, run, spent, found, twin)
-    if twin is not None:  # its CPU, in the other thread, is the estimate's too
-        started -= twin.cpu_seconds
+    try:
+        found = run_extremes(run)
+        companion, kind, fallback = _companion(solve, analysis, run, spent, found, twin)
+    finally:
+        started -= _settled(twin, spent)
     if companion.status != "ok":
         estimate = _estimate(analysis, run, target, {}, 0, started)
         estimate.estimated, estimate.companion = False, kind
@@ -501,7 +526,7 @@ def solve_to_accuracy(
     estimate.note, estimate.budget, estimate.stopped_by = note, budget, stopped_by
     estimate.untightened = untightened
     estimate.measure, estimate.companion = measure, kind
-    estimate.beside = twin is not None and twin.used
+    estimate.beside = twin is not None and twin.used and kind == "grid"
     estimate.richardson = coarse.divisor
     estimate.splits = companion.stats.rejected_steps if kind == "grid" else 0
     if estimate.splits:
@@ -592,6 +617,18 @@ def _first_run(
     if run.status != "ok" and twin is not None:
         twin.withdraw("the run did not finish")
     return run, twin
+
+
+def _settled(twin: CompanionBeside | None, spent: Spent) -> float:
+    """The companion beside the run stopped, however the estimate got here (a signal
+    while the run's extremes were read too); its CPU (s, in its own thread), which the
+    estimate's includes, counted in `spent` where the estimate was not made from it."""
+    if twin is None:
+        return 0.0
+    twin.close()
+    if not twin.used:
+        spent.cpu_seconds += twin.cpu_seconds
+    return twin.cpu_seconds
 
 
 def _followed(twin: CompanionBeside, grid: ml.Dynamic, spent: Spent) -> ml.Solution | None:

@@ -30,6 +30,7 @@ __all__ = [
     "Trajectory",
     "output_times",
     "row_times",
+    "same_times",
 ]
 
 DEFAULT_TOLERANCE = 1e-6
@@ -253,6 +254,17 @@ def _output_times(start: float, end: float, step: float) -> np.ndarray:
     return times
 
 
+def same_times(t: np.ndarray, among: np.ndarray) -> np.ndarray:
+    """Which times `t` (s) are one of `among` (s, sorted) to 1e-12 of the time (bool per
+    time of t): an output time is the same number wherever it is made (`output_times`)."""
+    if not len(among) or not len(t):
+        return np.zeros(len(t), dtype=bool)
+    k = np.searchsorted(among, t)
+    before = np.abs(among[np.maximum(k - 1, 0)] - t)
+    near = np.minimum(before, np.abs(among[np.minimum(k, len(among) - 1)] - t))
+    return near <= 1e-12 * np.maximum(1.0, np.abs(t))
+
+
 def _stack(rows: list) -> np.ndarray:
     """Rows (arrays of one length) as a (rows, width) float array (a copy)."""
     if not rows:
@@ -388,6 +400,9 @@ class Trajectory:
     qdd: list = field(default_factory=list)
     lam: list = field(default_factory=list)
     references: Snapshots = field(default_factory=Snapshots)
+    # the rows recorded at an event's instant, before its actions (mechlib.solvers.march),
+    # which no output time asked for
+    event_rows: list[int] = field(default_factory=list)
     # (first row, block (n, 3 nq + m), nq) of each `extend`: its rows are views of it
     _blocks: list = field(default_factory=list, repr=False)
 
@@ -456,20 +471,18 @@ class Trajectory:
         return self.references.same_active(first, most)
 
     def without(self, times: np.ndarray) -> Trajectory:
-        """These rows but those at `times` (s, sorted; within 1e-12 relative), in a new
-        trajectory: the rows of a compiled run's blocks kept in blocks."""
+        """These rows but the output rows at `times` (s, sorted: `same_times`), in a new
+        trajectory (an event's row stays): the rows of a compiled run's blocks kept in
+        blocks."""
         t = np.asarray(self.time, dtype=float)
-        times = np.asarray(times, dtype=float)
-        keep = np.arange(len(t))
-        if len(times):
-            k = np.searchsorted(times, t)
-            before = np.abs(times[np.maximum(k - 1, 0)] - t)
-            near = np.minimum(before, np.abs(times[np.minimum(k, len(times) - 1)] - t))
-            keep = np.flatnonzero(near > 1e-12 * np.maximum(1.0, np.abs(t)))
+        dropped = same_times(t, np.asarray(times, dtype=float))
+        dropped[self.event_rows] = False
+        keep = np.flatnonzero(~dropped)
         owner = np.full(len(t), -1)
         for b, (first, block, _) in enumerate(self._blocks):
             owner[first : first + len(block)] = b
         out = Trajectory(self.snapshot, self.check, self.at_rest)
+        out.event_rows = np.searchsorted(keep, self.event_rows).tolist()
         if not len(keep):
             return out
         for rows in np.split(keep, np.flatnonzero(np.diff(owner[keep])) + 1):
@@ -494,6 +507,7 @@ class Trajectory:
         for rows_ in rows:
             del rows_[n:]
         self._blocks = [(k, b[: n - k], nq) for k, b, nq in self._blocks if k < n]
+        self.event_rows = [i for i in self.event_rows if i < n]
 
     def _fields(self) -> tuple[list | Snapshots, ...]:
         return (self.references, self.time, self.q, self.qd, self.qdd, self.lam)

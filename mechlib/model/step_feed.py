@@ -24,12 +24,11 @@ from bisect import bisect_right
 
 import numpy as np
 
-from mechlib.model.step_grid import StepGrid
+from mechlib.model.step_grid import SAME_TIME, StepGrid
 
 __all__ = ["GridWithdrawn", "GrowingGrid", "StepFeed"]
 
 WAIT_SECONDS = 0.05  # a step waiting for the run looks again at least this often
-_SAME_TIME = 1e-12  # relative: a step end this close to an event's time is that event's
 
 
 class StepFeed:
@@ -93,16 +92,17 @@ class GrowingGrid:
         """The run is done and `grid` is its whole grid; `dropped_rows`: output times (s)
         whose rows the companion leaves out of its results (`dropped_rows`). False, and
         nothing done, when the pairs handed out so far are not the grid's first ones."""
-        n = len(self._ends)
-        made = np.array(self._ends), np.array(self._middles)
-        if n > len(grid.ends) or not (
-            np.array_equal(grid.ends[:n], made[0])
-            and np.array_equal(grid.middles[:n], made[1], equal_nan=True)
-        ):
-            return False
-        self._dropped = dropped_rows
-        self._final = grid
-        self._notify()
+        with self.feed.changed:  # not while `_grow` extends the pairs
+            n = len(self._ends)
+            made = np.array(self._ends), np.array(self._middles)
+            if n > len(grid.ends) or not (
+                np.array_equal(grid.ends[:n], made[0])
+                and np.array_equal(grid.middles[:n], made[1], equal_nan=True)
+            ):
+                return False
+            self._dropped = dropped_rows
+            self._final = grid
+            self.feed.changed.notify_all()
         return True
 
     @property
@@ -198,4 +198,4 @@ class GrowingGrid:
 
 def _is_stop(t: float, stops: np.ndarray) -> bool:
     """Whether step end t (s) is one of the events' times `stops` (s)."""
-    return bool(np.any(np.abs(stops - t) <= _SAME_TIME * np.maximum(1.0, np.abs(stops))))
+    return bool(np.any(np.abs(stops - t) <= SAME_TIME * np.maximum(1.0, np.abs(stops))))

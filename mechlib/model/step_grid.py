@@ -10,9 +10,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["StepGrid"]
+__all__ = ["SAME_TIME", "StepGrid"]
 
-_SAME_TIME = 1e-12  # relative: a stop this close to a step end is that end
+SAME_TIME = 1e-12  # relative: a stop this close to a step end is that end
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,6 +81,6 @@ def _stop_indices(t: np.ndarray, stops: Sequence[float] | np.ndarray) -> list[in
     for stop in stops:
         k = int(np.searchsorted(t, stop))
         for j in (k - 1, k):
-            if 0 <= j < len(t) - 1 and abs(t[j] - stop) <= _SAME_TIME * max(1.0, abs(stop)):
+            if 0 <= j < len(t) - 1 and abs(t[j] - stop) <= SAME_TIME * max(1.0, abs(stop)):
                 cuts.append(j + 1)
     return sorted(set(cuts))

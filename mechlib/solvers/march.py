@@ -245,6 +245,7 @@ def _events(
     if before is not None:
         before(at)
     stepper.record(trajectory, at)
+    trajectory.event_rows.append(len(trajectory) - 1)
     system = stepper.system
     if fire(system, monitor, fired, system.kin(at.q, at.qd, t_e), log):
         return Status.EVENT_STOP

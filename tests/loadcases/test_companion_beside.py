@@ -5,6 +5,7 @@ the companion solved after the run gives, to the last bit."""
 from __future__ import annotations
 
 import dataclasses
+import signal
 import threading
 from pathlib import Path
 from types import SimpleNamespace
@@ -17,6 +18,7 @@ from loadcases.build.model import build_run
 from loadcases.foundation.accuracy_target import DEFAULT_ACCURACY
 from loadcases.inputs.loader import load_case
 from loadcases.run import beside as beside_module
+from loadcases.run import global_error
 from loadcases.run.global_error import solve_to_accuracy
 from mechlib.model.step_feed import GridWithdrawn, GrowingGrid, StepFeed
 
@@ -132,12 +134,23 @@ def test_the_estimate_beside_the_run_is_the_one_after_it(file: Path, changes: di
     assert beside.cpu_seconds > 0.0
 
 
-def test_a_run_without_a_grid_companion_withdraws_the_one_beside() -> None:
-    """Steps landing on the output times (`output: steps`): no grid companion; the one
-    started beside the run is withdrawn and the adaptive one solved after it, as without."""
-    (_, after), (_, beside) = _estimates(
-        LIBRARY / "pendulum.case.yaml", end=1.0, step=0.01, output="steps"
-    )
+def test_a_run_without_a_grid_companion_withdraws_the_one_beside(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A run whose steps make no grid (here: `on_grid` finding none, as for a modal run's
+    unrecorded steps): the companion started beside it is withdrawn and the adaptive one
+    solved after the run, as without it; its CPU counted."""
+    made: list[beside_module.CompanionBeside] = []
+    start = beside_module.CompanionBeside.__init__
+
+    def counted(self, solve, analysis):
+        start(self, solve, analysis)
+        made.append(self)
+
+    monkeypatch.setattr(beside_module.CompanionBeside, "__init__", counted)
+    monkeypatch.setattr(global_error, "on_grid", lambda *args, **kwargs: None)
+    (_, after), (_, beside) = _estimates(LIBRARY / "pendulum.case.yaml", end=2.0, step=0.01)
+    assert len(made) == 1 and made[0].grid.withdrawn == "the run has no grid companion"
     assert after.companion == beside.companion == "adaptive" and not beside.beside
     assert after.requests == beside.requests
 
@@ -156,19 +169,45 @@ def test_a_signal_while_the_companion_is_awaited_saves_the_run_interrupted(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
     """As a signal during the companion after the run: the run kept, `interrupted`, its
-    error not estimated; the companion stopped."""
+    error not estimated; the companion stopped (a signal arrives in `finish`'s wait)."""
+    _always_followed(monkeypatch)
     finish = beside_module.CompanionBeside.finish
 
-    def interrupted(self, grid):
-        self.grid.withdraw("test")
-        finish(self, grid)  # the thread ends
-        raise KeyboardInterrupt
+    def signalled(self, grid):
+        wait, signals = self._thread.join, [signal.SIGTERM]
 
-    monkeypatch.setattr(beside_module.CompanionBeside, "finish", interrupted)
+        def join(timeout=None):
+            if signals:
+                signals.pop()
+                raise KeyboardInterrupt
+            return wait(timeout)
+
+        self._thread.join = join
+        return finish(self, grid)
+
+    monkeypatch.setattr(beside_module.CompanionBeside, "finish", signalled)
     solve, analysis = _solver(LIBRARY / "pendulum.case.yaml", end=2.0, step=0.01)
     run, estimate = solve_to_accuracy(solve, analysis, DEFAULT_ACCURACY, budget=None, beside=True)
     assert run.status == "interrupted" and len(run.time) == 201
     assert estimate is not None and not estimate.estimated
+    assert not [t for t in threading.enumerate() if t.name == "accuracy companion"]
+
+
+@pytest.mark.parametrize("beside", [False, True])
+def test_a_signal_after_the_run_keeps_it(monkeypatch: pytest.MonkeyPatch, beside: bool) -> None:
+    """A signal while the run's extremes are read (after the run, before any companion):
+    the run kept as `interrupted`, not estimated, no companion left running."""
+    _always_followed(monkeypatch)
+
+    def interrupted(run):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(global_error, "run_extremes", interrupted)
+    solve, analysis = _solver(LIBRARY / "pendulum.case.yaml", end=2.0, step=0.01)
+    run, estimate = solve_to_accuracy(solve, analysis, DEFAULT_ACCURACY, budget=None, beside=beside)
+    assert run.status == "interrupted" and len(run.time) == 201
+    assert "while its error was estimated" in run.message
+    assert estimate is not None and not estimate.estimated and estimate.requests == {}
     assert not [t for t in threading.enumerate() if t.name == "accuracy companion"]
 
 
@@ -231,7 +270,7 @@ def test_a_companion_beside_that_fails_says_so_and_is_solved_after(
 
 @pytest.mark.parametrize(
     ("cores", "load", "beside"),
-    [(2, 0.3, True), (2, 1.2, False), (1, 0.0, False), (8, 5.0, True), (8, 7.0, False)],
+    [(2, 0.3, True), (2, 1.2, False), (1, 0.0, False), (8, 5.0, True), (8, 7.5, False)],
 )
 def test_loads_run_solves_it_beside_where_a_core_is_free(
     monkeypatch: pytest.MonkeyPatch, cores: int, load: float, beside: bool
@@ -239,3 +278,38 @@ def test_loads_run_solves_it_beside_where_a_core_is_free(
     monkeypatch.setattr(beside_module.os, "sched_getaffinity", lambda pid: set(range(cores)))
     monkeypatch.setattr(beside_module.os, "getloadavg", lambda: (load, load, load))
     assert beside_module.beside_by_default() is beside
+
+
+_PENDULUM_LOCKED = """
+case: pendulum-locked
+mechanism:
+  name: pendulum
+  gravity: [0, -9.81, 0]
+  bodies:
+    bar: {mass: 3.0, cm: [0, -0.5, 0], inertia: [0.25, 0.001, 0.25]}
+  joints:
+    hinge: {type: revolute, bodies: [bar, ground], at: [0, 0, 0], axis: [0, 0, 1]}
+initial:
+  hinge: {value: 60 deg, rate: 0}
+analysis: {type: dynamic, end: 1.0, step: 0.01}
+requests:
+  hinge_angle: {joint: hinge, quantity: angle}
+  hinge_rate: {joint: hinge, quantity: omega}
+events:
+  hold: {when: "t >= 0.51", then: [{lock: hinge}]}
+"""
+
+
+def test_an_event_at_an_output_time_the_companion_leaves_out(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The hinge locked at 0.51 s, an output time of the run that the companion's thinned
+    rows do not hold: the companion beside the run keeps its event's row there (as the
+    one after the run does) and leaves out only the output row; the same estimate (the
+    rate's history read 2e-4 of its peak for 1.0 when both rows went)."""
+    _always_followed(monkeypatch)
+    case = tmp_path / "pendulum_locked.case.yaml"
+    case.write_text(_PENDULUM_LOCKED, encoding="utf-8")
+    (run_after, after), (_, beside) = _estimates(case)
+    assert [e.name for e in run_after.events] == ["hold"] and beside.beside
+    assert after.requests == beside.requests

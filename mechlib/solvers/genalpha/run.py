@@ -108,7 +108,10 @@ SPLIT = 25  # in/out: the grid's step from here failed Newton: to its middle fir
 RENEWED = 26
 STIFF = 27  # in: 1.0 where the iteration matrix holds a tangent (Integrator.stiff)
 WATCH = 28  # in: the step-collapse watch's open window: its first step count (-1: none)
-CTRL_SIZE = 29
+# in: how far dense steps go in this call (s): END, or the last end of a grid still growing
+# (mechlib.model.step_feed); END stays the analysis's for the step-collapse watch's pace
+REACH = 29
+CTRL_SIZE = 30
 # the constants of the step-size control and of Newton are not in `ctrl`: the kernels call
 # the rules of mechlib.solvers.genalpha.rules, as the Python stepper does
 # slots of the counters `counts` (in/out): steps, Newton iterations, the dense rows' work
@@ -183,7 +186,7 @@ def run_steps(
             continue
         if row != _STEP:  # done (0), or a row Python must look at
             return STOPPED * (row != _FULL), i, written
-        target = ctrl[END] if dense else outs[i]
+        target = ctrl[REACH] if dense else outs[i]
         limit = _limits(counts, ctrl, taken, most_steps)
         if limit >= 0:
             return limit, i, written
@@ -293,10 +296,10 @@ _STEP, _WRITTEN, _FULL, _NOT_FINITE = 0, 1, 2, 3  # what `_output_row` found
 def _row_at(
     dense, i, written, t, ctrl, outs, own, cons, cons_lam, refs_all, rows_t, rows_state, rows_refs
 ):  # fmt: skip
-    """What to do at t (s): dense output steps on until the end (_FULL there, else
+    """What to do at t (s): dense output steps on until ctrl[REACH] (_FULL there, else
     _STEP); steps landing on the output times record a row there (`_output_row`)."""
     if dense:
-        return _FULL if _reached(ctrl[END], t) else _STEP
+        return _FULL if _reached(ctrl[REACH], t) else _STEP
     return _output_row(
         i, written, t, outs, own, cons, cons_lam, refs_all, rows_t, rows_state, rows_refs
     )
@@ -837,7 +840,7 @@ class StepRun:
         )
         ctrl[[MAX_STEP, END, MAX_STEPS, TOL, ERROR_CONSTANT]] = (
             stepper.max_step,
-            end,
+            spec.end,
             spec.max_steps,
             scales.tol,
             c.error_constant,
@@ -845,6 +848,7 @@ class StepRun:
         ctrl[[ALPHA_M, ALPHA_F, BETA, GAMMA]] = c.alpha_m, c.alpha_f, c.beta, c.gamma
         ctrl[DENSE] = float(stepper.dense)
         ctrl[H_MIN] = stepper.h_min
+        ctrl[REACH] = end
         ctrl[CEILING] = stepper.ceiling
         ctrl[GRID], ctrl[SPLIT] = float(stepper.grid is not None), float(stepper.split)
         ctrl[RETANGENT], ctrl[TRIED] = float(integ.retangent), float(fresh and self._tried)
