@@ -280,24 +280,8 @@ def test_loads_run_solves_it_beside_where_a_core_is_free(
     assert beside_module.beside_by_default() is beside
 
 
-_PENDULUM_LOCKED = """
-case: pendulum-locked
-mechanism:
-  name: pendulum
-  gravity: [0, -9.81, 0]
-  bodies:
-    bar: {mass: 3.0, cm: [0, -0.5, 0], inertia: [0.25, 0.001, 0.25]}
-  joints:
-    hinge: {type: revolute, bodies: [bar, ground], at: [0, 0, 0], axis: [0, 0, 1]}
-initial:
-  hinge: {value: 60 deg, rate: 0}
-analysis: {type: dynamic, end: 1.0, step: 0.01}
-requests:
-  hinge_angle: {joint: hinge, quantity: angle}
-  hinge_rate: {joint: hinge, quantity: omega}
-events:
-  hold: {when: "t >= 0.51", then: [{lock: hinge}]}
-"""
+# the library's pendulum (1 s, rows 10 ms apart) with its hinge locked at 0.51 s
+LOCKED = 'events:\n  hold: {when: "t >= 0.51", then: [{lock: hinge}]}\n'
 
 
 def test_an_event_at_an_output_time_the_companion_leaves_out(
@@ -309,7 +293,8 @@ def test_an_event_at_an_output_time_the_companion_leaves_out(
     rate's history read 2e-4 of its peak for 1.0 when both rows went)."""
     _always_followed(monkeypatch)
     case = tmp_path / "pendulum_locked.case.yaml"
-    case.write_text(_PENDULUM_LOCKED, encoding="utf-8")
+    pendulum = (LIBRARY / "pendulum.case.yaml").read_text(encoding="utf-8")
+    case.write_text(pendulum + LOCKED, encoding="utf-8")
     (run_after, after), (_, beside) = _estimates(case)
     assert [e.name for e in run_after.events] == ["hold"] and beside.beside
     assert after.requests == beside.requests
