@@ -15,7 +15,9 @@ alternated.
 - `--command`: per case of the cost table, `loads run CASE` as a user runs one case (a
   fresh process: start-up, validation, the solve, its files), as written and with
   accuracy off, alternated `--repeat` times, the median CPU (the command's) and wall time;
-  `--long` adds IFToMM A01 over 2000 s (200 001 rows) and A05 over 50 s.
+  `--long` adds IFToMM A01 over 2000 s (200 001 rows) and A05 over 50 s;
+  `--command-beside 1` (or 0) has the command solve the companion beside the run (after
+  it) whatever the machine's load (LOADS_COMPANION_BESIDE).
 - `--beside`: per case of the cost table and the long ones, `run_case` in this process
   with the companion after the run, beside it (loads run's default on two cores:
   loadcases.run.beside) and with accuracy off, alternated `--repeat` times: the best wall
@@ -25,7 +27,8 @@ alternated.
 CPU times on a shared machine move with its load: compare the two columns of one run.
 
     python -m benchmarks.estimate_overhead [--runs 200] [--jobs 2] [--rounds 3] [--cases]
-                                           [--command [--long]] [--repeat 5] [--json FILE]
+                                           [--command [--long] [--command-beside 0|1]]
+                                           [--beside] [--repeat 5] [--json FILE]
 """
 
 from __future__ import annotations
@@ -45,6 +48,7 @@ import yaml
 
 from benchmarks.campaign import run_loads, sweep_rates, write_sweep
 from benchmarks.companion_cost import CASES, LIBRARY
+from loadcases.run.beside import ENVIRONMENT
 
 #: `--long`: a long run for `--command` (the error table's A01: benchmarks.error_table_long)
 LONG = {
@@ -203,17 +207,26 @@ def command_files(name: str, folder: Path) -> dict[str, Path]:
     return out
 
 
-def command_overhead(name: str, repeat: int) -> dict[str, Any]:
+def command_overhead(name: str, repeat: int, beside: str = "") -> dict[str, Any]:
     """`loads run CASE` of a cost-table case as written and with accuracy off, alternating
     which goes first, `repeat` times each: the median CPU ms (the command's) and wall s of
-    each and the estimate's share of the command."""
+    each and the estimate's share of the command; `beside`: the companion beside the run
+    ("1") or after it ("0") whatever the machine's load (LOADS_COMPANION_BESIDE), "": as
+    the command chooses."""
     spent: dict[str, list[tuple[float, float]]] = {"as_written": [], "off": []}
+    said = os.environ.get(ENVIRONMENT)
     with tempfile.TemporaryDirectory() as tmp:
         files = command_files(name, Path(tmp))
         for k in range(max(1, repeat)):
             order = ("as_written", "off") if k % 2 == 0 else ("off", "as_written")
             for kind in order:
-                done = run_loads(files[kind], 1, [])
+                os.environ[ENVIRONMENT] = beside
+                try:
+                    done = run_loads(files[kind], 1, [])
+                finally:
+                    os.environ.pop(ENVIRONMENT)
+                    if said is not None:
+                        os.environ[ENVIRONMENT] = said
                 if done["exit"] != 0 or done["runs"] != 1:
                     raise RuntimeError(f"{name} {kind}: {done['stderr_tail']}")
                 spent[kind].append((done["cpu_ms_per_run"], done["wall_s"]))
@@ -221,6 +234,7 @@ def command_overhead(name: str, repeat: int) -> dict[str, Any]:
     wall = {kind: statistics.median(w for _, w in rows) for kind, rows in spent.items()}
     return {
         "case": name,
+        "beside": {"1": "forced", "0": "never"}.get(beside, "as the command chooses"),
         "as_written_cpu_ms": cpu["as_written"],
         "off_cpu_ms": cpu["off"],
         "as_written_wall_s": wall["as_written"],
@@ -255,7 +269,8 @@ def _line(row: dict[str, Any]) -> str:
             f"({row['overhead_no_crest_rows']:.1%} without the crest rows)"
         )
     return (
-        f"{row['case']}: loads run {row['as_written_cpu_ms']:.0f} ms of CPU as written, "
+        f"{row['case']} (companion beside: {row['beside']}): loads run "
+        f"{row['as_written_cpu_ms']:.0f} ms of CPU as written, "
         f"{row['off_cpu_ms']:.0f} off ({row['as_written_wall_s']:.2f} / "
         f"{row['off_wall_s']:.2f} s): the estimate {row['overhead']:.1%}"
     )
@@ -276,6 +291,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--beside", action="store_true", help="the companion after and beside the run, wall time"
     )
+    parser.add_argument(
+        "--command-beside",
+        choices=("", "0", "1"),
+        default="",
+        help="--command's companion: 1 beside the run, 0 after it ('': as loads run chooses)",
+    )
     parser.add_argument("--repeat", type=int, default=5)
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
@@ -289,7 +310,9 @@ def main(argv: list[str] | None = None) -> int:
         result["cases"] = _measured(CASES, lambda name: case_overhead(name, args.repeat))
     if args.command:
         names = [*CASES, *(LONG if args.long else ())]
-        result["command"] = _measured(names, lambda name: command_overhead(name, args.repeat))
+        result["command"] = _measured(
+            names, lambda name: command_overhead(name, args.repeat, args.command_beside)
+        )
     if args.beside:
         names = [*CASES, *LONG]
         result["beside"] = _measured(names, lambda name: beside_overhead(name, args.repeat))

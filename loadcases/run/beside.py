@@ -43,6 +43,7 @@ __all__ = ["CompanionBeside", "beside_by_default"]
 JOIN_SECONDS = 0.05  # how often the wait for the companion lets a signal through
 GRACE_SECONDS = 1.0  # a signal's wait for the companion to stop
 FREE_CORES = 1.0  # cores less the load average that `beside_by_default` asks for
+ENVIRONMENT = "LOADS_COMPANION_BESIDE"  # 1: beside, 0: after the run, whatever the load
 # The companion follows a run whose FOLLOW_AFTER steps after its first ones (its setup and
 # its kernels' loading before them) were mostly taken by the compiled whole-run kernel
 # (which releases the GIL: steps taken in Python hold it, and the two threads would take
@@ -54,10 +55,13 @@ FOLLOW_SECONDS = 0.1
 
 
 def beside_by_default() -> bool:
-    """Whether a single run's companion is solved beside it: two cores or more that this
-    process may use, the machine's load (its 1-minute average) leaving FREE_CORES of
-    them free, one for the run and most of one for the companion (a test suite's or a
-    script's other solves keep it after the run)."""
+    """Whether a single run's companion is solved beside it: as the environment's
+    `LOADS_COMPANION_BESIDE` says (1 or 0), else where there are two cores or more that
+    this process may use and the machine's load (its 1-minute average) leaves FREE_CORES
+    of them free (a test suite's or a script's other solves keep it after the run)."""
+    said = os.environ.get(ENVIRONMENT, "").strip()
+    if said in ("0", "1"):
+        return said == "1"
     try:
         cores = len(os.sched_getaffinity(0))
     except AttributeError:  # not Linux

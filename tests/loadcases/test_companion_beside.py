@@ -275,6 +275,7 @@ def test_a_companion_beside_that_fails_says_so_and_is_solved_after(
 def test_loads_run_solves_it_beside_where_a_core_is_free(
     monkeypatch: pytest.MonkeyPatch, cores: int, load: float, beside: bool
 ) -> None:
+    monkeypatch.delenv("LOADS_COMPANION_BESIDE", raising=False)
     monkeypatch.setattr(beside_module.os, "sched_getaffinity", lambda pid: set(range(cores)))
     monkeypatch.setattr(beside_module.os, "getloadavg", lambda: (load, load, load))
     assert beside_module.beside_by_default() is beside
@@ -298,3 +299,15 @@ def test_an_event_at_an_output_time_the_companion_leaves_out(
     (run_after, after), (_, beside) = _estimates(case)
     assert [e.name for e in run_after.events] == ["hold"] and beside.beside
     assert after.requests == beside.requests
+
+
+@pytest.mark.parametrize(("said", "beside"), [("1", True), ("0", False)])
+def test_the_environment_says_where_the_companion_is_solved(
+    monkeypatch: pytest.MonkeyPatch, said: str, beside: bool
+) -> None:
+    """LOADS_COMPANION_BESIDE overrides the load rule (a benchmark, a script of runs)."""
+    monkeypatch.setattr(
+        beside_module.os, "getloadavg", lambda: (0.0, 0.0, 0.0) if not beside else (9.0,) * 3
+    )
+    monkeypatch.setenv("LOADS_COMPANION_BESIDE", said)
+    assert beside_module.beside_by_default() is beside
