@@ -44,12 +44,12 @@ JOIN_SECONDS = 0.05  # how often the wait for the companion lets a signal throug
 GRACE_SECONDS = 1.0  # a signal's wait for the companion to stop
 FREE_CORES = 1.0  # cores less the load average that `beside_by_default` asks for
 ENVIRONMENT = "LOADS_COMPANION_BESIDE"  # 1: beside, 0: after the run, whatever the load
-# The companion follows a run whose FOLLOW_AFTER steps after its first ones (its setup and
-# its kernels' loading before them) were mostly taken by the compiled whole-run kernel
-# (which releases the GIL: steps taken in Python hold it, and the two threads would take
-# turns), at a pace that would take the rest of the run at least FOLLOW_SECONDS of wall
-# time (below, the thread and the companion's extra rows cost about what they save:
-# docs/performance.md). Else it is solved after the run.
+# The companion follows a run whose steps so far were mostly taken by the compiled
+# whole-run kernel (which releases the GIL: steps taken in Python hold it, and the two
+# threads would take turns) and whose FOLLOW_AFTER steps after its first ones (its setup
+# and its kernels' loading before them) came at a pace that takes the run from there at
+# least FOLLOW_SECONDS of wall time (below, the thread and the companion's extra rows cost
+# about what they save: docs/performance.md). Else it is solved after the run.
 FOLLOW_AFTER = 64
 FOLLOW_SECONDS = 0.1
 
@@ -128,9 +128,9 @@ class CompanionBeside:
             return len(feed.ends)
 
     def _worth_following(self, first: int, took: float) -> bool:
-        """Whether the run's steps after its first `first` ones, which took `took` s of
-        wall time, were mostly compiled, at a pace that takes the rest of the run at least
-        FOLLOW_SECONDS (False: the run ended first)."""
+        """Whether the run's steps so far were mostly compiled and those after its first
+        `first` ones, which took `took` s of wall time, came at a pace that takes the run
+        from there at least FOLLOW_SECONDS (False: the run ended first)."""
         feed, end = self.feed, self.analysis.end
         ends = feed.ends[first - 1 :]
         if self.grid.completed or 2 * feed.compiled_steps < len(feed.ends) or len(ends) < 2:
