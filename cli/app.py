@@ -186,6 +186,7 @@ def run(
     if note is not None:
         typer.echo(f"loads: warning: {note}", err=True)
     from loadcases.foundation import interrupts
+    from mechlib.core.outcome import interrupt_of
 
     code = EXIT_OK
     with interrupts.on_signals():
@@ -203,8 +204,11 @@ def run(
                         code = max(code, _print_report(report))
                 else:
                     code = max(code, _run_cases(engine, chunk, output, xlsx, jobs or 1, overrides))
-        except interrupts.Interrupted:  # outside a solve: files are written whole or not at all
-            pass
+        except (interrupts.Interrupted, SystemError) as stop:
+            # outside a solve (files are written whole or not at all); a compiled kernel
+            # wraps the signal it met in a SystemError
+            if interrupt_of(stop) is None:
+                raise
     signum = interrupts.received()
     if signum is None:
         return code

@@ -74,6 +74,7 @@ from loadcases.run.peak_error import Extremes, extremes_of, peak_error
 from loadcases.schema.case import AccuracyBudget, AccuracyTarget
 from mechlib.checks.singularity import NAMED_AT_MOST
 from mechlib.core.jit import compile_seconds
+from mechlib.core.outcome import interrupt_of
 
 __all__ = [
     "COMPANION_STAGE",
@@ -453,7 +454,9 @@ def solve_to_accuracy(
     aim = Aim(target, budget, measure, untightened)
     try:
         return _estimated(solve, analysis, run, twin, spent, aim, started)
-    except KeyboardInterrupt:  # a signal outside the runs (the estimate's own work)
+    except (KeyboardInterrupt, SystemError) as stop:  # a signal in the estimate's own work
+        if interrupt_of(stop) is None:
+            raise
         if twin is not None:
             twin.close()
         estimate = _estimate(analysis, run, target, {}, 0, started)

@@ -18,6 +18,7 @@ __all__ = [
     "SolverFailure",
     "SolverStats",
     "Status",
+    "interrupt_of",
 ]
 
 RunStatus = Literal["ok", "failed", "interrupted"]
@@ -184,3 +185,15 @@ class Solution:
     @property
     def ok(self) -> bool:
         return self.status == "ok"
+
+
+def interrupt_of(error: BaseException) -> KeyboardInterrupt | None:
+    """The SIGINT/SIGTERM (loadcases.foundation.interrupts) behind `error`: itself, or the
+    one a compiled kernel's dispatcher met while it ran (numba then raises SystemError
+    "returned a result with an exception set", the interrupt as its context)."""
+    seen: BaseException | None = error
+    while seen is not None:
+        if isinstance(seen, KeyboardInterrupt):
+            return seen
+        seen = seen.__cause__ or seen.__context__
+    return None

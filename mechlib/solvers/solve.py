@@ -11,7 +11,15 @@ import numpy as np
 
 from mechlib.checks.model_check import MechanismCheck, check_model, inspect_mechanism
 from mechlib.checks.singularity import toggle_warnings
-from mechlib.core.outcome import ModelError, RunStatus, Solution, SolverFailure, SolverStats, Status
+from mechlib.core.outcome import (
+    ModelError,
+    RunStatus,
+    Solution,
+    SolverFailure,
+    SolverStats,
+    Status,
+    interrupt_of,
+)
 from mechlib.core.work import tally
 from mechlib.flexible.guards import (
     deformation_warnings,
@@ -354,16 +362,36 @@ def _summary_status(result: Status) -> RunStatus:
     return "interrupted" if result is Status.INTERRUPTED else "failed"
 
 
-def _interrupt_of(error: BaseException) -> KeyboardInterrupt | None:
-    """The SIGINT/SIGTERM (loadcases.foundation.interrupts) behind `error`: itself, or the one a
-    compiled kernel's dispatcher met while it ran (numba then raises SystemError "returned
-    a result with an exception set", the interrupt as its context)."""
-    seen: BaseException | None = error
-    while seen is not None:
-        if isinstance(seen, KeyboardInterrupt):
-            return seen
-        seen = seen.__cause__ or seen.__context__
-    return None
+def _requests_at_rows(
+    system: System, analysis: Analysis, run: _Run, requests: Sequence, throw: bool
+) -> tuple[np.ndarray, dict]:
+    """The requests at the run's rows (`_channels`). A request that cannot be evaluated
+    fails the run with the columns that could be. A signal while they are evaluated stops
+    the run there (`interrupted`, all its rows kept) and they are evaluated again: they are
+    the run's wrap-up, which a second signal stops."""
+    try:
+        return _channels(system, run, requests)
+    except SolverFailure as failure:  # a request that cannot be evaluated (expression error)
+        if throw:
+            raise
+        run.result, run.message = failure.status, f"requests: {failure}"
+        channels = getattr(failure, "channels", {})  # the columns that did not fail
+        return np.array(run.trajectory.time), channels
+    except (KeyboardInterrupt, SystemError) as stop:
+        if run.result is Status.INTERRUPTED:
+            raise
+        _stopped_by(stop, analysis, run, throw)
+        return _requests_at_rows(system, analysis, run, requests, throw)
+
+
+def _stopped_by(stop: BaseException, analysis: Analysis, run: _Run, throw: bool) -> None:
+    """The run marked interrupted by the signal behind `stop` (raised again where there is
+    none, or with `throw`)."""
+    interrupt = interrupt_of(stop)
+    if throw or interrupt is None:
+        raise stop
+    run.result = Status.INTERRUPTED
+    run.message = _interrupted_message(analysis, run.trajectory, str(interrupt))
 
 
 def _interrupted_message(analysis: Analysis, trajectory: Trajectory, signal_name: str) -> str:
@@ -438,7 +466,7 @@ def solve(
         run.result = failure.status
         run.message = explain_failure(system, run.trajectory, failure)
     except (KeyboardInterrupt, SystemError) as stop:  # SIGINT/SIGTERM: keep the rows
-        interrupt = _interrupt_of(stop)
+        interrupt = interrupt_of(stop)
         if throw or interrupt is None:
             raise
         run.trajectory.trim()
@@ -447,19 +475,17 @@ def solve(
     dropped = _dropped_rows(analysis)
     if dropped is not None:
         run.trajectory = run.trajectory.without(dropped)
-    try:
-        times, channels = _channels(system, run, requests)
-    except SolverFailure as failure:  # a request that cannot be evaluated (expression error)
-        if throw:
-            raise
-        run.result, run.message = failure.status, f"requests: {failure}"
-        times = np.array(run.trajectory.time)
-        channels = getattr(failure, "channels", {})  # the columns that did not fail
+    times, channels = _requests_at_rows(system, analysis, run, requests, throw)
     bad = nonfinite_channel(times, channels) if run.result.ok else None
     if bad is not None:
         run.result = Status.NOT_FINITE
         run.message = f"column {bad[0]} is not finite ({bad[2]:g}) at t = {bad[1]:.6g} s"
-    _check_rows(system, analysis, run, warnings, checks=checks, branches=branch_check, throw=throw)
+    try:
+        _check_rows(
+            system, analysis, run, warnings, checks=checks, branches=branch_check, throw=throw
+        )
+    except (KeyboardInterrupt, SystemError) as stop:  # a signal: the run kept, unchecked
+        _stopped_by(stop, analysis, run, throw)
     run.stats.cpu_seconds = _time.thread_time() - cpu0
     message = run.message
     if run.events:

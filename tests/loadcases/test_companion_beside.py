@@ -193,13 +193,28 @@ def test_a_signal_while_the_companion_is_awaited_saves_the_run_interrupted(
     assert not [t for t in threading.enumerate() if t.name == "accuracy companion"]
 
 
+def _signal_in_a_kernel() -> None:
+    """What a compiled kernel's dispatcher raises when a signal met it: a SystemError with
+    the interrupt as its context."""
+    try:
+        raise KeyboardInterrupt
+    except KeyboardInterrupt:
+        raise SystemError("returned a result with an exception set") from None
+
+
+@pytest.mark.parametrize("in_kernel", [False, True])
 @pytest.mark.parametrize("beside", [False, True])
-def test_a_signal_after_the_run_keeps_it(monkeypatch: pytest.MonkeyPatch, beside: bool) -> None:
-    """A signal while the run's extremes are read (after the run, before any companion):
-    the run kept as `interrupted`, not estimated, no companion left running."""
+def test_a_signal_after_the_run_keeps_it(
+    monkeypatch: pytest.MonkeyPatch, beside: bool, in_kernel: bool
+) -> None:
+    """A signal while the run's extremes are read (after the run, before any companion;
+    met in Python or in a compiled kernel): the run kept as `interrupted`, not estimated,
+    no companion left running."""
     _always_followed(monkeypatch)
 
     def interrupted(run):
+        if in_kernel:
+            _signal_in_a_kernel()
         raise KeyboardInterrupt
 
     monkeypatch.setattr(global_error, "run_extremes", interrupted)
@@ -311,3 +326,27 @@ def test_the_environment_says_where_the_companion_is_solved(
     )
     monkeypatch.setenv("LOADS_COMPANION_BESIDE", said)
     assert beside_module.beside_by_default() is beside
+
+
+def test_a_signal_while_the_requests_are_evaluated_keeps_the_run(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    """A signal after the run's last step, while its requests are evaluated at its rows
+    (0.3 s of A01 over 2000 s): the run is kept, `interrupted`, with all its rows and
+    columns (evaluated again: the run's wrap-up), where it was lost before."""
+    from mechlib.solvers import solve as solve_module
+
+    evaluate, signals = solve_module._channels, ["SIGTERM"]
+
+    def interrupted(*args):
+        if signals:
+            signals.pop()
+            _signal_in_a_kernel()
+        return evaluate(*args)
+
+    monkeypatch.setattr(solve_module, "_channels", interrupted)
+    solve, analysis = _solver(LIBRARY / "pendulum.case.yaml", end=2.0, step=0.01)
+    run = solve(analysis)
+    assert run.status == "interrupted" and len(run.time) == 201
+    assert np.all(np.isfinite(run.channels["hinge_angle.value"]))
+    assert len(run.channels["hinge_angle.value"]) == 201
