@@ -43,6 +43,7 @@ __all__ = [
     "received",
     "signal_name",
     "worker_init",
+    "wrap_up",
 ]
 
 GRACE_SECONDS = 20.0  # a worker's time to return its interrupted run before it is killed
@@ -167,11 +168,36 @@ def deferred() -> Iterator[None]:
     `worker_init` is recorded there (the worker then starts no run) instead of raised in its
     start-up. On leaving, a signal recorded within is raised as `Interrupted` if the
     handlers outside raise (`on_signals`)."""
+    with _recording(_record):
+        yield
+
+
+@contextmanager
+def wrap_up() -> Iterator[None]:
+    """Within: the first SIGINT or SIGTERM is recorded and the work goes on (a finished
+    run's files are written whole), a second one raises `Interrupted`, as one received
+    before does (main thread only; elsewhere a no-op). On leaving, a signal recorded
+    within is raised as `Interrupted` if the handlers outside raise (`on_signals`)."""
+    with _recording(_second_raises):
+        yield
+
+
+def _second_raises(signum: int, _frame: Any) -> None:
+    global _received
+    if _received is not None:
+        raise Interrupted(signum)
+    _received = signum
+
+
+@contextmanager
+def _recording(handler: Callable[[int, Any], None]) -> Iterator[None]:
+    """Within: `handler` for SIGINT and SIGTERM (main thread only); on leaving, a signal
+    received within raised as `Interrupted` where the handlers outside raise."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     earlier = _received
-    with _handling(_record) as before:
+    with _handling(handler) as before:
         yield
     if earlier is None and _received is not None and before[signal.Signals(_received)] is _raise:
         raise Interrupted(_received)

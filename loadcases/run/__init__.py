@@ -11,6 +11,7 @@ from loadcases.build.model import BuiltRun, build_mechanism, build_run
 from loadcases.build.precheck import case_problems, model_diagnostics
 from loadcases.build.torque_margin import plan_torque_margin
 from loadcases.flexible.cache import caching_under
+from loadcases.foundation import interrupts
 from loadcases.foundation.diagnostics import Diagnostic, InputError
 from loadcases.foundation.process_settings import freeze_heap, one_blas_thread
 from loadcases.inputs.kinds import file_kind
@@ -143,7 +144,8 @@ def run_file(
             beside = beside_by_default()
         outcome = run_case(cf, progress=progress, beside=beside)
     try:
-        write_results(outcome, Path(output_dir), xlsx=xlsx)
+        with interrupts.wrap_up():  # a signal now: the finished run's files first
+            write_results(outcome, Path(output_dir), xlsx=xlsx)
     except ResultsNotWritten as error:  # the run failed: it delivers no files
         outcome.unwritten = str(error)
     return [outcome]

@@ -237,3 +237,44 @@ def test_a_second_signal_while_an_interrupt_is_sent_again_is_not_lost(monkeypatc
     assert armed, "the second signal escaped the hook"
     assert caught == [signal.SIGTERM]  # the last signal, raised in the running code
     assert len(started) == 2
+
+
+HANDLED = 0.2  # s of Python work in which a signal sent to this process is handled
+
+
+def _busy(seconds: float) -> None:
+    """Python work for `seconds` (where a signal's handler runs)."""
+    deadline = time.monotonic() + seconds
+    while time.monotonic() < deadline:
+        pass
+
+
+def test_a_finished_runs_files_are_written_through_a_first_signal() -> None:
+    """A first signal while a finished run's files are written (`interrupts.wrap_up`) is
+    recorded and the writing goes on; it is raised after it. A late SIGTERM to `loads run`
+    on a 200 001-row run lost its files there before."""
+    from loadcases.foundation import interrupts
+
+    written = False
+    try:
+        with interrupts.on_signals(), interrupts.wrap_up():
+            os.kill(os.getpid(), signal.SIGTERM)
+            _busy(HANDLED)
+            written = True
+    except interrupts.Interrupted as stop:
+        assert stop.signum == signal.SIGTERM
+    assert written and interrupts.received() == signal.SIGTERM
+
+
+def test_a_second_signal_stops_the_wrap_up() -> None:
+    from loadcases.foundation import interrupts
+
+    reached = []
+    with pytest.raises(interrupts.Interrupted), interrupts.on_signals(), interrupts.wrap_up():
+        os.kill(os.getpid(), signal.SIGTERM)
+        _busy(HANDLED)
+        reached.append("first recorded")
+        os.kill(os.getpid(), signal.SIGINT)
+        _busy(HANDLED)
+        reached.append("second not raised")
+    assert reached == ["first recorded"]
