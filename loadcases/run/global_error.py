@@ -587,10 +587,8 @@ def _companion(
     extremes, loadcases.run.companion.run_extremes)."""
     grid = on_grid(analysis, run, found)
     note = ""
-    if twin is not None and grid is None:
-        twin.withdraw("the run has no grid companion")
+    companion = _followed(twin, grid, spent) if twin is not None else None
     if grid is not None:
-        companion = _followed(twin, grid, spent) if twin is not None else None
         if companion is None:
             companion = _timed(solve, grid, spent, companion=True, stage=COMPANION_STAGE)
         if companion.status in ("ok", "interrupted"):
@@ -634,16 +632,14 @@ def _settled(twin: CompanionBeside | None, spent: Spent) -> float:
     return twin.cpu_seconds
 
 
-def _followed(twin: CompanionBeside, grid: ml.Dynamic, spent: Spent) -> ml.Solution | None:
+def _followed(twin: CompanionBeside, grid: ml.Dynamic | None, spent: Spent) -> ml.Solution | None:
     """The companion solved beside the run, on `grid` (`on_grid`'s), counted; None where
-    it could not be (the caller solves it now); a signal while it is awaited: an
-    interrupted companion, as `_further` makes one."""
+    it could not be (withdrawn, as where the run has no grid: the caller solves one now);
+    a signal while it is awaited: an interrupted companion (`_interrupted_solve`)."""
     try:
         companion = twin.finish(grid)
     except KeyboardInterrupt as stop:
-        return ml.Solution(
-            "interrupted", str(stop), "dynamic", np.zeros(0), {}, result=ml.Status.INTERRUPTED
-        )
+        return _interrupted_solve(stop)
     if companion is not None:
         spent.add(companion, twin.cpu_seconds, counted=True, last=False)
     return companion
@@ -779,9 +775,14 @@ def _further(
     try:
         return solve(analysis, checks=checks, stage=stage)
     except KeyboardInterrupt as stop:
-        return ml.Solution(
-            "interrupted", str(stop), "dynamic", np.zeros(0), {}, result=ml.Status.INTERRUPTED
-        )
+        return _interrupted_solve(stop)
+
+
+def _interrupted_solve(stop: KeyboardInterrupt) -> ml.Solution:
+    """A further run a signal stopped before mechlib's solve loop could keep its rows."""
+    return ml.Solution(
+        "interrupted", str(stop), "dynamic", np.zeros(0), {}, result=ml.Status.INTERRUPTED
+    )
 
 
 def _joined(*notes: str) -> str:

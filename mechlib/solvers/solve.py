@@ -466,12 +466,8 @@ def solve(
         run.result = failure.status
         run.message = explain_failure(system, run.trajectory, failure)
     except (KeyboardInterrupt, SystemError) as stop:  # SIGINT/SIGTERM: keep the rows
-        interrupt = interrupt_of(stop)
-        if throw or interrupt is None:
-            raise
-        run.trajectory.trim()
-        run.result = Status.INTERRUPTED
-        run.message = _interrupted_message(analysis, run.trajectory, str(interrupt))
+        run.trajectory.trim()  # a row half-appended when the signal came
+        _stopped_by(stop, analysis, run, throw)
     dropped = _dropped_rows(analysis)
     if dropped is not None:
         run.trajectory = run.trajectory.without(dropped)
